@@ -1,0 +1,5 @@
+import sys
+
+from chargedesign.cli import main
+
+sys.exit(main())

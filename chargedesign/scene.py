@@ -1,0 +1,110 @@
+"""Scenes: TOML files with the contract's keys, validated with one-line errors naming the key.
+
+Tables every scene may use: ``[parameters]``, ``[fields.magnetic|electric|gravity]``,
+``[body]``; later stages read their own tables (``[design]``, ``[simulation]``, ``[initial]``,
+``[output]``) through :attr:`Scene.tables`.
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from chargedesign.body import FIELD_KINDS
+from chargedesign.errors import InputError
+from chargedesign.params import Parameters
+from chargedesign.validation import as_array, as_finite_float, input_error
+
+KNOWN_TABLES = ("parameters", "fields", "body", "design", "simulation", "initial", "output")
+
+
+@dataclass
+class Scene:
+    """A parsed, validated scene.
+
+    Attributes
+    ----------
+    parameters : Parameters
+    fields : dict[str, tuple[float, ...]]
+        Legendre coefficients of each field the scene gives (``a1``/``a2`` are converted to
+        ``[a1, 2 a2]``). A kind that is absent is for the conditions engine to derive.
+    tables : dict
+        The raw TOML tables (``body``, ``design``, ``simulation``, ...), for the stages that
+        own them to validate.
+    source : str
+        Where the scene came from (a path, or ``<default>``).
+    """
+
+    parameters: Parameters
+    fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    tables: dict[str, Any] = field(default_factory=dict)
+    source: str = "<default>"
+
+    def table(self, name: str) -> dict[str, Any]:
+        """One raw table (empty dict when the scene has none)."""
+        value = self.tables.get(name, {})
+        return value if isinstance(value, dict) else {}
+
+
+def parse_field(spec: Any, where: str) -> tuple[float, ...]:
+    """A field table: either the paper's ``a1``/``a2`` (magnetic) or ``legendre = [...]``."""
+    if not isinstance(spec, dict):
+        raise input_error(where, "a table", spec)
+    unknown = sorted(set(spec) - {"a1", "a2", "legendre"})
+    if unknown:
+        raise input_error(f"{where}.{unknown[0]}", "one of a1, a2, legendre", unknown[0])
+    if "legendre" in spec:
+        if "a1" in spec or "a2" in spec:
+            raise InputError(f"{where}: give either legendre or a1/a2, not both")
+        value = spec["legendre"]
+        if isinstance(value, list) and not value:
+            return ()
+        return tuple(float(x) for x in as_array(value, f"{where}.legendre", (None,)))
+    a1 = as_finite_float(spec.get("a1", 0.0), f"{where}.a1")
+    a2 = as_finite_float(spec.get("a2", 0.0), f"{where}.a2")
+    return (a1, 2.0 * a2)
+
+
+def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
+    """Validate a scene mapping (as read from TOML)."""
+    if not isinstance(data, dict):
+        raise input_error(source, "a table of scene keys", data)
+    unknown = sorted(set(data) - set(KNOWN_TABLES))
+    if unknown:
+        raise input_error(f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0])
+    params = Parameters.from_mapping(data.get("parameters", {}), "parameters")
+    fields_in = data.get("fields", {})
+    if not isinstance(fields_in, dict):
+        raise input_error("fields", "a table", fields_in)
+    fields_out: dict[str, tuple[float, ...]] = {}
+    for kind, spec in fields_in.items():
+        if kind not in FIELD_KINDS:
+            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+        fields_out[kind] = parse_field(spec, f"fields.{kind}")
+    tables = {k: v for k, v in data.items() if k not in ("parameters", "fields")}
+    for name, value in tables.items():
+        if not isinstance(value, dict):
+            raise input_error(name, "a table", value)
+    return Scene(parameters=params, fields=fields_out, tables=tables, source=source)
+
+
+def default_scene_text() -> str:
+    return resources.files("chargedesign").joinpath("data/default_scene.toml").read_text("utf-8")
+
+
+def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
+    """Load a scene file, or the embedded default scene when ``path`` is None."""
+    if path is None:
+        return scene_from_dict(tomllib.loads(default_scene_text()), "<default>")
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such scene file")
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: not valid TOML ({exc})") from exc
+    return scene_from_dict(data, str(p))
