@@ -28,7 +28,9 @@ COMMANDS = {
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="chargedesign",
-        description="Bodies that realise the Yehia-Elmandouh integrable case of rigid-body dynamics.",
+        description=(
+            "Bodies that realise the Yehia-Elmandouh integrable case of rigid-body dynamics."
+        ),
     )
     parser.add_argument("--version", action="version", version="chargedesign 0.1.0")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")

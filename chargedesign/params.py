@@ -44,7 +44,9 @@ class Parameters:
     def __post_init__(self) -> None:
         for f in fields(self):
             name = "lambda" if f.name == "lam" else f.name
-            value = as_finite_float(getattr(self, f.name), f"parameter {name}", positive=f.name == "C")
+            value = as_finite_float(
+                getattr(self, f.name), f"parameter {name}", positive=f.name == "C"
+            )
             object.__setattr__(self, f.name, value)
 
     @classmethod

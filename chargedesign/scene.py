@@ -75,7 +75,9 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
         raise input_error(source, "a table of scene keys", data)
     unknown = sorted(set(data) - set(KNOWN_TABLES))
     if unknown:
-        raise input_error(f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0])
+        raise input_error(
+            f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0]
+        )
     params = Parameters.from_mapping(data.get("parameters", {}), "parameters")
     fields_in = data.get("fields", {})
     if not isinstance(fields_in, dict):

@@ -49,7 +49,9 @@ def as_array(value: Any, name: str, shape: Sequence[int | None]) -> np.ndarray:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise input_error(name, f"numbers of shape {_shape_text(shape)}", value) from exc
-    if arr.ndim != len(shape) or any(s is not None and a != s for a, s in zip(arr.shape, shape)):
+    if arr.ndim != len(shape) or any(
+        s is not None and a != s for a, s in zip(arr.shape, shape, strict=True)
+    ):
         raise input_error(name, f"shape {_shape_text(shape)}", arr)
     if not np.all(np.isfinite(arr)):
         raise input_error(name, "finite numbers (no NaN or inf)", arr)
@@ -69,4 +71,9 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
 
 
 def _shape_text(shape: Sequence[int | None]) -> str:
-    return "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+    return (
+        "("
+        + ", ".join("n" if s is None else str(s) for s in shape)
+        + ("," if len(shape) == 1 else "")
+        + ")"
+    )

@@ -77,12 +77,15 @@ def symbolic_case() -> SymbolicCase:
     R = r + n * g3
     s = c * (g1**2 - g2**2) + 2 * d * g1 * g2
     F1 = (
-        P**2 - Q**2 + c * kappa * g3**2
+        P**2
+        - Q**2
+        + c * kappa * g3**2
         + g3**2 * (K * d * R + c * K**2 * s)
         - lam * (g1**2 - g2**2) / g3**2
     )
     F2 = (
-        2 * P * Q + d * kappa * g3**2
+        2 * P * Q
+        + d * kappa * g3**2
         + (d * K**2 * s - K * c * R) * g3**2
         - 2 * lam * g1 * g2 / g3**2
     )
