@@ -16,6 +16,8 @@ class BenchTable:
     columns: list[str]
     rows: list[list[Any]] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    #: optional picture: {"x": column, "y": [columns], "logx": bool, "logy": bool}
+    plot: dict[str, Any] | None = None
 
     def to_markdown(self) -> str:
         def fmt(v: Any) -> str:
