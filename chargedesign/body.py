@@ -47,6 +47,9 @@ class Design:
         Dipole positions in m. ``dipole_moments``: ndarray, shape (k, 3), in A m^2 (body axes).
     realises : list[str]
         Subset of ``mu``, ``V``, ``inertia`` that the design claims.
+    continuous : list[ContinuousBody]
+        Continuous charge or mass bodies (chargedesign.quadrature), design.json key
+        ``continuous``; dicts in the design.json format are accepted and converted.
     extra : dict
         Further keys of design.json (provenance, residuals, timings, ...), kept verbatim.
     """
@@ -61,6 +64,7 @@ class Design:
     dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
+    continuous: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.charge_positions = as_points(self.charge_positions, "charges.positions")
@@ -82,6 +86,13 @@ class Design:
         for item in self.realises:
             if item not in REALISABLE:
                 raise input_error("realises", "items among " + ", ".join(REALISABLE), item)
+        if not isinstance(self.continuous, (list, tuple)):
+            raise input_error("continuous", "a list of bodies", self.continuous)
+        from chargedesign.quadrature import ContinuousBody
+
+        self.continuous = [
+            ContinuousBody.coerce(b, f"continuous[{i}]") for i, b in enumerate(self.continuous)
+        ]
 
     def field(self, kind: str) -> tuple[float, ...]:
         """Legendre coefficients of one field (empty tuple: no such field)."""
@@ -111,6 +122,8 @@ class Design:
             },
             "realises": list(self.realises),
         }
+        if self.continuous:
+            out["continuous"] = [b.to_dict() for b in self.continuous]
         for key, value in self.extra.items():
             out.setdefault(key, value)
         return out
@@ -144,6 +157,7 @@ class Design:
         mp, mv = block("masses", ("positions", "values"))
         dp, dm = block("dipoles", ("positions", "moments"))
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
+        known.add("continuous")
         return cls(
             parameters=params,
             fields=fields_out,
@@ -155,6 +169,7 @@ class Design:
             dipole_moments=dm,
             realises=list(data.get("realises", [])),
             extra={k: v for k, v in data.items() if k not in known},
+            continuous=data.get("continuous") or [],
         )
 
 

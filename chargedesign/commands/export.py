@@ -1,15 +1,46 @@
-"""`chargedesign export` (not implemented yet)."""
+"""`chargedesign export DESIGN --out PATH [--format json|csv|vtp]`: a design's geometry as a file.
+
+The format follows the file name's extension unless ``--format`` is given.
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
 
-from chargedesign.errors import ChargeDesignError
+FORMATS = ("json", "csv", "vtp")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp export)")
+    parser.add_argument(
+        "--format",
+        metavar="F",
+        help="one of " + ", ".join(FORMATS) + " (default: from the extension of --out)",
+    )
+    parser.add_argument("--out", metavar="PATH", required=True, help="file to write")
+    parser.add_argument("--json", action="store_true", help="print a JSON summary")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise ChargeDesignError("command 'export' is not implemented yet")
+    from chargedesign.export import export_design, load_any_design, resolve_format
+
+    fmt = resolve_format(args.format, args.out)
+    design = load_any_design(args.design)
+    path = export_design(design, fmt, args.out)
+    summary = {
+        "path": str(path),
+        "format": fmt,
+        "charges": len(design.charge_values),
+        "masses": len(design.mass_values),
+        "dipoles": len(design.dipole_moments),
+        "continuous": len(design.continuous),
+    }
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(
+            f"wrote {path} ({fmt}: {summary['charges']} charges, {summary['masses']} masses, "
+            f"{summary['dipoles']} dipoles, {summary['continuous']} continuous bodies)"
+        )
+    return 0

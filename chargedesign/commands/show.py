@@ -1,15 +1,97 @@
-"""`chargedesign show` (not implemented yet)."""
+"""`chargedesign show DESIGN`: a 3-D view of a design (PyVista).
+
+Without options a window opens (needs a display). ``--screenshot PNG`` renders off screen to a
+file; ``--animate TRAJ.npz --out GIF`` animates a simulated motion in the space frame.
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
 
-from chargedesign.errors import ChargeDesignError
+from chargedesign.errors import InputError
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp export)")
+    parser.add_argument(
+        "--screenshot", metavar="PNG", help="render off screen to this PNG file instead of a window"
+    )
+    parser.add_argument(
+        "--gamma",
+        nargs=3,
+        type=float,
+        metavar=("G1", "G2", "G3"),
+        help="field axis (space Z) in body axes, normalised; default 0 0 1",
+    )
+    parser.add_argument(
+        "--scene",
+        metavar="SCENE",
+        help="outline the candidate region of this scene's [body] table",
+    )
+    parser.add_argument(
+        "--size",
+        nargs=2,
+        type=int,
+        metavar=("W", "H"),
+        help="image size in pixels (default 1024 768; 480 360 for --animate)",
+    )
+    parser.add_argument(
+        "--animate", metavar="TRAJ", help="animate a simulated motion (.npz from simulate)"
+    )
+    parser.add_argument("--out", metavar="GIF", help="animation file (.gif; .mp4 with ffmpeg)")
+    parser.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
+    parser.add_argument("--fps", type=float, default=15.0, help="frames per second (default 15)")
+    parser.add_argument("--json", action="store_true", help="print the written files as JSON")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise ChargeDesignError("command 'show' is not implemented yet")
+    if args.animate is None and args.out is not None:
+        raise InputError("--out: names the animation file; give --animate TRAJ.npz too")
+    if args.animate is not None and args.out is None:
+        raise InputError("--animate: needs --out FILE.gif for the animation")
+
+    from chargedesign import viz
+    from chargedesign.export import load_any_design
+
+    design = load_any_design(args.design)
+    region = None
+    if args.scene is not None:
+        from chargedesign.scene import load_scene
+
+        region = load_scene(args.scene).table("body") or None
+        if region is None:
+            raise InputError(f"{args.scene}: the scene has no [body] table to outline")
+    written: dict[str, str] = {}
+    if args.screenshot is not None:
+        size = tuple(args.size) if args.size else (1024, 768)
+        path = viz.render_screenshot(
+            design, args.screenshot, region=region, window_size=size, gamma=args.gamma
+        )
+        written["screenshot"] = str(path)
+    if args.animate is not None:
+        size = tuple(args.size) if args.size else (480, 360)
+        path = viz.animate(
+            design,
+            args.animate,
+            args.out,
+            frames=args.frames,
+            fps=args.fps,
+            region=region,
+            window_size=size,
+        )
+        written["animation"] = str(path)
+    if not written:
+        viz.show_interactive(
+            design,
+            region=region,
+            gamma=args.gamma,
+            window_size=tuple(args.size) if args.size else (1024, 768),
+        )
+        return 0
+    if args.json:
+        print(json.dumps(written))
+    else:
+        for what, name in written.items():
+            print(f"wrote {what}: {name}")
+    return 0

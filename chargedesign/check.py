@@ -1,0 +1,854 @@
+"""Forward check of a design: recompute mu, V, the torques and the inertia from the fields.
+
+The route is deliberately independent of the moments and of the body-frame shortcuts used to
+derive the conditions: for each orientation gamma the body is *rotated*. With a rotation
+``R`` whose last row is gamma (``R^T e_Z = gamma``) and whose first row is a random unit
+vector perpendicular to gamma (the fields are axisymmetric, so the answer must not depend on
+it), every element sits at ``X = R r`` in space; the fields are evaluated there in space axes
+(:class:`chargedesign.fields.AxisymmetricField` ``potential``, ``gradient``, ``hessian``),
+forces, energies and torques are summed in space axes and the sums are rotated back to body
+axes with ``R^T``. Compared with the theorem (:mod:`chargedesign.model.evaluators`):
+
+- ``mu``: the integral ``mu = -sum q (r . B) r`` (B in body axes).
+- ``gyroscopic_torque``: the Lorentz torque ``sum r x q (v x B)`` of the charges moving with
+  ``v = omega x r`` for a random ``omega`` per orientation, against ``mu x omega``. Sign:
+  Euler-Poisson ``omega' I + omega x (omega I + mu) = gamma x dV/dgamma`` reads
+  ``I omega' + omega x I omega = mu x omega + gamma x dV/dgamma``, so the torque of the
+  velocity-dependent forces is ``mu x omega``. (Indeed ``r x ((omega x r) x B) =
+  -(r . B) r x omega``.)
+- ``V``: ``sum q Phi_e + sum m Phi_g - sum sigma . B``, up to an additive constant.
+- ``potential_torque``: ``sum X x F`` of the charges (``F = -q grad Phi_e``), the masses
+  (``F = -m grad Phi_g``) and the dipoles (``sigma x B + X x grad(sigma . B)``), rotated back,
+  against ``gamma x dV/dgamma``.
+- ``inertia``: ``sum m (|r|^2 1 - r r^T)`` against ``diag(2C, 2C, C)``.
+
+Relative error of a quantity x(gamma) against its reference x_ref(gamma) over the sampled
+orientations:
+
+    rel_err = max_g |x(g) - x_ref(g)| / max(max_g |x_ref(g)|, NOISE_FLOOR * gross)
+
+with ``|.|`` the Euclidean norm, ``gross`` the largest (over g) sum of the elements'
+absolute contributions (the size of the cancelling terms, so rounding noise of a reference
+that is zero is not divided by zero) and ``NOISE_FLOOR = 1e-6``. For V the constant is
+removed first: ``x - x_ref`` minus its mean over the orientations, and the reference's
+spread ``x_ref - mean(x_ref)`` in the denominator. The inertia is one matrix (largest
+absolute entry of the difference over the largest entry of ``diag(2C, 2C, C)``).
+
+Per effect (``lorentz``: charges in B; ``electric``: charges in E; ``gravity``: masses;
+``magnetization``: dipoles; ``inertia``: masses) the report gives the effect's size and the
+agreement of two routes within the effect (informational): Lorentz torque against
+``mu_design x omega``, and for the potential effects the force torque against
+``gamma x grad`` of a polynomial fitted to the effect's sampled energies (degree of the
+field; the tangential gradient is unique on the sphere).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.errors import SolverError
+from chargedesign.fields import AxisymmetricField
+from chargedesign.moments import monomial_matrix, moment_keys, parse_moment_key
+from chargedesign.quadrature import ContinuousBody, quadrature_points
+from chargedesign.validation import as_finite_float, input_error
+
+DEFAULT_TOL = 1e-9
+DEFAULT_ORIENTATIONS = 1000
+#: relative size (to the gross contributions) below which a reference counts as zero
+NOISE_FLOOR = 1e-6
+#: orientation-particle pairs evaluated per vectorised block (memory ~ 1 KB per pair)
+BLOCK_PAIRS = 1 << 15
+
+#: quantity -> the design claim (``realises`` item) that makes it a pass/fail check
+QUANTITY_CLAIMS = {
+    "mu": "mu",
+    "gyroscopic_torque": "mu",
+    "V": "V",
+    "potential_torque": "V",
+    "inertia": "inertia",
+}
+FIELD_NAMES = ("magnetic", "electric", "gravity")
+EFFECTS = {
+    "lorentz": ("charges", "magnetic"),
+    "electric": ("charges", "electric"),
+    "gravity": ("masses", "gravity"),
+    "magnetization": ("dipoles", "magnetic"),
+    "inertia": ("masses", None),
+}
+
+
+# --------------------------------------------------------------------------- results
+@dataclass
+class QuantityResult:
+    """One compared quantity.
+
+    Attributes
+    ----------
+    name : str
+        ``mu``, ``gyroscopic_torque``, ``V``, ``potential_torque`` or ``inertia``.
+    rel_err : float
+        Largest relative error (see module docstring).
+    abs_err : float
+        Largest absolute error (SI units of the quantity).
+    scale : float
+        The denominator used.
+    worst_gamma : tuple of float or None
+        The orientation of the largest error (None for the inertia).
+    claimed : bool
+        Whether the design claims it (then it is compared with the tolerance).
+    passed : bool or None
+        ``rel_err <= tol`` when claimed, else None (informational).
+    """
+
+    name: str
+    rel_err: float
+    abs_err: float
+    scale: float
+    worst_gamma: tuple[float, float, float] | None
+    claimed: bool
+    passed: bool | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "rel_err": self.rel_err,
+            "abs_err": self.abs_err,
+            "scale": self.scale,
+            "worst_gamma": None if self.worst_gamma is None else list(self.worst_gamma),
+            "claimed": self.claimed,
+            "passed": self.passed,
+        }
+
+
+@dataclass
+class EffectResult:
+    """One physical effect: its size and the agreement of two routes within it.
+
+    Attributes
+    ----------
+    name : str
+        ``lorentz``, ``electric``, ``gravity``, ``magnetization`` or ``inertia``.
+    source : str
+        ``charges``, ``masses`` or ``dipoles``.
+    n_elements : int
+        Elements taking part (point elements plus quadrature nodes of continuous bodies).
+    active : bool
+        True when the effect has both elements and (where it needs one) a non-zero field.
+    size : dict[str, float]
+        Largest magnitudes over the orientations: ``mu``, ``gyroscopic_torque`` (lorentz);
+        ``V_spread`` (max - min of the energy), ``torque`` (electric, gravity,
+        magnetization); ``total_mass`` (inertia).
+    route_rel_err : float or None
+        Relative disagreement of two routes within the effect (informational), or None
+        when not computed.
+    worst_gamma : tuple of float or None
+        Where ``route_rel_err`` occurs.
+    """
+
+    name: str
+    source: str
+    n_elements: int
+    active: bool
+    size: dict[str, float]
+    route_rel_err: float | None = None
+    worst_gamma: tuple[float, float, float] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "source": self.source,
+            "n_elements": self.n_elements,
+            "active": self.active,
+            "size": dict(self.size),
+            "route_rel_err": self.route_rel_err,
+            "worst_gamma": None if self.worst_gamma is None else list(self.worst_gamma),
+        }
+
+
+@dataclass
+class CheckReport:
+    """Everything :func:`check_design` found.
+
+    Attributes
+    ----------
+    tol : float
+        Relative tolerance of the pass/fail decisions.
+    n_orientations : int
+        Orientations sampled.
+    seed : int
+        Seed of the random orientations, azimuths and angular velocities.
+    claimed : list[str]
+        The design's ``realises``.
+    quantities : dict[str, QuantityResult]
+        ``mu``, ``gyroscopic_torque``, ``V``, ``potential_torque``, ``inertia``.
+    effects : dict[str, EffectResult]
+        ``lorentz``, ``electric``, ``gravity``, ``magnetization``, ``inertia``.
+    V_offset : float
+        The additive constant of the design's V over the theorem's (mean difference), J.
+    quadrature : list[dict]
+        Per continuous body: kind, shape, degree of exactness used, nodes.
+    n_pairs : int
+        Element-orientation pairs evaluated.
+    notes : list[str]
+        Remarks (singular potential terms, nothing claimed, ...).
+    """
+
+    tol: float
+    n_orientations: int
+    seed: int
+    claimed: list[str]
+    quantities: dict[str, QuantityResult]
+    effects: dict[str, EffectResult]
+    V_offset: float
+    quadrature: list[dict[str, Any]] = field(default_factory=list)
+    n_pairs: int = 0
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        """True when every claimed quantity is within the tolerance."""
+        return all(q.passed is not False for q in self.quantities.values())
+
+    @property
+    def failures(self) -> list[str]:
+        """Names of the claimed quantities beyond the tolerance."""
+        return [name for name, q in self.quantities.items() if q.passed is False]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON mapping: the contract's keys first (``mu_rel_err``, ``V_rel_err``, ...)."""
+        out: dict[str, Any] = {}
+        for name in ("mu", "V", "inertia", "gyroscopic_torque", "potential_torque"):
+            out[f"{name}_rel_err"] = self.quantities[name].rel_err
+        out["passed"] = self.passed
+        out["tol"] = self.tol
+        out["failures"] = self.failures
+        out["claimed"] = list(self.claimed)
+        out["n_orientations"] = self.n_orientations
+        out["seed"] = self.seed
+        out["n_pairs"] = self.n_pairs
+        out["V_offset"] = self.V_offset
+        out["quantities"] = {k: v.to_dict() for k, v in self.quantities.items()}
+        out["effects"] = {k: v.to_dict() for k, v in self.effects.items()}
+        out["quadrature"] = list(self.quadrature)
+        out["notes"] = list(self.notes)
+        return out
+
+
+# ----------------------------------------------------------------------- orientations
+def sample_orientations(n: int, seed: int = 0) -> np.ndarray:
+    """A deterministic, well-spread set of unit vectors gamma.
+
+    The first ``n - n // 2`` (rounded down to even) lie on a Fibonacci sphere
+    ``z_i = 1 - (2 i + 1) / n_f`` (an even count never hits the equator gamma3 = 0 exactly,
+    where the theorem's singular terms blow up); the rest are uniformly random (seeded).
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise input_error("n_orientations", "an integer >= 1", n)
+    n = int(n)
+    n_fib = n - n // 2
+    n_fib -= n_fib % 2
+    i = np.arange(n_fib)
+    z = 1.0 - (2.0 * i + 1.0) / max(n_fib, 1)
+    phi = i * math.pi * (3.0 - math.sqrt(5.0))
+    s = np.sqrt(1.0 - z * z)
+    fib = np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=1)
+    rng = np.random.default_rng(seed)
+    rand = rng.standard_normal((n - n_fib, 3))
+    rand /= np.linalg.norm(rand, axis=1, keepdims=True)
+    return np.concatenate([fib, rand], axis=0)
+
+
+def rotation_matrices(gammas: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Rotations R (body to space) with ``R^T e_Z = gamma`` and a random azimuth.
+
+    Rows of R are ``u``, ``gamma x u``, ``gamma`` with ``u`` a random unit vector
+    perpendicular to gamma, so ``det R = +1``.
+
+    Returns
+    -------
+    ndarray, shape (m, 3, 3)
+    """
+    m = len(gammas)
+    trial = rng.standard_normal((m, 3))
+    u = trial - np.einsum("ij,ij->i", trial, gammas)[:, None] * gammas
+    norm = np.linalg.norm(u, axis=1)
+    bad = norm < 1e-6  # vanishingly rare: fall back to a fixed perpendicular axis
+    if np.any(bad):
+        axis = np.where(np.abs(gammas[bad, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        u[bad] = axis - np.einsum("ij,ij->i", axis, gammas[bad])[:, None] * gammas[bad]
+        norm[bad] = np.linalg.norm(u[bad], axis=1)
+    u /= norm[:, None]
+    R = np.empty((m, 3, 3))
+    R[:, 0] = u
+    R[:, 1] = np.cross(gammas, u)
+    R[:, 2] = gammas
+    return R
+
+
+# --------------------------------------------------------------------------- elements
+@dataclass
+class _Elements:
+    charge_positions: np.ndarray
+    charge_values: np.ndarray
+    mass_positions: np.ndarray
+    mass_values: np.ndarray
+    dipole_positions: np.ndarray
+    dipole_moments: np.ndarray
+    quadrature: list[dict[str, Any]]
+
+
+def _integrand_degree(kind: str, degrees: dict[str, int]) -> int:
+    """Polynomial degree (in body coordinates) of every integrand the check uses."""
+    if kind == "charge":
+        # V and torque of E: Phi_e, r x grad Phi_e (degree L_e); mu and the Lorentz torque:
+        # r (r . B), r x ((omega x r) x B) (degree L_m + 1, or 0 without a field).
+        lorentz = degrees["magnetic"] + 1 if degrees["magnetic"] else 0
+        return max(degrees["electric"], lorentz)
+    return max(degrees["gravity"], 2)  # V, torque of gravity; inertia (degree 2)
+
+
+def collect_elements(
+    design: Design, quadrature_order: int | None = None
+) -> tuple[_Elements, dict[str, int]]:
+    """Point elements plus continuous bodies as quadrature nodes (weights in C or kg).
+
+    The degree of exactness of each body's rule is ``density degree + integrand degree``
+    (exact for every polynomial integrand of the check) unless ``quadrature_order`` is given.
+    """
+    degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
+    cp, cv = [design.charge_positions], [design.charge_values]
+    mp, mv = [design.mass_positions], [design.mass_values]
+    info = []
+    for i, raw in enumerate(design.continuous):
+        body = ContinuousBody.coerce(raw, f"continuous[{i}]")
+        order = (
+            body.density.degree + _integrand_degree(body.kind, degrees)
+            if quadrature_order is None
+            else quadrature_order
+        )
+        pts, w = quadrature_points(body, order)
+        (cp if body.kind == "charge" else mp).append(pts)
+        (cv if body.kind == "charge" else mv).append(w)
+        info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
+    elements = _Elements(
+        np.concatenate(cp),
+        np.concatenate(cv),
+        np.concatenate(mp),
+        np.concatenate(mv),
+        design.dipole_positions,
+        design.dipole_moments,
+        info,
+    )
+    return elements, degrees
+
+
+# ------------------------------------------------------------------------ the kernel
+def _rotate_points(R: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """``X[i, j] = R[i] @ r[j]``: ndarray, shape (m, n, 3) (one GEMM)."""
+    m, n = len(R), len(r)
+    XR = (R.reshape(3 * m, 3) @ r.T).reshape(m, 3, n)
+    return np.ascontiguousarray(XR.transpose(0, 2, 1))
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product over the last axis (components written out: faster than np.cross)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    np.multiply(a1, b2, out=out[..., 0])
+    out[..., 0] -= a2 * b1
+    np.multiply(a2, b0, out=out[..., 1])
+    out[..., 1] -= a0 * b2
+    np.multiply(a0, b1, out=out[..., 2])
+    out[..., 2] -= a1 * b0
+    return out
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+
+
+def _norm(a: np.ndarray) -> np.ndarray:
+    return np.sqrt(_dot(a, a))
+
+
+@dataclass
+class _Sums:
+    """Per-orientation sums in space axes (m rows)."""
+
+    mu: np.ndarray
+    gyro: np.ndarray
+    mu_gross: np.ndarray
+    energy: dict[str, np.ndarray]
+    energy_gross: dict[str, np.ndarray]
+    torque: dict[str, np.ndarray]
+    torque_gross: dict[str, np.ndarray]
+
+
+def _new_sums(m: int) -> _Sums:
+    names = ("electric", "gravity", "magnetization")
+    return _Sums(
+        mu=np.zeros((m, 3)),
+        gyro=np.zeros((m, 3)),
+        mu_gross=np.zeros(m),
+        energy={k: np.zeros(m) for k in names},
+        energy_gross={k: np.zeros(m) for k in names},
+        torque={k: np.zeros((m, 3)) for k in names},
+        torque_gross={k: np.zeros(m) for k in names},
+    )
+
+
+def _charges_block(
+    R: np.ndarray,
+    omega_space: np.ndarray,
+    r: np.ndarray,
+    q: np.ndarray,
+    magnetic: AxisymmetricField,
+    electric: AxisymmetricField,
+    out: _Sums,
+    rows: slice,
+) -> None:
+    m, n = len(R), len(r)
+    X = _rotate_points(R, r)
+    flat = X.reshape(-1, 3)
+    absq = np.abs(q)
+    if not magnetic.is_zero:
+        B = -magnetic.gradient(flat).reshape(m, n, 3)
+        rB = _dot(X, B)  # (m, n): r . B is invariant under the rotation
+        wq = rB * q
+        out.mu[rows] = -np.einsum("mn,mnc->mc", wq, X)
+        out.mu_gross[rows] = np.abs(rB) @ (absq * np.sqrt(_dot(r, r)))
+        # Lorentz force of the charges moving with v = Omega x X; torque X x F.
+        v = _cross(omega_space[:, None, :], X)
+        force = _cross(v, B) * q[None, :, None]
+        out.gyro[rows] = _cross(X, force).sum(axis=1)
+    if not electric.is_zero:
+        phi = electric.potential(flat).reshape(m, n)
+        grad = electric.gradient(flat).reshape(m, n, 3)
+        out.energy["electric"][rows] = phi @ q
+        out.energy_gross["electric"][rows] = np.abs(phi) @ absq
+        tq = _cross(X, grad)  # torque of F = -q grad Phi is -q X x grad
+        out.torque["electric"][rows] = -np.einsum("mnc,n->mc", tq, q)
+        out.torque_gross["electric"][rows] = _norm(tq) @ absq
+
+
+def _masses_block(
+    R: np.ndarray, r: np.ndarray, w: np.ndarray, gravity: AxisymmetricField, out: _Sums, rows: slice
+) -> None:
+    if gravity.is_zero:
+        return
+    m, n = len(R), len(r)
+    X = _rotate_points(R, r)
+    flat = X.reshape(-1, 3)
+    phi = gravity.potential(flat).reshape(m, n)
+    grad = gravity.gradient(flat).reshape(m, n, 3)
+    out.energy["gravity"][rows] = phi @ w
+    out.energy_gross["gravity"][rows] = np.abs(phi) @ np.abs(w)
+    tq = _cross(X, grad)
+    out.torque["gravity"][rows] = -np.einsum("mnc,n->mc", tq, w)
+    out.torque_gross["gravity"][rows] = _norm(tq) @ np.abs(w)
+
+
+def _dipoles_block(
+    R: np.ndarray,
+    r: np.ndarray,
+    sigma: np.ndarray,
+    magnetic: AxisymmetricField,
+    out: _Sums,
+    rows: slice,
+) -> None:
+    if magnetic.is_zero:
+        return
+    m, n = len(R), len(r)
+    X = _rotate_points(R, r)
+    S = _rotate_points(R, sigma)  # sigma in space axes
+    flat = X.reshape(-1, 3)
+    grad = magnetic.gradient(flat).reshape(m, n, 3)  # B = -grad
+    hess = magnetic.hessian(flat).reshape(m, n, 3, 3)
+    energy = _dot(S, grad)  # -sigma . B
+    out.energy["magnetization"][rows] = energy.sum(axis=1)
+    out.energy_gross["magnetization"][rows] = np.abs(energy).sum(axis=1)
+    # F = grad(sigma . B) = -H sigma; torque sigma x B + X x F = -(sigma x grad + X x H sigma)
+    tq = _cross(S, grad) + _cross(X, np.einsum("mnij,mnj->mni", hess, S))
+    out.torque["magnetization"][rows] = -tq.sum(axis=1)
+    out.torque_gross["magnetization"][rows] = _norm(tq).sum(axis=1)
+
+
+def _to_body(R: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``R^T v`` per orientation: space vectors (m, 3) to body axes."""
+    return np.einsum("mci,mc->mi", R, v)
+
+
+def evaluate_rotated(
+    elements: _Elements,
+    fields: dict[str, AxisymmetricField],
+    R: np.ndarray,
+    omegas: np.ndarray,
+    *,
+    block_pairs: int = BLOCK_PAIRS,
+) -> _Sums:
+    """Rotated-body sums for every orientation, in body axes.
+
+    Parameters
+    ----------
+    elements : _Elements
+        Charges (C), masses (kg), dipoles (A m^2) in body axes (m).
+    fields : dict[str, AxisymmetricField]
+        ``magnetic``, ``electric``, ``gravity``.
+    R : ndarray, shape (m, 3, 3)
+        Body-to-space rotations.
+    omegas : ndarray, shape (m, 3)
+        Angular velocities in body axes, rad/s (for the Lorentz torque).
+    block_pairs : int
+        Element-orientation pairs per vectorised block.
+
+    Returns
+    -------
+    _Sums with every vector in body axes.
+    """
+    m = len(R)
+    sums = _new_sums(m)
+    omega_space = np.einsum("mij,mj->mi", R, omegas)
+    groups: list[tuple[int, Callable[[np.ndarray, slice], None]]] = []
+    if len(elements.charge_values):
+
+        def charges(Rb: np.ndarray, rows: slice) -> None:
+            _charges_block(
+                Rb,
+                omega_space[rows],
+                elements.charge_positions,
+                elements.charge_values,
+                fields["magnetic"],
+                fields["electric"],
+                sums,
+                rows,
+            )
+
+        groups.append((len(elements.charge_values), charges))
+    if len(elements.mass_values):
+
+        def masses(Rb: np.ndarray, rows: slice) -> None:
+            _masses_block(
+                Rb, elements.mass_positions, elements.mass_values, fields["gravity"], sums, rows
+            )
+
+        groups.append((len(elements.mass_values), masses))
+    if len(elements.dipole_moments):
+
+        def dipoles(Rb: np.ndarray, rows: slice) -> None:
+            _dipoles_block(
+                Rb,
+                elements.dipole_positions,
+                elements.dipole_moments,
+                fields["magnetic"],
+                sums,
+                rows,
+            )
+
+        groups.append((len(elements.dipole_moments), dipoles))
+    for n, fn in groups:
+        step = max(1, block_pairs // n)
+        for start in range(0, m, step):
+            rows = slice(start, min(m, start + step))
+            fn(R[rows], rows)
+    sums.mu = _to_body(R, sums.mu)
+    sums.gyro = _to_body(R, sums.gyro)
+    for k in sums.torque:
+        sums.torque[k] = _to_body(R, sums.torque[k])
+    return sums
+
+
+# ------------------------------------------------------------------------ comparisons
+def _worst(gammas: np.ndarray, err: np.ndarray) -> tuple[float, float, float]:
+    i = int(np.argmax(err))
+    return (float(gammas[i, 0]), float(gammas[i, 1]), float(gammas[i, 2]))
+
+
+def _relative(
+    x: np.ndarray, ref: np.ndarray, gross: float, gammas: np.ndarray
+) -> tuple[float, float, float, tuple[float, float, float]]:
+    """(rel_err, abs_err, scale, worst gamma) of per-orientation vectors or scalars."""
+    diff = x - ref
+    err = np.abs(diff) if diff.ndim == 1 else np.linalg.norm(diff, axis=1)
+    size = np.abs(ref) if ref.ndim == 1 else np.linalg.norm(ref, axis=1)
+    scale = max(float(size.max(initial=0.0)), NOISE_FLOOR * gross)
+    abs_err = float(err.max(initial=0.0))
+    if scale > 0.0:
+        rel = abs_err / scale
+    else:
+        rel = 0.0 if abs_err == 0.0 else math.inf
+    return rel, abs_err, scale, _worst(gammas, err)
+
+
+def _fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
+    """``gamma x grad p`` of the least-squares polynomial p (degree <= ``degree``) of energy.
+
+    Returns None when there are too few orientations for a well-determined fit.
+    """
+    keys = [k for order in range(degree + 1) for k in moment_keys(order)]
+    if len(gammas) < 2 * len(keys):
+        return None
+    basis = monomial_matrix(gammas, keys).T
+    coef, *_ = np.linalg.lstsq(basis, energy, rcond=None)
+    grad = np.zeros_like(gammas)
+    for c, key in zip(coef, keys, strict=True):
+        exps = parse_moment_key(key)
+        for axis in range(3):
+            if exps[axis] == 0:
+                continue
+            lowered = list(exps)
+            lowered[axis] -= 1
+            grad[:, axis] += (
+                c
+                * exps[axis]
+                * np.prod(gammas ** np.array(lowered, dtype=float)[None, :], axis=1)
+            )
+    return np.cross(gammas, grad)
+
+
+def _theorem(params: Any, gammas: np.ndarray) -> dict[str, np.ndarray]:
+    from chargedesign.model import evaluators
+
+    ref = {
+        "mu": np.asarray(evaluators.gyroscopic(gammas, params), dtype=float),
+        "V": np.asarray(evaluators.potential(gammas, params), dtype=float),
+        "dV": np.asarray(evaluators.potential_gradient(gammas, params), dtype=float),
+    }
+    for name, value in ref.items():
+        if not np.all(np.isfinite(value)):
+            raise SolverError(f"theorem: {name} is not finite at some sampled orientation")
+    return ref
+
+
+def check_design(
+    design: Design,
+    *,
+    n_orientations: int = DEFAULT_ORIENTATIONS,
+    tol: float = DEFAULT_TOL,
+    seed: int = 0,
+    quadrature_order: int | None = None,
+    block_pairs: int = BLOCK_PAIRS,
+) -> CheckReport:
+    """Recompute mu, V, the torques and the inertia of a design and compare with the theorem.
+
+    Parameters
+    ----------
+    design : Design
+        Point charges (C), masses (kg), dipoles (A m^2) and continuous bodies in body axes.
+    n_orientations : int
+        Orientations gamma sampled (half Fibonacci sphere, half random).
+    tol : float
+        Relative tolerance (> 0) for the quantities the design claims (``realises``).
+    seed : int
+        Seed of the random orientations, azimuths and angular velocities (rad/s, unit-normal
+        components).
+    quadrature_order : int, optional
+        Degree of exactness of the continuous bodies' rules; default: exact for the check.
+    block_pairs : int
+        Element-orientation pairs per vectorised block (memory vs speed).
+
+    Returns
+    -------
+    CheckReport
+    """
+    if not isinstance(design, Design):
+        raise input_error("design", "a Design", design)
+    tol = as_finite_float(tol, "tol", positive=True)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise input_error("seed", "an integer", seed)
+    gammas = sample_orientations(n_orientations, seed)
+    rng = np.random.default_rng([int(seed), 1])
+    R = rotation_matrices(gammas, rng)
+    omegas = rng.standard_normal((len(gammas), 3))
+    elements, degrees = collect_elements(design, quadrature_order)
+    fields = {k: AxisymmetricField(design.field(k)) for k in FIELD_NAMES}
+    sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
+    params = design.parameters
+    ref = _theorem(params, gammas)
+    claimed = set(design.realises)
+    notes: list[str] = []
+
+    for name, arr in [("mu", sums.mu), ("gyroscopic torque", sums.gyro)]:
+        if not np.all(np.isfinite(arr)):
+            raise SolverError(f"check: the design's {name} is not finite (overflow?)")
+    quantities: dict[str, QuantityResult] = {}
+
+    def record(name: str, rel: float, abs_err: float, scale: float, worst: Any) -> None:
+        is_claimed = QUANTITY_CLAIMS[name] in claimed
+        quantities[name] = QuantityResult(
+            name=name,
+            rel_err=rel,
+            abs_err=abs_err,
+            scale=scale,
+            worst_gamma=worst,
+            claimed=is_claimed,
+            passed=(rel <= tol) if is_claimed else None,
+        )
+
+    mu_gross = float(sums.mu_gross.max(initial=0.0))
+    record("mu", *_relative(sums.mu, ref["mu"], mu_gross, gammas))
+    omega_norm = np.linalg.norm(omegas, axis=1)
+    gyro_ref = np.cross(ref["mu"], omegas)
+    record(
+        "gyroscopic_torque",
+        *_relative(sums.gyro, gyro_ref, float((sums.mu_gross * omega_norm).max()), gammas),
+    )
+
+    energy = sum(sums.energy.values())
+    assert isinstance(energy, np.ndarray)
+    energy_gross = float(sum(sums.energy_gross.values()).max(initial=0.0))  # type: ignore[union-attr]
+    diff = energy - ref["V"]
+    offset = float(diff.mean())
+    spread_ref = ref["V"] - ref["V"].mean()
+    record(
+        "V",
+        *_relative(energy - offset - ref["V"].mean(), spread_ref, energy_gross, gammas),
+    )
+    torque = sum(sums.torque.values())
+    assert isinstance(torque, np.ndarray)
+    torque_gross = float(sum(sums.torque_gross.values()).max(initial=0.0))  # type: ignore[union-attr]
+    torque_ref = np.cross(gammas, ref["dV"])
+    record("potential_torque", *_relative(torque, torque_ref, torque_gross, gammas))
+    for name in ("V", "potential_torque"):
+        if not np.isfinite(quantities[name].abs_err):
+            raise SolverError(f"check: the design's {name} is not finite (overflow?)")
+
+    r, w = elements.mass_positions, elements.mass_values
+    inertia = np.einsum("n,n->", w, np.einsum("ni,ni->n", r, r)) * np.eye(3) - np.einsum(
+        "n,ni,nj->ij", w, r, r
+    )
+    inertia_ref = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
+    inertia_abs = float(np.abs(inertia - inertia_ref).max())
+    record("inertia", inertia_abs / (2.0 * params.C), inertia_abs, 2.0 * params.C, None)
+
+    effects = _effects(elements, fields, degrees, gammas, omegas, sums, inertia)
+    if params.singular:
+        notes.append(
+            "lambda/rho terms of V are singular on gamma3 = 0: charges, masses and dipoles "
+            "cannot realise them"
+        )
+    if not claimed:
+        notes.append("the design claims nothing (realises is empty): all results informational")
+    n_pairs = len(gammas) * (
+        len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
+    )
+    return CheckReport(
+        tol=tol,
+        n_orientations=len(gammas),
+        seed=int(seed),
+        claimed=list(design.realises),
+        quantities=quantities,
+        effects=effects,
+        V_offset=offset,
+        quadrature=elements.quadrature,
+        n_pairs=n_pairs,
+        notes=notes,
+    )
+
+
+def _effects(
+    elements: _Elements,
+    fields: dict[str, AxisymmetricField],
+    degrees: dict[str, int],
+    gammas: np.ndarray,
+    omegas: np.ndarray,
+    sums: _Sums,
+    inertia: np.ndarray,
+) -> dict[str, EffectResult]:
+    counts = {
+        "charges": len(elements.charge_values),
+        "masses": len(elements.mass_values),
+        "dipoles": len(elements.dipole_moments),
+    }
+    out: dict[str, EffectResult] = {}
+    # Lorentz: the force route (sum r x q (v x B)) against the design's own mu x omega.
+    active = counts["charges"] > 0 and not fields["magnetic"].is_zero
+    size = {
+        "mu": float(np.linalg.norm(sums.mu, axis=1).max(initial=0.0)),
+        "gyroscopic_torque": float(np.linalg.norm(sums.gyro, axis=1).max(initial=0.0)),
+    }
+    route: float | None = None
+    worst = None
+    if active:
+        gross = float((sums.mu_gross * np.linalg.norm(omegas, axis=1)).max())
+        route, _, _, worst = _relative(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
+    out["lorentz"] = EffectResult("lorentz", "charges", counts["charges"], active, size, route, worst)
+    for name in ("electric", "gravity", "magnetization"):
+        source, field_name = EFFECTS[name]
+        assert field_name is not None
+        active = counts[source] > 0 and not fields[field_name].is_zero
+        e = sums.energy[name]
+        t = sums.torque[name]
+        size = {
+            "V_spread": float(e.max(initial=0.0) - e.min(initial=0.0)) if len(e) else 0.0,
+            "torque": float(np.linalg.norm(t, axis=1).max(initial=0.0)),
+        }
+        route, worst = None, None
+        if active:
+            fitted = _fitted_torque(gammas, e, degrees[field_name])
+            if fitted is not None:
+                gross = float(sums.torque_gross[name].max(initial=0.0))
+                route, _, _, worst = _relative(t, fitted, gross, gammas)
+        out[name] = EffectResult(name, source, counts[source], active, size, route, worst)
+    out["inertia"] = EffectResult(
+        "inertia",
+        "masses",
+        counts["masses"],
+        counts["masses"] > 0,
+        {"total_mass": float(elements.mass_values.sum()), "trace": float(np.trace(inertia))},
+    )
+    return out
+
+
+def summary_lines(report: CheckReport) -> list[str]:
+    """Human-readable lines of a report (the CLI prints them)."""
+    lines = [
+        f"check: {report.n_orientations} orientations, {report.n_pairs} element-orientation "
+        f"pairs, tol {report.tol:g}",
+        f"{'quantity':<20} {'rel_err':>10}  {'status':<9} worst gamma",
+    ]
+    for name, q in report.quantities.items():
+        status = "info" if q.passed is None else ("PASS" if q.passed else "FAIL")
+        where = (
+            "-"
+            if q.worst_gamma is None
+            else "(" + ", ".join(f"{g:+.4f}" for g in q.worst_gamma) + ")"
+        )
+        lines.append(f"{name:<20} {q.rel_err:>10.3e}  {status:<9} {where}")
+    lines.append(f"{'effect':<14} {'source':<8} {'elements':>8}  size; route agreement")
+    for name, e in report.effects.items():
+        size = ", ".join(f"{k} {v:.4g}" for k, v in e.size.items())
+        route = "" if e.route_rel_err is None else f"; routes agree to {e.route_rel_err:.2e}"
+        lines.append(f"{name:<14} {e.source:<8} {e.n_elements:>8}  {size}{route}")
+    for body in report.quadrature:
+        lines.append(
+            f"continuous {body['kind']} {body['shape']}: {body['nodes']} nodes, "
+            f"exact to degree {body['order']}"
+        )
+    lines += [f"note: {n}" for n in report.notes]
+    lines.append("PASSED" if report.passed else "FAILED: " + ", ".join(report.failures))
+    return lines
+
+
+__all__ = [
+    "DEFAULT_ORIENTATIONS",
+    "DEFAULT_TOL",
+    "NOISE_FLOOR",
+    "CheckReport",
+    "EffectResult",
+    "QuantityResult",
+    "check_design",
+    "collect_elements",
+    "evaluate_rotated",
+    "rotation_matrices",
+    "sample_orientations",
+    "summary_lines",
+]

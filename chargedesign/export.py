@@ -1,0 +1,293 @@
+"""Export and import a design's geometry: JSON (canonical), CSV (tables), VTK PolyData (.vtp).
+
+- ``json``: the contract's ``design.json`` mapping (:meth:`Design.to_dict`), lossless.
+- ``csv``: one row per element, columns ``kind, x, y, z, value, mx, my, mz``; a commented
+  header carries the units and, one line each as ``# design.KEY: JSON``, the parameters,
+  fields, realises, continuous bodies and the remaining keys (provenance). Numbers are
+  written with ``repr`` (the shortest form that reads back to the same float): lossless.
+- ``vtp``: points (float64) with one vertex cell per element and point-data arrays ``kind``
+  (0 charge, 1 mass, 2 dipole), ``value`` (C or kg; 0 for dipoles), ``charge``, ``mass``,
+  ``moment`` (A m^2, zero except for dipoles); field data ``chargedesign_design`` holds the
+  rest of the design as a JSON string (continuous bodies included). Continuous bodies are
+  also appended as triangulated surfaces for viewing (``kind`` 3 for charge, 4 for mass;
+  ``value`` the density at each surface point; ``body`` their index, -1 for elements).
+  Lossless.
+
+All writes are atomic (:func:`chargedesign.files.atomic_path`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import DESIGN_FORMAT, Design, read_design
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_path
+from chargedesign.validation import input_error
+
+FORMATS = ("json", "csv", "vtp")
+CSV_COLUMNS = ("kind", "x", "y", "z", "value", "mx", "my", "mz")
+UNITS = "positions m, charge C, mass kg, dipole moment A m^2"
+#: point-data ``kind`` codes of the VTP export
+KIND_CODES = {"charge": 0, "mass": 1, "dipole": 2, "continuous charge": 3, "continuous mass": 4}
+VTP_FIELD = "chargedesign_design"
+_ELEMENT_KEYS = ("charges", "masses", "dipoles")
+
+
+def format_from_path(path: str | os.PathLike[str]) -> str:
+    """The export format a file name calls for (``.json``, ``.csv``, ``.vtp``)."""
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in FORMATS:
+        raise input_error(
+            f"{path}: format",
+            "a file name ending in " + ", ".join("." + f for f in FORMATS),
+            suffix,
+        )
+    return suffix
+
+
+def resolve_format(fmt: str | None, path: str | os.PathLike[str]) -> str:
+    """``fmt`` checked against :data:`FORMATS`, or the format the file name calls for."""
+    if fmt is None:
+        return format_from_path(path)
+    if fmt not in FORMATS:
+        raise input_error("format", "one of " + ", ".join(FORMATS), fmt)
+    return fmt
+
+
+def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str]) -> Path:
+    """Write ``design`` in format ``fmt`` (``json``, ``csv``, ``vtp``; None: from the suffix).
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    fmt = resolve_format(fmt, path)
+    target = Path(path)
+    writers: dict[str, Callable[[Design, Path], None]] = {
+        "json": _write_json,
+        "csv": _write_csv,
+        "vtp": _write_vtp,
+    }
+    try:
+        with atomic_path(target) as tmp:
+            writers[fmt](design, tmp)
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
+    return target
+
+
+def import_design(path: str | os.PathLike[str]) -> Design:
+    """Read a design from a ``.json``, ``.csv`` or ``.vtp`` file written by :func:`export_design`.
+
+    The round trip is exact: positions, values and moments come back bit-identical.
+    """
+    fmt = format_from_path(path)
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file")
+    if fmt == "json":
+        return read_design(p)
+    if fmt == "csv":
+        return _read_csv(p)
+    return _read_vtp(p)
+
+
+def load_any_design(path: str | os.PathLike[str]) -> Design:
+    """A design from ``.csv`` or ``.vtp`` exports, else from design.json (whatever the name)."""
+    if Path(path).suffix.lower() in (".csv", ".vtp"):
+        return import_design(path)
+    return read_design(path)
+
+
+# ---------------------------------------------------------------------------------------------
+# json
+
+
+def _write_json(design: Design, path: Path) -> None:
+    path.write_text(
+        json.dumps(design.to_dict(), indent=2, allow_nan=False) + "\n", encoding="utf-8"
+    )
+
+
+def _header(design: Design) -> dict[str, Any]:
+    """Everything of the design except its elements (parameters, fields, realises, extra)."""
+    return {k: v for k, v in design.to_dict().items() if k not in _ELEMENT_KEYS}
+
+
+def _from_header(header: Any, elements: dict[str, dict[str, Any]], where: str) -> Design:
+    if not isinstance(header, dict):
+        raise input_error(where, "a JSON object describing the design", header)
+    return Design.from_dict({**header, **elements}, where=where)
+
+
+# ---------------------------------------------------------------------------------------------
+# csv
+
+
+def _write_csv(design: Design, path: Path) -> None:
+    header = _header(design)
+    buffer = io.StringIO()
+    buffer.write(f"# chargedesign design export ({DESIGN_FORMAT})\n")
+    buffer.write(f"# units: {UNITS}\n")
+    buffer.write("# columns: kind, x, y, z (m); value (C or kg); mx, my, mz (A m^2, dipoles)\n")
+    for key, value in header.items():
+        if key == "format":
+            continue
+        buffer.write(f"# design.{key}: {json.dumps(value, allow_nan=False)}\n")
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    for position, value in zip(design.charge_positions, design.charge_values, strict=True):
+        writer.writerow(
+            ["charge", *map(repr, map(float, position)), repr(float(value)), "", "", ""]
+        )
+    for position, value in zip(design.mass_positions, design.mass_values, strict=True):
+        writer.writerow(["mass", *map(repr, map(float, position)), repr(float(value)), "", "", ""])
+    for position, moment in zip(design.dipole_positions, design.dipole_moments, strict=True):
+        writer.writerow(
+            ["dipole", *map(repr, map(float, position)), "", *map(repr, map(float, moment))]
+        )
+    path.write_text(buffer.getvalue(), encoding="utf-8")
+
+
+def _read_csv(path: Path) -> Design:
+    text = path.read_text(encoding="utf-8")
+    header: dict[str, Any] = {}
+    body_lines = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.startswith("#"):
+            body_lines.append(line)
+            continue
+        key, sep, value = line[1:].strip().partition(": ")
+        if not sep or not key.startswith("design."):
+            continue  # descriptive lines (units, columns)
+        key = key.removeprefix("design.")
+        try:
+            header[key] = json.loads(value)
+        except json.JSONDecodeError as exc:
+            raise InputError(f"{path}: line {number}: header {key!r} is not JSON ({exc})") from exc
+    rows = list(csv.reader(body_lines))
+    if not rows or tuple(rows[0]) != CSV_COLUMNS:
+        raise input_error(f"{path}: columns", ", ".join(CSV_COLUMNS), rows[0] if rows else "")
+    elements: dict[str, dict[str, list[Any]]] = {
+        "charges": {"positions": [], "values": []},
+        "masses": {"positions": [], "values": []},
+        "dipoles": {"positions": [], "moments": []},
+    }
+    for number, row in enumerate(rows[1:], start=2):
+        if not row:
+            continue
+        try:
+            kind = row[0]
+            position = [float(v) for v in row[1:4]]
+            if kind in ("charge", "mass"):
+                block = elements["charges" if kind == "charge" else "masses"]
+                block["values"].append(float(row[4]))
+            elif kind == "dipole":
+                block = elements["dipoles"]
+                block["moments"].append([float(v) for v in row[5:8]])
+            else:
+                raise input_error(f"{path}: row {number}: kind", "charge, mass or dipole", kind)
+        except (ValueError, IndexError) as exc:
+            if isinstance(exc, InputError):
+                raise
+            raise InputError(f"{path}: row {number}: not a valid element row ({exc})") from exc
+        block["positions"].append(position)
+    if "parameters" not in header:
+        raise InputError(f"{path}: header line '# design.parameters: {{...}}' missing")
+    return _from_header(header, elements, str(path))
+
+
+# ---------------------------------------------------------------------------------------------
+# vtp
+
+
+def _write_vtp(design: Design, path: Path) -> None:
+    import pyvista as pv
+
+    from chargedesign.viz import continuous_body_mesh
+
+    counts = (len(design.charge_values), len(design.mass_values), len(design.dipole_moments))
+    n = sum(counts)
+    points = [design.charge_positions, design.mass_positions, design.dipole_positions]
+    kind = [np.repeat(np.array([0, 1, 2], dtype=np.int8), counts)]
+    value = [design.charge_values, design.mass_values, np.zeros(counts[2])]
+    moment = [np.zeros((counts[0] + counts[1], 3)), design.dipole_moments]
+    body = [np.full(n, -1, dtype=np.int32)]
+    verts = np.column_stack([np.ones(n, dtype=np.int64), np.arange(n, dtype=np.int64)]).ravel()
+    faces = []
+    offset = n
+    for index, continuous in enumerate(design.continuous):
+        mesh = continuous_body_mesh(continuous)
+        mesh_points = np.asarray(mesh.points, dtype=np.float64)
+        triangles = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 4)  # rows: 3, i, j, k
+        faces.append(np.column_stack([triangles[:, :1], triangles[:, 1:] + offset]).ravel())
+        offset += len(mesh_points)
+        points.append(mesh_points)
+        kind.append(np.full(len(mesh_points), KIND_CODES[f"continuous {continuous.kind}"], np.int8))
+        value.append(continuous.density.evaluate(mesh_points))
+        moment.append(np.zeros((len(mesh_points), 3)))
+        body.append(np.full(len(mesh_points), index, dtype=np.int32))
+
+    polydata = pv.PolyData()
+    if offset:
+        polydata = pv.PolyData(
+            np.concatenate(points).astype(np.float64, copy=False),
+            verts=verts if n else None,
+            faces=np.concatenate(faces) if faces else None,
+        )
+        kinds = np.concatenate(kind)
+        values = np.concatenate(value)
+        polydata.point_data["kind"] = kinds
+        polydata.point_data["value"] = values
+        polydata.point_data["charge"] = np.where(kinds == 0, values, 0.0)
+        polydata.point_data["mass"] = np.where(kinds == 1, values, 0.0)
+        polydata.point_data["moment"] = np.concatenate(moment)
+        polydata.point_data["body"] = np.concatenate(body)
+    polydata.field_data[VTP_FIELD] = [json.dumps(_header(design), allow_nan=False)]
+    polydata.field_data["units"] = [UNITS]
+    polydata.save(str(path), binary=True)
+
+
+def _read_vtp(path: Path) -> Design:
+    import pyvista as pv
+
+    try:
+        polydata = pv.read(str(path))
+    except Exception as exc:  # VTK readers raise assorted types on bad files
+        raise InputError(f"{path}: not a readable VTK file ({exc})") from exc
+    if not isinstance(polydata, pv.PolyData) or VTP_FIELD not in polydata.field_data:
+        raise InputError(f"{path}: not a chargedesign export (no field data {VTP_FIELD!r})")
+    try:
+        header = json.loads(str(polydata.field_data[VTP_FIELD][0]))
+    except (json.JSONDecodeError, IndexError) as exc:
+        raise InputError(f"{path}: field data {VTP_FIELD!r} is not JSON ({exc})") from exc
+    elements: dict[str, dict[str, Any]] = {}
+    if polydata.n_points:
+        points = np.asarray(polydata.points, dtype=np.float64)
+        try:
+            kind = np.asarray(polydata.point_data["kind"])
+            value = np.asarray(polydata.point_data["value"], dtype=np.float64)
+            moment = np.asarray(polydata.point_data["moment"], dtype=np.float64)
+        except KeyError as exc:
+            raise InputError(f"{path}: point data {exc} missing") from exc
+        for name, code, second in (
+            ("charges", 0, "values"),
+            ("masses", 1, "values"),
+            ("dipoles", 2, "moments"),
+        ):
+            rows = kind == code
+            elements[name] = {
+                "positions": points[rows],
+                second: moment[rows] if second == "moments" else value[rows],
+            }
+    return _from_header(header, elements, str(path))

@@ -1,0 +1,407 @@
+"""Continuous bodies (charge or mass densities on solids and surfaces) as weighted point sets.
+
+A :class:`ContinuousBody` is a ball, a spherical shell (a surface), a cylinder (axis along
+body z) or a box (edges along the body axes), with a uniform density or a density that is a
+polynomial in body coordinates (x, y, z about O, in m). :func:`quadrature_points` turns it
+into nodes and weights, so that ``sum_j w_j f(x_j)`` approximates ``int f rho dV`` (``dS``
+on a shell); every point-set route (moments, check, export) then handles it unchanged.
+
+Rules and exactness (``order`` = d, the total polynomial degree integrated exactly; the
+integrand is the density times whatever is integrated, so moments of order k of a density of
+degree p need ``order >= k + p``). ``GL(n)`` is n-point Gauss-Legendre (exact to degree
+2n - 1); ``T(n)`` the n-point trapezoid rule in an angle (exact for trigonometric
+polynomials of degree <= n - 1):
+
+==========  ===================================================  ==========================
+shape       rule                                                 nodes
+==========  ===================================================  ==========================
+box         GL(n) in x, y, z, n = ceil((d + 1) / 2)               n^3
+ball        GL(n_r) in r on [0, a] (weight r^2 in the integrand),  n_r n_t n_phi
+            GL(n_t) in cos(theta), T(n_phi) in phi;
+            n_r = ceil((d + 3) / 2), n_t = ceil((d + 1) / 2),
+            n_phi = d + 1
+shell       GL(n_t) in cos(theta) x T(n_phi) on the sphere r = a  n_t n_phi
+cylinder    GL(n_z) in z, GL(n_rho) in rho on [0, a] (weight      n_z n_rho n_phi
+            rho), T(n_phi) in phi; n_z = ceil((d + 1) / 2),
+            n_rho = ceil((d + 2) / 2), n_phi = d + 1
+==========  ===================================================  ==========================
+
+Why these counts: on the ball a monomial of degree j <= d is ``r^j`` times a spherical
+polynomial of degree j; with the Jacobian the radial integrand has degree j + 2 <= 2 n_r - 1.
+After the exact phi sum only terms ``cos^a(theta) sin^(2b)(theta)`` survive, a polynomial of
+degree <= d in cos(theta), exact for GL(n_t). The cylinder is the same argument in the disk
+(radial degree j + 1). Beyond degree d the error of a smooth (analytic) density decays
+geometrically in the node count per direction, as Gauss rules do (measured in docs/check.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.moments import monomial_matrix, parse_moment_key
+from chargedesign.validation import as_array, as_finite_float, input_error
+
+KINDS = ("charge", "mass")
+SHAPES = ("ball", "shell", "cylinder", "box")
+DENSITY_TYPES = ("uniform", "polynomial")
+#: size keys each shape needs (all in m)
+SIZE_KEYS = {
+    "ball": ("radius",),
+    "shell": ("radius",),
+    "cylinder": ("radius", "height"),
+    "box": ("half_size",),
+}
+
+
+@dataclass(frozen=True)
+class Density:
+    """A charge or mass density: uniform, or a polynomial in body coordinates.
+
+    Parameters
+    ----------
+    type : str
+        ``"uniform"`` or ``"polynomial"``.
+    value : float
+        The uniform density (C/m^3 or kg/m^3 on solids, C/m^2 or kg/m^2 on a shell).
+    coefficients : dict[str, float]
+        Polynomial density ``sum_key coef * x^i y^j z^k`` in body coordinates about O (m),
+        keyed by sorted axis letters (``"xxz"`` is x^2 z, ``""`` the constant term).
+    """
+
+    type: str = "uniform"
+    value: float = 0.0
+    coefficients: dict[str, float] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.type not in DENSITY_TYPES:
+            raise input_error("density.type", "one of " + ", ".join(DENSITY_TYPES), self.type)
+        object.__setattr__(self, "value", as_finite_float(self.value, "density.value"))
+        coeffs: dict[str, float] = {}
+        if not isinstance(self.coefficients, Mapping):
+            raise input_error("density.coefficients", "an object of moment keys", self.coefficients)
+        for key, coef in self.coefficients.items():
+            if not isinstance(key, str):
+                raise input_error("density.coefficients", "string keys such as 'xxz'", key)
+            parse_moment_key(key)
+            coeffs[key] = as_finite_float(coef, f"density.coefficients.{key or '(constant)'}")
+        object.__setattr__(self, "coefficients", coeffs)
+
+    @property
+    def degree(self) -> int:
+        """Polynomial degree of the density (0 when uniform)."""
+        if self.type == "uniform":
+            return 0
+        return max((len(k) for k, v in self.coefficients.items() if v != 0.0), default=0)
+
+    def evaluate(self, points: np.ndarray) -> np.ndarray:
+        """Density at body ``points``, ``ndarray, shape (n, 3)`` in m; returns shape (n,)."""
+        if self.type == "uniform":
+            return np.full(len(points), self.value)
+        keys = list(self.coefficients)
+        if not keys:
+            return np.zeros(len(points))
+        coefs = np.array([self.coefficients[k] for k in keys])
+        return coefs @ monomial_matrix(points, keys)
+
+    def to_dict(self) -> dict[str, Any]:
+        if self.type == "uniform":
+            return {"type": "uniform", "value": self.value}
+        return {"type": "polynomial", "coefficients": dict(self.coefficients)}
+
+    @classmethod
+    def from_dict(cls, data: Any, where: str = "density") -> Density:
+        if not isinstance(data, Mapping):
+            raise input_error(where, "an object with key 'type'", data)
+        kind = data.get("type")
+        if kind == "uniform":
+            if "value" not in data:
+                raise InputError(f"{where}: missing key 'value'")
+            return cls(type="uniform", value=data["value"])
+        if kind == "polynomial":
+            coeffs = data.get("coefficients")
+            if not isinstance(coeffs, Mapping):
+                raise input_error(f"{where}.coefficients", "an object of moment keys", coeffs)
+            return cls(type="polynomial", coefficients=dict(coeffs))
+        raise input_error(f"{where}.type", "one of " + ", ".join(DENSITY_TYPES), kind)
+
+
+@dataclass(frozen=True)
+class ContinuousBody:
+    """A charge or mass distribution on a ball, spherical shell, cylinder or box.
+
+    Parameters
+    ----------
+    kind : str
+        ``"charge"`` or ``"mass"``.
+    shape : str
+        ``"ball"`` (solid), ``"shell"`` (the sphere surface; the density is per m^2),
+        ``"cylinder"`` (solid, axis along body z, ``height`` along z, centred on ``center``)
+        or ``"box"`` (solid, edges along body axes).
+    center : ndarray, shape (3,)
+        Centre in body axes, m.
+    density : Density
+        Uniform or polynomial density (polynomial in body coordinates about O, not about
+        the centre).
+    radius : float, optional
+        m, > 0 (ball, shell, cylinder).
+    height : float, optional
+        m, > 0 (cylinder: full length along z).
+    half_size : ndarray, shape (3,), optional
+        Half edge lengths in m, each > 0 (box).
+    """
+
+    kind: str
+    shape: str
+    center: np.ndarray
+    density: Density
+    radius: float | None = None
+    height: float | None = None
+    half_size: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise input_error("continuous.kind", "one of " + ", ".join(KINDS), self.kind)
+        if self.shape not in SHAPES:
+            raise input_error("continuous.shape", "one of " + ", ".join(SHAPES), self.shape)
+        object.__setattr__(self, "center", as_array(self.center, "continuous.center", (3,)))
+        if not isinstance(self.density, Density):
+            raise input_error("continuous.density", "a Density", self.density)
+        needed = SIZE_KEYS[self.shape]
+        for key in ("radius", "height"):
+            value = getattr(self, key)
+            if key in needed:
+                if value is None:
+                    raise InputError(f"continuous: a {self.shape} needs '{key}'")
+                object.__setattr__(
+                    self, key, as_finite_float(value, f"continuous.{key}", positive=True)
+                )
+            elif value is not None:
+                raise InputError(f"continuous: a {self.shape} takes no '{key}'")
+        if "half_size" in needed:
+            if self.half_size is None:
+                raise InputError("continuous: a box needs 'half_size'")
+            raw = self.half_size
+            if isinstance(raw, (int, float)) and not isinstance(raw, bool):
+                raw = [raw] * 3
+            half = as_array(raw, "continuous.half_size", (3,))
+            if np.any(half <= 0.0):
+                raise input_error("continuous.half_size", "three numbers > 0", half)
+            object.__setattr__(self, "half_size", half)
+        elif self.half_size is not None:
+            raise InputError(f"continuous: a {self.shape} takes no 'half_size'")
+        if self.kind == "mass" and self.density.type == "uniform" and self.density.value < 0:
+            raise input_error("continuous.density.value", "a mass density >= 0", self.density)
+
+    @property
+    def measure(self) -> float:
+        """Volume in m^3 (area in m^2 for a shell)."""
+        if self.shape == "ball":
+            return 4.0 / 3.0 * math.pi * float(self.radius) ** 3  # type: ignore[arg-type]
+        if self.shape == "shell":
+            return 4.0 * math.pi * float(self.radius) ** 2  # type: ignore[arg-type]
+        if self.shape == "cylinder":
+            return math.pi * float(self.radius) ** 2 * float(self.height)  # type: ignore[arg-type]
+        return float(8.0 * np.prod(self.half_size))
+
+    @property
+    def extent(self) -> float:
+        """Largest distance of the body's points from its centre, m."""
+        if self.shape in ("ball", "shell"):
+            return float(self.radius)  # type: ignore[arg-type]
+        if self.shape == "cylinder":
+            return math.hypot(float(self.radius), 0.5 * float(self.height))  # type: ignore[arg-type]
+        return float(np.linalg.norm(self.half_size))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The design.json mapping (see :func:`ContinuousBody.from_dict`)."""
+        out: dict[str, Any] = {"kind": self.kind, "shape": self.shape}
+        if self.radius is not None:
+            out["radius"] = self.radius
+        if self.height is not None:
+            out["height"] = self.height
+        if self.half_size is not None:
+            out["half_size"] = [float(h) for h in self.half_size]
+        out["center"] = [float(c) for c in self.center]
+        out["density"] = self.density.to_dict()
+        return out
+
+    @classmethod
+    def from_dict(cls, data: Any, where: str = "continuous") -> ContinuousBody:
+        """Build from ``{"kind", "shape", size keys, "center", "density"}``.
+
+        Size keys: ``radius`` (ball, shell, cylinder), ``height`` (cylinder), ``half_size``
+        (box: three numbers, or one for a cube). ``center`` defaults to the origin.
+        """
+        if not isinstance(data, Mapping):
+            raise input_error(where, "an object with keys kind, shape, density", data)
+        known = {"kind", "shape", "radius", "height", "half_size", "center", "density"}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise input_error(f"{where}.{unknown[0]}", "one of " + ", ".join(sorted(known)), "?")
+        for key in ("kind", "shape", "density"):
+            if key not in data:
+                raise InputError(f"{where}: missing key '{key}'")
+        try:
+            return cls(
+                kind=data["kind"],
+                shape=data["shape"],
+                center=data.get("center", [0.0, 0.0, 0.0]),
+                density=Density.from_dict(data["density"], f"{where}.density"),
+                radius=data.get("radius"),
+                height=data.get("height"),
+                half_size=data.get("half_size"),
+            )
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from exc
+
+    @classmethod
+    def coerce(cls, value: Any, where: str = "continuous") -> ContinuousBody:
+        """A ContinuousBody unchanged, or one built from its design.json mapping."""
+        if isinstance(value, ContinuousBody):
+            return value
+        return cls.from_dict(value, where)
+
+
+def _as_order(order: Any) -> int:
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
+        raise input_error("order", "an integer >= 0 (degree of exactness)", order)
+    return int(order)
+
+
+@lru_cache(maxsize=256)
+def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (read-only arrays)."""
+    t, w = np.polynomial.legendre.leggauss(n)
+    t.setflags(write=False)
+    w.setflags(write=False)
+    return t, w
+
+
+def _gauss_on(n: int, lo: float, hi: float) -> tuple[np.ndarray, np.ndarray]:
+    t, w = _gauss(n)
+    half = 0.5 * (hi - lo)
+    return lo + half * (t + 1.0), half * w
+
+
+def rule_sizes(shape: str, order: int) -> dict[str, int]:
+    """Nodes per direction of the rule exact to total degree ``order`` (see module docstring)."""
+    d = _as_order(order)
+    if shape == "box":
+        n = (d + 2) // 2
+        return {"x": n, "y": n, "z": n}
+    if shape == "ball":
+        return {"r": (d + 4) // 2, "cos_theta": (d + 2) // 2, "phi": d + 1}
+    if shape == "shell":
+        return {"cos_theta": (d + 2) // 2, "phi": d + 1}
+    if shape == "cylinder":
+        return {"z": (d + 2) // 2, "rho": (d + 3) // 2, "phi": d + 1}
+    raise input_error("shape", "one of " + ", ".join(SHAPES), shape)
+
+
+def _sphere_rule(n_t: int, n_phi: int) -> tuple[np.ndarray, np.ndarray]:
+    """Unit-sphere nodes (n, 3) and weights (sum 4 pi): GL in cos(theta) x trapezoid in phi."""
+    t, wt = _gauss(n_t)
+    phi = 2.0 * math.pi * np.arange(n_phi) / n_phi
+    s = np.sqrt(np.clip(1.0 - t * t, 0.0, None))
+    nodes = np.empty((n_t, n_phi, 3))
+    nodes[..., 0] = s[:, None] * np.cos(phi)[None, :]
+    nodes[..., 1] = s[:, None] * np.sin(phi)[None, :]
+    nodes[..., 2] = t[:, None]
+    weights = np.repeat(wt * (2.0 * math.pi / n_phi), n_phi)
+    return nodes.reshape(-1, 3), weights
+
+
+def geometric_rule(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and volume (area) weights of the body's shape, without its density.
+
+    Parameters
+    ----------
+    body : ContinuousBody
+        The body (its density is ignored).
+    order : int
+        Degree of exactness d >= 0: ``sum_j w_j p(x_j) = int p dV`` for every polynomial p
+        of total degree <= d in body coordinates.
+
+    Returns
+    -------
+    points : ndarray, shape (n, 3)
+        Nodes in body axes, m.
+    weights : ndarray, shape (n,)
+        Positive weights in m^3 (m^2 on a shell); they sum to the volume (area).
+    """
+    sizes = rule_sizes(body.shape, order)
+    if body.shape == "box":
+        half = np.asarray(body.half_size)
+        axes = [_gauss_on(sizes[a], -h, h) for a, h in zip("xyz", half, strict=True)]
+        grid = np.meshgrid(*(a[0] for a in axes), indexing="ij")
+        wgrid = np.meshgrid(*(a[1] for a in axes), indexing="ij")
+        pts = np.stack([g.ravel() for g in grid], axis=1)
+        w = (wgrid[0] * wgrid[1] * wgrid[2]).ravel()
+    elif body.shape in ("ball", "shell"):
+        a = float(body.radius)  # type: ignore[arg-type]
+        dirs, wdir = _sphere_rule(sizes["cos_theta"], sizes["phi"])
+        if body.shape == "shell":
+            pts, w = a * dirs, (a * a) * wdir
+        else:
+            r, wr = _gauss_on(sizes["r"], 0.0, a)
+            pts = (r[:, None, None] * dirs[None, :, :]).reshape(-1, 3)
+            w = ((wr * r * r)[:, None] * wdir[None, :]).ravel()
+    else:  # cylinder
+        a, h = float(body.radius), float(body.height)  # type: ignore[arg-type]
+        z, wz = _gauss_on(sizes["z"], -0.5 * h, 0.5 * h)
+        rho, wrho = _gauss_on(sizes["rho"], 0.0, a)
+        n_phi = sizes["phi"]
+        phi = 2.0 * math.pi * np.arange(n_phi) / n_phi
+        pts = np.empty((len(z), len(rho), n_phi, 3))
+        pts[..., 0] = rho[None, :, None] * np.cos(phi)[None, None, :]
+        pts[..., 1] = rho[None, :, None] * np.sin(phi)[None, None, :]
+        pts[..., 2] = z[:, None, None]
+        w = (wz[:, None, None] * (wrho * rho)[None, :, None]) * np.full(n_phi, 2 * math.pi / n_phi)
+        pts, w = pts.reshape(-1, 3), w.ravel()
+    return pts + body.center[None, :], w
+
+
+def quadrature_points(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """A continuous body as a weighted point set: charges in C or masses in kg at nodes.
+
+    Parameters
+    ----------
+    body : ContinuousBody or dict
+        The body (a design.json mapping is accepted).
+    order : int
+        Degree of exactness d of the geometric rule (see module docstring). Integrals of
+        ``rho * p`` are exact when ``deg(rho) + deg(p) <= d``.
+
+    Returns
+    -------
+    points : ndarray, shape (n, 3)
+        Nodes in body axes, m.
+    weights : ndarray, shape (n,)
+        ``density(node) * volume weight``: charges in C (kind ``charge``) or masses in kg
+        (kind ``mass``).
+
+    Raises
+    ------
+    InputError
+        Bad body or order; a mass body whose density is negative at a node.
+    """
+    body = ContinuousBody.coerce(body)
+    pts, w = geometric_rule(body, order)
+    weights = w * body.density.evaluate(pts)
+    if body.kind == "mass" and np.any(weights < 0.0):
+        raise input_error(
+            "continuous.density", "a mass density >= 0 at every node", float(weights.min())
+        )
+    return pts, weights
+
+
+def required_order(body: ContinuousBody, integrand_degree: int) -> int:
+    """Degree of exactness that integrates ``density * p`` exactly for ``deg(p)`` given."""
+    return ContinuousBody.coerce(body).density.degree + _as_order(integrand_degree)

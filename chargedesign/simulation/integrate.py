@@ -1,0 +1,348 @@
+"""Time integration: adaptive explicit Runge-Kutta (solve_ivp) or implicit Gauss-Legendre.
+
+Both integrate the 7 states per trajectory of :class:`~.system.RigidBodySystem` and can
+batch many trajectories into one call (one state vector of length 7 m: the Python overhead
+per step is paid once for all of them).
+
+- ``DOP853`` (default), ``RK45``, ``Radau``, ``BDF``, ``LSODA``: :func:`scipy.integrate.solve_ivp`
+  with explicit ``rtol``/``atol``; ``.success`` is checked and a failure raises SolverError.
+- ``gauss-legendre``: 3-stage Gauss-Legendre collocation (order 6), fixed step, stages solved
+  by fixed-point iteration to rounding level. It is symmetric and conserves every quadratic
+  invariant exactly (here the quaternion norm); the energy and I4 errors oscillate without
+  secular drift on this reversible system.
+
+Nothing is projected: neither energy, I3 nor I4 is enforced. ``|gamma| = 1`` holds by
+construction of gamma from the quaternion (see :mod:`.system`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from chargedesign.errors import SolverError
+from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
+from chargedesign.validation import input_error
+
+SOLVE_IVP_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+METHODS = (*SOLVE_IVP_METHODS, "gauss-legendre")
+#: state names, in order, for Poincare sections and CSV columns
+STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
+
+_SQ15 = math.sqrt(15.0)
+_GL_A = np.array(
+    [
+        [5 / 36, 2 / 9 - _SQ15 / 15, 5 / 36 - _SQ15 / 30],
+        [5 / 36 + _SQ15 / 24, 2 / 9, 5 / 36 - _SQ15 / 24],
+        [5 / 36 + _SQ15 / 30, 2 / 9 + _SQ15 / 15, 5 / 36],
+    ]
+)
+_GL_B = np.array([5 / 18, 4 / 9, 5 / 18])
+
+
+@dataclass
+class Integration:
+    """Raw output of one integration (m trajectories, T samples).
+
+    Attributes
+    ----------
+    times : ndarray, shape (T,)
+        Sample times, s.
+    states : ndarray, shape (m, T, 7)
+        ``(p, q, r, w, x, y, z)`` at each sample.
+    events : list of dict
+        Terminal and other events (``kind``, ``t``, ``trajectory``, ...).
+    poincare : ndarray, shape (k, 7) or None
+        ``(t, p, q, r, gamma1, gamma2, gamma3)`` at each section crossing (one trajectory).
+    steps : int
+        Accepted steps.
+    rhs_evaluations : int
+        Right-hand side calls (each for all m trajectories).
+    seconds : float
+        Wall time of the integration.
+    """
+
+    times: np.ndarray
+    states: np.ndarray
+    events: list[dict[str, Any]] = field(default_factory=list)
+    poincare: np.ndarray | None = None
+    steps: int = 0
+    rhs_evaluations: int = 0
+    seconds: float = 0.0
+
+
+def _state_value(states: np.ndarray, name: str) -> np.ndarray:
+    index = STATE_NAMES.index(name)
+    if index < 3:
+        return states[:, index]
+    return quaternion_gamma(states[:, 3:])[:, index - 3]
+
+
+def integrate(
+    system: RigidBodySystem,
+    initial: np.ndarray,
+    t_end: float,
+    *,
+    method: str = "DOP853",
+    rtol: float = 1e-12,
+    atol: float = 1e-12,
+    max_step: float = math.inf,
+    step: float | None = None,
+    samples: int = 1001,
+    gamma3_min: float | None = None,
+    poincare: str | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> Integration:
+    """Integrate ``m`` trajectories from ``initial`` (m, 7) over ``[0, t_end]``.
+
+    Parameters
+    ----------
+    system : RigidBodySystem
+    initial : ndarray, shape (m, 7)
+        Initial ``(p, q, r, w, x, y, z)``.
+    t_end : float
+        Duration, s (> 0).
+    method : str
+        One of :data:`METHODS`.
+    rtol, atol : float
+        Tolerances of solve_ivp (ignored by ``gauss-legendre``).
+    max_step : float
+        Largest step of solve_ivp, s.
+    step : float, optional
+        Fixed step of ``gauss-legendre``, s (default ``t_end / ceil(100 t_end)``).
+    samples : int
+        Output samples over ``[0, t_end]`` (at least 2).
+    gamma3_min : float, optional
+        When given, reaching ``|gamma3| < gamma3_min`` (the singular plane of lambda and rho)
+        stops the integration and is reported as an event.
+    poincare : str, optional
+        State name (:data:`STATE_NAMES`) whose upward zero crossings are recorded (one
+        trajectory, solve_ivp methods).
+    progress : callable, optional
+        Called with the fraction of ``t_end`` done (0..1), at most about 100 times.
+
+    Raises
+    ------
+    SolverError
+        The solver failed or returned non-finite states.
+    """
+    if method not in METHODS:
+        raise input_error("simulation.method", "one of " + ", ".join(METHODS), method)
+    if samples < 2:
+        raise input_error("simulation.samples", "an integer >= 2", samples)
+    y0 = np.asarray(initial, dtype=np.float64)
+    if method == "gauss-legendre":
+        out = _integrate_gauss(system, y0, t_end, step, samples, gamma3_min, progress)
+    else:
+        out = _integrate_solve_ivp(
+            system, y0, t_end, method, rtol, atol, max_step, samples, gamma3_min, poincare,
+            progress,
+        )
+    if not np.all(np.isfinite(out.states)):
+        raise SolverError(f"simulation: {method} produced non-finite states")
+    if progress is not None:
+        progress(1.0)
+    return out
+
+
+def _integrate_solve_ivp(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    t_end: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    max_step: float,
+    samples: int,
+    gamma3_min: float | None,
+    poincare: str | None,
+    progress: Callable[[float], None] | None,
+) -> Integration:
+    m = len(y0)
+    derivatives = system.derivatives
+    next_report = [0.0]
+
+    def fun(t: float, y: np.ndarray) -> np.ndarray:
+        if progress is not None and t >= next_report[0]:
+            progress(min(t / t_end, 1.0))
+            next_report[0] = t + 0.01 * t_end
+        return derivatives(y.reshape(m, 7)).reshape(-1)
+
+    events: list[Callable[..., float]] = []
+    if gamma3_min is not None:
+
+        def singular(t: float, y: np.ndarray) -> float:
+            g3 = quaternion_gamma(y.reshape(m, 7)[:, 3:])[:, 2]
+            return float(np.min(np.abs(g3)) - gamma3_min)
+
+        singular.terminal = True  # type: ignore[attr-defined]
+        singular.direction = -1  # type: ignore[attr-defined]
+        events.append(singular)
+    if poincare is not None:
+        if poincare not in STATE_NAMES:
+            raise input_error("output.poincare_section", "one of " + ", ".join(STATE_NAMES), poincare)
+        if m != 1:
+            raise input_error("poincare", "a single trajectory", f"{m} trajectories")
+
+        def section(t: float, y: np.ndarray) -> float:
+            return float(_state_value(y.reshape(1, 7), poincare)[0])
+
+        section.direction = 1  # type: ignore[attr-defined]
+        events.append(section)
+
+    t_eval = np.linspace(0.0, t_end, samples)
+    t0 = time.perf_counter()
+    sol = solve_ivp(
+        fun,
+        (0.0, t_end),
+        y0.reshape(-1),
+        method=method,
+        t_eval=t_eval,
+        rtol=rtol,
+        atol=atol,
+        max_step=max_step,
+        events=events or None,
+    )
+    seconds = time.perf_counter() - t0
+    if not sol.success:
+        reached = float(sol.t[-1]) if len(sol.t) else 0.0
+        raise SolverError(f"simulation: {method} failed near t = {reached:.6g} s: {sol.message}")
+    times = np.asarray(sol.t)
+    states = np.asarray(sol.y).T.reshape(len(times), m, 7)
+    found: list[dict[str, Any]] = []
+    poincare_points = None
+    k = 0
+    if gamma3_min is not None:
+        if len(sol.t_events[0]):
+            t_hit = float(sol.t_events[0][0])
+            y_hit = np.asarray(sol.y_events[0][0]).reshape(m, 7)
+            g3 = quaternion_gamma(y_hit[:, 3:])[:, 2]
+            which = int(np.argmin(np.abs(g3)))
+            found.append(
+                {
+                    "kind": "singular_plane",
+                    "t": t_hit,
+                    "trajectory": which,
+                    "gamma3": float(g3[which]),
+                    "threshold": gamma3_min,
+                    "terminal": True,
+                }
+            )
+            if times.size == 0 or times[-1] < t_hit:
+                times = np.append(times, t_hit)
+                states = np.concatenate([states, y_hit[None]], axis=0)
+        k = 1
+    if poincare is not None:
+        ys = np.asarray(sol.y_events[k]).reshape(-1, 7)
+        ts = np.asarray(sol.t_events[k])
+        poincare_points = np.column_stack(
+            [ts, ys[:, :3], quaternion_gamma(ys[:, 3:]) if len(ys) else np.zeros((0, 3))]
+        )
+    nsteps = int(getattr(sol, "nfev", 0))
+    return Integration(
+        times=times,
+        states=np.transpose(states, (1, 0, 2)),
+        events=found,
+        poincare=poincare_points,
+        steps=_steps_estimate(method, nsteps),
+        rhs_evaluations=nsteps,
+        seconds=seconds,
+    )
+
+
+def _steps_estimate(method: str, nfev: int) -> int:
+    """solve_ivp reports evaluations, not steps: DOP853 uses 12 per step, RK45 6, RK23 3."""
+    per_step = {"DOP853": 12, "RK45": 6, "RK23": 3}.get(method)
+    return nfev // per_step if per_step else nfev
+
+
+def _integrate_gauss(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    t_end: float,
+    step: float | None,
+    samples: int,
+    gamma3_min: float | None,
+    progress: Callable[[float], None] | None,
+) -> Integration:
+    m = len(y0)
+    h_target = step if step is not None else min(0.01, t_end)
+    if not (h_target > 0.0 and math.isfinite(h_target)):
+        raise input_error("simulation.step", "a step > 0", h_target)
+    n_steps = max(1, math.ceil(t_end / h_target - 1e-9))
+    h = t_end / n_steps
+    stride = max(1, n_steps // (samples - 1))
+    keep = list(range(0, n_steps + 1, stride))
+    if keep[-1] != n_steps:
+        keep.append(n_steps)
+    times = [0.0]
+    states = [y0.copy()]
+    events: list[dict[str, Any]] = []
+    A = _GL_A
+    b = _GL_B
+    y = y0.copy()
+    K = np.repeat(system.derivatives(y)[None], 3, axis=0)  # (3, m, 7)
+    rhs_evals = 1
+    report_every = max(1, n_steps // 100)
+    keep_set = set(keep)
+    t0 = time.perf_counter()
+    n = 0
+    for n in range(1, n_steps + 1):  # noqa: B007 (n is the number of steps taken)
+        previous = math.inf
+        for it in range(100):
+            stages = y[None] + h * np.einsum("ij,jmk->imk", A, K)
+            K_new = system.derivatives(stages.reshape(3 * m, 7)).reshape(3, m, 7)
+            rhs_evals += 1
+            change = float(np.max(np.abs(K_new - K))) * h
+            K = K_new
+            scale = 1.0 + float(np.max(np.abs(y)))
+            # converged: at rounding level, or no longer decreasing once tiny
+            if change <= 1e-15 * scale or (change >= previous and change <= 1e-12 * scale):
+                break
+            previous = change
+            if it == 99:
+                raise SolverError(
+                    f"simulation: gauss-legendre stages did not converge at t = {(n - 1) * h:.6g}"
+                    " s; reduce simulation.step"
+                )
+        y = y + h * np.einsum("i,imk->mk", b, K)
+        t = n * h
+        if n in keep_set:
+            times.append(t)
+            states.append(y.copy())
+        if gamma3_min is not None:
+            g3 = quaternion_gamma(y[:, 3:])[:, 2]
+            if np.min(np.abs(g3)) < gamma3_min:
+                which = int(np.argmin(np.abs(g3)))
+                events.append(
+                    {
+                        "kind": "singular_plane",
+                        "t": t,
+                        "trajectory": which,
+                        "gamma3": float(g3[which]),
+                        "threshold": gamma3_min,
+                        "terminal": True,
+                        "located": "at the end of the step that crossed the threshold",
+                    }
+                )
+                if n not in keep_set:
+                    times.append(t)
+                    states.append(y.copy())
+                break
+        if progress is not None and n % report_every == 0:
+            progress(t / t_end)
+    seconds = time.perf_counter() - t0
+    return Integration(
+        times=np.array(times),
+        states=np.transpose(np.array(states), (1, 0, 2)),
+        events=events,
+        steps=n,
+        rhs_evaluations=rhs_evals,
+        seconds=seconds,
+    )

@@ -1,0 +1,257 @@
+"""The result of a simulation: trajectory, integrals, drift monitors and output files.
+
+Drift definitions (all maxima over the output samples, t = 0 the first sample):
+
+- ``I1_rel_drift = max |I1(t) - I1(0)| / max_t T(t)``: energy error relative to the largest
+  kinetic energy ``T = 1/2 omega . I omega`` (the potential carries an arbitrary constant, so
+  ``|I1(0)|`` is no scale); absolute when the body never moves.
+- ``I2_max_dev = max ||gamma|^2 - 1|`` (rounding level: gamma is built from the quaternion).
+- ``I3_max = max |I3(t)|`` (J s): on the level ``I3 = 0`` it is the distance from the level;
+  ``I3_max_dev = max |I3(t) - I3(0)|``.
+- ``I4_rel_drift = max |I4(t) - I4(0)| / |I4(0)|`` (absolute when ``I4(0) = 0``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.files import atomic_directory
+from chargedesign.params import Parameters
+
+INTEGRAL_NAMES = ("I1", "I2", "I3", "I4")
+
+
+@dataclass
+class SimulationResult:
+    """One simulated trajectory.
+
+    Attributes
+    ----------
+    times : ndarray, shape (T,)
+        Sample times, s.
+    omega : ndarray, shape (T, 3)
+        Angular velocity in body axes, 1/s.
+    gamma : ndarray, shape (T, 3)
+        Unit vector of space Z in body axes.
+    rotation : ndarray, shape (T, 3, 3)
+        Body-to-space rotations (``rotation[k].T @ e_Z == gamma[k]``).
+    quaternion : ndarray, shape (T, 4)
+        The integrated quaternions ``(w, x, y, z)`` (their norm is monitored, not reset).
+    integrals : ndarray, shape (T, 4)
+        ``I1`` (J), ``I2``, ``I3`` (J s, physical canonical momentum about Z), ``I4`` (1/s^4).
+    kinetic : ndarray, shape (T,)
+        Kinetic energy, J.
+    effects : list of str
+        The effects that were computed.
+    notes : list of str
+        Skipped effects and other remarks.
+    events : list of dict
+        E.g. ``{"kind": "singular_plane", "t": ..., "gamma3": ...}``.
+    """
+
+    times: np.ndarray
+    omega: np.ndarray
+    gamma: np.ndarray
+    rotation: np.ndarray
+    quaternion: np.ndarray
+    integrals: np.ndarray
+    kinetic: np.ndarray
+    effects: list[str]
+    notes: list[str] = field(default_factory=list)
+    events: list[dict[str, Any]] = field(default_factory=list)
+    parameters: Parameters = field(default_factory=Parameters)
+    route: str = "reduced"
+    method: str = "DOP853"
+    rtol: float = 0.0
+    atol: float = 0.0
+    t_end: float = 0.0
+    steps: int = 0
+    rhs_evaluations: int = 0
+    seconds: float = 0.0
+    level: float | None = None
+    poincare: np.ndarray | None = None
+    poincare_section: str | None = None
+    source: str = ""
+
+    @property
+    def completed(self) -> bool:
+        """True when the run reached ``t_end`` (no terminal event)."""
+        return not any(e.get("terminal") for e in self.events)
+
+    def drift(self) -> dict[str, float]:
+        """Drift monitors (see the module docstring for the definitions)."""
+        I = self.integrals
+        d = np.abs(I - I[0])
+        kin = float(np.max(self.kinetic)) if len(self.kinetic) else 0.0
+        i4_0 = abs(float(I[0, 3]))
+        return {
+            "I1_rel_drift": float(np.max(d[:, 0]) / (kin if kin > 0.0 else 1.0)),
+            "I2_max_dev": float(np.max(np.abs(I[:, 1] - 1.0))),
+            "I3_max": float(np.max(np.abs(I[:, 2]))),
+            "I3_max_dev": float(np.max(d[:, 2])),
+            "I4_rel_drift": float(np.max(d[:, 3]) / (i4_0 if i4_0 > 0.0 else 1.0)),
+            "quaternion_norm_max_dev": float(
+                np.max(np.abs(np.einsum("ij,ij->i", self.quaternion, self.quaternion) - 1.0))
+            ),
+        }
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready summary; the contract's keys come first."""
+        d = self.drift()
+        out: dict[str, Any] = {
+            "I4_rel_drift": d["I4_rel_drift"],
+            "I3_max": d["I3_max"],
+            "effects": list(self.effects),
+            "I1_rel_drift": d["I1_rel_drift"],
+            "I2_max_dev": d["I2_max_dev"],
+            "I3_max_dev": d["I3_max_dev"],
+            "quaternion_norm_max_dev": d["quaternion_norm_max_dev"],
+            "initial": {
+                "I1": float(self.integrals[0, 0]),
+                "I3": float(self.integrals[0, 2]),
+                "I4": float(self.integrals[0, 3]),
+                "omega": self.omega[0].tolist(),
+                "gamma": self.gamma[0].tolist(),
+            },
+            "level": None if self.level is None else f"I3={self.level:g}",
+            "t_end": self.t_end,
+            "t_reached": float(self.times[-1]),
+            "completed": self.completed,
+            "route": self.route,
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "steps": self.steps,
+            "rhs_evaluations": self.rhs_evaluations,
+            "seconds": self.seconds,
+            "samples": len(self.times),
+            "events": [dict(e) for e in self.events],
+            "notes": list(self.notes),
+            "parameters": self.parameters.as_dict(),
+            "source": self.source,
+        }
+        if self.poincare is not None:
+            out["poincare_points"] = len(self.poincare)
+        return out
+
+    # ------------------------------------------------------------------ files
+    def trajectory_csv(self) -> str:
+        """The trajectory as CSV text (one row per sample)."""
+        buf = io.StringIO()
+        writer = csv.writer(buf, lineterminator="\n")
+        header = ["t", "p", "q", "r", "gamma1", "gamma2", "gamma3"]
+        header += [f"R{i}{j}" for i in range(1, 4) for j in range(1, 4)]
+        header += list(INTEGRAL_NAMES)
+        writer.writerow(header)
+        table = np.column_stack(
+            [self.times, self.omega, self.gamma, self.rotation.reshape(-1, 9), self.integrals]
+        )
+        for row in table:
+            writer.writerow([repr(float(v)) for v in row])
+        return buf.getvalue()
+
+    def write(
+        self,
+        out_dir: str | os.PathLike[str],
+        *,
+        trajectory: bool = True,
+        plot: bool = True,
+        poincare: bool = True,
+        poincare_axes: tuple[str, str] = ("gamma2", "q"),
+    ) -> list[Path]:
+        """Write the outputs into ``out_dir`` atomically; returns the paths written.
+
+        Files: ``summary.json`` always; ``trajectory.npz`` (keys t, omega, gamma, rotation,
+        integrals, quaternion) and ``trajectory.csv``; ``integrals.png``; ``poincare.png``
+        when a section was recorded.
+        """
+        import json
+
+        names: list[str] = []
+        target = Path(out_dir)
+        with atomic_directory(target) as stage:
+            if trajectory:
+                np.savez(
+                    stage / "trajectory.npz",
+                    t=self.times,
+                    omega=self.omega,
+                    gamma=self.gamma,
+                    rotation=self.rotation,
+                    integrals=self.integrals,
+                    quaternion=self.quaternion,
+                )
+                (stage / "trajectory.csv").write_text(self.trajectory_csv(), encoding="utf-8")
+                names += ["trajectory.npz", "trajectory.csv"]
+            if plot:
+                plot_integrals(self, stage / "integrals.png")
+                names.append("integrals.png")
+            if poincare and self.poincare is not None:
+                plot_poincare(self, stage / "poincare.png", poincare_axes)
+                names.append("poincare.png")
+            summary = self.summary()
+            summary["files"] = [str(target / n) for n in [*names, "summary.json"]]
+            (stage / "summary.json").write_text(
+                json.dumps(summary, indent=2, allow_nan=False) + "\n", encoding="utf-8"
+            )
+            names.append("summary.json")
+        return [target / n for n in names]
+
+
+def plot_integrals(result: SimulationResult, path: str | os.PathLike[str]) -> None:
+    """PNG of the four integrals' deviations from their initial values against time."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    I = result.integrals
+    t = result.times
+    kin = float(np.max(result.kinetic)) or 1.0
+    i4_0 = abs(float(I[0, 3])) or 1.0
+    series = [
+        ((I[:, 0] - I[0, 0]) / kin, "(I1 - I1(0)) / max T"),
+        (I[:, 1] - 1.0, "|gamma|^2 - 1"),
+        (I[:, 2] - I[0, 2], "I3 - I3(0)  [J s]"),
+        ((I[:, 3] - I[0, 3]) / i4_0, "(I4 - I4(0)) / |I4(0)|"),
+    ]
+    fig = Figure(figsize=(8, 8))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(4, 1, sharex=True)
+    for ax, (values, label) in zip(axes, series, strict=True):
+        ax.plot(t, values, lw=0.8)
+        ax.set_ylabel(label, fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+    axes[-1].set_xlabel("t [s]")
+    level = "" if result.level is None else f", level I3 = {result.level:g}"
+    fig.suptitle(f"Integrals along the motion ({', '.join(result.effects) or 'free'}{level})")
+    fig.tight_layout()
+    fig.savefig(path, format="png", dpi=100)
+
+
+def plot_poincare(
+    result: SimulationResult, path: str | os.PathLike[str], axes: tuple[str, str]
+) -> None:
+    """PNG of the Poincare section points (two state coordinates)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from chargedesign.simulation.integrate import STATE_NAMES
+
+    pts = result.poincare if result.poincare is not None else np.zeros((0, 7))
+    ix, iy = (1 + STATE_NAMES.index(a) for a in axes)
+    fig = Figure(figsize=(6, 6))
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    ax.plot(pts[:, ix], pts[:, iy], ".", ms=2)
+    ax.set_xlabel(axes[0])
+    ax.set_ylabel(axes[1])
+    ax.set_title(f"Poincare section {result.poincare_section} = 0 (upward), {len(pts)} points")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, format="png", dpi=100)

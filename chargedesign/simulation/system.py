@@ -1,0 +1,649 @@
+"""The rigid body and the effects acting on it: torques, energies and momenta, by two routes.
+
+State of one trajectory: ``y = (p, q, r, w, x, y, z)``: angular velocity in body axes (1/s)
+and a quaternion ``(w, x, y, z)`` of the attitude (body to space). The rotation is
+``R(q) / |q|^2`` with the homogeneous quadratic form of the quaternion, so it is orthonormal
+for any non-zero quaternion and ``gamma = R^T e_Z`` (the third row) is a unit vector by
+construction; the quaternion's norm, which the exact flow conserves, is monitored.
+
+Equations (body axes, ``I = diag(2C, 2C, C)``)::
+
+    I omega' = (I omega) x omega + N(omega, gamma, R)
+    quaternion' = 1/2 quaternion * (0, omega)
+
+``N`` is the sum of the torques of the effects a scene calls for. For the Euler-Poisson form
+``omega' I + omega x (omega I + mu) = gamma x dV/dgamma`` the torque is
+``N = gamma x dV/dgamma + mu x omega``; the Lorentz torque on a charge fixed in the body is
+exactly ``q r x ((omega x r) x B) = (omega x r) q (r . B) = mu_q x omega`` with
+``mu_q = -q (r . B) r``, so the contract's ``mu = -sum q (r . B) r`` enters with that sign.
+
+Two routes compute ``N``:
+
+- ``direct``: element by element at the rotated positions ``X = R r`` in space axes, from the
+  fields (Lorentz force ``q v x B``, ``q E``, ``m g``, dipole torque ``sigma x B`` plus
+  ``X x grad(sigma . B)``), rotated back to body axes.
+- ``reduced``: polynomials in gamma whose coefficients are moment contractions
+  (:mod:`chargedesign.simulation.polynomials`); exact for the polynomial fields.
+
+The ``theorem`` effect is the reduced model itself: ``V`` and ``mu`` of the theorem from
+:mod:`chargedesign.model.evaluators` (lambda and rho allowed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.fields import AxisymmetricField
+from chargedesign.params import Parameters
+from chargedesign.simulation import polynomials as poly
+from chargedesign.validation import as_points, as_weights, input_error
+
+#: every effect a scene may call for
+EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "theorem")
+#: force routes for a designed body
+ROUTES = ("reduced", "direct")
+#: which source and field each physical effect needs
+EFFECT_SOURCES = {
+    "lorentz": ("charges", "magnetic"),
+    "electric": ("charges", "electric"),
+    "magnetization": ("dipoles", "magnetic"),
+    "gravity": ("masses", "gravity"),
+}
+#: column layout of the reduced polynomial bank
+_V, _DV, _MU, _L = 0, slice(1, 4), slice(4, 7), 7
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (..., 3) arrays, components written out (faster than np.cross)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
+def quaternion_rotation(quats: np.ndarray) -> np.ndarray:
+    """Body-to-space rotation matrices of quaternions ``(w, x, y, z)``.
+
+    Parameters
+    ----------
+    quats : ndarray, shape (m, 4)
+        Non-zero quaternions (need not be normalised: ``R(q) / |q|^2`` is orthonormal).
+
+    Returns
+    -------
+    ndarray, shape (m, 3, 3)
+    """
+    w, x, y, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
+    n = w * w + x * x + y * y + z * z
+    R = np.empty((len(quats), 3, 3))
+    R[:, 0, 0] = w * w + x * x - y * y - z * z
+    R[:, 0, 1] = 2.0 * (x * y - w * z)
+    R[:, 0, 2] = 2.0 * (x * z + w * y)
+    R[:, 1, 0] = 2.0 * (x * y + w * z)
+    R[:, 1, 1] = w * w - x * x + y * y - z * z
+    R[:, 1, 2] = 2.0 * (y * z - w * x)
+    R[:, 2, 0] = 2.0 * (x * z - w * y)
+    R[:, 2, 1] = 2.0 * (y * z + w * x)
+    R[:, 2, 2] = w * w - x * x - y * y + z * z
+    R /= n[:, None, None]
+    return R
+
+
+def quaternion_gamma(quats: np.ndarray) -> np.ndarray:
+    """``gamma = R^T e_Z`` (the third row of ``R``), ndarray shape (m, 3), unit by construction."""
+    w, x, y, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
+    n = w * w + x * x + y * y + z * z
+    out = np.empty((len(quats), 3))
+    out[:, 0] = 2.0 * (x * z - w * y) / n
+    out[:, 1] = 2.0 * (y * z + w * x) / n
+    out[:, 2] = (w * w - x * x - y * y + z * z) / n
+    return out
+
+
+def rotation_quaternion(rotation: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``(w, x, y, z)`` of one rotation matrix (Shepperd's method), shape (4,)."""
+    R = rotation
+    trace = R[0, 0] + R[1, 1] + R[2, 2]
+    diag = (trace, R[0, 0], R[1, 1], R[2, 2])
+    k = int(np.argmax(diag))
+    if k == 0:
+        s = 2.0 * np.sqrt(1.0 + trace)
+        q = (0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s)
+    elif k == 1:
+        s = 2.0 * np.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
+        q = ((R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s)
+    elif k == 2:
+        s = 2.0 * np.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2])
+        q = ((R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s)
+    else:
+        s = 2.0 * np.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1])
+        q = ((R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s)
+    out = np.array(q)
+    return out / np.linalg.norm(out)
+
+
+def attitude_from_gamma(gamma: np.ndarray, precession: float = 0.0) -> np.ndarray:
+    """A body-to-space rotation whose third row is ``gamma``, turned by ``precession`` about Z.
+
+    The dynamics depend on gamma only; the angle about the space Z axis (rad) fixes the rest
+    of the attitude.
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+    """
+    g = gamma / np.linalg.norm(gamma)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(g[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(helper, g)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(g, e1)
+    R = np.array([e1, e2, g])
+    c, s = np.cos(precession), np.sin(precession)
+    Rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return Rz @ R
+
+
+@dataclass
+class Body:
+    """What the effects act on: point elements in body axes plus fields and parameters.
+
+    Attributes
+    ----------
+    parameters : Parameters
+        The theorem's parameters; ``C`` fixes the inertia ``diag(2C, 2C, C)`` (kg m^2).
+    fields : dict[str, tuple[float, ...]]
+        Legendre coefficients per field kind.
+    charge_positions, mass_positions, dipole_positions : ndarray, shape (n, 3)
+        Element positions in m (body axes).
+    charge_values, mass_values : ndarray, shape (n,)
+        Charges in C, masses in kg.
+    dipole_moments : ndarray, shape (k, 3)
+        Dipole moments in A m^2 (body axes).
+    notes : list of str
+        What was done to build the body (continuous parts turned into quadrature nodes, ...).
+    """
+
+    parameters: Parameters
+    fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    charge_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    charge_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mass_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    mass_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    dipole_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    has_elements: bool = False
+    notes: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.charge_positions = as_points(self.charge_positions, "charges.positions")
+        self.charge_values = as_weights(
+            self.charge_values, "charges.values", len(self.charge_positions)
+        )
+        self.mass_positions = as_points(self.mass_positions, "masses.positions")
+        self.mass_values = as_weights(self.mass_values, "masses.values", len(self.mass_positions))
+        self.dipole_positions = as_points(self.dipole_positions, "dipoles.positions")
+        self.dipole_moments = as_points(
+            self.dipole_moments, "dipoles.moments", len(self.dipole_positions)
+        )
+
+    @classmethod
+    def from_design(
+        cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None
+    ) -> Body:
+        """A :class:`~chargedesign.body.Design` (fields of ``fields`` replace the design's).
+
+        Continuous charge and mass bodies of the design become quadrature nodes exact for the
+        fields' degree (+1 for the Lorentz terms), so both force routes stay exact.
+        """
+        merged = dict(design.fields)
+        merged.update(fields or {})
+        notes: list[str] = []
+        cp, cv = [design.charge_positions], [design.charge_values]
+        mp, mv = [design.mass_positions], [design.mass_values]
+        continuous = list(getattr(design, "continuous", []) or [])
+        if continuous:
+            from chargedesign.quadrature import quadrature_points, required_order
+
+            degree = max((len(v) for v in merged.values()), default=0) + 1
+            for i, part in enumerate(continuous):
+                pts, w = quadrature_points(part, required_order(part, degree))
+                if part.kind == "charge":
+                    cp.append(pts)
+                    cv.append(w)
+                else:
+                    mp.append(pts)
+                    mv.append(w)
+                notes.append(
+                    f"continuous[{i}] ({part.kind} {part.shape}): {len(w)} quadrature nodes, "
+                    f"exact to degree {required_order(part, degree)}"
+                )
+        return cls(
+            parameters=design.parameters,
+            fields=merged,
+            charge_positions=np.concatenate(cp),
+            charge_values=np.concatenate(cv),
+            mass_positions=np.concatenate(mp),
+            mass_values=np.concatenate(mv),
+            dipole_positions=design.dipole_positions,
+            dipole_moments=design.dipole_moments,
+            has_elements=True,
+            notes=notes,
+        )
+
+    def field(self, kind: str) -> AxisymmetricField:
+        return AxisymmetricField(tuple(self.fields.get(kind, ())))
+
+    def source_count(self, source: str) -> int:
+        """Number of non-zero elements of ``charges``, ``masses`` or ``dipoles``."""
+        values = {
+            "charges": self.charge_values,
+            "masses": self.mass_values,
+            "dipoles": self.dipole_moments,
+        }[source]
+        return int(np.count_nonzero(values.reshape(len(values), -1).any(axis=1)))
+
+
+def theorem_is_trivial(params: Parameters) -> bool:
+    """True when the theorem's V and mu vanish (n = K = kappa = lambda = rho = 0)."""
+    return all(v == 0.0 for v in (params.n, params.K, params.kappa, params.lam, params.rho))
+
+
+def select_effects(
+    body: Body, requested: Sequence[str] | None
+) -> tuple[list[str], list[str]]:
+    """The effects to compute and notes on those skipped.
+
+    Parameters
+    ----------
+    body : Body
+    requested : sequence of str or None
+        Effect names (see :data:`EFFECTS`); None: every physical effect that has a source
+        and a non-zero field for a body with elements, else ``theorem``.
+
+    Returns
+    -------
+    effects : list of str
+        In the order of :data:`EFFECTS`.
+    notes : list of str
+        One line per skipped effect, with the reason.
+    """
+    if requested is None:
+        names = list(EFFECT_SOURCES) if body.has_elements else ["theorem"]
+        implicit = True
+    else:
+        if isinstance(requested, str) or not isinstance(requested, Sequence):
+            raise input_error("simulation.effects", "a list of effect names", requested)
+        names = []
+        for name in requested:
+            if name not in EFFECTS:
+                raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
+            if name not in names:
+                names.append(name)
+        implicit = False
+    used: list[str] = []
+    notes: list[str] = []
+    for name in EFFECTS:
+        if name not in names:
+            continue
+        if name == "theorem":
+            if theorem_is_trivial(body.parameters):
+                notes.append("theorem: skipped, V and mu vanish (n = K = kappa = lambda = rho = 0)")
+            else:
+                used.append(name)
+            continue
+        source, kind = EFFECT_SOURCES[name]
+        if body.source_count(source) == 0:
+            if not implicit or body.has_elements:
+                notes.append(f"{name}: skipped, the body has no {source}")
+            continue
+        if body.field(kind).is_zero:
+            notes.append(f"{name}: skipped, the {kind} field is zero")
+            continue
+        used.append(name)
+    return used, notes
+
+
+class RigidBodySystem:
+    """Torques, energy and momentum of a body under a set of effects, batched over states.
+
+    Parameters
+    ----------
+    body : Body
+        Elements, fields and parameters (``C`` sets the inertia).
+    effects : sequence of str
+        Effects to compute (already selected, see :func:`select_effects`).
+    route : {"reduced", "direct"}
+        Force route for the physical effects (the ``theorem`` effect has only one).
+    """
+
+    def __init__(self, body: Body, effects: Sequence[str], route: str = "reduced") -> None:
+        if route not in ROUTES:
+            raise input_error("simulation.route", "one of " + ", ".join(ROUTES), route)
+        for name in effects:
+            if name not in EFFECTS:
+                raise input_error("effects", "names among " + ", ".join(EFFECTS), name)
+        self.body = body
+        self.effects = list(effects)
+        self.route = route
+        self.C = body.parameters.C
+        self.parameters = body.parameters
+        self.physical = [e for e in self.effects if e != "theorem"]
+        self.singular = "theorem" in self.effects and body.parameters.singular
+        self._banks: dict[str, poly.PolynomialBank] = {}
+        for name in self.physical:
+            self._banks[name] = poly.PolynomialBank(reduced_polynomials(body, name))
+        self._bank = poly.PolynomialBank(
+            reduced_polynomials(body, *self.physical) if self.physical else [{}] * 8
+        )
+        self._theorem = _TheoremTerms(body.parameters) if "theorem" in self.effects else None
+
+    # ------------------------------------------------------------------ torques
+    def torque(
+        self,
+        omega: np.ndarray,
+        gamma: np.ndarray,
+        rotation: np.ndarray | None = None,
+        effects: Sequence[str] | None = None,
+        route: str | None = None,
+    ) -> np.ndarray:
+        """Total torque about O in body axes, N m.
+
+        Parameters
+        ----------
+        omega : ndarray, shape (m, 3)
+            Angular velocities in body axes, 1/s.
+        gamma : ndarray, shape (m, 3)
+            Unit vectors of space Z in body axes.
+        rotation : ndarray, shape (m, 3, 3), optional
+            Body-to-space rotations (the direct route needs them; built from gamma with
+            zero precession when omitted, which does not change any torque).
+        effects : sequence of str, optional
+            A subset of this system's effects (default: all of them).
+        route : str, optional
+            Override the system's route.
+
+        Returns
+        -------
+        ndarray, shape (m, 3)
+        """
+        names = self.effects if effects is None else list(effects)
+        route = self.route if route is None else route
+        out = np.zeros_like(gamma)
+        physical = [e for e in names if e != "theorem"]
+        if physical:
+            if route == "reduced":
+                bank = self._bank if physical == self.physical else None
+                if bank is not None:
+                    out += _reduced_torque(bank(gamma), omega, gamma)
+                else:
+                    for name in physical:
+                        out += _reduced_torque(self._banks[name](gamma), omega, gamma)
+            else:
+                R = self._rotations(gamma, rotation)
+                for name in physical:
+                    out += direct_terms(self.body, name, omega, R)[0]
+        if "theorem" in names and self._theorem is not None:
+            out += self._theorem.torque(omega, gamma)
+        return out
+
+    def energy(
+        self, gamma: np.ndarray, rotation: np.ndarray | None = None, route: str | None = None
+    ) -> np.ndarray:
+        """Potential energy ``V(gamma)`` of the effects (J), ndarray shape (m,)."""
+        route = self.route if route is None else route
+        out = np.zeros(len(gamma))
+        if self.physical:
+            if route == "reduced":
+                out += self._bank(gamma)[:, _V]
+            else:
+                R = self._rotations(gamma, rotation)
+                zero = np.zeros_like(gamma)
+                for name in self.physical:
+                    out += direct_terms(self.body, name, zero, R)[1]
+        if self._theorem is not None:
+            out += self._theorem.energy(gamma)
+        return out
+
+    def momentum_potential(
+        self, gamma: np.ndarray, rotation: np.ndarray | None = None, route: str | None = None
+    ) -> np.ndarray:
+        """The gamma-dependent part ``L(gamma)`` of I3 (J s), ndarray shape (m,).
+
+        Lorentz: ``sum q psi`` (flux function in the natural axisymmetric gauge); theorem:
+        ``l . gamma``.
+        """
+        route = self.route if route is None else route
+        out = np.zeros(len(gamma))
+        if "lorentz" in self.physical:
+            if route == "reduced":
+                out += self._banks["lorentz"](gamma)[:, _L]
+            else:
+                R = self._rotations(gamma, rotation)
+                out += direct_terms(self.body, "lorentz", np.zeros_like(gamma), R)[2]
+        if self._theorem is not None:
+            out += self._theorem.momentum(gamma)
+        return out
+
+    def gyroscopic(self, gamma: np.ndarray) -> np.ndarray:
+        """``mu(gamma)`` of all effects (J s), ndarray shape (m, 3) (reduced route)."""
+        out = self._bank(gamma)[:, _MU].copy() if self.physical else np.zeros_like(gamma)
+        if self._theorem is not None:
+            out += self._theorem.gyroscopic(gamma)
+        return out
+
+    def _rotations(self, gamma: np.ndarray, rotation: np.ndarray | None) -> np.ndarray:
+        if rotation is not None:
+            return rotation
+        return np.array([attitude_from_gamma(g) for g in gamma])
+
+    # ----------------------------------------------------------------- dynamics
+    def inertia_diagonal(self) -> np.ndarray:
+        return np.array([2.0 * self.C, 2.0 * self.C, self.C])
+
+    def derivatives(self, states: np.ndarray) -> np.ndarray:
+        """Right-hand side for states ``(p, q, r, w, x, y, z)``, ndarray (m, 7) -> (m, 7)."""
+        omega = states[:, :3]
+        quats = states[:, 3:]
+        gamma = quaternion_gamma(quats)
+        rotation = quaternion_rotation(quats) if self.route == "direct" else None
+        N = self.torque(omega, gamma, rotation)
+        C = self.C
+        p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
+        out = np.empty_like(states)
+        # I omega' = (I omega) x omega + N with I = diag(2C, 2C, C)
+        out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
+        out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
+        out[:, 2] = N[:, 2] / C
+        w, x, y, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
+        out[:, 3] = -0.5 * (x * p + y * q + z * r)
+        out[:, 4] = 0.5 * (w * p + y * r - z * q)
+        out[:, 5] = 0.5 * (w * q + z * p - x * r)
+        out[:, 6] = 0.5 * (w * r + x * q - y * p)
+        return out
+
+    def integrals(self, states: np.ndarray, route: str | None = None) -> np.ndarray:
+        """``I1, I2, I3, I4`` along states ``(m, 7)``, ndarray shape (m, 4).
+
+        I1 = 1/2 omega . I omega + V (J); I2 = |gamma|^2; I3 = (I omega) . gamma + L(gamma)
+        (J s; physical canonical momentum about Z); I4 = the theorem's quartic integral with
+        this body's parameters (1/s^4), whatever effects act.
+        """
+        omega = states[:, :3]
+        quats = states[:, 3:]
+        gamma = quaternion_gamma(quats)
+        rotation = quaternion_rotation(quats)
+        Iw = omega * self.inertia_diagonal()
+        out = np.empty((len(states), 4))
+        out[:, 0] = 0.5 * np.einsum("ij,ij->i", Iw, omega) + self.energy(gamma, rotation, route)
+        out[:, 1] = np.einsum("ij,ij->i", gamma, gamma)
+        out[:, 2] = np.einsum("ij,ij->i", Iw, gamma) + self.momentum_potential(
+            gamma, rotation, route
+        )
+        out[:, 3] = theorem_i4(np.hstack([omega, gamma]), self.parameters)
+        return out
+
+    def solve_r(self, gamma: np.ndarray, p: float, q: float, level: float = 0.0) -> float:
+        """The r that puts ``(p, q, r, gamma)`` on ``I3 = level`` (needs gamma3 != 0)."""
+        g = gamma.reshape(1, 3)
+        L = float(self.momentum_potential(g, np.array([attitude_from_gamma(gamma)]))[0])
+        if abs(gamma[2]) < 1e-8:
+            raise InputError("initial.gamma: gamma3 must be non-zero to solve r from the level")
+        return (level - 2.0 * self.C * (p * gamma[0] + q * gamma[1]) - L) / (self.C * gamma[2])
+
+
+def _reduced_torque(values: np.ndarray, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+    """``gamma x dV/dgamma + mu x omega`` from bank columns (m, 8)."""
+    return _cross(gamma, values[:, _DV]) + _cross(values[:, _MU], omega)
+
+
+def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
+    """The polynomials ``[V, dV/dg1, dV/dg2, dV/dg3, mu1, mu2, mu3, L]`` of physical effects.
+
+    Coefficients are moment contractions of the body's elements with the fields'
+    coefficients (see :mod:`chargedesign.simulation.polynomials`).
+    """
+    V: poly.GammaPoly = {}
+    mu: list[poly.GammaPoly] = [{}, {}, {}]
+    L: poly.GammaPoly = {}
+    shifts = [(1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    for name in effects:
+        if name == "lorentz":
+            phi = poly.field_polynomial(body.fields.get("magnetic", ()))
+            # r . grad Phi = sum over homogeneous parts of degree a + 2j: (a + 2j) Phi
+            euler = {(a, j): (a + 2 * j) * c for (a, j), c in phi.items()}
+            for axis in range(3):
+                poly.add_into(
+                    mu[axis],
+                    poly.contract(
+                        euler, body.charge_positions, body.charge_values, shifts[axis]
+                    ),
+                )
+            flux = poly.flux_polynomial(body.fields.get("magnetic", ()))
+            poly.add_into(L, poly.contract(flux, body.charge_positions, body.charge_values))
+        elif name in ("electric", "gravity"):
+            phi = poly.field_polynomial(body.fields.get(name, ()))
+            pts, w = (
+                (body.charge_positions, body.charge_values)
+                if name == "electric"
+                else (body.mass_positions, body.mass_values)
+            )
+            poly.add_into(V, poly.contract(phi, pts, w))
+        elif name == "magnetization":
+            # -sigma . B = sigma . grad_r Phi = Phi_Z (sigma . gamma) + 2 Phi_S (sigma . r)
+            phi = poly.field_polynomial(body.fields.get("magnetic", ()))
+            pts, sig = body.dipole_positions, body.dipole_moments
+            phi_z, phi_s = poly.derivative_z(phi), poly.derivative_s(phi)
+            for axis in range(3):
+                part = poly.contract(phi_z, pts, sig[:, axis])
+                poly.add_into(V, poly.times_gamma(part, axis))
+            poly.add_into(V, poly.contract(phi_s, pts, np.einsum("ij,ij->i", sig, pts)), 2.0)
+        else:
+            raise input_error("effects", "physical effects", name)
+    return [V, *poly.gamma_gradient(V), *mu, L]
+
+
+def direct_terms(
+    body: Body, effect: str, omega: np.ndarray, rotation: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One effect element by element, at the rotated positions ``X = R r``.
+
+    Parameters
+    ----------
+    body : Body
+    effect : str
+        A physical effect.
+    omega : ndarray, shape (m, 3)
+        Angular velocities in body axes, 1/s.
+    rotation : ndarray, shape (m, 3, 3)
+        Body-to-space rotations.
+
+    Returns
+    -------
+    torque : ndarray, shape (m, 3)
+        Torque about O in body axes, N m.
+    energy : ndarray, shape (m,)
+        Potential energy, J (zero for ``lorentz``).
+    momentum : ndarray, shape (m,)
+        ``sum q psi`` (``lorentz``; zero otherwise), J s.
+    """
+    m = len(rotation)
+    zeros = np.zeros(m)
+    if effect in ("lorentz", "electric"):
+        pts, w = body.charge_positions, body.charge_values
+    elif effect == "gravity":
+        pts, w = body.mass_positions, body.mass_values
+    elif effect == "magnetization":
+        pts, w = body.dipole_positions, np.zeros(len(body.dipole_positions))
+    else:
+        raise input_error("effect", "a physical effect", effect)
+    n = len(pts)
+    X = np.einsum("mij,nj->mni", rotation, pts)  # (m, n, 3) space positions
+    flat = X.reshape(-1, 3)
+    kind = {"lorentz": "magnetic", "magnetization": "magnetic"}.get(effect, effect)
+    fld = body.field(kind)
+    grad = fld.gradient(flat).reshape(m, n, 3)
+    if effect == "lorentz":
+        omega_space = np.einsum("mij,mj->mi", rotation, omega)
+        velocity = _cross(omega_space[:, None, :], X)
+        force = w[None, :, None] * _cross(velocity, -grad)
+        momentum = fld.flux_function(flat).reshape(m, n) @ w
+        energy = zeros
+    elif effect == "magnetization":
+        sigma = np.einsum("mij,kj->mki", rotation, body.dipole_moments)
+        B = -grad
+        hess = fld.hessian(flat).reshape(m, n, 3, 3)
+        force = -np.einsum("mkij,mkj->mki", hess, sigma)  # grad(sigma . B) = -H sigma
+        couple = _cross(sigma, B).sum(axis=1)
+        energy = -np.einsum("mki,mki->m", sigma, B)
+        momentum = zeros
+        torque_space = _cross(X, force).sum(axis=1) + couple
+        return np.einsum("mji,mj->mi", rotation, torque_space), energy, momentum
+    else:
+        force = -w[None, :, None] * grad
+        energy = fld.potential(flat).reshape(m, n) @ w
+        momentum = zeros
+    torque_space = _cross(X, force).sum(axis=1)
+    return np.einsum("mji,mj->mi", rotation, torque_space), energy, momentum
+
+
+class _TheoremTerms:
+    """V, mu and l of the theorem from the compiled evaluators (lambda, rho allowed)."""
+
+    def __init__(self, params: Parameters) -> None:
+        from chargedesign.model import evaluators
+
+        self.params = params
+        self._ev = evaluators
+
+    def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+        grad = np.asarray(self._ev.potential_gradient(gamma, self.params), dtype=float)
+        mu = np.asarray(self._ev.gyroscopic(gamma, self.params), dtype=float)
+        return _cross(gamma, grad) + _cross(mu, omega)
+
+    def energy(self, gamma: np.ndarray) -> np.ndarray:
+        return np.asarray(self._ev.potential(gamma, self.params), dtype=float).reshape(-1)
+
+    def gyroscopic(self, gamma: np.ndarray) -> np.ndarray:
+        return np.asarray(self._ev.gyroscopic(gamma, self.params), dtype=float)
+
+    def momentum(self, gamma: np.ndarray) -> np.ndarray:
+        l_vec = np.asarray(self._ev.angular_potential(gamma, self.params), dtype=float)
+        return np.einsum("ij,ij->i", l_vec, gamma)
+
+
+def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:
+    """The theorem's quartic integral I4 at states ``(p, q, r, g1, g2, g3)`` (m, 6), shape (m,)."""
+    from chargedesign.model import evaluators
+
+    return np.asarray(evaluators.integrals(states, params), dtype=float)[:, 3]
+
+
+ProgressCallback = Callable[[float], None]

@@ -1,0 +1,810 @@
+"""3-D pictures of a designed body with PyVista: a still image, a window, an animation.
+
+What is drawn (see docs/visualisation.md):
+
+- charges as spheres coloured by their value on a blue-white-red scale (blue negative, red
+  positive, white zero; a scalar bar in C), sphere volume proportional to ``|q|``;
+- masses as grey spheres, volume proportional to the mass;
+- dipoles as green arrows centred on their positions, length proportional to ``|sigma|``;
+- the candidate region's outline (wireframe) and any continuous bodies (translucent meshes);
+- the body axes ``x, y, z`` (dark grey arrows, labelled) and the field axis: space ``Z`` as
+  ``gamma`` in body axes (gold arrow, labelled ``Z (field)``);
+- a legend listing only the kinds of element present.
+
+Still images are drawn in the body frame. :func:`animate` draws the space frame instead: the
+field axis ``Z`` stands still and the body turns, ``X = R(t) r``.
+
+Rendering is off screen for files. On Linux without a display, VTK is pointed at its EGL
+render window when the EGL library is installed (``VTK_DEFAULT_OPENGL_WINDOW``, unless the
+user set it); otherwise VTK picks its own fallback (OSMesa).
+"""
+
+from __future__ import annotations
+
+import ctypes.util
+import math
+import os
+import sys
+import zipfile
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyvista as pv
+
+from chargedesign.body import Design
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_path
+from chargedesign.quadrature import ContinuousBody
+from chargedesign.validation import as_array, as_finite_float, input_error
+
+# Colours: element kinds never share a hue, so a picture can be checked for them.
+POSITIVE_COLOR = (1.0, 0.0, 0.0)
+NEGATIVE_COLOR = (0.0, 0.0, 1.0)
+MASS_COLOR = (0.55, 0.55, 0.55)
+DIPOLE_COLOR = (0.13, 0.55, 0.13)
+FIELD_COLOR = (0.85, 0.65, 0.13)
+AXES_COLOR = (0.25, 0.25, 0.25)
+REGION_COLOR = (0.62, 0.62, 0.62)
+BACKGROUND_COLOR = (1.0, 1.0, 1.0)
+
+REGION_SHAPES = ("ball", "shell", "box", "cylinder", "points")
+
+_SPHERE_FRACTION = 0.07  # largest element sphere radius, as a fraction of the body's size
+_MIN_SPHERE_FRACTION = 0.018  # smallest drawn radius, so tiny elements stay visible
+_ARROW_FRACTION = 0.35  # largest dipole arrow length, as a fraction of the body's size
+_BODY_AXIS_FRACTION = 1.25
+_FIELD_AXIS_FRACTION = 1.5
+_MAX_WINDOW = 8192
+_MAX_FRAMES = 5000
+
+
+# ---------------------------------------------------------------------------------------------
+# inputs
+
+
+def _window_size(value: Any) -> tuple[int, int]:
+    if (
+        not isinstance(value, (tuple, list))
+        or len(value) != 2
+        or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in value)
+        or not all(16 <= int(v) <= _MAX_WINDOW for v in value)
+    ):
+        raise input_error(
+            "window_size", f"two integers (width, height) in 16..{_MAX_WINDOW}", value
+        )
+    return int(value[0]), int(value[1])
+
+
+def _unit_gamma(gamma: Any) -> np.ndarray:
+    g = as_array((0.0, 0.0, 1.0) if gamma is None else gamma, "gamma", (3,))
+    norm = float(np.linalg.norm(g))
+    if norm == 0.0:
+        raise input_error("gamma", "a non-zero vector", gamma)
+    return g / norm
+
+
+def _region_spec(region: Any) -> dict[str, Any] | None:
+    """Validate a candidate region (the scene's ``[body]`` table); None draws no outline."""
+    if region is None:
+        return None
+    if not isinstance(region, Mapping):
+        raise input_error("region", "a table with key 'shape'", region)
+    shape = region.get("shape")
+    if shape not in REGION_SHAPES:
+        raise input_error("region.shape", "one of " + ", ".join(REGION_SHAPES), shape)
+    return dict(region)
+
+
+def region_from_design(design: Design) -> dict[str, Any] | None:
+    """The candidate region recorded in a design's extra keys (``region`` or ``body``), if any."""
+    for key in ("region", "body"):
+        value = design.extra.get(key)
+        if isinstance(value, Mapping) and value.get("shape") in REGION_SHAPES:
+            return dict(value)
+    return None
+
+
+def _center(spec: Mapping[str, Any], where: str) -> np.ndarray:
+    return as_array(spec.get("center", (0.0, 0.0, 0.0)), f"{where}.center", (3,))
+
+
+def _half_sizes(value: Any, where: str) -> np.ndarray:
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        half = np.full(3, as_finite_float(value, where, positive=True))
+    else:
+        half = as_array(value, where, (3,))
+    if np.any(half <= 0):
+        raise input_error(where, "half sizes > 0", value)
+    return half
+
+
+# ---------------------------------------------------------------------------------------------
+# geometry
+
+
+def region_mesh(region: Mapping[str, Any] | None) -> pv.PolyData | None:
+    """Outline of a candidate region as line cells (None for no region or ``points``).
+
+    Parameters
+    ----------
+    region : mapping or None
+        The scene's ``[body]`` table: ``ball``/``shell`` with ``radius``, ``box`` with
+        ``half_size`` (number or 3 numbers), ``cylinder`` with ``radius`` and ``height`` (along
+        body ``z``, centred on ``center``, default O). Lengths in m.
+    """
+    spec = _region_spec(region)
+    if spec is None or spec["shape"] == "points":
+        return None
+    shape = spec["shape"]
+    center = _center(spec, "region")
+    if shape in ("ball", "shell"):
+        radius = as_finite_float(spec.get("radius"), "region.radius", positive=True)
+        # three great circles and two parallels at z = +-r/2 (lighter than a full wireframe)
+        circles = [_circle(center, np.eye(3)[i], radius) for i in range(3)]
+        for z in (-0.5 * radius, 0.5 * radius):
+            circles.append(
+                _circle(center + np.array([0.0, 0.0, z]), np.eye(3)[2], math.sqrt(radius**2 - z**2))
+            )
+        return pv.merge(circles)
+    if shape == "box":
+        half = _half_sizes(spec.get("half_size"), "region.half_size")
+        lo, hi = center - half, center + half
+        return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2])).extract_feature_edges()
+    radius = as_finite_float(spec.get("radius"), "region.radius", positive=True)
+    height = as_finite_float(spec.get("height"), "region.height", positive=True)
+    cylinder = pv.Cylinder(
+        center=center, direction=(0.0, 0.0, 1.0), radius=radius, height=height, resolution=32
+    )
+    return cylinder.extract_feature_edges(feature_angle=20.0)
+
+
+def continuous_body_mesh(body: ContinuousBody) -> pv.PolyData:
+    """Triangulated surface of one continuous body (ball, shell, cylinder along z, box), m."""
+    center = np.asarray(body.center, dtype=np.float64)
+    if body.shape in ("ball", "shell"):
+        mesh = pv.Sphere(
+            radius=float(body.radius),  # type: ignore[arg-type]
+            center=center,
+            theta_resolution=32,
+            phi_resolution=16,
+        )
+    elif body.shape == "cylinder":
+        mesh = pv.Cylinder(
+            center=center,
+            direction=(0.0, 0.0, 1.0),
+            radius=float(body.radius),  # type: ignore[arg-type]
+            height=float(body.height),  # type: ignore[arg-type]
+            resolution=48,
+        )
+    else:
+        lo = center - np.asarray(body.half_size)
+        hi = center + np.asarray(body.half_size)
+        mesh = pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
+    return mesh.triangulate()
+
+
+def continuous_body_color(body: ContinuousBody, mesh: pv.PolyData) -> Any:
+    """Grey for mass; for charge red or blue when the density on the surface has one sign."""
+    if body.kind == "mass":
+        return MASS_COLOR
+    density = body.density.evaluate(np.asarray(mesh.points, dtype=np.float64))
+    if np.all(density > 0):
+        return POSITIVE_COLOR
+    if np.all(density < 0):
+        return NEGATIVE_COLOR
+    return "orchid"  # mixed signs (or zero): neither red nor blue
+
+
+def _body_size(design: Design, region: Mapping[str, Any] | None) -> float:
+    """Characteristic length L of the picture, m: farthest element or region point from O."""
+    sizes = [0.0]
+    for points in (design.charge_positions, design.mass_positions, design.dipole_positions):
+        if len(points):
+            sizes.append(float(np.max(np.linalg.norm(points, axis=1))))
+    meshes = [continuous_body_mesh(body) for body in design.continuous]
+    outline = region_mesh(region)
+    if outline is not None:
+        meshes.append(outline)
+    for mesh in meshes:
+        if mesh.n_points:
+            sizes.append(float(np.max(np.linalg.norm(mesh.points, axis=1))))
+    size = max(sizes)
+    return size if size > 0.0 else 1.0
+
+
+def _sphere_radii(values: np.ndarray, size: float) -> np.ndarray:
+    """Radii whose volumes grow like |value|, the largest ``_SPHERE_FRACTION * size``."""
+    magnitude = np.abs(values)
+    top = float(magnitude.max()) if len(magnitude) else 0.0
+    relative = np.cbrt(magnitude / top) if top > 0 else np.zeros_like(magnitude)
+    return size * np.maximum(_SPHERE_FRACTION * relative, _MIN_SPHERE_FRACTION)
+
+
+def _spheres(points: np.ndarray, radii: np.ndarray, resolution: int) -> pv.PolyData:
+    cloud = pv.PolyData(np.asarray(points, dtype=np.float64))
+    cloud.point_data["radius"] = radii
+    template = pv.Sphere(radius=1.0, theta_resolution=resolution, phi_resolution=resolution)
+    return cloud.glyph(scale="radius", orient=False, geom=template)
+
+
+def _toward_white(color: tuple[float, float, float], weight: float) -> tuple[float, float, float]:
+    """``color`` at ``weight`` 1, white at 0."""
+    r, g, b = (weight * c + (1.0 - weight) for c in color)
+    return (r, g, b)
+
+
+def _charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
+    """The part of the blue-white-red map that the values use, so an absent sign draws no hue.
+
+    The full map runs from blue at ``-max|q|`` through white at 0 to red at ``+max|q|``; the
+    colour range is cut to ``[min(q, 0), max(q, 0)]``.
+    """
+    from matplotlib.colors import LinearSegmentedColormap
+
+    lo, hi = min(float(values.min()), 0.0), max(float(values.max()), 0.0)
+    top = max(-lo, hi)
+    if top == 0.0:  # all charges zero: white only
+        white = [(0.0, BACKGROUND_COLOR), (1.0, BACKGROUND_COLOR)]
+        return LinearSegmentedColormap.from_list("chargedesign_charge", white), (-1.0, 1.0)
+    # the ends sit at -top or +top (full colour) or at 0 (white); linear in q in between
+    stops: list[tuple[float, tuple[float, float, float]]] = []
+    stops.append((lo, _toward_white(NEGATIVE_COLOR, -lo / top)))
+    if lo < 0 < hi:
+        stops.append((0.0, BACKGROUND_COLOR))
+    stops.append((hi, _toward_white(POSITIVE_COLOR, hi / top)))
+    nodes = [((v - lo) / (hi - lo), c) for v, c in stops]
+    return LinearSegmentedColormap.from_list("chargedesign_charge", nodes), (lo, hi)
+
+
+def _arrow(
+    start: np.ndarray, vector: np.ndarray, shaft: float = 0.012, tip: float = 0.04
+) -> pv.PolyData:
+    """Arrow from ``start`` along ``vector``; ``shaft`` and ``tip`` radii relative to its length."""
+    length = float(np.linalg.norm(vector))
+    return pv.Arrow(
+        start=start,
+        direction=vector / length,
+        scale=length,
+        tip_length=0.12,
+        tip_radius=tip,
+        shaft_radius=shaft,
+    )
+
+
+def _circle(center: np.ndarray, normal: np.ndarray, radius: float, n: int = 72) -> pv.PolyData:
+    """Closed polyline circle."""
+    normal = normal / np.linalg.norm(normal)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(normal, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(normal, u)
+    angles = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    points = center + radius * (np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v))
+    return pv.lines_from_points(points, close=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# scene building
+
+
+@dataclass
+class _BodyActors:
+    """Actors fixed to the body (moved together by the animation) and the axis label tips."""
+
+    actors: list[Any]
+    axis_tips: np.ndarray  # shape (3, 3): tips of the body axes x, y, z, body frame
+    size: float
+
+
+def _add_body(
+    plotter: pv.Plotter,
+    design: Design,
+    region: Mapping[str, Any] | None,
+    *,
+    sphere_resolution: int,
+    scalar_bar: bool,
+) -> tuple[_BodyActors, list[list[Any]]]:
+    """Draw the body-fixed parts; return their actors and the legend entries."""
+    size = _body_size(design, region)
+    actors: list[Any] = []
+    legend: list[list[Any]] = []
+
+    q = design.charge_values
+    if len(q):
+        spheres = _spheres(design.charge_positions, _sphere_radii(q, size), sphere_resolution)
+        values = np.repeat(q, spheres.n_points // len(q))
+        spheres.point_data["charge (C)"] = values
+        cmap, clim = _charge_colormap(q)
+        actors.append(
+            plotter.add_mesh(
+                spheres,
+                scalars="charge (C)",
+                cmap=cmap,
+                clim=clim,
+                show_scalar_bar=scalar_bar,
+                scalar_bar_args={
+                    "title": "charge (C)",
+                    "color": "black",
+                    "vertical": True,
+                    "position_x": 0.84,
+                    "position_y": 0.06,
+                    "height": 0.45,
+                    "width": 0.06,
+                    "title_font_size": _font_size(plotter),
+                    "label_font_size": _font_size(plotter),
+                    "fmt": "%.2g",
+                    "n_labels": 3,
+                },
+                smooth_shading=True,
+            )
+        )
+        if np.any(q > 0):
+            legend.append(["charge > 0", POSITIVE_COLOR, "circle"])
+        if np.any(q < 0):
+            legend.append(["charge < 0", NEGATIVE_COLOR, "circle"])
+
+    m = design.mass_values
+    if len(m):
+        spheres = _spheres(design.mass_positions, _sphere_radii(m, size), sphere_resolution)
+        actors.append(plotter.add_mesh(spheres, color=MASS_COLOR, smooth_shading=True))
+        legend.append(["mass", MASS_COLOR, "circle"])
+
+    moments = design.dipole_moments
+    if len(moments):
+        strengths = np.linalg.norm(moments, axis=1)
+        top = float(strengths.max())
+        markers = _spheres(
+            design.dipole_positions, np.full(len(moments), _MIN_SPHERE_FRACTION * size), 8
+        )
+        arrows = [markers]
+        for position, moment, strength in zip(
+            design.dipole_positions, moments, strengths, strict=True
+        ):
+            if strength > 0.0:
+                vector = moment * (_ARROW_FRACTION * size / top)
+                arrows.append(_arrow(position - 0.5 * vector, vector, shaft=0.04, tip=0.1))
+        actors.append(plotter.add_mesh(pv.merge(arrows), color=DIPOLE_COLOR))
+        legend.append(["dipole", DIPOLE_COLOR, "triangle"])
+
+    for continuous in design.continuous:
+        mesh = continuous_body_mesh(continuous)
+        color = continuous_body_color(continuous, mesh)
+        actors.append(plotter.add_mesh(mesh, color=color, opacity=0.3, smooth_shading=True))
+    if design.continuous:
+        legend.append(["continuous body", REGION_COLOR, "rectangle"])
+
+    outline = region_mesh(region)
+    if outline is not None:
+        actors.append(plotter.add_mesh(outline, color=REGION_COLOR, line_width=1.0))
+        legend.append(["candidate region", REGION_COLOR, "rectangle"])
+
+    tips = _BODY_AXIS_FRACTION * size * np.eye(3)
+    axes = pv.merge([_arrow(np.zeros(3), tip) for tip in tips])
+    actors.append(plotter.add_mesh(axes, color=AXES_COLOR))
+    legend.append(["body axes", AXES_COLOR, "triangle"])
+    return _BodyActors(actors=actors, axis_tips=tips, size=size), legend
+
+
+def _add_labels(
+    plotter: pv.Plotter, points: Any, labels: Sequence[str], name: str, color: Any
+) -> None:
+    plotter.add_point_labels(
+        np.asarray(points, dtype=np.float64),
+        list(labels),
+        name=name,
+        show_points=False,
+        shape=None,
+        text_color=color,
+        font_size=14,
+        bold=True,
+        always_visible=True,
+        reset_camera=False,
+    )
+
+
+def _font_size(plotter: pv.Plotter) -> int:
+    """Text size in points that suits the window height."""
+    return max(8, int(plotter.window_size[1]) // 40)
+
+
+def _add_legend(plotter: pv.Plotter, entries: list[list[Any]]) -> None:
+    plotter.add_legend(  # type: ignore[call-arg]  # pyvista decorator confuses mypy
+        labels=entries,
+        bcolor=BACKGROUND_COLOR,
+        border=True,
+        size=(0.22, 0.035 * len(entries) + 0.01),
+        loc="lower left",
+    )
+
+
+def _place_camera(plotter: pv.Plotter, size: float, direction: Sequence[float]) -> None:
+    """A fixed camera looking at O from ``direction``, ``view up`` along z, fitting 1.9 L."""
+    d = np.asarray(direction, dtype=np.float64)
+    d /= np.linalg.norm(d)
+    camera = plotter.camera
+    distance = 1.9 * size / math.sin(math.radians(camera.view_angle) / 2.0)
+    camera.focal_point = (0.0, 0.0, 0.0)
+    camera.position = tuple(distance * d)
+    camera.up = (0.0, 0.0, 1.0)
+    plotter.reset_camera_clipping_range()
+
+
+_VIEW_DIRECTION = (1.0, -1.6, 0.9)
+
+
+def _use_offscreen_backend() -> None:
+    """Without a display on Linux, ask VTK for its EGL window (avoids a failed X attempt)."""
+    if (
+        sys.platform.startswith("linux")
+        and not _has_display()
+        and "VTK_DEFAULT_OPENGL_WINDOW" not in os.environ
+        and ctypes.util.find_library("EGL")
+    ):
+        os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = "vtkEGLRenderWindow"
+
+
+def _has_display() -> bool:
+    if not sys.platform.startswith("linux"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def _body_plotter(
+    design: Design,
+    *,
+    region: Mapping[str, Any] | None,
+    gamma: Any,
+    window_size: tuple[int, int],
+    off_screen: bool,
+) -> pv.Plotter:
+    """A plotter showing the body in its own frame with the field axis along ``gamma``."""
+    g = _unit_gamma(gamma)
+    region = _region_spec(region)
+    if off_screen:
+        _use_offscreen_backend()
+    plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
+    plotter.background_color = pv.Color(BACKGROUND_COLOR)
+    try:
+        body, legend = _add_body(plotter, design, region, sphere_resolution=16, scalar_bar=True)
+        size = body.size
+        field_tip = _FIELD_AXIS_FRACTION * size * g
+        plotter.add_mesh(
+            _arrow(-field_tip, 2.0 * field_tip, shaft=0.004, tip=0.02), color=FIELD_COLOR
+        )
+        legend.append(["field axis Z", FIELD_COLOR, "triangle"])
+        _add_labels(plotter, body.axis_tips * 1.06, ("x", "y", "z"), "body_axes", AXES_COLOR)
+        _add_labels(plotter, [field_tip * 1.04], ["Z (field)"], "field_axis", FIELD_COLOR)
+        _add_legend(plotter, legend)
+        plotter.add_text(
+            f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
+            f"{len(design.dipole_moments)} dipoles; gamma = ({g[0]:.3g}, {g[1]:.3g}, {g[2]:.3g})",
+            position="upper_left",
+            font_size=9,
+            color="black",
+        )
+        _place_camera(plotter, size, _VIEW_DIRECTION)
+    except BaseException:
+        plotter.close()
+        raise
+    return plotter
+
+
+# ---------------------------------------------------------------------------------------------
+# public API
+
+
+def render_image(
+    design: Design,
+    *,
+    region: Mapping[str, Any] | None = None,
+    gamma: Any = None,
+    window_size: tuple[int, int] = (1024, 768),
+) -> np.ndarray:
+    """Render the body off screen and return the picture.
+
+    Parameters
+    ----------
+    design : Design
+    region : mapping, optional
+        Candidate region to outline (the scene's ``[body]`` table); default: the one recorded
+        in the design (``extra["region"]`` or ``extra["body"]``), else none.
+    gamma : array_like, shape (3,), optional
+        Space ``Z`` (field axis) in body axes; normalised; default ``(0, 0, 1)``.
+    window_size : (int, int)
+        Width and height in pixels.
+
+    Returns
+    -------
+    ndarray, shape (height, width, 3), uint8
+    """
+    size = _window_size(window_size)
+    if region is None:
+        region = region_from_design(design)
+    plotter = _body_plotter(design, region=region, gamma=gamma, window_size=size, off_screen=True)
+    try:
+        image = plotter.screenshot(None, return_img=True)
+    finally:
+        plotter.close()
+    return np.asarray(image)[:, :, :3]
+
+
+def render_screenshot(
+    design: Design,
+    path: str | os.PathLike[str],
+    *,
+    region: dict | None = None,
+    window_size: tuple[int, int] = (1024, 768),
+    gamma: Any = None,
+) -> Path:
+    """Render the body off screen and write a PNG atomically.
+
+    Parameters
+    ----------
+    design : Design
+    path : path-like
+        Output file; must end in ``.png``.
+    region : dict, optional
+        Candidate region to outline, e.g. ``{"shape": "ball", "radius": 1.0}`` (m); default:
+        the one recorded in the design, else none.
+    window_size : (int, int)
+        Image width and height in pixels.
+    gamma : array_like, shape (3,), optional
+        Field axis (space ``Z``) in body axes, default ``(0, 0, 1)``.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    import imageio.v3 as iio
+
+    target = Path(path)
+    if target.suffix.lower() != ".png":
+        raise input_error("screenshot path", "a file name ending in .png", str(target))
+    image = render_image(design, region=region, gamma=gamma, window_size=window_size)
+    _write_file(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
+    return target
+
+
+def show_interactive(
+    design: Design,
+    *,
+    region: Mapping[str, Any] | None = None,
+    gamma: Any = None,
+    window_size: tuple[int, int] = (1024, 768),
+) -> None:
+    """Open an interactive window (blocks until it is closed).
+
+    Raises
+    ------
+    InputError
+        When there is no display (Linux without ``DISPLAY``/``WAYLAND_DISPLAY``, or PyVista
+        forced off screen): render to a file instead.
+    """
+    if not _has_display() or pv.OFF_SCREEN:
+        raise InputError(
+            "no display to open a window on ($DISPLAY and $WAYLAND_DISPLAY are unset); "
+            "render to a file with --screenshot PNG"
+        )
+    size = _window_size(window_size)
+    if region is None:
+        region = region_from_design(design)
+    plotter = _body_plotter(design, region=region, gamma=gamma, window_size=size, off_screen=False)
+    plotter.show()
+
+
+@dataclass
+class Trajectory:
+    """Times and body-to-space rotations of a simulated motion.
+
+    Attributes
+    ----------
+    t : ndarray, shape (T,)
+        Times in s, nondecreasing.
+    rotation : ndarray, shape (T, 3, 3)
+        Body-to-space rotation matrices ``R`` (``X = R r``).
+    """
+
+    t: np.ndarray
+    rotation: np.ndarray
+
+
+def load_trajectory(source: str | os.PathLike[str] | Mapping[str, Any]) -> Trajectory:
+    """Read ``t`` and ``rotation`` from a simulation's ``.npz`` file or a mapping of arrays.
+
+    Rotations must be orthonormal with determinant +1 to 1e-6.
+    """
+    where = "trajectory"
+    if isinstance(source, Mapping):
+        data: Mapping[str, Any] = source
+    else:
+        where = str(source)
+        p = Path(source)
+        if not p.is_file():
+            raise InputError(f"{p}: no such trajectory file")
+        if not zipfile.is_zipfile(p):
+            raise InputError(f"{p}: not a .npz trajectory file (numpy.savez archive)")
+        try:
+            with np.load(p, allow_pickle=False) as npz:
+                data = {k: npz[k] for k in npz.files}
+        except (OSError, ValueError, zipfile.BadZipFile) as exc:
+            raise InputError(f"{p}: unreadable .npz trajectory ({exc})") from exc
+    for key in ("t", "rotation"):
+        if key not in data:
+            raise InputError(f"{where}: missing key {key!r} (a simulation's .npz has it)")
+    t = as_array(data["t"], f"{where}.t", (None,))
+    if len(t) == 0:
+        raise input_error(f"{where}.t", "at least one time", t)
+    if np.any(np.diff(t) < 0):
+        raise input_error(f"{where}.t", "nondecreasing times", t)
+    rotation = as_array(data["rotation"], f"{where}.rotation", (len(t), 3, 3))
+    gram = np.einsum("tji,tjk->tik", rotation, rotation)
+    if not np.allclose(gram, np.eye(3), rtol=0.0, atol=1e-6) or np.any(np.linalg.det(rotation) < 0):
+        raise input_error(f"{where}.rotation", "rotation matrices (R^T R = I, det R = +1)", "not")
+    return Trajectory(t=t, rotation=rotation)
+
+
+def _frame_rotations(trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
+    """Rotations at ``times`` by spherical interpolation between the samples."""
+    from scipy.spatial.transform import Rotation, Slerp
+
+    t, rotation = trajectory.t, trajectory.rotation
+    if len(t) == 1 or t[-1] == t[0]:
+        return np.repeat(rotation[:1], len(times), axis=0)
+    keep = np.concatenate([[True], np.diff(t) > 0])  # Slerp needs strictly increasing times
+    slerp = Slerp(t[keep], Rotation.from_matrix(rotation[keep]))
+    return np.asarray(slerp(np.clip(times, t[0], t[-1])).as_matrix())
+
+
+def animate(
+    design: Design,
+    trajectory: str | os.PathLike[str] | Mapping[str, Any],
+    out_path: str | os.PathLike[str],
+    *,
+    frames: int = 60,
+    fps: float = 15.0,
+    region: Mapping[str, Any] | None = None,
+    window_size: tuple[int, int] = (480, 360),
+    progress: Callable[[int, int], None] | None = None,
+) -> Path:
+    """Animate a simulated motion: the body turning in the space frame, written as GIF (or MP4).
+
+    The space axes ``X, Y, Z`` stand still (``Z``, the field axis, drawn gold and vertical);
+    the body, its axes and region move as ``X = R(t) r``. A thin line traces the tip of the
+    body's ``z`` axis up to the current time. Frames are evenly spaced in time from the first
+    to the last sample; rotations between samples are interpolated (slerp).
+
+    Parameters
+    ----------
+    design : Design
+    trajectory : path-like or mapping
+        A simulation's ``.npz`` (keys ``t``, shape (T,), in s; ``rotation``, shape (T, 3, 3),
+        body to space) or a mapping with those keys.
+    out_path : path-like
+        ``.gif``; ``.mp4`` when the ``imageio-ffmpeg`` package is installed.
+    frames : int
+        Number of frames (>= 1).
+    fps : float
+        Frames per second of the written animation (> 0).
+    region : mapping, optional
+        Candidate region to outline; default: the one recorded in the design.
+    window_size : (int, int)
+        Frame width and height in pixels.
+    progress : callable(done, total), optional
+        Called after each rendered frame.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    import imageio.v3 as iio
+
+    target = Path(out_path)
+    suffix = target.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise input_error("animation path", "a file name ending in .gif or .mp4", str(target))
+    if suffix == ".mp4":
+        try:
+            import imageio_ffmpeg  # noqa: F401
+        except ImportError as exc:
+            raise InputError(
+                f"{target}: MP4 needs the imageio-ffmpeg package; write a .gif instead"
+            ) from exc
+    if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)):
+        raise input_error("frames", "an integer", frames)
+    if not 1 <= frames <= _MAX_FRAMES:
+        raise input_error("frames", f"an integer in 1..{_MAX_FRAMES}", frames)
+    fps = as_finite_float(fps, "fps", positive=True)
+    size = _window_size(window_size)
+    traj = load_trajectory(trajectory)
+    if region is None:
+        region = region_from_design(design)
+    region = _region_spec(region)
+
+    times = np.linspace(traj.t[0], traj.t[-1], int(frames))
+    rotations = _frame_rotations(traj, times)
+    images = _render_frames(design, traj, times, rotations, region, size, progress)
+
+    def write(tmp: Path) -> None:
+        if suffix == ".gif":
+            iio.imwrite(tmp, images, extension=".gif", duration=1000.0 / fps, loop=0)
+        else:
+            iio.imwrite(tmp, images, extension=".mp4", fps=fps)
+
+    _write_file(target, write)
+    return target
+
+
+def _render_frames(
+    design: Design,
+    traj: Trajectory,
+    times: np.ndarray,
+    rotations: np.ndarray,
+    region: Mapping[str, Any] | None,
+    window_size: tuple[int, int],
+    progress: Callable[[int, int], None] | None,
+) -> np.ndarray:
+    _use_offscreen_backend()
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    try:
+        plotter.background_color = pv.Color(BACKGROUND_COLOR)
+        body, legend = _add_body(plotter, design, region, sphere_resolution=12, scalar_bar=False)
+        size = body.size
+        space_tips = _FIELD_AXIS_FRACTION * size * np.eye(3)
+        plotter.add_mesh(
+            _arrow(-space_tips[2], 2.0 * space_tips[2], shaft=0.004, tip=0.02), color=FIELD_COLOR
+        )
+        plotter.add_mesh(
+            pv.merge([pv.Line(-tip, tip) for tip in space_tips[:2]]), color=REGION_COLOR
+        )
+        _add_labels(plotter, space_tips * 1.04, ("X", "Y", "Z (field)"), "space", FIELD_COLOR)
+        legend.append(["field axis Z", FIELD_COLOR, "triangle"])
+        _add_legend(plotter, legend)
+        _place_camera(plotter, size, _VIEW_DIRECTION)
+
+        # the tip of the body z axis over the whole motion, decimated to at most 2000 points
+        stride = max(1, len(traj.t) // 2000)
+        trace_t = traj.t[::stride]
+        trace = traj.rotation[::stride, :, 2] * body.axis_tips[2, 2]
+
+        images = []
+        for i, (time, rotation) in enumerate(zip(times, rotations, strict=True)):
+            matrix = np.eye(4)
+            matrix[:3, :3] = rotation
+            for actor in body.actors:
+                actor.user_matrix = matrix
+            _add_labels(
+                plotter, body.axis_tips @ rotation.T * 1.06, ("x", "y", "z"), "body", AXES_COLOR
+            )
+            done = trace[trace_t <= time]
+            if len(done) >= 2:
+                plotter.add_mesh(
+                    pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace"
+                )
+            plotter.add_text(
+                f"t = {time:.4g} s   frame {i + 1}/{len(times)}",
+                position="upper_left",
+                font_size=9,
+                color="black",
+                name="time",
+            )
+            plotter.reset_camera_clipping_range()
+            images.append(np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3])
+            if progress is not None:
+                progress(i + 1, len(times))
+    finally:
+        plotter.close()
+    return np.stack(images)
+
+
+def _write_file(target: Path, write: Callable[[Path], None]) -> None:
+    """Write through a temporary file beside ``target``; OS failures become one-line errors."""
+    try:
+        with atomic_path(target) as tmp:
+            write(tmp)
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
