@@ -218,6 +218,7 @@ def _write_vtp(design: Design, path: Path) -> None:
 
     counts = (len(design.charge_values), len(design.mass_values), len(design.dipole_moments))
     n = sum(counts)
+    _check_vtk_lengths(design)
     points = [design.charge_positions, design.mass_positions, design.dipole_positions]
     kind = [np.repeat(np.array([0, 1, 2], dtype=np.int8), counts)]
     value = [design.charge_values, design.mass_values, np.zeros(counts[2])]
@@ -256,6 +257,22 @@ def _write_vtp(design: Design, path: Path) -> None:
     polydata.field_data[VTP_FIELD] = [json.dumps(_header(design), allow_nan=False)]
     polydata.field_data["units"] = [UNITS]
     polydata.save(str(path), binary=True)
+
+
+def _check_vtk_lengths(design: Design) -> None:
+    """VTK writes each vector array's norm range into the file; an infinite norm is unreadable."""
+    for name, vectors in (
+        ("charges.positions", design.charge_positions),
+        ("masses.positions", design.mass_positions),
+        ("dipoles.positions", design.dipole_positions),
+        ("dipoles.moments", design.dipole_moments),
+    ):
+        with np.errstate(over="ignore"):
+            lengths = np.sqrt(np.sum(vectors * vectors, axis=1))
+        if not np.all(np.isfinite(lengths)):
+            raise input_error(
+                name, "vectors whose length fits in float64 (VTK stores norms)", vectors
+            )
 
 
 def _read_vtp(path: Path) -> Design:

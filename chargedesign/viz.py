@@ -223,9 +223,14 @@ def _sphere_radii(values: np.ndarray, size: float) -> np.ndarray:
     return size * np.maximum(_SPHERE_FRACTION * relative, _MIN_SPHERE_FRACTION)
 
 
-def _spheres(points: np.ndarray, radii: np.ndarray, resolution: int) -> pv.PolyData:
+def _spheres(
+    points: np.ndarray, radii: np.ndarray, resolution: int, data: Mapping[str, Any] | None = None
+) -> pv.PolyData:
+    """One sphere per point; ``data`` (arrays of shape (n,)) is copied onto each sphere."""
     cloud = pv.PolyData(np.asarray(points, dtype=np.float64))
     cloud.point_data["radius"] = radii
+    for name, values in (data or {}).items():
+        cloud.point_data[name] = values
     template = pv.Sphere(radius=1.0, theta_resolution=resolution, phi_resolution=resolution)
     return cloud.glyph(scale="radius", orient=False, geom=template)
 
@@ -314,9 +319,12 @@ def _add_body(
 
     q = design.charge_values
     if len(q):
-        spheres = _spheres(design.charge_positions, _sphere_radii(q, size), sphere_resolution)
-        values = np.repeat(q, spheres.n_points // len(q))
-        spheres.point_data["charge (C)"] = values
+        spheres = _spheres(
+            design.charge_positions,
+            _sphere_radii(q, size),
+            sphere_resolution,
+            data={"charge (C)": q},
+        )
         cmap, clim = _charge_colormap(q)
         actors.append(
             plotter.add_mesh(

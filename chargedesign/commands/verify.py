@@ -67,6 +67,9 @@ def format_report(report: dict[str, object]) -> str:
     lines.append(f"  {'name':<{width}} {'agrees':<6} difference")
     for entry in printed:
         lines.append(f"  {entry['name']:<{width}} {_yes(entry['agrees']):<6} {entry['difference']}")
+    notes = [f"  {e['name']}: {e['note']}" for e in printed if not e["agrees"] and e.get("note")]
+    if notes:
+        lines += ["", "Notes on the entries that do not agree:", *notes]
     ce = report["counterexample"]
     assert isinstance(ce, dict)
     state = ce["state"]

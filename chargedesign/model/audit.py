@@ -54,6 +54,7 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
     expr : sympy.Expr
         Polynomial in p, q, r, gamma1, gamma2 and the parameters, Laurent in gamma3.
     """
+    from chargedesign.model.case import g3
     from chargedesign.model.certificate import (
         _IG3,
         _IU,
@@ -64,7 +65,6 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
         to_ring,
         to_sympy,
     )
-    from chargedesign.model.case import g3
 
     normal, _ = sphere_normal_form(to_ring(expr))
     if normal == 0:

@@ -152,9 +152,7 @@ def divide_by_linear_in_r(
     quotient, remainder = ring.zero, ring.zero
     for k, coeff in _split_by_power(element, _IR, 1).items():
         remainder += coeff * root**k
-        quotient += coeff * sum(
-            (r_gen**j * root ** (k - 1 - j) for j in range(k)), start=ring.zero
-        )
+        quotient += coeff * sum((r_gen**j * root ** (k - 1 - j) for j in range(k)), start=ring.zero)
     return laurent_normal(quotient), laurent_normal(remainder)
 
 
@@ -172,9 +170,7 @@ def sphere_normal_form(element: PolyElement) -> tuple[PolyElement, PolyElement]:
     normal, multiplier = ring.zero, ring.zero
     for k, coeff in _split_by_power(element, _IG1, 2).items():
         normal += coeff * s**k
-        multiplier += coeff * sum(
-            (g1_sq**j * s ** (k - 1 - j) for j in range(k)), start=ring.zero
-        )
+        multiplier += coeff * sum((g1_sq**j * s ** (k - 1 - j) for j in range(k)), start=ring.zero)
     return laurent_normal(normal), laurent_normal(multiplier)
 
 
@@ -197,13 +193,13 @@ def _ring_integrals() -> dict[str, PolyElement]:
     }
 
 
-def r_on_level(level: sp.Expr = sp.Integer(0)) -> PolyElement:
+def r_on_level(level: sp.Expr | int = 0) -> PolyElement:
     """The root ``a`` of ``I3 = level`` in r, as a ring element (Laurent in gamma3).
 
     ``level`` must be a multiple of C (I3 carries a factor C), e.g. ``0`` or ``2*C*n``.
     """
     ring = laurent_ring()
-    over_c = sp.expand(level / C)
+    over_c = sp.expand(sp.sympify(level) / C)
     if over_c.has(C):
         raise InputError(f"level: expected a multiple of C, got {level}")
     without_r = _ring_integrals()["I3_over_C"].compose(ring.gens[_IR], ring.zero)
@@ -212,7 +208,7 @@ def r_on_level(level: sp.Expr = sp.Integer(0)) -> PolyElement:
 
 
 def reduced_dI4_dt(
-    level: sp.Expr = sp.Integer(0),
+    level: sp.Expr | int = 0,
     zeroed: tuple[sp.Symbol, ...] = (),
     integral: sp.Expr | None = None,
 ) -> PolyElement:
@@ -343,9 +339,7 @@ def certify(case: str = "general") -> CertificateResult:
     ring = laurent_ring()
     level_multiplier = laurent_normal(quotient * ring.gens[_IU])
     witness = laurent_normal(
-        d_i4
-        - level_multiplier * integrals["I3_over_C"]
-        - sphere_multiplier * (integrals["I2"] - 1)
+        d_i4 - level_multiplier * integrals["I3_over_C"] - sphere_multiplier * (integrals["I2"] - 1)
     )
     checks["I4_multiplier_identity"] = witness == 0
     checks["I4_independent"] = _independent(zeroed)

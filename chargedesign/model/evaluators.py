@@ -20,7 +20,7 @@ this machine; see ``docs/theory.md``).
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -86,7 +86,7 @@ def model_expressions(quantity: str) -> list[Any]:
     raise InputError(f"quantity: expected one of {', '.join(OUTPUT_WIDTH)}, got {quantity!r}")
 
 
-@lru_cache(maxsize=None)
+@cache
 def compiled(quantity: str, singular: bool, module: str) -> Callable[..., Any]:
     """The compiled function of ``quantity``: arguments ``(*variables, *parameter_tuple)``.
 

@@ -107,10 +107,7 @@ def printed_equations() -> sp.Matrix:
 def printed_I3() -> sp.Expr:
     """The printed cyclic integral whose zero level the theorem names (no factor C)."""
     return (
-        2 * p * g1
-        + 2 * q * g2
-        + (r + K * (d * (g2**2 - g1**2) + 2 * c * g1 * g2)) * g3
-        - n * g3**2
+        2 * p * g1 + 2 * q * g2 + (r + K * (d * (g2**2 - g1**2) + 2 * c * g1 * g2)) * g3 - n * g3**2
     )
 
 

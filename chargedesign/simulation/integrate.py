@@ -117,7 +117,8 @@ def integrate(
     step : float, optional
         Fixed step of ``gauss-legendre``, s (default ``t_end / ceil(100 t_end)``).
     samples : int
-        Output samples over ``[0, t_end]`` (at least 2).
+        About this many output samples over ``[0, t_end]`` (at least 2): accepted step ends
+        spread evenly in time, never interpolated points.
     gamma3_min : float, optional
         When given, reaching ``|gamma3| < gamma3_min`` (the singular plane of lambda and rho)
         stops the integration and is reported as an event.
@@ -141,7 +142,16 @@ def integrate(
         out = _integrate_gauss(system, y0, t_end, step, samples, gamma3_min, progress)
     else:
         out = _integrate_solve_ivp(
-            system, y0, t_end, method, rtol, atol, max_step, samples, gamma3_min, poincare,
+            system,
+            y0,
+            t_end,
+            method,
+            rtol,
+            atol,
+            max_step,
+            samples,
+            gamma3_min,
+            poincare,
             progress,
         )
     if not np.all(np.isfinite(out.states)):
@@ -165,14 +175,16 @@ def _integrate_solve_ivp(
     progress: Callable[[float], None] | None,
 ) -> Integration:
     m = len(y0)
-    derivatives = system.derivatives
+    rhs = system.rhs_function(m)
     next_report = [0.0]
 
-    def fun(t: float, y: np.ndarray) -> np.ndarray:
-        if progress is not None and t >= next_report[0]:
+    def fun_progress(t: float, y: np.ndarray) -> np.ndarray:
+        if t >= next_report[0] and progress is not None:
             progress(min(t / t_end, 1.0))
             next_report[0] = t + 0.01 * t_end
-        return derivatives(y.reshape(m, 7)).reshape(-1)
+        return rhs(t, y)
+
+    fun = rhs if progress is None else fun_progress
 
     events: list[Callable[..., float]] = []
     if gamma3_min is not None:
@@ -186,7 +198,9 @@ def _integrate_solve_ivp(
         events.append(singular)
     if poincare is not None:
         if poincare not in STATE_NAMES:
-            raise input_error("output.poincare_section", "one of " + ", ".join(STATE_NAMES), poincare)
+            raise input_error(
+                "output.poincare_section", "one of " + ", ".join(STATE_NAMES), poincare
+            )
         if m != 1:
             raise input_error("poincare", "a single trajectory", f"{m} trajectories")
 
@@ -196,14 +210,14 @@ def _integrate_solve_ivp(
         section.direction = 1  # type: ignore[attr-defined]
         events.append(section)
 
-    t_eval = np.linspace(0.0, t_end, samples)
     t0 = time.perf_counter()
+    # every accepted step is kept (no t_eval): step ends carry the integrator's accuracy,
+    # interpolated points are less accurate and would show up as spurious drift
     sol = solve_ivp(
         fun,
         (0.0, t_end),
         y0.reshape(-1),
         method=method,
-        t_eval=t_eval,
         rtol=rtol,
         atol=atol,
         max_step=max_step,
@@ -214,7 +228,10 @@ def _integrate_solve_ivp(
         reached = float(sol.t[-1]) if len(sol.t) else 0.0
         raise SolverError(f"simulation: {method} failed near t = {reached:.6g} s: {sol.message}")
     times = np.asarray(sol.t)
+    accepted = len(times) - 1
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
+    keep = _thin(times, samples)
+    times, states = times[keep], states[keep]
     found: list[dict[str, Any]] = []
     poincare_points = None
     k = 0
@@ -244,22 +261,24 @@ def _integrate_solve_ivp(
         poincare_points = np.column_stack(
             [ts, ys[:, :3], quaternion_gamma(ys[:, 3:]) if len(ys) else np.zeros((0, 3))]
         )
-    nsteps = int(getattr(sol, "nfev", 0))
     return Integration(
         times=times,
         states=np.transpose(states, (1, 0, 2)),
         events=found,
         poincare=poincare_points,
-        steps=_steps_estimate(method, nsteps),
-        rhs_evaluations=nsteps,
+        steps=accepted,
+        rhs_evaluations=int(sol.nfev),
         seconds=seconds,
     )
 
 
-def _steps_estimate(method: str, nfev: int) -> int:
-    """solve_ivp reports evaluations, not steps: DOP853 uses 12 per step, RK45 6, RK23 3."""
-    per_step = {"DOP853": 12, "RK45": 6, "RK23": 3}.get(method)
-    return nfev // per_step if per_step else nfev
+def _thin(times: np.ndarray, samples: int) -> np.ndarray:
+    """Indices of about ``samples`` step ends spread evenly in time (first and last kept)."""
+    if len(times) <= samples:
+        return np.arange(len(times))
+    targets = np.linspace(times[0], times[-1], samples)
+    idx = np.searchsorted(times, targets)
+    return np.unique(np.clip(idx, 0, len(times) - 1))
 
 
 def _integrate_gauss(
@@ -293,23 +312,26 @@ def _integrate_gauss(
     keep_set = set(keep)
     t0 = time.perf_counter()
     n = 0
-    for n in range(1, n_steps + 1):  # noqa: B007 (n is the number of steps taken)
+    for n in range(1, n_steps + 1):
         previous = math.inf
         for it in range(100):
             stages = y[None] + h * np.einsum("ij,jmk->imk", A, K)
-            K_new = system.derivatives(stages.reshape(3 * m, 7)).reshape(3, m, 7)
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                K_new = system.derivatives(stages.reshape(3 * m, 7)).reshape(3, m, 7)
             rhs_evals += 1
-            change = float(np.max(np.abs(K_new - K))) * h
+            diverged = not np.all(np.isfinite(K_new))
+            change = float(np.max(np.abs(K_new - K))) * h if not diverged else math.inf
             K = K_new
             scale = 1.0 + float(np.max(np.abs(y)))
             # converged: at rounding level, or no longer decreasing once tiny
             if change <= 1e-15 * scale or (change >= previous and change <= 1e-12 * scale):
                 break
             previous = change
-            if it == 99:
+            if diverged or it == 99:
+                g3 = float(np.min(np.abs(quaternion_gamma(y[:, 3:])[:, 2])))
                 raise SolverError(
                     f"simulation: gauss-legendre stages did not converge at t = {(n - 1) * h:.6g}"
-                    " s; reduce simulation.step"
+                    f" s (|gamma3| = {g3:.3g}); reduce simulation.step or use DOP853"
                 )
         y = y + h * np.einsum("i,imk->mk", b, K)
         t = n * h

@@ -188,6 +188,16 @@ class PolynomialBank:
             for e, c in p.items():
                 self.coefficients[index[e], col] = c
         self._e = [self.exponents[:, a] for a in range(3)]
+        self._exps = [tuple(int(x) for x in e) for e in self.exponents]
+
+    def monomials(self, g1: float, g2: float, g3: float) -> list[float]:
+        """The basis monomials at one gamma, as Python floats (the single-state hot path)."""
+        p1, p2, p3 = [1.0], [1.0], [1.0]
+        for _ in range(self.degree):
+            p1.append(p1[-1] * g1)
+            p2.append(p2[-1] * g2)
+            p3.append(p3[-1] * g3)
+        return [p1[i] * p2[j] * p3[k] for i, j, k in self._exps]
 
     def __call__(self, gammas: np.ndarray) -> np.ndarray:
         """Values at ``gammas``, ndarray shape (m, 3) -> ndarray shape (m, len(polys))."""

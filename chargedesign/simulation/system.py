@@ -195,9 +195,7 @@ class Body:
         )
 
     @classmethod
-    def from_design(
-        cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None
-    ) -> Body:
+    def from_design(cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None) -> Body:
         """A :class:`~chargedesign.body.Design` (fields of ``fields`` replace the design's).
 
         Continuous charge and mass bodies of the design become quadrature nodes exact for the
@@ -248,6 +246,8 @@ class Body:
             "masses": self.mass_values,
             "dipoles": self.dipole_moments,
         }[source]
+        if len(values) == 0:
+            return 0
         return int(np.count_nonzero(values.reshape(len(values), -1).any(axis=1)))
 
 
@@ -256,9 +256,7 @@ def theorem_is_trivial(params: Parameters) -> bool:
     return all(v == 0.0 for v in (params.n, params.K, params.kappa, params.lam, params.rho))
 
 
-def select_effects(
-    body: Body, requested: Sequence[str] | None
-) -> tuple[list[str], list[str]]:
+def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[str], list[str]]:
     """The effects to compute and notes on those skipped.
 
     Parameters
@@ -469,6 +467,69 @@ class RigidBodySystem:
         out[:, 6] = 0.5 * (w * r + x * q - y * p)
         return out
 
+    def rhs_function(self, batch: int = 1) -> Callable[[float, np.ndarray], np.ndarray]:
+        """``fun(t, y)`` for solve_ivp: ``y`` of shape (7 batch,) laid out as (batch, 7).
+
+        One trajectory on the reduced route takes a path in Python floats (numpy's overhead
+        on 3-vectors dominates otherwise); everything else uses :meth:`derivatives`.
+        """
+        if batch != 1 or (self.physical and self.route != "reduced"):
+            derivatives = self.derivatives
+
+            def fun_batch(t: float, y: np.ndarray) -> np.ndarray:
+                return derivatives(y.reshape(batch, 7)).reshape(-1)
+
+            return fun_batch
+        return self._single_state_function()
+
+    def _single_state_function(self) -> Callable[[float, np.ndarray], np.ndarray]:
+        C = self.C
+        half_inv_C = 0.5 / C
+        inv_C = 1.0 / C
+        bank = self._bank if self.physical else None
+        coef = np.ascontiguousarray(bank.coefficients[:, 1:7]) if bank is not None else None
+        monomials = bank.monomials if bank is not None else None
+        theorem = self._theorem.scalar_functions() if self._theorem is not None else None
+        dot = np.dot
+        array = np.array
+
+        def fun(t: float, y: np.ndarray) -> np.ndarray:
+            p, q, r, w, x, yq, z = y.tolist()
+            nq = w * w + x * x + yq * yq + z * z
+            g1 = 2.0 * (x * z - w * yq) / nq
+            g2 = 2.0 * (yq * z + w * x) / nq
+            g3 = (w * w - x * x - yq * yq + z * z) / nq
+            N1 = N2 = N3 = 0.0
+            if coef is not None and monomials is not None:
+                d1, d2, d3, m1, m2, m3 = dot(monomials(g1, g2, g3), coef).tolist()
+                # gamma x dV/dgamma + mu x omega
+                N1 = g2 * d3 - g3 * d2 + m2 * r - m3 * q
+                N2 = g3 * d1 - g1 * d3 + m3 * p - m1 * r
+                N3 = g1 * d2 - g2 * d1 + m1 * q - m2 * p
+            if theorem is not None:
+                try:
+                    d1, d2, d3, m1, m2, m3 = theorem(g1, g2, g3)
+                except (OverflowError, ZeroDivisionError):
+                    # on the singular plane: an infinite derivative makes the solver reject
+                    # the step (the gamma3 event stops the run before it gets there)
+                    return np.full(7, np.inf)
+                N1 += g2 * d3 - g3 * d2 + m2 * r - m3 * q
+                N2 += g3 * d1 - g1 * d3 + m3 * p - m1 * r
+                N3 += g1 * d2 - g2 * d1 + m1 * q - m2 * p
+            return array(
+                (
+                    0.5 * q * r + N1 * half_inv_C,
+                    -0.5 * p * r + N2 * half_inv_C,
+                    N3 * inv_C,
+                    -0.5 * (x * p + yq * q + z * r),
+                    0.5 * (w * p + yq * r - z * q),
+                    0.5 * (w * q + z * p - x * r),
+                    0.5 * (w * r + x * q - yq * p),
+                )
+            )
+
+        return fun
+
     def integrals(self, states: np.ndarray, route: str | None = None) -> np.ndarray:
         """``I1, I2, I3, I4`` along states ``(m, 7)``, ndarray shape (m, 4).
 
@@ -522,9 +583,7 @@ def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
             for axis in range(3):
                 poly.add_into(
                     mu[axis],
-                    poly.contract(
-                        euler, body.charge_positions, body.charge_values, shifts[axis]
-                    ),
+                    poly.contract(euler, body.charge_positions, body.charge_values, shifts[axis]),
                 )
             flux = poly.flux_polynomial(body.fields.get("magnetic", ()))
             poly.add_into(L, poly.contract(flux, body.charge_positions, body.charge_values))
@@ -615,28 +674,53 @@ def direct_terms(
 
 
 class _TheoremTerms:
-    """V, mu and l of the theorem from the compiled evaluators (lambda, rho allowed)."""
+    """V, mu and l of the theorem from the compiled evaluators (lambda, rho allowed).
+
+    The compiled functions are called directly (no validation) because the integrator may
+    probe stages near the singular plane; non-finite values there make it reject the step.
+    """
 
     def __init__(self, params: Parameters) -> None:
         from chargedesign.model import evaluators
 
         self.params = params
         self._ev = evaluators
+        self._pt = evaluators.parameter_tuple(params)
+
+    def _batch(self, quantity: str, gamma: np.ndarray) -> np.ndarray:
+        function = self._ev.compiled(quantity, self.params.singular, "numpy")
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            outputs = function(*gamma.T, *self._pt)
+        out = np.empty((len(gamma), len(outputs)))
+        for k, column in enumerate(outputs):
+            out[:, k] = column  # broadcasts constant outputs
+        return out
+
+    def scalar_functions(self) -> Callable[[float, float, float], tuple[float, ...]]:
+        """``(g1, g2, g3) -> (dV/dg1, dV/dg2, dV/dg3, mu1, mu2, mu3)`` in Python floats."""
+        ev = self._ev
+        pt = self._pt
+        grad = ev.compiled("potential_gradient", self.params.singular, "math")
+        gyro = ev.compiled("gyroscopic", self.params.singular, "math")
+
+        def terms(g1: float, g2: float, g3: float) -> tuple[float, ...]:
+            return (*grad(g1, g2, g3, *pt), *gyro(g1, g2, g3, *pt))
+
+        return terms
 
     def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
-        grad = np.asarray(self._ev.potential_gradient(gamma, self.params), dtype=float)
-        mu = np.asarray(self._ev.gyroscopic(gamma, self.params), dtype=float)
+        grad = self._batch("potential_gradient", gamma)
+        mu = self._batch("gyroscopic", gamma)
         return _cross(gamma, grad) + _cross(mu, omega)
 
     def energy(self, gamma: np.ndarray) -> np.ndarray:
-        return np.asarray(self._ev.potential(gamma, self.params), dtype=float).reshape(-1)
+        return self._batch("potential", gamma)[:, 0]
 
     def gyroscopic(self, gamma: np.ndarray) -> np.ndarray:
-        return np.asarray(self._ev.gyroscopic(gamma, self.params), dtype=float)
+        return self._batch("gyroscopic", gamma)
 
     def momentum(self, gamma: np.ndarray) -> np.ndarray:
-        l_vec = np.asarray(self._ev.angular_potential(gamma, self.params), dtype=float)
-        return np.einsum("ij,ij->i", l_vec, gamma)
+        return np.einsum("ij,ij->i", self._batch("angular_potential", gamma), gamma)
 
 
 def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:

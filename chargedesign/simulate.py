@@ -1,0 +1,79 @@
+"""Simulate the motion of a designed body (or of the theorem's reduced model).
+
+Only the effects a scene calls for are computed: ``lorentz`` (charges in the magnetic field),
+``electric`` (charges in the electric field), ``magnetization`` (point dipoles in the magnetic
+field), ``gravity`` (masses) and ``theorem`` (V and mu of the theorem, lambda and rho
+allowed). See docs/simulate.md.
+
+>>> from chargedesign.simulate import simulate
+>>> result = simulate(None, t_end=1.0)   # the embedded default scene: theorem effect
+>>> sorted(result.summary())[:3]
+['I1_rel_drift', 'I2_max_dev', 'I3_max']
+"""
+
+from __future__ import annotations
+
+from chargedesign.simulation.api import (
+    DEFAULT_INITIAL,
+    OutputOptions,
+    SimulationOptions,
+    SimulationSetup,
+    initial_state,
+    parse_initial,
+    parse_output_options,
+    parse_simulation_options,
+    prepare,
+    setup_from_scene,
+    setup_from_source,
+    simulate,
+    simulate_batch,
+)
+from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration, integrate
+from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
+from chargedesign.simulation.system import (
+    EFFECTS,
+    ROUTES,
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    direct_terms,
+    quaternion_gamma,
+    quaternion_rotation,
+    reduced_polynomials,
+    rotation_quaternion,
+    select_effects,
+)
+
+__all__ = [
+    "DEFAULT_INITIAL",
+    "EFFECTS",
+    "METHODS",
+    "ROUTES",
+    "STATE_NAMES",
+    "Body",
+    "Integration",
+    "OutputOptions",
+    "RigidBodySystem",
+    "SimulationOptions",
+    "SimulationResult",
+    "SimulationSetup",
+    "attitude_from_gamma",
+    "direct_terms",
+    "initial_state",
+    "integrate",
+    "parse_initial",
+    "parse_output_options",
+    "parse_simulation_options",
+    "plot_integrals",
+    "plot_poincare",
+    "prepare",
+    "quaternion_gamma",
+    "quaternion_rotation",
+    "reduced_polynomials",
+    "rotation_quaternion",
+    "select_effects",
+    "setup_from_scene",
+    "setup_from_source",
+    "simulate",
+    "simulate_batch",
+]

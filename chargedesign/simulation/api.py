@@ -1,0 +1,614 @@
+"""Simulation scenes and the public entry :func:`simulate`.
+
+A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the contract's
+``[parameters]`` and ``[fields.*]``::
+
+    [body]                      # the body to simulate (other [body] keys are the designer's)
+    design = "out/design.json"  # a design file (relative to the scene file), or inline:
+    # [body.charges]  positions = [[x, y, z], ...]   values = [...]
+    # [body.masses]   positions = [...]              values = [...]
+    # [body.dipoles]  positions = [...]              moments = [[sx, sy, sz], ...]
+
+    [initial]
+    gamma = [0.36, 0.48, 0.8]   # unit vector of space Z in body axes (normalised if not)
+    omega = [0.6, -0.4, 0.1]    # explicit angular velocity, 1/s ... or
+    level = "I3=0"              # ... p and q given, r solved from the level
+    p = 0.6
+    q = -0.4
+    precession = 0.0            # initial turn about space Z, rad (does not change the motion)
+
+    [simulation]
+    t_end = 100.0               # s
+    rtol = 1e-12
+    atol = 1e-12
+    method = "DOP853"           # DOP853 | RK45 | RK23 | Radau | BDF | LSODA | gauss-legendre
+    effects = ["lorentz", "electric", "magnetization", "gravity"]   # or ["theorem"]
+    max_step = 1.0              # s (solve_ivp)
+    step = 0.01                 # s (gauss-legendre fixed step)
+    samples = 2001              # output samples
+    route = "reduced"           # reduced | direct (force route for a designed body)
+    gamma3_min = 0.01           # singular-plane event threshold (lambda or rho != 0)
+
+    [output]
+    dir = "out/simulate"
+    trajectory = true           # trajectory.npz and trajectory.csv
+    plot = true                 # integrals.png
+    poincare = false            # record a section and draw poincare.png
+    poincare_section = "gamma1" # upward zero crossings of this state
+    poincare_axes = ["gamma2", "q"]
+
+Fields: the design's, each kind replaced by the scene's ``[fields.<kind>]`` when given.
+Without a body only the ``theorem`` effect has a source.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.params import Parameters
+from chargedesign.simulation.integrate import METHODS, STATE_NAMES, integrate
+from chargedesign.simulation.result import SimulationResult
+from chargedesign.simulation.system import (
+    ROUTES,
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    quaternion_rotation,
+    rotation_quaternion,
+    select_effects,
+)
+from chargedesign.validation import as_array, as_finite_float, input_error
+
+SIMULATION_KEYS = (
+    "t_end",
+    "rtol",
+    "atol",
+    "method",
+    "effects",
+    "max_step",
+    "step",
+    "samples",
+    "route",
+    "gamma3_min",
+)
+INITIAL_KEYS = ("omega", "gamma", "level", "p", "q", "precession")
+OUTPUT_KEYS = (
+    "dir",
+    "trajectory",
+    "plot",
+    "poincare",
+    "poincare_section",
+    "poincare_axes",
+)
+BODY_KEYS = ("design", "charges", "masses", "dipoles")
+
+#: the initial state when a scene has no [initial]: on I3 = 0, omega of order 1
+DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
+
+
+@dataclass
+class SimulationOptions:
+    """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
+
+    t_end: float = 100.0
+    rtol: float = 1e-12
+    atol: float = 1e-12
+    method: str = "DOP853"
+    effects: list[str] | None = None
+    max_step: float = math.inf
+    step: float | None = None
+    samples: int = 2001
+    route: str = "reduced"
+    gamma3_min: float = 1e-2
+
+
+@dataclass
+class OutputOptions:
+    """Validated ``[output]`` settings."""
+
+    dir: str | None = None
+    trajectory: bool = True
+    plot: bool = True
+    poincare: bool = False
+    poincare_section: str = "gamma1"
+    poincare_axes: tuple[str, str] = ("gamma2", "q")
+
+
+@dataclass
+class SimulationSetup:
+    """Everything a run needs: the body, the initial-state spec and the options."""
+
+    body: Body
+    initial: Mapping[str, Any] | np.ndarray
+    options: SimulationOptions = field(default_factory=SimulationOptions)
+    output: OutputOptions = field(default_factory=OutputOptions)
+    notes: list[str] = field(default_factory=list)
+    source: str = ""
+
+
+# ---------------------------------------------------------------------- validation
+def _unknown(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
+    extra = sorted(set(table) - set(allowed))
+    if extra:
+        raise input_error(f"{where}.{extra[0]}", "one of " + ", ".join(allowed), extra[0])
+
+
+def _bool(value: Any, name: str) -> bool:
+    if not isinstance(value, bool):
+        raise input_error(name, "true or false", value)
+    return value
+
+
+def _int(value: Any, name: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise input_error(name, f"an integer >= {minimum}", value)
+    return int(value)
+
+
+def _choice(value: Any, name: str, choices: Sequence[str]) -> str:
+    if value not in choices:
+        raise input_error(name, "one of " + ", ".join(choices), value)
+    return str(value)
+
+
+def parse_simulation_options(
+    table: Mapping[str, Any], where: str = "simulation"
+) -> SimulationOptions:
+    """Validate a ``[simulation]`` table (one-line errors naming the key)."""
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    _unknown(table, SIMULATION_KEYS, where)
+    opts = SimulationOptions()
+    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min"):
+        if key in table:
+            value = table[key]
+            if key == "max_step" and value == math.inf:
+                continue
+            setattr(opts, key, as_finite_float(value, f"{where}.{key}", positive=True))
+    if "method" in table:
+        opts.method = _choice(table["method"], f"{where}.method", METHODS)
+    if "route" in table:
+        opts.route = _choice(table["route"], f"{where}.route", ROUTES)
+    if "samples" in table:
+        opts.samples = _int(table["samples"], f"{where}.samples", 2)
+    if "effects" in table:
+        effects = table["effects"]
+        if not isinstance(effects, (list, tuple)) or not all(isinstance(e, str) for e in effects):
+            raise input_error(f"{where}.effects", "a list of effect names", effects)
+        opts.effects = list(effects)
+    return opts
+
+
+def parse_output_options(table: Mapping[str, Any], where: str = "output") -> OutputOptions:
+    """Validate an ``[output]`` table."""
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    _unknown(table, OUTPUT_KEYS, where)
+    out = OutputOptions()
+    if "dir" in table:
+        if not isinstance(table["dir"], str) or not table["dir"]:
+            raise input_error(f"{where}.dir", "a directory path", table["dir"])
+        out.dir = table["dir"]
+    for key in ("trajectory", "plot", "poincare"):
+        if key in table:
+            setattr(out, key, _bool(table[key], f"{where}.{key}"))
+    if "poincare_section" in table:
+        out.poincare_section = _choice(
+            table["poincare_section"], f"{where}.poincare_section", STATE_NAMES
+        )
+    if "poincare_axes" in table:
+        axes = table["poincare_axes"]
+        if (
+            not isinstance(axes, (list, tuple))
+            or len(axes) != 2
+            or any(a not in STATE_NAMES for a in axes)
+        ):
+            raise input_error(
+                f"{where}.poincare_axes", "two names among " + ", ".join(STATE_NAMES), axes
+            )
+        out.poincare_axes = (str(axes[0]), str(axes[1]))
+    return out
+
+
+def parse_initial(table: Mapping[str, Any], where: str = "initial") -> dict[str, Any]:
+    """Validate an ``[initial]`` table; returns a normalised mapping.
+
+    Either ``omega`` and ``gamma`` (explicit state), or ``level = "I3=<value>"`` with
+    ``gamma``, ``p`` and ``q`` (r solved from the level). ``precession`` is optional.
+    """
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    _unknown(table, INITIAL_KEYS, where)
+    if "gamma" not in table:
+        raise InputError(f"{where}: missing key 'gamma'")
+    gamma = as_array(table["gamma"], f"{where}.gamma", (3,))
+    norm = float(np.linalg.norm(gamma))
+    if norm < 1e-12:
+        raise input_error(f"{where}.gamma", "a non-zero vector", table["gamma"])
+    out: dict[str, Any] = {"gamma": gamma / norm, "gamma_norm": norm}
+    out["precession"] = as_finite_float(table.get("precession", 0.0), f"{where}.precession")
+    if "level" in table:
+        if "omega" in table:
+            raise InputError(f"{where}: give either omega or level with p and q, not both")
+        level = table["level"]
+        match = re.fullmatch(r"\s*I3\s*=\s*(\S+)\s*", level) if isinstance(level, str) else None
+        value = None
+        if match:
+            try:
+                value = float(match.group(1))
+            except ValueError:
+                value = None
+        if value is None or not math.isfinite(value):
+            raise input_error(f"{where}.level", "a level such as 'I3=0'", level)
+        for key in ("p", "q"):
+            if key not in table:
+                raise InputError(f"{where}: level needs key '{key}'")
+        out["level"] = value
+        out["p"] = as_finite_float(table["p"], f"{where}.p")
+        out["q"] = as_finite_float(table["q"], f"{where}.q")
+    else:
+        if "omega" not in table:
+            raise InputError(f"{where}: give omega, or level = 'I3=0' with p and q")
+        for key in ("p", "q"):
+            if key in table:
+                raise InputError(f"{where}.{key}: only used with level; omega is given")
+        out["omega"] = as_array(table["omega"], f"{where}.omega", (3,))
+    return out
+
+
+def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
+    from chargedesign.body import Design
+
+    def block(name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
+        b = body.get(name, {})
+        if not isinstance(b, Mapping):
+            raise input_error(f"body.{name}", "a table", b)
+        _unknown(b, keys, f"body.{name}")
+        return b.get(keys[0], []), b.get(keys[1], [])
+
+    cp, cv = block("charges", ("positions", "values"))
+    mp, mv = block("masses", ("positions", "values"))
+    dp, dm = block("dipoles", ("positions", "moments"))
+    return Design(
+        parameters=scene.parameters,
+        fields=dict(scene.fields),
+        charge_positions=cp,
+        charge_values=cv,
+        mass_positions=mp,
+        mass_values=mv,
+        dipole_positions=dp,
+        dipole_moments=dm,
+    )
+
+
+def setup_from_scene(scene: Any) -> SimulationSetup:
+    """Read the simulation tables of a :class:`~chargedesign.scene.Scene`."""
+    from chargedesign.body import read_design
+
+    notes: list[str] = []
+    body_table = scene.table("body")
+    design = None
+    if "design" in body_table:
+        if any(k in body_table for k in ("charges", "masses", "dipoles")):
+            raise InputError("body: give either design = PATH or inline elements, not both")
+        path_value = body_table["design"]
+        if not isinstance(path_value, str) or not path_value:
+            raise input_error("body.design", "a path to design.json", path_value)
+        path = Path(path_value)
+        if not path.is_absolute() and scene.source not in ("<default>", "<dict>"):
+            path = Path(scene.source).parent / path
+        design = read_design(path)
+        if scene.parameters != Parameters() and scene.parameters != design.parameters:
+            notes.append("the scene's [parameters] differ from the design's; the design's are used")
+    elif any(k in body_table for k in ("charges", "masses", "dipoles")):
+        design = _inline_design(body_table, scene)
+    if design is not None:
+        body = Body.from_design(design, dict(scene.fields))
+        notes += body.notes
+    else:
+        body = Body(parameters=scene.parameters, fields=dict(scene.fields))
+    initial_table = scene.tables.get("initial")
+    initial = parse_initial(DEFAULT_INITIAL if initial_table is None else initial_table)
+    if initial_table is None:
+        notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
+    return SimulationSetup(
+        body=body,
+        initial=initial,
+        options=parse_simulation_options(scene.table("simulation")),
+        output=parse_output_options(scene.table("output")),
+        notes=notes,
+        source=scene.source,
+    )
+
+
+def setup_from_source(source: Any = None) -> SimulationSetup:
+    """A setup from a scene, a design, a path (.toml scene, .json design) or None (default)."""
+    from chargedesign.body import Design, read_design
+    from chargedesign.scene import Scene, load_scene
+
+    if source is None:
+        return setup_from_scene(load_scene(None))
+    if isinstance(source, SimulationSetup):
+        return source
+    if isinstance(source, Scene):
+        return setup_from_scene(source)
+    if isinstance(source, Design):
+        return SimulationSetup(
+            body=Body.from_design(source),
+            initial=parse_initial(DEFAULT_INITIAL),
+            notes=["default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0"],
+            source="<design>",
+        )
+    if isinstance(source, Parameters):
+        return SimulationSetup(
+            body=Body(parameters=source),
+            initial=parse_initial(DEFAULT_INITIAL),
+            source="<parameters>",
+        )
+    if isinstance(source, (str, os.PathLike)):
+        path = Path(source)
+        if path.suffix.lower() == ".json":
+            setup = setup_from_source(read_design(path))
+            setup.source = str(path)
+            return setup
+        return setup_from_scene(load_scene(path))
+    raise input_error("simulate", "a scene, a design, a path or None", source)
+
+
+# --------------------------------------------------------------------------- running
+def initial_state(system: RigidBodySystem, initial: Any) -> tuple[np.ndarray, float | None]:
+    """The 7-state ``(p, q, r, w, x, y, z)`` from an initial spec, and the level if any.
+
+    ``initial`` is a mapping as returned by :func:`parse_initial` (or a raw ``[initial]``
+    mapping), or ``(p, q, r, gamma1, gamma2, gamma3)``.
+    """
+    if isinstance(initial, Mapping):
+        spec = dict(initial) if "gamma_norm" in initial else parse_initial(initial)
+    else:
+        arr = as_array(initial, "initial", (6,))
+        spec = parse_initial({"omega": arr[:3].tolist(), "gamma": arr[3:].tolist()})
+    gamma = spec["gamma"]
+    R0 = attitude_from_gamma(gamma, spec.get("precession", 0.0))
+    quat = rotation_quaternion(R0)
+    level = spec.get("level")
+    if level is not None:
+        r = system.solve_r(quaternion_gamma(quat[None])[0], spec["p"], spec["q"], level)
+        omega = np.array([spec["p"], spec["q"], r])
+    else:
+        omega = np.asarray(spec["omega"], dtype=float)
+    return np.concatenate([omega, quat]), level
+
+
+def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
+    table = {k: v for k, v in overrides.items() if v is not None}
+    merged = {
+        k: getattr(base, k)
+        for k in SIMULATION_KEYS
+        if getattr(base, k) is not None and not (k == "max_step" and getattr(base, k) == math.inf)
+    }
+    merged.update(table)
+    return parse_simulation_options(merged, "simulation")
+
+
+def prepare(
+    source: Any = None, *, initial: Any = None, **overrides: Any
+) -> tuple[RigidBodySystem, np.ndarray, float | None, SimulationSetup, list[str]]:
+    """Build the system and initial state (see :func:`simulate` for the arguments)."""
+    setup = setup_from_source(source)
+    options = _merge_options(setup.options, overrides)
+    effects, skipped = select_effects(setup.body, options.effects)
+    notes = list(setup.notes) + skipped
+    if not effects:
+        notes.append("no effect acts: torque-free motion")
+    system = RigidBodySystem(setup.body, effects, options.route)
+    if "theorem" in effects and options.route == "direct":
+        notes.append("theorem: the reduced model has one route (the evaluators)")
+    spec = setup.initial if initial is None else initial
+    y0, level = initial_state(system, spec)
+    if system.singular:
+        g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
+        if abs(g3) <= options.gamma3_min:
+            raise input_error(
+                "initial.gamma", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3
+            )
+    setup.options = options
+    return system, y0, level, setup, notes
+
+
+def simulate(
+    source: Any = None,
+    *,
+    effects: Sequence[str] | None = None,
+    t_end: float | None = None,
+    initial: Any = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+    max_step: float | None = None,
+    step: float | None = None,
+    samples: int | None = None,
+    route: str | None = None,
+    gamma3_min: float | None = None,
+    poincare: str | bool | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> SimulationResult:
+    """Simulate one trajectory of a scene or design under the effects it calls for.
+
+    Parameters
+    ----------
+    source : Scene, Design, Parameters, str, PathLike or None
+        A scene (TOML path or :class:`~chargedesign.scene.Scene`), a design (``.json`` path
+        or :class:`~chargedesign.body.Design`), bare theorem parameters, or None for the
+        embedded default scene.
+    effects : sequence of str, optional
+        Among ``lorentz``, ``electric``, ``magnetization``, ``gravity``, ``theorem``. Default:
+        the scene's ``simulation.effects``, else every physical effect with a source for a
+        body, else ``theorem``. Effects without a source are skipped with a note.
+    t_end : float, optional
+        Duration, s (default 100).
+    initial : mapping or array_like, optional
+        Like ``[initial]`` (``omega`` and ``gamma``, or ``level = "I3=0"`` with ``gamma``,
+        ``p``, ``q``), or ``(p, q, r, gamma1, gamma2, gamma3)``.
+    rtol, atol, method, max_step, step, samples, route, gamma3_min
+        As the ``[simulation]`` keys.
+    poincare : str or bool, optional
+        Record upward zero crossings of this state (True: the scene's section, default
+        ``gamma1``).
+    progress : callable, optional
+        ``progress(fraction)`` during the integration.
+
+    Returns
+    -------
+    SimulationResult
+
+    Raises
+    ------
+    InputError
+        Bad scene keys or arguments.
+    SolverError
+        The integrator failed.
+    """
+    system, y0, level, setup, notes = prepare(
+        source,
+        initial=initial,
+        effects=None if effects is None else list(effects),
+        t_end=t_end,
+        rtol=rtol,
+        atol=atol,
+        method=method,
+        max_step=max_step,
+        step=step,
+        samples=samples,
+        route=route,
+        gamma3_min=gamma3_min,
+    )
+    options = setup.options
+    section = None
+    if poincare is True or (poincare is None and setup.output.poincare):
+        section = setup.output.poincare_section
+    elif isinstance(poincare, str):
+        section = _choice(poincare, "poincare", STATE_NAMES)
+    if section is not None and options.method == "gauss-legendre":
+        notes.append("poincare: needs a solve_ivp method; no section recorded")
+        section = None
+    run = integrate(
+        system,
+        y0[None],
+        options.t_end,
+        method=options.method,
+        rtol=options.rtol,
+        atol=options.atol,
+        max_step=options.max_step,
+        step=options.step,
+        samples=options.samples,
+        gamma3_min=options.gamma3_min if system.singular else None,
+        poincare=section,
+        progress=progress,
+    )
+    return _result(system, run.times, run.states[0], run, level, setup, notes, section)
+
+
+def simulate_batch(
+    source: Any,
+    initial_states: Any,
+    **kwargs: Any,
+) -> list[SimulationResult]:
+    """Simulate many trajectories of one body in a single integrator call.
+
+    Parameters
+    ----------
+    source
+        As for :func:`simulate`.
+    initial_states : array_like, shape (m, 6)
+        ``(p, q, r, gamma1, gamma2, gamma3)`` per trajectory.
+    **kwargs
+        ``effects``, ``t_end``, ``rtol``, ``atol``, ``method``, ``max_step``, ``step``,
+        ``samples``, ``route``, ``gamma3_min``, ``progress`` as for :func:`simulate`.
+
+    Notes
+    -----
+    One adaptive step size serves all trajectories (the error norm covers them all); a
+    singular-plane event on any trajectory stops the whole batch.
+    """
+    progress = kwargs.pop("progress", None)
+    states = as_array(initial_states, "initial_states", (None, 6))
+    system, _, _, setup, notes = prepare(source, **kwargs)
+    y0 = np.array([initial_state(system, s)[0] for s in states])
+    options = setup.options
+    run = integrate(
+        system,
+        y0,
+        options.t_end,
+        method=options.method,
+        rtol=options.rtol,
+        atol=options.atol,
+        max_step=options.max_step,
+        step=options.step,
+        samples=options.samples,
+        gamma3_min=options.gamma3_min if system.singular else None,
+        progress=progress,
+    )
+    return [
+        _result(system, run.times, run.states[i], run, None, setup, notes, None)
+        for i in range(len(y0))
+    ]
+
+
+def _result(
+    system: RigidBodySystem,
+    times: np.ndarray,
+    states: np.ndarray,
+    run: Any,
+    level: float | None,
+    setup: SimulationSetup,
+    notes: list[str],
+    section: str | None,
+) -> SimulationResult:
+    omega = states[:, :3]
+    quats = states[:, 3:]
+    events = [dict(e) for e in run.events]
+    all_notes = list(notes)
+    for e in events:
+        if e["kind"] == "singular_plane":
+            all_notes.append(
+                f"stopped at t = {e['t']:.6g} s: |gamma3| = {abs(e['gamma3']):.3g} reached the "
+                f"singular plane threshold {e['threshold']:g} (lambda or rho != 0)"
+            )
+    integrals = system.integrals(states)
+    kinetic = 0.5 * np.einsum("ij,ij->i", omega * system.inertia_diagonal(), omega)
+    opts = setup.options
+    return SimulationResult(
+        times=times,
+        omega=omega.copy(),
+        gamma=quaternion_gamma(quats),
+        rotation=quaternion_rotation(quats),
+        quaternion=quats.copy(),
+        integrals=integrals,
+        kinetic=kinetic,
+        effects=list(system.effects),
+        notes=all_notes,
+        events=events,
+        parameters=system.parameters,
+        route=system.route,
+        method=opts.method,
+        rtol=opts.rtol,
+        atol=opts.atol,
+        t_end=opts.t_end,
+        steps=run.steps,
+        rhs_evaluations=run.rhs_evaluations,
+        seconds=run.seconds,
+        level=level,
+        poincare=run.poincare,
+        poincare_section=section,
+        source=setup.source,
+    )

@@ -1,0 +1,298 @@
+"""Designed bodies: the two force routes, each effect alone, and the quartic integral."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from chargedesign.body import Design
+from chargedesign.fields import AxisymmetricField
+from chargedesign.model import evaluators
+from chargedesign.params import Parameters
+from chargedesign.simulate import (
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    quaternion_rotation,
+    reduced_polynomials,
+    simulate,
+)
+from chargedesign.simulation.polynomials import PolynomialBank
+
+PHYSICAL = ["lorentz", "electric", "magnetization", "gravity"]
+PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+A1, A2 = 1.0, 0.5
+
+
+def _units(rng: np.random.Generator, n: int) -> np.ndarray:
+    v = rng.normal(size=(n, 3))
+    return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def random_body(seed: int, n: int = 12) -> Body:
+    """Elements of every kind in fields of degree up to 4 (no symmetry at all)."""
+    rng = np.random.default_rng(seed)
+    return Body(
+        parameters=Parameters(C=0.8),
+        fields={
+            "magnetic": (1.0, 0.7, -0.3),
+            "electric": (0.2, 0.5, 0.3, 0.4),
+            "gravity": (9.81, 0.3),
+        },
+        charge_positions=rng.uniform(-1, 1, (n, 3)),
+        charge_values=rng.normal(size=n),
+        mass_positions=rng.uniform(-1, 1, (n, 3)),
+        mass_values=rng.uniform(0, 1, n),
+        dipole_positions=rng.uniform(-1, 1, (n, 3)),
+        dipole_moments=rng.normal(size=(n, 3)),
+        has_elements=True,
+    )
+
+
+def _scale(*arrays: np.ndarray) -> float:
+    return max(float(np.max(np.abs(a))) for a in arrays)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_direct_and_reduced_routes_agree(seed: int) -> None:
+    body = random_body(seed)
+    system = RigidBodySystem(body, PHYSICAL)
+    rng = np.random.default_rng(100 + seed)
+    quats = rng.normal(size=(6, 4))
+    R, G = quaternion_rotation(quats), quaternion_gamma(quats)
+    W = rng.normal(size=(6, 3))
+    for effect in PHYSICAL:
+        red = system.torque(W, G, R, effects=[effect], route="reduced")
+        dire = system.torque(W, G, R, effects=[effect], route="direct")
+        assert np.max(np.abs(red - dire)) <= 1e-13 * _scale(dire), effect
+    for method in ("energy", "momentum_potential"):
+        red = getattr(system, method)(G, R, "reduced")
+        dire = getattr(system, method)(G, R, "direct")
+        assert np.max(np.abs(red - dire)) <= 1e-13 * _scale(dire), method
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.lists(st.floats(-1, 1), min_size=4, max_size=4).filter(
+        lambda v: sum(x * x for x in v) > 0.1
+    ),
+    st.lists(st.floats(-3, 3), min_size=3, max_size=3),
+)
+def test_routes_agree_for_any_attitude(quat: list[float], omega: list[float]) -> None:
+    system = RigidBodySystem(random_body(5, n=6), PHYSICAL)
+    q = np.array([quat])
+    R, G = quaternion_rotation(q), quaternion_gamma(q)
+    W = np.array([omega])
+    red = system.torque(W, G, R, route="reduced")
+    dire = system.torque(W, G, R, route="direct")
+    scale = sum(
+        _scale(system.torque(W, G, R, effects=[e], route="direct")) for e in PHYSICAL
+    )
+    assert np.max(np.abs(red - dire)) <= 1e-13 * scale
+
+
+def _rotated_energy(system: RigidBodySystem, R: np.ndarray, axis: int, angle: float) -> float:
+    """Energy after turning the body by ``angle`` about its own axis ``axis``."""
+    k = np.zeros(3)
+    k[axis] = 1.0
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    turn = np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+    R2 = R @ turn
+    return float(system.energy(R2[2:3].copy(), R2[None], "direct")[0])
+
+
+@pytest.mark.parametrize("effect", ["electric", "magnetization", "gravity"])
+def test_potential_effect_alone(effect: str) -> None:
+    """Independent of omega, and minus the derivative of the energy under a body turn."""
+    system = RigidBodySystem(random_body(3), [effect])
+    R = attitude_from_gamma(np.array([0.3, -0.5, 0.81]), 0.4)
+    G = R[2:3].copy()
+    T0 = system.torque(np.zeros((1, 3)), G, R[None])
+    T1 = system.torque(np.array([[1.0, -2.0, 0.5]]), G, R[None])
+    assert np.array_equal(T0, T1)
+    h = 1e-5
+    for axis in range(3):
+        dV = (_rotated_energy(system, R, axis, h) - _rotated_energy(system, R, axis, -h)) / (2 * h)
+        assert abs(T0[0, axis] + dV) <= 1e-8 * _scale(T0)
+
+
+def test_lorentz_alone_is_mu_cross_omega() -> None:
+    body = random_body(4)
+    system = RigidBodySystem(body, ["lorentz"])
+    rng = np.random.default_rng(9)
+    G = _units(rng, 4)
+    R = np.array([attitude_from_gamma(g) for g in G])
+    W = rng.normal(size=(4, 3))
+    T = system.torque(W, G, R)
+    assert np.all(system.torque(np.zeros_like(W), G, R) == 0.0)
+    # mu = -sum q (r . B) r from the field evaluated in body axes (another route)
+    B = -AxisymmetricField(body.fields["magnetic"]).gradient_body(body.charge_positions, G)
+    rB = np.einsum("mni,ni->mn", B, body.charge_positions)
+    mu = -np.einsum("n,mn,ni->mi", body.charge_values, rB, body.charge_positions)
+    expected = np.cross(mu, W)
+    assert np.max(np.abs(T - expected)) <= 1e-13 * _scale(expected)
+    # the magnetic force does no work
+    assert np.max(np.abs(np.einsum("ij,ij->i", T, W))) <= 1e-13 * _scale(T) * _scale(W)
+
+
+def test_effects_add_and_each_changes_its_own_torque() -> None:
+    body = random_body(6)
+    rng = np.random.default_rng(4)
+    G = _units(rng, 3)
+    R = np.array([attitude_from_gamma(g) for g in G])
+    W = rng.normal(size=(3, 3))
+    alone = {e: RigidBodySystem(body, [e]).torque(W, G, R) for e in PHYSICAL}
+    for e, T in alone.items():
+        assert np.max(np.abs(T)) > 1e-3, e  # every effect acts on this body
+    total = RigidBodySystem(body, PHYSICAL).torque(W, G, R)
+    expected = sum(alone.values())
+    assert np.max(np.abs(total - expected)) <= 1e-13 * _scale(*alone.values())
+    # dropping one effect removes exactly its torque
+    for e in PHYSICAL:
+        rest = RigidBodySystem(body, [x for x in PHYSICAL if x != e]).torque(W, G, R)
+        assert np.max(np.abs(total - rest - alone[e])) <= 1e-13 * _scale(*alone.values())
+
+
+def test_uniform_gravity_torque() -> None:
+    rng = np.random.default_rng(11)
+    pos, m = rng.uniform(-1, 1, (5, 3)), rng.uniform(0.1, 1, 5)
+    g = 9.81
+    body = Body(Parameters(), {"gravity": (g,)}, mass_positions=pos, mass_values=m)
+    system = RigidBodySystem(body, ["gravity"])
+    G = _units(rng, 3)
+    T = system.torque(np.zeros((3, 3)), G)
+    expected = -g * np.cross(m @ pos, G)  # sum r x (-m g gamma)
+    assert np.max(np.abs(T - expected)) <= 1e-14 * _scale(expected)
+
+
+def p6_body(a1: float = A1, a2: float = A2, params: Parameters = PARAMS) -> Body:
+    """22 charges with the paper's (p6) moments, built by hand from symmetric patterns."""
+    C, n, K, c, d = params.C, params.n, params.K, params.c, params.d
+    s = -C * n / a1
+    A = -C * K * d / (6 * a2)  # I_xxz = -I_yyz
+    B = c * C * K / (6 * a2)  # I_xyz
+    a, b, h = 0.8, 0.6, 0.5
+    pos: list[list[float]] = []
+    val: list[float] = []
+    for sign in (1, -1):  # second moments: diag(s, s, 3 s)
+        pos += [[sign * a, 0, 0], [0, sign * a, 0], [0, 0, sign * b]]
+        val += [s / (2 * a * a), s / (2 * a * a), 3 * s / (2 * b * b)]
+    v = A / (4 * a * a * h)
+    for x in (a, -a):
+        for z, sz in ((h, 1), (-h, -1)):
+            pos += [[x, 0, z], [0, x, z]]
+            val += [sz * v, -sz * v]
+    w = B / (8 * a * a * h)
+    for x, y, sw in ((a, a, 1), (-a, -a, 1), (a, -a, -1), (-a, a, -1)):
+        for z, sz in ((h, 1), (-h, -1)):
+            pos.append([x, y, z])
+            val.append(sw * sz * w)
+    return Body(
+        parameters=params,
+        fields={"magnetic": (a1, 2 * a2)},
+        charge_positions=np.array(pos),
+        charge_values=np.array(val),
+        has_elements=True,
+    )
+
+
+def test_p6_charges_realise_mu_and_l() -> None:
+    body = p6_body()
+    system = RigidBodySystem(body, ["lorentz"])
+    G = _units(np.random.default_rng(2), 8)
+    R = np.array([attitude_from_gamma(g) for g in G])
+    mu_theorem = evaluators.gyroscopic(G, PARAMS)
+    for route in ("reduced", "direct"):
+        mu = system.gyroscopic(G)
+        assert np.max(np.abs(mu - mu_theorem)) <= 1e-14 * _scale(mu_theorem)
+        # physical canonical momentum = the theorem's l . gamma, constant included
+        L = system.momentum_potential(G, R, route)
+        l_gamma = np.einsum("ij,ij->i", evaluators.angular_potential(G, PARAMS), G)
+        assert np.max(np.abs(L - l_gamma)) <= 1e-14 * _scale(l_gamma)
+
+
+@pytest.fixture(scope="module")
+def designed() -> Design:
+    """Charges and dipoles realising the theorem's mu and V (lambda = rho = 0) exactly.
+
+    Built by least squares on samples of the unit sphere: charges in the magnetic field
+    (a1, a2) give mu, charges in an electric field of degree 3 and 4 give V's harmonics of
+    degree 3 and 4, dipoles in the magnetic field give the quadratic part.
+    """
+    fields = {"magnetic": (A1, 2 * A2), "electric": (0.0, 0.0, -4 * PARAMS.n * A2 / 5, 1.0)}
+    rng = np.random.default_rng(7)
+    nq, nd = 40, 6
+    cpos = _units(rng, nq) * rng.uniform(0.4, 1.0, (nq, 1))
+    dpos = _units(rng, nd) * rng.uniform(0.4, 1.0, (nd, 1))
+    G = _units(rng, 120)
+    columns = []
+    for j in range(nq):
+        q = np.zeros(nq)
+        q[j] = 1.0
+        b = Body(PARAMS, fields, charge_positions=cpos, charge_values=q)
+        out = PolynomialBank(reduced_polynomials(b, "lorentz", "electric"))(G)
+        columns.append(np.concatenate([out[:, 4:7].ravel(), out[:, 0]]))
+    for j in range(nd):
+        for comp in range(3):
+            sig = np.zeros((nd, 3))
+            sig[j, comp] = 1.0
+            b = Body(PARAMS, fields, dipole_positions=dpos, dipole_moments=sig)
+            out = PolynomialBank(reduced_polynomials(b, "magnetization"))(G)
+            columns.append(np.concatenate([np.zeros(3 * len(G)), out[:, 0]]))
+    columns.append(np.concatenate([np.zeros(3 * len(G)), -np.ones(len(G))]))  # V constant
+    A = np.array(columns).T
+    rhs = np.concatenate(
+        [evaluators.gyroscopic(G, PARAMS).ravel(), evaluators.potential(G, PARAMS)]
+    )
+    x = np.linalg.lstsq(A, rhs, rcond=None)[0]
+    assert np.max(np.abs(A @ x - rhs)) <= 1e-12 * np.max(np.abs(rhs))
+    return Design(
+        parameters=PARAMS,
+        fields=fields,
+        charge_positions=cpos,
+        charge_values=x[:nq],
+        dipole_positions=dpos,
+        dipole_moments=x[nq : nq + 3 * nd].reshape(nd, 3),
+        realises=["mu", "V"],
+    )
+
+
+def test_designed_body_reproduces_the_theorem(designed: Design) -> None:
+    system = RigidBodySystem(Body.from_design(designed), ["lorentz", "electric", "magnetization"])
+    theorem = RigidBodySystem(Body(PARAMS), ["theorem"])
+    rng = np.random.default_rng(3)
+    quats = rng.normal(size=(5, 4))
+    states = np.hstack([rng.normal(size=(5, 3)), quats])
+    d_body = system.derivatives(states)
+    d_theorem = theorem.derivatives(states)
+    assert np.max(np.abs(d_body - d_theorem)) <= 1e-12 * _scale(d_theorem)
+    # I3 of the body (physical canonical momentum) is the theorem's (omega I + l) . gamma
+    I_body = system.integrals(states, route="direct")
+    I_theorem = evaluators.integrals(np.hstack([states[:, :3], quaternion_gamma(quats)]), PARAMS)
+    assert np.max(np.abs(I_body[:, 2] - I_theorem[:, 2])) <= 1e-12 * _scale(I_theorem[:, 2])
+
+
+@pytest.mark.parametrize("route", ["direct", "reduced"])
+def test_designed_body_i4_on_and_off_the_level(designed: Design, route: str) -> None:
+    kw = {"t_end": 8.0, "route": route, "rtol": 1e-11, "atol": 1e-11}
+    start = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
+    on = simulate(designed, initial={**start, "level": "I3=0"}, **kw).summary()
+    off = simulate(designed, initial={**start, "level": "I3=0.5"}, **kw).summary()
+    assert on["effects"] == off["effects"] == ["lorentz", "electric", "magnetization"]
+    assert on["I3_max"] <= 1e-9
+    assert on["I4_rel_drift"] <= 1e-8
+    assert off["I3_max_dev"] <= 1e-9  # I3 itself is conserved off the level ...
+    assert off["I4_rel_drift"] >= 1e-2  # ... but I4 is not
+    assert on["I1_rel_drift"] <= 1e-9 and off["I1_rel_drift"] <= 1e-9
+
+
+def test_routes_give_the_same_trajectory(designed: Design) -> None:
+    kw = {"t_end": 2.0, "rtol": 1e-12, "atol": 1e-12, "samples": 5}
+    red = simulate(designed, route="reduced", **kw)
+    dire = simulate(designed, route="direct", **kw)
+    assert abs(red.times[-1] - dire.times[-1]) == 0.0
+    assert np.max(np.abs(red.omega[-1] - dire.omega[-1])) <= 1e-9
+    assert np.max(np.abs(red.gamma[-1] - dire.gamma[-1])) <= 1e-9
