@@ -560,7 +560,15 @@ def candidates_from_table(
         _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
     )
     centred = not np.any(center)
-    symmetric = _bool(table, "symmetric", centred and shape not in ("points", "mesh"))
+    # lattices through O are symmetric already unless the box has |x| and |y| sizes that
+    # differ (then closing under x <-> y would add points outside it): default off there
+    natural = centred and shape in ("ball", "cylinder", "shell")
+    if shape == "box" and centred:
+        half_xy = table.get("half_size", table.get("size"))
+        natural = not isinstance(half_xy, (list, tuple)) or (
+            len(half_xy) == 3 and half_xy[0] == half_xy[1]
+        )
+    symmetric = _bool(table, "symmetric", natural)
     desc: dict[str, Any] = {"shape": shape}
     region: dict[str, Any] | None
     if shape == "ball":

@@ -810,6 +810,14 @@ class _Context:
         coeffs[k - 1] = value
 
 
+#: what "contributes nothing to degree 1" means for each source
+_DEGREE_ONE_MEANING = {
+    "masses": " (centre of mass at O: uniform gravity adds nothing to V)",
+    "dipoles": " (total dipole moment zero: the uniform field a1 adds nothing to V)",
+    "charges": " (electric dipole moment zero: the uniform field e1 adds nothing to V)",
+}
+
+
 def _functionals(source: str, k: int) -> list[tuple[_Harmonic, dict[str, Fraction]]]:
     if source == "dipoles":
         return [(h, h.dipole_moments()) for h in _harmonics(k)]
@@ -913,7 +921,7 @@ def _realise_degree(ctx: _Context, k: int) -> None:
                     value,
                     f"V degree {k}: {s} in fields.{kind} {_coefficient_name(kind, k)} "
                     f"contribute {'nothing' if value == 0 else 'their least (fixed) part'} "
-                    f"to the harmonic {h.text}",
+                    f"to the harmonic {h.text}" + _DEGREE_ONE_MEANING.get(s, "") * (k == 1),
                 )
             for m, value in enumerate(W):
                 remainder[m] -= f * weights[m] * value

@@ -244,7 +244,7 @@ class ContinuousBody:
         known = {"kind", "shape", "radius", "height", "half_size", "center", "density"}
         unknown = sorted(set(data) - known)
         if unknown:
-            raise input_error(f"{where}.{unknown[0]}", "one of " + ", ".join(sorted(known)), "?")
+            raise input_error(where, "keys among " + ", ".join(sorted(known)), unknown[0])
         for key in ("kind", "shape", "density"):
             if key not in data:
                 raise InputError(f"{where}: missing key '{key}'")

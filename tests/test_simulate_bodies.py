@@ -88,9 +88,7 @@ def test_routes_agree_for_any_attitude(quat: list[float], omega: list[float]) ->
     W = np.array([omega])
     red = system.torque(W, G, R, route="reduced")
     dire = system.torque(W, G, R, route="direct")
-    scale = sum(
-        _scale(system.torque(W, G, R, effects=[e], route="direct")) for e in PHYSICAL
-    )
+    scale = sum(_scale(system.torque(W, G, R, effects=[e], route="direct")) for e in PHYSICAL)
     assert np.max(np.abs(red - dire)) <= 1e-13 * scale
 
 

@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 PREFIX = {"charges": "I", "dipoles": "S", "masses": "M"}
-PROVENANCE_WIDTH = 96
+PROVENANCE_WIDTH = 120
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

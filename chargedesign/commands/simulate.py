@@ -34,7 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", default=None, metavar="DIR", help="write outputs into DIR")
     parser.add_argument("--route", choices=("reduced", "direct"), default=None)
-    parser.add_argument("--method", default=None, help="DOP853 (default), RK45, ..., gauss-legendre")
+    parser.add_argument(
+        "--method", default=None, help="DOP853 (default), RK45, ..., gauss-legendre"
+    )
     parser.add_argument("--rtol", type=float, default=None)
     parser.add_argument("--atol", type=float, default=None)
     parser.add_argument("--step", type=float, default=None, help="gauss-legendre step, s")

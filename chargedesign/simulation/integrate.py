@@ -339,15 +339,15 @@ def _integrate_gauss(
             times.append(t)
             states.append(y.copy())
         if gamma3_min is not None:
-            g3 = quaternion_gamma(y[:, 3:])[:, 2]
-            if np.min(np.abs(g3)) < gamma3_min:
-                which = int(np.argmin(np.abs(g3)))
+            g3_all = quaternion_gamma(y[:, 3:])[:, 2]
+            if np.min(np.abs(g3_all)) < gamma3_min:
+                which = int(np.argmin(np.abs(g3_all)))
                 events.append(
                     {
                         "kind": "singular_plane",
                         "t": t,
                         "trajectory": which,
-                        "gamma3": float(g3[which]),
+                        "gamma3": float(g3_all[which]),
                         "threshold": gamma3_min,
                         "terminal": True,
                         "located": "at the end of the step that crossed the threshold",

@@ -163,9 +163,9 @@ def gamma_gradient(poly: GammaPoly) -> list[GammaPoly]:
     for e, c in poly.items():
         for axis in range(3):
             if e[axis] > 0:
-                key = tuple(x - (i == axis) for i, x in enumerate(e))
+                key = (e[0] - (axis == 0), e[1] - (axis == 1), e[2] - (axis == 2))
                 g = grads[axis]
-                g[key] = g.get(key, 0.0) + e[axis] * c  # type: ignore[index]
+                g[key] = g.get(key, 0.0) + e[axis] * c
     return grads
 
 
