@@ -152,8 +152,11 @@ class CandidateSet:
 # --------------------------------------------------------------------------- geometry
 
 
-def geometry_of(points: Any) -> Geometry:
-    """Shape measures of ``points`` (ndarray, shape (n, 3), m); see :class:`Geometry`."""
+def geometry_of(points: Any, *, spacing: float | None = None) -> Geometry:
+    """Shape measures of ``points`` (ndarray, shape (n, 3), m); see :class:`Geometry`.
+
+    ``spacing`` (m), when known (lattices), saves the nearest-neighbour search.
+    """
     pts = as_points(points, "candidates")
     if len(pts) == 0:
         raise InputError("candidates: the set is empty")
@@ -172,7 +175,7 @@ def geometry_of(points: Any) -> Geometry:
         centroid=centroid,
         singular_values=singular,
         directions=directions,
-        spacing=_median_spacing(pts),
+        spacing=_median_spacing(pts) if spacing is None else float(spacing),
     )
 
 
@@ -230,10 +233,12 @@ def unique_points(points: np.ndarray, rtol: float = _MERGE_RTOL) -> np.ndarray:
         return points
     scale = max(float(np.max(np.abs(points))), 1e-300)
     keys = np.round(points / (rtol * scale)).astype(np.int64)
-    _, first = np.unique(keys, axis=0, return_index=True)
-    out = points[np.sort(first)]
-    order = np.lexsort((out[:, 0], out[:, 1], out[:, 2]))
-    return out[order]
+    # lexsort + neighbour comparison: much faster than np.unique(axis=0) on 10^6 rows
+    order = np.lexsort((keys[:, 0], keys[:, 1], keys[:, 2]))
+    sorted_keys = keys[order]
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = np.any(sorted_keys[1:] != sorted_keys[:-1], axis=1)
+    return points[order[new]]
 
 
 def symmetrise(points: np.ndarray) -> np.ndarray:
@@ -556,9 +561,7 @@ def candidates_from_table(
             f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
             unknown[0],
         )
-    center = (
-        _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
-    )
+    center = _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
     centred = not np.any(center)
     # lattices through O are symmetric already unless the box has |x| and |y| sizes that
     # differ (then closing under x <-> y would add points outside it): default off there
@@ -600,7 +603,11 @@ def candidates_from_table(
     elif shape == "shell":
         radius = _number(table, "radius")
         n_raw = table.get("n_points", 200)
-        if isinstance(n_raw, bool) or not isinstance(n_raw, int) or not 4 <= n_raw <= MAX_CANDIDATES:
+        if (
+            isinstance(n_raw, bool)
+            or not isinstance(n_raw, int)
+            or not 4 <= n_raw <= MAX_CANDIDATES
+        ):
             raise input_error("body.n_points", f"an integer in 4..{MAX_CANDIDATES}", n_raw)
         if symmetric and centred:
             # symmetric by construction: no closure needed (it would not add points)
@@ -635,7 +642,8 @@ def candidates_from_table(
                 desc["spacing"] = spacing_m
             region = None
         pts = pts + center
-    if symmetric:
+    if symmetric and not natural:
+        # lattices through O (and the symmetric shell rule) are closed already
         pts = symmetrise(pts)
     if len(pts) == 0:
         raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
@@ -644,7 +652,8 @@ def candidates_from_table(
             "body", f"at most {MAX_CANDIDATES} candidates (a coarser spacing)", len(pts)
         )
     pts = np.ascontiguousarray(pts, dtype=np.float64)
-    geometry = geometry_of(pts)
+    lattice = desc.get("spacing") if shape in ("ball", "box", "cylinder") else None
+    geometry = geometry_of(pts, spacing=lattice)
     if np.any(center):
         desc["center"] = center.tolist()
         if region is not None:

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InfeasibleError
 from chargedesign.moments import moment_key, moment_keys, monomial_matrix
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_points, as_weights, input_error
@@ -279,6 +279,26 @@ def _nullspace(matrix: list[list[Fraction]], ncols: int) -> list[list[Fraction]]
     return basis
 
 
+def _independent_columns(matrix: list[list[Fraction]], ncols: int) -> list[int]:
+    """Indices of columns of ``matrix`` (M rows) that form a basis of its column space."""
+    reduced: dict[int, list[Fraction]] = {}  # pivot row -> reduced basis column
+    chosen = []
+    for j in range(ncols):
+        col = [row[j] for row in matrix]
+        for p, vec in reduced.items():
+            if col[p] != 0:
+                factor = col[p] / vec[p]
+                col = [a - factor * b for a, b in zip(col, vec, strict=True)]
+        pivot = next((i for i, v in enumerate(col) if v != 0), None)
+        if pivot is None:
+            continue
+        reduced[pivot] = col
+        chosen.append(j)
+        if len(chosen) == len(matrix):
+            break
+    return chosen
+
+
 def _key_rank(key: str) -> tuple[int, int, int, int]:
     """Pivot order: lower orders first, then the order of :func:`moment_keys`."""
     comp = -1
@@ -401,11 +421,11 @@ class _System:
 
         Returns ``(W0, G)``: every solution gives ``W = W0 + G t`` (shapes (M,) and (M, F)).
         """
+        # only free keys in the functionals, or in the rows of pivots they use, matter
         keys: set[str] = set()
         for L in functionals:
-            keys.update(L)
-        for prow, _, _ in self.pivots.values():
-            keys.update(prow)
+            for k in L:
+                keys.update(self.pivots[k][0] if k in self.pivots else (k,))
         free = sorted((k for k in keys if k not in self.pivots), key=_key_rank)
         W0 = []
         G = []
@@ -421,7 +441,9 @@ class _System:
                         value -= a * self.pivots[k][0].get(f, Fraction(0))
                 row.append(value)
             G.append(row)
-        return W0, G
+        # keep a basis of the directions W can move in (at most len(functionals) columns)
+        basis = _independent_columns(G, len(free))
+        return W0, [[row[j] for j in basis] for row in G]
 
 
 # ================================================================ symbolic derivation
@@ -775,7 +797,6 @@ def _num(value: Fraction) -> str:
 
 
 _FIELD_NAMES = {"magnetic": "f", "electric": "e", "gravity": "g"}
-_SOURCE_WORD = {"charges": "charges", "dipoles": "dipoles", "masses": "masses"}
 
 
 def _coefficient_name(kind: str, k: int) -> str:
@@ -792,8 +813,6 @@ class _Context:
     params: Parameters
     P: list[Fraction]  # C, c, d, n, K, kappa
     exact: bool
-    realise: tuple[str, ...]
-    given: dict[str, tuple[float, ...]]
     fields: dict[str, list[Fraction]]  # exact legendre coefficients in use
     derivable: set[str]  # field kinds the engine may still choose (electric)
     systems: dict[str, _System]
@@ -1076,6 +1095,11 @@ def _charges_for_mu(ctx: _Context) -> None:
         f"charges: mu matched on |gamma| = 1 for a magnetic field of degree {degree}: "
         f"{len(system.pivots)} independent conditions on the moments of orders 2..{degree + 1}"
     )
+    ctx.notes.append(
+        "charges: their canonical angular momentum about Z, sum q psi (natural axisymmetric "
+        "gauge), then equals the theorem's l . gamma on |gamma| = 1, constant 2 n C included "
+        "(l_dot_gamma_residual)"
+    )
 
 
 def _masses_for_inertia(ctx: _Context) -> None:
@@ -1152,8 +1176,6 @@ def derive_conditions(
         params=params,
         P=P,
         exact=exact,
-        realise=goals,
-        given=given,
         fields=fields_exact,
         derivable=set(),
         systems={},
@@ -1461,8 +1483,6 @@ __all__ = [
     "MAX_FIELD_DEGREE",
     "REALISABLE",
     "SOURCES",
-    "InfeasibleError",
-    "InputError",
     "LinearCondition",
     "LinearConditions",
     "audit_p6",

@@ -200,24 +200,39 @@ class ContinuousBody:
             raise input_error("continuous.density.value", "a mass density >= 0", self.density)
 
     @property
+    def _radius_m(self) -> float:
+        """The radius in m (0 for a box)."""
+        return 0.0 if self.radius is None else float(self.radius)
+
+    @property
+    def _height_m(self) -> float:
+        """The cylinder's height in m (0 for other shapes)."""
+        return 0.0 if self.height is None else float(self.height)
+
+    @property
+    def _half_m(self) -> np.ndarray:
+        """The box's half edges in m, shape (3,) (zeros for other shapes)."""
+        return np.zeros(3) if self.half_size is None else np.asarray(self.half_size)
+
+    @property
     def measure(self) -> float:
         """Volume in m^3 (area in m^2 for a shell)."""
         if self.shape == "ball":
-            return 4.0 / 3.0 * math.pi * float(self.radius) ** 3  # type: ignore[arg-type]
+            return 4.0 / 3.0 * math.pi * self._radius_m**3
         if self.shape == "shell":
-            return 4.0 * math.pi * float(self.radius) ** 2  # type: ignore[arg-type]
+            return 4.0 * math.pi * self._radius_m**2
         if self.shape == "cylinder":
-            return math.pi * float(self.radius) ** 2 * float(self.height)  # type: ignore[arg-type]
-        return float(8.0 * np.prod(self.half_size))
+            return math.pi * self._radius_m**2 * self._height_m
+        return float(8.0 * np.prod(self._half_m))
 
     @property
     def extent(self) -> float:
         """Largest distance of the body's points from its centre, m."""
         if self.shape in ("ball", "shell"):
-            return float(self.radius)  # type: ignore[arg-type]
+            return self._radius_m
         if self.shape == "cylinder":
-            return math.hypot(float(self.radius), 0.5 * float(self.height))  # type: ignore[arg-type]
-        return float(np.linalg.norm(self.half_size))
+            return math.hypot(self._radius_m, 0.5 * self._height_m)
+        return float(np.linalg.norm(self._half_m))
 
     def to_dict(self) -> dict[str, Any]:
         """The design.json mapping (see :func:`ContinuousBody.from_dict`)."""
@@ -338,14 +353,14 @@ def geometric_rule(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.nda
     """
     sizes = rule_sizes(body.shape, order)
     if body.shape == "box":
-        half = np.asarray(body.half_size)
+        half = body._half_m
         axes = [_gauss_on(sizes[a], -h, h) for a, h in zip("xyz", half, strict=True)]
         grid = np.meshgrid(*(a[0] for a in axes), indexing="ij")
         wgrid = np.meshgrid(*(a[1] for a in axes), indexing="ij")
         pts = np.stack([g.ravel() for g in grid], axis=1)
         w = (wgrid[0] * wgrid[1] * wgrid[2]).ravel()
     elif body.shape in ("ball", "shell"):
-        a = float(body.radius)  # type: ignore[arg-type]
+        a = body._radius_m
         dirs, wdir = _sphere_rule(sizes["cos_theta"], sizes["phi"])
         if body.shape == "shell":
             pts, w = a * dirs, (a * a) * wdir
@@ -354,7 +369,7 @@ def geometric_rule(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.nda
             pts = (r[:, None, None] * dirs[None, :, :]).reshape(-1, 3)
             w = ((wr * r * r)[:, None] * wdir[None, :]).ravel()
     else:  # cylinder
-        a, h = float(body.radius), float(body.height)  # type: ignore[arg-type]
+        a, h = body._radius_m, body._height_m
         z, wz = _gauss_on(sizes["z"], -0.5 * h, 0.5 * h)
         rho, wrho = _gauss_on(sizes["rho"], 0.0, a)
         n_phi = sizes["phi"]

@@ -261,7 +261,11 @@ def _rotation_z(alpha: float) -> np.ndarray:
 
 
 def _rotated_parameters(params: Parameters, alpha: float) -> Parameters:
-    """f = d (g2^2 - g1^2) + 2 c g1 g2 is an m = 2 harmonic: (c + i d) -> (c + i d) e^(2 i alpha)."""
+    """(c + i d) -> (c + i d) e^(2 i alpha).
+
+    ``f = d (g2^2 - g1^2) + 2 c g1 g2`` is an m = 2 harmonic: rotating the body by alpha about
+    z turns f(R^T gamma) into the f of the rotated (c, d).
+    """
     rotated = complex(params.c, params.d) * np.exp(2j * alpha)
     return params.replace(c=rotated.real, d=rotated.imag)
 

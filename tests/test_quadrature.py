@@ -98,9 +98,7 @@ BODIES = {
     "box": ContinuousBody("charge", "box", [0.1, -0.2, 0.3], ONE, half_size=[0.5, 0.7, 0.4]),
     "ball": ContinuousBody("charge", "ball", [0.2, 0.1, -0.3], ONE, radius=0.6),
     "shell": ContinuousBody("charge", "shell", [-0.1, 0.25, 0.2], ONE, radius=0.8),
-    "cylinder": ContinuousBody(
-        "mass", "cylinder", [0.15, -0.1, 0.05], ONE, radius=0.5, height=1.3
-    ),
+    "cylinder": ContinuousBody("mass", "cylinder", [0.15, -0.1, 0.05], ONE, radius=0.5, height=1.3),
 }
 
 

@@ -294,3 +294,18 @@ def test_routes_give_the_same_trajectory(designed: Design) -> None:
     assert abs(red.times[-1] - dire.times[-1]) == 0.0
     assert np.max(np.abs(red.omega[-1] - dire.omega[-1])) <= 1e-9
     assert np.max(np.abs(red.gamma[-1] - dire.gamma[-1])) <= 1e-9
+
+
+def test_default_designed_body_keeps_i4_on_the_level_only() -> None:
+    """The designer's body for the default scene, simulated from its own elements."""
+    from chargedesign.design import design_from_scene
+    from chargedesign.scene import load_scene
+
+    design = design_from_scene(load_scene(None)).design
+    start = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
+    kw = {"t_end": 10.0, "rtol": 1e-12, "atol": 1e-12}
+    on = simulate(design, initial={**start, "level": "I3=0"}, **kw).summary()
+    off = simulate(design, initial={**start, "level": "I3=0.5"}, **kw).summary()
+    assert on["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
+    assert on["I3_max"] <= 1e-10 and on["I4_rel_drift"] <= 1e-9
+    assert off["I4_rel_drift"] >= 1e-2
