@@ -297,7 +297,11 @@ def rotation_matrices(gammas: np.ndarray, rng: np.random.Generator) -> np.ndarra
 
 # --------------------------------------------------------------------------- elements
 @dataclass
-class _Elements:
+class Elements:
+    """Every element as a point in body axes (m): charges (C) and masses (kg) including the
+    quadrature nodes of continuous bodies, dipoles (A m^2); ``quadrature`` describes the
+    continuous bodies' rules (kind, shape, order, nodes)."""
+
     charge_positions: np.ndarray
     charge_values: np.ndarray
     mass_positions: np.ndarray
@@ -319,11 +323,20 @@ def _integrand_degree(kind: str, degrees: dict[str, int]) -> int:
 
 def collect_elements(
     design: Design, quadrature_order: int | None = None
-) -> tuple[_Elements, dict[str, int]]:
+) -> tuple[Elements, dict[str, int]]:
     """Point elements plus continuous bodies as quadrature nodes (weights in C or kg).
 
     The degree of exactness of each body's rule is ``density degree + integrand degree``
     (exact for every polynomial integrand of the check) unless ``quadrature_order`` is given.
+    Integrand degrees: charges ``max(L_e, L_m + 1)`` (``Phi_e``, ``r x grad Phi_e``;
+    ``r (r . B)``, ``r x ((omega x r) x B)``), masses ``max(L_g, 2)`` (gravity; inertia),
+    with ``L`` the degree of each field.
+
+    Returns
+    -------
+    elements : Elements
+    degrees : dict[str, int]
+        Degree of each field kind (0: no field).
     """
     degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
     cp, cv = [design.charge_positions], [design.charge_values]
@@ -340,7 +353,7 @@ def collect_elements(
         (cp if body.kind == "charge" else mp).append(pts)
         (cv if body.kind == "charge" else mv).append(w)
         info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
-    elements = _Elements(
+    elements = Elements(
         np.concatenate(cp),
         np.concatenate(cv),
         np.concatenate(mp),
@@ -513,8 +526,15 @@ def _ein(a: Any, b: Any, w: np.ndarray | None = None) -> np.ndarray:
 
 
 @dataclass
-class _Sums:
-    """Per-orientation sums (m rows); vectors in space axes until rotated back."""
+class RotatedSums:
+    """Per-orientation sums over the elements (m rows), SI units.
+
+    ``mu`` (kg m^2/s) and ``gyro`` (N m, Lorentz torque) from the charges; ``energy`` (J)
+    and ``torque`` (N m) per potential effect (``electric``, ``gravity``,
+    ``magnetization``); ``*_gross`` the sums of the elements' absolute contributions (the
+    noise floor's scale). Vectors are in space axes inside the kernel and in body axes once
+    :func:`evaluate_rotated` returns.
+    """
 
     mu: np.ndarray
     gyro: np.ndarray
@@ -528,8 +548,8 @@ class _Sums:
 POTENTIAL_EFFECTS = ("electric", "gravity", "magnetization")
 
 
-def _new_sums(m: int) -> _Sums:
-    return _Sums(
+def _new_sums(m: int) -> RotatedSums:
+    return RotatedSums(
         mu=np.zeros((m, 3)),
         gyro=np.zeros((m, 3)),
         mu_gross=np.zeros(m),
@@ -553,7 +573,7 @@ def _scalar_potential_block(
     w: np.ndarray,
     coeffs: np.ndarray,
     name: str,
-    out: _Sums,
+    out: RotatedSums,
     rows: slice,
     absw: np.ndarray,
     absw_r: np.ndarray,
@@ -583,7 +603,7 @@ def _lorentz_block(
     q: np.ndarray,
     coeffs: np.ndarray,
     omega_space: np.ndarray,
-    out: _Sums,
+    out: RotatedSums,
     rows: slice,
     absq_r: np.ndarray,
     ws: _Workspace,
@@ -622,7 +642,7 @@ def _dipoles_block(
     sig: tuple[np.ndarray, np.ndarray, np.ndarray],
     S: np.ndarray,
     coeffs: np.ndarray,
-    out: _Sums,
+    out: RotatedSums,
     rows: slice,
     ws: _Workspace,
 ) -> None:
@@ -673,18 +693,18 @@ def _to_body(R: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def evaluate_rotated(
-    elements: _Elements,
+    elements: Elements,
     fields: dict[str, tuple[float, ...]],
     R: np.ndarray,
     omegas: np.ndarray,
     *,
     block_pairs: int = BLOCK_PAIRS,
-) -> _Sums:
+) -> RotatedSums:
     """Rotated-body sums for every orientation, vectors rotated back to body axes.
 
     Parameters
     ----------
-    elements : _Elements
+    elements : Elements
         Charges (C), masses (kg), dipoles (A m^2) in body axes (m).
     fields : dict[str, tuple of float]
         Legendre coefficients of ``magnetic``, ``electric``, ``gravity``.
@@ -697,7 +717,8 @@ def evaluate_rotated(
 
     Returns
     -------
-    _Sums with every vector in body axes.
+    RotatedSums
+        Every vector in body axes.
     """
     m = len(R)
     sums = _new_sums(m)
@@ -861,8 +882,18 @@ def check_design(
     if not isinstance(design, Design):
         raise input_error("design", "a Design", design)
     tol = as_finite_float(tol, "tol", positive=True)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise input_error("seed", "an integer", seed)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise input_error("seed", "an integer >= 0", seed)
+    if quadrature_order is not None and (
+        isinstance(quadrature_order, bool)
+        or not isinstance(quadrature_order, (int, np.integer))
+        or quadrature_order < 0
+    ):
+        raise input_error("quadrature_order", "an integer >= 0 or None", quadrature_order)
+    if isinstance(block_pairs, bool) or not isinstance(block_pairs, (int, np.integer)):
+        raise input_error("block_pairs", "an integer >= 1", block_pairs)
+    if block_pairs < 1:
+        raise input_error("block_pairs", "an integer >= 1", block_pairs)
     gammas = sample_orientations(n_orientations, seed)
     rng = np.random.default_rng([int(seed), 1])
     R = rotation_matrices(gammas, rng)
@@ -952,11 +983,11 @@ def check_design(
 
 
 def _effects(
-    elements: _Elements,
+    elements: Elements,
     degrees: dict[str, int],
     gammas: np.ndarray,
     omegas: np.ndarray,
-    sums: _Sums,
+    sums: RotatedSums,
     inertia: np.ndarray,
 ) -> dict[str, EffectResult]:
     counts = {
@@ -1044,7 +1075,9 @@ __all__ = [
     "NOISE_FLOOR",
     "CheckReport",
     "EffectResult",
+    "Elements",
     "QuantityResult",
+    "RotatedSums",
     "check_design",
     "collect_elements",
     "evaluate_rotated",

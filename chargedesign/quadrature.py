@@ -338,8 +338,8 @@ def geometric_rule(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.nda
 
     Parameters
     ----------
-    body : ContinuousBody
-        The body (its density is ignored).
+    body : ContinuousBody or dict
+        The body (its density is ignored; a design.json mapping is accepted).
     order : int
         Degree of exactness d >= 0: ``sum_j w_j p(x_j) = int p dV`` for every polynomial p
         of total degree <= d in body coordinates.
@@ -351,6 +351,7 @@ def geometric_rule(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.nda
     weights : ndarray, shape (n,)
         Positive weights in m^3 (m^2 on a shell); they sum to the volume (area).
     """
+    body = ContinuousBody.coerce(body)
     sizes = rule_sizes(body.shape, order)
     if body.shape == "box":
         half = body._half_m

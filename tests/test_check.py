@@ -492,6 +492,7 @@ def test_orientations_are_unit_deterministic_and_avoid_the_equator() -> None:
         ({"n_orientations": 0}, "n_orientations"),
         ({"n_orientations": 2.5}, "n_orientations"),
         ({"seed": "a"}, "seed"),
+        ({"seed": -1}, "seed"),
     ],
 )
 def test_bad_arguments_are_rejected(sound: Design, kwargs: dict, fragment: str) -> None:

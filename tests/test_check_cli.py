@@ -64,7 +64,14 @@ def test_loose_tolerance_lets_the_broken_design_pass(designs: dict[str, Path], c
 
 @pytest.mark.parametrize(
     "extra",
-    [["--tol", "0"], ["--tol=-1e-9"], ["--tol", "nan"], ["--orientations", "0"]],
+    [
+        ["--tol", "0"],
+        ["--tol=-1e-9"],
+        ["--tol", "nan"],
+        ["--orientations", "0"],
+        ["--seed=-3"],
+        ["--quadrature-order=-1"],
+    ],
 )
 def test_bad_options_exit_two(designs: dict[str, Path], extra: list[str], capsys) -> None:
     assert main(["check", str(designs["sound"]), *extra]) == 2
@@ -100,3 +107,11 @@ def test_continuous_design_file(tmp_path: Path, capsys) -> None:
     # an explicit too-low quadrature order breaks mu (the shell's r (r.B) r needs degree 3)
     assert main(["check", str(path), "--quadrature-order", "0", "--orientations", "50"]) == 1
     assert np.isfinite(data["V_offset"])
+
+
+def test_cli_defaults_mirror_the_library() -> None:
+    from chargedesign import check
+    from chargedesign.commands import check as command
+
+    assert command.DEFAULT_TOL == check.DEFAULT_TOL
+    assert command.DEFAULT_ORIENTATIONS == check.DEFAULT_ORIENTATIONS

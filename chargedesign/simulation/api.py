@@ -545,6 +545,13 @@ def simulate_batch(
     system, _, _, setup, notes = prepare(source, **kwargs)
     y0 = np.array([initial_state(system, s)[0] for s in states])
     options = setup.options
+    if system.singular:
+        g3 = quaternion_gamma(y0[:, 3:])[:, 2]
+        if np.any(np.abs(g3) <= options.gamma3_min):
+            bad = int(np.argmin(np.abs(g3)))
+            raise input_error(
+                f"initial_states[{bad}]", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3[bad]
+            )
     run = integrate(
         system,
         y0,

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
@@ -179,7 +180,7 @@ class Body:
     mass_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     dipole_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    has_elements: bool = False
+    has_elements: bool | None = None
     notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
@@ -193,6 +194,19 @@ class Body:
         self.dipole_moments = as_points(
             self.dipole_moments, "dipoles.moments", len(self.dipole_positions)
         )
+        if not isinstance(self.parameters, Parameters):
+            raise input_error("parameters", "a chargedesign.params.Parameters", self.parameters)
+        fields_out: dict[str, tuple[float, ...]] = {}
+        for kind, coeffs in dict(self.fields).items():
+            if kind not in FIELD_KINDS:
+                raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+            fields_out[kind] = AxisymmetricField(tuple(coeffs)).legendre
+        self.fields = fields_out
+        if self.has_elements is None:
+            # a body is what has elements; bare parameters are the reduced model only
+            self.has_elements = (
+                len(self.charge_values) + len(self.mass_values) + len(self.dipole_moments) > 0
+            )
 
     @classmethod
     def from_design(cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None) -> Body:
