@@ -112,6 +112,10 @@ def test_random_points_against_exact_symbolic_values(
         exact = [make_golden.evaluate(e, point) for e in rings[quantity]]
         gold = np.array([v for v, _ in exact])
         scale = np.array([sc for _, sc in exact])
+        if quantity == "rhs":
+            # omega x (omega I) cancels exactly in exact arithmetic but not in floats: its
+            # terms (size |omega|^2) belong to the rounding scale of omega'
+            scale[:3] += np.sum(np.abs(state[:3])) ** 2
         value = _call(quantity, state, pars).reshape(-1)
         assert np.all(np.abs(value - gold) <= TOL * scale + 1e-300), quantity
 
