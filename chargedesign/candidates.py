@@ -39,8 +39,9 @@ SHAPE_KEYS: dict[str, tuple[str, ...]] = {
     "points": ("path", "scale", "center", "symmetric"),
     "mesh": ("path", "sample", "spacing", "scale", "center", "symmetric"),
 }
-#: refuse sets larger than this (memory: the condition matrices are dense, rows x points)
-MAX_CANDIDATES = 2_000_000
+#: refuse sets larger than this (the condition matrices are dense, rows x points: 250 000
+#: points and 40 conditions take 80 MB per copy)
+MAX_CANDIDATES = 250_000
 #: relative thickness (smallest / largest singular value of the centred cloud) below which a
 #: set is called planar (exactly, up to rounding) ...
 PLANAR_RATIO = 1e-9
@@ -485,8 +486,12 @@ def mesh_points(
                     f"{name}: the surface in {p} is not closed; its interior is undefined "
                     "(use sample = 'surface')"
                 )
-            probe = pv.PolyData(pts).select_enclosed_points(mesh, check_surface=False)
-            return np.asarray(probe["SelectedPoints"], dtype=bool)
+            probe = pv.PolyData(pts)
+            if hasattr(probe, "select_interior_points"):  # pyvista >= 0.47
+                marked = probe.select_interior_points(mesh, check_surface=False)
+                return np.asarray(marked["selected_points"], dtype=bool)
+            marked = probe.select_enclosed_points(mesh, check_surface=False)
+            return np.asarray(marked["SelectedPoints"], dtype=bool)
         return np.asarray(mesh.find_containing_cell(pts)) >= 0
 
     return lattice_in(inside, half, spacing, center)

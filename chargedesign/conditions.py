@@ -148,6 +148,8 @@ class LinearConditions:
         (n, 3) moment array (row-major: sigma_1x, sigma_1y, sigma_1z, sigma_2x, ...).
         Returns ``A`` of shape (m, n) or (m, 3n) and ``b`` of shape (m,).
         """
+        if source not in SOURCES:
+            raise input_error("source", "one of " + ", ".join(SOURCES), source)
         rows = self.for_source(source)
         pts = np.asarray(positions, dtype=np.float64)
         n = len(pts)

@@ -494,7 +494,8 @@ def diagnose(problem: _Problem, geometry: Geometry) -> tuple[int, list[str]]:
     # singular vectors and values are those of the small (m, m) matrix R^T (several times
     # faster than a direct SVD of a wide matrix with 10^5 columns)
     if A_nd.shape[1] > A_nd.shape[0]:
-        U, s, _ = np.linalg.svd(np.linalg.qr(A_nd.T, mode="r").T)
+        R = np.asarray(np.linalg.qr(A_nd.T, mode="r"))
+        U, s, _ = np.linalg.svd(R.T)
     else:
         U, s, _ = np.linalg.svd(A_nd, full_matrices=False)
     top = float(s[0]) if len(s) and s[0] > 0 else 0.0
@@ -519,9 +520,11 @@ def diagnose(problem: _Problem, geometry: Geometry) -> tuple[int, list[str]]:
             _cannot_produce(problem, worst_dir, geometry, exact=False, amplification=worst)
         )
     if worst > AMPLIFICATION_NOTE and worst_dir is not None:
-        names = ", ".join(f"'{problem.labels[i]}'" for i in _involved(worst_dir))
+        involved = _involved(worst_dir)
+        names = ", ".join(f"'{problem.labels[i]}'" for i in involved)
+        verb = f"conditions {names} are" if len(involved) > 1 else f"condition {names} is"
         notes.append(
-            f"{source}: conditions {names} are weakly produced by these candidates: weights "
+            f"{source}: {verb} weakly produced by these candidates: weights "
             f"about {worst:.2g} times larger than a round body of this size needs"
             + (
                 f" ({geometry.plane_text()} is nearly all of it)"
@@ -686,7 +689,7 @@ def _l1_lp_column_generation(
     c = _weights_cost(n, costs)
     penalty = 1e4 * float(np.max(c)) * max(1.0, float(np.max(np.abs(b))))
     # start: the columns that carry the least-norm solution, and a few most correlated
-    u_ln = np.linalg.lstsq(A, b, rcond=None)[0]
+    u_ln = _least_norm(A, b)
     k0 = min(n, max(4 * m, 60))
     start = np.argsort(-np.abs(u_ln))[:k0]
     corr = np.argsort(-np.abs(A.T @ b))[:k0]
@@ -701,14 +704,15 @@ def _l1_lp_column_generation(
         cols = np.flatnonzero(in_work)
         k = len(cols)
         Aw = A[:, cols]
+        bounds: Sequence[tuple[float | None, float | None]]
         if p.nonneg:
             A_eq = np.hstack([Aw, eye, -eye])
             cost = np.concatenate([c[cols], np.full(2 * m, penalty)])
-            bounds = [(0, None)] * (k + 2 * m)
+            bounds = [(0.0, None)] * (k + 2 * m)
         else:
             A_eq = np.hstack([Aw, -Aw, eye, -eye])
             cost = np.concatenate([c[cols], c[cols], np.full(2 * m, penalty)])
-            bounds = [(0, p.upper)] * (2 * k) + [(0, None)] * (2 * m)
+            bounds = [(0.0, p.upper)] * (2 * k) + [(0.0, None)] * (2 * m)
         res = _linprog(cost, A_eq, b, bounds, f"{p.source}: column generation")
         y = res.eqlin.marginals
         ay = A.T @ y
@@ -788,16 +792,17 @@ def _solve_linf_scalar(p: _Problem, options: DesignOptions) -> _Solution:
         # variables (u, t): minimise t with -t <= u_j <= t (masses: 0 <= u_j <= t)
         eye = sparse.identity(n, format="csr")
         ones = sparse.csr_matrix(np.ones((n, 1)))
+        bounds: Sequence[tuple[float | None, float | None]]
         if p.nonneg:
             A_ub = sparse.hstack([eye, -ones], format="csr")
             b_ub = np.zeros(n)
-            bounds = [(0, None)] * n + [(0, None)]
+            bounds = [(0.0, None)] * n + [(0.0, None)]
         else:
             A_ub = sparse.vstack(
                 [sparse.hstack([eye, -ones]), sparse.hstack([-eye, -ones])], format="csr"
             )
             b_ub = np.zeros(2 * n)
-            bounds = [(None, None)] * n + [(0, p.upper)]
+            bounds = [(None, None)] * n + [(0.0, p.upper)]
         A_eq = sparse.hstack([sparse.csr_matrix(p.A_s), sparse.csr_matrix((len(p.b_s), 1))])
         cost = np.zeros(n + 1)
         cost[-1] = 1.0
@@ -816,10 +821,22 @@ def _solve_linf_scalar(p: _Problem, options: DesignOptions) -> _Solution:
 
 
 def _least_norm(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Minimum-norm solution of ``A x = b`` (rank-revealing lstsq) with one refinement."""
-    x = np.linalg.lstsq(A, b, rcond=None)[0]
-    x += np.linalg.lstsq(A, b - A @ x, rcond=None)[0]
-    return x
+    """Minimum-norm solution of ``A x = b`` (A: shape (m, N)), with one refinement step.
+
+    For wide matrices through a QR of ``A^T = Q R``: ``x = Q z`` with ``z`` the least-norm
+    solution of the small system ``R^T z = b`` (rank-revealing ``lstsq``), since ``|x| = |z|``.
+    (A direct ``lstsq`` on a wide matrix with millions of columns overflows LAPACK's
+    workspace size.)
+    """
+
+    def solve(rhs: np.ndarray) -> np.ndarray:
+        if A.shape[1] > 4 * A.shape[0]:
+            Q, R = np.linalg.qr(A.T)
+            return Q @ np.linalg.lstsq(R.T, rhs, rcond=None)[0]
+        return np.linalg.lstsq(A, rhs, rcond=None)[0]
+
+    x = solve(b)
+    return x + solve(b - A @ x)
 
 
 def _solve_l2(p: _Problem, options: DesignOptions) -> _Solution:
@@ -892,7 +909,7 @@ def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | No
     m = A.shape[0]
     n = A.shape[1] // 3
     blocks = A.reshape(m, n, 3)
-    u_ln = np.linalg.lstsq(A, b, rcond=None)[0]
+    u_ln = _least_norm(A, b)
     k0 = min(n, max(4 * m, 40))
     start = np.argsort(-_group_norms(u_ln))[:k0]
     in_work = np.zeros(n, dtype=bool)
@@ -938,7 +955,6 @@ def _reweighted_support(
     p: _Problem, options: DesignOptions, target: int, progress: Progress | None
 ) -> tuple[np.ndarray, str]:
     """Indices of at most ``target`` charges meeting the conditions (reweighted l1, then MIP)."""
-    notes = []
     best: np.ndarray | None = None
     if options.sparsity in ("auto", "reweighted"):
         costs = None
@@ -954,11 +970,11 @@ def _reweighted_support(
             eps = 1e-3 * top
             costs = 1.0 / (np.abs(u) + eps)
             costs /= float(np.min(costs))
-        notes.append(f"reweighted l1 reached {len(best) if best is not None else '?'} charges")
     if options.sparsity == "reweighted" or (
         options.sparsity == "auto" and p.n_candidates > MIP_MAX_CANDIDATES
     ):
-        raise InfeasibleError(
+        # not a proof of infeasibility (a heuristic failed to find one): a solver failure
+        raise SolverError(
             f"charges: no design with at most {target} charges found (reweighted l1 reached "
             f"{len(best) if best is not None else 'none'}); raise design.n_charges"
             + (
@@ -1042,7 +1058,7 @@ def _polish_once(p: _Problem, u: np.ndarray, threshold: float) -> np.ndarray | N
     if A_free.shape[1] == 0:
         return None
     for _ in range(2):
-        values[free] += np.linalg.lstsq(A_free, rhs - A_free @ values[free], rcond=None)[0]
+        values[free] += _least_norm(A_free, rhs - A_free @ values[free])
     if p.nonneg and np.any(values < 0):
         values, _ = nnls(p.A_s[:, cols], p.b_s, maxiter=50 * len(cols))
         values += np.linalg.lstsq(p.A_s[:, cols], p.b_s - p.A_s[:, cols] @ values, rcond=None)[0]
@@ -1131,8 +1147,7 @@ def _infeasible_inequalities(p: _Problem, options: DesignOptions) -> InfeasibleE
                     "total mass that meets the conditions on these candidates (the least is "
                     f"{least:.6g} kg; add candidates nearer O)"
                 )
-        y = _farkas(p)
-        idx = _involved(y)
+        idx = _irreducible_rows(p)
         names = ", ".join(f"'{p.labels[i]}' ({_short(p.rows[i].provenance, 100)})" for i in idx)
         return InfeasibleError(
             f"masses: no nonnegative masses on these candidates meet conditions {names} together"
@@ -1158,22 +1173,27 @@ def _drop_last_row(p: _Problem) -> _Problem:
     )
 
 
-def _farkas(p: _Problem) -> np.ndarray:
-    """A certificate y with ``A^T y >= 0`` and ``b . y < 0`` (no w >= 0 has A w = b)."""
-    m = len(p.b_s)
-    try:
-        res = _linprog(
-            p.b_s,
-            None,
-            None,
-            [(-1.0, 1.0)] * m,
-            "masses: infeasibility certificate",
-            A_ub=-p.A_s.T,
-            b_ub=np.zeros(p.A_s.shape[1]),
-        )
-        return np.asarray(res.x)
-    except (_Infeasible, SolverError):
-        return np.ones(m)
+def _irreducible_rows(p: _Problem) -> list[int]:
+    """A smallest-by-deletion set of rows with no nonnegative solution (for the message).
+
+    Deletion filter: a row is dropped for good when the others are still infeasible; what
+    is left is an irreducible infeasible subsystem (every proper subset is feasible).
+    """
+    keep = list(range(len(p.b_s)))
+    for i in range(len(p.b_s)):
+        trial = [j for j in keep if j != i]
+        if not trial:
+            break
+        try:
+            _linprog(
+                np.zeros(p.A_s.shape[1]), p.A_s[trial], p.b_s[trial], (0, None),
+                "masses: infeasibility diagnosis",
+            )  # fmt: skip
+        except _Infeasible:
+            keep = trial
+        except SolverError:
+            break
+    return keep
 
 
 def design_source(

@@ -393,3 +393,78 @@ def _flux_sum(coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray) -> np.ndarray:
         v_prev, v = v, v_next
         u_prev, u = u, u_next
     return out
+
+
+def _zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[str, np.ndarray]:
+    """The sums of :func:`_zonal_sums` as polynomials in ``Z``, one per value of ``S``.
+
+    At a fixed ``S = |r|^2`` (a point of a body: turning the body changes ``Z = r . gamma``,
+    not ``S``) each ``u_k`` is a polynomial of degree k in ``Z``. The recurrence
+    ``(k + 1) u_{k+1} = (2k + 1) Z u_k - k S u_{k-1}`` and its ``S``-derivatives are run on
+    the coefficient arrays (multiplying by ``Z`` shifts the coefficients); ``Z``-derivatives
+    at fixed ``S`` are derivatives of these polynomials. Internal fast path for evaluations
+    at one orientation (no validation): ``Phi_*(Z_i, S_i) = sum_a out[*][i, a] Z_i^a``.
+
+    Parameters
+    ----------
+    coeffs : ndarray, shape (K,)
+        ``f_1 .. f_K``.
+    S : ndarray, shape (n,)
+        Squared radii of the points, m^2.
+    order : int
+        0: ``""``; 1: also ``"Z"``, ``"S"``; 2: also ``"ZZ"``, ``"ZS"``, ``"SS"``.
+
+    Returns
+    -------
+    dict of ndarray, shape (n, K + 1)
+        Coefficient of ``Z^a`` in column ``a`` (same keys and meaning as :func:`_zonal_sums`).
+    """
+    S = np.asarray(S, dtype=np.float64)
+    n, K = len(S), len(coeffs)
+    width = K + 1
+    Sc = S[:, None]
+
+    def zeros() -> np.ndarray:
+        return np.zeros((n, width))
+
+    def times_z(c: np.ndarray) -> np.ndarray:
+        out = zeros()
+        out[:, 1:] = c[:, :-1]
+        return out
+
+    def d_dz(c: np.ndarray) -> np.ndarray:
+        out = zeros()
+        out[:, :-1] = c[:, 1:] * np.arange(1, width)
+        return out
+
+    total = {"": zeros(), "S": zeros(), "SS": zeros()}
+    # u_0 = 1, u_1 = Z; their S-derivatives vanish
+    u_prev, u = zeros(), zeros()
+    u_prev[:, 0] = 1.0
+    if K >= 1:
+        u[:, 1] = 1.0
+    s_prev, s, ss_prev, ss = zeros(), zeros(), zeros(), zeros()
+    for k in range(1, K + 1):
+        f = float(coeffs[k - 1])
+        if f != 0.0:
+            total[""] += f * u
+            total["S"] += f * s
+            total["SS"] += f * ss
+        if k == K:
+            break
+        a, b = (2 * k + 1) / (k + 1), k / (k + 1)
+        nxt = a * times_z(u) - b * Sc * u_prev
+        nxt_s = a * times_z(s) - b * (u_prev + Sc * s_prev)
+        nxt_ss = a * times_z(ss) - b * (2.0 * s_prev + Sc * ss_prev)
+        u_prev, u = u, nxt
+        s_prev, s = s, nxt_s
+        ss_prev, ss = ss, nxt_ss
+    out = {"": total[""]}
+    if order >= 1:
+        out["Z"] = d_dz(total[""])
+        out["S"] = total["S"]
+    if order >= 2:
+        out["ZZ"] = d_dz(out["Z"])
+        out["ZS"] = d_dz(total["S"])
+        out["SS"] = total["SS"]
+    return out

@@ -1,15 +1,132 @@
-"""`chargedesign design` (not implemented yet)."""
+"""`chargedesign design [SCENE] [--out DIR]`: design the body and write it with its report.
+
+Writes ``DIR/design.json``, ``DIR/report.md`` and ``DIR/design.png`` together: they are
+staged in a temporary directory and moved in only when all three exist, so a failed run
+(infeasible targets, solver failure, or a failed picture) leaves earlier outputs untouched.
+A failed picture fails the command (exit 2, one line naming the cause): the three files
+describe one body and a stale picture beside a new design would mislead; ``--no-picture``
+skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
+"""
 
 from __future__ import annotations
 
 import argparse
+import sys
 
 from chargedesign.errors import ChargeDesignError
 
+OBJECTIVE_CHOICES = ("l1", "l2", "linf")
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON")
+    parser.add_argument(
+        "scene", nargs="?", default=None, help="scene file (TOML); default: the embedded scene"
+    )
+    parser.add_argument(
+        "--out", default="out", metavar="DIR", help="output directory (default: out)"
+    )
+    parser.add_argument("--json", action="store_true", help="print a JSON summary")
+    parser.add_argument(
+        "--objective",
+        choices=OBJECTIVE_CHOICES,
+        default=None,
+        help="l1 (sparse), l2 (smooth) or linf (smallest largest weight); default: the "
+        "scene's [design] objective, else l1",
+    )
+    parser.add_argument(
+        "--solver",
+        default=None,
+        metavar="NAME",
+        help="auto (HiGHS for linear programs, Clarabel for cones) or a cvxpy solver name",
+    )
+    parser.add_argument(
+        "--n-charges", type=int, default=None, metavar="N", help="at most N charges"
+    )
+    parser.add_argument(
+        "--max-charge", type=float, default=None, metavar="Q", help="bound on every |q|, C"
+    )
+    parser.add_argument(
+        "--total-charge", type=float, default=None, metavar="Q", help="required net charge, C"
+    )
+    parser.add_argument(
+        "--total-mass", type=float, default=None, metavar="M", help="required total mass, kg"
+    )
+    parser.add_argument(
+        "--no-polish", action="store_true", help="keep the solvers' weights (no polishing)"
+    )
+    parser.add_argument("--no-picture", action="store_true", help="do not render design.png")
+    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
 
 
 def run(args: argparse.Namespace) -> int:
-    raise ChargeDesignError("command 'design' is not implemented yet")
+    import json
+    from pathlib import Path
+
+    from chargedesign.body import write_design
+    from chargedesign.design import design_from_scene
+    from chargedesign.files import atomic_directory, write_text_atomic
+    from chargedesign.report import plausibility, render_report
+    from chargedesign.scene import load_scene
+
+    def progress(message: str) -> None:
+        if not args.quiet:
+            print(f"design: {message}", file=sys.stderr, flush=True)
+
+    scene = load_scene(args.scene)
+    result = design_from_scene(
+        scene,
+        progress=progress,
+        objective=args.objective,
+        solver=args.solver,
+        n_charges=args.n_charges,
+        max_charge=args.max_charge,
+        total_charge=args.total_charge,
+        total_mass=args.total_mass,
+        polish=False if args.no_polish else None,
+    )
+    design = result.design
+    out = Path(args.out)
+    files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
+    report = render_report(design, picture=None if args.no_picture else "design.png")
+    with atomic_directory(out) as stage:
+        write_design(design, stage / "design.json")
+        write_text_atomic(stage / "report.md", report)
+        if not args.no_picture:
+            progress("rendering design.png ...")
+            _render(design, stage / "design.png", result.candidates.region)
+    stale = out / "design.png"
+    if args.no_picture and stale.exists():
+        # a picture of an earlier body beside this design.json would mislead
+        stale.unlink()
+        progress(f"removed the earlier {stale} (--no-picture)")
+    progress(f"wrote {', '.join(str(out / f) for f in files)}")
+    if args.json:
+        summary = result.summary()
+        summary = {
+            "residuals": summary.pop("residuals"),
+            "out": str(out),
+            "files": files,
+            **summary,
+            "plausibility": plausibility(design),
+        }
+        print(json.dumps(summary, indent=2, allow_nan=False))
+    else:
+        print(render_report(design), end="")
+    return 0
+
+
+def _render(design: object, path: object, region: object) -> None:
+    """Render the picture; any failure becomes a one-line ChargeDesignError (nothing written)."""
+    try:
+        from chargedesign.viz import render_screenshot
+
+        render_screenshot(design, path, region=region)  # type: ignore[arg-type]
+    except ChargeDesignError as exc:
+        raise ChargeDesignError(
+            f"rendering design.png failed ({exc}); nothing was written (--no-picture skips it)"
+        ) from exc
+    except Exception as exc:  # VTK/OpenGL failures come as many types
+        raise ChargeDesignError(
+            f"rendering design.png failed ({type(exc).__name__}: {exc}); nothing was written "
+            "(--no-picture skips the picture)"
+        ) from exc

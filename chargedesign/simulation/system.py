@@ -19,9 +19,12 @@ exactly ``q r x ((omega x r) x B) = (omega x r) q (r . B) = mu_q x omega`` with
 
 Two routes compute ``N``:
 
-- ``direct``: element by element at the rotated positions ``X = R r`` in space axes, from the
-  fields (Lorentz force ``q v x B``, ``q E``, ``m g``, dipole torque ``sigma x B`` plus
-  ``X x grad(sigma . B)``), rotated back to body axes.
+- ``direct``: element by element at the rotated positions, from the fields (Lorentz force
+  ``q v x B``, ``q E``, ``m g``, dipole torque ``sigma x B`` plus ``X x grad(sigma . B)``).
+  Torques (and so the equations of motion) use the kernel of
+  :mod:`chargedesign.simulation.direct` (body axes, ``Z = r . gamma`` per element);
+  :func:`direct_terms` is the same physics term by term in space axes, used for the energy
+  and the momentum and as the reference the kernel is tested against.
 - ``reduced``: polynomials in gamma whose coefficients are moment contractions
   (:mod:`chargedesign.simulation.polynomials`); exact for the polynomial fields.
 
@@ -42,6 +45,7 @@ from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
 from chargedesign.simulation import polynomials as poly
+from chargedesign.simulation.direct import DirectKernel
 from chargedesign.validation import as_points, as_weights, input_error
 
 #: every effect a scene may call for
@@ -356,6 +360,14 @@ class RigidBodySystem:
             reduced_polynomials(body, *self.physical) if self.physical else [{}] * 8
         )
         self._theorem = _TheoremTerms(body.parameters) if "theorem" in self.effects else None
+        self._kernels: dict[tuple[str, ...], DirectKernel] = {}
+
+    def _kernel(self, physical: Sequence[str]) -> DirectKernel:
+        """The direct route's kernel for a set of physical effects (built once, cached)."""
+        key = tuple(physical)
+        if key not in self._kernels:
+            self._kernels[key] = DirectKernel(self.body, key)
+        return self._kernels[key]
 
     # ------------------------------------------------------------------ torques
     def torque(
@@ -375,8 +387,9 @@ class RigidBodySystem:
         gamma : ndarray, shape (m, 3)
             Unit vectors of space Z in body axes.
         rotation : ndarray, shape (m, 3, 3), optional
-            Body-to-space rotations (the direct route needs them; built from gamma with
-            zero precession when omitted, which does not change any torque).
+            Body-to-space rotations; no torque depends on them beyond gamma (the direct
+            route places the elements by ``Z = r . gamma``), accepted for symmetry with
+            :meth:`energy`.
         effects : sequence of str, optional
             A subset of this system's effects (default: all of them).
         route : str, optional
@@ -399,9 +412,7 @@ class RigidBodySystem:
                     for name in physical:
                         out += _reduced_torque(self._banks[name](gamma), omega, gamma)
             else:
-                R = self._rotations(gamma, rotation)
-                for name in physical:
-                    out += direct_terms(self.body, name, omega, R)[0]
+                out += self._kernel(physical).torque(omega, gamma)
         if "theorem" in names and self._theorem is not None:
             out += self._theorem.torque(omega, gamma)
         return out
@@ -465,8 +476,7 @@ class RigidBodySystem:
         omega = states[:, :3]
         quats = states[:, 3:]
         gamma = quaternion_gamma(quats)
-        rotation = quaternion_rotation(quats) if self.route == "direct" else None
-        N = self.torque(omega, gamma, rotation)
+        N = self.torque(omega, gamma)
         C = self.C
         p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
         out = np.empty_like(states)
@@ -484,10 +494,11 @@ class RigidBodySystem:
     def rhs_function(self, batch: int = 1) -> Callable[[float, np.ndarray], np.ndarray]:
         """``fun(t, y)`` for solve_ivp: ``y`` of shape (7 batch,) laid out as (batch, 7).
 
-        One trajectory on the reduced route takes a path in Python floats (numpy's overhead
-        on 3-vectors dominates otherwise); everything else uses :meth:`derivatives`.
+        One trajectory takes a path in Python floats (numpy's overhead on 3-vectors dominates
+        otherwise; the direct route evaluates its elements in one numpy pass); batches use
+        :meth:`derivatives`.
         """
-        if batch != 1 or (self.physical and self.route != "reduced"):
+        if batch != 1:
             derivatives = self.derivatives
 
             def fun_batch(t: float, y: np.ndarray) -> np.ndarray:
@@ -500,11 +511,15 @@ class RigidBodySystem:
         C = self.C
         half_inv_C = 0.5 / C
         inv_C = 1.0 / C
-        bank = self._bank if self.physical else None
-        coef = np.ascontiguousarray(bank.coefficients[:, 1:7]) if bank is not None else None
-        monomials = bank.monomials if bank is not None else None
-        theorem = self._theorem.scalar_functions() if self._theorem is not None else None
+        direct = reduced = None
+        if self.physical and self.route == "direct":
+            direct = self._kernel(self.physical).scalar_function()
+        elif self.physical:
+            reduced = self._bank
+        coef = np.ascontiguousarray(reduced.coefficients[:, 1:7]) if reduced is not None else None
+        monomials = reduced.monomials if reduced is not None else None
         dot = np.dot
+        theorem = self._theorem.scalar_functions() if self._theorem is not None else None
         array = np.array
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
@@ -516,6 +531,9 @@ class RigidBodySystem:
             N1 = N2 = N3 = 0.0
             if coef is not None and monomials is not None:
                 d1, d2, d3, m1, m2, m3 = dot(monomials(g1, g2, g3), coef).tolist()
+            elif direct is not None:
+                d1, d2, d3, m1, m2, m3 = direct(g1, g2, g3)
+            if coef is not None or direct is not None:
                 # gamma x dV/dgamma + mu x omega
                 N1 = g2 * d3 - g3 * d2 + m2 * r - m3 * q
                 N2 = g3 * d1 - g1 * d3 + m3 * p - m1 * r

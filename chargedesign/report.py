@@ -1,0 +1,236 @@
+"""The short human report of a design (``report.md`` beside ``design.json``).
+
+Everything is read from the :class:`~chargedesign.body.Design` and the provenance keys the
+design stage writes into it (``residuals``, ``objective``, ``solver``, ``timings``,
+``candidates``, ``notes``), so a report can be regenerated from a design.json file.
+
+The plausibility section answers the first question a physicist asks: could this body be
+built? A point charge q makes the field ``q / (4 pi eps0 s^2)`` at the distance s of its
+neighbours (the candidate spacing); air breaks down near 3 MV/m. A magnetic dipole sigma is
+compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the volume
+``sigma / M``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+
+#: vacuum permittivity, F/m (CODATA 2018)
+EPSILON_0 = 8.8541878128e-12
+#: dielectric strength of dry air at sea level, V/m (order of magnitude: 3 MV/m)
+AIR_BREAKDOWN = 3.0e6
+#: remanent magnetisation of a sintered NdFeB magnet, A/m (about 1.1e6 for N42)
+NDFEB_MAGNETISATION = 1.0e6
+
+
+def charge_field(charge: float, distance: float) -> float:
+    """Field magnitude ``|q| / (4 pi eps0 s^2)`` of a point charge, V/m.
+
+    Parameters
+    ----------
+    charge : float
+        Charge, C.
+    distance : float
+        Distance, m (> 0).
+    """
+    return abs(charge) / (4.0 * math.pi * EPSILON_0 * distance**2)
+
+
+def _spacing(design: Design) -> float | None:
+    cand = design.extra.get("candidates")
+    if isinstance(cand, dict):
+        for value in (cand.get("spacing"), (cand.get("geometry") or {}).get("spacing_m")):
+            if isinstance(value, (int, float)) and value > 0:
+                return float(value)
+    pts = design.charge_positions
+    if len(pts) >= 2:
+        i = int(np.argmax(np.abs(design.charge_values)))
+        d = np.linalg.norm(pts - pts[i], axis=1)
+        d = d[d > 0]
+        if len(d):
+            return float(d.min())
+    return None
+
+
+def plausibility(design: Design) -> dict[str, Any]:
+    """Figures that say whether the body could be built (SI units).
+
+    Returns
+    -------
+    dict
+        ``largest_charge_C``, ``spacing_m``, ``field_V_per_m``, ``field_over_air_breakdown``;
+        ``largest_dipole_Am2``, ``ndfeb_volume_m3``; ``total_mass_kg``, ``largest_mass_kg``
+        (keys present only for the kinds of element the design has).
+    """
+    out: dict[str, Any] = {}
+    if len(design.charge_values):
+        q = float(np.max(np.abs(design.charge_values)))
+        s = _spacing(design)
+        out["largest_charge_C"] = q
+        if s is not None:
+            field = charge_field(q, s)
+            out |= {
+                "spacing_m": s,
+                "field_V_per_m": field,
+                "field_over_air_breakdown": field / AIR_BREAKDOWN,
+            }
+    if len(design.dipole_moments):
+        sigma = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
+        out["largest_dipole_Am2"] = sigma
+        out["ndfeb_volume_m3"] = sigma / NDFEB_MAGNETISATION
+    if len(design.mass_values):
+        out["total_mass_kg"] = float(np.sum(design.mass_values))
+        out["largest_mass_kg"] = float(np.max(design.mass_values))
+    return out
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
+    lines = []
+    if "field_V_per_m" in figures:
+        ratio = figures["field_over_air_breakdown"]
+        verdict = (
+            f"{ratio:.2g} times the breakdown field of air (~3 MV/m): not buildable as point "
+            "charges in air. The charges scale like C n / (a1 L^2) and C K / (a2 L^3) for a "
+            "body of size L, their field like q / s^2: a larger body, stronger magnetic "
+            "fields or a smaller C bring it down"
+            if ratio > 1
+            else f"{ratio:.2g} of the breakdown field of air (~3 MV/m): below breakdown"
+        )
+        lines.append(
+            f"- Largest charge {figures['largest_charge_C']:.4g} C; at the candidate spacing "
+            f"s = {figures['spacing_m']:.4g} m it makes q / (4 pi eps0 s^2) = "
+            f"{figures['field_V_per_m']:.3g} V/m, {verdict}."
+        )
+    elif "largest_charge_C" in figures:
+        lines.append(f"- Largest charge {figures['largest_charge_C']:.4g} C.")
+    if "largest_dipole_Am2" in figures:
+        volume = figures["ndfeb_volume_m3"]
+        side = volume ** (1.0 / 3.0)
+        lines.append(
+            f"- Largest dipole {figures['largest_dipole_Am2']:.4g} A m^2: a NdFeB magnet "
+            f"(M ~ 1e6 A/m) of {volume * 1e6:.3g} cm^3 (a cube of side {side * 100:.3g} cm)."
+        )
+    if "total_mass_kg" in figures:
+        lines.append(
+            f"- Total mass {figures['total_mass_kg']:.4g} kg, largest mass "
+            f"{figures['largest_mass_kg']:.4g} kg."
+        )
+    return lines
+
+
+def render_report(
+    design: Design, *, title: str = "Design report", picture: str | None = None
+) -> str:
+    """The human report of a design as Markdown.
+
+    Parameters
+    ----------
+    design : Design
+        A designed body; its provenance keys (as written by :mod:`chargedesign.design`)
+        are used when present.
+    title : str
+    picture : str, optional
+        File name of a picture to show under the title (e.g. ``design.png``).
+
+    Returns
+    -------
+    str
+    """
+    extra = design.extra
+    params = design.parameters.as_dict()
+    lines = [f"# {title}", ""]
+    if picture:
+        lines += [f"![the designed body]({picture})", ""]
+    lines.append(
+        "Parameters: " + ", ".join(f"{k} = {v:g}" for k, v in params.items()) + " (SI units)."
+    )
+    origin = (extra.get("provenance") or {}).get("fields_origin") or {}
+    field_parts = []
+    for kind in ("magnetic", "electric", "gravity"):
+        coeffs = design.field(kind)
+        if coeffs:
+            tag = f" ({origin[kind]})" if kind in origin else ""
+            field_parts.append(f"{kind} legendre [{', '.join(f'{c:g}' for c in coeffs)}]{tag}")
+    lines.append("Fields: " + ("; ".join(field_parts) if field_parts else "none") + ".")
+    lines.append(
+        "Realises: " + (", ".join(design.realises) if design.realises else "nothing") + "."
+    )
+    cand = extra.get("candidates")
+    if isinstance(cand, dict):
+        keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
+        lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
+    lines += ["", "## Elements", ""]
+    lines.append("| source | count | sum of magnitudes | largest | net |")
+    lines.append("|---|---|---|---|---|")
+    q = design.charge_values
+    if len(q):
+        lines.append(
+            f"| charges | {len(q)} | {np.sum(np.abs(q)):.4g} C | {np.max(np.abs(q)):.4g} C | "
+            f"{np.sum(q):.4g} C |"
+        )
+    sig = design.dipole_moments
+    if len(sig):
+        norms = np.linalg.norm(sig, axis=1)
+        lines.append(
+            f"| dipoles | {len(sig)} | {np.sum(norms):.4g} A m^2 | {np.max(norms):.4g} A m^2 | "
+            f"{np.linalg.norm(np.sum(sig, axis=0)):.4g} A m^2 |"
+        )
+    m = design.mass_values
+    if len(m):
+        lines.append(
+            f"| masses | {len(m)} | {np.sum(m):.4g} kg | {np.max(m):.4g} kg | {np.sum(m):.4g} kg |"
+        )
+    if not (len(q) or len(sig) or len(m)):
+        lines.append("| (none) | 0 | | | |")
+    objective = extra.get("objective") or {}
+    solver = extra.get("solver") or {}
+    residuals = extra.get("residuals") or {}
+    if objective or residuals:
+        lines += ["", "## Problems and residuals", ""]
+        lines.append("| source | objective | value | solver | residual before | after polish |")
+        lines.append("|---|---|---|---|---|---|")
+        before = residuals.get("before_polish") or {}
+        after = residuals.get("after_polish") or {}
+        for source in ("charges", "dipoles", "masses"):
+            if source not in objective and source not in after:
+                continue
+            obj = objective.get(source) or {}
+            sol = solver.get(source) or {}
+            lines.append(
+                f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
+                f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
+                f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
+            )
+        if "definition" in residuals:
+            lines += [
+                "",
+                f"Relative residual: {residuals['definition']}; required <= "
+                f"{_fmt(residuals.get('tolerance', '?'))}.",
+            ]
+        methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
+        if methods:
+            lines += ["", "Methods:", "", *methods]
+    timings = extra.get("timings") or {}
+    if timings:
+        lines += [
+            "",
+            "Timings: " + ", ".join(f"{k} {v:.3g} s" for k, v in timings.items()) + ".",
+        ]
+    figures = plausibility(design)
+    if figures:
+        lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
+    notes = list(extra.get("notes") or [])
+    if notes:
+        lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
+    return "\n".join(lines) + "\n"
