@@ -130,7 +130,11 @@ def table_engine_vs_naive(quick: bool) -> BenchTable:
         cand = candidates_from_table({"shape": "ball", "radius": 1.0, "spacing": spacing})
         t_engine, result = _engine_mu(cand)
         A, b = naive_rows(cand.points, gammas, PARAMS, MAGNETIC)
-        t_naive, q_naive = best_time(lambda A=A, b=b: naive_l1(A, b), repeat=3)
+
+        def naive(A: np.ndarray = A, b: np.ndarray = b) -> np.ndarray:
+            return naive_l1(A, b)
+
+        t_naive, q_naive = best_time(naive, repeat=3)
         conditions = result.conditions
         A_c, b_c = conditions.system("charges", cand.points)
         naive_sum = float(np.sum(np.abs(q_naive)))

@@ -1,0 +1,220 @@
+import json
+
+import numpy as np
+import pytest
+
+from chargedesign.body import read_design
+from chargedesign.cli import main
+from chargedesign.conditions import derive_conditions
+
+SI_SCENE = """
+[parameters]
+C = 1e-4
+c = 0.3
+d = -0.4
+n = 0.7
+K = 0.5
+kappa = 0.9
+
+[fields.magnetic]
+a1 = 1.0
+a2 = 1e-3
+
+[fields.gravity]
+legendre = [9.81]
+
+[body]
+shape = "cylinder"
+radius = 0.05
+height = 0.1
+spacing = 0.0125
+
+[design]
+realise = ["mu", "V", "inertia"]
+objective = "l1"
+"""
+
+
+def moments_of(positions, weights, letters):
+    """sum_j w_j prod r_j[letter]: einsum-free, one factor at a time."""
+    terms = np.array(weights, dtype=float).copy()
+    for ch in letters:
+        terms = terms * positions[:, "xyz".index(ch)]
+    return float(np.sum(terms))
+
+
+def check_written_design(path, rtol=1e-12):
+    """Recompute every condition from design.json's own positions and values."""
+    design = read_design(path)
+    conditions = derive_conditions(design.parameters, design.fields, design.realises)
+    for cond in conditions.conditions:
+        lhs, scale = 0.0, abs(cond.value)
+        for key, coef in cond.coefficients.items():
+            if cond.source == "dipoles":
+                comp, letters = key.split(":")
+                pos, w = design.dipole_positions, design.dipole_moments[:, "xyz".index(comp)]
+                wn = np.linalg.norm(design.dipole_moments)
+            elif cond.source == "charges":
+                letters, pos, w = key, design.charge_positions, design.charge_values
+                wn = np.linalg.norm(w)
+            else:
+                letters, pos, w = key, design.mass_positions, design.mass_values
+                wn = np.linalg.norm(w)
+            lhs += coef * moments_of(pos, w, letters)
+            mono = np.ones(len(pos))
+            for ch in letters:
+                mono = mono * pos[:, "xyz".index(ch)]
+            scale += abs(coef) * np.linalg.norm(mono) * wn
+        assert abs(lhs - cond.value) <= rtol * scale, cond
+    r, m = design.mass_positions, design.mass_values
+    inertia = np.einsum("j,jk->", m, r * r) * np.eye(3) - np.einsum("j,ja,jb->ab", m, r, r)
+    C = design.parameters.C
+    assert np.allclose(inertia, np.diag([2 * C, 2 * C, C]), rtol=0, atol=1e-12 * C)
+    assert np.all(m >= 0)
+    return design
+
+
+def snapshot(directory):
+    return {p.name: p.read_bytes() for p in sorted(directory.iterdir())}
+
+
+def test_default_design_writes_design_report_and_picture(tmp_path, capsys):
+    import imageio.v3 as iio
+
+    out = tmp_path / "out"
+    assert main(["design", "--out", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert sorted(p.name for p in out.iterdir()) == ["design.json", "design.png", "report.md"]
+    assert captured.out.startswith("# Design report")
+    assert "breakdown field of air" in captured.out
+    assert "design: charges:" in captured.err  # progress on stderr
+    report = (out / "report.md").read_text()
+    assert "![the designed body](design.png)" in report
+    design = check_written_design(out / "design.json")
+    assert design.realises == ["mu", "V", "inertia"]
+    image = iio.imread(out / "design.png")
+    assert image.shape[:2] == (768, 1024)
+    # no staging directory left beside the output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_json_summary_and_si_scene(tmp_path, capsys):
+    scene = tmp_path / "si.toml"
+    scene.write_text(SI_SCENE)
+    out = tmp_path / "si_out"
+    code = main(["design", str(scene), "--out", str(out), "--json", "--no-picture", "--quiet"])
+    assert code == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert next(iter(summary)) == "residuals"
+    assert summary["residuals"]["max_after_polish"] <= 1e-13
+    assert summary["files"] == ["design.json", "report.md"]
+    assert summary["counts"]["candidates"] > 100
+    assert summary["plausibility"]["field_V_per_m"] > 0
+    assert captured.err == ""
+    design = check_written_design(out / "design.json")
+    assert design.extra["candidates"]["shape"] == "cylinder"
+    assert design.extra["residuals"]["after_polish"]["charges"] <= 1e-13
+
+
+def test_objective_override(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["design", "--out", str(out), "--objective", "l2", "--no-picture", "--quiet"]) == 0
+    capsys.readouterr()
+    design = read_design(out / "design.json")
+    assert design.extra["objective"]["charges"]["kind"] == "l2"
+    check_written_design(out / "design.json")
+
+
+PLANAR = """
+[parameters]
+C = 1.0
+n = 0.7
+K = 0.5
+c = 0.3
+
+[fields.magnetic]
+a1 = 1.0
+a2 = 0.5
+
+[body]
+shape = "box"
+half_size = [1.0, 1.0, 0.1]
+spacing = 0.25
+"""
+
+
+@pytest.mark.parametrize(
+    ("scene_text", "fragments"),
+    [
+        (PLANAR, ["candidates all lie in the plane z = 0", "'zz'"]),
+        (PLANAR.replace("a1 = 1.0", "a1 = 0.0"), ["a1 = 0", "n = 0.7"]),
+    ],
+)
+def test_infeasible_scenes_fail_in_one_line_and_write_nothing(
+    tmp_path, capsys, scene_text, fragments
+):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(scene_text)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "design.json").write_text('{"old": true}\n')
+    (out / "keep.txt").write_text("mine\n")
+    before = snapshot(out)
+    code = main(["design", str(scene), "--out", str(out), "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("chargedesign design: error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+    assert snapshot(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "out"]
+
+
+def test_infeasible_scene_does_not_create_the_directory(tmp_path, capsys):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(PLANAR)
+    out = tmp_path / "never"
+    assert main(["design", str(scene), "--out", str(out), "--quiet"]) == 2
+    capsys.readouterr()
+    assert not out.exists()
+
+
+def test_failed_picture_fails_the_command_and_keeps_earlier_outputs(tmp_path, capsys, monkeypatch):
+    import chargedesign.viz
+
+    out = tmp_path / "out"
+    assert main(["design", "--out", str(out), "--no-picture", "--quiet"]) == 0
+    before = snapshot(out)
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no OpenGL context")
+
+    monkeypatch.setattr(chargedesign.viz, "render_screenshot", broken)
+    code = main(["design", "--out", str(out), "--objective", "l2", "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert "rendering design.png failed (RuntimeError: no OpenGL context)" in captured.err
+    assert len(captured.err.strip().splitlines()) == 1
+    assert snapshot(out) == before
+
+
+def test_no_picture_removes_a_stale_picture(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "design.png").write_bytes(b"old picture")
+    assert main(["design", "--out", str(out), "--no-picture"]) == 0
+    captured = capsys.readouterr()
+    assert not (out / "design.png").exists()
+    assert "removed the earlier" in captured.err
+    assert "![the designed body]" not in (out / "report.md").read_text()
+
+
+def test_bad_scene_key_is_named(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('[body]\nshape = "ball"\nradius = 1.0\nspacing = -1\n')
+    assert main(["design", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "body.spacing: expected a number > 0, got -1" in err
