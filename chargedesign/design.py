@@ -895,7 +895,13 @@ def _solve_dipoles_cone(
     where = f"dipoles: {objective} problem"
     if objective == "l1" and solver in ("AUTO", "CLARABEL") and _use_cg(p, options):
         return _dipoles_column_generation(p, name, progress)
-    u, _, status = _dipole_cvxpy(p.A_s, p.b_s, objective, name, where)
+    try:
+        u, _, status = _dipole_cvxpy(p.A_s, p.b_s, objective, name, where)
+    except SolverError as exc:
+        raise SolverError(
+            f"{exc}; the dipoles' {objective} problem is a second-order cone: use solver "
+            "'auto' or 'CLARABEL'"
+        ) from exc
     return _Solution(u, name.capitalize(), "cvxpy, full problem (second-order cone)", status)
 
 
@@ -982,6 +988,11 @@ def _reweighted_support(
                 if p.n_candidates > MIP_MAX_CANDIDATES
                 else ""
             )
+        )
+    if progress is not None:
+        progress(
+            f"charges: mixed-integer search for at most {target} charges "
+            f"(up to {options.time_limit:g} s) ..."
         )
     return _mip_support(p, options, target, best)
 
@@ -1297,22 +1308,22 @@ def _design_problem(
     if not np.any(p.b):
         # every condition is homogeneous: no element of this source is needed
         return np.zeros(shape), SourceResult(
-            source,
-            objective,
-            0.0,
-            0.0,
-            UNITS[source],
-            "none",
-            "all conditions are zero: no elements needed",
-            "optimal",
-            len(p.b),
-            rank,
-            n_cand,
-            0,
-            0.0,
-            0.0,
-            time.perf_counter() - t0,
-            notes,
+            source=source,
+            objective=objective,
+            objective_value=0.0,
+            objective_value_raw=0.0,
+            units=UNITS[source],
+            solver="none",
+            method="all conditions are zero: no elements needed",
+            status="optimal",
+            n_conditions=len(p.b),
+            rank=rank,
+            n_candidates=n_cand,
+            n_elements=0,
+            residual_before=0.0,
+            residual_after=0.0,
+            seconds=time.perf_counter() - t0,
+            notes=notes,
         )
     if progress is not None:
         progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
