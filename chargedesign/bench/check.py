@@ -219,7 +219,15 @@ def quadrature_table(quick: bool = False) -> BenchTable:
     table = BenchTable(
         title="quadrature: error against nodes and time (smooth non-polynomial integrands)",
         columns=["integrand", "degree", "nodes", "rel error", "time us", "time / degree-1 time"],
-        plot=None,
+        plot={
+            "x": "nodes",
+            "y": ["rel error"],
+            "y2": ["time us"],
+            "group": "integrand",
+            "logx": True,
+            "logy": True,
+            "logy2": True,
+        },
     )
     for label, body, f, exact in _integrands():
         base = None

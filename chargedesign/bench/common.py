@@ -37,6 +37,7 @@ class BenchTable:
             "columns": self.columns,
             "rows": self.rows,
             "notes": self.notes,
+            "plot": self.plot,
         }
 
 

@@ -117,6 +117,13 @@ def table_engine_vs_naive(quick: bool) -> BenchTable:
     derive_conditions(PARAMS, {"magnetic": MAGNETIC}, ("mu",))  # warm the symbolic cache
     table = BenchTable(
         title="Charges for mu: conditions engine vs sampled equalities",
+        plot={
+            "x": "candidates",
+            "y": ["engine sum abs(q) [C]"],
+            "y2": ["engine time [s]", "naive / engine time"],
+            "logx": True,
+            "logy2": True,
+        },
         columns=[
             "spacing [m]",
             "candidates",
@@ -171,6 +178,14 @@ def table_full_design(quick: bool) -> BenchTable:
     conditions = derive_conditions(scene.parameters, scene.fields, ("mu", "V", "inertia"))
     table = BenchTable(
         title="Full design (charges + dipoles + masses): column generation vs full problems",
+        plot={
+            "x": "candidates",
+            "y": ["column generation [s]"],
+            "y2": ["full HiGHS/Clarabel / CG", "cvxpy Clarabel / CG"],
+            "logx": True,
+            "logy": True,
+            "logy2": True,
+        },
         columns=[
             "candidates",
             "column generation [s]",

@@ -26,26 +26,38 @@ def run_benchmarks(
 
 
 def _plot(table: BenchTable, path: Path) -> None:
+    """Plot per ``table.plot``: x column, ``y`` columns (left panel), optional ``y2`` columns
+    (right panel), optional ``group`` column (one line per distinct value)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     spec = table.plot or {}
+    panels = [("y", "logy")] + ([("y2", "logy2")] if spec.get("y2") else [])
+    fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4), squeeze=False)
     xi = table.columns.index(spec["x"])
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for name in spec["y"]:
-        yi = table.columns.index(name)
-        pairs = [(row[xi], row[yi]) for row in table.rows if row[yi] is not None]
-        ax.plot([p[0] for p in pairs], [p[1] for p in pairs], "o-", label=name)
-    if spec.get("logx"):
-        ax.set_xscale("log")
-    if spec.get("logy"):
-        ax.set_yscale("log")
-    ax.set_xlabel(spec["x"])
-    ax.set_title(table.title)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    gi = table.columns.index(spec["group"]) if spec.get("group") else None
+    groups = sorted({row[gi] for row in table.rows}, key=str) if gi is not None else [None]
+    for ax, (key, logkey) in zip(axes[0], panels, strict=True):
+        for name in spec[key]:
+            yi = table.columns.index(name)
+            for group in groups:
+                pairs = [
+                    (row[xi], row[yi])
+                    for row in table.rows
+                    if isinstance(row[yi], (int, float)) and (gi is None or row[gi] == group)
+                ]
+                label = name if group is None else f"{group}: {name}"
+                ax.plot([p[0] for p in pairs], [p[1] for p in pairs], "o-", label=label)
+        if spec.get("logx"):
+            ax.set_xscale("log")
+        if spec.get(logkey):
+            ax.set_yscale("log")
+        ax.set_xlabel(spec["x"])
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(table.title, fontsize=10)
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)
