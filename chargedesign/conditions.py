@@ -35,7 +35,7 @@ import numpy as np
 from chargedesign.errors import InfeasibleError
 from chargedesign.moments import moment_key, moment_keys, monomial_matrix
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_points, as_weights, input_error
+from chargedesign.validation import as_array, as_finite_float, as_points, as_weights, input_error
 
 if TYPE_CHECKING:  # pragma: no cover
     from chargedesign.model.audit import AuditEntry
@@ -53,8 +53,21 @@ MAX_FIELD_DEGREE = 6
 V_DEGREE = 4
 #: magnetic field derived when a scene gives none: a1 = 1 T and f2 = 1 T/m (a2 = 0.5 T/m)
 DEFAULT_MAGNETIC = (1.0, 1.0)
-#: strength of an electric term that is needed but not forced (V/m^k): e.g. e4 = 1
+#: strength of an electric term that is needed but not forced, when nothing else fixes the
+#: size of the charges (V/m^k); otherwise the strength follows the body (DEFAULT_LENGTH_RULE)
 DEFAULT_ELECTRIC_STRENGTH = 1.0
+#: body length (m) assumed for the default strengths when none is given (``length=None``)
+DEFAULT_LENGTH = 1.0
+#: a default strength makes the required moments this many times smaller than the natural
+#: size of the elements (measured trade-off in docs/conditions.md: no extra charge, and a
+#: cancellation of at most ~300 in the degree-k moments)
+DEFAULT_STRENGTH_HEADROOM = 100
+#: how a default strength e_k is chosen (docs/conditions.md, "Default field strengths")
+DEFAULT_LENGTH_RULE = (
+    "e_k = 10^round(log10(100 |T_k| / (Q L^k))): the required degree-k moments (Racah norm "
+    "|T_k| / e_k) are then about 1/100 of the natural size Q L^k of charges of total size "
+    "Q = max |M_key| / L^order over the moments the other conditions fix"
+)
 #: a given field strength within this relative distance of a forced one is read as equal
 #: (float inputs only: 0.7 and -0.28 are not exactly related in binary)
 FIELD_MATCH_RTOL = 1e-9
@@ -130,6 +143,15 @@ class LinearConditions:
         What the conditions realise (subset of ``mu``, ``V``, ``inertia``).
     field_origin : dict[str, str]
         ``"given"`` or ``"derived"`` per field kind.
+    length : float or None
+        The body length scale (m) the default field strengths were chosen for; None when no
+        strength was chosen by default (nothing depends on the body's size).
+    length_assumed : bool
+        True when no length was given and :data:`DEFAULT_LENGTH` (1 m) was used for a default
+        strength (:func:`chargedesign.design.design_body` then re-derives the conditions for
+        the candidates' size, :meth:`for_length`).
+    default_strengths : dict[str, float]
+        The field coefficients chosen by default, e.g. ``{"electric e4": 1e-06}`` (V/m^4).
     """
 
     conditions: list[LinearCondition]
@@ -137,6 +159,21 @@ class LinearConditions:
     notes: list[str] = field(default_factory=list)
     realise: tuple[str, ...] = ()
     field_origin: dict[str, str] = field(default_factory=dict)
+    length: float | None = None
+    length_assumed: bool = False
+    default_strengths: dict[str, float] = field(default_factory=dict)
+    _inputs: tuple[Any, ...] | None = field(default=None, repr=False, compare=False)
+
+    def for_length(self, length: float) -> LinearConditions:
+        """The same derivation with the default field strengths chosen for ``length`` (m).
+
+        Returns ``self`` when no strength depends on the body length (nothing was chosen by
+        default) or when the conditions were not made by :func:`derive_conditions`.
+        """
+        if not self.default_strengths or self._inputs is None:
+            return self
+        params, fields, realise, exact = self._inputs
+        return derive_conditions(params, fields, realise, exact=exact, length=length)
 
     def for_source(self, source: str) -> list[LinearCondition]:
         return [c for c in self.conditions if c.source == source]
@@ -188,6 +225,13 @@ class LinearConditions:
             for kind, origin in self.field_origin.items()
         }
         out["realise"] = list(self.realise)
+        if self.default_strengths:
+            out["default_strengths"] = {
+                "length_m": self.length,
+                "length_assumed": self.length_assumed,
+                "rule": DEFAULT_LENGTH_RULE,
+                "values": dict(self.default_strengths),
+            }
         out["notes"] = list(self.notes)
         out["conditions"] = [c.to_dict() for c in self.conditions]
         return out
@@ -819,6 +863,9 @@ class _Context:
     derivable: set[str]  # field kinds the engine may still choose (electric)
     systems: dict[str, _System]
     notes: list[str]
+    length: Fraction = Fraction(1)  # body length scale (m) for default strengths
+    length_given: bool = False
+    defaults: dict[str, Fraction] = field(default_factory=dict)  # strengths chosen by default
 
     def coefficient(self, kind: str, k: int) -> Fraction:
         coeffs = self.fields.get(kind, [])
@@ -1020,8 +1067,8 @@ def _designate(
             f = need
             why = f"forced: {fixer} fixes the {source}' degree-{k} moments"
         elif any(scaled):
-            f = Fraction(DEFAULT_ELECTRIC_STRENGTH)
-            why = "default strength (not forced)"
+            f, why = _default_strength(ctx, trial[source], source, k, scaled)
+            ctx.defaults[f"{kind} {_FIELD_NAMES[kind]}{k}"] = f
         else:
             f, why = Fraction(0), f"not needed (no degree-{k} part for the {source})"
         ctx.set_coefficient(kind, k, f)
@@ -1057,6 +1104,57 @@ def _designate(
     if any(scaled):
         notes.append(f"V degree {k}: realised by {source} in fields.{kind} ({name} = {_num(f)})")
     return True, ""
+
+
+def _log10(value: Fraction) -> float:
+    """log10 of a positive exact value (no overflow for huge or tiny values)."""
+    return math.log10(value.numerator) - math.log10(value.denominator)
+
+
+def _default_strength(
+    ctx: _Context, system: _System, source: str, k: int, scaled: Sequence[Fraction]
+) -> tuple[Fraction, str]:
+    """A degree-k strength that is needed but not forced: suited to the body's size.
+
+    The source must give ``scaled_m / f`` as its degree-k harmonic moments ``W_km``. With the
+    Racah normalisation ``|sqrt(w_km) H_km(r)|`` summed in squares over m is ``|r|^(2k)``, so
+    weights of total size Q within a distance L give degree-k moments of Racah norm at most
+    ``Q L^k``. The other conditions already fix moments of the source (mu fixes the charges'
+    second and third moments), hence ``Q ~ max |M_key| / L^order``. The strength is chosen so
+    that the required moments are :data:`DEFAULT_STRENGTH_HEADROOM` (100) times smaller
+    than that natural size (rounded to a power of ten): the source then needs no significant
+    cancellation to keep its degree-k moments small (a strength too large for the body makes
+    them tiny against what its weights carry), nor larger weights than the other conditions
+    need (a strength too small). Nothing fixed (Q = 0): :data:`DEFAULT_ELECTRIC_STRENGTH`.
+    """
+    L = ctx.length
+    harmonics = _harmonics(k)
+    target_sq = sum(
+        (h.weight * v * v for h, v in zip(harmonics, scaled, strict=True)), Fraction(0)
+    )
+    natural = Fraction(0)
+    for key, (row, rhs, _) in system.pivots.items():
+        if len(row) != 1 or rhs == 0:
+            continue
+        order = len(key.split(":")[-1])
+        natural = max(natural, abs(rhs / row[key]) / L**order)
+    length_text = (
+        f"L = {_num(L)} m" if ctx.length_given else f"L = {_num(L)} m assumed (no length given)"
+    )
+    if natural == 0:
+        return Fraction(DEFAULT_ELECTRIC_STRENGTH), (
+            f"default strength (not forced; no other condition fixes the {source}' size)"
+        )
+    # log10 of headroom * sqrt(target_sq) / (Q L^k)
+    raw = 0.5 * _log10(target_sq) - _log10(natural) - k * _log10(L)
+    exponent = round(raw + math.log10(DEFAULT_STRENGTH_HEADROOM))
+    f = Fraction(10) ** exponent
+    return f, (
+        f"default strength (not forced), chosen for the body's length {length_text}: the "
+        f"required degree-{k} moments are then about 1/{DEFAULT_STRENGTH_HEADROOM} of the "
+        f"natural size Q L^{k} of {source} of total size Q ~ {float(natural):.3g} (fixed by "
+        "the other conditions): no extra weight, no significant cancellation"
+    )
 
 
 def _charges_for_mu(ctx: _Context) -> None:
@@ -1128,6 +1226,7 @@ def derive_conditions(
     realise: Iterable[str] = REALISABLE,
     *,
     exact: bool = False,
+    length: float | None = None,
 ) -> LinearConditions:
     """Linear moment conditions that realise the theorem's mu, V and inertia.
 
@@ -1146,6 +1245,13 @@ def derive_conditions(
         Read the inputs as the decimals they print as (``0.3 -> 3/10``) and report exact
         rational values (``exact_value``). Otherwise the binary value of each float is used;
         both paths compute exactly, the float values are correctly rounded.
+    length : float, optional
+        The body's length scale in m (largest distance of a candidate from O). A field
+        strength that is needed but not forced (e.g. the electric e4 when no electric field
+        is given) is chosen for it, so that the moments it requires have the natural size of
+        the elements the other conditions force (docs/conditions.md). None: 1 m is assumed
+        and ``length_assumed`` is set (:func:`chargedesign.design.design_body` then
+        re-derives for the candidates' size). Given field strengths never depend on it.
 
     Returns
     -------
@@ -1162,6 +1268,8 @@ def derive_conditions(
         raise input_error("params", "a chargedesign.params.Parameters", params)
     goals = _validate_realise(realise, "realise")
     given = _validate_fields(fields)
+    if length is not None:
+        length = as_finite_float(length, "length", positive=True)
     if params.singular and ({"mu", "V"} & set(goals)):
         which = ", ".join(
             f"{name} = {value:g}"
@@ -1182,6 +1290,8 @@ def derive_conditions(
         derivable=set(),
         systems={},
         notes=[],
+        length=_exact(DEFAULT_LENGTH if length is None else length, exact),
+        length_given=length is not None,
     )
     origin = {kind: "given" for kind in given}
     if "magnetic" not in given:
@@ -1266,6 +1376,10 @@ def derive_conditions(
         notes=ctx.notes,
         realise=goals,
         field_origin={kind: origin[kind] for kind in FIELD_KINDS},
+        length=float(ctx.length) if ctx.defaults else None,
+        length_assumed=bool(ctx.defaults) and length is None,
+        default_strengths={name: float(v) for name, v in ctx.defaults.items()},
+        _inputs=(params, fields, goals, exact),
     )
 
 
@@ -1277,13 +1391,48 @@ def realise_from_scene(scene: Scene) -> tuple[str, ...]:
     return _validate_realise(value, "design.realise")
 
 
+def scene_length(scene: Scene) -> tuple[float | None, str]:
+    """The body length scale of a scene (m): the largest distance of a candidate from O.
+
+    The candidates of the scene's ``[body]`` table are built as the design stage builds them
+    (:func:`chargedesign.candidates.candidates_from_table`), so the conditions command and
+    the design choose the same default strengths. A scene with no usable ``[body]`` gives
+    ``(None, reason)``: the conditions do not validate the body (the design does).
+    """
+    from pathlib import Path
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.errors import ChargeDesignError
+
+    table = scene.table("body")
+    if not table:
+        return None, "the scene has no [body]"
+    base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
+    try:
+        size = candidates_from_table(table, base_dir=base_dir).geometry.size
+    except ChargeDesignError as exc:
+        return None, f"[body] not usable ({exc})"
+    if not size > 0:
+        return None, "the candidates all sit at O"
+    return size, ""
+
+
 def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditions:
-    """:func:`derive_conditions` for a scene's parameters, fields and ``[design] realise``."""
+    """:func:`derive_conditions` for a scene's parameters, fields and ``[design] realise``.
+
+    Default field strengths are chosen for the size of the scene's body
+    (:func:`scene_length`), as :func:`chargedesign.design.design_from_scene` does.
+    """
     from chargedesign.scene import Scene as _Scene
 
     if not isinstance(scene, _Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
-    return derive_conditions(scene.parameters, scene.fields, realise_from_scene(scene), exact=exact)
+    realise = realise_from_scene(scene)
+    length, why = scene_length(scene)
+    result = derive_conditions(scene.parameters, scene.fields, realise, exact=exact, length=length)
+    if result.length_assumed and why:
+        result.notes.append(f"body length {DEFAULT_LENGTH:g} m assumed: {why}")
+    return result
 
 
 # ============================================================ symbolic results & audit
@@ -1481,6 +1630,8 @@ def physical_l_dot_gamma(
 
 __all__ = [
     "DEFAULT_ELECTRIC_STRENGTH",
+    "DEFAULT_LENGTH",
+    "DEFAULT_LENGTH_RULE",
     "DEFAULT_MAGNETIC",
     "MAX_FIELD_DEGREE",
     "REALISABLE",
@@ -1494,5 +1645,6 @@ __all__ = [
     "moment_symbol",
     "physical_l_dot_gamma",
     "realise_from_scene",
+    "scene_length",
     "symbolic_mu_solution",
 ]

@@ -46,7 +46,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, Geometry, candidates_from_points
-from chargedesign.conditions import SOURCES, LinearCondition, LinearConditions
+from chargedesign.conditions import REALISABLE, SOURCES, LinearCondition, LinearConditions
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
 from chargedesign.validation import as_finite_float, input_error
@@ -166,9 +166,7 @@ class DesignOptions:
         ):
             raise input_error("design.n_charges", "an integer >= 1", self.n_charges)
         if self.realise is not None:
-            if isinstance(self.realise, str) or not isinstance(self.realise, Sequence):
-                raise input_error("design.realise", "a list of mu, V, inertia", self.realise)
-            object.__setattr__(self, "realise", tuple(self.realise))
+            object.__setattr__(self, "realise", _realise_list(self.realise))
         if not isinstance(self.polish, bool):
             raise input_error("design.polish", "true or false", self.polish)
         if self.tol is not None:
@@ -230,8 +228,15 @@ def _check_objective(value: Any, name: str) -> None:
 
 
 def _realise_list(value: Any) -> tuple[str, ...]:
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise input_error("design.realise", "a list of mu, V, inertia", value)
+    """``design.realise``: a list of distinct items among mu, V, inertia (errors name it)."""
+    expected = "a list of " + ", ".join(REALISABLE)
+    if isinstance(value, str) or not isinstance(value, (list, tuple)):
+        raise input_error("design.realise", expected, value)
+    for item in value:
+        if item not in REALISABLE:
+            raise input_error("design.realise", "items among " + ", ".join(REALISABLE), item)
+    if len(set(value)) != len(value):
+        raise input_error("design.realise", "no repeated items", list(value))
     return tuple(value)
 
 

@@ -6,7 +6,7 @@ field), ``gravity`` (masses) and ``theorem`` (V and mu of the theorem, lambda an
 allowed). See docs/simulate.md.
 
 >>> from chargedesign.simulate import simulate
->>> result = simulate(None, t_end=1.0)   # the embedded default scene: theorem effect
+>>> result = simulate(None, t_end=1.0)   # the default scene: its body, designed on the fly
 >>> sorted(result.summary())[:3]
 ['I1_rel_drift', 'I2_max_dev', 'I3_max']
 """
@@ -22,11 +22,13 @@ from chargedesign.simulation.api import (
     parse_initial,
     parse_output_options,
     parse_simulation_options,
+    design_pending,
     prepare,
     setup_from_scene,
     setup_from_source,
     simulate,
     simulate_batch,
+    with_level,
 )
 from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration, integrate
 from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
@@ -66,6 +68,7 @@ __all__ = [
     "parse_simulation_options",
     "plot_integrals",
     "plot_poincare",
+    "design_pending",
     "prepare",
     "quaternion_gamma",
     "quaternion_rotation",
@@ -76,4 +79,5 @@ __all__ = [
     "setup_from_source",
     "simulate",
     "simulate_batch",
+    "with_level",
 ]

@@ -29,14 +29,20 @@ SINGULAR = PARAMS.replace(rho=0.2)
 START = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
 
 
-def test_default_scene_simulates_the_theorem() -> None:
+def test_default_scene_simulates_its_designed_body() -> None:
     result = simulate(None, t_end=3.0)
     summary = result.summary()
     assert list(summary)[:3] == ["I4_rel_drift", "I3_max", "effects"]
-    assert summary["effects"] == ["theorem"]
+    assert summary["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
+    assert summary["body"]["designed_from_scene"] is True
     assert summary["level"] == "I3=0"
     assert summary["I3_max"] <= 1e-10
     assert result.completed and result.times[-1] == 3.0
+    # the theorem effect alone is the reduced model of the same scene (nothing designed)
+    theorem = simulate(None, t_end=3.0, effects=["theorem"]).summary()
+    assert theorem["effects"] == ["theorem"]
+    assert theorem["body"]["designed_from_scene"] is False
+    assert theorem["level"] == "I3=0" and theorem["I3_max"] <= 1e-10
 
 
 def test_reduced_model_matches_the_derived_equations() -> None:
@@ -288,9 +294,9 @@ def test_cli_json_keys(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["simulate", "--t-end", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert list(out)[:3] == ["I4_rel_drift", "I3_max", "effects"]
-    for key in ("I1_rel_drift", "I2_max_dev", "steps", "seconds", "events", "notes"):
+    for key in ("I1_rel_drift", "I2_max_dev", "steps", "seconds", "events", "notes", "body"):
         assert key in out
-    assert out["effects"] == ["theorem"]
+    assert out["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
 
 
 def test_cli_design_file_and_outputs(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

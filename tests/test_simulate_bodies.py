@@ -2,15 +2,22 @@
 
 from __future__ import annotations
 
+import json
+import tomllib
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from chargedesign.body import Design
+from chargedesign.cli import main
+from chargedesign.errors import InfeasibleError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
 from chargedesign.simulate import (
     Body,
     RigidBodySystem,
@@ -18,6 +25,7 @@ from chargedesign.simulate import (
     quaternion_gamma,
     quaternion_rotation,
     reduced_polynomials,
+    setup_from_source,
     simulate,
 )
 from chargedesign.simulation.polynomials import PolynomialBank
@@ -309,3 +317,110 @@ def test_default_designed_body_keeps_i4_on_the_level_only() -> None:
     assert on["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
     assert on["I3_max"] <= 1e-10 and on["I4_rel_drift"] <= 1e-9
     assert off["I4_rel_drift"] >= 1e-2
+
+
+# ------------------------------------------- a scene's [body] region designed on the fly
+def _cli_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[dict, str]:
+    assert main(["simulate", *args, "--json"]) == 0
+    captured = capsys.readouterr()
+    return json.loads(captured.out), captured.err
+
+
+def test_cli_default_run_designs_the_body_and_keeps_i4_on_the_level(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    out, err = _cli_json(["--t-end", "20"], capsys)
+    assert list(out)[:3] == ["I4_rel_drift", "I3_max", "effects"]
+    assert out["effects"] == PHYSICAL
+    assert "designing body" in err
+    body = out["body"]
+    assert body["designed_from_scene"] is True and body["shape"] == "ball"
+    assert body["realises"] == ["mu", "V", "inertia"]
+    assert body["residuals"]["max_after_polish"] <= body["residuals"]["tolerance"] <= 1e-13
+    assert min(body["counts"].values()) >= 1
+    # on the level of the physical I3 = (omega I) . gamma + sum q psi
+    assert out["level"] == "I3=0" and abs(out["initial"]["I3"]) <= 1e-13
+    assert out["I3_max"] <= 1e-10
+    assert out["I4_rel_drift"] <= 1e-9  # measured 3.0e-12 (t = 20 s, rtol = atol = 1e-12)
+    assert out["I1_rel_drift"] <= 1e-10
+
+
+def test_cli_off_level_breaks_i4_but_not_i1_and_i3(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    run = tmp_path / "run"
+    out, _ = _cli_json(["--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys)
+    assert out["effects"] == PHYSICAL and out["level"] == "I3=0.5"
+    assert abs(out["initial"]["I3"] - 0.5) <= 1e-13
+    assert out["initial"]["omega"][:2] == [0.6, -0.4]  # the default start's p, q; r moved
+    assert out["I4_rel_drift"] >= 1e-3  # measured 0.97
+    assert out["I3_max_dev"] <= 1e-10 and out["I1_rel_drift"] <= 1e-10
+    # the body written beside the motion is the body simulated
+    design_file = out["body"]["design_file"]
+    assert design_file in out["files"]
+    saved = json.loads((run / "summary.json").read_text())
+    assert saved["body"]["design_file"] == design_file
+    again = simulate(design_file, t_end=20.0, level=0.5).summary()
+    assert again["effects"] == PHYSICAL
+    assert abs(again["I4_rel_drift"] - out["I4_rel_drift"]) <= 1e-12
+
+
+def test_region_with_theorem_effect_uses_the_reduced_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    scene = tmp_path / "scene.toml"
+    scene.write_text(default_scene_text() + '\n[simulation]\nt_end = 5.0\neffects = ["theorem"]\n')
+    out, err = _cli_json([str(scene)], capsys)
+    assert out["effects"] == ["theorem"] and "designing body" not in err
+    assert out["body"]["designed_from_scene"] is False
+    assert out["body"]["counts"] == {"charges": 0, "dipoles": 0, "masses": 0}
+    assert any("was not designed" in note for note in out["notes"])
+    reference = simulate(load_scene(scene).parameters, t_end=5.0).summary()
+    assert out["I4_rel_drift"] == reference["I4_rel_drift"]
+    assert out["I3_max"] == reference["I3_max"]
+    # --effects theorem does the same for the default scene
+    out, err = _cli_json(["--effects", "theorem", "--t-end", "2"], capsys)
+    assert out["effects"] == ["theorem"] and "designing body" not in err
+
+
+def test_a_setup_is_designed_once_and_keeps_its_own_options() -> None:
+    setup = setup_from_source(None)
+    messages: list[str] = []
+    first = simulate(setup, t_end=2.0, design_progress=messages.append)
+    designed = len(messages)
+    assert designed >= 1 and setup.design is not None
+    second = simulate(setup, level=0.5, design_progress=messages.append)
+    assert len(messages) == designed  # the body is reused
+    assert second.t_end == 100.0  # the first run's t_end did not stick to the setup
+    assert first.summary()["body"]["counts"] == second.summary()["body"]["counts"]
+
+
+def test_a_partial_design_skips_effects_without_a_source_with_notes() -> None:
+    data = tomllib.loads(default_scene_text())
+    data["design"] = {"realise": ["mu"]}
+    result = simulate(scene_from_dict(data), t_end=1.0)
+    assert result.effects == ["lorentz"]  # charges only; no electric field is derived
+    notes = " ".join(result.notes)
+    assert "electric: skipped, the electric field is zero" in notes
+    assert "gravity: skipped, the body has no masses" in notes
+    assert "magnetization: skipped, the body has no dipoles" in notes
+    assert "does not realise V, inertia" in notes
+
+
+def test_a_region_that_cannot_be_designed_says_how_to_simulate_the_theorem() -> None:
+    data = tomllib.loads(default_scene_text())
+    data["parameters"]["lambda"] = 0.3
+    scene = scene_from_dict(data)
+    with pytest.raises(InfeasibleError, match=r"singular.*effects = \['theorem'\]"):
+        simulate(scene, t_end=1.0)
+    assert simulate(scene, t_end=1.0, effects=["theorem"]).effects == ["theorem"]
+
+
+def test_level_override_keeps_gamma_p_and_q() -> None:
+    start = {"gamma": [0.36, 0.48, 0.8], "omega": [0.6, -0.4, 0.1]}
+    result = simulate(PARAMS, t_end=0.5, initial=start, level=0.25)
+    assert result.omega[0, :2].tolist() == [0.6, -0.4]
+    assert np.max(np.abs(result.gamma[0] - [0.36, 0.48, 0.8])) <= 1e-15
+    state = np.concatenate([result.omega[0], result.gamma[0]])
+    assert abs(evaluators.integrals(state, PARAMS)[2] - 0.25) <= 1e-14
+    assert result.summary()["level"] == "I3=0.25"

@@ -3,8 +3,11 @@
 A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the contract's
 ``[parameters]`` and ``[fields.*]``::
 
-    [body]                      # the body to simulate (other [body] keys are the designer's)
-    design = "out/design.json"  # a design file (relative to the scene file), or inline:
+    [body]                      # the body to simulate:
+    shape = "ball"              # a candidate region (the designer's keys): designed on the fly
+    radius = 1.0                #   with design_from_scene, unless effects = ["theorem"] ...
+    spacing = 0.25
+    # design = "out/design.json"  # ... or a design file (relative to the scene file), or inline:
     # [body.charges]  positions = [[x, y, z], ...]   values = [...]
     # [body.masses]   positions = [...]              values = [...]
     # [body.dipoles]  positions = [...]              moments = [[sx, sy, sz], ...]
@@ -39,13 +42,21 @@ A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the
 
 Fields: the design's, each kind replaced by the scene's ``[fields.<kind>]`` when given.
 Without a body only the ``theorem`` effect has a source.
+
+A ``[body]`` with a ``shape`` (and neither ``design`` nor inline elements) is designed when a
+run first needs its elements (:func:`chargedesign.design.design_from_scene` with the scene's
+``[design]``), then simulated from its own elements under every physical effect with a source
+and a field. A run whose effects are only ``theorem`` does not design it. The body is designed
+once per :class:`SimulationSetup`: pass the setup to :func:`simulate` again to reuse it.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -53,11 +64,12 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
+from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.params import Parameters
 from chargedesign.simulation.integrate import METHODS, STATE_NAMES, integrate
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.simulation.system import (
+    EFFECTS,
     ROUTES,
     Body,
     RigidBodySystem,
@@ -126,7 +138,27 @@ class OutputOptions:
 
 @dataclass
 class SimulationSetup:
-    """Everything a run needs: the body, the initial-state spec and the options."""
+    """Everything a run needs: the body, the initial-state spec and the options.
+
+    Attributes
+    ----------
+    body : Body
+        The body simulated (bare parameters until a pending design is done).
+    initial : mapping or ndarray
+        The initial-state spec (see :func:`parse_initial`).
+    options, output : SimulationOptions, OutputOptions
+    notes : list of str
+    source : str
+        Where the setup came from (a path, ``<default>``, ``<design>``, ...).
+    design : Design or None
+        The design simulated (read from a file, inline, or designed from the scene).
+    design_scene : Scene or None
+        A scene whose ``[body]`` region is still to be designed (see :func:`design_pending`).
+    body_info : dict
+        JSON-ready description of the body (``designed_from_scene``, ``origin``, ``counts``;
+        for a designed body also ``shape``, ``candidates``, ``residuals``, ``realises``,
+        ``design_seconds``); the result's summary reports it as ``body``.
+    """
 
     body: Body
     initial: Mapping[str, Any] | np.ndarray
@@ -134,6 +166,9 @@ class SimulationSetup:
     output: OutputOptions = field(default_factory=OutputOptions)
     notes: list[str] = field(default_factory=list)
     source: str = ""
+    design: Any = None
+    design_scene: Any = None
+    body_info: dict[str, Any] = field(default_factory=dict)
 
 
 # ---------------------------------------------------------------------- validation
@@ -298,6 +333,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
     notes: list[str] = []
     body_table = scene.table("body")
     design = None
+    origin = ""
     if "design" in body_table:
         if any(k in body_table for k in ("charges", "masses", "dipoles")):
             raise InputError("body: give either design = PATH or inline elements, not both")
@@ -308,15 +344,25 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         if not path.is_absolute() and scene.source not in ("<default>", "<dict>"):
             path = Path(scene.source).parent / path
         design = read_design(path)
+        origin = str(path)
         if scene.parameters != Parameters() and scene.parameters != design.parameters:
             notes.append("the scene's [parameters] differ from the design's; the design's are used")
     elif any(k in body_table for k in ("charges", "masses", "dipoles")):
         design = _inline_design(body_table, scene)
+        origin = "inline [body] elements"
+    pending = None
     if design is not None:
         body = Body.from_design(design, dict(scene.fields))
         notes += body.notes
+        info = _body_info(body, origin)
     else:
         body = Body(parameters=scene.parameters, fields=dict(scene.fields))
+        if "shape" in body_table:
+            # designed when a run needs its elements (not for the theorem effect alone)
+            pending = scene
+            info = {"designed_from_scene": False, "origin": "[body] region, not designed yet"}
+        else:
+            info = _body_info(body, "none: the theorem's parameters only")
     initial_table = scene.tables.get("initial")
     initial = parse_initial(DEFAULT_INITIAL if initial_table is None else initial_table)
     if initial_table is None:
@@ -328,7 +374,113 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         output=parse_output_options(scene.table("output")),
         notes=notes,
         source=scene.source,
+        design=design,
+        design_scene=pending,
+        body_info=info,
     )
+
+
+def _counts(body: Body) -> dict[str, int]:
+    return {
+        "charges": len(body.charge_values),
+        "dipoles": len(body.dipole_moments),
+        "masses": len(body.mass_values),
+    }
+
+
+def _body_info(body: Body, origin: str) -> dict[str, Any]:
+    return {"designed_from_scene": False, "origin": origin, "counts": _counts(body)}
+
+
+def _needs_elements(effects: Sequence[str] | None) -> bool:
+    """True unless the effects asked for are only the theorem's reduced model."""
+    if effects is None:
+        return True
+    return any(name != "theorem" for name in effects if name in EFFECTS)
+
+
+def design_pending(
+    setup: SimulationSetup, progress: Callable[[str], None] | None = None
+) -> SimulationSetup:
+    """Design the body of a setup whose scene gives a ``[body]`` region (once; in place).
+
+    Runs :func:`chargedesign.design.design_from_scene` with the scene's ``[design]`` table and
+    replaces ``setup.body`` by the designed elements in the scene's fields (each kind the
+    scene gives replaces the design's). Does nothing when nothing is pending.
+
+    Parameters
+    ----------
+    setup : SimulationSetup
+    progress : callable, optional
+        ``progress(message)`` with the designer's stages.
+
+    Returns
+    -------
+    SimulationSetup
+        The same setup, designed.
+
+    Raises
+    ------
+    InfeasibleError
+        The scene's targets cannot be realised in its region (the message says how to
+        simulate the reduced model instead).
+    InputError, SolverError
+        As :func:`~chargedesign.design.design_from_scene`.
+    """
+    scene = setup.design_scene
+    if scene is None:
+        return setup
+    from chargedesign.design import design_from_scene
+
+    t0 = time.perf_counter()
+    try:
+        result = design_from_scene(scene, progress=progress)
+    except InfeasibleError as exc:
+        raise InfeasibleError(
+            f"{exc} (to simulate the theorem's reduced model instead: effects = ['theorem'])"
+        ) from exc
+    seconds = time.perf_counter() - t0
+    design = result.design
+    body = Body.from_design(design, dict(scene.fields))
+    summary = result.summary()
+    residuals = summary["residuals"]
+    shape = str(scene.table("body").get("shape"))
+    counts = _counts(body)
+    setup.body = body
+    setup.design = design
+    setup.design_scene = None
+    setup.body_info = {
+        "designed_from_scene": True,
+        "origin": f"designed from the scene's [body] (shape = {shape!r})",
+        "counts": counts,
+        "shape": shape,
+        "candidates": len(result.candidates),
+        "residuals": {
+            "max_after_polish": residuals["max_after_polish"],
+            "tolerance": residuals["tolerance"],
+            "after_polish": dict(residuals["after_polish"]),
+            "before_polish": dict(residuals["before_polish"]),
+        },
+        "realises": list(design.realises),
+        "fields": {kind: list(coeffs) for kind, coeffs in body.fields.items()},
+        "design_seconds": seconds,
+    }
+    setup.notes.append(
+        f"body designed from the scene's [body] ({shape}, {len(result.candidates)} "
+        f"candidates): {counts['charges']} charges, {counts['dipoles']} dipoles, "
+        f"{counts['masses']} masses; largest relative residual "
+        f"{residuals['max_after_polish']:.2g} (tolerance {residuals['tolerance']:.2g}); "
+        f"realises {', '.join(design.realises) or 'nothing'}"
+    )
+    missing = [k for k in ("mu", "V", "inertia") if k not in design.realises]
+    if missing:
+        setup.notes.append(
+            f"the design does not realise {', '.join(missing)}: I4 is the theorem's integral "
+            "only for a body that realises mu, V and inertia"
+        )
+    setup.notes += [f"design: {note}" for note in result.notes]
+    setup.notes += body.notes
+    return setup
 
 
 def setup_from_source(source: Any = None) -> SimulationSetup:
@@ -343,23 +495,32 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
     if isinstance(source, Scene):
         return setup_from_scene(source)
     if isinstance(source, Design):
+        body = Body.from_design(source)
         return SimulationSetup(
-            body=Body.from_design(source),
+            body=body,
             initial=parse_initial(DEFAULT_INITIAL),
-            notes=["default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0"],
+            notes=[
+                "default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0",
+                *body.notes,
+            ],
             source="<design>",
+            design=source,
+            body_info=_body_info(body, "a design"),
         )
     if isinstance(source, Parameters):
+        body = Body(parameters=source)
         return SimulationSetup(
-            body=Body(parameters=source),
+            body=body,
             initial=parse_initial(DEFAULT_INITIAL),
             source="<parameters>",
+            body_info=_body_info(body, "none: the theorem's parameters only"),
         )
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if path.suffix.lower() == ".json":
             setup = setup_from_source(read_design(path))
             setup.source = str(path)
+            setup.body_info["origin"] = f"design file {path}"
             return setup
         return setup_from_scene(load_scene(path))
     raise input_error("simulate", "a scene, a design, a path or None", source)
@@ -389,6 +550,41 @@ def initial_state(system: RigidBodySystem, initial: Any) -> tuple[np.ndarray, fl
     return np.concatenate([omega, quat]), level
 
 
+def with_level(initial: Any, level: float) -> dict[str, Any]:
+    """An initial spec moved onto the level ``I3 = level`` (J s).
+
+    Keeps gamma, the precession and p, q (of ``omega`` when the spec gives it); r is then
+    solved from the level (:meth:`RigidBodySystem.solve_r`). Used to start off the level
+    ``I3 = 0``, where the theorem's I4 is not an integral.
+
+    Parameters
+    ----------
+    initial : mapping or array_like
+        As for :func:`initial_state`.
+    level : float
+        The value of the physical I3, J s.
+
+    Returns
+    -------
+    dict
+        A spec as returned by :func:`parse_initial`.
+    """
+    value = as_finite_float(level, "level")
+    if isinstance(initial, Mapping):
+        spec = dict(initial) if "gamma_norm" in initial else parse_initial(initial)
+    else:
+        arr = as_array(initial, "initial", (6,))
+        spec = parse_initial({"omega": arr[:3].tolist(), "gamma": arr[3:].tolist()})
+    out = {k: spec[k] for k in ("gamma", "gamma_norm", "precession")}
+    if "omega" in spec:
+        omega = np.asarray(spec["omega"], dtype=float)
+        out["p"], out["q"] = float(omega[0]), float(omega[1])
+    else:
+        out["p"], out["q"] = spec["p"], spec["q"]
+    out["level"] = value
+    return out
+
+
 def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
     table = {k: v for k, v in overrides.items() if v is not None}
     merged = {
@@ -401,28 +597,61 @@ def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> Sim
 
 
 def prepare(
-    source: Any = None, *, initial: Any = None, **overrides: Any
+    source: Any = None,
+    *,
+    initial: Any = None,
+    level: float | None = None,
+    design_progress: Callable[[str], None] | None = None,
+    **overrides: Any,
 ) -> tuple[RigidBodySystem, np.ndarray, float | None, SimulationSetup, list[str]]:
-    """Build the system and initial state (see :func:`simulate` for the arguments)."""
+    """Build the system and initial state (see :func:`simulate` for the arguments).
+
+    Returns the system, the initial state ``(7,)``, the level (or None), a copy of the setup
+    with the merged options (a setup passed in keeps its own options; a pending design is
+    done in it, once) and the notes.
+    """
     setup = setup_from_source(source)
     options = _merge_options(setup.options, overrides)
+    body_info = dict(setup.body_info)
+    pending_notes: list[str] = []
+    if setup.design_scene is not None:
+        if _needs_elements(options.effects):
+            design_pending(setup, design_progress)
+            body_info = dict(setup.body_info)
+        else:
+            shape = setup.design_scene.table("body").get("shape")
+            body_info["origin"] = (
+                f"[body] region (shape = {shape!r}) not designed: the theorem effect is the "
+                "reduced model"
+            )
+            body_info["counts"] = _counts(setup.body)
+            pending_notes.append(
+                f"body: the [body] region (shape = {shape!r}) was not designed; the theorem "
+                "effect is the reduced model (its V and mu), no elements"
+            )
+    setup = dataclasses.replace(setup, options=options, body_info=body_info)
     effects, skipped = select_effects(setup.body, options.effects)
-    notes = list(setup.notes) + skipped
+    notes = list(setup.notes) + pending_notes + skipped
     if not effects:
         notes.append("no effect acts: torque-free motion")
     system = RigidBodySystem(setup.body, effects, options.route)
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial
-    y0, level = initial_state(system, spec)
+    if level is not None:
+        spec = with_level(spec, level)
+        notes.append(
+            f"start moved to the level I3 = {float(level):g} J s (r solved from it)"
+            + ("" if float(level) == 0.0 else "; off I3 = 0 the theorem's I4 is no integral")
+        )
+    y0, start_level = initial_state(system, spec)
     if system.singular:
         g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
         if abs(g3) <= options.gamma3_min:
             raise input_error(
                 "initial.gamma", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3
             )
-    setup.options = options
-    return system, y0, level, setup, notes
+    return system, y0, start_level, setup, notes
 
 
 def simulate(
@@ -440,20 +669,24 @@ def simulate(
     route: str | None = None,
     gamma3_min: float | None = None,
     poincare: str | bool | None = None,
+    level: float | None = None,
     progress: Callable[[float], None] | None = None,
+    design_progress: Callable[[str], None] | None = None,
 ) -> SimulationResult:
     """Simulate one trajectory of a scene or design under the effects it calls for.
 
     Parameters
     ----------
-    source : Scene, Design, Parameters, str, PathLike or None
+    source : Scene, Design, Parameters, SimulationSetup, str, PathLike or None
         A scene (TOML path or :class:`~chargedesign.scene.Scene`), a design (``.json`` path
-        or :class:`~chargedesign.body.Design`), bare theorem parameters, or None for the
-        embedded default scene.
+        or :class:`~chargedesign.body.Design`), bare theorem parameters, a setup from
+        :func:`setup_from_source` (reused: its body is designed at most once), or None for
+        the embedded default scene, whose ``[body]`` region is designed on the fly.
     effects : sequence of str, optional
         Among ``lorentz``, ``electric``, ``magnetization``, ``gravity``, ``theorem``. Default:
         the scene's ``simulation.effects``, else every physical effect with a source for a
-        body, else ``theorem``. Effects without a source are skipped with a note.
+        body (a scene's ``[body]`` region is designed for it), else ``theorem``. Effects
+        without a source are skipped with a note; ``["theorem"]`` alone designs nothing.
     t_end : float, optional
         Duration, s (default 100).
     initial : mapping or array_like, optional
@@ -464,8 +697,13 @@ def simulate(
     poincare : str or bool, optional
         Record upward zero crossings of this state (True: the scene's section, default
         ``gamma1``).
+    level : float, optional
+        Start on ``I3 = level`` (J s) instead of the initial spec's level: same gamma, p and
+        q, r solved from the level (see :func:`with_level`).
     progress : callable, optional
         ``progress(fraction)`` during the integration.
+    design_progress : callable, optional
+        ``progress(message)`` while a scene's ``[body]`` region is designed.
 
     Returns
     -------
@@ -491,6 +729,8 @@ def simulate(
         samples=samples,
         route=route,
         gamma3_min=gamma3_min,
+        level=level,
+        design_progress=design_progress,
     )
     options = setup.options
     section = None
@@ -533,7 +773,8 @@ def simulate_batch(
         ``(p, q, r, gamma1, gamma2, gamma3)`` per trajectory.
     **kwargs
         ``effects``, ``t_end``, ``rtol``, ``atol``, ``method``, ``max_step``, ``step``,
-        ``samples``, ``route``, ``gamma3_min``, ``progress`` as for :func:`simulate`.
+        ``samples``, ``route``, ``gamma3_min``, ``progress``, ``design_progress`` as for
+        :func:`simulate`.
 
     Notes
     -----
@@ -618,4 +859,5 @@ def _result(
         poincare=run.poincare,
         poincare_section=section,
         source=setup.source,
+        body=dict(setup.body_info),
     )

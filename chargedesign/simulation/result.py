@@ -79,6 +79,8 @@ class SimulationResult:
     poincare: np.ndarray | None = None
     poincare_section: str | None = None
     source: str = ""
+    #: what was simulated and where it came from (``designed_from_scene``, ``counts``, ...)
+    body: dict[str, Any] | None = None
 
     @property
     def completed(self) -> bool:
@@ -139,6 +141,8 @@ class SimulationResult:
         }
         if self.poincare is not None:
             out["poincare_points"] = len(self.poincare)
+        if self.body is not None:
+            out["body"] = dict(self.body)
         return out
 
     # ------------------------------------------------------------------ files
