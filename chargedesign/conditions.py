@@ -1129,9 +1129,7 @@ def _default_strength(
     """
     L = ctx.length
     harmonics = _harmonics(k)
-    target_sq = sum(
-        (h.weight * v * v for h, v in zip(harmonics, scaled, strict=True)), Fraction(0)
-    )
+    target_sq = sum((h.weight * v * v for h, v in zip(harmonics, scaled, strict=True)), Fraction(0))
     natural = Fraction(0)
     for key, (row, rhs, _) in system.pivots.items():
         if len(row) != 1 or rhs == 0:

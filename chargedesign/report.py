@@ -1,8 +1,9 @@
 """The short human report of a design (``report.md`` beside ``design.json``).
 
 Everything is read from the :class:`~chargedesign.body.Design` and the provenance keys the
-design stage writes into it (``residuals``, ``objective``, ``solver``, ``timings``,
-``candidates``, ``notes``), so a report can be regenerated from a design.json file.
+design stage writes into it (``residuals``, ``forward_accuracy``, ``objective``, ``solver``,
+``timings``, ``candidates``, ``notes``), so a report can be regenerated from a design.json
+file.
 
 The plausibility section answers the first question a physicist asks: could this body be
 built? A point charge q makes the field ``q / (4 pi eps0 s^2)`` at the distance s of its
@@ -217,6 +218,20 @@ def render_report(
                 "",
                 f"Relative residual: {residuals['definition']}; required <= "
                 f"{_fmt(residuals.get('tolerance', '?'))}.",
+            ]
+        worst = (extra.get("forward_accuracy") or {}).get("worst") or {}
+        if worst:
+            parts = [
+                f"{source} ~{w['forward_error']:.1g} ({w['quantity']} through {w['term']}: "
+                f"contributions {w['amplification']:.2g} times |{w['quantity']}|)"
+                for source, w in worst.items()
+            ]
+            lines += [
+                "",
+                "Forward accuracy (estimated relative error of mu and V evaluated in floating "
+                "point from these elements; the contributions that cancel most): "
+                + "; ".join(parts)
+                + ".",
             ]
         methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
         if methods:

@@ -417,3 +417,137 @@ def test_harmonic_basis_addition_theorem(k: int) -> None:
     rhs = (np.linalg.norm(a) * np.linalg.norm(b)) ** k * npleg.legval(cosine, [0] * k + [1])
     assert lhs == pytest.approx(rhs, rel=1e-12, abs=1e-12)
     assert len(_harmonics(k)) == 2 * k + 1
+
+
+# ------------------------------------------------- default strengths follow the body size
+def _least_norm_charges(conditions: LinearConditions, points: np.ndarray) -> np.ndarray:
+    """Minimum-norm charges that meet the charges' conditions (rows equilibrated)."""
+    A, b = conditions.system("charges", points)
+    row = np.max(np.abs(A), axis=1)
+    weights = np.linalg.lstsq(A / row[:, None], b / row, rcond=None)[0]
+    assert np.abs(A @ weights - b).max() <= 1e-9 * np.abs(A).max() * np.abs(weights).max()
+    return weights
+
+
+def _e4_gross_over_V(conditions: LinearConditions, points: np.ndarray) -> float:
+    """sum |q| e4 r^4 over the spread of the theorem's V: the cancellation in V's degree 4.
+
+    Computed from a least-norm body (not the design stage) and the model's own V.
+    """
+    q = _least_norm_charges(conditions, points)
+    e4 = conditions.fields["electric"][3]
+    gross = abs(e4) * np.sum(np.abs(q) * np.linalg.norm(points, axis=1) ** 4)
+    V = evaluators.potential(_unit_vectors(np.random.default_rng(1), 200), PARAMS)
+    return float(gross / np.abs(V - V.mean()).max())
+
+
+def _ball_points(radius: float) -> np.ndarray:
+    from chargedesign.candidates import candidates_from_table
+
+    table = {"shape": "ball", "radius": radius, "spacing": radius / 4}
+    return candidates_from_table(table).points
+
+
+@pytest.mark.parametrize("length", [1e-4, 1e-2, 1.0, 1e2, 1e4])
+def test_default_e4_follows_the_body_length(length: float) -> None:
+    """Body of radius L in a field of matching length: e4 scales as L^-2, V needs no cancellation.
+
+    mu fixes the charges' second moments (C n / a1, independent of L) and third moments
+    (C K / f2, proportional to L): charges of size ~ L^-2, fourth moments ~ L^2, so the
+    hexadecapole strength that asks for fourth moments of their natural size is ~ L^-2.
+    """
+    magnetic = (1.0, 1.0 / length)
+    unit = derive_conditions(PARAMS, {"magnetic": (1.0, 1.0)}, length=1.0)
+    result = derive_conditions(PARAMS, {"magnetic": magnetic}, length=length)
+    e4 = result.fields["electric"][3]
+    assert e4 == pytest.approx(unit.fields["electric"][3] / length**2, rel=1e-12)
+    assert result.default_strengths == {"electric e4": e4}
+    assert result.length == length and not result.length_assumed
+    assert any("chosen for the body's length L = " in note for note in result.notes)
+    # independent route: a least-norm body on a ball of radius L carries fourth moments of
+    # their natural size (no cancellation), whatever L
+    assert _e4_gross_over_V(result, _ball_points(length)) < 1e3
+    if length >= 1e2:  # the 1 m default is wrong for this body: V met by cancellation
+        assumed = derive_conditions(PARAMS, {"magnetic": magnetic})
+        assert assumed.length_assumed and assumed.length == 1.0
+        assert _e4_gross_over_V(assumed, _ball_points(length)) > 1e4
+
+
+def test_default_e4_follows_a_weak_uniform_field() -> None:
+    """a1 = 1e-6: charges ~ C n / a1; the default e4 shrinks with them (fourth moments ~ 1/a1)."""
+    unit = derive_conditions(PARAMS, {"magnetic": (1.0, 1.0)}, length=1.0)
+    weak = derive_conditions(PARAMS, {"magnetic": (1e-6, 1.0)}, length=1.0)
+    assert weak.fields["electric"][3] == pytest.approx(unit.fields["electric"][3] * 1e-6)
+    assert weak.fields["electric"][2] == unit.fields["electric"][2]  # e3 is forced, unchanged
+    assert _e4_gross_over_V(weak, _ball_points(1.0)) < 1e3
+
+
+def test_default_strength_rule_is_a_power_of_ten_near_the_natural_size() -> None:
+    """The rule itself: 100 |T4| / (Q L^4) within a factor sqrt(10) of the chosen e4.
+
+    T4: Racah norm of the degree-4 targets e4 * W_4m (from the conditions, times e4);
+    Q: max |M| / L^order over the charges' fixed second and third moments.
+    """
+    length = 0.3
+    result = derive_conditions(PARAMS, {"magnetic": (0.8, 1.7)}, length=length)
+    e4 = result.fields["electric"][3]
+    assert np.log10(e4) == round(np.log10(e4))
+    fixed = result.fixed_moments("charges")
+    Q = max(abs(v) / length ** len(k) for k, v in fixed.items())
+    # Racah-normalised degree-4 moments required: sqrt(w_m) W_m for each harmonic row
+    by_poly = {
+        tuple(sorted((k, float(c)) for k, c in h.moments().items())): h for h in _harmonics(4)
+    }
+    total = 0.0
+    for row in result.for_source("charges"):
+        key = tuple(sorted(row.coefficients.items()))
+        if key in by_poly:
+            total += float(by_poly[key].weight) * row.value**2
+    T4 = e4 * np.sqrt(total)
+    assert T4 > 0
+    ratio = 100 * T4 / (Q * length**4) / e4
+    assert 10**-0.5 <= ratio <= 10**0.5
+
+
+def test_given_electric_field_is_kept_whatever_the_length() -> None:
+    electric = (0.0, 0.0, -0.28, 1.5)
+    result = derive_conditions(PARAMS, {"magnetic": (1.0, 1.0), "electric": electric}, length=1e3)
+    assert result.fields["electric"] == electric
+    assert result.default_strengths == {} and result.length is None
+    assert result.for_length(5.0) is result
+
+
+def test_for_length_rederives_and_exact_values_are_exact() -> None:
+    result = derive_conditions(PARAMS, {"magnetic": (1.0, 0.01)}, exact=True)
+    assert result.length_assumed
+    moved = result.for_length(100.0)
+    assert not moved.length_assumed and moved.length == 100.0
+    assert moved.fields["electric"][3] == pytest.approx(result.fields["electric"][3] * 1e-4)
+    e4 = Fraction(moved.fields["electric"][3]).limit_denominator(10**12)
+    assert e4 == Fraction(1, 10**4)
+    assert any("exact legendre: [0, 0, -7/2500, 1/10000]" in n for n in moved.notes), moved.notes
+    assert moved.to_dict()["default_strengths"]["values"] == {"electric e4": 1e-4}
+
+
+@pytest.mark.parametrize("length", [0.0, -1.0, float("nan"), float("inf"), "1", True])
+def test_bad_length_is_named(length: object) -> None:
+    with pytest.raises(InputError) as info:
+        derive_conditions(PARAMS, {"magnetic": (1.0, 1.0)}, length=length)  # type: ignore[arg-type]
+    assert str(info.value).startswith("length")
+
+
+def test_scene_conditions_use_the_body_size() -> None:
+    data = {
+        "parameters": {"C": 1.3, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
+        "fields": {"magnetic": {"a1": 1.0, "a2": 0.005}},
+        "body": {"shape": "ball", "radius": 100.0, "spacing": 25.0},
+    }
+    result = conditions_for_scene(scene_from_dict(data))
+    direct = derive_conditions(PARAMS, {"magnetic": (1.0, 0.01)}, length=100.0)
+    assert result.fields["electric"] == direct.fields["electric"]
+    assert result.length == 100.0 and not result.length_assumed
+    # a body the conditions cannot read: 1 m assumed, and said
+    data["body"] = {"shape": "ball", "radius": -1.0}
+    result = conditions_for_scene(scene_from_dict(data))
+    assert result.length_assumed
+    assert any("body length 1 m assumed: [body] not usable (body.radius" in n for n in result.notes)

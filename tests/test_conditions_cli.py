@@ -104,3 +104,29 @@ def test_errors_are_one_line(
 def test_missing_scene_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["conditions", str(tmp_path / "nope.toml")]) == 2
     assert "no such scene file" in capsys.readouterr().err
+
+
+def test_default_strength_is_chosen_for_the_scene_body(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The body's size (largest distance of a candidate from O) sets the default e4."""
+    big = SCENE + '\n[body]\nshape = "ball"\nradius = 100.0\nspacing = 25.0\n'
+    assert main(["conditions", _write(tmp_path, big), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    defaults = out["default_strengths"]
+    assert defaults["length_m"] == 100.0 and defaults["length_assumed"] is False
+    e4 = out["fields"]["electric"]["legendre"][3]
+    assert defaults["values"] == {"electric e4": e4}
+    assert main(["conditions", _write(tmp_path, big.replace("100.0", "1.0")), "--json"]) == 0
+    small = json.loads(capsys.readouterr().out)
+    # mu fixes charges of size C n / (a1 L^2) with fourth moments ~ C n L^2 / a1: e4 ~ L^-2
+    assert small["fields"]["electric"]["legendre"][3] == pytest.approx(e4 * 1e4, rel=1e-12)
+
+
+def test_unreadable_body_is_not_an_error_for_the_conditions(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    bad = SCENE + '\n[body]\nshape = "ball"\nradius = -1.0\n'
+    assert main(["conditions", _write(tmp_path, bad)]) == 0
+    text = capsys.readouterr().out
+    assert "body length 1 m assumed: [body] not usable (body.radius" in text

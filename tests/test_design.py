@@ -449,3 +449,169 @@ def test_report_and_plausibility():
     assert f"{field:.3g}" in text and "breakdown field of air" in text
     assert f"| charges | {len(d.charge_values)} |" in text
     assert "after polish" in text
+
+
+# ------------------------------------------------------------------ forward accuracy
+def _float_V_error(design):
+    """Measured relative error of V evaluated in floats from the design's own elements.
+
+    V from chargedesign.fields (not the design module), against the theorem's V (up to a
+    constant), relative to the theorem's spread, at 200 orientations.
+    """
+    from chargedesign.fields import AxisymmetricField
+    from chargedesign.model import evaluators
+
+    rng = np.random.default_rng(3)
+    g = rng.normal(size=(200, 3))
+    g /= np.linalg.norm(g, axis=1)[:, None]
+    V = AxisymmetricField(design.field("electric")).potential_body(design.charge_positions, g)
+    V = V @ design.charge_values
+    V = (
+        V
+        + AxisymmetricField(design.field("gravity")).potential_body(design.mass_positions, g)
+        @ design.mass_values
+    )
+    grad = AxisymmetricField(design.field("magnetic")).gradient_body(design.dipole_positions, g)
+    V = V + np.einsum("nj,mnj->m", design.dipole_moments, grad)
+    ref = evaluators.potential(g, design.parameters)
+    diff = V - ref
+    return float(np.abs(diff - diff.mean()).max() / np.abs(ref - ref.mean()).max())
+
+
+def test_default_design_has_no_cancellation():
+    from chargedesign.design import FORWARD_NOTE, forward_accuracy
+
+    result = _default_with()
+    for source in result.sources.values():
+        assert source.forward is not None and source.forward.forward_error < 1e-12
+    assert not any("cancellation" in note for note in result.notes)
+    terms = forward_accuracy(result.design)
+    assert terms and all(t.forward_error < FORWARD_NOTE for t in terms)
+    # amplification of the charges through e4, recomputed from its definition
+    d = result.design
+    e4 = next(t for t in terms if t.source == "charges" and t.term == "fields.electric e4")
+    from chargedesign.design import quantity_scales
+
+    gross = abs(d.field("electric")[3]) * np.sum(
+        np.abs(d.charge_values) * np.linalg.norm(d.charge_positions, axis=1) ** 4
+    )
+    assert e4.amplification == pytest.approx(gross / quantity_scales(DEFAULT)["V"], rel=1e-12)
+    assert e4.forward_error == pytest.approx(
+        np.finfo(float).eps * e4.amplification * 4 * (35 + 30 + 3) / 8, rel=1e-12
+    )
+    text = render_report(d)
+    assert "Forward accuracy" in text and "charges ~" in text
+    assert "forward_accuracy" in d.extra
+
+
+def test_weak_uniform_field_is_designed_with_a_cancellation_note():
+    """a1 = 1e-6: charges ~4e5 C must leave tiny third moments in the forced e3 field."""
+    params = DEFAULT
+    fields = {"magnetic": (1e-6, 1.0), "gravity": (9.81,)}
+    conditions = derive_conditions(params, fields, length=1.0)
+    result = design_body(params, conditions, BALL)
+    (note,) = [n for n in result.notes if "cancellation" in n]
+    assert note.startswith("charges: V is met only by cancellation")
+    assert "a1 = 1e-06 T" in note and "increase a1" in note
+    worst = result.sources["charges"].forward
+    assert worst is not None and worst.term == "fields.electric e3"
+    assert 1e-10 < worst.forward_error < 1e-6
+    # the estimate is honest: the measured float error of V is not larger
+    assert _float_V_error(result.design) <= 10 * worst.forward_error
+
+
+def test_default_strength_chosen_for_an_assumed_metre_is_named():
+    """Conditions derived without a length, designed on a 100 m ball."""
+    params = DEFAULT
+    conditions = derive_conditions(params, {"magnetic": (1.0, 0.01)})
+    result = design_body(params, conditions, ball(100.0))
+    assert result.conditions is conditions  # the design meets the conditions it was given
+    notes = " ".join(result.notes)
+    assert "for these candidates (L = 100 m) electric e4 = 1 (for 1 m) would be 0.0001" in notes
+    assert "met only by cancellation" in notes and "derive the conditions with length=100" in notes
+    measured = _float_V_error(result.design)
+    assert measured <= 10 * result.sources["charges"].forward.forward_error
+    # with the length the default strength suits the body: no cancellation, and accurate
+    suited = design_body(
+        params, derive_conditions(params, {"magnetic": (1.0, 0.01)}, length=100.0), ball(100.0)
+    )
+    assert suited.design.field("electric")[3] == pytest.approx(1e-4)
+    assert not any("cancellation" in n or "would be" in n for n in suited.notes)
+    assert _float_V_error(suited.design) < 1e-12 < measured
+
+
+def test_given_electric_field_too_strong_for_the_body_is_named():
+    params = DEFAULT
+    fields = {"magnetic": (1.0, 0.01), "electric": (0.0, 0.0, -0.0028, 1.0)}
+    result = design_body(params, derive_conditions(params, fields), ball(100.0))
+    assert result.design.field("electric")[3] == 1.0  # the user's field is kept
+    (note,) = [n for n in result.notes if "cancellation" in n]
+    assert "through fields.electric e4" in note and "choose fields.electric e4 ~ 1e-03" in note
+
+
+def test_meaningless_cancellation_is_refused_naming_the_cause():
+    fields = {"magnetic": (1e-12, 1.0), "gravity": (9.81,)}
+    with pytest.raises(InfeasibleError) as info:
+        design_body(DEFAULT, derive_conditions(DEFAULT, fields, length=1.0), BALL)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith("charges: refused")
+    assert "only by cancellation" in message and "increase a1" in message
+
+
+def test_residual_miss_from_cancellation_does_not_blame_the_solver(monkeypatch):
+    """A polished residual above design.tol: the weak a2 is named, not another solver."""
+    import chargedesign.design as design_module
+
+    def spoiled(p, u, tol):  # a polisher that leaves a 1e-10 relative error
+        return u * (1.0 + 1e-10 * np.cos(np.arange(len(u)))), "spoiled for the test"
+
+    monkeypatch.setattr(design_module, "_polish", spoiled)
+    params = Parameters(C=1e-4, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+    conditions = derive_conditions(
+        params, {"magnetic": (1.0, 2e-9), "gravity": (9.81,)}, length=0.05
+    )
+    with pytest.raises(InfeasibleError) as info:
+        design_body(params, conditions, ball(0.05, 0.0125))
+    message = str(info.value)
+    assert message.startswith("charges: relative residual") and "exceeds design.tol" in message
+    assert "a2 = 1e-09 T/m" in message and "increase a2" in message
+    assert "another solver will not help" in message and "try another" not in message
+    with pytest.raises(SolverError, match="try another solver"):
+        _default_with()  # no cancellation: the solver may be at fault
+
+
+def test_tolerance_below_double_precision_is_named():
+    with pytest.raises(SolverError, match="below the rounding of double precision"):
+        _default_with(tol=1e-18)
+
+
+def test_design_from_scene_chooses_e4_for_the_body():
+    scene = scene_from_dict(
+        {
+            "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
+            "fields": {"magnetic": {"a1": 1.0, "a2": 0.005}},
+            "body": {"shape": "ball", "radius": 100.0, "spacing": 25.0},
+        }
+    )
+    result = design_from_scene(scene)
+    assert result.design.field("electric")[3] == pytest.approx(1e-4)
+    assert result.conditions.length == 100.0 and not result.conditions.length_assumed
+    assert not any("cancellation" in n for n in result.notes)
+
+
+@pytest.mark.parametrize(
+    ("table", "fragment"),
+    [
+        ({"realise": ["mu", "B"]}, "design.realise: expected items among mu, V, inertia, got 'B'"),
+        ({"realise": "mu"}, "design.realise: expected a list"),
+        ({"realise": ["mu", "mu"]}, "design.realise: expected no repeated items"),
+    ],
+)
+def test_bad_realise_is_named_design_realise(table, fragment):
+    with pytest.raises(InputError) as info:
+        DesignOptions.from_table(table)
+    assert str(info.value).startswith(fragment)
+    scene = scene_from_dict({"parameters": {"n": 0.5}, "design": table})
+    with pytest.raises(InputError) as info:
+        design_from_scene(scene)
+    assert str(info.value).startswith("design.realise")

@@ -218,3 +218,11 @@ def test_bad_scene_key_is_named(tmp_path, capsys):
     assert main(["design", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "body.spacing: expected a number > 0, got -1" in err
+
+
+def test_bad_realise_is_named_design_realise(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text('[parameters]\nn = 0.5\n[design]\nrealise = ["mu", "B"]\n')
+    assert main(["design", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith("chargedesign design: error: design.realise: expected items among")

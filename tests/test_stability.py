@@ -260,8 +260,8 @@ def test_conditions_at_independent_scales_are_met_by_a_least_squares_body(
     for source in ("charges", "dipoles", "masses"):
         A, b, w = least_squares_weights(conditions, source, points)
         assert backward_error(A, w, b) <= LSQ_TOL, source
-    # the physics of mu and the inertia alone (V's derived electric strength e4 = 1 V/m^4
-    # does not follow the scales: see test_body_size_with_derived_electric_field)
+    # the physics of mu and the inertia alone (without a body length, derive_conditions
+    # takes e4 for a 1 m body: see test_body_size_with_derived_electric_field)
     conditions = derive_conditions(params, {"magnetic": magnetic}, ("mu", "inertia"))
     weights = {}
     for source in ("charges", "masses"):
