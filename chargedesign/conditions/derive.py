@@ -1,0 +1,241 @@
+"""``derive_conditions``: the theorem's parameters and fields -> linear moment conditions.
+
+Validates the inputs, reads them as exact rationals, derives the fields a scene leaves out,
+then runs the steps in order (mu for the charges, the inertia for the masses, V degree by
+degree) on one exact echelon system per source, and rounds the result to
+:class:`LinearConditions`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from chargedesign.conditions.algebra import _System
+from chargedesign.conditions.constants import (
+    _PARAM_NAMES,
+    DEFAULT_LENGTH,
+    DEFAULT_MAGNETIC,
+    FIELD_KINDS,
+    MAX_FIELD_DEGREE,
+    REALISABLE,
+    SOURCES,
+    V_DEGREE,
+)
+from chargedesign.conditions.context import _Context
+from chargedesign.conditions.harmonics import _harmonics
+from chargedesign.conditions.inertia import _masses_for_inertia
+from chargedesign.conditions.mu import _charges_for_mu
+from chargedesign.conditions.potential import _realise_degree, _v_projection
+from chargedesign.conditions.types import LinearCondition, LinearConditions
+from chargedesign.errors import InfeasibleError
+from chargedesign.params import Parameters
+from chargedesign.validation import as_array, as_finite_float, input_error
+
+
+def _validate_realise(realise: Any, name: str) -> tuple[str, ...]:
+    if isinstance(realise, str) or not isinstance(realise, Iterable):
+        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
+    items = list(realise)
+    for item in items:
+        if item not in REALISABLE:
+            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
+    if len(set(items)) != len(items):
+        raise input_error(name, "no repeated items", items)
+    return tuple(k for k in REALISABLE if k in items)
+
+
+def _validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
+    if fields is None:
+        return {}
+    if not isinstance(fields, Mapping):
+        raise input_error("fields", "a mapping of field kind to legendre coefficients", fields)
+    out: dict[str, tuple[float, ...]] = {}
+    for kind, value in fields.items():
+        if kind not in FIELD_KINDS:
+            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+        if isinstance(value, (list, tuple)) and len(value) == 0:
+            coeffs: tuple[float, ...] = ()
+        else:
+            coeffs = tuple(float(v) for v in as_array(value, f"fields.{kind}", (None,)))
+        while coeffs and coeffs[-1] == 0.0:
+            coeffs = coeffs[:-1]
+        if len(coeffs) > MAX_FIELD_DEGREE:
+            raise input_error(
+                f"fields.{kind}", f"a field of degree <= {MAX_FIELD_DEGREE}", list(coeffs)
+            )
+        out[kind] = coeffs
+    return out
+
+
+def _exact(value: float, exact: bool) -> Fraction:
+    """The exact rational of a float: as printed (``0.3 -> 3/10``) or its binary value."""
+    return Fraction(repr(value)) if exact else Fraction(value)
+
+
+def _fmt(value: Fraction) -> str:
+    return str(value)
+
+
+def derive_conditions(
+    params: Parameters,
+    fields: Mapping[str, Sequence[float]] | None = None,
+    realise: Iterable[str] = REALISABLE,
+    *,
+    exact: bool = False,
+    length: float | None = None,
+) -> LinearConditions:
+    """Linear moment conditions that realise the theorem's mu, V and inertia.
+
+    Parameters
+    ----------
+    params : Parameters
+        The theorem's parameters (SI units). lambda and rho must be 0 when realising mu or V.
+    fields : mapping of str to sequence of float, optional
+        Legendre coefficients per field kind (``magnetic``, ``electric``, ``gravity``), as in
+        design.json (the paper's a1, a2 are ``[a1, 2 a2]``). A kind that is absent is
+        derived: magnetic ``[1, 1]`` where needed, electric from the forced/default
+        strengths, no gravity. A given field is used as given (missing terms are 0).
+    realise : iterable of str
+        Subset of ``mu``, ``V``, ``inertia``.
+    exact : bool
+        Read the inputs as the decimals they print as (``0.3 -> 3/10``) and report exact
+        rational values (``exact_value``). Otherwise the binary value of each float is used;
+        both paths compute exactly, the float values are correctly rounded.
+    length : float, optional
+        The body's length scale in m (largest distance of a candidate from O). A field
+        strength that is needed but not forced (e.g. the electric e4 when no electric field
+        is given) is chosen for it, so that the moments it requires have the natural size of
+        the elements the other conditions force (docs/conditions.md). None: 1 m is assumed
+        and ``length_assumed`` is set (:func:`chargedesign.design.design_body` then
+        re-derives for the candidates' size). Given field strengths never depend on it.
+
+    Returns
+    -------
+    LinearConditions
+
+    Raises
+    ------
+    InputError
+        Non-finite or malformed input.
+    InfeasibleError
+        The targets cannot be realised (the message names the cause).
+    """
+    if not isinstance(params, Parameters):
+        raise input_error("params", "a chargedesign.params.Parameters", params)
+    goals = _validate_realise(realise, "realise")
+    given = _validate_fields(fields)
+    if length is not None:
+        length = as_finite_float(length, "length", positive=True)
+    if params.singular and ({"mu", "V"} & set(goals)):
+        which = ", ".join(
+            f"{name} = {value:g}"
+            for name, value in (("lambda", params.lam), ("rho", params.rho))
+            if value != 0
+        )
+        raise InfeasibleError(
+            f"parameters {which}: singular on gamma3 = 0: no finite charge distribution realises "
+            "them; the model and the reduced simulation still accept them"
+        )
+    P = [_exact(getattr(params, name), exact) for name in _PARAM_NAMES]
+    fields_exact = {kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()}
+    ctx = _Context(
+        params=params,
+        P=P,
+        exact=exact,
+        fields=fields_exact,
+        derivable=set(),
+        systems={},
+        notes=[],
+        length=_exact(DEFAULT_LENGTH if length is None else length, exact),
+        length_given=length is not None,
+    )
+    origin = {kind: "given" for kind in given}
+    if "magnetic" not in given:
+        needs_f1 = "mu" in goals and P[3] != 0
+        proj = _v_projection()
+        needs_f2 = ("mu" in goals and P[4] != 0) or (
+            "V" in goals and any(proj[h.label](P) != 0 for h in _harmonics(2) if h.label in proj)
+        )
+        derived = [
+            Fraction(DEFAULT_MAGNETIC[0]) if needs_f1 else Fraction(0),
+            Fraction(DEFAULT_MAGNETIC[1]) if needs_f2 else Fraction(0),
+        ]
+        while derived and derived[-1] == 0:
+            derived.pop()
+        ctx.fields["magnetic"] = derived
+        origin["magnetic"] = "derived"
+        if derived:
+            ctx.notes.append(
+                "fields.magnetic derived (none given): legendre "
+                f"{[float(v) for v in derived]} (a1 = 1 T, a2 = 0.5 T/m where needed)"
+            )
+    if "electric" not in given:
+        ctx.fields["electric"] = []
+        origin["electric"] = "derived"
+        if "V" in goals:
+            ctx.derivable.add("electric")
+    if "gravity" not in given:
+        ctx.fields["gravity"] = []
+        origin["gravity"] = "derived"
+    if "mu" in goals or "V" in goals:
+        ctx.systems["charges"] = _System()
+    if "V" in goals:
+        ctx.systems["dipoles"] = _System()
+    if "inertia" in goals:
+        ctx.systems["masses"] = _System()
+    if "mu" in goals:
+        _charges_for_mu(ctx)
+    if "inertia" in goals:
+        _masses_for_inertia(ctx)
+    if "V" in goals:
+        kmax = max(
+            V_DEGREE,
+            len(ctx.fields["magnetic"]),
+            len(ctx.fields["electric"]),
+            len(ctx.fields["gravity"]) if "masses" in ctx.systems else 0,
+        )
+        for k in range(1, kmax + 1):
+            _realise_degree(ctx, k)
+        if "masses" not in ctx.systems and any(ctx.fields["gravity"]):
+            ctx.notes.append("fields.gravity acts on no designed element (inertia not realised)")
+    elif given.get("electric"):
+        ctx.notes.append("fields.electric is not used: V is not realised")
+    if "V" in goals and "mu" not in goals:
+        ctx.notes.append("charges: mu is not realised; their moments serve V only")
+    conditions = []
+    for source in SOURCES:
+        system = ctx.systems.get(source)
+        if system is None:
+            continue
+        for row in system.display:
+            conditions.append(
+                LinearCondition(
+                    source=source,
+                    coefficients={k: float(v) for k, v in row.coeffs.items()},
+                    value=float(row.rhs),
+                    provenance=row.provenance,
+                    exact_value=_fmt(row.rhs) if exact else "",
+                    exact_coefficients={k: _fmt(v) for k, v in row.coeffs.items()} if exact else {},
+                )
+            )
+    out_fields: dict[str, tuple[float, ...]] = {}
+    for kind in FIELD_KINDS:
+        coeffs = list(ctx.fields.get(kind, []))
+        while coeffs and coeffs[-1] == 0:
+            coeffs.pop()
+        out_fields[kind] = tuple(float(v) for v in coeffs)
+        if exact and origin[kind] == "derived" and coeffs:
+            ctx.notes.append(f"fields.{kind} exact legendre: [{', '.join(map(_fmt, coeffs))}]")
+    return LinearConditions(
+        conditions=conditions,
+        fields=out_fields,
+        notes=ctx.notes,
+        realise=goals,
+        field_origin={kind: origin[kind] for kind in FIELD_KINDS},
+        length=float(ctx.length) if ctx.defaults else None,
+        length_assumed=bool(ctx.defaults) and length is None,
+        default_strengths={name: float(v) for name, v in ctx.defaults.items()},
+        _inputs=(params, fields, goals, exact),
+    )

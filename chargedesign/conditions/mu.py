@@ -1,0 +1,192 @@
+"""mu: the charges' gyroscopic vector matched with the theorem's on the sphere.
+
+``mu = -sum q (r . B) r`` (``B = -grad Phi_m`` in body axes) is expanded with the charge
+moments as unknowns, reduced on ``|gamma| = 1`` and matched coefficient by coefficient with
+the theorem's mu in the harmonic basis; the linear system is solved exactly (rationals), or
+symbolically for generic field coefficients (:func:`symbolic_mu_solution`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cache
+from typing import Any
+
+from chargedesign.conditions.algebra import _key_rank, _Row
+from chargedesign.conditions.constants import MAX_FIELD_DEGREE
+from chargedesign.conditions.context import _Context
+from chargedesign.conditions.harmonics import (
+    _body_coordinates,
+    _cartesian_split,
+    _field_symbols,
+    _gamma_poly,
+    _harmonics,
+    _ParamPoly,
+    _project,
+    _sympy_symbols,
+    _zonal_solid,
+)
+from chargedesign.errors import InfeasibleError
+from chargedesign.moments import moment_keys
+from chargedesign.validation import input_error
+
+
+@dataclass(frozen=True)
+class _MuEquation:
+    """``sum_key (sum_k f_k coefficients[key][k]) I_key = rhs(params)`` for one harmonic of one
+    component of mu, from coefficient matching on the sphere."""
+
+    component: int
+    harmonic: str
+    coefficients: dict[str, dict[int, Fraction]]
+    rhs: _ParamPoly
+    label: str
+
+
+@cache
+def _mu_system(degree: int) -> tuple[_MuEquation, ...]:
+    """The coefficient-matching equations of the charges' mu for a magnetic field of
+    ``degree`` (symbolic field coefficients f_1..f_degree; cached per degree).
+
+    ``mu = -sum q (r . B) r`` with ``B = -grad Phi``, ``Phi = sum_k f_k R^k P_k(r . gamma / R)``
+    in body axes; the moments ``I_key = sum q x^i y^j z^l`` are the unknowns. Both sides are
+    reduced on ``|gamma| = 1`` and written in the harmonic basis (an invertible change of
+    basis of the reduced monomials, which separates the equations by moment order).
+    """
+    import sympy as sp
+
+    from chargedesign.model.case import symbolic_case
+
+    x, y, z, Z, S = _body_coordinates()
+    fs = _field_symbols(degree)
+    phi = sum(f * _zonal_solid(k, Z, S) for k, f in enumerate(fs, start=1))
+    B = [-sp.diff(phi, v) for v in (x, y, z)]
+    r_dot_B = x * B[0] + y * B[1] + z * B[2]
+    kmax = max(degree, 2)
+    target = symbolic_case().mu
+    equations = []
+    for a, ra in enumerate((x, y, z)):
+        physical = _cartesian_split(-r_dot_B * ra)
+        rows: dict[str, dict[str, dict[int, Fraction]]] = {}
+        for key, per_k in physical.items():
+            for k, gpoly in per_k.items():
+                for label, coef in _project(gpoly, kmax).items():
+                    rows.setdefault(label, {}).setdefault(key, {})[k] = coef
+        theorem = _project(_gamma_poly(target[a]), kmax)
+        harmonics = {h.label: h for kk in range(kmax + 1) for h in _harmonics(kk)}
+        for label in [h.label for kk in range(kmax + 1) for h in _harmonics(kk)]:
+            if label not in rows and label not in theorem:
+                continue
+            rhs = _ParamPoly.from_sympy(theorem.get(label, sp.Integer(0)))
+            h = harmonics[label]
+            text = (
+                f"mu_{a + 1}: coefficient of the degree-{h.degree} harmonic {h.text} "
+                f"(theorem: {rhs.text})"
+            )
+            equations.append(_MuEquation(a, label, rows.get(label, {}), rhs, text))
+    return tuple(equations)
+
+
+def _charges_for_mu(ctx: _Context) -> None:
+    """Add the charges' mu conditions for the magnetic field in use (exact, reported reduced)."""
+    magnetic = ctx.fields.get("magnetic", [])
+    n, K = ctx.P[3], ctx.P[4]
+    f1 = ctx.coefficient("magnetic", 1)
+    f2 = ctx.coefficient("magnetic", 2)
+    if n != 0 and f1 == 0:
+        raise InfeasibleError(
+            f"fields.magnetic: a1 = 0 while n = {ctx.params.n:g} != 0: the n terms of mu need "
+            "charges in a uniform magnetic field (a1 != 0)"
+        )
+    if K != 0 and f2 == 0:
+        raise InfeasibleError(
+            f"fields.magnetic: a2 = 0 while K = {ctx.params.K:g} != 0: the K terms of mu need "
+            "charges in a magnetic quadrupole (a2 != 0)"
+        )
+    degree = max(len(magnetic), 1)
+    system = ctx.systems["charges"]
+    for eq in _mu_system(degree):
+        coeffs = {
+            key: sum(
+                (magnetic[k - 1] * c for k, c in per_k.items() if k <= len(magnetic)), Fraction(0)
+            )
+            for key, per_k in eq.coefficients.items()
+        }
+        rhs = eq.rhs(ctx.P)
+        status, combo = system.add(coeffs, rhs, eq.label)
+        if status == "inconsistent":
+            raise InfeasibleError(
+                "mu cannot be realised by charges in this magnetic field: "
+                + system._describe(combo)
+            )
+    for pivot in sorted(system.pivots, key=_key_rank):
+        row, rhs, combo = system.pivots[pivot]
+        system.display.append(_Row(dict(row), rhs, system._describe(combo)))
+    ctx.notes.append(
+        f"charges: mu matched on |gamma| = 1 for a magnetic field of degree {degree}: "
+        f"{len(system.pivots)} independent conditions on the moments of orders 2..{degree + 1}"
+    )
+    ctx.notes.append(
+        "charges: their canonical angular momentum about Z, sum q psi (natural axisymmetric "
+        "gauge), then equals the theorem's l . gamma on |gamma| = 1, constant 2 n C included "
+        "(l_dot_gamma_residual)"
+    )
+
+
+def moment_symbol(key: str) -> Any:
+    """The charge moment ``I_key`` as a real sympy symbol (``I_xyz``)."""
+    import sympy as sp
+
+    return sp.Symbol(f"I_{key}", real=True)
+
+
+def symbolic_mu_solution(degree: int = 2) -> dict[str, Any]:
+    """The charges' moments that realise mu, for symbolic parameters and field coefficients.
+
+    Solves the coefficient-matching equations of :func:`_mu_system` with ``sympy.linsolve``
+    for generic (non-zero) ``f_1 .. f_degree`` (symbols ``f1, f2, ...``), degree >= 2 (a
+    field of degree 1 cannot give the K terms). Moments left free appear as themselves.
+
+    Returns
+    -------
+    dict[str, sympy.Expr]
+        ``{moment key: expression}`` for every moment of orders 2..degree+1.
+    """
+
+    if (
+        isinstance(degree, bool)
+        or not isinstance(degree, int)
+        or not 2 <= degree <= MAX_FIELD_DEGREE
+    ):
+        # degree 1 cannot give the K terms of mu (they need a magnetic quadrupole)
+        raise input_error("degree", f"an integer in 2..{MAX_FIELD_DEGREE}", degree)
+    return dict(_symbolic_mu_solution(degree))
+
+
+@cache
+def _symbolic_mu_solution(degree: int) -> tuple[tuple[str, Any], ...]:
+    import sympy as sp
+
+    fs = _field_symbols(degree)
+    params = _sympy_symbols()["params"]
+    keys = [k for order in range(2, degree + 2) for k in moment_keys(order)]
+    symbols = [moment_symbol(k) for k in keys]
+    equations = []
+    for eq in _mu_system(degree):
+        lhs = sum(
+            sum(fs[k - 1] * sp.Rational(c.numerator, c.denominator) for k, c in per_k.items())
+            * moment_symbol(key)
+            for key, per_k in eq.coefficients.items()
+        )
+        rhs = sum(
+            sp.Rational(c.numerator, c.denominator)
+            * sp.Mul(*[p**e for p, e in zip(params, exps, strict=True)])
+            for exps, c in eq.rhs.terms
+        )
+        equations.append(sp.expand(lhs - rhs))
+    solutions = sp.linsolve(equations, symbols)
+    if not solutions:  # pragma: no cover - mu is always realisable for generic fields
+        raise InfeasibleError("mu has no symbolic solution")
+    (solution,) = list(solutions)
+    return tuple((key, sp.factor(value)) for key, value in zip(keys, solution, strict=True))

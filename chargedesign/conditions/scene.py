@@ -1,0 +1,65 @@
+"""The conditions of a scene: its parameters, fields, ``[design] realise`` and body size."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from chargedesign.conditions.constants import DEFAULT_LENGTH, REALISABLE
+from chargedesign.conditions.derive import _validate_realise, derive_conditions
+from chargedesign.conditions.types import LinearConditions
+from chargedesign.validation import input_error
+
+if TYPE_CHECKING:  # pragma: no cover
+    from chargedesign.scene import Scene
+
+
+def realise_from_scene(scene: Scene) -> tuple[str, ...]:
+    """The ``[design] realise`` list of a scene (default: all of mu, V, inertia), validated."""
+    value = scene.table("design").get("realise", list(REALISABLE))
+    if not isinstance(value, list):
+        raise input_error("design.realise", "a list of " + ", ".join(REALISABLE), value)
+    return _validate_realise(value, "design.realise")
+
+
+def scene_length(scene: Scene) -> tuple[float | None, str]:
+    """The body length scale of a scene (m): the largest distance of a candidate from O.
+
+    The candidates of the scene's ``[body]`` table are built as the design stage builds them
+    (:func:`chargedesign.candidates.candidates_from_table`), so the conditions command and
+    the design choose the same default strengths. A scene with no usable ``[body]`` gives
+    ``(None, reason)``: the conditions do not validate the body (the design does).
+    """
+    from pathlib import Path
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.errors import ChargeDesignError
+
+    table = scene.table("body")
+    if not table:
+        return None, "the scene has no [body]"
+    base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
+    try:
+        size = candidates_from_table(table, base_dir=base_dir).geometry.size
+    except ChargeDesignError as exc:
+        return None, f"[body] not usable ({exc})"
+    if not size > 0:
+        return None, "the candidates all sit at O"
+    return size, ""
+
+
+def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditions:
+    """:func:`derive_conditions` for a scene's parameters, fields and ``[design] realise``.
+
+    Default field strengths are chosen for the size of the scene's body
+    (:func:`scene_length`), as :func:`chargedesign.design.design_from_scene` does.
+    """
+    from chargedesign.scene import Scene as _Scene
+
+    if not isinstance(scene, _Scene):
+        raise input_error("scene", "a chargedesign.scene.Scene", scene)
+    realise = realise_from_scene(scene)
+    length, why = scene_length(scene)
+    result = derive_conditions(scene.parameters, scene.fields, realise, exact=exact, length=length)
+    if result.length_assumed and why:
+        result.notes.append(f"body length {DEFAULT_LENGTH:g} m assumed: {why}")
+    return result

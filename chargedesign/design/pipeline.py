@@ -1,0 +1,362 @@
+"""The design stages end to end: one source, the whole body, a scene.
+
+For each source: build the nondimensional system (:mod:`~chargedesign.design.system`),
+diagnose it (:mod:`~chargedesign.design.diagnostics`), solve (:mod:`~chargedesign.design.solve`),
+polish (:mod:`~chargedesign.design.polish`), verify the residual and assess the forward
+accuracy (:mod:`~chargedesign.design.accuracy`). :func:`design_body` checks every source's
+system before solving any and assembles the :class:`~chargedesign.body.Design`.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.candidates import CandidateSet, candidates_from_points
+from chargedesign.conditions import SOURCES, LinearConditions
+from chargedesign.design.accuracy import FORWARD_LIMIT, FORWARD_NOTE, _Forward, _length_notes
+from chargedesign.design.diagnostics import _infeasible_inequalities, diagnose
+from chargedesign.design.options import DesignOptions, Progress
+from chargedesign.design.polish import _polish, _support_of
+from chargedesign.design.result import DesignResult, SourceResult, design_extras
+from chargedesign.design.solve import _solve
+from chargedesign.design.solvers import _Infeasible
+from chargedesign.design.system import UNITS, _build, _group_norms, _Problem, relative_residual
+from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.params import Parameters
+from chargedesign.validation import input_error
+
+
+def design_source(
+    source: str,
+    conditions: LinearConditions,
+    candidates: CandidateSet,
+    options: DesignOptions,
+    *,
+    progress: Progress | None = None,
+    params: Parameters | None = None,
+) -> tuple[np.ndarray, SourceResult]:
+    """Design one source's weights on the candidates.
+
+    With ``params`` the weights' forward accuracy is assessed as in :func:`design_body`
+    (a note when the conditions are met only by cancellation, a refusal beyond
+    ``FORWARD_LIMIT``).
+
+    Returns
+    -------
+    weights : ndarray, shape (n,) or (n, 3)
+        SI units (C, A m^2 or kg), on every candidate (zeros off the support).
+    result : SourceResult
+
+    Raises
+    ------
+    InfeasibleError, SolverError
+    """
+    t0 = time.perf_counter()
+    p = _build(source, conditions, candidates.points, options)
+    rank, notes = diagnose(p, candidates.geometry)
+    forward = None
+    if params is not None:
+        realise = options.realise if options.realise is not None else conditions.realise
+        forward = _Forward.build(params, conditions, candidates, realise)
+    return _design_problem(p, rank, notes, options, t0, progress, forward)
+
+
+def _design_problem(
+    p: _Problem,
+    rank: int,
+    notes: list[str],
+    options: DesignOptions,
+    t0: float,
+    progress: Progress | None,
+    forward: _Forward | None = None,
+) -> tuple[np.ndarray, SourceResult]:
+    source = p.source
+    objective = options.objective_for(source)
+    p.rank = rank
+    n_cand = p.n_candidates
+    shape = (n_cand, 3) if p.group == 3 else (n_cand,)
+    if not np.any(p.b):
+        # every condition is homogeneous: no element of this source is needed
+        return np.zeros(shape), SourceResult(
+            source=source,
+            objective=objective,
+            objective_value=0.0,
+            objective_value_raw=0.0,
+            units=UNITS[source],
+            solver="none",
+            method="all conditions are zero: no elements needed",
+            status="optimal",
+            n_conditions=len(p.b),
+            rank=rank,
+            n_candidates=n_cand,
+            n_elements=0,
+            residual_before=0.0,
+            residual_after=0.0,
+            seconds=time.perf_counter() - t0,
+            notes=notes,
+        )
+    if progress is not None:
+        progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
+    try:
+        sol = _solve(p, objective, options, progress)
+    except _Infeasible:
+        raise _infeasible_inequalities(p, options) from None
+    if sol.u is None or not np.all(np.isfinite(sol.u)):
+        raise SolverError(f"{source}: solver {sol.solver} returned no finite solution")
+    raw = sol.u * p.scale
+    before = relative_residual(p.A, raw, p.b)
+    u = sol.u
+    polish_text = "not polished"
+    if options.polish:
+        u, polish_text = _polish(p, sol.u, options.tolerance)
+    weights = u * p.scale
+    after = relative_residual(p.A, weights, p.b)
+    worst, cancellation = forward.assess(p, weights) if forward is not None else (None, "")
+    cancels = worst is not None and worst.forward_error > FORWARD_NOTE
+    if after > options.tolerance:
+        if options.tolerance < 2 * np.finfo(float).eps:
+            raise SolverError(
+                f"{source}: relative residual {after:.2g} exceeds design.tol = "
+                f"{options.tolerance:g}, which is below the rounding of double precision "
+                f"({np.finfo(float).eps:.2g}): raise design.tol"
+            )
+        if cancels:
+            # the solver is not at fault: the targets are tiny against what the weights carry
+            raise InfeasibleError(
+                f"{source}: relative residual {after:.2g} exceeds design.tol = "
+                f"{options.tolerance:g}, most likely because {cancellation} (another solver "
+                "will not help)"
+            )
+        raise SolverError(
+            f"{source}: relative residual {after:.2g} exceeds design.tol = "
+            f"{options.tolerance:g} ({sol.solver}, {polish_text}); try another solver"
+        )
+    if worst is not None and worst.forward_error > FORWARD_LIMIT:
+        raise InfeasibleError(
+            f"{source}: refused, {cancellation} (beyond {FORWARD_LIMIT:g} the body realises "
+            "nothing reliably)"
+        )
+    if cancels:
+        notes.append(f"{source}: {cancellation}")
+    if p.nonneg and np.any(weights < 0):
+        raise SolverError(f"{source}: a negative mass survived polishing ({weights.min():.3g} kg)")
+    support = _support_of(u, p.group, 0.0)
+    if sol.status != "optimal":
+        notes.append(
+            f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
+            "the residuals were verified here"
+        )
+    notes.extend(sol.notes)
+    result = SourceResult(
+        source=source,
+        objective=objective,
+        objective_value=_objective_value(weights, p.group, objective),
+        objective_value_raw=_objective_value(raw, p.group, objective),
+        units=UNITS[source],
+        solver=sol.solver,
+        method=f"{sol.method}; {polish_text}",
+        status="optimal",
+        n_conditions=len(p.b),
+        rank=rank,
+        n_candidates=n_cand,
+        n_elements=len(support),
+        residual_before=before,
+        residual_after=after,
+        seconds=time.perf_counter() - t0,
+        notes=notes,
+        forward=worst,
+    )
+    return weights.reshape(shape), result
+
+
+def _objective_value(w: np.ndarray, group: int, objective: str) -> float:
+    mags = _group_norms(w) if group == 3 else np.abs(w)
+    if len(mags) == 0:
+        return 0.0
+    if objective == "l1":
+        return float(np.sum(mags))
+    if objective == "l2":
+        return float(np.sqrt(np.sum(mags**2)))
+    return float(np.max(mags))
+
+
+def design_body(
+    params: Parameters,
+    conditions: LinearConditions,
+    candidates: CandidateSet | np.ndarray,
+    options: DesignOptions | None = None,
+    *,
+    progress: Progress | None = None,
+) -> DesignResult:
+    """Design charges, dipoles and masses on candidate points that meet the conditions.
+
+    Parameters
+    ----------
+    params : Parameters
+        The theorem's parameters (SI units).
+    conditions : LinearConditions
+        From :func:`chargedesign.conditions.derive_conditions`; its ``fields`` are written
+        into the design.
+    candidates : CandidateSet or ndarray, shape (n, 3)
+        Candidate positions in body axes, m.
+    options : DesignOptions, optional
+    progress : callable, optional
+        Called with a short message before each long step.
+
+    Returns
+    -------
+    DesignResult
+
+    Raises
+    ------
+    InfeasibleError
+        The conditions cannot be met on these candidates (the message names them), or only
+        by a cancellation that leaves the body meaningless (estimated forward error above
+        ``FORWARD_LIMIT``; the message names the cause and the remedy).
+    SolverError
+        A solver failed or its polished result misses ``options.tolerance``.
+
+    Notes
+    -----
+    The design meets ``conditions`` as given. When their default field strengths were chosen
+    for an assumed 1 m body (``conditions.length_assumed``) and these candidates call for
+    other ones, a note gives them (derive the conditions with ``length=`` the candidates'
+    size, as :func:`design_from_scene` does). Every source's delivered weights are assessed
+    for cancellation (:func:`forward_accuracy`): above ``FORWARD_NOTE`` the notes say which
+    quantity is met only by cancellation, the forward accuracy to expect and the remedy.
+    """
+    if not isinstance(params, Parameters):
+        raise input_error("params", "a chargedesign.params.Parameters", params)
+    if not isinstance(conditions, LinearConditions):
+        raise input_error("conditions", "a chargedesign.conditions.LinearConditions", conditions)
+    options = options or DesignOptions()
+    cand = (
+        candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
+    )
+    realise = tuple(conditions.realise) if conditions.realise else ()
+    if options.realise is not None:
+        if conditions.realise and set(options.realise) != set(conditions.realise):
+            raise InputError(
+                f"design.realise: the conditions realise {list(conditions.realise)}, the "
+                f"options ask for {list(options.realise)}"
+            )
+        realise = options.realise
+    timings: dict[str, float] = {}
+    t_start = time.perf_counter()
+    sources_present = [s for s in SOURCES if conditions.for_source(s)]
+    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if options.n_charges is not None and "charges" not in sources_present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if options.total_mass is not None and "masses" not in sources_present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+    notes = list(cand.notes)
+    notes.extend(_length_notes(conditions, cand.geometry.size))
+    forward = _Forward.build(params, conditions, cand, realise)
+    # fail fast: every source's equality system is checked before any solve
+    checked = []
+    for source in sources_present:
+        t0 = time.perf_counter()
+        p = _build(source, conditions, cand.points, options)
+        rank, source_notes = diagnose(p, cand.geometry)
+        checked.append((p, rank, source_notes, time.perf_counter() - t0))
+    results: dict[str, SourceResult] = {}
+    weights: dict[str, np.ndarray] = {}
+    for p, rank, source_notes, setup in checked:
+        source = p.source
+        t0 = time.perf_counter() - setup
+        w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
+        weights[source] = w
+        results[source] = res
+        timings[source] = res.seconds
+        notes.extend(res.notes)
+    timings["total"] = time.perf_counter() - t_start
+
+    def pick(source: str) -> tuple[np.ndarray, np.ndarray]:
+        if source not in weights:
+            shape = (0, 3) if source == "dipoles" else (0,)
+            return np.zeros((0, 3)), np.zeros(shape)
+        w = weights[source]
+        mags = np.linalg.norm(w, axis=1) if w.ndim == 2 else np.abs(w)
+        keep = mags > 0
+        return cand.points[keep], w[keep]
+
+    cp_, cv = pick("charges")
+    dp, dm = pick("dipoles")
+    mp, mv = pick("masses")
+    design = Design(
+        parameters=params,
+        fields={k: tuple(v) for k, v in conditions.fields.items()},
+        charge_positions=cp_,
+        charge_values=cv,
+        mass_positions=mp,
+        mass_values=mv,
+        dipole_positions=dp,
+        dipole_moments=dm,
+        realises=list(realise),
+    )
+    result = DesignResult(
+        design=design,
+        sources=results,
+        candidates=cand,
+        options=options,
+        conditions=conditions,
+        timings=timings,
+        notes=notes,
+    )
+    design.extra.update(design_extras(result))
+    return result
+
+
+def design_from_scene(
+    scene: Any,
+    *,
+    progress: Progress | None = None,
+    **overrides: Any,
+) -> DesignResult:
+    """Design the body a scene describes: its parameters, fields, ``[body]`` and ``[design]``.
+
+    Parameters
+    ----------
+    scene : chargedesign.scene.Scene
+    progress : callable, optional
+    **overrides
+        DesignOptions fields that replace the scene's ``[design]`` values (None: keep).
+
+    Returns
+    -------
+    DesignResult
+    """
+    from pathlib import Path
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.conditions import derive_conditions, realise_from_scene
+    from chargedesign.scene import Scene
+
+    if not isinstance(scene, Scene):
+        raise input_error("scene", "a chargedesign.scene.Scene", scene)
+    t0 = time.perf_counter()
+    options = DesignOptions.from_table(scene.table("design"), **overrides)
+    base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
+    if progress is not None:
+        progress("candidates ...")
+    candidates = candidates_from_table(scene.table("body"), base_dir=base_dir)
+    t1 = time.perf_counter()
+    if progress is not None:
+        progress(f"conditions ({len(candidates)} candidates) ...")
+    realise = options.realise if options.realise is not None else realise_from_scene(scene)
+    size = candidates.geometry.size
+    conditions = derive_conditions(
+        scene.parameters, scene.fields, realise, length=size if size > 0 else None
+    )
+    t2 = time.perf_counter()
+    result = design_body(scene.parameters, conditions, candidates, options, progress=progress)
+    result.timings = {"candidates": t1 - t0, "conditions": t2 - t1, **result.timings}
+    result.timings["total"] = time.perf_counter() - t0
+    result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
+    result.design.extra["provenance"]["scene"] = scene.source
+    return result

@@ -1,0 +1,162 @@
+"""Which problem solves a source: objective, full problem or column generation, sparsity.
+
+:func:`_solve` dispatches one source's scaled problem by its objective; with
+``n_charges`` the charges' support is first searched by reweighted l1 and then, if needed,
+by a mixed-integer program (HiGHS), and the objective is solved on that support.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from chargedesign.design.column_generation import (
+    _dipoles_column_generation,
+    _l1_lp_column_generation,
+    _use_cg,
+)
+from chargedesign.design.options import DesignOptions, Progress
+from chargedesign.design.problems import (
+    _dipole_cvxpy,
+    _l1_cvxpy,
+    _l1_lp_full,
+    _solve_l2,
+    _solve_linf_scalar,
+)
+from chargedesign.design.solvers import _cvxpy, _Solution, _solve_cvxpy, _solver_name
+from chargedesign.design.system import _Problem, _restrict
+from chargedesign.errors import InfeasibleError, SolverError
+
+#: candidates above which the mixed-integer fallback for ``n_charges`` is not attempted
+MIP_MAX_CANDIDATES = 5000
+
+
+def _solve(
+    p: _Problem, objective: str, options: DesignOptions, progress: Progress | None
+) -> _Solution:
+    if p.source == "dipoles":
+        if objective == "l2":
+            return _solve_l2(p, options)
+        return _solve_dipoles_cone(p, options, progress)
+    if p.source == "charges" and options.n_charges is not None:
+        support, how = _reweighted_support(p, options, options.n_charges, progress)
+        sub = _restrict(p, support)
+        inner = _solve(sub, objective, replace(options, n_charges=None), progress)
+        u = np.zeros(p.A_s.shape[1])
+        u[support] = inner.u
+        sol = _Solution(u, inner.solver, f"{how}; then {inner.method}", inner.status)
+        return sol
+    if objective == "l1":
+        return _solve_l1_scalar(p, options, None, progress)
+    if objective == "linf":
+        return _solve_linf_scalar(p, options)
+    return _solve_l2(p, options)
+
+
+def _solve_l1_scalar(
+    p: _Problem, options: DesignOptions, costs: np.ndarray | None, progress: Progress | None
+) -> _Solution:
+    solver = _solver_name(options)
+    if solver in ("AUTO", "HIGHS"):
+        if _use_cg(p, options):
+            return _l1_lp_column_generation(p, costs, progress)
+        return _l1_lp_full(p, costs, None)
+    return _l1_cvxpy(p, costs, solver)
+
+
+def _solve_dipoles_cone(
+    p: _Problem, options: DesignOptions, progress: Progress | None
+) -> _Solution:
+    objective = options.objective_for("dipoles")
+    solver = _solver_name(options)
+    name = "CLARABEL" if solver == "AUTO" else solver
+    where = f"dipoles: {objective} problem"
+    if objective == "l1" and solver in ("AUTO", "CLARABEL") and _use_cg(p, options):
+        return _dipoles_column_generation(p, name, progress)
+    try:
+        u, _, status = _dipole_cvxpy(p.A_s, p.b_s, objective, name, where)
+    except SolverError as exc:
+        raise SolverError(
+            f"{exc}; the dipoles' {objective} problem is a second-order cone: use solver "
+            "'auto' or 'CLARABEL'"
+        ) from exc
+    return _Solution(u, name.capitalize(), "cvxpy, full problem (second-order cone)", status)
+
+
+def _reweighted_support(
+    p: _Problem, options: DesignOptions, target: int, progress: Progress | None
+) -> tuple[np.ndarray, str]:
+    """Indices of at most ``target`` charges meeting the conditions (reweighted l1, then MIP)."""
+    best: np.ndarray | None = None
+    if options.sparsity in ("auto", "reweighted"):
+        costs = None
+        for iteration in range(1, 11):
+            sol = _solve_l1_scalar(p, replace(options, solver="auto"), costs, progress)
+            u = sol.u
+            top = float(np.max(np.abs(u))) if len(u) else 0.0
+            support = np.flatnonzero(np.abs(u) > 1e-9 * top)
+            if best is None or len(support) < len(best):
+                best = support
+            if len(support) <= target:
+                return support, f"reweighted l1: {iteration} iterations, {len(support)} charges"
+            eps = 1e-3 * top
+            costs = 1.0 / (np.abs(u) + eps)
+            costs /= float(np.min(costs))
+    if options.sparsity == "reweighted" or (
+        options.sparsity == "auto" and p.n_candidates > MIP_MAX_CANDIDATES
+    ):
+        # not a proof of infeasibility (a heuristic failed to find one): a solver failure
+        raise SolverError(
+            f"charges: no design with at most {target} charges found (reweighted l1 reached "
+            f"{len(best) if best is not None else 'none'}); raise design.n_charges"
+            + (
+                f" or use fewer than {MIP_MAX_CANDIDATES} candidates for the mixed-integer search"
+                if p.n_candidates > MIP_MAX_CANDIDATES
+                else ""
+            )
+        )
+    if progress is not None:
+        progress(
+            f"charges: mixed-integer search for at most {target} charges "
+            f"(up to {options.time_limit:g} s) ..."
+        )
+    return _mip_support(p, options, target, best)
+
+
+def _mip_support(
+    p: _Problem, options: DesignOptions, target: int, best: np.ndarray | None
+) -> tuple[np.ndarray, str]:
+    cp = _cvxpy()
+    n = p.A_s.shape[1]
+    if p.upper is not None:
+        big_m = p.upper
+        bound_text = f"|q| <= max_charge = {options.max_charge:g} C"
+    else:
+        ref = _l1_lp_full(p, None, None).u
+        big_m = 10.0 * float(np.max(np.abs(ref)))
+        bound_text = f"|q| <= {big_m * p.scale:.3g} C (10 x the largest l1 charge; set max_charge)"
+    u = cp.Variable(n)
+    z = cp.Variable(n, boolean=True)
+    prob = cp.Problem(
+        cp.Minimize(cp.norm1(u)),
+        [p.A_s @ u == p.b_s, cp.abs(u) <= big_m * z, cp.sum(z) <= target],
+    )
+    where = "charges: mixed-integer sparsity problem"
+    status = _solve_cvxpy(prob, "HIGHS", where, time_limit=options.time_limit)
+    if status in ("infeasible", "infeasible_inaccurate"):
+        raise InfeasibleError(
+            f"charges: no design with at most {target} charges exists on these candidates with "
+            f"{bound_text} (proved by HiGHS mixed-integer search)"
+        )
+    if status not in ("optimal", "optimal_inaccurate") or u.value is None:
+        found = len(best) if best is not None else "none"
+        raise SolverError(
+            f"charges: no design with at most {target} charges found within "
+            f"design.time_limit = {options.time_limit:g} s (status {status}; the sparsest "
+            f"found has {found}); raise n_charges or the time limit"
+        )
+    values = np.asarray(u.value, dtype=float)
+    top = float(np.max(np.abs(values)))
+    support = np.flatnonzero(np.abs(values) > 1e-9 * top)
+    return support, f"mixed integer (HiGHS): {len(support)} charges with {bound_text}"
