@@ -27,14 +27,26 @@ sums are rotated back to body axes with ``R^T``. Compared with the theorem
 Relative error of a quantity x(gamma) against its reference x_ref(gamma) over the sampled
 orientations:
 
-    rel_err = max_g |x(g) - x_ref(g)| / max(max_g |x_ref(g)|, NOISE_FLOOR * gross)
+    rel_err = max_g |x(g) - x_ref(g)| / max_g |x_ref(g)|
 
-with ``|.|`` the Euclidean norm, ``gross`` the largest (over g) sum of the elements'
-absolute contributions (the size of the cancelling terms, so rounding noise of a reference
-that is zero is not divided by zero) and ``NOISE_FLOOR = 1e-6``. For V the constant is
-removed first: ``x - x_ref`` minus its mean over the orientations, and the reference's
-spread ``x_ref - mean(x_ref)`` in the denominator. The inertia is one matrix (largest
-absolute entry of the difference over the largest entry of ``diag(2C, 2C, C)``).
+with ``|.|`` the Euclidean norm. For V the constant is removed first (x and x_ref each minus
+its mean over the orientations; the difference of the means is ``V_offset``), so the
+denominator is the reference's spread. The inertia is one matrix (largest absolute entry of
+the difference over the largest entry of ``diag(2C, 2C, C)``). A reference that is zero at
+every orientation (mu when n = K = 0) has no relative error: rel_err is then the absolute
+error divided by the gross contributions (``basis = "gross"``).
+
+Rounding floor. When the elements' contributions are far larger than the quantity (weak
+fields force large charges whose contributions cancel), a floating-point evaluation is
+only as accurate as its unit roundoff times ``cancellation = gross / max |x_ref|``, with
+``gross`` the sum over the elements of the size of their contributions
+(:func:`contribution_sizes`): ``rounding_floor = ROUNDING_FACTOR * (unit * cancellation +
+EPS)``. A claimed quantity passes when ``rel_err <= tol``; it fails as ``unverifiable``
+when its floor exceeds ``tol`` (unless the error is beyond ``tol`` by more than the floor:
+then it is a plain ``fail``). With ``precision="auto"`` the sums are evaluated in
+double-double (:func:`evaluate_accurate`, unit 2^-104) whenever a claimed quantity's double
+floor exceeds ``ACCURATE_FRACTION * tol``, so a correct but heavily cancelling body is
+verified, and a wrong one is measured, not hidden under a floor.
 
 Per effect (``lorentz``: charges in B; ``electric``: charges in E; ``gravity``: masses;
 ``magnetization``: dipoles; ``inertia``: masses) the report gives the effect's size and the
@@ -47,6 +59,7 @@ field; the tangential gradient is unique on the sphere).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -61,8 +74,20 @@ from chargedesign.validation import as_finite_float, input_error
 
 DEFAULT_TOL = 1e-9
 DEFAULT_ORIENTATIONS = 1000
-#: relative size (to the gross contributions) below which a reference counts as zero
+#: per-effect route agreement (informational) is skipped for an effect whose rounding floor
+#: (its torque against its gross contributions) exceeds this (it would only measure rounding)
 NOISE_FLOOR = 1e-6
+#: unit roundoff of double precision
+EPS = float(np.finfo(np.float64).eps)
+#: rounding floor of an evaluation = ROUNDING_FACTOR * (unit * cancellation + EPS), the
+#: cancellation measured with :func:`contribution_sizes`; the largest error measured (double
+#: against double-double, 154 bodies, fields of degree up to 8) is 5.3 in these units, 2.1
+#: with fields of degree <= 4 (docs/check.md)
+ROUNDING_FACTOR = 32.0
+#: ``precision="auto"`` evaluates in double-double when a claimed quantity's double-precision
+#: rounding floor exceeds this fraction of the tolerance
+ACCURATE_FRACTION = 0.01
+PRECISIONS = ("auto", "double", "double-double")
 #: element-orientation pairs per vectorised block (its temporaries then stay in the L2 cache)
 BLOCK_PAIRS = 1 << 13
 
@@ -94,17 +119,39 @@ class QuantityResult:
     name : str
         ``mu``, ``gyroscopic_torque``, ``V``, ``potential_torque`` or ``inertia``.
     rel_err : float
-        Largest relative error (see module docstring).
+        Largest error over the orientations divided by ``scale`` (see ``basis``).
     abs_err : float
         Largest absolute error (SI units of the quantity).
     scale : float
-        The denominator used.
+        The denominator: ``max |x_ref|`` over the orientations (V: the spread of x_ref), or
+        the gross contributions when the reference is zero.
     worst_gamma : tuple of float or None
         The orientation of the largest error (None for the inertia).
     claimed : bool
         Whether the design claims it (then it is compared with the tolerance).
     passed : bool or None
-        ``rel_err <= tol`` when claimed, else None (informational).
+        True for status ``pass``, False for ``fail`` and ``unverifiable``, None when not
+        claimed (informational).
+    status : str
+        ``pass``, ``fail``, ``unverifiable`` (the rounding floor of the evaluation exceeds the
+        tolerance and the error is not certainly beyond it) or ``info`` (not claimed).
+    reason : str or None
+        Why a claimed quantity did not pass (one line), else None.
+    basis : str
+        ``reference`` (rel_err relative to ``max |x_ref|``) or ``gross`` (the reference is
+        zero: absolute error relative to the gross contributions).
+    gross : float
+        Largest (over the orientations) sum of the elements' absolute contributions.
+    cancellation : float
+        ``gross / max |x_ref|`` (inf for a zero reference): how many times larger the
+        cancelling contributions are than the quantity.
+    rounding_floor : float
+        Attainable accuracy (same units as rel_err) of the evaluation that produced rel_err.
+    double_rounding_floor : float
+        Attainable accuracy of evaluating this body in double precision (the double kernel,
+        ``chargedesign simulate``): ``ROUNDING_FACTOR * EPS * (cancellation + 1)``.
+    precision : str
+        Arithmetic of the evaluation: ``double`` or ``double-double``.
     """
 
     name: str
@@ -114,6 +161,14 @@ class QuantityResult:
     worst_gamma: tuple[float, float, float] | None
     claimed: bool
     passed: bool | None
+    status: str = "info"
+    reason: str | None = None
+    basis: str = "reference"
+    gross: float = 0.0
+    cancellation: float = 0.0
+    rounding_floor: float = 0.0
+    double_rounding_floor: float = 0.0
+    precision: str = "double"
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -123,6 +178,15 @@ class QuantityResult:
             "worst_gamma": None if self.worst_gamma is None else list(self.worst_gamma),
             "claimed": self.claimed,
             "passed": self.passed,
+            "status": self.status,
+            "reason": self.reason,
+            "basis": self.basis,
+            "gross": self.gross,
+            # JSON has no infinity: a zero reference has no finite cancellation ratio
+            "cancellation": self.cancellation if math.isfinite(self.cancellation) else None,
+            "rounding_floor": self.rounding_floor,
+            "double_rounding_floor": self.double_rounding_floor,
+            "precision": self.precision,
         }
 
 
@@ -147,7 +211,7 @@ class EffectResult:
     route_rel_err : float or None
         Relative disagreement of two routes within the effect (informational), or None
         when not computed (inactive, too few orientations for the fit, or an effect whose
-        torque cancels below ``NOISE_FLOOR`` times its gross size).
+        torque cancels so far that its rounding floor exceeds ``NOISE_FLOOR``).
     worst_gamma : tuple of float or None
         Where ``route_rel_err`` occurs.
     """
@@ -196,7 +260,10 @@ class CheckReport:
     n_pairs : int
         Element-orientation pairs evaluated.
     notes : list[str]
-        Remarks (singular potential terms, nothing claimed, ...).
+        Remarks (singular potential terms, nothing claimed, a body verified only in
+        double-double, ...).
+    precision : str
+        Arithmetic of the compared sums: ``double`` or ``double-double``.
     """
 
     tol: float
@@ -209,16 +276,22 @@ class CheckReport:
     quadrature: list[dict[str, Any]] = field(default_factory=list)
     n_pairs: int = 0
     notes: list[str] = field(default_factory=list)
+    precision: str = "double"
 
     @property
     def passed(self) -> bool:
-        """True when every claimed quantity is within the tolerance."""
+        """True when every claimed quantity is verified within the tolerance."""
         return all(q.passed is not False for q in self.quantities.values())
 
     @property
     def failures(self) -> list[str]:
-        """Names of the claimed quantities beyond the tolerance."""
+        """Names of the claimed quantities that did not pass (``fail`` or ``unverifiable``)."""
         return [name for name, q in self.quantities.items() if q.passed is False]
+
+    @property
+    def unverifiable(self) -> list[str]:
+        """Names of the claimed quantities whose rounding floor exceeds the tolerance."""
+        return [name for name, q in self.quantities.items() if q.status == "unverifiable"]
 
     def to_dict(self) -> dict[str, Any]:
         """JSON mapping: the contract's keys first (``mu_rel_err``, ``V_rel_err``, ...)."""
@@ -228,6 +301,9 @@ class CheckReport:
         out["passed"] = self.passed
         out["tol"] = self.tol
         out["failures"] = self.failures
+        out["unverifiable"] = self.unverifiable
+        out["reasons"] = {k: q.reason for k, q in self.quantities.items() if q.reason}
+        out["precision"] = self.precision
         out["claimed"] = list(self.claimed)
         out["n_orientations"] = self.n_orientations
         out["seed"] = self.seed
@@ -288,6 +364,11 @@ def rotation_matrices(gammas: np.ndarray, rng: np.random.Generator) -> np.ndarra
         u[bad] = axis - np.einsum("ij,ij->i", axis, gammas[bad])[:, None] * gammas[bad]
         norm[bad] = np.linalg.norm(u[bad], axis=1)
     u /= norm[:, None]
+    # a second Gram-Schmidt pass: after the first, u . gamma is only eps * |trial| / |u|
+    # (1e-14 when the trial is nearly parallel to gamma), and a rotation that far from
+    # orthogonal shears the body by as much, which a cancelling body feels 50-fold
+    u -= np.einsum("ij,ij->i", u, gammas)[:, None] * gammas
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
     R = np.empty((m, 3, 3))
     R[:, 0] = u
     R[:, 1] = np.cross(gammas, u)
@@ -531,9 +612,10 @@ class RotatedSums:
 
     ``mu`` (kg m^2/s) and ``gyro`` (N m, Lorentz torque) from the charges; ``energy`` (J)
     and ``torque`` (N m) per potential effect (``electric``, ``gravity``,
-    ``magnetization``); ``*_gross`` the sums of the elements' absolute contributions (the
-    noise floor's scale). Vectors are in space axes inside the kernel and in body axes once
-    :func:`evaluate_rotated` returns.
+    ``magnetization``); ``*_gross`` the per-orientation sums of the elements' absolute
+    contributions (the scale of the per-effect route agreement's gate; the pass/fail floors
+    use :func:`contribution_sizes`). Vectors are in space axes inside the kernel and in body
+    axes once :func:`evaluate_rotated` returns.
     """
 
     mu: np.ndarray
@@ -777,6 +859,359 @@ def evaluate_rotated(
     return sums
 
 
+# ------------------------------------------------------------------ accurate evaluation
+# Double-double numbers: an unevaluated sum hi + lo of two doubles, |lo| <= ulp(hi) / 2, about
+# 106 bits (Dekker 1971; Hida, Li & Bailey's QD library for the add/multiply variants used).
+# Products use Dekker's split (numpy has no fused multiply-add); every operation is a fixed
+# sequence of numpy ufuncs, so it vectorises like the double kernel, some 20 to 40 times
+# slower per pair (bench/check.py measures it).
+_SPLITTER = 134217729.0  # 2^27 + 1
+#: unit roundoff of the double-double operations used (a few times 2^-106; conservative)
+DD_UNIT = 2.0**-104
+
+
+def _split(a: Any) -> tuple[Any, Any]:
+    t = _SPLITTER * a
+    hi = t - (t - a)
+    return hi, a - hi
+
+
+def _two_prod(a: Any, b: Any) -> tuple[Any, Any]:
+    """``a * b = p + e`` exactly (Dekker)."""
+    p = a * b
+    ah, al = _split(a)
+    bh, bl = _split(b)
+    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+
+
+def _two_sum(a: Any, b: Any) -> tuple[Any, Any]:
+    """``a + b = s + e`` exactly (Knuth)."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+def _fast_two_sum(a: Any, b: Any) -> tuple[Any, Any]:
+    """``a + b = s + e`` exactly when ``|a| >= |b|``."""
+    s = a + b
+    return s, b - (s - a)
+
+
+class _DD:
+    """Double-double array ``hi + lo`` (numpy broadcasting; operands: _DD, ndarray, float).
+
+    A float or float64 array operand is taken as exact (it is an input of the check).
+    """
+
+    __slots__ = ("hi", "lo")
+    __array_ufunc__ = None  # ndarray op _DD defers to _DD's reflected operators
+
+    def __init__(self, hi: Any, lo: Any = None) -> None:
+        self.hi = np.asarray(hi, dtype=np.float64)
+        self.lo = np.zeros_like(self.hi) if lo is None else lo
+
+    def __getitem__(self, index: Any) -> _DD:
+        return _DD(self.hi[index], self.lo[index])
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(self.hi.shape)
+
+    def __neg__(self) -> _DD:
+        return _DD(-self.hi, -self.lo)
+
+    def __add__(self, other: Any) -> _DD:
+        if isinstance(other, _DD):
+            s, e = _two_sum(self.hi, other.hi)
+            t, f = _two_sum(self.lo, other.lo)
+            s, e = _fast_two_sum(s, e + t)
+            return _DD(*_fast_two_sum(s, e + f))
+        s, e = _two_sum(self.hi, other)
+        return _DD(*_fast_two_sum(s, e + self.lo))
+
+    __radd__ = __add__
+
+    def __sub__(self, other: Any) -> _DD:
+        return self + (-other)
+
+    def __rsub__(self, other: Any) -> _DD:
+        return (-self) + other
+
+    def __mul__(self, other: Any) -> _DD:
+        if isinstance(other, _DD):
+            p, e = _two_prod(self.hi, other.hi)
+            return _DD(*_fast_two_sum(p, e + (self.hi * other.lo + self.lo * other.hi)))
+        p, e = _two_prod(self.hi, other)
+        return _DD(*_fast_two_sum(p, e + self.lo * other))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, other: float) -> _DD:
+        """Division by a double (used for the recurrences' integer denominators)."""
+        q1 = self.hi / other
+        p, e = _two_prod(q1, other)
+        s, f = _two_sum(self.hi, -p)
+        q2 = (s + ((f - e) + self.lo)) / other
+        return _DD(*_fast_two_sum(q1, q2))
+
+    def sqrt(self) -> _DD:
+        q = np.sqrt(self.hi)
+        p, e = _two_prod(q, q)
+        return _DD(*_fast_two_sum(q, (((self.hi - p) - e) + self.lo) / (2.0 * q)))
+
+    def total(self, axis: int = -1) -> _DD:
+        """Pairwise double-double sum along ``axis`` (the axis is removed)."""
+        x = _DD(np.moveaxis(self.hi, axis, 0), np.moveaxis(self.lo, axis, 0))
+        if x.hi.shape[0] == 0:
+            return _DD(np.zeros(x.hi.shape[1:]))
+        while x.hi.shape[0] > 1:
+            half = x.hi.shape[0] // 2
+            pair = x[:half] + x[half : 2 * half]
+            if x.hi.shape[0] % 2:
+                pair = _DD(
+                    np.concatenate([pair.hi, x.hi[-1:]]), np.concatenate([pair.lo, x.lo[-1:]])
+                )
+            x = pair
+        return x[0]
+
+    def to_float(self) -> np.ndarray:
+        return self.hi + self.lo
+
+
+def _total(x: Any) -> Any:
+    """Sum over the last axis (pairwise in both arithmetics)."""
+    if isinstance(x, _DD):
+        return x.total(-1)
+    return np.sum(x, axis=-1)
+
+
+def _as_float(x: Any) -> np.ndarray:
+    return x.to_float() if isinstance(x, _DD) else np.asarray(x, dtype=np.float64)
+
+
+@dataclass
+class _Harmonics:
+    """value, gradient sums (D, T) and Hessian sums (W, E, ZZ) of one field (see the kernel
+    notes above), in the accurate arithmetic; floats where a sum has no element term."""
+
+    value: Any
+    D: Any
+    T: Any
+    W: Any = 0.0
+    E: Any = 0.0
+    ZZ: Any = 0.0
+
+
+def _harmonics_accurate(
+    coeffs: np.ndarray, Z: Any, S: Any, order: int, lift: Callable[[Any], Any]
+) -> _Harmonics:
+    """The recurrences of the kernel notes in the accurate arithmetic (integer factors exact:
+    every ``(2k + 1) / (k + 1)`` is a multiplication and a division, not a rounded ratio)."""
+    K = len(coeffs)
+    f = [lift(0.0), *(lift(float(c)) for c in coeffs)]
+    u: list[Any] = [1.0, Z]
+    for k in range(1, K):
+        u.append(((2 * k + 1) * (Z * u[k]) - k * (S * u[k - 1])) / float(k + 1))
+    value: Any = 0.0
+    D: Any = 0.0
+    T: Any = 0.0
+    v: list[Any] = [0.0, 1.0]
+    for k in range(1, K - 1):
+        v.append(S * v[k - 1] + (2 * k + 1) * u[k])
+    for k in range(1, K + 1):
+        if coeffs[k - 1] == 0.0:
+            continue
+        value = value + f[k] * u[k]
+        D = D + (f[k] * k) * u[k - 1]
+        T = T + f[k] * v[k - 1]
+    out = _Harmonics(value, D, T)
+    if order >= 2:
+        t: list[Any] = [0.0, 0.0]
+        for k in range(1, K - 1):
+            t.append(S * t[k - 1] - (2 * k - 1) * v[k - 1])
+        for k in range(1, K + 1):
+            if coeffs[k - 1] == 0.0:
+                continue
+            out.W = out.W + f[k] * t[k - 1]
+            if k >= 2:
+                out.E = out.E + (f[k] * k) * v[k - 2]
+                out.ZZ = out.ZZ + (f[k] * (k * (k - 1))) * u[k - 2]
+    return out
+
+
+@dataclass
+class AccurateSums:
+    """Per-orientation sums of :func:`evaluate_accurate` (body axes, SI units), each
+    correctly rounded to double from the accurate arithmetic.
+
+    ``energy_centered`` is the total energy minus its mean over the orientations, both
+    formed in the accurate arithmetic (an orientation-independent part of the energy, however
+    large, then costs no accuracy); ``energy_mean`` is that mean (J).
+    """
+
+    mu: np.ndarray
+    gyro: np.ndarray
+    energy: dict[str, np.ndarray]
+    energy_centered: np.ndarray
+    energy_mean: float
+    torque: dict[str, np.ndarray]
+    precision: str
+
+
+def _cross_float(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def evaluate_accurate(
+    elements: Elements,
+    fields: dict[str, tuple[float, ...]],
+    gammas: np.ndarray,
+    omegas: np.ndarray,
+    *,
+    precision: str = "double-double",
+    block_pairs: int = BLOCK_PAIRS,
+) -> AccurateSums:
+    """mu, the Lorentz torque, the energies and the torques in extended precision.
+
+    The same quantities as :func:`evaluate_rotated`, from the same recurrences, evaluated
+    in body axes (``Z = gamma . r``, transverse part ``t = r - Z gamma``, ``grad Phi =
+    -T t + D gamma``) in double-double arithmetic (about 32 digits) or ``np.longdouble``
+    (``precision="longdouble"``; 19 digits on x86-64). The inputs (positions, weights, field
+    coefficients, gamma, omega) are exact doubles; gamma is normalised in the accurate
+    arithmetic, so the harmonics are harmonic to its precision (a double gamma is unit only
+    to 1e-16, which a body whose contributions cancel would otherwise feel).
+
+    Parameters
+    ----------
+    elements : Elements
+    fields : dict[str, tuple of float]
+    gammas : ndarray, shape (m, 3)
+        Near-unit vectors (|gamma| = 1 to 1e-12).
+    omegas : ndarray, shape (m, 3)
+        Angular velocities in body axes, rad/s.
+    precision : str
+        ``double-double`` or ``longdouble``.
+    block_pairs : int
+        Element-orientation pairs per vectorised block.
+
+    Returns
+    -------
+    AccurateSums
+    """
+    if precision == "double-double":
+
+        def lift(x: Any) -> Any:
+            return _DD(x)
+    elif precision == "longdouble":
+
+        def lift(x: Any) -> Any:
+            return np.asarray(x, dtype=np.longdouble)
+    else:
+        raise input_error("precision", "'double-double' or 'longdouble'", precision)
+    gammas = np.asarray(gammas, dtype=np.float64)
+    if np.abs(np.einsum("ij,ij->i", gammas, gammas) - 1.0).max(initial=0.0) > 1e-12:
+        raise input_error("gammas", "unit vectors (to 1e-12)", gammas)
+    m = len(gammas)
+    coeffs = {k: _trimmed(fields.get(k, ())) for k in FIELD_NAMES}
+    mu = [lift(np.zeros(m)) for _ in range(3)]
+    gyro = [lift(np.zeros(m)) for _ in range(3)]
+    energy = {k: lift(np.zeros(m)) for k in POTENTIAL_EFFECTS}
+    torque = {k: [lift(np.zeros(m)) for _ in range(3)] for k in POTENTIAL_EFFECTS}
+
+    def unit_gammas(rows: slice) -> tuple[Any, Any, Any]:
+        # 1 / |g| = 1 - delta / 2 + 3 delta^2 / 8 + O(delta^3), delta = |g|^2 - 1 ~ 1e-16
+        g = [lift(gammas[rows, i]) for i in range(3)]
+        delta = g[0] * gammas[rows, 0] + g[1] * gammas[rows, 1] + g[2] * gammas[rows, 2] - 1.0
+        scale = 1.0 - delta * 0.5 + (delta * delta) * 0.375
+        return g[0] * scale, g[1] * scale, g[2] * scale
+
+    def add_rows(target: Any, rows: slice, value: Any) -> None:
+        if isinstance(target, _DD):
+            block = target[rows] + value
+            target.hi[rows], target.lo[rows] = block.hi, block.lo
+        else:
+            target[rows] = target[rows] + value
+
+    def geometry(r: np.ndarray, rows: slice) -> tuple[Any, ...]:
+        g = unit_gammas(rows)
+        gc = tuple(gi[:, None] for gi in g)
+        x, y, z = r[:, 0], r[:, 1], r[:, 2]
+        Z = gc[0] * x + gc[1] * y + gc[2] * z
+        S = lift(x) * x + lift(y) * y + lift(z) * z
+        t = (x - Z * gc[0], y - Z * gc[1], z - Z * gc[2])
+        return gc, (x, y, z), Z, S, t
+
+    def blocks(n: int) -> list[slice]:
+        step = max(1, min(m, block_pairs // max(n, 1)))
+        return [slice(s, min(m, s + step)) for s in range(0, m, step)]
+
+    def potential_effect(name: str, r: np.ndarray, w: np.ndarray, c: np.ndarray) -> None:
+        for rows in blocks(len(w)):
+            gc, xyz, Z, S, _ = geometry(r, rows)
+            h = _harmonics_accurate(c, Z, S, 1, lift)
+            add_rows(energy[name], rows, _total(h.value * w))
+            # X x (-w grad Phi) = -w (D + Z T) (r x gamma)
+            lever = (h.D + Z * h.T) * (-w)
+            for i, arm in enumerate(_cross_float(xyz, gc)):
+                add_rows(torque[name][i], rows, _total(lever * arm))
+
+    r, q = elements.charge_positions, elements.charge_values
+    if len(q) and len(coeffs["magnetic"]):
+        for rows in blocks(len(q)):
+            gc, xyz, Z, S, t = geometry(r, rows)
+            h = _harmonics_accurate(coeffs["magnetic"], Z, S, 1, lift)
+            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
+            qrB = (B[0] * xyz[0] + B[1] * xyz[1] + B[2] * xyz[2]) * q
+            for i in range(3):
+                add_rows(mu[i], rows, -_total(qrB * xyz[i]))
+            om = tuple(lift(omegas[rows, i])[:, None] for i in range(3))
+            v = _cross_float(om, xyz)  # omega x r
+            force = tuple(fi * q for fi in _cross_float(v, B))  # q v x B
+            for i, ti in enumerate(_cross_float(xyz, force)):
+                add_rows(gyro[i], rows, _total(ti))
+    if len(q) and len(coeffs["electric"]):
+        potential_effect("electric", r, q, coeffs["electric"])
+    r, w = elements.mass_positions, elements.mass_values
+    if len(w) and len(coeffs["gravity"]):
+        potential_effect("gravity", r, w, coeffs["gravity"])
+    r, sigma = elements.dipole_positions, elements.dipole_moments
+    if len(sigma) and len(coeffs["magnetic"]):
+        s = (sigma[:, 0], sigma[:, 1], sigma[:, 2])
+        for rows in blocks(len(sigma)):
+            gc, xyz, Z, S, t = geometry(r, rows)
+            h = _harmonics_accurate(coeffs["magnetic"], Z, S, 2, lift)
+            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
+            add_rows(
+                energy["magnetization"], rows, -_total(B[0] * s[0] + B[1] * s[1] + B[2] * s[2])
+            )
+            sg = gc[0] * s[0] + gc[1] * s[1] + gc[2] * s[2]
+            st = t[0] * s[0] + t[1] * s[1] + t[2] * s[2]
+            # F = grad(sigma . B) = -H sigma,
+            # H = -T (1 - g g^T) - W t t^T - E (t g^T + g t^T) + ZZ g g^T
+            force = tuple(
+                h.T * (s[i] - gc[i] * sg)
+                + h.W * (t[i] * st)
+                + h.E * (t[i] * sg + gc[i] * st)
+                - h.ZZ * (gc[i] * sg)
+                for i in range(3)
+            )
+            spin = _cross_float(s, B)
+            lever = _cross_float(xyz, force)
+            for i in range(3):
+                add_rows(torque["magnetization"][i], rows, _total(spin[i] + lever[i]))
+    total = energy["electric"] + energy["gravity"] + energy["magnetization"]
+    mean = _total(total) / float(m) if isinstance(total, _DD) else np.mean(total)
+    return AccurateSums(
+        mu=np.stack([_as_float(c) for c in mu], axis=1),
+        gyro=np.stack([_as_float(c) for c in gyro], axis=1),
+        energy={k: _as_float(v) for k, v in energy.items()},
+        energy_centered=_as_float(total - mean),
+        energy_mean=float(_as_float(mean)),
+        torque={k: np.stack([_as_float(c) for c in v], axis=1) for k, v in torque.items()},
+        precision=precision,
+    )
+
+
 def _trimmed(legendre: tuple[float, ...]) -> np.ndarray:
     """Coefficients up to the last non-zero one (validated by AxisymmetricField)."""
     field_ = AxisymmetricField(legendre)
@@ -789,20 +1224,138 @@ def _worst(gammas: np.ndarray, err: np.ndarray) -> tuple[float, float, float]:
     return (float(gammas[i, 0]), float(gammas[i, 1]), float(gammas[i, 2]))
 
 
+def _norms(a: np.ndarray) -> np.ndarray:
+    """|a| per orientation: absolute values (m,) or Euclidean norms of rows (m, 3)."""
+    return np.abs(a) if a.ndim == 1 else np.linalg.norm(a, axis=1)
+
+
 def _relative(
     x: np.ndarray, ref: np.ndarray, gross: float, gammas: np.ndarray
-) -> tuple[float, float, float, tuple[float, float, float]]:
-    """(rel_err, abs_err, scale, worst gamma) of per-orientation vectors or scalars."""
-    diff = x - ref
-    err = np.abs(diff) if diff.ndim == 1 else np.linalg.norm(diff, axis=1)
-    size = np.abs(ref) if ref.ndim == 1 else np.linalg.norm(ref, axis=1)
-    scale = max(float(size.max(initial=0.0)), NOISE_FLOOR * gross)
+) -> tuple[float, float, float, str, tuple[float, float, float]]:
+    """(rel_err, abs_err, scale, basis, worst gamma) of per-orientation vectors or scalars.
+
+    The scale is ``max |ref|`` (basis ``reference``); for a reference that is zero at every
+    orientation, the gross contributions (basis ``gross``: absolute error relative to the
+    size of the terms that had to cancel to zero).
+    """
+    err = _norms(x - ref)
     abs_err = float(err.max(initial=0.0))
+    scale = float(_norms(ref).max(initial=0.0))
+    basis = "reference"
+    if scale == 0.0:
+        basis, scale = "gross", gross
     if scale > 0.0:
         rel = abs_err / scale
-    else:
+    else:  # no reference and no contributions: nothing to compare
         rel = 0.0 if abs_err == 0.0 else math.inf
-    return rel, abs_err, scale, _worst(gammas, err)
+    return rel, abs_err, scale, basis, _worst(gammas, err)
+
+
+def _field_bounds(coeffs: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Bounds at distance r from O of |Phi|, |grad Phi| and |Hessian Phi| of a field.
+
+    ``sum |f_k| r^k``, ``sum k |f_k| r^(k-1)``, ``sum k (k - 1) |f_k| r^(k-2)``: the sizes
+    of the terms an element's evaluation adds up (the field may be far smaller there).
+
+    Returns
+    -------
+    three ndarrays, shape (n,)
+    """
+    value, grad, hess = (np.zeros(len(radii)) for _ in range(3))
+    for k, f in enumerate(np.abs(np.asarray(coeffs, dtype=float)), start=1):
+        if f == 0.0:
+            continue
+        value += f * radii**k
+        grad += k * f * radii ** (k - 1)
+        if k >= 2:
+            hess += k * (k - 1) * f * radii ** (k - 2)
+    return value, grad, hess
+
+
+def contribution_sizes(
+    elements: Elements, fields: Mapping[str, Sequence[float]]
+) -> dict[str, float]:
+    """Sum over the elements of the size of their contributions to each compared quantity.
+
+    The size of one contribution is its bound through every field term (:func:`_field_bounds`):
+    ``|q| r^2 |grad Phi_m|`` for mu (and the Lorentz torque per unit |omega|), ``|q| |Phi_e| +
+    m |Phi_g| + |sigma| |grad Phi_m|`` for V, ``|q| r |grad Phi_e| + m r |grad Phi_g| +
+    |sigma| (|grad Phi_m| + r |Hess Phi_m|)`` for the potential torque. It is what a
+    floating-point evaluation of each element rounds against, whatever the orientation, so
+    ``size / max |x_ref|`` is the cancellation that sets the rounding floor.
+
+    Returns
+    -------
+    dict with ``mu`` (kg m^2/s), ``gyroscopic_torque`` (per rad/s, N m s), ``V`` (J),
+    ``potential_torque`` (N m).
+    """
+    coeffs = {k: _trimmed(tuple(fields.get(k, ()))) for k in FIELD_NAMES}
+    rq = np.linalg.norm(elements.charge_positions, axis=1)
+    rm = np.linalg.norm(elements.mass_positions, axis=1)
+    rd = np.linalg.norm(elements.dipole_positions, axis=1)
+    q = np.abs(elements.charge_values)
+    m = np.abs(elements.mass_values)
+    s = np.linalg.norm(elements.dipole_moments, axis=1)
+    _, grad_mq, _ = _field_bounds(coeffs["magnetic"], rq)
+    value_e, grad_e, _ = _field_bounds(coeffs["electric"], rq)
+    value_g, grad_g, _ = _field_bounds(coeffs["gravity"], rm)
+    _, grad_md, hess_md = _field_bounds(coeffs["magnetic"], rd)
+    mu = float(q @ (rq**2 * grad_mq))
+    return {
+        "mu": mu,
+        "gyroscopic_torque": mu,
+        "V": float(q @ value_e + m @ value_g + s @ grad_md),
+        "potential_torque": float(
+            q @ (rq * grad_e) + m @ (rm * grad_g) + s @ (grad_md + rd * hess_md)
+        ),
+    }
+
+
+def _cancellation(gross: float, ref_scale: float) -> float:
+    """``gross / max |x_ref|``: inf for a zero reference, 0 without contributions."""
+    if ref_scale > 0.0:
+        return gross / ref_scale
+    return math.inf if gross > 0.0 else 0.0
+
+
+def rounding_floor(cancellation: float, unit: float, basis: str = "reference") -> float:
+    """Attainable relative accuracy of a sum whose contributions cancel ``cancellation``-fold.
+
+    ``ROUNDING_FACTOR * (unit * cancellation + EPS)``: each element's contribution is
+    evaluated with a relative error of a few ``unit`` (the rotation, the recurrences, the
+    products), so the sum is uncertain by a few ``unit * gross``; the result is finally
+    rounded to double (``EPS``). With basis ``gross`` (a zero reference, rel_err measured
+    against the gross) it is ``ROUNDING_FACTOR * unit``. ``unit``: :data:`EPS` for double,
+    :data:`DD_UNIT` for double-double.
+    """
+    if basis == "gross":
+        return ROUNDING_FACTOR * unit
+    return ROUNDING_FACTOR * (unit * cancellation + EPS)
+
+
+def _verdict(
+    rel: float, floor: float, tol: float, cancellation: float, basis: str, precision: str
+) -> tuple[str, str | None]:
+    """(status, reason) of a claimed quantity.
+
+    ``fail`` when the error is beyond the tolerance by more than the rounding floor (certainly
+    wrong), ``unverifiable`` when the floor itself exceeds the tolerance (the evaluation cannot
+    tell), ``pass`` when within the tolerance, ``fail`` otherwise.
+    """
+    if not rel <= tol + floor:  # also catches an infinite error
+        return "fail", f"error {rel:.2e} exceeds tol {tol:g} (rounding floor {floor:.1e})"
+    if floor > tol:
+        if basis == "gross":
+            size = "the reference is zero and the gross contributions round"
+        else:
+            size = f"contributions cancel to 1 part in {cancellation:.2g}"
+        return "unverifiable", (
+            f"cannot be verified at tol {tol:g}: {size} (rounding floor {floor:.1e} in "
+            f"{precision}; error seen {rel:.1e})"
+        )
+    if rel <= tol:
+        return "pass", None
+    return "fail", f"error {rel:.2e} exceeds tol {tol:g} (rounding floor {floor:.1e})"
 
 
 def _fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
@@ -856,6 +1409,7 @@ def check_design(
     seed: int = 0,
     quadrature_order: int | None = None,
     block_pairs: int = BLOCK_PAIRS,
+    precision: str = "auto",
 ) -> CheckReport:
     """Recompute mu, V, the torques and the inertia of a design and compare with the theorem.
 
@@ -874,10 +1428,17 @@ def check_design(
         Degree of exactness of the continuous bodies' rules; default: exact for the check.
     block_pairs : int
         Element-orientation pairs per vectorised block (memory vs speed).
+    precision : str
+        ``auto`` (default): double precision, and double-double where a claimed quantity's
+        contributions cancel so far that double rounding could decide it (its double
+        rounding floor above ``ACCURATE_FRACTION * tol``); ``double`` or ``double-double``
+        to force one.
 
     Returns
     -------
     CheckReport
+        A claimed quantity passes when its error is within ``tol``; it is ``unverifiable``
+        (and fails) when the rounding floor of the evaluation exceeds ``tol``.
     """
     if not isinstance(design, Design):
         raise input_error("design", "a Design", design)
@@ -894,6 +1455,8 @@ def check_design(
         raise input_error("block_pairs", "an integer >= 1", block_pairs)
     if block_pairs < 1:
         raise input_error("block_pairs", "an integer >= 1", block_pairs)
+    if precision not in PRECISIONS:
+        raise input_error("precision", "one of " + ", ".join(PRECISIONS), precision)
     gammas = sample_orientations(n_orientations, seed)
     rng = np.random.default_rng([int(seed), 1])
     R = rotation_matrices(gammas, rng)
@@ -909,10 +1472,76 @@ def check_design(
     for name, arr in [("mu", sums.mu), ("gyroscopic torque", sums.gyro)]:
         if not np.all(np.isfinite(arr)):
             raise SolverError(f"check: the design's {name} is not finite (overflow?)")
+    omega_norm = np.linalg.norm(omegas, axis=1)
+    refs = {
+        "mu": ref["mu"],
+        "gyroscopic_torque": np.cross(ref["mu"], omegas),
+        "V": ref["V"] - ref["V"].mean(),  # V is defined up to a constant
+        "potential_torque": np.cross(gammas, ref["dV"]),
+    }
+    sizes = contribution_sizes(elements, fields)
+    gross = dict(sizes)
+    gross["gyroscopic_torque"] = sizes["gyroscopic_torque"] * float(omega_norm.max(initial=0.0))
+    ref_scale = {k: float(_norms(v).max(initial=0.0)) for k, v in refs.items()}
+    cancellation = {k: _cancellation(gross[k], ref_scale[k]) for k in refs}
+    basis = {k: "reference" if ref_scale[k] > 0.0 else "gross" for k in refs}
+    double_floor = {k: rounding_floor(cancellation[k], EPS, basis[k]) for k in refs}
+    if precision == "auto":
+        # double-double only where double rounding could decide a claimed quantity
+        accurate = any(
+            QUANTITY_CLAIMS[k] in claimed and double_floor[k] > ACCURATE_FRACTION * tol
+            for k in refs
+        )
+    else:
+        accurate = precision == "double-double"
+    used = sums
+    if accurate:
+        acc = evaluate_accurate(elements, fields, gammas, omegas, block_pairs=block_pairs)
+        used = RotatedSums(
+            mu=acc.mu,
+            gyro=acc.gyro,
+            mu_gross=sums.mu_gross,
+            energy=acc.energy,
+            energy_gross=sums.energy_gross,
+            torque=acc.torque,
+            torque_gross=sums.torque_gross,
+        )
+        energy_centered, energy_mean = acc.energy_centered, acc.energy_mean
+    else:
+        energy = np.sum(list(sums.energy.values()), axis=0)
+        energy_mean = float(energy.mean())
+        energy_centered = energy - energy_mean
+    used_precision = "double-double" if accurate else "double"
+    unit = DD_UNIT if accurate else EPS
+    values = {
+        "mu": used.mu,
+        "gyroscopic_torque": used.gyro,
+        "V": energy_centered,
+        "potential_torque": np.sum(list(used.torque.values()), axis=0),
+    }
+    for name, value in values.items():
+        if not np.all(np.isfinite(value)):
+            raise SolverError(
+                f"check: the design's {name} is not finite in {used_precision} (overflow?)"
+            )
+
     quantities: dict[str, QuantityResult] = {}
 
-    def record(name: str, rel: float, abs_err: float, scale: float, worst: Any) -> None:
+    def record(
+        name: str,
+        compared: tuple[float, float, float, str, Any],
+        gross_size: float,
+        cancel: float,
+        floors: tuple[float, float],
+        arithmetic: str,
+    ) -> None:
+        rel, abs_err, scale, basis, worst = compared
         is_claimed = QUANTITY_CLAIMS[name] in claimed
+        status, reason = (
+            _verdict(rel, floors[0], tol, cancel, basis, arithmetic)
+            if is_claimed
+            else ("info", None)
+        )
         quantities[name] = QuantityResult(
             name=name,
             rel_err=rel,
@@ -920,44 +1549,47 @@ def check_design(
             scale=scale,
             worst_gamma=worst,
             claimed=is_claimed,
-            passed=(rel <= tol) if is_claimed else None,
+            passed=None if status == "info" else status == "pass",
+            status=status,
+            reason=reason,
+            basis=basis,
+            gross=gross_size,
+            cancellation=cancel,
+            rounding_floor=floors[0],
+            double_rounding_floor=floors[1],
+            precision=arithmetic,
         )
 
-    mu_gross = float(sums.mu_gross.max(initial=0.0))
-    record("mu", *_relative(sums.mu, ref["mu"], mu_gross, gammas))
-    omega_norm = np.linalg.norm(omegas, axis=1)
-    gyro_ref = np.cross(ref["mu"], omegas)
-    record(
-        "gyroscopic_torque",
-        *_relative(sums.gyro, gyro_ref, float((sums.mu_gross * omega_norm).max()), gammas),
-    )
+    for name in ("mu", "gyroscopic_torque", "V", "potential_torque"):
+        compared = _relative(values[name], refs[name], gross[name], gammas)
+        floors = (rounding_floor(cancellation[name], unit, basis[name]), double_floor[name])
+        record(name, compared, gross[name], cancellation[name], floors, used_precision)
+        if (
+            accurate
+            and quantities[name].claimed
+            and floors[1] > tol
+            and quantities[name].status == "pass"
+        ):
+            notes.append(
+                f"{name}: verified in double-double; its contributions cancel to 1 part in "
+                f"{cancellation[name]:.2g}, so any double-precision evaluation of this body "
+                f"(e.g. chargedesign simulate) has a rounding floor of ~{floors[1]:.0e}"
+            )
 
-    energy = np.sum(list(sums.energy.values()), axis=0)
-    energy_gross = float(np.sum(list(sums.energy_gross.values()), axis=0).max(initial=0.0))
-    diff = energy - ref["V"]
-    offset = float(diff.mean())
-    spread_ref = ref["V"] - ref["V"].mean()
-    record(
-        "V",
-        *_relative(energy - offset - ref["V"].mean(), spread_ref, energy_gross, gammas),
-    )
-    torque = np.sum(list(sums.torque.values()), axis=0)
-    torque_gross = float(np.sum(list(sums.torque_gross.values()), axis=0).max(initial=0.0))
-    torque_ref = np.cross(gammas, ref["dV"])
-    record("potential_torque", *_relative(torque, torque_ref, torque_gross, gammas))
-    for name in ("V", "potential_torque"):
-        if not np.isfinite(quantities[name].abs_err):
-            raise SolverError(f"check: the design's {name} is not finite (overflow?)")
-
-    r, w = elements.mass_positions, elements.mass_values
-    inertia = np.einsum("n,n->", w, np.einsum("ni,ni->n", r, r)) * np.eye(3) - np.einsum(
-        "n,ni,nj->ij", w, r, r
-    )
+    inertia, inertia_gross = _inertia_accurate(elements.mass_positions, elements.mass_values)
     inertia_ref = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     inertia_abs = float(np.abs(inertia - inertia_ref).max())
-    record("inertia", inertia_abs / (2.0 * params.C), inertia_abs, 2.0 * params.C, None)
+    inertia_cancel = inertia_gross / (2.0 * params.C)
+    record(
+        "inertia",
+        (inertia_abs / (2.0 * params.C), inertia_abs, 2.0 * params.C, "reference", None),
+        inertia_gross,
+        inertia_cancel,
+        (rounding_floor(inertia_cancel, DD_UNIT), rounding_floor(inertia_cancel, EPS)),
+        "double-double",
+    )
 
-    effects = _effects(elements, degrees, gammas, omegas, sums, inertia)
+    effects = _effects(elements, degrees, gammas, omegas, used, inertia, unit)
     if params.singular:
         notes.append(
             "lambda/rho terms of V are singular on gamma3 = 0: charges, masses and dipoles "
@@ -975,11 +1607,28 @@ def check_design(
         claimed=list(design.realises),
         quantities=quantities,
         effects=effects,
-        V_offset=offset,
+        V_offset=energy_mean - float(ref["V"].mean()),
         quadrature=elements.quadrature,
         n_pairs=n_pairs,
         notes=notes,
+        precision=used_precision,
     )
+
+
+def _inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndarray, float]:
+    """``sum m (|r|^2 1 - r r^T)`` summed in double-double, and ``sum m |r|^2`` (kg m^2)."""
+    r = [positions[:, i] for i in range(3)]
+    out = np.zeros((3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            if i == j:
+                a, b = r[(i + 1) % 3], r[(i + 2) % 3]
+                entry = (_DD(masses) * a) * a + (_DD(masses) * b) * b
+            else:
+                entry = -((_DD(masses) * r[i]) * r[j])
+            out[i, j] = out[j, i] = float(entry.total(-1).to_float())
+    gross = float(np.abs(masses) @ np.einsum("ij,ij->i", positions, positions))
+    return out, gross
 
 
 def _effects(
@@ -989,7 +1638,14 @@ def _effects(
     omegas: np.ndarray,
     sums: RotatedSums,
     inertia: np.ndarray,
+    unit: float,
 ) -> dict[str, EffectResult]:
+    """Per-effect sizes and route agreement; ``unit``: unit roundoff of the sums (the route
+    agreement is skipped where the effect cancels so far that rounding would dominate it)."""
+
+    def resolved(size: float, gross: float) -> bool:
+        return size > 0.0 and rounding_floor(gross / size, unit) <= NOISE_FLOOR
+
     counts = {
         "charges": len(elements.charge_values),
         "masses": len(elements.mass_values),
@@ -1005,8 +1661,8 @@ def _effects(
     route: float | None = None
     worst = None
     gross = float((sums.mu_gross * np.linalg.norm(omegas, axis=1)).max(initial=0.0))
-    if active and size["gyroscopic_torque"] > NOISE_FLOOR * gross:
-        route, _, _, worst = _relative(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
+    if active and resolved(size["gyroscopic_torque"], gross):
+        route, _, _, _, worst = _relative(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
     out["lorentz"] = EffectResult(
         "lorentz", "charges", counts["charges"], active, size, route, worst
     )
@@ -1023,11 +1679,11 @@ def _effects(
         route, worst = None, None
         gross = float(sums.torque_gross[name].max(initial=0.0))
         # an effect that cancels to rounding (e.g. masses centred at O in uniform gravity)
-        # has no torque to compare: its route agreement would only measure the noise floor
-        if active and size["torque"] > NOISE_FLOOR * gross:
+        # has no torque to compare: its route agreement would only measure rounding
+        if active and resolved(size["torque"], gross):
             fitted = _fitted_torque(gammas, e, degrees[field_name])
             if fitted is not None:
-                route, _, _, worst = _relative(t, fitted, gross, gammas)
+                route, _, _, _, worst = _relative(t, fitted, gross, gammas)
         out[name] = EffectResult(name, source, counts[source], active, size, route, worst)
     out["inertia"] = EffectResult(
         "inertia",
@@ -1043,17 +1699,21 @@ def summary_lines(report: CheckReport) -> list[str]:
     """Human-readable lines of a report (the CLI prints them)."""
     lines = [
         f"check: {report.n_orientations} orientations, {report.n_pairs} element-orientation "
-        f"pairs, tol {report.tol:g}",
-        f"{'quantity':<20} {'rel_err':>10}  {'status':<9} worst gamma",
+        f"pairs, tol {report.tol:g}, evaluated in {report.precision}",
+        f"{'quantity':<20} {'rel_err':>10} {'floor':>8} {'cancel':>8}  {'status':<10} worst gamma",
     ]
+    status = {"info": "info", "pass": "PASS", "fail": "FAIL", "unverifiable": "UNVERIFIED"}
     for name, q in report.quantities.items():
-        status = "info" if q.passed is None else ("PASS" if q.passed else "FAIL")
         where = (
             "-"
             if q.worst_gamma is None
             else "(" + ", ".join(f"{g:+.4f}" for g in q.worst_gamma) + ")"
         )
-        lines.append(f"{name:<20} {q.rel_err:>10.3e}  {status:<9} {where}")
+        cancel = "zero ref" if q.basis == "gross" else f"{q.cancellation:.1e}"
+        lines.append(
+            f"{name:<20} {q.rel_err:>10.3e} {q.rounding_floor:>8.1e} {cancel:>8}  "
+            f"{status[q.status]:<10} {where}"
+        )
     lines.append(f"{'effect':<14} {'source':<8} {'elements':>8}  size; route agreement")
     for name, e in report.effects.items():
         size = ", ".join(f"{k} {v:.4g}" for k, v in e.size.items())
@@ -1065,14 +1725,21 @@ def summary_lines(report: CheckReport) -> list[str]:
             f"exact to degree {body['order']}"
         )
     lines += [f"note: {n}" for n in report.notes]
+    lines += [f"{name}: {q.reason}" for name, q in report.quantities.items() if q.reason]
     lines.append("PASSED" if report.passed else "FAILED: " + ", ".join(report.failures))
     return lines
 
 
 __all__ = [
+    "ACCURATE_FRACTION",
+    "DD_UNIT",
     "DEFAULT_ORIENTATIONS",
     "DEFAULT_TOL",
+    "EPS",
     "NOISE_FLOOR",
+    "PRECISIONS",
+    "ROUNDING_FACTOR",
+    "AccurateSums",
     "CheckReport",
     "EffectResult",
     "Elements",
@@ -1080,8 +1747,11 @@ __all__ = [
     "RotatedSums",
     "check_design",
     "collect_elements",
+    "contribution_sizes",
+    "evaluate_accurate",
     "evaluate_rotated",
     "rotation_matrices",
+    "rounding_floor",
     "sample_orientations",
     "summary_lines",
 ]

@@ -522,3 +522,295 @@ def test_a_design_from_the_default_scene_passes() -> None:
     report = check_design(design, n_orientations=500, tol=1e-10)
     assert report.passed, report.to_dict()
     assert set(report.claimed) == {"mu", "V", "inertia"}
+
+
+# ------------------------------------------------------- cancellation and rounding floor
+#: finite-difference stencil: the fifth difference of a polynomial of degree <= 4 is zero
+STENCIL = np.array([(-1) ** j * math.comb(5, j) for j in range(6)], dtype=float)
+
+
+def with_cancelling_stencils(design: Design, weight: float = 2.0**30, seed: int = 0) -> Design:
+    """The design plus huge charges and dipoles whose contributions cancel exactly.
+
+    Each stencil is six collinear elements at ``p + j h`` (j = 0..5) with weights
+    ``weight (-1)^j C(5, j)``: their sum of any polynomial of degree <= 4 in r is zero, and
+    every integrand of the check is one (charges: mu and the Lorentz torque degree
+    L_m + 1 = 3, V and its torque degree L_e = 4; dipoles: degree L_m - 1 = 1). p and h are
+    multiples of 2^-10 and the weights powers of two times integers: exact doubles, so the
+    body's mu, V and torques are exactly the design's, while the contributions are ~1e10
+    times larger.
+    """
+    rng = np.random.default_rng(seed)
+    points, values = [], []
+    for _ in range(3):
+        p = np.round(rng.uniform(-0.5, 0.5, 3) * 1024) / 1024
+        h = np.round(rng.uniform(-0.08, 0.08, 3) * 1024) / 1024
+        points += [p + j * h for j in range(6)]
+        values += list(weight * STENCIL)
+    points_arr, values_arr = np.array(points), np.array(values)
+    out = copy.deepcopy(design)
+    out.charge_positions = np.concatenate([design.charge_positions, points_arr])
+    out.charge_values = np.concatenate([design.charge_values, values_arr])
+    axis = np.array([0.5, -0.25, 0.75])  # exact products with the weights
+    out.dipole_positions = np.concatenate([design.dipole_positions, points_arr[::-1]])
+    out.dipole_moments = np.concatenate([design.dipole_moments, np.outer(values_arr, axis)])
+    return out
+
+
+CLAIMED_SUMS = ("mu", "gyroscopic_torque", "V", "potential_torque")
+
+
+@pytest.fixture(scope="module")
+def cancelling(sound: Design) -> Design:
+    return with_cancelling_stencils(sound)
+
+
+def test_sound_cancelling_body_is_verified_in_double_double(cancelling: Design) -> None:
+    report = check_design(cancelling, n_orientations=200, tol=1e-12)
+    assert report.precision == "double-double"
+    assert report.passed, report.to_dict()
+    for name in QUANTITIES:
+        assert report.quantities[name].status == "pass"
+        assert report.quantities[name].rel_err <= 1e-12, name
+    for name in CLAIMED_SUMS:
+        q = report.quantities[name]
+        assert q.cancellation > 1e9 and q.double_rounding_floor > 1e-6, name
+        assert q.rounding_floor <= 1e-14
+    assert any("double-precision evaluation" in note for note in report.notes)
+
+
+def test_sound_cancelling_body_is_unverifiable_in_double(cancelling: Design) -> None:
+    """Double rounding (~eps * 1e10) hides everything below 1e-6: never a pass."""
+    report = check_design(cancelling, n_orientations=200, tol=1e-9, precision="double")
+    assert not report.passed and report.precision == "double"
+    assert report.unverifiable == list(CLAIMED_SUMS)
+    for name in CLAIMED_SUMS:
+        q = report.quantities[name]
+        assert q.status == "unverifiable" and q.passed is False
+        assert q.reason is not None
+        assert q.reason.startswith("cannot be verified at tol 1e-09: contributions cancel")
+        assert q.rounding_floor > 1e-6
+    data = json.loads(json.dumps(report.to_dict(), allow_nan=False))
+    assert data["passed"] is False and data["unverifiable"] == list(CLAIMED_SUMS)
+    assert data["quantities"]["mu"]["status"] == "unverifiable"
+    assert "cancel to 1 part in" in data["reasons"]["V"]
+    assert data["inertia_rel_err"] <= 1e-15 and data["quantities"]["inertia"]["passed"] is True
+
+
+def test_cancelling_body_with_a_1e_7_error_fails_at_1e_9(sound: Design, cancelling: Design) -> None:
+    """The charges that carry mu off by 1e-7: the old noise floor (1e-6 of the gross
+    contributions in the denominator) called this 1e-10 and passed it."""
+    broken = copy.deepcopy(cancelling)
+    broken.charge_values[: len(sound.charge_values)] *= 1.0 + 1e-7
+    report = check_design(broken, n_orientations=200, tol=1e-9)
+    for name in ("mu", "gyroscopic_torque"):
+        q = report.quantities[name]
+        assert q.status == "fail" and q.passed is False, name
+        assert q.rel_err == pytest.approx(1e-7, rel=1e-4), name
+    assert {"mu", "gyroscopic_torque"} <= set(report.failures)
+    # what the old definition made of it, from the same double-precision sums
+    gammas = sample_orientations(200)
+    rng = np.random.default_rng(3)
+    sums = evaluate_rotated(
+        collect_elements(broken)[0],
+        broken.fields,
+        rotation_matrices(gammas, rng),
+        np.zeros((200, 3)),
+    )
+    _, mu_ref = theorem(gammas, PARAMS)
+    size = np.linalg.norm(mu_ref, axis=1).max()
+    old = np.linalg.norm(sums.mu - mu_ref, axis=1).max() / max(size, 1e-6 * sums.mu_gross.max())
+    assert old < 1e-9
+
+
+def _weak_field_least_squares_body(a1: float) -> Design:
+    """Charges on a ball meeting the mu conditions for the field [a1, 1] by least squares:
+    a weak a1 forces charges ~1/a1 whose contributions cancel (test_stability's route)."""
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.conditions import derive_conditions
+
+    conditions = derive_conditions(PARAMS, {"magnetic": (a1, 1.0)}, ("mu",))
+    points = candidates_from_table({"shape": "ball", "radius": 1.0, "spacing": 0.5}).points
+    A, b = conditions.system("charges", points)
+    row = np.max(np.abs(A), axis=1)
+    row = np.where(row > 0, row, 1.0)
+    q = np.linalg.lstsq(A / row[:, None], b / row, rcond=None)[0]
+    return Design(
+        parameters=PARAMS,
+        fields={"magnetic": (a1, 1.0)},
+        charge_positions=points,
+        charge_values=q,
+        realises=["mu"],
+    )
+
+
+def _mu_50_digits(design: Design, gamma: tuple[float, float, float]) -> list[float]:
+    """mu = -sum q (r . B) r in 50-digit arithmetic for Phi = a1 Z + a2 (3 Z^2 - R^2)."""
+    import mpmath as mp
+
+    with mp.workdps(50):
+        a1, f2 = (mp.mpf(float(c)) for c in design.fields["magnetic"])
+        a2 = f2 / 2
+        g = [mp.mpf(float(c)) for c in gamma]
+        norm = mp.sqrt(sum(c * c for c in g))
+        g = [c / norm for c in g]
+        mu = [mp.mpf(0)] * 3
+        for r, q in zip(design.charge_positions, design.charge_values, strict=True):
+            x = [mp.mpf(float(c)) for c in r]
+            Z = sum(a * b for a, b in zip(g, x, strict=True))
+            S = sum(c * c for c in x)
+            r_dot_B = -(a1 * Z + a2 * (6 * Z * Z - 2 * S))  # B = -grad Phi
+            mu = [m - mp.mpf(float(q)) * r_dot_B * c for m, c in zip(mu, x, strict=True)]
+        return [float(c) for c in mu]
+
+
+def test_weak_field_body_reports_its_true_error() -> None:
+    """a1 = 1e-6: contributions 3e6 times mu. The error figure is the body's own (50-digit
+    arithmetic agrees), a 1e-7 error fails, and double alone could not tell."""
+    from chargedesign.model import evaluators
+
+    design = _weak_field_least_squares_body(1e-6)
+    report = check_design(design, n_orientations=200, tol=1e-9)
+    q = report.quantities["mu"]
+    assert q.precision == "double-double" and q.cancellation > 1e6
+    assert q.double_rounding_floor > 1e-9 > q.rounding_floor
+    assert q.worst_gamma is not None
+    want = np.array(_mu_50_digits(design, q.worst_gamma))
+    ref = np.asarray(evaluators.gyroscopic(np.array([q.worst_gamma]), PARAMS))[0]
+    assert q.abs_err == pytest.approx(float(np.linalg.norm(want - ref)), rel=1e-4)
+    assert q.status == ("pass" if q.rel_err <= 1e-9 else "fail")
+    broken = copy.deepcopy(design)
+    broken.charge_values *= 1.0 + 1e-7
+    q = check_design(broken, n_orientations=200, tol=1e-9).quantities["mu"]
+    assert q.status == "fail" and q.rel_err == pytest.approx(1e-7, abs=2e-9)
+    q = check_design(design, n_orientations=200, tol=1e-9, precision="double").quantities["mu"]
+    assert q.status == "unverifiable"
+
+
+def test_rounding_floor_bounds_the_double_error(sound: Design, cancelling: Design) -> None:
+    """The floor the check states for double precision holds against double-double."""
+    from chargedesign.check import EPS, contribution_sizes, evaluate_accurate, rounding_floor
+
+    bodies = [sound, cancelling, _weak_field_least_squares_body(1e-7), bench_design(80, 9, 11)]
+    bodies[-1].fields = dict(HIGH_DEGREE_FIELDS)
+    for body in bodies:
+        gammas = sample_orientations(300, seed=5)
+        rng = np.random.default_rng(6)
+        R = rotation_matrices(gammas, rng)
+        omegas = rng.standard_normal((300, 3))
+        elements, _ = collect_elements(body)
+        fast = evaluate_rotated(elements, body.fields, R, omegas)
+        exact = evaluate_accurate(elements, body.fields, gammas, omegas)
+        sizes = contribution_sizes(elements, body.fields)
+        energy = sum(fast.energy.values())
+        pairs = {
+            "mu": (fast.mu, exact.mu, sizes["mu"]),
+            "gyroscopic_torque": (
+                fast.gyro,
+                exact.gyro,
+                sizes["gyroscopic_torque"] * np.linalg.norm(omegas, axis=1).max(),
+            ),
+            "V": (energy - energy.mean(), exact.energy_centered, sizes["V"]),
+            "potential_torque": (
+                sum(fast.torque.values()),
+                sum(exact.torque.values()),
+                sizes["potential_torque"],
+            ),
+        }
+        for name, (got, want, gross) in pairs.items():
+            if gross == 0.0:  # nothing contributes (no such field): both exactly zero
+                assert not np.any(got) and not np.any(want), name
+                continue
+            scale = np.abs(want).max() if want.ndim == 1 else np.linalg.norm(want, axis=1).max()
+            err = (
+                np.abs(got - want).max()
+                if got.ndim == 1
+                else np.linalg.norm(got - want, axis=1).max()
+            )
+            assert err <= rounding_floor(gross / scale, EPS) * scale, (name, err / scale)
+
+
+def test_rounding_floor_bounds_the_double_double_error(sound: Design) -> None:
+    """Stencils of weight 2^70 (cancellation ~1e21) add exactly nothing: the double-double
+    sums must equal the body's own to within the double-double floor."""
+    from chargedesign.check import DD_UNIT, contribution_sizes, evaluate_accurate, rounding_floor
+
+    gammas = sample_orientations(100, seed=7)
+    omegas = np.random.default_rng(8).standard_normal((100, 3))
+    huge = with_cancelling_stencils(sound, weight=2.0**70)
+    elements, _ = collect_elements(huge)
+    truth = evaluate_accurate(collect_elements(sound)[0], sound.fields, gammas, omegas)
+    got = evaluate_accurate(elements, sound.fields, gammas, omegas)
+    sizes = contribution_sizes(elements, sound.fields)
+    for name, x, want in [
+        ("mu", got.mu, truth.mu),
+        ("V", got.energy_centered, truth.energy_centered),
+        ("potential_torque", sum(got.torque.values()), sum(truth.torque.values())),
+    ]:
+        scale = np.abs(want).max() if want.ndim == 1 else np.linalg.norm(want, axis=1).max()
+        err = np.abs(x - want).max() if x.ndim == 1 else np.linalg.norm(x - want, axis=1).max()
+        cancellation = sizes[name] / scale
+        assert cancellation > 1e20
+        assert 0.0 < err <= rounding_floor(cancellation, DD_UNIT) * scale, (name, err / scale)
+
+
+@pytest.mark.parametrize("precision", ["double-double", "longdouble"])
+def test_accurate_kernel_matches_the_loop_over_the_fields_module(precision: str) -> None:
+    """The body-axes extended-precision route against chargedesign.fields (space axes)."""
+    from chargedesign.check import evaluate_accurate
+
+    design = bench_design(70, 9, 11, seed=3)
+    design.fields = dict(HIGH_DEGREE_FIELDS)
+    gammas = sample_orientations(40, seed=2)
+    rng = np.random.default_rng(4)
+    R = rotation_matrices(gammas, rng)
+    omegas = rng.standard_normal((40, 3))
+    elements, _ = collect_elements(design)
+    sums = evaluate_accurate(elements, design.fields, gammas, omegas, precision=precision)
+    ref = naive_sums(design, R, omegas)
+    energy = ref["energy"] - ref["energy"].mean()
+    for got, want in [
+        (sums.mu, ref["mu"]),
+        (sums.gyro, ref["gyro"]),
+        (sum(sums.torque.values()), ref["torque"]),
+        (sums.energy_centered, energy),
+        (sum(sums.energy.values()), ref["energy"]),
+    ]:
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-13 * np.abs(want).max())
+    assert sums.energy_mean == pytest.approx(ref["energy"].mean(), rel=1e-13)
+
+
+def test_zero_reference_is_measured_against_the_gross_contributions() -> None:
+    """n = K = 0: the theorem's mu is zero; rel_err is the absolute error over the gross."""
+    params = Parameters(C=1.0, c=0.3, d=-0.4, kappa=0.9)
+    empty = Design(parameters=params, fields={"magnetic": MAGNETIC}, realises=["mu"])
+    body = with_cancelling_stencils(empty)
+    report = check_design(body, n_orientations=60, tol=1e-12)
+    q = report.quantities["mu"]
+    assert q.basis == "gross" and q.cancellation == math.inf and q.passed
+    assert report.precision == "double"  # measured against the gross, double suffices
+    assert q.scale == q.gross > 1e9 and q.rel_err <= 1e-15
+    assert json.loads(json.dumps(report.to_dict()))["quantities"]["mu"]["cancellation"] is None
+    body.charge_positions[0] += [1e-3, 0.0, 0.0]
+    q = check_design(body, n_orientations=60, tol=1e-12).quantities["mu"]
+    assert q.status == "fail" and q.basis == "gross" and q.rel_err > 1e-6
+
+
+def test_tolerance_below_the_rounding_floor_is_not_a_pass(sound: Design) -> None:
+    """Even double-double ends in a double: 16 eps is the least floor, so tol 1e-16 fails
+    every quantity, as unverifiable unless its error is certainly beyond the tolerance."""
+    report = check_design(sound, n_orientations=60, tol=1e-16)
+    assert not report.passed and "inertia" in report.unverifiable
+    for name in QUANTITIES:
+        q = report.quantities[name]
+        assert q.rounding_floor > 1e-16 and q.reason is not None
+        if q.rel_err <= 1e-16 + q.rounding_floor:
+            assert q.status == "unverifiable", (name, q.rel_err, q.rounding_floor)
+            assert q.reason.startswith("cannot be verified at tol 1e-16")
+        else:
+            assert q.status == "fail" and q.reason.startswith("error")
+
+
+def test_bad_precision_is_rejected(sound: Design) -> None:
+    with pytest.raises(InputError, match="precision"):
+        check_design(sound, precision="quad")

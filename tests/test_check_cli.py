@@ -71,6 +71,7 @@ def test_loose_tolerance_lets_the_broken_design_pass(designs: dict[str, Path], c
         ["--orientations", "0"],
         ["--seed=-3"],
         ["--quadrature-order=-1"],
+        ["--precision", "quad"],
     ],
 )
 def test_bad_options_exit_two(designs: dict[str, Path], extra: list[str], capsys) -> None:
@@ -115,3 +116,39 @@ def test_cli_defaults_mirror_the_library() -> None:
 
     assert command.DEFAULT_TOL == check.DEFAULT_TOL
     assert command.DEFAULT_ORIENTATIONS == check.DEFAULT_ORIENTATIONS
+    assert command.PRECISIONS == check.PRECISIONS
+
+
+@pytest.fixture(scope="module")
+def cancelling_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from test_check import with_cancelling_stencils
+
+    sound, _ = sound_design()
+    path = tmp_path_factory.mktemp("cancelling") / "cancelling.json"
+    write_design(with_cancelling_stencils(sound), path)
+    return path
+
+
+def test_cancelling_design_is_verified_by_default(cancelling_path: Path, capsys) -> None:
+    assert main(["check", str(cancelling_path), "--orientations", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "evaluated in double-double" in out and "PASSED" in out
+    assert "note: mu: verified in double-double" in out
+
+
+def test_unverifiable_quantities_exit_one_with_the_reason(cancelling_path: Path, capsys) -> None:
+    args = ["check", str(cancelling_path), "--orientations", "100", "--precision", "double"]
+    assert main(args) == 1
+    out = capsys.readouterr().out
+    assert "UNVERIFIED" in out
+    assert "mu: cannot be verified at tol 1e-09: contributions cancel to 1 part in" in out
+    assert out.strip().splitlines()[-1].startswith("FAILED: mu")
+    assert main([*args, "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    assert list(data)[:3] == ["mu_rel_err", "V_rel_err", "inertia_rel_err"]
+    assert data["passed"] is False and data["precision"] == "double"
+    assert data["unverifiable"] == ["mu", "gyroscopic_torque", "V", "potential_torque"]
+    assert data["failures"] == data["unverifiable"]
+    for name in data["unverifiable"]:
+        assert data["quantities"][name]["status"] == "unverifiable"
+        assert data["reasons"][name].startswith("cannot be verified at tol 1e-09")

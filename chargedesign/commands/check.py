@@ -1,7 +1,9 @@
 """`chargedesign check DESIGN`: forward check of a design by rotating it through the fields.
 
-Exit status 0 when every quantity the design claims is within ``--tol``, 1 when one is not,
-2 on bad input (unreadable design, bad options).
+Exit status 0 when every quantity the design claims is verified within ``--tol``, 1 when one
+is not (beyond the tolerance, or unverifiable: its contributions cancel so far that the
+rounding floor of the evaluation exceeds the tolerance), 2 on bad input (unreadable design,
+bad options).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from chargedesign.errors import InputError
 
 DEFAULT_TOL = 1e-9  # mirrors chargedesign.check.DEFAULT_TOL (kept here so --help stays light)
 DEFAULT_ORIENTATIONS = 1000
+PRECISIONS = ("auto", "double", "double-double")  # mirrors chargedesign.check.PRECISIONS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -41,6 +44,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="D",
         help="degree of exactness for continuous bodies (default: exact for the check)",
     )
+    parser.add_argument(
+        "--precision",
+        default="auto",
+        metavar="P",
+        help="arithmetic of the sums: " + ", ".join(PRECISIONS) + " (default auto: "
+        "double-double where a claimed quantity's contributions cancel too far for double "
+        "precision to decide it)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,6 +63,10 @@ def run(args: argparse.Namespace) -> int:
 
     if not math.isfinite(args.tol) or args.tol <= 0.0:
         raise InputError(f"--tol: expected a number > 0, got {args.tol!r}")
+    if args.precision not in PRECISIONS:
+        raise InputError(
+            f"--precision: expected one of {', '.join(PRECISIONS)}, got {args.precision!r}"
+        )
     if args.orientations < 1:
         raise InputError(f"--orientations: expected an integer >= 1, got {args.orientations}")
     design = read_design(args.design)
@@ -61,6 +76,7 @@ def run(args: argparse.Namespace) -> int:
         tol=args.tol,
         seed=args.seed,
         quadrature_order=args.quadrature_order,
+        precision=args.precision,
     )
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
