@@ -28,6 +28,25 @@ def _legendre(value: Any, name: str) -> tuple[float, ...]:
     return tuple(float(x) for x in as_array(value, name, (None,)))
 
 
+def validate_elements(body: Any) -> None:
+    """Validate and convert, in place, the six element arrays of a body-like object.
+
+    ``charge_positions`` (n, 3) with ``charge_values`` (n,), ``mass_positions`` (m, 3) with
+    ``mass_values`` (m,), ``dipole_positions`` (k, 3) with ``dipole_moments`` (k, 3); errors name
+    the design.json key (``charges.values``, ...).
+    """
+    body.charge_positions = as_points(body.charge_positions, "charges.positions")
+    body.charge_values = as_weights(
+        body.charge_values, "charges.values", len(body.charge_positions)
+    )
+    body.mass_positions = as_points(body.mass_positions, "masses.positions")
+    body.mass_values = as_weights(body.mass_values, "masses.values", len(body.mass_positions))
+    body.dipole_positions = as_points(body.dipole_positions, "dipoles.positions")
+    body.dipole_moments = as_points(
+        body.dipole_moments, "dipoles.moments", len(body.dipole_positions)
+    )
+
+
 @dataclass
 class Design:
     """Elements in body axes (SI units) plus what they are meant to realise.
@@ -67,18 +86,9 @@ class Design:
     continuous: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.charge_positions = as_points(self.charge_positions, "charges.positions")
-        self.charge_values = as_weights(
-            self.charge_values, "charges.values", len(self.charge_positions)
-        )
-        self.mass_positions = as_points(self.mass_positions, "masses.positions")
-        self.mass_values = as_weights(self.mass_values, "masses.values", len(self.mass_positions))
+        validate_elements(self)
         if np.any(self.mass_values < 0):
             raise input_error("masses.values", "nonnegative masses", self.mass_values.min())
-        self.dipole_positions = as_points(self.dipole_positions, "dipoles.positions")
-        self.dipole_moments = as_points(
-            self.dipole_moments, "dipoles.moments", len(self.dipole_positions)
-        )
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)

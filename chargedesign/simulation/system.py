@@ -40,13 +40,13 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.body import FIELD_KINDS
+from chargedesign.body import FIELD_KINDS, validate_elements
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
-from chargedesign.validation import as_points, as_weights, input_error
+from chargedesign.validation import input_error
 
 #: every effect a scene may call for
 EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "theorem")
@@ -188,16 +188,7 @@ class Body:
     notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.charge_positions = as_points(self.charge_positions, "charges.positions")
-        self.charge_values = as_weights(
-            self.charge_values, "charges.values", len(self.charge_positions)
-        )
-        self.mass_positions = as_points(self.mass_positions, "masses.positions")
-        self.mass_values = as_weights(self.mass_values, "masses.values", len(self.mass_positions))
-        self.dipole_positions = as_points(self.dipole_positions, "dipoles.positions")
-        self.dipole_moments = as_points(
-            self.dipole_moments, "dipoles.moments", len(self.dipole_positions)
-        )
+        validate_elements(self)
         if not isinstance(self.parameters, Parameters):
             raise input_error("parameters", "a chargedesign.params.Parameters", self.parameters)
         fields_out: dict[str, tuple[float, ...]] = {}
