@@ -556,6 +556,12 @@ def candidates_from_table(
     if not isinstance(table, Mapping):
         raise input_error("body", "a table with key 'shape'", table)
     shape = table.get("shape", "ball" if table else None)
+    if shape is None:
+        raise InputError(
+            "body: the scene has no [body] table; give one with shape = "
+            + " | ".join(SHAPES)
+            + " (where the design may place elements)"
+        )
     if shape not in SHAPES:
         raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
     allowed = set(SHAPE_KEYS[shape]) | {"shape"}

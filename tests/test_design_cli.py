@@ -226,3 +226,14 @@ def test_bad_realise_is_named_design_realise(tmp_path, capsys):
     assert main(["design", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert line.startswith("chargedesign design: error: design.realise: expected items among")
+
+
+def test_scene_without_body_table_names_the_missing_table(tmp_path, capsys):
+    scene = tmp_path / "nobody.toml"
+    scene.write_text("[parameters]\nn = 0.5\n")
+    out_dir = tmp_path / "out"
+    code = main(["design", str(scene), "--out", str(out_dir)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert "no [body] table" in err[-1]
+    assert not out_dir.exists()
