@@ -127,8 +127,9 @@ def _max_rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300))
 
 
-def _throughput_row(nq: int, nm: int, nd: int, m: int, repeat: int) -> list[Any]:
-    """One row of the throughput table (see :func:`throughput_table`)."""
+def _bench_inputs(nq: int, nm: int, nd: int, m: int) -> tuple[Any, ...]:
+    """The benchmark body and, for ``m`` orientations, everything the kernels take:
+    ``(design, gammas, rotations, omegas, elements, fields)``."""
     design = bench_design(nq, nm, nd)
     gammas = sample_orientations(m)
     rng = np.random.default_rng(1)
@@ -136,6 +137,12 @@ def _throughput_row(nq: int, nm: int, nd: int, m: int, repeat: int) -> list[Any]
     omegas = rng.standard_normal((m, 3))
     elements, _ = collect_elements(design)
     fields = {k: design.field(k) for k in FIELD_NAMES}
+    return design, gammas, R, omegas, elements, fields
+
+
+def _throughput_row(nq: int, nm: int, nd: int, m: int, repeat: int) -> list[Any]:
+    """One row of the throughput table (see :func:`throughput_table`)."""
+    design, _gammas, R, omegas, elements, fields = _bench_inputs(nq, nm, nd, m)
     pairs = m * (nq + nm + nd)
     t_kernel, sums = best_time(lambda: evaluate_rotated(elements, fields, R, omegas), repeat)
     t_check, _ = best_time(lambda: check_design(design, n_orientations=m), repeat)
@@ -194,13 +201,7 @@ def throughput_table(quick: bool = False) -> BenchTable:
 # ------------------------------------------------------------- accurate path: cost
 def _accurate_cost_row(nq: int, nm: int, nd: int, m: int, repeat: int) -> list[Any]:
     """One row of :func:`accurate_cost_table`."""
-    design = bench_design(nq, nm, nd)
-    gammas = sample_orientations(m)
-    rng = np.random.default_rng(1)
-    R = rotation_matrices(gammas, rng)
-    omegas = rng.standard_normal((m, 3))
-    elements, _ = collect_elements(design)
-    fields = {k: design.field(k) for k in FIELD_NAMES}
+    design, gammas, R, omegas, elements, fields = _bench_inputs(nq, nm, nd, m)
     pairs = m * (nq + nm + nd)
     t_double, _ = best_time(lambda: evaluate_rotated(elements, fields, R, omegas), repeat)
     t_dd, _ = best_time(lambda: evaluate_accurate(elements, fields, gammas, omegas), repeat)

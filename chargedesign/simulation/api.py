@@ -741,9 +741,22 @@ def simulate(
     if section is not None and options.method == "gauss-legendre":
         notes.append("poincare: needs a solve_ivp method; no section recorded")
         section = None
-    run = integrate(
+    run = _integrate(system, y0[None], options, poincare=section, progress=progress)
+    return _result(system, run.times, run.states[0], run, level, setup, notes, section)
+
+
+def _integrate(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    options: SimulationOptions,
+    *,
+    poincare: Any = None,
+    progress: Any = None,
+) -> Any:
+    """:func:`integrate` with the scene's integration options (one place for both entries)."""
+    return integrate(
         system,
-        y0[None],
+        y0,
         options.t_end,
         method=options.method,
         rtol=options.rtol,
@@ -752,10 +765,9 @@ def simulate(
         step=options.step,
         samples=options.samples,
         gamma3_min=options.gamma3_min if system.singular else None,
-        poincare=section,
+        poincare=poincare,
         progress=progress,
     )
-    return _result(system, run.times, run.states[0], run, level, setup, notes, section)
 
 
 def simulate_batch(
@@ -793,19 +805,7 @@ def simulate_batch(
             raise input_error(
                 f"initial_states[{bad}]", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3[bad]
             )
-    run = integrate(
-        system,
-        y0,
-        options.t_end,
-        method=options.method,
-        rtol=options.rtol,
-        atol=options.atol,
-        max_step=options.max_step,
-        step=options.step,
-        samples=options.samples,
-        gamma3_min=options.gamma3_min if system.singular else None,
-        progress=progress,
-    )
+    run = _integrate(system, y0, options, progress=progress)
     return [
         _result(system, run.times, run.states[i], run, None, setup, notes, None)
         for i in range(len(y0))
