@@ -1,4 +1,4 @@
-"""A designed body: point charges, magnetic dipoles and masses, with its target parameters and
+"""A designed body: charges on carriers, magnets and ballast masses, with its target parameters and
 fields; read and written as ``design.json`` (format ``chargedesign.design/1``, see CONTRACT.md).
 """
 
@@ -10,12 +10,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
+from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_points, as_weights, input_error
+from chargedesign.validation import as_array, input_error
 
 DESIGN_FORMAT = "chargedesign.design/1"
 FIELD_KINDS = ("magnetic", "electric", "gravity")
@@ -28,28 +27,10 @@ def _legendre(value: Any, name: str) -> tuple[float, ...]:
     return tuple(float(x) for x in as_array(value, name, (None,)))
 
 
-def validate_elements(body: Any) -> None:
-    """Validate and convert, in place, the six element arrays of a body-like object.
-
-    ``charge_positions`` (n, 3) with ``charge_values`` (n,), ``mass_positions`` (m, 3) with
-    ``mass_values`` (m,), ``dipole_positions`` (k, 3) with ``dipole_moments`` (k, 3); errors name
-    the design.json key (``charges.values``, ...).
-    """
-    body.charge_positions = as_points(body.charge_positions, "charges.positions")
-    body.charge_values = as_weights(
-        body.charge_values, "charges.values", len(body.charge_positions)
-    )
-    body.mass_positions = as_points(body.mass_positions, "masses.positions")
-    body.mass_values = as_weights(body.mass_values, "masses.values", len(body.mass_positions))
-    body.dipole_positions = as_points(body.dipole_positions, "dipoles.positions")
-    body.dipole_moments = as_points(
-        body.dipole_moments, "dipoles.moments", len(body.dipole_positions)
-    )
-
-
 @dataclass
-class Design:
-    """Elements in body axes (SI units) plus what they are meant to realise.
+class Design(ElementSet):
+    """An element set (:class:`~chargedesign.elements.ElementSet`: charges on carriers,
+    magnets, ballast; SI units, body axes) plus what it is meant to realise.
 
     Attributes
     ----------
@@ -58,12 +39,9 @@ class Design:
     fields : dict[str, tuple[float, ...]]
         ``legendre`` coefficients per field kind (``magnetic``, ``electric``, ``gravity``);
         ``Phi = sum_k f_k R^k P_k(Z/R)``, f_k in the field's units per m^(k-1).
-    charge_positions : ndarray, shape (n, 3)
-        Charge positions in m. ``charge_values``: ndarray, shape (n,), in C.
-    mass_positions : ndarray, shape (m, 3)
-        Mass positions in m. ``mass_values``: ndarray, shape (m,), in kg (>= 0).
-    dipole_positions : ndarray, shape (k, 3)
-        Dipole positions in m. ``dipole_moments``: ndarray, shape (k, 3), in A m^2 (body axes).
+    charge_positions, charge_values, charge_radii, charge_masses, dipole_positions,
+    dipole_moments, dipole_volumes, dipole_masses, mass_positions, mass_values
+        The elements (keyword arguments; see :class:`~chargedesign.elements.ElementSet`).
     realises : list[str]
         Subset of ``mu``, ``V``, ``inertia`` that the design claims.
     continuous : list[ContinuousBody]
@@ -75,20 +53,12 @@ class Design:
 
     parameters: Parameters
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
-    charge_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    charge_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    mass_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    mass_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dipole_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        validate_elements(self)
-        if np.any(self.mass_values < 0):
-            raise input_error("masses.values", "nonnegative masses", self.mass_values.min())
+        super().__post_init__()
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
@@ -108,28 +78,13 @@ class Design:
         """Legendre coefficients of one field (empty tuple: no such field)."""
         return self.fields.get(kind, ())
 
-    @property
-    def n_elements(self) -> int:
-        return len(self.charge_values) + len(self.mass_values) + len(self.dipole_moments)
-
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON mapping (plus ``extra`` keys)."""
         out: dict[str, Any] = {
             "format": DESIGN_FORMAT,
             "parameters": self.parameters.as_dict(),
             "fields": {k: {"legendre": list(v)} for k, v in self.fields.items()},
-            "charges": {
-                "positions": self.charge_positions.tolist(),
-                "values": self.charge_values.tolist(),
-            },
-            "masses": {
-                "positions": self.mass_positions.tolist(),
-                "values": self.mass_values.tolist(),
-            },
-            "dipoles": {
-                "positions": self.dipole_positions.tolist(),
-                "moments": self.dipole_moments.tolist(),
-            },
+            **self.blocks(),
             "realises": list(self.realises),
         }
         if self.continuous:
@@ -157,26 +112,12 @@ class Design:
                 raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
             fields_out[kind] = spec["legendre"]
 
-        def block(name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
-            b = data.get(name) or {}
-            if not isinstance(b, dict):
-                raise input_error(f"{where}.{name}", "an object", b)
-            return b.get(keys[0], []), b.get(keys[1], [])
-
-        cp, cv = block("charges", ("positions", "values"))
-        mp, mv = block("masses", ("positions", "values"))
-        dp, dm = block("dipoles", ("positions", "moments"))
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
         known.add("continuous")
         return cls(
             parameters=params,
             fields=fields_out,
-            charge_positions=cp,
-            charge_values=cv,
-            mass_positions=mp,
-            mass_values=mv,
-            dipole_positions=dp,
-            dipole_moments=dm,
+            **ElementSet.arrays_from_blocks(data, where),
             realises=list(data.get("realises", [])),
             extra={k: v for k, v in data.items() if k not in known},
             continuous=data.get("continuous") or [],
