@@ -14,7 +14,7 @@ from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, input_error
+from chargedesign.validation import as_array, as_finite_float, input_error
 
 DESIGN_FORMAT = "chargedesign.design/1"
 FIELD_KINDS = ("magnetic", "electric", "gravity")
@@ -56,9 +56,13 @@ class Design(ElementSet):
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
+    medium: dict[str, Any] | None = None
+    materials: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        self.medium = _medium(self.medium)
+        self.materials = _materials(self.materials)
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
@@ -89,6 +93,10 @@ class Design(ElementSet):
         }
         if self.continuous:
             out["continuous"] = [b.to_dict() for b in self.continuous]
+        if self.medium is not None:
+            out["medium"] = dict(self.medium)
+        if self.materials:
+            out["materials"] = {k: dict(v) for k, v in self.materials.items()}
         for key, value in self.extra.items():
             out.setdefault(key, value)
         return out
@@ -113,7 +121,7 @@ class Design(ElementSet):
             fields_out[kind] = spec["legendre"]
 
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
-        known.add("continuous")
+        known |= {"continuous", "medium", "materials"}
         return cls(
             parameters=params,
             fields=fields_out,
@@ -121,7 +129,62 @@ class Design(ElementSet):
             realises=list(data.get("realises", [])),
             extra={k: v for k, v in data.items() if k not in known},
             continuous=data.get("continuous") or [],
+            medium=data.get("medium"),
+            materials=data.get("materials") or {},
         )
+
+
+_MEDIUM_KEYS = ("name", "breakdown_V_per_m", "safety")
+_MATERIAL_KEYS = {
+    "name": str,
+    "density_kg_per_m3": float,
+    "remanent_magnetisation_A_per_m": float,
+    "shell_thickness_m": float,
+}
+
+
+def _medium(value: Any) -> dict[str, Any] | None:
+    """design.json ``medium``: ``{"name", "breakdown_V_per_m", "safety"}`` (None: point design)."""
+    if value is None:
+        return None
+    if not isinstance(value, dict) or set(value) != set(_MEDIUM_KEYS):
+        raise input_error("medium", "an object with keys " + ", ".join(_MEDIUM_KEYS), value)
+    if not isinstance(value["name"], str):
+        raise input_error("medium.name", "a name", value["name"])
+    breakdown = as_finite_float(
+        value["breakdown_V_per_m"], "medium.breakdown_V_per_m", positive=True
+    )
+    safety = as_finite_float(value["safety"], "medium.safety")
+    if not 0.0 < safety <= 1.0:
+        raise input_error("medium.safety", "a number in (0, 1]", safety)
+    return {"name": value["name"], "breakdown_V_per_m": breakdown, "safety": safety}
+
+
+def _materials(value: Any) -> dict[str, Any]:
+    """design.json ``materials``: role -> {name, density_kg_per_m3, ...}."""
+    if not isinstance(value, dict):
+        raise input_error("materials", "an object role -> material", value)
+    out: dict[str, Any] = {}
+    for role, spec in value.items():
+        where = f"materials.{role}"
+        if role not in ("carrier", "magnet", "ballast"):
+            raise input_error("materials", "roles among carrier, magnet, ballast", role)
+        if not isinstance(spec, dict) or "density_kg_per_m3" not in spec:
+            raise input_error(where, "an object with density_kg_per_m3", spec)
+        clean: dict[str, Any] = {}
+        for key, item in spec.items():
+            if key not in _MATERIAL_KEYS:
+                raise input_error(f"{where}.{key}", "one of " + ", ".join(_MATERIAL_KEYS), key)
+            if key == "name":
+                if not isinstance(item, str):
+                    raise input_error(f"{where}.name", "a name", item)
+                clean[key] = item
+            else:
+                clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
+        out[role] = clean
+    if "magnet" in out and "remanent_magnetisation_A_per_m" not in out["magnet"]:
+        raise InputError("materials.magnet: missing key 'remanent_magnetisation_A_per_m'")
+    return out
 
 
 def read_design(path: str | os.PathLike[str]) -> Design:

@@ -564,7 +564,8 @@ def candidates_from_table(
         )
     if shape not in SHAPES:
         raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
-    allowed = set(SHAPE_KEYS[shape]) | {"shape"}
+    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
+    allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise input_error(
