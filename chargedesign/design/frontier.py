@@ -149,9 +149,18 @@ def _feasible(setup: PhysicalSetup, s: float) -> tuple[bool, Binding | None]:
 
 
 def find_frontier(
-    setup: PhysicalSetup, *, rtol: float = FRONTIER_RTOL, progress: Any = None
+    setup: PhysicalSetup,
+    *,
+    rtol: float = FRONTIER_RTOL,
+    progress: Any = None,
+    feasible_rate: float | None = None,
 ) -> FrontierResult:
-    """The largest time rate within every limit, and the limit that binds above it."""
+    """The largest time rate within every limit, and the limit that binds above it.
+
+    ``feasible_rate``: a rate already known to be feasible (e.g. the one just designed),
+    which starts the bracket and saves the search for a feasible point. The bracket
+    ``[s_max, s_above]`` ends narrower than ``1 + rtol``.
+    """
     t0 = time.perf_counter()
     s_nec = necessary_rate(setup)
     history: list[tuple[float, bool]] = []
@@ -191,9 +200,9 @@ def find_frontier(
         lo = s_nec
     else:
         hi, hi_binding = s_nec, binding
-        lo = 0.0
+        lo = feasible_rate if feasible_rate is not None and feasible_rate < s_nec else 0.0
         s = s_nec
-        while s > s_nec * LOWEST_RATE_FRACTION:
+        while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
             s *= 0.1
             ok, binding = probe(s)
             if ok:

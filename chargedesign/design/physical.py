@@ -57,11 +57,9 @@ DESIGN_MARGIN = 1e-3
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
 DEBUG = False
-MAX_ROUNDS = 16
+MAX_ROUNDS = 14
 #: rounds of own-field bound tightening before the cones
-LP_ROUNDS = 10
-#: sample points per carrier that become cones when it is near its limit
-CONES_PER_CARRIER = 3
+LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
 CONE_THRESHOLD = 0.95
 
@@ -259,23 +257,32 @@ def _lp_charges(A: np.ndarray, b: np.ndarray, caps: np.ndarray) -> np.ndarray | 
 def _surface_check(
     setup: PhysicalSetup, positions: np.ndarray, q: np.ndarray, s: float, samples: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Largest surface field of each carrier over the safe field, and its worst points.
+    """Largest surface field of each carrier over the safe field, and where it occurs.
+
+    ``samples`` Fibonacci points per carrier, then a refinement around the largest one
+    (:func:`~chargedesign.physical.limits.local_cap`), so the maximum between samples is found.
 
     Returns
     -------
     ratios : ndarray, shape (k,)
-    worst : ndarray, shape (k, CONES_PER_CARRIER, 3)
-        The sample points with the largest fields, worst first.
+    worst : ndarray, shape (k, 3)
     """
+    from chargedesign.physical.limits import local_cap, sample_spacing
+
     dirs = fibonacci_directions(samples)
+    angle = 1.5 * sample_spacing(samples)
     ratios = np.zeros(len(q))
-    worst = np.zeros((len(q), CONES_PER_CARRIER, 3))
+    worst = np.zeros((len(q), 3))
+    a = setup.carrier_radius
     for i in range(len(q)):
-        pts = positions[i] + setup.carrier_radius * dirs
+        pts = positions[i] + a * dirs
         e = np.linalg.norm(coulomb_field(positions, q, pts), axis=1)
         e = e + setup.external_max(np.linalg.norm(pts, axis=1), s)
-        top = np.argsort(e)[::-1][:CONES_PER_CARRIER]
-        ratios[i], worst[i] = e[top[0]] / setup.safe_field, pts[top]
+        cap = positions[i] + a * local_cap(dirs[int(np.argmax(e))], angle)
+        e_cap = np.linalg.norm(coulomb_field(positions, q, cap), axis=1)
+        e_cap = e_cap + setup.external_max(np.linalg.norm(cap, axis=1), s)
+        k = int(np.argmax(e_cap))
+        ratios[i], worst[i] = max(float(e_cap[k]), float(e.max())) / setup.safe_field, cap[k]
     return ratios, worst
 
 
@@ -382,7 +389,7 @@ def _meet_surface_limits(
                 continue
             lp_alive = False
         near = np.flatnonzero(ratios > CONE_THRESHOLD)
-        cones.extend((int(sites[i]), point) for i in near for point in worst[i][:1])
+        cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
         solved = _socp_charges(setup, working, s, cones, caps)
         if solved is None:
@@ -582,7 +589,7 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     sig_polished = full_sigma.reshape(n, 3)[sites]
     magnet_floor = (
         (1 + 1e-6)
-        * spec_density(setup)
+        * setup.spec.magnet.density
         * np.linalg.norm(sig_polished, axis=1)
         / (setup.spec.magnet.magnetisation or 1.0)
     )
@@ -618,31 +625,45 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     )
 
 
-def spec_density(setup: PhysicalSetup) -> float:
-    return setup.spec.magnet.density
-
-
 def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> Binding:
-    """Why the second stage is infeasible: the carriers' mass, or the magnets' volume."""
+    """Why the second stage is infeasible: the carriers' mass, the ballast's room, or the
+    magnets' volume (each tried without the later ones)."""
     import cvxpy as cp
 
     Am, bm = setup.systems["masses"]
+    free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
+    rhs = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    scale = _unknown_scale(Am[:, free], rhs) or 1.0
+    Ams, bms = _row_scaled(Am[:, free], rhs, scale)
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+
+    def feasible(room: bool) -> bool:
+        w = cp.Variable(len(free), nonneg=True)
+        cons = [Ams @ w == bms]
+        if room:
+            cons.append(w * scale / setup.spec.ballast.density <= v_cap)
+        prob = cp.Problem(cp.Minimize(0), cons)
+        prob.solve(solver=cp.CLARABEL)
+        return prob.status not in ("infeasible", "infeasible_inaccurate")
+
     carriers_c = float(
         setup.carrier_mass * np.sum(np.sum(setup.points[carrier_sites, :2] ** 2, axis=1))
     )
-    free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
-    w = cp.Variable(len(free), nonneg=True)
-    rhs = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
-    Ams, bms = _row_scaled(Am[:, free], rhs, 1.0)
-    prob = cp.Problem(cp.Minimize(0), [Ams @ w == bms])
-    prob.solve(solver=cp.CLARABEL)
-    if prob.status in ("infeasible", "infeasible_inaccurate"):
+    if not feasible(room=False):
         return Binding(
             "masses",
             f"the {len(carrier_sites)} carriers ({setup.carrier_mass:.3g} kg each, their own "
             f"C = {carriers_c:.3g} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
-            f"with C = {setup.params.C:.4g} kg m^2 (and the centre of mass at O)",
+            f"with C = {setup.params.C:.4g} kg m^2 and the centre of mass at O",
             "inertia",
+        )
+    if not feasible(room=True):
+        return Binding(
+            "masses",
+            f"the {setup.spec.ballast.name} ballast that makes A = B = 2C (C = "
+            f"{setup.params.C:.4g} kg m^2) does not fit in the cells the "
+            f"{len(carrier_sites)} carriers leave free",
+            "ballast cells",
         )
     return Binding(
         "magnets",
@@ -766,9 +787,18 @@ def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, 
 
 
 def design_physical(
-    setup: PhysicalSetup, *, scale: float = 1.0, progress: Progress | None = None
+    setup: PhysicalSetup,
+    *,
+    scale: float = 1.0,
+    progress: Progress | None = None,
+    frontier: bool = True,
 ) -> DesignResult:
     """Design the physical body at time rate ``scale`` (1: the scene's parameters).
+
+    With ``frontier`` the largest rate within the limits is located too (to 5 %, from the
+    designed rate up; ``design.extra["frontier"]``), and the realism budget
+    (:func:`chargedesign.physical.realism.realism_budget`) is written into
+    ``design.extra["realism"]``.
 
     A rate beyond what the limits allow raises :class:`~chargedesign.errors.InfeasibleError`
     with the binding element and limit, the largest rate the body reaches, and what would
@@ -807,6 +837,17 @@ def design_physical(
     )
     design.extra.update(design_extras(result))
     design.extra["buildability"] = limits.to_dict()
+    from chargedesign.physical.realism import realism_budget
+
+    design.extra["realism"] = realism_budget(design)
+    if frontier:
+        from chargedesign.design.frontier import find_frontier
+
+        if progress is not None:
+            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
+        front = find_frontier(setup, rtol=0.05, feasible_rate=scale)
+        design.extra["frontier"] = front.to_dict()
+        design.extra["frontier"]["n_max"] = front.s_max * setup.params.n
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,
         "carrier_mass_kg": setup.carrier_mass,
