@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 
 #: vacuum permittivity, F/m (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
@@ -271,9 +272,10 @@ def _verdict_lines(design: Design) -> list[str]:
         f"**Verdict: {'buildable' if ok else 'NOT buildable'}** in {medium['name']} "
         f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g}).",
         "",
-        f"- Largest surface field: {limits.get('largest_surface_field_fraction_of_breakdown', 0):.3g}"
-        " of breakdown (independent recomputation at "
-        "400 points per carrier).",
+        "- Largest surface field: "
+        f"{limits.get('largest_surface_field_fraction_of_breakdown', 0):.4g} of breakdown "
+        f"(recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per carrier "
+        "and around the largest).",
     ]
     n = design.parameters.n
     if frontier:
@@ -330,7 +332,8 @@ def _physical_sections(design: Design) -> list[str]:
         value = (
             f"{r['charge_C']:.4g} C"
             if r["kind"] == "carrier"
-            else f"({r['moment_x_A_m2']:.3g}, {r['moment_y_A_m2']:.3g}, {r['moment_z_A_m2']:.3g}) A m^2"
+            else f"({r['moment_x_A_m2']:.3g}, {r['moment_y_A_m2']:.3g}, "
+            f"{r['moment_z_A_m2']:.3g}) A m^2"
             if r["kind"] == "magnet"
             else ""
         )

@@ -135,7 +135,8 @@ def scan_frontier(
         data = _variant(base, f, medium, a1f, carrier)
         if progress is not None:
             progress(
-                f"[{i + 1}/{len(cases)}] size x{f:g}, {medium}, a1 x{a1f:g}, {carrier or base_carrier}"
+                f"[{i + 1}/{len(cases)}] size x{f:g}, {medium}, a1 x{a1f:g}, "
+                f"{carrier or base_carrier}"
             )
         try:
             result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))

@@ -336,6 +336,10 @@ def _polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray)
     return out
 
 
+def _excess(ratio: float) -> str:
+    return f"needs {ratio:.3g}x" if ratio >= 1.01 else "reaches"
+
+
 def _support(q: np.ndarray) -> np.ndarray:
     top = float(np.max(np.abs(q))) if len(q) else 0.0
     return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
@@ -399,7 +403,7 @@ def _meet_surface_limits(
     raise PhysicalInfeasible(
         Binding(
             "charges",
-            f"needs {worst_ratio:.3g}x the safe surface field of {medium.name} "
+            f"{_excess(worst_ratio)} the safe surface field of {medium.name} "
             f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
             f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
             worst_ratio,
@@ -541,7 +545,8 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
         cp.multiply(sigma_scale / M / v_cap, norms) + cp.multiply(mass_scale / rho_b / v_cap, mass)
         <= 1.0
     )
-    objective = cp.Minimize(cp.sum(mass) + rho_m * sigma_scale / M / mass_scale * cp.sum(norms))
+    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
+    objective = cp.Minimize(cp.sum(mass) + cp.sum(norms))
     return MassProgram(
         problem=cp.Problem(objective, constraints),
         sigma=sigma,
