@@ -33,6 +33,9 @@ from chargedesign.errors import InfeasibleError, SolverError
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
+#: after bisection, rates (1 + rtol)^k above the bracket that must fail too
+UPWARD_STEPS = (1, 2, 4)
+UPWARD_RESTARTS = 3
 #: how far below the necessary bound a feasible rate is searched for
 LOWEST_RATE_FRACTION = 1e-9
 
@@ -222,13 +225,33 @@ def find_frontier(
                 medium,
                 history,
             )
-        while hi / lo > 1 + rtol:
-            mid = math.sqrt(lo * hi)
-            ok, binding = probe(mid)
+        for _ in range(UPWARD_RESTARTS + 1):
+            while hi / lo > 1 + rtol:
+                mid = math.sqrt(lo * hi)
+                ok, binding = probe(mid)
+                if ok:
+                    lo = mid
+                else:
+                    hi, hi_binding = mid, binding
+            # the heuristic feasibility (LP rounds, then cones) is not exactly monotone in s:
+            # rates a little above the bracket are tried, and a success reopens it
+            above = [hi * (1 + rtol) ** k for k in UPWARD_STEPS if hi * (1 + rtol) ** k < s_nec]
+            found = None
+            for s_up in above:
+                ok, binding = probe(s_up)
+                if ok:
+                    found = s_up
+                    break
+            if found is None:
+                break
+            lo = found
+            hi = min(s_nec, found * (1 + rtol) ** 4)
+            hi_binding = upper_binding
+            ok, binding = probe(hi)
             if ok:
-                lo = mid
-            else:
-                hi, hi_binding = mid, binding
+                lo = hi
+                break
+            hi_binding = binding
     assert hi_binding is not None
     return FrontierResult(
         s_max=lo,

@@ -474,6 +474,44 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
     )
 
 
+@dataclass
+class ChargeProgram:
+    """The charges' stage as one cvxpy problem on every candidate (no constraint generation).
+
+    ``problem`` minimises ``sum |q|`` subject to the charge conditions and a second-order cone
+    at every one of ``samples`` points on every candidate carrier's surface. ``q`` is in units
+    of ``charge_scale`` (C). Dense: meant for small candidate sets, for users who add their
+    own constraints, and as the reference the constraint generation is tested against.
+    """
+
+    problem: Any
+    q: Any
+    charge_scale: float
+
+
+def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeProgram:
+    """Build (not solve) the full charges program at rate ``s`` (see :class:`ChargeProgram`)."""
+    import cvxpy as cp
+
+    A, b = setup.systems["charges"]
+    caps = setup.charge_caps(s)
+    qs = float(np.max(caps))
+    As, bs = _row_scaled(A, s * b, qs)
+    q = cp.Variable(len(setup.points))
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    dirs = fibonacci_directions(samples)
+    points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
+    d = points[:, None, :] - setup.points[None, :, :]
+    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+    G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)
+    room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+    fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
+    problem = cp.Problem(
+        cp.Minimize(cp.norm(q, 1)), [As @ q == bs, cp.norm(fields, 2, axis=1) <= room]
+    )
+    return ChargeProgram(problem, q, qs)
+
+
 # ------------------------------------------------------------------- magnets and masses
 @dataclass
 class MassSolution:

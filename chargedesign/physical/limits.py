@@ -28,6 +28,8 @@ from chargedesign.physical.materials import COULOMB
 ROUNDING_SLACK = 1e-9
 #: sample points per carrier in the independent check
 CHECK_SURFACE_SAMPLES = 1000
+#: levels of refinement around the largest sample (caps of 1.5, 0.375, ... sample spacings)
+REFINEMENTS = 4
 #: polar angles sampled for the largest field over orientations
 ANGLE_SAMPLES = 2001
 
@@ -151,12 +153,20 @@ def carrier_surface_fields(
         pts = positions[i] + radii[i] * dirs
         e = np.linalg.norm(coulomb_field(positions, charges, pts), axis=1)
         e += external(np.linalg.norm(pts, axis=1))
-        # refine around the largest sample: the maximum between samples is found too
-        cap = positions[i] + radii[i] * local_cap(dirs[int(np.argmax(e))], spacing)
-        e_cap = np.linalg.norm(coulomb_field(positions, charges, cap), axis=1)
-        e_cap += external(np.linalg.norm(cap, axis=1))
-        k = int(np.argmax(e_cap))
-        fields[i], worst[i] = max(e_cap[k], float(e.max())), cap[k]
+        # refine around the largest sample, in caps of shrinking size: the maximum between
+        # samples is found too
+        best_dir, best = dirs[int(np.argmax(e))], float(e.max())
+        angle = spacing
+        for _ in range(REFINEMENTS):
+            cap_dirs = local_cap(best_dir, angle)
+            cap = positions[i] + radii[i] * cap_dirs
+            e_cap = np.linalg.norm(coulomb_field(positions, charges, cap), axis=1)
+            e_cap += external(np.linalg.norm(cap, axis=1))
+            k = int(np.argmax(e_cap))
+            if e_cap[k] > best:
+                best, best_dir = float(e_cap[k]), cap_dirs[k]
+            angle /= 4.0
+        fields[i], worst[i] = best, positions[i] + radii[i] * best_dir
     return fields, worst
 
 
