@@ -317,6 +317,7 @@ def design_from_scene(
     scene: Any,
     *,
     progress: Progress | None = None,
+    frontier: bool = True,
     **overrides: Any,
 ) -> DesignResult:
     """Design the body a scene describes: its parameters, fields, ``[body]`` and ``[design]``.
@@ -333,7 +334,8 @@ def design_from_scene(
     DesignResult
 
     A scene with ``[medium]`` is designed as a physical body
-    (:mod:`chargedesign.design.physical`): carriers, magnets and ballast within every limit.
+    (:mod:`chargedesign.design.physical`): carriers, magnets and ballast within every limit;
+    with ``frontier`` the largest rate within the limits is located too (the report's n_max).
     """
     from chargedesign.scene import Scene
 
@@ -347,7 +349,7 @@ def design_from_scene(
         from chargedesign.design.physical import design_physical, setup_physical
 
         setup = setup_physical(scene.parameters, conditions, candidates, spec, options)
-        result = design_physical(setup, progress=progress)
+        result = design_physical(setup, progress=progress, frontier=frontier)
         result.design.extra["provenance"]["scene"] = scene.source
         return result
     result = design_body(scene.parameters, conditions, candidates, options, progress=progress)
