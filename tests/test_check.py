@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_SCENE
 
 from chargedesign.bench.check import bench_design, naive_sums
 from chargedesign.body import Design
@@ -518,7 +519,7 @@ def test_a_design_from_the_default_scene_passes() -> None:
     from chargedesign.design import design_from_scene
     from chargedesign.scene import load_scene
 
-    design = design_from_scene(load_scene()).design
+    design = design_from_scene(load_scene(UNIT_SCENE)).design
     report = check_design(design, n_orientations=500, tol=1e-10)
     assert report.passed, report.to_dict()
     assert set(report.claimed) == {"mu", "V", "inertia"}

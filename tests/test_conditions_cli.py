@@ -7,6 +7,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from unit_scene import UNIT_SCENE
 
 from chargedesign.cli import main
 from chargedesign.scene import load_scene
@@ -36,7 +37,7 @@ def _write(tmp_path: Path, text: str) -> str:
 
 
 def test_default_scene_json(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["conditions", "--json"]) == 0
+    assert main(["conditions", str(UNIT_SCENE), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert list(out)[:3] == ["charges", "dipoles", "masses"]
     p = load_scene(None).parameters
@@ -72,7 +73,7 @@ def test_scene_file_exact(tmp_path: Path, capsys: pytest.CaptureFixture[str]) ->
 
 
 def test_human_output(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["conditions"]) == 0
+    assert main(["conditions", str(UNIT_SCENE)]) == 0
     text = capsys.readouterr().out
     assert "charges:" in text and "dipoles:" in text and "masses:" in text
     assert "I_xx = -0.7" in text

@@ -2,6 +2,7 @@ import json
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_SCENE
 
 from chargedesign.body import read_design
 from chargedesign.cli import main
@@ -82,7 +83,7 @@ def test_default_design_writes_design_report_and_picture(tmp_path, capsys):
     import imageio.v3 as iio
 
     out = tmp_path / "out"
-    assert main(["design", "--out", str(out)]) == 0
+    assert main(["design", str(UNIT_SCENE), "--out", str(out)]) == 0
     captured = capsys.readouterr()
     assert sorted(p.name for p in out.iterdir()) == ["design.json", "design.png", "report.md"]
     assert captured.out.startswith("# Design report")
@@ -119,7 +120,21 @@ def test_json_summary_and_si_scene(tmp_path, capsys):
 
 def test_objective_override(tmp_path, capsys):
     out = tmp_path / "o"
-    assert main(["design", "--out", str(out), "--objective", "l2", "--no-picture", "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "design",
+                str(UNIT_SCENE),
+                "--out",
+                str(out),
+                "--objective",
+                "l2",
+                "--no-picture",
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     capsys.readouterr()
     design = read_design(out / "design.json")
     assert design.extra["objective"]["charges"]["kind"] == "l2"
@@ -186,14 +201,14 @@ def test_failed_picture_fails_the_command_and_keeps_earlier_outputs(tmp_path, ca
     import chargedesign.viz
 
     out = tmp_path / "out"
-    assert main(["design", "--out", str(out), "--no-picture", "--quiet"]) == 0
+    assert main(["design", str(UNIT_SCENE), "--out", str(out), "--no-picture", "--quiet"]) == 0
     before = snapshot(out)
 
     def broken(*args, **kwargs):
         raise RuntimeError("no OpenGL context")
 
     monkeypatch.setattr(chargedesign.viz, "render_screenshot", broken)
-    code = main(["design", "--out", str(out), "--objective", "l2", "--quiet"])
+    code = main(["design", str(UNIT_SCENE), "--out", str(out), "--objective", "l2", "--quiet"])
     captured = capsys.readouterr()
     assert code == 2
     assert "rendering design.png failed (RuntimeError: no OpenGL context)" in captured.err
@@ -205,7 +220,7 @@ def test_no_picture_removes_a_stale_picture(tmp_path, capsys):
     out = tmp_path / "out"
     out.mkdir()
     (out / "design.png").write_bytes(b"old picture")
-    assert main(["design", "--out", str(out), "--no-picture"]) == 0
+    assert main(["design", str(UNIT_SCENE), "--out", str(out), "--no-picture"]) == 0
     captured = capsys.readouterr()
     assert not (out / "design.png").exists()
     assert "removed the earlier" in captured.err

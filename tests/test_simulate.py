@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_SCENE
 
 from chargedesign.body import Design, write_design
 from chargedesign.cli import main
@@ -291,7 +292,7 @@ def test_outputs_are_written(tmp_path: Path) -> None:
 
 
 def test_cli_json_keys(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["simulate", "--t-end", "2", "--json"]) == 0
+    assert main(["simulate", str(UNIT_SCENE), "--t-end", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert list(out)[:3] == ["I4_rel_drift", "I3_max", "effects"]
     for key in ("I1_rel_drift", "I2_max_dev", "steps", "seconds", "events", "notes", "body"):
@@ -321,4 +322,4 @@ def test_cli_failures_are_one_line(tmp_path: Path, capsys: pytest.CaptureFixture
     bad.write_text("[simulation]\nrtol = 0\n")
     assert main(["simulate", str(bad)]) == 2
     assert "simulation.rtol" in capsys.readouterr().err
-    assert main(["simulate", "--t-end", "-1"]) == 2
+    assert main(["simulate", str(UNIT_SCENE), "--t-end", "-1"]) == 2

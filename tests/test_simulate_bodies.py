@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_SCENE
 
 from chargedesign.body import Design
 from chargedesign.cli import main
@@ -17,7 +18,7 @@ from chargedesign.errors import InfeasibleError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
-from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
+from chargedesign.scene import load_scene, scene_from_dict
 from chargedesign.simulate import (
     Body,
     RigidBodySystem,
@@ -369,7 +370,9 @@ def test_region_with_theorem_effect_uses_the_reduced_model(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     scene = tmp_path / "scene.toml"
-    scene.write_text(default_scene_text() + '\n[simulation]\nt_end = 5.0\neffects = ["theorem"]\n')
+    scene.write_text(
+        UNIT_SCENE.read_text() + '\n[simulation]\nt_end = 5.0\neffects = ["theorem"]\n'
+    )
     out, err = _cli_json([str(scene)], capsys)
     assert out["effects"] == ["theorem"] and "designing body" not in err
     assert out["body"]["designed_from_scene"] is False
@@ -396,7 +399,7 @@ def test_a_setup_is_designed_once_and_keeps_its_own_options() -> None:
 
 
 def test_a_partial_design_skips_effects_without_a_source_with_notes() -> None:
-    data = tomllib.loads(default_scene_text())
+    data = tomllib.loads(UNIT_SCENE.read_text())
     data["design"] = {"realise": ["mu"]}
     result = simulate(scene_from_dict(data), t_end=1.0)
     assert result.effects == ["lorentz"]  # charges only; no electric field is derived
@@ -408,7 +411,7 @@ def test_a_partial_design_skips_effects_without_a_source_with_notes() -> None:
 
 
 def test_a_region_that_cannot_be_designed_says_how_to_simulate_the_theorem() -> None:
-    data = tomllib.loads(default_scene_text())
+    data = tomllib.loads(UNIT_SCENE.read_text())
     data["parameters"]["lambda"] = 0.3
     scene = scene_from_dict(data)
     with pytest.raises(InfeasibleError, match=r"singular.*effects = \['theorem'\]"):
