@@ -31,7 +31,7 @@ START = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
 
 
 def test_default_scene_simulates_its_designed_body() -> None:
-    result = simulate(None, t_end=3.0)
+    result = simulate(UNIT_SCENE, t_end=3.0)
     summary = result.summary()
     assert list(summary)[:3] == ["I4_rel_drift", "I3_max", "effects"]
     assert summary["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
@@ -40,7 +40,7 @@ def test_default_scene_simulates_its_designed_body() -> None:
     assert summary["I3_max"] <= 1e-10
     assert result.completed and result.times[-1] == 3.0
     # the theorem effect alone is the reduced model of the same scene (nothing designed)
-    theorem = simulate(None, t_end=3.0, effects=["theorem"]).summary()
+    theorem = simulate(UNIT_SCENE, t_end=3.0, effects=["theorem"]).summary()
     assert theorem["effects"] == ["theorem"]
     assert theorem["body"]["designed_from_scene"] is False
     assert theorem["level"] == "I3=0" and theorem["I3_max"] <= 1e-10
@@ -136,7 +136,7 @@ def test_solver_failure_raises(monkeypatch: pytest.MonkeyPatch) -> None:
 
     monkeypatch.setattr(integrate_module, "solve_ivp", failing)
     with pytest.raises(SolverError, match=r"DOP853 failed near t = 0\.5 s: Required step"):
-        simulate(None, t_end=1.0)
+        simulate(UNIT_SCENE, t_end=1.0)
 
 
 def test_batch_equals_separate_runs() -> None:
@@ -154,12 +154,12 @@ def test_batch_equals_separate_runs() -> None:
 
 def test_progress_is_reported() -> None:
     seen: list[float] = []
-    simulate(None, t_end=2.0, progress=seen.append)
+    simulate(UNIT_SCENE, t_end=2.0, progress=seen.append)
     assert seen[-1] == 1.0 and seen == sorted(seen) and len(seen) >= 3
 
 
 def test_rotation_and_gamma_agree() -> None:
-    result = simulate(None, t_end=2.0, initial={**START, "level": "I3=0", "precession": 0.7})
+    result = simulate(UNIT_SCENE, t_end=2.0, initial={**START, "level": "I3=0", "precession": 0.7})
     R = result.rotation
     assert np.max(np.abs(np.einsum("tji,tjk->tik", R, R) - np.eye(3))) <= 1e-14
     assert np.max(np.abs(R[:, 2, :] - result.gamma)) <= 1e-15
@@ -268,7 +268,7 @@ effects = ["lorentz", "electric"]
 
 
 def test_outputs_are_written(tmp_path: Path) -> None:
-    result = simulate(None, t_end=10.0, poincare="gamma1")
+    result = simulate(UNIT_SCENE, t_end=10.0, poincare="gamma1")
     files = result.write(tmp_path / "run")
     names = sorted(p.name for p in files)
     assert names == sorted(

@@ -330,7 +330,7 @@ def _cli_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[dict
 def test_cli_default_run_designs_the_body_and_keeps_i4_on_the_level(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    out, err = _cli_json(["--t-end", "20"], capsys)
+    out, err = _cli_json([str(UNIT_SCENE), "--t-end", "20"], capsys)
     assert list(out)[:3] == ["I4_rel_drift", "I3_max", "effects"]
     assert out["effects"] == PHYSICAL
     assert "designing body" in err
@@ -350,7 +350,7 @@ def test_cli_off_level_breaks_i4_but_not_i1_and_i3(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     run = tmp_path / "run"
-    out, _ = _cli_json(["--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys)
+    out, _ = _cli_json([str(UNIT_SCENE), "--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys)
     assert out["effects"] == PHYSICAL and out["level"] == "I3=0.5"
     assert abs(out["initial"]["I3"] - 0.5) <= 1e-13
     assert out["initial"]["omega"][:2] == [0.6, -0.4]  # the default start's p, q; r moved
@@ -382,12 +382,12 @@ def test_region_with_theorem_effect_uses_the_reduced_model(
     assert out["I4_rel_drift"] == reference["I4_rel_drift"]
     assert out["I3_max"] == reference["I3_max"]
     # --effects theorem does the same for the default scene
-    out, err = _cli_json(["--effects", "theorem", "--t-end", "2"], capsys)
+    out, err = _cli_json([str(UNIT_SCENE), "--effects", "theorem", "--t-end", "2"], capsys)
     assert out["effects"] == ["theorem"] and "designing body" not in err
 
 
 def test_a_setup_is_designed_once_and_keeps_its_own_options() -> None:
-    setup = setup_from_source(None)
+    setup = setup_from_source(UNIT_SCENE)
     messages: list[str] = []
     first = simulate(setup, t_end=2.0, design_progress=messages.append)
     designed = len(messages)
