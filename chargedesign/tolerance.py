@@ -776,8 +776,8 @@ class _Ensemble:
 
     def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
         """Torque of body b at state b: omega, gamma (B, 3) -> (B, 3)."""
-        v = np.einsum("bk,bkc->bc", self.monomials(gamma), self.coef)
-        return np.cross(gamma, v[:, 0:3]) + np.cross(v[:, 3:6], omega)
+        v = np.matmul(self.monomials(gamma)[:, None, :], self.coef)[:, 0]
+        return _cross(gamma, v[:, 0:3]) + _cross(v[:, 3:6], omega)
 
     def rhs_function(self, batch: int = 1) -> Any:
         from chargedesign.simulation.system import quaternion_gamma
@@ -801,6 +801,15 @@ class _Ensemble:
             return out.reshape(-1)
 
         return fun
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (m, 3) arrays."""
+    out = np.empty_like(a)
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
 
 
 def _physical_effects(body: Any) -> list[str]:
