@@ -22,7 +22,7 @@ COMMANDS = {
     "show": "3-D view of a design (PyVista)",
     "export": "export a design's geometry (json, csv, vtp)",
     "bench": "what accuracy costs in time",
-    "tolerance": "manufacturing tolerances: exact sensitivity and a Monte Carlo of perturbed bodies",
+    "tolerance": "manufacturing tolerances: exact sensitivity, Monte Carlo of perturbed bodies",
     "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
 }
 

@@ -138,7 +138,9 @@ class _Elements:
 
 
 def _fields(design: Design) -> dict[str, AxisymmetricField]:
-    return {k: AxisymmetricField(tuple(design.field(k))) for k in ("magnetic", "electric", "gravity")}
+    return {
+        k: AxisymmetricField(tuple(design.field(k))) for k in ("magnetic", "electric", "gravity")
+    }
 
 
 def _orientations(n: int, seed: int = 0) -> np.ndarray:
@@ -566,9 +568,7 @@ def _rel_errors(
     return {
         "mu": np.linalg.norm(q["mu"] - ref["mu"], axis=-1).max(axis=-1) / scales["mu"],
         "V": np.abs(q["V"] - ref["V"]).max(axis=-1) / scales["V"],
-        "inertia": np.abs(q["inertia"] - ref["inertia"]).reshape(len(q["inertia"]), -1).max(
-            axis=-1
-        )
+        "inertia": np.abs(q["inertia"] - ref["inertia"]).reshape(len(q["inertia"]), -1).max(axis=-1)
         / scales["inertia"],
     }
 
@@ -606,7 +606,10 @@ def parse_spread(text: Any, name: str, length: bool = False) -> Spread:
         The option's name for the error message.
     """
     if isinstance(text, (int, float)) and not isinstance(text, bool):
-        return Spread(as_finite_float(text, name, nonnegative=True), False)
+        value = as_finite_float(text, name)
+        if value < 0.0:
+            raise input_error(name, "a non-negative error", text)
+        return Spread(value, False)
     match = _SPREAD.match(str(text)) if isinstance(text, str) else None
     units = "m, mm, um, nm or %" if length else "%"
     if match is None:
@@ -917,8 +920,9 @@ def _linear_drift(
     effects = _physical_effects(bodies[0])
     system = RigidBodySystem(bodies[0], effects, "reduced")
     y0 = api.initial_state(system, spec)[0]
-    run = integrate(system, y0[None], t_end, method="DOP853", rtol=1e-12, atol=1e-12,
-                    samples=samples)
+    run = integrate(
+        system, y0[None], t_end, method="DOP853", rtol=1e-12, atol=1e-12, samples=samples
+    )
     st = run.states[0]
     t = np.asarray(run.times)
     omega = st[:, :3]
@@ -1197,7 +1201,9 @@ def monte_carlo(
     if not 1 <= len(lv) <= MAX_LEVELS:
         raise input_error("levels", f"1 to {MAX_LEVELS} scale factors", list(levels))
     if model.is_zero:
-        raise InputError("tolerance: give at least one error (--position, --charge, --dipole, --mass)")
+        raise InputError(
+            "tolerance: give at least one error (--position, --charge, --dipole, --mass)"
+        )
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     report = tolerance_report(design, target)
@@ -1279,9 +1285,13 @@ def plot_drift(result: MonteCarloResult, ax: Any = None) -> Any:
         ax.set_xlabel("position error (m, one standard deviation)")
     else:
         x = result.levels
-        ax.set_xlabel("error scale (1 = " + ", ".join(
-            f"{k} {v}" for k, v in result.model.to_dict().items() if not v.startswith("0")
-        ) + ")")
+        ax.set_xlabel(
+            "error scale (1 = "
+            + ", ".join(
+                f"{k} {v}" for k, v in result.model.to_dict().items() if not v.startswith("0")
+            )
+            + ")"
+        )
     mc_med = np.median(result.drift_mc, axis=1)
     mc_p90 = np.quantile(result.drift_mc, 0.9, axis=1)
     lin_med = np.median(result.drift_linear, axis=1)
@@ -1349,7 +1359,9 @@ def sensitivity_weights(
         arrays.update(charge_positions=pts, charge_values=unit)
     elif source == "masses":
         arrays.update(mass_positions=pts, mass_values=unit)
-    design = Design(parameters=parameters, fields={k: tuple(v) for k, v in fields.items()}, **arrays)
+    design = Design(
+        parameters=parameters, fields={k: tuple(v) for k, v in fields.items()}, **arrays
+    )
     gammas = _orientations(n_orientations, 0)
     scales = _scales(design, _references(design, gammas))
     if source == "dipoles":

@@ -53,7 +53,7 @@ class _Bar:
     def __call__(self, done: int, total: int, failed: int) -> None:
         width = 30
         frac = done / total if total else 1.0
-        filled = int(round(width * frac))
+        filled = round(width * frac)
         elapsed = time.perf_counter() - self.t0
         eta = elapsed * (total - done) / done if done else 0.0
         sys.stderr.write(
@@ -72,7 +72,9 @@ def run(args: argparse.Namespace) -> int:
     from chargedesign.sweep import load_sweep, make_executor, run_sweep
 
     if args.executor not in EXECUTORS:
-        raise InputError(f"--executor: expected one of {', '.join(EXECUTORS)}, got {args.executor!r}")
+        raise InputError(
+            f"--executor: expected one of {', '.join(EXECUTORS)}, got {args.executor!r}"
+        )
     if args.chunk is not None and args.chunk < 1:
         raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     spec = load_sweep(args.sweep)

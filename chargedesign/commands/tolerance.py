@@ -80,7 +80,9 @@ def run(args: argparse.Namespace) -> int:
     try:
         levels = [float(x) for x in args.levels.split(",") if x.strip()]
     except ValueError:
-        raise InputError(f"--levels: expected numbers separated by commas, got {args.levels!r}")
+        raise InputError(
+            f"--levels: expected numbers separated by commas, got {args.levels!r}"
+        ) from None
     if not 1 <= len(levels) <= MAX_LEVELS or any(not (x > 0 and math.isfinite(x)) for x in levels):
         raise InputError(
             f"--levels: expected 1 to {MAX_LEVELS} positive factors, got {args.levels!r}"
@@ -101,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
             seed=args.seed,
             target=args.target,
         )
-    data = result.to_dict()  # type: ignore[attr-defined]
+    data = result.to_dict()
     if args.out:
         _write(args.out, result, data)
     if args.json:

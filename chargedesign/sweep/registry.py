@@ -196,4 +196,4 @@ def resolve(command: str) -> CommandFunction:
         raise InputError(f"command {command!r}: cannot import it ({exc})") from None
     if not callable(fn):
         raise InputError(f"command {command!r}: not a function")
-    return fn  # type: ignore[no-any-return]
+    return fn

@@ -165,7 +165,7 @@ class SerialExecutor(Executor):
         future: Future[Any] = Future()
         try:
             future.set_result(fn(*args, **kwargs))
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller via the future
+        except BaseException as exc:
             if isinstance(exc, KeyboardInterrupt):
                 raise
             future.set_exception(exc)
@@ -220,7 +220,10 @@ def make_executor(
             return [f.result() for f in futures]
 
         return ExecutorHandle(
-            pool, n, "process", close=lambda: pool.shutdown(cancel_futures=True),
+            pool,
+            n,
+            "process",
+            close=lambda: pool.shutdown(cancel_futures=True),
             memory_mb=pool_memory,
         )
     try:
@@ -320,7 +323,7 @@ def auto_chunk(n_points: int, workers: int) -> int:
 def _done(out: Path, pid: str) -> dict[str, Any] | None:
     path = out / "points" / pid / "result.json"
     try:
-        return json.loads(path.read_text(encoding="utf-8"))  # type: ignore[no-any-return]
+        return json.loads(path.read_text(encoding="utf-8"))
     except (OSError, json.JSONDecodeError):
         return None
 
@@ -332,7 +335,9 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
         "source": spec.source,
         "command": spec.command,
         "scene": spec.scene_source,
-        "points": [{"point": pid, "keys": keys} for pid, keys in zip(ids, spec.points, strict=True)],
+        "points": [
+            {"point": pid, "keys": keys} for pid, keys in zip(ids, spec.points, strict=True)
+        ],
     }
     plan_path = out / "sweep.json"
     if plan_path.exists():
@@ -343,7 +348,8 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
         same = old is not None and old.get("points") == json.loads(json.dumps(plan["points"]))
         if not resume:
             raise InputError(
-                f"{out}: holds an earlier sweep; pass --resume to complete it or choose another --out"
+                f"{out}: holds an earlier sweep; pass --resume to complete it or choose "
+                "another --out"
             )
         if not same or old.get("command") != spec.command:
             raise InputError(

@@ -104,7 +104,9 @@ def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
 
     parts = key.split(".")
     if len(parts) < 2 or not all(parts):
-        raise InputError(f"{source}: grid key {key!r}: expected a dotted scene key such as body.radius")
+        raise InputError(
+            f"{source}: grid key {key!r}: expected a dotted scene key such as body.radius"
+        )
     if parts[0] not in KNOWN_TABLES:
         raise InputError(
             f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
@@ -139,8 +141,10 @@ def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
 def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source: str) -> list:
     where = f"{source}: random key {key!r}"
     if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in RANDOM_KINDS:
-        raise InputError(f"{where}: expected one of {{uniform = [lo, hi]}}, "
-                         "{log_uniform = [lo, hi]}, {choice = [...]}")
+        raise InputError(
+            f"{where}: expected one of {{uniform = [lo, hi]}}, "
+            "{log_uniform = [lo, hi]}, {choice = [...]}"
+        )
     kind, arg = next(iter(spec.items()))
     if not isinstance(arg, list) or not arg:
         raise InputError(f"{where}: {kind} needs a non-empty list")
@@ -186,7 +190,9 @@ def sweep_from_dict(
         scene_source = "<default>"
     else:
         if not isinstance(scene_value, str) or not scene_value:
-            raise InputError(f"{source}: scene: expected a path to a scene file, got {scene_value!r}")
+            raise InputError(
+                f"{source}: scene: expected a path to a scene file, got {scene_value!r}"
+            )
         path = Path(scene_value)
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
@@ -225,7 +231,9 @@ def sweep_from_dict(
         n_random = random.get("samples", 0)
         seed = random.get("seed", 0)
         if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
-            raise InputError(f"{source}: random.samples: expected an integer >= 1, got {n_random!r}")
+            raise InputError(
+                f"{source}: random.samples: expected an integer >= 1, got {n_random!r}"
+            )
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
             raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
         random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}

@@ -67,8 +67,22 @@ def test_cli_sensitivity_and_monte_carlo(tmp_path, capsys):
     assert data["target"] == 1e-5 and "dominates" in data["headline"]
     out = tmp_path / "tol"
     code = main(
-        ["tolerance", str(DESIGN), "--position", "1um", "--charge", "0.01%", "--samples", "4",
-         "--t-end", "2", "--levels", "0.5,1", "--out", str(out)]
+        [
+            "tolerance",
+            str(DESIGN),
+            "--position",
+            "1um",
+            "--charge",
+            "0.01%",
+            "--samples",
+            "4",
+            "--t-end",
+            "2",
+            "--levels",
+            "0.5,1",
+            "--out",
+            str(out),
+        ]
     )
     assert code == 0
     text = capsys.readouterr().out

@@ -41,9 +41,12 @@ def _quantities(design, gammas):
     for k, Rk in enumerate(R):
         X = design.charge_positions @ Rk.T
         B_body = -(fm.gradient(X) @ Rk)  # R^T B
-        mu[k] = -np.einsum("n,n,ni->i", design.charge_values,
-                           np.einsum("ni,ni->n", design.charge_positions, B_body),
-                           design.charge_positions)
+        mu[k] = -np.einsum(
+            "n,n,ni->i",
+            design.charge_values,
+            np.einsum("ni,ni->n", design.charge_positions, B_body),
+            design.charge_positions,
+        )
         V[k] = design.charge_values @ fe.potential(X)
         V[k] += design.mass_values @ fg.potential(design.mass_positions @ Rk.T)
         Xd = design.dipole_positions @ Rk.T
@@ -146,9 +149,7 @@ def test_robust_weights_agree_with_the_report(design):
         if e["kind"] == "charge":
             q = abs(design.charge_values[e["index"]])
             assert c[e["index"]] * q == pytest.approx(1e-4 / e["position_tol_m_min"], rel=1e-9)
-    cd = sensitivity_weights(
-        design.dipole_positions, "dipoles", design.fields, design.parameters
-    )
+    cd = sensitivity_weights(design.dipole_positions, "dipoles", design.fields, design.parameters)
     assert cd.shape == (len(design.dipole_moments),) and np.all(cd > 0)
 
 
