@@ -215,6 +215,10 @@ def make_executor(
             max_workers=n, mp_context=multiprocessing.get_context("spawn"), initializer=warm_up
         )
 
+        # start every worker now (each runs warm_up once), so the first points do not wait
+        for f in [pool.submit(worker_memory) for _ in range(n)]:
+            f.result()
+
         def pool_memory() -> list[float]:
             futures = [pool.submit(worker_memory) for _ in range(n)]
             return [f.result() for f in futures]
