@@ -438,6 +438,13 @@ def run_sweep(
                 lost += len(part)
                 lost_reason = lost_reason or _one_line(exc)
                 continue
+            for rec in records:
+                # workers without the client's filesystem (a remote cluster without a shared
+                # DIR): the client keeps the record, so the summary is complete anyway
+                local = out_path / "points" / rec["point"] / "result.json"
+                if not local.exists():
+                    local.parent.mkdir(parents=True, exist_ok=True)
+                    write_json_atomic(local, rec)
             ran += len(records)
             failed += sum(r["status"] != "ok" for r in records)
             done_points += len(records)
