@@ -20,7 +20,7 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 
-SCENE = {
+SCENE: dict[str, dict[str, Any]] = {
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
     "simulation": {"effects": ["theorem"], "t_end": 100.0, "samples": 201},
     "output": {"trajectory": False, "plot": False},
