@@ -11,6 +11,7 @@ point folder and its result.json.
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -71,6 +72,7 @@ def run(quick: bool = False) -> list[BenchTable]:
     # serial baseline on a subset, scaled to all points
     subset = 4 if quick else 20
     with tempfile.TemporaryDirectory() as tmp:
+        load_serial = os.getloadavg()[0]
         t0 = time.perf_counter()
         sub = _spec(subset, t_end)
         run_sweep(sub, Path(tmp) / "s")
@@ -85,6 +87,8 @@ def run(quick: bool = False) -> list[BenchTable]:
             "wall s",
             "serial T1 s",
             "efficiency T1/(p Tp)",
+            "busy fraction sum(t)/(p Tp)",
+            "load avg 1 min",
             "overhead/task ms (chunk 1)",
             "overhead/task ms (auto chunk)",
             "peak RSS/worker MB",
@@ -93,7 +97,10 @@ def run(quick: bool = False) -> list[BenchTable]:
             f"points: chargedesign simulate of the theorem's reduced model, t_end = {t_end:.4g} s "
             f"of motion (calibrated to about {per_point:g} s per point), a grid over parameters.n",
             f"T1: {subset} of the points run serially in-process, {serial_per_point:.3g} s per "
-            "point, scaled to all points",
+            f"point, scaled to all points (load avg before: {load_serial:.1f})",
+            "busy fraction: the points' own seconds (timed inside the workers) over p x wall: "
+            "the share of worker time spent in points, insensitive to other jobs on the machine "
+            "(load avg: the machine's 1-minute load before and after the run, 2 cores)",
             "overhead: no-op points (chargedesign.bench.sweep:idle), wall x workers / points, "
             "including each point's folder and result.json; start-up (pool or LocalCluster and "
             "the warm-up imports) is not in the wall time",
@@ -104,15 +111,18 @@ def run(quick: bool = False) -> list[BenchTable]:
         try:
             handle = make_executor(kind, workers)
         except Exception as exc:  # dask not installed: say so in the table
-            table.rows.append([kind, workers, float("nan"), str(exc)[:60], t1, float("nan"),
-                               float("nan"), float("nan"), float("nan")])
+            nan = float("nan")
+            table.rows.append([kind, workers, nan, str(exc)[:60], t1, nan, nan, "", nan, nan, nan])
             continue
         startup = time.perf_counter() - t0
         try:
             with tempfile.TemporaryDirectory() as tmp:
+                load0 = os.getloadavg()[0]
                 t0 = time.perf_counter()
                 result = run_sweep(_spec(n_points, t_end), Path(tmp) / "a", executor=handle)
                 wall = time.perf_counter() - t0
+                load1 = os.getloadavg()[0]
+                busy = sum(r["seconds"] or 0.0 for r in result.rows)
                 if result.failed or result.lost:
                     raise RuntimeError(f"sweep bench: {result.failed} failed, {result.lost} lost")
                 overhead = []
@@ -125,7 +135,18 @@ def run(quick: bool = False) -> list[BenchTable]:
         finally:
             handle.close()
         table.rows.append(
-            [kind, handle.workers, startup, wall, t1, t1 / (handle.workers * wall),
-             overhead[0], overhead[1], memory]
+            [
+                kind,
+                handle.workers,
+                startup,
+                wall,
+                t1,
+                t1 / (handle.workers * wall),
+                busy / (handle.workers * wall),
+                f"{load0:.1f} -> {load1:.1f}",
+                overhead[0],
+                overhead[1],
+                memory,
+            ]
         )
     return [table]
