@@ -67,9 +67,16 @@ class _Bar:
 
 def run(args: argparse.Namespace) -> int:
     import json
+    from pathlib import Path
 
     from chargedesign.errors import InputError
-    from chargedesign.sweep import load_sweep, make_executor, run_sweep
+    from chargedesign.sweep import (
+        load_sweep,
+        make_executor,
+        run_sweep,
+        summary_rows,
+        write_summary,
+    )
 
     if args.executor not in EXECUTORS:
         raise InputError(
@@ -88,6 +95,13 @@ def run(args: argparse.Namespace) -> int:
             chunk=args.chunk,
             progress=None if args.quiet else _Bar(),
         )
+    except KeyboardInterrupt:
+        # let the points in flight finish or stop, then list every point on disk
+        handle.close()
+        out = Path(args.out)
+        if (out / "sweep.json").is_file():
+            write_summary(summary_rows(spec, out), spec.keys, out)
+        raise
     finally:
         handle.close()
     if args.json:

@@ -259,7 +259,12 @@ def make_executor(
     client.run(warm_up)
     n_workers = len(client.scheduler_info().get("workers", {})) or n
 
+    closed = []
+
     def close() -> None:
+        if closed:
+            return
+        closed.append(True)
         client.close()
         if cluster is not None:
             cluster.close()
