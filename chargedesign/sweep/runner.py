@@ -259,7 +259,7 @@ def make_executor(
     client.run(warm_up)
     n_workers = len(client.scheduler_info().get("workers", {})) or n
 
-    closed = []
+    closed: list[bool] = []
 
     def close() -> None:
         if closed:
