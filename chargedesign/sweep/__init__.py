@@ -1,7 +1,7 @@
 """Sweeps: many scenes through one command, on any ``concurrent.futures.Executor``.
 
 >>> from chargedesign.sweep import load_sweep, make_executor, run_sweep  # doctest: +SKIP
->>> spec = load_sweep("examples/sweeps/radius.toml")                     # doctest: +SKIP
+>>> spec = load_sweep("examples/sweeps/theorem_t_end.sweep")               # doctest: +SKIP
 >>> handle = make_executor("process", workers=2)                         # doctest: +SKIP
 >>> result = run_sweep(spec, "out/sweep", executor=handle)               # doctest: +SKIP
 
