@@ -547,6 +547,14 @@ def tolerance_report(
     )
 
 
+def with_tolerance(design: Design, report: ToleranceReport) -> Design:
+    """A copy of ``design`` whose design.json carries the report under the key ``tolerance``."""
+    out = _replace(design)
+    out.extra = {**design.extra, "tolerance": report.to_dict()}
+    out.continuous = list(design.continuous)
+    return out
+
+
 def _magnitudes(el: _Elements) -> np.ndarray:
     return np.concatenate([np.abs(el.cv), np.linalg.norm(el.dm, axis=1), np.abs(el.mv)])
 

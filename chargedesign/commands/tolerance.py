@@ -15,6 +15,7 @@ component, or % of |sigma|); ``--mass`` (kg or %). See docs/tolerance.md.
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 MAX_SAMPLES = 2000  # mirrors chargedesign.tolerance.MAX_SAMPLES (kept here so --help stays light)
 MAX_LEVELS = 6
@@ -59,7 +60,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out",
         metavar="DIR",
-        help="write tolerance.json, drift.png, drift_over_time.csv and errors.csv (atomically)",
+        help="write tolerance.json, design.json (with a 'tolerance' block), drift.png, "
+        "drift_over_time.csv and errors.csv (atomically)",
     )
 
 
@@ -105,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
         )
     data = result.to_dict()
     if args.out:
-        _write(args.out, result, data)
+        _write(args.out, result, data, design)
     if args.json:
         print(json.dumps(data, indent=2, allow_nan=False))
     else:
@@ -113,16 +115,21 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write(out: str, result: object, data: dict) -> None:
+def _write(out: str, result: Any, data: dict, design: Any) -> None:
     import csv
     import io
     import json
 
+    from chargedesign.body import write_design
     from chargedesign.files import atomic_directory
-    from chargedesign.tolerance import MonteCarloResult, plot_drift
+    from chargedesign.tolerance import MonteCarloResult, plot_drift, with_tolerance
 
+    report = result.report if isinstance(result, MonteCarloResult) else result
     with atomic_directory(out) as stage:
         (stage / "tolerance.json").write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
+        if report is not None:
+            # the design with its per-element tolerances under the key "tolerance"
+            write_design(with_tolerance(design, report), stage / "design.json")
         if not isinstance(result, MonteCarloResult):
             return
         buf = io.StringIO()

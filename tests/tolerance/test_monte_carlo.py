@@ -89,6 +89,9 @@ def test_cli_sensitivity_and_monte_carlo(tmp_path, capsys):
     assert "Monte Carlo: 4 perturbed bodies" in text
     for name in ("tolerance.json", "errors.csv", "drift_over_time.csv", "drift.png"):
         assert (out / name).is_file()
+    stored = read_design(out / "design.json")
+    assert stored.extra["tolerance"]["format"] == "chargedesign.tolerance/1"
+    assert stored.n_elements == read_design(DESIGN).n_elements
 
 
 @pytest.mark.parametrize(
