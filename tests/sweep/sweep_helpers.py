@@ -23,3 +23,13 @@ def square(
     time.sleep(sleep)
     (point_dir / "note.txt").write_text(f"{n}\n")
     return {"n2": n * n, "label": f"n={n}"}
+
+
+def interrupt_at(scene: Any, point_dir: Path, at: float = -1.0, marker: str = "") -> dict[str, Any]:
+    """Raise KeyboardInterrupt (as Ctrl-C would) at the point with n == at, once."""
+    n = scene.parameters.n
+    if n == at and marker and not Path(marker).exists():
+        Path(marker).write_text("interrupted")
+        raise KeyboardInterrupt
+    (point_dir / "note.txt").write_text(f"{n}\n")
+    return {"n2": n * n}

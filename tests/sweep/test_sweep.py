@@ -189,3 +189,20 @@ def test_random_sample_and_frontier_reason(tmp_path):
         import chargedesign.design.frontier  # noqa: F401
     except ImportError:
         assert row["status"] == "failed" and row["reason"].startswith("frontier: not available")
+
+
+def test_ctrl_c_keeps_finished_points_and_the_summary_lists_every_point(tmp_path):
+    sweep = tmp_path / "ctrl_c.toml"
+    sweep.write_text(
+        'command = "sweep_helpers:interrupt_at"\n[grid]\n"parameters.n" = [0.0, 1.0, 2.0, 3.0]\n'
+        f'[options]\nat = 2.0\nmarker = "{tmp_path / "marker"}"\n'
+    )
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(load_sweep(sweep), out)
+    rows = _rows(out)
+    assert [r["status"] for r in rows] == ["ok", "ok", "not run", "not run"]
+    assert not list((out / "points").glob(".*"))  # no staging folder left behind
+    second = run_sweep(load_sweep(sweep), out, resume=True)
+    assert second.skipped == 2 and second.ran == 2
+    assert [r["n2"] for r in _rows(out)] == ["0.0", "1.0", "4.0", "9.0"]
