@@ -54,7 +54,7 @@ KINDS = ("charge", "dipole", "mass")
 KIND_BLOCKS = {"charge": "charges", "dipole": "dipoles", "mass": "masses"}
 DEFAULT_TARGET = 1e-4
 DEFAULT_ORIENTATIONS = 200
-#: most perturbed bodies per tolerance level in :func:`monte_carlo` (memory: about 60 kB
+#: most perturbed bodies per tolerance level in :func:`monte_carlo` (memory: about 11 kB
 #: per body and level for the ensemble integration's states)
 MAX_SAMPLES = 2000
 #: most tolerance levels
