@@ -60,8 +60,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out",
         metavar="DIR",
-        help="write tolerance.json, design.json (with a 'tolerance' block), drift.png, "
-        "drift_over_time.csv and errors.csv (atomically)",
+        help="write tolerance.json, design.json (with a 'tolerance' block), errors.csv, "
+        "drift.csv, drift_over_time.csv and drift.png (atomically)",
     )
 
 
@@ -146,6 +146,20 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
             )
         (stage / "errors.csv").write_text(buf.getvalue())
         if result.drift_mc.size:
+            buf = io.StringIO()
+            w = csv.writer(buf)
+            w.writerow(["level", "body", "I4_rel_drift_mc", "I4_rel_drift_linear"])
+            for i, level in enumerate(result.levels):
+                for b in range(result.drift_mc.shape[1]):
+                    w.writerow(
+                        [
+                            f"{level:g}",
+                            b,
+                            f"{result.drift_mc[i, b]:.17g}",
+                            f"{result.drift_linear[i, b]:.17g}",
+                        ]
+                    )
+            (stage / "drift.csv").write_text(buf.getvalue())
             buf = io.StringIO()
             w = csv.writer(buf)
             w.writerow(["t", "I4_rel_drift_median", "I4_rel_drift_p90"])

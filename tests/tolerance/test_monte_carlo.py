@@ -87,8 +87,9 @@ def test_cli_sensitivity_and_monte_carlo(tmp_path, capsys):
     assert code == 0
     text = capsys.readouterr().out
     assert "Monte Carlo: 4 perturbed bodies" in text
-    for name in ("tolerance.json", "errors.csv", "drift_over_time.csv", "drift.png"):
+    for name in ("tolerance.json", "errors.csv", "drift.csv", "drift_over_time.csv", "drift.png"):
         assert (out / name).is_file()
+    assert len((out / "drift.csv").read_text().splitlines()) == 1 + 2 * 4  # 2 levels x 4 bodies
     stored = read_design(out / "design.json")
     assert stored.extra["tolerance"]["format"] == "chargedesign.tolerance/1"
     assert stored.n_elements == read_design(DESIGN).n_elements
