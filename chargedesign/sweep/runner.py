@@ -348,6 +348,8 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
             {"point": pid, "keys": keys} for pid, keys in zip(ids, spec.points, strict=True)
         ],
     }
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: expected an output directory, it is a file")
     plan_path = out / "sweep.json"
     if plan_path.exists():
         try:
