@@ -206,3 +206,28 @@ def test_ctrl_c_keeps_finished_points_and_the_summary_lists_every_point(tmp_path
     second = run_sweep(load_sweep(sweep), out, resume=True)
     assert second.skipped == 2 and second.ran == 2
     assert [r["n2"] for r in _rows(out)] == ["0.0", "1.0", "4.0", "9.0"]
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning:distributed.*")
+@pytest.mark.filterwarnings("ignore::ResourceWarning")
+def test_joining_a_running_dask_scheduler(serial_summary, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    import logging
+
+    cluster = distributed.LocalCluster(
+        n_workers=1,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    )
+    try:
+        handle = make_executor("process", scheduler=cluster.scheduler_address)
+        try:
+            assert handle.kind == "dask" and handle.workers == 1
+            run_sweep(load_sweep(_theorem_sweep(tmp_path)), tmp_path / "out", executor=handle)
+        finally:
+            handle.close()
+    finally:
+        cluster.close()
+    assert _rows(tmp_path / "out") == serial_summary
