@@ -23,6 +23,8 @@ COMMANDS = {
     "export": "export a design's geometry (json, csv, vtp)",
     "frontier": "the largest time rate a body realises within every physical limit",
     "bench": "what accuracy costs in time",
+    "tolerance": "manufacturing tolerances: exact sensitivity, Monte Carlo of perturbed bodies",
+    "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
 }
 
 

@@ -1,0 +1,153 @@
+"""Sweep benchmarks: parallel efficiency, per-task overhead and worker memory.
+
+Points are real ``simulate`` runs of the theorem's reduced model (a grid over ``parameters.n``)
+whose ``t_end`` is calibrated so that one point takes about 1 s (8 points of 0.05 s with ``quick``).
+Efficiency is ``T1 / (p * Tp)``: ``T1`` the serial in-process time of the same points
+(measured on a subset and scaled), ``Tp`` the wall time on ``p`` warmed-up workers (the
+start-up of the pool or cluster and the warm-up imports are reported apart). The overhead per
+task is the wall time of no-op points times ``p`` over their number: scheduling, pickling, the
+point folder and its result.json.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.bench.common import BenchTable
+
+SCENE: dict[str, dict[str, Any]] = {
+    "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
+    "simulation": {"effects": ["theorem"], "t_end": 100.0, "samples": 201},
+    "output": {"trajectory": False, "plot": False},
+}
+
+
+def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
+    """A no-op point (for the per-task overhead)."""
+    return {"n": scene.parameters.n}
+
+
+def _spec(n_points: int, t_end: float, command: str = "simulate", chunk: int = 0) -> Any:
+    from chargedesign.sweep import SweepSpec
+
+    data = {k: dict(v) for k, v in SCENE.items()}
+    data["simulation"]["t_end"] = t_end
+    values = [float(x) for x in np.linspace(0.5, 0.9, n_points)]
+    return SweepSpec(
+        source="<bench>",
+        scene_data=data,
+        scene_source="<dict>",
+        command=command,
+        keys=["parameters.n"],
+        points=[{"parameters.n": v} for v in values],
+        chunk=chunk,
+    )
+
+
+def _calibrate(target: float) -> float:
+    """t_end (s of motion) for which one point takes about ``target`` seconds."""
+    from chargedesign.sweep import run_point, warm_up
+
+    warm_up()
+    spec = _spec(1, 100.0)
+    with tempfile.TemporaryDirectory() as tmp:
+        rec = run_point("simulate", spec.scene_data, "<dict>", {}, tmp, "p0", spec.points[0])
+        rec = run_point("simulate", spec.scene_data, "<dict>", {}, tmp, "p1", spec.points[0])
+    return 100.0 * target / max(rec["seconds"], 1e-3)
+
+
+def run(quick: bool = False) -> list[BenchTable]:
+    from chargedesign.sweep import make_executor, run_sweep
+
+    n_points = 8 if quick else 200
+    per_point = 0.05 if quick else 1.0
+    workers = 2
+    t_end = _calibrate(per_point)
+    # serial baseline on a subset, scaled to all points
+    subset = 4 if quick else 20
+    with tempfile.TemporaryDirectory() as tmp:
+        load_serial = os.getloadavg()[0]
+        t0 = time.perf_counter()
+        sub = _spec(subset, t_end)
+        run_sweep(sub, Path(tmp) / "s")
+        serial_per_point = (time.perf_counter() - t0) / subset
+    t1 = serial_per_point * n_points
+    table = BenchTable(
+        title=f"Sweep: {n_points} points of about {per_point:g} s on {workers} local workers",
+        columns=[
+            "executor",
+            "workers",
+            "start-up s",
+            "wall s",
+            "serial T1 s",
+            "efficiency T1/(p Tp)",
+            "busy fraction sum(t)/(p Tp)",
+            "load avg 1 min",
+            "overhead/task ms (chunk 1)",
+            "overhead/task ms (auto chunk)",
+            "peak RSS/worker MB",
+        ],
+        notes=[
+            f"points: chargedesign simulate of the theorem's reduced model, t_end = {t_end:.4g} s "
+            f"of motion (calibrated to about {per_point:g} s per point), a grid over parameters.n",
+            f"T1: {subset} of the points run serially in-process, {serial_per_point:.3g} s per "
+            f"point, scaled to all points (load avg before: {load_serial:.1f})",
+            "busy fraction: the points' own seconds (timed inside the workers) over p x wall: "
+            "the share of worker time spent in points, insensitive to other jobs on the machine "
+            "(load avg: the machine's 1-minute load before and after the run, 2 cores)",
+            "overhead: no-op points (chargedesign.bench.sweep:idle), wall x workers / points, "
+            "including each point's folder and result.json; start-up (pool or LocalCluster and "
+            "the warm-up imports) is not in the wall time",
+        ],
+    )
+    # quick (the smoke test): the process pool only; the Dask LocalCluster costs ~10 s to start
+    for kind in ("process",) if quick else ("process", "dask"):
+        t0 = time.perf_counter()
+        try:
+            handle = make_executor(kind, workers)
+        except Exception as exc:  # dask not installed: say so in the table
+            nan = float("nan")
+            table.rows.append([kind, workers, nan, str(exc)[:60], t1, nan, nan, "", nan, nan, nan])
+            continue
+        startup = time.perf_counter() - t0
+        try:
+            with tempfile.TemporaryDirectory() as tmp:
+                load0 = os.getloadavg()[0]
+                t0 = time.perf_counter()
+                result = run_sweep(_spec(n_points, t_end), Path(tmp) / "a", executor=handle)
+                wall = time.perf_counter() - t0
+                load1 = os.getloadavg()[0]
+                busy = sum(r["seconds"] or 0.0 for r in result.rows)
+                if result.failed or result.lost:
+                    raise RuntimeError(f"sweep bench: {result.failed} failed, {result.lost} lost")
+                overhead = []
+                for chunk in (1, 0):
+                    spec = _spec(n_points, t_end, "chargedesign.bench.sweep:idle", chunk)
+                    t0 = time.perf_counter()
+                    run_sweep(spec, Path(tmp) / f"idle{chunk}", executor=handle)
+                    overhead.append((time.perf_counter() - t0) * handle.workers / n_points * 1e3)
+                memory = max(handle.memory_mb() or [float("nan")])
+        finally:
+            handle.close()
+        table.rows.append(
+            [
+                kind,
+                handle.workers,
+                startup,
+                wall,
+                t1,
+                t1 / (handle.workers * wall),
+                busy / (handle.workers * wall),
+                f"{load0:.1f} -> {load1:.1f}",
+                overhead[0],
+                overhead[1],
+                memory,
+            ]
+        )
+    return [table]

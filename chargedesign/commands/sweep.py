@@ -1,0 +1,111 @@
+"""`chargedesign sweep SWEEP.toml --out DIR`: run many points of a scene through one command.
+
+Executors: ``process`` (default: a local process pool of ``--workers``), ``dask`` (a Dask
+LocalCluster of ``--workers``, or the running cluster at ``--scheduler tcp://...``; needs
+``chargedesign[dask]``), ``serial`` (in this process). Exit status 0 when every point ran
+and succeeded, 1 when some failed or were not run (``--resume`` completes them), 2 on bad
+input. See docs/sweep.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+EXECUTORS = ("process", "dask", "serial")  # mirrors chargedesign.sweep.EXECUTORS
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("sweep", metavar="SWEEP.toml", help="the sweep file")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    parser.add_argument(
+        "--workers", type=int, default=None, metavar="N", help="workers (default: the cores, <= 8)"
+    )
+    parser.add_argument(
+        "--executor",
+        default="process",
+        metavar="E",
+        help="process (default), dask (LocalCluster) or serial",
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="join a running Dask cluster (tcp://host:8786); implies --executor dask",
+    )
+    parser.add_argument(
+        "--resume", action="store_true", help="skip points already done in DIR, run the rest"
+    )
+    parser.add_argument(
+        "--chunk", type=int, default=None, metavar="K", help="points per task (default: automatic)"
+    )
+    parser.add_argument("--json", action="store_true", help="print the outcome as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+class _Bar:
+    """A one-line progress bar on stderr."""
+
+    def __init__(self) -> None:
+        self.t0 = time.perf_counter()
+
+    def __call__(self, done: int, total: int, failed: int) -> None:
+        width = 30
+        frac = done / total if total else 1.0
+        filled = round(width * frac)
+        elapsed = time.perf_counter() - self.t0
+        eta = elapsed * (total - done) / done if done else 0.0
+        sys.stderr.write(
+            f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} points, "
+            f"{failed} failed, {elapsed:.0f} s, eta {eta:.0f} s "
+        )
+        if done >= total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def run(args: argparse.Namespace) -> int:
+    import json
+    from pathlib import Path
+
+    from chargedesign.errors import InputError
+    from chargedesign.sweep import (
+        load_sweep,
+        make_executor,
+        run_sweep,
+        summary_rows,
+        write_summary,
+    )
+
+    if args.executor not in EXECUTORS:
+        raise InputError(
+            f"--executor: expected one of {', '.join(EXECUTORS)}, got {args.executor!r}"
+        )
+    if args.chunk is not None and args.chunk < 1:
+        raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
+    spec = load_sweep(args.sweep)
+    handle = make_executor(args.executor, args.workers, args.scheduler)
+    try:
+        result = run_sweep(
+            spec,
+            args.out,
+            executor=handle,
+            resume=args.resume,
+            chunk=args.chunk,
+            progress=None if args.quiet else _Bar(),
+        )
+    except KeyboardInterrupt:
+        # let the points in flight finish or stop, then list every point on disk
+        handle.close()
+        out = Path(args.out)
+        if (out / "sweep.json").is_file():
+            write_summary(summary_rows(spec, out), spec.keys, out)
+        raise
+    finally:
+        handle.close()
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2))
+    else:
+        print(str(result))
+    return 0 if result.failed == 0 and result.lost == 0 else 1

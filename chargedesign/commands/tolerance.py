@@ -1,0 +1,183 @@
+"""`chargedesign tolerance DESIGN`: how precisely each element must be made, and what errors do.
+
+Without error options: the exact first-order sensitivity (tolerance per element for
+``--target``, most influential first). With ``--position``, ``--charge``, ``--dipole`` or
+``--mass``: also a Monte Carlo of perturbed bodies (errors at one standard deviation,
+Gaussian): the distribution of the mu, V and inertia errors, the I4 drift of each perturbed
+body over ``--t-end`` (one batch simulation) and the linear-response prediction beside it.
+
+Error syntax: a number with an optional unit, or a percentage. ``--position 20um`` (also
+``m``, ``mm``, ``um``/``µm``, ``nm``; a bare number is m), ``--position 0.1%`` (of each
+element's distance from O); ``--charge 1e-6`` (C) or ``--charge 1%``; ``--dipole`` (A m^2 per
+component, or % of |sigma|); ``--mass`` (kg or %). See docs/tolerance.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+MAX_SAMPLES = 2000  # mirrors chargedesign.tolerance.MAX_SAMPLES (kept here so --help stays light)
+MAX_LEVELS = 6
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("design", metavar="DESIGN", help="design.json")
+    parser.add_argument("--position", metavar="E", help="position error, e.g. 20um or 0.1%%")
+    parser.add_argument("--charge", metavar="E", help="charge error, C or %% (e.g. 1%%)")
+    parser.add_argument("--dipole", metavar="E", help="dipole moment error, A m^2 or %%")
+    parser.add_argument("--mass", metavar="E", help="mass error, kg or %%")
+    parser.add_argument(
+        "--target",
+        type=float,
+        default=1e-4,
+        metavar="EPS",
+        help="target relative error of mu, V and the inertia for the per-element tolerances "
+        "(default 1e-4)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=200,
+        metavar="N",
+        help=f"perturbed bodies per tolerance level (default 200, at most {MAX_SAMPLES})",
+    )
+    parser.add_argument(
+        "--t-end", type=float, default=100.0, metavar="T", help="simulated time, s (default 100)"
+    )
+    parser.add_argument(
+        "--levels",
+        default="0.01,0.1,1",
+        metavar="F,F,...",
+        help="scale factors of the errors for the drift-against-tolerance curve "
+        f"(default 0.01,0.1,1; at most {MAX_LEVELS})",
+    )
+    parser.add_argument(
+        "--no-simulate", action="store_true", help="error distributions only, no I4 drift"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="seed of the draws (default 0)")
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    parser.add_argument(
+        "--out",
+        metavar="DIR",
+        help="write tolerance.json, design.json (with a 'tolerance' block), errors.csv, "
+        "drift.csv, drift_over_time.csv and drift.png (atomically)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    import json
+    import math
+
+    from chargedesign.body import read_design
+    from chargedesign.errors import InputError
+    from chargedesign.tolerance import ErrorModel, monte_carlo, tolerance_report
+
+    if not math.isfinite(args.target) or args.target <= 0.0:
+        raise InputError(f"--target: expected a number > 0, got {args.target!r}")
+    if not 1 <= args.samples <= MAX_SAMPLES:
+        raise InputError(f"--samples: expected an integer in 1..{MAX_SAMPLES}, got {args.samples}")
+    if not math.isfinite(args.t_end) or args.t_end <= 0.0:
+        raise InputError(f"--t-end: expected a number > 0, got {args.t_end!r}")
+    try:
+        levels = [float(x) for x in args.levels.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(
+            f"--levels: expected numbers separated by commas, got {args.levels!r}"
+        ) from None
+    if not 1 <= len(levels) <= MAX_LEVELS or any(not (x > 0 and math.isfinite(x)) for x in levels):
+        raise InputError(
+            f"--levels: expected 1 to {MAX_LEVELS} positive factors, got {args.levels!r}"
+        )
+    design = read_design(args.design)
+    model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
+    result: object
+    if model.is_zero:
+        result = tolerance_report(design, args.target)
+    else:
+        result = monte_carlo(
+            design,
+            model,
+            samples=args.samples,
+            drift_samples=0 if args.no_simulate else args.samples,
+            t_end=args.t_end,
+            levels=levels,
+            seed=args.seed,
+            target=args.target,
+        )
+    data = result.to_dict()
+    if args.out:
+        _write(args.out, result, data, design)
+    if args.json:
+        print(json.dumps(data, indent=2, allow_nan=False))
+    else:
+        print(str(result))
+    return 0
+
+
+def _write(out: str, result: Any, data: dict, design: Any) -> None:
+    import csv
+    import io
+    import json
+
+    from chargedesign.body import write_design
+    from chargedesign.files import atomic_directory
+    from chargedesign.tolerance import MonteCarloResult, plot_drift, with_tolerance
+
+    report = result.report if isinstance(result, MonteCarloResult) else result
+    with atomic_directory(out) as stage:
+        (stage / "tolerance.json").write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
+        if report is not None:
+            # the design with its per-element tolerances under the key "tolerance"
+            write_design(with_tolerance(design, report), stage / "design.json")
+        if not isinstance(result, MonteCarloResult):
+            return
+        buf = io.StringIO()
+        w = csv.writer(buf)
+        w.writerow(["sample", *(f"{q}_{k}" for q in result.errors for k in ("mc", "linear"))])
+        for i in range(result.n):
+            w.writerow(
+                [i]
+                + [
+                    f"{result.errors[q][k][i]:.17g}"
+                    for q in result.errors
+                    for k in ("monte_carlo", "linear")
+                ]
+            )
+        (stage / "errors.csv").write_text(buf.getvalue())
+        if result.drift_mc.size:
+            buf = io.StringIO()
+            w = csv.writer(buf)
+            w.writerow(["level", "body", "I4_rel_drift_mc", "I4_rel_drift_linear"])
+            for i, level in enumerate(result.levels):
+                for b in range(result.drift_mc.shape[1]):
+                    w.writerow(
+                        [
+                            f"{level:g}",
+                            b,
+                            f"{result.drift_mc[i, b]:.17g}",
+                            f"{result.drift_linear[i, b]:.17g}",
+                        ]
+                    )
+            (stage / "drift.csv").write_text(buf.getvalue())
+            buf = io.StringIO()
+            w = csv.writer(buf)
+            w.writerow(["t", "I4_rel_drift_median", "I4_rel_drift_p90"])
+            for t, a, b in zip(
+                result.drift_times,
+                result.drift_median_over_time,
+                result.drift_p90_over_time,
+                strict=True,
+            ):
+                w.writerow([f"{t:.17g}", f"{a:.17g}", f"{b:.17g}"])
+            (stage / "drift_over_time.csv").write_text(buf.getvalue())
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig, ax = plt.subplots(figsize=(6, 4.5))
+            plot_drift(result, ax=ax)
+            fig.tight_layout()
+            fig.savefig(stage / "drift.png", dpi=110)
+            plt.close(fig)

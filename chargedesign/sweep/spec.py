@@ -1,0 +1,287 @@
+"""Sweep files: the base scene, the command, and the points (a grid and/or a random sample).
+
+```toml
+scene = "scene.toml"          # the base scene, relative to this file (omitted: the default)
+command = "design"            # design | check | simulate | frontier | tolerance | module:function
+chunk = 0                     # points per task (0: automatic)
+[grid]                        # dotted scene keys -> lists of values; the product is swept
+"body.radius" = [0.01, 0.02, 0.04]
+"fields.magnetic.a1" = [1.0, 2.0]
+[random]                      # optional: `samples` draws (per grid point)
+samples = 10
+seed = 0
+"parameters.n" = {uniform = [0.1, 1.0]}
+"body.spacing" = {log_uniform = [0.1, 0.3]}
+"fields.magnetic.a2" = {choice = [0.5, 1.0]}
+[options]                     # keyword options of the command (e.g. tolerance: position = "20um")
+```
+
+Every key is checked against the scene before anything runs: one-line errors name the key
+(unknown scene key, empty grid, wrong command, bad random spec).
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import os
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+
+SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
+RANDOM_KINDS = ("uniform", "log_uniform", "choice")
+
+
+@dataclass
+class SweepSpec:
+    """A parsed, validated sweep.
+
+    Attributes
+    ----------
+    source : str
+        The sweep file (or ``<dict>``).
+    scene_data : dict
+        The base scene's TOML mapping; ``scene_source`` its path (relative paths inside it,
+        e.g. ``body.design``, resolve against it) or ``<default>``.
+    command : str
+        A registered command or ``module:function``.
+    keys : list of str
+        The swept dotted keys, in order.
+    points : list of dict
+        One mapping ``key -> value`` per point.
+    chunk : int
+        Points per task (0: automatic).
+    options : dict
+        Keyword options for the command.
+    """
+
+    source: str
+    scene_data: dict[str, Any]
+    scene_source: str
+    command: str
+    keys: list[str]
+    points: list[dict[str, Any]]
+    chunk: int = 0
+    options: dict[str, Any] = field(default_factory=dict)
+
+    def point_ids(self) -> list[str]:
+        width = max(4, len(str(max(len(self.points) - 1, 0))))
+        return [f"p{i:0{width}d}" for i in range(len(self.points))]
+
+
+def set_dotted(data: dict[str, Any], key: str, value: Any) -> None:
+    """``data["a"]["b"]["c"] = value`` for ``key = "a.b.c"`` (tables created as needed)."""
+    parts = key.split(".")
+    node = data
+    for part in parts[:-1]:
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        if not isinstance(child, dict):
+            raise InputError(f"grid key {key!r}: {part!r} is a value, not a table, in the scene")
+        node = child
+    node[parts[-1]] = value
+
+
+def scene_with(base: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:
+    data = copy.deepcopy(dict(base))
+    for key, value in point.items():
+        set_dotted(data, key, value)
+    return data
+
+
+def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
+    """Raise an InputError naming ``key`` when the scene's owners reject it."""
+    from chargedesign.scene import KNOWN_TABLES, scene_from_dict
+
+    parts = key.split(".")
+    if len(parts) < 2 or not all(parts):
+        raise InputError(
+            f"{source}: grid key {key!r}: expected a dotted scene key such as body.radius"
+        )
+    if parts[0] not in KNOWN_TABLES:
+        raise InputError(
+            f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
+        )
+    try:
+        scene = scene_from_dict(data, source="<sweep>")
+        table = parts[0]
+        if table == "body":
+            from chargedesign.candidates import candidates_from_table
+
+            if "shape" in scene.table("body"):
+                candidates_from_table(scene.table("body"))
+        elif table == "design":
+            from chargedesign.design.options import DesignOptions
+
+            DesignOptions.from_table(scene.table("design"))
+        elif table in ("simulation", "initial", "output"):
+            from chargedesign.simulation import api
+
+            parse = {
+                "simulation": api.parse_simulation_options,
+                "initial": api.parse_initial,
+                "output": api.parse_output_options,
+            }[table]
+            parse(scene.table(table))
+    except InputError as exc:
+        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
+
+
+def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source: str) -> list:
+    where = f"{source}: random key {key!r}"
+    if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in RANDOM_KINDS:
+        raise InputError(
+            f"{where}: expected one of {{uniform = [lo, hi]}}, "
+            "{log_uniform = [lo, hi]}, {choice = [...]}"
+        )
+    kind, arg = next(iter(spec.items()))
+    if not isinstance(arg, list) or not arg:
+        raise InputError(f"{where}: {kind} needs a non-empty list")
+    if kind == "choice":
+        idx = rng.integers(0, len(arg), n)
+        return [arg[int(i)] for i in idx]
+    if (
+        len(arg) != 2
+        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in arg)
+        or not all(math.isfinite(x) for x in arg)
+        or not arg[0] < arg[1]
+    ):
+        raise InputError(f"{where}: {kind} needs [lo, hi] with lo < hi")
+    lo, hi = float(arg[0]), float(arg[1])
+    if kind == "uniform":
+        return [float(x) for x in rng.uniform(lo, hi, n)]
+    if lo <= 0.0:
+        raise InputError(f"{where}: log_uniform needs lo > 0")
+    return [float(x) for x in np.exp(rng.uniform(math.log(lo), math.log(hi), n))]
+
+
+def sweep_from_dict(
+    data: Mapping[str, Any], source: str = "<dict>", base_dir: Path | None = None
+) -> SweepSpec:
+    """Validate a sweep mapping (see the module docstring)."""
+    from chargedesign.scene import default_scene_text
+    from chargedesign.sweep.registry import check_command
+
+    if not isinstance(data, Mapping):
+        raise InputError(f"{source}: expected a table of sweep keys")
+    unknown = sorted(set(data) - set(SWEEP_KEYS))
+    if unknown:
+        raise InputError(
+            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
+        )
+    if "command" not in data:
+        raise InputError(f"{source}: missing key 'command'")
+    command = data["command"]
+    check_command(command, f"{source}: command")
+    scene_value = data.get("scene")
+    if scene_value is None:
+        scene_data = tomllib.loads(default_scene_text())
+        scene_source = "<default>"
+    else:
+        if not isinstance(scene_value, str) or not scene_value:
+            raise InputError(
+                f"{source}: scene: expected a path to a scene file, got {scene_value!r}"
+            )
+        path = Path(scene_value)
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        if not path.is_file():
+            raise InputError(f"{source}: scene: no such scene file {str(path)!r}")
+        try:
+            scene_data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise InputError(f"{source}: scene: {path} is not valid TOML ({exc})") from None
+        scene_source = str(path)
+    chunk = data.get("chunk", 0)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
+        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
+    options = data.get("options", {})
+    if not isinstance(options, dict):
+        raise InputError(f"{source}: options: expected a table")
+    grid = data.get("grid", {})
+    if not isinstance(grid, dict):
+        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
+    random = data.get("random")
+    if random is not None and not isinstance(random, dict):
+        raise InputError(f"{source}: random: expected a table")
+    keys: list[str] = []
+    value_lists: list[list[Any]] = []
+    for key, values in grid.items():
+        if not isinstance(values, list):
+            raise InputError(f"{source}: grid key {key!r}: expected a list of values")
+        if not values:
+            raise InputError(f"{source}: grid key {key!r}: empty list of values (empty grid)")
+        keys.append(key)
+        value_lists.append(values)
+    random_keys: dict[str, Any] = {}
+    n_random = 0
+    seed = 0
+    if random is not None:
+        n_random = random.get("samples", 0)
+        seed = random.get("seed", 0)
+        if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
+            raise InputError(
+                f"{source}: random.samples: expected an integer >= 1, got {n_random!r}"
+            )
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
+        random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}
+        if not random_keys:
+            raise InputError(f"{source}: random: no keys to sample (empty random sample)")
+        for key in random_keys:
+            if key in grid:
+                raise InputError(f"{source}: random key {key!r} is also a grid key")
+    if not keys and not random_keys:
+        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
+    # every key checked alone against the base scene, with its first value
+    for key, values in zip(keys, value_lists, strict=True):
+        for value in values:
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source)
+            break
+    rng = np.random.default_rng(seed)
+    grid_points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
+    points: list[dict[str, Any]] = []
+    if random_keys:
+        for gp in grid_points:
+            draws = {k: _random_values(k, v, n_random, rng, source) for k, v in random_keys.items()}
+            for i in range(n_random):
+                p = dict(gp)
+                p.update({k: draws[k][i] for k in random_keys})
+                points.append(p)
+        for key in random_keys:
+            validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source)
+    else:
+        points = grid_points
+    return SweepSpec(
+        source=source,
+        scene_data=scene_data,
+        scene_source=scene_source,
+        command=command,
+        keys=keys + list(random_keys),
+        points=points,
+        chunk=chunk,
+        options=dict(options),
+    )
+
+
+def load_sweep(path: str | os.PathLike[str]) -> SweepSpec:
+    """Read and validate a sweep file (one-line errors naming the key)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such sweep file")
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: not valid TOML ({exc})") from None
+    return sweep_from_dict(data, str(p), p.parent)
