@@ -294,6 +294,13 @@ def _verdict_lines(design: Design) -> list[str]:
             f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
             f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
         )
+    tolerance = design.extra.get("tolerance") or {}
+    top = (tolerance.get("elements") or [None])[0]
+    if top and top.get("binding"):
+        lines.append(
+            f"- Placement: {top['element']} dominates: within +-{top['position_tol_m_min']:.3g} m "
+            f"it keeps the relative error of {top['binding']} below {tolerance.get('target'):g}."
+        )
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]

@@ -70,10 +70,12 @@ LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 def _mass_points(design: Any) -> tuple[np.ndarray, np.ndarray]:
     """All point masses of a body: positions (m, 3) in m and masses (m,) in kg.
 
-    Today the ``masses`` block; when charge carriers and magnets get masses
-    (``charges.masses``, ``dipoles.masses``) this is the one place to add them.
+    The ballast plus the carriers' and magnets' own masses
+    (:meth:`~chargedesign.elements.ElementSet.point_elements`); each is perturbed as a point
+    of its own.
     """
-    return np.asarray(design.mass_positions, float), np.asarray(design.mass_values, float)
+    points = design.point_elements()
+    return np.asarray(points.mass_positions, float), np.asarray(points.mass_values, float)
 
 
 def _with_masses(design: Design, positions: np.ndarray, values: np.ndarray) -> Design:
@@ -82,7 +84,8 @@ def _with_masses(design: Design, positions: np.ndarray, values: np.ndarray) -> D
 
 
 def _replace(design: Design, **arrays: Any) -> Design:
-    fields_ = {k: getattr(design, k) for k in _ARRAYS}
+    points = design.point_elements()  # every mass in the mass arrays (see _mass_points)
+    fields_ = {k: getattr(points, k) for k in _ARRAYS}
     fields_.update(arrays)
     return Design(
         parameters=design.parameters,

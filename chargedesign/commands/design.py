@@ -86,6 +86,11 @@ def run(args: argparse.Namespace) -> int:
         polish=False if args.no_polish else None,
     )
     design = result.design
+    if not design.continuous:
+        from chargedesign.tolerance import tolerance_report
+
+        progress("tolerances (exact first-order sensitivity of every element) ...")
+        design.extra["tolerance"] = tolerance_report(design).to_dict()
     out = Path(args.out)
     physical = design.medium is not None
     files = (
