@@ -40,8 +40,8 @@ def test_default_scene_json(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["conditions", str(UNIT_SCENE), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert list(out)[:3] == ["charges", "dipoles", "masses"]
-    p = load_scene(None).parameters
-    a1 = load_scene(None).fields["magnetic"][0]
+    p = load_scene(UNIT_SCENE).parameters
+    a1 = load_scene(UNIT_SCENE).fields["magnetic"][0]
     charges = out["charges"]
     assert charges["xx"] == pytest.approx(-p.C * p.n / a1, rel=1e-15)
     assert charges["zz"] == pytest.approx(-3 * p.C * p.n / a1, rel=1e-15)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_SCENE
 
 from chargedesign.candidates import candidates_from_points, candidates_from_table
 from chargedesign.conditions import LinearCondition, LinearConditions, derive_conditions
@@ -412,7 +413,7 @@ def test_relative_residual():
 
 
 def test_design_from_scene_and_extras():
-    result = design_from_scene(load_scene(None))
+    result = design_from_scene(load_scene(UNIT_SCENE))
     extra = result.design.to_dict()
     for key in ("residuals", "objective", "solver", "timings", "candidates", "conditions"):
         assert key in extra

@@ -310,7 +310,7 @@ def test_default_designed_body_keeps_i4_on_the_level_only() -> None:
     from chargedesign.design import design_from_scene
     from chargedesign.scene import load_scene
 
-    design = design_from_scene(load_scene(None)).design
+    design = design_from_scene(load_scene(UNIT_SCENE)).design
     start = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
     kw = {"t_end": 10.0, "rtol": 1e-12, "atol": 1e-12}
     on = simulate(design, initial={**start, "level": "I3=0"}, **kw).summary()
@@ -350,7 +350,9 @@ def test_cli_off_level_breaks_i4_but_not_i1_and_i3(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     run = tmp_path / "run"
-    out, _ = _cli_json([str(UNIT_SCENE), "--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys)
+    out, _ = _cli_json(
+        [str(UNIT_SCENE), "--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys
+    )
     assert out["effects"] == PHYSICAL and out["level"] == "I3=0.5"
     assert abs(out["initial"]["I3"] - 0.5) <= 1e-13
     assert out["initial"]["omega"][:2] == [0.6, -0.4]  # the default start's p, q; r moved

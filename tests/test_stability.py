@@ -25,6 +25,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_SCENE
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
@@ -346,7 +347,7 @@ def test_si_scale_scene_is_as_accurate_as_the_unit_scene() -> None:
     errors = {}
     for name, scene in (
         ("si", load_scene(ROOT / "examples" / "scenes" / "si_scale.toml")),
-        ("unit", load_scene(None)),
+        ("unit", load_scene(UNIT_SCENE)),
     ):
         result = design_from_scene(scene)
         assert result.residual_after <= 1e-13

@@ -109,7 +109,8 @@ def _variant(
         coeffs[0] = coeffs[0] * a1_factor
         mag["legendre"] = coeffs
         if "max" in mag:
-            mag["max"] = mag["max"] * a1_factor
+            # the gradient term grows with the body: the apparatus' limit grows with it
+            mag["max"] = mag["max"] * a1_factor * max(1.0, f)
     return data
 
 
