@@ -75,6 +75,7 @@ from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,
+    body_mass_points,
     inertia_mismatch,
     mass_inertia,
     quaternion_gamma,
@@ -417,6 +418,17 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         design_scene=pending,
         body_info=info,
     )
+
+
+def realised_claims(setup: SimulationSetup, system: RigidBodySystem) -> tuple[str, ...]:
+    """What the simulated design claims; a massless body's inertia is the given C itself."""
+    if setup.design is None:
+        return ()
+    out = list(setup.design.realises)
+    _, m = body_mass_points(system.body)
+    if "inertia" not in out and not np.any(m != 0.0):
+        out.append("inertia")
+    return tuple(out)
 
 
 def _inertia_from_masses(body: Body) -> tuple[Body, str]:
@@ -816,11 +828,11 @@ def simulate(
     if section is not None and options.method == "gauss-legendre":
         notes.append("poincare: needs the taylor or a solve_ivp method; no section recorded")
         section = None
-    run = _integrate(system, y0[None], options, poincare=section, progress=progress)
+    run = integrate_with_options(system, y0[None], options, poincare=section, progress=progress)
     return _result(system, run.times, run.states[0], run, level, setup, notes, section)
 
 
-def _integrate(
+def integrate_with_options(
     system: RigidBodySystem,
     y0: np.ndarray,
     options: SimulationOptions,
@@ -881,7 +893,7 @@ def simulate_batch(
             raise input_error(
                 f"initial_states[{bad}]", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3[bad]
             )
-    run = _integrate(system, y0, options, progress=progress)
+    run = integrate_with_options(system, y0, options, progress=progress)
     return [
         _result(system, run.times, run.states[i], run, None, setup, notes, None)
         for i in range(len(y0))
@@ -921,7 +933,7 @@ def _result(
         level=level,
         I3_start=float(integrals[0, 2]),
         I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
-        realises=tuple(setup.design.realises) if setup.design is not None else (),
+        realises=realised_claims(setup, system),
     )
     monitor_table = monitors_mod.evaluate(
         ctx, omega, gamma, integrals, kinetic, opts.monitors

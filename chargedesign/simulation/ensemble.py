@@ -239,7 +239,12 @@ def simulate_ensemble(
     **kwargs
         ``effects, t_end, method, tol, rtol, atol, samples, route, gamma3_min, monitors``.
     """
-    from chargedesign.simulation.api import _integrate, initial_state, prepare
+    from chargedesign.simulation.api import (
+        initial_state,
+        integrate_with_options,
+        prepare,
+        realised_claims,
+    )
 
     system, _, _, setup, notes = prepare(source, **kwargs)
     if states is None:
@@ -261,11 +266,11 @@ def simulate_ensemble(
                 float(g3[bad[0]]),
             )
     t0 = time.perf_counter()
-    run = _integrate(system, y0, options, progress=progress)
+    run = integrate_with_options(system, y0, options, progress=progress)
     seconds = time.perf_counter() - t0
     m = len(y0)
     integrals = np.array([system.integrals(run.states[i]) for i in range(m)])
-    realises = tuple(setup.design.realises) if setup.design is not None else ()
+    realises = realised_claims(setup, system)
     table = []
     for i in range(m):
         om = run.states[i, :, :3]

@@ -97,7 +97,7 @@ def _linear_potential(system: Any) -> tuple[np.ndarray, str] | None:
         return None
     if not system.physical:
         return np.zeros(3), ""
-    bank = system._bank
+    bank = system.polynomial_bank
     coef = bank.coefficients
     exps = bank.exponents
     degree = exps.sum(axis=1)
@@ -155,7 +155,7 @@ def _lagrange_integral(ctx: Context) -> tuple[bool, str]:
         return False, "Lagrange's integral r needs V(gamma3) and no gyroscopic terms"
     if not system.physical:
         return True, ""
-    bank = system._bank
+    bank = system.polynomial_bank
     coef = bank.coefficients
     exps = bank.exponents
     off_axis = (exps[:, 0] + exps[:, 1]) > 0

@@ -403,6 +403,15 @@ class RigidBodySystem:
         self._theorem = _TheoremTerms(body.parameters) if "theorem" in self.effects else None
         self._kernels: dict[tuple[str, ...], DirectKernel] = {}
 
+    @property
+    def polynomial_bank(self) -> poly.PolynomialBank:
+        """The reduced route's bank ``[V, dV/dgamma, mu, L]`` of all physical effects."""
+        return self._bank
+
+    def direct_kernel(self) -> DirectKernel:
+        """The direct route's kernel of all physical effects (built once)."""
+        return self._kernel(self.physical)
+
     def _kernel(self, physical: Sequence[str]) -> DirectKernel:
         """The direct route's kernel for a set of physical effects (built once, cached)."""
         key = tuple(physical)

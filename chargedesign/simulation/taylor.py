@@ -162,7 +162,7 @@ def _reduced_terms(
     hy: Any, system: RigidBodySystem, gamma: list[Any], pars: _Pars
 ) -> tuple[list[Any], list[Any], tuple[Any, ...]]:
     """``D = dV/dgamma`` and ``M = mu`` of the physical effects from the polynomial bank."""
-    bank = system._bank  # the same bank as the scipy route (moment contractions)
+    bank = system.polynomial_bank  # the same bank as the scipy route (moment contractions)
     exps = [tuple(int(v) for v in e) for e in bank.exponents]
     coef = bank.coefficients[:, 1:7]
     used = [bool(np.any(coef[:, col] != 0.0)) for col in range(6)]
@@ -183,7 +183,7 @@ def _direct_terms(
     hy: Any, system: RigidBodySystem, gamma: list[Any], pars: _Pars
 ) -> tuple[list[Any], list[Any], tuple[Any, ...]]:
     """``D`` and ``M`` element by element: the rows of the direct kernel."""
-    kernel = system._kernel(system.physical)
+    kernel = system.direct_kernel()
     P = kernel.positions
     coeffs = kernel.coefficients  # (width, J)
     V = kernel.vectors  # (J, 15)
@@ -238,8 +238,44 @@ def _theorem_terms(
         sym: pars(v) for sym, v in zip(PARAMETER_SYMBOLS, values, strict=True) if sym in used
     }
     mapping.update({GAMMA[i]: gamma[i] for i in range(3)})
-    out = [hy.from_sympy(e, mapping) for e in exprs]
+    memo: dict[Any, Any] = {}
+    out = [_from_sympy(hy, e, mapping, memo) for e in exprs]
     return out[:3], out[3:], ("theorem", singular)
+
+
+def _from_sympy(hy: Any, e: Any, mapping: dict[Any, Any], memo: dict[Any, Any]) -> Any:
+    """A sympy polynomial / rational expression as a heyoka expression.
+
+    Integer powers become products (heyoka's Taylor recursion of ``pow`` divides by the
+    base, which is NaN where the base vanishes, e.g. gamma3 = 0 on the section); negative
+    integer powers become ``1 / product``.
+    """
+    import sympy as sp
+
+    if e in memo:
+        return memo[e]
+    if e in mapping:
+        out = mapping[e]
+    elif e.is_Number:
+        out = hy.expression(float(e))
+    elif e.is_Add:
+        out = _sum(hy, [_from_sympy(hy, a, mapping, memo) for a in e.args])
+    elif e.is_Mul:
+        factors = [_from_sympy(hy, a, mapping, memo) for a in e.args]
+        out = factors[0]
+        for f in factors[1:]:
+            out = out * f
+    elif e.is_Pow and e.exp.is_Integer:
+        n = int(e.exp)
+        base = _from_sympy(hy, e.base, mapping, memo)
+        prod = base
+        for _ in range(abs(n) - 1):
+            prod = prod * base
+        out = prod if n > 0 else 1.0 / prod
+    else:
+        out = hy.from_sympy(sp.sympify(e), mapping)
+    memo[e] = out
+    return out
 
 
 def build_equations(system: RigidBodySystem) -> Equations:
@@ -432,6 +468,9 @@ def compiled_integrator(
     else:
         ta = hy.taylor_adaptive(eq.sys, np.zeros(7), pars=np.zeros(n_par), **kwargs)
     seconds = time.perf_counter() - t0
+    if rec is not None:
+        # heyoka copies the callback into the integrator: record through its own copy
+        rec = ta.nt_events[0].callback.section
     out = Compiled(ta=ta, equations=eq, section=rec, compile_seconds=seconds)
     with _LOCK:
         _CACHE[key] = out
@@ -684,7 +723,7 @@ def propagate_many(
         rec = None
         if section is not None:
             # the copy's callback objects were copied with it: find its recorder
-            rec = local.nt_events[0].callback.section if n_threads > 1 else comp.section
+            rec = local.nt_events[0].callback.section
         for c in chunks:
             lo, hi = c * B, min((c + 1) * B, m)
             idx = np.arange(lo, hi)
