@@ -262,7 +262,13 @@ effects = ["lorentz", "electric"]
             # a bob above O and a ring making A = B = 2C; no [parameters]: C from the masses
             "body": {
                 "masses": {
-                    "positions": [[0, 0, 0.5], [0.5, 0, 0], [-0.5, 0, 0], [0, 0.5, 0], [0, -0.5, 0]],
+                    "positions": [
+                        [0, 0, 0.5],
+                        [0.5, 0, 0],
+                        [-0.5, 0, 0],
+                        [0, 0.5, 0],
+                        [0, -0.5, 0],
+                    ],
                     "values": [1.0, 1 / 6, 1 / 6, 1 / 6, 1 / 6],
                 }
             },

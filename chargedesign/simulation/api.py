@@ -935,9 +935,7 @@ def _result(
         I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
         realises=realised_claims(setup, system),
     )
-    monitor_table = monitors_mod.evaluate(
-        ctx, omega, gamma, integrals, kinetic, opts.monitors
-    )
+    monitor_table = monitors_mod.evaluate(ctx, omega, gamma, integrals, kinetic, opts.monitors)
     method = str(extra.get("method", opts.method))
     return SimulationResult(
         times=times,

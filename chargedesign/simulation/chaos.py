@@ -306,7 +306,9 @@ class FLIMap:
             axes = fig.subplots(1, 2, sharey=True)
         else:
             fig = axes[0].figure
-        finite = np.concatenate([f[np.isfinite(f)] for f in self.fli]) if self.fli else []
+        finite: np.ndarray = (
+            np.concatenate([f[np.isfinite(f)] for f in self.fli]) if self.fli else np.zeros(0)
+        )
         vmin, vmax = (float(np.min(finite)), float(np.max(finite))) if len(finite) else (0, 1)
         image = None
         for ax, level, values in zip(axes, self.levels, self.fli, strict=True):

@@ -46,7 +46,9 @@ def parse_states(value: Any, where: str = "initial.states") -> np.ndarray:
     else:
         rows = value
     if isinstance(rows, (str, bytes)) or not isinstance(rows, Sequence) or len(rows) == 0:
-        raise input_error(where, "a non-empty list of [p, q, r, gamma1, gamma2, gamma3] rows", value)
+        raise input_error(
+            where, "a non-empty list of [p, q, r, gamma1, gamma2, gamma3] rows", value
+        )
     out = np.empty((len(rows), 6))
     for i, row in enumerate(rows):
         name = f"{where}[{i}]"
@@ -92,9 +94,7 @@ def load_states(path: str | os.PathLike[str], where: str = "initial.file") -> np
                 try:
                     parsed.append(float(c))
                 except ValueError as exc:
-                    raise input_error(
-                        f"{where} row {i + 1} column {j + 1}", "a number", c
-                    ) from exc
+                    raise input_error(f"{where} row {i + 1} column {j + 1}", "a number", c) from exc
             values.append(parsed)
         return parse_states(values, where)
     raise input_error(where, "a .csv or .npy file", str(p))
@@ -184,7 +184,8 @@ class EnsembleResult:
             "I4 max relative drift "
             + (f"{i4:.3g} over {s['I4_reported_for']} trajectories" if i4 is not None else "none")
             + (f" ({s['I4_reason']})" if "I4_reason" in s else ""),
-            f"I3 max |I3| {s['I3_max']:.3g} J s; energy max drift {s.get('energy_max_drift', 0):.3g}",
+            f"I3 max |I3| {s['I3_max']:.3g} J s; "
+            f"energy max drift {s.get('energy_max_drift', 0):.3g}",
         ]
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
@@ -200,7 +201,7 @@ class EnsembleResult:
         )
         for i in range(len(self.states)):
             first, last = self.states[i, 0], self.states[i, -1]
-            row = [i]
+            row: list[Any] = [i]
             for st in (first, last):
                 row += [*st[:3].tolist(), *quaternion_gamma(st[None, 3:])[0].tolist()]
             row += [self.monitors[i][n].get("drift") for n in names]
@@ -283,9 +284,7 @@ def simulate_ensemble(
             realises=realises,
         )
         gamma = quaternion_gamma(run.states[i, :, 3:])
-        table.append(
-            monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors)
-        )
+        table.append(monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors))
     extra = dict(run.extra)
     all_notes = list(notes)
     if "note" in extra:

@@ -204,7 +204,10 @@ MONITORS: dict[str, Monitor] = {
         "",
         "needs A = B = 4C",
         lambda c, o, g, i: np.full(len(o), np.nan),
-        lambda c: (False, "the Goriachev-Chaplygin case needs A = B = 4C; this body has A = B = 2C"),
+        lambda c: (
+            False,
+            "the Goriachev-Chaplygin case needs A = B = 4C; this body has A = B = 2C",
+        ),
     ),
 }
 #: aliases accepted in scenes
@@ -278,7 +281,9 @@ def evaluate(
             name = getattr(item, "__name__", "callable")
             values = np.asarray(item(omega, gamma), dtype=float).reshape(-1)
             if values.shape != (len(omega),):
-                raise input_error(f"monitors.{name}", f"an array of {len(omega)} values", values.shape)
+                raise input_error(
+                    f"monitors.{name}", f"an array of {len(omega)} values", values.shape
+                )
             out[name] = {
                 "integral": None,
                 "requested": True,

@@ -291,7 +291,7 @@ def inertia_mismatch(body: Body, rtol: float = INERTIA_RTOL) -> str | None:
     Compares the given C with the masses' inertia about O (A = B = 2C, products zero). A
     body without masses has nothing to compare (its inertia is the given C).
     """
-    pts, m = body_mass_points(body)
+    _, m = body_mass_points(body)
     if len(m) == 0 or not np.any(m != 0.0):
         return None
     inertia, _, _ = mass_inertia(body)

@@ -214,7 +214,9 @@ def _direct_terms(
     if kernel.has_matrix:
         Tx = [_sum(hy, t) for t in T]
         for i in range(3):
-            Dx[i] = Dx[i] + Tx[3 * i] * gamma[0] + Tx[3 * i + 1] * gamma[1] + Tx[3 * i + 2] * gamma[2]
+            Dx[i] = (
+                Dx[i] + Tx[3 * i] * gamma[0] + Tx[3 * i + 1] * gamma[1] + Tx[3 * i + 2] * gamma[2]
+            )
     return Dx, [_sum(hy, t) for t in M], ("direct", width, tuple(masks))
 
 
@@ -486,7 +488,9 @@ def _check_outcome(outcome: Any, where: str, t: float) -> int | None:
         return None
     if -(2**32) < value < 0:
         return -value - 1  # terminal event index
-    raise SolverError(f"simulation: taylor (heyoka) stopped near t = {t:.6g} s: {outcome} ({where})")
+    raise SolverError(
+        f"simulation: taylor (heyoka) stopped near t = {t:.6g} s: {outcome} ({where})"
+    )
 
 
 def integrate_taylor(
@@ -520,7 +524,7 @@ def integrate_taylor(
         ta.time = 0.0
         ta.state[:] = y0[0]
         pars = comp.equations.pars
-        if singular:
+        if gamma3_min is not None:
             pars = np.append(pars, float(gamma3_min))
         ta.pars[:] = pars
         if comp.section is not None:
@@ -582,9 +586,7 @@ def integrate_taylor(
         )
     if poincare is not None:
         raise input_error("poincare", "a single trajectory", f"{m} trajectories")
-    ens = propagate_many(
-        system, y0, grid, tol=tol, gamma3_min=gamma3_min, progress=progress
-    )
+    ens = propagate_many(system, y0, grid, tol=tol, gamma3_min=gamma3_min, progress=progress)
     events = [
         {
             "kind": "singular_plane",
@@ -705,7 +707,7 @@ def propagate_many(
             cache_eq[id(s)] = eq.pars
         par_rows.append(cache_eq[id(s)])
     P = np.array(par_rows)  # (m, n_par)
-    if singular:
+    if gamma3_min is not None:
         P = np.column_stack([P, np.full(m, float(gamma3_min))])
     n_chunks = math.ceil(m / B)
     T = len(grid)
@@ -752,7 +754,7 @@ def propagate_many(
                         for t, s, w in zip(rec.times, rec.states, rec.which, strict=True)
                         if w == lane
                     ]
-                    sections[i] = rows  # type: ignore[call-overload]
+                    sections[i] = rows
             if progress is not None:
                 with done_lock:
                     done[0] += 1
