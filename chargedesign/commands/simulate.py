@@ -324,7 +324,11 @@ def _human(s: dict) -> str:
         )
     lines += [
         f"t = 0 .. {s['t_reached']:g} s of {s['t_end']:g} s: {s['steps']} steps, "
-        f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s",
+        + (
+            f"{s['seconds']:.3g} s (+ {s['compile_seconds']:.3g} s compile)"
+            if s["method"] == "taylor"
+            else f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s"
+        ),
         (
             f"I4 relative drift {s['I4_rel_drift']:.3g}"
             if s["I4_rel_drift"] is not None
