@@ -453,6 +453,40 @@ def check_inertia(body: Body, effects: Sequence[str]) -> None:
         raise InputError(f"body: {reason}; give C to match the masses or fix the masses")
 
 
+#: relative size of a linear term of V that counts as a centre of mass off O
+CENTRE_RTOL = 1e-6
+
+
+def check_centre(system: RigidBodySystem, realises: Sequence[str]) -> None:
+    """Refuse a body that claims the theorem's V but whose V has a linear term (one line).
+
+    The theorem's V has no term linear in gamma; under uniform gravity such a term is
+    ``M g (r_cm . gamma)``, so gravity requires the centre of mass at O (unless other linear
+    terms cancel it: the check is on the whole V). Only for designs that claim ``V``.
+    """
+    if "V" not in realises or "gravity" not in system.effects:
+        return
+    bank = system.polynomial_bank
+    degree = bank.exponents.sum(axis=1)
+    a = np.zeros(3)
+    for row, e in zip(bank.coefficients, bank.exponents, strict=True):
+        if int(e.sum()) == 1:
+            a[int(np.argmax(e))] += row[0]
+    pts, m = body_mass_points(system.body)
+    g = system.body.fields.get("gravity", ())
+    scale = abs(g[0]) * float(np.abs(m) @ np.linalg.norm(pts, axis=1)) if len(g) and len(m) else 0.0
+    scale = max(scale, float(np.max(np.abs(bank.coefficients[degree >= 1, 0]), initial=0.0)))
+    if scale == 0.0 or float(np.linalg.norm(a)) <= CENTRE_RTOL * scale:
+        return
+    _, total, centre = mass_inertia(system.body)
+    raise InputError(
+        "body: V has a linear term a . gamma with a = "
+        f"({a[0]:.3g}, {a[1]:.3g}, {a[2]:.3g}) J that the theorem's V does not have (the "
+        f"design claims V); the centre of mass of {total:.4g} kg is at ({centre[0]:.3g}, "
+        f"{centre[1]:.3g}, {centre[2]:.3g}) m: gravity needs it at O"
+    )
+
+
 def _counts(body: Body) -> dict[str, int]:
     return {
         "charges": len(body.charge_values),
@@ -713,6 +747,8 @@ def prepare(
     if not effects:
         notes.append("no effect acts: torque-free motion")
     system = RigidBodySystem(setup.body, effects, options.route)
+    if setup.design is not None:
+        check_centre(system, setup.design.realises)
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial

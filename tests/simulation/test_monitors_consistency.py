@@ -97,3 +97,28 @@ def test_mass_points_come_through_one_function() -> None:
     assert inertia_mismatch(body) is None
     wrong = Body(parameters=Parameters(C=4.1), mass_positions=pts, mass_values=m)
     assert "relative mismatch" in str(inertia_mismatch(wrong))
+
+
+def test_centre_of_mass_off_o_is_refused_when_the_design_claims_v() -> None:
+    import dataclasses
+
+    from chargedesign.body import Design
+
+    masses = {
+        "mass_positions": [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]],
+        "mass_values": [0.25, 0.25, 0.25, 0.25, 0.75, 0.75],
+    }
+    design = Design(
+        parameters=Parameters(C=1.0),
+        fields={"gravity": (9.81,)},
+        realises=["V", "inertia"],
+        **masses,
+    )
+    assert simulate(design, t_end=0.5).summary()["effects"] == ["gravity"]
+    # the same inertia (x-axis masses 0.3 and 0.2), the centre of mass moved to x = 0.02 m
+    moved = dataclasses.replace(design, mass_values=[0.3, 0.2, 0.25, 0.25, 0.75, 0.75])
+    with pytest.raises(InputError) as info:
+        simulate(moved, t_end=0.5)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith("body: V has a linear term")
+    assert "gravity needs it at O" in message
