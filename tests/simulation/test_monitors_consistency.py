@@ -115,7 +115,7 @@ def test_centre_of_mass_off_o_is_refused_when_the_design_claims_v() -> None:
         **masses,
     )
     assert simulate(design, t_end=0.5).summary()["effects"] == ["gravity"]
-    # the same inertia (x-axis masses 0.3 and 0.2), the centre of mass moved to x = 0.02 m
+    # the same inertia (x-axis masses 0.3 and 0.2), the centre of mass moved to x = 0.04 m
     moved = dataclasses.replace(design, mass_values=[0.3, 0.2, 0.25, 0.25, 0.75, 0.75])
     with pytest.raises(InputError) as info:
         simulate(moved, t_end=0.5)
