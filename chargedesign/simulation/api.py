@@ -914,8 +914,11 @@ def simulate_batch(
 
     Notes
     -----
-    One adaptive step size serves all trajectories (the error norm covers them all); a
-    singular-plane event on any trajectory stops the whole batch.
+    With ``taylor`` (the default) the trajectories run on heyoka batch integrators: each has
+    its own step size and a singular-plane event stops only its own trajectory (the others
+    keep their last state after it). With the solve_ivp methods one adaptive step size serves
+    all trajectories and an event on any trajectory stops the whole batch. For the summaries
+    of many trajectories see :func:`chargedesign.simulation.ensemble.simulate_ensemble`.
     """
     progress = kwargs.pop("progress", None)
     states = as_array(initial_states, "initial_states", (None, 6))
