@@ -294,7 +294,10 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     )
     if args.fli:
         m0, m1 = summary["fli_median"]
-        print(f"FLI median on I3 = 0: {m0:.3g}; off the level: {m1:.3g}")
+        print(
+            f"FLI median on I3 = 0: {m0:.3g}; off the level: {m1:.3g} "
+            f"({summary['fli_seconds']:.3g} s)"
+        )
     print("\n".join(f"wrote {f}" for f in files))
     return 0
 
