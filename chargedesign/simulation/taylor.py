@@ -616,6 +616,45 @@ def integrate_taylor(
     )
 
 
+def _scalar_grid(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    grid: np.ndarray,
+    tol: float,
+    gamma3_min: float | None,
+    section: str | None,
+) -> tuple[np.ndarray, int, list[np.ndarray], float | None]:
+    """One trajectory over ``grid`` on the scalar integrator.
+
+    Returns the states (T, 7) (NaN after a terminal event), the steps, the section rows and
+    the time of a terminal event (None without one).
+    """
+    comp = compiled_integrator(
+        system, tol=tol, section=section, singular_plane=gamma3_min is not None
+    )
+    ta = comp.ta
+    ta.time = 0.0
+    ta.state[:] = y0
+    pars = comp.equations.pars
+    if gamma3_min is not None:
+        pars = np.append(pars, float(gamma3_min))
+        ta.reset_cooldowns()
+    ta.pars[:] = pars
+    if comp.section is not None:
+        comp.section.clear()
+    outcome, _, _, nsteps, _, values = ta.propagate_grid(np.asarray(grid, dtype=float))
+    hit = _check_outcome(outcome, "ensemble", float(ta.time))
+    out = np.full((len(grid), 7), np.nan)
+    out[: len(values)] = values
+    rows = []
+    if comp.section is not None:
+        rows = [
+            np.concatenate([[t], st])
+            for t, st in zip(comp.section.times, comp.section.states, strict=True)
+        ]
+    return out, int(nsteps), rows, (float(ta.time) if hit is not None else None)
+
+
 @dataclass
 class Ensemble:
     """Many trajectories of one structure (see :func:`propagate_many`).
@@ -740,6 +779,7 @@ def propagate_many(
             res = local.propagate_grid(grid2)
             out = np.asarray(res[-1])  # (T, 7, B)
             outcomes = local.propagate_res
+            any_stop = False
             for lane, i in enumerate(idx):
                 outcome = outcomes[lane][0]
                 hit = _check_outcome(outcome, "ensemble", float(local.time[lane]))
@@ -748,13 +788,26 @@ def propagate_many(
                 if hit is not None:
                     stopped[i] = True
                     t_stop[i] = float(local.time[lane])
+                    any_stop = True
                 if rec is not None:
-                    rows = [
-                        np.concatenate([[t], s])
-                        for t, s, w in zip(rec.times, rec.states, rec.which, strict=True)
+                    sections[i] = [
+                        np.concatenate([[t], st])
+                        for t, st, w in zip(rec.times, rec.states, rec.which, strict=True)
                         if w == lane
                     ]
-                    sections[i] = rows
+            if any_stop:
+                # heyoka ends the grid output of the whole batch at a terminal event of one
+                # lane: the other lanes of this chunk run again on the scalar integrator
+                for i in idx:
+                    if not stopped[i]:
+                        states[i], steps[i], rows, t_hit = _scalar_grid(
+                            systems[i], y0[i], grid, tol, gamma3_min, section
+                        )
+                        if t_hit is not None:
+                            stopped[i] = True
+                            t_stop[i] = t_hit
+                        if rec is not None:
+                            sections[i] = rows
             if progress is not None:
                 with done_lock:
                     done[0] += 1

@@ -125,3 +125,18 @@ def test_state_sets_are_validated(tmp_path: Path) -> None:
     (tmp_path / "scene.toml").write_text("[initial]\nstates = [[0, 0, 1, 0, 0, 1]]\np = 0.1\n")
     with pytest.raises(InputError, match=r"initial\.p: not used with a set of states"):
         simulate(load_scene(tmp_path / "scene.toml"))
+
+
+@needs_heyoka
+def test_terminal_event_stops_only_its_own_trajectory() -> None:
+    system = _system(PARAMS.replace(rho=0.2))
+    states = [[0, 0, 0, 0.6, 0, 0.8], [0.1, 0.2, 0.3, 0.1, 0.2, 0.9], [0, 0, 0, 0.3, 0, 0.95]]
+    from chargedesign.simulation.api import initial_state
+
+    y0 = np.array([initial_state(system, s)[0] for s in states])
+    ens = taylor.propagate_many(system, y0, np.linspace(0.0, 50.0, 6), gamma3_min=0.01)
+    assert np.all(ens.stopped)
+    for i in range(3):
+        single = taylor.integrate_taylor(system, y0[i : i + 1], 50.0, samples=6, gamma3_min=0.01)
+        assert abs(single.events[0]["t"] - ens.t_stop[i]) <= 1e-12
+    assert len(set(np.round(ens.t_stop, 6))) == 3  # each at its own time
