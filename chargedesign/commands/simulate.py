@@ -64,8 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--atlas",
         action="store_true",
-        help="Poincare atlas on gamma3 = 0: orbits on one energy level on and off I3 = 0 "
-        "(atlas.png, atlas.csv in --out, default out/atlas)",
+        help="Poincare atlas on gamma3 = 0: orbits on one energy level on I3 = 0 and on "
+        "--off-level (default 0.5 C J s) (atlas.png, atlas.csv in --out, default out/atlas)",
     )
     parser.add_argument(
         "--orbits", type=int, default=50, help="orbits per level of --atlas (default 50)"
@@ -255,7 +255,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     system, _, _, _, _ = prepare(setup, effects=args.effects, route=args.route)
     out = Path(args.out or "out/atlas")
     out.mkdir(parents=True, exist_ok=True)
-    off = args.off_level if args.off_level is not None else 0.5
+    off = args.off_level if args.off_level is not None else 0.5 * system.C
     if off == 0.0:
         raise ChargeDesignError("--off-level: the atlas needs a level other than I3 = 0")
     t_end = args.t_end or 500.0

@@ -161,7 +161,7 @@ def poincare_atlas(
     system: RigidBodySystem,
     *,
     energy: float | None = None,
-    off_level: float = 0.5,
+    off_level: float | None = None,
     orbits: int = 50,
     t_end: float = 500.0,
     seed: int = 0,
@@ -174,8 +174,9 @@ def poincare_atlas(
     energy : float, optional
         J; default: the energy of the default start (gamma = (0.36, 0.48, 0.8), p = 0.6,
         q = -0.4 on I3 = 0).
-    off_level : float
-        The second level of I3, J s.
+    off_level : float, optional
+        The second level of I3, J s (default ``0.5 C`` in J s: half the momentum of a spin
+        of 1 rad/s about the symmetry axis, the CLI's ``--off-level`` example).
     orbits : int
         Orbits per level (each from its own section point).
     t_end : float
@@ -198,7 +199,7 @@ def poincare_atlas(
         energy = float(system.integrals(y0[None])[0, 0])
     t0 = time.perf_counter()
     points = []
-    levels = (0.0, float(off_level))
+    levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
     for level in levels:
         starts = section_starts(system, energy, level, orbits, seed)
         ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
@@ -328,7 +329,7 @@ def fli_map(
     system: RigidBodySystem,
     *,
     energy: float | None = None,
-    off_level: float = 0.5,
+    off_level: float | None = None,
     n_phi: int = 24,
     n_v: int = 12,
     t_end: float = 100.0,
@@ -342,7 +343,7 @@ def fli_map(
     t0 = time.perf_counter()
     phi = np.linspace(0.0, 2.0 * math.pi, n_phi, endpoint=False)
     v = np.linspace(0.05, 1.0, n_v) * math.sqrt(max(energy, 1e-300) / system.C)
-    levels = (0.0, float(off_level))
+    levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
     maps = []
     for level in levels:
         values = np.full((n_v, n_phi), np.nan)

@@ -34,7 +34,10 @@ def test_cli_ensemble_scene(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
 def test_cli_atlas_writes_picture_and_points(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    args = ["simulate", "--effects", "theorem", "--atlas", "--orbits", "3", "--t-end", "20"]
+    # the unit-scale case (the embedded default scene may be a slowed-down buildable body)
+    scene = tmp_path / "unit.toml"
+    scene.write_text("[parameters]\nC = 1.0\nc = 0.3\nd = -0.4\nn = 0.7\nK = 0.5\nkappa = 0.9\n")
+    args = ["simulate", str(scene), "--atlas", "--orbits", "3", "--t-end", "20"]
     assert main([*args, "--out", str(tmp_path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["levels"] == [0.0, 0.5] and out["orbits"] == 3
