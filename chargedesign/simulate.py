@@ -1,5 +1,6 @@
 """Simulate the motion of a designed body (or of the theorem's reduced model).
 
+The default integrator is ``taylor`` (heyoka; DOP853 with a note where heyoka is missing).
 Only the effects a scene calls for are computed: ``lorentz`` (charges in the magnetic field),
 ``electric`` (charges in the electric field), ``magnetization`` (point dipoles in the magnetic
 field), ``gravity`` (masses) and ``theorem`` (V and mu of the theorem, lambda and rho
@@ -30,7 +31,16 @@ from chargedesign.simulation.api import (
     simulate_batch,
     with_level,
 )
+from chargedesign.simulation.chaos import (
+    FLIMap,
+    PoincareAtlas,
+    fast_lyapunov_indicator,
+    fli_map,
+    poincare_atlas,
+)
+from chargedesign.simulation.ensemble import EnsembleResult, simulate_ensemble
 from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration, integrate
+from chargedesign.simulation.monitors import MONITORS
 from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
 from chargedesign.simulation.system import (
     EFFECTS,
@@ -38,6 +48,7 @@ from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,
+    body_mass_points,
     direct_terms,
     quaternion_gamma,
     quaternion_rotation,
@@ -50,18 +61,25 @@ __all__ = [
     "DEFAULT_INITIAL",
     "EFFECTS",
     "METHODS",
+    "MONITORS",
     "ROUTES",
     "STATE_NAMES",
     "Body",
+    "EnsembleResult",
+    "FLIMap",
     "Integration",
     "OutputOptions",
+    "PoincareAtlas",
     "RigidBodySystem",
     "SimulationOptions",
     "SimulationResult",
     "SimulationSetup",
     "attitude_from_gamma",
+    "body_mass_points",
     "design_pending",
     "direct_terms",
+    "fast_lyapunov_indicator",
+    "fli_map",
     "initial_state",
     "integrate",
     "parse_initial",
@@ -69,6 +87,7 @@ __all__ = [
     "parse_simulation_options",
     "plot_integrals",
     "plot_poincare",
+    "poincare_atlas",
     "prepare",
     "quaternion_gamma",
     "quaternion_rotation",
@@ -79,5 +98,6 @@ __all__ = [
     "setup_from_source",
     "simulate",
     "simulate_batch",
+    "simulate_ensemble",
     "with_level",
 ]

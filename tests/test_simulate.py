@@ -72,6 +72,9 @@ def test_theorem_i4_conserved_on_the_level_only() -> None:
     kw = {"t_end": 20.0, "rtol": 1e-12, "atol": 1e-12}
     on = simulate(PARAMS, initial={**START, "level": "I3=0"}, **kw).summary()
     off = simulate(PARAMS, initial={**START, "level": "I3=0.5"}, **kw).summary()
+    # off the level I4 is no integral: no number unless asked for
+    assert off["I4_rel_drift"] is None and "off the level" in off["I4_reason"]
+    off = simulate(PARAMS, initial={**START, "level": "I3=0.5"}, monitors=["I4"], **kw).summary()
     assert on["I4_rel_drift"] <= 1e-10
     assert off["I4_rel_drift"] >= 1e-2
     for s in (on, off):
@@ -136,7 +139,7 @@ def test_solver_failure_raises(monkeypatch: pytest.MonkeyPatch) -> None:
 
     monkeypatch.setattr(integrate_module, "solve_ivp", failing)
     with pytest.raises(SolverError, match=r"DOP853 failed near t = 0\.5 s: Required step"):
-        simulate(UNIT_SCENE, t_end=1.0)
+        simulate(UNIT_SCENE, t_end=1.0, method="DOP853")
 
 
 def test_batch_equals_separate_runs() -> None:
@@ -257,7 +260,19 @@ effects = ["lorentz", "electric"]
     inline = scene_from_dict(
         {
             "fields": {"gravity": {"legendre": [9.81]}},
-            "body": {"masses": {"positions": [[0, 0, 0.5]], "values": [1.0]}},
+            # a bob above O and a ring making A = B = 2C; no [parameters]: C from the masses
+            "body": {
+                "masses": {
+                    "positions": [
+                        [0, 0, 0.5],
+                        [0.5, 0, 0],
+                        [-0.5, 0, 0],
+                        [0, 0.5, 0],
+                        [0, -0.5, 0],
+                    ],
+                    "values": [1.0, 1 / 6, 1 / 6, 1 / 6, 1 / 6],
+                }
+            },
             "initial": {"gamma": [0.6, 0.0, 0.8], "omega": [0, 0, 0]},
             "simulation": {"t_end": 0.5},
         }

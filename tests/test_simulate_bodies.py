@@ -287,7 +287,7 @@ def test_designed_body_i4_on_and_off_the_level(designed: Design, route: str) -> 
     kw = {"t_end": 8.0, "route": route, "rtol": 1e-11, "atol": 1e-11}
     start = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
     on = simulate(designed, initial={**start, "level": "I3=0"}, **kw).summary()
-    off = simulate(designed, initial={**start, "level": "I3=0.5"}, **kw).summary()
+    off = simulate(designed, initial={**start, "level": "I3=0.5"}, monitors=["I4"], **kw).summary()
     assert on["effects"] == off["effects"] == ["lorentz", "electric", "magnetization"]
     assert on["I3_max"] <= 1e-9
     assert on["I4_rel_drift"] <= 1e-8
@@ -314,7 +314,7 @@ def test_default_designed_body_keeps_i4_on_the_level_only() -> None:
     start = {"gamma": [0.36, 0.48, 0.8], "p": 0.6, "q": -0.4}
     kw = {"t_end": 10.0, "rtol": 1e-12, "atol": 1e-12}
     on = simulate(design, initial={**start, "level": "I3=0"}, **kw).summary()
-    off = simulate(design, initial={**start, "level": "I3=0.5"}, **kw).summary()
+    off = simulate(design, initial={**start, "level": "I3=0.5"}, monitors=["I4"], **kw).summary()
     assert on["effects"] == ["lorentz", "electric", "magnetization", "gravity"]
     assert on["I3_max"] <= 1e-10 and on["I4_rel_drift"] <= 1e-9
     assert off["I4_rel_drift"] >= 1e-2
@@ -351,7 +351,18 @@ def test_cli_off_level_breaks_i4_but_not_i1_and_i3(
 ) -> None:
     run = tmp_path / "run"
     out, _ = _cli_json(
-        [str(UNIT_SCENE), "--t-end", "20", "--off-level", "0.5", "--out", str(run)], capsys
+        [
+            str(UNIT_SCENE),
+            "--t-end",
+            "20",
+            "--off-level",
+            "0.5",
+            "--monitors",
+            "I4",
+            "--out",
+            str(run),
+        ],
+        capsys,
     )
     assert out["effects"] == PHYSICAL and out["level"] == "I3=0.5"
     assert abs(out["initial"]["I3"] - 0.5) <= 1e-13
@@ -363,7 +374,7 @@ def test_cli_off_level_breaks_i4_but_not_i1_and_i3(
     assert design_file in out["files"]
     saved = json.loads((run / "summary.json").read_text())
     assert saved["body"]["design_file"] == design_file
-    again = simulate(design_file, t_end=20.0, level=0.5).summary()
+    again = simulate(design_file, t_end=20.0, level=0.5, monitors=["I4"]).summary()
     assert again["effects"] == PHYSICAL
     assert abs(again["I4_rel_drift"] - out["I4_rel_drift"]) <= 1e-12
 

@@ -2,6 +2,9 @@
 
 Tables (every ratio against a baseline measured in the same run):
 
+0. Accuracy against time: taylor (heyoka), DOP853 and Gauss-Legendre at several tolerances on
+   the same state, for the theorem's model (I4) and a Kowalevski top (Kowalevski's integral).
+0. Ensembles: 1e4 trajectories to t = 100 on heyoka's batch integrators against DOP853.
 1. The theorem's reduced model over t = 1000 (omega of order 1) on I3 = 0: chargedesign's
    right-hand side (Python-float hot path of the cse-compiled evaluators) against a plain
    ``sympy.lambdify`` of the derived equations (no cse), both with solve_ivp DOP853.
@@ -54,7 +57,7 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
 def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
     from chargedesign.simulate import simulate
 
-    result = simulate(PARAMS, t_end=t_end, rtol=rtol, atol=rtol, initial=START)
+    result = simulate(PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START)
     s = result.summary()
     y0 = np.concatenate([result.omega[0], result.gamma[0]])
     base_s, base_drift, base_steps = _baseline(t_end, rtol, y0)
@@ -85,7 +88,9 @@ def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> Be
     rows: list[list[Any]] = []
     base = None
     for rtol in rtols:
-        s = simulate(PARAMS, t_end=t_end, rtol=rtol, atol=rtol, initial=START).summary()
+        s = simulate(
+            PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START
+        ).summary()
         base = base or s["seconds"]
         rows.append(
             [
@@ -215,7 +220,7 @@ def _route_table(t_end: float) -> BenchTable:
     finals = {}
     base_run = None
     for k, (label, system, _) in enumerate(systems):
-        run = integrate(system, y0[None], t_end, rtol=1e-12, atol=1e-12, samples=2)
+        run = integrate(system, y0[None], t_end, method="DOP853", rtol=1e-12, atol=1e-12, samples=2)
         finals[label] = run.states[0, -1]
         base_run = base_run or run.seconds
         rows.append(
@@ -308,7 +313,13 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     gam[:, 2] = np.abs(gam[:, 2]) + 0.3
     gam /= np.linalg.norm(gam, axis=1)[:, None]
     states = np.hstack([rng.uniform(-1, 1, (m, 3)), gam])
-    kw: dict[str, Any] = {"t_end": t_end, "rtol": 1e-10, "atol": 1e-10, "samples": 2}
+    kw: dict[str, Any] = {
+        "t_end": t_end,
+        "method": "DOP853",
+        "rtol": 1e-10,
+        "atol": 1e-10,
+        "samples": 2,
+    }
     t0 = time.perf_counter()
     for k in range(m):
         simulate(PARAMS, initial=states[k], **kw)
@@ -330,10 +341,155 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     )
 
 
+#: a Kowalevski top: A = B = 2C = 8 kg m^2, centre of mass on the body x axis, uniform gravity
+KOWALEVSKI_SCENE: dict[str, Any] = {
+    "fields": {"gravity": {"legendre": [9.81]}},
+    "body": {
+        "masses": {
+            "positions": [
+                [1, 0, 0],
+                [-1, 0, 0],
+                [0, 1, 0],
+                [0, -1, 0],
+                [0, 0, 3**0.5],
+                [0, 0, -(3**0.5)],
+            ],
+            "values": [1.5, 0.5, 1.0, 1.0, 1.0, 1.0],
+        }
+    },
+    "initial": {"gamma": [0.3, 0.4, 0.866], "omega": [0.5, -0.2, 1.0]},
+}
+
+
+def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list[list[Any]]:
+    """taylor, DOP853 and Gauss-Legendre at several tolerances on the same state."""
+    from chargedesign.simulate import simulate
+
+    settings: list[tuple[str, str, dict[str, Any]]] = [
+        ("taylor", "tol eps", {}),
+        ("taylor", "tol 1e-12", {"tol": 1e-12}),
+        ("taylor", "tol 1e-9", {"tol": 1e-9}),
+    ]
+    for rtol in [1e-8, 1e-12] if quick else [1e-8, 1e-10, 1e-12, 1e-13]:
+        settings.append(("DOP853", f"rtol {rtol:g}", {"rtol": rtol, "atol": rtol}))
+    for h in [0.05] if quick else [0.05, 0.02]:
+        settings.append(("gauss-legendre", f"step {h:g}", {"step": h}))
+    rows: list[list[Any]] = []
+    base = None
+    for method, label, extra in settings:
+        s = simulate(source, t_end=t_end, method=method, monitors=[monitor], **extra).summary()
+        mon = s["monitors"][monitor]
+        base = base or s["seconds"]
+        rows.append(
+            [
+                method,
+                label,
+                mon["drift"],
+                s["I1_rel_drift"],
+                s["steps"],
+                s["seconds"],
+                s["compile_seconds"],
+                s["seconds"] / base,
+            ]
+        )
+    return rows
+
+
+def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
+    """Accuracy against time: the theorem's model (I4) and a Kowalevski top (its integral)."""
+    from chargedesign.scene import scene_from_dict
+    from chargedesign.simulate import setup_from_source
+
+    columns = [
+        "method",
+        "setting",
+        "integral drift",
+        "I1 rel drift",
+        "steps",
+        "seconds",
+        "compile s",
+        "time ratio",
+    ]
+    plot = {"x": "seconds", "y": ["integral drift"], "logx": True, "logy": True, "group": "method"}
+    theorem = setup_from_source(PARAMS)
+    theorem.initial = START
+    kowalevski = scene_from_dict({**KOWALEVSKI_SCENE, "simulation": {"samples": 2001}})
+    out = []
+    for title, source, monitor in (
+        ("the theorem's reduced model on I3 = 0, I4", theorem, "I4"),
+        (
+            "a Kowalevski top (masses, uniform gravity), Kowalevski's integral",
+            kowalevski,
+            "kowalevski",
+        ),
+    ):
+        out.append(
+            BenchTable(
+                title=f"Accuracy against time, t = {t_end:g} s: {title}",
+                columns=columns,
+                rows=_accuracy_rows(source, monitor, t_end, quick),
+                notes=[
+                    "the same initial state for every row; drifts are maxima over 2001 samples "
+                    "(relative to |X(0)|; I1 relative to the largest kinetic energy); nothing "
+                    "is projected.",
+                    "seconds: the integration; compile s: heyoka's JIT compile when this "
+                    "process has not compiled the structure yet (0 when reused; heyoka also "
+                    "caches compiled code on disk). time ratio: against the first row.",
+                ],
+                plot=plot,
+            )
+        )
+    return out
+
+
+def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
+    """Many trajectories of the theorem model: heyoka batch integrators against DOP853."""
+    from chargedesign.simulation.ensemble import simulate_ensemble
+
+    rng = np.random.default_rng(1)
+    gam = rng.normal(size=(m, 3))
+    gam /= np.linalg.norm(gam, axis=1)[:, None]
+    states = np.hstack([rng.uniform(-1, 1, (m, 3)), gam])
+    rows: list[list[Any]] = []
+    t0 = time.perf_counter()
+    tay = simulate_ensemble(PARAMS, states, t_end=t_end, samples=2)
+    wall = time.perf_counter() - t0
+    per = tay.seconds / m
+    rows.append(["taylor (batch, 4 lanes x 2 threads)", m, tay.seconds, wall, per * 1e3, 1.0])
+    dop = simulate_ensemble(
+        PARAMS, states[:m_dop], t_end=t_end, samples=2, method="DOP853", rtol=1e-12, atol=1e-12
+    )
+    rows.append(
+        [
+            "DOP853 rtol 1e-12 (one batched call)",
+            m_dop,
+            dop.seconds,
+            dop.seconds,
+            dop.seconds / m_dop * 1e3,
+            (dop.seconds / m_dop) / per,
+        ]
+    )
+    s = tay.summary()
+    return BenchTable(
+        title=f"Ensembles: {m} trajectories of the theorem model to t = {t_end:g} s",
+        columns=["method", "trajectories", "seconds", "wall s", "ms per trajectory", "x slower"],
+        rows=rows,
+        notes=[
+            "random omega in [-1, 1]^3 and gamma on the sphere; seconds: the integration "
+            "(taylor: without the compile of a first run, reported below); wall s: the whole "
+            "simulate_ensemble call, with the compile and the integrals of every trajectory.",
+            f"taylor: largest energy drift over the ensemble {s.get('energy_max_drift', 0):.2g}"
+            f" (compile {tay.compile_seconds:.2g} s).",
+        ],
+    )
+
+
 def run(quick: bool = False) -> list[BenchTable]:
     """The simulation tables; ``quick=True`` uses short runs (a few seconds in all)."""
     if quick:
         return [
+            *_accuracy_table(20.0, True),
+            _ensemble_table(16, 5.0, 4),
             _reduced_model_table(20.0, 1e-12),
             _tolerance_table(20.0, [1e-8, 1e-12], [0.05]),
             _route_table(0.5),
@@ -341,6 +497,8 @@ def run(quick: bool = False) -> list[BenchTable]:
             _batch_table(4, 2.0),
         ]
     return [
+        *_accuracy_table(1000.0, False),
+        _ensemble_table(10000, 100.0, 100),
         _reduced_model_table(1000.0, 1e-13),
         _tolerance_table(1000.0, [1e-8, 1e-10, 1e-12, 1e-13], [0.05, 0.025]),
         _route_table(20.0),

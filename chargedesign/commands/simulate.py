@@ -6,6 +6,12 @@ simulated from its own elements (lorentz, electric, magnetization, gravity) on t
 same way unless its effects are only ``theorem`` (the reduced model). A ``.json`` argument is a
 design file; anything else is a scene (TOML). Files are written only with ``--out DIR`` or a
 scene's ``[output] dir`` (plus ``design.json`` of a body designed here).
+
+The default integrator is ``taylor`` (heyoka; DOP853 with a note where heyoka is missing). A
+scene whose ``[initial]`` gives ``states`` or ``file`` runs them all as an ensemble
+(``summary.json`` and ``ensemble.csv``). ``--atlas`` draws the Poincare atlas (orbits on one
+energy level on and off I3 = 0, ``atlas.png`` and ``atlas.csv``); ``--fli`` adds the fast
+Lyapunov indicator map (``fli.png``).
 """
 
 from __future__ import annotations
@@ -39,7 +45,33 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default=None, metavar="DIR", help="write outputs into DIR")
     parser.add_argument("--route", choices=("reduced", "direct"), default=None)
     parser.add_argument(
-        "--method", default=None, help="DOP853 (default), RK45, ..., gauss-legendre"
+        "--method",
+        default=None,
+        help="taylor (default: heyoka, DOP853 where heyoka is missing), DOP853, RK45, ..., "
+        "gauss-legendre",
+    )
+    parser.add_argument(
+        "--tol", type=float, default=None, help="tolerance of taylor (default machine epsilon)"
+    )
+    parser.add_argument(
+        "--monitors",
+        nargs="+",
+        default=None,
+        metavar="NAME",
+        help="integrals whose drift to report even where they are no integral: energy, "
+        "gamma_norm, I3, I4, kowalevski, lagrange, goriachev_chaplygin",
+    )
+    parser.add_argument(
+        "--atlas",
+        action="store_true",
+        help="Poincare atlas on gamma3 = 0: orbits on one energy level on I3 = 0 and on "
+        "--off-level (default 0.5 C J s) (atlas.png, atlas.csv in --out, default out/atlas)",
+    )
+    parser.add_argument(
+        "--orbits", type=int, default=50, help="orbits per level of --atlas (default 50)"
+    )
+    parser.add_argument(
+        "--fli", action="store_true", help="with --atlas: the fast Lyapunov indicator map"
     )
     parser.add_argument("--rtol", type=float, default=None)
     parser.add_argument("--atol", type=float, default=None)
@@ -104,6 +136,10 @@ def run(args: argparse.Namespace) -> int:
     bar = _ProgressBar() if show_bar else None
     setup = setup_from_source(args.source)
     designing = setup.design_scene is not None
+    if args.atlas:
+        return _atlas(args, setup)
+    if isinstance(setup.initial, dict) and "states" in setup.initial:
+        return _ensemble(args, setup, bar)
 
     def design_progress(message: str) -> None:
         if args.progress is not False:
@@ -122,6 +158,8 @@ def run(args: argparse.Namespace) -> int:
             route=args.route,
             poincare=True if args.poincare else None,
             level=args.off_level,
+            tol=args.tol,
+            monitors=args.monitors,
             progress=bar,
             design_progress=design_progress,
         )
@@ -165,13 +203,121 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _options(args: argparse.Namespace) -> dict:
+    return {
+        "effects": args.effects,
+        "t_end": args.t_end,
+        "rtol": args.rtol,
+        "atol": args.atol,
+        "method": args.method,
+        "step": args.step,
+        "samples": args.samples,
+        "route": args.route,
+        "tol": args.tol,
+        "monitors": args.monitors,
+    }
+
+
+def _ensemble(args: argparse.Namespace, setup: object, bar: _ProgressBar | None) -> int:
+    import json
+
+    from chargedesign.simulation.ensemble import simulate_ensemble
+
+    try:
+        result = simulate_ensemble(setup, progress=bar, **_options(args))
+    finally:
+        if bar is not None:
+            bar.close()
+    summary = result.summary()
+    out_dir = args.out or getattr(getattr(setup, "output", None), "dir", None)
+    if out_dir:
+        summary["files"] = [str(f) for f in result.write(out_dir)]
+    if args.json:
+        print(json.dumps(summary, indent=2, allow_nan=False))
+    else:
+        print(str(result))
+        for f in summary.get("files", []):
+            print(f"wrote {f}")
+    return 0
+
+
+def _atlas(args: argparse.Namespace, setup: object) -> int:
+    import json
+    from pathlib import Path
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from chargedesign.simulate import prepare
+    from chargedesign.simulation.chaos import fli_map, poincare_atlas
+
+    if args.orbits < 1:
+        raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {args.orbits}")
+    system, _, _, _, _ = prepare(setup, effects=args.effects, route=args.route)
+    out = Path(args.out or "out/atlas")
+    out.mkdir(parents=True, exist_ok=True)
+    off = args.off_level if args.off_level is not None else 0.5 * system.C
+    if off == 0.0:
+        raise ChargeDesignError("--off-level: the atlas needs a level other than I3 = 0")
+    t_end = args.t_end or 500.0
+    atlas = poincare_atlas(system, off_level=off, orbits=args.orbits, t_end=t_end)
+    fig = atlas.plot()
+    FigureCanvasAgg(fig)
+    fig.savefig(out / "atlas.png", dpi=110)
+    atlas.write_csv(out / "atlas.csv")
+    files = [str(out / "atlas.png"), str(out / "atlas.csv")]
+    summary = {
+        "energy": atlas.energy,
+        "levels": list(atlas.levels),
+        "orbits": args.orbits,
+        "t_end": t_end,
+        "points": [sum(len(p) for p in level) for level in atlas.points],
+        "seconds": atlas.seconds,
+        "effects": list(system.effects),
+    }
+    if args.fli:
+        fmap = fli_map(system, off_level=off, t_end=min(t_end, 100.0))
+        fig = fmap.plot()
+        FigureCanvasAgg(fig)
+        fig.savefig(out / "fli.png", dpi=110)
+        files.append(str(out / "fli.png"))
+        summary["fli_median"] = [float(_nanmedian(f)) for f in fmap.fli]
+        summary["fli_seconds"] = fmap.seconds
+    summary["files"] = files
+    if args.json:
+        print(json.dumps(summary, indent=2, allow_nan=False))
+        return 0
+    print(
+        f"Poincare atlas: {args.orbits} orbits per level at energy {atlas.energy:.6g} J, "
+        f"I3 = {atlas.levels[0]:g} and {atlas.levels[1]:g} J s, t = {t_end:g} s: "
+        f"{summary['points'][0]} and {summary['points'][1]} section points in "
+        f"{atlas.seconds:.3g} s"
+    )
+    if args.fli:
+        m0, m1 = summary["fli_median"]
+        print(
+            f"FLI median on I3 = 0: {m0:.3g}; off the level: {m1:.3g} "
+            f"({summary['fli_seconds']:.3g} s)"
+        )
+    print("\n".join(f"wrote {f}" for f in files))
+    return 0
+
+
+def _nanmedian(values: object) -> float:
+    import numpy as np
+
+    arr = np.asarray(values, dtype=float)
+    return float(np.nanmedian(arr)) if np.any(np.isfinite(arr)) else float("nan")
+
+
 def _human(s: dict) -> str:
     effects = ", ".join(s["effects"]) or "none (torque-free)"
     body = s.get("body") or {}
-    lines = [
-        f"simulated: {effects} ({s['route']} route, {s['method']}, rtol {s['rtol']:g}, "
-        f"atol {s['atol']:g})",
-    ]
+    if s["method"] == "taylor":
+        tol = s.get("tol")
+        how = f"taylor (heyoka), tol {'machine epsilon' if tol is None else format(tol, 'g')}"
+    else:
+        how = f"{s['method']}, rtol {s['rtol']:g}, atol {s['atol']:g}"
+    lines = [f"simulated: {effects} ({s['route']} route, {how})"]
     if body.get("designed_from_scene"):
         c = body["counts"]
         lines.append(
@@ -181,8 +327,17 @@ def _human(s: dict) -> str:
         )
     lines += [
         f"t = 0 .. {s['t_reached']:g} s of {s['t_end']:g} s: {s['steps']} steps, "
-        f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s",
-        f"I4 relative drift {s['I4_rel_drift']:.3g}; I3 max |I3| {s['I3_max']:.3g} J s"
+        + (
+            f"{s['seconds']:.3g} s (+ {s['compile_seconds']:.3g} s compile)"
+            if s["method"] == "taylor"
+            else f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s"
+        ),
+        (
+            f"I4 relative drift {s['I4_rel_drift']:.3g}"
+            if s["I4_rel_drift"] is not None
+            else f"I4 relative drift not reported: {s.get('I4_reason', 'no integral')}"
+        )
+        + f"; I3 max |I3| {s['I3_max']:.3g} J s"
         + (f" (level {s['level']})" if s["level"] else "")
         + f", drift {s['I3_max_dev']:.3g}",
         f"I1 relative drift {s['I1_rel_drift']:.3g}; max ||gamma|^2 - 1| {s['I2_max_dev']:.3g}",
@@ -206,6 +361,11 @@ def _human(s: dict) -> str:
     if body.get("designed_from_scene"):
         # already said on the body line
         notes = [n for n in notes if not n.startswith("body designed from the scene's")]
+    for name, m in (s.get("monitors") or {}).items():
+        if name in ("energy", "gamma_norm", "I3", "I4") or m.get("drift") is None:
+            continue
+        kind = "integral" if m.get("integral") else "asked for, no integral here"
+        lines.append(f"{name}: drift {m['drift']:.3g} ({m.get('scale', 'relative')}; {kind})")
     lines += [f"note: {n}" for n in notes]
     lines += [f"wrote {f}" for f in s.get("files", [])]
     return "\n".join(lines)

@@ -66,7 +66,8 @@ import numpy as np
 
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.params import Parameters
-from chargedesign.simulation.integrate import METHODS, STATE_NAMES, integrate
+from chargedesign.simulation import monitors as monitors_mod
+from chargedesign.simulation.integrate import DEFAULT_METHOD, METHODS, STATE_NAMES, integrate
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.simulation.system import (
     EFFECTS,
@@ -74,6 +75,9 @@ from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,
+    body_mass_points,
+    inertia_mismatch,
+    mass_inertia,
     quaternion_gamma,
     quaternion_rotation,
     rotation_quaternion,
@@ -92,8 +96,10 @@ SIMULATION_KEYS = (
     "samples",
     "route",
     "gamma3_min",
+    "tol",
+    "monitors",
 )
-INITIAL_KEYS = ("omega", "gamma", "level", "p", "q", "precession")
+INITIAL_KEYS = ("omega", "gamma", "level", "p", "q", "precession", "states", "file")
 OUTPUT_KEYS = (
     "dir",
     "trajectory",
@@ -115,13 +121,17 @@ class SimulationOptions:
     t_end: float = 100.0
     rtol: float = 1e-12
     atol: float = 1e-12
-    method: str = "DOP853"
+    method: str = DEFAULT_METHOD
     effects: list[str] | None = None
     max_step: float = math.inf
     step: float | None = None
     samples: int = 2001
     route: str = "reduced"
     gamma3_min: float = 1e-2
+    #: tolerance of the taylor method (None: machine epsilon)
+    tol: float | None = None
+    #: monitors asked for (names of :data:`.monitors.MONITORS` or callables)
+    monitors: list[Any] | None = None
 
 
 @dataclass
@@ -204,7 +214,7 @@ def parse_simulation_options(
         raise input_error(where, "a table", table)
     _unknown(table, SIMULATION_KEYS, where)
     opts = SimulationOptions()
-    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min"):
+    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min", "tol"):
         if key in table:
             value = table[key]
             if key == "max_step" and value == math.inf:
@@ -221,6 +231,8 @@ def parse_simulation_options(
         if not isinstance(effects, (list, tuple)) or not all(isinstance(e, str) for e in effects):
             raise input_error(f"{where}.effects", "a list of effect names", effects)
         opts.effects = list(effects)
+    if "monitors" in table and table["monitors"] is not None:
+        opts.monitors = monitors_mod.parse_monitors(table["monitors"], f"{where}.monitors")
     return opts
 
 
@@ -255,15 +267,36 @@ def parse_output_options(table: Mapping[str, Any], where: str = "output") -> Out
     return out
 
 
-def parse_initial(table: Mapping[str, Any], where: str = "initial") -> dict[str, Any]:
+def parse_initial(
+    table: Mapping[str, Any], where: str = "initial", base: Path | None = None
+) -> dict[str, Any]:
     """Validate an ``[initial]`` table; returns a normalised mapping.
 
     Either ``omega`` and ``gamma`` (explicit state), or ``level = "I3=<value>"`` with
-    ``gamma``, ``p`` and ``q`` (r solved from the level). ``precession`` is optional.
+    ``gamma``, ``p`` and ``q`` (r solved from the level). ``precession`` is optional. Or a set
+    of states: ``states = [[p, q, r, gamma1, gamma2, gamma3], ...]`` or ``file = PATH``
+    (.csv or .npy, relative to ``base``), returned as ``{"states": ndarray (m, 6)}``.
     """
     if not isinstance(table, Mapping):
         raise input_error(where, "a table", table)
     _unknown(table, INITIAL_KEYS, where)
+    if "states" in table or "file" in table:
+        from chargedesign.simulation.ensemble import load_states, parse_states
+
+        if "states" in table and "file" in table:
+            raise InputError(f"{where}: give either states or file, not both")
+        others = sorted(set(table) - {"states", "file"})
+        if others:
+            raise InputError(f"{where}.{others[0]}: not used with a set of states")
+        if "states" in table:
+            return {"states": parse_states(table["states"], f"{where}.states")}
+        value = table["file"]
+        if not isinstance(value, str) or not value:
+            raise input_error(f"{where}.file", "a path to a .csv or .npy file", value)
+        path = Path(value)
+        if base is not None and not path.is_absolute():
+            path = base / path
+        return {"states": load_states(path, f"{where}.file")}
     if "gamma" not in table:
         raise InputError(f"{where}: missing key 'gamma'")
     gamma = as_array(table["gamma"], f"{where}.gamma", (3,))
@@ -354,6 +387,10 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
     if design is not None:
         body = Body.from_design(design, dict(scene.fields))
         notes += body.notes
+        if body.parameters == Parameters():
+            body, note = _inertia_from_masses(body)
+            if note:
+                notes.append(note)
         info = _body_info(body, origin)
     else:
         body = Body(parameters=scene.parameters, fields=dict(scene.fields))
@@ -364,7 +401,10 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         else:
             info = _body_info(body, "none: the theorem's parameters only")
     initial_table = scene.tables.get("initial")
-    initial = parse_initial(DEFAULT_INITIAL if initial_table is None else initial_table)
+    base = None if scene.source in ("<default>", "<dict>") else Path(scene.source).parent
+    initial = parse_initial(
+        DEFAULT_INITIAL if initial_table is None else initial_table, "initial", base
+    )
     if initial_table is None:
         notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
     return SimulationSetup(
@@ -377,6 +417,73 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         design=design,
         design_scene=pending,
         body_info=info,
+    )
+
+
+def realised_claims(setup: SimulationSetup, system: RigidBodySystem) -> tuple[str, ...]:
+    """What the simulated design claims; a massless body's inertia is the given C itself."""
+    if setup.design is None:
+        return ()
+    out = list(setup.design.realises)
+    _, m = body_mass_points(system.body)
+    if "inertia" not in out and not np.any(m != 0.0):
+        out.append("inertia")
+    return tuple(out)
+
+
+def _inertia_from_masses(body: Body) -> tuple[Body, str]:
+    """A body without theorem parameters takes C from its masses (C = I_zz about O)."""
+    inertia, total, _ = mass_inertia(body)
+    C = float(inertia[2, 2])
+    if total <= 0.0 or not C > 0.0:
+        return body, ""
+    body = dataclasses.replace(body, parameters=Parameters(C=C))
+    return body, f"no [parameters]: C = {C:.6g} kg m^2 from the masses (I_zz about O)"
+
+
+def check_inertia(body: Body, effects: Sequence[str]) -> None:
+    """Refuse a body whose masses' inertia disagrees with the given C (one-line reason).
+
+    The theorem's reduced model alone (effects = ["theorem"]) uses C as given.
+    """
+    if not any(e != "theorem" for e in effects) and not body.has_elements:
+        return
+    reason = inertia_mismatch(body)
+    if reason is not None:
+        raise InputError(f"body: {reason}; give C to match the masses or fix the masses")
+
+
+#: relative size of a linear term of V that counts as a centre of mass off O
+CENTRE_RTOL = 1e-6
+
+
+def check_centre(system: RigidBodySystem, realises: Sequence[str]) -> None:
+    """Refuse a body that claims the theorem's V but whose V has a linear term (one line).
+
+    The theorem's V has no term linear in gamma; under uniform gravity such a term is
+    ``M g (r_cm . gamma)``, so gravity requires the centre of mass at O (unless other linear
+    terms cancel it: the check is on the whole V). Only for designs that claim ``V``.
+    """
+    if "V" not in realises or "gravity" not in system.effects:
+        return
+    bank = system.polynomial_bank
+    degree = bank.exponents.sum(axis=1)
+    a = np.zeros(3)
+    for row, e in zip(bank.coefficients, bank.exponents, strict=True):
+        if int(e.sum()) == 1:
+            a[int(np.argmax(e))] += row[0]
+    pts, m = body_mass_points(system.body)
+    g = system.body.fields.get("gravity", ())
+    scale = abs(g[0]) * float(np.abs(m) @ np.linalg.norm(pts, axis=1)) if len(g) and len(m) else 0.0
+    scale = max(scale, float(np.max(np.abs(bank.coefficients[degree >= 1, 0]), initial=0.0)))
+    if scale == 0.0 or float(np.linalg.norm(a)) <= CENTRE_RTOL * scale:
+        return
+    _, total, centre = mass_inertia(system.body)
+    raise InputError(
+        "body: V has a linear term a . gamma with a = "
+        f"({a[0]:.3g}, {a[1]:.3g}, {a[2]:.3g}) J that the theorem's V does not have (the "
+        f"design claims V); the centre of mass of {total:.4g} kg is at ({centre[0]:.3g}, "
+        f"{centre[1]:.3g}, {centre[2]:.3g}) m: gravity needs it at O"
     )
 
 
@@ -533,6 +640,8 @@ def initial_state(system: RigidBodySystem, initial: Any) -> tuple[np.ndarray, fl
     ``initial`` is a mapping as returned by :func:`parse_initial` (or a raw ``[initial]``
     mapping), or ``(p, q, r, gamma1, gamma2, gamma3)``.
     """
+    if isinstance(initial, Mapping) and "states" in initial:
+        initial = np.asarray(initial["states"], dtype=float)[0]  # the first of a set
     if isinstance(initial, Mapping):
         spec = dict(initial) if "gamma_norm" in initial else parse_initial(initial)
     else:
@@ -586,6 +695,7 @@ def with_level(initial: Any, level: float) -> dict[str, Any]:
 
 
 def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
+    """The setup's options with the call's overrides (None keeps the setup's)."""
     table = {k: v for k, v in overrides.items() if v is not None}
     merged = {
         k: getattr(base, k)
@@ -631,10 +741,14 @@ def prepare(
             )
     setup = dataclasses.replace(setup, options=options, body_info=body_info)
     effects, skipped = select_effects(setup.body, options.effects)
+    if any(e != "theorem" for e in effects):
+        check_inertia(setup.body, effects)
     notes = list(setup.notes) + pending_notes + skipped
     if not effects:
         notes.append("no effect acts: torque-free motion")
     system = RigidBodySystem(setup.body, effects, options.route)
+    if setup.design is not None:
+        check_centre(system, setup.design.realises)
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial
@@ -670,6 +784,8 @@ def simulate(
     gamma3_min: float | None = None,
     poincare: str | bool | None = None,
     level: float | None = None,
+    tol: float | None = None,
+    monitors: Sequence[Any] | None = None,
     progress: Callable[[float], None] | None = None,
     design_progress: Callable[[str], None] | None = None,
 ) -> SimulationResult:
@@ -692,8 +808,13 @@ def simulate(
     initial : mapping or array_like, optional
         Like ``[initial]`` (``omega`` and ``gamma``, or ``level = "I3=0"`` with ``gamma``,
         ``p``, ``q``), or ``(p, q, r, gamma1, gamma2, gamma3)``.
-    rtol, atol, method, max_step, step, samples, route, gamma3_min
-        As the ``[simulation]`` keys.
+    rtol, atol, method, max_step, step, samples, route, gamma3_min, tol
+        As the ``[simulation]`` keys (``method`` default ``taylor``; ``tol`` its tolerance,
+        default machine epsilon; ``rtol``/``atol`` for the solve_ivp methods).
+    monitors : sequence of str or callable, optional
+        Integrals to monitor (:data:`chargedesign.simulation.monitors.MONITORS`), or callables
+        ``f(omega (T, 3), gamma (T, 3)) -> (T,)``; their drifts are reported even where they
+        are no integrals.
     poincare : str or bool, optional
         Record upward zero crossings of this state (True: the scene's section, default
         ``gamma1``).
@@ -729,6 +850,8 @@ def simulate(
         samples=samples,
         route=route,
         gamma3_min=gamma3_min,
+        tol=tol,
+        monitors=None if monitors is None else list(monitors),
         level=level,
         design_progress=design_progress,
     )
@@ -739,13 +862,13 @@ def simulate(
     elif isinstance(poincare, str):
         section = _choice(poincare, "poincare", STATE_NAMES)
     if section is not None and options.method == "gauss-legendre":
-        notes.append("poincare: needs a solve_ivp method; no section recorded")
+        notes.append("poincare: needs the taylor or a solve_ivp method; no section recorded")
         section = None
-    run = _integrate(system, y0[None], options, poincare=section, progress=progress)
+    run = integrate_with_options(system, y0[None], options, poincare=section, progress=progress)
     return _result(system, run.times, run.states[0], run, level, setup, notes, section)
 
 
-def _integrate(
+def integrate_with_options(
     system: RigidBodySystem,
     y0: np.ndarray,
     options: SimulationOptions,
@@ -759,6 +882,7 @@ def _integrate(
         y0,
         options.t_end,
         method=options.method,
+        tol=options.tol,
         rtol=options.rtol,
         atol=options.atol,
         max_step=options.max_step,
@@ -790,8 +914,11 @@ def simulate_batch(
 
     Notes
     -----
-    One adaptive step size serves all trajectories (the error norm covers them all); a
-    singular-plane event on any trajectory stops the whole batch.
+    With ``taylor`` (the default) the trajectories run on heyoka batch integrators: each has
+    its own step size and a singular-plane event stops only its own trajectory (the others
+    keep their last state after it). With the solve_ivp methods one adaptive step size serves
+    all trajectories and an event on any trajectory stops the whole batch. For the summaries
+    of many trajectories see :func:`chargedesign.simulation.ensemble.simulate_ensemble`.
     """
     progress = kwargs.pop("progress", None)
     states = as_array(initial_states, "initial_states", (None, 6))
@@ -805,7 +932,7 @@ def simulate_batch(
             raise input_error(
                 f"initial_states[{bad}]", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3[bad]
             )
-    run = _integrate(system, y0, options, progress=progress)
+    run = integrate_with_options(system, y0, options, progress=progress)
     return [
         _result(system, run.times, run.states[i], run, None, setup, notes, None)
         for i in range(len(y0))
@@ -835,10 +962,24 @@ def _result(
     integrals = system.integrals(states)
     kinetic = 0.5 * np.einsum("ij,ij->i", omega * system.inertia_diagonal(), omega)
     opts = setup.options
+    extra = dict(getattr(run, "extra", {}) or {})
+    if "note" in extra:
+        all_notes.append(extra["note"])
+    gamma = quaternion_gamma(quats)
+    omega_scale = float(np.max(np.abs(omega[0]))) if len(omega) else 0.0
+    ctx = monitors_mod.Context(
+        system=system,
+        level=level,
+        I3_start=float(integrals[0, 2]),
+        I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
+        realises=realised_claims(setup, system),
+    )
+    monitor_table = monitors_mod.evaluate(ctx, omega, gamma, integrals, kinetic, opts.monitors)
+    method = str(extra.get("method", opts.method))
     return SimulationResult(
         times=times,
         omega=omega.copy(),
-        gamma=quaternion_gamma(quats),
+        gamma=gamma,
         rotation=quaternion_rotation(quats),
         quaternion=quats.copy(),
         integrals=integrals,
@@ -848,9 +989,12 @@ def _result(
         events=events,
         parameters=system.parameters,
         route=system.route,
-        method=opts.method,
+        method=method,
         rtol=opts.rtol,
         atol=opts.atol,
+        tol=opts.tol if method == "taylor" else None,
+        monitors=monitor_table,
+        compile_seconds=float(extra.get("compile_seconds", 0.0)),
         t_end=opts.t_end,
         steps=run.steps,
         rhs_evaluations=run.rhs_evaluations,

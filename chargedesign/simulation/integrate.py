@@ -4,7 +4,9 @@ Both integrate the 7 states per trajectory of :class:`~.system.RigidBodySystem` 
 batch many trajectories into one call (one state vector of length 7 m: the Python overhead
 per step is paid once for all of them).
 
-- ``DOP853`` (default), ``RK45``, ``Radau``, ``BDF``, ``LSODA``: :func:`scipy.integrate.solve_ivp`
+- ``taylor`` (default): heyoka's Taylor integrator (:mod:`.taylor`) at tolerance ``tol``
+  (default machine epsilon), dense output at the samples. Without heyoka: DOP853 with a note.
+- ``DOP853``, ``RK45``, ``Radau``, ``BDF``, ``LSODA``: :func:`scipy.integrate.solve_ivp`
   with explicit ``rtol``/``atol``; ``.success`` is checked and a failure raises SolverError.
 - ``gauss-legendre``: 3-stage Gauss-Legendre collocation (order 6), fixed step, stages solved
   by fixed-point iteration to rounding level. It is symmetric and conserves every quadratic
@@ -31,7 +33,10 @@ from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
 
 SOLVE_IVP_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
-METHODS = (*SOLVE_IVP_METHODS, "gauss-legendre")
+METHODS = ("taylor", *SOLVE_IVP_METHODS, "gauss-legendre")
+#: the default method (falls back to :data:`FALLBACK_METHOD` when heyoka cannot be imported)
+DEFAULT_METHOD = "taylor"
+FALLBACK_METHOD = "DOP853"
 #: state names, in order, for Poincare sections and CSV columns
 STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
 
@@ -86,6 +91,8 @@ class Integration:
     steps: int = 0
     rhs_evaluations: int = 0
     seconds: float = 0.0
+    #: back-end details (the taylor method: compile seconds, whether the compiled code was reused)
+    extra: dict[str, Any] = field(default_factory=dict)
 
 
 def _state_value(states: np.ndarray, name: str) -> np.ndarray:
@@ -100,7 +107,8 @@ def integrate(
     initial: np.ndarray,
     t_end: float,
     *,
-    method: str = "DOP853",
+    method: str = DEFAULT_METHOD,
+    tol: float | None = None,
     rtol: float = 1e-12,
     atol: float = 1e-12,
     max_step: float = math.inf,
@@ -121,6 +129,8 @@ def integrate(
         Duration, s (> 0).
     method : str
         One of :data:`METHODS`.
+    tol : float, optional
+        Tolerance of ``taylor`` (default machine epsilon).
     rtol, atol : float
         Tolerances of solve_ivp (ignored by ``gauss-legendre``).
     max_step : float
@@ -135,7 +145,7 @@ def integrate(
         stops the integration and is reported as an event.
     poincare : str, optional
         State name (:data:`STATE_NAMES`) whose upward zero crossings are recorded (one
-        trajectory, solve_ivp methods).
+        trajectory; solve_ivp methods and taylor).
     progress : callable, optional
         Called with the fraction of ``t_end`` done (0..1), at most about 100 times.
 
@@ -149,6 +159,30 @@ def integrate(
     if samples < 2:
         raise input_error("simulation.samples", "an integer >= 2", samples)
     y0 = np.asarray(initial, dtype=np.float64)
+    fallback_note = None
+    if method == "taylor":
+        from chargedesign.simulation import taylor
+
+        if taylor.available():
+            out = taylor.integrate_taylor(
+                system,
+                y0,
+                t_end,
+                tol=taylor.DEFAULT_TOL if tol is None else tol,
+                samples=samples,
+                gamma3_min=gamma3_min,
+                poincare=poincare,
+                progress=progress,
+            )
+            out.extra["method"] = "taylor"
+            if progress is not None:
+                progress(1.0)
+            return out
+        fallback_note = (
+            f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); "
+            f"{FALLBACK_METHOD} at rtol = {rtol:g}, atol = {atol:g} instead"
+        )
+        method = FALLBACK_METHOD
     if method == "gauss-legendre":
         out = _integrate_gauss(system, y0, t_end, step, samples, gamma3_min, progress)
     else:
@@ -167,6 +201,9 @@ def integrate(
         )
     if not np.all(np.isfinite(out.states)):
         raise SolverError(f"simulation: {method} produced non-finite states")
+    out.extra["method"] = method
+    if fallback_note is not None:
+        out.extra["note"] = fallback_note
     if progress is not None:
         progress(1.0)
     return out

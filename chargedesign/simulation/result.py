@@ -81,6 +81,12 @@ class SimulationResult:
     source: str = ""
     #: what was simulated and where it came from (``designed_from_scene``, ``counts``, ...)
     body: dict[str, Any] | None = None
+    #: tolerance of the taylor method (None: machine epsilon, or another method)
+    tol: float | None = None
+    #: monitors (see :mod:`.monitors`): {name: {"integral", "requested", "drift", "reason"}}
+    monitors: dict[str, dict[str, Any]] = field(default_factory=dict)
+    #: seconds spent compiling the taylor integrator (0 when reused from this process)
+    compile_seconds: float = 0.0
 
     @property
     def completed(self) -> bool:
@@ -105,16 +111,25 @@ class SimulationResult:
         }
 
     def summary(self) -> dict[str, Any]:
-        """JSON-ready summary; the contract's keys come first."""
+        """JSON-ready summary; the contract's keys come first.
+
+        ``I4_rel_drift`` is a number where I4 is an integral of the run or was asked for
+        (``monitors``), else None with the reason in ``I4_reason``.
+        """
         d = self.drift()
+        i4 = self.monitors.get("I4")
+        i4_drift: float | None = d["I4_rel_drift"]
+        if i4 is not None and i4.get("drift") is None:
+            i4_drift = None
         out: dict[str, Any] = {
-            "I4_rel_drift": d["I4_rel_drift"],
+            "I4_rel_drift": i4_drift,
             "I3_max": d["I3_max"],
             "effects": list(self.effects),
             "I1_rel_drift": d["I1_rel_drift"],
             "I2_max_dev": d["I2_max_dev"],
             "I3_max_dev": d["I3_max_dev"],
             "quaternion_norm_max_dev": d["quaternion_norm_max_dev"],
+            "monitors": {k: dict(v) for k, v in self.monitors.items()},
             "initial": {
                 "I1": float(self.integrals[0, 0]),
                 "I3": float(self.integrals[0, 2]),
@@ -130,6 +145,8 @@ class SimulationResult:
             "method": self.method,
             "rtol": self.rtol,
             "atol": self.atol,
+            "tol": self.tol,
+            "compile_seconds": self.compile_seconds,
             "steps": self.steps,
             "rhs_evaluations": self.rhs_evaluations,
             "seconds": self.seconds,
@@ -139,6 +156,8 @@ class SimulationResult:
             "parameters": self.parameters.as_dict(),
             "source": self.source,
         }
+        if i4 is not None and "reason" in i4:
+            out["I4_reason"] = i4["reason"]
         if self.poincare is not None:
             out["poincare_points"] = len(self.poincare)
         if self.body is not None:

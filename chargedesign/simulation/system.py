@@ -245,6 +245,56 @@ class Body(ElementSet):
         return AxisymmetricField(tuple(self.fields.get(kind, ())))
 
 
+def body_mass_points(body: Body) -> tuple[np.ndarray, np.ndarray]:
+    """Every point mass of the body: positions (n, 3) in m and masses (n,) in kg.
+
+    The one place the simulation reads the body's mass distribution (inertia, centre of mass,
+    C from the masses); the masses of charge carriers and magnets join here.
+    """
+    return body.mass_positions, body.mass_values
+
+
+def mass_inertia(body: Body) -> tuple[np.ndarray, float, np.ndarray]:
+    """Inertia tensor about O (kg m^2, (3, 3)), total mass (kg) and centre of mass (m, (3,))."""
+    pts, m = body_mass_points(body)
+    if len(m) == 0:
+        return np.zeros((3, 3)), 0.0, np.zeros(3)
+    r2 = np.einsum("ij,ij->i", pts, pts)
+    inertia = np.eye(3) * float(m @ r2) - np.einsum("i,ij,ik->jk", m, pts, pts)
+    total = float(np.sum(m))
+    centre = (m @ pts) / total if total != 0.0 else np.zeros(3)
+    return inertia, total, centre
+
+
+#: relative tolerance of the inertia consistency check (designs polish to about 1e-9)
+INERTIA_RTOL = 1e-6
+
+
+def inertia_mismatch(body: Body, rtol: float = INERTIA_RTOL) -> str | None:
+    """Why the masses' inertia disagrees with ``diag(2C, 2C, C)``, or None when it agrees.
+
+    Compares the given C with the masses' inertia about O (A = B = 2C, products zero). A
+    body without masses has nothing to compare (its inertia is the given C).
+    """
+    _, m = body_mass_points(body)
+    if len(m) == 0 or not np.any(m != 0.0):
+        return None
+    inertia, _, _ = mass_inertia(body)
+    C = body.parameters.C
+    target = np.diag([2.0 * C, 2.0 * C, C])
+    scale = float(np.max(np.abs(inertia))) or 1.0
+    err = float(np.max(np.abs(inertia - target))) / scale
+    if err <= rtol:
+        return None
+    A, B, Cm = np.diag(inertia)
+    off = max(abs(inertia[0, 1]), abs(inertia[0, 2]), abs(inertia[1, 2]))
+    return (
+        f"the masses' inertia about O is diag({A:.6g}, {B:.6g}, {Cm:.6g}) kg m^2 (largest "
+        f"product {off:.3g}) but C = {C:.6g} asks for diag({2 * C:.6g}, {2 * C:.6g}, {C:.6g}) "
+        f"(relative mismatch {err:.2g} > {rtol:g})"
+    )
+
+
 def theorem_is_trivial(params: Parameters) -> bool:
     """True when the theorem's V and mu vanish (n = K = kappa = lambda = rho = 0)."""
     return all(v == 0.0 for v in (params.n, params.K, params.kappa, params.lam, params.rho))
@@ -337,6 +387,15 @@ class RigidBodySystem:
         )
         self._theorem = _TheoremTerms(body.parameters) if "theorem" in self.effects else None
         self._kernels: dict[tuple[str, ...], DirectKernel] = {}
+
+    @property
+    def polynomial_bank(self) -> poly.PolynomialBank:
+        """The reduced route's bank ``[V, dV/dgamma, mu, L]`` of all physical effects."""
+        return self._bank
+
+    def direct_kernel(self) -> DirectKernel:
+        """The direct route's kernel of all physical effects (built once)."""
+        return self._kernel(self.physical)
 
     def _kernel(self, physical: Sequence[str]) -> DirectKernel:
         """The direct route's kernel for a set of physical effects (built once, cached)."""

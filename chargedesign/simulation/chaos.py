@@ -1,0 +1,370 @@
+"""Poincare atlases and the fast Lyapunov indicator (heyoka: events and variational equations).
+
+What "conditionally integrable" looks like: on the level ``I3 = 0`` the theorem's I4 is a
+second integral besides the energy, the motion on an energy level lies on tori and a Poincare
+section shows invariant curves; off the level (``I3 != 0``) at the same energy the section
+shows a chaotic sea. The fast Lyapunov indicator (FLI, ``max_t log |Phi(t) v|`` for the
+tangent flow ``Phi`` from the variational equations) grows like ``log t`` on tori and like
+``lambda t`` on chaotic orbits.
+
+Section: ``gamma3 = 0`` crossed upwards (``gamma3' = gamma1 q - gamma2 p > 0``). On it the
+level fixes ``u = p cos(phi) + q sin(phi) = (I3 - L(gamma)) / (2C)`` with
+``gamma = (cos phi, sin phi, 0)``; ``v = gamma3' > 0`` and the energy fix the rest:
+``r^2 = (2 (E - V(gamma)) - 2C (u^2 + v^2)) / C``. The chart of the section is
+``(phi, r)``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError, SolverError
+from chargedesign.simulation.system import (
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    rotation_quaternion,
+)
+
+
+def _section_state(
+    system: RigidBodySystem, phi: float, v: float, energy: float, level: float, sign: float
+) -> np.ndarray | None:
+    """The 7-state on the section at angle ``phi`` with ``gamma3' = v``, or None."""
+    C = system.C
+    g = np.array([math.cos(phi), math.sin(phi), 0.0])
+    R = attitude_from_gamma(g)
+    L = float(system.momentum_potential(g[None], R[None])[0])
+    V = float(system.energy(g[None], R[None])[0])
+    u = (level - L) / (2.0 * C)
+    r2 = (2.0 * (energy - V) - 2.0 * C * (u * u + v * v)) / C
+    if not r2 >= 0.0:
+        return None
+    p = u * math.cos(phi) - v * math.sin(phi)
+    q = u * math.sin(phi) + v * math.cos(phi)
+    quat = rotation_quaternion(R)
+    return np.concatenate([[p, q, sign * math.sqrt(r2)], quat])
+
+
+def section_starts(
+    system: RigidBodySystem, energy: float, level: float, orbits: int, seed: int = 0
+) -> np.ndarray:
+    """``orbits`` states on the section ``gamma3 = 0`` (upwards) at energy and level.
+
+    Returns
+    -------
+    ndarray, shape (orbits, 7)
+
+    Raises
+    ------
+    InputError
+        The energy is too low for the level on most of the section.
+    """
+    rng = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    tries = 0
+    while len(out) < orbits and tries < 200 * orbits:
+        tries += 1
+        phi = rng.uniform(0.0, 2.0 * math.pi)
+        v = rng.uniform(0.0, 2.0) * math.sqrt(max(energy, 1e-300) / system.C) / 2.0
+        sign = 1.0 if rng.uniform() < 0.5 else -1.0
+        state = _section_state(system, phi, v, energy, level, sign)
+        if state is not None:
+            out.append(state)
+    if len(out) < orbits:
+        raise InputError(
+            f"poincare: energy {energy:g} J is too low for the level I3 = {level:g} J s on the "
+            "section gamma3 = 0; raise the energy"
+        )
+    return np.array(out)
+
+
+@dataclass
+class PoincareAtlas:
+    """Section points of many orbits on one energy level, on and off ``I3 = 0``.
+
+    Attributes
+    ----------
+    energy : float
+        J.
+    levels : tuple of float
+        The two levels of I3 (J s): ``(0, off)``.
+    points : list of list of ndarray
+        ``points[k][i]``: orbit ``i`` on level ``k``, rows ``(t, p, q, r, g1, g2, g3)``.
+    """
+
+    energy: float
+    levels: tuple[float, float]
+    points: list[list[np.ndarray]]
+    t_end: float
+    seconds: float
+
+    def table(self) -> np.ndarray:
+        """Rows ``(level, orbit, t, p, q, r, gamma1, gamma2, gamma3, phi)``."""
+        rows = []
+        for k, level in enumerate(self.levels):
+            for i, pts in enumerate(self.points[k]):
+                if len(pts) == 0:
+                    continue
+                phi = np.arctan2(pts[:, 5], pts[:, 4])
+                rows.append(
+                    np.column_stack([np.full(len(pts), level), np.full(len(pts), i), pts, phi])
+                )
+        return np.vstack(rows) if rows else np.zeros((0, 10))
+
+    def write_csv(self, path: str | os.PathLike[str]) -> None:
+        """The section points as CSV (header ``level, orbit, t, p, q, r, gamma1, ...``)."""
+        header = "level,orbit,t,p,q,r,gamma1,gamma2,gamma3,phi"
+        np.savetxt(path, self.table(), delimiter=",", header=header, comments="", fmt="%.17g")
+
+    def plot(self, axes: Any = None) -> Any:
+        """Side-by-side sections ``(phi, r)``, coloured by orbit; returns the figure."""
+        from matplotlib.figure import Figure
+
+        if axes is None:
+            fig = Figure(figsize=(12, 5.5))
+            axes = fig.subplots(1, 2, sharey=True)
+        else:
+            fig = axes[0].figure
+        for ax, level, orbits in zip(axes, self.levels, self.points, strict=True):
+            colours = _colours(len(orbits))
+            for i, pts in enumerate(orbits):
+                if len(pts):
+                    phi = np.arctan2(pts[:, 5], pts[:, 4])
+                    ax.plot(phi, pts[:, 3], ".", ms=1.2, color=colours[i])
+            kind = "I4 is an integral: invariant curves" if level == 0 else "I4 is no integral"
+            ax.set_title(f"I3 = {level:g} J s ({kind})", fontsize=10)
+            ax.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 (upwards) [rad]")
+            ax.grid(True, alpha=0.3)
+        axes[0].set_ylabel("r [1/s]")
+        fig.suptitle(
+            f"Poincare atlas: {len(self.points[0])} orbits per level, energy {self.energy:.4g} J, "
+            f"t = {self.t_end:g} s"
+        )
+        return fig
+
+
+def _colours(n: int) -> list[Any]:
+    from matplotlib import colormaps
+
+    cmap = colormaps["turbo"]
+    return [cmap(i / max(n - 1, 1)) for i in range(n)]
+
+
+def poincare_atlas(
+    system: RigidBodySystem,
+    *,
+    energy: float | None = None,
+    off_level: float | None = None,
+    orbits: int = 50,
+    t_end: float = 500.0,
+    seed: int = 0,
+) -> PoincareAtlas:
+    """Section ``gamma3 = 0`` (upwards) of ``orbits`` orbits on I3 = 0 and on ``off_level``.
+
+    Parameters
+    ----------
+    system : RigidBodySystem
+    energy : float, optional
+        J; default: the energy of the default start (gamma = (0.36, 0.48, 0.8), p = 0.6,
+        q = -0.4 on I3 = 0).
+    off_level : float, optional
+        The second level of I3, J s (default ``0.5 C`` in J s: half the momentum of a spin
+        of 1 rad/s about the symmetry axis, the CLI's ``--off-level`` example).
+    orbits : int
+        Orbits per level (each from its own section point).
+    t_end : float
+        Duration of each orbit, s.
+
+    Notes
+    -----
+    The event is non-terminal: each orbit's crossings are located (to round-off in time, by
+    heyoka's event detection on the Taylor series) without stopping the other orbits of the
+    same batch.
+    """
+    from chargedesign.simulation import taylor
+
+    if not taylor.available():
+        raise SolverError(f"poincare atlas: needs heyoka ({taylor.unavailable_reason()})")
+    if energy is None:
+        from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
+
+        y0, _ = initial_state(system, DEFAULT_INITIAL)
+        energy = float(system.integrals(y0[None])[0, 0])
+    t0 = time.perf_counter()
+    points = []
+    levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
+    for level in levels:
+        starts = section_starts(system, energy, level, orbits, seed)
+        ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
+        orbit_points = []
+        for rows in ens.sections or []:
+            if len(rows) == 0:
+                orbit_points.append(np.zeros((0, 7)))
+                continue
+            gam = quaternion_gamma(rows[:, 4:])
+            orbit_points.append(np.column_stack([rows[:, 0], rows[:, 1:4], gam]))
+        points.append(orbit_points)
+    return PoincareAtlas(
+        energy=float(energy),
+        levels=levels,
+        points=points,
+        t_end=float(t_end),
+        seconds=time.perf_counter() - t0,
+    )
+
+
+# ----------------------------------------------------------------------------- FLI
+_VAR_CACHE: dict[tuple[Any, ...], Any] = {}
+
+
+def fast_lyapunov_indicator(
+    system: RigidBodySystem,
+    states: np.ndarray,
+    t_end: float,
+    *,
+    samples: int = 64,
+    tol: float | None = None,
+) -> np.ndarray:
+    """The FLI ``max_{t <= t_end} log |Phi(t) w|`` of each state, ndarray shape (m,).
+
+    ``Phi`` is the tangent flow from heyoka's first-order variational equations
+    (``var_ode_sys`` with respect to the initial state); ``w`` is the unit vector along
+    ``(1, 1, 1, 0, 0, 0, 0)``: a perturbation of the angular velocity (the quaternion's norm
+    and the turn about Z are symmetries and would add nothing). The maximum is over
+    ``samples`` times.
+
+    Parameters
+    ----------
+    system : RigidBodySystem
+    states : ndarray, shape (m, 7)
+    t_end : float
+        s.
+    """
+    from chargedesign.simulation import taylor
+
+    hy = taylor.heyoka_module()
+    if hy is None:
+        raise SolverError(f"FLI: needs heyoka ({taylor.unavailable_reason()})")
+    states = np.atleast_2d(np.asarray(states, dtype=float))
+    eq = taylor.build_equations(system)
+    tol_value = taylor.DEFAULT_TOL if tol is None else float(tol)
+    key = (eq.key, tol_value)
+    ta = _VAR_CACHE.get(key)
+    if ta is None:
+        vsys = hy.var_ode_sys(eq.sys, hy.var_args.vars, order=1)
+        ta = hy.taylor_adaptive(
+            vsys,
+            np.zeros(7),
+            pars=np.zeros(len(eq.pars)),
+            tol=tol_value,
+            # the tangent flow is 49 more equations: compact mode compiles in seconds, not
+            # minutes (measured: the full unrolled form took over 10 minutes to compile)
+            compact_mode=True,
+        )
+        _VAR_CACHE[key] = ta
+    w = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]) / math.sqrt(3.0)
+    grid = np.linspace(0.0, t_end, samples)
+    out = np.empty(len(states))
+    n = 7
+    for i, y0 in enumerate(states):
+        ta.time = 0.0
+        ta.state[:n] = y0
+        ta.state[n:] = np.eye(n).reshape(-1)  # Phi(0) = identity, row-major d x_i / d x0_j
+        ta.pars[:] = eq.pars
+        outcome, *_, values = ta.propagate_grid(grid)
+        if outcome != hy.taylor_outcome.time_limit:
+            raise SolverError(f"FLI: heyoka stopped at t = {ta.time:.6g} s: {outcome}")
+        phi = np.asarray(values)[:, n:].reshape(len(grid), n, n)
+        growth = np.linalg.norm(phi @ w, axis=1)
+        out[i] = float(np.log(np.max(growth)))
+    return out
+
+
+@dataclass
+class FLIMap:
+    """FLI over a grid of section points ``(phi, v)`` on and off ``I3 = 0``."""
+
+    phi: np.ndarray
+    v: np.ndarray
+    fli: list[np.ndarray]  # per level, shape (len(v), len(phi)), NaN where no state
+    levels: tuple[float, float]
+    energy: float
+    t_end: float
+    seconds: float
+
+    def plot(self, axes: Any = None) -> Any:
+        from matplotlib.figure import Figure
+
+        if axes is None:
+            fig = Figure(figsize=(12, 5))
+            axes = fig.subplots(1, 2, sharey=True)
+        else:
+            fig = axes[0].figure
+        finite: np.ndarray = (
+            np.concatenate([f[np.isfinite(f)] for f in self.fli]) if self.fli else np.zeros(0)
+        )
+        vmin, vmax = (float(np.min(finite)), float(np.max(finite))) if len(finite) else (0, 1)
+        image = None
+        for ax, level, values in zip(axes, self.levels, self.fli, strict=True):
+            image = ax.pcolormesh(
+                self.phi, self.v, values, shading="nearest", cmap="magma", vmin=vmin, vmax=vmax
+            )
+            ax.set_title(f"FLI, I3 = {level:g} J s", fontsize=10)
+            ax.set_xlabel("phi on gamma3 = 0 [rad]")
+        axes[0].set_ylabel("v = gamma3' [1/s]")
+        if image is not None:
+            fig.colorbar(image, ax=list(axes), label=f"FLI at t = {self.t_end:g} s")
+        fig.suptitle(f"Fast Lyapunov indicator, energy {self.energy:.4g} J (r >= 0 half)")
+        return fig
+
+
+def fli_map(
+    system: RigidBodySystem,
+    *,
+    energy: float | None = None,
+    off_level: float | None = None,
+    n_phi: int = 24,
+    n_v: int = 12,
+    t_end: float = 100.0,
+) -> FLIMap:
+    """The FLI over a ``(phi, v)`` grid of the section at one energy, on and off I3 = 0."""
+    if energy is None:
+        from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
+
+        y0, _ = initial_state(system, DEFAULT_INITIAL)
+        energy = float(system.integrals(y0[None])[0, 0])
+    t0 = time.perf_counter()
+    phi = np.linspace(0.0, 2.0 * math.pi, n_phi, endpoint=False)
+    v = np.linspace(0.05, 1.0, n_v) * math.sqrt(max(energy, 1e-300) / system.C)
+    levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
+    maps = []
+    for level in levels:
+        values = np.full((n_v, n_phi), np.nan)
+        starts, where = [], []
+        for a, ph in enumerate(phi):
+            for b, vv in enumerate(v):
+                state = _section_state(system, float(ph), float(vv), energy, level, 1.0)
+                if state is not None:
+                    starts.append(state)
+                    where.append((b, a))
+        if starts:
+            fl = fast_lyapunov_indicator(system, np.array(starts), t_end)
+            for (b, a), f in zip(where, fl, strict=True):
+                values[b, a] = f
+        maps.append(values)
+    return FLIMap(
+        phi=phi,
+        v=v,
+        fli=maps,
+        levels=levels,
+        energy=float(energy),
+        t_end=float(t_end),
+        seconds=time.perf_counter() - t0,
+    )

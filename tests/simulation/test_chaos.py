@@ -1,0 +1,59 @@
+"""Poincare atlas and the fast Lyapunov indicator."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from chargedesign.params import Parameters
+from chargedesign.simulation import chaos, taylor
+from chargedesign.simulation.system import Body, RigidBodySystem
+
+PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+ENERGY = 1.3338772
+
+pytestmark = pytest.mark.skipif(not taylor.available(), reason="heyoka is not installed")
+
+
+def _system() -> RigidBodySystem:
+    return RigidBodySystem(Body(parameters=PARAMS), ["theorem"])
+
+
+def test_section_starts_lie_on_the_energy_and_level() -> None:
+    system = _system()
+    for level in (0.0, 0.5):
+        starts = chaos.section_starts(system, ENERGY, level, 5)
+        integrals = system.integrals(starts)
+        assert np.max(np.abs(integrals[:, 0] - ENERGY)) <= 1e-13
+        assert np.max(np.abs(integrals[:, 2] - level)) <= 1e-13
+
+
+def test_atlas_records_sections_without_stopping_orbits(tmp_path: Path) -> None:
+    atlas = chaos.poincare_atlas(_system(), orbits=4, t_end=40.0)
+    assert atlas.levels == (0.0, 0.5) and len(atlas.points) == 2
+    for orbits in atlas.points:
+        assert len(orbits) == 4
+        assert all(len(p) >= 2 for p in orbits)  # every orbit crosses several times
+        for pts in orbits:
+            assert np.max(np.abs(pts[:, 6])) <= 1e-13  # on gamma3 = 0
+    atlas.write_csv(tmp_path / "atlas.csv")
+    header = (tmp_path / "atlas.csv").read_text().splitlines()[0]
+    assert header == "level,orbit,t,p,q,r,gamma1,gamma2,gamma3,phi"
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    axes = fig.subplots(1, 2)
+    assert atlas.plot(axes) is fig
+
+
+def test_fli_separates_a_torus_from_a_chaotic_orbit() -> None:
+    system = _system()
+    regular = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
+    chaotic = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.5, 1.0)
+    assert regular is not None and chaotic is not None
+    fli = chaos.fast_lyapunov_indicator(system, np.array([regular, chaotic]), 200.0)
+    # measured 5.3 (log t growth on the torus) against 31 (exponential growth)
+    assert fli[0] <= 8.0
+    assert fli[1] >= 2.0 * fli[0]
