@@ -361,7 +361,7 @@ def _physical_sections(design: Design) -> list[str]:
         lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
         for key, item in realism.items():
             if isinstance(item, dict):
-                value = item.get("value")
-                shown = f"{value:.3g} {item.get('unit', '')}" if value is not None else "inf"
+                amount = item.get("value")
+                shown = f"{amount:.3g} {item.get('unit', '')}" if amount is not None else "inf"
                 lines.append(f"| {key} | {shown} | {item['verdict']} | {item['note']} |")
     return lines

@@ -177,12 +177,12 @@ def find_frontier(
         return ok, binding
 
     if not s_nec > 0:
-        binding = Binding(
+        none_binding = Binding(
             "charges",
             f"the external electric field alone exceeds the safe field of {medium}",
             "fields.electric",
         )
-        return FrontierResult(0.0, setup.params.n, binding, 0.0, 0.0, 0, 0.0, medium)
+        return FrontierResult(0.0, setup.params.n, none_binding, 0.0, 0.0, 0, 0.0, medium)
     # the necessary bound itself: just above it the own-field LP is infeasible
     upper_binding = Binding(
         "charges",
@@ -197,7 +197,8 @@ def find_frontier(
             "body region",
             "fields.electric",
         )
-    hi, hi_binding = s_nec * (1 + rtol), upper_binding
+    hi = s_nec * (1 + rtol)
+    hi_binding: Binding | None = upper_binding
     ok, binding = probe(s_nec)
     if ok:
         lo = s_nec

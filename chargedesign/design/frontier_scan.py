@@ -127,7 +127,9 @@ def scan_frontier(
     base = _scene_dict(scene)
     base_carrier = base.get("carriers", {}).get("material", "aluminium")
     a1 = float(scene.fields.get("magnetic", (1.0,))[0]) if scene.fields.get("magnetic") else 1.0
-    cases = [(f, m, 1.0, None) for m in media for f in size_factors]
+    cases: list[tuple[float, str, float, str | None]] = [
+        (f, m, 1.0, None) for m in media for f in size_factors
+    ]
     cases.append((1.0, media[0], FIELD_FACTOR, None))
     cases.append((1.0, media[0], 1.0, DENSE_CARRIER))
     rows: list[dict[str, Any]] = []

@@ -861,10 +861,8 @@ def design_physical(
 
         if progress is not None:
             progress("beyond the limits: locating the frontier ...")
-        frontier = find_frontier(setup)
-        raise InfeasibleError(
-            beyond_frontier_message(setup, exc.binding, frontier, scale)
-        ) from None
+        reach = find_frontier(setup)
+        raise InfeasibleError(beyond_frontier_message(setup, exc.binding, reach, scale)) from None
     design = build_design(setup, outcome)
     limits = check_limits(design)
     if not limits.buildable:

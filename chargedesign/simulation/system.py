@@ -249,9 +249,9 @@ def body_mass_points(body: Body) -> tuple[np.ndarray, np.ndarray]:
     """Every point mass of the body: positions (n, 3) in m and masses (n,) in kg.
 
     The one place the simulation reads the body's mass distribution (inertia, centre of mass,
-    C from the masses); the masses of charge carriers and magnets join here.
+    C from the masses): the ballast plus the carriers' and magnets' own masses.
     """
-    return body.mass_positions, body.mass_values
+    return body.all_masses()
 
 
 def mass_inertia(body: Body) -> tuple[np.ndarray, float, np.ndarray]:

@@ -126,12 +126,12 @@ def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
         elif table in ("simulation", "initial", "output"):
             from chargedesign.simulation import api
 
-            parse = {
-                "simulation": api.parse_simulation_options,
-                "initial": api.parse_initial,
-                "output": api.parse_output_options,
-            }[table]
-            parse(scene.table(table))
+            if table == "simulation":
+                api.parse_simulation_options(scene.table(table))
+            elif table == "initial":
+                api.parse_initial(scene.table(table))
+            else:
+                api.parse_output_options(scene.table(table))
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
