@@ -421,7 +421,7 @@ def test_design_from_scene_and_extras():
     assert extra["candidates"]["shape"] == "ball"
     assert extra["region"] == {"shape": "ball", "radius": 1.0}
     assert len(extra["conditions"]["list"]) == len(result.conditions.conditions)
-    assert extra["provenance"]["scene"] == "<default>"
+    assert extra["provenance"]["scene"] == str(UNIT_SCENE)
 
 
 def test_realise_subset_from_scene():

@@ -272,3 +272,15 @@ def test_cli_frontier_json_has_the_contract_keys():
     data = json.loads(proc.stdout)
     assert {"s_max", "n_max", "binding"} <= set(data)
     assert data["n_max"] == pytest.approx(data["s_max"] * 1e-7)
+
+
+def test_the_embedded_default_is_buildable():
+    """`make demo`'s body: an independent recheck of every limit, and the forward check."""
+    from chargedesign.check import check_design
+    from chargedesign.design import design_from_scene
+
+    design = design_from_scene(load_scene(None), frontier=False).design
+    assert design.medium is not None and design.medium["name"] == "vacuum"
+    assert check_limits(design).buildable
+    assert check_design(design).passed
+    assert design.extra["realism"]["v_over_c"]["verdict"] == "negligible"
