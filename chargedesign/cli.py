@@ -42,7 +42,34 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that every ``finally`` (staging cleanup) runs."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """The command line's numbers pass the same input range as files' (docs/reliability.md)."""
+    from chargedesign.validation import check_input_number
+
+    for name, value in vars(args).items():
+        if name.startswith("_"):
+            continue
+        option = "--" + name.replace("_", "-")
+        values = value if isinstance(value, (list, tuple)) else [value]
+        for item in values:
+            if isinstance(item, float):
+                check_input_number(item, option)
+            elif isinstance(item, int) and not isinstance(item, bool) and abs(item) > 10**18:
+                check_input_number(item, option, hi=1e18)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    import signal
+    import threading
+
     from chargedesign.errors import ChargeDesignError
 
     parser = build_parser()
@@ -50,11 +77,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
+        check_arguments(args)
         return int(args._module.run(args) or 0)
     except ChargeDesignError as exc:
-        print(f"chargedesign {args.command}: error: {exc}", file=sys.stderr)
+        print(f"chargedesign {args.command}: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
+    except Terminated:
+        print(f"chargedesign {args.command}: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print(f"chargedesign {args.command}: interrupted", file=sys.stderr)
         return 130
@@ -65,6 +99,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except MemoryError:
+        print(
+            f"chargedesign {args.command}: error: out of memory (ask for less work: fewer "
+            "candidates, samples or orientations)",
+            file=sys.stderr,
+        )
+        return 2
+    except OSError as exc:
+        # every kind (permissions, read-only or full disks, /sys paths): one line naming the
+        # path and the reason
+        where = exc.filename if exc.filename is not None else "file system"
+        reason = exc.strerror or type(exc).__name__
+        if exc.filename2 is not None:
+            where = f"{where} -> {exc.filename2}"
+        print(f"chargedesign {args.command}: error: {where}: {reason}", file=sys.stderr)
+        return 2
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split()) if "\n" in text or "\r" in text else text
 
 
 if __name__ == "__main__":  # pragma: no cover
