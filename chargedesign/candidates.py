@@ -554,6 +554,26 @@ def _bool(table: Mapping[str, Any], key: str, default: bool) -> bool:
     return value
 
 
+def check_body_keys(table: Mapping[str, Any]) -> None:
+    """Unknown keys of a ``[body]`` table (for its shape) are one-line errors naming the key.
+
+    A missing or unknown shape is left to :func:`candidates_from_table`.
+    """
+    if not isinstance(table, Mapping):
+        return
+    shape = table.get("shape", "ball" if table else None)
+    if shape not in SHAPE_KEYS:
+        return
+    allowed = set(SHAPE_KEYS[shape]) | {"shape"}
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise input_error(
+            f"body.{unknown[0]}",
+            f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
+            unknown[0],
+        )
+
+
 def candidates_from_table(
     table: Mapping[str, Any], *, base_dir: str | os.PathLike[str] | None = None
 ) -> CandidateSet:
@@ -586,14 +606,7 @@ def candidates_from_table(
         )
     if shape not in SHAPES:
         raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
-    allowed = set(SHAPE_KEYS[shape]) | {"shape"}
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise input_error(
-            f"body.{unknown[0]}",
-            f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
-            unknown[0],
-        )
+    check_body_keys(table)
     center = _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
     centred = not np.any(center)
     # lattices through O are symmetric already unless the box has |x| and |y| sizes that

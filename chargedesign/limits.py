@@ -20,3 +20,6 @@ MAX_STEPS = 100_000_000
 MAX_SHOW_ELEMENTS = 20_000
 #: candidates of an ``linf`` design (dense cone problem); ``design --max-linf-candidates`` raises it
 MAX_LINF_CANDIDATES = 20_000
+#: degree of exactness of continuous bodies' quadrature (``check --quadrature-order``): the
+#: nodes grow like degree^3
+MAX_QUADRATURE_ORDER = 64

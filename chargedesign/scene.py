@@ -85,8 +85,9 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
         raise input_error(
             f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0]
         )
-    # every number of the scene: real, finite, inside the supported range
-    check_tree(data, "")
+    # the theorem's numbers: real, finite, inside the supported range (a file's other tables
+    # are checked as a whole by load_scene; a mapping's by the stages that own them)
+    check_tree({k: data[k] for k in ("parameters", "fields") if k in data}, "")
     check_parameters_range(data.get("parameters"), "parameters")
     check_output_dir(data.get("output"))
     params = Parameters.from_mapping(data.get("parameters", {}), "parameters")
@@ -131,4 +132,6 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
         return scene_from_dict(tomllib.loads(default_scene_text()), "<default>")
     p = Path(path)
     data = read_toml_file(p, "scene file")
+    # every number of the file: real, finite, inside the supported range, named by its key
+    check_tree(data, "")
     return scene_from_dict(data, str(p))
