@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 COMMANDS = {
     "verify": "certificate of the theorem and audit of the printed formulas",
@@ -46,8 +46,53 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread so that every ``finally`` (staging cleanup) runs."""
 
 
+#: seconds a SIGTERM waits for the Python-level unwinding before the process is ended (a
+#: solver or renderer in C code only returns to Python when it is done)
+SIGTERM_GRACE = 2.0
+
+
 def _on_sigterm(signum: int, frame: object) -> None:
     raise Terminated()
+
+
+def _install_sigterm() -> Callable[[], None]:
+    """SIGTERM unwinds the run (finally blocks remove staging); if the main thread sits in C
+    code, a watchdog woken through the signal wakeup fd removes the open staging folders and
+    ends the process after ``SIGTERM_GRACE`` seconds. Returns the function that uninstalls."""
+    import os
+    import signal
+    import threading
+    import time
+
+    read_fd, write_fd = os.pipe()
+    os.set_blocking(write_fd, False)
+    previous_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+
+    def watch() -> None:
+        while True:
+            try:
+                data = os.read(read_fd, 64)
+            except OSError:
+                return
+            if not data:
+                return
+            if signal.SIGTERM in data:
+                time.sleep(SIGTERM_GRACE)
+                from chargedesign.files import abandon_outputs
+
+                abandon_outputs()
+                print("chargedesign: terminated", file=sys.stderr, flush=True)
+                os._exit(143)
+
+    threading.Thread(target=watch, name="chargedesign-sigterm", daemon=True).start()
+
+    def uninstall() -> None:
+        signal.signal(signal.SIGTERM, previous)
+        signal.set_wakeup_fd(previous_fd)
+        os.close(write_fd)
+
+    return uninstall
 
 
 def check_arguments(args: argparse.Namespace) -> None:
@@ -67,7 +112,6 @@ def check_arguments(args: argparse.Namespace) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    import signal
     import threading
 
     from chargedesign.errors import ChargeDesignError
@@ -77,9 +121,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
-    previous = None
+    uninstall = None
     if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        uninstall = _install_sigterm()
     try:
         check_arguments(args)
         return int(args._module.run(args) or 0)
@@ -116,8 +160,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"chargedesign {args.command}: error: {where}: {reason}", file=sys.stderr)
         return 2
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        if uninstall is not None:
+            uninstall()
 
 
 def _one_line(text: str) -> str:

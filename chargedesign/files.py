@@ -42,6 +42,22 @@ _OWN_NAME = re.compile(r"^\.(?P<name>.+)\.(?P<kind>staging|tmp|old)\.(?P<pid>\d+
 #: folders open for writing in this process: absolute target -> its staging folder
 _OPEN: dict[str, Path] = {}
 _DEFERRED = (signal.SIGINT, signal.SIGTERM)
+#: temporaries of open atomic_path blocks in this process
+_TEMPS: set[Path] = set()
+
+
+def abandon_outputs() -> None:
+    """Remove this process's open staging folders and temporaries (a forced exit follows).
+
+    Called by the CLI's SIGTERM watchdog when the main thread cannot unwind in time.
+    """
+    for staging in list(_OPEN.values()):
+        shutil.rmtree(staging, ignore_errors=True)
+    for tmp in list(_TEMPS):
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
 
 
 # --------------------------------------------------------------------------- signals
@@ -220,6 +236,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         raise _oserror(target, exc) from exc
     os.close(fd)
     tmp_path = Path(tmp)
+    _TEMPS.add(tmp_path)
     try:
         yield tmp_path
         try:
@@ -230,6 +247,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         except OSError as exc:
             raise _oserror(target, exc) from exc
     finally:
+        _TEMPS.discard(tmp_path)
         if os.path.lexists(tmp_path):
             tmp_path.unlink()
 

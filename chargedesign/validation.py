@@ -337,3 +337,25 @@ def check_design_numbers(data: Any, where: str) -> None:
     for block in ("charges", "masses", "dipoles", "continuous"):
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
+
+
+def check_run_caps(
+    t_end: float, *, step: float | None = None, max_step: float | None = None, samples: int = 2
+) -> None:
+    """Caps on a simulation's requested work (chargedesign.limits): output samples and the
+    fixed-step count ``t_end / step`` (also ``t_end / max_step``); one-line errors."""
+    from chargedesign.limits import MAX_SAMPLES, MAX_STEPS
+
+    if isinstance(samples, (int, np.integer)) and samples > MAX_SAMPLES:
+        raise input_error(
+            "simulation.samples", f"at most {MAX_SAMPLES} output samples (--samples)", samples
+        )
+    for name, value in (("step", step), ("max_step", max_step)):
+        if value is None or not math.isfinite(value) or value <= 0:
+            continue
+        if t_end / value > MAX_STEPS:
+            raise InputError(
+                f"simulation.{name}: t_end / {name} = {t_end / value:.3g} steps exceeds the cap "
+                f"of {MAX_STEPS:g} (chargedesign.limits.MAX_STEPS); give a larger {name} or a "
+                "shorter t_end"
+            )

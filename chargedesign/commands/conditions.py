@@ -101,7 +101,9 @@ def _validate_other_tables(scene: Any) -> None:
     from chargedesign.design import DesignOptions
 
     DesignOptions.from_table(scene.table("design"))
-    check_body_keys(scene.table("body"))
+    body = scene.table("body")
+    if "shape" in body:  # a region (without a shape, [body] may be simulate's inline body)
+        check_body_keys(body)
 
 
 def run(args: argparse.Namespace) -> int:
