@@ -409,7 +409,9 @@ def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np
         try:
             data = np.load(io.BytesIO(raw), allow_pickle=False)
         except (OSError, ValueError, EOFError) as exc:
-            raise InputError(f"{name}: {p} is not a readable .npy array ({type(exc).__name__})") from exc
+            raise InputError(
+                f"{name}: {p} is not a readable .npy array ({type(exc).__name__})"
+            ) from exc
         if not isinstance(data, np.ndarray) or data.dtype.kind not in "iuf":
             kind = getattr(getattr(data, "dtype", None), "name", type(data).__name__)
             raise InputError(f"{name}: {p} holds {kind} values; expected real numbers")

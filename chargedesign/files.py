@@ -295,10 +295,14 @@ def _exchange(a: Path, b: Path) -> bool:
         renameat2 = libc.renameat2
     except (OSError, AttributeError):
         return False
-    renameat2.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
-    result = renameat2(
-        _AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE
-    )
+    renameat2.argtypes = [
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_uint,
+    ]
+    result = renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
     if result == 0:
         return True
     errno = ctypes.get_errno()
@@ -335,9 +339,7 @@ def _inside_cwd(target: Path) -> bool:
 
 
 @contextmanager
-def atomic_directory(
-    path: str | os.PathLike[str], *, drop: Iterable[str] = ()
-) -> Iterator[Path]:
+def atomic_directory(path: str | os.PathLike[str], *, drop: Iterable[str] = ()) -> Iterator[Path]:
     """Yield a staging folder; on success it becomes ``path`` in one swap (all or nothing).
 
     Files of ``path`` not written by this run are carried over (hard links), except the

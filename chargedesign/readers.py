@@ -46,9 +46,7 @@ def _mib(n: int) -> str:
     return f"{n / (1024 * 1024):g} MiB"
 
 
-def check_input_file(
-    path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES
-) -> Path:
+def check_input_file(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES) -> Path:
     """``path`` is a regular file of at most ``limit`` bytes (for readers that open it
     themselves, e.g. VTK); one-line InputError otherwise."""
     p = Path(path)
@@ -86,9 +84,7 @@ def read_text(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYT
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(
-            f"{Path(path)}: the {what} is not UTF-8 text (byte {exc.start})"
-        ) from exc
+        raise InputError(f"{Path(path)}: the {what} is not UTF-8 text (byte {exc.start})") from exc
 
 
 def _depth(text: str, pattern: re.Pattern[str]) -> int:

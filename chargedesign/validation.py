@@ -168,7 +168,7 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
 
 
 def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:
-    """An integer in ``minimum..cap`` (a cap on requested work; ``option`` names how to raise it)."""
+    """An integer in ``minimum..cap`` (a cap on work; ``option`` names how to raise it)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise input_error(name, "an integer", value)
     if value < minimum:

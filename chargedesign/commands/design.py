@@ -74,8 +74,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-forward-check",
         action="store_true",
-        help="write the body without the forward check (not recommended: it may miss the "
-        "theorem)",
+        help="write the body without the forward check (not recommended: it may miss the theorem)",
     )
 
 
@@ -197,8 +196,10 @@ def _forward_check(design: object, args: argparse.Namespace) -> None:
     causes = []
     if args.total_charge is not None or args.total_mass is not None:
         causes.append("the requested total (--total-charge/--total-mass) may be too large")
-    causes.append("the scale may be outside the supported range or the forward accuracy "
-                  "insufficient (rescale the units toward 1)")
+    causes.append(
+        "the scale may be outside the supported range or the forward accuracy "
+        "insufficient (rescale the units toward 1)"
+    )
     raise ChargeDesignError(
         f"the body misses the theorem in the forward check ({errors or 'failed'} "
         f"against tol {report.tol:g}); {'; '.join(causes)}. Nothing was written "

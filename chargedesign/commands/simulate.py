@@ -90,10 +90,9 @@ class _ProgressBar:
 
 
 def run(args: argparse.Namespace) -> int:
+    import contextlib
     import json
     from pathlib import Path
-
-    import contextlib
 
     from chargedesign.body import write_design
     from chargedesign.files import atomic_directory

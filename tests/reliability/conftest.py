@@ -53,9 +53,7 @@ def snapshot(folder: Path) -> dict[str, str]:
             out[os.path.relpath(os.path.join(root, name), folder) + "/"] = "dir"
         for name in files:
             path = os.path.join(root, name)
-            out[os.path.relpath(path, folder)] = hashlib.sha256(
-                Path(path).read_bytes()
-            ).hexdigest()
+            out[os.path.relpath(path, folder)] = hashlib.sha256(Path(path).read_bytes()).hexdigest()
     return out
 
 

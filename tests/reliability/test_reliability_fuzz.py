@@ -164,8 +164,17 @@ def test_mutated_design_files_end_cleanly(tmp_path_factory, capsys, path, value,
     argv = {
         "check": ["check", str(design), "--orientations", "20"],
         "export": ["export", str(design), "--out", str(folder / "e.csv")],
-        "simulate": ["simulate", str(design), "--t-end", "0.5", "--samples", "5",
-                     "--no-progress", "--out", str(out)],
+        "simulate": [
+            "simulate",
+            str(design),
+            "--t-end",
+            "0.5",
+            "--samples",
+            "5",
+            "--no-progress",
+            "--out",
+            str(out),
+        ],
     }[command]
     code, _, err = run_cli(argv, capsys)
     if code == 2:

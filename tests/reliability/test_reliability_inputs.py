@@ -56,9 +56,9 @@ def test_arrays_of_bool_complex_or_huge_items_are_refused_not_coerced(value) -> 
 
 
 def test_booleans_are_refused_as_positions_and_values() -> None:
-    with pytest.raises(InputError, match="charges.positions"):
+    with pytest.raises(InputError, match=r"charges\.positions"):
         Design(parameters=Parameters(), charge_positions=[[True, 0, 0]], charge_values=[1.0])
-    with pytest.raises(InputError, match="charges.values"):
+    with pytest.raises(InputError, match=r"charges\.values"):
         Design(parameters=Parameters(), charge_positions=[[0, 0, 0]], charge_values=[True])
 
 
@@ -120,8 +120,15 @@ def test_design_options_out_of_range_write_nothing(
     (out / "design.json").write_text("old")
     before = snapshot(out)
     code, _, err = run_cli(
-        ["design", str(scene_file(tmp_path)), "--out", str(out), "--no-picture", "--quiet",
-         *argv_tail],
+        [
+            "design",
+            str(scene_file(tmp_path)),
+            "--out",
+            str(out),
+            "--no-picture",
+            "--quiet",
+            *argv_tail,
+        ],
         capsys,
     )
     assert option in assert_clean_error(code, err, "design")
@@ -227,8 +234,11 @@ def test_caps_on_requested_work_are_one_line(tmp_path: Path, capsys, design_file
     big = design_file("big.json", charges={"positions": many, "values": [1e-9] * len(many)})
     code, _, err = run_cli(["show", str(big), "--screenshot", str(tmp_path / "b.png")], capsys)
     assert "--max-elements" in assert_clean_error(code, err, "show")
-    for tail in (["--t-end", "1e300"], ["--t-end", "1e20", "--step", "1e-12"],
-                 ["--samples", "100000000"]):
+    for tail in (
+        ["--t-end", "1e300"],
+        ["--t-end", "1e20", "--step", "1e-12"],
+        ["--samples", "100000000"],
+    ):
         code, _, err = run_cli(
             ["simulate", str(path), "--method", "gauss-legendre", "--no-progress", *tail]
             if "--step" in tail
@@ -241,8 +251,15 @@ def test_caps_on_requested_work_are_one_line(tmp_path: Path, capsys, design_file
 def test_linf_design_on_many_candidates_is_capped(tmp_path: Path, capsys) -> None:
     text = SMALL_SCENE.replace("spacing = 0.34", "spacing = 0.05")
     code, _, err = run_cli(
-        ["design", str(scene_file(tmp_path, text)), "--objective", "linf", "--out",
-         str(tmp_path / "out"), "--quiet"],
+        [
+            "design",
+            str(scene_file(tmp_path, text)),
+            "--objective",
+            "linf",
+            "--out",
+            str(tmp_path / "out"),
+            "--quiet",
+        ],
         capsys,
     )
     assert "--max-linf-candidates" in assert_clean_error(code, err, "design")
@@ -285,8 +302,14 @@ def test_special_files_and_links_are_never_written(tmp_path: Path, capsys, desig
     folder.mkdir()
     (tmp_path / "outlink").symlink_to(folder)
     code, _, err = run_cli(
-        ["design", str(scene_file(tmp_path)), "--out", str(tmp_path / "outlink"), "--quiet",
-         "--no-picture"],
+        [
+            "design",
+            str(scene_file(tmp_path)),
+            "--out",
+            str(tmp_path / "outlink"),
+            "--quiet",
+            "--no-picture",
+        ],
         capsys,
     )
     assert "symbolic link" in assert_clean_error(code, err, "design")
@@ -356,8 +379,12 @@ def test_stale_staging_of_a_dead_process_is_removed_and_set_aside_folders_restor
     import subprocess
     import sys
 
-    child = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                           capture_output=True, text=True, check=True)
+    child = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     dead = int(child.stdout)
     out = tmp_path / "out"
     (tmp_path / f".out.staging.{dead}.abc123").mkdir()

@@ -62,8 +62,11 @@ def _parameter_c(folder: Path) -> set[float]:
 
 
 def _leftovers(folder: Path) -> list[str]:
-    return [p.name for p in folder.iterdir() if ".staging." in p.name or ".tmp." in p.name
-            or ".old." in p.name]
+    return [
+        p.name
+        for p in folder.iterdir()
+        if ".staging." in p.name or ".tmp." in p.name or ".old." in p.name
+    ]
 
 
 @pytest.mark.slow
