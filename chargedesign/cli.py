@@ -121,9 +121,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    import warnings
+
     uninstall = None
     if threading.current_thread() is threading.main_thread():
         uninstall = _install_sigterm()
+    previous_show = warnings.showwarning
+    warnings.showwarning = _one_line_warning(args.command)
     try:
         check_arguments(args)
         return int(args._module.run(args) or 0)
@@ -160,8 +164,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"chargedesign {args.command}: error: {where}: {reason}", file=sys.stderr)
         return 2
     finally:
+        warnings.showwarning = previous_show
         if uninstall is not None:
             uninstall()
+
+
+def _one_line_warning(command: str) -> Callable[..., None]:
+    """Library warnings (numpy overflow, ...) as one line each, without source lines."""
+
+    def show(message: Warning | str, category: type[Warning], *args: object, **kw: object) -> None:
+        text = _one_line(str(message))
+        print(f"chargedesign {command}: warning: {category.__name__}: {text}", file=sys.stderr)
+
+    return show
 
 
 def _one_line(text: str) -> str:
