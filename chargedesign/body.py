@@ -1,4 +1,4 @@
-"""A designed body: point charges, magnetic dipoles and masses, with its target parameters and
+"""A designed body: charges on carriers, magnets and ballast masses, with its target parameters and
 fields; read and written as ``design.json`` (format ``chargedesign.design/1``, see CONTRACT.md).
 """
 
@@ -9,12 +9,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
+from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_points, as_weights, input_error
+from chargedesign.validation import as_array, as_finite_float, input_error
 
 DESIGN_FORMAT = "chargedesign.design/1"
 FIELD_KINDS = ("magnetic", "electric", "gravity")
@@ -27,28 +26,10 @@ def _legendre(value: Any, name: str) -> tuple[float, ...]:
     return tuple(float(x) for x in as_array(value, name, (None,)))
 
 
-def validate_elements(body: Any) -> None:
-    """Validate and convert, in place, the six element arrays of a body-like object.
-
-    ``charge_positions`` (n, 3) with ``charge_values`` (n,), ``mass_positions`` (m, 3) with
-    ``mass_values`` (m,), ``dipole_positions`` (k, 3) with ``dipole_moments`` (k, 3); errors name
-    the design.json key (``charges.values``, ...).
-    """
-    body.charge_positions = as_points(body.charge_positions, "charges.positions")
-    body.charge_values = as_weights(
-        body.charge_values, "charges.values", len(body.charge_positions)
-    )
-    body.mass_positions = as_points(body.mass_positions, "masses.positions")
-    body.mass_values = as_weights(body.mass_values, "masses.values", len(body.mass_positions))
-    body.dipole_positions = as_points(body.dipole_positions, "dipoles.positions")
-    body.dipole_moments = as_points(
-        body.dipole_moments, "dipoles.moments", len(body.dipole_positions)
-    )
-
-
 @dataclass
-class Design:
-    """Elements in body axes (SI units) plus what they are meant to realise.
+class Design(ElementSet):
+    """An element set (:class:`~chargedesign.elements.ElementSet`: charges on carriers,
+    magnets, ballast; SI units, body axes) plus what it is meant to realise.
 
     Attributes
     ----------
@@ -57,12 +38,9 @@ class Design:
     fields : dict[str, tuple[float, ...]]
         ``legendre`` coefficients per field kind (``magnetic``, ``electric``, ``gravity``);
         ``Phi = sum_k f_k R^k P_k(Z/R)``, f_k in the field's units per m^(k-1).
-    charge_positions : ndarray, shape (n, 3)
-        Charge positions in m. ``charge_values``: ndarray, shape (n,), in C.
-    mass_positions : ndarray, shape (m, 3)
-        Mass positions in m. ``mass_values``: ndarray, shape (m,), in kg (>= 0).
-    dipole_positions : ndarray, shape (k, 3)
-        Dipole positions in m. ``dipole_moments``: ndarray, shape (k, 3), in A m^2 (body axes).
+    charge_positions, charge_values, charge_radii, charge_masses, dipole_positions,
+    dipole_moments, dipole_volumes, dipole_masses, mass_positions, mass_values
+        The elements (keyword arguments; see :class:`~chargedesign.elements.ElementSet`).
     realises : list[str]
         Subset of ``mu``, ``V``, ``inertia`` that the design claims.
     continuous : list[ContinuousBody]
@@ -74,20 +52,16 @@ class Design:
 
     parameters: Parameters
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
-    charge_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    charge_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    mass_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    mass_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dipole_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
+    medium: dict[str, Any] | None = None
+    materials: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        validate_elements(self)
-        if np.any(self.mass_values < 0):
-            raise input_error("masses.values", "nonnegative masses", self.mass_values.min())
+        super().__post_init__()
+        self.medium = _medium(self.medium)
+        self.materials = _materials(self.materials)
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
@@ -107,32 +81,21 @@ class Design:
         """Legendre coefficients of one field (empty tuple: no such field)."""
         return self.fields.get(kind, ())
 
-    @property
-    def n_elements(self) -> int:
-        return len(self.charge_values) + len(self.mass_values) + len(self.dipole_moments)
-
     def to_dict(self) -> dict[str, Any]:
         """The contract's JSON mapping (plus ``extra`` keys)."""
         out: dict[str, Any] = {
             "format": DESIGN_FORMAT,
             "parameters": self.parameters.as_dict(),
             "fields": {k: {"legendre": list(v)} for k, v in self.fields.items()},
-            "charges": {
-                "positions": self.charge_positions.tolist(),
-                "values": self.charge_values.tolist(),
-            },
-            "masses": {
-                "positions": self.mass_positions.tolist(),
-                "values": self.mass_values.tolist(),
-            },
-            "dipoles": {
-                "positions": self.dipole_positions.tolist(),
-                "moments": self.dipole_moments.tolist(),
-            },
+            **self.blocks(),
             "realises": list(self.realises),
         }
         if self.continuous:
             out["continuous"] = [b.to_dict() for b in self.continuous]
+        if self.medium is not None:
+            out["medium"] = dict(self.medium)
+        if self.materials:
+            out["materials"] = {k: dict(v) for k, v in self.materials.items()}
         for key, value in self.extra.items():
             out.setdefault(key, value)
         return out
@@ -156,30 +119,71 @@ class Design:
                 raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
             fields_out[kind] = spec["legendre"]
 
-        def block(name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
-            b = data.get(name) or {}
-            if not isinstance(b, dict):
-                raise input_error(f"{where}.{name}", "an object", b)
-            return b.get(keys[0], []), b.get(keys[1], [])
-
-        cp, cv = block("charges", ("positions", "values"))
-        mp, mv = block("masses", ("positions", "values"))
-        dp, dm = block("dipoles", ("positions", "moments"))
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
-        known.add("continuous")
+        known |= {"continuous", "medium", "materials"}
         return cls(
             parameters=params,
             fields=fields_out,
-            charge_positions=cp,
-            charge_values=cv,
-            mass_positions=mp,
-            mass_values=mv,
-            dipole_positions=dp,
-            dipole_moments=dm,
+            **ElementSet.arrays_from_blocks(data, where),
             realises=list(data.get("realises", [])),
             extra={k: v for k, v in data.items() if k not in known},
             continuous=data.get("continuous") or [],
+            medium=data.get("medium"),
+            materials=data.get("materials") or {},
         )
+
+
+_MEDIUM_KEYS = ("name", "breakdown_V_per_m", "safety")
+_MATERIAL_KEYS = {
+    "name": str,
+    "density_kg_per_m3": float,
+    "remanent_magnetisation_A_per_m": float,
+    "shell_thickness_m": float,
+}
+
+
+def _medium(value: Any) -> dict[str, Any] | None:
+    """design.json ``medium``: ``{"name", "breakdown_V_per_m", "safety"}`` (None: point design)."""
+    if value is None:
+        return None
+    if not isinstance(value, dict) or set(value) != set(_MEDIUM_KEYS):
+        raise input_error("medium", "an object with keys " + ", ".join(_MEDIUM_KEYS), value)
+    if not isinstance(value["name"], str):
+        raise input_error("medium.name", "a name", value["name"])
+    breakdown = as_finite_float(
+        value["breakdown_V_per_m"], "medium.breakdown_V_per_m", positive=True
+    )
+    safety = as_finite_float(value["safety"], "medium.safety")
+    if not 0.0 < safety <= 1.0:
+        raise input_error("medium.safety", "a number in (0, 1]", safety)
+    return {"name": value["name"], "breakdown_V_per_m": breakdown, "safety": safety}
+
+
+def _materials(value: Any) -> dict[str, Any]:
+    """design.json ``materials``: role -> {name, density_kg_per_m3, ...}."""
+    if not isinstance(value, dict):
+        raise input_error("materials", "an object role -> material", value)
+    out: dict[str, Any] = {}
+    for role, spec in value.items():
+        where = f"materials.{role}"
+        if role not in ("carrier", "magnet", "ballast"):
+            raise input_error("materials", "roles among carrier, magnet, ballast", role)
+        if not isinstance(spec, dict) or "density_kg_per_m3" not in spec:
+            raise input_error(where, "an object with density_kg_per_m3", spec)
+        clean: dict[str, Any] = {}
+        for key, item in spec.items():
+            if key not in _MATERIAL_KEYS:
+                raise input_error(f"{where}.{key}", "one of " + ", ".join(_MATERIAL_KEYS), key)
+            if key == "name":
+                if not isinstance(item, str):
+                    raise input_error(f"{where}.name", "a name", item)
+                clean[key] = item
+            else:
+                clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
+        out[role] = clean
+    if "magnet" in out and "remanent_magnetisation_A_per_m" not in out["magnet"]:
+        raise InputError("materials.magnet: missing key 'remanent_magnetisation_A_per_m'")
+    return out
 
 
 def read_design(path: str | os.PathLike[str]) -> Design:

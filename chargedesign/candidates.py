@@ -566,7 +566,8 @@ def check_body_keys(table: Mapping[str, Any]) -> None:
     shape = table.get("shape", "ball" if table else None)
     if shape not in SHAPE_KEYS:
         return
-    allowed = set(SHAPE_KEYS[shape]) | {"shape"}
+    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
+    allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise input_error(

@@ -66,6 +66,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.elements import ElementSet
 from chargedesign.errors import SolverError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
@@ -377,19 +378,14 @@ def rotation_matrices(gammas: np.ndarray, rng: np.random.Generator) -> np.ndarra
 
 
 # --------------------------------------------------------------------------- elements
-@dataclass
-class Elements:
+@dataclass(kw_only=True)
+class Elements(ElementSet):
     """Every element as a point in body axes (m): charges (C) and masses (kg) including the
-    quadrature nodes of continuous bodies, dipoles (A m^2); ``quadrature`` describes the
-    continuous bodies' rules (kind, shape, order, nodes)."""
+    carriers' and magnets' masses and the quadrature nodes of continuous bodies, dipoles
+    (A m^2); ``quadrature`` describes the continuous bodies' rules (kind, shape, order,
+    nodes)."""
 
-    charge_positions: np.ndarray
-    charge_values: np.ndarray
-    mass_positions: np.ndarray
-    mass_values: np.ndarray
-    dipole_positions: np.ndarray
-    dipole_moments: np.ndarray
-    quadrature: list[dict[str, Any]]
+    quadrature: list[dict[str, Any]] = field(default_factory=list)
 
 
 def _integrand_degree(kind: str, degrees: dict[str, int]) -> int:
@@ -420,8 +416,9 @@ def collect_elements(
         Degree of each field kind (0: no field).
     """
     degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
-    cp, cv = [design.charge_positions], [design.charge_values]
-    mp, mv = [design.mass_positions], [design.mass_values]
+    points = design.point_elements()
+    cp, cv = [points.charge_positions], [points.charge_values]
+    mp, mv = [points.mass_positions], [points.mass_values]
     info = []
     for i, raw in enumerate(design.continuous):
         body = ContinuousBody.coerce(raw, f"continuous[{i}]")
@@ -435,13 +432,13 @@ def collect_elements(
         (cv if body.kind == "charge" else mv).append(w)
         info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
     elements = Elements(
-        np.concatenate(cp),
-        np.concatenate(cv),
-        np.concatenate(mp),
-        np.concatenate(mv),
-        design.dipole_positions,
-        design.dipole_moments,
-        info,
+        charge_positions=np.concatenate(cp),
+        charge_values=np.concatenate(cv),
+        mass_positions=np.concatenate(mp),
+        mass_values=np.concatenate(mv),
+        dipole_positions=points.dipole_positions,
+        dipole_moments=points.dipole_moments,
+        quadrature=info,
     )
     return elements, degrees
 

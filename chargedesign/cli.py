@@ -21,6 +21,7 @@ COMMANDS = {
     "simulate": "simulate the motion under the effects the scene calls for",
     "show": "3-D view of a design (PyVista)",
     "export": "export a design's geometry (json, csv, vtp)",
+    "frontier": "the largest time rate a body realises within every physical limit",
     "bench": "what accuracy costs in time",
 }
 

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 
 #: vacuum permittivity, F/m (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
@@ -151,6 +152,7 @@ def render_report(
     extra = design.extra
     params = design.parameters.as_dict()
     lines = [f"# {title}", ""]
+    lines += _verdict_lines(design)
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     lines.append(
@@ -242,10 +244,117 @@ def render_report(
             "",
             "Timings: " + ", ".join(f"{k} {v:.3g} s" for k, v in timings.items()) + ".",
         ]
-    figures = plausibility(design)
+    if design.medium is not None:
+        lines += _physical_sections(design)
+    figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
     notes = list(extra.get("notes") or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
     return "\n".join(lines) + "\n"
+
+
+def _verdict_lines(design: Design) -> list[str]:
+    """The report's opening: the buildability verdict and what a builder must achieve."""
+    if design.medium is None:
+        return [
+            "**Verdict: not checked for buildability** (the scene has no [medium]: point "
+            "elements, the mathematical case).",
+            "",
+        ]
+    limits = design.extra.get("buildability") or {}
+    frontier = design.extra.get("frontier") or {}
+    realism = design.extra.get("realism") or {}
+    medium = design.medium
+    ok = bool(limits.get("buildable"))
+    lines = [
+        f"**Verdict: {'buildable' if ok else 'NOT buildable'}** in {medium['name']} "
+        f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g}).",
+        "",
+        "- Largest surface field: "
+        f"{limits.get('largest_surface_field_fraction_of_breakdown', 0):.4g} of breakdown "
+        f"(recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per carrier "
+        "and around the largest).",
+    ]
+    n = design.parameters.n
+    if frontier:
+        n_max = frontier.get("n_max")
+        period = frontier.get("period_s")
+        lines.append(
+            f"- Time rate: n = {n:.4g} 1/s; the frontier n_max = {n_max:.4g} 1/s "
+            f"(period 2 pi / n_max = {period:.4g} s; binding: {frontier.get('binding')})."
+            if n_max is not None and period is not None
+            else f"- Time rate: n = {n:.4g} 1/s."
+        )
+    bal = realism.get("balance_offset_1g_m") or {}
+    micro = realism.get("balance_offset_microgravity_m") or {}
+    if bal:
+        lines.append(
+            f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
+            f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
+        )
+    for v in limits.get("violations", []):
+        lines.append(f"- Limit broken: {v}")
+    return [*lines, ""]
+
+
+def _physical_sections(design: Design) -> list[str]:
+    """Bill of materials (totals and the first parts) and the realism budget."""
+    from chargedesign.physical.bom import bom_rows, bom_totals
+
+    totals = bom_totals(design)
+    lines = ["", "## Bill of materials", ""]
+    mats = design.materials
+    lines.append(
+        f"Carriers: {totals['carriers']} spheres of {mats.get('carrier', {}).get('name', '?')} "
+        f"({totals['mass_carriers_kg']:.4g} kg); magnets: {totals['magnets']} of "
+        f"{mats.get('magnet', {}).get('name', '?')} ({totals['magnet_volume_m3']:.4g} m^3, "
+        f"{totals['mass_magnets_kg']:.4g} kg with attached ballast); ballast: "
+        f"{totals['ballast']} pieces of {mats.get('ballast', {}).get('name', '?')} "
+        f"({totals['mass_ballast_kg']:.4g} kg). Total mass {totals['mass_total_kg']:.4g} kg; "
+        f"net charge {totals['charge_net_C']:.4g} C."
+    )
+    maxima = totals["field_maxima_over_body"]
+    if maxima:
+        lines.append(
+            "The apparatus must make, over the body region: "
+            + ", ".join(
+                f"{k} {v:.4g} {'T' if k == 'magnetic' else 'V/m' if k == 'electric' else 'm/s^2'}"
+                for k, v in maxima.items()
+            )
+            + " (largest magnitude)."
+        )
+    rows = bom_rows(design)
+    lines += ["", "| part | kind | position (m) | size | material | charge / moment | mass (kg) |"]
+    lines.append("|---|---|---|---|---|---|---|")
+    for r in rows[:20]:
+        value = (
+            f"{r['charge_C']:.4g} C"
+            if r["kind"] == "carrier"
+            else f"({r['moment_x_A_m2']:.3g}, {r['moment_y_A_m2']:.3g}, "
+            f"{r['moment_z_A_m2']:.3g}) A m^2"
+            if r["kind"] == "magnet"
+            else ""
+        )
+        lines.append(
+            f"| {r['part']} | {r['kind']} | ({r['x_m']:.4g}, {r['y_m']:.4g}, {r['z_m']:.4g}) | "
+            f"{r['size']:.3g} {r['size_unit']} | {r['material']} | {value} | {r['mass_kg']:.4g} |"
+        )
+    if len(rows) > 20:
+        lines.append(f"| ... | {len(rows) - 20} more parts in bom.csv | | | | | |")
+    realism = design.extra.get("realism") or {}
+    if realism:
+        lines += ["", "## Realism budget", ""]
+        lines.append(
+            f"Typical motion: |omega| = {realism.get('typical_rate_1_per_s', 0):.4g} 1/s, period "
+            f"{realism.get('period_s', 0):.4g} s, designed torques ~"
+            f"{realism.get('designed_torque_N_m', 0):.3g} N m."
+        )
+        lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
+        for key, item in realism.items():
+            if isinstance(item, dict):
+                value = item.get("value")
+                shown = f"{value:.3g} {item.get('unit', '')}" if value is not None else "inf"
+                lines.append(f"| {key} | {shown} | {item['verdict']} | {item['note']} |")
+    return lines

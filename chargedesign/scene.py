@@ -17,6 +17,7 @@ from typing import Any
 from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
+from chargedesign.physical.spec import PHYSICAL_TABLES
 from chargedesign.readers import read_toml_file
 from chargedesign.validation import (
     as_array,
@@ -26,7 +27,16 @@ from chargedesign.validation import (
     input_error,
 )
 
-KNOWN_TABLES = ("parameters", "fields", "body", "design", "simulation", "initial", "output")
+KNOWN_TABLES = (
+    "parameters",
+    "fields",
+    "body",
+    "design",
+    "simulation",
+    "initial",
+    "output",
+    *PHYSICAL_TABLES,
+)
 
 
 @dataclass
@@ -39,6 +49,9 @@ class Scene:
     fields : dict[str, tuple[float, ...]]
         Legendre coefficients of each field the scene gives (``a1``/``a2`` are converted to
         ``[a1, 2 a2]``). A kind that is absent is for the conditions engine to derive.
+    field_limits : dict[str, float]
+        ``max`` of each field table: the largest |B| (T), |E| (V/m) or |g| (m/s^2) the
+        apparatus makes over the body region.
     tables : dict
         The raw TOML tables (``body``, ``design``, ``simulation``, ...), for the stages that
         own them to validate.
@@ -50,6 +63,7 @@ class Scene:
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
     tables: dict[str, Any] = field(default_factory=dict)
     source: str = "<default>"
+    field_limits: dict[str, float] = field(default_factory=dict)
 
     def table(self, name: str) -> dict[str, Any]:
         """One raw table (empty dict when the scene has none)."""
@@ -61,9 +75,9 @@ def parse_field(spec: Any, where: str) -> tuple[float, ...]:
     """A field table: either the paper's ``a1``/``a2`` (magnetic) or ``legendre = [...]``."""
     if not isinstance(spec, dict):
         raise input_error(where, "a table", spec)
-    unknown = sorted(set(spec) - {"a1", "a2", "legendre"})
+    unknown = sorted(set(spec) - {"a1", "a2", "legendre", "max"})
     if unknown:
-        raise input_error(f"{where}.{unknown[0]}", "one of a1, a2, legendre", unknown[0])
+        raise input_error(f"{where}.{unknown[0]}", "one of a1, a2, legendre, max", unknown[0])
     if "legendre" in spec:
         if "a1" in spec or "a2" in spec:
             raise InputError(f"{where}: give either legendre or a1/a2, not both")
@@ -95,15 +109,23 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     if not isinstance(fields_in, dict):
         raise input_error("fields", "a table", fields_in)
     fields_out: dict[str, tuple[float, ...]] = {}
+    limits: dict[str, float] = {}
     for kind, spec in fields_in.items():
         if kind not in FIELD_KINDS:
             raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+        if isinstance(spec, dict) and "max" in spec:
+            limits[kind] = as_finite_float(spec["max"], f"fields.{kind}.max", positive=True)
+            spec = {k: v for k, v in spec.items() if k != "max"}
+            if not spec:
+                continue  # a limit only: the field itself is for the engine to derive
         fields_out[kind] = parse_field(spec, f"fields.{kind}")
     tables = {k: v for k, v in data.items() if k not in ("parameters", "fields")}
     for name, value in tables.items():
         if not isinstance(value, dict):
             raise input_error(name, "a table", value)
-    return Scene(parameters=params, fields=fields_out, tables=tables, source=source)
+    return Scene(
+        parameters=params, fields=fields_out, tables=tables, source=source, field_limits=limits
+    )
 
 
 def check_output_dir(table: Any, where: str = "output.dir") -> None:

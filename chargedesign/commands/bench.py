@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-AREAS = ("certificate", "fields", "design", "check", "simulate")
+AREAS = ("certificate", "fields", "design", "physical", "check", "simulate")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -1,6 +1,7 @@
 """`chargedesign design [SCENE] [--out DIR]`: design the body and write it with its report.
 
-Writes ``DIR/design.json``, ``DIR/report.md`` and ``DIR/design.png`` together: they are
+Writes ``DIR/design.json``, ``DIR/report.md``, ``DIR/design.png`` (and ``DIR/bom.csv`` for a
+physical body, a scene with ``[medium]``) together: they are
 staged in a temporary directory and moved in only when all three exist, so a failed run
 (infeasible targets, solver failure, or a failed picture) leaves earlier outputs untouched.
 A failed picture fails the command (exit 2, one line naming the cause): the three files
@@ -110,7 +111,12 @@ def run(args: argparse.Namespace) -> int:
         progress("forward check ...")
         _forward_check(design, args)
     out = Path(args.out)
-    files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
+    physical = design.medium is not None
+    files = (
+        ["design.json", "report.md"]
+        + (["bom.csv"] if physical else [])
+        + ([] if args.no_picture else ["design.png"])
+    )
     report = render_report(design, picture=None if args.no_picture else "design.png")
     stale = out / "design.png"
     had_picture = args.no_picture and stale.exists()
@@ -118,6 +124,10 @@ def run(args: argparse.Namespace) -> int:
     with atomic_directory(out, drop=("design.png",) if args.no_picture else ()) as stage:
         write_design(design, stage / "design.json")
         write_text_atomic(stage / "report.md", report)
+        if physical:
+            from chargedesign.physical.bom import bom_csv
+
+            write_text_atomic(stage / "bom.csv", bom_csv(design))
         if not args.no_picture:
             progress("rendering design.png ...")
             _render(design, stage / "design.png", result.candidates.region)

@@ -27,6 +27,7 @@ from chargedesign.design.solvers import _Infeasible
 from chargedesign.design.system import UNITS, _build, _group_norms, _Problem, relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
+from chargedesign.physical.spec import spec_from_tables
 from chargedesign.validation import input_error
 
 
@@ -316,6 +317,7 @@ def design_from_scene(
     scene: Any,
     *,
     progress: Progress | None = None,
+    frontier: bool = True,
     **overrides: Any,
 ) -> DesignResult:
     """Design the body a scene describes: its parameters, fields, ``[body]`` and ``[design]``.
@@ -330,22 +332,48 @@ def design_from_scene(
     Returns
     -------
     DesignResult
-    """
-    from pathlib import Path
 
-    from chargedesign.candidates import candidates_from_table
-    from chargedesign.conditions import derive_conditions, realise_from_scene
+    A scene with ``[medium]`` is designed as a physical body
+    (:mod:`chargedesign.design.physical`): carriers, magnets and ballast within every limit;
+    with ``frontier`` the largest rate within the limits is located too (the report's n_max).
+    """
     from chargedesign.scene import Scene
 
     if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     t0 = time.perf_counter()
+    options, candidates, conditions = _scene_inputs(scene, progress, overrides)
+    t2 = time.perf_counter()
+    spec = spec_from_tables(scene.tables, scene.field_limits)
+    if spec is not None:
+        from chargedesign.design.physical import design_physical, setup_physical
+
+        setup = setup_physical(scene.parameters, conditions, candidates, spec, options)
+        result = design_physical(setup, progress=progress, frontier=frontier)
+        result.design.extra["provenance"]["scene"] = scene.source
+        return result
+    result = design_body(scene.parameters, conditions, candidates, options, progress=progress)
+    result.timings = {"setup": t2 - t0, **result.timings}
+    result.timings["total"] = time.perf_counter() - t0
+    result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
+    result.design.extra["provenance"]["scene"] = scene.source
+    return result
+
+
+def _scene_inputs(
+    scene: Any, progress: Progress | None, overrides: dict[str, Any]
+) -> tuple[DesignOptions, CandidateSet, LinearConditions]:
+    """A scene's design options, candidate set and conditions (derived for its size)."""
+    from pathlib import Path
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.conditions import derive_conditions, realise_from_scene
+
     options = DesignOptions.from_table(scene.table("design"), **overrides)
     base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
     if progress is not None:
         progress("candidates ...")
     candidates = candidates_from_table(scene.table("body"), base_dir=base_dir)
-    t1 = time.perf_counter()
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates) ...")
     realise = options.realise if options.realise is not None else realise_from_scene(scene)
@@ -353,10 +381,15 @@ def design_from_scene(
     conditions = derive_conditions(
         scene.parameters, scene.fields, realise, length=size if size > 0 else None
     )
-    t2 = time.perf_counter()
-    result = design_body(scene.parameters, conditions, candidates, options, progress=progress)
-    result.timings = {"candidates": t1 - t0, "conditions": t2 - t1, **result.timings}
-    result.timings["total"] = time.perf_counter() - t0
-    result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
-    result.design.extra["provenance"]["scene"] = scene.source
-    return result
+    return options, candidates, conditions
+
+
+def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
+    """The physical design's setup of a scene with ``[medium]`` (None without one)."""
+    from chargedesign.design.physical import setup_physical
+
+    spec = spec_from_tables(scene.tables, scene.field_limits)
+    if spec is None:
+        return None
+    options, candidates, conditions = _scene_inputs(scene, None, overrides)
+    return setup_physical(scene.parameters, conditions, candidates, spec, options)

@@ -434,7 +434,7 @@ def design_pending(
 
     t0 = time.perf_counter()
     try:
-        result = design_from_scene(scene, progress=progress)
+        result = design_from_scene(scene, progress=progress, frontier=False)
     except InfeasibleError as exc:
         raise InfeasibleError(
             f"{exc} (to simulate the theorem's reduced model instead: effects = ['theorem'])"

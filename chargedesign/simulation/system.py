@@ -40,7 +40,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.body import FIELD_KINDS, validate_elements
+from chargedesign.body import FIELD_KINDS
+from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
@@ -157,8 +158,12 @@ def attitude_from_gamma(gamma: np.ndarray, precession: float = 0.0) -> np.ndarra
 
 
 @dataclass
-class Body:
-    """What the effects act on: point elements in body axes plus fields and parameters.
+class Body(ElementSet):
+    """What the effects act on: an element set in body axes plus fields and parameters.
+
+    The masses of carriers and magnets are gathered into the ballast arrays
+    (:meth:`~chargedesign.elements.ElementSet.point_elements`) when a body is built from a
+    design, so gravity and the inertia see the whole mass.
 
     Attributes
     ----------
@@ -166,29 +171,20 @@ class Body:
         The theorem's parameters; ``C`` fixes the inertia ``diag(2C, 2C, C)`` (kg m^2).
     fields : dict[str, tuple[float, ...]]
         Legendre coefficients per field kind.
-    charge_positions, mass_positions, dipole_positions : ndarray, shape (n, 3)
-        Element positions in m (body axes).
-    charge_values, mass_values : ndarray, shape (n,)
-        Charges in C, masses in kg.
-    dipole_moments : ndarray, shape (k, 3)
-        Dipole moments in A m^2 (body axes).
+    charge_positions, charge_values, dipole_positions, dipole_moments, mass_positions,
+    mass_values
+        The elements (keyword arguments; see :class:`~chargedesign.elements.ElementSet`).
     notes : list of str
         What was done to build the body (continuous parts turned into quadrature nodes, ...).
     """
 
     parameters: Parameters
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
-    charge_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    charge_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    mass_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    mass_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    dipole_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
-    dipole_moments: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     has_elements: bool | None = None
     notes: list[str] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        validate_elements(self)
+        super().__post_init__()
         if not isinstance(self.parameters, Parameters):
             raise input_error("parameters", "a chargedesign.params.Parameters", self.parameters)
         fields_out: dict[str, tuple[float, ...]] = {}
@@ -199,22 +195,22 @@ class Body:
         self.fields = fields_out
         if self.has_elements is None:
             # a body is what has elements; bare parameters are the reduced model only
-            self.has_elements = (
-                len(self.charge_values) + len(self.mass_values) + len(self.dipole_moments) > 0
-            )
+            self.has_elements = self.n_elements > 0
 
     @classmethod
     def from_design(cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None) -> Body:
         """A :class:`~chargedesign.body.Design` (fields of ``fields`` replace the design's).
 
-        Continuous charge and mass bodies of the design become quadrature nodes exact for the
-        fields' degree (+1 for the Lorentz terms), so both force routes stay exact.
+        Carriers' and magnets' masses join the ballast. Continuous charge and mass bodies of
+        the design become quadrature nodes exact for the fields' degree (+1 for the Lorentz
+        terms), so both force routes stay exact.
         """
         merged = dict(design.fields)
         merged.update(fields or {})
         notes: list[str] = []
-        cp, cv = [design.charge_positions], [design.charge_values]
-        mp, mv = [design.mass_positions], [design.mass_values]
+        points = design.point_elements()
+        cp, cv = [points.charge_positions], [points.charge_values]
+        mp, mv = [points.mass_positions], [points.mass_values]
         continuous = list(getattr(design, "continuous", []) or [])
         if continuous:
             from chargedesign.quadrature import quadrature_points, required_order
@@ -239,25 +235,14 @@ class Body:
             charge_values=np.concatenate(cv),
             mass_positions=np.concatenate(mp),
             mass_values=np.concatenate(mv),
-            dipole_positions=design.dipole_positions,
-            dipole_moments=design.dipole_moments,
+            dipole_positions=points.dipole_positions,
+            dipole_moments=points.dipole_moments,
             has_elements=True,
             notes=notes,
         )
 
     def field(self, kind: str) -> AxisymmetricField:
         return AxisymmetricField(tuple(self.fields.get(kind, ())))
-
-    def source_count(self, source: str) -> int:
-        """Number of non-zero elements of ``charges``, ``masses`` or ``dipoles``."""
-        values = {
-            "charges": self.charge_values,
-            "masses": self.mass_values,
-            "dipoles": self.dipole_moments,
-        }[source]
-        if len(values) == 0:
-            return 0
-        return int(np.count_nonzero(values.reshape(len(values), -1).any(axis=1)))
 
 
 def theorem_is_trivial(params: Parameters) -> bool:

@@ -1,0 +1,59 @@
+"""`chargedesign frontier [SCENE] [--json] [--scan --out DIR]`: where the buildable stops.
+
+Finds the largest time rate ``s`` (n, K x s; kappa, lambda, rho x s^2) for which the scene's
+body realises the theorem within every limit of its medium and materials, and the limit that
+binds just above it. ``--scan`` also sweeps the body's size and the medium (and the magnetic
+field and the carriers' density), plots ``n_max`` against size (log-log, one line per medium)
+and fits the scaling law.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "scene", nargs="?", default=None, help="scene file (TOML) with [medium]; default: embedded"
+    )
+    parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    parser.add_argument(
+        "--scan",
+        action="store_true",
+        help="sweep size x medium x field x density, plot n_max and fit the scaling law",
+    )
+    parser.add_argument(
+        "--out", default=None, metavar="DIR", help="with --scan: write frontier_scan.csv/.png here"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+
+def run(args: argparse.Namespace) -> int:
+    import json
+
+    from chargedesign.design.frontier import frontier_from_scene
+    from chargedesign.scene import load_scene
+
+    def progress(message: str) -> None:
+        if not args.quiet:
+            print(f"frontier: {message}", file=sys.stderr, flush=True)
+
+    scene = load_scene(args.scene)
+    if args.scan:
+        from pathlib import Path
+
+        from chargedesign.design.frontier_scan import scan_frontier, write_scan
+
+        scan = scan_frontier(scene, progress=progress)
+        if args.out is not None:
+            write_scan(scan, Path(args.out))
+            progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
+        print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
+        return 0
+    result = frontier_from_scene(scene, progress=progress)
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(str(result), end="")
+    return 0

@@ -1,0 +1,243 @@
+"""The frontier over size, medium, field and density, and the scaling law it follows.
+
+Bodies are scaled geometrically (radius, spacing, carrier radius and shell wall times ``f``;
+``C`` times ``f^5``, the same materials), the medium and the uniform field ``a1`` and the
+carriers' density are varied. Where the carriers' breakdown binds, the charges' second
+moments are about ``N a^2 eps0 E_safe L^2`` and ``C ~ rho L^5``, so
+
+    n_max  ~  eps0 E_safe a1 / (rho L)     (exponents 1 in E, 1 in a1, -1 in L)
+
+:func:`scan_frontier` measures the exponents by least squares over the sweep and reports
+how far each point lies from the fitted law.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.design.frontier import frontier_from_scene
+from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
+
+SIZE_FACTORS = (0.5, 1.0, 2.0)
+MEDIA = ("air", "sf6", "vacuum")
+FIELD_FACTOR = 2.0
+DENSE_CARRIER = "copper"
+
+
+@dataclass
+class ScanResult:
+    rows: list[dict[str, Any]]
+    exponents: dict[str, float]
+    expected: dict[str, float]
+    worst_fit_error: float
+    law: str
+    failures: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "rows": self.rows,
+            "exponents": self.exponents,
+            "expected_exponents": self.expected,
+            "worst_relative_fit_error": self.worst_fit_error,
+            "law": self.law,
+            "failures": self.failures,
+        }
+
+    def __str__(self) -> str:
+        lines = [
+            "frontier scan: n_max (1/s) by size factor, medium, field a1 and carrier density",
+            f"{'size':>6} {'medium':>8} {'a1 T':>6} {'carrier':>10} {'n_max':>11} {'binding':>9}",
+        ]
+        for r in self.rows:
+            lines.append(
+                f"{r['size_factor']:>6g} {r['medium']:>8} {r['a1']:>6g} {r['carrier']:>10} "
+                f"{r['n_max']:>11.4g} {r['binding_stage']:>9}"
+            )
+        lines.append(f"law: {self.law}")
+        lines.append(f"worst relative deviation from the fitted law: {self.worst_fit_error:.3g}")
+        lines.extend(f"failed: {f}" for f in self.failures)
+        return "\n".join(lines) + "\n"
+
+
+def _scene_dict(scene: Any) -> dict[str, Any]:
+    """The mapping a scene was read from (parameters, fields with limits, tables)."""
+    from chargedesign.params import Parameters
+
+    params = scene.parameters.as_dict() if isinstance(scene.parameters, Parameters) else {}
+    fields: dict[str, Any] = {}
+    for kind, coeffs in scene.fields.items():
+        fields[kind] = {"legendre": list(coeffs)}
+    for kind, limit in scene.field_limits.items():
+        fields.setdefault(kind, {})["max"] = limit
+    out = copy.deepcopy(scene.tables)
+    out["parameters"] = params
+    out["fields"] = fields
+    return out
+
+
+def _variant(
+    base: dict[str, Any], f: float, medium: str, a1_factor: float, carrier: str | None
+) -> dict[str, Any]:
+    data = copy.deepcopy(base)
+    body = data.setdefault("body", {})
+    for key in ("radius", "spacing", "carrier_radius", "height"):
+        if key in body:
+            body[key] = body[key] * f
+    data["parameters"]["C"] = data["parameters"].get("C", 1.0) * f**5
+    carriers = data.setdefault("carriers", {})
+    if "shell_thickness" in carriers:
+        carriers["shell_thickness"] = carriers["shell_thickness"] * f
+    else:
+        from chargedesign.physical.spec import DEFAULT_SHELL_THICKNESS
+
+        carriers["shell_thickness"] = DEFAULT_SHELL_THICKNESS * f
+    if carrier is not None:
+        carriers.pop("density", None)
+        carriers["material"] = carrier
+    med = data.setdefault("medium", {})
+    med.pop("breakdown", None)
+    med["name"] = medium
+    mag = data["fields"].get("magnetic", {})
+    if "legendre" in mag:
+        coeffs = list(mag["legendre"])
+        coeffs[0] = coeffs[0] * a1_factor
+        mag["legendre"] = coeffs
+        if "max" in mag:
+            mag["max"] = mag["max"] * a1_factor
+    return data
+
+
+def scan_frontier(
+    scene: Any,
+    *,
+    size_factors: tuple[float, ...] = SIZE_FACTORS,
+    media: tuple[str, ...] = MEDIA,
+    progress: Any = None,
+) -> ScanResult:
+    """Frontiers over size x medium, plus a stronger field and denser carriers (see module)."""
+    from chargedesign.scene import scene_from_dict
+
+    base = _scene_dict(scene)
+    base_carrier = base.get("carriers", {}).get("material", "aluminium")
+    a1 = float(scene.fields.get("magnetic", (1.0,))[0]) if scene.fields.get("magnetic") else 1.0
+    cases = [(f, m, 1.0, None) for m in media for f in size_factors]
+    cases.append((1.0, media[0], FIELD_FACTOR, None))
+    cases.append((1.0, media[0], 1.0, DENSE_CARRIER))
+    rows: list[dict[str, Any]] = []
+    failures: list[str] = []
+    for i, (f, medium, a1f, carrier) in enumerate(cases):
+        data = _variant(base, f, medium, a1f, carrier)
+        if progress is not None:
+            progress(
+                f"[{i + 1}/{len(cases)}] size x{f:g}, {medium}, a1 x{a1f:g}, "
+                f"{carrier or base_carrier}"
+            )
+        try:
+            result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))
+        except Exception as exc:  # one failing point is recorded, the scan goes on
+            failures.append(f"size x{f:g} {medium}: {exc}")
+            continue
+        name = carrier or base_carrier
+        rows.append(
+            {
+                "size_factor": f,
+                "medium": medium,
+                "breakdown_V_per_m": BREAKDOWN_V_PER_M[medium],
+                "a1": a1 * a1f,
+                "carrier": name,
+                "carrier_density": CARRIER_DENSITY.get(name, float("nan")),
+                "s_max": result.s_max,
+                "n_max": result.n_max,
+                "binding_stage": result.binding.stage,
+                "binding": result.binding.text(medium),
+                "seconds": result.seconds,
+            }
+        )
+    exponents, worst, expected = _fit(rows)
+    law = (
+        "n_max ~ E_breakdown^{E:.3g} a1^{B:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
+        "(breakdown-bound estimate: E^1 a1^1 L^-1, rho^-1 when the carriers' mass dominates)"
+    ).format(**{k: v for k, v in exponents.items()})
+    return ScanResult(rows, exponents, expected, worst, law, failures)
+
+
+def _fit(rows: list[dict[str, Any]]) -> tuple[dict[str, float], float, dict[str, float]]:
+    expected = {"E": 1.0, "B": 1.0, "L": -1.0, "rho": -1.0}
+    good = [r for r in rows if r["n_max"] > 0]
+    if len(good) < 5:
+        return {k: math.nan for k in expected}, math.nan, expected
+    X = np.array(
+        [
+            [
+                1.0,
+                math.log(r["breakdown_V_per_m"]),
+                math.log(r["a1"]),
+                math.log(r["size_factor"]),
+                math.log(r["carrier_density"]),
+            ]
+            for r in good
+        ]
+    )
+    y = np.log([r["n_max"] for r in good])
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    worst = float(np.max(np.abs(np.exp(X @ coef - y) - 1.0)))
+    return dict(zip(("E", "B", "L", "rho"), map(float, coef[1:]), strict=True)), worst, expected
+
+
+def plot_scan(scan: ScanResult, ax: Any = None) -> Any:
+    """n_max against size, log-log, one line per medium; returns the axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 4.2))
+    media = sorted({r["medium"] for r in scan.rows})
+    base_a1 = min((r["a1"] for r in scan.rows), default=1.0)
+    for medium in media:
+        pts = sorted(
+            (r["size_factor"], r["n_max"])
+            for r in scan.rows
+            if r["medium"] == medium
+            and r["a1"] == base_a1
+            and r["carrier_density"] == min(x["carrier_density"] for x in scan.rows)
+        )
+        if pts:
+            x, y = zip(*pts, strict=True)
+            ax.loglog(x, y, "o-", label=medium)
+    ax.set_xlabel("body size factor f (radius, spacing, carriers x f; C x f^5)")
+    ax.set_ylabel("n_max (1/s)")
+    ax.set_title("frontier of the buildable")
+    ax.legend(title="medium")
+    ax.grid(True, which="both", alpha=0.3)
+    return ax
+
+
+def write_scan(scan: ScanResult, out: Path) -> None:
+    """frontier_scan.csv and frontier_scan.png into ``out``, together or not at all."""
+    import csv
+    import io
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from chargedesign.files import atomic_directory, write_text_atomic
+
+    buffer = io.StringIO()
+    if scan.rows:
+        writer = csv.DictWriter(buffer, fieldnames=list(scan.rows[0]))
+        writer.writeheader()
+        writer.writerows(scan.rows)
+    with atomic_directory(out) as stage:
+        write_text_atomic(stage / "frontier_scan.csv", buffer.getvalue())
+        fig, ax = plt.subplots(figsize=(6, 4.2))
+        plot_scan(scan, ax=ax)
+        fig.tight_layout()
+        fig.savefig(stage / "frontier_scan.png", dpi=120)
+        plt.close(fig)

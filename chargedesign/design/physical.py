@@ -1,0 +1,901 @@
+"""Physical design: every element a real part within the limits of its medium and material.
+
+The conditions engine gives, per source, ``A w = b`` (SI). With the theorem's time rate ``s``
+(``n, K -> s n, s K``; ``kappa, lambda, rho -> s^2 ...``; the same motion s times faster)
+the charges' right-hand sides and the derived electric field scale with ``s``, the dipoles'
+with ``s^2``, and the masses' not at all. The design at rate ``s`` is two convex programs,
+because the charges' conditions involve no mass while the carriers' masses depend on which
+carriers are used:
+
+1. **charges** (carriers of radius ``a`` at candidate points): ``A_c q = s b_c`` and, at sample
+   points x on every carrier surface, ``|sum_j q_j G_j(x)| <= E_safe - s E_ext(|x|)`` (second-
+   order cones, linear in q; ``E_ext`` the largest external field over orientations). Solved
+   by constraint generation: an LP with each carrier's own-field bound
+   ``|q_i| <= 4 pi eps0 a^2 (E_safe - s E_ext)`` (necessary, so its infeasibility proves the
+   design impossible), then cones only where the independent surface check finds a carrier
+   above its limit, on the working set of used carriers;
+2. **magnets and masses** jointly, on the sites not holding a carrier: ``A_d sigma = s^2 b_d``,
+   ``A_m w = b_m - A_m(carriers) m_carrier`` (the inertia and centre of mass of all mass), site
+   mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its volume), and
+   ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the cell).
+
+Both are polished to machine precision on their supports and the limits verified again with
+denser samples (:func:`chargedesign.physical.limits.check_limits`). :func:`physical_problem`
+returns the second stage, or both stages as one cvxpy problem for a given carrier set, for a
+user to extend.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.candidates import CandidateSet
+from chargedesign.conditions import LinearConditions
+from chargedesign.design.options import DesignOptions, Progress
+from chargedesign.design.result import DesignResult, SourceResult, design_extras
+from chargedesign.design.solvers import _least_norm
+from chargedesign.design.system import relative_residual
+from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.params import Parameters
+from chargedesign.physical.limits import (
+    coulomb_field,
+    fibonacci_directions,
+    field_magnitude_max,
+)
+from chargedesign.physical.materials import COULOMB, EPSILON_0
+from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
+
+#: the design keeps every limit this fraction below its value, so that polishing (relative
+#: changes ~1e-10) and the check's denser samples never find it above
+DESIGN_MARGIN = 1e-3
+#: surface samples of the in-loop check (constraint generation)
+LOOP_SURFACE_SAMPLES = 200
+DEBUG = False
+MAX_ROUNDS = 14
+#: rounds of own-field bound tightening before the cones
+LP_ROUNDS = 12
+#: carriers above this fraction of the safe field get cones before they break it
+CONE_THRESHOLD = 0.95
+
+
+@dataclass
+class Binding:
+    """The limit that stops a design: which element, which limit, and by how much."""
+
+    stage: str  # charges | magnets | masses | fields
+    limit: str
+    element: str = ""
+    factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
+
+    def text(self, medium: str) -> str:
+        return f"{self.element + ': ' if self.element else ''}{self.limit}"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"stage": self.stage, "limit": self.limit, "element": self.element}
+
+
+class PhysicalInfeasible(InfeasibleError):
+    """A design at this time rate breaks a physical limit (``binding`` names it)."""
+
+    def __init__(self, binding: Binding) -> None:
+        super().__init__(binding.text(""))
+        self.binding = binding
+
+
+@dataclass
+class PhysicalSetup:
+    """Everything the physical design needs at time rate 1, in SI units."""
+
+    params: Parameters
+    conditions: LinearConditions
+    candidates: CandidateSet
+    spec: PhysicalSpec
+    options: DesignOptions
+    points: np.ndarray
+    cell_radius: np.ndarray  # half the nearest-neighbour distance of each candidate, m
+    carrier_radius: float
+    carrier_mass: float
+    region_radius: float
+    systems: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    electric: tuple[float, ...] = ()
+    e_grid: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    e_grid_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def safe_field(self) -> float:
+        return self.spec.medium.safe_field
+
+    def external_max(self, radii: np.ndarray, s: float) -> np.ndarray:
+        """Largest external electric field over orientations at these radii, rate s (V/m).
+
+        A nondecreasing function of the radius sampled on a grid: the next grid value up is
+        an upper bound.
+        """
+        if not self.electric:
+            return np.zeros_like(radii)
+        idx = np.searchsorted(self.e_grid, radii, side="left")
+        idx = np.minimum(idx, len(self.e_grid) - 1)
+        return s * self.e_grid_values[idx]
+
+    def charge_caps(self, s: float) -> np.ndarray:
+        """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
+        limit = self.safe_field * (1 - DESIGN_MARGIN) - self.external_max(
+            np.linalg.norm(self.points, axis=1) + self.carrier_radius, s
+        )
+        return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
+
+    def field_bound(self, s: float) -> float:
+        """Largest rate the apparatus' electric-field limit allows (inf: no limit)."""
+        limit = self.spec.field_limits.get("electric")
+        if limit is None or not self.electric:
+            return math.inf
+        top = float(field_magnitude_max(self.electric, np.array([self.region_radius]))[0])
+        return limit / top if top > 0 else math.inf
+
+
+def setup_physical(
+    params: Parameters,
+    conditions: LinearConditions,
+    candidates: CandidateSet,
+    spec: PhysicalSpec,
+    options: DesignOptions | None = None,
+) -> PhysicalSetup:
+    """Validate the physical spec against the candidates and build the systems at rate 1."""
+    from scipy.spatial import cKDTree
+
+    options = options or DesignOptions()
+    if "inertia" not in (options.realise or conditions.realise):
+        raise InputError(
+            "design.realise: a physical design realises the inertia (every part has mass)"
+        )
+    if options.total_charge is not None or options.n_charges is not None:
+        raise InputError(
+            "design.total_charge / n_charges: not available with [medium] (the carriers' "
+            "limits decide the charges)"
+        )
+    points = candidates.points
+    if len(points) < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+    dist, _ = cKDTree(points).query(points, k=2)
+    cell = 0.5 * dist[:, 1]
+    spacing = float(np.min(dist[:, 1]))
+    a = spec.carrier_radius
+    if a is None:
+        a = CARRIER_RADIUS_FRACTION * spacing
+    elif a >= 0.5 * spacing:
+        raise InputError(
+            f"body.carrier_radius: expected below half the candidate spacing "
+            f"({0.5 * spacing:.4g} m) so carriers cannot touch, got {a:g}"
+        )
+    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    for kind, limit in spec.field_limits.items():
+        coeffs = conditions.fields.get(kind, ())
+        if kind == "electric" or not coeffs:
+            continue
+        top = float(field_magnitude_max(coeffs, np.array([region]))[0])
+        if top > limit:
+            raise InputError(
+                f"fields.{kind}.max: the scene's {kind} field already reaches {top:.4g} over the "
+                f"body region (radius {region:.4g} m), above max = {limit:g}"
+            )
+    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    electric = tuple(conditions.fields.get("electric", ()))
+    grid = np.linspace(0.0, region, 513)
+    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+    return PhysicalSetup(
+        params=params,
+        conditions=conditions,
+        candidates=candidates,
+        spec=spec,
+        options=options,
+        points=points,
+        cell_radius=cell,
+        carrier_radius=a,
+        carrier_mass=spec.carrier.sphere_mass(a),
+        region_radius=region,
+        systems=systems,
+        electric=electric,
+        e_grid=grid,
+        e_grid_values=values,
+    )
+
+
+# ------------------------------------------------------------------------------ charges
+@dataclass
+class ChargeSolution:
+    sites: np.ndarray  # candidate indices of the carriers
+    charges: np.ndarray  # C
+    surface_fields: np.ndarray  # V/m, per carrier (in-loop samples)
+    residual: float
+    rounds: int
+    cones: int
+    objective_lp: float
+    method: str
+
+
+def _row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rows divided by their largest entry (columns in units of ``col_scale``)."""
+    As = A * col_scale
+    top = np.max(np.abs(As), axis=1) if As.shape[1] else np.ones(len(b))
+    top = np.where(top > 0, top, 1.0)
+    return As / top[:, None], b / top
+
+
+def _lp_charges(A: np.ndarray, b: np.ndarray, caps: np.ndarray) -> np.ndarray | None:
+    """min sum |q| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
+    from scipy.optimize import linprog
+
+    usable = caps > 0
+    cols = np.flatnonzero(usable)
+    if len(cols) == 0:
+        return None
+    qs = float(np.max(caps[cols]))
+    As, bs = _row_scaled(A[:, cols], b, qs)
+    k = len(cols)
+    res = linprog(
+        np.ones(2 * k),
+        A_eq=np.hstack([As, -As]),
+        b_eq=bs,  # q = qs * u
+        bounds=list(zip(np.zeros(2 * k), np.tile(caps[cols] / qs, 2), strict=True)),
+        method="highs",
+    )
+    if res.status == 2:
+        return None
+    if res.status != 0 or res.x is None:
+        raise SolverError(f"charges: HiGHS failed on the carriers' own-field LP ({res.message})")
+    q = np.zeros(len(caps))
+    q[cols] = (res.x[:k] - res.x[k:]) * qs
+    return q
+
+
+def _surface_check(
+    setup: PhysicalSetup, positions: np.ndarray, q: np.ndarray, s: float, samples: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Largest surface field of each carrier over the safe field, and where it occurs.
+
+    ``samples`` Fibonacci points per carrier, then a refinement around the largest one
+    (:func:`~chargedesign.physical.limits.local_cap`), so the maximum between samples is found.
+
+    Returns
+    -------
+    ratios : ndarray, shape (k,)
+    worst : ndarray, shape (k, 3)
+    """
+    from chargedesign.physical.limits import local_cap, sample_spacing
+
+    dirs = fibonacci_directions(samples)
+    angle = 1.5 * sample_spacing(samples)
+    ratios = np.zeros(len(q))
+    worst = np.zeros((len(q), 3))
+    a = setup.carrier_radius
+    for i in range(len(q)):
+        pts = positions[i] + a * dirs
+        e = np.linalg.norm(coulomb_field(positions, q, pts), axis=1)
+        e = e + setup.external_max(np.linalg.norm(pts, axis=1), s)
+        cap = positions[i] + a * local_cap(dirs[int(np.argmax(e))], angle)
+        e_cap = np.linalg.norm(coulomb_field(positions, q, cap), axis=1)
+        e_cap = e_cap + setup.external_max(np.linalg.norm(cap, axis=1), s)
+        k = int(np.argmax(e_cap))
+        ratios[i], worst[i] = max(float(e_cap[k]), float(e.max())) / setup.safe_field, cap[k]
+    return ratios, worst
+
+
+def _socp_charges(
+    setup: PhysicalSetup,
+    sites: np.ndarray,
+    s: float,
+    cones: list[tuple[int, np.ndarray]],
+    caps: np.ndarray,
+) -> np.ndarray | None:
+    """min sum |q| on ``sites`` with the charge conditions, own-field caps and surface cones."""
+    import cvxpy as cp
+
+    A, b = setup.systems["charges"]
+    qs = float(np.max(caps[sites]))
+    As, bs = _row_scaled(A[:, sites], s * b, qs)
+    u = cp.Variable(len(sites))
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    positions = setup.points[sites]
+    constraints = [As @ u == bs, cp.abs(u) <= caps[sites] / qs]
+    if cones:
+        points = np.array([point for _, point in cones])
+        d = points[:, None, :] - positions[None, :, :]  # (m, k, 3)
+        r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+        G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
+        room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+        fields = cp.reshape(G.reshape(-1, len(sites)) @ u, (len(points), 3), order="C")
+        constraints.append(cp.norm(fields, 2, axis=1) <= room)
+    problem = cp.Problem(cp.Minimize(cp.norm(u, 1)), constraints)
+    try:
+        problem.solve(solver=cp.CLARABEL)
+    except cp.SolverError as exc:
+        raise SolverError(f"charges: Clarabel failed on the surface-field cones ({exc})") from exc
+    if problem.status in ("infeasible", "infeasible_inaccurate"):
+        return None
+    if u.value is None:
+        raise SolverError(f"charges: Clarabel returned {problem.status} on the surface cones")
+    return np.asarray(u.value) * qs
+
+
+def _polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Least-norm correction of ``w`` on ``cols`` so that ``A w = b`` to rounding."""
+    out = w.copy()
+    if len(cols) == 0:
+        return out
+    top = np.max(np.abs(A[:, cols]), axis=1)
+    top = np.where(top > 0, top, 1.0)
+    As = A[:, cols] / top[:, None]
+    for _ in range(3):
+        out[cols] += _least_norm(As, (b - A @ out) / top)
+    return out
+
+
+def _excess(ratio: float) -> str:
+    return f"needs {ratio:.3g}x" if ratio >= 1.01 else "reaches"
+
+
+def _support(q: np.ndarray) -> np.ndarray:
+    top = float(np.max(np.abs(q))) if len(q) else 0.0
+    return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
+
+
+def _meet_surface_limits(
+    setup: PhysicalSetup, s: float, caps: np.ndarray, q_lp: np.ndarray
+) -> tuple[np.ndarray, str, int, int]:
+    """Charges on all candidates that keep every carrier's surface field within its limit.
+
+    Constraint generation, cheapest first: (1) the LP's answer when no carrier is over;
+    (2) LP rounds where each carrier over its limit gets its own-field bound divided by its
+    excess (neighbours' fields then push the charge onto more carriers); (3) the second-order
+    cones at the worst surface points of the carriers near their limit, on the working set of
+    every carrier the LPs used (Clarabel), until the surface check passes.
+
+    Raises PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
+    """
+    A, b = setup.systems["charges"]
+    medium = setup.spec.medium
+    working = _support(q_lp)
+    q = q_lp
+    lp_caps = caps.copy()
+    cones: list[tuple[int, np.ndarray]] = []
+    worst_ratio, worst_site = 0.0, -1
+    lp_alive = True
+    for rounds in range(1, MAX_ROUNDS + 1):
+        sites = _support(q)
+        ratios, worst = _surface_check(
+            setup, setup.points[sites], q[sites], s, LOOP_SURFACE_SAMPLES
+        )
+        over = np.flatnonzero(ratios > 1 - DESIGN_MARGIN / 2)
+        if len(over) == 0:
+            method = (
+                "HiGHS LP with the carriers' own-field bounds"
+                + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not cones else "")
+                + (f", then Clarabel with {len(cones)} surface cones" if cones else "")
+            )
+            return q, method, rounds, len(cones)
+        k = int(over[np.argmax(ratios[over])])
+        worst_ratio, worst_site = float(ratios[k]), int(sites[k])
+        if DEBUG:
+            print("round", rounds, len(sites), len(over), worst_ratio, lp_alive)
+        if lp_alive and rounds <= LP_ROUNDS:
+            near = np.flatnonzero(ratios > CONE_THRESHOLD)
+            lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
+            more = _lp_charges(A, s * b, lp_caps)
+            if more is not None:
+                working = np.union1d(working, _support(more))
+                q = more
+                continue
+            lp_alive = False
+        near = np.flatnonzero(ratios > CONE_THRESHOLD)
+        cones.extend((int(sites[i]), worst[i]) for i in near)
+        working = np.union1d(working, sites)
+        solved = _socp_charges(setup, working, s, cones, caps)
+        if solved is None:
+            break
+        q = np.zeros(len(setup.points))
+        q[working] = solved
+    raise PhysicalInfeasible(
+        Binding(
+            "charges",
+            f"{_excess(worst_ratio)} the safe surface field of {medium.name} "
+            f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
+            f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
+            worst_ratio,
+        )
+    )
+
+
+def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
+    """The carriers and their charges at rate ``s`` (see the module doc).
+
+    Raises
+    ------
+    PhysicalInfeasible
+        Naming the binding limit.
+    """
+    A, b = setup.systems["charges"]
+    medium = setup.spec.medium
+    if s > setup.field_bound(s) * (1 + 1e-12):
+        raise PhysicalInfeasible(
+            Binding(
+                "fields",
+                f"the electric field this rate needs exceeds fields.electric.max "
+                f"({setup.spec.field_limits.get('electric'):g} V/m)",
+                "fields.electric",
+                s / setup.field_bound(s),
+            )
+        )
+    if not np.any(b):
+        return ChargeSolution(
+            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
+        )
+    caps = setup.charge_caps(s)
+    q_lp = _lp_charges(A, s * b, caps)
+    if q_lp is None:
+        raise PhysicalInfeasible(
+            Binding(
+                "charges",
+                f"no charges on carriers of radius {setup.carrier_radius:.3g} m meet the "
+                f"conditions with every carrier's own surface field within the safe field of "
+                f"{medium.name} ({setup.safe_field:.3g} V/m)",
+                "the carriers",
+            )
+        )
+    objective_lp = float(np.sum(np.abs(q_lp)))
+    q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
+    sites = _support(q_full)
+    q = q_full[sites]
+    keep = np.abs(q) > 1e-12 * float(np.max(np.abs(q)))
+    full = np.zeros(len(setup.points))
+    full[sites[keep]] = q[keep]
+    full = _polish_equal(A, s * b, full, sites[keep])
+    sites = np.flatnonzero(full)
+    q = full[sites]
+    ratios, _ = _surface_check(setup, setup.points[sites], q, s, LOOP_SURFACE_SAMPLES)
+    if np.any(ratios > 1 - DESIGN_MARGIN / 4) or np.any(
+        np.abs(q) > np.maximum(caps[sites], 0) * (1 + 1e-9)
+    ):
+        raise SolverError("charges: polishing pushed a carrier to its surface-field limit")
+    return ChargeSolution(
+        sites=sites,
+        charges=q,
+        surface_fields=ratios * setup.safe_field,
+        residual=relative_residual(A, full, s * b),
+        rounds=rounds,
+        cones=n_cones,
+        objective_lp=objective_lp,
+        method=method,
+    )
+
+
+@dataclass
+class ChargeProgram:
+    """The charges' stage as one cvxpy problem on every candidate (no constraint generation).
+
+    ``problem`` minimises ``sum |q|`` subject to the charge conditions and a second-order cone
+    at every one of ``samples`` points on every candidate carrier's surface. ``q`` is in units
+    of ``charge_scale`` (C). Dense: meant for small candidate sets, for users who add their
+    own constraints, and as the reference the constraint generation is tested against.
+    """
+
+    problem: Any
+    q: Any
+    charge_scale: float
+
+
+def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeProgram:
+    """Build (not solve) the full charges program at rate ``s`` (see :class:`ChargeProgram`)."""
+    import cvxpy as cp
+
+    A, b = setup.systems["charges"]
+    caps = setup.charge_caps(s)
+    qs = float(np.max(caps))
+    As, bs = _row_scaled(A, s * b, qs)
+    q = cp.Variable(len(setup.points))
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    dirs = fibonacci_directions(samples)
+    points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
+    d = points[:, None, :] - setup.points[None, :, :]
+    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+    G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)
+    room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+    fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
+    problem = cp.Problem(
+        cp.Minimize(cp.norm(q, 1)), [As @ q == bs, cp.norm(fields, 2, axis=1) <= room]
+    )
+    return ChargeProgram(problem, q, qs)
+
+
+# ------------------------------------------------------------------- magnets and masses
+@dataclass
+class MassSolution:
+    sites: np.ndarray  # candidate indices of the sites (no carrier)
+    moments: np.ndarray  # (k, 3) A m^2
+    site_masses: np.ndarray  # (k,) kg
+    residual_dipoles: float
+    residual_masses: float
+    method: str
+
+
+@dataclass
+class MassProgram:
+    """The second stage as a cvxpy problem: variables and what they mean."""
+
+    problem: Any
+    sigma: Any  # (k, 3) in units of sigma_scale
+    mass: Any  # (k,) in units of mass_scale
+    sites: np.ndarray
+    sigma_scale: float
+    mass_scale: float
+    rhs_masses: np.ndarray
+
+
+def _unknown_scale(A: np.ndarray, b: np.ndarray) -> float:
+    """The size of the unknowns ``A w = b`` asks for (0 when b = 0): max_i |b_i| / max_j |A_ij|."""
+    if A.size == 0 or not np.any(b):
+        return 0.0
+    top = np.max(np.abs(A), axis=1)
+    ok = top > 0
+    return float(np.max(np.abs(b[ok]) / top[ok])) if np.any(ok) else 0.0
+
+
+def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
+
+    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
+    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled).
+    """
+    import cvxpy as cp
+
+    spec = setup.spec
+    n = len(setup.points)
+    free = np.ones(n, dtype=bool)
+    free[carrier_sites] = False
+    sites = np.flatnonzero(free)
+    Ad, bd = setup.systems["dipoles"]
+    Am, bm = setup.systems["masses"]
+    bd = s * s * bd
+    bm = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    M, rho_m, rho_b = spec.magnet.magnetisation or 1.0, spec.magnet.density, spec.ballast.density
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[sites] ** 3 * (1 - DESIGN_MARGIN)
+    mass_scale = _unknown_scale(Am[:, sites], bm) or float(np.max(v_cap)) * rho_b
+    cols = (3 * sites[:, None] + np.arange(3)).reshape(-1)
+    sigma_scale = _unknown_scale(Ad[:, cols], bd) or float(np.max(v_cap)) * M
+    k = len(sites)
+    sigma = cp.Variable((k, 3))
+    mass = cp.Variable(k, nonneg=True)
+    constraints = []
+    if len(bd):
+        Ads, bds = _row_scaled(Ad[:, cols], bd, sigma_scale)
+        constraints.append(Ads @ cp.reshape(sigma, (3 * k,), order="C") == bds)
+    if len(bm):
+        Ams, bms = _row_scaled(Am[:, sites], bm, mass_scale)
+        constraints.append(Ams @ mass == bms)
+    norms = cp.norm(sigma, 2, axis=1)
+    constraints.append(mass >= (1 + 1e-6) * rho_m * sigma_scale / M / mass_scale * norms)
+    constraints.append(
+        cp.multiply(sigma_scale / M / v_cap, norms) + cp.multiply(mass_scale / rho_b / v_cap, mass)
+        <= 1.0
+    )
+    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
+    objective = cp.Minimize(cp.sum(mass) + cp.sum(norms))
+    return MassProgram(
+        problem=cp.Problem(objective, constraints),
+        sigma=sigma,
+        mass=mass,
+        sites=sites,
+        sigma_scale=sigma_scale,
+        mass_scale=mass_scale,
+        rhs_masses=bm,
+    )
+
+
+def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+    import cvxpy as cp
+
+    program = mass_program(setup, s, carrier_sites)
+    try:
+        program.problem.solve(solver=cp.CLARABEL)
+    except cp.SolverError as exc:
+        raise SolverError(f"magnets and masses: Clarabel failed ({exc})") from exc
+    if program.problem.status in ("infeasible", "infeasible_inaccurate"):
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
+    if program.sigma.value is None or program.mass.value is None:
+        raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
+    sites = program.sites
+    sigma = np.asarray(program.sigma.value) * program.sigma_scale
+    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    Ad, bd = setup.systems["dipoles"]
+    Am, _ = setup.systems["masses"]
+    n = len(setup.points)
+    # polish each system on its support
+    sig_norm = np.linalg.norm(sigma, axis=1)
+    top_sigma = max(float(np.max(sig_norm, initial=0.0)), 1e-300)
+    sig_keep = sig_norm > 1e-6 * top_sigma
+    full_sigma = np.zeros(3 * n)
+    cols = (3 * sites[sig_keep][:, None] + np.arange(3)).reshape(-1)
+    full_sigma[cols] = sigma[sig_keep].reshape(-1)
+    big = sites[sig_norm > 1e-3 * top_sigma]
+    if len(bd):
+        # corrections on the strong magnets only (relative changes ~ the solver's residual)
+        big_cols = (3 * big[:, None] + np.arange(3)).reshape(-1)
+        full_sigma = _polish_equal(Ad, s * s * bd, full_sigma, big_cols)
+    # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
+    # changes at the solver's tolerance; the heavy sites absorb them in the polish below)
+    sig_polished = full_sigma.reshape(n, 3)[sites]
+    magnet_floor = (
+        (1 + 1e-6)
+        * setup.spec.magnet.density
+        * np.linalg.norm(sig_polished, axis=1)
+        / (setup.spec.magnet.magnetisation or 1.0)
+    )
+    mass = np.maximum(mass, magnet_floor)
+    top_mass = max(float(np.max(mass, initial=0.0)), 1e-300)
+    mass_keep = (mass > 1e-9 * top_mass) | sig_keep
+    full_rhs = program.rhs_masses
+    full_mass = np.zeros(n)
+    full_mass[sites[mass_keep]] = mass[mass_keep]
+    # the correction goes to the heavy sites only, so that light ones (and magnets) keep
+    # their sign and their bound: relative changes there are ~ the solver's residual
+    heavy = sites[mass > 1e-3 * top_mass]
+    full_mass = _polish_equal(Am, full_rhs, full_mass, heavy)
+    if np.any(full_mass < 0):
+        raise SolverError("masses: polishing made a site mass negative")
+    sig = full_sigma.reshape(n, 3)[sites]
+    m = full_mass[sites]
+    magnet_mass = (
+        setup.spec.magnet.density
+        * np.linalg.norm(sig, axis=1)
+        / (setup.spec.magnet.magnetisation or 1.0)
+    )
+    if np.any(m < magnet_mass * (1 - 1e-9)):
+        raise SolverError("magnets: polishing left a magnet lighter than its volume")
+    used = (np.linalg.norm(sig, axis=1) > 0) | (m > 0)
+    return MassSolution(
+        sites=sites[used],
+        moments=sig[used],
+        site_masses=m[used],
+        residual_dipoles=relative_residual(Ad, full_sigma, s * s * bd) if len(bd) else 0.0,
+        residual_masses=relative_residual(Am, full_mass, full_rhs) if len(full_rhs) else 0.0,
+        method="Clarabel (magnet-mass and cell-volume cones), least-norm polish on the supports",
+    )
+
+
+def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> Binding:
+    """Why the second stage is infeasible: the carriers' mass, the ballast's room, or the
+    magnets' volume (each tried without the later ones)."""
+    import cvxpy as cp
+
+    Am, bm = setup.systems["masses"]
+    free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
+    rhs = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    scale = _unknown_scale(Am[:, free], rhs) or 1.0
+    Ams, bms = _row_scaled(Am[:, free], rhs, scale)
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+
+    def feasible(room: bool) -> bool:
+        w = cp.Variable(len(free), nonneg=True)
+        cons = [Ams @ w == bms]
+        if room:
+            cons.append(w * scale / setup.spec.ballast.density <= v_cap)
+        prob = cp.Problem(cp.Minimize(0), cons)
+        prob.solve(solver=cp.CLARABEL)
+        return prob.status not in ("infeasible", "infeasible_inaccurate")
+
+    carriers_c = float(
+        setup.carrier_mass * np.sum(np.sum(setup.points[carrier_sites, :2] ** 2, axis=1))
+    )
+    if not feasible(room=False):
+        return Binding(
+            "masses",
+            f"the {len(carrier_sites)} carriers ({setup.carrier_mass:.3g} kg each, their own "
+            f"C = {carriers_c:.3g} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
+            f"with C = {setup.params.C:.4g} kg m^2 and the centre of mass at O",
+            "inertia",
+        )
+    if not feasible(room=True):
+        return Binding(
+            "masses",
+            f"the {setup.spec.ballast.name} ballast that makes A = B = 2C (C = "
+            f"{setup.params.C:.4g} kg m^2) does not fit in the cells the "
+            f"{len(carrier_sites)} carriers leave free",
+            "ballast cells",
+        )
+    return Binding(
+        "magnets",
+        f"the magnets need more volume of {setup.spec.magnet.name} (M = "
+        f"{setup.spec.magnet.magnetisation:.3g} A/m) than the free cells hold beside the ballast",
+        "magnet cells",
+    )
+
+
+# --------------------------------------------------------------------------- assembling
+@dataclass
+class PhysicalOutcome:
+    charges: ChargeSolution
+    masses: MassSolution
+    scale: float
+    seconds: float
+
+
+def design_at_rate(setup: PhysicalSetup, s: float) -> PhysicalOutcome:
+    """Both stages at time rate ``s``; raises PhysicalInfeasible naming the binding limit."""
+    t0 = time.perf_counter()
+    charges = design_charges(setup, s)
+    masses = design_masses(setup, s, charges.sites)
+    return PhysicalOutcome(charges, masses, s, time.perf_counter() - t0)
+
+
+def scaled_parameters(params: Parameters, s: float) -> Parameters:
+    """The theorem's parameters at time rate ``s`` (n, K x s; kappa, lambda, rho x s^2)."""
+    return replace(
+        params,
+        n=params.n * s,
+        K=params.K * s,
+        kappa=params.kappa * s * s,
+        lam=params.lam * s * s,
+        rho=params.rho * s * s,
+    )
+
+
+def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
+    """The Design of an outcome: carriers, magnets (with any attached ballast), ballast."""
+    s = outcome.scale
+    spec = setup.spec
+    ch, ms = outcome.charges, outcome.masses
+    magnets = np.linalg.norm(ms.moments, axis=1) > 0
+    M = spec.magnet.magnetisation or 1.0
+    fields = {k: tuple(v) for k, v in setup.conditions.fields.items()}
+    if "electric" in fields:
+        fields["electric"] = tuple(s * x for x in fields["electric"])
+    design = Design(
+        parameters=scaled_parameters(setup.params, s),
+        fields=fields,
+        charge_positions=setup.points[ch.sites],
+        charge_values=ch.charges,
+        charge_radii=np.full(len(ch.sites), setup.carrier_radius),
+        charge_masses=np.full(len(ch.sites), setup.carrier_mass),
+        dipole_positions=setup.points[ms.sites[magnets]],
+        dipole_moments=ms.moments[magnets],
+        dipole_volumes=np.linalg.norm(ms.moments[magnets], axis=1) / M,
+        dipole_masses=ms.site_masses[magnets],
+        mass_positions=setup.points[ms.sites[~magnets]],
+        mass_values=ms.site_masses[~magnets],
+        realises=list(setup.options.realise or setup.conditions.realise),
+        medium=spec.medium.to_dict(),
+        materials={
+            "carrier": spec.carrier.to_dict(),
+            "magnet": spec.magnet.to_dict(),
+            "ballast": spec.ballast.to_dict(),
+        },
+    )
+    design.extra["field_limits"] = dict(spec.field_limits)
+    design.extra["time_rate"] = s
+    return design
+
+
+def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, SourceResult]:
+    """The per-source outcomes in the form the report and summary read."""
+    ch, ms = outcome.charges, outcome.masses
+
+    def result(source: str, value: float, units: str, method: str, residual: float, count: int):
+        A, b = setup.systems[source]
+        return SourceResult(
+            source=source,
+            objective="l1",
+            objective_value=value,
+            objective_value_raw=value,
+            units=units,
+            solver="HiGHS+Clarabel" if source == "charges" else "Clarabel",
+            method=method,
+            status="optimal",
+            n_conditions=len(b),
+            rank=int(np.linalg.matrix_rank(A)) if A.size else 0,
+            n_candidates=len(setup.points),
+            n_elements=count,
+            residual_before=residual,
+            residual_after=residual,
+            seconds=outcome.seconds,
+        )
+
+    out = {
+        "charges": result(
+            "charges", float(np.sum(np.abs(ch.charges))), "C", ch.method, ch.residual, len(ch.sites)
+        ),
+        "dipoles": result(
+            "dipoles",
+            float(np.sum(np.linalg.norm(ms.moments, axis=1))),
+            "A m^2",
+            ms.method,
+            ms.residual_dipoles,
+            int(np.count_nonzero(np.linalg.norm(ms.moments, axis=1))),
+        ),
+        "masses": result(
+            "masses",
+            float(np.sum(ms.site_masses)),
+            "kg",
+            ms.method,
+            ms.residual_masses,
+            len(ms.sites),
+        ),
+    }
+    return {k: v for k, v in out.items() if len(setup.systems[k][1])}
+
+
+def design_physical(
+    setup: PhysicalSetup,
+    *,
+    scale: float = 1.0,
+    progress: Progress | None = None,
+    frontier: bool = True,
+) -> DesignResult:
+    """Design the physical body at time rate ``scale`` (1: the scene's parameters).
+
+    With ``frontier`` the largest rate within the limits is located too (to 5 %, from the
+    designed rate up; ``design.extra["frontier"]``), and the realism budget
+    (:func:`chargedesign.physical.realism.realism_budget`) is written into
+    ``design.extra["realism"]``.
+
+    A rate beyond what the limits allow raises :class:`~chargedesign.errors.InfeasibleError`
+    with the binding element and limit, the largest rate the body reaches, and what would
+    reach further.
+    """
+    from chargedesign.physical.limits import check_limits
+
+    t0 = time.perf_counter()
+    if progress is not None:
+        progress(
+            f"physical design: {len(setup.points)} candidate sites, medium {setup.spec.medium.name}"
+        )
+    try:
+        outcome = design_at_rate(setup, scale)
+    except PhysicalInfeasible as exc:
+        from chargedesign.design.frontier import beyond_frontier_message, find_frontier
+
+        if progress is not None:
+            progress("beyond the limits: locating the frontier ...")
+        frontier = find_frontier(setup)
+        raise InfeasibleError(
+            beyond_frontier_message(setup, exc.binding, frontier, scale)
+        ) from None
+    design = build_design(setup, outcome)
+    limits = check_limits(design)
+    if not limits.buildable:
+        raise SolverError("physical design failed its own limits check: " + limits.violations[0])
+    result = DesignResult(
+        design=design,
+        sources=source_results(setup, outcome),
+        candidates=setup.candidates,
+        options=setup.options,
+        conditions=setup.conditions,
+        timings={"physical": time.perf_counter() - t0},
+        notes=[],
+    )
+    design.extra.update(design_extras(result))
+    design.extra["buildability"] = limits.to_dict()
+    from chargedesign.physical.realism import realism_budget
+
+    design.extra["realism"] = realism_budget(design)
+    if frontier:
+        from chargedesign.design.frontier import find_frontier
+
+        if progress is not None:
+            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
+        front = find_frontier(setup, rtol=0.05, feasible_rate=scale)
+        design.extra["frontier"] = front.to_dict()
+        design.extra["frontier"]["n_max"] = front.s_max * setup.params.n
+    design.extra["physical_design"] = {
+        "carrier_radius_m": setup.carrier_radius,
+        "carrier_mass_kg": setup.carrier_mass,
+        "constraint_generation_rounds": outcome.charges.rounds,
+        "surface_cones": outcome.charges.cones,
+        "design_margin": DESIGN_MARGIN,
+    }
+    return result

@@ -1,0 +1,325 @@
+"""Every physical limit, recomputed independently from a design's written elements.
+
+The design stage (chargedesign.design.physical) keeps the limits as constraints; this module
+recomputes them from the numbers in design.json alone, with denser surface samples than the
+design used, so that "buildable" is never the optimiser's word for itself:
+
+- surface fields: at points on every carrier sphere, the Coulomb field of all charges (each
+  carrier's charge at its centre, exact for its own field) plus the largest external electric
+  field over all orientations at that radius, against ``safety * breakdown``;
+- parts do not overlap (carriers, magnets with any attached ballast, ballast spheres);
+- every magnet has at least the volume ``|sigma| / M`` and the mass of that volume; every
+  carrier at least the mass of its sphere or shell;
+- the apparatus' field limits hold over the body region.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.fields import AxisymmetricField
+from chargedesign.physical.materials import COULOMB
+
+#: relative slack for rounding in the comparisons (not a physical margin)
+ROUNDING_SLACK = 1e-9
+#: sample points per carrier in the independent check
+CHECK_SURFACE_SAMPLES = 1000
+#: levels of refinement around the largest sample (caps of 1.5, 0.375, ... sample spacings)
+REFINEMENTS = 4
+#: polar angles sampled for the largest field over orientations
+ANGLE_SAMPLES = 2001
+
+
+def fibonacci_directions(n: int) -> np.ndarray:
+    """``n`` nearly uniform unit vectors, shape (n, 3)."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    rho = np.sqrt(np.maximum(0.0, 1.0 - z * z))
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * i
+    return np.column_stack([rho * np.cos(phi), rho * np.sin(phi), z])
+
+
+def field_magnitude_max(legendre: tuple[float, ...], radii: np.ndarray) -> np.ndarray:
+    """Largest ``|grad Phi|`` over every orientation at each radius (m), shape like ``radii``.
+
+    An axisymmetric field at distance r takes every polar angle as the body turns, so the
+    largest magnitude over orientations is the largest over the polar angle on the sphere of
+    radius r. It is also the largest over the ball of radius r (``|grad Phi|^2`` is
+    subharmonic), hence nondecreasing in r.
+    """
+    radii = np.asarray(radii, dtype=float)
+    fld = AxisymmetricField(tuple(legendre))
+    if fld.is_zero or radii.size == 0:
+        return np.zeros_like(radii)
+    theta = np.linspace(0.0, np.pi, ANGLE_SAMPLES)
+    unit = np.column_stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)])
+    flat = radii.reshape(-1)
+    out = np.empty(len(flat))
+    for start in range(0, len(flat), 256):
+        r = flat[start : start + 256]
+        pts = (r[:, None, None] * unit[None, :, :]).reshape(-1, 3)
+        mag = np.linalg.norm(fld.gradient(pts), axis=1).reshape(len(r), -1)
+        # the grid misses the true maximum by O(h^2): add that bound (second differences)
+        top = mag.max(axis=1)
+        curvature = np.abs(np.diff(mag, 2, axis=1)).max(axis=1) if mag.shape[1] > 2 else 0.0
+        out[start : start + 256] = top + curvature
+    return out.reshape(radii.shape)
+
+
+class RadialBound:
+    """The largest field over orientations as a function of radius, on a grid.
+
+    ``field_magnitude_max`` is nondecreasing in the radius, so the value at the next grid
+    radius up bounds it from above; the grid is fine enough that this costs < 1e-3.
+    """
+
+    def __init__(self, legendre: tuple[float, ...], r_max: float, n: int = 1025) -> None:
+        self.zero = not any(legendre)
+        self.grid = np.linspace(0.0, max(r_max, 1e-300), n)
+        self.values = np.zeros(n) if self.zero else field_magnitude_max(legendre, self.grid)
+
+    def __call__(self, radii: np.ndarray) -> np.ndarray:
+        if self.zero:
+            return np.zeros_like(radii)
+        idx = np.minimum(np.searchsorted(self.grid, radii, side="left"), len(self.grid) - 1)
+        beyond = radii > self.grid[-1]
+        out = self.values[idx]
+        if np.any(beyond):
+            raise ValueError("RadialBound: radius beyond its grid")
+        return out
+
+
+def local_cap(direction: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
+    """``n`` unit vectors within ``angle`` (rad) of ``direction``, plus the direction itself."""
+    d = direction / np.linalg.norm(direction)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(d, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(d, u)
+    i = np.arange(n) + 0.5
+    r = angle * np.sqrt(i / n)  # uniform in the cap's area
+    phi = np.pi * (3.0 - np.sqrt(5.0)) * i
+    out = np.cos(r)[:, None] * d + np.sin(r)[:, None] * (
+        np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v
+    )
+    return np.vstack([d, out])
+
+
+def sample_spacing(samples: int) -> float:
+    """Typical angle between neighbouring Fibonacci directions, rad."""
+    return math.sqrt(4.0 * math.pi / samples)
+
+
+def coulomb_field(sources: np.ndarray, charges: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Field of point charges at ``points``, V/m, shape (p, 3) (blocks keep memory bounded)."""
+    out = np.zeros((len(points), 3))
+    block = max(1, 2_000_000 // max(1, len(sources)))
+    for start in range(0, len(points), block):
+        d = points[start : start + block, None, :] - sources[None, :, :]
+        r3 = np.einsum("pnk,pnk->pn", d, d) ** 1.5
+        out[start : start + block] = COULOMB * np.einsum("pnk,pn->pk", d, charges / r3)
+    return out
+
+
+def carrier_surface_fields(
+    positions: np.ndarray,
+    charges: np.ndarray,
+    radii: np.ndarray,
+    electric: tuple[float, ...],
+    samples: int = CHECK_SURFACE_SAMPLES,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The largest surface field of each carrier, V/m, and the point where it occurs.
+
+    Each carrier's own charge sits at its centre (its own field on the sphere is exact);
+    the external field is its largest over orientations at the sample's radius.
+
+    Returns
+    -------
+    fields : ndarray, shape (n,)
+    worst_points : ndarray, shape (n, 3)
+    """
+    n = len(charges)
+    dirs = fibonacci_directions(samples)
+    spacing = 1.5 * sample_spacing(samples)
+    r_top = float(np.max(np.linalg.norm(positions, axis=1) + radii, initial=0.0))
+    external = RadialBound(tuple(electric), r_top * (1 + 1e-9))
+    fields = np.zeros(n)
+    worst = np.zeros((n, 3))
+    for i in range(n):
+        pts = positions[i] + radii[i] * dirs
+        e = np.linalg.norm(coulomb_field(positions, charges, pts), axis=1)
+        e += external(np.linalg.norm(pts, axis=1))
+        # refine around the largest sample, in caps of shrinking size: the maximum between
+        # samples is found too
+        best_dir, best = dirs[int(np.argmax(e))], float(e.max())
+        angle = spacing
+        for _ in range(REFINEMENTS):
+            cap_dirs = local_cap(best_dir, angle)
+            cap = positions[i] + radii[i] * cap_dirs
+            e_cap = np.linalg.norm(coulomb_field(positions, charges, cap), axis=1)
+            e_cap += external(np.linalg.norm(cap, axis=1))
+            k = int(np.argmax(e_cap))
+            if e_cap[k] > best:
+                best, best_dir = float(e_cap[k]), cap_dirs[k]
+            angle /= 4.0
+        fields[i], worst[i] = best, positions[i] + radii[i] * best_dir
+    return fields, worst
+
+
+@dataclass
+class LimitsReport:
+    """The verdict on a design's physical limits.
+
+    Attributes
+    ----------
+    buildable : bool
+    surface_fields : ndarray, shape (n,)
+        Largest surface field of every carrier, V/m.
+    safe_field : float
+        ``safety * breakdown``, V/m.
+    violations : list[str]
+        One line per limit broken.
+    field_maxima : dict[str, float]
+        Largest |B|, |E|, |g| over the body region.
+    region_radius : float
+        Radius of the body region, m.
+    """
+
+    buildable: bool
+    surface_fields: np.ndarray
+    safe_field: float
+    breakdown: float
+    violations: list[str] = field(default_factory=list)
+    field_maxima: dict[str, float] = field(default_factory=dict)
+    region_radius: float = 0.0
+
+    @property
+    def worst_fraction_of_breakdown(self) -> float:
+        return float(np.max(self.surface_fields, initial=0.0)) / self.breakdown
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "buildable": self.buildable,
+            "largest_surface_field_V_per_m": float(np.max(self.surface_fields, initial=0.0)),
+            "largest_surface_field_fraction_of_breakdown": self.worst_fraction_of_breakdown,
+            "safe_field_V_per_m": self.safe_field,
+            "violations": list(self.violations),
+            "field_maxima": dict(self.field_maxima),
+            "region_radius_m": self.region_radius,
+        }
+
+
+def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Every part as a sphere: centres (p, 3) and radii (p,), m.
+
+    Carriers have their radius; a magnet the sphere of its volume plus any ballast attached
+    to it (mass beyond its own); ballast the sphere of its volume.
+    """
+    materials = design.materials
+    magnet_rho = materials["magnet"]["density_kg_per_m3"] if "magnet" in materials else 0.0
+    ballast_rho = materials["ballast"]["density_kg_per_m3"] if "ballast" in materials else np.inf
+    vol = design.magnet_volumes()
+    extra = np.maximum(design.magnet_masses() - magnet_rho * vol, 0.0) / ballast_rho
+    magnet_r = np.cbrt(3.0 * (vol + extra) / (4.0 * np.pi))
+    ballast_r = np.cbrt(3.0 * design.mass_values / ballast_rho / (4.0 * np.pi))
+    centres = np.concatenate(
+        [design.charge_positions, design.dipole_positions, design.mass_positions]
+    )
+    radii = np.concatenate([design.carrier_radii(), magnet_r, ballast_r])
+    return centres, radii
+
+
+def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsReport:
+    """Recompute every physical limit of ``design`` from its elements (see the module doc).
+
+    ``design`` is a :class:`~chargedesign.body.Design` with ``medium`` and ``materials``.
+    """
+    from scipy.spatial import cKDTree
+
+    medium = design.medium
+    safe = medium["safety"] * medium["breakdown_V_per_m"]
+    breakdown = medium["breakdown_V_per_m"]
+    violations: list[str] = []
+    radii = design.carrier_radii()
+    fields, _ = carrier_surface_fields(
+        design.charge_positions, design.charge_values, radii, design.field("electric"), samples
+    )
+    over = np.flatnonzero(fields > safe * (1 + ROUNDING_SLACK))
+    for i in over[:5]:
+        violations.append(
+            f"charge {i}: surface field {fields[i]:.3g} V/m is {fields[i] / safe:.3g}x the safe "
+            f"field of {medium['name']} ({safe:.3g} V/m)"
+        )
+    if len(over) > 5:
+        violations.append(f"... and {len(over) - 5} more carriers above the safe field")
+    point_carriers = np.flatnonzero((radii == 0) & (design.charge_values != 0))
+    if len(point_carriers):
+        violations.append(f"charge {point_carriers[0]}: a point charge has no carrier")
+    centres, part_r = part_radii(design)
+    if len(centres) > 1:
+        tree = cKDTree(centres)
+        pairs = tree.query_pairs(2.0 * float(part_r.max()), output_type="ndarray")
+        if len(pairs):
+            d = np.linalg.norm(centres[pairs[:, 0]] - centres[pairs[:, 1]], axis=1)
+            gap = d - part_r[pairs[:, 0]] - part_r[pairs[:, 1]]
+            bad = gap < -ROUNDING_SLACK * d
+            if np.any(bad):
+                i, j = pairs[np.flatnonzero(bad)[0]]
+                violations.append(f"parts {i} and {j} overlap ({-gap[bad][0]:.3g} m)")
+    magnet = design.materials.get("magnet")
+    if magnet is not None and len(design.dipole_moments):
+        need = (
+            np.linalg.norm(design.dipole_moments, axis=1) / magnet["remanent_magnetisation_A_per_m"]
+        )
+        vol = design.magnet_volumes()
+        small = np.flatnonzero(vol < need * (1 - ROUNDING_SLACK))
+        if len(small):
+            violations.append(
+                f"dipole {small[0]}: volume {vol[small[0]]:.3g} m^3 below |sigma|/M = "
+                f"{need[small[0]]:.3g} m^3"
+            )
+        light = np.flatnonzero(
+            design.magnet_masses() < magnet["density_kg_per_m3"] * vol * (1 - ROUNDING_SLACK)
+        )
+        if len(light):
+            violations.append(f"dipole {light[0]}: lighter than its volume of magnet material")
+    carrier = design.materials.get("carrier")
+    if carrier is not None and len(radii):
+        from chargedesign.physical.materials import Material
+
+        material = Material(
+            "carrier",
+            carrier["name"],
+            carrier["density_kg_per_m3"],
+            shell_thickness=carrier.get("shell_thickness_m"),
+        )
+        need_mass = np.array([material.sphere_mass(a) for a in radii])
+        light = np.flatnonzero(design.carrier_masses() < need_mass * (1 - ROUNDING_SLACK))
+        if len(light):
+            violations.append(f"charge {light[0]}: carrier lighter than its sphere of material")
+    region = float(np.max(np.linalg.norm(centres, axis=1) + part_r, initial=0.0))
+    maxima: dict[str, float] = {}
+    limits = design.extra.get("field_limits", {}) if isinstance(design.extra, dict) else {}
+    for kind in ("magnetic", "electric", "gravity"):
+        coeffs = design.field(kind)
+        if not coeffs:
+            continue
+        maxima[kind] = float(field_magnitude_max(coeffs, np.array([region]))[0])
+        if kind in limits and maxima[kind] > limits[kind] * (1 + ROUNDING_SLACK):
+            violations.append(
+                f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
+                f"max = {limits[kind]:.3g}"
+            )
+    return LimitsReport(
+        buildable=not violations,
+        surface_fields=fields,
+        safe_field=safe,
+        breakdown=breakdown,
+        violations=violations,
+        field_maxima=maxima,
+        region_radius=region,
+    )

@@ -1,0 +1,146 @@
+"""Media (breakdown fields) and materials (densities, magnetisations), with their sources.
+
+Every number here is a documented, deliberately conservative engineering value; the
+sources are quoted in ``SOURCES`` and in docs/buildable.md. A scene may always give its own
+value instead (``[medium] breakdown = ...``, ``density = ...``, ``magnetisation = ...``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+#: vacuum permittivity, F/m (CODATA 2018)
+EPSILON_0 = 8.8541878128e-12
+#: vacuum permeability, H/m (CODATA 2018)
+MU_0 = 1.25663706212e-6
+#: Coulomb constant 1 / (4 pi eps0), N m^2 / C^2
+COULOMB = 1.0 / (4.0 * 3.141592653589793 * EPSILON_0)
+#: speed of light, m/s
+LIGHT_SPEED = 299792458.0
+
+#: breakdown field of each named medium, V/m
+BREAKDOWN_V_PER_M = {
+    "air": 3.0e6,
+    "sf6": 8.9e6,
+    "oil": 1.0e7,
+    "vacuum": 1.0e7,
+}
+
+#: kinematic data of the gas media for the drag estimate: (density kg/m^3, viscosity Pa s)
+GAS_PROPERTIES = {
+    "air": (1.204, 1.81e-5),
+    "sf6": (6.17, 1.53e-5),
+    "oil": (880.0, 2.0e-2),
+    "vacuum": (0.0, 0.0),
+}
+
+#: carrier materials: density, kg/m^3
+CARRIER_DENSITY = {
+    "aluminium": 2700.0,
+    "titanium": 4506.0,
+    "copper": 8960.0,
+    "stainless": 8000.0,
+}
+
+#: magnet materials: (remanent magnetisation A/m, density kg/m^3)
+MAGNET_DATA = {
+    "ndfeb": (1.0e6, 7500.0),
+    "smco": (8.4e5, 8400.0),
+    "ferrite": (3.2e5, 4900.0),
+}
+
+#: ballast materials: density, kg/m^3
+BALLAST_DENSITY = {
+    "tungsten": 19250.0,
+    "lead": 11340.0,
+    "brass": 8500.0,
+    "steel": 7850.0,
+    "aluminium": 2700.0,
+}
+
+SOURCES = {
+    "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
+    "Raizer, Gas Discharge Physics, 1991, ch. 7); smaller gaps hold more",
+    "sf6": "8.9 MV/m at 1 atm (critical E/N of 361 Td; Christophorou & Olthoff, "
+    "J. Phys. Chem. Ref. Data 29, 267 (2000))",
+    "oil": "10 MV/m, conservative for new mineral transformer oil (IEC 60156: >= 30 kV "
+    "across 2.5 mm, i.e. 12 MV/m)",
+    "vacuum": "10 MV/m, the conservative end of 1e7-1e8 V/m for macroscopic mm gaps "
+    "(Latham, High Voltage Vacuum Insulation, 1995, ch. 1)",
+    "densities": "CRC Handbook of Chemistry and Physics (97th ed.), densities of the elements "
+    "and common alloys at 20 C",
+    "ndfeb": "sintered NdFeB grade N42: remanence 1.28-1.32 T, M = Br / mu0 >= 1.0e6 A/m, "
+    "density 7.4-7.6 g/cm^3 (manufacturers' data sheets, e.g. Arnold Magnetic Technologies)",
+    "smco": "Sm2Co17: remanence about 1.05 T (M = 8.4e5 A/m), density 8.4 g/cm^3",
+    "ferrite": "hard ferrite (strontium) grade C8: remanence about 0.4 T (M = 3.2e5 A/m), "
+    "density 4.9 g/cm^3",
+}
+
+
+@dataclass(frozen=True)
+class Medium:
+    """What surrounds the body.
+
+    Attributes
+    ----------
+    name : str
+        ``vacuum``, ``air``, ``sf6``, ``oil`` or ``custom``.
+    breakdown : float
+        Breakdown field, V/m.
+    safety : float
+        In (0, 1]: every surface field stays at or below ``safety * breakdown``.
+    """
+
+    name: str
+    breakdown: float
+    safety: float = 0.5
+
+    @property
+    def safe_field(self) -> float:
+        """The largest surface field a design may make, V/m."""
+        return self.safety * self.breakdown
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "breakdown_V_per_m": self.breakdown, "safety": self.safety}
+
+
+@dataclass(frozen=True)
+class Material:
+    """A material of a part: its density, and its remanent magnetisation for magnets.
+
+    Attributes
+    ----------
+    role : str
+        ``carrier``, ``magnet`` or ``ballast``.
+    name : str
+    density : float
+        kg/m^3.
+    magnetisation : float, optional
+        Remanent magnetisation, A/m (magnets only).
+    shell_thickness : float, optional
+        Wall thickness of a hollow carrier sphere, m (None: solid).
+    """
+
+    role: str
+    name: str
+    density: float
+    magnetisation: float | None = None
+    shell_thickness: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"name": self.name, "density_kg_per_m3": self.density}
+        if self.magnetisation is not None:
+            out["remanent_magnetisation_A_per_m"] = self.magnetisation
+        if self.shell_thickness is not None:
+            out["shell_thickness_m"] = self.shell_thickness
+        return out
+
+    def sphere_mass(self, radius: float) -> float:
+        """Mass of a sphere (or shell, with ``shell_thickness``) of this material, kg."""
+        outer = radius**3
+        if self.shell_thickness is None or self.shell_thickness >= radius:
+            inner = 0.0
+        else:
+            inner = (radius - self.shell_thickness) ** 3
+        return self.density * 4.0 / 3.0 * 3.141592653589793 * (outer - inner)

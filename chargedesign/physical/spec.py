@@ -1,0 +1,191 @@
+"""What a scene says about the physical body: medium, materials, part sizes, field limits.
+
+Scene tables (docs/buildable.md)::
+
+    [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety
+    [carriers]          material = "aluminium" (or density), shell_thickness (m; 0 = solid),
+                        samples (surface points per carrier in the design)
+    [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3)
+    [ballast]           material = "tungsten" (or density)
+    [body]              carrier_radius (m; default a quarter of the candidate spacing)
+    [fields.*]          max: the largest |B| (T) or |E| (V/m) the apparatus makes over the body
+
+A scene without ``[medium]`` is the mathematical case: point elements, no limits.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from chargedesign.errors import InputError
+from chargedesign.physical.materials import (
+    BALLAST_DENSITY,
+    BREAKDOWN_V_PER_M,
+    CARRIER_DENSITY,
+    MAGNET_DATA,
+    Material,
+    Medium,
+)
+from chargedesign.validation import as_finite_float, input_error
+
+#: default carrier radius as a fraction of the candidate spacing (carriers never touch)
+CARRIER_RADIUS_FRACTION = 0.25
+#: default wall of a hollow carrier, m (thin spun or drawn aluminium)
+DEFAULT_SHELL_THICKNESS = 1e-4
+#: surface sample points per carrier in the design (constraint generation adds the worst)
+DEFAULT_SURFACE_SAMPLES = 26
+PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
+_KEYS = {
+    "medium": ("name", "breakdown", "safety"),
+    "carriers": ("material", "density", "shell_thickness", "samples"),
+    "magnets": ("material", "density", "magnetisation"),
+    "ballast": ("material", "density"),
+}
+
+
+@dataclass(frozen=True)
+class PhysicalSpec:
+    """The physical side of a scene.
+
+    Attributes
+    ----------
+    medium : Medium
+    carrier : Material
+        With ``shell_thickness`` (m) or None (solid spheres).
+    magnet : Material
+        With ``magnetisation`` (A/m).
+    ballast : Material
+    carrier_radius : float or None
+        m; None: ``CARRIER_RADIUS_FRACTION`` of the candidate spacing.
+    field_limits : dict[str, float]
+        The largest |B| (T), |E| (V/m) or |g| the apparatus makes over the body region.
+    surface_samples : int
+        Sample points per carrier surface in the design.
+    """
+
+    medium: Medium
+    carrier: Material
+    magnet: Material
+    ballast: Material
+    carrier_radius: float | None = None
+    field_limits: dict[str, float] = field(default_factory=dict)
+    surface_samples: int = DEFAULT_SURFACE_SAMPLES
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "medium": self.medium.to_dict(),
+            "materials": {
+                "carrier": self.carrier.to_dict(),
+                "magnet": self.magnet.to_dict(),
+                "ballast": self.ballast.to_dict(),
+            },
+            "field_limits": dict(self.field_limits),
+        }
+
+
+def _check_keys(table: Mapping[str, Any], name: str) -> None:
+    if not isinstance(table, Mapping):
+        raise input_error(name, "a table", table)
+    unknown = sorted(set(table) - set(_KEYS[name]))
+    if unknown:
+        raise input_error(f"{name}.{unknown[0]}", "one of " + ", ".join(_KEYS[name]), unknown[0])
+
+
+def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], default: str):
+    """(name, density) of a table: a named material or a given density (kg/m^3)."""
+    name = table.get("material", default if "density" not in table else "custom")
+    if not isinstance(name, str):
+        raise input_error(f"{where}.material", "a material name", name)
+    if "density" in table:
+        return name, as_finite_float(table["density"], f"{where}.density", positive=True)
+    if name not in known:
+        raise input_error(f"{where}.material", "one of " + ", ".join(known), name)
+    return name, known[name]
+
+
+def medium_from_table(table: Mapping[str, Any]) -> Medium:
+    """``[medium]``: a named medium or a breakdown field, and the safety factor."""
+    _check_keys(table, "medium")
+    if "breakdown" in table:
+        breakdown = as_finite_float(table["breakdown"], "medium.breakdown", positive=True)
+        name = table.get("name", "custom")
+        if not isinstance(name, str):
+            raise input_error("medium.name", "a name", name)
+    else:
+        name = table.get("name")
+        if name not in BREAKDOWN_V_PER_M:
+            raise input_error(
+                "medium.name", "one of " + ", ".join(BREAKDOWN_V_PER_M) + " (or breakdown)", name
+            )
+        breakdown = BREAKDOWN_V_PER_M[name]
+    safety = as_finite_float(table.get("safety", 0.5), "medium.safety")
+    if not 0.0 < safety <= 1.0:
+        raise input_error("medium.safety", "a number in (0, 1]", safety)
+    return Medium(name=name, breakdown=breakdown, safety=safety)
+
+
+def spec_from_tables(
+    tables: Mapping[str, Any], field_limits: Mapping[str, float] | None = None
+) -> PhysicalSpec | None:
+    """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
+    if "medium" not in tables:
+        for name in ("carriers", "magnets", "ballast"):
+            if name in tables:
+                raise InputError(
+                    f"{name}: physical parts need a [medium] table (vacuum, air, sf6, oil)"
+                )
+        return None
+    medium = medium_from_table(tables["medium"])
+    carriers = tables.get("carriers", {})
+    _check_keys(carriers, "carriers")
+    name, density = _density(carriers, "carriers", CARRIER_DENSITY, "aluminium")
+    shell = as_finite_float(
+        carriers.get("shell_thickness", DEFAULT_SHELL_THICKNESS), "carriers.shell_thickness"
+    )
+    if shell < 0:
+        raise input_error("carriers.shell_thickness", "a thickness >= 0 (0: solid)", shell)
+    samples = carriers.get("samples", DEFAULT_SURFACE_SAMPLES)
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 6 <= samples <= 2000:
+        raise input_error("carriers.samples", "an integer in [6, 2000]", samples)
+    carrier = Material("carrier", name, density, shell_thickness=shell if shell > 0 else None)
+    magnets = tables.get("magnets", {})
+    _check_keys(magnets, "magnets")
+    mname = magnets.get(
+        "material", "ndfeb" if not {"density", "magnetisation"} & set(magnets) else "custom"
+    )
+    if not isinstance(mname, str):
+        raise input_error("magnets.material", "a material name", mname)
+    if mname in MAGNET_DATA:
+        m_mag, m_rho = MAGNET_DATA[mname]
+    elif not {"density", "magnetisation"} <= set(magnets):
+        raise input_error(
+            "magnets.material",
+            "one of " + ", ".join(MAGNET_DATA) + " (or magnetisation and density)",
+            mname,
+        )
+    else:
+        m_mag, m_rho = 0.0, 0.0
+    if "magnetisation" in magnets:
+        m_mag = as_finite_float(magnets["magnetisation"], "magnets.magnetisation", positive=True)
+    if "density" in magnets:
+        m_rho = as_finite_float(magnets["density"], "magnets.density", positive=True)
+    magnet = Material("magnet", mname, m_rho, magnetisation=m_mag)
+    ballast_table = tables.get("ballast", {})
+    _check_keys(ballast_table, "ballast")
+    bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
+    ballast = Material("ballast", bname, bdensity)
+    body = tables.get("body", {})
+    radius = None
+    if isinstance(body, Mapping) and "carrier_radius" in body:
+        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
+    return PhysicalSpec(
+        medium=medium,
+        carrier=carrier,
+        magnet=magnet,
+        ballast=ballast,
+        carrier_radius=radius,
+        field_limits=dict(field_limits or {}),
+        surface_samples=samples,
+    )
