@@ -564,7 +564,7 @@ def check_body_keys(table: Mapping[str, Any]) -> None:
     if not isinstance(table, Mapping):
         return
     shape = table.get("shape", "ball" if table else None)
-    if shape not in SHAPE_KEYS:
+    if not isinstance(shape, str) or shape not in SHAPE_KEYS:
         return
     # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
     allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
