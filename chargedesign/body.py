@@ -4,7 +4,6 @@ fields; read and written as ``design.json`` (format ``chargedesign.design/1``, s
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -188,14 +187,18 @@ def _materials(value: Any) -> dict[str, Any]:
 
 
 def read_design(path: str | os.PathLike[str]) -> Design:
-    """Read a design.json file; bad files raise InputError naming the file and the reason."""
+    """Read a design.json file; bad files raise InputError naming the file and the reason.
+
+    The file is read safely (chargedesign.readers: size, depth, no NaN/inf, no huge
+    integers) and every number the body is built from passes the input range
+    (docs/reliability.md); fields longer than ``MAX_FIELD_DEGREE`` are refused.
+    """
+    from chargedesign.readers import read_json_file
+    from chargedesign.validation import check_design_numbers
+
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such design file")
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: not valid JSON ({exc})") from exc
+    data = read_json_file(p, "design file")
+    check_design_numbers(data, str(p))
     return Design.from_dict(data, where=str(p))
 
 

@@ -27,7 +27,13 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.validation import as_array, as_finite_float, as_points, input_error
+from chargedesign.validation import (
+    as_array,
+    as_finite_float,
+    as_points,
+    check_input_array,
+    input_error,
+)
 
 SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")
 #: keys each shape accepts (besides ``shape``)
@@ -380,33 +386,45 @@ def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np
     """Points from a ``.npy`` (shape (n, 3)) or ``.csv`` / ``.txt`` file (x, y, z per line).
 
     Text files may be comma or whitespace separated, with ``#`` comments and one header
-    line of names (e.g. ``x,y,z``).
+    line of names (e.g. ``x,y,z``). The file is read safely (a regular file of at most
+    ``MAX_DATA_BYTES``, UTF-8); errors name the file, the line and the reason, never the
+    file's content (it may be any file). Bool, complex and object arrays are refused.
 
     Returns
     -------
     ndarray, shape (n, 3)
     """
+    import io
+
+    from chargedesign.readers import read_bytes, read_text
+
     p = Path(path)
-    if not p.is_file():
+    if not os.path.lexists(p):
         raise InputError(f"{name}: no such file {p}")
     suffix = p.suffix.lower()
-    try:
-        if suffix == ".npy":
-            data = np.load(p, allow_pickle=False)
-        elif suffix in (".csv", ".txt"):
-            data = _read_text_points(p)
-        else:
-            raise input_error(name, "a .csv, .txt or .npy file", str(p))
-    except (OSError, ValueError) as exc:
-        if isinstance(exc, InputError):
-            raise
-        raise InputError(f"{name}: cannot read points from {p} ({exc})") from exc
-    return as_points(data, f"{name} ({p.name})")
+    if suffix not in (".npy", ".csv", ".txt"):
+        raise input_error(name, "a .csv, .txt or .npy file", str(p))
+    if suffix == ".npy":
+        raw = read_bytes(p, f"point file ({name})")
+        try:
+            data = np.load(io.BytesIO(raw), allow_pickle=False)
+        except (OSError, ValueError, EOFError) as exc:
+            raise InputError(
+                f"{name}: {p} is not a readable .npy array ({type(exc).__name__})"
+            ) from exc
+        if not isinstance(data, np.ndarray) or data.dtype.kind not in "iuf":
+            kind = getattr(getattr(data, "dtype", None), "name", type(data).__name__)
+            raise InputError(f"{name}: {p} holds {kind} values; expected real numbers")
+    else:
+        data = _read_text_points(p, read_text(p, f"point file ({name})"))
+    pts = as_points(data, f"{name} ({p.name})")
+    check_input_array(pts, f"{name} ({p.name})")
+    return pts
 
 
-def _read_text_points(path: Path) -> np.ndarray:
+def _read_text_points(path: Path, text: str) -> np.ndarray:
     rows = []
-    for number, raw in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+    for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
@@ -416,9 +434,12 @@ def _read_text_points(path: Path) -> np.ndarray:
         except ValueError as exc:
             if not rows and all(not _is_number(f) for f in fields_):
                 continue  # a header line of names
-            raise InputError(f"{path}: line {number}: expected three numbers, got {raw!r}") from exc
+            # the line itself is not echoed: the file may be anything
+            raise InputError(f"{path}: line {number}: expected three numbers") from exc
         if len(rows[-1]) != 3:
-            raise InputError(f"{path}: line {number}: expected three numbers, got {raw!r}")
+            raise InputError(
+                f"{path}: line {number}: expected three numbers, got {len(rows[-1])} fields"
+            )
     return np.array(rows, dtype=np.float64).reshape(-1, 3)
 
 
@@ -458,13 +479,16 @@ def mesh_points(
     """
     import pyvista as pv
 
+    from chargedesign.readers import check_input_file
+
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{name}: no such file {p}")
+    check_input_file(p, f"mesh file ({name})")
     try:
         mesh = pv.read(p)
     except Exception as exc:  # pyvista/vtk raise many types for unreadable files
-        raise InputError(f"{name}: PyVista cannot read {p} ({exc})") from exc
+        raise InputError(f"{name}: PyVista cannot read {p} ({type(exc).__name__})") from exc
     if isinstance(mesh, pv.MultiBlock):
         mesh = mesh.combine()
     if mesh.n_points == 0:
@@ -532,6 +556,27 @@ def _bool(table: Mapping[str, Any], key: str, default: bool) -> bool:
     return value
 
 
+def check_body_keys(table: Mapping[str, Any]) -> None:
+    """Unknown keys of a ``[body]`` table (for its shape) are one-line errors naming the key.
+
+    A missing or unknown shape is left to :func:`candidates_from_table`.
+    """
+    if not isinstance(table, Mapping):
+        return
+    shape = table.get("shape", "ball" if table else None)
+    if not isinstance(shape, str) or shape not in SHAPE_KEYS:
+        return
+    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
+    allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise input_error(
+            f"body.{unknown[0]}",
+            f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
+            unknown[0],
+        )
+
+
 def candidates_from_table(
     table: Mapping[str, Any], *, base_dir: str | os.PathLike[str] | None = None
 ) -> CandidateSet:
@@ -564,15 +609,7 @@ def candidates_from_table(
         )
     if shape not in SHAPES:
         raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
-    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
-    allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise input_error(
-            f"body.{unknown[0]}",
-            f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
-            unknown[0],
-        )
+    check_body_keys(table)
     center = _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
     centred = not np.any(center)
     # lattices through O are symmetric already unless the box has |x| and |y| sizes that

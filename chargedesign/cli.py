@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 COMMANDS = {
     "verify": "certificate of the theorem and audit of the printed formulas",
@@ -45,7 +45,78 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that every ``finally`` (staging cleanup) runs."""
+
+
+#: seconds a SIGTERM waits for the Python-level unwinding before the process is ended (a
+#: solver or renderer in C code only returns to Python when it is done)
+SIGTERM_GRACE = 2.0
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
+def _install_sigterm() -> Callable[[], None]:
+    """SIGTERM unwinds the run (finally blocks remove staging); if the main thread sits in C
+    code, a watchdog woken through the signal wakeup fd removes the open staging folders and
+    ends the process after ``SIGTERM_GRACE`` seconds. Returns the function that uninstalls."""
+    import os
+    import signal
+    import threading
+    import time
+
+    read_fd, write_fd = os.pipe()
+    os.set_blocking(write_fd, False)
+    previous_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+
+    def watch() -> None:
+        while True:
+            try:
+                data = os.read(read_fd, 64)
+            except OSError:
+                return
+            if not data:
+                return
+            if signal.SIGTERM in data:
+                time.sleep(SIGTERM_GRACE)
+                from chargedesign.files import abandon_outputs
+
+                abandon_outputs()
+                print("chargedesign: terminated", file=sys.stderr, flush=True)
+                os._exit(143)
+
+    threading.Thread(target=watch, name="chargedesign-sigterm", daemon=True).start()
+
+    def uninstall() -> None:
+        signal.signal(signal.SIGTERM, previous)
+        signal.set_wakeup_fd(previous_fd)
+        os.close(write_fd)
+
+    return uninstall
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """The command line's numbers pass the same input range as files' (docs/reliability.md)."""
+    from chargedesign.validation import check_input_number
+
+    for name, value in vars(args).items():
+        if name.startswith("_"):
+            continue
+        option = "--" + name.replace("_", "-")
+        values = value if isinstance(value, (list, tuple)) else [value]
+        for item in values:
+            if isinstance(item, float):
+                check_input_number(item, option)
+            elif isinstance(item, int) and not isinstance(item, bool) and abs(item) > 10**18:
+                check_input_number(item, option, hi=1e18)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    import threading
+
     from chargedesign.errors import ChargeDesignError
 
     parser = build_parser()
@@ -53,11 +124,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    import warnings
+
+    uninstall = None
+    if threading.current_thread() is threading.main_thread():
+        uninstall = _install_sigterm()
+    previous_show = warnings.showwarning
+    warnings.showwarning = _one_line_warning(args.command)
     try:
+        check_arguments(args)
         return int(args._module.run(args) or 0)
     except ChargeDesignError as exc:
-        print(f"chargedesign {args.command}: error: {exc}", file=sys.stderr)
+        print(f"chargedesign {args.command}: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
+    except Terminated:
+        print(f"chargedesign {args.command}: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print(f"chargedesign {args.command}: interrupted", file=sys.stderr)
         return 130
@@ -68,6 +150,40 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except MemoryError:
+        print(
+            f"chargedesign {args.command}: error: out of memory (ask for less work: fewer "
+            "candidates, samples or orientations)",
+            file=sys.stderr,
+        )
+        return 2
+    except OSError as exc:
+        # every kind (permissions, read-only or full disks, /sys paths): one line naming the
+        # path and the reason
+        where = exc.filename if exc.filename is not None else "file system"
+        reason = exc.strerror or type(exc).__name__
+        if exc.filename2 is not None:
+            where = f"{where} -> {exc.filename2}"
+        print(f"chargedesign {args.command}: error: {where}: {reason}", file=sys.stderr)
+        return 2
+    finally:
+        warnings.showwarning = previous_show
+        if uninstall is not None:
+            uninstall()
+
+
+def _one_line_warning(command: str) -> Callable[..., None]:
+    """Library warnings (numpy overflow, ...) as one line each, without source lines."""
+
+    def show(message: Warning | str, category: type[Warning], *args: object, **kw: object) -> None:
+        text = _one_line(str(message))
+        print(f"chargedesign {command}: warning: {category.__name__}: {text}", file=sys.stderr)
+
+    return show
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split()) if "\n" in text or "\r" in text else text
 
 
 if __name__ == "__main__":  # pragma: no cover

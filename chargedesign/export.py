@@ -31,7 +31,8 @@ import numpy as np
 from chargedesign.body import DESIGN_FORMAT, Design, read_design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_path
-from chargedesign.validation import input_error
+from chargedesign.readers import MAX_DATA_BYTES, check_input_file, loads_json, read_text
+from chargedesign.validation import check_design_numbers, input_error
 
 FORMATS = ("json", "csv", "vtp")
 CSV_COLUMNS = ("kind", "x", "y", "z", "value", "mx", "my", "mz")
@@ -92,9 +93,7 @@ def import_design(path: str | os.PathLike[str]) -> Design:
     The round trip is exact: positions, values and moments come back bit-identical.
     """
     fmt = format_from_path(path)
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file")
+    p = check_input_file(path, "file", MAX_DATA_BYTES)
     if fmt == "json":
         return read_design(p)
     if fmt == "csv":
@@ -127,7 +126,9 @@ def _header(design: Design) -> dict[str, Any]:
 def _from_header(header: Any, elements: dict[str, dict[str, Any]], where: str) -> Design:
     if not isinstance(header, dict):
         raise input_error(where, "a JSON object describing the design", header)
-    return Design.from_dict({**header, **elements}, where=where)
+    data = {**header, **elements}
+    check_design_numbers(data, where)  # the same input range as design.json
+    return Design.from_dict(data, where=where)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -160,7 +161,7 @@ def _write_csv(design: Design, path: Path) -> None:
 
 
 def _read_csv(path: Path) -> Design:
-    text = path.read_text(encoding="utf-8")
+    text = read_text(path, "CSV export")
     header: dict[str, Any] = {}
     body_lines = []
     for number, line in enumerate(text.splitlines(), start=1):
@@ -171,13 +172,11 @@ def _read_csv(path: Path) -> Design:
         if not sep or not key.startswith("design."):
             continue  # descriptive lines (units, columns)
         key = key.removeprefix("design.")
-        try:
-            header[key] = json.loads(value)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"{path}: line {number}: header {key!r} is not JSON ({exc})") from exc
+        header[key] = loads_json(value, f"{path}: line {number}: header {key!r}")
     rows = list(csv.reader(body_lines))
     if not rows or tuple(rows[0]) != CSV_COLUMNS:
-        raise input_error(f"{path}: columns", ", ".join(CSV_COLUMNS), rows[0] if rows else "")
+        # the file's own text is not echoed (it may not be an export at all)
+        raise InputError(f"{path}: columns: expected {', '.join(CSV_COLUMNS)} (header row)")
     elements: dict[str, dict[str, list[Any]]] = {
         "charges": {"positions": [], "values": []},
         "masses": {"positions": [], "values": []},
@@ -196,11 +195,13 @@ def _read_csv(path: Path) -> Design:
                 block = elements["dipoles"]
                 block["moments"].append([float(v) for v in row[5:8]])
             else:
-                raise input_error(f"{path}: row {number}: kind", "charge, mass or dipole", kind)
+                raise InputError(f"{path}: row {number}: kind: expected charge, mass or dipole")
         except (ValueError, IndexError) as exc:
             if isinstance(exc, InputError):
                 raise
-            raise InputError(f"{path}: row {number}: not a valid element row ({exc})") from exc
+            raise InputError(
+                f"{path}: row {number}: not a valid element row ({type(exc).__name__})"
+            ) from exc
         block["positions"].append(position)
     if "parameters" not in header:
         raise InputError(f"{path}: header line '# design.parameters: {{...}}' missing")
@@ -285,9 +286,10 @@ def _read_vtp(path: Path) -> Design:
     if not isinstance(polydata, pv.PolyData) or VTP_FIELD not in polydata.field_data:
         raise InputError(f"{path}: not a chargedesign export (no field data {VTP_FIELD!r})")
     try:
-        header = json.loads(str(polydata.field_data[VTP_FIELD][0]))
-    except (json.JSONDecodeError, IndexError) as exc:
-        raise InputError(f"{path}: field data {VTP_FIELD!r} is not JSON ({exc})") from exc
+        text = str(polydata.field_data[VTP_FIELD][0])
+    except IndexError as exc:
+        raise InputError(f"{path}: field data {VTP_FIELD!r} is empty") from exc
+    header = loads_json(text, f"{path}: field data {VTP_FIELD!r}")
     elements: dict[str, dict[str, Any]] = {}
     if polydata.n_points:
         points = np.asarray(polydata.points, dtype=np.float64)

@@ -1,17 +1,135 @@
-"""Atomic output: a failed run never leaves a half-written file or directory behind."""
+"""Outputs all or nothing: a run's files change together or not at all (docs/reliability.md).
+
+- :func:`atomic_directory` stages a whole output folder beside it
+  (``.NAME.staging.PID.XXXX``) and swaps it in with one rename (an atomic exchange on Linux,
+  else rename-aside, rename-in): a reader sees the old folder or the new one, never a mix.
+  Files of the old folder that this run did not write are carried into the new one (hard
+  links), so they stay. While a folder is open, every atomic write into it (another
+  :func:`atomic_directory` or :func:`atomic_path` on the same folder, in this process) joins
+  the same staging folder: the folder still changes once.
+- :func:`atomic_path` writes one file through a temporary beside it (``.NAME.tmp.PID.XXXX``)
+  and one ``os.replace``.
+- Staging and temporary names carry the creating process id; every run removes those whose
+  process is gone (a run killed with SIGKILL) from the folder it writes into. SIGINT and
+  SIGTERM unwind normally (the CLI turns SIGTERM into an exception), so a run cleans its own
+  staging; the final swap runs with both signals deferred.
+- Paths: output goes only to regular files and real folders. A FIFO, device or socket is
+  refused, and so is a symbolic link (file or folder): chargedesign does not write through
+  links; give the real path.
+"""
 
 from __future__ import annotations
 
+import ctypes
 import json
 import os
+import re
+import secrets
 import shutil
+import signal
+import stat
 import tempfile
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 from chargedesign.errors import InputError
+
+#: names of this module's staging, temporary and set-aside entries: ``.NAME.KIND.PID.TOKEN...``
+_OWN_NAME = re.compile(r"^\.(?P<name>.+)\.(?P<kind>staging|tmp|old)\.(?P<pid>\d+)\.[^.]+")
+#: folders open for writing in this process: absolute target -> its staging folder
+_OPEN: dict[str, Path] = {}
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
+#: temporaries of open atomic_path blocks in this process
+_TEMPS: set[Path] = set()
+
+
+def abandon_outputs() -> None:
+    """Remove this process's open staging folders and temporaries (a forced exit follows).
+
+    Called by the CLI's SIGTERM watchdog when the main thread cannot unwind in time.
+    """
+    for staging in list(_OPEN.values()):
+        shutil.rmtree(staging, ignore_errors=True)
+    for tmp in list(_TEMPS):
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+
+
+# --------------------------------------------------------------------------- signals
+
+
+@contextmanager
+def deferred_signals() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM until the block ends (then they are delivered as usual).
+
+    Used around the final swap of outputs and around VTK rendering (an interrupt inside VTK's
+    C++ code may crash the interpreter). Only the main thread blocks; elsewhere a no-op.
+    """
+    if threading.current_thread() is not threading.main_thread() or not hasattr(
+        signal, "pthread_sigmask"
+    ):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _DEFERRED)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+# --------------------------------------------------------------------------- paths
+
+
+def _kind_of(mode: int) -> str:
+    if stat.S_ISFIFO(mode):
+        return "a FIFO"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "a special file"
+
+
+def check_output_path(path: str | os.PathLike[str], *, directory: bool = False) -> Path:
+    """Refuse to write onto anything but a regular file (or a real folder, ``directory=True``).
+
+    Raises InputError for a symbolic link (naming its target), a FIFO, device or socket, a
+    folder where a file goes or a file where a folder goes. A missing path is fine.
+    """
+    target = Path(path)
+    try:
+        info = os.lstat(target)
+    except FileNotFoundError:
+        return target
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
+    if stat.S_ISLNK(info.st_mode):
+        try:
+            link = os.readlink(target)
+        except OSError:  # pragma: no cover - raced away
+            link = "?"
+        raise InputError(
+            f"{target}: is a symbolic link (to {link}); chargedesign does not write through "
+            "links, give the real path"
+        )
+    if directory:
+        if stat.S_ISDIR(info.st_mode):
+            return target
+        if stat.S_ISREG(info.st_mode):
+            raise InputError(f"{target}: expected an output directory, it is a file")
+        raise InputError(f"{target}: expected an output directory, it is {_kind_of(info.st_mode)}")
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(f"{target}: cannot write a file, it is a directory")
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(
+            f"{target}: is {_kind_of(info.st_mode)}; chargedesign writes only regular files"
+        )
+    return target
 
 
 def _parent_dir(path: Path) -> Path:
@@ -23,23 +141,70 @@ def _parent_dir(path: Path) -> Path:
     return parent
 
 
-@contextmanager
-def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
-    """Yield a temporary path beside ``path``; it replaces ``path`` only if the block succeeds."""
-    target = Path(path)
-    if target.is_dir():
-        raise InputError(f"{target}: cannot write a file, it is a directory")
-    parent = _parent_dir(target)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix, dir=parent)
-    os.close(fd)
-    tmp_path = Path(tmp)
+def _oserror(target: Path, exc: OSError) -> InputError:
+    name = exc.filename if exc.filename is not None else target
+    return InputError(f"{name}: cannot write ({exc.strerror or exc})")
+
+
+# --------------------------------------------------------------------------- stale staging
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
     try:
-        yield tmp_path
-        os.chmod(tmp_path, _new_file_mode())  # mkstemp creates 0600; use the usual mode
-        os.replace(tmp_path, target)
-    finally:
-        if tmp_path.exists():
-            tmp_path.unlink()
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except OSError:  # pragma: no cover
+        return True
+    return True
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        try:
+            path.unlink()
+        except OSError:
+            pass
+
+
+def clean_stale(folder: str | os.PathLike[str]) -> list[Path]:
+    """Remove staging folders and temporaries in ``folder`` whose creating process is gone.
+
+    A set-aside old folder (``.NAME.old.PID.*``, a run killed between its two renames) is
+    put back when ``NAME`` is missing, so the folder holds its last complete outputs.
+    Returns the paths removed or restored.
+    """
+    base = Path(folder)
+    done: list[Path] = []
+    try:
+        entries = list(os.scandir(base))
+    except OSError:
+        return done
+    for entry in entries:
+        match = _OWN_NAME.match(entry.name)
+        if match is None or _pid_alive(int(match["pid"])):
+            continue
+        path = base / entry.name
+        original = base / match["name"]
+        if match["kind"] == "old" and not os.path.lexists(original):
+            try:
+                os.rename(path, original)
+                done.append(path)
+                continue
+            except OSError:
+                pass
+        _remove(path)
+        done.append(path)
+    return done
+
+
+# --------------------------------------------------------------------------- files
 
 
 def _new_file_mode() -> int:
@@ -47,6 +212,44 @@ def _new_file_mode() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return 0o666 & ~mask
+
+
+@contextmanager
+def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; it replaces ``path`` only if the block succeeds.
+
+    ``path`` must be a regular file or missing (see :func:`check_output_path`). Inside an
+    open :func:`atomic_directory` of its folder the file goes into that folder's staging.
+    """
+    target = Path(path)
+    staged = _OPEN.get(os.path.abspath(target.parent))
+    if staged is not None:
+        target = staged / target.name
+    check_output_path(target)
+    parent = _parent_dir(target)
+    clean_stale(parent)
+    try:
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.name}.tmp.{os.getpid()}.", suffix=target.suffix, dir=parent
+        )
+    except OSError as exc:
+        raise _oserror(target, exc) from exc
+    os.close(fd)
+    tmp_path = Path(tmp)
+    _TEMPS.add(tmp_path)
+    try:
+        yield tmp_path
+        try:
+            os.chmod(tmp_path, _new_file_mode())  # mkstemp creates 0600; use the usual mode
+            check_output_path(target)  # it may have become a link or FIFO meanwhile
+            with deferred_signals():
+                os.replace(tmp_path, target)
+        except OSError as exc:
+            raise _oserror(target, exc) from exc
+    finally:
+        _TEMPS.discard(tmp_path)
+        if os.path.lexists(tmp_path):
+            tmp_path.unlink()
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
@@ -58,22 +261,141 @@ def write_json_atomic(path: str | os.PathLike[str], data: Any) -> None:
     write_text_atomic(path, json.dumps(data, indent=2, allow_nan=False) + "\n")
 
 
-@contextmanager
-def atomic_directory(path: str | os.PathLike[str]) -> Iterator[Path]:
-    """Yield a fresh staging directory; on success its files replace those in ``path``.
+# --------------------------------------------------------------------------- folders
 
-    Files of ``path`` not written by this run are left alone; on failure nothing in ``path``
-    changes.
+
+def _link_or_copy(src: str, dst: str) -> None:
+    try:
+        os.link(src, dst, follow_symlinks=False)
+    except OSError:
+        shutil.copy2(src, dst, follow_symlinks=False)
+
+
+def _carry(src: Path, dst: Path) -> None:
+    """Put ``src`` (an entry of the old folder) at ``dst`` without touching ``src``."""
+    if src.is_symlink():
+        os.symlink(os.readlink(src), dst)
+    elif src.is_dir():
+        shutil.copytree(src, dst, symlinks=True, copy_function=_link_or_copy)
+    elif src.is_file():
+        _link_or_copy(str(src), str(dst))
+    # FIFOs, sockets, devices inside an output folder are not carried
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (Linux renameat2 RENAME_EXCHANGE); False if unsupported."""
+    if not os.uname().sysname == "Linux":
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    renameat2.argtypes = [
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_int,
+        ctypes.c_char_p,
+        ctypes.c_uint,
+    ]
+    result = renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
+    if result == 0:
+        return True
+    errno = ctypes.get_errno()
+    if errno in (22, 38, 95):  # EINVAL, ENOSYS, EOPNOTSUPP: the file system cannot exchange
+        return False
+    raise OSError(errno, os.strerror(errno), str(b))
+
+
+def _swap_in(staging: Path, target: Path) -> None:
+    """Make ``staging`` the folder ``target`` with one visible change; remove the old one."""
+    if not os.path.lexists(target):
+        os.rename(staging, target)
+        return
+    if _exchange(staging, target):
+        shutil.rmtree(staging, ignore_errors=True)  # it holds the old outputs now
+        return
+    aside = target.parent / f".{target.name}.old.{os.getpid()}.{secrets.token_hex(4)}"
+    os.rename(target, aside)
+    try:
+        os.rename(staging, target)
+    except OSError:
+        os.rename(aside, target)
+        raise
+    shutil.rmtree(aside, ignore_errors=True)
+
+
+def _inside_cwd(target: Path) -> bool:
+    try:
+        cwd = Path.cwd().resolve()
+        real = target.resolve()
+    except OSError:
+        return False
+    return cwd == real or real in cwd.parents
+
+
+@contextmanager
+def atomic_directory(path: str | os.PathLike[str], *, drop: Iterable[str] = ()) -> Iterator[Path]:
+    """Yield a staging folder; on success it becomes ``path`` in one swap (all or nothing).
+
+    Files of ``path`` not written by this run are carried over (hard links), except the
+    names in ``drop``; on failure or interruption nothing in ``path`` changes and the staging
+    folder is removed. A nested call on the same folder (in this process) joins the open one.
     """
     target = Path(path)
-    if target.exists() and not target.is_dir():
-        raise InputError(f"{target}: expected an output directory, it is a file")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.staging.", dir=target.parent))
+    key = os.path.abspath(target)
+    if key in _OPEN:
+        yield _OPEN[key]
+        return
+    check_output_path(target, directory=True)
+    if _inside_cwd(target) and target.exists():
+        raise InputError(
+            f"{target}: is the working directory (or holds it); give an output folder of its "
+            "own, e.g. --out out"
+        )
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _oserror(target.parent, exc) from exc
+    clean_stale(target.parent)
+    try:
+        staging = Path(
+            tempfile.mkdtemp(prefix=f".{target.name}.staging.{os.getpid()}.", dir=target.parent)
+        )
+    except OSError as exc:
+        raise _oserror(target, exc) from exc
+    _OPEN[key] = staging
+    dropped = set(drop)
     try:
         yield staging
-        target.mkdir(exist_ok=True)
-        for item in staging.iterdir():
-            os.replace(item, target / item.name)
+        del _OPEN[key]
+        try:
+            if target.is_dir():
+                os.chmod(staging, stat.S_IMODE(os.stat(target).st_mode))
+                for entry in target.iterdir():
+                    name = entry.name
+                    if name in dropped or _OWN_NAME.match(name):
+                        continue
+                    if not os.path.lexists(staging / name):
+                        _carry(entry, staging / name)
+            else:
+                os.chmod(staging, 0o777 & ~_umask())
+            check_output_path(target, directory=True)
+            with deferred_signals():
+                _swap_in(staging, target)
+        except OSError as exc:
+            raise _oserror(target, exc) from exc
     finally:
-        shutil.rmtree(staging, ignore_errors=True)
+        _OPEN.pop(key, None)
+        if os.path.lexists(staging):
+            shutil.rmtree(staging, ignore_errors=True)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

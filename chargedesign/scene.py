@@ -18,7 +18,14 @@ from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.physical.spec import PHYSICAL_TABLES
-from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.readers import read_toml_file
+from chargedesign.validation import (
+    as_array,
+    as_finite_float,
+    check_parameters_range,
+    check_tree,
+    input_error,
+)
 
 KNOWN_TABLES = (
     "parameters",
@@ -92,6 +99,11 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
         raise input_error(
             f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0]
         )
+    # the theorem's numbers: real, finite, inside the supported range (a file's other tables
+    # are checked as a whole by load_scene; a mapping's by the stages that own them)
+    check_tree({k: data[k] for k in ("parameters", "fields") if k in data}, "")
+    check_parameters_range(data.get("parameters"), "parameters")
+    check_output_dir(data.get("output"))
     params = Parameters.from_mapping(data.get("parameters", {}), "parameters")
     fields_in = data.get("fields", {})
     if not isinstance(fields_in, dict):
@@ -116,6 +128,22 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     )
 
 
+def check_output_dir(table: Any, where: str = "output.dir") -> None:
+    """A scene may write only below the working directory: ``[output] dir`` is a relative
+    path without ``..`` (``--out DIR`` on the command line may name any folder)."""
+    if not isinstance(table, dict) or "dir" not in table:
+        return
+    raw = table["dir"]
+    if not isinstance(raw, str) or not raw:
+        raise input_error(where, "a directory path", raw)
+    path = Path(raw)
+    if path.is_absolute() or raw.startswith("~") or ".." in path.parts or "\x00" in raw:
+        raise InputError(
+            f"{where}: a scene may write only inside the working directory (a relative path "
+            f"without '..'), got {raw!r}; give --out DIR on the command line to write elsewhere"
+        )
+
+
 def default_scene_text() -> str:
     return resources.files("chargedesign").joinpath("data/default_scene.toml").read_text("utf-8")
 
@@ -125,10 +153,7 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
     if path is None:
         return scene_from_dict(tomllib.loads(default_scene_text()), "<default>")
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such scene file")
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: not valid TOML ({exc})") from exc
+    data = read_toml_file(p, "scene file")
+    # every number of the file: real, finite, inside the supported range, named by its key
+    check_tree(data, "")
     return scene_from_dict(data, str(p))

@@ -2,22 +2,61 @@
 
 Every error uses the same template, ``"<name>: expected <what>, got <received>"``, raised as
 :class:`~chargedesign.errors.InputError` (a ``ValueError``).
+
+The number rules (docs/reliability.md):
+
+- a number is a real ``int`` or ``float`` (numpy's too): never a ``bool``, never complex,
+  never a string; arrays of bool or complex dtype are refused, not coerced;
+- it is finite; an integer too large for a float64 is refused by its size before any
+  conversion;
+- a number read from a file or the command line (:func:`check_input_number`,
+  :func:`check_input_array`, :func:`check_tree`) lies within the supported range:
+  ``|x| <= MAX_MAGNITUDE``, and a non-zero ``|x| >= MIN_MAGNITUDE`` where a tiny value would
+  be divided by; the theorem's parameters have the narrower ranges of
+  :data:`PARAMETER_RANGES`, the scales the stability suite (tests/test_stability.py) covers.
+  Outside it the one-line error states the range and suggests rescaling the units.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
 
 from chargedesign.errors import InputError
 
+#: largest magnitude of any number read from a file or the command line (SI units): beyond it
+#: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
+MAX_MAGNITUDE = 1e30
+#: smallest non-zero magnitude of a scene's numbers (sizes, field coefficients, options):
+#: below it reciprocals overflow. Element values in design.json have no lower bound.
+MIN_MAGNITUDE = 1e-30
+#: supported magnitudes of the theorem's parameters (zero is always allowed, C must be > 0):
+#: the stability suite covers each unit (mass, time, length, tesla) scaled by 1e-8..1e8, so
+#: C (kg m^2, mass) in 1e-8..1e8, n, K (1/s) in 1e-8..1e8, kappa, lambda, rho (1/s^2) in
+#: 1e-16..1e16; c and d (dimensionless) up to 1e8
+PARAMETER_RANGES: dict[str, tuple[float, float]] = {
+    "C": (1e-8, 1e8),
+    "c": (0.0, 1e8),
+    "d": (0.0, 1e8),
+    "n": (1e-8, 1e8),
+    "K": (1e-8, 1e8),
+    "kappa": (1e-16, 1e16),
+    "lambda": (1e-16, 1e16),
+    "rho": (1e-16, 1e16),
+}
+#: integers with more decimal digits than this are refused before conversion
+_MAX_INT_DIGITS = 40
+_RESCALE = "rescale the units (e.g. mm or g instead of m or kg) so the numbers fall inside it"
+
 
 def _describe(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**20:
+        return f"an integer of {len(str(abs(value)))} digits"
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
@@ -27,10 +66,26 @@ def input_error(name: str, expected: str, received: Any) -> InputError:
     return InputError(f"{name}: expected {expected}, got {_describe(received)}")
 
 
+def _is_real_scalar(value: Any) -> bool:
+    return not isinstance(value, (bool, np.bool_)) and isinstance(
+        value, (int, float, np.integer, np.floating)
+    )
+
+
+def _int_too_large(value: Any) -> bool:
+    """True for a Python/numpy integer whose size a float64 cannot hold (checked exactly)."""
+    return isinstance(value, (int, np.integer)) and abs(int(value)) > 2**1023
+
+
 def as_finite_float(value: Any, name: str, *, positive: bool = False) -> float:
-    """Return ``value`` as a finite float (bools and strings are rejected)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+    """Return ``value`` as a finite float (bools, complex numbers and strings are rejected).
+
+    Integers too large for a float64 are refused by their size, before any conversion.
+    """
+    if not _is_real_scalar(value):
         raise input_error(name, "a real number", value)
+    if _int_too_large(value):
+        raise input_error(name, "a finite number (this integer overflows a float)", value)
     out = float(value)
     if not math.isfinite(out):
         raise input_error(name, "a finite number", value)
@@ -39,15 +94,57 @@ def as_finite_float(value: Any, name: str, *, positive: bool = False) -> float:
     return out
 
 
+def _leaves(value: Any) -> Iterator[Any]:
+    """The scalars of nested lists/tuples, without recursion (arrays yield themselves)."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, (list, tuple)):
+            stack.extend(item)
+        else:
+            yield item
+
+
+def _check_array_types(value: Any, name: str, shape: Sequence[int | None]) -> None:
+    """Refuse bools, complex numbers, strings and huge integers before float conversion."""
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in "iuf":
+            return
+        if value.dtype.kind == "O":
+            for item in value.ravel():
+                _check_leaf(item, value, name, shape)
+            return
+        raise input_error(name, f"real numbers of shape {_shape_text(shape)}", value)
+    if isinstance(value, (list, tuple)):
+        for item in _leaves(value):
+            _check_leaf(item, value, name, shape)
+        return
+    _check_leaf(value, value, name, shape)
+
+
+def _check_leaf(item: Any, whole: Any, name: str, shape: Sequence[int | None]) -> None:
+    if isinstance(item, np.ndarray):
+        _check_array_types(item, name, shape)
+        return
+    if not _is_real_scalar(item):
+        raise input_error(
+            name, f"real numbers of shape {_shape_text(shape)} (not {type(item).__name__})", item
+        )
+    if _int_too_large(item):
+        raise input_error(name, "finite numbers (an integer overflows a float)", item)
+
+
 def as_array(value: Any, name: str, shape: Sequence[int | None]) -> np.ndarray:
     """Return ``value`` as a finite float64 array of the given shape (None: any length).
 
-    Shape and finiteness are checked before any reshaping, so a wrong input is named as
-    it was received.
+    Bool and complex inputs (arrays of those dtypes, or such items in lists) are refused
+    rather than coerced. Shape and finiteness are checked before any reshaping, so a wrong
+    input is named as it was received.
     """
+    _check_array_types(value, name, shape)
     try:
         arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise input_error(name, f"numbers of shape {_shape_text(shape)}", value) from exc
     if arr.ndim != len(shape) or any(
         s is not None and a != s for a, s in zip(arr.shape, shape, strict=True)
@@ -70,6 +167,132 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
     return as_array(value, name, (n,))
 
 
+def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:
+    """An integer in ``minimum..cap`` (a cap on work; ``option`` names how to raise it)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, "an integer", value)
+    if value < minimum:
+        raise input_error(name, f"an integer >= {minimum}", value)
+    if value > cap:
+        how = f" ({option} raises the cap)" if option else ""
+        raise input_error(name, f"an integer <= {cap}{how}", value)
+    return int(value)
+
+
+# --------------------------------------------------------------------- the input range
+
+
+def range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
+    low = f"0 or {lo:g} <= |x| <= {hi:g}" if lo > 0 else f"|x| <= {hi:g}"
+    return InputError(
+        f"{name}: {_describe(value)} is outside the supported range ({low}); {_RESCALE}"
+    )
+
+
+def check_input_number(
+    value: Any, name: str, *, lo: float = MIN_MAGNITUDE, hi: float = MAX_MAGNITUDE
+) -> float:
+    """A number read from a file or the command line: real, finite and within the range.
+
+    ``lo`` is the smallest non-zero magnitude (0: no lower bound), ``hi`` the largest.
+    """
+    out = as_finite_float(value, name)
+    size = abs(out)
+    if size > hi or (0.0 < size < lo):
+        raise range_error(name, value, lo, hi)
+    return out
+
+
+def check_input_array(
+    value: Any, name: str, *, lo: float = 0.0, hi: float = MAX_MAGNITUDE
+) -> np.ndarray:
+    """Numbers (any shape) read from a file: real, finite and within the range."""
+    ndim = value.ndim if isinstance(value, np.ndarray) else _list_ndim(value)
+    arr = as_array(value, name, (None,) * ndim)
+    size = np.abs(arr)
+    bad = (size > hi) | ((size > 0) & (size < lo))
+    if np.any(bad):
+        index = np.unravel_index(int(np.argmax(bad)), arr.shape)
+        where = "".join(f"[{i}]" for i in index)
+        raise range_error(f"{name}{where}", float(arr[index]), lo, hi)
+    return arr
+
+
+def _list_ndim(value: Any) -> int:
+    ndim = 0
+    while isinstance(value, (list, tuple)):
+        ndim += 1
+        if not value:
+            break
+        value = value[0]
+    return ndim
+
+
+def check_parameters_range(data: Any, where: str = "parameters") -> None:
+    """The theorem's parameters (a mapping as read from a file) within :data:`PARAMETER_RANGES`.
+
+    Unknown names and wrong types are left to :class:`~chargedesign.params.Parameters`.
+    """
+    if not isinstance(data, dict):
+        return
+    for key, value in data.items():
+        bounds = PARAMETER_RANGES.get(key)
+        if bounds is None or not _is_real_scalar(value):
+            continue
+        check_input_number(value, f"{where}.{key}", lo=bounds[0], hi=bounds[1])
+
+
+def check_tree(
+    data: Any,
+    where: str,
+    *,
+    lo: float = MIN_MAGNITUDE,
+    hi: float = MAX_MAGNITUDE,
+    skip: Sequence[str] = (),
+) -> None:
+    """Every number in a parsed TOML/JSON tree: real (no bool where a number is), finite, in range.
+
+    Walks without recursion; ``skip`` names top-level keys left alone (free-form extras).
+    Bools and strings are left to the keys' own validators (they may be flags or names).
+    """
+    stack: list[tuple[str, Any]] = [(where, data)]
+    while stack:
+        path, item = stack.pop()
+        if isinstance(item, dict):
+            for key, value in item.items():
+                if path == where and key in skip:
+                    continue
+                stack.append((f"{path}.{key}" if path else str(key), value))
+        elif isinstance(item, (list, tuple)):
+            if not _check_number_list(item, path, lo, hi):
+                for i, value in enumerate(item):
+                    stack.append((f"{path}[{i}]", value))
+        elif isinstance(item, np.ndarray):
+            check_input_array(item, path, lo=lo, hi=hi)
+        elif _is_real_scalar(item):
+            check_input_number(item, path, lo=lo, hi=hi)
+        elif isinstance(item, complex):
+            raise input_error(path, "a real number", item)
+
+
+def _check_number_list(item: Any, path: str, lo: float, hi: float) -> bool:
+    """Range-check a (nested) list of plain numbers at once; False when it holds other things."""
+    leaves = list(_leaves(item))
+    if not all(
+        type(x) in (int, float) or (_is_real_scalar(x) and not isinstance(x, np.ndarray))
+        for x in leaves
+    ):
+        return False
+    if any(type(x) is int and abs(x) > 2**1023 for x in leaves):
+        return False  # named item by item
+    arr = np.asarray(leaves, dtype=np.float64)
+    size = np.abs(arr)
+    bad = ~np.isfinite(arr) | (size > hi) | ((size > 0) & (size < lo))
+    if np.any(bad):
+        return False  # named item by item
+    return True
+
+
 def _shape_text(shape: Sequence[int | None]) -> str:
     return (
         "("
@@ -77,3 +300,62 @@ def _shape_text(shape: Sequence[int | None]) -> str:
         + ("," if len(shape) == 1 else "")
         + ")"
     )
+
+
+def check_field_degree(coefficients: Any, name: str) -> None:
+    """Refuse a ``legendre`` list longer than :data:`~chargedesign.limits.MAX_FIELD_DEGREE`."""
+    from chargedesign.limits import MAX_FIELD_DEGREE
+
+    if isinstance(coefficients, (list, tuple, np.ndarray)) and len(coefficients) > MAX_FIELD_DEGREE:
+        raise InputError(
+            f"{name}: expected a field of degree <= {MAX_FIELD_DEGREE}, got "
+            f"{len(coefficients)} coefficients"
+        )
+
+
+def check_design_numbers(data: Any, where: str) -> None:
+    """The numbers of a design.json mapping, before the body is built from them.
+
+    Parameters within :data:`PARAMETER_RANGES`; field coefficients, element arrays and
+    continuous bodies real, finite and ``|x| <= MAX_MAGNITUDE`` (no lower bound: a solver's
+    tiny weights are legitimate); fields of degree <= ``MAX_FIELD_DEGREE``; ``realises`` a
+    list of names. Extra keys are free-form (the JSON reader already refused NaN and inf).
+    """
+    if not isinstance(data, dict):
+        return
+    check_parameters_range(data.get("parameters"), f"{where}.parameters")
+    fields = data.get("fields")
+    if isinstance(fields, dict):
+        for kind, spec in fields.items():
+            if isinstance(spec, dict) and "legendre" in spec:
+                name = f"{where}.fields.{kind}.legendre"
+                check_field_degree(spec["legendre"], name)
+                check_tree(spec["legendre"], name, lo=0.0)
+    realises = data.get("realises", [])
+    if not isinstance(realises, list) or not all(isinstance(r, str) for r in realises):
+        raise input_error(f"{where}.realises", "a list of names (mu, V, inertia)", realises)
+    for block in ("charges", "masses", "dipoles", "continuous"):
+        if block in data:
+            check_tree(data[block], f"{where}.{block}", lo=0.0)
+
+
+def check_run_caps(
+    t_end: float, *, step: float | None = None, max_step: float | None = None, samples: int = 2
+) -> None:
+    """Caps on a simulation's requested work (chargedesign.limits): output samples and the
+    fixed-step count ``t_end / step`` (also ``t_end / max_step``); one-line errors."""
+    from chargedesign.limits import MAX_SAMPLES, MAX_STEPS
+
+    if isinstance(samples, (int, np.integer)) and samples > MAX_SAMPLES:
+        raise input_error(
+            "simulation.samples", f"at most {MAX_SAMPLES} output samples (--samples)", samples
+        )
+    for name, value in (("step", step), ("max_step", max_step)):
+        if value is None or not math.isfinite(value) or value <= 0:
+            continue
+        if t_end / value > MAX_STEPS:
+            raise InputError(
+                f"simulation.{name}: t_end / {name} = {t_end / value:.3g} steps exceeds the cap "
+                f"of {MAX_STEPS:g} (chargedesign.limits.MAX_STEPS); give a larger {name} or a "
+                "shorter t_end"
+            )

@@ -36,7 +36,8 @@ import pyvista as pv
 
 from chargedesign.body import Design
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path
+from chargedesign.files import atomic_path, deferred_signals
+from chargedesign.limits import MAX_SHOW_ELEMENTS
 from chargedesign.quadrature import ContinuousBody
 from chargedesign.validation import as_array, as_finite_float, input_error
 
@@ -443,6 +444,16 @@ def _place_camera(plotter: pv.Plotter, size: float, direction: Sequence[float]) 
 _VIEW_DIRECTION = (1.0, -1.6, 0.9)
 
 
+def check_element_count(design: Design, max_elements: int | None = None) -> None:
+    """Refuse to draw more elements than the cap (each is a mesh; 200 000 take minutes)."""
+    cap = MAX_SHOW_ELEMENTS if max_elements is None else int(max_elements)
+    if design.n_elements > cap:
+        raise InputError(
+            f"the design has {design.n_elements} elements, more than the {cap} drawn at most "
+            "(chargedesign.limits.MAX_SHOW_ELEMENTS; show --max-elements N raises it)"
+        )
+
+
 def _use_offscreen_backend() -> None:
     """Without a display on Linux, ask VTK for its EGL window (avoids a failed X attempt)."""
     if (
@@ -510,6 +521,7 @@ def render_image(
     region: Mapping[str, Any] | None = None,
     gamma: Any = None,
     window_size: tuple[int, int] = (1024, 768),
+    max_elements: int | None = None,
 ) -> np.ndarray:
     """Render the body off screen and return the picture.
 
@@ -523,19 +535,27 @@ def render_image(
         Space ``Z`` (field axis) in body axes; normalised; default ``(0, 0, 1)``.
     window_size : (int, int)
         Width and height in pixels.
+    max_elements : int, optional
+        Cap on the elements drawn (default ``MAX_SHOW_ELEMENTS``); more is an InputError.
 
     Returns
     -------
     ndarray, shape (height, width, 3), uint8
     """
     size = _window_size(window_size)
+    check_element_count(design, max_elements)
     if region is None:
         region = region_from_design(design)
-    plotter = _body_plotter(design, region=region, gamma=gamma, window_size=size, off_screen=True)
-    try:
-        image = plotter.screenshot(None, return_img=True)
-    finally:
-        plotter.close()
+    # SIGINT/SIGTERM inside VTK's C++ rendering can crash the interpreter: hold them until the
+    # picture is done and the plotter closed, then deliver them (KeyboardInterrupt as usual)
+    with deferred_signals():
+        plotter = _body_plotter(
+            design, region=region, gamma=gamma, window_size=size, off_screen=True
+        )
+        try:
+            image = plotter.screenshot(None, return_img=True)
+        finally:
+            plotter.close()
     return np.asarray(image)[:, :, :3]
 
 
@@ -546,6 +566,7 @@ def render_screenshot(
     region: dict | None = None,
     window_size: tuple[int, int] = (1024, 768),
     gamma: Any = None,
+    max_elements: int | None = None,
 ) -> Path:
     """Render the body off screen and write a PNG atomically.
 
@@ -561,6 +582,8 @@ def render_screenshot(
         Image width and height in pixels.
     gamma : array_like, shape (3,), optional
         Field axis (space ``Z``) in body axes, default ``(0, 0, 1)``.
+    max_elements : int, optional
+        Cap on the elements drawn (default ``MAX_SHOW_ELEMENTS``).
 
     Returns
     -------
@@ -569,10 +592,15 @@ def render_screenshot(
     """
     import imageio.v3 as iio
 
+    from chargedesign.files import check_output_path
+
     target = Path(path)
     if target.suffix.lower() != ".png":
         raise input_error("screenshot path", "a file name ending in .png", str(target))
-    image = render_image(design, region=region, gamma=gamma, window_size=window_size)
+    check_output_path(target)  # before rendering: no FIFO, device, socket or link
+    image = render_image(
+        design, region=region, gamma=gamma, window_size=window_size, max_elements=max_elements
+    )
     _write_file(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
     return target
 
@@ -583,6 +611,7 @@ def show_interactive(
     region: Mapping[str, Any] | None = None,
     gamma: Any = None,
     window_size: tuple[int, int] = (1024, 768),
+    max_elements: int | None = None,
 ) -> None:
     """Open an interactive window (blocks until it is closed).
 
@@ -598,6 +627,7 @@ def show_interactive(
             "render to a file with --screenshot PNG"
         )
     size = _window_size(window_size)
+    check_element_count(design, max_elements)
     if region is None:
         region = region_from_design(design)
     plotter = _body_plotter(design, region=region, gamma=gamma, window_size=size, off_screen=False)
@@ -677,6 +707,7 @@ def animate(
     region: Mapping[str, Any] | None = None,
     window_size: tuple[int, int] = (480, 360),
     progress: Callable[[int, int], None] | None = None,
+    max_elements: int | None = None,
 ) -> Path:
     """Animate a simulated motion: the body turning in the space frame, written as GIF (or MP4).
 
@@ -728,6 +759,10 @@ def animate(
         raise input_error("frames", f"an integer in 1..{_MAX_FRAMES}", frames)
     fps = as_finite_float(fps, "fps", positive=True)
     size = _window_size(window_size)
+    check_element_count(design, max_elements)
+    from chargedesign.files import check_output_path
+
+    check_output_path(target)
     traj = load_trajectory(trajectory)
     if region is None:
         region = region_from_design(design)
@@ -757,8 +792,27 @@ def _render_frames(
     progress: Callable[[int, int], None] | None,
 ) -> np.ndarray:
     _use_offscreen_backend()
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    with deferred_signals():
+        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     try:
+        return _frames(plotter, design, traj, times, rotations, region, progress)
+    finally:
+        with deferred_signals():
+            plotter.close()
+
+
+def _frames(
+    plotter: pv.Plotter,
+    design: Design,
+    traj: Trajectory,
+    times: np.ndarray,
+    rotations: np.ndarray,
+    region: Mapping[str, Any] | None,
+    progress: Callable[[int, int], None] | None,
+) -> np.ndarray:
+    # each frame is drawn with SIGINT/SIGTERM held (VTK may crash if interrupted mid-render);
+    # an interrupt is delivered between frames
+    with deferred_signals():
         plotter.background_color = pv.Color(BACKGROUND_COLOR)
         body, legend = _add_body(plotter, design, region, sphere_resolution=12, scalar_bar=False)
         size = body.size
@@ -779,8 +833,9 @@ def _render_frames(
         trace_t = traj.t[::stride]
         trace = traj.rotation[::stride, :, 2] * body.axis_tips[2, 2]
 
-        images = []
-        for i, (time, rotation) in enumerate(zip(times, rotations, strict=True)):
+    images = []
+    for i, (time, rotation) in enumerate(zip(times, rotations, strict=True)):
+        with deferred_signals():
             matrix = np.eye(4)
             matrix[:3, :3] = rotation
             for actor in body.actors:
@@ -802,10 +857,8 @@ def _render_frames(
             )
             plotter.reset_camera_clipping_range()
             images.append(np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3])
-            if progress is not None:
-                progress(i + 1, len(times))
-    finally:
-        plotter.close()
+        if progress is not None:
+            progress(i + 1, len(times))
     return np.stack(images)
 
 

@@ -15,6 +15,7 @@ from chargedesign.cli import main
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody
+from chargedesign.validation import MAX_MAGNITUDE
 
 FORMATS = ("json", "csv", "vtp")
 
@@ -93,8 +94,8 @@ def test_empty_design_round_trips(tmp_path, fmt):
     assert_identical(design, export.import_design(path))
 
 
-# any float64 whose square does not overflow (VTK writes vector norms into .vtp files)
-finite = st.floats(min_value=-1e150, max_value=1e150, allow_nan=False, width=64)
+# any float64 a file may hold: the input range of docs/reliability.md (|x| <= 1e30)
+finite = st.floats(min_value=-MAX_MAGNITUDE, max_value=MAX_MAGNITUDE, allow_nan=False, width=64)
 
 
 @settings(max_examples=30, deadline=None)
@@ -126,7 +127,9 @@ def test_vtp_refuses_vectors_whose_norm_overflows(tmp_path):
         export.export_design(design, "vtp", tmp_path / "big.vtp")
     assert not any(tmp_path.iterdir())
     json_path = export.export_design(design, "json", tmp_path / "big.json")
-    assert_identical(design, export.import_design(json_path))
+    # a file's numbers must lie in the supported range: reading it back names the range
+    with pytest.raises(InputError, match=r"dipoles\.moments.*outside the supported range"):
+        export.import_design(json_path)
 
 
 def test_csv_rows_read_by_the_csv_module(tmp_path):

@@ -32,7 +32,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=DEFAULT_ORIENTATIONS,
         metavar="N",
-        help=f"orientations gamma sampled (default {DEFAULT_ORIENTATIONS})",
+        help=f"orientations gamma sampled (default {DEFAULT_ORIENTATIONS}, at most "
+        "chargedesign.limits.MAX_ORIENTATIONS = 1000000)",
     )
     parser.add_argument(
         "--seed", type=int, default=0, help="seed of the random orientations (default 0)"
@@ -67,8 +68,12 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(
             f"--precision: expected one of {', '.join(PRECISIONS)}, got {args.precision!r}"
         )
-    if args.orientations < 1:
-        raise InputError(f"--orientations: expected an integer >= 1, got {args.orientations}")
+    from chargedesign.limits import MAX_ORIENTATIONS, MAX_QUADRATURE_ORDER
+    from chargedesign.validation import as_count
+
+    as_count(args.orientations, "--orientations", minimum=1, cap=MAX_ORIENTATIONS)
+    if args.quadrature_order is not None:
+        as_count(args.quadrature_order, "--quadrature-order", minimum=0, cap=MAX_QUADRATURE_ORDER)
     design = read_design(args.design)
     report = check_design(
         design,

@@ -7,6 +7,13 @@ staged in a temporary directory and moved in only when all three exist, so a fai
 A failed picture fails the command (exit 2, one line naming the cause): the three files
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
+
+Before anything is written the body is checked forward (``chargedesign.check``, the check
+command's default tolerance and orientations): a body that misses the theorem is refused
+with one line naming the cause (too large a requested total, a scale outside the supported
+range, or insufficient forward accuracy), and DIR stays as it was (docs/reliability.md).
+The ``linf`` objective (a dense problem) is capped at ``MAX_LINF_CANDIDATES`` candidates;
+``--max-linf-candidates`` raises the cap.
 """
 
 from __future__ import annotations
@@ -57,6 +64,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-picture", action="store_true", help="do not render design.png")
     parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    parser.add_argument(
+        "--max-linf-candidates",
+        type=int,
+        default=None,
+        metavar="N",
+        help="raise the cap on candidates of an linf design (default "
+        "chargedesign.limits.MAX_LINF_CANDIDATES)",
+    )
+    parser.add_argument(
+        "--no-forward-check",
+        action="store_true",
+        help="write the body without the forward check (not recommended: it may miss the theorem)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -74,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"design: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
+    _check_linf_cap(scene, args)
     result = design_from_scene(
         scene,
         progress=progress,
@@ -86,6 +107,9 @@ def run(args: argparse.Namespace) -> int:
         polish=False if args.no_polish else None,
     )
     design = result.design
+    if not args.no_forward_check:
+        progress("forward check ...")
+        _forward_check(design, args)
     if not design.continuous:
         from chargedesign.tolerance import tolerance_report
 
@@ -99,7 +123,10 @@ def run(args: argparse.Namespace) -> int:
         + ([] if args.no_picture else ["design.png"])
     )
     report = render_report(design, picture=None if args.no_picture else "design.png")
-    with atomic_directory(out) as stage:
+    stale = out / "design.png"
+    had_picture = args.no_picture and stale.exists()
+    # a picture of an earlier body beside this design.json would mislead: --no-picture drops it
+    with atomic_directory(out, drop=("design.png",) if args.no_picture else ()) as stage:
         write_design(design, stage / "design.json")
         write_text_atomic(stage / "report.md", report)
         if physical:
@@ -109,10 +136,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.no_picture:
             progress("rendering design.png ...")
             _render(design, stage / "design.png", result.candidates.region)
-    stale = out / "design.png"
-    if args.no_picture and stale.exists():
-        # a picture of an earlier body beside this design.json would mislead
-        stale.unlink()
+    if had_picture:
         progress(f"removed the earlier {stale} (--no-picture)")
     progress(f"wrote {', '.join(str(out / f) for f in files)}")
     if args.json:
@@ -128,6 +152,74 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(render_report(design), end="")
     return 0
+
+
+def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
+    """Refuse an linf design on more candidates than the cap (before the dense solve)."""
+    from pathlib import Path
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.errors import InputError
+    from chargedesign.limits import MAX_LINF_CANDIDATES
+
+    objective = args.objective or scene.table("design").get("objective")  # type: ignore[attr-defined]
+    if objective != "linf":
+        return
+    cap = MAX_LINF_CANDIDATES if args.max_linf_candidates is None else args.max_linf_candidates
+    source = scene.source  # type: ignore[attr-defined]
+    base_dir = Path(source).parent if source not in ("<default>", "<dict>") else None
+    n = len(candidates_from_table(scene.table("body"), base_dir=base_dir))  # type: ignore[attr-defined]
+    if n > cap:
+        raise InputError(
+            f"the linf objective on {n} candidates exceeds the cap of {cap} (a dense "
+            "problem: time and memory grow fast); use l1, a coarser [body] spacing, or "
+            "--max-linf-candidates N"
+        )
+
+
+def _forward_check(design: object, args: argparse.Namespace) -> None:
+    """The check command's verdict on the body before it is written; one line if it fails."""
+    import numpy as np
+
+    from chargedesign.check import check_design
+    from chargedesign.validation import MAX_MAGNITUDE
+
+    values = [
+        np.abs(getattr(design, name))
+        for name in ("charge_values", "mass_values", "dipole_moments", "charge_positions")
+    ]
+    largest = max((float(v.max()) for v in values if v.size), default=0.0)
+    if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
+        raise ChargeDesignError(
+            f"the body needs an element of size {largest:.3g} (SI), outside the "
+            f"supported range |x| <= {MAX_MAGNITUDE:g}: the requested total is too large or "
+            "the scale is outside the range; rescale the units. Nothing was written"
+        )
+    try:
+        report = check_design(design)  # type: ignore[arg-type]
+    except ChargeDesignError as exc:
+        raise ChargeDesignError(
+            f"the forward check of the body failed ({exc}); nothing was written"
+        ) from exc
+    if report.passed:
+        return
+    errors = ", ".join(
+        f"{name} {q.rel_err:.2g}"
+        for name, q in report.quantities.items()
+        if name in report.failures
+    )
+    causes = []
+    if args.total_charge is not None or args.total_mass is not None:
+        causes.append("the requested total (--total-charge/--total-mass) may be too large")
+    causes.append(
+        "the scale may be outside the supported range or the forward accuracy "
+        "insufficient (rescale the units toward 1)"
+    )
+    raise ChargeDesignError(
+        f"the body misses the theorem in the forward check ({errors or 'failed'} "
+        f"against tol {report.tol:g}); {'; '.join(causes)}. Nothing was written "
+        "(--no-forward-check writes it anyway)"
+    )
 
 
 def _render(design: object, path: object, region: object) -> None:

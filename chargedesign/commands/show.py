@@ -42,6 +42,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", metavar="GIF", help="animation file (.gif; .mp4 with ffmpeg)")
     parser.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
     parser.add_argument("--fps", type=float, default=15.0, help="frames per second (default 15)")
+    parser.add_argument(
+        "--max-elements",
+        type=int,
+        default=None,
+        metavar="N",
+        help="draw designs of up to N elements (default chargedesign.limits.MAX_SHOW_ELEMENTS "
+        "= 20000)",
+    )
     parser.add_argument("--json", action="store_true", help="print the written files as JSON")
 
 
@@ -53,8 +61,15 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign import viz
     from chargedesign.export import load_any_design
+    from chargedesign.files import check_output_path
 
+    if args.max_elements is not None and args.max_elements < 1:
+        raise InputError(f"--max-elements: expected an integer >= 1, got {args.max_elements}")
+    for target in (args.screenshot, args.out):
+        if target is not None:
+            check_output_path(target)  # before reading and rendering
     design = load_any_design(args.design)
+    viz.check_element_count(design, args.max_elements)
     region = None
     if args.scene is not None:
         from chargedesign.scene import load_scene
@@ -66,7 +81,12 @@ def run(args: argparse.Namespace) -> int:
     if args.screenshot is not None:
         size = tuple(args.size) if args.size else (1024, 768)
         path = viz.render_screenshot(
-            design, args.screenshot, region=region, window_size=size, gamma=args.gamma
+            design,
+            args.screenshot,
+            region=region,
+            window_size=size,
+            gamma=args.gamma,
+            max_elements=args.max_elements,
         )
         written["screenshot"] = str(path)
     if args.animate is not None:
@@ -79,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
             fps=args.fps,
             region=region,
             window_size=size,
+            max_elements=args.max_elements,
         )
         written["animation"] = str(path)
     if not written:
@@ -87,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
             region=region,
             gamma=args.gamma,
             window_size=tuple(args.size) if args.size else (1024, 768),
+            max_elements=args.max_elements,
         )
         return 0
     if args.json:

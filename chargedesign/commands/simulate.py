@@ -122,10 +122,12 @@ class _ProgressBar:
 
 
 def run(args: argparse.Namespace) -> int:
+    import contextlib
     import json
     from pathlib import Path
 
     from chargedesign.body import write_design
+    from chargedesign.files import atomic_directory
     from chargedesign.simulate import setup_from_source, simulate
 
     if args.t_end is not None and not args.t_end > 0:
@@ -177,25 +179,26 @@ def run(args: argparse.Namespace) -> int:
             )
     # the scene's [output] options; --out wins over its dir
     out_dir = args.out or setup.output.dir
-    if out_dir and result.body and result.body.get("designed_from_scene"):
-        # the body designed here, beside its motion (chargedesign show/check read it)
-        design_path = Path(out_dir) / "design.json"
-        if Path(out_dir).exists() and not Path(out_dir).is_dir():
-            raise ChargeDesignError(f"{out_dir}: expected an output directory, it is a file")
-        Path(out_dir).mkdir(parents=True, exist_ok=True)
-        write_design(setup.design, design_path)
-        result.body["design_file"] = str(design_path)
-    summary = result.summary()
-    if out_dir:
-        files = result.write(
-            out_dir,
-            trajectory=setup.output.trajectory,
-            plot=setup.output.plot,
-            poincare_axes=setup.output.poincare_axes,
-        )
-        summary["files"] = [str(f) for f in files]
-        if "design_file" in summary.get("body", {}):
-            summary["files"].append(summary["body"]["design_file"])
+    # one transaction: design.json and the run's files change together (chargedesign.files)
+    with atomic_directory(out_dir) if out_dir else contextlib.nullcontext():
+        if out_dir and result.body and result.body.get("designed_from_scene"):
+            # the body designed here, beside its motion (chargedesign show/check read it)
+            design_path = Path(out_dir) / "design.json"
+            if Path(out_dir).exists() and not Path(out_dir).is_dir():
+                raise ChargeDesignError(f"{out_dir}: expected an output directory, it is a file")
+            write_design(setup.design, design_path)
+            result.body["design_file"] = str(design_path)
+        summary = result.summary()
+        if out_dir:
+            files = result.write(
+                out_dir,
+                trajectory=setup.output.trajectory,
+                plot=setup.output.plot,
+                poincare_axes=setup.output.poincare_axes,
+            )
+            summary["files"] = [str(f) for f in files]
+            if "design_file" in summary.get("body", {}):
+                summary["files"].append(summary["body"]["design_file"])
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
         return 0

@@ -877,6 +877,11 @@ def integrate_with_options(
     progress: Any = None,
 ) -> Any:
     """:func:`integrate` with the scene's integration options (one place for both entries)."""
+    from chargedesign.validation import check_run_caps  # caps on requested work (issue 15)
+
+    check_run_caps(
+        options.t_end, step=options.step, max_step=options.max_step, samples=options.samples
+    )
     return integrate(
         system,
         y0,

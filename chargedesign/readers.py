@@ -1,0 +1,159 @@
+"""Safe readers for every file a user hands in: TOML scenes, JSON designs, text and binary data.
+
+Each reader refuses, with one line naming the file and the reason (never its content):
+
+- anything but a regular file (a FIFO would block, a device never ends);
+- TOML's ``nan`` and ``inf`` are left to the caller's check by key (``check_tree``);
+- a file larger than its limit (:data:`MAX_TOML_BYTES`, :data:`MAX_JSON_BYTES`,
+  :data:`MAX_DATA_BYTES`);
+- bytes that are not UTF-8, and every :class:`OSError` (permissions, I/O errors);
+- JSON nested deeper than :data:`MAX_DEPTH` (measured before parsing, so no RecursionError),
+  integers with more than 40 digits (refused before conversion), and the non-standard
+  constants ``NaN``, ``Infinity`` and ``-Infinity`` or numbers that overflow to them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import stat
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+
+#: largest scene (TOML) file read, bytes
+MAX_TOML_BYTES = 4 * 1024 * 1024
+#: largest design.json read, bytes (250 000 elements take about 40 MB)
+MAX_JSON_BYTES = 128 * 1024 * 1024
+#: largest data file (CSV/NPY points, exports) read, bytes
+MAX_DATA_BYTES = 128 * 1024 * 1024
+#: deepest nesting of arrays and objects in a JSON or TOML file
+MAX_DEPTH = 64
+_MAX_INT_DIGITS = 40
+
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+_TOML_SKIP = re.compile(
+    r'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|#[^\n]*'
+)
+
+
+def _mib(n: int) -> str:
+    return f"{n / (1024 * 1024):g} MiB"
+
+
+def check_input_file(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES) -> Path:
+    """``path`` is a regular file of at most ``limit`` bytes (for readers that open it
+    themselves, e.g. VTK); one-line InputError otherwise."""
+    p = Path(path)
+    try:
+        info = os.stat(p)
+    except FileNotFoundError as exc:
+        raise InputError(f"{p}: no such {what}") from exc
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read the {what} ({exc.strerror or exc})") from exc
+    if stat.S_ISDIR(info.st_mode):
+        raise InputError(f"{p}: is a directory, expected a {what}")
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(f"{p}: not a regular file (a FIFO, device or socket), expected a {what}")
+    if info.st_size > limit:
+        raise InputError(f"{p}: the {what} is larger than the {_mib(limit)} limit")
+    return p
+
+
+def read_bytes(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES) -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes; one-line InputError otherwise."""
+    p = check_input_file(path, what, limit)
+    try:
+        with open(p, "rb") as handle:
+            data = handle.read(limit + 1)
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read the {what} ({exc.strerror or exc})") from exc
+    if len(data) > limit:
+        raise InputError(f"{p}: the {what} is larger than the {_mib(limit)} limit")
+    return data
+
+
+def read_text(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES) -> str:
+    """A UTF-8 text file (see :func:`read_bytes`); undecodable bytes give one line, no content."""
+    data = read_bytes(path, what, limit)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{Path(path)}: the {what} is not UTF-8 text (byte {exc.start})") from exc
+
+
+def _depth(text: str, pattern: re.Pattern[str]) -> int:
+    """Deepest nesting of brackets and braces outside strings (and comments)."""
+    stripped = pattern.sub("", text).encode("utf-8", "replace")
+    codes = np.frombuffer(stripped, dtype=np.uint8)
+    steps = np.zeros(len(codes), dtype=np.int64)
+    steps[(codes == ord("[")) | (codes == ord("{"))] = 1
+    steps[(codes == ord("]")) | (codes == ord("}"))] = -1
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def loads_json(text: str, where: str) -> Any:
+    """Parse JSON text with the limits of this module (depth, integer size, no NaN/inf)."""
+    if _depth(text, _JSON_STRING) > MAX_DEPTH:
+        raise InputError(f"{where}: JSON nested deeper than {MAX_DEPTH} levels")
+
+    def parse_int(s: str) -> int:
+        if len(s.lstrip("-")) > _MAX_INT_DIGITS:
+            raise InputError(
+                f"{where}: an integer of {len(s.lstrip('-'))} digits (at most "
+                f"{_MAX_INT_DIGITS} are read)"
+            )
+        return int(s)
+
+    def parse_float(s: str) -> float:
+        value = float(s)
+        if value in (float("inf"), float("-inf")):
+            raise InputError(f"{where}: a number overflows a float ({s[:30]})")
+        return value
+
+    def parse_constant(s: str) -> Any:
+        raise InputError(f"{where}: {s} is not a JSON number (use finite numbers)")
+
+    try:
+        return json.loads(
+            text, parse_int=parse_int, parse_float=parse_float, parse_constant=parse_constant
+        )
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{where}: not valid JSON ({exc})") from exc
+    except RecursionError as exc:  # pragma: no cover - the depth check comes first
+        raise InputError(f"{where}: JSON nested too deeply") from exc
+
+
+def read_json_file(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
+    """A JSON file, read safely (size, depth, integer size, no NaN/inf); one-line errors."""
+    text = read_text(path, what, MAX_JSON_BYTES)
+    return loads_json(text, str(Path(path)))
+
+
+def loads_toml(text: str, where: str) -> dict[str, Any]:
+    """Parse TOML text with a nesting limit (numbers are checked by key afterwards:
+    :func:`chargedesign.validation.check_tree`)."""
+    if _depth(text, _TOML_SKIP) > MAX_DEPTH:
+        raise InputError(f"{where}: TOML nested deeper than {MAX_DEPTH} levels")
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{where}: not valid TOML ({exc})") from exc
+    except RecursionError as exc:
+        raise InputError(f"{where}: TOML nested too deeply") from exc
+    except ValueError as exc:  # e.g. an integer beyond Python's digit limit
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(f"{where}: not valid TOML ({type(exc).__name__})") from exc
+
+
+def read_toml_file(path: str | os.PathLike[str], what: str = "scene file") -> dict[str, Any]:
+    """A TOML file, read safely (size, encoding, depth, finite numbers); one-line errors."""
+    text = read_text(path, what, MAX_TOML_BYTES)
+    return loads_toml(text, str(Path(path)))

@@ -1,0 +1,133 @@
+"""Kill tests (issue 15): SIGINT and SIGKILL at random moments of ``design`` and ``simulate``.
+
+After an interrupted run the output folder holds the complete outputs of one run (the old
+ones or the new ones, never a mix) and, after the next run, no staging folder or temporary
+is left. The moments are drawn from a seeded generator over the run's measured duration.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from conftest import SMALL_SCENE, snapshot
+
+CLI = [sys.executable, "-m", "chargedesign"]
+OLD = SMALL_SCENE
+NEW = SMALL_SCENE.replace("C = 1.0", "C = 2.0")
+
+
+def _run(argv: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [*CLI, *argv], cwd=cwd, capture_output=True, text=True, timeout=600, check=False
+    )
+
+
+def _argv(command: str, scene: str, out: str) -> list[str]:
+    if command == "design":
+        return ["design", scene, "--out", out, "--quiet"]
+    return ["simulate", scene, "--out", out, "--t-end", "5", "--samples", "40", "--no-progress"]
+
+
+def _fingerprint(folder: Path, command: str) -> dict[str, str]:
+    """What identifies a run's outputs: the content of every file but the timing records."""
+    out = {}
+    for name, digest in snapshot(folder).items():
+        if name in ("design.json", "summary.json", "report.md"):
+            continue  # timings differ between runs; compared by their parameter C below
+        out[name] = digest
+    return out
+
+
+def _parameter_c(folder: Path) -> set[float]:
+    """C of every record in the folder (one value when the files come from one run)."""
+    values = set()
+    design = folder / "design.json"
+    if design.exists():
+        values.add(json.loads(design.read_text())["parameters"]["C"])
+    summary = folder / "summary.json"
+    if summary.exists():
+        values.add(json.loads(summary.read_text())["parameters"]["C"])
+    report = folder / "report.md"
+    if report.exists():
+        values.add(2.0 if "Parameters: C = 2," in report.read_text() else 1.0)
+    return values
+
+
+def _leftovers(folder: Path) -> list[str]:
+    return [
+        p.name
+        for p in folder.iterdir()
+        if ".staging." in p.name or ".tmp." in p.name or ".old." in p.name
+    ]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("command", ["design", "simulate"])
+def test_interrupted_runs_leave_one_run_s_outputs(tmp_path: Path, command: str) -> None:
+    (tmp_path / "old.toml").write_text(OLD)
+    (tmp_path / "new.toml").write_text(NEW)
+    # the first run of old.toml: its outputs are the old reference, its time the duration
+    out = tmp_path / "out"
+    start = time.monotonic()
+    first = _run(_argv(command, "old.toml", out.name), tmp_path)
+    duration = time.monotonic() - start
+    assert first.returncode == 0, first.stderr
+    refs = {"old": _fingerprint(out, command)}
+    rng = random.Random(15)
+    for trial, sig in enumerate((signal.SIGINT, signal.SIGKILL)):
+        # out holds the complete outputs of old.toml; a run of new.toml is interrupted
+        process = subprocess.Popen(
+            [*CLI, *_argv(command, "new.toml", out.name)],
+            cwd=tmp_path,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        moment = rng.uniform(0.4, 1.0) * duration
+        try:
+            process.wait(timeout=moment)
+        except subprocess.TimeoutExpired:
+            process.send_signal(sig)
+        _, err = process.communicate(timeout=600)
+        assert "Traceback" not in err, err
+        assert process.returncode != -signal.SIGSEGV, err
+        values = _parameter_c(out)
+        assert len(values) == 1, (trial, sig, values)  # never a mix of old and new
+        which = "new" if values == {2.0} else "old"
+        if which not in refs:  # the run finished before the signal: a complete new run
+            assert _run(_argv(command, "new.toml", "ref_new"), tmp_path).returncode == 0
+            refs["new"] = _fingerprint(tmp_path / "ref_new", command)
+        assert _fingerprint(out, command) == refs[which], (trial, sig, which)
+        # the next run (old.toml again) cleans whatever a killed run left beside its folder
+        assert _run(_argv(command, "old.toml", out.name), tmp_path).returncode == 0
+        assert _leftovers(tmp_path) == [], _leftovers(tmp_path)
+        assert _parameter_c(out) == {1.0}
+
+
+def test_sigterm_cleans_the_staging_folder(tmp_path: Path) -> None:
+    """SIGTERM unwinds like SIGINT: no staging left, no traceback, exit 143."""
+    (tmp_path / "scene.toml").write_text(SMALL_SCENE)
+    process = subprocess.Popen(
+        [*CLI, "design", "scene.toml", "--out", "out", "--quiet"],
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(2.0)
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=600)
+    assert "Traceback" not in err, err
+    assert process.returncode in (0, 143), (process.returncode, err)
+    assert _leftovers(tmp_path) == []
+    if process.returncode == 143:
+        assert not (tmp_path / "out").exists()
+    assert os.listdir(tmp_path)
