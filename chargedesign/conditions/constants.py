@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from chargedesign.body import FIELD_KINDS as FIELD_KINDS  # the contract's field kinds
+from chargedesign.limits import MAX_FIELD_DEGREE as MAX_FIELD_DEGREE  # the one cap
 
 SOURCES = ("charges", "dipoles", "masses")
 #: what a design may claim to realise (CONTRACT.md)
@@ -12,7 +13,6 @@ SOURCE_FIELD = {"charges": "electric", "dipoles": "magnetic", "masses": "gravity
 #: letter of the Legendre coefficients of each field kind in messages (``fields.electric e4``)
 FIELD_LETTERS = {"magnetic": "f", "electric": "e", "gravity": "g"}
 #: highest accepted degree of any field (the exact derivation grows like degree^3)
-MAX_FIELD_DEGREE = 6
 #: V (lambda = rho = 0) is a quartic in gamma: spherical-harmonic degrees 0..4
 V_DEGREE = 4
 #: magnetic field derived when a scene gives none: a1 = 1 T and f2 = 1 T/m (a2 = 0.5 T/m)
