@@ -71,10 +71,18 @@ from chargedesign.errors import SolverError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
 from chargedesign.quadrature import ContinuousBody, quadrature_points
+from chargedesign.results import Result
 from chargedesign.validation import as_finite_float, input_error
+from chargedesign.vocabulary import (
+    CHECK_DEFAULT_ORIENTATIONS,
+    CHECK_DEFAULT_TOL,
+    CHECK_EFFECTS,
+    FIELD_NAMES,
+    PRECISIONS,
+)
 
-DEFAULT_TOL = 1e-9
-DEFAULT_ORIENTATIONS = 1000
+DEFAULT_TOL = CHECK_DEFAULT_TOL
+DEFAULT_ORIENTATIONS = CHECK_DEFAULT_ORIENTATIONS
 #: per-effect route agreement (informational) is skipped for an effect whose rounding floor
 #: (its torque against its gross contributions) exceeds this (it would only measure rounding)
 NOISE_FLOOR = 1e-6
@@ -88,7 +96,6 @@ ROUNDING_FACTOR = 32.0
 #: ``precision="auto"`` evaluates in double-double when a claimed quantity's double-precision
 #: rounding floor exceeds this fraction of the tolerance
 ACCURATE_FRACTION = 0.01
-PRECISIONS = ("auto", "double", "double-double")
 #: element-orientation pairs per vectorised block (its temporaries then stay in the L2 cache)
 BLOCK_PAIRS = 1 << 13
 
@@ -100,14 +107,7 @@ QUANTITY_CLAIMS = {
     "potential_torque": "V",
     "inertia": "inertia",
 }
-FIELD_NAMES = ("magnetic", "electric", "gravity")
-EFFECTS = {
-    "lorentz": ("charges", "magnetic"),
-    "electric": ("charges", "electric"),
-    "gravity": ("masses", "gravity"),
-    "magnetization": ("dipoles", "magnetic"),
-    "inertia": ("masses", None),
-}
+EFFECTS = CHECK_EFFECTS
 
 
 # --------------------------------------------------------------------------- results
@@ -236,8 +236,8 @@ class EffectResult:
         }
 
 
-@dataclass
-class CheckReport:
+@dataclass(repr=False)
+class CheckReport(Result):
     """Everything :func:`check_design` found.
 
     Attributes
@@ -315,6 +315,29 @@ class CheckReport:
         out["quadrature"] = list(self.quadrature)
         out["notes"] = list(self.notes)
         return out
+
+    # result protocol (chargedesign.results): text, compact repr, notebook table
+    def _summary(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"passed": self.passed, "tol": self.tol}
+        for name in ("mu", "V", "inertia"):
+            q = self.quantities.get(name)
+            if q is not None:
+                out[f"{name}_rel_err"] = q.rel_err
+        out["precision"] = self.precision
+        out["n_orientations"] = self.n_orientations
+        if self.failures:
+            out["failures"] = list(self.failures)
+        return out
+
+    def _text(self) -> str:
+        return "\n".join(summary_lines(self))
+
+    def _html_rows(self) -> dict[str, Any]:
+        rows = self._summary()
+        for name, q in self.quantities.items():
+            rows[name] = f"{q.status}: rel_err {q.rel_err:.3e} (floor {q.rounding_floor:.1e})"
+        rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
+        return rows
 
 
 # ----------------------------------------------------------------------- orientations
@@ -1752,3 +1775,8 @@ __all__ = [
     "sample_orientations",
     "summary_lines",
 ]
+
+# `chargedesign.check(...)` calls chargedesign.api.check (the module stays a module)
+from chargedesign.api import make_callable  # noqa: E402
+
+make_callable(__name__)

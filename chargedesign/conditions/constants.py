@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-from chargedesign.body import FIELD_KINDS as FIELD_KINDS  # the contract's field kinds
+# the contract's field kinds, sources and realisable targets (declared in chargedesign.vocabulary)
+from chargedesign.vocabulary import FIELD_KINDS as FIELD_KINDS
+from chargedesign.vocabulary import REALISABLE as REALISABLE
+from chargedesign.vocabulary import SOURCES as SOURCES
 
-SOURCES = ("charges", "dipoles", "masses")
-#: what a design may claim to realise (CONTRACT.md)
-REALISABLE = ("mu", "V", "inertia")
 #: the field each source feels (its potential energy) in V
 SOURCE_FIELD = {"charges": "electric", "dipoles": "magnetic", "masses": "gravity"}
 #: letter of the Legendre coefficients of each field kind in messages (``fields.electric e4``)
