@@ -22,6 +22,7 @@ COMMANDS = {
     "show": "3-D view of a design (PyVista)",
     "export": "export a design's geometry (json, csv, vtp)",
     "bench": "what accuracy costs in time",
+    "schema": "print the JSON Schema of design.json or of scene files",
 }
 
 

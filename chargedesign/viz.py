@@ -514,7 +514,7 @@ def design_blocks(
     return out
 
 
-def _combined(block: pv.MultiBlock) -> pv.PolyData:
+def _combined(block: Any) -> pv.PolyData:
     """One mesh of a block's meshes (their point data kept)."""
     return pv.merge([block[i] for i in range(len(block))])
 
@@ -543,7 +543,7 @@ def _add_body(
     scalar_bar: bool,
 ) -> tuple[_BodyActors, list[list[Any]]]:
     """Draw the body-fixed parts (from :func:`design_blocks`); return actors and legend."""
-    blocks = design_blocks(design, region=region, resolution=sphere_resolution)
+    blocks: Any = design_blocks(design, region=region, resolution=sphere_resolution)
     size = float(blocks.field_data["size (m)"][0])
     actors: list[Any] = []
     legend: list[list[Any]] = []
@@ -629,9 +629,9 @@ def _add_body(
     return _BodyActors(actors=actors, axis_tips=tips, size=size, blocks=blocks), legend
 
 
-def _add_scale_bar(plotter: pv.Plotter, blocks: pv.MultiBlock) -> None:
+def _add_scale_bar(plotter: pv.Plotter, blocks: Any) -> None:
     """The scale bar (a black line of a round length) and its label."""
-    bar = blocks["scale_bar"]
+    bar: Any = blocks["scale_bar"]
     length = float(bar.field_data["length (m)"][0])
     plotter.add_mesh(bar, color="black", line_width=3.0)
     _add_labels(
@@ -775,7 +775,7 @@ def in_notebook() -> bool:
     if ipython is None:
         return False
     try:
-        shell = ipython.get_ipython()  # type: ignore[attr-defined]
+        shell = ipython.get_ipython()
     except Exception:
         return False
     return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
