@@ -20,7 +20,7 @@ COMMANDS = {
     "check": "forward check of a design by quadrature and direct Lorentz torque",
     "simulate": "simulate the motion under the effects the scene calls for",
     "show": "3-D view of a design (PyVista)",
-    "export": "export a design's geometry (json, csv, vtp)",
+    "export": "export a design's geometry (json, csv, vtp, vtu)",
     "bench": "what accuracy costs in time",
     "schema": "print the JSON Schema of design.json or of scene files",
 }
