@@ -36,6 +36,27 @@ def _lhs(source: str, coefficients: dict[str, float]) -> str:
     return text[2:] if text.startswith("+ ") else "-" + text[2:]
 
 
+def clean_number(value: float) -> str:
+    """The shortest decimal (at most 12 significant digits) of a coefficient: products such as
+    ``-4 n a2 / 5`` print as ``-0.392``, not ``-0.39199999999999996``."""
+    return _number(float(value))
+
+
+def field_notation(kind: str, coefficients: tuple[float, ...] | list[float]) -> str:
+    """A field's coefficients as the user writes them.
+
+    ``legendre = [f1, f2, ...]`` with clean numbers; a magnetic field of degree <= 2 also in the
+    paper's notation, ``a1 = f1 T, a2 = f2 / 2 T/m`` (``Phi = a1 Z + a2 (3 Z^2 - R^2)``).
+    """
+    coeffs = [float(c) for c in coefficients]
+    text = "[" + ", ".join(clean_number(c) for c in coeffs) + "]"
+    if kind == "magnetic" and 1 <= len(coeffs) <= 2:
+        a1 = coeffs[0]
+        a2 = coeffs[1] / 2.0 if len(coeffs) == 2 else 0.0
+        text += f" = a1 {clean_number(a1)} T, a2 {clean_number(a2)} T/m"
+    return text
+
+
 def _short(provenance: str) -> str:
     parts = provenance.split("; ")
     text = parts[0] + (f" (+{len(parts) - 1} more)" if len(parts) > 1 else "")
@@ -50,8 +71,7 @@ def format_conditions(result: Any, scene_source: str | None = None) -> str:
     lines = [f"conditions{where} (realise {', '.join(result.realise) or 'nothing'})"]
     lines.append("fields (legendre coefficients of Phi = sum_k f_k R^k P_k(Z/R)):")
     for kind, origin in result.field_origin.items():
-        coeffs = ", ".join(_number(v) for v in result.fields.get(kind, ()))
-        lines.append(f"  {kind:<9} [{coeffs}]  ({origin})")
+        lines.append(f"  {kind:<9} {field_notation(kind, result.fields.get(kind, ()))}  ({origin})")
     for source in SOURCES:
         rows = result.for_source(source)
         if not rows and source not in _present(result):
@@ -85,4 +105,4 @@ def _present(result: Any) -> set[str]:
     return present
 
 
-__all__ = ["format_conditions"]
+__all__ = ["clean_number", "field_notation", "format_conditions"]
