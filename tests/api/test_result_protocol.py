@@ -41,11 +41,12 @@ def results(default_result):
         "Parameters": default_result.design.parameters,
         "LinearConditions": conditions_for_scene(cd.load_scene(None)),
         "VerificationReport": VerificationReport(VERIFY_DATA),
+        "SimulationResult": cd.simulate(default_result, t_end=0.5, effects=["theorem"]),
     }
 
 
 NAMES = ["DesignResult", "Design", "CheckReport", "Parameters", "LinearConditions",
-         "VerificationReport"]
+         "VerificationReport", "SimulationResult"]
 
 
 @pytest.mark.parametrize("name", NAMES)
