@@ -30,7 +30,7 @@ bench: $(VENV)/.base
 
 # the documentation site (mkdocs-material + mkdocstrings); warnings are errors
 docs: $(VENV)/.test
-	$(VENV)/bin/mkdocs build --strict --site-dir site
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
 
 # regenerate the shipped JSON Schemas from chargedesign/schemas.py
 schemas: $(VENV)/.base

@@ -99,3 +99,24 @@ def test_bench_plot_keeps_methods_apart_and_labels_y():
         }
     finally:
         plt.close(fig)
+
+
+def test_bench_says_what_runs_on_stderr(capsys):
+    from chargedesign.cli import main
+
+    assert main(["bench", "--quick", "--only", "fields"]) == 0
+    err = capsys.readouterr().err
+    assert "bench: fields ..." in err and "bench: fields done in" in err
+    assert "bench: all areas in" in err
+
+
+def test_heartbeat_reports_a_long_area(capsys):
+    import threading
+
+    from chargedesign.commands.bench import _Heartbeat
+
+    beat = _Heartbeat(period=0.01)
+    beat.area("simulate")
+    threading.Event().wait(0.05)
+    beat.stop()
+    assert "bench: simulate still running" in capsys.readouterr().err
