@@ -416,7 +416,8 @@ def design_blocks(
     - ``region``: the candidate region's outline (argument, else recorded in the design);
     - ``scale_bar``: a line of a round length (field data ``length (m)``) below the body.
 
-    The MultiBlock's field data: ``size (m)`` (the body's size used for drawn sizes).
+    The MultiBlock's field data: ``size (m)`` (the body's size used for drawn sizes),
+    ``legend`` (one line per kind present: its colour and what its size means).
 
     Parameters
     ----------
@@ -506,7 +507,18 @@ def design_blocks(
     outline = region_mesh(region)
     if outline is not None:
         out["region"] = outline
+    legend = []
+    if "charges" in out.keys():
+        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {sizes['charge_key']}")
+    if "masses" in out.keys():
+        legend.append("masses: translucent grey; volume ~ mass")
+    if "magnets" in out.keys():
+        legend.append("magnets: translucent green; the sphere of the magnet's volume")
+    if "dipoles" in out.keys():
+        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
     length = _nice_length(0.5 * size)
+    legend.append(f"scale bar: {length:g} m")
+    out.field_data["legend"] = legend
     y, z = -1.15 * size, -1.0 * size
     bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
     bar.field_data["length (m)"] = np.array([length])

@@ -35,6 +35,8 @@ def test_blocks_have_names_and_one_mesh_per_element():
     q = [float(blocks["charges"][i].field_data["charge (C)"][0]) for i in range(3)]
     np.testing.assert_allclose(q, design.charge_values)
     assert float(blocks["scale_bar"].field_data["length (m)"][0]) > 0
+    legend = [str(x) for x in blocks.field_data["legend"]]
+    assert legend[0].startswith("charges: red > 0, blue < 0") and legend[-1].startswith("scale")
 
 
 def test_carriers_are_drawn_at_their_real_radius_and_magnets_by_volume():
