@@ -118,7 +118,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign import check, design, simulate
+    from chargedesign.api import check, design, simulate
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.check import CheckReport
     from chargedesign.conditions import conditions_for_scene as conditions
