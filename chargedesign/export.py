@@ -16,6 +16,10 @@
   ``value`` the density at each surface point; ``body`` their index, -1 for elements).
   Lossless.
 
+The physical per-element arrays of a physical design (``charges.radii``, ``charges.masses``,
+``dipoles.volumes``, ``dipoles.masses``) travel in the header of the csv, vtp and vtu files
+under ``element_sizes`` (in element order), so every format stays lossless.
+
 All writes are atomic (:func:`chargedesign.files.atomic_path`).
 """
 
@@ -131,15 +135,39 @@ def _write_json(design: Design, path: Path) -> None:
     )
 
 
+#: header key of the physical per-element arrays (carrier radii and masses, magnet volumes and
+#: masses), in element order; the tables and VTK arrays carry positions and values only
+SIZES_KEY = "element_sizes"
+
+
 def _header(design: Design) -> dict[str, Any]:
-    """Everything of the design except its elements (parameters, fields, realises, extra)."""
-    return {k: v for k, v in design.to_dict().items() if k not in _ELEMENT_KEYS}
+    """Everything of the design except its elements (parameters, fields, realises, extra),
+    plus the physical per-element arrays of a physical design under :data:`SIZES_KEY`."""
+    data = design.to_dict()
+    out = {k: v for k, v in data.items() if k not in _ELEMENT_KEYS}
+    sizes = {
+        block: {k: v for k, v in data[block].items() if k not in ("positions", "values", "moments")}
+        for block in _ELEMENT_KEYS
+    }
+    sizes = {block: keys for block, keys in sizes.items() if keys}
+    if sizes:
+        out[SIZES_KEY] = sizes
+    return out
 
 
 def _from_header(header: Any, elements: dict[str, dict[str, Any]], where: str) -> Design:
     if not isinstance(header, dict):
         raise input_error(where, "a JSON object describing the design", header)
-    return Design.from_dict({**header, **elements}, where=where)
+    header = dict(header)
+    sizes = header.pop(SIZES_KEY, None) or {}
+    if not isinstance(sizes, dict):
+        raise input_error(f"{where}: {SIZES_KEY}", "a JSON object", sizes)
+    merged = {block: dict(arrays) for block, arrays in elements.items()}
+    for block, arrays in sizes.items():
+        if block not in _ELEMENT_KEYS or not isinstance(arrays, dict):
+            raise input_error(f"{where}: {SIZES_KEY}.{block}", "charges, masses or dipoles", block)
+        merged.setdefault(block, {}).update(arrays)
+    return Design.from_dict({**header, **merged}, where=where)
 
 
 # ---------------------------------------------------------------------------------------------

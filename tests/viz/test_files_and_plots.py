@@ -120,3 +120,19 @@ def test_heartbeat_reports_a_long_area(capsys):
     threading.Event().wait(0.05)
     beat.stop()
     assert "bench: simulate still running" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("fmt", ["csv", "vtp", "vtu", "json"])
+def test_physical_sizes_survive_every_export(tmp_path, fmt):
+    d = design()
+    d.charge_radii = np.array([0.01, 0.02])
+    d.charge_masses = np.array([0.003, 0.004])
+    d.dipole_volumes = np.array([1e-6])
+    d.dipole_masses = np.array([0.0075])
+    d = Design.from_dict(d.to_dict())  # validated again
+    back = export.import_design(export.export_design(d, fmt, tmp_path / f"body.{fmt}"))
+    np.testing.assert_array_equal(back.charge_radii, d.charge_radii)
+    np.testing.assert_array_equal(back.charge_masses, d.charge_masses)
+    np.testing.assert_array_equal(back.dipole_volumes, d.dipole_volumes)
+    np.testing.assert_array_equal(back.dipole_masses, d.dipole_masses)
+    assert back.total_mass == d.total_mass
