@@ -33,6 +33,11 @@ def test_import_is_light():
     assert heavy == []
 
 
+def test_the_command_line_parser_is_light_too():
+    names = imported_modules("from chargedesign.cli import build_parser; build_parser()")
+    assert not [n for n in names if any(n == h or n.startswith(h + ".") for h in HEAVY)]
+
+
 def test_every_public_name_resolves_or_says_it_is_absent():
     optional = {"frontier", "tolerance", "sweep"}  # added by other rooms; resolved when present
     for name in cd.__all__:
