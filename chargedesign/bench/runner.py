@@ -86,6 +86,8 @@ def plot_table(table: BenchTable, axes: Any = None) -> Any:
                     for row in table.rows
                     if isinstance(row[yi], (int, float)) and (gi is None or row[gi] == group)
                 ]
+                if all(isinstance(p[0], (int, float)) for p in pairs):
+                    pairs.sort(key=lambda p: p[0])  # a line runs left to right
                 label = name if group is None else f"{group}: {name}"
                 ax.plot([p[0] for p in pairs], [p[1] for p in pairs], "o-", label=label)
         if spec.get("logx"):
