@@ -4,7 +4,7 @@ PYTHON ?= python3
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test lint bench clean docs schemas
 
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,5 +28,17 @@ lint: $(VENV)/.test
 bench: $(VENV)/.base
 	$(VENV)/bin/chargedesign bench
 
+# the documentation site (mkdocs-material + mkdocstrings); warnings are errors
+docs: $(VENV)/.test
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
+
+# regenerate the shipped JSON Schemas from chargedesign/schemas.py
+schemas: $(VENV)/.base
+	$(PY) -c "from chargedesign.schemas import NAMES, schema_text; \
+	[open(f'chargedesign/data/schemas/{n}.schema.json', 'w').write(schema_text(n)) for n in NAMES]"
+
+CLEAN := $(VENV) out site .pytest_cache .mypy_cache .ruff_cache .hypothesis
+
 clean:
-	rm -rf $(VENV) out .pytest_cache .mypy_cache .ruff_cache
+	@echo "make clean: removes $(CLEAN) (those present are named below)"
+	@for d in $(CLEAN); do if [ -e "$$d" ]; then echo "  removing $$d"; rm -rf "$$d"; fi; done

@@ -2,17 +2,131 @@
 
 The package turns the theorem (A = B = 2C; potential V and gyroscopic vector mu with
 parameters c, d, n, K, kappa, lambda, rho) into point charges, magnetic dipoles and masses,
-checks them forward and simulates them. Heavy dependencies are imported lazily.
+checks them forward and simulates them.
+
+>>> import chargedesign as cd
+>>> result = cd.design()                 # doctest: +SKIP  (the embedded default scene)
+>>> report = cd.check(result.design)     # doctest: +SKIP
+>>> motion = cd.simulate(result, t_end=10.0)   # doctest: +SKIP
+
+Every name below is imported lazily (PEP 562), so ``import chargedesign`` loads neither
+sympy, cvxpy, scipy's optimisers nor PyVista; they load when a stage first needs them.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from chargedesign.errors import ChargeDesignError, InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
 
+__version__ = "0.1.0"
+
+#: public name -> (module, attribute), resolved on first use. ``design``, ``check`` and
+#: ``simulate`` are callable modules (:class:`chargedesign.api.CallableModule`): calling one
+#: runs :func:`chargedesign.api.design` (``check``, ``simulate``), and the module's internals
+#: stay where they were (a submodule import would rebind a plain function of the same name).
+_LAZY: dict[str, tuple[str, str | None]] = {
+    # stages
+    "design": ("chargedesign.design", None),
+    "check": ("chargedesign.check", None),
+    "simulate": ("chargedesign.simulate", None),
+    "verify": ("chargedesign.model.verification", "verify"),
+    "conditions": ("chargedesign.conditions", "conditions_for_scene"),
+    # elements and files
+    "Design": ("chargedesign.body", "Design"),
+    "ElementSet": ("chargedesign.elements", "ElementSet"),
+    "read_design": ("chargedesign.body", "read_design"),
+    "write_design": ("chargedesign.body", "write_design"),
+    "load_scene": ("chargedesign.scene", "load_scene"),
+    "Scene": ("chargedesign.scene", "Scene"),
+    "export_design": ("chargedesign.export", "export_design"),
+    "schema": ("chargedesign.schemas", "schema"),
+    # results
+    "DesignResult": ("chargedesign.design.result", "DesignResult"),
+    "CheckReport": ("chargedesign.check", "CheckReport"),
+    "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
+    "LinearConditions": ("chargedesign.conditions.types", "LinearConditions"),
+    "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
+    # capabilities other rooms are adding: resolved when present
+    "frontier": ("chargedesign.design.frontier", "frontier_from_scene"),
+    "tolerance": ("chargedesign.tolerance", "tolerance"),
+    "sweep": ("chargedesign.sweep", "run_sweep"),
+}
+
 __all__ = [
     "ChargeDesignError",
+    "CheckReport",
+    "Design",
+    "DesignResult",
+    "ElementSet",
     "InfeasibleError",
     "InputError",
+    "LinearConditions",
     "Parameters",
+    "Scene",
+    "SimulationResult",
     "SolverError",
+    "VerificationReport",
+    "__version__",
+    "check",
+    "conditions",
+    "design",
+    "export_design",
+    "frontier",
+    "load_scene",
+    "read_design",
+    "schema",
+    "simulate",
+    "sweep",
+    "tolerance",
+    "verify",
+    "write_design",
 ]
-__version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> Any:
+    try:
+        module_name, attribute = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'chargedesign' has no attribute {name!r}") from None
+    try:
+        module = importlib.import_module(module_name)
+    except ModuleNotFoundError as exc:
+        if exc.name is not None and module_name.startswith(exc.name):
+            raise AttributeError(
+                f"chargedesign.{name} is not available in this version "
+                f"({module_name} is not installed)"
+            ) from exc
+        raise
+    if attribute is None:
+        return module
+    try:
+        value = getattr(module, attribute)
+    except AttributeError:
+        raise AttributeError(
+            f"chargedesign.{name} is not available in this version "
+            f"({module_name} has no {attribute})"
+        ) from None
+    globals()[name] = value  # later look-ups skip __getattr__
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
+    from chargedesign.api import check, design, simulate
+    from chargedesign.body import Design, read_design, write_design
+    from chargedesign.check import CheckReport
+    from chargedesign.conditions import conditions_for_scene as conditions
+    from chargedesign.conditions.types import LinearConditions
+    from chargedesign.design.result import DesignResult
+    from chargedesign.elements import ElementSet
+    from chargedesign.export import export_design
+    from chargedesign.model.verification import VerificationReport, verify
+    from chargedesign.scene import Scene, load_scene
+    from chargedesign.schemas import schema
+    from chargedesign.simulation.result import SimulationResult

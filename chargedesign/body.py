@@ -14,10 +14,9 @@ from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
-DESIGN_FORMAT = "chargedesign.design/1"
-FIELD_KINDS = ("magnetic", "electric", "gravity")
-REALISABLE = ("mu", "V", "inertia")
+__all__ = ["DESIGN_FORMAT", "FIELD_KINDS", "REALISABLE", "Design", "read_design", "write_design"]
 
 
 def _legendre(value: Any, name: str) -> tuple[float, ...]:
@@ -131,6 +130,41 @@ class Design(ElementSet):
             medium=data.get("medium"),
             materials=data.get("materials") or {},
         )
+
+    # ---- result protocol and pictures: thin methods over chargedesign.results / chargedesign.viz
+    def __repr__(self) -> str:
+        from chargedesign.results import compact_repr, design_summary
+
+        return compact_repr(type(self).__name__, design_summary(self))
+
+    def __str__(self) -> str:
+        """The human report (as ``report.md`` and ``chargedesign design`` print it)."""
+        from chargedesign.report import render_report
+
+        return render_report(self)
+
+    def _repr_html_(self) -> str:
+        from chargedesign.results import design_summary, html_table
+
+        return html_table(type(self).__name__, design_summary(self), self._html_picture())
+
+    def _html_picture(self) -> str:
+        from chargedesign.results import design_picture
+
+        return design_picture(self)
+
+    def to_pyvista(self, **kwargs: Any) -> Any:
+        """The body as a ``pyvista.MultiBlock`` (see :func:`chargedesign.viz.design_blocks`)."""
+        from chargedesign.viz import design_blocks
+
+        return design_blocks(self, **kwargs)
+
+    def plot(self, plotter: Any = None, **kwargs: Any) -> Any:
+        """Draw the body into ``plotter`` (a new one when None); see
+        :func:`chargedesign.viz.plot_design`."""
+        from chargedesign.viz import plot_design
+
+        return plot_design(self, plotter, **kwargs)
 
 
 _MEDIUM_KEYS = ("name", "breakdown_V_per_m", "safety")

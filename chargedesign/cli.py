@@ -20,11 +20,12 @@ COMMANDS = {
     "check": "forward check of a design by quadrature and direct Lorentz torque",
     "simulate": "simulate the motion under the effects the scene calls for",
     "show": "3-D view of a design (PyVista)",
-    "export": "export a design's geometry (json, csv, vtp)",
+    "export": "export a design's geometry (json, csv, vtp, vtu)",
     "frontier": "the largest time rate a body realises within every physical limit",
     "bench": "what accuracy costs in time",
     "tolerance": "manufacturing tolerances: exact sensitivity, Monte Carlo of perturbed bodies",
     "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
+    "schema": "print the JSON Schema of design.json or of scene files",
 }
 
 

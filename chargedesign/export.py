@@ -1,17 +1,24 @@
 """Export and import a design's geometry: JSON (canonical), CSV (tables), VTK PolyData (.vtp).
 
 - ``json``: the contract's ``design.json`` mapping (:meth:`Design.to_dict`), lossless.
-- ``csv``: one row per element, columns ``kind, x, y, z, value, mx, my, mz``; a commented
-  header carries the units and, one line each as ``# design.KEY: JSON``, the parameters,
-  fields, realises, continuous bodies and the remaining keys (provenance). Numbers are
-  written with ``repr`` (the shortest form that reads back to the same float): lossless.
-- ``vtp``: points (float64) with one vertex cell per element and point-data arrays ``kind``
+- ``csv``: a plain header row ``kind, x, y, z, value, mx, my, mz, design`` (``pandas.read_csv``
+  and ``csv.DictReader`` read it as it is), then one row of kind ``design`` whose ``design``
+  cell holds, as JSON, the parameters, fields, realises, continuous bodies, units and the
+  remaining keys (provenance), then one row per element. Numbers are written with ``repr``
+  (the shortest form that reads back to the same float): lossless. Files of the earlier form
+  (a ``# design.KEY: JSON`` comment header) are still read.
+- ``vtp`` (and ``vtu``, the same content as an UnstructuredGrid, which meshio also reads):
+  points (float64) with one vertex cell per element and point-data arrays ``kind``
   (0 charge, 1 mass, 2 dipole), ``value`` (C or kg; 0 for dipoles), ``charge``, ``mass``,
   ``moment`` (A m^2, zero except for dipoles); field data ``chargedesign_design`` holds the
   rest of the design as a JSON string (continuous bodies included). Continuous bodies are
   also appended as triangulated surfaces for viewing (``kind`` 3 for charge, 4 for mass;
   ``value`` the density at each surface point; ``body`` their index, -1 for elements).
   Lossless.
+
+The physical per-element arrays of a physical design (``charges.radii``, ``charges.masses``,
+``dipoles.volumes``, ``dipoles.masses``) travel in the header of the csv, vtp and vtu files
+under ``element_sizes`` (in element order), so every format stays lossless.
 
 All writes are atomic (:func:`chargedesign.files.atomic_path`).
 """
@@ -28,23 +35,28 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.body import DESIGN_FORMAT, Design, read_design
+from chargedesign.body import Design, read_design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_path
 from chargedesign.readers import MAX_DATA_BYTES, check_input_file, loads_json, read_text
 from chargedesign.validation import check_design_numbers, input_error
+from chargedesign.vocabulary import EXPORT_FORMATS
 
-FORMATS = ("json", "csv", "vtp")
+FORMATS = EXPORT_FORMATS
 CSV_COLUMNS = ("kind", "x", "y", "z", "value", "mx", "my", "mz")
+#: the columns written: the element columns and the ``design`` column of the header row
+CSV_WRITTEN = (*CSV_COLUMNS, "design")
 UNITS = "positions m, charge C, mass kg, dipole moment A m^2"
 #: point-data ``kind`` codes of the VTP export
 KIND_CODES = {"charge": 0, "mass": 1, "dipole": 2, "continuous charge": 3, "continuous mass": 4}
 VTP_FIELD = "chargedesign_design"
+#: suffix of field data holding text as UTF-8 bytes (``.vtu``, which meshio reads)
+UTF8_SUFFIX = "_utf8"
 _ELEMENT_KEYS = ("charges", "masses", "dipoles")
 
 
 def format_from_path(path: str | os.PathLike[str]) -> str:
-    """The export format a file name calls for (``.json``, ``.csv``, ``.vtp``)."""
+    """The export format a file name calls for (``.json``, ``.csv``, ``.vtp``, ``.vtu``)."""
     suffix = Path(path).suffix.lower().lstrip(".")
     if suffix not in FORMATS:
         raise input_error(
@@ -65,7 +77,8 @@ def resolve_format(fmt: str | None, path: str | os.PathLike[str]) -> str:
 
 
 def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str]) -> Path:
-    """Write ``design`` in format ``fmt`` (``json``, ``csv``, ``vtp``; None: from the suffix).
+    """Write ``design`` in format ``fmt`` (``json``, ``csv``, ``vtp``, ``vtu``; None: from the
+    suffix).
 
     Returns
     -------
@@ -78,6 +91,7 @@ def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str])
         "json": _write_json,
         "csv": _write_csv,
         "vtp": _write_vtp,
+        "vtu": _write_vtu,
     }
     try:
         with atomic_path(target) as tmp:
@@ -88,7 +102,8 @@ def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str])
 
 
 def import_design(path: str | os.PathLike[str]) -> Design:
-    """Read a design from a ``.json``, ``.csv`` or ``.vtp`` file written by :func:`export_design`.
+    """Read a design from a ``.json``, ``.csv``, ``.vtp`` or ``.vtu`` file written by
+    :func:`export_design`.
 
     The round trip is exact: positions, values and moments come back bit-identical.
     """
@@ -98,12 +113,13 @@ def import_design(path: str | os.PathLike[str]) -> Design:
         return read_design(p)
     if fmt == "csv":
         return _read_csv(p)
-    return _read_vtp(p)
+    return _read_vtp(p)  # .vtp and .vtu alike
 
 
 def load_any_design(path: str | os.PathLike[str]) -> Design:
-    """A design from ``.csv`` or ``.vtp`` exports, else from design.json (whatever the name)."""
-    if Path(path).suffix.lower() in (".csv", ".vtp"):
+    """A design from ``.csv``, ``.vtp`` or ``.vtu`` exports, else from design.json (whatever the
+    name)."""
+    if Path(path).suffix.lower() in (".csv", ".vtp", ".vtu"):
         return import_design(path)
     return read_design(path)
 
@@ -118,15 +134,39 @@ def _write_json(design: Design, path: Path) -> None:
     )
 
 
+#: header key of the physical per-element arrays (carrier radii and masses, magnet volumes and
+#: masses), in element order; the tables and VTK arrays carry positions and values only
+SIZES_KEY = "element_sizes"
+
+
 def _header(design: Design) -> dict[str, Any]:
-    """Everything of the design except its elements (parameters, fields, realises, extra)."""
-    return {k: v for k, v in design.to_dict().items() if k not in _ELEMENT_KEYS}
+    """Everything of the design except its elements (parameters, fields, realises, extra),
+    plus the physical per-element arrays of a physical design under :data:`SIZES_KEY`."""
+    data = design.to_dict()
+    out = {k: v for k, v in data.items() if k not in _ELEMENT_KEYS}
+    sizes = {
+        block: {k: v for k, v in data[block].items() if k not in ("positions", "values", "moments")}
+        for block in _ELEMENT_KEYS
+    }
+    sizes = {block: keys for block, keys in sizes.items() if keys}
+    if sizes:
+        out[SIZES_KEY] = sizes
+    return out
 
 
 def _from_header(header: Any, elements: dict[str, dict[str, Any]], where: str) -> Design:
     if not isinstance(header, dict):
         raise input_error(where, "a JSON object describing the design", header)
-    data = {**header, **elements}
+    header = dict(header)
+    sizes = header.pop(SIZES_KEY, None) or {}
+    if not isinstance(sizes, dict):
+        raise input_error(f"{where}: {SIZES_KEY}", "a JSON object", sizes)
+    merged = {block: dict(arrays) for block, arrays in elements.items()}
+    for block, arrays in sizes.items():
+        if block not in _ELEMENT_KEYS or not isinstance(arrays, dict):
+            raise input_error(f"{where}: {SIZES_KEY}.{block}", "charges, masses or dipoles", block)
+        merged.setdefault(block, {}).update(arrays)
+    data = {**header, **merged}
     check_design_numbers(data, where)  # the same input range as design.json
     return Design.from_dict(data, where=where)
 
@@ -136,26 +176,23 @@ def _from_header(header: Any, elements: dict[str, dict[str, Any]], where: str) -
 
 
 def _write_csv(design: Design, path: Path) -> None:
-    header = _header(design)
+    header = {k: v for k, v in _header(design).items()}
+    header["csv_units"] = UNITS + "; columns kind, x, y, z (m), value (C or kg), mx, my, mz (A m^2)"
     buffer = io.StringIO()
-    buffer.write(f"# chargedesign design export ({DESIGN_FORMAT})\n")
-    buffer.write(f"# units: {UNITS}\n")
-    buffer.write("# columns: kind, x, y, z (m); value (C or kg); mx, my, mz (A m^2, dipoles)\n")
-    for key, value in header.items():
-        if key == "format":
-            continue
-        buffer.write(f"# design.{key}: {json.dumps(value, allow_nan=False)}\n")
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(CSV_COLUMNS)
+    writer.writerow(CSV_WRITTEN)
+    writer.writerow(["design", "", "", "", "", "", "", "", json.dumps(header, allow_nan=False)])
     for position, value in zip(design.charge_positions, design.charge_values, strict=True):
         writer.writerow(
-            ["charge", *map(repr, map(float, position)), repr(float(value)), "", "", ""]
+            ["charge", *map(repr, map(float, position)), repr(float(value)), "", "", "", ""]
         )
     for position, value in zip(design.mass_positions, design.mass_values, strict=True):
-        writer.writerow(["mass", *map(repr, map(float, position)), repr(float(value)), "", "", ""])
+        writer.writerow(
+            ["mass", *map(repr, map(float, position)), repr(float(value)), "", "", "", ""]
+        )
     for position, moment in zip(design.dipole_positions, design.dipole_moments, strict=True):
         writer.writerow(
-            ["dipole", *map(repr, map(float, position)), "", *map(repr, map(float, moment))]
+            ["dipole", *map(repr, map(float, position)), "", *map(repr, map(float, moment)), ""]
         )
     path.write_text(buffer.getvalue(), encoding="utf-8")
 
@@ -174,9 +211,27 @@ def _read_csv(path: Path) -> Design:
         key = key.removeprefix("design.")
         header[key] = loads_json(value, f"{path}: line {number}: header {key!r}")
     rows = list(csv.reader(body_lines))
+    if rows and tuple(rows[0]) == CSV_WRITTEN:
+        # the plain form: the design row carries the header as JSON in the last column
+        kept = [rows[0][: len(CSV_COLUMNS)]]
+        for number, row in enumerate(rows[1:], start=2):
+            if row and row[0] == "design":
+                try:
+                    found = json.loads(row[-1])
+                except json.JSONDecodeError as exc:
+                    raise InputError(
+                        f"{path}: row {number}: design cell is not JSON ({exc})"
+                    ) from exc
+                if not isinstance(found, dict):
+                    raise input_error(f"{path}: row {number}: design", "a JSON object", found)
+                found.pop("csv_units", None)
+                header.update(found)
+            else:
+                kept.append(row[: len(CSV_COLUMNS)])
+        rows = kept
     if not rows or tuple(rows[0]) != CSV_COLUMNS:
         # the file's own text is not echoed (it may not be an export at all)
-        raise InputError(f"{path}: columns: expected {', '.join(CSV_COLUMNS)} (header row)")
+        raise InputError(f"{path}: columns: expected {', '.join(CSV_WRITTEN)} (header row)")
     elements: dict[str, dict[str, list[Any]]] = {
         "charges": {"positions": [], "values": []},
         "masses": {"positions": [], "values": []},
@@ -204,7 +259,7 @@ def _read_csv(path: Path) -> Design:
             ) from exc
         block["positions"].append(position)
     if "parameters" not in header:
-        raise InputError(f"{path}: header line '# design.parameters: {{...}}' missing")
+        raise InputError(f"{path}: no design row with the parameters (header missing)")
     return _from_header(header, elements, str(path))
 
 
@@ -213,6 +268,24 @@ def _read_csv(path: Path) -> Design:
 
 
 def _write_vtp(design: Design, path: Path) -> None:
+    _polydata(design).save(str(path), binary=True)
+
+
+def _write_vtu(design: Design, path: Path) -> None:
+    """The VTP content as an UnstructuredGrid (``.vtu``: meshio reads it)."""
+    import pyvista as pv
+
+    polydata = _polydata(design)
+    grid = polydata.cast_to_unstructured_grid() if polydata.n_points else pv.UnstructuredGrid()
+    grid.field_data.clear()
+    # meshio reads no string arrays: the header and units as UTF-8 bytes (uint8)
+    for name, text in ((VTP_FIELD, json.dumps(_header(design), allow_nan=False)), ("units", UNITS)):
+        grid.field_data[f"{name}{UTF8_SUFFIX}"] = np.frombuffer(text.encode("utf-8"), np.uint8)
+    grid.save(str(path), binary=True)
+
+
+def _polydata(design: Design) -> Any:
+    """The elements as points with vertex cells, continuous bodies as triangles (see module)."""
     import pyvista as pv
 
     from chargedesign.viz import continuous_body_mesh
@@ -257,7 +330,7 @@ def _write_vtp(design: Design, path: Path) -> None:
         polydata.point_data["body"] = np.concatenate(body)
     polydata.field_data[VTP_FIELD] = [json.dumps(_header(design), allow_nan=False)]
     polydata.field_data["units"] = [UNITS]
-    polydata.save(str(path), binary=True)
+    return polydata
 
 
 def _check_vtk_lengths(design: Design) -> None:
@@ -283,13 +356,17 @@ def _read_vtp(path: Path) -> Design:
         polydata = pv.read(str(path))
     except Exception as exc:  # VTK readers raise assorted types on bad files
         raise InputError(f"{path}: not a readable VTK file ({exc})") from exc
-    if not isinstance(polydata, pv.PolyData) or VTP_FIELD not in polydata.field_data:
+    fields: Any = polydata.field_data if isinstance(polydata, pv.DataSet) else {}
+    if VTP_FIELD in fields:
+        text = str(fields[VTP_FIELD][0]) if len(fields[VTP_FIELD]) else ""
+    elif VTP_FIELD + UTF8_SUFFIX in fields:
+        text = np.asarray(fields[VTP_FIELD + UTF8_SUFFIX], np.uint8).tobytes().decode("utf-8")
+    else:
         raise InputError(f"{path}: not a chargedesign export (no field data {VTP_FIELD!r})")
     try:
-        text = str(polydata.field_data[VTP_FIELD][0])
+        header = loads_json(text, f"{path}: field data {VTP_FIELD!r}")
     except IndexError as exc:
         raise InputError(f"{path}: field data {VTP_FIELD!r} is empty") from exc
-    header = loads_json(text, f"{path}: field data {VTP_FIELD!r}")
     elements: dict[str, dict[str, Any]] = {}
     if polydata.n_points:
         points = np.asarray(polydata.points, dtype=np.float64)

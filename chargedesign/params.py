@@ -9,14 +9,15 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from chargedesign.results import Result
 from chargedesign.validation import as_finite_float, input_error
 
-#: names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
-PARAMETER_NAMES = ("C", "c", "d", "n", "K", "kappa", "lambda", "rho")
+# names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
+from chargedesign.vocabulary import PARAMETER_NAMES as PARAMETER_NAMES
 
 
 @dataclass(frozen=True)
-class Parameters:
+class Parameters(Result):
     """Parameters of the Yehia-Elmandouh case (A = B = 2C).
 
     Parameters
@@ -67,6 +68,14 @@ class Parameters:
         out = asdict(self)
         out["lambda"] = out.pop("lam")
         return {k: out[k] for k in PARAMETER_NAMES}
+
+    def to_dict(self) -> dict[str, float]:
+        """The contract's mapping (key ``lambda``); the result protocol's name for
+        :meth:`as_dict`."""
+        return self.as_dict()
+
+    def _text(self) -> str:
+        return ", ".join(f"{k} = {v:g}" for k, v in self.as_dict().items())
 
     def replace(self, **changes: float) -> Parameters:
         if "lambda" in changes:

@@ -101,3 +101,8 @@ __all__ = [
     "simulate_ensemble",
     "with_level",
 ]
+
+# `chargedesign.simulate(...)` calls chargedesign.api.simulate (the module stays a module)
+from chargedesign.api import make_callable
+
+make_callable(__name__)

@@ -242,11 +242,41 @@ def _toward_white(color: tuple[float, float, float], weight: float) -> tuple[flo
     return (r, g, b)
 
 
-def _charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
-    """The part of the blue-white-red map that the values use, so an absent sign draws no hue.
+#: lightest tint of a non-zero charge (0: white), so a near-zero charge still shows its sign and
+#: never looks like a grey mass
+CHARGE_TINT_FLOOR = 0.3
 
-    The full map runs from blue at ``-max|q|`` through white at 0 to red at ``+max|q|``; the
-    colour range is cut to ``[min(q, 0), max(q, 0)]``.
+
+def _tint(q: float, top: float) -> float:
+    """Colour weight of a charge: ``CHARGE_TINT_FLOOR`` near 0, 1 at ``|q| = top``."""
+    return CHARGE_TINT_FLOOR + (1.0 - CHARGE_TINT_FLOOR) * min(abs(q) / top, 1.0)
+
+
+def charge_colors(values: np.ndarray, top: float | None = None) -> np.ndarray:
+    """RGB colour of each charge (shape (n, 3), 0..1): blue below 0, red above, white at 0.
+
+    Exact in the sign (a colour lookup table's bins could give a tiny charge the colour of
+    the other sign); the weight is :func:`_tint`, as in :func:`_charge_colormap`.
+    """
+    q = np.asarray(values, dtype=np.float64)
+    if top is None:
+        top = float(np.max(np.abs(q))) if q.size else 0.0
+    out = np.ones((q.size, 3))
+    if top <= 0.0:
+        return out
+    for i, v in enumerate(q):
+        if v != 0.0:
+            out[i] = _toward_white(POSITIVE_COLOR if v > 0 else NEGATIVE_COLOR, _tint(v, top))
+    return out
+
+
+def _charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
+    """A diverging map over the values' range: blue negative, red positive, by sign first.
+
+    The colour is linear in ``q`` from the lightest tint (``CHARGE_TINT_FLOOR`` of the full
+    colour, at ``q -> 0``) to the full colour at ``+-max|q|``; the map breaks at 0 (light blue
+    below, light red above), so the smallest charge still shows its sign. An absent sign draws
+    no hue (the colour range is cut to ``[min(q, 0), max(q, 0)]``); all-zero charges are white.
     """
     from matplotlib.colors import LinearSegmentedColormap
 
@@ -255,12 +285,13 @@ def _charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
     if top == 0.0:  # all charges zero: white only
         white = [(0.0, BACKGROUND_COLOR), (1.0, BACKGROUND_COLOR)]
         return LinearSegmentedColormap.from_list("chargedesign_charge", white), (-1.0, 1.0)
-    # the ends sit at -top or +top (full colour) or at 0 (white); linear in q in between
     stops: list[tuple[float, tuple[float, float, float]]] = []
-    stops.append((lo, _toward_white(NEGATIVE_COLOR, -lo / top)))
-    if lo < 0 < hi:
-        stops.append((0.0, BACKGROUND_COLOR))
-    stops.append((hi, _toward_white(POSITIVE_COLOR, hi / top)))
+    if lo < 0:
+        stops.append((lo, _toward_white(NEGATIVE_COLOR, _tint(lo, top))))
+        stops.append((0.0, _toward_white(NEGATIVE_COLOR, CHARGE_TINT_FLOOR)))
+    if hi > 0:
+        stops.append((0.0, _toward_white(POSITIVE_COLOR, CHARGE_TINT_FLOOR)))
+        stops.append((hi, _toward_white(POSITIVE_COLOR, _tint(hi, top))))
     nodes = [((v - lo) / (hi - lo), c) for v, c in stops]
     return LinearSegmentedColormap.from_list("chargedesign_charge", nodes), (lo, hi)
 
@@ -303,6 +334,217 @@ class _BodyActors:
     actors: list[Any]
     axis_tips: np.ndarray  # shape (3, 3): tips of the body axes x, y, z, body frame
     size: float
+    blocks: Any = None  # the design_blocks drawn
+
+
+def _nice_length(target: float) -> float:
+    """A round length (1, 2 or 5 times a power of ten) at most ``target``, m."""
+    if target <= 0 or not math.isfinite(target):
+        return 1.0
+    power = 10.0 ** math.floor(math.log10(target))
+    for step in (5.0, 2.0, 1.0):
+        if step * power <= target:
+            return step * power
+    return power
+
+
+def _covering(point: np.ndarray, centres: np.ndarray, radii: np.ndarray) -> float:
+    """Farthest reach from ``point`` of the spheres that contain it (0 when none does)."""
+    if len(centres) == 0:
+        return 0.0
+    distance = np.linalg.norm(centres - point, axis=1)
+    inside = distance <= radii * (1.0 + 1e-9)
+    return float(np.max(distance[inside] + radii[inside])) if np.any(inside) else 0.0
+
+
+def _labelled(mesh: pv.PolyData, data: Mapping[str, Any]) -> pv.PolyData:
+    """``mesh`` with each ``data`` value as field data and as a constant point array."""
+    for name, value in data.items():
+        arr = np.atleast_1d(np.asarray(value, dtype=np.float64))
+        mesh.field_data[name] = arr
+        if arr.size == 1:
+            mesh.point_data[name] = np.full(mesh.n_points, float(arr[0]))
+    return mesh
+
+
+def element_sizes(design: Design, size: float) -> dict[str, Any]:
+    """Drawn radii and how they were chosen, per kind of element (m).
+
+    Carriers with a radius (``charges.radii``) are drawn at it; the others by ``|q|`` (sphere
+    volume proportional to ``|q|``, the largest ``_SPHERE_FRACTION`` of the body's size).
+    Ballast masses by their mass likewise; magnets with a volume as the sphere of that volume.
+    """
+    q = design.charge_values
+    radii = design.carrier_radii()
+    by_value = _sphere_radii(q, size) if len(q) else np.zeros(0)
+    real = radii > 0
+    charges = np.where(real, radii, by_value)
+    masses = _sphere_radii(design.mass_values, size) if len(design.mass_values) else np.zeros(0)
+    volumes = design.magnet_volumes()
+    magnets = np.cbrt(3.0 * volumes / (4.0 * math.pi))
+    if len(q) and np.all(real):
+        charge_key = "carriers at their real radius"
+    elif np.any(real):
+        charge_key = "carriers with a radius at it, others: volume ~ charge magnitude"
+    else:
+        charge_key = "sphere volume ~ charge magnitude"
+    return {
+        "charges": charges,
+        "masses": masses,
+        "magnets": magnets,
+        "charge_key": charge_key,
+    }
+
+
+def design_blocks(
+    design: Design,
+    *,
+    region: Mapping[str, Any] | None = None,
+    resolution: int = 16,
+) -> pv.MultiBlock:
+    """The body as a ``pyvista.MultiBlock`` in body axes (m), one mesh per element.
+
+    Blocks (present only when the design has such elements):
+
+    - ``charges``: a sphere per charge (named ``charge 0``, ...): its carrier's real radius
+      (``charges.radii``) when given, else sized by ``|q|``; field and point data
+      ``charge (C)``, field data ``radius (m)``;
+    - ``dipoles``: an arrow per dipole along its moment, centred on it, long enough to stick
+      out of every sphere that contains its centre; field data ``moment (A m^2)``;
+    - ``magnets``: a sphere of each magnet's volume (``dipoles.volumes``, when given);
+    - ``masses``: a sphere per ballast mass, sized by its mass; ``mass (kg)``;
+    - ``continuous``: the continuous bodies' surfaces;
+    - ``region``: the candidate region's outline (argument, else recorded in the design);
+    - ``scale_bar``: a line of a round length (field data ``length (m)``) below the body.
+
+    The MultiBlock's field data: ``size (m)`` (the body's size used for drawn sizes),
+    ``legend`` (one line per kind present: its colour and what its size means).
+
+    Parameters
+    ----------
+    design : Design
+    region : mapping, optional
+        The scene's ``[body]`` table; default: the one recorded in the design.
+    resolution : int
+        Sphere resolution (theta and phi).
+
+    Returns
+    -------
+    pyvista.MultiBlock
+    """
+    if region is None:
+        region = region_from_design(design)
+    region = _region_spec(region)
+    size = _body_size(design, region)
+    sizes = element_sizes(design, size)
+    out = pv.MultiBlock()
+    out.field_data["size (m)"] = np.array([size])
+
+    def sphere(center: np.ndarray, radius: float) -> pv.PolyData:
+        return pv.Sphere(
+            radius=float(radius),
+            center=np.asarray(center, dtype=np.float64),
+            theta_resolution=resolution,
+            phi_resolution=resolution,
+        )
+
+    spheres_c: list[np.ndarray] = []
+    spheres_r: list[np.ndarray] = []
+    if len(design.charge_values):
+        block = pv.MultiBlock()
+        for i, (pos, q, r) in enumerate(
+            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
+        ):
+            block[f"charge {i}"] = _labelled(sphere(pos, r), {"charge (C)": q, "radius (m)": r})
+        out["charges"] = block
+        spheres_c.append(design.charge_positions)
+        spheres_r.append(sizes["charges"])
+    if len(design.mass_values):
+        block = pv.MultiBlock()
+        for i, (pos, m, r) in enumerate(
+            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
+        ):
+            block[f"mass {i}"] = _labelled(sphere(pos, r), {"mass (kg)": m, "radius (m)": r})
+        out["masses"] = block
+        spheres_c.append(design.mass_positions)
+        spheres_r.append(sizes["masses"])
+    magnets = sizes["magnets"]
+    if np.any(magnets > 0):
+        block = pv.MultiBlock()
+        for i, (pos, r) in enumerate(zip(design.dipole_positions, magnets, strict=True)):
+            if r > 0:
+                block[f"magnet {i}"] = _labelled(sphere(pos, r), {"radius (m)": r})
+        out["magnets"] = block
+        spheres_c.append(design.dipole_positions[magnets > 0])
+        spheres_r.append(magnets[magnets > 0])
+    moments = design.dipole_moments
+    if len(moments):
+        centres = np.concatenate(spheres_c) if spheres_c else np.zeros((0, 3))
+        radii = np.concatenate(spheres_r) if spheres_r else np.zeros(0)
+        strengths = np.linalg.norm(moments, axis=1)
+        top = float(strengths.max())
+        block = pv.MultiBlock()
+        for i, (pos, moment, strength) in enumerate(
+            zip(design.dipole_positions, moments, strengths, strict=True)
+        ):
+            data = {"moment (A m^2)": moment}
+            if strength == 0.0:  # no direction: a small marker
+                block[f"dipole {i}"] = _labelled(sphere(pos, _MIN_SPHERE_FRACTION * size), data)
+                continue
+            half = max(
+                0.5 * _ARROW_FRACTION * size * strength / top,
+                1.35 * _covering(pos, centres, radii),
+                _MIN_SPHERE_FRACTION * size * 2.0,
+            )
+            unit = moment / strength
+            mesh = _arrow(pos - half * unit, 2.0 * half * unit, shaft=0.03, tip=0.08)
+            block[f"dipole {i}"] = _labelled(mesh, data)
+        out["dipoles"] = block
+    if design.continuous:
+        block = pv.MultiBlock()
+        for i, body in enumerate(design.continuous):
+            block[f"{body.kind} {body.shape} {i}"] = continuous_body_mesh(body)
+        out["continuous"] = block
+    outline = region_mesh(region)
+    if outline is not None:
+        out["region"] = outline
+    legend = []
+    if "charges" in out.keys():
+        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {sizes['charge_key']}")
+    if "masses" in out.keys():
+        legend.append("masses: translucent grey; volume ~ mass")
+    if "magnets" in out.keys():
+        legend.append("magnets: translucent green; the sphere of the magnet's volume")
+    if "dipoles" in out.keys():
+        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
+    length = _nice_length(0.5 * size)
+    legend.append(f"scale bar: {length:g} m")
+    out.field_data["legend"] = legend
+    y, z = -1.15 * size, -1.0 * size
+    bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
+    bar.field_data["length (m)"] = np.array([length])
+    out["scale_bar"] = bar
+    return out
+
+
+def _combined(block: Any) -> pv.PolyData:
+    """One mesh of a block's meshes (their point data kept)."""
+    return pv.merge([block[i] for i in range(len(block))])
+
+
+def _size_key(design: Design, size: float) -> str:
+    """One line telling what the drawn sizes mean."""
+    parts = []
+    q = design.charge_values
+    if len(q):
+        key = element_sizes(design, size)["charge_key"]
+        parts.append(f"charges: {key} (largest {np.max(np.abs(q)):.3g} C)")
+    if len(design.mass_values):
+        parts.append(f"masses: volume ~ mass (largest {np.max(design.mass_values):.3g} kg)")
+    if len(design.dipole_moments):
+        top = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
+        parts.append(f"arrows: direction of sigma (largest {top:.3g} A m^2)")
+    return "; ".join(parts)
 
 
 def _add_body(
@@ -313,26 +555,30 @@ def _add_body(
     sphere_resolution: int,
     scalar_bar: bool,
 ) -> tuple[_BodyActors, list[list[Any]]]:
-    """Draw the body-fixed parts; return their actors and the legend entries."""
-    size = _body_size(design, region)
+    """Draw the body-fixed parts (from :func:`design_blocks`); return actors and legend."""
+    blocks: Any = design_blocks(design, region=region, resolution=sphere_resolution)
+    size = float(blocks.field_data["size (m)"][0])
     actors: list[Any] = []
     legend: list[list[Any]] = []
+    names = set(blocks.keys())
 
-    q = design.charge_values
-    if len(q):
-        spheres = _spheres(
-            design.charge_positions,
-            _sphere_radii(q, size),
-            sphere_resolution,
-            data={"charge (C)": q},
-        )
+    if "charges" in names:
+        q = design.charge_values
+        spheres = _combined(blocks["charges"])
+        top = float(np.max(np.abs(q)))
+        spheres.point_data["rgb"] = (
+            255.0 * charge_colors(spheres.point_data["charge (C)"], top)
+        ).astype(np.uint8)
+        actors.append(plotter.add_mesh(spheres, scalars="rgb", rgb=True, smooth_shading=True))
         cmap, clim = _charge_colormap(q)
+        # the colour bar comes from an invisible copy mapped through the colour map
         actors.append(
             plotter.add_mesh(
-                spheres,
-                scalars="charge (C)",
+                pv.PolyData(np.asarray(design.charge_positions, dtype=np.float64)),
+                scalars=np.asarray(q, dtype=np.float64),
                 cmap=cmap,
                 clim=clim,
+                opacity=0.0,
                 show_scalar_bar=scalar_bar,
                 scalar_bar_args={
                     "title": "charge (C)",
@@ -347,7 +593,8 @@ def _add_body(
                     "fmt": "%.2g",
                     "n_labels": 3,
                 },
-                smooth_shading=True,
+                render_points_as_spheres=False,
+                point_size=0.0,
             )
         )
         if np.any(q > 0):
@@ -355,27 +602,26 @@ def _add_body(
         if np.any(q < 0):
             legend.append(["charge < 0", NEGATIVE_COLOR, "circle"])
 
-    m = design.mass_values
-    if len(m):
-        spheres = _spheres(design.mass_positions, _sphere_radii(m, size), sphere_resolution)
-        actors.append(plotter.add_mesh(spheres, color=MASS_COLOR, smooth_shading=True))
+    if "masses" in names:
+        # translucent, so the dipoles and charges inside or behind them stay visible
+        actors.append(
+            plotter.add_mesh(
+                _combined(blocks["masses"]),
+                color=MASS_COLOR,
+                opacity=0.35,
+                smooth_shading=True,
+            )
+        )
         legend.append(["mass", MASS_COLOR, "circle"])
 
-    moments = design.dipole_moments
-    if len(moments):
-        strengths = np.linalg.norm(moments, axis=1)
-        top = float(strengths.max())
-        markers = _spheres(
-            design.dipole_positions, np.full(len(moments), _MIN_SPHERE_FRACTION * size), 8
+    if "magnets" in names:
+        actors.append(
+            plotter.add_mesh(
+                _combined(blocks["magnets"]), color=DIPOLE_COLOR, opacity=0.3, smooth_shading=True
+            )
         )
-        arrows = [markers]
-        for position, moment, strength in zip(
-            design.dipole_positions, moments, strengths, strict=True
-        ):
-            if strength > 0.0:
-                vector = moment * (_ARROW_FRACTION * size / top)
-                arrows.append(_arrow(position - 0.5 * vector, vector, shaft=0.04, tip=0.1))
-        actors.append(plotter.add_mesh(pv.merge(arrows), color=DIPOLE_COLOR))
+    if "dipoles" in names:
+        actors.append(plotter.add_mesh(_combined(blocks["dipoles"]), color=DIPOLE_COLOR))
         legend.append(["dipole", DIPOLE_COLOR, "triangle"])
 
     for continuous in design.continuous:
@@ -385,16 +631,23 @@ def _add_body(
     if design.continuous:
         legend.append(["continuous body", REGION_COLOR, "rectangle"])
 
-    outline = region_mesh(region)
-    if outline is not None:
-        actors.append(plotter.add_mesh(outline, color=REGION_COLOR, line_width=1.0))
+    if "region" in names:
+        actors.append(plotter.add_mesh(blocks["region"], color=REGION_COLOR, line_width=1.0))
         legend.append(["candidate region", REGION_COLOR, "rectangle"])
 
     tips = _BODY_AXIS_FRACTION * size * np.eye(3)
     axes = pv.merge([_arrow(np.zeros(3), tip) for tip in tips])
     actors.append(plotter.add_mesh(axes, color=AXES_COLOR))
     legend.append(["body axes", AXES_COLOR, "triangle"])
-    return _BodyActors(actors=actors, axis_tips=tips, size=size), legend
+    return _BodyActors(actors=actors, axis_tips=tips, size=size, blocks=blocks), legend
+
+
+def _add_scale_bar(plotter: pv.Plotter, blocks: Any) -> None:
+    """The scale bar (a black line of a round length) and its label."""
+    bar: Any = blocks["scale_bar"]
+    length = float(bar.field_data["length (m)"][0])
+    plotter.add_mesh(bar, color="black", line_width=3.0)
+    _add_labels(plotter, [np.mean(bar.points, axis=0)], [f"{length:g} m"], "scale_bar", "black")
 
 
 def _add_labels(
@@ -471,6 +724,49 @@ def _has_display() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
+def _draw_scene(
+    plotter: pv.Plotter,
+    design: Design,
+    *,
+    region: Mapping[str, Any] | None,
+    gamma: Any,
+    sphere_resolution: int = 16,
+    legend: bool = True,
+    scalar_bar: bool = True,
+    scale_bar: bool = True,
+    camera: bool = True,
+) -> _BodyActors:
+    """Draw the body in its own frame with the field axis along ``gamma`` into ``plotter``."""
+    g = _unit_gamma(gamma)
+    region = _region_spec(region)
+    body, entries = _add_body(
+        plotter, design, region, sphere_resolution=sphere_resolution, scalar_bar=scalar_bar
+    )
+    size = body.size
+    field_tip = _FIELD_AXIS_FRACTION * size * g
+    plotter.add_mesh(_arrow(-field_tip, 2.0 * field_tip, shaft=0.004, tip=0.02), color=FIELD_COLOR)
+    entries.append(["field axis Z", FIELD_COLOR, "triangle"])
+    _add_labels(plotter, body.axis_tips * 1.06, ("x", "y", "z"), "body_axes", AXES_COLOR)
+    _add_labels(plotter, [field_tip * 1.04], ["Z (field)"], "field_axis", FIELD_COLOR)
+    if scale_bar:
+        _add_scale_bar(plotter, body.blocks)
+    if legend:
+        _add_legend(plotter, entries)
+    key = _size_key(design, size)
+    plotter.add_text(
+        f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
+        f"{len(design.dipole_moments)} dipoles; gamma = ({g[0]:.3g}, {g[1]:.3g}, {g[2]:.3g})"
+        + (f"\n{key}" if key else ""),
+        position="upper_left",
+        font_size=9 if plotter.window_size[0] >= 640 else 6,
+        color="black",
+        name="caption",
+    )
+    if camera:
+        _place_camera(plotter, size, _VIEW_DIRECTION)
+    return body
+
+
 def _body_plotter(
     design: Design,
     *,
@@ -480,35 +776,153 @@ def _body_plotter(
     off_screen: bool,
 ) -> pv.Plotter:
     """A plotter showing the body in its own frame with the field axis along ``gamma``."""
-    g = _unit_gamma(gamma)
-    region = _region_spec(region)
+    _unit_gamma(gamma)
+    _region_spec(region)
     if off_screen:
         _use_offscreen_backend()
     plotter = pv.Plotter(off_screen=off_screen, window_size=list(window_size))
     plotter.background_color = pv.Color(BACKGROUND_COLOR)
     try:
-        body, legend = _add_body(plotter, design, region, sphere_resolution=16, scalar_bar=True)
-        size = body.size
-        field_tip = _FIELD_AXIS_FRACTION * size * g
-        plotter.add_mesh(
-            _arrow(-field_tip, 2.0 * field_tip, shaft=0.004, tip=0.02), color=FIELD_COLOR
-        )
-        legend.append(["field axis Z", FIELD_COLOR, "triangle"])
-        _add_labels(plotter, body.axis_tips * 1.06, ("x", "y", "z"), "body_axes", AXES_COLOR)
-        _add_labels(plotter, [field_tip * 1.04], ["Z (field)"], "field_axis", FIELD_COLOR)
-        _add_legend(plotter, legend)
-        plotter.add_text(
-            f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
-            f"{len(design.dipole_moments)} dipoles; gamma = ({g[0]:.3g}, {g[1]:.3g}, {g[2]:.3g})",
-            position="upper_left",
-            font_size=9,
-            color="black",
-        )
-        _place_camera(plotter, size, _VIEW_DIRECTION)
+        _draw_scene(plotter, design, region=region, gamma=gamma)
     except BaseException:
         plotter.close()
         raise
     return plotter
+
+
+def in_notebook() -> bool:
+    """True inside a Jupyter kernel (IPython with a kernel attached)."""
+    ipython = sys.modules.get("IPython")
+    if ipython is None:
+        return False
+    try:
+        shell = ipython.get_ipython()
+    except Exception:
+        return False
+    return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
+
+
+def notebook_backend(backend: str | None = None) -> str:
+    """Choose and set PyVista's Jupyter backend; return its name.
+
+    ``trame`` when the trame packages are installed and a display (or EGL/OSMesa off-screen
+    rendering) is available, else ``static`` (a still image rendered off screen: works with
+    no display and no extra packages). ``backend`` forces one.
+    """
+    if backend is None:
+        import importlib.util
+
+        has_trame = all(
+            importlib.util.find_spec(name) is not None for name in ("trame", "trame_vtk")
+        )
+        backend = "trame" if has_trame and _has_display() else "static"
+    if backend == "static" or not _has_display():
+        _use_offscreen_backend()
+    pv.set_jupyter_backend(backend)
+    return backend
+
+
+def plot_design(
+    design: Design,
+    plotter: pv.Plotter | None = None,
+    *,
+    region: Mapping[str, Any] | None = None,
+    gamma: Any = None,
+    show: bool | None = None,
+    window_size: tuple[int, int] = (1024, 768),
+    legend: bool = True,
+    scalar_bar: bool = True,
+    scale_bar: bool = True,
+    jupyter_backend: str | None = None,
+) -> pv.Plotter:
+    """Draw the body into a PyVista plotter (a new one when ``plotter`` is None).
+
+    Parameters
+    ----------
+    design : Design
+    plotter : pyvista.Plotter, optional
+        Draw into this plotter (its camera is left alone; the caller shows it). None: a new
+        plotter (off screen without a display; in Jupyter with :func:`notebook_backend`) that
+        is shown unless ``show=False``.
+    region : mapping, optional
+        Candidate region to outline; default: the one recorded in the design.
+    gamma : array_like, shape (3,), optional
+        Field axis (space ``Z``) in body axes, default ``(0, 0, 1)``.
+    show : bool, optional
+        Call ``plotter.show()`` (default: only for a plotter made here, and only where it can
+        be seen: in a notebook or with a display).
+    window_size : (int, int)
+        Size of a new plotter, pixels.
+    legend, scalar_bar, scale_bar : bool
+        Draw the legend, the charge colour bar, the length scale bar.
+    jupyter_backend : str, optional
+        PyVista Jupyter backend (``static``, ``trame``, ...); default :func:`notebook_backend`.
+
+    Returns
+    -------
+    pyvista.Plotter
+    """
+    _unit_gamma(gamma)
+    if region is None:
+        region = region_from_design(design)
+    _region_spec(region)
+    own = plotter is None
+    notebook = own and in_notebook()
+    if plotter is None:
+        size = _window_size(window_size)
+        off_screen = not _has_display() or bool(pv.OFF_SCREEN)
+        if notebook:
+            jupyter_backend = notebook_backend(jupyter_backend)
+            off_screen = off_screen or jupyter_backend == "static"
+        elif off_screen:
+            _use_offscreen_backend()
+        plotter = pv.Plotter(off_screen=off_screen, notebook=notebook, window_size=list(size))
+        plotter.background_color = pv.Color(BACKGROUND_COLOR)
+    _draw_scene(
+        plotter,
+        design,
+        region=region,
+        gamma=gamma,
+        legend=legend,
+        scalar_bar=scalar_bar,
+        scale_bar=scale_bar,
+        camera=own,
+    )
+    if show is None:
+        show = own and (notebook or (_has_display() and not pv.OFF_SCREEN))
+    if show:
+        if notebook:
+            plotter.show(jupyter_backend=jupyter_backend)
+        else:
+            plotter.show()
+    return plotter
+
+
+class Picture(np.ndarray):
+    """An RGB image (ndarray, shape (height, width, 3), uint8) that notebooks display.
+
+    A plain ``numpy.ndarray`` in every other respect; :meth:`save` writes it as PNG.
+    """
+
+    def _repr_png_(self) -> bytes:
+        import io
+
+        import imageio.v3 as iio
+
+        buffer = io.BytesIO()
+        iio.imwrite(buffer, np.asarray(self), extension=".png")
+        return buffer.getvalue()
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the picture as PNG (atomically); returns the path."""
+        import imageio.v3 as iio
+
+        target = Path(path)
+        if target.suffix.lower() != ".png":
+            raise input_error("picture path", "a file name ending in .png", str(target))
+        image = np.asarray(self)
+        _write_file(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
+        return target
 
 
 # ---------------------------------------------------------------------------------------------
@@ -540,7 +954,11 @@ def render_image(
 
     Returns
     -------
-    ndarray, shape (height, width, 3), uint8
+    Picture
+        An ndarray, shape (height, width, 3), uint8, that Jupyter displays as an image
+        (``_repr_png_``) and :meth:`Picture.save` writes as PNG. For an interactive or
+        customised view draw into your own plotter with :func:`plot_design`; for the geometry
+        use :func:`design_blocks`.
     """
     size = _window_size(window_size)
     check_element_count(design, max_elements)
@@ -556,7 +974,7 @@ def render_image(
             image = plotter.screenshot(None, return_img=True)
         finally:
             plotter.close()
-    return np.asarray(image)[:, :, :3]
+    return np.ascontiguousarray(np.asarray(image)[:, :, :3]).view(Picture)
 
 
 def render_screenshot(
@@ -613,14 +1031,19 @@ def show_interactive(
     window_size: tuple[int, int] = (1024, 768),
     max_elements: int | None = None,
 ) -> None:
-    """Open an interactive window (blocks until it is closed).
+    """Open an interactive window (blocks until it is closed); in Jupyter, show the body in
+    the notebook instead (:func:`plot_design` with :func:`notebook_backend`: ``static`` works
+    with no display).
 
     Raises
     ------
     InputError
         When there is no display (Linux without ``DISPLAY``/``WAYLAND_DISPLAY``, or PyVista
-        forced off screen): render to a file instead.
+        forced off screen) outside a notebook: render to a file instead.
     """
+    if in_notebook():
+        plot_design(design, region=region, gamma=gamma, window_size=window_size, show=True)
+        return
     if not _has_display() or pv.OFF_SCREEN:
         raise InputError(
             "no display to open a window on ($DISPLAY and $WAYLAND_DISPLAY are unset); "

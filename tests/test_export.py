@@ -136,11 +136,13 @@ def test_csv_rows_read_by_the_csv_module(tmp_path):
     design = sample_design(continuous=False)
     path = export.export_design(design, "csv", tmp_path / "body.csv")
     lines = path.read_text().splitlines()
-    comments = [line for line in lines if line.startswith("#")]
-    assert "# units: positions m, charge C, mass kg, dipole moment A m^2" in comments
-    assert any(line.startswith('# design.provenance: {"solver": "clarabel"') for line in comments)
-    rows = list(csv.DictReader(line for line in lines if not line.startswith("#")))
-    assert list(rows[0]) == ["kind", "x", "y", "z", "value", "mx", "my", "mz"]
+    assert lines[0] == "kind,x,y,z,value,mx,my,mz,design"  # a plain header row, no comments
+    assert not any(line.startswith("#") for line in lines)
+    rows = list(csv.DictReader(lines))
+    assert list(rows[0]) == ["kind", "x", "y", "z", "value", "mx", "my", "mz", "design"]
+    header = json.loads(rows[0]["design"])
+    assert rows[0]["kind"] == "design" and header["provenance"]["solver"] == "clarabel"
+    assert header["csv_units"].startswith("positions m, charge C, mass kg, dipole moment A m^2")
     by_kind = {k: [r for r in rows if r["kind"] == k] for k in ("charge", "mass", "dipole")}
     xyz = ("x", "y", "z")
     charge_positions = [[float(r[k]) for k in xyz] for r in by_kind["charge"]]
@@ -182,8 +184,8 @@ def test_vtp_arrays_read_by_pyvista(tmp_path):
 
 def test_format_from_the_extension_and_bad_formats(tmp_path):
     design = sample_design(continuous=False)
-    assert export.export_design(design, None, tmp_path / "a.CSV").read_text().startswith("#")
-    with pytest.raises(InputError, match="format: expected one of json, csv, vtp, got 'xml'"):
+    assert export.export_design(design, None, tmp_path / "a.CSV").read_text().startswith("kind")
+    with pytest.raises(InputError, match="format: expected one of json, csv, vtp, vtu, got 'xml'"):
         export.export_design(design, "xml", tmp_path / "a.xml")
     with pytest.raises(InputError, match=r"expected a file name ending in \.json, \.csv, \.vtp"):
         export.export_design(design, None, tmp_path / "a.txt")

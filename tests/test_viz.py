@@ -99,20 +99,33 @@ def test_hues_appear_only_for_charges_of_that_sign(charges, red, blue):
     assert blue_pixels(image) == 0 or blue
 
 
-def test_charge_colours_are_linear_in_q_and_white_at_zero():
+def test_charge_colours_are_linear_in_q_and_keep_their_sign_near_zero():
     cmap, (lo, hi) = viz._charge_colormap(np.array([-0.5, 2.0]))
     assert (lo, hi) == (-0.5, 2.0)
+    floor = viz.CHARGE_TINT_FLOOR
 
     def colour(q):
         return np.array(cmap((q - lo) / (hi - lo))[:3])
 
+    def tint(color, weight):
+        return weight * np.array(color) + (1.0 - weight)
+
     np.testing.assert_allclose(colour(2.0), viz.POSITIVE_COLOR, atol=1e-2)
-    np.testing.assert_allclose(colour(0.0), (1.0, 1.0, 1.0), atol=1e-2)
-    # -0.5 is a quarter of the largest |q|: a quarter of the way from white to blue
-    np.testing.assert_allclose(colour(-0.5), (0.75, 0.75, 1.0), atol=1e-2)
+    # just above and below zero: the lightest tint of each sign, never white or grey
+    np.testing.assert_allclose(colour(0.02), tint(viz.POSITIVE_COLOR, floor), atol=1e-2)
+    np.testing.assert_allclose(colour(-0.02), tint(viz.NEGATIVE_COLOR, floor), atol=1e-2)
+    # the colours drawn are exact in the sign however small the charge
+    rgb = viz.charge_colors(np.array([1e-300, -1e-300, 0.0, 2.0]))
+    np.testing.assert_allclose(rgb[0], tint(viz.POSITIVE_COLOR, floor))
+    np.testing.assert_allclose(rgb[1], tint(viz.NEGATIVE_COLOR, floor))
+    np.testing.assert_allclose(rgb[2], (1.0, 1.0, 1.0))
+    np.testing.assert_allclose(rgb[3], viz.POSITIVE_COLOR)
+    # -0.5 is a quarter of the largest |q|: a quarter of the way from the floor to full blue
+    weight = floor + (1.0 - floor) * 0.25
+    np.testing.assert_allclose(colour(-0.5), tint(viz.NEGATIVE_COLOR, weight), atol=1e-2)
     only_positive, limits = viz._charge_colormap(np.array([0.1, 0.4]))
     assert limits == (0.0, 0.4)
-    np.testing.assert_allclose(only_positive(0.0)[:3], (1.0, 1.0, 1.0), atol=1e-2)
+    np.testing.assert_allclose(only_positive(0.0)[:3], tint(viz.POSITIVE_COLOR, floor), atol=1e-2)
 
 
 def test_region_outlines_lie_on_the_region():

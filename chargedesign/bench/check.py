@@ -465,11 +465,24 @@ def quadrature_table(quick: bool = False) -> BenchTable:
     return table
 
 
-def plot_quadrature_convergence(table: BenchTable, path: str) -> None:
-    """Error against nodes (left) and time (right) per integrand; written atomically."""
+def plot_quadrature_convergence(
+    table: BenchTable, path: str | None = None, *, ax: Any = None
+) -> Any:
+    """Error against nodes (left) and time (right) per integrand; returns the figure.
+
+    Parameters
+    ----------
+    table : BenchTable
+        The quadrature table.
+    path : str, optional
+        Write a PNG there (atomically).
+    ax : pair of matplotlib Axes, optional
+        Draw into these (nodes, time); default: a new figure.
+    """
     import matplotlib
 
-    matplotlib.use("Agg")
+    if ax is None:
+        matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from chargedesign.files import atomic_path
@@ -477,22 +490,29 @@ def plot_quadrature_convergence(table: BenchTable, path: str) -> None:
     rows_by: dict[str, list[list[Any]]] = {}
     for row in table.rows:
         rows_by.setdefault(row[0], []).append(row)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    if ax is None:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+        fig.suptitle("Quadrature of continuous bodies: convergence beyond the exact degree")
+    else:
+        axes = list(ax)
+        fig = axes[0].figure
     for label, rows in rows_by.items():
         err = [max(r[3], 1e-17) for r in rows]
         axes[0].loglog([r[2] for r in rows], err, "o-", label=label)
         axes[1].semilogy([r[4] for r in rows], err, "o-", label=label)
     axes[0].set_xlabel("nodes")
     axes[1].set_xlabel("time (us): building the rule + evaluating the integrand")
-    for ax in axes:
-        ax.set_ylabel("relative error")
-        ax.grid(True, which="both", alpha=0.3)
+    for one in axes:
+        one.set_ylabel("relative error")
+        one.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle("Quadrature of continuous bodies: convergence beyond the exact degree")
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    plt.close(fig)
+    if path is not None:
+        fig.tight_layout()
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=110)
+        if ax is None:
+            plt.close(fig)
+    return fig
 
 
 def run(quick: bool = False) -> list[BenchTable]:

@@ -7,6 +7,7 @@ import os
 import platform
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import Any
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.files import atomic_path, write_text_atomic
@@ -25,21 +26,56 @@ def run_benchmarks(
     return tables
 
 
-def _plot(table: BenchTable, path: Path) -> None:
-    """Plot per ``table.plot``: x column, ``y`` columns (left panel), optional ``y2`` columns
-    (right panel), optional ``group`` column (one line per distinct value)."""
-    import matplotlib
+def _group_column(table: BenchTable, spec: dict) -> int | None:
+    """The column whose values split the rows into separate lines.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    ``spec["group"]`` when given; else the first text column (not the x or y columns) with
+    at least two values, each shared by several rows (e.g. ``method``: DOP853 rows and
+    Gauss-Legendre rows are two lines, never one line joining them).
+    """
+    if spec.get("group"):
+        return table.columns.index(spec["group"])
+    used = {spec.get("x"), *spec.get("y", []), *spec.get("y2", [])}
+    for i, name in enumerate(table.columns):
+        if name in used:
+            continue
+        values = [row[i] for row in table.rows]
+        if values and all(isinstance(v, str) for v in values):
+            distinct = set(values)
+            if 2 <= len(distinct) < len(values):
+                return i
+    return None
 
+
+def plot_table(table: BenchTable, axes: Any = None) -> Any:
+    """Draw a table per ``table.plot`` into matplotlib axes; returns the figure.
+
+    x column, ``y`` columns (left panel), optional ``y2`` columns (right panel), one line per
+    group (:func:`_group_column`); y labels from ``ylabel``/``ylabel2`` or the columns' names.
+
+    Parameters
+    ----------
+    table : BenchTable
+    axes : matplotlib Axes or sequence of Axes, optional
+        One axes per panel (1, or 2 with ``y2``); default: a new figure.
+    """
     spec = table.plot or {}
-    panels = [("y", "logy")] + ([("y2", "logy2")] if spec.get("y2") else [])
-    fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4), squeeze=False)
+    panels = [("y", "logy", "ylabel")] + ([("y2", "logy2", "ylabel2")] if spec.get("y2") else [])
+    if axes is None:
+        import matplotlib.pyplot as plt
+
+        fig, grid = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4), squeeze=False)
+        axes_list = list(grid[0])
+        fig.suptitle(table.title, fontsize=10)
+    else:
+        axes_list = list(axes) if isinstance(axes, (list, tuple)) else [axes]
+        if len(axes_list) != len(panels):
+            raise ValueError(f"plot_table: {len(panels)} axes needed, got {len(axes_list)}")
+        fig = axes_list[0].figure
     xi = table.columns.index(spec["x"])
-    gi = table.columns.index(spec["group"]) if spec.get("group") else None
+    gi = _group_column(table, spec)
     groups = sorted({row[gi] for row in table.rows}, key=str) if gi is not None else [None]
-    for ax, (key, logkey) in zip(axes[0], panels, strict=True):
+    for ax, (key, logkey, labelkey) in zip(axes_list, panels, strict=True):
         for name in spec[key]:
             yi = table.columns.index(name)
             for group in groups:
@@ -48,6 +84,8 @@ def _plot(table: BenchTable, path: Path) -> None:
                     for row in table.rows
                     if isinstance(row[yi], (int, float)) and (gi is None or row[gi] == group)
                 ]
+                if all(isinstance(p[0], (int, float)) for p in pairs):
+                    pairs.sort(key=lambda p: p[0])  # a line runs left to right
                 label = name if group is None else f"{group}: {name}"
                 ax.plot([p[0] for p in pairs], [p[1] for p in pairs], "o-", label=label)
         if spec.get("logx"):
@@ -55,9 +93,20 @@ def _plot(table: BenchTable, path: Path) -> None:
         if spec.get(logkey):
             ax.set_yscale("log")
         ax.set_xlabel(spec["x"])
+        ax.set_ylabel(spec.get(labelkey) or ", ".join(spec[key]))
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(table.title, fontsize=10)
+    return fig
+
+
+def _plot(table: BenchTable, path: Path) -> None:
+    """Plot a table (:func:`plot_table`) into a PNG, written atomically."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plot_table(table)
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)

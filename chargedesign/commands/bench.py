@@ -29,10 +29,15 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.bench.runner import run_benchmarks, write_report
 
-    def progress(area: str) -> None:
-        print(f"bench: {area} ...", file=sys.stderr, flush=True)
+    heartbeat = _Heartbeat()
 
-    tables = run_benchmarks(args.only or AREAS, quick=args.quick, progress=progress)
+    def progress(area: str) -> None:
+        heartbeat.area(area)
+
+    try:
+        tables = run_benchmarks(args.only or AREAS, quick=args.quick, progress=progress)
+    finally:
+        heartbeat.stop()
     if args.out:
         path = write_report(tables, args.out)
         print(f"bench: wrote {path}", file=sys.stderr)
@@ -42,3 +47,45 @@ def run(args: argparse.Namespace) -> int:
         for table in tables:
             print(table.to_markdown())
     return 0
+
+
+class _Heartbeat:
+    """Says on stderr which area runs, and every ``period`` seconds that it still runs."""
+
+    def __init__(self, period: float = 15.0) -> None:
+        import threading
+        import time
+
+        self._time = time.perf_counter
+        self._period = period
+        self._name = ""
+        self._start = self._area_start = self._time()
+        self._done = threading.Event()
+        self._lock = threading.Lock()
+        self._thread = threading.Thread(target=self._beat, daemon=True)
+        self._thread.start()
+
+    def area(self, name: str) -> None:
+        with self._lock:
+            if self._name:
+                self._say(f"bench: {self._name} done in {self._time() - self._area_start:.0f} s")
+            self._name, self._area_start = name, self._time()
+        self._say(f"bench: {name} ...")
+
+    def stop(self) -> None:
+        self._done.set()
+        self._thread.join()
+        if self._name:
+            self._say(f"bench: {self._name} done in {self._time() - self._area_start:.0f} s")
+        self._say(f"bench: all areas in {self._time() - self._start:.0f} s")
+
+    def _beat(self) -> None:
+        while not self._done.wait(self._period):
+            with self._lock:
+                self._say(
+                    f"bench: {self._name} still running ({self._time() - self._area_start:.0f} s)"
+                )
+
+    @staticmethod
+    def _say(text: str) -> None:
+        print(text, file=sys.stderr, flush=True)

@@ -11,10 +11,9 @@ from __future__ import annotations
 import argparse
 
 from chargedesign.errors import InputError
-
-DEFAULT_TOL = 1e-9  # mirrors chargedesign.check.DEFAULT_TOL (kept here so --help stays light)
-DEFAULT_ORIENTATIONS = 1000
-PRECISIONS = ("auto", "double", "double-double")  # mirrors chargedesign.check.PRECISIONS
+from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
+from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
+from chargedesign.vocabulary import PRECISIONS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -60,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     import math
 
     from chargedesign.body import read_design
-    from chargedesign.check import check_design, summary_lines
+    from chargedesign.check import check_design
 
     if not math.isfinite(args.tol) or args.tol <= 0.0:
         raise InputError(f"--tol: expected a number > 0, got {args.tol!r}")
@@ -86,5 +85,5 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print("\n".join(summary_lines(report)))
+        print(report)
     return 0 if report.passed else 1

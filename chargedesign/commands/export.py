@@ -1,4 +1,4 @@
-"""`chargedesign export DESIGN --out PATH [--format json|csv|vtp]`: a design's geometry as a file.
+"""`chargedesign export DESIGN --out PATH [--format json|csv|vtp|vtu]`: a design as a file.
 
 The format follows the file name's extension unless ``--format`` is given.
 """
@@ -8,11 +8,11 @@ from __future__ import annotations
 import argparse
 import json
 
-FORMATS = ("json", "csv", "vtp")
+from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp export)")
+    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp/.vtu export)")
     parser.add_argument(
         "--format",
         metavar="F",

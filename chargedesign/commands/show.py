@@ -100,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
             region=region,
             window_size=size,
             max_elements=args.max_elements,
+            progress=_frame_progress,
         )
         written["animation"] = str(path)
     if not written:
@@ -117,3 +118,12 @@ def run(args: argparse.Namespace) -> int:
         for what, name in written.items():
             print(f"wrote {what}: {name}")
     return 0
+
+
+def _frame_progress(done: int, total: int) -> None:
+    """Progress of an animation on stderr: about ten lines, and the last frame."""
+    import sys
+
+    step = max(1, total // 10)
+    if done == 1 or done % step == 0 or done == total:
+        print(f"show: rendered frame {done}/{total}", file=sys.stderr, flush=True)

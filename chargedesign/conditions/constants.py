@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from chargedesign.body import FIELD_KINDS as FIELD_KINDS  # the contract's field kinds
 from chargedesign.limits import MAX_FIELD_DEGREE as MAX_FIELD_DEGREE  # the one cap
 
-SOURCES = ("charges", "dipoles", "masses")
-#: what a design may claim to realise (CONTRACT.md)
-REALISABLE = ("mu", "V", "inertia")
+# the contract's field kinds, sources and realisable targets (declared in chargedesign.vocabulary)
+from chargedesign.vocabulary import FIELD_KINDS as FIELD_KINDS
+from chargedesign.vocabulary import REALISABLE as REALISABLE
+from chargedesign.vocabulary import SOURCES as SOURCES
+
 #: the field each source feels (its potential energy) in V
 SOURCE_FIELD = {"charges": "electric", "dipoles": "magnetic", "masses": "gravity"}
 #: letter of the Legendre coefficients of each field kind in messages (``fields.electric e4``)

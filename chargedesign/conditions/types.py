@@ -15,6 +15,7 @@ import numpy as np
 
 from chargedesign.conditions.constants import DEFAULT_LENGTH_RULE, SOURCES
 from chargedesign.moments import monomial_matrix
+from chargedesign.results import Result
 from chargedesign.validation import input_error
 
 
@@ -62,8 +63,8 @@ class LinearCondition:
         return out
 
 
-@dataclass
-class LinearConditions:
+@dataclass(repr=False)
+class LinearConditions(Result):
     """All conditions of a target, with the fields they assume.
 
     Attributes
@@ -173,3 +174,17 @@ class LinearConditions:
         out["notes"] = list(self.notes)
         out["conditions"] = [c.to_dict() for c in self.conditions]
         return out
+
+    # result protocol (chargedesign.results)
+    def _summary(self) -> dict[str, Any]:
+        out: dict[str, Any] = {s: len(self.for_source(s)) for s in SOURCES}
+        out["realise"] = list(self.realise)
+        out["fields"] = ",".join(k for k, v in self.fields.items() if len(v))
+        if self.default_strengths:
+            out["default_strengths"] = len(self.default_strengths)
+        return out
+
+    def _text(self) -> str:
+        from chargedesign.conditions.text import format_conditions
+
+        return format_conditions(self)

@@ -117,3 +117,8 @@ __all__ = [
     "relative_residual",
     "source_cancellations",
 ]
+
+# `chargedesign.design(...)` calls chargedesign.api.design (the module stays a module)
+from chargedesign.api import make_callable
+
+make_callable(__name__)

@@ -14,8 +14,8 @@ import numpy as np
 
 from chargedesign.conditions import REALISABLE, SOURCES
 from chargedesign.validation import as_finite_float, input_error
+from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
 
-OBJECTIVES = ("l1", "l2", "linf")
 SPARSITY_METHODS = ("auto", "reweighted", "mip")
 #: relative residual a polished design must reach (default ``tol`` with polishing)
 POLISHED_TOL = 1e-13

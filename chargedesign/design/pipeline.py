@@ -146,7 +146,7 @@ def _design_problem(
     if p.nonneg and np.any(weights < 0):
         raise SolverError(f"{source}: a negative mass survived polishing ({weights.min():.3g} kg)")
     support = _support_of(u, p.group, 0.0)
-    if sol.status != "optimal":
+    if sol.status != "optimal" and before > options.tolerance:
         notes.append(
             f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
             "the residuals were verified here"

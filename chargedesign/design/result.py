@@ -10,6 +10,7 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.design.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
 from chargedesign.design.options import DesignOptions
+from chargedesign.results import Result
 
 
 @dataclass
@@ -43,8 +44,8 @@ class SourceResult:
         return asdict(self)
 
 
-@dataclass
-class DesignResult:
+@dataclass(repr=False)
+class DesignResult(Result):
     """A designed body and how it was obtained.
 
     Attributes
@@ -107,6 +108,39 @@ class DesignResult:
             "timings": dict(self.timings),
             "notes": list(self.notes),
         }
+
+    # result protocol (chargedesign.results)
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: :meth:`summary` plus the body's design.json mapping under ``design``."""
+        return {**self.summary(), "design": self.design.to_dict()}
+
+    def _summary(self) -> dict[str, Any]:
+        d = self.design
+        return {
+            "status": self.status,
+            "charges": len(d.charge_values),
+            "dipoles": len(d.dipole_moments),
+            "masses": len(d.mass_values),
+            "candidates": len(self.candidates),
+            "residual": self.residual_after,
+            "realises": list(d.realises),
+        }
+
+    def _text(self) -> str:
+        from chargedesign.report import render_report
+
+        return render_report(self.design)
+
+    def _html_rows(self) -> dict[str, Any]:
+        rows = self._summary()
+        rows["parameters"] = ", ".join(
+            f"{k} = {v:g}" for k, v in self.design.parameters.as_dict().items()
+        )
+        rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
+        return rows
+
+    def _html_picture(self) -> str:
+        return self.design._html_picture()
 
 
 def design_extras(result: DesignResult) -> dict[str, Any]:

@@ -24,12 +24,13 @@ import numpy as np
 
 from chargedesign.files import atomic_directory
 from chargedesign.params import Parameters
+from chargedesign.results import Result
 
 INTEGRAL_NAMES = ("I1", "I2", "I3", "I4")
 
 
-@dataclass
-class SimulationResult:
+@dataclass(repr=False)
+class SimulationResult(Result):
     """One simulated trajectory.
 
     Attributes
@@ -163,6 +164,23 @@ class SimulationResult:
         if self.body is not None:
             out["body"] = dict(self.body)
         return out
+
+    # ------------------------------------------------------------------ result protocol
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the :meth:`summary` (what ``chargedesign simulate --json`` prints)."""
+        return self.summary()
+
+    def _summary(self) -> dict[str, Any]:
+        d = self.drift()
+        return {
+            "effects": list(self.effects),
+            "t_reached": float(self.times[-1]),
+            "samples": len(self.times),
+            "I4_rel_drift": d["I4_rel_drift"],
+            "I3_max": d["I3_max"],
+            "method": self.method,
+            "completed": self.completed,
+        }
 
     # ------------------------------------------------------------------ files
     def trajectory_csv(self) -> str:

@@ -50,7 +50,8 @@ from chargedesign.simulation.direct import DirectKernel
 from chargedesign.validation import input_error
 
 #: every effect a scene may call for
-EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "theorem")
+from chargedesign.vocabulary import EFFECTS as EFFECTS
+
 #: force routes for a designed body
 ROUTES = ("reduced", "direct")
 #: which source and field each physical effect needs

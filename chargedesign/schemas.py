@@ -1,0 +1,335 @@
+"""JSON Schemas of design.json and of scene files, built from the vocabulary (one source).
+
+:func:`schema` returns a schema as a mapping; ``chargedesign schema design|scene`` prints it;
+the package ships the same text as ``chargedesign/data/schemas/<name>.schema.json`` for tools
+that do not run Python (a test keeps the files equal to :func:`schema`).
+
+The schemas describe the files; the validator (:mod:`chargedesign.validation` and the
+stages that read each table) remains the judge of a file's meaning (e.g. array lengths that
+must agree). Tables that other parts of the program are still growing are left open
+(``additionalProperties: true``): ``[simulation]``, ``[initial]``, ``[output]``, ``[design]``,
+``[body]``, ``[medium]``, ``[materials]``, ``[carriers]``, ``[magnets]``, ``[ballast]`` and the
+top level of design.json (further keys are welcome there by the contract). The element blocks
+of design.json and ``[parameters]`` are closed, as the readers refuse unknown keys there.
+"""
+
+from __future__ import annotations
+
+import json
+from importlib import resources
+from typing import Any
+
+from chargedesign.vocabulary import (
+    BODY_SHAPES,
+    DESIGN_FORMAT,
+    EFFECTS,
+    FIELD_KINDS,
+    OBJECTIVES,
+    PARAMETER_NAMES,
+    REALISABLE,
+    SCENE_TABLES,
+    SOURCES,
+    STATE_NAMES,
+)
+
+DRAFT = "https://json-schema.org/draft/2020-12/schema"
+NAMES = ("design", "scene")
+
+_NUMBER = {"type": "number"}
+_NONNEG = {"type": "number", "minimum": 0}
+_POSITIVE = {"type": "number", "exclusiveMinimum": 0}
+_VECTOR = {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}
+_POINTS = {"type": "array", "items": _VECTOR}
+_NUMBERS = {"type": "array", "items": _NUMBER}
+_NONNEGS = {"type": "array", "items": _NONNEG}
+
+
+def _parameters() -> dict[str, Any]:
+    props: dict[str, Any] = {name: dict(_NUMBER) for name in PARAMETER_NAMES}
+    props["C"] = {**_POSITIVE, "description": "moment of inertia about the symmetry axis, kg m^2"}
+    return {
+        "type": "object",
+        "description": "the theorem's parameters (SI units); omitted ones are 0, C is 1",
+        "properties": props,
+        "additionalProperties": False,
+    }
+
+
+def _medium() -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": "what surrounds the body; surface fields stay <= safety * breakdown",
+        "properties": {
+            "name": {"type": "string", "description": "vacuum, air, sf6, oil, ..."},
+            "breakdown_V_per_m": _POSITIVE,
+            "breakdown": _POSITIVE,
+            "safety": {"type": "number", "exclusiveMinimum": 0, "maximum": 1},
+        },
+        "additionalProperties": True,
+    }
+
+
+def _materials() -> dict[str, Any]:
+    material = {
+        "type": "object",
+        "properties": {
+            "name": {"type": "string"},
+            "remanent_magnetisation_A_per_m": _POSITIVE,
+            "density_kg_per_m3": _POSITIVE,
+        },
+        "additionalProperties": True,
+    }
+    return {
+        "type": "object",
+        "description": "materials by role (magnet, carrier, ballast, ...)",
+        "additionalProperties": material,
+    }
+
+
+def design_schema() -> dict[str, Any]:
+    """The schema of design.json (format ``chargedesign.design/1``)."""
+    legendre_field = {
+        "type": "object",
+        "required": ["legendre"],
+        "properties": {"legendre": _NUMBERS},
+        "additionalProperties": True,
+    }
+    return {
+        "$schema": DRAFT,
+        "$id": "chargedesign/schemas/design.schema.json",
+        "title": f"design.json ({DESIGN_FORMAT})",
+        "description": "A designed body: charges on carriers, magnets and ballast masses in "
+        "body axes (SI units), its target parameters and fields. Further keys (provenance, "
+        "residuals, solver, timings, units, ...) are welcome.",
+        "type": "object",
+        "required": ["parameters"],
+        "properties": {
+            "format": {"const": DESIGN_FORMAT},
+            "parameters": _parameters(),
+            "fields": {
+                "type": "object",
+                "propertyNames": {"enum": list(FIELD_KINDS)},
+                "additionalProperties": legendre_field,
+            },
+            "charges": {
+                "type": "object",
+                "properties": {
+                    "positions": _POINTS,
+                    "values": _NUMBERS,
+                    "radii": {**_NONNEGS, "description": "carrier sphere radii, m"},
+                    "masses": {**_NONNEGS, "description": "carrier masses, kg"},
+                },
+                "additionalProperties": False,
+            },
+            "dipoles": {
+                "type": "object",
+                "properties": {
+                    "positions": _POINTS,
+                    "moments": {**_POINTS, "description": "magnetic moments, A m^2"},
+                    "volumes": {**_NONNEGS, "description": "magnet volumes, m^3"},
+                    "masses": {**_NONNEGS, "description": "magnet masses, kg"},
+                },
+                "additionalProperties": False,
+            },
+            "masses": {
+                "type": "object",
+                "description": "the ballast",
+                "properties": {"positions": _POINTS, "values": _NONNEGS},
+                "additionalProperties": False,
+            },
+            "realises": {
+                "type": "array",
+                "items": {"enum": list(REALISABLE)},
+                "uniqueItems": True,
+            },
+            "continuous": {"type": "array", "items": {"type": "object"}},
+            "medium": _medium(),
+            "materials": _materials(),
+        },
+        "additionalProperties": True,
+    }
+
+
+def _field_table() -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": "the paper's a1/a2 (Phi = a1 Z + a2 (3 Z^2 - R^2)) or legendre = [...]",
+        "properties": {
+            "a1": _NUMBER,
+            "a2": _NUMBER,
+            "legendre": _NUMBERS,
+            "max": {**_POSITIVE, "description": "largest |field| over the body"},
+        },
+        "not": {"anyOf": [{"required": ["legendre", "a1"]}, {"required": ["legendre", "a2"]}]},
+        "additionalProperties": False,
+    }
+
+
+def _open(description: str, properties: dict[str, Any] | None = None) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "description": description,
+        "properties": properties or {},
+        "additionalProperties": True,
+    }
+
+
+def scene_schema() -> dict[str, Any]:
+    """The schema of a scene file (TOML, as the mapping it parses to)."""
+    tables: dict[str, Any] = {
+        "parameters": _parameters(),
+        "fields": {
+            "type": "object",
+            "properties": {kind: _field_table() for kind in FIELD_KINDS},
+            "additionalProperties": False,
+        },
+        "body": _open(
+            "where elements may be placed (a region with shape), or the body to simulate "
+            "(design = path, or inline charges/masses/dipoles)",
+            {
+                "shape": {"enum": list(BODY_SHAPES)},
+                "radius": _POSITIVE,
+                "height": _POSITIVE,
+                "spacing": _POSITIVE,
+                "n_points": {"type": "integer", "minimum": 1},
+                "half_size": {"anyOf": [_POSITIVE, _VECTOR]},
+                "size": {"anyOf": [_POSITIVE, _VECTOR]},
+                "center": _VECTOR,
+                "symmetric": {"type": "boolean"},
+                "path": {"type": "string"},
+                "scale": _POSITIVE,
+                "design": {"type": "string"},
+            },
+        ),
+        "design": _open(
+            "design options (docs/design.md)",
+            {
+                "realise": {
+                    "type": "array",
+                    "items": {"enum": list(REALISABLE)},
+                    "uniqueItems": True,
+                },
+                "objective": {"enum": list(OBJECTIVES)},
+                "objectives": {
+                    "type": "object",
+                    "propertyNames": {"enum": list(SOURCES)},
+                    "additionalProperties": {"enum": list(OBJECTIVES)},
+                },
+                "sparsity": {"enum": ["auto", "reweighted", "mip"]},
+                "column_generation": {"type": "boolean"},
+                "tol": _POSITIVE,
+                "time_limit": _POSITIVE,
+                "solver": {"type": "string"},
+                "n_charges": {"type": "integer", "minimum": 1},
+                "max_charge": _POSITIVE,
+                "total_charge": _NUMBER,
+                "total_mass": _NONNEG,
+                "polish": {"type": "boolean"},
+            },
+        ),
+        "simulation": _open(
+            "integration options (docs/simulate.md); open: more keys are being added",
+            {
+                "effects": {"type": "array", "items": {"enum": list(EFFECTS)}},
+                "t_end": _POSITIVE,
+                "rtol": _POSITIVE,
+                "atol": _POSITIVE,
+                "method": {"type": "string"},
+                "samples": {"type": "integer", "minimum": 2},
+                "max_step": _POSITIVE,
+                "step": _POSITIVE,
+                "route": {"type": "string"},
+                "gamma3_min": _NONNEG,
+            },
+        ),
+        "initial": _open(
+            "initial state: omega and gamma, or level with gamma, p and q",
+            {
+                "omega": _VECTOR,
+                "gamma": _VECTOR,
+                "level": {"anyOf": [{"type": "string"}, _NUMBER]},
+                "p": _NUMBER,
+                "q": _NUMBER,
+                "precession": _NUMBER,
+            },
+        ),
+        "output": _open(
+            "what a simulation writes",
+            {"poincare_section": {"enum": list(STATE_NAMES)}},
+        ),
+        "medium": _medium(),
+        "materials": _materials(),
+        "carriers": _open("the charge carriers (sizes, material)"),
+        "magnets": _open("the magnets (sizes, material)"),
+        "ballast": _open("the ballast masses (sizes, material)"),
+    }
+    assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
+    return {
+        "$schema": DRAFT,
+        "$id": "chargedesign/schemas/scene.schema.json",
+        "title": "chargedesign scene (TOML)",
+        "description": "A scene: the theorem's parameters, the fields, where the body may be "
+        "and what each stage should do. Every table is optional.",
+        "type": "object",
+        "properties": tables,
+        "additionalProperties": False,
+    }
+
+
+def schema(name: str) -> dict[str, Any]:
+    """The JSON Schema ``design`` (design.json) or ``scene`` (scene files).
+
+    Returns
+    -------
+    dict
+        A JSON Schema (draft 2020-12).
+    """
+    from chargedesign.validation import input_error
+
+    if name == "design":
+        return design_schema()
+    if name == "scene":
+        return scene_schema()
+    raise input_error("schema", "one of " + ", ".join(NAMES), name)
+
+
+def schema_text(name: str) -> str:
+    """The schema as the JSON text shipped in the package."""
+    return json.dumps(schema(name), indent=2) + "\n"
+
+
+def shipped_schema_text(name: str) -> str:
+    """The text of ``chargedesign/data/schemas/<name>.schema.json``."""
+    path = resources.files("chargedesign").joinpath(f"data/schemas/{name}.schema.json")
+    return path.read_text("utf-8")
+
+
+def validate(instance: Any, name: str) -> None:
+    """Validate ``instance`` against a schema (needs the ``jsonschema`` package).
+
+    Raises
+    ------
+    InputError
+        With the path of the first offending key and the reason.
+    """
+    import jsonschema
+
+    from chargedesign.errors import InputError
+
+    validator = jsonschema.Draft202012Validator(schema(name))
+    errors = sorted(validator.iter_errors(instance), key=lambda e: list(e.absolute_path))
+    if errors:
+        error = errors[0]
+        where = ".".join(str(p) for p in error.absolute_path) or "(top level)"
+        raise InputError(f"{name} schema: {where}: {error.message}")
+
+
+__all__ = [
+    "NAMES",
+    "design_schema",
+    "scene_schema",
+    "schema",
+    "schema_text",
+    "shipped_schema_text",
+    "validate",
+]

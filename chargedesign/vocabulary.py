@@ -1,0 +1,92 @@
+"""Names used in several places, declared once.
+
+Every module that accepts or reports one of these vocabularies imports it from here (the old
+module-level names, e.g. ``chargedesign.body.REALISABLE`` or ``chargedesign.check.PRECISIONS``,
+stay importable as re-exports). This module imports nothing, so the command line can use it
+for ``--help`` without loading numpy.
+"""
+
+from __future__ import annotations
+
+#: the format tag of design.json (CONTRACT.md)
+DESIGN_FORMAT = "chargedesign.design/1"
+
+#: the theorem's parameters as written in scenes and design.json (``lambda``: attribute ``lam``)
+PARAMETER_NAMES = ("C", "c", "d", "n", "K", "kappa", "lambda", "rho")
+
+#: the axisymmetric fields a scene or design may give (``fields.<kind>.legendre``)
+FIELD_KINDS = ("magnetic", "electric", "gravity")
+#: the same kinds, under the name the forward check uses
+FIELD_NAMES = FIELD_KINDS
+
+#: what a design may claim to realise (design.json ``realises``, scene ``design.realise``)
+REALISABLE = ("mu", "V", "inertia")
+
+#: the element sources of a body, as design.json blocks
+SOURCES = ("charges", "dipoles", "masses")
+
+#: effects a simulation may include (scene ``simulation.effects``)
+EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "theorem")
+
+#: effects the forward check reports: effect -> (source, field it needs or None)
+CHECK_EFFECTS: dict[str, tuple[str, str | None]] = {
+    "lorentz": ("charges", "magnetic"),
+    "electric": ("charges", "electric"),
+    "gravity": ("masses", "gravity"),
+    "magnetization": ("dipoles", "magnetic"),
+    "inertia": ("masses", None),
+}
+
+#: arithmetic of the forward check's sums (``chargedesign check --precision``)
+PRECISIONS = ("auto", "double", "double-double")
+
+#: default relative tolerance and orientation count of the forward check
+CHECK_DEFAULT_TOL = 1e-9
+CHECK_DEFAULT_ORIENTATIONS = 1000
+
+#: design objectives per source (``[design] objective``)
+OBJECTIVES = ("l1", "l2", "linf")
+
+#: shapes of a scene's ``[body]`` region (candidate points)
+BODY_SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")
+
+#: export formats of ``chargedesign export``
+EXPORT_FORMATS = ("json", "csv", "vtp", "vtu")
+
+#: the scene tables every stage may read (CONTRACT.md, and the physical tables of the limits)
+SCENE_TABLES = (
+    "parameters",
+    "fields",
+    "body",
+    "design",
+    "simulation",
+    "initial",
+    "output",
+    "medium",
+    "materials",
+    "carriers",
+    "magnets",
+    "ballast",
+)
+
+#: trajectory state names in output files (CONTRACT.md)
+STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
+
+__all__ = [
+    "BODY_SHAPES",
+    "CHECK_DEFAULT_ORIENTATIONS",
+    "CHECK_DEFAULT_TOL",
+    "CHECK_EFFECTS",
+    "DESIGN_FORMAT",
+    "EFFECTS",
+    "EXPORT_FORMATS",
+    "FIELD_KINDS",
+    "FIELD_NAMES",
+    "OBJECTIVES",
+    "PARAMETER_NAMES",
+    "PRECISIONS",
+    "REALISABLE",
+    "SCENE_TABLES",
+    "SOURCES",
+    "STATE_NAMES",
+]
