@@ -51,8 +51,8 @@ _LAZY: dict[str, tuple[str, str | None]] = {
     "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
     # capabilities other rooms are adding: resolved when present
     "frontier": ("chargedesign.design.frontier", "frontier_from_scene"),
-    "tolerance": ("chargedesign.tolerance", "tolerance"),
-    "sweep": ("chargedesign.sweep", "run_sweep"),
+    "tolerance": ("chargedesign.tolerance", None),
+    "sweep": ("chargedesign.sweep", None),
 }
 
 __all__ = [

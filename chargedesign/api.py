@@ -170,7 +170,42 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
     return _simulate(source, **options)
 
 
-__all__ = ["CallableModule", "as_scene", "check", "design", "make_callable", "simulate"]
+def tolerance(design: Any, target: float | None = None, **options: Any) -> Any:
+    """Per-element tolerances of a design (:func:`chargedesign.tolerance.tolerance_report`).
+
+    ``design``: a Design, a DesignResult or a design.json path; ``target`` the relative
+    accuracy of mu, V and the inertia to keep.
+    """
+    from chargedesign.body import Design, read_design
+    from chargedesign.design.result import DesignResult
+    from chargedesign.tolerance import DEFAULT_TARGET, tolerance_report
+
+    if isinstance(design, DesignResult):
+        design = design.design
+    if not isinstance(design, Design):
+        design = read_design(design)
+    return tolerance_report(design, DEFAULT_TARGET if target is None else target, **options)
+
+
+def sweep(spec: Any, out: Any, **options: Any) -> Any:
+    """Run a sweep file or spec into ``out`` (:func:`chargedesign.sweep.run_sweep`)."""
+    from chargedesign.sweep import SweepSpec, load_sweep, run_sweep
+
+    if not isinstance(spec, SweepSpec):
+        spec = load_sweep(spec)
+    return run_sweep(spec, out, **options)
+
+
+__all__ = [
+    "CallableModule",
+    "as_scene",
+    "check",
+    "design",
+    "make_callable",
+    "simulate",
+    "sweep",
+    "tolerance",
+]
 
 
 class CallableModule(types.ModuleType):

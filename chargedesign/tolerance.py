@@ -1388,3 +1388,9 @@ def sensitivity_weights(
     for q in QUANTITIES:
         out = np.maximum(out, _row_norm(jac.position[q], q) / scales[q])
     return out
+
+
+# ``chargedesign.tolerance(...)`` calls chargedesign.api.tolerance
+from chargedesign.api import make_callable  # noqa: E402
+
+make_callable(__name__)

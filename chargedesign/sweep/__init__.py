@@ -44,3 +44,8 @@ __all__ = [
     "warm_up",
     "write_summary",
 ]
+
+# ``chargedesign.sweep(...)`` calls chargedesign.api.sweep
+from chargedesign.api import make_callable
+
+make_callable(__name__)

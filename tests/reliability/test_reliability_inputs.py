@@ -331,7 +331,18 @@ def test_os_errors_are_one_line_naming_the_path(tmp_path: Path, capsys, design_f
     path = design_file()
     for out in ("/sys/chargedesign-out", "/proc/chargedesign-out/x"):
         code, _, err = run_cli(
-            ["simulate", str(path), "--t-end", "1", "--no-progress", "--out", out], capsys
+            [
+                "simulate",
+                str(path),
+                "--t-end",
+                "1",
+                "--no-progress",
+                "--effects",
+                "theorem",
+                "--out",
+                out,
+            ],
+            capsys,
         )
         assert "chargedesign-out" in assert_clean_error(code, err, "simulate")
     code, _, err = run_cli(["export", str(path), "--out", "/sys/x.csv"], capsys)
