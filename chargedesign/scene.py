@@ -17,7 +17,6 @@ from typing import Any
 from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
-from chargedesign.physical.spec import PHYSICAL_TABLES
 from chargedesign.readers import read_toml_file
 from chargedesign.validation import (
     as_array,
@@ -26,17 +25,10 @@ from chargedesign.validation import (
     check_tree,
     input_error,
 )
+from chargedesign.vocabulary import SCENE_TABLES
 
-KNOWN_TABLES = (
-    "parameters",
-    "fields",
-    "body",
-    "design",
-    "simulation",
-    "initial",
-    "output",
-    *PHYSICAL_TABLES,
-)
+#: the one list of scene tables (the vocabulary's; the schema is built from it too)
+KNOWN_TABLES = SCENE_TABLES
 
 
 @dataclass

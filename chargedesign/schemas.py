@@ -8,7 +8,7 @@ The schemas describe the files; the validator (:mod:`chargedesign.validation` an
 stages that read each table) remains the judge of a file's meaning (e.g. array lengths that
 must agree). Tables that other parts of the program are still growing are left open
 (``additionalProperties: true``): ``[simulation]``, ``[initial]``, ``[output]``, ``[design]``,
-``[body]``, ``[medium]``, ``[materials]``, ``[carriers]``, ``[magnets]``, ``[ballast]`` and the
+``[body]``, ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]`` and the
 top level of design.json (further keys are welcome there by the contract). The element blocks
 of design.json and ``[parameters]`` are closed, as the readers refuse unknown keys there.
 """
@@ -258,7 +258,6 @@ def scene_schema() -> dict[str, Any]:
             {"poincare_section": {"enum": list(STATE_NAMES)}},
         ),
         "medium": _medium(),
-        "materials": _materials(),
         "carriers": _open("the charge carriers (sizes, material)"),
         "magnets": _open("the magnets (sizes, material)"),
         "ballast": _open("the ballast masses (sizes, material)"),

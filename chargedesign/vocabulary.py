@@ -63,7 +63,6 @@ SCENE_TABLES = (
     "initial",
     "output",
     "medium",
-    "materials",
     "carriers",
     "magnets",
     "ballast",
