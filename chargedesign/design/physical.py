@@ -56,7 +56,6 @@ from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
 DESIGN_MARGIN = 1e-3
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
-DEBUG = False
 MAX_ROUNDS = 14
 #: rounds of own-field bound tightening before the cones
 LP_ROUNDS = 12
@@ -381,8 +380,6 @@ def _meet_surface_limits(
             return q, method, rounds, len(cones)
         k = int(over[np.argmax(ratios[over])])
         worst_ratio, worst_site = float(ratios[k]), int(sites[k])
-        if DEBUG:
-            print("round", rounds, len(sites), len(over), worst_ratio, lp_alive)
         if lp_alive and rounds <= LP_ROUNDS:
             near = np.flatnonzero(ratios > CONE_THRESHOLD)
             lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
@@ -888,7 +885,6 @@ def design_physical(
             progress("locating the frontier (largest rate within the limits, to 5 %) ...")
         front = find_frontier(setup, rtol=0.05, feasible_rate=scale)
         design.extra["frontier"] = front.to_dict()
-        design.extra["frontier"]["n_max"] = front.s_max * setup.params.n
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,
         "carrier_mass_kg": setup.carrier_mass,
