@@ -225,6 +225,7 @@ def scene_schema() -> dict[str, Any]:
                 "total_charge": _NUMBER,
                 "total_mass": _NONNEG,
                 "polish": {"type": "boolean"},
+                "robust_weight": {"type": "number", "minimum": 0, "maximum": 1},
             },
         ),
         "simulation": _open(

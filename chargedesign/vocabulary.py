@@ -44,8 +44,9 @@ PRECISIONS = ("auto", "double", "double-double")
 CHECK_DEFAULT_TOL = 1e-9
 CHECK_DEFAULT_ORIENTATIONS = 1000
 
-#: design objectives per source (``[design] objective``)
-OBJECTIVES = ("l1", "l2", "linf")
+#: design objectives per source (``[design] objective``); "robust" is the l1 norm weighted by
+#: each candidate's first-order placement sensitivity (``[design] robust_weight`` mixes it)
+OBJECTIVES = ("l1", "l2", "linf", "robust")
 
 #: shapes of a scene's ``[body]`` region (candidate points)
 BODY_SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")

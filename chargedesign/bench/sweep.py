@@ -11,6 +11,7 @@ point folder and its result.json.
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 import time
@@ -51,15 +52,42 @@ def _spec(n_points: int, t_end: float, command: str = "simulate", chunk: int = 0
 
 
 def _calibrate(target: float) -> float:
-    """t_end (s of motion) for which one point takes about ``target`` seconds."""
+    """t_end (s of motion) for which one point takes about ``target`` seconds.
+
+    A point costs a fixed part (scene, set-up, its folder) plus a part linear in ``t_end``:
+    both are fitted from two timed points, then the estimate is refined once more.
+    """
     from chargedesign.sweep import run_point, warm_up
 
     warm_up()
-    spec = _spec(1, 100.0)
-    with tempfile.TemporaryDirectory() as tmp:
-        rec = run_point("simulate", spec.scene_data, "<dict>", {}, tmp, "p0", spec.points[0])
-        rec = run_point("simulate", spec.scene_data, "<dict>", {}, tmp, "p1", spec.points[0])
-    return 100.0 * target / max(rec["seconds"], 1e-3)
+
+    def seconds(t_end: float) -> float:
+        spec = _spec(1, t_end)
+        with tempfile.TemporaryDirectory() as tmp:
+            best = math.inf
+            for name in ("a", "b"):
+                args: tuple[Any, ...] = (
+                    "simulate",
+                    spec.scene_data,
+                    "<dict>",
+                    {},
+                    tmp,
+                    name,
+                    spec.points[0],
+                )
+                best = min(best, run_point(*args)["seconds"])
+        return max(best, 1e-4)
+
+    t_a, s_a = 100.0, seconds(100.0)
+    t_b = t_a * target / s_a
+    for _ in range(3):
+        s_b = seconds(t_b)
+        if abs(s_b - target) < 0.1 * target:
+            break
+        slope = (s_b - s_a) / (t_b - t_a) if t_b != t_a else s_b / t_b
+        t_a, s_a = t_b, s_b
+        t_b = max(t_b + (target - s_b) / max(slope, 1e-12), 1.0)
+    return t_b
 
 
 def run(quick: bool = False) -> list[BenchTable]:
@@ -69,14 +97,15 @@ def run(quick: bool = False) -> list[BenchTable]:
     per_point = 0.05 if quick else 1.0
     workers = 2
     t_end = _calibrate(per_point)
-    # serial baseline on a subset, scaled to all points
+    # serial baseline on a subset (best of two runs), scaled to all points
     subset = 4 if quick else 20
-    with tempfile.TemporaryDirectory() as tmp:
-        load_serial = os.getloadavg()[0]
-        t0 = time.perf_counter()
-        sub = _spec(subset, t_end)
-        run_sweep(sub, Path(tmp) / "s")
-        serial_per_point = (time.perf_counter() - t0) / subset
+    load_serial = os.getloadavg()[0]
+    serial_per_point = math.inf
+    for attempt in range(2):
+        with tempfile.TemporaryDirectory() as tmp:
+            t0 = time.perf_counter()
+            run_sweep(_spec(subset, t_end), Path(tmp) / f"s{attempt}")
+            serial_per_point = min(serial_per_point, (time.perf_counter() - t0) / subset)
     t1 = serial_per_point * n_points
     table = BenchTable(
         title=f"Sweep: {n_points} points of about {per_point:g} s on {workers} local workers",
@@ -96,8 +125,9 @@ def run(quick: bool = False) -> list[BenchTable]:
         notes=[
             f"points: chargedesign simulate of the theorem's reduced model, t_end = {t_end:.4g} s "
             f"of motion (calibrated to about {per_point:g} s per point), a grid over parameters.n",
-            f"T1: {subset} of the points run serially in-process, {serial_per_point:.3g} s per "
-            f"point, scaled to all points (load avg before: {load_serial:.1f})",
+            f"T1: {subset} of the points run serially in-process (best of 2 runs), "
+            f"{serial_per_point:.3g} s per point, scaled to all points (load avg before: "
+            f"{load_serial:.1f})",
             "busy fraction: the points' own seconds (timed inside the workers) over p x wall: "
             "the share of worker time spent in points, insensitive to other jobs on the machine "
             "(load avg: the machine's 1-minute load before and after the run, 2 cores)",

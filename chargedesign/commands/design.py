@@ -22,8 +22,7 @@ import argparse
 import sys
 
 from chargedesign.errors import ChargeDesignError
-
-OBJECTIVE_CHOICES = ("l1", "l2", "linf")
+from chargedesign.vocabulary import OBJECTIVES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,10 +35,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print a JSON summary")
     parser.add_argument(
         "--objective",
-        choices=OBJECTIVE_CHOICES,
+        choices=OBJECTIVES,
         default=None,
-        help="l1 (sparse), l2 (smooth) or linf (smallest largest weight); default: the "
-        "scene's [design] objective, else l1",
+        help="l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 weighted "
+        "by each place's placement sensitivity); default: the scene's [design] objective, "
+        "else l1",
     )
     parser.add_argument(
         "--solver",

@@ -129,6 +129,7 @@ def run(args: argparse.Namespace) -> int:
     from chargedesign.body import write_design
     from chargedesign.files import atomic_directory
     from chargedesign.simulate import setup_from_source, simulate
+    from chargedesign.simulation.result import summary_text
 
     if args.t_end is not None and not args.t_end > 0:
         raise ChargeDesignError(f"--t-end: expected a duration > 0, got {args.t_end}")
@@ -202,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(summary, indent=2, allow_nan=False))
         return 0
-    print(_human(summary))
+    print(summary_text(summary))
     return 0
 
 
@@ -310,65 +311,3 @@ def _nanmedian(values: object) -> float:
 
     arr = np.asarray(values, dtype=float)
     return float(np.nanmedian(arr)) if np.any(np.isfinite(arr)) else float("nan")
-
-
-def _human(s: dict) -> str:
-    effects = ", ".join(s["effects"]) or "none (torque-free)"
-    body = s.get("body") or {}
-    if s["method"] == "taylor":
-        tol = s.get("tol")
-        how = f"taylor (heyoka), tol {'machine epsilon' if tol is None else format(tol, 'g')}"
-    else:
-        how = f"{s['method']}, rtol {s['rtol']:g}, atol {s['atol']:g}"
-    lines = [f"simulated: {effects} ({s['route']} route, {how})"]
-    if body.get("designed_from_scene"):
-        c = body["counts"]
-        lines.append(
-            f"body: designed from the scene's [body] ({body['shape']}, {body['candidates']} "
-            f"candidates): {c['charges']} charges, {c['dipoles']} dipoles, {c['masses']} masses, "
-            f"residual {body['residuals']['max_after_polish']:.2g}"
-        )
-    lines += [
-        f"t = 0 .. {s['t_reached']:g} s of {s['t_end']:g} s: {s['steps']} steps, "
-        + (
-            f"{s['seconds']:.3g} s (+ {s['compile_seconds']:.3g} s compile)"
-            if s["method"] == "taylor"
-            else f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s"
-        ),
-        (
-            f"I4 relative drift {s['I4_rel_drift']:.3g}"
-            if s["I4_rel_drift"] is not None
-            else f"I4 relative drift not reported: {s.get('I4_reason', 'no integral')}"
-        )
-        + f"; I3 max |I3| {s['I3_max']:.3g} J s"
-        + (f" (level {s['level']})" if s["level"] else "")
-        + f", drift {s['I3_max_dev']:.3g}",
-        f"I1 relative drift {s['I1_rel_drift']:.3g}; max ||gamma|^2 - 1| {s['I2_max_dev']:.3g}",
-    ]
-    for event in s["events"]:
-        lines.append(f"event: {event['kind']} at t = {event['t']:.6g} s")
-    realises_theorem = {"mu", "V", "inertia"} <= set(body.get("realises", ()))
-    if s["level"] == "I3=0" and (s["effects"] == ["theorem"] or realises_theorem):
-        # a level of the order of C omega with omega ~ 1/s
-        example = 0.5 * float(s["parameters"].get("C", 1.0))
-        lines.append(
-            f"on I3 = 0 the theorem's I4 is an integral; --off-level {example:g} starts off "
-            "the level"
-        )
-    elif s["level"] is not None and s["level"] != "I3=0" and realises_theorem:
-        lines.append(
-            f"{s['level'].replace('=', ' = ')} is off the theorem's level I3 = 0: I4 is no "
-            "integral there, I1 and I3 are"
-        )
-    notes = s["notes"]
-    if body.get("designed_from_scene"):
-        # already said on the body line
-        notes = [n for n in notes if not n.startswith("body designed from the scene's")]
-    for name, m in (s.get("monitors") or {}).items():
-        if name in ("energy", "gamma_norm", "I3", "I4") or m.get("drift") is None:
-            continue
-        kind = "integral" if m.get("integral") else "asked for, no integral here"
-        lines.append(f"{name}: drift {m['drift']:.3g} ({m.get('scale', 'relative')}; {kind})")
-    lines += [f"note: {n}" for n in notes]
-    lines += [f"wrote {f}" for f in s.get("files", [])]
-    return "\n".join(lines)

@@ -30,8 +30,15 @@ class DesignOptions:
 
     Parameters
     ----------
-    objective : {"l1", "l2", "linf"}
+    objective : {"l1", "l2", "linf", "robust"}
         Objective for every source (see the module doc); ``objectives`` overrides per source.
+        ``"robust"`` minimises ``sum_j c_j |w_j|`` (``||sigma_j||`` for dipoles), ``c_j`` the
+        first-order placement sensitivity of a unit element at candidate j
+        (:func:`chargedesign.tolerance.sensitivity_weights`): the body that tolerates the
+        largest placement errors.
+    robust_weight : float
+        With ``"robust"``: the cost of candidate j is ``(1 - beta) + beta c_j / mean(c)``,
+        ``beta`` in [0, 1]; 0 is plain l1 (sparsity), 1 (default) pure sensitivity.
     solver : str
         ``"auto"`` (HiGHS for linear programs, Clarabel for cones and quadratics, closed form
         for unconstrained least norm) or a cvxpy solver name (``"CLARABEL"``, ``"HIGHS"``,
@@ -74,6 +81,7 @@ class DesignOptions:
     column_generation: bool | None = None
     sparsity: str = "auto"
     time_limit: float = 60.0
+    robust_weight: float = 1.0
 
     def __post_init__(self) -> None:
         _check_objective(self.objective, "design.objective")
@@ -127,6 +135,15 @@ class DesignOptions:
         object.__setattr__(
             self, "time_limit", as_finite_float(self.time_limit, "design.time_limit", positive=True)
         )
+        beta = as_finite_float(self.robust_weight, "design.robust_weight")
+        if not 0.0 <= beta <= 1.0:
+            raise input_error("design.robust_weight", "a number in [0, 1]", self.robust_weight)
+        object.__setattr__(self, "robust_weight", beta)
+
+    @property
+    def robust(self) -> bool:
+        """Whether any source is designed with the robust objective."""
+        return "robust" in (self.objective, *(self.objectives or {}).values())
 
     @property
     def tolerance(self) -> float:

@@ -39,6 +39,7 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import LinearConditions
 from chargedesign.design.options import DesignOptions, Progress
 from chargedesign.design.result import DesignResult, SourceResult, design_extras
+from chargedesign.design.robust import robust_costs, weighted_norm
 from chargedesign.design.solvers import _least_norm
 from chargedesign.design.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
@@ -54,6 +55,8 @@ from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
 DESIGN_MARGIN = 1e-3
+#: objectives of the physical design (l2 and linf are not built for the cones and cells)
+PHYSICAL_OBJECTIVES = ("l1", "robust")
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
 MAX_ROUNDS = 14
@@ -105,6 +108,12 @@ class PhysicalSetup:
     electric: tuple[float, ...] = ()
     e_grid: np.ndarray = field(default_factory=lambda: np.zeros(0))
     e_grid_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: per-candidate objective costs of the sources designed robustly (others cost 1)
+    costs: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def cost(self, source: str) -> np.ndarray:
+        """Objective cost of each candidate for ``source`` (ones unless robust)."""
+        return self.costs.get(source, np.ones(len(self.points)))
 
     @property
     def safe_field(self) -> float:
@@ -149,6 +158,12 @@ def setup_physical(
     from scipy.spatial import cKDTree
 
     options = options or DesignOptions()
+    for source in ("charges", "dipoles", "masses"):
+        if options.objective_for(source) not in PHYSICAL_OBJECTIVES:
+            raise InputError(
+                f"design.objective: {options.objective_for(source)!r} for {source} is not "
+                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
+            )
     if "inertia" not in (options.realise or conditions.realise):
         raise InputError(
             "design.realise: a physical design realises the inertia (every part has mass)"
@@ -184,6 +199,11 @@ def setup_physical(
                 f"body region (radius {region:.4g} m), above max = {limit:g}"
             )
     systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    costs = {
+        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
+        for source in systems
+        if options.objective_for(source) == "robust"
+    }
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
@@ -202,6 +222,7 @@ def setup_physical(
         electric=electric,
         e_grid=grid,
         e_grid_values=values,
+        costs=costs,
     )
 
 
@@ -226,8 +247,10 @@ def _row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndar
     return As / top[:, None], b / top
 
 
-def _lp_charges(A: np.ndarray, b: np.ndarray, caps: np.ndarray) -> np.ndarray | None:
-    """min sum |q| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
+def _lp_charges(
+    A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
+) -> np.ndarray | None:
+    """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
     from scipy.optimize import linprog
 
     usable = caps > 0
@@ -238,7 +261,7 @@ def _lp_charges(A: np.ndarray, b: np.ndarray, caps: np.ndarray) -> np.ndarray | 
     As, bs = _row_scaled(A[:, cols], b, qs)
     k = len(cols)
     res = linprog(
-        np.ones(2 * k),
+        np.ones(2 * k) if cost is None else np.tile(cost[cols], 2),
         A_eq=np.hstack([As, -As]),
         b_eq=bs,  # q = qs * u
         bounds=list(zip(np.zeros(2 * k), np.tile(caps[cols] / qs, 2), strict=True)),
@@ -292,7 +315,8 @@ def _socp_charges(
     cones: list[tuple[int, np.ndarray]],
     caps: np.ndarray,
 ) -> np.ndarray | None:
-    """min sum |q| on ``sites`` with the charge conditions, own-field caps and surface cones."""
+    """min sum cost_j |q_j| on ``sites`` with the charge conditions, own-field caps and
+    surface cones."""
     import cvxpy as cp
 
     A, b = setup.systems["charges"]
@@ -310,7 +334,8 @@ def _socp_charges(
         room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
         fields = cp.reshape(G.reshape(-1, len(sites)) @ u, (len(points), 3), order="C")
         constraints.append(cp.norm(fields, 2, axis=1) <= room)
-    problem = cp.Problem(cp.Minimize(cp.norm(u, 1)), constraints)
+    cost = setup.cost("charges")[sites]
+    problem = cp.Problem(cp.Minimize(cp.norm(cp.multiply(cost, u), 1)), constraints)
     try:
         problem.solve(solver=cp.CLARABEL)
     except cp.SolverError as exc:
@@ -383,7 +408,7 @@ def _meet_surface_limits(
         if lp_alive and rounds <= LP_ROUNDS:
             near = np.flatnonzero(ratios > CONE_THRESHOLD)
             lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
-            more = _lp_charges(A, s * b, lp_caps)
+            more = _lp_charges(A, s * b, lp_caps, setup.cost("charges"))
             if more is not None:
                 working = np.union1d(working, _support(more))
                 q = more
@@ -433,7 +458,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
             np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
         )
     caps = setup.charge_caps(s)
-    q_lp = _lp_charges(A, s * b, caps)
+    q_lp = _lp_charges(A, s * b, caps, setup.cost("charges"))
     if q_lp is None:
         raise PhysicalInfeasible(
             Binding(
@@ -503,8 +528,10 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)
     room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
     fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
+    cost = setup.cost("charges")
     problem = cp.Problem(
-        cp.Minimize(cp.norm(q, 1)), [As @ q == bs, cp.norm(fields, 2, axis=1) <= room]
+        cp.Minimize(cp.norm(cp.multiply(cost, q), 1)),
+        [As @ q == bs, cp.norm(fields, 2, axis=1) <= room],
     )
     return ChargeProgram(problem, q, qs)
 
@@ -581,7 +608,10 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
         <= 1.0
     )
     # both terms in their natural units: the l1 norm of the moments keeps the magnets few
-    objective = cp.Minimize(cp.sum(mass) + cp.sum(norms))
+    # (each weighted by its site's cost under the robust objective)
+    objective = cp.Minimize(
+        setup.cost("masses")[sites] @ mass + setup.cost("dipoles")[sites] @ norms
+    )
     return MassProgram(
         problem=cp.Problem(objective, constraints),
         sigma=sigma,
@@ -786,7 +816,7 @@ def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, 
         A, b = setup.systems[source]
         return SourceResult(
             source=source,
-            objective="l1",
+            objective=setup.options.objective_for(source),
             objective_value=value,
             objective_value_raw=value,
             units=units,
@@ -804,11 +834,16 @@ def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, 
 
     out = {
         "charges": result(
-            "charges", float(np.sum(np.abs(ch.charges))), "C", ch.method, ch.residual, len(ch.sites)
+            "charges",
+            weighted_norm(ch.charges, setup.cost("charges")[ch.sites]),
+            "C",
+            ch.method,
+            ch.residual,
+            len(ch.sites),
         ),
         "dipoles": result(
             "dipoles",
-            float(np.sum(np.linalg.norm(ms.moments, axis=1))),
+            weighted_norm(ms.moments, setup.cost("dipoles")[ms.sites]),
             "A m^2",
             ms.method,
             ms.residual_dipoles,
@@ -816,7 +851,7 @@ def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, 
         ),
         "masses": result(
             "masses",
-            float(np.sum(ms.site_masses)),
+            weighted_norm(ms.site_masses, setup.cost("masses")[ms.sites]),
             "kg",
             ms.method,
             ms.residual_masses,

@@ -22,6 +22,7 @@ from chargedesign.design.diagnostics import _infeasible_inequalities, diagnose
 from chargedesign.design.options import DesignOptions, Progress
 from chargedesign.design.polish import _polish, _support_of
 from chargedesign.design.result import DesignResult, SourceResult, design_extras
+from chargedesign.design.robust import robust_costs
 from chargedesign.design.solve import _solve
 from chargedesign.design.solvers import _Infeasible
 from chargedesign.design.system import UNITS, _build, _group_norms, _Problem, relative_residual
@@ -58,12 +59,29 @@ def design_source(
     """
     t0 = time.perf_counter()
     p = _build(source, conditions, candidates.points, options)
+    p = _with_robust_costs(p, candidates.points, conditions, params, options)
     rank, notes = diagnose(p, candidates.geometry)
     forward = None
     if params is not None:
         realise = options.realise if options.realise is not None else conditions.realise
         forward = _Forward.build(params, conditions, candidates, realise)
     return _design_problem(p, rank, notes, options, t0, progress, forward)
+
+
+def _with_robust_costs(
+    p: _Problem,
+    points: np.ndarray,
+    conditions: LinearConditions,
+    params: Parameters | None,
+    options: DesignOptions,
+) -> _Problem:
+    """``p`` with the robust objective's costs when its source is designed robustly."""
+    if options.objective_for(p.source) != "robust":
+        return p
+    if params is None:
+        raise InputError(f"design.objective: robust {p.source} need the parameters (params=)")
+    costs = robust_costs(points, p.source, conditions.fields, params, options.robust_weight)
+    return p.with_costs(costs)
 
 
 def _design_problem(
@@ -155,8 +173,8 @@ def _design_problem(
     result = SourceResult(
         source=source,
         objective=objective,
-        objective_value=_objective_value(weights, p.group, objective),
-        objective_value_raw=_objective_value(raw, p.group, objective),
+        objective_value=_objective_value(weights, p.group, objective, p.cost),
+        objective_value_raw=_objective_value(raw, p.group, objective, p.cost),
         units=UNITS[source],
         solver=sol.solver,
         method=f"{sol.method}; {polish_text}",
@@ -174,11 +192,15 @@ def _design_problem(
     return weights.reshape(shape), result
 
 
-def _objective_value(w: np.ndarray, group: int, objective: str) -> float:
+def _objective_value(
+    w: np.ndarray, group: int, objective: str, cost: np.ndarray | None = None
+) -> float:
     mags = _group_norms(w) if group == 3 else np.abs(w)
     if len(mags) == 0:
         return 0.0
-    if objective == "l1":
+    if objective == "robust" and cost is not None:
+        return float(np.sum(cost * mags))
+    if objective in ("l1", "robust"):
         return float(np.sum(mags))
     if objective == "l2":
         return float(np.sqrt(np.sum(mags**2)))
@@ -263,6 +285,7 @@ def design_body(
     for source in sources_present:
         t0 = time.perf_counter()
         p = _build(source, conditions, cand.points, options)
+        p = _with_robust_costs(p, cand.points, conditions, params, options)
         rank, source_notes = diagnose(p, cand.geometry)
         checked.append((p, rank, source_notes, time.perf_counter() - t0))
     results: dict[str, SourceResult] = {}

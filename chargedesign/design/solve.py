@@ -38,6 +38,8 @@ def _solve(
     if p.source == "dipoles":
         if objective == "l2":
             return _solve_l2(p, options)
+        if objective == "robust":
+            return _solve_dipoles_weighted(p, options, progress)
         return _solve_dipoles_cone(p, options, progress)
     if p.source == "charges" and options.n_charges is not None:
         support, how = _reweighted_support(p, options, options.n_charges, progress)
@@ -49,6 +51,8 @@ def _solve(
         return sol
     if objective == "l1":
         return _solve_l1_scalar(p, options, None, progress)
+    if objective == "robust":
+        return _solve_l1_scalar(p, options, _costs(p), progress)
     if objective == "linf":
         return _solve_linf_scalar(p, options)
     return _solve_l2(p, options)
@@ -82,6 +86,27 @@ def _solve_dipoles_cone(
             "'auto' or 'CLARABEL'"
         ) from exc
     return _Solution(u, name.capitalize(), "cvxpy, full problem (second-order cone)", status)
+
+
+def _costs(p: _Problem) -> np.ndarray:
+    if p.cost is None:
+        raise SolverError(f"{p.source}: the robust objective's costs were not computed")
+    return p.cost
+
+
+def _solve_dipoles_weighted(
+    p: _Problem, options: DesignOptions, progress: Progress | None
+) -> _Solution:
+    """min sum_j cost_j ||sigma_j||: the l1 cone problem in the columns ``v_j = cost_j sigma_j``."""
+    cols = np.repeat(_costs(p), 3)
+    scaled = replace(p, A=p.A / cols, A_s=p.A_s / cols, cost=None)
+    as_l1 = replace(
+        options, objective="l1", objectives={**(options.objectives or {}), "dipoles": "l1"}
+    )
+    sol = _solve_dipoles_cone(scaled, as_l1, progress)
+    sol.u = sol.u / cols
+    sol.method += " (robust: columns scaled by their costs)"
+    return sol
 
 
 def _reweighted_support(

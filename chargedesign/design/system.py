@@ -66,6 +66,11 @@ class _Problem:
     upper: float | None  # bound on |u| (charges) in scaled units
     nonneg: bool
     rank: int = 0
+    cost: np.ndarray | None = None  # per-candidate cost of the robust objective
+
+    def with_costs(self, cost: np.ndarray) -> _Problem:
+        """This problem with per-candidate objective costs (robust objective)."""
+        return replace(self, cost=np.asarray(cost, dtype=float))
 
     @property
     def n_candidates(self) -> int:
@@ -153,7 +158,8 @@ def _drop_last_row(p: _Problem) -> _Problem:
 
 
 def _restrict(p: _Problem, support: np.ndarray) -> _Problem:
-    return replace(p, A=p.A[:, support], A_s=p.A_s[:, support])
+    cost = None if p.cost is None else p.cost[support]
+    return replace(p, A=p.A[:, support], A_s=p.A_s[:, support], cost=cost)
 
 
 def _natural_row_size(row: LinearCondition, size: float) -> float:

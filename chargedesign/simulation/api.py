@@ -968,8 +968,7 @@ def _result(
     kinetic = 0.5 * np.einsum("ij,ij->i", omega * system.inertia_diagonal(), omega)
     opts = setup.options
     extra = dict(getattr(run, "extra", {}) or {})
-    if "note" in extra:
-        all_notes.append(extra["note"])
+    all_notes.extend(extra.get("notes", ()))
     gamma = quaternion_gamma(quats)
     omega_scale = float(np.max(np.abs(omega[0]))) if len(omega) else 0.0
     ctx = monitors_mod.Context(

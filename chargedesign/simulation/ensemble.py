@@ -286,8 +286,7 @@ def simulate_ensemble(
         table.append(monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors))
     extra = dict(run.extra)
     all_notes = list(notes)
-    if "note" in extra:
-        all_notes.append(extra["note"])
+    all_notes.extend(extra.get("notes", ()))
     return EnsembleResult(
         times=run.times,
         states=run.states,

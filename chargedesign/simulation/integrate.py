@@ -203,7 +203,7 @@ def integrate(
         raise SolverError(f"simulation: {method} produced non-finite states")
     out.extra["method"] = method
     if fallback_note is not None:
-        out.extra["note"] = fallback_note
+        out.extra.setdefault("notes", []).insert(0, fallback_note)
     if progress is not None:
         progress(1.0)
     return out
@@ -280,6 +280,7 @@ def _integrate_solve_ivp(
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
     keep = _thin(times, samples)
     times, states = times[keep], states[keep]
+    short = samples_note(method, accepted, len(times), samples)
     found: list[dict[str, Any]] = []
     poincare_points = None
     k = 0
@@ -317,16 +318,36 @@ def _integrate_solve_ivp(
         steps=accepted,
         rhs_evaluations=int(sol.nfev),
         seconds=seconds,
+        extra={"notes": [short]} if short else {},
     )
 
 
 def _thin(times: np.ndarray, samples: int) -> np.ndarray:
-    """Indices of about ``samples`` step ends spread evenly in time (first and last kept)."""
-    if len(times) <= samples:
-        return np.arange(len(times))
+    """Indices of exactly ``min(samples, len(times))`` step ends, spread evenly in time.
+
+    The step end at or after each of ``samples`` evenly spaced times; where several times
+    fall in one step, the next step ends are taken, so no index repeats (first and last kept).
+    """
+    n = len(times)
+    if n <= samples:
+        return np.arange(n)
     targets = np.linspace(times[0], times[-1], samples)
-    idx = np.searchsorted(times, targets)
-    return np.unique(np.clip(idx, 0, len(times) - 1))
+    idx = np.clip(np.searchsorted(times, targets), 0, n - 1)
+    rank = np.arange(samples)
+    idx = np.maximum.accumulate(idx - rank) + rank  # strictly increasing
+    return np.minimum(idx, n - samples + rank)  # room left for the later ones
+
+
+def samples_note(method: str, steps: int, delivered: int, asked: int) -> str | None:
+    """Why a run delivered fewer samples than asked (None when it delivered them all)."""
+    if delivered >= asked:
+        return None
+    return (
+        f"simulation.samples: {delivered} samples, not the {asked} asked: {method} took "
+        f"{steps} steps and its output is their ends (points between steps would be "
+        "interpolated, less accurate than the steps); method = 'taylor' gives exactly the "
+        "samples asked"
+    )
 
 
 def _integrate_gauss(
@@ -344,10 +365,7 @@ def _integrate_gauss(
         raise input_error("simulation.step", "a step > 0", h_target)
     n_steps = max(1, math.ceil(t_end / h_target - 1e-9))
     h = t_end / n_steps
-    stride = max(1, n_steps // (samples - 1))
-    keep = list(range(0, n_steps + 1, stride))
-    if keep[-1] != n_steps:
-        keep.append(n_steps)
+    keep = _thin(np.arange(n_steps + 1, dtype=float), samples)
     times = [0.0]
     states = [y0.copy()]
     events: list[dict[str, Any]] = []
@@ -365,7 +383,7 @@ def _integrate_gauss(
     K = np.repeat(system.derivatives(y0)[None].reshape(1, -1), 3, axis=0)  # (3, 7 m)
     rhs_evals = 1
     report_every = max(1, n_steps // 100)
-    keep_set = set(keep)
+    keep_set = {int(k) for k in keep}
     t0 = time.perf_counter()
     n = 0
     for n in range(1, n_steps + 1):

@@ -25,6 +25,7 @@ import numpy as np
 from chargedesign.files import atomic_directory
 from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.validation import input_error
 
 INTEGRAL_NAMES = ("I1", "I2", "I3", "I4")
 
@@ -182,6 +183,14 @@ class SimulationResult(Result):
             "completed": self.completed,
         }
 
+    def _text(self) -> str:
+        return summary_text(self.summary())
+
+    def plot(self, ax: Any = None) -> Any:
+        """The integrals' deviations against time (:func:`plot_integrals`): four panels, or
+        together on a log scale in ``ax``; returns the Axes."""
+        return plot_integrals(self, ax=ax)
+
     # ------------------------------------------------------------------ files
     def trajectory_csv(self) -> str:
         """The trajectory as CSV text (one row per sample)."""
@@ -245,54 +254,181 @@ class SimulationResult(Result):
         return [target / n for n in names]
 
 
-def plot_integrals(result: SimulationResult, path: str | os.PathLike[str]) -> None:
-    """PNG of the four integrals' deviations from their initial values against time."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
+def _integral_series(result: SimulationResult) -> list[tuple[np.ndarray, str]]:
+    """The four integrals' deviations from their initial values, each with its label."""
     I = result.integrals
-    t = result.times
     kin = float(np.max(result.kinetic)) or 1.0
     i4_0 = abs(float(I[0, 3])) or 1.0
-    series = [
+    return [
         ((I[:, 0] - I[0, 0]) / kin, "(I1 - I1(0)) / max T"),
         (I[:, 1] - 1.0, "|gamma|^2 - 1"),
         (I[:, 2] - I[0, 2], "I3 - I3(0)  [J s]"),
         ((I[:, 3] - I[0, 3]) / i4_0, "(I4 - I4(0)) / |I4(0)|"),
     ]
-    fig = Figure(figsize=(8, 8))
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(4, 1, sharex=True)
-    for ax, (values, label) in zip(axes, series, strict=True):
-        ax.plot(t, values, lw=0.8)
-        ax.set_ylabel(label, fontsize=8)
-        ax.grid(True, alpha=0.3)
-        ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
-    axes[-1].set_xlabel("t [s]")
-    level = "" if result.level is None else f", level I3 = {result.level:g}"
-    fig.suptitle(f"Integrals along the motion ({', '.join(result.effects) or 'free'}{level})")
-    fig.tight_layout()
-    fig.savefig(path, format="png", dpi=100)
 
 
-def plot_poincare(
-    result: SimulationResult, path: str | os.PathLike[str], axes: tuple[str, str]
-) -> None:
-    """PNG of the Poincare section points (two state coordinates)."""
+def _figure(path: Any, figsize: tuple[float, float]) -> Any:
+    """A new Figure: pyplot's (shown in notebooks) when drawing for a user, a bare Agg one
+    (no pyplot state, no display) when only writing a file."""
+    if path is None:
+        import matplotlib.pyplot as plt
+
+        return plt.figure(figsize=figsize)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    fig = Figure(figsize=figsize)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def plot_integrals(
+    result: SimulationResult, path: str | os.PathLike[str] | None = None, *, ax: Any = None
+) -> Any:
+    """The four integrals' deviations from their initial values against time.
+
+    Parameters
+    ----------
+    result : SimulationResult
+    path : path, optional
+        Also write the figure there as PNG.
+    ax : matplotlib Axes or sequence of 4 Axes, optional
+        One Axes: the absolute deviations together on a log scale; four: one panel each (the
+        layout of a new figure when ``ax`` is None).
+
+    Returns
+    -------
+    matplotlib Axes, or ndarray of 4 Axes
+    """
+    t = result.times
+    series = _integral_series(result)
+    level = "" if result.level is None else f", level I3 = {result.level:g}"
+    title = f"Integrals along the motion ({', '.join(result.effects) or 'free'}{level})"
+    if ax is not None and not isinstance(ax, (list, tuple, np.ndarray)):
+        for values, label in series:
+            # drifts are exactly zero at t = 0 and may be at rounding: floor them for the log
+            ax.semilogy(t, np.maximum(np.abs(values), 1e-300), lw=0.8, label=label)
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("|deviation from t = 0|")
+        ax.legend(fontsize=7)
+        ax.grid(True, alpha=0.3)
+        ax.set_title(title, fontsize=9)
+        if path is not None:
+            ax.figure.savefig(path, format="png", dpi=100)
+        return ax
+    if ax is None:
+        fig = _figure(path, (8, 8))
+        axes = fig.subplots(4, 1, sharex=True)
+        fig.suptitle(title)
+    else:
+        axes = np.ravel(ax)
+        if len(axes) != 4:
+            raise input_error("ax", "one Axes or a sequence of 4", f"{len(axes)} axes")
+        fig = axes[0].figure
+    for panel, (values, label) in zip(axes, series, strict=True):
+        panel.plot(t, values, lw=0.8)
+        panel.set_ylabel(label, fontsize=8)
+        panel.grid(True, alpha=0.3)
+        panel.ticklabel_format(axis="y", style="sci", scilimits=(-3, 3))
+    axes[-1].set_xlabel("t [s]")
+    if ax is None:
+        fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, format="png", dpi=100)
+    return axes
+
+
+def plot_poincare(
+    result: SimulationResult,
+    path: str | os.PathLike[str] | None = None,
+    coordinates: tuple[str, str] = ("gamma2", "q"),
+    *,
+    ax: Any = None,
+) -> Any:
+    """The Poincare section points in two state coordinates (``STATE_NAMES``).
+
+    Draws into ``ax`` when given (else a new figure), writes a PNG to ``path`` when given, and
+    returns the Axes.
+    """
     from chargedesign.simulation.integrate import STATE_NAMES
 
+    for name in coordinates:
+        if name not in STATE_NAMES:
+            raise input_error("coordinates", "names among " + ", ".join(STATE_NAMES), name)
     pts = result.poincare if result.poincare is not None else np.zeros((0, 7))
-    ix, iy = (1 + STATE_NAMES.index(a) for a in axes)
-    fig = Figure(figsize=(6, 6))
-    FigureCanvasAgg(fig)
-    ax = fig.subplots()
+    ix, iy = (1 + STATE_NAMES.index(a) for a in coordinates)
+    if ax is None:
+        ax = _figure(path, (6, 6)).subplots()
     ax.plot(pts[:, ix], pts[:, iy], ".", ms=2)
-    ax.set_xlabel(axes[0])
-    ax.set_ylabel(axes[1])
+    ax.set_xlabel(coordinates[0])
+    ax.set_ylabel(coordinates[1])
     ax.set_title(f"Poincare section {result.poincare_section} = 0 (upward), {len(pts)} points")
     ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, format="png", dpi=100)
+    if path is not None:
+        ax.figure.tight_layout()
+        ax.figure.savefig(path, format="png", dpi=100)
+    return ax
+
+
+def summary_text(s: dict[str, Any]) -> str:
+    """The text ``chargedesign simulate`` prints, from a :meth:`SimulationResult.summary`
+    (with ``files`` when the run wrote some)."""
+    effects = ", ".join(s["effects"]) or "none (torque-free)"
+    body = s.get("body") or {}
+    if s["method"] == "taylor":
+        tol = s.get("tol")
+        how = f"taylor (heyoka), tol {'machine epsilon' if tol is None else format(tol, 'g')}"
+    else:
+        how = f"{s['method']}, rtol {s['rtol']:g}, atol {s['atol']:g}"
+    lines = [f"simulated: {effects} ({s['route']} route, {how})"]
+    if body.get("designed_from_scene"):
+        c = body["counts"]
+        lines.append(
+            f"body: designed from the scene's [body] ({body['shape']}, {body['candidates']} "
+            f"candidates): {c['charges']} charges, {c['dipoles']} dipoles, {c['masses']} masses, "
+            f"residual {body['residuals']['max_after_polish']:.2g}"
+        )
+    lines += [
+        f"t = 0 .. {s['t_reached']:g} s of {s['t_end']:g} s: {s['steps']} steps, "
+        + (
+            f"{s['seconds']:.3g} s (+ {s['compile_seconds']:.3g} s compile)"
+            if s["method"] == "taylor"
+            else f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s"
+        ),
+        (
+            f"I4 relative drift {s['I4_rel_drift']:.3g}"
+            if s["I4_rel_drift"] is not None
+            else f"I4 relative drift not reported: {s.get('I4_reason', 'no integral')}"
+        )
+        + f"; I3 max |I3| {s['I3_max']:.3g} J s"
+        + (f" (level {s['level']})" if s["level"] else "")
+        + f", drift {s['I3_max_dev']:.3g}",
+        f"I1 relative drift {s['I1_rel_drift']:.3g}; max ||gamma|^2 - 1| {s['I2_max_dev']:.3g}",
+    ]
+    for event in s["events"]:
+        lines.append(f"event: {event['kind']} at t = {event['t']:.6g} s")
+    realises_theorem = {"mu", "V", "inertia"} <= set(body.get("realises", ()))
+    if s["level"] == "I3=0" and (s["effects"] == ["theorem"] or realises_theorem):
+        # a level of the order of C omega with omega ~ 1/s
+        example = 0.5 * float(s["parameters"].get("C", 1.0))
+        lines.append(
+            f"on I3 = 0 the theorem's I4 is an integral; --off-level {example:g} starts off "
+            "the level"
+        )
+    elif s["level"] is not None and s["level"] != "I3=0" and realises_theorem:
+        lines.append(
+            f"{s['level'].replace('=', ' = ')} is off the theorem's level I3 = 0: I4 is no "
+            "integral there, I1 and I3 are"
+        )
+    notes = s["notes"]
+    if body.get("designed_from_scene"):
+        # already said on the body line
+        notes = [n for n in notes if not n.startswith("body designed from the scene's")]
+    for name, m in (s.get("monitors") or {}).items():
+        if name in ("energy", "gamma_norm", "I3", "I4") or m.get("drift") is None:
+            continue
+        kind = "integral" if m.get("integral") else "asked for, no integral here"
+        lines.append(f"{name}: drift {m['drift']:.3g} ({m.get('scale', 'relative')}; {kind})")
+    lines += [f"note: {n}" for n in notes]
+    lines += [f"wrote {f}" for f in s.get("files", [])]
+    return "\n".join(lines)
