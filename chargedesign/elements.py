@@ -41,7 +41,7 @@ def _weights() -> np.ndarray:
     return np.zeros(0)
 
 
-@dataclass(kw_only=True)
+@dataclass(kw_only=True, repr=False)
 class ElementSet:
     """Charges, dipoles and ballast masses in body axes (SI units).
 
@@ -180,6 +180,21 @@ class ElementSet:
                 [self.mass_values, carrier_masses[carried], magnet_masses[magnets]]
             ),
         )
+
+    def __repr__(self) -> str:
+        """Counts and total mass, not the arrays (a body can hold thousands of elements)."""
+        from chargedesign.results import compact_repr
+
+        items: dict[str, Any] = {
+            "charges": len(self.charge_values),
+            "dipoles": len(self.dipole_moments),
+            "masses": len(self.mass_values),
+            "total_mass_kg": self.total_mass,
+        }
+        parameters = getattr(self, "parameters", None)
+        if parameters is not None:
+            items["n"] = parameters.n
+        return compact_repr(type(self).__name__, items)
 
     def element_arrays(self) -> dict[str, Any]:
         """The element fields of this set by name (to build another element type from it)."""

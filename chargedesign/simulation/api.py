@@ -146,7 +146,7 @@ class OutputOptions:
     poincare_axes: tuple[str, str] = ("gamma2", "q")
 
 
-@dataclass
+@dataclass(repr=False)
 class SimulationSetup:
     """Everything a run needs: the body, the initial-state spec and the options.
 
@@ -179,6 +179,23 @@ class SimulationSetup:
     design: Any = None
     design_scene: Any = None
     body_info: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        from chargedesign.results import compact_repr
+
+        return compact_repr(
+            "SimulationSetup",
+            {
+                "source": self.source,
+                "charges": len(self.body.charge_values),
+                "dipoles": len(self.body.dipole_moments),
+                "masses": len(self.body.mass_values),
+                "effects": self.options.effects,
+                "t_end": self.options.t_end,
+                "method": self.options.method,
+                "pending_design": self.design_scene is not None,
+            },
+        )
 
 
 # ---------------------------------------------------------------------- validation

@@ -158,7 +158,7 @@ def attitude_from_gamma(gamma: np.ndarray, precession: float = 0.0) -> np.ndarra
     return Rz @ R
 
 
-@dataclass
+@dataclass(repr=False)
 class Body(ElementSet):
     """What the effects act on: an element set in body axes plus fields and parameters.
 
