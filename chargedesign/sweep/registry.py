@@ -97,21 +97,13 @@ def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dic
 
 
 def run_frontier(scene: Any, point_dir: Path) -> dict[str, Any]:
-    """The largest time-rate within every limit (the lead's ``design.frontier``)."""
-    try:
-        module = importlib.import_module("chargedesign.design.frontier")
-        frontier_from_scene = module.frontier_from_scene
-    except (ImportError, AttributeError):
-        raise InputError(
-            "frontier: not available in this build (chargedesign.design.frontier."
-            "frontier_from_scene is missing)"
-        ) from None
+    """The largest time-rate within every limit (:mod:`chargedesign.design.frontier`);
+    writes frontier.json. A scene without ``[medium]`` fails with the frontier's reason."""
+    from chargedesign.design.frontier import frontier_from_scene
     from chargedesign.files import write_json_atomic
 
-    result = frontier_from_scene(scene)
-    data = result.to_dict() if hasattr(result, "to_dict") else result
-    if isinstance(data, dict):
-        write_json_atomic(point_dir / "frontier.json", data)
+    data = frontier_from_scene(scene).to_dict()
+    write_json_atomic(point_dir / "frontier.json", data)
     return _flat(data)
 
 

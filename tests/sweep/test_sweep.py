@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import csv
+import json
 import sys
 from pathlib import Path
 
 import pytest
+from unit_scene import UNIT_SCENE
 
 from chargedesign.cli import main
 from chargedesign.errors import InputError
+from chargedesign.physical.materials import BREAKDOWN_V_PER_M
 from chargedesign.sweep import load_sweep, make_executor, run_sweep, sweep_from_dict
 
 HERE = Path(__file__).parent
@@ -170,7 +173,7 @@ def test_unreachable_scheduler_is_a_one_line_error(tmp_path, capsys):
     assert "--scheduler tcp://127.0.0.1:9" in err and "\n" not in err
 
 
-def test_random_sample_and_frontier_reason(tmp_path):
+def test_random_sample_points(tmp_path):
     spec = sweep_from_dict(
         {
             "command": "frontier",
@@ -180,15 +183,37 @@ def test_random_sample_and_frontier_reason(tmp_path):
     )
     assert len(spec.points) == 6 and spec.keys == ["fields.magnetic.a1", "parameters.n"]
     assert all(0.1 <= p["parameters.n"] <= 1.0 for p in spec.points)
-    result = run_sweep(
-        sweep_from_dict({"command": "frontier", "grid": {"fields.magnetic.a1": [1.0]}}),
-        tmp_path / "f",
+
+
+def test_a_frontier_sweep_over_media_follows_their_breakdown_fields(tmp_path):
+    """Where the carriers' breakdown binds, n_max is proportional to the breakdown field
+    (docs/buildable.md): the ratio across media is that of the materials' table, to the
+    frontier's 1 % bisection; a scene without [medium] fails its point with the reason."""
+    small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
+    spec = sweep_from_dict(
+        {"scene": str(small), "command": "frontier", "grid": {"medium.name": ["air", "sf6"]}}
     )
-    row = result.rows[0]
-    try:
-        import chargedesign.design.frontier  # noqa: F401
-    except ImportError:
-        assert row["status"] == "failed" and row["reason"].startswith("frontier: not available")
+    result = run_sweep(spec, tmp_path / "f")
+    assert result.failed == 0 and result.lost == 0
+    n_max = {row["medium.name"]: row["n_max"] for row in result.rows}
+    assert all(row["binding_detail.stage"] == "charges" for row in result.rows)
+    expected = BREAKDOWN_V_PER_M["sf6"] / BREAKDOWN_V_PER_M["air"]
+    assert n_max["sf6"] / n_max["air"] == pytest.approx(expected, rel=0.025)
+    for row in result.rows:
+        written = json.loads(
+            (tmp_path / "f" / "points" / row["point"] / "frontier.json").read_text()
+        )
+        assert written["n_max"] == row["n_max"]
+    bare = run_sweep(
+        sweep_from_dict(
+            {"command": "frontier", "grid": {"parameters.n": [0.5]}, "scene": str(UNIT_SCENE)}
+        ),
+        tmp_path / "bare",
+    )
+    (row,) = bare.rows
+    assert row["status"] == "failed" and row["reason"].startswith(
+        "frontier: the scene has no [medium]"
+    )
 
 
 def test_ctrl_c_keeps_finished_points_and_the_summary_lists_every_point(tmp_path):
