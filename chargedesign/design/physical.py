@@ -670,8 +670,14 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     full_mass = np.zeros(n)
     full_mass[sites[mass_keep]] = mass[mass_keep]
     # the correction goes to the heavy sites only, so that light ones (and magnets) keep
-    # their sign and their bound: relative changes there are ~ the solver's residual
-    heavy = sites[mass > 1e-3 * top_mass]
+    # their sign and their bound: relative changes there are ~ the solver's residual. The
+    # heavy set must span the rows the masses span (a robust design spreads its masses, so
+    # the heaviest few may not), else lighter sites join it.
+    needed = np.linalg.matrix_rank(Am[:, sites[mass_keep]]) if len(full_rhs) else 0
+    for level in (1e-3, 1e-6, 1e-9, 0.0):
+        heavy = sites[mass > level * top_mass]
+        if len(full_rhs) == 0 or np.linalg.matrix_rank(Am[:, heavy]) >= needed:
+            break
     full_mass = _polish_equal(Am, full_rhs, full_mass, heavy)
     if np.any(full_mass < 0):
         raise SolverError("masses: polishing made a site mass negative")

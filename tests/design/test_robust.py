@@ -154,14 +154,20 @@ def test_the_physical_design_refuses_objectives_it_does_not_build():
         design_from_scene(scene, objective="l2", frontier=False)
 
 
-def test_a_robust_physical_body_is_buildable_and_tolerates_more():
+@pytest.mark.parametrize("scene_path", [SMALL, None], ids=["small", "default"])
+def test_a_robust_physical_body_is_buildable_and_tolerates_more(scene_path):
     """With [medium]: the same costs in the charge LP and cones and in the magnet-and-ballast
-    program; the limits are recomputed from the written elements (measured on this body: the
-    uniform worst-case tolerance 65 nm -> 100 nm)."""
-    scene = load_scene(SMALL)
-    plain = design_from_scene(scene, objective="l1", frontier=False).design
-    robust = design_from_scene(scene, objective="robust", frontier=False).design
+    program; the limits are recomputed from the written elements (measured: the uniform
+    worst-case tolerance 65 nm -> 100 nm on the small body, 199 nm -> 256 nm on the default).
+    The masses of a robust body are spread out: polishing them to rounding needed more than
+    the heaviest few sites (the default body's residual was 6e-12 before)."""
+    scene = load_scene(scene_path)
+    plain_result = design_from_scene(scene, objective="l1", frontier=False)
+    robust_result = design_from_scene(scene, objective="robust", frontier=False)
+    plain, robust = plain_result.design, robust_result.design
+    for source in SOURCES:
+        assert robust_result.sources[source].residual_after < 1e-15, source
     assert check_limits(robust).buildable
-    assert first_order_bound(robust, "charges") < 0.8 * first_order_bound(plain, "charges")
+    assert first_order_bound(robust, "charges") < 0.85 * first_order_bound(plain, "charges")
     key = "position_tol_m_worst_case_min"
-    assert tolerance_report(robust).uniform[key] > 1.3 * tolerance_report(plain).uniform[key]
+    assert tolerance_report(robust).uniform[key] > 1.2 * tolerance_report(plain).uniform[key]

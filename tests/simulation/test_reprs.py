@@ -1,9 +1,10 @@
 """Short reprs of the simulation's objects (a designed body holds thousands of elements)."""
 
+from unit_scene import UNIT_SCENE
+
 from chargedesign.design import design_from_scene
 from chargedesign.scene import load_scene
 from chargedesign.simulate import setup_from_source
-from unit_scene import UNIT_SCENE
 
 
 def test_body_and_setup_reprs_are_short_and_name_the_counts():
