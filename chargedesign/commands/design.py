@@ -42,6 +42,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "else l1",
     )
     parser.add_argument(
+        "--robust-weight",
+        type=float,
+        default=None,
+        metavar="BETA",
+        help="with --objective robust: 0 (plain l1) .. 1 (pure sensitivity, the default)",
+    )
+    parser.add_argument(
         "--solver",
         default=None,
         metavar="NAME",
@@ -99,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
         scene,
         progress=progress,
         objective=args.objective,
+        robust_weight=args.robust_weight,
         solver=args.solver,
         n_charges=args.n_charges,
         max_charge=args.max_charge,

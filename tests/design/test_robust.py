@@ -171,3 +171,44 @@ def test_a_robust_physical_body_is_buildable_and_tolerates_more(scene_path):
     assert first_order_bound(robust, "charges") < 0.85 * first_order_bound(plain, "charges")
     key = "position_tol_m_worst_case_min"
     assert tolerance_report(robust).uniform[key] > 1.2 * tolerance_report(plain).uniform[key]
+
+
+def test_cli_robust_design_reports_the_objective_and_bad_weight_is_one_line(tmp_path, capsys):
+    from chargedesign.cli import main
+
+    out = tmp_path / "robust"
+    code = main(
+        [
+            "design",
+            str(UNIT_SCENE),
+            "--objective",
+            "robust",
+            "--out",
+            str(out),
+            "--json",
+            "--quiet",
+            "--no-picture",
+        ]
+    )
+    assert code == 0
+    import json
+
+    written = json.loads((out / "design.json").read_text())
+    assert written["objective"]["charges"]["kind"] == "robust"
+    capsys.readouterr()
+    code = main(
+        [
+            "design",
+            str(UNIT_SCENE),
+            "--objective",
+            "robust",
+            "--robust-weight",
+            "2",
+            "--out",
+            str(tmp_path / "bad"),
+            "--quiet",
+        ]
+    )
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.startswith("chargedesign design: error: design.robust_weight")
+    assert "\n" not in err and not (tmp_path / "bad").exists()
