@@ -95,18 +95,24 @@ class RadialBound:
 
 def local_cap(direction: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
     """``n`` unit vectors within ``angle`` (rad) of ``direction``, plus the direction itself."""
-    d = direction / np.linalg.norm(direction)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(d[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    return local_caps(np.asarray(direction, dtype=float)[None, :], angle, n)[0]
+
+
+def local_caps(directions: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
+    """:func:`local_cap` around each of ``directions`` (shape (k, 3)): shape (k, n + 1, 3)."""
+    d = directions / np.linalg.norm(directions, axis=1, keepdims=True)
+    helper = np.where(
+        (np.abs(d[:, 0]) < 0.9)[:, None], np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    )
     u = np.cross(d, helper)
-    u /= np.linalg.norm(u)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
     v = np.cross(d, u)
     i = np.arange(n) + 0.5
     r = angle * np.sqrt(i / n)  # uniform in the cap's area
     phi = np.pi * (3.0 - np.sqrt(5.0)) * i
-    out = np.cos(r)[:, None] * d + np.sin(r)[:, None] * (
-        np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v
-    )
-    return np.vstack([d, out])
+    ring = np.cos(phi)[None, :, None] * u[:, None, :] + np.sin(phi)[None, :, None] * v[:, None, :]
+    out = np.cos(r)[None, :, None] * d[:, None, :] + np.sin(r)[None, :, None] * ring
+    return np.concatenate([d[:, None, :], out], axis=1)
 
 
 def sample_spacing(samples: int) -> float:
