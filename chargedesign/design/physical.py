@@ -45,7 +45,6 @@ from chargedesign.design.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
 from chargedesign.physical.limits import (
-    coulomb_field,
     fibonacci_directions,
     field_magnitude_max,
 )
