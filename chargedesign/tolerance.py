@@ -44,6 +44,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.results import Result
 from chargedesign.validation import as_finite_float, as_points, input_error
 
 #: the quantities whose errors are analysed, in the check's names
@@ -342,8 +343,8 @@ def _row_norm(J: np.ndarray, quantity: str) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------ the report
-@dataclass
-class ToleranceReport:
+@dataclass(repr=False)
+class ToleranceReport(Result):
     """Per-element tolerances for a target relative accuracy (first order, exact derivatives).
 
     Attributes
@@ -406,7 +407,17 @@ class ToleranceReport:
             "claimed": list(self.claimed),
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        d = self.dominant
+        return {
+            "target": self.target,
+            "elements": len(self.elements),
+            "dominant": d["element"] if d else None,
+            "position_tol_m": d["position_tol_m_min"] if d else None,
+            "uniform_tol_m": self.uniform.get("position_tol_m_worst_case_min"),
+        }
+
+    def _text(self) -> str:
         lines = [self.headline(), ""]
         lines.append(
             f"{'element':<12} {'position tol':>13} {'binding':>8} {'value tol':>10}  "
@@ -428,14 +439,6 @@ class ToleranceReport:
             f"{_length(u['position_tol_m_rms_min'])} rms (independent errors)"
         )
         return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"ToleranceReport(target={self.target:g}, elements={len(self.elements)})"
-
-    def _repr_html_(self) -> str:
-        import html
-
-        return "<pre>" + html.escape(str(self)) + "</pre>"
 
 
 def _jsonable(value: Any) -> Any:
@@ -979,8 +982,8 @@ def _quantiles(x: np.ndarray) -> dict[str, float]:
     }
 
 
-@dataclass
-class MonteCarloResult:
+@dataclass(repr=False)
+class MonteCarloResult(Result):
     """The Monte Carlo of perturbed bodies beside the linear-response prediction.
 
     Attributes
@@ -1050,7 +1053,24 @@ class MonteCarloResult:
             out["sensitivity"] = self.report.to_dict()
         return _jsonable(out)
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "samples": self.n,
+            "levels": len(self.levels),
+            "t_end": self.t_end,
+            **{
+                f"{q}_rel_err_p90": float(np.percentile(v["monte_carlo"], 90))
+                for q, v in self.errors.items()
+            },
+            # at the error level closest to the one given (level 1); None when not simulated
+            "I4_drift_median": float(
+                np.median(self.drift_mc[int(np.argmin(np.abs(self.levels - 1.0)))])
+            )
+            if self.drift_mc.size
+            else None,
+        }
+
+    def _text(self) -> str:
         lines = []
         if self.report is not None:
             lines += [str(self.report), ""]
@@ -1075,14 +1095,6 @@ class MonteCarloResult:
                 f"{np.median(self.drift_linear[i]):>12.3e}"
             )
         return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"MonteCarloResult(n={self.n}, levels={len(self.levels)})"
-
-    def _repr_html_(self) -> str:
-        import html
-
-        return "<pre>" + html.escape(str(self)) + "</pre>"
 
 
 def _designs_from_draws(design: Design, draws: Mapping[str, np.ndarray]) -> list[Design]:

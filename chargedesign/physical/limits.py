@@ -23,6 +23,7 @@ import numpy as np
 
 from chargedesign.fields import AxisymmetricField
 from chargedesign.physical.materials import COULOMB
+from chargedesign.results import Result
 
 #: relative slack for rounding in the comparisons (not a physical margin)
 ROUNDING_SLACK = 1e-9
@@ -176,8 +177,8 @@ def carrier_surface_fields(
     return fields, worst
 
 
-@dataclass
-class LimitsReport:
+@dataclass(repr=False)
+class LimitsReport(Result):
     """The verdict on a design's physical limits.
 
     Attributes
@@ -217,6 +218,25 @@ class LimitsReport:
             "field_maxima": dict(self.field_maxima),
             "region_radius_m": self.region_radius,
         }
+
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "buildable": self.buildable,
+            "fraction_of_breakdown": self.worst_fraction_of_breakdown,
+            "carriers": len(self.surface_fields),
+            "violations": len(self.violations),
+        }
+
+    def _text(self) -> str:
+        top = float(np.max(self.surface_fields, initial=0.0))
+        lines = [
+            ("buildable" if self.buildable else "NOT buildable")
+            + f" (limits recomputed from the elements): largest carrier surface field "
+            f"{top:.4g} V/m, {self.worst_fraction_of_breakdown:.4g} of breakdown "
+            f"({self.breakdown:.3g} V/m; safe {self.safe_field:.3g} V/m)"
+        ]
+        lines += [f"violation: {v}" for v in self.violations]
+        return "\n".join(lines)
 
 
 def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:

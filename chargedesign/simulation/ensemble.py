@@ -27,6 +27,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
+from chargedesign.results import Result
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.validation import input_error
@@ -99,8 +100,8 @@ def load_states(path: str | os.PathLike[str], where: str = "initial.file") -> np
     raise input_error(where, "a .csv or .npy file", str(p))
 
 
-@dataclass
-class EnsembleResult:
+@dataclass(repr=False)
+class EnsembleResult(Result):
     """Many trajectories of one body (see :func:`simulate_ensemble`).
 
     Attributes
@@ -173,7 +174,17 @@ class EnsembleResult:
         )
         return out
 
-    def __str__(self) -> str:
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the :meth:`summary` (what ``chargedesign simulate --ensemble --json``
+        prints)."""
+        return self.summary()
+
+    def _summary(self) -> dict[str, Any]:
+        s = self.summary()
+        keys = ("trajectories", "I4_rel_drift", "I3_max", "method", "t_end", "seconds")
+        return {k: s[k] for k in keys}
+
+    def _text(self) -> str:
         s = self.summary()
         i4 = s["I4_rel_drift"]
         lines = [

@@ -30,6 +30,7 @@ from typing import Any
 
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.results import Result
 from chargedesign.sweep.spec import SweepSpec, scene_with
 
 EXECUTORS = ("process", "dask", "serial")
@@ -276,8 +277,8 @@ def make_executor(
 
 
 # ------------------------------------------------------------------------------ running
-@dataclass
-class SweepResult:
+@dataclass(repr=False)
+class SweepResult(Result):
     """What a sweep did: counts, timings and the summary rows (one per point)."""
 
     out: Path
@@ -307,7 +308,18 @@ class SweepResult:
             "parquet": self.parquet,
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "points": len(self.rows),
+            "ran": self.ran,
+            "failed": self.failed,
+            "not_run": self.lost,
+            "seconds": self.seconds,
+            "executor": self.executor,
+            "out": str(self.out),
+        }
+
+    def _text(self) -> str:
         lines = [
             f"sweep: {len(self.rows)} points in {self.out} ({self.ran} run, {self.skipped} "
             f"already done, {self.failed} failed) in {self.seconds:.3g} s on {self.workers} "
@@ -320,9 +332,6 @@ class SweepResult:
         if self.parquet != "written":
             lines.append(f"summary.parquet: {self.parquet}")
         return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"SweepResult(points={len(self.rows)}, failed={self.failed}, not_run={self.lost})"
 
 
 def auto_chunk(n_points: int, workers: int) -> int:

@@ -44,6 +44,33 @@ def results(default_result):
         "LinearConditions": conditions_for_scene(cd.load_scene(None)),
         "VerificationReport": VerificationReport(VERIFY_DATA),
         "SimulationResult": cd.simulate(default_result, t_end=0.5, effects=["theorem"]),
+        **_later_results(default_result.design),
+    }
+
+
+def _later_results(design):
+    """The results of the physical, tolerance, ensemble and sweep stages, small and fast."""
+    import tempfile
+    from pathlib import Path
+
+    import numpy as np
+
+    from chargedesign.physical.limits import check_limits
+    from chargedesign.simulation.ensemble import simulate_ensemble
+    from chargedesign.sweep import run_sweep, sweep_from_dict
+    from chargedesign.tolerance import ErrorModel, monte_carlo, tolerance_report
+
+    mc = monte_carlo(design, ErrorModel.parse(position="1um"), samples=8, t_end=1.0, levels=(1.0,))
+    states = np.array([[1e-6 * k, 0.0, 0.0, 0.0, 0.6, 0.8] for k in (1, 2, 3)])
+    with tempfile.TemporaryDirectory() as tmp:
+        idle = {"command": "chargedesign.bench.sweep:idle", "grid": {"parameters.n": [1e-6, 2e-6]}}
+        sweep = run_sweep(sweep_from_dict(idle), Path(tmp) / "s")
+    return {
+        "LimitsReport": check_limits(design),
+        "ToleranceReport": tolerance_report(design),
+        "MonteCarloResult": mc,
+        "EnsembleResult": simulate_ensemble(design, states, t_end=1.0),
+        "SweepResult": sweep,
     }
 
 
@@ -55,6 +82,11 @@ NAMES = [
     "LinearConditions",
     "VerificationReport",
     "SimulationResult",
+    "LimitsReport",
+    "ToleranceReport",
+    "MonteCarloResult",
+    "EnsembleResult",
+    "SweepResult",
 ]
 
 
