@@ -395,7 +395,7 @@ def _flux_sum(coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray) -> np.ndarray:
     return out
 
 
-def _zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[str, np.ndarray]:
+def zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[str, np.ndarray]:
     """The sums of :func:`_zonal_sums` as polynomials in ``Z``, one per value of ``S``.
 
     At a fixed ``S = |r|^2`` (a point of a body: turning the body changes ``Z = r . gamma``,

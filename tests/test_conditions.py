@@ -21,13 +21,13 @@ from chargedesign.conditions import (
     MAX_FIELD_DEGREE,
     LinearCondition,
     LinearConditions,
-    _harmonics,
     audit_p6,
     conditions_for_scene,
     derive_conditions,
     l_dot_gamma_residual,
     moment_symbol,
     physical_l_dot_gamma,
+    real_solid_harmonics,
     symbolic_mu_solution,
 )
 from chargedesign.errors import InfeasibleError, InputError
@@ -412,11 +412,13 @@ def test_harmonic_basis_addition_theorem(k: int) -> None:
     def value(poly: dict, point: np.ndarray) -> float:
         return float(sum(float(c) * np.prod(point ** np.array(e)) for e, c in poly.items()))
 
-    lhs = sum(float(h.weight) * value(h.poly, a) * value(h.poly, b) for h in _harmonics(k))
+    lhs = sum(
+        float(h.weight) * value(h.poly, a) * value(h.poly, b) for h in real_solid_harmonics(k)
+    )
     cosine = a @ b / (np.linalg.norm(a) * np.linalg.norm(b))
     rhs = (np.linalg.norm(a) * np.linalg.norm(b)) ** k * npleg.legval(cosine, [0] * k + [1])
     assert lhs == pytest.approx(rhs, rel=1e-12, abs=1e-12)
-    assert len(_harmonics(k)) == 2 * k + 1
+    assert len(real_solid_harmonics(k)) == 2 * k + 1
 
 
 # ------------------------------------------------- default strengths follow the body size
@@ -496,7 +498,8 @@ def test_default_strength_rule_is_a_power_of_ten_near_the_natural_size() -> None
     Q = max(abs(v) / length ** len(k) for k, v in fixed.items())
     # Racah-normalised degree-4 moments required: sqrt(w_m) W_m for each harmonic row
     by_poly = {
-        tuple(sorted((k, float(c)) for k, c in h.moments().items())): h for h in _harmonics(4)
+        tuple(sorted((k, float(c)) for k, c in h.moments().items())): h
+        for h in real_solid_harmonics(4)
     }
     total = 0.0
     for row in result.for_source("charges"):

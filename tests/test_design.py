@@ -561,12 +561,12 @@ def test_meaningless_cancellation_is_refused_naming_the_cause():
 
 def test_residual_miss_from_cancellation_does_not_blame_the_solver(monkeypatch):
     """A polished residual above design.tol: the weak a2 is named, not another solver."""
-    import chargedesign.design.pipeline as pipeline  # where the design stage calls _polish
+    import chargedesign.design.pipeline as pipeline  # where the design stage calls polish_weights
 
     def spoiled(p, u, tol):  # a polisher that leaves a 1e-10 relative error
         return u * (1.0 + 1e-10 * np.cos(np.arange(len(u)))), "spoiled for the test"
 
-    monkeypatch.setattr(pipeline, "_polish", spoiled)
+    monkeypatch.setattr(pipeline, "polish_weights", spoiled)
     params = Parameters(C=1e-4, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
     conditions = derive_conditions(
         params, {"magnetic": (1.0, 2e-9), "gravity": (9.81,)}, length=0.05

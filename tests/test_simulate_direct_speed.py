@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from chargedesign.fields import _zonal_sums, _zonal_z_coefficients
+from chargedesign.fields import _zonal_sums, zonal_z_coefficients
 from chargedesign.params import Parameters
 from chargedesign.simulate import (
     Body,
@@ -67,7 +67,7 @@ def test_z_coefficients_are_the_zonal_sums(order: int) -> None:
     G = rng.normal(size=3)
     G /= np.linalg.norm(G)
     Z, S = pts @ G, np.einsum("ij,ij->i", pts, pts)
-    table = _zonal_z_coefficients(coeffs, S, order)
+    table = zonal_z_coefficients(coeffs, S, order)
     sums = _zonal_sums(coeffs, Z, S, order)
     powers = Z[:, None] ** np.arange(len(coeffs) + 1)
     expected = {"": 0, "Z": 1, "S": 1, "ZZ": 2, "ZS": 2, "SS": 2}
@@ -80,7 +80,7 @@ def test_z_coefficients_are_the_zonal_sums(order: int) -> None:
 
 
 def test_z_coefficients_of_the_zero_field() -> None:
-    table = _zonal_z_coefficients(np.zeros(0), np.array([1.0, 2.0]), 2)
+    table = zonal_z_coefficients(np.zeros(0), np.array([1.0, 2.0]), 2)
     assert all(c.shape == (2, 1) and not c.any() for c in table.values())
 
 

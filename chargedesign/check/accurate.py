@@ -15,14 +15,14 @@ from chargedesign.check.constants import (
     BLOCK_PAIRS,
 )
 from chargedesign.check.double_double import (
-    _DD,
-    _as_float,
-    _total,
+    DoubleDouble,
+    sum_last_axis,
+    to_float_array,
 )
 from chargedesign.check.kernel import (
     POTENTIAL_EFFECTS,
     Elements,
-    _trimmed,
+    trimmed_legendre,
 )
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
@@ -31,7 +31,7 @@ from chargedesign.vocabulary import (
 
 
 @dataclass
-class _Harmonics:
+class AccurateZonalSums:
     """value, gradient sums (D, T) and Hessian sums (W, E, ZZ) of one field (see the kernel
     notes above), in the accurate arithmetic; floats where a sum has no element term."""
 
@@ -43,9 +43,9 @@ class _Harmonics:
     ZZ: Any = 0.0
 
 
-def _harmonics_accurate(
+def zonal_sums_accurate(
     coeffs: np.ndarray, Z: Any, S: Any, order: int, lift: Callable[[Any], Any]
-) -> _Harmonics:
+) -> AccurateZonalSums:
     """The recurrences of the kernel notes in the accurate arithmetic (integer factors exact:
     every ``(2k + 1) / (k + 1)`` is a multiplication and a division, not a rounded ratio)."""
     K = len(coeffs)
@@ -65,7 +65,7 @@ def _harmonics_accurate(
         value = value + f[k] * u[k]
         D = D + (f[k] * k) * u[k - 1]
         T = T + f[k] * v[k - 1]
-    out = _Harmonics(value, D, T)
+    out = AccurateZonalSums(value, D, T)
     if order >= 2:
         t: list[Any] = [0.0, 0.0]
         for k in range(1, K - 1):
@@ -99,7 +99,8 @@ class AccurateSums:
     precision: str
 
 
-def _cross_float(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+def cross_components(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+    """Cross product ``a x b`` of two vectors given as component triples (any arithmetic)."""
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
@@ -142,7 +143,7 @@ def evaluate_accurate(
     if precision == "double-double":
 
         def lift(x: Any) -> Any:
-            return _DD(x)
+            return DoubleDouble(x)
     elif precision == "longdouble":
 
         def lift(x: Any) -> Any:
@@ -153,7 +154,7 @@ def evaluate_accurate(
     if np.abs(np.einsum("ij,ij->i", gammas, gammas) - 1.0).max(initial=0.0) > 1e-12:
         raise input_error("gammas", "unit vectors (to 1e-12)", gammas)
     m = len(gammas)
-    coeffs = {k: _trimmed(fields.get(k, ())) for k in FIELD_NAMES}
+    coeffs = {k: trimmed_legendre(fields.get(k, ())) for k in FIELD_NAMES}
     mu = [lift(np.zeros(m)) for _ in range(3)]
     gyro = [lift(np.zeros(m)) for _ in range(3)]
     energy = {k: lift(np.zeros(m)) for k in POTENTIAL_EFFECTS}
@@ -167,7 +168,7 @@ def evaluate_accurate(
         return g[0] * scale, g[1] * scale, g[2] * scale
 
     def add_rows(target: Any, rows: slice, value: Any) -> None:
-        if isinstance(target, _DD):
+        if isinstance(target, DoubleDouble):
             block = target[rows] + value
             target.hi[rows], target.lo[rows] = block.hi, block.lo
         else:
@@ -189,27 +190,27 @@ def evaluate_accurate(
     def potential_effect(name: str, r: np.ndarray, w: np.ndarray, c: np.ndarray) -> None:
         for rows in blocks(len(w)):
             gc, xyz, Z, S, _ = geometry(r, rows)
-            h = _harmonics_accurate(c, Z, S, 1, lift)
-            add_rows(energy[name], rows, _total(h.value * w))
+            h = zonal_sums_accurate(c, Z, S, 1, lift)
+            add_rows(energy[name], rows, sum_last_axis(h.value * w))
             # X x (-w grad Phi) = -w (D + Z T) (r x gamma)
             lever = (h.D + Z * h.T) * (-w)
-            for i, arm in enumerate(_cross_float(xyz, gc)):
-                add_rows(torque[name][i], rows, _total(lever * arm))
+            for i, arm in enumerate(cross_components(xyz, gc)):
+                add_rows(torque[name][i], rows, sum_last_axis(lever * arm))
 
     r, q = elements.charge_positions, elements.charge_values
     if len(q) and len(coeffs["magnetic"]):
         for rows in blocks(len(q)):
             gc, xyz, Z, S, t = geometry(r, rows)
-            h = _harmonics_accurate(coeffs["magnetic"], Z, S, 1, lift)
+            h = zonal_sums_accurate(coeffs["magnetic"], Z, S, 1, lift)
             B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
             qrB = (B[0] * xyz[0] + B[1] * xyz[1] + B[2] * xyz[2]) * q
             for i in range(3):
-                add_rows(mu[i], rows, -_total(qrB * xyz[i]))
+                add_rows(mu[i], rows, -sum_last_axis(qrB * xyz[i]))
             om = tuple(lift(omegas[rows, i])[:, None] for i in range(3))
-            v = _cross_float(om, xyz)  # omega x r
-            force = tuple(fi * q for fi in _cross_float(v, B))  # q v x B
-            for i, ti in enumerate(_cross_float(xyz, force)):
-                add_rows(gyro[i], rows, _total(ti))
+            v = cross_components(om, xyz)  # omega x r
+            force = tuple(fi * q for fi in cross_components(v, B))  # q v x B
+            for i, ti in enumerate(cross_components(xyz, force)):
+                add_rows(gyro[i], rows, sum_last_axis(ti))
     if len(q) and len(coeffs["electric"]):
         potential_effect("electric", r, q, coeffs["electric"])
     r, w = elements.mass_positions, elements.mass_values
@@ -220,10 +221,12 @@ def evaluate_accurate(
         s = (sigma[:, 0], sigma[:, 1], sigma[:, 2])
         for rows in blocks(len(sigma)):
             gc, xyz, Z, S, t = geometry(r, rows)
-            h = _harmonics_accurate(coeffs["magnetic"], Z, S, 2, lift)
+            h = zonal_sums_accurate(coeffs["magnetic"], Z, S, 2, lift)
             B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
             add_rows(
-                energy["magnetization"], rows, -_total(B[0] * s[0] + B[1] * s[1] + B[2] * s[2])
+                energy["magnetization"],
+                rows,
+                -sum_last_axis(B[0] * s[0] + B[1] * s[1] + B[2] * s[2]),
             )
             sg = gc[0] * s[0] + gc[1] * s[1] + gc[2] * s[2]
             st = t[0] * s[0] + t[1] * s[1] + t[2] * s[2]
@@ -236,18 +239,18 @@ def evaluate_accurate(
                 - h.ZZ * (gc[i] * sg)
                 for i in range(3)
             )
-            spin = _cross_float(s, B)
-            lever = _cross_float(xyz, force)
+            spin = cross_components(s, B)
+            lever = cross_components(xyz, force)
             for i in range(3):
-                add_rows(torque["magnetization"][i], rows, _total(spin[i] + lever[i]))
+                add_rows(torque["magnetization"][i], rows, sum_last_axis(spin[i] + lever[i]))
     total = energy["electric"] + energy["gravity"] + energy["magnetization"]
-    mean = _total(total) / float(m) if isinstance(total, _DD) else np.mean(total)
+    mean = sum_last_axis(total) / float(m) if isinstance(total, DoubleDouble) else np.mean(total)
     return AccurateSums(
-        mu=np.stack([_as_float(c) for c in mu], axis=1),
-        gyro=np.stack([_as_float(c) for c in gyro], axis=1),
-        energy={k: _as_float(v) for k, v in energy.items()},
-        energy_centered=_as_float(total - mean),
-        energy_mean=float(_as_float(mean)),
-        torque={k: np.stack([_as_float(c) for c in v], axis=1) for k, v in torque.items()},
+        mu=np.stack([to_float_array(c) for c in mu], axis=1),
+        gyro=np.stack([to_float_array(c) for c in gyro], axis=1),
+        energy={k: to_float_array(v) for k, v in energy.items()},
+        energy_centered=to_float_array(total - mean),
+        energy_mean=float(to_float_array(mean)),
+        torque={k: np.stack([to_float_array(c) for c in v], axis=1) for k, v in torque.items()},
         precision=precision,
     )

@@ -95,7 +95,7 @@ class Elements(ElementSet):
     quadrature: list[dict[str, Any]] = field(default_factory=list)
 
 
-def _integrand_degree(kind: str, degrees: dict[str, int]) -> int:
+def integrand_degree(kind: str, degrees: dict[str, int]) -> int:
     """Polynomial degree (in body coordinates) of every integrand the check uses."""
     if kind == "charge":
         # V and torque of E: Phi_e, r x grad Phi_e (degree L_e); mu and the Lorentz torque:
@@ -130,7 +130,7 @@ def collect_elements(
     for i, raw in enumerate(design.continuous):
         body = ContinuousBody.coerce(raw, f"continuous[{i}]")
         order = (
-            body.density.degree + _integrand_degree(body.kind, degrees)
+            body.density.degree + integrand_degree(body.kind, degrees)
             if quadrature_order is None
             else quadrature_order
         )
@@ -167,7 +167,7 @@ def collect_elements(
 # to the system and fault them in again, which measured 3 to 5 times slower.
 
 
-class _Workspace:
+class Workspace:
     """Reusable buffers of shape (rows, n); ``take`` hands out views of the first rows."""
 
     def __init__(self, rows: int, n: int) -> None:
@@ -187,7 +187,9 @@ class _Workspace:
                     self._free.append(base)
 
 
-def _prodsum(ws: _Workspace, rows: int, terms: list[tuple[float, Any, Any]]) -> np.ndarray | float:
+def product_sum(
+    ws: Workspace, rows: int, terms: list[tuple[float, Any, Any]]
+) -> np.ndarray | float:
     """``sum_i c_i A_i B_i`` into a workspace buffer (a float when every factor is a float).
 
     Factors are floats, arrays of shape (rows, n), (n,) or (rows, 1) (broadcast).
@@ -226,7 +228,7 @@ def _prodsum(ws: _Workspace, rows: int, terms: list[tuple[float, Any, Any]]) -> 
 
 
 @dataclass
-class _Zonal:
+class ZonalSums:
     """Sums of one field at a block of points (workspace buffers or floats)."""
 
     value: Any = None
@@ -237,9 +239,9 @@ class _Zonal:
     ZZ: Any = None
 
 
-def _zonal(
-    coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, ws: _Workspace
-) -> tuple[_Zonal, list[Any]]:
+def zonal_sums(
+    coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, ws: Workspace
+) -> tuple[ZonalSums, list[Any]]:
     """Potential (order 0), gradient sums (1) and Hessian sums (2) at points (Z, S = R^2).
 
     Parameters
@@ -252,7 +254,7 @@ def _zonal(
         Squared distance from O, m^2 (rotation invariant).
     order : int
         Highest derivative wanted.
-    ws : _Workspace
+    ws : Workspace
         Where the buffers come from.
 
     Returns
@@ -265,31 +267,33 @@ def _zonal(
     u: list[Any] = [1.0, Z]
     for k in range(1, K):
         u.append(
-            _prodsum(ws, rows, [((2 * k + 1) / (k + 1), Z, u[k]), (-k / (k + 1), S, u[k - 1])])
+            product_sum(ws, rows, [((2 * k + 1) / (k + 1), Z, u[k]), (-k / (k + 1), S, u[k - 1])])
         )
-    out = _Zonal()
-    out.value = _prodsum(ws, rows, [(f[k], u[k], 1.0) for k in range(1, K + 1)])
+    out = ZonalSums()
+    out.value = product_sum(ws, rows, [(f[k], u[k], 1.0) for k in range(1, K + 1)])
     scratch: list[Any] = u[2:]
     if order >= 1:
         v: list[Any] = [0.0, 1.0]
         for k in range(1, K - 1):
-            v.append(_prodsum(ws, rows, [(1.0, S, v[k - 1]), (2.0 * k + 1.0, u[k], 1.0)]))
-        out.D = _prodsum(ws, rows, [(f[k] * k, u[k - 1], 1.0) for k in range(1, K + 1)])
-        out.T = _prodsum(ws, rows, [(f[k], v[k - 1], 1.0) for k in range(1, K + 1)])
+            v.append(product_sum(ws, rows, [(1.0, S, v[k - 1]), (2.0 * k + 1.0, u[k], 1.0)]))
+        out.D = product_sum(ws, rows, [(f[k] * k, u[k - 1], 1.0) for k in range(1, K + 1)])
+        out.T = product_sum(ws, rows, [(f[k], v[k - 1], 1.0) for k in range(1, K + 1)])
         scratch += v[2:]
     if order >= 2:
         t: list[Any] = [0.0, 0.0]
         for k in range(1, K - 1):
-            t.append(_prodsum(ws, rows, [(1.0, S, t[k - 1]), (-(2.0 * k - 1.0), v[k - 1], 1.0)]))
-        out.W = _prodsum(ws, rows, [(f[k], t[k - 1], 1.0) for k in range(1, K + 1)])
-        out.E = _prodsum(ws, rows, [(f[k] * k, v[k - 2], 1.0) for k in range(2, K + 1)])
-        out.ZZ = _prodsum(ws, rows, [(f[k] * k * (k - 1), u[k - 2], 1.0) for k in range(2, K + 1)])
+            t.append(product_sum(ws, rows, [(1.0, S, t[k - 1]), (-(2.0 * k - 1.0), v[k - 1], 1.0)]))
+        out.W = product_sum(ws, rows, [(f[k], t[k - 1], 1.0) for k in range(1, K + 1)])
+        out.E = product_sum(ws, rows, [(f[k] * k, v[k - 2], 1.0) for k in range(2, K + 1)])
+        out.ZZ = product_sum(
+            ws, rows, [(f[k] * k * (k - 1), u[k - 2], 1.0) for k in range(2, K + 1)]
+        )
         scratch += t[2:]
     ws.give(*scratch)
     return out, [out.value, out.D, out.T, out.W, out.E, out.ZZ]
 
 
-def _rotate_points(
+def rotate_points(
     R: np.ndarray, r: np.ndarray, buffer: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Space components ``X = R r`` of body points: three (m, n) views of ``buffer`` (one GEMM).
@@ -303,7 +307,7 @@ def _rotate_points(
     return XR3[:, 0], XR3[:, 1], XR3[:, 2]
 
 
-def _ein(a: Any, b: Any, w: np.ndarray | None = None) -> np.ndarray:
+def rowwise_dot(a: Any, b: Any, w: np.ndarray | None = None) -> np.ndarray:
     """``sum_n a b (w)`` per row: shape (rows,) (no temporary)."""
     if w is None:
         return np.einsum("mn,mn->m", a, b)
@@ -334,7 +338,8 @@ class RotatedSums:
 POTENTIAL_EFFECTS = ("electric", "gravity", "magnetization")
 
 
-def _new_sums(m: int) -> RotatedSums:
+def zero_rotated_sums(m: int) -> RotatedSums:
+    """Rotated sums of ``m`` orientations, every entry zero (to accumulate into)."""
     return RotatedSums(
         mu=np.zeros((m, 3)),
         gyro=np.zeros((m, 3)),
@@ -346,14 +351,14 @@ def _new_sums(m: int) -> RotatedSums:
     )
 
 
-def _full(ws: _Workspace, rows: int, value: Any) -> np.ndarray:
+def filled_buffer(ws: Workspace, rows: int, value: Any) -> np.ndarray:
     """A (rows, n) buffer holding ``value`` (used when a sum came out as a float)."""
     out = ws.take(rows)
     out[...] = value
     return out
 
 
-def _scalar_potential_block(
+def scalar_potential_block(
     X: tuple[np.ndarray, np.ndarray, np.ndarray],
     S: np.ndarray,
     w: np.ndarray,
@@ -363,27 +368,27 @@ def _scalar_potential_block(
     rows: slice,
     absw: np.ndarray,
     absw_r: np.ndarray,
-    ws: _Workspace,
+    ws: Workspace,
 ) -> None:
     """Energy ``sum w Phi`` and torque ``sum X x (-w grad Phi)`` of charges or masses."""
     x, y, z = X
     m = x.shape[0]
-    zs, bufs = _zonal(coeffs, z, S, 1, ws)
-    value = zs.value if isinstance(zs.value, np.ndarray) else _full(ws, m, zs.value)
+    zs, bufs = zonal_sums(coeffs, z, S, 1, ws)
+    value = zs.value if isinstance(zs.value, np.ndarray) else filled_buffer(ws, m, zs.value)
     out.energy[name][rows] = value @ w
     np.abs(value, out=value)
     out.energy_gross[name][rows] = value @ absw
     # grad Phi = (-x T, -y T, D): X x grad Phi = (y (D + z T), -x (D + z T), 0)
-    lever = _prodsum(ws, m, [(1.0, zs.D, 1.0), (1.0, z, zs.T)])
-    lever = lever if isinstance(lever, np.ndarray) else _full(ws, m, lever)
-    out.torque[name][rows, 0] = -_ein(y, lever, w)
-    out.torque[name][rows, 1] = _ein(x, lever, w)
+    lever = product_sum(ws, m, [(1.0, zs.D, 1.0), (1.0, z, zs.T)])
+    lever = lever if isinstance(lever, np.ndarray) else filled_buffer(ws, m, lever)
+    out.torque[name][rows, 0] = -rowwise_dot(y, lever, w)
+    out.torque[name][rows, 1] = rowwise_dot(x, lever, w)
     np.abs(lever, out=lever)
     out.torque_gross[name][rows] = lever @ absw_r
     ws.give(*bufs, lever, value)
 
 
-def _lorentz_block(
+def lorentz_block(
     X: tuple[np.ndarray, np.ndarray, np.ndarray],
     S: np.ndarray,
     q: np.ndarray,
@@ -392,22 +397,22 @@ def _lorentz_block(
     out: RotatedSums,
     rows: slice,
     absq_r: np.ndarray,
-    ws: _Workspace,
+    ws: Workspace,
 ) -> None:
     """mu = -sum q (X . B) X and the Lorentz torque sum X x q ((Omega x X) x B)."""
     x, y, z = X
     m = x.shape[0]
-    zs, bufs = _zonal(coeffs, z, S, 1, ws)
-    ps = _prodsum
+    zs, bufs = zonal_sums(coeffs, z, S, 1, ws)
+    ps = product_sum
     bx = ps(ws, m, [(1.0, x, zs.T)])  # B = -grad Phi = (x T, y T, -D)
     by = ps(ws, m, [(1.0, y, zs.T)])
     bz = ps(ws, m, [(-1.0, zs.D, 1.0)])
-    bx, by, bz = (b if isinstance(b, np.ndarray) else _full(ws, m, b) for b in (bx, by, bz))
+    bx, by, bz = (b if isinstance(b, np.ndarray) else filled_buffer(ws, m, b) for b in (bx, by, bz))
     xb = ps(ws, m, [(1.0, x, bx), (1.0, y, by), (1.0, z, bz)])
     assert isinstance(xb, np.ndarray)
-    out.mu[rows, 0] = -_ein(x, xb, q)
-    out.mu[rows, 1] = -_ein(y, xb, q)
-    out.mu[rows, 2] = -_ein(z, xb, q)
+    out.mu[rows, 0] = -rowwise_dot(x, xb, q)
+    out.mu[rows, 1] = -rowwise_dot(y, xb, q)
+    out.mu[rows, 2] = -rowwise_dot(z, xb, q)
     np.abs(xb, out=xb)
     out.mu_gross[rows] = xb @ absq_r
     ox, oy, oz = (omega_space[:, i, None] for i in range(3))
@@ -417,32 +422,32 @@ def _lorentz_block(
     fx = ps(ws, m, [(1.0, vy, bz), (-1.0, vz, by)])
     fy = ps(ws, m, [(1.0, vz, bx), (-1.0, vx, bz)])
     fz = ps(ws, m, [(1.0, vx, by), (-1.0, vy, bx)])
-    out.gyro[rows, 0] = _ein(y, fz, q) - _ein(z, fy, q)
-    out.gyro[rows, 1] = _ein(z, fx, q) - _ein(x, fz, q)
-    out.gyro[rows, 2] = _ein(x, fy, q) - _ein(y, fx, q)
+    out.gyro[rows, 0] = rowwise_dot(y, fz, q) - rowwise_dot(z, fy, q)
+    out.gyro[rows, 1] = rowwise_dot(z, fx, q) - rowwise_dot(x, fz, q)
+    out.gyro[rows, 2] = rowwise_dot(x, fy, q) - rowwise_dot(y, fx, q)
     ws.give(*bufs, bx, by, bz, xb, vx, vy, vz, fx, fy, fz)
 
 
-def _dipoles_block(
+def dipoles_block(
     X: tuple[np.ndarray, np.ndarray, np.ndarray],
     sig: tuple[np.ndarray, np.ndarray, np.ndarray],
     S: np.ndarray,
     coeffs: np.ndarray,
     out: RotatedSums,
     rows: slice,
-    ws: _Workspace,
+    ws: Workspace,
 ) -> None:
     """Energy ``-sum sigma . B`` and torque ``sum sigma x B + X x grad(sigma . B)``."""
     x, y, z = X
     sx, sy, sz = sig
     m = x.shape[0]
-    zs, bufs = _zonal(coeffs, z, S, 2, ws)
-    ps = _prodsum
+    zs, bufs = zonal_sums(coeffs, z, S, 2, ws)
+    ps = product_sum
     bx = ps(ws, m, [(1.0, x, zs.T)])
     by = ps(ws, m, [(1.0, y, zs.T)])
     bz = ps(ws, m, [(-1.0, zs.D, 1.0)])
     energy = ps(ws, m, [(-1.0, sx, bx), (-1.0, sy, by), (-1.0, sz, bz)])
-    energy = energy if isinstance(energy, np.ndarray) else _full(ws, m, energy)
+    energy = energy if isinstance(energy, np.ndarray) else filled_buffer(ws, m, energy)
     out.energy["magnetization"][rows] = energy.sum(axis=1)
     np.abs(energy, out=energy)
     out.energy_gross["magnetization"][rows] = energy.sum(axis=1)
@@ -461,7 +466,7 @@ def _dipoles_block(
     tx = ps(ws, m, [(1.0, sy, bz), (-1.0, sz, by), (1.0, y, fz), (-1.0, z, fy)])
     ty = ps(ws, m, [(1.0, sz, bx), (-1.0, sx, bz), (1.0, z, fx), (-1.0, x, fz)])
     tz = ps(ws, m, [(1.0, sx, by), (-1.0, sy, bx), (1.0, x, fy), (-1.0, y, fx)])
-    tx, ty, tz = (t if isinstance(t, np.ndarray) else _full(ws, m, t) for t in (tx, ty, tz))
+    tx, ty, tz = (t if isinstance(t, np.ndarray) else filled_buffer(ws, m, t) for t in (tx, ty, tz))
     out.torque["magnetization"][rows, 0] = tx.sum(axis=1)
     out.torque["magnetization"][rows, 1] = ty.sum(axis=1)
     out.torque["magnetization"][rows, 2] = tz.sum(axis=1)
@@ -473,7 +478,7 @@ def _dipoles_block(
     ws.give(fx, fy, fz, tx, ty, tz, norm)
 
 
-def _to_body(R: np.ndarray, v: np.ndarray) -> np.ndarray:
+def to_body_axes(R: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``R^T v`` per orientation: space vectors (m, 3) to body axes."""
     return np.einsum("mci,mc->mi", R, v)
 
@@ -507,8 +512,8 @@ def evaluate_rotated(
         Every vector in body axes.
     """
     m = len(R)
-    sums = _new_sums(m)
-    coeffs = {k: _trimmed(fields.get(k, ())) for k in FIELD_NAMES}
+    sums = zero_rotated_sums(m)
+    coeffs = {k: trimmed_legendre(fields.get(k, ())) for k in FIELD_NAMES}
     omega_space = np.einsum("mij,mj->mi", R, omegas)
 
     def blocks(n: int) -> tuple[int, list[slice]]:
@@ -521,16 +526,16 @@ def evaluate_rotated(
         absq = np.abs(q)
         absq_r = absq * np.sqrt(S)
         step, slices = blocks(len(q))
-        ws = _Workspace(step, len(q))
+        ws = Workspace(step, len(q))
         buffer = np.empty((3 * step, len(q)))
         for rows in slices:
-            X = _rotate_points(R[rows], r, buffer)
+            X = rotate_points(R[rows], r, buffer)
             if len(coeffs["magnetic"]):
-                _lorentz_block(
+                lorentz_block(
                     X, S, q, coeffs["magnetic"], omega_space[rows], sums, rows, absq_r, ws
                 )
             if len(coeffs["electric"]):
-                _scalar_potential_block(
+                scalar_potential_block(
                     X, S, q, coeffs["electric"], "electric", sums, rows, absq, absq_r, ws
                 )
     r, w = elements.mass_positions, elements.mass_values
@@ -538,32 +543,32 @@ def evaluate_rotated(
         S = np.einsum("ij,ij->i", r, r)
         absw = np.abs(w)
         step, slices = blocks(len(w))
-        ws = _Workspace(step, len(w))
+        ws = Workspace(step, len(w))
         buffer = np.empty((3 * step, len(w)))
         for rows in slices:
-            X = _rotate_points(R[rows], r, buffer)
-            _scalar_potential_block(
+            X = rotate_points(R[rows], r, buffer)
+            scalar_potential_block(
                 X, S, w, coeffs["gravity"], "gravity", sums, rows, absw, absw * np.sqrt(S), ws
             )
     r, sigma = elements.dipole_positions, elements.dipole_moments
     if len(sigma) and len(coeffs["magnetic"]):
         S = np.einsum("ij,ij->i", r, r)
         step, slices = blocks(len(sigma))
-        ws = _Workspace(step, len(sigma))
+        ws = Workspace(step, len(sigma))
         buffer = np.empty((3 * step, len(sigma)))
         sig_buffer = np.empty((3 * step, len(sigma)))
         for rows in slices:
-            X = _rotate_points(R[rows], r, buffer)
-            sig = _rotate_points(R[rows], sigma, sig_buffer)
-            _dipoles_block(X, sig, S, coeffs["magnetic"], sums, rows, ws)
-    sums.mu = _to_body(R, sums.mu)
-    sums.gyro = _to_body(R, sums.gyro)
+            X = rotate_points(R[rows], r, buffer)
+            sig = rotate_points(R[rows], sigma, sig_buffer)
+            dipoles_block(X, sig, S, coeffs["magnetic"], sums, rows, ws)
+    sums.mu = to_body_axes(R, sums.mu)
+    sums.gyro = to_body_axes(R, sums.gyro)
     for k in sums.torque:
-        sums.torque[k] = _to_body(R, sums.torque[k])
+        sums.torque[k] = to_body_axes(R, sums.torque[k])
     return sums
 
 
-def _trimmed(legendre: tuple[float, ...]) -> np.ndarray:
+def trimmed_legendre(legendre: tuple[float, ...]) -> np.ndarray:
     """Coefficients up to the last non-zero one (validated by AxisymmetricField)."""
     field_ = AxisymmetricField(legendre)
     return np.asarray(field_.legendre[: field_.degree], dtype=np.float64)

@@ -27,17 +27,17 @@ from chargedesign.check.constants import (
     ROUNDING_FACTOR,
 )
 from chargedesign.check.double_double import (
-    _DD,
     DD_UNIT,
+    DoubleDouble,
 )
 from chargedesign.check.kernel import (
     Elements,
     RotatedSums,
-    _trimmed,
     collect_elements,
     evaluate_rotated,
     rotation_matrices,
     sample_orientations,
+    trimmed_legendre,
 )
 from chargedesign.check.results import (
     CheckReport,
@@ -54,17 +54,18 @@ from chargedesign.vocabulary import (
 
 
 # ------------------------------------------------------------------------ comparisons
-def _worst(gammas: np.ndarray, err: np.ndarray) -> tuple[float, float, float]:
+def worst_orientation(gammas: np.ndarray, err: np.ndarray) -> tuple[float, float, float]:
+    """The orientation gamma (a 3-tuple) where ``err`` is largest."""
     i = int(np.argmax(err))
     return (float(gammas[i, 0]), float(gammas[i, 1]), float(gammas[i, 2]))
 
 
-def _norms(a: np.ndarray) -> np.ndarray:
+def orientation_norms(a: np.ndarray) -> np.ndarray:
     """|a| per orientation: absolute values (m,) or Euclidean norms of rows (m, 3)."""
     return np.abs(a) if a.ndim == 1 else np.linalg.norm(a, axis=1)
 
 
-def _relative(
+def relative_error(
     x: np.ndarray, ref: np.ndarray, gross: float, gammas: np.ndarray
 ) -> tuple[float, float, float, str, tuple[float, float, float]]:
     """(rel_err, abs_err, scale, basis, worst gamma) of per-orientation vectors or scalars.
@@ -73,9 +74,9 @@ def _relative(
     orientation, the gross contributions (basis ``gross``: absolute error relative to the
     size of the terms that had to cancel to zero).
     """
-    err = _norms(x - ref)
+    err = orientation_norms(x - ref)
     abs_err = float(err.max(initial=0.0))
-    scale = float(_norms(ref).max(initial=0.0))
+    scale = float(orientation_norms(ref).max(initial=0.0))
     basis = "reference"
     if scale == 0.0:
         basis, scale = "gross", gross
@@ -83,10 +84,10 @@ def _relative(
         rel = abs_err / scale
     else:  # no reference and no contributions: nothing to compare
         rel = 0.0 if abs_err == 0.0 else math.inf
-    return rel, abs_err, scale, basis, _worst(gammas, err)
+    return rel, abs_err, scale, basis, worst_orientation(gammas, err)
 
 
-def _field_bounds(coeffs: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, ...]:
+def field_bounds(coeffs: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, ...]:
     """Bounds at distance r from O of |Phi|, |grad Phi| and |Hessian Phi| of a field.
 
     ``sum |f_k| r^k``, ``sum k |f_k| r^(k-1)``, ``sum k (k - 1) |f_k| r^(k-2)``: the sizes
@@ -112,7 +113,7 @@ def contribution_sizes(
 ) -> dict[str, float]:
     """Sum over the elements of the size of their contributions to each compared quantity.
 
-    The size of one contribution is its bound through every field term (:func:`_field_bounds`):
+    The size of one contribution is its bound through every field term (:func:`field_bounds`):
     ``|q| r^2 |grad Phi_m|`` for mu (and the Lorentz torque per unit |omega|), ``|q| |Phi_e| +
     m |Phi_g| + |sigma| |grad Phi_m|`` for V, ``|q| r |grad Phi_e| + m r |grad Phi_g| +
     |sigma| (|grad Phi_m| + r |Hess Phi_m|)`` for the potential torque. It is what a
@@ -124,17 +125,17 @@ def contribution_sizes(
     dict with ``mu`` (kg m^2/s), ``gyroscopic_torque`` (per rad/s, N m s), ``V`` (J),
     ``potential_torque`` (N m).
     """
-    coeffs = {k: _trimmed(tuple(fields.get(k, ()))) for k in FIELD_NAMES}
+    coeffs = {k: trimmed_legendre(tuple(fields.get(k, ()))) for k in FIELD_NAMES}
     rq = np.linalg.norm(elements.charge_positions, axis=1)
     rm = np.linalg.norm(elements.mass_positions, axis=1)
     rd = np.linalg.norm(elements.dipole_positions, axis=1)
     q = np.abs(elements.charge_values)
     m = np.abs(elements.mass_values)
     s = np.linalg.norm(elements.dipole_moments, axis=1)
-    _, grad_mq, _ = _field_bounds(coeffs["magnetic"], rq)
-    value_e, grad_e, _ = _field_bounds(coeffs["electric"], rq)
-    value_g, grad_g, _ = _field_bounds(coeffs["gravity"], rm)
-    _, grad_md, hess_md = _field_bounds(coeffs["magnetic"], rd)
+    _, grad_mq, _ = field_bounds(coeffs["magnetic"], rq)
+    value_e, grad_e, _ = field_bounds(coeffs["electric"], rq)
+    value_g, grad_g, _ = field_bounds(coeffs["gravity"], rm)
+    _, grad_md, hess_md = field_bounds(coeffs["magnetic"], rd)
     mu = float(q @ (rq**2 * grad_mq))
     return {
         "mu": mu,
@@ -146,7 +147,7 @@ def contribution_sizes(
     }
 
 
-def _cancellation(gross: float, ref_scale: float) -> float:
+def cancellation_factor(gross: float, ref_scale: float) -> float:
     """``gross / max |x_ref|``: inf for a zero reference, 0 without contributions."""
     if ref_scale > 0.0:
         return gross / ref_scale
@@ -168,7 +169,7 @@ def rounding_floor(cancellation: float, unit: float, basis: str = "reference") -
     return ROUNDING_FACTOR * (unit * cancellation + EPS)
 
 
-def _verdict(
+def quantity_verdict(
     rel: float, floor: float, tol: float, cancellation: float, basis: str, precision: str
 ) -> tuple[str, str | None]:
     """(status, reason) of a claimed quantity.
@@ -193,7 +194,7 @@ def _verdict(
     return "fail", f"error {rel:.2e} exceeds tol {tol:g} (rounding floor {floor:.1e})"
 
 
-def _fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
+def fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
     """``gamma x grad p`` of the least-squares polynomial p (degree <= ``degree``) of energy.
 
     The fit uses an evenly strided subset of the orientations (four per monomial: the
@@ -222,7 +223,8 @@ def _fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.nd
     return np.cross(gammas, grad)
 
 
-def _theorem(params: Any, gammas: np.ndarray) -> dict[str, np.ndarray]:
+def theorem_reference(params: Any, gammas: np.ndarray) -> dict[str, np.ndarray]:
+    """The theorem's mu, V and grad V at the sampled orientations (must all be finite)."""
     from chargedesign.model import evaluators
 
     ref = {
@@ -300,7 +302,7 @@ def check_design(
     fields = {k: design.field(k) for k in FIELD_NAMES}
     sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
     params = design.parameters
-    ref = _theorem(params, gammas)
+    ref = theorem_reference(params, gammas)
     claimed = set(design.realises)
     notes: list[str] = []
 
@@ -317,8 +319,8 @@ def check_design(
     sizes = contribution_sizes(elements, fields)
     gross = dict(sizes)
     gross["gyroscopic_torque"] = sizes["gyroscopic_torque"] * float(omega_norm.max(initial=0.0))
-    ref_scale = {k: float(_norms(v).max(initial=0.0)) for k, v in refs.items()}
-    cancellation = {k: _cancellation(gross[k], ref_scale[k]) for k in refs}
+    ref_scale = {k: float(orientation_norms(v).max(initial=0.0)) for k, v in refs.items()}
+    cancellation = {k: cancellation_factor(gross[k], ref_scale[k]) for k in refs}
     basis = {k: "reference" if ref_scale[k] > 0.0 else "gross" for k in refs}
     double_floor = {k: rounding_floor(cancellation[k], EPS, basis[k]) for k in refs}
     if precision == "auto":
@@ -373,7 +375,7 @@ def check_design(
         rel, abs_err, scale, basis, worst = compared
         is_claimed = QUANTITY_CLAIMS[name] in claimed
         status, reason = (
-            _verdict(rel, floors[0], tol, cancel, basis, arithmetic)
+            quantity_verdict(rel, floors[0], tol, cancel, basis, arithmetic)
             if is_claimed
             else ("info", None)
         )
@@ -396,7 +398,7 @@ def check_design(
         )
 
     for name in ("mu", "gyroscopic_torque", "V", "potential_torque"):
-        compared = _relative(values[name], refs[name], gross[name], gammas)
+        compared = relative_error(values[name], refs[name], gross[name], gammas)
         floors = (rounding_floor(cancellation[name], unit, basis[name]), double_floor[name])
         record(name, compared, gross[name], cancellation[name], floors, used_precision)
         if (
@@ -411,7 +413,7 @@ def check_design(
                 f"(e.g. chargedesign simulate) has a rounding floor of ~{floors[1]:.0e}"
             )
 
-    inertia, inertia_gross = _inertia_accurate(elements.mass_positions, elements.mass_values)
+    inertia, inertia_gross = inertia_accurate(elements.mass_positions, elements.mass_values)
     inertia_ref = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     inertia_abs = float(np.abs(inertia - inertia_ref).max())
     inertia_cancel = inertia_gross / (2.0 * params.C)
@@ -424,7 +426,7 @@ def check_design(
         "double-double",
     )
 
-    effects = _effects(elements, degrees, gammas, omegas, used, inertia, unit)
+    effects = effect_results(elements, degrees, gammas, omegas, used, inertia, unit)
     if params.singular:
         notes.append(
             "lambda/rho terms of V are singular on gamma3 = 0: charges, masses and dipoles "
@@ -450,7 +452,7 @@ def check_design(
     )
 
 
-def _inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndarray, float]:
+def inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndarray, float]:
     """``sum m (|r|^2 1 - r r^T)`` summed in double-double, and ``sum m |r|^2`` (kg m^2)."""
     r = [positions[:, i] for i in range(3)]
     out = np.zeros((3, 3))
@@ -458,15 +460,15 @@ def _inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.nda
         for j in range(i, 3):
             if i == j:
                 a, b = r[(i + 1) % 3], r[(i + 2) % 3]
-                entry = (_DD(masses) * a) * a + (_DD(masses) * b) * b
+                entry = (DoubleDouble(masses) * a) * a + (DoubleDouble(masses) * b) * b
             else:
-                entry = -((_DD(masses) * r[i]) * r[j])
+                entry = -((DoubleDouble(masses) * r[i]) * r[j])
             out[i, j] = out[j, i] = float(entry.total(-1).to_float())
     gross = float(np.abs(masses) @ np.einsum("ij,ij->i", positions, positions))
     return out, gross
 
 
-def _effects(
+def effect_results(
     elements: Elements,
     degrees: dict[str, int],
     gammas: np.ndarray,
@@ -497,7 +499,7 @@ def _effects(
     worst = None
     gross = float((sums.mu_gross * np.linalg.norm(omegas, axis=1)).max(initial=0.0))
     if active and resolved(size["gyroscopic_torque"], gross):
-        route, _, _, _, worst = _relative(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
+        route, _, _, _, worst = relative_error(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
     out["lorentz"] = EffectResult(
         "lorentz", "charges", counts["charges"], active, size, route, worst
     )
@@ -516,9 +518,9 @@ def _effects(
         # an effect that cancels to rounding (e.g. masses centred at O in uniform gravity)
         # has no torque to compare: its route agreement would only measure rounding
         if active and resolved(size["torque"], gross):
-            fitted = _fitted_torque(gammas, e, degrees[field_name])
+            fitted = fitted_torque(gammas, e, degrees[field_name])
             if fitted is not None:
-                route, _, _, _, worst = _relative(t, fitted, gross, gammas)
+                route, _, _, _, worst = relative_error(t, fitted, gross, gammas)
         out[name] = EffectResult(name, source, counts[source], active, size, route, worst)
     out["inertia"] = EffectResult(
         "inertia",

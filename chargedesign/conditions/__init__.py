@@ -66,8 +66,8 @@ from chargedesign.conditions.types import LinearCondition, LinearConditions
 
 # isort: split
 # private helpers that tests and docs/conditions.md import from here (pure, cached)
-from chargedesign.conditions.harmonics import _harmonics as _harmonics
-from chargedesign.conditions.mu import _mu_system as _mu_system
+from chargedesign.conditions.harmonics import real_solid_harmonics as real_solid_harmonics
+from chargedesign.conditions.mu import mu_system as mu_system
 
 __all__ = [
     "DEFAULT_ELECTRIC_STRENGTH",

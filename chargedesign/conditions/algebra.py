@@ -1,7 +1,7 @@
 """Exact rational algebra of the derivation: reduction on the sphere, elimination, echelon form.
 
 Everything here computes with :class:`fractions.Fraction` (or sympy coefficients for
-:func:`_sphere_reduce`), so the conditions are exact before they are rounded to floats.
+:func:`sphere_reduce`), so the conditions are exact before they are rounded to floats.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ def _multinomial_signed(s: int) -> list[tuple[int, int, int]]:
     return out
 
 
-def _sphere_reduce(poly: Mapping[tuple[int, int, int], Any]) -> Poly3:
+def sphere_reduce(poly: Mapping[tuple[int, int, int], Any]) -> Poly3:
     """Reduce a polynomial in gamma on ``|gamma| = 1``: gamma3 appears at most linearly.
 
     ``gamma3^(2s+t) -> gamma3^t (1 - gamma1^2 - gamma2^2)^s``. The monomials
@@ -72,7 +72,7 @@ def _row_reduce(rows: list[list[Fraction]], ncols: int) -> list[int]:
     return pivots
 
 
-def _solve_dense(matrix: list[list[Fraction]], rhs: list[Fraction]) -> list[Fraction] | None:
+def solve_exact(matrix: list[list[Fraction]], rhs: list[Fraction]) -> list[Fraction] | None:
     """One solution of ``matrix x = rhs`` (free unknowns 0), or None if inconsistent."""
     rows = [[*r, b] for r, b in zip(matrix, rhs, strict=True)]
     ncols = len(matrix[0]) if matrix else 0
@@ -85,7 +85,7 @@ def _solve_dense(matrix: list[list[Fraction]], rhs: list[Fraction]) -> list[Frac
     return x
 
 
-def _nullspace(matrix: list[list[Fraction]], ncols: int) -> list[list[Fraction]]:
+def exact_nullspace(matrix: list[list[Fraction]], ncols: int) -> list[list[Fraction]]:
     """A basis of ``{x : matrix x = 0}`` (exact), as a list of vectors of length ``ncols``."""
     rows = [list(r) for r in matrix]
     pivots = _row_reduce(rows, ncols)
@@ -119,7 +119,7 @@ def _independent_columns(matrix: list[list[Fraction]], ncols: int) -> list[int]:
     return chosen
 
 
-def _key_rank(key: str) -> tuple[int, int, int, int]:
+def key_rank(key: str) -> tuple[int, int, int, int]:
     """Pivot order: lower orders first, then the order of :func:`moment_keys`."""
     comp = -1
     letters = key
@@ -131,7 +131,9 @@ def _key_rank(key: str) -> tuple[int, int, int, int]:
 
 
 @dataclass
-class _Row:
+class ConditionRow:
+    """One exact condition: sparse coefficients, right-hand side and where it came from."""
+
     coeffs: dict[str, Fraction]
     rhs: Fraction
     provenance: str
@@ -149,7 +151,7 @@ def _subtract_scaled(
             target[k] = nv
 
 
-class _System:
+class SourceSystem:
     """The exact linear conditions of one source, kept in reduced row echelon form.
 
     ``pivots`` maps a pivot key to its reduced row (pivot coefficient 1, no other pivot key)
@@ -160,10 +162,10 @@ class _System:
     def __init__(self) -> None:
         self.pivots: dict[str, tuple[dict[str, Fraction], Fraction, dict[int, Fraction]]] = {}
         self.labels: list[str] = []
-        self.display: list[_Row] = []
+        self.display: list[ConditionRow] = []
 
-    def copy(self) -> _System:
-        new = _System()
+    def copy(self) -> SourceSystem:
+        new = SourceSystem()
         new.pivots = {k: (dict(r), b, dict(c)) for k, (r, b, c) in self.pivots.items()}
         new.labels = list(self.labels)
         new.display = list(self.display)
@@ -196,7 +198,7 @@ class _System:
         row, rhs, combo = self._reduce(coeffs, rhs, {index: Fraction(1)})
         if not row:
             return ("implied" if rhs == 0 else "inconsistent", combo)
-        pivot = min(row, key=_key_rank)
+        pivot = min(row, key=key_rank)
         inv = 1 / row[pivot]
         row = {k: v * inv for k, v in row.items()}
         rhs *= inv
@@ -219,7 +221,9 @@ class _System:
                 f"{provenance}: contradicts {self._describe(combo, skip_last=True)}"
             )
         if status == "new":
-            self.display.append(_Row({k: v for k, v in coeffs.items() if v != 0}, rhs, provenance))
+            self.display.append(
+                ConditionRow({k: v for k, v in coeffs.items() if v != 0}, rhs, provenance)
+            )
 
     def _describe(self, combo: Mapping[int, Fraction], skip_last: bool = False) -> str:
         last = len(self.labels) - 1
@@ -238,7 +242,7 @@ class _System:
         for L in functionals:
             for k in L:
                 keys.update(self.pivots[k][0] if k in self.pivots else (k,))
-        free = sorted((k for k in keys if k not in self.pivots), key=_key_rank)
+        free = sorted((k for k in keys if k not in self.pivots), key=key_rank)
         W0 = []
         G = []
         for L in functionals:

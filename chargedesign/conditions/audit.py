@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from chargedesign.conditions.harmonics import _field_symbols
+from chargedesign.conditions.harmonics import field_symbols
 from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -24,7 +24,7 @@ def audit_p6() -> AuditEntry:
     from chargedesign.model.audit import AuditEntry
     from chargedesign.model.printed import a1, a2, printed_p6
 
-    f1, f2 = _field_symbols(2)
+    f1, f2 = field_symbols(2)
     derived = {
         key: sp.factor(value.subs({f1: a1, f2: 2 * a2}, simultaneous=True))
         for key, value in symbolic_mu_solution(2).items()

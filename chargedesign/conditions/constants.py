@@ -43,4 +43,4 @@ DEGREE_PREFERENCE = {
 }
 DEFAULT_PREFERENCE = ("charges", "dipoles", "masses")
 #: the theorem's parameter symbols used by the derivation (names of chargedesign.model.case)
-_PARAM_NAMES = ("C", "c", "d", "n", "K", "kappa")
+PARAM_NAMES = ("C", "c", "d", "n", "K", "kappa")

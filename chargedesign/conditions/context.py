@@ -5,13 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from chargedesign.conditions.algebra import _System
+from chargedesign.conditions.algebra import SourceSystem
 from chargedesign.conditions.constants import FIELD_LETTERS
 from chargedesign.params import Parameters
 
 
 @dataclass
-class _Context:
+class DerivationContext:
     """One derivation: the exact inputs, the fields in use, one exact system per source, notes."""
 
     params: Parameters
@@ -19,7 +19,7 @@ class _Context:
     exact: bool
     fields: dict[str, list[Fraction]]  # exact legendre coefficients in use
     derivable: set[str]  # field kinds the engine may still choose (electric)
-    systems: dict[str, _System]
+    systems: dict[str, SourceSystem]
     notes: list[str]
     length: Fraction = Fraction(1)  # body length scale (m) for default strengths
     length_given: bool = False
@@ -36,12 +36,13 @@ class _Context:
         coeffs[k - 1] = value
 
 
-def _num(value: Fraction) -> str:
+def decimal_text(value: Fraction) -> str:
     """Short decimal text of an exact value (for messages and notes)."""
     return f"{float(value):.12g}"
 
 
-def _coefficient_name(kind: str, k: int) -> str:
+def field_coefficient_name(kind: str, k: int) -> str:
+    """How a field's degree-k coefficient is named in notes (letter, degree, legendre index)."""
     if kind == "magnetic" and k == 1:
         return "a1 (legendre[0])"
     if kind == "magnetic" and k == 2:

@@ -12,29 +12,30 @@ from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
-from chargedesign.conditions.algebra import _System
+from chargedesign.conditions.algebra import SourceSystem
 from chargedesign.conditions.constants import (
-    _PARAM_NAMES,
     DEFAULT_LENGTH,
     DEFAULT_MAGNETIC,
     FIELD_KINDS,
     MAX_FIELD_DEGREE,
+    PARAM_NAMES,
     REALISABLE,
     SOURCES,
     V_DEGREE,
 )
-from chargedesign.conditions.context import _Context
-from chargedesign.conditions.harmonics import _harmonics
-from chargedesign.conditions.inertia import _masses_for_inertia
-from chargedesign.conditions.mu import _charges_for_mu
-from chargedesign.conditions.potential import _realise_degree, _v_projection
+from chargedesign.conditions.context import DerivationContext
+from chargedesign.conditions.harmonics import real_solid_harmonics
+from chargedesign.conditions.inertia import masses_for_inertia
+from chargedesign.conditions.mu import charges_for_mu
+from chargedesign.conditions.potential import realise_degree, v_projection
 from chargedesign.conditions.types import LinearCondition, LinearConditions
 from chargedesign.errors import InfeasibleError
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
 
 
-def _validate_realise(realise: Any, name: str) -> tuple[str, ...]:
+def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
+    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
     if isinstance(realise, str) or not isinstance(realise, Iterable):
         raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
     items = list(realise)
@@ -124,7 +125,7 @@ def derive_conditions(
     """
     if not isinstance(params, Parameters):
         raise input_error("params", "a chargedesign.params.Parameters", params)
-    goals = _validate_realise(realise, "realise")
+    goals = validate_realise(realise, "realise")
     given = _validate_fields(fields)
     if length is not None:
         length = as_finite_float(length, "length", positive=True)
@@ -138,9 +139,9 @@ def derive_conditions(
             f"parameters {which}: singular on gamma3 = 0: no finite charge distribution realises "
             "them; the model and the reduced simulation still accept them"
         )
-    P = [_exact(getattr(params, name), exact) for name in _PARAM_NAMES]
+    P = [_exact(getattr(params, name), exact) for name in PARAM_NAMES]
     fields_exact = {kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()}
-    ctx = _Context(
+    ctx = DerivationContext(
         params=params,
         P=P,
         exact=exact,
@@ -154,9 +155,10 @@ def derive_conditions(
     origin = {kind: "given" for kind in given}
     if "magnetic" not in given:
         needs_f1 = "mu" in goals and P[3] != 0
-        proj = _v_projection()
+        proj = v_projection()
         needs_f2 = ("mu" in goals and P[4] != 0) or (
-            "V" in goals and any(proj[h.label](P) != 0 for h in _harmonics(2) if h.label in proj)
+            "V" in goals
+            and any(proj[h.label](P) != 0 for h in real_solid_harmonics(2) if h.label in proj)
         )
         derived = [
             Fraction(DEFAULT_MAGNETIC[0]) if needs_f1 else Fraction(0),
@@ -180,15 +182,15 @@ def derive_conditions(
         ctx.fields["gravity"] = []
         origin["gravity"] = "derived"
     if "mu" in goals or "V" in goals:
-        ctx.systems["charges"] = _System()
+        ctx.systems["charges"] = SourceSystem()
     if "V" in goals:
-        ctx.systems["dipoles"] = _System()
+        ctx.systems["dipoles"] = SourceSystem()
     if "inertia" in goals:
-        ctx.systems["masses"] = _System()
+        ctx.systems["masses"] = SourceSystem()
     if "mu" in goals:
-        _charges_for_mu(ctx)
+        charges_for_mu(ctx)
     if "inertia" in goals:
-        _masses_for_inertia(ctx)
+        masses_for_inertia(ctx)
     if "V" in goals:
         kmax = max(
             V_DEGREE,
@@ -197,7 +199,7 @@ def derive_conditions(
             len(ctx.fields["gravity"]) if "masses" in ctx.systems else 0,
         )
         for k in range(1, kmax + 1):
-            _realise_degree(ctx, k)
+            realise_degree(ctx, k)
         if "masses" not in ctx.systems and any(ctx.fields["gravity"]):
             ctx.notes.append("fields.gravity acts on no designed element (inertia not realised)")
     elif given.get("electric"):

@@ -14,13 +14,14 @@ from fractions import Fraction
 from functools import cache, lru_cache
 from typing import Any
 
-from chargedesign.conditions.algebra import _solve_dense, _sphere_reduce
-from chargedesign.conditions.constants import _PARAM_NAMES, MAX_FIELD_DEGREE
+from chargedesign.conditions.algebra import solve_exact, sphere_reduce
+from chargedesign.conditions.constants import MAX_FIELD_DEGREE, PARAM_NAMES
 from chargedesign.moments import moment_key
 
 
 @lru_cache(maxsize=1)
-def _sympy_symbols() -> dict[str, Any]:
+def sympy_symbols() -> dict[str, Any]:
+    """The sympy symbols of the derivation: x, y, z, the gammas, the parameters, the f_k."""
     import sympy as sp
 
     from chargedesign.model import case
@@ -31,41 +32,41 @@ def _sympy_symbols() -> dict[str, Any]:
         "y": y,
         "z": z,
         "gammas": (case.g1, case.g2, case.g3),
-        "params": tuple(getattr(case, name) for name in _PARAM_NAMES),
+        "params": tuple(getattr(case, name) for name in PARAM_NAMES),
         "fs": sp.symbols(f"f1:{MAX_FIELD_DEGREE + 1}", real=True),
     }
 
 
-def _field_symbols(degree: int) -> tuple[Any, ...]:
+def field_symbols(degree: int) -> tuple[Any, ...]:
     """Legendre coefficients ``f_1 .. f_degree`` of a field as sympy symbols."""
-    return tuple(_sympy_symbols()["fs"][:degree])
+    return tuple(sympy_symbols()["fs"][:degree])
 
 
-def _body_coordinates() -> tuple[Any, Any, Any, Any, Any]:
+def body_coordinates() -> tuple[Any, Any, Any, Any, Any]:
     """``(x, y, z, Z, S)``: body coordinates, ``Z = r . gamma`` and ``S = R^2 = r . r`` (sympy)."""
-    sym = _sympy_symbols()
+    sym = sympy_symbols()
     x, y, z = sym["x"], sym["y"], sym["z"]
     g1, g2, g3 = sym["gammas"]
     return x, y, z, x * g1 + y * g2 + z * g3, x * x + y * y + z * z
 
 
-def _in_z_and_s(poly: Any, degree: int, Z: Any, S: Any) -> Any:
+def in_z_and_s(poly: Any, degree: int, Z: Any, S: Any) -> Any:
     """``R^degree p(Z/R)`` as a polynomial in Z and S = R^2, for a polynomial ``p`` in one
     variable (``sympy.Poly``) whose powers have the parity of ``degree``."""
     return sum(co * Z**e * S ** ((degree - e) // 2) for (e,), co in poly.terms())
 
 
-def _zonal_solid(k: int, Z: Any, S: Any) -> Any:
+def zonal_solid_harmonic(k: int, Z: Any, S: Any) -> Any:
     """``R^k P_k(Z/R)`` as a polynomial in Z and S = R^2 (sympy)."""
     import sympy as sp
 
     u = sp.Symbol("u")
     poly = sp.Poly(sp.legendre(k, u), u)
-    return sp.expand(_in_z_and_s(poly, k, Z, S))
+    return sp.expand(in_z_and_s(poly, k, Z, S))
 
 
 @dataclass(frozen=True)
-class _Harmonic:
+class SolidHarmonic:
     """A real solid harmonic ``H_km`` (rational coefficients) and its addition-theorem weight.
 
     ``|a|^k |b|^k P_k(a.b / |a||b|) = sum_m weight_km H_km(a) H_km(b)``; with
@@ -102,11 +103,11 @@ def _to_fraction(value: Any) -> Fraction:
 
 
 @cache
-def _harmonics(k: int) -> tuple[_Harmonic, ...]:
-    """The 2k+1 real solid harmonics of degree k (see :class:`_Harmonic`)."""
+def real_solid_harmonics(k: int) -> tuple[SolidHarmonic, ...]:
+    """The 2k+1 real solid harmonics of degree k (see :class:`SolidHarmonic`)."""
     import sympy as sp
 
-    sym = _sympy_symbols()
+    sym = sympy_symbols()
     x, y, z = sym["x"], sym["y"], sym["z"]
     g1, g2, g3 = sym["gammas"]
     S = x * x + y * y + z * z
@@ -115,7 +116,7 @@ def _harmonics(k: int) -> tuple[_Harmonic, ...]:
     out = []
     for m in range(k + 1):
         dP = sp.Poly(sp.diff(Pk, u, m), u)
-        Q = _in_z_and_s(dP, k - m, z, S)
+        Q = in_z_and_s(dP, k - m, z, S)
         weight = (
             Fraction(1) if m == 0 else Fraction(2 * math.factorial(k - m), math.factorial(k + m))
         )
@@ -131,7 +132,7 @@ def _harmonics(k: int) -> tuple[_Harmonic, ...]:
             expr = sp.expand(part * Q)
             poly = {e: _to_fraction(c) for e, c in sp.Poly(expr, x, y, z).terms() if c != 0}
             text = str(sp.factor(expr.subs({x: g1, y: g2, z: g3}, simultaneous=True)))
-            out.append(_Harmonic(k, f"{k},{m}{tag}", weight, poly, text))
+            out.append(SolidHarmonic(k, f"{k},{m}{tag}", weight, poly, text))
     return tuple(out)
 
 
@@ -141,11 +142,11 @@ def _sphere_projector(kmax: int) -> tuple[list[tuple[int, int, int]], list[list[
     coefficients in the harmonic basis ``H_km(gamma)``, k <= kmax (square, exact inverse)."""
     monos = [(a, b, t) for t in (0, 1) for a in range(kmax + 1) for b in range(kmax + 1 - a - t)]
     monos = [m for m in monos if sum(m) <= kmax]
-    harmonics = [h for k in range(kmax + 1) for h in _harmonics(k)]
+    harmonics = [h for k in range(kmax + 1) for h in real_solid_harmonics(k)]
     index = {m: i for i, m in enumerate(monos)}
     basis = [[Fraction(0)] * len(harmonics) for _ in monos]
     for j, h in enumerate(harmonics):
-        for mono, coef in _sphere_reduce(h.poly).items():
+        for mono, coef in sphere_reduce(h.poly).items():
             if coef != 0:
                 basis[index[mono]][j] += coef
     # invert column by column: projector = basis^-1
@@ -153,7 +154,7 @@ def _sphere_projector(kmax: int) -> tuple[list[tuple[int, int, int]], list[list[
     inverse_cols = []
     for i in range(size):
         e = [Fraction(int(i == j)) for j in range(size)]
-        col = _solve_dense(basis, e)
+        col = solve_exact(basis, e)
         if col is None:  # pragma: no cover - the harmonics are a basis on the sphere
             raise AssertionError("harmonic basis is singular")
         inverse_cols.append(col)
@@ -161,7 +162,7 @@ def _sphere_projector(kmax: int) -> tuple[list[tuple[int, int, int]], list[list[
     return monos, projector
 
 
-def _project(poly: Mapping[tuple[int, int, int], Any], kmax: int) -> dict[str, Any]:
+def project_on_harmonics(poly: Mapping[tuple[int, int, int], Any], kmax: int) -> dict[str, Any]:
     """Coefficients of a polynomial on the sphere in the harmonics up to degree kmax.
 
     Keys are harmonic labels (``"2,2c"``); coefficients keep the input's type (Fraction or
@@ -170,8 +171,8 @@ def _project(poly: Mapping[tuple[int, int, int], Any], kmax: int) -> dict[str, A
     import sympy as sp
 
     monos, projector = _sphere_projector(kmax)
-    reduced = _sphere_reduce(poly)
-    labels = [h.label for k in range(kmax + 1) for h in _harmonics(k)]
+    reduced = sphere_reduce(poly)
+    labels = [h.label for k in range(kmax + 1) for h in real_solid_harmonics(k)]
     symbolic = any(isinstance(v, sp.Basic) for v in reduced.values())
     extra = [m for m, v in reduced.items() if m not in set(monos) and v != 0]
     if extra:  # pragma: no cover - callers pass kmax >= the polynomial's degree
@@ -192,26 +193,26 @@ def _project(poly: Mapping[tuple[int, int, int], Any], kmax: int) -> dict[str, A
     return out
 
 
-def _gamma_poly(expr: Any) -> dict[tuple[int, int, int], Any]:
+def gamma_poly(expr: Any) -> dict[tuple[int, int, int], Any]:
     """A sympy polynomial in gamma as ``{(a, b, e): coefficient}``."""
     import sympy as sp
 
-    g = _sympy_symbols()["gammas"]
+    g = sympy_symbols()["gammas"]
     return {e: c for e, c in sp.Poly(sp.expand(expr), *g).terms()}
 
 
 @dataclass(frozen=True)
-class _ParamPoly:
+class ParamPoly:
     """A polynomial in the theorem's parameters (C, c, d, n, K, kappa), exact, fast to evaluate."""
 
     terms: tuple[tuple[tuple[int, ...], Fraction], ...]
     text: str
 
     @classmethod
-    def from_sympy(cls, expr: Any) -> _ParamPoly:
+    def from_sympy(cls, expr: Any) -> ParamPoly:
         import sympy as sp
 
-        params = _sympy_symbols()["params"]
+        params = sympy_symbols()["params"]
         poly = sp.Poly(sp.expand(expr), *params)
         terms = tuple((e, _to_fraction(c)) for e, c in poly.terms() if c != 0)
         return cls(terms, str(sp.factor(expr)))
@@ -227,12 +228,12 @@ class _ParamPoly:
         return total
 
 
-def _cartesian_split(expr: Any) -> dict[str, dict[int, dict[tuple[int, int, int], Any]]]:
+def cartesian_split(expr: Any) -> dict[str, dict[int, dict[tuple[int, int, int], Any]]]:
     """Split a polynomial in (x, y, z, gamma, f_k) that is linear in the f_k into
     ``{moment key: {k: gamma polynomial}}``: replaces x^i y^j z^l by the moment I_key."""
     import sympy as sp
 
-    sym = _sympy_symbols()
+    sym = sympy_symbols()
     x, y, z = sym["x"], sym["y"], sym["z"]
     gens = (x, y, z, *sym["gammas"], *sym["fs"])
     out: dict[str, dict[int, dict[tuple[int, int, int], Any]]] = {}

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from chargedesign.conditions.context import _Context
+from chargedesign.conditions.context import DerivationContext
 
 
-def _masses_for_inertia(ctx: _Context) -> None:
+def masses_for_inertia(ctx: DerivationContext) -> None:
     """Add the masses' second moments: ``M_xx = M_yy = C/2``, ``M_zz = 3C/2``, products 0."""
     C = ctx.P[0]
     system = ctx.systems["masses"]

@@ -14,14 +14,14 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.conditions.algebra import _sphere_reduce
+from chargedesign.conditions.algebra import sphere_reduce
 from chargedesign.conditions.harmonics import (
-    _body_coordinates,
-    _cartesian_split,
-    _field_symbols,
-    _gamma_poly,
-    _in_z_and_s,
-    _sympy_symbols,
+    body_coordinates,
+    cartesian_split,
+    field_symbols,
+    gamma_poly,
+    in_z_and_s,
+    sympy_symbols,
 )
 from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
 from chargedesign.validation import as_points, as_weights
@@ -33,7 +33,7 @@ def _flux_factor(k: int, Z: Any, S: Any) -> Any:
 
     u = sp.Symbol("u")
     poly = sp.Poly(sp.diff(sp.legendre(k, u), u), u)
-    return sp.expand(_in_z_and_s(poly, k - 1, Z, S))
+    return sp.expand(in_z_and_s(poly, k - 1, Z, S))
 
 
 @cache
@@ -45,13 +45,13 @@ def _flux_moments(degree: int) -> Any:
     """
     import sympy as sp
 
-    _, _, _, Z, S = _body_coordinates()
-    g1, g2, g3 = _sympy_symbols()["gammas"]
-    fs = _field_symbols(degree)
+    _, _, _, Z, S = body_coordinates()
+    g1, g2, g3 = sympy_symbols()["gammas"]
+    fs = field_symbols(degree)
     g = sum(f * _flux_factor(k, Z, S) / (k + 1) for k, f in enumerate(fs, start=1))
     psi = sp.expand(-(S - Z**2) * g)
     total = 0
-    for key, per_k in _cartesian_split(psi).items():
+    for key, per_k in cartesian_split(psi).items():
         for k, gpoly in per_k.items():
             for (a, b, e), c in gpoly.items():
                 total += (
@@ -89,8 +89,8 @@ def l_dot_gamma_residual(degree: int = 2) -> Any:
     subs = {moment_symbol(k): v for k, v in solution.items()}
     physical = sp.expand(_flux_moments(degree).xreplace(subs))
     theorem = symbolic_case().l.dot(GAMMA)
-    reduced = _sphere_reduce(_gamma_poly(sp.expand(physical - theorem)))
-    g1, g2, g3 = _sympy_symbols()["gammas"]
+    reduced = sphere_reduce(gamma_poly(sp.expand(physical - theorem)))
+    g1, g2, g3 = sympy_symbols()["gammas"]
     total = sum(sp.factor(sp.cancel(c)) * g1**a * g2**b * g3**e for (a, b, e), c in reduced.items())
     return sp.simplify(total)
 

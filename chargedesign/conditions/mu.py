@@ -13,19 +13,19 @@ from fractions import Fraction
 from functools import cache
 from typing import Any
 
-from chargedesign.conditions.algebra import _key_rank, _Row
+from chargedesign.conditions.algebra import ConditionRow, key_rank
 from chargedesign.conditions.constants import MAX_FIELD_DEGREE
-from chargedesign.conditions.context import _Context
+from chargedesign.conditions.context import DerivationContext
 from chargedesign.conditions.harmonics import (
-    _body_coordinates,
-    _cartesian_split,
-    _field_symbols,
-    _gamma_poly,
-    _harmonics,
-    _ParamPoly,
-    _project,
-    _sympy_symbols,
-    _zonal_solid,
+    ParamPoly,
+    body_coordinates,
+    cartesian_split,
+    field_symbols,
+    gamma_poly,
+    project_on_harmonics,
+    real_solid_harmonics,
+    sympy_symbols,
+    zonal_solid_harmonic,
 )
 from chargedesign.errors import InfeasibleError
 from chargedesign.moments import moment_keys
@@ -40,12 +40,12 @@ class _MuEquation:
     component: int
     harmonic: str
     coefficients: dict[str, dict[int, Fraction]]
-    rhs: _ParamPoly
+    rhs: ParamPoly
     label: str
 
 
 @cache
-def _mu_system(degree: int) -> tuple[_MuEquation, ...]:
+def mu_system(degree: int) -> tuple[_MuEquation, ...]:
     """The coefficient-matching equations of the charges' mu for a magnetic field of
     ``degree`` (symbolic field coefficients f_1..f_degree; cached per degree).
 
@@ -58,27 +58,27 @@ def _mu_system(degree: int) -> tuple[_MuEquation, ...]:
 
     from chargedesign.model.case import symbolic_case
 
-    x, y, z, Z, S = _body_coordinates()
-    fs = _field_symbols(degree)
-    phi = sum(f * _zonal_solid(k, Z, S) for k, f in enumerate(fs, start=1))
+    x, y, z, Z, S = body_coordinates()
+    fs = field_symbols(degree)
+    phi = sum(f * zonal_solid_harmonic(k, Z, S) for k, f in enumerate(fs, start=1))
     B = [-sp.diff(phi, v) for v in (x, y, z)]
     r_dot_B = x * B[0] + y * B[1] + z * B[2]
     kmax = max(degree, 2)
     target = symbolic_case().mu
     equations = []
     for a, ra in enumerate((x, y, z)):
-        physical = _cartesian_split(-r_dot_B * ra)
+        physical = cartesian_split(-r_dot_B * ra)
         rows: dict[str, dict[str, dict[int, Fraction]]] = {}
         for key, per_k in physical.items():
             for k, gpoly in per_k.items():
-                for label, coef in _project(gpoly, kmax).items():
+                for label, coef in project_on_harmonics(gpoly, kmax).items():
                     rows.setdefault(label, {}).setdefault(key, {})[k] = coef
-        theorem = _project(_gamma_poly(target[a]), kmax)
-        harmonics = {h.label: h for kk in range(kmax + 1) for h in _harmonics(kk)}
-        for label in [h.label for kk in range(kmax + 1) for h in _harmonics(kk)]:
+        theorem = project_on_harmonics(gamma_poly(target[a]), kmax)
+        harmonics = {h.label: h for kk in range(kmax + 1) for h in real_solid_harmonics(kk)}
+        for label in [h.label for kk in range(kmax + 1) for h in real_solid_harmonics(kk)]:
             if label not in rows and label not in theorem:
                 continue
-            rhs = _ParamPoly.from_sympy(theorem.get(label, sp.Integer(0)))
+            rhs = ParamPoly.from_sympy(theorem.get(label, sp.Integer(0)))
             h = harmonics[label]
             text = (
                 f"mu_{a + 1}: coefficient of the degree-{h.degree} harmonic {h.text} "
@@ -88,7 +88,7 @@ def _mu_system(degree: int) -> tuple[_MuEquation, ...]:
     return tuple(equations)
 
 
-def _charges_for_mu(ctx: _Context) -> None:
+def charges_for_mu(ctx: DerivationContext) -> None:
     """Add the charges' mu conditions for the magnetic field in use (exact, reported reduced)."""
     magnetic = ctx.fields.get("magnetic", [])
     n, K = ctx.P[3], ctx.P[4]
@@ -106,7 +106,7 @@ def _charges_for_mu(ctx: _Context) -> None:
         )
     degree = max(len(magnetic), 1)
     system = ctx.systems["charges"]
-    for eq in _mu_system(degree):
+    for eq in mu_system(degree):
         coeffs = {
             key: sum(
                 (magnetic[k - 1] * c for k, c in per_k.items() if k <= len(magnetic)), Fraction(0)
@@ -120,9 +120,9 @@ def _charges_for_mu(ctx: _Context) -> None:
                 "mu cannot be realised by charges in this magnetic field: "
                 + system._describe(combo)
             )
-    for pivot in sorted(system.pivots, key=_key_rank):
+    for pivot in sorted(system.pivots, key=key_rank):
         row, rhs, combo = system.pivots[pivot]
-        system.display.append(_Row(dict(row), rhs, system._describe(combo)))
+        system.display.append(ConditionRow(dict(row), rhs, system._describe(combo)))
     ctx.notes.append(
         f"charges: mu matched on |gamma| = 1 for a magnetic field of degree {degree}: "
         f"{len(system.pivots)} independent conditions on the moments of orders 2..{degree + 1}"
@@ -144,7 +144,7 @@ def moment_symbol(key: str) -> Any:
 def symbolic_mu_solution(degree: int = 2) -> dict[str, Any]:
     """The charges' moments that realise mu, for symbolic parameters and field coefficients.
 
-    Solves the coefficient-matching equations of :func:`_mu_system` with ``sympy.linsolve``
+    Solves the coefficient-matching equations of :func:`mu_system` with ``sympy.linsolve``
     for generic (non-zero) ``f_1 .. f_degree`` (symbols ``f1, f2, ...``), degree >= 2 (a
     field of degree 1 cannot give the K terms). Moments left free appear as themselves.
 
@@ -168,12 +168,12 @@ def symbolic_mu_solution(degree: int = 2) -> dict[str, Any]:
 def _symbolic_mu_solution(degree: int) -> tuple[tuple[str, Any], ...]:
     import sympy as sp
 
-    fs = _field_symbols(degree)
-    params = _sympy_symbols()["params"]
+    fs = field_symbols(degree)
+    params = sympy_symbols()["params"]
     keys = [k for order in range(2, degree + 2) for k in moment_keys(order)]
     symbols = [moment_symbol(k) for k in keys]
     equations = []
-    for eq in _mu_system(degree):
+    for eq in mu_system(degree):
         lhs = sum(
             sum(fs[k - 1] * sp.Rational(c.numerator, c.denominator) for k, c in per_k.items())
             * moment_symbol(key)

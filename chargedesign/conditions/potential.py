@@ -16,31 +16,31 @@ from collections.abc import Sequence
 from fractions import Fraction
 from functools import lru_cache
 
-from chargedesign.conditions.algebra import _nullspace, _solve_dense, _System
+from chargedesign.conditions.algebra import SourceSystem, exact_nullspace, solve_exact
 from chargedesign.conditions.constants import (
-    _PARAM_NAMES,
     DEFAULT_ELECTRIC_STRENGTH,
     DEFAULT_PREFERENCE,
     DEFAULT_STRENGTH_HEADROOM,
     DEGREE_PREFERENCE,
     FIELD_LETTERS,
     FIELD_MATCH_RTOL,
+    PARAM_NAMES,
     SOURCE_FIELD,
     V_DEGREE,
 )
-from chargedesign.conditions.context import _coefficient_name, _Context, _num
+from chargedesign.conditions.context import DerivationContext, decimal_text, field_coefficient_name
 from chargedesign.conditions.harmonics import (
-    _gamma_poly,
-    _Harmonic,
-    _harmonics,
-    _ParamPoly,
-    _project,
+    ParamPoly,
+    SolidHarmonic,
+    gamma_poly,
+    project_on_harmonics,
+    real_solid_harmonics,
 )
 from chargedesign.errors import InfeasibleError
 
 
 @lru_cache(maxsize=1)
-def _v_projection() -> dict[str, _ParamPoly]:
+def v_projection() -> dict[str, ParamPoly]:
     """The theorem's V (lambda = rho = 0) on the sphere in the harmonic basis, degrees 0..4."""
     import sympy as sp
 
@@ -49,8 +49,8 @@ def _v_projection() -> dict[str, _ParamPoly]:
     V = symbolic_case().V.subs({lam: 0, rho: 0})
     V = sp.expand(sp.cancel(V))
     return {
-        label: _ParamPoly.from_sympy(coef)
-        for label, coef in _project(_gamma_poly(V), V_DEGREE).items()
+        label: ParamPoly.from_sympy(coef)
+        for label, coef in project_on_harmonics(gamma_poly(V), V_DEGREE).items()
     }
 
 
@@ -62,10 +62,10 @@ _DEGREE_ONE_MEANING = {
 }
 
 
-def _functionals(source: str, k: int) -> list[tuple[_Harmonic, dict[str, Fraction]]]:
+def _functionals(source: str, k: int) -> list[tuple[SolidHarmonic, dict[str, Fraction]]]:
     if source == "dipoles":
-        return [(h, h.dipole_moments()) for h in _harmonics(k)]
-    return [(h, h.moments()) for h in _harmonics(k)]
+        return [(h, h.dipole_moments()) for h in real_solid_harmonics(k)]
+    return [(h, h.moments()) for h in real_solid_harmonics(k)]
 
 
 def _min_norm(
@@ -86,7 +86,7 @@ def _min_norm(
         -sum((weights[m] * G[m][i] * W0[m] for m in range(len(W0))), Fraction(0))
         for i in range(nfree)
     ]
-    t = _solve_dense(normal, rhs)
+    t = solve_exact(normal, rhs)
     if t is None:  # pragma: no cover - normal equations are always consistent
         raise AssertionError("inconsistent normal equations")
     return [
@@ -96,10 +96,10 @@ def _min_norm(
 
 def _degree_description(k: int, P: Sequence[Fraction]) -> str:
     """Which theorem parameters make up the degree-k part of V (for messages)."""
-    proj = _v_projection()
+    proj = v_projection()
     zonal: set[str] = set()
     sectoral: set[str] = set()
-    for h in _harmonics(k):
+    for h in real_solid_harmonics(k):
         if h.label not in proj:
             continue
         for exps, coef in proj[h.label].terms:
@@ -108,7 +108,7 @@ def _degree_description(k: int, P: Sequence[Fraction]) -> str:
                 term *= v**e
             if term == 0:
                 continue
-            names = {_PARAM_NAMES[i] for i, e in enumerate(exps) if e and i >= 3}
+            names = {PARAM_NAMES[i] for i, e in enumerate(exps) if e and i >= 3}
             (zonal if h.label.endswith(",0c") else sectoral).update(names)
     parts = []
     if zonal:
@@ -118,10 +118,10 @@ def _degree_description(k: int, P: Sequence[Fraction]) -> str:
     return "; ".join(parts) if parts else "no target terms"
 
 
-def _realise_degree(ctx: _Context, k: int) -> None:
+def realise_degree(ctx: DerivationContext, k: int) -> None:
     """Assign the degree-k part of V to one source; make the others contribute their least."""
-    proj = _v_projection()
-    harmonics = _harmonics(k)
+    proj = v_projection()
+    harmonics = real_solid_harmonics(k)
     target = [proj[h.label](ctx.P) if h.label in proj else Fraction(0) for h in harmonics]
     weights = [h.weight for h in harmonics]
     present = list(ctx.systems)
@@ -141,7 +141,7 @@ def _realise_degree(ctx: _Context, k: int) -> None:
         kind = SOURCE_FIELD[s]
         if s not in carriers:
             reasons.append(
-                f"{s}: fields.{kind} has no degree-{k} term ({_coefficient_name(kind, k)} = 0)"
+                f"{s}: fields.{kind} has no degree-{k} term ({field_coefficient_name(kind, k)} = 0)"
             )
     description = _degree_description(k, ctx.P)
     for designated in options:
@@ -163,7 +163,7 @@ def _realise_degree(ctx: _Context, k: int) -> None:
                 trial[s].add_display(
                     L,
                     value,
-                    f"V degree {k}: {s} in fields.{kind} {_coefficient_name(kind, k)} "
+                    f"V degree {k}: {s} in fields.{kind} {field_coefficient_name(kind, k)} "
                     f"contribute {'nothing' if value == 0 else 'their least (fixed) part'} "
                     f"to the harmonic {h.text}" + _DEGREE_ONE_MEANING.get(s, "") * (k == 1),
                 )
@@ -198,8 +198,8 @@ def _proportionality(fixed: list[Fraction], wanted: list[Fraction]) -> Fraction 
 
 
 def _designate(
-    ctx: _Context,
-    trial: dict[str, _System],
+    ctx: DerivationContext,
+    trial: dict[str, SourceSystem],
     source: str,
     k: int,
     remainder: list[Fraction],
@@ -213,17 +213,17 @@ def _designate(
     to choose, checked against the user's value otherwise.
     """
     kind = SOURCE_FIELD[source]
-    harmonics = _harmonics(k)
+    harmonics = real_solid_harmonics(k)
     funcs = _functionals(source, k)
     scaled = [r / h.weight for r, h in zip(remainder, harmonics, strict=True)]  # = f * W
     W0, G = trial[source].affine_image([L for _, L in funcs])
     # rows z with z G = 0: the combinations of W fixed by the source's other conditions
     nfree = len(G[0]) if G else 0
     transposed = [[G[m][j] for m in range(len(W0))] for j in range(nfree)]
-    Z = _nullspace(transposed, len(W0))
+    Z = exact_nullspace(transposed, len(W0))
     fixed = [sum((z[m] * W0[m] for m in range(len(W0))), Fraction(0)) for z in Z]
     wanted = [sum((z[m] * scaled[m] for m in range(len(W0))), Fraction(0)) for z in Z]
-    name = _coefficient_name(kind, k)
+    name = field_coefficient_name(kind, k)
     fixer = "mu" if source == "charges" else "the inertia" if source == "masses" else "V"
     need: Fraction | None = None
     if any(fixed):
@@ -249,26 +249,26 @@ def _designate(
             f, why = Fraction(0), f"not needed (no degree-{k} part for the {source})"
         ctx.set_coefficient(kind, k, f)
         if f != 0 or k <= V_DEGREE:
-            notes.append(f"fields.{kind} {name} = {_num(f)} derived: {why}")
+            notes.append(f"fields.{kind} {name} = {decimal_text(f)} derived: {why}")
     else:
         f = ctx.coefficient(kind, k)
         if need is not None and need != f:
             close = abs(need - f) <= FIELD_MATCH_RTOL * abs(need)
             if ctx.exact or not close:
                 return False, (
-                    f"fields.{kind} {name} = {_num(f)} does not fit: {fixer} fixes the "
-                    f"{source}' degree-{k} moments, which require {name} = {_num(need)}"
+                    f"fields.{kind} {name} = {decimal_text(f)} does not fit: {fixer} fixes the "
+                    f"{source}' degree-{k} moments, which require {name} = {decimal_text(need)}"
                 )
             notes.append(
-                f"fields.{kind} {name} = {_num(f)} given matches the required {_num(need)} "
-                f"to rounding; the conditions use the required value"
+                f"fields.{kind} {name} = {decimal_text(f)} given matches the required "
+                f"{decimal_text(need)} to rounding; the conditions use the required value"
             )
             f = need
     if f == 0:
         if any(scaled):
             return False, f"{source}: fields.{kind} {name} = 0"
         return True, ""
-    proj = _v_projection()
+    proj = v_projection()
     for (h, L), value in zip(funcs, scaled, strict=True):
         theorem = proj[h.label].text if h.label in proj else "0"
         trial[source].add_display(
@@ -278,7 +278,9 @@ def _designate(
             f"coefficient {theorem} of the harmonic {h.text}",
         )
     if any(scaled):
-        notes.append(f"V degree {k}: realised by {source} in fields.{kind} ({name} = {_num(f)})")
+        notes.append(
+            f"V degree {k}: realised by {source} in fields.{kind} ({name} = {decimal_text(f)})"
+        )
     return True, ""
 
 
@@ -288,7 +290,7 @@ def _log10(value: Fraction) -> float:
 
 
 def _default_strength(
-    ctx: _Context, system: _System, source: str, k: int, scaled: Sequence[Fraction]
+    ctx: DerivationContext, system: SourceSystem, source: str, k: int, scaled: Sequence[Fraction]
 ) -> tuple[Fraction, str]:
     """A degree-k strength that is needed but not forced: suited to the body's size.
 
@@ -304,7 +306,7 @@ def _default_strength(
     need (a strength too small). Nothing fixed (Q = 0): :data:`DEFAULT_ELECTRIC_STRENGTH`.
     """
     L = ctx.length
-    harmonics = _harmonics(k)
+    harmonics = real_solid_harmonics(k)
     target_sq = sum((h.weight * v * v for h, v in zip(harmonics, scaled, strict=True)), Fraction(0))
     natural = Fraction(0)
     for key, (row, rhs, _) in system.pivots.items():
@@ -313,7 +315,9 @@ def _default_strength(
         order = len(key.split(":")[-1])
         natural = max(natural, abs(rhs / row[key]) / L**order)
     length_text = (
-        f"L = {_num(L)} m" if ctx.length_given else f"L = {_num(L)} m assumed (no length given)"
+        f"L = {decimal_text(L)} m"
+        if ctx.length_given
+        else f"L = {decimal_text(L)} m assumed (no length given)"
     )
     if natural == 0:
         return Fraction(DEFAULT_ELECTRIC_STRENGTH), (

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from chargedesign.conditions.constants import DEFAULT_LENGTH, REALISABLE
-from chargedesign.conditions.derive import _validate_realise, derive_conditions
+from chargedesign.conditions.derive import derive_conditions, validate_realise
 from chargedesign.conditions.types import LinearConditions
 from chargedesign.validation import input_error
 
@@ -18,7 +18,7 @@ def realise_from_scene(scene: Scene) -> tuple[str, ...]:
     value = scene.table("design").get("realise", list(REALISABLE))
     if not isinstance(value, list):
         raise input_error("design.realise", "a list of " + ", ".join(REALISABLE), value)
-    return _validate_realise(value, "design.realise")
+    return validate_realise(value, "design.realise")
 
 
 def scene_length(scene: Scene) -> tuple[float | None, str]:

@@ -3,7 +3,7 @@
 The elements of a design meet its conditions to ``design.tol`` (a backward error), but a
 quantity that is the small sum of much larger contributions is only as accurate as ``eps``
 times that ratio in any floating-point evaluation. :func:`forward_accuracy` measures it for
-a design; during the design (:class:`_Forward`) a source whose estimated forward error
+a design; during the design (:class:`ForwardInputs`) a source whose estimated forward error
 exceeds :data:`FORWARD_NOTE` gets a note naming the cause and the remedy, and beyond
 :data:`FORWARD_LIMIT` it is refused.
 """
@@ -27,7 +27,7 @@ from chargedesign.conditions import (
     LinearCondition,
     LinearConditions,
 )
-from chargedesign.design.system import UNITS, _natural_row_size, _Problem
+from chargedesign.design.system import UNITS, DesignProblem, natural_row_size
 from chargedesign.params import Parameters
 
 #: estimated relative forward error (mu, V and their torques evaluated in floating point from
@@ -252,7 +252,7 @@ def _row_term(source: str, row: LinearCondition) -> tuple[str, int] | None:
 
 def _describe_cancellation(
     worst: Cancellation,
-    problem: _Problem,
+    problem: DesignProblem,
     geometry: Geometry,
     conditions: LinearConditions,
 ) -> str:
@@ -265,7 +265,7 @@ def _describe_cancellation(
     fields = conditions.fields
     origin = conditions.field_origin
     size = geometry.size if geometry.size > 0 else 1.0
-    natural = np.array([_natural_row_size(r, size) for r in problem.rows])
+    natural = np.array([natural_row_size(r, size) for r in problem.rows])
     need = np.abs(problem.b) / np.where(natural > 0, natural, np.inf)
     driver_text = ""
     driver = None
@@ -318,7 +318,7 @@ def _describe_cancellation(
     )
 
 
-def _length_notes(conditions: LinearConditions, size: float) -> list[str]:
+def length_notes(conditions: LinearConditions, size: float) -> list[str]:
     """A note when the default strengths were chosen for 1 m and these candidates differ."""
     if not conditions.length_assumed or not size > 0:
         return []
@@ -337,7 +337,7 @@ def _length_notes(conditions: LinearConditions, size: float) -> list[str]:
 
 
 @dataclass
-class _Forward:
+class ForwardInputs:
     """What the forward-accuracy assessment of one design needs (built by design_body)."""
 
     conditions: LinearConditions
@@ -353,7 +353,7 @@ class _Forward:
         conditions: LinearConditions,
         candidates: CandidateSet,
         realise: Sequence[str],
-    ) -> _Forward | None:
+    ) -> ForwardInputs | None:
         if params.singular or not ({"mu", "V"} & set(realise)):
             return None
         return cls(
@@ -364,7 +364,7 @@ class _Forward:
             points=candidates.points,
         )
 
-    def assess(self, p: _Problem, weights: np.ndarray) -> tuple[Cancellation | None, str]:
+    def assess(self, p: DesignProblem, weights: np.ndarray) -> tuple[Cancellation | None, str]:
         """The worst term of one source's weights on the candidates, and (when it exceeds
         ``FORWARD_NOTE``) the sentence that names it."""
         w = weights.reshape(-1, 3) if p.group == 3 else weights

@@ -13,23 +13,24 @@ from collections.abc import Sequence
 import numpy as np
 
 from chargedesign.design.options import DesignOptions, Progress
-from chargedesign.design.problems import _dipole_cvxpy, _l1_lp_full, _weights_cost
-from chargedesign.design.solvers import _least_norm, _linprog, _Solution
-from chargedesign.design.system import _group_norms, _Problem
+from chargedesign.design.problems import dipole_cvxpy, l1_lp_full, weights_cost
+from chargedesign.design.solvers import Solution, least_norm, solve_linprog
+from chargedesign.design.system import DesignProblem, group_norms
 
 #: column generation is used for l1 / mass / group-sparse problems above this many candidates
 CG_MIN_CANDIDATES = 2000
 
 
-def _use_cg(p: _Problem, options: DesignOptions) -> bool:
+def use_column_generation(p: DesignProblem, options: DesignOptions) -> bool:
+    """Whether to solve the problem by column generation (the option, or by its size)."""
     if options.column_generation is not None:
         return options.column_generation
     return p.n_candidates > CG_MIN_CANDIDATES
 
 
-def _l1_lp_column_generation(
-    p: _Problem, costs: np.ndarray | None, progress: Progress | None
-) -> _Solution:
+def l1_lp_column_generation(
+    p: DesignProblem, costs: np.ndarray | None, progress: Progress | None
+) -> Solution:
     """min sum c_j |u_j| (charges) or c.u, u >= 0 (masses) by column generation.
 
     Restricted problems on a working set carry elastic slacks (penalty ``P``), so each is
@@ -40,10 +41,10 @@ def _l1_lp_column_generation(
     """
     A, b = p.A_s, p.b_s
     m, n = A.shape
-    c = _weights_cost(n, costs)
+    c = weights_cost(n, costs)
     penalty = 1e4 * float(np.max(c)) * max(1.0, float(np.max(np.abs(b))))
     # start: the columns that carry the least-norm solution, and a few most correlated
-    u_ln = _least_norm(A, b)
+    u_ln = least_norm(A, b)
     k0 = min(n, max(4 * m, 60))
     start = np.argsort(-np.abs(u_ln))[:k0]
     corr = np.argsort(-np.abs(A.T @ b))[:k0]
@@ -67,7 +68,7 @@ def _l1_lp_column_generation(
             A_eq = np.hstack([Aw, -Aw, eye, -eye])
             cost = np.concatenate([c[cols], c[cols], np.full(2 * m, penalty)])
             bounds = [(0.0, p.upper)] * (2 * k) + [(0.0, None)] * (2 * m)
-        res = _linprog(cost, A_eq, b, bounds, f"{p.source}: column generation")
+        res = solve_linprog(cost, A_eq, b, bounds, f"{p.source}: column generation")
         y = res.eqlin.marginals
         ay = A.T @ y
         if p.nonneg:
@@ -85,10 +86,10 @@ def _l1_lp_column_generation(
             u[cols] = x[:k] if p.nonneg else x[:k] - x[k : 2 * k]
             if slack > 1e-9 * max(1.0, float(np.max(np.abs(b)))):
                 # slack left: infeasible, or the penalty was too small; the full LP decides
-                full = _l1_lp_full(p, costs, None)
+                full = l1_lp_full(p, costs, None)
                 full.method += " (column generation ended with slack; full LP used)"
                 return full
-            sol = _Solution(
+            sol = Solution(
                 u,
                 "HiGHS",
                 f"column generation: {rounds} rounds, working set {k} of {n} candidates; "
@@ -97,12 +98,12 @@ def _l1_lp_column_generation(
             return sol
         order = violators[np.argsort(reduced[violators])][:step]
         in_work[order] = True
-    full = _l1_lp_full(p, costs, None)
+    full = l1_lp_full(p, costs, None)
     full.method += " (column generation did not converge in 200 rounds; full LP used)"
     return full
 
 
-def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | None) -> _Solution:
+def dipoles_column_generation(p: DesignProblem, solver: str, progress: Progress | None) -> Solution:
     """Group-sparse dipoles by column generation (groups of 3 columns per candidate).
 
     Dual feasibility of the full problem is ``|A_g^T y| <= 1`` for every candidate g; the
@@ -112,9 +113,9 @@ def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | No
     m = A.shape[0]
     n = A.shape[1] // 3
     blocks = A.reshape(m, n, 3)
-    u_ln = _least_norm(A, b)
+    u_ln = least_norm(A, b)
     k0 = min(n, max(4 * m, 40))
-    start = np.argsort(-_group_norms(u_ln))[:k0]
+    start = np.argsort(-group_norms(u_ln))[:k0]
     in_work = np.zeros(n, dtype=bool)
     in_work[start] = True
     penalty = 1e4 * max(1.0, float(np.max(np.abs(b))))
@@ -125,7 +126,7 @@ def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | No
     for rounds in range(1, 101):
         groups = np.flatnonzero(in_work)
         cols = (3 * groups[:, None] + np.arange(3)).reshape(-1)
-        u_w, y, last_status = _dipole_cvxpy(A[:, cols], b, "l1", solver, where, penalty)
+        u_w, y, last_status = dipole_cvxpy(A[:, cols], b, "l1", solver, where, penalty)
         prices = np.linalg.norm(np.einsum("mgk,m->gk", blocks, y), axis=1)
         prices[in_work] = 0.0
         violators = np.flatnonzero(prices > 1.0 + 1e-7)
@@ -137,7 +138,7 @@ def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | No
             residual = float(np.max(np.abs(A @ u - b)))
             if residual > 1e-6 * max(1.0, float(np.max(np.abs(b)))):
                 break  # slack left: let the full problem decide
-            return _Solution(
+            return Solution(
                 u,
                 solver.capitalize(),
                 f"column generation: {rounds} rounds, working set {len(groups)} of {n} "
@@ -147,7 +148,7 @@ def _dipoles_column_generation(p: _Problem, solver: str, progress: Progress | No
             )
         order = violators[np.argsort(-prices[violators])][:step]
         in_work[order] = True
-    u, _, status = _dipole_cvxpy(A, b, "l1", solver, "dipoles: l1 problem")
-    return _Solution(
+    u, _, status = dipole_cvxpy(A, b, "l1", solver, "dipoles: l1 problem")
+    return Solution(
         u, solver.capitalize(), "cvxpy, full problem (column generation fallback)", status
     )

@@ -2,7 +2,7 @@
 
 :func:`diagnose` checks the equality system before any solve (absent directions: candidates
 in or near a plane; weights amplified beyond :data:`AMPLIFICATION_LIMIT`);
-:func:`_infeasible_inequalities` names the bound or total that makes a solvable system
+:func:`infeasible_inequalities` names the bound or total that makes a solvable system
 infeasible once a solver has proved it.
 """
 
@@ -14,9 +14,9 @@ import numpy as np
 
 from chargedesign.candidates import Geometry
 from chargedesign.design.options import DesignOptions
-from chargedesign.design.problems import _l1_lp_full, _solve_linf_scalar
-from chargedesign.design.solvers import _Infeasible, _linprog
-from chargedesign.design.system import _drop_last_row, _natural_row_size, _Problem
+from chargedesign.design.problems import l1_lp_full, solve_linf_scalar
+from chargedesign.design.solvers import InfeasibleProblem, solve_linprog
+from chargedesign.design.system import DesignProblem, drop_last_row, natural_row_size
 from chargedesign.errors import InfeasibleError, SolverError
 
 #: a direction of the nondimensional condition matrix with singular value below this
@@ -33,7 +33,7 @@ def _short(text: str, limit: int = 160) -> str:
     return first if len(first) <= limit else first[: limit - 3] + "..."
 
 
-def diagnose(problem: _Problem, geometry: Geometry) -> tuple[int, list[str]]:
+def diagnose(problem: DesignProblem, geometry: Geometry) -> tuple[int, list[str]]:
     """Check that ``A w = b`` can be met on the candidates; name what cannot.
 
     The system is nondimensionalised by what each row gives for unit weight at the body's
@@ -66,7 +66,7 @@ def diagnose(problem: _Problem, geometry: Geometry) -> tuple[int, list[str]]:
                 f"for {row.value:.6g} but all its coefficients are zero: no body meets it"
             )
     size = geometry.size if geometry.size > 0 else 1.0
-    natural = np.array([_natural_row_size(r, size) for r in problem.rows])
+    natural = np.array([natural_row_size(r, size) for r in problem.rows])
     natural = np.where(natural > 0, natural, 1.0)
     A_nd = problem.A / natural[:, None]
     b_nd = problem.b / natural
@@ -122,7 +122,7 @@ def _involved(direction: np.ndarray, limit: int = 4) -> list[int]:
 
 
 def _cannot_produce(
-    problem: _Problem,
+    problem: DesignProblem,
     direction: np.ndarray,
     geometry: Geometry,
     *,
@@ -152,27 +152,25 @@ def _cannot_produce(
     )
 
 
-def _infeasible_inequalities(p: _Problem, options: DesignOptions) -> InfeasibleError:
+def infeasible_inequalities(p: DesignProblem, options: DesignOptions) -> InfeasibleError:
     """Name the inequality that makes a (range-feasible) problem infeasible."""
     if p.source == "charges" and p.upper is not None:
         try:
             free = replace(p, upper=None)
-            need = float(
-                np.max(np.abs(_solve_linf_scalar(free, replace(options, solver="auto")).u))
-            )
+            need = float(np.max(np.abs(solve_linf_scalar(free, replace(options, solver="auto")).u)))
             return InfeasibleError(
                 f"charges: design.max_charge = {options.max_charge:g} C is too small: these "
                 f"conditions on these candidates need a largest |q| of at least "
                 f"{need * p.scale:.6g} C"
             )
-        except _Infeasible:
+        except InfeasibleProblem:
             pass
     if p.source == "masses":
         if options.total_mass is not None:
-            free = _drop_last_row(p)
+            free = drop_last_row(p)
             try:
-                least = _l1_lp_full(free, None, None).u.sum() * free.scale
-            except _Infeasible:
+                least = l1_lp_full(free, None, None).u.sum() * free.scale
+            except InfeasibleProblem:
                 least = None
             if least is not None:
                 if options.total_mass < least:
@@ -194,7 +192,7 @@ def _infeasible_inequalities(p: _Problem, options: DesignOptions) -> InfeasibleE
     return InfeasibleError(f"{p.source}: the conditions and bounds cannot be met together")
 
 
-def _irreducible_rows(p: _Problem) -> list[int]:
+def _irreducible_rows(p: DesignProblem) -> list[int]:
     """A smallest-by-deletion set of rows with no nonnegative solution (for the message).
 
     Deletion filter: a row is dropped for good when the others are still infeasible; what
@@ -206,11 +204,11 @@ def _irreducible_rows(p: _Problem) -> list[int]:
         if not trial:
             break
         try:
-            _linprog(
+            solve_linprog(
                 np.zeros(p.A_s.shape[1]), p.A_s[trial], p.b_s[trial], (0, None),
                 "masses: infeasibility diagnosis",
             )  # fmt: skip
-        except _Infeasible:
+        except InfeasibleProblem:
             keep = trial
         except SolverError:
             break

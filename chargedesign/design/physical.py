@@ -40,7 +40,7 @@ from chargedesign.conditions import LinearConditions
 from chargedesign.design.options import DesignOptions, Progress
 from chargedesign.design.result import DesignResult, SourceResult, design_extras
 from chargedesign.design.robust import robust_costs, weighted_norm
-from chargedesign.design.solvers import _least_norm
+from chargedesign.design.solvers import least_norm
 from chargedesign.design.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
@@ -383,7 +383,7 @@ def _polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray)
     top = np.where(top > 0, top, 1.0)
     As = A[:, cols] / top[:, None]
     for _ in range(3):
-        out[cols] += _least_norm(As, (b - A @ out) / top)
+        out[cols] += least_norm(As, (b - A @ out) / top)
     return out
 
 

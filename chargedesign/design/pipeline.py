@@ -17,15 +17,21 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points
 from chargedesign.conditions import SOURCES, LinearConditions
-from chargedesign.design.accuracy import FORWARD_LIMIT, FORWARD_NOTE, _Forward, _length_notes
-from chargedesign.design.diagnostics import _infeasible_inequalities, diagnose
+from chargedesign.design.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
+from chargedesign.design.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.design.options import DesignOptions, Progress
-from chargedesign.design.polish import _polish, _support_of
+from chargedesign.design.polish import polish_weights, support_of
 from chargedesign.design.result import DesignResult, SourceResult, design_extras
 from chargedesign.design.robust import robust_costs
-from chargedesign.design.solve import _solve
-from chargedesign.design.solvers import _Infeasible
-from chargedesign.design.system import UNITS, _build, _group_norms, _Problem, relative_residual
+from chargedesign.design.solve import solve_problem
+from chargedesign.design.solvers import InfeasibleProblem
+from chargedesign.design.system import (
+    UNITS,
+    DesignProblem,
+    build_problem,
+    group_norms,
+    relative_residual,
+)
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
 from chargedesign.physical.spec import spec_from_tables
@@ -58,23 +64,23 @@ def design_source(
     InfeasibleError, SolverError
     """
     t0 = time.perf_counter()
-    p = _build(source, conditions, candidates.points, options)
+    p = build_problem(source, conditions, candidates.points, options)
     p = _with_robust_costs(p, candidates.points, conditions, params, options)
     rank, notes = diagnose(p, candidates.geometry)
     forward = None
     if params is not None:
         realise = options.realise if options.realise is not None else conditions.realise
-        forward = _Forward.build(params, conditions, candidates, realise)
+        forward = ForwardInputs.build(params, conditions, candidates, realise)
     return _design_problem(p, rank, notes, options, t0, progress, forward)
 
 
 def _with_robust_costs(
-    p: _Problem,
+    p: DesignProblem,
     points: np.ndarray,
     conditions: LinearConditions,
     params: Parameters | None,
     options: DesignOptions,
-) -> _Problem:
+) -> DesignProblem:
     """``p`` with the robust objective's costs when its source is designed robustly."""
     if options.objective_for(p.source) != "robust":
         return p
@@ -85,13 +91,13 @@ def _with_robust_costs(
 
 
 def _design_problem(
-    p: _Problem,
+    p: DesignProblem,
     rank: int,
     notes: list[str],
     options: DesignOptions,
     t0: float,
     progress: Progress | None,
-    forward: _Forward | None = None,
+    forward: ForwardInputs | None = None,
 ) -> tuple[np.ndarray, SourceResult]:
     source = p.source
     objective = options.objective_for(source)
@@ -121,9 +127,9 @@ def _design_problem(
     if progress is not None:
         progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
     try:
-        sol = _solve(p, objective, options, progress)
-    except _Infeasible:
-        raise _infeasible_inequalities(p, options) from None
+        sol = solve_problem(p, objective, options, progress)
+    except InfeasibleProblem:
+        raise infeasible_inequalities(p, options) from None
     if sol.u is None or not np.all(np.isfinite(sol.u)):
         raise SolverError(f"{source}: solver {sol.solver} returned no finite solution")
     raw = sol.u * p.scale
@@ -131,7 +137,7 @@ def _design_problem(
     u = sol.u
     polish_text = "not polished"
     if options.polish:
-        u, polish_text = _polish(p, sol.u, options.tolerance)
+        u, polish_text = polish_weights(p, sol.u, options.tolerance)
     weights = u * p.scale
     after = relative_residual(p.A, weights, p.b)
     worst, cancellation = forward.assess(p, weights) if forward is not None else (None, "")
@@ -163,7 +169,7 @@ def _design_problem(
         notes.append(f"{source}: {cancellation}")
     if p.nonneg and np.any(weights < 0):
         raise SolverError(f"{source}: a negative mass survived polishing ({weights.min():.3g} kg)")
-    support = _support_of(u, p.group, 0.0)
+    support = support_of(u, p.group, 0.0)
     if sol.status != "optimal" and before > options.tolerance:
         notes.append(
             f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
@@ -195,7 +201,7 @@ def _design_problem(
 def _objective_value(
     w: np.ndarray, group: int, objective: str, cost: np.ndarray | None = None
 ) -> float:
-    mags = _group_norms(w) if group == 3 else np.abs(w)
+    mags = group_norms(w) if group == 3 else np.abs(w)
     if len(mags) == 0:
         return 0.0
     if objective == "robust" and cost is not None:
@@ -278,13 +284,13 @@ def design_body(
     if options.total_mass is not None and "masses" not in sources_present:
         raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
     notes = list(cand.notes)
-    notes.extend(_length_notes(conditions, cand.geometry.size))
-    forward = _Forward.build(params, conditions, cand, realise)
+    notes.extend(length_notes(conditions, cand.geometry.size))
+    forward = ForwardInputs.build(params, conditions, cand, realise)
     # fail fast: every source's equality system is checked before any solve
     checked = []
     for source in sources_present:
         t0 = time.perf_counter()
-        p = _build(source, conditions, cand.points, options)
+        p = build_problem(source, conditions, cand.points, options)
         p = _with_robust_costs(p, cand.points, conditions, params, options)
         rank, source_notes = diagnose(p, cand.geometry)
         checked.append((p, rank, source_notes, time.perf_counter() - t0))

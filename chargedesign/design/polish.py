@@ -10,15 +10,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from chargedesign.design.solvers import _least_norm
-from chargedesign.design.system import _group_norms, _Problem, relative_residual
+from chargedesign.design.solvers import least_norm
+from chargedesign.design.system import DesignProblem, group_norms, relative_residual
 
 #: supports tried by polishing: weights below these fractions of the largest are dropped
 POLISH_THRESHOLDS = (1e-6, 1e-9, 1e-12, 0.0)
 
 
-def _support_of(u: np.ndarray, group: int, threshold: float) -> np.ndarray:
-    mags = _group_norms(u) if group == 3 else np.abs(u)
+def support_of(u: np.ndarray, group: int, threshold: float) -> np.ndarray:
+    """Indices of the candidates (groups of ``group`` weights) above ``threshold`` x the largest."""
+    mags = group_norms(u) if group == 3 else np.abs(u)
     top = float(np.max(mags)) if len(mags) else 0.0
     return np.flatnonzero(mags > threshold * top) if top > 0 else np.zeros(0, dtype=int)
 
@@ -29,7 +30,7 @@ def _columns(support: np.ndarray, group: int) -> np.ndarray:
     return (3 * support[:, None] + np.arange(3)).reshape(-1)
 
 
-def _polish_on(p: _Problem, u: np.ndarray, support: np.ndarray) -> np.ndarray | None:
+def _polish_on(p: DesignProblem, u: np.ndarray, support: np.ndarray) -> np.ndarray | None:
     """Least-norm correction of ``u`` on ``support`` (candidate indices); None if it breaks
     a constraint (a bound, or a mass that cannot stay nonnegative)."""
     from scipy.optimize import nnls
@@ -49,7 +50,7 @@ def _polish_on(p: _Problem, u: np.ndarray, support: np.ndarray) -> np.ndarray | 
     A_free = p.A_s[:, cols[free]]
     rhs = p.b_s - p.A_s[:, cols[fixed]] @ values[fixed]
     for _ in range(2):
-        values[free] += _least_norm(A_free, rhs - A_free @ values[free])
+        values[free] += least_norm(A_free, rhs - A_free @ values[free])
     if p.nonneg and np.any(values < 0):
         # nonnegative least squares on the support, then the least-norm correction on the
         # masses it keeps positive
@@ -58,7 +59,7 @@ def _polish_on(p: _Problem, u: np.ndarray, support: np.ndarray) -> np.ndarray | 
         keep = values > 0
         for _ in range(2):
             A_keep = A_sup[:, keep]
-            values[keep] += _least_norm(A_keep, p.b_s - A_keep @ values[keep])
+            values[keep] += least_norm(A_keep, p.b_s - A_keep @ values[keep])
         if np.any(values < 0):
             return None
     if p.upper is not None and np.any(np.abs(values) > p.upper * (1.0 + 1e-12)):
@@ -69,7 +70,7 @@ def _polish_on(p: _Problem, u: np.ndarray, support: np.ndarray) -> np.ndarray | 
 
 
 def _extend_support(
-    p: _Problem, u: np.ndarray, support: np.ndarray, tol: float
+    p: DesignProblem, u: np.ndarray, support: np.ndarray, tol: float
 ) -> tuple[np.ndarray, int] | None:
     """Add candidates one at a time (most correlated with the residual) until ``tol`` is met.
 
@@ -104,7 +105,7 @@ def _extend_support(
     return None
 
 
-def _polish(p: _Problem, u: np.ndarray, tol: float) -> tuple[np.ndarray, str]:
+def polish_weights(p: DesignProblem, u: np.ndarray, tol: float) -> tuple[np.ndarray, str]:
     """Polish ``u`` (scaled) on its support.
 
     1. Supports from the sparsest (weights below 1e-6 of the largest dropped) to 1e-12: the
@@ -122,11 +123,11 @@ def _polish(p: _Problem, u: np.ndarray, tol: float) -> tuple[np.ndarray, str]:
     sparse_start: np.ndarray | None = None
 
     def describe(weights: np.ndarray, how: str) -> str:
-        count = len(_support_of(weights, p.group, 0.0))
+        count = len(support_of(weights, p.group, 0.0))
         return f"least-norm correction on the support ({count} elements; {how})"
 
     for threshold in POLISH_THRESHOLDS[:-1]:
-        cand = _polish_on(p, u, _support_of(u, p.group, threshold))
+        cand = _polish_on(p, u, support_of(u, p.group, threshold))
         if cand is None:
             continue
         if sparse_start is None:
@@ -138,13 +139,13 @@ def _polish(p: _Problem, u: np.ndarray, tol: float) -> tuple[np.ndarray, str]:
             best, best_res = cand, res
             text = describe(cand, f"weights below {threshold:g} of the largest dropped")
     if sparse_start is not None:
-        extended = _extend_support(p, sparse_start, _support_of(sparse_start, p.group, 0.0), tol)
+        extended = _extend_support(p, sparse_start, support_of(sparse_start, p.group, 0.0), tol)
         if extended is not None:
             current, added = extended
             return current, describe(
                 current, f"{added} added to the solver's support to meet the tolerance"
             )
-    cand = _polish_on(p, u, _support_of(u, p.group, 0.0))
+    cand = _polish_on(p, u, support_of(u, p.group, 0.0))
     if cand is not None:
         res = relative_residual(p.A, cand * p.scale, p.b)
         if res <= tol or res < best_res:

@@ -20,61 +20,62 @@ import numpy as np
 
 from chargedesign.design.options import DesignOptions
 from chargedesign.design.solvers import (
-    _check_cvxpy_status,
-    _cvxpy,
-    _least_norm,
-    _linprog,
-    _Solution,
-    _solve_cvxpy,
-    _solver_name,
+    Solution,
+    check_cvxpy_status,
+    import_cvxpy,
+    least_norm,
+    solve_cvxpy,
+    solve_linprog,
+    solver_name,
 )
-from chargedesign.design.system import _Problem
+from chargedesign.design.system import DesignProblem
 
 
-def _weights_cost(n: int, costs: np.ndarray | None) -> np.ndarray:
+def weights_cost(n: int, costs: np.ndarray | None) -> np.ndarray:
+    """The per-weight costs of the l1 objective (ones when none are given)."""
     return np.ones(n) if costs is None else costs
 
 
-def _l1_lp_full(p: _Problem, costs: np.ndarray | None, support: np.ndarray | None) -> _Solution:
+def l1_lp_full(p: DesignProblem, costs: np.ndarray | None, support: np.ndarray | None) -> Solution:
     """min sum c_j |u_j| (or c.u with u >= 0 for masses) by one HiGHS LP."""
     cols = np.arange(p.A_s.shape[1]) if support is None else support
     A = p.A_s[:, cols]
-    c = _weights_cost(p.A_s.shape[1], costs)[cols]
+    c = weights_cost(p.A_s.shape[1], costs)[cols]
     where = f"{p.source}: l1 problem"
     if p.nonneg:
-        res = _linprog(c, A, p.b_s, (0, None), where)
+        res = solve_linprog(c, A, p.b_s, (0, None), where)
         u_cols = res.x
     else:
         ub = p.upper
-        res = _linprog(np.concatenate([c, c]), np.hstack([A, -A]), p.b_s, (0, ub), where)
+        res = solve_linprog(np.concatenate([c, c]), np.hstack([A, -A]), p.b_s, (0, ub), where)
         k = len(cols)
         u_cols = res.x[:k] - res.x[k:]
     u = np.zeros(p.A_s.shape[1])
     u[cols] = u_cols
-    return _Solution(u, "HiGHS", f"linear program on {len(cols)} candidates")
+    return Solution(u, "HiGHS", f"linear program on {len(cols)} candidates")
 
 
 def _scalar_cvxpy(
-    p: _Problem, objective: Callable[[Any], Any], solver: str, where: str
-) -> _Solution:
+    p: DesignProblem, objective: Callable[[Any], Any], solver: str, where: str
+) -> Solution:
     """Minimise ``objective(u)`` through cvxpy subject to ``A_s u = b_s``, ``u >= 0`` for
     masses and ``|u| <= upper`` under a charge bound (the full problem)."""
-    cp = _cvxpy()
+    cp = import_cvxpy()
     u = cp.Variable(p.A_s.shape[1], nonneg=p.nonneg)
     cons = [p.A_s @ u == p.b_s]
     if p.upper is not None:
         cons.append(cp.abs(u) <= p.upper)
     prob = cp.Problem(cp.Minimize(objective(u)), cons)
-    status = _check_cvxpy_status(_solve_cvxpy(prob, solver, where), where, solver)
-    return _Solution(
+    status = check_cvxpy_status(solve_cvxpy(prob, solver, where), where, solver)
+    return Solution(
         np.asarray(u.value, dtype=float), solver.capitalize(), "cvxpy, full problem", status
     )
 
 
-def _l1_cvxpy(p: _Problem, costs: np.ndarray | None, solver: str) -> _Solution:
+def l1_cvxpy(p: DesignProblem, costs: np.ndarray | None, solver: str) -> Solution:
     """min sum c_j |u_j| (or c.u with u >= 0 for masses) through cvxpy with ``solver``."""
-    cp = _cvxpy()
-    c = _weights_cost(p.A_s.shape[1], costs)
+    cp = import_cvxpy()
+    c = weights_cost(p.A_s.shape[1], costs)
 
     def objective(u: Any) -> Any:
         return c @ u if p.nonneg else cp.sum(cp.multiply(c, cp.abs(u)))
@@ -82,8 +83,9 @@ def _l1_cvxpy(p: _Problem, costs: np.ndarray | None, solver: str) -> _Solution:
     return _scalar_cvxpy(p, objective, solver, f"{p.source}: l1 problem")
 
 
-def _solve_linf_scalar(p: _Problem, options: DesignOptions) -> _Solution:
-    solver = _solver_name(options)
+def solve_linf_scalar(p: DesignProblem, options: DesignOptions) -> Solution:
+    """min max_j |u_j| (charges) or max_j u_j, u >= 0 (masses), by HiGHS or cvxpy."""
+    solver = solver_name(options)
     n = p.A_s.shape[1]
     where = f"{p.source}: linf problem"
     if solver in ("AUTO", "HIGHS"):
@@ -106,28 +108,29 @@ def _solve_linf_scalar(p: _Problem, options: DesignOptions) -> _Solution:
         A_eq = sparse.hstack([sparse.csr_matrix(p.A_s), sparse.csr_matrix((len(p.b_s), 1))])
         cost = np.zeros(n + 1)
         cost[-1] = 1.0
-        res = _linprog(cost, A_eq.tocsr(), p.b_s, bounds, where, A_ub=A_ub, b_ub=b_ub)
-        return _Solution(res.x[:n], "HiGHS", f"linear program on {n} candidates")
-    cp = _cvxpy()
+        res = solve_linprog(cost, A_eq.tocsr(), p.b_s, bounds, where, A_ub=A_ub, b_ub=b_ub)
+        return Solution(res.x[:n], "HiGHS", f"linear program on {n} candidates")
+    cp = import_cvxpy()
     return _scalar_cvxpy(p, lambda u: cp.norm(u, "inf"), solver, where)
 
 
-def _solve_l2(p: _Problem, options: DesignOptions) -> _Solution:
-    solver = _solver_name(options)
+def solve_l2(p: DesignProblem, options: DesignOptions) -> Solution:
+    """min sum u_j^2 subject to the conditions: closed form when unconstrained, else cvxpy."""
+    solver = solver_name(options)
     unconstrained = not p.nonneg and p.upper is None
     if unconstrained and solver == "AUTO":
         # the minimum of sum w^2 (or sum |sigma|^2) subject to A w = b is the least-norm solution
-        return _Solution(_least_norm(p.A_s, p.b_s), "lstsq", "closed form (least norm)")
-    cp = _cvxpy()
+        return Solution(least_norm(p.A_s, p.b_s), "lstsq", "closed form (least norm)")
+    cp = import_cvxpy()
     name = "CLARABEL" if solver == "AUTO" else solver
     return _scalar_cvxpy(p, lambda u: cp.sum_squares(u), name, f"{p.source}: l2 problem")
 
 
-def _dipole_cvxpy(
+def dipole_cvxpy(
     A: np.ndarray, b: np.ndarray, objective: str, solver: str, where: str, penalty: float = 0.0
 ) -> tuple[np.ndarray, np.ndarray, str]:
     """Dipole problem on columns ``A`` (m, 3k) via cvxpy: returns (u, dual y, status)."""
-    cp = _cvxpy()
+    cp = import_cvxpy()
     k = A.shape[1] // 3
     u = cp.Variable(3 * k)
     vectors = cp.reshape(u, (k, 3), order="C")
@@ -140,6 +143,6 @@ def _dipole_cvxpy(
     else:
         con = A @ u == b
     prob = cp.Problem(cp.Minimize(goal), [con])
-    status = _check_cvxpy_status(_solve_cvxpy(prob, solver, where), where, solver)
+    status = check_cvxpy_status(solve_cvxpy(prob, solver, where), where, solver)
     y = np.asarray(con.dual_value, dtype=float).reshape(-1)
     return np.asarray(u.value, dtype=float), y, status

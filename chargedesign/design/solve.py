@@ -1,6 +1,6 @@
 """Which problem solves a source: objective, full problem or column generation, sparsity.
 
-:func:`_solve` dispatches one source's scaled problem by its objective; with
+:func:`solve_problem` dispatches one source's scaled problem by its objective; with
 ``n_charges`` the charges' support is first searched by reweighted l1 and then, if needed,
 by a mixed-integer program (HiGHS), and the objective is solved on that support.
 """
@@ -12,91 +12,92 @@ from dataclasses import replace
 import numpy as np
 
 from chargedesign.design.column_generation import (
-    _dipoles_column_generation,
-    _l1_lp_column_generation,
-    _use_cg,
+    dipoles_column_generation,
+    l1_lp_column_generation,
+    use_column_generation,
 )
 from chargedesign.design.options import DesignOptions, Progress
 from chargedesign.design.problems import (
-    _dipole_cvxpy,
-    _l1_cvxpy,
-    _l1_lp_full,
-    _solve_l2,
-    _solve_linf_scalar,
+    dipole_cvxpy,
+    l1_cvxpy,
+    l1_lp_full,
+    solve_l2,
+    solve_linf_scalar,
 )
-from chargedesign.design.solvers import _cvxpy, _Solution, _solve_cvxpy, _solver_name
-from chargedesign.design.system import _Problem, _restrict
+from chargedesign.design.solvers import Solution, import_cvxpy, solve_cvxpy, solver_name
+from chargedesign.design.system import DesignProblem, restrict_problem
 from chargedesign.errors import InfeasibleError, SolverError
 
 #: candidates above which the mixed-integer fallback for ``n_charges`` is not attempted
 MIP_MAX_CANDIDATES = 5000
 
 
-def _solve(
-    p: _Problem, objective: str, options: DesignOptions, progress: Progress | None
-) -> _Solution:
+def solve_problem(
+    p: DesignProblem, objective: str, options: DesignOptions, progress: Progress | None
+) -> Solution:
+    """Solve one source's problem for ``objective``, choosing the method for its source."""
     if p.source == "dipoles":
         if objective == "l2":
-            return _solve_l2(p, options)
+            return solve_l2(p, options)
         if objective == "robust":
             return _solve_dipoles_weighted(p, options, progress)
         return _solve_dipoles_cone(p, options, progress)
     if p.source == "charges" and options.n_charges is not None:
         support, how = _reweighted_support(p, options, options.n_charges, progress)
-        sub = _restrict(p, support)
-        inner = _solve(sub, objective, replace(options, n_charges=None), progress)
+        sub = restrict_problem(p, support)
+        inner = solve_problem(sub, objective, replace(options, n_charges=None), progress)
         u = np.zeros(p.A_s.shape[1])
         u[support] = inner.u
-        sol = _Solution(u, inner.solver, f"{how}; then {inner.method}", inner.status)
+        sol = Solution(u, inner.solver, f"{how}; then {inner.method}", inner.status)
         return sol
     if objective == "l1":
         return _solve_l1_scalar(p, options, None, progress)
     if objective == "robust":
         return _solve_l1_scalar(p, options, _costs(p), progress)
     if objective == "linf":
-        return _solve_linf_scalar(p, options)
-    return _solve_l2(p, options)
+        return solve_linf_scalar(p, options)
+    return solve_l2(p, options)
 
 
 def _solve_l1_scalar(
-    p: _Problem, options: DesignOptions, costs: np.ndarray | None, progress: Progress | None
-) -> _Solution:
-    solver = _solver_name(options)
+    p: DesignProblem, options: DesignOptions, costs: np.ndarray | None, progress: Progress | None
+) -> Solution:
+    solver = solver_name(options)
     if solver in ("AUTO", "HIGHS"):
-        if _use_cg(p, options):
-            return _l1_lp_column_generation(p, costs, progress)
-        return _l1_lp_full(p, costs, None)
-    return _l1_cvxpy(p, costs, solver)
+        if use_column_generation(p, options):
+            return l1_lp_column_generation(p, costs, progress)
+        return l1_lp_full(p, costs, None)
+    return l1_cvxpy(p, costs, solver)
 
 
 def _solve_dipoles_cone(
-    p: _Problem, options: DesignOptions, progress: Progress | None
-) -> _Solution:
+    p: DesignProblem, options: DesignOptions, progress: Progress | None
+) -> Solution:
     objective = options.objective_for("dipoles")
-    solver = _solver_name(options)
+    solver = solver_name(options)
     name = "CLARABEL" if solver == "AUTO" else solver
     where = f"dipoles: {objective} problem"
-    if objective == "l1" and solver in ("AUTO", "CLARABEL") and _use_cg(p, options):
-        return _dipoles_column_generation(p, name, progress)
+    if objective == "l1" and solver in ("AUTO", "CLARABEL") and use_column_generation(p, options):
+        return dipoles_column_generation(p, name, progress)
     try:
-        u, _, status = _dipole_cvxpy(p.A_s, p.b_s, objective, name, where)
+        u, _, status = dipole_cvxpy(p.A_s, p.b_s, objective, name, where)
     except SolverError as exc:
         raise SolverError(
             f"{exc}; the dipoles' {objective} problem is a second-order cone: use solver "
             "'auto' or 'CLARABEL'"
         ) from exc
-    return _Solution(u, name.capitalize(), "cvxpy, full problem (second-order cone)", status)
+    return Solution(u, name.capitalize(), "cvxpy, full problem (second-order cone)", status)
 
 
-def _costs(p: _Problem) -> np.ndarray:
+def _costs(p: DesignProblem) -> np.ndarray:
     if p.cost is None:
         raise SolverError(f"{p.source}: the robust objective's costs were not computed")
     return p.cost
 
 
 def _solve_dipoles_weighted(
-    p: _Problem, options: DesignOptions, progress: Progress | None
-) -> _Solution:
+    p: DesignProblem, options: DesignOptions, progress: Progress | None
+) -> Solution:
     """min sum_j cost_j ||sigma_j||: the l1 cone problem in the columns ``v_j = cost_j sigma_j``."""
     cols = np.repeat(_costs(p), 3)
     scaled = replace(p, A=p.A / cols, A_s=p.A_s / cols, cost=None)
@@ -110,7 +111,7 @@ def _solve_dipoles_weighted(
 
 
 def _reweighted_support(
-    p: _Problem, options: DesignOptions, target: int, progress: Progress | None
+    p: DesignProblem, options: DesignOptions, target: int, progress: Progress | None
 ) -> tuple[np.ndarray, str]:
     """Indices of at most ``target`` charges meeting the conditions (reweighted l1, then MIP)."""
     best: np.ndarray | None = None
@@ -150,15 +151,15 @@ def _reweighted_support(
 
 
 def _mip_support(
-    p: _Problem, options: DesignOptions, target: int, best: np.ndarray | None
+    p: DesignProblem, options: DesignOptions, target: int, best: np.ndarray | None
 ) -> tuple[np.ndarray, str]:
-    cp = _cvxpy()
+    cp = import_cvxpy()
     n = p.A_s.shape[1]
     if p.upper is not None:
         big_m = p.upper
         bound_text = f"|q| <= max_charge = {options.max_charge:g} C"
     else:
-        ref = _l1_lp_full(p, None, None).u
+        ref = l1_lp_full(p, None, None).u
         big_m = 10.0 * float(np.max(np.abs(ref)))
         bound_text = f"|q| <= {big_m * p.scale:.3g} C (10 x the largest l1 charge; set max_charge)"
     u = cp.Variable(n)
@@ -168,7 +169,7 @@ def _mip_support(
         [p.A_s @ u == p.b_s, cp.abs(u) <= big_m * z, cp.sum(z) <= target],
     )
     where = "charges: mixed-integer sparsity problem"
-    status = _solve_cvxpy(prob, "HIGHS", where, time_limit=options.time_limit)
+    status = solve_cvxpy(prob, "HIGHS", where, time_limit=options.time_limit)
     if status in ("infeasible", "infeasible_inaccurate"):
         raise InfeasibleError(
             f"charges: no design with at most {target} charges exists on these candidates with "

@@ -1,6 +1,6 @@
 """The solver back ends: HiGHS through scipy, cvxpy (Clarabel, HiGHS, ...), least norm.
 
-Every status is checked here: a proved infeasibility raises :class:`_Infeasible` (the
+Every status is checked here: a proved infeasibility raises :class:`InfeasibleProblem` (the
 caller names the cause, :mod:`chargedesign.design.diagnostics`), any other failure
 :class:`chargedesign.errors.SolverError`. Clarabel's tolerances are tightened to 1e-12 (its
 defaults bound the objective rather than the equality rows).
@@ -22,7 +22,7 @@ CLARABEL_SETTINGS = {"tol_gap_abs": 1e-12, "tol_gap_rel": 1e-12, "tol_feas": 1e-
 HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 
 
-class _Solution:
+class Solution:
     """Scaled solution ``u`` of a problem and how it was found."""
 
     def __init__(self, u: np.ndarray, solver: str, method: str, status: str = "optimal"):
@@ -33,19 +33,20 @@ class _Solution:
         self.notes: list[str] = []
 
 
-class _Infeasible(Exception):
+class InfeasibleProblem(Exception):
     """A solver proved the (inequality-constrained) problem infeasible; diagnosed by caller."""
 
 
-def _cvxpy() -> Any:
+def import_cvxpy() -> Any:
+    """The cvxpy module (imported lazily: it is slow to import)."""
     import cvxpy as cp
 
     return cp
 
 
-def _solve_cvxpy(problem: Any, solver: str, where: str, time_limit: float | None = None) -> str:
+def solve_cvxpy(problem: Any, solver: str, where: str, time_limit: float | None = None) -> str:
     """Solve a cvxpy problem, returning its status; raise SolverError on solver failure."""
-    cp = _cvxpy()
+    cp = import_cvxpy()
     kwargs: dict[str, Any] = {}
     if solver == "CLARABEL":
         kwargs.update(CLARABEL_SETTINGS)
@@ -63,15 +64,16 @@ def _solve_cvxpy(problem: Any, solver: str, where: str, time_limit: float | None
     return str(problem.status)
 
 
-def _check_cvxpy_status(status: str, where: str, solver: str) -> str:
+def check_cvxpy_status(status: str, where: str, solver: str) -> str:
+    """The status if optimal; raise InfeasibleProblem or SolverError otherwise."""
     if status in ("optimal", "optimal_inaccurate"):
         return status
     if status in ("infeasible", "infeasible_inaccurate"):
-        raise _Infeasible(where)
+        raise InfeasibleProblem(where)
     raise SolverError(f"{where}: solver {solver} returned status {status!r}")
 
 
-def _linprog(
+def solve_linprog(
     c: np.ndarray,
     A_eq: Any,
     b_eq: np.ndarray,
@@ -80,6 +82,7 @@ def _linprog(
     A_ub: Any = None,
     b_ub: np.ndarray | None = None,
 ) -> Any:
+    """Solve a linear program with HiGHS; raise InfeasibleProblem or SolverError on failure."""
     from scipy.optimize import linprog
 
     res = linprog(
@@ -93,13 +96,13 @@ def _linprog(
         options=dict(HIGHS_OPTIONS),
     )
     if res.status == 2:
-        raise _Infeasible(where)
+        raise InfeasibleProblem(where)
     if res.status != 0:
         raise SolverError(f"{where}: HiGHS returned status {res.status} ({res.message})")
     return res
 
 
-def _least_norm(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+def least_norm(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Minimum-norm solution of ``A x = b`` (A: shape (m, N)), with one refinement step.
 
     For wide matrices through a QR of ``A^T = Q R``: ``x = Q z`` with ``z`` the least-norm
@@ -118,5 +121,6 @@ def _least_norm(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return x + solve(b - A @ x)
 
 
-def _solver_name(options: DesignOptions) -> str:
+def solver_name(options: DesignOptions) -> str:
+    """The solver option in upper case (``AUTO``, ``HIGHS`` or a cvxpy solver name)."""
     return options.solver.upper()

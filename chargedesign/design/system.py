@@ -1,7 +1,7 @@
 """One source's system ``A w = b`` on the candidates, nondimensionalised, and its residual.
 
 The conditions engine gives ``A w = b`` per source
-(:meth:`chargedesign.conditions.LinearConditions.system`); :func:`_build` adds the design's
+(:meth:`chargedesign.conditions.LinearConditions.system`); :func:`build_problem` adds the design's
 own rows (total charge, total mass) and equilibrates: each row is divided by its largest
 entry and the unknowns by the scale of the scaled right-hand side (``w = scale * u``), so a
 row scaled by ``a2 = 1e-9`` or by ``L^4`` for a 5 cm body is as accurate as a unit one.
@@ -50,7 +50,7 @@ def relative_residual(A: np.ndarray, w: np.ndarray, b: np.ndarray) -> float:
 
 
 @dataclass
-class _Problem:
+class DesignProblem:
     """One source's system, nondimensionalised: ``A_s u = b_s`` with ``w = scale * u``."""
 
     source: str
@@ -68,7 +68,7 @@ class _Problem:
     rank: int = 0
     cost: np.ndarray | None = None  # per-candidate cost of the robust objective
 
-    def with_costs(self, cost: np.ndarray) -> _Problem:
+    def with_costs(self, cost: np.ndarray) -> DesignProblem:
         """This problem with per-candidate objective costs (robust objective)."""
         return replace(self, cost=np.asarray(cost, dtype=float))
 
@@ -102,12 +102,13 @@ def _equilibrate(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
     return A * row_scale[:, None], b_row / scale, row_scale, scale
 
 
-def _build(
+def build_problem(
     source: str,
     conditions: LinearConditions,
     points: np.ndarray,
     options: DesignOptions,
-) -> _Problem:
+) -> DesignProblem:
+    """One source's nondimensionalised problem: its conditions at the candidate points."""
     rows = list(conditions.for_source(source))
     A, b = conditions.system(source, points)
     labels = [condition_label(r) for r in rows]
@@ -124,7 +125,7 @@ def _build(
         rows.append(LinearCondition(source, {"": 1.0}, value, f"design: {prov}"))
     A_s, b_s, row_scale, scale = _equilibrate(A, b)
     upper = options.max_charge / scale if source == "charges" and options.max_charge else None
-    return _Problem(
+    return DesignProblem(
         source=source,
         rows=rows,
         labels=labels,
@@ -140,7 +141,7 @@ def _build(
     )
 
 
-def _drop_last_row(p: _Problem) -> _Problem:
+def drop_last_row(p: DesignProblem) -> DesignProblem:
     """The problem without its last row (the design's total mass), equilibrated anew."""
     A, b = p.A[:-1], p.b[:-1]
     A_s, b_s, row_scale, scale = _equilibrate(A, b)
@@ -157,12 +158,13 @@ def _drop_last_row(p: _Problem) -> _Problem:
     )
 
 
-def _restrict(p: _Problem, support: np.ndarray) -> _Problem:
+def restrict_problem(p: DesignProblem, support: np.ndarray) -> DesignProblem:
+    """The problem restricted to the candidate columns in ``support``."""
     cost = None if p.cost is None else p.cost[support]
     return replace(p, A=p.A[:, support], A_s=p.A_s[:, support], cost=cost)
 
 
-def _natural_row_size(row: LinearCondition, size: float) -> float:
+def natural_row_size(row: LinearCondition, size: float) -> float:
     """What a row gives for unit weight at distance ``size`` (its nondimensional scale)."""
     total = 0.0
     for key, coef in row.coefficients.items():
@@ -171,5 +173,6 @@ def _natural_row_size(row: LinearCondition, size: float) -> float:
     return total
 
 
-def _group_norms(u: np.ndarray) -> np.ndarray:
+def group_norms(u: np.ndarray) -> np.ndarray:
+    """Euclidean norms of consecutive groups of three weights (one per dipole)."""
     return np.linalg.norm(u.reshape(-1, 3), axis=1)

@@ -56,12 +56,12 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
     """
     from chargedesign.model.case import g3
     from chargedesign.model.certificate import (
-        _IG3,
-        _IU,
-        _split_by_power,
+        G3_INDEX,
+        U_INDEX,
         laurent_normal,
         laurent_ring,
         sphere_normal_form,
+        split_by_power,
         to_ring,
         to_sympy,
     )
@@ -70,14 +70,14 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
     if normal == 0:
         return sp.Integer(0)
     ring = laurent_ring()
-    k = max(m[_IU] for m in normal.monoms())
-    numerator = laurent_normal(normal * ring.gens[_IG3] ** k)
+    k = max(m[U_INDEX] for m in normal.monoms())
+    numerator = laurent_normal(normal * ring.gens[G3_INDEX] ** k)
     s = 1 - ring.gens[3] ** 2 - ring.gens[4] ** 2
     reduced = ring.zero
-    for j, coeff in _split_by_power(numerator, _IG3, 2).items():
+    for j, coeff in split_by_power(numerator, G3_INDEX, 2).items():
         reduced += coeff * s**j
-    if k > 0 and all(m[_IG3] >= 1 for m in reduced.monoms()):
-        reduced = laurent_normal(reduced * ring.gens[_IU])
+    if k > 0 and all(m[G3_INDEX] >= 1 for m in reduced.monoms()):
+        reduced = laurent_normal(reduced * ring.gens[U_INDEX])
         k -= 1
     return to_sympy(reduced) / g3**k
 

@@ -60,7 +60,7 @@ from chargedesign.model.equations import equations_of_motion
 #: ``u`` stands for ``1 / gamma3`` inside the ring
 U = sp.Symbol("u_inv_gamma3")
 RING_SYMBOLS = (p, q, r, g1, g2, g3, U, *PARAMETER_SYMBOLS)
-_IP, _IQ, _IR, _IG1, _IG2, _IG3, _IU = range(7)
+_IP, _IQ, _IR, _IG1, _IG2, G3_INDEX, U_INDEX = range(7)
 
 #: the paper's table: each special case as parameters set to zero
 CASES: dict[str, tuple[sp.Symbol, ...]] = {
@@ -99,9 +99,9 @@ def laurent_normal(element: PolyElement) -> PolyElement:
     ring = laurent_ring()
     terms: dict[tuple[int, ...], Any] = {}
     for monom, coeff in element.items():
-        e = monom[_IG3] - monom[_IU]
+        e = monom[G3_INDEX] - monom[U_INDEX]
         m = list(monom)
-        m[_IG3], m[_IU] = max(e, 0), max(-e, 0)
+        m[G3_INDEX], m[U_INDEX] = max(e, 0), max(-e, 0)
         key = tuple(m)
         terms[key] = terms.get(key, 0) + coeff
     return ring.from_dict({k: v for k, v in terms.items() if v})
@@ -122,13 +122,13 @@ def time_derivative_ring(element: PolyElement, zeroed: tuple[sp.Symbol, ...] = (
     total = ring.zero
     for k in range(6):
         partial = element.diff(gens[k])
-        if k == _IG3:  # u = 1/gamma3 depends on gamma3
-            partial = partial - gens[_IU] ** 2 * element.diff(gens[_IU])
+        if k == G3_INDEX:  # u = 1/gamma3 depends on gamma3
+            partial = partial - gens[U_INDEX] ** 2 * element.diff(gens[U_INDEX])
         total += partial * rhs[k]
     return laurent_normal(total)
 
 
-def _split_by_power(element: PolyElement, index: int, step: int) -> dict[int, PolyElement]:
+def split_by_power(element: PolyElement, index: int, step: int) -> dict[int, PolyElement]:
     """``element = sum_k x^(step k) B_k`` with ``B_k`` of degree < step in ``x``."""
     ring = laurent_ring()
     parts: dict[int, dict[tuple[int, ...], Any]] = {}
@@ -150,7 +150,7 @@ def divide_by_linear_in_r(
     ring = laurent_ring()
     r_gen = ring.gens[_IR]
     quotient, remainder = ring.zero, ring.zero
-    for k, coeff in _split_by_power(element, _IR, 1).items():
+    for k, coeff in split_by_power(element, _IR, 1).items():
         remainder += coeff * root**k
         quotient += coeff * sum((r_gen**j * root ** (k - 1 - j) for j in range(k)), start=ring.zero)
     return laurent_normal(quotient), laurent_normal(remainder)
@@ -166,9 +166,9 @@ def sphere_normal_form(element: PolyElement) -> tuple[PolyElement, PolyElement]:
     ring = laurent_ring()
     gens = ring.gens
     g1_sq = gens[_IG1] ** 2
-    s = 1 - gens[_IG2] ** 2 - gens[_IG3] ** 2
+    s = 1 - gens[_IG2] ** 2 - gens[G3_INDEX] ** 2
     normal, multiplier = ring.zero, ring.zero
-    for k, coeff in _split_by_power(element, _IG1, 2).items():
+    for k, coeff in split_by_power(element, _IG1, 2).items():
         normal += coeff * s**k
         multiplier += coeff * sum((g1_sq**j * s ** (k - 1 - j) for j in range(k)), start=ring.zero)
     return laurent_normal(normal), laurent_normal(multiplier)
@@ -204,7 +204,7 @@ def r_on_level(level: sp.Expr | int = 0) -> PolyElement:
         raise InputError(f"level: expected a multiple of C, got {level}")
     without_r = _ring_integrals()["I3_over_C"].compose(ring.gens[_IR], ring.zero)
     # I3/C = gamma3 r + without_r  =>  r = (level/C - without_r) / gamma3
-    return laurent_normal((to_ring(over_c) - without_r) * ring.gens[_IU])
+    return laurent_normal((to_ring(over_c) - without_r) * ring.gens[U_INDEX])
 
 
 def reduced_dI4_dt(
@@ -305,8 +305,8 @@ def _independent(zeroed: tuple[sp.Symbol, ...]) -> bool:
         row = []
         for k in range(6):
             partial = element.diff(ring.gens[k])
-            if k == _IG3:
-                partial = partial - ring.gens[_IU] ** 2 * element.diff(ring.gens[_IU])
+            if k == G3_INDEX:
+                partial = partial - ring.gens[U_INDEX] ** 2 * element.diff(ring.gens[U_INDEX])
             row.append(_evaluate(partial, values))
         rows.append(row)
     return bool(sp.Matrix(rows).rank() == 4)
@@ -337,7 +337,7 @@ def certify(case: str = "general") -> CertificateResult:
     normal, sphere_multiplier = sphere_normal_form(on_level)
     checks["I4_conserved_on_level"] = normal == 0
     ring = laurent_ring()
-    level_multiplier = laurent_normal(quotient * ring.gens[_IU])
+    level_multiplier = laurent_normal(quotient * ring.gens[U_INDEX])
     witness = laurent_normal(
         d_i4 - level_multiplier * integrals["I3_over_C"] - sphere_multiplier * (integrals["I2"] - 1)
     )
@@ -369,7 +369,7 @@ def multipliers(case: str = "general") -> tuple[sp.Expr, sp.Expr]:
     d_i4 = time_derivative_ring(_zeroed(_ring_integrals()["I4"], zeroed), zeroed)
     quotient, on_level = divide_by_linear_in_r(d_i4, _zeroed(r_on_level(), zeroed))
     _, sphere_multiplier = sphere_normal_form(on_level)
-    level_multiplier = laurent_normal(quotient * laurent_ring().gens[_IU])
+    level_multiplier = laurent_normal(quotient * laurent_ring().gens[U_INDEX])
     return to_sympy(level_multiplier), to_sympy(sphere_multiplier)
 
 

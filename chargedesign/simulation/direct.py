@@ -4,7 +4,7 @@ The fields are evaluated at every element's rotated position on every call. In b
 point ``r`` sits at ``X = R r`` with ``Z = X . e_Z = r . gamma`` and ``S = |X|^2 = |r|^2``;
 ``S`` does not depend on the attitude, so each field quantity an element needs is, at that
 element, a polynomial in ``Z`` whose coefficients depend on the element only
-(:func:`chargedesign.fields._zonal_z_coefficients`, the zonal recurrence run on coefficient
+(:func:`chargedesign.fields.zonal_z_coefficients`, the zonal recurrence run on coefficient
 arrays). Those coefficients, the charges, masses and dipole moments are fixed at construction;
 a call computes ``Z_i = r_i . gamma`` for every element, the field quantities at every element
 (Horner's rule, all elements in one numpy pass) and sums the element torques.
@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from chargedesign.fields import _zonal_z_coefficients
+from chargedesign.fields import zonal_z_coefficients
 from chargedesign.validation import input_error
 
 if TYPE_CHECKING:
@@ -192,7 +192,7 @@ class DirectKernel:
 def _coefficients(body: Body, kind: str, pts: np.ndarray, order: int) -> dict[str, np.ndarray]:
     field = body.field(kind)
     S = np.einsum("ij,ij->i", pts, pts)
-    return _zonal_z_coefficients(np.asarray(field.legendre, dtype=np.float64), S, order)
+    return zonal_z_coefficients(np.asarray(field.legendre, dtype=np.float64), S, order)
 
 
 def _times_z(c: np.ndarray) -> np.ndarray:
