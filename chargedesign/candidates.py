@@ -477,9 +477,10 @@ def mesh_points(
     -------
     ndarray, shape (n, 3)
     """
-    import pyvista as pv
-
+    from chargedesign.files import import_held
     from chargedesign.readers import check_input_file
+
+    pv = import_held("pyvista")
 
     p = Path(path)
     if not p.is_file():

@@ -56,7 +56,17 @@ SIGTERM_GRACE = 2.0
 
 
 def _on_sigterm(signum: int, frame: object) -> None:
-    raise Terminated()
+    from chargedesign.files import hold_signal
+
+    if not hold_signal(signum):  # inside a held block it is raised again when the block ends
+        raise Terminated()
+
+
+def _on_sigint(signum: int, frame: object) -> None:
+    from chargedesign.files import hold_signal
+
+    if not hold_signal(signum):
+        raise KeyboardInterrupt()
 
 
 def _install_sigterm() -> Callable[[], None]:
@@ -72,8 +82,13 @@ def _install_sigterm() -> Callable[[], None]:
     os.set_blocking(write_fd, False)
     previous_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    previous_int = signal.signal(signal.SIGINT, _on_sigint)
 
     def watch() -> None:
+        from chargedesign.files import abandon_outputs, signals_held
+
+        # signals go to the main thread, whose handler unwinds the run
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
         while True:
             try:
                 data = os.read(read_fd, 64)
@@ -82,9 +97,11 @@ def _install_sigterm() -> Callable[[], None]:
             if not data:
                 return
             if signal.SIGTERM in data:
-                time.sleep(SIGTERM_GRACE)
-                from chargedesign.files import abandon_outputs
-
+                # the grace period, and never in the middle of a held block (an output's
+                # swap, VTK): that block ends, then the handler unwinds the run
+                deadline = time.monotonic() + SIGTERM_GRACE
+                while time.monotonic() < deadline or signals_held():
+                    time.sleep(0.05)
                 abandon_outputs()
                 print("chargedesign: terminated", file=sys.stderr, flush=True)
                 os._exit(143)
@@ -93,6 +110,7 @@ def _install_sigterm() -> Callable[[], None]:
 
     def uninstall() -> None:
         signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGINT, previous_int)
         signal.set_wakeup_fd(previous_fd)
         os.close(write_fd)
 

@@ -37,7 +37,7 @@ import numpy as np
 
 from chargedesign.body import Design, read_design
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path
+from chargedesign.files import atomic_path, import_held
 from chargedesign.readers import MAX_DATA_BYTES, check_input_file, loads_json, read_text
 from chargedesign.validation import check_design_numbers, input_error
 from chargedesign.vocabulary import EXPORT_FORMATS
@@ -273,7 +273,7 @@ def _write_vtp(design: Design, path: Path) -> None:
 
 def _write_vtu(design: Design, path: Path) -> None:
     """The VTP content as an UnstructuredGrid (``.vtu``: meshio reads it)."""
-    import pyvista as pv
+    pv = import_held("pyvista")
 
     polydata = _polydata(design)
     grid = polydata.cast_to_unstructured_grid() if polydata.n_points else pv.UnstructuredGrid()
@@ -286,9 +286,9 @@ def _write_vtu(design: Design, path: Path) -> None:
 
 def _polydata(design: Design) -> Any:
     """The elements as points with vertex cells, continuous bodies as triangles (see module)."""
-    import pyvista as pv
-
     from chargedesign.viz import continuous_body_mesh
+
+    pv = import_held("pyvista")
 
     counts = (len(design.charge_values), len(design.mass_values), len(design.dipole_moments))
     n = sum(counts)
@@ -350,7 +350,7 @@ def _check_vtk_lengths(design: Design) -> None:
 
 
 def _read_vtp(path: Path) -> Design:
-    import pyvista as pv
+    pv = import_held("pyvista")
 
     try:
         polydata = pv.read(str(path))

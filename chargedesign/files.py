@@ -63,23 +63,61 @@ def abandon_outputs() -> None:
 # --------------------------------------------------------------------------- signals
 
 
+#: depth of nested deferred_signals blocks in the main thread, and signals that arrived there
+_HELD = {"depth": 0}
+_PENDING: list[int] = []
+
+
+def hold_signal(signum: int) -> bool:
+    """For the CLI's Python-level handlers: True (and the signal kept for later) inside a
+    :func:`deferred_signals` block, where it must not interrupt; False elsewhere."""
+    if _HELD["depth"] > 0:
+        _PENDING.append(signum)
+        return True
+    return False
+
+
+def signals_held() -> bool:
+    """Whether the main thread is inside a :func:`deferred_signals` block."""
+    return _HELD["depth"] > 0
+
+
 @contextmanager
 def deferred_signals() -> Iterator[None]:
     """Hold SIGINT and SIGTERM until the block ends (then they are delivered as usual).
 
-    Used around the final swap of outputs and around VTK rendering (an interrupt inside VTK's
-    C++ code may crash the interpreter). Only the main thread blocks; elsewhere a no-op.
+    Used around the final swap of outputs and around VTK's imports and rendering (a signal
+    inside VTK's C++ code may crash the interpreter). The main thread blocks them, and a
+    signal another thread received (its C handler then asks the main thread to run the
+    Python handler) is kept by :func:`hold_signal` and raised again when the block ends.
+    Elsewhere than in the main thread, a no-op.
     """
-    if threading.current_thread() is not threading.main_thread() or not hasattr(
-        signal, "pthread_sigmask"
-    ):
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, _DEFERRED)
+    old: set[int | signal.Signals] | None = None
+    if hasattr(signal, "pthread_sigmask"):
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, _DEFERRED)
+    _HELD["depth"] += 1
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        _HELD["depth"] -= 1
+        if old is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        if _HELD["depth"] == 0 and _PENDING:
+            signum = _PENDING[0]
+            _PENDING.clear()
+            signal.raise_signal(signum)
+
+
+def import_held(name: str) -> Any:
+    """Import a module with SIGINT and SIGTERM held: a signal inside a C++ extension's
+    initialisation (VTK) can crash the interpreter instead of unwinding it."""
+    import importlib
+
+    with deferred_signals():
+        return importlib.import_module(name)
 
 
 # --------------------------------------------------------------------------- paths

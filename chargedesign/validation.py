@@ -13,7 +13,7 @@ The number rules (docs/reliability.md):
   :func:`check_input_array`, :func:`check_tree`) lies within the supported range:
   ``|x| <= MAX_MAGNITUDE``, and a non-zero ``|x| >= MIN_MAGNITUDE`` where a tiny value would
   be divided by; the theorem's parameters have the narrower ranges of
-  :data:`PARAMETER_RANGES`, the scales the stability suite (tests/test_stability.py) covers.
+  :data:`PARAMETER_RANGES`, the scales the stability suite (tests/design/test_stability.py) covers.
   Outside it the one-line error states the range and suggests rescaling the units.
 """
 

@@ -32,11 +32,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pyvista as pv
 
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_path, deferred_signals
+
+with deferred_signals():
+    # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
+    # and SIGTERM held: a signal inside their C++ initialisation crashed the interpreter
+    # (a segfault, seen when `chargedesign design` was terminated as it began its picture)
+    import pyvista as pv
+    from pyvista import Plotter as _Plotter  # noqa: F401
 from chargedesign.limits import MAX_SHOW_ELEMENTS
 from chargedesign.quadrature import ContinuousBody
 from chargedesign.validation import as_array, as_finite_float, input_error

@@ -15,7 +15,7 @@ from chargedesign.schemas import NAMES, schema, schema_text, shipped_schema_text
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = sorted(
     p
-    for folder in ("examples", "examples/scenes", "tests/data")
+    for folder in ("examples", "examples/scenes", "tests/model/data")
     for p in (ROOT / folder).glob("*.toml")
 )
 

@@ -131,3 +131,26 @@ def test_sigterm_cleans_the_staging_folder(tmp_path: Path) -> None:
     if process.returncode == 143:
         assert not (tmp_path / "out").exists()
     assert os.listdir(tmp_path)
+
+
+def test_a_signal_inside_a_held_block_waits_for_its_end() -> None:
+    """VTK's imports and rendering run in held blocks: SIGTERM there once crashed the
+    interpreter (a segfault in `import pyvista`, the signal taken by another thread, whose C
+    handler made the main thread run the Python handler inside VTK's initialisation). The
+    handler now keeps it, and the block's end raises it again."""
+    from chargedesign.cli import Terminated, _install_sigterm, _on_sigterm
+    from chargedesign.files import deferred_signals, signals_held
+
+    uninstall = _install_sigterm()
+    try:
+        reached_end = False
+        with pytest.raises(Terminated):
+            with deferred_signals():
+                assert signals_held()
+                _on_sigterm(signal.SIGTERM, None)  # as the main thread runs it mid-block
+                reached_end = True
+        assert reached_end and not signals_held()
+        with pytest.raises(Terminated):  # outside a block it unwinds at once
+            _on_sigterm(signal.SIGTERM, None)
+    finally:
+        uninstall()

@@ -44,8 +44,8 @@ from chargedesign.params import Parameters
 from chargedesign.scene import load_scene, scene_from_dict
 from chargedesign.simulate import simulate
 
-ROOT = Path(__file__).resolve().parents[1]
-DATA = Path(__file__).parent / "data"
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "tests" / "model" / "data"
 EPS = np.finfo(float).eps
 #: rounding allowed to the evaluators, in units of the expanded expression's sum |terms|
 EVAL_TOL = 8 * EPS

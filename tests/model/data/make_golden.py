@@ -1,8 +1,8 @@
-"""Regenerate ``tests/data/golden_model.json``: reference values of the symbolic model.
+"""Regenerate ``tests/model/data/golden_model.json``: reference values of the symbolic model.
 
 Run from the repository root::
 
-    .venv/bin/python tests/data/make_golden.py
+    .venv/bin/python tests/model/data/make_golden.py
 
 Every input float is converted to the exact rational it stores, the model's sympy expressions
 (V, dV/dgamma, mu, l, the *expanded* derived equations of motion, I1..I4) are evaluated in
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT))
 
 from chargedesign.files import write_text_atomic  # noqa: E402
@@ -136,7 +136,7 @@ def main() -> None:
         )
     data = {
         "format": "chargedesign.golden_model/1",
-        "generator": "tests/data/make_golden.py",
+        "generator": "tests/model/data/make_golden.py",
         "method": "exact rational arithmetic on the sympy model, rounded once to float64",
         "cases": cases,
     }
