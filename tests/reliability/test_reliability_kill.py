@@ -138,10 +138,11 @@ def test_a_signal_inside_a_held_block_waits_for_its_end() -> None:
     interpreter (a segfault in `import pyvista`, the signal taken by another thread, whose C
     handler made the main thread run the Python handler inside VTK's initialisation). The
     handler now keeps it, and the block's end raises it again."""
-    from chargedesign.cli import Terminated, _install_sigterm, _on_sigterm
+    from chargedesign.cli import Terminated, _on_sigterm
     from chargedesign.files import deferred_signals, signals_held
 
-    uninstall = _install_sigterm()
+    # the CLI's handler alone: its watchdog would end this process (pytest) 2 s later
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         reached_end = False
         with pytest.raises(Terminated):
@@ -153,4 +154,4 @@ def test_a_signal_inside_a_held_block_waits_for_its_end() -> None:
         with pytest.raises(Terminated):  # outside a block it unwinds at once
             _on_sigterm(signal.SIGTERM, None)
     finally:
-        uninstall()
+        signal.signal(signal.SIGTERM, previous)
