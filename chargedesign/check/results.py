@@ -180,16 +180,27 @@ class CheckReport(Result):
     n_pairs: int = 0
     notes: list[str] = field(default_factory=list)
     precision: str = "double"
+    #: a physical body's limits, recomputed from its elements (None for point elements)
+    limits: Any = None
+
+    @property
+    def buildable(self) -> bool | None:
+        """The limits check's verdict for a physical body; None for point elements."""
+        return None if self.limits is None else bool(self.limits.buildable)
 
     @property
     def passed(self) -> bool:
-        """True when every claimed quantity is verified within the tolerance."""
-        return all(q.passed is not False for q in self.quantities.values())
+        """True when every claimed quantity is verified within the tolerance and a physical
+        body is within every limit of its medium and materials."""
+        quantities = all(q.passed is not False for q in self.quantities.values())
+        return quantities and self.buildable is not False
 
     @property
     def failures(self) -> list[str]:
-        """Names of the claimed quantities that did not pass (``fail`` or ``unverifiable``)."""
-        return [name for name, q in self.quantities.items() if q.passed is False]
+        """Names of the claimed quantities that did not pass (``fail`` or ``unverifiable``),
+        and ``buildable`` for a physical body outside its limits."""
+        out = [name for name, q in self.quantities.items() if q.passed is False]
+        return out + (["buildable"] if self.buildable is False else [])
 
     @property
     def unverifiable(self) -> list[str]:
@@ -216,6 +227,9 @@ class CheckReport(Result):
         out["effects"] = {k: v.to_dict() for k, v in self.effects.items()}
         out["quadrature"] = list(self.quadrature)
         out["notes"] = list(self.notes)
+        out["buildable"] = self.buildable
+        if self.limits is not None:
+            out["limits"] = self.limits.to_dict()
         return out
 
     # result protocol (chargedesign.results): text, compact repr, notebook table
@@ -227,6 +241,8 @@ class CheckReport(Result):
                 out[f"{name}_rel_err"] = q.rel_err
         out["precision"] = self.precision
         out["n_orientations"] = self.n_orientations
+        if self.buildable is not None:
+            out["buildable"] = self.buildable
         if self.failures:
             out["failures"] = list(self.failures)
         return out
@@ -273,5 +289,7 @@ def summary_lines(report: CheckReport) -> list[str]:
         )
     lines += [f"note: {n}" for n in report.notes]
     lines += [f"{name}: {q.reason}" for name, q in report.quantities.items() if q.reason]
+    if report.limits is not None:
+        lines.append(str(report.limits))
     lines.append("PASSED" if report.passed else "FAILED: " + ", ".join(report.failures))
     return lines

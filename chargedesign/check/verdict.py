@@ -275,7 +275,10 @@ def check_design(
     -------
     CheckReport
         A claimed quantity passes when its error is within ``tol``; it is ``unverifiable``
-        (and fails) when the rounding floor of the evaluation exceeds ``tol``.
+        (and fails) when the rounding floor of the evaluation exceeds ``tol``. A physical
+        body (with ``medium``) also has its limits recomputed from its elements
+        (:func:`chargedesign.physical.limits.check_limits`): the report passes only when it
+        is buildable too.
     """
     if not isinstance(design, Design):
         raise input_error("design", "a Design", design)
@@ -437,6 +440,12 @@ def check_design(
     n_pairs = len(gammas) * (
         len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
     )
+    limits = None
+    if design.medium:
+        # a physical body: every limit recomputed from the written elements
+        from chargedesign.physical.limits import check_limits
+
+        limits = check_limits(design)
     return CheckReport(
         tol=tol,
         n_orientations=len(gammas),
@@ -449,6 +458,7 @@ def check_design(
         n_pairs=n_pairs,
         notes=notes,
         precision=used_precision,
+        limits=limits,
     )
 
 

@@ -30,6 +30,7 @@ from chargedesign.design.physical import (
     design_at_rate,
 )
 from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.results import Result
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -40,8 +41,8 @@ UPWARD_RESTARTS = 3
 LOWEST_RATE_FRACTION = 1e-9
 
 
-@dataclass
-class FrontierResult:
+@dataclass(repr=False)
+class FrontierResult(Result):
     """Where the buildable stops for one scene.
 
     Attributes
@@ -90,19 +91,23 @@ class FrontierResult:
             "seconds": self.seconds,
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "s_max": self.s_max,
+            "n_max": self.n_max,
+            "binding": self.binding.stage,
+            "medium": self.medium,
+            "evaluations": self.evaluations,
+            "seconds": self.seconds,
+        }
+
+    def _text(self) -> str:
         period = f"{self.period:.4g} s" if math.isfinite(self.period) else "none"
         return (
             f"frontier: s_max = {self.s_max:.4g} (n_max = {self.n_max:.4g} 1/s, period "
             f"2 pi / n_max = {period}) in {self.medium}\n"
             f"binding: {self.binding.text(self.medium)}\n"
             f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n"
-        )
-
-    def __repr__(self) -> str:
-        return (
-            f"FrontierResult(s_max={self.s_max:.4g}, n_max={self.n_max:.4g}, "
-            f"binding={self.binding.stage!r})"
         )
 
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from chargedesign.design.frontier import frontier_from_scene
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
+from chargedesign.results import Result
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")
@@ -30,8 +31,10 @@ FIELD_FACTOR = 2.0
 DENSE_CARRIER = "copper"
 
 
-@dataclass
-class ScanResult:
+@dataclass(repr=False)
+class ScanResult(Result):
+    """The frontier over size, medium, field and carrier density, and the fitted law."""
+
     rows: list[dict[str, Any]]
     exponents: dict[str, float]
     expected: dict[str, float]
@@ -49,7 +52,15 @@ class ScanResult:
             "failures": self.failures,
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "points": len(self.rows),
+            "law": self.law,
+            "worst_relative_fit_error": self.worst_fit_error,
+            "failures": len(self.failures),
+        }
+
+    def _text(self) -> str:
         lines = [
             "frontier scan: n_max (1/s) by size factor, medium, field a1 and carrier density",
             f"{'size':>6} {'medium':>8} {'a1 T':>6} {'carrier':>10} {'n_max':>11} {'binding':>9}",

@@ -65,7 +65,11 @@ def _later_results(design):
     with tempfile.TemporaryDirectory() as tmp:
         idle = {"command": "chargedesign.bench.sweep:idle", "grid": {"parameters.n": [1e-6, 2e-6]}}
         sweep = run_sweep(sweep_from_dict(idle), Path(tmp) / "s")
+    from chargedesign.design.frontier import frontier_from_scene
+
+    small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
     return {
+        "FrontierResult": frontier_from_scene(cd.load_scene(small)),
         "LimitsReport": check_limits(design),
         "ToleranceReport": tolerance_report(design),
         "MonteCarloResult": mc,
@@ -82,6 +86,7 @@ NAMES = [
     "LinearConditions",
     "VerificationReport",
     "SimulationResult",
+    "FrontierResult",
     "LimitsReport",
     "ToleranceReport",
     "MonteCarloResult",
