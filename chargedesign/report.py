@@ -294,6 +294,7 @@ def _verdict_lines(design: Design) -> list[str]:
             f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
             f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
         )
+    lines += _part_size_lines(design)
     tolerance = design.extra.get("tolerance") or {}
     top = (tolerance.get("elements") or [None])[0]
     if top and top.get("binding"):
@@ -304,6 +305,29 @@ def _verdict_lines(design: Design) -> list[str]:
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]
+
+
+def _part_size_lines(design: Design) -> list[str]:
+    """How large each kind of part is, from the written elements: what a builder must make
+    (the magnets' size is the cube root of their material's volume)."""
+    from chargedesign.results import format_length
+
+    def span(sizes: np.ndarray) -> str:
+        lo, hi = float(np.min(sizes)), float(np.max(sizes))
+        return format_length(lo) if lo == hi else f"{format_length(lo)} to {format_length(hi)}"
+
+    parts = []
+    radii = design.carrier_radii()
+    if len(radii):
+        parts.append(f"{len(radii)} carriers of radius {span(radii)}")
+    volumes = design.magnet_volumes()
+    if len(volumes):
+        parts.append(f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across")
+    density = (design.materials.get("ballast") or {}).get("density_kg_per_m3")
+    if len(design.mass_values) and density:
+        ballast = np.cbrt(3.0 * design.mass_values / density / (4.0 * np.pi))
+        parts.append(f"{len(ballast)} ballast spheres of radius {span(ballast)}")
+    return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
 
 
 def _physical_sections(design: Design) -> list[str]:

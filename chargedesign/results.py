@@ -55,6 +55,16 @@ def short_value(value: Any) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
+def format_length(x: float) -> str:
+    """A length in m, mm, µm or nm with 3 significant digits (``any`` when infinite)."""
+    if not math.isfinite(x):
+        return "any"
+    for unit, scale in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
+        if abs(x) >= scale:
+            return f"{x / scale:.3g} {unit}"
+    return f"{x:.3g} m"
+
+
 def compact_repr(name: str, items: Mapping[str, Any], limit: int = REPR_LIMIT) -> str:
     """``name(k=v, ...)`` cut to ``limit`` characters."""
     text = f"{name}(" + ", ".join(f"{k}={short_value(v)}" for k, v in items.items()) + ")"

@@ -44,7 +44,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
-from chargedesign.results import Result
+from chargedesign.results import Result, format_length
 from chargedesign.validation import as_finite_float, as_points, input_error
 
 #: the quantities whose errors are analysed, in the check's names
@@ -390,7 +390,7 @@ class ToleranceReport(Result):
         if d is None or not math.isfinite(d["position_tol_m_min"]):
             return "no element affects mu, V or the inertia"
         return (
-            f"{d['element']} dominates: place it within ±{_length(d['position_tol_m_min'])} "
+            f"{d['element']} dominates: place it within ±{format_length(d['position_tol_m_min'])} "
             f"to keep the relative error of {d['binding']} below {self.target:.0e}"
         )
 
@@ -426,7 +426,7 @@ class ToleranceReport(Result):
         )
         for e in self.elements[:20]:
             lines.append(
-                f"{e['element']:<12} {_length(e['position_tol_m_min']):>13} "
+                f"{e['element']:<12} {format_length(e['position_tol_m_min']):>13} "
                 f"{e['binding'] or '-':>8} {_percent(e['value_tol_rel_min']):>10}"
             )
         if len(self.elements) > 20:
@@ -435,8 +435,8 @@ class ToleranceReport(Result):
         lines.append("")
         lines.append(
             "all elements at once: within "
-            f"±{_length(u['position_tol_m_worst_case_min'])} (worst case) or "
-            f"{_length(u['position_tol_m_rms_min'])} rms (independent errors)"
+            f"±{format_length(u['position_tol_m_worst_case_min'])} (worst case) or "
+            f"{format_length(u['position_tol_m_rms_min'])} rms (independent errors)"
         )
         return "\n".join(lines)
 
@@ -452,15 +452,6 @@ def _jsonable(value: Any) -> Any:
     if isinstance(value, np.integer):
         return int(value)
     return value
-
-
-def _length(x: float) -> str:
-    if not math.isfinite(x):
-        return "any"
-    for unit, scale in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if abs(x) >= scale:
-            return f"{x / scale:.3g} {unit}"
-    return f"{x:.3g} m"
 
 
 def _percent(x: float) -> str:
