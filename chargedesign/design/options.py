@@ -139,6 +139,14 @@ class DesignOptions:
         if not 0.0 <= beta <= 1.0:
             raise input_error("design.robust_weight", "a number in [0, 1]", self.robust_weight)
         object.__setattr__(self, "robust_weight", beta)
+        if beta != 1.0 and not self.robust:
+            # a weight that would change nothing: the user meant the robust objective
+            raise input_error(
+                "design.robust_weight",
+                "to be used with objective = 'robust' (set design.objective or "
+                "design.objectives too)",
+                self.robust_weight,
+            )
 
     @property
     def robust(self) -> bool:

@@ -138,6 +138,8 @@ def test_the_report_gives_the_weighted_objective_it_minimised(designs):
         ({"objective": "robust", "robust_weight": "high"}, "design.robust_weight"),
         ({"objective": "robust", "robust_weight": float("nan")}, "design.robust_weight"),
         ({"objective": "robustt"}, "design.objective"),
+        ({"robust_weight": 0.5}, "design.robust_weight"),  # without the robust objective
+        ({"robust_weight": True, "objective": "robust"}, "design.robust_weight"),
         ({"objectives": {"charges": "sturdy"}}, "design.objectives.charges"),
     ],
 )
