@@ -36,6 +36,7 @@ from chargedesign.simulation.chaos import (
     PoincareAtlas,
     fast_lyapunov_indicator,
     fli_map,
+    lyapunov_exponent,
     poincare_atlas,
 )
 from chargedesign.simulation.ensemble import EnsembleResult, simulate_ensemble
@@ -82,6 +83,7 @@ __all__ = [
     "fli_map",
     "initial_state",
     "integrate",
+    "lyapunov_exponent",
     "parse_initial",
     "parse_output_options",
     "parse_simulation_options",

@@ -31,6 +31,7 @@ from chargedesign.simulation.system import (
     quaternion_gamma,
     rotation_quaternion,
 )
+from chargedesign.validation import as_finite_float, input_error
 
 
 def _section_state(
@@ -224,35 +225,19 @@ def poincare_atlas(
 _VAR_CACHE: dict[tuple[Any, ...], Any] = {}
 
 
-def fast_lyapunov_indicator(
-    system: RigidBodySystem,
-    states: np.ndarray,
-    t_end: float,
-    *,
-    samples: int = 64,
-    tol: float | None = None,
-) -> np.ndarray:
-    """The FLI ``max_{t <= t_end} log |Phi(t) w|`` of each state, ndarray shape (m,).
+#: the tangent vector the indicators start from: a perturbation of the angular velocity (the
+#: quaternion's norm and the turn about Z are symmetries and would add nothing)
+TANGENT_START = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]) / math.sqrt(3.0)
 
-    ``Phi`` is the tangent flow from heyoka's first-order variational equations
-    (``var_ode_sys`` with respect to the initial state); ``w`` is the unit vector along
-    ``(1, 1, 1, 0, 0, 0, 0)``: a perturbation of the angular velocity (the quaternion's norm
-    and the turn about Z are symmetries and would add nothing). The maximum is over
-    ``samples`` times.
 
-    Parameters
-    ----------
-    system : RigidBodySystem
-    states : ndarray, shape (m, 7)
-    t_end : float
-        s.
-    """
+def _variational_integrator(system: RigidBodySystem, tol: float | None, what: str) -> Any:
+    """``(heyoka, equations, integrator)`` of the state and its tangent flow ``Phi`` (7 + 49
+    equations, heyoka's ``var_ode_sys``), compiled once per system and tolerance."""
     from chargedesign.simulation import taylor
 
     hy = taylor.heyoka_module()
     if hy is None:
-        raise SolverError(f"FLI: needs heyoka ({taylor.unavailable_reason()})")
-    states = np.atleast_2d(np.asarray(states, dtype=float))
+        raise SolverError(f"{what}: needs heyoka ({taylor.unavailable_reason()})")
     eq = taylor.build_equations(system)
     tol_value = taylor.DEFAULT_TOL if tol is None else float(tol)
     key = (eq.key, tol_value)
@@ -269,7 +254,33 @@ def fast_lyapunov_indicator(
             compact_mode=True,
         )
         _VAR_CACHE[key] = ta
-    w = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]) / math.sqrt(3.0)
+    return hy, eq, ta
+
+
+def fast_lyapunov_indicator(
+    system: RigidBodySystem,
+    states: np.ndarray,
+    t_end: float,
+    *,
+    samples: int = 64,
+    tol: float | None = None,
+) -> np.ndarray:
+    """The FLI ``max_{t <= t_end} log |Phi(t) w|`` of each state, ndarray shape (m,).
+
+    ``Phi`` is the tangent flow from heyoka's first-order variational equations
+    (``var_ode_sys`` with respect to the initial state); ``w`` is :data:`TANGENT_START`. The
+    maximum is over ``samples`` times.
+
+    Parameters
+    ----------
+    system : RigidBodySystem
+    states : ndarray, shape (m, 7)
+    t_end : float
+        s.
+    """
+    hy, eq, ta = _variational_integrator(system, tol, "FLI")
+    states = np.atleast_2d(np.asarray(states, dtype=float))
+    w = TANGENT_START
     grid = np.linspace(0.0, t_end, samples)
     out = np.empty(len(states))
     n = 7
@@ -285,6 +296,68 @@ def fast_lyapunov_indicator(
         growth = np.linalg.norm(phi @ w, axis=1)
         out[i] = float(np.log(np.max(growth)))
     return out
+
+
+def lyapunov_exponent(
+    system: RigidBodySystem,
+    states: np.ndarray,
+    t_end: float,
+    *,
+    interval: float = 1.0,
+    tol: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The largest Lyapunov exponent of each state, as its running estimate (Benettin).
+
+    The tangent vector ``v`` (from :data:`TANGENT_START`) is carried by the tangent flow
+    ``Phi`` of heyoka's variational equations over each ``interval``, its growth logged and
+    the vector renormalised (``Phi`` restarts from the identity, so it never overflows):
+    ``lambda(t_k) = sum_j log |v_j| / t_k``. It tends to the largest exponent; on a torus it
+    falls like ``log t / t`` towards 0, on a chaotic orbit it settles at a positive value.
+
+    Parameters
+    ----------
+    system : RigidBodySystem
+    states : ndarray, shape (m, 7)
+    t_end : float
+        s (> 0).
+    interval : float
+        Renormalisation interval, s (> 0, at most ``t_end``).
+
+    Returns
+    -------
+    times : ndarray, shape (k,)
+        The renormalisation times, s.
+    estimates : ndarray, shape (m, k)
+        ``lambda(t_k)`` per state, 1/s.
+    """
+    t_end = as_finite_float(t_end, "t_end", positive=True)
+    interval = as_finite_float(interval, "interval", positive=True)
+    if interval > t_end:
+        raise input_error("interval", f"a duration of at most t_end = {t_end:g} s", interval)
+    hy, eq, ta = _variational_integrator(system, tol, "Lyapunov exponent")
+    states = np.atleast_2d(np.asarray(states, dtype=float))
+    n = 7
+    times = interval * np.arange(1, math.floor(t_end / interval + 1e-9) + 1)
+    out = np.empty((len(states), len(times)))
+    identity = np.eye(n).reshape(-1)
+    for i, y0 in enumerate(states):
+        ta.time = 0.0
+        ta.state[:n] = y0
+        ta.state[n:] = identity
+        ta.pars[:] = eq.pars
+        v = TANGENT_START.copy()
+        total = 0.0
+        for k, t in enumerate(times):
+            outcome = ta.propagate_until(float(t))[0]
+            if outcome != hy.taylor_outcome.time_limit:
+                raise SolverError(f"Lyapunov exponent: heyoka stopped at t = {ta.time:.6g} s")
+            v = np.asarray(ta.state[n:]).reshape(n, n) @ v
+            growth = float(np.linalg.norm(v))
+            total += math.log(growth)
+            v /= growth
+            ta.state[n:] = identity
+            out[i, k] = total / t
+    return times, out
 
 
 @dataclass
