@@ -251,6 +251,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    from chargedesign.files import atomic_directory
     from chargedesign.simulate import prepare
     from chargedesign.simulation.chaos import fli_map, poincare_atlas
 
@@ -258,16 +259,22 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {args.orbits}")
     system, _, _, _, _ = prepare(setup, effects=args.effects, route=args.route)
     out = Path(args.out or "out/atlas")
-    out.mkdir(parents=True, exist_ok=True)
     off = args.off_level if args.off_level is not None else 0.5 * system.C
     if off == 0.0:
         raise ChargeDesignError("--off-level: the atlas needs a level other than I3 = 0")
     t_end = args.t_end or 500.0
     atlas = poincare_atlas(system, off_level=off, orbits=args.orbits, t_end=t_end)
-    fig = atlas.plot()
-    FigureCanvasAgg(fig)
-    fig.savefig(out / "atlas.png", dpi=110)
-    atlas.write_csv(out / "atlas.csv")
+    fmap = fli_map(system, off_level=off, t_end=min(t_end, 100.0)) if args.fli else None
+    # everything is computed first; the folder then changes in one swap (all or nothing)
+    with atomic_directory(out) as stage:
+        fig = atlas.plot()
+        FigureCanvasAgg(fig)
+        fig.savefig(stage / "atlas.png", dpi=110)
+        atlas.write_csv(stage / "atlas.csv")
+        if fmap is not None:
+            fig = fmap.plot()
+            FigureCanvasAgg(fig)
+            fig.savefig(stage / "fli.png", dpi=110)
     files = [str(out / "atlas.png"), str(out / "atlas.csv")]
     summary = {
         "energy": atlas.energy,
@@ -278,11 +285,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         "seconds": atlas.seconds,
         "effects": list(system.effects),
     }
-    if args.fli:
-        fmap = fli_map(system, off_level=off, t_end=min(t_end, 100.0))
-        fig = fmap.plot()
-        FigureCanvasAgg(fig)
-        fig.savefig(out / "fli.png", dpi=110)
+    if fmap is not None:
         files.append(str(out / "fli.png"))
         summary["fli_median"] = [float(_nanmedian(f)) for f in fmap.fli]
         summary["fli_seconds"] = fmap.seconds

@@ -122,7 +122,10 @@ class PoincareAtlas:
     def write_csv(self, path: str | os.PathLike[str]) -> None:
         """The section points as CSV (header ``level, orbit, t, p, q, r, gamma1, ...``)."""
         header = "level,orbit,t,p,q,r,gamma1,gamma2,gamma3,phi"
-        np.savetxt(path, self.table(), delimiter=",", header=header, comments="", fmt="%.17g")
+        from chargedesign.files import atomic_path
+
+        with atomic_path(path) as tmp:
+            np.savetxt(tmp, self.table(), delimiter=",", header=header, comments="", fmt="%.17g")
 
     def plot(self, axes: Any = None) -> Any:
         """Side-by-side sections ``(phi, r)``, coloured by orbit; returns the figure."""

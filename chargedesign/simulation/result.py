@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.files import atomic_directory
+from chargedesign.files import atomic_directory, atomic_path
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.validation import input_error
@@ -267,6 +267,12 @@ def _integral_series(result: SimulationResult) -> list[tuple[np.ndarray, str]]:
     ]
 
 
+def _save_png(fig: Any, path: str | os.PathLike[str]) -> None:
+    """The figure as PNG at ``path``, written atomically."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=100)
+
+
 def _figure(path: Any, figsize: tuple[float, float]) -> Any:
     """A new Figure: pyplot's (shown in notebooks) when drawing for a user, a bare Agg one
     (no pyplot state, no display) when only writing a file."""
@@ -314,7 +320,7 @@ def plot_integrals(
         ax.grid(True, alpha=0.3)
         ax.set_title(title, fontsize=9)
         if path is not None:
-            ax.figure.savefig(path, format="png", dpi=100)
+            _save_png(ax.figure, path)
         return ax
     if ax is None:
         fig = _figure(path, (8, 8))
@@ -334,7 +340,7 @@ def plot_integrals(
     if ax is None:
         fig.tight_layout()
     if path is not None:
-        fig.savefig(path, format="png", dpi=100)
+        _save_png(fig, path)
     return axes
 
 
@@ -366,7 +372,7 @@ def plot_poincare(
     ax.grid(True, alpha=0.3)
     if path is not None:
         ax.figure.tight_layout()
-        ax.figure.savefig(path, format="png", dpi=100)
+        _save_png(ax.figure, path)
     return ax
 
 
