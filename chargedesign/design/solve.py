@@ -101,8 +101,12 @@ def _solve_dipoles_weighted(
     """min sum_j cost_j ||sigma_j||: the l1 cone problem in the columns ``v_j = cost_j sigma_j``."""
     cols = np.repeat(_costs(p), 3)
     scaled = replace(p, A=p.A / cols, A_s=p.A_s / cols, cost=None)
+    # the plain l1 cone problem in the scaled columns (the weight is already in the costs)
     as_l1 = replace(
-        options, objective="l1", objectives={**(options.objectives or {}), "dipoles": "l1"}
+        options,
+        objective="l1",
+        objectives={**(options.objectives or {}), "dipoles": "l1"},
+        robust_weight=1.0,
     )
     sol = _solve_dipoles_cone(scaled, as_l1, progress)
     sol.u = sol.u / cols
