@@ -260,6 +260,15 @@ def _variational_integrator(system: RigidBodySystem, tol: float | None, what: st
     return hy, eq, ta
 
 
+def _restart(ta: Any, eq: Any, y0: np.ndarray) -> None:
+    """The variational integrator at t = 0 from ``y0``, with ``Phi(0)`` the identity
+    (row-major ``d x_i / d x0_j``) and the body's parameters."""
+    ta.time = 0.0
+    ta.state[:7] = y0
+    ta.state[7:] = np.eye(7).reshape(-1)
+    ta.pars[:] = eq.pars
+
+
 def fast_lyapunov_indicator(
     system: RigidBodySystem,
     states: np.ndarray,
@@ -288,10 +297,7 @@ def fast_lyapunov_indicator(
     out = np.empty(len(states))
     n = 7
     for i, y0 in enumerate(states):
-        ta.time = 0.0
-        ta.state[:n] = y0
-        ta.state[n:] = np.eye(n).reshape(-1)  # Phi(0) = identity, row-major d x_i / d x0_j
-        ta.pars[:] = eq.pars
+        _restart(ta, eq, y0)
         outcome, *_, values = ta.propagate_grid(grid)
         if outcome != hy.taylor_outcome.time_limit:
             raise SolverError(f"FLI: heyoka stopped at t = {ta.time:.6g} s: {outcome}")
@@ -344,10 +350,7 @@ def lyapunov_exponent(
     out = np.empty((len(states), len(times)))
     identity = np.eye(n).reshape(-1)
     for i, y0 in enumerate(states):
-        ta.time = 0.0
-        ta.state[:n] = y0
-        ta.state[n:] = identity
-        ta.pars[:] = eq.pars
+        _restart(ta, eq, y0)
         v = TANGENT_START.copy()
         total = 0.0
         for k, t in enumerate(times):
