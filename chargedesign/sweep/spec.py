@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.readers import read_toml_file
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
 RANDOM_KINDS = ("uniform", "log_uniform", "choice")
@@ -196,12 +197,11 @@ def sweep_from_dict(
         path = Path(scene_value)
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
-        if not path.is_file():
-            raise InputError(f"{source}: scene: no such scene file {str(path)!r}")
         try:
-            scene_data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise InputError(f"{source}: scene: {path} is not valid TOML ({exc})") from None
+            # missing, special files, size, encoding and depth: one line each
+            scene_data = read_toml_file(path, "scene file")
+        except InputError as exc:
+            raise InputError(f"{source}: scene: {exc}") from None
         scene_source = str(path)
     chunk = data.get("chunk", 0)
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
@@ -278,10 +278,4 @@ def sweep_from_dict(
 def load_sweep(path: str | os.PathLike[str]) -> SweepSpec:
     """Read and validate a sweep file (one-line errors naming the key)."""
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such sweep file")
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: not valid TOML ({exc})") from None
-    return sweep_from_dict(data, str(p), p.parent)
+    return sweep_from_dict(read_toml_file(p, "sweep file"), str(p), p.parent)

@@ -256,3 +256,22 @@ def test_joining_a_running_dask_scheduler(serial_summary, tmp_path):
     finally:
         cluster.close()
     assert _rows(tmp_path / "out") == serial_summary
+
+
+def test_sweep_and_scene_files_go_through_the_safe_readers(tmp_path):
+    """A FIFO would block a plain read and a deep TOML exhaust the parser: both get one line."""
+    import os
+
+    fifo = tmp_path / "scene.fifo"
+    os.mkfifo(fifo)
+    sweep = tmp_path / "s.sweep"
+    sweep.write_text(f'scene = "{fifo}"\ncommand = "design"\n[grid]\n"parameters.n" = [0.5]\n')
+    with pytest.raises(InputError, match=r"scene: .*not a regular file") as info:
+        load_sweep(sweep)
+    assert "\n" not in str(info.value)
+    deep = tmp_path / "deep.sweep"
+    deep.write_text("a = " + "[" * 200 + "]" * 200 + "\n")
+    with pytest.raises(InputError, match="nested deeper"):
+        load_sweep(deep)
+    with pytest.raises(InputError, match="is a directory, expected a sweep file"):
+        load_sweep(tmp_path)
