@@ -37,7 +37,7 @@ geometrically in the node count per direction, as Gauss rules do (measured in do
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -421,3 +421,31 @@ def quadrature_points(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.
 def required_order(body: ContinuousBody, integrand_degree: int) -> int:
     """Degree of exactness that integrates ``density * p`` exactly for ``deg(p)`` given."""
     return ContinuousBody.coerce(body).density.degree + _as_order(integrand_degree)
+
+
+def with_quadrature_nodes(
+    points: Any, continuous: Sequence[Any], order_of: Callable[[ContinuousBody], int]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+    """Point charges and masses plus every continuous body as quadrature nodes.
+
+    ``points`` has ``charge_positions/values`` and ``mass_positions/values`` (an element
+    set's point elements); each body of ``continuous`` (ContinuousBody or its design.json
+    mapping) joins its kind with a rule exact to ``order_of(body)``.
+
+    Returns
+    -------
+    charge_positions, charge_values, mass_positions, mass_values : ndarray
+    info : list of dict
+        Per body: ``kind``, ``shape``, ``order`` and ``nodes``.
+    """
+    cp, cv = [points.charge_positions], [points.charge_values]
+    mp, mv = [points.mass_positions], [points.mass_values]
+    info = []
+    for i, raw in enumerate(continuous):
+        body = ContinuousBody.coerce(raw, f"continuous[{i}]")
+        order = order_of(body)
+        pts, w = quadrature_points(body, order)
+        (cp if body.kind == "charge" else mp).append(pts)
+        (cv if body.kind == "charge" else mv).append(w)
+        info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
+    return np.concatenate(cp), np.concatenate(cv), np.concatenate(mp), np.concatenate(mv), info

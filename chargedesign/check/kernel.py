@@ -17,7 +17,7 @@ from chargedesign.check.constants import (
 )
 from chargedesign.elements import ElementSet
 from chargedesign.fields import AxisymmetricField
-from chargedesign.quadrature import ContinuousBody, quadrature_points
+from chargedesign.quadrature import with_quadrature_nodes
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
     FIELD_NAMES,
@@ -124,25 +124,20 @@ def collect_elements(
     """
     degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
     points = design.point_elements()
-    cp, cv = [points.charge_positions], [points.charge_values]
-    mp, mv = [points.mass_positions], [points.mass_values]
-    info = []
-    for i, raw in enumerate(design.continuous):
-        body = ContinuousBody.coerce(raw, f"continuous[{i}]")
-        order = (
+    cp, cv, mp, mv, info = with_quadrature_nodes(
+        points,
+        design.continuous,
+        lambda body: (
             body.density.degree + integrand_degree(body.kind, degrees)
             if quadrature_order is None
             else quadrature_order
-        )
-        pts, w = quadrature_points(body, order)
-        (cp if body.kind == "charge" else mp).append(pts)
-        (cv if body.kind == "charge" else mv).append(w)
-        info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
+        ),
+    )
     elements = Elements(
-        charge_positions=np.concatenate(cp),
-        charge_values=np.concatenate(cv),
-        mass_positions=np.concatenate(mp),
-        mass_values=np.concatenate(mv),
+        charge_positions=cp,
+        charge_values=cv,
+        mass_positions=mp,
+        mass_values=mv,
         dipole_positions=points.dipole_positions,
         dipole_moments=points.dipole_moments,
         quadrature=info,

@@ -208,34 +208,27 @@ class Body(ElementSet):
         """
         merged = dict(design.fields)
         merged.update(fields or {})
-        notes: list[str] = []
-        points = design.point_elements()
-        cp, cv = [points.charge_positions], [points.charge_values]
-        mp, mv = [points.mass_positions], [points.mass_values]
-        continuous = list(getattr(design, "continuous", []) or [])
-        if continuous:
-            from chargedesign.quadrature import quadrature_points, required_order
+        from chargedesign.quadrature import required_order, with_quadrature_nodes
 
-            degree = max((len(v) for v in merged.values()), default=0) + 1
-            for i, part in enumerate(continuous):
-                pts, w = quadrature_points(part, required_order(part, degree))
-                if part.kind == "charge":
-                    cp.append(pts)
-                    cv.append(w)
-                else:
-                    mp.append(pts)
-                    mv.append(w)
-                notes.append(
-                    f"continuous[{i}] ({part.kind} {part.shape}): {len(w)} quadrature nodes, "
-                    f"exact to degree {required_order(part, degree)}"
-                )
+        points = design.point_elements()
+        degree = max((len(v) for v in merged.values()), default=0) + 1
+        cp, cv, mp, mv, info = with_quadrature_nodes(
+            points,
+            list(getattr(design, "continuous", []) or []),
+            lambda body: required_order(body, degree),
+        )
+        notes = [
+            f"continuous[{i}] ({b['kind']} {b['shape']}): {b['nodes']} quadrature nodes, "
+            f"exact to degree {b['order']}"
+            for i, b in enumerate(info)
+        ]
         return cls(
             parameters=design.parameters,
             fields=merged,
-            charge_positions=np.concatenate(cp),
-            charge_values=np.concatenate(cv),
-            mass_positions=np.concatenate(mp),
-            mass_values=np.concatenate(mv),
+            charge_positions=cp,
+            charge_values=cv,
+            mass_positions=mp,
+            mass_values=mv,
             dipole_positions=points.dipole_positions,
             dipole_moments=points.dipole_moments,
             has_elements=True,

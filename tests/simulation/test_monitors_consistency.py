@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+# a Kowalevski top (A = B = 2C = 8 kg m^2, centre of mass on the x axis), as the bench runs it
+from chargedesign.bench.simulate import KOWALEVSKI_SCENE as KOWALEVSKI
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
@@ -14,25 +16,6 @@ from chargedesign.simulation.monitors import MONITORS, parse_monitors
 from chargedesign.simulation.system import Body, body_mass_points, inertia_mismatch
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
-
-#: a Kowalevski top: A = B = 2C = 8 kg m^2, centre of mass on the x axis (uniform gravity)
-KOWALEVSKI = {
-    "fields": {"gravity": {"legendre": [9.81]}},
-    "body": {
-        "masses": {
-            "positions": [
-                [1, 0, 0],
-                [-1, 0, 0],
-                [0, 1, 0],
-                [0, -1, 0],
-                [0, 0, 3**0.5],
-                [0, 0, -(3**0.5)],
-            ],
-            "values": [1.5, 0.5, 1.0, 1.0, 1.0, 1.0],
-        }
-    },
-    "initial": {"gamma": [0.3, 0.4, 0.866], "omega": [0.5, -0.2, 1.0]},
-}
 
 
 @pytest.mark.skipif(not taylor.available(), reason="heyoka is not installed")
