@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.validation import as_points, as_weights, input_error
+from chargedesign.validation import as_points, as_weights, check_keys, input_error
 
 #: the design.json block of each source and its keys, in the order they are written
 BLOCKS = {
@@ -247,11 +247,7 @@ class ElementSet:
             b = data.get(block) or {}
             if not isinstance(b, dict):
                 raise input_error(f"{where}.{block}", "an object", b)
-            unknown = sorted(set(b) - set(keys))
-            if unknown:
-                raise input_error(
-                    f"{where}.{block}.{unknown[0]}", "one of " + ", ".join(keys), unknown[0]
-                )
+            check_keys(b, keys, f"{where}.{block}")
             for key, name in zip(keys, names[block], strict=True):
                 if key in b:
                     out[name] = b[key]

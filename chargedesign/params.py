@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
 from chargedesign.results import Result
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float, check_keys, input_error
 
 # names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
 from chargedesign.vocabulary import PARAMETER_NAMES as PARAMETER_NAMES
@@ -55,11 +55,7 @@ class Parameters(Result):
         """Build from a mapping with the contract's names; omitted ones are 0, C defaults to 1."""
         if not isinstance(data, Mapping):
             raise input_error(where, "a table of parameters", data)
-        unknown = sorted(set(data) - set(PARAMETER_NAMES))
-        if unknown:
-            raise input_error(
-                f"{where}.{unknown[0]}", "one of " + ", ".join(PARAMETER_NAMES), unknown[0]
-            )
+        check_keys(data, PARAMETER_NAMES, where)
         kwargs = {("lam" if k == "lambda" else k): v for k, v in data.items()}
         return cls(**kwargs)
 

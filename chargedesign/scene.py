@@ -21,6 +21,7 @@ from chargedesign.readers import read_toml_file
 from chargedesign.validation import (
     as_array,
     as_finite_float,
+    check_keys,
     check_parameters_range,
     check_tree,
     input_error,
@@ -67,9 +68,7 @@ def parse_field(spec: Any, where: str) -> tuple[float, ...]:
     """A field table: either the paper's ``a1``/``a2`` (magnetic) or ``legendre = [...]``."""
     if not isinstance(spec, dict):
         raise input_error(where, "a table", spec)
-    unknown = sorted(set(spec) - {"a1", "a2", "legendre", "max"})
-    if unknown:
-        raise input_error(f"{where}.{unknown[0]}", "one of a1, a2, legendre, max", unknown[0])
+    check_keys(spec, ("a1", "a2", "legendre", "max"), where)
     if "legendre" in spec:
         if "a1" in spec or "a2" in spec:
             raise InputError(f"{where}: give either legendre or a1/a2, not both")

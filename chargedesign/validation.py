@@ -20,7 +20,7 @@ The number rules (docs/reliability.md):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -165,6 +165,13 @@ def as_points(value: Any, name: str = "positions", n: int | None = None) -> np.n
 def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.ndarray:
     """Weights as ``ndarray, shape (n,)``, float64, finite."""
     return as_array(value, name, (n,))
+
+
+def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
+    """One-line error naming ``where.key`` for the first unknown key (sorted) of ``table``."""
+    unknown = sorted(set(table) - set(allowed))
+    if unknown:
+        raise input_error(f"{where}.{unknown[0]}", "one of " + ", ".join(allowed), unknown[0])
 
 
 def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:

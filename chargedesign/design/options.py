@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.conditions import REALISABLE, SOURCES
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
 
 SPARSITY_METHODS = ("auto", "reweighted", "mip")
@@ -170,12 +170,7 @@ class DesignOptions:
         """Options from a scene's ``[design]`` table (keys in docs/design.md), then overrides."""
         if not isinstance(table, Mapping):
             raise input_error("design", "a table", table)
-        known = {f for f in cls.__dataclass_fields__}
-        unknown = sorted(set(table) - known)
-        if unknown:
-            raise input_error(
-                f"design.{unknown[0]}", "one of " + ", ".join(sorted(known)), unknown[0]
-            )
+        check_keys(table, sorted(cls.__dataclass_fields__), "design")
         kwargs = dict(table)
         if "realise" in kwargs:
             kwargs["realise"] = _realise_list(kwargs["realise"])

@@ -28,7 +28,7 @@ from chargedesign.physical.materials import (
     Material,
     Medium,
 )
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float, check_keys, input_error
 
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
@@ -88,9 +88,7 @@ class PhysicalSpec:
 def _check_keys(table: Mapping[str, Any], name: str) -> None:
     if not isinstance(table, Mapping):
         raise input_error(name, "a table", table)
-    unknown = sorted(set(table) - set(_KEYS[name]))
-    if unknown:
-        raise input_error(f"{name}.{unknown[0]}", "one of " + ", ".join(_KEYS[name]), unknown[0])
+    check_keys(table, _KEYS[name], name)
 
 
 def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], default: str):

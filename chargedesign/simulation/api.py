@@ -83,7 +83,7 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
     select_effects,
 )
-from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
 
 SIMULATION_KEYS = (
     "t_end",
@@ -199,12 +199,6 @@ class SimulationSetup:
 
 
 # ---------------------------------------------------------------------- validation
-def _unknown(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
-    extra = sorted(set(table) - set(allowed))
-    if extra:
-        raise input_error(f"{where}.{extra[0]}", "one of " + ", ".join(allowed), extra[0])
-
-
 def _bool(value: Any, name: str) -> bool:
     if not isinstance(value, bool):
         raise input_error(name, "true or false", value)
@@ -229,7 +223,7 @@ def parse_simulation_options(
     """Validate a ``[simulation]`` table (one-line errors naming the key)."""
     if not isinstance(table, Mapping):
         raise input_error(where, "a table", table)
-    _unknown(table, SIMULATION_KEYS, where)
+    check_keys(table, SIMULATION_KEYS, where)
     opts = SimulationOptions()
     for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min", "tol"):
         if key in table:
@@ -257,7 +251,7 @@ def parse_output_options(table: Mapping[str, Any], where: str = "output") -> Out
     """Validate an ``[output]`` table."""
     if not isinstance(table, Mapping):
         raise input_error(where, "a table", table)
-    _unknown(table, OUTPUT_KEYS, where)
+    check_keys(table, OUTPUT_KEYS, where)
     out = OutputOptions()
     if "dir" in table:
         if not isinstance(table["dir"], str) or not table["dir"]:
@@ -296,7 +290,7 @@ def parse_initial(
     """
     if not isinstance(table, Mapping):
         raise input_error(where, "a table", table)
-    _unknown(table, INITIAL_KEYS, where)
+    check_keys(table, INITIAL_KEYS, where)
     if "states" in table or "file" in table:
         from chargedesign.simulation.ensemble import load_states, parse_states
 
@@ -358,7 +352,7 @@ def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
         b = body.get(name, {})
         if not isinstance(b, Mapping):
             raise input_error(f"body.{name}", "a table", b)
-        _unknown(b, keys, f"body.{name}")
+        check_keys(b, keys, f"body.{name}")
         return b.get(keys[0], []), b.get(keys[1], [])
 
     cp, cv = block("charges", ("positions", "values"))
