@@ -51,43 +51,47 @@ def _spec(n_points: int, t_end: float, command: str = "simulate", chunk: int = 0
     )
 
 
+T_END_LIMIT = 1e7  # s of motion: a bound, so that a noisy timing can never ask for a run of days
+
+
 def _calibrate(target: float) -> float:
     """t_end (s of motion) for which one point takes about ``target`` seconds.
 
-    A point costs a fixed part (scene, set-up, its folder) plus a part linear in ``t_end``:
-    both are fitted from two timed points, then the estimate is refined once more.
+    A point costs a fixed part (scene, set-up, its folder) plus a part that grows with
+    ``t_end``. The first point also compiles the integrator, so it is run untimed. Then
+    ``t_end`` doubles from 1 s until a point takes at least ``target``, and the answer is
+    interpolated between the two bracketing runs. Each timing is the best of two, and t_end
+    stays below ``T_END_LIMIT``: a fit on timings of a few ms (a slope from noise) once asked
+    for 6e9 s of motion, and the sweep it fed ran past CI's time limit.
     """
     from chargedesign.sweep import run_point, warm_up
 
     warm_up()
 
-    def seconds(t_end: float) -> float:
+    def seconds(t_end: float, repeats: int = 2) -> float:
         spec = _spec(1, t_end)
         with tempfile.TemporaryDirectory() as tmp:
-            best = math.inf
-            for name in ("a", "b"):
-                args: tuple[Any, ...] = (
-                    "simulate",
-                    spec.scene_data,
-                    "<dict>",
-                    {},
-                    tmp,
-                    name,
-                    spec.points[0],
-                )
-                best = min(best, run_point(*args)["seconds"])
-        return max(best, 1e-4)
+            times = [
+                run_point("simulate", spec.scene_data, "<dict>", {}, tmp, f"p{i}", spec.points[0])[
+                    "seconds"
+                ]
+                for i in range(repeats)
+            ]
+        return min(times)
 
-    t_a, s_a = 100.0, seconds(100.0)
-    t_b = t_a * target / s_a
-    for _ in range(3):
-        s_b = seconds(t_b)
-        if abs(s_b - target) < 0.1 * target:
-            break
-        slope = (s_b - s_a) / (t_b - t_a) if t_b != t_a else s_b / t_b
-        t_a, s_a = t_b, s_b
-        t_b = max(t_b + (target - s_b) / max(slope, 1e-12), 1.0)
-    return t_b
+    seconds(1.0, repeats=1)  # compiles the integrator; not timed
+    t_low, s_low = 1.0, seconds(1.0)
+    if s_low >= target:
+        return t_low
+    t_high = t_low
+    while t_high < T_END_LIMIT:
+        t_high = min(2.0 * t_low, T_END_LIMIT)
+        s_high = seconds(t_high)
+        if s_high >= target:
+            fraction = (target - s_low) / (s_high - s_low)
+            return t_low + fraction * (t_high - t_low)
+        t_low, s_low = t_high, s_high
+    return T_END_LIMIT
 
 
 def run(quick: bool = False) -> list[BenchTable]:

@@ -17,6 +17,7 @@ def imported_modules(code: str) -> set[str]:
         [sys.executable, "-X", "importtime", "-c", code],
         capture_output=True,
         text=True,
+        timeout=120,
         check=True,
     )
     names = set()

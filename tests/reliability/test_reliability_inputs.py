@@ -394,6 +394,7 @@ def test_stale_staging_of_a_dead_process_is_removed_and_set_aside_folders_restor
         [sys.executable, "-c", "import os; print(os.getpid())"],
         capture_output=True,
         text=True,
+        timeout=60,
         check=True,
     )
     dead = int(child.stdout)
