@@ -173,6 +173,8 @@ _MATERIAL_KEYS = {
     "density_kg_per_m3": float,
     "remanent_magnetisation_A_per_m": float,
     "shell_thickness_m": float,
+    "volume_susceptibility": float,
+    "conductivity_S_per_m": float,
 }
 
 
@@ -212,6 +214,14 @@ def _materials(value: Any) -> dict[str, Any]:
                 if not isinstance(item, str):
                     raise input_error(f"{where}.name", "a name", item)
                 clean[key] = item
+            elif key == "volume_susceptibility":
+                clean[key] = as_finite_float(item, f"{where}.{key}")
+                if clean[key] <= -1.0:
+                    raise input_error(f"{where}.{key}", "a number > -1", item)
+            elif key == "conductivity_S_per_m":
+                clean[key] = as_finite_float(item, f"{where}.{key}")
+                if clean[key] < 0.0:
+                    raise input_error(f"{where}.{key}", "a number >= 0", item)
             else:
                 clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
         out[role] = clean

@@ -21,6 +21,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
+from chargedesign.physical.realism import FIELD_RESPONSE_KEYS
 
 #: vacuum permittivity, F/m (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
@@ -268,9 +269,20 @@ def _verdict_lines(design: Design) -> list[str]:
     realism = design.extra.get("realism") or {}
     medium = design.medium
     ok = bool(limits.get("buildable"))
+    response = {k: realism[k] for k in FIELD_RESPONSE_KEYS if k in realism}
+    swamped = [k for k, item in response.items() if item.get("verdict") != "negligible"]
+    verdict = "buildable" if ok else "NOT buildable"
+    if ok and swamped:
+        verdict = "buildable parts, NOT realised as designed"
     lines = [
-        f"**Verdict: {'buildable' if ok else 'NOT buildable'}** in {medium['name']} "
-        f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g}).",
+        f"**Verdict: {verdict}** in {medium['name']} "
+        f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g})"
+        + (
+            ": the applied field acts on the parts' own materials more than the designed "
+            "charges and magnets do (below)."
+            if swamped
+            else "."
+        ),
         "",
         "- Largest surface field: "
         f"{limits.get('largest_surface_field_fraction_of_breakdown', 0):.4g} of breakdown "
@@ -293,6 +305,13 @@ def _verdict_lines(design: Design) -> list[str]:
         lines.append(
             f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
             f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
+        )
+    for key, item in response.items():
+        value = item.get("value")
+        title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
+        lines.append(
+            f"- {title}: {'inf' if value is None else f'{value:.3g}'} of the designed torques "
+            f"({item.get('verdict')}): {item.get('note')}."
         )
     lines += _part_size_lines(design)
     tolerance = design.extra.get("tolerance") or {}

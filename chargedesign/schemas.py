@@ -76,6 +76,8 @@ def _materials() -> dict[str, Any]:
             "name": {"type": "string"},
             "remanent_magnetisation_A_per_m": _POSITIVE,
             "density_kg_per_m3": _POSITIVE,
+            "volume_susceptibility": {"type": "number", "exclusiveMinimum": -1},
+            "conductivity_S_per_m": {"type": "number", "minimum": 0},
         },
         "additionalProperties": True,
     }

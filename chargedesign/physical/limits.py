@@ -194,6 +194,10 @@ class LimitsReport(Result):
         Largest |B|, |E|, |g| over the body region.
     region_radius : float
         Radius of the body region, m.
+    field_response : dict
+        The applied field acting on the parts' materials (induced magnetisation, eddy
+        currents; :func:`chargedesign.physical.realism.field_response`): realism verdicts,
+        not limits, so they do not decide ``buildable``.
     """
 
     buildable: bool
@@ -203,6 +207,7 @@ class LimitsReport(Result):
     violations: list[str] = field(default_factory=list)
     field_maxima: dict[str, float] = field(default_factory=dict)
     region_radius: float = 0.0
+    field_response: dict[str, Any] = field(default_factory=dict)
 
     @property
     def worst_fraction_of_breakdown(self) -> float:
@@ -217,6 +222,7 @@ class LimitsReport(Result):
             "violations": list(self.violations),
             "field_maxima": dict(self.field_maxima),
             "region_radius_m": self.region_radius,
+            "field_response": dict(self.field_response),
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -236,6 +242,10 @@ class LimitsReport(Result):
             f"({self.breakdown:.3g} V/m; safe {self.safe_field:.3g} V/m)"
         ]
         lines += [f"violation: {v}" for v in self.violations]
+        for key, item in self.field_response.items():
+            value = item.get("value")
+            shown = "inf" if value is None else f"{value:.3g}"
+            lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
         return "\n".join(lines)
 
 
@@ -340,8 +350,11 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
                 f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
                 f"max = {limits[kind]:.3g}"
             )
+    from chargedesign.physical.realism import field_response
+
     return LimitsReport(
         buildable=not violations,
+        field_response=field_response(design),
         surface_fields=fields,
         safe_field=safe,
         breakdown=breakdown,

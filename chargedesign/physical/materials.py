@@ -59,6 +59,39 @@ BALLAST_DENSITY = {
     "aluminium": 2700.0,
 }
 
+#: SI volume susceptibility chi (dimensionless) of every named material at 20 C. A part of
+#: volume v in a field B gains the energy -chi v |B|^2 / (2 mu0) (|chi| << 1): in a field
+#: gradient this depends on the body's orientation. Elements: CRC molar susceptibilities
+#: chi_mol (cgs, cm^3/mol) converted as 4 pi chi_mol rho / M; alloys and magnets: see SOURCES.
+SUSCEPTIBILITY = {
+    "aluminium": 2.07e-5,
+    "titanium": 1.81e-4,
+    "copper": -9.64e-6,
+    "stainless": 3.5e-3,
+    "tungsten": 6.97e-5,
+    "lead": -1.58e-5,
+    "brass": -1.0e-5,
+    "steel": 100.0,
+    "ndfeb": 0.05,
+    "smco": 0.03,
+    "ferrite": 0.1,
+}
+
+#: electrical conductivity, S/m, at 20 C (eddy currents in the rotating parts)
+CONDUCTIVITY = {
+    "aluminium": 3.77e7,
+    "titanium": 2.38e6,
+    "copper": 5.96e7,
+    "stainless": 1.35e6,
+    "tungsten": 1.89e7,
+    "lead": 4.81e6,
+    "brass": 1.6e7,
+    "steel": 7.0e6,
+    "ndfeb": 7.1e5,
+    "smco": 1.2e6,
+    "ferrite": 1.0e-4,
+}
+
 SOURCES = {
     "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
     "Raizer, Gas Discharge Physics, 1991, ch. 7); smaller gaps hold more",
@@ -75,6 +108,19 @@ SOURCES = {
     "smco": "Sm2Co17: remanence about 1.05 T (M = 8.4e5 A/m), density 8.4 g/cm^3",
     "ferrite": "hard ferrite (strontium) grade C8: remanence about 0.4 T (M = 3.2e5 A/m), "
     "density 4.9 g/cm^3",
+    "susceptibility": "elements: CRC Handbook (97th ed.), 'Magnetic susceptibility of the "
+    "elements and inorganic compounds', chi_mol in cgs (Al +16.5e-6, Ti +153e-6, Cu -5.46e-6, "
+    "W +53e-6, Pb -23.0e-6 cm^3/mol) times 4 pi rho / M; Schenck, Med. Phys. 23, 815 (1996) "
+    "lists the same order (Al 20.7e-6, Ti 182e-6, W 77.2e-6, Cu -9.63e-6, Pb -15.8e-6) and "
+    "annealed austenitic stainless 3.52e-3 to 6.70e-3; brass from its Cu and Zn (iron traces "
+    "can make it paramagnetic); carbon steel is ferromagnetic (mu_r 1e2-1e3, saturating near "
+    "1.7 T: the linear estimate is then only an order of magnitude); magnets: recoil "
+    "permeability mu_rec - 1 (NdFeB N42 1.05, Sm2Co17 1.03, ferrite C8 1.05-1.2; data sheets)",
+    "conductivity": "CRC Handbook (97th ed.), 'Electrical resistivity of pure metals' at 20 C "
+    "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7 ohm m); ASM Handbook vol. 2 for "
+    "alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 steel 1.43e-7 ohm m); "
+    "magnets' data sheets (sintered NdFeB 1.4e-6, Sm2Co17 8.6e-7 ohm m; hard ferrite above "
+    "1e4 ohm m, an insulator)",
 }
 
 
@@ -120,6 +166,10 @@ class Material:
         Remanent magnetisation, A/m (magnets only).
     shell_thickness : float, optional
         Wall thickness of a hollow carrier sphere, m (None: solid).
+    susceptibility : float, optional
+        SI volume susceptibility (None: unknown, for a custom material).
+    conductivity : float, optional
+        Electrical conductivity, S/m (None: unknown).
     """
 
     role: str
@@ -127,6 +177,8 @@ class Material:
     density: float
     magnetisation: float | None = None
     shell_thickness: float | None = None
+    susceptibility: float | None = None
+    conductivity: float | None = None
 
     def to_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {"name": self.name, "density_kg_per_m3": self.density}
@@ -134,6 +186,10 @@ class Material:
             out["remanent_magnetisation_A_per_m"] = self.magnetisation
         if self.shell_thickness is not None:
             out["shell_thickness_m"] = self.shell_thickness
+        if self.susceptibility is not None:
+            out["volume_susceptibility"] = self.susceptibility
+        if self.conductivity is not None:
+            out["conductivity_S_per_m"] = self.conductivity
         return out
 
     def sphere_mass(self, radius: float) -> float:

@@ -11,7 +11,11 @@ verdicts, never hidden):
 - the centre-of-mass offset whose gravity torque is 1e-3 of the designed torques, under 1 g
   and under 1e-6 g (how precisely the body must be balanced);
 - the viscous drag torque of the medium on the body's enveloping sphere (laminar estimate,
-  ``8 pi mu R^3 omega``) against the designed torques.
+  ``8 pi mu R^3 omega``) against the designed torques;
+- the applied magnetic field acting on the parts' own materials (:func:`field_response`):
+  the induced magnetisation, whose energy ``-chi v |B|^2 / (2 mu0)`` depends on the
+  orientation in a field gradient (a conservative torque the design does not contain), and
+  the eddy currents of the conducting parts turning in the field (a damping torque).
 
 The typical motion: ``|omega| = 2 max(|n|, |K|, sqrt|kappa|, sqrt|lambda|, sqrt|rho|)``, the
 rate the theorem's terms set; the designed torques: ``C omega^2 / 4``.
@@ -24,12 +28,215 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.physical.materials import EPSILON_0, GAS_PROPERTIES, LIGHT_SPEED, MU_0
+from chargedesign.fields import AxisymmetricField
+from chargedesign.physical.limits import fibonacci_directions, field_magnitude_max
+from chargedesign.physical.materials import (
+    CONDUCTIVITY,
+    EPSILON_0,
+    GAS_PROPERTIES,
+    LIGHT_SPEED,
+    MU_0,
+    SUSCEPTIBILITY,
+)
 
 G_EARTH = 9.80665
 MICROGRAVITY = 1e-6 * G_EARTH
 #: a torque this fraction of the designed torques is what "balanced" tolerates
 BALANCE_FRACTION = 1e-3
+#: a torque from the parts' materials below this fraction of the designed torques is negligible
+RESPONSE_FRACTION = 1e-3
+#: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
+RESPONSE_ORIENTATIONS = 2000
+#: the budget's items for the applied field acting on the parts' materials
+FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
+
+
+def typical_rate(params: Any) -> float:
+    """``|omega| = 2 max(|n|, |K|, sqrt|kappa|, sqrt|lambda|, sqrt|rho|)`` (1/s)."""
+    p = params
+    return 2.0 * max(
+        abs(p.n), abs(p.K), math.sqrt(abs(p.kappa)), math.sqrt(abs(p.lam)), math.sqrt(abs(p.rho))
+    )
+
+
+def material_parts(design: Any) -> list[dict[str, Any]]:
+    """Every part's material as spheres, from the written elements: one dict per part set.
+
+    Keys: ``role``, ``name``, ``centres`` (k, 3), ``volumes`` (k,) of material (written mass
+    over density), ``outer`` and ``inner`` radii (k,) (a hollow carrier's wall; 0 for solid
+    spheres), ``chi`` and ``sigma`` (as written, else the named material's; None when
+    unknown). A magnet's
+    attached ballast (its mass beyond the magnet's own) is a ballast sphere at its centre.
+    """
+    materials = design.materials
+    sets: list[dict[str, Any]] = []
+
+    def add(role: str, centres: np.ndarray, volumes: np.ndarray, outer: np.ndarray, inner) -> None:
+        spec = materials.get(role) or {}
+        name = spec.get("name", role)
+        keep = volumes > 0
+        if not np.any(keep):
+            return
+        sets.append(
+            {
+                "role": role,
+                "name": name,
+                "centres": centres[keep],
+                "volumes": volumes[keep],
+                "outer": outer[keep],
+                "inner": np.broadcast_to(inner, outer.shape)[keep],
+                "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
+                "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
+            }
+        )
+
+    def ball(volumes: np.ndarray) -> np.ndarray:
+        return np.cbrt(3.0 * volumes / (4.0 * np.pi))
+
+    carrier = materials.get("carrier")
+    if carrier is not None and len(design.charge_values):
+        outer = design.carrier_radii()
+        wall = carrier.get("shell_thickness_m")
+        inner = np.maximum(outer - wall, 0.0) if wall is not None else np.zeros_like(outer)
+        volumes = design.carrier_masses() / carrier["density_kg_per_m3"]
+        add("carrier", design.charge_positions, volumes, outer, inner)
+    magnet = materials.get("magnet")
+    ballast = materials.get("ballast")
+    if magnet is not None and len(design.dipole_moments):
+        volumes = design.magnet_volumes()
+        add("magnet", design.dipole_positions, volumes, ball(volumes), 0.0)
+        if ballast is not None:
+            extra = np.maximum(design.magnet_masses() - magnet["density_kg_per_m3"] * volumes, 0)
+            extra = extra / ballast["density_kg_per_m3"]
+            add("ballast", design.dipole_positions, extra, ball(extra), 0.0)
+    if ballast is not None and len(design.mass_values):
+        volumes = design.mass_values / ballast["density_kg_per_m3"]
+        add("ballast", design.mass_positions, volumes, ball(volumes), 0.0)
+    return sets
+
+
+def _induced_energies(legendre: tuple[float, ...], parts: list[dict[str, Any]]) -> np.ndarray:
+    """``-sum chi v |B|^2 / (2 mu0)`` of each part set at each orientation (J), (sets, n).
+
+    The field is axisymmetric, so a part at body position r sees the field at the point of
+    polar coordinates (|r|, gamma . r): ``|B|^2`` there, for gamma on a Fibonacci sphere.
+    For fields of degree <= 2 (the paper's) ``|B|^2`` is quadratic, and its mean over a
+    sphere or shell of material differs from its value at the centre by an orientation-free
+    constant, so the parts may be taken as points.
+    """
+    fld = AxisymmetricField(tuple(legendre))
+    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    out = np.zeros((len(parts), len(gammas)))
+    for k, part in enumerate(parts):
+        if part["chi"] is None or fld.is_zero:
+            continue
+        energy = out[k]
+        for start in range(0, len(part["volumes"]), 64):
+            centres = part["centres"][start : start + 64]
+            weights = part["chi"] * part["volumes"][start : start + 64]
+            z = centres @ gammas.T  # (k, orientations)
+            rho = np.sqrt(np.maximum(np.sum(centres**2, axis=1)[:, None] - z**2, 0.0))
+            points = np.stack([rho, np.zeros_like(rho), z], axis=-1).reshape(-1, 3)
+            b2 = np.sum(fld.gradient(points) ** 2, axis=1).reshape(z.shape)
+            energy -= weights @ b2 / (2.0 * MU_0)
+    return out
+
+
+def _eddy_torques(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
+    """Eddy-current torque of each part set turning at ``rate`` in its local field (N m).
+
+    A conducting sphere turning at omega in a uniform B (perpendicular to omega, skin depth
+    much larger than the part) carries the current of ``E = (omega B / 2) y x r`` and is
+    retarded by ``(2 pi / 15) sigma omega B^2 a^5`` (a shell: ``a^5 - b^5``). B is the largest
+    |B| over orientations at the part's distance from O; the parts' motion through the
+    gradient adds a term of the same order, so this is an order-of-magnitude estimate.
+    """
+    out = np.zeros(len(parts))
+    if not legendre:
+        return out
+    for k, part in enumerate(parts):
+        if part["sigma"] is None:
+            continue
+        b = field_magnitude_max(tuple(legendre), np.linalg.norm(part["centres"], axis=1))
+        shells = part["outer"] ** 5 - part["inner"] ** 5
+        out[k] = float(np.sum(2.0 * np.pi / 15.0 * part["sigma"] * rate * b**2 * shells))
+    return out
+
+
+def field_response(design: Any) -> dict[str, Any]:
+    """The applied magnetic field acting on the parts' materials, against the designed torques.
+
+    Two items of the realism budget (``induced_magnetisation_fraction``,
+    ``eddy_torque_fraction``), recomputed from the written elements and materials.
+    """
+    rate = typical_rate(design.parameters)
+    legendre = tuple(design.field("magnetic"))
+    if rate == 0 or not legendre or design.medium is None:
+        return {}
+    torque = design.parameters.C * rate**2 / 4.0
+    parts = material_parts(design)
+    energies = _induced_energies(legendre, parts)
+    energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
+    eddy = _eddy_torques(legendre, parts, rate)
+    unknown = sorted({f"{p['role']} {p['name']}" for p in parts if p["chi"] is None})
+    unknown_sigma = sorted({f"{p['role']} {p['name']}" for p in parts if p["sigma"] is None})
+
+    def largest(values: np.ndarray, key: str) -> str:
+        if not len(values) or not np.any(values > 0):
+            return "none"
+        part = parts[int(np.argmax(values))]
+        return f"{part['role']} {part['name']} ({key} = {part[key]:.3g})"
+
+    induced = float(np.ptp(np.sum(energies, axis=0))) / torque
+    damping = float(np.sum(eddy)) / torque
+    n = abs(design.parameters.n)
+    # the induced energy does not depend on the rate, the designed torques go as s^2; the
+    # eddy torque as s: the rate above which each would be negligible
+    n_induced = n * math.sqrt(induced / RESPONSE_FRACTION)
+    n_eddy = n * damping / RESPONSE_FRACTION
+    # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
+    total_eddy = float(np.sum(eddy))
+    periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
+    induced_note = (
+        "range over orientations of the energy -chi v |B|^2 / (2 mu0) of the parts' materials "
+        f"in the applied field, over the designed torques x 1 rad (largest: "
+        f"{largest(energy, 'chi')})"
+    )
+    if induced >= RESPONSE_FRACTION:
+        induced_note += (
+            f"; negligible needs the parts' chi-weighted dipole and quadrupole moments to "
+            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}, or n above "
+            f"{n_induced:.3g} 1/s"
+        )
+    if unknown:
+        induced_note += "; not counted (no susceptibility given): " + ", ".join(unknown)
+    eddy_note = (
+        "eddy-current torque of the conducting parts turning in their local |B| "
+        f"((2 pi / 15) sigma |omega| B^2 (a^5 - b^5) each; largest: {largest(eddy, 'sigma')}) "
+        "over the designed torques"
+    )
+    if damping >= RESPONSE_FRACTION:
+        eddy_note += (
+            f"; it damps the motion within {periods:.2g} periods; negligible needs "
+            f"conductivities {damping / RESPONSE_FRACTION:.2g} times lower (insulating "
+            f"parts), or n above {n_eddy:.3g} 1/s"
+        )
+    if unknown_sigma:
+        eddy_note += "; not counted (no conductivity given): " + ", ".join(unknown_sigma)
+    induced_key, eddy_key = FIELD_RESPONSE_KEYS
+    return {
+        induced_key: _item(induced, "", _verdict(induced, RESPONSE_FRACTION), induced_note),
+        eddy_key: _item(damping, "", _verdict(damping, RESPONSE_FRACTION), eddy_note),
+    }
+
+
+def _item(value: float, unit: str, verdict: str, note: str) -> dict[str, Any]:
+    return {
+        "value": value if math.isfinite(value) else None,
+        "unit": unit,
+        "verdict": verdict,
+        "note": note,
+    }
 
 
 def _verdict(value: float, negligible_below: float) -> str:
@@ -39,9 +246,7 @@ def _verdict(value: float, negligible_below: float) -> str:
 def realism_budget(design: Any) -> dict[str, Any]:
     """The budget of :mod:`this module <chargedesign.physical.realism>` as a JSON-ready dict."""
     p = design.parameters
-    rate = 2.0 * max(
-        abs(p.n), abs(p.K), math.sqrt(abs(p.kappa)), math.sqrt(abs(p.lam)), math.sqrt(abs(p.rho))
-    )
+    rate = typical_rate(p)
     if rate == 0:
         return {"note": "the theorem's terms vanish: no typical motion to estimate"}
     positions, masses = design.all_masses()
@@ -76,14 +281,7 @@ def realism_budget(design: Any) -> dict[str, Any]:
     drag = 8 * math.pi * viscosity * envelope**3 * rate
     reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
 
-    def item(value: float, unit: str, verdict: str, note: str) -> dict[str, Any]:
-        return {
-            "value": value if math.isfinite(value) else None,
-            "unit": unit,
-            "verdict": verdict,
-            "note": note,
-        }
-
+    item = _item
     return {
         "typical_rate_1_per_s": rate,
         "period_s": period,
@@ -122,4 +320,5 @@ def realism_budget(design: Any) -> dict[str, Any]:
             f"laminar drag of {medium} on the enveloping sphere (Re = {reynolds:.3g}) over the "
             "designed torques",
         ),
+        **field_response(design),
     }

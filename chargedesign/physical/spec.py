@@ -7,6 +7,8 @@ Scene tables (docs/buildable.md)::
                         samples (surface points per carrier in the design)
     [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3)
     [ballast]           material = "tungsten" (or density)
+    (each of the three) susceptibility (SI volume), conductivity (S/m): override the
+                        material's values, which the realism budget uses
     [body]              carrier_radius (m; default a quarter of the candidate spacing)
     [fields.*]          max: the largest |B| (T) or |E| (V/m) the apparatus makes over the body
 
@@ -24,7 +26,9 @@ from chargedesign.physical.materials import (
     BALLAST_DENSITY,
     BREAKDOWN_V_PER_M,
     CARRIER_DENSITY,
+    CONDUCTIVITY,
     MAGNET_DATA,
+    SUSCEPTIBILITY,
     Material,
     Medium,
 )
@@ -37,11 +41,13 @@ DEFAULT_SHELL_THICKNESS = 1e-4
 #: surface sample points per carrier in the design (constraint generation adds the worst)
 DEFAULT_SURFACE_SAMPLES = 26
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
+#: how a part's material answers the applied field: magnetisation and eddy currents
+_RESPONSE_KEYS = ("susceptibility", "conductivity")
 _KEYS = {
     "medium": ("name", "breakdown", "safety"),
-    "carriers": ("material", "density", "shell_thickness", "samples"),
-    "magnets": ("material", "density", "magnetisation"),
-    "ballast": ("material", "density"),
+    "carriers": ("material", "density", "shell_thickness", "samples", *_RESPONSE_KEYS),
+    "magnets": ("material", "density", "magnetisation", *_RESPONSE_KEYS),
+    "ballast": ("material", "density", *_RESPONSE_KEYS),
 }
 
 
@@ -103,6 +109,22 @@ def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], d
     return name, known[name]
 
 
+def _response(table: Mapping[str, Any], where: str, name: str) -> dict[str, float | None]:
+    """The material's susceptibility and conductivity: the table's, else the named material's
+    (None for a custom material: the realism budget then says it was not estimated)."""
+    chi = SUSCEPTIBILITY.get(name)
+    if "susceptibility" in table:
+        chi = as_finite_float(table["susceptibility"], f"{where}.susceptibility")
+        if chi <= -1.0:
+            raise input_error(f"{where}.susceptibility", "a number > -1", chi)
+    sigma = CONDUCTIVITY.get(name)
+    if "conductivity" in table:
+        sigma = as_finite_float(table["conductivity"], f"{where}.conductivity")
+        if sigma < 0.0:
+            raise input_error(f"{where}.conductivity", "a number >= 0 (S/m)", sigma)
+    return {"susceptibility": chi, "conductivity": sigma}
+
+
 def medium_from_table(table: Mapping[str, Any]) -> Medium:
     """``[medium]``: a named medium or a breakdown field, and the safety factor."""
     _check_keys(table, "medium")
@@ -147,7 +169,13 @@ def spec_from_tables(
     samples = carriers.get("samples", DEFAULT_SURFACE_SAMPLES)
     if isinstance(samples, bool) or not isinstance(samples, int) or not 6 <= samples <= 2000:
         raise input_error("carriers.samples", "an integer in [6, 2000]", samples)
-    carrier = Material("carrier", name, density, shell_thickness=shell if shell > 0 else None)
+    carrier = Material(
+        "carrier",
+        name,
+        density,
+        shell_thickness=shell if shell > 0 else None,
+        **_response(carriers, "carriers", name),
+    )
     magnets = tables.get("magnets", {})
     _check_keys(magnets, "magnets")
     mname = magnets.get(
@@ -169,11 +197,13 @@ def spec_from_tables(
         m_mag = as_finite_float(magnets["magnetisation"], "magnets.magnetisation", positive=True)
     if "density" in magnets:
         m_rho = as_finite_float(magnets["density"], "magnets.density", positive=True)
-    magnet = Material("magnet", mname, m_rho, magnetisation=m_mag)
+    magnet = Material(
+        "magnet", mname, m_rho, magnetisation=m_mag, **_response(magnets, "magnets", mname)
+    )
     ballast_table = tables.get("ballast", {})
     _check_keys(ballast_table, "ballast")
     bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
-    ballast = Material("ballast", bname, bdensity)
+    ballast = Material("ballast", bname, bdensity, **_response(ballast_table, "ballast", bname))
     body = tables.get("body", {})
     radius = None
     if isinstance(body, Mapping) and "carrier_radius" in body:

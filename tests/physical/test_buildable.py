@@ -284,3 +284,11 @@ def test_the_embedded_default_is_buildable():
     assert check_limits(design).buildable
     assert check_design(design).passed
     assert design.extra["realism"]["v_over_c"]["verdict"] == "negligible"
+    # ... but the applied field acts on its tungsten and aluminium far more than the designed
+    # charges and magnets do (docs/buildable.md, "The applied field acts on every part")
+    realism = design.extra["realism"]
+    assert realism["induced_magnetisation_fraction"]["value"] > 1e10
+    assert realism["eddy_torque_fraction"]["value"] > 1e6
+    from chargedesign.report import render_report
+
+    assert "NOT realised as designed" in render_report(design)
