@@ -26,7 +26,9 @@ import numpy as np
 from chargedesign.design.physical import (
     Binding,
     PhysicalInfeasible,
+    PhysicalOutcome,
     PhysicalSetup,
+    build_design,
     design_at_rate,
 )
 from chargedesign.errors import InfeasibleError, SolverError
@@ -57,6 +59,10 @@ class FrontierResult(Result):
         What fails just above ``s_max``.
     s_necessary : float
         The charges' own-field upper bound on s.
+    field_response : dict
+        The applied field acting on the parts' materials of the body designed at ``s_max``
+        (:func:`chargedesign.physical.realism.field_response`): induced magnetisation and
+        eddy torques as fractions of the designed torques.
     """
 
     s_max: float
@@ -68,6 +74,7 @@ class FrontierResult(Result):
     seconds: float
     medium: str
     history: list[tuple[float, bool]] = field(default_factory=list)
+    field_response: dict[str, Any] = field(default_factory=dict)
 
     @property
     def n_max(self) -> float:
@@ -89,6 +96,7 @@ class FrontierResult(Result):
             "medium": self.medium,
             "evaluations": self.evaluations,
             "seconds": self.seconds,
+            "field_response": dict(self.field_response),
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -107,8 +115,18 @@ class FrontierResult(Result):
             f"frontier: s_max = {self.s_max:.4g} (n_max = {self.n_max:.4g} 1/s, period "
             f"2 pi / n_max = {period}) in {self.medium}\n"
             f"binding: {self.binding.text(self.medium)}\n"
-            f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n"
+            + "".join(
+                f"at n_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
+                f"torques ({item['verdict']})\n"
+                for key, item in self.field_response.items()
+            )
+            + f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n"
         )
+
+
+def _value_text(item: dict[str, Any]) -> str:
+    value = item.get("value")
+    return "inf" if value is None else f"{value:.3g}"
 
 
 def necessary_rate(setup: PhysicalSetup) -> float:
@@ -148,12 +166,18 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     return float(res.x[-1])
 
 
-def _feasible(setup: PhysicalSetup, s: float) -> tuple[bool, Binding | None]:
+def _feasible(setup: PhysicalSetup, s: float) -> tuple[PhysicalOutcome | None, Binding | None]:
     try:
-        design_at_rate(setup, s)
+        return design_at_rate(setup, s), None
     except PhysicalInfeasible as exc:
-        return False, exc.binding
-    return True, None
+        return None, exc.binding
+
+
+def _response_at(setup: PhysicalSetup, outcome: PhysicalOutcome | None) -> dict[str, Any]:
+    """The field response of the body designed at the frontier (empty when none)."""
+    from chargedesign.physical.realism import field_response
+
+    return {} if outcome is None else field_response(build_design(setup, outcome))
 
 
 def find_frontier(
@@ -174,8 +198,15 @@ def find_frontier(
     history: list[tuple[float, bool]] = []
     medium = setup.spec.medium.name
 
+    # the body at the highest feasible rate probed (its field response is reported)
+    best: dict[float, PhysicalOutcome] = {}
+
     def probe(s: float) -> tuple[bool, Binding | None]:
-        ok, binding = _feasible(setup, s)
+        outcome, binding = _feasible(setup, s)
+        ok = outcome is not None
+        if outcome is not None and all(s > known for known in best):
+            best.clear()
+            best[s] = outcome
         history.append((s, ok))
         if progress is not None:
             progress(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
@@ -259,6 +290,9 @@ def find_frontier(
                 break
             hi_binding = binding
     assert hi_binding is not None
+    outcome = best.get(lo)
+    if outcome is None:  # the feasible rate given by the caller was not probed here
+        outcome = _feasible(setup, lo)[0]
     return FrontierResult(
         s_max=lo,
         n=setup.params.n,
@@ -269,6 +303,7 @@ def find_frontier(
         seconds=time.perf_counter() - t0,
         medium=medium,
         history=history,
+        field_response=_response_at(setup, outcome),
     )
 
 

@@ -9,6 +9,12 @@ moments are about ``N a^2 eps0 E_safe L^2`` and ``C ~ rho L^5``, so
 
 :func:`scan_frontier` measures the exponents by least squares over the sweep and reports
 how far each point lies from the fitted law.
+
+At each frontier it also records how strongly the applied field acts on the parts' own
+materials (:func:`chargedesign.physical.realism.field_response`). The induced-magnetisation
+energy does not depend on the rate and the designed torques go as ``n^2``, so at the frontier
+it falls like ``1 / n_max^2 ~ L^2``; the eddy torque, ``~ n``, like ``1 / n_max ~ L``. The
+fitted size exponents give the size below which each would be negligible.
 """
 
 from __future__ import annotations
@@ -23,6 +29,7 @@ import numpy as np
 
 from chargedesign.design.frontier import frontier_from_scene
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
+from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
 from chargedesign.results import Result
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
@@ -41,6 +48,9 @@ class ScanResult(Result):
     worst_fit_error: float
     law: str
     failures: list[str] = field(default_factory=list)
+    #: per field-response item: its size exponent at the frontier and the size factor below
+    #: which it is negligible, per medium
+    response_laws: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -50,6 +60,7 @@ class ScanResult(Result):
             "worst_relative_fit_error": self.worst_fit_error,
             "law": self.law,
             "failures": self.failures,
+            "field_response_laws": self.response_laws,
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -72,6 +83,16 @@ class ScanResult(Result):
             )
         lines.append(f"law: {self.law}")
         lines.append(f"worst relative deviation from the fitted law: {self.worst_fit_error:.3g}")
+        for key, law in self.response_laws.items():
+            sizes = ", ".join(
+                f"{medium} f < {f:.3g}" for medium, f in law["negligible_below_size_factor"].items()
+            )
+            head = f"{key.replace('_', ' ')} at the frontier ~ L^{law['size_exponent']:.3g}"
+            lines.append(
+                f"{head}: negligible ({RESPONSE_FRACTION:g}) only for bodies {sizes} times this one"
+                if sizes
+                else f"{head}: it does not fall as the body shrinks"
+            )
         lines.extend(f"failed: {f}" for f in self.failures)
         return "\n".join(lines) + "\n"
 
@@ -171,6 +192,10 @@ def scan_frontier(
                 "binding_stage": result.binding.stage,
                 "binding": result.binding.text(medium),
                 "seconds": result.seconds,
+                **{
+                    key: _response_value(result.field_response.get(key))
+                    for key in FIELD_RESPONSE_KEYS
+                },
             }
         )
     exponents, worst, expected = _fit(rows)
@@ -178,7 +203,51 @@ def scan_frontier(
         "n_max ~ E_breakdown^{E:.3g} a1^{B:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
         "(breakdown-bound estimate: E^1 a1^1 L^-1, rho^-1 when the carriers' mass dominates)"
     ).format(**{k: v for k, v in exponents.items()})
-    return ScanResult(rows, exponents, expected, worst, law, failures)
+    return ScanResult(rows, exponents, expected, worst, law, failures, _response_laws(rows))
+
+
+def _response_value(item: dict[str, Any] | None) -> float:
+    if not item or item.get("value") is None:
+        return math.nan
+    return float(item["value"])
+
+
+def _response_laws(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Size exponent of each field-response fraction at the frontier (base field and carrier),
+    and per medium the size factor at which it would fall to ``RESPONSE_FRACTION``."""
+    if not rows:
+        return {}
+    base_a1 = min(r["a1"] for r in rows)
+    base_rho = min(r["carrier_density"] for r in rows)
+    laws: dict[str, dict[str, Any]] = {}
+    for key in FIELD_RESPONSE_KEYS:
+        sized = [
+            r
+            for r in rows
+            if r["a1"] == base_a1
+            and r["carrier_density"] == base_rho
+            and math.isfinite(r[key])
+            and r[key] > 0
+        ]
+        media = sorted({r["medium"] for r in sized})
+        if len({r["size_factor"] for r in sized}) < 2:
+            continue
+        # one slope in log size, one intercept per medium
+        X = np.array(
+            [[math.log(r["size_factor"])] + [float(r["medium"] == m) for m in media] for r in sized]
+        )
+        coef, *_ = np.linalg.lstsq(X, np.log([r[key] for r in sized]), rcond=None)
+        slope = float(coef[0])
+        below = (
+            {
+                m: math.exp((math.log(RESPONSE_FRACTION) - coef[1 + i]) / slope)
+                for i, m in enumerate(media)
+            }
+            if slope > 0
+            else {}  # it does not fall as the body shrinks
+        )
+        laws[key] = {"size_exponent": slope, "negligible_below_size_factor": below}
+    return laws
 
 
 def _fit(rows: list[dict[str, Any]]) -> tuple[dict[str, float], float, dict[str, float]]:

@@ -185,9 +185,14 @@ def test_an_insulating_or_unknown_material_is_said_not_hidden():
         assert "not counted" in response[key]["note"] and "ballast custom" in response[key]["note"]
 
 
-def test_every_part_set_is_counted_with_its_material():
+@pytest.fixture(scope="module")
+def small_design() -> Design:
+    return design_from_scene(load_scene(SMALL), frontier=False).design
+
+
+def test_every_part_set_is_counted_with_its_material(small_design):
     """Carriers (hollow), magnets with attached ballast, and ballast: one set each."""
-    design = design_from_scene(load_scene(SMALL), frontier=False).design
+    design = small_design
     parts = material_parts(design)
     roles = [p["role"] for p in parts]
     assert roles[0] == "carrier" and "ballast" in roles
@@ -234,3 +239,71 @@ def test_a_scene_can_give_its_own_susceptibility_and_conductivity():
     )
     ballast = setup.spec.ballast.to_dict()
     assert ballast["volume_susceptibility"] == 1e-6 and ballast["conductivity_S_per_m"] == 0.0
+
+
+def test_the_rate_a_builder_would_need_follows_from_the_scaling(small_design):
+    """Same parts, the motion s times faster (n, K x s; kappa x s^2): the induced energy is
+    unchanged and the eddy torque grows like s while the designed torques grow like s^2, so
+    the fractions fall like 1/s^2 and 1/s, and the rates the notes name make them 1e-3."""
+    import re
+
+    from chargedesign.physical.realism import RESPONSE_FRACTION
+
+    def faster(design: Design, s: float) -> Design:
+        data = design.to_dict()
+        p = data["parameters"]
+        for key in ("n", "K"):
+            p[key] *= s
+        for key in ("kappa", "lambda", "rho"):
+            p[key] *= s * s
+        return Design.from_dict(data)
+
+    base = field_response(small_design)
+    induced = base["induced_magnetisation_fraction"]
+    eddy = base["eddy_torque_fraction"]
+    scaled = field_response(faster(small_design, 10.0))
+    assert scaled["induced_magnetisation_fraction"]["value"] == pytest.approx(
+        induced["value"] / 100, rel=1e-12
+    )
+    assert scaled["eddy_torque_fraction"]["value"] == pytest.approx(eddy["value"] / 10, rel=1e-12)
+    for item, key in ((induced, "induced_magnetisation_fraction"), (eddy, "eddy_torque_fraction")):
+        needed = float(re.search(r"n above ([0-9.e+-]+) 1/s", item["note"]).group(1))
+        s = needed / small_design.parameters.n
+        assert field_response(faster(small_design, s))[key]["value"] == pytest.approx(
+            RESPONSE_FRACTION, rel=2e-3
+        )
+
+
+def test_the_frontier_reports_the_field_response_of_its_own_body():
+    from chargedesign.design.frontier import find_frontier
+    from chargedesign.design.physical import build_design, design_at_rate
+
+    setup = physical_setup_from_scene(load_scene(SMALL))
+    frontier = find_frontier(setup)
+    body = build_design(setup, design_at_rate(setup, frontier.s_max))
+    assert frontier.field_response == field_response(body)
+    assert frontier.to_dict()["field_response"] == frontier.field_response
+    assert "at n_max, induced magnetisation fraction" in str(frontier)
+
+
+def test_the_scan_fits_how_the_field_response_scales_with_size():
+    """Two sizes in one medium: the fitted exponent is the slope between them, exactly, and the
+    size named as negligible puts the fitted law at 1e-3."""
+    import json
+
+    from chargedesign.design.frontier_scan import scan_frontier
+    from chargedesign.physical.realism import RESPONSE_FRACTION
+
+    scan = scan_frontier(load_scene(SMALL), size_factors=(0.5, 1.0), media=("vacuum",))
+    json.dumps(scan.to_dict(), allow_nan=True)
+    sized = {r["size_factor"]: r for r in scan.rows if r["a1"] == 1.0 and r["carrier"] != "copper"}
+    assert set(sized) == {0.5, 1.0}
+    for key in FIELD_RESPONSE_KEYS:
+        slope = math.log(sized[1.0][key] / sized[0.5][key]) / math.log(2.0)
+        law = scan.response_laws[key]
+        assert law["size_exponent"] == pytest.approx(slope, rel=1e-9)
+        below = law["negligible_below_size_factor"]
+        if slope > 0:
+            assert sized[1.0][key] * below["vacuum"] ** slope == pytest.approx(RESPONSE_FRACTION)
+        else:
+            assert below == {} and "does not fall" in str(scan)
