@@ -89,7 +89,8 @@ class ScanResult(Result):
             )
             head = f"{key.replace('_', ' ')} at the frontier ~ L^{law['size_exponent']:.3g}"
             lines.append(
-                f"{head}: negligible ({RESPONSE_FRACTION:g}) only for bodies {sizes} times this one"
+                f"{head}: negligible ({RESPONSE_FRACTION:g}) only for bodies {sizes} times "
+                "this one (extrapolated along the fitted law)"
                 if sizes
                 else f"{head}: it does not fall as the body shrinks"
             )
