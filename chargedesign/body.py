@@ -172,6 +172,7 @@ _MATERIAL_KEYS = {
     "name": str,
     "density_kg_per_m3": float,
     "remanent_magnetisation_A_per_m": float,
+    "intrinsic_coercivity_A_per_m": float,
     "shell_thickness_m": float,
     "volume_susceptibility": float,
     "conductivity_S_per_m": float,

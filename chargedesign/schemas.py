@@ -76,6 +76,7 @@ def _materials() -> dict[str, Any]:
             "name": {"type": "string"},
             "remanent_magnetisation_A_per_m": _POSITIVE,
             "density_kg_per_m3": _POSITIVE,
+            "intrinsic_coercivity_A_per_m": _POSITIVE,
             "volume_susceptibility": {"type": "number", "exclusiveMinimum": -1},
             "conductivity_S_per_m": {"type": "number", "minimum": 0},
         },

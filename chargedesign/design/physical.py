@@ -109,6 +109,9 @@ class PhysicalSetup:
     e_grid_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: per-candidate objective costs of the sources designed robustly (others cost 1)
     costs: dict[str, np.ndarray] = field(default_factory=dict)
+    #: candidates where a magnet keeps its magnetisation: the largest |B| over its cell stays
+    #: below what the magnet material withstands (all True when its coercivity is unknown)
+    magnet_sites: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
     def cost(self, source: str) -> np.ndarray:
         """Objective cost of each candidate for ``source`` (ones unless robust)."""
@@ -203,6 +206,20 @@ def setup_physical(
         for source in systems
         if options.objective_for(source) == "robust"
     }
+    magnet_sites = np.ones(len(points), dtype=bool)
+    withstood = spec.magnet.field_withstood()
+    magnetic = tuple(conditions.fields.get("magnetic", ()))
+    if withstood is not None and magnetic:
+        reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
+        magnet_sites = reach <= withstood
+        if not np.any(magnet_sites) and np.any(systems["dipoles"][1] != 0):
+            raise InfeasibleError(
+                f"magnets.material: a {spec.magnet.name} magnet withstands {withstood:.3g} T "
+                "(its intrinsic coercivity less its own demagnetising field M/3), but the "
+                f"magnetic field reaches at least {float(np.min(reach)):.3g} T at every "
+                "candidate site as the body turns, and V needs magnets: use a higher-coercivity "
+                "grade (ndfeb-eh, smco) or a weaker field"
+            )
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
@@ -222,6 +239,7 @@ def setup_physical(
         e_grid=grid,
         e_grid_values=values,
         costs=costs,
+        magnet_sites=magnet_sites,
     )
 
 
@@ -499,6 +517,8 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
     objective_lp = float(np.sum(np.abs(q_lp)))
     q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
     sites = _support(q_full)
+    if not len(sites):
+        raise SolverError(f"charges: the solver returned no charges at rate s = {s:.3g}")
     q = q_full[sites]
     keep = np.abs(q) > 1e-12 * float(np.max(np.abs(q)))
     full = np.zeros(len(setup.points))
@@ -628,6 +648,9 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
     if len(bm):
         Ams, bms = _row_scaled(Am[:, sites], bm, mass_scale)
         constraints.append(Ams @ mass == bms)
+    blocked = np.flatnonzero(~setup.magnet_sites[sites])
+    if len(blocked):  # the field there would demagnetise a magnet
+        constraints.append(sigma[blocked, :] == 0)
     norms = cp.norm(sigma, 2, axis=1)
     constraints.append(mass >= (1 + 1e-6) * rho_m * sigma_scale / M / mass_scale * norms)
     constraints.append(
@@ -655,6 +678,10 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     import cvxpy as cp
 
     program = mass_program(setup, s, carrier_sites)
+    _, bd = setup.systems["dipoles"]
+    if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
+        # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
     try:
         program.problem.solve(solver=cp.CLARABEL)
     except cp.SolverError as exc:
@@ -789,10 +816,28 @@ def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
             f"{len(carrier_sites)} carriers leave free",
             "ballast cells",
         )
+    magnet = setup.spec.magnet
+    allowed = setup.magnet_sites[free]
+    if not np.all(allowed):
+        withstood = magnet.field_withstood() or 0.0
+        where = (
+            f"{int(np.sum(allowed))} of the {len(free)} free cells"
+            if np.any(allowed)
+            else "none of the free cells"
+        )
+        return Binding(
+            "magnets",
+            f"the magnets need more volume of {magnet.name} (M = {magnet.magnetisation:.3g} A/m) "
+            f"than {where} hold beside the ballast where the field stays below the "
+            f"{withstood:.3g} T a {magnet.name} magnet withstands (intrinsic coercivity less its "
+            "own demagnetising field); a higher-coercivity grade (ndfeb-eh, smco) or a weaker "
+            "field reaches further",
+            "magnets.material",
+        )
     return Binding(
         "magnets",
-        f"the magnets need more volume of {setup.spec.magnet.name} (M = "
-        f"{setup.spec.magnet.magnetisation:.3g} A/m) than the free cells hold beside the ballast",
+        f"the magnets need more volume of {magnet.name} (M = "
+        f"{magnet.magnetisation:.3g} A/m) than the free cells hold beside the ballast",
         "magnet cells",
     )
 

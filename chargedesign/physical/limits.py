@@ -269,6 +269,34 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
     return centres, radii
 
 
+def _demagnetised(design: Any, magnet: dict[str, Any], volumes: np.ndarray) -> list[str]:
+    """A magnet in a field beyond what its material withstands loses its magnetisation.
+
+    The coercivity is the written one, else the named material's (older files); unknown:
+    nothing is said. Each magnet is the sphere of its volume; the field is the largest |B|
+    over every orientation anywhere on it.
+    """
+    from chargedesign.physical.materials import MAGNET_COERCIVITY, demagnetisation_limit
+
+    coercivity = magnet.get("intrinsic_coercivity_A_per_m", MAGNET_COERCIVITY.get(magnet["name"]))
+    magnetic = design.field("magnetic")
+    if coercivity is None or not magnetic or not len(volumes):
+        return []
+    withstood = demagnetisation_limit(magnet["remanent_magnetisation_A_per_m"], coercivity)
+    reach = np.linalg.norm(design.dipole_positions, axis=1) + np.cbrt(3 * volumes / (4 * np.pi))
+    fields = field_magnitude_max(tuple(magnetic), reach)
+    over = np.flatnonzero(fields > withstood * (1 + ROUNDING_SLACK))
+    if not len(over):
+        return []
+    i = int(over[np.argmax(fields[over])])
+    return [
+        f"dipole {i}: the field reaches {fields[i]:.3g} T there, beyond the {withstood:.3g} T "
+        f"a {magnet['name']} magnet withstands (intrinsic coercivity {coercivity:.3g} A/m less "
+        f"its own demagnetising field M/3): it would be demagnetised as the body turns"
+        + (f" ({len(over)} magnets)" if len(over) > 1 else "")
+    ]
+
+
 def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsReport:
     """Recompute every physical limit of ``design`` from its elements (see the module doc).
 
@@ -323,6 +351,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         )
         if len(light):
             violations.append(f"dipole {light[0]}: lighter than its volume of magnet material")
+        violations += _demagnetised(design, magnet, vol)
     carrier = design.materials.get("carrier")
     if carrier is not None and len(radii):
         from chargedesign.physical.materials import Material

@@ -46,8 +46,18 @@ CARRIER_DENSITY = {
 #: magnet materials: (remanent magnetisation A/m, density kg/m^3)
 MAGNET_DATA = {
     "ndfeb": (1.0e6, 7500.0),
+    "ndfeb-eh": (1.0e6, 7500.0),
     "smco": (8.4e5, 8400.0),
     "ferrite": (3.2e5, 4900.0),
+}
+
+#: intrinsic coercivity Hcj of each magnet material at 20 C, A/m (the minimum of its grade):
+#: a reverse field inside the magnet beyond it demagnetises it for good
+MAGNET_COERCIVITY = {
+    "ndfeb": 9.55e5,
+    "ndfeb-eh": 2.39e6,
+    "smco": 1.59e6,
+    "ferrite": 2.4e5,
 }
 
 #: ballast materials: density, kg/m^3
@@ -73,6 +83,7 @@ SUSCEPTIBILITY = {
     "brass": -1.0e-5,
     "steel": 100.0,
     "ndfeb": 0.05,
+    "ndfeb-eh": 0.05,
     "smco": 0.03,
     "ferrite": 0.1,
 }
@@ -88,6 +99,7 @@ CONDUCTIVITY = {
     "brass": 1.6e7,
     "steel": 7.0e6,
     "ndfeb": 7.1e5,
+    "ndfeb-eh": 7.1e5,
     "smco": 1.2e6,
     "ferrite": 1.0e-4,
 }
@@ -105,9 +117,13 @@ SOURCES = {
     "and common alloys at 20 C",
     "ndfeb": "sintered NdFeB grade N42: remanence 1.28-1.32 T, M = Br / mu0 >= 1.0e6 A/m, "
     "density 7.4-7.6 g/cm^3 (manufacturers' data sheets, e.g. Arnold Magnetic Technologies)",
-    "smco": "Sm2Co17: remanence about 1.05 T (M = 8.4e5 A/m), density 8.4 g/cm^3",
+    "ndfeb-eh": "sintered NdFeB grade N42EH: remanence 1.28-1.32 T (M >= 1.0e6 A/m), "
+    "intrinsic coercivity Hcj >= 30 kOe (2.39 MA/m), density 7.5 g/cm^3 (manufacturers' data "
+    "sheets); N42 itself: Hcj >= 12 kOe (0.955 MA/m)",
+    "smco": "Sm2Co17: remanence about 1.05 T (M = 8.4e5 A/m), density 8.4 g/cm^3, Hcj >= 20 kOe "
+    "(1.59 MA/m; data sheets give 18-25 kOe by grade)",
     "ferrite": "hard ferrite (strontium) grade C8: remanence about 0.4 T (M = 3.2e5 A/m), "
-    "density 4.9 g/cm^3",
+    "density 4.9 g/cm^3, Hcj about 3.0-3.5 kOe (2.4e5 A/m used)",
     "susceptibility": "elements: CRC Handbook (97th ed.), 'Magnetic susceptibility of the "
     "elements and inorganic compounds', chi_mol in cgs (Al +16.5e-6, Ti +153e-6, Cu -5.46e-6, "
     "W +53e-6, Pb -23.0e-6 cm^3/mol) times 4 pi rho / M; Schenck, Med. Phys. 23, 815 (1996) "
@@ -166,6 +182,8 @@ class Material:
         Remanent magnetisation, A/m (magnets only).
     shell_thickness : float, optional
         Wall thickness of a hollow carrier sphere, m (None: solid).
+    coercivity : float, optional
+        Intrinsic coercivity Hcj, A/m (magnets only; None: unknown).
     susceptibility : float, optional
         SI volume susceptibility (None: unknown, for a custom material).
     conductivity : float, optional
@@ -177,6 +195,7 @@ class Material:
     density: float
     magnetisation: float | None = None
     shell_thickness: float | None = None
+    coercivity: float | None = None
     susceptibility: float | None = None
     conductivity: float | None = None
 
@@ -186,11 +205,24 @@ class Material:
             out["remanent_magnetisation_A_per_m"] = self.magnetisation
         if self.shell_thickness is not None:
             out["shell_thickness_m"] = self.shell_thickness
+        if self.coercivity is not None:
+            out["intrinsic_coercivity_A_per_m"] = self.coercivity
         if self.susceptibility is not None:
             out["volume_susceptibility"] = self.susceptibility
         if self.conductivity is not None:
             out["conductivity_S_per_m"] = self.conductivity
         return out
+
+    def field_withstood(self) -> float | None:
+        """The largest applied |B| (T) this magnet withstands in any direction, or None.
+
+        Inside a magnetised sphere its own field is ``-M / 3``; an applied field reversed
+        against the magnetisation adds to it. Below ``Hcj`` in total the magnet recovers:
+        ``mu0 (Hcj - M / 3)``. The body turns every way in the field, so any direction counts.
+        """
+        if self.coercivity is None or self.magnetisation is None:
+            return None
+        return demagnetisation_limit(self.magnetisation, self.coercivity)
 
     def sphere_mass(self, radius: float) -> float:
         """Mass of a sphere (or shell, with ``shell_thickness``) of this material, kg."""
@@ -200,3 +232,8 @@ class Material:
         else:
             inner = (radius - self.shell_thickness) ** 3
         return self.density * 4.0 / 3.0 * 3.141592653589793 * (outer - inner)
+
+
+def demagnetisation_limit(magnetisation: float, coercivity: float) -> float:
+    """``mu0 (Hcj - M / 3)``, T: the applied field a magnetised sphere withstands reversed."""
+    return MU_0 * (coercivity - magnetisation / 3.0)

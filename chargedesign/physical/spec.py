@@ -5,7 +5,8 @@ Scene tables (docs/buildable.md)::
     [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety
     [carriers]          material = "aluminium" (or density), shell_thickness (m; 0 = solid),
                         samples (surface points per carrier in the design)
-    [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3)
+    [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3),
+                        coercivity (intrinsic, A/m)
     [ballast]           material = "tungsten" (or density)
     (each of the three) susceptibility (SI volume), conductivity (S/m): override the
                         material's values, which the realism budget uses
@@ -27,6 +28,7 @@ from chargedesign.physical.materials import (
     BREAKDOWN_V_PER_M,
     CARRIER_DENSITY,
     CONDUCTIVITY,
+    MAGNET_COERCIVITY,
     MAGNET_DATA,
     SUSCEPTIBILITY,
     Material,
@@ -46,7 +48,7 @@ _RESPONSE_KEYS = ("susceptibility", "conductivity")
 _KEYS = {
     "medium": ("name", "breakdown", "safety"),
     "carriers": ("material", "density", "shell_thickness", "samples", *_RESPONSE_KEYS),
-    "magnets": ("material", "density", "magnetisation", *_RESPONSE_KEYS),
+    "magnets": ("material", "density", "magnetisation", "coercivity", *_RESPONSE_KEYS),
     "ballast": ("material", "density", *_RESPONSE_KEYS),
 }
 
@@ -197,8 +199,16 @@ def spec_from_tables(
         m_mag = as_finite_float(magnets["magnetisation"], "magnets.magnetisation", positive=True)
     if "density" in magnets:
         m_rho = as_finite_float(magnets["density"], "magnets.density", positive=True)
+    coercivity = MAGNET_COERCIVITY.get(mname)
+    if "coercivity" in magnets:
+        coercivity = as_finite_float(magnets["coercivity"], "magnets.coercivity", positive=True)
     magnet = Material(
-        "magnet", mname, m_rho, magnetisation=m_mag, **_response(magnets, "magnets", mname)
+        "magnet",
+        mname,
+        m_rho,
+        magnetisation=m_mag,
+        coercivity=coercivity,
+        **_response(magnets, "magnets", mname),
     )
     ballast_table = tables.get("ballast", {})
     _check_keys(ballast_table, "ballast")
