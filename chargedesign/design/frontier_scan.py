@@ -34,7 +34,9 @@ from chargedesign.results import Result
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")
-FIELD_FACTOR = 2.0
+#: the uniform field a1 of the field case, relative to the scene's (weaker: a stronger a1 puts
+#: the magnets beyond what they withstand)
+FIELD_FACTOR = 0.5
 DENSE_CARRIER = "copper"
 
 
@@ -143,7 +145,7 @@ def _variant(
         mag["legendre"] = coeffs
         if "max" in mag:
             # the gradient term grows with the body: the apparatus' limit grows with it
-            mag["max"] = mag["max"] * a1_factor * max(1.0, f)
+            mag["max"] = mag["max"] * max(1.0, a1_factor) * max(1.0, f)
     return data
 
 
@@ -177,11 +179,13 @@ def scan_frontier(
         try:
             result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))
         except Exception as exc:  # one failing point is recorded, the scan goes on
-            failures.append(f"size x{f:g} {medium}: {exc}")
+            failures.append(f"size x{f:g} {medium}, a1 x{a1f:g}, {carrier or base_carrier}: {exc}")
             continue
         name = carrier or base_carrier
         rows.append(
             {
+                # "size": the size x medium grid; "field" and "carrier": the one-off variations
+                "case": "field" if a1f != 1.0 else "carrier" if carrier else "size",
                 "size_factor": f,
                 "medium": medium,
                 "breakdown_V_per_m": BREAKDOWN_V_PER_M[medium],
@@ -216,20 +220,9 @@ def _response_value(item: dict[str, Any] | None) -> float:
 def _response_laws(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Size exponent of each field-response fraction at the frontier (base field and carrier),
     and per medium the size factor at which it would fall to ``RESPONSE_FRACTION``."""
-    if not rows:
-        return {}
-    base_a1 = min(r["a1"] for r in rows)
-    base_rho = min(r["carrier_density"] for r in rows)
     laws: dict[str, dict[str, Any]] = {}
     for key in FIELD_RESPONSE_KEYS:
-        sized = [
-            r
-            for r in rows
-            if r["a1"] == base_a1
-            and r["carrier_density"] == base_rho
-            and math.isfinite(r[key])
-            and r[key] > 0
-        ]
+        sized = [r for r in rows if r["case"] == "size" and math.isfinite(r[key]) and r[key] > 0]
         media = sorted({r["medium"] for r in sized})
         if len({r["size_factor"] for r in sized}) < 2:
             continue
@@ -269,8 +262,11 @@ def _fit(rows: list[dict[str, Any]]) -> tuple[dict[str, float], float, dict[str,
         ]
     )
     y = np.log([r["n_max"] for r in good])
-    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-    worst = float(np.max(np.abs(np.exp(X @ coef - y) - 1.0)))
+    # a quantity the scan did not vary (e.g. its field case failed) has no exponent
+    varied = [0] + [j for j in range(1, X.shape[1]) if np.ptp(X[:, j]) > 0]
+    coef = np.full(X.shape[1], math.nan)
+    coef[varied], *_ = np.linalg.lstsq(X[:, varied], y, rcond=None)
+    worst = float(np.max(np.abs(np.exp(X[:, varied] @ coef[varied] - y) - 1.0)))
     return dict(zip(("E", "B", "L", "rho"), map(float, coef[1:]), strict=True)), worst, expected
 
 
@@ -281,14 +277,11 @@ def plot_scan(scan: ScanResult, ax: Any = None) -> Any:
     if ax is None:
         _, ax = plt.subplots(figsize=(6, 4.2))
     media = sorted({r["medium"] for r in scan.rows})
-    base_a1 = min((r["a1"] for r in scan.rows), default=1.0)
     for medium in media:
         pts = sorted(
             (r["size_factor"], r["n_max"])
             for r in scan.rows
-            if r["medium"] == medium
-            and r["a1"] == base_a1
-            and r["carrier_density"] == min(x["carrier_density"] for x in scan.rows)
+            if r["medium"] == medium and r["case"] == "size"
         )
         if pts:
             x, y = zip(*pts, strict=True)
@@ -297,6 +290,52 @@ def plot_scan(scan: ScanResult, ax: Any = None) -> Any:
     ax.set_ylabel("n_max (1/s)")
     ax.set_title("frontier of the buildable")
     ax.legend(title="medium")
+    ax.grid(True, which="both", alpha=0.3)
+    return ax
+
+
+def plot_field_response(scan: ScanResult, ax: Any = None) -> Any:
+    """The field's action on the parts at the frontier against size, log-log, with the fitted
+    laws extended (dotted) to where each falls to the negligible fraction; returns the axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 4.2))
+    styles = {FIELD_RESPONSE_KEYS[0]: "-", FIELD_RESPONSE_KEYS[1]: "--"}
+    names = {FIELD_RESPONSE_KEYS[0]: "induced magnetisation", FIELD_RESPONSE_KEYS[1]: "eddy"}
+    colours: dict[str, Any] = {}
+    smallest = 0.5
+    for key in FIELD_RESPONSE_KEYS:
+        law = scan.response_laws.get(key)
+        for medium in sorted({r["medium"] for r in scan.rows}):
+            pts = sorted(
+                (r["size_factor"], r[key])
+                for r in scan.rows
+                if r["medium"] == medium
+                and r["case"] == "size"
+                and math.isfinite(r[key])
+                and r[key] > 0
+            )
+            if not pts:
+                continue
+            x, y = zip(*pts, strict=True)
+            (line,) = ax.loglog(
+                x, y, "o" + styles[key], color=colours.get(medium), label=f"{names[key]}, {medium}"
+            )
+            colours.setdefault(medium, line.get_color())
+            below = law["negligible_below_size_factor"].get(medium) if law else None
+            if law and below:
+                # the fitted law through this medium's smallest point, down to the crossing
+                xs = np.geomspace(below, x[0], 50)
+                fitted = y[0] * (xs / x[0]) ** law["size_exponent"]
+                ax.loglog(xs, fitted, ":", color=line.get_color())
+                smallest = min(smallest, below)
+    ax.axhline(RESPONSE_FRACTION, color="k", lw=0.8)
+    ax.text(smallest, RESPONSE_FRACTION * 2, f"negligible below {RESPONSE_FRACTION:g}", fontsize=8)
+    ax.set_xlabel("body size factor f (dotted: the fitted law extended)")
+    ax.set_ylabel("torque from the parts' materials / designed torques")
+    ax.set_title("the applied field acting on the parts, at n_max")
+    ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
     return ax
 
@@ -320,8 +359,9 @@ def write_scan(scan: ScanResult, out: Path) -> None:
         writer.writerows(scan.rows)
     with atomic_directory(out) as stage:
         write_text_atomic(stage / "frontier_scan.csv", buffer.getvalue())
-        fig, ax = plt.subplots(figsize=(6, 4.2))
-        plot_scan(scan, ax=ax)
+        fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.4))
+        plot_scan(scan, ax=left)
+        plot_field_response(scan, ax=right)
         fig.tight_layout()
         fig.savefig(stage / "frontier_scan.png", dpi=120)
         plt.close(fig)

@@ -212,13 +212,18 @@ def setup_physical(
     if withstood is not None and magnetic:
         reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
         magnet_sites = reach <= withstood
-        if not np.any(magnet_sites) and np.any(systems["dipoles"][1] != 0):
+        if not _moments_reachable(systems["dipoles"], magnet_sites):
+            where = (
+                f"at every candidate site but {int(np.sum(magnet_sites))}, and magnets there "
+                "cannot give the moments V needs"
+                if np.any(magnet_sites)
+                else "at every candidate site, and V needs magnets"
+            )
             raise InfeasibleError(
                 f"magnets.material: a {spec.magnet.name} magnet withstands {withstood:.3g} T "
                 "(its intrinsic coercivity less its own demagnetising field M/3), but the "
-                f"magnetic field reaches at least {float(np.min(reach)):.3g} T at every "
-                "candidate site as the body turns, and V needs magnets: use a higher-coercivity "
-                "grade (ndfeb-eh, smco) or a weaker field"
+                f"magnetic field exceeds that as the body turns {where}: use a "
+                "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
             )
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
@@ -241,6 +246,20 @@ def setup_physical(
         costs=costs,
         magnet_sites=magnet_sites,
     )
+
+
+def _moments_reachable(system: tuple[np.ndarray, np.ndarray], sites: np.ndarray) -> bool:
+    """Whether dipoles on ``sites`` alone can meet ``A sigma = b`` (any size, any rate: the
+    right-hand side only scales with the rate), by least squares on those columns."""
+    A, b = system
+    if not len(b) or not np.any(b != 0):
+        return True
+    idx = np.flatnonzero(sites)
+    if not len(idx):
+        return False
+    cols = (3 * idx[:, None] + np.arange(3)).reshape(-1)
+    x, *_ = np.linalg.lstsq(A[:, cols], b, rcond=None)
+    return bool(np.linalg.norm(A[:, cols] @ x - b) <= 1e-9 * np.linalg.norm(b))
 
 
 # ------------------------------------------------------------------------------ charges
