@@ -26,7 +26,7 @@ REALISABLE = ("mu", "V", "inertia")
 SOURCES = ("charges", "dipoles", "masses")
 
 #: effects a simulation may include (scene ``simulation.effects``)
-EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "theorem")
+EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "induced", "theorem")
 
 #: effects the forward check reports: effect -> (source, field it needs or None)
 CHECK_EFFECTS: dict[str, tuple[str, str | None]] = {

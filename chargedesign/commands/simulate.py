@@ -22,8 +22,7 @@ import sys
 import time
 
 from chargedesign.errors import ChargeDesignError
-
-EFFECT_NAMES = ("lorentz", "electric", "magnetization", "gravity", "theorem")
+from chargedesign.vocabulary import EFFECTS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,7 +37,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--effects",
         nargs="+",
-        choices=EFFECT_NAMES,
+        choices=EFFECTS,
         default=None,
         help="effects to compute (default: the scene's, else all with a source)",
     )

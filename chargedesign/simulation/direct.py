@@ -13,6 +13,7 @@ Forces and couples per element, in body axes (``grad Phi = Phi_Z gamma + 2 Phi_S
 ``B = -grad Phi_m``, ``Phi_Z`` at fixed ``S``)::
 
     electric, gravity   F = -w grad Phi              r x F = -w Phi_Z (r x gamma)
+    induced             U = -w |grad Phi|^2 / (2 mu0) = -w G(Z) / (2 mu0), D += U'(Z) r
     lorentz             F = q (omega x r) x B        r x F = -q (r . B) (r x omega)
     magnetization       F = grad(sigma . B) = -H sigma, couple sigma x B
                         r x F + sigma x B = -(Phi_Z sigma + e r) x gamma,
@@ -37,6 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from chargedesign.fields import zonal_z_coefficients
+from chargedesign.physical.materials import MU_0
 from chargedesign.validation import input_error
 
 if TYPE_CHECKING:
@@ -46,7 +48,7 @@ if TYPE_CHECKING:
 _D, _M, _T = slice(0, 3), slice(3, 6), slice(6, 15)
 
 #: the physical effects the kernel computes
-KERNEL_EFFECTS = ("lorentz", "electric", "magnetization", "gravity")
+KERNEL_EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "induced")
 
 
 class DirectKernel:
@@ -99,6 +101,18 @@ class DirectKernel:
                 r_dot_grad = _times_z(c["Z"])
                 r_dot_grad[:, :-1] += 2.0 * S[:, None] * c["S"]
                 add(pts, q[:, None] * r_dot_grad, rows(len(pts), _M, pts))
+            elif name == "induced":
+                # U = -w G(Z) / (2 mu0), G = |grad Phi|^2 = Phi_Z^2 + 4 Z Phi_Z Phi_S + 4 S Phi_S^2
+                # at the part's S: D = dU/dgamma = -w G'(Z) r / (2 mu0)
+                pts, w = body.part_positions, body.part_susceptances
+                S = np.einsum("ij,ij->i", pts, pts)
+                c = _coefficients(body, "magnetic", pts, 1)
+                pz, ps = c["Z"], c["S"]
+                g = _times_z(_product(pz, ps)) * 4.0
+                g = _add(g, _product(pz, pz))
+                g = _add(g, 4.0 * S[:, None] * _product(ps, ps))
+                slope = g[:, 1:] * np.arange(1, g.shape[1])
+                add(pts, -w[:, None] / (2.0 * MU_0) * slope, rows(len(pts), _D, pts))
             else:  # magnetization
                 pts, sig = body.dipole_positions, body.dipole_moments
                 c = _coefficients(body, "magnetic", pts, 2)
@@ -193,6 +207,22 @@ def _coefficients(body: Body, kind: str, pts: np.ndarray, order: int) -> dict[st
     field = body.field(kind)
     S = np.einsum("ij,ij->i", pts, pts)
     return zonal_z_coefficients(np.asarray(field.legendre, dtype=np.float64), S, order)
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row by row, the coefficients of the product of two polynomials in Z."""
+    out = np.zeros((a.shape[0], a.shape[1] + b.shape[1] - 1))
+    for i in range(a.shape[1]):
+        out[:, i : i + b.shape[1]] += a[:, i : i + 1] * b
+    return out
+
+
+def _add(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row by row, the coefficients of the sum of two polynomials in Z."""
+    width = max(a.shape[1], b.shape[1])
+    return np.pad(a, ((0, 0), (0, width - a.shape[1]))) + np.pad(
+        b, ((0, 0), (0, width - b.shape[1]))
+    )
 
 
 def _times_z(c: np.ndarray) -> np.ndarray:

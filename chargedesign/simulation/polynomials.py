@@ -95,6 +95,30 @@ def derivative_s(poly: ZSPoly) -> ZSPoly:
     return {(a, j - 1): j * c for (a, j), c in poly.items() if j > 0}
 
 
+def multiply(p: ZSPoly, q: ZSPoly) -> ZSPoly:
+    """The product of two polynomials in Z and S."""
+    out: ZSPoly = defaultdict(float)
+    for (a, j), c in p.items():
+        for (b, k), d in q.items():
+            out[(a + b, j + k)] += c * d
+    return dict(out)
+
+
+def gradient_squared(legendre: tuple[float, ...]) -> ZSPoly:
+    """``|grad Phi|^2 = Phi_Z^2 + 4 Z Phi_Z Phi_S + 4 S Phi_S^2`` as a polynomial in Z and S
+    (``grad Phi = Phi_Z e_Z + 2 Phi_S X``)."""
+    phi = field_polynomial(legendre)
+    pz, ps = derivative_z(phi), derivative_s(phi)
+    out: ZSPoly = defaultdict(float)
+    for key, c in multiply(pz, pz).items():
+        out[key] += c
+    for (a, j), c in multiply(pz, ps).items():
+        out[(a + 1, j)] += 4.0 * c
+    for (a, j), c in multiply(ps, ps).items():
+        out[(a, j + 1)] += 4.0 * c
+    return dict(out)
+
+
 def _compositions(order: int) -> list[tuple[int, int, int]]:
     out = []
     for i in range(order, -1, -1):

@@ -45,6 +45,7 @@ from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
+from chargedesign.physical.materials import MU_0
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
 from chargedesign.validation import input_error
@@ -60,7 +61,12 @@ EFFECT_SOURCES = {
     "electric": ("charges", "electric"),
     "magnetization": ("dipoles", "magnetic"),
     "gravity": ("masses", "gravity"),
+    # the parts' own materials magnetised by the field (energy -chi v |B|^2 / (2 mu0))
+    "induced": ("parts", "magnetic"),
 }
+#: effects computed only when a scene asks: for a real body they can be 1e11 times the
+#: designed torques, and a run meant for the designed motion would take as many more steps
+OPT_IN_EFFECTS = ("induced",)
 #: column layout of the reduced polynomial bank
 _V, _DV, _MU, _L = 0, slice(1, 4), slice(4, 7), 7
 
@@ -183,6 +189,16 @@ class Body(ElementSet):
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
     has_elements: bool | None = None
     notes: list[str] = field(default_factory=list)
+    #: centres of the parts whose material the magnetic field magnetises (m, body axes), and
+    #: their ``chi v`` (m^3): the ``induced`` effect (from a physical design's materials)
+    part_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    part_susceptances: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def source_count(self, source: str) -> int:
+        """Number of non-zero elements of a source; ``parts``: parts with a susceptibility."""
+        if source == "parts":
+            return int(np.count_nonzero(self.part_susceptances))
+        return super().source_count(source)
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -222,6 +238,14 @@ class Body(ElementSet):
             f"exact to degree {b['order']}"
             for i, b in enumerate(info)
         ]
+        part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
+        if getattr(design, "medium", None) is not None:
+            from chargedesign.physical.realism import material_parts
+
+            parts = [p for p in material_parts(design) if p["chi"] is not None]
+            if parts:
+                part_positions = np.concatenate([p["centres"] for p in parts])
+                part_susceptances = np.concatenate([p["chi"] * p["volumes"] for p in parts])
         return cls(
             parameters=design.parameters,
             fields=merged,
@@ -233,6 +257,8 @@ class Body(ElementSet):
             dipole_moments=points.dipole_moments,
             has_elements=True,
             notes=notes,
+            part_positions=part_positions,
+            part_susceptances=part_susceptances,
         )
 
     def field(self, kind: str) -> AxisymmetricField:
@@ -302,7 +328,8 @@ def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[st
     body : Body
     requested : sequence of str or None
         Effect names (see :data:`EFFECTS`); None: every physical effect that has a source
-        and a non-zero field for a body with elements, else ``theorem``.
+        and a non-zero field for a body with elements (but ``induced``, which is asked for
+        by name), else ``theorem``.
 
     Returns
     -------
@@ -311,9 +338,16 @@ def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[st
     notes : list of str
         One line per skipped effect, with the reason.
     """
+    notes: list[str] = []
     if requested is None:
-        names = list(EFFECT_SOURCES) if body.has_elements else ["theorem"]
+        names = [n for n in EFFECT_SOURCES if n not in OPT_IN_EFFECTS] if body.has_elements else []
+        names = names or ["theorem"]
         implicit = True
+        if body.source_count("parts"):
+            notes.append(
+                "induced: not computed unless simulation.effects asks for it (the parts' own "
+                "magnetisation; the design's realism budget gives its size)"
+            )
     else:
         if isinstance(requested, str) or not isinstance(requested, Sequence):
             raise input_error("simulation.effects", "a list of effect names", requested)
@@ -325,7 +359,6 @@ def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[st
                 names.append(name)
         implicit = False
     used: list[str] = []
-    notes: list[str] = []
     for name in EFFECTS:
         if name not in names:
             continue
@@ -665,6 +698,11 @@ def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
                 part = poly.contract(phi_z, pts, sig[:, axis])
                 poly.add_into(V, poly.times_gamma(part, axis))
             poly.add_into(V, poly.contract(phi_s, pts, np.einsum("ij,ij->i", sig, pts)), 2.0)
+        elif name == "induced":
+            # -sum chi v |B|^2 / (2 mu0)
+            b2 = poly.gradient_squared(body.fields.get("magnetic", ()))
+            pts, w = body.part_positions, body.part_susceptances
+            poly.add_into(V, poly.contract(b2, pts, w), -1.0 / (2.0 * MU_0))
         else:
             raise input_error("effects", "physical effects", name)
     return [V, *poly.gamma_gradient(V), *mu, L]
@@ -702,12 +740,16 @@ def direct_terms(
         pts, w = body.mass_positions, body.mass_values
     elif effect == "magnetization":
         pts, w = body.dipole_positions, np.zeros(len(body.dipole_positions))
+    elif effect == "induced":
+        pts, w = body.part_positions, body.part_susceptances
     else:
         raise input_error("effect", "a physical effect", effect)
     n = len(pts)
     X = np.einsum("mij,nj->mni", rotation, pts)  # (m, n, 3) space positions
     flat = X.reshape(-1, 3)
-    kind = {"lorentz": "magnetic", "magnetization": "magnetic"}.get(effect, effect)
+    kind = {"lorentz": "magnetic", "magnetization": "magnetic", "induced": "magnetic"}.get(
+        effect, effect
+    )
     fld = body.field(kind)
     grad = fld.gradient(flat).reshape(m, n, 3)
     if effect == "lorentz":
@@ -726,6 +768,12 @@ def direct_terms(
         momentum = zeros
         torque_space = _cross(X, force).sum(axis=1) + couple
         return np.einsum("mji,mj->mi", rotation, torque_space), energy, momentum
+    elif effect == "induced":
+        # U = -w |grad Phi|^2 / (2 mu0): F = -grad U = (w / mu0) H grad Phi
+        hess = fld.hessian(flat).reshape(m, n, 3, 3)
+        force = w[None, :, None] / MU_0 * np.einsum("mkij,mkj->mki", hess, grad)
+        energy = -np.einsum("mki,mki->mk", grad, grad) @ w / (2.0 * MU_0)
+        momentum = zeros
     else:
         force = -w[None, :, None] * grad
         energy = fld.potential(flat).reshape(m, n) @ w
