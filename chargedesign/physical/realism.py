@@ -65,8 +65,8 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
     Keys: ``role``, ``name``, ``centres`` (k, 3), ``volumes`` (k,) of material (written mass
     over density), ``outer`` and ``inner`` radii (k,) (a hollow carrier's wall; 0 for solid
     spheres), ``chi`` and ``sigma`` (as written, else the named material's; None when
-    unknown). A magnet's
-    attached ballast (its mass beyond the magnet's own) is a ballast sphere at its centre.
+    unknown). A magnet's attached ballast (its mass beyond the magnet's own) is a ballast
+    sphere at its centre.
     """
     materials = design.materials
     sets: list[dict[str, Any]] = []
