@@ -406,5 +406,12 @@ def _physical_sections(design: Design) -> list[str]:
             if isinstance(item, dict):
                 amount = item.get("value")
                 shown = f"{amount:.3g} {item.get('unit', '')}" if amount is not None else "inf"
-                lines.append(f"| {key} | {shown} | {item['verdict']} | {item['note']} |")
+                lines.append(
+                    f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |"
+                )
     return lines
+
+
+def _table_cell(text: str) -> str:
+    """Text for a Markdown table cell: its ``|`` (as in ``|B|``) would end the cell."""
+    return text.replace("|", "\\|")

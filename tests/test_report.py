@@ -1,5 +1,6 @@
 """The report's opening states what a builder must make: the parts' sizes."""
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -27,3 +28,26 @@ def test_lengths_read_in_the_unit_that_fits():
     assert format_length(1.2e-8) == "12 nm"
     assert format_length(2.0) == "2 m"
     assert format_length(float("inf")) == "any"
+
+
+def test_realism_notes_with_bars_stay_in_their_table_cell():
+    """`|B|` and `|omega|` in a note would split the Markdown row into more cells."""
+    from chargedesign.body import Design
+
+    design = Design.from_dict(
+        {
+            "format": "chargedesign.design/1",
+            "parameters": {"C": 1.0, "n": 0.7},
+            "masses": {"positions": [[0.1, 0.0, 0.0]], "values": [1.0]},
+            "realises": ["inertia"],
+            "medium": {"name": "vacuum", "breakdown_V_per_m": 1e7, "safety": 0.5},
+            "materials": {"ballast": {"name": "tungsten", "density_kg_per_m3": 19250.0}},
+        }
+    )
+    design.extra["realism"] = {
+        "x": {"value": 1.0, "unit": "", "verdict": "negligible", "note": "at |omega| in |B|"}
+    }
+    rows = [line for line in render_report(design).splitlines() if line.startswith("| x |")]
+    assert len(rows) == 1
+    cells = re.split(r"(?<!\\)\|", rows[0])[1:-1]
+    assert len(cells) == 4 and "\\|omega\\|" in cells[3]
