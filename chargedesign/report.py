@@ -21,6 +21,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
+from chargedesign.physical.materials import sphere_radius
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS
 
 #: vacuum permittivity, F/m (CODATA 2018)
@@ -344,7 +345,7 @@ def _part_size_lines(design: Design) -> list[str]:
         parts.append(f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across")
     density = (design.materials.get("ballast") or {}).get("density_kg_per_m3")
     if len(design.mass_values) and density:
-        ballast = np.cbrt(3.0 * design.mass_values / density / (4.0 * np.pi))
+        ballast = sphere_radius(design.mass_values / density)
         parts.append(f"{len(ballast)} ballast spheres of radius {span(ballast)}")
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
 

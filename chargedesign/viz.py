@@ -36,6 +36,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_path, deferred_signals
+from chargedesign.physical.materials import sphere_radius
 
 with deferred_signals():
     # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
@@ -387,7 +388,7 @@ def element_sizes(design: Design, size: float) -> dict[str, Any]:
     charges = np.where(real, radii, by_value)
     masses = _sphere_radii(design.mass_values, size) if len(design.mass_values) else np.zeros(0)
     volumes = design.magnet_volumes()
-    magnets = np.cbrt(3.0 * volumes / (4.0 * math.pi))
+    magnets = sphere_radius(volumes)
     if len(q) and np.all(real):
         charge_key = "carriers at their real radius"
     elif np.any(real):

@@ -186,11 +186,13 @@ def find_frontier(
     rtol: float = FRONTIER_RTOL,
     progress: Any = None,
     feasible_rate: float | None = None,
+    feasible_outcome: PhysicalOutcome | None = None,
 ) -> FrontierResult:
     """The largest time rate within every limit, and the limit that binds above it.
 
     ``feasible_rate``: a rate already known to be feasible (e.g. the one just designed),
-    which starts the bracket and saves the search for a feasible point. The bracket
+    which starts the bracket and saves the search for a feasible point; ``feasible_outcome``
+    its body, which then need not be designed again if the frontier ends there. The bracket
     ``[s_max, s_above]`` ends narrower than ``1 + rtol``.
     """
     t0 = time.perf_counter()
@@ -200,6 +202,8 @@ def find_frontier(
 
     # the body at the highest feasible rate probed (its field response is reported)
     best: dict[float, PhysicalOutcome] = {}
+    if feasible_rate is not None and feasible_outcome is not None:
+        best[feasible_rate] = feasible_outcome
 
     def probe(s: float) -> tuple[bool, Binding | None]:
         outcome, binding = _feasible(setup, s)

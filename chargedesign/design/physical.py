@@ -1030,13 +1030,13 @@ def design_physical(
     design.extra["buildability"] = limits.to_dict()
     from chargedesign.physical.realism import realism_budget
 
-    design.extra["realism"] = realism_budget(design)
+    design.extra["realism"] = realism_budget(design, limits.field_response)
     if frontier:
         from chargedesign.design.frontier import find_frontier
 
         if progress is not None:
             progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-        front = find_frontier(setup, rtol=0.05, feasible_rate=scale)
+        front = find_frontier(setup, rtol=0.05, feasible_rate=scale, feasible_outcome=outcome)
         design.extra["frontier"] = front.to_dict()
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,

@@ -22,7 +22,12 @@ from typing import Any
 import numpy as np
 
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.materials import COULOMB
+from chargedesign.physical.materials import (
+    COULOMB,
+    MAGNET_COERCIVITY,
+    demagnetisation_limit,
+    sphere_radius,
+)
 from chargedesign.results import Result
 
 #: relative slack for rounding in the comparisons (not a physical margin)
@@ -260,8 +265,8 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
     ballast_rho = materials["ballast"]["density_kg_per_m3"] if "ballast" in materials else np.inf
     vol = design.magnet_volumes()
     extra = np.maximum(design.magnet_masses() - magnet_rho * vol, 0.0) / ballast_rho
-    magnet_r = np.cbrt(3.0 * (vol + extra) / (4.0 * np.pi))
-    ballast_r = np.cbrt(3.0 * design.mass_values / ballast_rho / (4.0 * np.pi))
+    magnet_r = sphere_radius(vol + extra)
+    ballast_r = sphere_radius(design.mass_values / ballast_rho)
     centres = np.concatenate(
         [design.charge_positions, design.dipole_positions, design.mass_positions]
     )
@@ -276,14 +281,12 @@ def _demagnetised(design: Any, magnet: dict[str, Any], volumes: np.ndarray) -> l
     nothing is said. Each magnet is the sphere of its volume; the field is the largest |B|
     over every orientation anywhere on it.
     """
-    from chargedesign.physical.materials import MAGNET_COERCIVITY, demagnetisation_limit
-
     coercivity = magnet.get("intrinsic_coercivity_A_per_m", MAGNET_COERCIVITY.get(magnet["name"]))
     magnetic = design.field("magnetic")
     if coercivity is None or not magnetic or not len(volumes):
         return []
     withstood = demagnetisation_limit(magnet["remanent_magnetisation_A_per_m"], coercivity)
-    reach = np.linalg.norm(design.dipole_positions, axis=1) + np.cbrt(3 * volumes / (4 * np.pi))
+    reach = np.linalg.norm(design.dipole_positions, axis=1) + sphere_radius(volumes)
     fields = field_magnitude_max(tuple(magnetic), reach)
     over = np.flatnonzero(fields > withstood * (1 + ROUNDING_SLACK))
     if not len(over):

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 #: vacuum permittivity, F/m (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
 #: vacuum permeability, H/m (CODATA 2018)
@@ -232,6 +234,11 @@ class Material:
         else:
             inner = (radius - self.shell_thickness) ** 3
         return self.density * 4.0 / 3.0 * 3.141592653589793 * (outer - inner)
+
+
+def sphere_radius(volume: Any) -> Any:
+    """Radius of the sphere of this volume (m; arrays elementwise)."""
+    return np.cbrt(3.0 * np.asarray(volume, dtype=float) / (4.0 * np.pi))
 
 
 def demagnetisation_limit(magnetisation: float, coercivity: float) -> float:

@@ -37,6 +37,7 @@ from chargedesign.physical.materials import (
     LIGHT_SPEED,
     MU_0,
     SUSCEPTIBILITY,
+    sphere_radius,
 )
 
 G_EARTH = 9.80665
@@ -90,9 +91,6 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
             }
         )
 
-    def ball(volumes: np.ndarray) -> np.ndarray:
-        return np.cbrt(3.0 * volumes / (4.0 * np.pi))
-
     carrier = materials.get("carrier")
     if carrier is not None and len(design.charge_values):
         outer = design.carrier_radii()
@@ -104,14 +102,14 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
     ballast = materials.get("ballast")
     if magnet is not None and len(design.dipole_moments):
         volumes = design.magnet_volumes()
-        add("magnet", design.dipole_positions, volumes, ball(volumes), 0.0)
+        add("magnet", design.dipole_positions, volumes, sphere_radius(volumes), 0.0)
         if ballast is not None:
             extra = np.maximum(design.magnet_masses() - magnet["density_kg_per_m3"] * volumes, 0)
             extra = extra / ballast["density_kg_per_m3"]
-            add("ballast", design.dipole_positions, extra, ball(extra), 0.0)
+            add("ballast", design.dipole_positions, extra, sphere_radius(extra), 0.0)
     if ballast is not None and len(design.mass_values):
         volumes = design.mass_values / ballast["density_kg_per_m3"]
-        add("ballast", design.mass_positions, volumes, ball(volumes), 0.0)
+        add("ballast", design.mass_positions, volumes, sphere_radius(volumes), 0.0)
     return sets
 
 
@@ -243,8 +241,12 @@ def _verdict(value: float, negligible_below: float) -> str:
     return "negligible" if value < negligible_below else "NOT negligible"
 
 
-def realism_budget(design: Any) -> dict[str, Any]:
-    """The budget of :mod:`this module <chargedesign.physical.realism>` as a JSON-ready dict."""
+def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The budget of :mod:`this module <chargedesign.physical.realism>` as a JSON-ready dict.
+
+    ``response``: the :func:`field_response` of this design when already computed (the
+    limits check computes it too).
+    """
     p = design.parameters
     rate = typical_rate(p)
     if rate == 0:
@@ -320,5 +322,5 @@ def realism_budget(design: Any) -> dict[str, Any]:
             f"laminar drag of {medium} on the enveloping sphere (Re = {reynolds:.3g}) over the "
             "designed torques",
         ),
-        **field_response(design),
+        **(field_response(design) if response is None else response),
     }
