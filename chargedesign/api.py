@@ -187,12 +187,20 @@ def tolerance(design: Any, target: float | None = None, **options: Any) -> Any:
     return tolerance_report(design, DEFAULT_TARGET if target is None else target, **options)
 
 
-def sweep(spec: Any, out: Any, **options: Any) -> Any:
-    """Run a sweep file or spec into ``out`` (:func:`chargedesign.sweep.run_sweep`)."""
+def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> Any:
+    """Run a sweep file or spec into ``out`` (:func:`chargedesign.sweep.run_sweep`).
+
+    ``command``: a function of your own, ``(scene, point_dir, **options) -> dict``, run at
+    every point of a sweep file that names no command. A file itself names only built-in
+    commands: the tool never imports or calls code a file names.
+    """
+    from chargedesign.errors import InputError
     from chargedesign.sweep import SweepSpec, load_sweep, run_sweep
 
     if not isinstance(spec, SweepSpec):
-        spec = load_sweep(spec)
+        spec = load_sweep(spec, command=command)
+    elif command is not None:
+        raise InputError("command=: give it with a sweep file, not with a parsed SweepSpec")
     return run_sweep(spec, out, **options)
 
 

@@ -2,13 +2,16 @@
 
 Each function takes the point's :class:`~chargedesign.scene.Scene` and its own output folder
 (which it may fill with files), and returns a flat dict of main figures (numbers, strings,
-booleans) for ``summary.csv``. Any importable ``module:function`` with the same signature is
-accepted as a command too (e.g. a Poincaré atlas of your own).
+booleans) for ``summary.csv``.
+
+A sweep *file* names only these built-in commands: a file never makes the tool import or call
+code it names (a colleague's sweep file is data, not a program). A function of your own with
+the same signature runs only through the Python API, passed as an object:
+``cd.sweep("grid.toml", "out", command=my_function)``.
 """
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -164,28 +167,46 @@ COMMANDS: dict[str, CommandFunction] = {
 
 
 def check_command(command: Any, where: str) -> None:
-    """One-line error unless ``command`` is registered or looks like ``module:function``."""
+    """One-line error unless ``command`` names a built-in command.
+
+    Nothing is imported or called here: a name from a file is compared with the registry's
+    keys, and anything else (``module:function`` included) is refused.
+    """
     if isinstance(command, str) and command in COMMANDS:
         return
+    hint = ""
     if isinstance(command, str) and ":" in command:
-        module, _, name = command.partition(":")
-        if module and name.isidentifier():
-            return
+        hint = (
+            "; a sweep file never names code to run: pass your own function from Python, "
+            "cd.sweep(file, out, command=function)"
+        )
     raise InputError(
-        f"{where}: unknown command {command!r} (expected one of {', '.join(COMMANDS)}, "
-        "or module:function)"
+        f"{where}: unknown command {command!r} (expected one of {', '.join(COMMANDS)}){hint}"
     )
 
 
-def resolve(command: str) -> CommandFunction:
-    """The function of a command (imports ``module:function`` references)."""
-    if command in COMMANDS:
+def command_label(command: str | CommandFunction) -> str:
+    """How a command is named in sweep.json: its registry name, or ``module.qualname`` of a
+    function passed from Python (a label only: nothing ever imports it back)."""
+    if isinstance(command, str):
+        return command
+    module = getattr(command, "__module__", None) or "?"
+    name = getattr(command, "__qualname__", None) or type(command).__name__
+    return f"python:{module}.{name}"
+
+
+def resolve(command: str | CommandFunction) -> CommandFunction:
+    """The function of a command: a built-in's by name, or the callable itself.
+
+    Raises
+    ------
+    InputError
+        A string that is not a built-in command (it is never imported).
+    """
+    if callable(command):
+        return command
+    if isinstance(command, str) and command in COMMANDS:
         return COMMANDS[command]
-    module, _, name = command.partition(":")
-    try:
-        fn = getattr(importlib.import_module(module), name)
-    except (ImportError, AttributeError) as exc:
-        raise InputError(f"command {command!r}: cannot import it ({exc})") from None
-    if not callable(fn):
-        raise InputError(f"command {command!r}: not a function")
-    return fn
+    raise InputError(
+        f"command {command!r}: not a built-in command (expected one of {', '.join(COMMANDS)})"
+    )

@@ -31,6 +31,7 @@ from typing import Any
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.results import Result
+from chargedesign.sweep.registry import command_label, resolve
 from chargedesign.sweep.spec import SweepSpec, scene_with
 
 EXECUTORS = ("process", "dask", "serial")
@@ -47,20 +48,16 @@ Progress = Callable[[int, int, int], None]
 # ------------------------------------------------------------------------------ workers
 def warm_up() -> int:
     """Import the heavy packages once per worker (numpy, scipy, cvxpy, sympy, the core)."""
-    import importlib
+    import cvxpy  # noqa: F401
+    import scipy.integrate
+    import scipy.optimize  # noqa: F401
 
-    for name in (
-        "numpy",
-        "scipy.integrate",
-        "scipy.optimize",
-        "cvxpy",
-        "chargedesign.check",
-        "chargedesign.design",
-        "chargedesign.simulate",
-        "chargedesign.tolerance",
-        "chargedesign.model.evaluators",
-    ):
-        importlib.import_module(name)
+    import chargedesign.check
+    import chargedesign.design
+    import chargedesign.model.evaluators
+    import chargedesign.simulate
+    import chargedesign.tolerance  # noqa: F401
+
     # compile the theorem's evaluators (cached per process): a short run of the reduced model
     from chargedesign.params import Parameters
     from chargedesign.simulate import simulate
@@ -80,7 +77,7 @@ def worker_memory() -> float:
 class Chunk:
     """A task: some points of one sweep (everything a worker needs, picklable)."""
 
-    command: str
+    command: str | Callable[..., dict[str, Any]]
     scene_data: dict[str, Any]
     scene_source: str
     options: dict[str, Any]
@@ -97,7 +94,7 @@ def _one_line(exc: BaseException) -> str:
 
 
 def run_point(
-    command: str,
+    command: str | Callable[..., dict[str, Any]],
     scene_data: dict[str, Any],
     scene_source: str,
     options: dict[str, Any],
@@ -107,7 +104,6 @@ def run_point(
 ) -> dict[str, Any]:
     """Run one point and write its folder; never raises for a failing point."""
     from chargedesign.scene import scene_from_dict
-    from chargedesign.sweep.registry import resolve
 
     target = Path(out) / "points" / point_id
     t0 = time.perf_counter()
@@ -351,7 +347,7 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
     plan = {
         "format": "chargedesign.sweep/1",
         "source": spec.source,
-        "command": spec.command,
+        "command": command_label(spec.command),
         "scene": spec.scene_source,
         "points": [
             {"point": pid, "keys": keys} for pid, keys in zip(ids, spec.points, strict=True)
@@ -371,7 +367,7 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
                 f"{out}: holds an earlier sweep; pass --resume to complete it or choose "
                 "another --out"
             )
-        if not same or old.get("command") != spec.command:
+        if not same or old.get("command") != command_label(spec.command):
             raise InputError(
                 f"{out}: --resume: the sweep file's points or command differ from the sweep "
                 "started there"

@@ -2,7 +2,7 @@
 
 ```toml
 scene = "scene.toml"          # the base scene, relative to this file (omitted: the default)
-command = "design"            # design | check | simulate | frontier | tolerance | module:function
+command = "design"            # design | check | simulate | frontier | tolerance
 chunk = 0                     # points per task (0: automatic)
 [grid]                        # dotted scene keys -> lists of values; the product is swept
 "body.radius" = [0.01, 0.02, 0.04]
@@ -17,7 +17,9 @@ seed = 0
 ```
 
 Every key is checked against the scene before anything runs: one-line errors name the key
-(unknown scene key, empty grid, wrong command, bad random spec).
+(unknown scene key, empty grid, wrong command, bad random spec). ``command`` names a built-in
+command only; a file never names code to import or run. A function of your own is passed
+from Python: ``load_sweep(path, command=function)`` or ``cd.sweep(path, out, command=function)``.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import itertools
 import math
 import os
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -52,8 +54,9 @@ class SweepSpec:
     scene_data : dict
         The base scene's TOML mapping; ``scene_source`` its path (relative paths inside it,
         e.g. ``body.design``, resolve against it) or ``<default>``.
-    command : str
-        A registered command or ``module:function``.
+    command : str or callable
+        A built-in command's name (:data:`chargedesign.sweep.COMMANDS`), or a function
+        ``(scene, point_dir, **options) -> dict`` passed from Python (never from a file).
     keys : list of str
         The swept dotted keys, in order.
     points : list of dict
@@ -67,7 +70,7 @@ class SweepSpec:
     source: str
     scene_data: dict[str, Any]
     scene_source: str
-    command: str
+    command: str | Callable[..., dict[str, Any]]
     keys: list[str]
     points: list[dict[str, Any]]
     chunk: int = 0
@@ -168,9 +171,25 @@ def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source
 
 
 def sweep_from_dict(
-    data: Mapping[str, Any], source: str = "<dict>", base_dir: Path | None = None
+    data: Mapping[str, Any],
+    source: str = "<dict>",
+    base_dir: Path | None = None,
+    command: Callable[..., dict[str, Any]] | None = None,
 ) -> SweepSpec:
-    """Validate a sweep mapping (see the module docstring)."""
+    """Validate a sweep mapping (see the module docstring).
+
+    Parameters
+    ----------
+    data : mapping
+        The sweep file's tables.
+    source : str
+        Its name, for error messages.
+    base_dir : Path, optional
+        Where a relative ``scene`` path resolves.
+    command : callable, optional
+        A function of your own, ``(scene, point_dir, **options) -> dict``, run at every
+        point instead of a built-in command (the file must then not name one).
+    """
     from chargedesign.scene import default_scene_text
     from chargedesign.sweep.registry import check_command
 
@@ -181,10 +200,21 @@ def sweep_from_dict(
         raise InputError(
             f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
         )
-    if "command" not in data:
-        raise InputError(f"{source}: missing key 'command'")
-    command = data["command"]
-    check_command(command, f"{source}: command")
+    if command is not None:
+        if not callable(command):
+            raise InputError(f"command=: expected a function, got {type(command).__name__}")
+        if "command" in data:
+            raise InputError(
+                f"{source}: names command {data['command']!r} and a function was passed as "
+                "command=: give one of them"
+            )
+        chosen: str | Callable[..., dict[str, Any]] = command
+    else:
+        if "command" not in data:
+            raise InputError(f"{source}: missing key 'command'")
+        # compared with the registry's names only: nothing named by a file is imported
+        check_command(data["command"], f"{source}: command")
+        chosen = data["command"]
     scene_value = data.get("scene")
     if scene_value is None:
         scene_data = tomllib.loads(default_scene_text())
@@ -267,7 +297,7 @@ def sweep_from_dict(
         source=source,
         scene_data=scene_data,
         scene_source=scene_source,
-        command=command,
+        command=chosen,
         keys=keys + list(random_keys),
         points=points,
         chunk=chunk,
@@ -275,7 +305,12 @@ def sweep_from_dict(
     )
 
 
-def load_sweep(path: str | os.PathLike[str]) -> SweepSpec:
-    """Read and validate a sweep file (one-line errors naming the key)."""
+def load_sweep(
+    path: str | os.PathLike[str], command: Callable[..., dict[str, Any]] | None = None
+) -> SweepSpec:
+    """Read and validate a sweep file (one-line errors naming the key).
+
+    ``command``: a function of your own to run at every point (see :func:`sweep_from_dict`).
+    """
     p = Path(path)
-    return sweep_from_dict(read_toml_file(p, "sweep file"), str(p), p.parent)
+    return sweep_from_dict(read_toml_file(p, "sweep file"), str(p), p.parent, command=command)

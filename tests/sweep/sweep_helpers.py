@@ -1,4 +1,4 @@
-"""Sweep commands for the tests (importable as ``sweep_helpers:...`` by spawned workers)."""
+"""Sweep commands for the tests (passed as command= from Python; importable by spawned workers)."""
 
 from __future__ import annotations
 

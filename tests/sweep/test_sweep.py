@@ -20,6 +20,8 @@ if str(HERE) not in sys.path:  # sweep_helpers, for this process and the spawned
     sys.path.insert(0, str(HERE))
 EXAMPLES = HERE.parent.parent / "examples" / "sweeps"
 
+import sweep_helpers  # noqa: E402  (after the path above, for the spawned workers)
+
 
 def _rows(path: Path) -> list[dict[str, str]]:
     with open(path / "summary.csv", newline="") as fh:
@@ -90,14 +92,15 @@ def _helper_sweep(tmp_path: Path, values: list[float], **options: object) -> Pat
     )
     sweep = tmp_path / "helper.toml"
     sweep.write_text(
-        f'command = "sweep_helpers:square"\nchunk = 1\n[grid]\n"parameters.n" = {values}\n'
+        f'chunk = 1\n[grid]\n"parameters.n" = {values}\n'
         f"[options]\n{opts}"
     )
     return sweep
 
 
 def test_failing_point_records_one_line_and_the_sweep_goes_on(tmp_path):
-    result = run_sweep(load_sweep(_helper_sweep(tmp_path, [1.0, -1.0, 2.0])), tmp_path / "out")
+    spec = load_sweep(_helper_sweep(tmp_path, [1.0, -1.0, 2.0]), command=sweep_helpers.square)
+    result = run_sweep(spec, tmp_path / "out")
     assert result.failed == 1
     rows = {r["parameters.n"]: r for r in _rows(tmp_path / "out")}
     assert rows["-1.0"]["status"] == "failed"
@@ -113,7 +116,7 @@ def test_killed_worker_loses_no_finished_point_and_resume_completes(tmp_path):
     out = tmp_path / "out"
     handle = make_executor("process", workers=2)
     try:
-        first = run_sweep(load_sweep(sweep), out, executor=handle)
+        first = run_sweep(load_sweep(sweep, command=sweep_helpers.square), out, executor=handle)
     finally:
         handle.close()
     assert marker.exists()
@@ -124,10 +127,11 @@ def test_killed_worker_loses_no_finished_point_and_resume_completes(tmp_path):
         if r["status"] == "ok":  # every finished point is complete on disk
             assert (out / "points" / r["point"] / "note.txt").is_file()
     with pytest.raises(InputError, match="--resume"):
-        run_sweep(load_sweep(sweep), out)
+        run_sweep(load_sweep(sweep, command=sweep_helpers.square), out)
     handle = make_executor("process", workers=2)
     try:
-        second = run_sweep(load_sweep(sweep), out, executor=handle, resume=True)
+        spec = load_sweep(sweep, command=sweep_helpers.square)
+        second = run_sweep(spec, out, executor=handle, resume=True)
     finally:
         handle.close()
     assert second.skipped == len(done) and second.ran == len(values) - len(done)
@@ -219,16 +223,16 @@ def test_a_frontier_sweep_over_media_follows_their_breakdown_fields(tmp_path):
 def test_ctrl_c_keeps_finished_points_and_the_summary_lists_every_point(tmp_path):
     sweep = tmp_path / "ctrl_c.toml"
     sweep.write_text(
-        'command = "sweep_helpers:interrupt_at"\n[grid]\n"parameters.n" = [0.0, 1.0, 2.0, 3.0]\n'
+        '[grid]\n"parameters.n" = [0.0, 1.0, 2.0, 3.0]\n'
         f'[options]\nat = 2.0\nmarker = "{tmp_path / "marker"}"\n'
     )
     out = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
-        run_sweep(load_sweep(sweep), out)
+        run_sweep(load_sweep(sweep, command=sweep_helpers.interrupt_at), out)
     rows = _rows(out)
     assert [r["status"] for r in rows] == ["ok", "ok", "not run", "not run"]
     assert not list((out / "points").glob(".*"))  # no staging folder left behind
-    second = run_sweep(load_sweep(sweep), out, resume=True)
+    second = run_sweep(load_sweep(sweep, command=sweep_helpers.interrupt_at), out, resume=True)
     assert second.skipped == 2 and second.ran == 2
     assert [r["n2"] for r in _rows(out)] == ["0.0", "1.0", "4.0", "9.0"]
 
