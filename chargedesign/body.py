@@ -12,6 +12,7 @@ from typing import Any
 from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
+from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
@@ -47,6 +48,10 @@ class Design(ElementSet):
         ``continuous``; dicts in the design.json format are accepted and converted.
     extra : dict
         Further keys of design.json (provenance, residuals, timings, ...), kept verbatim.
+    larmor : LarmorReading or None
+        How the body realises the theorem's n (design.json ``larmor``): ``charges`` (the
+        paper's reading) or ``frame`` (the elements realise n = 0; the motion is read in axes
+        turning at ``larmor.rate``). None (a file without the key) means ``charges``.
     """
 
     parameters: Parameters
@@ -56,9 +61,12 @@ class Design(ElementSet):
     continuous: list[Any] = field(default_factory=list)
     medium: dict[str, Any] | None = None
     materials: dict[str, Any] = field(default_factory=dict)
+    larmor: LarmorReading | None = None
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.larmor is not None and not isinstance(self.larmor, LarmorReading):
+            self.larmor = LarmorReading.from_dict(self.larmor)
         self.medium = _medium(self.medium)
         self.materials = _materials(self.materials)
         for kind in self.fields:
@@ -75,6 +83,16 @@ class Design(ElementSet):
         self.continuous = [
             ContinuousBody.coerce(b, f"continuous[{i}]") for i, b in enumerate(self.continuous)
         ]
+
+    @property
+    def larmor_reading(self) -> str:
+        """``charges`` or ``frame`` (``charges`` when the file names none)."""
+        return self.larmor.reading if self.larmor is not None else "charges"
+
+    @property
+    def body_parameters(self) -> Parameters:
+        """The parameters the elements themselves realise (``n = 0`` for ``frame``)."""
+        return body_parameters(self.parameters, self.larmor)
 
     def field(self, kind: str) -> tuple[float, ...]:
         """Legendre coefficients of one field (empty tuple: no such field)."""
@@ -95,6 +113,8 @@ class Design(ElementSet):
             out["medium"] = dict(self.medium)
         if self.materials:
             out["materials"] = {k: dict(v) for k, v in self.materials.items()}
+        if self.larmor is not None:
+            out["larmor"] = self.larmor.to_dict()
         for key, value in self.extra.items():
             out.setdefault(key, value)
         return out
@@ -119,7 +139,7 @@ class Design(ElementSet):
             fields_out[kind] = spec["legendre"]
 
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
-        known |= {"continuous", "medium", "materials"}
+        known |= {"continuous", "medium", "materials", "larmor"}
         return cls(
             parameters=params,
             fields=fields_out,
@@ -129,6 +149,11 @@ class Design(ElementSet):
             continuous=data.get("continuous") or [],
             medium=data.get("medium"),
             materials=data.get("materials") or {},
+            larmor=(
+                LarmorReading.from_dict(data["larmor"], f"{where}.larmor")
+                if "larmor" in data
+                else None
+            ),
         )
 
     # ---- result protocol and pictures: thin methods over chargedesign.results / chargedesign.viz

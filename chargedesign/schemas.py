@@ -24,6 +24,7 @@ from chargedesign.vocabulary import (
     DESIGN_FORMAT,
     EFFECTS,
     FIELD_KINDS,
+    LARMOR_READINGS,
     OBJECTIVES,
     PARAMETER_NAMES,
     REALISABLE,
@@ -148,6 +149,18 @@ def design_schema() -> dict[str, Any]:
             "continuous": {"type": "array", "items": {"type": "object"}},
             "medium": _medium(),
             "materials": _materials(),
+            "larmor": {
+                "type": "object",
+                "description": "how the body realises n: charges (the paper's (p6) reading) "
+                "or frame (the elements realise n = 0; the motion is read in axes turning at "
+                "rate about Z); absent means charges",
+                "required": ["reading", "rate"],
+                "properties": {
+                    "reading": {"enum": list(LARMOR_READINGS)},
+                    "rate": {**_NUMBER, "description": "the theorem's n, 1/s"},
+                },
+                "additionalProperties": False,
+            },
         },
         "additionalProperties": True,
     }

@@ -69,6 +69,12 @@ SCENE_TABLES = (
     "ballast",
 )
 
+#: how the theorem's n is realised (scene ``[design] larmor``, design.json ``larmor.reading``):
+#: ``charges`` is the paper's (p6) reading (second moments of charge, a Larmor charge-to-mass
+#: ratio); ``frame`` realises the theorem with n = 0 and reads the motion in axes turning at n
+#: about Z (Larmor's theorem: n is a uniform rotation of axes)
+LARMOR_READINGS = ("charges", "frame")
+
 #: trajectory state names in output files (CONTRACT.md)
 STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
 
@@ -82,6 +88,7 @@ __all__ = [
     "EXPORT_FORMATS",
     "FIELD_KINDS",
     "FIELD_NAMES",
+    "LARMOR_READINGS",
     "OBJECTIVES",
     "PARAMETER_NAMES",
     "PRECISIONS",

@@ -34,7 +34,7 @@ def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
     return {"n": scene.parameters.n}
 
 
-def _spec(n_points: int, t_end: float, command: str = "simulate", chunk: int = 0) -> Any:
+def _spec(n_points: int, t_end: float, command: Any = "simulate", chunk: int = 0) -> Any:
     from chargedesign.sweep import SweepSpec
 
     data = {k: dict(v) for k, v in SCENE.items()}
@@ -162,7 +162,7 @@ def run(quick: bool = False) -> list[BenchTable]:
                     raise RuntimeError(f"sweep bench: {result.failed} failed, {result.lost} lost")
                 overhead = []
                 for chunk in (1, 0):
-                    spec = _spec(n_points, t_end, "chargedesign.bench.sweep:idle", chunk)
+                    spec = _spec(n_points, t_end, idle, chunk)
                     t0 = time.perf_counter()
                     run_sweep(spec, Path(tmp) / f"idle{chunk}", executor=handle)
                     overhead.append((time.perf_counter() - t0) * handle.workers / n_points * 1e3)

@@ -63,8 +63,10 @@ def _later_results(design):
     mc = monte_carlo(design, ErrorModel.parse(position="1um"), samples=8, t_end=1.0, levels=(1.0,))
     states = np.array([[1e-6 * k, 0.0, 0.0, 0.0, 0.6, 0.8] for k in (1, 2, 3)])
     with tempfile.TemporaryDirectory() as tmp:
-        idle = {"command": "chargedesign.bench.sweep:idle", "grid": {"parameters.n": [1e-6, 2e-6]}}
-        sweep = run_sweep(sweep_from_dict(idle), Path(tmp) / "s")
+        from chargedesign.bench.sweep import idle
+
+        grid = {"grid": {"parameters.n": [1e-6, 2e-6]}}
+        sweep = run_sweep(sweep_from_dict(grid, command=idle), Path(tmp) / "s")
     from chargedesign.design.frontier import frontier_from_scene
 
     small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
