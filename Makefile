@@ -22,7 +22,7 @@ test: $(VENV)/.test
 	$(PY) -m pytest -q
 
 lint: $(VENV)/.test
-	$(VENV)/bin/ruff check chargedesign tests examples
+	$(VENV)/bin/ruff check chargedesign tests examples tools
 	$(VENV)/bin/mypy
 
 bench: $(VENV)/.base
