@@ -781,7 +781,7 @@ def prepare(
     from chargedesign.simulation.axes import resolve_axes
 
     # refused before any work when turning axes are asked of a body without a frame reading
-    rate = resolve_axes(options.axes, getattr(setup.design, "larmor", None))
+    rate = resolve_axes(options.axes, setup.larmor)
     setup = dataclasses.replace(setup, options=options, body_info=body_info, axes_rate=rate)
     effects, skipped = select_effects(setup.body, options.effects)
     if any(e != "theorem" for e in effects):
@@ -802,12 +802,6 @@ def prepare(
             + ("" if float(level) == 0.0 else "; off I3 = 0 the theorem's I4 is no integral")
         )
     y0, start_level = initial_state(system, spec, setup.axes_rate)
-    if setup.axes_rate != 0.0:
-        notes.append(
-            f"axes: turning at n = {setup.axes_rate:g} 1/s about Z (frame body): its own motion "
-            "(n = 0) read as omega - n gamma, with I1, I3, I4 of the theorem with n; the "
-            "initial state is given in these axes"
-        )
     if system.singular:
         g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
         if abs(g3) <= options.gamma3_min:

@@ -420,7 +420,8 @@ def summary_text(s: dict[str, Any]) -> str:
     if s.get("axes") == "turning":
         lines.append(
             f"axes: turning at n = {s['axes_rate']:g} 1/s about Z (frame body: its own physics "
-            f"at n = 0, read as omega - n gamma; I1, I3, I4 with n = {s['axes_rate']:g})"
+            f"at n = 0, read as omega - n gamma; I1, I3, I4 with n = {s['axes_rate']:g}; "
+            "the start is given in these axes)"
         )
     elif larmor.get("reading") == "frame":
         lines.append(
