@@ -179,9 +179,11 @@ class SimulationSetup:
         JSON-ready description of the body (``designed_from_scene``, ``origin``, ``counts``;
         for a designed body also ``shape``, ``candidates``, ``residuals``, ``realises``,
         ``design_seconds``); the result's summary reports it as ``body``.
+    axes : str
+        The axes the motion is written in: ``inertial`` or ``turning`` (set by
+        :func:`prepare`).
     axes_rate : float
-        Rate (1/s) of the axes the motion is written in: 0 for inertial axes, the frame
-        reading's n for turning axes (set by :func:`prepare`).
+        Their rate about Z, 1/s: 0 for inertial axes, the frame reading's n for turning axes.
     """
 
     body: Body
@@ -193,6 +195,7 @@ class SimulationSetup:
     design: Any = None
     design_scene: Any = None
     body_info: dict[str, Any] = field(default_factory=dict)
+    axes: str = "inertial"
     axes_rate: float = 0.0
 
     @property
@@ -781,8 +784,10 @@ def prepare(
     from chargedesign.simulation.axes import resolve_axes
 
     # refused before any work when turning axes are asked of a body without a frame reading
-    rate = resolve_axes(options.axes, setup.larmor)
-    setup = dataclasses.replace(setup, options=options, body_info=body_info, axes_rate=rate)
+    axes, rate = resolve_axes(options.axes, setup.larmor)
+    setup = dataclasses.replace(
+        setup, options=options, body_info=body_info, axes=axes, axes_rate=rate
+    )
     effects, skipped = select_effects(setup.body, options.effects)
     if any(e != "theorem" for e in effects):
         check_inertia(setup.body, effects)
@@ -1074,7 +1079,7 @@ def _result(
         poincare_section=section,
         source=setup.source,
         body=dict(setup.body_info),
-        axes="turning" if rate else "inertial",
+        axes=setup.axes,
         axes_rate=rate,
         larmor=None if setup.larmor is None else setup.larmor.to_dict(),
     )

@@ -34,8 +34,8 @@ __all__ = [
 ]
 
 
-def resolve_axes(requested: str | None, larmor: Any, where: str = "axes") -> float:
-    """The rate of the axes a run is read in (1/s; 0 for inertial axes).
+def resolve_axes(requested: str | None, larmor: Any, where: str = "axes") -> tuple[str, float]:
+    """The axes a run is read in and their rate about Z (1/s; 0 for inertial axes).
 
     Parameters
     ----------
@@ -56,14 +56,15 @@ def resolve_axes(requested: str | None, larmor: Any, where: str = "axes") -> flo
     if axes not in SIMULATION_AXES:
         raise InputError(f"{where}: expected one of {', '.join(SIMULATION_AXES)}, got {axes!r}")
     if axes == "inertial":
-        return 0.0
+        return axes, 0.0
     if not frame:
         raise InputError(
             f"{where}: turning needs a frame body (design.json larmor.reading = 'frame'); this "
             "body has the charges reading (its charges realise n, or it is the reduced model): "
             "its motion is the theorem's in inertial axes"
         )
-    return float(larmor.rate)
+    # a frame body at rate 0 is read in turning axes that do not turn: the same numbers
+    return axes, float(larmor.rate)
 
 
 def _quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -213,3 +213,17 @@ def test_a_physical_frame_body_in_turning_axes() -> None:
     inertial = simulate(design, initial=start0, t_end=20.0 * period, samples=2001, axes="inertial")
     wrong = _i4(inertial.omega, inertial.gamma, turning.parameters)
     assert np.max(np.abs(wrong - wrong[0])) / abs(wrong[0]) > 0.05  # measured 0.19
+
+
+def test_a_frame_body_at_rate_zero_reads_the_same_in_both_axes(frame: Design) -> None:
+    still = dataclasses.replace(
+        frame,
+        parameters=dataclasses.replace(frame.parameters, n=0.0),
+        larmor=LarmorReading("frame", 0.0),
+    )
+    turning = simulate(still, initial=START, t_end=5.0, samples=51)
+    inertial = simulate(still, initial=START, t_end=5.0, samples=51, axes="inertial")
+    assert turning.axes == "turning" and turning.axes_rate == 0.0
+    assert inertial.axes == "inertial"
+    np.testing.assert_array_equal(turning.omega, inertial.omega)
+    np.testing.assert_array_equal(turning.integrals, inertial.integrals)
