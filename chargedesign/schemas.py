@@ -29,6 +29,7 @@ from chargedesign.vocabulary import (
     PARAMETER_NAMES,
     REALISABLE,
     SCENE_TABLES,
+    SIMULATION_AXES,
     SOURCES,
     STATE_NAMES,
 )
@@ -257,6 +258,7 @@ def scene_schema() -> dict[str, Any]:
                 "step": _POSITIVE,
                 "route": {"type": "string"},
                 "gamma3_min": _NONNEG,
+                "axes": {"enum": list(SIMULATION_AXES)},
             },
         ),
         "initial": _open(

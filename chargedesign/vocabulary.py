@@ -75,6 +75,11 @@ SCENE_TABLES = (
 #: about Z (Larmor's theorem: n is a uniform rotation of axes)
 LARMOR_READINGS = ("charges", "frame")
 
+#: the axes a simulation writes its motion in (``[simulation] axes``, ``simulate --axes``):
+#: ``turning`` (axes turning at the frame reading's rate about Z; the default for a ``frame``
+#: body) or ``inertial`` (the body's own physics, n = 0 for a frame body)
+SIMULATION_AXES = ("turning", "inertial")
+
 #: trajectory state names in output files (CONTRACT.md)
 STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
 
@@ -94,6 +99,7 @@ __all__ = [
     "PRECISIONS",
     "REALISABLE",
     "SCENE_TABLES",
+    "SIMULATION_AXES",
     "SOURCES",
     "STATE_NAMES",
 ]

@@ -182,6 +182,9 @@ class CheckReport(Result):
     precision: str = "double"
     #: a physical body's limits, recomputed from its elements (None for point elements)
     limits: Any = None
+    #: the design's Larmor reading: ``{"reading", "rate", "checked_n"}`` (None: no ``larmor``
+    #: key, the charges reading); ``checked_n`` is the n of the theorem compared with
+    larmor: dict[str, Any] | None = None
 
     @property
     def buildable(self) -> bool | None:
@@ -230,6 +233,8 @@ class CheckReport(Result):
         out["buildable"] = self.buildable
         if self.limits is not None:
             out["limits"] = self.limits.to_dict()
+        if self.larmor is not None:
+            out["larmor"] = dict(self.larmor)
         return out
 
     # result protocol (chargedesign.results): text, compact repr, notebook table
@@ -241,6 +246,8 @@ class CheckReport(Result):
                 out[f"{name}_rel_err"] = q.rel_err
         out["precision"] = self.precision
         out["n_orientations"] = self.n_orientations
+        if self.larmor is not None:
+            out["larmor"] = self.larmor["reading"]
         if self.buildable is not None:
             out["buildable"] = self.buildable
         if self.failures:
@@ -263,6 +270,13 @@ def summary_lines(report: CheckReport) -> list[str]:
     lines = [
         f"check: {report.n_orientations} orientations, {report.n_pairs} element-orientation "
         f"pairs, tol {report.tol:g}, evaluated in {report.precision}",
+    ]
+    if report.larmor is not None:
+        lines.append(
+            f"larmor reading: {report.larmor['reading']} (rate {report.larmor['rate']:g} 1/s); "
+            f"compared with the theorem at n = {report.larmor['checked_n']:g}"
+        )
+    lines += [
         f"{'quantity':<20} {'rel_err':>10} {'floor':>8} {'cancel':>8}  {'status':<10} worst gamma",
     ]
     status = {"info": "info", "pass": "PASS", "fail": "FAIL", "unverifiable": "UNVERIFIED"}

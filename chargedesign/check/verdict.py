@@ -274,6 +274,9 @@ def check_design(
     Returns
     -------
     CheckReport
+        The reference is the theorem with the body's own parameters
+        (:attr:`~chargedesign.body.Design.body_parameters`): n = 0 for a ``frame`` reading
+        (``design.larmor``), whose n is the rate of the turning axes, not a field effect.
         A claimed quantity passes when its error is within ``tol``; it is ``unverifiable``
         (and fails) when the rounding floor of the evaluation exceeds ``tol``. A physical
         body (with ``medium``) also has its limits recomputed from its elements
@@ -304,7 +307,8 @@ def check_design(
     elements, degrees = collect_elements(design, quadrature_order)
     fields = {k: design.field(k) for k in FIELD_NAMES}
     sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
-    params = design.parameters
+    # a frame body realises the theorem with n = 0 (its n is the rate of the turning axes)
+    params = design.body_parameters
     ref = theorem_reference(params, gammas)
     claimed = set(design.realises)
     notes: list[str] = []
@@ -437,6 +441,19 @@ def check_design(
         )
     if not claimed:
         notes.append("the design claims nothing (realises is empty): all results informational")
+    larmor = None
+    if design.larmor is not None:
+        larmor = {
+            "reading": design.larmor.reading,
+            "rate": design.larmor.rate,
+            "checked_n": params.n,
+        }
+        if design.larmor.is_frame:
+            notes.append(
+                f"frame reading: elements checked against the theorem with n = 0; "
+                f"n = {design.larmor.rate:g} 1/s is the rate of the turning axes (the motion "
+                "read in them is the theorem's with n)"
+            )
     n_pairs = len(gammas) * (
         len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
     )
@@ -459,6 +476,7 @@ def check_design(
         notes=notes,
         precision=used_precision,
         limits=limits,
+        larmor=larmor,
     )
 
 

@@ -22,7 +22,7 @@ import sys
 import time
 
 from chargedesign.errors import ChargeDesignError
-from chargedesign.vocabulary import EFFECTS
+from chargedesign.vocabulary import EFFECTS, SIMULATION_AXES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -71,6 +71,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--fli", action="store_true", help="with --atlas: the fast Lyapunov indicator map"
+    )
+    parser.add_argument(
+        "--axes",
+        default=None,
+        metavar="AXES",
+        help="axes the motion is written in: turning (default for a frame body: its own "
+        "motion read in axes turning at its larmor.rate about Z, I4 with that n) or inertial "
+        "(as integrated, n = 0); a body without a frame reading has only inertial",
     )
     parser.add_argument("--rtol", type=float, default=None)
     parser.add_argument("--atol", type=float, default=None)
@@ -134,6 +142,10 @@ def run(args: argparse.Namespace) -> int:
         raise ChargeDesignError(f"--t-end: expected a duration > 0, got {args.t_end}")
     if args.off_level is not None and not math.isfinite(args.off_level):
         raise ChargeDesignError(f"--off-level: expected a finite I3 in J s, got {args.off_level}")
+    if args.axes is not None and args.axes not in SIMULATION_AXES:
+        raise ChargeDesignError(
+            f"--axes: expected one of {', '.join(SIMULATION_AXES)}, got {args.axes!r}"
+        )
     show_bar = sys.stderr.isatty() if args.progress is None else args.progress
     bar = _ProgressBar() if show_bar else None
     setup = setup_from_source(args.source)
@@ -162,6 +174,7 @@ def run(args: argparse.Namespace) -> int:
             level=args.off_level,
             tol=args.tol,
             monitors=args.monitors,
+            axes=args.axes,
             progress=bar,
             design_progress=design_progress,
         )
@@ -218,6 +231,7 @@ def _options(args: argparse.Namespace) -> dict:
         "route": args.route,
         "tol": args.tol,
         "monitors": args.monitors,
+        "axes": args.axes,
     }
 
 

@@ -1,8 +1,10 @@
 """The verification of the theorem as one result: the exact certificate in the paper's four
 cases and the audit of the printed formulas (what ``chargedesign verify`` prints).
 
-``verify().holds`` is True when the certificate holds in every case; ``to_dict()`` gives the
-keys of ``chargedesign verify --json``.
+``verify().holds`` is True when the certificate holds in every case and the Larmor
+certificate holds (:mod:`chargedesign.model.larmor`: the n-system is the n = 0 system in axes
+turning at n about Z); ``to_dict()`` gives the keys of ``chargedesign verify --json``, the
+Larmor certificate under ``larmor``.
 """
 
 from __future__ import annotations
@@ -20,8 +22,10 @@ def collect() -> dict[str, object]:
     """Everything ``verify`` reports as a JSON-ready mapping, contract keys first."""
     from chargedesign.model.audit import audit_printed
     from chargedesign.model.certificate import certify, counterexample
+    from chargedesign.model.larmor import certify_larmor
 
     results = [certify(case) for case in CERTIFICATE_CASES]
+    larmor = certify_larmor()
     start = time.perf_counter()
     entries = audit_printed()
     audit_seconds = time.perf_counter() - start
@@ -30,6 +34,7 @@ def collect() -> dict[str, object]:
         "printed": [entry.to_dict() for entry in entries],
         "certificate_checks": {res.case: res.checks for res in results},
         "counterexample": counterexample(),
+        "larmor": larmor.to_dict(),
         "seconds": {
             "certificate": {res.case: res.seconds for res in results},
             "audit": audit_seconds,
@@ -59,6 +64,11 @@ def format_report(report: dict[str, object]) -> str:
         failed = [name for name, ok in checks[case].items() if not ok]
         if failed:
             lines.append("    failed: " + ", ".join(failed))
+    larmor = report.get("larmor")
+    if isinstance(larmor, dict):
+        from chargedesign.model.larmor import format_larmor
+
+        lines += ["", *format_larmor(larmor)]
     lines += ["", "Printed formulas: printed - derived on |gamma| = 1", ""]
     printed = report["printed"]
     assert isinstance(printed, list)
@@ -93,15 +103,22 @@ class VerificationReport(Result):
     ----------
     data : dict
         ``certificate`` (case -> holds), ``printed`` (one entry per printed formula),
-        ``certificate_checks``, ``counterexample``, ``seconds``.
+        ``certificate_checks``, ``counterexample``, ``larmor`` (the Larmor certificate,
+        :meth:`chargedesign.model.larmor.LarmorCertificate.to_dict`), ``seconds``.
     """
 
     data: dict[str, Any]
 
     @property
+    def larmor(self) -> dict[str, Any] | None:
+        """The Larmor certificate (``holds``, ``checks``, ``identities``, ...), if run."""
+        return self.data.get("larmor")
+
+    @property
     def holds(self) -> bool:
-        """True when the certificate holds in every case."""
-        return all(self.data["certificate"].values())
+        """True when the certificate holds in every case and the Larmor certificate holds."""
+        larmor = self.larmor
+        return all(self.data["certificate"].values()) and (larmor is None or larmor["holds"])
 
     def to_dict(self) -> dict[str, Any]:
         return dict(self.data)
@@ -111,6 +128,7 @@ class VerificationReport(Result):
         return {
             "holds": self.holds,
             **{f"certificate_{k}": v for k, v in self.data["certificate"].items()},
+            "larmor": None if self.larmor is None else self.larmor["holds"],
             "printed_agree": sum(bool(e["agrees"]) for e in printed),
             "printed_total": len(printed),
         }

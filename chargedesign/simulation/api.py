@@ -31,6 +31,8 @@ A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the
     samples = 2001              # output samples
     route = "reduced"           # reduced | direct (force route for a designed body)
     gamma3_min = 0.01           # singular-plane event threshold (lambda or rho != 0)
+    axes = "turning"            # turning | inertial: the axes the motion is written in
+                                # (default turning for a frame body, inertial otherwise)
 
     [output]
     dir = "out/simulate"
@@ -39,6 +41,11 @@ A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the
     poincare = false            # record a section and draw poincare.png
     poincare_section = "gamma1" # upward zero crossings of this state
     poincare_axes = ["gamma2", "q"]
+
+A ``frame`` body (design.json ``larmor.reading = "frame"``) is integrated with its own physics
+(n = 0) and, by default, written in axes turning at ``larmor.rate`` about Z, where it is the
+theorem's motion with n (:mod:`chargedesign.simulation.axes`); ``axes = "inertial"`` writes it
+as integrated. Other bodies have only the inertial reading.
 
 Fields: the design's, each kind replaced by the scene's ``[fields.<kind>]`` when given.
 Without a body only the ``theorem`` effect has a source.
@@ -84,6 +91,7 @@ from chargedesign.simulation.system import (
     select_effects,
 )
 from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.vocabulary import SIMULATION_AXES
 
 SIMULATION_KEYS = (
     "t_end",
@@ -98,6 +106,7 @@ SIMULATION_KEYS = (
     "gamma3_min",
     "tol",
     "monitors",
+    "axes",
 )
 INITIAL_KEYS = ("omega", "gamma", "level", "p", "q", "precession", "states", "file")
 OUTPUT_KEYS = (
@@ -132,6 +141,8 @@ class SimulationOptions:
     tol: float | None = None
     #: monitors asked for (names of :data:`.monitors.MONITORS` or callables)
     monitors: list[Any] | None = None
+    #: axes the motion is written in (None: turning for a frame body, else inertial)
+    axes: str | None = None
 
 
 @dataclass
@@ -168,6 +179,11 @@ class SimulationSetup:
         JSON-ready description of the body (``designed_from_scene``, ``origin``, ``counts``;
         for a designed body also ``shape``, ``candidates``, ``residuals``, ``realises``,
         ``design_seconds``); the result's summary reports it as ``body``.
+    axes : str
+        The axes the motion is written in: ``inertial`` or ``turning`` (set by
+        :func:`prepare`).
+    axes_rate : float
+        Their rate about Z, 1/s: 0 for inertial axes, the frame reading's n for turning axes.
     """
 
     body: Body
@@ -179,6 +195,13 @@ class SimulationSetup:
     design: Any = None
     design_scene: Any = None
     body_info: dict[str, Any] = field(default_factory=dict)
+    axes: str = "inertial"
+    axes_rate: float = 0.0
+
+    @property
+    def larmor(self) -> Any:
+        """The simulated design's Larmor reading (None: no design or no ``larmor`` key)."""
+        return getattr(self.design, "larmor", None)
 
     def __repr__(self) -> str:
         from chargedesign.results import compact_repr
@@ -244,6 +267,8 @@ def parse_simulation_options(
         opts.effects = list(effects)
     if "monitors" in table and table["monitors"] is not None:
         opts.monitors = monitors_mod.parse_monitors(table["monitors"], f"{where}.monitors")
+    if "axes" in table and table["axes"] is not None:
+        opts.axes = _choice(table["axes"], f"{where}.axes", SIMULATION_AXES)
     return opts
 
 
@@ -645,11 +670,16 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
 
 
 # --------------------------------------------------------------------------- running
-def initial_state(system: RigidBodySystem, initial: Any) -> tuple[np.ndarray, float | None]:
+def initial_state(
+    system: RigidBodySystem, initial: Any, rate: float = 0.0
+) -> tuple[np.ndarray, float | None]:
     """The 7-state ``(p, q, r, w, x, y, z)`` from an initial spec, and the level if any.
 
     ``initial`` is a mapping as returned by :func:`parse_initial` (or a raw ``[initial]``
-    mapping), or ``(p, q, r, gamma1, gamma2, gamma3)``.
+    mapping), or ``(p, q, r, gamma1, gamma2, gamma3)``. With ``rate = n != 0`` the spec's
+    angular velocity (``omega``, or ``p`` and ``q``) is read in axes turning at n about Z and
+    the returned state is the body's own (``omega + n gamma``; the level of I3 is the same in
+    both readings, so r is solved from it in the body's own system).
     """
     if isinstance(initial, Mapping) and "states" in initial:
         initial = np.asarray(initial["states"], dtype=float)[0]  # the first of a set
@@ -662,11 +692,12 @@ def initial_state(system: RigidBodySystem, initial: Any) -> tuple[np.ndarray, fl
     R0 = attitude_from_gamma(gamma, spec.get("precession", 0.0))
     quat = rotation_quaternion(R0)
     level = spec.get("level")
+    g = quaternion_gamma(quat[None])[0]
     if level is not None:
-        r = system.solve_r(quaternion_gamma(quat[None])[0], spec["p"], spec["q"], level)
-        omega = np.array([spec["p"], spec["q"], r])
+        p0, q0 = spec["p"] + rate * g[0], spec["q"] + rate * g[1]
+        omega = np.array([p0, q0, system.solve_r(g, p0, q0, level)])
     else:
-        omega = np.asarray(spec["omega"], dtype=float)
+        omega = np.asarray(spec["omega"], dtype=float) + rate * g
     return np.concatenate([omega, quat]), level
 
 
@@ -750,7 +781,13 @@ def prepare(
                 f"body: the [body] region (shape = {shape!r}) was not designed; the theorem "
                 "effect is the reduced model (its V and mu), no elements"
             )
-    setup = dataclasses.replace(setup, options=options, body_info=body_info)
+    from chargedesign.simulation.axes import resolve_axes
+
+    # refused before any work when turning axes are asked of a body without a frame reading
+    axes, rate = resolve_axes(options.axes, setup.larmor)
+    setup = dataclasses.replace(
+        setup, options=options, body_info=body_info, axes=axes, axes_rate=rate
+    )
     effects, skipped = select_effects(setup.body, options.effects)
     if any(e != "theorem" for e in effects):
         check_inertia(setup.body, effects)
@@ -769,7 +806,7 @@ def prepare(
             f"start moved to the level I3 = {float(level):g} J s (r solved from it)"
             + ("" if float(level) == 0.0 else "; off I3 = 0 the theorem's I4 is no integral")
         )
-    y0, start_level = initial_state(system, spec)
+    y0, start_level = initial_state(system, spec, setup.axes_rate)
     if system.singular:
         g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
         if abs(g3) <= options.gamma3_min:
@@ -797,6 +834,7 @@ def simulate(
     level: float | None = None,
     tol: float | None = None,
     monitors: Sequence[Any] | None = None,
+    axes: str | None = None,
     progress: Callable[[float], None] | None = None,
     design_progress: Callable[[str], None] | None = None,
 ) -> SimulationResult:
@@ -832,6 +870,13 @@ def simulate(
     level : float, optional
         Start on ``I3 = level`` (J s) instead of the initial spec's level: same gamma, p and
         q, r solved from the level (see :func:`with_level`).
+    axes : {"turning", "inertial"}, optional
+        The axes the motion is written in (the scene's ``simulation.axes``): ``turning`` (the
+        default for a ``frame`` body) reads the body's own motion (n = 0) in axes turning at
+        its ``larmor.rate`` about Z, with the integrals (I1, I3, I4) of the theorem with that
+        n; ``inertial`` writes it as integrated (integrals with the body's n = 0). A body
+        without a frame reading has only ``inertial`` (``turning`` is refused). The initial
+        state is given in the axes the motion is written in.
     progress : callable, optional
         ``progress(fraction)`` during the integration.
     design_progress : callable, optional
@@ -863,6 +908,7 @@ def simulate(
         gamma3_min=gamma3_min,
         tol=tol,
         monitors=None if monitors is None else list(monitors),
+        axes=axes,
         level=level,
         design_progress=design_progress,
     )
@@ -875,6 +921,11 @@ def simulate(
     if section is not None and options.method == "gauss-legendre":
         notes.append("poincare: needs the taylor or a solve_ivp method; no section recorded")
         section = None
+    if section in ("p", "q", "r") and setup.axes_rate != 0.0:
+        notes.append(
+            f"poincare: the section {section} = 0 is taken in the body's own (inertial) "
+            "reading; the points are written in the turning axes"
+        )
     run = integrate_with_options(system, y0[None], options, poincare=section, progress=progress)
     return _result(system, run.times, run.states[0], run, level, setup, notes, section)
 
@@ -939,7 +990,7 @@ def simulate_batch(
     progress = kwargs.pop("progress", None)
     states = as_array(initial_states, "initial_states", (None, 6))
     system, _, _, setup, notes = prepare(source, **kwargs)
-    y0 = np.array([initial_state(system, s)[0] for s in states])
+    y0 = np.array([initial_state(system, s, setup.axes_rate)[0] for s in states])
     options = setup.options
     if system.singular:
         g3 = quaternion_gamma(y0[:, 3:])[:, 2]
@@ -965,6 +1016,13 @@ def _result(
     notes: list[str],
     section: str | None,
 ) -> SimulationResult:
+    rate = setup.axes_rate
+    poincare_points = run.poincare
+    if rate != 0.0:
+        from chargedesign.simulation.axes import turning_poincare, turning_states
+
+        states = turning_states(times, states, rate)
+        poincare_points = turning_poincare(poincare_points, rate)
     omega = states[:, :3]
     quats = states[:, 3:]
     events = [dict(e) for e in run.events]
@@ -975,7 +1033,7 @@ def _result(
                 f"stopped at t = {e['t']:.6g} s: |gamma3| = {abs(e['gamma3']):.3g} reached the "
                 f"singular plane threshold {e['threshold']:g} (lambda or rho != 0)"
             )
-    integrals = system.integrals(states)
+    integrals = system.integrals(states, rate=rate)
     kinetic = 0.5 * np.einsum("ij,ij->i", omega * system.inertia_diagonal(), omega)
     opts = setup.options
     extra = dict(getattr(run, "extra", {}) or {})
@@ -988,6 +1046,7 @@ def _result(
         I3_start=float(integrals[0, 2]),
         I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
         realises=realised_claims(setup, system),
+        axes_rate=rate,
     )
     monitor_table = monitors_mod.evaluate(ctx, omega, gamma, integrals, kinetic, opts.monitors)
     method = str(extra.get("method", opts.method))
@@ -1002,7 +1061,8 @@ def _result(
         effects=list(system.effects),
         notes=all_notes,
         events=events,
-        parameters=system.parameters,
+        # the parameters the integrals were evaluated with: n = the axes' rate when turning
+        parameters=dataclasses.replace(system.parameters, n=rate) if rate else system.parameters,
         route=system.route,
         method=method,
         rtol=opts.rtol,
@@ -1015,8 +1075,11 @@ def _result(
         rhs_evaluations=run.rhs_evaluations,
         seconds=run.seconds,
         level=level,
-        poincare=run.poincare,
+        poincare=poincare_points,
         poincare_section=section,
         source=setup.source,
         body=dict(setup.body_info),
+        axes=setup.axes,
+        axes_rate=rate,
+        larmor=None if setup.larmor is None else setup.larmor.to_dict(),
     )

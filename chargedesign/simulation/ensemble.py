@@ -265,7 +265,8 @@ def simulate_ensemble(
         arr = np.asarray(spec["states"], dtype=float)
     else:
         arr = parse_states(states, "states")
-    y0 = np.array([initial_state(system, s)[0] for s in arr])
+    rate = setup.axes_rate
+    y0 = np.array([initial_state(system, s, rate)[0] for s in arr])
     options = setup.options
     if system.singular:
         g3 = quaternion_gamma(y0[:, 3:])[:, 2]
@@ -280,11 +281,17 @@ def simulate_ensemble(
     # the integrator's own time (without a first run's compile, reported apart)
     seconds = float(run.seconds)
     m = len(y0)
-    integrals = np.array([system.integrals(run.states[i]) for i in range(m)])
+    states_out = run.states
+    if rate != 0.0:
+        from chargedesign.simulation.axes import turning_states
+
+        # a frame body read in turning axes (see chargedesign.simulation.axes)
+        states_out = np.array([turning_states(run.times, run.states[i], rate) for i in range(m)])
+    integrals = np.array([system.integrals(states_out[i], rate=rate) for i in range(m)])
     realises = realised_claims(setup, system)
     table = []
     for i in range(m):
-        om = run.states[i, :, :3]
+        om = states_out[i, :, :3]
         kin = 0.5 * np.einsum("ij,ij->i", om * system.inertia_diagonal(), om)
         ctx = monitors_mod.Context(
             system=system,
@@ -292,15 +299,16 @@ def simulate_ensemble(
             I3_start=float(integrals[i, 0, 2]),
             I3_scale=max(system.C * max(float(np.max(np.abs(om[0]))), 1.0), 1e-300),
             realises=realises,
+            axes_rate=rate,
         )
-        gamma = quaternion_gamma(run.states[i, :, 3:])
+        gamma = quaternion_gamma(states_out[i, :, 3:])
         table.append(monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors))
     extra = dict(run.extra)
     all_notes = list(notes)
     all_notes.extend(extra.get("notes", ()))
     return EnsembleResult(
         times=run.times,
-        states=run.states,
+        states=states_out,
         integrals=integrals,
         monitors=table,
         effects=list(system.effects),

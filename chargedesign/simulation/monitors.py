@@ -56,6 +56,9 @@ class Context:
         ``I3`` at the first sample (J s).
     realises : tuple of str
         What the simulated design claims (``mu``, ``V``, ``inertia``); empty for none.
+    axes_rate : float
+        Rate (1/s) of the axes the states are read in (0: inertial; a frame body's n:
+        turning axes, where the integrals are the theorem's with that n).
     """
 
     system: Any
@@ -63,6 +66,7 @@ class Context:
     I3_start: float
     I3_scale: float
     realises: tuple[str, ...] = ()
+    axes_rate: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -136,7 +140,20 @@ def _i4_integral(ctx: Context) -> tuple[bool, str]:
     return True, ""
 
 
+def _turning(ctx: Context, name: str) -> tuple[bool, str] | None:
+    """Not an integral in turning axes: the Coriolis term of the axes acts on the body."""
+    if ctx.axes_rate == 0.0:
+        return None
+    return False, (
+        f"{name} is no integral in axes turning at {ctx.axes_rate:g} 1/s (their Coriolis and "
+        "centrifugal terms act); simulate with axes = 'inertial'"
+    )
+
+
 def _kowalevski_integral(ctx: Context) -> tuple[bool, str]:
+    turning = _turning(ctx, "Kowalevski's integral")
+    if turning is not None:
+        return turning
     lin = _linear_potential(ctx.system)
     if lin is None:
         return False, (
@@ -150,6 +167,9 @@ def _kowalevski_integral(ctx: Context) -> tuple[bool, str]:
 
 
 def _lagrange_integral(ctx: Context) -> tuple[bool, str]:
+    turning = _turning(ctx, "Lagrange's integral r")
+    if turning is not None:
+        return turning
     system = ctx.system
     if "theorem" in system.effects:
         return False, "Lagrange's integral r needs V(gamma3) and no gyroscopic terms"
@@ -309,4 +329,9 @@ def requested_names(items: Sequence[Any] | None) -> list[str]:
 
 
 def context_mapping(ctx: Context) -> Mapping[str, Any]:
-    return {"level": ctx.level, "I3_start": ctx.I3_start, "realises": list(ctx.realises)}
+    return {
+        "level": ctx.level,
+        "I3_start": ctx.I3_start,
+        "realises": list(ctx.realises),
+        "axes_rate": ctx.axes_rate,
+    }

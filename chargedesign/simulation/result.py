@@ -9,6 +9,11 @@ Drift definitions (all maxima over the output samples, t = 0 the first sample):
 - ``I3_max = max |I3(t)|`` (J s): on the level ``I3 = 0`` it is the distance from the level;
   ``I3_max_dev = max |I3(t) - I3(0)|``.
 - ``I4_rel_drift = max |I4(t) - I4(0)| / |I4(0)|`` (absolute when ``I4(0) = 0``).
+
+Axes: ``axes = "inertial"`` (the states as integrated) or ``"turning"`` (a frame body's motion
+read in axes turning at ``axes_rate`` about Z, :mod:`.axes`; the integrals are then the
+turning axes', I4 with n = ``axes_rate``). The summary, ``trajectory.npz`` and
+``trajectory.csv`` (column ``axes_rate``, 1/s, 0 for inertial axes) say which.
 """
 
 from __future__ import annotations
@@ -56,6 +61,13 @@ class SimulationResult(Result):
         Skipped effects and other remarks.
     events : list of dict
         E.g. ``{"kind": "singular_plane", "t": ..., "gamma3": ...}``.
+    axes : str
+        ``inertial`` or ``turning``: the axes ``omega``, ``rotation`` and the integrals are
+        read in.
+    axes_rate : float
+        Their rate about Z, 1/s (0 for inertial axes).
+    larmor : dict or None
+        The simulated design's Larmor reading ``{"reading", "rate"}`` (None: none given).
     """
 
     times: np.ndarray
@@ -89,6 +101,9 @@ class SimulationResult(Result):
     monitors: dict[str, dict[str, Any]] = field(default_factory=dict)
     #: seconds spent compiling the taylor integrator (0 when reused from this process)
     compile_seconds: float = 0.0
+    axes: str = "inertial"
+    axes_rate: float = 0.0
+    larmor: dict[str, Any] | None = None
 
     @property
     def completed(self) -> bool:
@@ -157,6 +172,9 @@ class SimulationResult(Result):
             "notes": list(self.notes),
             "parameters": self.parameters.as_dict(),
             "source": self.source,
+            "axes": self.axes,
+            "axes_rate": self.axes_rate,
+            "larmor": None if self.larmor is None else dict(self.larmor),
         }
         if i4 is not None and "reason" in i4:
             out["I4_reason"] = i4["reason"]
@@ -181,6 +199,7 @@ class SimulationResult(Result):
             "I3_max": d["I3_max"],
             "method": self.method,
             "completed": self.completed,
+            "axes": self.axes,
         }
 
     def _text(self) -> str:
@@ -193,15 +212,23 @@ class SimulationResult(Result):
 
     # ------------------------------------------------------------------ files
     def trajectory_csv(self) -> str:
-        """The trajectory as CSV text (one row per sample)."""
+        """The trajectory as CSV text (one row per sample; the last column ``axes_rate`` is
+        the rate of the axes the row is read in, 1/s: 0 for inertial axes)."""
         buf = io.StringIO()
         writer = csv.writer(buf, lineterminator="\n")
         header = ["t", "p", "q", "r", "gamma1", "gamma2", "gamma3"]
         header += [f"R{i}{j}" for i in range(1, 4) for j in range(1, 4)]
-        header += list(INTEGRAL_NAMES)
+        header += [*INTEGRAL_NAMES, "axes_rate"]
         writer.writerow(header)
         table = np.column_stack(
-            [self.times, self.omega, self.gamma, self.rotation.reshape(-1, 9), self.integrals]
+            [
+                self.times,
+                self.omega,
+                self.gamma,
+                self.rotation.reshape(-1, 9),
+                self.integrals,
+                np.full(len(self.times), self.axes_rate),
+            ]
         )
         for row in table:
             writer.writerow([repr(float(v)) for v in row])
@@ -219,8 +246,8 @@ class SimulationResult(Result):
         """Write the outputs into ``out_dir`` atomically; returns the paths written.
 
         Files: ``summary.json`` always; ``trajectory.npz`` (keys t, omega, gamma, rotation,
-        integrals, quaternion) and ``trajectory.csv``; ``integrals.png``; ``poincare.png``
-        when a section was recorded.
+        integrals, quaternion, axes, axes_rate) and ``trajectory.csv``; ``integrals.png``;
+        ``poincare.png`` when a section was recorded.
         """
         import json
 
@@ -236,6 +263,8 @@ class SimulationResult(Result):
                     rotation=self.rotation,
                     integrals=self.integrals,
                     quaternion=self.quaternion,
+                    axes=np.array(self.axes),
+                    axes_rate=np.array(self.axes_rate),
                 )
                 (stage / "trajectory.csv").write_text(self.trajectory_csv(), encoding="utf-8")
                 names += ["trajectory.npz", "trajectory.csv"]
@@ -387,6 +416,18 @@ def summary_text(s: dict[str, Any]) -> str:
     else:
         how = f"{s['method']}, rtol {s['rtol']:g}, atol {s['atol']:g}"
     lines = [f"simulated: {effects} ({s['route']} route, {how})"]
+    larmor = s.get("larmor") or {}
+    if s.get("axes") == "turning":
+        lines.append(
+            f"axes: turning at n = {s['axes_rate']:g} 1/s about Z (frame body: its own physics "
+            f"at n = 0, read as omega - n gamma; I1, I3, I4 with n = {s['axes_rate']:g}; "
+            "the start is given in these axes)"
+        )
+    elif larmor.get("reading") == "frame":
+        lines.append(
+            f"axes: inertial (frame body: its own physics at n = 0, integrals with n = 0; "
+            f"--axes turning reads it at n = {larmor['rate']:g})"
+        )
     if body.get("designed_from_scene"):
         c = body["counts"]
         lines.append(

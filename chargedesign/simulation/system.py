@@ -35,7 +35,7 @@ The ``theorem`` effect is the reduced model itself: ``V`` and ``mu`` of the theo
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -218,6 +218,9 @@ class Body(ElementSet):
     def from_design(cls, design: Any, fields: dict[str, tuple[float, ...]] | None = None) -> Body:
         """A :class:`~chargedesign.body.Design` (fields of ``fields`` replace the design's).
 
+        The body's parameters are the design's :attr:`~chargedesign.body.Design.body_parameters`:
+        n = 0 for a ``frame`` reading (its motion is read in turning axes afterwards).
+
         Carriers' and magnets' masses join the ballast. Continuous charge and mass bodies of
         the design become quadrature nodes exact for the fields' degree (+1 for the Lorentz
         terms), so both force routes stay exact.
@@ -246,8 +249,10 @@ class Body(ElementSet):
             if parts:
                 part_positions = np.concatenate([p["centres"] for p in parts])
                 part_susceptances = np.concatenate([p["chi"] * p["volumes"] for p in parts])
+        # a frame body's elements realise the theorem with n = 0 (n is a rotation of axes)
+        parameters = getattr(design, "body_parameters", design.parameters)
         return cls(
-            parameters=design.parameters,
+            parameters=parameters,
             fields=merged,
             charge_positions=cp,
             charge_values=cv,
@@ -624,12 +629,27 @@ class RigidBodySystem:
 
         return fun
 
-    def integrals(self, states: np.ndarray, route: str | None = None) -> np.ndarray:
+    def integrals(
+        self, states: np.ndarray, route: str | None = None, rate: float = 0.0
+    ) -> np.ndarray:
         """``I1, I2, I3, I4`` along states ``(m, 7)``, ndarray shape (m, 4).
 
         I1 = 1/2 omega . I omega + V (J); I2 = |gamma|^2; I3 = (I omega) . gamma + L(gamma)
         (J s; physical canonical momentum about Z); I4 = the theorem's quartic integral with
         this body's parameters (1/s^4), whatever effects act.
+
+        With ``rate = n != 0`` the states are read in axes turning at n about Z (omega is the
+        angular velocity relative to them, :func:`chargedesign.larmor.to_turning_axes`, and
+        the quaternion the attitude relative to them) and the integrals are those of the
+        turning axes, each evaluated at the turning-axes state (Larmor, the exact identities
+        of :mod:`chargedesign.model.larmor`):
+
+        - ``I1 = 1/2 omega . I omega + V - n L + n^2 (C |gamma|^2 - 1/2 gamma . I gamma)``
+          (centrifugal and vector-potential terms of the turning axes, plus the constant
+          ``C n^2 |gamma|^2`` that makes it the theorem's H with n for a body realising the
+          theorem with n = 0); for any body it is ``H_0 - n I3_0 + C n^2 |gamma|^2``;
+        - ``I3 = (I omega) . gamma + L + n gamma . I gamma``, equal to the inertial I3;
+        - ``I4`` with the parameters' n replaced by the rate.
         """
         omega = states[:, :3]
         quats = states[:, 3:]
@@ -637,12 +657,18 @@ class RigidBodySystem:
         rotation = quaternion_rotation(quats)
         Iw = omega * self.inertia_diagonal()
         out = np.empty((len(states), 4))
-        out[:, 0] = 0.5 * np.einsum("ij,ij->i", Iw, omega) + self.energy(gamma, rotation, route)
+        energy = self.energy(gamma, rotation, route)
+        momentum = self.momentum_potential(gamma, rotation, route)
+        out[:, 0] = 0.5 * np.einsum("ij,ij->i", Iw, omega) + energy
         out[:, 1] = np.einsum("ij,ij->i", gamma, gamma)
-        out[:, 2] = np.einsum("ij,ij->i", Iw, gamma) + self.momentum_potential(
-            gamma, rotation, route
-        )
-        out[:, 3] = theorem_i4(np.hstack([omega, gamma]), self.parameters)
+        out[:, 2] = np.einsum("ij,ij->i", Iw, gamma) + momentum
+        params = self.parameters
+        if rate != 0.0:
+            g_i_g = np.einsum("ij,ij->i", gamma * self.inertia_diagonal(), gamma)
+            out[:, 0] += -rate * momentum + rate**2 * (self.C * out[:, 1] - 0.5 * g_i_g)
+            out[:, 2] += rate * g_i_g
+            params = replace(params, n=rate)
+        out[:, 3] = theorem_i4(np.hstack([omega, gamma]), params)
         return out
 
     def solve_r(self, gamma: np.ndarray, p: float, q: float, level: float = 0.0) -> float:
