@@ -415,6 +415,7 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         "eddy_ratio": eddy_ratio,
         "conductivity_needed_S_per_m": sigma_needed,
         "conductivity_needed_for": None if top is None else f"{top['role']} {top['name']}",
+        "conductivity_now_S_per_m": sigma_top if top is not None else None,
         "insulators_S_per_m": dict(INSULATOR_CONDUCTIVITY),
         "one_charge_carrier_radius_m": one_e,
         "smallest_similar_body_radius_m": smallest,
@@ -532,7 +533,10 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         gamma1..3), ``mechanisms``, ``here`` (what this body uses), ``size_N_m`` (inf for a
         singular term that is present), ``frontier_size_N_m`` (the size at the K frontier:
         every term scales like the rate squared; None where it is not bound by parts),
-        ``induced_over_term`` and ``eddy_over_term`` (None where no parts realise it).
+        ``induced_over_term`` and ``eddy_over_term`` (None where no parts realise it), and
+        the same two at the K frontier (``frontier_induced_over_term``,
+        ``frontier_eddy_over_term``: the induced energy does not change with the rate, the
+        eddy torque grows like it).
     """
     import sympy as sp
 
@@ -605,6 +609,7 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         else:
             here = "; ".join(_sources_for_degree(design, degree)) or "no source of this degree"
         parts = amount != 0.0 and not singular and not no_parts
+        front = size * scale2 if parts else None
         rows.append(
             {
                 "key": key,
@@ -614,9 +619,16 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
                 "mechanisms": mechanisms,
                 "here": here,
                 "size_N_m": size,
-                "frontier_size_N_m": size * scale2 if parts else None,
+                "frontier_size_N_m": front,
                 "induced_over_term": induced_j / size if parts and induced_j is not None else None,
                 "eddy_over_term": eddy_nm / size if parts and eddy_nm is not None else None,
+                # at the frontier the induced energy is the same, the eddy torque ~ the rate
+                "frontier_induced_over_term": (
+                    induced_j / front if front and induced_j is not None else None
+                ),
+                "frontier_eddy_over_term": (
+                    eddy_nm * math.sqrt(scale2) / front if front and eddy_nm is not None else None
+                ),
             }
         )
     return rows
