@@ -26,6 +26,7 @@ from chargedesign.physical.realism import (
     FIELD_RESPONSE_KEYS,
     K_LAW_KEY,
     RESPONSE_FRACTION,
+    field_response,
     k_law,
     realisability_map,
 )
@@ -276,7 +277,7 @@ def _verdict_lines(design: Design) -> list[str]:
     realism = design.extra.get("realism") or {}
     medium = design.medium
     ok = bool(limits.get("buildable"))
-    response = {k: realism[k] for k in FIELD_RESPONSE_KEYS if k in realism}
+    response = _fresh_response(design, realism)
     law = k_law(design, response) if response else {}
     swamped = [k for k, item in response.items() if item.get("verdict") != "negligible"]
     if law:
@@ -331,6 +332,14 @@ def _verdict_lines(design: Design) -> list[str]:
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]
+
+
+def _fresh_response(design: Design, realism: dict[str, Any]) -> dict[str, Any]:
+    """The field response recomputed from the written parts and materials (the budget's
+    stored one may predate an edit of design.json); empty when the budget has none."""
+    if not any(key in realism for key in FIELD_RESPONSE_KEYS):
+        return {}
+    return field_response(design)
 
 
 def _response_lines(response: dict[str, Any]) -> list[str]:
@@ -474,7 +483,8 @@ def _physical_sections(design: Design) -> list[str]:
             f"{realism.get('designed_torque_N_m', 0):.3g} N m."
         )
         realism = dict(realism)
-        response = {k: realism[k] for k in FIELD_RESPONSE_KEYS if k in realism}
+        response = _fresh_response(design, realism)
+        realism |= response
         law = k_law(design, response) if response else {}
         if law:  # recomputed: the budget was written before the frontier was known
             realism[K_LAW_KEY] = law
