@@ -544,7 +544,10 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
 
     case = symbolic_case()
     p = design.parameters
-    values = {kappa: p.kappa, n: p.n, K: p.K, lam: p.lam, rho: p.rho}
+    frame = design.larmor_reading == "frame"
+    # the frame reading's n is the turning axes' rate (the parts realise n = 0)
+    rate_n = design.larmor.rate if frame else p.n
+    values = {kappa: p.kappa, n: rate_n, K: p.K, lam: p.lam, rho: p.rho}
     symbols = (kappa, n, K, lam, rho)
     v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
     mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
@@ -559,7 +562,6 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     eddy_nm = eddy * torque if eddy is not None else None
     k_max, _ = _frontier_k(design) if p.K else (0.0, "")
     scale2 = (k_max / abs(p.K)) ** 2 if p.K else 1.0
-    frame = design.larmor_reading == "frame"
     rows = []
     for key, where, powers, name, mechanisms in _MAP_TERMS:
         monomial = sp.Mul(*[s**e for s, e in zip(symbols, powers, strict=True)])

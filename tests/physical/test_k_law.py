@@ -300,3 +300,17 @@ def test_the_map_changes_with_the_body(bodies):
         assert charges[key]["induced_over_term"] is not None
         assert framed[key]["induced_over_term"] is None and "turning axes" in framed[key]["here"]
         assert framed[key]["size_N_m"] == pytest.approx(charges[key]["size_N_m"], rel=1e-12)
+
+
+def test_the_map_of_a_frame_body_reads_n_from_the_turning_axes(bodies):
+    """A frame design's n is the rate of its turning axes: the n rows' sizes come from it."""
+    data = bodies[1.0, "vacuum"].to_dict()
+    data["parameters"]["n"] = 3e-7
+    reference = _rows(Design.from_dict(data))
+    data["parameters"]["n"] = 0.0
+    frame = Design.from_dict(data)
+    frame.larmor = LarmorReading("frame", 3e-7)
+    rows = _rows(frame)
+    assert rows["n2"]["size_N_m"] == pytest.approx(reference["n2"]["size_N_m"], rel=1e-12)
+    assert rows["n2"]["size_N_m"] == pytest.approx(frame.parameters.C * 9e-14 / 2, rel=1e-2)
+    assert "turning axes at n = 3e-07 1/s" in rows["mu_n"]["here"]
