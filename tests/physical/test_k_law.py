@@ -34,6 +34,7 @@ from chargedesign.physical.realism import (
     FIELD_EVAPORATION,
     FIELD_RESPONSE_KEYS,
     K_LAW_KEY,
+    RESPONSE_ORIENTATIONS,
     field_response,
     k_law,
     realisability_map,
@@ -118,6 +119,24 @@ def test_the_law_agrees_with_the_element_level_field_response(bodies):
         assert law["ratio_elements"] == pytest.approx(elements, rel=1e-12)
         assert 1.0 < law["ratio"] / elements < 1.18
         assert law["verdict"] == "NOT negligible"
+
+
+def test_the_law_is_exact_when_every_part_has_one_chi_over_rho(bodies):
+    """Give every material chi = k rho (tungsten's k = 3.6e-9 m^3/kg): S = k J with J the
+    body's second moments of mass, which the inertia fixes, so the element-level range is the
+    law's, but for the orientation sampling: the Fibonacci grid's gamma3^2 spans
+    (1 - 1/N)^2 - 1/N^2 = 1 - 2/N of [0, 1] (N = 2000), and the centre of mass sits within
+    3e-10 m of O (its dipole term is below 1e-8 of the range here)."""
+    k = 3.6e-9
+    for size in SIZES:
+        data = bodies[size, "vacuum"].to_dict()
+        for material in data["materials"].values():
+            material["volume_susceptibility"] = k * material["density_kg_per_m3"]
+        law = k_law(Design.from_dict(data))
+        assert law["chi_over_rho_m3_per_kg"] == pytest.approx(k, rel=1e-12)
+        assert law["ratio_elements"] == pytest.approx(
+            law["ratio"] * (1 - 2 / RESPONSE_ORIENTATIONS), rel=1e-7
+        )
 
 
 def test_the_ratio_is_size_free_and_falls_like_one_over_the_field_squared(bodies):
