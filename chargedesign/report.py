@@ -373,7 +373,13 @@ def _k_law_lines(law: dict[str, Any]) -> list[str]:
             else ""
         )
         + ". For a similar body it is the same at any size and any a2, and falls like "
-        "1/E_surface^2."
+        "1/E_surface^2. Only K needs Lorentz charges when n is read as turning axes (this "
+        f"body: the {law['larmor_reading']} reading"
+        + (
+            ", whose charges also carry n, so its K frontier is lower)."
+            if law["larmor_reading"] == "charges"
+            else ")."
+        )
     ]
     if ratio > 0:
         parity = law["parity_surface_field_V_per_m"]

@@ -399,6 +399,7 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         "verdict": verdict,
         "note": note,
         "law": "6 (chi/rho) / (mu0 G^2), G = K_max / a2",
+        "larmor_reading": design.larmor_reading,
         "chi_over_rho_m3_per_kg": mix,
         "parts_mass_kg": mass,
         "a2_T_per_m": abs(a2),
