@@ -328,7 +328,8 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         torque at the K frontier's motion ``|omega| = 2 K_max`` over ``C K_max^2``),
         ``conductivity_needed_S_per_m``, ``insulators_S_per_m``, ``one_charge_carrier_radius_m``
         and ``smallest_similar_body_radius_m``. Empty when the law does not apply (no medium,
-        no gradient, or K = 0).
+        no gradient, K = 0, or no part's susceptibility known). ``chi/rho`` may be negative
+        (a diamagnetic body); the ratio takes its size.
     """
     legendre = tuple(design.field("magnetic"))
     a2 = legendre[1] / 2.0 if len(legendre) > 1 else 0.0
@@ -339,8 +340,11 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     if k_max == 0.0:
         return {}
     mix, mass, unknown = chi_over_rho(design)
+    if mass == 0.0:  # no part's susceptibility is known: the law has nothing to say
+        return {}
     g = k_max / abs(a2)
-    ratio = 6.0 * mix / (MU_0 * g**2)
+    # a diamagnetic body (chi < 0) has the same range of energy, upside down
+    ratio = 6.0 * abs(mix) / (MU_0 * g**2)
     designed = p.C * k_max**2
     response = field_response(design) if response is None else response
     rate = typical_rate(p)
@@ -354,7 +358,7 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     medium = design.medium
     e_safe = medium["safety"] * medium["breakdown_V_per_m"]
     parity_field = e_safe * math.sqrt(ratio) if ratio > 0 else 0.0
-    parity_mix = mix / ratio if ratio > 0 else None
+    parity_mix = abs(mix) / ratio if ratio > 0 else None
     sigmas = [(part["sigma"], part) for part in material_parts(design) if part["sigma"]]
     sigma_top, top = max(sigmas, key=lambda x: x[0]) if sigmas else (0.0, None)
     sigma_needed = (
@@ -363,9 +367,11 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     radii = design.carrier_radii()
     one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
     carrier = float(np.max(radii, initial=0.0))
-    region = float(
-        (design.extra.get("buildability") or {}).get("region_radius_m")
-        or np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0)
+    written = (design.extra.get("buildability") or {}).get("region_radius_m")
+    region = (
+        as_finite_float(written, "buildability.region_radius_m")
+        if written is not None
+        else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
     )
     smallest = region * one_e / carrier if carrier > 0 else None
     verdict = _verdict(ratio, RESPONSE_FRACTION)

@@ -122,13 +122,13 @@ def test_the_law_agrees_with_the_element_level_field_response(bodies):
 
 
 def test_the_law_is_exact_when_every_part_has_one_chi_over_rho(bodies):
-    """Give every material chi = k rho (tungsten's k = 3.6e-9 m^3/kg): S = k J with J the
+    """Give every material chi = k rho (tungsten's k = 3.6e-9 m^3/kg, or copper's -1.1e-9 and
+    lead's -1.4e-9, diamagnetic: the range is the same upside down): S = k J with J the
     body's second moments of mass, which the inertia fixes, so the element-level range is the
     law's, but for the orientation sampling: the Fibonacci grid's gamma3^2 spans
     (1 - 1/N)^2 - 1/N^2 = 1 - 2/N of [0, 1] (N = 2000), and the centre of mass sits within
     3e-10 m of O (its dipole term is below 1e-8 of the range here)."""
-    k = 3.6e-9
-    for size in SIZES:
+    for size, k in zip(SIZES, (3.6e-9, -1.3e-9, 3.6e-9), strict=True):  # -: diamagnetic
         data = bodies[size, "vacuum"].to_dict()
         for material in data["materials"].values():
             material["volume_susceptibility"] = k * material["density_kg_per_m3"]
@@ -247,7 +247,18 @@ def test_a_bad_frontier_in_design_json_names_the_key(bodies, frontier, key):
 
 
 def test_no_law_without_a_medium_a_gradient_or_K(bodies):
+    """Nor without any known susceptibility; a bad written region radius names its key."""
     data = bodies[1.0, "vacuum"].to_dict()
+    unknown = copy.deepcopy(data)
+    unknown["materials"] = {
+        role: {k: v for k, v in m.items() if k != "volume_susceptibility"} | {"name": "custom"}
+        for role, m in unknown["materials"].items()
+    }
+    assert k_law(Design.from_dict(unknown)) == {}
+    bad = copy.deepcopy(data)
+    bad["buildability"] = {"region_radius_m": "big"}
+    with pytest.raises(InputError, match=r"buildability\.region_radius_m"):
+        k_law(Design.from_dict(bad))
     uniform = copy.deepcopy(data)
     uniform["fields"]["magnetic"]["legendre"] = [1.0]
     no_k = copy.deepcopy(data)
