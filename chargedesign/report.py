@@ -22,7 +22,14 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import sphere_radius
-from chargedesign.physical.realism import FIELD_RESPONSE_KEYS
+from chargedesign.physical.realism import (
+    FIELD_RESPONSE_KEYS,
+    K_LAW_KEY,
+    RESPONSE_FRACTION,
+    field_response,
+    k_law,
+    realisability_map,
+)
 
 #: vacuum permittivity, F/m (CODATA 2018)
 EPSILON_0 = 8.8541878128e-12
@@ -270,8 +277,14 @@ def _verdict_lines(design: Design) -> list[str]:
     realism = design.extra.get("realism") or {}
     medium = design.medium
     ok = bool(limits.get("buildable"))
-    response = {k: realism[k] for k in FIELD_RESPONSE_KEYS if k in realism}
+    response = _fresh_response(design, realism)
+    law = k_law(design, response) if response else {}
     swamped = [k for k, item in response.items() if item.get("verdict") != "negligible"]
+    if law:
+        swamped = [K_LAW_KEY] if law["verdict"] != "negligible" else []
+        eddy = law.get("eddy_ratio")
+        if eddy is not None and eddy >= RESPONSE_FRACTION:
+            swamped.append(FIELD_RESPONSE_KEYS[1])
     verdict = "buildable" if ok else "NOT buildable"
     if ok and swamped:
         verdict = "buildable parts, NOT realised as designed"
@@ -307,13 +320,7 @@ def _verdict_lines(design: Design) -> list[str]:
             f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
             f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
         )
-    for key, item in response.items():
-        value = item.get("value")
-        title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
-        lines.append(
-            f"- {title}: {'inf' if value is None else f'{value:.3g}'} of the designed torques "
-            f"({item.get('verdict')}): {item.get('note')}."
-        )
+    lines += _k_law_lines(law) if law else _response_lines(response)
     lines += _part_size_lines(design)
     tolerance = design.extra.get("tolerance") or {}
     top = (tolerance.get("elements") or [None])[0]
@@ -325,6 +332,85 @@ def _verdict_lines(design: Design) -> list[str]:
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]
+
+
+def _fresh_response(design: Design, realism: dict[str, Any]) -> dict[str, Any]:
+    """The field response recomputed from the written parts and materials (the budget's
+    stored one may predate an edit of design.json); empty when the budget has none."""
+    if not any(key in realism for key in FIELD_RESPONSE_KEYS):
+        return {}
+    return field_response(design)
+
+
+def _response_lines(response: dict[str, Any]) -> list[str]:
+    """The field response at the designed rate (a body without the K law's figures)."""
+    lines = []
+    for key, item in response.items():
+        value = item.get("value")
+        title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
+        lines.append(
+            f"- {title}: {'inf' if value is None else f'{value:.3g}'} of the designed torques "
+            f"({item.get('verdict')}): {item.get('note')}."
+        )
+    return lines
+
+
+def _k_law_lines(law: dict[str, Any]) -> list[str]:
+    """The verdict on the parts' materials by the size-free K law, with its numbers."""
+    from chargedesign.results import format_length
+
+    ratio = law["ratio"]
+    lines = [
+        f"- Induced magnetisation at the K frontier: {ratio:.3g} times the designed K torques "
+        f"C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / (mu0 G^2) with the "
+        f"parts' chi/rho = {law['chi_over_rho_m3_per_kg']:.3g} m^3/kg (mass-weighted) and "
+        f"G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg (K_max = "
+        f"{law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
+        f"{law['a2_T_per_m']:.3g} T/m)"
+        + (
+            f"; element by element {law['ratio_elements']:.3g}"
+            if law.get("ratio_elements") is not None
+            else ""
+        )
+        + ". For a similar body it is the same at any size and any a2, and falls like "
+        "1/E_surface^2. Only K needs Lorentz charges when n is read as turning axes (this "
+        f"body: the {law['larmor_reading']} reading"
+        + (
+            ", whose charges also carry n, so its K frontier is lower)."
+            if law["larmor_reading"] == "charges"
+            else ")."
+        )
+    ]
+    if ratio > 0:
+        parity = law["parity_surface_field_V_per_m"]
+        lines.append(
+            f"- Parity would need G {math.sqrt(ratio):.3g} times larger: carrier surface fields "
+            f"of {parity:.3g} V/m instead of {law['surface_field_V_per_m']:.3g} V/m, "
+            f"{parity / law['field_evaporation_V_per_m']:.3g} times the field that evaporates "
+            f"metal surfaces (~{law['field_evaporation_V_per_m']:.1g} V/m, Tsong 1990) and "
+            f"{parity / law['atomic_field_V_per_m']:.3g} times the atomic field "
+            f"e / (4 pi eps0 a0^2) = {law['atomic_field_V_per_m']:.3g} V/m; or parts with "
+            f"chi/rho = {law['parity_chi_over_rho_m3_per_kg']:.3g} m^3/kg."
+        )
+    eddy, sigma = law.get("eddy_ratio"), law.get("conductivity_needed_S_per_m")
+    if eddy is not None and sigma is not None:
+        insulators = ", ".join(f"{k} ~{v:.0e}" for k, v in law["insulators_S_per_m"].items())
+        lines.append(
+            f"- Eddy currents (a choice of material): at the K frontier {eddy:.3g} times the "
+            f"designed K torques with these conductors; below {RESPONSE_FRACTION:g} of them "
+            f"needs conductivities under {sigma:.3g} S/m (now {law['conductivity_needed_for']}, "
+            f"{law['conductivity_now_S_per_m']:.3g} S/m), which insulating parts reach "
+            f"({insulators} S/m)."
+        )
+    smallest = law.get("smallest_similar_body_radius_m")
+    if smallest is not None:
+        lines.append(
+            "- Size: the law holds for similar bodies while each carrier at the safe field "
+            "holds at least one elementary charge, i.e. carriers of radius "
+            f"{format_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
+            f"{format_length(smallest)} and more. Within that range no size changes the ratio."
+        )
+    return lines
 
 
 def _part_size_lines(design: Design) -> list[str]:
@@ -402,6 +488,12 @@ def _physical_sections(design: Design) -> list[str]:
             f"{realism.get('period_s', 0):.4g} s, designed torques ~"
             f"{realism.get('designed_torque_N_m', 0):.3g} N m."
         )
+        realism = dict(realism)
+        response = _fresh_response(design, realism)
+        realism |= response
+        law = k_law(design, response) if response else {}
+        if law:  # recomputed: the budget was written before the frontier was known
+            realism[K_LAW_KEY] = law
         lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
         for key, item in realism.items():
             if isinstance(item, dict):
@@ -410,6 +502,39 @@ def _physical_sections(design: Design) -> list[str]:
                 lines.append(
                     f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |"
                 )
+        lines += _map_lines(design, response)
+    return lines
+
+
+def _map_lines(design: Design, response: dict[str, Any]) -> list[str]:
+    """The realisability map (:func:`~chargedesign.physical.realism.realisability_map`)."""
+
+    def num(x: float | None) -> str:
+        return "" if x is None else f"{x:.3g}"
+
+    lines = [
+        "",
+        "## Realisability map",
+        "",
+        "Each term of V and mu, what can realise it, what this body uses, its size (the range "
+        "of a V term over orientations; the gyroscopic torque |omega| max|mu term| of a mu "
+        "term at the typical motion) here and at the K frontier (every term scales like the "
+        "rate squared), and the parts' induced-magnetisation energy range and eddy torque over "
+        "it (the induced energy does not change with the rate, the eddy torque grows like it). "
+        "Computed from this body by `chargedesign.physical.realism.realisability_map`.",
+        "",
+        "| term | in | mechanisms | this body | size here (N m) | induced / term "
+        "| eddy / term | size at the K frontier (N m) | induced / term | eddy / term |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for row in realisability_map(design, response):
+        lines.append(
+            f"| {row['term']}: `{row['expression']}` | {row['where']} | "
+            f"{_table_cell(row['mechanisms'])} | {_table_cell(row['here'])} | "
+            f"{num(row['size_N_m'])} | {num(row['induced_over_term'])} | "
+            f"{num(row['eddy_over_term'])} | {num(row['frontier_size_N_m'])} | "
+            f"{num(row['frontier_induced_over_term'])} | {num(row['frontier_eddy_over_term'])} |"
+        )
     return lines
 
 

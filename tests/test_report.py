@@ -51,3 +51,35 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
     assert len(rows) == 1
     cells = re.split(r"(?<!\\)\|", rows[0])[1:-1]
     assert len(cells) == 4 and "\\|omega\\|" in cells[3]
+
+
+def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
+    """No size extrapolated from a fit (no "18 nm", no "negligible below"); the verdict's
+    ratio is the K law's for this body, and the map has a row per term of V and mu whose
+    sizes are the map function's."""
+    from chargedesign.physical.realism import k_law, realisability_map
+
+    design = design_from_scene(load_scene(SMALL), frontier=False).design
+    text = render_report(design)
+    for stale in ("18 nm", "negligible below", "size below which", "n above"):
+        assert stale not in text
+    law = k_law(design)
+    (line,) = [x for x in text.splitlines() if x.startswith("- Induced magnetisation at the K")]
+    assert f"{law['ratio']:.3g} times the designed K torques" in line
+    assert "field evaporation" in text.split("## ")[0] or "evaporates" in text.split("## ")[0]
+    table = text.split("## Realisability map")[1].split("\n## ")[0]
+    rows = [x for x in table.splitlines() if x.startswith("| ") and not x.startswith("| term")]
+    computed = realisability_map(design)
+    assert len(rows) == len(computed) == 8
+    for row, line in zip(computed, rows, strict=True):
+        assert line.startswith(f"| {row['term']}: ")
+        assert f"| {row['size_N_m']:.3g} |" in line
+    # another body, other numbers: ten times the parts' susceptibilities
+    data = design.to_dict()
+    for material in data["materials"].values():
+        material["volume_susceptibility"] *= 10
+    from chargedesign.body import Design
+
+    other = render_report(Design.from_dict(data))
+    assert f"{10 * law['ratio']:.3g} times the designed K torques" in other
+    assert f"element by element {10 * law['ratio_elements']:.3g}" in other

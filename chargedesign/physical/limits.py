@@ -203,6 +203,10 @@ class LimitsReport(Result):
         The applied field acting on the parts' materials (induced magnetisation, eddy
         currents; :func:`chargedesign.physical.realism.field_response`): realism verdicts,
         not limits, so they do not decide ``buildable``.
+    k_law : dict
+        The induced-magnetisation parasitic at the K frontier by the size-free law
+        ``6 (chi/rho) / (mu0 G^2)`` (:func:`chargedesign.physical.realism.k_law`), recomputed
+        from design.json (``frontier.K_max`` when written); empty when it does not apply.
     """
 
     buildable: bool
@@ -213,6 +217,7 @@ class LimitsReport(Result):
     field_maxima: dict[str, float] = field(default_factory=dict)
     region_radius: float = 0.0
     field_response: dict[str, Any] = field(default_factory=dict)
+    k_law: dict[str, Any] = field(default_factory=dict)
 
     @property
     def worst_fraction_of_breakdown(self) -> float:
@@ -228,6 +233,7 @@ class LimitsReport(Result):
             "field_maxima": dict(self.field_maxima),
             "region_radius_m": self.region_radius,
             "field_response": dict(self.field_response),
+            "k_law": dict(self.k_law),
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -251,6 +257,11 @@ class LimitsReport(Result):
             value = item.get("value")
             shown = "inf" if value is None else f"{value:.3g}"
             lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
+        if self.k_law:
+            lines.append(
+                f"at the K frontier (size-free law): {self.k_law['ratio']:.3g} "
+                f"({self.k_law['verdict']}): {self.k_law['note']}"
+            )
         return "\n".join(lines)
 
 
@@ -382,11 +393,13 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
                 f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
                 f"max = {limits[kind]:.3g}"
             )
-    from chargedesign.physical.realism import field_response
+    from chargedesign.physical.realism import field_response, k_law
 
+    response = field_response(design)
     return LimitsReport(
         buildable=not violations,
-        field_response=field_response(design),
+        field_response=response,
+        k_law=k_law(design, response),
         surface_fields=fields,
         safe_field=safe,
         breakdown=breakdown,

@@ -27,6 +27,7 @@ import math
 from typing import Any
 
 import numpy as np
+import scipy.constants
 
 from chargedesign.fields import AxisymmetricField
 from chargedesign.physical.limits import fibonacci_directions, field_magnitude_max
@@ -39,6 +40,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     sphere_radius,
 )
+from chargedesign.validation import as_finite_float, input_error
 
 G_EARTH = 9.80665
 MICROGRAVITY = 1e-6 * G_EARTH
@@ -50,6 +52,24 @@ RESPONSE_FRACTION = 1e-3
 RESPONSE_ORIENTATIONS = 2000
 #: the budget's items for the applied field acting on the parts' materials
 FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
+#: the budget's item for the size-free K law (:func:`k_law`)
+K_LAW_KEY = "k_law_induced_ratio"
+#: elementary charge, C (SI 2019, exact)
+ELEMENTARY_CHARGE = scipy.constants.e
+#: field at which metal surfaces evaporate as ions, V/m: 20-60 V/nm for most metals
+#: (Tsong, Atom-Probe Field Ion Microscopy, Cambridge UP 1990, ch. 2, evaporation fields);
+#: the round 5e10 V/m of tungsten's order
+FIELD_EVAPORATION = 5.0e10
+#: the atomic unit of field, e / (4 pi eps0 a0^2), V/m (CODATA: 5.14e11): the field that
+#: binds a hydrogen electron
+ATOMIC_FIELD = ELEMENTARY_CHARGE / (
+    4.0 * math.pi * EPSILON_0 * scipy.constants.physical_constants["Bohr radius"][0] ** 2
+)
+#: conductivity of insulators a part could be made of, S/m at 20 C (upper ends, from the
+#: volume resistivities: 99.5 % alumina > 1e14 ohm cm, e.g. CoorsTek AD-995 data sheet;
+#: PTFE > 1e18 ohm cm, Chemours Teflon PTFE data sheet; soda-lime glass 1e10-1e14 ohm m,
+#: Serway, Physics for Scientists and Engineers, table 27.2)
+INSULATOR_CONDUCTIVITY = {"alumina": 1e-12, "soda-lime glass": 1e-10, "PTFE": 1e-16}
 
 
 def typical_rate(params: Any) -> float:
@@ -65,9 +85,9 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
 
     Keys: ``role``, ``name``, ``centres`` (k, 3), ``volumes`` (k,) of material (written mass
     over density), ``outer`` and ``inner`` radii (k,) (a hollow carrier's wall; 0 for solid
-    spheres), ``chi`` and ``sigma`` (as written, else the named material's; None when
-    unknown). A magnet's attached ballast (its mass beyond the magnet's own) is a ballast
-    sphere at its centre.
+    spheres), ``density`` (kg/m^3), ``chi`` and ``sigma`` (as written, else the named
+    material's; None when unknown). A magnet's attached ballast (its mass beyond the
+    magnet's own) is a ballast sphere at its centre.
     """
     materials = design.materials
     sets: list[dict[str, Any]] = []
@@ -86,6 +106,7 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
                 "volumes": volumes[keep],
                 "outer": outer[keep],
                 "inner": np.broadcast_to(inner, outer.shape)[keep],
+                "density": spec.get("density_kg_per_m3"),
                 "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
                 "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
             }
@@ -187,11 +208,6 @@ def field_response(design: Any) -> dict[str, Any]:
 
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
     damping = float(np.sum(eddy)) / torque
-    n = abs(design.parameters.n)
-    # the induced energy does not depend on the rate, the designed torques go as s^2; the
-    # eddy torque as s: the rate above which each would be negligible
-    n_induced = n * math.sqrt(induced / RESPONSE_FRACTION)
-    n_eddy = n * damping / RESPONSE_FRACTION
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
     total_eddy = float(np.sum(eddy))
     periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
@@ -203,8 +219,7 @@ def field_response(design: Any) -> dict[str, Any]:
     if induced >= RESPONSE_FRACTION:
         induced_note += (
             f"; negligible needs the parts' chi-weighted dipole and quadrupole moments to "
-            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}, or n above "
-            f"{n_induced:.3g} 1/s"
+            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}"
         )
     if unknown:
         induced_note += "; not counted (no susceptibility given): " + ", ".join(unknown)
@@ -217,7 +232,7 @@ def field_response(design: Any) -> dict[str, Any]:
         eddy_note += (
             f"; it damps the motion within {periods:.2g} periods; negligible needs "
             f"conductivities {damping / RESPONSE_FRACTION:.2g} times lower (insulating "
-            f"parts), or n above {n_eddy:.3g} 1/s"
+            f"parts)"
         )
     if unknown_sigma:
         eddy_note += "; not counted (no conductivity given): " + ", ".join(unknown_sigma)
@@ -226,6 +241,413 @@ def field_response(design: Any) -> dict[str, Any]:
         induced_key: _item(induced, "", _verdict(induced, RESPONSE_FRACTION), induced_note),
         eddy_key: _item(damping, "", _verdict(damping, RESPONSE_FRACTION), eddy_note),
     }
+
+
+def chi_over_rho(design: Any) -> tuple[float, float, list[str]]:
+    """The body's susceptibility per density: the mass-weighted mixture of its parts' materials.
+
+    ``(chi/rho)_body = sum_p chi_p v_p / sum_p rho_p v_p`` over every part p (carriers, magnets,
+    ballast; ``v_p`` the volume of its material, ``rho_p`` its density): the susceptibility
+    of the body's matter per kilogram. It is the ``chi/rho`` of the K law exactly when every
+    part has the same ``chi/rho``; otherwise the law's quadrupole is weighted by the parts'
+    second moments, not their masses, and the element-level figure
+    (:func:`field_response`) says by how much they differ.
+
+    Returns
+    -------
+    chi_over_rho : float
+        m^3/kg (0 when no part's susceptibility is known).
+    mass : float
+        kg, of the parts counted.
+    unknown : list of str
+        Parts whose susceptibility or density is not known (not counted).
+    """
+    num = mass = 0.0
+    unknown: list[str] = []
+    for part in material_parts(design):
+        if part["chi"] is None or part["density"] is None:
+            unknown.append(f"{part['role']} {part['name']}")
+            continue
+        volume = float(np.sum(part["volumes"]))
+        num += part["chi"] * volume
+        mass += part["density"] * volume
+    return (num / mass if mass > 0 else 0.0), mass, sorted(set(unknown))
+
+
+def _frontier_k(design: Any) -> tuple[float, str]:
+    """K at the frontier (1/s) and where it comes from, read from design.json's ``frontier``.
+
+    ``frontier.K_max`` when written; else ``frontier.s_max`` times K (the charges reading's
+    frontier scales n and K together); else the design's own K.
+    """
+    frontier = design.extra.get("frontier") if isinstance(design.extra, dict) else None
+    K = abs(design.parameters.K)
+    if isinstance(frontier, dict):
+        if frontier.get("K_max") is not None:
+            k_max = as_finite_float(frontier["K_max"], "frontier.K_max")
+            if k_max < 0:
+                raise input_error("frontier.K_max", "a number >= 0 (1/s)", frontier["K_max"])
+            return k_max, "frontier.K_max"
+        if frontier.get("s_max") is not None:
+            s_max = as_finite_float(frontier["s_max"], "frontier.s_max")
+            if s_max < 0:
+                raise input_error("frontier.s_max", "a number >= 0", frontier["s_max"])
+            return s_max * K, "frontier.s_max x K"
+    return K, "the design's K (no frontier in design.json)"
+
+
+def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The induced-magnetisation parasitic at the K frontier, by the size-free law.
+
+    With n read as a rotation of axes only K needs Lorentz charges (``6 a2 I_xxz = -C K d``,
+    ``6 a2 I_xyz = c C K``). The parts' induced energy ``-chi v |B|^2 / (2 mu0)`` varies over
+    orientations by ``6 a2^2 (chi/rho) C / mu0`` (all parts of one ``chi/rho``, docs/
+    buildable.md), against the designed K torques ``C K^2``::
+
+        ratio = 6 (chi/rho) / (mu0 G^2),   G = K_max / a2   (C m / kg, ~ (Q/M) L)
+
+    Size-free for similar bodies, independent of a2, falling like ``1 / E_surface^2``.
+
+    Parameters
+    ----------
+    design : Design
+        With ``medium``, ``materials`` and a magnetic field with a gradient ``a2``.
+    response : dict, optional
+        The design's :func:`field_response` when already computed.
+
+    Returns
+    -------
+    dict
+        An item of the realism budget (``value`` = the law's ratio, ``unit``, ``verdict``,
+        ``note``) with the figures: ``chi_over_rho_m3_per_kg``, ``a2_T_per_m``,
+        ``K_max_1_per_s`` and ``K_max_source``, ``G_C_m_per_kg``, ``ratio`` (the law),
+        ``ratio_elements`` (the element-level induced energy range of :func:`field_response`
+        over ``C K_max^2``), ``surface_field_V_per_m`` (the safe field the frontier reaches),
+        ``parity_surface_field_V_per_m``, ``parity_chi_over_rho_m3_per_kg``,
+        ``field_evaporation_V_per_m``, ``atomic_field_V_per_m``, ``eddy_ratio`` (the eddy
+        torque at the K frontier's motion ``|omega| = 2 K_max`` over ``C K_max^2``),
+        ``conductivity_needed_S_per_m``, ``insulators_S_per_m``, ``one_charge_carrier_radius_m``
+        and ``smallest_similar_body_radius_m``. Empty when the law does not apply (no medium,
+        no gradient, K = 0, or no part's susceptibility known). ``chi/rho`` may be negative
+        (a diamagnetic body); the ratio takes its size.
+    """
+    legendre = tuple(design.field("magnetic"))
+    a2 = legendre[1] / 2.0 if len(legendre) > 1 else 0.0
+    if design.medium is None or a2 == 0.0 or design.parameters.K == 0.0:
+        return {}
+    p = design.parameters
+    k_max, source = _frontier_k(design)
+    if k_max == 0.0:
+        return {}
+    mix, mass, unknown = chi_over_rho(design)
+    if mass == 0.0:  # no part's susceptibility is known: the law has nothing to say
+        return {}
+    g = k_max / abs(a2)
+    # a diamagnetic body (chi < 0) has the same range of energy, upside down
+    ratio = 6.0 * abs(mix) / (MU_0 * g**2)
+    designed = p.C * k_max**2
+    response = field_response(design) if response is None else response
+    rate = typical_rate(p)
+    torque = p.C * rate**2 / 4.0
+    induced_key, eddy_key = FIELD_RESPONSE_KEYS
+    induced = (response.get(induced_key) or {}).get("value")
+    eddy = (response.get(eddy_key) or {}).get("value")
+    # the induced energy does not depend on the rate; the eddy torque is beta |omega|
+    ratio_elements = induced * torque / designed if induced is not None else None
+    eddy_ratio = eddy * torque / rate * 2.0 * k_max / designed if eddy is not None else None
+    medium = design.medium
+    e_safe = medium["safety"] * medium["breakdown_V_per_m"]
+    parity_field = e_safe * math.sqrt(ratio) if ratio > 0 else 0.0
+    parity_mix = abs(mix) / ratio if ratio > 0 else None
+    sigmas = [(part["sigma"], part) for part in material_parts(design) if part["sigma"]]
+    sigma_top, top = max(sigmas, key=lambda x: x[0]) if sigmas else (0.0, None)
+    sigma_needed = (
+        sigma_top * RESPONSE_FRACTION / eddy_ratio if eddy_ratio and sigma_top > 0 else None
+    )
+    radii = design.carrier_radii()
+    one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
+    carrier = float(np.max(radii, initial=0.0))
+    written = (design.extra.get("buildability") or {}).get("region_radius_m")
+    region = (
+        as_finite_float(written, "buildability.region_radius_m")
+        if written is not None
+        else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
+    )
+    smallest = region * one_e / carrier if carrier > 0 else None
+    verdict = _verdict(ratio, RESPONSE_FRACTION)
+    note = (
+        f"6 (chi/rho) / (mu0 G^2) with chi/rho = {mix:.3g} m^3/kg (mass-weighted over "
+        f"{mass:.3g} kg of parts), G = K_max / a2 = {k_max:.3g} / {abs(a2):.3g} = {g:.3g} C m/kg "
+        f"({source}): the parts' induced-magnetisation energy range over the designed K "
+        f"torques C K_max^2, for any size and any a2"
+    )
+    if ratio_elements is not None:
+        note += f"; element by element {ratio_elements:.3g}"
+    note += (
+        f". Parity needs G {math.sqrt(ratio):.3g} times larger: surface fields of "
+        f"{parity_field:.3g} V/m ({parity_field / FIELD_EVAPORATION:.3g} x field evaporation, "
+        f"{parity_field / ATOMIC_FIELD:.3g} x the atomic field)"
+        + (f", or chi/rho = {parity_mix:.3g} m^3/kg" if parity_mix is not None else "")
+    )
+    if eddy_ratio is not None and sigma_needed is not None and top is not None:
+        insulators = ", ".join(f"{k} {v:.0e}" for k, v in INSULATOR_CONDUCTIVITY.items())
+        note += (
+            f". Eddy currents at the K frontier: {eddy_ratio:.3g} x the designed K torques, a "
+            f"choice of material: below {RESPONSE_FRACTION:g} needs conductivities under "
+            f"{sigma_needed:.3g} S/m (now {top['role']} {top['name']} {sigma_top:.3g} S/m; "
+            f"insulators: {insulators} S/m)"
+        )
+    if unknown:
+        note += "; not counted (no susceptibility or density given): " + ", ".join(unknown)
+    return {
+        "value": ratio,
+        "unit": "",
+        "verdict": verdict,
+        "note": note,
+        "law": "6 (chi/rho) / (mu0 G^2), G = K_max / a2",
+        "larmor_reading": design.larmor_reading,
+        "chi_over_rho_m3_per_kg": mix,
+        "parts_mass_kg": mass,
+        "a2_T_per_m": abs(a2),
+        "K_max_1_per_s": k_max,
+        "K_max_source": source,
+        "G_C_m_per_kg": g,
+        "ratio": ratio,
+        "ratio_elements": ratio_elements,
+        "surface_field_V_per_m": e_safe,
+        "parity_surface_field_V_per_m": parity_field,
+        "parity_chi_over_rho_m3_per_kg": parity_mix,
+        "field_evaporation_V_per_m": FIELD_EVAPORATION,
+        "atomic_field_V_per_m": ATOMIC_FIELD,
+        "eddy_ratio": eddy_ratio,
+        "conductivity_needed_S_per_m": sigma_needed,
+        "conductivity_needed_for": None if top is None else f"{top['role']} {top['name']}",
+        "conductivity_now_S_per_m": sigma_top if top is not None else None,
+        "insulators_S_per_m": dict(INSULATOR_CONDUCTIVITY),
+        "one_charge_carrier_radius_m": one_e,
+        "smallest_similar_body_radius_m": smallest,
+    }
+
+
+#: the terms of V and mu the realisability map lists: (key, where, parameter monomial as
+#: exponents of (kappa, n, K, lambda, rho), name, how the term can be realised)
+_MAP_TERMS: tuple[tuple[str, str, tuple[int, ...], str, str], ...] = (
+    (
+        "kappa",
+        "V",
+        (1, 0, 0, 0, 0),
+        "kappa's sectoral terms (degree 2)",
+        "gravity on the masses' second moments (a degree-2 gravity field); an electric "
+        "potential on the charges' second moments; magnets' first moments in the gradient a2; "
+        "the parts' chi-weighted second moments in a2^2 (the induced energy, designed)",
+    ),
+    (
+        "n2",
+        "V",
+        (0, 2, 0, 0, 0),
+        "n^2 zonal term (degree 2)",
+        "turning axes: the centrifugal potential (frame reading, no parts); or, like kappa's "
+        "terms, gravity, electric or magnetic potentials on masses, charges or magnets",
+    ),
+    (
+        "nK",
+        "V",
+        (0, 1, 1, 0, 0),
+        "n K term (degree 3)",
+        "turning axes: K's vector potential seen from them (frame reading, no parts); or a "
+        "field of odd degree >= 3 on charges, masses or magnets",
+    ),
+    (
+        "K2",
+        "V",
+        (0, 0, 2, 0, 0),
+        "K^2 quartic terms (degree 4)",
+        "a field of even degree >= 4: an electric potential on the charges' fourth moments, "
+        "gravity on the masses', a magnetic one on the magnets' third moments",
+    ),
+    (
+        "lambda",
+        "V",
+        (0, 0, 0, 1, 0),
+        "lambda / gamma3^2 (singular)",
+        "none: unbounded at gamma3 = 0, which no finite set of sources in a regular field makes",
+    ),
+    (
+        "rho",
+        "V",
+        (0, 0, 0, 0, 1),
+        "rho (1/gamma3^4 - 1/gamma3^6) (singular)",
+        "none: unbounded at gamma3 = 0",
+    ),
+    (
+        "mu_n",
+        "mu",
+        (0, 1, 0, 0, 0),
+        "n terms of mu (degree 1)",
+        "turning axes (frame reading, no parts); or Lorentz on the charges' second moments in "
+        "a1 (the paper's (p6): a uniform charge-to-mass ratio)",
+    ),
+    (
+        "mu_K",
+        "mu",
+        (0, 0, 1, 0, 0),
+        "K terms of mu (degree 2)",
+        "Lorentz on the charges' third moments in the gradient a2 (6 a2 I_xxz = -C K d, "
+        "6 a2 I_xyz = c C K): the only mechanism in these fields",
+    ),
+)
+
+#: the fields and the element kind each acts on, for the map's "here" column
+_FIELD_SOURCES = (("electric", "charges"), ("magnetic", "magnets"), ("gravity", "masses"))
+
+
+def _sources_for_degree(design: Any, degree: int) -> list[str]:
+    """The element sets of this body in a field that makes terms of this degree in gamma.
+
+    A field component of degree j, ``f_j R^j P_j(Z/R)`` with ``Z = gamma . r``, gives terms of
+    degree j, j - 2, ... in gamma on charges, masses and magnets alike.
+    """
+    counts = {
+        "charges": len(design.charge_values),
+        "magnets": len(design.dipole_moments),
+        "masses": len(design.all_masses()[1]),
+    }
+    out = []
+    for kind, elements in _FIELD_SOURCES:
+        coeffs = design.field(kind)
+        degrees = [j + 1 for j, f in enumerate(coeffs) if f != 0.0]
+        usable = [j for j in degrees if j >= degree and (j - degree) % 2 == 0]
+        if usable and counts[elements]:
+            out.append(f"{counts[elements]} {elements} in the {kind} field (degree {usable[0]})")
+    return out
+
+
+def realisability_map(design: Any, response: dict[str, Any] | None = None) -> list[dict[str, Any]]:
+    """Each term of V and mu: how it can be realised, how this body does it, and how strong
+    it is against the parasitics of the parts' materials.
+
+    The terms come from the model's V and mu (:func:`chargedesign.model.case.symbolic_case`,
+    split by their parameter monomials); their sizes are computed from this design's
+    parameters on 2000 orientations: for V the range of the term over the sphere (J, a torque
+    times 1 rad), for mu the gyroscopic torque ``|omega| max |mu_term|`` at the budget's
+    typical rate (N m). The parasitics are the body's (:func:`field_response`): the induced
+    energy range (J) and the eddy torque at the typical rate (N m).
+
+    Returns
+    -------
+    list of dict
+        One row per term: ``key``, ``where`` (``V`` or ``mu``), ``term``, ``expression`` (in
+        gamma1..3), ``mechanisms``, ``here`` (what this body uses), ``size_N_m`` (inf for a
+        singular term that is present), ``frontier_size_N_m`` (the size at the K frontier:
+        every term scales like the rate squared; None where it is not bound by parts),
+        ``induced_over_term`` and ``eddy_over_term`` (None where no parts realise it), and
+        the same two at the K frontier (``frontier_induced_over_term``,
+        ``frontier_eddy_over_term``: the induced energy does not change with the rate, the
+        eddy torque grows like it).
+    """
+    import sympy as sp
+
+    from chargedesign.model.case import GAMMA, C, K, kappa, lam, n, rho, symbolic_case
+
+    case = symbolic_case()
+    p = design.parameters
+    frame = design.larmor_reading == "frame"
+    # the frame reading's n is the turning axes' rate (the parts realise n = 0)
+    rate_n = design.larmor.rate if frame else p.n
+    values = {kappa: p.kappa, n: rate_n, K: p.K, lam: p.lam, rho: p.rho}
+    symbols = (kappa, n, K, lam, rho)
+    v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
+    mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
+    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    rate = typical_rate(p)
+    response = field_response(design) if response is None else response
+    torque = p.C * rate**2 / 4.0
+    induced_key, eddy_key = FIELD_RESPONSE_KEYS
+    induced = (response.get(induced_key) or {}).get("value")
+    eddy = (response.get(eddy_key) or {}).get("value")
+    induced_j = induced * torque if induced is not None else None
+    eddy_nm = eddy * torque if eddy is not None else None
+    k_max, _ = _frontier_k(design) if p.K else (0.0, "")
+    scale2 = (k_max / abs(p.K)) ** 2 if p.K else 1.0
+    rows = []
+    for key, where, powers, name, mechanisms in _MAP_TERMS:
+        monomial = sp.Mul(*[s**e for s, e in zip(symbols, powers, strict=True)])
+        amount = math.prod(values[s] ** e for s, e in zip(symbols, powers, strict=True))
+        if where == "V":
+            coeff = v_terms[powers]
+            expression = str(sp.factor(coeff) * monomial)
+            singular = key in ("lambda", "rho")
+            if amount == 0.0:
+                size = 0.0
+            elif singular:
+                size = math.inf
+            else:
+                f = sp.lambdify([C, *GAMMA], coeff.subs(_model_constants(p)), "numpy")
+                term = amount * np.broadcast_to(f(p.C, *gammas.T), len(gammas))
+                size = float(np.ptp(term))
+            degree = int(sp.Poly(coeff, *GAMMA).total_degree()) if not singular else 0
+        else:
+            mono = powers[1:3]
+            comps = [m.get(mono, sp.Integer(0)) for m in mu_terms]
+            expression = "(" + ", ".join(str(sp.factor(c * monomial)) for c in comps) + ")"
+            vec = np.array(
+                [
+                    np.broadcast_to(
+                        sp.lambdify([C, *GAMMA], comp.subs(_model_constants(p)), "numpy")(
+                            p.C, *gammas.T
+                        ),
+                        len(gammas),
+                    )
+                    for comp in comps
+                ]
+            )
+            size = abs(amount) * rate * float(np.max(np.linalg.norm(vec, axis=0)))
+            degree = 1 if key == "mu_n" else 2
+            singular = False
+        no_parts = frame and key in ("n2", "nK", "mu_n")
+        if amount == 0.0:
+            here = "not in this body (its parameter is 0)"
+        elif singular:
+            here = "none: this body cannot realise it"
+        elif no_parts:
+            here = f"turning axes at n = {design.larmor.rate:.3g} 1/s (no parts)"
+        elif key == "mu_n":
+            here = f"{len(design.charge_values)} charges (second moments in a1)"
+        elif key == "mu_K":
+            here = f"{len(design.charge_values)} charges (third moments in a2)"
+        else:
+            here = "; ".join(_sources_for_degree(design, degree)) or "no source of this degree"
+        parts = amount != 0.0 and not singular and not no_parts
+        front = size * scale2 if parts else None
+        rows.append(
+            {
+                "key": key,
+                "where": where,
+                "term": name,
+                "expression": expression,
+                "mechanisms": mechanisms,
+                "here": here,
+                "size_N_m": size,
+                "frontier_size_N_m": front,
+                "induced_over_term": induced_j / size if parts and induced_j is not None else None,
+                "eddy_over_term": eddy_nm / size if parts and eddy_nm is not None else None,
+                # at the frontier the induced energy is the same, the eddy torque ~ the rate
+                "frontier_induced_over_term": (
+                    induced_j / front if front and induced_j is not None else None
+                ),
+                "frontier_eddy_over_term": (
+                    eddy_nm * math.sqrt(scale2) / front if front and eddy_nm is not None else None
+                ),
+            }
+        )
+    return rows
+
+
+def _model_constants(p: Any) -> dict[Any, float]:
+    """The model's shape constants c, d as numbers (the sizes are per unit of the parameter)."""
+    from chargedesign.model.case import c, d
+
+    return {c: p.c, d: p.d}
 
 
 def _item(value: float, unit: str, verdict: str, note: str) -> dict[str, Any]:
@@ -283,6 +705,8 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     drag = 8 * math.pi * viscosity * envelope**3 * rate
     reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
 
+    response = field_response(design) if response is None else response
+    law = k_law(design, response)
     item = _item
     return {
         "typical_rate_1_per_s": rate,
@@ -322,5 +746,6 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
             f"laminar drag of {medium} on the enveloping sphere (Re = {reynolds:.3g}) over the "
             "designed torques",
         ),
-        **(field_response(design) if response is None else response),
+        **response,
+        **({K_LAW_KEY: law} if law else {}),
     }
