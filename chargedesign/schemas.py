@@ -85,7 +85,11 @@ def _materials() -> dict[str, Any]:
     }
     return {
         "type": "object",
-        "description": "materials by role (magnet, carrier, ballast, ...)",
+        "description": "materials by role (magnet, carrier, ballast, ...); ballast may be a "
+        "list of materials (then masses.material names each ballast part's)",
+        "properties": {
+            "ballast": {"oneOf": [material, {"type": "array", "items": material, "minItems": 1}]}
+        },
         "additionalProperties": material,
     }
 
@@ -138,7 +142,15 @@ def design_schema() -> dict[str, Any]:
             "masses": {
                 "type": "object",
                 "description": "the ballast",
-                "properties": {"positions": _POINTS, "values": _NONNEGS},
+                "properties": {
+                    "positions": _POINTS,
+                    "values": _NONNEGS,
+                    "material": {
+                        "type": "array",
+                        "items": {"type": "string"},
+                        "description": "each part's ballast material (several materials)",
+                    },
+                },
                 "additionalProperties": False,
             },
             "realises": {
