@@ -67,6 +67,7 @@ SCENE_TABLES = (
     "carriers",
     "magnets",
     "ballast",
+    "tolerance",
 )
 
 #: how the theorem's n is realised (scene ``[design] larmor``, design.json ``larmor.reading``):

@@ -820,6 +820,49 @@ def induced_rows(legendre: tuple[float, ...], points: np.ndarray) -> np.ndarray:
     return np.array(rows).reshape(len(rows), len(points))
 
 
+def induced_energy(
+    legendre: tuple[float, ...], points: np.ndarray, weights: np.ndarray, gammas: np.ndarray
+) -> np.ndarray:
+    """The orientation-dependent induced energy of parts by their moments (J), shape (m,).
+
+    ``-(8 a1 a2 D . gamma + 12 a2^2 gamma^T S gamma) / (2 mu0)`` without its constant, from
+    the rows of :func:`induced_rows` (``gamma^T S gamma = tr S / 3 + (S11 - S22) (g1^2 - g2^2)
+    / 2 + (S33 - (S11 + S22) / 2) (g3^2 - 1/3) + 2 S12 g1 g2 + 2 S13 g1 g3 + 2 S23 g2 g3`` on
+    the unit sphere).
+
+    Parameters
+    ----------
+    legendre : tuple of float
+        The magnetic field (degree <= 2), T, T/m.
+    points : ndarray, shape (p, 3)
+        Part centres, m.
+    weights : ndarray, shape (p,)
+        ``chi v`` of each part, m^3.
+    gammas : ndarray, shape (m, 3)
+        Unit vectors of the field axis in body axes.
+    """
+    from chargedesign.physical.materials import MU_0
+
+    coeffs = (*legendre, 0.0, 0.0)
+    a1, a2 = coeffs[0], coeffs[1] / 2.0
+    g = np.asarray(gammas, dtype=float)
+    basis = []
+    if a1 * a2 != 0:
+        basis += [g[:, 0], g[:, 1], g[:, 2]]
+    if a2 != 0:
+        basis += [
+            (g[:, 0] ** 2 - g[:, 1] ** 2) / 2,
+            g[:, 2] ** 2,
+            2 * g[:, 0] * g[:, 1],
+            2 * g[:, 0] * g[:, 2],
+            2 * g[:, 1] * g[:, 2],
+        ]
+    if not basis:
+        return np.zeros(len(g))
+    moments = induced_rows(tuple(legendre), np.asarray(points, float)) @ np.asarray(weights)
+    return -(np.array(basis).T @ moments) / (2.0 * MU_0)
+
+
 def induced_ballast(
     setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
 ) -> MassSolution:
@@ -1106,6 +1149,8 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     )
     design.extra["field_limits"] = dict(spec.field_limits)
     design.extra["time_rate"] = s
+    if spec.material_errors:
+        design.extra["material_errors"] = dict(spec.material_errors)
     return design
 
 

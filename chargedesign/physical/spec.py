@@ -13,6 +13,8 @@ Scene tables (docs/buildable.md)::
     (each of the three) susceptibility (SI volume), conductivity (S/m): override the
                         material's values, which the realism budget uses
     [body]              carrier_radius (m; default a quarter of the candidate spacing)
+    [tolerance]         chi_relative, density_relative, magnetisation_relative: the
+                        materials' relative errors that ``tolerance`` analyses
     [fields.*]          max: the largest |B| (T) or |E| (V/m) the apparatus makes over the body
 
 A scene without ``[medium]`` is the mathematical case: point elements, no limits.
@@ -87,6 +89,8 @@ class PhysicalSpec:
     field_limits: dict[str, float] = field(default_factory=dict)
     surface_samples: int = DEFAULT_SURFACE_SAMPLES
     ballasts: tuple[Material, ...] = ()
+    #: the scene's ``[tolerance]`` material errors (relative), recorded in design.json
+    material_errors: dict[str, float] = field(default_factory=dict)
 
     @property
     def designs_induced(self) -> bool:
@@ -171,8 +175,13 @@ def spec_from_tables(
     tables: Mapping[str, Any], field_limits: Mapping[str, float] | None = None
 ) -> PhysicalSpec | None:
     """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
+    material_errors: dict[str, float] = {}
+    if "tolerance" in tables:
+        from chargedesign.tolerance import MaterialErrors
+
+        material_errors = MaterialErrors.from_table(tables["tolerance"]).to_dict()
     if "medium" not in tables:
-        for name in ("carriers", "magnets", "ballast"):
+        for name in ("carriers", "magnets", "ballast", "tolerance"):
             if name in tables:
                 raise InputError(
                     f"{name}: physical parts need a [medium] table (vacuum, air, sf6, oil)"
@@ -250,6 +259,7 @@ def spec_from_tables(
         field_limits=dict(field_limits or {}),
         surface_samples=samples,
         ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
+        material_errors=material_errors,
     )
 
 
