@@ -25,6 +25,7 @@ from chargedesign.vocabulary import (
     EFFECTS,
     FIELD_KINDS,
     LARMOR_READINGS,
+    MATERIAL_ERROR_KEYS,
     OBJECTIVES,
     PARAMETER_NAMES,
     REALISABLE,
@@ -289,7 +290,17 @@ def scene_schema() -> dict[str, Any]:
         "medium": _medium(),
         "carriers": _open("the charge carriers (sizes, material)"),
         "magnets": _open("the magnets (sizes, material)"),
-        "ballast": _open("the ballast masses (sizes, material)"),
+        "ballast": _open("the ballast masses (sizes, material or a list of materials)"),
+        "tolerance": {
+            "type": "object",
+            "description": "the materials' relative property errors (one standard deviation, "
+            "one draw per material) that tolerance analyses",
+            "properties": {
+                key: {"type": "number", "minimum": 0, "exclusiveMaximum": 1}
+                for key in MATERIAL_ERROR_KEYS
+            },
+            "additionalProperties": False,
+        },
     }
     assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
     return {

@@ -46,6 +46,7 @@ from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.results import Result, format_length
 from chargedesign.validation import as_finite_float, as_points, input_error
+from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 #: the quantities whose errors are analysed, in the check's names
 QUANTITIES = ("mu", "V", "inertia")
@@ -64,8 +65,6 @@ DEFAULT_LEVELS = (0.01, 0.1, 1.0)
 #: integration tolerances of the ensemble (the nominal body's own drift is the floor)
 DEFAULT_RTOL = 1e-10
 DEFAULT_T_END = 100.0
-#: the material property errors (relative, one standard deviation), scene ``[tolerance]``
-MATERIAL_ERROR_KEYS = ("chi_relative", "density_relative", "magnetisation_relative")
 #: relative accuracy of susceptibility metrology: a calibrated ac susceptometer holds its
 #: magnitude error below 0.7 % (Chen & Skumryev, Rev. Sci. Instrum. 81, 025104 (2010));
 #: commercial SQUID magnetometers calibrated against a palladium standard carry sample-shape
