@@ -170,7 +170,8 @@ def test_the_sectoral_part_along_c_d_only_shifts_kappa():
     """Adding ``e (c (g1^2 - g2^2) + 2 d g1 g2)`` to V is kappa -> kappa + e / C identically
     (mu, the inertia and I3 hold no kappa), so I4 with the shifted kappa stays an integral:
     dI4/dt = 0 exactly at rational states of I3 = 0. The other sectoral term, the zonal
-    gamma3^2 term and a gamma1 (D . gamma) term each make dI4/dt nonzero, for I4 with any
+    gamma3^2 term, a gamma1 (D . gamma) and a gamma1 gamma3 (tesseral) term each make dI4/dt
+    nonzero, for I4 with any
     kappa (dI4/dt is affine in kappa and has no common zero at the two states)."""
     case = symbolic_case()
     e = sp.Symbol("e")
@@ -188,6 +189,7 @@ def test_the_sectoral_part_along_c_d_only_shifts_kappa():
         "other sectoral": d * (g1**2 - g2**2) - 2 * c * g1 * g2,
         "zonal": g3**2,
         "D . gamma": g1,
+        "tesseral": g1 * g3,
     }
     for name, term in others.items():
         V = (case.V + eps * term).subs(PARAMS)
