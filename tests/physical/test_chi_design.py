@@ -10,6 +10,7 @@ along (c, d) only shifts kappa) is proven exactly with sympy from the package's 
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -45,6 +46,7 @@ from chargedesign.physical.bom import bom_rows
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
 from chargedesign.physical.realism import field_response, material_parts, typical_rate
+from chargedesign.schemas import validate
 
 A1, A2 = 1.0, 10.0  # the small scene's field: T, T/m
 CHI_BALLAST = {"ballast": {"material": ["tungsten", "bismuth"]}}
@@ -108,6 +110,7 @@ def test_the_chi_weighted_moments_of_the_written_parts_vanish(chi_design):
 
 def test_per_part_materials_round_trip_and_reach_the_bill_of_materials(chi_design):
     data = chi_design.to_dict()
+    validate(json.loads(json.dumps(data)), "design")
     assert [m["name"] for m in data["materials"]["ballast"]] == ["tungsten", "bismuth"]
     assert len(data["masses"]["material"]) == len(data["masses"]["values"])
     again = Design.from_dict(data)
@@ -225,6 +228,14 @@ def test_a_design_file_with_several_ballast_materials_names_each_part(chi_design
     data["masses"]["material"] = ["lead"] * len(data["masses"]["values"])
     with pytest.raises(InputError, match=r"masses\.material"):
         Design.from_dict(data)
+
+
+def test_a_custom_material_without_susceptibility_is_named():
+    """The cancellation needs every part's chi: a custom carrier density has none."""
+    scene = scene_with(**CHI_BALLAST, carriers={"density": 2500.0})
+    with pytest.raises(InputError, match=r"carriers\.susceptibility") as info:
+        design_from_scene(scene, frontier=False)
+    assert "\n" not in str(info.value)
 
 
 def test_bismuth_and_copper_are_diamagnetic_as_the_crc_molar_values_say():
