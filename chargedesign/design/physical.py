@@ -962,12 +962,14 @@ def induced_ballast(
     assert x is not None
     flat = x.reshape(-1) * scale
     support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
+    # the solver's crumbs off the support are dropped before the polish, so that the parts
+    # written are exactly the ones the rows were polished with
+    flat = np.where(np.isin(np.arange(len(flat)), support), flat, 0.0)
     polished = _polish_equal(A, b, flat, support)
     if np.any(polished < 0):
         raise SolverError("ballast: polishing made a ballast mass negative")
     per = polished.reshape(J, k)
-    top_mass = float(np.max(per))
-    entries = [(j, i) for j in range(J) for i in range(k) if per[j, i] > 1e-12 * top_mass]
+    entries = [(j, i) for j in range(J) for i in range(k) if per[j, i] > 0]
     nm = len(magnet_sites)
     material = np.concatenate([np.full(nm, -1), [j for j, _ in entries]]).astype(int)
     site_list = np.concatenate([magnet_sites, [free[i] for _, i in entries]]).astype(int)
