@@ -69,6 +69,7 @@ class Design(ElementSet):
             self.larmor = LarmorReading.from_dict(self.larmor)
         self.medium = _medium(self.medium)
         self.materials = _materials(self.materials)
+        _check_mass_materials(self)
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
@@ -112,7 +113,10 @@ class Design(ElementSet):
         if self.medium is not None:
             out["medium"] = dict(self.medium)
         if self.materials:
-            out["materials"] = {k: dict(v) for k, v in self.materials.items()}
+            out["materials"] = {
+                k: [dict(x) for x in v] if isinstance(v, list) else dict(v)
+                for k, v in self.materials.items()
+            }
         if self.larmor is not None:
             out["larmor"] = self.larmor.to_dict()
         for key, value in self.extra.items():
@@ -222,7 +226,8 @@ def _medium(value: Any) -> dict[str, Any] | None:
 
 
 def _materials(value: Any) -> dict[str, Any]:
-    """design.json ``materials``: role -> {name, density_kg_per_m3, ...}."""
+    """design.json ``materials``: role -> {name, density_kg_per_m3, ...}; ``ballast`` may be a
+    list of materials (several ballast materials, each part named in ``masses.material``)."""
     if not isinstance(value, dict):
         raise input_error("materials", "an object role -> material", value)
     out: dict[str, Any] = {}
@@ -230,30 +235,68 @@ def _materials(value: Any) -> dict[str, Any]:
         where = f"materials.{role}"
         if role not in ("carrier", "magnet", "ballast"):
             raise input_error("materials", "roles among carrier, magnet, ballast", role)
-        if not isinstance(spec, dict) or "density_kg_per_m3" not in spec:
-            raise input_error(where, "an object with density_kg_per_m3", spec)
-        clean: dict[str, Any] = {}
-        for key, item in spec.items():
-            if key not in _MATERIAL_KEYS:
-                raise input_error(f"{where}.{key}", "one of " + ", ".join(_MATERIAL_KEYS), key)
-            if key == "name":
-                if not isinstance(item, str):
-                    raise input_error(f"{where}.name", "a name", item)
-                clean[key] = item
-            elif key == "volume_susceptibility":
-                clean[key] = as_finite_float(item, f"{where}.{key}")
-                if clean[key] <= -1.0:
-                    raise input_error(f"{where}.{key}", "a number > -1", item)
-            elif key == "conductivity_S_per_m":
-                clean[key] = as_finite_float(item, f"{where}.{key}")
-                if clean[key] < 0.0:
-                    raise input_error(f"{where}.{key}", "a number >= 0", item)
-            else:
-                clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
-        out[role] = clean
+        if role == "ballast" and isinstance(spec, list):
+            if not spec:
+                raise input_error(where, "a material or a non-empty list of materials", spec)
+            items = [_material(x, f"{where}[{i}]") for i, x in enumerate(spec)]
+            names = [x.get("name") for x in items]
+            if None in names or len(set(names)) != len(names):
+                raise input_error(where, "materials with distinct names", names)
+            out[role] = items
+        else:
+            out[role] = _material(spec, where)
     if "magnet" in out and "remanent_magnetisation_A_per_m" not in out["magnet"]:
         raise InputError("materials.magnet: missing key 'remanent_magnetisation_A_per_m'")
     return out
+
+
+def _material(spec: Any, where: str) -> dict[str, Any]:
+    """One material of design.json ``materials`` (validated copy)."""
+    if not isinstance(spec, dict) or "density_kg_per_m3" not in spec:
+        raise input_error(where, "an object with density_kg_per_m3", spec)
+    clean: dict[str, Any] = {}
+    for key, item in spec.items():
+        if key not in _MATERIAL_KEYS:
+            raise input_error(f"{where}.{key}", "one of " + ", ".join(_MATERIAL_KEYS), key)
+        if key == "name":
+            if not isinstance(item, str):
+                raise input_error(f"{where}.name", "a name", item)
+            clean[key] = item
+        elif key == "volume_susceptibility":
+            clean[key] = as_finite_float(item, f"{where}.{key}")
+            if clean[key] <= -1.0:
+                raise input_error(f"{where}.{key}", "a number > -1", item)
+        elif key == "conductivity_S_per_m":
+            clean[key] = as_finite_float(item, f"{where}.{key}")
+            if clean[key] < 0.0:
+                raise input_error(f"{where}.{key}", "a number >= 0", item)
+        else:
+            clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
+    return clean
+
+
+def _check_mass_materials(design: Design) -> None:
+    """Several ballast materials: ``masses.material`` names each ballast part's, from the list."""
+    ballast = design.materials.get("ballast")
+    names = design.mass_materials
+    if isinstance(ballast, list) and len(ballast) > 1:
+        if names is None and len(design.mass_values):
+            raise InputError(
+                "masses.material: several ballast materials need each ballast part's material"
+            )
+        known = {m["name"] for m in ballast}
+        unknown = sorted(set(names or []) - known)
+        if unknown:
+            raise input_error(
+                "masses.material", "names among " + ", ".join(sorted(known)), unknown[0]
+            )
+    elif names is not None:
+        known = {ballast["name"]} if isinstance(ballast, dict) and "name" in ballast else set()
+        if isinstance(ballast, list):
+            known = {m.get("name") for m in ballast}
+        unknown = sorted(set(names) - known)
+        if unknown:
+            raise input_error("masses.material", "the ballast material's name", unknown[0])
 
 
 def read_design(path: str | os.PathLike[str]) -> Design:

@@ -11,7 +11,8 @@ Physical elements (design.json keys added by the contract; absent keys mean mass
   ``charge_masses`` (kg);
 - a dipole ``sigma`` is a magnet of volume ``dipole_volumes`` (m^3) and mass ``dipole_masses``
   (kg);
-- ``mass_positions`` / ``mass_values`` are the ballast.
+- ``mass_positions`` / ``mass_values`` are the ballast; with several ballast materials
+  ``mass_materials`` names each part's material (design.json ``masses.material``).
 
 The body's mass distribution is all three mass sets together (:meth:`ElementSet.all_masses`).
 """
@@ -29,7 +30,7 @@ from chargedesign.validation import as_points, as_weights, check_keys, input_err
 BLOCKS = {
     "charges": ("positions", "values", "radii", "masses"),
     "dipoles": ("positions", "moments", "volumes", "masses"),
-    "masses": ("positions", "values"),
+    "masses": ("positions", "values", "material"),
 }
 
 
@@ -67,6 +68,8 @@ class ElementSet:
         Ballast positions, m.
     mass_values : ndarray, shape (m,)
         Ballast masses, kg (>= 0).
+    mass_materials : list of str, optional
+        The material name of each ballast part (None: the one ballast material).
     """
 
     charge_positions: np.ndarray = field(default_factory=_points)
@@ -79,6 +82,7 @@ class ElementSet:
     dipole_masses: np.ndarray | None = None
     mass_positions: np.ndarray = field(default_factory=_points)
     mass_values: np.ndarray = field(default_factory=_weights)
+    mass_materials: list[str] | None = None
 
     def __post_init__(self) -> None:
         self.charge_positions = as_points(self.charge_positions, "charges.positions")
@@ -94,6 +98,17 @@ class ElementSet:
         self.mass_positions = as_points(self.mass_positions, "masses.positions")
         ballast = _nonneg(self.mass_values, "masses.values", len(self.mass_positions))
         self.mass_values = ballast if ballast is not None else np.zeros(0)
+        if self.mass_materials is not None:
+            names = self.mass_materials
+            if (
+                not isinstance(names, (list, tuple))
+                or len(names) != len(self.mass_values)
+                or not all(isinstance(x, str) for x in names)
+            ):
+                raise input_error(
+                    "masses.material", f"{len(self.mass_values)} material names", names
+                )
+            self.mass_materials = list(names)
 
     # ------------------------------------------------------------------ sizes and masses
     def carrier_radii(self) -> np.ndarray:
@@ -225,14 +240,13 @@ class ElementSet:
             charges["masses"] = self.carrier_masses().tolist()
             dipoles["volumes"] = self.magnet_volumes().tolist()
             dipoles["masses"] = self.magnet_masses().tolist()
-        return {
-            "charges": charges,
-            "masses": {
-                "positions": self.mass_positions.tolist(),
-                "values": self.mass_values.tolist(),
-            },
-            "dipoles": dipoles,
+        masses: dict[str, list[Any]] = {
+            "positions": self.mass_positions.tolist(),
+            "values": self.mass_values.tolist(),
         }
+        if self.mass_materials is not None:
+            masses["material"] = list(self.mass_materials)
+        return {"charges": charges, "masses": masses, "dipoles": dipoles}
 
     @staticmethod
     def arrays_from_blocks(data: dict[str, Any], where: str = "design") -> dict[str, Any]:
@@ -240,7 +254,7 @@ class ElementSet:
         names = {
             "charges": ("charge_positions", "charge_values", "charge_radii", "charge_masses"),
             "dipoles": ("dipole_positions", "dipole_moments", "dipole_volumes", "dipole_masses"),
-            "masses": ("mass_positions", "mass_values"),
+            "masses": ("mass_positions", "mass_values", "mass_materials"),
         }
         out: dict[str, Any] = {}
         for block, keys in BLOCKS.items():

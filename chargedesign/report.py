@@ -21,7 +21,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
-from chargedesign.physical.materials import sphere_radius
+from chargedesign.physical.materials import ballast_label, mass_densities, sphere_radius
 from chargedesign.physical.realism import (
     FIELD_RESPONSE_KEYS,
     K_LAW_KEY,
@@ -429,8 +429,8 @@ def _part_size_lines(design: Design) -> list[str]:
     volumes = design.magnet_volumes()
     if len(volumes):
         parts.append(f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across")
-    density = (design.materials.get("ballast") or {}).get("density_kg_per_m3")
-    if len(design.mass_values) and density:
+    density = mass_densities(design)
+    if len(design.mass_values) and np.all(np.isfinite(density)):
         ballast = sphere_radius(design.mass_values / density)
         parts.append(f"{len(ballast)} ballast spheres of radius {span(ballast)}")
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
@@ -448,7 +448,7 @@ def _physical_sections(design: Design) -> list[str]:
         f"({totals['mass_carriers_kg']:.4g} kg); magnets: {totals['magnets']} of "
         f"{mats.get('magnet', {}).get('name', '?')} ({totals['magnet_volume_m3']:.4g} m^3, "
         f"{totals['mass_magnets_kg']:.4g} kg with attached ballast); ballast: "
-        f"{totals['ballast']} pieces of {mats.get('ballast', {}).get('name', '?')} "
+        f"{totals['ballast']} pieces of {ballast_label(mats)} "
         f"({totals['mass_ballast_kg']:.4g} kg). Total mass {totals['mass_total_kg']:.4g} kg; "
         f"net charge {totals['charge_net_C']:.4g} C."
     )

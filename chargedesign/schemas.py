@@ -25,6 +25,7 @@ from chargedesign.vocabulary import (
     EFFECTS,
     FIELD_KINDS,
     LARMOR_READINGS,
+    MATERIAL_ERROR_KEYS,
     OBJECTIVES,
     PARAMETER_NAMES,
     REALISABLE,
@@ -86,7 +87,11 @@ def _materials() -> dict[str, Any]:
     }
     return {
         "type": "object",
-        "description": "materials by role (magnet, carrier, ballast, ...)",
+        "description": "materials by role (magnet, carrier, ballast, ...); ballast may be a "
+        "list of materials (then masses.material names each ballast part's)",
+        "properties": {
+            "ballast": {"oneOf": [material, {"type": "array", "items": material, "minItems": 1}]}
+        },
         "additionalProperties": material,
     }
 
@@ -139,7 +144,15 @@ def design_schema() -> dict[str, Any]:
             "masses": {
                 "type": "object",
                 "description": "the ballast",
-                "properties": {"positions": _POINTS, "values": _NONNEGS},
+                "properties": {
+                    "positions": _POINTS,
+                    "values": _NONNEGS,
+                    "material": {
+                        "type": "array",
+                        "items": {"type": "string"},
+                        "description": "each part's ballast material (several materials)",
+                    },
+                },
                 "additionalProperties": False,
             },
             "realises": {
@@ -279,7 +292,17 @@ def scene_schema() -> dict[str, Any]:
         "medium": _medium(),
         "carriers": _open("the charge carriers (sizes, material)"),
         "magnets": _open("the magnets (sizes, material)"),
-        "ballast": _open("the ballast masses (sizes, material)"),
+        "ballast": _open("the ballast masses (sizes, material or a list of materials)"),
+        "tolerance": {
+            "type": "object",
+            "description": "the materials' relative property errors (one standard deviation, "
+            "one draw per material) that tolerance analyses",
+            "properties": {
+                key: {"type": "number", "minimum": 0, "exclusiveMaximum": 1}
+                for key in MATERIAL_ERROR_KEYS
+            },
+            "additionalProperties": False,
+        },
     }
     assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
     return {

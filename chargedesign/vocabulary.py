@@ -67,7 +67,11 @@ SCENE_TABLES = (
     "carriers",
     "magnets",
     "ballast",
+    "tolerance",
 )
+
+#: the materials' relative property errors a scene's ``[tolerance]`` table may give
+MATERIAL_ERROR_KEYS = ("chi_relative", "density_relative", "magnetisation_relative")
 
 #: how the theorem's n is realised (scene ``[design] larmor``, design.json ``larmor.reading``):
 #: ``charges`` is the paper's (p6) reading (second moments of charge, a Larmor charge-to-mass

@@ -10,6 +10,11 @@ Error syntax: a number with an optional unit, or a percentage. ``--position 20um
 ``m``, ``mm``, ``um``/``µm``, ``nm``; a bare number is m), ``--position 0.1%`` (of each
 element's distance from O); ``--charge 1e-6`` (C) or ``--charge 1%``; ``--dipole`` (A m^2 per
 component, or % of |sigma|); ``--mass`` (kg or %). See docs/tolerance.md.
+
+Material properties (physical designs): ``--chi-relative``, ``--density-relative``,
+``--magnetisation-relative`` (relative errors, one draw per material; default: the scene's
+``[tolerance]`` values the design records) add the induced-magnetisation parasitic they
+leave, by the exact first-order sensitivity and by a Monte Carlo, and the chi accuracy needed.
 """
 
 from __future__ import annotations
@@ -27,6 +32,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--charge", metavar="E", help="charge error, C or %% (e.g. 1%%)")
     parser.add_argument("--dipole", metavar="E", help="dipole moment error, A m^2 or %%")
     parser.add_argument("--mass", metavar="E", help="mass error, kg or %%")
+    parser.add_argument(
+        "--chi-relative",
+        type=float,
+        metavar="X",
+        help="relative error of every material's susceptibility (one draw per material): the "
+        "induced-magnetisation parasitic it leaves (default: the design's [tolerance] values)",
+    )
+    parser.add_argument(
+        "--density-relative", type=float, metavar="X", help="relative error of the densities"
+    )
+    parser.add_argument(
+        "--magnetisation-relative",
+        type=float,
+        metavar="X",
+        help="relative error of the magnets' remanent magnetisation",
+    )
     parser.add_argument(
         "--target",
         type=float,
@@ -71,7 +92,13 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.body import read_design
     from chargedesign.errors import InputError
-    from chargedesign.tolerance import ErrorModel, monte_carlo, tolerance_report
+    from chargedesign.tolerance import (
+        ErrorModel,
+        MaterialErrors,
+        monte_carlo,
+        recorded_material_errors,
+        tolerance_report,
+    )
 
     if not math.isfinite(args.target) or args.target <= 0.0:
         raise InputError(f"--target: expected a number > 0, got {args.target!r}")
@@ -91,9 +118,21 @@ def run(args: argparse.Namespace) -> int:
         )
     design = read_design(args.design)
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
+    given = {
+        "chi_relative": args.chi_relative,
+        "density_relative": args.density_relative,
+        "magnetisation_relative": args.magnetisation_relative,
+    }
+    materials = recorded_material_errors(design)
+    if any(v is not None for v in given.values()):
+        base = materials.to_dict() if materials is not None else {}
+        base.update({k: v for k, v in given.items() if v is not None})
+        materials = MaterialErrors.parse("--", **base)
     result: object
     if model.is_zero:
-        result = tolerance_report(design, args.target)
+        result = tolerance_report(
+            design, args.target, material_errors=materials, material_samples=args.samples
+        )
     else:
         result = monte_carlo(
             design,
@@ -104,6 +143,7 @@ def run(args: argparse.Namespace) -> int:
             levels=levels,
             seed=args.seed,
             target=args.target,
+            material_errors=materials,
         )
     data = result.to_dict()
     if args.out:

@@ -611,6 +611,10 @@ class MassSolution:
     residual_dipoles: float
     residual_masses: float
     method: str
+    #: with several ballast materials: each entry's material (index into ``spec.ballasts``;
+    #: -1 for a magnet), and the induced-magnetisation rows' relative residual
+    materials: np.ndarray | None = None
+    residual_induced: float | None = None
 
 
 @dataclass
@@ -757,13 +761,236 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     if np.any(m < magnet_mass * (1 - 1e-9)):
         raise SolverError("magnets: polishing left a magnet lighter than its volume")
     used = (np.linalg.norm(sig, axis=1) > 0) | (m > 0)
+    residual_dipoles = relative_residual(Ad, full_sigma, s * s * bd) if len(bd) else 0.0
+    if setup.spec.designs_induced:
+        return induced_ballast(setup, carrier_sites, full_sigma.reshape(n, 3), residual_dipoles)
     return MassSolution(
         sites=sites[used],
         moments=sig[used],
         site_masses=m[used],
-        residual_dipoles=relative_residual(Ad, full_sigma, s * s * bd) if len(bd) else 0.0,
+        residual_dipoles=residual_dipoles,
         residual_masses=relative_residual(Am, full_mass, full_rhs) if len(full_rhs) else 0.0,
         method="Clarabel (magnet-mass and cell-volume cones), least-norm polish on the supports",
+    )
+
+
+def induced_rows(legendre: tuple[float, ...], points: np.ndarray) -> np.ndarray:
+    """The induced-magnetisation moments that depend on the orientation, per unit chi v.
+
+    For ``Phi = a1 Z + a2 (3 Z^2 - R^2)`` (legendre ``[a1, 2 a2]``) a part at body position x
+    sees ``|B|^2 = a1^2 + 4 a2^2 |x|^2 + 8 a1 a2 (gamma . x) + 12 a2^2 (gamma . x)^2``, so the
+    parts' energy ``-sum chi v |B|^2 / (2 mu0)`` depends on gamma through ``8 a1 a2 D . gamma``
+    and ``12 a2^2 gamma^T S gamma`` (``D = sum chi v x``, ``S = sum chi v x x^T``), and it is
+    the same at every orientation exactly when D = 0 (if a1 a2 != 0) and S is a multiple of
+    the identity (if a2 != 0: its five trace-free components vanish).
+
+    Parameters
+    ----------
+    legendre : tuple of float
+        The magnetic field's Legendre coefficients (T, T/m).
+    points : ndarray, shape (p, 3)
+        Part centres, m.
+
+    Returns
+    -------
+    ndarray, shape (r, p)
+        Rows ``8 a1 a2 (x1, x2, x3)`` and ``12 a2^2 (x1^2 - x2^2, x3^2 - (x1^2 + x2^2) / 2,
+        x1 x2, x1 x3, x2 x3)`` (T^2 m or T^2 m^2 per unit chi v; the rows present for the
+        nonzero coefficients): the weights ``chi v`` must make every row sum to zero.
+    """
+    coeffs = (*legendre, 0.0, 0.0)
+    if any(x != 0 for x in coeffs[2:]):
+        raise InputError(
+            "fields.magnetic: cancelling the induced magnetisation needs a field of degree <= 2 "
+            "(the paper's a1 Z + a2 (3 Z^2 - R^2)); give one ballast material"
+        )
+    a1, a2 = coeffs[0], coeffs[1] / 2.0
+    x1, x2, x3 = points[:, 0], points[:, 1], points[:, 2]
+    rows = []
+    if a1 * a2 != 0:
+        rows += [8 * a1 * a2 * x1, 8 * a1 * a2 * x2, 8 * a1 * a2 * x3]
+    if a2 != 0:
+        rows += [
+            12 * a2**2 * (x1**2 - x2**2),
+            12 * a2**2 * (x3**2 - (x1**2 + x2**2) / 2),
+            12 * a2**2 * x1 * x2,
+            12 * a2**2 * x1 * x3,
+            12 * a2**2 * x2 * x3,
+        ]
+    return np.array(rows).reshape(len(rows), len(points))
+
+
+def induced_energy(
+    legendre: tuple[float, ...], points: np.ndarray, weights: np.ndarray, gammas: np.ndarray
+) -> np.ndarray:
+    """The orientation-dependent induced energy of parts by their moments (J), shape (m,).
+
+    ``-(8 a1 a2 D . gamma + 12 a2^2 gamma^T S gamma) / (2 mu0)`` without its constant, from
+    the rows of :func:`induced_rows` (``gamma^T S gamma = tr S / 3 + (S11 - S22) (g1^2 - g2^2)
+    / 2 + (S33 - (S11 + S22) / 2) (g3^2 - 1/3) + 2 S12 g1 g2 + 2 S13 g1 g3 + 2 S23 g2 g3`` on
+    the unit sphere).
+
+    Parameters
+    ----------
+    legendre : tuple of float
+        The magnetic field (degree <= 2), T, T/m.
+    points : ndarray, shape (p, 3)
+        Part centres, m.
+    weights : ndarray, shape (p,)
+        ``chi v`` of each part, m^3.
+    gammas : ndarray, shape (m, 3)
+        Unit vectors of the field axis in body axes.
+    """
+    from chargedesign.physical.materials import MU_0
+
+    coeffs = (*legendre, 0.0, 0.0)
+    a1, a2 = coeffs[0], coeffs[1] / 2.0
+    g = np.asarray(gammas, dtype=float)
+    basis = []
+    if a1 * a2 != 0:
+        basis += [g[:, 0], g[:, 1], g[:, 2]]
+    if a2 != 0:
+        basis += [
+            (g[:, 0] ** 2 - g[:, 1] ** 2) / 2,
+            g[:, 2] ** 2,
+            2 * g[:, 0] * g[:, 1],
+            2 * g[:, 0] * g[:, 2],
+            2 * g[:, 1] * g[:, 2],
+        ]
+    if not basis:
+        return np.zeros(len(g))
+    moments = induced_rows(tuple(legendre), np.asarray(points, float)) @ np.asarray(weights)
+    return -(np.array(basis).T @ moments) / (2.0 * MU_0)
+
+
+def induced_ballast(
+    setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
+) -> MassSolution:
+    """Ballast of several materials that cancels the parts' induced magnetisation.
+
+    The carriers and the magnets ``sigma`` (n, 3), A m^2, are kept; the ballast is designed
+    anew, one material per free cell: its masses (per cell and material, kg) meet the mass
+    rows (inertia, centre of mass) and the induced-magnetisation rows (:func:`induced_rows`,
+    linear in the masses through ``chi v = (chi / rho) m``), within the cells' room. A linear
+    program (HiGHS, least total mass); cells given two materials are fixed to the larger and
+    the program solved again; then a least-norm polish on the support to rounding.
+    """
+    from scipy.optimize import linprog
+
+    spec = setup.spec
+    mats = spec.ballasts
+    chi = {}
+    for part in (spec.carrier, spec.magnet, *mats):
+        if part.susceptibility is None:
+            table = "carriers" if part.role == "carrier" else f"{part.role}s"
+            raise InputError(
+                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+                f"{part.role} material's susceptibility ({part.name} has none)"
+            )
+        chi[part.name, part.role] = part.susceptibility
+    n = len(setup.points)
+    legendre = tuple(setup.conditions.fields.get("magnetic", ()))
+    Am, bm = setup.systems["masses"]
+    M = spec.magnet.magnetisation or 1.0
+    norms = np.linalg.norm(sigma, axis=1)
+    magnet_sites = np.flatnonzero(norms > 0)
+    volumes = norms[magnet_sites] / M
+    magnet_mass = spec.magnet.density * volumes
+    carrier_volume = setup.carrier_mass / spec.carrier.density
+    rows_all = induced_rows(legendre, setup.points)
+    # what the carriers and magnets already contribute (constants of both row sets)
+    fixed_mass = np.zeros(n)
+    fixed_mass[carrier_sites] = setup.carrier_mass
+    fixed_mass[magnet_sites] = magnet_mass
+    chi_v = np.zeros(n)
+    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume
+    chi_v[magnet_sites] = chi[spec.magnet.name, "magnet"] * volumes
+    free = np.setdiff1d(np.arange(n), np.concatenate([carrier_sites, magnet_sites]))
+    k, J = len(free), len(mats)
+    per_kg = np.array([chi[m.name, "ballast"] / m.density for m in mats])  # chi v per kg
+    A = np.vstack(
+        [
+            np.hstack([Am[:, free]] * J),
+            np.hstack([rows_all[:, free] * c for c in per_kg]),
+        ]
+    )
+    b = np.concatenate([bm - Am @ fixed_mass, -rows_all @ chi_v])
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+    scale = _unknown_scale(A, b) or float(np.max(v_cap)) * mats[0].density
+    As, bs = _row_scaled(A, b, scale)
+    # one material per cell: sum_j m_j / (rho_j v_cap) <= 1
+    room = np.hstack([np.diag(scale / (m.density * v_cap)) for m in mats])
+    cost = np.tile(setup.cost("masses")[free], J)
+    allowed = np.ones(J * k, dtype=bool)
+    x = None
+    for _ in range(6):
+        res = linprog(
+            cost,
+            A_ub=room,
+            b_ub=np.ones(k),
+            A_eq=As,
+            b_eq=bs,
+            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
+            method="highs",
+        )
+        if res.status == 2:
+            raise PhysicalInfeasible(
+                Binding(
+                    "masses",
+                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
+                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
+                    "independent of the orientation",
+                    "ballast.material",
+                )
+            )
+        if res.status != 0 or res.x is None:
+            raise SolverError(
+                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
+            )
+        x = res.x.reshape(J, k)
+        top = max(float(np.max(x)), 1e-300)
+        used = x > 1e-12 * top
+        split = np.flatnonzero(used.sum(axis=0) > 1)
+        if not len(split):
+            break
+        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
+        mask = allowed.reshape(J, k)
+        mask[:, split] = False
+        mask[keep, split] = True
+    else:
+        raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
+    assert x is not None
+    flat = x.reshape(-1) * scale
+    support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
+    # the solver's crumbs off the support are dropped before the polish, so that the parts
+    # written are exactly the ones the rows were polished with
+    flat = np.where(np.isin(np.arange(len(flat)), support), flat, 0.0)
+    polished = _polish_equal(A, b, flat, support)
+    if np.any(polished < 0):
+        raise SolverError("ballast: polishing made a ballast mass negative")
+    per = polished.reshape(J, k)
+    entries = [(j, i) for j in range(J) for i in range(k) if per[j, i] > 0]
+    nm = len(magnet_sites)
+    material = np.concatenate([np.full(nm, -1), [j for j, _ in entries]]).astype(int)
+    site_list = np.concatenate([magnet_sites, [free[i] for _, i in entries]]).astype(int)
+    moments = np.vstack([sigma[magnet_sites], np.zeros((len(entries), 3))])
+    masses = np.concatenate([magnet_mass, [per[j, i] for j, i in entries]])
+    full = fixed_mass.copy()
+    full[free] += per.sum(axis=0)
+    n_mass = len(bm)
+    return MassSolution(
+        sites=site_list,
+        moments=moments,
+        site_masses=masses,
+        residual_dipoles=residual_dipoles,
+        residual_masses=relative_residual(Am, full, bm) if n_mass else 0.0,
+        method="Clarabel for the magnets; HiGHS for the ballast of "
+        + ", ".join(m.name for m in mats)
+        + " (induced magnetisation cancelled), least-norm polish on the supports",
+        materials=material,
+        residual_induced=relative_residual(A[n_mass:], polished, b[n_mass:])
+        if len(b) > n_mass
+        else 0.0,
     )
 
 
@@ -913,16 +1140,19 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
         dipole_masses=ms.site_masses[magnets],
         mass_positions=setup.points[ms.sites[~magnets]],
         mass_values=ms.site_masses[~magnets],
+        mass_materials=(
+            [spec.ballasts[j].name for j in ms.materials[~magnets]]
+            if ms.materials is not None
+            else None
+        ),
         realises=list(setup.options.realise or setup.conditions.realise),
         medium=spec.medium.to_dict(),
-        materials={
-            "carrier": spec.carrier.to_dict(),
-            "magnet": spec.magnet.to_dict(),
-            "ballast": spec.ballast.to_dict(),
-        },
+        materials=spec.materials_dict(),
     )
     design.extra["field_limits"] = dict(spec.field_limits)
     design.extra["time_rate"] = s
+    if spec.material_errors:
+        design.extra["material_errors"] = dict(spec.material_errors)
     return design
 
 

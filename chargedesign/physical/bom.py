@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.physical.materials import ballast_groups, ballast_materials, mass_densities
+
 BOM_COLUMNS = (
     "part",
     "kind",
@@ -30,7 +32,8 @@ def bom_rows(design: Any) -> list[dict[str, Any]]:
     materials = design.materials
     carrier = materials.get("carrier", {}).get("name", "point")
     magnet = materials.get("magnet", {}).get("name", "point dipole")
-    ballast = materials.get("ballast", {})
+    ballasts = ballast_materials(materials)
+    ballast = ballasts[0] if ballasts else {}  # a magnet's attached ballast: the first
     rows: list[dict[str, Any]] = []
     radii, cmass = design.carrier_radii(), design.carrier_masses()
     for i, (pos, q) in enumerate(zip(design.charge_positions, design.charge_values, strict=True)):
@@ -43,12 +46,14 @@ def bom_rows(design: Any) -> list[dict[str, Any]]:
         extra = mmass[i] - rho_m * vols[i]
         name = magnet + (f" + {extra:.3g} kg {ballast.get('name', 'ballast')}" if extra > 0 else "")
         rows.append(_row(f"M{i}", "magnet", pos, vols[i], "m^3", name, None, sigma, mmass[i]))
-    rho_b = ballast.get("density_kg_per_m3")
+    names = ["point"] * len(design.mass_values)
+    for spec, idx in ballast_groups(design):  # each part's own material
+        for i in idx:
+            names[i] = spec.get("name", "ballast")
+    densities = mass_densities(design)  # inf: no material given, a point mass
     for i, (pos, m) in enumerate(zip(design.mass_positions, design.mass_values, strict=True)):
-        vol = m / rho_b if rho_b else 0.0
-        rows.append(
-            _row(f"B{i}", "ballast", pos, vol, "m^3", ballast.get("name", "point"), None, None, m)
-        )
+        vol = m / densities[i]
+        rows.append(_row(f"B{i}", "ballast", pos, vol, "m^3", names[i], None, None, m))
     return rows
 
 

@@ -25,7 +25,9 @@ from chargedesign.fields import AxisymmetricField
 from chargedesign.physical.materials import (
     COULOMB,
     MAGNET_COERCIVITY,
+    ballast_materials,
     demagnetisation_limit,
+    mass_densities,
     sphere_radius,
 )
 from chargedesign.results import Result
@@ -273,11 +275,12 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
     """
     materials = design.materials
     magnet_rho = materials["magnet"]["density_kg_per_m3"] if "magnet" in materials else 0.0
-    ballast_rho = materials["ballast"]["density_kg_per_m3"] if "ballast" in materials else np.inf
+    ballasts = ballast_materials(materials)  # a magnet's attached ballast: the first
+    ballast_rho = ballasts[0]["density_kg_per_m3"] if ballasts else np.inf
     vol = design.magnet_volumes()
     extra = np.maximum(design.magnet_masses() - magnet_rho * vol, 0.0) / ballast_rho
     magnet_r = sphere_radius(vol + extra)
-    ballast_r = sphere_radius(design.mass_values / ballast_rho)
+    ballast_r = sphere_radius(design.mass_values / mass_densities(design))
     centres = np.concatenate(
         [design.charge_positions, design.dipole_positions, design.mass_positions]
     )

@@ -69,6 +69,8 @@ BALLAST_DENSITY = {
     "brass": 8500.0,
     "steel": 7850.0,
     "aluminium": 2700.0,
+    "bismuth": 9780.0,
+    "copper": 8960.0,
 }
 
 #: SI volume susceptibility chi (dimensionless) of every named material at 20 C. A part of
@@ -82,6 +84,8 @@ SUSCEPTIBILITY = {
     "stainless": 3.5e-3,
     "tungsten": 6.97e-5,
     "lead": -1.58e-5,
+    # 4 pi (-280.1e-6 cm^3/mol) (9.78 g/cm^3) / (208.98 g/mol) = -1.647e-4
+    "bismuth": -1.647e-4,
     "brass": -1.0e-5,
     "steel": 100.0,
     "ndfeb": 0.05,
@@ -98,6 +102,7 @@ CONDUCTIVITY = {
     "stainless": 1.35e6,
     "tungsten": 1.89e7,
     "lead": 4.81e6,
+    "bismuth": 7.75e5,
     "brass": 1.6e7,
     "steel": 7.0e6,
     "ndfeb": 7.1e5,
@@ -116,7 +121,7 @@ SOURCES = {
     "vacuum": "10 MV/m, the conservative end of 1e7-1e8 V/m for macroscopic mm gaps "
     "(Latham, High Voltage Vacuum Insulation, 1995, ch. 1)",
     "densities": "CRC Handbook of Chemistry and Physics (97th ed.), densities of the elements "
-    "and common alloys at 20 C",
+    "and common alloys at 20 C (bismuth 9.78, copper 8.96 g/cm^3)",
     "ndfeb": "sintered NdFeB grade N42: remanence 1.28-1.32 T, M = Br / mu0 >= 1.0e6 A/m, "
     "density 7.4-7.6 g/cm^3 (manufacturers' data sheets, e.g. Arnold Magnetic Technologies)",
     "ndfeb-eh": "sintered NdFeB grade N42EH: remanence 1.28-1.32 T (M >= 1.0e6 A/m), "
@@ -128,15 +133,18 @@ SOURCES = {
     "density 4.9 g/cm^3, Hcj about 3.0-3.5 kOe (2.4e5 A/m used)",
     "susceptibility": "elements: CRC Handbook (97th ed.), 'Magnetic susceptibility of the "
     "elements and inorganic compounds', chi_mol in cgs (Al +16.5e-6, Ti +153e-6, Cu -5.46e-6, "
-    "W +53e-6, Pb -23.0e-6 cm^3/mol) times 4 pi rho / M; Schenck, Med. Phys. 23, 815 (1996) "
+    "W +53e-6, Pb -23.0e-6, Bi -280.1e-6 cm^3/mol) times 4 pi rho / M (bismuth: 4 pi x "
+    "-280.1e-6 x 9.78 / 208.98 = -1.647e-4; copper: 4 pi x -5.46e-6 x 8.96 / 63.546 = "
+    "-9.67e-6); Schenck, Med. Phys. 23, 815 (1996) "
     "lists the same order (Al 20.7e-6, Ti 182e-6, W 77.2e-6, Cu -9.63e-6, Pb -15.8e-6) and "
     "annealed austenitic stainless 3.52e-3 to 6.70e-3; brass from its Cu and Zn (iron traces "
     "can make it paramagnetic); carbon steel is ferromagnetic (mu_r 1e2-1e3, saturating near "
     "1.7 T: the linear estimate is then only an order of magnitude); magnets: recoil "
     "permeability mu_rec - 1 (NdFeB N42 1.05, Sm2Co17 1.03, ferrite C8 1.05-1.2; data sheets)",
     "conductivity": "CRC Handbook (97th ed.), 'Electrical resistivity of pure metals' at 20 C "
-    "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7 ohm m); ASM Handbook vol. 2 for "
-    "alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 steel 1.43e-7 ohm m); "
+    "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7, Bi 1.29e-6 ohm m); ASM "
+    "Handbook vol. 2 for alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 "
+    "steel 1.43e-7 ohm m); "
     "magnets' data sheets (sintered NdFeB 1.4e-6, Sm2Co17 8.6e-7 ohm m; hard ferrite above "
     "1e4 ohm m, an insulator)",
 }
@@ -244,3 +252,44 @@ def sphere_radius(volume: Any) -> Any:
 def demagnetisation_limit(magnetisation: float, coercivity: float) -> float:
     """``mu0 (Hcj - M / 3)``, T: the applied field a magnetised sphere withstands reversed."""
     return MU_0 * (coercivity - magnetisation / 3.0)
+
+
+def ballast_materials(materials: Any) -> list[dict[str, Any]]:
+    """design.json ``materials.ballast`` as a list of material dicts (empty: no ballast).
+
+    One material is written as an object, several (the chi design) as a list.
+    """
+    ballast = (materials or {}).get("ballast")
+    if ballast is None:
+        return []
+    return list(ballast) if isinstance(ballast, list) else [ballast]
+
+
+def ballast_groups(design: Any) -> list[tuple[dict[str, Any], np.ndarray]]:
+    """Each ballast material of ``design`` with the indices of its mass parts, shape (k,).
+
+    With one material every ballast part is made of it; with several, ``masses.material``
+    (``design.mass_materials``) names each part's material.
+    """
+    materials = ballast_materials(design.materials)
+    count = len(design.mass_values)
+    if not materials:
+        return []
+    if len(materials) == 1:
+        return [(materials[0], np.arange(count))]
+    names = np.asarray(design.mass_materials if design.mass_materials is not None else [])
+    return [(m, np.flatnonzero(names == m["name"])) for m in materials]
+
+
+def mass_densities(design: Any) -> np.ndarray:
+    """Density of each ballast part's material, kg/m^3, shape (m,) (inf: no material given)."""
+    out = np.full(len(design.mass_values), np.inf)
+    for material, idx in ballast_groups(design):
+        out[idx] = material["density_kg_per_m3"]
+    return out
+
+
+def ballast_label(materials: Any) -> str:
+    """The ballast material names for a report: ``tungsten`` or ``tungsten + bismuth``."""
+    names = [m.get("name", "?") for m in ballast_materials(materials)]
+    return " + ".join(names) if names else "?"

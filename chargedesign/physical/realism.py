@@ -38,6 +38,8 @@ from chargedesign.physical.materials import (
     LIGHT_SPEED,
     MU_0,
     SUSCEPTIBILITY,
+    ballast_groups,
+    ballast_materials,
     sphere_radius,
 )
 from chargedesign.validation import as_finite_float, input_error
@@ -92,8 +94,10 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
     materials = design.materials
     sets: list[dict[str, Any]] = []
 
-    def add(role: str, centres: np.ndarray, volumes: np.ndarray, outer: np.ndarray, inner) -> None:
-        spec = materials.get(role) or {}
+    def add(
+        role: str, centres: np.ndarray, volumes: np.ndarray, outer: np.ndarray, inner, spec=None
+    ) -> None:
+        spec = spec if spec is not None else (materials.get(role) or {})
         name = spec.get("name", role)
         keep = volumes > 0
         if not np.any(keep):
@@ -120,17 +124,17 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
         volumes = design.carrier_masses() / carrier["density_kg_per_m3"]
         add("carrier", design.charge_positions, volumes, outer, inner)
     magnet = materials.get("magnet")
-    ballast = materials.get("ballast")
+    ballasts = ballast_materials(materials)  # a magnet's attached ballast: the first
     if magnet is not None and len(design.dipole_moments):
         volumes = design.magnet_volumes()
         add("magnet", design.dipole_positions, volumes, sphere_radius(volumes), 0.0)
-        if ballast is not None:
+        if ballasts:
             extra = np.maximum(design.magnet_masses() - magnet["density_kg_per_m3"] * volumes, 0)
-            extra = extra / ballast["density_kg_per_m3"]
-            add("ballast", design.dipole_positions, extra, sphere_radius(extra), 0.0)
-    if ballast is not None and len(design.mass_values):
-        volumes = design.mass_values / ballast["density_kg_per_m3"]
-        add("ballast", design.mass_positions, volumes, sphere_radius(volumes), 0.0)
+            extra = extra / ballasts[0]["density_kg_per_m3"]
+            add("ballast", design.dipole_positions, extra, sphere_radius(extra), 0.0, ballasts[0])
+    for spec, idx in ballast_groups(design) if len(design.mass_values) else []:
+        volumes = design.mass_values[idx] / spec["density_kg_per_m3"]
+        add("ballast", design.mass_positions[idx], volumes, sphere_radius(volumes), 0.0, spec)
     return sets
 
 

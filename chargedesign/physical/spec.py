@@ -7,10 +7,14 @@ Scene tables (docs/buildable.md)::
                         samples (surface points per carrier in the design)
     [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3),
                         coercivity (intrinsic, A/m)
-    [ballast]           material = "tungsten" (or density)
+    [ballast]           material = "tungsten" (or density), or a list of named materials
+                        of opposite susceptibilities, e.g. ["tungsten", "bismuth"]: the
+                        design then cancels the parts' induced magnetisation
     (each of the three) susceptibility (SI volume), conductivity (S/m): override the
                         material's values, which the realism budget uses
     [body]              carrier_radius (m; default a quarter of the candidate spacing)
+    [tolerance]         chi_relative, density_relative, magnetisation_relative: the
+                        materials' relative errors that ``tolerance`` analyses
     [fields.*]          max: the largest |B| (T) or |E| (V/m) the apparatus makes over the body
 
 A scene without ``[medium]`` is the mathematical case: point elements, no limits.
@@ -65,12 +69,16 @@ class PhysicalSpec:
     magnet : Material
         With ``magnetisation`` (A/m).
     ballast : Material
+        The (first) ballast material; a magnet's attached ballast is made of it.
     carrier_radius : float or None
         m; None: ``CARRIER_RADIUS_FRACTION`` of the candidate spacing.
     field_limits : dict[str, float]
         The largest |B| (T), |E| (V/m) or |g| the apparatus makes over the body region.
     surface_samples : int
         Sample points per carrier surface in the design.
+    ballasts : tuple of Material
+        Every ballast material when several are given (``[ballast] material = [...]``): the
+        design then cancels the induced magnetisation; empty: ``ballast`` alone.
     """
 
     medium: Medium
@@ -80,15 +88,30 @@ class PhysicalSpec:
     carrier_radius: float | None = None
     field_limits: dict[str, float] = field(default_factory=dict)
     surface_samples: int = DEFAULT_SURFACE_SAMPLES
+    ballasts: tuple[Material, ...] = ()
+    #: the scene's ``[tolerance]`` material errors (relative), recorded in design.json
+    material_errors: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def designs_induced(self) -> bool:
+        """Whether the design cancels the induced magnetisation (several ballast materials)."""
+        return len(self.ballasts) > 1
+
+    def materials_dict(self) -> dict[str, Any]:
+        """design.json ``materials`` (``ballast`` a list when several are given)."""
+        ballast: Any = (
+            [m.to_dict() for m in self.ballasts] if self.designs_induced else self.ballast.to_dict()
+        )
+        return {
+            "carrier": self.carrier.to_dict(),
+            "magnet": self.magnet.to_dict(),
+            "ballast": ballast,
+        }
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "medium": self.medium.to_dict(),
-            "materials": {
-                "carrier": self.carrier.to_dict(),
-                "magnet": self.magnet.to_dict(),
-                "ballast": self.ballast.to_dict(),
-            },
+            "materials": self.materials_dict(),
             "field_limits": dict(self.field_limits),
         }
 
@@ -152,8 +175,13 @@ def spec_from_tables(
     tables: Mapping[str, Any], field_limits: Mapping[str, float] | None = None
 ) -> PhysicalSpec | None:
     """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
+    material_errors: dict[str, float] = {}
+    if "tolerance" in tables:
+        from chargedesign.tolerance import MaterialErrors
+
+        material_errors = MaterialErrors.from_table(tables["tolerance"]).to_dict()
     if "medium" not in tables:
-        for name in ("carriers", "magnets", "ballast"):
+        for name in ("carriers", "magnets", "ballast", "tolerance"):
             if name in tables:
                 raise InputError(
                     f"{name}: physical parts need a [medium] table (vacuum, air, sf6, oil)"
@@ -212,8 +240,12 @@ def spec_from_tables(
     )
     ballast_table = tables.get("ballast", {})
     _check_keys(ballast_table, "ballast")
-    bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
-    ballast = Material("ballast", bname, bdensity, **_response(ballast_table, "ballast", bname))
+    ballasts = _ballast_list(ballast_table)
+    if ballasts:
+        ballast = ballasts[0]
+    else:
+        bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
+        ballast = Material("ballast", bname, bdensity, **_response(ballast_table, "ballast", bname))
     body = tables.get("body", {})
     radius = None
     if isinstance(body, Mapping) and "carrier_radius" in body:
@@ -226,4 +258,41 @@ def spec_from_tables(
         carrier_radius=radius,
         field_limits=dict(field_limits or {}),
         surface_samples=samples,
+        ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
+        material_errors=material_errors,
     )
+
+
+def _ballast_list(table: Mapping[str, Any]) -> list[Material]:
+    """``[ballast] material = [...]``: the named materials (empty when a single name is given).
+
+    A list asks the design to cancel the parts' induced magnetisation, which needs materials
+    of both signs of susceptibility: at least one diamagnetic (chi < 0) one.
+    """
+    names = table.get("material")
+    if not isinstance(names, list):
+        return []
+    if not names or not all(isinstance(x, str) for x in names) or len(set(names)) != len(names):
+        raise input_error("ballast.material", "a material name or a list of distinct names", names)
+    for key in ("density", *_RESPONSE_KEYS):
+        if key in table:
+            raise input_error(
+                f"ballast.{key}", "no override with a list of materials (one material only)", key
+            )
+    out = []
+    for name in names:
+        if name not in BALLAST_DENSITY:
+            raise input_error("ballast.material", "names among " + ", ".join(BALLAST_DENSITY), name)
+        out.append(
+            Material("ballast", name, BALLAST_DENSITY[name], **_response({}, "ballast", name))
+        )
+    if len(out) > 1 and not any((m.susceptibility or 0.0) < 0.0 for m in out):
+        given = ", ".join(f"{m.name} (chi {m.susceptibility:.3g})" for m in out)
+        diamagnetic = ", ".join(
+            k for k, v in SUSCEPTIBILITY.items() if v < 0 and k in BALLAST_DENSITY
+        )
+        raise InputError(
+            f"ballast.material: cancelling the induced magnetisation needs a diamagnetic "
+            f"material (chi < 0) beside {given}: add one of {diamagnetic}"
+        )
+    return out
