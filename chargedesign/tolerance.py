@@ -99,6 +99,7 @@ def _replace(design: Design, **arrays: Any) -> Design:
         parameters=design.parameters,
         fields=dict(design.fields),
         realises=list(design.realises),
+        larmor=design.larmor,
         **fields_,
     )
 
@@ -163,7 +164,8 @@ def _orientations(n: int, seed: int = 0) -> np.ndarray:
 def _references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
     from chargedesign.model import evaluators
 
-    params = design.parameters
+    # what the elements themselves realise (n = 0 for a frame body: n is the axes' rate)
+    params = design.body_parameters
     mu = np.asarray(evaluators.gyroscopic(gammas, params), dtype=float)
     V = np.asarray(evaluators.potential(gammas, params), dtype=float)
     if not (np.all(np.isfinite(mu)) and np.all(np.isfinite(V))):
@@ -921,7 +923,7 @@ def simulate_ensemble(
 
     flat = states.reshape(-1, 7)
     six = np.hstack([flat[:, :3], quaternion_gamma(flat[:, 3:])])
-    i4 = theorem_i4(six, designs[0].parameters).reshape(B, s)
+    i4 = theorem_i4(six, designs[0].body_parameters).reshape(B, s)
     i4_0 = i4[:, 0]
     denom = np.where(np.abs(i4_0) > 0.0, np.abs(i4_0), 1.0)
     drift = np.abs(i4 - i4_0[:, None]) / denom[:, None]
@@ -958,7 +960,7 @@ def _linear_drift(
     t = np.asarray(run.times)
     omega = st[:, :3]
     gamma = quaternion_gamma(st[:, 3:])
-    params = nominal.parameters
+    params = nominal.body_parameters
     grad = np.zeros_like(omega)
     h = 1e-3 * max(1.0, float(np.abs(omega).max()))
     for a in range(3):

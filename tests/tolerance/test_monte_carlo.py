@@ -107,3 +107,24 @@ def test_cli_bad_options_one_line(args, needle, capsys):
     assert main(["tolerance", str(DESIGN), *args]) == 2
     err = capsys.readouterr().err.strip()
     assert needle in err and "\n" not in err
+
+
+def test_a_frame_body_is_toleranced_against_what_its_elements_realise(design):
+    """A frame body (n read as the axes' rate) has the tolerances and drifts of the same
+    elements as an n = 0 body: the references and I4 use the body's own parameters."""
+    from dataclasses import replace
+
+    from chargedesign.body import Design
+    from chargedesign.larmor import LarmorReading
+
+    as_n0 = Design.from_dict({**design.to_dict(), "parameters": {
+        **design.parameters.as_dict(), "n": 0.0}})
+    frame = Design.from_dict({**as_n0.to_dict(), "parameters": design.parameters.as_dict()})
+    frame.larmor = LarmorReading("frame", design.parameters.n)
+    assert frame.body_parameters == replace(design.parameters, n=0.0)
+    model = ErrorModel.parse(position="2um")
+    a = monte_carlo(as_n0, model, samples=6, t_end=2.0, levels=(1.0,), seed=3)
+    b = monte_carlo(frame, model, samples=6, t_end=2.0, levels=(1.0,), seed=3)
+    np.testing.assert_array_equal(a.drift_mc, b.drift_mc)
+    np.testing.assert_array_equal(a.drift_linear, b.drift_linear)
+    assert a.nominal_drift == b.nominal_drift
