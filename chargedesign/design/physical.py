@@ -59,7 +59,8 @@ DESIGN_MARGIN = 1e-3
 PHYSICAL_OBJECTIVES = ("l1", "robust")
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
-MAX_ROUNDS = 14
+#: LP rounds first (at most LP_ROUNDS), then cone rounds until the total reaches this
+MAX_ROUNDS = 26
 #: rounds of own-field bound tightening before the cones
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
@@ -501,6 +502,15 @@ def _meet_surface_limits(
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
         solved = _socp_charges(setup, working, s, cones, caps)
+        usable = np.flatnonzero(caps > 0)
+        if solved is None and len(working) < len(usable):
+            # the working set may lack carriers a solution needs: on every usable candidate
+            # the cones (a subset of the surface limits) relax the true problem, so its
+            # infeasibility proves the rate infeasible, and every faster one too (the
+            # feasible charges scale down with the rate): the frontier then sees a monotone
+            # answer
+            working = usable
+            solved = _socp_charges(setup, working, s, cones, caps)
         if solved is None:
             break
         q = np.zeros(len(setup.points))
