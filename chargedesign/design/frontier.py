@@ -405,25 +405,39 @@ def find_frontier(
                     lo = mid
                 else:
                     hi, hi_binding = mid, binding
-            # the heuristic feasibility (LP rounds, then cones) is not exactly monotone in s:
-            # rates a little above the bracket are tried, and a success reopens it
-            above = [hi * (1 + rtol) ** k for k in UPWARD_STEPS if hi * (1 + rtol) ** k < s_nec]
+            # the heuristic feasibility (LP rounds, then cones; the carriers the masses must
+            # balance) is not exactly monotone in s: rates a little above the bracket, and
+            # (1 + 2 rtol) s_max, which design must refuse, are tried, and a success reopens
+            # the bracket; (1 - 2 rtol) s_max, which design must accept, is tried too
+            above = [lo * (1 + 2 * rtol)] + [
+                hi * (1 + rtol) ** k for k in UPWARD_STEPS if hi * (1 + rtol) ** k < s_nec
+            ]
             found = None
             for s_up in above:
                 ok, binding = probe(s_up)
                 if ok:
                     found = s_up
                     break
-            if found is None:
-                break
-            lo = found
-            hi = min(s_nec, found * (1 + rtol) ** 4)
-            hi_binding = upper_binding
-            ok, binding = probe(hi)
+            if found is not None:
+                lo = found
+                hi = min(s_nec, found * (1 + rtol) ** 4)
+                hi_binding = upper_binding
+                ok, binding = probe(hi)
+                if ok:
+                    lo = hi
+                    break
+                hi_binding = binding
+                continue
+            below = lo * (1 - 2 * rtol)
+            ok, binding = probe(below)
             if ok:
-                lo = hi
                 break
-            hi_binding = binding
+            # refused just below: the frontier lies under it
+            hi, hi_binding = below, binding
+            feasible_below = [x for x, good in history if good and x < below]
+            if not feasible_below:
+                break
+            lo = max(feasible_below)
     assert hi_binding is not None
     design = best.get(lo)
     if design is None:
