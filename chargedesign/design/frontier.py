@@ -88,6 +88,8 @@ class FrontierResult(Result):
         The applied field acting on the parts' materials of the body designed at ``s_max``
         (:func:`chargedesign.physical.realism.field_response`): induced magnetisation and
         eddy torques as fractions of the designed torques.
+    smallest_charge : float
+        The smallest carrier charge of that body, C.
     """
 
     s_max: float
@@ -104,6 +106,8 @@ class FrontierResult(Result):
     larmor: str = "charges"
     s_min: float = 0.0
     balance: dict[str, Any] = field(default_factory=dict)
+    #: the smallest |q| of the body designed at s_max, C (0: no charges)
+    smallest_charge: float = 0.0
 
     @property
     def n_free(self) -> bool:
@@ -140,6 +144,7 @@ class FrontierResult(Result):
             "evaluations": self.evaluations,
             "seconds": self.seconds,
             "field_response": dict(self.field_response),
+            "smallest_charge_C": self.smallest_charge,
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -344,6 +349,11 @@ def find_frontier(
             field_response=_response_at(design),
             K=theorem.K,
             larmor=reading,
+            smallest_charge=(
+                float(np.min(np.abs(design.charge_values)))
+                if design is not None and len(design.charge_values)
+                else 0.0
+            ),
         )
 
     if not s_nec > 0:

@@ -14,9 +14,7 @@ import pytest
 from chargedesign.body import Design, read_design
 from chargedesign.design.frontier import find_frontier
 from chargedesign.design.physical import (
-    PhysicalInfeasible,
     charge_program,
-    design_at_rate,
     design_charges,
     design_physical,
 )
@@ -157,13 +155,19 @@ def test_bill_of_materials_lists_every_part(result):
 
 
 def test_frontier_brackets_the_buildable(setup, frontier):
+    """Design accepts 0.98 s_max (limits and forward check) and refuses 1.02 s_max in one
+    line naming the binding limit (small.toml, the frame reading)."""
+    from chargedesign.design.acceptance import forward_acceptance
+    from chargedesign.errors import InfeasibleError
+
     assert frontier.s_max > 1.0  # the scene's own rate is buildable
     assert frontier.binding.stage in ("charges", "masses", "magnets", "fields")
-    design_at_rate(setup, 0.98 * frontier.s_max)
-    with pytest.raises(PhysicalInfeasible) as info:
-        design_at_rate(setup, 1.02 * frontier.s_max)
-    assert info.value.binding.stage in ("charges", "masses", "magnets", "fields")
-    assert str(info.value) and "\n" not in str(info.value)
+    forward_acceptance(design_physical(setup, scale=0.98 * frontier.s_max).design)
+    with pytest.raises(InfeasibleError) as info:
+        forward_acceptance(design_physical(setup, scale=1.02 * frontier.s_max).design)
+    text = str(info.value)
+    assert text and "\n" not in text and "time rate s =" in text
+    assert "charge at" in text or "inertia" in text or "ballast" in text or "magnet" in text
     # the frame reading: n is free (a rotation of axes), the frontier is K's
     assert frontier.larmor == "frame" and frontier.n_max is None
     assert frontier.K_max == pytest.approx(frontier.s_max * 0.7e-7)

@@ -69,7 +69,9 @@ def assert_design_agrees(setup, frontier):
 
 CASES = {
     "small, charges reading": small(design={"larmor": "charges"}),
-    "small in SF6, frame": small(medium={"name": "sf6"}),
+    "small in SF6, frame": small(
+        medium={"name": "sf6"}, body={"shape": "ball", "radius": 0.05, "spacing": 0.02}
+    ),
 }
 
 
