@@ -405,6 +405,7 @@ def design_from_scene(
     result.design.extra["larmor_why"] = inputs.larmor_why
     if inputs.larmor_note:
         result.notes.append(inputs.larmor_note)
+        result.design.extra.setdefault("notes", []).append(inputs.larmor_note)
     result.design.extra["provenance"]["scene"] = scene.source
     return result
 
