@@ -39,7 +39,6 @@ from chargedesign.design.physical import (
     Binding,
     PhysicalInfeasible,
     PhysicalSetup,
-    accept_at_rate,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.results import Result
@@ -53,6 +52,8 @@ UPWARD_RESTARTS = 3
 LOWEST_RATE_FRACTION = 1e-9
 #: without charge conditions (no necessary bound): rates 10x apart are tried up to this
 HIGHEST_RATE = 1e15
+#: rates below s_max tried when the forward check or the limits check refuses the body there
+ACCEPT_RETRIES = 3
 
 
 @dataclass(repr=False)
@@ -236,35 +237,55 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     return float(res.x[-1])
 
 
-def _accepted(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
-    """The body at rate ``s`` when the design accepts it, else the binding limit.
+def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
+    """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
+    stages (:func:`~chargedesign.design.physical.design_at_rate`) and the balance under
+    gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
+    from chargedesign.design.acceptance import balance_bound
+    from chargedesign.design.physical import build_design, design_at_rate
 
-    The acceptance of :mod:`chargedesign.design.acceptance`: both stages, the limits, the
-    balance (a ``balance`` binding means ``s`` is too slow) and the forward check.
-    """
     try:
-        design, _, _ = accept_at_rate(setup, s)
+        design = build_design(setup, design_at_rate(setup, s))
     except PhysicalInfeasible as exc:
         return None, exc.binding
-    except SolverError as exc:  # the body failed its own limits check
-        return None, Binding("limits", str(exc), "limits check")
+    balance = balance_bound(design)
+    if balance is None:
+        return design, None
+    design.extra["balance"] = balance.to_dict()
+    if balance.confirmed:
+        return design, None
+    return design, Binding("balance", balance.text(), "centre of mass")
+
+
+def _balance_fails(design: Design, s: float) -> bool:
+    balance = design.extra.get("balance") or {}
+    return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
+
+
+def _accept_body(design: Design) -> Binding | None:
+    """The rest of the design's acceptance on a body whose limits and balance hold: the
+    limits recomputed from the written parts and the forward check (None: accepted)."""
+    from chargedesign.physical.limits import check_limits
+
+    limits = check_limits(design)
+    if not limits.buildable:
+        return Binding("limits", limits.violations[0], "limits check")
     try:
         report = body_check(design)
     except ChargeDesignError as exc:
-        return None, Binding("forward", f"the forward check could not run ({exc})", "check")
-    if not report.passed:
-        errors = ", ".join(
-            f"{name} {q.rel_err:.2g}"
-            for name, q in report.quantities.items()
-            if name in report.failures
-        )
-        return None, Binding(
-            "forward",
-            f"the body misses the theorem in the forward check ({errors} against tol "
-            f"{report.tol:g})",
-            "forward check",
-        )
-    return design, None
+        return Binding("forward", f"the forward check could not run ({exc})", "check")
+    if report.passed:
+        return None
+    errors = ", ".join(
+        f"{name} {q.rel_err:.2g}"
+        for name, q in report.quantities.items()
+        if name in report.failures
+    )
+    return Binding(
+        "forward",
+        f"the body misses the theorem in the forward check ({errors} against tol {report.tol:g})",
+        "forward check",
+    )
 
 
 def _response_at(design: Design | None) -> dict[str, Any]:
@@ -323,10 +344,10 @@ def find_frontier(
         best[feasible_rate] = feasible
 
     def probe(s: float) -> tuple[bool, Binding | None]:
-        design, binding = _accepted(setup, s)
+        design, binding = _probe_body(setup, s)
         # only the balance fails: the limits hold and the rate is too slow, not too fast (the
         # upper search goes on; s_min decides below)
-        ok = design is not None or (binding is not None and binding.stage == "balance")
+        ok = design is not None
         if design is not None and all(s > known for known in best):
             best.clear()
             best[s] = design
@@ -449,10 +470,27 @@ def find_frontier(
                 break
             lo = max(feasible_below)
     assert hi_binding is not None
+    # the rest of the design's acceptance (limits recomputed from the parts, forward check)
+    # at the rate reported; it does not depend on the rate but through the balance, so it
+    # runs once, and a refusal moves the frontier down to the next rate probed feasible
     design = best.get(lo)
-    if design is None:
-        # the rate given by the caller was not probed here, or only its balance failed
-        design = _body_at(setup, lo)
+    for _ in range(ACCEPT_RETRIES):
+        if design is None:
+            # the rate given by the caller was not probed here
+            design, _ = _probe_body(setup, lo)
+        if design is None or _balance_fails(design, lo):
+            break  # the balance speaks below
+        refused = _accept_body(design)
+        if refused is None:
+            break
+        hi, hi_binding = lo, refused
+        below = [x for x, good in history if good and x < lo]
+        lo = max(below, default=0.0)
+        design = None
+        if lo == 0.0:
+            break
+    else:
+        lo, design = 0.0, None
     front = result(lo, hi, hi_binding, design)
     balance = (design.extra.get("balance") if design is not None else None) or {}
     if balance:
@@ -461,21 +499,6 @@ def find_frontier(
         if not front.s_min <= lo:
             raise InfeasibleError(no_buildable_rate(balance, lo, front.K_max))
     return front
-
-
-def _body_at(setup: PhysicalSetup, s: float) -> Design | None:
-    """The body at rate ``s`` whose limits hold (its balance recorded), or None."""
-    from chargedesign.design.acceptance import balance_bound
-    from chargedesign.design.physical import build_design, design_at_rate
-
-    try:
-        design = build_design(setup, design_at_rate(setup, s))
-    except PhysicalInfeasible:
-        return None
-    balance = balance_bound(design)
-    if balance is not None:
-        design.extra["balance"] = balance.to_dict()
-    return design
 
 
 def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
