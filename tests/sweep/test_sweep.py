@@ -195,7 +195,12 @@ def test_a_frontier_sweep_over_media_follows_their_breakdown_fields(tmp_path):
     frontier's 1 % bisection; a scene without [medium] fails its point with the reason."""
     small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
     spec = sweep_from_dict(
-        {"scene": str(small), "command": "frontier", "grid": {"medium.name": ["air", "sf6"]}}
+        {
+            "scene": str(small),
+            "command": "frontier",
+            # the charges reading: n_max is its frontier (frame's is K_max)
+            "grid": {"medium.name": ["air", "sf6"], "design.larmor": ["charges"]},
+        }
     )
     result = run_sweep(spec, tmp_path / "f")
     assert result.failed == 0 and result.lost == 0
