@@ -440,9 +440,12 @@ def find_frontier(
             # balance) is not exactly monotone in s: rates a little above the bracket, and
             # (1 + 2 rtol) s_max, which design must refuse, are tried, and a success reopens
             # the bracket; (1 - 2 rtol) s_max, which design must accept, is tried too
-            above = [lo * (1 + 2 * rtol)] + [
-                hi * (1 + rtol) ** k for k in UPWARD_STEPS if hi * (1 + rtol) ** k < s_nec
-            ]
+            above = [lo * (1 + 2 * rtol)]
+            for k in UPWARD_STEPS:
+                s_up = hi * (1 + rtol) ** k
+                # rates within rtol / 4 of one already tried tell nothing new
+                if s_up < s_nec and all(abs(s_up / x - 1) > rtol / 4 for x in above):
+                    above.append(s_up)
             found = None
             for s_up in above:
                 ok, binding = probe(s_up)

@@ -7,16 +7,20 @@ and the carriers' density are varied. What binds depends on the Larmor reading
 
 - ``frame`` (the default with ``[medium]``): the body realises n = 0 and only K's third
   moments need charges, ``6 a2 I_xxz = -C K d``. Where the carriers' breakdown binds,
-  ``I_xxz ~ N a^2 eps0 E_safe L^3`` and ``C ~ rho L^5``, so the expected law is
+  ``I_xxz ~ N a^2 eps0 E_safe L^3`` and ``C ~ rho L^5`` (``rho`` the body's density), so
+  the expected law is
 
-      K_max  ~  eps0 E_safe a2 / rho      (exponents 1 in E, 1 in a2, 0 in L, -1 in rho)
+      K_max  ~  eps0 E_safe a2 / rho      (exponents 1 in E, 1 in a2, 0 in L)
 
   independent of size for similar bodies; the field case varies ``a2``.
 - ``charges`` (the paper's (p6)): the second moments ``-C n / a1`` bind first, so
 
-      n_max  ~  eps0 E_safe a1 / (rho L)  (exponents 1 in E, 1 in a1, -1 in L, -1 in rho)
+      n_max  ~  eps0 E_safe a1 / (rho L)  (exponents 1 in E, 1 in a1, -1 in L)
 
   and the field case varies ``a1``.
+
+Scaled bodies keep their density (``C x f^5``); the carrier case changes the carriers'
+material at fixed ``C``, whose exponent is 0 unless the carriers' mass binds.
 
 :func:`scan_frontier` measures the exponents by least squares over the sweep (it does not
 assume them) and reports each point's deviation from the fitted law and the fit's residual.
@@ -51,10 +55,12 @@ FIELD_FACTOR = 0.5
 DENSE_CARRIER = "copper"
 #: the elementary charge, C (CODATA 2018, exact)
 ELEMENTARY_CHARGE = 1.602176634e-19
-#: expected exponents of the law each reading fits (module doc)
+#: expected exponents of the law each reading fits (module doc) where breakdown binds; the
+#: scan varies the carriers' density at fixed C (the body's density rho = C / L^5 stays
+#: fixed as the body is scaled), so the carriers' density enters only where their mass binds
 EXPECTED = {
-    "frame": {"E": 1.0, "field": 1.0, "L": 0.0, "rho": -1.0},
-    "charges": {"E": 1.0, "field": 1.0, "L": -1.0, "rho": -1.0},
+    "frame": {"E": 1.0, "field": 1.0, "L": 0.0, "rho": 0.0},
+    "charges": {"E": 1.0, "field": 1.0, "L": -1.0, "rho": 0.0},
 }
 
 
@@ -263,12 +269,14 @@ def scan_frontier(
     if frame:
         law = (
             "K_max ~ E_breakdown^{E:.3g} a2^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
-            "(expected eps0 E a2 / rho: E^1 a2^1 L^0 rho^-1, independent of size)"
+            "(expected eps0 E a2 / rho_body: E^1 a2^1 L^0, independent of size; "
+            "rho_carrier^0 unless the carriers' mass binds)"
         )
     else:
         law = (
             "n_max ~ E_breakdown^{E:.3g} a1^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
-            "(expected eps0 E a1 / (rho L): E^1 a1^1 L^-1 rho^-1)"
+            "(expected eps0 E a1 / (rho_body L): E^1 a1^1 L^-1; rho_carrier^0 unless the "
+            "carriers' mass binds)"
         )
     return ScanResult(
         rows,
