@@ -205,7 +205,9 @@ def test_a_frontier_sweep_over_media_follows_their_breakdown_fields(tmp_path):
     result = run_sweep(spec, tmp_path / "f")
     assert result.failed == 0 and result.lost == 0
     n_max = {row["medium.name"]: row["n_max"] for row in result.rows}
-    assert all(row["binding_detail.stage"] == "charges" for row in result.rows)
+    # the carriers' breakdown sets how many carriers a rate needs; their ballast may be what
+    # fails first (masses), and the design depends on the safe field only through s / E_safe
+    assert all(row["binding_detail.stage"] in ("charges", "masses") for row in result.rows)
     expected = BREAKDOWN_V_PER_M["sf6"] / BREAKDOWN_V_PER_M["air"]
     assert n_max["sf6"] / n_max["air"] == pytest.approx(expected, rel=0.025)
     for row in result.rows:
