@@ -487,8 +487,8 @@ def find_frontier(
         if refused is None:
             break
         hi, hi_binding = lo, refused
-        below = [x for x, good in history if good and x < lo]
-        lo = max(below, default=0.0)
+        lower_rates = [x for x, good in history if good and x < lo]
+        lo = max(lower_rates, default=0.0)
         design = None
         if lo == 0.0:
             break

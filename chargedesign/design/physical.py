@@ -71,7 +71,7 @@ CONE_THRESHOLD = 0.95
 class Binding:
     """The limit that stops a design: which element, which limit, and by how much."""
 
-    stage: str  # charges | magnets | masses | fields
+    stage: str  # charges | magnets | masses | fields | balance | limits | forward
     limit: str
     element: str = ""
     factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
