@@ -264,12 +264,27 @@ def render_report(
     return "\n".join(lines) + "\n"
 
 
+def _larmor_lines(design: Design) -> list[str]:
+    """Which Larmor reading realises n, and why (design.json ``larmor``, ``larmor_why``)."""
+    if design.larmor is None:
+        return []
+    why = design.extra.get("larmor_why")
+    how = (
+        f"the elements realise n = 0; the motion read in axes turning at "
+        f"{design.larmor.rate:.4g} 1/s about Z is the theorem's"
+        if design.larmor.is_frame
+        else "second moments of charge realise n (the paper's (p6))"
+    )
+    return [f"- Larmor reading: {design.larmor.reading}: {how}" + (f" ({why})." if why else ".")]
+
+
 def _verdict_lines(design: Design) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
     if design.medium is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
             "elements, the mathematical case).",
+            *_larmor_lines(design),
             "",
         ]
     limits = design.extra.get("buildability") or {}
@@ -303,7 +318,13 @@ def _verdict_lines(design: Design) -> list[str]:
         f"(recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per carrier "
         "and around the largest).",
     ]
+    lines += _larmor_lines(design)
     n = design.parameters.n
+    if frontier.get("K_max") is not None:
+        lines.append(
+            f"- Frontier of K ({frontier.get('larmor', 'charges')} reading): K = "
+            f"{design.parameters.K:.4g} 1/s, K_max = {frontier['K_max']:.4g} 1/s."
+        )
     if frontier:
         n_max = frontier.get("n_max")
         period = frontier.get("period_s")

@@ -256,6 +256,12 @@ def scene_schema() -> dict[str, Any]:
                 "total_mass": _NONNEG,
                 "polish": {"type": "boolean"},
                 "robust_weight": {"type": "number", "minimum": 0, "maximum": 1},
+                "larmor": {
+                    "enum": list(LARMOR_READINGS),
+                    "description": "how n is realised: charges (the paper's (p6) second "
+                    "moments) or frame (the body realises n = 0, read in axes turning at n); "
+                    "default charges without [medium], frame with it",
+                },
             },
         ),
         "simulation": _open(

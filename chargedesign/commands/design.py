@@ -9,7 +9,8 @@ describe one body and a stale picture beside a new design would mislead; ``--no-
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
 Before anything is written the body is checked forward (``chargedesign.check``, the check
-command's default tolerance and orientations): a body that misses the theorem is refused
+command's default tolerance and orientations, against the parameters the elements realise:
+n = 0 for the ``frame`` Larmor reading): a body that misses the theorem is refused
 with one line naming the cause (too large a requested total, a scale outside the supported
 range, or insufficient forward accuracy), and DIR stays as it was (docs/reliability.md).
 The ``linf`` objective (a dense problem) is capped at ``MAX_LINF_CANDIDATES`` candidates;
@@ -186,47 +187,13 @@ def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
 
 
 def _forward_check(design: object, args: argparse.Namespace) -> None:
-    """The check command's verdict on the body before it is written; one line if it fails."""
-    import numpy as np
+    """The check command's verdict on the body before it is written; one line if it fails
+    (:func:`chargedesign.design.acceptance.forward_acceptance`, the frontier's too)."""
+    from chargedesign.design.acceptance import forward_acceptance
 
-    from chargedesign.check import check_design
-    from chargedesign.validation import MAX_MAGNITUDE
-
-    values = [
-        np.abs(getattr(design, name))
-        for name in ("charge_values", "mass_values", "dipole_moments", "charge_positions")
-    ]
-    largest = max((float(v.max()) for v in values if v.size), default=0.0)
-    if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
-        raise ChargeDesignError(
-            f"the body needs an element of size {largest:.3g} (SI), outside the "
-            f"supported range |x| <= {MAX_MAGNITUDE:g}: the requested total is too large or "
-            "the scale is outside the range; rescale the units. Nothing was written"
-        )
-    try:
-        report = check_design(design)  # type: ignore[arg-type]
-    except ChargeDesignError as exc:
-        raise ChargeDesignError(
-            f"the forward check of the body failed ({exc}); nothing was written"
-        ) from exc
-    if report.passed:
-        return
-    errors = ", ".join(
-        f"{name} {q.rel_err:.2g}"
-        for name, q in report.quantities.items()
-        if name in report.failures
-    )
-    causes = []
-    if args.total_charge is not None or args.total_mass is not None:
-        causes.append("the requested total (--total-charge/--total-mass) may be too large")
-    causes.append(
-        "the scale may be outside the supported range or the forward accuracy "
-        "insufficient (rescale the units toward 1)"
-    )
-    raise ChargeDesignError(
-        f"the body misses the theorem in the forward check ({errors or 'failed'} "
-        f"against tol {report.tol:g}); {'; '.join(causes)}. Nothing was written "
-        "(--no-forward-check writes it anyway)"
+    forward_acceptance(
+        design,  # type: ignore[arg-type]
+        totals_requested=args.total_charge is not None or args.total_mass is not None,
     )
 
 

@@ -1,10 +1,15 @@
 """`chargedesign frontier [SCENE] [--json] [--scan --out DIR]`: where the buildable stops.
 
 Finds the largest time rate ``s`` (n, K x s; kappa, lambda, rho x s^2) for which the scene's
-body realises the theorem within every limit of its medium and materials, and the limit that
-binds just above it. ``--scan`` also sweeps the body's size and the medium (and the magnetic
-field and the carriers' density), plots ``n_max`` against size (log-log, one line per medium)
-and fits the scaling law.
+body realises the theorem within every limit of its medium and materials and passes the
+design's acceptance (limits, balance under gravity, forward check), and the limit that binds
+just above it. With the ``frame`` Larmor reading (the default with ``[medium]``) the body
+realises n = 0, n is free and the frontier is ``K_max``; with ``charges`` it is ``n_max``.
+Under gravity it also gives the lowest rate whose balance the check confirms, and fails in
+one line when that lies above ``s_max``. ``--scan`` also sweeps the body's size and the
+medium (and the magnetic field and the carriers' density), plots ``K_max`` (or ``n_max``)
+against size (log-log, one line per medium) and fits the scaling law, printing the
+exponents and the fit's residual.
 """
 
 from __future__ import annotations
@@ -21,7 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scan",
         action="store_true",
-        help="sweep size x medium x field x density, plot n_max and fit the scaling law",
+        help="sweep size x medium x field x density, plot K_max (n_max for the charges reading) "
+        "and fit the scaling law",
     )
     parser.add_argument(
         "--out", default=None, metavar="DIR", help="with --scan: write frontier_scan.csv/.png here"

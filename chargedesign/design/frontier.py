@@ -3,15 +3,25 @@
 Time rescaling ``n, K -> s n, s K`` and ``kappa, lambda, rho -> s^2 (...)`` is the same motion
 ``s`` times faster (:func:`chargedesign.design.physical.scaled_parameters`). The charges grow
 like ``s`` (and the surface fields with them), the magnets like ``s^2``; the carriers, whose
-number grows with ``s``, weigh on the inertia. :func:`find_frontier` brackets the largest
-feasible ``s``:
+number grows with ``s``, weigh on the inertia. What the charges carry depends on the Larmor
+reading (:mod:`chargedesign.larmor`): with ``charges`` (the paper's (p6)) their second
+moments realise n and their third moments K, so the frontier is ``n_max``; with ``frame``
+the body realises ``n = 0`` (any n is a rotation of axes), only K's third moments need
+charges, and the frontier is ``K_max`` (with kappa's magnets and the masses).
+
+:func:`find_frontier` brackets the largest ``s`` the design accepts
+(:mod:`chargedesign.design.acceptance`: both stages, the limits recomputed from the parts,
+the balance under gravity and the forward check):
 
 1. an upper bound from one LP: the largest ``s`` for which charges meet their conditions with
-   every carrier's own surface field within the safe field (a necessary condition);
-2. bisection in ``log s`` over the full two-stage feasibility problems
-   (:func:`~chargedesign.design.physical.design_at_rate`) to ``rtol``.
+   every carrier's own surface field within the safe field (a necessary condition; without
+   charge conditions, rates 10x apart up to the first refused);
+2. bisection in ``log s`` over the full acceptance to ``rtol``.
 
-The binding limit is the one that fails just above ``s_max``.
+The binding limit is the one that fails just above ``s_max``. Under gravity the balance
+bounds the rate from below (the designed torques go as ``s^2``, gravity's imbalance does not):
+the frontier reports that lowest rate ``s_min``, and fails in one line when it lies above
+``s_max`` ("no buildable rate: ...").
 """
 
 from __future__ import annotations
@@ -23,15 +33,14 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.body import Design
+from chargedesign.design.acceptance import BUILDER_BALANCE_M, body_check
 from chargedesign.design.physical import (
     Binding,
     PhysicalInfeasible,
-    PhysicalOutcome,
     PhysicalSetup,
-    build_design,
-    design_at_rate,
 )
-from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.results import Result
 
 #: relative width of the final bracket [s_max, s_above]
@@ -41,6 +50,10 @@ UPWARD_STEPS = (1, 2, 4)
 UPWARD_RESTARTS = 3
 #: how far below the necessary bound a feasible rate is searched for
 LOWEST_RATE_FRACTION = 1e-9
+#: without charge conditions (no necessary bound): rates 10x apart are tried up to this
+HIGHEST_RATE = 1e15
+#: rates below s_max tried when the forward check or the limits check refuses the body there
+ACCEPT_RETRIES = 3
 
 
 @dataclass(repr=False)
@@ -50,19 +63,34 @@ class FrontierResult(Result):
     Attributes
     ----------
     s_max : float
-        Largest time rate the body realises within every limit (0: none).
-    n_max : float
-        ``s_max * n``, 1/s.
+        Largest time rate the body realises within every limit and the design accepts
+        (0: none).
+    n : float
+        The theorem's n at rate 1, 1/s.
+    K : float
+        The theorem's K at rate 1, 1/s.
+    larmor : str
+        The Larmor reading (``charges`` or ``frame``).
+    n_max : float or None
+        ``s_max * n`` for ``charges``; None for ``frame``, where n is free (a rotation of
+        axes: the body realises n = 0, so any n reads its motion in turning axes).
+    K_max : float
+        ``s_max * K``, 1/s: the largest K the body realises.
     period : float
-        ``2 pi / n_max``, s (inf when n_max = 0).
+        ``2 pi / n_max``, s (inf when n_max is 0 or None).
     binding : Binding
         What fails just above ``s_max``.
     s_necessary : float
-        The charges' own-field upper bound on s.
+        The charges' own-field upper bound on s (inf without charge conditions).
+    s_min : float
+        Under gravity, the lowest rate whose balance the forward check confirms (0 without
+        gravity); ``balance`` gives the numbers at ``s_max``.
     field_response : dict
         The applied field acting on the parts' materials of the body designed at ``s_max``
         (:func:`chargedesign.physical.realism.field_response`): induced magnetisation and
         eddy torques as fractions of the designed torques.
+    smallest_charge : float
+        The smallest carrier charge of that body, C.
     """
 
     s_max: float
@@ -75,34 +103,57 @@ class FrontierResult(Result):
     medium: str
     history: list[tuple[float, bool]] = field(default_factory=list)
     field_response: dict[str, Any] = field(default_factory=dict)
+    K: float = 0.0
+    larmor: str = "charges"
+    s_min: float = 0.0
+    balance: dict[str, Any] = field(default_factory=dict)
+    #: the smallest |q| of the body designed at s_max, C (0: no charges)
+    smallest_charge: float = 0.0
 
     @property
-    def n_max(self) -> float:
-        return self.s_max * self.n
+    def n_free(self) -> bool:
+        return self.larmor == "frame"
+
+    @property
+    def n_max(self) -> float | None:
+        return None if self.n_free else self.s_max * self.n
+
+    @property
+    def K_max(self) -> float:
+        return self.s_max * self.K
 
     @property
     def period(self) -> float:
-        return 2 * math.pi / self.n_max if self.n_max > 0 else math.inf
+        n_max = self.n_max
+        return 2 * math.pi / n_max if n_max is not None and n_max > 0 else math.inf
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "s_max": self.s_max,
             "n_max": self.n_max,
+            "K_max": self.K_max,
+            "larmor": self.larmor,
+            "n_free": self.n_free,
             "period_s": self.period if math.isfinite(self.period) else None,
             "binding": self.binding.text(self.medium),
             "binding_detail": self.binding.to_dict(),
             "s_above": self.s_above,
-            "s_necessary": self.s_necessary,
+            "s_necessary": self.s_necessary if math.isfinite(self.s_necessary) else None,
+            "s_min": self.s_min,
+            "balance": dict(self.balance),
             "medium": self.medium,
             "evaluations": self.evaluations,
             "seconds": self.seconds,
             "field_response": dict(self.field_response),
+            "smallest_charge_C": self.smallest_charge,
         }
 
     def _summary(self) -> dict[str, Any]:
         return {
             "s_max": self.s_max,
+            "K_max": self.K_max,
             "n_max": self.n_max,
+            "larmor": self.larmor,
             "binding": self.binding.stage,
             "medium": self.medium,
             "evaluations": self.evaluations,
@@ -110,18 +161,38 @@ class FrontierResult(Result):
         }
 
     def _text(self) -> str:
-        period = f"{self.period:.4g} s" if math.isfinite(self.period) else "none"
-        return (
-            f"frontier: s_max = {self.s_max:.4g} (n_max = {self.n_max:.4g} 1/s, period "
-            f"2 pi / n_max = {period}) in {self.medium}\n"
-            f"binding: {self.binding.text(self.medium)}\n"
-            + "".join(
-                f"at n_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
-                f"torques ({item['verdict']})\n"
-                for key, item in self.field_response.items()
+        if self.n_free:
+            rate = (
+                f"K_max = {self.K_max:.4g} 1/s; n is free: the frame reading realises n = 0 "
+                "and any n reads the motion in axes turning at n"
             )
-            + f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n"
-        )
+        else:
+            period = f"{self.period:.4g} s" if math.isfinite(self.period) else "none"
+            rate = (
+                f"n_max = {self.n_max or 0.0:.4g} 1/s, period 2 pi / n_max = {period}, "
+                f"K_max = {self.K_max:.4g} 1/s"
+            )
+        lines = [
+            f"frontier ({self.larmor} reading): s_max = {self.s_max:.4g} ({rate}) in "
+            f"{self.medium}\n",
+            f"binding: {self.binding.text(self.medium)}\n",
+        ]
+        if self.balance:
+            lines.append(
+                f"balance: under gravity the rate must stay above s_min = {self.s_min:.4g} "
+                f"(at s_max the centre of mass must sit within "
+                f"{self.balance['centre_of_mass_within_m']:.3g} m of O, the check's tolerance "
+                f"{self.balance['check_tolerance']:g} of the designed torques; a builder "
+                f"balancing to {BUILDER_BALANCE_M:g} m would need s >= "
+                f"{self.balance['builder_lowest_rate'] or math.inf:.3g})\n"
+            )
+        lines += [
+            f"at s_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
+            f"torques ({item['verdict']})\n"
+            for key, item in self.field_response.items()
+        ]
+        lines.append(f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n")
+        return "".join(lines)
 
 
 def _value_text(item: dict[str, Any]) -> str:
@@ -166,18 +237,76 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     return float(res.x[-1])
 
 
-def _feasible(setup: PhysicalSetup, s: float) -> tuple[PhysicalOutcome | None, Binding | None]:
+def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
+    """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
+    stages (:func:`~chargedesign.design.physical.design_at_rate`) and the balance under
+    gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
+    from chargedesign.design.acceptance import balance_bound
+    from chargedesign.design.physical import build_design, design_at_rate
+
     try:
-        return design_at_rate(setup, s), None
+        design = build_design(setup, design_at_rate(setup, s))
     except PhysicalInfeasible as exc:
         return None, exc.binding
+    balance = balance_bound(design)
+    if balance is None:
+        return design, None
+    design.extra["balance"] = balance.to_dict()
+    if balance.confirmed:
+        return design, None
+    return design, Binding("balance", balance.text(), "centre of mass")
 
 
-def _response_at(setup: PhysicalSetup, outcome: PhysicalOutcome | None) -> dict[str, Any]:
+def _balance_fails(design: Design, s: float) -> bool:
+    balance = design.extra.get("balance") or {}
+    return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
+
+
+def _accept_body(design: Design) -> Binding | None:
+    """The rest of the design's acceptance on a body whose limits and balance hold: the
+    limits recomputed from the written parts and the forward check (None: accepted)."""
+    from chargedesign.physical.limits import check_limits
+
+    limits = check_limits(design)
+    if not limits.buildable:
+        return Binding("limits", limits.violations[0], "limits check")
+    try:
+        report = body_check(design)
+    except ChargeDesignError as exc:
+        return Binding("forward", f"the forward check could not run ({exc})", "check")
+    if report.passed:
+        return None
+    errors = ", ".join(
+        f"{name} {q.rel_err:.2g}"
+        for name, q in report.quantities.items()
+        if name in report.failures
+    )
+    return Binding(
+        "forward",
+        f"the body misses the theorem in the forward check ({errors} against tol {report.tol:g})",
+        "forward check",
+    )
+
+
+def _response_at(design: Design | None) -> dict[str, Any]:
     """The field response of the body designed at the frontier (empty when none)."""
     from chargedesign.physical.realism import field_response
 
-    return {} if outcome is None else field_response(build_design(setup, outcome))
+    return {} if design is None else field_response(design)
+
+
+def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
+    """The one line of a frontier whose balance bound lies above its largest rate."""
+    g = balance["gravity_m_per_s2"] / 9.80665
+    gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
+    return (
+        f"no buildable rate: under {gravity} the centre of mass must sit within "
+        f"{balance['centre_of_mass_within_m']:.3g} m of O at s_max = {s_max:.4g} (K_max = "
+        f"{K_max:.3g} 1/s; the forward check's tolerance {balance['check_tolerance']:g} of the "
+        f"designed torques), below the {balance['balance_held_m']:.3g} m to which double "
+        f"precision holds this body's balance (a builder reaches about {BUILDER_BALANCE_M:g} "
+        f"m); the check confirms rates from s = {balance['lowest_rate']:.4g}, above s_max"
+    )
 
 
 def find_frontier(
@@ -186,35 +315,67 @@ def find_frontier(
     rtol: float = FRONTIER_RTOL,
     progress: Any = None,
     feasible_rate: float | None = None,
-    feasible_outcome: PhysicalOutcome | None = None,
+    feasible: Design | None = None,
 ) -> FrontierResult:
-    """The largest time rate within every limit, and the limit that binds above it.
+    """The largest time rate the design accepts, and the limit that binds above it.
 
-    ``feasible_rate``: a rate already known to be feasible (e.g. the one just designed),
-    which starts the bracket and saves the search for a feasible point; ``feasible_outcome``
-    its body, which then need not be designed again if the frontier ends there. The bracket
+    ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
+    which starts the bracket and saves the search for a feasible point; ``feasible`` its
+    body, which then need not be designed again if the frontier ends there. The bracket
     ``[s_max, s_above]`` ends narrower than ``1 + rtol``.
+
+    Raises
+    ------
+    InfeasibleError
+        Under gravity, when the balance the check can confirm needs a rate above ``s_max``
+        ("no buildable rate: ...").
     """
     t0 = time.perf_counter()
     s_nec = necessary_rate(setup)
     history: list[tuple[float, bool]] = []
     medium = setup.spec.medium.name
+    theorem = setup.theorem_params
+    reading = setup.larmor.reading if setup.larmor is not None else "charges"
 
-    # the body at the highest feasible rate probed (its field response is reported)
-    best: dict[float, PhysicalOutcome] = {}
-    if feasible_rate is not None and feasible_outcome is not None:
-        best[feasible_rate] = feasible_outcome
+    # the body at the highest rate probed whose limits hold (its field response and balance
+    # are reported)
+    best: dict[float, Design] = {}
+    if feasible_rate is not None and feasible is not None:
+        best[feasible_rate] = feasible
 
     def probe(s: float) -> tuple[bool, Binding | None]:
-        outcome, binding = _feasible(setup, s)
-        ok = outcome is not None
-        if outcome is not None and all(s > known for known in best):
+        design, binding = _probe_body(setup, s)
+        # only the balance fails: the limits hold and the rate is too slow, not too fast (the
+        # upper search goes on; s_min decides below)
+        ok = design is not None
+        if design is not None and all(s > known for known in best):
             best.clear()
-            best[s] = outcome
+            best[s] = design
         history.append((s, ok))
         if progress is not None:
             progress(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
         return ok, binding
+
+    def result(lo: float, hi: float, binding: Binding, design: Design | None) -> FrontierResult:
+        return FrontierResult(
+            s_max=lo,
+            n=theorem.n,
+            binding=binding,
+            s_necessary=s_nec,
+            s_above=hi,
+            evaluations=len(history),
+            seconds=time.perf_counter() - t0,
+            medium=medium,
+            history=history,
+            field_response=_response_at(design),
+            K=theorem.K,
+            larmor=reading,
+            smallest_charge=(
+                float(np.min(np.abs(design.charge_values)))
+                if design is not None and len(design.charge_values)
+                else 0.0
+            ),
+        )
 
     if not s_nec > 0:
         none_binding = Binding(
@@ -222,7 +383,7 @@ def find_frontier(
             f"the external electric field alone exceeds the safe field of {medium}",
             "fields.electric",
         )
-        return FrontierResult(0.0, setup.params.n, none_binding, 0.0, 0.0, 0, 0.0, medium)
+        return result(0.0, 0.0, none_binding, None)
     # the necessary bound itself: just above it the own-field LP is infeasible
     upper_binding = Binding(
         "charges",
@@ -237,8 +398,19 @@ def find_frontier(
             "body region",
             "fields.electric",
         )
-    hi = s_nec * (1 + rtol)
     hi_binding: Binding | None = upper_binding
+    if not math.isfinite(s_nec):
+        # no charge conditions (frame with K = 0): rates 10x apart up to the first refused
+        s = feasible_rate or 1.0
+        s_nec = HIGHEST_RATE
+        while s < HIGHEST_RATE:
+            ok, binding = probe(s)
+            if not ok:
+                s_nec, upper_binding = s, binding or upper_binding
+                break
+            s *= 10.0
+        hi_binding = upper_binding
+    hi = s_nec * (1 + rtol)
     ok, binding = probe(s_nec)
     if ok:
         lo = s_nec
@@ -255,17 +427,7 @@ def find_frontier(
             hi, hi_binding = s, binding
         if lo == 0.0:
             assert hi_binding is not None
-            return FrontierResult(
-                0.0,
-                setup.params.n,
-                hi_binding,
-                s_nec,
-                hi,
-                len(history),
-                time.perf_counter() - t0,
-                medium,
-                history,
-            )
+            return result(0.0, hi, hi_binding, None)
         for _ in range(UPWARD_RESTARTS + 1):
             while hi / lo > 1 + rtol:
                 mid = math.sqrt(lo * hi)
@@ -274,67 +436,72 @@ def find_frontier(
                     lo = mid
                 else:
                     hi, hi_binding = mid, binding
-            # the heuristic feasibility (LP rounds, then cones) is not exactly monotone in s:
-            # rates a little above the bracket are tried, and a success reopens it
-            above = [hi * (1 + rtol) ** k for k in UPWARD_STEPS if hi * (1 + rtol) ** k < s_nec]
+            # the heuristic feasibility (LP rounds, then cones; the carriers the masses must
+            # balance) is not exactly monotone in s: rates a little above the bracket, and
+            # (1 + 2 rtol) s_max, which design must refuse, are tried, and a success reopens
+            # the bracket; (1 - 2 rtol) s_max, which design must accept, is tried too
+            above = [lo * (1 + 2 * rtol)]
+            for k in UPWARD_STEPS:
+                s_up = hi * (1 + rtol) ** k
+                # rates within rtol / 4 of one already tried tell nothing new
+                if s_up < s_nec and all(abs(s_up / x - 1) > rtol / 4 for x in above):
+                    above.append(s_up)
             found = None
             for s_up in above:
                 ok, binding = probe(s_up)
                 if ok:
                     found = s_up
                     break
-            if found is None:
-                break
-            lo = found
-            hi = min(s_nec, found * (1 + rtol) ** 4)
-            hi_binding = upper_binding
-            ok, binding = probe(hi)
+            if found is not None:
+                lo = found
+                hi = min(s_nec, found * (1 + rtol) ** 4)
+                hi_binding = upper_binding
+                ok, binding = probe(hi)
+                if ok:
+                    lo = hi
+                    break
+                hi_binding = binding
+                continue
+            below = lo * (1 - 2 * rtol)
+            ok, binding = probe(below)
             if ok:
-                lo = hi
                 break
-            hi_binding = binding
+            # refused just below: the frontier lies under it
+            hi, hi_binding = below, binding
+            feasible_below = [x for x, good in history if good and x < below]
+            if not feasible_below:
+                break
+            lo = max(feasible_below)
     assert hi_binding is not None
-    outcome = best.get(lo)
-    if outcome is None:  # the feasible rate given by the caller was not probed here
-        outcome = _feasible(setup, lo)[0]
-    return FrontierResult(
-        s_max=lo,
-        n=setup.params.n,
-        binding=hi_binding,
-        s_necessary=s_nec,
-        s_above=hi,
-        evaluations=len(history),
-        seconds=time.perf_counter() - t0,
-        medium=medium,
-        history=history,
-        field_response=_response_at(setup, outcome),
-    )
-
-
-_FURTHER = {
-    "charges": "vacuum or a medium with a higher breakdown, more or larger carriers, a stronger "
-    "magnetic field a1, or a smaller, lighter body reaches further",
-    "fields": "a larger fields.electric.max reaches further",
-    "masses": "lighter carriers (thinner shells, a lighter material, fewer) or a larger C "
-    "reach further",
-    "magnets": "a stronger magnet material, a larger gradient a2 or larger cells reach further",
-}
-
-
-def beyond_frontier_message(
-    setup: PhysicalSetup, binding: Binding, frontier: FrontierResult, s: float
-) -> str:
-    """One line: what fails at rate ``s``, how far the body reaches, what would reach further."""
-    reach = (
-        f"this body reaches at most n = {frontier.n_max:.3g} 1/s (s_max = "
-        f"{frontier.s_max:.3g} of the requested rate)"
-        if frontier.s_max > 0
-        else "this body realises no rate within the limits"
-    )
-    return (
-        f"{binding.text(setup.spec.medium.name)}; {reach}; "
-        f"{_FURTHER.get(frontier.binding.stage, 'see docs/buildable.md')}"
-    )
+    # the rest of the design's acceptance (limits recomputed from the parts, forward check)
+    # at the rate reported; it does not depend on the rate but through the balance, so it
+    # runs once, and a refusal moves the frontier down to the next rate probed feasible
+    design = best.get(lo)
+    for _ in range(ACCEPT_RETRIES):
+        if design is None:
+            # the rate given by the caller was not probed here
+            design, _ = _probe_body(setup, lo)
+        if design is None or _balance_fails(design, lo):
+            break  # the balance speaks below
+        refused = _accept_body(design)
+        if refused is None:
+            break
+        hi, hi_binding = lo, refused
+        lower_rates = [x for x, good in history if good and x < lo]
+        lo = max(lower_rates, default=0.0)
+        design = None
+        if lo == 0.0:
+            break
+    else:
+        lo, design = 0.0, None
+    front = result(lo, hi, hi_binding, design)
+    balance = (design.extra.get("balance") if design is not None else None) or {}
+    if balance:
+        front.balance = dict(balance)
+        front.s_min = float(balance.get("lowest_rate") or math.inf)
+        if not front.s_min <= lo:
+            raise InfeasibleError(no_buildable_rate(balance, lo, front.K_max))
+    return front
 
 
 def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:

@@ -14,6 +14,7 @@ import numpy as np
 
 from chargedesign.conditions import REALISABLE, SOURCES
 from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.vocabulary import LARMOR_READINGS
 from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
 
 SPARSITY_METHODS = ("auto", "reweighted", "mip")
@@ -66,6 +67,11 @@ class DesignOptions:
         then mixed integer (auto).
     time_limit : float
         Seconds allowed to the mixed-integer solver.
+    larmor : {"charges", "frame"}, optional
+        How the theorem's n is realised (:mod:`chargedesign.larmor`): ``charges``, the paper's
+        (p6) second moments of charge; ``frame``, a body realising n = 0 whose motion, read in
+        axes turning at n about Z, is the theorem's. Default (None): ``charges`` for a scene
+        without ``[medium]``, ``frame`` with one.
     """
 
     objective: str = "l1"
@@ -82,9 +88,12 @@ class DesignOptions:
     sparsity: str = "auto"
     time_limit: float = 60.0
     robust_weight: float = 1.0
+    larmor: str | None = None
 
     def __post_init__(self) -> None:
         _check_objective(self.objective, "design.objective")
+        if self.larmor is not None and self.larmor not in LARMOR_READINGS:
+            raise input_error("design.larmor", "one of " + ", ".join(LARMOR_READINGS), self.larmor)
         if self.objectives is not None:
             if not isinstance(self.objectives, Mapping):
                 raise input_error(

@@ -43,6 +43,7 @@ from chargedesign.design.robust import robust_costs, weighted_norm
 from chargedesign.design.solvers import least_norm
 from chargedesign.design.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.larmor import LarmorReading
 from chargedesign.params import Parameters
 from chargedesign.physical.limits import (
     fibonacci_directions,
@@ -58,7 +59,8 @@ DESIGN_MARGIN = 1e-3
 PHYSICAL_OBJECTIVES = ("l1", "robust")
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
-MAX_ROUNDS = 14
+#: LP rounds first (at most LP_ROUNDS), then cone rounds until the total reaches this
+MAX_ROUNDS = 26
 #: rounds of own-field bound tightening before the cones
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
@@ -69,7 +71,7 @@ CONE_THRESHOLD = 0.95
 class Binding:
     """The limit that stops a design: which element, which limit, and by how much."""
 
-    stage: str  # charges | magnets | masses | fields
+    stage: str  # charges | magnets | masses | fields | balance | limits | forward
     limit: str
     element: str = ""
     factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
@@ -112,6 +114,16 @@ class PhysicalSetup:
     #: candidates where a magnet keeps its magnetisation: the largest |B| over its cell stays
     #: below what the magnet material withstands (all True when its coercivity is unknown)
     magnet_sites: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    #: how the theorem's n is realised (rate at time rate 1); ``params`` are then the
+    #: parameters the elements realise (n = 0 for ``frame``)
+    larmor: LarmorReading | None = None
+
+    @property
+    def theorem_params(self) -> Parameters:
+        """The theorem's parameters at rate 1 (``params`` with the Larmor rate as n)."""
+        if self.larmor is not None and self.larmor.is_frame:
+            return replace(self.params, n=self.larmor.rate)
+        return self.params
 
     def cost(self, source: str) -> np.ndarray:
         """Objective cost of each candidate for ``source`` (ones unless robust)."""
@@ -155,8 +167,15 @@ def setup_physical(
     candidates: CandidateSet,
     spec: PhysicalSpec,
     options: DesignOptions | None = None,
+    *,
+    larmor: LarmorReading | None = None,
 ) -> PhysicalSetup:
-    """Validate the physical spec against the candidates and build the systems at rate 1."""
+    """Validate the physical spec against the candidates and build the systems at rate 1.
+
+    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
+    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
+    ``frame``).
+    """
     from scipy.spatial import cKDTree
 
     options = options or DesignOptions()
@@ -245,6 +264,7 @@ def setup_physical(
         e_grid_values=values,
         costs=costs,
         magnet_sites=magnet_sites,
+        larmor=larmor,
     )
 
 
@@ -482,6 +502,15 @@ def _meet_surface_limits(
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
         solved = _socp_charges(setup, working, s, cones, caps)
+        usable = np.flatnonzero(caps > 0)
+        if solved is None and len(working) < len(usable):
+            # the working set may lack carriers a solution needs: on every usable candidate
+            # the cones (a subset of the surface limits) relax the true problem, so its
+            # infeasibility proves the rate infeasible, and every faster one too (the
+            # feasible charges scale down with the rate): the frontier then sees a monotone
+            # answer
+            working = usable
+            solved = _socp_charges(setup, working, s, cones, caps)
         if solved is None:
             break
         q = np.zeros(len(setup.points))
@@ -1127,8 +1156,9 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     fields = {k: tuple(v) for k, v in setup.conditions.fields.items()}
     if "electric" in fields:
         fields["electric"] = tuple(s * x for x in fields["electric"])
+    larmor = setup.larmor
     design = Design(
-        parameters=scaled_parameters(setup.params, s),
+        parameters=scaled_parameters(setup.theorem_params, s),
         fields=fields,
         charge_positions=setup.points[ch.sites],
         charge_values=ch.charges,
@@ -1148,6 +1178,7 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
         realises=list(setup.options.realise or setup.conditions.realise),
         medium=spec.medium.to_dict(),
         materials=spec.materials_dict(),
+        larmor=None if larmor is None else LarmorReading(larmor.reading, larmor.rate * s),
     )
     design.extra["field_limits"] = dict(spec.field_limits)
     design.extra["time_rate"] = s
@@ -1214,39 +1245,27 @@ def design_physical(
     *,
     scale: float = 1.0,
     progress: Progress | None = None,
-    frontier: bool = True,
 ) -> DesignResult:
     """Design the physical body at time rate ``scale`` (1: the scene's parameters).
 
-    With ``frontier`` the largest rate within the limits is located too (to 5 %, from the
-    designed rate up; ``design.extra["frontier"]``), and the realism budget
+    The body is accepted as :mod:`chargedesign.design.acceptance` says: its limits are
+    checked again from the written parts and, under gravity, its balance; the realism budget
     (:func:`chargedesign.physical.realism.realism_budget`) is written into
-    ``design.extra["realism"]``.
+    ``design.extra["realism"]``. The design never locates the frontier (the frontier calls
+    the design): :func:`chargedesign.design.pipeline.design_from_scene` adds it.
 
     A rate beyond what the limits allow raises :class:`~chargedesign.errors.InfeasibleError`
-    with the binding element and limit, the largest rate the body reaches, and what would
-    reach further.
+    with the binding element and limit, in one line.
     """
-    from chargedesign.physical.limits import check_limits
-
     t0 = time.perf_counter()
     if progress is not None:
         progress(
             f"physical design: {len(setup.points)} candidate sites, medium {setup.spec.medium.name}"
         )
     try:
-        outcome = design_at_rate(setup, scale)
+        design, outcome, limits = accept_at_rate(setup, scale)
     except PhysicalInfeasible as exc:
-        from chargedesign.design.frontier import beyond_frontier_message, find_frontier
-
-        if progress is not None:
-            progress("beyond the limits: locating the frontier ...")
-        reach = find_frontier(setup)
-        raise InfeasibleError(beyond_frontier_message(setup, exc.binding, reach, scale)) from None
-    design = build_design(setup, outcome)
-    limits = check_limits(design)
-    if not limits.buildable:
-        raise SolverError("physical design failed its own limits check: " + limits.violations[0])
+        raise InfeasibleError(beyond_message(setup, exc.binding, scale)) from None
     result = DesignResult(
         design=design,
         sources=source_results(setup, outcome),
@@ -1261,13 +1280,6 @@ def design_physical(
     from chargedesign.physical.realism import realism_budget
 
     design.extra["realism"] = realism_budget(design, limits.field_response)
-    if frontier:
-        from chargedesign.design.frontier import find_frontier
-
-        if progress is not None:
-            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-        front = find_frontier(setup, rtol=0.05, feasible_rate=scale, feasible_outcome=outcome)
-        design.extra["frontier"] = front.to_dict()
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,
         "carrier_mass_kg": setup.carrier_mass,
@@ -1276,3 +1288,67 @@ def design_physical(
         "design_margin": DESIGN_MARGIN,
     }
     return result
+
+
+_FURTHER = {
+    "charges": "vacuum or a medium with a higher breakdown, more or larger carriers, a stronger "
+    "magnetic field (a2 for K, a1 for n in the charges reading), or a smaller, lighter body "
+    "reaches further",
+    "fields": "a larger fields.electric.max reaches further",
+    "masses": "lighter carriers (thinner shells, a lighter material, fewer) or a larger C "
+    "reach further",
+    "magnets": "a stronger magnet material, a larger gradient a2 or larger cells reach further",
+    "balance": "a faster rate, a heavier designed potential or less gravity reaches it",
+}
+
+
+def beyond_message(setup: PhysicalSetup, binding: Binding, s: float) -> str:
+    """One line: what fails at rate ``s`` and what would reach further (no frontier search:
+    ``chargedesign frontier`` gives the largest rate)."""
+    return (
+        f"{binding.text(setup.spec.medium.name)} at time rate s = {s:.4g}; "
+        f"{_FURTHER.get(binding.stage, 'see docs/buildable.md')} (chargedesign frontier "
+        "finds the largest rate)"
+    )
+
+
+def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutcome, Any]:
+    """The body at rate ``s`` with the design's acceptance before the forward check: both
+    stages, the limits recomputed from the written parts, and the balance under gravity.
+
+    Returns
+    -------
+    design : Design
+    outcome : PhysicalOutcome
+    limits : chargedesign.physical.limits.LimitsReport
+
+    Raises
+    ------
+    PhysicalInfeasible
+        Naming the binding limit (stage ``balance`` when the check cannot confirm the
+        balance gravity asks at this rate).
+    SolverError
+        The body fails its own limits check.
+    """
+    from chargedesign.design.acceptance import balance_bound
+    from chargedesign.physical.limits import check_limits
+
+    outcome = design_at_rate(setup, s)
+    design = build_design(setup, outcome)
+    limits = check_limits(design)
+    if not limits.buildable:
+        raise SolverError("physical design failed its own limits check: " + limits.violations[0])
+    balance = balance_bound(design)
+    if balance is not None:
+        design.extra["balance"] = balance.to_dict()
+        if not balance.confirmed:
+            raise PhysicalInfeasible(
+                Binding(
+                    "balance",
+                    f"{balance.text()}; the check confirms rates from s = "
+                    f"{balance.lowest_rate:.4g} up",
+                    "centre of mass",
+                    balance.held / balance.needed if balance.needed > 0 else math.inf,
+                )
+            )
+    return design, outcome, limits

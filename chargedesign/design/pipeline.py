@@ -10,6 +10,7 @@ system before solving any and assembles the :class:`~chargedesign.body.Design`.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -33,6 +34,7 @@ from chargedesign.design.system import (
     relative_residual,
 )
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
 from chargedesign.physical.spec import spec_from_tables
 from chargedesign.validation import input_error
@@ -362,63 +364,133 @@ def design_from_scene(
     -------
     DesignResult
 
-    A scene with ``[medium]`` is designed as a physical body
-    (:mod:`chargedesign.design.physical`): carriers, magnets and ballast within every limit;
-    with ``frontier`` the largest rate within the limits is located too (the report's n_max).
+    The body realises the theorem as its Larmor reading says (``[design] larmor``,
+    :func:`larmor_of_scene`): with ``frame`` its elements realise ``n = 0``
+    (:func:`chargedesign.larmor.body_parameters`) and ``design.larmor`` records the rate of
+    the turning axes. A scene with ``[medium]`` is designed as a physical body
+    (:mod:`chargedesign.design.physical`): carriers, magnets and ballast within every limit,
+    accepted as :mod:`chargedesign.design.acceptance` says; with ``frontier`` the largest rate
+    within the limits is then located too (:mod:`chargedesign.design.frontier`, the report's
+    frontier; the physical design itself never calls the frontier).
     """
     from chargedesign.scene import Scene
 
     if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     t0 = time.perf_counter()
-    options, candidates, conditions = _scene_inputs(scene, progress, overrides)
+    inputs = _scene_inputs(scene, progress, overrides)
+    options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
     t2 = time.perf_counter()
-    spec = spec_from_tables(scene.tables, scene.field_limits)
-    if spec is not None:
+    if inputs.spec is not None:
         from chargedesign.design.physical import design_physical, setup_physical
 
-        setup = setup_physical(scene.parameters, conditions, candidates, spec, options)
-        result = design_physical(setup, progress=progress, frontier=frontier)
-        result.design.extra["provenance"]["scene"] = scene.source
-        return result
-    result = design_body(scene.parameters, conditions, candidates, options, progress=progress)
-    result.timings = {"setup": t2 - t0, **result.timings}
-    result.timings["total"] = time.perf_counter() - t0
-    result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
+        setup = setup_physical(
+            inputs.body_params, conditions, candidates, inputs.spec, options, larmor=inputs.larmor
+        )
+        result = design_physical(setup, progress=progress)
+        if frontier:
+            from chargedesign.design.frontier import find_frontier
+
+            if progress is not None:
+                progress("locating the frontier (largest rate within the limits, to 5 %) ...")
+            front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
+            result.design.extra["frontier"] = front.to_dict()
+    else:
+        result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
+        result.design.parameters = scene.parameters
+        result.design.larmor = inputs.larmor
+        result.timings = {"setup": t2 - t0, **result.timings}
+        result.timings["total"] = time.perf_counter() - t0
+        result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
+    result.design.extra["larmor_why"] = inputs.larmor_why
+    if inputs.larmor_note:
+        result.notes.append(inputs.larmor_note)
+        result.design.extra.setdefault("notes", []).append(inputs.larmor_note)
     result.design.extra["provenance"]["scene"] = scene.source
     return result
 
 
-def _scene_inputs(
-    scene: Any, progress: Progress | None, overrides: dict[str, Any]
-) -> tuple[DesignOptions, CandidateSet, LinearConditions]:
-    """A scene's design options, candidate set and conditions (derived for its size)."""
+@dataclass
+class SceneInputs:
+    """What a scene gives the design: options, candidates, the conditions of the parameters
+    the body realises (``body_params``), the Larmor reading and why it was chosen."""
+
+    options: DesignOptions
+    candidates: CandidateSet
+    conditions: LinearConditions
+    body_params: Parameters
+    larmor: LarmorReading
+    larmor_why: str
+    larmor_note: str
+    spec: Any
+
+
+def larmor_of_scene(
+    options: DesignOptions, params: Parameters, physical: bool
+) -> tuple[LarmorReading, str, str]:
+    """The scene's Larmor reading, why it was chosen, and a note (empty: none).
+
+    ``[design] larmor`` when given; otherwise ``frame`` with ``[medium]`` (n then needs no
+    hardware: only K's third moments need charges) and ``charges`` without (the paper's (p6)
+    reading, the mathematical case).
+    """
+    if options.larmor is not None:
+        reading = options.larmor
+        why = f"[design] larmor = {reading!r}"
+    elif physical:
+        reading = "frame"
+        why = (
+            "the default with [medium]: n is a rotation of axes (Larmor), so the body realises "
+            "n = 0 and only K's third moments need charges"
+        )
+    else:
+        reading = "charges"
+        why = "the default without [medium]: the paper's (p6) reading, second moments of charge"
+    note = ""
+    if reading == "frame" and params.n == 0:
+        note = (
+            "design.larmor = 'frame' with n = 0: the turning axes stand still, so the frame "
+            "and charges readings give the same body"
+        )
+    return LarmorReading(reading, params.n), why, note
+
+
+def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
+    """A scene's design options, candidate set, Larmor reading and the conditions (derived for
+    its size) of the parameters its body realises."""
     from pathlib import Path
 
     from chargedesign.candidates import candidates_from_table
     from chargedesign.conditions import derive_conditions, realise_from_scene
 
     options = DesignOptions.from_table(scene.table("design"), **overrides)
+    spec = spec_from_tables(scene.tables, scene.field_limits)
+    larmor, why, note = larmor_of_scene(options, scene.parameters, spec is not None)
+    params = body_parameters(scene.parameters, larmor)
     base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
     if progress is not None:
         progress("candidates ...")
     candidates = candidates_from_table(scene.table("body"), base_dir=base_dir)
     if progress is not None:
-        progress(f"conditions ({len(candidates)} candidates) ...")
+        progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
     realise = options.realise if options.realise is not None else realise_from_scene(scene)
     size = candidates.geometry.size
-    conditions = derive_conditions(
-        scene.parameters, scene.fields, realise, length=size if size > 0 else None
-    )
-    return options, candidates, conditions
+    conditions = derive_conditions(params, scene.fields, realise, length=size if size > 0 else None)
+    return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec)
 
 
 def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
     """The physical design's setup of a scene with ``[medium]`` (None without one)."""
     from chargedesign.design.physical import setup_physical
 
-    spec = spec_from_tables(scene.tables, scene.field_limits)
-    if spec is None:
+    inputs = _scene_inputs(scene, None, overrides)
+    if inputs.spec is None:
         return None
-    options, candidates, conditions = _scene_inputs(scene, None, overrides)
-    return setup_physical(scene.parameters, conditions, candidates, spec, options)
+    return setup_physical(
+        inputs.body_params,
+        inputs.conditions,
+        inputs.candidates,
+        inputs.spec,
+        inputs.options,
+        larmor=inputs.larmor,
+    )

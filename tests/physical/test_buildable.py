@@ -14,9 +14,7 @@ import pytest
 from chargedesign.body import Design, read_design
 from chargedesign.design.frontier import find_frontier
 from chargedesign.design.physical import (
-    PhysicalInfeasible,
     charge_program,
-    design_at_rate,
     design_charges,
     design_physical,
 )
@@ -49,7 +47,7 @@ def frontier(setup):
 @pytest.fixture(scope="module")
 def result(setup, frontier):
     """Designed near the frontier, where the surface fields bind."""
-    return design_physical(setup, scale=0.95 * frontier.s_max, frontier=False)
+    return design_physical(setup, scale=0.95 * frontier.s_max)
 
 
 def dense_surface_max(design: Design, samples: int = 20000) -> np.ndarray:
@@ -122,9 +120,11 @@ def test_all_three_mass_sets_give_the_inertia_and_centre(result, setup):
 
 
 def test_design_passes_its_forward_check_and_the_limits_check(result):
-    from chargedesign.check import check_design
+    from chargedesign.design.acceptance import body_check
 
-    report = check_design(result.design)
+    # small.toml has [medium]: the frame reading, checked against n = 0
+    assert result.design.larmor.reading == "frame"
+    report = body_check(result.design)
     assert report.passed, str(report)
     limits = check_limits(result.design)
     assert limits.buildable and not limits.violations
@@ -155,15 +155,23 @@ def test_bill_of_materials_lists_every_part(result):
 
 
 def test_frontier_brackets_the_buildable(setup, frontier):
+    """Design accepts 0.98 s_max (limits and forward check) and refuses 1.02 s_max in one
+    line naming the binding limit (small.toml, the frame reading)."""
+    from chargedesign.design.acceptance import forward_acceptance
+    from chargedesign.errors import InfeasibleError
+
     assert frontier.s_max > 1.0  # the scene's own rate is buildable
     assert frontier.binding.stage in ("charges", "masses", "magnets", "fields")
-    design_at_rate(setup, 0.98 * frontier.s_max)
-    with pytest.raises(PhysicalInfeasible) as info:
-        design_at_rate(setup, 1.02 * frontier.s_max)
-    assert info.value.binding.stage in ("charges", "masses", "magnets", "fields")
-    assert str(info.value) and "\n" not in str(info.value)
-    assert frontier.n_max == pytest.approx(frontier.s_max * setup.params.n)
-    assert frontier.period == pytest.approx(2 * math.pi / frontier.n_max)
+    forward_acceptance(design_physical(setup, scale=0.98 * frontier.s_max).design)
+    with pytest.raises(InfeasibleError) as info:
+        forward_acceptance(design_physical(setup, scale=1.02 * frontier.s_max).design)
+    text = str(info.value)
+    assert text and "\n" not in text and "time rate s =" in text
+    assert "charge at" in text or "inertia" in text or "ballast" in text or "magnet" in text
+    # the frame reading: n is free (a rotation of axes), the frontier is K's
+    assert frontier.larmor == "frame" and frontier.n_max is None
+    assert frontier.K_max == pytest.approx(frontier.s_max * 0.7e-7)
+    assert math.isinf(frontier.period)
 
 
 def test_the_necessary_bound_is_an_upper_bound(setup, frontier):
@@ -192,10 +200,10 @@ def test_constraint_generation_equals_the_full_cvxpy_program_when_no_limit_binds
 
 def test_beyond_the_frontier_the_design_fails_with_one_line(setup, frontier):
     with pytest.raises(Exception) as info:
-        design_physical(setup, scale=2 * frontier.s_max, frontier=False)
+        design_physical(setup, scale=2 * frontier.s_max)
     text = str(info.value)
     assert "\n" not in text
-    assert "reaches at most n =" in text and "vacuum or a medium with a higher breakdown" in text
+    assert "time rate s =" in text and "vacuum or a medium with a higher breakdown" in text
 
 
 def scene_with(**tables):
@@ -270,19 +278,22 @@ def test_cli_frontier_json_has_the_contract_keys():
     )
     assert proc.returncode == 0, proc.stderr
     data = json.loads(proc.stdout)
-    assert {"s_max", "n_max", "binding"} <= set(data)
-    assert data["n_max"] == pytest.approx(data["s_max"] * 1e-7)
+    assert {"s_max", "n_max", "K_max", "larmor", "binding"} <= set(data)
+    # small.toml has [medium]: the frame reading, where n is free and K binds
+    assert data["larmor"] == "frame" and data["n_max"] is None and data["n_free"] is True
+    assert data["K_max"] == pytest.approx(data["s_max"] * 0.7e-7)
 
 
 def test_the_embedded_default_is_buildable():
     """`make demo`'s body: an independent recheck of every limit, and the forward check."""
-    from chargedesign.check import check_design
     from chargedesign.design import design_from_scene
+    from chargedesign.design.acceptance import body_check
 
     design = design_from_scene(load_scene(None), frontier=False).design
     assert design.medium is not None and design.medium["name"] == "vacuum"
+    assert design.larmor.reading == "frame" and design.larmor.rate == 2.45e-6
     assert check_limits(design).buildable
-    assert check_design(design).passed
+    assert body_check(design).passed
     assert design.extra["realism"]["v_over_c"]["verdict"] == "negligible"
     # ... but the applied field acts on its tungsten and aluminium far more than the designed
     # charges and magnets do (docs/buildable.md, "The applied field acts on every part")
