@@ -381,19 +381,8 @@ def _k_law_lines(law: dict[str, Any]) -> list[str]:
     from chargedesign.results import format_length
 
     ratio = law["ratio"]
-    lines = [
-        f"- Induced magnetisation at the K frontier: {ratio:.3g} times the designed K torques "
-        f"C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / (mu0 G^2) with the "
-        f"parts' chi/rho = {law['chi_over_rho_m3_per_kg']:.3g} m^3/kg (mass-weighted) and "
-        f"G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg (K_max = "
-        f"{law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
-        f"{law['a2_T_per_m']:.3g} T/m)"
-        + (
-            f"; element by element {law['ratio_elements']:.3g}"
-            if law.get("ratio_elements") is not None
-            else ""
-        )
-        + ". For a similar body it is the same at any size and any a2, and falls like "
+    tail = (
+        ". For a similar body it is the same at any size and any a2, and falls like "
         "1/E_surface^2. Only K needs Lorentz charges when n is read as turning axes (this "
         f"body: the {law['larmor_reading']} reading"
         + (
@@ -401,12 +390,41 @@ def _k_law_lines(law: dict[str, Any]) -> list[str]:
             if law["larmor_reading"] == "charges"
             else ")."
         )
-    ]
+    )
+    if law.get("cancelled_by_design"):
+        lines = [
+            "- Induced magnetisation at the K frontier: cancelled by the design's chi-weighted "
+            f"moments to {law['ratio_elements']:.3g} of the designed K torques C K_max^2 "
+            f"({law['verdict']}, element by element); the same matter without the "
+            f"cancellation gives {law['ratio_without_cancellation']:.3g} by the size-free law "
+            f"6 (chi/rho) / (mu0 G^2) (G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg, "
+            f"K_max = {law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
+            f"{law['a2_T_per_m']:.3g} T/m). The cancellation holds only if each material's "
+            f"susceptibility is known to {law['chi_relative_needed']:.2g} relative; "
+            f"susceptibility metrology reaches about {law['metrology_chi_relative']:.0e}"
+            + tail
+        ]
+    else:
+        lines = [
+            f"- Induced magnetisation at the K frontier: {ratio:.3g} times the designed K "
+            f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
+            f"(mu0 G^2) with the parts' chi/rho = {law['chi_over_rho_m3_per_kg']:.3g} m^3/kg "
+            f"(mass-weighted) and G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg (K_max = "
+            f"{law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
+            f"{law['a2_T_per_m']:.3g} T/m)"
+            + (
+                f"; element by element {law['ratio_elements']:.3g}"
+                if law.get("ratio_elements") is not None
+                else ""
+            )
+            + tail
+        ]
     if ratio > 0:
         parity = law["parity_surface_field_V_per_m"]
         lines.append(
-            f"- Parity would need G {math.sqrt(ratio):.3g} times larger: carrier surface fields "
-            f"of {parity:.3g} V/m instead of {law['surface_field_V_per_m']:.3g} V/m, "
+            f"- Parity would need G {parity / law['surface_field_V_per_m']:.3g} times larger: "
+            f"carrier surface fields of {parity:.3g} V/m instead of "
+            f"{law['surface_field_V_per_m']:.3g} V/m, "
             f"{parity / law['field_evaporation_V_per_m']:.3g} times the field that evaporates "
             f"metal surfaces (~{law['field_evaporation_V_per_m']:.1g} V/m, Tsong 1990) and "
             f"{parity / law['atomic_field_V_per_m']:.3g} times the atomic field "

@@ -44,6 +44,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.physical.materials import SUSCEPTIBILITY_METROLOGY
 from chargedesign.results import Result, format_length
 from chargedesign.validation import as_finite_float, as_points, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
@@ -65,11 +66,6 @@ DEFAULT_LEVELS = (0.01, 0.1, 1.0)
 #: integration tolerances of the ensemble (the nominal body's own drift is the floor)
 DEFAULT_RTOL = 1e-10
 DEFAULT_T_END = 100.0
-#: relative accuracy of susceptibility metrology: a calibrated ac susceptometer holds its
-#: magnitude error below 0.7 % (Chen & Skumryev, Rev. Sci. Instrum. 81, 025104 (2010));
-#: commercial SQUID magnetometers calibrated against a palladium standard carry sample-shape
-#: errors of percent order (Quantum Design, SQUID VSM application note 1500-015)
-SUSCEPTIBILITY_METROLOGY = 7e-3
 DEFAULT_MATERIAL_SAMPLES = 200
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 

@@ -395,6 +395,12 @@ def design_from_scene(
                 progress("locating the frontier (largest rate within the limits, to 5 %) ...")
             front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
             result.design.extra["frontier"] = front.to_dict()
+            # the budget's K law is judged at the frontier's K_max, known only now
+            from chargedesign.physical.realism import K_LAW_KEY, k_law
+
+            realism = result.design.extra.get("realism")
+            if isinstance(realism, dict) and K_LAW_KEY in realism:
+                realism[K_LAW_KEY] = k_law(result.design)
     else:
         result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
         result.design.parameters = scene.parameters

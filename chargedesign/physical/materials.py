@@ -293,3 +293,10 @@ def ballast_label(materials: Any) -> str:
     """The ballast material names for a report: ``tungsten`` or ``tungsten + bismuth``."""
     names = [m.get("name", "?") for m in ballast_materials(materials)]
     return " + ".join(names) if names else "?"
+
+
+#: relative accuracy of susceptibility metrology: a calibrated ac susceptometer holds its
+#: magnitude error below 0.7 % (Chen & Skumryev, Rev. Sci. Instrum. 81, 025104 (2010));
+#: commercial SQUID magnetometers calibrated against a palladium standard carry sample-shape
+#: errors of percent order (Quantum Design, SQUID VSM application note 1500-015)
+SUSCEPTIBILITY_METROLOGY = 7e-3

@@ -38,6 +38,7 @@ from chargedesign.physical.materials import (
     LIGHT_SPEED,
     MU_0,
     SUSCEPTIBILITY,
+    SUSCEPTIBILITY_METROLOGY,
     ballast_groups,
     ballast_materials,
     sphere_radius,
@@ -50,6 +51,9 @@ MICROGRAVITY = 1e-6 * G_EARTH
 BALANCE_FRACTION = 1e-3
 #: a torque from the parts' materials below this fraction of the designed torques is negligible
 RESPONSE_FRACTION = 1e-3
+#: a body whose element-level induced range is below this fraction of the same matter's
+#: uncancelled law has its chi-weighted moments cancelled by design
+CANCELLED = 1e-2
 #: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
 RESPONSE_ORIENTATIONS = 2000
 #: the budget's items for the applied field acting on the parts' materials
@@ -247,8 +251,11 @@ def field_response(design: Any) -> dict[str, Any]:
     }
 
 
-def chi_over_rho(design: Any) -> tuple[float, float, list[str]]:
+def chi_over_rho(design: Any, gross: bool = False) -> tuple[float, float, list[str]]:
     """The body's susceptibility per density: the mass-weighted mixture of its parts' materials.
+
+    With ``gross`` every part's ``|chi|`` is counted: the figure of the same matter when
+    paramagnetic and diamagnetic parts do not cancel (a body not designed for it).
 
     ``(chi/rho)_body = sum_p chi_p v_p / sum_p rho_p v_p`` over every part p (carriers, magnets,
     ballast; ``v_p`` the volume of its material, ``rho_p`` its density): the susceptibility
@@ -273,7 +280,7 @@ def chi_over_rho(design: Any) -> tuple[float, float, list[str]]:
             unknown.append(f"{part['role']} {part['name']}")
             continue
         volume = float(np.sum(part["volumes"]))
-        num += part["chi"] * volume
+        num += (abs(part["chi"]) if gross else part["chi"]) * volume
         mass += part["density"] * volume
     return (num / mass if mass > 0 else 0.0), mass, sorted(set(unknown))
 
@@ -346,9 +353,12 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     mix, mass, unknown = chi_over_rho(design)
     if mass == 0.0:  # no part's susceptibility is known: the law has nothing to say
         return {}
+    gross_mix = chi_over_rho(design, gross=True)[0]
     g = k_max / abs(a2)
     # a diamagnetic body (chi < 0) has the same range of energy, upside down
     ratio = 6.0 * abs(mix) / (MU_0 * g**2)
+    # the same matter without a designed cancellation: every part's |chi| counted
+    ratio_gross = 6.0 * gross_mix / (MU_0 * g**2)
     designed = p.C * k_max**2
     response = field_response(design) if response is None else response
     rate = typical_rate(p)
@@ -361,8 +371,13 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     eddy_ratio = eddy * torque / rate * 2.0 * k_max / designed if eddy is not None else None
     medium = design.medium
     e_safe = medium["safety"] * medium["breakdown_V_per_m"]
-    parity_field = e_safe * math.sqrt(ratio) if ratio > 0 else 0.0
-    parity_mix = abs(mix) / ratio if ratio > 0 else None
+    cancelled = (
+        ratio_elements is not None and ratio_gross > 0 and ratio_elements < CANCELLED * ratio_gross
+    )
+    # parity for the matter as it would act without a designed cancellation
+    reference, reference_mix = (ratio_gross, gross_mix) if cancelled else (ratio, abs(mix))
+    parity_field = e_safe * math.sqrt(reference) if reference > 0 else 0.0
+    parity_mix = reference_mix / reference if reference > 0 else None
     sigmas = [(part["sigma"], part) for part in material_parts(design) if part["sigma"]]
     sigma_top, top = max(sigmas, key=lambda x: x[0]) if sigmas else (0.0, None)
     sigma_needed = (
@@ -378,7 +393,12 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
     )
     smallest = region * one_e / carrier if carrier > 0 else None
-    verdict = _verdict(ratio, RESPONSE_FRACTION)
+    # the verdict rests on what this body's written parts measure (element by element): a
+    # body whose chi-weighted moments were designed to cancel is far below the law, which
+    # describes matter whose susceptibility was not designed
+    measured = ratio_elements if ratio_elements is not None else ratio
+    chi_needed = RESPONSE_FRACTION / ratio_gross if ratio_gross > 0 else None
+    verdict = _verdict(measured, RESPONSE_FRACTION)
     note = (
         f"6 (chi/rho) / (mu0 G^2) with chi/rho = {mix:.3g} m^3/kg (mass-weighted over "
         f"{mass:.3g} kg of parts), G = K_max / a2 = {k_max:.3g} / {abs(a2):.3g} = {g:.3g} C m/kg "
@@ -387,8 +407,14 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     )
     if ratio_elements is not None:
         note += f"; element by element {ratio_elements:.3g}"
+    if cancelled and chi_needed is not None:
+        note += (
+            f" (cancelled by the design's chi-weighted moments; {ratio_gross:.3g} without the "
+            f"cancellation, which holds only if each material's chi is known to {chi_needed:.2g} "
+            f"relative: susceptibility metrology reaches about {SUSCEPTIBILITY_METROLOGY:.0e})"
+        )
     note += (
-        f". Parity needs G {math.sqrt(ratio):.3g} times larger: surface fields of "
+        f". Parity needs G {math.sqrt(reference):.3g} times larger: surface fields of "
         f"{parity_field:.3g} V/m ({parity_field / FIELD_EVAPORATION:.3g} x field evaporation, "
         f"{parity_field / ATOMIC_FIELD:.3g} x the atomic field)"
         + (f", or chi/rho = {parity_mix:.3g} m^3/kg" if parity_mix is not None else "")
@@ -418,6 +444,11 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         "G_C_m_per_kg": g,
         "ratio": ratio,
         "ratio_elements": ratio_elements,
+        "ratio_measured": measured,
+        "ratio_without_cancellation": ratio_gross,
+        "cancelled_by_design": cancelled,
+        "chi_relative_needed": chi_needed,
+        "metrology_chi_relative": SUSCEPTIBILITY_METROLOGY,
         "surface_field_V_per_m": e_safe,
         "parity_surface_field_V_per_m": parity_field,
         "parity_chi_over_rho_m3_per_kg": parity_mix,

@@ -246,3 +246,35 @@ def test_bismuth_and_copper_are_diamagnetic_as_the_crc_molar_values_say():
     assert SUSCEPTIBILITY["copper"] == pytest.approx(
         4 * math.pi * -5.46e-6 * 8.96 / 63.546, rel=5e-3
     )
+
+
+def test_the_verdict_rests_on_the_measured_cancellation_and_names_the_chi_accuracy(
+    chi_design: Design, plain_design: Design
+) -> None:
+    """A chi-designed body is judged by what its written parts measure, not by the law for
+    undesigned matter; the report says how precisely chi must be known for the cancellation."""
+    from chargedesign.physical.materials import SUSCEPTIBILITY_METROLOGY
+    from chargedesign.physical.realism import RESPONSE_FRACTION, k_law
+
+    law = k_law(chi_design)
+    from chargedesign.physical.realism import CANCELLED
+
+    assert law["cancelled_by_design"]
+    # (this body is judged at its own K: the fixture locates no frontier)
+    gross = law["ratio_without_cancellation"]
+    assert law["ratio_measured"] == law["ratio_elements"] < CANCELLED * gross
+    expected = "negligible" if law["ratio_measured"] < RESPONSE_FRACTION else "NOT negligible"
+    assert law["verdict"] == expected
+    # the uncancelled figure counts every part's |chi|: above the signed mixture's law
+    assert law["ratio_without_cancellation"] > law["ratio"] > 1e6
+    assert law["chi_relative_needed"] == pytest.approx(
+        RESPONSE_FRACTION / law["ratio_without_cancellation"], rel=1e-12
+    )
+    assert law["chi_relative_needed"] < SUSCEPTIBILITY_METROLOGY
+    report = str(chi_design)
+    assert "cancelled by the design's chi-weighted moments" in report
+    assert f"known to {law['chi_relative_needed']:.2g} relative" in report
+    # one material only: no cancellation, the law and the elements agree on NOT negligible
+    plain = k_law(plain_design)
+    assert not plain["cancelled_by_design"] and plain["verdict"] == "NOT negligible"
+    assert plain["ratio_measured"] == plain["ratio_elements"]

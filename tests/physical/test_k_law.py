@@ -322,6 +322,8 @@ def test_the_map_changes_with_the_body(bodies):
     assert row["size_N_m"] == math.inf and row["here"].startswith("none")
     turning = copy.deepcopy(data)
     turning["parameters"]["n"] = 3e-7
+    # the same elements read both ways (a design with [medium] is a frame body by default)
+    turning["larmor"] = {"reading": "charges", "rate": 3e-7}
     charges = _rows(Design.from_dict(turning))
     frame = Design.from_dict(turning)
     frame.larmor = LarmorReading("frame", 3e-7)
