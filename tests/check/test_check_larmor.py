@@ -32,6 +32,7 @@ def elements_at_n_zero() -> Design:
     """The unit-scale body designed with n = 0, recorded with the theorem's n = 0.7."""
     design = _unit_design(0.0)
     design.parameters = dataclasses.replace(design.parameters, n=RATE)
+    design.larmor = None  # as a file without the key: the charges reading, with n = 0.7
     return design
 
 
@@ -58,7 +59,8 @@ def test_the_same_elements_read_as_charges_fail(elements_at_n_zero: Design) -> N
 def test_a_charges_body_is_checked_as_before() -> None:
     """An explicit charges reading changes no number of the check."""
     design = _unit_design(RATE)
-    plain = check_design(design).to_dict()
+    assert design.larmor == LarmorReading("charges", RATE)  # the design writes its reading
+    plain = check_design(dataclasses.replace(design, larmor=None)).to_dict()
     labelled = check_design(
         dataclasses.replace(design, larmor=LarmorReading("charges", RATE))
     ).to_dict()
