@@ -256,7 +256,7 @@ def _materials(value: Any) -> dict[str, Any]:
     return out
 
 
-def read_design(path: str | os.PathLike[str]) -> Design:
+def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ()) -> Design:
     """Read a design.json file; bad files raise InputError naming the file and the reason.
 
     The file is read safely (chargedesign.readers: size, depth, no NaN/inf, no huge
@@ -268,7 +268,8 @@ def read_design(path: str | os.PathLike[str]) -> Design:
 
     p = Path(path)
     data = read_json_file(p, "design file")
-    check_design_numbers(data, str(p))
+    check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys
+    # a verdict needs, e.g. check's ``realises``)
     return Design.from_dict(data, where=str(p))
 
 

@@ -91,10 +91,7 @@ def _helper_sweep(tmp_path: Path, values: list[float], **options: object) -> Pat
         f'{k} = "{v}"\n' if isinstance(v, str) else f"{k} = {v}\n" for k, v in options.items()
     )
     sweep = tmp_path / "helper.toml"
-    sweep.write_text(
-        f'chunk = 1\n[grid]\n"parameters.n" = {values}\n'
-        f"[options]\n{opts}"
-    )
+    sweep.write_text(f'chunk = 1\n[grid]\n"parameters.n" = {values}\n[options]\n{opts}')
     return sweep
 
 
