@@ -260,7 +260,8 @@ def _check_out(args: argparse.Namespace, setup: object) -> None:
 
 def _check_work(args: argparse.Namespace, setup: object) -> None:
     """The work a run asks for, estimated before it starts (chargedesign.limits): periods of
-    the body's fastest rate over t_end; a free motion (``effects = []``) said in the notes."""
+    the body's fastest rate over t_end (``effects = []``, a free motion, is said by the run's
+    notes: "no effect acts: torque-free motion")."""
     from chargedesign.limits import MAX_PERIODS
     from chargedesign.validation import check_periods
 
@@ -280,11 +281,6 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
         option,
         "--max-periods N",
     )
-    effects = args.effects if args.effects is not None else options.effects
-    if effects is not None and not effects:
-        setup.notes.append(  # type: ignore[attr-defined]
-            "effects = []: free motion, no torque of any field or of gravity acts"
-        )
 
 
 def _options(args: argparse.Namespace) -> dict:
