@@ -46,6 +46,11 @@ MAX_WORKERS = 64
 MAX_FRAMES = 10_000
 
 
+def _number(x: float) -> str:
+    """An integer as its digits (a seed's 4294967295), anything else as %g."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e10 else f"{x:g}"
+
+
 class OptionRange(NamedTuple):
     """The accepted values of one numeric command-line option (inclusive unless open)."""
 
@@ -57,7 +62,7 @@ class OptionRange(NamedTuple):
     def text(self) -> str:
         left = "(" if self.lo_open else "["
         right = ")" if self.hi_open else "]"
-        return f"{left}{self.lo:g}, {self.hi:g}{right}"
+        return f"{left}{_number(self.lo)}, {_number(self.hi)}{right}"
 
     def holds(self, value: float) -> bool:
         above = value > self.lo if self.lo_open else value >= self.lo

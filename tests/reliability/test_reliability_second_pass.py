@@ -432,3 +432,13 @@ def test_output_dir_names_must_be_portable(name: str, work: Path, capsys) -> Non
     (work / "s.toml").write_text(THEOREM_SCENE + f"\n[output]\ndir = {json.dumps(name)}\n")
     line = _refused(["simulate", "s.toml", "--no-progress"], "simulate", capsys, work)
     assert "output.dir" in line
+
+
+def test_docs_list_every_option_range() -> None:
+    from chargedesign.limits import OPTION_RANGES
+
+    text = (Path(__file__).parents[2] / "docs" / "reliability.md").read_text()
+    for command, ranges in OPTION_RANGES.items():
+        for dest, bounds in ranges.items():
+            row = f"| `{command}` | `--{dest.replace('_', '-')}` | {bounds.text()} |"
+            assert row in text, row
