@@ -95,7 +95,8 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
             f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0]
         )
     # the theorem's numbers: real, finite, inside the supported range (a file's other tables
-    # are checked as a whole by load_scene; every table by its owner in validate_tables)
+    # are checked as a whole by load_scene; every table by its owner in validate_tables, which
+    # load_scene and every sweep point call; a mapping's tables by the stages that own them)
     _precheck(data)
     check_tree({k: data[k] for k in ("parameters", "fields") if k in data}, "")
     check_output_dir(data.get("output"))
@@ -118,11 +119,9 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     for name, value in tables.items():
         if not isinstance(value, dict):
             raise input_error(name, "a table", value)
-    scene = Scene(
+    return Scene(
         parameters=params, fields=fields_out, tables=tables, source=source, field_limits=limits
     )
-    validate_tables(scene)
-    return scene
 
 
 def _precheck(data: dict[str, Any]) -> None:
@@ -197,10 +196,16 @@ def default_scene_text() -> str:
 def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
     """Load a scene file, or the embedded default scene when ``path`` is None."""
     if path is None:
-        return scene_from_dict(tomllib.loads(default_scene_text()), "<default>")
+        return validated(scene_from_dict(tomllib.loads(default_scene_text()), "<default>"))
     p = Path(path)
     data = read_toml_file(p, "scene file")
     # every number of the file: real, finite, inside the supported range, named by its key
     _precheck(data)
     check_tree(data, "")
-    return scene_from_dict(data, str(p))
+    return validated(scene_from_dict(data, str(p)))
+
+
+def validated(scene: Scene) -> Scene:
+    """``scene`` after :func:`validate_tables` (the whole file, whatever the command)."""
+    validate_tables(scene)
+    return scene

@@ -206,7 +206,7 @@ def validate_points(
     region's candidates (each distinct region once). A point that would fail on its input
     is refused here, with the point and its values named, not found after others ran."""
     from chargedesign.candidates import candidates_from_table
-    from chargedesign.scene import scene_from_dict
+    from chargedesign.scene import scene_from_dict, validated
 
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
@@ -214,7 +214,8 @@ def validate_points(
     width = max(4, len(str(max(len(points) - 1, 0))))
     for i, point in enumerate(points):
         try:
-            scene = scene_from_dict(scene_with(scene_data, point), scene_source)
+            check_point_value(point, f"point p{i:0{width}d}")
+            scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
             body = scene.table("body")
             key = repr(sorted(body.items()))
             if designs and "shape" in body and key not in seen:
