@@ -31,9 +31,10 @@ MAX_QUADRATURE_ORDER = 64
 #: charges (50 MB) kept ``check`` busy past 60 s with no word
 MAX_DESIGN_ELEMENTS = 250_000
 #: periods of the fastest rate of a body (n, K, sqrt|kappa|, ..., |omega(0)|) a simulation may
-#: cover: ``t_end * rate / (2 pi)``; ``simulate --max-periods`` raises it (1e6 periods of a
-#: unit-scale body take minutes with taylor, 1e8 ran unbounded)
-MAX_PERIODS = 1_000_000
+#: cover: ``t_end * rate / (2 pi)``; ``simulate --max-periods`` raises it. The default scene
+#: asks for 5.7e6 (t_end 5e7 s at |(p, q)| = 0.72 rad/s; 15 s with taylor on a quiet machine, over
+#: 2 min on this shared one); ``--t-end 1e8`` on a unit-scale body (1.6e7) ran unbounded
+MAX_PERIODS = 10_000_000
 #: orbits per level of ``simulate --atlas`` (each is a run of t_end)
 MAX_ATLAS_ORBITS = 10_000
 #: points of one sweep (grid x random samples), counted before they are built; ``sweep

@@ -434,7 +434,8 @@ def motion_rate(parameters: Any, initial: Any = None) -> float:
     if isinstance(initial, Mapping):
         if "omega" in initial:
             rates.append(float(np.linalg.norm(np.asarray(initial["omega"], dtype=float))))
-        rates += [abs(float(initial[k])) for k in ("p", "q") if k in initial]
+        if "p" in initial or "q" in initial:  # on a level, r is solved later: |(p, q)| alone
+            rates.append(math.hypot(float(initial.get("p", 0.0)), float(initial.get("q", 0.0))))
         if "states" in initial:
             states = np.asarray(initial["states"], dtype=float)
             if states.size:

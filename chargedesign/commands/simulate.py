@@ -93,7 +93,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="N",
         help="raise the cap on the periods of the body's fastest rate a run covers (default "
-        "chargedesign.limits.MAX_PERIODS = 1e6)",
+        "chargedesign.limits.MAX_PERIODS = 1e7)",
     )
     parser.add_argument("--json", action="store_true", help="print the JSON summary")
     parser.add_argument(
@@ -173,7 +173,9 @@ def run(args: argparse.Namespace) -> int:
             level=args.off_level,
             tol=args.tol,
             monitors=args.monitors,
-            progress=bar,
+            # always a callback: the integrator returns to Python every step, so SIGINT stops
+            # the run at once (without one, heyoka ran on in C++ for seconds)
+            progress=bar if bar is not None else _interruptible,
             design_progress=design_progress,
         )
     finally:
@@ -216,6 +218,11 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(summary_text(summary))
     return 0
+
+
+def _interruptible(fraction: float) -> None:
+    """A progress callback that draws nothing: the integrator's steps return to Python, where a
+    pending SIGINT is raised."""
 
 
 #: every file simulate may write into its folder (a run drops the earlier run's others)
