@@ -103,9 +103,12 @@ def scene_with(base: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, A
     return data
 
 
-def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
-    """Raise an InputError naming ``key`` when the scene's owners reject it."""
-    from chargedesign.scene import KNOWN_TABLES, scene_from_dict
+def validate_scene_key(
+    data: dict[str, Any], key: str, source: str, scene_source: str = "<sweep>"
+) -> None:
+    """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
+    the base scene's path, which its relative paths resolve against)."""
+    from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
 
     parts = key.split(".")
     if len(parts) < 2 or not all(parts):
@@ -117,26 +120,13 @@ def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
             f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
         )
     try:
-        scene = scene_from_dict(data, source="<sweep>")
-        table = parts[0]
-        if table == "body":
+        # every table by its owner (chargedesign.scene.validate_tables), and a region's points
+        scene = validated(scene_from_dict(data, source=scene_source))
+        if parts[0] == "body" and "shape" in scene.table("body"):
             from chargedesign.candidates import candidates_from_table
 
-            if "shape" in scene.table("body"):
-                candidates_from_table(scene.table("body"))
-        elif table == "design":
-            from chargedesign.design.options import DesignOptions
-
-            DesignOptions.from_table(scene.table("design"))
-        elif table in ("simulation", "initial", "output"):
-            from chargedesign.simulation import api
-
-            if table == "simulation":
-                api.parse_simulation_options(scene.table(table))
-            elif table == "initial":
-                api.parse_initial(scene.table(table))
-            else:
-                api.parse_output_options(scene.table(table))
+            base = None if scene_source.startswith("<") else Path(scene_source).parent
+            candidates_from_table(scene.table("body"), base_dir=base)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
@@ -347,7 +337,7 @@ def sweep_from_dict(
     for key, values in zip(keys, value_lists, strict=True):
         for i, value in enumerate(values):
             check_point_value(value, f"{source}: grid key {key!r}[{i}]")
-            validate_scene_key(scene_with(scene_data, {key: value}), key, source)
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
     rng = np.random.default_rng(seed)
     grid_points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     points: list[dict[str, Any]] = []
@@ -361,7 +351,9 @@ def sweep_from_dict(
         for key in random_keys:
             for i, p in enumerate(points):
                 check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
-            validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source)
+            validate_scene_key(
+                scene_with(scene_data, {key: points[0][key]}), key, source, scene_source
+            )
     else:
         points = grid_points
     check_options(chosen, options, source)
