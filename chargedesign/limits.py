@@ -87,10 +87,13 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "max_linf_candidates": OptionRange(1, MAX_DESIGN_ELEMENTS),
     },
     "check": {
-        "tol": OptionRange(0.0, 1.0, lo_open=True),
+        # a loose --tol (even > 1) is a deliberate way to see a broken body pass
+        "tol": _POSITIVE,
         "orientations": OptionRange(1, MAX_ORIENTATIONS),
         "seed": _SEED,
-        "quadrature_order": OptionRange(1, MAX_QUADRATURE_ORDER),
+        # 0 is a one-node rule: too low for most bodies, and then the check fails (exit 1),
+        # which is the point of giving it
+        "quadrature_order": OptionRange(0, MAX_QUADRATURE_ORDER),
     },
     "simulate": {
         "t_end": _POSITIVE,
