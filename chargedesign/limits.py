@@ -83,7 +83,6 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "max_charge": _POSITIVE,
         "total_mass": _POSITIVE,
         "total_charge": OptionRange(-1e30, 1e30),
-        "robust_weight": OptionRange(0.0, 1.0),
         "max_linf_candidates": OptionRange(1, MAX_DESIGN_ELEMENTS),
     },
     "check": {
