@@ -299,7 +299,7 @@ def _check_mass_materials(design: Design) -> None:
             raise input_error("masses.material", "the ballast material's name", unknown[0])
 
 
-def read_design(path: str | os.PathLike[str]) -> Design:
+def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ()) -> Design:
     """Read a design.json file; bad files raise InputError naming the file and the reason.
 
     The file is read safely (chargedesign.readers: size, depth, no NaN/inf, no huge
@@ -311,7 +311,8 @@ def read_design(path: str | os.PathLike[str]) -> Design:
 
     p = Path(path)
     data = read_json_file(p, "design file")
-    check_design_numbers(data, str(p))
+    check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys
+    # a verdict needs, e.g. check's ``realises``)
     return Design.from_dict(data, where=str(p))
 
 

@@ -42,8 +42,21 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(f"chargedesign.commands.{name}")
         p = sub.add_parser(name, help=help_text, description=help_text)
         module.add_arguments(p)
+        _document_ranges(p, name)
         p.set_defaults(_module=module)
     return parser
+
+
+def _document_ranges(parser: argparse.ArgumentParser, command: str) -> None:
+    """Append each numeric option's accepted range (chargedesign.limits.OPTION_RANGES) to
+    its ``--help``: the range documented is the range checked."""
+    from chargedesign.limits import OPTION_RANGES
+
+    ranges = OPTION_RANGES.get(command, {})
+    for action in parser._actions:
+        bounds = ranges.get(action.dest)
+        if bounds is not None and action.help is not argparse.SUPPRESS:
+            action.help = f"{action.help or ''} [range {bounds.text()}]".strip()
 
 
 class Terminated(KeyboardInterrupt):
@@ -118,9 +131,13 @@ def _install_sigterm() -> Callable[[], None]:
 
 
 def check_arguments(args: argparse.Namespace) -> None:
-    """The command line's numbers pass the same input range as files' (docs/reliability.md)."""
+    """The command line's numbers pass the same input range as files' (docs/reliability.md),
+    and each option its own range (chargedesign.limits.OPTION_RANGES, shown in ``--help``)."""
+    from chargedesign.errors import InputError
+    from chargedesign.limits import OPTION_RANGES
     from chargedesign.validation import check_input_number
 
+    ranges = OPTION_RANGES.get(getattr(args, "command", None) or "", {})
     for name, value in vars(args).items():
         if name.startswith("_"):
             continue
@@ -131,6 +148,14 @@ def check_arguments(args: argparse.Namespace) -> None:
                 check_input_number(item, option)
             elif isinstance(item, int) and not isinstance(item, bool) and abs(item) > 10**18:
                 check_input_number(item, option, hi=1e18)
+            bounds = ranges.get(name)
+            if (
+                bounds is not None
+                and isinstance(item, (int, float))
+                and not isinstance(item, bool)
+                and not bounds.holds(item)
+            ):
+                raise InputError(f"{option}: expected a value in {bounds.text()}, got {item!r}")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -141,7 +166,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
-        parser.print_help()
+        parser.print_usage(sys.stderr)
+        print(
+            "chargedesign: error: give a command (" + ", ".join(COMMANDS) + "); "
+            "chargedesign --help describes them",
+            file=sys.stderr,
+        )
         return 2
     import warnings
 

@@ -437,3 +437,127 @@ def _umask() -> int:
     mask = os.umask(0)
     os.umask(mask)
     return mask
+
+
+# --------------------------------------------------------------------------- the boundary check
+
+
+def _nearest_existing(path: Path) -> Path:
+    """The path itself or its nearest ancestor that exists (``.`` for a bare relative name)."""
+    probe = Path(os.path.abspath(path))
+    while not os.path.lexists(probe) and probe.parent != probe:
+        probe = probe.parent
+    return probe
+
+
+def _probe_writable(folder: Path, shown: str) -> None:
+    """Create and remove one temporary file in ``folder``: the only test that sees read-only
+    mounts, immutable folders (chattr +i, which root's ``os.access`` does not), /proc and /sys."""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".probe.tmp.{os.getpid()}.", dir=folder)
+    except OSError as exc:
+        raise InputError(
+            f"{shown}: cannot write there ({exc.strerror or type(exc).__name__} in {folder}); "
+            "nothing was done"
+        ) from exc
+    os.close(fd)
+    try:
+        os.unlink(tmp)
+    except OSError:  # pragma: no cover - raced away
+        pass
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """The same file: the same real path (links, ``..``) or the same inode (hard links)."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output_location(
+    path: str | os.PathLike[str],
+    *,
+    option: str,
+    directory: bool = False,
+    inputs: Iterable[str | os.PathLike[str] | None] = (),
+    writes: Iterable[str] = (),
+) -> Path:
+    """The one check of an output location, made at a command's entry before any work.
+
+    Parameters
+    ----------
+    path : path-like
+        The output: a file, or a folder (``directory=True``).
+    option : str
+        How the user named it (``--out``, ``--screenshot``, ``output.dir``), for the message.
+    directory : bool
+        True when ``path`` is a folder the command fills.
+    inputs : iterable of path-like
+        The command's input files (None entries are skipped). The output may be none of them,
+        directly or through a symbolic link, ``..`` or a hard link; for a folder, none of the
+        files it ``writes`` (names inside it) may be an input.
+    writes : iterable of str
+        For a folder: the names the command may write into it.
+
+    Returns
+    -------
+    Path
+        ``path`` unchanged.
+
+    Raises
+    ------
+    InputError
+        One line naming the option and the reason: a special file (FIFO, device, socket) or a
+        symbolic link, a file where a folder is meant (or the reverse), a location that cannot
+        be created or written (a missing parent that cannot be made, /proc, a read-only or
+        immutable folder), or one of the command's own inputs.
+    """
+    target = Path(path)
+    try:
+        check_output_path(target, directory=directory)
+    except InputError as exc:
+        raise InputError(f"{option}: {exc}") from None
+    sources = [Path(p) for p in inputs if p is not None]
+    outputs = [target / name for name in writes] if directory else [target]
+    for source in sources:
+        if not os.path.lexists(source):
+            continue
+        for out in outputs:
+            if _same_file(out, source):
+                raise InputError(
+                    f"{option}: {out} is the command's input {source}; writing it would destroy "
+                    "the input: give another output"
+                )
+        if directory and _same_file(target, source):
+            raise InputError(f"{option}: {target} is the command's input {source}")
+    existing = _nearest_existing(target)
+    if not existing.is_dir():
+        raise InputError(f"{option}: {target}: cannot create it, {existing} is not a directory")
+    probes = [existing]
+    if existing == Path(os.path.abspath(target)):
+        # an existing file's folder takes the temporary; an existing folder is swapped from
+        # its parent (staging beside it) and must itself be changeable (not immutable)
+        probes = [existing.parent] if not directory else [existing, existing.parent]
+    for folder in probes:
+        _probe_writable(folder, f"{option}: {target}")
+    return target
+
+
+def check_outputs(
+    outputs: Iterable[tuple[str, str | os.PathLike[str] | None, bool]],
+    inputs: Iterable[str | os.PathLike[str] | None] = (),
+    writes: Iterable[str] = (),
+) -> None:
+    """:func:`check_output_location` for each ``(option, path, directory)`` of a command
+    (None paths are skipped), against the same inputs."""
+    sources = list(inputs)
+    names = list(writes)
+    for option, path, directory in outputs:
+        if path is None:
+            continue
+        check_output_location(
+            path, option=option, directory=directory, inputs=sources, writes=names
+        )

@@ -6,6 +6,8 @@ option does so explicitly (named beside the cap).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 #: highest degree of any field (the exact derivation of conditions grows like degree^3; the
 #: check and simulation evaluate Legendre terms per orientation): design, check, simulate,
 #: show and export all refuse a longer ``legendre`` list
@@ -24,3 +26,101 @@ MAX_LINF_CANDIDATES = 5_000
 #: degree of exactness of continuous bodies' quadrature (``check --quadrature-order``): the
 #: nodes grow like degree^3
 MAX_QUADRATURE_ORDER = 64
+#: elements (charges, masses, dipoles, continuous bodies) of a design.json read by any command:
+#: the most candidates a design has (chargedesign.candidates.MAX_CANDIDATES); a file of 1e6
+#: charges (50 MB) kept ``check`` busy past 60 s with no word
+MAX_DESIGN_ELEMENTS = 250_000
+#: periods of the fastest rate of a body (n, K, sqrt|kappa|, ..., |omega(0)|) a simulation may
+#: cover: ``t_end * rate / (2 pi)``; ``simulate --max-periods`` raises it. The default scene
+#: asks for 5.7e6 (t_end 5e7 s at |(p, q)| = 0.72 rad/s; 15 s with taylor on a quiet machine, over
+#: 2 min on this shared one); ``--t-end 1e8`` on a unit-scale body (1.6e7) ran unbounded
+MAX_PERIODS = 10_000_000
+#: orbits per level of ``simulate --atlas`` (each is a run of t_end)
+MAX_ATLAS_ORBITS = 10_000
+#: points of one sweep (grid x random samples), counted before they are built; ``sweep
+#: --max-points`` raises it (every point's scene is validated before any runs)
+MAX_SWEEP_POINTS = 100_000
+#: workers of a sweep (``--workers``): each is a process with its own copy of the library
+#: (about 150 MB); past this the machine only thrashes
+MAX_WORKERS = 64
+#: frames of ``show --animate`` (each is a full render)
+MAX_FRAMES = 10_000
+
+
+def _number(x: float) -> str:
+    """An integer as its digits (a seed's 4294967295), anything else as %g."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e10 else f"{x:g}"
+
+
+class OptionRange(NamedTuple):
+    """The accepted values of one numeric command-line option (inclusive unless open)."""
+
+    lo: float
+    hi: float
+    lo_open: bool = False
+    hi_open: bool = False
+
+    def text(self) -> str:
+        left = "(" if self.lo_open else "["
+        right = ")" if self.hi_open else "]"
+        return f"{left}{_number(self.lo)}, {_number(self.hi)}{right}"
+
+    def holds(self, value: float) -> bool:
+        above = value > self.lo if self.lo_open else value >= self.lo
+        below = value < self.hi if self.hi_open else value <= self.hi
+        return above and below
+
+
+_POSITIVE = OptionRange(0.0, 1e30, lo_open=True)
+_SEED = OptionRange(0, 2**32 - 1)
+
+#: the range of every numeric option, by command and option (argparse ``dest``): checked by
+#: the CLI before a command runs and appended to each option's ``--help``
+#: (docs/reliability.md lists them)
+OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
+    "design": {
+        "n_charges": OptionRange(1, MAX_DESIGN_ELEMENTS),
+        "max_charge": _POSITIVE,
+        "total_mass": _POSITIVE,
+        "total_charge": OptionRange(-1e30, 1e30),
+        "max_linf_candidates": OptionRange(1, MAX_DESIGN_ELEMENTS),
+    },
+    "check": {
+        # a loose --tol (even > 1) is a deliberate way to see a broken body pass
+        "tol": _POSITIVE,
+        "orientations": OptionRange(1, MAX_ORIENTATIONS),
+        "seed": _SEED,
+        # 0 is a one-node rule: too low for most bodies, and then the check fails (exit 1),
+        # which is the point of giving it
+        "quadrature_order": OptionRange(0, MAX_QUADRATURE_ORDER),
+    },
+    "simulate": {
+        "t_end": _POSITIVE,
+        "tol": OptionRange(0.0, 0.1, lo_open=True),
+        "rtol": OptionRange(1e-16, 0.1),
+        "atol": OptionRange(0.0, 1.0, lo_open=True),
+        "step": _POSITIVE,
+        "samples": OptionRange(2, MAX_SAMPLES),
+        "orbits": OptionRange(1, MAX_ATLAS_ORBITS),
+        "off_level": OptionRange(-1e30, 1e30),
+        "max_periods": OptionRange(1, 1e12),
+    },
+    "show": {
+        "gamma": OptionRange(-1e30, 1e30),
+        "size": OptionRange(16, 16384),
+        "frames": OptionRange(1, MAX_FRAMES),
+        "fps": OptionRange(0.0, 1000.0, lo_open=True),
+        "max_elements": OptionRange(1, MAX_DESIGN_ELEMENTS),
+    },
+    "tolerance": {
+        "target": OptionRange(0.0, 1.0, lo_open=True, hi_open=True),
+        "samples": OptionRange(1, 2000),
+        "t_end": _POSITIVE,
+        "seed": _SEED,
+    },
+    "sweep": {
+        "workers": OptionRange(1, MAX_WORKERS),
+        "chunk": OptionRange(1, MAX_SWEEP_POINTS),
+        "max_points": OptionRange(1, 1e9),
+    },
+}

@@ -21,6 +21,7 @@ from chargedesign.readers import read_toml_file
 from chargedesign.validation import (
     as_array,
     as_finite_float,
+    check_field_degree,
     check_keys,
     check_parameters_range,
     check_tree,
@@ -28,6 +29,8 @@ from chargedesign.validation import (
 )
 from chargedesign.vocabulary import SCENE_TABLES
 
+#: characters no portable file name holds (Windows forbids them; '\\' is a separator there)
+_NOT_PORTABLE = '<>:"\\|?*'
 #: the one list of scene tables (the vocabulary's; the schema is built from it too)
 KNOWN_TABLES = SCENE_TABLES
 
@@ -75,6 +78,7 @@ def parse_field(spec: Any, where: str) -> tuple[float, ...]:
         value = spec["legendre"]
         if isinstance(value, list) and not value:
             return ()
+        check_field_degree(value, f"{where}.legendre")
         return tuple(float(x) for x in as_array(value, f"{where}.legendre", (None,)))
     a1 = as_finite_float(spec.get("a1", 0.0), f"{where}.a1")
     a2 = as_finite_float(spec.get("a2", 0.0), f"{where}.a2")
@@ -91,9 +95,10 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
             f"{source}: key {unknown[0]}", "one of " + ", ".join(KNOWN_TABLES), unknown[0]
         )
     # the theorem's numbers: real, finite, inside the supported range (a file's other tables
-    # are checked as a whole by load_scene; a mapping's by the stages that own them)
+    # are checked as a whole by load_scene; every table by its owner in validate_tables, which
+    # load_scene and every sweep point call; a mapping's tables by the stages that own them)
+    _precheck(data)
     check_tree({k: data[k] for k in ("parameters", "fields") if k in data}, "")
-    check_parameters_range(data.get("parameters"), "parameters")
     check_output_dir(data.get("output"))
     params = Parameters.from_mapping(data.get("parameters", {}), "parameters")
     fields_in = data.get("fields", {})
@@ -119,6 +124,47 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     )
 
 
+def _precheck(data: dict[str, Any]) -> None:
+    """What must be refused before the rest of a scene is looked at: a field longer than the
+    engine's degree (a 300 000-term list is not walked) and the theorem's parameters against
+    their own ranges (a 40-digit n is named against 1e-8..1e8, not the generic range)."""
+    fields_in = data.get("fields")
+    if isinstance(fields_in, dict):
+        for kind, spec in fields_in.items():
+            if isinstance(spec, dict) and "legendre" in spec:
+                check_field_degree(spec["legendre"], f"fields.{kind}.legendre")
+    check_parameters_range(data.get("parameters"), "parameters")
+
+
+def validate_tables(scene: Scene) -> None:
+    """Every table of a scene, by the validator of the stage that owns it, whatever the
+    command: a key or value no stage would accept is refused by every command that reads the
+    scene (one line naming the key), not only by the command that uses the table.
+
+    ``[design]`` (DesignOptions), ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``
+    (the physical spec), the keys of ``[body]`` (a region's shape keys, or a simulated
+    body's ``design``/``charges``/``masses``/``dipoles``), ``[simulation]``, ``[output]``
+    and ``[initial]`` (the simulation's parsers; an ``[initial] file`` is read).
+    """
+    from chargedesign.candidates import check_body_keys
+    from chargedesign.design.options import DesignOptions
+    from chargedesign.physical.spec import spec_from_tables
+    from chargedesign.simulation import api
+
+    DesignOptions.from_table(scene.table("design"))
+    spec_from_tables(scene.tables, scene.field_limits)
+    body = scene.table("body")
+    if "shape" in body or not set(body) & set(api.BODY_KEYS):
+        check_body_keys(body)
+    else:
+        check_keys(body, api.BODY_KEYS, "body")
+    api.parse_simulation_options(scene.table("simulation"))
+    api.parse_output_options(scene.table("output"))
+    if "initial" in scene.tables:
+        base = None if scene.source.startswith("<") else Path(scene.source).parent
+        api.parse_initial(scene.tables["initial"], "initial", base)
+
+
 def check_output_dir(table: Any, where: str = "output.dir") -> None:
     """A scene may write only below the working directory: ``[output] dir`` is a relative
     path without ``..`` (``--out DIR`` on the command line may name any folder)."""
@@ -127,6 +173,14 @@ def check_output_dir(table: Any, where: str = "output.dir") -> None:
     raw = table["dir"]
     if not isinstance(raw, str) or not raw:
         raise input_error(where, "a directory path", raw)
+    bad = next((ch for ch in raw if ord(ch) < 32 or ord(ch) == 127 or ch in _NOT_PORTABLE), None)
+    if bad is not None:
+        raise InputError(
+            f"{where}: {bad!r} is not a portable file-name character (no control characters "
+            f"or any of {_NOT_PORTABLE}), got {raw!r}"
+        )
+    if any(part != part.rstrip(" .") for part in raw.split("/") if part not in (".", "")):
+        raise InputError(f"{where}: a folder name may not end in a space or dot, got {raw!r}")
     path = Path(raw)
     if path.is_absolute() or raw.startswith("~") or ".." in path.parts or "\x00" in raw:
         raise InputError(
@@ -142,9 +196,16 @@ def default_scene_text() -> str:
 def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
     """Load a scene file, or the embedded default scene when ``path`` is None."""
     if path is None:
-        return scene_from_dict(tomllib.loads(default_scene_text()), "<default>")
+        return validated(scene_from_dict(tomllib.loads(default_scene_text()), "<default>"))
     p = Path(path)
     data = read_toml_file(p, "scene file")
     # every number of the file: real, finite, inside the supported range, named by its key
+    _precheck(data)
     check_tree(data, "")
-    return scene_from_dict(data, str(p))
+    return validated(scene_from_dict(data, str(p)))
+
+
+def validated(scene: Scene) -> Scene:
+    """``scene`` after :func:`validate_tables` (the whole file, whatever the command)."""
+    validate_tables(scene)
+    return scene

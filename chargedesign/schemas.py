@@ -58,18 +58,23 @@ def _parameters() -> dict[str, Any]:
     }
 
 
-def _medium() -> dict[str, Any]:
-    return {
+def _medium(scene: bool = False) -> dict[str, Any]:
+    """The medium: a scene's ``[medium]`` names it or gives ``breakdown`` (what
+    physical/spec.py reads); design.json records ``breakdown_V_per_m`` (what body.py reads)."""
+    breakdown = "breakdown" if scene else "breakdown_V_per_m"
+    out: dict[str, Any] = {
         "type": "object",
         "description": "what surrounds the body; surface fields stay <= safety * breakdown",
         "properties": {
             "name": {"type": "string", "description": "vacuum, air, sf6, oil, ..."},
-            "breakdown_V_per_m": _POSITIVE,
-            "breakdown": _POSITIVE,
+            breakdown: _POSITIVE,
             "safety": {"type": "number", "exclusiveMinimum": 0, "maximum": 1},
         },
-        "additionalProperties": True,
+        "additionalProperties": False,
     }
+    if not scene:
+        out["required"] = ["name", "breakdown_V_per_m", "safety"]
+    return out
 
 
 def _materials() -> dict[str, Any]:
@@ -102,7 +107,7 @@ def design_schema() -> dict[str, Any]:
         "type": "object",
         "required": ["legendre"],
         "properties": {"legendre": _NUMBERS},
-        "additionalProperties": True,
+        "additionalProperties": False,
     }
     return {
         "$schema": DRAFT,
@@ -295,7 +300,7 @@ def scene_schema() -> dict[str, Any]:
             "what a simulation writes",
             {"poincare_section": {"enum": list(STATE_NAMES)}},
         ),
-        "medium": _medium(),
+        "medium": _medium(scene=True),
         "carriers": _open("the charge carriers (sizes, material)"),
         "magnets": _open("the magnets (sizes, material)"),
         "ballast": _open("the ballast masses (sizes, material or a list of materials)"),

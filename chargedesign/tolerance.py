@@ -1099,6 +1099,9 @@ class MonteCarloResult(Result):
             mc, lin = _quantiles(v["monte_carlo"]), _quantiles(v["linear"])
             lines.append(f"{q:<9} {mc['median']:>10.3e} {mc['p90']:>10.3e} {lin['p90']:>10.3e}")
         lines.append("")
+        if not self.drift_mc.size:  # --no-simulate: no drift was computed, say so (no nan)
+            lines.append("I4 drift: not simulated (--no-simulate)")
+            return "\n".join(lines)
         lines.append(
             f"I4 relative drift to t = {self.t_end:g} s (median over bodies; nominal body "
             f"{self.nominal_drift:.2e}):"

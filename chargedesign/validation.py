@@ -320,20 +320,49 @@ def check_field_degree(coefficients: Any, name: str) -> None:
         )
 
 
-def check_design_numbers(data: Any, where: str) -> None:
-    """The numbers of a design.json mapping, before the body is built from them.
+#: keys of one field in design.json (what body.py reads and writes)
+DESIGN_FIELD_KEYS = ("legendre",)
+
+
+def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ()) -> None:
+    """The whole of a design.json mapping, before the body is built from it.
 
     Parameters within :data:`PARAMETER_RANGES`; field coefficients, element arrays and
     continuous bodies real, finite and ``|x| <= MAX_MAGNITUDE`` (no lower bound: a solver's
-    tiny weights are legitimate); fields of degree <= ``MAX_FIELD_DEGREE``; ``realises`` a
-    list of names. Extra keys are free-form (the JSON reader already refused NaN and inf).
+    tiny weights are legitimate); fields of degree <= ``MAX_FIELD_DEGREE`` with no key but
+    ``legendre``; ``realises`` a list of names; at most
+    :data:`~chargedesign.limits.MAX_DESIGN_ELEMENTS` elements (counted before any is
+    converted); ``materials`` an object, which a physical design (one with a ``medium``)
+    must fill. ``required`` names keys a verdict needs (``check`` needs ``realises``: a file
+    without it would claim nothing and pass). Other extra keys are free-form (the JSON
+    reader already refused NaN and inf).
     """
     if not isinstance(data, dict):
         return
+    for key in required:
+        if key not in data:
+            raise InputError(
+                f"{where}: missing key {key!r}"
+                + (
+                    " (the quantities the body claims: a list among mu, V, inertia; [] claims "
+                    "nothing); without it there is nothing to verify"
+                    if key == "realises"
+                    else ""
+                )
+            )
+    check_element_count(data, where)
     check_parameters_range(data.get("parameters"), f"{where}.parameters")
     fields = data.get("fields")
     if isinstance(fields, dict):
+        from chargedesign.vocabulary import FIELD_KINDS
+
         for kind, spec in fields.items():
+            if kind not in FIELD_KINDS:
+                raise input_error(
+                    f"{where}.fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind
+                )
+            if isinstance(spec, dict):
+                check_keys(spec, DESIGN_FIELD_KEYS, f"{where}.fields.{kind}")
             if isinstance(spec, dict) and "legendre" in spec:
                 name = f"{where}.fields.{kind}.legendre"
                 check_field_degree(spec["legendre"], name)
@@ -341,6 +370,15 @@ def check_design_numbers(data: Any, where: str) -> None:
     realises = data.get("realises", [])
     if not isinstance(realises, list) or not all(isinstance(r, str) for r in realises):
         raise input_error(f"{where}.realises", "a list of names (mu, V, inertia)", realises)
+    if "materials" in data:
+        materials = data["materials"]
+        if not isinstance(materials, dict):
+            raise input_error(f"{where}.materials", "an object role -> material", materials)
+        if not materials and data.get("medium") is not None:
+            raise InputError(
+                f"{where}.materials: empty, but the design has a medium (a physical body): its "
+                "parts' materials are what the realism checks read"
+            )
     for block in ("charges", "masses", "dipoles", "continuous"):
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
@@ -366,3 +404,55 @@ def check_run_caps(
                 f"of {MAX_STEPS:g} (chargedesign.limits.MAX_STEPS); give a larger {name} or a "
                 "shorter t_end"
             )
+
+
+def check_element_count(data: Any, where: str) -> None:
+    """At most :data:`~chargedesign.limits.MAX_DESIGN_ELEMENTS` elements in a design.json
+    mapping, counted from the list lengths before any number is converted or checked."""
+    from chargedesign.limits import MAX_DESIGN_ELEMENTS
+
+    total = 0
+    for block, key in (("charges", "values"), ("masses", "values"), ("dipoles", "moments")):
+        part = data.get(block)
+        if isinstance(part, dict) and isinstance(part.get(key), list):
+            total += len(part[key])
+    if isinstance(data.get("continuous"), list):
+        total += len(data["continuous"])
+    if total > MAX_DESIGN_ELEMENTS:
+        raise InputError(
+            f"{where}: {total} elements exceed the cap of {MAX_DESIGN_ELEMENTS} "
+            "(chargedesign.limits.MAX_DESIGN_ELEMENTS, the most candidates a design has)"
+        )
+
+
+def motion_rate(parameters: Any, initial: Any = None) -> float:
+    """The fastest angular rate of a motion, 1/s, estimated before it runs: the parameters'
+    rates n, K and sqrt|kappa|, sqrt|lambda|, sqrt|rho| (1/s^2), and the initial state's
+    |omega| (or |p|, |q| on a level). 0 when all vanish."""
+    rates = [abs(getattr(parameters, name, 0.0)) for name in ("n", "K")]
+    rates += [math.sqrt(abs(getattr(parameters, name, 0.0))) for name in ("kappa", "lam", "rho")]
+    if isinstance(initial, Mapping):
+        if "omega" in initial:
+            rates.append(float(np.linalg.norm(np.asarray(initial["omega"], dtype=float))))
+        if "p" in initial or "q" in initial:  # on a level, r is solved later: |(p, q)| alone
+            rates.append(math.hypot(float(initial.get("p", 0.0)), float(initial.get("q", 0.0))))
+        if "states" in initial:
+            states = np.asarray(initial["states"], dtype=float)
+            if states.size:
+                rates.append(float(np.abs(states[:, :3]).max()))
+    return max(rates)
+
+
+def check_periods(
+    t_end: float, parameters: Any, initial: Any, cap: float, option: str, raise_with: str = ""
+) -> float:
+    """Refuse a run of more than ``cap`` periods of its fastest rate (:func:`motion_rate`):
+    ``t_end * rate / (2 pi)``, the work a solver does grows with it. Returns the periods."""
+    periods = float(t_end) * motion_rate(parameters, initial) / (2.0 * math.pi)
+    if periods > cap:
+        how = f"{raise_with} raises the cap" if raise_with else f"give a shorter {option}"
+        raise InputError(
+            f"{option}: t_end = {t_end:g} s is {periods:.3g} periods of the body's fastest rate, "
+            f"past the cap of {cap:g} (chargedesign.limits.MAX_PERIODS); {how}"
+        )
+    return periods

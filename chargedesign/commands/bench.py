@@ -28,7 +28,9 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     from chargedesign.bench.runner import run_benchmarks, write_report
+    from chargedesign.files import check_outputs
 
+    check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
     heartbeat = _Heartbeat()
 
     def progress(area: str) -> None:

@@ -73,7 +73,8 @@ def run(args: argparse.Namespace) -> int:
     as_count(args.orientations, "--orientations", minimum=1, cap=MAX_ORIENTATIONS)
     if args.quadrature_order is not None:
         as_count(args.quadrature_order, "--quadrature-order", minimum=0, cap=MAX_QUADRATURE_ORDER)
-    design = read_design(args.design)
+    # a file without "realises" claims nothing: it must not pass (docs/reliability.md)
+    design = read_design(args.design, required=("realises",))
     report = check_design(
         design,
         n_orientations=args.orientations,

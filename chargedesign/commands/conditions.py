@@ -24,27 +24,13 @@ def _human(result: Any, scene_source: str) -> str:
     return format_conditions(result, scene_source)
 
 
-def _validate_other_tables(scene: Any) -> None:
-    """Every command knows every key: unknown [body] keys and the [design] table get the
-    design command's one-line errors (bad [body] values stay a note: the conditions only
-    take the body's length from it)."""
-    from chargedesign.candidates import check_body_keys
-    from chargedesign.design import DesignOptions
-
-    DesignOptions.from_table(scene.table("design"))
-    body = scene.table("body")
-    if "shape" in body:  # a region (without a shape, [body] may be simulate's inline body)
-        check_body_keys(body)
-
-
 def run(args: argparse.Namespace) -> int:
     import json
 
     from chargedesign.conditions import conditions_for_scene
     from chargedesign.scene import load_scene
 
-    scene = load_scene(args.scene)
-    _validate_other_tables(scene)
+    scene = load_scene(args.scene)  # the whole file, every table (scene.validate_tables)
     result = conditions_for_scene(scene, exact=args.exact)
     if args.json:
         out = result.to_dict()

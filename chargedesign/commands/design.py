@@ -93,15 +93,19 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.body import write_design
     from chargedesign.design import design_from_scene
-    from chargedesign.files import atomic_directory, write_text_atomic
+    from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
     from chargedesign.report import plausibility, render_report
     from chargedesign.scene import load_scene
+
+    # before any work: the folder can be written and holds none of the inputs
+    check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=DESIGN_FILES)
 
     def progress(message: str) -> None:
         if not args.quiet:
             print(f"design: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
+    _check_degenerate(scene)
     _check_linf_cap(scene, args)
     result = design_from_scene(
         scene,
@@ -161,6 +165,22 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(render_report(design), end="")
     return 0
+
+
+#: every file the design command may write into its folder
+DESIGN_FILES = ("design.json", "report.md", "bom.csv", "design.png")
+
+
+def _check_degenerate(scene: object) -> None:
+    """A request that would design nothing is refused (``[design] realise = []``)."""
+    from chargedesign.errors import InputError
+
+    table = scene.table("design")  # type: ignore[attr-defined]
+    if "realise" in table and isinstance(table["realise"], list) and not table["realise"]:
+        raise InputError(
+            "design.realise: empty, the body would realise nothing; name at least one of mu, "
+            "V, inertia (or drop the key for all the scene calls for)"
+        )
 
 
 def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:

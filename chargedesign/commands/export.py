@@ -24,7 +24,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from chargedesign.export import export_design, load_any_design, resolve_format
+    from chargedesign.files import check_outputs
 
+    check_outputs([("--out", args.out, False)], inputs=[args.design])
     fmt = resolve_format(args.format, args.out)
     design = load_any_design(args.design)
     path = export_design(design, fmt, args.out)

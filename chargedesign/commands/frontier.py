@@ -39,7 +39,17 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     from chargedesign.design.frontier import frontier_from_scene
+    from chargedesign.errors import InputError
+    from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
+
+    if args.out is not None and not args.scan:
+        raise InputError("--out: only --scan writes files; give --scan too, or drop --out")
+    check_outputs(
+        [("--out", args.out, True)],
+        inputs=[args.scene],
+        writes=("frontier_scan.csv", "frontier_scan.png"),
+    )
 
     def progress(message: str) -> None:
         if not args.quiet:

@@ -61,13 +61,15 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign import viz
     from chargedesign.export import load_any_design
-    from chargedesign.files import check_output_path
+    from chargedesign.files import check_outputs
 
-    if args.max_elements is not None and args.max_elements < 1:
-        raise InputError(f"--max-elements: expected an integer >= 1, got {args.max_elements}")
-    for target in (args.screenshot, args.out):
-        if target is not None:
-            check_output_path(target)  # before reading and rendering
+    # before reading and rendering; never onto the design, the trajectory or the scene
+    check_outputs(
+        [("--screenshot", args.screenshot, False), ("--out", args.out, False)],
+        inputs=[args.design, args.animate, args.scene],
+    )
+    if args.screenshot is not None and args.out is not None and _same(args.screenshot, args.out):
+        raise InputError("--out: the same file as --screenshot; give two names")
     design = load_any_design(args.design)
     viz.check_element_count(design, args.max_elements)
     region = None
@@ -118,6 +120,12 @@ def run(args: argparse.Namespace) -> int:
         for what, name in written.items():
             print(f"wrote {what}: {name}")
     return 0
+
+
+def _same(a: str, b: str) -> bool:
+    import os
+
+    return os.path.realpath(a) == os.path.realpath(b)
 
 
 def _frame_progress(done: int, total: int) -> None:

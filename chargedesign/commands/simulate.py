@@ -95,6 +95,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--poincare", action="store_true", help="record a Poincare section (poincare.png)"
     )
+    parser.add_argument(
+        "--max-periods",
+        type=float,
+        default=None,
+        metavar="N",
+        help="raise the cap on the periods of the body's fastest rate a run covers (default "
+        "chargedesign.limits.MAX_PERIODS = 1e7)",
+    )
     parser.add_argument("--json", action="store_true", help="print the JSON summary")
     parser.add_argument(
         "--progress",
@@ -148,7 +156,10 @@ def run(args: argparse.Namespace) -> int:
         )
     show_bar = sys.stderr.isatty() if args.progress is None else args.progress
     bar = _ProgressBar() if show_bar else None
+    _check_out(args, None)
     setup = setup_from_source(args.source)
+    _check_out(args, setup)
+    _check_work(args, setup)
     designing = setup.design_scene is not None
     if args.atlas:
         return _atlas(args, setup)
@@ -175,7 +186,9 @@ def run(args: argparse.Namespace) -> int:
             tol=args.tol,
             monitors=args.monitors,
             axes=args.axes,
-            progress=bar,
+            # always a callback: the integrator returns to Python every step, so SIGINT stops
+            # the run at once (without one, heyoka ran on in C++ for seconds)
+            progress=bar if bar is not None else _interruptible,
             design_progress=design_progress,
         )
     finally:
@@ -193,7 +206,8 @@ def run(args: argparse.Namespace) -> int:
     # the scene's [output] options; --out wins over its dir
     out_dir = args.out or setup.output.dir
     # one transaction: design.json and the run's files change together (chargedesign.files)
-    with atomic_directory(out_dir) if out_dir else contextlib.nullcontext():
+    # the folder holds exactly this run's files: an earlier run's others are dropped
+    with atomic_directory(out_dir, drop=SIMULATE_FILES) if out_dir else contextlib.nullcontext():
         if out_dir and result.body and result.body.get("designed_from_scene"):
             # the body designed here, beside its motion (chargedesign show/check read it)
             design_path = Path(out_dir) / "design.json"
@@ -217,6 +231,76 @@ def run(args: argparse.Namespace) -> int:
         return 0
     print(summary_text(summary))
     return 0
+
+
+def _interruptible(fraction: float) -> None:
+    """A progress callback that draws nothing: the integrator's steps return to Python, where a
+    pending SIGINT is raised."""
+
+
+#: every file simulate may write into its folder (a run drops the earlier run's others)
+SIMULATE_FILES = (
+    "design.json",
+    "summary.json",
+    "trajectory.npz",
+    "trajectory.csv",
+    "integrals.png",
+    "poincare.png",
+    "ensemble.csv",
+    "atlas.png",
+    "atlas.csv",
+    "fli.png",
+)
+
+
+def _check_out(args: argparse.Namespace, setup: object) -> None:
+    """The output folder, before any work (chargedesign.files.check_outputs): ``--out`` (or
+    the atlas's default) before the source is read; a scene's ``[output] dir`` after."""
+    from chargedesign.files import check_outputs
+
+    inputs = [args.source]
+    if setup is None:
+        out = args.out or ("out/atlas" if args.atlas else None)
+        check_outputs([("--out", out, True)], inputs=inputs, writes=SIMULATE_FILES)
+        return
+    import os
+
+    origin = getattr(setup, "body_info", {}).get("origin")  # a scene's body.design file
+    if isinstance(origin, str) and os.path.isfile(origin):
+        inputs.append(origin)
+    if args.out is None and not args.atlas:
+        check_outputs(
+            [("output.dir", setup.output.dir, True)],  # type: ignore[attr-defined]
+            inputs=inputs,
+            writes=SIMULATE_FILES,
+        )
+    elif args.out is not None:
+        check_outputs([("--out", args.out, True)], inputs=inputs, writes=SIMULATE_FILES)
+
+
+def _check_work(args: argparse.Namespace, setup: object) -> None:
+    """The work a run asks for, estimated before it starts (chargedesign.limits): periods of
+    the body's fastest rate over t_end (``effects = []``, a free motion, is said by the run's
+    notes: "no effect acts: torque-free motion")."""
+    from chargedesign.limits import MAX_PERIODS
+    from chargedesign.validation import check_periods
+
+    options = setup.options  # type: ignore[attr-defined]
+    if args.atlas:
+        t_end, option = args.t_end or 500.0, "--t-end"
+    elif args.t_end is not None:
+        t_end, option = args.t_end, "--t-end"
+    else:
+        t_end, option = options.t_end, "simulation.t_end"
+    cap = MAX_PERIODS if args.max_periods is None else args.max_periods
+    check_periods(
+        t_end,
+        setup.body.parameters,  # type: ignore[attr-defined]
+        setup.initial,  # type: ignore[attr-defined]
+        cap,
+        option,
+        "--max-periods N",
+    )
 
 
 def _options(args: argparse.Namespace) -> dict:

@@ -40,6 +40,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--chunk", type=int, default=None, metavar="K", help="points per task (default: automatic)"
     )
+    parser.add_argument(
+        "--max-points",
+        type=int,
+        default=None,
+        metavar="N",
+        help="raise the cap on points of one sweep (default chargedesign.limits.MAX_SWEEP_POINTS "
+        "= 100000)",
+    )
     parser.add_argument("--json", action="store_true", help="print the outcome as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -65,11 +73,16 @@ class _Bar:
         sys.stderr.flush()
 
 
+#: what a sweep writes into --out (``points/`` holds one folder per point)
+SWEEP_FILES = ("sweep.json", "summary.csv", "summary.parquet", "points")
+
+
 def run(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
 
     from chargedesign.errors import InputError
+    from chargedesign.files import check_outputs
     from chargedesign.sweep import (
         load_sweep,
         make_executor,
@@ -84,7 +97,13 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.chunk is not None and args.chunk < 1:
         raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
-    spec = load_sweep(args.sweep)
+    check_outputs([("--out", args.out, True)], inputs=[args.sweep], writes=SWEEP_FILES)
+    spec = load_sweep(args.sweep, max_points=args.max_points)
+    check_outputs(
+        [("--out", args.out, True)],
+        inputs=[args.sweep, None if spec.scene_source.startswith("<") else spec.scene_source],
+        writes=SWEEP_FILES,
+    )
     handle = make_executor(args.executor, args.workers, args.scheduler)
     try:
         result = run_sweep(

@@ -92,6 +92,7 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.body import read_design
     from chargedesign.errors import InputError
+    from chargedesign.files import check_outputs
     from chargedesign.tolerance import (
         ErrorModel,
         MaterialErrors,
@@ -100,6 +101,7 @@ def run(args: argparse.Namespace) -> int:
         tolerance_report,
     )
 
+    check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
         raise InputError(f"--target: expected a number > 0, got {args.target!r}")
     if not 1 <= args.samples <= MAX_SAMPLES:
@@ -116,8 +118,14 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(
             f"--levels: expected 1 to {MAX_LEVELS} positive factors, got {args.levels!r}"
         )
-    design = read_design(args.design)
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
+    _check_spreads(model)
+    design = read_design(args.design)
+    if not model.is_zero and not args.no_simulate:
+        from chargedesign.limits import MAX_PERIODS
+        from chargedesign.validation import check_periods
+
+        check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")
     given = {
         "chi_relative": args.chi_relative,
         "density_relative": args.density_relative,
@@ -153,6 +161,33 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(str(result))
     return 0
+
+
+#: every file the tolerance command may write into --out
+TOLERANCE_FILES = (
+    "tolerance.json",
+    "design.json",
+    "errors.csv",
+    "drift.csv",
+    "drift_over_time.csv",
+    "drift.png",
+)
+
+
+def _check_spreads(model: Any) -> None:
+    """Errors within their range: a relative one at most 100 %, an absolute one within the
+    input range (|x| <= 1e30, docs/reliability.md)."""
+    from chargedesign.errors import InputError
+    from chargedesign.validation import check_input_number
+
+    for name in ("position", "charge", "dipole", "mass"):
+        spread = getattr(model, name)
+        if spread.relative and spread.value > 1.0:
+            raise InputError(
+                f"--{name}: expected a relative error of at most 100%, got {100 * spread.value:g}%"
+            )
+        if not spread.relative:
+            check_input_number(spread.value, f"--{name}")
 
 
 def _write(out: str, result: Any, data: dict, design: Any) -> None:

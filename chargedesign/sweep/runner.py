@@ -16,10 +16,12 @@ finishes: Ctrl-C, a killed worker or a lost cluster loses only the points in fli
 from __future__ import annotations
 
 import csv
+import gc
 import io
 import json
 import math
 import os
+import sys
 import time
 import traceback
 from collections.abc import Callable, Iterable, Sequence
@@ -237,13 +239,24 @@ def make_executor(
         ) from None
     cluster = None
     if scheduler is not None:
+        failure = ""
+        # a Client that failed to connect raises again in its __del__ ("Exception ignored in
+        # Client.__del__ ... TimeoutError"): collect it here, with that report silenced
+        hook = sys.unraisablehook
+        sys.unraisablehook = lambda _report: None
         try:
-            client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as exc:
+            try:
+                client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
+            except (OSError, TimeoutError, ValueError) as exc:
+                failure = type(exc).__name__
+            gc.collect()
+        finally:
+            sys.unraisablehook = hook
+        if failure:
             raise InputError(
                 f"--scheduler {scheduler}: no Dask scheduler reachable within {timeout:g} s "
-                f"({type(exc).__name__})"
-            ) from None
+                f"({failure})"
+            )
     else:
         cluster = LocalCluster(
             n_workers=n,

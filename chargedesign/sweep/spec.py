@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.limits import MAX_SWEEP_POINTS
 from chargedesign.readers import read_toml_file
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
@@ -102,9 +103,12 @@ def scene_with(base: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, A
     return data
 
 
-def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
-    """Raise an InputError naming ``key`` when the scene's owners reject it."""
-    from chargedesign.scene import KNOWN_TABLES, scene_from_dict
+def validate_scene_key(
+    data: dict[str, Any], key: str, source: str, scene_source: str = "<sweep>"
+) -> None:
+    """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
+    the base scene's path, which its relative paths resolve against)."""
+    from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
 
     parts = key.split(".")
     if len(parts) < 2 or not all(parts):
@@ -116,26 +120,13 @@ def validate_scene_key(data: dict[str, Any], key: str, source: str) -> None:
             f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
         )
     try:
-        scene = scene_from_dict(data, source="<sweep>")
-        table = parts[0]
-        if table == "body":
+        # every table by its owner (chargedesign.scene.validate_tables), and a region's points
+        scene = validated(scene_from_dict(data, source=scene_source))
+        if parts[0] == "body" and "shape" in scene.table("body"):
             from chargedesign.candidates import candidates_from_table
 
-            if "shape" in scene.table("body"):
-                candidates_from_table(scene.table("body"))
-        elif table == "design":
-            from chargedesign.design.options import DesignOptions
-
-            DesignOptions.from_table(scene.table("design"))
-        elif table in ("simulation", "initial", "output"):
-            from chargedesign.simulation import api
-
-            if table == "simulation":
-                api.parse_simulation_options(scene.table(table))
-            elif table == "initial":
-                api.parse_initial(scene.table(table))
-            else:
-                api.parse_output_options(scene.table(table))
+            base = None if scene_source.startswith("<") else Path(scene_source).parent
+            candidates_from_table(scene.table("body"), base_dir=base)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
@@ -170,11 +161,67 @@ def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source
     return [float(x) for x in np.exp(rng.uniform(math.log(lo), math.log(hi), n))]
 
 
+def check_point_value(value: Any, where: str) -> None:
+    """A swept value: a number within the input range (no nan, no 1e200), a string, a
+    boolean, or a list or table of those (chargedesign.validation.check_tree)."""
+    from chargedesign.validation import check_tree
+
+    check_tree(value, where)
+
+
+def check_options(command: Any, options: Mapping[str, Any], source: str) -> None:
+    """``[options]``: names the command takes (its signature), numbers within the input range."""
+    import inspect
+
+    from chargedesign.sweep.registry import resolve
+
+    check_point_value(dict(options), f"{source}: options")
+    try:
+        inspect.signature(resolve(command)).bind(None, None, **options)
+    except TypeError as exc:
+        raise InputError(f"{source}: options: {exc}") from None
+    except ValueError:  # pragma: no cover - a callable without a signature
+        return
+
+
+def validate_points(
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    points: list[dict[str, Any]],
+    command: Any,
+    source: str,
+) -> None:
+    """Every point's whole scene, before any point runs: its tables by their owners
+    (chargedesign.scene.scene_from_dict) and, for a command that designs, its ``[body]``
+    region's candidates (each distinct region once). A point that would fail on its input
+    is refused here, with the point and its values named, not found after others ran."""
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.scene import scene_from_dict, validated
+
+    designs = command in ("design", "check", "tolerance", "frontier")
+    base = None if scene_source.startswith("<") else Path(scene_source).parent
+    seen: set[str] = set()
+    width = max(4, len(str(max(len(points) - 1, 0))))
+    for i, point in enumerate(points):
+        try:
+            check_point_value(point, f"point p{i:0{width}d}")
+            scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
+            body = scene.table("body")
+            key = repr(sorted(body.items()))
+            if designs and "shape" in body and key not in seen:
+                seen.add(key)
+                candidates_from_table(body, base_dir=base)
+        except (InputError, TypeError, ValueError) as exc:
+            values = ", ".join(f"{k} = {v!r}" for k, v in point.items())
+            raise InputError(f"{source}: point p{i:0{width}d} ({values}): {exc}") from None
+
+
 def sweep_from_dict(
     data: Mapping[str, Any],
     source: str = "<dict>",
     base_dir: Path | None = None,
     command: Callable[..., dict[str, Any]] | None = None,
+    max_points: int | None = None,
 ) -> SweepSpec:
     """Validate a sweep mapping (see the module docstring).
 
@@ -189,6 +236,10 @@ def sweep_from_dict(
     command : callable, optional
         A function of your own, ``(scene, point_dir, **options) -> dict``, run at every
         point instead of a built-in command (the file must then not name one).
+    max_points : int, optional
+        Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
+
+    Every point's scene is validated before any runs (:func:`validate_points`).
     """
     from chargedesign.scene import default_scene_text
     from chargedesign.sweep.registry import check_command
@@ -274,11 +325,19 @@ def sweep_from_dict(
                 raise InputError(f"{source}: random key {key!r} is also a grid key")
     if not keys and not random_keys:
         raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
-    # every key checked alone against the base scene, with its first value
+    # the work, counted before any point is built
+    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
+    cap = MAX_SWEEP_POINTS if max_points is None else max_points
+    if count > cap:
+        raise InputError(
+            f"{source}: {count:.3g} points exceed the cap of {cap} "
+            "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
+        )
+    # every value of every key, checked alone against the base scene
     for key, values in zip(keys, value_lists, strict=True):
-        for value in values:
-            validate_scene_key(scene_with(scene_data, {key: value}), key, source)
-            break
+        for i, value in enumerate(values):
+            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
     rng = np.random.default_rng(seed)
     grid_points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     points: list[dict[str, Any]] = []
@@ -290,9 +349,15 @@ def sweep_from_dict(
                 p.update({k: draws[k][i] for k in random_keys})
                 points.append(p)
         for key in random_keys:
-            validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source)
+            for i, p in enumerate(points):
+                check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
+            validate_scene_key(
+                scene_with(scene_data, {key: points[0][key]}), key, source, scene_source
+            )
     else:
         points = grid_points
+    check_options(chosen, options, source)
+    validate_points(scene_data, scene_source, points, chosen, source)
     return SweepSpec(
         source=source,
         scene_data=scene_data,
@@ -306,11 +371,16 @@ def sweep_from_dict(
 
 
 def load_sweep(
-    path: str | os.PathLike[str], command: Callable[..., dict[str, Any]] | None = None
+    path: str | os.PathLike[str],
+    command: Callable[..., dict[str, Any]] | None = None,
+    max_points: int | None = None,
 ) -> SweepSpec:
     """Read and validate a sweep file (one-line errors naming the key).
 
-    ``command``: a function of your own to run at every point (see :func:`sweep_from_dict`).
+    ``command``: a function of your own to run at every point; ``max_points``: raise the cap
+    on points (see :func:`sweep_from_dict`).
     """
     p = Path(path)
-    return sweep_from_dict(read_toml_file(p, "sweep file"), str(p), p.parent, command=command)
+    return sweep_from_dict(
+        read_toml_file(p, "sweep file"), str(p), p.parent, command=command, max_points=max_points
+    )
