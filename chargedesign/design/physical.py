@@ -65,6 +65,8 @@ MAX_ROUNDS = 26
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
 CONE_THRESHOLD = 0.95
+#: elements of the field kernel's (points, carriers) work arrays per block (512 kB: in cache)
+FIELD_BLOCK_ELEMENTS = 1 << 16
 
 
 @dataclass
@@ -340,14 +342,23 @@ def _coulomb_field_gemm(sources: np.ndarray, charges: np.ndarray, points: np.nda
     :func:`~chargedesign.physical.limits.coulomb_field`, which the independent limits check
     keeps. The distances lose ``(|p| / |p - x|)^2`` ulps to cancellation: on random bodies
     the two agree to about 1e-11 (a test), far below the design's margin of 1e-3.
+
+    The (p, n) work arrays are cut into blocks of about :data:`FIELD_BLOCK_ELEMENTS` and
+    updated in place, so they stay in cache: the elementwise passes, not the products, set
+    the cost (measured 6x faster than 32 MB blocks at 250 carriers, 200 samples each).
     """
     out = np.empty((len(points), 3))
     x2 = np.einsum("nk,nk->n", sources, sources)
-    block = max(1, 4_000_000 // max(1, len(sources)))
+    block = max(1, FIELD_BLOCK_ELEMENTS // max(1, len(sources)))
     for start in range(0, len(points), block):
         p = points[start : start + block]
-        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :] - 2.0 * (p @ sources.T)
-        w = charges[None, :] / (r2 * np.sqrt(r2))
+        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :]
+        dot = p @ sources.T
+        dot *= 2.0
+        r2 -= dot
+        w = np.sqrt(r2)
+        w *= r2
+        np.divide(charges[None, :], w, out=w)
         out[start : start + block] = COULOMB * (p * w.sum(axis=1)[:, None] - w @ sources)
     return out
 
