@@ -77,6 +77,10 @@ class Binding:
     limit: str
     element: str = ""
     factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
+    #: the refusal is proved for this rate and every faster one (a relaxation of the limits
+    #: is infeasible, and feasible charges scale down with the rate), not only found by the
+    #: heuristic: the frontier need not design faster rates
+    proved: bool = False
 
     def text(self, medium: str) -> str:
         return f"{self.element + ': ' if self.element else ''}{self.limit}"
@@ -523,9 +527,12 @@ def _meet_surface_limits(
             working = usable
             solved = _socp_charges(setup, working, s, cones, caps)
         if solved is None:
+            proved = True  # the cones on every usable candidate: a relaxation
             break
         q = np.zeros(len(setup.points))
         q[working] = solved
+    else:
+        proved = False  # the rounds ran out
     raise PhysicalInfeasible(
         Binding(
             "charges",
@@ -533,6 +540,7 @@ def _meet_surface_limits(
             f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
             f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
             worst_ratio,
+            proved=proved,
         )
     )
 
@@ -555,6 +563,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 f"({setup.spec.field_limits.get('electric'):g} V/m)",
                 "fields.electric",
                 s / setup.field_bound(s),
+                proved=True,
             )
         )
     if not np.any(b):
@@ -571,6 +580,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 f"conditions with every carrier's own surface field within the safe field of "
                 f"{medium.name} ({setup.safe_field:.3g} V/m)",
                 "the carriers",
+                proved=True,  # the own-field bounds are necessary
             )
         )
     objective_lp = float(np.sum(np.abs(q_lp)))
