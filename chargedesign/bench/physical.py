@@ -122,7 +122,9 @@ def table_readings(quick: bool) -> BenchTable:
             "design_s: both stages, the limits check, the realism budget and the forward check "
             "(the design's acceptance) at the scene's rate",
             "frontier: bisection in log s to 1 %, with upward restarts and the check at "
-            "(1 +- 2 %) s_max; each probe is the design's whole acceptance",
+            "(1 +- 2 %) s_max; each probe is the design's per-rate acceptance (both stages, "
+            "the balance), the limits check and the forward check run at s_max; probes: the "
+            "designs run (rates above a proved refusal are refused without one)",
             "ratios against the charges reading (the paper's (p6)), measured in the same run",
             "frame: n is free (a rotation of axes), so n_max has no meaning there",
         ],

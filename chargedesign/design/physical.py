@@ -65,6 +65,8 @@ MAX_ROUNDS = 26
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
 CONE_THRESHOLD = 0.95
+#: elements of the field kernel's (points, carriers) work arrays per block (512 kB: in cache)
+FIELD_BLOCK_ELEMENTS = 1 << 16
 
 
 @dataclass
@@ -75,6 +77,10 @@ class Binding:
     limit: str
     element: str = ""
     factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
+    #: the refusal is proved for this rate and every faster one (a relaxation of the limits
+    #: is infeasible, and feasible charges scale down with the rate), not only found by the
+    #: heuristic: the frontier need not design faster rates
+    proved: bool = False
 
     def text(self, medium: str) -> str:
         return f"{self.element + ': ' if self.element else ''}{self.limit}"
@@ -340,14 +346,23 @@ def _coulomb_field_gemm(sources: np.ndarray, charges: np.ndarray, points: np.nda
     :func:`~chargedesign.physical.limits.coulomb_field`, which the independent limits check
     keeps. The distances lose ``(|p| / |p - x|)^2`` ulps to cancellation: on random bodies
     the two agree to about 1e-11 (a test), far below the design's margin of 1e-3.
+
+    The (p, n) work arrays are cut into blocks of about :data:`FIELD_BLOCK_ELEMENTS` and
+    updated in place, so they stay in cache: the elementwise passes, not the products, set
+    the cost (measured 6x faster than 32 MB blocks at 250 carriers, 200 samples each).
     """
     out = np.empty((len(points), 3))
     x2 = np.einsum("nk,nk->n", sources, sources)
-    block = max(1, 4_000_000 // max(1, len(sources)))
+    block = max(1, FIELD_BLOCK_ELEMENTS // max(1, len(sources)))
     for start in range(0, len(points), block):
         p = points[start : start + block]
-        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :] - 2.0 * (p @ sources.T)
-        w = charges[None, :] / (r2 * np.sqrt(r2))
+        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :]
+        dot = p @ sources.T
+        dot *= 2.0
+        r2 -= dot
+        w = np.sqrt(r2)
+        w *= r2
+        np.divide(charges[None, :], w, out=w)
         out[start : start + block] = COULOMB * (p * w.sum(axis=1)[:, None] - w @ sources)
     return out
 
@@ -512,9 +527,12 @@ def _meet_surface_limits(
             working = usable
             solved = _socp_charges(setup, working, s, cones, caps)
         if solved is None:
+            proved = True  # the cones on every usable candidate: a relaxation
             break
         q = np.zeros(len(setup.points))
         q[working] = solved
+    else:
+        proved = False  # the rounds ran out
     raise PhysicalInfeasible(
         Binding(
             "charges",
@@ -522,6 +540,7 @@ def _meet_surface_limits(
             f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
             f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
             worst_ratio,
+            proved=proved,
         )
     )
 
@@ -544,6 +563,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 f"({setup.spec.field_limits.get('electric'):g} V/m)",
                 "fields.electric",
                 s / setup.field_bound(s),
+                proved=True,
             )
         )
     if not np.any(b):
@@ -560,6 +580,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 f"conditions with every carrier's own surface field within the safe field of "
                 f"{medium.name} ({setup.safe_field:.3g} V/m)",
                 "the carriers",
+                proved=True,  # the own-field bounds are necessary
             )
         )
     objective_lp = float(np.sum(np.abs(q_lp)))
