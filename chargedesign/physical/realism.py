@@ -363,7 +363,8 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     Returns
     -------
     dict
-        An item of the realism budget (``value`` = the law's ratio, ``unit``, ``verdict``,
+        An item of the realism budget (``value`` = ``ratio_measured``, what the verdict rests
+        on: the element-level ratio, else the law's; ``unit``, ``verdict``,
         ``note``) with the figures: ``chi_over_rho_m3_per_kg``, ``a2_T_per_m``,
         ``K_max_1_per_s`` and ``K_max_source``, ``G_C_m_per_kg``, ``ratio`` (the law),
         ``ratio_elements`` (the element-level induced energy range of :func:`field_response`
@@ -464,7 +465,8 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     if unknown:
         note += "; not counted (no susceptibility or density given): " + ", ".join(unknown)
     return {
-        "value": ratio,
+        # the number the verdict rests on (a budget row shows value and verdict side by side)
+        "value": measured,
         "unit": "",
         "verdict": verdict,
         "note": note,
