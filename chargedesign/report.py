@@ -461,7 +461,9 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
             "- Size: the law holds for similar bodies while each carrier at the safe field "
             "holds at least one elementary charge, i.e. carriers of radius "
             f"{format_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
-            f"{format_length(smallest)} and more. Within that range no size changes the ratio."
+            f"{format_length(smallest)} and more. Within that range the ratio changes with "
+            "size only through the surface field the medium holds (as 1/E^2; the breakdown "
+            "field used is that of mm to cm gaps)."
         )
         continuum = magnet_continuum(design)
         if continuum:

@@ -74,6 +74,8 @@ def test_the_report_says_the_parts_are_not_buildable_as_specified(small_design):
     assert "(12 of them below the 20 nm a ferromagnet needs" in sizes
     (size,) = [x for x in text.splitlines() if x.startswith("- Size:")]
     assert "this body's smallest is 2.24 nm, already below it" in size
+    # no claim that size is free below the sizes the breakdown data hold for
+    assert "no size changes" not in size and "only through the surface field" in size
     # the same body with magnets of 30 nm: no flag, the verdict of the limits and the budget
     large = render_report(with_edges(small_design, np.full(12, 30e-9)))
     verdict = next(x for x in large.splitlines() if x.startswith("**Verdict:"))
