@@ -28,6 +28,7 @@ from chargedesign.physical.realism import (
     RESPONSE_FRACTION,
     field_response,
     k_law,
+    magnet_continuum,
     realisability_map,
 )
 
@@ -280,6 +281,8 @@ def _larmor_lines(design: Design) -> list[str]:
 
 def _verdict_lines(design: Design) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
+    from chargedesign.results import format_length
+
     if design.medium is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
@@ -303,15 +306,26 @@ def _verdict_lines(design: Design) -> list[str]:
     verdict = "buildable" if ok else "NOT buildable"
     if ok and swamped:
         verdict = "buildable parts, NOT realised as designed"
+    # within the limits, but magnets too small for the bulk data they are designed with
+    continuum = magnet_continuum(design)
+    below = continuum.get("below", 0)
+    if ok and below:
+        verdict = "NOT buildable as specified" + (", NOT realised as designed" if swamped else "")
+    reasons = []
+    if ok and below:
+        reasons.append(
+            f"{below} of its magnets are smaller than the "
+            f"{format_length(continuum['continuum_size_m'])} continuum size (below)"
+        )
+    if swamped:
+        reasons.append(
+            "the applied field acts on the parts' own materials more than the designed "
+            "charges and magnets do (below)"
+        )
     lines = [
         f"**Verdict: {verdict}** in {medium['name']} "
         f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g})"
-        + (
-            ": the applied field acts on the parts' own materials more than the designed "
-            "charges and magnets do (below)."
-            if swamped
-            else "."
-        ),
+        + (": " + "; ".join(reasons) + "." if reasons else "."),
         "",
         "- Largest surface field: "
         f"{limits.get('largest_surface_field_fraction_of_breakdown', 0):.4g} of breakdown "
@@ -341,7 +355,7 @@ def _verdict_lines(design: Design) -> list[str]:
             f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
             f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
         )
-    lines += _k_law_lines(law) if law else _response_lines(response)
+    lines += _k_law_lines(law, design) if law else _response_lines(response)
     lines += _part_size_lines(design)
     tolerance = design.extra.get("tolerance") or {}
     top = (tolerance.get("elements") or [None])[0]
@@ -376,7 +390,7 @@ def _response_lines(response: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _k_law_lines(law: dict[str, Any]) -> list[str]:
+def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
     """The verdict on the parts' materials by the size-free K law, with its numbers."""
     from chargedesign.results import format_length
 
@@ -447,8 +461,19 @@ def _k_law_lines(law: dict[str, Any]) -> list[str]:
             "- Size: the law holds for similar bodies while each carrier at the safe field "
             "holds at least one elementary charge, i.e. carriers of radius "
             f"{format_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
-            f"{format_length(smallest)} and more. Within that range no size changes the ratio."
+            f"{format_length(smallest)} and more. Within that range the ratio changes with "
+            "size only through the surface field the medium holds (as 1/E^2; the breakdown "
+            "field used is that of mm to cm gaps)."
         )
+        continuum = magnet_continuum(design)
+        if continuum:
+            where = "already below it" if continuum["below"] else "above it"
+            lines[-1] += (
+                " The parts must stay continuum parts too, which bounds the size first where "
+                f"the magnets are small: a magnet at least "
+                f"{format_length(continuum['continuum_size_m'])} across; this body's smallest "
+                f"is {format_length(continuum['smallest_m'])}, {where}."
+            )
     return lines
 
 
@@ -467,7 +492,17 @@ def _part_size_lines(design: Design) -> list[str]:
         parts.append(f"{len(radii)} carriers of radius {span(radii)}")
     volumes = design.magnet_volumes()
     if len(volumes):
-        parts.append(f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across")
+        magnets = f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across"
+        continuum = magnet_continuum(design)
+        if continuum["below"]:
+            magnets += (
+                f" ({continuum['below']} of them below the "
+                f"{format_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
+                "continuum magnet: single-domain nanoparticles with a reduced surface "
+                "magnetisation, whose moment and coercivity are not the data sheet's, those of "
+                "micrometre-grained sintered parts; not buildable as specified)"
+            )
+        parts.append(magnets)
     density = mass_densities(design)
     if len(design.mass_values) and np.all(np.isfinite(density)):
         ballast = sphere_radius(design.mass_values / density)

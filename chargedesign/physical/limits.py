@@ -209,6 +209,10 @@ class LimitsReport(Result):
         The induced-magnetisation parasitic at the K frontier by the size-free law
         ``6 (chi/rho) / (mu0 G^2)`` (:func:`chargedesign.physical.realism.k_law`), recomputed
         from design.json (``frontier.K_max`` when written); empty when it does not apply.
+    magnet_continuum : dict
+        The magnets against the continuum size their material data hold for
+        (:func:`chargedesign.physical.realism.magnet_continuum`): magnets below it are
+        flagged in the text and in ``to_dict``, not counted as a broken limit.
     """
 
     buildable: bool
@@ -220,6 +224,7 @@ class LimitsReport(Result):
     region_radius: float = 0.0
     field_response: dict[str, Any] = field(default_factory=dict)
     k_law: dict[str, Any] = field(default_factory=dict)
+    magnet_continuum: dict[str, Any] = field(default_factory=dict)
 
     @property
     def worst_fraction_of_breakdown(self) -> float:
@@ -236,6 +241,7 @@ class LimitsReport(Result):
             "region_radius_m": self.region_radius,
             "field_response": dict(self.field_response),
             "k_law": dict(self.k_law),
+            "magnet_continuum": dict(self.magnet_continuum),
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -263,6 +269,15 @@ class LimitsReport(Result):
             lines.append(
                 f"at the K frontier (size-free law): {self.k_law['ratio']:.3g} "
                 f"({self.k_law['verdict']}): {self.k_law['note']}"
+            )
+        below = self.magnet_continuum.get("below", 0)
+        if below:
+            m = self.magnet_continuum
+            lines.append(
+                f"magnets below the continuum size: {below} of {m['count']} "
+                f"({m['smallest_m']:.3g} m to {m['largest_m']:.3g} m across, under "
+                f"{m['continuum_size_m']:.3g} m): single-domain nanoparticles whose moment and "
+                "coercivity are not their material's data (not buildable as specified)"
             )
         return "\n".join(lines)
 
@@ -396,13 +411,14 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
                 f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
                 f"max = {limits[kind]:.3g}"
             )
-    from chargedesign.physical.realism import field_response, k_law
+    from chargedesign.physical.realism import field_response, k_law, magnet_continuum
 
     response = field_response(design)
     return LimitsReport(
         buildable=not violations,
         field_response=response,
         k_law=k_law(design, response),
+        magnet_continuum=magnet_continuum(design),
         surface_fields=fields,
         safe_field=safe,
         breakdown=breakdown,

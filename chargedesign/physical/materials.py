@@ -111,6 +111,17 @@ CONDUCTIVITY = {
     "ferrite": 1.0e-4,
 }
 
+#: smallest magnet, m (edge of the cube of its volume), that the magnet data above describe.
+#: They are bulk properties of sintered magnets (data sheets of mm-size parts whose grains
+#: are micrometres across). Below about 10-20 nm a ferromagnet is a single-domain
+#: nanoparticle whose surface layer carries a reduced, canted magnetisation (Coey, Magnetism
+#: and Magnetic Materials, Cambridge UP 2010, ch. 8), so neither the remanence nor the
+#: coercivity used here is its own; a few nm further down, thermal fluctuations flip its
+#: moment (superparamagnetism where K1 v < 25 kB T: Bean & Livingston, J. Appl. Phys. 30,
+#: 120S (1959); about 3 nm for Nd2Fe14B, K1 = 4.9 MJ/m^3, 7 nm for Sr ferrite,
+#: K1 = 0.35 MJ/m^3, at 300 K). The upper end of 10-20 nm is used.
+MAGNET_CONTINUUM_SIZE = 20e-9
+
 SOURCES = {
     "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
     "Raizer, Gas Discharge Physics, 1991, ch. 7); smaller gaps hold more",
@@ -141,6 +152,11 @@ SOURCES = {
     "can make it paramagnetic); carbon steel is ferromagnetic (mu_r 1e2-1e3, saturating near "
     "1.7 T: the linear estimate is then only an order of magnitude); magnets: recoil "
     "permeability mu_rec - 1 (NdFeB N42 1.05, Sm2Co17 1.03, ferrite C8 1.05-1.2; data sheets)",
+    "magnet_continuum": "magnets below about 10-20 nm are single-domain nanoparticles with a "
+    "reduced surface magnetisation (Coey, Magnetism and Magnetic Materials, 2010, ch. 8), "
+    "superparamagnetic a few nm further down (K1 v < 25 kB T; Bean & Livingston, J. Appl. "
+    "Phys. 30, 120S (1959)); the data-sheet remanence and coercivity are those of "
+    "micrometre-grained sintered parts",
     "conductivity": "CRC Handbook (97th ed.), 'Electrical resistivity of pure metals' at 20 C "
     "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7, Bi 1.29e-6 ohm m); ASM "
     "Handbook vol. 2 for alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 "

@@ -443,6 +443,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
     )
     if initial_table is None:
         notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
+        notes += _slow_body_notes(body.parameters)
     return SimulationSetup(
         body=body,
         initial=initial,
@@ -529,6 +530,33 @@ def _counts(body: Body) -> dict[str, int]:
         "dipoles": len(body.dipole_moments),
         "masses": len(body.mass_values),
     }
+
+
+#: a default start turning this many times faster than the body's own rate gets a note
+SLOW_BODY_FACTOR = 1e3
+
+
+def _slow_body_notes(params: Parameters) -> list[str]:
+    """A note when the default start turns far faster than the body's own rate.
+
+    The default start (p, q) = (0.6, -0.4) 1/s suits the unit-scale case. A physical body's
+    theorem terms turn at ``2 max(|n|, |K|, sqrt|kappa|, ...)`` (micro-radians per second for
+    the embedded default): started at 0.7 1/s, its designed torques are a tiny fraction of
+    the kinetic terms and I4's drift tests them weakly. Said, not changed: the start is the
+    user's to give.
+    """
+    from chargedesign.physical.realism import typical_rate
+
+    start = math.hypot(DEFAULT_INITIAL["p"], DEFAULT_INITIAL["q"])
+    rate = typical_rate(params)
+    if rate == 0.0 or start < SLOW_BODY_FACTOR * rate:
+        return []
+    return [
+        f"the default start turns at |(p, q)| = {start:.3g} 1/s, {start / rate:.2g} times this "
+        f"body's own rate {rate:.3g} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
+        f"torques are then about {(rate / start) ** 2:.1g} of the kinetic terms, which I4's "
+        "drift tests only weakly; give [initial] (or initial=) at the body's rate"
+    ]
 
 
 def _body_info(body: Body, origin: str) -> dict[str, Any]:
@@ -644,6 +672,7 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
             initial=parse_initial(DEFAULT_INITIAL),
             notes=[
                 "default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0",
+                *_slow_body_notes(body.parameters),
                 *body.notes,
             ],
             source="<design>",

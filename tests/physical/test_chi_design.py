@@ -263,15 +263,19 @@ def test_the_verdict_rests_on_the_measured_cancellation_and_names_the_chi_accura
     # (this body is judged at its own K: the fixture locates no frontier)
     gross = law["ratio_without_cancellation"]
     assert law["ratio_measured"] == law["ratio_elements"] < CANCELLED * gross
+    report = str(chi_design)
     expected = "negligible" if law["ratio_measured"] < RESPONSE_FRACTION else "NOT negligible"
     assert law["verdict"] == expected
+    # the budget row shows the number its verdict rests on, not the undesigned matter's law
+    assert law["value"] == law["ratio_measured"]
+    (row,) = [x for x in report.splitlines() if x.startswith("| k_law_induced_ratio |")]
+    assert row.startswith(f"| k_law_induced_ratio | {law['ratio_measured']:.3g} ")
     # the uncancelled figure counts every part's |chi|: above the signed mixture's law
     assert law["ratio_without_cancellation"] > law["ratio"] > 1e6
     assert law["chi_relative_needed"] == pytest.approx(
         RESPONSE_FRACTION / law["ratio_without_cancellation"], rel=1e-12
     )
     assert law["chi_relative_needed"] < SUSCEPTIBILITY_METROLOGY
-    report = str(chi_design)
     assert "cancelled by the design's chi-weighted moments" in report
     assert f"known to {law['chi_relative_needed']:.2g} relative" in report
     # one material only: no cancellation, the law and the elements agree on NOT negligible
