@@ -8,9 +8,12 @@
    whole mass, so the centre of mass must sit at O within a distance the forward check's
    tolerance allows against the designed torques. The designed torques scale like ``s^2``
    (``s`` the time rate), gravity's imbalance does not: the balance bounds the rate from
-   below. Double precision holds the centre of mass to about one unit of roundoff of the
-   body's mass-weighted size (``BALANCE_ULPS``); below the rate where the check would need a
-   finer balance, the check cannot confirm the body;
+   below, twice. Double precision holds the centre of mass to about one unit of roundoff of
+   the body's mass-weighted size (``BALANCE_ULPS``): below the rate where the check would need
+   a finer balance, the check cannot confirm the body. And a builder balances a platform to
+   about ``BUILDER_BALANCE_M``: below the rate where that balance leaves gravity a torque
+   above ``BUILDER_TORQUE_FRACTION`` of the designed ones, the body cannot be built as
+   designed. The lower bound is the larger of the two;
 3. the forward check (:func:`forward_acceptance`, :func:`chargedesign.check.check_design`
    with its default tolerance, against the parameters the elements realise:
    ``n = 0`` for the ``frame`` Larmor reading).
@@ -37,6 +40,9 @@ BALANCE_ULPS = 1.0
 #: a balance a builder reaches: automatic balancing of air-bearing platforms to micrometres
 #: (Schwartz, Peck & Hall 2003); the realism budget calls 0.1 um achievable on Earth
 BUILDER_BALANCE_M = 1e-7
+#: gravity's torque from the builder's balance may be at most this fraction of the designed
+#: torques (the realism budget's "negligible": a parasitic below 1e-3 of them)
+BUILDER_TORQUE_FRACTION = 1e-3
 
 
 def body_check(design: Design, **kwargs: Any) -> Any:
@@ -141,21 +147,32 @@ class BalanceBound:
     rate: float
 
     @property
-    def lowest_rate(self) -> float:
+    def check_rate(self) -> float:
         """The lowest time rate whose balance the check can confirm (the designed torques go
         as ``s^2``; the mass is taken as this body's)."""
         return self.rate * math.sqrt(self.held / self.needed) if self.needed > 0 else math.inf
 
     @property
+    def builder_needed(self) -> float:
+        """The centre-of-mass distance whose gravity torque is ``BUILDER_TORQUE_FRACTION`` of
+        the designed torques at this rate, m."""
+        return BUILDER_TORQUE_FRACTION * self.needed / self.tol
+
+    @property
     def builder_rate(self) -> float:
-        """The lowest rate a builder balancing to ``BUILDER_BALANCE_M`` could be checked at."""
-        return (
-            self.rate * math.sqrt(BUILDER_BALANCE_M / self.needed) if self.needed > 0 else math.inf
-        )
+        """The lowest rate at which a builder's balance (``BUILDER_BALANCE_M``) leaves gravity
+        below ``BUILDER_TORQUE_FRACTION`` of the designed torques."""
+        need = self.builder_needed
+        return self.rate * math.sqrt(BUILDER_BALANCE_M / need) if need > 0 else math.inf
+
+    @property
+    def lowest_rate(self) -> float:
+        """The lowest rate the body is accepted at: checkable and buildable."""
+        return max(self.check_rate, self.builder_rate)
 
     @property
     def confirmed(self) -> bool:
-        return self.needed >= self.held
+        return self.needed >= self.held and self.builder_needed >= BUILDER_BALANCE_M
 
     def needed_at(self, s: float) -> float:
         """``needed`` at another time rate ``s``, m."""
@@ -164,6 +181,12 @@ class BalanceBound:
     def text(self) -> str:
         """One line: what the balance asks at this rate and what holds."""
         g = _gravity_text(self.gravity)
+        if self.builder_needed < BUILDER_BALANCE_M:
+            return (
+                f"under {g} the centre of mass must sit within {self.builder_needed:.3g} m of O "
+                f"for gravity to stay below {BUILDER_TORQUE_FRACTION:g} of the designed torques, "
+                f"finer than the {BUILDER_BALANCE_M:g} m a builder balances to"
+            )
         return (
             f"under {g} the centre of mass must sit within {self.needed:.3g} m of O (the "
             f"check's tolerance {self.tol:g} of the designed torques), and double precision "
@@ -178,7 +201,10 @@ class BalanceBound:
             "balance_held_m": self.held,
             "check_tolerance": self.tol,
             "lowest_rate": self.lowest_rate if math.isfinite(self.lowest_rate) else None,
+            "check_lowest_rate": self.check_rate if math.isfinite(self.check_rate) else None,
             "builder_balance_m": BUILDER_BALANCE_M,
+            "builder_torque_fraction": BUILDER_TORQUE_FRACTION,
+            "builder_centre_of_mass_within_m": self.builder_needed,
             "builder_lowest_rate": self.builder_rate if math.isfinite(self.builder_rate) else None,
         }
 

@@ -187,10 +187,11 @@ class FrontierResult(Result):
             lines.append(
                 f"balance: under gravity the rate must stay above s_min = {self.s_min:.4g} "
                 f"(at s_max the centre of mass must sit within "
-                f"{self.balance['centre_of_mass_within_m']:.3g} m of O, the check's tolerance "
-                f"{self.balance['check_tolerance']:g} of the designed torques; a builder "
-                f"balancing to {BUILDER_BALANCE_M:g} m would need s >= "
-                f"{self.balance['builder_lowest_rate'] or math.inf:.3g})\n"
+                f"{self.balance['builder_centre_of_mass_within_m']:.3g} m of O for gravity to "
+                f"stay below {self.balance['builder_torque_fraction']:g} of the designed "
+                f"torques, a builder balancing to {BUILDER_BALANCE_M:g} m; and within "
+                f"{self.balance['centre_of_mass_within_m']:.3g} m for the check's tolerance "
+                f"{self.balance['check_tolerance']:g})\n"
             )
         lines += [
             f"at s_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
@@ -307,11 +308,14 @@ def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> st
     gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
     return (
         f"no buildable rate: under {gravity} the centre of mass must sit within "
-        f"{balance['centre_of_mass_within_m']:.3g} m of O at s_max = {s_max:.4g} (K_max = "
-        f"{K_max:.3g} 1/s; the forward check's tolerance {balance['check_tolerance']:g} of the "
-        f"designed torques), below the {balance['balance_held_m']:.3g} m to which double "
-        f"precision holds this body's balance (a builder reaches about {BUILDER_BALANCE_M:g} "
-        f"m); the check confirms rates from s = {balance['lowest_rate']:.4g}, above s_max"
+        f"{balance['builder_centre_of_mass_within_m']:.3g} m of O at s_max = {s_max:.4g} "
+        f"(K_max = {K_max:.3g} 1/s) for gravity to stay below "
+        f"{balance['builder_torque_fraction']:g} of the designed torques (a builder balances "
+        f"to about {balance['builder_balance_m']:g} m), and within "
+        f"{balance['centre_of_mass_within_m']:.3g} m for the forward check's tolerance "
+        f"{balance['check_tolerance']:g} (double precision holds "
+        f"{balance['balance_held_m']:.3g} m); rates are accepted from s = "
+        f"{balance['lowest_rate']:.4g}, above s_max"
     )
 
 

@@ -1366,8 +1366,7 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
             raise PhysicalInfeasible(
                 Binding(
                     "balance",
-                    f"{balance.text()}; the check confirms rates from s = "
-                    f"{balance.lowest_rate:.4g} up",
+                    f"{balance.text()}; rates are accepted from s = {balance.lowest_rate:.4g} up",
                     "centre of mass",
                     balance.held / balance.needed if balance.needed > 0 else math.inf,
                 )

@@ -14,6 +14,8 @@ import pytest
 
 from chargedesign.design.acceptance import (
     BALANCE_ULPS,
+    BUILDER_BALANCE_M,
+    BUILDER_TORQUE_FRACTION,
     balance_bound,
     body_check,
     forward_acceptance,
@@ -124,20 +126,29 @@ def test_frame_body_realises_n_zero_not_n():
 
 
 def test_under_microgravity_the_balance_bounds_the_rate_from_below():
+    """Gravity small enough that a builder's balance (0.1 um) holds below s_max: the rate is
+    bounded from below by the larger of what the check confirms and what a builder reaches."""
     data = small()
-    data["fields"]["gravity"] = {"legendre": [1e-7]}
+    data["fields"]["gravity"] = {"legendre": [1e-11]}
     setup = setup_of(data)
     frontier = find_frontier(setup)
     assert 0 < frontier.s_min < 0.98 * frontier.s_max
     balance = frontier.balance
-    # the bound, recomputed: the check's tolerance of the designed torques over M g
-    assert balance["centre_of_mass_within_m"] * balance["mass_kg"] * 1e-7 == pytest.approx(
-        1e-9 * _designed_scale(setup, frontier.s_max), rel=1e-12
+    designed = _designed_scale(setup, frontier.s_max)
+    mg = balance["mass_kg"] * 1e-11
+    # the bounds, recomputed: the check's tolerance, and the builder's fraction, over M g
+    assert balance["centre_of_mass_within_m"] * mg == pytest.approx(1e-9 * designed, rel=1e-12)
+    assert balance["builder_centre_of_mass_within_m"] * mg == pytest.approx(
+        BUILDER_TORQUE_FRACTION * designed, rel=1e-12
     )
-    assert frontier.s_min == pytest.approx(
-        frontier.s_max * math.sqrt(balance["balance_held_m"] / balance["centre_of_mass_within_m"]),
-        rel=1e-12,
+    check_rate = frontier.s_max * math.sqrt(
+        balance["balance_held_m"] / balance["centre_of_mass_within_m"]
     )
+    builder_rate = frontier.s_max * math.sqrt(
+        BUILDER_BALANCE_M / balance["builder_centre_of_mass_within_m"]
+    )
+    assert builder_rate > check_rate  # here the builder's balance binds
+    assert frontier.s_min == pytest.approx(max(check_rate, builder_rate), rel=1e-12)
     design = assert_design_agrees(setup, frontier)
     # the polished masses hold the centre of mass within the assumed roundoff
     positions, masses = design.all_masses()
@@ -148,6 +159,21 @@ def test_under_microgravity_the_balance_bounds_the_rate_from_below():
     with pytest.raises(InfeasibleError, match="centre of mass") as info:
         design_physical(setup, scale=0.5 * frontier.s_min)
     assert "\n" not in str(info.value)
+
+
+def test_under_1e_7_m_per_s2_no_builder_balance_is_fine_enough():
+    """The same body at 1e-7 m/s^2: the check could confirm rates from a few s, but a builder's
+    0.1 um balance would need rates far above s_max: no buildable rate, and design refuses."""
+    data = small()
+    data["fields"]["gravity"] = {"legendre": [1e-7]}
+    setup = setup_of(data)
+    with pytest.raises(InfeasibleError) as info:
+        find_frontier(setup)
+    text = str(info.value)
+    assert "\n" not in text and text.startswith("no buildable rate: under 1.02e-08 g")
+    assert f"a builder balances to about {BUILDER_BALANCE_M:g} m" in text
+    with pytest.raises(InfeasibleError, match="finer than the 1e-07 m a builder balances to"):
+        design_physical(setup, scale=1.0)
 
 
 def _designed_scale(setup, s):
