@@ -4,33 +4,23 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import tomllib
 from pathlib import Path
 
 import pytest
-from unit_scene import UNIT_SCENE
+from unit_scene import unit_design
 
 from chargedesign.body import Design, write_design
 from chargedesign.check import check_design
 from chargedesign.cli import main
 from chargedesign.larmor import LarmorReading
-from chargedesign.scene import scene_from_dict
 
 RATE = 0.7
-
-
-def _unit_design(n: float) -> Design:
-    from chargedesign.design import design_from_scene
-
-    data = tomllib.loads(UNIT_SCENE.read_text())
-    data["parameters"]["n"] = n
-    return design_from_scene(scene_from_dict(data)).design
 
 
 @pytest.fixture(scope="module")
 def elements_at_n_zero() -> Design:
     """The unit-scale body designed with n = 0, recorded with the theorem's n = 0.7."""
-    design = _unit_design(0.0)
+    design = unit_design(0.0)
     design.parameters = dataclasses.replace(design.parameters, n=RATE)
     design.larmor = None  # as a file without the key: the charges reading, with n = 0.7
     return design
@@ -58,7 +48,7 @@ def test_the_same_elements_read_as_charges_fail(elements_at_n_zero: Design) -> N
 
 def test_a_charges_body_is_checked_as_before() -> None:
     """An explicit charges reading changes no number of the check."""
-    design = _unit_design(RATE)
+    design = unit_design(RATE)
     assert design.larmor == LarmorReading("charges", RATE)  # the design writes its reading
     plain = check_design(dataclasses.replace(design, larmor=None)).to_dict()
     labelled = check_design(

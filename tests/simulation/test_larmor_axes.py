@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from unit_scene import UNIT_SCENE
+from unit_scene import UNIT_SCENE, unit_design
 
 from chargedesign.body import Design, write_design
 from chargedesign.cli import main
@@ -30,18 +30,10 @@ RATE = 0.7
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
 
 
-def _unit_design(n: float) -> Design:
-    from chargedesign.design import design_from_scene
-
-    data = tomllib.loads(UNIT_SCENE.read_text())
-    data["parameters"]["n"] = n
-    return design_from_scene(scene_from_dict(data)).design
-
-
 @pytest.fixture(scope="module")
 def frame() -> Design:
     """The unit-scale body designed at n = 0, recorded as a frame body turning at 0.7."""
-    design = _unit_design(0.0)
+    design = unit_design(0.0)
     design.parameters = dataclasses.replace(design.parameters, n=RATE)
     design.larmor = LarmorReading("frame", RATE)
     return design
@@ -50,7 +42,7 @@ def frame() -> Design:
 @pytest.fixture(scope="module")
 def charges() -> Design:
     """The same scene at n = 0.7: the paper's (p6) charges realise n."""
-    return _unit_design(RATE)
+    return unit_design(RATE)
 
 
 def _i4(omega: np.ndarray, gamma: np.ndarray, params: Parameters) -> np.ndarray:
