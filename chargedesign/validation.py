@@ -382,6 +382,27 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
     for block in ("charges", "masses", "dipoles", "continuous"):
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
+    if "larmor" in data:
+        check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
+
+
+def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
+    """design.json's ``larmor.rate`` is the theorem's n (docs/contract.md): within n's range
+    and equal to ``parameters.n``. A rate that differs was silently ignored (``charges``) or
+    turned the axes at a rate the parameters do not have (``frame``).
+
+    The object's shape and ``reading`` are :class:`~chargedesign.larmor.LarmorReading`'s.
+    """
+    if not isinstance(larmor, dict) or not _is_real_scalar(larmor.get("rate")):
+        return
+    lo, hi = PARAMETER_RANGES["n"]
+    rate = check_input_number(larmor["rate"], f"{where}.rate", lo=lo, hi=hi)
+    n = parameters.get("n", 0.0) if isinstance(parameters, dict) else 0.0
+    if _is_real_scalar(n) and not math.isclose(rate, float(n), rel_tol=1e-12, abs_tol=0.0):
+        raise InputError(
+            f"{where}.rate: {rate:g} differs from parameters.n = {float(n):g}; the rate is the "
+            "theorem's n (the turning axes' rate for a frame body): give the same number"
+        )
 
 
 def check_run_caps(
