@@ -477,3 +477,18 @@ def check_periods(
             f"past the cap of {cap:g} (chargedesign.limits.MAX_PERIODS); {how}"
         )
     return periods
+
+
+def check_error_spreads(model: Any, prefix: str = "--") -> None:
+    """A tolerance error model's spreads within their range: a relative one at most 100 %, an
+    absolute one within the input range (|x| <= 1e30, docs/reliability.md). ``prefix`` names
+    where they came from (``--`` on the command line, ``x.sweep: options.`` in a sweep)."""
+    for name in ("position", "charge", "dipole", "mass"):
+        spread = getattr(model, name)
+        if spread.relative and spread.value > 1.0:
+            raise InputError(
+                f"{prefix}{name}: expected a relative error of at most 100%, got "
+                f"{100 * spread.value:g}%"
+            )
+        if not spread.relative:
+            check_input_number(spread.value, f"{prefix}{name}")

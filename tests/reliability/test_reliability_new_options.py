@@ -7,6 +7,7 @@ Each refusal is one error line, no traceback, nothing written and the inputs unc
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -86,3 +87,87 @@ def test_material_error_options_have_their_range(
     )
     assert option in line, line
     assert "[0, 1)" in line or "finite" in line, line
+
+
+# ------------------------------------------------------------------ sweeps (outside review)
+
+#: a theorem-only scene (no design): its points simulate in about a second
+THEOREM_SCENE = """\
+[parameters]
+C = 1.0
+c = 0.3
+d = -0.4
+n = 0.7
+K = 0.5
+kappa = 0.9
+
+[fields.magnetic]
+a1 = 1.0
+a2 = 0.5
+
+[simulation]
+effects = ["theorem"]
+t_end = 1.0
+samples = 11
+method = "DOP853"
+"""
+
+
+def _sweep(folder: Path, body: str, scene: str = THEOREM_SCENE) -> None:
+    (folder / "t.toml").write_text(scene)
+    (folder / "x.sweep").write_text('scene = "t.toml"\n' + body)
+
+
+@pytest.mark.parametrize("out", [".", ".."])
+def test_a_sweep_never_fills_the_working_directory(out: str, work: Path, capsys) -> None:
+    """sweep fills its folder point by point (no one swap), so the boundary check itself
+    refuses the working directory: `sweep x.sweep --out .` wrote points/ beside the inputs."""
+    (work / "sub").mkdir()
+    _sweep(work / "sub", 'command = "simulate"\n[grid]\n"simulation.t_end" = [1.0]\n')
+    os.chdir(work / "sub")
+    line = _refused(["sweep", "x.sweep", "--out", out, "--quiet"], "sweep", capsys, work)
+    assert "working directory" in line, line
+
+
+@pytest.mark.parametrize(
+    ("body", "named"),
+    [
+        # the second point's motion is 1.5e7 periods: it ran unbounded after p0000 had written
+        ('command = "simulate"\n[grid]\n"simulation.t_end" = [1.0, 1e8]\n', "p0001"),
+        (
+            'command = "simulate"\n[grid]\n"simulation.samples" = [11]\n[options]\nt_end = 1e30\n',
+            "options.t_end",
+        ),
+    ],
+)
+def test_a_sweep_caps_each_points_motion_before_any_runs(
+    body: str, named: str, work: Path, capsys
+) -> None:
+    _sweep(work, body)
+    line = _refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
+    assert named in line and "MAX_PERIODS" in line, line
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        ('position = "1e31"', "options.position: 1e+31 is outside"),  # failed as its point ran
+        ('position = "100000%"', "options.position: expected a relative error of at most 100%"),
+        ('position = "20parsec"', "options.position"),
+        ("samples = 1000000000", "options.samples: expected a value in [1, 2000]"),  # accepted
+        ("target = 2.0", "options.target: expected a value in (0, 1)"),
+        ('position = "1um"\nt_end = 1e30', "options.t_end"),  # the drift's periods
+    ],
+)
+def test_a_sweeps_tolerance_options_are_checked_before_any_point(
+    options: str, named: str, work: Path, capsys
+) -> None:
+    from conftest import SMALL_SCENE
+
+    _sweep(
+        work,
+        f'command = "tolerance"\n[grid]\n"body.spacing" = [0.34]\n[options]\n{options}\n',
+        SMALL_SCENE,
+    )
+    line = _refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
+    assert named in line, line
