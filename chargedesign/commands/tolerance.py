@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
         recorded_material_errors,
         tolerance_report,
     )
-    from chargedesign.validation import check_error_spreads
+    from chargedesign.validation import check_error_scale, check_error_spreads
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
@@ -122,6 +122,7 @@ def run(args: argparse.Namespace) -> int:
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
     check_error_spreads(model)
     design = read_design(args.design)
+    check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
         from chargedesign.limits import MAX_PERIODS
         from chargedesign.validation import check_periods

@@ -171,3 +171,47 @@ def test_a_sweeps_tolerance_options_are_checked_before_any_point(
     )
     line = _refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
     assert named in line, line
+
+
+# ------------------------------------------------------------------ tolerance's work, materials
+
+
+@pytest.mark.parametrize(
+    ("argv", "named"),
+    [
+        # SMALL_DESIGN's farthest element is 1 m from O; 10 m (and 1um at 1e31) ran unbounded
+        (["--position", "10"], "more than the body's extent (1 m)"),
+        (["--position", "1um", "--levels", "1e31"], "largest level 1e+31"),
+        (["--position", "60%", "--levels", "1,2"], "120%, past 100 %"),
+        (["--charge", "1"], "more than the largest charge (0.8 C)"),
+        (["--mass", "0.2"], "more than the largest mass (0.1 kg)"),
+    ],
+)
+def test_tolerance_errors_stay_within_what_they_perturb(
+    argv: list[str], named: str, work: Path, capsys
+) -> None:
+    (work / "design.json").write_text(json.dumps(SMALL_DESIGN))
+    line = _refused(["tolerance", "design.json", *argv, "--out", "o"], "tolerance", capsys, work)
+    assert named in line, line
+
+
+@pytest.mark.parametrize("argv", READERS, ids=lambda a: a[0])
+@pytest.mark.parametrize(
+    ("recorded", "named"),
+    [
+        ({"chi_relative": 2}, "material_errors.chi_relative: expected a relative error in [0, 1)"),
+        ({"chi_relative": "5%"}, "material_errors.chi_relative: expected a real number"),
+        ({"bogus": 0.1}, "material_errors.bogus"),
+        ([0.1], "material_errors: expected a table"),
+    ],
+)
+def test_recorded_material_errors_are_read_by_every_reader(
+    argv: list[str], recorded: object, named: str, work: Path, capsys
+) -> None:
+    """design.json's material_errors (the scene's [tolerance]): check passed a file whose
+    chi_relative was 2 or a string; only tolerance read it."""
+    data = json.loads(json.dumps(SMALL_DESIGN))
+    data["material_errors"] = recorded
+    (work / "j.json").write_text(json.dumps(data))
+    line = _refused(argv, argv[0], capsys, work)
+    assert named in line, line
