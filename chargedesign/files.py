@@ -376,6 +376,16 @@ def _inside_cwd(target: Path) -> bool:
     return cwd == real or real in cwd.parents
 
 
+def _refuse_working_directory(target: Path, option: str = "") -> None:
+    """An output folder may not be the working directory or one of its parents (it holds the
+    inputs and everything else the user keeps there)."""
+    if _inside_cwd(target) and target.exists():
+        raise InputError(
+            f"{option}{target}: is the working directory (or holds it); give an output folder "
+            "of its own, e.g. --out out"
+        )
+
+
 @contextmanager
 def atomic_directory(path: str | os.PathLike[str], *, drop: Iterable[str] = ()) -> Iterator[Path]:
     """Yield a staging folder; on success it becomes ``path`` in one swap (all or nothing).
@@ -390,11 +400,7 @@ def atomic_directory(path: str | os.PathLike[str], *, drop: Iterable[str] = ()) 
         yield _OPEN[key]
         return
     check_output_path(target, directory=True)
-    if _inside_cwd(target) and target.exists():
-        raise InputError(
-            f"{target}: is the working directory (or holds it); give an output folder of its "
-            "own, e.g. --out out"
-        )
+    _refuse_working_directory(target)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -513,13 +519,17 @@ def check_output_location(
         One line naming the option and the reason: a special file (FIFO, device, socket) or a
         symbolic link, a file where a folder is meant (or the reverse), a location that cannot
         be created or written (a missing parent that cannot be made, /proc, a read-only or
-        immutable folder), or one of the command's own inputs.
+        immutable folder), one of the command's own inputs, or (a folder) the working
+        directory or one of its parents.
     """
     target = Path(path)
     try:
         check_output_path(target, directory=directory)
     except InputError as exc:
         raise InputError(f"{option}: {exc}") from None
+    if directory:
+        # also for commands that fill a folder point by point (sweep), not in one swap
+        _refuse_working_directory(target, f"{option}: ")
     sources = [Path(p) for p in inputs if p is not None]
     outputs = [target / name for name in writes] if directory else [target]
     for source in sources:

@@ -73,6 +73,7 @@ class OptionRange(NamedTuple):
 
 _POSITIVE = OptionRange(0.0, 1e30, lo_open=True)
 _SEED = OptionRange(0, 2**32 - 1)
+_RELATIVE = OptionRange(0.0, 1.0, hi_open=True)
 
 #: the range of every numeric option, by command and option (argparse ``dest``): checked by
 #: the CLI before a command runs and appended to each option's ``--help``
@@ -117,6 +118,11 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "samples": OptionRange(1, 2000),
         "t_end": _POSITIVE,
         "seed": _SEED,
+        # relative errors of material properties (one standard deviation): a 100 % error
+        # would allow a negative susceptibility, density or magnetisation
+        "chi_relative": _RELATIVE,
+        "density_relative": _RELATIVE,
+        "magnetisation_relative": _RELATIVE,
     },
     "sweep": {
         "workers": OptionRange(1, MAX_WORKERS),

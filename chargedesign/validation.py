@@ -382,6 +382,33 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
     for block in ("charges", "masses", "dipoles", "continuous"):
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
+    if "larmor" in data:
+        check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
+    if "material_errors" in data:
+        # the scene's [tolerance] the design records: read by `tolerance`, so checked by
+        # every reader (check passed a file whose chi_relative was 2 or a string)
+        from chargedesign.tolerance import MaterialErrors
+
+        MaterialErrors.from_table(data["material_errors"], f"{where}.material_errors")
+
+
+def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
+    """design.json's ``larmor.rate`` is the theorem's n (docs/contract.md): within n's range
+    and equal to ``parameters.n``. A rate that differs was silently ignored (``charges``) or
+    turned the axes at a rate the parameters do not have (``frame``).
+
+    The object's shape and ``reading`` are :class:`~chargedesign.larmor.LarmorReading`'s.
+    """
+    if not isinstance(larmor, dict) or not _is_real_scalar(larmor.get("rate")):
+        return
+    lo, hi = PARAMETER_RANGES["n"]
+    rate = check_input_number(larmor["rate"], f"{where}.rate", lo=lo, hi=hi)
+    n = parameters.get("n", 0.0) if isinstance(parameters, dict) else 0.0
+    if _is_real_scalar(n) and not math.isclose(rate, float(n), rel_tol=1e-12, abs_tol=0.0):
+        raise InputError(
+            f"{where}.rate: {rate:g} differs from parameters.n = {float(n):g}; the rate is the "
+            "theorem's n (the turning axes' rate for a frame body): give the same number"
+        )
 
 
 def check_run_caps(
@@ -456,3 +483,73 @@ def check_periods(
             f"past the cap of {cap:g} (chargedesign.limits.MAX_PERIODS); {how}"
         )
     return periods
+
+
+def check_error_spreads(model: Any, prefix: str = "--") -> None:
+    """A tolerance error model's spreads within their range: a relative one at most 100 %, an
+    absolute one within the input range (|x| <= 1e30, docs/reliability.md). ``prefix`` names
+    where they came from (``--`` on the command line, ``x.sweep: options.`` in a sweep)."""
+    for name in ("position", "charge", "dipole", "mass"):
+        spread = getattr(model, name)
+        if spread.relative and spread.value > 1.0:
+            raise InputError(
+                f"{prefix}{name}: expected a relative error of at most 100%, got "
+                f"{100 * spread.value:g}%"
+            )
+        if not spread.relative:
+            check_input_number(spread.value, f"{prefix}{name}")
+
+
+def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: str = "--") -> None:
+    """The largest error a Monte Carlo draws (a spread times the largest level) no larger than
+    what it perturbs: a position error within the body's extent (the farthest element from
+    O), an absolute charge, dipole or mass error within the largest element of its kind, a
+    relative one at most 100 %. Past that the perturbed bodies are no longer the design: on a
+    1 m body ``--position 10`` (or ``1um`` at ``--levels 1e31``) ran past 60 s with no end
+    (0.5 m: 14 s).
+
+    Parameters
+    ----------
+    model : chargedesign.tolerance.ErrorModel
+    levels : sequence of float
+        The scale factors of the errors (``--levels``).
+    design : chargedesign.body.Design
+        Its element arrays: positions (m), charges (C), dipole moments (A m^2), masses (kg).
+    """
+    top = max(levels, default=1.0)
+
+    def largest(array: Any, rows: bool = False) -> float:
+        a = np.asarray(array, dtype=float)
+        if a.size == 0:
+            return 0.0
+        return float(np.max(np.linalg.norm(a, axis=1) if rows else np.abs(a)))
+
+    sizes = {
+        "position": max(
+            largest(design.charge_positions, True),
+            largest(design.dipole_positions, True),
+            largest(design.mass_positions, True),
+        ),
+        "charge": largest(design.charge_values),
+        "dipole": largest(design.dipole_moments, True),
+        "mass": largest(design.mass_values),
+    }
+    units = {"position": "m", "charge": "C", "dipole": "A m^2", "mass": "kg"}
+    for name, size in sizes.items():
+        spread = getattr(model, name)
+        drawn = spread.value * top
+        if drawn == 0.0:
+            continue
+        if spread.relative and drawn > 1.0:
+            raise InputError(
+                f"{prefix}{name}: {100 * spread.value:g}% times the largest level {top:g} is "
+                f"{100 * drawn:g}%, past 100 %: give a smaller error or smaller --levels"
+            )
+        if not spread.relative and drawn > size:
+            what = "the body's extent" if name == "position" else f"the largest {name}"
+            raise InputError(
+                f"{prefix}{name}: {spread.value:g} {units[name]} times the largest level {top:g} "
+                f"is {drawn:g} {units[name]}, more than {what} ({size:g} {units[name]}): the "
+                "perturbed bodies would not be this design; give a smaller error or smaller "
+                "--levels"
+            )

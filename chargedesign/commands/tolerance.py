@@ -100,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
         recorded_material_errors,
         tolerance_report,
     )
+    from chargedesign.validation import check_error_scale, check_error_spreads
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
@@ -119,8 +120,9 @@ def run(args: argparse.Namespace) -> int:
             f"--levels: expected 1 to {MAX_LEVELS} positive factors, got {args.levels!r}"
         )
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
-    _check_spreads(model)
+    check_error_spreads(model)
     design = read_design(args.design)
+    check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
         from chargedesign.limits import MAX_PERIODS
         from chargedesign.validation import check_periods
@@ -172,22 +174,6 @@ TOLERANCE_FILES = (
     "drift_over_time.csv",
     "drift.png",
 )
-
-
-def _check_spreads(model: Any) -> None:
-    """Errors within their range: a relative one at most 100 %, an absolute one within the
-    input range (|x| <= 1e30, docs/reliability.md)."""
-    from chargedesign.errors import InputError
-    from chargedesign.validation import check_input_number
-
-    for name in ("position", "charge", "dipole", "mass"):
-        spread = getattr(model, name)
-        if spread.relative and spread.value > 1.0:
-            raise InputError(
-                f"--{name}: expected a relative error of at most 100%, got {100 * spread.value:g}%"
-            )
-        if not spread.relative:
-            check_input_number(spread.value, f"--{name}")
 
 
 def _write(out: str, result: Any, data: dict, design: Any) -> None:

@@ -182,6 +182,34 @@ def check_options(command: Any, options: Mapping[str, Any], source: str) -> None
         raise InputError(f"{source}: options: {exc}") from None
     except ValueError:  # pragma: no cover - a callable without a signature
         return
+    if isinstance(command, str):
+        _check_command_options(command, options, f"{source}: options.")
+
+
+def _check_command_options(command: str, options: Mapping[str, Any], prefix: str) -> None:
+    """A built-in command's options within the ranges its command-line options have
+    (chargedesign.limits.OPTION_RANGES) and, for ``tolerance``, its errors parsed and within
+    theirs: a bad option was found only when its point ran, after the others had written
+    (``position = "1e31"``), or not at all (``samples = 1e9``)."""
+    from chargedesign.limits import OPTION_RANGES
+
+    ranges = OPTION_RANGES.get(command, {})
+    for name, value in options.items():
+        bounds = ranges.get(name)
+        if bounds is None or isinstance(value, bool) or not isinstance(value, (int, float)):
+            continue
+        if not bounds.holds(value):
+            raise InputError(f"{prefix}{name}: expected a value in {bounds.text()}, got {value!r}")
+    if command == "tolerance":
+        from chargedesign.tolerance import ErrorModel
+        from chargedesign.validation import check_error_spreads
+
+        errors = {k: options.get(k) for k in ("position", "charge", "dipole", "mass")}
+        try:
+            model = ErrorModel.parse(**errors)
+        except InputError as exc:
+            raise InputError(f"{prefix}{str(exc).removeprefix('--')}") from None
+        check_error_spreads(model, prefix)
 
 
 def validate_points(
@@ -190,11 +218,14 @@ def validate_points(
     points: list[dict[str, Any]],
     command: Any,
     source: str,
+    options: Mapping[str, Any] | None = None,
 ) -> None:
     """Every point's whole scene, before any point runs: its tables by their owners
-    (chargedesign.scene.scene_from_dict) and, for a command that designs, its ``[body]``
-    region's candidates (each distinct region once). A point that would fail on its input
-    is refused here, with the point and its values named, not found after others ran."""
+    (chargedesign.scene.scene_from_dict), for a command that designs its ``[body]`` region's
+    candidates (each distinct region once), and for ``simulate`` the work of its motion
+    (:func:`chargedesign.validation.check_periods`, the cap the ``simulate`` command applies).
+    A point that would fail on its input is refused here, with the point and its values
+    named, not found after others ran."""
     from chargedesign.candidates import candidates_from_table
     from chargedesign.scene import scene_from_dict, validated
 
@@ -211,9 +242,42 @@ def validate_points(
             if designs and "shape" in body and key not in seen:
                 seen.add(key)
                 candidates_from_table(body, base_dir=base)
+            if command == "simulate":
+                _check_motion_work(scene, (options or {}).get("t_end"))
+            elif command == "tolerance":
+                _check_drift_work(scene, options or {})
         except (InputError, TypeError, ValueError) as exc:
             values = ", ".join(f"{k} = {v!r}" for k, v in point.items())
             raise InputError(f"{source}: point p{i:0{width}d} ({values}): {exc}") from None
+
+
+def _check_motion_work(scene: Any, t_end: Any) -> None:
+    """A simulate point's periods of its fastest rate within MAX_PERIODS (a ``t_end = 1e8`` on a
+    unit-scale body ran unbounded after the other points had written their outputs)."""
+    from chargedesign.limits import MAX_PERIODS
+    from chargedesign.simulation.api import parse_simulation_options
+    from chargedesign.validation import check_periods
+
+    if t_end is not None:
+        option = "options.t_end"
+    else:
+        t_end, option = (
+            parse_simulation_options(scene.table("simulation")).t_end,
+            "simulation.t_end",
+        )
+    check_periods(t_end, scene.parameters, scene.table("initial"), MAX_PERIODS, option)
+
+
+def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
+    """A tolerance point's drift simulation (run when it has errors and ``simulate``) within
+    MAX_PERIODS of the scene's parameters, as ``tolerance --t-end`` is."""
+    from chargedesign.limits import MAX_PERIODS
+    from chargedesign.validation import check_periods
+
+    errors = any(options.get(k) is not None for k in ("position", "charge", "dipole", "mass"))
+    if errors and options.get("simulate", True):
+        t_end = options.get("t_end", 100.0)
+        check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
 
 
 def sweep_from_dict(
@@ -357,7 +421,7 @@ def sweep_from_dict(
     else:
         points = grid_points
     check_options(chosen, options, source)
-    validate_points(scene_data, scene_source, points, chosen, source)
+    validate_points(scene_data, scene_source, points, chosen, source, options)
     return SweepSpec(
         source=source,
         scene_data=scene_data,
