@@ -43,8 +43,10 @@ from chargedesign.body import Design
 from chargedesign.design.acceptance import BUILDER_BALANCE_M, body_check
 from chargedesign.design.physical import (
     Binding,
+    ChargesLimit,
     PhysicalInfeasible,
     PhysicalSetup,
+    charges_rate_limit,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.results import Result
@@ -60,6 +62,12 @@ LOWEST_RATE_FRACTION = 1e-9
 HIGHEST_RATE = 1e15
 #: rates below s_max tried when the forward check or the limits check refuses the body there
 ACCEPT_RETRIES = 3
+#: the charges' minmax (:func:`~chargedesign.design.physical.charges_rate_limit`) closes its
+#: gap to this fraction of the frontier's rtol
+CHARGES_GAP_FRACTION = 0.1
+#: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
+#: s_c / (1 + rtol) (None)
+DIRECT_STEPS = (0.25, None)
 
 
 @dataclass(repr=False)
@@ -88,6 +96,10 @@ class FrontierResult(Result):
         What fails just above ``s_max``.
     s_necessary : float
         The charges' own-field upper bound on s (inf without charge conditions).
+    s_charges : float or None
+        The largest rate the charges allow, from their minmax
+        (:func:`~chargedesign.design.physical.charges_rate_limit`; an upper bound on
+        ``s_max``: no charges exist above it); None when not computed.
     s_min : float
         Under gravity, the lowest rate whose balance the forward check confirms (0 without
         gravity); ``balance`` gives the numbers at ``s_max``.
@@ -115,6 +127,7 @@ class FrontierResult(Result):
     balance: dict[str, Any] = field(default_factory=dict)
     #: the smallest |q| of the body designed at s_max, C (0: no charges)
     smallest_charge: float = 0.0
+    s_charges: float | None = None
 
     @property
     def n_free(self) -> bool:
@@ -145,6 +158,11 @@ class FrontierResult(Result):
             "binding_detail": self.binding.to_dict(),
             "s_above": self.s_above,
             "s_necessary": self.s_necessary if math.isfinite(self.s_necessary) else None,
+            "s_charges": (
+                self.s_charges
+                if self.s_charges is not None and math.isfinite(self.s_charges)
+                else None
+            ),
             "s_min": self.s_min,
             "balance": dict(self.balance),
             "medium": self.medium,
@@ -243,6 +261,39 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     return float(res.x[-1])
 
 
+def _charges_limit(setup: PhysicalSetup, rtol: float) -> ChargesLimit | None:
+    """The charges' limit on the rate, or None when it does not apply (no charge conditions,
+    no charges at all, or the minmax's rounds ran out: the bisection alone then)."""
+    try:
+        limit = charges_rate_limit(setup, gap=CHARGES_GAP_FRACTION * rtol)
+    except SolverError:
+        return None
+    return limit if limit.stage != "none" and 0 < limit.rate < math.inf else None
+
+
+def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
+    """What refuses every rate above the charges' limit (proved: no charges exist there)."""
+    if limit.stage == "fields":
+        return Binding(
+            "fields",
+            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            "body region",
+            "fields.electric",
+            1.0,
+            proved=True,
+        )
+    medium = setup.spec.medium
+    return Binding(
+        "charges",
+        f"no charges meet the conditions above s = {limit.rate:.6g} with every carrier's "
+        f"surface field within the safe field of {medium.name} ({setup.safe_field:.3g} V/m): "
+        "at the best charges the carriers' fields add up to it here",
+        f"charge at {np.array2string(setup.points[limit.worst_site], precision=4)} m",
+        1.0,
+        proved=True,
+    )
+
+
 def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
     """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
     stages (:func:`~chargedesign.design.physical.design_at_rate`) and the balance under
@@ -322,13 +373,15 @@ def find_frontier(
     progress: Any = None,
     feasible_rate: float | None = None,
     feasible: Design | None = None,
+    direct: bool = True,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
 
     ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
     which starts the bracket and saves the search for a feasible point; ``feasible`` its
     body, which then need not be designed again if the frontier ends there. The bracket
-    ``[s_max, s_above]`` ends narrower than ``1 + rtol``.
+    ``[s_max, s_above]`` ends narrower than ``1 + rtol``. ``direct``: bracket the frontier
+    from the charges' limit first (see the module doc; False: the bisection alone).
 
     Raises
     ------
@@ -338,6 +391,8 @@ def find_frontier(
     """
     t0 = time.perf_counter()
     s_nec = necessary_rate(setup)
+    s_lp = s_nec  # reported: the own-field LP's bound
+    s_charges: float | None = None
     history: list[tuple[float, bool]] = []
     medium = setup.spec.medium.name
     theorem = setup.theorem_params
@@ -377,7 +432,7 @@ def find_frontier(
             s_max=lo,
             n=theorem.n,
             binding=binding,
-            s_necessary=s_nec,
+            s_necessary=s_lp,
             s_above=hi,
             evaluations=len(history),
             seconds=time.perf_counter() - t0,
@@ -391,6 +446,7 @@ def find_frontier(
                 if design is not None and len(design.charge_values)
                 else 0.0
             ),
+            s_charges=s_charges,
         )
 
     if not s_nec > 0:
@@ -415,7 +471,35 @@ def find_frontier(
             "fields.electric",
         )
     hi_binding: Binding | None = upper_binding
-    if not math.isfinite(s_nec):
+    # the charges' limit computed directly: no charges exist above it (a proved refusal), and
+    # when the charges bind, designs just below it close the bracket
+    accepted_at: float | None = None
+    first: tuple[float, Binding] | None = None  # the lowest rate refused by the direct steps
+    limit = _charges_limit(setup, rtol) if direct and math.isfinite(s_nec) else None
+    if limit is not None:
+        s_charges = limit.rate
+        top_binding = _limit_binding(setup, limit)
+        proved[:] = [(limit.rate, top_binding)]
+        s_nec = min(s_nec, limit.rate)
+        upper_binding = hi_binding = top_binding
+        hi = limit.rate
+        for step in DIRECT_STEPS:
+            s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
+            ok, binding = probe(s_try)
+            design_try = best.get(s_try) if ok else None
+            if design_try is not None:
+                # the balance, if it fails, speaks below (too slow); else the acceptance
+                refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
+                if refused is None:
+                    accepted_at = s_try
+                    break
+                binding = refused
+            assert binding is not None
+            hi, hi_binding = s_try, binding
+            first = (s_try, binding)
+    if accepted_at is not None:
+        lo = accepted_at
+    elif not math.isfinite(s_nec):
         # no charge conditions (frame with K = 0): rates 10x apart up to the first refused
         s = feasible_rate or 1.0
         s_nec = HIGHEST_RATE
@@ -426,14 +510,16 @@ def find_frontier(
                 break
             s *= 10.0
         hi_binding = upper_binding
-    hi = s_nec * (1 + rtol)
-    ok, binding = probe(s_nec)
-    if ok:
+    checked = (False, None) if accepted_at is not None or first is not None else probe(s_nec)
+    if accepted_at is not None:
+        pass
+    elif checked[0]:
+        hi = s_nec * (1 + rtol)
         lo = s_nec
     else:
-        hi, hi_binding = s_nec, binding
-        lo = feasible_rate if feasible_rate is not None and feasible_rate < s_nec else 0.0
-        s = s_nec
+        hi, hi_binding = first if first is not None else (s_nec, checked[1])
+        lo = feasible_rate if feasible_rate is not None and feasible_rate < hi else 0.0
+        s = hi
         while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
             s *= 0.1
             ok, binding = probe(s)
@@ -499,7 +585,7 @@ def find_frontier(
             design, _ = _probe_body(setup, lo)
         if design is None or _balance_fails(design, lo):
             break  # the balance speaks below
-        refused = _accept_body(design)
+        refused = None if lo == accepted_at else _accept_body(design)
         if refused is None:
             break
         hi, hi_binding = lo, refused
