@@ -763,6 +763,12 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
     (:meth:`PhysicalSetup.field_bound`).
 
+    The cones hold at their points whether or not a body puts a carrier there (a body that
+    leaves a candidate empty is not bound on its surface): the bound is the one the design's
+    own proof uses (the cones on every usable carrier, :func:`_meet_surface_limits`). Tested
+    against the frontier's bisection (the bound lies in its bracket where the charges bind)
+    and the charges' stage (refused at 1.001 times the bound).
+
     Returns
     -------
     ChargesLimit
@@ -954,6 +960,16 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
     import cvxpy as cp
 
+    if len(np.unique(carrier_sites)) >= len(setup.points):
+        # (the minmax's charges on every candidate, say): nothing left to solve for
+        raise PhysicalInfeasible(
+            Binding(
+                "masses",
+                f"the {len(setup.points)} carriers fill every candidate site: no cell is left "
+                "for the magnets and the ballast",
+                "ballast cells",
+            )
+        )
     program = mass_program(setup, s, carrier_sites)
     _, bd = setup.systems["dipoles"]
     if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
