@@ -624,6 +624,8 @@ MINMAX_CONES = 0.99
 MINMAX_KEEP = 0.9
 #: Clarabel's factorisation for the minmax (its cones are dense in the charges)
 MINMAX_LDL = "faer"
+#: Clarabel's gap and feasibility tolerances in the minmax (relative)
+MINMAX_TOL = 1e-6
 #: at most this many cone rounds in :func:`charges_rate_limit`
 MINMAX_ROUNDS = 40
 
@@ -721,6 +723,10 @@ def _minmax_charges(
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.direct_solve_method = MINMAX_LDL
+    # the rate is wanted to far less than the interior point's default 1e-8 (measured on the
+    # default body: 1.6x faster, the rate within 7e-6)
+    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = MINMAX_TOL
+    settings.tol_ktratio = 10 * MINMAX_TOL
     solver = clarabel.DefaultSolver(
         sparse.csc_matrix((k + 1, k + 1)),
         cost,
