@@ -280,6 +280,25 @@ def _charges_limit(setup: PhysicalSetup, rtol: float) -> ChargesLimit | None:
     return limit if limit.stage != "none" and 0 < limit.rate < math.inf else None
 
 
+def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
+    """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
+    charges' own-field LP (a cheap guess of the design's carriers; it only orders the
+    frontier's probes, never decides one)."""
+    from chargedesign.design.physical import _lp_charges, _support, design_masses
+
+    A, b = setup.systems["charges"]
+    q = _lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
+    if q is None:
+        return False
+    try:
+        design_masses(setup, s, _support(q))
+    except PhysicalInfeasible:
+        return True  # the magnets or the masses
+    except SolverError:
+        return False  # the design will say
+    return False
+
+
 def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
     """What refuses every rate above the charges' limit (proved: no charges exist there)."""
     if limit.stage == "fields":
@@ -492,7 +511,10 @@ def find_frontier(
         s_nec = min(s_nec, limit.rate)
         upper_binding = hi_binding = top_binding
         hi = limit.rate
-        for step in DIRECT_STEPS:
+        # near s_c the design's cone rounds are its dearest: when the masses already fail there
+        # around the carriers of the charges' first LP, the bisection starts below instead
+        steps = () if _masses_refuse(setup, limit.rate / (1 + rtol)) else DIRECT_STEPS
+        for step in steps:
             s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
             ok, binding = probe(s_try)
             design_try = best.get(s_try) if ok else None
@@ -506,6 +528,8 @@ def find_frontier(
             assert binding is not None
             hi, hi_binding = s_try, binding
             first = (s_try, binding)
+            if binding.stage != "charges":
+                break  # the masses, the balance or the acceptance bind lower: bisect below
     if accepted_at is not None:
         lo = accepted_at
     elif not math.isfinite(s_nec):
