@@ -121,10 +121,12 @@ def table_readings(quick: bool) -> BenchTable:
         notes=[
             "design_s: both stages, the limits check, the realism budget and the forward check "
             "(the design's acceptance) at the scene's rate",
-            "frontier: bisection in log s to 1 %, with upward restarts and the check at "
-            "(1 +- 2 %) s_max; each probe is the design's per-rate acceptance (both stages, "
-            "the balance), the limits check and the forward check run at s_max; probes: the "
-            "designs run (rates above a proved refusal are refused without one)",
+            "frontier: the charges' limit s_c from their minmax (one SOCP), then the design at "
+            "s_c (1 - rtol/4) and s_c / (1 + rtol); where those are refused, bisection in "
+            "log s to 1 %, with upward restarts and the check at (1 +- 2 %) s_max; each probe "
+            "is the design's per-rate acceptance (both stages, the balance), the limits check "
+            "and the forward check; probes: the designs run (rates above a proved refusal, "
+            "and above s_c, are refused without one)",
             "ratios against the charges reading (the paper's (p6)), measured in the same run",
             "frame: n is free (a rotation of axes), so n_max has no meaning there",
         ],

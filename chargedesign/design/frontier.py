@@ -16,13 +16,22 @@ the balance under gravity and the forward check):
 1. an upper bound from one LP: the largest ``s`` for which charges meet their conditions with
    every carrier's own surface field within the safe field (a necessary condition; without
    charge conditions, rates 10x apart up to the first refused);
-2. bisection in ``log s`` over the full acceptance to ``rtol``.
+2. the charges' limit computed directly
+   (:func:`~chargedesign.design.physical.charges_rate_limit`): the charges' conditions
+   ``A q = s b`` and their surface fields are homogeneous in ``(q, s)``, so with ``q = s u``
+   the largest rate the charges allow is ``s_c = E_lim / t*``,
+   ``t* = min_u max_x |E(u)(x)| + E_ext`` subject to ``A u = b``: one SOCP, solved by the
+   design's constraint generation. No charges exist above ``s_c`` (a proved refusal, never
+   designed); the design at ``s_c (1 - rtol / 4)``, then at ``s_c / (1 + rtol)``, closes the
+   bracket when accepted (measured: the default body in 1 design instead of 11, the small body
+   in SF6 in 1 instead of 11);
+3. otherwise (the masses, the balance or the acceptance bind below ``s_c``) bisection in
+   ``log s`` over the full acceptance to ``rtol``, below the lowest rate refused.
 
 A refusal the charges' stage proves (:attr:`~chargedesign.design.physical.Binding.proved`:
-the own-field LP, or the surface cones on every usable carrier, infeasible) holds at every
-faster rate, so the checks above the bracket that guard against the heuristic's
-non-monotonicity skip the rates above a proved refusal (measured on the default body: 3 of
-its 14 designs).
+the own-field LP, or the surface cones on every usable carrier, infeasible; or the rate above
+``s_c``) holds at every faster rate, so the checks above the bracket that guard against the
+heuristic's non-monotonicity skip the rates above a proved refusal.
 
 The binding limit is the one that fails just above ``s_max``. Under gravity the balance
 bounds the rate from below (the designed torques go as ``s^2``, gravity's imbalance does not):
@@ -43,8 +52,10 @@ from chargedesign.body import Design
 from chargedesign.design.acceptance import BUILDER_BALANCE_M, body_check
 from chargedesign.design.physical import (
     Binding,
+    ChargesLimit,
     PhysicalInfeasible,
     PhysicalSetup,
+    charges_rate_limit,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.results import Result
@@ -60,6 +71,12 @@ LOWEST_RATE_FRACTION = 1e-9
 HIGHEST_RATE = 1e15
 #: rates below s_max tried when the forward check or the limits check refuses the body there
 ACCEPT_RETRIES = 3
+#: the charges' minmax (:func:`~chargedesign.design.physical.charges_rate_limit`) closes its
+#: gap to this fraction of the frontier's rtol
+CHARGES_GAP_FRACTION = 0.1
+#: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
+#: s_c / (1 + rtol) (None)
+DIRECT_STEPS = (0.25, None)
 
 
 @dataclass(repr=False)
@@ -88,6 +105,10 @@ class FrontierResult(Result):
         What fails just above ``s_max``.
     s_necessary : float
         The charges' own-field upper bound on s (inf without charge conditions).
+    s_charges : float or None
+        The largest rate the charges allow, from their minmax
+        (:func:`~chargedesign.design.physical.charges_rate_limit`; an upper bound on
+        ``s_max``: no charges exist above it); None when not computed.
     s_min : float
         Under gravity, the lowest rate whose balance the forward check confirms (0 without
         gravity); ``balance`` gives the numbers at ``s_max``.
@@ -115,6 +136,7 @@ class FrontierResult(Result):
     balance: dict[str, Any] = field(default_factory=dict)
     #: the smallest |q| of the body designed at s_max, C (0: no charges)
     smallest_charge: float = 0.0
+    s_charges: float | None = None
 
     @property
     def n_free(self) -> bool:
@@ -145,6 +167,11 @@ class FrontierResult(Result):
             "binding_detail": self.binding.to_dict(),
             "s_above": self.s_above,
             "s_necessary": self.s_necessary if math.isfinite(self.s_necessary) else None,
+            "s_charges": (
+                self.s_charges
+                if self.s_charges is not None and math.isfinite(self.s_charges)
+                else None
+            ),
             "s_min": self.s_min,
             "balance": dict(self.balance),
             "medium": self.medium,
@@ -244,6 +271,58 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     return float(res.x[-1])
 
 
+def _charges_limit(setup: PhysicalSetup, rtol: float) -> ChargesLimit | None:
+    """The charges' limit on the rate, or None when it does not apply (no charge conditions,
+    no charges at all, or the minmax's rounds ran out: the bisection alone then)."""
+    try:
+        limit = charges_rate_limit(setup, gap=CHARGES_GAP_FRACTION * rtol)
+    except SolverError:
+        return None
+    return limit if limit.stage != "none" and 0 < limit.rate < math.inf else None
+
+
+def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
+    """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
+    charges' own-field LP (a cheap guess of the design's carriers; it only orders the
+    frontier's probes, never decides one)."""
+    from chargedesign.design.physical import _lp_charges, _support, design_masses
+
+    A, b = setup.systems["charges"]
+    q = _lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
+    if q is None:
+        return False
+    try:
+        design_masses(setup, s, _support(q))
+    except PhysicalInfeasible:
+        return True  # the magnets or the masses
+    except SolverError:
+        return False  # the design will say
+    return False
+
+
+def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
+    """What refuses every rate above the charges' limit (proved: no charges exist there)."""
+    if limit.stage == "fields":
+        return Binding(
+            "fields",
+            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            "body region",
+            "fields.electric",
+            1.0,
+            proved=True,
+        )
+    medium = setup.spec.medium
+    return Binding(
+        "charges",
+        f"no charges meet the conditions above s = {limit.rate:.6g} with every carrier's "
+        f"surface field within the safe field of {medium.name} ({setup.safe_field:.3g} V/m): "
+        "at the best charges the carriers' fields add up to it here",
+        f"charge at {np.array2string(setup.points[limit.worst_site], precision=4)} m",
+        1.0,
+        proved=True,
+    )
+
+
 def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
     """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
     stages (:func:`~chargedesign.design.physical.design_at_rate`) and the balance under
@@ -326,13 +405,15 @@ def find_frontier(
     progress: Any = None,
     feasible_rate: float | None = None,
     feasible: Design | None = None,
+    direct: bool = True,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
 
     ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
     which starts the bracket and saves the search for a feasible point; ``feasible`` its
     body, which then need not be designed again if the frontier ends there. The bracket
-    ``[s_max, s_above]`` ends narrower than ``1 + rtol``.
+    ``[s_max, s_above]`` ends narrower than ``1 + rtol``. ``direct``: bracket the frontier
+    from the charges' limit first (see the module doc; False: the bisection alone).
 
     Raises
     ------
@@ -342,6 +423,8 @@ def find_frontier(
     """
     t0 = time.perf_counter()
     s_nec = necessary_rate(setup)
+    s_lp = s_nec  # reported: the own-field LP's bound
+    s_charges: float | None = None
     history: list[tuple[float, bool]] = []
     medium = setup.spec.medium.name
     theorem = setup.theorem_params
@@ -381,7 +464,7 @@ def find_frontier(
             s_max=lo,
             n=theorem.n,
             binding=binding,
-            s_necessary=s_nec,
+            s_necessary=s_lp,
             s_above=hi,
             evaluations=len(history),
             seconds=time.perf_counter() - t0,
@@ -395,6 +478,7 @@ def find_frontier(
                 if design is not None and len(design.charge_values)
                 else 0.0
             ),
+            s_charges=s_charges,
         )
 
     if not s_nec > 0:
@@ -419,7 +503,40 @@ def find_frontier(
             "fields.electric",
         )
     hi_binding: Binding | None = upper_binding
-    if not math.isfinite(s_nec):
+    # the charges' limit computed directly: no charges exist above it (a proved refusal), and
+    # when the charges bind, designs just below it close the bracket
+    accepted_at: float | None = None
+    first: tuple[float, Binding] | None = None  # the lowest rate refused by the direct steps
+    limit = _charges_limit(setup, rtol) if direct and math.isfinite(s_nec) else None
+    if limit is not None:
+        s_charges = limit.rate
+        top_binding = _limit_binding(setup, limit)
+        proved[:] = [(limit.rate, top_binding)]
+        s_nec = min(s_nec, limit.rate)
+        upper_binding = hi_binding = top_binding
+        hi = limit.rate
+        # near s_c the design's cone rounds are its dearest: when the masses already fail there
+        # around the carriers of the charges' first LP, the bisection starts below instead
+        steps = () if _masses_refuse(setup, limit.rate / (1 + rtol)) else DIRECT_STEPS
+        for step in steps:
+            s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
+            ok, binding = probe(s_try)
+            design_try = best.get(s_try) if ok else None
+            if design_try is not None:
+                # the balance, if it fails, speaks below (too slow); else the acceptance
+                refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
+                if refused is None:
+                    accepted_at = s_try
+                    break
+                binding = refused
+            assert binding is not None
+            hi, hi_binding = s_try, binding
+            first = (s_try, binding)
+            if binding.stage != "charges":
+                break  # the masses, the balance or the acceptance bind lower: bisect below
+    if accepted_at is not None:
+        lo = accepted_at
+    elif not math.isfinite(s_nec):
         # no charge conditions (frame with K = 0): rates 10x apart up to the first refused
         s = feasible_rate or 1.0
         s_nec = HIGHEST_RATE
@@ -430,14 +547,16 @@ def find_frontier(
                 break
             s *= 10.0
         hi_binding = upper_binding
-    hi = s_nec * (1 + rtol)
-    ok, binding = probe(s_nec)
-    if ok:
+    checked = (False, None) if accepted_at is not None or first is not None else probe(s_nec)
+    if accepted_at is not None:
+        pass
+    elif checked[0]:
+        hi = s_nec * (1 + rtol)
         lo = s_nec
     else:
-        hi, hi_binding = s_nec, binding
-        lo = feasible_rate if feasible_rate is not None and feasible_rate < s_nec else 0.0
-        s = s_nec
+        hi, hi_binding = first if first is not None else (s_nec, checked[1])
+        lo = feasible_rate if feasible_rate is not None and feasible_rate < hi else 0.0
+        s = hi
         while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
             s *= 0.1
             ok, binding = probe(s)
@@ -503,7 +622,7 @@ def find_frontier(
             design, _ = _probe_body(setup, lo)
         if design is None or _balance_fails(design, lo):
             break  # the balance speaks below
-        refused = _accept_body(design)
+        refused = None if lo == accepted_at else _accept_body(design)
         if refused is None:
             break
         hi, hi_binding = lo, refused

@@ -612,6 +612,222 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
     )
 
 
+# ------------------------------------------------------- the charges' limit on the rate
+#: the rounds of :func:`charges_rate_limit` stop when the largest field the surface check
+#: finds exceeds the working points' bound by less than this fraction
+MINMAX_GAP = 1e-3
+#: carriers whose largest surface field passes this fraction of the working points' bound
+#: get a cone at their worst point (at the minimum many carriers share the largest field)
+MINMAX_CONES = 0.99
+#: cones whose field at a round's charges stays below this fraction of its bound are dropped
+#: (the check adds a carrier's worst point again when it comes back near the bound)
+MINMAX_KEEP = 0.9
+#: Clarabel's factorisation for the minmax (its cones are dense in the charges)
+MINMAX_LDL = "faer"
+#: Clarabel's gap and feasibility tolerances in the minmax (relative)
+MINMAX_TOL = 1e-6
+#: at most this many cone rounds in :func:`charges_rate_limit`
+MINMAX_ROUNDS = 40
+
+
+@dataclass
+class ChargesLimit:
+    """The largest rate the charges allow, from one convex problem (see
+    :func:`charges_rate_limit`).
+
+    Attributes
+    ----------
+    rate : float
+        Largest time rate at which charges can meet ``A q = s b`` with every carrier's surface
+        field within ``E_safe (1 - DESIGN_MARGIN)`` at the check's points (inf: no charge
+        conditions and no electric-field limit).
+    gap : float
+        Charges exist at ``rate / (1 + gap)`` (``q = rate / (1 + gap) * u``), relative.
+    t : float
+        ``min_u max_x |E(u)|(x) + E_ext(|x|)`` at rate 1, V/m: the largest surface field per
+        unit rate of the best charges (inf: none meet the conditions).
+    sites : ndarray, shape (k,)
+        Candidate indices of the carriers of those charges.
+    charges : ndarray, shape (k,)
+        Their charges at rate 1 (``u``), C.
+    worst_site : int
+        The candidate whose surface carries the largest field (-1: none).
+    rounds, cones : int
+        Constraint-generation rounds and surface cones used.
+    stage : str
+        What sets ``rate``: ``charges`` (the surface fields), ``fields`` (the apparatus'
+        ``fields.electric.max``) or ``none``.
+    """
+
+    rate: float
+    gap: float
+    t: float
+    sites: np.ndarray
+    charges: np.ndarray
+    worst_site: int
+    rounds: int
+    cones: int
+    stage: str
+
+
+def _minmax_charges(
+    setup: PhysicalSetup, cones: list[np.ndarray]
+) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """``min t`` over charges ``u`` (rate 1) on every candidate with ``A u = b``, each
+    carrier's own surface field plus the external one within ``t``, and the same at the cone
+    points (Clarabel called directly: the cvxpy canonicalisation of the dense cones cost
+    more than the solve). ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``.
+    None: no charges meet the conditions.
+    """
+    import clarabel
+    from scipy import sparse
+
+    A, b = setup.systems["charges"]
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    a = setup.carrier_radius
+    qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
+    As, bs = _row_scaled(A, b, qs)
+    k = len(setup.points)
+    # x = (u, t), u in units of qs, t in units of limit; rows A x + slack = rhs, slack in cones
+    own_ext = setup.external_max(np.linalg.norm(setup.points, axis=1) + a, 1.0) / limit
+    eye = sparse.identity(k, format="csc")
+    minus_t = sparse.csc_matrix(-np.ones((k, 1)))
+    blocks = [
+        sparse.hstack([sparse.csc_matrix(As), sparse.csc_matrix((len(bs), 1))]),
+        sparse.hstack([eye, minus_t]),  # u_j + own_ext_j <= t
+        sparse.hstack([-eye, minus_t]),  # -u_j + own_ext_j <= t
+    ]
+    rhs = [bs, -own_ext, -own_ext]
+    cone_types: list[Any] = [
+        clarabel.ZeroConeT(len(bs)),
+        clarabel.NonnegativeConeT(2 * k),
+    ]
+    if cones:
+        points = np.array(cones)
+        m = len(points)
+        d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
+        r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+        G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
+        ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
+        # per point: (t - ext, G u) in the second-order cone of dimension 4
+        rows = np.zeros((m, 4, k + 1))
+        rows[:, 0, k] = -1.0
+        rows[:, 1:, :k] = -G
+        cone_rhs = np.zeros((m, 4))
+        cone_rhs[:, 0] = -ext
+        blocks.append(sparse.csc_matrix(rows.reshape(4 * m, k + 1)))
+        rhs.append(cone_rhs.reshape(-1))
+        cone_types += [clarabel.SecondOrderConeT(4)] * m
+    cost = np.zeros(k + 1)
+    cost[k] = 1.0
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.direct_solve_method = MINMAX_LDL
+    # the rate is wanted to far less than the interior point's default 1e-8 (measured on the
+    # default body: 1.6x faster, the rate within 7e-6)
+    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = MINMAX_TOL
+    settings.tol_ktratio = 10 * MINMAX_TOL
+    solver = clarabel.DefaultSolver(
+        sparse.csc_matrix((k + 1, k + 1)),
+        cost,
+        sparse.vstack(blocks, format="csc"),
+        np.concatenate(rhs),
+        cone_types,
+        settings,
+    )
+    solution = solver.solve()
+    status = solution.status
+    if status in (
+        clarabel.SolverStatus.PrimalInfeasible,
+        clarabel.SolverStatus.AlmostPrimalInfeasible,
+    ):
+        return None
+    if status not in (clarabel.SolverStatus.Solved, clarabel.SolverStatus.AlmostSolved):
+        raise SolverError(f"charges: Clarabel returned {status} on the charges' minmax")
+    x = np.asarray(solution.x)
+    t = float(x[k])
+    used = np.zeros(0)
+    if cones:
+        used = (np.linalg.norm(G @ x[:k], axis=1) + ext) / t
+    return t * limit, x[:k] * qs, used
+
+
+def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> ChargesLimit:
+    """The largest rate the charges' stage allows, computed directly.
+
+    At rate ``s`` the charges meet ``A q = s b`` (:func:`design_charges`) with every carrier's
+    surface field ``|E(q)(x)| + s E_ext(|x|) <= E_lim = E_safe (1 - DESIGN_MARGIN)`` and their
+    own-field caps ``|q_j| / (4 pi eps0 a^2) + s E_ext <= E_lim``, all homogeneous of degree 1
+    in ``(q, s)``. With ``q = s u`` the largest such rate is ``E_lim / t*`` with the one convex
+    problem (an SOCP) ``t* = min_u max_x (|E(u)(x)| + E_ext(|x|))`` subject to ``A u = b``.
+    It is solved by the design's constraint generation: cones at the worst surface point of
+    every used carrier near the maximum (the design's surface check,
+    :data:`LOOP_SURFACE_SAMPLES` samples per carrier and a refinement), re-solved until the
+    check's maximum exceeds the working points' ``t`` by less than :data:`MINMAX_GAP`. The
+    working points are a subset of the check's, so each round's ``t`` is a lower bound and
+    ``E_lim / t`` bounds the rate from above; the last charges reach ``E_lim`` at
+    ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
+    (:meth:`PhysicalSetup.field_bound`).
+
+    The cones hold at their points whether or not a body puts a carrier there (a body that
+    leaves a candidate empty is not bound on its surface): the bound is the one the design's
+    own proof uses (the cones on every usable carrier, :func:`_meet_surface_limits`). Tested
+    against the frontier's bisection (the bound lies in its bracket where the charges bind)
+    and the charges' stage (refused at 1.001 times the bound).
+
+    Returns
+    -------
+    ChargesLimit
+
+    Raises
+    ------
+    SolverError
+        Clarabel fails, or the rounds run out before the gap closes.
+    """
+    _, b = setup.systems["charges"]
+    bound = setup.field_bound(1.0)
+    empty = np.zeros(0, dtype=int)
+    if not np.any(b):
+        stage = "fields" if math.isfinite(bound) else "none"
+        return ChargesLimit(bound, 0.0, 0.0, empty, np.zeros(0), -1, 0, 0, stage)
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    cones: list[np.ndarray] = []
+    for rounds in range(1, MINMAX_ROUNDS + 1):
+        solved = _minmax_charges(setup, cones)
+        if solved is None:
+            return ChargesLimit(0.0, 0.0, math.inf, empty, np.zeros(0), -1, rounds, 0, "charges")
+        t, u, used = solved
+        sites = _support(u)
+        s = limit / t
+        # the check at rate s on the charges s u: ratios to E_safe, so 1 - DESIGN_MARGIN is t
+        ratios, worst = _surface_check(
+            setup, setup.points[sites], s * u[sites], s, LOOP_SURFACE_SAMPLES
+        )
+        top = float(np.max(ratios)) / (1 - DESIGN_MARGIN)
+        if top <= 1 + gap:
+            rate = s
+            stage = "charges"
+            if bound < rate:
+                rate, stage = bound, "fields"
+            return ChargesLimit(
+                rate=rate,
+                gap=max(top - 1.0, 0.0),
+                t=t,
+                sites=sites,
+                charges=u[sites],
+                worst_site=int(sites[np.argmax(ratios)]),
+                rounds=rounds,
+                cones=len(cones),
+                stage=stage,
+            )
+        near = np.flatnonzero(ratios > MINMAX_CONES * (1 - DESIGN_MARGIN))
+        cones = [point for point, value in zip(cones, used, strict=True) if value >= MINMAX_KEEP]
+        cones.extend(worst[i] for i in near)
+    raise SolverError(
+        f"charges: the charges' minmax did not close its gap to {gap:g} in {MINMAX_ROUNDS} rounds"
+    )
+
+
 @dataclass
 class ChargeProgram:
     """The charges' stage as one cvxpy problem on every candidate (no constraint generation).
@@ -750,6 +966,16 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
     import cvxpy as cp
 
+    if len(np.unique(carrier_sites)) >= len(setup.points):
+        # (the minmax's charges on every candidate, say): nothing left to solve for
+        raise PhysicalInfeasible(
+            Binding(
+                "masses",
+                f"the {len(setup.points)} carriers fill every candidate site: no cell is left "
+                "for the magnets and the ballast",
+                "ballast cells",
+            )
+        )
     program = mass_program(setup, s, carrier_sites)
     _, bd = setup.systems["dipoles"]
     if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):

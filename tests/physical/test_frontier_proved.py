@@ -25,7 +25,9 @@ def setup():
 
 @pytest.fixture(scope="module")
 def frontier(setup):
-    return find_frontier(setup)
+    # the bisection alone (the charges' limit computed directly proves its refusal without
+    # the design's: test_frontier_direct.py)
+    return find_frontier(setup, direct=False)
 
 
 def _refusal(setup, s):
@@ -72,7 +74,7 @@ def test_skipping_the_rates_above_a_proved_refusal_changes_nothing(setup, fronti
         original(self, physical.Binding(**{**binding.__dict__, "proved": False}))
 
     monkeypatch.setattr(physical.PhysicalInfeasible, "__init__", unproved)
-    plain = find_frontier(setup)
+    plain = find_frontier(setup, direct=False)
     assert plain.s_max == frontier.s_max and plain.s_above == frontier.s_above
     assert plain.binding.to_dict() == frontier.binding.to_dict()
     # this body's upward checks include rates above a proved refusal (12 designs against 14)
