@@ -285,14 +285,14 @@ def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
     """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
     charges' own-field LP (a cheap guess of the design's carriers; it only orders the
     frontier's probes, never decides one)."""
-    from chargedesign.design.physical import _lp_charges, _support, design_masses
+    from chargedesign.design.physical import charge_support, design_masses, lp_charges
 
     A, b = setup.systems["charges"]
-    q = _lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
+    q = lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
     if q is None:
         return False
     try:
-        design_masses(setup, s, _support(q))
+        design_masses(setup, s, charge_support(q))
     except PhysicalInfeasible:
         return True  # the magnets or the masses
     except SolverError:

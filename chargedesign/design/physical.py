@@ -309,7 +309,7 @@ def _row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndar
     return As / top[:, None], b / top
 
 
-def _lp_charges(
+def lp_charges(
     A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
@@ -463,7 +463,7 @@ def _excess(ratio: float) -> str:
     return f"needs {ratio:.3g}x" if ratio >= 1.01 else "reaches"
 
 
-def _support(q: np.ndarray) -> np.ndarray:
+def charge_support(q: np.ndarray) -> np.ndarray:
     top = float(np.max(np.abs(q))) if len(q) else 0.0
     return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
 
@@ -483,14 +483,14 @@ def _meet_surface_limits(
     """
     A, b = setup.systems["charges"]
     medium = setup.spec.medium
-    working = _support(q_lp)
+    working = charge_support(q_lp)
     q = q_lp
     lp_caps = caps.copy()
     cones: list[tuple[int, np.ndarray]] = []
     worst_ratio, worst_site = 0.0, -1
     lp_alive = True
     for rounds in range(1, MAX_ROUNDS + 1):
-        sites = _support(q)
+        sites = charge_support(q)
         ratios, worst = _surface_check(
             setup, setup.points[sites], q[sites], s, LOOP_SURFACE_SAMPLES
         )
@@ -507,9 +507,9 @@ def _meet_surface_limits(
         if lp_alive and rounds <= LP_ROUNDS:
             near = np.flatnonzero(ratios > CONE_THRESHOLD)
             lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
-            more = _lp_charges(A, s * b, lp_caps, setup.cost("charges"))
+            more = lp_charges(A, s * b, lp_caps, setup.cost("charges"))
             if more is not None:
-                working = np.union1d(working, _support(more))
+                working = np.union1d(working, charge_support(more))
                 q = more
                 continue
             lp_alive = False
@@ -571,7 +571,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
             np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
         )
     caps = setup.charge_caps(s)
-    q_lp = _lp_charges(A, s * b, caps, setup.cost("charges"))
+    q_lp = lp_charges(A, s * b, caps, setup.cost("charges"))
     if q_lp is None:
         raise PhysicalInfeasible(
             Binding(
@@ -585,7 +585,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
         )
     objective_lp = float(np.sum(np.abs(q_lp)))
     q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
-    sites = _support(q_full)
+    sites = charge_support(q_full)
     if not len(sites):
         raise SolverError(f"charges: the solver returned no charges at rate s = {s:.3g}")
     q = q_full[sites]
@@ -797,7 +797,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         if solved is None:
             return ChargesLimit(0.0, 0.0, math.inf, empty, np.zeros(0), -1, rounds, 0, "charges")
         t, u, used = solved
-        sites = _support(u)
+        sites = charge_support(u)
         s = limit / t
         # the check at rate s on the charges s u: ratios to E_safe, so 1 - DESIGN_MARGIN is t
         ratios, worst = _surface_check(
