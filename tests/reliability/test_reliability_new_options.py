@@ -11,7 +11,7 @@ import os
 from pathlib import Path
 
 import pytest
-from conftest import SMALL_DESIGN, assert_clean_error, run_cli, snapshot
+from conftest import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
 
 #: every command that reads a design.json (the error comes from the one reader, before the work)
 READERS = [
@@ -162,8 +162,6 @@ def test_a_sweep_caps_each_points_motion_before_any_runs(
 def test_a_sweeps_tolerance_options_are_checked_before_any_point(
     options: str, named: str, work: Path, capsys
 ) -> None:
-    from conftest import SMALL_SCENE
-
     _sweep(
         work,
         f'command = "tolerance"\n[grid]\n"body.spacing" = [0.34]\n[options]\n{options}\n',
