@@ -31,6 +31,18 @@ radius = 1.0
 spacing = 0.34
 """
 
+#: a theorem-only scene that simulates in about a second (no design, no JIT): the small
+#: scene's parameters and field, without its body
+THEOREM_SCENE = (
+    SMALL_SCENE.split("[body]")[0]
+    + """[simulation]
+effects = ["theorem"]
+t_end = 1.0
+samples = 11
+method = "DOP853"
+"""
+)
+
 #: a valid design.json (one charge, one mass, one dipole; realises nothing, so check passes)
 SMALL_DESIGN = {
     "format": "chargedesign.design/1",

@@ -11,7 +11,14 @@ import os
 from pathlib import Path
 
 import pytest
-from conftest import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
+from conftest import (
+    SMALL_DESIGN,
+    SMALL_SCENE,
+    THEOREM_SCENE,
+    assert_clean_error,
+    run_cli,
+    snapshot,
+)
 
 #: every command that reads a design.json (the error comes from the one reader, before the work)
 READERS = [
@@ -91,26 +98,6 @@ def test_material_error_options_have_their_range(
 
 # ------------------------------------------------------------------ sweeps (outside review)
 
-#: a theorem-only scene (no design): its points simulate in about a second
-THEOREM_SCENE = """\
-[parameters]
-C = 1.0
-c = 0.3
-d = -0.4
-n = 0.7
-K = 0.5
-kappa = 0.9
-
-[fields.magnetic]
-a1 = 1.0
-a2 = 0.5
-
-[simulation]
-effects = ["theorem"]
-t_end = 1.0
-samples = 11
-method = "DOP853"
-"""
 
 
 def _sweep(folder: Path, body: str, scene: str = THEOREM_SCENE) -> None:

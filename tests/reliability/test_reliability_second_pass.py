@@ -16,28 +16,14 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
-
-#: a theorem-only scene that simulates in about a second (no design, no JIT)
-THEOREM_SCENE = """\
-[parameters]
-C = 1.0
-c = 0.3
-d = -0.4
-n = 0.7
-K = 0.5
-kappa = 0.9
-
-[fields.magnetic]
-a1 = 1.0
-a2 = 0.5
-
-[simulation]
-effects = ["theorem"]
-t_end = 1.0
-samples = 11
-method = "DOP853"
-"""
+from conftest import (
+    SMALL_DESIGN,
+    SMALL_SCENE,
+    THEOREM_SCENE,
+    assert_clean_error,
+    run_cli,
+    snapshot,
+)
 
 
 def _design(tmp_path: Path, name: str = "design.json", **changes: object) -> Path:
