@@ -98,3 +98,24 @@ def design_file(tmp_path: Path):
         return path
 
     return make
+
+
+def design_json(folder: Path, name: str = "design.json", **changes: object) -> Path:
+    """Write SMALL_DESIGN with ``changes`` (a value of None removes its key) into ``folder``."""
+    data = json.loads(json.dumps(SMALL_DESIGN))
+    data.update(changes)
+    for key in [k for k, v in changes.items() if v is None]:
+        del data[key]
+    path = folder / name
+    path.write_text(json.dumps(data))
+    return path
+
+
+def refused(argv: list[str], command: str, capsys, folder: Path) -> str:
+    """Run ``argv``; assert one error line and that ``folder`` is unchanged; the line."""
+    before = snapshot(folder)
+    code, _, err = run_cli(argv, capsys)
+    line = assert_clean_error(code, err, command)
+    assert snapshot(folder) == before, f"{argv}: wrote or changed files"
+    return line
+

@@ -15,9 +15,9 @@ from conftest import (
     SMALL_DESIGN,
     SMALL_SCENE,
     THEOREM_SCENE,
-    assert_clean_error,
+    design_json,
+    refused,
     run_cli,
-    snapshot,
 )
 
 #: every command that reads a design.json (the error comes from the one reader, before the work)
@@ -33,22 +33,6 @@ READERS = [
 def work(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     monkeypatch.chdir(tmp_path)
     return tmp_path
-
-
-def _with_larmor(folder: Path, larmor: object) -> Path:
-    data = json.loads(json.dumps(SMALL_DESIGN))
-    data["larmor"] = larmor
-    path = folder / "j.json"
-    path.write_text(json.dumps(data))
-    return path
-
-
-def _refused(argv: list[str], command: str, capsys, folder: Path) -> str:
-    before = snapshot(folder)
-    code, _, err = run_cli(argv, capsys)
-    line = assert_clean_error(code, err, command)
-    assert snapshot(folder) == before, f"{argv}: wrote or changed files"
-    return line
 
 
 @pytest.mark.parametrize("argv", READERS, ids=lambda a: a[0])
@@ -67,14 +51,14 @@ def _refused(argv: list[str], command: str, capsys, folder: Path) -> str:
 def test_larmor_rate_is_the_theorems_n(
     argv: list[str], larmor: dict[str, object], named: str, work: Path, capsys
 ) -> None:
-    _with_larmor(work, larmor)
-    line = _refused(argv, argv[0], capsys, work)
+    design_json(work, "j.json", larmor=larmor)
+    line = refused(argv, argv[0], capsys, work)
     assert "larmor.rate" in line and named in line, line
 
 
 def test_a_larmor_rate_equal_to_n_is_read(work: Path, capsys) -> None:
     """The refusal is of the mismatch only: the same file with rate = n passes check."""
-    _with_larmor(work, {"reading": "charges", "rate": 0.7})
+    design_json(work, "j.json", larmor={"reading": "charges", "rate": 0.7})
     code, out, err = run_cli(["check", "j.json"], capsys)
     assert code == 0 and not err, err
     assert "larmor reading: charges (rate 0.7 1/s)" in out
@@ -89,7 +73,7 @@ def test_material_error_options_have_their_range(
 ) -> None:
     design = work / "design.json"
     design.write_text(json.dumps(SMALL_DESIGN))
-    line = _refused(
+    line = refused(
         ["tolerance", "design.json", option, value, "--out", "o"], "tolerance", capsys, work
     )
     assert option in line, line
@@ -112,7 +96,7 @@ def test_a_sweep_never_fills_the_working_directory(out: str, work: Path, capsys)
     (work / "sub").mkdir()
     _sweep(work / "sub", 'command = "simulate"\n[grid]\n"simulation.t_end" = [1.0]\n')
     os.chdir(work / "sub")
-    line = _refused(["sweep", "x.sweep", "--out", out, "--quiet"], "sweep", capsys, work)
+    line = refused(["sweep", "x.sweep", "--out", out, "--quiet"], "sweep", capsys, work)
     assert "working directory" in line, line
 
 
@@ -131,7 +115,7 @@ def test_a_sweep_caps_each_points_motion_before_any_runs(
     body: str, named: str, work: Path, capsys
 ) -> None:
     _sweep(work, body)
-    line = _refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
+    line = refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
     assert named in line and "MAX_PERIODS" in line, line
 
 
@@ -154,7 +138,7 @@ def test_a_sweeps_tolerance_options_are_checked_before_any_point(
         f'command = "tolerance"\n[grid]\n"body.spacing" = [0.34]\n[options]\n{options}\n',
         SMALL_SCENE,
     )
-    line = _refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
+    line = refused(["sweep", "x.sweep", "--out", "o", "--quiet"], "sweep", capsys, work)
     assert named in line, line
 
 
@@ -176,7 +160,7 @@ def test_tolerance_errors_stay_within_what_they_perturb(
     argv: list[str], named: str, work: Path, capsys
 ) -> None:
     (work / "design.json").write_text(json.dumps(SMALL_DESIGN))
-    line = _refused(["tolerance", "design.json", *argv, "--out", "o"], "tolerance", capsys, work)
+    line = refused(["tolerance", "design.json", *argv, "--out", "o"], "tolerance", capsys, work)
     assert named in line, line
 
 
@@ -198,5 +182,5 @@ def test_recorded_material_errors_are_read_by_every_reader(
     data = json.loads(json.dumps(SMALL_DESIGN))
     data["material_errors"] = recorded
     (work / "j.json").write_text(json.dumps(data))
-    line = _refused(argv, argv[0], capsys, work)
+    line = refused(argv, argv[0], capsys, work)
     assert named in line, line

@@ -20,29 +20,10 @@ from conftest import (
     SMALL_DESIGN,
     SMALL_SCENE,
     THEOREM_SCENE,
-    assert_clean_error,
+    design_json,
+    refused,
     run_cli,
-    snapshot,
 )
-
-
-def _design(tmp_path: Path, name: str = "design.json", **changes: object) -> Path:
-    data = json.loads(json.dumps(SMALL_DESIGN))
-    data.update(changes)
-    for key in [k for k, v in changes.items() if v is None]:
-        del data[key]
-    path = tmp_path / name
-    path.write_text(json.dumps(data))
-    return path
-
-
-def _refused(argv: list[str], command: str, capsys, folder: Path) -> str:
-    """Run ``argv`` in ``folder``; assert one error line and that ``folder`` is unchanged."""
-    before = snapshot(folder)
-    code, _, err = run_cli(argv, capsys)
-    line = assert_clean_error(code, err, command)
-    assert snapshot(folder) == before, f"{argv}: wrote or changed files"
-    return line
 
 
 @pytest.fixture
@@ -55,7 +36,7 @@ def work(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
 
 
 def test_an_output_never_replaces_an_input_directly_or_through_a_path(work: Path, capsys) -> None:
-    design = _design(work)
+    design = design_json(work)
     (work / "sub").mkdir()
     os.link(design, work / "hard.csv")
     cases = [
@@ -65,16 +46,16 @@ def test_an_output_never_replaces_an_input_directly_or_through_a_path(work: Path
         ["export", "design.json", "--format", "csv", "--out", "hard.csv"],  # a hard link
     ]
     for argv in cases:
-        line = _refused(argv, "export", capsys, work)
+        line = refused(argv, "export", capsys, work)
         assert "input" in line, line
 
 
 def test_a_folder_output_never_holds_an_input_under_a_name_it_writes(work: Path, capsys) -> None:
     (work / "res").mkdir()
-    design = _design(work / "res")  # res/design.json: tolerance and simulate write that name
-    line = _refused(["tolerance", str(design), "--out", "res"], "tolerance", capsys, work)
+    design = design_json(work / "res")  # res/design.json: tolerance and simulate write that name
+    line = refused(["tolerance", str(design), "--out", "res"], "tolerance", capsys, work)
     assert "input" in line
-    line = _refused(
+    line = refused(
         ["simulate", str(design), "--out", "res", "--no-progress"], "simulate", capsys, work
     )
     assert "input" in line
@@ -82,7 +63,7 @@ def test_a_folder_output_never_holds_an_input_under_a_name_it_writes(work: Path,
     scene.write_text(SMALL_SCENE)
     link = work / "res" / "report.md"
     link.symlink_to(scene)  # a link inside the folder to the scene
-    assert "--out" in _refused(["design", "s.toml", "--out", "res"], "design", capsys, work)
+    assert "--out" in refused(["design", "s.toml", "--out", "res"], "design", capsys, work)
 
 
 def _no_work(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -121,12 +102,12 @@ def _no_work(monkeypatch: pytest.MonkeyPatch) -> None:
 def test_outputs_are_checked_before_any_work(
     argv: list[str], work: Path, capsys, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    _design(work)
+    design_json(work)
     (work / "afile").write_text("keep")
     (work / "t.npz").write_bytes(b"")
     (work / "sw.toml").write_text('command = "design"\n[grid]\n"parameters.n" = [0.5]\n')
     _no_work(monkeypatch)
-    line = _refused(argv, argv[0], capsys, work)
+    line = refused(argv, argv[0], capsys, work)
     assert "--out" in line or "--screenshot" in line, line
 
 
@@ -141,7 +122,7 @@ def test_an_immutable_folder_is_refused_before_the_work(
         pytest.skip("this file system has no immutable flag")
     try:
         _no_work(monkeypatch)
-        assert "--out" in _refused(["design", "--out", "frozen"], "design", capsys, work)
+        assert "--out" in refused(["design", "--out", "frozen"], "design", capsys, work)
     finally:
         subprocess.run(["chattr", "-i", str(out)], check=False)
 
@@ -196,16 +177,16 @@ def test_every_command_refuses_an_unknown_key_in_any_table(
     (work / "s.toml").write_text(base + "\n" + table + "\n")
     _no_work(monkeypatch)
     argv = [command, "s.toml"] + (["--no-progress"] if command == "simulate" else [])
-    line = _refused(argv, command, capsys, work)
+    line = refused(argv, command, capsys, work)
     assert ".bogus" in line, line
 
 
 def test_check_refuses_unknown_keys_and_kinds_of_a_design_field(work: Path, capsys) -> None:
     fields = {"magnetic": {"legendre": [1.0, 1.0], "bogus": 1}}
-    _design(work, fields=fields)
-    assert "fields.magnetic.bogus" in _refused(["check", "design.json"], "check", capsys, work)
-    _design(work, fields={"magentic": {"legendre": [1.0]}})
-    assert "fields.magentic" in _refused(["check", "design.json"], "check", capsys, work)
+    design_json(work, fields=fields)
+    assert "fields.magnetic.bogus" in refused(["check", "design.json"], "check", capsys, work)
+    design_json(work, fields={"magentic": {"legendre": [1.0]}})
+    assert "fields.magentic" in refused(["check", "design.json"], "check", capsys, work)
 
 
 def test_the_scene_schema_lists_what_the_medium_validator_reads() -> None:
@@ -225,30 +206,30 @@ def test_check_needs_realises_to_give_a_verdict(work: Path, capsys) -> None:
     del data["realises"]
     data["charges"]["values"] = [-0.8 * 1.01]  # tampered
     (work / "design.json").write_text(json.dumps(data))
-    assert "realises" in _refused(["check", "design.json"], "check", capsys, work)
+    assert "realises" in refused(["check", "design.json"], "check", capsys, work)
 
 
 @pytest.mark.parametrize("command", ["check", "export", "simulate"])
-def test_a_physical_design_without_materials_is_refused(
+def test_a_physical_design_without_materials_isrefused(
     command: str, work: Path, capsys, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     medium = {"name": "air", "breakdown_V_per_m": 3e6, "safety": 0.5}
     for materials in ([], {}):
-        _design(work, medium=medium, materials=materials)
+        design_json(work, medium=medium, materials=materials)
         argv = {
             "check": ["check", "design.json"],
             "export": ["export", "design.json", "--out", "x.csv"],
             "simulate": ["simulate", "design.json", "--no-progress"],
         }[command]
-        assert "materials" in _refused(argv, command, capsys, work)
+        assert "materials" in refused(argv, command, capsys, work)
 
 
 # ------------------------------------------------------------------ degenerate requests
 
 
-def test_a_design_that_realises_nothing_is_refused(work: Path, capsys) -> None:
+def test_a_design_that_realises_nothing_isrefused(work: Path, capsys) -> None:
     (work / "s.toml").write_text(SMALL_SCENE + "\n[design]\nrealise = []\n")
-    assert "design.realise" in _refused(["design", "s.toml", "--out", "o"], "design", capsys, work)
+    assert "design.realise" in refused(["design", "s.toml", "--out", "o"], "design", capsys, work)
 
 
 def test_no_command_is_one_error_line(capsys) -> None:
@@ -288,12 +269,12 @@ def test_free_motion_is_said_in_the_output(work: Path, capsys) -> None:
     ],
     ids=lambda a: " ".join(a) if isinstance(a, list) else a,
 )
-def test_out_of_range_options_are_refused(
+def test_out_of_range_options_arerefused(
     argv: list[str], option: str, work: Path, capsys, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    _design(work, realises=["inertia"])
+    design_json(work, realises=["inertia"])
     _no_work(monkeypatch)
-    line = _refused(argv, argv[0], capsys, work)
+    line = refused(argv, argv[0], capsys, work)
     assert option in line, line
 
 
@@ -314,20 +295,20 @@ def test_help_states_every_range_that_is_checked() -> None:
 
 
 def test_caps_name_the_option_that_raises_them(work: Path, capsys) -> None:
-    line = _refused(["simulate", "--t-end", "1e8", "--no-progress"], "simulate", capsys, work)
+    line = refused(["simulate", "--t-end", "1e8", "--no-progress"], "simulate", capsys, work)
     assert "--max-periods" in line and "periods" in line
-    line = _refused(["simulate", "--t-end", "1e30", "--no-progress"], "simulate", capsys, work)
+    line = refused(["simulate", "--t-end", "1e30", "--no-progress"], "simulate", capsys, work)
     assert "--max-periods" in line
-    line = _refused(["simulate", "--atlas", "--orbits", "1000000"], "simulate", capsys, work)
+    line = refused(["simulate", "--atlas", "--orbits", "1000000"], "simulate", capsys, work)
     assert "--orbits" in line
     grid = ", ".join(str(0.1 + 0.01 * i) for i in range(100))
     (work / "big.toml").write_text(
         f'command = "design"\n[grid]\n"parameters.n" = [{grid}]\n"parameters.K" = [{grid}]\n'
         f'"parameters.kappa" = [{grid}]\n'
     )
-    line = _refused(["sweep", "big.toml", "--out", "o"], "sweep", capsys, work)
+    line = refused(["sweep", "big.toml", "--out", "o"], "sweep", capsys, work)
     assert "--max-points" in line
-    line = _refused(
+    line = refused(
         ["sweep", "big.toml", "--out", "o", "--workers", "100000"], "sweep", capsys, work
     )
     assert "--workers" in line
@@ -338,7 +319,7 @@ def test_a_long_legendre_list_is_refused_by_its_degree_first(work: Path, capsys)
     (work / "s.toml").write_text(
         f"[parameters]\nC = 1.0\n[fields.magnetic]\nlegendre = [{terms}]\n"
     )
-    line = _refused(["conditions", "s.toml"], "conditions", capsys, work)
+    line = refused(["conditions", "s.toml"], "conditions", capsys, work)
     assert "degree" in line and "300000" in line
 
 
@@ -355,13 +336,13 @@ def test_a_design_json_of_too_many_elements_is_refused_by_its_count(work: Path, 
         + "]}}"
     )
     (work / "design.json").write_text(text)
-    line = _refused(["check", "design.json"], "check", capsys, work)
+    line = refused(["check", "design.json"], "check", capsys, work)
     assert "MAX_DESIGN_ELEMENTS" in line
 
 
 def test_a_parameter_is_reported_against_its_own_range(work: Path, capsys) -> None:
     (work / "s.toml").write_text("[parameters]\nC = 1.0\nn = " + "1" * 40 + "\n")
-    line = _refused(["conditions", "s.toml"], "conditions", capsys, work)
+    line = refused(["conditions", "s.toml"], "conditions", capsys, work)
     assert "parameters.n" in line and "1e-08" in line and "1e+08" in line
 
 
@@ -384,7 +365,7 @@ def test_every_point_of_a_sweep_is_validated_before_any_runs(
 ) -> None:
     (work / "scene.toml").write_text(SMALL_SCENE)
     (work / "sw.toml").write_text(f'scene = "scene.toml"\ncommand = "{command}"\n[grid]\n{grid}\n')
-    line = _refused(
+    line = refused(
         ["sweep", "sw.toml", "--out", "o", "--executor", "serial"], "sweep", capsys, work
     )
     assert word in line, line
@@ -400,7 +381,7 @@ def test_a_point_that_fails_only_in_combination_is_found_before_the_run(work: Pa
         'scene = "scene.toml"\ncommand = "design"\n[grid]\n"body.radius" = [0.1, 1.0]\n'
         '"body.spacing" = [0.034, 0.005]\n'
     )
-    line = _refused(
+    line = refused(
         ["sweep", "sw.toml", "--out", "o", "--executor", "serial"], "sweep", capsys, work
     )
     assert "point p" in line, line
@@ -410,14 +391,14 @@ def test_sweep_options_are_bound_to_the_command(work: Path, capsys) -> None:
     (work / "sw.toml").write_text(
         'command = "tolerance"\n[grid]\n"parameters.n" = [0.5]\n[options]\nbogus = 1\n'
     )
-    line = _refused(["sweep", "sw.toml", "--out", "o"], "sweep", capsys, work)
+    line = refused(["sweep", "sw.toml", "--out", "o"], "sweep", capsys, work)
     assert "bogus" in line
 
 
 @pytest.mark.parametrize("name", ["a\nb", "a\x07b", "a:b", "a|b", "out ", "out."])
 def test_output_dir_names_must_be_portable(name: str, work: Path, capsys) -> None:
     (work / "s.toml").write_text(THEOREM_SCENE + f"\n[output]\ndir = {json.dumps(name)}\n")
-    line = _refused(["simulate", "s.toml", "--no-progress"], "simulate", capsys, work)
+    line = refused(["simulate", "s.toml", "--no-progress"], "simulate", capsys, work)
     assert "output.dir" in line
 
 
