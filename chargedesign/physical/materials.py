@@ -316,3 +316,9 @@ def ballast_label(materials: Any) -> str:
 #: commercial SQUID magnetometers calibrated against a palladium standard carry sample-shape
 #: errors of percent order (Quantum Design, SQUID VSM application note 1500-015)
 SUSCEPTIBILITY_METROLOGY = 7e-3
+
+#: conductivity of insulators a part could be made of, S/m at 20 C (upper ends, from the
+#: volume resistivities: 99.5 % alumina > 1e14 ohm cm, e.g. CoorsTek AD-995 data sheet;
+#: PTFE > 1e18 ohm cm, Chemours Teflon PTFE data sheet; soda-lime glass 1e10-1e14 ohm m,
+#: Serway, Physics for Scientists and Engineers, table 27.2)
+INSULATOR_CONDUCTIVITY = {"alumina": 1e-12, "soda-lime glass": 1e-10, "PTFE": 1e-16}

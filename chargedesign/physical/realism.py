@@ -35,6 +35,7 @@ from chargedesign.physical.materials import (
     CONDUCTIVITY,
     EPSILON_0,
     GAS_PROPERTIES,
+    INSULATOR_CONDUCTIVITY,
     LIGHT_SPEED,
     MAGNET_CONTINUUM_SIZE,
     MU_0,
@@ -72,11 +73,6 @@ FIELD_EVAPORATION = 5.0e10
 ATOMIC_FIELD = ELEMENTARY_CHARGE / (
     4.0 * math.pi * EPSILON_0 * scipy.constants.physical_constants["Bohr radius"][0] ** 2
 )
-#: conductivity of insulators a part could be made of, S/m at 20 C (upper ends, from the
-#: volume resistivities: 99.5 % alumina > 1e14 ohm cm, e.g. CoorsTek AD-995 data sheet;
-#: PTFE > 1e18 ohm cm, Chemours Teflon PTFE data sheet; soda-lime glass 1e10-1e14 ohm m,
-#: Serway, Physics for Scientists and Engineers, table 27.2)
-INSULATOR_CONDUCTIVITY = {"alumina": 1e-12, "soda-lime glass": 1e-10, "PTFE": 1e-16}
 
 
 def typical_rate(params: Any) -> float:
