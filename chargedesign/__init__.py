@@ -23,15 +23,18 @@ from chargedesign.params import Parameters
 
 __version__ = "0.1.0"
 
-#: public name -> (module, attribute), resolved on first use. ``design``, ``check`` and
-#: ``simulate`` are callable modules (:class:`chargedesign.api.CallableModule`): calling one
-#: runs :func:`chargedesign.api.design` (``check``, ``simulate``), and the module's internals
-#: stay where they were (a submodule import would rebind a plain function of the same name).
-_LAZY: dict[str, tuple[str, str | None]] = {
+#: public name -> (module, attribute), resolved on first use so that ``import chargedesign``
+#: loads none of the heavy packages (sympy, cvxpy, PyVista, heyoka, dask). The stages are
+#: plain functions of :mod:`chargedesign.api`; no subpackage shares their names (a submodule
+#: import would rebind the package attribute of the same name).
+_LAZY: dict[str, tuple[str, str]] = {
     # stages
-    "design": ("chargedesign.design", None),
-    "check": ("chargedesign.check", None),
-    "simulate": ("chargedesign.simulate", None),
+    "design": ("chargedesign.api", "design"),
+    "check": ("chargedesign.api", "check"),
+    "simulate": ("chargedesign.api", "simulate"),
+    "frontier": ("chargedesign.api", "frontier"),
+    "tolerance": ("chargedesign.api", "tolerance"),
+    "sweep": ("chargedesign.api", "sweep"),
     "verify": ("chargedesign.model.verification", "verify"),
     "conditions": ("chargedesign.conditions", "conditions_for_scene"),
     # elements and files
@@ -44,15 +47,11 @@ _LAZY: dict[str, tuple[str, str | None]] = {
     "export_design": ("chargedesign.export", "export_design"),
     "schema": ("chargedesign.schemas", "schema"),
     # results
-    "DesignResult": ("chargedesign.design.result", "DesignResult"),
-    "CheckReport": ("chargedesign.check", "CheckReport"),
+    "DesignResult": ("chargedesign.designer.result", "DesignResult"),
+    "CheckReport": ("chargedesign.checker", "CheckReport"),
     "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
     "LinearConditions": ("chargedesign.conditions.types", "LinearConditions"),
     "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
-    # capabilities other rooms are adding: resolved when present
-    "frontier": ("chargedesign.design.frontier", "frontier_from_scene"),
-    "tolerance": ("chargedesign.tolerance", None),
-    "sweep": ("chargedesign.sweep", None),
 }
 
 __all__ = [
@@ -91,24 +90,7 @@ def __getattr__(name: str) -> Any:
         module_name, attribute = _LAZY[name]
     except KeyError:
         raise AttributeError(f"module 'chargedesign' has no attribute {name!r}") from None
-    try:
-        module = importlib.import_module(module_name)
-    except ModuleNotFoundError as exc:
-        if exc.name is not None and module_name.startswith(exc.name):
-            raise AttributeError(
-                f"chargedesign.{name} is not available in this version "
-                f"({module_name} is not installed)"
-            ) from exc
-        raise
-    if attribute is None:
-        return module
-    try:
-        value = getattr(module, attribute)
-    except AttributeError:
-        raise AttributeError(
-            f"chargedesign.{name} is not available in this version "
-            f"({module_name} has no {attribute})"
-        ) from None
+    value = getattr(importlib.import_module(module_name), attribute)
     globals()[name] = value  # later look-ups skip __getattr__
     return value
 
@@ -118,12 +100,12 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign.api import check, design, simulate
+    from chargedesign.api import check, design, frontier, simulate, sweep, tolerance
     from chargedesign.body import Design, read_design, write_design
-    from chargedesign.check import CheckReport
+    from chargedesign.checker import CheckReport
     from chargedesign.conditions import conditions_for_scene as conditions
     from chargedesign.conditions.types import LinearConditions
-    from chargedesign.design.result import DesignResult
+    from chargedesign.designer.result import DesignResult
     from chargedesign.elements import ElementSet
     from chargedesign.export import export_design
     from chargedesign.model.verification import VerificationReport, verify

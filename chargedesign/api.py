@@ -8,17 +8,22 @@ a design. Each returns a result of the one result protocol (:mod:`chargedesign.r
 from __future__ import annotations
 
 import os
-import sys
-import types
+import tomllib
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # pragma: no cover
-    from chargedesign.body import Design
-    from chargedesign.check import CheckReport
-    from chargedesign.design.result import DesignResult
-    from chargedesign.scene import Scene
-    from chargedesign.simulation.result import SimulationResult
+from chargedesign.body import Design, read_design
+from chargedesign.checker import CheckReport, check_design
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.frontier import FrontierResult, frontier_from_scene
+from chargedesign.designer.result import DesignResult
+from chargedesign.errors import InputError
+from chargedesign.params import Parameters
+from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
+from chargedesign.simulation.api import simulate as simulate_scene_or_design
+from chargedesign.simulation.result import SimulationResult
+from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
+from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 
 
 def as_scene(source: Any = None, **tables: Any) -> Scene:
@@ -34,11 +39,6 @@ def as_scene(source: Any = None, **tables: Any) -> Scene:
         Scene tables that replace the source's (``fields=...``, ``body=...``, ``design=...``);
         ``fields`` given as ``{"magnetic": {"a1": 1.0, "a2": 0.5}}`` or with ``legendre``.
     """
-    import tomllib
-
-    from chargedesign.errors import InputError
-    from chargedesign.params import Parameters
-    from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
 
     if isinstance(source, Scene) and not tables:
         return source
@@ -102,14 +102,12 @@ def design(
     ------
     InputError, InfeasibleError, SolverError
     """
-    from chargedesign.design import design_from_scene
 
     scene = as_scene(source, fields=fields, body=body)
     return design_from_scene(scene, progress=progress, **options)
 
 
 def _design_of(design: Any) -> Design:
-    from chargedesign.body import Design, read_design
 
     if isinstance(design, Design):
         return design
@@ -120,7 +118,6 @@ def _design_of(design: Any) -> Design:
         return read_design(design)
     if isinstance(design, Mapping):
         return Design.from_dict(dict(design))
-    from chargedesign.errors import InputError
 
     raise InputError(
         f"check: expected a Design, a DesignResult, a design.json path or mapping, got "
@@ -137,13 +134,12 @@ def check(design: Any, **options: Any) -> CheckReport:
         The body (a design.json path or mapping is read first).
     **options
         ``n_orientations``, ``tol``, ``seed``, ``quadrature_order``, ``precision``
-        (see :func:`chargedesign.check.check_design`).
+        (see :func:`chargedesign.checker.check_design`).
 
     Returns
     -------
     CheckReport
     """
-    from chargedesign.check import check_design
 
     return check_design(_design_of(design), **options)
 
@@ -162,23 +158,18 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
     -------
     SimulationResult
     """
-    from chargedesign.design.result import DesignResult
-    from chargedesign.simulation.api import simulate as _simulate
 
     if isinstance(source, DesignResult):
         source = source.design
-    return _simulate(source, **options)
+    return simulate_scene_or_design(source, **options)
 
 
-def tolerance(design: Any, target: float | None = None, **options: Any) -> Any:
-    """Per-element tolerances of a design (:func:`chargedesign.tolerance.tolerance_report`).
+def tolerance(design: Any, target: float | None = None, **options: Any) -> ToleranceReport:
+    """Per-element tolerances of a design (:func:`chargedesign.tolerancing.tolerance_report`).
 
     ``design``: a Design, a DesignResult or a design.json path; ``target`` the relative
     accuracy of mu, V and the inertia to keep.
     """
-    from chargedesign.body import Design, read_design
-    from chargedesign.design.result import DesignResult
-    from chargedesign.tolerance import DEFAULT_TARGET, tolerance_report
 
     if isinstance(design, DesignResult):
         design = design.design
@@ -187,15 +178,13 @@ def tolerance(design: Any, target: float | None = None, **options: Any) -> Any:
     return tolerance_report(design, DEFAULT_TARGET if target is None else target, **options)
 
 
-def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> Any:
-    """Run a sweep file or spec into ``out`` (:func:`chargedesign.sweep.run_sweep`).
+def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> SweepResult:
+    """Run a sweep file or spec into ``out`` (:func:`chargedesign.sweeps.run_sweep`).
 
     ``command``: a function of your own, ``(scene, point_dir, **options) -> dict``, run at
     every point of a sweep file that names no command. A file itself names only built-in
     commands: the tool never imports or calls code a file names.
     """
-    from chargedesign.errors import InputError
-    from chargedesign.sweep import SweepSpec, load_sweep, run_sweep
 
     if not isinstance(spec, SweepSpec):
         spec = load_sweep(spec, command=command)
@@ -204,33 +193,13 @@ def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> Any:
     return run_sweep(spec, out, **options)
 
 
-__all__ = [
-    "CallableModule",
-    "as_scene",
-    "check",
-    "design",
-    "make_callable",
-    "simulate",
-    "sweep",
-    "tolerance",
-]
+def frontier(source: Any = None, *, progress: Any = None, **overrides: Any) -> FrontierResult:
+    """How far the scene's parameters can grow before a physical limit binds.
 
-
-class CallableModule(types.ModuleType):
-    """A module that can be called: ``chargedesign.check(design)`` runs :func:`check`.
-
-    ``chargedesign.design``, ``chargedesign.check`` and ``chargedesign.simulate`` are both
-    modules (their internals stay importable and patchable as before) and the main entry
-    points of the package: calling one calls the function of the same name in this module.
+    ``source``: see :func:`as_scene` (the scene needs a ``[medium]`` table);
+    ``overrides``: frontier options (see :func:`chargedesign.designer.frontier.find_frontier`).
     """
-
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        entry = globals()[self.__name__.rsplit(".", 1)[-1]]
-        return entry(*args, **kwargs)
+    return frontier_from_scene(as_scene(source), progress=progress, **overrides)
 
 
-def make_callable(module_name: str) -> None:
-    """Turn the module ``chargedesign.<name>`` into a :class:`CallableModule` (idempotent)."""
-    module = sys.modules[module_name]
-    if not isinstance(module, CallableModule):
-        module.__class__ = CallableModule
+__all__ = ["as_scene", "check", "design", "frontier", "simulate", "sweep", "tolerance"]

@@ -149,7 +149,7 @@ def render_report(
     Parameters
     ----------
     design : Design
-        A designed body; its provenance keys (as written by :mod:`chargedesign.design`)
+        A designed body; its provenance keys (as written by :mod:`chargedesign.designer`)
         are used when present.
     title : str
     picture : str, optional

@@ -1,7 +1,7 @@
 """The one result protocol every result of the library follows.
 
-A result (a :class:`~chargedesign.check.CheckReport`, a
-:class:`~chargedesign.design.DesignResult`, a :class:`~chargedesign.body.Design`, the
+A result (a :class:`~chargedesign.checker.CheckReport`, a
+:class:`~chargedesign.designer.DesignResult`, a :class:`~chargedesign.body.Design`, the
 verification report, ...) has
 
 - ``to_dict()``: a JSON-ready mapping (``json.dumps(r.to_dict())`` works; no NaN, no arrays);

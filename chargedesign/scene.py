@@ -147,7 +147,7 @@ def validate_tables(scene: Scene) -> None:
     and ``[initial]`` (the simulation's parsers; an ``[initial] file`` is read).
     """
     from chargedesign.candidates import check_body_keys
-    from chargedesign.design.options import DesignOptions
+    from chargedesign.designer.options import DesignOptions
     from chargedesign.physical.spec import spec_from_tables
     from chargedesign.simulation import api
 

@@ -13,7 +13,8 @@ The number rules (docs/reliability.md):
   :func:`check_input_array`, :func:`check_tree`) lies within the supported range:
   ``|x| <= MAX_MAGNITUDE``, and a non-zero ``|x| >= MIN_MAGNITUDE`` where a tiny value would
   be divided by; the theorem's parameters have the narrower ranges of
-  :data:`PARAMETER_RANGES`, the scales the stability suite (tests/design/test_stability.py) covers.
+  :data:`PARAMETER_RANGES`, the scales the stability suite
+  (tests/designer/test_stability.py) covers.
   Outside it the one-line error states the range and suggests rescaling the units.
 """
 
@@ -387,7 +388,7 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
     if "material_errors" in data:
         # the scene's [tolerance] the design records: read by `tolerance`, so checked by
         # every reader (check passed a file whose chi_relative was 2 or a string)
-        from chargedesign.tolerance import MaterialErrors
+        from chargedesign.tolerancing import MaterialErrors
 
         MaterialErrors.from_table(data["material_errors"], f"{where}.material_errors")
 
@@ -510,7 +511,7 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
 
     Parameters
     ----------
-    model : chargedesign.tolerance.ErrorModel
+    model : chargedesign.tolerancing.ErrorModel
     levels : sequence of float
         The scale factors of the errors (``--levels``).
     design : chargedesign.body.Design

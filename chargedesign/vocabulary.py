@@ -1,7 +1,7 @@
 """Names used in several places, declared once.
 
 Every module that accepts or reports one of these vocabularies imports it from here (the old
-module-level names, e.g. ``chargedesign.body.REALISABLE`` or ``chargedesign.check.PRECISIONS``,
+module-level names, e.g. ``chargedesign.body.REALISABLE`` or ``chargedesign.checker.PRECISIONS``,
 stay importable as re-exports). This module imports nothing, so the command line can use it
 for ``--help`` without loading numpy.
 """
@@ -9,7 +9,7 @@ for ``--help`` without loading numpy.
 from __future__ import annotations
 
 #: the format tag of design.json (CONTRACT.md)
-DESIGN_FORMAT = "chargedesign.design/1"
+DESIGN_FORMAT = "chargedesign.designer/1"
 
 #: the theorem's parameters as written in scenes and design.json (``lambda``: attribute ``lam``)
 PARAMETER_NAMES = ("C", "c", "d", "n", "K", "kappa", "lambda", "rho")

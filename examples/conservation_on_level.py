@@ -25,9 +25,9 @@ matplotlib.use("Agg")  # files only, no window
 import matplotlib.pyplot as plt
 import numpy as np
 
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.scene import load_scene
-from chargedesign.simulate import simulate
+from chargedesign.simulation import simulate
 
 #: the mathematical case at unit scale (the embedded default is a slow, buildable SI body)
 UNIT_SCENE = Path(__file__).resolve().parent / "scenes" / "unit_scale.toml"

@@ -11,7 +11,7 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError
 from chargedesign.scene import scene_from_dict
 

@@ -18,9 +18,9 @@ import sys
 from pathlib import Path
 
 from chargedesign.body import write_design
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.scene import load_scene
-from chargedesign.simulate import setup_from_source, simulate
+from chargedesign.simulation import setup_from_source, simulate
 
 #: the mathematical case at unit scale (the embedded default is a slow, buildable SI body)
 UNIT_SCENE = Path(__file__).resolve().parent / "scenes" / "unit_scale.toml"

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.simulate import simulate, simulate_batch
+from chargedesign.simulation import simulate, simulate_batch
 
 
 def main() -> None:

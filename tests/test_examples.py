@@ -56,7 +56,7 @@ def check_design_default_body(out: str, out_dir: Path) -> None:
         assert number(rf"check {name}\s+rel_err (\S+)", out) <= 1e-9, name
     assert "check: PASSED" in out
     design = json.loads((out_dir / "design.json").read_text())
-    assert design["format"] == "chargedesign.design/1"
+    assert design["format"] == "chargedesign.designer/1"
     assert design["realises"] == ["mu", "V", "inertia"]
     assert is_png(out_dir / "design.png")
 
@@ -205,9 +205,9 @@ def test_guide_toml_blocks_are_valid_scenes() -> None:
 
     from chargedesign.candidates import candidates_from_table
     from chargedesign.conditions import conditions_for_scene
-    from chargedesign.design import DesignOptions
+    from chargedesign.designer import DesignOptions
     from chargedesign.scene import scene_from_dict
-    from chargedesign.simulate import (
+    from chargedesign.simulation import (
         parse_initial,
         parse_output_options,
         parse_simulation_options,

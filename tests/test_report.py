@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.report import render_report
 from chargedesign.results import format_length
 from chargedesign.scene import load_scene
@@ -36,7 +36,7 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
 
     design = Design.from_dict(
         {
-            "format": "chargedesign.design/1",
+            "format": "chargedesign.designer/1",
             "parameters": {"C": 1.0, "n": 0.7},
             "masses": {"positions": [[0.1, 0.0, 0.0]], "values": [1.0]},
             "realises": ["inertia"],

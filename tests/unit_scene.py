@@ -12,7 +12,7 @@ UNIT_SCENE = Path(__file__).resolve().parents[1] / "examples" / "scenes" / "unit
 
 def unit_design(n: float) -> Any:
     """The unit-scale body designed with the theorem's n replaced by ``n`` (a Design)."""
-    from chargedesign.design import design_from_scene
+    from chargedesign.designer import design_from_scene
     from chargedesign.scene import scene_from_dict
 
     data = tomllib.loads(UNIT_SCENE.read_text())

@@ -3,12 +3,12 @@
 Four tables, each against a baseline measured in the same run:
 
 1. Throughput of the rotated-body check (element-orientation pairs per second): the
-   vectorised kernel (:func:`chargedesign.check.evaluate_rotated`) and the whole
-   :func:`chargedesign.check.check_design` against a straightforward per-orientation Python
+   vectorised kernel (:func:`chargedesign.checker.evaluate_rotated`) and the whole
+   :func:`chargedesign.checker.check_design` against a straightforward per-orientation Python
    loop (:func:`naive_sums`: rotate, call :class:`chargedesign.fields.AxisymmetricField`
    ``potential``/``gradient``/``hessian`` in space axes, sum with numpy, rotate back). The
    largest relative difference between the two is reported too (they share no field code).
-2. Cost of the accurate path (:func:`chargedesign.check.evaluate_accurate` in double-double
+2. Cost of the accurate path (:func:`chargedesign.checker.evaluate_accurate` in double-double
    and in ``np.longdouble``) against the double kernel.
 3. Accuracy against cancellation: a body plus finite-difference stencils of huge charges whose
    contributions cancel exactly, so its true mu and V are those of the body without them;
@@ -33,7 +33,7 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
 from chargedesign.body import Design
-from chargedesign.check import (
+from chargedesign.checker import (
     EPS,
     FIELD_NAMES,
     check_design,

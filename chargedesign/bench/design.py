@@ -3,7 +3,7 @@
 Two tables:
 
 1. Charges for mu on the unit ball at several candidate spacings: the conditions engine
-   (16 exact moment conditions, then :func:`chargedesign.design.design_body`) against the
+   (16 exact moment conditions, then :func:`chargedesign.designer.design_body`) against the
    naive design that states the same target as equalities sampled at many orientations
    gamma_i, ``mu_theorem(gamma_i) = -sum_j q_j (r_j . B(r_j; gamma_i)) r_j`` (3 rows per
    orientation, ``B`` from :class:`chargedesign.fields.AxisymmetricField`, ``mu_theorem``
@@ -28,7 +28,7 @@ import numpy as np
 from chargedesign.bench.common import BenchTable, best_time
 from chargedesign.candidates import candidates_from_table, fibonacci_sphere
 from chargedesign.conditions import derive_conditions
-from chargedesign.design import DesignOptions, design_body, relative_residual
+from chargedesign.designer import DesignOptions, design_body, relative_residual
 from chargedesign.errors import ChargeDesignError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters

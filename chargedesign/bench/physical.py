@@ -36,7 +36,7 @@ READINGS = ("charges", "frame")
 def _setup(spacing: float, larmor: str = "charges") -> Any:
     import tomllib
 
-    from chargedesign.design.pipeline import physical_setup_from_scene
+    from chargedesign.designer.pipeline import physical_setup_from_scene
     from chargedesign.scene import default_scene_text, scene_from_dict
 
     data = tomllib.loads(default_scene_text())
@@ -51,7 +51,7 @@ def _setup(spacing: float, larmor: str = "charges") -> Any:
 def table_constraint_generation(quick: bool) -> BenchTable:
     import cvxpy as cp
 
-    from chargedesign.design.physical import charge_program, design_charges, design_masses
+    from chargedesign.designer.physical import charge_program, design_charges, design_masses
 
     table = BenchTable(
         title="Physical design of the default body: constraint generation vs plain cvxpy",
@@ -97,9 +97,9 @@ def table_constraint_generation(quick: bool) -> BenchTable:
 
 def table_readings(quick: bool) -> BenchTable:
     """The default body designed and its frontier located in both Larmor readings."""
-    from chargedesign.design.acceptance import forward_acceptance
-    from chargedesign.design.frontier import find_frontier
-    from chargedesign.design.physical import design_physical
+    from chargedesign.designer.acceptance import forward_acceptance
+    from chargedesign.designer.frontier import find_frontier
+    from chargedesign.designer.physical import design_physical
 
     table = BenchTable(
         title="The default body in both Larmor readings: the design and one frontier point",

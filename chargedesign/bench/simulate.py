@@ -55,7 +55,7 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
 
 
 def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
-    from chargedesign.simulate import simulate
+    from chargedesign.simulation import simulate
 
     result = simulate(PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START)
     s = result.summary()
@@ -83,7 +83,7 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
-    from chargedesign.simulate import simulate
+    from chargedesign.simulation import simulate
 
     rows: list[list[Any]] = []
     base = None
@@ -141,7 +141,7 @@ def fifty_element_body(elements: int = 50) -> Any:
 
     The default 50 elements are 20 charges, 15 masses and 15 dipoles.
     """
-    from chargedesign.simulate import Body
+    from chargedesign.simulation import Body
 
     rng = np.random.default_rng(0)
     nq, nm = 2 * elements // 5, 3 * elements // 10
@@ -165,7 +165,7 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
     Every right-hand side rotates the elements with the quaternion's matrix and calls the
     checked field methods once per effect (kept as the literal reference of the physics).
     """
-    from chargedesign.simulate import RigidBodySystem, direct_terms, quaternion_rotation
+    from chargedesign.simulation import RigidBodySystem, direct_terms, quaternion_rotation
 
     class TermByTerm(RigidBodySystem):
         def derivatives(self, states: np.ndarray) -> np.ndarray:
@@ -185,7 +185,7 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
 
 
 def _route_table(t_end: float) -> BenchTable:
-    from chargedesign.simulate import (
+    from chargedesign.simulation import (
         RigidBodySystem,
         attitude_from_gamma,
         direct_terms,
@@ -274,7 +274,7 @@ def _route_table(t_end: float) -> BenchTable:
 
 def _element_count_table(counts: list[int]) -> BenchTable:
     """Per-evaluation cost of both routes against the number of elements."""
-    from chargedesign.simulate import RigidBodySystem, attitude_from_gamma, rotation_quaternion
+    from chargedesign.simulation import RigidBodySystem, attitude_from_gamma, rotation_quaternion
 
     effects = ["lorentz", "electric", "magnetization", "gravity"]
     y0 = np.concatenate(
@@ -306,7 +306,7 @@ def _element_count_table(counts: list[int]) -> BenchTable:
 
 
 def _batch_table(m: int, t_end: float) -> BenchTable:
-    from chargedesign.simulate import simulate, simulate_batch
+    from chargedesign.simulation import simulate, simulate_batch
 
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))
@@ -363,7 +363,7 @@ KOWALEVSKI_SCENE: dict[str, Any] = {
 
 def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list[list[Any]]:
     """taylor, DOP853 and Gauss-Legendre at several tolerances on the same state."""
-    from chargedesign.simulate import simulate
+    from chargedesign.simulation import simulate
 
     settings: list[tuple[str, str, dict[str, Any]]] = [
         ("taylor", "tol eps", {}),
@@ -398,7 +398,7 @@ def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list
 def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
     """Accuracy against time: the theorem's model (I4) and a Kowalevski top (its integral)."""
     from chargedesign.scene import scene_from_dict
-    from chargedesign.simulate import setup_from_source
+    from chargedesign.simulation import setup_from_source
 
     columns = [
         "method",

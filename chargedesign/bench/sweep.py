@@ -35,7 +35,7 @@ def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 
 def _spec(n_points: int, t_end: float, command: Any = "simulate", chunk: int = 0) -> Any:
-    from chargedesign.sweep import SweepSpec
+    from chargedesign.sweeps import SweepSpec
 
     data = {k: dict(v) for k, v in SCENE.items()}
     data["simulation"]["t_end"] = t_end
@@ -64,7 +64,7 @@ def _calibrate(target: float) -> float:
     stays below ``T_END_LIMIT``: a fit on timings of a few ms (a slope from noise) once asked
     for 6e9 s of motion, and the sweep it fed ran past CI's time limit.
     """
-    from chargedesign.sweep import run_point, warm_up
+    from chargedesign.sweeps import run_point, warm_up
 
     warm_up()
 
@@ -95,7 +95,7 @@ def _calibrate(target: float) -> float:
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-    from chargedesign.sweep import make_executor, run_sweep
+    from chargedesign.sweeps import make_executor, run_sweep
 
     n_points = 8 if quick else 200
     per_point = 0.05 if quick else 1.0

@@ -26,9 +26,9 @@ UNIT_SCENE = {
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-    from chargedesign.design import design_from_scene
+    from chargedesign.designer import design_from_scene
     from chargedesign.scene import scene_from_dict
-    from chargedesign.tolerance import ErrorModel, monte_carlo, tolerance_report
+    from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
     design = design_from_scene(scene_from_dict(UNIT_SCENE)).design
     bodies = 50 if quick else 1000

@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     import math
 
     from chargedesign.body import read_design
-    from chargedesign.check import check_design
+    from chargedesign.checker import check_design
 
     if not math.isfinite(args.tol) or args.tol <= 0.0:
         raise InputError(f"--tol: expected a number > 0, got {args.tol!r}")

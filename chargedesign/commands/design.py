@@ -8,7 +8,7 @@ A failed picture fails the command (exit 2, one line naming the cause): the thre
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
-Before anything is written the body is checked forward (``chargedesign.check``, the check
+Before anything is written the body is checked forward (``chargedesign.checker``, the check
 command's default tolerance and orientations, against the parameters the elements realise:
 n = 0 for the ``frame`` Larmor reading): a body that misses the theorem is refused
 with one line naming the cause (too large a requested total, a scale outside the supported
@@ -92,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from chargedesign.body import write_design
-    from chargedesign.design import design_from_scene
+    from chargedesign.designer import design_from_scene
     from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
     from chargedesign.report import plausibility, render_report
     from chargedesign.scene import load_scene
@@ -124,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         progress("forward check ...")
         _forward_check(design, args)
     if not design.continuous:
-        from chargedesign.tolerance import tolerance_report
+        from chargedesign.tolerancing import tolerance_report
 
         progress("tolerances (exact first-order sensitivity of every element) ...")
         design.extra["tolerance"] = tolerance_report(design).to_dict()
@@ -208,8 +208,8 @@ def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
 
 def _forward_check(design: object, args: argparse.Namespace) -> None:
     """The check command's verdict on the body before it is written; one line if it fails
-    (:func:`chargedesign.design.acceptance.forward_acceptance`, the frontier's too)."""
-    from chargedesign.design.acceptance import forward_acceptance
+    (:func:`chargedesign.designer.acceptance.forward_acceptance`, the frontier's too)."""
+    from chargedesign.designer.acceptance import forward_acceptance
 
     forward_acceptance(
         design,  # type: ignore[arg-type]

@@ -38,7 +38,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from chargedesign.design.frontier import frontier_from_scene
+    from chargedesign.designer.frontier import frontier_from_scene
     from chargedesign.errors import InputError
     from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
@@ -59,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     if args.scan:
         from pathlib import Path
 
-        from chargedesign.design.frontier_scan import scan_frontier, write_scan
+        from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:

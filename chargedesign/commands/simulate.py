@@ -143,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.body import write_design
     from chargedesign.files import atomic_directory
-    from chargedesign.simulate import setup_from_source, simulate
+    from chargedesign.simulation import setup_from_source, simulate
     from chargedesign.simulation.result import summary_text
 
     if args.t_end is not None and not args.t_end > 0:
@@ -349,7 +349,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from chargedesign.files import atomic_directory
-    from chargedesign.simulate import prepare
+    from chargedesign.simulation import prepare
     from chargedesign.simulation.chaos import fli_map, poincare_atlas
 
     if args.orbits < 1:

@@ -13,7 +13,7 @@ import argparse
 import sys
 import time
 
-EXECUTORS = ("process", "dask", "serial")  # mirrors chargedesign.sweep.EXECUTORS
+EXECUTORS = ("process", "dask", "serial")  # mirrors chargedesign.sweeps.EXECUTORS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.errors import InputError
     from chargedesign.files import check_outputs
-    from chargedesign.sweep import (
+    from chargedesign.sweeps import (
         load_sweep,
         make_executor,
         run_sweep,

@@ -22,7 +22,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-MAX_SAMPLES = 2000  # mirrors chargedesign.tolerance.MAX_SAMPLES (kept here so --help stays light)
+MAX_SAMPLES = 2000  # mirrors chargedesign.tolerancing.MAX_SAMPLES (kept here so --help stays light)
 MAX_LEVELS = 6
 
 
@@ -93,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     from chargedesign.body import read_design
     from chargedesign.errors import InputError
     from chargedesign.files import check_outputs
-    from chargedesign.tolerance import (
+    from chargedesign.tolerancing import (
         ErrorModel,
         MaterialErrors,
         monte_carlo,
@@ -183,7 +183,7 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
 
     from chargedesign.body import write_design
     from chargedesign.files import atomic_directory
-    from chargedesign.tolerance import MonteCarloResult, plot_drift, with_tolerance
+    from chargedesign.tolerancing import MonteCarloResult, plot_drift, with_tolerance
 
     report = result.report if isinstance(result, MonteCarloResult) else result
     with atomic_directory(out) as stage:

@@ -109,7 +109,7 @@ def derive_conditions(
         strength that is needed but not forced (e.g. the electric e4 when no electric field
         is given) is chosen for it, so that the moments it requires have the natural size of
         the elements the other conditions force (docs/conditions.md). None: 1 m is assumed
-        and ``length_assumed`` is set (:func:`chargedesign.design.design_body` then
+        and ``length_assumed`` is set (:func:`chargedesign.designer.design_body` then
         re-derives for the candidates' size). Given field strengths never depend on it.
 
     Returns

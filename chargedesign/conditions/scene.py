@@ -51,7 +51,7 @@ def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditio
     """:func:`derive_conditions` for a scene's parameters, fields and ``[design] realise``.
 
     Default field strengths are chosen for the size of the scene's body
-    (:func:`scene_length`), as :func:`chargedesign.design.design_from_scene` does.
+    (:func:`scene_length`), as :func:`chargedesign.designer.design_from_scene` does.
     """
     from chargedesign.scene import Scene as _Scene
 

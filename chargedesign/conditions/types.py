@@ -85,7 +85,7 @@ class LinearConditions(Result):
         strength was chosen by default (nothing depends on the body's size).
     length_assumed : bool
         True when no length was given and :data:`DEFAULT_LENGTH` (1 m) was used for a default
-        strength (:func:`chargedesign.design.design_body` then re-derives the conditions for
+        strength (:func:`chargedesign.designer.design_body` then re-derives the conditions for
         the candidates' size, :meth:`for_length`).
     default_strengths : dict[str, float]
         The field coefficients chosen by default, e.g. ``{"electric e4": 1e-06}`` (V/m^4).

@@ -177,7 +177,7 @@ def spec_from_tables(
     """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
     material_errors: dict[str, float] = {}
     if "tolerance" in tables:
-        from chargedesign.tolerance import MaterialErrors
+        from chargedesign.tolerancing import MaterialErrors
 
         material_errors = MaterialErrors.from_table(tables["tolerance"]).to_dict()
     if "medium" not in tables:

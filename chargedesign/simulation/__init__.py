@@ -1,6 +1,7 @@
 """Rigid-body simulation of designed bodies and of the theorem's reduced model.
 
-Public entry: :mod:`chargedesign.simulate` (re-exports :func:`.api.simulate` and friends).
+The package re-exports :func:`.api.simulate` and friends (``cd.simulate`` is
+:func:`chargedesign.api.simulate`).
 
 - :mod:`.polynomials`: polynomials in gamma from moment contractions (the reduced route).
 - :mod:`.system`: the body, its effects, torques by the direct and reduced routes.
@@ -12,3 +13,95 @@ Public entry: :mod:`chargedesign.simulate` (re-exports :func:`.api.simulate` and
 - :mod:`.result`: the result, drift monitors, output files and plots.
 - :mod:`.api`: scenes' simulation tables and :func:`simulate`.
 """
+
+from __future__ import annotations
+
+from chargedesign.simulation.api import (
+    DEFAULT_INITIAL,
+    OutputOptions,
+    SimulationOptions,
+    SimulationSetup,
+    design_pending,
+    initial_state,
+    parse_initial,
+    parse_output_options,
+    parse_simulation_options,
+    prepare,
+    setup_from_scene,
+    setup_from_source,
+    simulate,
+    simulate_batch,
+    with_level,
+)
+from chargedesign.simulation.chaos import (
+    FLIMap,
+    PoincareAtlas,
+    fast_lyapunov_indicator,
+    fli_map,
+    lyapunov_exponent,
+    poincare_atlas,
+)
+from chargedesign.simulation.ensemble import EnsembleResult, simulate_ensemble
+from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration, integrate
+from chargedesign.simulation.monitors import MONITORS
+from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
+from chargedesign.simulation.system import (
+    EFFECTS,
+    ROUTES,
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    body_mass_points,
+    direct_terms,
+    quaternion_gamma,
+    quaternion_rotation,
+    reduced_polynomials,
+    rotation_quaternion,
+    select_effects,
+)
+
+__all__ = [
+    "DEFAULT_INITIAL",
+    "EFFECTS",
+    "METHODS",
+    "MONITORS",
+    "ROUTES",
+    "STATE_NAMES",
+    "Body",
+    "EnsembleResult",
+    "FLIMap",
+    "Integration",
+    "OutputOptions",
+    "PoincareAtlas",
+    "RigidBodySystem",
+    "SimulationOptions",
+    "SimulationResult",
+    "SimulationSetup",
+    "attitude_from_gamma",
+    "body_mass_points",
+    "design_pending",
+    "direct_terms",
+    "fast_lyapunov_indicator",
+    "fli_map",
+    "initial_state",
+    "integrate",
+    "lyapunov_exponent",
+    "parse_initial",
+    "parse_output_options",
+    "parse_simulation_options",
+    "plot_integrals",
+    "plot_poincare",
+    "poincare_atlas",
+    "prepare",
+    "quaternion_gamma",
+    "quaternion_rotation",
+    "reduced_polynomials",
+    "rotation_quaternion",
+    "select_effects",
+    "setup_from_scene",
+    "setup_from_source",
+    "simulate",
+    "simulate_batch",
+    "simulate_ensemble",
+    "with_level",
+]

@@ -51,7 +51,7 @@ Fields: the design's, each kind replaced by the scene's ``[fields.<kind>]`` when
 Without a body only the ``theorem`` effect has a source.
 
 A ``[body]`` with a ``shape`` (and neither ``design`` nor inline elements) is designed when a
-run first needs its elements (:func:`chargedesign.design.design_from_scene` with the scene's
+run first needs its elements (:func:`chargedesign.designer.design_from_scene` with the scene's
 ``[design]``), then simulated from its own elements under every physical effect with a source
 and a field. A run whose effects are only ``theorem`` does not design it. The body is designed
 once per :class:`SimulationSetup`: pass the setup to :func:`simulate` again to reuse it.
@@ -575,7 +575,7 @@ def design_pending(
 ) -> SimulationSetup:
     """Design the body of a setup whose scene gives a ``[body]`` region (once; in place).
 
-    Runs :func:`chargedesign.design.design_from_scene` with the scene's ``[design]`` table and
+    Runs :func:`chargedesign.designer.design_from_scene` with the scene's ``[design]`` table and
     replaces ``setup.body`` by the designed elements in the scene's fields (each kind the
     scene gives replaces the design's). Does nothing when nothing is pending.
 
@@ -596,12 +596,12 @@ def design_pending(
         The scene's targets cannot be realised in its region (the message says how to
         simulate the reduced model instead).
     InputError, SolverError
-        As :func:`~chargedesign.design.design_from_scene`.
+        As :func:`~chargedesign.designer.design_from_scene`.
     """
     scene = setup.design_scene
     if scene is None:
         return setup
-    from chargedesign.design import design_from_scene
+    from chargedesign.designer import design_from_scene
 
     t0 = time.perf_counter()
     try:

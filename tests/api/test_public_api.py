@@ -39,17 +39,8 @@ def test_the_command_line_parser_is_light_too():
     assert not [n for n in names if any(n == h or n.startswith(h + ".") for h in HEAVY)]
 
 
-def test_every_public_name_resolves_or_says_it_is_absent():
-    optional = {"frontier", "tolerance", "sweep"}  # added by other rooms; resolved when present
+def test_every_public_name_resolves():
     for name in cd.__all__:
-        if name in optional:
-            try:
-                value = getattr(cd, name)
-            except AttributeError as exc:
-                assert "not available in this version" in str(exc)
-                continue
-            assert callable(value)
-            continue
         assert getattr(cd, name) is not None, name
     assert sorted(cd.__all__) == sorted(set(cd.__all__))
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
@@ -58,13 +49,20 @@ def test_every_public_name_resolves_or_says_it_is_absent():
     assert not {"CLARABEL_SETTINGS", "HIGHS_OPTIONS", "POLISH_THRESHOLDS"} & set(cd.__all__)
 
 
-def test_stage_names_are_callable_modules_that_keep_their_internals():
-    import chargedesign.check as check_module
-    import chargedesign.design.pipeline as pipeline
+def test_stage_names_are_plain_functions_of_the_api():
+    import inspect
 
-    assert cd.check is check_module and callable(cd.check)
-    assert cd.design.pipeline is pipeline and callable(cd.design)
-    assert callable(cd.simulate) and hasattr(cd.simulate, "SimulationResult")
+    import chargedesign.api as api
+    import chargedesign.checker
+    import chargedesign.designer.pipeline
+    import chargedesign.simulation
+    import chargedesign.sweeps
+    import chargedesign.tolerancing  # noqa: F401
+
+    for name in ("design", "check", "simulate", "frontier", "tolerance", "sweep"):
+        entry = getattr(cd, name)
+        assert inspect.isfunction(entry), name
+        assert entry is getattr(api, name), name
 
 
 def test_design_check_simulate_from_the_top_level(default_result):

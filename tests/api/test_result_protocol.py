@@ -57,8 +57,8 @@ def _later_results(design):
 
     from chargedesign.physical.limits import check_limits
     from chargedesign.simulation.ensemble import simulate_ensemble
-    from chargedesign.sweep import run_sweep, sweep_from_dict
-    from chargedesign.tolerance import ErrorModel, monte_carlo, tolerance_report
+    from chargedesign.sweeps import run_sweep, sweep_from_dict
+    from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
     mc = monte_carlo(design, ErrorModel.parse(position="1um"), samples=8, t_end=1.0, levels=(1.0,))
     states = np.array([[1e-6 * k, 0.0, 0.0, 0.0, 0.6, 0.8] for k in (1, 2, 3)])
@@ -67,7 +67,7 @@ def _later_results(design):
 
         grid = {"grid": {"parameters.n": [1e-6, 2e-6]}}
         sweep = run_sweep(sweep_from_dict(grid, command=idle), Path(tmp) / "s")
-    from chargedesign.design.frontier import frontier_from_scene
+    from chargedesign.designer.frontier import frontier_from_scene
 
     small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
     return {

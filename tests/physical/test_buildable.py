@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from chargedesign.body import Design, read_design
-from chargedesign.design.frontier import find_frontier
-from chargedesign.design.physical import (
+from chargedesign.designer.frontier import find_frontier
+from chargedesign.designer.physical import (
     charge_program,
     design_charges,
     design_physical,
 )
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.bom import bom_csv, bom_rows
 from chargedesign.physical.limits import (
@@ -120,7 +120,7 @@ def test_all_three_mass_sets_give_the_inertia_and_centre(result, setup):
 
 
 def test_design_passes_its_forward_check_and_the_limits_check(result):
-    from chargedesign.design.acceptance import body_check
+    from chargedesign.designer.acceptance import body_check
 
     # small.toml has [medium]: the frame reading, checked against n = 0
     assert result.design.larmor.reading == "frame"
@@ -157,7 +157,7 @@ def test_bill_of_materials_lists_every_part(result):
 def test_frontier_brackets_the_buildable(setup, frontier):
     """Design accepts 0.98 s_max (limits and forward check) and refuses 1.02 s_max in one
     line naming the binding limit (small.toml, the frame reading)."""
-    from chargedesign.design.acceptance import forward_acceptance
+    from chargedesign.designer.acceptance import forward_acceptance
     from chargedesign.errors import InfeasibleError
 
     assert frontier.s_max > 1.0  # the scene's own rate is buildable
@@ -286,8 +286,8 @@ def test_cli_frontier_json_has_the_contract_keys():
 
 def test_the_embedded_default_is_buildable():
     """`make demo`'s body: an independent recheck of every limit, and the forward check."""
-    from chargedesign.design import design_from_scene
-    from chargedesign.design.acceptance import body_check
+    from chargedesign.designer import design_from_scene
+    from chargedesign.designer.acceptance import body_check
 
     design = design_from_scene(load_scene(None), frontier=False).design
     assert design.medium is not None and design.medium["name"] == "vacuum"

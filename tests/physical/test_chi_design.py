@@ -19,9 +19,9 @@ import sympy as sp
 from physical.test_buildable import scene_with
 
 from chargedesign.body import Design
-from chargedesign.design import design_from_scene
-from chargedesign.design.physical import induced_rows
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.physical import induced_rows
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.model.case import (
     GAMMA,

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from chargedesign.body import Design
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MAGNET_CONTINUUM_SIZE
 from chargedesign.physical.realism import magnet_continuum

@@ -13,8 +13,8 @@ import pytest
 from physical.test_buildable import SMALL, scene_with
 
 from chargedesign.body import Design
-from chargedesign.design import design_from_scene
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.limits import check_limits, fibonacci_directions
 from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
@@ -35,7 +35,7 @@ def ballast_design(positions, masses, legendre=(A1, 2 * A2), **ballast) -> Desig
     material = {"name": "tungsten", "density_kg_per_m3": 19250.0, **ballast}
     return Design.from_dict(
         {
-            "format": "chargedesign.design/1",
+            "format": "chargedesign.designer/1",
             "parameters": {"C": 2e-5, "n": 2.45e-6, "K": 1.75e-6, "kappa": 1.1025e-11},
             "fields": {"magnetic": {"legendre": list(legendre)}},
             "masses": {"positions": np.asarray(positions).tolist(), "values": list(masses)},
@@ -147,7 +147,7 @@ def test_eddy_torque_matches_the_least_dissipation_current(inner):
     volume = 4 / 3 * np.pi * (a**3 - inner**3)
     design = Design.from_dict(
         {
-            "format": "chargedesign.design/1",
+            "format": "chargedesign.designer/1",
             "parameters": {"C": 2e-5, "n": 2.45e-6},
             "fields": {"magnetic": {"legendre": [B]}},
             "charges": {
@@ -268,8 +268,8 @@ def test_the_fractions_scale_with_the_rate_as_the_physics_says(small_design):
 
 
 def test_the_frontier_reports_the_field_response_of_its_own_body():
-    from chargedesign.design.frontier import find_frontier
-    from chargedesign.design.physical import build_design, design_at_rate
+    from chargedesign.designer.frontier import find_frontier
+    from chargedesign.designer.physical import build_design, design_at_rate
 
     setup = physical_setup_from_scene(load_scene(SMALL))
     frontier = find_frontier(setup)

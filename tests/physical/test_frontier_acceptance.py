@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chargedesign.design.acceptance import (
+from chargedesign.designer.acceptance import (
     BALANCE_ULPS,
     BUILDER_BALANCE_M,
     BUILDER_TORQUE_FRACTION,
@@ -20,9 +20,9 @@ from chargedesign.design.acceptance import (
     body_check,
     forward_acceptance,
 )
-from chargedesign.design.frontier import find_frontier
-from chargedesign.design.physical import design_physical
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer.frontier import find_frontier
+from chargedesign.designer.physical import design_physical
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InfeasibleError
 from chargedesign.scene import scene_from_dict
 
@@ -104,7 +104,7 @@ def test_frame_reaches_a_larger_K_than_the_charges_reading():
     b_frame, b_charges = frame.systems["charges"][1], charges.systems["charges"][1]
     assert np.count_nonzero(b_frame) < np.count_nonzero(b_charges)
     assert np.all(b_frame[b_charges == 0] == 0)
-    from chargedesign.design.frontier import necessary_rate
+    from chargedesign.designer.frontier import necessary_rate
 
     assert necessary_rate(frame) > necessary_rate(charges)
 
@@ -114,7 +114,7 @@ def test_frame_body_realises_n_zero_not_n():
     its mu misses by the whole n term."""
     from dataclasses import replace
 
-    from chargedesign.check import check_design
+    from chargedesign.checker import check_design
 
     setup = setup_of(small())
     design = design_physical(setup, scale=1.0).design
@@ -178,8 +178,8 @@ def test_under_1e_7_m_per_s2_no_builder_balance_is_fine_enough():
 
 def _designed_scale(setup, s):
     """Smaller of the designed V spread and largest potential torque at rate s (J, N m)."""
-    from chargedesign.check import DEFAULT_ORIENTATIONS, sample_orientations, theorem_reference
-    from chargedesign.design.physical import scaled_parameters
+    from chargedesign.checker import DEFAULT_ORIENTATIONS, sample_orientations, theorem_reference
+    from chargedesign.designer.physical import scaled_parameters
 
     gammas = sample_orientations(DEFAULT_ORIENTATIONS, 0)
     ref = theorem_reference(scaled_parameters(setup.params, s), gammas)
@@ -206,6 +206,6 @@ def test_held_out_under_1g_has_no_buildable_rate_and_design_refuses():
 
 
 def accepted_limits_only(setup, s):
-    from chargedesign.design.physical import build_design, design_at_rate
+    from chargedesign.designer.physical import build_design, design_at_rate
 
     return build_design(setup, design_at_rate(setup, s))

@@ -10,8 +10,8 @@ import pytest
 # the frontier's acceptance tests' bodies (pytest puts this folder on the path)
 from test_frontier_acceptance import CASES, setup_of, small
 
-from chargedesign.design import physical
-from chargedesign.design.frontier import FRONTIER_RTOL, find_frontier
+from chargedesign.designer import physical
+from chargedesign.designer.frontier import FRONTIER_RTOL, find_frontier
 from chargedesign.physical.limits import carrier_surface_fields
 
 #: the small body in SF6 (frame reading), where the carriers' surface field binds

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chargedesign.design import physical
-from chargedesign.design.frontier import find_frontier
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer import physical
+from chargedesign.designer.frontier import find_frontier
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical.limits import carrier_surface_fields
 from chargedesign.scene import scene_from_dict
 

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chargedesign.design import frontier_scan
-from chargedesign.design.frontier_scan import ELEMENTARY_CHARGE, _fit, scan_frontier
+from chargedesign.designer import frontier_scan
+from chargedesign.designer.frontier_scan import ELEMENTARY_CHARGE, _fit, scan_frontier
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.scene import load_scene
 

@@ -22,9 +22,9 @@ import pytest
 from physical.test_buildable import SMALL
 
 from chargedesign.body import Design, read_design, write_design
-from chargedesign.design.frontier import find_frontier
-from chargedesign.design.physical import build_design, design_at_rate
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer.frontier import find_frontier
+from chargedesign.designer.physical import build_design, design_at_rate
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.larmor import LarmorReading
 from chargedesign.physical.limits import check_limits

@@ -14,8 +14,8 @@ import pytest
 from physical.test_buildable import SMALL, scene_with
 
 from chargedesign.body import Design
-from chargedesign.design import design_from_scene
-from chargedesign.design.pipeline import physical_setup_from_scene
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MAGNET_COERCIVITY, MAGNET_DATA, MU_0

@@ -14,8 +14,8 @@ import pytest
 from conftest import run_cli, snapshot
 
 from chargedesign.errors import InputError
-from chargedesign.sweep import COMMANDS, load_sweep, run_sweep, sweep_from_dict
-from chargedesign.sweep.registry import resolve
+from chargedesign.sweeps import COMMANDS, load_sweep, run_sweep, sweep_from_dict
+from chargedesign.sweeps.registry import resolve
 
 #: names a hostile or careless sweep file might give; none may be imported or called
 HOSTILE = [

@@ -72,9 +72,9 @@ def _no_work(monkeypatch: pytest.MonkeyPatch) -> None:
     def boom(*args: object, **kwargs: object) -> None:
         raise AssertionError("the work started before the output was checked")
 
-    import chargedesign.design as design_pkg
-    import chargedesign.design.frontier_scan as scan
-    import chargedesign.simulate as simulate_mod
+    import chargedesign.designer as design_pkg
+    import chargedesign.designer.frontier_scan as scan
+    import chargedesign.simulation as simulate_mod
 
     monkeypatch.setattr(design_pkg, "design_from_scene", boom)
     monkeypatch.setattr(simulate_mod, "simulate", boom)
@@ -328,7 +328,7 @@ def test_a_design_json_of_too_many_elements_is_refused_by_its_count(work: Path, 
 
     n = MAX_DESIGN_ELEMENTS + 1
     text = (
-        '{"format": "chargedesign.design/1", "parameters": {"C": 1.0}, "realises": [], '
+        '{"format": "chargedesign.designer/1", "parameters": {"C": 1.0}, "realises": [], '
         '"charges": {"positions": ['
         + ",".join(["[0,0,1]"] * n)
         + '], "values": ['
@@ -413,7 +413,7 @@ def test_docs_list_every_option_range() -> None:
 
 
 def test_tolerance_without_simulation_prints_no_nan_table(work: Path, capsys) -> None:
-    design = Path(__file__).parents[1] / "tolerance" / "data" / "default_design.json"
+    design = Path(__file__).parents[1] / "tolerancing" / "data" / "default_design.json"
     argv = ["tolerance", str(design), "--position", "1%", "--no-simulate", "--samples", "20"]
     code, out, err = run_cli(argv, capsys)
     assert code == 0, err
@@ -427,7 +427,7 @@ def test_simulate_always_hands_the_integrator_a_callback(
     """SIGINT is raised in Python code: the integrator must come back to Python every step,
     also without a progress bar (--no-progress), or heyoka runs on for seconds (33.8 s
     measured; 0.24 s with the callback)."""
-    import chargedesign.simulate as simulate_mod
+    import chargedesign.simulation as simulate_mod
 
     seen: dict[str, object] = {}
 

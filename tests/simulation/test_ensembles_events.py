@@ -10,8 +10,7 @@ import pytest
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene
-from chargedesign.simulate import simulate
-from chargedesign.simulation import chaos, taylor
+from chargedesign.simulation import chaos, simulate, taylor
 from chargedesign.simulation.ensemble import load_states, parse_states, simulate_ensemble
 from chargedesign.simulation.system import Body, RigidBodySystem, quaternion_gamma
 

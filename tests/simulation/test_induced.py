@@ -12,7 +12,7 @@ import pytest
 from physical.test_buildable import SMALL
 
 from chargedesign.body import Design
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.realism import RESPONSE_ORIENTATIONS, field_response, typical_rate
 from chargedesign.scene import load_scene

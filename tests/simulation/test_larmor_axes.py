@@ -24,7 +24,7 @@ from chargedesign.larmor import LarmorReading, from_turning_axes, to_turning_axe
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
-from chargedesign.simulate import simulate, simulate_ensemble
+from chargedesign.simulation import simulate, simulate_ensemble
 
 RATE = 0.7
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
@@ -187,8 +187,8 @@ def test_turning_integrals_are_the_theorems_with_n() -> None:
 
 def test_a_physical_frame_body_in_turning_axes() -> None:
     """The small buildable body of tests/physical (air, 5 cm) designed at n = 0."""
-    from chargedesign.check import check_design
-    from chargedesign.design import design_from_scene
+    from chargedesign.checker import check_design
+    from chargedesign.designer import design_from_scene
 
     data = tomllib.loads((Path(__file__).parents[1] / "physical" / "small.toml").read_text())
     rate = data["parameters"]["n"]

@@ -10,8 +10,7 @@ from chargedesign.bench.simulate import KOWALEVSKI_SCENE as KOWALEVSKI
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
-from chargedesign.simulate import simulate
-from chargedesign.simulation import taylor
+from chargedesign.simulation import simulate, taylor
 from chargedesign.simulation.monitors import MONITORS, parse_monitors
 from chargedesign.simulation.system import Body, body_mass_points, inertia_mismatch
 

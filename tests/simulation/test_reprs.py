@@ -2,9 +2,9 @@
 
 from unit_scene import UNIT_SCENE
 
-from chargedesign.design import design_from_scene
+from chargedesign.designer import design_from_scene
 from chargedesign.scene import load_scene
-from chargedesign.simulate import setup_from_source
+from chargedesign.simulation import setup_from_source
 
 
 def test_body_and_setup_reprs_are_short_and_name_the_counts():

@@ -7,7 +7,7 @@ import pytest
 
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
-from chargedesign.simulate import simulate
+from chargedesign.simulation import simulate
 from chargedesign.simulation.integrate import _thin
 from chargedesign.simulation.result import plot_integrals, plot_poincare, summary_text
 

@@ -16,7 +16,7 @@ from chargedesign.errors import InputError, SolverError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
-from chargedesign.simulate import (
+from chargedesign.simulation import (
     Body,
     RigidBodySystem,
     quaternion_gamma,

@@ -19,7 +19,7 @@ from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene, scene_from_dict
-from chargedesign.simulate import (
+from chargedesign.simulation import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,
@@ -307,7 +307,7 @@ def test_routes_give_the_same_trajectory(designed: Design) -> None:
 
 def test_default_designed_body_keeps_i4_on_the_level_only() -> None:
     """The designer's body for the default scene, simulated from its own elements."""
-    from chargedesign.design import design_from_scene
+    from chargedesign.designer import design_from_scene
     from chargedesign.scene import load_scene
 
     design = design_from_scene(load_scene(UNIT_SCENE)).design

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from chargedesign.fields import _zonal_sums, zonal_z_coefficients
 from chargedesign.params import Parameters
-from chargedesign.simulate import (
+from chargedesign.simulation import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,

@@ -8,8 +8,7 @@ import pytest
 from chargedesign.body import Design
 from chargedesign.errors import SolverError
 from chargedesign.params import Parameters
-from chargedesign.simulate import simulate
-from chargedesign.simulation import taylor
+from chargedesign.simulation import simulate, taylor
 from chargedesign.simulation.api import initial_state
 from chargedesign.simulation.system import Body, RigidBodySystem
 

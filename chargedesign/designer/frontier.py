@@ -1,0 +1,662 @@
+"""The frontier of the buildable: the largest time rate a body realises within every limit.
+
+Time rescaling ``n, K -> s n, s K`` and ``kappa, lambda, rho -> s^2 (...)`` is the same motion
+``s`` times faster (:func:`chargedesign.designer.physical.scaled_parameters`). The charges grow
+like ``s`` (and the surface fields with them), the magnets like ``s^2``; the carriers, whose
+number grows with ``s``, weigh on the inertia. What the charges carry depends on the Larmor
+reading (:mod:`chargedesign.larmor`): with ``charges`` (the paper's (p6)) their second
+moments realise n and their third moments K, so the frontier is ``n_max``; with ``frame``
+the body realises ``n = 0`` (any n is a rotation of axes), only K's third moments need
+charges, and the frontier is ``K_max`` (with kappa's magnets and the masses).
+
+:func:`find_frontier` brackets the largest ``s`` the design accepts
+(:mod:`chargedesign.designer.acceptance`: both stages, the limits recomputed from the parts,
+the balance under gravity and the forward check):
+
+1. an upper bound from one LP: the largest ``s`` for which charges meet their conditions with
+   every carrier's own surface field within the safe field (a necessary condition; without
+   charge conditions, rates 10x apart up to the first refused);
+2. the charges' limit computed directly
+   (:func:`~chargedesign.designer.physical.charges_rate_limit`): the charges' conditions
+   ``A q = s b`` and their surface fields are homogeneous in ``(q, s)``, so with ``q = s u``
+   the largest rate the charges allow is ``s_c = E_lim / t*``,
+   ``t* = min_u max_x |E(u)(x)| + E_ext`` subject to ``A u = b``: one SOCP, solved by the
+   design's constraint generation. No charges exist above ``s_c`` (a proved refusal, never
+   designed); the design at ``s_c (1 - rtol / 4)``, then at ``s_c / (1 + rtol)``, closes the
+   bracket when accepted (measured: the default body in 1 design instead of 11, the small body
+   in SF6 in 1 instead of 11);
+3. otherwise (the masses, the balance or the acceptance bind below ``s_c``) bisection in
+   ``log s`` over the full acceptance to ``rtol``, below the lowest rate refused.
+
+A refusal the charges' stage proves (:attr:`~chargedesign.designer.physical.Binding.proved`:
+the own-field LP, or the surface cones on every usable carrier, infeasible; or the rate above
+``s_c``) holds at every faster rate, so the checks above the bracket that guard against the
+heuristic's non-monotonicity skip the rates above a proved refusal.
+
+The binding limit is the one that fails just above ``s_max``. Under gravity the balance
+bounds the rate from below (the designed torques go as ``s^2``, gravity's imbalance does not):
+the frontier reports that lowest rate ``s_min``, and fails in one line when it lies above
+``s_max`` ("no buildable rate: ...").
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.designer.acceptance import BUILDER_BALANCE_M, body_check
+from chargedesign.designer.physical import (
+    Binding,
+    ChargesLimit,
+    PhysicalInfeasible,
+    PhysicalSetup,
+    charges_rate_limit,
+)
+from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.results import Result
+
+#: relative width of the final bracket [s_max, s_above]
+FRONTIER_RTOL = 1e-2
+#: after bisection, rates (1 + rtol)^k above the bracket that must fail too
+UPWARD_STEPS = (1, 2, 4)
+UPWARD_RESTARTS = 3
+#: how far below the necessary bound a feasible rate is searched for
+LOWEST_RATE_FRACTION = 1e-9
+#: without charge conditions (no necessary bound): rates 10x apart are tried up to this
+HIGHEST_RATE = 1e15
+#: rates below s_max tried when the forward check or the limits check refuses the body there
+ACCEPT_RETRIES = 3
+#: the charges' minmax (:func:`~chargedesign.designer.physical.charges_rate_limit`) closes its
+#: gap to this fraction of the frontier's rtol
+CHARGES_GAP_FRACTION = 0.1
+#: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
+#: s_c / (1 + rtol) (None)
+DIRECT_STEPS = (0.25, None)
+
+
+@dataclass(repr=False)
+class FrontierResult(Result):
+    """Where the buildable stops for one scene.
+
+    Attributes
+    ----------
+    s_max : float
+        Largest time rate the body realises within every limit and the design accepts
+        (0: none).
+    n : float
+        The theorem's n at rate 1, 1/s.
+    K : float
+        The theorem's K at rate 1, 1/s.
+    larmor : str
+        The Larmor reading (``charges`` or ``frame``).
+    n_max : float or None
+        ``s_max * n`` for ``charges``; None for ``frame``, where n is free (a rotation of
+        axes: the body realises n = 0, so any n reads its motion in turning axes).
+    K_max : float
+        ``s_max * K``, 1/s: the largest K the body realises.
+    period : float
+        ``2 pi / n_max``, s (inf when n_max is 0 or None).
+    binding : Binding
+        What fails just above ``s_max``.
+    s_necessary : float
+        The charges' own-field upper bound on s (inf without charge conditions).
+    s_charges : float or None
+        The largest rate the charges allow, from their minmax
+        (:func:`~chargedesign.designer.physical.charges_rate_limit`; an upper bound on
+        ``s_max``: no charges exist above it); None when not computed.
+    s_min : float
+        Under gravity, the lowest rate whose balance the forward check confirms (0 without
+        gravity); ``balance`` gives the numbers at ``s_max``.
+    field_response : dict
+        The applied field acting on the parts' materials of the body designed at ``s_max``
+        (:func:`chargedesign.physical.realism.field_response`): induced magnetisation and
+        eddy torques as fractions of the designed torques.
+    smallest_charge : float
+        The smallest carrier charge of that body, C.
+    """
+
+    s_max: float
+    n: float
+    binding: Binding
+    s_necessary: float
+    s_above: float
+    evaluations: int
+    seconds: float
+    medium: str
+    history: list[tuple[float, bool]] = field(default_factory=list)
+    field_response: dict[str, Any] = field(default_factory=dict)
+    K: float = 0.0
+    larmor: str = "charges"
+    s_min: float = 0.0
+    balance: dict[str, Any] = field(default_factory=dict)
+    #: the smallest |q| of the body designed at s_max, C (0: no charges)
+    smallest_charge: float = 0.0
+    s_charges: float | None = None
+
+    @property
+    def n_free(self) -> bool:
+        return self.larmor == "frame"
+
+    @property
+    def n_max(self) -> float | None:
+        return None if self.n_free else self.s_max * self.n
+
+    @property
+    def K_max(self) -> float:
+        return self.s_max * self.K
+
+    @property
+    def period(self) -> float:
+        n_max = self.n_max
+        return 2 * math.pi / n_max if n_max is not None and n_max > 0 else math.inf
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "s_max": self.s_max,
+            "n_max": self.n_max,
+            "K_max": self.K_max,
+            "larmor": self.larmor,
+            "n_free": self.n_free,
+            "period_s": self.period if math.isfinite(self.period) else None,
+            "binding": self.binding.text(self.medium),
+            "binding_detail": self.binding.to_dict(),
+            "s_above": self.s_above,
+            "s_necessary": self.s_necessary if math.isfinite(self.s_necessary) else None,
+            "s_charges": (
+                self.s_charges
+                if self.s_charges is not None and math.isfinite(self.s_charges)
+                else None
+            ),
+            "s_min": self.s_min,
+            "balance": dict(self.balance),
+            "medium": self.medium,
+            "evaluations": self.evaluations,
+            "seconds": self.seconds,
+            "field_response": dict(self.field_response),
+            "smallest_charge_C": self.smallest_charge,
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "s_max": self.s_max,
+            "K_max": self.K_max,
+            "n_max": self.n_max,
+            "larmor": self.larmor,
+            "binding": self.binding.stage,
+            "medium": self.medium,
+            "evaluations": self.evaluations,
+            "seconds": self.seconds,
+        }
+
+    def _text(self) -> str:
+        if self.n_free:
+            rate = (
+                f"K_max = {self.K_max:.4g} 1/s; n is free: the frame reading realises n = 0 "
+                "and any n reads the motion in axes turning at n"
+            )
+        else:
+            period = f"{self.period:.4g} s" if math.isfinite(self.period) else "none"
+            rate = (
+                f"n_max = {self.n_max or 0.0:.4g} 1/s, period 2 pi / n_max = {period}, "
+                f"K_max = {self.K_max:.4g} 1/s"
+            )
+        lines = [
+            f"frontier ({self.larmor} reading): s_max = {self.s_max:.4g} ({rate}) in "
+            f"{self.medium}\n",
+            f"binding: {self.binding.text(self.medium)}\n",
+        ]
+        if self.balance:
+            lines.append(
+                f"balance: under gravity the rate must stay above s_min = {self.s_min:.4g} "
+                f"(at s_max the centre of mass must sit within "
+                f"{self.balance['builder_centre_of_mass_within_m']:.3g} m of O for gravity to "
+                f"stay below {self.balance['builder_torque_fraction']:g} of the designed "
+                f"torques, a builder balancing to {BUILDER_BALANCE_M:g} m; and within "
+                f"{self.balance['centre_of_mass_within_m']:.3g} m for the check's tolerance "
+                f"{self.balance['check_tolerance']:g})\n"
+            )
+        lines += [
+            f"at s_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
+            f"torques ({item['verdict']})\n"
+            for key, item in self.field_response.items()
+        ]
+        lines.append(f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n")
+        return "".join(lines)
+
+
+def _value_text(item: dict[str, Any]) -> str:
+    value = item.get("value")
+    return "inf" if value is None else f"{value:.3g}"
+
+
+def necessary_rate(setup: PhysicalSetup) -> float:
+    """Largest s with charges meeting ``A q = s b`` and ``|q_i| <= c0_i - s c1_i`` (one LP)."""
+    from scipy.optimize import linprog
+
+    A, b = setup.systems["charges"]
+    bound = setup.field_bound(1.0)
+    if not np.any(b):
+        return bound
+    c0 = setup.charge_caps(0.0)
+    c1 = c0 - setup.charge_caps(1.0)  # the external field's share per unit rate
+    qs = float(np.max(c0))
+    top = np.max(np.abs(A), axis=1) * qs
+    top = np.where(top > 0, top, 1.0)
+    As = A * qs / top[:, None]
+    bs = b / top
+    n = A.shape[1]
+    # variables (q+, q-, s); maximise s
+    cost = np.zeros(2 * n + 1)
+    cost[-1] = -1.0
+    A_eq = np.hstack([As, -As, -bs[:, None]])
+    A_ub = np.hstack([np.eye(n), np.eye(n), (c1 / qs)[:, None]])
+    res = linprog(
+        cost,
+        A_ub=A_ub,
+        b_ub=c0 / qs,
+        A_eq=A_eq,
+        b_eq=np.zeros(len(b)),
+        bounds=[(0, None)] * (2 * n) + [(0, min(bound, 1e300))],
+        method="highs",
+    )
+    if res.status == 3:  # unbounded: the charges' conditions are homogeneous
+        return bound
+    if res.status != 0 or res.x is None:
+        raise SolverError(f"frontier: HiGHS failed on the necessary-rate LP ({res.message})")
+    return float(res.x[-1])
+
+
+def _charges_limit(setup: PhysicalSetup, rtol: float) -> ChargesLimit | None:
+    """The charges' limit on the rate, or None when it does not apply (no charge conditions,
+    no charges at all, or the minmax's rounds ran out: the bisection alone then)."""
+    try:
+        limit = charges_rate_limit(setup, gap=CHARGES_GAP_FRACTION * rtol)
+    except SolverError:
+        return None
+    return limit if limit.stage != "none" and 0 < limit.rate < math.inf else None
+
+
+def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
+    """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
+    charges' own-field LP (a cheap guess of the design's carriers; it only orders the
+    frontier's probes, never decides one)."""
+    from chargedesign.designer.physical import charge_support, design_masses, lp_charges
+
+    A, b = setup.systems["charges"]
+    q = lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
+    if q is None:
+        return False
+    try:
+        design_masses(setup, s, charge_support(q))
+    except PhysicalInfeasible:
+        return True  # the magnets or the masses
+    except SolverError:
+        return False  # the design will say
+    return False
+
+
+def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
+    """What refuses every rate above the charges' limit (proved: no charges exist there)."""
+    if limit.stage == "fields":
+        return Binding(
+            "fields",
+            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            "body region",
+            "fields.electric",
+            1.0,
+            proved=True,
+        )
+    medium = setup.spec.medium
+    return Binding(
+        "charges",
+        f"no charges meet the conditions above s = {limit.rate:.6g} with every carrier's "
+        f"surface field within the safe field of {medium.name} ({setup.safe_field:.3g} V/m): "
+        "at the best charges the carriers' fields add up to it here",
+        f"charge at {np.array2string(setup.points[limit.worst_site], precision=4)} m",
+        1.0,
+        proved=True,
+    )
+
+
+def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
+    """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
+    stages (:func:`~chargedesign.designer.physical.design_at_rate`) and the balance under
+    gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
+    from chargedesign.designer.acceptance import balance_bound
+    from chargedesign.designer.physical import build_design, design_at_rate
+
+    try:
+        design = build_design(setup, design_at_rate(setup, s))
+    except PhysicalInfeasible as exc:
+        return None, exc.binding
+    balance = balance_bound(design)
+    if balance is None:
+        return design, None
+    design.extra["balance"] = balance.to_dict()
+    if balance.confirmed:
+        return design, None
+    return design, Binding("balance", balance.text(), "centre of mass")
+
+
+def _balance_fails(design: Design, s: float) -> bool:
+    balance = design.extra.get("balance") or {}
+    return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
+
+
+def _accept_body(design: Design) -> Binding | None:
+    """The rest of the design's acceptance on a body whose limits and balance hold: the
+    limits recomputed from the written parts and the forward check (None: accepted)."""
+    from chargedesign.physical.limits import check_limits
+
+    limits = check_limits(design)
+    if not limits.buildable:
+        return Binding("limits", limits.violations[0], "limits check")
+    try:
+        report = body_check(design)
+    except ChargeDesignError as exc:
+        return Binding("forward", f"the forward check could not run ({exc})", "check")
+    if report.passed:
+        return None
+    errors = ", ".join(
+        f"{name} {q.rel_err:.2g}"
+        for name, q in report.quantities.items()
+        if name in report.failures
+    )
+    return Binding(
+        "forward",
+        f"the body misses the theorem in the forward check ({errors} against tol {report.tol:g})",
+        "forward check",
+    )
+
+
+def _response_at(design: Design | None) -> dict[str, Any]:
+    """The field response of the body designed at the frontier (empty when none)."""
+    from chargedesign.physical.realism import field_response
+
+    return {} if design is None else field_response(design)
+
+
+def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
+    """The one line of a frontier whose balance bound lies above its largest rate."""
+    g = balance["gravity_m_per_s2"] / 9.80665
+    gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
+    return (
+        f"no buildable rate: under {gravity} the centre of mass must sit within "
+        f"{balance['builder_centre_of_mass_within_m']:.3g} m of O at s_max = {s_max:.4g} "
+        f"(K_max = {K_max:.3g} 1/s) for gravity to stay below "
+        f"{balance['builder_torque_fraction']:g} of the designed torques (a builder balances "
+        f"to about {balance['builder_balance_m']:g} m), and within "
+        f"{balance['centre_of_mass_within_m']:.3g} m for the forward check's tolerance "
+        f"{balance['check_tolerance']:g} (double precision holds "
+        f"{balance['balance_held_m']:.3g} m); rates are accepted from s = "
+        f"{balance['lowest_rate']:.4g}, above s_max"
+    )
+
+
+def find_frontier(
+    setup: PhysicalSetup,
+    *,
+    rtol: float = FRONTIER_RTOL,
+    progress: Any = None,
+    feasible_rate: float | None = None,
+    feasible: Design | None = None,
+    direct: bool | None = None,
+) -> FrontierResult:
+    """The largest time rate the design accepts, and the limit that binds above it.
+
+    ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
+    which starts the bracket and saves the search for a feasible point; ``feasible`` its
+    body, which then need not be designed again if the frontier ends there. The bracket
+    ``[s_max, s_above]`` ends narrower than ``1 + rtol``. ``direct``: bracket the frontier
+    from the charges' limit first (see the module doc; False: the bisection alone). By
+    default it is used for the ``frame`` reading, where the charges bind (the default body:
+    1 design instead of 11); the ``charges`` reading's carriers weigh on the masses, which
+    bind first on the default body, and the design near the charges' limit cost more than
+    the bisection saved (49 s against 22 s, docs/benchmarks.md).
+
+    Raises
+    ------
+    InfeasibleError
+        Under gravity, when the balance the check can confirm needs a rate above ``s_max``
+        ("no buildable rate: ...").
+    """
+    t0 = time.perf_counter()
+    s_nec = necessary_rate(setup)
+    s_lp = s_nec  # reported: the own-field LP's bound
+    s_charges: float | None = None
+    history: list[tuple[float, bool]] = []
+    medium = setup.spec.medium.name
+    theorem = setup.theorem_params
+    reading = setup.larmor.reading if setup.larmor is not None else "charges"
+    if direct is None:
+        direct = reading == "frame"
+
+    # the body at the highest rate probed whose limits hold (its field response and balance
+    # are reported)
+    best: dict[float, Design] = {}
+    if feasible_rate is not None and feasible is not None:
+        best[feasible_rate] = feasible
+
+    # the lowest rate whose refusal is proved (Binding.proved: a relaxation of the limits is
+    # infeasible there, so at every faster rate too): faster rates are refused unprobed
+    proved: list[tuple[float, Binding]] = []
+
+    def probe(s: float) -> tuple[bool, Binding | None]:
+        if proved and s >= proved[0][0]:
+            if progress is not None:
+                progress(f"s = {s:.6g}: infeasible (proved at s = {proved[0][0]:.6g})")
+            return False, proved[0][1]
+        design, binding = _probe_body(setup, s)
+        if design is None and binding is not None and binding.proved:
+            proved[:] = [(s, binding)]
+        # only the balance fails: the limits hold and the rate is too slow, not too fast (the
+        # upper search goes on; s_min decides below)
+        ok = design is not None
+        if design is not None and all(s > known for known in best):
+            best.clear()
+            best[s] = design
+        history.append((s, ok))
+        if progress is not None:
+            progress(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
+        return ok, binding
+
+    def result(lo: float, hi: float, binding: Binding, design: Design | None) -> FrontierResult:
+        return FrontierResult(
+            s_max=lo,
+            n=theorem.n,
+            binding=binding,
+            s_necessary=s_lp,
+            s_above=hi,
+            evaluations=len(history),
+            seconds=time.perf_counter() - t0,
+            medium=medium,
+            history=history,
+            field_response=_response_at(design),
+            K=theorem.K,
+            larmor=reading,
+            smallest_charge=(
+                float(np.min(np.abs(design.charge_values)))
+                if design is not None and len(design.charge_values)
+                else 0.0
+            ),
+            s_charges=s_charges,
+        )
+
+    if not s_nec > 0:
+        none_binding = Binding(
+            "charges",
+            f"the external electric field alone exceeds the safe field of {medium}",
+            "fields.electric",
+        )
+        return result(0.0, 0.0, none_binding, None)
+    # the necessary bound itself: just above it the own-field LP is infeasible
+    upper_binding = Binding(
+        "charges",
+        f"the carriers' own surface fields reach the safe field of {medium} "
+        f"({setup.safe_field:.3g} V/m)",
+        "the carriers",
+    )
+    if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
+        upper_binding = Binding(
+            "fields",
+            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            "body region",
+            "fields.electric",
+        )
+    hi_binding: Binding | None = upper_binding
+    # the charges' limit computed directly: no charges exist above it (a proved refusal), and
+    # when the charges bind, designs just below it close the bracket
+    accepted_at: float | None = None
+    first: tuple[float, Binding] | None = None  # the lowest rate refused by the direct steps
+    limit = _charges_limit(setup, rtol) if direct and math.isfinite(s_nec) else None
+    if limit is not None:
+        s_charges = limit.rate
+        top_binding = _limit_binding(setup, limit)
+        proved[:] = [(limit.rate, top_binding)]
+        s_nec = min(s_nec, limit.rate)
+        upper_binding = hi_binding = top_binding
+        hi = limit.rate
+        # near s_c the design's cone rounds are its dearest: when the masses already fail there
+        # around the carriers of the charges' first LP, the bisection starts below instead
+        steps = () if _masses_refuse(setup, limit.rate / (1 + rtol)) else DIRECT_STEPS
+        for step in steps:
+            s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
+            ok, binding = probe(s_try)
+            design_try = best.get(s_try) if ok else None
+            if design_try is not None:
+                # the balance, if it fails, speaks below (too slow); else the acceptance
+                refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
+                if refused is None:
+                    accepted_at = s_try
+                    break
+                binding = refused
+            assert binding is not None
+            hi, hi_binding = s_try, binding
+            first = (s_try, binding)
+            if binding.stage != "charges":
+                break  # the masses, the balance or the acceptance bind lower: bisect below
+    if accepted_at is not None:
+        lo = accepted_at
+    elif not math.isfinite(s_nec):
+        # no charge conditions (frame with K = 0): rates 10x apart up to the first refused
+        s = feasible_rate or 1.0
+        s_nec = HIGHEST_RATE
+        while s < HIGHEST_RATE:
+            ok, binding = probe(s)
+            if not ok:
+                s_nec, upper_binding = s, binding or upper_binding
+                break
+            s *= 10.0
+        hi_binding = upper_binding
+    checked = (False, None) if accepted_at is not None or first is not None else probe(s_nec)
+    if accepted_at is not None:
+        pass
+    elif checked[0]:
+        hi = s_nec * (1 + rtol)
+        lo = s_nec
+    else:
+        hi, hi_binding = first if first is not None else (s_nec, checked[1])
+        lo = feasible_rate if feasible_rate is not None and feasible_rate < hi else 0.0
+        s = hi
+        while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
+            s *= 0.1
+            ok, binding = probe(s)
+            if ok:
+                lo = s
+                break
+            hi, hi_binding = s, binding
+        if lo == 0.0:
+            assert hi_binding is not None
+            return result(0.0, hi, hi_binding, None)
+        for _ in range(UPWARD_RESTARTS + 1):
+            while hi / lo > 1 + rtol:
+                mid = math.sqrt(lo * hi)
+                ok, binding = probe(mid)
+                if ok:
+                    lo = mid
+                else:
+                    hi, hi_binding = mid, binding
+            # the heuristic feasibility (LP rounds, then cones; the carriers the masses must
+            # balance) is not exactly monotone in s: rates a little above the bracket, and
+            # (1 + 2 rtol) s_max, which design must refuse, are tried, and a success reopens
+            # the bracket; (1 - 2 rtol) s_max, which design must accept, is tried too
+            above = [lo * (1 + 2 * rtol)]
+            for k in UPWARD_STEPS:
+                s_up = hi * (1 + rtol) ** k
+                # rates within rtol / 4 of one already tried tell nothing new
+                if s_up < s_nec and all(abs(s_up / x - 1) > rtol / 4 for x in above):
+                    above.append(s_up)
+            found = None
+            for s_up in above:
+                ok, binding = probe(s_up)
+                if ok:
+                    found = s_up
+                    break
+            if found is not None:
+                lo = found
+                hi = min(s_nec, found * (1 + rtol) ** 4)
+                hi_binding = upper_binding
+                ok, binding = probe(hi)
+                if ok:
+                    lo = hi
+                    break
+                hi_binding = binding
+                continue
+            below = lo * (1 - 2 * rtol)
+            ok, binding = probe(below)
+            if ok:
+                break
+            # refused just below: the frontier lies under it
+            hi, hi_binding = below, binding
+            feasible_below = [x for x, good in history if good and x < below]
+            if not feasible_below:
+                break
+            lo = max(feasible_below)
+    assert hi_binding is not None
+    # the rest of the design's acceptance (limits recomputed from the parts, forward check)
+    # at the rate reported; it does not depend on the rate but through the balance, so it
+    # runs once, and a refusal moves the frontier down to the next rate probed feasible
+    design = best.get(lo)
+    for _ in range(ACCEPT_RETRIES):
+        if design is None:
+            # the rate given by the caller was not probed here
+            design, _ = _probe_body(setup, lo)
+        if design is None or _balance_fails(design, lo):
+            break  # the balance speaks below
+        refused = None if lo == accepted_at else _accept_body(design)
+        if refused is None:
+            break
+        hi, hi_binding = lo, refused
+        lower_rates = [x for x, good in history if good and x < lo]
+        lo = max(lower_rates, default=0.0)
+        design = None
+        if lo == 0.0:
+            break
+    else:
+        lo, design = 0.0, None
+    front = result(lo, hi, hi_binding, design)
+    balance = (design.extra.get("balance") if design is not None else None) or {}
+    if balance:
+        front.balance = dict(balance)
+        front.s_min = float(balance.get("lowest_rate") or math.inf)
+        if not front.s_min <= lo:
+            raise InfeasibleError(no_buildable_rate(balance, lo, front.K_max))
+    return front
+
+
+def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
+    """The frontier of a scene with ``[medium]`` (see :func:`find_frontier`)."""
+    from chargedesign.designer.pipeline import physical_setup_from_scene
+
+    setup = physical_setup_from_scene(scene, **overrides)
+    if setup is None:
+        raise InfeasibleError(
+            "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
+            "name = vacuum | air | sf6 | oil)"
+        )
+    return find_frontier(setup, progress=progress)

@@ -1,0 +1,211 @@
+"""What a design returns: per-source outcomes, the body, and its design.json provenance."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from chargedesign.body import Design
+from chargedesign.candidates import CandidateSet
+from chargedesign.conditions import SOURCES, LinearConditions
+from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
+from chargedesign.designer.options import DesignOptions
+from chargedesign.results import Result
+
+
+@dataclass
+class SourceResult:
+    """Outcome of one source's design problem (SI units).
+
+    ``residual_before`` / ``residual_after``: :func:`relative_residual` of the solver's
+    weights and of the delivered (polished) weights. ``forward``: the worst
+    :class:`Cancellation` of the delivered weights (None when not assessed).
+    """
+
+    source: str
+    objective: str
+    objective_value: float
+    objective_value_raw: float
+    units: str
+    solver: str
+    method: str
+    status: str
+    n_conditions: int
+    rank: int
+    n_candidates: int
+    n_elements: int
+    residual_before: float
+    residual_after: float
+    seconds: float
+    notes: list[str] = field(default_factory=list)
+    forward: Cancellation | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(repr=False)
+class DesignResult(Result):
+    """A designed body and how it was obtained.
+
+    Attributes
+    ----------
+    design : Design
+        The body, with provenance in ``design.extra`` (see docs/design.md).
+    sources : dict[str, SourceResult]
+    candidates : CandidateSet
+    options : DesignOptions
+    conditions : LinearConditions
+    timings : dict[str, float]
+        Seconds per stage.
+    notes : list of str
+    status : str
+        ``"optimal"`` (every problem solved and verified).
+    """
+
+    design: Design
+    sources: dict[str, SourceResult]
+    candidates: CandidateSet
+    options: DesignOptions
+    conditions: LinearConditions
+    timings: dict[str, float] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    status: str = "optimal"
+
+    @property
+    def residual_before(self) -> float:
+        """Largest relative residual of the solvers' weights over the sources."""
+        return max((s.residual_before for s in self.sources.values()), default=0.0)
+
+    @property
+    def residual_after(self) -> float:
+        """Largest relative residual of the delivered weights over the sources."""
+        return max((s.residual_after for s in self.sources.values()), default=0.0)
+
+    def summary(self) -> dict[str, Any]:
+        """A JSON-ready summary (residuals first)."""
+        d = self.design
+        return {
+            "status": self.status,
+            "residuals": {
+                "before_polish": {k: s.residual_before for k, s in self.sources.items()},
+                "after_polish": {k: s.residual_after for k, s in self.sources.items()},
+                "max_after_polish": self.residual_after,
+                "tolerance": self.options.tolerance,
+            },
+            "counts": {
+                "candidates": len(self.candidates),
+                "charges": len(d.charge_values),
+                "dipoles": len(d.dipole_moments),
+                "masses": len(d.mass_values),
+            },
+            "objective": {
+                k: {"kind": s.objective, "value": s.objective_value, "units": s.units}
+                for k, s in self.sources.items()
+            },
+            "solver": {k: s.solver for k, s in self.sources.items()},
+            "realises": list(d.realises),
+            "timings": dict(self.timings),
+            "notes": list(self.notes),
+        }
+
+    # result protocol (chargedesign.results)
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: :meth:`summary` plus the body's design.json mapping under ``design``."""
+        return {**self.summary(), "design": self.design.to_dict()}
+
+    def _summary(self) -> dict[str, Any]:
+        d = self.design
+        return {
+            "status": self.status,
+            "charges": len(d.charge_values),
+            "dipoles": len(d.dipole_moments),
+            "masses": len(d.mass_values),
+            "candidates": len(self.candidates),
+            "residual": self.residual_after,
+            "realises": list(d.realises),
+        }
+
+    def _text(self) -> str:
+        from chargedesign.report import render_report
+
+        return render_report(self.design)
+
+    def _html_rows(self) -> dict[str, Any]:
+        rows = self._summary()
+        rows["parameters"] = ", ".join(
+            f"{k} = {v:g}" for k, v in self.design.parameters.as_dict().items()
+        )
+        rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
+        return rows
+
+    def _html_picture(self) -> str:
+        return self.design._html_picture()
+
+
+def design_extras(result: DesignResult) -> dict[str, Any]:
+    """Provenance keys written into design.json beside the contract's keys."""
+    from chargedesign import __version__
+
+    conditions = result.conditions
+    counts = {s: len(conditions.for_source(s)) for s in SOURCES if conditions.for_source(s)}
+    out: dict[str, Any] = {
+        "units": {
+            "positions": "m",
+            "charges": "C",
+            "masses": "kg",
+            "dipoles": "A m^2",
+            "fields": "legendre f_k of Phi = sum f_k R^k P_k(Z/R): magnetic T m^(1-k), "
+            "electric V m^(-k), gravity J kg^-1 m^(-k)",
+        },
+        "provenance": {
+            "generator": f"chargedesign {__version__}",
+            "fields_origin": dict(conditions.field_origin),
+            "options": result.options.to_dict(),
+        },
+        "solver": {
+            k: {"solver": s.solver, "method": s.method, "status": s.status}
+            for k, s in result.sources.items()
+        },
+        "objective": {
+            k: {
+                "kind": s.objective,
+                "value": s.objective_value,
+                "units": s.units,
+                "before_polish": s.objective_value_raw,
+            }
+            for k, s in result.sources.items()
+        },
+        "residuals": {
+            "definition": "max_i |(A w - b)_i| / (|A_i|_S |w| + |b_i|) over the conditions "
+            "of each source (A w = b from the conditions engine, SI units; |.| Euclidean, "
+            "|A_i|_S the norm of row i on the support w != 0)",
+            "before_polish": {k: s.residual_before for k, s in result.sources.items()},
+            "after_polish": {k: s.residual_after for k, s in result.sources.items()},
+            "tolerance": result.options.tolerance,
+        },
+        "forward_accuracy": {
+            "definition": "per source, the field term whose contributions cancel most: sum of "
+            "the elements' |contributions| through it over the size of mu (max |mu|) or V (its "
+            "spread) = amplification; forward_error = eps * amplification * (sum |coefficients| "
+            "of P_k, times k for V), the relative error to expect from any floating-point "
+            "evaluation",
+            "note_above": FORWARD_NOTE,
+            "refused_above": FORWARD_LIMIT,
+            "worst": {
+                k: s.forward.to_dict() for k, s in result.sources.items() if s.forward is not None
+            },
+        },
+        "timings": {k: round(v, 6) for k, v in result.timings.items()},
+        "candidates": result.candidates.description,
+        "conditions": {
+            "counts": counts,
+            "ranks": {k: s.rank for k, s in result.sources.items()},
+            "notes": list(conditions.notes),
+            "list": [c.to_dict() for c in conditions.conditions],
+        },
+        "notes": list(result.notes),
+    }
+    if result.candidates.region is not None:
+        out["region"] = dict(result.candidates.region)
+    return out

@@ -1,0 +1,212 @@
+"""What a sweep can run at each point: command name -> function(scene, point_dir, **options).
+
+Each function takes the point's :class:`~chargedesign.scene.Scene` and its own output folder
+(which it may fill with files), and returns a flat dict of main figures (numbers, strings,
+booleans) for ``summary.csv``.
+
+A sweep *file* names only these built-in commands: a file never makes the tool import or call
+code it names (a colleague's sweep file is data, not a program). A function of your own with
+the same signature runs only through the Python API, passed as an object:
+``cd.sweep("grid.toml", "out", command=my_function)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from chargedesign.errors import InputError
+
+CommandFunction = Callable[..., dict[str, Any]]
+
+
+def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
+    """Scalars of a (nested) mapping, keys joined by dots; lists and None dropped."""
+    out: dict[str, Any] = {}
+    if not isinstance(data, dict):
+        return out
+    for key, value in data.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            out.update(_flat(value, name + "."))
+        elif isinstance(value, (bool, int, float, str)):
+            out[name] = value
+    return out
+
+
+def _scene_design(scene: Any, point_dir: Path) -> Any:
+    """The design a scene names (``body.design`` or inline elements), else designed now."""
+    from chargedesign.simulation.api import setup_from_scene
+
+    setup = setup_from_scene(scene)
+    if setup.design is not None:
+        return setup.design
+    from chargedesign.body import write_design
+    from chargedesign.designer import design_from_scene
+
+    result = design_from_scene(scene)
+    write_design(result.design, point_dir / "design.json")
+    return result.design
+
+
+def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
+    """Design the body; writes design.json. Figures: element counts, residual, seconds."""
+    from chargedesign.body import write_design
+    from chargedesign.designer import design_from_scene
+
+    result = design_from_scene(scene)
+    write_design(result.design, point_dir / "design.json")
+    d = result.design
+    return {
+        "charges": len(d.charge_values),
+        "dipoles": len(d.dipole_moments),
+        "masses": len(d.mass_values),
+        "residual_after": float(result.residual_after),
+        "max_abs_charge": float(abs(d.charge_values).max()) if len(d.charge_values) else 0.0,
+        "total_mass": float(d.mass_values.sum()),
+    }
+
+
+def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
+    """Design (unless the scene names a design) and check; writes check.json."""
+    from chargedesign.checker import check_design
+    from chargedesign.files import write_json_atomic
+
+    report = check_design(_scene_design(scene, point_dir))
+    data = report.to_dict()
+    write_json_atomic(point_dir / "check.json", data)
+    return {
+        "mu_rel_err": data.get("mu_rel_err"),
+        "V_rel_err": data.get("V_rel_err"),
+        "inertia_rel_err": data.get("inertia_rel_err"),
+        "passed": bool(report.passed),
+    }
+
+
+def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dict[str, Any]:
+    """Simulate the scene (its [simulation] table); writes summary.json."""
+    from chargedesign.files import write_json_atomic
+    from chargedesign.simulation import simulate
+
+    result = simulate(scene, t_end=t_end)
+    summary = result.summary()
+    write_json_atomic(point_dir / "summary.json", summary)
+    return {
+        k: summary[k]
+        for k in ("I4_rel_drift", "I3_max", "I1_rel_drift", "I2_max_dev")
+        if k in summary
+    }
+
+
+def run_frontier(scene: Any, point_dir: Path) -> dict[str, Any]:
+    """The largest time-rate within every limit (:mod:`chargedesign.designer.frontier`);
+    writes frontier.json. A scene without ``[medium]`` fails with the frontier's reason."""
+    from chargedesign.designer.frontier import frontier_from_scene
+    from chargedesign.files import write_json_atomic
+
+    data = frontier_from_scene(scene).to_dict()
+    write_json_atomic(point_dir / "frontier.json", data)
+    return _flat(data)
+
+
+def run_tolerance(
+    scene: Any,
+    point_dir: Path,
+    position: Any = None,
+    charge: Any = None,
+    dipole: Any = None,
+    mass: Any = None,
+    target: float = 1e-4,
+    samples: int = 100,
+    t_end: float = 100.0,
+    simulate: bool = True,
+) -> dict[str, Any]:
+    """Design (unless named) and analyse tolerances; writes tolerance.json."""
+    from chargedesign.files import write_json_atomic
+    from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
+
+    design = _scene_design(scene, point_dir)
+    model = ErrorModel.parse(position, charge, dipole, mass)
+    report = tolerance_report(design, target)
+    figures: dict[str, Any] = {
+        "dominant": report.dominant["element"] if report.dominant else "",
+        "position_tol_m": report.dominant["position_tol_m_min"] if report.dominant else None,
+        "binding": (report.dominant or {}).get("binding") or "",
+        "uniform_tol_m_rms": report.uniform["position_tol_m_rms_min"],
+    }
+    data: dict[str, Any] = report.to_dict()
+    if not model.is_zero:
+        mc = monte_carlo(
+            design,
+            model,
+            samples=samples,
+            drift_samples=samples if simulate else 0,
+            t_end=t_end,
+            levels=(1.0,),
+            target=target,
+        )
+        data = mc.to_dict()
+        for q, v in data["rel_errors"].items():
+            figures[f"{q}_rel_err_p90"] = v["monte_carlo"]["p90"]
+        if simulate:
+            figures["I4_drift_median"] = data["I4_drift"][0]["monte_carlo"]["median"]
+            figures["I4_drift_linear_median"] = data["I4_drift"][0]["linear"]["median"]
+    write_json_atomic(point_dir / "tolerance.json", data)
+    return figures
+
+
+#: the built-in commands
+COMMANDS: dict[str, CommandFunction] = {
+    "design": run_design,
+    "check": run_check,
+    "simulate": run_simulate,
+    "frontier": run_frontier,
+    "tolerance": run_tolerance,
+}
+
+
+def check_command(command: Any, where: str) -> None:
+    """One-line error unless ``command`` names a built-in command.
+
+    Nothing is imported or called here: a name from a file is compared with the registry's
+    keys, and anything else (``module:function`` included) is refused.
+    """
+    if isinstance(command, str) and command in COMMANDS:
+        return
+    hint = ""
+    if isinstance(command, str) and ":" in command:
+        hint = (
+            "; a sweep file never names code to run: pass your own function from Python, "
+            "cd.sweep(file, out, command=function)"
+        )
+    raise InputError(
+        f"{where}: unknown command {command!r} (expected one of {', '.join(COMMANDS)}){hint}"
+    )
+
+
+def command_label(command: str | CommandFunction) -> str:
+    """How a command is named in sweep.json: its registry name, or ``module.qualname`` of a
+    function passed from Python (a label only: nothing ever imports it back)."""
+    if isinstance(command, str):
+        return command
+    module = getattr(command, "__module__", None) or "?"
+    name = getattr(command, "__qualname__", None) or type(command).__name__
+    return f"python:{module}.{name}"
+
+
+def resolve(command: str | CommandFunction) -> CommandFunction:
+    """The function of a command: a built-in's by name, or the callable itself.
+
+    Raises
+    ------
+    InputError
+        A string that is not a built-in command (it is never imported).
+    """
+    if callable(command):
+        return command
+    if isinstance(command, str) and command in COMMANDS:
+        return COMMANDS[command]
+    raise InputError(
+        f"command {command!r}: not a built-in command (expected one of {', '.join(COMMANDS)})"
+    )

@@ -1,0 +1,450 @@
+"""Sweep files: the base scene, the command, and the points (a grid and/or a random sample).
+
+```toml
+scene = "scene.toml"          # the base scene, relative to this file (omitted: the default)
+command = "design"            # design | check | simulate | frontier | tolerance
+chunk = 0                     # points per task (0: automatic)
+[grid]                        # dotted scene keys -> lists of values; the product is swept
+"body.radius" = [0.01, 0.02, 0.04]
+"fields.magnetic.a1" = [1.0, 2.0]
+[random]                      # optional: `samples` draws (per grid point)
+samples = 10
+seed = 0
+"parameters.n" = {uniform = [0.1, 1.0]}
+"body.spacing" = {log_uniform = [0.1, 0.3]}
+"fields.magnetic.a2" = {choice = [0.5, 1.0]}
+[options]                     # keyword options of the command (e.g. tolerance: position = "20um")
+```
+
+Every key is checked against the scene before anything runs: one-line errors name the key
+(unknown scene key, empty grid, wrong command, bad random spec). ``command`` names a built-in
+command only; a file never names code to import or run. A function of your own is passed
+from Python: ``load_sweep(path, command=function)`` or ``cd.sweep(path, out, command=function)``.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import os
+import tomllib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.limits import MAX_SWEEP_POINTS
+from chargedesign.readers import read_toml_file
+
+SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
+RANDOM_KINDS = ("uniform", "log_uniform", "choice")
+
+
+@dataclass
+class SweepSpec:
+    """A parsed, validated sweep.
+
+    Attributes
+    ----------
+    source : str
+        The sweep file (or ``<dict>``).
+    scene_data : dict
+        The base scene's TOML mapping; ``scene_source`` its path (relative paths inside it,
+        e.g. ``body.design``, resolve against it) or ``<default>``.
+    command : str or callable
+        A built-in command's name (:data:`chargedesign.sweeps.COMMANDS`), or a function
+        ``(scene, point_dir, **options) -> dict`` passed from Python (never from a file).
+    keys : list of str
+        The swept dotted keys, in order.
+    points : list of dict
+        One mapping ``key -> value`` per point.
+    chunk : int
+        Points per task (0: automatic).
+    options : dict
+        Keyword options for the command.
+    """
+
+    source: str
+    scene_data: dict[str, Any]
+    scene_source: str
+    command: str | Callable[..., dict[str, Any]]
+    keys: list[str]
+    points: list[dict[str, Any]]
+    chunk: int = 0
+    options: dict[str, Any] = field(default_factory=dict)
+
+    def point_ids(self) -> list[str]:
+        width = max(4, len(str(max(len(self.points) - 1, 0))))
+        return [f"p{i:0{width}d}" for i in range(len(self.points))]
+
+
+def set_dotted(data: dict[str, Any], key: str, value: Any) -> None:
+    """``data["a"]["b"]["c"] = value`` for ``key = "a.b.c"`` (tables created as needed)."""
+    parts = key.split(".")
+    node = data
+    for part in parts[:-1]:
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        if not isinstance(child, dict):
+            raise InputError(f"grid key {key!r}: {part!r} is a value, not a table, in the scene")
+        node = child
+    node[parts[-1]] = value
+
+
+def scene_with(base: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:
+    data = copy.deepcopy(dict(base))
+    for key, value in point.items():
+        set_dotted(data, key, value)
+    return data
+
+
+def validate_scene_key(
+    data: dict[str, Any], key: str, source: str, scene_source: str = "<sweep>"
+) -> None:
+    """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
+    the base scene's path, which its relative paths resolve against)."""
+    from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
+
+    parts = key.split(".")
+    if len(parts) < 2 or not all(parts):
+        raise InputError(
+            f"{source}: grid key {key!r}: expected a dotted scene key such as body.radius"
+        )
+    if parts[0] not in KNOWN_TABLES:
+        raise InputError(
+            f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
+        )
+    try:
+        # every table by its owner (chargedesign.scene.validate_tables), and a region's points
+        scene = validated(scene_from_dict(data, source=scene_source))
+        if parts[0] == "body" and "shape" in scene.table("body"):
+            from chargedesign.candidates import candidates_from_table
+
+            base = None if scene_source.startswith("<") else Path(scene_source).parent
+            candidates_from_table(scene.table("body"), base_dir=base)
+    except InputError as exc:
+        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
+
+
+def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source: str) -> list:
+    where = f"{source}: random key {key!r}"
+    if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in RANDOM_KINDS:
+        raise InputError(
+            f"{where}: expected one of {{uniform = [lo, hi]}}, "
+            "{log_uniform = [lo, hi]}, {choice = [...]}"
+        )
+    kind, arg = next(iter(spec.items()))
+    if not isinstance(arg, list) or not arg:
+        raise InputError(f"{where}: {kind} needs a non-empty list")
+    if kind == "choice":
+        idx = rng.integers(0, len(arg), n)
+        return [arg[int(i)] for i in idx]
+    if (
+        len(arg) != 2
+        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in arg)
+        or not all(math.isfinite(x) for x in arg)
+        or not arg[0] < arg[1]
+    ):
+        raise InputError(f"{where}: {kind} needs [lo, hi] with lo < hi")
+    lo, hi = float(arg[0]), float(arg[1])
+    if kind == "uniform":
+        return [float(x) for x in rng.uniform(lo, hi, n)]
+    if lo <= 0.0:
+        raise InputError(f"{where}: log_uniform needs lo > 0")
+    return [float(x) for x in np.exp(rng.uniform(math.log(lo), math.log(hi), n))]
+
+
+def check_point_value(value: Any, where: str) -> None:
+    """A swept value: a number within the input range (no nan, no 1e200), a string, a
+    boolean, or a list or table of those (chargedesign.validation.check_tree)."""
+    from chargedesign.validation import check_tree
+
+    check_tree(value, where)
+
+
+def check_options(command: Any, options: Mapping[str, Any], source: str) -> None:
+    """``[options]``: names the command takes (its signature), numbers within the input range."""
+    import inspect
+
+    from chargedesign.sweeps.registry import resolve
+
+    check_point_value(dict(options), f"{source}: options")
+    try:
+        inspect.signature(resolve(command)).bind(None, None, **options)
+    except TypeError as exc:
+        raise InputError(f"{source}: options: {exc}") from None
+    except ValueError:  # pragma: no cover - a callable without a signature
+        return
+    if isinstance(command, str):
+        _check_command_options(command, options, f"{source}: options.")
+
+
+def _check_command_options(command: str, options: Mapping[str, Any], prefix: str) -> None:
+    """A built-in command's options within the ranges its command-line options have
+    (chargedesign.limits.OPTION_RANGES) and, for ``tolerance``, its errors parsed and within
+    theirs: a bad option was found only when its point ran, after the others had written
+    (``position = "1e31"``), or not at all (``samples = 1e9``)."""
+    from chargedesign.limits import OPTION_RANGES
+
+    ranges = OPTION_RANGES.get(command, {})
+    for name, value in options.items():
+        bounds = ranges.get(name)
+        if bounds is None or isinstance(value, bool) or not isinstance(value, (int, float)):
+            continue
+        if not bounds.holds(value):
+            raise InputError(f"{prefix}{name}: expected a value in {bounds.text()}, got {value!r}")
+    if command == "tolerance":
+        from chargedesign.tolerancing import ErrorModel
+        from chargedesign.validation import check_error_spreads
+
+        errors = {k: options.get(k) for k in ("position", "charge", "dipole", "mass")}
+        try:
+            model = ErrorModel.parse(**errors)
+        except InputError as exc:
+            raise InputError(f"{prefix}{str(exc).removeprefix('--')}") from None
+        check_error_spreads(model, prefix)
+
+
+def validate_points(
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    points: list[dict[str, Any]],
+    command: Any,
+    source: str,
+    options: Mapping[str, Any] | None = None,
+) -> None:
+    """Every point's whole scene, before any point runs: its tables by their owners
+    (chargedesign.scene.scene_from_dict), for a command that designs its ``[body]`` region's
+    candidates (each distinct region once), and for ``simulate`` the work of its motion
+    (:func:`chargedesign.validation.check_periods`, the cap the ``simulate`` command applies).
+    A point that would fail on its input is refused here, with the point and its values
+    named, not found after others ran."""
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.scene import scene_from_dict, validated
+
+    designs = command in ("design", "check", "tolerance", "frontier")
+    base = None if scene_source.startswith("<") else Path(scene_source).parent
+    seen: set[str] = set()
+    width = max(4, len(str(max(len(points) - 1, 0))))
+    for i, point in enumerate(points):
+        try:
+            check_point_value(point, f"point p{i:0{width}d}")
+            scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
+            body = scene.table("body")
+            key = repr(sorted(body.items()))
+            if designs and "shape" in body and key not in seen:
+                seen.add(key)
+                candidates_from_table(body, base_dir=base)
+            if command == "simulate":
+                _check_motion_work(scene, (options or {}).get("t_end"))
+            elif command == "tolerance":
+                _check_drift_work(scene, options or {})
+        except (InputError, TypeError, ValueError) as exc:
+            values = ", ".join(f"{k} = {v!r}" for k, v in point.items())
+            raise InputError(f"{source}: point p{i:0{width}d} ({values}): {exc}") from None
+
+
+def _check_motion_work(scene: Any, t_end: Any) -> None:
+    """A simulate point's periods of its fastest rate within MAX_PERIODS (a ``t_end = 1e8`` on a
+    unit-scale body ran unbounded after the other points had written their outputs)."""
+    from chargedesign.limits import MAX_PERIODS
+    from chargedesign.simulation.api import parse_simulation_options
+    from chargedesign.validation import check_periods
+
+    if t_end is not None:
+        option = "options.t_end"
+    else:
+        t_end, option = (
+            parse_simulation_options(scene.table("simulation")).t_end,
+            "simulation.t_end",
+        )
+    check_periods(t_end, scene.parameters, scene.table("initial"), MAX_PERIODS, option)
+
+
+def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
+    """A tolerance point's drift simulation (run when it has errors and ``simulate``) within
+    MAX_PERIODS of the scene's parameters, as ``tolerance --t-end`` is."""
+    from chargedesign.limits import MAX_PERIODS
+    from chargedesign.validation import check_periods
+
+    errors = any(options.get(k) is not None for k in ("position", "charge", "dipole", "mass"))
+    if errors and options.get("simulate", True):
+        t_end = options.get("t_end", 100.0)
+        check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
+
+
+def sweep_from_dict(
+    data: Mapping[str, Any],
+    source: str = "<dict>",
+    base_dir: Path | None = None,
+    command: Callable[..., dict[str, Any]] | None = None,
+    max_points: int | None = None,
+) -> SweepSpec:
+    """Validate a sweep mapping (see the module docstring).
+
+    Parameters
+    ----------
+    data : mapping
+        The sweep file's tables.
+    source : str
+        Its name, for error messages.
+    base_dir : Path, optional
+        Where a relative ``scene`` path resolves.
+    command : callable, optional
+        A function of your own, ``(scene, point_dir, **options) -> dict``, run at every
+        point instead of a built-in command (the file must then not name one).
+    max_points : int, optional
+        Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
+
+    Every point's scene is validated before any runs (:func:`validate_points`).
+    """
+    from chargedesign.scene import default_scene_text
+    from chargedesign.sweeps.registry import check_command
+
+    if not isinstance(data, Mapping):
+        raise InputError(f"{source}: expected a table of sweep keys")
+    unknown = sorted(set(data) - set(SWEEP_KEYS))
+    if unknown:
+        raise InputError(
+            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
+        )
+    if command is not None:
+        if not callable(command):
+            raise InputError(f"command=: expected a function, got {type(command).__name__}")
+        if "command" in data:
+            raise InputError(
+                f"{source}: names command {data['command']!r} and a function was passed as "
+                "command=: give one of them"
+            )
+        chosen: str | Callable[..., dict[str, Any]] = command
+    else:
+        if "command" not in data:
+            raise InputError(f"{source}: missing key 'command'")
+        # compared with the registry's names only: nothing named by a file is imported
+        check_command(data["command"], f"{source}: command")
+        chosen = data["command"]
+    scene_value = data.get("scene")
+    if scene_value is None:
+        scene_data = tomllib.loads(default_scene_text())
+        scene_source = "<default>"
+    else:
+        if not isinstance(scene_value, str) or not scene_value:
+            raise InputError(
+                f"{source}: scene: expected a path to a scene file, got {scene_value!r}"
+            )
+        path = Path(scene_value)
+        if not path.is_absolute() and base_dir is not None:
+            path = base_dir / path
+        try:
+            # missing, special files, size, encoding and depth: one line each
+            scene_data = read_toml_file(path, "scene file")
+        except InputError as exc:
+            raise InputError(f"{source}: scene: {exc}") from None
+        scene_source = str(path)
+    chunk = data.get("chunk", 0)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
+        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
+    options = data.get("options", {})
+    if not isinstance(options, dict):
+        raise InputError(f"{source}: options: expected a table")
+    grid = data.get("grid", {})
+    if not isinstance(grid, dict):
+        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
+    random = data.get("random")
+    if random is not None and not isinstance(random, dict):
+        raise InputError(f"{source}: random: expected a table")
+    keys: list[str] = []
+    value_lists: list[list[Any]] = []
+    for key, values in grid.items():
+        if not isinstance(values, list):
+            raise InputError(f"{source}: grid key {key!r}: expected a list of values")
+        if not values:
+            raise InputError(f"{source}: grid key {key!r}: empty list of values (empty grid)")
+        keys.append(key)
+        value_lists.append(values)
+    random_keys: dict[str, Any] = {}
+    n_random = 0
+    seed = 0
+    if random is not None:
+        n_random = random.get("samples", 0)
+        seed = random.get("seed", 0)
+        if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
+            raise InputError(
+                f"{source}: random.samples: expected an integer >= 1, got {n_random!r}"
+            )
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
+        random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}
+        if not random_keys:
+            raise InputError(f"{source}: random: no keys to sample (empty random sample)")
+        for key in random_keys:
+            if key in grid:
+                raise InputError(f"{source}: random key {key!r} is also a grid key")
+    if not keys and not random_keys:
+        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
+    # the work, counted before any point is built
+    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
+    cap = MAX_SWEEP_POINTS if max_points is None else max_points
+    if count > cap:
+        raise InputError(
+            f"{source}: {count:.3g} points exceed the cap of {cap} "
+            "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
+        )
+    # every value of every key, checked alone against the base scene
+    for key, values in zip(keys, value_lists, strict=True):
+        for i, value in enumerate(values):
+            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
+    rng = np.random.default_rng(seed)
+    grid_points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
+    points: list[dict[str, Any]] = []
+    if random_keys:
+        for gp in grid_points:
+            draws = {k: _random_values(k, v, n_random, rng, source) for k, v in random_keys.items()}
+            for i in range(n_random):
+                p = dict(gp)
+                p.update({k: draws[k][i] for k in random_keys})
+                points.append(p)
+        for key in random_keys:
+            for i, p in enumerate(points):
+                check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
+            validate_scene_key(
+                scene_with(scene_data, {key: points[0][key]}), key, source, scene_source
+            )
+    else:
+        points = grid_points
+    check_options(chosen, options, source)
+    validate_points(scene_data, scene_source, points, chosen, source, options)
+    return SweepSpec(
+        source=source,
+        scene_data=scene_data,
+        scene_source=scene_source,
+        command=chosen,
+        keys=keys + list(random_keys),
+        points=points,
+        chunk=chunk,
+        options=dict(options),
+    )
+
+
+def load_sweep(
+    path: str | os.PathLike[str],
+    command: Callable[..., dict[str, Any]] | None = None,
+    max_points: int | None = None,
+) -> SweepSpec:
+    """Read and validate a sweep file (one-line errors naming the key).
+
+    ``command``: a function of your own to run at every point; ``max_points``: raise the cap
+    on points (see :func:`sweep_from_dict`).
+    """
+    p = Path(path)
+    return sweep_from_dict(
+        read_toml_file(p, "sweep file"), str(p), p.parent, command=command, max_points=max_points
+    )
