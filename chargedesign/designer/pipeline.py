@@ -4,7 +4,8 @@ For each source: build the nondimensional system (:mod:`~chargedesign.designer.s
 diagnose it (:mod:`~chargedesign.designer.diagnostics`), solve
 (:mod:`~chargedesign.designer.solve`), polish (:mod:`~chargedesign.designer.polish`), verify
 the residual and assess the forward accuracy (:mod:`~chargedesign.designer.accuracy`).
-:func:`design_body` checks every source's system before solving any and assembles the :class:`~chargedesign.body.Design`.
+:func:`design_body` checks every source's system before solving any and assembles the
+:class:`~chargedesign.body.Design`.
 """
 
 from __future__ import annotations
