@@ -2,7 +2,8 @@
 
 Scene tables (docs/buildable.md)::
 
-    [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety
+    [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety;
+                        gas (whose drag the realism budget estimates; default the name's)
     [carriers]          material = "aluminium" (or density), shell_thickness (m; 0 = solid),
                         samples (surface points per carrier in the design)
     [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3),
@@ -29,16 +30,17 @@ from typing import Any
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import (
     BALLAST_DENSITY,
-    BREAKDOWN_V_PER_M,
     CARRIER_DENSITY,
     CONDUCTIVITY,
     MAGNET_COERCIVITY,
     MAGNET_DATA,
     SUSCEPTIBILITY,
     Material,
-    Medium,
 )
-from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.scene.keys import check_table
+from chargedesign.scene.medium import Medium, medium_from_table
+from chargedesign.scene.tables import material_errors_from_table
+from chargedesign.validation import as_finite_float, input_error
 
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
@@ -49,12 +51,6 @@ DEFAULT_SURFACE_SAMPLES = 26
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
 #: how a part's material answers the applied field: magnetisation and eddy currents
 _RESPONSE_KEYS = ("susceptibility", "conductivity")
-_KEYS = {
-    "medium": ("name", "breakdown", "safety"),
-    "carriers": ("material", "density", "shell_thickness", "samples", *_RESPONSE_KEYS),
-    "magnets": ("material", "density", "magnetisation", "coercivity", *_RESPONSE_KEYS),
-    "ballast": ("material", "density", *_RESPONSE_KEYS),
-}
 
 
 @dataclass(frozen=True)
@@ -117,9 +113,7 @@ class PhysicalSpec:
 
 
 def _check_keys(table: Mapping[str, Any], name: str) -> None:
-    if not isinstance(table, Mapping):
-        raise input_error(name, "a table", table)
-    check_keys(table, _KEYS[name], name)
+    check_table(table, name)
 
 
 def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], default: str):
@@ -150,36 +144,13 @@ def _response(table: Mapping[str, Any], where: str, name: str) -> dict[str, floa
     return {"susceptibility": chi, "conductivity": sigma}
 
 
-def medium_from_table(table: Mapping[str, Any]) -> Medium:
-    """``[medium]``: a named medium or a breakdown field, and the safety factor."""
-    _check_keys(table, "medium")
-    if "breakdown" in table:
-        breakdown = as_finite_float(table["breakdown"], "medium.breakdown", positive=True)
-        name = table.get("name", "custom")
-        if not isinstance(name, str):
-            raise input_error("medium.name", "a name", name)
-    else:
-        name = table.get("name")
-        if name not in BREAKDOWN_V_PER_M:
-            raise input_error(
-                "medium.name", "one of " + ", ".join(BREAKDOWN_V_PER_M) + " (or breakdown)", name
-            )
-        breakdown = BREAKDOWN_V_PER_M[name]
-    safety = as_finite_float(table.get("safety", 0.5), "medium.safety")
-    if not 0.0 < safety <= 1.0:
-        raise input_error("medium.safety", "a number in (0, 1]", safety)
-    return Medium(name=name, breakdown=breakdown, safety=safety)
-
-
 def spec_from_tables(
     tables: Mapping[str, Any], field_limits: Mapping[str, float] | None = None
 ) -> PhysicalSpec | None:
     """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
     material_errors: dict[str, float] = {}
     if "tolerance" in tables:
-        from chargedesign.tolerancing import MaterialErrors
-
-        material_errors = MaterialErrors.from_table(tables["tolerance"]).to_dict()
+        material_errors = material_errors_from_table(tables["tolerance"])
     if "medium" not in tables:
         for name in ("carriers", "magnets", "ballast", "tolerance"):
             if name in tables:

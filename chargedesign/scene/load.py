@@ -1,8 +1,11 @@
-"""Scenes: TOML files with the contract's keys, validated with one-line errors naming the key.
+"""Scenes: TOML files with the contract's keys, parsed once into a typed :class:`Scene`.
 
-Tables every scene may use: ``[parameters]``, ``[fields.magnetic|electric|gravity]``,
-``[body]``; later stages read their own tables (``[design]``, ``[simulation]``, ``[initial]``,
-``[output]``) through :attr:`Scene.tables`.
+Every table is parsed and checked when the scene is loaded (one-line errors naming the key):
+``[parameters]``, ``[fields.*]``, ``[medium]`` with ``[carriers]``, ``[magnets]``,
+``[ballast]`` (the physical spec), ``[body]`` (a region, or the body to simulate),
+``[design]``, ``[simulation]``, ``[initial]``, ``[output]`` and ``[tolerance]``. The stages
+take these objects; :attr:`Scene.tables` keeps the raw tables only for sweeps, which apply a
+grid of dotted keys to them and parse again.
 """
 
 from __future__ import annotations
@@ -14,10 +17,13 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
+from chargedesign.physical.spec import PhysicalSpec, spec_from_tables
 from chargedesign.readers import read_toml_file
+from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.medium import Medium
+from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.validation import (
     as_array,
     as_finite_float,
@@ -27,7 +33,7 @@ from chargedesign.validation import (
     check_tree,
     input_error,
 )
-from chargedesign.vocabulary import SCENE_TABLES
+from chargedesign.vocabulary import FIELD_KINDS, SCENE_TABLES
 
 #: characters no portable file name holds (Windows forbids them; '\\' is a separator there)
 _NOT_PORTABLE = '<>:"\\|?*'
@@ -48,9 +54,20 @@ class Scene:
     field_limits : dict[str, float]
         ``max`` of each field table: the largest |B| (T), |E| (V/m) or |g| (m/s^2) the
         apparatus makes over the body region.
+    physical : PhysicalSpec or None
+        ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``, ``[body] carrier_radius``
+        and ``[tolerance]`` (None: no ``[medium]``, the mathematical case).
+    body : BodyRegion, BodyReference or None
+        ``[body]``: a region to design in, or the body to simulate.
+    design : DesignOptions
+        ``[design]``.
+    simulation, output : SimulationOptions, OutputOptions
+        ``[simulation]``, ``[output]`` (:mod:`chargedesign.simulation`).
+    initial : dict or None
+        ``[initial]`` as :func:`chargedesign.simulation.parse_initial` normalises it (None:
+        the scene has none).
     tables : dict
-        The raw TOML tables (``body``, ``design``, ``simulation``, ...), for the stages that
-        own them to validate.
+        The raw TOML tables, for sweeps (a grid of dotted keys applied, then parsed again).
     source : str
         Where the scene came from (a path, or ``<default>``).
     """
@@ -60,6 +77,49 @@ class Scene:
     tables: dict[str, Any] = field(default_factory=dict)
     source: str = "<default>"
     field_limits: dict[str, float] = field(default_factory=dict)
+    physical: PhysicalSpec | None = None
+    body: BodyRegion | BodyReference | None = None
+    design: DesignOptions = field(default_factory=DesignOptions)
+    simulation: Any = None
+    output: Any = None
+    initial: dict[str, Any] | None = None
+
+    @property
+    def medium(self) -> Medium | None:
+        """``[medium]`` (None: the mathematical case, point elements)."""
+        return self.physical.medium if self.physical is not None else None
+
+    @property
+    def carriers(self) -> Any:
+        """The carriers' material (``[carriers]``), None without ``[medium]``."""
+        return self.physical.carrier if self.physical is not None else None
+
+    @property
+    def magnets(self) -> Any:
+        """The magnets' material (``[magnets]``), None without ``[medium]``."""
+        return self.physical.magnet if self.physical is not None else None
+
+    @property
+    def ballast(self) -> Any:
+        """The ballast materials (``[ballast]``), empty without ``[medium]``."""
+        if self.physical is None:
+            return ()
+        return self.physical.ballasts or (self.physical.ballast,)
+
+    @property
+    def tolerance(self) -> dict[str, float]:
+        """``[tolerance]``: the materials' relative errors (empty: none given)."""
+        return dict(self.physical.material_errors) if self.physical is not None else {}
+
+    @property
+    def region(self) -> BodyRegion | None:
+        """The ``[body]`` region to design in (None: the body is a reference, or absent)."""
+        return self.body if isinstance(self.body, BodyRegion) else None
+
+    @property
+    def base_dir(self) -> Path | None:
+        """The folder relative paths of the scene are read from (None: not from a file)."""
+        return None if self.source.startswith("<") else Path(self.source).parent
 
     def table(self, name: str) -> dict[str, Any]:
         """One raw table (empty dict when the scene has none)."""
@@ -119,9 +179,29 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     for name, value in tables.items():
         if not isinstance(value, dict):
             raise input_error(name, "a table", value)
-    return Scene(
+    scene = Scene(
         parameters=params, fields=fields_out, tables=tables, source=source, field_limits=limits
     )
+    _parse_tables(scene)
+    return scene
+
+
+def _parse_tables(scene: Scene) -> None:
+    """Every table of a scene, parsed once into its type (in place): a key or value no
+    stage would accept is refused by every command that reads the scene (one line naming
+    the key), not only by the command that uses the table."""
+    tables = scene.tables
+    scene.design = DesignOptions.from_table(tables.get("design", {}))
+    scene.physical = spec_from_tables(tables, scene.field_limits)
+    scene.body = body_from_table(tables.get("body"))
+    # the simulation's tables are typed by its own parsers (methods, monitors and state
+    # files are the simulation's vocabulary); imported here, as the simulation reads scenes
+    from chargedesign.simulation import api
+
+    scene.simulation = api.parse_simulation_options(tables.get("simulation", {}))
+    scene.output = api.parse_output_options(tables.get("output", {}))
+    if "initial" in tables:
+        scene.initial = api.parse_initial(tables["initial"], "initial", scene.base_dir)
 
 
 def _precheck(data: dict[str, Any]) -> None:
@@ -137,32 +217,8 @@ def _precheck(data: dict[str, Any]) -> None:
 
 
 def validate_tables(scene: Scene) -> None:
-    """Every table of a scene, by the validator of the stage that owns it, whatever the
-    command: a key or value no stage would accept is refused by every command that reads the
-    scene (one line naming the key), not only by the command that uses the table.
-
-    ``[design]`` (DesignOptions), ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``
-    (the physical spec), the keys of ``[body]`` (a region's shape keys, or a simulated
-    body's ``design``/``charges``/``masses``/``dipoles``), ``[simulation]``, ``[output]``
-    and ``[initial]`` (the simulation's parsers; an ``[initial] file`` is read).
-    """
-    from chargedesign.candidates import check_body_keys
-    from chargedesign.designer.options import DesignOptions
-    from chargedesign.physical.spec import spec_from_tables
-    from chargedesign.simulation import api
-
-    DesignOptions.from_table(scene.table("design"))
-    spec_from_tables(scene.tables, scene.field_limits)
-    body = scene.table("body")
-    if "shape" in body or not set(body) & set(api.BODY_KEYS):
-        check_body_keys(body)
-    else:
-        check_keys(body, api.BODY_KEYS, "body")
-    api.parse_simulation_options(scene.table("simulation"))
-    api.parse_output_options(scene.table("output"))
-    if "initial" in scene.tables:
-        base = None if scene.source.startswith("<") else Path(scene.source).parent
-        api.parse_initial(scene.tables["initial"], "initial", base)
+    """Every table of a scene, parsed again (a scene whose raw tables were changed)."""
+    _parse_tables(scene)
 
 
 def check_output_dir(table: Any, where: str = "output.dir") -> None:
@@ -206,6 +262,6 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
 
 
 def validated(scene: Scene) -> Scene:
-    """``scene`` after :func:`validate_tables` (the whole file, whatever the command)."""
-    validate_tables(scene)
+    """``scene``, whose tables :func:`scene_from_dict` has parsed and checked already (kept
+    for callers that validated a scene in two steps)."""
     return scene
