@@ -744,6 +744,8 @@ def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict
             + " for the drag estimate",
         )
     rho_gas, viscosity = gas
+    if medium is not None and medium.gas not in (None, name):
+        name = f"{name} ({medium.gas})"
     drag = 8 * math.pi * viscosity * envelope**3 * rate
     reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
     return _item(

@@ -116,9 +116,10 @@ DESIGN = (
         "objectives",
         {
             "type": "object",
-            "propertyNames": _enum(SOURCES),
-            "additionalProperties": _enum(OBJECTIVES),
+            "properties": {source: _enum(OBJECTIVES) for source in SOURCES},
+            "additionalProperties": False,
         },
+        "the objective per source",
     ),
     Key("column_generation", BOOLEAN),
     Key("sparsity", _enum(("auto", "reweighted", "mip"))),
