@@ -11,7 +11,6 @@ the residual and assess the forward accuracy (:mod:`~chargedesign.designer.accur
 from __future__ import annotations
 
 import dataclasses
-
 import time
 from dataclasses import dataclass
 from typing import Any
