@@ -37,7 +37,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     Material,
 )
-from chargedesign.scene.keys import check_table
+from chargedesign.scene.keys import check_table, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
@@ -49,6 +49,8 @@ DEFAULT_SHELL_THICKNESS = 1e-4
 #: surface sample points per carrier in the design (constraint generation adds the worst)
 DEFAULT_SURFACE_SAMPLES = 26
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
+#: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
+_KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}
 #: how a part's material answers the applied field: magnetisation and eddy currents
 _RESPONSE_KEYS = ("susceptibility", "conductivity")
 

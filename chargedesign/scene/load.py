@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 import tomllib
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -54,6 +55,8 @@ class Scene:
     field_limits : dict[str, float]
         ``max`` of each field table: the largest |B| (T), |E| (V/m) or |g| (m/s^2) the
         apparatus makes over the body region.
+    Parsed tables (each parsed once, when first read; :func:`load_scene` reads them all):
+
     physical : PhysicalSpec or None
         ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``, ``[body] carrier_radius``
         and ``[tolerance]`` (None: no ``[medium]``, the mathematical case).
@@ -77,12 +80,35 @@ class Scene:
     tables: dict[str, Any] = field(default_factory=dict)
     source: str = "<default>"
     field_limits: dict[str, float] = field(default_factory=dict)
-    physical: PhysicalSpec | None = None
-    body: BodyRegion | BodyReference | None = None
-    design: DesignOptions = field(default_factory=DesignOptions)
-    simulation: Any = None
-    output: Any = None
-    initial: dict[str, Any] | None = None
+
+    # Each table is parsed once, when first read: load_scene reads them all at load (every
+    # error before any work); a scene built from a mapping raises a table's error where the
+    # table is first used, as stages always did.
+    @cached_property
+    def design(self) -> DesignOptions:
+        return DesignOptions.from_table(self.tables.get("design", {}))
+
+    @cached_property
+    def physical(self) -> PhysicalSpec | None:
+        return spec_from_tables(self.tables, self.field_limits)
+
+    @cached_property
+    def body(self) -> BodyRegion | BodyReference | None:
+        return body_from_table(self.tables.get("body"))
+
+    @cached_property
+    def simulation(self) -> Any:
+        return _simulation_api().parse_simulation_options(self.tables.get("simulation", {}))
+
+    @cached_property
+    def output(self) -> Any:
+        return _simulation_api().parse_output_options(self.tables.get("output", {}))
+
+    @cached_property
+    def initial(self) -> dict[str, Any] | None:
+        if "initial" not in self.tables:
+            return None
+        return _simulation_api().parse_initial(self.tables["initial"], "initial", self.base_dir)
 
     @property
     def medium(self) -> Medium | None:
@@ -179,29 +205,17 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     for name, value in tables.items():
         if not isinstance(value, dict):
             raise input_error(name, "a table", value)
-    scene = Scene(
+    return Scene(
         parameters=params, fields=fields_out, tables=tables, source=source, field_limits=limits
     )
-    _parse_tables(scene)
-    return scene
 
 
-def _parse_tables(scene: Scene) -> None:
-    """Every table of a scene, parsed once into its type (in place): a key or value no
-    stage would accept is refused by every command that reads the scene (one line naming
-    the key), not only by the command that uses the table."""
-    tables = scene.tables
-    scene.design = DesignOptions.from_table(tables.get("design", {}))
-    scene.physical = spec_from_tables(tables, scene.field_limits)
-    scene.body = body_from_table(tables.get("body"))
-    # the simulation's tables are typed by its own parsers (methods, monitors and state
-    # files are the simulation's vocabulary); imported here, as the simulation reads scenes
+def _simulation_api() -> Any:
+    """The simulation's table parsers (methods, monitors and state files are the
+    simulation's vocabulary; imported when first needed, as the simulation reads scenes)."""
     from chargedesign.simulation import api
 
-    scene.simulation = api.parse_simulation_options(tables.get("simulation", {}))
-    scene.output = api.parse_output_options(tables.get("output", {}))
-    if "initial" in tables:
-        scene.initial = api.parse_initial(tables["initial"], "initial", scene.base_dir)
+    return api
 
 
 def _precheck(data: dict[str, Any]) -> None:
@@ -217,8 +231,11 @@ def _precheck(data: dict[str, Any]) -> None:
 
 
 def validate_tables(scene: Scene) -> None:
-    """Every table of a scene, parsed again (a scene whose raw tables were changed)."""
-    _parse_tables(scene)
+    """Every table of a scene parsed (once) by its type, in a fixed order: a key or value no
+    stage would accept is refused by every command that reads the scene (one line naming the
+    key), not only by the command that uses the table."""
+    for name in ("design", "physical", "body", "simulation", "output", "initial"):
+        getattr(scene, name)
 
 
 def check_output_dir(table: Any, where: str = "output.dir") -> None:
@@ -262,6 +279,6 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
 
 
 def validated(scene: Scene) -> Scene:
-    """``scene``, whose tables :func:`scene_from_dict` has parsed and checked already (kept
-    for callers that validated a scene in two steps)."""
+    """``scene`` after :func:`validate_tables` (the whole file, whatever the command)."""
+    validate_tables(scene)
     return scene

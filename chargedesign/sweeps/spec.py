@@ -108,7 +108,7 @@ def validate_scene_key(
 ) -> None:
     """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
     the base scene's path, which its relative paths resolve against)."""
-    from chargedesign.scene import KNOWN_TABLES, scene_from_dict
+    from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
 
     parts = key.split(".")
     if len(parts) < 2 or not all(parts):
@@ -121,7 +121,7 @@ def validate_scene_key(
         )
     try:
         # every table by its owner (chargedesign.scene.validate_tables), and a region's points
-        scene = scene_from_dict(data, source=scene_source)
+        scene = validated(scene_from_dict(data, source=scene_source))
         if parts[0] == "body" and scene.body is not None and "shape" in scene.body.table:
             from chargedesign.candidates import candidates_from_table
 
@@ -226,7 +226,7 @@ def validate_points(
     A point that would fail on its input is refused here, with the point and its values
     named, not found after others ran."""
     from chargedesign.candidates import candidates_from_table
-    from chargedesign.scene import scene_from_dict
+    from chargedesign.scene import scene_from_dict, validated
 
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
@@ -235,7 +235,7 @@ def validate_points(
     for i, point in enumerate(points):
         try:
             check_point_value(point, f"point p{i:0{width}d}")
-            scene = scene_from_dict(scene_with(scene_data, point), scene_source)
+            scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
             body = scene.body.table if scene.body is not None else {}
             key = repr(sorted(body.items()))
             if designs and "shape" in body and key not in seen:

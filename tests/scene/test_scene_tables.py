@@ -13,7 +13,14 @@ from chargedesign.designer.options import DesignOptions
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import realism_budget
-from chargedesign.scene import BodyReference, BodyRegion, Medium, load_scene, scene_from_dict
+from chargedesign.scene import (
+    BodyReference,
+    BodyRegion,
+    Medium,
+    load_scene,
+    scene_from_dict,
+    validated,
+)
 from chargedesign.scene.keys import BODY_REFERENCE_KEYS, REGION_KEYS, TABLE_KEYS, key_names
 from chargedesign.schemas import schema, schema_text, shipped_schema_text
 from chargedesign.simulation.api import INITIAL_KEYS, OUTPUT_KEYS, SIMULATION_KEYS
@@ -69,7 +76,7 @@ def test_the_stages_accept_exactly_the_declared_keys():
 def test_unknown_key_is_refused_with_one_line_naming_it(table):
     data = {**NEEDS.get(table, {}), table: {"bogus_key": 1}}
     with pytest.raises(InputError) as info:
-        scene_from_dict(data)
+        validated(scene_from_dict(data))
     message = str(info.value)
     assert "\n" not in message
     assert message.startswith(f"{table}.bogus_key:")
@@ -90,7 +97,7 @@ def test_unknown_key_is_refused_with_one_line_naming_it(table):
 )
 def test_unknown_keys_elsewhere_are_refused_with_one_line(data, where):
     with pytest.raises(InputError) as info:
-        scene_from_dict(data)
+        validated(scene_from_dict(data))
     message = str(info.value)
     assert "\n" not in message and message.startswith(where) and "bogus" in message
 
@@ -162,4 +169,11 @@ def test_old_design_json_medium_stays_readable():
 
 def test_unknown_gas_is_refused():
     with pytest.raises(InputError, match=r"^medium\.gas: "):
-        scene_from_dict({"medium": {"breakdown": 2e6, "gas": "helium"}})
+        validated(scene_from_dict({"medium": {"breakdown": 2e6, "gas": "helium"}}))
+
+
+def test_load_scene_parses_every_table_at_load(tmp_path):
+    path = tmp_path / "scene.toml"
+    path.write_text('[parameters]\nn = 0.5\n\n[output]\nfolder = "x"\n', encoding="utf-8")
+    with pytest.raises(InputError, match=r"^output\.folder: "):
+        load_scene(path)
