@@ -60,7 +60,8 @@ class Design(ElementSet):
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
-    medium: Medium | None = None
+    #: a design.json ``medium`` mapping given here is read into a Medium (__post_init__)
+    medium: Medium | dict[str, Any] | None = None
     materials: dict[str, Any] = field(default_factory=dict)
     larmor: LarmorReading | None = None
 
@@ -112,7 +113,7 @@ class Design(ElementSet):
         if self.continuous:
             out["continuous"] = [b.to_dict() for b in self.continuous]
         if self.medium is not None:
-            out["medium"] = self.medium.to_dict()
+            out["medium"] = Medium.from_dict(self.medium).to_dict()
         if self.materials:
             out["materials"] = {
                 k: [dict(x) for x in v] if isinstance(v, list) else dict(v)
