@@ -161,7 +161,28 @@ def spec_from_tables(
                 )
         return None
     medium = medium_from_table(tables["medium"])
-    carriers = tables.get("carriers", {})
+    carrier, samples = _carrier(tables.get("carriers", {}))
+    magnet = _magnet(tables.get("magnets", {}))
+    ballasts = _ballasts(tables.get("ballast", {}))
+    body = tables.get("body", {})
+    radius = None
+    if isinstance(body, Mapping) and "carrier_radius" in body:
+        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
+    return PhysicalSpec(
+        medium=medium,
+        carrier=carrier,
+        magnet=magnet,
+        ballast=ballasts[0],
+        carrier_radius=radius,
+        field_limits=dict(field_limits or {}),
+        surface_samples=samples,
+        ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
+        material_errors=material_errors,
+    )
+
+
+def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:
+    """``[carriers]``: the carriers' material and the surface samples per carrier."""
     _check_keys(carriers, "carriers")
     name, density = _density(carriers, "carriers", CARRIER_DENSITY, "aluminium")
     shell = as_finite_float(
@@ -179,7 +200,11 @@ def spec_from_tables(
         shell_thickness=shell if shell > 0 else None,
         **_response(carriers, "carriers", name),
     )
-    magnets = tables.get("magnets", {})
+    return carrier, samples
+
+
+def _magnet(magnets: Mapping[str, Any]) -> Material:
+    """``[magnets]``: a named magnet material, or its magnetisation and density."""
     _check_keys(magnets, "magnets")
     mname = magnets.get(
         "material", "ndfeb" if not {"density", "magnetisation"} & set(magnets) else "custom"
@@ -203,7 +228,7 @@ def spec_from_tables(
     coercivity = MAGNET_COERCIVITY.get(mname)
     if "coercivity" in magnets:
         coercivity = as_finite_float(magnets["coercivity"], "magnets.coercivity", positive=True)
-    magnet = Material(
+    return Material(
         "magnet",
         mname,
         m_rho,
@@ -211,29 +236,16 @@ def spec_from_tables(
         coercivity=coercivity,
         **_response(magnets, "magnets", mname),
     )
-    ballast_table = tables.get("ballast", {})
-    _check_keys(ballast_table, "ballast")
-    ballasts = _ballast_list(ballast_table)
+
+
+def _ballasts(table: Mapping[str, Any]) -> list[Material]:
+    """``[ballast]``: its material(s), at least one (the first is a magnet's attached mass)."""
+    _check_keys(table, "ballast")
+    ballasts = _ballast_list(table)
     if ballasts:
-        ballast = ballasts[0]
-    else:
-        bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
-        ballast = Material("ballast", bname, bdensity, **_response(ballast_table, "ballast", bname))
-    body = tables.get("body", {})
-    radius = None
-    if isinstance(body, Mapping) and "carrier_radius" in body:
-        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
-    return PhysicalSpec(
-        medium=medium,
-        carrier=carrier,
-        magnet=magnet,
-        ballast=ballast,
-        carrier_radius=radius,
-        field_limits=dict(field_limits or {}),
-        surface_samples=samples,
-        ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
-        material_errors=material_errors,
-    )
+        return ballasts
+    name, density = _density(table, "ballast", BALLAST_DENSITY, "tungsten")
+    return [Material("ballast", name, density, **_response(table, "ballast", name))]
 
 
 def _ballast_list(table: Mapping[str, Any]) -> list[Material]:
