@@ -14,6 +14,7 @@ from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
+from chargedesign.scene.medium import Medium
 from chargedesign.validation import as_array, as_finite_float, input_error
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
@@ -59,7 +60,8 @@ class Design(ElementSet):
     realises: list[str] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
-    medium: dict[str, Any] | None = None
+    #: a design.json ``medium`` mapping given here is read into a Medium (__post_init__)
+    medium: Medium | dict[str, Any] | None = None
     materials: dict[str, Any] = field(default_factory=dict)
     larmor: LarmorReading | None = None
 
@@ -67,7 +69,7 @@ class Design(ElementSet):
         super().__post_init__()
         if self.larmor is not None and not isinstance(self.larmor, LarmorReading):
             self.larmor = LarmorReading.from_dict(self.larmor)
-        self.medium = _medium(self.medium)
+        self.medium = Medium.from_dict(self.medium) if self.medium is not None else None
         self.materials = _materials(self.materials)
         _check_mass_materials(self)
         for kind in self.fields:
@@ -111,7 +113,7 @@ class Design(ElementSet):
         if self.continuous:
             out["continuous"] = [b.to_dict() for b in self.continuous]
         if self.medium is not None:
-            out["medium"] = dict(self.medium)
+            out["medium"] = Medium.from_dict(self.medium).to_dict()
         if self.materials:
             out["materials"] = {
                 k: [dict(x) for x in v] if isinstance(v, list) else dict(v)
@@ -196,7 +198,6 @@ class Design(ElementSet):
         return plot_design(self, plotter, **kwargs)
 
 
-_MEDIUM_KEYS = ("name", "breakdown_V_per_m", "safety")
 _MATERIAL_KEYS = {
     "name": str,
     "density_kg_per_m3": float,
@@ -206,23 +207,6 @@ _MATERIAL_KEYS = {
     "volume_susceptibility": float,
     "conductivity_S_per_m": float,
 }
-
-
-def _medium(value: Any) -> dict[str, Any] | None:
-    """design.json ``medium``: ``{"name", "breakdown_V_per_m", "safety"}`` (None: point design)."""
-    if value is None:
-        return None
-    if not isinstance(value, dict) or set(value) != set(_MEDIUM_KEYS):
-        raise input_error("medium", "an object with keys " + ", ".join(_MEDIUM_KEYS), value)
-    if not isinstance(value["name"], str):
-        raise input_error("medium.name", "a name", value["name"])
-    breakdown = as_finite_float(
-        value["breakdown_V_per_m"], "medium.breakdown_V_per_m", positive=True
-    )
-    safety = as_finite_float(value["safety"], "medium.safety")
-    if not 0.0 < safety <= 1.0:
-        raise input_error("medium.safety", "a number in (0, 1]", safety)
-    return {"name": value["name"], "breakdown_V_per_m": breakdown, "safety": safety}
 
 
 def _materials(value: Any) -> dict[str, Any]:

@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.scene.keys import REGION_KEYS
+from chargedesign.scene.tables import check_region_keys
 from chargedesign.validation import (
     as_array,
     as_finite_float,
@@ -34,17 +36,13 @@ from chargedesign.validation import (
     check_input_array,
     input_error,
 )
+from chargedesign.vocabulary import BODY_SHAPES
 
-SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")
-#: keys each shape accepts (besides ``shape``)
-SHAPE_KEYS: dict[str, tuple[str, ...]] = {
-    "ball": ("radius", "spacing", "center", "symmetric"),
-    "box": ("half_size", "size", "spacing", "center", "symmetric"),
-    "cylinder": ("radius", "height", "spacing", "center", "symmetric"),
-    "shell": ("radius", "n_points", "center", "symmetric"),
-    "points": ("path", "scale", "center", "symmetric"),
-    "mesh": ("path", "sample", "spacing", "scale", "center", "symmetric"),
-}
+SHAPES = BODY_SHAPES
+#: keys each shape accepts (besides ``shape``): the scene's declaration
+SHAPE_KEYS: dict[str, tuple[str, ...]] = REGION_KEYS
+#: a [body] region's key check (the scene's)
+check_body_keys = check_region_keys
 #: refuse sets larger than this (the condition matrices are dense, rows x points: 250 000
 #: points and 40 conditions take 80 MB per copy)
 MAX_CANDIDATES = 250_000
@@ -557,25 +555,110 @@ def _bool(table: Mapping[str, Any], key: str, default: bool) -> bool:
     return value
 
 
-def check_body_keys(table: Mapping[str, Any]) -> None:
-    """Unknown keys of a ``[body]`` table (for its shape) are one-line errors naming the key.
+Shaped = tuple[np.ndarray, dict[str, Any], "dict[str, Any] | None"]
 
-    A missing or unknown shape is left to :func:`candidates_from_table`.
-    """
-    if not isinstance(table, Mapping):
-        return
-    shape = table.get("shape", "ball" if table else None)
-    if not isinstance(shape, str) or shape not in SHAPE_KEYS:
-        return
-    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
-    allowed = set(SHAPE_KEYS[shape]) | {"shape", "carrier_radius"}
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise input_error(
-            f"body.{unknown[0]}",
-            f"a key of shape {shape!r} (" + ", ".join(SHAPE_KEYS[shape]) + ")",
-            unknown[0],
+
+def _lattice_shape(table: Mapping[str, Any], shape: str, center: np.ndarray) -> Shaped:
+    """Points, description and region of a ball, box or cylinder (lattices through O)."""
+    if shape == "ball":
+        radius = _number(table, "radius")
+        spacing = _number(table, "spacing", default=radius / 4.0)
+        desc = {"radius": radius, "spacing": spacing}
+        return ball_points(radius, spacing, center), desc, {"shape": "ball", "radius": radius}
+    if shape == "box":
+        if "half_size" in table and "size" in table:
+            raise InputError("body.size: give either half_size or size, not both")
+        if "half_size" in table:
+            half = _vector3(table, "half_size", positive=True)
+        elif "size" in table:
+            half = 0.5 * _vector3(table, "size", positive=True)
+        else:
+            raise InputError("body.half_size: required for shape = 'box' (or give size)")
+        spacing = _number(table, "spacing", default=float(np.min(half)) / 2.0)
+        desc = {"half_size": half.tolist(), "spacing": spacing}
+        return (
+            box_points(half, spacing, center),
+            desc,
+            {"shape": "box", "half_size": desc["half_size"]},
         )
+    radius = _number(table, "radius")
+    height = _number(table, "height")
+    spacing = _number(table, "spacing", default=min(radius, 0.5 * height) / 4.0)
+    desc = {"radius": radius, "height": height, "spacing": spacing}
+    region = {"shape": "cylinder", "radius": radius, "height": height}
+    return cylinder_points(radius, height, spacing, center), desc, region
+
+
+def _shell_shape(
+    table: Mapping[str, Any], center: np.ndarray, symmetric: bool, centred: bool
+) -> Shaped:
+    radius = _number(table, "radius")
+    n_raw = table.get("n_points", 200)
+    if isinstance(n_raw, bool) or not isinstance(n_raw, int) or not 4 <= n_raw <= MAX_CANDIDATES:
+        raise input_error("body.n_points", f"an integer in 4..{MAX_CANDIDATES}", n_raw)
+    desc: dict[str, Any] = {}
+    if symmetric and centred:
+        # symmetric by construction: no closure needed (it would not add points)
+        pts = shell_points(radius, n_raw, symmetric=True)
+        desc["symmetric_rule"] = "Fibonacci points of x > y > 0, z > 0 and their 16 images"
+    else:
+        pts = shell_points(radius, n_raw, symmetric=False, center=center)
+    desc |= {"radius": radius, "n_points": n_raw}
+    return pts, desc, {"shape": "shell", "radius": radius}
+
+
+def _file_shape(table: Mapping[str, Any], shape: str, center: np.ndarray, base_dir: Any) -> Shaped:
+    """Points of a ``points`` file or a ``mesh`` (relative paths against ``base_dir``)."""
+    raw = table.get("path")
+    if not isinstance(raw, str) or not raw:
+        raise input_error("body.path", "a file name (string)", raw)
+    path = Path(raw)
+    if not path.is_absolute() and base_dir is not None:
+        path = Path(base_dir) / path
+    scale = _number(table, "scale", default=1.0)
+    desc: dict[str, Any] = {"path": str(path), "scale": scale}
+    if shape == "points":
+        return read_point_file(path) * scale + center, desc, {"shape": "points"}
+    sample = table.get("sample", "surface")
+    if sample not in ("surface", "volume"):
+        raise input_error("body.sample", "'surface' or 'volume'", sample)
+    spacing_m = _number(table, "spacing") if "spacing" in table else None
+    if sample == "volume" and spacing_m is None:
+        raise InputError("body.spacing: required for shape = 'mesh', sample = 'volume'")
+    pts = mesh_points(path, sample=sample, spacing=spacing_m, scale=scale)
+    desc |= {"sample": sample}
+    if spacing_m is not None:
+        desc["spacing"] = spacing_m
+    return pts + center, desc, None
+
+
+def _shape_of(table: Any) -> str:
+    """The region's shape (``ball`` when a table gives sizes only), checked."""
+    if not isinstance(table, Mapping):
+        raise input_error("body", "a table with key 'shape'", table)
+    shape = table.get("shape", "ball" if table else None)
+    if shape is None:
+        raise InputError(
+            "body: the scene has no [body] table; give one with shape = "
+            + " | ".join(SHAPES)
+            + " (where the design may place elements)"
+        )
+    if shape not in SHAPES:
+        raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
+    check_body_keys(table)
+    return str(shape)
+
+
+def _naturally_symmetric(table: Mapping[str, Any], shape: str, centred: bool) -> bool:
+    """Whether the shape's own rule is closed under the symmetries already (then
+    ``symmetric`` defaults on). Lattices through O are, unless a box's |x| and |y| sizes
+    differ (closing under x <-> y would add points outside it)."""
+    if shape == "box" and centred:
+        half_xy = table.get("half_size", table.get("size"))
+        return not isinstance(half_xy, (list, tuple)) or (
+            len(half_xy) == 3 and half_xy[0] == half_xy[1]
+        )
+    return centred and shape in ("ball", "cylinder", "shell")
 
 
 def candidates_from_table(
@@ -599,102 +682,32 @@ def candidates_from_table(
     InputError
         A missing, unknown or malformed key (the message names it), or an empty set.
     """
-    if not isinstance(table, Mapping):
-        raise input_error("body", "a table with key 'shape'", table)
-    shape = table.get("shape", "ball" if table else None)
-    if shape is None:
-        raise InputError(
-            "body: the scene has no [body] table; give one with shape = "
-            + " | ".join(SHAPES)
-            + " (where the design may place elements)"
-        )
-    if shape not in SHAPES:
-        raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
-    check_body_keys(table)
+    shape = _shape_of(table)
     center = _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
     centred = not np.any(center)
-    # lattices through O are symmetric already unless the box has |x| and |y| sizes that
-    # differ (then closing under x <-> y would add points outside it): default off there
-    natural = centred and shape in ("ball", "cylinder", "shell")
-    if shape == "box" and centred:
-        half_xy = table.get("half_size", table.get("size"))
-        natural = not isinstance(half_xy, (list, tuple)) or (
-            len(half_xy) == 3 and half_xy[0] == half_xy[1]
-        )
+    natural = _naturally_symmetric(table, shape, centred)
     symmetric = _bool(table, "symmetric", natural)
-    desc: dict[str, Any] = {"shape": shape}
-    region: dict[str, Any] | None
-    if shape == "ball":
-        radius = _number(table, "radius")
-        spacing = _number(table, "spacing", default=radius / 4.0)
-        pts = ball_points(radius, spacing, center)
-        desc |= {"radius": radius, "spacing": spacing}
-        region = {"shape": "ball", "radius": radius}
-    elif shape == "box":
-        if "half_size" in table and "size" in table:
-            raise InputError("body.size: give either half_size or size, not both")
-        if "half_size" in table:
-            half = _vector3(table, "half_size", positive=True)
-        elif "size" in table:
-            half = 0.5 * _vector3(table, "size", positive=True)
-        else:
-            raise InputError("body.half_size: required for shape = 'box' (or give size)")
-        spacing = _number(table, "spacing", default=float(np.min(half)) / 2.0)
-        pts = box_points(half, spacing, center)
-        desc |= {"half_size": half.tolist(), "spacing": spacing}
-        region = {"shape": "box", "half_size": half.tolist()}
-    elif shape == "cylinder":
-        radius = _number(table, "radius")
-        height = _number(table, "height")
-        spacing = _number(table, "spacing", default=min(radius, 0.5 * height) / 4.0)
-        pts = cylinder_points(radius, height, spacing, center)
-        desc |= {"radius": radius, "height": height, "spacing": spacing}
-        region = {"shape": "cylinder", "radius": radius, "height": height}
+    if shape in ("ball", "box", "cylinder"):
+        pts, desc, region = _lattice_shape(table, shape, center)
     elif shape == "shell":
-        radius = _number(table, "radius")
-        n_raw = table.get("n_points", 200)
-        if (
-            isinstance(n_raw, bool)
-            or not isinstance(n_raw, int)
-            or not 4 <= n_raw <= MAX_CANDIDATES
-        ):
-            raise input_error("body.n_points", f"an integer in 4..{MAX_CANDIDATES}", n_raw)
-        if symmetric and centred:
-            # symmetric by construction: no closure needed (it would not add points)
-            pts = shell_points(radius, n_raw, symmetric=True)
-            desc["symmetric_rule"] = "Fibonacci points of x > y > 0, z > 0 and their 16 images"
-        else:
-            pts = shell_points(radius, n_raw, symmetric=False, center=center)
-        desc |= {"radius": radius, "n_points": n_raw}
-        region = {"shape": "shell", "radius": radius}
+        pts, desc, region = _shell_shape(table, center, symmetric, centred)
     else:
-        raw = table.get("path")
-        if not isinstance(raw, str) or not raw:
-            raise input_error("body.path", "a file name (string)", raw)
-        path = Path(raw)
-        if not path.is_absolute() and base_dir is not None:
-            path = Path(base_dir) / path
-        scale = _number(table, "scale", default=1.0)
-        desc |= {"path": str(path), "scale": scale}
-        if shape == "points":
-            pts = read_point_file(path) * scale
-            region = {"shape": "points"}
-        else:
-            sample = table.get("sample", "surface")
-            if sample not in ("surface", "volume"):
-                raise input_error("body.sample", "'surface' or 'volume'", sample)
-            spacing_m = _number(table, "spacing") if "spacing" in table else None
-            if sample == "volume" and spacing_m is None:
-                raise InputError("body.spacing: required for shape = 'mesh', sample = 'volume'")
-            pts = mesh_points(path, sample=sample, spacing=spacing_m, scale=scale)
-            desc |= {"sample": sample}
-            if spacing_m is not None:
-                desc["spacing"] = spacing_m
-            region = None
-        pts = pts + center
+        pts, desc, region = _file_shape(table, shape, center, base_dir)
     if symmetric and not natural:
         # lattices through O (and the symmetric shell rule) are closed already
         pts = symmetrise(pts)
+    return _candidate_set(pts, {"shape": shape, **desc}, region, center, symmetric)
+
+
+def _candidate_set(
+    pts: np.ndarray,
+    desc: dict[str, Any],
+    region: dict[str, Any] | None,
+    center: np.ndarray,
+    symmetric: bool,
+) -> CandidateSet:
+    """The set of a shape's points: size checked, geometry measured, planarity named."""
+    shape = desc["shape"]
     if len(pts) == 0:
         raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
     if len(pts) > MAX_CANDIDATES:

@@ -4,13 +4,12 @@
 the package ships the same text as ``chargedesign/data/schemas/<name>.schema.json`` for tools
 that do not run Python (a test keeps the files equal to :func:`schema`).
 
-The schemas describe the files; the validator (:mod:`chargedesign.validation` and the
-stages that read each table) remains the judge of a file's meaning (e.g. array lengths that
-must agree). Tables that other parts of the program are still growing are left open
-(``additionalProperties: true``): ``[simulation]``, ``[initial]``, ``[output]``, ``[design]``,
-``[body]``, ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]`` and the
-top level of design.json (further keys are welcome there by the contract). The element blocks
-of design.json and ``[parameters]`` are closed, as the readers refuse unknown keys there.
+The schemas describe the files; the validator (:mod:`chargedesign.scene`) remains the judge
+of a file's meaning (e.g. array lengths that must agree, keys that depend on a body's shape).
+Every scene table is closed (``additionalProperties: false``) and generated from the key
+lists the validators use (:mod:`chargedesign.scene.keys`), so the two cannot drift. The top
+level of design.json stays open (further keys are welcome there by the contract); its element
+blocks and ``medium`` are closed, as the readers refuse unknown keys there.
 """
 
 from __future__ import annotations
@@ -19,20 +18,16 @@ import json
 from importlib import resources
 from typing import Any
 
+from chargedesign.physical.materials import GAS_PROPERTIES
+from chargedesign.scene.keys import TABLE_KEYS, table_schema
+from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
-    BODY_SHAPES,
     DESIGN_FORMAT,
-    EFFECTS,
     FIELD_KINDS,
     LARMOR_READINGS,
-    MATERIAL_ERROR_KEYS,
-    OBJECTIVES,
     PARAMETER_NAMES,
     REALISABLE,
     SCENE_TABLES,
-    SIMULATION_AXES,
-    SOURCES,
-    STATE_NAMES,
 )
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -44,6 +39,7 @@ _POSITIVE = {"type": "number", "exclusiveMinimum": 0}
 _VECTOR = {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}
 _POINTS = {"type": "array", "items": _VECTOR}
 _NUMBERS = {"type": "array", "items": _NUMBER}
+GAS_NAMES = tuple(GAS_PROPERTIES)
 _NONNEGS = {"type": "array", "items": _NONNEG}
 
 
@@ -58,23 +54,23 @@ def _parameters() -> dict[str, Any]:
     }
 
 
-def _medium(scene: bool = False) -> dict[str, Any]:
-    """The medium: a scene's ``[medium]`` names it or gives ``breakdown`` (what
-    physical/spec.py reads); design.json records ``breakdown_V_per_m`` (what body.py reads)."""
-    breakdown = "breakdown" if scene else "breakdown_V_per_m"
-    out: dict[str, Any] = {
+def _medium() -> dict[str, Any]:
+    """design.json's ``medium`` (what :meth:`chargedesign.scene.Medium.to_dict` writes)."""
+    return {
         "type": "object",
         "description": "what surrounds the body; surface fields stay <= safety * breakdown",
         "properties": {
             "name": {"type": "string", "description": "vacuum, air, sf6, oil, ..."},
-            breakdown: _POSITIVE,
+            "breakdown_V_per_m": _POSITIVE,
             "safety": {"type": "number", "exclusiveMinimum": 0, "maximum": 1},
+            "gas": {
+                "enum": list(GAS_NAMES),
+                "description": "whose density and viscosity the drag estimate uses",
+            },
         },
+        "required": ["name", "breakdown_V_per_m", "safety"],
         "additionalProperties": False,
     }
-    if not scene:
-        out["required"] = ["name", "breakdown_V_per_m", "safety"]
-    return out
 
 
 def _materials() -> dict[str, Any]:
@@ -200,17 +196,25 @@ def _field_table() -> dict[str, Any]:
     }
 
 
-def _open(description: str, properties: dict[str, Any] | None = None) -> dict[str, Any]:
-    return {
-        "type": "object",
-        "description": description,
-        "properties": properties or {},
-        "additionalProperties": True,
-    }
+_TABLE_DESCRIPTIONS = {
+    "body": "where elements may be placed (a region with shape and its sizes), or the body to "
+    "simulate (design = path, or inline charges/masses/dipoles)",
+    "design": "design options (docs/design.md)",
+    "simulation": "integration options (docs/simulate.md)",
+    "initial": "initial state: omega and gamma, or level with gamma, p and q, or states / file",
+    "output": "what a simulation writes",
+    "medium": "what surrounds the body; surface fields stay <= safety * breakdown",
+    "carriers": "the charge carriers (material or density, wall, surface samples)",
+    "magnets": "the magnets (material, or magnetisation and density; coercivity)",
+    "ballast": "the ballast masses (material or a list of materials, or density)",
+    "tolerance": "the materials' relative property errors (one standard deviation, one draw "
+    "per material) that tolerance analyses",
+}
 
 
 def scene_schema() -> dict[str, Any]:
-    """The schema of a scene file (TOML, as the mapping it parses to)."""
+    """The schema of a scene file (TOML, as the mapping it parses to): every table closed,
+    generated from the key lists the validators use (:mod:`chargedesign.scene.keys`)."""
     tables: dict[str, Any] = {
         "parameters": _parameters(),
         "fields": {
@@ -218,104 +222,11 @@ def scene_schema() -> dict[str, Any]:
             "properties": {kind: _field_table() for kind in FIELD_KINDS},
             "additionalProperties": False,
         },
-        "body": _open(
-            "where elements may be placed (a region with shape), or the body to simulate "
-            "(design = path, or inline charges/masses/dipoles)",
-            {
-                "shape": {"enum": list(BODY_SHAPES)},
-                "radius": _POSITIVE,
-                "height": _POSITIVE,
-                "spacing": _POSITIVE,
-                "n_points": {"type": "integer", "minimum": 1},
-                "half_size": {"anyOf": [_POSITIVE, _VECTOR]},
-                "size": {"anyOf": [_POSITIVE, _VECTOR]},
-                "center": _VECTOR,
-                "symmetric": {"type": "boolean"},
-                "path": {"type": "string"},
-                "scale": _POSITIVE,
-                "design": {"type": "string"},
-            },
-        ),
-        "design": _open(
-            "design options (docs/design.md)",
-            {
-                "realise": {
-                    "type": "array",
-                    "items": {"enum": list(REALISABLE)},
-                    "uniqueItems": True,
-                },
-                "objective": {"enum": list(OBJECTIVES)},
-                "objectives": {
-                    "type": "object",
-                    "propertyNames": {"enum": list(SOURCES)},
-                    "additionalProperties": {"enum": list(OBJECTIVES)},
-                },
-                "sparsity": {"enum": ["auto", "reweighted", "mip"]},
-                "column_generation": {"type": "boolean"},
-                "tol": _POSITIVE,
-                "time_limit": _POSITIVE,
-                "solver": {"type": "string"},
-                "n_charges": {"type": "integer", "minimum": 1},
-                "max_charge": _POSITIVE,
-                "total_charge": _NUMBER,
-                "total_mass": _NONNEG,
-                "polish": {"type": "boolean"},
-                "robust_weight": {"type": "number", "minimum": 0, "maximum": 1},
-                "larmor": {
-                    "enum": list(LARMOR_READINGS),
-                    "description": "how n is realised: charges (the paper's (p6) second "
-                    "moments) or frame (the body realises n = 0, read in axes turning at n); "
-                    "default charges without [medium], frame with it",
-                },
-            },
-        ),
-        "simulation": _open(
-            "integration options (docs/simulate.md); open: more keys are being added",
-            {
-                "effects": {"type": "array", "items": {"enum": list(EFFECTS)}},
-                "t_end": _POSITIVE,
-                "rtol": _POSITIVE,
-                "atol": _POSITIVE,
-                "method": {"type": "string"},
-                "samples": {"type": "integer", "minimum": 2},
-                "max_step": _POSITIVE,
-                "step": _POSITIVE,
-                "route": {"type": "string"},
-                "gamma3_min": _NONNEG,
-                "axes": {"enum": list(SIMULATION_AXES)},
-            },
-        ),
-        "initial": _open(
-            "initial state: omega and gamma, or level with gamma, p and q",
-            {
-                "omega": _VECTOR,
-                "gamma": _VECTOR,
-                "level": {"anyOf": [{"type": "string"}, _NUMBER]},
-                "p": _NUMBER,
-                "q": _NUMBER,
-                "precession": _NUMBER,
-            },
-        ),
-        "output": _open(
-            "what a simulation writes",
-            {"poincare_section": {"enum": list(STATE_NAMES)}},
-        ),
-        "medium": _medium(scene=True),
-        "carriers": _open("the charge carriers (sizes, material)"),
-        "magnets": _open("the magnets (sizes, material)"),
-        "ballast": _open("the ballast masses (sizes, material or a list of materials)"),
-        "tolerance": {
-            "type": "object",
-            "description": "the materials' relative property errors (one standard deviation, "
-            "one draw per material) that tolerance analyses",
-            "properties": {
-                key: {"type": "number", "minimum": 0, "exclusiveMaximum": 1}
-                for key in MATERIAL_ERROR_KEYS
-            },
-            "additionalProperties": False,
-        },
     }
+    for name, description in _TABLE_DESCRIPTIONS.items():
+        tables[name] = table_schema(name, description)
     assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
+    assert set(TABLE_KEYS) | {"parameters", "fields"} == set(SCENE_TABLES)
     return {
         "$schema": DRAFT,
         "$id": "chargedesign/schemas/scene.schema.json",
@@ -323,7 +234,7 @@ def scene_schema() -> dict[str, Any]:
         "description": "A scene: the theorem's parameters, the fields, where the body may be "
         "and what each stage should do. Every table is optional.",
         "type": "object",
-        "properties": tables,
+        "properties": {name: tables[name] for name in SCENE_TABLES},
         "additionalProperties": False,
     }
 
@@ -336,8 +247,6 @@ def schema(name: str) -> dict[str, Any]:
     dict
         A JSON Schema (draft 2020-12).
     """
-    from chargedesign.validation import input_error
-
     if name == "design":
         return design_schema()
     if name == "scene":

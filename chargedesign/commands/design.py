@@ -175,8 +175,7 @@ def _check_degenerate(scene: object) -> None:
     """A request that would design nothing is refused (``[design] realise = []``)."""
     from chargedesign.errors import InputError
 
-    table = scene.table("design")  # type: ignore[attr-defined]
-    if "realise" in table and isinstance(table["realise"], list) and not table["realise"]:
+    if scene.design.realise == ():  # type: ignore[attr-defined]
         raise InputError(
             "design.realise: empty, the body would realise nothing; name at least one of mu, "
             "V, inertia (or drop the key for all the scene calls for)"
@@ -185,19 +184,16 @@ def _check_degenerate(scene: object) -> None:
 
 def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
     """Refuse an linf design on more candidates than the cap (before the dense solve)."""
-    from pathlib import Path
-
     from chargedesign.candidates import candidates_from_table
     from chargedesign.errors import InputError
     from chargedesign.limits import MAX_LINF_CANDIDATES
 
-    objective = args.objective or scene.table("design").get("objective")  # type: ignore[attr-defined]
+    objective = args.objective or scene.design.objective  # type: ignore[attr-defined]
     if objective != "linf":
         return
     cap = MAX_LINF_CANDIDATES if args.max_linf_candidates is None else args.max_linf_candidates
-    source = scene.source  # type: ignore[attr-defined]
-    base_dir = Path(source).parent if source not in ("<default>", "<dict>") else None
-    n = len(candidates_from_table(scene.table("body"), base_dir=base_dir))  # type: ignore[attr-defined]
+    body = scene.body.table if scene.body is not None else {}  # type: ignore[attr-defined]
+    n = len(candidates_from_table(body, base_dir=scene.base_dir))  # type: ignore[attr-defined]
     if n > cap:
         raise InputError(
             f"the linf objective on {n} candidates exceeds the cap of {cap} (a dense "

@@ -76,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
     if args.scene is not None:
         from chargedesign.scene import load_scene
 
-        region = load_scene(args.scene).table("body") or None
+        body = load_scene(args.scene).body
+        region = dict(body.table) if body is not None and body.table else None
         if region is None:
             raise InputError(f"{args.scene}: the scene has no [body] table to outline")
     written: dict[str, str] = {}

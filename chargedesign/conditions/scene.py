@@ -15,10 +15,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 def realise_from_scene(scene: Scene) -> tuple[str, ...]:
     """The ``[design] realise`` list of a scene (default: all of mu, V, inertia), validated."""
-    value = scene.table("design").get("realise", list(REALISABLE))
-    if not isinstance(value, list):
-        raise input_error("design.realise", "a list of " + ", ".join(REALISABLE), value)
-    return validate_realise(value, "design.realise")
+    value = scene.design.realise
+    return validate_realise(list(REALISABLE if value is None else value), "design.realise")
 
 
 def scene_length(scene: Scene) -> tuple[float | None, str]:
@@ -29,17 +27,14 @@ def scene_length(scene: Scene) -> tuple[float | None, str]:
     the design choose the same default strengths. A scene with no usable ``[body]`` gives
     ``(None, reason)``: the conditions do not validate the body (the design does).
     """
-    from pathlib import Path
-
     from chargedesign.candidates import candidates_from_table
     from chargedesign.errors import ChargeDesignError
 
-    table = scene.table("body")
+    table = scene.body.table if scene.body is not None else {}
     if not table:
         return None, "the scene has no [body]"
-    base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
     try:
-        size = candidates_from_table(table, base_dir=base_dir).geometry.size
+        size = candidates_from_table(table, base_dir=scene.base_dir).geometry.size
     except ChargeDesignError as exc:
         return None, f"[body] not usable ({exc})"
     if not size > 0:

@@ -10,6 +10,7 @@ the residual and assess the forward accuracy (:mod:`~chargedesign.designer.accur
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -17,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.candidates import CandidateSet, candidates_from_points
+from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
@@ -37,7 +38,6 @@ from chargedesign.designer.system import (
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
-from chargedesign.physical.spec import spec_from_tables
 from chargedesign.validation import input_error
 
 
@@ -465,19 +465,17 @@ def larmor_of_scene(
 def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
     its size) of the parameters its body realises."""
-    from pathlib import Path
-
-    from chargedesign.candidates import candidates_from_table
     from chargedesign.conditions import derive_conditions, realise_from_scene
 
-    options = DesignOptions.from_table(scene.table("design"), **overrides)
-    spec = spec_from_tables(scene.tables, scene.field_limits)
+    given = {k: v for k, v in overrides.items() if v is not None}
+    options = dataclasses.replace(scene.design, **given) if given else scene.design
+    spec = scene.physical
     larmor, why, note = larmor_of_scene(options, scene.parameters, spec is not None)
     params = body_parameters(scene.parameters, larmor)
-    base_dir = Path(scene.source).parent if scene.source not in ("<default>", "<dict>") else None
     if progress is not None:
         progress("candidates ...")
-    candidates = candidates_from_table(scene.table("body"), base_dir=base_dir)
+    body = scene.body.table if scene.body is not None else {}
+    candidates = candidates_from_table(body, base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
     realise = options.realise if options.realise is not None else realise_from_scene(scene)

@@ -167,33 +167,6 @@ SOURCES = {
 
 
 @dataclass(frozen=True)
-class Medium:
-    """What surrounds the body.
-
-    Attributes
-    ----------
-    name : str
-        ``vacuum``, ``air``, ``sf6``, ``oil`` or ``custom``.
-    breakdown : float
-        Breakdown field, V/m.
-    safety : float
-        In (0, 1]: every surface field stays at or below ``safety * breakdown``.
-    """
-
-    name: str
-    breakdown: float
-    safety: float = 0.5
-
-    @property
-    def safe_field(self) -> float:
-        """The largest surface field a design may make, V/m."""
-        return self.safety * self.breakdown
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "breakdown_V_per_m": self.breakdown, "safety": self.safety}
-
-
-@dataclass(frozen=True)
 class Material:
     """A material of a part: its density, and its remanent magnetisation for magnets.
 

@@ -400,8 +400,7 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     # the induced energy does not depend on the rate; the eddy torque is beta |omega|
     ratio_elements = induced * torque / designed if induced is not None else None
     eddy_ratio = eddy * torque / rate * 2.0 * k_max / designed if eddy is not None else None
-    medium = design.medium
-    e_safe = medium["safety"] * medium["breakdown_V_per_m"]
+    e_safe = design.medium.safe_field
     cancelled = (
         ratio_elements is not None and ratio_gross > 0 and ratio_elements < CANCELLED * ratio_gross
     )
@@ -730,6 +729,34 @@ def _verdict(value: float, negligible_below: float) -> str:
     return "negligible" if value < negligible_below else "NOT negligible"
 
 
+def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict[str, Any]:
+    """The laminar drag of the medium's gas on the enveloping sphere over the designed
+    torques; a medium that names no gas (a custom breakdown without ``gas``) says so."""
+    name = medium.name if medium is not None else "vacuum"
+    gas = medium.gas_properties if medium is not None else GAS_PROPERTIES["vacuum"]
+    if gas is None:
+        return _item(
+            math.nan,
+            "",
+            "not estimated",
+            f"medium {name!r} names no gas: give [medium] gas = "
+            + " | ".join(GAS_PROPERTIES)
+            + " for the drag estimate",
+        )
+    rho_gas, viscosity = gas
+    if medium is not None and medium.gas not in (None, name):
+        name = f"{name} ({medium.gas})"
+    drag = 8 * math.pi * viscosity * envelope**3 * rate
+    reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
+    return _item(
+        drag / torque,
+        "",
+        _verdict(drag / torque, 1e-3),
+        f"laminar drag of {name} on the enveloping sphere (Re = {reynolds:.3g}) over the "
+        "designed torques",
+    )
+
+
 def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]:
     """The budget of :mod:`this module <chargedesign.physical.realism>` as a JSON-ready dict.
 
@@ -766,11 +793,8 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     offset_micro = (
         BALANCE_FRACTION * torque / (total_mass * MICROGRAVITY) if total_mass > 0 else math.inf
     )
-    medium = (design.medium or {}).get("name", "vacuum")
-    rho_gas, viscosity = GAS_PROPERTIES.get(medium, (0.0, 0.0))
     envelope = float(design.extra.get("buildability", {}).get("region_radius_m", r_max))
-    drag = 8 * math.pi * viscosity * envelope**3 * rate
-    reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
+    drag_item = _drag_item(design.medium, envelope, rate, torque)
 
     response = field_response(design) if response is None else response
     law = k_law(design, response)
@@ -806,13 +830,7 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
             "achievable" if offset_micro > 1e-7 else "NOT achievable (below 0.1 um)",
             "the same under 1e-6 g",
         ),
-        "drag_torque_fraction": item(
-            drag / torque,
-            "",
-            _verdict(drag / torque, 1e-3),
-            f"laminar drag of {medium} on the enveloping sphere (Re = {reynolds:.3g}) over the "
-            "designed torques",
-        ),
+        "drag_torque_fraction": drag_item,
         **response,
         **({K_LAW_KEY: law} if law else {}),
     }

@@ -2,7 +2,8 @@
 
 Scene tables (docs/buildable.md)::
 
-    [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety
+    [medium]            name = "air" | "vacuum" | "sf6" | "oil"  (or breakdown = V/m); safety;
+                        gas (whose drag the realism budget estimates; default the name's)
     [carriers]          material = "aluminium" (or density), shell_thickness (m; 0 = solid),
                         samples (surface points per carrier in the design)
     [magnets]           material = "ndfeb" (or magnetisation A/m and density kg/m^3),
@@ -29,16 +30,17 @@ from typing import Any
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import (
     BALLAST_DENSITY,
-    BREAKDOWN_V_PER_M,
     CARRIER_DENSITY,
     CONDUCTIVITY,
     MAGNET_COERCIVITY,
     MAGNET_DATA,
     SUSCEPTIBILITY,
     Material,
-    Medium,
 )
-from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.scene.keys import check_table, key_names
+from chargedesign.scene.medium import Medium, medium_from_table
+from chargedesign.scene.tables import material_errors_from_table
+from chargedesign.validation import as_finite_float, input_error
 
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
@@ -47,14 +49,10 @@ DEFAULT_SHELL_THICKNESS = 1e-4
 #: surface sample points per carrier in the design (constraint generation adds the worst)
 DEFAULT_SURFACE_SAMPLES = 26
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
+#: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
+_KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}
 #: how a part's material answers the applied field: magnetisation and eddy currents
 _RESPONSE_KEYS = ("susceptibility", "conductivity")
-_KEYS = {
-    "medium": ("name", "breakdown", "safety"),
-    "carriers": ("material", "density", "shell_thickness", "samples", *_RESPONSE_KEYS),
-    "magnets": ("material", "density", "magnetisation", "coercivity", *_RESPONSE_KEYS),
-    "ballast": ("material", "density", *_RESPONSE_KEYS),
-}
 
 
 @dataclass(frozen=True)
@@ -117,9 +115,7 @@ class PhysicalSpec:
 
 
 def _check_keys(table: Mapping[str, Any], name: str) -> None:
-    if not isinstance(table, Mapping):
-        raise input_error(name, "a table", table)
-    check_keys(table, _KEYS[name], name)
+    check_table(table, name)
 
 
 def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], default: str):
@@ -150,36 +146,13 @@ def _response(table: Mapping[str, Any], where: str, name: str) -> dict[str, floa
     return {"susceptibility": chi, "conductivity": sigma}
 
 
-def medium_from_table(table: Mapping[str, Any]) -> Medium:
-    """``[medium]``: a named medium or a breakdown field, and the safety factor."""
-    _check_keys(table, "medium")
-    if "breakdown" in table:
-        breakdown = as_finite_float(table["breakdown"], "medium.breakdown", positive=True)
-        name = table.get("name", "custom")
-        if not isinstance(name, str):
-            raise input_error("medium.name", "a name", name)
-    else:
-        name = table.get("name")
-        if name not in BREAKDOWN_V_PER_M:
-            raise input_error(
-                "medium.name", "one of " + ", ".join(BREAKDOWN_V_PER_M) + " (or breakdown)", name
-            )
-        breakdown = BREAKDOWN_V_PER_M[name]
-    safety = as_finite_float(table.get("safety", 0.5), "medium.safety")
-    if not 0.0 < safety <= 1.0:
-        raise input_error("medium.safety", "a number in (0, 1]", safety)
-    return Medium(name=name, breakdown=breakdown, safety=safety)
-
-
 def spec_from_tables(
     tables: Mapping[str, Any], field_limits: Mapping[str, float] | None = None
 ) -> PhysicalSpec | None:
     """The physical spec of a scene's tables, or None when the scene has no ``[medium]``."""
     material_errors: dict[str, float] = {}
     if "tolerance" in tables:
-        from chargedesign.tolerancing import MaterialErrors
-
-        material_errors = MaterialErrors.from_table(tables["tolerance"]).to_dict()
+        material_errors = material_errors_from_table(tables["tolerance"])
     if "medium" not in tables:
         for name in ("carriers", "magnets", "ballast", "tolerance"):
             if name in tables:
@@ -188,7 +161,28 @@ def spec_from_tables(
                 )
         return None
     medium = medium_from_table(tables["medium"])
-    carriers = tables.get("carriers", {})
+    carrier, samples = _carrier(tables.get("carriers", {}))
+    magnet = _magnet(tables.get("magnets", {}))
+    ballasts = _ballasts(tables.get("ballast", {}))
+    body = tables.get("body", {})
+    radius = None
+    if isinstance(body, Mapping) and "carrier_radius" in body:
+        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
+    return PhysicalSpec(
+        medium=medium,
+        carrier=carrier,
+        magnet=magnet,
+        ballast=ballasts[0],
+        carrier_radius=radius,
+        field_limits=dict(field_limits or {}),
+        surface_samples=samples,
+        ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
+        material_errors=material_errors,
+    )
+
+
+def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:
+    """``[carriers]``: the carriers' material and the surface samples per carrier."""
     _check_keys(carriers, "carriers")
     name, density = _density(carriers, "carriers", CARRIER_DENSITY, "aluminium")
     shell = as_finite_float(
@@ -206,7 +200,11 @@ def spec_from_tables(
         shell_thickness=shell if shell > 0 else None,
         **_response(carriers, "carriers", name),
     )
-    magnets = tables.get("magnets", {})
+    return carrier, samples
+
+
+def _magnet(magnets: Mapping[str, Any]) -> Material:
+    """``[magnets]``: a named magnet material, or its magnetisation and density."""
     _check_keys(magnets, "magnets")
     mname = magnets.get(
         "material", "ndfeb" if not {"density", "magnetisation"} & set(magnets) else "custom"
@@ -230,7 +228,7 @@ def spec_from_tables(
     coercivity = MAGNET_COERCIVITY.get(mname)
     if "coercivity" in magnets:
         coercivity = as_finite_float(magnets["coercivity"], "magnets.coercivity", positive=True)
-    magnet = Material(
+    return Material(
         "magnet",
         mname,
         m_rho,
@@ -238,29 +236,16 @@ def spec_from_tables(
         coercivity=coercivity,
         **_response(magnets, "magnets", mname),
     )
-    ballast_table = tables.get("ballast", {})
-    _check_keys(ballast_table, "ballast")
-    ballasts = _ballast_list(ballast_table)
+
+
+def _ballasts(table: Mapping[str, Any]) -> list[Material]:
+    """``[ballast]``: its material(s), at least one (the first is a magnet's attached mass)."""
+    _check_keys(table, "ballast")
+    ballasts = _ballast_list(table)
     if ballasts:
-        ballast = ballasts[0]
-    else:
-        bname, bdensity = _density(ballast_table, "ballast", BALLAST_DENSITY, "tungsten")
-        ballast = Material("ballast", bname, bdensity, **_response(ballast_table, "ballast", bname))
-    body = tables.get("body", {})
-    radius = None
-    if isinstance(body, Mapping) and "carrier_radius" in body:
-        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
-    return PhysicalSpec(
-        medium=medium,
-        carrier=carrier,
-        magnet=magnet,
-        ballast=ballast,
-        carrier_radius=radius,
-        field_limits=dict(field_limits or {}),
-        surface_samples=samples,
-        ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
-        material_errors=material_errors,
-    )
+        return ballasts
+    name, density = _density(table, "ballast", BALLAST_DENSITY, "tungsten")
+    return [Material("ballast", name, density, **_response(table, "ballast", name))]
 
 
 def _ballast_list(table: Mapping[str, Any]) -> list[Material]:

@@ -73,6 +73,7 @@ import numpy as np
 
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.params import Parameters
+from chargedesign.scene.keys import BODY_REFERENCE_KEYS, key_names
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.integrate import DEFAULT_METHOD, METHODS, STATE_NAMES, integrate
 from chargedesign.simulation.result import SimulationResult
@@ -93,31 +94,11 @@ from chargedesign.simulation.system import (
 from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import SIMULATION_AXES
 
-SIMULATION_KEYS = (
-    "t_end",
-    "rtol",
-    "atol",
-    "method",
-    "effects",
-    "max_step",
-    "step",
-    "samples",
-    "route",
-    "gamma3_min",
-    "tol",
-    "monitors",
-    "axes",
-)
-INITIAL_KEYS = ("omega", "gamma", "level", "p", "q", "precession", "states", "file")
-OUTPUT_KEYS = (
-    "dir",
-    "trajectory",
-    "plot",
-    "poincare",
-    "poincare_section",
-    "poincare_axes",
-)
-BODY_KEYS = ("design", "charges", "masses", "dipoles")
+# the tables' keys are the scene's declaration (the JSON Schema is generated from it too)
+SIMULATION_KEYS = key_names("simulation")
+INITIAL_KEYS = key_names("initial")
+OUTPUT_KEYS = key_names("output")
+BODY_KEYS = BODY_REFERENCE_KEYS
 
 #: the initial state when a scene has no [initial]: on I3 = 0, omega of order 1
 DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
@@ -400,7 +381,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
     from chargedesign.body import read_design
 
     notes: list[str] = []
-    body_table = scene.table("body")
+    body_table = scene.body.table if scene.body is not None else {}
     design = None
     origin = ""
     if "design" in body_table:
@@ -436,19 +417,17 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
             info = {"designed_from_scene": False, "origin": "[body] region, not designed yet"}
         else:
             info = _body_info(body, "none: the theorem's parameters only")
-    initial_table = scene.tables.get("initial")
-    base = None if scene.source in ("<default>", "<dict>") else Path(scene.source).parent
-    initial = parse_initial(
-        DEFAULT_INITIAL if initial_table is None else initial_table, "initial", base
-    )
-    if initial_table is None:
+    if scene.initial is None:
+        initial = parse_initial(DEFAULT_INITIAL, "initial")
         notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
         notes += _slow_body_notes(body.parameters)
+    else:
+        initial = dict(scene.initial)
     return SimulationSetup(
         body=body,
         initial=initial,
-        options=parse_simulation_options(scene.table("simulation")),
-        output=parse_output_options(scene.table("output")),
+        options=dataclasses.replace(scene.simulation),
+        output=dataclasses.replace(scene.output),
         notes=notes,
         source=scene.source,
         design=design,
@@ -615,7 +594,7 @@ def design_pending(
     body = Body.from_design(design, dict(scene.fields))
     summary = result.summary()
     residuals = summary["residuals"]
-    shape = str(scene.table("body").get("shape"))
+    shape = str(scene.body.table.get("shape"))
     counts = _counts(body)
     setup.body = body
     setup.design = design
@@ -800,7 +779,7 @@ def prepare(
             design_pending(setup, design_progress)
             body_info = dict(setup.body_info)
         else:
-            shape = setup.design_scene.table("body").get("shape")
+            shape = setup.design_scene.body.table.get("shape")
             body_info["origin"] = (
                 f"[body] region (shape = {shape!r}) not designed: the theorem effect is the "
                 "reduced model"

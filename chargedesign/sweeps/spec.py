@@ -122,11 +122,10 @@ def validate_scene_key(
     try:
         # every table by its owner (chargedesign.scene.validate_tables), and a region's points
         scene = validated(scene_from_dict(data, source=scene_source))
-        if parts[0] == "body" and "shape" in scene.table("body"):
+        if parts[0] == "body" and scene.body is not None and "shape" in scene.body.table:
             from chargedesign.candidates import candidates_from_table
 
-            base = None if scene_source.startswith("<") else Path(scene_source).parent
-            candidates_from_table(scene.table("body"), base_dir=base)
+            candidates_from_table(scene.body.table, base_dir=scene.base_dir)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
@@ -237,7 +236,7 @@ def validate_points(
         try:
             check_point_value(point, f"point p{i:0{width}d}")
             scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
-            body = scene.table("body")
+            body = scene.body.table if scene.body is not None else {}
             key = repr(sorted(body.items()))
             if designs and "shape" in body and key not in seen:
                 seen.add(key)
@@ -255,16 +254,12 @@ def _check_motion_work(scene: Any, t_end: Any) -> None:
     """A simulate point's periods of its fastest rate within MAX_PERIODS (a ``t_end = 1e8`` on a
     unit-scale body ran unbounded after the other points had written their outputs)."""
     from chargedesign.limits import MAX_PERIODS
-    from chargedesign.simulation.api import parse_simulation_options
     from chargedesign.validation import check_periods
 
     if t_end is not None:
         option = "options.t_end"
     else:
-        t_end, option = (
-            parse_simulation_options(scene.table("simulation")).t_end,
-            "simulation.t_end",
-        )
+        t_end, option = scene.simulation.t_end, "simulation.t_end"
     check_periods(t_end, scene.parameters, scene.table("initial"), MAX_PERIODS, option)
 
 

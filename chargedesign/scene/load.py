@@ -1,8 +1,11 @@
-"""Scenes: TOML files with the contract's keys, validated with one-line errors naming the key.
+"""Scenes: TOML files with the contract's keys, parsed once into a typed :class:`Scene`.
 
-Tables every scene may use: ``[parameters]``, ``[fields.magnetic|electric|gravity]``,
-``[body]``; later stages read their own tables (``[design]``, ``[simulation]``, ``[initial]``,
-``[output]``) through :attr:`Scene.tables`.
+Every table is parsed and checked when the scene is loaded (one-line errors naming the key):
+``[parameters]``, ``[fields.*]``, ``[medium]`` with ``[carriers]``, ``[magnets]``,
+``[ballast]`` (the physical spec), ``[body]`` (a region, or the body to simulate),
+``[design]``, ``[simulation]``, ``[initial]``, ``[output]`` and ``[tolerance]``. The stages
+take these objects; :attr:`Scene.tables` keeps the raw tables only for sweeps, which apply a
+grid of dotted keys to them and parse again.
 """
 
 from __future__ import annotations
@@ -10,14 +13,18 @@ from __future__ import annotations
 import os
 import tomllib
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from chargedesign.body import FIELD_KINDS
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
+from chargedesign.physical.spec import PhysicalSpec, spec_from_tables
 from chargedesign.readers import read_toml_file
+from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.medium import Medium
+from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.validation import (
     as_array,
     as_finite_float,
@@ -27,7 +34,7 @@ from chargedesign.validation import (
     check_tree,
     input_error,
 )
-from chargedesign.vocabulary import SCENE_TABLES
+from chargedesign.vocabulary import FIELD_KINDS, SCENE_TABLES
 
 #: characters no portable file name holds (Windows forbids them; '\\' is a separator there)
 _NOT_PORTABLE = '<>:"\\|?*'
@@ -48,9 +55,22 @@ class Scene:
     field_limits : dict[str, float]
         ``max`` of each field table: the largest |B| (T), |E| (V/m) or |g| (m/s^2) the
         apparatus makes over the body region.
+    Parsed tables (each parsed once, when first read; :func:`load_scene` reads them all):
+
+    physical : PhysicalSpec or None
+        ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``, ``[body] carrier_radius``
+        and ``[tolerance]`` (None: no ``[medium]``, the mathematical case).
+    body : BodyRegion, BodyReference or None
+        ``[body]``: a region to design in, or the body to simulate.
+    design : DesignOptions
+        ``[design]``.
+    simulation, output : SimulationOptions, OutputOptions
+        ``[simulation]``, ``[output]`` (:mod:`chargedesign.simulation`).
+    initial : dict or None
+        ``[initial]`` as :func:`chargedesign.simulation.parse_initial` normalises it (None:
+        the scene has none).
     tables : dict
-        The raw TOML tables (``body``, ``design``, ``simulation``, ...), for the stages that
-        own them to validate.
+        The raw TOML tables, for sweeps (a grid of dotted keys applied, then parsed again).
     source : str
         Where the scene came from (a path, or ``<default>``).
     """
@@ -60,6 +80,72 @@ class Scene:
     tables: dict[str, Any] = field(default_factory=dict)
     source: str = "<default>"
     field_limits: dict[str, float] = field(default_factory=dict)
+
+    # Each table is parsed once, when first read: load_scene reads them all at load (every
+    # error before any work); a scene built from a mapping raises a table's error where the
+    # table is first used, as stages always did.
+    @cached_property
+    def design(self) -> DesignOptions:
+        return DesignOptions.from_table(self.tables.get("design", {}))
+
+    @cached_property
+    def physical(self) -> PhysicalSpec | None:
+        return spec_from_tables(self.tables, self.field_limits)
+
+    @cached_property
+    def body(self) -> BodyRegion | BodyReference | None:
+        return body_from_table(self.tables.get("body"))
+
+    @cached_property
+    def simulation(self) -> Any:
+        return _simulation_api().parse_simulation_options(self.tables.get("simulation", {}))
+
+    @cached_property
+    def output(self) -> Any:
+        return _simulation_api().parse_output_options(self.tables.get("output", {}))
+
+    @cached_property
+    def initial(self) -> dict[str, Any] | None:
+        if "initial" not in self.tables:
+            return None
+        return _simulation_api().parse_initial(self.tables["initial"], "initial", self.base_dir)
+
+    @property
+    def medium(self) -> Medium | None:
+        """``[medium]`` (None: the mathematical case, point elements)."""
+        return self.physical.medium if self.physical is not None else None
+
+    @property
+    def carriers(self) -> Any:
+        """The carriers' material (``[carriers]``), None without ``[medium]``."""
+        return self.physical.carrier if self.physical is not None else None
+
+    @property
+    def magnets(self) -> Any:
+        """The magnets' material (``[magnets]``), None without ``[medium]``."""
+        return self.physical.magnet if self.physical is not None else None
+
+    @property
+    def ballast(self) -> Any:
+        """The ballast materials (``[ballast]``), empty without ``[medium]``."""
+        if self.physical is None:
+            return ()
+        return self.physical.ballasts or (self.physical.ballast,)
+
+    @property
+    def tolerance(self) -> dict[str, float]:
+        """``[tolerance]``: the materials' relative errors (empty: none given)."""
+        return dict(self.physical.material_errors) if self.physical is not None else {}
+
+    @property
+    def region(self) -> BodyRegion | None:
+        """The ``[body]`` region to design in (None: the body is a reference, or absent)."""
+        return self.body if isinstance(self.body, BodyRegion) else None
+
+    @property
+    def base_dir(self) -> Path | None:
+        """The folder relative paths of the scene are read from (None: not from a file)."""
+        return None if self.source.startswith("<") else Path(self.source).parent
 
     def table(self, name: str) -> dict[str, Any]:
         """One raw table (empty dict when the scene has none)."""
@@ -124,6 +210,14 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     )
 
 
+def _simulation_api() -> Any:
+    """The simulation's table parsers (methods, monitors and state files are the
+    simulation's vocabulary; imported when first needed, as the simulation reads scenes)."""
+    from chargedesign.simulation import api
+
+    return api
+
+
 def _precheck(data: dict[str, Any]) -> None:
     """What must be refused before the rest of a scene is looked at: a field longer than the
     engine's degree (a 300 000-term list is not walked) and the theorem's parameters against
@@ -137,32 +231,11 @@ def _precheck(data: dict[str, Any]) -> None:
 
 
 def validate_tables(scene: Scene) -> None:
-    """Every table of a scene, by the validator of the stage that owns it, whatever the
-    command: a key or value no stage would accept is refused by every command that reads the
-    scene (one line naming the key), not only by the command that uses the table.
-
-    ``[design]`` (DesignOptions), ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``
-    (the physical spec), the keys of ``[body]`` (a region's shape keys, or a simulated
-    body's ``design``/``charges``/``masses``/``dipoles``), ``[simulation]``, ``[output]``
-    and ``[initial]`` (the simulation's parsers; an ``[initial] file`` is read).
-    """
-    from chargedesign.candidates import check_body_keys
-    from chargedesign.designer.options import DesignOptions
-    from chargedesign.physical.spec import spec_from_tables
-    from chargedesign.simulation import api
-
-    DesignOptions.from_table(scene.table("design"))
-    spec_from_tables(scene.tables, scene.field_limits)
-    body = scene.table("body")
-    if "shape" in body or not set(body) & set(api.BODY_KEYS):
-        check_body_keys(body)
-    else:
-        check_keys(body, api.BODY_KEYS, "body")
-    api.parse_simulation_options(scene.table("simulation"))
-    api.parse_output_options(scene.table("output"))
-    if "initial" in scene.tables:
-        base = None if scene.source.startswith("<") else Path(scene.source).parent
-        api.parse_initial(scene.tables["initial"], "initial", base)
+    """Every table of a scene parsed (once) by its type, in a fixed order: a key or value no
+    stage would accept is refused by every command that reads the scene (one line naming the
+    key), not only by the command that uses the table."""
+    for name in ("design", "physical", "body", "simulation", "output", "initial"):
+        getattr(scene, name)
 
 
 def check_output_dir(table: Any, where: str = "output.dir") -> None:

@@ -1,0 +1,213 @@
+"""Design options: what to optimise and how (``DesignOptions``), validated.
+
+The keys of a scene's ``[design]`` table (docs/design.md) and the default tolerances a
+delivered design must reach.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from chargedesign.scene.keys import key_names
+from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.vocabulary import LARMOR_READINGS, REALISABLE, SOURCES
+from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
+
+SPARSITY_METHODS = ("auto", "reweighted", "mip")
+#: relative residual a polished design must reach (default ``tol`` with polishing)
+POLISHED_TOL = 1e-13
+#: relative residual accepted from a solver alone (default ``tol`` without polishing)
+RAW_TOL = 1e-7
+Progress = Callable[[str], None]
+
+
+@dataclass(frozen=True)
+class DesignOptions:
+    """What to optimise and how.
+
+    Parameters
+    ----------
+    objective : {"l1", "l2", "linf", "robust"}
+        Objective for every source (see the module doc); ``objectives`` overrides per source.
+        ``"robust"`` minimises ``sum_j c_j |w_j|`` (``||sigma_j||`` for dipoles), ``c_j`` the
+        first-order placement sensitivity of a unit element at candidate j
+        (:func:`chargedesign.tolerancing.sensitivity_weights`): the body that tolerates the
+        largest placement errors.
+    robust_weight : float
+        With ``"robust"``: the cost of candidate j is ``(1 - beta) + beta c_j / mean(c)``,
+        ``beta`` in [0, 1]; 0 is plain l1 (sparsity), 1 (default) pure sensitivity.
+    solver : str
+        ``"auto"`` (HiGHS for linear programs, Clarabel for cones and quadratics, closed form
+        for unconstrained least norm) or a cvxpy solver name (``"CLARABEL"``, ``"HIGHS"``,
+        ``"SCS"``, ...), which then solves the full problem through cvxpy.
+    max_charge : float, optional
+        Bound on every ``|q|``, C.
+    total_charge : float, optional
+        Required total charge, C.
+    n_charges : int, optional
+        At most this many charges (reweighted l1, then mixed integer with HiGHS).
+    total_mass : float, optional
+        Required total mass, kg.
+    realise : tuple of str, optional
+        What the design claims (default: what the conditions realise).
+    polish : bool
+        Polish to machine precision on the support.
+    tol : float, optional
+        Largest accepted relative residual (default 1e-13 polished, 1e-7 unpolished).
+    objectives : mapping, optional
+        Per-source objective, e.g. ``{"masses": "l2"}``.
+    column_generation : bool, optional
+        Force column generation on or off (default: on above 2000 candidates, for HiGHS).
+    sparsity : {"auto", "reweighted", "mip"}
+        How ``n_charges`` is met: reweighted l1 only, mixed integer only, or reweighted l1
+        then mixed integer (auto).
+    time_limit : float
+        Seconds allowed to the mixed-integer solver.
+    larmor : {"charges", "frame"}, optional
+        How the theorem's n is realised (:mod:`chargedesign.larmor`): ``charges``, the paper's
+        (p6) second moments of charge; ``frame``, a body realising n = 0 whose motion, read in
+        axes turning at n about Z, is the theorem's. Default (None): ``charges`` for a scene
+        without ``[medium]``, ``frame`` with one.
+    """
+
+    objective: str = "l1"
+    solver: str = "auto"
+    max_charge: float | None = None
+    total_charge: float | None = None
+    n_charges: int | None = None
+    total_mass: float | None = None
+    realise: tuple[str, ...] | None = None
+    polish: bool = True
+    tol: float | None = None
+    objectives: Mapping[str, str] | None = None
+    column_generation: bool | None = None
+    sparsity: str = "auto"
+    time_limit: float = 60.0
+    robust_weight: float = 1.0
+    larmor: str | None = None
+
+    def __post_init__(self) -> None:
+        _check_objective(self.objective, "design.objective")
+        if self.larmor is not None and self.larmor not in LARMOR_READINGS:
+            raise input_error("design.larmor", "one of " + ", ".join(LARMOR_READINGS), self.larmor)
+        if self.objectives is not None:
+            if not isinstance(self.objectives, Mapping):
+                raise input_error(
+                    "design.objectives", "a table source -> objective", self.objectives
+                )
+            for source, value in self.objectives.items():
+                if source not in SOURCES:
+                    raise input_error(
+                        f"design.objectives.{source}", "one of " + ", ".join(SOURCES), source
+                    )
+                _check_objective(value, f"design.objectives.{source}")
+            object.__setattr__(self, "objectives", dict(self.objectives))
+        if not isinstance(self.solver, str) or not self.solver:
+            raise input_error(
+                "design.solver", "a solver name such as 'auto' or 'CLARABEL'", self.solver
+            )
+        for name in ("max_charge", "total_mass"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(
+                    self, name, as_finite_float(value, f"design.{name}", positive=True)
+                )
+        if self.total_charge is not None:
+            object.__setattr__(
+                self, "total_charge", as_finite_float(self.total_charge, "design.total_charge")
+            )
+        if self.n_charges is not None and (
+            isinstance(self.n_charges, bool)
+            or not isinstance(self.n_charges, (int, np.integer))
+            or self.n_charges < 1
+        ):
+            raise input_error("design.n_charges", "an integer >= 1", self.n_charges)
+        if self.realise is not None:
+            object.__setattr__(self, "realise", _realise_list(self.realise))
+        if not isinstance(self.polish, bool):
+            raise input_error("design.polish", "true or false", self.polish)
+        if self.tol is not None:
+            tol = as_finite_float(self.tol, "design.tol", positive=True)
+            if tol >= 1.0:
+                raise input_error("design.tol", "a relative residual below 1", self.tol)
+            object.__setattr__(self, "tol", tol)
+        if self.column_generation is not None and not isinstance(self.column_generation, bool):
+            raise input_error("design.column_generation", "true or false", self.column_generation)
+        if self.sparsity not in SPARSITY_METHODS:
+            raise input_error(
+                "design.sparsity", "one of " + ", ".join(SPARSITY_METHODS), self.sparsity
+            )
+        object.__setattr__(
+            self, "time_limit", as_finite_float(self.time_limit, "design.time_limit", positive=True)
+        )
+        beta = as_finite_float(self.robust_weight, "design.robust_weight")
+        if not 0.0 <= beta <= 1.0:
+            raise input_error("design.robust_weight", "a number in [0, 1]", self.robust_weight)
+        object.__setattr__(self, "robust_weight", beta)
+        if beta != 1.0 and not self.robust:
+            # a weight that would change nothing: the user meant the robust objective
+            raise input_error(
+                "design.robust_weight",
+                "to be used with objective = 'robust' (set design.objective or "
+                "design.objectives too)",
+                self.robust_weight,
+            )
+
+    @property
+    def robust(self) -> bool:
+        """Whether any source is designed with the robust objective."""
+        return "robust" in (self.objective, *(self.objectives or {}).values())
+
+    @property
+    def tolerance(self) -> float:
+        """The residual a delivered design must reach."""
+        if self.tol is not None:
+            return self.tol
+        return POLISHED_TOL if self.polish else RAW_TOL
+
+    def objective_for(self, source: str) -> str:
+        if self.objectives and source in self.objectives:
+            return self.objectives[source]
+        return self.objective
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any], **overrides: Any) -> DesignOptions:
+        """Options from a scene's ``[design]`` table (keys in docs/design.md), then overrides."""
+        if not isinstance(table, Mapping):
+            raise input_error("design", "a table", table)
+        check_keys(table, sorted(key_names("design")), "design")
+        kwargs = dict(table)
+        if "realise" in kwargs:
+            kwargs["realise"] = _realise_list(kwargs["realise"])
+        if "n_charges" in kwargs and isinstance(kwargs["n_charges"], float):
+            raise input_error("design.n_charges", "an integer >= 1", kwargs["n_charges"])
+        kwargs.update({k: v for k, v in overrides.items() if v is not None})
+        return cls(**kwargs)
+
+    def to_dict(self) -> dict[str, Any]:
+        out = asdict(self)
+        out["realise"] = list(self.realise) if self.realise is not None else None
+        out["tolerance"] = self.tolerance
+        return out
+
+
+def _check_objective(value: Any, name: str) -> None:
+    if value not in OBJECTIVES:
+        raise input_error(name, "one of " + ", ".join(OBJECTIVES), value)
+
+
+def _realise_list(value: Any) -> tuple[str, ...]:
+    """``design.realise``: a list of distinct items among mu, V, inertia (errors name it)."""
+    expected = "a list of " + ", ".join(REALISABLE)
+    if isinstance(value, str) or not isinstance(value, (list, tuple)):
+        raise input_error("design.realise", expected, value)
+    for item in value:
+        if item not in REALISABLE:
+            raise input_error("design.realise", "items among " + ", ".join(REALISABLE), item)
+    if len(set(value)) != len(value):
+        raise input_error("design.realise", "no repeated items", list(value))
+    return tuple(value)
