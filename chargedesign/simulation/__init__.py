@@ -16,6 +16,9 @@ The package re-exports :func:`.api.simulate` and friends (``cd.simulate`` is
 
 from __future__ import annotations
 
+# No name re-exported here may equal a submodule's (``integrate`` the function would hide
+# ``chargedesign.simulation.integrate`` the module): import the function from its module.
+
 from chargedesign.simulation.api import (
     DEFAULT_INITIAL,
     OutputOptions,
@@ -42,7 +45,7 @@ from chargedesign.simulation.chaos import (
     poincare_atlas,
 )
 from chargedesign.simulation.ensemble import EnsembleResult, simulate_ensemble
-from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration, integrate
+from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration
 from chargedesign.simulation.monitors import MONITORS
 from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
 from chargedesign.simulation.system import (
@@ -84,7 +87,6 @@ __all__ = [
     "fast_lyapunov_indicator",
     "fli_map",
     "initial_state",
-    "integrate",
     "lyapunov_exponent",
     "parse_initial",
     "parse_output_options",
