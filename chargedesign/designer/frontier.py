@@ -49,15 +49,23 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.designer.acceptance import BUILDER_BALANCE_M, body_check
+from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.designer.acceptance import BUILDER_BALANCE_M, balance_bound, body_check
 from chargedesign.designer.physical import (
     Binding,
     ChargesLimit,
     PhysicalInfeasible,
     PhysicalSetup,
+    build_design,
+    charge_support,
     charges_rate_limit,
+    design_at_rate,
+    design_masses,
+    lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.physical.limits import check_limits
+from chargedesign.physical.realism import field_response
 from chargedesign.results import Result
 
 #: relative width of the final bracket [s_max, s_above]
@@ -285,8 +293,6 @@ def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
     """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
     charges' own-field LP (a cheap guess of the design's carriers; it only orders the
     frontier's probes, never decides one)."""
-    from chargedesign.designer.physical import charge_support, design_masses, lp_charges
-
     A, b = setup.systems["charges"]
     q = lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
     if q is None:
@@ -327,9 +333,6 @@ def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding 
     """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
     stages (:func:`~chargedesign.designer.physical.design_at_rate`) and the balance under
     gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
-    from chargedesign.designer.acceptance import balance_bound
-    from chargedesign.designer.physical import build_design, design_at_rate
-
     try:
         design = build_design(setup, design_at_rate(setup, s))
     except PhysicalInfeasible as exc:
@@ -351,8 +354,6 @@ def _balance_fails(design: Design, s: float) -> bool:
 def _accept_body(design: Design) -> Binding | None:
     """The rest of the design's acceptance on a body whose limits and balance hold: the
     limits recomputed from the written parts and the forward check (None: accepted)."""
-    from chargedesign.physical.limits import check_limits
-
     limits = check_limits(design)
     if not limits.buildable:
         return Binding("limits", limits.violations[0], "limits check")
@@ -376,14 +377,12 @@ def _accept_body(design: Design) -> Binding | None:
 
 def _response_at(design: Design | None) -> dict[str, Any]:
     """The field response of the body designed at the frontier (empty when none)."""
-    from chargedesign.physical.realism import field_response
-
     return {} if design is None else field_response(design)
 
 
 def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
     """The one line of a frontier whose balance bound lies above its largest rate."""
-    g = balance["gravity_m_per_s2"] / 9.80665
+    g = balance["gravity_m_per_s2"] / STANDARD_GRAVITY
     gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
     return (
         f"no buildable rate: under {gravity} the centre of mass must sit within "
@@ -647,16 +646,3 @@ def find_frontier(
         if not front.s_min <= lo:
             raise InfeasibleError(no_buildable_rate(balance, lo, front.K_max))
     return front
-
-
-def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
-    """The frontier of a scene with ``[medium]`` (see :func:`find_frontier`)."""
-    from chargedesign.designer.pipeline import physical_setup_from_scene
-
-    setup = physical_setup_from_scene(scene, **overrides)
-    if setup is None:
-        raise InfeasibleError(
-            "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
-            "name = vacuum | air | sf6 | oil)"
-        )
-    return find_frontier(setup, progress=progress)

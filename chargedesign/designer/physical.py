@@ -37,6 +37,8 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import LinearConditions
+from chargedesign.constants import COULOMB, EPSILON_0, MU_0
+from chargedesign.designer.acceptance import balance_bound
 from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.result import DesignResult, SourceResult, design_extras
 from chargedesign.designer.robust import robust_costs, weighted_norm
@@ -45,11 +47,15 @@ from chargedesign.designer.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.larmor import LarmorReading
 from chargedesign.params import Parameters
+from chargedesign.physical.coulomb import coulomb_field_gemm
+from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.limits import (
+    check_limits,
     fibonacci_directions,
-    field_magnitude_max,
+    local_caps,
+    sample_spacing,
 )
-from chargedesign.physical.materials import COULOMB, EPSILON_0
+from chargedesign.physical.realism import realism_budget
 from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
@@ -65,8 +71,6 @@ MAX_ROUNDS = 26
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
 CONE_THRESHOLD = 0.95
-#: elements of the field kernel's (points, carriers) work arrays per block (512 kB: in cache)
-FIELD_BLOCK_ELEMENTS = 1 << 16
 
 
 @dataclass
@@ -338,35 +342,6 @@ def lp_charges(
     return q
 
 
-def _coulomb_field_gemm(sources: np.ndarray, charges: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Field of point charges at ``points``, V/m, shape (p, 3), by matrix products.
-
-    ``E(p) = k (p sum_j w_j - sum_j w_j x_j)`` with ``w_j = q_j / |p - x_j|^3`` and
-    ``|p - x|^2 = |p|^2 + |x|^2 - 2 p.x`` (BLAS): no (p, n, 3) array, about 4x faster than
-    :func:`~chargedesign.physical.limits.coulomb_field`, which the independent limits check
-    keeps. The distances lose ``(|p| / |p - x|)^2`` ulps to cancellation: on random bodies
-    the two agree to about 1e-11 (a test), far below the design's margin of 1e-3.
-
-    The (p, n) work arrays are cut into blocks of about :data:`FIELD_BLOCK_ELEMENTS` and
-    updated in place, so they stay in cache: the elementwise passes, not the products, set
-    the cost (measured 6x faster than 32 MB blocks at 250 carriers, 200 samples each).
-    """
-    out = np.empty((len(points), 3))
-    x2 = np.einsum("nk,nk->n", sources, sources)
-    block = max(1, FIELD_BLOCK_ELEMENTS // max(1, len(sources)))
-    for start in range(0, len(points), block):
-        p = points[start : start + block]
-        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :]
-        dot = p @ sources.T
-        dot *= 2.0
-        r2 -= dot
-        w = np.sqrt(r2)
-        w *= r2
-        np.divide(charges[None, :], w, out=w)
-        out[start : start + block] = COULOMB * (p * w.sum(axis=1)[:, None] - w @ sources)
-    return out
-
-
 def _surface_check(
     setup: PhysicalSetup, positions: np.ndarray, q: np.ndarray, s: float, samples: int
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -380,8 +355,6 @@ def _surface_check(
     ratios : ndarray, shape (k,)
     worst : ndarray, shape (k, 3)
     """
-    from chargedesign.physical.limits import local_caps, sample_spacing
-
     k = len(q)
     if k == 0:
         return np.zeros(0), np.zeros((0, 3))
@@ -391,7 +364,7 @@ def _surface_check(
     def magnitudes(points: np.ndarray) -> np.ndarray:
         """|E| at points (k, m, 3) from every carrier plus the external bound: (k, m)."""
         flat = points.reshape(-1, 3)
-        e = np.linalg.norm(_coulomb_field_gemm(positions, q, flat), axis=1)
+        e = np.linalg.norm(coulomb_field_gemm(positions, q, flat), axis=1)
         e = e + setup.external_max(np.linalg.norm(flat, axis=1), s)
         return e.reshape(k, -1)
 
@@ -1117,8 +1090,6 @@ def induced_energy(
     gammas : ndarray, shape (m, 3)
         Unit vectors of the field axis in body axes.
     """
-    from chargedesign.physical.materials import MU_0
-
     coeffs = (*legendre, 0.0, 0.0)
     a1, a2 = coeffs[0], coeffs[1] / 2.0
     g = np.asarray(gammas, dtype=float)
@@ -1524,8 +1495,6 @@ def design_physical(
     )
     design.extra.update(design_extras(result))
     design.extra["buildability"] = limits.to_dict()
-    from chargedesign.physical.realism import realism_budget
-
     design.extra["realism"] = realism_budget(design, limits.field_response)
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,
@@ -1577,9 +1546,6 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
     SolverError
         The body fails its own limits check.
     """
-    from chargedesign.designer.acceptance import balance_bound
-    from chargedesign.physical.limits import check_limits
-
     outcome = design_at_rate(setup, s)
     design = build_design(setup, outcome)
     limits = check_limits(design)

@@ -27,27 +27,32 @@ import math
 from typing import Any
 
 import numpy as np
-import scipy.constants
 
+from chargedesign.constants import (
+    BOHR_RADIUS,
+    ELEMENTARY_CHARGE,
+    EPSILON_0,
+    LIGHT_SPEED,
+    MU_0,
+    STANDARD_GRAVITY,
+)
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.limits import fibonacci_directions, field_magnitude_max
+from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
     CONDUCTIVITY,
-    EPSILON_0,
     GAS_PROPERTIES,
     INSULATOR_CONDUCTIVITY,
-    LIGHT_SPEED,
     MAGNET_CONTINUUM_SIZE,
-    MU_0,
     SUSCEPTIBILITY,
     SUSCEPTIBILITY_METROLOGY,
     ballast_groups,
     ballast_materials,
     sphere_radius,
 )
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.validation import as_finite_float, input_error
 
-G_EARTH = 9.80665
+G_EARTH = STANDARD_GRAVITY
 MICROGRAVITY = 1e-6 * G_EARTH
 #: a torque this fraction of the designed torques is what "balanced" tolerates
 BALANCE_FRACTION = 1e-3
@@ -62,8 +67,6 @@ RESPONSE_ORIENTATIONS = 2000
 FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
 #: the budget's item for the size-free K law (:func:`k_law`)
 K_LAW_KEY = "k_law_induced_ratio"
-#: elementary charge, C (SI 2019, exact)
-ELEMENTARY_CHARGE = scipy.constants.e
 #: field at which metal surfaces evaporate as ions, V/m: 20-60 V/nm for most metals
 #: (Tsong, Atom-Probe Field Ion Microscopy, Cambridge UP 1990, ch. 2, evaporation fields);
 #: the round 5e10 V/m of tungsten's order
@@ -71,7 +74,7 @@ FIELD_EVAPORATION = 5.0e10
 #: the atomic unit of field, e / (4 pi eps0 a0^2), V/m (CODATA: 5.14e11): the field that
 #: binds a hydrogen electron
 ATOMIC_FIELD = ELEMENTARY_CHARGE / (
-    4.0 * math.pi * EPSILON_0 * scipy.constants.physical_constants["Bohr radius"][0] ** 2
+    4.0 * math.pi * EPSILON_0 * BOHR_RADIUS**2
 )
 
 
@@ -182,7 +185,7 @@ def _induced_energies(legendre: tuple[float, ...], parts: list[dict[str, Any]]) 
     constant, so the parts may be taken as points.
     """
     fld = AxisymmetricField(tuple(legendre))
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     out = np.zeros((len(parts), len(gammas)))
     for k, part in enumerate(parts):
         if part["chi"] is None or fld.is_zero:
@@ -625,7 +628,7 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     symbols = (kappa, n, K, lam, rho)
     v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
     mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     rate = typical_rate(p)
     response = field_response(design) if response is None else response
     torque = p.C * rate**2 / 4.0
