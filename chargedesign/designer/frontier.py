@@ -353,14 +353,21 @@ def _balance_fails(design: Design, s: float) -> bool:
 
 def _accept_body(design: Design) -> Binding | None:
     """The rest of the design's acceptance on a body whose limits and balance hold: the
-    limits recomputed from the written parts and the forward check (None: accepted)."""
-    limits = check_limits(design)
-    if not limits.buildable:
-        return Binding("limits", limits.violations[0], "limits check")
+    limits recomputed from the written parts and the forward check (None: accepted).
+
+    The forward check recomputes the limits of a physical body itself (they do not depend on
+    the parameters it compares with), so they are read from its report, not computed twice;
+    they speak first, as in ``design``."""
     try:
         report = body_check(design)
     except ChargeDesignError as exc:
+        limits = check_limits(design)
+        if not limits.buildable:
+            return Binding("limits", limits.violations[0], "limits check")
         return Binding("forward", f"the forward check could not run ({exc})", "check")
+    limits = report.limits if report.limits is not None else check_limits(design)
+    if not limits.buildable:
+        return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
         return None
     errors = ", ".join(

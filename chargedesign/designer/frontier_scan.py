@@ -179,7 +179,6 @@ def _variant(
     if "shell_thickness" in carriers:
         carriers["shell_thickness"] = carriers["shell_thickness"] * f
     else:
-
         carriers["shell_thickness"] = DEFAULT_SHELL_THICKNESS * f
     if carrier is not None:
         carriers.pop("density", None)
@@ -421,7 +420,6 @@ def write_scan(scan: ScanResult, out: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
 
     buffer = io.StringIO()
     if scan.rows:

@@ -73,9 +73,7 @@ K_LAW_KEY = "k_law_induced_ratio"
 FIELD_EVAPORATION = 5.0e10
 #: the atomic unit of field, e / (4 pi eps0 a0^2), V/m (CODATA: 5.14e11): the field that
 #: binds a hydrogen electron
-ATOMIC_FIELD = ELEMENTARY_CHARGE / (
-    4.0 * math.pi * EPSILON_0 * BOHR_RADIUS**2
-)
+ATOMIC_FIELD = ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * BOHR_RADIUS**2)
 
 
 def typical_rate(params: Any) -> float:
