@@ -33,6 +33,9 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+from scipy import sparse
+from scipy.optimize import linprog
+from scipy.spatial import cKDTree
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
@@ -171,24 +174,8 @@ class PhysicalSetup:
         return limit / top if top > 0 else math.inf
 
 
-def setup_physical(
-    params: Parameters,
-    conditions: LinearConditions,
-    candidates: CandidateSet,
-    spec: PhysicalSpec,
-    options: DesignOptions | None = None,
-    *,
-    larmor: LarmorReading | None = None,
-) -> PhysicalSetup:
-    """Validate the physical spec against the candidates and build the systems at rate 1.
-
-    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
-    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
-    ``frame``).
-    """
-    from scipy.spatial import cKDTree
-
-    options = options or DesignOptions()
+def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
+    """The [design] options a physical design takes (one line naming the one it does not)."""
     for source in ("charges", "dipoles", "masses"):
         if options.objective_for(source) not in PHYSICAL_OBJECTIVES:
             raise InputError(
@@ -204,21 +191,25 @@ def setup_physical(
             "design.total_charge / n_charges: not available with [medium] (the carriers' "
             "limits decide the charges)"
         )
-    points = candidates.points
-    if len(points) < 2:
-        raise InputError("body: a physical design needs at least two candidate points")
-    dist, _ = cKDTree(points).query(points, k=2)
-    cell = 0.5 * dist[:, 1]
-    spacing = float(np.min(dist[:, 1]))
+
+
+def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
+    """The carriers' radius: the scene's, below half the candidate spacing, or a fixed
+    fraction of it."""
     a = spec.carrier_radius
     if a is None:
-        a = CARRIER_RADIUS_FRACTION * spacing
-    elif a >= 0.5 * spacing:
+        return CARRIER_RADIUS_FRACTION * spacing
+    if a >= 0.5 * spacing:
         raise InputError(
             f"body.carrier_radius: expected below half the candidate spacing "
             f"({0.5 * spacing:.4g} m) so carriers cannot touch, got {a:g}"
         )
-    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    return float(a)
+
+
+def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region: float) -> None:
+    """The scene's magnetic and gravity fields within their ``max`` over the body region
+    (the electric field's limit bounds the rate instead)."""
     for kind, limit in spec.field_limits.items():
         coeffs = conditions.fields.get(kind, ())
         if kind == "electric" or not coeffs:
@@ -229,19 +220,24 @@ def setup_physical(
                 f"fields.{kind}.max: the scene's {kind} field already reaches {top:.4g} over the "
                 f"body region (radius {region:.4g} m), above max = {limit:g}"
             )
-    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
-    costs = {
-        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
-        for source in systems
-        if options.objective_for(source) == "robust"
-    }
+
+
+def _magnet_sites(
+    spec: PhysicalSpec,
+    conditions: LinearConditions,
+    points: np.ndarray,
+    cell: np.ndarray,
+    dipoles: tuple[np.ndarray, np.ndarray],
+) -> np.ndarray:
+    """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell stays
+    below what the magnet withstands); InfeasibleError when V's moments cannot be met there."""
     magnet_sites = np.ones(len(points), dtype=bool)
     withstood = spec.magnet.field_withstood()
     magnetic = tuple(conditions.fields.get("magnetic", ()))
     if withstood is not None and magnetic:
         reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
         magnet_sites = reach <= withstood
-        if not _moments_reachable(systems["dipoles"], magnet_sites):
+        if not _moments_reachable(dipoles, magnet_sites):
             where = (
                 f"at every candidate site but {int(np.sum(magnet_sites))}, and magnets there "
                 "cannot give the moments V needs"
@@ -254,6 +250,42 @@ def setup_physical(
                 f"magnetic field exceeds that as the body turns {where}: use a "
                 "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
             )
+    return magnet_sites
+
+
+def setup_physical(
+    params: Parameters,
+    conditions: LinearConditions,
+    candidates: CandidateSet,
+    spec: PhysicalSpec,
+    options: DesignOptions | None = None,
+    *,
+    larmor: LarmorReading | None = None,
+) -> PhysicalSetup:
+    """Validate the physical spec against the candidates and build the systems at rate 1.
+
+    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
+    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
+    ``frame``).
+    """
+    options = options or DesignOptions()
+    _check_physical_options(options, conditions)
+    points = candidates.points
+    if len(points) < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+    dist, _ = cKDTree(points).query(points, k=2)
+    cell = 0.5 * dist[:, 1]
+    spacing = float(np.min(dist[:, 1]))
+    a = _carrier_radius(spec, spacing)
+    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    _check_field_limits(spec, conditions, region)
+    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    costs = {
+        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
+        for source in systems
+        if options.objective_for(source) == "robust"
+    }
+    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
@@ -317,8 +349,6 @@ def lp_charges(
     A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
-    from scipy.optimize import linprog
-
     usable = caps > 0
     cols = np.flatnonzero(usable)
     if len(cols) == 0:
@@ -653,7 +683,6 @@ def _minmax_charges(
     None: no charges meet the conditions.
     """
     import clarabel
-    from scipy import sparse
 
     A, b = setup.systems["charges"]
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
@@ -1110,6 +1139,66 @@ def induced_energy(
     return -(np.array(basis).T @ moments) / (2.0 * MU_0)
 
 
+def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:
+    """Each part material's susceptibility by (name, role); one line naming the table whose
+    material has none."""
+    chi = {}
+    for part in (spec.carrier, spec.magnet, *spec.ballasts):
+        if part.susceptibility is None:
+            table = "carriers" if part.role == "carrier" else f"{part.role}s"
+            raise InputError(
+                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+                f"{part.role} material's susceptibility ({part.name} has none)"
+            )
+        chi[part.name, part.role] = part.susceptibility
+    return chi
+
+
+def _one_material_per_cell(
+    cost: np.ndarray, room: np.ndarray, As: np.ndarray, bs: np.ndarray, mats: Any
+) -> np.ndarray:
+    """The ballast LP (masses per material and cell, scaled; shape (materials, cells)) with
+    one material per cell: cells given two are fixed to the one filling more of the cell
+    and the LP solved again."""
+    J, k = len(mats), room.shape[0]
+    allowed = np.ones(J * k, dtype=bool)
+    for _ in range(6):
+        res = linprog(
+            cost,
+            A_ub=room,
+            b_ub=np.ones(k),
+            A_eq=As,
+            b_eq=bs,
+            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
+            method="highs",
+        )
+        if res.status == 2:
+            raise PhysicalInfeasible(
+                Binding(
+                    "masses",
+                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
+                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
+                    "independent of the orientation",
+                    "ballast.material",
+                )
+            )
+        if res.status != 0 or res.x is None:
+            raise SolverError(
+                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
+            )
+        x = res.x.reshape(J, k)
+        top = max(float(np.max(x)), 1e-300)
+        used = x > 1e-12 * top
+        split = np.flatnonzero(used.sum(axis=0) > 1)
+        if not len(split):
+            return x
+        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
+        mask = allowed.reshape(J, k)
+        mask[:, split] = False
+        mask[keep, split] = True
+    raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
+
+
 def induced_ballast(
     setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
 ) -> MassSolution:
@@ -1122,19 +1211,9 @@ def induced_ballast(
     program (HiGHS, least total mass); cells given two materials are fixed to the larger and
     the program solved again; then a least-norm polish on the support to rounding.
     """
-    from scipy.optimize import linprog
-
     spec = setup.spec
     mats = spec.ballasts
-    chi = {}
-    for part in (spec.carrier, spec.magnet, *mats):
-        if part.susceptibility is None:
-            table = "carriers" if part.role == "carrier" else f"{part.role}s"
-            raise InputError(
-                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
-                f"{part.role} material's susceptibility ({part.name} has none)"
-            )
-        chi[part.name, part.role] = part.susceptibility
+    chi = _susceptibilities(spec)
     n = len(setup.points)
     legendre = tuple(setup.conditions.fields.get("magnetic", ()))
     Am, bm = setup.systems["masses"]
@@ -1168,45 +1247,7 @@ def induced_ballast(
     # one material per cell: sum_j m_j / (rho_j v_cap) <= 1
     room = np.hstack([np.diag(scale / (m.density * v_cap)) for m in mats])
     cost = np.tile(setup.cost("masses")[free], J)
-    allowed = np.ones(J * k, dtype=bool)
-    x = None
-    for _ in range(6):
-        res = linprog(
-            cost,
-            A_ub=room,
-            b_ub=np.ones(k),
-            A_eq=As,
-            b_eq=bs,
-            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
-            method="highs",
-        )
-        if res.status == 2:
-            raise PhysicalInfeasible(
-                Binding(
-                    "masses",
-                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
-                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
-                    "independent of the orientation",
-                    "ballast.material",
-                )
-            )
-        if res.status != 0 or res.x is None:
-            raise SolverError(
-                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
-            )
-        x = res.x.reshape(J, k)
-        top = max(float(np.max(x)), 1e-300)
-        used = x > 1e-12 * top
-        split = np.flatnonzero(used.sum(axis=0) > 1)
-        if not len(split):
-            break
-        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
-        mask = allowed.reshape(J, k)
-        mask[:, split] = False
-        mask[keep, split] = True
-    else:
-        raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
-    assert x is not None
+    x = _one_material_per_cell(cost, room, As, bs, mats)
     flat = x.reshape(-1) * scale
     support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
     # the solver's crumbs off the support are dropped before the polish, so that the parts

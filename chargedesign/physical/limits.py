@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from chargedesign.physical.coulomb import coulomb_field_gemm
 from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
@@ -274,8 +275,6 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
 
     ``design`` is a :class:`~chargedesign.body.Design` with ``medium`` and ``materials``.
     """
-    from scipy.spatial import cKDTree
-
     medium = design.medium
     safe = medium["safety"] * medium["breakdown_V_per_m"]
     breakdown = medium["breakdown_V_per_m"]
