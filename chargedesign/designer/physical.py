@@ -471,6 +471,38 @@ def charge_support(q: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
 
 
+def _charges_method(rounds: int, n_cones: int) -> str:
+    """How the charges were found, for design.json's solver record."""
+    return (
+        "HiGHS LP with the carriers' own-field bounds"
+        + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not n_cones else "")
+        + (f", then Clarabel with {n_cones} surface cones" if n_cones else "")
+    )
+
+
+def _cone_round(
+    setup: PhysicalSetup,
+    working: np.ndarray,
+    s: float,
+    cones: list[tuple[int, np.ndarray]],
+    caps: np.ndarray,
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """The surface cones solved on the working set, else on every usable candidate: the
+    charges on the working set returned (None: infeasible there too) and that set.
+
+    The working set may lack carriers a solution needs: on every usable candidate the cones
+    (a subset of the surface limits) relax the true problem, so its infeasibility proves the
+    rate infeasible, and every faster one too (the feasible charges scale down with the
+    rate): the frontier then sees a monotone answer.
+    """
+    solved = _socp_charges(setup, working, s, cones, caps)
+    usable = np.flatnonzero(caps > 0)
+    if solved is None and len(working) < len(usable):
+        working = usable
+        solved = _socp_charges(setup, working, s, cones, caps)
+    return solved, working
+
+
 def _meet_surface_limits(
     setup: PhysicalSetup, s: float, caps: np.ndarray, q_lp: np.ndarray
 ) -> tuple[np.ndarray, str, int, int]:
@@ -485,7 +517,6 @@ def _meet_surface_limits(
     Raises PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
     """
     A, b = setup.systems["charges"]
-    medium = setup.spec.medium
     working = charge_support(q_lp)
     q = q_lp
     lp_caps = caps.copy()
@@ -499,12 +530,7 @@ def _meet_surface_limits(
         )
         over = np.flatnonzero(ratios > 1 - DESIGN_MARGIN / 2)
         if len(over) == 0:
-            method = (
-                "HiGHS LP with the carriers' own-field bounds"
-                + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not cones else "")
-                + (f", then Clarabel with {len(cones)} surface cones" if cones else "")
-            )
-            return q, method, rounds, len(cones)
+            return q, _charges_method(rounds, len(cones)), rounds, len(cones)
         k = int(over[np.argmax(ratios[over])])
         worst_ratio, worst_site = float(ratios[k]), int(sites[k])
         if lp_alive and rounds <= LP_ROUNDS:
@@ -519,16 +545,7 @@ def _meet_surface_limits(
         near = np.flatnonzero(ratios > CONE_THRESHOLD)
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
-        solved = _socp_charges(setup, working, s, cones, caps)
-        usable = np.flatnonzero(caps > 0)
-        if solved is None and len(working) < len(usable):
-            # the working set may lack carriers a solution needs: on every usable candidate
-            # the cones (a subset of the surface limits) relax the true problem, so its
-            # infeasibility proves the rate infeasible, and every faster one too (the
-            # feasible charges scale down with the rate): the frontier then sees a monotone
-            # answer
-            working = usable
-            solved = _socp_charges(setup, working, s, cones, caps)
+        solved, working = _cone_round(setup, working, s, cones, caps)
         if solved is None:
             proved = True  # the cones on every usable candidate: a relaxation
             break
@@ -539,7 +556,7 @@ def _meet_surface_limits(
     raise PhysicalInfeasible(
         Binding(
             "charges",
-            f"{_excess(worst_ratio)} the safe surface field of {medium.name} "
+            f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
             f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
             f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
             worst_ratio,
@@ -673,6 +690,27 @@ class ChargesLimit:
     stage: str
 
 
+def _minmax_cones(
+    setup: PhysicalSetup, points: np.ndarray, field_scale: float, limit: float
+) -> tuple[np.ndarray, np.ndarray, Any, np.ndarray]:
+    """The minmax's second-order cones at ``points`` (m, 3): per point ``(t - ext, G u)`` in
+    the cone of dimension 4, ``G`` the Coulomb kernel times ``field_scale`` (the field of the
+    unit of ``u`` over ``limit``) and ``ext`` the external field over ``limit``.
+
+    Returns G (m, 3, k), ext (m,), the rows (4 m, k + 1; sparse) and their right-hand side."""
+    m, k = len(points), len(setup.points)
+    d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
+    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+    G = field_scale * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
+    ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
+    rows = np.zeros((m, 4, k + 1))
+    rows[:, 0, k] = -1.0
+    rows[:, 1:, :k] = -G
+    cone_rhs = np.zeros((m, 4))
+    cone_rhs[:, 0] = -ext
+    return G, ext, sparse.csc_matrix(rows.reshape(4 * m, k + 1)), cone_rhs.reshape(-1)
+
+
 def _minmax_charges(
     setup: PhysicalSetup, cones: list[np.ndarray]
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -705,21 +743,12 @@ def _minmax_charges(
         clarabel.NonnegativeConeT(2 * k),
     ]
     if cones:
-        points = np.array(cones)
-        m = len(points)
-        d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
-        r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-        G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
-        ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
-        # per point: (t - ext, G u) in the second-order cone of dimension 4
-        rows = np.zeros((m, 4, k + 1))
-        rows[:, 0, k] = -1.0
-        rows[:, 1:, :k] = -G
-        cone_rhs = np.zeros((m, 4))
-        cone_rhs[:, 0] = -ext
-        blocks.append(sparse.csc_matrix(rows.reshape(4 * m, k + 1)))
-        rhs.append(cone_rhs.reshape(-1))
-        cone_types += [clarabel.SecondOrderConeT(4)] * m
+        G, ext, cone_rows, cone_rhs = _minmax_cones(
+            setup, np.array(cones), COULOMB * qs / limit, limit
+        )
+        blocks.append(cone_rows)
+        rhs.append(cone_rhs)
+        cone_types += [clarabel.SecondOrderConeT(4)] * len(cones)
     cost = np.zeros(k + 1)
     cost[k] = 1.0
     settings = clarabel.DefaultSettings()
@@ -964,8 +993,9 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
     )
 
 
-def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
-    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+def _solved_mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+    """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
+    naming the binding limit when it has no solution)."""
     import cvxpy as cp
 
     if len(np.unique(carrier_sites)) >= len(setup.points):
@@ -991,11 +1021,15 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
-    sites = program.sites
-    sigma = np.asarray(program.sigma.value) * program.sigma_scale
-    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    return program
+
+
+def _polish_moments(
+    setup: PhysicalSetup, s: float, sites: np.ndarray, sigma: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The solver's moments on ``sites`` polished on their support: all moments (3 n,) and
+    which sites keep a magnet."""
     Ad, bd = setup.systems["dipoles"]
-    Am, _ = setup.systems["masses"]
     n = len(setup.points)
     # polish each system on its support
     sig_norm = np.linalg.norm(sigma, axis=1)
@@ -1009,6 +1043,19 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         # corrections on the strong magnets only (relative changes ~ the solver's residual)
         big_cols = (3 * big[:, None] + np.arange(3)).reshape(-1)
         full_sigma = _polish_equal(Ad, s * s * bd, full_sigma, big_cols)
+    return full_sigma, sig_keep
+
+
+def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+    program = _solved_mass_program(setup, s, carrier_sites)
+    sites = program.sites
+    sigma = np.asarray(program.sigma.value) * program.sigma_scale
+    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    Ad, bd = setup.systems["dipoles"]
+    Am, _ = setup.systems["masses"]
+    n = len(setup.points)
+    full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
     # changes at the solver's tolerance; the heavy sites absorb them in the polish below)
     sig_polished = full_sigma.reshape(n, 3)[sites]
