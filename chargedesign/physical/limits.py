@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
-from chargedesign.physical.coulomb import coulomb_field_gemm
+from chargedesign.physical.coulomb import coulomb_field
 from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
 from chargedesign.physical.materials import (
     MAGNET_COERCIVITY,
@@ -104,7 +104,7 @@ def carrier_surface_fields(
     def magnitudes(unit: np.ndarray) -> np.ndarray:
         """|E| at ``positions + radii * unit`` (unit: (n, m, 3) directions), shape (n, m)."""
         flat = (positions[:, None, :] + radii[:, None, None] * unit).reshape(-1, 3)
-        e = np.linalg.norm(coulomb_field_gemm(positions, charges, flat), axis=1)
+        e = np.linalg.norm(coulomb_field(positions, charges, flat), axis=1)
         return (e + external(np.linalg.norm(flat, axis=1))).reshape(n, -1)
 
     # every carrier's samples at once, then caps of shrinking size around each one's largest,
