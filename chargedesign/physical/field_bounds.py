@@ -1,8 +1,9 @@
 """The largest applied field over the body's orientations, as a function of radius.
 
 An axisymmetric applied field (Legendre coefficients,
-:class:`chargedesign.fields.AxisymmetricField`) reaches a point of the body at distance r under every polar angle as the body turns: the
-limits, the design and the realism budget bound it by its largest value over that sphere.
+:class:`chargedesign.fields.AxisymmetricField`) reaches a point of the body at distance r
+under every polar angle as the body turns: the limits, the design and the realism budget
+bound it by its largest value over that sphere.
 """
 
 from __future__ import annotations
