@@ -15,7 +15,8 @@ from typing import Any
 from chargedesign.body import Design, read_design
 from chargedesign.checker import CheckReport, check_design
 from chargedesign.designer import design_from_scene
-from chargedesign.designer.frontier import FrontierResult, frontier_from_scene
+from chargedesign.designer.frontier import FrontierResult
+from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters

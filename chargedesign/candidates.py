@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
 from chargedesign.scene.tables import check_region_keys
 from chargedesign.validation import (
@@ -337,20 +338,6 @@ def cylinder_points(
         return (rho2 <= (radius + tol) ** 2) & (np.abs(d[:, 2]) <= 0.5 * height + tol)
 
     return lattice_in(inside, np.array([radius, radius, 0.5 * height]), spacing, c)
-
-
-def fibonacci_sphere(n_points: int) -> np.ndarray:
-    """``n_points`` nearly uniform unit vectors (golden-angle spiral).
-
-    Returns
-    -------
-    ndarray, shape (n_points, 3)
-    """
-    i = np.arange(n_points) + 0.5
-    z = 1.0 - 2.0 * i / n_points
-    rho = np.sqrt(np.clip(1.0 - z * z, 0.0, None))
-    phi = math.pi * (3.0 - math.sqrt(5.0)) * i
-    return np.column_stack([rho * np.cos(phi), rho * np.sin(phi), z])
 
 
 def shell_points(

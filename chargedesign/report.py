@@ -14,14 +14,22 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
 from chargedesign.body import Design
+
+# the plausibility figures: the Coulomb field and the material data of the physical design
+from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
-from chargedesign.physical.materials import ballast_label, mass_densities, sphere_radius
+from chargedesign.physical.materials import (
+    BREAKDOWN_V_PER_M,
+    MAGNET_DATA,
+    ballast_label,
+    mass_densities,
+    sphere_radius,
+)
 from chargedesign.physical.realism import (
     FIELD_RESPONSE_KEYS,
     K_LAW_KEY,
@@ -31,26 +39,6 @@ from chargedesign.physical.realism import (
     magnet_continuum,
     realisability_map,
 )
-
-#: vacuum permittivity, F/m (CODATA 2018)
-EPSILON_0 = 8.8541878128e-12
-#: dielectric strength of dry air at sea level, V/m (order of magnitude: 3 MV/m)
-AIR_BREAKDOWN = 3.0e6
-#: remanent magnetisation of a sintered NdFeB magnet, A/m (about 1.1e6 for N42)
-NDFEB_MAGNETISATION = 1.0e6
-
-
-def charge_field(charge: float, distance: float) -> float:
-    """Field magnitude ``|q| / (4 pi eps0 s^2)`` of a point charge, V/m.
-
-    Parameters
-    ----------
-    charge : float
-        Charge, C.
-    distance : float
-        Distance, m (> 0).
-    """
-    return abs(charge) / (4.0 * math.pi * EPSILON_0 * distance**2)
 
 
 def _spacing(design: Design) -> float | None:
@@ -89,12 +77,12 @@ def plausibility(design: Design) -> dict[str, Any]:
             out |= {
                 "spacing_m": s,
                 "field_V_per_m": field,
-                "field_over_air_breakdown": field / AIR_BREAKDOWN,
+                "field_over_air_breakdown": field / BREAKDOWN_V_PER_M["air"],
             }
     if len(design.dipole_moments):
         sigma = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
         out["largest_dipole_Am2"] = sigma
-        out["ndfeb_volume_m3"] = sigma / NDFEB_MAGNETISATION
+        out["ndfeb_volume_m3"] = sigma / MAGNET_DATA["ndfeb"][0]
     if len(design.mass_values):
         out["total_mass_kg"] = float(np.sum(design.mass_values))
         out["largest_mass_kg"] = float(np.max(design.mass_values))

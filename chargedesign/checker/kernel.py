@@ -5,7 +5,6 @@ Part of :mod:`chargedesign.checker` (see its docstring for the method).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -18,6 +17,7 @@ from chargedesign.checker.constants import (
 from chargedesign.elements import ElementSet
 from chargedesign.fields import AxisymmetricField
 from chargedesign.quadrature import with_quadrature_nodes
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
     FIELD_NAMES,
@@ -41,11 +41,7 @@ def sample_orientations(n: int, seed: int = 0) -> np.ndarray:
     n = int(n)
     n_fib = n - n // 2
     n_fib -= n_fib % 2
-    i = np.arange(n_fib)
-    z = 1.0 - (2.0 * i + 1.0) / max(n_fib, 1)
-    phi = i * math.pi * (3.0 - math.sqrt(5.0))
-    s = np.sqrt(1.0 - z * z)
-    fib = np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=1)
+    fib = fibonacci_sphere(n_fib, phase=0.0)
     rng = np.random.default_rng(seed)
     rand = rng.standard_normal((n - n_fib, 3))
     rand /= np.linalg.norm(rand, axis=1, keepdims=True)

@@ -38,7 +38,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from chargedesign.designer.frontier import frontier_from_scene
+    from chargedesign.designer.pipeline import frontier_from_scene
     from chargedesign.errors import InputError
     from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene

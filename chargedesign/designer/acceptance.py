@@ -31,7 +31,16 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.checker import (
+    DEFAULT_ORIENTATIONS,
+    DEFAULT_TOL,
+    check_design,
+    sample_orientations,
+    theorem_reference,
+)
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import ChargeDesignError
+from chargedesign.validation import MAX_MAGNITUDE
 
 #: the balance double precision holds, in units of roundoff of the body's mass-weighted size
 #: ``sum m |r| / M`` (the polished masses put the centre of mass 0.3 of it from O on the
@@ -52,8 +61,6 @@ def body_check(design: Design, **kwargs: Any) -> Any:
     :attr:`Design.body_parameters` (``n = 0`` for the ``frame`` Larmor reading; unchanged
     for ``charges``).
     """
-    from chargedesign.checker import check_design
-
     body = (
         design
         if design.larmor_reading == "charges"
@@ -77,8 +84,6 @@ def forward_acceptance(design: Design, *, totals_requested: bool = False) -> Non
         Elements outside the supported range, a check that could not run, or a body that
         misses the theorem (the failing quantities and their errors).
     """
-    from chargedesign.validation import MAX_MAGNITUDE
-
     values = [
         np.abs(getattr(design, name))
         for name in ("charge_values", "mass_values", "dipole_moments", "charge_positions")
@@ -210,7 +215,7 @@ class BalanceBound:
 
 
 def _gravity_text(g: float) -> str:
-    ratio = g / 9.80665
+    ratio = g / STANDARD_GRAVITY
     return f"{ratio:.3g} g" if abs(ratio - 1) > 0.01 else "1 g"
 
 
@@ -232,13 +237,6 @@ def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | No
     (:func:`chargedesign.checker.theorem_reference` of the body's parameters). Only the
     uniform part of gravity is counted: it is the one that does not vanish at O.
     """
-    from chargedesign.checker import (
-        DEFAULT_ORIENTATIONS,
-        DEFAULT_TOL,
-        sample_orientations,
-        theorem_reference,
-    )
-
     coeffs = design.field("gravity")
     g = abs(float(coeffs[0])) if coeffs else 0.0
     if g == 0.0:

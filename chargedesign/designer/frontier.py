@@ -49,15 +49,23 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.designer.acceptance import BUILDER_BALANCE_M, body_check
+from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.designer.acceptance import BUILDER_BALANCE_M, balance_bound, body_check
 from chargedesign.designer.physical import (
     Binding,
     ChargesLimit,
     PhysicalInfeasible,
     PhysicalSetup,
+    build_design,
+    charge_support,
     charges_rate_limit,
+    design_at_rate,
+    design_masses,
+    lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.physical.limits import check_limits
+from chargedesign.physical.realism import field_response
 from chargedesign.results import Result
 
 #: relative width of the final bracket [s_max, s_above]
@@ -285,8 +293,6 @@ def _masses_refuse(setup: PhysicalSetup, s: float) -> bool:
     """Whether the magnets-and-masses stage refuses rate ``s`` around the carriers of the
     charges' own-field LP (a cheap guess of the design's carriers; it only orders the
     frontier's probes, never decides one)."""
-    from chargedesign.designer.physical import charge_support, design_masses, lp_charges
-
     A, b = setup.systems["charges"]
     q = lp_charges(A, s * b, setup.charge_caps(s), setup.cost("charges"))
     if q is None:
@@ -327,9 +333,6 @@ def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding 
     """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
     stages (:func:`~chargedesign.designer.physical.design_at_rate`) and the balance under
     gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
-    from chargedesign.designer.acceptance import balance_bound
-    from chargedesign.designer.physical import build_design, design_at_rate
-
     try:
         design = build_design(setup, design_at_rate(setup, s))
     except PhysicalInfeasible as exc:
@@ -350,16 +353,21 @@ def _balance_fails(design: Design, s: float) -> bool:
 
 def _accept_body(design: Design) -> Binding | None:
     """The rest of the design's acceptance on a body whose limits and balance hold: the
-    limits recomputed from the written parts and the forward check (None: accepted)."""
-    from chargedesign.physical.limits import check_limits
+    limits recomputed from the written parts and the forward check (None: accepted).
 
-    limits = check_limits(design)
-    if not limits.buildable:
-        return Binding("limits", limits.violations[0], "limits check")
+    The forward check recomputes the limits of a physical body itself (they do not depend on
+    the parameters it compares with), so they are read from its report, not computed twice;
+    they speak first, as in ``design``."""
     try:
         report = body_check(design)
     except ChargeDesignError as exc:
+        limits = check_limits(design)
+        if not limits.buildable:
+            return Binding("limits", limits.violations[0], "limits check")
         return Binding("forward", f"the forward check could not run ({exc})", "check")
+    limits = report.limits if report.limits is not None else check_limits(design)
+    if not limits.buildable:
+        return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
         return None
     errors = ", ".join(
@@ -376,14 +384,12 @@ def _accept_body(design: Design) -> Binding | None:
 
 def _response_at(design: Design | None) -> dict[str, Any]:
     """The field response of the body designed at the frontier (empty when none)."""
-    from chargedesign.physical.realism import field_response
-
     return {} if design is None else field_response(design)
 
 
 def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
     """The one line of a frontier whose balance bound lies above its largest rate."""
-    g = balance["gravity_m_per_s2"] / 9.80665
+    g = balance["gravity_m_per_s2"] / STANDARD_GRAVITY
     gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
     return (
         f"no buildable rate: under {gravity} the centre of mass must sit within "
@@ -396,6 +402,265 @@ def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> st
         f"{balance['balance_held_m']:.3g} m); rates are accepted from s = "
         f"{balance['lowest_rate']:.4g}, above s_max"
     )
+
+
+@dataclass
+class _Search:
+    """The state of one frontier search: every rate designed, the bodies kept, the lowest
+    rate whose refusal is proved, and the bracket ``[lo, hi]`` with what refuses ``hi``."""
+
+    setup: PhysicalSetup
+    rtol: float
+    progress: Any
+    s_nec: float
+    t0: float
+    s_lp: float = 0.0  # reported: the own-field LP's bound
+    s_charges: float | None = None
+    history: list[tuple[float, bool]] = field(default_factory=list)
+    #: the body at the highest rate probed whose limits hold (its field response and balance
+    #: are reported)
+    best: dict[float, Design] = field(default_factory=dict)
+    #: the lowest rate whose refusal is proved (Binding.proved: a relaxation of the limits is
+    #: infeasible there, so at every faster rate too): faster rates are refused unprobed
+    proved: list[tuple[float, Binding]] = field(default_factory=list)
+    lo: float = 0.0
+    hi: float = 0.0
+    hi_binding: Binding | None = None
+    upper_binding: Binding | None = None
+    accepted_at: float | None = None
+    #: the lowest rate refused by the direct steps, and why
+    first: tuple[float, Binding] | None = None
+
+    def probe(self, s: float) -> tuple[bool, Binding | None]:
+        """Design at rate ``s`` (unless a proved refusal covers it): accepted, and why not."""
+        if self.proved and s >= self.proved[0][0]:
+            self._say(f"s = {s:.6g}: infeasible (proved at s = {self.proved[0][0]:.6g})")
+            return False, self.proved[0][1]
+        design, binding = _probe_body(self.setup, s)
+        if design is None and binding is not None and binding.proved:
+            self.proved[:] = [(s, binding)]
+        # only the balance fails: the limits hold and the rate is too slow, not too fast (the
+        # upper search goes on; s_min decides below)
+        ok = design is not None
+        if design is not None and all(s > known for known in self.best):
+            self.best.clear()
+            self.best[s] = design
+        self.history.append((s, ok))
+        self._say(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
+        return ok, binding
+
+    def _say(self, text: str) -> None:
+        if self.progress is not None:
+            self.progress(text)
+
+    def result(
+        self, lo: float, hi: float, binding: Binding, design: Design | None
+    ) -> FrontierResult:
+        theorem = self.setup.theorem_params
+        return FrontierResult(
+            s_max=lo,
+            n=theorem.n,
+            binding=binding,
+            s_necessary=self.s_lp,
+            s_above=hi,
+            evaluations=len(self.history),
+            seconds=time.perf_counter() - self.t0,
+            medium=self.setup.spec.medium.name,
+            history=self.history,
+            field_response=_response_at(design),
+            K=theorem.K,
+            larmor=_reading(self.setup),
+            smallest_charge=(
+                float(np.min(np.abs(design.charge_values)))
+                if design is not None and len(design.charge_values)
+                else 0.0
+            ),
+            s_charges=self.s_charges,
+        )
+
+
+def _reading(setup: PhysicalSetup) -> str:
+    return setup.larmor.reading if setup.larmor is not None else "charges"
+
+
+def _necessary_binding(setup: PhysicalSetup, s_nec: float) -> Binding:
+    """What refuses rates just above the necessary bound: the own-field LP, or the
+    apparatus' electric field when it sets that bound."""
+    medium = setup.spec.medium.name
+    if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
+        return Binding(
+            "fields",
+            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            "body region",
+            "fields.electric",
+        )
+    return Binding(
+        "charges",
+        f"the carriers' own surface fields reach the safe field of {medium} "
+        f"({setup.safe_field:.3g} V/m)",
+        "the carriers",
+    )
+
+
+def _direct_steps(search: _Search, limit: ChargesLimit) -> None:
+    """The charges' limit computed directly: no charges exist above it (a proved refusal),
+    and when the charges bind, designs just below it close the bracket."""
+    setup, rtol = search.setup, search.rtol
+    search.s_charges = limit.rate
+    top_binding = _limit_binding(setup, limit)
+    search.proved[:] = [(limit.rate, top_binding)]
+    search.s_nec = min(search.s_nec, limit.rate)
+    search.upper_binding = search.hi_binding = top_binding
+    search.hi = limit.rate
+    # near s_c the design's cone rounds are its dearest: when the masses already fail there
+    # around the carriers of the charges' first LP, the bisection starts below instead
+    steps = () if _masses_refuse(setup, limit.rate / (1 + rtol)) else DIRECT_STEPS
+    for step in steps:
+        s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
+        ok, binding = search.probe(s_try)
+        design_try = search.best.get(s_try) if ok else None
+        if design_try is not None:
+            # the balance, if it fails, speaks below (too slow); else the acceptance
+            refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
+            if refused is None:
+                search.accepted_at = search.lo = s_try
+                return
+            binding = refused
+        assert binding is not None
+        search.hi, search.hi_binding = s_try, binding
+        search.first = (s_try, binding)
+        if binding.stage != "charges":
+            return  # the masses, the balance or the acceptance bind lower: bisect below
+
+
+def _scan_decades(search: _Search, feasible_rate: float | None) -> None:
+    """No charge conditions (frame with K = 0): rates 10x apart up to the first refused."""
+    s = feasible_rate or 1.0
+    search.s_nec = HIGHEST_RATE
+    while s < HIGHEST_RATE:
+        ok, binding = search.probe(s)
+        if not ok:
+            search.s_nec, search.upper_binding = s, binding or search.upper_binding
+            break
+        s *= 10.0
+    search.hi_binding = search.upper_binding
+
+
+def _lowest_feasible(search: _Search, feasible_rate: float | None) -> None:
+    """A feasible rate below ``hi``: the caller's, else rates 10x apart downwards (``lo``
+    stays 0 when none is found above LOWEST_RATE_FRACTION of the necessary bound)."""
+    hi = search.hi
+    search.lo = feasible_rate if feasible_rate is not None and feasible_rate < hi else 0.0
+    s = hi
+    while search.lo == 0.0 and s > search.s_nec * LOWEST_RATE_FRACTION:
+        s *= 0.1
+        ok, binding = search.probe(s)
+        if ok:
+            search.lo = s
+            return
+        search.hi, search.hi_binding = s, binding
+
+
+def _bisect(search: _Search) -> None:
+    """Bisection in ``log s`` until ``hi / lo <= 1 + rtol``."""
+    while search.hi / search.lo > 1 + search.rtol:
+        mid = math.sqrt(search.lo * search.hi)
+        ok, binding = search.probe(mid)
+        if ok:
+            search.lo = mid
+        else:
+            search.hi, search.hi_binding = mid, binding
+
+
+def _rates_above(search: _Search) -> list[float]:
+    """Rates above the bracket the design must refuse: ``(1 + 2 rtol) lo`` and
+    ``(1 + rtol)^k hi`` below the necessary bound (those within rtol / 4 of one already
+    listed tell nothing new)."""
+    above = [search.lo * (1 + 2 * search.rtol)]
+    for k in UPWARD_STEPS:
+        s_up = search.hi * (1 + search.rtol) ** k
+        if s_up < search.s_nec and all(abs(s_up / x - 1) > search.rtol / 4 for x in above):
+            above.append(s_up)
+    return above
+
+
+def _bisect_with_restarts(search: _Search) -> None:
+    """Bisection, then the checks around the bracket.
+
+    The heuristic feasibility (LP rounds, then cones; the carriers the masses must balance)
+    is not exactly monotone in s: rates a little above the bracket, and (1 + 2 rtol) s_max,
+    which design must refuse, are tried, and a success reopens the bracket; (1 - 2 rtol)
+    s_max, which design must accept, is tried too.
+    """
+    rtol = search.rtol
+    for _ in range(UPWARD_RESTARTS + 1):
+        _bisect(search)
+        found = next((s_up for s_up in _rates_above(search) if search.probe(s_up)[0]), None)
+        if found is not None:
+            search.lo = found
+            search.hi = min(search.s_nec, found * (1 + rtol) ** 4)
+            search.hi_binding = search.upper_binding
+            ok, binding = search.probe(search.hi)
+            if ok:
+                search.lo = search.hi
+                return
+            search.hi_binding = binding
+            continue
+        below = search.lo * (1 - 2 * rtol)
+        ok, binding = search.probe(below)
+        if ok:
+            return
+        # refused just below: the frontier lies under it
+        search.hi, search.hi_binding = below, binding
+        feasible_below = [x for x, good in search.history if good and x < below]
+        if not feasible_below:
+            return
+        search.lo = max(feasible_below)
+
+
+def _accept_lowest(search: _Search) -> Design | None:
+    """The rest of the design's acceptance (limits recomputed from the parts, forward check)
+    at the rate reported. It does not depend on the rate but through the balance, so it runs
+    once, and a refusal moves the frontier down to the next rate probed feasible."""
+    design = search.best.get(search.lo)
+    for _ in range(ACCEPT_RETRIES):
+        if design is None:
+            # the rate given by the caller was not probed here
+            design, _ = _probe_body(search.setup, search.lo)
+        if design is None or _balance_fails(design, search.lo):
+            return design  # the balance speaks below
+        refused = None if search.lo == search.accepted_at else _accept_body(design)
+        if refused is None:
+            return design
+        search.hi, search.hi_binding = search.lo, refused
+        lower_rates = [x for x, good in search.history if good and x < search.lo]
+        search.lo = max(lower_rates, default=0.0)
+        design = None
+        if search.lo == 0.0:
+            return None
+    search.lo = 0.0
+    return None
+
+
+def _search_bracket(search: _Search, feasible_rate: float | None) -> bool:
+    """Close the bracket below the direct steps (False: no feasible rate was found)."""
+    if search.accepted_at is not None:
+        return True
+    if not math.isfinite(search.s_nec):
+        _scan_decades(search, feasible_rate)
+    checked = (False, None) if search.first is not None else search.probe(search.s_nec)
+    if checked[0]:
+        search.hi = search.s_nec * (1 + search.rtol)
+        search.lo = search.s_nec
+        return True
+    search.hi, search.hi_binding = (
+        search.first if search.first is not None else (search.s_nec, checked[1])
+    )
+    _lowest_feasible(search, feasible_rate)
+    if search.lo == 0.0:
+        return False
+    _bisect_with_restarts(search)
+    return True
 
 
 def find_frontier(
@@ -426,237 +691,33 @@ def find_frontier(
         ("no buildable rate: ...").
     """
     t0 = time.perf_counter()
-    s_nec = necessary_rate(setup)
-    s_lp = s_nec  # reported: the own-field LP's bound
-    s_charges: float | None = None
-    history: list[tuple[float, bool]] = []
-    medium = setup.spec.medium.name
-    theorem = setup.theorem_params
-    reading = setup.larmor.reading if setup.larmor is not None else "charges"
+    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0)
+    search.s_lp = search.s_nec
     if direct is None:
-        direct = reading == "frame"
-
-    # the body at the highest rate probed whose limits hold (its field response and balance
-    # are reported)
-    best: dict[float, Design] = {}
+        direct = _reading(setup) == "frame"
     if feasible_rate is not None and feasible is not None:
-        best[feasible_rate] = feasible
-
-    # the lowest rate whose refusal is proved (Binding.proved: a relaxation of the limits is
-    # infeasible there, so at every faster rate too): faster rates are refused unprobed
-    proved: list[tuple[float, Binding]] = []
-
-    def probe(s: float) -> tuple[bool, Binding | None]:
-        if proved and s >= proved[0][0]:
-            if progress is not None:
-                progress(f"s = {s:.6g}: infeasible (proved at s = {proved[0][0]:.6g})")
-            return False, proved[0][1]
-        design, binding = _probe_body(setup, s)
-        if design is None and binding is not None and binding.proved:
-            proved[:] = [(s, binding)]
-        # only the balance fails: the limits hold and the rate is too slow, not too fast (the
-        # upper search goes on; s_min decides below)
-        ok = design is not None
-        if design is not None and all(s > known for known in best):
-            best.clear()
-            best[s] = design
-        history.append((s, ok))
-        if progress is not None:
-            progress(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
-        return ok, binding
-
-    def result(lo: float, hi: float, binding: Binding, design: Design | None) -> FrontierResult:
-        return FrontierResult(
-            s_max=lo,
-            n=theorem.n,
-            binding=binding,
-            s_necessary=s_lp,
-            s_above=hi,
-            evaluations=len(history),
-            seconds=time.perf_counter() - t0,
-            medium=medium,
-            history=history,
-            field_response=_response_at(design),
-            K=theorem.K,
-            larmor=reading,
-            smallest_charge=(
-                float(np.min(np.abs(design.charge_values)))
-                if design is not None and len(design.charge_values)
-                else 0.0
-            ),
-            s_charges=s_charges,
-        )
-
-    if not s_nec > 0:
+        search.best[feasible_rate] = feasible
+    if not search.s_nec > 0:
         none_binding = Binding(
             "charges",
-            f"the external electric field alone exceeds the safe field of {medium}",
+            f"the external electric field alone exceeds the safe field of {setup.spec.medium.name}",
             "fields.electric",
         )
-        return result(0.0, 0.0, none_binding, None)
-    # the necessary bound itself: just above it the own-field LP is infeasible
-    upper_binding = Binding(
-        "charges",
-        f"the carriers' own surface fields reach the safe field of {medium} "
-        f"({setup.safe_field:.3g} V/m)",
-        "the carriers",
-    )
-    if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
-        upper_binding = Binding(
-            "fields",
-            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
-            "body region",
-            "fields.electric",
-        )
-    hi_binding: Binding | None = upper_binding
-    # the charges' limit computed directly: no charges exist above it (a proved refusal), and
-    # when the charges bind, designs just below it close the bracket
-    accepted_at: float | None = None
-    first: tuple[float, Binding] | None = None  # the lowest rate refused by the direct steps
-    limit = _charges_limit(setup, rtol) if direct and math.isfinite(s_nec) else None
+        return search.result(0.0, 0.0, none_binding, None)
+    search.upper_binding = search.hi_binding = _necessary_binding(setup, search.s_nec)
+    limit = _charges_limit(setup, rtol) if direct and math.isfinite(search.s_nec) else None
     if limit is not None:
-        s_charges = limit.rate
-        top_binding = _limit_binding(setup, limit)
-        proved[:] = [(limit.rate, top_binding)]
-        s_nec = min(s_nec, limit.rate)
-        upper_binding = hi_binding = top_binding
-        hi = limit.rate
-        # near s_c the design's cone rounds are its dearest: when the masses already fail there
-        # around the carriers of the charges' first LP, the bisection starts below instead
-        steps = () if _masses_refuse(setup, limit.rate / (1 + rtol)) else DIRECT_STEPS
-        for step in steps:
-            s_try = limit.rate / (1 + rtol) if step is None else limit.rate * (1 - step * rtol)
-            ok, binding = probe(s_try)
-            design_try = best.get(s_try) if ok else None
-            if design_try is not None:
-                # the balance, if it fails, speaks below (too slow); else the acceptance
-                refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
-                if refused is None:
-                    accepted_at = s_try
-                    break
-                binding = refused
-            assert binding is not None
-            hi, hi_binding = s_try, binding
-            first = (s_try, binding)
-            if binding.stage != "charges":
-                break  # the masses, the balance or the acceptance bind lower: bisect below
-    if accepted_at is not None:
-        lo = accepted_at
-    elif not math.isfinite(s_nec):
-        # no charge conditions (frame with K = 0): rates 10x apart up to the first refused
-        s = feasible_rate or 1.0
-        s_nec = HIGHEST_RATE
-        while s < HIGHEST_RATE:
-            ok, binding = probe(s)
-            if not ok:
-                s_nec, upper_binding = s, binding or upper_binding
-                break
-            s *= 10.0
-        hi_binding = upper_binding
-    checked = (False, None) if accepted_at is not None or first is not None else probe(s_nec)
-    if accepted_at is not None:
-        pass
-    elif checked[0]:
-        hi = s_nec * (1 + rtol)
-        lo = s_nec
-    else:
-        hi, hi_binding = first if first is not None else (s_nec, checked[1])
-        lo = feasible_rate if feasible_rate is not None and feasible_rate < hi else 0.0
-        s = hi
-        while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
-            s *= 0.1
-            ok, binding = probe(s)
-            if ok:
-                lo = s
-                break
-            hi, hi_binding = s, binding
-        if lo == 0.0:
-            assert hi_binding is not None
-            return result(0.0, hi, hi_binding, None)
-        for _ in range(UPWARD_RESTARTS + 1):
-            while hi / lo > 1 + rtol:
-                mid = math.sqrt(lo * hi)
-                ok, binding = probe(mid)
-                if ok:
-                    lo = mid
-                else:
-                    hi, hi_binding = mid, binding
-            # the heuristic feasibility (LP rounds, then cones; the carriers the masses must
-            # balance) is not exactly monotone in s: rates a little above the bracket, and
-            # (1 + 2 rtol) s_max, which design must refuse, are tried, and a success reopens
-            # the bracket; (1 - 2 rtol) s_max, which design must accept, is tried too
-            above = [lo * (1 + 2 * rtol)]
-            for k in UPWARD_STEPS:
-                s_up = hi * (1 + rtol) ** k
-                # rates within rtol / 4 of one already tried tell nothing new
-                if s_up < s_nec and all(abs(s_up / x - 1) > rtol / 4 for x in above):
-                    above.append(s_up)
-            found = None
-            for s_up in above:
-                ok, binding = probe(s_up)
-                if ok:
-                    found = s_up
-                    break
-            if found is not None:
-                lo = found
-                hi = min(s_nec, found * (1 + rtol) ** 4)
-                hi_binding = upper_binding
-                ok, binding = probe(hi)
-                if ok:
-                    lo = hi
-                    break
-                hi_binding = binding
-                continue
-            below = lo * (1 - 2 * rtol)
-            ok, binding = probe(below)
-            if ok:
-                break
-            # refused just below: the frontier lies under it
-            hi, hi_binding = below, binding
-            feasible_below = [x for x, good in history if good and x < below]
-            if not feasible_below:
-                break
-            lo = max(feasible_below)
-    assert hi_binding is not None
-    # the rest of the design's acceptance (limits recomputed from the parts, forward check)
-    # at the rate reported; it does not depend on the rate but through the balance, so it
-    # runs once, and a refusal moves the frontier down to the next rate probed feasible
-    design = best.get(lo)
-    for _ in range(ACCEPT_RETRIES):
-        if design is None:
-            # the rate given by the caller was not probed here
-            design, _ = _probe_body(setup, lo)
-        if design is None or _balance_fails(design, lo):
-            break  # the balance speaks below
-        refused = None if lo == accepted_at else _accept_body(design)
-        if refused is None:
-            break
-        hi, hi_binding = lo, refused
-        lower_rates = [x for x, good in history if good and x < lo]
-        lo = max(lower_rates, default=0.0)
-        design = None
-        if lo == 0.0:
-            break
-    else:
-        lo, design = 0.0, None
-    front = result(lo, hi, hi_binding, design)
+        _direct_steps(search, limit)
+    if not _search_bracket(search, feasible_rate):
+        assert search.hi_binding is not None
+        return search.result(0.0, search.hi, search.hi_binding, None)
+    assert search.hi_binding is not None
+    design = _accept_lowest(search)
+    front = search.result(search.lo, search.hi, search.hi_binding, design)
     balance = (design.extra.get("balance") if design is not None else None) or {}
     if balance:
         front.balance = dict(balance)
         front.s_min = float(balance.get("lowest_rate") or math.inf)
-        if not front.s_min <= lo:
-            raise InfeasibleError(no_buildable_rate(balance, lo, front.K_max))
+        if not front.s_min <= search.lo:
+            raise InfeasibleError(no_buildable_rate(balance, search.lo, front.K_max))
     return front
-
-
-def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
-    """The frontier of a scene with ``[medium]`` (see :func:`find_frontier`)."""
-    from chargedesign.designer.pipeline import physical_setup_from_scene
-
-    setup = physical_setup_from_scene(scene, **overrides)
-    if setup is None:
-        raise InfeasibleError(
-            "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
-            "name = vacuum | air | sf6 | oil)"
-        )
-    return find_frontier(setup, progress=progress)

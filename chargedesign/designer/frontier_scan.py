@@ -42,10 +42,15 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.designer.frontier import frontier_from_scene
+from chargedesign.constants import ELEMENTARY_CHARGE
+from chargedesign.designer.pipeline import frontier_from_scene, physical_setup_from_scene
+from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.params import Parameters
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
+from chargedesign.physical.spec import DEFAULT_SHELL_THICKNESS
 from chargedesign.results import Result
+from chargedesign.scene import scene_from_dict
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")
@@ -53,8 +58,6 @@ MEDIA = ("air", "sf6", "vacuum")
 #: scene's (weaker: a stronger field puts the magnets beyond what they withstand)
 FIELD_FACTOR = 0.5
 DENSE_CARRIER = "copper"
-#: the elementary charge, C (CODATA 2018, exact)
-ELEMENTARY_CHARGE = 1.602176634e-19
 #: expected exponents of the law each reading fits (module doc) where breakdown binds; the
 #: scan varies the carriers' density at fixed C (the body's density rho = C / L^5 stays
 #: fixed as the body is scaled), so the carriers' density enters only where their mass binds
@@ -143,7 +146,6 @@ class ScanResult(Result):
 
 def _scene_dict(scene: Any) -> dict[str, Any]:
     """The mapping a scene was read from (parameters, fields with limits, tables)."""
-    from chargedesign.params import Parameters
 
     params = scene.parameters.as_dict() if isinstance(scene.parameters, Parameters) else {}
     fields: dict[str, Any] = {}
@@ -177,8 +179,6 @@ def _variant(
     if "shell_thickness" in carriers:
         carriers["shell_thickness"] = carriers["shell_thickness"] * f
     else:
-        from chargedesign.physical.spec import DEFAULT_SHELL_THICKNESS
-
         carriers["shell_thickness"] = DEFAULT_SHELL_THICKNESS * f
     if carrier is not None:
         carriers.pop("density", None)
@@ -206,8 +206,6 @@ def scan_frontier(
     progress: Any = None,
 ) -> ScanResult:
     """Frontiers over size x medium, plus a weaker field and denser carriers (see module)."""
-    from chargedesign.designer.pipeline import physical_setup_from_scene
-    from chargedesign.scene import scene_from_dict
 
     base = _scene_dict(scene)
     base_carrier = base.get("carriers", {}).get("material", "aluminium")
@@ -422,8 +420,6 @@ def write_scan(scan: ScanResult, out: Path) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from chargedesign.files import atomic_directory, write_text_atomic
 
     buffer = io.StringIO()
     if scan.rows:

@@ -33,10 +33,15 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+from scipy import sparse
+from scipy.optimize import linprog
+from scipy.spatial import cKDTree
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import LinearConditions
+from chargedesign.constants import COULOMB, EPSILON_0, MU_0
+from chargedesign.designer.acceptance import balance_bound
 from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.result import DesignResult, SourceResult, design_extras
 from chargedesign.designer.robust import robust_costs, weighted_norm
@@ -45,11 +50,15 @@ from chargedesign.designer.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.larmor import LarmorReading
 from chargedesign.params import Parameters
+from chargedesign.physical.coulomb import coulomb_field_gemm
+from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.limits import (
+    check_limits,
     fibonacci_directions,
-    field_magnitude_max,
+    local_caps,
+    sample_spacing,
 )
-from chargedesign.physical.materials import COULOMB, EPSILON_0
+from chargedesign.physical.realism import realism_budget
 from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
@@ -65,8 +74,6 @@ MAX_ROUNDS = 26
 LP_ROUNDS = 12
 #: carriers above this fraction of the safe field get cones before they break it
 CONE_THRESHOLD = 0.95
-#: elements of the field kernel's (points, carriers) work arrays per block (512 kB: in cache)
-FIELD_BLOCK_ELEMENTS = 1 << 16
 
 
 @dataclass
@@ -167,24 +174,8 @@ class PhysicalSetup:
         return limit / top if top > 0 else math.inf
 
 
-def setup_physical(
-    params: Parameters,
-    conditions: LinearConditions,
-    candidates: CandidateSet,
-    spec: PhysicalSpec,
-    options: DesignOptions | None = None,
-    *,
-    larmor: LarmorReading | None = None,
-) -> PhysicalSetup:
-    """Validate the physical spec against the candidates and build the systems at rate 1.
-
-    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
-    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
-    ``frame``).
-    """
-    from scipy.spatial import cKDTree
-
-    options = options or DesignOptions()
+def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
+    """The [design] options a physical design takes (one line naming the one it does not)."""
     for source in ("charges", "dipoles", "masses"):
         if options.objective_for(source) not in PHYSICAL_OBJECTIVES:
             raise InputError(
@@ -200,21 +191,25 @@ def setup_physical(
             "design.total_charge / n_charges: not available with [medium] (the carriers' "
             "limits decide the charges)"
         )
-    points = candidates.points
-    if len(points) < 2:
-        raise InputError("body: a physical design needs at least two candidate points")
-    dist, _ = cKDTree(points).query(points, k=2)
-    cell = 0.5 * dist[:, 1]
-    spacing = float(np.min(dist[:, 1]))
+
+
+def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
+    """The carriers' radius: the scene's, below half the candidate spacing, or a fixed
+    fraction of it."""
     a = spec.carrier_radius
     if a is None:
-        a = CARRIER_RADIUS_FRACTION * spacing
-    elif a >= 0.5 * spacing:
+        return CARRIER_RADIUS_FRACTION * spacing
+    if a >= 0.5 * spacing:
         raise InputError(
             f"body.carrier_radius: expected below half the candidate spacing "
             f"({0.5 * spacing:.4g} m) so carriers cannot touch, got {a:g}"
         )
-    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    return float(a)
+
+
+def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region: float) -> None:
+    """The scene's magnetic and gravity fields within their ``max`` over the body region
+    (the electric field's limit bounds the rate instead)."""
     for kind, limit in spec.field_limits.items():
         coeffs = conditions.fields.get(kind, ())
         if kind == "electric" or not coeffs:
@@ -225,19 +220,24 @@ def setup_physical(
                 f"fields.{kind}.max: the scene's {kind} field already reaches {top:.4g} over the "
                 f"body region (radius {region:.4g} m), above max = {limit:g}"
             )
-    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
-    costs = {
-        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
-        for source in systems
-        if options.objective_for(source) == "robust"
-    }
+
+
+def _magnet_sites(
+    spec: PhysicalSpec,
+    conditions: LinearConditions,
+    points: np.ndarray,
+    cell: np.ndarray,
+    dipoles: tuple[np.ndarray, np.ndarray],
+) -> np.ndarray:
+    """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell stays
+    below what the magnet withstands); InfeasibleError when V's moments cannot be met there."""
     magnet_sites = np.ones(len(points), dtype=bool)
     withstood = spec.magnet.field_withstood()
     magnetic = tuple(conditions.fields.get("magnetic", ()))
     if withstood is not None and magnetic:
         reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
         magnet_sites = reach <= withstood
-        if not _moments_reachable(systems["dipoles"], magnet_sites):
+        if not _moments_reachable(dipoles, magnet_sites):
             where = (
                 f"at every candidate site but {int(np.sum(magnet_sites))}, and magnets there "
                 "cannot give the moments V needs"
@@ -250,6 +250,42 @@ def setup_physical(
                 f"magnetic field exceeds that as the body turns {where}: use a "
                 "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
             )
+    return magnet_sites
+
+
+def setup_physical(
+    params: Parameters,
+    conditions: LinearConditions,
+    candidates: CandidateSet,
+    spec: PhysicalSpec,
+    options: DesignOptions | None = None,
+    *,
+    larmor: LarmorReading | None = None,
+) -> PhysicalSetup:
+    """Validate the physical spec against the candidates and build the systems at rate 1.
+
+    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
+    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
+    ``frame``).
+    """
+    options = options or DesignOptions()
+    _check_physical_options(options, conditions)
+    points = candidates.points
+    if len(points) < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+    dist, _ = cKDTree(points).query(points, k=2)
+    cell = 0.5 * dist[:, 1]
+    spacing = float(np.min(dist[:, 1]))
+    a = _carrier_radius(spec, spacing)
+    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    _check_field_limits(spec, conditions, region)
+    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    costs = {
+        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
+        for source in systems
+        if options.objective_for(source) == "robust"
+    }
+    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
@@ -313,8 +349,6 @@ def lp_charges(
     A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
-    from scipy.optimize import linprog
-
     usable = caps > 0
     cols = np.flatnonzero(usable)
     if len(cols) == 0:
@@ -338,35 +372,6 @@ def lp_charges(
     return q
 
 
-def _coulomb_field_gemm(sources: np.ndarray, charges: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Field of point charges at ``points``, V/m, shape (p, 3), by matrix products.
-
-    ``E(p) = k (p sum_j w_j - sum_j w_j x_j)`` with ``w_j = q_j / |p - x_j|^3`` and
-    ``|p - x|^2 = |p|^2 + |x|^2 - 2 p.x`` (BLAS): no (p, n, 3) array, about 4x faster than
-    :func:`~chargedesign.physical.limits.coulomb_field`, which the independent limits check
-    keeps. The distances lose ``(|p| / |p - x|)^2`` ulps to cancellation: on random bodies
-    the two agree to about 1e-11 (a test), far below the design's margin of 1e-3.
-
-    The (p, n) work arrays are cut into blocks of about :data:`FIELD_BLOCK_ELEMENTS` and
-    updated in place, so they stay in cache: the elementwise passes, not the products, set
-    the cost (measured 6x faster than 32 MB blocks at 250 carriers, 200 samples each).
-    """
-    out = np.empty((len(points), 3))
-    x2 = np.einsum("nk,nk->n", sources, sources)
-    block = max(1, FIELD_BLOCK_ELEMENTS // max(1, len(sources)))
-    for start in range(0, len(points), block):
-        p = points[start : start + block]
-        r2 = np.einsum("pk,pk->p", p, p)[:, None] + x2[None, :]
-        dot = p @ sources.T
-        dot *= 2.0
-        r2 -= dot
-        w = np.sqrt(r2)
-        w *= r2
-        np.divide(charges[None, :], w, out=w)
-        out[start : start + block] = COULOMB * (p * w.sum(axis=1)[:, None] - w @ sources)
-    return out
-
-
 def _surface_check(
     setup: PhysicalSetup, positions: np.ndarray, q: np.ndarray, s: float, samples: int
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -380,8 +385,6 @@ def _surface_check(
     ratios : ndarray, shape (k,)
     worst : ndarray, shape (k, 3)
     """
-    from chargedesign.physical.limits import local_caps, sample_spacing
-
     k = len(q)
     if k == 0:
         return np.zeros(0), np.zeros((0, 3))
@@ -391,7 +394,7 @@ def _surface_check(
     def magnitudes(points: np.ndarray) -> np.ndarray:
         """|E| at points (k, m, 3) from every carrier plus the external bound: (k, m)."""
         flat = points.reshape(-1, 3)
-        e = np.linalg.norm(_coulomb_field_gemm(positions, q, flat), axis=1)
+        e = np.linalg.norm(coulomb_field_gemm(positions, q, flat), axis=1)
         e = e + setup.external_max(np.linalg.norm(flat, axis=1), s)
         return e.reshape(k, -1)
 
@@ -468,6 +471,38 @@ def charge_support(q: np.ndarray) -> np.ndarray:
     return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
 
 
+def _charges_method(rounds: int, n_cones: int) -> str:
+    """How the charges were found, for design.json's solver record."""
+    return (
+        "HiGHS LP with the carriers' own-field bounds"
+        + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not n_cones else "")
+        + (f", then Clarabel with {n_cones} surface cones" if n_cones else "")
+    )
+
+
+def _cone_round(
+    setup: PhysicalSetup,
+    working: np.ndarray,
+    s: float,
+    cones: list[tuple[int, np.ndarray]],
+    caps: np.ndarray,
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """The surface cones solved on the working set, else on every usable candidate: the
+    charges on the working set returned (None: infeasible there too) and that set.
+
+    The working set may lack carriers a solution needs: on every usable candidate the cones
+    (a subset of the surface limits) relax the true problem, so its infeasibility proves the
+    rate infeasible, and every faster one too (the feasible charges scale down with the
+    rate): the frontier then sees a monotone answer.
+    """
+    solved = _socp_charges(setup, working, s, cones, caps)
+    usable = np.flatnonzero(caps > 0)
+    if solved is None and len(working) < len(usable):
+        working = usable
+        solved = _socp_charges(setup, working, s, cones, caps)
+    return solved, working
+
+
 def _meet_surface_limits(
     setup: PhysicalSetup, s: float, caps: np.ndarray, q_lp: np.ndarray
 ) -> tuple[np.ndarray, str, int, int]:
@@ -482,7 +517,6 @@ def _meet_surface_limits(
     Raises PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
     """
     A, b = setup.systems["charges"]
-    medium = setup.spec.medium
     working = charge_support(q_lp)
     q = q_lp
     lp_caps = caps.copy()
@@ -496,12 +530,7 @@ def _meet_surface_limits(
         )
         over = np.flatnonzero(ratios > 1 - DESIGN_MARGIN / 2)
         if len(over) == 0:
-            method = (
-                "HiGHS LP with the carriers' own-field bounds"
-                + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not cones else "")
-                + (f", then Clarabel with {len(cones)} surface cones" if cones else "")
-            )
-            return q, method, rounds, len(cones)
+            return q, _charges_method(rounds, len(cones)), rounds, len(cones)
         k = int(over[np.argmax(ratios[over])])
         worst_ratio, worst_site = float(ratios[k]), int(sites[k])
         if lp_alive and rounds <= LP_ROUNDS:
@@ -516,16 +545,7 @@ def _meet_surface_limits(
         near = np.flatnonzero(ratios > CONE_THRESHOLD)
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
-        solved = _socp_charges(setup, working, s, cones, caps)
-        usable = np.flatnonzero(caps > 0)
-        if solved is None and len(working) < len(usable):
-            # the working set may lack carriers a solution needs: on every usable candidate
-            # the cones (a subset of the surface limits) relax the true problem, so its
-            # infeasibility proves the rate infeasible, and every faster one too (the
-            # feasible charges scale down with the rate): the frontier then sees a monotone
-            # answer
-            working = usable
-            solved = _socp_charges(setup, working, s, cones, caps)
+        solved, working = _cone_round(setup, working, s, cones, caps)
         if solved is None:
             proved = True  # the cones on every usable candidate: a relaxation
             break
@@ -536,7 +556,7 @@ def _meet_surface_limits(
     raise PhysicalInfeasible(
         Binding(
             "charges",
-            f"{_excess(worst_ratio)} the safe surface field of {medium.name} "
+            f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
             f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
             f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
             worst_ratio,
@@ -670,6 +690,27 @@ class ChargesLimit:
     stage: str
 
 
+def _minmax_cones(
+    setup: PhysicalSetup, points: np.ndarray, field_scale: float, limit: float
+) -> tuple[np.ndarray, np.ndarray, Any, np.ndarray]:
+    """The minmax's second-order cones at ``points`` (m, 3): per point ``(t - ext, G u)`` in
+    the cone of dimension 4, ``G`` the Coulomb kernel times ``field_scale`` (the field of the
+    unit of ``u`` over ``limit``) and ``ext`` the external field over ``limit``.
+
+    Returns G (m, 3, k), ext (m,), the rows (4 m, k + 1; sparse) and their right-hand side."""
+    m, k = len(points), len(setup.points)
+    d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
+    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+    G = field_scale * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
+    ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
+    rows = np.zeros((m, 4, k + 1))
+    rows[:, 0, k] = -1.0
+    rows[:, 1:, :k] = -G
+    cone_rhs = np.zeros((m, 4))
+    cone_rhs[:, 0] = -ext
+    return G, ext, sparse.csc_matrix(rows.reshape(4 * m, k + 1)), cone_rhs.reshape(-1)
+
+
 def _minmax_charges(
     setup: PhysicalSetup, cones: list[np.ndarray]
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -680,7 +721,6 @@ def _minmax_charges(
     None: no charges meet the conditions.
     """
     import clarabel
-    from scipy import sparse
 
     A, b = setup.systems["charges"]
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
@@ -703,21 +743,12 @@ def _minmax_charges(
         clarabel.NonnegativeConeT(2 * k),
     ]
     if cones:
-        points = np.array(cones)
-        m = len(points)
-        d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
-        r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-        G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
-        ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
-        # per point: (t - ext, G u) in the second-order cone of dimension 4
-        rows = np.zeros((m, 4, k + 1))
-        rows[:, 0, k] = -1.0
-        rows[:, 1:, :k] = -G
-        cone_rhs = np.zeros((m, 4))
-        cone_rhs[:, 0] = -ext
-        blocks.append(sparse.csc_matrix(rows.reshape(4 * m, k + 1)))
-        rhs.append(cone_rhs.reshape(-1))
-        cone_types += [clarabel.SecondOrderConeT(4)] * m
+        G, ext, cone_rows, cone_rhs = _minmax_cones(
+            setup, np.array(cones), COULOMB * qs / limit, limit
+        )
+        blocks.append(cone_rows)
+        rhs.append(cone_rhs)
+        cone_types += [clarabel.SecondOrderConeT(4)] * len(cones)
     cost = np.zeros(k + 1)
     cost[k] = 1.0
     settings = clarabel.DefaultSettings()
@@ -962,8 +993,9 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
     )
 
 
-def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
-    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+def _solved_mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+    """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
+    naming the binding limit when it has no solution)."""
     import cvxpy as cp
 
     if len(np.unique(carrier_sites)) >= len(setup.points):
@@ -989,11 +1021,15 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
-    sites = program.sites
-    sigma = np.asarray(program.sigma.value) * program.sigma_scale
-    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    return program
+
+
+def _polish_moments(
+    setup: PhysicalSetup, s: float, sites: np.ndarray, sigma: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The solver's moments on ``sites`` polished on their support: all moments (3 n,) and
+    which sites keep a magnet."""
     Ad, bd = setup.systems["dipoles"]
-    Am, _ = setup.systems["masses"]
     n = len(setup.points)
     # polish each system on its support
     sig_norm = np.linalg.norm(sigma, axis=1)
@@ -1007,6 +1043,19 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         # corrections on the strong magnets only (relative changes ~ the solver's residual)
         big_cols = (3 * big[:, None] + np.arange(3)).reshape(-1)
         full_sigma = _polish_equal(Ad, s * s * bd, full_sigma, big_cols)
+    return full_sigma, sig_keep
+
+
+def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+    program = _solved_mass_program(setup, s, carrier_sites)
+    sites = program.sites
+    sigma = np.asarray(program.sigma.value) * program.sigma_scale
+    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    Ad, bd = setup.systems["dipoles"]
+    Am, _ = setup.systems["masses"]
+    n = len(setup.points)
+    full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
     # changes at the solver's tolerance; the heavy sites absorb them in the polish below)
     sig_polished = full_sigma.reshape(n, 3)[sites]
@@ -1117,8 +1166,6 @@ def induced_energy(
     gammas : ndarray, shape (m, 3)
         Unit vectors of the field axis in body axes.
     """
-    from chargedesign.physical.materials import MU_0
-
     coeffs = (*legendre, 0.0, 0.0)
     a1, a2 = coeffs[0], coeffs[1] / 2.0
     g = np.asarray(gammas, dtype=float)
@@ -1139,6 +1186,66 @@ def induced_energy(
     return -(np.array(basis).T @ moments) / (2.0 * MU_0)
 
 
+def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:
+    """Each part material's susceptibility by (name, role); one line naming the table whose
+    material has none."""
+    chi = {}
+    for part in (spec.carrier, spec.magnet, *spec.ballasts):
+        if part.susceptibility is None:
+            table = "carriers" if part.role == "carrier" else f"{part.role}s"
+            raise InputError(
+                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+                f"{part.role} material's susceptibility ({part.name} has none)"
+            )
+        chi[part.name, part.role] = part.susceptibility
+    return chi
+
+
+def _one_material_per_cell(
+    cost: np.ndarray, room: np.ndarray, As: np.ndarray, bs: np.ndarray, mats: Any
+) -> np.ndarray:
+    """The ballast LP (masses per material and cell, scaled; shape (materials, cells)) with
+    one material per cell: cells given two are fixed to the one filling more of the cell
+    and the LP solved again."""
+    J, k = len(mats), room.shape[0]
+    allowed = np.ones(J * k, dtype=bool)
+    for _ in range(6):
+        res = linprog(
+            cost,
+            A_ub=room,
+            b_ub=np.ones(k),
+            A_eq=As,
+            b_eq=bs,
+            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
+            method="highs",
+        )
+        if res.status == 2:
+            raise PhysicalInfeasible(
+                Binding(
+                    "masses",
+                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
+                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
+                    "independent of the orientation",
+                    "ballast.material",
+                )
+            )
+        if res.status != 0 or res.x is None:
+            raise SolverError(
+                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
+            )
+        x = res.x.reshape(J, k)
+        top = max(float(np.max(x)), 1e-300)
+        used = x > 1e-12 * top
+        split = np.flatnonzero(used.sum(axis=0) > 1)
+        if not len(split):
+            return x
+        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
+        mask = allowed.reshape(J, k)
+        mask[:, split] = False
+        mask[keep, split] = True
+    raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
+
+
 def induced_ballast(
     setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
 ) -> MassSolution:
@@ -1151,19 +1258,9 @@ def induced_ballast(
     program (HiGHS, least total mass); cells given two materials are fixed to the larger and
     the program solved again; then a least-norm polish on the support to rounding.
     """
-    from scipy.optimize import linprog
-
     spec = setup.spec
     mats = spec.ballasts
-    chi = {}
-    for part in (spec.carrier, spec.magnet, *mats):
-        if part.susceptibility is None:
-            table = "carriers" if part.role == "carrier" else f"{part.role}s"
-            raise InputError(
-                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
-                f"{part.role} material's susceptibility ({part.name} has none)"
-            )
-        chi[part.name, part.role] = part.susceptibility
+    chi = _susceptibilities(spec)
     n = len(setup.points)
     legendre = tuple(setup.conditions.fields.get("magnetic", ()))
     Am, bm = setup.systems["masses"]
@@ -1197,45 +1294,7 @@ def induced_ballast(
     # one material per cell: sum_j m_j / (rho_j v_cap) <= 1
     room = np.hstack([np.diag(scale / (m.density * v_cap)) for m in mats])
     cost = np.tile(setup.cost("masses")[free], J)
-    allowed = np.ones(J * k, dtype=bool)
-    x = None
-    for _ in range(6):
-        res = linprog(
-            cost,
-            A_ub=room,
-            b_ub=np.ones(k),
-            A_eq=As,
-            b_eq=bs,
-            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
-            method="highs",
-        )
-        if res.status == 2:
-            raise PhysicalInfeasible(
-                Binding(
-                    "masses",
-                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
-                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
-                    "independent of the orientation",
-                    "ballast.material",
-                )
-            )
-        if res.status != 0 or res.x is None:
-            raise SolverError(
-                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
-            )
-        x = res.x.reshape(J, k)
-        top = max(float(np.max(x)), 1e-300)
-        used = x > 1e-12 * top
-        split = np.flatnonzero(used.sum(axis=0) > 1)
-        if not len(split):
-            break
-        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
-        mask = allowed.reshape(J, k)
-        mask[:, split] = False
-        mask[keep, split] = True
-    else:
-        raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
-    assert x is not None
+    x = _one_material_per_cell(cost, room, As, bs, mats)
     flat = x.reshape(-1) * scale
     support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
     # the solver's crumbs off the support are dropped before the polish, so that the parts
@@ -1524,8 +1583,6 @@ def design_physical(
     )
     design.extra.update(design_extras(result))
     design.extra["buildability"] = limits.to_dict()
-    from chargedesign.physical.realism import realism_budget
-
     design.extra["realism"] = realism_budget(design, limits.field_response)
     design.extra["physical_design"] = {
         "carrier_radius_m": setup.carrier_radius,
@@ -1577,9 +1634,6 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
     SolverError
         The body fails its own limits check.
     """
-    from chargedesign.designer.acceptance import balance_bound
-    from chargedesign.physical.limits import check_limits
-
     outcome = design_at_rate(setup, s)
     design = build_design(setup, outcome)
     limits = check_limits(design)

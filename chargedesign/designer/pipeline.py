@@ -22,6 +22,7 @@ from chargedesign.candidates import CandidateSet, candidates_from_points, candid
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
+from chargedesign.designer.frontier import FrontierResult, find_frontier
 from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, design_extras
@@ -499,3 +500,16 @@ def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
         inputs.options,
         larmor=inputs.larmor,
     )
+
+
+def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
+    """The frontier of a scene with ``[medium]`` (see
+    :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
+    physical setup and the frontier, which calls the design (never the other way round)."""
+    setup = physical_setup_from_scene(scene, **overrides)
+    if setup is None:
+        raise InfeasibleError(
+            "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
+            "name = vacuum | air | sf6 | oil)"
+        )
+    return find_frontier(setup, progress=progress)

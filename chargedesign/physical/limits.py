@@ -20,17 +20,21 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from scipy.spatial import cKDTree
 
-from chargedesign.fields import AxisymmetricField
+from chargedesign.physical.coulomb import coulomb_field
+from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
 from chargedesign.physical.materials import (
-    COULOMB,
     MAGNET_COERCIVITY,
+    Material,
     ballast_materials,
     demagnetisation_limit,
     mass_densities,
     sphere_radius,
 )
+from chargedesign.physical.realism import field_response, k_law, magnet_continuum
 from chargedesign.results import Result
+from chargedesign.sampling import GOLDEN_ANGLE, fibonacci_sphere
 
 #: relative slack for rounding in the comparisons (not a physical margin)
 ROUNDING_SLACK = 1e-9
@@ -38,67 +42,12 @@ ROUNDING_SLACK = 1e-9
 CHECK_SURFACE_SAMPLES = 1000
 #: levels of refinement around the largest sample (caps of 1.5, 0.375, ... sample spacings)
 REFINEMENTS = 4
-#: polar angles sampled for the largest field over orientations
-ANGLE_SAMPLES = 2001
 
 
 def fibonacci_directions(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors, shape (n, 3)."""
-    i = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * i / n
-    rho = np.sqrt(np.maximum(0.0, 1.0 - z * z))
-    phi = np.pi * (3.0 - np.sqrt(5.0)) * i
-    return np.column_stack([rho * np.cos(phi), rho * np.sin(phi), z])
-
-
-def field_magnitude_max(legendre: tuple[float, ...], radii: np.ndarray) -> np.ndarray:
-    """Largest ``|grad Phi|`` over every orientation at each radius (m), shape like ``radii``.
-
-    An axisymmetric field at distance r takes every polar angle as the body turns, so the
-    largest magnitude over orientations is the largest over the polar angle on the sphere of
-    radius r. It is also the largest over the ball of radius r (``|grad Phi|^2`` is
-    subharmonic), hence nondecreasing in r.
-    """
-    radii = np.asarray(radii, dtype=float)
-    fld = AxisymmetricField(tuple(legendre))
-    if fld.is_zero or radii.size == 0:
-        return np.zeros_like(radii)
-    theta = np.linspace(0.0, np.pi, ANGLE_SAMPLES)
-    unit = np.column_stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)])
-    flat = radii.reshape(-1)
-    out = np.empty(len(flat))
-    for start in range(0, len(flat), 256):
-        r = flat[start : start + 256]
-        pts = (r[:, None, None] * unit[None, :, :]).reshape(-1, 3)
-        mag = np.linalg.norm(fld.gradient(pts), axis=1).reshape(len(r), -1)
-        # the grid misses the true maximum by O(h^2): add that bound (second differences)
-        top = mag.max(axis=1)
-        curvature = np.abs(np.diff(mag, 2, axis=1)).max(axis=1) if mag.shape[1] > 2 else 0.0
-        out[start : start + 256] = top + curvature
-    return out.reshape(radii.shape)
-
-
-class RadialBound:
-    """The largest field over orientations as a function of radius, on a grid.
-
-    ``field_magnitude_max`` is nondecreasing in the radius, so the value at the next grid
-    radius up bounds it from above; the grid is fine enough that this costs < 1e-3.
-    """
-
-    def __init__(self, legendre: tuple[float, ...], r_max: float, n: int = 1025) -> None:
-        self.zero = not any(legendre)
-        self.grid = np.linspace(0.0, max(r_max, 1e-300), n)
-        self.values = np.zeros(n) if self.zero else field_magnitude_max(legendre, self.grid)
-
-    def __call__(self, radii: np.ndarray) -> np.ndarray:
-        if self.zero:
-            return np.zeros_like(radii)
-        idx = np.minimum(np.searchsorted(self.grid, radii, side="left"), len(self.grid) - 1)
-        beyond = radii > self.grid[-1]
-        out = self.values[idx]
-        if np.any(beyond):
-            raise ValueError("RadialBound: radius beyond its grid")
-        return out
+    """``n`` nearly uniform unit vectors, shape (n, 3)
+    (:func:`chargedesign.sampling.fibonacci_sphere`)."""
+    return fibonacci_sphere(n)
 
 
 def local_cap(direction: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
@@ -117,7 +66,7 @@ def local_caps(directions: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
     v = np.cross(d, u)
     i = np.arange(n) + 0.5
     r = angle * np.sqrt(i / n)  # uniform in the cap's area
-    phi = np.pi * (3.0 - np.sqrt(5.0)) * i
+    phi = GOLDEN_ANGLE * i
     ring = np.cos(phi)[None, :, None] * u[:, None, :] + np.sin(phi)[None, :, None] * v[:, None, :]
     out = np.cos(r)[None, :, None] * d[:, None, :] + np.sin(r)[None, :, None] * ring
     return np.concatenate([d[:, None, :], out], axis=1)
@@ -126,17 +75,6 @@ def local_caps(directions: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
 def sample_spacing(samples: int) -> float:
     """Typical angle between neighbouring Fibonacci directions, rad."""
     return math.sqrt(4.0 * math.pi / samples)
-
-
-def coulomb_field(sources: np.ndarray, charges: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Field of point charges at ``points``, V/m, shape (p, 3) (blocks keep memory bounded)."""
-    out = np.zeros((len(points), 3))
-    block = max(1, 2_000_000 // max(1, len(sources)))
-    for start in range(0, len(points), block):
-        d = points[start : start + block, None, :] - sources[None, :, :]
-        r3 = np.einsum("pnk,pnk->pn", d, d) ** 1.5
-        out[start : start + block] = COULOMB * np.einsum("pnk,pn->pk", d, charges / r3)
-    return out
 
 
 def carrier_surface_fields(
@@ -157,31 +95,34 @@ def carrier_surface_fields(
     worst_points : ndarray, shape (n, 3)
     """
     n = len(charges)
+    if n == 0:
+        return np.zeros(0), np.zeros((0, 3))
     dirs = fibonacci_directions(samples)
-    spacing = 1.5 * sample_spacing(samples)
     r_top = float(np.max(np.linalg.norm(positions, axis=1) + radii, initial=0.0))
     external = RadialBound(tuple(electric), r_top * (1 + 1e-9))
-    fields = np.zeros(n)
-    worst = np.zeros((n, 3))
-    for i in range(n):
-        pts = positions[i] + radii[i] * dirs
-        e = np.linalg.norm(coulomb_field(positions, charges, pts), axis=1)
-        e += external(np.linalg.norm(pts, axis=1))
-        # refine around the largest sample, in caps of shrinking size: the maximum between
-        # samples is found too
-        best_dir, best = dirs[int(np.argmax(e))], float(e.max())
-        angle = spacing
-        for _ in range(REFINEMENTS):
-            cap_dirs = local_cap(best_dir, angle)
-            cap = positions[i] + radii[i] * cap_dirs
-            e_cap = np.linalg.norm(coulomb_field(positions, charges, cap), axis=1)
-            e_cap += external(np.linalg.norm(cap, axis=1))
-            k = int(np.argmax(e_cap))
-            if e_cap[k] > best:
-                best, best_dir = float(e_cap[k]), cap_dirs[k]
-            angle /= 4.0
-        fields[i], worst[i] = best, positions[i] + radii[i] * best_dir
-    return fields, worst
+
+    def magnitudes(unit: np.ndarray) -> np.ndarray:
+        """|E| at ``positions + radii * unit`` (unit: (n, m, 3) directions), shape (n, m)."""
+        flat = (positions[:, None, :] + radii[:, None, None] * unit).reshape(-1, 3)
+        e = np.linalg.norm(coulomb_field(positions, charges, flat), axis=1)
+        return (e + external(np.linalg.norm(flat, axis=1))).reshape(n, -1)
+
+    # every carrier's samples at once, then caps of shrinking size around each one's largest,
+    # so the maximum between samples is found too
+    e = magnitudes(np.broadcast_to(dirs, (n, *dirs.shape)))
+    rows = np.arange(n)
+    top = np.argmax(e, axis=1)
+    best, best_dir = e[rows, top], dirs[top]
+    angle = 1.5 * sample_spacing(samples)
+    for _ in range(REFINEMENTS):
+        cap_dirs = local_caps(best_dir, angle)
+        e_cap = magnitudes(cap_dirs)
+        k = np.argmax(e_cap, axis=1)
+        better = e_cap[rows, k] > best
+        best = np.where(better, e_cap[rows, k], best)
+        best_dir = np.where(better[:, None], cap_dirs[rows, k], best_dir)
+        angle /= 4.0
+    return best, positions + radii[:, None] * best_dir
 
 
 @dataclass(repr=False)
@@ -334,8 +275,6 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
 
     ``design`` is a :class:`~chargedesign.body.Design` with ``medium`` and ``materials``.
     """
-    from scipy.spatial import cKDTree
-
     medium = design.medium
     safe = medium["safety"] * medium["breakdown_V_per_m"]
     breakdown = medium["breakdown_V_per_m"]
@@ -386,8 +325,6 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         violations += _demagnetised(design, magnet, vol)
     carrier = design.materials.get("carrier")
     if carrier is not None and len(radii):
-        from chargedesign.physical.materials import Material
-
         material = Material(
             "carrier",
             carrier["name"],
@@ -411,8 +348,6 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
                 f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
                 f"max = {limits[kind]:.3g}"
             )
-    from chargedesign.physical.realism import field_response, k_law, magnet_continuum
-
     response = field_response(design)
     return LimitsReport(
         buildable=not violations,

@@ -12,14 +12,11 @@ from typing import Any
 
 import numpy as np
 
-#: vacuum permittivity, F/m (CODATA 2018)
-EPSILON_0 = 8.8541878128e-12
-#: vacuum permeability, H/m (CODATA 2018)
-MU_0 = 1.25663706212e-6
-#: Coulomb constant 1 / (4 pi eps0), N m^2 / C^2
-COULOMB = 1.0 / (4.0 * 3.141592653589793 * EPSILON_0)
-#: speed of light, m/s
-LIGHT_SPEED = 299792458.0
+# the constants live in chargedesign.constants; re-exported for the modules that read them here
+from chargedesign.constants import COULOMB as COULOMB
+from chargedesign.constants import EPSILON_0 as EPSILON_0
+from chargedesign.constants import LIGHT_SPEED as LIGHT_SPEED
+from chargedesign.constants import MU_0 as MU_0
 
 #: breakdown field of each named medium, V/m
 BREAKDOWN_V_PER_M = {

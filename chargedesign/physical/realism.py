@@ -27,27 +27,32 @@ import math
 from typing import Any
 
 import numpy as np
-import scipy.constants
 
+from chargedesign.constants import (
+    BOHR_RADIUS,
+    ELEMENTARY_CHARGE,
+    EPSILON_0,
+    LIGHT_SPEED,
+    MU_0,
+    STANDARD_GRAVITY,
+)
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.limits import fibonacci_directions, field_magnitude_max
+from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
     CONDUCTIVITY,
-    EPSILON_0,
     GAS_PROPERTIES,
     INSULATOR_CONDUCTIVITY,
-    LIGHT_SPEED,
     MAGNET_CONTINUUM_SIZE,
-    MU_0,
     SUSCEPTIBILITY,
     SUSCEPTIBILITY_METROLOGY,
     ballast_groups,
     ballast_materials,
     sphere_radius,
 )
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.validation import as_finite_float, input_error
 
-G_EARTH = 9.80665
+G_EARTH = STANDARD_GRAVITY
 MICROGRAVITY = 1e-6 * G_EARTH
 #: a torque this fraction of the designed torques is what "balanced" tolerates
 BALANCE_FRACTION = 1e-3
@@ -62,17 +67,13 @@ RESPONSE_ORIENTATIONS = 2000
 FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
 #: the budget's item for the size-free K law (:func:`k_law`)
 K_LAW_KEY = "k_law_induced_ratio"
-#: elementary charge, C (SI 2019, exact)
-ELEMENTARY_CHARGE = scipy.constants.e
 #: field at which metal surfaces evaporate as ions, V/m: 20-60 V/nm for most metals
 #: (Tsong, Atom-Probe Field Ion Microscopy, Cambridge UP 1990, ch. 2, evaporation fields);
 #: the round 5e10 V/m of tungsten's order
 FIELD_EVAPORATION = 5.0e10
 #: the atomic unit of field, e / (4 pi eps0 a0^2), V/m (CODATA: 5.14e11): the field that
 #: binds a hydrogen electron
-ATOMIC_FIELD = ELEMENTARY_CHARGE / (
-    4.0 * math.pi * EPSILON_0 * scipy.constants.physical_constants["Bohr radius"][0] ** 2
-)
+ATOMIC_FIELD = ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * BOHR_RADIUS**2)
 
 
 def typical_rate(params: Any) -> float:
@@ -182,7 +183,7 @@ def _induced_energies(legendre: tuple[float, ...], parts: list[dict[str, Any]]) 
     constant, so the parts may be taken as points.
     """
     fld = AxisymmetricField(tuple(legendre))
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     out = np.zeros((len(parts), len(gammas)))
     for k, part in enumerate(parts):
         if part["chi"] is None or fld.is_zero:
@@ -337,6 +338,79 @@ def _frontier_k(design: Any) -> tuple[float, str]:
     return K, "the design's K (no frontier in design.json)"
 
 
+def _conductivity_needed(
+    design: Any, eddy_ratio: float | None
+) -> tuple[float, dict[str, Any] | None, float | None]:
+    """The most conducting part (its conductivity and the part) and the conductivity that
+    would bring the eddy torque at the K frontier down to RESPONSE_FRACTION."""
+    sigmas = [(part["sigma"], part) for part in material_parts(design) if part["sigma"]]
+    sigma_top, top = max(sigmas, key=lambda x: x[0]) if sigmas else (0.0, None)
+    sigma_needed = (
+        sigma_top * RESPONSE_FRACTION / eddy_ratio if eddy_ratio and sigma_top > 0 else None
+    )
+    return sigma_top, top, sigma_needed
+
+
+def _one_charge_sizes(design: Any, e_safe: float) -> tuple[float, float | None]:
+    """The carrier radius at which one elementary charge reaches the safe field, and the
+    radius of the smallest similar body whose carriers still hold one."""
+    radii = design.carrier_radii()
+    one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
+    carrier = float(np.max(radii, initial=0.0))
+    written = (design.extra.get("buildability") or {}).get("region_radius_m")
+    region = (
+        as_finite_float(written, "buildability.region_radius_m")
+        if written is not None
+        else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
+    )
+    return one_e, (region * one_e / carrier if carrier > 0 else None)
+
+
+def _k_law_note(item: dict[str, Any], unknown: list[str]) -> str:
+    """The K law's one-paragraph note, from the figures of its budget item."""
+    mix, mass = item["chi_over_rho_m3_per_kg"], item["parts_mass_kg"]
+    k_max, a2, g = item["K_max_1_per_s"], item["a2_T_per_m"], item["G_C_m_per_kg"]
+    source, ratio_elements = item["K_max_source"], item["ratio_elements"]
+    cancelled, chi_needed = item["cancelled_by_design"], item["chi_relative_needed"]
+    ratio_gross = item["ratio_without_cancellation"]
+    reference = ratio_gross if cancelled else item["ratio"]
+    parity_field = item["parity_surface_field_V_per_m"]
+    parity_mix = item["parity_chi_over_rho_m3_per_kg"]
+    eddy_ratio, sigma_needed = item["eddy_ratio"], item["conductivity_needed_S_per_m"]
+    top, sigma_top = item["conductivity_needed_for"], item["conductivity_now_S_per_m"]
+    note = (
+        f"6 (chi/rho) / (mu0 G^2) with chi/rho = {mix:.3g} m^3/kg (mass-weighted over "
+        f"{mass:.3g} kg of parts), G = K_max / a2 = {k_max:.3g} / {a2:.3g} = {g:.3g} C m/kg "
+        f"({source}): the parts' induced-magnetisation energy range over the designed K "
+        f"torques C K_max^2, for any size and any a2"
+    )
+    if ratio_elements is not None:
+        note += f"; element by element {ratio_elements:.3g}"
+    if cancelled and chi_needed is not None:
+        note += (
+            f" (cancelled by the design's chi-weighted moments; {ratio_gross:.3g} without the "
+            f"cancellation, which holds only if each material's chi is known to {chi_needed:.2g} "
+            f"relative: susceptibility metrology reaches about {SUSCEPTIBILITY_METROLOGY:.0e})"
+        )
+    note += (
+        f". Parity needs G {math.sqrt(reference):.3g} times larger: surface fields of "
+        f"{parity_field:.3g} V/m ({parity_field / FIELD_EVAPORATION:.3g} x field evaporation, "
+        f"{parity_field / ATOMIC_FIELD:.3g} x the atomic field)"
+        + (f", or chi/rho = {parity_mix:.3g} m^3/kg" if parity_mix is not None else "")
+    )
+    if eddy_ratio is not None and sigma_needed is not None and top is not None:
+        insulators = ", ".join(f"{k} {v:.0e}" for k, v in INSULATOR_CONDUCTIVITY.items())
+        note += (
+            f". Eddy currents at the K frontier: {eddy_ratio:.3g} x the designed K torques, a "
+            f"choice of material: below {RESPONSE_FRACTION:g} needs conductivities under "
+            f"{sigma_needed:.3g} S/m (now {top} {sigma_top:.3g} S/m; "
+            f"insulators: {insulators} S/m)"
+        )
+    if unknown:
+        note += "; not counted (no susceptibility or density given): " + ", ".join(unknown)
+    return note
+
+
 def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]:
     """The induced-magnetisation parasitic at the K frontier, by the size-free law.
 
@@ -408,63 +482,20 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     reference, reference_mix = (ratio_gross, gross_mix) if cancelled else (ratio, abs(mix))
     parity_field = e_safe * math.sqrt(reference) if reference > 0 else 0.0
     parity_mix = reference_mix / reference if reference > 0 else None
-    sigmas = [(part["sigma"], part) for part in material_parts(design) if part["sigma"]]
-    sigma_top, top = max(sigmas, key=lambda x: x[0]) if sigmas else (0.0, None)
-    sigma_needed = (
-        sigma_top * RESPONSE_FRACTION / eddy_ratio if eddy_ratio and sigma_top > 0 else None
-    )
-    radii = design.carrier_radii()
-    one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
-    carrier = float(np.max(radii, initial=0.0))
-    written = (design.extra.get("buildability") or {}).get("region_radius_m")
-    region = (
-        as_finite_float(written, "buildability.region_radius_m")
-        if written is not None
-        else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
-    )
-    smallest = region * one_e / carrier if carrier > 0 else None
+    sigma_top, top, sigma_needed = _conductivity_needed(design, eddy_ratio)
+    one_e, smallest = _one_charge_sizes(design, e_safe)
     # the verdict rests on what this body's written parts measure (element by element): a
     # body whose chi-weighted moments were designed to cancel is far below the law, which
     # describes matter whose susceptibility was not designed
     measured = ratio_elements if ratio_elements is not None else ratio
     chi_needed = RESPONSE_FRACTION / ratio_gross if ratio_gross > 0 else None
     verdict = _verdict(measured, RESPONSE_FRACTION)
-    note = (
-        f"6 (chi/rho) / (mu0 G^2) with chi/rho = {mix:.3g} m^3/kg (mass-weighted over "
-        f"{mass:.3g} kg of parts), G = K_max / a2 = {k_max:.3g} / {abs(a2):.3g} = {g:.3g} C m/kg "
-        f"({source}): the parts' induced-magnetisation energy range over the designed K "
-        f"torques C K_max^2, for any size and any a2"
-    )
-    if ratio_elements is not None:
-        note += f"; element by element {ratio_elements:.3g}"
-    if cancelled and chi_needed is not None:
-        note += (
-            f" (cancelled by the design's chi-weighted moments; {ratio_gross:.3g} without the "
-            f"cancellation, which holds only if each material's chi is known to {chi_needed:.2g} "
-            f"relative: susceptibility metrology reaches about {SUSCEPTIBILITY_METROLOGY:.0e})"
-        )
-    note += (
-        f". Parity needs G {math.sqrt(reference):.3g} times larger: surface fields of "
-        f"{parity_field:.3g} V/m ({parity_field / FIELD_EVAPORATION:.3g} x field evaporation, "
-        f"{parity_field / ATOMIC_FIELD:.3g} x the atomic field)"
-        + (f", or chi/rho = {parity_mix:.3g} m^3/kg" if parity_mix is not None else "")
-    )
-    if eddy_ratio is not None and sigma_needed is not None and top is not None:
-        insulators = ", ".join(f"{k} {v:.0e}" for k, v in INSULATOR_CONDUCTIVITY.items())
-        note += (
-            f". Eddy currents at the K frontier: {eddy_ratio:.3g} x the designed K torques, a "
-            f"choice of material: below {RESPONSE_FRACTION:g} needs conductivities under "
-            f"{sigma_needed:.3g} S/m (now {top['role']} {top['name']} {sigma_top:.3g} S/m; "
-            f"insulators: {insulators} S/m)"
-        )
-    if unknown:
-        note += "; not counted (no susceptibility or density given): " + ", ".join(unknown)
-    return {
+    item = {
         # the number the verdict rests on (a budget row shows value and verdict side by side)
         "value": measured,
         "unit": "",
         "verdict": verdict,
-        "note": note,
+        "note": "",
         "law": "6 (chi/rho) / (mu0 G^2), G = K_max / a2",
         "larmor_reading": design.larmor_reading,
         "chi_over_rho_m3_per_kg": mix,
@@ -493,6 +524,8 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
         "one_charge_carrier_radius_m": one_e,
         "smallest_similar_body_radius_m": smallest,
     }
+    item["note"] = _k_law_note(item, unknown)
+    return item
 
 
 #: the terms of V and mu the realisability map lists: (key, where, parameter monomial as
@@ -624,7 +657,7 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     symbols = (kappa, n, K, lam, rho)
     v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
     mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     rate = typical_rate(p)
     response = field_response(design) if response is None else response
     torque = p.C * rate**2 / 4.0

@@ -102,7 +102,7 @@ def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dic
 def run_frontier(scene: Any, point_dir: Path) -> dict[str, Any]:
     """The largest time-rate within every limit (:mod:`chargedesign.designer.frontier`);
     writes frontier.json. A scene without ``[medium]`` fails with the frontier's reason."""
-    from chargedesign.designer.frontier import frontier_from_scene
+    from chargedesign.designer.pipeline import frontier_from_scene
     from chargedesign.files import write_json_atomic
 
     data = frontier_from_scene(scene).to_dict()

@@ -67,7 +67,7 @@ def _later_results(design):
 
         grid = {"grid": {"parameters.n": [1e-6, 2e-6]}}
         sweep = run_sweep(sweep_from_dict(grid, command=idle), Path(tmp) / "s")
-    from chargedesign.designer.frontier import frontier_from_scene
+    from chargedesign.designer.pipeline import frontier_from_scene
 
     small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
     return {

@@ -1,21 +1,8 @@
-"""The in-loop surface-field kernel of the physical design against the limits check's own."""
+"""The surface samplers of the physical design (the caps around a carrier's worst point)."""
 
 import numpy as np
 
-from chargedesign.designer.physical import _coulomb_field_gemm
-from chargedesign.physical.limits import coulomb_field, fibonacci_directions, local_cap, local_caps
-
-
-def test_the_matrix_product_field_equals_the_direct_sum_on_random_bodies():
-    rng = np.random.default_rng(7)
-    for n, scale, radius in ((150, 0.05, 0.003), (40, 1.0, 0.06), (3, 1e-3, 1e-5)):
-        sources = rng.uniform(-scale, scale, (n, 3))
-        charges = rng.normal(size=n) * 1e-9
-        points = (sources[:, None, :] + radius * fibonacci_directions(60)[None]).reshape(-1, 3)
-        direct = coulomb_field(sources, charges, points)
-        fast = _coulomb_field_gemm(sources, charges, points)
-        rel = np.linalg.norm(fast - direct, axis=1) / np.linalg.norm(direct, axis=1)
-        assert rel.max() < 1e-10
+from chargedesign.physical.limits import local_cap, local_caps
 
 
 def test_caps_are_unit_vectors_within_the_angle_filling_it():

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from chargedesign.body import Design, read_design
+from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.frontier import find_frontier
 from chargedesign.designer.physical import (
     charge_program,
@@ -21,13 +22,12 @@ from chargedesign.designer.physical import (
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.bom import bom_csv, bom_rows
+from chargedesign.physical.coulomb import coulomb_field
 from chargedesign.physical.limits import (
     carrier_surface_fields,
     check_limits,
-    coulomb_field,
     fibonacci_directions,
 )
-from chargedesign.physical.materials import COULOMB, EPSILON_0
 from chargedesign.scene import load_scene, scene_from_dict
 
 HERE = Path(__file__).parent
