@@ -18,7 +18,6 @@ from __future__ import annotations
 
 # No name re-exported here may equal a submodule's (``integrate`` the function would hide
 # ``chargedesign.simulation.integrate`` the module): import the function from its module.
-
 from chargedesign.simulation.api import (
     DEFAULT_INITIAL,
     OutputOptions,
