@@ -140,7 +140,7 @@ SIZES_KEY = "element_sizes"
 
 
 def _header(design: Design) -> dict[str, Any]:
-    """Everything of the design except its elements (parameters, fields, realises, extra),
+    """Everything of the design except its elements (parameters, fields, realises, the record),
     plus the physical per-element arrays of a physical design under :data:`SIZES_KEY`."""
     data = design.to_dict()
     out = {k: v for k, v in data.items() if k not in _ELEMENT_KEYS}

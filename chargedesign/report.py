@@ -54,7 +54,7 @@ def charge_field(charge: float, distance: float) -> float:
 
 
 def _spacing(design: Design) -> float | None:
-    cand = design.extra.get("candidates")
+    cand = design.candidates
     if isinstance(cand, dict):
         for value in (cand.get("spacing"), (cand.get("geometry") or {}).get("spacing_m")):
             if isinstance(value, (int, float)) and value > 0:
@@ -159,7 +159,6 @@ def render_report(
     -------
     str
     """
-    extra = design.extra
     params = design.parameters.as_dict()
     lines = [f"# {title}", ""]
     lines += _verdict_lines(design)
@@ -168,7 +167,7 @@ def render_report(
     lines.append(
         "Parameters: " + ", ".join(f"{k} = {v:g}" for k, v in params.items()) + " (SI units)."
     )
-    origin = (extra.get("provenance") or {}).get("fields_origin") or {}
+    origin = (design.provenance or {}).get("fields_origin") or {}
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):
         coeffs = design.field(kind)
@@ -179,7 +178,7 @@ def render_report(
     lines.append(
         "Realises: " + (", ".join(design.realises) if design.realises else "nothing") + "."
     )
-    cand = extra.get("candidates")
+    cand = design.candidates
     if isinstance(cand, dict):
         keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
         lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
@@ -206,9 +205,9 @@ def render_report(
         )
     if not (len(q) or len(sig) or len(m)):
         lines.append("| (none) | 0 | | | |")
-    objective = extra.get("objective") or {}
-    solver = extra.get("solver") or {}
-    residuals = extra.get("residuals") or {}
+    objective = design.objective or {}
+    solver = design.solver or {}
+    residuals = design.residuals or {}
     if objective or residuals:
         lines += ["", "## Problems and residuals", ""]
         lines.append("| source | objective | value | solver | residual before | after polish |")
@@ -231,7 +230,7 @@ def render_report(
                 f"Relative residual: {residuals['definition']}; required <= "
                 f"{_fmt(residuals.get('tolerance', '?'))}.",
             ]
-        worst = (extra.get("forward_accuracy") or {}).get("worst") or {}
+        worst = (design.forward_accuracy or {}).get("worst") or {}
         if worst:
             parts = [
                 f"{source} ~{w['forward_error']:.1g} ({w['quantity']} through {w['term']}: "
@@ -248,7 +247,7 @@ def render_report(
         methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
         if methods:
             lines += ["", "Methods:", "", *methods]
-    timings = extra.get("timings") or {}
+    timings = design.timings or {}
     if timings:
         lines += [
             "",
@@ -259,7 +258,7 @@ def render_report(
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
-    notes = list(extra.get("notes") or [])
+    notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
     return "\n".join(lines) + "\n"
@@ -269,7 +268,7 @@ def _larmor_lines(design: Design) -> list[str]:
     """Which Larmor reading realises n, and why (design.json ``larmor``, ``larmor_why``)."""
     if design.larmor is None:
         return []
-    why = design.extra.get("larmor_why")
+    why = design.larmor_why
     how = (
         f"the elements realise n = 0; the motion read in axes turning at "
         f"{design.larmor.rate:.4g} 1/s about Z is the theorem's"
@@ -290,9 +289,9 @@ def _verdict_lines(design: Design) -> list[str]:
             *_larmor_lines(design),
             "",
         ]
-    limits = design.extra.get("buildability") or {}
-    frontier = design.extra.get("frontier") or {}
-    realism = design.extra.get("realism") or {}
+    limits = design.buildability or {}
+    frontier = design.frontier or {}
+    realism = design.realism or {}
     medium = design.medium
     ok = bool(limits.get("buildable"))
     response = _fresh_response(design, realism)
@@ -357,7 +356,7 @@ def _verdict_lines(design: Design) -> list[str]:
         )
     lines += _k_law_lines(law, design) if law else _response_lines(response)
     lines += _part_size_lines(design)
-    tolerance = design.extra.get("tolerance") or {}
+    tolerance = design.tolerance or {}
     top = (tolerance.get("elements") or [None])[0]
     if top and top.get("binding"):
         lines.append(
@@ -554,7 +553,7 @@ def _physical_sections(design: Design) -> list[str]:
         )
     if len(rows) > 20:
         lines.append(f"| ... | {len(rows) - 20} more parts in bom.csv | | | | | |")
-    realism = design.extra.get("realism") or {}
+    realism = design.realism or {}
     if realism:
         lines += ["", "## Realism budget", ""]
         lines.append(

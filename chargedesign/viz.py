@@ -107,9 +107,9 @@ def _region_spec(region: Any) -> dict[str, Any] | None:
 
 
 def region_from_design(design: Design) -> dict[str, Any] | None:
-    """The candidate region recorded in a design's extra keys (``region`` or ``body``), if any."""
-    for key in ("region", "body"):
-        value = design.extra.get(key)
+    """The candidate region recorded in a design (design.json ``region``, or ``body`` in older
+    files), if any."""
+    for value in (design.region, design.further_keys.get("body")):
         if isinstance(value, Mapping) and value.get("shape") in REGION_SHAPES:
             return dict(value)
     return None
@@ -951,7 +951,7 @@ def render_image(
     design : Design
     region : mapping, optional
         Candidate region to outline (the scene's ``[body]`` table); default: the one recorded
-        in the design (``extra["region"]`` or ``extra["body"]``), else none.
+        in the design (design.json ``region``, or ``body`` in older files), else none.
     gamma : array_like, shape (3,), optional
         Space ``Z`` (field axis) in body axes; normalised; default ``(0, 0, 1)``.
     window_size : (int, int)

@@ -44,7 +44,7 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
             "materials": {"ballast": {"name": "tungsten", "density_kg_per_m3": 19250.0}},
         }
     )
-    design.extra["realism"] = {
+    design.realism = {
         "x": {"value": 1.0, "unit": "", "verdict": "negligible", "note": "at |omega| in |B|"}
     }
     rows = [line for line in render_report(design).splitlines() if line.startswith("| x |")]

@@ -127,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         from chargedesign.tolerancing import tolerance_report
 
         progress("tolerances (exact first-order sensitivity of every element) ...")
-        design.extra["tolerance"] = tolerance_report(design).to_dict()
+        design.tolerance = tolerance_report(design).to_dict()
     out = Path(args.out)
     physical = design.medium is not None
     files = (

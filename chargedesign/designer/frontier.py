@@ -337,14 +337,14 @@ def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding 
     balance = balance_bound(design)
     if balance is None:
         return design, None
-    design.extra["balance"] = balance.to_dict()
+    design.balance = balance.to_dict()
     if balance.confirmed:
         return design, None
     return design, Binding("balance", balance.text(), "centre of mass")
 
 
 def _balance_fails(design: Design, s: float) -> bool:
-    balance = design.extra.get("balance") or {}
+    balance = design.balance or {}
     return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
 
 
@@ -640,7 +640,7 @@ def find_frontier(
     else:
         lo, design = 0.0, None
     front = result(lo, hi, hi_binding, design)
-    balance = (design.extra.get("balance") if design is not None else None) or {}
+    balance = (design.balance if design is not None else None) or {}
     if balance:
         front.balance = dict(balance)
         front.s_min = float(balance.get("lowest_rate") or math.inf)

@@ -23,7 +23,7 @@ from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardI
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.polish import polish_weights, support_of
-from chargedesign.designer.result import DesignResult, SourceResult, design_extras
+from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solve import solve_problem
 from chargedesign.designer.solvers import InfeasibleProblem
@@ -341,7 +341,7 @@ def design_body(
         timings=timings,
         notes=notes,
     )
-    design.extra.update(design_extras(result))
+    record_provenance(design, result)
     return result
 
 
@@ -395,11 +395,11 @@ def design_from_scene(
             if progress is not None:
                 progress("locating the frontier (largest rate within the limits, to 5 %) ...")
             front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
-            result.design.extra["frontier"] = front.to_dict()
+            result.design.frontier = front.to_dict()
             # the budget's K law is judged at the frontier's K_max, known only now
             from chargedesign.physical.realism import K_LAW_KEY, k_law
 
-            realism = result.design.extra.get("realism")
+            realism = result.design.realism
             if isinstance(realism, dict) and K_LAW_KEY in realism:
                 realism[K_LAW_KEY] = k_law(result.design)
     else:
@@ -408,12 +408,13 @@ def design_from_scene(
         result.design.larmor = inputs.larmor
         result.timings = {"setup": t2 - t0, **result.timings}
         result.timings["total"] = time.perf_counter() - t0
-        result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
-    result.design.extra["larmor_why"] = inputs.larmor_why
+        result.design.timings = {k: round(v, 6) for k, v in result.timings.items()}
+    result.design.larmor_why = inputs.larmor_why
     if inputs.larmor_note:
         result.notes.append(inputs.larmor_note)
-        result.design.extra.setdefault("notes", []).append(inputs.larmor_note)
-    result.design.extra["provenance"]["scene"] = scene.source
+        result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
+    if result.design.provenance is not None:
+        result.design.provenance["scene"] = scene.source
     return result
 
 

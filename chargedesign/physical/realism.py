@@ -321,7 +321,7 @@ def _frontier_k(design: Any) -> tuple[float, str]:
     ``frontier.K_max`` when written; else ``frontier.s_max`` times K (the charges reading's
     frontier scales n and K together); else the design's own K.
     """
-    frontier = design.extra.get("frontier") if isinstance(design.extra, dict) else None
+    frontier = design.frontier
     K = abs(design.parameters.K)
     if isinstance(frontier, dict):
         if frontier.get("K_max") is not None:
@@ -417,7 +417,7 @@ def k_law(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]
     radii = design.carrier_radii()
     one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
     carrier = float(np.max(radii, initial=0.0))
-    written = (design.extra.get("buildability") or {}).get("region_radius_m")
+    written = (design.buildability or {}).get("region_radius_m")
     region = (
         as_finite_float(written, "buildability.region_radius_m")
         if written is not None
@@ -768,7 +768,7 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     )
     medium = (design.medium or {}).get("name", "vacuum")
     rho_gas, viscosity = GAS_PROPERTIES.get(medium, (0.0, 0.0))
-    envelope = float(design.extra.get("buildability", {}).get("region_radius_m", r_max))
+    envelope = float((design.buildability or {}).get("region_radius_m", r_max))
     drag = 8 * math.pi * viscosity * envelope**3 * rate
     reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
 

@@ -502,7 +502,7 @@ def test_default_design_has_no_cancellation():
     )
     text = render_report(d)
     assert "Forward accuracy" in text and "charges ~" in text
-    assert "forward_accuracy" in d.extra
+    assert d.forward_accuracy is not None and "forward_accuracy" in d.to_dict()
 
 
 def test_weak_uniform_field_is_designed_with_a_cancellation_note():
