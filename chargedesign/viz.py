@@ -36,6 +36,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_path, deferred_signals
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
 
 with deferred_signals():
@@ -525,7 +526,7 @@ def design_blocks(
     if "dipoles" in out.keys():
         legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
     length = _nice_length(0.5 * size)
-    legend.append(f"scale bar: {length:g} m")
+    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
     out.field_data["legend"] = legend
     y, z = -1.15 * size, -1.0 * size
     bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
@@ -545,12 +546,12 @@ def _size_key(design: Design, size: float) -> str:
     q = design.charge_values
     if len(q):
         key = element_sizes(design, size)["charge_key"]
-        parts.append(f"charges: {key} (largest {np.max(np.abs(q)):.3g} C)")
+        parts.append(f"charges: {key} (largest {fmt(np.max(np.abs(q)))} C)")
     if len(design.mass_values):
-        parts.append(f"masses: volume ~ mass (largest {np.max(design.mass_values):.3g} kg)")
+        parts.append(f"masses: volume ~ mass (largest {fmt(np.max(design.mass_values))} kg)")
     if len(design.dipole_moments):
         top = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
-        parts.append(f"arrows: direction of sigma (largest {top:.3g} A m^2)")
+        parts.append(f"arrows: direction of sigma (largest {fmt(top)} A m^2)")
     return "; ".join(parts)
 
 
@@ -654,7 +655,9 @@ def _add_scale_bar(plotter: pv.Plotter, blocks: Any) -> None:
     bar: Any = blocks["scale_bar"]
     length = float(bar.field_data["length (m)"][0])
     plotter.add_mesh(bar, color="black", line_width=3.0)
-    _add_labels(plotter, [np.mean(bar.points, axis=0)], [f"{length:g} m"], "scale_bar", "black")
+    _add_labels(
+        plotter, [np.mean(bar.points, axis=0)], [f"{fmt(length, PLAIN)} m"], "scale_bar", "black"
+    )
 
 
 def _add_labels(
@@ -762,7 +765,7 @@ def _draw_scene(
     key = _size_key(design, size)
     plotter.add_text(
         f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
-        f"{len(design.dipole_moments)} dipoles; gamma = ({g[0]:.3g}, {g[1]:.3g}, {g[2]:.3g})"
+        f"{len(design.dipole_moments)} dipoles; gamma = ({fmt(g[0])}, {fmt(g[1])}, {fmt(g[2])})"
         + (f"\n{key}" if key else ""),
         position="upper_left",
         font_size=9 if plotter.window_size[0] >= 640 else 6,
@@ -1279,7 +1282,7 @@ def _frames(
                     pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace"
                 )
             plotter.add_text(
-                f"t = {time:.4g} s   frame {i + 1}/{len(times)}",
+                f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}",
                 position="upper_left",
                 font_size=9,
                 color="black",

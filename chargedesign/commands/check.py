@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
 from chargedesign.vocabulary import PRECISIONS
@@ -24,7 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=DEFAULT_TOL,
         metavar="T",
-        help=f"relative tolerance for the claimed quantities (default {DEFAULT_TOL:g})",
+        help=f"relative tolerance for the claimed quantities (default {fmt(DEFAULT_TOL, PLAIN)})",
     )
     parser.add_argument(
         "--orientations",

@@ -22,6 +22,7 @@ import sys
 import time
 
 from chargedesign.errors import ChargeDesignError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.vocabulary import EFFECTS, SIMULATION_AXES
 
 
@@ -391,16 +392,17 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         print(json.dumps(summary, indent=2, allow_nan=False))
         return 0
     print(
-        f"Poincare atlas: {args.orbits} orbits per level at energy {atlas.energy:.6g} J, "
-        f"I3 = {atlas.levels[0]:g} and {atlas.levels[1]:g} J s, t = {t_end:g} s: "
+        f"Poincare atlas: {args.orbits} orbits per level at energy {fmt(atlas.energy, CELL)} J, "
+        f"I3 = {fmt(atlas.levels[0], PLAIN)} and {fmt(atlas.levels[1], PLAIN)} J s, t = "
+        f"{fmt(t_end, PLAIN)} s: "
         f"{summary['points'][0]} and {summary['points'][1]} section points in "
-        f"{atlas.seconds:.3g} s"
+        f"{fmt(atlas.seconds)} s"
     )
     if args.fli:
         m0, m1 = summary["fli_median"]
         print(
-            f"FLI median on I3 = 0: {m0:.3g}; off the level: {m1:.3g} "
-            f"({summary['fli_seconds']:.3g} s)"
+            f"FLI median on I3 = 0: {fmt(m0)}; off the level: {fmt(m1)} "
+            f"({fmt(summary['fli_seconds'])} s)"
         )
     print("\n".join(f"wrote {f}" for f in files))
     return 0

@@ -22,6 +22,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from chargedesign.formatting import EXACT, PLAIN, fmt
+
 MAX_SAMPLES = 2000  # mirrors chargedesign.tolerancing.MAX_SAMPLES (kept here so --help stays light)
 MAX_LEVELS = 6
 
@@ -200,7 +202,7 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
             w.writerow(
                 [i]
                 + [
-                    f"{result.errors[q][k][i]:.17g}"
+                    fmt(result.errors[q][k][i], EXACT)
                     for q in result.errors
                     for k in ("monte_carlo", "linear")
                 ]
@@ -214,10 +216,10 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
                 for b in range(result.drift_mc.shape[1]):
                     w.writerow(
                         [
-                            f"{level:g}",
+                            fmt(level, PLAIN),
                             b,
-                            f"{result.drift_mc[i, b]:.17g}",
-                            f"{result.drift_linear[i, b]:.17g}",
+                            fmt(result.drift_mc[i, b], EXACT),
+                            fmt(result.drift_linear[i, b], EXACT),
                         ]
                     )
             (stage / "drift.csv").write_text(buf.getvalue())
@@ -230,7 +232,7 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
                 result.drift_p90_over_time,
                 strict=True,
             ):
-                w.writerow([f"{t:.17g}", f"{a:.17g}", f"{b:.17g}"])
+                w.writerow([fmt(t, EXACT), fmt(a, EXACT), fmt(b, EXACT)])
             (stage / "drift_over_time.csv").write_text(buf.getvalue())
             import matplotlib
 

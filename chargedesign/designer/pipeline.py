@@ -35,6 +35,7 @@ from chargedesign.designer.system import (
     relative_residual,
 )
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
 from chargedesign.physical.spec import spec_from_tables
@@ -148,30 +149,30 @@ def _design_problem(
     if after > options.tolerance:
         if options.tolerance < 2 * np.finfo(float).eps:
             raise SolverError(
-                f"{source}: relative residual {after:.2g} exceeds design.tol = "
-                f"{options.tolerance:g}, which is below the rounding of double precision "
-                f"({np.finfo(float).eps:.2g}): raise design.tol"
+                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+                f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
+                f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
             )
         if cancels:
             # the solver is not at fault: the targets are tiny against what the weights carry
             raise InfeasibleError(
-                f"{source}: relative residual {after:.2g} exceeds design.tol = "
-                f"{options.tolerance:g}, most likely because {cancellation} (another solver "
-                "will not help)"
+                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+                f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
+                "solver will not help)"
             )
         raise SolverError(
-            f"{source}: relative residual {after:.2g} exceeds design.tol = "
-            f"{options.tolerance:g} ({sol.solver}, {polish_text}); try another solver"
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)} ({sol.solver}, {polish_text}); try another solver"
         )
     if worst is not None and worst.forward_error > FORWARD_LIMIT:
         raise InfeasibleError(
-            f"{source}: refused, {cancellation} (beyond {FORWARD_LIMIT:g} the body realises "
-            "nothing reliably)"
+            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
+            "realises nothing reliably)"
         )
     if cancels:
         notes.append(f"{source}: {cancellation}")
     if p.nonneg and np.any(weights < 0):
-        raise SolverError(f"{source}: a negative mass survived polishing ({weights.min():.3g} kg)")
+        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
     support = support_of(u, p.group, 0.0)
     if sol.status != "optimal" and before > options.tolerance:
         notes.append(

@@ -10,6 +10,7 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
 from chargedesign.designer.options import DesignOptions
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 
 
@@ -165,7 +166,7 @@ class DesignResult(Result):
     def _html_rows(self) -> dict[str, Any]:
         rows = self._summary()
         rows["parameters"] = ", ".join(
-            f"{k} = {v:g}" for k, v in self.design.parameters.as_dict().items()
+            f"{k} = {fmt(v, PLAIN)}" for k, v in self.design.parameters.as_dict().items()
         )
         rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
         return rows
