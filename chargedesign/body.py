@@ -14,7 +14,10 @@ from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.quadrature import ContinuousBody
+from chargedesign.readers import read_json_file
+from chargedesign.results import compact_repr, design_summary, design_text, html_table
+from chargedesign.validation import as_array, as_finite_float, check_design_numbers, input_error
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
 __all__ = [
@@ -150,8 +153,6 @@ class Design(ElementSet):
                 raise input_error("realises", "items among " + ", ".join(REALISABLE), item)
         if not isinstance(self.continuous, (list, tuple)):
             raise input_error("continuous", "a list of bodies", self.continuous)
-        from chargedesign.quadrature import ContinuousBody
-
         self.continuous = [
             ContinuousBody.coerce(b, f"continuous[{i}]") for i, b in enumerate(self.continuous)
         ]
@@ -240,38 +241,33 @@ class Design(ElementSet):
             ),
         )
 
-    # ---- result protocol and pictures: thin methods over chargedesign.results / chargedesign.viz
+    # ---- result protocol (chargedesign.results) and pictures (chargedesign.viz)
     def __repr__(self) -> str:
-        from chargedesign.results import compact_repr, design_summary
-
         return compact_repr(type(self).__name__, design_summary(self))
 
     def __str__(self) -> str:
-        """The human report (as ``report.md`` and ``chargedesign design`` print it)."""
-        from chargedesign.report import render_report
-
-        return render_report(self)
+        """The main figures, one a line (the report: :func:`chargedesign.report.render_report`
+        or ``str`` of the :class:`~chargedesign.designer.DesignResult`)."""
+        return design_text(self)
 
     def _repr_html_(self) -> str:
-        from chargedesign.results import design_summary, html_table
-
         return html_table(type(self).__name__, design_summary(self), self._html_picture())
 
     def _html_picture(self) -> str:
-        from chargedesign.results import design_picture
+        from chargedesign.viz import design_picture  # viz loads PyVista (VTK): only when drawn
 
         return design_picture(self)
 
     def to_pyvista(self, **kwargs: Any) -> Any:
         """The body as a ``pyvista.MultiBlock`` (see :func:`chargedesign.viz.design_blocks`)."""
-        from chargedesign.viz import design_blocks
+        from chargedesign.viz import design_blocks  # viz loads PyVista (VTK): only when drawn
 
         return design_blocks(self, **kwargs)
 
     def plot(self, plotter: Any = None, **kwargs: Any) -> Any:
         """Draw the body into ``plotter`` (a new one when None); see
         :func:`chargedesign.viz.plot_design`."""
-        from chargedesign.viz import plot_design
+        from chargedesign.viz import plot_design  # viz loads PyVista (VTK): only when drawn
 
         return plot_design(self, plotter, **kwargs)
 
@@ -386,9 +382,6 @@ def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ())
     integers) and every number the body is built from passes the input range
     (docs/reliability.md); fields longer than ``MAX_FIELD_DEGREE`` are refused.
     """
-    from chargedesign.readers import read_json_file
-    from chargedesign.validation import check_design_numbers
-
     p = Path(path)
     data = read_json_file(p, "design file")
     check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys

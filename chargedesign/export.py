@@ -286,7 +286,7 @@ def _write_vtu(design: Design, path: Path) -> None:
 
 def _polydata(design: Design) -> Any:
     """The elements as points with vertex cells, continuous bodies as triangles (see module)."""
-    from chargedesign.viz import continuous_body_mesh
+    from chargedesign.viz import continuous_body_mesh  # viz loads PyVista (VTK): only here
 
     pv = import_held("pyvista")
 

@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.formatting import ORDER, ORDER_SCI, PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.formatting import ORDER, ORDER_SCI, PLAIN, PRECISE, ROUGH, fmt, fmt_length
+from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import ballast_label, mass_densities, sphere_radius
 from chargedesign.physical.realism import (
@@ -288,8 +289,6 @@ def _larmor_lines(design: Design) -> list[str]:
 
 def _verdict_lines(design: Design) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
-    from chargedesign.results import format_length
-
     if design.medium is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
@@ -322,7 +321,7 @@ def _verdict_lines(design: Design) -> list[str]:
     if ok and below:
         reasons.append(
             f"{below} of its magnets are smaller than the "
-            f"{format_length(continuum['continuum_size_m'])} continuum size (below)"
+            f"{fmt_length(continuum['continuum_size_m'])} continuum size (below)"
         )
     if swamped:
         reasons.append(
@@ -402,8 +401,6 @@ def _response_lines(response: dict[str, Any]) -> list[str]:
 
 def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
     """The verdict on the parts' materials by the size-free K law, with its numbers."""
-    from chargedesign.results import format_length
-
     ratio = law["ratio"]
     tail = (
         ". For a similar body it is the same at any size and any a2, and falls like "
@@ -473,8 +470,8 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
         lines.append(
             "- Size: the law holds for similar bodies while each carrier at the safe field "
             "holds at least one elementary charge, i.e. carriers of radius "
-            f"{format_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
-            f"{format_length(smallest)} and more. Within that range the ratio changes with "
+            f"{fmt_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
+            f"{fmt_length(smallest)} and more. Within that range the ratio changes with "
             "size only through the surface field the medium holds (as 1/E^2; the breakdown "
             "field used is that of mm to cm gaps)."
         )
@@ -484,8 +481,8 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
             lines[-1] += (
                 " The parts must stay continuum parts too, which bounds the size first where "
                 f"the magnets are small: a magnet at least "
-                f"{format_length(continuum['continuum_size_m'])} across; this body's smallest "
-                f"is {format_length(continuum['smallest_m'])}, {where}."
+                f"{fmt_length(continuum['continuum_size_m'])} across; this body's smallest "
+                f"is {fmt_length(continuum['smallest_m'])}, {where}."
             )
     return lines
 
@@ -493,11 +490,10 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
 def _part_size_lines(design: Design) -> list[str]:
     """How large each kind of part is, from the written elements: what a builder must make
     (the magnets' size is the cube root of their material's volume)."""
-    from chargedesign.results import format_length
 
     def span(sizes: np.ndarray) -> str:
         lo, hi = float(np.min(sizes)), float(np.max(sizes))
-        return format_length(lo) if lo == hi else f"{format_length(lo)} to {format_length(hi)}"
+        return fmt_length(lo) if lo == hi else f"{fmt_length(lo)} to {fmt_length(hi)}"
 
     parts = []
     radii = design.carrier_radii()
@@ -510,7 +506,7 @@ def _part_size_lines(design: Design) -> list[str]:
         if continuum["below"]:
             magnets += (
                 f" ({continuum['below']} of them below the "
-                f"{format_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
+                f"{fmt_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
                 "continuum magnet: single-domain nanoparticles with a reduced surface "
                 "magnetisation, whose moment and coercivity are not the data sheet's, those of "
                 "micrometre-grained sintered parts; not buildable as specified)"
@@ -525,8 +521,6 @@ def _part_size_lines(design: Design) -> list[str]:
 
 def _physical_sections(design: Design) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
-    from chargedesign.physical.bom import bom_rows, bom_totals
-
     totals = bom_totals(design)
     lines = ["", "## Bill of materials", ""]
     mats = design.materials

@@ -188,6 +188,8 @@ __all__ = [
     "REPR_LIMIT",
     "Result",
     "compact_repr",
+    "design_summary",
+    "design_text",
     "html_table",
     "json_ready",
     "png_html",
@@ -214,12 +216,15 @@ def design_summary(design: Any) -> dict[str, Any]:
     return out
 
 
-def design_picture(design: Any, width: int = 320, height: int = 240) -> str:
-    """An inline picture of a design (empty when it cannot be rendered here)."""
-    try:
-        from chargedesign.viz import render_image
-
-        image = render_image(design, window_size=(width, height))
-    except Exception:  # no OpenGL here: the table alone
-        return ""
-    return png_html(image, width)
+def design_text(design: Any) -> str:
+    """The short text of a :class:`~chargedesign.body.Design`: its main figures, one a line
+    (the full report is :func:`chargedesign.report.render_report`, or ``str`` of the
+    :class:`~chargedesign.designer.DesignResult`)."""
+    rows = design_summary(design)
+    width = max(len(k) for k in rows)
+    lines = [f"{type(design).__name__}:"]
+    lines += [
+        f"  {k:<{width}}  {short_value(v) if not isinstance(v, str) else v}"
+        for k, v in rows.items()
+    ]
+    return "\n".join(lines)

@@ -29,15 +29,15 @@ import zipfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from chargedesign.body import Design
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path, deferred_signals
+from chargedesign.files import atomic_path, check_output_path, deferred_signals
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
+from chargedesign.results import png_html
 
 with deferred_signals():
     # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
@@ -48,6 +48,9 @@ with deferred_signals():
 from chargedesign.limits import MAX_SHOW_ELEMENTS
 from chargedesign.quadrature import ContinuousBody
 from chargedesign.validation import as_array, as_finite_float, input_error
+
+if TYPE_CHECKING:  # annotations only: the body module draws through this one (Design.plot)
+    from chargedesign.body import Design
 
 # Colours: element kinds never share a hue, so a picture can be checked for them.
 POSITIVE_COLOR = (1.0, 0.0, 0.0)
@@ -1020,8 +1023,6 @@ def render_screenshot(
     """
     import imageio.v3 as iio
 
-    from chargedesign.files import check_output_path
-
     target = Path(path)
     if target.suffix.lower() != ".png":
         raise input_error("screenshot path", "a file name ending in .png", str(target))
@@ -1193,8 +1194,6 @@ def animate(
     fps = as_finite_float(fps, "fps", positive=True)
     size = _window_size(window_size)
     check_element_count(design, max_elements)
-    from chargedesign.files import check_output_path
-
     check_output_path(target)
     traj = load_trajectory(trajectory)
     if region is None:
@@ -1302,3 +1301,12 @@ def _write_file(target: Path, write: Callable[[Path], None]) -> None:
             write(tmp)
     except OSError as exc:
         raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
+
+
+def design_picture(design: Design, width: int = 320, height: int = 240) -> str:
+    """An inline HTML picture of a design for notebooks (empty when it cannot be rendered here)."""
+    try:
+        image = render_image(design, window_size=(width, height))
+    except Exception:  # no OpenGL here: the table alone
+        return ""
+    return png_html(image, width)

@@ -5,12 +5,14 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from chargedesign import __version__
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
 from chargedesign.designer.options import DesignOptions
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.report import render_report
 from chargedesign.results import Result
 
 
@@ -159,8 +161,6 @@ class DesignResult(Result):
         }
 
     def _text(self) -> str:
-        from chargedesign.report import render_report
-
         return render_report(self.design)
 
     def _html_rows(self) -> dict[str, Any]:
@@ -185,8 +185,6 @@ def design_extras(result: DesignResult) -> dict[str, Any]:
     """The provenance record written into design.json beside the contract's keys (units,
     provenance, solver, objective, residuals, forward_accuracy, timings, candidates,
     conditions, notes, region: :class:`~chargedesign.body.Design` attributes)."""
-    from chargedesign import __version__
-
     conditions = result.conditions
     counts = {s: len(conditions.for_source(s)) for s in SOURCES if conditions.for_source(s)}
     out: dict[str, Any] = {

@@ -31,6 +31,7 @@ from chargedesign.files import atomic_directory, atomic_path
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.simulation.integrate import STATE_NAMES
 from chargedesign.validation import input_error
 
 INTEGRAL_NAMES = ("I1", "I2", "I3", "I4")
@@ -386,8 +387,6 @@ def plot_poincare(
     Draws into ``ax`` when given (else a new figure), writes a PNG to ``path`` when given, and
     returns the Axes.
     """
-    from chargedesign.simulation.integrate import STATE_NAMES
-
     for name in coordinates:
         if name not in STATE_NAMES:
             raise input_error("coordinates", "names among " + ", ".join(STATE_NAMES), name)
