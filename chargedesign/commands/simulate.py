@@ -22,7 +22,10 @@ import sys
 import time
 
 from chargedesign.errors import ChargeDesignError
+from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
+from chargedesign.limits import MAX_PERIODS
+from chargedesign.validation import check_periods
 from chargedesign.vocabulary import EFFECTS, SIMULATION_AXES
 
 
@@ -143,7 +146,6 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from chargedesign.body import write_design
-    from chargedesign.files import atomic_directory
     from chargedesign.simulation import setup_from_source, simulate
     from chargedesign.simulation.result import summary_text
 
@@ -257,7 +259,6 @@ SIMULATE_FILES = (
 def _check_out(args: argparse.Namespace, setup: object) -> None:
     """The output folder, before any work (chargedesign.files.check_outputs): ``--out`` (or
     the atlas's default) before the source is read; a scene's ``[output] dir`` after."""
-    from chargedesign.files import check_outputs
 
     inputs = [args.source]
     if setup is None:
@@ -283,8 +284,6 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
     """The work a run asks for, estimated before it starts (chargedesign.limits): periods of
     the body's fastest rate over t_end (``effects = []``, a free motion, is said by the run's
     notes: "no effect acts: torque-free motion")."""
-    from chargedesign.limits import MAX_PERIODS
-    from chargedesign.validation import check_periods
 
     options = setup.options  # type: ignore[attr-defined]
     if args.atlas:
@@ -349,7 +348,6 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from chargedesign.files import atomic_directory
     from chargedesign.simulation import prepare
     from chargedesign.simulation.chaos import fli_map, poincare_atlas
 

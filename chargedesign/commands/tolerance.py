@@ -22,7 +22,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
+from chargedesign.limits import MAX_PERIODS
+from chargedesign.validation import check_error_scale, check_error_spreads, check_periods
 
 MAX_SAMPLES = 2000  # mirrors chargedesign.tolerancing.MAX_SAMPLES (kept here so --help stays light)
 MAX_LEVELS = 6
@@ -93,8 +97,6 @@ def run(args: argparse.Namespace) -> int:
     import math
 
     from chargedesign.body import read_design
-    from chargedesign.errors import InputError
-    from chargedesign.files import check_outputs
     from chargedesign.tolerancing import (
         ErrorModel,
         MaterialErrors,
@@ -102,7 +104,6 @@ def run(args: argparse.Namespace) -> int:
         recorded_material_errors,
         tolerance_report,
     )
-    from chargedesign.validation import check_error_scale, check_error_spreads
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
@@ -126,9 +127,6 @@ def run(args: argparse.Namespace) -> int:
     design = read_design(args.design)
     check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
-        from chargedesign.limits import MAX_PERIODS
-        from chargedesign.validation import check_periods
-
         check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")
     given = {
         "chi_relative": args.chi_relative,
@@ -184,7 +182,6 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
     import json
 
     from chargedesign.body import write_design
-    from chargedesign.files import atomic_directory
     from chargedesign.tolerancing import MonteCarloResult, plot_drift, with_tolerance
 
     report = result.report if isinstance(result, MonteCarloResult) else result
