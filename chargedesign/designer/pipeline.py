@@ -21,7 +21,9 @@ from chargedesign.candidates import CandidateSet, candidates_from_points
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
+from chargedesign.designer.frontier import find_frontier
 from chargedesign.designer.options import DesignOptions, Progress
+from chargedesign.designer.physical import design_physical, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -38,7 +40,9 @@ from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
+from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.physical.spec import spec_from_tables
+from chargedesign.scene import Scene
 from chargedesign.validation import input_error
 
 
@@ -375,8 +379,6 @@ def design_from_scene(
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
     frontier; the physical design itself never calls the frontier).
     """
-    from chargedesign.scene import Scene
-
     if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     t0 = time.perf_counter()
@@ -384,22 +386,16 @@ def design_from_scene(
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
     t2 = time.perf_counter()
     if inputs.spec is not None:
-        from chargedesign.designer.physical import design_physical, setup_physical
-
         setup = setup_physical(
             inputs.body_params, conditions, candidates, inputs.spec, options, larmor=inputs.larmor
         )
         result = design_physical(setup, progress=progress)
         if frontier:
-            from chargedesign.designer.frontier import find_frontier
-
             if progress is not None:
                 progress("locating the frontier (largest rate within the limits, to 5 %) ...")
             front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
             result.design.frontier = front.to_dict()
             # the budget's K law is judged at the frontier's K_max, known only now
-            from chargedesign.physical.realism import K_LAW_KEY, k_law
-
             realism = result.design.realism
             if isinstance(realism, dict) and K_LAW_KEY in realism:
                 realism[K_LAW_KEY] = k_law(result.design)
