@@ -15,7 +15,13 @@ SMALL = Path(__file__).resolve().parent / "physical" / "small.toml"
 
 
 def test_part_sizes_are_those_of_the_written_parts():
-    design = design_from_scene(load_scene(SMALL), frontier=False).design
+    result = design_from_scene(load_scene(SMALL), frontier=False)
+    design = result.design
+    # the physical record: named fields, read through by the result
+    assert result.limits is design.buildability and result.limits["buildable"] is True
+    assert result.realism is design.realism and result.realism
+    assert result.time_rate == design.time_rate == 1.0
+    assert result.frontier is None and "frontier" not in design.to_dict()
     (line,) = [x for x in render_report(design).splitlines() if x.startswith("- Part sizes:")]
     radius = design.carrier_radii()[0]
     assert f"{len(design.charge_values)} carriers of radius {format_length(radius)}" in line
