@@ -14,11 +14,51 @@ from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
+from chargedesign.quadrature import ContinuousBody
+from chargedesign.readers import read_json_file
+from chargedesign.results import compact_repr, design_summary, design_text, html_table
 from chargedesign.scene.medium import Medium
-from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.validation import as_array, as_finite_float, check_design_numbers, input_error
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
-__all__ = ["DESIGN_FORMAT", "FIELD_KINDS", "REALISABLE", "Design", "read_design", "write_design"]
+__all__ = [
+    "DESIGN_FORMAT",
+    "FIELD_KINDS",
+    "REALISABLE",
+    "RECORD_KEYS",
+    "Design",
+    "read_design",
+    "write_design",
+]
+
+#: A JSON object as design.json holds it.
+JSONObject = dict[str, Any]
+
+#: design.json's record keys beside the contract's (CONTRACT.md: "further keys"), in the order
+#: they are written; each is a :class:`Design` attribute of the same name.
+RECORD_KEYS = (
+    "units",
+    "provenance",
+    "solver",
+    "objective",
+    "residuals",
+    "forward_accuracy",
+    "timings",
+    "candidates",
+    "conditions",
+    "notes",
+    "region",
+    "field_limits",
+    "time_rate",
+    "material_errors",
+    "balance",
+    "buildability",
+    "realism",
+    "physical_design",
+    "frontier",
+    "tolerance",
+    "larmor_why",
+)
 
 
 def _legendre(value: Any, name: str) -> tuple[float, ...]:
@@ -47,8 +87,18 @@ class Design(ElementSet):
     continuous : list[ContinuousBody]
         Continuous charge or mass bodies (chargedesign.quadrature), design.json key
         ``continuous``; dicts in the design.json format are accepted and converted.
-    extra : dict
-        Further keys of design.json (provenance, residuals, timings, ...), kept verbatim.
+    units, provenance, solver, objective, residuals, forward_accuracy, timings, candidates,
+    conditions, notes, region, field_limits, time_rate, material_errors, balance, buildability,
+    realism, physical_design, frontier, tolerance, larmor_why
+        The record of how the body was obtained and judged: design.json's keys of the same
+        names beside the contract's (:data:`RECORD_KEYS`; None when the file has none). Each
+        block holds its JSON mapping as written (``buildability``: the limits report,
+        :mod:`chargedesign.physical.limits`; ``realism``: the realism budget; ``frontier``:
+        the largest rate within the limits; ``tolerance``: the tolerance report).
+        ``time_rate`` is the physical design's rate s; ``larmor_why`` why the Larmor reading
+        was chosen.
+    further_keys : dict
+        design.json keys this version does not know (other tools' additions), kept verbatim.
     larmor : LarmorReading or None
         How the body realises the theorem's n (design.json ``larmor``): ``charges`` (the
         paper's reading) or ``frame`` (the elements realise n = 0; the motion is read in axes
@@ -58,15 +108,39 @@ class Design(ElementSet):
     parameters: Parameters
     fields: dict[str, tuple[float, ...]] = field(default_factory=dict)
     realises: list[str] = field(default_factory=list)
-    extra: dict[str, Any] = field(default_factory=dict)
     continuous: list[Any] = field(default_factory=list)
     #: a design.json ``medium`` mapping given here is read into a Medium (__post_init__)
     medium: Medium | dict[str, Any] | None = None
     materials: dict[str, Any] = field(default_factory=dict)
     larmor: LarmorReading | None = None
+    # ---- the record (design.json keys beside the contract's, in RECORD_KEYS order)
+    units: dict[str, str] | None = None
+    provenance: JSONObject | None = None
+    solver: JSONObject | None = None
+    objective: JSONObject | None = None
+    residuals: JSONObject | None = None
+    forward_accuracy: JSONObject | None = None
+    timings: dict[str, float] | None = None
+    candidates: JSONObject | None = None
+    conditions: JSONObject | None = None
+    notes: list[str] | None = None
+    region: JSONObject | None = None
+    field_limits: dict[str, float] | None = None
+    time_rate: float | None = None
+    material_errors: JSONObject | None = None
+    balance: JSONObject | None = None
+    buildability: JSONObject | None = None
+    realism: JSONObject | None = None
+    physical_design: JSONObject | None = None
+    frontier: JSONObject | None = None
+    tolerance: JSONObject | None = None
+    larmor_why: str | None = None
+    further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.time_rate is not None:
+            self.time_rate = as_finite_float(self.time_rate, "time_rate")
         if self.larmor is not None and not isinstance(self.larmor, LarmorReading):
             self.larmor = LarmorReading.from_dict(self.larmor)
         self.medium = Medium.from_dict(self.medium) if self.medium is not None else None
@@ -81,8 +155,6 @@ class Design(ElementSet):
                 raise input_error("realises", "items among " + ", ".join(REALISABLE), item)
         if not isinstance(self.continuous, (list, tuple)):
             raise input_error("continuous", "a list of bodies", self.continuous)
-        from chargedesign.quadrature import ContinuousBody
-
         self.continuous = [
             ContinuousBody.coerce(b, f"continuous[{i}]") for i, b in enumerate(self.continuous)
         ]
@@ -121,9 +193,17 @@ class Design(ElementSet):
             }
         if self.larmor is not None:
             out["larmor"] = self.larmor.to_dict()
-        for key, value in self.extra.items():
+        for key in RECORD_KEYS:
+            value = getattr(self, key)
+            if value is not None:
+                out.setdefault(key, value)
+        for key, value in self.further_keys.items():
             out.setdefault(key, value)
         return out
+
+    def record(self) -> JSONObject:
+        """The record keys this design carries (design.json's keys beside the contract's)."""
+        return {k: getattr(self, k) for k in RECORD_KEYS if getattr(self, k) is not None}
 
     @classmethod
     def from_dict(cls, data: Any, where: str = "design") -> Design:
@@ -145,13 +225,14 @@ class Design(ElementSet):
             fields_out[kind] = spec["legendre"]
 
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
-        known |= {"continuous", "medium", "materials", "larmor"}
+        known |= {"continuous", "medium", "materials", "larmor", *RECORD_KEYS}
         return cls(
             parameters=params,
             fields=fields_out,
             **ElementSet.arrays_from_blocks(data, where),
             realises=list(data.get("realises", [])),
-            extra={k: v for k, v in data.items() if k not in known},
+            **{k: data[k] for k in RECORD_KEYS if k in data},
+            further_keys={k: v for k, v in data.items() if k not in known},
             continuous=data.get("continuous") or [],
             medium=data.get("medium"),
             materials=data.get("materials") or {},
@@ -162,38 +243,33 @@ class Design(ElementSet):
             ),
         )
 
-    # ---- result protocol and pictures: thin methods over chargedesign.results / chargedesign.viz
+    # ---- result protocol (chargedesign.results) and pictures (chargedesign.viz)
     def __repr__(self) -> str:
-        from chargedesign.results import compact_repr, design_summary
-
         return compact_repr(type(self).__name__, design_summary(self))
 
     def __str__(self) -> str:
-        """The human report (as ``report.md`` and ``chargedesign design`` print it)."""
-        from chargedesign.report import render_report
-
-        return render_report(self)
+        """The main figures, one a line (the report: :func:`chargedesign.report.render_report`
+        or ``str`` of the :class:`~chargedesign.designer.DesignResult`)."""
+        return design_text(self)
 
     def _repr_html_(self) -> str:
-        from chargedesign.results import design_summary, html_table
-
         return html_table(type(self).__name__, design_summary(self), self._html_picture())
 
     def _html_picture(self) -> str:
-        from chargedesign.results import design_picture
+        from chargedesign.viz import design_picture  # viz loads PyVista (VTK): only when drawn
 
         return design_picture(self)
 
     def to_pyvista(self, **kwargs: Any) -> Any:
         """The body as a ``pyvista.MultiBlock`` (see :func:`chargedesign.viz.design_blocks`)."""
-        from chargedesign.viz import design_blocks
+        from chargedesign.viz import design_blocks  # viz loads PyVista (VTK): only when drawn
 
         return design_blocks(self, **kwargs)
 
     def plot(self, plotter: Any = None, **kwargs: Any) -> Any:
         """Draw the body into ``plotter`` (a new one when None); see
         :func:`chargedesign.viz.plot_design`."""
-        from chargedesign.viz import plot_design
+        from chargedesign.viz import plot_design  # viz loads PyVista (VTK): only when drawn
 
         return plot_design(self, plotter, **kwargs)
 
@@ -290,9 +366,6 @@ def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ())
     integers) and every number the body is built from passes the input range
     (docs/reliability.md); fields longer than ``MAX_FIELD_DEGREE`` are refused.
     """
-    from chargedesign.readers import read_json_file
-    from chargedesign.validation import check_design_numbers
-
     p = Path(path)
     data = read_json_file(p, "design file")
     check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys

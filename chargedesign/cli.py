@@ -13,6 +13,11 @@ import importlib
 import sys
 from collections.abc import Callable, Sequence
 
+from chargedesign.errors import ChargeDesignError, InputError
+from chargedesign.files import abandon_outputs, hold_signal, signals_held
+from chargedesign.limits import OPTION_RANGES
+from chargedesign.validation import check_input_number
+
 COMMANDS = {
     "verify": "certificate of the theorem and audit of the printed formulas",
     "conditions": "the linear conditions on moments a body must meet",
@@ -50,7 +55,6 @@ def build_parser() -> argparse.ArgumentParser:
 def _document_ranges(parser: argparse.ArgumentParser, command: str) -> None:
     """Append each numeric option's accepted range (chargedesign.limits.OPTION_RANGES) to
     its ``--help``: the range documented is the range checked."""
-    from chargedesign.limits import OPTION_RANGES
 
     ranges = OPTION_RANGES.get(command, {})
     for action in parser._actions:
@@ -69,15 +73,11 @@ SIGTERM_GRACE = 2.0
 
 
 def _on_sigterm(signum: int, frame: object) -> None:
-    from chargedesign.files import hold_signal
-
     if not hold_signal(signum):  # inside a held block it is raised again when the block ends
         raise Terminated()
 
 
 def _on_sigint(signum: int, frame: object) -> None:
-    from chargedesign.files import hold_signal
-
     if not hold_signal(signum):
         raise KeyboardInterrupt()
 
@@ -98,8 +98,6 @@ def _install_sigterm() -> Callable[[], None]:
     previous_int = signal.signal(signal.SIGINT, _on_sigint)
 
     def watch() -> None:
-        from chargedesign.files import abandon_outputs, signals_held
-
         # signals go to the main thread, whose handler unwinds the run
         signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
         while True:
@@ -133,9 +131,6 @@ def _install_sigterm() -> Callable[[], None]:
 def check_arguments(args: argparse.Namespace) -> None:
     """The command line's numbers pass the same input range as files' (docs/reliability.md),
     and each option its own range (chargedesign.limits.OPTION_RANGES, shown in ``--help``)."""
-    from chargedesign.errors import InputError
-    from chargedesign.limits import OPTION_RANGES
-    from chargedesign.validation import check_input_number
 
     ranges = OPTION_RANGES.get(getattr(args, "command", None) or "", {})
     for name, value in vars(args).items():
@@ -160,8 +155,6 @@ def check_arguments(args: argparse.Namespace) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     import threading
-
-    from chargedesign.errors import ChargeDesignError
 
     parser = build_parser()
     args = parser.parse_args(argv)

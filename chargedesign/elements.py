@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.results import compact_repr
 from chargedesign.validation import as_points, as_weights, check_keys, input_error
 
 #: the design.json block of each source and its keys, in the order they are written
@@ -198,8 +199,6 @@ class ElementSet:
 
     def __repr__(self) -> str:
         """Counts and total mass, not the arrays (a body can hold thousands of elements)."""
-        from chargedesign.results import compact_repr
-
         items: dict[str, Any] = {
             "charges": len(self.charge_values),
             "dipoles": len(self.dipole_moments),

@@ -140,7 +140,7 @@ SIZES_KEY = "element_sizes"
 
 
 def _header(design: Design) -> dict[str, Any]:
-    """Everything of the design except its elements (parameters, fields, realises, extra),
+    """Everything of the design except its elements (parameters, fields, realises, the record),
     plus the physical per-element arrays of a physical design under :data:`SIZES_KEY`."""
     data = design.to_dict()
     out = {k: v for k, v in data.items() if k not in _ELEMENT_KEYS}
@@ -286,7 +286,7 @@ def _write_vtu(design: Design, path: Path) -> None:
 
 def _polydata(design: Design) -> Any:
     """The elements as points with vertex cells, continuous bodies as triangles (see module)."""
-    from chargedesign.viz import continuous_body_mesh
+    from chargedesign.viz import continuous_body_mesh  # viz loads PyVista (VTK): only here
 
     pv = import_held("pyvista")
 

@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.formatting import ORDER, ORDER_SCI, PLAIN, PRECISE, ROUGH, fmt, fmt_length
+from chargedesign.physical.bom import bom_rows, bom_totals
 
 # the plausibility figures: the Coulomb field and the material data of the physical design
 from chargedesign.physical.coulomb import point_charge_field as charge_field
@@ -42,7 +44,7 @@ from chargedesign.physical.realism import (
 
 
 def _spacing(design: Design) -> float | None:
-    cand = design.extra.get("candidates")
+    cand = design.candidates
     if isinstance(cand, dict):
         for value in (cand.get("spacing"), (cand.get("geometry") or {}).get("spacing_m")):
             if isinstance(value, (int, float)) and value > 0:
@@ -91,7 +93,7 @@ def plausibility(design: Design) -> dict[str, Any]:
 
 def _fmt(value: Any) -> str:
     if isinstance(value, float):
-        return f"{value:.4g}"
+        return fmt(value, PRECISE)
     return str(value)
 
 
@@ -100,31 +102,31 @@ def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
     if "field_V_per_m" in figures:
         ratio = figures["field_over_air_breakdown"]
         verdict = (
-            f"{ratio:.2g} times the breakdown field of air (~3 MV/m): not buildable as point "
-            "charges in air. The charges scale like C n / (a1 L^2) and C K / (a2 L^3) for a "
+            f"{fmt(ratio, ROUGH)} times the breakdown field of air (~3 MV/m): not buildable as "
+            "point charges in air. The charges scale like C n / (a1 L^2) and C K / (a2 L^3) for a "
             "body of size L, their field like q / s^2: a larger body, stronger magnetic "
             "fields or a smaller C bring it down"
             if ratio > 1
-            else f"{ratio:.2g} of the breakdown field of air (~3 MV/m): below breakdown"
+            else f"{fmt(ratio, ROUGH)} of the breakdown field of air (~3 MV/m): below breakdown"
         )
         lines.append(
-            f"- Largest charge {figures['largest_charge_C']:.4g} C; at the candidate spacing "
-            f"s = {figures['spacing_m']:.4g} m it makes q / (4 pi eps0 s^2) = "
-            f"{figures['field_V_per_m']:.3g} V/m, {verdict}."
+            f"- Largest charge {fmt(figures['largest_charge_C'], PRECISE)} C; at the candidate "
+            f"spacing s = {fmt(figures['spacing_m'], PRECISE)} m it makes q / (4 pi eps0 s^2) = "
+            f"{fmt(figures['field_V_per_m'])} V/m, {verdict}."
         )
     elif "largest_charge_C" in figures:
-        lines.append(f"- Largest charge {figures['largest_charge_C']:.4g} C.")
+        lines.append(f"- Largest charge {fmt(figures['largest_charge_C'], PRECISE)} C.")
     if "largest_dipole_Am2" in figures:
         volume = figures["ndfeb_volume_m3"]
         side = volume ** (1.0 / 3.0)
         lines.append(
-            f"- Largest dipole {figures['largest_dipole_Am2']:.4g} A m^2: a NdFeB magnet "
-            f"(M ~ 1e6 A/m) of {volume * 1e6:.3g} cm^3 (a cube of side {side * 100:.3g} cm)."
+            f"- Largest dipole {fmt(figures['largest_dipole_Am2'], PRECISE)} A m^2: a NdFeB magnet "
+            f"(M ~ 1e6 A/m) of {fmt(volume * 1e6)} cm^3 (a cube of side {fmt(side * 100)} cm)."
         )
     if "total_mass_kg" in figures:
         lines.append(
-            f"- Total mass {figures['total_mass_kg']:.4g} kg, largest mass "
-            f"{figures['largest_mass_kg']:.4g} kg."
+            f"- Total mass {fmt(figures['total_mass_kg'], PRECISE)} kg, largest mass "
+            f"{fmt(figures['largest_mass_kg'], PRECISE)} kg."
         )
     return lines
 
@@ -147,27 +149,30 @@ def render_report(
     -------
     str
     """
-    extra = design.extra
     params = design.parameters.as_dict()
     lines = [f"# {title}", ""]
     lines += _verdict_lines(design)
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     lines.append(
-        "Parameters: " + ", ".join(f"{k} = {v:g}" for k, v in params.items()) + " (SI units)."
+        "Parameters: "
+        + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
+        + " (SI units)."
     )
-    origin = (extra.get("provenance") or {}).get("fields_origin") or {}
+    origin = (design.provenance or {}).get("fields_origin") or {}
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):
         coeffs = design.field(kind)
         if coeffs:
             tag = f" ({origin[kind]})" if kind in origin else ""
-            field_parts.append(f"{kind} legendre [{', '.join(f'{c:g}' for c in coeffs)}]{tag}")
+            field_parts.append(
+                f"{kind} legendre [{', '.join(f'{fmt(c, PLAIN)}' for c in coeffs)}]{tag}"
+            )
     lines.append("Fields: " + ("; ".join(field_parts) if field_parts else "none") + ".")
     lines.append(
         "Realises: " + (", ".join(design.realises) if design.realises else "nothing") + "."
     )
-    cand = extra.get("candidates")
+    cand = design.candidates
     if isinstance(cand, dict):
         keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
         lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
@@ -177,26 +182,29 @@ def render_report(
     q = design.charge_values
     if len(q):
         lines.append(
-            f"| charges | {len(q)} | {np.sum(np.abs(q)):.4g} C | {np.max(np.abs(q)):.4g} C | "
-            f"{np.sum(q):.4g} C |"
+            f"| charges | {len(q)} | {fmt(np.sum(np.abs(q)), PRECISE)} C | "
+            f"{fmt(np.max(np.abs(q)), PRECISE)} C | "
+            f"{fmt(np.sum(q), PRECISE)} C |"
         )
     sig = design.dipole_moments
     if len(sig):
         norms = np.linalg.norm(sig, axis=1)
         lines.append(
-            f"| dipoles | {len(sig)} | {np.sum(norms):.4g} A m^2 | {np.max(norms):.4g} A m^2 | "
-            f"{np.linalg.norm(np.sum(sig, axis=0)):.4g} A m^2 |"
+            f"| dipoles | {len(sig)} | {fmt(np.sum(norms), PRECISE)} A m^2 | "
+            f"{fmt(np.max(norms), PRECISE)} A m^2 | "
+            f"{fmt(np.linalg.norm(np.sum(sig, axis=0)), PRECISE)} A m^2 |"
         )
     m = design.mass_values
     if len(m):
         lines.append(
-            f"| masses | {len(m)} | {np.sum(m):.4g} kg | {np.max(m):.4g} kg | {np.sum(m):.4g} kg |"
+            f"| masses | {len(m)} | {fmt(np.sum(m), PRECISE)} kg | {fmt(np.max(m), PRECISE)} kg "
+            f"| {fmt(np.sum(m), PRECISE)} kg |"
         )
     if not (len(q) or len(sig) or len(m)):
         lines.append("| (none) | 0 | | | |")
-    objective = extra.get("objective") or {}
-    solver = extra.get("solver") or {}
-    residuals = extra.get("residuals") or {}
+    objective = design.objective or {}
+    solver = design.solver or {}
+    residuals = design.residuals or {}
     if objective or residuals:
         lines += ["", "## Problems and residuals", ""]
         lines.append("| source | objective | value | solver | residual before | after polish |")
@@ -219,11 +227,11 @@ def render_report(
                 f"Relative residual: {residuals['definition']}; required <= "
                 f"{_fmt(residuals.get('tolerance', '?'))}.",
             ]
-        worst = (extra.get("forward_accuracy") or {}).get("worst") or {}
+        worst = (design.forward_accuracy or {}).get("worst") or {}
         if worst:
             parts = [
-                f"{source} ~{w['forward_error']:.1g} ({w['quantity']} through {w['term']}: "
-                f"contributions {w['amplification']:.2g} times |{w['quantity']}|)"
+                f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
+                f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
                 for source, w in worst.items()
             ]
             lines += [
@@ -236,18 +244,18 @@ def render_report(
         methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
         if methods:
             lines += ["", "Methods:", "", *methods]
-    timings = extra.get("timings") or {}
+    timings = design.timings or {}
     if timings:
         lines += [
             "",
-            "Timings: " + ", ".join(f"{k} {v:.3g} s" for k, v in timings.items()) + ".",
+            "Timings: " + ", ".join(f"{k} {fmt(v)} s" for k, v in timings.items()) + ".",
         ]
     if design.medium is not None:
         lines += _physical_sections(design)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
-    notes = list(extra.get("notes") or [])
+    notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
     return "\n".join(lines) + "\n"
@@ -257,10 +265,10 @@ def _larmor_lines(design: Design) -> list[str]:
     """Which Larmor reading realises n, and why (design.json ``larmor``, ``larmor_why``)."""
     if design.larmor is None:
         return []
-    why = design.extra.get("larmor_why")
+    why = design.larmor_why
     how = (
         f"the elements realise n = 0; the motion read in axes turning at "
-        f"{design.larmor.rate:.4g} 1/s about Z is the theorem's"
+        f"{fmt(design.larmor.rate, PRECISE)} 1/s about Z is the theorem's"
         if design.larmor.is_frame
         else "second moments of charge realise n (the paper's (p6))"
     )
@@ -269,8 +277,6 @@ def _larmor_lines(design: Design) -> list[str]:
 
 def _verdict_lines(design: Design) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
-    from chargedesign.results import format_length
-
     if design.medium is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
@@ -278,9 +284,9 @@ def _verdict_lines(design: Design) -> list[str]:
             *_larmor_lines(design),
             "",
         ]
-    limits = design.extra.get("buildability") or {}
-    frontier = design.extra.get("frontier") or {}
-    realism = design.extra.get("realism") or {}
+    limits = design.buildability or {}
+    frontier = design.frontier or {}
+    realism = design.realism or {}
     medium = design.medium
     ok = bool(limits.get("buildable"))
     response = _fresh_response(design, realism)
@@ -303,7 +309,7 @@ def _verdict_lines(design: Design) -> list[str]:
     if ok and below:
         reasons.append(
             f"{below} of its magnets are smaller than the "
-            f"{format_length(continuum['continuum_size_m'])} continuum size (below)"
+            f"{fmt_length(continuum['continuum_size_m'])} continuum size (below)"
         )
     if swamped:
         reasons.append(
@@ -311,46 +317,49 @@ def _verdict_lines(design: Design) -> list[str]:
             "charges and magnets do (below)"
         )
     lines = [
-        f"**Verdict: {verdict}** in {medium['name']} "
-        f"(breakdown {medium['breakdown_V_per_m']:.3g} V/m, safety {medium['safety']:g})"
+        f"**Verdict: {verdict}** in {medium['name']} (breakdown "
+        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)})"
         + (": " + "; ".join(reasons) + "." if reasons else "."),
         "",
         "- Largest surface field: "
-        f"{limits.get('largest_surface_field_fraction_of_breakdown', 0):.4g} of breakdown "
-        f"(recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per carrier "
-        "and around the largest).",
+        f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
+        f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "
+        "carrier and around the largest).",
     ]
     lines += _larmor_lines(design)
     n = design.parameters.n
     if frontier.get("K_max") is not None:
         lines.append(
             f"- Frontier of K ({frontier.get('larmor', 'charges')} reading): K = "
-            f"{design.parameters.K:.4g} 1/s, K_max = {frontier['K_max']:.4g} 1/s."
+            f"{fmt(design.parameters.K, PRECISE)} 1/s, "
+            f"K_max = {fmt(frontier['K_max'], PRECISE)} 1/s."
         )
     if frontier:
         n_max = frontier.get("n_max")
         period = frontier.get("period_s")
         lines.append(
-            f"- Time rate: n = {n:.4g} 1/s; the frontier n_max = {n_max:.4g} 1/s "
-            f"(period 2 pi / n_max = {period:.4g} s; binding: {frontier.get('binding')})."
+            f"- Time rate: n = {fmt(n, PRECISE)} 1/s; the frontier "
+            f"n_max = {fmt(n_max, PRECISE)} 1/s (period 2 pi / n_max = {fmt(period, PRECISE)} s; "
+            f"binding: {frontier.get('binding')})."
             if n_max is not None and period is not None
-            else f"- Time rate: n = {n:.4g} 1/s."
+            else f"- Time rate: n = {fmt(n, PRECISE)} 1/s."
         )
     bal = realism.get("balance_offset_1g_m") or {}
     micro = realism.get("balance_offset_microgravity_m") or {}
     if bal:
         lines.append(
-            f"- Balance: the centre of mass must sit within {bal.get('value', 0):.3g} m of O "
-            f"under 1 g ({bal.get('verdict')}), {micro.get('value', 0):.3g} m under 1e-6 g."
+            f"- Balance: the centre of mass must sit within {fmt(bal.get('value', 0))} m of O "
+            f"under 1 g ({bal.get('verdict')}), {fmt(micro.get('value', 0))} m under 1e-6 g."
         )
     lines += _k_law_lines(law, design) if law else _response_lines(response)
     lines += _part_size_lines(design)
-    tolerance = design.extra.get("tolerance") or {}
+    tolerance = design.tolerance or {}
     top = (tolerance.get("elements") or [None])[0]
     if top and top.get("binding"):
         lines.append(
-            f"- Placement: {top['element']} dominates: within +-{top['position_tol_m_min']:.3g} m "
-            f"it keeps the relative error of {top['binding']} below {tolerance.get('target'):g}."
+            f"- Placement: {top['element']} dominates: within +-{fmt(top['position_tol_m_min'])} m "
+            f"it keeps the relative error of {top['binding']} below "
+            f"{fmt(tolerance.get('target'), PLAIN)}."
         )
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
@@ -372,7 +381,7 @@ def _response_lines(response: dict[str, Any]) -> list[str]:
         value = item.get("value")
         title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
         lines.append(
-            f"- {title}: {'inf' if value is None else f'{value:.3g}'} of the designed torques "
+            f"- {title}: {'inf' if value is None else fmt(value)} of the designed torques "
             f"({item.get('verdict')}): {item.get('note')}."
         )
     return lines
@@ -380,8 +389,6 @@ def _response_lines(response: dict[str, Any]) -> list[str]:
 
 def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
     """The verdict on the parts' materials by the size-free K law, with its numbers."""
-    from chargedesign.results import format_length
-
     ratio = law["ratio"]
     tail = (
         ". For a similar body it is the same at any size and any a2, and falls like "
@@ -396,26 +403,26 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
     if law.get("cancelled_by_design"):
         lines = [
             "- Induced magnetisation at the K frontier: cancelled by the design's chi-weighted "
-            f"moments to {law['ratio_elements']:.3g} of the designed K torques C K_max^2 "
+            f"moments to {fmt(law['ratio_elements'])} of the designed K torques C K_max^2 "
             f"({law['verdict']}, element by element); the same matter without the "
-            f"cancellation gives {law['ratio_without_cancellation']:.3g} by the size-free law "
-            f"6 (chi/rho) / (mu0 G^2) (G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg, "
-            f"K_max = {law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
-            f"{law['a2_T_per_m']:.3g} T/m). The cancellation holds only if each material's "
-            f"susceptibility is known to {law['chi_relative_needed']:.2g} relative; "
-            f"susceptibility metrology reaches about {law['metrology_chi_relative']:.0e}"
-            + tail
+            f"cancellation gives {fmt(law['ratio_without_cancellation'])} by the size-free law "
+            f"6 (chi/rho) / (mu0 G^2) (G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg, "
+            f"K_max = {fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
+            f"{fmt(law['a2_T_per_m'])} T/m). The cancellation holds only if each material's "
+            f"susceptibility is known to {fmt(law['chi_relative_needed'], ROUGH)} relative; "
+            f"susceptibility metrology reaches about "
+            f"{fmt(law['metrology_chi_relative'], ORDER_SCI)}" + tail
         ]
     else:
         lines = [
-            f"- Induced magnetisation at the K frontier: {ratio:.3g} times the designed K "
+            f"- Induced magnetisation at the K frontier: {fmt(ratio)} times the designed K "
             f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
-            f"(mu0 G^2) with the parts' chi/rho = {law['chi_over_rho_m3_per_kg']:.3g} m^3/kg "
-            f"(mass-weighted) and G = K_max / a2 = {law['G_C_m_per_kg']:.3g} C m/kg (K_max = "
-            f"{law['K_max_1_per_s']:.3g} 1/s from {law['K_max_source']}, a2 = "
-            f"{law['a2_T_per_m']:.3g} T/m)"
+            f"(mu0 G^2) with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
+            f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
+            f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
+            f"{fmt(law['a2_T_per_m'])} T/m)"
             + (
-                f"; element by element {law['ratio_elements']:.3g}"
+                f"; element by element {fmt(law['ratio_elements'])}"
                 if law.get("ratio_elements") is not None
                 else ""
             )
@@ -424,23 +431,26 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
     if ratio > 0:
         parity = law["parity_surface_field_V_per_m"]
         lines.append(
-            f"- Parity would need G {parity / law['surface_field_V_per_m']:.3g} times larger: "
-            f"carrier surface fields of {parity:.3g} V/m instead of "
-            f"{law['surface_field_V_per_m']:.3g} V/m, "
-            f"{parity / law['field_evaporation_V_per_m']:.3g} times the field that evaporates "
-            f"metal surfaces (~{law['field_evaporation_V_per_m']:.1g} V/m, Tsong 1990) and "
-            f"{parity / law['atomic_field_V_per_m']:.3g} times the atomic field "
-            f"e / (4 pi eps0 a0^2) = {law['atomic_field_V_per_m']:.3g} V/m; or parts with "
-            f"chi/rho = {law['parity_chi_over_rho_m3_per_kg']:.3g} m^3/kg."
+            f"- Parity would need G {fmt(parity / law['surface_field_V_per_m'])} times larger: "
+            f"carrier surface fields of {fmt(parity)} V/m instead of "
+            f"{fmt(law['surface_field_V_per_m'])} V/m, "
+            f"{fmt(parity / law['field_evaporation_V_per_m'])} times the field that evaporates "
+            f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m, Tsong 1990) and "
+            f"{fmt(parity / law['atomic_field_V_per_m'])} times the atomic field "
+            f"e / (4 pi eps0 a0^2) = {fmt(law['atomic_field_V_per_m'])} V/m; or parts with "
+            f"chi/rho = {fmt(law['parity_chi_over_rho_m3_per_kg'])} m^3/kg."
         )
     eddy, sigma = law.get("eddy_ratio"), law.get("conductivity_needed_S_per_m")
     if eddy is not None and sigma is not None:
-        insulators = ", ".join(f"{k} ~{v:.0e}" for k, v in law["insulators_S_per_m"].items())
+        insulators = ", ".join(
+            f"{k} ~{fmt(v, ORDER_SCI)}" for k, v in law["insulators_S_per_m"].items()
+        )
         lines.append(
-            f"- Eddy currents (a choice of material): at the K frontier {eddy:.3g} times the "
-            f"designed K torques with these conductors; below {RESPONSE_FRACTION:g} of them "
-            f"needs conductivities under {sigma:.3g} S/m (now {law['conductivity_needed_for']}, "
-            f"{law['conductivity_now_S_per_m']:.3g} S/m), which insulating parts reach "
+            f"- Eddy currents (a choice of material): at the K frontier {fmt(eddy)} times the "
+            f"designed K torques with these conductors; below "
+            f"{fmt(RESPONSE_FRACTION, PLAIN)} of them needs conductivities under {fmt(sigma)} "
+            f"S/m (now {law['conductivity_needed_for']}, "
+            f"{fmt(law['conductivity_now_S_per_m'])} S/m), which insulating parts reach "
             f"({insulators} S/m)."
         )
     smallest = law.get("smallest_similar_body_radius_m")
@@ -448,8 +458,8 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
         lines.append(
             "- Size: the law holds for similar bodies while each carrier at the safe field "
             "holds at least one elementary charge, i.e. carriers of radius "
-            f"{format_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
-            f"{format_length(smallest)} and more. Within that range the ratio changes with "
+            f"{fmt_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
+            f"{fmt_length(smallest)} and more. Within that range the ratio changes with "
             "size only through the surface field the medium holds (as 1/E^2; the breakdown "
             "field used is that of mm to cm gaps)."
         )
@@ -459,8 +469,8 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
             lines[-1] += (
                 " The parts must stay continuum parts too, which bounds the size first where "
                 f"the magnets are small: a magnet at least "
-                f"{format_length(continuum['continuum_size_m'])} across; this body's smallest "
-                f"is {format_length(continuum['smallest_m'])}, {where}."
+                f"{fmt_length(continuum['continuum_size_m'])} across; this body's smallest "
+                f"is {fmt_length(continuum['smallest_m'])}, {where}."
             )
     return lines
 
@@ -468,11 +478,10 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
 def _part_size_lines(design: Design) -> list[str]:
     """How large each kind of part is, from the written elements: what a builder must make
     (the magnets' size is the cube root of their material's volume)."""
-    from chargedesign.results import format_length
 
     def span(sizes: np.ndarray) -> str:
         lo, hi = float(np.min(sizes)), float(np.max(sizes))
-        return format_length(lo) if lo == hi else f"{format_length(lo)} to {format_length(hi)}"
+        return fmt_length(lo) if lo == hi else f"{fmt_length(lo)} to {fmt_length(hi)}"
 
     parts = []
     radii = design.carrier_radii()
@@ -485,7 +494,7 @@ def _part_size_lines(design: Design) -> list[str]:
         if continuum["below"]:
             magnets += (
                 f" ({continuum['below']} of them below the "
-                f"{format_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
+                f"{fmt_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
                 "continuum magnet: single-domain nanoparticles with a reduced surface "
                 "magnetisation, whose moment and coercivity are not the data sheet's, those of "
                 "micrometre-grained sintered parts; not buildable as specified)"
@@ -500,26 +509,26 @@ def _part_size_lines(design: Design) -> list[str]:
 
 def _physical_sections(design: Design) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
-    from chargedesign.physical.bom import bom_rows, bom_totals
-
     totals = bom_totals(design)
     lines = ["", "## Bill of materials", ""]
     mats = design.materials
     lines.append(
         f"Carriers: {totals['carriers']} spheres of {mats.get('carrier', {}).get('name', '?')} "
-        f"({totals['mass_carriers_kg']:.4g} kg); magnets: {totals['magnets']} of "
-        f"{mats.get('magnet', {}).get('name', '?')} ({totals['magnet_volume_m3']:.4g} m^3, "
-        f"{totals['mass_magnets_kg']:.4g} kg with attached ballast); ballast: "
+        f"({fmt(totals['mass_carriers_kg'], PRECISE)} kg); magnets: {totals['magnets']} of "
+        f"{mats.get('magnet', {}).get('name', '?')} ({fmt(totals['magnet_volume_m3'], PRECISE)} "
+        f"m^3, {fmt(totals['mass_magnets_kg'], PRECISE)} kg with attached ballast); ballast: "
         f"{totals['ballast']} pieces of {ballast_label(mats)} "
-        f"({totals['mass_ballast_kg']:.4g} kg). Total mass {totals['mass_total_kg']:.4g} kg; "
-        f"net charge {totals['charge_net_C']:.4g} C."
+        f"({fmt(totals['mass_ballast_kg'], PRECISE)} kg). Total mass "
+        f"{fmt(totals['mass_total_kg'], PRECISE)} kg; "
+        f"net charge {fmt(totals['charge_net_C'], PRECISE)} C."
     )
     maxima = totals["field_maxima_over_body"]
     if maxima:
         lines.append(
             "The apparatus must make, over the body region: "
             + ", ".join(
-                f"{k} {v:.4g} {'T' if k == 'magnetic' else 'V/m' if k == 'electric' else 'm/s^2'}"
+                f"{k} {fmt(v, PRECISE)} "
+                f"{'T' if k == 'magnetic' else 'V/m' if k == 'electric' else 'm/s^2'}"
                 for k, v in maxima.items()
             )
             + " (largest magnitude)."
@@ -529,26 +538,28 @@ def _physical_sections(design: Design) -> list[str]:
     lines.append("|---|---|---|---|---|---|---|")
     for r in rows[:20]:
         value = (
-            f"{r['charge_C']:.4g} C"
+            f"{fmt(r['charge_C'], PRECISE)} C"
             if r["kind"] == "carrier"
-            else f"({r['moment_x_A_m2']:.3g}, {r['moment_y_A_m2']:.3g}, "
-            f"{r['moment_z_A_m2']:.3g}) A m^2"
+            else f"({fmt(r['moment_x_A_m2'])}, {fmt(r['moment_y_A_m2'])}, "
+            f"{fmt(r['moment_z_A_m2'])}) A m^2"
             if r["kind"] == "magnet"
             else ""
         )
         lines.append(
-            f"| {r['part']} | {r['kind']} | ({r['x_m']:.4g}, {r['y_m']:.4g}, {r['z_m']:.4g}) | "
-            f"{r['size']:.3g} {r['size_unit']} | {r['material']} | {value} | {r['mass_kg']:.4g} |"
+            f"| {r['part']} | {r['kind']} | ({fmt(r['x_m'], PRECISE)}, {fmt(r['y_m'], PRECISE)}, "
+            f"{fmt(r['z_m'], PRECISE)}) | "
+            f"{fmt(r['size'])} {r['size_unit']} | {r['material']} | {value} | "
+            f"{fmt(r['mass_kg'], PRECISE)} |"
         )
     if len(rows) > 20:
         lines.append(f"| ... | {len(rows) - 20} more parts in bom.csv | | | | | |")
-    realism = design.extra.get("realism") or {}
+    realism = design.realism or {}
     if realism:
         lines += ["", "## Realism budget", ""]
         lines.append(
-            f"Typical motion: |omega| = {realism.get('typical_rate_1_per_s', 0):.4g} 1/s, period "
-            f"{realism.get('period_s', 0):.4g} s, designed torques ~"
-            f"{realism.get('designed_torque_N_m', 0):.3g} N m."
+            f"Typical motion: |omega| = {fmt(realism.get('typical_rate_1_per_s', 0), PRECISE)} "
+            f"1/s, period {fmt(realism.get('period_s', 0), PRECISE)} s, designed torques ~"
+            f"{fmt(realism.get('designed_torque_N_m', 0))} N m."
         )
         realism = dict(realism)
         response = _fresh_response(design, realism)
@@ -560,7 +571,7 @@ def _physical_sections(design: Design) -> list[str]:
         for key, item in realism.items():
             if isinstance(item, dict):
                 amount = item.get("value")
-                shown = f"{amount:.3g} {item.get('unit', '')}" if amount is not None else "inf"
+                shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
                 lines.append(
                     f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |"
                 )
@@ -572,7 +583,7 @@ def _map_lines(design: Design, response: dict[str, Any]) -> list[str]:
     """The realisability map (:func:`~chargedesign.physical.realism.realisability_map`)."""
 
     def num(x: float | None) -> str:
-        return "" if x is None else f"{x:.3g}"
+        return "" if x is None else fmt(x)
 
     lines = [
         "",

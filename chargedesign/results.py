@@ -25,6 +25,8 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from chargedesign.formatting import CELL, PRECISE, fmt, fmt_length
+
 #: the longest ``repr`` of any result, characters
 REPR_LIMIT = 300
 #: rows of nested mappings shown in the HTML table before "..."
@@ -36,7 +38,7 @@ def short_value(value: Any) -> str:
     if isinstance(value, bool) or value is None:
         return repr(value)
     if isinstance(value, float):
-        return f"{value:.4g}"
+        return fmt(value, PRECISE)
     if isinstance(value, int):
         return str(value)
     if isinstance(value, str):
@@ -55,14 +57,8 @@ def short_value(value: Any) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def format_length(x: float) -> str:
-    """A length in m, mm, µm or nm with 3 significant digits (``any`` when infinite)."""
-    if not math.isfinite(x):
-        return "any"
-    for unit, scale in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if abs(x) >= scale:
-            return f"{x / scale:.3g} {unit}"
-    return f"{x:.3g} m"
+#: a length in m, mm, µm or nm (:func:`chargedesign.formatting.fmt_length`), by its older name
+format_length = fmt_length
 
 
 def compact_repr(name: str, items: Mapping[str, Any], limit: int = REPR_LIMIT) -> str:
@@ -100,7 +96,7 @@ def json_ready(value: Any) -> Any:
 
 def _cell(value: Any) -> str:
     if isinstance(value, float):
-        return html.escape(f"{value:.6g}")
+        return html.escape(fmt(value, CELL))
     if isinstance(value, (list, tuple)) and len(value) > 8:
         return html.escape(f"[{len(value)} items]")
     if isinstance(value, Mapping):
@@ -192,6 +188,8 @@ __all__ = [
     "REPR_LIMIT",
     "Result",
     "compact_repr",
+    "design_summary",
+    "design_text",
     "html_table",
     "json_ready",
     "png_html",
@@ -214,16 +212,19 @@ def design_summary(design: Any) -> dict[str, Any]:
     out["fields"] = ",".join(k for k, v in design.fields.items() if len(v))
     if design.is_physical:
         out["total_mass"] = design.total_mass
-    out["parameters"] = " ".join(f"{k}={v:.3g}" for k, v in p.items() if v != 0.0)
+    out["parameters"] = " ".join(f"{k}={fmt(v)}" for k, v in p.items() if v != 0.0)
     return out
 
 
-def design_picture(design: Any, width: int = 320, height: int = 240) -> str:
-    """An inline picture of a design (empty when it cannot be rendered here)."""
-    try:
-        from chargedesign.viz import render_image
-
-        image = render_image(design, window_size=(width, height))
-    except Exception:  # no OpenGL here: the table alone
-        return ""
-    return png_html(image, width)
+def design_text(design: Any) -> str:
+    """The short text of a :class:`~chargedesign.body.Design`: its main figures, one a line
+    (the full report is :func:`chargedesign.report.render_report`, or ``str`` of the
+    :class:`~chargedesign.designer.DesignResult`)."""
+    rows = design_summary(design)
+    width = max(len(k) for k in rows)
+    lines = [f"{type(design).__name__}:"]
+    lines += [
+        f"  {k:<{width}}  {short_value(v) if not isinstance(v, str) else v}"
+        for k, v in rows.items()
+    ]
+    return "\n".join(lines)

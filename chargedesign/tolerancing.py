@@ -571,7 +571,9 @@ def tolerance_report(
 def with_tolerance(design: Design, report: ToleranceReport) -> Design:
     """A copy of ``design`` whose design.json carries the report under the key ``tolerance``."""
     out = _replace(design)
-    out.extra = {**design.extra, "tolerance": report.to_dict()}
+    for key, value in {**design.record(), "tolerance": report.to_dict()}.items():
+        setattr(out, key, value)
+    out.further_keys = dict(design.further_keys)
     out.continuous = list(design.continuous)
     return out
 
@@ -1741,7 +1743,7 @@ def material_uncertainty(
 def recorded_material_errors(design: Design) -> MaterialErrors | None:
     """The material errors a design records from its scene (design.json
     ``material_errors``, from ``[tolerance]``), or None."""
-    recorded = design.extra.get("material_errors") if isinstance(design.extra, dict) else None
+    recorded = design.material_errors
     if recorded is None:
         return None
     return MaterialErrors.from_table(recorded, "material_errors")

@@ -29,14 +29,15 @@ import zipfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from chargedesign.body import Design
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path, deferred_signals
+from chargedesign.files import atomic_path, check_output_path, deferred_signals
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
+from chargedesign.results import png_html
 
 with deferred_signals():
     # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
@@ -47,6 +48,9 @@ with deferred_signals():
 from chargedesign.limits import MAX_SHOW_ELEMENTS
 from chargedesign.quadrature import ContinuousBody
 from chargedesign.validation import as_array, as_finite_float, input_error
+
+if TYPE_CHECKING:  # annotations only: the body module draws through this one (Design.plot)
+    from chargedesign.body import Design
 
 # Colours: element kinds never share a hue, so a picture can be checked for them.
 POSITIVE_COLOR = (1.0, 0.0, 0.0)
@@ -107,9 +111,9 @@ def _region_spec(region: Any) -> dict[str, Any] | None:
 
 
 def region_from_design(design: Design) -> dict[str, Any] | None:
-    """The candidate region recorded in a design's extra keys (``region`` or ``body``), if any."""
-    for key in ("region", "body"):
-        value = design.extra.get(key)
+    """The candidate region recorded in a design (design.json ``region``, or ``body`` in older
+    files), if any."""
+    for value in (design.region, design.further_keys.get("body")):
         if isinstance(value, Mapping) and value.get("shape") in REGION_SHAPES:
             return dict(value)
     return None
@@ -525,7 +529,7 @@ def design_blocks(
     if "dipoles" in out.keys():
         legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
     length = _nice_length(0.5 * size)
-    legend.append(f"scale bar: {length:g} m")
+    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
     out.field_data["legend"] = legend
     y, z = -1.15 * size, -1.0 * size
     bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
@@ -545,12 +549,12 @@ def _size_key(design: Design, size: float) -> str:
     q = design.charge_values
     if len(q):
         key = element_sizes(design, size)["charge_key"]
-        parts.append(f"charges: {key} (largest {np.max(np.abs(q)):.3g} C)")
+        parts.append(f"charges: {key} (largest {fmt(np.max(np.abs(q)))} C)")
     if len(design.mass_values):
-        parts.append(f"masses: volume ~ mass (largest {np.max(design.mass_values):.3g} kg)")
+        parts.append(f"masses: volume ~ mass (largest {fmt(np.max(design.mass_values))} kg)")
     if len(design.dipole_moments):
         top = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
-        parts.append(f"arrows: direction of sigma (largest {top:.3g} A m^2)")
+        parts.append(f"arrows: direction of sigma (largest {fmt(top)} A m^2)")
     return "; ".join(parts)
 
 
@@ -654,7 +658,9 @@ def _add_scale_bar(plotter: pv.Plotter, blocks: Any) -> None:
     bar: Any = blocks["scale_bar"]
     length = float(bar.field_data["length (m)"][0])
     plotter.add_mesh(bar, color="black", line_width=3.0)
-    _add_labels(plotter, [np.mean(bar.points, axis=0)], [f"{length:g} m"], "scale_bar", "black")
+    _add_labels(
+        plotter, [np.mean(bar.points, axis=0)], [f"{fmt(length, PLAIN)} m"], "scale_bar", "black"
+    )
 
 
 def _add_labels(
@@ -762,7 +768,7 @@ def _draw_scene(
     key = _size_key(design, size)
     plotter.add_text(
         f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
-        f"{len(design.dipole_moments)} dipoles; gamma = ({g[0]:.3g}, {g[1]:.3g}, {g[2]:.3g})"
+        f"{len(design.dipole_moments)} dipoles; gamma = ({fmt(g[0])}, {fmt(g[1])}, {fmt(g[2])})"
         + (f"\n{key}" if key else ""),
         position="upper_left",
         font_size=9 if plotter.window_size[0] >= 640 else 6,
@@ -951,7 +957,7 @@ def render_image(
     design : Design
     region : mapping, optional
         Candidate region to outline (the scene's ``[body]`` table); default: the one recorded
-        in the design (``extra["region"]`` or ``extra["body"]``), else none.
+        in the design (design.json ``region``, or ``body`` in older files), else none.
     gamma : array_like, shape (3,), optional
         Space ``Z`` (field axis) in body axes; normalised; default ``(0, 0, 1)``.
     window_size : (int, int)
@@ -1016,8 +1022,6 @@ def render_screenshot(
         The written file.
     """
     import imageio.v3 as iio
-
-    from chargedesign.files import check_output_path
 
     target = Path(path)
     if target.suffix.lower() != ".png":
@@ -1190,8 +1194,6 @@ def animate(
     fps = as_finite_float(fps, "fps", positive=True)
     size = _window_size(window_size)
     check_element_count(design, max_elements)
-    from chargedesign.files import check_output_path
-
     check_output_path(target)
     traj = load_trajectory(trajectory)
     if region is None:
@@ -1279,7 +1281,7 @@ def _frames(
                     pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace"
                 )
             plotter.add_text(
-                f"t = {time:.4g} s   frame {i + 1}/{len(times)}",
+                f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}",
                 position="upper_left",
                 font_size=9,
                 color="black",
@@ -1299,3 +1301,12 @@ def _write_file(target: Path, write: Callable[[Path], None]) -> None:
             write(tmp)
     except OSError as exc:
         raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
+
+
+def design_picture(design: Design, width: int = 320, height: int = 240) -> str:
+    """An inline HTML picture of a design for notebooks (empty when it cannot be rendered here)."""
+    try:
+        image = render_image(design, window_size=(width, height))
+    except Exception:  # no OpenGL here: the table alone
+        return ""
+    return png_html(image, width)

@@ -55,7 +55,9 @@ def sample_design(continuous=True):
         dipole_moments=rng.normal(size=(2, 3)),
         realises=["mu", "V", "inertia"],
         continuous=bodies,
-        extra={"provenance": {"solver": "clarabel", "scene": "<default>"}, "units": "SI"},
+        provenance={"solver": "clarabel", "scene": "<default>"},
+        units={"positions": "m"},
+        further_keys={"made_by": "a test"},
     )
 
 

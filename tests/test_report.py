@@ -5,16 +5,23 @@ from pathlib import Path
 
 import numpy as np
 
+from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
 from chargedesign.report import render_report
-from chargedesign.results import format_length
+from chargedesign.results import design_text, format_length
 from chargedesign.scene import load_scene
 
 SMALL = Path(__file__).resolve().parent / "physical" / "small.toml"
 
 
 def test_part_sizes_are_those_of_the_written_parts():
-    design = design_from_scene(load_scene(SMALL), frontier=False).design
+    result = design_from_scene(load_scene(SMALL), frontier=False)
+    design = result.design
+    # the physical record: named fields, read through by the result
+    assert result.limits is design.buildability and result.limits["buildable"] is True
+    assert result.realism is design.realism and result.realism
+    assert result.time_rate == design.time_rate == 1.0
+    assert result.frontier is None and "frontier" not in design.to_dict()
     (line,) = [x for x in render_report(design).splitlines() if x.startswith("- Part sizes:")]
     radius = design.carrier_radii()[0]
     assert f"{len(design.charge_values)} carriers of radius {format_length(radius)}" in line
@@ -32,8 +39,6 @@ def test_lengths_read_in_the_unit_that_fits():
 
 def test_realism_notes_with_bars_stay_in_their_table_cell():
     """`|B|` and `|omega|` in a note would split the Markdown row into more cells."""
-    from chargedesign.body import Design
-
     design = Design.from_dict(
         {
             "format": "chargedesign.designer/1",
@@ -44,7 +49,7 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
             "materials": {"ballast": {"name": "tungsten", "density_kg_per_m3": 19250.0}},
         }
     )
-    design.extra["realism"] = {
+    design.realism = {
         "x": {"value": 1.0, "unit": "", "verdict": "negligible", "note": "at |omega| in |B|"}
     }
     rows = [line for line in render_report(design).splitlines() if line.startswith("| x |")]
@@ -78,8 +83,20 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     data = design.to_dict()
     for material in data["materials"].values():
         material["volume_susceptibility"] *= 10
-    from chargedesign.body import Design
-
     other = render_report(Design.from_dict(data))
     assert f"{10 * law['ratio']:.3g} times the designed K torques" in other
     assert f"element by element {10 * law['ratio_elements']:.3g}" in other
+
+
+def test_a_design_prints_its_figures_and_the_result_its_report():
+    design = Design.from_dict(
+        {
+            "parameters": {"C": 1.0, "n": 0.7},
+            "masses": {"positions": [[0.1, 0.0, 0.0]], "values": [1.0]},
+            "realises": ["inertia"],
+        }
+    )
+    text = str(design)
+    assert text == design_text(design)
+    assert text.splitlines()[0] == "Design:" and "masses" in text and "C=1 n=0.7" in text
+    assert "Design report" in render_report(design)

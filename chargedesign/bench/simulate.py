@@ -189,11 +189,11 @@ def _route_table(t_end: float) -> BenchTable:
         RigidBodySystem,
         attitude_from_gamma,
         direct_terms,
-        integrate,
         quaternion_gamma,
         quaternion_rotation,
         rotation_quaternion,
     )
+    from chargedesign.simulation.integrate import integrate
 
     body = fifty_element_body()
     effects = ["lorentz", "electric", "magnetization", "gravity"]

@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from chargedesign.formatting import AGREEMENT, DIRECTION, ERROR, FLOOR, PLAIN, PRECISE, fmt
 from chargedesign.results import Result
 
 
@@ -260,7 +261,10 @@ class CheckReport(Result):
     def _html_rows(self) -> dict[str, Any]:
         rows = self._summary()
         for name, q in self.quantities.items():
-            rows[name] = f"{q.status}: rel_err {q.rel_err:.3e} (floor {q.rounding_floor:.1e})"
+            rows[name] = (
+                f"{q.status}: rel_err {fmt(q.rel_err, ERROR)} (floor "
+                f"{fmt(q.rounding_floor, FLOOR)})"
+            )
         rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
         return rows
 
@@ -269,12 +273,13 @@ def summary_lines(report: CheckReport) -> list[str]:
     """Human-readable lines of a report (the CLI prints them)."""
     lines = [
         f"check: {report.n_orientations} orientations, {report.n_pairs} element-orientation "
-        f"pairs, tol {report.tol:g}, evaluated in {report.precision}",
+        f"pairs, tol {fmt(report.tol, PLAIN)}, evaluated in {report.precision}",
     ]
     if report.larmor is not None:
         lines.append(
-            f"larmor reading: {report.larmor['reading']} (rate {report.larmor['rate']:g} 1/s); "
-            f"compared with the theorem at n = {report.larmor['checked_n']:g}"
+            f"larmor reading: {report.larmor['reading']} (rate "
+            f"{fmt(report.larmor['rate'], PLAIN)} 1/s); "
+            f"compared with the theorem at n = {fmt(report.larmor['checked_n'], PLAIN)}"
         )
     lines += [
         f"{'quantity':<20} {'rel_err':>10} {'floor':>8} {'cancel':>8}  {'status':<10} worst gamma",
@@ -284,17 +289,22 @@ def summary_lines(report: CheckReport) -> list[str]:
         where = (
             "-"
             if q.worst_gamma is None
-            else "(" + ", ".join(f"{g:+.4f}" for g in q.worst_gamma) + ")"
+            else "(" + ", ".join(f"{fmt(g, DIRECTION)}" for g in q.worst_gamma) + ")"
         )
-        cancel = "zero ref" if q.basis == "gross" else f"{q.cancellation:.1e}"
+        cancel = "zero ref" if q.basis == "gross" else fmt(q.cancellation, FLOOR)
         lines.append(
-            f"{name:<20} {q.rel_err:>10.3e} {q.rounding_floor:>8.1e} {cancel:>8}  "
+            f"{name:<20} {fmt(q.rel_err, ERROR):>10} {fmt(q.rounding_floor, FLOOR):>8} "
+            f"{cancel:>8}  "
             f"{status[q.status]:<10} {where}"
         )
     lines.append(f"{'effect':<14} {'source':<8} {'elements':>8}  size; route agreement")
     for name, e in report.effects.items():
-        size = ", ".join(f"{k} {v:.4g}" for k, v in e.size.items())
-        route = "" if e.route_rel_err is None else f"; routes agree to {e.route_rel_err:.2e}"
+        size = ", ".join(f"{k} {fmt(v, PRECISE)}" for k, v in e.size.items())
+        route = (
+            ""
+            if e.route_rel_err is None
+            else f"; routes agree to {fmt(e.route_rel_err, AGREEMENT)}"
+        )
         lines.append(f"{name:<14} {e.source:<8} {e.n_elements:>8}  {size}{route}")
     for body in report.quadrature:
         lines.append(

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+from chargedesign.files import check_outputs
+
 AREAS = ("certificate", "fields", "design", "physical", "check", "simulate", "tolerance", "sweep")
 
 
@@ -28,7 +30,6 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     from chargedesign.bench.runner import run_benchmarks, write_report
-    from chargedesign.files import check_outputs
 
     check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
     heartbeat = _Heartbeat()

@@ -11,6 +11,9 @@ from __future__ import annotations
 import argparse
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
+from chargedesign.limits import MAX_ORIENTATIONS, MAX_QUADRATURE_ORDER
+from chargedesign.validation import as_count
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
 from chargedesign.vocabulary import PRECISIONS
@@ -24,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=DEFAULT_TOL,
         metavar="T",
-        help=f"relative tolerance for the claimed quantities (default {DEFAULT_TOL:g})",
+        help=f"relative tolerance for the claimed quantities (default {fmt(DEFAULT_TOL, PLAIN)})",
     )
     parser.add_argument(
         "--orientations",
@@ -67,8 +70,6 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(
             f"--precision: expected one of {', '.join(PRECISIONS)}, got {args.precision!r}"
         )
-    from chargedesign.limits import MAX_ORIENTATIONS, MAX_QUADRATURE_ORDER
-    from chargedesign.validation import as_count
 
     as_count(args.orientations, "--orientations", minimum=1, cap=MAX_ORIENTATIONS)
     if args.quadrature_order is not None:

@@ -23,6 +23,7 @@ import argparse
 import sys
 
 from chargedesign.errors import ChargeDesignError
+from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
 from chargedesign.vocabulary import OBJECTIVES
 
 
@@ -93,7 +94,6 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign.body import write_design
     from chargedesign.designer import design_from_scene
-    from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
     from chargedesign.report import plausibility, render_report
     from chargedesign.scene import load_scene
 
@@ -127,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         from chargedesign.tolerancing import tolerance_report
 
         progress("tolerances (exact first-order sensitivity of every element) ...")
-        design.extra["tolerance"] = tolerance_report(design).to_dict()
+        design.tolerance = tolerance_report(design).to_dict()
     out = Path(args.out)
     physical = design.medium is not None
     files = (

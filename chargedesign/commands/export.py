@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 
+from chargedesign.files import check_outputs
 from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
 
 
@@ -24,7 +25,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from chargedesign.export import export_design, load_any_design, resolve_format
-    from chargedesign.files import check_outputs
 
     check_outputs([("--out", args.out, False)], inputs=[args.design])
     fmt = resolve_format(args.format, args.out)

@@ -17,6 +17,9 @@ from __future__ import annotations
 import argparse
 import sys
 
+from chargedesign.errors import InputError
+from chargedesign.files import check_outputs
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
@@ -39,8 +42,6 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     from chargedesign.designer.pipeline import frontier_from_scene
-    from chargedesign.errors import InputError
-    from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
 
     if args.out is not None and not args.scan:

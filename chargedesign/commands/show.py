@@ -10,6 +10,7 @@ import argparse
 import json
 
 from chargedesign.errors import InputError
+from chargedesign.files import check_outputs
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -61,7 +62,6 @@ def run(args: argparse.Namespace) -> int:
 
     from chargedesign import viz
     from chargedesign.export import load_any_design
-    from chargedesign.files import check_outputs
 
     # before reading and rendering; never onto the design, the trajectory or the scene
     check_outputs(

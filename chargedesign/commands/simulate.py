@@ -22,6 +22,10 @@ import sys
 import time
 
 from chargedesign.errors import ChargeDesignError
+from chargedesign.files import atomic_directory, check_outputs
+from chargedesign.formatting import CELL, PLAIN, fmt
+from chargedesign.limits import MAX_PERIODS
+from chargedesign.validation import check_periods
 from chargedesign.vocabulary import EFFECTS, SIMULATION_AXES
 
 
@@ -142,7 +146,6 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from chargedesign.body import write_design
-    from chargedesign.files import atomic_directory
     from chargedesign.simulation import setup_from_source, simulate
     from chargedesign.simulation.result import summary_text
 
@@ -256,7 +259,6 @@ SIMULATE_FILES = (
 def _check_out(args: argparse.Namespace, setup: object) -> None:
     """The output folder, before any work (chargedesign.files.check_outputs): ``--out`` (or
     the atlas's default) before the source is read; a scene's ``[output] dir`` after."""
-    from chargedesign.files import check_outputs
 
     inputs = [args.source]
     if setup is None:
@@ -282,8 +284,6 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
     """The work a run asks for, estimated before it starts (chargedesign.limits): periods of
     the body's fastest rate over t_end (``effects = []``, a free motion, is said by the run's
     notes: "no effect acts: torque-free motion")."""
-    from chargedesign.limits import MAX_PERIODS
-    from chargedesign.validation import check_periods
 
     options = setup.options  # type: ignore[attr-defined]
     if args.atlas:
@@ -348,7 +348,6 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from chargedesign.files import atomic_directory
     from chargedesign.simulation import prepare
     from chargedesign.simulation.chaos import fli_map, poincare_atlas
 
@@ -391,16 +390,17 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         print(json.dumps(summary, indent=2, allow_nan=False))
         return 0
     print(
-        f"Poincare atlas: {args.orbits} orbits per level at energy {atlas.energy:.6g} J, "
-        f"I3 = {atlas.levels[0]:g} and {atlas.levels[1]:g} J s, t = {t_end:g} s: "
+        f"Poincare atlas: {args.orbits} orbits per level at energy {fmt(atlas.energy, CELL)} J, "
+        f"I3 = {fmt(atlas.levels[0], PLAIN)} and {fmt(atlas.levels[1], PLAIN)} J s, t = "
+        f"{fmt(t_end, PLAIN)} s: "
         f"{summary['points'][0]} and {summary['points'][1]} section points in "
-        f"{atlas.seconds:.3g} s"
+        f"{fmt(atlas.seconds)} s"
     )
     if args.fli:
         m0, m1 = summary["fli_median"]
         print(
-            f"FLI median on I3 = 0: {m0:.3g}; off the level: {m1:.3g} "
-            f"({summary['fli_seconds']:.3g} s)"
+            f"FLI median on I3 = 0: {fmt(m0)}; off the level: {fmt(m1)} "
+            f"({fmt(summary['fli_seconds'])} s)"
         )
     print("\n".join(f"wrote {f}" for f in files))
     return 0

@@ -13,6 +13,9 @@ import argparse
 import sys
 import time
 
+from chargedesign.errors import InputError
+from chargedesign.files import check_outputs
+
 EXECUTORS = ("process", "dask", "serial")  # mirrors chargedesign.sweeps.EXECUTORS
 
 
@@ -81,8 +84,6 @@ def run(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
 
-    from chargedesign.errors import InputError
-    from chargedesign.files import check_outputs
     from chargedesign.sweeps import (
         load_sweep,
         make_executor,

@@ -22,6 +22,12 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_directory, check_outputs
+from chargedesign.formatting import EXACT, PLAIN, fmt
+from chargedesign.limits import MAX_PERIODS
+from chargedesign.validation import check_error_scale, check_error_spreads, check_periods
+
 MAX_SAMPLES = 2000  # mirrors chargedesign.tolerancing.MAX_SAMPLES (kept here so --help stays light)
 MAX_LEVELS = 6
 
@@ -91,8 +97,6 @@ def run(args: argparse.Namespace) -> int:
     import math
 
     from chargedesign.body import read_design
-    from chargedesign.errors import InputError
-    from chargedesign.files import check_outputs
     from chargedesign.tolerancing import (
         ErrorModel,
         MaterialErrors,
@@ -100,7 +104,6 @@ def run(args: argparse.Namespace) -> int:
         recorded_material_errors,
         tolerance_report,
     )
-    from chargedesign.validation import check_error_scale, check_error_spreads
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
@@ -124,9 +127,6 @@ def run(args: argparse.Namespace) -> int:
     design = read_design(args.design)
     check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
-        from chargedesign.limits import MAX_PERIODS
-        from chargedesign.validation import check_periods
-
         check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")
     given = {
         "chi_relative": args.chi_relative,
@@ -182,7 +182,6 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
     import json
 
     from chargedesign.body import write_design
-    from chargedesign.files import atomic_directory
     from chargedesign.tolerancing import MonteCarloResult, plot_drift, with_tolerance
 
     report = result.report if isinstance(result, MonteCarloResult) else result
@@ -200,7 +199,7 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
             w.writerow(
                 [i]
                 + [
-                    f"{result.errors[q][k][i]:.17g}"
+                    fmt(result.errors[q][k][i], EXACT)
                     for q in result.errors
                     for k in ("monte_carlo", "linear")
                 ]
@@ -214,10 +213,10 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
                 for b in range(result.drift_mc.shape[1]):
                     w.writerow(
                         [
-                            f"{level:g}",
+                            fmt(level, PLAIN),
                             b,
-                            f"{result.drift_mc[i, b]:.17g}",
-                            f"{result.drift_linear[i, b]:.17g}",
+                            fmt(result.drift_mc[i, b], EXACT),
+                            fmt(result.drift_linear[i, b], EXACT),
                         ]
                     )
             (stage / "drift.csv").write_text(buf.getvalue())
@@ -230,7 +229,7 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
                 result.drift_p90_over_time,
                 strict=True,
             ):
-                w.writerow([f"{t:.17g}", f"{a:.17g}", f"{b:.17g}"])
+                w.writerow([fmt(t, EXACT), fmt(a, EXACT), fmt(b, EXACT)])
             (stage / "drift_over_time.csv").write_text(buf.getvalue())
             import matplotlib
 

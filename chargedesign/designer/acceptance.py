@@ -225,7 +225,7 @@ def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | No
     Parameters
     ----------
     design : Design
-        With ``extra["time_rate"]`` (1 when absent) and a ``gravity`` field.
+        With ``design.time_rate`` (1 when absent) and a ``gravity`` field.
     tol : float, optional
         The forward check's tolerance (default: the check's).
 
@@ -254,5 +254,5 @@ def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | No
     designed = min(x for x in (spread, torque, math.inf) if x > 0) if spread or torque else 0.0
     needed = tol * designed / (mass * g) if math.isfinite(designed) else 0.0
     held = BALANCE_ULPS * float(np.finfo(float).eps) * size
-    rate = float(design.extra.get("time_rate", 1.0))
+    rate = 1.0 if design.time_rate is None else float(design.time_rate)
     return BalanceBound(g, mass, needed, held, tol, rate)

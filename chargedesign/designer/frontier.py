@@ -340,14 +340,14 @@ def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding 
     balance = balance_bound(design)
     if balance is None:
         return design, None
-    design.extra["balance"] = balance.to_dict()
+    design.balance = balance.to_dict()
     if balance.confirmed:
         return design, None
     return design, Binding("balance", balance.text(), "centre of mass")
 
 
 def _balance_fails(design: Design, s: float) -> bool:
-    balance = design.extra.get("balance") or {}
+    balance = design.balance or {}
     return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
 
 
@@ -714,7 +714,7 @@ def find_frontier(
     assert search.hi_binding is not None
     design = _accept_lowest(search)
     front = search.result(search.lo, search.hi, search.hi_binding, design)
-    balance = (design.extra.get("balance") if design is not None else None) or {}
+    balance = (design.balance if design is not None else None) or {}
     if balance:
         front.balance = dict(balance)
         front.s_min = float(balance.get("lowest_rate") or math.inf)

@@ -43,7 +43,7 @@ from chargedesign.conditions import LinearConditions
 from chargedesign.constants import COULOMB, EPSILON_0, MU_0
 from chargedesign.designer.acceptance import balance_bound
 from chargedesign.designer.options import DesignOptions, Progress
-from chargedesign.designer.result import DesignResult, SourceResult, design_extras
+from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
 from chargedesign.designer.system import relative_residual
@@ -1486,10 +1486,10 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
         materials=spec.materials_dict(),
         larmor=None if larmor is None else LarmorReading(larmor.reading, larmor.rate * s),
     )
-    design.extra["field_limits"] = dict(spec.field_limits)
-    design.extra["time_rate"] = s
+    design.field_limits = dict(spec.field_limits)
+    design.time_rate = s
     if spec.material_errors:
-        design.extra["material_errors"] = dict(spec.material_errors)
+        design.material_errors = dict(spec.material_errors)
     return design
 
 
@@ -1557,7 +1557,7 @@ def design_physical(
     The body is accepted as :mod:`chargedesign.designer.acceptance` says: its limits are
     checked again from the written parts and, under gravity, its balance; the realism budget
     (:func:`chargedesign.physical.realism.realism_budget`) is written into
-    ``design.extra["realism"]``. The design never locates the frontier (the frontier calls
+    ``design.realism``. The design never locates the frontier (the frontier calls
     the design): :func:`chargedesign.designer.pipeline.design_from_scene` adds it.
 
     A rate beyond what the limits allow raises :class:`~chargedesign.errors.InfeasibleError`
@@ -1581,10 +1581,10 @@ def design_physical(
         timings={"physical": time.perf_counter() - t0},
         notes=[],
     )
-    design.extra.update(design_extras(result))
-    design.extra["buildability"] = limits.to_dict()
-    design.extra["realism"] = realism_budget(design, limits.field_response)
-    design.extra["physical_design"] = {
+    record_provenance(design, result)
+    design.buildability = limits.to_dict()
+    design.realism = realism_budget(design, limits.field_response)
+    design.physical_design = {
         "carrier_radius_m": setup.carrier_radius,
         "carrier_mass_kg": setup.carrier_mass,
         "constraint_generation_rounds": outcome.charges.rounds,
@@ -1641,7 +1641,7 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
         raise SolverError("physical design failed its own limits check: " + limits.violations[0])
     balance = balance_bound(design)
     if balance is not None:
-        design.extra["balance"] = balance.to_dict()
+        design.balance = balance.to_dict()
         if not balance.confirmed:
             raise PhysicalInfeasible(
                 Binding(

@@ -24,8 +24,9 @@ from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardI
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, find_frontier
 from chargedesign.designer.options import DesignOptions, Progress
+from chargedesign.designer.physical import design_physical, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
-from chargedesign.designer.result import DesignResult, SourceResult, design_extras
+from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solve import solve_problem
 from chargedesign.designer.solvers import InfeasibleProblem
@@ -37,8 +38,11 @@ from chargedesign.designer.system import (
     relative_residual,
 )
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
+from chargedesign.physical.realism import K_LAW_KEY, k_law
+from chargedesign.scene import Scene
 from chargedesign.validation import input_error
 
 
@@ -149,30 +153,30 @@ def _design_problem(
     if after > options.tolerance:
         if options.tolerance < 2 * np.finfo(float).eps:
             raise SolverError(
-                f"{source}: relative residual {after:.2g} exceeds design.tol = "
-                f"{options.tolerance:g}, which is below the rounding of double precision "
-                f"({np.finfo(float).eps:.2g}): raise design.tol"
+                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+                f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
+                f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
             )
         if cancels:
             # the solver is not at fault: the targets are tiny against what the weights carry
             raise InfeasibleError(
-                f"{source}: relative residual {after:.2g} exceeds design.tol = "
-                f"{options.tolerance:g}, most likely because {cancellation} (another solver "
-                "will not help)"
+                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+                f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
+                "solver will not help)"
             )
         raise SolverError(
-            f"{source}: relative residual {after:.2g} exceeds design.tol = "
-            f"{options.tolerance:g} ({sol.solver}, {polish_text}); try another solver"
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)} ({sol.solver}, {polish_text}); try another solver"
         )
     if worst is not None and worst.forward_error > FORWARD_LIMIT:
         raise InfeasibleError(
-            f"{source}: refused, {cancellation} (beyond {FORWARD_LIMIT:g} the body realises "
-            "nothing reliably)"
+            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
+            "realises nothing reliably)"
         )
     if cancels:
         notes.append(f"{source}: {cancellation}")
     if p.nonneg and np.any(weights < 0):
-        raise SolverError(f"{source}: a negative mass survived polishing ({weights.min():.3g} kg)")
+        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
     support = support_of(u, p.group, 0.0)
     if sol.status != "optimal" and before > options.tolerance:
         notes.append(
@@ -342,7 +346,7 @@ def design_body(
         timings=timings,
         notes=notes,
     )
-    design.extra.update(design_extras(result))
+    record_provenance(design, result)
     return result
 
 
@@ -375,8 +379,6 @@ def design_from_scene(
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
     frontier; the physical design itself never calls the frontier).
     """
-    from chargedesign.scene import Scene
-
     if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     t0 = time.perf_counter()
@@ -384,23 +386,17 @@ def design_from_scene(
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
     t2 = time.perf_counter()
     if inputs.spec is not None:
-        from chargedesign.designer.physical import design_physical, setup_physical
-
         setup = setup_physical(
             inputs.body_params, conditions, candidates, inputs.spec, options, larmor=inputs.larmor
         )
         result = design_physical(setup, progress=progress)
         if frontier:
-            from chargedesign.designer.frontier import find_frontier
-
             if progress is not None:
                 progress("locating the frontier (largest rate within the limits, to 5 %) ...")
             front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
-            result.design.extra["frontier"] = front.to_dict()
+            result.design.frontier = front.to_dict()
             # the budget's K law is judged at the frontier's K_max, known only now
-            from chargedesign.physical.realism import K_LAW_KEY, k_law
-
-            realism = result.design.extra.get("realism")
+            realism = result.design.realism
             if isinstance(realism, dict) and K_LAW_KEY in realism:
                 realism[K_LAW_KEY] = k_law(result.design)
     else:
@@ -409,12 +405,13 @@ def design_from_scene(
         result.design.larmor = inputs.larmor
         result.timings = {"setup": t2 - t0, **result.timings}
         result.timings["total"] = time.perf_counter() - t0
-        result.design.extra["timings"] = {k: round(v, 6) for k, v in result.timings.items()}
-    result.design.extra["larmor_why"] = inputs.larmor_why
+        result.design.timings = {k: round(v, 6) for k, v in result.timings.items()}
+    result.design.larmor_why = inputs.larmor_why
     if inputs.larmor_note:
         result.notes.append(inputs.larmor_note)
-        result.design.extra.setdefault("notes", []).append(inputs.larmor_note)
-    result.design.extra["provenance"]["scene"] = scene.source
+        result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
+    if result.design.provenance is not None:
+        result.design.provenance["scene"] = scene.source
     return result
 
 

@@ -5,11 +5,14 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from chargedesign import __version__
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
 from chargedesign.designer.options import DesignOptions
+from chargedesign.formatting import PLAIN, fmt
+from chargedesign.report import render_report
 from chargedesign.results import Result
 
 
@@ -51,7 +54,8 @@ class DesignResult(Result):
     Attributes
     ----------
     design : Design
-        The body, with provenance in ``design.extra`` (see docs/design.md).
+        The body, with its record (provenance, residuals, limits, realism, frontier, ...) in
+        named attributes (:data:`chargedesign.body.RECORD_KEYS`; see docs/design.md).
     sources : dict[str, SourceResult]
     candidates : CandidateSet
     options : DesignOptions
@@ -71,6 +75,36 @@ class DesignResult(Result):
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     status: str = "optimal"
+
+    @property
+    def limits(self) -> dict[str, Any] | None:
+        """The limits report of a physical body (design.json ``buildability``), or None."""
+        return self.design.buildability
+
+    @property
+    def realism(self) -> dict[str, Any] | None:
+        """The realism budget of a physical body (design.json ``realism``), or None."""
+        return self.design.realism
+
+    @property
+    def frontier(self) -> dict[str, Any] | None:
+        """The largest rate within the limits (design.json ``frontier``), or None."""
+        return self.design.frontier
+
+    @property
+    def tolerance(self) -> dict[str, Any] | None:
+        """The tolerance report (design.json ``tolerance``), or None."""
+        return self.design.tolerance
+
+    @property
+    def time_rate(self) -> float | None:
+        """The physical design's time rate s (design.json ``time_rate``), or None."""
+        return self.design.time_rate
+
+    @property
+    def larmor_why(self) -> str | None:
+        """Why the body's Larmor reading was chosen (design.json ``larmor_why``), or None."""
+        return self.design.larmor_why
 
     @property
     def residual_before(self) -> float:
@@ -127,14 +161,12 @@ class DesignResult(Result):
         }
 
     def _text(self) -> str:
-        from chargedesign.report import render_report
-
         return render_report(self.design)
 
     def _html_rows(self) -> dict[str, Any]:
         rows = self._summary()
         rows["parameters"] = ", ".join(
-            f"{k} = {v:g}" for k, v in self.design.parameters.as_dict().items()
+            f"{k} = {fmt(v, PLAIN)}" for k, v in self.design.parameters.as_dict().items()
         )
         rows.update({f"note {i + 1}": n for i, n in enumerate(self.notes)})
         return rows
@@ -143,10 +175,16 @@ class DesignResult(Result):
         return self.design._html_picture()
 
 
-def design_extras(result: DesignResult) -> dict[str, Any]:
-    """Provenance keys written into design.json beside the contract's keys."""
-    from chargedesign import __version__
+def record_provenance(design: Design, result: DesignResult) -> None:
+    """Set the design's provenance record (:func:`design_extras`) from how it was obtained."""
+    for key, value in design_extras(result).items():
+        setattr(design, key, value)
 
+
+def design_extras(result: DesignResult) -> dict[str, Any]:
+    """The provenance record written into design.json beside the contract's keys (units,
+    provenance, solver, objective, residuals, forward_accuracy, timings, candidates,
+    conditions, notes, region: :class:`~chargedesign.body.Design` attributes)."""
     conditions = result.conditions
     counts = {s: len(conditions.for_source(s)) for s in SOURCES if conditions.for_source(s)}
     out: dict[str, Any] = {

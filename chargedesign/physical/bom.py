@@ -88,7 +88,7 @@ def bom_csv(design: Any) -> str:
 
 def bom_totals(design: Any) -> dict[str, Any]:
     """Counts, masses, charges, magnet volume and the fields the apparatus must make."""
-    limits = design.extra.get("buildability", {})
+    limits = design.buildability or {}
     return {
         "carriers": len(design.charge_values),
         "magnets": len(design.dipole_moments),

@@ -337,7 +337,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
             violations.append(f"charge {light[0]}: carrier lighter than its sphere of material")
     region = float(np.max(np.linalg.norm(centres, axis=1) + part_r, initial=0.0))
     maxima: dict[str, float] = {}
-    limits = design.extra.get("field_limits", {}) if isinstance(design.extra, dict) else {}
+    limits = design.field_limits or {}
     for kind in ("magnetic", "electric", "gravity"):
         coeffs = design.field(kind)
         if not coeffs:

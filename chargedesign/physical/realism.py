@@ -322,7 +322,7 @@ def _frontier_k(design: Any) -> tuple[float, str]:
     ``frontier.K_max`` when written; else ``frontier.s_max`` times K (the charges reading's
     frontier scales n and K together); else the design's own K.
     """
-    frontier = design.extra.get("frontier") if isinstance(design.extra, dict) else None
+    frontier = design.frontier
     K = abs(design.parameters.K)
     if isinstance(frontier, dict):
         if frontier.get("K_max") is not None:
@@ -357,7 +357,7 @@ def _one_charge_sizes(design: Any, e_safe: float) -> tuple[float, float | None]:
     radii = design.carrier_radii()
     one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
     carrier = float(np.max(radii, initial=0.0))
-    written = (design.extra.get("buildability") or {}).get("region_radius_m")
+    written = (design.buildability or {}).get("region_radius_m")
     region = (
         as_finite_float(written, "buildability.region_radius_m")
         if written is not None
@@ -826,7 +826,7 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     offset_micro = (
         BALANCE_FRACTION * torque / (total_mass * MICROGRAVITY) if total_mass > 0 else math.inf
     )
-    envelope = float(design.extra.get("buildability", {}).get("region_radius_m", r_max))
+    envelope = float((design.buildability or {}).get("region_radius_m", r_max))
     drag_item = _drag_item(design.medium, envelope, rate, torque)
 
     response = field_response(design) if response is None else response

@@ -28,8 +28,10 @@ from typing import Any
 import numpy as np
 
 from chargedesign.files import atomic_directory, atomic_path
+from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.simulation.integrate import STATE_NAMES
 from chargedesign.validation import input_error
 
 INTEGRAL_NAMES = ("I1", "I2", "I3", "I4")
@@ -154,7 +156,7 @@ class SimulationResult(Result):
                 "omega": self.omega[0].tolist(),
                 "gamma": self.gamma[0].tolist(),
             },
-            "level": None if self.level is None else f"I3={self.level:g}",
+            "level": None if self.level is None else f"I3={fmt(self.level, PLAIN)}",
             "t_end": self.t_end,
             "t_reached": float(self.times[-1]),
             "completed": self.completed,
@@ -337,7 +339,7 @@ def plot_integrals(
     """
     t = result.times
     series = _integral_series(result)
-    level = "" if result.level is None else f", level I3 = {result.level:g}"
+    level = "" if result.level is None else f", level I3 = {fmt(result.level, PLAIN)}"
     title = f"Integrals along the motion ({', '.join(result.effects) or 'free'}{level})"
     if ax is not None and not isinstance(ax, (list, tuple, np.ndarray)):
         for values, label in series:
@@ -385,8 +387,6 @@ def plot_poincare(
     Draws into ``ax`` when given (else a new figure), writes a PNG to ``path`` when given, and
     returns the Axes.
     """
-    from chargedesign.simulation.integrate import STATE_NAMES
-
     for name in coordinates:
         if name not in STATE_NAMES:
             raise input_error("coordinates", "names among " + ", ".join(STATE_NAMES), name)
@@ -414,53 +414,54 @@ def summary_text(s: dict[str, Any]) -> str:
         tol = s.get("tol")
         how = f"taylor (heyoka), tol {'machine epsilon' if tol is None else format(tol, 'g')}"
     else:
-        how = f"{s['method']}, rtol {s['rtol']:g}, atol {s['atol']:g}"
+        how = f"{s['method']}, rtol {fmt(s['rtol'], PLAIN)}, atol {fmt(s['atol'], PLAIN)}"
     lines = [f"simulated: {effects} ({s['route']} route, {how})"]
     larmor = s.get("larmor") or {}
     if s.get("axes") == "turning":
         lines.append(
-            f"axes: turning at n = {s['axes_rate']:g} 1/s about Z (frame body: its own physics "
-            f"at n = 0, read as omega - n gamma; I1, I3, I4 with n = {s['axes_rate']:g}; "
-            "the start is given in these axes)"
+            f"axes: turning at n = {fmt(s['axes_rate'], PLAIN)} 1/s about Z (frame body: "
+            f"its own physics at n = 0, read as omega - n gamma; I1, I3, I4 with n = "
+            f"{fmt(s['axes_rate'], PLAIN)}; the start is given in these axes)"
         )
     elif larmor.get("reading") == "frame":
         lines.append(
             f"axes: inertial (frame body: its own physics at n = 0, integrals with n = 0; "
-            f"--axes turning reads it at n = {larmor['rate']:g})"
+            f"--axes turning reads it at n = {fmt(larmor['rate'], PLAIN)})"
         )
     if body.get("designed_from_scene"):
         c = body["counts"]
         lines.append(
             f"body: designed from the scene's [body] ({body['shape']}, {body['candidates']} "
             f"candidates): {c['charges']} charges, {c['dipoles']} dipoles, {c['masses']} masses, "
-            f"residual {body['residuals']['max_after_polish']:.2g}"
+            f"residual {fmt(body['residuals']['max_after_polish'], ROUGH)}"
         )
     lines += [
-        f"t = 0 .. {s['t_reached']:g} s of {s['t_end']:g} s: {s['steps']} steps, "
+        f"t = 0 .. {fmt(s['t_reached'], PLAIN)} s of {fmt(s['t_end'], PLAIN)} s: "
+        f"{s['steps']} steps, "
         + (
-            f"{s['seconds']:.3g} s (+ {s['compile_seconds']:.3g} s compile)"
+            f"{fmt(s['seconds'])} s (+ {fmt(s['compile_seconds'])} s compile)"
             if s["method"] == "taylor"
-            else f"{s['rhs_evaluations']} evaluations, {s['seconds']:.3g} s"
+            else f"{s['rhs_evaluations']} evaluations, {fmt(s['seconds'])} s"
         ),
         (
-            f"I4 relative drift {s['I4_rel_drift']:.3g}"
+            f"I4 relative drift {fmt(s['I4_rel_drift'])}"
             if s["I4_rel_drift"] is not None
             else f"I4 relative drift not reported: {s.get('I4_reason', 'no integral')}"
         )
-        + f"; I3 max |I3| {s['I3_max']:.3g} J s"
+        + f"; I3 max |I3| {fmt(s['I3_max'])} J s"
         + (f" (level {s['level']})" if s["level"] else "")
-        + f", drift {s['I3_max_dev']:.3g}",
-        f"I1 relative drift {s['I1_rel_drift']:.3g}; max ||gamma|^2 - 1| {s['I2_max_dev']:.3g}",
+        + f", drift {fmt(s['I3_max_dev'])}",
+        f"I1 relative drift {fmt(s['I1_rel_drift'])}; max ||gamma|^2 - 1| {fmt(s['I2_max_dev'])}",
     ]
     for event in s["events"]:
-        lines.append(f"event: {event['kind']} at t = {event['t']:.6g} s")
+        lines.append(f"event: {event['kind']} at t = {fmt(event['t'], CELL)} s")
     realises_theorem = {"mu", "V", "inertia"} <= set(body.get("realises", ()))
     if s["level"] == "I3=0" and (s["effects"] == ["theorem"] or realises_theorem):
         # a level of the order of C omega with omega ~ 1/s
         example = 0.5 * float(s["parameters"].get("C", 1.0))
         lines.append(
-            f"on I3 = 0 the theorem's I4 is an integral; --off-level {example:g} starts off "
-            "the level"
+            f"on I3 = 0 the theorem's I4 is an integral; --off-level {fmt(example, PLAIN)} "
+            "starts off the level"
         )
     elif s["level"] is not None and s["level"] != "I3=0" and realises_theorem:
         lines.append(
@@ -475,7 +476,7 @@ def summary_text(s: dict[str, Any]) -> str:
         if name in ("energy", "gamma_norm", "I3", "I4") or m.get("drift") is None:
             continue
         kind = "integral" if m.get("integral") else "asked for, no integral here"
-        lines.append(f"{name}: drift {m['drift']:.3g} ({m.get('scale', 'relative')}; {kind})")
+        lines.append(f"{name}: drift {fmt(m['drift'])} ({m.get('scale', 'relative')}; {kind})")
     lines += [f"note: {n}" for n in notes]
     lines += [f"wrote {f}" for f in s.get("files", [])]
     return "\n".join(lines)

@@ -113,10 +113,10 @@ def test_to_dict_round_trips_through_json(results, name):
 
 @pytest.mark.parametrize("name", NAMES)
 def test_str_is_the_text_and_html_is_a_table(results, name, monkeypatch):
-    import chargedesign.results
+    import chargedesign.viz
 
     # no rendering in this test: the picture beside the table is tested in tests/viz
-    monkeypatch.setattr(chargedesign.results, "design_picture", lambda design: "")
+    monkeypatch.setattr(chargedesign.viz, "design_picture", lambda design: "")
     obj = results[name]
     assert str(obj).strip() and str(obj) != repr(obj)
     html = obj._repr_html_()

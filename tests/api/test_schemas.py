@@ -50,7 +50,7 @@ def test_a_designed_and_a_physical_design_validate(default_result):
         dipole_moments=[[0.0, 0.0, 0.01]],
         dipole_volumes=[1e-8],
         dipole_masses=[7.5e-5],
-        extra={
+        further_keys={
             "medium": {"name": "air", "breakdown_V_per_m": 3e6, "safety": 0.5},
             "materials": {
                 "magnet": {

@@ -412,16 +412,19 @@ def test_relative_residual():
     )
 
 
-def test_design_from_scene_and_extras():
+def test_design_from_scene_and_its_record():
     result = design_from_scene(load_scene(UNIT_SCENE))
-    extra = result.design.to_dict()
+    data = result.design.to_dict()
     for key in ("residuals", "objective", "solver", "timings", "candidates", "conditions"):
-        assert key in extra
-    assert extra["residuals"]["after_polish"]["charges"] <= 1e-13
-    assert extra["candidates"]["shape"] == "ball"
-    assert extra["region"] == {"shape": "ball", "radius": 1.0}
-    assert len(extra["conditions"]["list"]) == len(result.conditions.conditions)
-    assert extra["provenance"]["scene"] == str(UNIT_SCENE)
+        assert key in data
+    assert data["residuals"]["after_polish"]["charges"] <= 1e-13
+    assert data["candidates"]["shape"] == "ball"
+    assert data["region"] == {"shape": "ball", "radius": 1.0}
+    assert len(data["conditions"]["list"]) == len(result.conditions.conditions)
+    assert data["provenance"]["scene"] == str(UNIT_SCENE)
+    assert result.design.residuals == data["residuals"] and result.design.region == data["region"]
+    assert result.design.provenance is not None
+    assert result.design.provenance["scene"] == str(UNIT_SCENE)
 
 
 def test_realise_subset_from_scene():
@@ -502,7 +505,7 @@ def test_default_design_has_no_cancellation():
     )
     text = render_report(d)
     assert "Forward accuracy" in text and "charges ~" in text
-    assert "forward_accuracy" in d.extra
+    assert d.forward_accuracy is not None and "forward_accuracy" in d.to_dict()
 
 
 def test_weak_uniform_field_is_designed_with_a_cancellation_note():

@@ -114,8 +114,8 @@ def test_json_summary_and_si_scene(tmp_path, capsys):
     assert summary["plausibility"]["field_V_per_m"] > 0
     assert captured.err == ""
     design = check_written_design(out / "design.json")
-    assert design.extra["candidates"]["shape"] == "cylinder"
-    assert design.extra["residuals"]["after_polish"]["charges"] <= 1e-13
+    assert design.candidates["shape"] == "cylinder"
+    assert design.residuals["after_polish"]["charges"] <= 1e-13
 
 
 def test_objective_override(tmp_path, capsys):
@@ -137,7 +137,7 @@ def test_objective_override(tmp_path, capsys):
     )
     capsys.readouterr()
     design = read_design(out / "design.json")
-    assert design.extra["objective"]["charges"]["kind"] == "l2"
+    assert design.objective["charges"]["kind"] == "l2"
     check_written_design(out / "design.json")
 
 

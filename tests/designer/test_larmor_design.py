@@ -31,7 +31,7 @@ def test_the_mathematical_case_defaults_to_charges_and_is_unchanged():
     design = result.design
     assert design.larmor.reading == "charges" and design.larmor.rate == 0.7
     assert design.parameters.n == 0.7 and design.body_parameters == design.parameters
-    assert "without [medium]" in design.extra["larmor_why"]
+    assert "without [medium]" in design.larmor_why
     # the same body as the explicit charges reading
     again = design_from_scene(unit(larmor="charges")).design
     np.testing.assert_array_equal(design.charge_values, again.charge_values)
@@ -73,7 +73,7 @@ def test_frame_with_n_zero_is_a_note_not_an_error():
     data["parameters"]["n"] = 0.0
     data["design"]["larmor"] = "frame"
     result = design_from_scene(scene_from_dict(data, "<unit n=0>"))
-    notes = result.design.extra["notes"]
+    notes = result.design.notes
     assert any("n = 0" in note and "same body" in note for note in notes)
     assert result.design.larmor.reading == "frame" and result.design.larmor.rate == 0.0
     assert body_check(result.design).passed

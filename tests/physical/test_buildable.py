@@ -294,10 +294,10 @@ def test_the_embedded_default_is_buildable():
     assert design.larmor.reading == "frame" and design.larmor.rate == 2.45e-6
     assert check_limits(design).buildable
     assert body_check(design).passed
-    assert design.extra["realism"]["v_over_c"]["verdict"] == "negligible"
+    assert design.realism["v_over_c"]["verdict"] == "negligible"
     # ... but the applied field acts on its tungsten and aluminium far more than the designed
     # charges and magnets do (docs/buildable.md, "The applied field acts on every part")
-    realism = design.extra["realism"]
+    realism = design.realism
     assert realism["induced_magnetisation_fraction"]["value"] > 1e10
     assert realism["eddy_torque_fraction"]["value"] > 1e6
     from chargedesign.report import render_report

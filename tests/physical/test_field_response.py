@@ -216,7 +216,7 @@ def test_every_part_set_is_counted_with_its_material(small_design):
     # the check recomputes the same figures from the written elements
     limits = check_limits(design)
     assert limits.field_response == field_response(design)
-    assert set(FIELD_RESPONSE_KEYS) <= set(design.extra["realism"])
+    assert set(FIELD_RESPONSE_KEYS) <= set(design.realism)
     assert "induced magnetisation fraction" in str(limits)
 
 

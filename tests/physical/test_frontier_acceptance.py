@@ -59,7 +59,7 @@ def accepted(setup, s):
 
 def assert_design_agrees(setup, frontier):
     design = accepted(setup, 0.98 * frontier.s_max)
-    assert design.extra["time_rate"] == pytest.approx(0.98 * frontier.s_max)
+    assert design.time_rate == pytest.approx(0.98 * frontier.s_max)
     with pytest.raises(InfeasibleError) as info:
         accepted(setup, 1.02 * frontier.s_max)
     text = str(info.value)

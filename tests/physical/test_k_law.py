@@ -66,7 +66,7 @@ def similar_body(size: float, medium: str, a2: float = A2) -> Design:
     frontier = find_frontier(setup, direct=False)
     body = build_design(setup, design_at_rate(setup, frontier.s_max))
     # the body is written at s_max: its K is K_max
-    body.extra["frontier"] = {"K_max": body.parameters.K}
+    body.frontier = {"K_max": body.parameters.K}
     return body
 
 
@@ -80,7 +80,7 @@ def elements_ratio(design: Design) -> float:
     p = design.parameters
     response = field_response(design)
     energy = response[FIELD_RESPONSE_KEYS[0]]["value"] * p.C * typical_rate(p) ** 2 / 4.0
-    return energy / (p.C * design.extra["frontier"]["K_max"] ** 2)
+    return energy / (p.C * design.frontier["K_max"] ** 2)
 
 
 def mass_weighted_chi_over_rho(design: Design) -> float:
@@ -222,11 +222,11 @@ def test_check_recomputes_the_law_from_design_json(bodies, tmp_path):
     assert limits.to_dict()["k_law"]["K_max_source"] == "frontier.K_max"
     assert "size-free law" in str(limits)
     K = body.parameters.K
-    written.extra["frontier"] = {"s_max": 2.0}
+    written.frontier = {"s_max": 2.0}
     law = k_law(written)
     assert law["K_max_1_per_s"] == pytest.approx(2 * K) and "s_max" in law["K_max_source"]
     assert law["ratio"] == pytest.approx(k_law(body)["ratio"] / 4, rel=1e-12)
-    del written.extra["frontier"]
+    written.frontier = None
     assert k_law(written)["K_max_1_per_s"] == K
     assert realism_budget(written)[K_LAW_KEY]["ratio"] == pytest.approx(k_law(written)["ratio"])
 

@@ -22,7 +22,7 @@ def design():
         dipole_positions=[[0.0, 0.0, 0.3]],
         dipole_moments=[[0.0, 0.1, 0.0]],
         realises=["mu"],
-        extra={"provenance": {"scene": "<test>"}},
+        provenance={"scene": "<test>"},
     )
 
 
@@ -37,7 +37,7 @@ def test_csv_reads_with_plain_pandas_and_round_trips(tmp_path):
     np.testing.assert_array_equal(charges["value"].to_numpy(), d.charge_values)
     back = export.import_design(path)
     np.testing.assert_array_equal(back.dipole_moments, d.dipole_moments)
-    assert back.extra["provenance"] == {"scene": "<test>"}
+    assert back.provenance == {"scene": "<test>"}
 
 
 def test_csv_of_the_earlier_commented_form_is_still_read(tmp_path):

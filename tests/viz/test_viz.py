@@ -146,7 +146,7 @@ def test_region_outlines_lie_on_the_region():
 def test_region_recorded_in_the_design_is_found():
     design = make_design(charges=[1.0])
     assert viz.region_from_design(design) is None
-    design.extra["body"] = {"shape": "ball", "radius": 1.0, "spacing": 0.25}
+    design.further_keys["body"] = {"shape": "ball", "radius": 1.0, "spacing": 0.25}
     assert viz.region_from_design(design) == {"shape": "ball", "radius": 1.0, "spacing": 0.25}
 
 
