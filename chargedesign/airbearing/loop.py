@@ -42,8 +42,8 @@ class LoopSettings:
     delay_s: float
     t_end_s: float
     command: str = "zoh"
-    gyro_arw: float = 0.0
-    gyro_bias: float = 0.0
+    gyro_arw: float | np.ndarray = 0.0
+    gyro_bias: float | np.ndarray = 0.0
     attitude_noise: float = 0.0
     imbalance_m: float = 0.0
     drag_N_m_s: float = 0.0
@@ -54,7 +54,11 @@ class LoopSettings:
 
     @property
     def noisy(self) -> bool:
-        return self.gyro_arw > 0 or self.gyro_bias > 0 or self.attitude_noise > 0
+        return bool(np.any(self.gyro_arw) or np.any(self.gyro_bias) or self.attitude_noise > 0)
+
+    def per_run(self, name: str, runs: int) -> np.ndarray:
+        """A gyro figure as a column (runs, 1): one value for all runs, or one per run."""
+        return np.broadcast_to(np.asarray(getattr(self, name), float), (runs,))[:, None]
 
 
 @dataclass
@@ -154,7 +158,8 @@ def run_loop(
     n_samples = max(1, int(round(settings.t_end_s * settings.rate_Hz)))
     max_step = STEP_FRACTION / motion_rate(plant.params, x0[:3])
     actuator = _Actuator(settings)
-    bias = settings.gyro_bias * rng.standard_normal((runs, 3))
+    bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
+    arw = settings.per_run("gyro_arw", runs)
     offset = _imbalance(settings.imbalance_m, runs, rng)
     weight = settings.total_mass_kg * STANDARD_GRAVITY
 
@@ -174,7 +179,7 @@ def run_loop(
         momentum[:, k] = np.abs(actuator.wheel(x[:, 6:9])).max(axis=1)
         if k == n_samples:
             break
-        measured = _measure(x, settings, bias, rng, T)
+        measured = _measure(x, settings, bias, arw, rng, T)
         wanted = _command(plant, measured, settings, T, max_step)
         applied, tau = actuator.apply(wanted)
         torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
@@ -206,13 +211,18 @@ def _imbalance(size: float, runs: int, rng: np.random.Generator) -> np.ndarray:
 
 
 def _measure(
-    x: np.ndarray, settings: LoopSettings, bias: np.ndarray, rng: np.random.Generator, T: float
+    x: np.ndarray,
+    settings: LoopSettings,
+    bias: np.ndarray,
+    arw: np.ndarray,
+    rng: np.random.Generator,
+    T: float,
 ) -> np.ndarray:
     """The controller's view of the state (m, 9): noisy omega and gamma, exact h."""
     if not settings.noisy:
         return x.copy()
     out = x.copy()
-    out[:, 0:3] += bias + (settings.gyro_arw / np.sqrt(T)) * rng.standard_normal((len(x), 3))
+    out[:, 0:3] += bias + (arw / np.sqrt(T)) * rng.standard_normal((len(x), 3))
     if settings.attitude_noise > 0.0:
         angle = settings.attitude_noise * rng.standard_normal((len(x), 3))
         g = x[:, 3:6] + cross(angle, x[:, 3:6])
