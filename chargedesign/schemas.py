@@ -19,6 +19,7 @@ import json
 from importlib import resources
 from typing import Any
 
+from chargedesign.airbearing.options import table_schema as testbed_table_schema
 from chargedesign.vocabulary import (
     BODY_SHAPES,
     DESIGN_FORMAT,
@@ -314,6 +315,7 @@ def scene_schema() -> dict[str, Any]:
             },
             "additionalProperties": False,
         },
+        "testbed": testbed_table_schema(),
     }
     assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
     return {

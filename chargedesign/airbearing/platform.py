@@ -87,14 +87,14 @@ def total_com(platform: Platform, ballast: Ballast) -> np.ndarray:
     return moment / (platform.mass_kg + ballast.total_mass)
 
 
-def candidate_sites(outer: float, inner: float, spacing: float) -> np.ndarray:
-    """Grid sites (n, 3) with ``inner + spacing/2 <= |r| <= outer - spacing/2``: a part of
-    radius up to spacing/2 stays inside the envelope and off the bearing's ball."""
+def candidate_sites(outer: float, inner: float, spacing: float, clearance: float) -> np.ndarray:
+    """Grid sites (n, 3) with ``inner + clearance <= |r| <= outer - clearance``: a part of
+    radius up to the clearance stays inside the envelope and off the bearing's ball."""
     k = int(math.floor(outer / spacing))
     axis = spacing * np.arange(-k, k + 1)
     grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
     norm = np.linalg.norm(grid, axis=1)
-    return grid[(norm <= outer - spacing / 2.0) & (norm >= inner + spacing / 2.0)]
+    return grid[(norm <= outer - clearance) & (norm >= inner + clearance)]
 
 
 def _rows(positions: np.ndarray) -> np.ndarray:
@@ -120,14 +120,58 @@ def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballas
         When no ballast inside the envelope (off the bearing's ball) reaches the target, or
         the parts overlap or leave the envelope once sized.
     """
+    spacing = opts.ballast_spacing_m or platform.radius_m / 5.0
+    clearance = spacing / 2.0
+    for attempt in range(6):
+        ballast = _ballast_on_grid(platform, C, opts, spacing, clearance)
+        try:
+            _check_fit(ballast, platform.radius_m, opts.bearing_radius_m)
+            return ballast
+        except InfeasibleError:
+            if attempt == 5:
+                raise
+        # parts larger than the grid allowed for: keep them clear of the walls and apart
+        largest = float(ballast.radii.max())
+        clearance = max(clearance, 1.05 * largest)
+        if opts.ballast_spacing_m is None:
+            spacing = max(spacing, 2.1 * largest)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _ballast_on_grid(
+    platform: Platform, C: float, opts: TestbedOptions, spacing: float, clearance: float
+) -> Ballast:
+    sites = candidate_sites(platform.radius_m, opts.bearing_radius_m, spacing, clearance)
+    if len(sites) == 0:
+        raise InfeasibleError(
+            "testbed: no room for ballast between the bearing's ball and the envelope; give a "
+            "larger platform_radius_m or a denser ballast_material"
+        )
+    rows, target = _rows(sites), _targets(platform, C)
+    own = np.zeros(9)
+    for _ in range(4):  # the spheres' own inertia moves the LP's target: re-solve with it
+        masses = _least_mass(rows, target - own, platform, C)
+        radii = sphere_radii(masses, opts.ballast_density)
+        own[3:6] = float((0.4 * masses * radii**2).sum())
+    keep = masses > 1e-9 * masses.max()
+    positions = sites[keep]
+    masses = _polish(positions, masses[keep], target, opts.ballast_density)
+    return Ballast(
+        positions=positions,
+        masses=masses,
+        radii=sphere_radii(masses, opts.ballast_density),
+        material=opts.ballast_material,
+        density=opts.ballast_density,
+    )
+
+
+def _least_mass(rows: np.ndarray, target: np.ndarray, platform: Platform, C: float) -> np.ndarray:
+    """The LP: least total mass with ``rows @ m = target``, ``m >= 0`` (HiGHS)."""
     from scipy.optimize import linprog
 
-    spacing = opts.ballast_spacing_m or platform.radius_m / 5.0
-    sites = candidate_sites(platform.radius_m, opts.bearing_radius_m, spacing)
-    rows, target = _rows(sites), _targets(platform, C)
     scale = np.abs(rows).max(axis=1) + 1e-300  # equilibrate (first and second moments differ)
     lp = linprog(
-        np.ones(len(sites)),
+        np.ones(rows.shape[1]),
         A_eq=rows / scale[:, None],
         b_eq=target / scale,
         bounds=(0, None),
@@ -142,18 +186,7 @@ def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballas
         )
     if lp.status != 0:
         raise SolverError(f"testbed: the ballast program failed ({lp.message})")
-    keep = lp.x > 1e-9 * lp.x.max()
-    positions = sites[keep]
-    masses = _polish(positions, lp.x[keep], target, opts.ballast_density)
-    ballast = Ballast(
-        positions=positions,
-        masses=masses,
-        radii=sphere_radii(masses, opts.ballast_density),
-        material=opts.ballast_material,
-        density=opts.ballast_density,
-    )
-    _check_fit(ballast, platform.radius_m, opts.bearing_radius_m)
-    return ballast
+    return np.asarray(lp.x, float)
 
 
 def _polish(positions: np.ndarray, masses: np.ndarray, target: np.ndarray, rho: float) -> np.ndarray:
