@@ -177,6 +177,8 @@ class TestbedOptions:
     requirement_rates_Hz: tuple[float, ...] = (50.0, 100.0, 200.0, 500.0, 1000.0)
     requirement_seeds: int = 4
 
+    __test__ = False  # not a pytest class (its name starts with Test)
+
     @classmethod
     def from_table(cls, table: Mapping[str, Any] | None, where: str = "testbed") -> TestbedOptions:
         """Validate a ``[testbed]`` table (one-line errors naming ``testbed.<key>``)."""

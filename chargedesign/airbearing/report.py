@@ -115,6 +115,9 @@ def _save(fig: Any, path: Path) -> None:
 
 def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
     """PyVista picture of the platform shell, ballast spheres and wheels (False if none)."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        # no display: VTK's EGL window, not a failed X attempt (as chargedesign.viz does)
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     try:
         import pyvista as pv
 
@@ -230,7 +233,9 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
     lines += [
         "",
         f"Drag alone would drift I4 by {tol['drag_drift']:.3g}, the imbalance by "
-        f"{tol['imbalance_drift']:.3g} (linear response along the planned motion).",
+        f"{tol['imbalance_drift']:.3g} (linear response along the planned motion): the target "
+        f"needs the drag below {tol['drag_max_N_m_s']:.3g} N m s and the centre of mass within "
+        f"{format_length(tol['imbalance_m'])} of O (each alone using the whole target).",
         "",
     ]
     if result.requirements is not None:
@@ -239,7 +244,7 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
             "## Requirements",
             "",
             "I4 drift (worst of the seeds) against the control rate, command "
-            f"`{o.command}`; target {req.target:g}:",
+            f"`{o.command}`, without drag and imbalance (above); target {req.target:g}:",
             "",
             "| gyro | " + " | ".join(f"{x:g} Hz" for x in req.rates_Hz) + " | lowest rate |",
             "| --- " * (len(req.rates_Hz) + 2) + "|",

@@ -2,8 +2,9 @@
 target.
 
 For every control rate the runs of all gyro grades (``requirement_seeds`` noise seeds each)
-go together in one batch, with the scene's command, attitude sensor, wheels and bearing drag
-and no imbalance (the balance is read from the linear response, :mod:`.balance`). A setting
+go together in one batch, with the scene's command, attitude sensor and wheels and without
+disturbances (the balance and the drag they allow are read from the linear response,
+:mod:`.balance`: each alone may use the whole target). A setting
 meets the target when the largest drift over its seeds is within ``target_I4_drift``.
 """
 

@@ -161,13 +161,14 @@ class TestbedResult(Result):
             lines.append(f"  {name}: {spread}")
         tol = self.tolerances
         lines.append(
-            f"balance: centre of mass within {format_length(tol['imbalance_m'])} of O; A - B "
-            f"within {tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2 (target drift "
-            f"{o.target_I4_drift:g})"
+            f"for I4 within {o.target_I4_drift:g}: centre of mass within "
+            f"{format_length(tol['imbalance_m'])} of O, bearing drag below "
+            f"{tol['drag_max_N_m_s']:.3g} N m s (now {o.drag:.3g}), A - B within "
+            f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2"
         )
         if self.requirements is not None:
             for grade, rate in self.requirements.lowest_rate_Hz.items():
-                need = f"{rate:g} Hz" if rate is not None else "no rate tried"
+                need = f"{rate:g} Hz" if rate is not None else "none of the rates tried"
                 lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
         return "\n".join(lines) + "\n"
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import time
+from importlib import resources
+from pathlib import Path
 from dataclasses import replace
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -24,6 +26,12 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.wheels import wheel_axes, wheel_limits, wheel_needs
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
+
+
+def default_testbed_scene() -> Path:
+    """The embedded testbed scene (the same text as examples/scenes/testbed.toml): the
+    embedded default scene's SI body is far too small for a platform."""
+    return Path(str(resources.files("chargedesign").joinpath("data/testbed_scene.toml")))
 
 
 def testbed_from_scene(
@@ -105,7 +113,7 @@ def build_testbed(
         reqs = requirements(
             plant,
             x0,
-            _with(nominal, imbalance_m=0.0),
+            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0),
             GYRO_GRADES,
             opts.requirement_rates_Hz,
             opts.requirement_seeds,
@@ -160,6 +168,7 @@ def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mas
         "imbalance_m": target / sens.imbalance_per_m,
         "imbalance_drift": opts.imbalance_m * sens.imbalance_per_m,
         "drag_drift": drag_drift,
+        "drag_max_N_m_s": target / sens.drag_per_unit,
         "inertia": inertia_tolerances(sens, target, plant.params.C),
         "ballast_placement_m": {
             "through_inertia": parts["through_inertia_m"],

@@ -16,7 +16,11 @@ import sys
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "scene", nargs="?", default=None, help="scene file (TOML) with [testbed]; default: embedded"
+        "scene",
+        nargs="?",
+        default=None,
+        help="scene file (TOML) with [testbed]; default: the embedded testbed scene "
+        "(examples/scenes/testbed.toml)",
     )
     parser.add_argument(
         "--out", default="out/testbed", metavar="DIR", help="output folder (default out/testbed)"
@@ -28,7 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from chargedesign.airbearing.run import testbed_from_scene
+    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
     from chargedesign.airbearing.report import OUTPUTS, write_testbed
     from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
@@ -39,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"testbed: {message}", file=sys.stderr, flush=True)
 
-    result = testbed_from_scene(load_scene(args.scene), progress=progress)
+    result = testbed_from_scene(load_scene(args.scene or default_testbed_scene()), progress=progress)
     written = write_testbed(result, args.out)
     progress(f"wrote {args.out}/: {', '.join(written)}")
     if args.json:
