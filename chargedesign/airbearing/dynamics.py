@@ -65,7 +65,9 @@ def monomials(gamma: np.ndarray) -> np.ndarray:
     for k in range(1, POLY_DEGREE + 1):
         powers[:, k :: POLY_DEGREE + 1] = powers[:, k - 1 :: POLY_DEGREE + 1][:, :3] * gamma
     return (
-        powers.take(_FLAT[0], axis=1) * powers.take(_FLAT[1], axis=1) * powers.take(_FLAT[2], axis=1)
+        powers.take(_FLAT[0], axis=1)
+        * powers.take(_FLAT[1], axis=1)
+        * powers.take(_FLAT[2], axis=1)
     )
 
 
@@ -172,14 +174,16 @@ def _columns(outputs: list, m: int) -> np.ndarray:
 
 def dop853_step(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
     """One fixed step of DOP853 (8th order) of ``x' = f(x)`` from x by h."""
-    k = np.empty((_STAGES,) + x.shape)
+    k = np.empty((_STAGES, *x.shape))
     k[0] = f(x)
     for s in range(1, _STAGES):
         k[s] = f(x + h * np.tensordot(_A[s, :s], k[:s], axes=1))
     return x + h * np.tensordot(_B, k, axes=1)
 
 
-def advance(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, dt: float, max_step: float) -> np.ndarray:
+def advance(
+    f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, dt: float, max_step: float
+) -> np.ndarray:
     """``x`` advanced by dt in equal fixed DOP853 steps no longer than ``max_step``."""
     if dt <= 0.0:
         return x

@@ -19,6 +19,7 @@ at ``r_c``. Runs of one ensemble go together as one batch.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -155,7 +156,7 @@ def run_loop(
     """
     rng = np.random.default_rng(seed)
     T = 1.0 / settings.rate_Hz
-    n_samples = max(1, int(round(settings.t_end_s * settings.rate_Hz)))
+    n_samples = max(1, round(settings.t_end_s * settings.rate_Hz))
     max_step = STEP_FRACTION / motion_rate(plant.params, x0[:3])
     actuator = _Actuator(settings)
     bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
@@ -183,12 +184,8 @@ def run_loop(
         wanted = _command(plant, measured, settings, T, max_step)
         applied, tau = actuator.apply(wanted)
         torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
-
-        def with_torque(u: np.ndarray) -> object:
-            return lambda y: plant.rates(y, u, external(y))
-
-        x = advance(with_torque(held), x, settings.delay_s, max_step)
-        x = advance(with_torque(applied), x, T - settings.delay_s, max_step)
+        x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
+        x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
         held = applied
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
@@ -202,6 +199,13 @@ def run_loop(
         wheel_momentum_max=momentum.max(axis=1),
         wheel_momentum=momentum if keep_states else None,
     )
+
+
+def _held(
+    plant: Plant, torque: np.ndarray, external: Callable[[np.ndarray], np.ndarray | None]
+) -> Callable[[np.ndarray], np.ndarray]:
+    """The plant's right-hand side under a held wheel torque."""
+    return lambda y: plant.rates(y, torque, external(y))
 
 
 def _imbalance(size: float, runs: int, rng: np.random.Generator) -> np.ndarray:

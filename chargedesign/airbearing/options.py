@@ -214,11 +214,11 @@ class TestbedOptions:
                 f"{where}.bearing_radius_m: expected less than platform_radius_m "
                 f"({self.platform_radius_m:g} m), got {self.bearing_radius_m!r}"
             )
-        samples = self.t_end_s * max(self.rate_Hz, *self.requirement_rates_Hz)
-        if samples > MAX_SAMPLES:
+        fastest = max(self.rate_Hz, *self.requirement_rates_Hz)
+        if self.t_end_s * fastest > MAX_SAMPLES:
             raise InputError(
-                f"{where}.t_end_s: {self.t_end_s:g} s at {max(self.rate_Hz, *self.requirement_rates_Hz):g}"
-                f" Hz is more than {MAX_SAMPLES} control samples; shorten it or lower the rates"
+                f"{where}.t_end_s: {self.t_end_s:g} s at {fastest:g} Hz is more than "
+                f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
             )
 
     @property

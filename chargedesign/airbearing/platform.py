@@ -90,7 +90,7 @@ def total_com(platform: Platform, ballast: Ballast) -> np.ndarray:
 def candidate_sites(outer: float, inner: float, spacing: float, clearance: float) -> np.ndarray:
     """Grid sites (n, 3) with ``inner + clearance <= |r| <= outer - clearance``: a part of
     radius up to the clearance stays inside the envelope and off the bearing's ball."""
-    k = int(math.floor(outer / spacing))
+    k = math.floor(outer / spacing)
     axis = spacing * np.arange(-k, k + 1)
     grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
     norm = np.linalg.norm(grid, axis=1)
@@ -189,7 +189,9 @@ def _least_mass(rows: np.ndarray, target: np.ndarray, platform: Platform, C: flo
     return np.asarray(lp.x, float)
 
 
-def _polish(positions: np.ndarray, masses: np.ndarray, target: np.ndarray, rho: float) -> np.ndarray:
+def _polish(
+    positions: np.ndarray, masses: np.ndarray, target: np.ndarray, rho: float
+) -> np.ndarray:
     """Gauss-Newton on the masses with each sphere's own inertia (2/5) m a^2 included."""
     rows = _rows(positions)
     own_rows = np.zeros((9, 1))

@@ -139,7 +139,7 @@ def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
             centre = 0.6 * R * axis
             wheel = pv.Cylinder(center=centre, direction=axis, radius=0.12 * R, height=0.04 * R)
             plotter.add_mesh(wheel, color="firebrick")
-        plotter.add_axes()
+        plotter.add_axes()  # type: ignore[call-arg]  # pyvista's decorator confuses mypy
         with atomic_path(path) as tmp:
             plotter.screenshot(str(tmp))
         return True
@@ -167,15 +167,22 @@ def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
         fig, ax = plt.subplots(figsize=(4, 4), dpi=60)
         j = int(np.searchsorted(t_id, t_em[k]))
         ax.plot(ideal[: j + 1, 0], ideal[: j + 1, 1], color="tab:blue", lw=1, label="ideal")
-        ax.plot(emulated[: k + 1, 0], emulated[: k + 1, 1], color="tab:red", lw=1, ls="--",
-                label="emulated")
+        ax.plot(
+            emulated[: k + 1, 0],
+            emulated[: k + 1, 1],
+            color="tab:red",
+            lw=1,
+            ls="--",
+            label="emulated",
+        )
         ax.set_xlim(-1, 1)
         ax.set_ylim(-1, 1)
         ax.set_aspect("equal")
         ax.set_title(f"gamma1, gamma2  t = {t_em[k]:.2f} s", fontsize=9)
         ax.legend(fontsize=7, loc="lower right")
         fig.canvas.draw()
-        images.append(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+        rgba = fig.canvas.buffer_rgba()  # type: ignore[attr-defined]  # the Agg canvas
+        images.append(np.asarray(rgba)[..., :3].copy())
         plt.close(fig)
     with atomic_path(path) as tmp:
         iio.imwrite(tmp, np.stack(images), extension=".gif", duration=80, loop=0)
@@ -183,46 +190,64 @@ def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
 
 def report_markdown(result: TestbedResult, written: list[str], notes: list[str]) -> str:
     """The human report (Markdown)."""
-    d = result.to_dict()
-    o = result.options
-    r = d["results"]
-    tol = result.tolerances
-    lines = [
-        "# Air-bearing testbed",
-        "",
-        "```",
-        str(result).rstrip(),
-        "```",
-        "",
+    lines = ["# Air-bearing testbed", "", "```", str(result).rstrip(), "```", ""]
+    lines += _platform_section(result) + _wheel_section(result) + _loop_section(result)
+    lines += _requirements_section(result)
+    lines += ["## Files", ""] + [f"- `{name}`" for name in [*written, "report.md"]]
+    lines += [f"- note: {n}" for n in notes]
+    lines += ["", "## Sources of the defaults", ""]
+    lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _platform_section(result: TestbedResult) -> list[str]:
+    o, tol, C = result.options, result.tolerances, result.parameters.C
+    diagonal = ", ".join(f"{x:.12g}" for x in np.diag(result.inertia_total))
+    products = min(tol["inertia"][f"product_{k}_kg_m2"] for k in ("xy", "xz", "yz"))
+    place = tol["ballast_placement_m"]
+    tightest = int(np.argmin(place["binding"]))
+    why = (
+        "its balance"
+        if place["through_balance"][tightest] <= place["through_inertia"][tightest]
+        else "its inertia"
+    )
+    return [
         "## Platform and ballast",
         "",
         f"- platform: {o.platform_mass_kg:g} kg, envelope radius {o.platform_radius_m:g} m; "
         f"ballast {result.ballast.total_mass:.4g} kg of {result.ballast.material} in "
         f"{len(result.ballast.masses)} spheres;",
-        f"- total inertia about O: diag({', '.join(f'{x:.12g}' for x in np.diag(result.inertia_total))}) "
-        f"kg m^2 (target A = B = 2C = {2 * result.parameters.C:g}, C = {result.parameters.C:g}); "
-        f"centre of mass {format_length(float(np.linalg.norm(result.com_total)))} from O;",
+        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C = {2 * C:g}, "
+        f"C = {C:g}); centre of mass "
+        f"{format_length(float(np.linalg.norm(result.com_total)))} from O;",
         f"- for I4 within {o.target_I4_drift:g} over {o.t_end_s:g} s: A - B within "
-        f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2, products within "
-        f"{min(tol['inertia'][k] for k in ('product_xy_kg_m2', 'product_xz_kg_m2', 'product_yz_kg_m2')):.3g} "
-        f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; each part "
-        f"placed within {format_length(float(np.min(tol['ballast_placement_m']['binding'])))} "
-        "(the tightest part; its balance binds before its inertia).",
+        f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2, products within {products:.3g} "
+        f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; the tightest "
+        f"part (number {tightest}) placed within "
+        f"{format_length(float(place['binding'][tightest]))} ({why} binds).",
         "",
+    ]
+
+
+def _wheel_section(result: TestbedResult) -> list[str]:
+    r = result.to_dict()["results"]
+    needs = r["wheel_needs"]
+    return [
         "## Wheels",
         "",
-        f"- {o.wheels} array; the motion needs {r['wheel_needs']['torque_N_m']:.4g} N m and "
-        f"{r['wheel_needs']['momentum_N_m_s']:.4g} N m s on one wheel; |h| stays below "
-        f"|L| + max |J omega| = {r['wheel_needs']['momentum_bound_N_m_s']:.4g} N m s "
-        f"(reached {r['wheel_needs']['momentum_norm_N_m_s']:.4g});",
+        f"- {result.options.wheels} array; the motion needs {needs['torque_N_m']:.4g} N m and "
+        f"{needs['momentum_N_m_s']:.4g} N m s on one wheel; |h| stays below "
+        f"|L| + max |J omega| = {needs['momentum_bound_N_m_s']:.4g} N m s "
+        f"(reached {needs['momentum_norm_N_m_s']:.4g});",
         f"- the nominal runs used at most {r['wheel_torque_max_N_m']:.4g} N m and "
         f"{r['wheel_momentum_max_N_m_s']:.4g} N m s.",
         "",
-        "## The loop",
-        "",
-        "| run | I4 relative drift | I3 max (J s) |",
-        "| --- | --- | --- |",
     ]
+
+
+def _loop_section(result: TestbedResult) -> list[str]:
+    tol = result.tolerances
+    lines = ["## The loop", "", "| run | I4 relative drift | I3 max (J s) |", "| --- | --- | --- |"]
     for name, run in result.runs.items():
         drift = (
             f"median {np.median(run.I4_drift):.3g}, p95 {np.percentile(run.I4_drift, 95):.3g}"
@@ -230,7 +255,8 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
             else f"{run.I4_drift[0]:.3g}"
         )
         lines.append(f"| {name} | {drift} | {run.I3_max.max():.3g} |")
-    lines += [
+    return [
+        *lines,
         "",
         f"Drag alone would drift I4 by {tol['drag_drift']:.3g}, the imbalance by "
         f"{tol['imbalance_drift']:.3g} (linear response along the planned motion): the target "
@@ -238,27 +264,27 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
         f"{format_length(tol['imbalance_m'])} of O (each alone using the whole target).",
         "",
     ]
-    if result.requirements is not None:
-        req = result.requirements
-        lines += [
-            "## Requirements",
-            "",
-            "I4 drift (worst of the seeds) against the control rate, command "
-            f"`{o.command}`, without drag and imbalance (above); target {req.target:g}:",
-            "",
-            "| gyro | " + " | ".join(f"{x:g} Hz" for x in req.rates_Hz) + " | lowest rate |",
-            "| --- " * (len(req.rates_Hz) + 2) + "|",
-        ]
-        for i, g in enumerate(req.grades):
-            low = req.lowest_rate_Hz[g]
-            cells = " | ".join(f"{x:.2g}" for x in req.drift[i])
-            lines.append(f"| {g} | {cells} | {'-' if low is None else f'{low:g} Hz'} |")
-        lines.append("")
-    lines += ["## Files", ""] + [f"- `{name}`" for name in written + ["report.md"]]
-    lines += [f"- note: {n}" for n in notes]
-    lines += ["", "## Sources of the defaults", ""]
-    lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
-    return "\n".join(lines) + "\n"
+
+
+def _requirements_section(result: TestbedResult) -> list[str]:
+    req = result.requirements
+    if req is None:
+        return []
+    lines = [
+        "## Requirements",
+        "",
+        "I4 drift (worst of the seeds) against the control rate, command "
+        f"`{result.options.command}`, without drag and imbalance (above); target "
+        f"{req.target:g}:",
+        "",
+        "| gyro | " + " | ".join(f"{x:g} Hz" for x in req.rates_Hz) + " | lowest rate |",
+        "| --- " * (len(req.rates_Hz) + 2) + "|",
+    ]
+    for i, g in enumerate(req.grades):
+        low = req.lowest_rate_Hz[g]
+        cells = " | ".join(f"{x:.2g}" for x in req.drift[i])
+        lines.append(f"| {g} | {cells} | {'-' if low is None else f'{low:g} Hz'} |")
+    return [*lines, ""]
 
 
 __all__ = [

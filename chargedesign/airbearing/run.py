@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Mapping
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
-from dataclasses import replace
-from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -144,7 +144,9 @@ def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
     return replace(settings, **changes)
 
 
-def _nominal(base: LoopSettings, opts: TestbedOptions, mass: float, resolution: float) -> LoopSettings:
+def _nominal(
+    base: LoopSettings, opts: TestbedOptions, mass: float, resolution: float
+) -> LoopSettings:
     arw, bias = opts.gyro
     return _with(
         base,

@@ -32,8 +32,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
     from chargedesign.airbearing.report import OUTPUTS, write_testbed
+    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
     from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
 
@@ -43,7 +43,9 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"testbed: {message}", file=sys.stderr, flush=True)
 
-    result = testbed_from_scene(load_scene(args.scene or default_testbed_scene()), progress=progress)
+    result = testbed_from_scene(
+        load_scene(args.scene or default_testbed_scene()), progress=progress
+    )
     written = write_testbed(result, args.out)
     progress(f"wrote {args.out}/: {', '.join(written)}")
     if args.json:

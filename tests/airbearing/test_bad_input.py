@@ -46,7 +46,7 @@ def test_table_errors_are_one_line(table: dict, names: str) -> None:
 
 def test_platform_with_ballast_heavier_than_the_bearing() -> None:
     opts = TestbedOptions.from_table({**SMALL, "bearing_capacity_kg": 10.0})
-    with pytest.raises(InputError, match="bearing_capacity_kg.*heavier than the bearing"):
+    with pytest.raises(InputError, match=r"bearing_capacity_kg.*heavier than the bearing"):
         build_testbed(EXAMPLE, opts, with_requirements=False)
 
 
@@ -75,6 +75,8 @@ def test_bearing_drag_is_the_couette_torque() -> None:
     """(4 pi / 3) eta R^4 / h against a direct quadrature over the hemisphere."""
     eta, R, h = 1.8e-5, 0.05, 1e-5
     theta = np.linspace(0.0, np.pi / 2, 20001)
-    integrand = (eta * R * np.sin(theta) / h) * R * np.sin(theta) * 2 * np.pi * R * R * np.sin(theta)
+    integrand = (
+        (eta * R * np.sin(theta) / h) * R * np.sin(theta) * 2 * np.pi * R * R * np.sin(theta)
+    )
     quad = np.trapezoid(integrand, theta)
     assert abs(bearing_drag(R, h, eta) - quad) < 1e-6 * quad

@@ -59,7 +59,9 @@ def test_testbed_json_has_the_contract_keys(written: Path) -> None:
     assert np.allclose(data["inertia_total_kg_m2"], np.diag([2 * C, 2 * C, C]), atol=1e-12)
     r = data["results"]
     assert len(r["initial_state"]) == 6 and r["t_end_s"] == 0.4
-    assert r["zoh_noise_free"]["I4_relative_drift"] > r["predictive_noise_free"]["I4_relative_drift"]
+    assert (
+        r["zoh_noise_free"]["I4_relative_drift"] > r["predictive_noise_free"]["I4_relative_drift"]
+    )
     assert {"I4_relative_drift_median", "I4_relative_drift_p95"} <= set(r["nominal"])
     assert r["wheel_momentum_max_N_m_s"] > 0 and r["wheel_torque_max_N_m"] > 0
     assert r["wheel_torque_max_N_m"] <= data["wheels"]["max_torque_N_m"] * (1 + 1e-12)

@@ -96,8 +96,12 @@ def test_noise_free_loop_agrees_with_adaptive_dop853(plant: Plant, x0: np.ndarra
     u = plant.command(x)
     T = 0.02
     adaptive = solve_ivp(
-        lambda _t, y: plant.rates(y[None], u, None)[0], (0, T), x[0], method="DOP853",
-        rtol=1e-13, atol=1e-13,
+        lambda _t, y: plant.rates(y[None], u, None)[0],
+        (0, T),
+        x[0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-13,
     ).y[:, -1]
     fixed = advance(lambda y: plant.rates(y, u, None), x, T, 0.05 / 1.5)[0]
     assert np.abs(fixed - adaptive).max() < 1e-12
@@ -106,8 +110,15 @@ def test_noise_free_loop_agrees_with_adaptive_dop853(plant: Plant, x0: np.ndarra
 def test_noise_and_disturbances_raise_the_drift(plant: Plant, x0: np.ndarray) -> None:
     quiet = LoopSettings(rate_Hz=100.0, delay_s=0.0, t_end_s=1.0, command="predictive")
     noisy = LoopSettings(
-        rate_Hz=100.0, delay_s=0.0, t_end_s=1.0, command="predictive", gyro_arw=1e-4,
-        gyro_bias=1e-4, attitude_noise=1e-4, imbalance_m=1e-5, drag_N_m_s=1e-4,
+        rate_Hz=100.0,
+        delay_s=0.0,
+        t_end_s=1.0,
+        command="predictive",
+        gyro_arw=1e-4,
+        gyro_bias=1e-4,
+        attitude_noise=1e-4,
+        imbalance_m=1e-5,
+        drag_N_m_s=1e-4,
         total_mass_kg=20.0,
     )
     a = run_loop(plant, x0, quiet)

@@ -34,7 +34,7 @@ def _inertia_from_parts(positions, masses, radii) -> np.ndarray:
 
 
 def test_ballast_inertia_equals_the_target(built) -> None:
-    opts, platform, ballast = built
+    _opts, platform, ballast = built
     inertia = platform.inertia + _inertia_from_parts(
         ballast.positions, ballast.masses, ballast.radii
     )
@@ -43,7 +43,7 @@ def test_ballast_inertia_equals_the_target(built) -> None:
 
 
 def test_ballast_centre_of_mass_at_O(built) -> None:
-    opts, platform, ballast = built
+    _opts, platform, ballast = built
     moment = platform.mass_kg * platform.com + (ballast.masses[:, None] * ballast.positions).sum(0)
     assert np.abs(moment).max() < 1e-12 * platform.mass_kg * platform.radius_m
 
