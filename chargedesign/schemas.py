@@ -20,6 +20,7 @@ from importlib import resources
 from typing import Any
 
 from chargedesign.airbearing.options import table_schema as testbed_table_schema
+from chargedesign.airbearing.schema import output_schema as testbed_output_schema
 from chargedesign.vocabulary import (
     BODY_SHAPES,
     DESIGN_FORMAT,
@@ -37,7 +38,7 @@ from chargedesign.vocabulary import (
 )
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
-NAMES = ("design", "scene")
+NAMES = ("design", "scene", "testbed")
 
 _NUMBER = {"type": "number"}
 _NONNEG = {"type": "number", "minimum": 0}
@@ -331,7 +332,8 @@ def scene_schema() -> dict[str, Any]:
 
 
 def schema(name: str) -> dict[str, Any]:
-    """The JSON Schema ``design`` (design.json) or ``scene`` (scene files).
+    """The JSON Schema ``design`` (design.json), ``scene`` (scene files) or ``testbed``
+    (testbed.json).
 
     Returns
     -------
@@ -344,6 +346,8 @@ def schema(name: str) -> dict[str, Any]:
         return design_schema()
     if name == "scene":
         return scene_schema()
+    if name == "testbed":
+        return testbed_output_schema()
     raise input_error("schema", "one of " + ", ".join(NAMES), name)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from chargedesign.bench.common import BenchTable
 UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
 
 
-def _setup() -> tuple:
+def _setup() -> tuple[Any, np.ndarray]:
     from chargedesign.airbearing.dynamics import Plant
     from chargedesign.airbearing.loop import initial_state
     from chargedesign.params import Parameters
@@ -38,7 +39,7 @@ def _setup() -> tuple:
     return plant, initial_state(params, np.array([0.36, 0.48, 0.8]), 0.6, -0.4)
 
 
-def _timed(plant, x0, settings, runs: int = 1):  # type: ignore[no-untyped-def]
+def _timed(plant: Any, x0: np.ndarray, settings: Any, runs: int = 1) -> tuple[Any, float]:
     from chargedesign.airbearing.loop import run_loop
 
     t0 = time.perf_counter()

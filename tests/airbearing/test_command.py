@@ -115,3 +115,12 @@ def test_bad_scene_value_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert main(["testbed", str(scene), "--out", str(tmp_path / "o"), "--quiet"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "testbed.rate_Hz" in err
+
+
+def test_testbed_json_meets_its_schema(written: Path) -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    data = json.loads((written / "testbed.json").read_text())
+    jsonschema.validate(data, schema("testbed"))
+    del data["results"]["nominal"]
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(data, schema("testbed"))
