@@ -174,11 +174,12 @@ def _columns(outputs: list, m: int) -> np.ndarray:
 
 def dop853_step(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
     """One fixed step of DOP853 (8th order) of ``x' = f(x)`` from x by h."""
-    k = np.empty((_STAGES, *x.shape))
-    k[0] = f(x)
+    k = np.empty((_STAGES, x.size))  # stage derivatives, flattened: one matmul per stage
+    flat = x.reshape(-1)
+    k[0] = f(x).reshape(-1)
     for s in range(1, _STAGES):
-        k[s] = f(x + h * np.tensordot(_A[s, :s], k[:s], axes=1))
-    return x + h * np.tensordot(_B, k, axes=1)
+        k[s] = f((flat + h * (_A[s, :s] @ k[:s])).reshape(x.shape)).reshape(-1)
+    return (flat + h * (_B @ k)).reshape(x.shape)
 
 
 def advance(

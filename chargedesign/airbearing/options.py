@@ -92,6 +92,8 @@ SOURCES = {
     "rad/s) with r solved from I3 = 0",
     "t_end_s": "20 s: the horizon of the issue's outside measurement",
     "target_I4_drift": "1e-3: I4 kept to 0.1 % over the run",
+    "seeds": "16 noise seeds (and 2 per requirement setting): a spread in seconds of run time; "
+    "raise them for tighter percentiles",
 }
 
 _TABLE_KEYS = (
@@ -172,10 +174,10 @@ class TestbedOptions:
     initial_p: float = 0.6
     initial_q: float = -0.4
     t_end_s: float = 20.0
-    seeds: int = 32
+    seeds: int = 16
     target_I4_drift: float = 1.0e-3
-    requirement_rates_Hz: tuple[float, ...] = (50.0, 100.0, 200.0, 500.0, 1000.0)
-    requirement_seeds: int = 4
+    requirement_rates_Hz: tuple[float, ...] = (25.0, 50.0, 100.0, 200.0)
+    requirement_seeds: int = 2
 
     __test__ = False  # not a pytest class (its name starts with Test)
 

@@ -247,14 +247,25 @@ def _wheel_section(result: TestbedResult) -> list[str]:
 
 def _loop_section(result: TestbedResult) -> list[str]:
     tol = result.tolerances
-    lines = ["## The loop", "", "| run | I4 relative drift | I3 max (J s) |", "| --- | --- | --- |"]
+    turns = max(result.turns, 1e-300)
+    lines = [
+        "## The loop",
+        "",
+        f"Over {result.options.t_end_s:g} s, {result.turns:.3g} turns of the motion "
+        "(t_end |omega(0)| / 2 pi):",
+        "",
+        "| run | I4 relative drift | per turn | I3 max (J s) | per turn |",
+        "| --- | --- | --- | --- | --- |",
+    ]
     for name, run in result.runs.items():
         drift = (
             f"median {np.median(run.I4_drift):.3g}, p95 {np.percentile(run.I4_drift, 95):.3g}"
             if len(run.I4_drift) > 1
             else f"{run.I4_drift[0]:.3g}"
         )
-        lines.append(f"| {name} | {drift} | {run.I3_max.max():.3g} |")
+        i3 = float(run.I3_max.max())
+        per_turn = float(np.median(run.I4_drift)) / turns
+        lines.append(f"| {name} | {drift} | {per_turn:.3g} | {i3:.3g} | {i3 / turns:.3g} |")
     return [
         *lines,
         "",

@@ -55,12 +55,21 @@ class TestbedResult(Result):
     def total_mass(self) -> float:
         return self.platform.mass_kg + self.ballast.total_mass
 
+    @property
+    def turns(self) -> float:
+        """The run's length in turns of the motion, ``t_end |omega(0)| / 2 pi``."""
+        rate = float(np.linalg.norm(self.initial_state[:3]))
+        return self.options.t_end_s * rate / (2.0 * np.pi)
+
     def _loop(self, name: str) -> dict[str, Any]:
         run = self.runs[name]
         out: dict[str, Any] = {"I4_relative_drift": float(run.I4_drift.max())}
         if len(run.I4_drift) > 1:
             out = _quantiles(run.I4_drift)
+        turns = max(self.turns, 1e-300)
+        out["I4_relative_drift_per_turn"] = float(np.median(run.I4_drift)) / turns
         out["I3_max_J_s"] = float(run.I3_max.max())
+        out["I3_max_per_turn_J_s"] = float(run.I3_max.max()) / turns
         out["wheel_torque_max_N_m"] = float(run.wheel_torque_max.max())
         out["wheel_momentum_max_N_m_s"] = float(run.wheel_momentum_max.max())
         out["runs"] = len(run.I4_drift)
@@ -74,6 +83,7 @@ class TestbedResult(Result):
         results: dict[str, Any] = {
             "initial_state": self.initial_state.tolist(),
             "t_end_s": o.t_end_s,
+            "turns": self.turns,
             "command": o.command,
             **{name: self._loop(name) for name in self.runs},
             "wheel_momentum_max_N_m_s": float(nominal.wheel_momentum_max.max()),
@@ -149,7 +159,7 @@ class TestbedResult(Result):
             f"{self.needs.torque:.4g} N m, {self.needs.momentum:.4g} N m s; momentum bound "
             f"{self.needs.momentum_bound:.4g} N m s)",
             f"loop {o.rate_Hz:g} Hz, delay {o.delay_s:g} s, command {o.command}; I4 relative drift "
-            f"over {o.t_end_s:g} s:",
+            f"over {o.t_end_s:g} s ({self.turns:.3g} turns of the motion):",
         ]
         for name, run in self.runs.items():
             d = run.I4_drift
