@@ -1,25 +1,29 @@
 """How precisely the platform must be built: linear response of I4 along the planned motion.
 
-Along the ideal loop's motion (``omega' = f``, I4 constant) a small extra angular
-acceleration ``d`` changes I4 at the rate ``dI4/domega . d``. With ``g = I^-1 dI4/domega``
-(the gradient by a 5-point stencil, exact for I4's quartic dependence on omega):
+Along the ideal loop's motion (``omega' = f``, on I3 = 0, I4 constant) a small extra
+angular acceleration ``d`` changes I4 in two ways, both first order:
 
-- an inertia error dJ the controller does not know (the ballast misplaced):
-  ``d = -I^-1 (dJ f + omega x dJ omega)``, so ``dI4/dt = -sum_ab dJ_ab (g_a f_b +
-  (g x omega)_a omega_b)``;
-- a centre of mass at r_c under gravity (torque ``-M g r_c x gamma``):
-  ``dI4/dt = -M g r_c . (gamma x g)``;
-- the bearing's drag ``-b omega``: ``dI4/dt = -b g . omega``.
+- directly, at the rate ``dI4/domega . d`` (gradient by a 5-point stencil, exact for I4's
+  quartic dependence on omega);
+- by moving the state off the level I3 = 0 (``dI3/dt = (I gamma) . d``, I3 being conserved
+  by the flow everywhere), where the flow itself changes I4 at ``Q dI3`` (I4 is an integral
+  only on I3 = 0; ``Q`` is the derivative of the flow's I4 rate across the level).
 
-Integrated in time (trapezoid rule on the motion's samples), these give the drift per unit
-error; a target drift divided by it is the tolerance. The inertia's derivatives with respect
-to each ballast part's position are the tolerance module's exact ones
+The perturbations: an inertia error dJ the controller does not know (the ballast misplaced),
+``d = -I^-1 (dJ f + omega x dJ omega)``; a centre of mass at r_c under gravity,
+``d = I^-1 (-M g r_c x gamma)`` (normal to gamma: it keeps I3); the bearing's drag,
+``d = -I^-1 b omega`` (it moves I3, and the second route then carries a tenth of its drift on
+the unit-scale case). Integrated in time (trapezoid rule on the motion's samples), they give
+the drift per unit error; a target drift divided by it is the tolerance. The tests compare
+each against the simulated loop. The inertia's derivatives with respect to each ballast
+part's position are the tolerance module's exact ones
 (:func:`chargedesign.tolerancing.jacobians`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -28,6 +32,7 @@ from chargedesign.airbearing.loop import invariants
 from chargedesign.airbearing.options import STANDARD_GRAVITY
 from chargedesign.airbearing.platform import Ballast
 from chargedesign.body import Design
+from chargedesign.model.evaluators import rhs
 from chargedesign.tolerancing import jacobians
 
 
@@ -69,32 +74,75 @@ class Sensitivity:
         return float(np.abs(self.drag).max())
 
 
-def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float) -> Sensitivity:
-    """The linear response along ``states`` (S, 6 or 9) at ``times`` (S,); ``mass`` in kg."""
-    omega, gamma = states[:, 0:3], states[:, 3:6]
-    params = plant.params
-    i4_0 = float(invariants(states[:1, 0:6], params)[1][0])
-    scale = abs(i4_0) if i4_0 != 0.0 else 1.0
-    h = 1e-3 * max(1.0, float(np.abs(omega).max()))
-    grad = np.zeros_like(omega)
-    for a in range(3):
+def _i4_gradient(states: np.ndarray, params: Any, columns: int = 6) -> np.ndarray:
+    """dI4/dx of the first ``columns`` state entries (5-point stencil, exact for quartics)."""
+    h = 1e-3 * max(1.0, float(np.abs(states[:, 0:3]).max()))
+    grad = np.zeros((len(states), columns))
+    for a in range(columns):
         vals = []
         for k in (-2, -1, 1, 2):
             w = states[:, 0:6].copy()
             w[:, a] += k * h
             vals.append(invariants(w, params)[1])
         grad[:, a] = (vals[0] - 8 * vals[1] + 8 * vals[2] - vals[3]) / (12 * h)
-    g = grad / plant.theorem_inertia
+    return grad
+
+
+def _i4_rate(states: np.ndarray, params: Any) -> np.ndarray:
+    """dI4/dt along the theorem's flow (zero on I3 = 0, proportional to I3 off it)."""
+    return np.einsum("sa,sa->s", _i4_gradient(states, params), rhs(states[:, 0:6], params))
+
+
+def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float) -> Sensitivity:
+    """The linear response along ``states`` (S, 6 or 9) at ``times`` (S,); ``mass`` in kg.
+
+    A perturbing acceleration d changes I4 directly (``dI4/domega . d``) and moves the state
+    off I3 = 0 (``dI3 = int (I gamma) . d``), where the flow itself changes I4 at
+    ``Q dI3``; ``Q`` is the derivative of the flow's I4 rate across the level (r shifted,
+    central difference).
+    """
+    omega, gamma = states[:, 0:3], states[:, 3:6]
+    params, inertia = plant.params, plant.theorem_inertia
+    i4_0 = float(invariants(states[:1, 0:6], params)[1][0])
+    scale = abs(i4_0) if i4_0 != 0.0 else 1.0
+    grad = _i4_gradient(states, params, 3)
+    eps = 1e-4 * max(1.0, float(np.abs(omega).max()))
+    up, down = states[:, 0:6].copy(), states[:, 0:6].copy()
+    up[:, 2] += eps
+    down[:, 2] -= eps
+    Q = (_i4_rate(up, params) - _i4_rate(down, params)) / (2 * eps * inertia[2] * gamma[:, 2])
+    # perturbing accelerations per unit error, (S, 3, K): inertia (K = 9: dJ_ab), centre of
+    # mass (K = 3), drag (K = 1)
+    eye = np.eye(3)
     f = plant.theorem_acceleration(omega, gamma)
-    rate_inertia = -(
-        np.einsum("sa,sb->sab", g, f) + np.einsum("sa,sb->sab", cross(g, omega), omega)
+    d_inertia = (
+        -(
+            np.einsum("ia,sb->siab", eye, f)
+            + np.einsum(
+                "sb,sia->siab",
+                omega,
+                np.stack([cross(omega, np.tile(e, (len(omega), 1))) for e in eye], axis=2),
+            )
+        ).reshape(len(omega), 3, 9)
+        / inertia[None, :, None]
     )
-    rate_imbalance = -mass * STANDARD_GRAVITY * cross(gamma, g)
-    rate_drag = -np.einsum("sa,sa->s", g, omega)
+    d_balance = (
+        mass
+        * STANDARD_GRAVITY
+        * np.stack([cross(gamma, np.tile(e, (len(omega), 1))) for e in eye], axis=2)
+        / inertia[None, :, None]
+    )
+    d_drag = (-omega / inertia)[:, :, None]
+
+    def response(d: np.ndarray) -> np.ndarray:
+        off_level = _cumulative(times, np.einsum("sa,sak->sk", gamma * inertia, d))
+        rate = np.einsum("sa,sak->sk", grad, d) + Q[:, None] * off_level
+        return _cumulative(times, rate) / scale
+
     return Sensitivity(
-        inertia=_cumulative(times, rate_inertia) / scale,
-        imbalance=_cumulative(times, rate_imbalance) / scale,
-        drag=_cumulative(times, rate_drag) / scale,
+        inertia=response(d_inertia).reshape(len(omega), 3, 3),
+        imbalance=response(d_balance),
+        drag=response(d_drag)[:, 0],
     )
 
 

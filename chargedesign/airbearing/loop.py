@@ -47,6 +47,7 @@ class LoopSettings:
     gyro_bias: float | np.ndarray = 0.0
     attitude_noise: float = 0.0
     imbalance_m: float = 0.0
+    imbalance_direction: tuple[float, float, float] | None = None  # None: random per run
     drag_N_m_s: float = 0.0
     total_mass_kg: float = 0.0
     wheel_axes: np.ndarray = field(default_factory=lambda: np.eye(3))
@@ -161,7 +162,7 @@ def run_loop(
     actuator = _Actuator(settings)
     bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
     arw = settings.per_run("gyro_arw", runs)
-    offset = _imbalance(settings.imbalance_m, runs, rng)
+    offset = _imbalance(settings.imbalance_m, runs, rng, settings.imbalance_direction)
     weight = settings.total_mass_kg * STANDARD_GRAVITY
 
     def external(x: np.ndarray) -> np.ndarray | None:
@@ -208,9 +209,15 @@ def _held(
     return lambda y: plant.rates(y, torque, external(y))
 
 
-def _imbalance(size: float, runs: int, rng: np.random.Generator) -> np.ndarray:
-    """Centre-of-mass offsets of length ``size`` in random directions (m, 3)."""
-    direction = rng.standard_normal((runs, 3))
+def _imbalance(
+    size: float,
+    runs: int,
+    rng: np.random.Generator,
+    fixed: tuple[float, float, float] | None = None,
+) -> np.ndarray:
+    """Centre-of-mass offsets of length ``size`` in random directions, or along ``fixed``
+    (m, 3)."""
+    direction = rng.standard_normal((runs, 3)) if fixed is None else np.tile(fixed, (runs, 1))
     return size * direction / np.linalg.norm(direction, axis=1, keepdims=True)
 
 

@@ -136,8 +136,8 @@ def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
         for pos, rad in zip(b.positions, b.radii, strict=True):
             plotter.add_mesh(pv.Sphere(radius=float(rad), center=pos), color="goldenrod")
         for axis in result.wheel_axes:
-            centre = 0.6 * R * axis
-            wheel = pv.Cylinder(center=centre, direction=axis, radius=0.12 * R, height=0.04 * R)
+            centre = (result.options.bearing_radius_m + 0.1 * R) * axis  # schematic
+            wheel = pv.Cylinder(center=centre, direction=axis, radius=0.07 * R, height=0.03 * R)
             plotter.add_mesh(wheel, color="firebrick")
         plotter.add_axes()  # type: ignore[call-arg]  # pyvista's decorator confuses mypy
         with atomic_path(path) as tmp:
