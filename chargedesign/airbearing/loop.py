@@ -9,7 +9,9 @@ from ``t_k + delay`` to ``t_{k+1} + delay``:
 - ``zoh``: the law ``h' = -J f - omega x (J omega + h)`` at the measured state;
 - ``predictive``: the model's own motion (the continuous loop, from the measured state)
   predicted over the delay and the coming interval, and the average of its ``h'`` there,
-  ``(h(t_k + delay + T) - h(t_k + delay)) / T``.
+  ``(h(t_k + delay + T) - h(t_k + delay)) / T``;
+
+less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
 
 The commanded body torque is shared among the wheels (least-norm), each wheel's torque
 saturated and quantised, and the plant integrated (fixed-step DOP853) with the bearing's
@@ -49,6 +51,7 @@ class LoopSettings:
     imbalance_m: float = 0.0
     imbalance_direction: tuple[float, float, float] | None = None  # None: random per run
     drag_N_m_s: float = 0.0
+    drag_feedforward_N_m_s: float = 0.0  # the drag the controller knows and cancels
     total_mass_kg: float = 0.0
     wheel_axes: np.ndarray = field(default_factory=lambda: np.eye(3))
     max_torque: float = np.inf
@@ -244,12 +247,17 @@ def _measure(
 def _command(
     plant: Plant, measured: np.ndarray, settings: LoopSettings, T: float, max_step: float
 ) -> np.ndarray:
-    """The body torque h' to hold (m, 3)."""
+    """The body torque h' to hold (m, 3), less the known drag ``b_ff omega`` (fed forward:
+    the wheels then push the platform by ``+b_ff omega``)."""
     if settings.command == "zoh":
-        return plant.command(measured)
-    start = advance(plant.ideal_rates, measured, settings.delay_s, max_step)
-    end = advance(plant.ideal_rates, start, T, max_step)
-    return (end[:, 6:9] - start[:, 6:9]) / T
+        wanted = plant.command(measured)
+    else:
+        start = advance(plant.ideal_rates, measured, settings.delay_s, max_step)
+        end = advance(plant.ideal_rates, start, T, max_step)
+        wanted = (end[:, 6:9] - start[:, 6:9]) / T
+    if settings.drag_feedforward_N_m_s:
+        wanted = wanted - settings.drag_feedforward_N_m_s * measured[:, 0:3]
+    return wanted
 
 
 def continuous_loop(

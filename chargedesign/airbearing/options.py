@@ -92,6 +92,8 @@ SOURCES = {
     "rad/s) with r solved from I3 = 0",
     "t_end_s": "20 s: the horizon of the issue's outside measurement",
     "target_I4_drift": "1e-3: I4 kept to 0.1 % over the run",
+    "drag_feedforward": "0: no drag fed forward (the baseline); a measured drag (spin-down "
+    "test) fed forward as a fraction of the bearing's drag cancels that much of it",
     "seeds": "16 noise seeds (and 2 per requirement setting): a spread in seconds of run time; "
     "raise them for tighter percentiles",
 }
@@ -121,6 +123,7 @@ _TABLE_KEYS = (
     "attitude_noise_rad",
     "imbalance_m",
     "drag_N_m_s",
+    "drag_feedforward",
     "initial_gamma",
     "initial_p",
     "initial_q",
@@ -170,6 +173,7 @@ class TestbedOptions:
     attitude_noise_rad: float = 5.0e-5
     imbalance_m: float = 1.0e-6
     drag_N_m_s: float | None = None
+    drag_feedforward: float = 0.0
     initial_gamma: tuple[float, float, float] = (0.36, 0.48, 0.8)
     initial_p: float = 0.6
     initial_q: float = -0.4
@@ -309,6 +313,8 @@ def _parse(name: str, value: Any, where: str) -> Any:
         raise input_error(where, "a number >= 0", value)
     if name == "wheel_margin" and number < 1.0:
         raise input_error(where, "a margin >= 1", value)
+    if name == "drag_feedforward" and not 0.0 <= number <= 1.0:
+        raise input_error(where, "the fraction of the drag fed forward, in 0..1", value)
     if name == "pyramid_angle_deg" and not 5.0 <= number <= 85.0:
         raise input_error(where, "an angle from the body z axis in 5..85 deg", value)
     return number
@@ -346,6 +352,8 @@ def table_schema() -> dict[str, Any]:
             props[name] = vector
         elif name == "requirement_rates_Hz":
             props[name] = {"type": "array", "items": positive, "minItems": 1, "maxItems": 12}
+        elif name == "drag_feedforward":
+            props[name] = {"type": "number", "minimum": 0, "maximum": 1}
         else:
             props[name] = number
     return {

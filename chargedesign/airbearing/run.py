@@ -156,6 +156,7 @@ def _nominal(
         attitude_noise=opts.attitude_noise_rad,
         imbalance_m=opts.imbalance_m,
         drag_N_m_s=opts.drag,
+        drag_feedforward_N_m_s=opts.drag_feedforward * opts.drag,
         total_mass_kg=mass,
         resolution=resolution,
     )
@@ -164,7 +165,7 @@ def _nominal(
 def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mass: float) -> dict:
     target = opts.target_I4_drift
     parts = part_tolerances(sens, ballast, plant, target, mass)
-    drag_drift = opts.drag * sens.drag_per_unit
+    drag_drift = (1.0 - opts.drag_feedforward) * opts.drag * sens.drag_per_unit
     return {
         "target_I4_drift": target,
         "imbalance_m": target / sens.imbalance_per_m,

@@ -59,3 +59,12 @@ def test_unknown_inertia_error_is_the_linear_response(setup: tuple) -> None:
     simulated = _loop(wrong, x0)
     predicted = sens.inertia_drift(dJ)
     assert abs(simulated - predicted) < 0.05 * predicted
+
+
+def test_drag_fed_forward_is_cancelled(setup: tuple) -> None:
+    plant, x0, _ = setup
+    quiet = _loop(plant, x0)
+    dragged = _loop(plant, x0, drag_N_m_s=1e-3)
+    cancelled = _loop(plant, x0, drag_N_m_s=1e-3, drag_feedforward_N_m_s=1e-3)
+    assert dragged > 100 * quiet
+    assert cancelled < 2 * quiet  # what is left is the loop's own drift and O(b T)
