@@ -22,17 +22,17 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.dynamics import Plant
+from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_state, run_loop
+from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
 from chargedesign.bench.common import BenchTable
+from chargedesign.params import Parameters
 
 #: examples/scenes/unit_scale.toml's parameters
 UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
 
 
 def _setup() -> tuple[Any, np.ndarray]:
-    from chargedesign.airbearing.dynamics import Plant
-    from chargedesign.airbearing.loop import initial_state
-    from chargedesign.params import Parameters
-
     params = Parameters(**UNIT_PARAMETERS)
     inertia = np.diag([2.0, 2.0, 1.0])
     plant = Plant(params, inertia, inertia)
@@ -40,16 +40,12 @@ def _setup() -> tuple[Any, np.ndarray]:
 
 
 def _timed(plant: Any, x0: np.ndarray, settings: Any, runs: int = 1) -> tuple[Any, float]:
-    from chargedesign.airbearing.loop import run_loop
-
     t0 = time.perf_counter()
     run = run_loop(plant, x0, settings, runs=runs, seed=0)
     return run, time.perf_counter() - t0
 
 
 def zoh_against_predictive(quick: bool) -> BenchTable:
-    from chargedesign.airbearing.loop import LoopSettings
-
     plant, x0 = _setup()
     rates, t_end = ((100.0, 400.0), 2.0) if quick else ((100.0, 1000.0), 20.0)
     rows, drift = [], {}
@@ -80,9 +76,6 @@ def zoh_against_predictive(quick: bool) -> BenchTable:
 
 
 def monte_carlo(quick: bool) -> BenchTable:
-    from chargedesign.airbearing.loop import LoopSettings, continuous_loop
-    from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
-
     plant, x0 = _setup()
     rate, periods = 100.0, 100
     t_end = periods / rate

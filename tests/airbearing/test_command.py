@@ -12,6 +12,7 @@ import pytest
 
 import chargedesign as cd
 from chargedesign.airbearing.options import TestbedOptions, table_schema
+from chargedesign.airbearing.run import default_testbed_scene
 from chargedesign.cli import main
 from chargedesign.schemas import schema
 
@@ -95,8 +96,6 @@ def test_python_function_and_result_protocol() -> None:
 def test_example_scene_table_is_valid_and_embedded() -> None:
     data = tomllib.loads(EXAMPLE.read_text())
     TestbedOptions.from_table(data["testbed"])
-    from chargedesign.airbearing.run import default_testbed_scene
-
     assert default_testbed_scene().read_text() == EXAMPLE.read_text()
 
 
