@@ -64,7 +64,7 @@ class TestbedResult(Result):
     def _loop(self, name: str) -> dict[str, Any]:
         run = self.runs[name]
         out: dict[str, Any] = {"I4_relative_drift": float(run.I4_drift.max())}
-        if len(run.I4_drift) > 1:
+        if name == "nominal" or len(run.I4_drift) > 1:  # an ensemble: its spread
             out = _quantiles(run.I4_drift)
         turns = max(self.turns, 1e-300)
         out["I4_relative_drift_per_turn"] = float(np.median(run.I4_drift)) / turns

@@ -90,7 +90,10 @@ def test_python_function_and_result_protocol() -> None:
     assert repr(result).startswith("TestbedResult(") and len(repr(result)) <= 300
     assert "<table" in result._repr_html_()
     assert "I4 relative drift" in str(result)
-    json.dumps(result.to_dict(), allow_nan=False)
+    data = json.loads(json.dumps(result.to_dict(), allow_nan=False))
+    assert {"I4_relative_drift_median", "I4_relative_drift_p95"} <= set(
+        data["results"]["nominal"]
+    )  # one seed is still an ensemble
 
 
 def test_example_scene_table_is_valid_and_embedded() -> None:
