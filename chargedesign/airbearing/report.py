@@ -81,7 +81,7 @@ def plot_drift(result: TestbedResult, path: Path) -> None:
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for name, run in result.runs.items():
         curve = np.median(run.I4_drift_curve, axis=0)
-        ax.semilogy(run.times, np.maximum(curve, 1e-17), label=name)
+        ax.semilogy(run.times[1:], np.maximum(curve[1:], 1e-17), label=name)  # 0 at t = 0
     ax.set_xlabel("t (s)")
     ax.set_ylabel("|I4(t) - I4(0)| / |I4(0)| (median over seeds)")
     ax.legend(fontsize=8)
