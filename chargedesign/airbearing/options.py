@@ -137,6 +137,8 @@ _TABLE_KEYS = (
 #: caps on work (a scene asks for no more)
 MAX_SEEDS = 10_000
 MAX_SAMPLES = 20_000_000
+#: runs x samples an ensemble keeps (states of 6 floats each: 480 MB)
+MAX_STORED_SAMPLES = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -220,11 +222,28 @@ class TestbedOptions:
                 f"{where}.bearing_radius_m: expected less than platform_radius_m "
                 f"({self.platform_radius_m:g} m), got {self.bearing_radius_m!r}"
             )
+        self._check_work(where)
+
+    def _check_work(self, where: str) -> None:
+        """The start and the amount of work (samples integrated and kept)."""
+        gamma = np.array(self.initial_gamma)
+        if np.linalg.norm(gamma) == 0.0 or abs(gamma[2]) < 1e-8 * np.linalg.norm(gamma):
+            raise InputError(
+                f"{where}.initial_gamma: expected a vector with gamma3 != 0 (r is solved from "
+                f"I3 = 0), got {list(self.initial_gamma)!r}"
+            )
         fastest = max(self.rate_Hz, *self.requirement_rates_Hz)
         if self.t_end_s * fastest > MAX_SAMPLES:
             raise InputError(
                 f"{where}.t_end_s: {self.t_end_s:g} s at {fastest:g} Hz is more than "
                 f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
+            )
+        stored = max(self.seeds, len(GYRO_GRADES) * self.requirement_seeds) * self.t_end_s
+        if stored * max(self.rate_Hz, *self.requirement_rates_Hz) > MAX_STORED_SAMPLES:
+            raise InputError(
+                f"{where}.seeds: {self.seeds} seeds ({self.requirement_seeds} per requirement "
+                f"setting) over {self.t_end_s:g} s keep more than {MAX_STORED_SAMPLES} samples; "
+                "ask for fewer seeds, a shorter t_end_s or lower rates"
             )
 
     @property

@@ -35,6 +35,12 @@ SMALL = {
         ({"seeds": 0}, "testbed.seeds"),
         ({"platform_inertia_kg_m2": [[1, 0, 0], [0, 1, 0], [0, 0, 5]]}, "platform_inertia"),
         ({"requirement_rates_Hz": []}, "testbed.requirement_rates_Hz"),
+        ({"initial_gamma": [0.0, 0.0, 0.0]}, "testbed.initial_gamma"),
+        ({"initial_gamma": [1.0, 0.0, 0.0]}, "testbed.initial_gamma"),
+        ({"seeds": 10000, "t_end_s": 100.0}, "testbed.seeds"),
+        ({"t_end_s": 1e9}, "testbed.t_end_s"),
+        ({"drag_feedforward": 2.0}, "testbed.drag_feedforward"),
+        ({"rate_Hz": "fast"}, "testbed.rate_Hz"),
     ],
 )
 def test_table_errors_are_one_line(table: dict, names: str) -> None:
