@@ -35,6 +35,8 @@ from chargedesign.params import Parameters
 #: the longest fixed DOP853 step, in units of 1 / (the motion's fastest rate): local errors
 #: of order (0.05)^9 ~ 2e-12 per step
 STEP_FRACTION = 0.05
+#: |omega| beyond this many times the motion's fastest rate: the loop has diverged
+DIVERGED = 1e3
 
 
 @dataclass(frozen=True)
@@ -161,7 +163,8 @@ def run_loop(
     rng = np.random.default_rng(seed)
     T = 1.0 / settings.rate_Hz
     n_samples = max(1, round(settings.t_end_s * settings.rate_Hz))
-    max_step = STEP_FRACTION / motion_rate(plant.params, x0[:3])
+    rate = motion_rate(plant.params, x0[:3])
+    max_step = STEP_FRACTION / rate
     actuator = _Actuator(settings)
     bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
     arw = settings.per_run("gyro_arw", runs)
@@ -179,18 +182,26 @@ def run_loop(
     states = np.empty((runs, n_samples + 1, 6))
     momentum = np.empty((runs, n_samples + 1))
     torque_max = np.zeros(runs)
-    for k in range(n_samples + 1):
-        states[:, k] = x[:, 0:6]
-        momentum[:, k] = np.abs(actuator.wheel(x[:, 6:9])).max(axis=1)
-        if k == n_samples:
-            break
-        measured = _measure(x, settings, bias, arw, rng, T)
-        wanted = _command(plant, measured, settings, T, max_step)
-        applied, tau = actuator.apply(wanted)
-        torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
-        x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
-        x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
-        held = applied
+    # a diverging run overflows before it is caught at the next sample: named there
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(n_samples + 1):
+            if not np.isfinite(x).all() or np.abs(x[:, 0:3]).max() > DIVERGED * rate:
+                raise SolverError(
+                    f"testbed: the closed loop diverged by t = {k * T:.4g} s (|omega| beyond "
+                    f"{DIVERGED:g} times the motion's rate): noise, delay or disturbances too "
+                    "large for this loop"
+                )
+            states[:, k] = x[:, 0:6]
+            momentum[:, k] = np.abs(actuator.wheel(x[:, 6:9])).max(axis=1)
+            if k == n_samples:
+                break
+            measured = _measure(x, settings, bias, arw, rng, T)
+            wanted = _command(plant, measured, settings, T, max_step)
+            applied, tau = actuator.apply(wanted)
+            torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
+            x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
+            x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
+            held = applied
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
     return LoopRun(

@@ -18,6 +18,7 @@ from chargedesign.airbearing.loop import (
     theorem_motion,
 )
 from chargedesign.airbearing.wheels import wheel_axes, wheel_needs
+from chargedesign.errors import SolverError
 from chargedesign.params import Parameters
 
 UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
@@ -126,3 +127,9 @@ def test_noise_and_disturbances_raise_the_drift(plant: Plant, x0: np.ndarray) ->
     c = run_loop(plant, x0, noisy, runs=3, seed=5)
     assert (b.I4_drift > 10 * a.I4_drift[0]).all()
     assert np.array_equal(b.I4_drift, c.I4_drift)  # one seed, one ensemble
+
+
+def test_a_diverging_loop_is_one_line(plant: Plant, x0: np.ndarray) -> None:
+    wild = LoopSettings(rate_Hz=5.0, delay_s=0.0, t_end_s=20.0, command="zoh", gyro_arw=50.0)
+    with pytest.raises(SolverError, match="diverged"):
+        run_loop(plant, x0, wild)
