@@ -35,6 +35,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "frontier": ("chargedesign.api", "frontier"),
     "tolerance": ("chargedesign.api", "tolerance"),
     "sweep": ("chargedesign.api", "sweep"),
+    "testbed": ("chargedesign.api", "testbed"),
     "verify": ("chargedesign.model.verification", "verify"),
     "conditions": ("chargedesign.conditions", "conditions_for_scene"),
     # elements and files
@@ -79,6 +80,7 @@ __all__ = [
     "schema",
     "simulate",
     "sweep",
+    "testbed",
     "tolerance",
     "verify",
     "write_design",
@@ -100,7 +102,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign.api import check, design, frontier, simulate, sweep, tolerance
+    from chargedesign.api import check, design, frontier, simulate, sweep, testbed, tolerance
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
     from chargedesign.conditions import conditions_for_scene as conditions

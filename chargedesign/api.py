@@ -12,6 +12,8 @@ import tomllib
 from collections.abc import Mapping
 from typing import Any
 
+from chargedesign.airbearing.result import TestbedResult
+from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.body import Design, read_design
 from chargedesign.checker import CheckReport, check_design
 from chargedesign.designer import design_from_scene
@@ -203,4 +205,16 @@ def frontier(source: Any = None, *, progress: Any = None, **overrides: Any) -> F
     return frontier_from_scene(as_scene(source), progress=progress, **overrides)
 
 
-__all__ = ["as_scene", "check", "design", "frontier", "simulate", "sweep", "tolerance"]
+def testbed(source: Any = None, *, progress: Any = None, **options: Any) -> TestbedResult:
+    """An air-bearing testbed that moves as the theorem says (docs/testbed.md).
+
+    ``source``: see :func:`as_scene` (its parameters and ``[testbed]`` table); None: the
+    embedded testbed scene (examples/scenes/testbed.toml);
+    ``options``: ``[testbed]`` keys that replace the scene's (``rate_Hz``, ``seeds``, ...).
+    ``result`` is written with :func:`chargedesign.airbearing.report.write_testbed`.
+    """
+    scene = as_scene(default_testbed_scene() if source is None else source)
+    return testbed_from_scene(scene, progress=progress, **options)
+
+
+__all__ = ["as_scene", "check", "design", "frontier", "simulate", "sweep", "testbed", "tolerance"]

@@ -31,6 +31,7 @@ COMMANDS = {
     "tolerance": "manufacturing tolerances: exact sensitivity, Monte Carlo of perturbed bodies",
     "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
     "schema": "print the JSON Schema of design.json or of scene files",
+    "testbed": "air-bearing platform, ballast, wheels and sampled closed loop (testbed.json)",
 }
 
 

@@ -18,6 +18,8 @@ import json
 from importlib import resources
 from typing import Any
 
+from chargedesign.airbearing.options import table_schema as testbed_table_schema
+from chargedesign.airbearing.schema import output_schema as testbed_output_schema
 from chargedesign.physical.materials import GAS_PROPERTIES
 from chargedesign.scene.keys import TABLE_KEYS, table_schema
 from chargedesign.validation import input_error
@@ -31,7 +33,7 @@ from chargedesign.vocabulary import (
 )
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
-NAMES = ("design", "scene")
+NAMES = ("design", "scene", "testbed")
 
 _NUMBER = {"type": "number"}
 _NONNEG = {"type": "number", "minimum": 0}
@@ -225,8 +227,10 @@ def scene_schema() -> dict[str, Any]:
     }
     for name, description in _TABLE_DESCRIPTIONS.items():
         tables[name] = table_schema(name, description)
+    # the testbed's table is declared with its parser in the room that owns it
+    tables["testbed"] = testbed_table_schema()
     assert set(tables) == set(SCENE_TABLES)  # one list of tables: the vocabulary's
-    assert set(TABLE_KEYS) | {"parameters", "fields"} == set(SCENE_TABLES)
+    assert set(TABLE_KEYS) | {"parameters", "fields", "testbed"} == set(SCENE_TABLES)
     return {
         "$schema": DRAFT,
         "$id": "chargedesign/schemas/scene.schema.json",
@@ -240,7 +244,8 @@ def scene_schema() -> dict[str, Any]:
 
 
 def schema(name: str) -> dict[str, Any]:
-    """The JSON Schema ``design`` (design.json) or ``scene`` (scene files).
+    """The JSON Schema ``design`` (design.json), ``scene`` (scene files) or ``testbed``
+    (testbed.json).
 
     Returns
     -------
@@ -251,6 +256,8 @@ def schema(name: str) -> dict[str, Any]:
         return design_schema()
     if name == "scene":
         return scene_schema()
+    if name == "testbed":
+        return testbed_output_schema()
     raise input_error("schema", "one of " + ", ".join(NAMES), name)
 
 

@@ -68,6 +68,7 @@ SCENE_TABLES = (
     "magnets",
     "ballast",
     "tolerance",
+    "testbed",
 )
 
 #: the materials' relative property errors a scene's ``[tolerance]`` table may give

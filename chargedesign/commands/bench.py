@@ -7,7 +7,17 @@ import sys
 
 from chargedesign.files import check_outputs
 
-AREAS = ("certificate", "fields", "design", "physical", "check", "simulate", "tolerance", "sweep")
+AREAS = (
+    "certificate",
+    "fields",
+    "design",
+    "physical",
+    "check",
+    "simulate",
+    "tolerance",
+    "sweep",
+    "testbed",
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -8,7 +8,9 @@ from chargedesign.schemas import NAMES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("name", choices=NAMES, help="design (design.json) or scene (TOML)")
+    parser.add_argument(
+        "name", choices=NAMES, help="design (design.json), scene (TOML) or testbed (testbed.json)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:

@@ -3,7 +3,8 @@
 Every table is parsed and checked when the scene is loaded (one-line errors naming the key):
 ``[parameters]``, ``[fields.*]``, ``[medium]`` with ``[carriers]``, ``[magnets]``,
 ``[ballast]`` (the physical spec), ``[body]`` (a region, or the body to simulate),
-``[design]``, ``[simulation]``, ``[initial]``, ``[output]`` and ``[tolerance]``. The stages
+``[design]``, ``[simulation]``, ``[initial]``, ``[output]``, ``[tolerance]`` and
+``[testbed]``. The stages
 take these objects; :attr:`Scene.tables` keeps the raw tables only for sweeps, which apply a
 grid of dotted keys to them and parse again.
 """
@@ -18,6 +19,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.physical.spec import PhysicalSpec, spec_from_tables
@@ -109,6 +111,11 @@ class Scene:
         if "initial" not in self.tables:
             return None
         return _simulation_api().parse_initial(self.tables["initial"], "initial", self.base_dir)
+
+    @cached_property
+    def testbed(self) -> TestbedOptions:
+        """``[testbed]``: the air-bearing platform (defaults where the scene has none)."""
+        return TestbedOptions.from_table(self.tables.get("testbed"))
 
     @property
     def medium(self) -> Medium | None:
@@ -234,7 +241,7 @@ def validate_tables(scene: Scene) -> None:
     """Every table of a scene parsed (once) by its type, in a fixed order: a key or value no
     stage would accept is refused by every command that reads the scene (one line naming the
     key), not only by the command that uses the table."""
-    for name in ("design", "physical", "body", "simulation", "output", "initial"):
+    for name in ("design", "physical", "body", "simulation", "output", "initial", "testbed"):
         getattr(scene, name)
 
 

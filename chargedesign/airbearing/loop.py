@@ -1,0 +1,330 @@
+"""The loop as built: sampled control with delay, sensors, wheel limits, disturbances.
+
+At each sample ``t_k = k / rate`` the controller reads the gyro (``omega + bias + white
+noise``; the angle random walk N gives a per-sample standard deviation ``N / sqrt(T)``), the
+attitude sensor (gamma turned by a small random angle of standard deviation
+``attitude_noise``) and the wheels' tachometers (h, exact), computes a command and holds it
+from ``t_k + delay`` to ``t_{k+1} + delay``:
+
+- ``zoh``: the law ``h' = -J f - omega x (J omega + h)`` at the measured state;
+- ``predictive``: the model's own motion (the continuous loop, from the measured state)
+  predicted over the delay and the coming interval, and the average of its ``h'`` there,
+  ``(h(t_k + delay + T) - h(t_k + delay)) / T``;
+
+less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
+
+The commanded body torque is shared among the wheels (least-norm), each wheel's torque
+saturated and quantised, and the plant integrated (fixed-step DOP853) with the bearing's
+viscous drag ``-b omega`` and the weight's torque ``-M g r_c x gamma`` of a centre of mass
+at ``r_c``. Runs of one ensemble go together as one batch.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from chargedesign.airbearing.dynamics import Plant, advance, cross, motion_rate
+from chargedesign.airbearing.options import STANDARD_GRAVITY
+from chargedesign.errors import InputError, SolverError
+from chargedesign.model import evaluators
+from chargedesign.params import Parameters
+
+#: the longest fixed DOP853 step, in units of 1 / (the motion's fastest rate): local errors
+#: of order (0.05)^9 ~ 2e-12 per step
+STEP_FRACTION = 0.05
+#: |omega| beyond this many times the motion's fastest rate: the loop has diverged
+DIVERGED = 1e3
+
+
+@dataclass(frozen=True)
+class LoopSettings:
+    """One loop configuration (SI units)."""
+
+    rate_Hz: float
+    delay_s: float
+    t_end_s: float
+    command: str = "zoh"
+    gyro_arw: float | np.ndarray = 0.0
+    gyro_bias: float | np.ndarray = 0.0
+    attitude_noise: float = 0.0
+    imbalance_m: float = 0.0
+    imbalance_direction: tuple[float, float, float] | None = None  # None: random per run
+    drag_N_m_s: float = 0.0
+    drag_feedforward_N_m_s: float = 0.0  # the drag the controller knows and cancels
+    total_mass_kg: float = 0.0
+    wheel_axes: np.ndarray = field(default_factory=lambda: np.eye(3))
+    max_torque: float = np.inf
+    resolution: float = 0.0
+
+    @property
+    def noisy(self) -> bool:
+        return bool(np.any(self.gyro_arw) or np.any(self.gyro_bias) or self.attitude_noise > 0)
+
+    def per_run(self, name: str, runs: int) -> np.ndarray:
+        """A gyro figure as a column (runs, 1): one value for all runs, or one per run."""
+        return np.broadcast_to(np.asarray(getattr(self, name), float), (runs,))[:, None]
+
+
+@dataclass
+class LoopRun:
+    """An ensemble of closed-loop runs.
+
+    Attributes
+    ----------
+    times : ndarray, shape (N + 1,)
+        The sample instants, s.
+    states : ndarray, shape (m, N + 1, 6) or None
+        The true (omega, gamma) of every run at the samples (kept when asked).
+    I4_drift : ndarray, shape (m,)
+        ``max_t |I4(t) - I4(0)| / |I4(0)|`` over the samples.
+    I4_drift_curve : ndarray, shape (m, N + 1)
+        ``|I4(t) - I4(0)| / |I4(0)|``.
+    I3_max : ndarray, shape (m,)
+        ``max_t |I3(t)|``, J s (the runs start on I3 = 0).
+    wheel_torque_max, wheel_momentum_max : ndarray, shape (m,)
+        The largest |torque| (N m) and |momentum| (N m s) of any wheel.
+    """
+
+    times: np.ndarray
+    states: np.ndarray | None
+    I4_drift: np.ndarray
+    I4_drift_curve: np.ndarray
+    I3_max: np.ndarray
+    wheel_torque_max: np.ndarray
+    wheel_momentum_max: np.ndarray
+    wheel_momentum: np.ndarray | None = None
+
+
+def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
+    """``(p, q, r, gamma)`` on I3 = 0: r solved from ``(I omega + l) . gamma = 0``."""
+    g = np.asarray(gamma, float) / np.linalg.norm(gamma)
+    if abs(g[2]) < 1e-8:
+        raise InputError("testbed.initial_gamma: gamma3 must be non-zero to solve r from I3 = 0")
+    l_vec = evaluators.angular_potential(g, params)
+    C = params.C
+    r = -(2.0 * C * (p * g[0] + q * g[1]) + float(l_vec @ g)) / (C * g[2])
+    return np.array([p, q, r, *g])
+
+
+def invariants(states: np.ndarray, params: Parameters) -> tuple[np.ndarray, np.ndarray]:
+    """I3 and I4 of the theorem at ``states`` (..., 6)."""
+    flat = states.reshape(-1, 6)
+    pt = evaluators.parameter_tuple(params)
+    values = evaluators.compiled("integrals", params.singular, "numpy")(*flat.T, *pt)
+    shape = states.shape[:-1]
+    return (
+        np.broadcast_to(values[2], flat.shape[:1]).reshape(shape),
+        np.broadcast_to(values[3], flat.shape[:1]).reshape(shape),
+    )
+
+
+def relative_drift(curve_I4: np.ndarray) -> np.ndarray:
+    """``|I4(t) - I4(0)| / |I4(0)|`` along the last axis."""
+    i4_0 = curve_I4[..., :1]
+    return np.abs(curve_I4 - i4_0) / np.where(i4_0 != 0.0, np.abs(i4_0), 1.0)
+
+
+class _Actuator:
+    """Least-norm share of a body torque among the wheels, saturation, quantisation."""
+
+    def __init__(self, settings: LoopSettings) -> None:
+        self.axes = np.asarray(settings.wheel_axes, float)  # (k, 3)
+        self.share = np.linalg.pinv(self.axes.T)  # (k, 3): body torque -> wheel torques
+        self.max_torque = settings.max_torque
+        self.resolution = settings.resolution
+
+    def wheel(self, body: np.ndarray) -> np.ndarray:
+        return body @ self.share.T
+
+    def apply(self, body: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(body torque actually applied (m, 3), wheel torques (m, k))."""
+        tau = np.clip(self.wheel(body), -self.max_torque, self.max_torque)
+        if self.resolution > 0.0:
+            tau = np.round(tau / self.resolution) * self.resolution
+        return tau @ self.axes, tau
+
+
+def run_loop(
+    plant: Plant,
+    x0: np.ndarray,
+    settings: LoopSettings,
+    runs: int = 1,
+    seed: int = 0,
+    keep_states: bool = False,
+) -> LoopRun:
+    """``runs`` closed-loop runs from ``x0 = (omega, gamma)`` (wheels at rest), one batch.
+
+    The noise of the runs comes from one generator seeded by ``seed`` (run i of the same
+    seed and count is reproducible).
+    """
+    rng = np.random.default_rng(seed)
+    T = 1.0 / settings.rate_Hz
+    n_samples = max(1, round(settings.t_end_s * settings.rate_Hz))
+    rate = motion_rate(plant.params, x0[:3])
+    max_step = STEP_FRACTION / rate
+    actuator = _Actuator(settings)
+    bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
+    arw = settings.per_run("gyro_arw", runs)
+    offset = _imbalance(settings.imbalance_m, runs, rng, settings.imbalance_direction)
+    weight = settings.total_mass_kg * STANDARD_GRAVITY
+
+    def external(x: np.ndarray) -> np.ndarray | None:
+        if settings.drag_N_m_s == 0.0 and settings.imbalance_m == 0.0:
+            return None
+        return -settings.drag_N_m_s * x[:, 0:3] - weight * cross(offset, x[:, 3:6])
+
+    x = np.zeros((runs, 9))
+    x[:, 0:6] = x0[:6]
+    held, _ = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    states = np.empty((runs, n_samples + 1, 6))
+    momentum = np.empty((runs, n_samples + 1))
+    torque_max = np.zeros(runs)
+    # a diverging run overflows before it is caught at the next sample: named there
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(n_samples + 1):
+            if not np.isfinite(x).all() or np.abs(x[:, 0:3]).max() > DIVERGED * rate:
+                raise SolverError(
+                    f"testbed: the closed loop diverged by t = {k * T:.4g} s (|omega| beyond "
+                    f"{DIVERGED:g} times the motion's rate): noise, delay or disturbances too "
+                    "large for this loop"
+                )
+            states[:, k] = x[:, 0:6]
+            momentum[:, k] = np.abs(actuator.wheel(x[:, 6:9])).max(axis=1)
+            if k == n_samples:
+                break
+            measured = _measure(x, settings, bias, arw, rng, T)
+            wanted = _command(plant, measured, settings, T, max_step)
+            applied, tau = actuator.apply(wanted)
+            torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
+            x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
+            x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
+            held = applied
+    I3, I4 = invariants(states, plant.params)
+    curve = relative_drift(I4)
+    return LoopRun(
+        times=np.arange(n_samples + 1) * T,
+        states=states if keep_states else None,
+        I4_drift=curve.max(axis=1),
+        I4_drift_curve=curve,
+        I3_max=np.abs(I3).max(axis=1),
+        wheel_torque_max=torque_max,
+        wheel_momentum_max=momentum.max(axis=1),
+        wheel_momentum=momentum if keep_states else None,
+    )
+
+
+def _held(
+    plant: Plant, torque: np.ndarray, external: Callable[[np.ndarray], np.ndarray | None]
+) -> Callable[[np.ndarray], np.ndarray]:
+    """The plant's right-hand side under a held wheel torque."""
+    return lambda y: plant.rates(y, torque, external(y))
+
+
+def _imbalance(
+    size: float,
+    runs: int,
+    rng: np.random.Generator,
+    fixed: tuple[float, float, float] | None = None,
+) -> np.ndarray:
+    """Centre-of-mass offsets of length ``size`` in random directions, or along ``fixed``
+    (m, 3)."""
+    direction = rng.standard_normal((runs, 3)) if fixed is None else np.tile(fixed, (runs, 1))
+    return size * direction / np.linalg.norm(direction, axis=1, keepdims=True)
+
+
+def _measure(
+    x: np.ndarray,
+    settings: LoopSettings,
+    bias: np.ndarray,
+    arw: np.ndarray,
+    rng: np.random.Generator,
+    T: float,
+) -> np.ndarray:
+    """The controller's view of the state (m, 9): noisy omega and gamma, exact h."""
+    if not settings.noisy:
+        return x.copy()
+    out = x.copy()
+    out[:, 0:3] += bias + (arw / np.sqrt(T)) * rng.standard_normal((len(x), 3))
+    if settings.attitude_noise > 0.0:
+        angle = settings.attitude_noise * rng.standard_normal((len(x), 3))
+        g = x[:, 3:6] + cross(angle, x[:, 3:6])
+        out[:, 3:6] = g / np.linalg.norm(g, axis=1, keepdims=True)
+    return out
+
+
+def _command(
+    plant: Plant, measured: np.ndarray, settings: LoopSettings, T: float, max_step: float
+) -> np.ndarray:
+    """The body torque h' to hold (m, 3), less the known drag ``b_ff omega`` (fed forward:
+    the wheels then push the platform by ``+b_ff omega``)."""
+    if settings.command == "zoh":
+        wanted = plant.command(measured)
+    else:
+        start = advance(plant.ideal_rates, measured, settings.delay_s, max_step)
+        end = advance(plant.ideal_rates, start, T, max_step)
+        wanted = (end[:, 6:9] - start[:, 6:9]) / T
+    if settings.drag_feedforward_N_m_s:
+        wanted = wanted - settings.drag_feedforward_N_m_s * measured[:, 0:3]
+    return wanted
+
+
+def continuous_loop(
+    plant: Plant, x0: np.ndarray, t_end: float, samples: int, rtol: float = 1e-12
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ideal continuous loop (no sampling, noise or disturbance) by adaptive DOP853.
+
+    Returns ``(times (samples,), states (samples, 9))``.
+    """
+    from scipy.integrate import solve_ivp
+
+    y0 = np.zeros(9)
+    y0[:6] = x0[:6]
+    t = np.linspace(0.0, t_end, samples)
+    sol = solve_ivp(
+        lambda _t, y: plant.ideal_rates(y[None])[0],
+        (0.0, t_end),
+        y0,
+        method="DOP853",
+        rtol=rtol,
+        atol=rtol,
+        t_eval=t,
+    )
+    if not sol.success:
+        raise SolverError(f"testbed: the continuous loop's integration failed ({sol.message})")
+    return sol.t, sol.y.T
+
+
+def theorem_motion(
+    params: Parameters, x0: np.ndarray, t_end: float, samples: int, rtol: float = 1e-12
+) -> np.ndarray:
+    """The theorem's reduced model (the derived Euler-Poisson equations), (samples, 6)."""
+    from scipy.integrate import solve_ivp
+
+    t = np.linspace(0.0, t_end, samples)
+    sol = solve_ivp(
+        evaluators.rhs_function(params),
+        (0.0, t_end),
+        np.asarray(x0[:6], float),
+        method="DOP853",
+        rtol=rtol,
+        atol=rtol,
+        t_eval=t,
+    )
+    if not sol.success:
+        raise SolverError(f"testbed: the theorem's integration failed ({sol.message})")
+    return sol.y.T
+
+
+__all__ = [
+    "LoopRun",
+    "LoopSettings",
+    "continuous_loop",
+    "initial_state",
+    "invariants",
+    "relative_drift",
+    "run_loop",
+    "theorem_motion",
+]

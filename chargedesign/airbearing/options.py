@@ -1,0 +1,397 @@
+"""The ``[testbed]`` scene table: one parser (:meth:`TestbedOptions.from_table`), its defaults
+with their sources, and the table's JSON-schema fragment (:func:`table_schema`).
+
+Every default is either taken from a cited figure or derived (the bearing's drag from the
+Couette flow in its gap); :data:`SOURCES` says which. All values are SI.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.physical.materials import BALLAST_DENSITY
+from chargedesign.validation import (
+    as_array,
+    as_count,
+    as_finite_float,
+    check_keys,
+    input_error,
+)
+
+_DEG = math.pi / 180.0
+_HOUR = 3600.0
+
+
+def _arw(deg_per_sqrt_hour: float) -> float:
+    """Angle random walk in deg/sqrt(h) as rad/sqrt(s)."""
+    return deg_per_sqrt_hour * _DEG / math.sqrt(_HOUR)
+
+
+def _bias(deg_per_hour: float) -> float:
+    """Gyro bias in deg/h as rad/s."""
+    return deg_per_hour * _DEG / _HOUR
+
+
+#: gyro grades: (angle random walk rad/sqrt(s), bias rad/s), order-of-magnitude figures of each
+#: class (SOURCES["gyro_grades"]); ``ideal`` is a perfect gyro (the loop's own limit)
+GYRO_GRADES: dict[str, tuple[float, float]] = {
+    "ideal": (0.0, 0.0),
+    "navigation": (_arw(0.002), _bias(0.01)),
+    "tactical": (_arw(0.1), _bias(1.0)),
+    "industrial": (_arw(0.5), _bias(10.0)),
+}
+
+#: the wheel arrays: three orthogonal wheels, or four on a pyramid about body z
+WHEEL_ARRAYS = ("orthogonal", "pyramid")
+#: the command laws: zero-order hold of the law sampled at t_k, or the model's average over
+#: the coming interval (predictive)
+COMMANDS = ("predictive", "zoh")
+
+#: dynamic viscosity of air at 20 C, Pa s (CRC Handbook of Chemistry and Physics, 97th ed.,
+#: "Viscosity of gases": 18.2 uPa s at 20 C, 1 atm)
+AIR_VISCOSITY = 1.82e-5
+#: standard gravity, m/s^2 (CGPM 1901)
+STANDARD_GRAVITY = 9.80665
+
+#: where each default comes from
+SOURCES = {
+    "platform": "a hemispherical shell about O (bearing cup up, platform below; its own "
+    "inertia 2/3 M R^2 about every axis through O, centre of mass R/2 below O); 10 kg and "
+    "0.25 m radius: the tabletop class of the survey Schwartz, Peck & Hall, J. Guid. Control "
+    "Dyn. 26(4) 2003 (e.g. NPS CubeTAS)",
+    "bearing_capacity_kg": "a chosen round figure for a tabletop spherical air bearing of the "
+    "same class; give your bearing's rated load",
+    "drag_N_m_s": "derived: viscous Couette drag of the air film, b = (4 pi / 3) eta R^4 / h "
+    "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC Handbook)",
+    "bearing_gap_m": "10 um: the film thickness of spherical air bearings is of order 5-25 um "
+    "(Schwartz, Peck & Hall 2003 describe micrometre films)",
+    "imbalance_m": "1 um: automatic mass balancing brings the centre of mass within "
+    "micrometres of the bearing's centre (Schwartz, Peck & Hall 2003)",
+    "gyro_grades": "order-of-magnitude class figures (bias; angle random walk): navigation "
+    "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
+    "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
+    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades)",
+    "attitude_noise_rad": "5e-5 rad (10 arcsec): star-tracker class cross-axis noise, "
+    "C. C. Liebe, IEEE Trans. Aerosp. Electron. Syst. 38(2) 2002",
+    "rate_Hz": "200 Hz and 1 ms of delay: the contract's example loop",
+    "wheels": "limits sized from the planned motion times wheel_margin (1.5: headroom for "
+    "noise and disturbances); flight-like wheels give 0.01-0.1 N m (Schwartz, Peck & Hall "
+    "2003); give max_torque_N_m and max_momentum_N_m_s to check a real wheel",
+    "torque_resolution_N_m": "a 16-bit command over +-max torque: 2 max_torque / 2^16",
+    "pyramid_angle_deg": "arccos(1/sqrt(3)) = 54.74 deg: the four-wheel pyramid whose wheels "
+    "share the three body axes equally",
+    "ballast_material": "brass (8500 kg/m^3, chargedesign.physical.materials): machinable, "
+    "non-magnetic, dense",
+    "initial": "the simulation's default start (gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 "
+    "rad/s) with r solved from I3 = 0",
+    "t_end_s": "20 s: the horizon of the issue's outside measurement",
+    "target_I4_drift": "1e-3: I4 kept to 0.1 % over the run",
+    "drag_feedforward": "0: no drag fed forward (the baseline); a measured drag (spin-down "
+    "test) fed forward as a fraction of the bearing's drag cancels that much of it",
+    "seeds": "16 noise seeds (and 2 per requirement setting): a spread in seconds of run time; "
+    "raise them for tighter percentiles",
+}
+
+_TABLE_KEYS = (
+    "platform_mass_kg",
+    "platform_radius_m",
+    "platform_inertia_kg_m2",
+    "platform_com_m",
+    "bearing_capacity_kg",
+    "bearing_radius_m",
+    "bearing_gap_m",
+    "ballast_material",
+    "ballast_spacing_m",
+    "wheels",
+    "pyramid_angle_deg",
+    "max_torque_N_m",
+    "max_momentum_N_m_s",
+    "wheel_margin",
+    "torque_resolution_N_m",
+    "rate_Hz",
+    "delay_s",
+    "command",
+    "gyro_grade",
+    "gyro_arw_rad_per_sqrt_s",
+    "gyro_bias_rad_per_s",
+    "attitude_noise_rad",
+    "imbalance_m",
+    "drag_N_m_s",
+    "drag_feedforward",
+    "initial_gamma",
+    "initial_p",
+    "initial_q",
+    "t_end_s",
+    "seeds",
+    "target_I4_drift",
+    "requirement_rates_Hz",
+    "requirement_seeds",
+)
+
+#: caps on work (a scene asks for no more)
+MAX_SEEDS = 10_000
+MAX_SAMPLES = 20_000_000
+#: runs x samples an ensemble keeps (states of 6 floats each: 480 MB)
+MAX_STORED_SAMPLES = 10_000_000
+
+
+@dataclass(frozen=True)
+class TestbedOptions:
+    """The ``[testbed]`` table, validated (SI units; see docs/testbed.md).
+
+    ``platform_inertia_kg_m2`` and ``platform_com_m`` None mean the hemispherical shell of
+    ``platform_mass_kg`` and ``platform_radius_m``; ``max_torque_N_m``,
+    ``max_momentum_N_m_s`` None mean sized from the motion; ``drag_N_m_s`` None means
+    derived from the bearing; ``torque_resolution_N_m`` None means 16 bits.
+    """
+
+    platform_mass_kg: float = 10.0
+    platform_radius_m: float = 0.25
+    platform_inertia_kg_m2: tuple[tuple[float, ...], ...] | None = None
+    platform_com_m: tuple[float, float, float] | None = None
+    bearing_capacity_kg: float = 50.0
+    bearing_radius_m: float = 0.05
+    bearing_gap_m: float = 1.0e-5
+    ballast_material: str = "brass"
+    ballast_spacing_m: float | None = None
+    wheels: str = "orthogonal"
+    pyramid_angle_deg: float = math.degrees(math.acos(1.0 / math.sqrt(3.0)))
+    max_torque_N_m: float | None = None
+    max_momentum_N_m_s: float | None = None
+    wheel_margin: float = 1.5
+    torque_resolution_N_m: float | None = None
+    rate_Hz: float = 200.0
+    delay_s: float = 1.0e-3
+    command: str = "predictive"
+    gyro_grade: str = "tactical"
+    gyro_arw_rad_per_sqrt_s: float | None = None
+    gyro_bias_rad_per_s: float | None = None
+    attitude_noise_rad: float = 5.0e-5
+    imbalance_m: float = 1.0e-6
+    drag_N_m_s: float | None = None
+    drag_feedforward: float = 0.0
+    initial_gamma: tuple[float, float, float] = (0.36, 0.48, 0.8)
+    initial_p: float = 0.6
+    initial_q: float = -0.4
+    t_end_s: float = 20.0
+    seeds: int = 16
+    target_I4_drift: float = 1.0e-3
+    requirement_rates_Hz: tuple[float, ...] = (25.0, 50.0, 100.0, 200.0)
+    requirement_seeds: int = 2
+
+    __test__ = False  # not a pytest class (its name starts with Test)
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any] | None, where: str = "testbed") -> TestbedOptions:
+        """Validate a ``[testbed]`` table (one-line errors naming ``testbed.<key>``)."""
+        if table is None:
+            table = {}
+        if not isinstance(table, Mapping):
+            raise input_error(where, "a table", table)
+        check_keys(table, _TABLE_KEYS, where)
+        defaults = cls()
+        values: dict[str, Any] = {}
+        for f in fields(cls):
+            if f.name not in table:
+                continue
+            values[f.name] = _parse(f.name, table[f.name], f"{where}.{f.name}")
+        out = cls(**{**{f.name: getattr(defaults, f.name) for f in fields(cls)}, **values})
+        out._check_together(where)
+        return out
+
+    def _check_together(self, where: str) -> None:
+        if self.delay_s >= 1.0 / self.rate_Hz:
+            raise InputError(
+                f"{where}.delay_s: expected a delay shorter than one control period "
+                f"(1/rate_Hz = {1.0 / self.rate_Hz:.6g} s), got {self.delay_s!r}"
+            )
+        if self.platform_mass_kg > self.bearing_capacity_kg:
+            raise InputError(
+                f"{where}.platform_mass_kg: the platform ({self.platform_mass_kg:g} kg) is "
+                f"heavier than the bearing's rating (bearing_capacity_kg = "
+                f"{self.bearing_capacity_kg:g} kg)"
+            )
+        if self.bearing_radius_m >= self.platform_radius_m:
+            raise InputError(
+                f"{where}.bearing_radius_m: expected less than platform_radius_m "
+                f"({self.platform_radius_m:g} m), got {self.bearing_radius_m!r}"
+            )
+        self._check_work(where)
+
+    def _check_work(self, where: str) -> None:
+        """The start and the amount of work (samples integrated and kept)."""
+        gamma = np.array(self.initial_gamma)
+        if np.linalg.norm(gamma) == 0.0 or abs(gamma[2]) < 1e-8 * np.linalg.norm(gamma):
+            raise InputError(
+                f"{where}.initial_gamma: expected a vector with gamma3 != 0 (r is solved from "
+                f"I3 = 0), got {list(self.initial_gamma)!r}"
+            )
+        fastest = max(self.rate_Hz, *self.requirement_rates_Hz)
+        if self.t_end_s * fastest > MAX_SAMPLES:
+            raise InputError(
+                f"{where}.t_end_s: {self.t_end_s:g} s at {fastest:g} Hz is more than "
+                f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
+            )
+        stored = max(self.seeds, len(GYRO_GRADES) * self.requirement_seeds) * self.t_end_s
+        if stored * max(self.rate_Hz, *self.requirement_rates_Hz) > MAX_STORED_SAMPLES:
+            raise InputError(
+                f"{where}.seeds: {self.seeds} seeds ({self.requirement_seeds} per requirement "
+                f"setting) over {self.t_end_s:g} s keep more than {MAX_STORED_SAMPLES} samples; "
+                "ask for fewer seeds, a shorter t_end_s or lower rates"
+            )
+
+    @property
+    def gyro(self) -> tuple[float, float]:
+        """(angle random walk rad/sqrt(s), bias rad/s): the grade's, or the scene's values."""
+        arw, bias = GYRO_GRADES[self.gyro_grade]
+        if self.gyro_arw_rad_per_sqrt_s is not None:
+            arw = self.gyro_arw_rad_per_sqrt_s
+        if self.gyro_bias_rad_per_s is not None:
+            bias = self.gyro_bias_rad_per_s
+        return arw, bias
+
+    @property
+    def drag(self) -> float:
+        """Bearing drag coefficient, N m s: the scene's, or the air film's Couette drag."""
+        if self.drag_N_m_s is not None:
+            return self.drag_N_m_s
+        return bearing_drag(self.bearing_radius_m, self.bearing_gap_m)
+
+    @property
+    def ballast_density(self) -> float:
+        return BALLAST_DENSITY[self.ballast_material]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def bearing_drag(radius: float, gap: float, viscosity: float = AIR_VISCOSITY) -> float:
+    """Viscous drag coefficient (N m s) of a hemispherical air film: ``(4 pi/3) eta R^4 / h``.
+
+    The film's shear stress is ``eta v / h`` with ``v = omega R sin(theta)`` at polar angle
+    theta from the spin axis; its torque ``int (eta omega R sin / h) R sin R^2 sin dtheta
+    dphi`` over the hemisphere is ``(4 pi / 3) eta R^4 omega / h``.
+    """
+    return 4.0 * math.pi / 3.0 * viscosity * radius**4 / gap
+
+
+_POSITIVE = (
+    "platform_mass_kg",
+    "platform_radius_m",
+    "bearing_capacity_kg",
+    "bearing_radius_m",
+    "bearing_gap_m",
+    "ballast_spacing_m",
+    "max_torque_N_m",
+    "max_momentum_N_m_s",
+    "torque_resolution_N_m",
+    "rate_Hz",
+    "t_end_s",
+    "target_I4_drift",
+)
+_NONNEGATIVE = (
+    "delay_s",
+    "gyro_arw_rad_per_sqrt_s",
+    "gyro_bias_rad_per_s",
+    "attitude_noise_rad",
+    "imbalance_m",
+    "drag_N_m_s",
+)
+_CHOICES = {
+    "ballast_material": tuple(BALLAST_DENSITY),
+    "wheels": WHEEL_ARRAYS,
+    "command": COMMANDS,
+    "gyro_grade": tuple(GYRO_GRADES),
+}
+
+
+def _parse(name: str, value: Any, where: str) -> Any:
+    if name in _CHOICES:
+        if value not in _CHOICES[name]:
+            raise input_error(where, "one of " + ", ".join(_CHOICES[name]), value)
+        return value
+    if name in ("seeds", "requirement_seeds"):
+        return as_count(value, where, minimum=1, cap=MAX_SEEDS)
+    if name == "platform_inertia_kg_m2":
+        return _inertia(value, where)
+    if name in ("platform_com_m", "initial_gamma"):
+        return tuple(float(x) for x in as_array(value, where, (3,)))
+    if name == "requirement_rates_Hz":
+        rates = as_array(value, where, (None,))
+        if rates.size == 0 or rates.size > 12 or (rates <= 0).any():
+            raise input_error(where, "1 to 12 rates > 0 (Hz)", value)
+        return tuple(sorted(float(x) for x in rates))
+    number = as_finite_float(value, where, positive=name in _POSITIVE)
+    if name in _NONNEGATIVE and number < 0.0:
+        raise input_error(where, "a number >= 0", value)
+    if name == "wheel_margin" and number < 1.0:
+        raise input_error(where, "a margin >= 1", value)
+    if name == "drag_feedforward" and not 0.0 <= number <= 1.0:
+        raise input_error(where, "the fraction of the drag fed forward, in 0..1", value)
+    if name == "pyramid_angle_deg" and not 5.0 <= number <= 85.0:
+        raise input_error(where, "an angle from the body z axis in 5..85 deg", value)
+    return number
+
+
+def _inertia(value: Any, where: str) -> tuple[tuple[float, ...], ...]:
+    matrix = as_array(value, where, (3, 3))
+    if abs(matrix - matrix.T).max() > 1e-12 * max(1.0, abs(matrix).max()):
+        raise input_error(where, "a symmetric 3x3 inertia matrix (kg m^2)", value)
+    eig = np.linalg.eigvalsh(matrix)
+    if eig[0] <= 0.0 or eig[2] > eig[0] + eig[1] + 1e-12 * eig[2]:
+        raise input_error(where, "a physical inertia (positive, triangle inequality)", value)
+    return tuple(tuple(float(x) for x in row) for row in matrix)
+
+
+def table_schema() -> dict[str, Any]:
+    """The ``[testbed]`` table's JSON-schema fragment (closed: unknown keys are refused)."""
+    number = {"type": "number"}
+    positive = {"type": "number", "exclusiveMinimum": 0}
+    nonneg = {"type": "number", "minimum": 0}
+    vector = {"type": "array", "items": number, "minItems": 3, "maxItems": 3}
+    props: dict[str, Any] = {}
+    for name in _TABLE_KEYS:
+        if name in _CHOICES:
+            props[name] = {"enum": list(_CHOICES[name])}
+        elif name in _POSITIVE:
+            props[name] = positive
+        elif name in _NONNEGATIVE:
+            props[name] = nonneg
+        elif name in ("seeds", "requirement_seeds"):
+            props[name] = {"type": "integer", "minimum": 1, "maximum": MAX_SEEDS}
+        elif name == "platform_inertia_kg_m2":
+            props[name] = {"type": "array", "items": vector, "minItems": 3, "maxItems": 3}
+        elif name in ("platform_com_m", "initial_gamma"):
+            props[name] = vector
+        elif name == "requirement_rates_Hz":
+            props[name] = {"type": "array", "items": positive, "minItems": 1, "maxItems": 12}
+        elif name == "drag_feedforward":
+            props[name] = {"type": "number", "minimum": 0, "maximum": 1}
+        else:
+            props[name] = number
+    return {
+        "type": "object",
+        "description": "the air-bearing testbed (docs/testbed.md): platform, ballast, wheels, "
+        "sampled loop, sensors, disturbances, requirements",
+        "properties": props,
+        "additionalProperties": False,
+    }
+
+
+__all__ = [
+    "AIR_VISCOSITY",
+    "COMMANDS",
+    "GYRO_GRADES",
+    "SOURCES",
+    "STANDARD_GRAVITY",
+    "WHEEL_ARRAYS",
+    "TestbedOptions",
+    "bearing_drag",
+    "table_schema",
+]

@@ -1,0 +1,246 @@
+"""Platform and ballast: the convex mass program with parts that have sizes.
+
+The platform is a given structure (mass, inertia about the bearing's centre O, centre of
+mass). Ballast spheres of one material bring the total to the theorem's inertia
+``diag(2C, 2C, C)`` (products zero) with the centre of mass at O. A sphere of mass m and
+radius a at r adds ``m (|r|^2 1 - r r^T) + (2/5) m a^2 1``; its first moment ``m r``.
+
+Without the spheres' own inertia the conditions are linear in the masses: a linear program
+over candidate sites (least total mass; its optimum is a vertex with at most 9 parts). The
+own inertia ``(2/5) m a^2 = (2/5) m (3 m / 4 pi rho)^(2/3)`` is then added by Gauss-Newton on
+the chosen sites (exact Jacobian), which closes the conditions to round-off.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from chargedesign.airbearing.options import TestbedOptions
+from chargedesign.errors import InfeasibleError, SolverError
+
+#: the upper triangle of a symmetric 3x3 matrix (row, column)
+_UPPER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+
+
+@dataclass(frozen=True)
+class Platform:
+    """The base structure: mass (kg), inertia about O (3x3, kg m^2), centre of mass (m)."""
+
+    mass_kg: float
+    inertia: np.ndarray
+    com: np.ndarray
+    radius_m: float
+
+    @classmethod
+    def from_options(cls, opts: TestbedOptions) -> Platform:
+        m, R = opts.platform_mass_kg, opts.platform_radius_m
+        inertia = (
+            np.array(opts.platform_inertia_kg_m2)
+            if opts.platform_inertia_kg_m2 is not None
+            else (2.0 / 3.0) * m * R**2 * np.eye(3)  # thin hemispherical shell about its centre
+        )
+        com = (
+            np.array(opts.platform_com_m)
+            if opts.platform_com_m is not None
+            else np.array([0.0, 0.0, -R / 2.0])  # the shell's centroid, R/2 below O
+        )
+        return cls(mass_kg=m, inertia=inertia, com=com, radius_m=R)
+
+
+@dataclass(frozen=True)
+class Ballast:
+    """Ballast spheres: positions (n, 3) m, masses (n,) kg, radii (n,) m, one material."""
+
+    positions: np.ndarray
+    masses: np.ndarray
+    radii: np.ndarray
+    material: str
+    density: float
+
+    @property
+    def total_mass(self) -> float:
+        return float(self.masses.sum())
+
+
+def sphere_radii(masses: np.ndarray, density: float) -> np.ndarray:
+    return np.cbrt(3.0 * masses / (4.0 * math.pi * density))
+
+
+def parts_inertia(positions: np.ndarray, masses: np.ndarray, radii: np.ndarray) -> np.ndarray:
+    """Inertia about O of spheres (3x3): point masses plus each sphere's own 2/5 m a^2."""
+    r2 = np.einsum("ij,ij->i", positions, positions)
+    own = 0.4 * masses * radii**2
+    return np.eye(3) * float(masses @ r2 + own.sum()) - np.einsum(
+        "n,ni,nj->ij", masses, positions, positions
+    )
+
+
+def total_inertia(platform: Platform, ballast: Ballast) -> np.ndarray:
+    return platform.inertia + parts_inertia(ballast.positions, ballast.masses, ballast.radii)
+
+
+def total_com(platform: Platform, ballast: Ballast) -> np.ndarray:
+    moment = platform.mass_kg * platform.com + ballast.masses @ ballast.positions
+    return moment / (platform.mass_kg + ballast.total_mass)
+
+
+def candidate_sites(outer: float, inner: float, spacing: float, clearance: float) -> np.ndarray:
+    """Grid sites (n, 3) with ``inner + clearance <= |r| <= outer - clearance``: a part of
+    radius up to the clearance stays inside the envelope and off the bearing's ball."""
+    k = math.floor(outer / spacing)
+    axis = spacing * np.arange(-k, k + 1)
+    grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    norm = np.linalg.norm(grid, axis=1)
+    return grid[(norm <= outer - clearance) & (norm >= inner + clearance)]
+
+
+def _rows(positions: np.ndarray) -> np.ndarray:
+    """(9, n): the first moments (3) and the inertia's upper triangle (6) per unit mass."""
+    r2 = np.einsum("ij,ij->i", positions, positions)
+    rows = [positions[:, a] for a in range(3)]
+    for i, j in _UPPER:
+        rows.append((r2 if i == j else 0.0) - positions[:, i] * positions[:, j])
+    return np.array(rows)
+
+
+def _targets(platform: Platform, C: float) -> np.ndarray:
+    want = np.diag([2.0 * C, 2.0 * C, C]) - platform.inertia
+    return np.concatenate([-platform.mass_kg * platform.com, [want[i, j] for i, j in _UPPER]])
+
+
+def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballast:
+    """The least-mass ballast that gives ``diag(2C, 2C, C)`` about O and the centre at O.
+
+    Raises
+    ------
+    InfeasibleError
+        When no ballast inside the envelope (off the bearing's ball) reaches the target, or
+        the parts overlap or leave the envelope once sized.
+    """
+    spacing = opts.ballast_spacing_m or platform.radius_m / 5.0
+    clearance = spacing / 2.0
+    for attempt in range(6):
+        ballast = _ballast_on_grid(platform, C, opts, spacing, clearance)
+        try:
+            _check_fit(ballast, platform.radius_m, opts.bearing_radius_m)
+            return ballast
+        except InfeasibleError:
+            if attempt == 5:
+                raise
+        # parts larger than the grid allowed for: keep them clear of the walls and apart
+        largest = float(ballast.radii.max())
+        clearance = max(clearance, 1.05 * largest)
+        if opts.ballast_spacing_m is None:
+            spacing = max(spacing, 2.1 * largest)
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _ballast_on_grid(
+    platform: Platform, C: float, opts: TestbedOptions, spacing: float, clearance: float
+) -> Ballast:
+    sites = candidate_sites(platform.radius_m, opts.bearing_radius_m, spacing, clearance)
+    if len(sites) == 0:
+        raise InfeasibleError(
+            "testbed: no room for ballast between the bearing's ball and the envelope; give a "
+            "larger platform_radius_m or a denser ballast_material"
+        )
+    rows, target = _rows(sites), _targets(platform, C)
+    own = np.zeros(9)
+    for _ in range(4):  # the spheres' own inertia moves the LP's target: re-solve with it
+        masses = _least_mass(rows, target - own, platform, C)
+        radii = sphere_radii(masses, opts.ballast_density)
+        own[3:6] = float((0.4 * masses * radii**2).sum())
+    keep = masses > 1e-9 * masses.max()
+    positions = sites[keep]
+    masses = _polish(positions, masses[keep], target, opts.ballast_density)
+    return Ballast(
+        positions=positions,
+        masses=masses,
+        radii=sphere_radii(masses, opts.ballast_density),
+        material=opts.ballast_material,
+        density=opts.ballast_density,
+    )
+
+
+def _least_mass(rows: np.ndarray, target: np.ndarray, platform: Platform, C: float) -> np.ndarray:
+    """The LP: least total mass with ``rows @ m = target``, ``m >= 0`` (HiGHS)."""
+    from scipy.optimize import linprog
+
+    scale = np.abs(rows).max(axis=1) + 1e-300  # equilibrate (first and second moments differ)
+    lp = linprog(
+        np.ones(rows.shape[1]),
+        A_eq=rows / scale[:, None],
+        b_eq=target / scale,
+        bounds=(0, None),
+        method="highs",
+    )
+    if lp.status == 2:
+        raise InfeasibleError(
+            f"testbed: no ballast inside the platform's envelope (radius "
+            f"{platform.radius_m:g} m) brings the inertia to A = B = 2C = {2 * C:g} kg m^2 "
+            "with the centre at O; give a larger C, a larger platform_radius_m or a lighter, "
+            "smaller platform"
+        )
+    if lp.status != 0:
+        raise SolverError(f"testbed: the ballast program failed ({lp.message})")
+    return np.asarray(lp.x, float)
+
+
+def _polish(
+    positions: np.ndarray, masses: np.ndarray, target: np.ndarray, rho: float
+) -> np.ndarray:
+    """Gauss-Newton on the masses with each sphere's own inertia (2/5) m a^2 included."""
+    rows = _rows(positions)
+    own_rows = np.zeros((9, 1))
+    own_rows[3:6, 0] = 1.0  # the own inertia adds to the three diagonal entries
+    k = (3.0 / (4.0 * math.pi * rho)) ** (2.0 / 3.0)  # a^2 = k m^(2/3)
+    m = masses.copy()
+    for _ in range(50):
+        residual = rows @ m + own_rows[:, 0] * (0.4 * k * m ** (5.0 / 3.0)).sum() - target
+        if np.abs(residual).max() <= 1e-15 * np.abs(target).max():
+            break
+        jac = rows + own_rows * (2.0 / 3.0 * k * m ** (2.0 / 3.0))[None, :]
+        m = m - np.linalg.lstsq(jac, residual, rcond=None)[0]
+        if (m <= 0).any():
+            raise InfeasibleError(
+                "testbed: the ballast's own inertia cannot be absorbed on the chosen sites; "
+                "give a denser ballast_material or a larger platform_radius_m"
+            )
+    return m
+
+
+def _check_fit(ballast: Ballast, outer: float, inner: float) -> None:
+    r = np.linalg.norm(ballast.positions, axis=1)
+    out = np.flatnonzero((r + ballast.radii > outer) | (r - ballast.radii < inner))
+    if out.size:
+        i = int(out[0])
+        raise InfeasibleError(
+            f"testbed: ballast part {i} ({ballast.masses[i]:.3g} kg, radius "
+            f"{ballast.radii[i] * 1e3:.3g} mm) does not fit between the bearing's ball and the "
+            "envelope; give a denser ballast_material, a larger platform_radius_m or a smaller "
+            "ballast_spacing_m"
+        )
+    d = np.linalg.norm(ballast.positions[:, None] - ballast.positions[None], axis=-1)
+    touch = d < ballast.radii[:, None] + ballast.radii[None]
+    np.fill_diagonal(touch, False)
+    if touch.any():
+        i, j = (int(x) for x in np.argwhere(touch)[0])
+        raise InfeasibleError(
+            f"testbed: ballast parts {i} and {j} overlap; give a denser ballast_material or a "
+            "larger ballast_spacing_m"
+        )
+
+
+__all__ = [
+    "Ballast",
+    "Platform",
+    "candidate_sites",
+    "design_ballast",
+    "parts_inertia",
+    "sphere_radii",
+    "total_com",
+    "total_inertia",
+]

@@ -1,0 +1,310 @@
+"""The testbed's files: testbed.json, report.md and pictures, written all at once.
+
+``write_testbed(result, out)`` writes into a staging folder that replaces ``out`` in one swap
+(:func:`chargedesign.files.atomic_directory`): ``testbed.json``, ``report.md``,
+``drift_vs_rate.png`` (the requirements: drift against control rate, one line per gyro
+grade), ``drift_time.png`` (the runs' I4 drift in time), ``wheels.png`` (the wheels' momentum
+against its bound), ``testbed.png`` (PyVista: platform, ballast, wheels; skipped with a note
+where no off-screen OpenGL is available) and ``motion.gif`` (the emulated motion beside the
+ideal one: gamma's trace on the unit sphere).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.airbearing.options import SOURCES
+from chargedesign.airbearing.result import TestbedResult
+from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.results import format_length
+
+#: the files a testbed run writes (the picture and animation when they can be drawn)
+OUTPUTS = (
+    "testbed.json",
+    "report.md",
+    "drift_vs_rate.png",
+    "drift_time.png",
+    "wheels.png",
+    "testbed.png",
+    "motion.gif",
+)
+
+
+def write_testbed(result: TestbedResult, out: str | os.PathLike[str]) -> list[str]:
+    """Write the testbed's files into ``out`` (atomically); returns the names written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    notes: list[str] = []
+    with atomic_directory(out, drop=OUTPUTS) as stage:
+        written = ["testbed.json"]
+        write_json_atomic(stage / "testbed.json", result.to_dict())
+        if result.requirements is not None:
+            plot_requirements(result, stage / "drift_vs_rate.png")
+            written.append("drift_vs_rate.png")
+        plot_drift(result, stage / "drift_time.png")
+        plot_wheels(result, stage / "wheels.png")
+        written += ["drift_time.png", "wheels.png"]
+        if render_testbed(result, stage / "testbed.png", notes):
+            written.append("testbed.png")
+        animate_motion(result, stage / "motion.gif")
+        written.append("motion.gif")
+        write_text_atomic(stage / "report.md", report_markdown(result, written, notes))
+        written.append("report.md")
+    return written
+
+
+def plot_requirements(result: TestbedResult, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    req = result.requirements
+    assert req is not None
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for i, grade in enumerate(req.grades):
+        ax.loglog(req.rates_Hz, np.maximum(req.drift[i], 1e-17), "o-", label=f"{grade} gyro")
+    ax.axhline(req.target, color="k", ls="--", lw=1, label="target")
+    ax.set_xlabel("control rate (Hz)")
+    ax.set_ylabel(f"I4 relative drift over {result.options.t_end_s:g} s (worst seed)")
+    ax.set_title(f"command: {result.options.command}")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+
+
+def plot_drift(result: TestbedResult, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for name, run in result.runs.items():
+        curve = np.median(run.I4_drift_curve, axis=0)
+        ax.semilogy(run.times[1:], np.maximum(curve[1:], 1e-17), label=name)  # 0 at t = 0
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("|I4(t) - I4(0)| / |I4(0)| (median over seeds)")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+
+
+def plot_wheels(result: TestbedResult, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    needs = result.needs
+    h = np.linalg.norm(needs.states[:, 6:9], axis=1)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.plot(needs.times, h, label="|h| (ideal loop)")
+    ax.axhline(needs.momentum_bound, color="r", ls="--", lw=1, label="bound |L| + max |J omega|")
+    ax.axhline(result.wheel_limits[1], color="k", ls=":", lw=1, label="one wheel's capacity")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("wheel momentum (N m s)")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    _save(fig, path)
+
+
+def _save(fig: Any, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
+    """PyVista picture of the platform shell, ballast spheres and wheels (False if none)."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        # no display: VTK's EGL window, not a failed X attempt (as chargedesign.viz does)
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    try:
+        import pyvista as pv
+
+        pv.OFF_SCREEN = True
+        plotter = pv.Plotter(off_screen=True, window_size=[800, 600])
+    except Exception as exc:  # no pyvista or no OpenGL here: the report says so
+        notes.append(f"no 3-D picture ({type(exc).__name__}: {exc})")
+        return False
+    try:
+        R = result.platform.radius_m
+        shell = pv.Sphere(radius=R, theta_resolution=48, phi_resolution=48).clip("z", invert=True)
+        plotter.add_mesh(shell, color="lightgrey", opacity=0.35)
+        bearing = pv.Sphere(radius=result.options.bearing_radius_m)
+        plotter.add_mesh(bearing, color="steelblue")
+        b = result.ballast
+        for pos, rad in zip(b.positions, b.radii, strict=True):
+            plotter.add_mesh(pv.Sphere(radius=float(rad), center=pos), color="goldenrod")
+        for axis in result.wheel_axes:
+            centre = (result.options.bearing_radius_m + 0.1 * R) * axis  # schematic
+            wheel = pv.Cylinder(center=centre, direction=axis, radius=0.07 * R, height=0.03 * R)
+            plotter.add_mesh(wheel, color="firebrick")
+        plotter.add_axes()  # type: ignore[call-arg]  # pyvista's decorator confuses mypy
+        with atomic_path(path) as tmp:
+            plotter.screenshot(str(tmp))
+        return True
+    except Exception as exc:  # rendering needs OpenGL: keep the other outputs
+        notes.append(f"no 3-D picture ({type(exc).__name__}: {exc})")
+        return False
+    finally:
+        plotter.close()
+
+
+def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
+    """GIF: gamma's trace (the vertical seen from the platform) of the emulated run (seed 0
+    of the nominal ensemble) beside the ideal continuous loop's, (gamma1, gamma2)."""
+    import imageio.v3 as iio
+    import matplotlib.pyplot as plt
+
+    run = result.runs["nominal"]
+    assert run.states is not None
+    emulated = run.states[0, :, 3:6]
+    ideal = result.ideal_states[:, 3:6]
+    t_em = run.times
+    t_id = np.linspace(0.0, result.options.t_end_s, len(ideal))
+    images = []
+    for k in np.linspace(0, len(t_em) - 1, frames).astype(int):
+        fig, ax = plt.subplots(figsize=(4, 4), dpi=60)
+        j = int(np.searchsorted(t_id, t_em[k]))
+        ax.plot(ideal[: j + 1, 0], ideal[: j + 1, 1], color="tab:blue", lw=1, label="ideal")
+        ax.plot(
+            emulated[: k + 1, 0],
+            emulated[: k + 1, 1],
+            color="tab:red",
+            lw=1,
+            ls="--",
+            label="emulated",
+        )
+        ax.set_xlim(-1, 1)
+        ax.set_ylim(-1, 1)
+        ax.set_aspect("equal")
+        ax.set_title(f"gamma1, gamma2  t = {t_em[k]:.2f} s", fontsize=9)
+        ax.legend(fontsize=7, loc="lower right")
+        fig.canvas.draw()
+        rgba = fig.canvas.buffer_rgba()  # type: ignore[attr-defined]  # the Agg canvas
+        images.append(np.asarray(rgba)[..., :3].copy())
+        plt.close(fig)
+    with atomic_path(path) as tmp:
+        iio.imwrite(tmp, np.stack(images), extension=".gif", duration=80, loop=0)
+
+
+def report_markdown(result: TestbedResult, written: list[str], notes: list[str]) -> str:
+    """The human report (Markdown)."""
+    lines = ["# Air-bearing testbed", "", "```", str(result).rstrip(), "```", ""]
+    lines += _platform_section(result) + _wheel_section(result) + _loop_section(result)
+    lines += _requirements_section(result)
+    lines += ["## Files", ""] + [f"- `{name}`" for name in [*written, "report.md"]]
+    lines += [f"- note: {n}" for n in notes]
+    lines += ["", "## Sources of the defaults", ""]
+    lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _platform_section(result: TestbedResult) -> list[str]:
+    o, tol, C = result.options, result.tolerances, result.parameters.C
+    diagonal = ", ".join(f"{x:.12g}" for x in np.diag(result.inertia_total))
+    products = min(tol["inertia"][f"product_{k}_kg_m2"] for k in ("xy", "xz", "yz"))
+    place = tol["ballast_placement_m"]
+    tightest = int(np.argmin(place["binding"]))
+    why = (
+        "its balance"
+        if place["through_balance"][tightest] <= place["through_inertia"][tightest]
+        else "its inertia"
+    )
+    return [
+        "## Platform and ballast",
+        "",
+        f"- platform: {o.platform_mass_kg:g} kg, envelope radius {o.platform_radius_m:g} m; "
+        f"ballast {result.ballast.total_mass:.4g} kg of {result.ballast.material} in "
+        f"{len(result.ballast.masses)} spheres;",
+        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C = {2 * C:g}, "
+        f"C = {C:g}); centre of mass "
+        f"{format_length(float(np.linalg.norm(result.com_total)))} from O;",
+        f"- for I4 within {o.target_I4_drift:g} over {o.t_end_s:g} s: A - B within "
+        f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2, products within {products:.3g} "
+        f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; the tightest "
+        f"part (number {tightest}) placed within "
+        f"{format_length(float(place['binding'][tightest]))} ({why} binds).",
+        "",
+    ]
+
+
+def _wheel_section(result: TestbedResult) -> list[str]:
+    r = result.to_dict()["results"]
+    needs = r["wheel_needs"]
+    return [
+        "## Wheels",
+        "",
+        f"- {result.options.wheels} array; the motion needs {needs['torque_N_m']:.4g} N m and "
+        f"{needs['momentum_N_m_s']:.4g} N m s on one wheel; |h| stays below "
+        f"|L| + max |J omega| = {needs['momentum_bound_N_m_s']:.4g} N m s "
+        f"(reached {needs['momentum_norm_N_m_s']:.4g});",
+        f"- the nominal runs used at most {r['wheel_torque_max_N_m']:.4g} N m and "
+        f"{r['wheel_momentum_max_N_m_s']:.4g} N m s.",
+        "",
+    ]
+
+
+def _loop_section(result: TestbedResult) -> list[str]:
+    tol = result.tolerances
+    turns = max(result.turns, 1e-300)
+    lines = [
+        "## The loop",
+        "",
+        f"Over {result.options.t_end_s:g} s, {result.turns:.3g} turns of the motion "
+        "(t_end |omega(0)| / 2 pi):",
+        "",
+        "| run | I4 relative drift | per turn | I3 max (J s) | per turn |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for name, run in result.runs.items():
+        drift = (
+            f"median {np.median(run.I4_drift):.3g}, p95 {np.percentile(run.I4_drift, 95):.3g}"
+            if len(run.I4_drift) > 1
+            else f"{run.I4_drift[0]:.3g}"
+        )
+        i3 = float(run.I3_max.max())
+        per_turn = float(np.median(run.I4_drift)) / turns
+        lines.append(f"| {name} | {drift} | {per_turn:.3g} | {i3:.3g} | {i3 / turns:.3g} |")
+    return [
+        *lines,
+        "",
+        f"Drag alone would drift I4 by {tol['drag_drift']:.3g}, the imbalance by "
+        f"{tol['imbalance_drift']:.3g} (linear response along the planned motion): the target "
+        f"needs the drag below {tol['drag_max_N_m_s']:.3g} N m s and the centre of mass within "
+        f"{format_length(tol['imbalance_m'])} of O (each alone using the whole target).",
+        "",
+    ]
+
+
+def _requirements_section(result: TestbedResult) -> list[str]:
+    req = result.requirements
+    if req is None:
+        return []
+    lines = [
+        "## Requirements",
+        "",
+        "I4 drift (worst of the seeds) against the control rate, command "
+        f"`{result.options.command}`, without drag and imbalance (above); target "
+        f"{req.target:g}:",
+        "",
+        "| gyro | " + " | ".join(f"{x:g} Hz" for x in req.rates_Hz) + " | lowest rate |",
+        "| --- " * (len(req.rates_Hz) + 2) + "|",
+    ]
+    for i, g in enumerate(req.grades):
+        low = req.lowest_rate_Hz[g]
+        cells = " | ".join(f"{x:.2g}" for x in req.drift[i])
+        lines.append(f"| {g} | {cells} | {'-' if low is None else f'{low:g} Hz'} |")
+    return [*lines, ""]
+
+
+__all__ = [
+    "OUTPUTS",
+    "animate_motion",
+    "plot_drift",
+    "plot_requirements",
+    "plot_wheels",
+    "render_testbed",
+    "report_markdown",
+    "write_testbed",
+]

@@ -1,0 +1,186 @@
+"""The testbed's result (the one result protocol): testbed.json's content, text, HTML."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.airbearing.loop import LoopRun
+from chargedesign.airbearing.options import SOURCES, TestbedOptions
+from chargedesign.airbearing.platform import Ballast, Platform
+from chargedesign.airbearing.requirements import Requirements
+from chargedesign.airbearing.wheels import WheelNeeds
+from chargedesign.params import Parameters
+from chargedesign.results import Result, format_length, json_ready
+
+
+def _quantiles(x: np.ndarray) -> dict[str, float]:
+    return {
+        "I4_relative_drift_median": float(np.median(x)),
+        "I4_relative_drift_p95": float(np.percentile(x, 95)),
+        "I4_relative_drift_max": float(np.max(x)),
+    }
+
+
+@dataclass(repr=False)
+class TestbedResult(Result):
+    """An air-bearing testbed: platform, ballast, wheels, loop runs, requirements.
+
+    ``runs`` holds the loop ensembles by name: ``zoh_noise_free``, ``predictive_noise_free``
+    (one run each: no noise, no disturbances, no quantisation) and ``nominal`` (the scene's
+    command, sensors, disturbances and quantisation, ``seeds`` runs). See docs/testbed.md.
+    """
+
+    parameters: Parameters
+    options: TestbedOptions
+    platform: Platform
+    ballast: Ballast
+    inertia_total: np.ndarray
+    com_total: np.ndarray
+    wheel_axes: np.ndarray
+    wheel_limits: tuple[float, float, float]
+    needs: WheelNeeds
+    initial_state: np.ndarray
+    runs: dict[str, LoopRun]
+    requirements: Requirements | None
+    tolerances: dict[str, Any]
+    ideal_states: np.ndarray
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    __test__ = False  # not a pytest class
+
+    @property
+    def total_mass(self) -> float:
+        return self.platform.mass_kg + self.ballast.total_mass
+
+    @property
+    def turns(self) -> float:
+        """The run's length in turns of the motion, ``t_end |omega(0)| / 2 pi``."""
+        rate = float(np.linalg.norm(self.initial_state[:3]))
+        return self.options.t_end_s * rate / (2.0 * np.pi)
+
+    def _loop(self, name: str) -> dict[str, Any]:
+        run = self.runs[name]
+        out: dict[str, Any] = {"I4_relative_drift": float(run.I4_drift.max())}
+        if name == "nominal" or len(run.I4_drift) > 1:  # an ensemble: its spread
+            out = _quantiles(run.I4_drift)
+        turns = max(self.turns, 1e-300)
+        out["I4_relative_drift_per_turn"] = float(np.median(run.I4_drift)) / turns
+        out["I3_max_J_s"] = float(run.I3_max.max())
+        out["I3_max_per_turn_J_s"] = float(run.I3_max.max()) / turns
+        out["wheel_torque_max_N_m"] = float(run.wheel_torque_max.max())
+        out["wheel_momentum_max_N_m_s"] = float(run.wheel_momentum_max.max())
+        out["runs"] = len(run.I4_drift)
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        o = self.options
+        arw, bias = o.gyro
+        torque, momentum, resolution = self.wheel_limits
+        nominal = self.runs["nominal"]
+        results: dict[str, Any] = {
+            "initial_state": self.initial_state.tolist(),
+            "t_end_s": o.t_end_s,
+            "turns": self.turns,
+            "command": o.command,
+            **{name: self._loop(name) for name in self.runs},
+            "wheel_momentum_max_N_m_s": float(nominal.wheel_momentum_max.max()),
+            "wheel_torque_max_N_m": float(nominal.wheel_torque_max.max()),
+            "wheel_needs": {
+                "torque_N_m": self.needs.torque,
+                "momentum_N_m_s": self.needs.momentum,
+                "momentum_norm_N_m_s": self.needs.momentum_norm,
+                "momentum_bound_N_m_s": self.needs.momentum_bound,
+            },
+        }
+        return json_ready(
+            {
+                "parameters": self.parameters.as_dict(),
+                "platform": {
+                    "mass_kg": self.platform.mass_kg,
+                    "inertia_kg_m2": self.platform.inertia,
+                    "com_m": self.platform.com,
+                    "radius_m": self.platform.radius_m,
+                },
+                "ballast": {
+                    "positions": self.ballast.positions,
+                    "masses": self.ballast.masses,
+                    "radii": self.ballast.radii,
+                    "material": self.ballast.material,
+                    "density_kg_m3": self.ballast.density,
+                },
+                "wheels": {
+                    "axes": self.wheel_axes,
+                    "max_torque_N_m": torque,
+                    "max_momentum_N_m_s": momentum,
+                    "torque_resolution_N_m": resolution,
+                },
+                "control": {"rate_Hz": o.rate_Hz, "delay_s": o.delay_s, "command": o.command},
+                "sensors": {
+                    "gyro_grade": o.gyro_grade,
+                    "gyro_arw_rad_per_sqrt_s": arw,
+                    "gyro_bias_rad_per_s": bias,
+                    "attitude_noise_rad": o.attitude_noise_rad,
+                },
+                "disturbances": {"imbalance_m": o.imbalance_m, "drag_N_m_s": o.drag},
+                "inertia_total_kg_m2": self.inertia_total,
+                "com_total_m": self.com_total,
+                "total_mass_kg": self.total_mass,
+                "results": results,
+                "requirements": None if self.requirements is None else self.requirements.to_dict(),
+                "tolerances": self.tolerances,
+                "sources": SOURCES,
+                "seconds": self.seconds,
+            }
+        )
+
+    def _summary(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "total_mass_kg": self.total_mass,
+            "ballast_parts": len(self.ballast.masses),
+            "wheel_torque_N_m": self.wheel_limits[0],
+            "wheel_momentum_N_m_s": self.wheel_limits[1],
+        }
+        for name, run in self.runs.items():
+            out[f"{name}_I4_drift"] = float(np.median(run.I4_drift))
+        return out
+
+    def _text(self) -> str:
+        o = self.options
+        torque, momentum, _ = self.wheel_limits
+        lines = [
+            f"air-bearing testbed for {self.parameters}",
+            f"platform {self.platform.mass_kg:g} kg + ballast {self.ballast.total_mass:.4g} kg "
+            f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
+            f"{self.total_mass:.4g} kg (bearing rated {o.bearing_capacity_kg:g} kg)",
+            f"wheels ({o.wheels}): {torque:.4g} N m, {momentum:.4g} N m s each (the motion needs "
+            f"{self.needs.torque:.4g} N m, {self.needs.momentum:.4g} N m s; momentum bound "
+            f"{self.needs.momentum_bound:.4g} N m s)",
+            f"loop {o.rate_Hz:g} Hz, delay {o.delay_s:g} s, command {o.command}; I4 relative drift "
+            f"over {o.t_end_s:g} s ({self.turns:.3g} turns of the motion):",
+        ]
+        for name, run in self.runs.items():
+            d = run.I4_drift
+            spread = (
+                f"median {np.median(d):.3g}, p95 {np.percentile(d, 95):.3g} ({len(d)} seeds)"
+                if len(d) > 1
+                else f"{d[0]:.3g}"
+            )
+            lines.append(f"  {name}: {spread}")
+        tol = self.tolerances
+        lines.append(
+            f"for I4 within {o.target_I4_drift:g}: centre of mass within "
+            f"{format_length(tol['imbalance_m'])} of O, bearing drag below "
+            f"{tol['drag_max_N_m_s']:.3g} N m s (now {o.drag:.3g}), A - B within "
+            f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2"
+        )
+        if self.requirements is not None:
+            for grade, rate in self.requirements.lowest_rate_Hz.items():
+                need = f"{rate:g} Hz" if rate is not None else "none of the rates tried"
+                lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
+        return "\n".join(lines) + "\n"
+
+
+__all__ = ["TestbedResult"]

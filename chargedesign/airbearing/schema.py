@@ -1,0 +1,78 @@
+"""The JSON Schema of testbed.json (``chargedesign schema testbed``): the contract's keys
+required, further keys welcome (the file also carries requirements, tolerances, sources)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+_NUMBER = {"type": "number"}
+_NONNEG = {"type": "number", "minimum": 0}
+_POSITIVE = {"type": "number", "exclusiveMinimum": 0}
+_VECTOR = {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}
+_MATRIX = {"type": "array", "items": _VECTOR, "minItems": 3, "maxItems": 3}
+
+
+def _object(properties: dict[str, Any], required: list[str] | None = None) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "properties": properties,
+        "required": list(properties) if required is None else required,
+        "additionalProperties": True,
+    }
+
+
+def output_schema() -> dict[str, Any]:
+    """The schema of testbed.json (draft 2020-12)."""
+    drift = _object({"I4_relative_drift": _NONNEG}, ["I4_relative_drift"])
+    nominal = _object({"I4_relative_drift_median": _NONNEG, "I4_relative_drift_p95": _NONNEG})
+    results = _object(
+        {
+            "initial_state": {"type": "array", "items": _NUMBER, "minItems": 6, "maxItems": 6},
+            "t_end_s": _POSITIVE,
+            "zoh_noise_free": drift,
+            "nominal": nominal,
+            "wheel_momentum_max_N_m_s": _NONNEG,
+            "wheel_torque_max_N_m": _NONNEG,
+        }
+    )
+    properties = {
+        "parameters": {"type": "object", "additionalProperties": _NUMBER},
+        "platform": _object({"mass_kg": _POSITIVE, "inertia_kg_m2": _MATRIX, "com_m": _VECTOR}),
+        "ballast": _object(
+            {
+                "positions": {"type": "array", "items": _VECTOR},
+                "masses": {"type": "array", "items": _POSITIVE},
+                "radii": {"type": "array", "items": _POSITIVE},
+                "material": {"type": "string"},
+            }
+        ),
+        "wheels": _object(
+            {
+                "axes": {"type": "array", "items": _VECTOR, "minItems": 3},
+                "max_torque_N_m": _POSITIVE,
+                "max_momentum_N_m_s": _POSITIVE,
+            }
+        ),
+        "control": _object({"rate_Hz": _POSITIVE, "delay_s": _NONNEG}),
+        "sensors": _object(
+            {
+                "gyro_arw_rad_per_sqrt_s": _NONNEG,
+                "gyro_bias_rad_per_s": _NONNEG,
+                "attitude_noise_rad": _NONNEG,
+            }
+        ),
+        "disturbances": _object({"imbalance_m": _NONNEG, "drag_N_m_s": _NONNEG}),
+        "inertia_total_kg_m2": _MATRIX,
+        "results": results,
+    }
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "$id": "chargedesign/schemas/testbed.schema.json",
+        "title": "chargedesign testbed.json",
+        "description": "An air-bearing testbed (docs/testbed.md): platform, ballast, wheels, "
+        "loop, sensors, disturbances and the loop's results. Further keys are welcome.",
+        **_object(properties),
+    }
+
+
+__all__ = ["output_schema"]

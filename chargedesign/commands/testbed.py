@@ -1,0 +1,55 @@
+"""`chargedesign testbed [SCENE] [--out DIR] [--json]`: an air-bearing platform whose reaction
+wheels make it move as the theorem says.
+
+Designs the ballast that gives the platform A = B = 2C with the centre of mass at O, sizes
+the wheels from the motion, runs the sampled loop (ZOH and predictive commands, noise-free;
+the scene's command with sensors, disturbances and quantisation over noise seeds) and the
+requirements sweep (gyro grade x control rate), and writes ``DIR/testbed.json``,
+``DIR/report.md`` and pictures (docs/testbed.md). Default DIR: ``out/testbed``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "scene",
+        nargs="?",
+        default=None,
+        help="scene file (TOML) with [testbed]; default: the embedded testbed scene "
+        "(examples/scenes/testbed.toml)",
+    )
+    parser.add_argument(
+        "--out", default="out/testbed", metavar="DIR", help="output folder (default out/testbed)"
+    )
+    parser.add_argument("--json", action="store_true", help="print testbed.json's content")
+    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+
+def run(args: argparse.Namespace) -> int:
+    import json
+
+    from chargedesign.airbearing.report import OUTPUTS, write_testbed
+    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
+    from chargedesign.files import check_outputs
+    from chargedesign.scene import load_scene
+
+    check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=OUTPUTS)
+
+    def progress(message: str) -> None:
+        if not args.quiet:
+            print(f"testbed: {message}", file=sys.stderr, flush=True)
+
+    result = testbed_from_scene(
+        load_scene(args.scene or default_testbed_scene()), progress=progress
+    )
+    written = write_testbed(result, args.out)
+    progress(f"wrote {args.out}/: {', '.join(written)}")
+    if args.json:
+        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(str(result), end="")
+    return 0

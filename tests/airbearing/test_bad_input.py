@@ -1,0 +1,88 @@
+"""Bad input: one line naming the input and the limit, before the work starts."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from chargedesign.airbearing.options import TestbedOptions, bearing_drag
+from chargedesign.airbearing.run import build_testbed
+from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.params import Parameters
+
+EXAMPLE = Parameters(C=0.5, c=0.3, d=-0.4, n=0.21, K=0.15, kappa=0.081)
+SMALL = {
+    "platform_mass_kg": 6.0,
+    "platform_radius_m": 0.3,
+    "initial_p": 0.18,
+    "initial_q": -0.12,
+    "t_end_s": 0.2,
+    "rate_Hz": 20.0,
+    "seeds": 1,
+}
+
+
+@pytest.mark.parametrize(
+    ("table", "names"),
+    [
+        ({"platform_mass_kg": 80.0}, "bearing_capacity_kg"),
+        ({"gyro_arw_rad_per_sqrt_s": -1e-6}, "testbed.gyro_arw_rad_per_sqrt_s"),
+        ({"attitude_noise_rad": -1.0}, "testbed.attitude_noise_rad"),
+        ({"rate_Hz": 0.0}, "testbed.rate_Hz"),
+        ({"rate_Hz": 100.0, "delay_s": 0.02}, "testbed.delay_s"),
+        ({"wheels": "five"}, "testbed.wheels"),
+        ({"colour": "red"}, "testbed.colour"),
+        ({"seeds": 0}, "testbed.seeds"),
+        ({"platform_inertia_kg_m2": [[1, 0, 0], [0, 1, 0], [0, 0, 5]]}, "platform_inertia"),
+        ({"requirement_rates_Hz": []}, "testbed.requirement_rates_Hz"),
+        ({"initial_gamma": [0.0, 0.0, 0.0]}, "testbed.initial_gamma"),
+        ({"initial_gamma": [1.0, 0.0, 0.0]}, "testbed.initial_gamma"),
+        ({"seeds": 10000, "t_end_s": 100.0}, "testbed.seeds"),
+        ({"t_end_s": 1e9}, "testbed.t_end_s"),
+        ({"drag_feedforward": 2.0}, "testbed.drag_feedforward"),
+        ({"rate_Hz": "fast"}, "testbed.rate_Hz"),
+    ],
+)
+def test_table_errors_are_one_line(table: dict, names: str) -> None:
+    with pytest.raises(InputError) as info:
+        TestbedOptions.from_table(table)
+    text = str(info.value)
+    assert names in text and "\n" not in text
+
+
+def test_platform_with_ballast_heavier_than_the_bearing() -> None:
+    opts = TestbedOptions.from_table({**SMALL, "bearing_capacity_kg": 10.0})
+    with pytest.raises(InputError, match=r"bearing_capacity_kg.*heavier than the bearing"):
+        build_testbed(EXAMPLE, opts, with_requirements=False)
+
+
+def test_wheels_too_weak_for_the_motion() -> None:
+    opts = TestbedOptions.from_table({**SMALL, "max_torque_N_m": 0.01})
+    with pytest.raises(InfeasibleError) as info:
+        build_testbed(EXAMPLE, opts, with_requirements=False)
+    text = str(info.value)
+    assert "max_torque_N_m" in text and "needs" in text and "initial_p" in text
+    assert "\n" not in text
+
+
+def test_wheels_store_too_little() -> None:
+    opts = TestbedOptions.from_table({**SMALL, "max_momentum_N_m_s": 1e-4})
+    with pytest.raises(InfeasibleError, match="max_momentum_N_m_s"):
+        build_testbed(EXAMPLE, opts, with_requirements=False)
+
+
+def test_no_ballast_reaches_a_tiny_inertia() -> None:
+    opts = TestbedOptions.from_table(SMALL)
+    with pytest.raises(InfeasibleError, match="larger C"):
+        build_testbed(EXAMPLE.replace(C=0.01), opts, with_requirements=False)
+
+
+def test_bearing_drag_is_the_couette_torque() -> None:
+    """(4 pi / 3) eta R^4 / h against a direct quadrature over the hemisphere."""
+    eta, R, h = 1.8e-5, 0.05, 1e-5
+    theta = np.linspace(0.0, np.pi / 2, 20001)
+    integrand = (
+        (eta * R * np.sin(theta) / h) * R * np.sin(theta) * 2 * np.pi * R * R * np.sin(theta)
+    )
+    quad = np.trapezoid(integrand, theta)
+    assert abs(bearing_drag(R, h, eta) - quad) < 1e-6 * quad
