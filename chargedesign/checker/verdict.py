@@ -424,7 +424,7 @@ class EvaluatedQuantities:
 
 def evaluate_quantities(
     elements: Elements,
-    fields: Mapping[str, Sequence[float]],
+    fields: dict[str, tuple[float, ...]],
     gammas: np.ndarray,
     omegas: np.ndarray,
     sums: RotatedSums,

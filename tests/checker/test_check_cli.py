@@ -111,7 +111,7 @@ def test_continuous_design_file(tmp_path: Path, capsys) -> None:
 
 
 def test_cli_defaults_mirror_the_library() -> None:
-    from chargedesign import check
+    from chargedesign import checker as check
     from chargedesign.commands import check as command
 
     assert command.DEFAULT_TOL == check.DEFAULT_TOL
