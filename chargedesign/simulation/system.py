@@ -46,6 +46,7 @@ from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
+from chargedesign.quadrature import gather_elements
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
 from chargedesign.validation import input_error
@@ -227,19 +228,12 @@ class Body(ElementSet):
         """
         merged = dict(design.fields)
         merged.update(fields or {})
-        from chargedesign.quadrature import required_order, with_quadrature_nodes
-
-        points = design.point_elements()
         degree = max((len(v) for v in merged.values()), default=0) + 1
-        cp, cv, mp, mv, info = with_quadrature_nodes(
-            points,
-            list(getattr(design, "continuous", []) or []),
-            lambda body: required_order(body, degree),
-        )
+        gathered = gather_elements(design, degree)
         notes = [
             f"continuous[{i}] ({b['kind']} {b['shape']}): {b['nodes']} quadrature nodes, "
             f"exact to degree {b['order']}"
-            for i, b in enumerate(info)
+            for i, b in enumerate(gathered.quadrature)
         ]
         part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
         if getattr(design, "medium", None) is not None:
@@ -254,12 +248,12 @@ class Body(ElementSet):
         return cls(
             parameters=parameters,
             fields=merged,
-            charge_positions=cp,
-            charge_values=cv,
-            mass_positions=mp,
-            mass_values=mv,
-            dipole_positions=points.dipole_positions,
-            dipole_moments=points.dipole_moments,
+            charge_positions=gathered.charge_positions,
+            charge_values=gathered.charge_values,
+            mass_positions=gathered.mass_positions,
+            mass_values=gathered.mass_values,
+            dipole_positions=gathered.dipole_positions,
+            dipole_moments=gathered.dipole_moments,
             has_elements=True,
             notes=notes,
             part_positions=part_positions,
