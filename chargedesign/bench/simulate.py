@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.bench.common import BenchTable, best_time, random_body
 from chargedesign.params import Parameters
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
@@ -141,22 +141,9 @@ def fifty_element_body(elements: int = 50) -> Any:
 
     The default 50 elements are 20 charges, 15 masses and 15 dipoles.
     """
-    from chargedesign.simulation import Body
-
-    rng = np.random.default_rng(0)
     nq, nm = 2 * elements // 5, 3 * elements // 10
-    nd = elements - nq - nm
-    return Body(
-        parameters=PARAMS,
-        fields={"magnetic": (1.0, 1.0), "electric": (0.0, 0.3, 0.2, 0.1), "gravity": (9.81,)},
-        charge_positions=rng.uniform(-1, 1, (nq, 3)),
-        charge_values=rng.normal(size=nq),
-        mass_positions=rng.uniform(-1, 1, (nm, 3)),
-        mass_values=rng.uniform(0, 1, nm),
-        dipole_positions=rng.uniform(-1, 1, (nd, 3)),
-        dipole_moments=rng.normal(size=(nd, 3)),
-        has_elements=True,
-    )
+    fields = {"magnetic": (1.0, 1.0), "electric": (0.0, 0.3, 0.2, 0.1), "gravity": (9.81,)}
+    return random_body(0, PARAMS, fields, nq, nm, elements - nq - nm)
 
 
 def _term_by_term_system(body: Any, effects: list[str]) -> Any:

@@ -34,7 +34,7 @@ from chargedesign.simulation.system import (
 from chargedesign.validation import as_finite_float, input_error
 
 
-def _section_state(
+def section_state(
     system: RigidBodySystem, phi: float, v: float, energy: float, level: float, sign: float
 ) -> np.ndarray | None:
     """The 7-state on the section at angle ``phi`` with ``gamma3' = v``, or None."""
@@ -75,7 +75,7 @@ def section_starts(
         phi = rng.uniform(0.0, 2.0 * math.pi)
         v = rng.uniform(0.0, 2.0) * math.sqrt(max(energy, 1e-300) / system.C) / 2.0
         sign = 1.0 if rng.uniform() < 0.5 else -1.0
-        state = _section_state(system, phi, v, energy, level, sign)
+        state = section_state(system, phi, v, energy, level, sign)
         if state is not None:
             out.append(state)
     if len(out) < orbits:
@@ -429,7 +429,7 @@ def fli_map(
         starts, where = [], []
         for a, ph in enumerate(phi):
             for b, vv in enumerate(v):
-                state = _section_state(system, float(ph), float(vv), energy, level, 1.0)
+                state = section_state(system, float(ph), float(vv), energy, level, 1.0)
                 if state is not None:
                     starts.append(state)
                     where.append((b, a))

@@ -244,7 +244,7 @@ def _integrate_solve_ivp(
     times = np.asarray(sol.t)
     accepted = len(times) - 1
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
-    keep = _thin(times, samples)
+    keep = thin_step_ends(times, samples)
     times, states = times[keep], states[keep]
     short = samples_note(method, accepted, len(times), samples)
     found: list[dict[str, Any]] = []
@@ -288,7 +288,7 @@ def _integrate_solve_ivp(
     )
 
 
-def _thin(times: np.ndarray, samples: int) -> np.ndarray:
+def thin_step_ends(times: np.ndarray, samples: int) -> np.ndarray:
     """Indices of exactly ``min(samples, len(times))`` step ends, spread evenly in time.
 
     The step end at or after each of ``samples`` evenly spaced times; where several times
@@ -331,7 +331,7 @@ def _integrate_gauss(
         raise input_error("simulation.step", "a step > 0", h_target)
     n_steps = max(1, math.ceil(t_end / h_target - 1e-9))
     h = t_end / n_steps
-    keep = _thin(np.arange(n_steps + 1, dtype=float), samples)
+    keep = thin_step_ends(np.arange(n_steps + 1, dtype=float), samples)
     times = [0.0]
     states = [y0.copy()]
     events: list[dict[str, Any]] = []
