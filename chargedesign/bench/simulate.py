@@ -23,7 +23,22 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.scene import scene_from_dict
+from chargedesign.simulation import (
+    RigidBodySystem,
+    attitude_from_gamma,
+    direct_terms,
+    integrate,
+    quaternion_gamma,
+    quaternion_rotation,
+    rotation_quaternion,
+    setup_from_source,
+    simulate,
+    simulate_batch,
+)
+from chargedesign.simulation.ensemble import simulate_ensemble
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
@@ -34,7 +49,6 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
     import sympy as sp
     from scipy.integrate import solve_ivp
 
-    from chargedesign.model import evaluators
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS, lam, rho
     from chargedesign.model.equations import equations_of_motion
 
@@ -55,7 +69,6 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
 
 
 def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
-    from chargedesign.simulation import simulate
 
     result = simulate(PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START)
     s = result.summary()
@@ -83,7 +96,6 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
-    from chargedesign.simulation import simulate
 
     rows: list[list[Any]] = []
     base = None
@@ -152,7 +164,6 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
     Every right-hand side rotates the elements with the quaternion's matrix and calls the
     checked field methods once per effect (kept as the literal reference of the physics).
     """
-    from chargedesign.simulation import RigidBodySystem, direct_terms, quaternion_rotation
 
     class TermByTerm(RigidBodySystem):
         def derivatives(self, states: np.ndarray) -> np.ndarray:
@@ -172,15 +183,6 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
 
 
 def _route_table(t_end: float) -> BenchTable:
-    from chargedesign.simulation import (
-        RigidBodySystem,
-        attitude_from_gamma,
-        direct_terms,
-        integrate,
-        quaternion_gamma,
-        quaternion_rotation,
-        rotation_quaternion,
-    )
 
     body = fifty_element_body()
     effects = ["lorentz", "electric", "magnetization", "gravity"]
@@ -261,7 +263,6 @@ def _route_table(t_end: float) -> BenchTable:
 
 def _element_count_table(counts: list[int]) -> BenchTable:
     """Per-evaluation cost of both routes against the number of elements."""
-    from chargedesign.simulation import RigidBodySystem, attitude_from_gamma, rotation_quaternion
 
     effects = ["lorentz", "electric", "magnetization", "gravity"]
     y0 = np.concatenate(
@@ -293,7 +294,6 @@ def _element_count_table(counts: list[int]) -> BenchTable:
 
 
 def _batch_table(m: int, t_end: float) -> BenchTable:
-    from chargedesign.simulation import simulate, simulate_batch
 
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))
@@ -350,7 +350,6 @@ KOWALEVSKI_SCENE: dict[str, Any] = {
 
 def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list[list[Any]]:
     """taylor, DOP853 and Gauss-Legendre at several tolerances on the same state."""
-    from chargedesign.simulation import simulate
 
     settings: list[tuple[str, str, dict[str, Any]]] = [
         ("taylor", "tol eps", {}),
@@ -384,8 +383,6 @@ def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list
 
 def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
     """Accuracy against time: the theorem's model (I4) and a Kowalevski top (its integral)."""
-    from chargedesign.scene import scene_from_dict
-    from chargedesign.simulation import setup_from_source
 
     columns = [
         "method",
@@ -431,7 +428,6 @@ def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
 
 def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
     """Many trajectories of the theorem model: heyoka batch integrators against DOP853."""
-    from chargedesign.simulation.ensemble import simulate_ensemble
 
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))

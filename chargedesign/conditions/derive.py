@@ -8,6 +8,7 @@ degree) on one exact echelon system per source, and rounds the result to
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
@@ -156,7 +157,7 @@ def derive_conditions(
         length=float(ctx.length) if ctx.defaults else None,
         length_assumed=bool(ctx.defaults) and length is None,
         default_strengths={name: float(v) for name, v in ctx.defaults.items()},
-        _inputs=(params, fields, goals, exact),
+        _rederive=functools.partial(derive_conditions, params, fields, goals, exact=exact),
     )
 
 

@@ -19,6 +19,30 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from chargedesign.errors import ChargeDesignError
+from chargedesign.model import case
+from chargedesign.model.case import STATE_SYMBOLS, C, g3, mu_from_l, p, q, r, symbolic_case
+from chargedesign.model.certificate import (
+    G3_INDEX,
+    U_INDEX,
+    laurent_normal,
+    laurent_ring,
+    reduced_dI4_dt,
+    sphere_normal_form,
+    split_by_power,
+    to_ring,
+    to_sympy,
+)
+from chargedesign.model.equations import equations_of_motion
+from chargedesign.model.printed import (
+    printed_equations,
+    printed_gamma_dot,
+    printed_I3,
+    printed_I4,
+    printed_l,
+    printed_mu,
+)
+
 
 @dataclass(frozen=True)
 class AuditEntry:
@@ -54,17 +78,6 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
     expr : sympy.Expr
         Polynomial in p, q, r, gamma1, gamma2 and the parameters, Laurent in gamma3.
     """
-    from chargedesign.model.case import g3
-    from chargedesign.model.certificate import (
-        G3_INDEX,
-        U_INDEX,
-        laurent_normal,
-        laurent_ring,
-        sphere_normal_form,
-        split_by_power,
-        to_ring,
-        to_sympy,
-    )
 
     normal, _ = sphere_normal_form(to_ring(expr))
     if normal == 0:
@@ -84,7 +97,6 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
 
 def grouped_text(expr: sp.Expr) -> str:
     """``expr`` as text, grouped by monomials in p, q, r with factored coefficients."""
-    from chargedesign.model.case import p, q, r
 
     if expr == 0:
         return "0"
@@ -101,7 +113,6 @@ def parse_difference(text: str) -> sp.Expr:
 
     ``lambda`` is a Python keyword, so it is renamed before parsing.
     """
-    from chargedesign.model import case
 
     names = {s.name: s for s in (*case.STATE_SYMBOLS, *case.PARAMETER_SYMBOLS)}
     names["lambda_"] = names.pop("lambda")
@@ -115,8 +126,6 @@ def _vector_text(diffs: list[sp.Expr]) -> str:
 
 
 def _entry_mu_from_l() -> AuditEntry:
-    from chargedesign.model.case import mu_from_l
-    from chargedesign.model.printed import printed_l, printed_mu
 
     # identically, not only on the sphere: (mu) is an identity in gamma
     diffs = [sp.expand(e) for e in printed_mu() - mu_from_l(printed_l())]
@@ -130,8 +139,6 @@ def _entry_mu_from_l() -> AuditEntry:
 
 
 def _entry_eom(index: int, name: str) -> AuditEntry:
-    from chargedesign.model.equations import equations_of_motion
-    from chargedesign.model.printed import printed_equations
 
     derived = equations_of_motion()[index]
     printed = printed_equations()[index]
@@ -147,8 +154,6 @@ def _entry_eom(index: int, name: str) -> AuditEntry:
 
 
 def _entry_eom_gamma() -> AuditEntry:
-    from chargedesign.model.equations import equations_of_motion
-    from chargedesign.model.printed import printed_gamma_dot
 
     derived = equations_of_motion()[3:, 0]
     diffs = [sp.expand(e) for e in printed_gamma_dot() - derived]
@@ -162,8 +167,6 @@ def _entry_eom_gamma() -> AuditEntry:
 
 def _derived_level_of_printed_zero() -> sp.Expr:
     """The derived I3 on the printed zero level, which must be a constant on the sphere."""
-    from chargedesign.model.case import STATE_SYMBOLS, C, symbolic_case
-    from chargedesign.model.printed import printed_I3
 
     level = sphere_canonical(symbolic_case().I3 - C * printed_I3())
     if level.free_symbols & set(STATE_SYMBOLS):
@@ -172,8 +175,6 @@ def _derived_level_of_printed_zero() -> sp.Expr:
 
 
 def _entry_I3() -> AuditEntry:
-    from chargedesign.model.case import C, symbolic_case
-    from chargedesign.model.printed import printed_I3
 
     diff = sphere_canonical(C * printed_I3() - symbolic_case().I3)
     return AuditEntry(
@@ -187,7 +188,6 @@ def _entry_I3() -> AuditEntry:
 
 
 def _entry_I3_level() -> AuditEntry:
-    from chargedesign.model.certificate import reduced_dI4_dt
 
     level = _derived_level_of_printed_zero()
     remainder = reduced_dI4_dt(level)
@@ -206,9 +206,6 @@ def _entry_I3_level() -> AuditEntry:
 
 
 def _entry_I4() -> AuditEntry:
-    from chargedesign.model.case import symbolic_case
-    from chargedesign.model.certificate import reduced_dI4_dt, to_sympy
-    from chargedesign.model.printed import printed_I4
 
     remainder = to_sympy(reduced_dI4_dt(integral=printed_I4()))
     same_as_model = sp.expand(printed_I4() - symbolic_case().I4) == 0
@@ -223,7 +220,6 @@ def _entry_I4() -> AuditEntry:
 
 
 def _entry_p6() -> AuditEntry:
-    from chargedesign.errors import ChargeDesignError
 
     try:
         from chargedesign.conditions import audit_p6  # type: ignore[attr-defined,unused-ignore]

@@ -56,6 +56,7 @@ from chargedesign.model.case import (
     symbolic_case,
 )
 from chargedesign.model.equations import equations_of_motion
+from chargedesign.model.printed import printed_I3
 
 #: ``u`` stands for ``1 / gamma3`` inside the ring
 U = sp.Symbol("u_inv_gamma3")
@@ -382,7 +383,6 @@ def counterexample() -> dict[str, object]:
     on the unit sphere ``gamma = (2/7, 3/7, 6/7)``, with all parameters non-zero rationals.
     Returns strings of exact rationals (and one float for reading).
     """
-    from chargedesign.model.printed import printed_I3
 
     level = 2 * C * n
     values = rational_level_point(level, ())

@@ -29,6 +29,13 @@ from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.results import Result
 from chargedesign.simulation import monitors as monitors_mod
+from chargedesign.simulation.api import (
+    initial_state,
+    integrate_with_options,
+    prepare,
+    realised_claims,
+)
+from chargedesign.simulation.axes import turning_states
 from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.validation import input_error
 
@@ -250,12 +257,6 @@ def simulate_ensemble(
     **kwargs
         ``effects, t_end, method, tol, rtol, atol, samples, route, gamma3_min, monitors``.
     """
-    from chargedesign.simulation.api import (
-        initial_state,
-        integrate_with_options,
-        prepare,
-        realised_claims,
-    )
 
     system, _, _, setup, notes = prepare(source, **kwargs)
     if states is None:
@@ -283,8 +284,6 @@ def simulate_ensemble(
     m = len(y0)
     states_out = run.states
     if rate != 0.0:
-        from chargedesign.simulation.axes import turning_states
-
         # a frame body read in turning axes (see chargedesign.simulation.axes)
         states_out = np.array([turning_states(run.times, run.states[i], rate) for i in range(m)])
     integrals = np.array([system.integrals(states_out[i], rate=rate) for i in range(m)])

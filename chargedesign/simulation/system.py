@@ -44,8 +44,10 @@ from chargedesign.body import FIELD_KINDS
 from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
+from chargedesign.physical.realism import material_parts
 from chargedesign.quadrature import gather_elements
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
@@ -237,8 +239,6 @@ class Body(ElementSet):
         ]
         part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
         if getattr(design, "medium", None) is not None:
-            from chargedesign.physical.realism import material_parts
-
             parts = [p for p in material_parts(design) if p["chi"] is not None]
             if parts:
                 part_positions = np.concatenate([p["centres"] for p in parts])
@@ -810,7 +810,6 @@ class _TheoremTerms:
     """
 
     def __init__(self, params: Parameters) -> None:
-        from chargedesign.model import evaluators
 
         self.params = params
         self._ev = evaluators
@@ -854,7 +853,6 @@ class _TheoremTerms:
 
 def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:
     """The theorem's quartic integral I4 at states ``(p, q, r, g1, g2, g3)`` (m, 6), shape (m,)."""
-    from chargedesign.model import evaluators
 
     return np.asarray(evaluators.integrals(states, params), dtype=float)[:, 3]
 

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import SolverError
+from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
@@ -232,7 +233,6 @@ def _theorem_terms(
     hy: Any, system: RigidBodySystem, gamma: list[Any], pars: _Pars
 ) -> tuple[list[Any], list[Any], tuple[Any, ...]]:
     """``dV/dgamma`` and ``mu`` of the theorem from the sympy model (parameters as pars)."""
-    from chargedesign.model import evaluators
     from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, lam, rho
 
     singular = bool(system.parameters.singular)
