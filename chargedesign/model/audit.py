@@ -15,12 +15,13 @@ linearly. The text groups the terms by monomials in p, q, r, each coefficient fa
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
 import sympy as sp
 
+from chargedesign import conditions
 from chargedesign.errors import ChargeDesignError
 from chargedesign.model import case
+from chargedesign.model.audit_entry import AuditEntry
 from chargedesign.model.case import STATE_SYMBOLS, C, g3, mu_from_l, p, q, r, symbolic_case
 from chargedesign.model.certificate import (
     G3_INDEX,
@@ -42,29 +43,6 @@ from chargedesign.model.printed import (
     printed_l,
     printed_mu,
 )
-
-
-@dataclass(frozen=True)
-class AuditEntry:
-    """One printed formula compared with its derived counterpart.
-
-    ``difference`` is the exact difference (printed - derived), simplified on |gamma| = 1,
-    written term by term as a sympy string; ``"0"`` when the two agree.
-    """
-
-    name: str
-    agrees: bool
-    difference: str
-    note: str = ""
-
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "name": self.name,
-            "agrees": self.agrees,
-            "difference": self.difference,
-            "note": self.note,
-        }
-
 
 #: the entries :func:`audit_printed` returns, in order
 ENTRY_NAMES = ("mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I3_level", "I4", "p6")
@@ -220,13 +198,11 @@ def _entry_I4() -> AuditEntry:
 
 
 def _entry_p6() -> AuditEntry:
-
-    try:
-        from chargedesign.conditions import audit_p6  # type: ignore[attr-defined,unused-ignore]
-    except ImportError as exc:
+    audit_p6 = getattr(conditions, "audit_p6", None)
+    if audit_p6 is None:
         raise ChargeDesignError(
             "p6: the conditions engine (chargedesign.conditions.audit_p6) is not available"
-        ) from exc
+        )
     entry = audit_p6()
     if entry.name != "p6":
         raise AssertionError(f"conditions.audit_p6 returned entry {entry.name!r}")

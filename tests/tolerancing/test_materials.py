@@ -13,7 +13,7 @@ import sys
 import numpy as np
 import pytest
 from physical.test_buildable import scene_with
-from tolerance.test_sensitivity import DESIGN as POINT_DESIGN
+from tolerancing.test_sensitivity import DESIGN as POINT_DESIGN
 
 from chargedesign.body import Design, read_design, write_design
 from chargedesign.designer import design_from_scene
