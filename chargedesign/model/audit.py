@@ -18,7 +18,7 @@ import re
 
 import sympy as sp
 
-from chargedesign import conditions
+from chargedesign.conditions import audit as conditions_audit
 from chargedesign.errors import ChargeDesignError
 from chargedesign.model import case
 from chargedesign.model.audit_entry import AuditEntry
@@ -198,7 +198,7 @@ def _entry_I4() -> AuditEntry:
 
 
 def _entry_p6() -> AuditEntry:
-    audit_p6 = getattr(conditions, "audit_p6", None)
+    audit_p6 = getattr(conditions_audit, "audit_p6", None)
     if audit_p6 is None:
         raise ChargeDesignError(
             "p6: the conditions engine (chargedesign.conditions.audit_p6) is not available"
