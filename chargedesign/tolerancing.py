@@ -174,7 +174,6 @@ def _fields(design: Design) -> dict[str, AxisymmetricField]:
 
 
 def _orientations(n: int, seed: int = 0) -> np.ndarray:
-
     return sample_orientations(n, seed)
 
 
@@ -801,7 +800,6 @@ class _Ensemble:
     """
 
     def __init__(self, bodies: Sequence[Any], effects: Sequence[str]) -> None:
-
         banks = [PolynomialBank(reduced_polynomials(b, *effects)) for b in bodies]
         exps = sorted({tuple(int(x) for x in e) for b in banks for e in b.exponents})
         index = {e: i for i, e in enumerate(exps)}
@@ -830,7 +828,6 @@ class _Ensemble:
         return _cross(gamma, v[:, 0:3]) + _cross(v[:, 3:6], omega)
 
     def rhs_function(self, batch: int = 1) -> Any:
-
         C = self.C
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
@@ -862,7 +859,6 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _physical_effects(body: Any) -> list[str]:
-
     return [e for e in select_effects(body, None)[0] if e != "theorem"]
 
 

@@ -69,7 +69,6 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
 
 
 def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
-
     result = simulate(PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START)
     s = result.summary()
     y0 = np.concatenate([result.omega[0], result.gamma[0]])
@@ -96,7 +95,6 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
-
     rows: list[list[Any]] = []
     base = None
     for rtol in rtols:
@@ -183,7 +181,6 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
 
 
 def _route_table(t_end: float) -> BenchTable:
-
     body = fifty_element_body()
     effects = ["lorentz", "electric", "magnetization", "gravity"]
     y0 = np.concatenate(
@@ -294,7 +291,6 @@ def _element_count_table(counts: list[int]) -> BenchTable:
 
 
 def _batch_table(m: int, t_end: float) -> BenchTable:
-
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))
     gam[:, 2] = np.abs(gam[:, 2]) + 0.3

@@ -36,7 +36,6 @@ def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 
 def _spec(n_points: int, t_end: float, command: Any = "simulate", chunk: int = 0) -> Any:
-
     data = {k: dict(v) for k, v in SCENE.items()}
     data["simulation"]["t_end"] = t_end
     values = [float(x) for x in np.linspace(0.5, 0.9, n_points)]
@@ -94,7 +93,6 @@ def _calibrate(target: float) -> float:
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-
     n_points = 8 if quick else 200
     per_point = 0.05 if quick else 1.0
     workers = 2

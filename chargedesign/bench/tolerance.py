@@ -29,7 +29,6 @@ UNIT_SCENE = {
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-
     design = design_from_scene(scene_from_dict(UNIT_SCENE)).design
     bodies = 50 if quick else 1000
     t_end = 10.0 if quick else 100.0

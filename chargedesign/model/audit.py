@@ -117,7 +117,6 @@ def _entry_mu_from_l() -> AuditEntry:
 
 
 def _entry_eom(index: int, name: str) -> AuditEntry:
-
     derived = equations_of_motion()[index]
     printed = printed_equations()[index]
     diff = sphere_canonical(printed - derived)
@@ -132,7 +131,6 @@ def _entry_eom(index: int, name: str) -> AuditEntry:
 
 
 def _entry_eom_gamma() -> AuditEntry:
-
     derived = equations_of_motion()[3:, 0]
     diffs = [sp.expand(e) for e in printed_gamma_dot() - derived]
     return AuditEntry(
@@ -153,7 +151,6 @@ def _derived_level_of_printed_zero() -> sp.Expr:
 
 
 def _entry_I3() -> AuditEntry:
-
     diff = sphere_canonical(C * printed_I3() - symbolic_case().I3)
     return AuditEntry(
         "I3",
@@ -166,7 +163,6 @@ def _entry_I3() -> AuditEntry:
 
 
 def _entry_I3_level() -> AuditEntry:
-
     level = _derived_level_of_printed_zero()
     remainder = reduced_dI4_dt(level)
     agrees = bool(level == 0 or remainder == 0)
@@ -184,7 +180,6 @@ def _entry_I3_level() -> AuditEntry:
 
 
 def _entry_I4() -> AuditEntry:
-
     remainder = to_sympy(reduced_dI4_dt(integral=printed_I4()))
     same_as_model = sp.expand(printed_I4() - symbolic_case().I4) == 0
     return AuditEntry(

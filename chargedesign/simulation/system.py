@@ -810,7 +810,6 @@ class _TheoremTerms:
     """
 
     def __init__(self, params: Parameters) -> None:
-
         self.params = params
         self._ev = evaluators
         self._pt = evaluators.parameter_tuple(params)
