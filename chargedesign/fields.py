@@ -56,7 +56,7 @@ def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
     return arr
 
 
-def _zonal_sums(
+def zonal_sums(
     coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, *, want_value: bool = True
 ) -> dict[str, np.ndarray]:
     """Sums ``sum_k f_k d(u_k)`` of the zonal solid harmonics and their partial derivatives.
@@ -186,12 +186,12 @@ class AxisymmetricField:
     def potential(self, points: Any) -> np.ndarray:
         """``Phi(X)``, ``ndarray, shape (n,)``, for space-axes ``points`` (n, 3) in m."""
         X = as_points(points, "points")
-        return _zonal_sums(self._coeffs, X[:, 2], np.einsum("ij,ij->i", X, X), 0)[""]
+        return zonal_sums(self._coeffs, X[:, 2], np.einsum("ij,ij->i", X, X), 0)[""]
 
     def gradient(self, points: Any) -> np.ndarray:
         """``grad Phi(X)``, ``ndarray, shape (n, 3)`` (magnetic: ``B = -gradient``)."""
         X = as_points(points, "points")
-        d = _zonal_sums(self._coeffs, X[:, 2], np.einsum("ij,ij->i", X, X), 1, want_value=False)
+        d = zonal_sums(self._coeffs, X[:, 2], np.einsum("ij,ij->i", X, X), 1, want_value=False)
         out = (2.0 * d["S"])[:, None] * X
         out[:, 2] += d["Z"]
         return out
@@ -234,7 +234,7 @@ class AxisymmetricField:
         coeffs = self._coeffs
 
         def block(Z: np.ndarray, G: np.ndarray, r: np.ndarray, S: np.ndarray) -> np.ndarray:
-            return _zonal_sums(coeffs, Z, S, 0)[""]
+            return zonal_sums(coeffs, Z, S, 0)[""]
 
         return _blockwise(points, gammas, (), block)
 
@@ -246,7 +246,7 @@ class AxisymmetricField:
         coeffs = self._coeffs
 
         def block(Z: np.ndarray, G: np.ndarray, r: np.ndarray, S: np.ndarray) -> np.ndarray:
-            d = _zonal_sums(coeffs, Z, S, 1, want_value=False)
+            d = zonal_sums(coeffs, Z, S, 1, want_value=False)
             return _combine(d["Z"], G, 2.0 * d["S"], r)
 
         return _blockwise(points, gammas, (3,), block)
@@ -273,7 +273,7 @@ class AxisymmetricField:
         coeffs = self._coeffs
 
         def block(Z: np.ndarray, G: np.ndarray, r: np.ndarray, S: np.ndarray) -> np.ndarray:
-            d = _zonal_sums(coeffs, Z, S, 1, want_value=False)
+            d = zonal_sums(coeffs, Z, S, 1, want_value=False)
             return d["Z"][:, :, None] * r[None, :, :]
 
         return _blockwise(points, gammas, (3,), block)
@@ -356,7 +356,7 @@ def _hessian_from_sums(
 
     ``Z = G @ pts.T`` (m, n) and ``S = |pts|^2`` (n,).
     """
-    d = _zonal_sums(coeffs, Z, S, 2, want_value=False)
+    d = zonal_sums(coeffs, Z, S, 2, want_value=False)
     gg = G[:, None, :, None] * G[:, None, None, :]  # (m, 1, 3, 3)
     gr = G[:, None, :, None] * pts[None, :, None, :]  # (m, n, 3, 3)
     rr = pts[:, :, None] * pts[:, None, :]  # (n, 3, 3)
@@ -396,7 +396,7 @@ def _flux_sum(coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray) -> np.ndarray:
 
 
 def zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[str, np.ndarray]:
-    """The sums of :func:`_zonal_sums` as polynomials in ``Z``, one per value of ``S``.
+    """The sums of :func:`zonal_sums` as polynomials in ``Z``, one per value of ``S``.
 
     At a fixed ``S = |r|^2`` (a point of a body: turning the body changes ``Z = r . gamma``,
     not ``S``) each ``u_k`` is a polynomial of degree k in ``Z``. The recurrence
@@ -417,7 +417,7 @@ def zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[
     Returns
     -------
     dict of ndarray, shape (n, K + 1)
-        Coefficient of ``Z^a`` in column ``a`` (same keys and meaning as :func:`_zonal_sums`).
+        Coefficient of ``Z^a`` in column ``a`` (same keys and meaning as :func:`zonal_sums`).
     """
     S = np.asarray(S, dtype=np.float64)
     n, K = len(S), len(coeffs)

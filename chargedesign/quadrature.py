@@ -37,7 +37,7 @@ geometrically in the node count per direction, as Gauss rules do (measured in do
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -423,29 +423,59 @@ def required_order(body: ContinuousBody, integrand_degree: int) -> int:
     return ContinuousBody.coerce(body).density.degree + _as_order(integrand_degree)
 
 
-def with_quadrature_nodes(
-    points: Any, continuous: Sequence[Any], order_of: Callable[[ContinuousBody], int]
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
-    """Point charges and masses plus every continuous body as quadrature nodes.
+@dataclass(frozen=True)
+class GatheredElements:
+    """Every charge and mass as a point (continuous bodies as quadrature nodes) and the
+    dipoles, in body axes (m; C, kg, A m^2); ``quadrature``: per continuous body its
+    ``kind``, ``shape``, ``order`` and ``nodes``."""
 
-    ``points`` has ``charge_positions/values`` and ``mass_positions/values`` (an element
-    set's point elements); each body of ``continuous`` (ContinuousBody or its design.json
-    mapping) joins its kind with a rule exact to ``order_of(body)``.
+    charge_positions: np.ndarray
+    charge_values: np.ndarray
+    mass_positions: np.ndarray
+    mass_values: np.ndarray
+    dipole_positions: np.ndarray
+    dipole_moments: np.ndarray
+    quadrature: list[dict[str, Any]]
+
+
+def gather_elements(
+    design: Any, integrand_degree: int | Mapping[str, int], order: int | None = None
+) -> GatheredElements:
+    """A design's point elements plus its continuous bodies as quadrature nodes.
+
+    Each continuous body (ContinuousBody or its design.json mapping) joins the charges or
+    the masses with a rule of degree of exactness ``density degree + integrand degree``
+    (``integrand_degree``: one degree for both kinds, or one per kind ``charge``/``mass``),
+    or ``order`` when given. The checker and the simulation call this with their own
+    integrand degrees.
 
     Returns
     -------
-    charge_positions, charge_values, mass_positions, mass_values : ndarray
-    info : list of dict
-        Per body: ``kind``, ``shape``, ``order`` and ``nodes``.
+    GatheredElements
+        The masses include the carriers' and magnets' own (as ``point_elements()`` gives).
     """
+    points = design.point_elements()
     cp, cv = [points.charge_positions], [points.charge_values]
     mp, mv = [points.mass_positions], [points.mass_values]
     info = []
-    for i, raw in enumerate(continuous):
+    for i, raw in enumerate(getattr(design, "continuous", None) or []):
         body = ContinuousBody.coerce(raw, f"continuous[{i}]")
-        order = order_of(body)
-        pts, w = quadrature_points(body, order)
+        if order is not None:
+            body_order = order
+        elif isinstance(integrand_degree, Mapping):
+            body_order = required_order(body, integrand_degree[body.kind])
+        else:
+            body_order = required_order(body, integrand_degree)
+        pts, w = quadrature_points(body, body_order)
         (cp if body.kind == "charge" else mp).append(pts)
         (cv if body.kind == "charge" else mv).append(w)
-        info.append({"kind": body.kind, "shape": body.shape, "order": order, "nodes": len(w)})
-    return np.concatenate(cp), np.concatenate(cv), np.concatenate(mp), np.concatenate(mv), info
+        info.append({"kind": body.kind, "shape": body.shape, "order": body_order, "nodes": len(w)})
+    return GatheredElements(
+        charge_positions=np.concatenate(cp),
+        charge_values=np.concatenate(cv),
+        mass_positions=np.concatenate(mp),
+        mass_values=np.concatenate(mv),
+        dipole_positions=points.dipole_positions,
+        dipole_moments=points.dipole_moments,
+        quadrature=info,
+    )

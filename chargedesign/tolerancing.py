@@ -42,11 +42,33 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.checker import sample_orientations
+from chargedesign.designer.physical import induced_energy
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.materials import SUSCEPTIBILITY_METROLOGY
+from chargedesign.model import evaluators
+from chargedesign.physical.limits import fibonacci_directions
+from chargedesign.physical.materials import SUSCEPTIBILITY, SUSCEPTIBILITY_METROLOGY
+from chargedesign.physical.realism import (
+    RESPONSE_FRACTION,
+    RESPONSE_ORIENTATIONS,
+    field_response,
+    material_parts,
+    typical_rate,
+)
 from chargedesign.results import Result, format_length
-from chargedesign.validation import as_finite_float, as_points, input_error
+from chargedesign.simulation import api
+from chargedesign.simulation.integrate import integrate
+from chargedesign.simulation.polynomials import PolynomialBank
+from chargedesign.simulation.system import (
+    Body,
+    RigidBodySystem,
+    quaternion_gamma,
+    reduced_polynomials,
+    select_effects,
+    theorem_i4,
+)
+from chargedesign.validation import as_finite_float, as_points, check_keys, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 #: the quantities whose errors are analysed, in the check's names
@@ -152,13 +174,10 @@ def _fields(design: Design) -> dict[str, AxisymmetricField]:
 
 
 def _orientations(n: int, seed: int = 0) -> np.ndarray:
-    from chargedesign.checker import sample_orientations
-
     return sample_orientations(n, seed)
 
 
 def _references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
-    from chargedesign.model import evaluators
 
     # what the elements themselves realise (n = 0 for a frame body: n is the axes' rate)
     params = design.body_parameters
@@ -783,9 +802,6 @@ class _Ensemble:
     """
 
     def __init__(self, bodies: Sequence[Any], effects: Sequence[str]) -> None:
-        from chargedesign.simulation.polynomials import PolynomialBank
-        from chargedesign.simulation.system import reduced_polynomials
-
         banks = [PolynomialBank(reduced_polynomials(b, *effects)) for b in bodies]
         exps = sorted({tuple(int(x) for x in e) for b in banks for e in b.exponents})
         index = {e: i for i, e in enumerate(exps)}
@@ -814,8 +830,6 @@ class _Ensemble:
         return _cross(gamma, v[:, 0:3]) + _cross(v[:, 3:6], omega)
 
     def rhs_function(self, batch: int = 1) -> Any:
-        from chargedesign.simulation.system import quaternion_gamma
-
         C = self.C
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
@@ -847,8 +861,6 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _physical_effects(body: Any) -> list[str]:
-    from chargedesign.simulation.system import select_effects
-
     return [e for e in select_effects(body, None)[0] if e != "theorem"]
 
 
@@ -895,9 +907,6 @@ def simulate_ensemble(
     EnsembleRun
         ``drift[b, i] = |I4_b(t_i) - I4_b(0)| / |I4_b(0)|``.
     """
-    from chargedesign.simulation import api
-    from chargedesign.simulation.integrate import integrate
-    from chargedesign.simulation.system import Body, RigidBodySystem, theorem_i4
 
     if not designs:
         raise input_error("designs", "at least one design", designs)
@@ -917,7 +926,6 @@ def simulate_ensemble(
     )
     states = run.states  # (B, s, 7)
     B, s = states.shape[0], states.shape[1]
-    from chargedesign.simulation.system import quaternion_gamma
 
     flat = states.reshape(-1, 7)
     six = np.hstack([flat[:, :3], quaternion_gamma(flat[:, 3:])])
@@ -942,9 +950,6 @@ def _linear_drift(
     exact for I4's quartic dependence on omega; the time integral by the trapezoid rule on
     the nominal run's step ends.
     """
-    from chargedesign.simulation import api
-    from chargedesign.simulation.integrate import integrate
-    from chargedesign.simulation.system import Body, RigidBodySystem, quaternion_gamma, theorem_i4
 
     spec = api.parse_initial(api.DEFAULT_INITIAL)
     bodies = [Body.from_design(nominal)] + [Body.from_design(d) for d in perturbed]
@@ -1425,8 +1430,6 @@ def sensitivity_weights(
     return out
 
 
-
-
 # ------------------------------------------------------------------------ material properties
 
 
@@ -1464,7 +1467,6 @@ class MaterialErrors:
     @classmethod
     def from_table(cls, table: Any, where: str = "tolerance") -> MaterialErrors:
         """A scene's ``[tolerance]`` table."""
-        from chargedesign.validation import check_keys
 
         if not isinstance(table, Mapping):
             raise input_error(where, "a table", table)
@@ -1481,7 +1483,6 @@ class MaterialErrors:
 
 def _material_groups(design: Design) -> tuple[list[dict[str, Any]], list[tuple[str, str]]]:
     """The parts with a known susceptibility, and the (role, name) of each material."""
-    from chargedesign.physical.realism import material_parts
 
     if design.medium is None or not design.materials:
         raise InputError(
@@ -1507,8 +1508,6 @@ def _perturbed_materials(
     by the relative errors ``e[key][j]`` of material ``groups[j]``; parts keep their mass
     (ballast, carriers) and moment (magnets), so their volumes change."""
     from dataclasses import replace
-
-    from chargedesign.physical.materials import SUSCEPTIBILITY
 
     def changed(spec: dict[str, Any], role: str) -> dict[str, Any]:
         key = (role, spec.get("name", role))
@@ -1676,14 +1675,6 @@ def material_uncertainty(
     seed : int
         Seed of the draws.
     """
-    from chargedesign.designer.physical import induced_energy
-    from chargedesign.physical.limits import fibonacci_directions
-    from chargedesign.physical.realism import (
-        RESPONSE_FRACTION,
-        RESPONSE_ORIENTATIONS,
-        field_response,
-        typical_rate,
-    )
 
     if not isinstance(design, Design):
         raise input_error("design", "a Design", design)

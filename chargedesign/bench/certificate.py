@@ -21,6 +21,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.model import evaluators as ev
+from chargedesign.params import Parameters
 
 #: wall-time cap of the sympy.simplify baseline (seconds)
 SIMPLIFY_CAP = 120.0
@@ -151,10 +153,8 @@ def _certificate_table(quick: bool) -> BenchTable:
 def _evaluator_table(quick: bool) -> BenchTable:
     import sympy as sp
 
-    from chargedesign.model import evaluators as ev
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS
     from chargedesign.model.equations import equations_of_motion
-    from chargedesign.params import Parameters
 
     params = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9, lam=0.1, rho=0.2)
     pt = ev.parameter_tuple(params)

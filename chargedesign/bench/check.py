@@ -46,6 +46,7 @@ from chargedesign.checker import (
     sample_orientations,
 )
 from chargedesign.fields import AxisymmetricField
+from chargedesign.files import atomic_path
 from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody, Density, geometric_rule
 
@@ -484,8 +485,6 @@ def plot_quadrature_convergence(
     if ax is None:
         matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from chargedesign.files import atomic_path
 
     rows_by: dict[str, list[list[Any]]] = {}
     for row in table.rows:

@@ -1,4 +1,4 @@
-"""Shared pieces of the benchmarks: a result table and a timer."""
+"""Shared pieces of the benchmarks (and the tests): a result table, a timer, a random body."""
 
 from __future__ import annotations
 
@@ -6,6 +6,11 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
+
+import numpy as np
+
+from chargedesign.params import Parameters
+from chargedesign.simulation.system import Body
 
 
 @dataclass
@@ -50,3 +55,33 @@ def best_time(fn: Callable[[], Any], repeat: int = 3) -> tuple[float, Any]:
         result = fn()
         best = min(best, time.perf_counter() - t0)
     return best, result
+
+
+def random_body(
+    seed: int,
+    parameters: Parameters,
+    fields: dict[str, tuple[float, ...]],
+    n_charges: int,
+    n_masses: int | None = None,
+    n_dipoles: int | None = None,
+) -> Body:
+    """A body of random elements of every kind (no symmetry at all), for tests and timings.
+
+    Positions uniform in the cube [-1, 1]^3 m, charges and dipole moments standard normal
+    (C, A m^2), masses uniform in [0, 1] kg; ``n_masses`` and ``n_dipoles`` default to
+    ``n_charges``. It realises nothing: the simulation's routes are compared on it.
+    """
+    n_masses = n_charges if n_masses is None else n_masses
+    n_dipoles = n_charges if n_dipoles is None else n_dipoles
+    rng = np.random.default_rng(seed)
+    return Body(
+        parameters=parameters,
+        fields=fields,
+        charge_positions=rng.uniform(-1, 1, (n_charges, 3)),
+        charge_values=rng.normal(size=n_charges),
+        mass_positions=rng.uniform(-1, 1, (n_masses, 3)),
+        mass_values=rng.uniform(0, 1, n_masses),
+        dipole_positions=rng.uniform(-1, 1, (n_dipoles, 3)),
+        dipole_moments=rng.normal(size=(n_dipoles, 3)),
+        has_elements=True,
+    )

@@ -22,8 +22,23 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.scene import scene_from_dict
+from chargedesign.simulation import (
+    RigidBodySystem,
+    attitude_from_gamma,
+    direct_terms,
+    quaternion_gamma,
+    quaternion_rotation,
+    rotation_quaternion,
+    setup_from_source,
+    simulate,
+    simulate_batch,
+)
+from chargedesign.simulation.ensemble import simulate_ensemble
+from chargedesign.simulation.integrate import integrate
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
@@ -34,7 +49,6 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
     import sympy as sp
     from scipy.integrate import solve_ivp
 
-    from chargedesign.model import evaluators
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS, lam, rho
     from chargedesign.model.equations import equations_of_motion
 
@@ -55,8 +69,6 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
 
 
 def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
-    from chargedesign.simulation import simulate
-
     result = simulate(PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START)
     s = result.summary()
     y0 = np.concatenate([result.omega[0], result.gamma[0]])
@@ -83,8 +95,6 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
-    from chargedesign.simulation import simulate
-
     rows: list[list[Any]] = []
     base = None
     for rtol in rtols:
@@ -141,22 +151,9 @@ def fifty_element_body(elements: int = 50) -> Any:
 
     The default 50 elements are 20 charges, 15 masses and 15 dipoles.
     """
-    from chargedesign.simulation import Body
-
-    rng = np.random.default_rng(0)
     nq, nm = 2 * elements // 5, 3 * elements // 10
-    nd = elements - nq - nm
-    return Body(
-        parameters=PARAMS,
-        fields={"magnetic": (1.0, 1.0), "electric": (0.0, 0.3, 0.2, 0.1), "gravity": (9.81,)},
-        charge_positions=rng.uniform(-1, 1, (nq, 3)),
-        charge_values=rng.normal(size=nq),
-        mass_positions=rng.uniform(-1, 1, (nm, 3)),
-        mass_values=rng.uniform(0, 1, nm),
-        dipole_positions=rng.uniform(-1, 1, (nd, 3)),
-        dipole_moments=rng.normal(size=(nd, 3)),
-        has_elements=True,
-    )
+    fields = {"magnetic": (1.0, 1.0), "electric": (0.0, 0.3, 0.2, 0.1), "gravity": (9.81,)}
+    return random_body(0, PARAMS, fields, nq, nm, elements - nq - nm)
 
 
 def _term_by_term_system(body: Any, effects: list[str]) -> Any:
@@ -165,7 +162,6 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
     Every right-hand side rotates the elements with the quaternion's matrix and calls the
     checked field methods once per effect (kept as the literal reference of the physics).
     """
-    from chargedesign.simulation import RigidBodySystem, direct_terms, quaternion_rotation
 
     class TermByTerm(RigidBodySystem):
         def derivatives(self, states: np.ndarray) -> np.ndarray:
@@ -185,16 +181,6 @@ def _term_by_term_system(body: Any, effects: list[str]) -> Any:
 
 
 def _route_table(t_end: float) -> BenchTable:
-    from chargedesign.simulation import (
-        RigidBodySystem,
-        attitude_from_gamma,
-        direct_terms,
-        quaternion_gamma,
-        quaternion_rotation,
-        rotation_quaternion,
-    )
-    from chargedesign.simulation.integrate import integrate
-
     body = fifty_element_body()
     effects = ["lorentz", "electric", "magnetization", "gravity"]
     y0 = np.concatenate(
@@ -274,7 +260,6 @@ def _route_table(t_end: float) -> BenchTable:
 
 def _element_count_table(counts: list[int]) -> BenchTable:
     """Per-evaluation cost of both routes against the number of elements."""
-    from chargedesign.simulation import RigidBodySystem, attitude_from_gamma, rotation_quaternion
 
     effects = ["lorentz", "electric", "magnetization", "gravity"]
     y0 = np.concatenate(
@@ -306,8 +291,6 @@ def _element_count_table(counts: list[int]) -> BenchTable:
 
 
 def _batch_table(m: int, t_end: float) -> BenchTable:
-    from chargedesign.simulation import simulate, simulate_batch
-
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))
     gam[:, 2] = np.abs(gam[:, 2]) + 0.3
@@ -363,7 +346,6 @@ KOWALEVSKI_SCENE: dict[str, Any] = {
 
 def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list[list[Any]]:
     """taylor, DOP853 and Gauss-Legendre at several tolerances on the same state."""
-    from chargedesign.simulation import simulate
 
     settings: list[tuple[str, str, dict[str, Any]]] = [
         ("taylor", "tol eps", {}),
@@ -397,8 +379,6 @@ def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list
 
 def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
     """Accuracy against time: the theorem's model (I4) and a Kowalevski top (its integral)."""
-    from chargedesign.scene import scene_from_dict
-    from chargedesign.simulation import setup_from_source
 
     columns = [
         "method",
@@ -444,7 +424,6 @@ def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
 
 def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
     """Many trajectories of the theorem model: heyoka batch integrators against DOP853."""
-    from chargedesign.simulation.ensemble import simulate_ensemble
 
     rng = np.random.default_rng(1)
     gam = rng.normal(size=(m, 3))

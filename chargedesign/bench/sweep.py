@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable
+from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 
 SCENE: dict[str, dict[str, Any]] = {
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
@@ -35,8 +36,6 @@ def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 
 def _spec(n_points: int, t_end: float, command: Any = "simulate", chunk: int = 0) -> Any:
-    from chargedesign.sweeps import SweepSpec
-
     data = {k: dict(v) for k, v in SCENE.items()}
     data["simulation"]["t_end"] = t_end
     values = [float(x) for x in np.linspace(0.5, 0.9, n_points)]
@@ -64,7 +63,6 @@ def _calibrate(target: float) -> float:
     stays below ``T_END_LIMIT``: a fit on timings of a few ms (a slope from noise) once asked
     for 6e9 s of motion, and the sweep it fed ran past CI's time limit.
     """
-    from chargedesign.sweeps import run_point, warm_up
 
     warm_up()
 
@@ -95,8 +93,6 @@ def _calibrate(target: float) -> float:
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-    from chargedesign.sweeps import make_executor, run_sweep
-
     n_points = 8 if quick else 200
     per_point = 0.05 if quick else 1.0
     workers = 2

@@ -15,6 +15,9 @@ import time
 import numpy as np
 
 from chargedesign.bench.common import BenchTable
+from chargedesign.designer import design_from_scene
+from chargedesign.scene import scene_from_dict
+from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
 #: examples/scenes/unit_scale.toml, inline so the bench runs from an installed package
 UNIT_SCENE = {
@@ -26,10 +29,6 @@ UNIT_SCENE = {
 
 
 def run(quick: bool = False) -> list[BenchTable]:
-    from chargedesign.designer import design_from_scene
-    from chargedesign.scene import scene_from_dict
-    from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
-
     design = design_from_scene(scene_from_dict(UNIT_SCENE)).design
     bodies = 50 if quick else 1000
     t_end = 10.0 if quick else 100.0

@@ -104,6 +104,145 @@ def cross_components(a: tuple[Any, Any, Any], b: tuple[Any, Any, Any]) -> tuple[
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
+def arithmetic_lift(precision: str) -> Callable[[Any], Any]:
+    """The map from doubles into the accurate arithmetic named by ``precision``."""
+    if precision == "double-double":
+        return DoubleDouble
+    if precision == "longdouble":
+        return lambda x: np.asarray(x, dtype=np.longdouble)
+    raise input_error("precision", "'double-double' or 'longdouble'", precision)
+
+
+class AccurateAccumulator:
+    """The per-orientation sums of :func:`evaluate_accurate`, accumulated block by block in
+    the accurate arithmetic (``lift``), in body axes."""
+
+    def __init__(
+        self,
+        gammas: np.ndarray,
+        omegas: np.ndarray,
+        lift: Callable[[Any], Any],
+        block_pairs: int,
+    ) -> None:
+        self.gammas, self.omegas, self.lift = gammas, omegas, lift
+        self.block_pairs = block_pairs
+        m = len(gammas)
+        self.mu = [lift(np.zeros(m)) for _ in range(3)]
+        self.gyro = [lift(np.zeros(m)) for _ in range(3)]
+        self.energy = {k: lift(np.zeros(m)) for k in POTENTIAL_EFFECTS}
+        self.torque = {k: [lift(np.zeros(m)) for _ in range(3)] for k in POTENTIAL_EFFECTS}
+
+    def unit_gammas(self, rows: slice) -> tuple[Any, Any, Any]:
+        """gamma normalised in the accurate arithmetic, for the orientations ``rows``."""
+        # 1 / |g| = 1 - delta / 2 + 3 delta^2 / 8 + O(delta^3), delta = |g|^2 - 1 ~ 1e-16
+        gammas = self.gammas
+        g = [self.lift(gammas[rows, i]) for i in range(3)]
+        delta = g[0] * gammas[rows, 0] + g[1] * gammas[rows, 1] + g[2] * gammas[rows, 2] - 1.0
+        scale = 1.0 - delta * 0.5 + (delta * delta) * 0.375
+        return g[0] * scale, g[1] * scale, g[2] * scale
+
+    @staticmethod
+    def add_rows(target: Any, rows: slice, value: Any) -> None:
+        """``target[rows] += value`` in either arithmetic."""
+        if isinstance(target, DoubleDouble):
+            block = target[rows] + value
+            target.hi[rows], target.lo[rows] = block.hi, block.lo
+        else:
+            target[rows] = target[rows] + value
+
+    def geometry(self, r: np.ndarray, rows: slice) -> tuple[Any, ...]:
+        """(gamma columns, r components, Z = gamma . r, S = |r|^2, t = r - Z gamma)."""
+        g = self.unit_gammas(rows)
+        gc = tuple(gi[:, None] for gi in g)
+        x, y, z = r[:, 0], r[:, 1], r[:, 2]
+        Z = gc[0] * x + gc[1] * y + gc[2] * z
+        S = self.lift(x) * x + self.lift(y) * y + self.lift(z) * z
+        t = (x - Z * gc[0], y - Z * gc[1], z - Z * gc[2])
+        return gc, (x, y, z), Z, S, t
+
+    def blocks(self, n: int) -> list[slice]:
+        """Orientation blocks of at most ``block_pairs`` pairs with ``n`` elements."""
+        m = len(self.gammas)
+        step = max(1, min(m, self.block_pairs // max(n, 1)))
+        return [slice(s, min(m, s + step)) for s in range(0, m, step)]
+
+    def add_potential(self, name: str, r: np.ndarray, w: np.ndarray, c: np.ndarray) -> None:
+        """Energy and torque of weights ``w`` at ``r`` in the zonal potential ``c``."""
+        for rows in self.blocks(len(w)):
+            gc, xyz, Z, S, _ = self.geometry(r, rows)
+            h = zonal_sums_accurate(c, Z, S, 1, self.lift)
+            self.add_rows(self.energy[name], rows, sum_last_axis(h.value * w))
+            # X x (-w grad Phi) = -w (D + Z T) (r x gamma)
+            lever = (h.D + Z * h.T) * (-w)
+            for i, arm in enumerate(cross_components(xyz, gc)):
+                self.add_rows(self.torque[name][i], rows, sum_last_axis(lever * arm))
+
+    def add_lorentz(self, r: np.ndarray, q: np.ndarray, c: np.ndarray) -> None:
+        """mu and the Lorentz torque of charges ``q`` at ``r`` in the magnetic field ``c``."""
+        for rows in self.blocks(len(q)):
+            gc, xyz, Z, S, t = self.geometry(r, rows)
+            h = zonal_sums_accurate(c, Z, S, 1, self.lift)
+            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
+            qrB = (B[0] * xyz[0] + B[1] * xyz[1] + B[2] * xyz[2]) * q
+            for i in range(3):
+                self.add_rows(self.mu[i], rows, -sum_last_axis(qrB * xyz[i]))
+            om = tuple(self.lift(self.omegas[rows, i])[:, None] for i in range(3))
+            v = cross_components(om, xyz)  # omega x r
+            force = tuple(fi * q for fi in cross_components(v, B))  # q v x B
+            for i, ti in enumerate(cross_components(xyz, force)):
+                self.add_rows(self.gyro[i], rows, sum_last_axis(ti))
+
+    def add_dipoles(self, r: np.ndarray, sigma: np.ndarray, c: np.ndarray) -> None:
+        """Energy and torque (spin and lever) of dipoles ``sigma`` at ``r`` in the field ``c``."""
+        s = (sigma[:, 0], sigma[:, 1], sigma[:, 2])
+        for rows in self.blocks(len(sigma)):
+            gc, xyz, Z, S, t = self.geometry(r, rows)
+            h = zonal_sums_accurate(c, Z, S, 2, self.lift)
+            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
+            self.add_rows(
+                self.energy["magnetization"],
+                rows,
+                -sum_last_axis(B[0] * s[0] + B[1] * s[1] + B[2] * s[2]),
+            )
+            sg = gc[0] * s[0] + gc[1] * s[1] + gc[2] * s[2]
+            st = t[0] * s[0] + t[1] * s[1] + t[2] * s[2]
+            # F = grad(sigma . B) = -H sigma,
+            # H = -T (1 - g g^T) - W t t^T - E (t g^T + g t^T) + ZZ g g^T
+            force = tuple(
+                h.T * (s[i] - gc[i] * sg)
+                + h.W * (t[i] * st)
+                + h.E * (t[i] * sg + gc[i] * st)
+                - h.ZZ * (gc[i] * sg)
+                for i in range(3)
+            )
+            spin = cross_components(s, B)
+            lever = cross_components(xyz, force)
+            for i in range(3):
+                self.add_rows(
+                    self.torque["magnetization"][i], rows, sum_last_axis(spin[i] + lever[i])
+                )
+
+    def result(self, precision: str) -> AccurateSums:
+        """The sums rounded to double, with the energy centred in the accurate arithmetic."""
+        energy, m = self.energy, len(self.gammas)
+        total = energy["electric"] + energy["gravity"] + energy["magnetization"]
+        if isinstance(total, DoubleDouble):
+            mean = sum_last_axis(total) / float(m)
+        else:
+            mean = np.mean(total)
+        return AccurateSums(
+            mu=np.stack([to_float_array(c) for c in self.mu], axis=1),
+            gyro=np.stack([to_float_array(c) for c in self.gyro], axis=1),
+            energy={k: to_float_array(v) for k, v in energy.items()},
+            energy_centered=to_float_array(total - mean),
+            energy_mean=float(to_float_array(mean)),
+            torque={
+                k: np.stack([to_float_array(c) for c in v], axis=1) for k, v in self.torque.items()
+            },
+            precision=precision,
+        )
+
+
 def evaluate_accurate(
     elements: Elements,
     fields: dict[str, tuple[float, ...]],
@@ -140,117 +279,21 @@ def evaluate_accurate(
     -------
     AccurateSums
     """
-    if precision == "double-double":
-
-        def lift(x: Any) -> Any:
-            return DoubleDouble(x)
-    elif precision == "longdouble":
-
-        def lift(x: Any) -> Any:
-            return np.asarray(x, dtype=np.longdouble)
-    else:
-        raise input_error("precision", "'double-double' or 'longdouble'", precision)
+    lift = arithmetic_lift(precision)
     gammas = np.asarray(gammas, dtype=np.float64)
     if np.abs(np.einsum("ij,ij->i", gammas, gammas) - 1.0).max(initial=0.0) > 1e-12:
         raise input_error("gammas", "unit vectors (to 1e-12)", gammas)
-    m = len(gammas)
     coeffs = {k: trimmed_legendre(fields.get(k, ())) for k in FIELD_NAMES}
-    mu = [lift(np.zeros(m)) for _ in range(3)]
-    gyro = [lift(np.zeros(m)) for _ in range(3)]
-    energy = {k: lift(np.zeros(m)) for k in POTENTIAL_EFFECTS}
-    torque = {k: [lift(np.zeros(m)) for _ in range(3)] for k in POTENTIAL_EFFECTS}
-
-    def unit_gammas(rows: slice) -> tuple[Any, Any, Any]:
-        # 1 / |g| = 1 - delta / 2 + 3 delta^2 / 8 + O(delta^3), delta = |g|^2 - 1 ~ 1e-16
-        g = [lift(gammas[rows, i]) for i in range(3)]
-        delta = g[0] * gammas[rows, 0] + g[1] * gammas[rows, 1] + g[2] * gammas[rows, 2] - 1.0
-        scale = 1.0 - delta * 0.5 + (delta * delta) * 0.375
-        return g[0] * scale, g[1] * scale, g[2] * scale
-
-    def add_rows(target: Any, rows: slice, value: Any) -> None:
-        if isinstance(target, DoubleDouble):
-            block = target[rows] + value
-            target.hi[rows], target.lo[rows] = block.hi, block.lo
-        else:
-            target[rows] = target[rows] + value
-
-    def geometry(r: np.ndarray, rows: slice) -> tuple[Any, ...]:
-        g = unit_gammas(rows)
-        gc = tuple(gi[:, None] for gi in g)
-        x, y, z = r[:, 0], r[:, 1], r[:, 2]
-        Z = gc[0] * x + gc[1] * y + gc[2] * z
-        S = lift(x) * x + lift(y) * y + lift(z) * z
-        t = (x - Z * gc[0], y - Z * gc[1], z - Z * gc[2])
-        return gc, (x, y, z), Z, S, t
-
-    def blocks(n: int) -> list[slice]:
-        step = max(1, min(m, block_pairs // max(n, 1)))
-        return [slice(s, min(m, s + step)) for s in range(0, m, step)]
-
-    def potential_effect(name: str, r: np.ndarray, w: np.ndarray, c: np.ndarray) -> None:
-        for rows in blocks(len(w)):
-            gc, xyz, Z, S, _ = geometry(r, rows)
-            h = zonal_sums_accurate(c, Z, S, 1, lift)
-            add_rows(energy[name], rows, sum_last_axis(h.value * w))
-            # X x (-w grad Phi) = -w (D + Z T) (r x gamma)
-            lever = (h.D + Z * h.T) * (-w)
-            for i, arm in enumerate(cross_components(xyz, gc)):
-                add_rows(torque[name][i], rows, sum_last_axis(lever * arm))
-
+    acc = AccurateAccumulator(gammas, omegas, lift, block_pairs)
     r, q = elements.charge_positions, elements.charge_values
     if len(q) and len(coeffs["magnetic"]):
-        for rows in blocks(len(q)):
-            gc, xyz, Z, S, t = geometry(r, rows)
-            h = zonal_sums_accurate(coeffs["magnetic"], Z, S, 1, lift)
-            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
-            qrB = (B[0] * xyz[0] + B[1] * xyz[1] + B[2] * xyz[2]) * q
-            for i in range(3):
-                add_rows(mu[i], rows, -sum_last_axis(qrB * xyz[i]))
-            om = tuple(lift(omegas[rows, i])[:, None] for i in range(3))
-            v = cross_components(om, xyz)  # omega x r
-            force = tuple(fi * q for fi in cross_components(v, B))  # q v x B
-            for i, ti in enumerate(cross_components(xyz, force)):
-                add_rows(gyro[i], rows, sum_last_axis(ti))
+        acc.add_lorentz(r, q, coeffs["magnetic"])
     if len(q) and len(coeffs["electric"]):
-        potential_effect("electric", r, q, coeffs["electric"])
+        acc.add_potential("electric", r, q, coeffs["electric"])
     r, w = elements.mass_positions, elements.mass_values
     if len(w) and len(coeffs["gravity"]):
-        potential_effect("gravity", r, w, coeffs["gravity"])
+        acc.add_potential("gravity", r, w, coeffs["gravity"])
     r, sigma = elements.dipole_positions, elements.dipole_moments
     if len(sigma) and len(coeffs["magnetic"]):
-        s = (sigma[:, 0], sigma[:, 1], sigma[:, 2])
-        for rows in blocks(len(sigma)):
-            gc, xyz, Z, S, t = geometry(r, rows)
-            h = zonal_sums_accurate(coeffs["magnetic"], Z, S, 2, lift)
-            B = tuple(t[i] * h.T - h.D * gc[i] for i in range(3))
-            add_rows(
-                energy["magnetization"],
-                rows,
-                -sum_last_axis(B[0] * s[0] + B[1] * s[1] + B[2] * s[2]),
-            )
-            sg = gc[0] * s[0] + gc[1] * s[1] + gc[2] * s[2]
-            st = t[0] * s[0] + t[1] * s[1] + t[2] * s[2]
-            # F = grad(sigma . B) = -H sigma,
-            # H = -T (1 - g g^T) - W t t^T - E (t g^T + g t^T) + ZZ g g^T
-            force = tuple(
-                h.T * (s[i] - gc[i] * sg)
-                + h.W * (t[i] * st)
-                + h.E * (t[i] * sg + gc[i] * st)
-                - h.ZZ * (gc[i] * sg)
-                for i in range(3)
-            )
-            spin = cross_components(s, B)
-            lever = cross_components(xyz, force)
-            for i in range(3):
-                add_rows(torque["magnetization"][i], rows, sum_last_axis(spin[i] + lever[i]))
-    total = energy["electric"] + energy["gravity"] + energy["magnetization"]
-    mean = sum_last_axis(total) / float(m) if isinstance(total, DoubleDouble) else np.mean(total)
-    return AccurateSums(
-        mu=np.stack([to_float_array(c) for c in mu], axis=1),
-        gyro=np.stack([to_float_array(c) for c in gyro], axis=1),
-        energy={k: to_float_array(v) for k, v in energy.items()},
-        energy_centered=to_float_array(total - mean),
-        energy_mean=float(to_float_array(mean)),
-        torque={k: np.stack([to_float_array(c) for c in v], axis=1) for k, v in torque.items()},
-        precision=precision,
-    )
+        acc.add_dipoles(r, sigma, coeffs["magnetic"])
+    return acc.result(precision)

@@ -16,7 +16,7 @@ from chargedesign.checker.constants import (
 )
 from chargedesign.elements import ElementSet
 from chargedesign.fields import AxisymmetricField
-from chargedesign.quadrature import with_quadrature_nodes
+from chargedesign.quadrature import gather_elements
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
@@ -119,24 +119,16 @@ def collect_elements(
         Degree of each field kind (0: no field).
     """
     degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
-    points = design.point_elements()
-    cp, cv, mp, mv, info = with_quadrature_nodes(
-        points,
-        design.continuous,
-        lambda body: (
-            body.density.degree + integrand_degree(body.kind, degrees)
-            if quadrature_order is None
-            else quadrature_order
-        ),
-    )
+    integrand = {kind: integrand_degree(kind, degrees) for kind in ("charge", "mass")}
+    gathered = gather_elements(design, integrand, quadrature_order)
     elements = Elements(
-        charge_positions=cp,
-        charge_values=cv,
-        mass_positions=mp,
-        mass_values=mv,
-        dipole_positions=points.dipole_positions,
-        dipole_moments=points.dipole_moments,
-        quadrature=info,
+        charge_positions=gathered.charge_positions,
+        charge_values=gathered.charge_values,
+        mass_positions=gathered.mass_positions,
+        mass_values=gathered.mass_values,
+        dipole_positions=gathered.dipole_positions,
+        dipole_moments=gathered.dipole_moments,
+        quadrature=gathered.quadrature,
     )
     return elements, degrees
 

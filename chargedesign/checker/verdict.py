@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -45,7 +46,9 @@ from chargedesign.checker.results import (
     QuantityResult,
 )
 from chargedesign.errors import SolverError
+from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
+from chargedesign.physical.limits import check_limits
 from chargedesign.validation import as_finite_float, input_error
 from chargedesign.vocabulary import (
     FIELD_NAMES,
@@ -225,8 +228,6 @@ def fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.nda
 
 def theorem_reference(params: Any, gammas: np.ndarray) -> dict[str, np.ndarray]:
     """The theorem's mu, V and grad V at the sampled orientations (must all be finite)."""
-    from chargedesign.model import evaluators
-
     ref = {
         "mu": np.asarray(evaluators.gyroscopic(gammas, params), dtype=float),
         "V": np.asarray(evaluators.potential(gammas, params), dtype=float),
@@ -283,6 +284,62 @@ def check_design(
         (:func:`chargedesign.physical.limits.check_limits`): the report passes only when it
         is buildable too.
     """
+    tol = validate_check_options(design, tol, seed, quadrature_order, block_pairs, precision)
+    gammas = sample_orientations(n_orientations, seed)
+    rng = np.random.default_rng([int(seed), 1])
+    R = rotation_matrices(gammas, rng)
+    omegas = rng.standard_normal((len(gammas), 3))
+    elements, degrees = collect_elements(design, quadrature_order)
+    fields = {k: design.field(k) for k in FIELD_NAMES}
+    sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
+    # a frame body realises the theorem with n = 0 (its n is the rate of the turning axes)
+    params = design.body_parameters
+    ref = theorem_reference(params, gammas)
+    claimed = set(design.realises)
+    for name, arr in [("mu", sums.mu), ("gyroscopic torque", sums.gyro)]:
+        if not np.all(np.isfinite(arr)):
+            raise SolverError(f"check: the design's {name} is not finite (overflow?)")
+    refs = reference_quantities(ref, gammas, omegas)
+    plan = rounding_plan(elements, fields, omegas, refs)
+    accurate = use_double_double(precision, claimed, plan, tol)
+    evaluated = evaluate_quantities(elements, fields, gammas, omegas, sums, accurate, block_pairs)
+    notes: list[str] = []
+    quantities = compare_quantities(evaluated, refs, plan, gammas, claimed, tol, notes)
+    inertia, inertia_gross = inertia_accurate(elements.mass_positions, elements.mass_values)
+    quantities["inertia"] = inertia_result(inertia, inertia_gross, params, claimed, tol)
+    effects = effect_results(
+        elements, degrees, gammas, omegas, evaluated.sums, inertia, evaluated.unit
+    )
+    notes.extend(design_notes(design, params, claimed))
+    n_pairs = len(gammas) * (
+        len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
+    )
+    return CheckReport(
+        tol=tol,
+        n_orientations=len(gammas),
+        seed=int(seed),
+        claimed=list(design.realises),
+        quantities=quantities,
+        effects=effects,
+        V_offset=evaluated.energy_mean - float(ref["V"].mean()),
+        quadrature=elements.quadrature,
+        n_pairs=n_pairs,
+        notes=notes,
+        precision=evaluated.precision,
+        limits=check_limits(design) if design.medium else None,
+        larmor=larmor_summary(design, params),
+    )
+
+
+def validate_check_options(
+    design: Any,
+    tol: Any,
+    seed: Any,
+    quadrature_order: Any,
+    block_pairs: Any,
+    precision: Any,
+) -> float:
+    """Refuse bad arguments of :func:`check_design` (one line each); the tolerance as a float."""
     if not isinstance(design, Design):
         raise input_error("design", "a Design", design)
     tol = as_finite_float(tol, "tol", positive=True)
@@ -300,44 +357,82 @@ def check_design(
         raise input_error("block_pairs", "an integer >= 1", block_pairs)
     if precision not in PRECISIONS:
         raise input_error("precision", "one of " + ", ".join(PRECISIONS), precision)
-    gammas = sample_orientations(n_orientations, seed)
-    rng = np.random.default_rng([int(seed), 1])
-    R = rotation_matrices(gammas, rng)
-    omegas = rng.standard_normal((len(gammas), 3))
-    elements, degrees = collect_elements(design, quadrature_order)
-    fields = {k: design.field(k) for k in FIELD_NAMES}
-    sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
-    # a frame body realises the theorem with n = 0 (its n is the rate of the turning axes)
-    params = design.body_parameters
-    ref = theorem_reference(params, gammas)
-    claimed = set(design.realises)
-    notes: list[str] = []
+    return tol
 
-    for name, arr in [("mu", sums.mu), ("gyroscopic torque", sums.gyro)]:
-        if not np.all(np.isfinite(arr)):
-            raise SolverError(f"check: the design's {name} is not finite (overflow?)")
-    omega_norm = np.linalg.norm(omegas, axis=1)
-    refs = {
+
+def reference_quantities(
+    ref: Mapping[str, np.ndarray], gammas: np.ndarray, omegas: np.ndarray
+) -> dict[str, np.ndarray]:
+    """The theorem's mu, gyroscopic torque, centred V and potential torque per orientation."""
+    return {
         "mu": ref["mu"],
         "gyroscopic_torque": np.cross(ref["mu"], omegas),
         "V": ref["V"] - ref["V"].mean(),  # V is defined up to a constant
         "potential_torque": np.cross(gammas, ref["dV"]),
     }
+
+
+@dataclass(frozen=True)
+class RoundingPlan:
+    """Per compared quantity: gross contributions, cancellation, basis and double floor."""
+
+    gross: dict[str, float]
+    cancellation: dict[str, float]
+    basis: dict[str, str]
+    double_floor: dict[str, float]
+
+
+def rounding_plan(
+    elements: Elements,
+    fields: Mapping[str, Sequence[float]],
+    omegas: np.ndarray,
+    refs: Mapping[str, np.ndarray],
+) -> RoundingPlan:
+    """How far each quantity's contributions cancel, and so its rounding floor in double."""
     sizes = contribution_sizes(elements, fields)
+    omega_norm = np.linalg.norm(omegas, axis=1)
     gross = dict(sizes)
     gross["gyroscopic_torque"] = sizes["gyroscopic_torque"] * float(omega_norm.max(initial=0.0))
     ref_scale = {k: float(orientation_norms(v).max(initial=0.0)) for k, v in refs.items()}
     cancellation = {k: cancellation_factor(gross[k], ref_scale[k]) for k in refs}
     basis = {k: "reference" if ref_scale[k] > 0.0 else "gross" for k in refs}
     double_floor = {k: rounding_floor(cancellation[k], EPS, basis[k]) for k in refs}
+    return RoundingPlan(gross, cancellation, basis, double_floor)
+
+
+def use_double_double(precision: str, claimed: set[str], plan: RoundingPlan, tol: float) -> bool:
+    """Whether to sum in double-double: forced, or (``auto``) where double rounding could
+    decide a claimed quantity."""
     if precision == "auto":
-        # double-double only where double rounding could decide a claimed quantity
-        accurate = any(
-            QUANTITY_CLAIMS[k] in claimed and double_floor[k] > ACCURATE_FRACTION * tol
-            for k in refs
+        return any(
+            QUANTITY_CLAIMS[k] in claimed and plan.double_floor[k] > ACCURATE_FRACTION * tol
+            for k in plan.double_floor
         )
-    else:
-        accurate = precision == "double-double"
+    return precision == "double-double"
+
+
+@dataclass(frozen=True)
+class EvaluatedQuantities:
+    """The design's compared quantities in the arithmetic used, with the sums behind them."""
+
+    sums: RotatedSums
+    values: dict[str, np.ndarray]
+    energy_mean: float
+    precision: str
+    unit: float
+
+
+def evaluate_quantities(
+    elements: Elements,
+    fields: dict[str, tuple[float, ...]],
+    gammas: np.ndarray,
+    omegas: np.ndarray,
+    sums: RotatedSums,
+    accurate: bool,
+    block_pairs: int,
+) -> EvaluatedQuantities:
+    """mu, gyroscopic torque, centred V and potential torque of the design, in double or
+    (``accurate``) double-double; raises SolverError on a non-finite value."""
     used = sums
     if accurate:
         acc = evaluate_accurate(elements, fields, gammas, omegas, block_pairs=block_pairs)
@@ -356,7 +451,6 @@ def check_design(
         energy_mean = float(energy.mean())
         energy_centered = energy - energy_mean
     used_precision = "double-double" if accurate else "double"
-    unit = DD_UNIT if accurate else EPS
     values = {
         "mu": used.mu,
         "gyroscopic_torque": used.gyro,
@@ -368,72 +462,112 @@ def check_design(
             raise SolverError(
                 f"check: the design's {name} is not finite in {used_precision} (overflow?)"
             )
+    return EvaluatedQuantities(
+        sums=used,
+        values=values,
+        energy_mean=energy_mean,
+        precision=used_precision,
+        unit=DD_UNIT if accurate else EPS,
+    )
 
+
+def quantity_result(
+    name: str,
+    compared: tuple[float, float, float, str, Any],
+    gross_size: float,
+    cancel: float,
+    floors: tuple[float, float],
+    arithmetic: str,
+    claimed: set[str],
+    tol: float,
+) -> QuantityResult:
+    """The verdict on one compared quantity (``info`` when the design does not claim it).
+
+    ``compared``: (rel_err, abs_err, scale, basis, worst gamma) from :func:`relative_error`;
+    ``floors``: (rounding floor in the arithmetic used, rounding floor in double).
+    """
+    rel, abs_err, scale, basis, worst = compared
+    is_claimed = QUANTITY_CLAIMS[name] in claimed
+    status, reason = (
+        quantity_verdict(rel, floors[0], tol, cancel, basis, arithmetic)
+        if is_claimed
+        else ("info", None)
+    )
+    return QuantityResult(
+        name=name,
+        rel_err=rel,
+        abs_err=abs_err,
+        scale=scale,
+        worst_gamma=worst,
+        claimed=is_claimed,
+        passed=None if status == "info" else status == "pass",
+        status=status,
+        reason=reason,
+        basis=basis,
+        gross=gross_size,
+        cancellation=cancel,
+        rounding_floor=floors[0],
+        double_rounding_floor=floors[1],
+        precision=arithmetic,
+    )
+
+
+def compare_quantities(
+    evaluated: EvaluatedQuantities,
+    refs: Mapping[str, np.ndarray],
+    plan: RoundingPlan,
+    gammas: np.ndarray,
+    claimed: set[str],
+    tol: float,
+    notes: list[str],
+) -> dict[str, QuantityResult]:
+    """Verdicts on mu, the gyroscopic torque, V and the potential torque; appends to ``notes``
+    the quantities only double-double could verify."""
     quantities: dict[str, QuantityResult] = {}
-
-    def record(
-        name: str,
-        compared: tuple[float, float, float, str, Any],
-        gross_size: float,
-        cancel: float,
-        floors: tuple[float, float],
-        arithmetic: str,
-    ) -> None:
-        rel, abs_err, scale, basis, worst = compared
-        is_claimed = QUANTITY_CLAIMS[name] in claimed
-        status, reason = (
-            quantity_verdict(rel, floors[0], tol, cancel, basis, arithmetic)
-            if is_claimed
-            else ("info", None)
-        )
-        quantities[name] = QuantityResult(
-            name=name,
-            rel_err=rel,
-            abs_err=abs_err,
-            scale=scale,
-            worst_gamma=worst,
-            claimed=is_claimed,
-            passed=None if status == "info" else status == "pass",
-            status=status,
-            reason=reason,
-            basis=basis,
-            gross=gross_size,
-            cancellation=cancel,
-            rounding_floor=floors[0],
-            double_rounding_floor=floors[1],
-            precision=arithmetic,
-        )
-
+    accurate = evaluated.precision == "double-double"
     for name in ("mu", "gyroscopic_torque", "V", "potential_torque"):
-        compared = relative_error(values[name], refs[name], gross[name], gammas)
-        floors = (rounding_floor(cancellation[name], unit, basis[name]), double_floor[name])
-        record(name, compared, gross[name], cancellation[name], floors, used_precision)
-        if (
-            accurate
-            and quantities[name].claimed
-            and floors[1] > tol
-            and quantities[name].status == "pass"
-        ):
+        gross, cancel = plan.gross[name], plan.cancellation[name]
+        compared = relative_error(evaluated.values[name], refs[name], gross, gammas)
+        floors = (
+            rounding_floor(cancel, evaluated.unit, plan.basis[name]),
+            plan.double_floor[name],
+        )
+        result = quantity_result(
+            name, compared, gross, cancel, floors, evaluated.precision, claimed, tol
+        )
+        quantities[name] = result
+        if accurate and result.claimed and floors[1] > tol and result.status == "pass":
             notes.append(
                 f"{name}: verified in double-double; its contributions cancel to 1 part in "
-                f"{cancellation[name]:.2g}, so any double-precision evaluation of this body "
+                f"{cancel:.2g}, so any double-precision evaluation of this body "
                 f"(e.g. chargedesign simulate) has a rounding floor of ~{floors[1]:.0e}"
             )
+    return quantities
 
-    inertia, inertia_gross = inertia_accurate(elements.mass_positions, elements.mass_values)
+
+def inertia_result(
+    inertia: np.ndarray, inertia_gross: float, params: Any, claimed: set[str], tol: float
+) -> QuantityResult:
+    """The inertia tensor (summed in double-double, gross ``sum m |r|^2``) against
+    diag(2C, 2C, C)."""
     inertia_ref = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     inertia_abs = float(np.abs(inertia - inertia_ref).max())
     inertia_cancel = inertia_gross / (2.0 * params.C)
-    record(
+    return quantity_result(
         "inertia",
         (inertia_abs / (2.0 * params.C), inertia_abs, 2.0 * params.C, "reference", None),
         inertia_gross,
         inertia_cancel,
         (rounding_floor(inertia_cancel, DD_UNIT), rounding_floor(inertia_cancel, EPS)),
         "double-double",
+        claimed,
+        tol,
     )
 
-    effects = effect_results(elements, degrees, gammas, omegas, used, inertia, unit)
+
+def design_notes(design: Design, params: Any, claimed: set[str]) -> list[str]:
+    """Notes on what the design cannot realise, claims nothing, or reads in turning axes."""
+    notes = []
     if params.singular:
         notes.append(
             "lambda/rho terms of V are singular on gamma3 = 0: charges, masses and dipoles "
@@ -441,43 +575,24 @@ def check_design(
         )
     if not claimed:
         notes.append("the design claims nothing (realises is empty): all results informational")
-    larmor = None
-    if design.larmor is not None:
-        larmor = {
-            "reading": design.larmor.reading,
-            "rate": design.larmor.rate,
-            "checked_n": params.n,
-        }
-        if design.larmor.is_frame:
-            notes.append(
-                f"frame reading: elements checked against the theorem with n = 0; "
-                f"n = {design.larmor.rate:g} 1/s is the rate of the turning axes (the motion "
-                "read in them is the theorem's with n)"
-            )
-    n_pairs = len(gammas) * (
-        len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
-    )
-    limits = None
-    if design.medium:
-        # a physical body: every limit recomputed from the written elements
-        from chargedesign.physical.limits import check_limits
+    if design.larmor is not None and design.larmor.is_frame:
+        notes.append(
+            f"frame reading: elements checked against the theorem with n = 0; "
+            f"n = {design.larmor.rate:g} 1/s is the rate of the turning axes (the motion "
+            "read in them is the theorem's with n)"
+        )
+    return notes
 
-        limits = check_limits(design)
-    return CheckReport(
-        tol=tol,
-        n_orientations=len(gammas),
-        seed=int(seed),
-        claimed=list(design.realises),
-        quantities=quantities,
-        effects=effects,
-        V_offset=energy_mean - float(ref["V"].mean()),
-        quadrature=elements.quadrature,
-        n_pairs=n_pairs,
-        notes=notes,
-        precision=used_precision,
-        limits=limits,
-        larmor=larmor,
-    )
+
+def larmor_summary(design: Design, params: Any) -> dict[str, Any] | None:
+    """The design's Larmor reading and rate, and the n it was checked with (None without)."""
+    if design.larmor is None:
+        return None
+    return {
+        "reading": design.larmor.reading,
+        "rate": design.larmor.rate,
+        "checked_n": params.n,
+    }
 
 
 def inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndarray, float]:

@@ -2,13 +2,9 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from chargedesign.conditions.harmonics import field_symbols
 from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
-
-if TYPE_CHECKING:  # pragma: no cover
-    from chargedesign.model.audit import AuditEntry
+from chargedesign.model.audit_entry import AuditEntry
 
 
 def audit_p6() -> AuditEntry:
@@ -21,7 +17,6 @@ def audit_p6() -> AuditEntry:
     """
     import sympy as sp
 
-    from chargedesign.model.audit import AuditEntry
     from chargedesign.model.printed import a1, a2, printed_p6
 
     f1, f2 = field_symbols(2)

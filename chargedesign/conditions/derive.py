@@ -8,6 +8,7 @@ degree) on one exact echelon system per source, and rounds the result to
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
@@ -129,16 +130,7 @@ def derive_conditions(
     given = _validate_fields(fields)
     if length is not None:
         length = as_finite_float(length, "length", positive=True)
-    if params.singular and ({"mu", "V"} & set(goals)):
-        which = ", ".join(
-            f"{name} = {value:g}"
-            for name, value in (("lambda", params.lam), ("rho", params.rho))
-            if value != 0
-        )
-        raise InfeasibleError(
-            f"parameters {which}: singular on gamma3 = 0: no finite charge distribution realises "
-            "them; the model and the reduced simulation still accept them"
-        )
+    _refuse_singular(params, goals)
     P = [_exact(getattr(params, name), exact) for name in PARAM_NAMES]
     fields_exact = {kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()}
     ctx = DerivationContext(
@@ -152,6 +144,42 @@ def derive_conditions(
         length=_exact(DEFAULT_LENGTH if length is None else length, exact),
         length_given=length is not None,
     )
+    origin = _derive_missing_fields(ctx, given, goals)
+    _run_steps(ctx, given, goals)
+    conditions = _rounded_conditions(ctx)
+    out_fields = _output_fields(ctx, origin)
+    return LinearConditions(
+        conditions=conditions,
+        fields=out_fields,
+        notes=ctx.notes,
+        realise=goals,
+        field_origin={kind: origin[kind] for kind in FIELD_KINDS},
+        length=float(ctx.length) if ctx.defaults else None,
+        length_assumed=bool(ctx.defaults) and length is None,
+        default_strengths={name: float(v) for name, v in ctx.defaults.items()},
+        _rederive=functools.partial(derive_conditions, params, fields, goals, exact=exact),
+    )
+
+
+def _refuse_singular(params: Parameters, goals: tuple[str, ...]) -> None:
+    """InfeasibleError when lambda or rho is set and mu or V is to be realised."""
+    if params.singular and ({"mu", "V"} & set(goals)):
+        which = ", ".join(
+            f"{name} = {value:g}"
+            for name, value in (("lambda", params.lam), ("rho", params.rho))
+            if value != 0
+        )
+        raise InfeasibleError(
+            f"parameters {which}: singular on gamma3 = 0: no finite charge distribution realises "
+            "them; the model and the reduced simulation still accept them"
+        )
+
+
+def _derive_missing_fields(
+    ctx: DerivationContext, given: Mapping[str, tuple[float, ...]], goals: tuple[str, ...]
+) -> dict[str, str]:
+    """Fill in ``ctx.fields`` for the kinds not given; the origin (given/derived) per kind."""
+    P = ctx.P
     origin = {kind: "given" for kind in given}
     if "magnetic" not in given:
         needs_f1 = "mu" in goals and P[3] != 0
@@ -181,6 +209,13 @@ def derive_conditions(
     if "gravity" not in given:
         ctx.fields["gravity"] = []
         origin["gravity"] = "derived"
+    return origin
+
+
+def _run_steps(
+    ctx: DerivationContext, given: Mapping[str, tuple[float, ...]], goals: tuple[str, ...]
+) -> None:
+    """Open one exact system per source and run mu, inertia, then V degree by degree."""
     if "mu" in goals or "V" in goals:
         ctx.systems["charges"] = SourceSystem()
     if "V" in goals:
@@ -206,6 +241,11 @@ def derive_conditions(
         ctx.notes.append("fields.electric is not used: V is not realised")
     if "V" in goals and "mu" not in goals:
         ctx.notes.append("charges: mu is not realised; their moments serve V only")
+
+
+def _rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
+    """The rows of every source's system, rounded to floats (with exact text when exact)."""
+    exact = ctx.exact
     conditions = []
     for source in SOURCES:
         system = ctx.systems.get(source)
@@ -222,22 +262,20 @@ def derive_conditions(
                     exact_coefficients={k: _fmt(v) for k, v in row.coeffs.items()} if exact else {},
                 )
             )
+    return conditions
+
+
+def _output_fields(
+    ctx: DerivationContext, origin: Mapping[str, str]
+) -> dict[str, tuple[float, ...]]:
+    """Every field kind's coefficients as floats (trailing zeros dropped); with ``exact``,
+    a note of each derived field's exact coefficients."""
     out_fields: dict[str, tuple[float, ...]] = {}
     for kind in FIELD_KINDS:
         coeffs = list(ctx.fields.get(kind, []))
         while coeffs and coeffs[-1] == 0:
             coeffs.pop()
         out_fields[kind] = tuple(float(v) for v in coeffs)
-        if exact and origin[kind] == "derived" and coeffs:
+        if ctx.exact and origin[kind] == "derived" and coeffs:
             ctx.notes.append(f"fields.{kind} exact legendre: [{', '.join(map(_fmt, coeffs))}]")
-    return LinearConditions(
-        conditions=conditions,
-        fields=out_fields,
-        notes=ctx.notes,
-        realise=goals,
-        field_origin={kind: origin[kind] for kind in FIELD_KINDS},
-        length=float(ctx.length) if ctx.defaults else None,
-        length_assumed=bool(ctx.defaults) and length is None,
-        default_strengths={name: float(v) for name, v in ctx.defaults.items()},
-        _inputs=(params, fields, goals, exact),
-    )
+    return out_fields

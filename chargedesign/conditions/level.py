@@ -24,6 +24,7 @@ from chargedesign.conditions.harmonics import (
     sympy_symbols,
 )
 from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
+from chargedesign.fields import AxisymmetricField
 from chargedesign.validation import as_points, as_weights
 
 
@@ -116,7 +117,6 @@ def physical_l_dot_gamma(
     ndarray, shape (m,)
         ``l . gamma`` in kg m^2 / s (compare with the theorem's ``l . gamma``).
     """
-    from chargedesign.fields import AxisymmetricField
 
     pts = as_points(positions, "positions")
     q = as_weights(charges, "charges", len(pts))

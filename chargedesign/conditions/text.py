@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from chargedesign.conditions.constants import SOURCES
+
 PREFIX = {"charges": "I", "dipoles": "S", "masses": "M"}
 PROVENANCE_WIDTH = 120
 
@@ -65,7 +67,6 @@ def _short(provenance: str) -> str:
 
 def format_conditions(result: Any, scene_source: str | None = None) -> str:
     """The human text of a :class:`~chargedesign.conditions.LinearConditions`."""
-    from chargedesign.conditions.constants import SOURCES
 
     where = f" for {scene_source}" if scene_source else ""
     lines = [f"conditions{where} (realise {', '.join(result.realise) or 'nothing'})"]

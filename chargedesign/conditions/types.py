@@ -8,12 +8,14 @@ choices made (``system(source, positions)`` builds ``A`` and ``b``). Importing t
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from chargedesign.conditions.constants import DEFAULT_LENGTH_RULE, SOURCES
+from chargedesign.conditions.text import format_conditions
 from chargedesign.moments import monomial_matrix
 from chargedesign.results import Result
 from chargedesign.validation import input_error
@@ -99,7 +101,11 @@ class LinearConditions(Result):
     length: float | None = None
     length_assumed: bool = False
     default_strengths: dict[str, float] = field(default_factory=dict)
-    _inputs: tuple[Any, ...] | None = field(default=None, repr=False, compare=False)
+    #: the derivation with its inputs bound, awaiting ``length`` (set by derive_conditions;
+    #: a callable rather than an import of it keeps types below derive)
+    _rederive: Callable[..., LinearConditions] | None = field(
+        default=None, repr=False, compare=False
+    )
 
     def for_length(self, length: float) -> LinearConditions:
         """The same derivation with the default field strengths chosen for ``length`` (m).
@@ -107,12 +113,9 @@ class LinearConditions(Result):
         Returns ``self`` when no strength depends on the body length (nothing was chosen by
         default) or when the conditions were not made by :func:`derive_conditions`.
         """
-        from chargedesign.conditions.derive import derive_conditions
-
-        if not self.default_strengths or self._inputs is None:
+        if not self.default_strengths or self._rederive is None:
             return self
-        params, fields, realise, exact = self._inputs
-        return derive_conditions(params, fields, realise, exact=exact, length=length)
+        return self._rederive(length=length)
 
     def for_source(self, source: str) -> list[LinearCondition]:
         return [c for c in self.conditions if c.source == source]
@@ -185,6 +188,4 @@ class LinearConditions(Result):
         return out
 
     def _text(self) -> str:
-        from chargedesign.conditions.text import format_conditions
-
         return format_conditions(self)

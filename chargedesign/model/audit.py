@@ -15,32 +15,34 @@ linearly. The text groups the terms by monomials in p, q, r, each coefficient fa
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
 import sympy as sp
 
-
-@dataclass(frozen=True)
-class AuditEntry:
-    """One printed formula compared with its derived counterpart.
-
-    ``difference`` is the exact difference (printed - derived), simplified on |gamma| = 1,
-    written term by term as a sympy string; ``"0"`` when the two agree.
-    """
-
-    name: str
-    agrees: bool
-    difference: str
-    note: str = ""
-
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "name": self.name,
-            "agrees": self.agrees,
-            "difference": self.difference,
-            "note": self.note,
-        }
-
+from chargedesign.conditions import audit as conditions_audit
+from chargedesign.errors import ChargeDesignError
+from chargedesign.model import case
+from chargedesign.model.audit_entry import AuditEntry
+from chargedesign.model.case import STATE_SYMBOLS, C, g3, mu_from_l, p, q, r, symbolic_case
+from chargedesign.model.certificate import (
+    G3_INDEX,
+    U_INDEX,
+    laurent_normal,
+    laurent_ring,
+    reduced_dI4_dt,
+    sphere_normal_form,
+    split_by_power,
+    to_ring,
+    to_sympy,
+)
+from chargedesign.model.equations import equations_of_motion
+from chargedesign.model.printed import (
+    printed_equations,
+    printed_gamma_dot,
+    printed_I3,
+    printed_I4,
+    printed_l,
+    printed_mu,
+)
 
 #: the entries :func:`audit_printed` returns, in order
 ENTRY_NAMES = ("mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I3_level", "I4", "p6")
@@ -54,17 +56,6 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
     expr : sympy.Expr
         Polynomial in p, q, r, gamma1, gamma2 and the parameters, Laurent in gamma3.
     """
-    from chargedesign.model.case import g3
-    from chargedesign.model.certificate import (
-        G3_INDEX,
-        U_INDEX,
-        laurent_normal,
-        laurent_ring,
-        sphere_normal_form,
-        split_by_power,
-        to_ring,
-        to_sympy,
-    )
 
     normal, _ = sphere_normal_form(to_ring(expr))
     if normal == 0:
@@ -84,7 +75,6 @@ def sphere_canonical(expr: sp.Expr) -> sp.Expr:
 
 def grouped_text(expr: sp.Expr) -> str:
     """``expr`` as text, grouped by monomials in p, q, r with factored coefficients."""
-    from chargedesign.model.case import p, q, r
 
     if expr == 0:
         return "0"
@@ -101,7 +91,6 @@ def parse_difference(text: str) -> sp.Expr:
 
     ``lambda`` is a Python keyword, so it is renamed before parsing.
     """
-    from chargedesign.model import case
 
     names = {s.name: s for s in (*case.STATE_SYMBOLS, *case.PARAMETER_SYMBOLS)}
     names["lambda_"] = names.pop("lambda")
@@ -115,8 +104,6 @@ def _vector_text(diffs: list[sp.Expr]) -> str:
 
 
 def _entry_mu_from_l() -> AuditEntry:
-    from chargedesign.model.case import mu_from_l
-    from chargedesign.model.printed import printed_l, printed_mu
 
     # identically, not only on the sphere: (mu) is an identity in gamma
     diffs = [sp.expand(e) for e in printed_mu() - mu_from_l(printed_l())]
@@ -130,9 +117,6 @@ def _entry_mu_from_l() -> AuditEntry:
 
 
 def _entry_eom(index: int, name: str) -> AuditEntry:
-    from chargedesign.model.equations import equations_of_motion
-    from chargedesign.model.printed import printed_equations
-
     derived = equations_of_motion()[index]
     printed = printed_equations()[index]
     diff = sphere_canonical(printed - derived)
@@ -147,9 +131,6 @@ def _entry_eom(index: int, name: str) -> AuditEntry:
 
 
 def _entry_eom_gamma() -> AuditEntry:
-    from chargedesign.model.equations import equations_of_motion
-    from chargedesign.model.printed import printed_gamma_dot
-
     derived = equations_of_motion()[3:, 0]
     diffs = [sp.expand(e) for e in printed_gamma_dot() - derived]
     return AuditEntry(
@@ -162,8 +143,6 @@ def _entry_eom_gamma() -> AuditEntry:
 
 def _derived_level_of_printed_zero() -> sp.Expr:
     """The derived I3 on the printed zero level, which must be a constant on the sphere."""
-    from chargedesign.model.case import STATE_SYMBOLS, C, symbolic_case
-    from chargedesign.model.printed import printed_I3
 
     level = sphere_canonical(symbolic_case().I3 - C * printed_I3())
     if level.free_symbols & set(STATE_SYMBOLS):
@@ -172,9 +151,6 @@ def _derived_level_of_printed_zero() -> sp.Expr:
 
 
 def _entry_I3() -> AuditEntry:
-    from chargedesign.model.case import C, symbolic_case
-    from chargedesign.model.printed import printed_I3
-
     diff = sphere_canonical(C * printed_I3() - symbolic_case().I3)
     return AuditEntry(
         "I3",
@@ -187,8 +163,6 @@ def _entry_I3() -> AuditEntry:
 
 
 def _entry_I3_level() -> AuditEntry:
-    from chargedesign.model.certificate import reduced_dI4_dt
-
     level = _derived_level_of_printed_zero()
     remainder = reduced_dI4_dt(level)
     agrees = bool(level == 0 or remainder == 0)
@@ -206,10 +180,6 @@ def _entry_I3_level() -> AuditEntry:
 
 
 def _entry_I4() -> AuditEntry:
-    from chargedesign.model.case import symbolic_case
-    from chargedesign.model.certificate import reduced_dI4_dt, to_sympy
-    from chargedesign.model.printed import printed_I4
-
     remainder = to_sympy(reduced_dI4_dt(integral=printed_I4()))
     same_as_model = sp.expand(printed_I4() - symbolic_case().I4) == 0
     return AuditEntry(
@@ -223,14 +193,11 @@ def _entry_I4() -> AuditEntry:
 
 
 def _entry_p6() -> AuditEntry:
-    from chargedesign.errors import ChargeDesignError
-
-    try:
-        from chargedesign.conditions import audit_p6  # type: ignore[attr-defined,unused-ignore]
-    except ImportError as exc:
+    audit_p6 = getattr(conditions_audit, "audit_p6", None)
+    if audit_p6 is None:
         raise ChargeDesignError(
             "p6: the conditions engine (chargedesign.conditions.audit_p6) is not available"
-        ) from exc
+        )
     entry = audit_p6()
     if entry.name != "p6":
         raise AssertionError(f"conditions.audit_p6 returned entry {entry.name!r}")

@@ -56,6 +56,7 @@ from chargedesign.model.case import (
     symbolic_case,
 )
 from chargedesign.model.equations import equations_of_motion
+from chargedesign.model.printed import printed_I3
 
 #: ``u`` stands for ``1 / gamma3`` inside the ring
 U = sp.Symbol("u_inv_gamma3")
@@ -276,7 +277,9 @@ POINT_GAMMA = (sp.Rational(2, 7), sp.Rational(3, 7), sp.Rational(6, 7))
 POINT_PQ = (sp.Rational(1, 3), sp.Rational(-1, 2))
 
 
-def _point(level: sp.Expr, zeroed: tuple[sp.Symbol, ...]) -> dict[sp.Symbol, sp.Rational]:
+def rational_level_point(
+    level: sp.Expr, zeroed: tuple[sp.Symbol, ...]
+) -> dict[sp.Symbol, sp.Rational]:
     """An exact rational state on ``I3 = level`` and the unit sphere, with its parameters."""
     values: dict[sp.Symbol, Any] = dict(POINT_PARAMETERS)
     values.update(dict.fromkeys(zeroed, sp.Integer(0)))
@@ -297,7 +300,7 @@ def _evaluate(element: PolyElement, values: Mapping[sp.Symbol, sp.Rational]) -> 
 def _independent(zeroed: tuple[sp.Symbol, ...]) -> bool:
     """Exact rank of d(I1, I2, I3, I4)/d(state) at a rational point of the level I3 = 0."""
     ring = laurent_ring()
-    values = _point(sp.Integer(0), zeroed)
+    values = rational_level_point(sp.Integer(0), zeroed)
     integrals = _ring_integrals()
     rows = []
     for name in ("I1", "I2", "I3", "I4"):
@@ -380,10 +383,9 @@ def counterexample() -> dict[str, object]:
     on the unit sphere ``gamma = (2/7, 3/7, 6/7)``, with all parameters non-zero rationals.
     Returns strings of exact rationals (and one float for reading).
     """
-    from chargedesign.model.printed import printed_I3
 
     level = 2 * C * n
-    values = _point(level, ())
+    values = rational_level_point(level, ())
     d_i4 = time_derivative_ring(_ring_integrals()["I4"])
     value = _evaluate(d_i4, values)
     i3 = _evaluate(_ring_integrals()["I3"], values)

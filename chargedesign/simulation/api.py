@@ -71,10 +71,14 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.params import Parameters
+from chargedesign.physical.realism import typical_rate
+from chargedesign.results import compact_repr
 from chargedesign.scene.keys import BODY_REFERENCE_KEYS, key_names
 from chargedesign.simulation import monitors as monitors_mod
+from chargedesign.simulation.axes import resolve_axes, turning_poincare, turning_states
 from chargedesign.simulation.integrate import DEFAULT_METHOD, METHODS, STATE_NAMES, integrate
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.simulation.system import (
@@ -91,7 +95,13 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
     select_effects,
 )
-from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.validation import (
+    as_array,
+    as_finite_float,
+    check_keys,
+    check_run_caps,
+    input_error,
+)
 from chargedesign.vocabulary import SIMULATION_AXES
 
 # the tables' keys are the scene's declaration (the JSON Schema is generated from it too)
@@ -185,8 +195,6 @@ class SimulationSetup:
         return getattr(self.design, "larmor", None)
 
     def __repr__(self) -> str:
-        from chargedesign.results import compact_repr
-
         return compact_repr(
             "SimulationSetup",
             {
@@ -524,7 +532,6 @@ def _slow_body_notes(params: Parameters) -> list[str]:
     the kinetic terms and I4's drift tests them weakly. Said, not changed: the start is the
     user's to give.
     """
-    from chargedesign.physical.realism import typical_rate
 
     start = math.hypot(DEFAULT_INITIAL["p"], DEFAULT_INITIAL["q"])
     rate = typical_rate(params)
@@ -580,7 +587,6 @@ def design_pending(
     scene = setup.design_scene
     if scene is None:
         return setup
-    from chargedesign.designer import design_from_scene
 
     t0 = time.perf_counter()
     try:
@@ -789,7 +795,6 @@ def prepare(
                 f"body: the [body] region (shape = {shape!r}) was not designed; the theorem "
                 "effect is the reduced model (its V and mu), no elements"
             )
-    from chargedesign.simulation.axes import resolve_axes
 
     # refused before any work when turning axes are asked of a body without a frame reading
     axes, rate = resolve_axes(options.axes, setup.larmor)
@@ -947,7 +952,6 @@ def integrate_with_options(
     progress: Any = None,
 ) -> Any:
     """:func:`integrate` with the scene's integration options (one place for both entries)."""
-    from chargedesign.validation import check_run_caps  # caps on requested work (issue 15)
 
     check_run_caps(
         options.t_end, step=options.step, max_step=options.max_step, samples=options.samples
@@ -1027,8 +1031,6 @@ def _result(
     rate = setup.axes_rate
     poincare_points = run.poincare
     if rate != 0.0:
-        from chargedesign.simulation.axes import turning_poincare, turning_states
-
         states = turning_states(times, states, rate)
         poincare_points = turning_poincare(poincare_points, rate)
     omega = states[:, :3]

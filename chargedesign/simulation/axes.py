@@ -24,6 +24,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.larmor import to_turning_axes
+from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.vocabulary import SIMULATION_AXES
 
 __all__ = [
@@ -98,7 +99,6 @@ def turning_states(times: np.ndarray, states: np.ndarray, rate: float) -> np.nda
     ndarray, shape (T, 7)
         ``omega - n gamma`` and the quaternion of ``Rz(-n t) R``.
     """
-    from chargedesign.simulation.system import quaternion_gamma
 
     out = np.array(states, dtype=float)
     gamma = quaternion_gamma(out[:, 3:])

@@ -25,6 +25,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError, SolverError
+from chargedesign.files import atomic_path
+from chargedesign.simulation import taylor
+from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
 from chargedesign.simulation.system import (
     RigidBodySystem,
     attitude_from_gamma,
@@ -34,7 +37,7 @@ from chargedesign.simulation.system import (
 from chargedesign.validation import as_finite_float, input_error
 
 
-def _section_state(
+def section_state(
     system: RigidBodySystem, phi: float, v: float, energy: float, level: float, sign: float
 ) -> np.ndarray | None:
     """The 7-state on the section at angle ``phi`` with ``gamma3' = v``, or None."""
@@ -75,7 +78,7 @@ def section_starts(
         phi = rng.uniform(0.0, 2.0 * math.pi)
         v = rng.uniform(0.0, 2.0) * math.sqrt(max(energy, 1e-300) / system.C) / 2.0
         sign = 1.0 if rng.uniform() < 0.5 else -1.0
-        state = _section_state(system, phi, v, energy, level, sign)
+        state = section_state(system, phi, v, energy, level, sign)
         if state is not None:
             out.append(state)
     if len(out) < orbits:
@@ -122,7 +125,6 @@ class PoincareAtlas:
     def write_csv(self, path: str | os.PathLike[str]) -> None:
         """The section points as CSV (header ``level, orbit, t, p, q, r, gamma1, ...``)."""
         header = "level,orbit,t,p,q,r,gamma1,gamma2,gamma3,phi"
-        from chargedesign.files import atomic_path
 
         with atomic_path(path) as tmp:
             np.savetxt(tmp, self.table(), delimiter=",", header=header, comments="", fmt="%.17g")
@@ -192,13 +194,10 @@ def poincare_atlas(
     heyoka's event detection on the Taylor series) without stopping the other orbits of the
     same batch.
     """
-    from chargedesign.simulation import taylor
 
     if not taylor.available():
         raise SolverError(f"poincare atlas: needs heyoka ({taylor.unavailable_reason()})")
     if energy is None:
-        from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
-
         y0, _ = initial_state(system, DEFAULT_INITIAL)
         energy = float(system.integrals(y0[None])[0, 0])
     t0 = time.perf_counter()
@@ -236,7 +235,6 @@ TANGENT_START = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0]) / math.sqrt(3.0)
 def _variational_integrator(system: RigidBodySystem, tol: float | None, what: str) -> Any:
     """``(heyoka, equations, integrator)`` of the state and its tangent flow ``Phi`` (7 + 49
     equations, heyoka's ``var_ode_sys``), compiled once per system and tolerance."""
-    from chargedesign.simulation import taylor
 
     hy = taylor.heyoka_module()
     if hy is None:
@@ -415,8 +413,6 @@ def fli_map(
 ) -> FLIMap:
     """The FLI over a ``(phi, v)`` grid of the section at one energy, on and off I3 = 0."""
     if energy is None:
-        from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
-
         y0, _ = initial_state(system, DEFAULT_INITIAL)
         energy = float(system.integrals(y0[None])[0, 0])
     t0 = time.perf_counter()
@@ -429,7 +425,7 @@ def fli_map(
         starts, where = [], []
         for a, ph in enumerate(phi):
             for b, vv in enumerate(v):
-                state = _section_state(system, float(ph), float(vv), energy, level, 1.0)
+                state = section_state(system, float(ph), float(vv), energy, level, 1.0)
                 if state is not None:
                     starts.append(state)
                     where.append((b, a))

@@ -18,7 +18,7 @@ import csv
 import io
 import json
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,75 +29,19 @@ from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.results import Result
 from chargedesign.simulation import monitors as monitors_mod
+from chargedesign.simulation.api import (
+    initial_state,
+    integrate_with_options,
+    prepare,
+    realised_claims,
+)
+from chargedesign.simulation.axes import turning_states
+
+# load_states re-exported: simulation.api still imports it from here
+from chargedesign.simulation.states import STATE_COLUMNS, parse_states
+from chargedesign.simulation.states import load_states as load_states
 from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.validation import input_error
-
-STATE_COLUMNS = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
-
-
-def parse_states(value: Any, where: str = "initial.states") -> np.ndarray:
-    """A set of initial states ``(p, q, r, gamma1, gamma2, gamma3)``, ndarray shape (m, 6).
-
-    Rejects bools, non-numbers, non-finite numbers, rows of the wrong length and zero gamma,
-    naming the key and the row.
-    """
-    if isinstance(value, np.ndarray):
-        rows: Any = value.tolist() if value.ndim == 2 else None
-    else:
-        rows = value
-    if isinstance(rows, (str, bytes)) or not isinstance(rows, Sequence) or len(rows) == 0:
-        raise input_error(
-            where, "a non-empty list of [p, q, r, gamma1, gamma2, gamma3] rows", value
-        )
-    out = np.empty((len(rows), 6))
-    for i, row in enumerate(rows):
-        name = f"{where}[{i}]"
-        if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != 6:
-            raise input_error(name, "6 numbers [p, q, r, gamma1, gamma2, gamma3]", row)
-        for j, x in enumerate(row):
-            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.number)):
-                raise input_error(f"{name}[{j}]", "a number", x)
-            if not np.isfinite(float(x)):
-                raise input_error(f"{name}[{j}]", "a finite number", x)
-            out[i, j] = float(x)
-        if float(np.linalg.norm(out[i, 3:])) < 1e-12:
-            raise input_error(name, "a non-zero gamma", row)
-    return out
-
-
-def load_states(path: str | os.PathLike[str], where: str = "initial.file") -> np.ndarray:
-    """Initial states from a ``.npy`` (m, 6) or ``.csv`` file (6 columns, optional header)."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{where}: no such file {str(p)!r}")
-    suffix = p.suffix.lower()
-    if suffix == ".npy":
-        try:
-            arr = np.load(p, allow_pickle=False)
-        except (ValueError, OSError) as exc:
-            raise InputError(f"{where}: cannot read {str(p)!r} as .npy ({exc})") from exc
-        if arr.dtype == bool or arr.ndim != 2:
-            raise input_error(where, "an (m, 6) array of numbers", f"{arr.dtype} {arr.shape}")
-        return parse_states(arr.astype(float) if arr.dtype.kind in "iuf" else arr, where)
-    if suffix == ".csv":
-        text = p.read_text(encoding="utf-8")
-        rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
-        if rows and [c.strip() for c in rows[0]] == list(STATE_COLUMNS):
-            rows = rows[1:]
-        values: list[list[float]] = []
-        for i, row in enumerate(rows):
-            parsed = []
-            for j, cell in enumerate(row):
-                c = cell.strip()
-                if c.lower() in ("true", "false"):
-                    raise input_error(f"{where} row {i + 1} column {j + 1}", "a number", c)
-                try:
-                    parsed.append(float(c))
-                except ValueError as exc:
-                    raise input_error(f"{where} row {i + 1} column {j + 1}", "a number", c) from exc
-            values.append(parsed)
-        return parse_states(values, where)
-    raise input_error(where, "a .csv or .npy file", str(p))
 
 
 @dataclass(repr=False)
@@ -250,12 +194,6 @@ def simulate_ensemble(
     **kwargs
         ``effects, t_end, method, tol, rtol, atol, samples, route, gamma3_min, monitors``.
     """
-    from chargedesign.simulation.api import (
-        initial_state,
-        integrate_with_options,
-        prepare,
-        realised_claims,
-    )
 
     system, _, _, setup, notes = prepare(source, **kwargs)
     if states is None:
@@ -283,8 +221,6 @@ def simulate_ensemble(
     m = len(y0)
     states_out = run.states
     if rate != 0.0:
-        from chargedesign.simulation.axes import turning_states
-
         # a frame body read in turning axes (see chargedesign.simulation.axes)
         states_out = np.array([turning_states(run.times, run.states[i], rate) for i in range(m)])
     integrals = np.array([system.integrals(states_out[i], rate=rate) for i in range(m)])

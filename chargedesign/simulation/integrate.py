@@ -22,13 +22,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from chargedesign.errors import SolverError
+from chargedesign.simulation import taylor
+from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
 
@@ -60,39 +61,6 @@ _GL_E = np.array(
         for ci in _GL_C
     ]
 )
-
-
-@dataclass
-class Integration:
-    """Raw output of one integration (m trajectories, T samples).
-
-    Attributes
-    ----------
-    times : ndarray, shape (T,)
-        Sample times, s.
-    states : ndarray, shape (m, T, 7)
-        ``(p, q, r, w, x, y, z)`` at each sample.
-    events : list of dict
-        Terminal and other events (``kind``, ``t``, ``trajectory``, ...).
-    poincare : ndarray, shape (k, 7) or None
-        ``(t, p, q, r, gamma1, gamma2, gamma3)`` at each section crossing (one trajectory).
-    steps : int
-        Accepted steps.
-    rhs_evaluations : int
-        Right-hand side calls (each for all m trajectories).
-    seconds : float
-        Wall time of the integration.
-    """
-
-    times: np.ndarray
-    states: np.ndarray
-    events: list[dict[str, Any]] = field(default_factory=list)
-    poincare: np.ndarray | None = None
-    steps: int = 0
-    rhs_evaluations: int = 0
-    seconds: float = 0.0
-    #: back-end details (the taylor method: compile seconds, whether the compiled code was reused)
-    extra: dict[str, Any] = field(default_factory=dict)
 
 
 def _state_value(states: np.ndarray, name: str) -> np.ndarray:
@@ -161,8 +129,6 @@ def integrate(
     y0 = np.asarray(initial, dtype=np.float64)
     fallback_note = None
     if method == "taylor":
-        from chargedesign.simulation import taylor
-
         if taylor.available():
             out = taylor.integrate_taylor(
                 system,
@@ -278,7 +244,7 @@ def _integrate_solve_ivp(
     times = np.asarray(sol.t)
     accepted = len(times) - 1
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
-    keep = _thin(times, samples)
+    keep = thin_step_ends(times, samples)
     times, states = times[keep], states[keep]
     short = samples_note(method, accepted, len(times), samples)
     found: list[dict[str, Any]] = []
@@ -322,7 +288,7 @@ def _integrate_solve_ivp(
     )
 
 
-def _thin(times: np.ndarray, samples: int) -> np.ndarray:
+def thin_step_ends(times: np.ndarray, samples: int) -> np.ndarray:
     """Indices of exactly ``min(samples, len(times))`` step ends, spread evenly in time.
 
     The step end at or after each of ``samples`` evenly spaced times; where several times
@@ -365,7 +331,7 @@ def _integrate_gauss(
         raise input_error("simulation.step", "a step > 0", h_target)
     n_steps = max(1, math.ceil(t_end / h_target - 1e-9))
     h = t_end / n_steps
-    keep = _thin(np.arange(n_steps + 1, dtype=float), samples)
+    keep = thin_step_ends(np.arange(n_steps + 1, dtype=float), samples)
     times = [0.0]
     states = [y0.copy()]
     events: list[dict[str, Any]] = []

@@ -44,8 +44,11 @@ from chargedesign.body import FIELD_KINDS
 from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
+from chargedesign.physical.realism import material_parts
+from chargedesign.quadrature import gather_elements
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
 from chargedesign.validation import input_error
@@ -227,24 +230,15 @@ class Body(ElementSet):
         """
         merged = dict(design.fields)
         merged.update(fields or {})
-        from chargedesign.quadrature import required_order, with_quadrature_nodes
-
-        points = design.point_elements()
         degree = max((len(v) for v in merged.values()), default=0) + 1
-        cp, cv, mp, mv, info = with_quadrature_nodes(
-            points,
-            list(getattr(design, "continuous", []) or []),
-            lambda body: required_order(body, degree),
-        )
+        gathered = gather_elements(design, degree)
         notes = [
             f"continuous[{i}] ({b['kind']} {b['shape']}): {b['nodes']} quadrature nodes, "
             f"exact to degree {b['order']}"
-            for i, b in enumerate(info)
+            for i, b in enumerate(gathered.quadrature)
         ]
         part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
         if getattr(design, "medium", None) is not None:
-            from chargedesign.physical.realism import material_parts
-
             parts = [p for p in material_parts(design) if p["chi"] is not None]
             if parts:
                 part_positions = np.concatenate([p["centres"] for p in parts])
@@ -254,12 +248,12 @@ class Body(ElementSet):
         return cls(
             parameters=parameters,
             fields=merged,
-            charge_positions=cp,
-            charge_values=cv,
-            mass_positions=mp,
-            mass_values=mv,
-            dipole_positions=points.dipole_positions,
-            dipole_moments=points.dipole_moments,
+            charge_positions=gathered.charge_positions,
+            charge_values=gathered.charge_values,
+            mass_positions=gathered.mass_positions,
+            mass_values=gathered.mass_values,
+            dipole_positions=gathered.dipole_positions,
+            dipole_moments=gathered.dipole_moments,
             has_elements=True,
             notes=notes,
             part_positions=part_positions,
@@ -816,8 +810,6 @@ class _TheoremTerms:
     """
 
     def __init__(self, params: Parameters) -> None:
-        from chargedesign.model import evaluators
-
         self.params = params
         self._ev = evaluators
         self._pt = evaluators.parameter_tuple(params)
@@ -860,7 +852,6 @@ class _TheoremTerms:
 
 def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:
     """The theorem's quartic integral I4 at states ``(p, q, r, g1, g2, g3)`` (m, 6), shape (m,)."""
-    from chargedesign.model import evaluators
 
     return np.asarray(evaluators.integrals(states, params), dtype=float)[:, 3]
 

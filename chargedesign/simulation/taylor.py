@@ -28,7 +28,9 @@ heyoka is imported lazily. When it cannot be imported, :func:`available` is Fals
 
 from __future__ import annotations
 
+import copy
 import math
+import os
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -38,6 +40,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import SolverError
+from chargedesign.model import evaluators
+from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
 
@@ -229,7 +233,6 @@ def _theorem_terms(
     hy: Any, system: RigidBodySystem, gamma: list[Any], pars: _Pars
 ) -> tuple[list[Any], list[Any], tuple[Any, ...]]:
     """``dV/dgamma`` and ``mu`` of the theorem from the sympy model (parameters as pars)."""
-    from chargedesign.model import evaluators
     from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, lam, rho
 
     singular = bool(system.parameters.singular)
@@ -510,89 +513,114 @@ def integrate_taylor(
     gamma3_min: float | None = None,
     poincare: str | None = None,
     progress: Callable[[float], None] | None = None,
-) -> Any:
-    """Integrate trajectories with heyoka; returns an :class:`.integrate.Integration`.
+) -> Integration:
+    """Integrate trajectories with heyoka; returns an :class:`.integration.Integration`.
 
     Samples are ``samples`` evenly spaced times from the Taylor series of each step (dense
     output at the tolerance, not a lower-order interpolant). One trajectory runs on the
     scalar integrator; several run on batch integrators of heyoka's SIMD width (each lane its
     own step size), chunk by chunk.
     """
-    from chargedesign.simulation.integrate import Integration
-
     y0 = np.atleast_2d(np.asarray(y0, dtype=float))
-    m = len(y0)
     grid = np.linspace(0.0, t_end, samples)
-    singular = gamma3_min is not None
     t0 = time.perf_counter()
-    if m == 1:
-        comp = compiled_integrator(system, tol=tol, section=poincare, singular_plane=singular)
-        ta = comp.ta
-        ta.time = 0.0
-        ta.state[:] = y0[0]
-        pars = comp.equations.pars
-        if gamma3_min is not None:
-            pars = np.append(pars, float(gamma3_min))
-        ta.pars[:] = pars
-        if comp.section is not None:
-            comp.section.clear()
-        if singular:
-            ta.reset_cooldowns()
-        run_t0 = time.perf_counter()
-        kwargs: dict[str, Any] = {}
-        if progress is not None:
-
-            def cb(ta_: Any) -> bool:
-                progress(min(ta_.time / t_end, 1.0))
-                return True
-
-            kwargs["callback"] = cb
-        outcome, _, _, nsteps, _, states = ta.propagate_grid(grid, **kwargs)
-        seconds = time.perf_counter() - run_t0
-        hit = _check_outcome(outcome, "propagate_grid", float(ta.time))
-        states = np.asarray(states, dtype=float)
-        times = grid[: len(states)].copy()
-        events: list[dict[str, Any]] = []
-        if hit is not None:
-            t_hit = float(ta.time)
-            g3 = float(quaternion_gamma(np.asarray(ta.state)[None, 3:])[0, 2])
-            events.append(
-                {
-                    "kind": "singular_plane",
-                    "t": t_hit,
-                    "trajectory": 0,
-                    "gamma3": g3,
-                    "threshold": gamma3_min,
-                    "terminal": True,
-                }
-            )
-            times = np.append(times, t_hit)
-            states = np.vstack([states, np.asarray(ta.state)[None]])
-        points = None
-        if comp.section is not None:
-            ys = np.array(comp.section.states).reshape(-1, 7)
-            ts = np.array(comp.section.times)
-            points = np.column_stack(
-                [ts, ys[:, :3], quaternion_gamma(ys[:, 3:]) if len(ys) else np.zeros((0, 3))]
-            )
-        if not np.all(np.isfinite(states)):
-            raise SolverError("simulation: taylor (heyoka) produced non-finite states")
-        return Integration(
-            times=times,
-            states=states[None],
-            events=events,
-            poincare=points,
-            steps=int(nsteps),
-            rhs_evaluations=0,
-            seconds=seconds,
-            extra={
-                "compile_seconds": comp.compile_seconds,
-                "compiled_reused": comp.reused,
-                "total_seconds": time.perf_counter() - t0,
-            },
-        )
+    if len(y0) == 1:
+        return _integrate_one(system, y0, grid, t_end, tol, gamma3_min, poincare, progress, t0)
     if poincare is not None:
-        raise input_error("poincare", "a single trajectory", f"{m} trajectories")
+        raise input_error("poincare", "a single trajectory", f"{len(y0)} trajectories")
+    return _integrate_many(system, y0, grid, tol, gamma3_min, progress, t0)
+
+
+def _integrate_one(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    grid: np.ndarray,
+    t_end: float,
+    tol: float,
+    gamma3_min: float | None,
+    poincare: str | None,
+    progress: Callable[[float], None] | None,
+    t0: float,
+) -> Integration:
+    """One trajectory on the scalar integrator (dense output, section, terminal event)."""
+    singular = gamma3_min is not None
+    comp = compiled_integrator(system, tol=tol, section=poincare, singular_plane=singular)
+    ta = comp.ta
+    ta.time = 0.0
+    ta.state[:] = y0[0]
+    pars = comp.equations.pars
+    if gamma3_min is not None:
+        pars = np.append(pars, float(gamma3_min))
+    ta.pars[:] = pars
+    if comp.section is not None:
+        comp.section.clear()
+    if singular:
+        ta.reset_cooldowns()
+    run_t0 = time.perf_counter()
+    kwargs: dict[str, Any] = {}
+    if progress is not None:
+
+        def cb(ta_: Any) -> bool:
+            progress(min(ta_.time / t_end, 1.0))
+            return True
+
+        kwargs["callback"] = cb
+    outcome, _, _, nsteps, _, states = ta.propagate_grid(grid, **kwargs)
+    seconds = time.perf_counter() - run_t0
+    hit = _check_outcome(outcome, "propagate_grid", float(ta.time))
+    states = np.asarray(states, dtype=float)
+    times = grid[: len(states)].copy()
+    events: list[dict[str, Any]] = []
+    if hit is not None:
+        t_hit = float(ta.time)
+        g3 = float(quaternion_gamma(np.asarray(ta.state)[None, 3:])[0, 2])
+        events.append(
+            {
+                "kind": "singular_plane",
+                "t": t_hit,
+                "trajectory": 0,
+                "gamma3": g3,
+                "threshold": gamma3_min,
+                "terminal": True,
+            }
+        )
+        times = np.append(times, t_hit)
+        states = np.vstack([states, np.asarray(ta.state)[None]])
+    points = None
+    if comp.section is not None:
+        ys = np.array(comp.section.states).reshape(-1, 7)
+        ts = np.array(comp.section.times)
+        points = np.column_stack(
+            [ts, ys[:, :3], quaternion_gamma(ys[:, 3:]) if len(ys) else np.zeros((0, 3))]
+        )
+    if not np.all(np.isfinite(states)):
+        raise SolverError("simulation: taylor (heyoka) produced non-finite states")
+    return Integration(
+        times=times,
+        states=states[None],
+        events=events,
+        poincare=points,
+        steps=int(nsteps),
+        rhs_evaluations=0,
+        seconds=seconds,
+        extra={
+            "compile_seconds": comp.compile_seconds,
+            "compiled_reused": comp.reused,
+            "total_seconds": time.perf_counter() - t0,
+        },
+    )
+
+
+def _integrate_many(
+    system: RigidBodySystem,
+    y0: np.ndarray,
+    grid: np.ndarray,
+    tol: float,
+    gamma3_min: float | None,
+    progress: Callable[[float], None] | None,
+    t0: float,
+) -> Integration:
+    """Several trajectories on batch integrators; a terminal event stops its own only."""
     ens = propagate_many(system, y0, grid, tol=tol, gamma3_min=gamma3_min, progress=progress)
     events = [
         {
@@ -723,8 +751,6 @@ def propagate_many(
     threads : int, optional
         Worker threads (default: the CPU count); each owns one integrator copy.
     """
-    import copy
-    import os
     from concurrent.futures import ThreadPoolExecutor
 
     hy = heyoka_module()
@@ -738,10 +764,56 @@ def propagate_many(
     # 4 lanes on 2 threads measured fastest here (AVX-512 machine: 8 lanes were slower)
     B = int(batch or min(4, hy.recommended_simd_size()))
     B = max(1, min(B, m)) if m < B else B
-    singular = gamma3_min is not None
     comp = compiled_integrator(
-        systems[0], tol=tol, batch=B, section=section, singular_plane=singular, batch_mode=True
+        systems[0],
+        tol=tol,
+        batch=B,
+        section=section,
+        singular_plane=gamma3_min is not None,
+        batch_mode=True,
     )
+    run = _EnsembleRun(
+        comp=comp,
+        systems=systems,
+        y0=y0,
+        pars=_ensemble_parameters(systems, comp, gamma3_min),
+        grid=np.asarray(grid, dtype=float),
+        batch=B,
+        tol=tol,
+        gamma3_min=gamma3_min,
+        section=section,
+        progress=progress,
+    )
+    n_threads = max(1, min(int(threads or os.cpu_count() or 1), run.n_chunks))
+    t0 = time.perf_counter()
+    plan = [list(range(k, run.n_chunks, n_threads)) for k in range(n_threads)]
+    if n_threads == 1:
+        run.work(plan[0], copy_integrator=False)
+    else:
+        with ThreadPoolExecutor(n_threads) as pool:
+            list(pool.map(run.work, plan))
+    seconds = time.perf_counter() - t0
+    sec_out = None
+    if section is not None:
+        sec_out = [np.array(rows).reshape(-1, 8) for rows in run.sections]
+    return Ensemble(
+        times=run.grid,
+        states=run.states,
+        steps=run.steps,
+        stopped=run.stopped,
+        t_stop=run.t_stop,
+        sections=sec_out,
+        seconds=seconds,
+        compile_seconds=comp.compile_seconds,
+        batch=B,
+    )
+
+
+def _ensemble_parameters(
+    systems: list[RigidBodySystem], comp: Compiled, gamma3_min: float | None
+) -> np.ndarray:
+    """The runtime parameters (m, n_par) of every state's system (one structure required),
+    with the singular-plane threshold appended when set."""
     key0 = comp.equations.key
     par_rows = []
     cache_eq: dict[int, np.ndarray] = {}
@@ -754,92 +826,103 @@ def propagate_many(
         par_rows.append(cache_eq[id(s)])
     P = np.array(par_rows)  # (m, n_par)
     if gamma3_min is not None:
-        P = np.column_stack([P, np.full(m, float(gamma3_min))])
-    n_chunks = math.ceil(m / B)
-    T = len(grid)
-    states = np.full((m, T, 7), np.nan)
-    steps = np.zeros(m, dtype=np.int64)
-    stopped = np.zeros(m, dtype=bool)
-    t_stop = np.full(m, float(grid[-1]))
-    sections: list[list[np.ndarray]] = [[] for _ in range(m)]
-    n_threads = max(1, min(int(threads or os.cpu_count() or 1), n_chunks))
-    done = [0]
-    done_lock = threading.Lock()
+        P = np.column_stack([P, np.full(len(systems), float(gamma3_min))])
+    return P
 
-    def work(chunks: list[int]) -> None:
-        local = copy.deepcopy(comp.ta) if n_threads > 1 else comp.ta
+
+class _EnsembleRun:
+    """The shared outputs of :func:`propagate_many`, filled chunk by chunk (``batch`` states
+    a chunk) by worker threads, each on its own copy of the batch integrator."""
+
+    def __init__(
+        self,
+        *,
+        comp: Compiled,
+        systems: list[RigidBodySystem],
+        y0: np.ndarray,
+        pars: np.ndarray,
+        grid: np.ndarray,
+        batch: int,
+        tol: float,
+        gamma3_min: float | None,
+        section: str | None,
+        progress: Callable[[float], None] | None,
+    ) -> None:
+        self.comp, self.systems, self.y0, self.pars = comp, systems, y0, pars
+        self.grid, self.batch, self.tol = grid, batch, tol
+        self.gamma3_min, self.section, self.progress = gamma3_min, section, progress
+        m = len(y0)
+        self.n_chunks = math.ceil(m / batch)
+        self.states = np.full((m, len(grid), 7), np.nan)
+        self.steps = np.zeros(m, dtype=np.int64)
+        self.stopped = np.zeros(m, dtype=bool)
+        self.t_stop = np.full(m, float(grid[-1]))
+        self.sections: list[list[np.ndarray]] = [[] for _ in range(m)]
+        self.grid2 = np.ascontiguousarray(np.repeat(grid[:, None], batch, axis=1))
+        self.done = 0
+        self.done_lock = threading.Lock()
+
+    def work(self, chunks: list[int], copy_integrator: bool = True) -> None:
+        """Run the ``chunks`` on one integrator (a private copy when ``copy_integrator``)."""
+        local = copy.deepcopy(self.comp.ta) if copy_integrator else self.comp.ta
         rec = None
-        if section is not None:
+        if self.section is not None:
             # the copy's callback objects were copied with it: find its recorder
             rec = local.nt_events[0].callback.section
         for c in chunks:
-            lo, hi = c * B, min((c + 1) * B, m)
-            idx = np.arange(lo, hi)
-            lanes = np.concatenate([idx, np.full(B - len(idx), idx[-1])])
-            local.set_time(0.0)
-            local.state[:] = y0[lanes].T
-            local.pars[:] = P[lanes].T
-            if singular:
-                local.reset_cooldowns()
-            if rec is not None:
-                rec.clear()
-            res = local.propagate_grid(grid2)
-            out = np.asarray(res[-1])  # (T, 7, B)
-            outcomes = local.propagate_res
-            any_stop = False
-            for lane, i in enumerate(idx):
-                outcome = outcomes[lane][0]
-                hit = _check_outcome(outcome, "ensemble", float(local.time[lane]))
-                states[i] = out[:, :, lane]
-                steps[i] = int(outcomes[lane][3])
-                if hit is not None:
-                    stopped[i] = True
-                    t_stop[i] = float(local.time[lane])
-                    any_stop = True
-                if rec is not None:
-                    sections[i] = [
-                        np.concatenate([[t], st])
-                        for t, st, w in zip(rec.times, rec.states, rec.which, strict=True)
-                        if w == lane
-                    ]
-            if any_stop:
-                # heyoka ends the grid output of the whole batch at a terminal event of one
-                # lane: the other lanes of this chunk run again on the scalar integrator
-                for i in idx:
-                    if not stopped[i]:
-                        states[i], steps[i], rows, t_hit = _scalar_grid(
-                            systems[i], y0[i], grid, tol, gamma3_min, section
-                        )
-                        if t_hit is not None:
-                            stopped[i] = True
-                            t_stop[i] = t_hit
-                        if rec is not None:
-                            sections[i] = rows
-            if progress is not None:
-                with done_lock:
-                    done[0] += 1
-                    progress(done[0] / n_chunks)
+            self.run_chunk(local, rec, c)
+            if self.progress is not None:
+                with self.done_lock:
+                    self.done += 1
+                    self.progress(self.done / self.n_chunks)
 
-    grid2 = np.ascontiguousarray(np.repeat(np.asarray(grid, dtype=float)[:, None], B, axis=1))
-    t0 = time.perf_counter()
-    plan = [list(range(k, n_chunks, n_threads)) for k in range(n_threads)]
-    if n_threads == 1:
-        work(plan[0])
-    else:
-        with ThreadPoolExecutor(n_threads) as pool:
-            list(pool.map(work, plan))
-    seconds = time.perf_counter() - t0
-    sec_out = None
-    if section is not None:
-        sec_out = [np.array(rows).reshape(-1, 8) for rows in sections]
-    return Ensemble(
-        times=np.asarray(grid, dtype=float),
-        states=states,
-        steps=steps,
-        stopped=stopped,
-        t_stop=t_stop,
-        sections=sec_out,
-        seconds=seconds,
-        compile_seconds=comp.compile_seconds,
-        batch=B,
-    )
+    def run_chunk(self, local: Any, rec: Any, chunk: int) -> None:
+        """Propagate the states of one chunk on the batch integrator ``local``."""
+        B, m = self.batch, len(self.y0)
+        idx = np.arange(chunk * B, min((chunk + 1) * B, m))
+        lanes = np.concatenate([idx, np.full(B - len(idx), idx[-1])])
+        local.set_time(0.0)
+        local.state[:] = self.y0[lanes].T
+        local.pars[:] = self.pars[lanes].T
+        if self.gamma3_min is not None:
+            local.reset_cooldowns()
+        if rec is not None:
+            rec.clear()
+        res = local.propagate_grid(self.grid2)
+        out = np.asarray(res[-1])  # (T, 7, B)
+        outcomes = local.propagate_res
+        any_stop = False
+        for lane, i in enumerate(idx):
+            outcome = outcomes[lane][0]
+            hit = _check_outcome(outcome, "ensemble", float(local.time[lane]))
+            self.states[i] = out[:, :, lane]
+            self.steps[i] = int(outcomes[lane][3])
+            if hit is not None:
+                self.stopped[i] = True
+                self.t_stop[i] = float(local.time[lane])
+                any_stop = True
+            if rec is not None:
+                self.sections[i] = [
+                    np.concatenate([[t], st])
+                    for t, st, w in zip(rec.times, rec.states, rec.which, strict=True)
+                    if w == lane
+                ]
+        if any_stop:
+            self.rerun_unstopped(idx, rec is not None)
+
+    def rerun_unstopped(self, idx: np.ndarray, record: bool) -> None:
+        """Run again, on the scalar integrator, the states of a chunk that did not stop.
+
+        heyoka ends the grid output of the whole batch at a terminal event of one lane.
+        """
+        for i in idx:
+            if self.stopped[i]:
+                continue
+            self.states[i], self.steps[i], rows, t_hit = _scalar_grid(
+                self.systems[i], self.y0[i], self.grid, self.tol, self.gamma3_min, self.section
+            )
+            if t_hit is not None:
+                self.stopped[i] = True
+                self.t_stop[i] = t_hit
+            if record:
+                self.sections[i] = rows

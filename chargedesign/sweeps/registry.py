@@ -16,7 +16,15 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from chargedesign.body import write_design
+from chargedesign.checker import check_design
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import InputError
+from chargedesign.files import write_json_atomic
+from chargedesign.simulation import simulate
+from chargedesign.simulation.api import setup_from_scene
+from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
 CommandFunction = Callable[..., dict[str, Any]]
 
@@ -37,13 +45,10 @@ def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
 
 def _scene_design(scene: Any, point_dir: Path) -> Any:
     """The design a scene names (``body.design`` or inline elements), else designed now."""
-    from chargedesign.simulation.api import setup_from_scene
 
     setup = setup_from_scene(scene)
     if setup.design is not None:
         return setup.design
-    from chargedesign.body import write_design
-    from chargedesign.designer import design_from_scene
 
     result = design_from_scene(scene)
     write_design(result.design, point_dir / "design.json")
@@ -52,8 +57,6 @@ def _scene_design(scene: Any, point_dir: Path) -> Any:
 
 def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
     """Design the body; writes design.json. Figures: element counts, residual, seconds."""
-    from chargedesign.body import write_design
-    from chargedesign.designer import design_from_scene
 
     result = design_from_scene(scene)
     write_design(result.design, point_dir / "design.json")
@@ -70,8 +73,6 @@ def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
     """Design (unless the scene names a design) and check; writes check.json."""
-    from chargedesign.checker import check_design
-    from chargedesign.files import write_json_atomic
 
     report = check_design(_scene_design(scene, point_dir))
     data = report.to_dict()
@@ -86,8 +87,6 @@ def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dict[str, Any]:
     """Simulate the scene (its [simulation] table); writes summary.json."""
-    from chargedesign.files import write_json_atomic
-    from chargedesign.simulation import simulate
 
     result = simulate(scene, t_end=t_end)
     summary = result.summary()
@@ -102,8 +101,6 @@ def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dic
 def run_frontier(scene: Any, point_dir: Path) -> dict[str, Any]:
     """The largest time-rate within every limit (:mod:`chargedesign.designer.frontier`);
     writes frontier.json. A scene without ``[medium]`` fails with the frontier's reason."""
-    from chargedesign.designer.pipeline import frontier_from_scene
-    from chargedesign.files import write_json_atomic
 
     data = frontier_from_scene(scene).to_dict()
     write_json_atomic(point_dir / "frontier.json", data)
@@ -123,8 +120,6 @@ def run_tolerance(
     simulate: bool = True,
 ) -> dict[str, Any]:
     """Design (unless named) and analyse tolerances; writes tolerance.json."""
-    from chargedesign.files import write_json_atomic
-    from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
     design = _scene_design(scene, point_dir)
     model = ErrorModel.parse(position, charge, dipole, mass)

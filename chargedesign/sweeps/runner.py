@@ -32,7 +32,10 @@ from typing import Any
 
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.scene import scene_from_dict
+from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec, scene_with
 
@@ -54,15 +57,7 @@ def warm_up() -> int:
     import scipy.integrate
     import scipy.optimize  # noqa: F401
 
-    import chargedesign.checker
-    import chargedesign.designer
-    import chargedesign.model.evaluators
-    import chargedesign.simulation
-    import chargedesign.tolerancing  # noqa: F401
-
     # compile the theorem's evaluators (cached per process): a short run of the reduced model
-    from chargedesign.params import Parameters
-    from chargedesign.simulation import simulate
 
     simulate(Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9), t_end=0.01, samples=2)
     return os.getpid()
@@ -105,7 +100,6 @@ def run_point(
     keys: dict[str, Any],
 ) -> dict[str, Any]:
     """Run one point and write its folder; never raises for a failing point."""
-    from chargedesign.scene import scene_from_dict
 
     target = Path(out) / "points" / point_id
     t0 = time.perf_counter()

@@ -135,14 +135,14 @@ def test_parse_difference_reads_lambda() -> None:
 
 
 def test_p6_entry_comes_from_the_conditions_engine(monkeypatch: pytest.MonkeyPatch) -> None:
-    import chargedesign.conditions as conditions
+    from chargedesign.conditions import audit as conditions_audit
 
     entries = audit.audit_printed()
     assert [e.name for e in entries] == list(audit.ENTRY_NAMES)
     p6 = entries[-1]
-    expected = conditions.audit_p6()
+    expected = conditions_audit.audit_p6()
     assert p6 == expected and isinstance(p6.agrees, bool) and p6.difference
-    monkeypatch.delattr(conditions, "audit_p6")
+    monkeypatch.delattr(conditions_audit, "audit_p6")
     with pytest.raises(ChargeDesignError, match="p6"):
         audit.audit_printed()
 

@@ -123,7 +123,7 @@ def test_counterexample_is_exact_nonzero_and_reproducible() -> None:
 
 
 def test_dI4_dt_vanishes_exactly_at_a_rational_point_of_the_level() -> None:
-    values = cert._point(sp.Integer(0), ())
+    values = cert.rational_level_point(sp.Integer(0), ())
     case = symbolic_case()
     assert case.I3.xreplace(values) == 0
     assert time_derivative(case.I4).xreplace(values) == 0

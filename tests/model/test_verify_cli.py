@@ -6,8 +6,8 @@ import json
 
 import pytest
 
-import chargedesign.conditions as conditions
 from chargedesign.cli import main
+from chargedesign.conditions import audit as conditions_audit
 
 CONTRACT_NAMES = {"mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I4", "p6"}
 
@@ -42,7 +42,7 @@ def test_verify_prints_a_table(capsys: pytest.CaptureFixture[str]) -> None:
 def test_verify_without_the_p6_engine_fails_with_one_line(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.delattr(conditions, "audit_p6")
+    monkeypatch.delattr(conditions_audit, "audit_p6")
     assert main(["verify", "--json"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "p6" in err

@@ -51,8 +51,8 @@ def test_atlas_records_sections_without_stopping_orbits(tmp_path: Path) -> None:
 
 def test_fli_separates_a_torus_from_a_chaotic_orbit() -> None:
     system = _system()
-    regular = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
-    chaotic = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.5, 1.0)
+    regular = chaos.section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
+    chaotic = chaos.section_state(system, 1.0, 0.3, ENERGY, 0.5, 1.0)
     assert regular is not None and chaotic is not None
     fli = chaos.fast_lyapunov_indicator(system, np.array([regular, chaotic]), 200.0)
     # measured 5.3 (log t growth on the torus) against 31 (exponential growth)
@@ -83,8 +83,8 @@ def _shadow_lyapunov(system: RigidBodySystem, y0: np.ndarray, t_end: int) -> np.
 
 def test_lyapunov_exponent_agrees_with_shadow_orbits_and_separates_torus_from_chaos() -> None:
     system = _system()
-    regular = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
-    chaotic = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.5, 1.0)
+    regular = chaos.section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
+    chaotic = chaos.section_state(system, 1.0, 0.3, ENERGY, 0.5, 1.0)
     assert regular is not None and chaotic is not None
     times, estimates = chaos.lyapunov_exponent(system, np.array([regular, chaotic]), 200.0)
     assert times[0] == 1.0 and times[-1] == 200.0 and estimates.shape == (2, 200)
@@ -99,7 +99,7 @@ def test_lyapunov_exponent_agrees_with_shadow_orbits_and_separates_torus_from_ch
 
 def test_lyapunov_exponent_refuses_bad_durations() -> None:
     system = _system()
-    start = chaos._section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
+    start = chaos.section_state(system, 1.0, 0.3, ENERGY, 0.0, 1.0)
     with pytest.raises(InputError, match=r"^interval: expected a duration of at most t_end"):
         chaos.lyapunov_exponent(system, start, 10.0, interval=20.0)
     with pytest.raises(InputError, match=r"^t_end: expected a finite number"):

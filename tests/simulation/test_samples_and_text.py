@@ -8,7 +8,7 @@ import pytest
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.simulation import simulate
-from chargedesign.simulation.integrate import _thin
+from chargedesign.simulation.integrate import thin_step_ends
 from chargedesign.simulation.result import plot_integrals, plot_poincare, summary_text
 
 THEOREM = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
@@ -17,7 +17,7 @@ THEOREM = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 @pytest.mark.parametrize("n_steps, samples", [(3000, 2001), (2001, 2001), (10**5, 7), (50, 2)])
 def test_thinning_keeps_exactly_the_samples_asked(n_steps, samples):
     times = np.cumsum(np.random.default_rng(0).uniform(0.1, 3.0, n_steps))
-    keep = _thin(times, samples)
+    keep = thin_step_ends(times, samples)
     assert len(keep) == samples
     assert np.all(np.diff(keep) > 0)
     assert keep[0] == 0 and keep[-1] == n_steps - 1

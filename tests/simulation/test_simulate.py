@@ -130,9 +130,11 @@ def test_gauss_legendre_reports_failure_near_the_plane() -> None:
 
 
 def test_solver_failure_raises(monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib
     from types import SimpleNamespace
 
-    import chargedesign.simulation.integrate as integrate_module
+    # the package's `integrate` attribute is the function: take the module itself
+    integrate_module = importlib.import_module("chargedesign.simulation.integrate")
 
     def failing(*args: object, **kwargs: object) -> SimpleNamespace:
         return SimpleNamespace(success=False, message="Required step size is too small", t=[0.5])

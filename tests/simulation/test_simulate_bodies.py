@@ -12,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from unit_scene import UNIT_SCENE
 
+from chargedesign.bench.common import random_body as bench_random_body
 from chargedesign.body import Design
 from chargedesign.cli import main
 from chargedesign.errors import InfeasibleError
@@ -41,24 +42,13 @@ def _units(rng: np.random.Generator, n: int) -> np.ndarray:
     return v / np.linalg.norm(v, axis=1)[:, None]
 
 
+#: fields of degree up to 4 for the random bodies of these tests
+FIELDS = {"magnetic": (1.0, 0.7, -0.3), "electric": (0.2, 0.5, 0.3, 0.4), "gravity": (9.81, 0.3)}
+
+
 def random_body(seed: int, n: int = 12) -> Body:
     """Elements of every kind in fields of degree up to 4 (no symmetry at all)."""
-    rng = np.random.default_rng(seed)
-    return Body(
-        parameters=Parameters(C=0.8),
-        fields={
-            "magnetic": (1.0, 0.7, -0.3),
-            "electric": (0.2, 0.5, 0.3, 0.4),
-            "gravity": (9.81, 0.3),
-        },
-        charge_positions=rng.uniform(-1, 1, (n, 3)),
-        charge_values=rng.normal(size=n),
-        mass_positions=rng.uniform(-1, 1, (n, 3)),
-        mass_values=rng.uniform(0, 1, n),
-        dipole_positions=rng.uniform(-1, 1, (n, 3)),
-        dipole_moments=rng.normal(size=(n, 3)),
-        has_elements=True,
-    )
+    return bench_random_body(seed, Parameters(C=0.8), FIELDS, n)
 
 
 def _scale(*arrays: np.ndarray) -> float:

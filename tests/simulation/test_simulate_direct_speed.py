@@ -12,7 +12,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from chargedesign.fields import _zonal_sums, zonal_z_coefficients
+from chargedesign.bench.common import random_body as bench_random_body
+from chargedesign.fields import zonal_sums, zonal_z_coefficients
 from chargedesign.params import Parameters
 from chargedesign.simulation import (
     Body,
@@ -27,24 +28,17 @@ from chargedesign.simulation.direct import DirectKernel
 PHYSICAL = ["lorentz", "electric", "magnetization", "gravity"]
 
 
+FIELDS = {
+    "magnetic": (0.4, 1.0, -0.6, 0.3),
+    "electric": (0.2, 0.5, 0.3, 0.4, -0.2),
+    "gravity": (9.81, 0.3),
+}
+
+
 def random_body(seed: int, n: int = 10, fields: dict | None = None) -> Body:
-    rng = np.random.default_rng(seed)
-    return Body(
-        parameters=Parameters(C=0.7, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9),
-        fields=fields
-        or {
-            "magnetic": (0.4, 1.0, -0.6, 0.3),
-            "electric": (0.2, 0.5, 0.3, 0.4, -0.2),
-            "gravity": (9.81, 0.3),
-        },
-        charge_positions=rng.uniform(-1, 1, (n, 3)),
-        charge_values=rng.normal(size=n),
-        mass_positions=rng.uniform(-1, 1, (n, 3)),
-        mass_values=rng.uniform(0, 1, n),
-        dipole_positions=rng.uniform(-1, 1, (n, 3)),
-        dipole_moments=rng.normal(size=(n, 3)),
-        has_elements=True,
-    )
+    """Elements of every kind (the shared builder) in ``fields`` or :data:`FIELDS`."""
+    params = Parameters(C=0.7, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+    return bench_random_body(seed, params, fields or FIELDS, n)
 
 
 def _states(seed: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -68,7 +62,7 @@ def test_z_coefficients_are_the_zonal_sums(order: int) -> None:
     G /= np.linalg.norm(G)
     Z, S = pts @ G, np.einsum("ij,ij->i", pts, pts)
     table = zonal_z_coefficients(coeffs, S, order)
-    sums = _zonal_sums(coeffs, Z, S, order)
+    sums = zonal_sums(coeffs, Z, S, order)
     powers = Z[:, None] ** np.arange(len(coeffs) + 1)
     expected = {"": 0, "Z": 1, "S": 1, "ZZ": 2, "ZS": 2, "SS": 2}
     assert sorted(table) == sorted(k for k, o in expected.items() if o <= order)
@@ -134,7 +128,7 @@ def test_kernel_terms_are_the_fields_at_the_elements() -> None:
     fld, pts, sig = body.field("magnetic"), body.dipole_positions, body.dipole_moments
     S = np.einsum("ij,ij->i", pts, pts)
     Z = np.einsum("mj,nj->mn", G, pts)
-    sums = _zonal_sums(np.array(fld.legendre), Z, S, 2)
+    sums = zonal_sums(np.array(fld.legendre), Z, S, 2)
     expected = np.einsum("mn,nj->mj", sums["Z"], sig)  # Phi_Z sigma
     sig_dot_g = np.einsum("nj,mj->mn", sig, G)
     e = sums["ZZ"] * sig_dot_g + 2.0 * sums["ZS"] * np.einsum("ij,ij->i", pts, sig)
