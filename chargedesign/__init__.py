@@ -37,7 +37,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "sweep": ("chargedesign.api", "sweep"),
     "testbed": ("chargedesign.api", "testbed"),
     "verify": ("chargedesign.model.verification", "verify"),
-    "conditions": ("chargedesign.conditions", "conditions_for_scene"),
+    "conditions": ("chargedesign.moment_conditions", "conditions_for_scene"),
     # elements and files
     "Design": ("chargedesign.body", "Design"),
     "ElementSet": ("chargedesign.elements", "ElementSet"),
@@ -51,7 +51,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "DesignResult": ("chargedesign.designer.result", "DesignResult"),
     "CheckReport": ("chargedesign.checker", "CheckReport"),
     "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
-    "LinearConditions": ("chargedesign.conditions.types", "LinearConditions"),
+    "LinearConditions": ("chargedesign.moment_conditions.types", "LinearConditions"),
     "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
 }
 
@@ -105,12 +105,12 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.api import check, design, frontier, simulate, sweep, testbed, tolerance
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
-    from chargedesign.conditions import conditions_for_scene as conditions
-    from chargedesign.conditions.types import LinearConditions
     from chargedesign.designer.result import DesignResult
     from chargedesign.elements import ElementSet
     from chargedesign.export import export_design
     from chargedesign.model.verification import VerificationReport, verify
+    from chargedesign.moment_conditions import conditions_for_scene as conditions
+    from chargedesign.moment_conditions.types import LinearConditions
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation.result import SimulationResult

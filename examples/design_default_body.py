@@ -17,8 +17,8 @@ from pathlib import Path
 from chargedesign.body import read_design, write_design
 from chargedesign.candidates import candidates_from_table
 from chargedesign.checker import check_design
-from chargedesign.conditions import conditions_for_scene
 from chargedesign.designer import DesignOptions, design_body
+from chargedesign.moment_conditions import conditions_for_scene
 from chargedesign.scene import load_scene
 from chargedesign.viz import render_screenshot
 

@@ -204,8 +204,8 @@ def test_guide_toml_blocks_are_valid_scenes() -> None:
     import tomllib
 
     from chargedesign.candidates import candidates_from_table
-    from chargedesign.conditions import conditions_for_scene
     from chargedesign.designer import DesignOptions
+    from chargedesign.moment_conditions import conditions_for_scene
     from chargedesign.scene import scene_from_dict
     from chargedesign.simulation import (
         parse_initial,

@@ -27,10 +27,10 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
 from chargedesign.candidates import candidates_from_table, fibonacci_sphere
-from chargedesign.conditions import derive_conditions
 from chargedesign.designer import DesignOptions, design_body, relative_residual
 from chargedesign.errors import ChargeDesignError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.moment_conditions import derive_conditions
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene
 

@@ -19,7 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _human(result: Any, scene_source: str) -> str:
-    from chargedesign.conditions.text import format_conditions
+    from chargedesign.moment_conditions.text import format_conditions
 
     return format_conditions(result, scene_source)
 
@@ -27,7 +27,7 @@ def _human(result: Any, scene_source: str) -> str:
 def run(args: argparse.Namespace) -> int:
     import json
 
-    from chargedesign.conditions import conditions_for_scene
+    from chargedesign.moment_conditions import conditions_for_scene
     from chargedesign.scene import load_scene
 
     scene = load_scene(args.scene)  # the whole file, every table (scene.validate_tables)

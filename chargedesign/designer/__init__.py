@@ -1,7 +1,7 @@
 """Design problems: weights on candidate points that meet the linear moment conditions.
 
 For each source (charges, dipoles, masses) the conditions engine gives ``A w = b``
-(:meth:`chargedesign.conditions.LinearConditions.system`); this package chooses ``w`` on the
+(:meth:`chargedesign.moment_conditions.LinearConditions.system`); this package chooses ``w`` on the
 candidate points by a convex objective, then polishes it to machine precision:
 
 - charges (free sign, optional ``|q| <= max_charge``, optional total charge, optional number

@@ -19,7 +19,8 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, Geometry
-from chargedesign.conditions import (
+from chargedesign.designer.system import UNITS, DesignProblem, natural_row_size
+from chargedesign.moment_conditions import (
     DEFAULT_STRENGTH_HEADROOM,
     FIELD_KINDS,
     FIELD_LETTERS,
@@ -27,7 +28,6 @@ from chargedesign.conditions import (
     LinearCondition,
     LinearConditions,
 )
-from chargedesign.designer.system import UNITS, DesignProblem, natural_row_size
 from chargedesign.params import Parameters
 
 #: estimated relative forward error (mu, V and their torques evaluated in floating point from

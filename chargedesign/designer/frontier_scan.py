@@ -48,9 +48,9 @@ from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
-from chargedesign.physical.spec import DEFAULT_SHELL_THICKNESS
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
+from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")

@@ -39,7 +39,6 @@ from scipy.spatial import cKDTree
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
-from chargedesign.conditions import LinearConditions
 from chargedesign.constants import COULOMB, EPSILON_0, MU_0
 from chargedesign.designer.acceptance import balance_bound
 from chargedesign.designer.options import DesignOptions, Progress
@@ -49,6 +48,7 @@ from chargedesign.designer.solvers import least_norm
 from chargedesign.designer.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.larmor import LarmorReading
+from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.physical.coulomb import coulomb_field_gemm
 from chargedesign.physical.field_bounds import field_magnitude_max
@@ -59,7 +59,7 @@ from chargedesign.physical.limits import (
     sample_spacing,
 )
 from chargedesign.physical.realism import realism_budget
-from chargedesign.physical.spec import CARRIER_RADIUS_FRACTION, PhysicalSpec
+from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above

@@ -19,7 +19,6 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
-from chargedesign.conditions import SOURCES, LinearConditions
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, find_frontier
@@ -40,6 +39,7 @@ from chargedesign.designer.system import (
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
+from chargedesign.moment_conditions import SOURCES, LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.scene import Scene
@@ -236,7 +236,7 @@ def design_body(
     params : Parameters
         The theorem's parameters (SI units).
     conditions : LinearConditions
-        From :func:`chargedesign.conditions.derive_conditions`; its ``fields`` are written
+        From :func:`chargedesign.moment_conditions.derive_conditions`; its ``fields`` are written
         into the design.
     candidates : CandidateSet or ndarray, shape (n, 3)
         Candidate positions in body axes, m.
@@ -269,7 +269,9 @@ def design_body(
     if not isinstance(params, Parameters):
         raise input_error("params", "a chargedesign.params.Parameters", params)
     if not isinstance(conditions, LinearConditions):
-        raise input_error("conditions", "a chargedesign.conditions.LinearConditions", conditions)
+        raise input_error(
+            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
+        )
     options = options or DesignOptions()
     cand = (
         candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
@@ -463,7 +465,7 @@ def larmor_of_scene(
 def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
     its size) of the parameters its body realises."""
-    from chargedesign.conditions import derive_conditions, realise_from_scene
+    from chargedesign.moment_conditions import derive_conditions, realise_from_scene
 
     given = {k: v for k, v in overrides.items() if v is not None}
     options = dataclasses.replace(scene.design, **given) if given else scene.design

@@ -16,8 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.tolerancing import sensitivity_weights
-
 #: smallest relative cost: a candidate whose placement no condition sees (c_j = 0) stays priced
 COST_FLOOR = 1e-3
 
@@ -30,6 +28,8 @@ def robust_costs(
     beta: float,
 ) -> np.ndarray:
     """Per-candidate costs of the robust objective (mean 1 when ``beta = 1``), shape (n,)."""
+    from chargedesign.tolerancing import sensitivity_weights  # wave 2: circle to be broken
+
     c = sensitivity_weights(points, source, fields, parameters)
     mean = float(np.mean(c)) if len(c) else 0.0
     if not np.all(np.isfinite(c)) or mean <= 0.0:

@@ -1,7 +1,8 @@
 """One source's system ``A w = b`` on the candidates, nondimensionalised, and its residual.
 
 The conditions engine gives ``A w = b`` per source
-(:meth:`chargedesign.conditions.LinearConditions.system`); :func:`build_problem` adds the design's
+(:meth:`chargedesign.moment_conditions.LinearConditions.system`); :func:`build_problem` adds the
+design's
 own rows (total charge, total mass) and equilibrates: each row is divided by its largest
 entry and the unknowns by the scale of the scaled right-hand side (``w = scale * u``), so a
 row scaled by ``a2 = 1e-9`` or by ``L^4`` for a 5 cm body is as accurate as a unit one.
@@ -14,8 +15,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from chargedesign.conditions import LinearCondition, LinearConditions
 from chargedesign.designer.options import DesignOptions
+from chargedesign.moment_conditions import LinearCondition, LinearConditions
 
 UNITS = {"charges": "C", "dipoles": "A m^2", "masses": "kg"}
 

@@ -18,7 +18,6 @@ import re
 
 import sympy as sp
 
-from chargedesign.conditions import audit as conditions_audit
 from chargedesign.errors import ChargeDesignError
 from chargedesign.model import case
 from chargedesign.model.audit_entry import AuditEntry
@@ -43,6 +42,7 @@ from chargedesign.model.printed import (
     printed_l,
     printed_mu,
 )
+from chargedesign.moment_conditions import audit as conditions_audit
 
 #: the entries :func:`audit_printed` returns, in order
 ENTRY_NAMES = ("mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I3_level", "I4", "p6")
@@ -196,7 +196,7 @@ def _entry_p6() -> AuditEntry:
     audit_p6 = getattr(conditions_audit, "audit_p6", None)
     if audit_p6 is None:
         raise ChargeDesignError(
-            "p6: the conditions engine (chargedesign.conditions.audit_p6) is not available"
+            "p6: the conditions engine (chargedesign.moment_conditions.audit_p6) is not available"
         )
     entry = audit_p6()
     if entry.name != "p6":
@@ -211,7 +211,7 @@ def audit_printed(include_p6: bool = True) -> list[AuditEntry]:
     ----------
     include_p6 : bool
         Include the moment conditions (p6), audited by the conditions engine
-        (:func:`chargedesign.conditions.audit_p6`).
+        (:func:`chargedesign.moment_conditions.audit_p6`).
 
     Returns
     -------

@@ -1,5 +1,5 @@
 """One entry of the audit of the paper's printed formulas (light: no sympy), shared by
-:mod:`chargedesign.model.audit` and :mod:`chargedesign.conditions.audit`."""
+:mod:`chargedesign.model.audit` and :mod:`chargedesign.moment_conditions.audit`."""
 
 from __future__ import annotations
 

@@ -4,6 +4,8 @@
 - :mod:`.medium`: the :class:`Medium` (scene ``[medium]`` and design.json's ``medium``);
 - :mod:`.design`: ``[design]`` (:class:`DesignOptions`);
 - :mod:`.tables`: ``[body]`` (a region or a reference) and ``[tolerance]``;
+- :mod:`.physical`: ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``
+  (:class:`PhysicalSpec`);
 - :mod:`.load`: :func:`load_scene`, :func:`scene_from_dict` and the :class:`Scene`.
 """
 

@@ -22,10 +22,10 @@ from typing import Any
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
-from chargedesign.physical.spec import PhysicalSpec, spec_from_tables
 from chargedesign.readers import read_toml_file
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.medium import Medium
+from chargedesign.scene.physical import PhysicalSpec, spec_from_tables
 from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.validation import (
     as_array,

@@ -62,7 +62,7 @@ def check_region_keys(table: Mapping[str, Any]) -> None:
     shape = table.get("shape", "ball" if table else None)
     if not isinstance(shape, str) or shape not in REGION_KEYS:
         return
-    # carrier_radius belongs to the physical parts (chargedesign.physical.spec)
+    # carrier_radius belongs to the physical parts (chargedesign.scene.physical)
     allowed = set(REGION_KEYS[shape]) | {"shape", "carrier_radius"}
     unknown = sorted(set(table) - allowed)
     if unknown:

@@ -93,3 +93,27 @@ def test_read_design_and_load_scene(tmp_path, default_result):
     assert cd.load_scene(None).source == "<default>"
     with pytest.raises(cd.InputError):
         cd.check(42)
+
+
+def test_no_public_name_is_hidden_by_a_submodule():
+    """Importing every module of the package rebinds no public name: a subpackage never
+    shares the name of an entry point, and no package re-exports a name of one of its
+    submodules (the submodule import would silently replace it)."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    modules = [
+        importlib.import_module(info.name)
+        for info in pkgutil.walk_packages(cd.__path__, "chargedesign.")
+        if not info.name.startswith("chargedesign.bench") and not info.name.endswith("__main__")
+    ]
+    for name in cd.__all__:
+        assert not inspect.ismodule(getattr(cd, name)), name
+    for module in modules:
+        if not hasattr(module, "__path__"):
+            continue
+        for info in pkgutil.iter_modules(module.__path__):
+            value = getattr(module, info.name, None)
+            if value is not None:
+                assert inspect.ismodule(value), f"{module.__name__}.{info.name}"

@@ -628,7 +628,7 @@ def _weak_field_least_squares_body(a1: float) -> Design:
     """Charges on a ball meeting the mu conditions for the field [a1, 1] by least squares:
     a weak a1 forces charges ~1/a1 whose contributions cancel (test_stability's route)."""
     from chargedesign.candidates import candidates_from_table
-    from chargedesign.conditions import derive_conditions
+    from chargedesign.moment_conditions import derive_conditions
 
     conditions = derive_conditions(PARAMS, {"magnetic": (a1, 1.0)}, ("mu",))
     points = candidates_from_table({"shape": "ball", "radius": 1.0, "spacing": 0.5}).points

@@ -7,7 +7,6 @@ from hypothesis import strategies as st
 from unit_scene import UNIT_SCENE
 
 from chargedesign.candidates import candidates_from_points, candidates_from_table
-from chargedesign.conditions import LinearCondition, LinearConditions, derive_conditions
 from chargedesign.designer import (
     DesignOptions,
     design_body,
@@ -15,6 +14,7 @@ from chargedesign.designer import (
     relative_residual,
 )
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.moment_conditions import LinearCondition, LinearConditions, derive_conditions
 from chargedesign.params import Parameters
 from chargedesign.report import charge_field, plausibility, render_report
 from chargedesign.scene import load_scene, scene_from_dict

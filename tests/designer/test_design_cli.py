@@ -6,7 +6,7 @@ from unit_scene import UNIT_SCENE
 
 from chargedesign.body import read_design
 from chargedesign.cli import main
-from chargedesign.conditions import derive_conditions
+from chargedesign.moment_conditions import derive_conditions
 
 SI_SCENE = """
 [parameters]

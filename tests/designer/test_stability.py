@@ -31,7 +31,6 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
 from chargedesign.checker import DEFAULT_TOL, CheckReport, check_design
 from chargedesign.cli import main
-from chargedesign.conditions import LinearConditions, derive_conditions
 from chargedesign.designer import DesignOptions, DesignResult, design_body, design_from_scene
 from chargedesign.errors import ChargeDesignError, InfeasibleError, InputError
 from chargedesign.fields import AxisymmetricField
@@ -39,6 +38,7 @@ from chargedesign.model import evaluators as ev
 from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, STATE_SYMBOLS, symbolic_case
 from chargedesign.model.certificate import to_ring
 from chargedesign.model.equations import equations_of_motion
+from chargedesign.moment_conditions import LinearConditions, derive_conditions
 from chargedesign.moments import cartesian_moments, multipole_moments
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene, scene_from_dict

@@ -135,7 +135,7 @@ def test_parse_difference_reads_lambda() -> None:
 
 
 def test_p6_entry_comes_from_the_conditions_engine(monkeypatch: pytest.MonkeyPatch) -> None:
-    from chargedesign.conditions import audit as conditions_audit
+    from chargedesign.moment_conditions import audit as conditions_audit
 
     entries = audit.audit_printed()
     assert [e.name for e in entries] == list(audit.ENTRY_NAMES)

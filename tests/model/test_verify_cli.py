@@ -7,7 +7,7 @@ import json
 import pytest
 
 from chargedesign.cli import main
-from chargedesign.conditions import audit as conditions_audit
+from chargedesign.moment_conditions import audit as conditions_audit
 
 CONTRACT_NAMES = {"mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I4", "p6"}
 

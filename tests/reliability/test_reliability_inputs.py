@@ -181,7 +181,7 @@ def test_a_field_longer_than_the_cap_is_refused_by_its_degree(design_file) -> No
 
 
 def test_max_field_degree_is_the_conditions_engine_s() -> None:
-    from chargedesign.conditions import MAX_FIELD_DEGREE as ENGINE
+    from chargedesign.moment_conditions import MAX_FIELD_DEGREE as ENGINE
 
     assert ENGINE == MAX_FIELD_DEGREE
 

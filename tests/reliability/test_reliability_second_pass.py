@@ -190,7 +190,7 @@ def test_check_refuses_unknown_keys_and_kinds_of_a_design_field(work: Path, caps
 
 
 def test_the_scene_schema_lists_what_the_medium_validator_reads() -> None:
-    from chargedesign.physical.spec import _KEYS
+    from chargedesign.scene.physical import _KEYS
     from chargedesign.schemas import scene_schema
 
     medium = scene_schema()["properties"]["medium"]

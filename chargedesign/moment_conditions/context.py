@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from chargedesign.conditions.algebra import SourceSystem
-from chargedesign.conditions.constants import FIELD_LETTERS
+from chargedesign.moment_conditions.algebra import SourceSystem
+from chargedesign.moment_conditions.constants import FIELD_LETTERS
 from chargedesign.params import Parameters
 
 

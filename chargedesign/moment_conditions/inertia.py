@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from chargedesign.conditions.context import DerivationContext
+from chargedesign.moment_conditions.context import DerivationContext
 
 
 def masses_for_inertia(ctx: DerivationContext) -> None:

@@ -14,8 +14,8 @@ from fractions import Fraction
 from functools import cache, lru_cache
 from typing import Any
 
-from chargedesign.conditions.algebra import solve_exact, sphere_reduce
-from chargedesign.conditions.constants import MAX_FIELD_DEGREE, PARAM_NAMES
+from chargedesign.moment_conditions.algebra import solve_exact, sphere_reduce
+from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE, PARAM_NAMES
 from chargedesign.moments import moment_key
 
 

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from chargedesign.conditions.harmonics import field_symbols
-from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
 from chargedesign.model.audit_entry import AuditEntry
+from chargedesign.moment_conditions.harmonics import field_symbols
+from chargedesign.moment_conditions.mu import moment_symbol, symbolic_mu_solution
 
 
 def audit_p6() -> AuditEntry:

@@ -22,26 +22,27 @@ SymPy is imported lazily (only the derivation needs it), so importing the data t
 
 Modules (each imports only those above it):
 
-- :mod:`~chargedesign.conditions.constants`: what is accepted, the defaults and preferences;
-- :mod:`~chargedesign.conditions.types`: :class:`LinearCondition`, :class:`LinearConditions`;
-- :mod:`~chargedesign.conditions.algebra`: exact rational algebra (reduction on the sphere,
+- :mod:`~chargedesign.moment_conditions.constants`: what is accepted, the defaults and preferences;
+- :mod:`~chargedesign.moment_conditions.types`: :class:`LinearCondition`, :class:`LinearConditions`;
+- :mod:`~chargedesign.moment_conditions.algebra`: exact rational algebra (reduction on the sphere,
   elimination, the per-source echelon system);
-- :mod:`~chargedesign.conditions.harmonics`: real solid harmonics and the projection on
+- :mod:`~chargedesign.moment_conditions.harmonics`: real solid harmonics and the projection on
   ``|gamma| = 1`` (sympy, lazily);
-- :mod:`~chargedesign.conditions.context`: the state of one derivation;
-- :mod:`~chargedesign.conditions.mu`: the charges' mu by coefficient matching, and its
+- :mod:`~chargedesign.moment_conditions.context`: the state of one derivation;
+- :mod:`~chargedesign.moment_conditions.mu`: the charges' mu by coefficient matching, and its
   symbolic solution;
-- :mod:`~chargedesign.conditions.potential`: V by degrees, forced and default field strengths;
-- :mod:`~chargedesign.conditions.inertia`: the masses' inertia;
-- :mod:`~chargedesign.conditions.derive`: :func:`derive_conditions`, which runs the steps;
-- :mod:`~chargedesign.conditions.scene`: :func:`conditions_for_scene`, :func:`scene_length`,
+- :mod:`~chargedesign.moment_conditions.potential`: V by degrees, forced and default field
+  strengths;
+- :mod:`~chargedesign.moment_conditions.inertia`: the masses' inertia;
+- :mod:`~chargedesign.moment_conditions.derive`: :func:`derive_conditions`, which runs the steps;
+- :mod:`~chargedesign.moment_conditions.scene`: :func:`conditions_for_scene`, :func:`scene_length`,
   :func:`realise_from_scene`;
-- :mod:`~chargedesign.conditions.level`: the level of I3 (``l . gamma`` of the charges);
-- :mod:`~chargedesign.conditions.audit`: :func:`audit_p6`, the paper's printed conditions.
+- :mod:`~chargedesign.moment_conditions.level`: the level of I3 (``l . gamma`` of the charges);
+- :mod:`~chargedesign.moment_conditions.audit`: :func:`audit_p6`, the paper's printed conditions.
 """
 
-from chargedesign.conditions.audit import audit_p6
-from chargedesign.conditions.constants import (
+from chargedesign.moment_conditions.audit import audit_p6
+from chargedesign.moment_conditions.constants import (
     DEFAULT_ELECTRIC_STRENGTH,
     DEFAULT_LENGTH,
     DEFAULT_LENGTH_RULE,
@@ -58,16 +59,20 @@ from chargedesign.conditions.constants import (
     SOURCES,
     V_DEGREE,
 )
-from chargedesign.conditions.derive import derive_conditions
-from chargedesign.conditions.level import l_dot_gamma_residual, physical_l_dot_gamma
-from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
-from chargedesign.conditions.scene import conditions_for_scene, realise_from_scene, scene_length
-from chargedesign.conditions.types import LinearCondition, LinearConditions
+from chargedesign.moment_conditions.derive import derive_conditions
+from chargedesign.moment_conditions.level import l_dot_gamma_residual, physical_l_dot_gamma
+from chargedesign.moment_conditions.mu import moment_symbol, symbolic_mu_solution
+from chargedesign.moment_conditions.scene import (
+    conditions_for_scene,
+    realise_from_scene,
+    scene_length,
+)
+from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 
 # isort: split
 # private helpers that tests and docs/conditions.md import from here (pure, cached)
-from chargedesign.conditions.harmonics import real_solid_harmonics as real_solid_harmonics
-from chargedesign.conditions.mu import mu_system as mu_system
+from chargedesign.moment_conditions.harmonics import real_solid_harmonics as real_solid_harmonics
+from chargedesign.moment_conditions.mu import mu_system as mu_system
 
 __all__ = [
     "DEFAULT_ELECTRIC_STRENGTH",

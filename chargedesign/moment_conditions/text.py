@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from chargedesign.conditions.constants import SOURCES
+from chargedesign.moment_conditions.constants import SOURCES
 
 PREFIX = {"charges": "I", "dipoles": "S", "masses": "M"}
 PROVENANCE_WIDTH = 120
@@ -66,7 +66,7 @@ def _short(provenance: str) -> str:
 
 
 def format_conditions(result: Any, scene_source: str | None = None) -> str:
-    """The human text of a :class:`~chargedesign.conditions.LinearConditions`."""
+    """The human text of a :class:`~chargedesign.moment_conditions.LinearConditions`."""
 
     where = f" for {scene_source}" if scene_source else ""
     lines = [f"conditions{where} (realise {', '.join(result.realise) or 'nothing'})"]

@@ -16,8 +16,9 @@ from collections.abc import Sequence
 from fractions import Fraction
 from functools import lru_cache
 
-from chargedesign.conditions.algebra import SourceSystem, exact_nullspace, solve_exact
-from chargedesign.conditions.constants import (
+from chargedesign.errors import InfeasibleError
+from chargedesign.moment_conditions.algebra import SourceSystem, exact_nullspace, solve_exact
+from chargedesign.moment_conditions.constants import (
     DEFAULT_ELECTRIC_STRENGTH,
     DEFAULT_PREFERENCE,
     DEFAULT_STRENGTH_HEADROOM,
@@ -28,15 +29,18 @@ from chargedesign.conditions.constants import (
     SOURCE_FIELD,
     V_DEGREE,
 )
-from chargedesign.conditions.context import DerivationContext, decimal_text, field_coefficient_name
-from chargedesign.conditions.harmonics import (
+from chargedesign.moment_conditions.context import (
+    DerivationContext,
+    decimal_text,
+    field_coefficient_name,
+)
+from chargedesign.moment_conditions.harmonics import (
     ParamPoly,
     SolidHarmonic,
     gamma_poly,
     project_on_harmonics,
     real_solid_harmonics,
 )
-from chargedesign.errors import InfeasibleError
 
 
 @lru_cache(maxsize=1)

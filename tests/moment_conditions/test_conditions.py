@@ -1,4 +1,4 @@
-"""Tests of chargedesign.conditions.
+"""Tests of chargedesign.moment_conditions.
 
 The conditions are checked by independent routes: the printed (p6) of the paper (exactly),
 and random bodies that satisfy the conditions, whose mu, V, inertia and l . gamma are
@@ -17,7 +17,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.polynomial import legendre as npleg
 
-from chargedesign.conditions import (
+from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.fields import AxisymmetricField
+from chargedesign.model import evaluators
+from chargedesign.moment_conditions import (
     MAX_FIELD_DEGREE,
     LinearCondition,
     LinearConditions,
@@ -30,9 +33,6 @@ from chargedesign.conditions import (
     real_solid_harmonics,
     symbolic_mu_solution,
 )
-from chargedesign.errors import InfeasibleError, InputError
-from chargedesign.fields import AxisymmetricField
-from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene, scene_from_dict
 

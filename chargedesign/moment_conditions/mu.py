@@ -13,10 +13,11 @@ from fractions import Fraction
 from functools import cache
 from typing import Any
 
-from chargedesign.conditions.algebra import ConditionRow, key_rank
-from chargedesign.conditions.constants import MAX_FIELD_DEGREE
-from chargedesign.conditions.context import DerivationContext
-from chargedesign.conditions.harmonics import (
+from chargedesign.errors import InfeasibleError
+from chargedesign.moment_conditions.algebra import ConditionRow, key_rank
+from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE
+from chargedesign.moment_conditions.context import DerivationContext
+from chargedesign.moment_conditions.harmonics import (
     ParamPoly,
     body_coordinates,
     cartesian_split,
@@ -27,7 +28,6 @@ from chargedesign.conditions.harmonics import (
     sympy_symbols,
     zonal_solid_harmonic,
 )
-from chargedesign.errors import InfeasibleError
 from chargedesign.moments import moment_keys
 from chargedesign.validation import input_error
 

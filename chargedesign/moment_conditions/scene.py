@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from chargedesign.conditions.constants import DEFAULT_LENGTH, REALISABLE
-from chargedesign.conditions.derive import derive_conditions, validate_realise
-from chargedesign.conditions.types import LinearConditions
+from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, REALISABLE
+from chargedesign.moment_conditions.derive import derive_conditions, validate_realise
+from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.validation import input_error
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.conditions.algebra import sphere_reduce
-from chargedesign.conditions.harmonics import (
+from chargedesign.fields import AxisymmetricField
+from chargedesign.moment_conditions.algebra import sphere_reduce
+from chargedesign.moment_conditions.harmonics import (
     body_coordinates,
     cartesian_split,
     field_symbols,
@@ -23,8 +24,7 @@ from chargedesign.conditions.harmonics import (
     in_z_and_s,
     sympy_symbols,
 )
-from chargedesign.conditions.mu import moment_symbol, symbolic_mu_solution
-from chargedesign.fields import AxisymmetricField
+from chargedesign.moment_conditions.mu import moment_symbol, symbolic_mu_solution
 from chargedesign.validation import as_points, as_weights
 
 

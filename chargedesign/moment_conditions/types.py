@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.conditions.constants import DEFAULT_LENGTH_RULE, SOURCES
-from chargedesign.conditions.text import format_conditions
+from chargedesign.moment_conditions.constants import DEFAULT_LENGTH_RULE, SOURCES
+from chargedesign.moment_conditions.text import format_conditions
 from chargedesign.moments import monomial_matrix
 from chargedesign.results import Result
 from chargedesign.validation import input_error

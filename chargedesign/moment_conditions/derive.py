@@ -13,8 +13,9 @@ from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
-from chargedesign.conditions.algebra import SourceSystem
-from chargedesign.conditions.constants import (
+from chargedesign.errors import InfeasibleError
+from chargedesign.moment_conditions.algebra import SourceSystem
+from chargedesign.moment_conditions.constants import (
     DEFAULT_LENGTH,
     DEFAULT_MAGNETIC,
     FIELD_KINDS,
@@ -24,13 +25,12 @@ from chargedesign.conditions.constants import (
     SOURCES,
     V_DEGREE,
 )
-from chargedesign.conditions.context import DerivationContext
-from chargedesign.conditions.harmonics import real_solid_harmonics
-from chargedesign.conditions.inertia import masses_for_inertia
-from chargedesign.conditions.mu import charges_for_mu
-from chargedesign.conditions.potential import realise_degree, v_projection
-from chargedesign.conditions.types import LinearCondition, LinearConditions
-from chargedesign.errors import InfeasibleError
+from chargedesign.moment_conditions.context import DerivationContext
+from chargedesign.moment_conditions.harmonics import real_solid_harmonics
+from chargedesign.moment_conditions.inertia import masses_for_inertia
+from chargedesign.moment_conditions.mu import charges_for_mu
+from chargedesign.moment_conditions.potential import realise_degree, v_projection
+from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
 
