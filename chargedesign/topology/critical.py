@@ -239,3 +239,73 @@ def family_tangent(F: MomentumMap, z: np.ndarray, scales: Scales) -> np.ndarray 
     if norm < 1e-8:
         return None
     return tangent / norm
+
+
+def rank_zero(F: MomentumMap, x: np.ndarray, tol: float = 1e-6) -> np.ndarray:
+    """True where dH and dI4 both lie in the span of dI2, dI3 (relative equilibria that are
+    also critical for I4: the rank-zero points, vertices of the diagram), shape (m,)."""
+    grads = F.gradients(np.atleast_2d(x))
+    out = np.empty(grads.shape[0], dtype=bool)
+    for i, g in enumerate(grads):
+        q, _ = np.linalg.qr(g[2:].T)
+        rest = g[:2] - (g[:2] @ q) @ q.T
+        norms = np.linalg.norm(g[:2], axis=1)
+        out[i] = bool(np.all(np.linalg.norm(rest, axis=1) <= tol * np.maximum(norms, 1e-300)))
+    return out
+
+
+def equilibria(F: MomentumMap, scales: Scales, count: int = 400) -> CriticalPoints:
+    """The rank-zero points: Newton with ``(a, b) = (1, 0)`` from ``omega0(gamma)`` over a
+    Fibonacci grid of the sphere (relative equilibria have omega parallel to gamma), kept
+    when also critical for I4, one per distinct state."""
+    gamma = sphere_points(count)
+    omega0, _, _ = plane_basis(F, gamma)
+    x = np.concatenate([omega0, gamma], axis=1)
+    t = np.zeros(count)
+    z = np.concatenate([x, t[:, None], multipliers(F, x, t, scales)], axis=1)
+    z, residual = gauss_newton(F, z, scales)
+    found = keep_critical(F, canonical(z), residual, _all_energies(scales))
+    keep = rank_zero(F, found.z[:, :6])
+    return distinct(CriticalPoints(found.z[keep], found.hk[keep]))
+
+
+def _all_energies(scales: Scales) -> Scales:
+    return Scales(scales.energy, scales.quartic, -np.inf, np.inf)
+
+
+def distinct(points: CriticalPoints, tol: float = 1e-6) -> CriticalPoints:
+    """One of each group of points whose states agree within ``tol``."""
+    chosen: list[int] = []
+    for i, z in enumerate(points.z):
+        if all(np.linalg.norm(z[:6] - points.z[j, :6]) > tol for j in chosen):
+            chosen.append(i)
+    return CriticalPoints(points.z[chosen], points.hk[chosen])
+
+
+def equator_family(F: MomentumMap, scales: Scales, spacing: float) -> CriticalPoints:
+    """The exact critical family ``gamma3 = 0, p + n gamma1 = q + n gamma2 = 0``.
+
+    There the complex form of I4, ``xi = (P + iQ)^2 + (c + id) gamma3^2 (kappa + K^2 s
+    - i K R)`` with ``P = p + n gamma1`` etc., vanishes with its first differential, so dI4 = 0
+    (I4 = |xi|^2 has a degenerate minimum), and I3 = 0 holds for every R: the image is the
+    segment k = 0 from the least potential on the equator. Sampled at the equator's lowest
+    point, with R from the energy, every ``spacing`` (diagram units) inside the range.
+    """
+    n = F.params.n
+    phi = np.linspace(0.0, 2 * np.pi, 3601)
+    gamma = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+    omega = np.stack([-n * gamma[:, 0], -n * gamma[:, 1], np.zeros_like(phi)], axis=1)
+    energies = F.values(np.concatenate([omega, gamma], axis=1))[:, 0]
+    best = int(np.argmin(energies))
+    low = max(energies[best], scales.h_low)
+    if low >= scales.h_high:
+        return CriticalPoints(np.zeros((0, 9)), np.zeros((0, 2)))
+    count = max(2, int(np.ceil((scales.h_high - low) / scales.energy / spacing)) + 1)
+    h = np.linspace(low, scales.h_high, count)
+    # on the family H = C n^2 + C r^2 / 2 + V(gamma): r from the energy in closed form
+    base = energies[best]
+    r = np.sqrt(np.maximum(2.0 * (h - base) / F.params.C, 0.0))
+    x = np.tile(np.concatenate([omega[best], gamma[best]]), (count, 1))
+    x[:, 2] = r
+    z = np.concatenate([x, np.full((count, 1), np.pi / 2), np.zeros((count, 2))], axis=1)
+    return CriticalPoints(z, F.values(x)[:, :2])
