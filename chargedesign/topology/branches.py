@@ -32,7 +32,7 @@ class ContinuationSettings:
     first_step: float = 0.02
     min_step: float = 1e-5
     max_step: float = 0.1
-    max_image_step: float = 0.01
+    max_image_step: float = 0.02
     max_turn: float = 0.1
     max_points: int = 4000
 

@@ -309,3 +309,40 @@ def equator_family(F: MomentumMap, scales: Scales, spacing: float) -> CriticalPo
     x[:, 2] = r
     z = np.concatenate([x, np.full((count, 1), np.pi / 2), np.zeros((count, 2))], axis=1)
     return CriticalPoints(z, F.values(x)[:, :2])
+
+
+def _equator_states(F: MomentumMap, phi: np.ndarray) -> np.ndarray:
+    """States of the equator family at rest relative to the Larmor axes (R = 0)."""
+    n = F.params.n
+    gamma = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+    omega = np.stack([-n * gamma[:, 0], -n * gamma[:, 1], np.zeros_like(phi)], axis=1)
+    return np.concatenate([omega, gamma], axis=1)
+
+
+def equator_vertices(F: MomentumMap, scales: Scales) -> CriticalPoints:
+    """Rank-zero points on the equator family: the extremes of the energy along the equator
+    at R = 0 (golden-section refined), kept when rank zero."""
+    from scipy.optimize import minimize_scalar
+
+    phi = np.linspace(0.0, 2 * np.pi, 721)
+    energy = F.values(_equator_states(F, phi))[:, 0]
+    slope = np.sign(np.diff(energy))
+    turns = np.flatnonzero(slope[:-1] != slope[1:]) + 1
+    found = []
+    for i in turns:
+        sign = 1.0 if slope[i - 1] < 0 else -1.0  # minimum: +E, maximum: -E
+
+        def along(angle: float, sign: float = sign) -> float:
+            return sign * float(F.values(_equator_states(F, np.array([angle])))[0, 0])
+
+        best = minimize_scalar(
+            along, bounds=(phi[i - 1], phi[i + 1]), method="bounded", options={"xatol": 1e-12}
+        )
+        found.append(best.x)
+    if not found:
+        return CriticalPoints(np.zeros((0, 9)), np.zeros((0, 2)))
+    x = _equator_states(F, np.array(found))
+    t = np.zeros(len(x))
+    z = np.concatenate([x, t[:, None], multipliers(F, x, t, scales)], axis=1)
+    keep = rank_zero(F, x, tol=1e-7)
+    return distinct(CriticalPoints(z[keep], F.values(x[keep])[:, :2]))

@@ -42,12 +42,13 @@ def _expressions() -> list[Any]:
 
     case = symbolic_case()
     regular = {lam: 0, rho: 0}
-    return [sp.expand(e.xreplace(regular)) for e in (case.I1, case.I4, case.I2, case.I3)]
+    return [e.xreplace(regular) for e in (case.I1, case.I4, case.I2, case.I3)]
 
 
 @cache
-def _compiled(order: int) -> Callable[..., Any]:
-    """The compiled values (order 0), gradients (1) or Hessians (2) of the four functions."""
+def _compiled(order: int, module: str = "numpy") -> Callable[..., Any]:
+    """The compiled values (order 0), gradients (1) or Hessians (2) of the four functions;
+    ``module`` "numpy" (batches) or "math" (one state: far less overhead)."""
     import sympy as sp
 
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS
@@ -59,7 +60,7 @@ def _compiled(order: int) -> Callable[..., Any]:
         outputs = [[sp.diff(e, x) for x in STATE_SYMBOLS] for e in expressions]
     else:
         outputs = [sp.hessian(e, STATE_SYMBOLS).tolist() for e in expressions]
-    return sp.lambdify(STATE_SYMBOLS + PARAMETER_SYMBOLS, outputs, modules="numpy", cse=True)
+    return sp.lambdify(STATE_SYMBOLS + PARAMETER_SYMBOLS, outputs, modules=module, cse=True)
 
 
 def _broadcast(value: Any, shape: tuple[int, ...]) -> np.ndarray:
@@ -80,6 +81,8 @@ class MomentumMap:
     def values(self, x: np.ndarray) -> np.ndarray:
         """Shape (m, 4): ``H (J), I4 (1/s^4), I2, I3 (kg m^2/s)``."""
         x = np.atleast_2d(x)
+        if x.shape[0] == 1:
+            return np.array([_compiled(0, "math")(*x[0].tolist(), *self.pt)], dtype=float)
         out = _compiled(0)(*x.T, *self.pt)
         return np.stack([_broadcast(v, (x.shape[0],)) for v in out], axis=1)
 
@@ -87,6 +90,8 @@ class MomentumMap:
         """Shape (m, 4, 6): the rows dH, dI4, dI2, dI3."""
         x = np.atleast_2d(x)
         m = x.shape[0]
+        if m == 1:
+            return np.array([_compiled(1, "math")(*x[0].tolist(), *self.pt)], dtype=float)
         out = _compiled(1)(*x.T, *self.pt)
         return np.stack(
             [np.stack([_broadcast(v, (m,)) for v in row], axis=1) for row in out], axis=1
@@ -96,6 +101,8 @@ class MomentumMap:
         """Shape (m, 4, 6, 6)."""
         x = np.atleast_2d(x)
         m = x.shape[0]
+        if m == 1:
+            return np.array([_compiled(2, "math")(*x[0].tolist(), *self.pt)], dtype=float)
         out = _compiled(2)(*x.T, *self.pt)
         return np.stack(
             [

@@ -1,0 +1,257 @@
+"""The bifurcation diagram of (H, I4) on ``I3 = 0`` as a result: CSV, picture, summary.
+
+Uses the structure (Larmor, :mod:`chargedesign.model.larmor`): on the level ``I3 = 0,
+|gamma| = 1`` the map ``omega = omega0 - n gamma`` takes the n = 0 system to the n-system
+with ``H_n = H_0 + C n^2`` and ``I4_n = I4_0`` exactly. So :func:`bifurcation_diagram`
+computes the diagram at n = 0 and maps states and energies; the tests compare with a
+direct computation at n != 0.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.params import Parameters
+from chargedesign.results import Result, png_html
+from chargedesign.topology.compute import (
+    Chamber,
+    DiagramOptions,
+    RawDiagram,
+    TracedBranch,
+    Vertex,
+    critical_diagram,
+)
+from chargedesign.topology.equations import require_regular
+from chargedesign.topology.stability import TYPES
+
+#: the CSV's columns (the contract's header)
+CSV_COLUMNS = ("h", "k", "branch", "type", "p", "q", "r", "gamma1", "gamma2", "gamma3")
+#: the colour of each type in the picture
+TYPE_COLOURS = {"elliptic": "tab:blue", "hyperbolic": "tab:red", "degenerate": "tab:green"}
+
+
+def larmor_shift(params: Parameters) -> float:
+    """``H_n(omega0 - n gamma) - H_0(omega0) = C n^2`` on ``I3 = 0, |gamma| = 1``, J."""
+    return params.C * params.n**2
+
+
+def _shift_states(states: np.ndarray, n: float) -> np.ndarray:
+    out = states.copy()
+    out[:, :3] -= n * out[:, 3:]
+    return out
+
+
+def shifted(raw: RawDiagram, params: Parameters) -> RawDiagram:
+    """The n = 0 diagram ``raw`` read at ``params`` (its n): states mapped, h shifted."""
+    dh, n = larmor_shift(params), params.n
+    branches = [
+        replace(b, states=_shift_states(b.states, n), hk=b.hk + [dh, 0.0]) for b in raw.branches
+    ]
+    vertices = [
+        Vertex(_shift_states(v.state[None], n)[0], v.hk + [dh, 0.0], v.type)
+        for v in raw.vertices
+    ]
+    chambers = [Chamber(c.h + dh, c.k, c.tori, c.walls) for c in raw.chambers]
+    admissible = raw.admissible + [dh, 0.0, 0.0]
+    h_range = (raw.h_range[0] + dh, raw.h_range[1] + dh)
+    return RawDiagram(
+        params, h_range, raw.h_min + dh, branches, vertices, chambers, admissible,
+        raw.seconds, raw.seeds_found,
+    )
+
+
+def bifurcation_diagram(
+    params: Parameters,
+    h_range: tuple[float, float] | None = None,
+    options: DiagramOptions | None = None,
+) -> BifurcationDiagram:
+    """The diagram at ``params``: computed at n = 0, then mapped exactly (Larmor).
+
+    ``h_range`` (J) is the energy range at ``params`` (shifted by ``-C n^2`` for the n = 0
+    computation); default: from the least energy on the level to the top of the amended
+    potential plus half its span.
+    """
+    require_regular(params)
+    dh = larmor_shift(params)
+    base_range = None if h_range is None else (h_range[0] - dh, h_range[1] - dh)
+    raw = critical_diagram(params.replace(n=0.0), base_range, options)
+    return BifurcationDiagram(shifted(raw, params))
+
+
+def vertex_groups(vertices: list[Vertex]) -> dict[tuple[float, float, str], int]:
+    """Vertices with the same image and type (symmetric states), counted."""
+    groups: dict[tuple[float, float, str], int] = {}
+    for v in vertices:
+        key = (round(float(v.hk[0]), 9), round(float(v.hk[1]), 9), v.type)
+        groups[key] = groups.get(key, 0) + 1
+    return groups
+
+
+def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
+    """One sample per chamber (samples between the same two walls with the same count), the
+    middle one of its run."""
+    groups: dict[tuple[tuple[int, int], int], list[Chamber]] = {}
+    for c in chambers:
+        groups.setdefault((c.walls, c.tori), []).append(c)
+    return [members[len(members) // 2] for members in groups.values()]
+
+
+@dataclass(repr=False)
+class BifurcationDiagram(Result):
+    """The bifurcation diagram: branches (critical families), vertices, chambers.
+
+    ``raw`` holds the arrays (:class:`~chargedesign.topology.compute.RawDiagram`, SI, body
+    axes). :meth:`rows` is the CSV table; :meth:`write` writes ``bifurcation.csv`` and
+    ``bifurcation.png``; :meth:`plot` draws into matplotlib axes.
+    """
+
+    raw: RawDiagram
+
+    @property
+    def branches(self) -> list[TracedBranch]:
+        return self.raw.branches
+
+    def rows(self) -> list[tuple[Any, ...]]:
+        """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
+        out = []
+        for index, b in enumerate(self.branches):
+            for hk, kind, x in zip(b.hk, b.types, b.states, strict=True):
+                out.append((float(hk[0]), float(hk[1]), index, kind, *map(float, x)))
+        return out
+
+    def csv_text(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(CSV_COLUMNS)
+        for row in self.rows():
+            writer.writerow([f"{v:.12g}" if isinstance(v, float) else v for v in row])
+        return buffer.getvalue()
+
+    def to_dict(self) -> dict[str, Any]:
+        raw = self.raw
+        return {
+            "parameters": raw.params.as_dict(),
+            "h_range": list(raw.h_range),
+            "h_min": raw.h_min,
+            "larmor_shift": larmor_shift(raw.params),
+            "branches": [
+                {
+                    "branch": i,
+                    "points": len(b.hk),
+                    "types": {t: b.types.count(t) for t in TYPES if t in b.types},
+                    "h": [float(b.hk[:, 0].min()), float(b.hk[:, 0].max())],
+                    "k": [float(b.hk[:, 1].min()), float(b.hk[:, 1].max())],
+                    "ends": list(b.ends),
+                    "exact": b.exact,
+                }
+                for i, b in enumerate(self.branches)
+            ],
+            "vertices": [
+                {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
+            ],
+            "chambers": [
+                {"h": c.h, "k": c.k, "tori": c.tori, "walls": list(c.walls)} for c in raw.chambers
+            ],
+            "seconds": dict(raw.seconds),
+            "seeds": raw.seeds_found,
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        tori = sorted({c.tori for c in self.raw.chambers})
+        return {
+            "branches": len(self.branches),
+            "points": sum(len(b.hk) for b in self.branches),
+            "vertices": len(self.raw.vertices),
+            "h_range": [round(v, 6) for v in self.raw.h_range],
+            "tori_per_chamber": tori,
+        }
+
+    def _text(self) -> str:
+        raw = self.raw
+        lines = [
+            "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
+            f"  energy range {raw.h_range[0]:.6g} .. {raw.h_range[1]:.6g} J "
+            f"(least energy on the level {raw.h_min:.6g} J; computed at n = 0 and shifted "
+            f"by C n^2 = {larmor_shift(raw.params):.6g} J)",
+        ]
+        for item in self.to_dict()["branches"]:
+            kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
+            lines.append(
+                f"  branch {item['branch']}: {item['points']} points, h {item['h'][0]:.4g} .. "
+                f"{item['h'][1]:.4g} J, k {item['k'][0]:.4g} .. {item['k'][1]:.4g} 1/s^4 "
+                f"({kinds}){' exact' if item['exact'] else ''}"
+            )
+        for (h, k, kind), states in vertex_groups(raw.vertices).items():
+            lines.append(f"  vertex h = {h:.6g} J, k = {k:.6g} 1/s^4: {kind} ({states} states)")
+        counts = sorted({c.tori for c in raw.chambers})
+        lines.append(
+            f"  chambers sampled: {len(raw.chambers)}; tori per chamber: "
+            + (", ".join(str(c) for c in counts) or "none")
+        )
+        stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
+        lines.append(f"  time: {stages}")
+        return "\n".join(lines) + "\n"
+
+    def plot(self, axes: Any = None) -> Any:
+        """The diagram: admissible band, curves by type, vertices, chamber tori counts."""
+        from matplotlib.figure import Figure
+
+        if axes is None:
+            fig = Figure(figsize=(7.5, 5.5))
+            axes = fig.subplots()
+        raw = self.raw
+        band = raw.admissible
+        if len(band):
+            axes.fill_between(
+                band[:, 0], band[:, 1], band[:, 2], color="0.9", label="admissible (F^-1 not empty)"
+            )
+        drawn = set()
+        for b in self.branches:
+            kinds = np.array(b.types)
+            for kind in TYPES:
+                mask = kinds == kind
+                if not np.any(mask):
+                    continue
+                hk = np.where(mask[:, None], b.hk, np.nan)
+                axes.plot(
+                    hk[:, 0], hk[:, 1], color=TYPE_COLOURS[kind], lw=1.6,
+                    label=kind if kind not in drawn else None,
+                )
+                drawn.add(kind)
+        for v in raw.vertices:
+            axes.plot(*v.hk, "ko", ms=4)
+        for c in chamber_labels(raw.chambers):
+            axes.annotate(
+                str(c.tori), (c.h, c.k), ha="center", va="center", fontsize=9, weight="bold"
+            )
+        axes.set_xlabel("h = H [J]")
+        axes.set_ylabel("k = I4 [1/s^4]")
+        axes.set_title("Bifurcation diagram on I3 = 0 (numbers: tori per chamber)", fontsize=10)
+        axes.legend(fontsize=8, loc="upper left")
+        return axes.figure
+
+    def write(self, out: str | os.PathLike[str]) -> Path:
+        """``bifurcation.csv`` and ``bifurcation.png`` into ``out``, together or not at all."""
+        target = Path(out)
+        with atomic_directory(target) as stage:
+            write_text_atomic(stage / "bifurcation.csv", self.csv_text())
+            fig = self.plot()
+            fig.savefig(stage / "bifurcation.png", dpi=130)
+        return target
+
+    def _html_picture(self) -> str:
+        import matplotlib.backends.backend_agg as agg
+
+        fig = self.plot()
+        canvas = agg.FigureCanvasAgg(fig)
+        canvas.draw()
+        image = np.asarray(canvas.buffer_rgba())[..., :3]
+        return png_html(image, 420)
