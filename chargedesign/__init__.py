@@ -35,6 +35,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "frontier": ("chargedesign.api", "frontier"),
     "tolerance": ("chargedesign.api", "tolerance"),
     "sweep": ("chargedesign.api", "sweep"),
+    "bifurcation": ("chargedesign.api", "bifurcation"),
     "verify": ("chargedesign.model.verification", "verify"),
     "conditions": ("chargedesign.conditions", "conditions_for_scene"),
     # elements and files
@@ -69,6 +70,7 @@ __all__ = [
     "SolverError",
     "VerificationReport",
     "__version__",
+    "bifurcation",
     "check",
     "conditions",
     "design",
@@ -100,7 +102,15 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign.api import check, design, frontier, simulate, sweep, tolerance
+    from chargedesign.api import (
+        bifurcation,
+        check,
+        design,
+        frontier,
+        simulate,
+        sweep,
+        tolerance,
+    )
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
     from chargedesign.conditions import conditions_for_scene as conditions

@@ -24,6 +24,7 @@ from chargedesign.simulation.api import simulate as simulate_scene_or_design
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
+from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
 
 
 def as_scene(source: Any = None, **tables: Any) -> Scene:
@@ -202,4 +203,24 @@ def frontier(source: Any = None, *, progress: Any = None, **overrides: Any) -> F
     return frontier_from_scene(as_scene(source), progress=progress, **overrides)
 
 
-__all__ = ["as_scene", "check", "design", "frontier", "simulate", "sweep", "tolerance"]
+def bifurcation(
+    source: Any = None, *, h_range: tuple[float, float] | None = None
+) -> BifurcationDiagram:
+    """The bifurcation diagram of (H, I4) on ``I3 = 0`` for the scene's parameters.
+
+    ``source``: see :func:`as_scene` (only its parameters are used); ``h_range``: energies
+    in J (default: see :func:`chargedesign.topology.diagram.bifurcation_diagram`).
+    """
+    return bifurcation_diagram(as_scene(source).parameters, h_range)
+
+
+__all__ = [
+    "as_scene",
+    "bifurcation",
+    "check",
+    "design",
+    "frontier",
+    "simulate",
+    "sweep",
+    "tolerance",
+]

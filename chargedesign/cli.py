@@ -26,6 +26,7 @@ COMMANDS = {
     "tolerance": "manufacturing tolerances: exact sensitivity, Monte Carlo of perturbed bodies",
     "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
     "schema": "print the JSON Schema of design.json or of scene files",
+    "bifurcation": "bifurcation diagram of (H, I4) on I3 = 0: critical set, types, chambers",
 }
 
 

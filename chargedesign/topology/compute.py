@@ -202,7 +202,8 @@ def _typed(F: MomentumMap, branch: Branch, scales: Scales) -> TracedBranch:
 
 def _clipped(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
     """The runs of at least two points inside the energy range (continuation overshoots)."""
-    inside = (branch.hk[:, 0] >= scales.h_low) & (branch.hk[:, 0] <= scales.h_high)
+    slack = 1e-9 * scales.energy
+    inside = (branch.hk[:, 0] >= scales.h_low - slack) & (branch.hk[:, 0] <= scales.h_high + slack)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], inside.astype(int), [0]])))
     runs = []
     for a, b in zip(edges[::2], edges[1::2], strict=True):

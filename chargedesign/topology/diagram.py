@@ -96,12 +96,21 @@ def vertex_groups(vertices: list[Vertex]) -> dict[tuple[float, float, str], int]
 
 
 def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
-    """One sample per chamber (samples between the same two walls with the same count), the
-    middle one of its run."""
-    groups: dict[tuple[tuple[int, int], int], list[Chamber]] = {}
-    for c in chambers:
-        groups.setdefault((c.walls, c.tori), []).append(c)
-    return [members[len(members) // 2] for members in groups.values()]
+    """One sample per chamber: a run of adjacent energy columns whose samples lie between the
+    same two walls with the same count; the middle sample of each run."""
+    columns = sorted({c.h for c in chambers})
+    runs: list[list[Chamber]] = []
+    last: dict[tuple[tuple[int, int], int], tuple[int, int]] = {}  # key -> (column, run)
+    for c in sorted(chambers, key=lambda c: c.h):
+        key, column = (c.walls, c.tori), columns.index(c.h)
+        previous = last.get(key)
+        if previous is not None and previous[0] == column - 1:
+            runs[previous[1]].append(c)
+            last[key] = (column, previous[1])
+        else:
+            runs.append([c])
+            last[key] = (column, len(runs) - 1)
+    return [run[len(run) // 2] for run in runs]
 
 
 @dataclass(repr=False)
