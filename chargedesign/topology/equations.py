@@ -121,12 +121,14 @@ class MomentumMap:
 def relative_singular_value(gradients: np.ndarray) -> np.ndarray:
     """Smallest over largest singular value of the 4x6 Jacobian with unit rows, shape (m,).
 
-    Zero exactly where dH, dI4, dI2, dI3 are linearly dependent (the critical set).
+    Zero exactly where dH, dI4, dI2, dI3 are linearly dependent (the critical set). A row
+    below ``1e-9`` of the largest (a differential that vanishes, as dI4 on the equator
+    family) is a zero row: dependent by itself.
     """
-    g = np.atleast_3d(gradients) if gradients.ndim == 2 else gradients
-    g = g.reshape(-1, 4, 6)
+    g = np.asarray(gradients, dtype=float).reshape(-1, 4, 6)
     norms = np.linalg.norm(g, axis=2, keepdims=True)
-    scaled = g / np.where(norms > 0, norms, 1.0)
+    vanishing = norms <= 1e-9 * np.max(norms, axis=1, keepdims=True)
+    scaled = np.where(vanishing, 0.0, g / np.where(vanishing, 1.0, norms))
     s = np.linalg.svd(scaled, compute_uv=False)
     return s[:, -1] / s[:, 0]
 
