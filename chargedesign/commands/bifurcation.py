@@ -35,8 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from chargedesign.files import check_outputs
     from chargedesign.scene import load_scene
-    from chargedesign.topology.diagram import bifurcation_diagram
-    from chargedesign.topology.equations import require_regular
+    from chargedesign.topology.diagram import bifurcation_diagram, check_energy_range
 
     check_outputs(
         [("--out", args.out, True)],
@@ -44,8 +43,8 @@ def run(args: argparse.Namespace) -> int:
         writes=("bifurcation.csv", "bifurcation.png"),
     )
     scene = load_scene(args.scene)
-    require_regular(scene.parameters)
     h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
+    check_energy_range(scene.parameters, h_range)
     if not args.quiet:
         print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
     diagram = bifurcation_diagram(scene.parameters, h_range)

@@ -73,8 +73,35 @@ def _wide(scales: Scales) -> Scales:
 
 
 def _inside(hk: np.ndarray, scales: Scales) -> bool:
-    margin = 0.02 * (scales.h_high - scales.h_low)
-    return bool(scales.h_low - margin <= hk[0] <= scales.h_high + margin)
+    return bool(scales.h_low <= hk[0] <= scales.h_high)
+
+
+def _land_on_bound(
+    F: MomentumMap,
+    z: np.ndarray,
+    hk: np.ndarray,
+    tangent: np.ndarray,
+    ds: float,
+    h_out: float,
+    scales: Scales,
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The point of the family where h equals the range's bound crossed by the step ``ds``
+    from ``(z, hk)`` (whose end has energy ``h_out``): secant iterations on the step."""
+    bound = scales.h_high if h_out > scales.h_high else scales.h_low
+    a, fa, b, fb = 0.0, hk[0] - bound, ds, h_out - bound
+    best = None
+    for _ in range(8):
+        if fb == fa:
+            break
+        c = b - fb * (b - a) / (fb - fa)
+        result = _step(F, z, tangent, c, scales)
+        if result is None:
+            break
+        best = result
+        a, fa, b, fb = b, fb, c, result[1][0] - bound
+        if abs(fb) <= 1e-12 * scales.energy:
+            break
+    return best
 
 
 def follow(
@@ -107,14 +134,18 @@ def follow(
         ):
             ds *= 0.5
             continue
+        if not _inside(hk, scales):
+            landed = _land_on_bound(F, zs[-1], hks[-1], tangent, ds, float(hk[0]), scales)
+            if landed is not None:
+                zs.append(landed[0])
+                hks.append(landed[1])
+            return zs, hks, "energy range"
         new_tangent = family_tangent(F, z, scales)
         if new_tangent is None:
             return zs, hks, "end"
         tangent = new_tangent if new_tangent @ tangent >= 0 else -new_tangent
         zs.append(z)
         hks.append(hk)
-        if not _inside(hk, scales):
-            return zs, hks, "energy range"
         if len(hks) > 20 and np.linalg.norm(scales.image(hk - hk0)) < 0.5 * (
             settings.max_image_step
         ):

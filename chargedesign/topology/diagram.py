@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
@@ -28,8 +29,9 @@ from chargedesign.topology.compute import (
     TracedBranch,
     Vertex,
     critical_diagram,
+    resolve_range,
 )
-from chargedesign.topology.equations import require_regular
+from chargedesign.topology.equations import MomentumMap, require_regular
 from chargedesign.topology.stability import TYPES
 
 #: the CSV's columns (the contract's header)
@@ -79,11 +81,35 @@ def bifurcation_diagram(
     computation); default: from the least energy on the level to the top of the amended
     potential plus half its span.
     """
-    require_regular(params)
-    dh = larmor_shift(params)
-    base_range = None if h_range is None else (h_range[0] - dh, h_range[1] - dh)
+    base_range = check_energy_range(params, h_range)
     raw = critical_diagram(params.replace(n=0.0), base_range, options)
     return BifurcationDiagram(shifted(raw, params))
+
+
+def check_energy_range(
+    params: Parameters, h_range: tuple[float, float] | None
+) -> tuple[float, float] | None:
+    """Refuse singular parameters and an energy range (J, at ``params``) without admissible
+    motion, in one line, before any work; returns the range at n = 0 (shifted by -C n^2)."""
+    require_regular(params)
+    if h_range is None:
+        return None
+    dh = larmor_shift(params)
+    base = MomentumMap(params.replace(n=0.0))
+    try:
+        resolve_range(base, (h_range[0] - dh, h_range[1] - dh))
+    except InputError:
+        _, low = resolve_range(base, None)
+        lo, hi = (float(v) for v in h_range)
+        if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+            raise InputError(
+                f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}"
+            ) from None
+        raise InputError(
+            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
+            f"energy is at least {low + dh:.6g} J"
+        ) from None
+    return (h_range[0] - dh, h_range[1] - dh)
 
 
 def vertex_groups(vertices: list[Vertex]) -> dict[tuple[float, float, str], int]:
