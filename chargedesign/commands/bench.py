@@ -5,7 +5,17 @@ from __future__ import annotations
 import argparse
 import sys
 
-AREAS = ("certificate", "fields", "design", "physical", "check", "simulate", "tolerance", "sweep")
+AREAS = (
+    "certificate",
+    "fields",
+    "design",
+    "physical",
+    "check",
+    "simulate",
+    "tolerance",
+    "sweep",
+    "bifurcation",
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
