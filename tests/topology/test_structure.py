@@ -94,3 +94,18 @@ def test_command_line_bad_range_is_one_line(tmp_path):
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "no admissible motion" in lines[0], run.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_chaplygin_limit_lies_on_the_closed_form_curves(unit_params, small_options):
+    """K = n = 0: the branches follow k = (h / C +- kappa sqrt(c^2 + d^2))^2."""
+    chaplygin = unit_params.replace(K=0.0, n=0.0)
+    diagram = bifurcation_diagram(chaplygin, None, small_options)
+    a = chaplygin.kappa * np.hypot(chaplygin.c, chaplygin.d)
+    hk = np.concatenate([b.hk for b in diagram.branches if not b.exact])
+    curves = np.stack([(hk[:, 0] / chaplygin.C + a) ** 2, (hk[:, 0] / chaplygin.C - a) ** 2], 1)
+    gap = np.min(np.abs(curves - hk[:, 1:2]), axis=1)
+    assert np.max(gap) < 1e-8 * np.max(hk[:, 1])
+    # both curves are there: the elliptic boundary and the hyperbolic one from (0, a^2)
+    upper = np.abs(curves[:, 0] - hk[:, 1]) < 1e-8
+    assert np.any(upper) and np.any(~upper)
+    assert {"elliptic", "hyperbolic"} <= {t for b in diagram.branches for t in b.types}
