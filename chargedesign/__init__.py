@@ -121,7 +121,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.elements import ElementSet
     from chargedesign.export import export_design
     from chargedesign.model.verification import VerificationReport, verify
-    from chargedesign.topology.diagram import BifurcationDiagram
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation.result import SimulationResult
+    from chargedesign.topology.diagram import BifurcationDiagram

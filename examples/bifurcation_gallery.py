@@ -52,7 +52,9 @@ def main(out_dir: str | None = None) -> int:
         fig.savefig(path, dpi=110)
         print(f"{path}: {diagram!r}")
         if name == "chaplygin":
-            print(f"chaplygin closed-form curves: largest relative gap {chaplygin_gap(diagram):.2e}")
+            print(
+                f"chaplygin closed-form curves: largest relative gap {chaplygin_gap(diagram):.2e}"
+            )
     return 0
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from itertools import pairwise
 
 import numpy as np
 
@@ -243,7 +244,7 @@ def chamber_samples(
         k_lo, k_hi = float(sampler.quartic.min()), float(sampler.quartic.max())
         walls = [(k_lo, -1)] + [c for c in crossings(branches, float(h)) if k_lo < c[0] < k_hi]
         walls.append((k_hi, -1))
-        for (k_a, wall_a), (k_b, wall_b) in zip(walls[:-1], walls[1:], strict=True):
+        for (k_a, wall_a), (k_b, wall_b) in pairwise(walls):
             if k_b - k_a < 2e-3 * scales.quartic:
                 continue
             k = 0.5 * (k_a + k_b)

@@ -47,9 +47,7 @@ def residual_and_jacobian(
     x, t, beta, delta = z[:, :6], z[:, 6], z[:, 7], z[:, 8]
     grads = F.gradients(x)
     hess = F.hessians(x)
-    weights = np.stack(
-        [np.cos(t) / scales.energy, np.sin(t) / scales.quartic, beta, delta], axis=1
-    )
+    weights = np.stack([np.cos(t) / scales.energy, np.sin(t) / scales.quartic, beta, delta], axis=1)
     m = z.shape[0]
     E = np.empty((m, 8))
     E[:, :6] = np.einsum("mi,mij->mj", weights, grads)
@@ -58,9 +56,10 @@ def residual_and_jacobian(
     E[:, 7] = values[:, 3] / F.params.C
     J = np.zeros((m, 8, 9))
     J[:, :6, :6] = np.einsum("mi,mijk->mjk", weights, hess)
-    J[:, :6, 6] = -np.sin(t)[:, None] * grads[:, 0] / scales.energy + np.cos(t)[
-        :, None
-    ] * grads[:, 1] / scales.quartic
+    J[:, :6, 6] = (
+        -np.sin(t)[:, None] * grads[:, 0] / scales.energy
+        + np.cos(t)[:, None] * grads[:, 1] / scales.quartic
+    )
     J[:, :6, 7] = grads[:, 2]
     J[:, :6, 8] = grads[:, 3]
     J[:, 6, :6] = grads[:, 2]
@@ -152,9 +151,7 @@ def states_on_level(
     omega0, e1, e2 = plane_basis(F, gamma)
     base = F.values(np.concatenate([omega0, gamma], axis=1))[:, 0]
     radius = np.sqrt(np.maximum(energy - base, 0.0))
-    omega = omega0 + radius[:, None] * (
-        np.cos(angle)[:, None] * e1 + np.sin(angle)[:, None] * e2
-    )
+    omega = omega0 + radius[:, None] * (np.cos(angle)[:, None] * e1 + np.sin(angle)[:, None] * e2)
     return np.concatenate([omega, gamma], axis=1)
 
 

@@ -54,19 +54,24 @@ def _shift_states(states: np.ndarray, n: float) -> np.ndarray:
 def shifted(raw: RawDiagram, params: Parameters) -> RawDiagram:
     """The n = 0 diagram ``raw`` read at ``params`` (its n): states mapped, h shifted."""
     dh, n = larmor_shift(params), params.n
-    branches = [
-        replace(b, states=_shift_states(b.states, n), hk=b.hk + [dh, 0.0]) for b in raw.branches
-    ]
+    move = np.array([dh, 0.0])
+    branches = [replace(b, states=_shift_states(b.states, n), hk=b.hk + move) for b in raw.branches]
     vertices = [
-        Vertex(_shift_states(v.state[None], n)[0], v.hk + [dh, 0.0], v.type)
-        for v in raw.vertices
+        Vertex(_shift_states(v.state[None], n)[0], v.hk + move, v.type) for v in raw.vertices
     ]
     chambers = [Chamber(c.h + dh, c.k, c.tori, c.walls) for c in raw.chambers]
-    admissible = raw.admissible + [dh, 0.0, 0.0]
+    admissible = raw.admissible + np.array([dh, 0.0, 0.0])
     h_range = (raw.h_range[0] + dh, raw.h_range[1] + dh)
     return RawDiagram(
-        params, h_range, raw.h_min + dh, branches, vertices, chambers, admissible,
-        raw.seconds, raw.seeds_found,
+        params,
+        h_range,
+        raw.h_min + dh,
+        branches,
+        vertices,
+        chambers,
+        admissible,
+        raw.seconds,
+        raw.seeds_found,
     )
 
 
@@ -257,7 +262,10 @@ class BifurcationDiagram(Result):
                     continue
                 hk = np.where(mask[:, None], b.hk, np.nan)
                 axes.plot(
-                    hk[:, 0], hk[:, 1], color=TYPE_COLOURS[kind], lw=1.6,
+                    hk[:, 0],
+                    hk[:, 1],
+                    color=TYPE_COLOURS[kind],
+                    lw=1.6,
                     label=kind if kind not in drawn else None,
                 )
                 drawn.add(kind)

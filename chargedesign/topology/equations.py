@@ -36,7 +36,6 @@ def require_regular(params: Parameters) -> None:
 
 
 def _expressions() -> list[Any]:
-    import sympy as sp
 
     from chargedesign.model.case import lam, rho, symbolic_case
 
@@ -171,4 +170,3 @@ def poisson_tensor(F: MomentumMap, x: np.ndarray) -> np.ndarray:
     P[:3, 3:] = -dl / inertia[:, None]
     P[3:, 3:] = np.eye(3)
     return P @ pi @ P.T
-

@@ -58,8 +58,16 @@ def brute_force(F, count, h_range, scales, seed=7):
         x = np.concatenate([rng.normal(size=3) * np.sqrt(scales[0]), gamma / np.linalg.norm(gamma)])
         normal = rng.normal(size=6)
         start = np.concatenate([x, [rng.uniform(0, np.pi), 0.0, 0.0]])
-        fit = least_squares(residual, start, jac=jacobian, args=(normal, normal @ x),
-                            xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=100)
+        fit = least_squares(
+            residual,
+            start,
+            jac=jacobian,
+            args=(normal, normal @ x),
+            xtol=1e-15,
+            ftol=1e-15,
+            gtol=1e-15,
+            max_nfev=100,
+        )
         x = fit.x[:6]
         h, k = F.values(x)[0, :2]
         critical = relative_singular_value(F.gradients(x))[0] <= 1e-6

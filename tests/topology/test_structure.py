@@ -39,7 +39,10 @@ def test_energy_shift_is_exact_on_the_level(unit_params):
     gamma /= np.linalg.norm(gamma, axis=1, keepdims=True)
     # states of I3 = 0 at n = 0: omega = omega0 + a vector of the plane (I omega) . gamma = -l.gamma
     sampler = LevelSampler(F0, 1.0, LevelSampling(200, 8))
-    x0 = sampler.points(float(np.median(sampler.quartic)))[:20] * np.r_[[sampler.omega_scale] * 3, [1] * 3]
+    x0 = (
+        sampler.points(float(np.median(sampler.quartic)))[:20]
+        * np.r_[[sampler.omega_scale] * 3, [1] * 3]
+    )
     x = x0.copy()
     x[:, :3] -= unit_params.n * x[:, 3:]
     v0, vn = F0.values(x0), Fn.values(x)
@@ -86,9 +89,21 @@ def test_singular_parameters_are_refused(unit_params):
 
 def test_command_line_bad_range_is_one_line(tmp_path):
     run = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "bifurcation", "examples/scenes/unit_scale.toml",
-         "--h-range", "-5", "-4", "--out", str(tmp_path / "out")],
-        capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "chargedesign",
+            "bifurcation",
+            "examples/scenes/unit_scale.toml",
+            "--h-range",
+            "-5",
+            "-4",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert run.returncode == 2
     lines = run.stderr.strip().splitlines()
