@@ -10,14 +10,21 @@ motions (from the diagram's states) marked; the FLI map on ``I3 = 0``
 
 from __future__ import annotations
 
+import math
+import time
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.results import Result
-from chargedesign.simulation.chaos import FLIMap, PoincareAtlas, fli_map, poincare_atlas
+from chargedesign.results import Result, png_html
+from chargedesign.simulation.chaos import (
+    FLIMap,
+    PoincareAtlas,
+    fast_lyapunov_indicator,
+    poincare_atlas,
+)
 from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
@@ -73,6 +80,55 @@ def _section_points(system: RigidBodySystem, starts: np.ndarray, t_end: float) -
     return out
 
 
+def section_state(
+    system: RigidBodySystem, phi: float, v: float, energy: float
+) -> np.ndarray | None:
+    """The 7-state on the section ``gamma3 = 0`` (upwards) of ``I3 = 0`` at angle phi with
+    ``gamma3' = v`` and the given energy (None where the energy is too low): the chart of
+    :func:`~chargedesign.simulation.chaos.fli_map`, on the level only."""
+    g = np.array([math.cos(phi), math.sin(phi), 0.0])
+    R = attitude_from_gamma(g)
+    u = -float(system.momentum_potential(g[None], R[None])[0]) / (2.0 * system.C)
+    V = float(system.energy(g[None], R[None])[0])
+    r2 = (2.0 * (energy - V) - 2.0 * system.C * (u * u + v * v)) / system.C
+    if not r2 >= 0.0:
+        return None
+    p = u * math.cos(phi) - v * math.sin(phi)
+    q = u * math.sin(phi) + v * math.cos(phi)
+    return np.concatenate([[p, q, math.sqrt(r2)], rotation_quaternion(R)])
+
+
+def level_fli_map(
+    system: RigidBodySystem, energy: float, grid: tuple[int, int], t_end: float
+) -> FLIMap:
+    """The FLI over a ``(phi, v)`` grid of the section, on ``I3 = 0`` only (half the cost of
+    :func:`~chargedesign.simulation.chaos.fli_map`, which also maps an off level)."""
+    t0 = time.perf_counter()
+    phi = np.linspace(0.0, 2.0 * math.pi, grid[0], endpoint=False)
+    v = np.linspace(0.05, 1.0, grid[1]) * math.sqrt(max(energy, 1e-300) / system.C)
+    values = np.full((grid[1], grid[0]), np.nan)
+    starts, where = [], []
+    for a, angle in enumerate(phi):
+        for b, speed in enumerate(v):
+            state = section_state(system, float(angle), float(speed), energy)
+            if state is not None:
+                starts.append(state)
+                where.append((b, a))
+    if starts:
+        fli = fast_lyapunov_indicator(system, np.array(starts), t_end)
+        for (b, a), value in zip(where, fli, strict=True):
+            values[b, a] = value
+    return FLIMap(
+        phi=phi,
+        v=v,
+        fli=[values],
+        levels=(0.0, 0.0),
+        energy=float(energy),
+        t_end=float(t_end),
+        seconds=time.perf_counter() - t0,
+    )
+
+
 @dataclass(repr=False)
 class LinkedPictures(Result):
     """The diagram, the atlas and the FLI map at one energy (see the module docstring)."""
@@ -101,6 +157,13 @@ class LinkedPictures(Result):
             f"energy {self.energy:.6g} J: critical values of k {values}; atlas of "
             f"{len(self.orbit_k)} orbits; FLI on {len(self.fli.phi)} x {len(self.fli.v)} points\n"
         )
+
+    def _html_picture(self) -> str:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = FigureCanvasAgg(self.plot())
+        canvas.draw()
+        return png_html(np.asarray(canvas.buffer_rgba())[..., :3], 900)
 
     def plot(self) -> Any:
         """Three panels: diagram with the line h = const, atlas on I3 = 0, FLI on I3 = 0."""
@@ -155,7 +218,7 @@ def linked_pictures(
     orbits: int = 30,
     t_end: float = 300.0,
     fli_grid: tuple[int, int] = (64, 48),
-    fli_t_end: float = 50.0,
+    fli_t_end: float = 20.0,
 ) -> LinkedPictures:
     """The atlas and the FLI at ``energy`` (J), tied to the diagram (see the module)."""
     lo, hi = diagram.raw.h_range
@@ -174,5 +237,5 @@ def linked_pictures(
     critical = critical_motions(diagram, energy)
     starts = np.array([_seven_state(c.state) for c in critical]).reshape(-1, 7)
     critical_orbits = _section_points(system, starts, t_end) if len(starts) else []
-    fmap = fli_map(system, energy=energy, n_phi=fli_grid[0], n_v=fli_grid[1], t_end=fli_t_end)
+    fmap = level_fli_map(system, energy, fli_grid, fli_t_end)
     return LinkedPictures(diagram, energy, critical, atlas, orbit_k, critical_orbits, fmap)
