@@ -6,6 +6,7 @@ import csv
 import io
 
 import numpy as np
+import pytest
 
 from chargedesign.model.evaluators import integrals, rhs
 from chargedesign.params import Parameters
@@ -72,3 +73,24 @@ def test_the_default_case_has_its_three_vertices(unit_diagram):
     assert kinds == sorted(["centre-centre", "centre-saddle", "saddle-saddle"] * 2)
     types = {t for b in unit_diagram.branches for t in b.types}
     assert {"elliptic", "hyperbolic"} <= types
+
+
+def test_the_result_follows_the_protocol(unit_diagram):
+    import json
+
+    from chargedesign.results import REPR_LIMIT
+
+    data = json.loads(unit_diagram.to_json())
+    assert data["larmor_shift"] == pytest.approx(UNIT.C * UNIT.n**2)
+    assert len(data["branches"]) == len(unit_diagram.branches)
+    assert len(repr(unit_diagram)) <= REPR_LIMIT
+    assert repr(unit_diagram).startswith("BifurcationDiagram(")
+    assert str(unit_diagram).startswith("bifurcation diagram of (H, I4) on I3 = 0")
+    page = unit_diagram._repr_html_()
+    assert "<table>" in page and "<img" in page
+
+
+def test_write_puts_both_files_in_place(unit_diagram, tmp_path):
+    out = unit_diagram.write(tmp_path / "bif")
+    assert (out / "bifurcation.csv").read_text().startswith("h,k,branch,type,p,q,r,")
+    assert (out / "bifurcation.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
