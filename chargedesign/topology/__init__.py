@@ -7,5 +7,6 @@
 - :mod:`.stability`: elliptic or hyperbolic, from the linearised flow's eigenvalues.
 - :mod:`.chambers`: tori over a point (h, k), by sampling the level and counting components.
 - :mod:`.compute`: the stages, timed.
-- :mod:`.diagram`: the result (CSV, picture), computed at n = 0 and shifted by C n^2.
+- :mod:`.diagram`: the result (CSV, picture), computed at unit time scale and n = 0, then
+  mapped exactly (time scale; Larmor: shifted by C n^2).
 """

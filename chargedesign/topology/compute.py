@@ -107,7 +107,7 @@ def resolve_range(
     """
     low, top = energy_bounds(F)
     if h_range is None:
-        return (low, top + 0.5 * (top - low) + 1e-9), low
+        return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
         raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")

@@ -45,31 +45,68 @@ def larmor_shift(params: Parameters) -> float:
     return params.C * params.n**2
 
 
-def _shift_states(states: np.ndarray, n: float) -> np.ndarray:
-    out = states.copy()
-    out[:, :3] -= n * out[:, 3:]
-    return out
+@dataclass(frozen=True)
+class Reading:
+    """How the unit n = 0 computation is read at the user's parameters (exact maps).
+
+    Time scale ``s``: with ``C = 1``, ``n = 0``, ``K / s`` and ``kappa / s^2`` the equations
+    are those of the parameters read with time in units of ``1 / s`` (every term of H is
+    ``C s^2`` times a dimensionless one, I4 ``s^4`` times, omega ``s`` times). Then Larmor:
+    ``omega = s omega_unit - n gamma``, ``h = C s^2 h_unit + C n^2``, ``k = s^4 k_unit``.
+    """
+
+    params: Parameters
+    s: float
+
+    @classmethod
+    def of(cls, params: Parameters) -> Reading:
+        s = max(abs(params.n), abs(params.K), abs(params.kappa) ** 0.5)
+        return cls(params, s if s > 0.0 else 1.0)
+
+    def unit(self) -> Parameters:
+        p, s = self.params, self.s
+        return Parameters(C=1.0, c=p.c, d=p.d, n=0.0, K=p.K / s, kappa=p.kappa / s**2)
+
+    def energy(self, h_unit: Any) -> Any:
+        return self.params.C * self.s**2 * np.asarray(h_unit) + larmor_shift(self.params)
+
+    def energy_unit(self, h: float) -> float:
+        return (h - larmor_shift(self.params)) / (self.params.C * self.s**2)
+
+    def image(self, hk: np.ndarray) -> np.ndarray:
+        out = np.array(hk, dtype=float)
+        out[..., 0] = self.energy(out[..., 0])
+        out[..., 1] *= self.s**4
+        return out
+
+    def states(self, x: np.ndarray) -> np.ndarray:
+        out = np.array(x, dtype=float)
+        out[..., :3] = self.s * out[..., :3] - self.params.n * out[..., 3:]
+        return out
 
 
-def shifted(raw: RawDiagram, params: Parameters) -> RawDiagram:
-    """The n = 0 diagram ``raw`` read at ``params`` (its n): states mapped, h shifted."""
-    dh, n = larmor_shift(params), params.n
-    move = np.array([dh, 0.0])
-    branches = [replace(b, states=_shift_states(b.states, n), hk=b.hk + move) for b in raw.branches]
-    vertices = [
-        Vertex(_shift_states(v.state[None], n)[0], v.hk + move, v.type) for v in raw.vertices
+def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
+    """The unit n = 0 diagram ``raw`` read at the user's parameters (:class:`Reading`)."""
+    branches = [
+        replace(b, states=reading.states(b.states), hk=reading.image(b.hk)) for b in raw.branches
     ]
-    chambers = [Chamber(c.h + dh, c.k, c.tori, c.walls) for c in raw.chambers]
-    admissible = raw.admissible + np.array([dh, 0.0, 0.0])
-    h_range = (raw.h_range[0] + dh, raw.h_range[1] + dh)
+    vertices = [Vertex(reading.states(v.state), reading.image(v.hk), v.type) for v in raw.vertices]
+    chambers = [
+        Chamber(float(reading.energy(c.h)), c.k * reading.s**4, c.tori, c.walls)
+        for c in raw.chambers
+    ]
+    band = raw.admissible.copy()
+    band[:, 0] = reading.energy(band[:, 0])
+    band[:, 1:] *= reading.s**4
+    h_range = (float(reading.energy(raw.h_range[0])), float(reading.energy(raw.h_range[1])))
     return RawDiagram(
-        params,
+        reading.params,
         h_range,
-        raw.h_min + dh,
+        float(reading.energy(raw.h_min)),
         branches,
         vertices,
         chambers,
-        admissible,
+        band,
         raw.seconds,
         raw.seeds_found,
     )
@@ -80,48 +117,52 @@ def bifurcation_diagram(
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
 ) -> BifurcationDiagram:
-    """The diagram at ``params``: computed at n = 0, then mapped exactly (Larmor).
+    """The diagram at ``params``: computed at unit time scale and n = 0, then mapped exactly
+    (:class:`Reading`: the time scale and Larmor's ``H_n = H_0 + C n^2``).
 
-    ``h_range`` (J) is the energy range at ``params`` (shifted by ``-C n^2`` for the n = 0
-    computation); default: from the least energy on the level to the top of the amended
-    potential plus half its span.
+    ``h_range`` (J) is the energy range at ``params``; default: from the least energy on the
+    level to the top of the amended potential plus half its span.
     """
-    base_range = check_energy_range(params, h_range)
-    raw = critical_diagram(params.replace(n=0.0), base_range, options)
-    return BifurcationDiagram(shifted(raw, params))
+    reading = Reading.of(params)
+    unit_range = check_energy_range(params, h_range)
+    raw = critical_diagram(reading.unit(), unit_range, options)
+    return BifurcationDiagram(mapped(raw, reading))
 
 
 def check_energy_range(
     params: Parameters, h_range: tuple[float, float] | None
 ) -> tuple[float, float] | None:
     """Refuse singular parameters and an energy range (J, at ``params``) without admissible
-    motion, in one line, before any work; returns the range at n = 0 (shifted by -C n^2)."""
+    motion, in one line, before any work; returns the range of the unit computation."""
     require_regular(params)
     if h_range is None:
         return None
-    dh = larmor_shift(params)
-    base = MomentumMap(params.replace(n=0.0))
+    lo, hi = (float(v) for v in h_range)
+    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+    reading = Reading.of(params)
+    unit = MomentumMap(reading.unit())
+    unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
     try:
-        resolve_range(base, (h_range[0] - dh, h_range[1] - dh))
+        resolve_range(unit, unit_range)
     except InputError:
-        _, low = resolve_range(base, None)
-        lo, hi = (float(v) for v in h_range)
-        if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-            raise InputError(
-                f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}"
-            ) from None
+        _, low = resolve_range(unit, None)
         raise InputError(
             f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
-            f"energy is at least {low + dh:.6g} J"
+            f"energy is at least {float(reading.energy(low)):.6g} J"
         ) from None
-    return (h_range[0] - dh, h_range[1] - dh)
+    return unit_range
 
 
-def vertex_groups(vertices: list[Vertex]) -> dict[tuple[float, float, str], int]:
-    """Vertices with the same image and type (symmetric states), counted."""
+def vertex_groups(
+    vertices: list[Vertex], size: tuple[float, float] = (1.0, 1.0)
+) -> dict[tuple[float, float, str], int]:
+    """Vertices with the same image (to 1e-9 of ``size``, the diagram's extent in h and k)
+    and type (symmetric states), counted; keys are the images rounded to that precision."""
     groups: dict[tuple[float, float, str], int] = {}
     for v in vertices:
-        key = (round(float(v.hk[0]), 9), round(float(v.hk[1]), 9), v.type)
+        h, k = (round(float(v.hk[i]) / size[i], 9) * size[i] for i in range(2))
+        key = (h, k, v.type)
         groups[key] = groups.get(key, 0) + 1
     return groups
 
@@ -182,6 +223,7 @@ class BifurcationDiagram(Result):
             "h_range": list(raw.h_range),
             "h_min": raw.h_min,
             "larmor_shift": larmor_shift(raw.params),
+            "time_scale": Reading.of(raw.params).s,
             "branches": [
                 {
                     "branch": i,
@@ -210,7 +252,7 @@ class BifurcationDiagram(Result):
             "branches": len(self.branches),
             "points": sum(len(b.hk) for b in self.branches),
             "vertices": len(self.raw.vertices),
-            "h_range": [round(v, 6) for v in self.raw.h_range],
+            "h_range": [float(f"{v:.6g}") for v in self.raw.h_range],
             "tori_per_chamber": tori,
         }
 
@@ -219,8 +261,9 @@ class BifurcationDiagram(Result):
         lines = [
             "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
             f"  energy range {raw.h_range[0]:.6g} .. {raw.h_range[1]:.6g} J "
-            f"(least energy on the level {raw.h_min:.6g} J; computed at n = 0 and shifted "
-            f"by C n^2 = {larmor_shift(raw.params):.6g} J)",
+            f"(least energy on the level {raw.h_min:.6g} J)",
+            f"  computed at n = 0 in time units of 1/s, s = {Reading.of(raw.params).s:.6g} 1/s, "
+            f"then mapped exactly (Larmor: h shifted by C n^2 = {larmor_shift(raw.params):.6g} J)",
         ]
         for item in self.to_dict()["branches"]:
             kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
@@ -229,7 +272,10 @@ class BifurcationDiagram(Result):
                 f"{item['h'][1]:.4g} J, k {item['k'][0]:.4g} .. {item['k'][1]:.4g} 1/s^4 "
                 f"({kinds}){' exact' if item['exact'] else ''}"
             )
-        for (h, k, kind), states in vertex_groups(raw.vertices).items():
+        images = [b.hk for b in self.branches]
+        extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
+        size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
+        for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
             lines.append(f"  vertex h = {h:.6g} J, k = {k:.6g} 1/s^4: {kind} ({states} states)")
         counts = sorted({c.tori for c in raw.chambers})
         lines.append(
