@@ -124,3 +124,26 @@ def test_chaplygin_limit_lies_on_the_closed_form_curves(unit_params, small_optio
     upper = np.abs(curves[:, 0] - hk[:, 1]) < 1e-8
     assert np.any(upper) and np.any(~upper)
     assert {"elliptic", "hyperbolic"} <= {t for b in diagram.branches for t in b.types}
+
+
+def test_si_scale_is_the_unit_diagram_read_in_other_units(unit_params, small_options, unit_diagram):
+    """Slower time (n, K x 1e-3, kappa x 1e-6) and C = 2e-5 kg m^2: h x 2e-11, k x 1e-12
+    (the curves to 1e-4 of the diagram: the unit parameters agree to round-off, not bit for
+    bit, so the continuation's steps may differ)."""
+    slow = unit_params.replace(
+        C=2e-5, n=unit_params.n * 1e-3, K=unit_params.K * 1e-3, kappa=unit_params.kappa * 1e-6
+    )
+    si = bifurcation_diagram(slow, None, small_options)
+    units = np.array([2e-11, 1e-12])
+    read_back = [b.hk / units for b in si.branches]
+    reference = [b.hk for b in unit_diagram.branches]
+    size = np.ptp(np.concatenate(reference), axis=0)
+    assert len(read_back) == len(reference)
+    for hk in read_back:
+        assert np.max(_polyline_distance(hk, reference, size)) < 1e-4
+    for hk in reference:
+        assert np.max(_polyline_distance(hk, read_back, size)) < 1e-4
+    assert [b.types[len(b.types) // 2] for b in si.branches] == [
+        b.types[len(b.types) // 2] for b in unit_diagram.branches
+    ]
+    assert [c.tori for c in si.raw.chambers] == [c.tori for c in unit_diagram.raw.chambers]
