@@ -9,4 +9,5 @@
 - :mod:`.compute`: the stages, timed.
 - :mod:`.diagram`: the result (CSV, picture), computed at unit time scale and n = 0, then
   mapped exactly (time scale; Larmor: shifted by C n^2).
+- :mod:`.links`: the diagram beside the Poincare atlas and the FLI map at one energy (heyoka).
 """
