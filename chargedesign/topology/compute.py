@@ -10,7 +10,7 @@ parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from itertools import pairwise
 
 import numpy as np
@@ -93,9 +93,24 @@ class RawDiagram:
 
 def energy_bounds(F: MomentumMap) -> tuple[float, float]:
     """Least energy on the level and the highest relative-equilibrium energy bound (the
-    amended potential's extremes over a fine sphere grid), J."""
-    values = amended_minimum(F, sphere_points(20000))
-    return float(values.min()), float(values.max())
+    amended potential's extremes over a fine sphere grid, the least one refined), J."""
+    from scipy.optimize import minimize
+
+    grid = sphere_points(20000)
+    values = amended_minimum(F, grid)
+    best = grid[int(np.argmin(values))]
+
+    def amended(angles: np.ndarray) -> float:
+        theta, phi = angles
+        gamma = np.array(
+            [[np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)]]
+        )
+        return float(amended_minimum(F, gamma)[0])
+
+    start = np.array([np.arccos(np.clip(best[2], -1.0, 1.0)), np.arctan2(best[1], best[0])])
+    refined = minimize(amended, start, method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 0.0})
+    low = min(float(values.min()), float(refined.fun))
+    return low, float(values.max())
 
 
 def resolve_range(
@@ -185,10 +200,14 @@ def critical_diagram(
     if len(exact.z):
         branches.append(
             TracedBranch(
-                exact.z[:, :6], exact.hk, ["degenerate"] * len(exact.z), ("end", "range"), True
+                exact.z[:, :6],
+                exact.hk,
+                ["degenerate"] * len(exact.z),
+                ("end", "energy range"),
+                True,
             )
         )
-    branches = [run for b in branches for run in _clipped(b, scales)]
+    branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
     lap("stability")
     chambers, admissible = chamber_samples(F, branches, scales, options)
     lap("chambers")
@@ -215,6 +234,18 @@ def _clipped(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
                 )
             )
     return runs
+
+
+def _name_ends(branch: TracedBranch, vertices: list[Vertex], scales: Scales) -> TracedBranch:
+    """An end where the step collapsed is called ``vertex`` when it lies at a rank-zero
+    point's image (within 0.2 % of the diagram): the family ends at a relative equilibrium
+    or meets another family there."""
+    ends = list(branch.ends)
+    for side, hk in ((0, branch.hk[0]), (1, branch.hk[-1])):
+        near = [np.linalg.norm(scales.image(hk - v.hk)) < 2e-3 for v in vertices]
+        if ends[side] == "end" and any(near):
+            ends[side] = "vertex"
+    return replace(branch, ends=(ends[0], ends[1]))
 
 
 def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]:

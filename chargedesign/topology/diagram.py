@@ -270,7 +270,7 @@ class BifurcationDiagram(Result):
             lines.append(
                 f"  branch {item['branch']}: {item['points']} points, h {item['h'][0]:.4g} .. "
                 f"{item['h'][1]:.4g} J, k {item['k'][0]:.4g} .. {item['k'][1]:.4g} 1/s^4 "
-                f"({kinds}){' exact' if item['exact'] else ''}"
+                f"({kinds}; ends: {', '.join(item['ends'])}){' exact' if item['exact'] else ''}"
             )
         images = [b.hk for b in self.branches]
         extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
