@@ -104,15 +104,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign.api import (
-        bifurcation,
-        check,
-        design,
-        frontier,
-        simulate,
-        sweep,
-        tolerance,
-    )
+    from chargedesign.api import bifurcation, check, design, frontier, simulate, sweep, tolerance
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
     from chargedesign.conditions import conditions_for_scene as conditions
