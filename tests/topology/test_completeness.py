@@ -76,24 +76,30 @@ def brute_force(F, count, h_range, scales, seed=7):
     return np.array(found).reshape(-1, 2)
 
 
-def _distance_to_diagram(point, diagram, size):
+def _distance(point, curves, vertices, size):
+    """Distance (diagram units) from an image point to polylines ``curves`` and points."""
     best = np.inf
-    for branch in diagram.branches:
-        a, b = branch.hk[:-1] / size, branch.hk[1:] / size
-        q = point / size
+    q = point / size
+    for hk in curves:
+        a, b = hk[:-1] / size, hk[1:] / size
         ab = b - a
         s = np.einsum("ij,ij->i", q - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
         s = np.clip(s, 0.0, 1.0)
         best = min(best, float(np.min(np.linalg.norm(a + s[:, None] * ab - q, axis=1))))
-    for v in diagram.raw.vertices:
-        best = min(best, float(np.linalg.norm((v.hk - point) / size)))
+    for v in vertices:
+        best = min(best, float(np.linalg.norm(v / size - q)))
     return best
 
 
 def test_brute_force_finds_nothing_off_the_diagram(unit_diagram):
     lo, hi = unit_diagram.raw.h_range
-    size = np.ptp(np.concatenate([b.hk for b in unit_diagram.branches]), axis=0)
+    curves = [b.hk for b in unit_diagram.branches]
+    vertices = [v.hk for v in unit_diagram.raw.vertices]
+    size = np.ptp(np.concatenate(curves), axis=0)
     found = brute_force(MomentumMap(UNIT), 150, (lo, hi), size)
     assert len(found) >= 20, len(found)  # the search works
-    distances = [_distance_to_diagram(p, unit_diagram, size) for p in found]
+    distances = [_distance(p, curves, vertices, size) for p in found]
     assert max(distances) < 0.01, found[int(np.argmax(distances))]
+    # and the search, knowing nothing of the branches, meets every one of them
+    for hk in curves:
+        assert min(_distance(p, [hk], [], size) for p in found) < 0.01
