@@ -154,6 +154,15 @@ def check_energy_range(
     return unit_range
 
 
+def energy_range(params: Parameters, h_range: tuple[float, float] | None) -> tuple[float, float]:
+    """The energy range (J, at ``params``) the diagram will cover: ``h_range`` checked and
+    raised to the least energy, or the default (see :func:`bifurcation_diagram`)."""
+    unit_range = check_energy_range(params, h_range)
+    reading = Reading.of(params)
+    resolved, _ = resolve_range(MomentumMap(reading.unit()), unit_range)
+    return float(reading.energy(resolved[0])), float(reading.energy(resolved[1]))
+
+
 def vertex_groups(
     vertices: list[Vertex], size: tuple[float, float] = (1.0, 1.0)
 ) -> dict[tuple[float, float, str], int]:

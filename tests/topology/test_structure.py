@@ -147,3 +147,26 @@ def test_si_scale_is_the_unit_diagram_read_in_other_units(unit_params, small_opt
         b.types[len(b.types) // 2] for b in unit_diagram.branches
     ]
     assert [c.tori for c in si.raw.chambers] == [c.tori for c in unit_diagram.raw.chambers]
+
+
+def test_command_line_energy_outside_the_range_is_one_line(tmp_path):
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "chargedesign",
+            "bifurcation",
+            "examples/scenes/unit_scale.toml",
+            "--at",
+            "99",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "--at: expected an energy inside" in lines[0], run.stderr
+    assert not (tmp_path / "out").exists()
