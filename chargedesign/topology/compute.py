@@ -28,6 +28,7 @@ from chargedesign.topology.critical import (
     equator_family,
     equator_vertices,
     equilibria,
+    multipliers,
     rank_zero,
     sphere_points,
 )
@@ -162,9 +163,13 @@ def _vertices(F: MomentumMap, scales: Scales) -> list[Vertex]:
     points = distinct(
         CriticalPoints(np.concatenate([p.z for p in found]), np.concatenate([p.hk for p in found]))
     )
+    # the type is that of the energy's flow: (a, b) = (1, 0), multipliers refitted
+    z = points.z.copy()
+    z[:, 6] = 0.0
+    z[:, 7:] = multipliers(F, z[:, :6], z[:, 6], scales)
     return [
-        Vertex(z[:6], hk, equilibrium_type(linearised_eigenvalues(F, z, scales)))
-        for z, hk in zip(points.z, points.hk, strict=True)
+        Vertex(zi[:6], hk, equilibrium_type(linearised_eigenvalues(F, zi, scales)))
+        for zi, hk in zip(z, points.hk, strict=True)
     ]
 
 
