@@ -36,6 +36,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "tolerance": ("chargedesign.api", "tolerance"),
     "sweep": ("chargedesign.api", "sweep"),
     "testbed": ("chargedesign.api", "testbed"),
+    "bifurcation": ("chargedesign.api", "bifurcation"),
     "verify": ("chargedesign.model.verification", "verify"),
     "conditions": ("chargedesign.moment_conditions", "conditions_for_scene"),
     # elements and files
@@ -53,9 +54,11 @@ _LAZY: dict[str, tuple[str, str]] = {
     "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
     "LinearConditions": ("chargedesign.moment_conditions.types", "LinearConditions"),
     "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
+    "BifurcationDiagram": ("chargedesign.topology.diagram", "BifurcationDiagram"),
 }
 
 __all__ = [
+    "BifurcationDiagram",
     "ChargeDesignError",
     "CheckReport",
     "Design",
@@ -70,6 +73,7 @@ __all__ = [
     "SolverError",
     "VerificationReport",
     "__version__",
+    "bifurcation",
     "check",
     "conditions",
     "design",
@@ -102,7 +106,16 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
-    from chargedesign.api import check, design, frontier, simulate, sweep, testbed, tolerance
+    from chargedesign.api import (
+        bifurcation,
+        check,
+        design,
+        frontier,
+        simulate,
+        sweep,
+        testbed,
+        tolerance,
+    )
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
     from chargedesign.designer.result import DesignResult
@@ -114,3 +127,4 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation.result import SimulationResult
+    from chargedesign.topology.diagram import BifurcationDiagram

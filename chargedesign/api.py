@@ -27,6 +27,7 @@ from chargedesign.simulation.api import simulate as simulate_scene_or_design
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
+from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
 
 
 def as_scene(source: Any = None, **tables: Any) -> Scene:
@@ -217,4 +218,25 @@ def testbed(source: Any = None, *, progress: Any = None, **options: Any) -> Test
     return testbed_from_scene(scene, progress=progress, **options)
 
 
-__all__ = ["as_scene", "check", "design", "frontier", "simulate", "sweep", "testbed", "tolerance"]
+def bifurcation(
+    source: Any = None, *, h_range: tuple[float, float] | None = None
+) -> BifurcationDiagram:
+    """The bifurcation diagram of (H, I4) on ``I3 = 0`` for the scene's parameters.
+
+    ``source``: see :func:`as_scene` (only its parameters are used); ``h_range``: energies
+    in J (default: see :func:`chargedesign.topology.diagram.bifurcation_diagram`).
+    """
+    return bifurcation_diagram(as_scene(source).parameters, h_range)
+
+
+__all__ = [
+    "as_scene",
+    "bifurcation",
+    "check",
+    "design",
+    "frontier",
+    "simulate",
+    "sweep",
+    "testbed",
+    "tolerance",
+]

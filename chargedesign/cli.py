@@ -32,6 +32,7 @@ COMMANDS = {
     "sweep": "run design, check, simulate, frontier or tolerance over a grid of scenes",
     "schema": "print the JSON Schema of design.json or of scene files",
     "testbed": "air-bearing platform, ballast, wheels and sampled closed loop (testbed.json)",
+    "bifurcation": "bifurcation diagram of (H, I4) on I3 = 0: critical set, types, chambers",
 }
 
 

@@ -17,6 +17,7 @@ AREAS = (
     "tolerance",
     "sweep",
     "testbed",
+    "bifurcation",
 )
 
 

@@ -1,0 +1,83 @@
+"""`chargedesign bifurcation [SCENE] [--h-range LO HI] [--out DIR]`: the shape of the motion.
+
+The critical set of the momentum map (H, I4) on the level ``I3 = 0, |gamma| = 1`` of the
+scene's parameters, its image (the bifurcation diagram) with the stability type of each
+branch, and the number of Liouville tori in each chamber. Writes ``DIR/bifurcation.csv``
+(``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``; consecutive rows of a branch are
+neighbours along it) and ``DIR/bifurcation.png`` (default DIR ``out/``). With ``--at H``
+also ``DIR/bifurcation_at.png``: the diagram with the line h = H beside the Poincare atlas
+on I3 = 0 (the orbits on critical values of k marked) and the FLI map at 64 x 48 (heyoka;
+about a minute). lambda or rho != 0 is refused (see docs/bifurcation.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "scene", nargs="?", default=None, help="scene file (TOML); default: embedded"
+    )
+    parser.add_argument(
+        "--h-range",
+        nargs=2,
+        type=float,
+        metavar=("LO", "HI"),
+        default=None,
+        help="energy range in J (default: from the least energy on the level to the top of "
+        "the amended potential plus half its span)",
+    )
+    parser.add_argument("--out", default="out", metavar="DIR", help="output folder (default out/)")
+    parser.add_argument(
+        "--at",
+        type=float,
+        default=None,
+        metavar="H",
+        help="also draw the atlas and the FLI map at the energy H (J) beside the diagram "
+        "(bifurcation_at.png)",
+    )
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
+
+
+def run(args: argparse.Namespace) -> int:
+    from chargedesign.errors import InputError
+    from chargedesign.files import atomic_directory, check_outputs
+    from chargedesign.scene import load_scene
+    from chargedesign.topology.diagram import bifurcation_diagram, energy_range
+
+    check_outputs(
+        [("--out", args.out, True)],
+        inputs=[args.scene],
+        writes=("bifurcation.csv", "bifurcation.png", "bifurcation_at.png"),
+    )
+    scene = load_scene(args.scene)
+    h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
+    lo, hi = energy_range(scene.parameters, h_range)
+    if args.at is not None and not lo < args.at < hi:
+        raise InputError(f"--at: expected an energy inside {lo:.6g} .. {hi:.6g} J, got {args.at:g}")
+    if not args.quiet:
+        print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
+    diagram = bifurcation_diagram(scene.parameters, h_range)
+    linked = None
+    if args.at is not None:
+        from chargedesign.topology.links import linked_pictures
+
+        linked = linked_pictures(diagram, args.at, orbits=20, t_end=200.0, fli_t_end=10.0)
+    # every file or none; a picture at another energy from an earlier run is not kept
+    stale = () if linked is not None else ("bifurcation_at.png",)
+    with atomic_directory(args.out, drop=stale) as stage:
+        diagram.write(args.out)
+        if linked is not None:
+            linked.plot().savefig(stage / "bifurcation_at.png", dpi=90)
+    if args.json:
+        print(diagram.to_json())
+    else:
+        print(str(diagram), end="")
+        if linked is not None:
+            print(str(linked), end="")
+        names = ["bifurcation.csv", "bifurcation.png"] + (["bifurcation_at.png"] if linked else [])
+        print("wrote " + ", ".join(f"{args.out}/{name}" for name in names))
+    return 0

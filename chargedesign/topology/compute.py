@@ -1,0 +1,300 @@
+"""The diagram's computation, stage by stage, for one parameter set (any n).
+
+Stages (each timed): compile the exact equations; find the energy range's admissible part;
+seeds (random points of the level corrected by Gauss-Newton) and rank-zero points; the
+exact equator family; continuation of every family through the seeds; the stability type of
+every point; the tori count of each chamber. :func:`critical_diagram` runs them for the
+parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from itertools import pairwise
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.params import Parameters
+from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
+from chargedesign.topology.chambers import LevelSampler, LevelSampling
+from chargedesign.topology.critical import (
+    CriticalPoints,
+    Scales,
+    amended_minimum,
+    critical_seeds,
+    distinct,
+    equator_family,
+    equator_vertices,
+    equilibria,
+    multipliers,
+    rank_zero,
+    sphere_points,
+)
+from chargedesign.topology.equations import MomentumMap
+from chargedesign.topology.stability import branch_types, equilibrium_type, linearised_eigenvalues
+
+
+@dataclass(frozen=True)
+class DiagramOptions:
+    """How hard to look: seeds, continuation steps, level sampling, chamber columns."""
+
+    seeds: int = 300
+    seed: int = 0
+    continuation: ContinuationSettings = field(default_factory=ContinuationSettings)
+    sampling: LevelSampling = field(default_factory=LevelSampling)
+    columns: int = 12
+
+
+@dataclass
+class TracedBranch:
+    """A branch of the diagram: states (m, 6), image (m, 2), type per point, its ends."""
+
+    states: np.ndarray
+    hk: np.ndarray
+    types: list[str]
+    ends: tuple[str, str]
+    exact: bool = False
+
+
+@dataclass
+class Vertex:
+    """A rank-zero point (relative equilibrium critical for both integrals)."""
+
+    state: np.ndarray
+    hk: np.ndarray
+    type: str
+
+
+@dataclass
+class Chamber:
+    """A sample point of a chamber with its number of tori (and at doubled sampling)."""
+
+    h: float
+    k: float
+    tori: int
+    walls: tuple[int, int]
+
+
+@dataclass
+class RawDiagram:
+    """What :func:`critical_diagram` computes (SI, body axes, at the parameters given)."""
+
+    params: Parameters
+    h_range: tuple[float, float]
+    h_min: float
+    branches: list[TracedBranch]
+    vertices: list[Vertex]
+    chambers: list[Chamber]
+    admissible: np.ndarray  # (columns, 3): h, k_min, k_max
+    seconds: dict[str, float]
+    seeds_found: int
+
+
+def energy_bounds(F: MomentumMap) -> tuple[float, float]:
+    """Least energy on the level and the highest relative-equilibrium energy bound (the
+    amended potential's extremes over a fine sphere grid, the least one refined), J."""
+    from scipy.optimize import minimize
+
+    grid = sphere_points(20000)
+    values = amended_minimum(F, grid)
+    best = grid[int(np.argmin(values))]
+
+    def amended(angles: np.ndarray) -> float:
+        theta, phi = angles
+        gamma = np.array(
+            [[np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)]]
+        )
+        return float(amended_minimum(F, gamma)[0])
+
+    start = np.array([np.arccos(np.clip(best[2], -1.0, 1.0)), np.arctan2(best[1], best[0])])
+    refined = minimize(amended, start, method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 0.0})
+    low = min(float(values.min()), float(refined.fun))
+    return low, float(values.max())
+
+
+def resolve_range(
+    F: MomentumMap, h_range: tuple[float, float] | None
+) -> tuple[tuple[float, float], float]:
+    """The energy range (J) clipped to the admissible energies, and the least energy.
+
+    Default: from the least energy to the top of the amended potential plus half its span.
+    """
+    low, top = energy_bounds(F)
+    if h_range is None:
+        return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
+    lo, hi = (float(v) for v in h_range)
+    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+    if hi <= low:
+        raise InputError(
+            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
+            f"energy is at least {low:.6g} J"
+        )
+    return (max(lo, low), hi), low
+
+
+def make_scales(F: MomentumMap, h_range: tuple[float, float]) -> Scales:
+    """Diagram units: the energy span and the largest I4 at the top energy."""
+    sampler = LevelSampler(F, h_range[1], LevelSampling(800, 24))
+    k_top = float(np.max(sampler.quartic, initial=0.0))
+    return Scales(
+        energy=h_range[1] - h_range[0],
+        quartic=max(k_top, 1e-12),
+        h_low=h_range[0],
+        h_high=h_range[1],
+    )
+
+
+def _seeds(F: MomentumMap, scales: Scales, options: DiagramOptions) -> CriticalPoints:
+    """Random seeds without the rank-zero points and the exact equator family."""
+    found = critical_seeds(F, scales, options.seeds, np.random.default_rng(options.seed))
+    x = found.z[:, :6]
+    P = x[:, 0] + F.params.n * x[:, 3]
+    Q = x[:, 1] + F.params.n * x[:, 4]
+    on_equator = (np.abs(x[:, 5]) < 1e-4) & (np.hypot(P, Q) < 1e-3)
+    keep = ~rank_zero(F, x) & ~on_equator & (found.hk[:, 1] > 1e-9 * scales.quartic)
+    return CriticalPoints(found.z[keep], found.hk[keep])
+
+
+def _vertices(F: MomentumMap, scales: Scales) -> list[Vertex]:
+    found = [equilibria(F, scales), equator_vertices(F, scales)]
+    points = distinct(
+        CriticalPoints(np.concatenate([p.z for p in found]), np.concatenate([p.hk for p in found]))
+    )
+    # the type is that of the energy's flow: (a, b) = (1, 0), multipliers refitted
+    z = points.z.copy()
+    z[:, 6] = 0.0
+    z[:, 7:] = multipliers(F, z[:, :6], z[:, 6], scales)
+    return [
+        Vertex(zi[:6], hk, equilibrium_type(linearised_eigenvalues(F, zi, scales)))
+        for zi, hk in zip(z, points.hk, strict=True)
+    ]
+
+
+def critical_diagram(
+    params: Parameters,
+    h_range: tuple[float, float] | None = None,
+    options: DiagramOptions | None = None,
+) -> RawDiagram:
+    """The critical set, its image and the chambers, computed at ``params`` as given."""
+    options = options or DiagramOptions()
+    seconds: dict[str, float] = {}
+    clock = time.perf_counter()
+
+    def lap(stage: str) -> None:
+        nonlocal clock
+        now = time.perf_counter()
+        seconds[stage] = now - clock
+        clock = now
+
+    F = MomentumMap(params)
+    F.hessians(np.zeros((2, 6)))
+    lap("equations")
+    rng_range, h_min = resolve_range(F, h_range)
+    scales = make_scales(F, rng_range)
+    lap("energy range")
+    seeds = _seeds(F, scales, options)
+    vertices = _vertices(F, scales)
+    lap("seeds")
+    raw = trace_all(F, seeds, scales, options.continuation)
+    exact = equator_family(F, scales, options.continuation.max_image_step)
+    lap("continuation")
+    branches = [_typed(F, b, scales) for b in raw if len(b.z) > 1]
+    if len(exact.z):
+        branches.append(
+            TracedBranch(
+                exact.z[:, :6],
+                exact.hk,
+                ["degenerate"] * len(exact.z),
+                ("end", "energy range"),
+                True,
+            )
+        )
+    branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
+    lap("stability")
+    chambers, admissible = chamber_samples(F, branches, scales, options)
+    lap("chambers")
+    return RawDiagram(
+        params, rng_range, h_min, branches, vertices, chambers, admissible, seconds, len(seeds.z)
+    )
+
+
+def _typed(F: MomentumMap, branch: Branch, scales: Scales) -> TracedBranch:
+    return TracedBranch(branch.z[:, :6], branch.hk, branch_types(F, branch.z, scales), branch.ends)
+
+
+def _clipped(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
+    """The runs of at least two points inside the energy range (continuation overshoots)."""
+    slack = 1e-9 * scales.energy
+    inside = (branch.hk[:, 0] >= scales.h_low - slack) & (branch.hk[:, 0] <= scales.h_high + slack)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], inside.astype(int), [0]])))
+    runs = []
+    for a, b in zip(edges[::2], edges[1::2], strict=True):
+        if b - a > 1:
+            runs.append(
+                TracedBranch(
+                    branch.states[a:b], branch.hk[a:b], branch.types[a:b], branch.ends, branch.exact
+                )
+            )
+    return runs
+
+
+def _name_ends(branch: TracedBranch, vertices: list[Vertex], scales: Scales) -> TracedBranch:
+    """An end where the step collapsed is called ``vertex`` when it lies at a rank-zero
+    point's image (within 0.2 % of the diagram): the family ends at a relative equilibrium
+    or meets another family there."""
+    ends = list(branch.ends)
+    for side, hk in ((0, branch.hk[0]), (1, branch.hk[-1])):
+        near = [np.linalg.norm(scales.image(hk - v.hk)) < 2e-3 for v in vertices]
+        if ends[side] == "end" and any(near):
+            ends[side] = "vertex"
+    return replace(branch, ends=(ends[0], ends[1]))
+
+
+def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]:
+    """``(k, branch index)`` where each branch's polyline crosses the vertical line h."""
+    out = []
+    for index, branch in enumerate(branches):
+        hs, ks = branch.hk[:, 0], branch.hk[:, 1]
+        side = np.sign(hs - h)
+        for i in np.flatnonzero(side[:-1] * side[1:] < 0):
+            w = (h - hs[i]) / (hs[i + 1] - hs[i])
+            out.append((float(ks[i] + w * (ks[i + 1] - ks[i])), index))
+    return sorted(out)
+
+
+def chamber_samples(
+    F: MomentumMap, branches: list[TracedBranch], scales: Scales, options: DiagramOptions
+) -> tuple[list[Chamber], np.ndarray]:
+    """Tori counts between consecutive critical values on ``options.columns`` energies, and
+    the sampled admissible band ``(h, k_min, k_max)`` there."""
+    width = scales.h_high - scales.h_low
+    columns = scales.h_low + width * (np.arange(options.columns) + 0.5) / options.columns
+    chambers: list[Chamber] = []
+    for h in columns:
+        sampler = LevelSampler(F, float(h), options.sampling)
+        if sampler.quartic.size == 0:
+            continue
+        k_lo, k_hi = float(sampler.quartic.min()), float(sampler.quartic.max())
+        walls = [(k_lo, -1)] + [c for c in crossings(branches, float(h)) if k_lo < c[0] < k_hi]
+        walls.append((k_hi, -1))
+        for (k_a, wall_a), (k_b, wall_b) in pairwise(walls):
+            if k_b - k_a < 2e-3 * scales.quartic:
+                continue
+            k = 0.5 * (k_a + k_b)
+            tori = sampler.tori(k)
+            if tori:
+                chambers.append(Chamber(float(h), k, tori, (wall_a, wall_b)))
+    return chambers, admissible_band(F, scales)
+
+
+def admissible_band(F: MomentumMap, scales: Scales, energies: int = 41) -> np.ndarray:
+    """``(h, k_min, k_max)`` of I4 over a coarse sampling of each energy level, (m, 3)."""
+    band = []
+    for h in np.linspace(scales.h_low, scales.h_high, energies)[1:]:
+        sampler = LevelSampler(F, float(h), LevelSampling(1500, 32))
+        if sampler.quartic.size:
+            band.append((h, float(sampler.quartic.min()), float(sampler.quartic.max())))
+    return np.array(band).reshape(-1, 3)

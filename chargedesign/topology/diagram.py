@@ -1,0 +1,355 @@
+"""The bifurcation diagram of (H, I4) on ``I3 = 0`` as a result: CSV, picture, summary.
+
+Uses the structure (Larmor, :mod:`chargedesign.model.larmor`): on the level ``I3 = 0,
+|gamma| = 1`` the map ``omega = omega0 - n gamma`` takes the n = 0 system to the n-system
+with ``H_n = H_0 + C n^2`` and ``I4_n = I4_0`` exactly. So :func:`bifurcation_diagram`
+computes the diagram at n = 0 and maps states and energies; the tests compare with a
+direct computation at n != 0.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.params import Parameters
+from chargedesign.results import Result, png_html
+from chargedesign.topology.compute import (
+    Chamber,
+    DiagramOptions,
+    RawDiagram,
+    TracedBranch,
+    Vertex,
+    critical_diagram,
+    resolve_range,
+)
+from chargedesign.topology.equations import MomentumMap, require_regular
+from chargedesign.topology.stability import TYPES
+
+#: the CSV's columns (the contract's header)
+CSV_COLUMNS = ("h", "k", "branch", "type", "p", "q", "r", "gamma1", "gamma2", "gamma3")
+#: the colour of each type in the picture
+TYPE_COLOURS = {"elliptic": "tab:blue", "hyperbolic": "tab:red", "degenerate": "tab:green"}
+
+
+def larmor_shift(params: Parameters) -> float:
+    """``H_n(omega0 - n gamma) - H_0(omega0) = C n^2`` on ``I3 = 0, |gamma| = 1``, J."""
+    return params.C * params.n**2
+
+
+@dataclass(frozen=True)
+class Reading:
+    """How the unit n = 0 computation is read at the user's parameters (exact maps).
+
+    Time scale ``s``: with ``C = 1``, ``n = 0``, ``K / s`` and ``kappa / s^2`` the equations
+    are those of the parameters read with time in units of ``1 / s`` (every term of H is
+    ``C s^2`` times a dimensionless one, I4 ``s^4`` times, omega ``s`` times). Then Larmor:
+    ``omega = s omega_unit - n gamma``, ``h = C s^2 h_unit + C n^2``, ``k = s^4 k_unit``.
+    """
+
+    params: Parameters
+    s: float
+
+    @classmethod
+    def of(cls, params: Parameters) -> Reading:
+        s = max(abs(params.n), abs(params.K), abs(params.kappa) ** 0.5)
+        return cls(params, s if s > 0.0 else 1.0)
+
+    def unit(self) -> Parameters:
+        p, s = self.params, self.s
+        return Parameters(C=1.0, c=p.c, d=p.d, n=0.0, K=p.K / s, kappa=p.kappa / s**2)
+
+    def energy(self, h_unit: Any) -> Any:
+        return self.params.C * self.s**2 * np.asarray(h_unit) + larmor_shift(self.params)
+
+    def energy_unit(self, h: float) -> float:
+        return (h - larmor_shift(self.params)) / (self.params.C * self.s**2)
+
+    def image(self, hk: np.ndarray) -> np.ndarray:
+        out = np.array(hk, dtype=float)
+        out[..., 0] = self.energy(out[..., 0])
+        out[..., 1] *= self.s**4
+        return out
+
+    def states(self, x: np.ndarray) -> np.ndarray:
+        out = np.array(x, dtype=float)
+        out[..., :3] = self.s * out[..., :3] - self.params.n * out[..., 3:]
+        return out
+
+
+def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
+    """The unit n = 0 diagram ``raw`` read at the user's parameters (:class:`Reading`)."""
+    branches = [
+        replace(b, states=reading.states(b.states), hk=reading.image(b.hk)) for b in raw.branches
+    ]
+    vertices = [Vertex(reading.states(v.state), reading.image(v.hk), v.type) for v in raw.vertices]
+    chambers = [
+        Chamber(float(reading.energy(c.h)), c.k * reading.s**4, c.tori, c.walls)
+        for c in raw.chambers
+    ]
+    band = raw.admissible.copy()
+    band[:, 0] = reading.energy(band[:, 0])
+    band[:, 1:] *= reading.s**4
+    h_range = (float(reading.energy(raw.h_range[0])), float(reading.energy(raw.h_range[1])))
+    return RawDiagram(
+        reading.params,
+        h_range,
+        float(reading.energy(raw.h_min)),
+        branches,
+        vertices,
+        chambers,
+        band,
+        raw.seconds,
+        raw.seeds_found,
+    )
+
+
+def bifurcation_diagram(
+    params: Parameters,
+    h_range: tuple[float, float] | None = None,
+    options: DiagramOptions | None = None,
+) -> BifurcationDiagram:
+    """The diagram at ``params``: computed at unit time scale and n = 0, then mapped exactly
+    (:class:`Reading`: the time scale and Larmor's ``H_n = H_0 + C n^2``).
+
+    ``h_range`` (J) is the energy range at ``params``; default: from the least energy on the
+    level to the top of the amended potential plus half its span.
+    """
+    reading = Reading.of(params)
+    unit_range = check_energy_range(params, h_range)
+    raw = critical_diagram(reading.unit(), unit_range, options)
+    return BifurcationDiagram(mapped(raw, reading))
+
+
+def check_energy_range(
+    params: Parameters, h_range: tuple[float, float] | None
+) -> tuple[float, float] | None:
+    """Refuse singular parameters and an energy range (J, at ``params``) without admissible
+    motion, in one line, before any work; returns the range of the unit computation."""
+    require_regular(params)
+    if h_range is None:
+        return None
+    lo, hi = (float(v) for v in h_range)
+    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+    reading = Reading.of(params)
+    unit = MomentumMap(reading.unit())
+    unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
+    try:
+        resolve_range(unit, unit_range)
+    except InputError:
+        _, low = resolve_range(unit, None)
+        raise InputError(
+            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
+            f"energy is at least {float(reading.energy(low)):.6g} J"
+        ) from None
+    return unit_range
+
+
+def energy_range(params: Parameters, h_range: tuple[float, float] | None) -> tuple[float, float]:
+    """The energy range (J, at ``params``) the diagram will cover: ``h_range`` checked and
+    raised to the least energy, or the default (see :func:`bifurcation_diagram`)."""
+    unit_range = check_energy_range(params, h_range)
+    reading = Reading.of(params)
+    resolved, _ = resolve_range(MomentumMap(reading.unit()), unit_range)
+    return float(reading.energy(resolved[0])), float(reading.energy(resolved[1]))
+
+
+def vertex_groups(
+    vertices: list[Vertex], size: tuple[float, float] = (1.0, 1.0)
+) -> dict[tuple[float, float, str], int]:
+    """Vertices with the same image (to 1e-9 of ``size``, the diagram's extent in h and k)
+    and type (symmetric states), counted; keys are the images rounded to that precision."""
+    groups: dict[tuple[float, float, str], int] = {}
+    for v in vertices:
+        h, k = (round(float(v.hk[i]) / size[i], 9) * size[i] for i in range(2))
+        key = (h, k, v.type)
+        groups[key] = groups.get(key, 0) + 1
+    return groups
+
+
+def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
+    """One sample per chamber: a run of adjacent energy columns whose samples lie between the
+    same two walls with the same count; the middle sample of each run."""
+    columns = sorted({c.h for c in chambers})
+    runs: list[list[Chamber]] = []
+    last: dict[tuple[tuple[int, int], int], tuple[int, int]] = {}  # key -> (column, run)
+    for c in sorted(chambers, key=lambda c: c.h):
+        key, column = (c.walls, c.tori), columns.index(c.h)
+        previous = last.get(key)
+        if previous is not None and previous[0] == column - 1:
+            runs[previous[1]].append(c)
+            last[key] = (column, previous[1])
+        else:
+            runs.append([c])
+            last[key] = (column, len(runs) - 1)
+    return [run[len(run) // 2] for run in runs]
+
+
+@dataclass(repr=False)
+class BifurcationDiagram(Result):
+    """The bifurcation diagram: branches (critical families), vertices, chambers.
+
+    ``raw`` holds the arrays (:class:`~chargedesign.topology.compute.RawDiagram`, SI, body
+    axes). :meth:`rows` is the CSV table; :meth:`write` writes ``bifurcation.csv`` and
+    ``bifurcation.png``; :meth:`plot` draws into matplotlib axes.
+    """
+
+    raw: RawDiagram
+
+    @property
+    def branches(self) -> list[TracedBranch]:
+        return self.raw.branches
+
+    def rows(self) -> list[tuple[Any, ...]]:
+        """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
+        out = []
+        for index, b in enumerate(self.branches):
+            for hk, kind, x in zip(b.hk, b.types, b.states, strict=True):
+                out.append((float(hk[0]), float(hk[1]), index, kind, *map(float, x)))
+        return out
+
+    def csv_text(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(CSV_COLUMNS)
+        for row in self.rows():
+            writer.writerow([f"{v:.12g}" if isinstance(v, float) else v for v in row])
+        return buffer.getvalue()
+
+    def to_dict(self) -> dict[str, Any]:
+        raw = self.raw
+        return {
+            "parameters": raw.params.as_dict(),
+            "h_range": list(raw.h_range),
+            "h_min": raw.h_min,
+            "larmor_shift": larmor_shift(raw.params),
+            "time_scale": Reading.of(raw.params).s,
+            "branches": [
+                {
+                    "branch": i,
+                    "points": len(b.hk),
+                    "types": {t: b.types.count(t) for t in TYPES if t in b.types},
+                    "h": [float(b.hk[:, 0].min()), float(b.hk[:, 0].max())],
+                    "k": [float(b.hk[:, 1].min()), float(b.hk[:, 1].max())],
+                    "ends": list(b.ends),
+                    "exact": b.exact,
+                }
+                for i, b in enumerate(self.branches)
+            ],
+            "vertices": [
+                {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
+            ],
+            "chambers": [
+                {"h": c.h, "k": c.k, "tori": c.tori, "walls": list(c.walls)} for c in raw.chambers
+            ],
+            "seconds": dict(raw.seconds),
+            "seeds": raw.seeds_found,
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        tori = sorted({c.tori for c in self.raw.chambers})
+        return {
+            "branches": len(self.branches),
+            "points": sum(len(b.hk) for b in self.branches),
+            "vertices": len(self.raw.vertices),
+            "h_range": [float(f"{v:.6g}") for v in self.raw.h_range],
+            "tori_per_chamber": tori,
+        }
+
+    def _text(self) -> str:
+        raw = self.raw
+        lines = [
+            "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
+            f"  energy range {raw.h_range[0]:.6g} .. {raw.h_range[1]:.6g} J "
+            f"(least energy on the level {raw.h_min:.6g} J)",
+            f"  computed at n = 0 in time units of 1/s, s = {Reading.of(raw.params).s:.6g} 1/s, "
+            f"then mapped exactly (Larmor: h shifted by C n^2 = {larmor_shift(raw.params):.6g} J)",
+        ]
+        for item in self.to_dict()["branches"]:
+            kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
+            lines.append(
+                f"  branch {item['branch']}: {item['points']} points, h {item['h'][0]:.4g} .. "
+                f"{item['h'][1]:.4g} J, k {item['k'][0]:.4g} .. {item['k'][1]:.4g} 1/s^4 "
+                f"({kinds}; ends: {', '.join(item['ends'])}){' exact' if item['exact'] else ''}"
+            )
+        images = [b.hk for b in self.branches]
+        extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
+        size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
+        for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
+            lines.append(f"  vertex h = {h:.6g} J, k = {k:.6g} 1/s^4: {kind} ({states} states)")
+        counts = sorted({c.tori for c in raw.chambers})
+        lines.append(
+            f"  chambers sampled: {len(raw.chambers)}; tori per chamber: "
+            + (", ".join(str(c) for c in counts) or "none")
+        )
+        stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
+        lines.append(f"  time: {stages}")
+        return "\n".join(lines) + "\n"
+
+    def plot(self, axes: Any = None) -> Any:
+        """The diagram: admissible band, curves by type, vertices, chamber tori counts."""
+        from matplotlib.figure import Figure
+
+        if axes is None:
+            fig = Figure(figsize=(7.5, 5.5))
+            axes = fig.subplots()
+        raw = self.raw
+        band = raw.admissible
+        if len(band):
+            axes.fill_between(
+                band[:, 0], band[:, 1], band[:, 2], color="0.9", label="admissible (F^-1 not empty)"
+            )
+        drawn = set()
+        for b in self.branches:
+            kinds = np.array(b.types)
+            for kind in TYPES:
+                mask = kinds == kind
+                if not np.any(mask):
+                    continue
+                hk = np.where(mask[:, None], b.hk, np.nan)
+                axes.plot(
+                    hk[:, 0],
+                    hk[:, 1],
+                    color=TYPE_COLOURS[kind],
+                    lw=1.6,
+                    label=kind if kind not in drawn else None,
+                )
+                drawn.add(kind)
+        for v in raw.vertices:
+            axes.plot(*v.hk, "ko", ms=4)
+        for c in chamber_labels(raw.chambers):
+            axes.annotate(
+                str(c.tori), (c.h, c.k), ha="center", va="center", fontsize=9, weight="bold"
+            )
+        axes.set_xlabel("h = H [J]")
+        axes.set_ylabel("k = I4 [1/s^4]")
+        axes.set_title("Bifurcation diagram on I3 = 0 (numbers: tori per chamber)", fontsize=10)
+        axes.legend(fontsize=8, loc="upper left")
+        return axes.figure
+
+    def write(self, out: str | os.PathLike[str]) -> Path:
+        """``bifurcation.csv`` and ``bifurcation.png`` into ``out``, together or not at all."""
+        target = Path(out)
+        with atomic_directory(target) as stage:
+            write_text_atomic(stage / "bifurcation.csv", self.csv_text())
+            fig = self.plot()
+            fig.savefig(stage / "bifurcation.png", dpi=130)
+        return target
+
+    def _html_picture(self) -> str:
+        import matplotlib.backends.backend_agg as agg
+
+        fig = self.plot()
+        canvas = agg.FigureCanvasAgg(fig)
+        canvas.draw()
+        image = np.asarray(canvas.buffer_rgba())[..., :3]
+        return png_html(image, 420)

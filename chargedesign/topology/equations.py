@@ -1,0 +1,172 @@
+"""Exact equations of the momentum map F = (H, I4) on the level ``|gamma| = 1, I3 = 0``.
+
+Everything comes from the certified model (:mod:`chargedesign.model.case`): the integrals
+``H = I1``, ``I4``, ``I2 = |gamma|^2`` and ``I3``; their gradients and Hessians are derived
+by sympy and compiled once (lambdify with common-subexpression elimination). No user text
+reaches sympy: the parameters enter the compiled functions as numbers.
+
+Only the regular case is compiled (lambda = rho = 0 substituted): the singular terms are
+refused before any work (:func:`require_regular`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import cache
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple
+from chargedesign.params import Parameters
+
+#: the four functions, in the order of every array of this package (rows of the Jacobian)
+FUNCTION_NAMES = ("H", "I4", "I2", "I3")
+
+
+def require_regular(params: Parameters) -> None:
+    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case)."""
+    if params.singular:
+        raise InputError(
+            "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
+            f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
+            f"{params.lam:g}, rho = {params.rho:g}"
+        )
+
+
+def _expressions() -> list[Any]:
+
+    from chargedesign.model.case import lam, rho, symbolic_case
+
+    case = symbolic_case()
+    regular = {lam: 0, rho: 0}
+    return [e.xreplace(regular) for e in (case.I1, case.I4, case.I2, case.I3)]
+
+
+@cache
+def _compiled(order: int, module: str = "numpy") -> Callable[..., Any]:
+    """The compiled values (order 0), gradients (1) or Hessians (2) of the four functions;
+    ``module`` "numpy" (batches) or "math" (one state: far less overhead)."""
+    import sympy as sp
+
+    from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS
+
+    expressions = _expressions()
+    if order == 0:
+        outputs: list[Any] = expressions
+    elif order == 1:
+        outputs = [[sp.diff(e, x) for x in STATE_SYMBOLS] for e in expressions]
+    else:
+        outputs = [sp.hessian(e, STATE_SYMBOLS).tolist() for e in expressions]
+    return sp.lambdify(STATE_SYMBOLS + PARAMETER_SYMBOLS, outputs, modules=module, cse=True)
+
+
+def _broadcast(value: Any, shape: tuple[int, ...]) -> np.ndarray:
+    return np.broadcast_to(np.asarray(value, dtype=float), shape)
+
+
+class MomentumMap:
+    """``H, I4, I2, I3`` of one parameter set with their exact derivatives.
+
+    Every method takes states of shape (m, 6) (``p, q, r, gamma1, gamma2, gamma3``; SI).
+    """
+
+    def __init__(self, params: Parameters) -> None:
+        require_regular(params)
+        self.params = params
+        self.pt: ParamTuple = parameter_tuple(params)
+
+    def values(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4): ``H (J), I4 (1/s^4), I2, I3 (kg m^2/s)``."""
+        x = np.atleast_2d(x)
+        if x.shape[0] == 1:
+            return np.array([_compiled(0, "math")(*x[0].tolist(), *self.pt)], dtype=float)
+        out = _compiled(0)(*x.T, *self.pt)
+        return np.stack([_broadcast(v, (x.shape[0],)) for v in out], axis=1)
+
+    def gradients(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4, 6): the rows dH, dI4, dI2, dI3."""
+        x = np.atleast_2d(x)
+        m = x.shape[0]
+        if m == 1:
+            return np.array([_compiled(1, "math")(*x[0].tolist(), *self.pt)], dtype=float)
+        out = _compiled(1)(*x.T, *self.pt)
+        return np.stack(
+            [np.stack([_broadcast(v, (m,)) for v in row], axis=1) for row in out], axis=1
+        )
+
+    def hessians(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4, 6, 6)."""
+        x = np.atleast_2d(x)
+        m = x.shape[0]
+        if m == 1:
+            return np.array([_compiled(2, "math")(*x[0].tolist(), *self.pt)], dtype=float)
+        out = _compiled(2)(*x.T, *self.pt)
+        return np.stack(
+            [
+                np.stack([np.stack([_broadcast(v, (m,)) for v in row], axis=1) for row in h], 1)
+                for h in out
+            ],
+            axis=1,
+        )
+
+    def inertia(self) -> np.ndarray:
+        """``diag(2C, 2C, C)``."""
+        C = self.params.C
+        return np.array([2 * C, 2 * C, C])
+
+
+def relative_singular_value(gradients: np.ndarray) -> np.ndarray:
+    """Smallest over largest singular value of the 4x6 Jacobian with unit rows, shape (m,).
+
+    Zero exactly where dH, dI4, dI2, dI3 are linearly dependent (the critical set). A row
+    below ``1e-9`` of the largest (a differential that vanishes, as dI4 on the equator
+    family) is a zero row: dependent by itself.
+    """
+    g = np.asarray(gradients, dtype=float).reshape(-1, 4, 6)
+    norms = np.linalg.norm(g, axis=2, keepdims=True)
+    vanishing = norms <= 1e-9 * np.max(norms, axis=1, keepdims=True)
+    scaled = np.where(vanishing, 0.0, g / np.where(vanishing, 1.0, norms))
+    s = np.linalg.svd(scaled, compute_uv=False)
+    return s[:, -1] / s[:, 0]
+
+
+@cache
+def _compiled_angular_potential_jacobian() -> Callable[..., Any]:
+    """``dl/dgamma`` (3x3) of the model's vector potential, compiled."""
+    import sympy as sp
+
+    from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, symbolic_case
+
+    jac = symbolic_case().l.jacobian(GAMMA).tolist()
+    return sp.lambdify(tuple(GAMMA) + PARAMETER_SYMBOLS, jac, modules="math", cse=True)
+
+
+def _hat(v: np.ndarray) -> np.ndarray:
+    """The matrix of ``u -> v x u``."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def poisson_tensor(F: MomentumMap, x: np.ndarray) -> np.ndarray:
+    """The Poisson tensor of the flow in the state variables ``(omega, gamma)``, shape (6, 6).
+
+    With the momentum ``m = I omega + l(gamma)`` the equations are Lie-Poisson on e(3)*:
+    ``m' = m x dH/dm + gamma x dH/dgamma``, ``gamma' = gamma x dH/dm`` (the Euler-Poincare
+    form the Larmor certificate proves). Read in ``(omega, gamma)`` with ``P = d(omega,
+    gamma)/d(m, gamma)`` the tensor is ``P Pi P^T``; ``tensor @ dH`` is the model's
+    right-hand side (tested).
+    """
+    omega, gamma = x[:3], x[3:]
+    inertia = F.inertia()
+    dl = np.array(_compiled_angular_potential_jacobian()(*gamma.tolist(), *F.pt), dtype=float)
+    m = inertia * omega + np.asarray(angular_potential(gamma, F.params), dtype=float)
+    pi = np.zeros((6, 6))
+    pi[:3, :3] = _hat(m)
+    pi[:3, 3:] = _hat(gamma)
+    pi[3:, :3] = _hat(gamma)
+    P = np.zeros((6, 6))
+    P[:3, :3] = np.diag(1.0 / inertia)
+    P[:3, 3:] = -dl / inertia[:, None]
+    P[3:, 3:] = np.eye(3)
+    return P @ pi @ P.T

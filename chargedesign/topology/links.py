@@ -1,0 +1,241 @@
+"""The diagram tied to the Poincare atlas and the FLI map at one energy.
+
+At an energy h the vertical line ``h = const`` of the diagram crosses the critical curves at
+the critical values of k. :func:`linked_pictures` draws, side by side: the diagram with that
+line; the Poincare atlas on ``I3 = 0`` (:func:`~chargedesign.simulation.chaos.poincare_atlas`)
+with each orbit coloured by its value of I4 and the orbits started on the critical periodic
+motions (from the diagram's states) marked; the FLI map on ``I3 = 0``
+(:func:`~chargedesign.simulation.chaos.fli_map`) at 64 x 48 by default. Needs heyoka.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.results import Result, png_html
+from chargedesign.simulation.chaos import (
+    FLIMap,
+    PoincareAtlas,
+    fast_lyapunov_indicator,
+    poincare_atlas,
+)
+from chargedesign.simulation.system import (
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    rotation_quaternion,
+)
+from chargedesign.topology.compute import crossings
+from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
+from chargedesign.topology.equations import MomentumMap
+
+
+@dataclass(frozen=True)
+class CriticalMotion:
+    """Where the line h = const crosses a branch: the value k, the type, a state (SI)."""
+
+    k: float
+    branch: int
+    type: str
+    state: np.ndarray
+
+
+def critical_motions(diagram: BifurcationDiagram, energy: float) -> list[CriticalMotion]:
+    """The crossings of the line ``h = energy`` with the branches, with a state of each
+    (interpolated between the two neighbouring rows of the branch, gamma renormalised)."""
+    out = []
+    for k, index in crossings(diagram.branches, energy):
+        branch = diagram.branches[index]
+        hs = branch.hk[:, 0]
+        i = int(np.flatnonzero(np.sign(hs[:-1] - energy) * np.sign(hs[1:] - energy) < 0)[0])
+        w = (energy - hs[i]) / (hs[i + 1] - hs[i])
+        state = branch.states[i] + w * (branch.states[i + 1] - branch.states[i])
+        state[3:] /= np.linalg.norm(state[3:])
+        kind = branch.types[i] if w < 0.5 else branch.types[i + 1]
+        out.append(CriticalMotion(k, index, kind, state))
+    return out
+
+
+def _seven_state(state: np.ndarray) -> np.ndarray:
+    """``(p, q, r, quaternion)`` of a state ``(p, q, r, gamma)``."""
+    quat = rotation_quaternion(attitude_from_gamma(state[3:]))
+    return np.concatenate([state[:3], quat])
+
+
+def _section_points(system: RigidBodySystem, starts: np.ndarray, t_end: float) -> list[Any]:
+    from chargedesign.simulation import taylor
+
+    ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
+    out = []
+    for rows in ens.sections or []:
+        gam = quaternion_gamma(rows[:, 4:]) if len(rows) else np.zeros((0, 3))
+        out.append(np.column_stack([rows[:, 0], rows[:, 1:4], gam]) if len(rows) else rows)
+    return out
+
+
+def section_state(
+    system: RigidBodySystem, phi: float, v: float, energy: float
+) -> np.ndarray | None:
+    """The 7-state on the section ``gamma3 = 0`` (upwards) of ``I3 = 0`` at angle phi with
+    ``gamma3' = v`` and the given energy (None where the energy is too low): the chart of
+    :func:`~chargedesign.simulation.chaos.fli_map`, on the level only."""
+    g = np.array([math.cos(phi), math.sin(phi), 0.0])
+    R = attitude_from_gamma(g)
+    u = -float(system.momentum_potential(g[None], R[None])[0]) / (2.0 * system.C)
+    V = float(system.energy(g[None], R[None])[0])
+    r2 = (2.0 * (energy - V) - 2.0 * system.C * (u * u + v * v)) / system.C
+    if not r2 >= 0.0:
+        return None
+    p = u * math.cos(phi) - v * math.sin(phi)
+    q = u * math.sin(phi) + v * math.cos(phi)
+    return np.concatenate([[p, q, math.sqrt(r2)], rotation_quaternion(R)])
+
+
+def level_fli_map(
+    system: RigidBodySystem, energy: float, grid: tuple[int, int], t_end: float
+) -> FLIMap:
+    """The FLI over a ``(phi, v)`` grid of the section, on ``I3 = 0`` only (half the cost of
+    :func:`~chargedesign.simulation.chaos.fli_map`, which also maps an off level)."""
+    t0 = time.perf_counter()
+    phi = np.linspace(0.0, 2.0 * math.pi, grid[0], endpoint=False)
+    v = np.linspace(0.05, 1.0, grid[1]) * math.sqrt(max(energy, 1e-300) / system.C)
+    values = np.full((grid[1], grid[0]), np.nan)
+    starts, where = [], []
+    for a, angle in enumerate(phi):
+        for b, speed in enumerate(v):
+            state = section_state(system, float(angle), float(speed), energy)
+            if state is not None:
+                starts.append(state)
+                where.append((b, a))
+    if starts:
+        fli = fast_lyapunov_indicator(system, np.array(starts), t_end)
+        for (b, a), value in zip(where, fli, strict=True):
+            values[b, a] = value
+    return FLIMap(
+        phi=phi,
+        v=v,
+        fli=[values],
+        levels=(0.0, 0.0),
+        energy=float(energy),
+        t_end=float(t_end),
+        seconds=time.perf_counter() - t0,
+    )
+
+
+@dataclass(repr=False)
+class LinkedPictures(Result):
+    """The diagram, the atlas and the FLI map at one energy (see the module docstring)."""
+
+    diagram: BifurcationDiagram
+    energy: float
+    critical: list[CriticalMotion]
+    atlas: PoincareAtlas
+    orbit_k: list[float]
+    critical_orbits: list[np.ndarray]
+    fli: FLIMap
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "energy": self.energy,
+            "critical": [{"k": c.k, "branch": c.branch, "type": c.type} for c in self.critical],
+            "atlas_orbits": len(self.orbit_k),
+            "orbit_k": list(self.orbit_k),
+            "fli_grid": [len(self.fli.phi), len(self.fli.v)],
+            "fli_t_end": self.fli.t_end,
+        }
+
+    def _text(self) -> str:
+        values = ", ".join(f"{c.k:.5g} ({c.type})" for c in self.critical) or "none"
+        return (
+            f"energy {self.energy:.6g} J: critical values of k {values}; atlas of "
+            f"{len(self.orbit_k)} orbits; FLI on {len(self.fli.phi)} x {len(self.fli.v)} points\n"
+        )
+
+    def _html_picture(self) -> str:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = FigureCanvasAgg(self.plot())
+        canvas.draw()
+        return png_html(np.asarray(canvas.buffer_rgba())[..., :3], 900)
+
+    def plot(self) -> Any:
+        """Three panels: diagram with the line h = const, atlas on I3 = 0, FLI on I3 = 0."""
+        from matplotlib import colormaps
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(17, 5.2))
+        left, middle, right = fig.subplots(1, 3)
+        self.diagram.plot(left)
+        left.axvline(self.energy, color="k", lw=0.8, ls="--")
+        for c in self.critical:
+            left.plot(self.energy, c.k, "o", color=TYPE_COLOURS[c.type], mec="k", ms=6)
+        k_all = np.array(self.orbit_k)
+        lo, hi = (float(k_all.min()), float(k_all.max())) if len(k_all) else (0.0, 1.0)
+        cmap = colormaps["viridis"]
+        for pts, k in zip(self.atlas.points[0], self.orbit_k, strict=True):
+            if len(pts):
+                shade = cmap((k - lo) / (hi - lo) if hi > lo else 0.5)
+                middle.plot(np.arctan2(pts[:, 5], pts[:, 4]), pts[:, 3], ".", ms=1.0, color=shade)
+        for pts, c in zip(self.critical_orbits, self.critical, strict=True):
+            if len(pts):
+                middle.plot(
+                    np.arctan2(pts[:, 5], pts[:, 4]),
+                    pts[:, 3],
+                    "o",
+                    ms=3.0,
+                    color=TYPE_COLOURS[c.type],
+                    mec="k",
+                    mew=0.3,
+                )
+        middle.set_title(
+            f"Poincare section on I3 = 0 at h = {self.energy:.4g} J (colour: k; large dots: "
+            "critical orbits)",
+            fontsize=9,
+        )
+        middle.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 [rad]")
+        middle.set_ylabel("r [1/s]")
+        image = right.pcolormesh(
+            self.fli.phi, self.fli.v, self.fli.fli[0], shading="nearest", cmap="magma"
+        )
+        fig.colorbar(image, ax=right, label=f"FLI at t = {self.fli.t_end:g} s")
+        right.set_title(f"FLI on I3 = 0, {len(self.fli.phi)} x {len(self.fli.v)}", fontsize=9)
+        right.set_xlabel("phi on gamma3 = 0 [rad]")
+        right.set_ylabel("v = gamma3' [1/s]")
+        return fig
+
+
+def linked_pictures(
+    diagram: BifurcationDiagram,
+    energy: float,
+    *,
+    orbits: int = 30,
+    t_end: float = 300.0,
+    fli_grid: tuple[int, int] = (64, 48),
+    fli_t_end: float = 20.0,
+) -> LinkedPictures:
+    """The atlas and the FLI at ``energy`` (J), tied to the diagram (see the module)."""
+    lo, hi = diagram.raw.h_range
+    if not lo < energy < hi:
+        raise InputError(
+            f"energy: expected a value inside the diagram's range {lo:.6g} .. {hi:.6g} J, "
+            f"got {energy:g}"
+        )
+    params = diagram.raw.params
+    system = RigidBodySystem(Body(parameters=params), ["theorem"])
+    atlas = poincare_atlas(system, energy=energy, orbits=orbits, t_end=t_end)
+    F = MomentumMap(params)
+    orbit_k = [
+        float(F.values(pts[:1, 1:7])[0, 1]) if len(pts) else float("nan") for pts in atlas.points[0]
+    ]
+    critical = critical_motions(diagram, energy)
+    starts = np.array([_seven_state(c.state) for c in critical]).reshape(-1, 7)
+    critical_orbits = _section_points(system, starts, t_end) if len(starts) else []
+    fmap = level_fli_map(system, energy, fli_grid, fli_t_end)
+    return LinkedPictures(diagram, energy, critical, atlas, orbit_k, critical_orbits, fmap)
