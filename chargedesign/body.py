@@ -1,5 +1,5 @@
 """A designed body: charges on carriers, magnets and ballast masses, with its target parameters and
-fields; read and written as ``design.json`` (format ``chargedesign.designer/1``, see CONTRACT.md).
+fields; read and written as ``design.json`` (format ``chargedesign.design/1``, see CONTRACT.md).
 """
 
 from __future__ import annotations

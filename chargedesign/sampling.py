@@ -14,7 +14,8 @@ def fibonacci_sphere(n_points: int, phase: float = 0.5) -> np.ndarray:
     """``n_points`` nearly uniform unit vectors (golden-angle spiral), shape (n_points, 3).
 
     Point ``i`` sits at height ``z = 1 - (2 i + 1) / n`` (equal areas) and azimuth
-    ``GOLDEN_ANGLE * (i + phase)`` (the forward check's orientations use ``phase = 0``).
+    ``GOLDEN_ANGLE * (i + phase)``. (The forward check's orientations,
+    :func:`chargedesign.checker.sample_orientations`, keep their own rounding order.)
     """
     i = np.arange(n_points) + 0.5
     z = 1.0 - 2.0 * i / n_points

@@ -100,7 +100,7 @@ def _materials() -> dict[str, Any]:
 
 
 def design_schema() -> dict[str, Any]:
-    """The schema of design.json (format ``chargedesign.designer/1``)."""
+    """The schema of design.json (format ``chargedesign.design/1``)."""
     legendre_field = {
         "type": "object",
         "required": ["legendre"],

@@ -421,7 +421,7 @@ class ToleranceReport(Result):
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "format": "chargedesign.tolerancing/1",
+            "format": "chargedesign.tolerance/1",
             "target": self.target,
             "headline": self.headline(),
             "n_orientations": self.n_orientations,

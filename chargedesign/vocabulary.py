@@ -9,7 +9,7 @@ for ``--help`` without loading numpy.
 from __future__ import annotations
 
 #: the format tag of design.json (CONTRACT.md)
-DESIGN_FORMAT = "chargedesign.designer/1"
+DESIGN_FORMAT = "chargedesign.design/1"
 
 #: the theorem's parameters as written in scenes and design.json (``lambda``: attribute ``lam``)
 PARAMETER_NAMES = ("C", "c", "d", "n", "K", "kappa", "lambda", "rho")

@@ -56,7 +56,7 @@ def check_design_default_body(out: str, out_dir: Path) -> None:
         assert number(rf"check {name}\s+rel_err (\S+)", out) <= 1e-9, name
     assert "check: PASSED" in out
     design = json.loads((out_dir / "design.json").read_text())
-    assert design["format"] == "chargedesign.designer/1"
+    assert design["format"] == "chargedesign.design/1"
     assert design["realises"] == ["mu", "V", "inertia"]
     assert is_png(out_dir / "design.png")
 

@@ -41,7 +41,7 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
     """`|B|` and `|omega|` in a note would split the Markdown row into more cells."""
     design = Design.from_dict(
         {
-            "format": "chargedesign.designer/1",
+            "format": "chargedesign.design/1",
             "parameters": {"C": 1.0, "n": 0.7},
             "masses": {"positions": [[0.1, 0.0, 0.0]], "values": [1.0]},
             "realises": ["inertia"],

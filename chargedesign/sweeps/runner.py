@@ -352,7 +352,7 @@ def _done(out: Path, pid: str) -> dict[str, Any] | None:
 def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str, Any]]]:
     ids = spec.point_ids()
     plan = {
-        "format": "chargedesign.sweeps/1",
+        "format": "chargedesign.sweep/1",
         "source": spec.source,
         "command": command_label(spec.command),
         "scene": spec.scene_source,

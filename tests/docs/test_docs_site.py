@@ -32,7 +32,7 @@ def test_docs_build_strict(tmp_path):
 
 def test_the_contract_is_in_the_repository_and_linked():
     contract = ROOT / "docs" / "contract.md"
-    assert "design.json (format `chargedesign.designer/1`)" in contract.read_text()
+    assert "design.json (format `chargedesign.design/1`)" in contract.read_text()
     assert "(docs/contract.md)" in (ROOT / "README.md").read_text()
     assert "(contract.md)" in (ROOT / "docs" / "index.md").read_text()
 

@@ -35,7 +35,7 @@ def ballast_design(positions, masses, legendre=(A1, 2 * A2), **ballast) -> Desig
     material = {"name": "tungsten", "density_kg_per_m3": 19250.0, **ballast}
     return Design.from_dict(
         {
-            "format": "chargedesign.designer/1",
+            "format": "chargedesign.design/1",
             "parameters": {"C": 2e-5, "n": 2.45e-6, "K": 1.75e-6, "kappa": 1.1025e-11},
             "fields": {"magnetic": {"legendre": list(legendre)}},
             "masses": {"positions": np.asarray(positions).tolist(), "values": list(masses)},
@@ -147,7 +147,7 @@ def test_eddy_torque_matches_the_least_dissipation_current(inner):
     volume = 4 / 3 * np.pi * (a**3 - inner**3)
     design = Design.from_dict(
         {
-            "format": "chargedesign.designer/1",
+            "format": "chargedesign.design/1",
             "parameters": {"C": 2e-5, "n": 2.45e-6},
             "fields": {"magnetic": {"legendre": [B]}},
             "charges": {

@@ -45,7 +45,7 @@ method = "DOP853"
 
 #: a valid design.json (one charge, one mass, one dipole; realises nothing, so check passes)
 SMALL_DESIGN = {
-    "format": "chargedesign.designer/1",
+    "format": "chargedesign.design/1",
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
     "fields": {"magnetic": {"legendre": [1.0, 1.0]}, "electric": {"legendre": [0.0, 0.0, 1.0]}},
     "charges": {"positions": [[0.0, 0.0, 1.0]], "values": [-0.8]},

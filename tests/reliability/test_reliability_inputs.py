@@ -150,10 +150,10 @@ def test_design_options_out_of_range_write_nothing(
         ({"fields": {"magnetic": {"legendre": [1.0] * 1000}}}, None),
         ({"fields": {"magnetic": {"legendre": [True]}}}, None),
         ({}, "[" * 100_000 + "]" * 100_000),
-        ({}, '{"format": "chargedesign.designer/1", "parameters": {"C": ' + "1" * 5000 + "}}"),
+        ({}, '{"format": "chargedesign.design/1", "parameters": {"C": ' + "1" * 5000 + "}}"),
         ({}, json.dumps(SMALL_DESIGN)[:-1] + ', "note": NaN}'),
         ({}, json.dumps(SMALL_DESIGN)[:-1] + ', "note": 1e999}'),
-        ({}, '{"format": "chargedesign.designer/1", "parameters": {"C": 1e309}}'),
+        ({}, '{"format": "chargedesign.design/1", "parameters": {"C": 1e309}}'),
         ({}, "\xff\xfe not json"),
     ],
 )

@@ -328,7 +328,7 @@ def test_a_design_json_of_too_many_elements_is_refused_by_its_count(work: Path, 
 
     n = MAX_DESIGN_ELEMENTS + 1
     text = (
-        '{"format": "chargedesign.designer/1", "parameters": {"C": 1.0}, "realises": [], '
+        '{"format": "chargedesign.design/1", "parameters": {"C": 1.0}, "realises": [], '
         '"charges": {"positions": ['
         + ",".join(["[0,0,1]"] * n)
         + '], "values": ['

@@ -91,7 +91,7 @@ def test_cli_sensitivity_and_monte_carlo(tmp_path, capsys):
         assert (out / name).is_file()
     assert len((out / "drift.csv").read_text().splitlines()) == 1 + 2 * 4  # 2 levels x 4 bodies
     stored = read_design(out / "design.json")
-    assert stored.tolerance["format"] == "chargedesign.tolerancing/1"
+    assert stored.tolerance["format"] == "chargedesign.tolerance/1"
     assert stored.n_elements == read_design(DESIGN).n_elements
 
 
