@@ -21,6 +21,7 @@ from physical.test_buildable import scene_with
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.physical import induced_rows
+from chargedesign.report import render_report
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.model.case import (
@@ -263,7 +264,7 @@ def test_the_verdict_rests_on_the_measured_cancellation_and_names_the_chi_accura
     # (this body is judged at its own K: the fixture locates no frontier)
     gross = law["ratio_without_cancellation"]
     assert law["ratio_measured"] == law["ratio_elements"] < CANCELLED * gross
-    report = str(chi_design)
+    report = render_report(chi_design)
     expected = "negligible" if law["ratio_measured"] < RESPONSE_FRACTION else "NOT negligible"
     assert law["verdict"] == expected
     # the budget row shows the number its verdict rests on, not the undesigned matter's law
