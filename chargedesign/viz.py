@@ -407,6 +407,98 @@ def element_sizes(design: Design, size: float) -> dict[str, Any]:
     }
 
 
+def _sphere(center: np.ndarray, radius: float, resolution: int) -> pv.PolyData:
+    """A sphere mesh of ``resolution`` in theta and phi."""
+    return pv.Sphere(
+        radius=float(radius),
+        center=np.asarray(center, dtype=np.float64),
+        theta_resolution=resolution,
+        phi_resolution=resolution,
+    )
+
+
+def _sphere_blocks(
+    design: Design, sizes: Mapping[str, Any], out: pv.MultiBlock, resolution: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Add the charges', masses' and magnets' spheres to ``out``; their centres and radii."""
+    spheres_c: list[np.ndarray] = []
+    spheres_r: list[np.ndarray] = []
+    if len(design.charge_values):
+        block = pv.MultiBlock()
+        for i, (pos, q, r) in enumerate(
+            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
+        ):
+            mesh = _sphere(pos, r, resolution)
+            block[f"charge {i}"] = _labelled(mesh, {"charge (C)": q, "radius (m)": r})
+        out["charges"] = block
+        spheres_c.append(design.charge_positions)
+        spheres_r.append(sizes["charges"])
+    if len(design.mass_values):
+        block = pv.MultiBlock()
+        for i, (pos, m, r) in enumerate(
+            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
+        ):
+            mesh = _sphere(pos, r, resolution)
+            block[f"mass {i}"] = _labelled(mesh, {"mass (kg)": m, "radius (m)": r})
+        out["masses"] = block
+        spheres_c.append(design.mass_positions)
+        spheres_r.append(sizes["masses"])
+    magnets = sizes["magnets"]
+    if np.any(magnets > 0):
+        block = pv.MultiBlock()
+        for i, (pos, r) in enumerate(zip(design.dipole_positions, magnets, strict=True)):
+            if r > 0:
+                block[f"magnet {i}"] = _labelled(_sphere(pos, r, resolution), {"radius (m)": r})
+        out["magnets"] = block
+        spheres_c.append(design.dipole_positions[magnets > 0])
+        spheres_r.append(magnets[magnets > 0])
+    centres = np.concatenate(spheres_c) if spheres_c else np.zeros((0, 3))
+    radii = np.concatenate(spheres_r) if spheres_r else np.zeros(0)
+    return centres, radii
+
+
+def _dipole_block(
+    design: Design, size: float, centres: np.ndarray, radii: np.ndarray, resolution: int
+) -> pv.MultiBlock:
+    """An arrow per dipole along its moment, sticking out of every sphere around its centre."""
+    moments = design.dipole_moments
+    strengths = np.linalg.norm(moments, axis=1)
+    top = float(strengths.max())
+    block = pv.MultiBlock()
+    for i, (pos, moment, strength) in enumerate(
+        zip(design.dipole_positions, moments, strengths, strict=True)
+    ):
+        data = {"moment (A m^2)": moment}
+        if strength == 0.0:  # no direction: a small marker
+            marker = _sphere(pos, _MIN_SPHERE_FRACTION * size, resolution)
+            block[f"dipole {i}"] = _labelled(marker, data)
+            continue
+        half = max(
+            0.5 * _ARROW_FRACTION * size * strength / top,
+            1.35 * _covering(pos, centres, radii),
+            _MIN_SPHERE_FRACTION * size * 2.0,
+        )
+        unit = moment / strength
+        mesh = _arrow(pos - half * unit, 2.0 * half * unit, shaft=0.03, tip=0.08)
+        block[f"dipole {i}"] = _labelled(mesh, data)
+    return block
+
+
+def _block_legend(out: pv.MultiBlock, charge_key: str, length: float) -> list[str]:
+    """One line per kind of block present: its colour and what its size means."""
+    legend = []
+    if "charges" in out.keys():
+        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {charge_key}")
+    if "masses" in out.keys():
+        legend.append("masses: translucent grey; volume ~ mass")
+    if "magnets" in out.keys():
+        legend.append("magnets: translucent green; the sphere of the magnet's volume")
+    if "dipoles" in out.keys():
+        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
+    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
+    return legend
+
+
 def design_blocks(
     design: Design,
     *,
@@ -438,10 +530,6 @@ def design_blocks(
         The scene's ``[body]`` table; default: the one recorded in the design.
     resolution : int
         Sphere resolution (theta and phi).
-
-    Returns
-    -------
-    pyvista.MultiBlock
     """
     if region is None:
         region = region_from_design(design)
@@ -450,67 +538,9 @@ def design_blocks(
     sizes = element_sizes(design, size)
     out = pv.MultiBlock()
     out.field_data["size (m)"] = np.array([size])
-
-    def sphere(center: np.ndarray, radius: float) -> pv.PolyData:
-        return pv.Sphere(
-            radius=float(radius),
-            center=np.asarray(center, dtype=np.float64),
-            theta_resolution=resolution,
-            phi_resolution=resolution,
-        )
-
-    spheres_c: list[np.ndarray] = []
-    spheres_r: list[np.ndarray] = []
-    if len(design.charge_values):
-        block = pv.MultiBlock()
-        for i, (pos, q, r) in enumerate(
-            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
-        ):
-            block[f"charge {i}"] = _labelled(sphere(pos, r), {"charge (C)": q, "radius (m)": r})
-        out["charges"] = block
-        spheres_c.append(design.charge_positions)
-        spheres_r.append(sizes["charges"])
-    if len(design.mass_values):
-        block = pv.MultiBlock()
-        for i, (pos, m, r) in enumerate(
-            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
-        ):
-            block[f"mass {i}"] = _labelled(sphere(pos, r), {"mass (kg)": m, "radius (m)": r})
-        out["masses"] = block
-        spheres_c.append(design.mass_positions)
-        spheres_r.append(sizes["masses"])
-    magnets = sizes["magnets"]
-    if np.any(magnets > 0):
-        block = pv.MultiBlock()
-        for i, (pos, r) in enumerate(zip(design.dipole_positions, magnets, strict=True)):
-            if r > 0:
-                block[f"magnet {i}"] = _labelled(sphere(pos, r), {"radius (m)": r})
-        out["magnets"] = block
-        spheres_c.append(design.dipole_positions[magnets > 0])
-        spheres_r.append(magnets[magnets > 0])
-    moments = design.dipole_moments
-    if len(moments):
-        centres = np.concatenate(spheres_c) if spheres_c else np.zeros((0, 3))
-        radii = np.concatenate(spheres_r) if spheres_r else np.zeros(0)
-        strengths = np.linalg.norm(moments, axis=1)
-        top = float(strengths.max())
-        block = pv.MultiBlock()
-        for i, (pos, moment, strength) in enumerate(
-            zip(design.dipole_positions, moments, strengths, strict=True)
-        ):
-            data = {"moment (A m^2)": moment}
-            if strength == 0.0:  # no direction: a small marker
-                block[f"dipole {i}"] = _labelled(sphere(pos, _MIN_SPHERE_FRACTION * size), data)
-                continue
-            half = max(
-                0.5 * _ARROW_FRACTION * size * strength / top,
-                1.35 * _covering(pos, centres, radii),
-                _MIN_SPHERE_FRACTION * size * 2.0,
-            )
-            unit = moment / strength
-            mesh = _arrow(pos - half * unit, 2.0 * half * unit, shaft=0.03, tip=0.08)
-            block[f"dipole {i}"] = _labelled(mesh, data)
-        out["dipoles"] = block
+    centres, radii = _sphere_blocks(design, sizes, out, resolution)
+    if len(design.dipole_moments):
+        out["dipoles"] = _dipole_block(design, size, centres, radii, resolution)
     if design.continuous:
         block = pv.MultiBlock()
         for i, body in enumerate(design.continuous):
@@ -519,18 +549,8 @@ def design_blocks(
     outline = region_mesh(region)
     if outline is not None:
         out["region"] = outline
-    legend = []
-    if "charges" in out.keys():
-        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {sizes['charge_key']}")
-    if "masses" in out.keys():
-        legend.append("masses: translucent grey; volume ~ mass")
-    if "magnets" in out.keys():
-        legend.append("magnets: translucent green; the sphere of the magnet's volume")
-    if "dipoles" in out.keys():
-        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
     length = _nice_length(0.5 * size)
-    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
-    out.field_data["legend"] = legend
+    out.field_data["legend"] = _block_legend(out, sizes["charge_key"], length)
     y, z = -1.15 * size, -1.0 * size
     bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
     bar.field_data["length (m)"] = np.array([length])
