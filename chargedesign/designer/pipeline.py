@@ -98,6 +98,60 @@ def _with_robust_costs(
     return p.with_costs(costs)
 
 
+def _no_elements_result(
+    p: DesignProblem, objective: str, rank: int, notes: list[str], t0: float
+) -> SourceResult:
+    """The result of a source whose conditions are all homogeneous: no element needed."""
+    return SourceResult(
+        source=p.source,
+        objective=objective,
+        objective_value=0.0,
+        objective_value_raw=0.0,
+        units=UNITS[p.source],
+        solver="none",
+        method="all conditions are zero: no elements needed",
+        status="optimal",
+        n_conditions=len(p.b),
+        rank=rank,
+        n_candidates=p.n_candidates,
+        n_elements=0,
+        residual_before=0.0,
+        residual_after=0.0,
+        seconds=time.perf_counter() - t0,
+        notes=notes,
+    )
+
+
+def _check_residual(
+    source: str,
+    after: float,
+    options: DesignOptions,
+    solver_text: str,
+    cancels: bool,
+    cancellation: str,
+) -> None:
+    """Refuse a polished solution whose residual exceeds ``design.tol``, naming the cause."""
+    if not after > options.tolerance:
+        return
+    if options.tolerance < 2 * np.finfo(float).eps:
+        raise SolverError(
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
+            f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
+        )
+    if cancels:
+        # the solver is not at fault: the targets are tiny against what the weights carry
+        raise InfeasibleError(
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
+            "solver will not help)"
+        )
+    raise SolverError(
+        f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+        f"{fmt(options.tolerance, PLAIN)} ({solver_text}); try another solver"
+    )
+
+
 def _design_problem(
     p: DesignProblem,
     rank: int,
@@ -113,25 +167,7 @@ def _design_problem(
     n_cand = p.n_candidates
     shape = (n_cand, 3) if p.group == 3 else (n_cand,)
     if not np.any(p.b):
-        # every condition is homogeneous: no element of this source is needed
-        return np.zeros(shape), SourceResult(
-            source=source,
-            objective=objective,
-            objective_value=0.0,
-            objective_value_raw=0.0,
-            units=UNITS[source],
-            solver="none",
-            method="all conditions are zero: no elements needed",
-            status="optimal",
-            n_conditions=len(p.b),
-            rank=rank,
-            n_candidates=n_cand,
-            n_elements=0,
-            residual_before=0.0,
-            residual_after=0.0,
-            seconds=time.perf_counter() - t0,
-            notes=notes,
-        )
+        return np.zeros(shape), _no_elements_result(p, objective, rank, notes, t0)
     if progress is not None:
         progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
     try:
@@ -150,24 +186,7 @@ def _design_problem(
     after = relative_residual(p.A, weights, p.b)
     worst, cancellation = forward.assess(p, weights) if forward is not None else (None, "")
     cancels = worst is not None and worst.forward_error > FORWARD_NOTE
-    if after > options.tolerance:
-        if options.tolerance < 2 * np.finfo(float).eps:
-            raise SolverError(
-                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-                f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
-                f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
-            )
-        if cancels:
-            # the solver is not at fault: the targets are tiny against what the weights carry
-            raise InfeasibleError(
-                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-                f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
-                "solver will not help)"
-            )
-        raise SolverError(
-            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-            f"{fmt(options.tolerance, PLAIN)} ({sol.solver}, {polish_text}); try another solver"
-        )
+    _check_residual(source, after, options, f"{sol.solver}, {polish_text}", cancels, cancellation)
     if worst is not None and worst.forward_error > FORWARD_LIMIT:
         raise InfeasibleError(
             f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
@@ -221,6 +240,84 @@ def _objective_value(
     return float(np.max(mags))
 
 
+def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str, ...]:
+    """The inertia terms realised: the conditions', unless the options name (the same) ones."""
+    realise = tuple(conditions.realise) if conditions.realise else ()
+    if options.realise is not None:
+        if conditions.realise and set(options.realise) != set(conditions.realise):
+            raise InputError(
+                f"design.realise: the conditions realise {list(conditions.realise)}, the "
+                f"options ask for {list(options.realise)}"
+            )
+        realise = options.realise
+    return realise
+
+
+def _check_source_options(options: DesignOptions, sources_present: list[str]) -> None:
+    """Options about charges or masses need those sources to be designed."""
+    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if options.n_charges is not None and "charges" not in sources_present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if options.total_mass is not None and "masses" not in sources_present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+
+
+def _checked_problems(
+    sources_present: list[str],
+    params: Parameters,
+    conditions: LinearConditions,
+    cand: CandidateSet,
+    options: DesignOptions,
+) -> list[tuple[DesignProblem, int, list[str], float]]:
+    """Every source's problem, its rank, its notes and its setup time, before any solve."""
+    checked = []
+    for source in sources_present:
+        t0 = time.perf_counter()
+        p = build_problem(source, conditions, cand.points, options)
+        p = _with_robust_costs(p, cand.points, conditions, params, options)
+        rank, source_notes = diagnose(p, cand.geometry)
+        checked.append((p, rank, source_notes, time.perf_counter() - t0))
+    return checked
+
+
+def _nonzero_elements(
+    weights: dict[str, np.ndarray], source: str, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The positions and weights of a source's non-zero elements (empty when not designed)."""
+    if source not in weights:
+        shape = (0, 3) if source == "dipoles" else (0,)
+        return np.zeros((0, 3)), np.zeros(shape)
+    w = weights[source]
+    mags = np.linalg.norm(w, axis=1) if w.ndim == 2 else np.abs(w)
+    keep = mags > 0
+    return points[keep], w[keep]
+
+
+def _design_of(
+    params: Parameters,
+    conditions: LinearConditions,
+    weights: dict[str, np.ndarray],
+    points: np.ndarray,
+    realise: tuple[str, ...],
+) -> Design:
+    """The design of the solved sources' non-zero elements."""
+    cp_, cv = _nonzero_elements(weights, "charges", points)
+    dp, dm = _nonzero_elements(weights, "dipoles", points)
+    mp, mv = _nonzero_elements(weights, "masses", points)
+    return Design(
+        parameters=params,
+        fields={k: tuple(v) for k, v in conditions.fields.items()},
+        charge_positions=cp_,
+        charge_values=cv,
+        mass_positions=mp,
+        mass_values=mv,
+        dipole_positions=dp,
+        dipole_moments=dm,
+        realises=list(realise),
+    )
+
+
 def design_body(
     params: Parameters,
     conditions: LinearConditions,
@@ -244,10 +341,6 @@ def design_body(
     progress : callable, optional
         Called with a short message before each long step.
 
-    Returns
-    -------
-    DesignResult
-
     Raises
     ------
     InfeasibleError
@@ -257,14 +350,10 @@ def design_body(
     SolverError
         A solver failed or its polished result misses ``options.tolerance``.
 
-    Notes
-    -----
-    The design meets ``conditions`` as given. When their default field strengths were chosen
-    for an assumed 1 m body (``conditions.length_assumed``) and these candidates call for
-    other ones, a note gives them (derive the conditions with ``length=`` the candidates'
-    size, as :func:`design_from_scene` does). Every source's delivered weights are assessed
-    for cancellation (:func:`forward_accuracy`): above ``FORWARD_NOTE`` the notes say which
-    quantity is met only by cancellation, the forward accuracy to expect and the remedy.
+    When the conditions' default field strengths were chosen for an assumed 1 m body
+    (``conditions.length_assumed``), a note gives the ones these candidates call for. Above
+    ``FORWARD_NOTE`` (:func:`forward_accuracy`) the notes say which quantity is met only by
+    cancellation, the forward accuracy to expect and the remedy.
     """
     if not isinstance(params, Parameters):
         raise input_error("params", "a chargedesign.params.Parameters", params)
@@ -276,69 +365,27 @@ def design_body(
     cand = (
         candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
     )
-    realise = tuple(conditions.realise) if conditions.realise else ()
-    if options.realise is not None:
-        if conditions.realise and set(options.realise) != set(conditions.realise):
-            raise InputError(
-                f"design.realise: the conditions realise {list(conditions.realise)}, the "
-                f"options ask for {list(options.realise)}"
-            )
-        realise = options.realise
+    realise = _realised(conditions, options)
     timings: dict[str, float] = {}
     t_start = time.perf_counter()
     sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
-        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
-    if options.n_charges is not None and "charges" not in sources_present:
-        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
-    if options.total_mass is not None and "masses" not in sources_present:
-        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+    _check_source_options(options, sources_present)
     notes = list(cand.notes)
     notes.extend(length_notes(conditions, cand.geometry.size))
     forward = ForwardInputs.build(params, conditions, cand, realise)
     # fail fast: every source's equality system is checked before any solve
-    checked = []
-    for source in sources_present:
-        t0 = time.perf_counter()
-        p = build_problem(source, conditions, cand.points, options)
-        p = _with_robust_costs(p, cand.points, conditions, params, options)
-        rank, source_notes = diagnose(p, cand.geometry)
-        checked.append((p, rank, source_notes, time.perf_counter() - t0))
+    checked = _checked_problems(sources_present, params, conditions, cand, options)
     results: dict[str, SourceResult] = {}
     weights: dict[str, np.ndarray] = {}
     for p, rank, source_notes, setup in checked:
-        source = p.source
         t0 = time.perf_counter() - setup
         w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
-        weights[source] = w
-        results[source] = res
-        timings[source] = res.seconds
+        weights[p.source] = w
+        results[p.source] = res
+        timings[p.source] = res.seconds
         notes.extend(res.notes)
     timings["total"] = time.perf_counter() - t_start
-
-    def pick(source: str) -> tuple[np.ndarray, np.ndarray]:
-        if source not in weights:
-            shape = (0, 3) if source == "dipoles" else (0,)
-            return np.zeros((0, 3)), np.zeros(shape)
-        w = weights[source]
-        mags = np.linalg.norm(w, axis=1) if w.ndim == 2 else np.abs(w)
-        keep = mags > 0
-        return cand.points[keep], w[keep]
-
-    cp_, cv = pick("charges")
-    dp, dm = pick("dipoles")
-    mp, mv = pick("masses")
-    design = Design(
-        parameters=params,
-        fields={k: tuple(v) for k, v in conditions.fields.items()},
-        charge_positions=cp_,
-        charge_values=cv,
-        mass_positions=mp,
-        mass_values=mv,
-        dipole_positions=dp,
-        dipole_moments=dm,
-        realises=list(realise),
-    )
+    design = _design_of(params, conditions, weights, cand.points, realise)
     result = DesignResult(
         design=design,
         sources=results,
