@@ -131,34 +131,14 @@ def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
     return lines
 
 
-def render_report(
-    design: Design, *, title: str = "Design report", picture: str | None = None
-) -> str:
-    """The human report of a design as Markdown.
-
-    Parameters
-    ----------
-    design : Design
-        A designed body; its provenance keys (as written by :mod:`chargedesign.designer`)
-        are used when present.
-    title : str
-    picture : str, optional
-        File name of a picture to show under the title (e.g. ``design.png``).
-
-    Returns
-    -------
-    str
-    """
+def _scene_lines(design: Design) -> list[str]:
+    """Parameters, fields, realised terms and candidates, one line each."""
     params = design.parameters.as_dict()
-    lines = [f"# {title}", ""]
-    lines += _verdict_lines(design)
-    if picture:
-        lines += [f"![the designed body]({picture})", ""]
-    lines.append(
+    lines = [
         "Parameters: "
         + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
         + " (SI units)."
-    )
+    ]
     origin = (design.provenance or {}).get("fields_origin") or {}
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):
@@ -176,7 +156,12 @@ def render_report(
     if isinstance(cand, dict):
         keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
         lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
-    lines += ["", "## Elements", ""]
+    return lines
+
+
+def _element_lines(design: Design) -> list[str]:
+    """The elements' table: count, sum of magnitudes, largest and net per source."""
+    lines = ["", "## Elements", ""]
     lines.append("| source | count | sum of magnitudes | largest | net |")
     lines.append("|---|---|---|---|---|")
     q = design.charge_values
@@ -202,48 +187,82 @@ def render_report(
         )
     if not (len(q) or len(sig) or len(m)):
         lines.append("| (none) | 0 | | | |")
+    return lines
+
+
+def _forward_accuracy_lines(design: Design) -> list[str]:
+    """The estimated forward accuracy of the sources whose contributions cancel most."""
+    worst = (design.forward_accuracy or {}).get("worst") or {}
+    if not worst:
+        return []
+    parts = [
+        f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
+        f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
+        for source, w in worst.items()
+    ]
+    return [
+        "",
+        "Forward accuracy (estimated relative error of mu and V evaluated in floating "
+        "point from these elements; the contributions that cancel most): " + "; ".join(parts) + ".",
+    ]
+
+
+def _problem_lines(design: Design) -> list[str]:
+    """The problems' table (objective, solver, residuals), forward accuracy and methods."""
     objective = design.objective or {}
     solver = design.solver or {}
     residuals = design.residuals or {}
-    if objective or residuals:
-        lines += ["", "## Problems and residuals", ""]
-        lines.append("| source | objective | value | solver | residual before | after polish |")
-        lines.append("|---|---|---|---|---|---|")
-        before = residuals.get("before_polish") or {}
-        after = residuals.get("after_polish") or {}
-        for source in ("charges", "dipoles", "masses"):
-            if source not in objective and source not in after:
-                continue
-            obj = objective.get(source) or {}
-            sol = solver.get(source) or {}
-            lines.append(
-                f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
-                f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
-                f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
-            )
-        if "definition" in residuals:
-            lines += [
-                "",
-                f"Relative residual: {residuals['definition']}; required <= "
-                f"{_fmt(residuals.get('tolerance', '?'))}.",
-            ]
-        worst = (design.forward_accuracy or {}).get("worst") or {}
-        if worst:
-            parts = [
-                f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
-                f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
-                for source, w in worst.items()
-            ]
-            lines += [
-                "",
-                "Forward accuracy (estimated relative error of mu and V evaluated in floating "
-                "point from these elements; the contributions that cancel most): "
-                + "; ".join(parts)
-                + ".",
-            ]
-        methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
-        if methods:
-            lines += ["", "Methods:", "", *methods]
+    if not (objective or residuals):
+        return []
+    lines = ["", "## Problems and residuals", ""]
+    lines.append("| source | objective | value | solver | residual before | after polish |")
+    lines.append("|---|---|---|---|---|---|")
+    before = residuals.get("before_polish") or {}
+    after = residuals.get("after_polish") or {}
+    for source in ("charges", "dipoles", "masses"):
+        if source not in objective and source not in after:
+            continue
+        obj = objective.get(source) or {}
+        sol = solver.get(source) or {}
+        lines.append(
+            f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
+            f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
+            f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
+        )
+    if "definition" in residuals:
+        lines += [
+            "",
+            f"Relative residual: {residuals['definition']}; required <= "
+            f"{_fmt(residuals.get('tolerance', '?'))}.",
+        ]
+    lines += _forward_accuracy_lines(design)
+    methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
+    if methods:
+        lines += ["", "Methods:", "", *methods]
+    return lines
+
+
+def render_report(
+    design: Design, *, title: str = "Design report", picture: str | None = None
+) -> str:
+    """The human report of a design as Markdown.
+
+    Parameters
+    ----------
+    design : Design
+        A designed body; its provenance keys (as written by :mod:`chargedesign.designer`)
+        are used when present.
+    title : str
+    picture : str, optional
+        File name of a picture to show under the title (e.g. ``design.png``).
+    """
+    lines = [f"# {title}", ""]
+    lines += _verdict_lines(design)
+    if picture:
+        lines += [f"![the designed body]({picture})", ""]
+    lines += _scene_lines(design)
+    lines += _element_lines(design)
+    lines += _problem_lines(design)
     timings = design.timings or {}
     if timings:
         lines += [
