@@ -275,6 +275,17 @@ def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
         check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
 
 
+def _check_sweep_keys(data: Any, source: str) -> None:
+    """A table of known sweep keys."""
+    if not isinstance(data, Mapping):
+        raise InputError(f"{source}: expected a table of sweep keys")
+    unknown = sorted(set(data) - set(SWEEP_KEYS))
+    if unknown:
+        raise InputError(
+            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
+        )
+
+
 def _chosen_command(
     data: Mapping[str, Any], source: str, command: Callable[..., dict[str, Any]] | None
 ) -> str | Callable[..., dict[str, Any]]:
@@ -320,6 +331,23 @@ def _base_scene(
     return scene_data, str(path)
 
 
+def _sweep_tables(data: Mapping[str, Any], source: str) -> tuple[int, dict, dict, dict | None]:
+    """The ``chunk``, ``options``, ``grid`` and ``random`` entries, of the right types."""
+    chunk = data.get("chunk", 0)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
+        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
+    options = data.get("options", {})
+    if not isinstance(options, dict):
+        raise InputError(f"{source}: options: expected a table")
+    grid = data.get("grid", {})
+    if not isinstance(grid, dict):
+        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
+    random = data.get("random")
+    if random is not None and not isinstance(random, dict):
+        raise InputError(f"{source}: random: expected a table")
+    return chunk, options, grid, random
+
+
 def _grid_lists(grid: Mapping[str, Any], source: str) -> tuple[list[str], list[list[Any]]]:
     """The grid's keys and their (non-empty) lists of values."""
     keys: list[str] = []
@@ -335,9 +363,11 @@ def _grid_lists(grid: Mapping[str, Any], source: str) -> tuple[list[str], list[l
 
 
 def _random_table(
-    random: Mapping[str, Any], grid: Mapping[str, Any], source: str
+    random: Mapping[str, Any] | None, grid: Mapping[str, Any], source: str
 ) -> tuple[dict[str, Any], int, int]:
-    """The ``[random]`` table's sampled keys, number of samples and seed."""
+    """The ``[random]`` table's sampled keys, number of samples and seed (none: no keys)."""
+    if random is None:
+        return {}, 0, 0
     n_random = random.get("samples", 0)
     seed = random.get("seed", 0)
     if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
@@ -353,8 +383,18 @@ def _random_table(
     return random_keys, n_random, seed
 
 
-def _check_point_count(count: int, max_points: int | None, source: str) -> None:
-    """The work, counted before any point is built, within the cap."""
+def _check_point_count(
+    keys: list[str],
+    value_lists: list[list[Any]],
+    random_keys: Mapping[str, Any],
+    n_random: int,
+    max_points: int | None,
+    source: str,
+) -> None:
+    """Some keys to sweep, and the points (grid points times draws) within the cap."""
+    if not keys and not random_keys:
+        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
+    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
     cap = MAX_SWEEP_POINTS if max_points is None else max_points
     if count > cap:
         raise InputError(
@@ -381,6 +421,34 @@ def _random_points(
     return points
 
 
+def _check_grid_values(
+    keys: list[str],
+    value_lists: list[list[Any]],
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    source: str,
+) -> None:
+    """Every value of every grid key, checked alone against the base scene."""
+    for key, values in zip(keys, value_lists, strict=True):
+        for i, value in enumerate(values):
+            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
+
+
+def _check_random_values(
+    points: list[dict[str, Any]],
+    random_keys: Mapping[str, Any],
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    source: str,
+) -> None:
+    """Every draw of every random key, and the key (its first draw) against the base scene."""
+    for key in random_keys:
+        for i, p in enumerate(points):
+            check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
+        validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source, scene_source)
+
+
 def sweep_from_dict(
     data: Mapping[str, Any],
     source: str = "<dict>",
@@ -388,7 +456,8 @@ def sweep_from_dict(
     command: Callable[..., dict[str, Any]] | None = None,
     max_points: int | None = None,
 ) -> SweepSpec:
-    """Validate a sweep mapping (see the module docstring).
+    """Validate a sweep mapping (see the module docstring); every point's scene is validated
+    before any runs (:func:`validate_points`).
 
     Parameters
     ----------
@@ -403,54 +472,21 @@ def sweep_from_dict(
         point instead of a built-in command (the file must then not name one).
     max_points : int, optional
         Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
-
-    Every point's scene is validated before any runs (:func:`validate_points`).
     """
-    if not isinstance(data, Mapping):
-        raise InputError(f"{source}: expected a table of sweep keys")
-    unknown = sorted(set(data) - set(SWEEP_KEYS))
-    if unknown:
-        raise InputError(
-            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
-        )
+    _check_sweep_keys(data, source)
     chosen = _chosen_command(data, source, command)
     scene_data, scene_source = _base_scene(data, source, base_dir)
-    chunk = data.get("chunk", 0)
-    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
-        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
-    options = data.get("options", {})
-    if not isinstance(options, dict):
-        raise InputError(f"{source}: options: expected a table")
-    grid = data.get("grid", {})
-    if not isinstance(grid, dict):
-        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
-    random = data.get("random")
-    if random is not None and not isinstance(random, dict):
-        raise InputError(f"{source}: random: expected a table")
+    chunk, options, grid, random = _sweep_tables(data, source)
     keys, value_lists = _grid_lists(grid, source)
-    random_keys: dict[str, Any] = {}
-    n_random = seed = 0
-    if random is not None:
-        random_keys, n_random, seed = _random_table(random, grid, source)
-    if not keys and not random_keys:
-        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
-    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
-    _check_point_count(count, max_points, source)
-    # every value of every key, checked alone against the base scene
-    for key, values in zip(keys, value_lists, strict=True):
-        for i, value in enumerate(values):
-            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
-            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
-    rng = np.random.default_rng(seed)
+    random_keys, n_random, seed = _random_table(random, grid, source)
+    # the work, counted before any point is built
+    _check_point_count(keys, value_lists, random_keys, n_random, max_points, source)
+    _check_grid_values(keys, value_lists, scene_data, scene_source, source)
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     if random_keys:
+        rng = np.random.default_rng(seed)
         points = _random_points(points, random_keys, n_random, rng, source)
-        for key in random_keys:
-            for i, p in enumerate(points):
-                check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
-            validate_scene_key(
-                scene_with(scene_data, {key: points[0][key]}), key, source, scene_source
-            )
+        _check_random_values(points, random_keys, scene_data, scene_source, source)
     check_options(chosen, options, source)
     validate_points(scene_data, scene_source, points, chosen, source, options)
     return SweepSpec(
