@@ -28,7 +28,7 @@ from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solve import solve_problem
-from chargedesign.designer.solvers import InfeasibleProblem
+from chargedesign.designer.solvers import InfeasibleProblem, Solution
 from chargedesign.designer.system import (
     UNITS,
     DesignProblem,
@@ -152,6 +152,53 @@ def _check_residual(
     )
 
 
+def _solved(
+    p: DesignProblem, objective: str, options: DesignOptions, progress: Progress | None
+) -> Solution:
+    """The solver's solution, finite (infeasible inequalities named)."""
+    try:
+        sol = solve_problem(p, objective, options, progress)
+    except InfeasibleProblem:
+        raise infeasible_inequalities(p, options) from None
+    if sol.u is None or not np.all(np.isfinite(sol.u)):
+        raise SolverError(f"{p.source}: solver {sol.solver} returned no finite solution")
+    return sol
+
+
+def _polished(p: DesignProblem, u: np.ndarray, options: DesignOptions) -> tuple[np.ndarray, str]:
+    """The polished solution (when ``options.polish``) and how it was polished."""
+    if options.polish:
+        return polish_weights(p, u, options.tolerance)
+    return u, "not polished"
+
+
+def _status_notes(source: str, sol: Solution, before: float, options: DesignOptions) -> list[str]:
+    """A solver's non-optimal status whose residual was verified here, and its own notes."""
+    notes = []
+    if sol.status != "optimal" and before > options.tolerance:
+        notes.append(
+            f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
+            "the residuals were verified here"
+        )
+    return notes + list(sol.notes)
+
+
+def _delivery_notes(
+    p: DesignProblem, weights: np.ndarray, worst: Any, cancellation: str, cancels: bool
+) -> list[str]:
+    """Refuse weights met only by a cancellation beyond ``FORWARD_LIMIT``, or negative masses;
+    the note of a cancellation beyond ``FORWARD_NOTE``."""
+    source = p.source
+    if worst is not None and worst.forward_error > FORWARD_LIMIT:
+        raise InfeasibleError(
+            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
+            "realises nothing reliably)"
+        )
+    if p.nonneg and np.any(weights < 0):
+        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
+    return [f"{source}: {cancellation}"] if cancels else []
+
+
 def _design_problem(
     p: DesignProblem,
     rank: int,
@@ -170,39 +217,17 @@ def _design_problem(
         return np.zeros(shape), _no_elements_result(p, objective, rank, notes, t0)
     if progress is not None:
         progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
-    try:
-        sol = solve_problem(p, objective, options, progress)
-    except InfeasibleProblem:
-        raise infeasible_inequalities(p, options) from None
-    if sol.u is None or not np.all(np.isfinite(sol.u)):
-        raise SolverError(f"{source}: solver {sol.solver} returned no finite solution")
+    sol = _solved(p, objective, options, progress)
     raw = sol.u * p.scale
     before = relative_residual(p.A, raw, p.b)
-    u = sol.u
-    polish_text = "not polished"
-    if options.polish:
-        u, polish_text = polish_weights(p, sol.u, options.tolerance)
+    u, polish_text = _polished(p, sol.u, options)
     weights = u * p.scale
     after = relative_residual(p.A, weights, p.b)
     worst, cancellation = forward.assess(p, weights) if forward is not None else (None, "")
     cancels = worst is not None and worst.forward_error > FORWARD_NOTE
     _check_residual(source, after, options, f"{sol.solver}, {polish_text}", cancels, cancellation)
-    if worst is not None and worst.forward_error > FORWARD_LIMIT:
-        raise InfeasibleError(
-            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
-            "realises nothing reliably)"
-        )
-    if cancels:
-        notes.append(f"{source}: {cancellation}")
-    if p.nonneg and np.any(weights < 0):
-        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
-    support = support_of(u, p.group, 0.0)
-    if sol.status != "optimal" and before > options.tolerance:
-        notes.append(
-            f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
-            "the residuals were verified here"
-        )
-    notes.extend(sol.notes)
+    notes.extend(_delivery_notes(p, weights, worst, cancellation, cancels))
+    notes.extend(_status_notes(source, sol, before, options))
     result = SourceResult(
         source=source,
         objective=objective,
@@ -215,7 +240,7 @@ def _design_problem(
         n_conditions=len(p.b),
         rank=rank,
         n_candidates=n_cand,
-        n_elements=len(support),
+        n_elements=len(support_of(u, p.group, 0.0)),
         residual_before=before,
         residual_after=after,
         seconds=time.perf_counter() - t0,
@@ -238,6 +263,16 @@ def _objective_value(
     if objective == "l2":
         return float(np.sqrt(np.sum(mags**2)))
     return float(np.max(mags))
+
+
+def _check_design_inputs(params: Any, conditions: Any) -> None:
+    """Parameters and linear conditions, of their types."""
+    if not isinstance(params, Parameters):
+        raise input_error("params", "a chargedesign.params.Parameters", params)
+    if not isinstance(conditions, LinearConditions):
+        raise input_error(
+            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
+        )
 
 
 def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str, ...]:
@@ -279,6 +314,27 @@ def _checked_problems(
         rank, source_notes = diagnose(p, cand.geometry)
         checked.append((p, rank, source_notes, time.perf_counter() - t0))
     return checked
+
+
+def _solve_sources(
+    checked: list[tuple[DesignProblem, int, list[str], float]],
+    options: DesignOptions,
+    progress: Progress | None,
+    forward: ForwardInputs | None,
+    timings: dict[str, float],
+    notes: list[str],
+) -> tuple[dict[str, np.ndarray], dict[str, SourceResult]]:
+    """Solve every checked problem: its weights and result; its time and notes are added."""
+    results: dict[str, SourceResult] = {}
+    weights: dict[str, np.ndarray] = {}
+    for p, rank, source_notes, setup in checked:
+        t0 = time.perf_counter() - setup
+        w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
+        weights[p.source] = w
+        results[p.source] = res
+        timings[p.source] = res.seconds
+        notes.extend(res.notes)
+    return weights, results
 
 
 def _nonzero_elements(
@@ -355,12 +411,7 @@ def design_body(
     ``FORWARD_NOTE`` (:func:`forward_accuracy`) the notes say which quantity is met only by
     cancellation, the forward accuracy to expect and the remedy.
     """
-    if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
-    if not isinstance(conditions, LinearConditions):
-        raise input_error(
-            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
-        )
+    _check_design_inputs(params, conditions)
     options = options or DesignOptions()
     cand = (
         candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
@@ -375,15 +426,7 @@ def design_body(
     forward = ForwardInputs.build(params, conditions, cand, realise)
     # fail fast: every source's equality system is checked before any solve
     checked = _checked_problems(sources_present, params, conditions, cand, options)
-    results: dict[str, SourceResult] = {}
-    weights: dict[str, np.ndarray] = {}
-    for p, rank, source_notes, setup in checked:
-        t0 = time.perf_counter() - setup
-        w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
-        weights[p.source] = w
-        results[p.source] = res
-        timings[p.source] = res.seconds
-        notes.extend(res.notes)
+    weights, results = _solve_sources(checked, options, progress, forward, timings, notes)
     timings["total"] = time.perf_counter() - t_start
     design = _design_of(params, conditions, weights, cand.points, realise)
     result = DesignResult(
