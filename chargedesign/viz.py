@@ -484,6 +484,22 @@ def _dipole_block(
     return block
 
 
+def _continuous_block(design: Design) -> pv.MultiBlock:
+    """The continuous bodies' surfaces, one mesh each."""
+    block = pv.MultiBlock()
+    for i, body in enumerate(design.continuous):
+        block[f"{body.kind} {body.shape} {i}"] = continuous_body_mesh(body)
+    return block
+
+
+def _scale_bar(size: float, length: float) -> pv.PolyData:
+    """A line of ``length`` below a body of ``size`` (field data ``length (m)``)."""
+    y, z = -1.15 * size, -1.0 * size
+    bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
+    bar.field_data["length (m)"] = np.array([length])
+    return bar
+
+
 def _block_legend(out: pv.MultiBlock, charge_key: str, length: float) -> list[str]:
     """One line per kind of block present: its colour and what its size means."""
     legend = []
@@ -531,9 +547,7 @@ def design_blocks(
     resolution : int
         Sphere resolution (theta and phi).
     """
-    if region is None:
-        region = region_from_design(design)
-    region = _region_spec(region)
+    region = _region_spec(region_from_design(design) if region is None else region)
     size = _body_size(design, region)
     sizes = element_sizes(design, size)
     out = pv.MultiBlock()
@@ -542,19 +556,13 @@ def design_blocks(
     if len(design.dipole_moments):
         out["dipoles"] = _dipole_block(design, size, centres, radii, resolution)
     if design.continuous:
-        block = pv.MultiBlock()
-        for i, body in enumerate(design.continuous):
-            block[f"{body.kind} {body.shape} {i}"] = continuous_body_mesh(body)
-        out["continuous"] = block
+        out["continuous"] = _continuous_block(design)
     outline = region_mesh(region)
     if outline is not None:
         out["region"] = outline
     length = _nice_length(0.5 * size)
     out.field_data["legend"] = _block_legend(out, sizes["charge_key"], length)
-    y, z = -1.15 * size, -1.0 * size
-    bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
-    bar.field_data["length (m)"] = np.array([length])
-    out["scale_bar"] = bar
+    out["scale_bar"] = _scale_bar(size, length)
     return out
 
 
