@@ -524,9 +524,8 @@ def _meet_surface_limits(
     (2) LP rounds where each carrier over its limit gets its own-field bound divided by its
     excess (neighbours' fields then push the charge onto more carriers); (3) the second-order
     cones at the worst surface points of the carriers near their limit, on the working set of
-    every carrier the LPs used (Clarabel), until the surface check passes.
-
-    Raises PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
+    every carrier the LPs used (Clarabel), until the surface check passes. Raises
+    PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
     """
     A, b = setup.systems["charges"]
     working = charge_support(q_lp)
@@ -565,28 +564,25 @@ def _meet_surface_limits(
         q[working] = solved
     else:
         proved = False  # the rounds ran out
-    raise PhysicalInfeasible(
-        Binding(
-            "charges",
-            f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
-            f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
-            f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
-            worst_ratio,
-            proved=proved,
-        )
+    raise PhysicalInfeasible(_surface_binding(setup, worst_ratio, worst_site, proved))
+
+
+def _surface_binding(
+    setup: PhysicalSetup, worst_ratio: float, worst_site: int, proved: bool
+) -> Binding:
+    """The carriers' fields add up beyond the safe surface field at the worst carrier."""
+    return Binding(
+        "charges",
+        f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
+        f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
+        f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
+        worst_ratio,
+        proved=proved,
     )
 
 
-def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
-    """The carriers and their charges at rate ``s`` (see the module doc).
-
-    Raises
-    ------
-    PhysicalInfeasible
-        Naming the binding limit.
-    """
-    A, b = setup.systems["charges"]
-    medium = setup.spec.medium
+def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
+    """Refuse a rate whose electric field exceeds ``fields.electric.max``."""
     if s > setup.field_bound(s) * (1 + 1e-12):
         raise PhysicalInfeasible(
             Binding(
@@ -598,23 +594,43 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 proved=True,
             )
         )
-    if not np.any(b):
-        return ChargeSolution(
-            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
-        )
-    caps = setup.charge_caps(s)
-    q_lp = lp_charges(A, s * b, caps, setup.cost("charges"))
+
+
+def _lp_charges(
+    setup: PhysicalSetup, A: np.ndarray, rhs: np.ndarray, caps: np.ndarray
+) -> np.ndarray:
+    """The linear program's charges within every carrier's own-field cap (refused: none)."""
+    q_lp = lp_charges(A, rhs, caps, setup.cost("charges"))
     if q_lp is None:
         raise PhysicalInfeasible(
             Binding(
                 "charges",
                 f"no charges on carriers of radius {setup.carrier_radius:.3g} m meet the "
                 f"conditions with every carrier's own surface field within the safe field of "
-                f"{medium.name} ({setup.safe_field:.3g} V/m)",
+                f"{setup.spec.medium.name} ({setup.safe_field:.3g} V/m)",
                 "the carriers",
                 proved=True,  # the own-field bounds are necessary
             )
         )
+    return q_lp
+
+
+def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
+    """The carriers and their charges at rate ``s`` (see the module doc).
+
+    Raises
+    ------
+    PhysicalInfeasible
+        Naming the binding limit.
+    """
+    A, b = setup.systems["charges"]
+    _check_field_rate(setup, s)
+    if not np.any(b):
+        return ChargeSolution(
+            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
+        )
+    caps = setup.charge_caps(s)
+    q_lp = _lp_charges(setup, A, s * b, caps)
     objective_lp = float(np.sum(np.abs(q_lp)))
     q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
     sites = charge_support(q_full)
@@ -1410,6 +1426,11 @@ def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
             f"{len(carrier_sites)} carriers leave free",
             "ballast cells",
         )
+    return _magnet_binding(setup, free)
+
+
+def _magnet_binding(setup: PhysicalSetup, free: np.ndarray) -> Binding:
+    """Why the magnets do not fit: the field demagnetises some cells, or no room at all."""
     magnet = setup.spec.magnet
     allowed = setup.magnet_sites[free]
     if not np.all(allowed):
