@@ -1261,6 +1261,22 @@ def _render_frames(
             plotter.close()
 
 
+def _frame_image(
+    plotter: pv.Plotter, body: _BodyActors, rotation: np.ndarray, done: np.ndarray, caption: str
+) -> np.ndarray:
+    """One frame: the body turned by ``rotation``, its axes, the trace so far and the caption."""
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation
+    for actor in body.actors:
+        actor.user_matrix = matrix
+    _add_labels(plotter, body.axis_tips @ rotation.T * 1.06, ("x", "y", "z"), "body", AXES_COLOR)
+    if len(done) >= 2:
+        plotter.add_mesh(pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace")
+    plotter.add_text(caption, position="upper_left", font_size=9, color="black", name="time")
+    plotter.reset_camera_clipping_range()
+    return np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3]
+
+
 def _frames(
     plotter: pv.Plotter,
     design: Design,
@@ -1296,27 +1312,9 @@ def _frames(
     images = []
     for i, (time, rotation) in enumerate(zip(times, rotations, strict=True)):
         with deferred_signals():
-            matrix = np.eye(4)
-            matrix[:3, :3] = rotation
-            for actor in body.actors:
-                actor.user_matrix = matrix
-            _add_labels(
-                plotter, body.axis_tips @ rotation.T * 1.06, ("x", "y", "z"), "body", AXES_COLOR
-            )
             done = trace[trace_t <= time]
-            if len(done) >= 2:
-                plotter.add_mesh(
-                    pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace"
-                )
-            plotter.add_text(
-                f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}",
-                position="upper_left",
-                font_size=9,
-                color="black",
-                name="time",
-            )
-            plotter.reset_camera_clipping_range()
-            images.append(np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3])
+            caption = f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}"
+            images.append(_frame_image(plotter, body, rotation, done, caption))
         if progress is not None:
             progress(i + 1, len(times))
     return np.stack(images)
