@@ -288,14 +288,16 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
     return realise
 
 
-def _check_source_options(options: DesignOptions, sources_present: list[str]) -> None:
-    """Options about charges or masses need those sources to be designed."""
+def _sources_present(conditions: LinearConditions, options: DesignOptions) -> list[str]:
+    """The sources the conditions ask for; options about charges or masses need them."""
+    sources_present = [s for s in SOURCES if conditions.for_source(s)]
     if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
         raise InputError("design.total_charge: no charges are designed (no charge conditions)")
     if options.n_charges is not None and "charges" not in sources_present:
         raise InputError("design.n_charges: no charges are designed (no charge conditions)")
     if options.total_mass is not None and "masses" not in sources_present:
         raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+    return sources_present
 
 
 def _checked_problems(
@@ -397,14 +399,10 @@ def design_body(
     progress : callable, optional
         Called with a short message before each long step.
 
-    Raises
-    ------
-    InfeasibleError
-        The conditions cannot be met on these candidates (the message names them), or only
-        by a cancellation that leaves the body meaningless (estimated forward error above
-        ``FORWARD_LIMIT``; the message names the cause and the remedy).
-    SolverError
-        A solver failed or its polished result misses ``options.tolerance``.
+    Raises InfeasibleError when the conditions cannot be met on these candidates (the message
+    names them), or only by a cancellation beyond ``FORWARD_LIMIT`` (the message names the
+    cause and the remedy); SolverError when a solver fails or its polished result misses
+    ``options.tolerance``.
 
     When the conditions' default field strengths were chosen for an assumed 1 m body
     (``conditions.length_assumed``), a note gives the ones these candidates call for. Above
@@ -419,16 +417,27 @@ def design_body(
     realise = _realised(conditions, options)
     timings: dict[str, float] = {}
     t_start = time.perf_counter()
-    sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    _check_source_options(options, sources_present)
-    notes = list(cand.notes)
-    notes.extend(length_notes(conditions, cand.geometry.size))
+    sources_present = _sources_present(conditions, options)
+    notes = [*cand.notes, *length_notes(conditions, cand.geometry.size)]
     forward = ForwardInputs.build(params, conditions, cand, realise)
     # fail fast: every source's equality system is checked before any solve
     checked = _checked_problems(sources_present, params, conditions, cand, options)
     weights, results = _solve_sources(checked, options, progress, forward, timings, notes)
     timings["total"] = time.perf_counter() - t_start
     design = _design_of(params, conditions, weights, cand.points, realise)
+    return _recorded_result(design, results, cand, options, conditions, timings, notes)
+
+
+def _recorded_result(
+    design: Design,
+    results: dict[str, SourceResult],
+    cand: CandidateSet,
+    options: DesignOptions,
+    conditions: LinearConditions,
+    timings: dict[str, float],
+    notes: list[str],
+) -> DesignResult:
+    """The design's result, its provenance recorded in the design."""
     result = DesignResult(
         design=design,
         sources=results,
@@ -458,10 +467,6 @@ def design_from_scene(
     **overrides
         DesignOptions fields that replace the scene's ``[design]`` values (None: keep).
 
-    Returns
-    -------
-    DesignResult
-
     The body realises the theorem as its Larmor reading says (``[design] larmor``,
     :func:`larmor_of_scene`): with ``frame`` its elements realise ``n = 0``
     (:func:`chargedesign.larmor.body_parameters`) and ``design.larmor`` records the rate of
@@ -478,19 +483,7 @@ def design_from_scene(
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
     t2 = time.perf_counter()
     if inputs.spec is not None:
-        setup = setup_physical(
-            inputs.body_params, conditions, candidates, inputs.spec, options, larmor=inputs.larmor
-        )
-        result = design_physical(setup, progress=progress)
-        if frontier:
-            if progress is not None:
-                progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-            front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
-            result.design.frontier = front.to_dict()
-            # the budget's K law is judged at the frontier's K_max, known only now
-            realism = result.design.realism
-            if isinstance(realism, dict) and K_LAW_KEY in realism:
-                realism[K_LAW_KEY] = k_law(result.design)
+        result = _physical_design(inputs, progress, frontier)
     else:
         result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
         result.design.parameters = scene.parameters
@@ -504,6 +497,31 @@ def design_from_scene(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
+    return result
+
+
+def _physical_design(
+    inputs: SceneInputs, progress: Progress | None, frontier: bool
+) -> DesignResult:
+    """The physical body a scene with ``[medium]`` describes, with its frontier when asked."""
+    setup = setup_physical(
+        inputs.body_params,
+        inputs.conditions,
+        inputs.candidates,
+        inputs.spec,
+        inputs.options,
+        larmor=inputs.larmor,
+    )
+    result = design_physical(setup, progress=progress)
+    if frontier:
+        if progress is not None:
+            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
+        front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
+        result.design.frontier = front.to_dict()
+        # the budget's K law is judged at the frontier's K_max, known only now
+        realism = result.design.realism
+        if isinstance(realism, dict) and K_LAW_KEY in realism:
+            realism[K_LAW_KEY] = k_law(result.design)
     return result
 
 
