@@ -117,6 +117,32 @@ def magnet_continuum(design: Any) -> dict[str, Any]:
     }
 
 
+def _part_set(
+    role: str,
+    spec: dict[str, Any],
+    centres: np.ndarray,
+    volumes: np.ndarray,
+    outer: np.ndarray,
+    inner: Any,
+) -> dict[str, Any] | None:
+    """One set of parts of a material: those of non-zero volume (None: none)."""
+    name = spec.get("name", role)
+    keep = volumes > 0
+    if not np.any(keep):
+        return None
+    return {
+        "role": role,
+        "name": name,
+        "centres": centres[keep],
+        "volumes": volumes[keep],
+        "outer": outer[keep],
+        "inner": np.broadcast_to(inner, outer.shape)[keep],
+        "density": spec.get("density_kg_per_m3"),
+        "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
+        "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
+    }
+
+
 def material_parts(design: Any) -> list[dict[str, Any]]:
     """Every part's material as spheres, from the written elements: one dict per part set.
 
@@ -133,23 +159,9 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
         role: str, centres: np.ndarray, volumes: np.ndarray, outer: np.ndarray, inner, spec=None
     ) -> None:
         spec = spec if spec is not None else (materials.get(role) or {})
-        name = spec.get("name", role)
-        keep = volumes > 0
-        if not np.any(keep):
-            return
-        sets.append(
-            {
-                "role": role,
-                "name": name,
-                "centres": centres[keep],
-                "volumes": volumes[keep],
-                "outer": outer[keep],
-                "inner": np.broadcast_to(inner, outer.shape)[keep],
-                "density": spec.get("density_kg_per_m3"),
-                "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
-                "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
-            }
-        )
+        part = _part_set(role, spec, centres, volumes, outer, inner)
+        if part is not None:
+            sets.append(part)
 
     carrier = materials.get("carrier")
     if carrier is not None and len(design.charge_values):
