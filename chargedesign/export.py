@@ -197,8 +197,8 @@ def _write_csv(design: Design, path: Path) -> None:
     path.write_text(buffer.getvalue(), encoding="utf-8")
 
 
-def _read_csv(path: Path) -> Design:
-    text = read_text(path, "CSV export")
+def _csv_header(path: Path, text: str) -> tuple[dict[str, Any], list[str]]:
+    """The ``# design.KEY: JSON`` header lines, parsed, and the other (CSV) lines."""
     header: dict[str, Any] = {}
     body_lines = []
     for number, line in enumerate(text.splitlines(), start=1):
@@ -210,28 +210,30 @@ def _read_csv(path: Path) -> Design:
             continue  # descriptive lines (units, columns)
         key = key.removeprefix("design.")
         header[key] = loads_json(value, f"{path}: line {number}: header {key!r}")
-    rows = list(csv.reader(body_lines))
-    if rows and tuple(rows[0]) == CSV_WRITTEN:
-        # the plain form: the design row carries the header as JSON in the last column
-        kept = [rows[0][: len(CSV_COLUMNS)]]
-        for number, row in enumerate(rows[1:], start=2):
-            if row and row[0] == "design":
-                try:
-                    found = json.loads(row[-1])
-                except json.JSONDecodeError as exc:
-                    raise InputError(
-                        f"{path}: row {number}: design cell is not JSON ({exc})"
-                    ) from exc
-                if not isinstance(found, dict):
-                    raise input_error(f"{path}: row {number}: design", "a JSON object", found)
-                found.pop("csv_units", None)
-                header.update(found)
-            else:
-                kept.append(row[: len(CSV_COLUMNS)])
-        rows = kept
-    if not rows or tuple(rows[0]) != CSV_COLUMNS:
-        # the file's own text is not echoed (it may not be an export at all)
-        raise InputError(f"{path}: columns: expected {', '.join(CSV_WRITTEN)} (header row)")
+    return header, body_lines
+
+
+def _plain_form_rows(path: Path, rows: list[list[str]], header: dict[str, Any]) -> list[list[str]]:
+    """The element rows of the plain form, its design row's JSON merged into ``header``."""
+    # the plain form: the design row carries the header as JSON in the last column
+    kept = [rows[0][: len(CSV_COLUMNS)]]
+    for number, row in enumerate(rows[1:], start=2):
+        if row and row[0] == "design":
+            try:
+                found = json.loads(row[-1])
+            except json.JSONDecodeError as exc:
+                raise InputError(f"{path}: row {number}: design cell is not JSON ({exc})") from exc
+            if not isinstance(found, dict):
+                raise input_error(f"{path}: row {number}: design", "a JSON object", found)
+            found.pop("csv_units", None)
+            header.update(found)
+        else:
+            kept.append(row[: len(CSV_COLUMNS)])
+    return kept
+
+
+def _csv_elements(path: Path, rows: list[list[str]]) -> dict[str, dict[str, list[Any]]]:
+    """The charges, masses and dipoles of the element rows (after the column row)."""
     elements: dict[str, dict[str, list[Any]]] = {
         "charges": {"positions": [], "values": []},
         "masses": {"positions": [], "values": []},
@@ -258,6 +260,19 @@ def _read_csv(path: Path) -> Design:
                 f"{path}: row {number}: not a valid element row ({type(exc).__name__})"
             ) from exc
         block["positions"].append(position)
+    return elements
+
+
+def _read_csv(path: Path) -> Design:
+    text = read_text(path, "CSV export")
+    header, body_lines = _csv_header(path, text)
+    rows = list(csv.reader(body_lines))
+    if rows and tuple(rows[0]) == CSV_WRITTEN:
+        rows = _plain_form_rows(path, rows, header)
+    if not rows or tuple(rows[0]) != CSV_COLUMNS:
+        # the file's own text is not echoed (it may not be an export at all)
+        raise InputError(f"{path}: columns: expected {', '.join(CSV_WRITTEN)} (header row)")
+    elements = _csv_elements(path, rows)
     if "parameters" not in header:
         raise InputError(f"{path}: no design row with the parameters (header missing)")
     return _from_header(header, elements, str(path))

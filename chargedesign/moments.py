@@ -218,29 +218,38 @@ def solid_harmonics(points: Any, lmax: int) -> np.ndarray:
     x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
     r2 = np.einsum("ij,ij->i", pts, pts)
     out = np.empty((n, (L + 1) ** 2))
-    root2 = np.sqrt(2.0)
     # Diagonal (C_m^m, S_m^m) by the sectoral recurrence, then up the column in l.
     cm, sm = np.ones(n), np.zeros(n)
     for m in range(L + 1):
         if m > 0:
             f = np.sqrt((2 * m - 1) / (2 * m))
             cm, sm = f * (x * cm - y * sm), f * (x * sm + y * cm)
-        c_prev, s_prev = np.zeros(n), np.zeros(n)
-        c_cur, s_cur = cm, sm
-        for l in range(m, L + 1):
-            if m == 0:
-                out[:, l * l + l] = c_cur
-            else:
-                out[:, l * l + l + m] = root2 * c_cur
-                out[:, l * l + l - m] = root2 * s_cur
-            if l == L:
-                break
-            a = (2 * l + 1) / np.sqrt((l + 1) ** 2 - m * m)
-            b = np.sqrt(l * l - m * m) / np.sqrt((l + 1) ** 2 - m * m)
-            c_next = a * z * c_cur - b * r2 * c_prev
-            s_next = a * z * s_cur - b * r2 * s_prev
-            c_prev, s_prev, c_cur, s_cur = c_cur, s_cur, c_next, s_next
+        _harmonic_column(out, m, L, z, r2, cm, sm)
     return out
+
+
+def _harmonic_column(
+    out: np.ndarray, m: int, L: int, z: np.ndarray, r2: np.ndarray, cm: np.ndarray, sm: np.ndarray
+) -> None:
+    """Fill the column of order ``m`` (degrees m..L) of ``out`` from ``(C_m^m, S_m^m)`` by the
+    recurrence in l."""
+    n = len(z)
+    root2 = np.sqrt(2.0)
+    c_prev, s_prev = np.zeros(n), np.zeros(n)
+    c_cur, s_cur = cm, sm
+    for l in range(m, L + 1):
+        if m == 0:
+            out[:, l * l + l] = c_cur
+        else:
+            out[:, l * l + l + m] = root2 * c_cur
+            out[:, l * l + l - m] = root2 * s_cur
+        if l == L:
+            break
+        a = (2 * l + 1) / np.sqrt((l + 1) ** 2 - m * m)
+        b = np.sqrt(l * l - m * m) / np.sqrt((l + 1) ** 2 - m * m)
+        c_next = a * z * c_cur - b * r2 * c_prev
+        s_next = a * z * s_cur - b * r2 * s_prev
+        c_prev, s_prev, c_cur, s_cur = c_cur, s_cur, c_next, s_next
 
 
 def multipole_moments(points: Any, weights: Any, lmax: int) -> np.ndarray:

@@ -131,34 +131,14 @@ def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
     return lines
 
 
-def render_report(
-    design: Design, *, title: str = "Design report", picture: str | None = None
-) -> str:
-    """The human report of a design as Markdown.
-
-    Parameters
-    ----------
-    design : Design
-        A designed body; its provenance keys (as written by :mod:`chargedesign.designer`)
-        are used when present.
-    title : str
-    picture : str, optional
-        File name of a picture to show under the title (e.g. ``design.png``).
-
-    Returns
-    -------
-    str
-    """
+def _scene_lines(design: Design) -> list[str]:
+    """Parameters, fields, realised terms and candidates, one line each."""
     params = design.parameters.as_dict()
-    lines = [f"# {title}", ""]
-    lines += _verdict_lines(design)
-    if picture:
-        lines += [f"![the designed body]({picture})", ""]
-    lines.append(
+    lines = [
         "Parameters: "
         + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
         + " (SI units)."
-    )
+    ]
     origin = (design.provenance or {}).get("fields_origin") or {}
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):
@@ -176,7 +156,12 @@ def render_report(
     if isinstance(cand, dict):
         keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
         lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
-    lines += ["", "## Elements", ""]
+    return lines
+
+
+def _element_lines(design: Design) -> list[str]:
+    """The elements' table: count, sum of magnitudes, largest and net per source."""
+    lines = ["", "## Elements", ""]
     lines.append("| source | count | sum of magnitudes | largest | net |")
     lines.append("|---|---|---|---|---|")
     q = design.charge_values
@@ -202,48 +187,82 @@ def render_report(
         )
     if not (len(q) or len(sig) or len(m)):
         lines.append("| (none) | 0 | | | |")
+    return lines
+
+
+def _forward_accuracy_lines(design: Design) -> list[str]:
+    """The estimated forward accuracy of the sources whose contributions cancel most."""
+    worst = (design.forward_accuracy or {}).get("worst") or {}
+    if not worst:
+        return []
+    parts = [
+        f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
+        f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
+        for source, w in worst.items()
+    ]
+    return [
+        "",
+        "Forward accuracy (estimated relative error of mu and V evaluated in floating "
+        "point from these elements; the contributions that cancel most): " + "; ".join(parts) + ".",
+    ]
+
+
+def _problem_lines(design: Design) -> list[str]:
+    """The problems' table (objective, solver, residuals), forward accuracy and methods."""
     objective = design.objective or {}
     solver = design.solver or {}
     residuals = design.residuals or {}
-    if objective or residuals:
-        lines += ["", "## Problems and residuals", ""]
-        lines.append("| source | objective | value | solver | residual before | after polish |")
-        lines.append("|---|---|---|---|---|---|")
-        before = residuals.get("before_polish") or {}
-        after = residuals.get("after_polish") or {}
-        for source in ("charges", "dipoles", "masses"):
-            if source not in objective and source not in after:
-                continue
-            obj = objective.get(source) or {}
-            sol = solver.get(source) or {}
-            lines.append(
-                f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
-                f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
-                f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
-            )
-        if "definition" in residuals:
-            lines += [
-                "",
-                f"Relative residual: {residuals['definition']}; required <= "
-                f"{_fmt(residuals.get('tolerance', '?'))}.",
-            ]
-        worst = (design.forward_accuracy or {}).get("worst") or {}
-        if worst:
-            parts = [
-                f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
-                f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
-                for source, w in worst.items()
-            ]
-            lines += [
-                "",
-                "Forward accuracy (estimated relative error of mu and V evaluated in floating "
-                "point from these elements; the contributions that cancel most): "
-                + "; ".join(parts)
-                + ".",
-            ]
-        methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
-        if methods:
-            lines += ["", "Methods:", "", *methods]
+    if not (objective or residuals):
+        return []
+    lines = ["", "## Problems and residuals", ""]
+    lines.append("| source | objective | value | solver | residual before | after polish |")
+    lines.append("|---|---|---|---|---|---|")
+    before = residuals.get("before_polish") or {}
+    after = residuals.get("after_polish") or {}
+    for source in ("charges", "dipoles", "masses"):
+        if source not in objective and source not in after:
+            continue
+        obj = objective.get(source) or {}
+        sol = solver.get(source) or {}
+        lines.append(
+            f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
+            f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
+            f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
+        )
+    if "definition" in residuals:
+        lines += [
+            "",
+            f"Relative residual: {residuals['definition']}; required <= "
+            f"{_fmt(residuals.get('tolerance', '?'))}.",
+        ]
+    lines += _forward_accuracy_lines(design)
+    methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
+    if methods:
+        lines += ["", "Methods:", "", *methods]
+    return lines
+
+
+def render_report(
+    design: Design, *, title: str = "Design report", picture: str | None = None
+) -> str:
+    """The human report of a design as Markdown.
+
+    Parameters
+    ----------
+    design : Design
+        A designed body; its provenance keys (as written by :mod:`chargedesign.designer`)
+        are used when present.
+    title : str
+    picture : str, optional
+        File name of a picture to show under the title (e.g. ``design.png``).
+    """
+    lines = [f"# {title}", ""]
+    lines += _verdict_lines(design)
+    if picture:
+        lines += [f"![the designed body]({picture})", ""]
+    lines += _scene_lines(design)
+    lines += _element_lines(design)
+    lines += _problem_lines(design)
     timings = design.timings or {}
     if timings:
         lines += [
@@ -275,28 +294,19 @@ def _larmor_lines(design: Design) -> list[str]:
     return [f"- Larmor reading: {design.larmor.reading}: {how}" + (f" ({why})." if why else ".")]
 
 
-def _verdict_lines(design: Design) -> list[str]:
-    """The report's opening: the buildability verdict and what a builder must achieve."""
-    if design.medium is None:
-        return [
-            "**Verdict: not checked for buildability** (the scene has no [medium]: point "
-            "elements, the mathematical case).",
-            *_larmor_lines(design),
-            "",
-        ]
-    limits = design.buildability or {}
-    frontier = design.frontier or {}
-    realism = design.realism or {}
-    medium = design.medium
-    ok = bool(limits.get("buildable"))
-    response = _fresh_response(design, realism)
-    law = k_law(design, response) if response else {}
+def _swamped(response: dict[str, Any], law: dict[str, Any]) -> list[str]:
+    """The field responses that are not negligible (the K law's, when it has figures)."""
     swamped = [k for k, item in response.items() if item.get("verdict") != "negligible"]
     if law:
         swamped = [K_LAW_KEY] if law["verdict"] != "negligible" else []
         eddy = law.get("eddy_ratio")
         if eddy is not None and eddy >= RESPONSE_FRACTION:
             swamped.append(FIELD_RESPONSE_KEYS[1])
+    return swamped
+
+
+def _verdict_and_reasons(design: Design, ok: bool, swamped: list[str]) -> tuple[str, list[str]]:
+    """The verdict's words and its reasons (magnets below the continuum size, swamped)."""
     verdict = "buildable" if ok else "NOT buildable"
     if ok and swamped:
         verdict = "buildable parts, NOT realised as designed"
@@ -316,17 +326,12 @@ def _verdict_lines(design: Design) -> list[str]:
             "the applied field acts on the parts' own materials more than the designed "
             "charges and magnets do (below)"
         )
-    lines = [
-        f"**Verdict: {verdict}** in {medium['name']} (breakdown "
-        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)})"
-        + (": " + "; ".join(reasons) + "." if reasons else "."),
-        "",
-        "- Largest surface field: "
-        f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
-        f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "
-        "carrier and around the largest).",
-    ]
-    lines += _larmor_lines(design)
+    return verdict, reasons
+
+
+def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
+    """The frontier of K and the time rate n against the frontier's n_max."""
+    lines = []
     n = design.parameters.n
     if frontier.get("K_max") is not None:
         lines.append(
@@ -344,6 +349,51 @@ def _verdict_lines(design: Design) -> list[str]:
             if n_max is not None and period is not None
             else f"- Time rate: n = {fmt(n, PRECISE)} 1/s."
         )
+    return lines
+
+
+def _placement_lines(design: Design) -> list[str]:
+    """The element whose placement tolerance binds, when tolerancing was recorded."""
+    tolerance = design.tolerance or {}
+    top = (tolerance.get("elements") or [None])[0]
+    if top and top.get("binding"):
+        return [
+            f"- Placement: {top['element']} dominates: within +-{fmt(top['position_tol_m_min'])} m "
+            f"it keeps the relative error of {top['binding']} below "
+            f"{fmt(tolerance.get('target'), PLAIN)}."
+        ]
+    return []
+
+
+def _verdict_lines(design: Design) -> list[str]:
+    """The report's opening: the buildability verdict and what a builder must achieve."""
+    if design.medium is None:
+        return [
+            "**Verdict: not checked for buildability** (the scene has no [medium]: point "
+            "elements, the mathematical case).",
+            *_larmor_lines(design),
+            "",
+        ]
+    limits = design.buildability or {}
+    frontier = design.frontier or {}
+    realism = design.realism or {}
+    medium = design.medium
+    ok = bool(limits.get("buildable"))
+    response = _fresh_response(design, realism)
+    law = k_law(design, response) if response else {}
+    verdict, reasons = _verdict_and_reasons(design, ok, _swamped(response, law))
+    lines = [
+        f"**Verdict: {verdict}** in {medium['name']} (breakdown "
+        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)})"
+        + (": " + "; ".join(reasons) + "." if reasons else "."),
+        "",
+        "- Largest surface field: "
+        f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
+        f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "
+        "carrier and around the largest).",
+    ]
+    lines += _larmor_lines(design)
+    lines += _frontier_lines(design, frontier)
     bal = realism.get("balance_offset_1g_m") or {}
     micro = realism.get("balance_offset_microgravity_m") or {}
     if bal:
@@ -353,14 +403,7 @@ def _verdict_lines(design: Design) -> list[str]:
         )
     lines += _k_law_lines(law, design) if law else _response_lines(response)
     lines += _part_size_lines(design)
-    tolerance = design.tolerance or {}
-    top = (tolerance.get("elements") or [None])[0]
-    if top and top.get("binding"):
-        lines.append(
-            f"- Placement: {top['element']} dominates: within +-{fmt(top['position_tol_m_min'])} m "
-            f"it keeps the relative error of {top['binding']} below "
-            f"{fmt(tolerance.get('target'), PLAIN)}."
-        )
+    lines += _placement_lines(design)
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]
@@ -387,10 +430,9 @@ def _response_lines(response: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
-    """The verdict on the parts' materials by the size-free K law, with its numbers."""
-    ratio = law["ratio"]
-    tail = (
+def _k_law_tail(law: dict[str, Any]) -> str:
+    """The K law's closing words: size-free, and which reading needs Lorentz charges."""
+    return (
         ". For a similar body it is the same at any size and any a2, and falls like "
         "1/E_surface^2. Only K needs Lorentz charges when n is read as turning axes (this "
         f"body: the {law['larmor_reading']} reading"
@@ -400,8 +442,13 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
             else ")."
         )
     )
+
+
+def _k_law_induced_line(law: dict[str, Any]) -> str:
+    """Induced magnetisation at the K frontier: cancelled by the design, or by the law."""
+    tail = _k_law_tail(law)
     if law.get("cancelled_by_design"):
-        lines = [
+        return (
             "- Induced magnetisation at the K frontier: cancelled by the design's chi-weighted "
             f"moments to {fmt(law['ratio_elements'])} of the designed K torques C K_max^2 "
             f"({law['verdict']}, element by element); the same matter without the "
@@ -412,34 +459,65 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
             f"susceptibility is known to {fmt(law['chi_relative_needed'], ROUGH)} relative; "
             f"susceptibility metrology reaches about "
             f"{fmt(law['metrology_chi_relative'], ORDER_SCI)}" + tail
-        ]
-    else:
-        lines = [
-            f"- Induced magnetisation at the K frontier: {fmt(ratio)} times the designed K "
-            f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
-            f"(mu0 G^2) with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
-            f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
-            f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
-            f"{fmt(law['a2_T_per_m'])} T/m)"
-            + (
-                f"; element by element {fmt(law['ratio_elements'])}"
-                if law.get("ratio_elements") is not None
-                else ""
-            )
-            + tail
-        ]
-    if ratio > 0:
-        parity = law["parity_surface_field_V_per_m"]
-        lines.append(
-            f"- Parity would need G {fmt(parity / law['surface_field_V_per_m'])} times larger: "
-            f"carrier surface fields of {fmt(parity)} V/m instead of "
-            f"{fmt(law['surface_field_V_per_m'])} V/m, "
-            f"{fmt(parity / law['field_evaporation_V_per_m'])} times the field that evaporates "
-            f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m, Tsong 1990) and "
-            f"{fmt(parity / law['atomic_field_V_per_m'])} times the atomic field "
-            f"e / (4 pi eps0 a0^2) = {fmt(law['atomic_field_V_per_m'])} V/m; or parts with "
-            f"chi/rho = {fmt(law['parity_chi_over_rho_m3_per_kg'])} m^3/kg."
         )
+    return (
+        f"- Induced magnetisation at the K frontier: {fmt(law['ratio'])} times the designed K "
+        f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
+        f"(mu0 G^2) with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
+        f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
+        f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
+        f"{fmt(law['a2_T_per_m'])} T/m)"
+        + (
+            f"; element by element {fmt(law['ratio_elements'])}"
+            if law.get("ratio_elements") is not None
+            else ""
+        )
+        + tail
+    )
+
+
+def _k_law_parity_line(law: dict[str, Any]) -> str:
+    """What parity with the designed torques would need: fields, or materials."""
+    parity = law["parity_surface_field_V_per_m"]
+    return (
+        f"- Parity would need G {fmt(parity / law['surface_field_V_per_m'])} times larger: "
+        f"carrier surface fields of {fmt(parity)} V/m instead of "
+        f"{fmt(law['surface_field_V_per_m'])} V/m, "
+        f"{fmt(parity / law['field_evaporation_V_per_m'])} times the field that evaporates "
+        f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m, Tsong 1990) and "
+        f"{fmt(parity / law['atomic_field_V_per_m'])} times the atomic field "
+        f"e / (4 pi eps0 a0^2) = {fmt(law['atomic_field_V_per_m'])} V/m; or parts with "
+        f"chi/rho = {fmt(law['parity_chi_over_rho_m3_per_kg'])} m^3/kg."
+    )
+
+
+def _k_law_size_line(law: dict[str, Any], design: Design, smallest: float) -> str:
+    """The sizes the law holds for: one elementary charge per carrier, continuum magnets."""
+    line = (
+        "- Size: the law holds for similar bodies while each carrier at the safe field "
+        "holds at least one elementary charge, i.e. carriers of radius "
+        f"{fmt_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
+        f"{fmt_length(smallest)} and more. Within that range the ratio changes with "
+        "size only through the surface field the medium holds (as 1/E^2; the breakdown "
+        "field used is that of mm to cm gaps)."
+    )
+    continuum = magnet_continuum(design)
+    if continuum:
+        where = "already below it" if continuum["below"] else "above it"
+        line += (
+            " The parts must stay continuum parts too, which bounds the size first where "
+            f"the magnets are small: a magnet at least "
+            f"{fmt_length(continuum['continuum_size_m'])} across; this body's smallest "
+            f"is {fmt_length(continuum['smallest_m'])}, {where}."
+        )
+    return line
+
+
+def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
+    """The verdict on the parts' materials by the size-free K law, with its numbers."""
+    lines = [_k_law_induced_line(law)]
+    if law["ratio"] > 0:
+        lines.append(_k_law_parity_line(law))
     eddy, sigma = law.get("eddy_ratio"), law.get("conductivity_needed_S_per_m")
     if eddy is not None and sigma is not None:
         insulators = ", ".join(
@@ -455,23 +533,7 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
         )
     smallest = law.get("smallest_similar_body_radius_m")
     if smallest is not None:
-        lines.append(
-            "- Size: the law holds for similar bodies while each carrier at the safe field "
-            "holds at least one elementary charge, i.e. carriers of radius "
-            f"{fmt_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
-            f"{fmt_length(smallest)} and more. Within that range the ratio changes with "
-            "size only through the surface field the medium holds (as 1/E^2; the breakdown "
-            "field used is that of mm to cm gaps)."
-        )
-        continuum = magnet_continuum(design)
-        if continuum:
-            where = "already below it" if continuum["below"] else "above it"
-            lines[-1] += (
-                " The parts must stay continuum parts too, which bounds the size first where "
-                f"the magnets are small: a magnet at least "
-                f"{fmt_length(continuum['continuum_size_m'])} across; this body's smallest "
-                f"is {fmt_length(continuum['smallest_m'])}, {where}."
-            )
+        lines.append(_k_law_size_line(law, design, smallest))
     return lines
 
 
@@ -509,6 +571,11 @@ def _part_size_lines(design: Design) -> list[str]:
 
 def _physical_sections(design: Design) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
+    return _bom_lines(design) + _realism_lines(design)
+
+
+def _bom_lines(design: Design) -> list[str]:
+    """The bill of materials: totals, the fields the apparatus makes, the first 20 parts."""
     totals = bom_totals(design)
     lines = ["", "## Bill of materials", ""]
     mats = design.materials
@@ -553,6 +620,12 @@ def _physical_sections(design: Design) -> list[str]:
         )
     if len(rows) > 20:
         lines.append(f"| ... | {len(rows) - 20} more parts in bom.csv | | | | | |")
+    return lines
+
+
+def _realism_lines(design: Design) -> list[str]:
+    """The realism budget (its field response and K law recomputed) and the maps."""
+    lines: list[str] = []
     realism = design.realism or {}
     if realism:
         lines += ["", "## Realism budget", ""]

@@ -407,6 +407,114 @@ def element_sizes(design: Design, size: float) -> dict[str, Any]:
     }
 
 
+def _sphere(center: np.ndarray, radius: float, resolution: int) -> pv.PolyData:
+    """A sphere mesh of ``resolution`` in theta and phi."""
+    return pv.Sphere(
+        radius=float(radius),
+        center=np.asarray(center, dtype=np.float64),
+        theta_resolution=resolution,
+        phi_resolution=resolution,
+    )
+
+
+def _sphere_blocks(
+    design: Design, sizes: Mapping[str, Any], out: pv.MultiBlock, resolution: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Add the charges', masses' and magnets' spheres to ``out``; their centres and radii."""
+    spheres_c: list[np.ndarray] = []
+    spheres_r: list[np.ndarray] = []
+    if len(design.charge_values):
+        block = pv.MultiBlock()
+        for i, (pos, q, r) in enumerate(
+            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
+        ):
+            mesh = _sphere(pos, r, resolution)
+            block[f"charge {i}"] = _labelled(mesh, {"charge (C)": q, "radius (m)": r})
+        out["charges"] = block
+        spheres_c.append(design.charge_positions)
+        spheres_r.append(sizes["charges"])
+    if len(design.mass_values):
+        block = pv.MultiBlock()
+        for i, (pos, m, r) in enumerate(
+            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
+        ):
+            mesh = _sphere(pos, r, resolution)
+            block[f"mass {i}"] = _labelled(mesh, {"mass (kg)": m, "radius (m)": r})
+        out["masses"] = block
+        spheres_c.append(design.mass_positions)
+        spheres_r.append(sizes["masses"])
+    magnets = sizes["magnets"]
+    if np.any(magnets > 0):
+        block = pv.MultiBlock()
+        for i, (pos, r) in enumerate(zip(design.dipole_positions, magnets, strict=True)):
+            if r > 0:
+                block[f"magnet {i}"] = _labelled(_sphere(pos, r, resolution), {"radius (m)": r})
+        out["magnets"] = block
+        spheres_c.append(design.dipole_positions[magnets > 0])
+        spheres_r.append(magnets[magnets > 0])
+    centres = np.concatenate(spheres_c) if spheres_c else np.zeros((0, 3))
+    radii = np.concatenate(spheres_r) if spheres_r else np.zeros(0)
+    return centres, radii
+
+
+def _dipole_block(
+    design: Design, size: float, centres: np.ndarray, radii: np.ndarray, resolution: int
+) -> pv.MultiBlock:
+    """An arrow per dipole along its moment, sticking out of every sphere around its centre."""
+    moments = design.dipole_moments
+    strengths = np.linalg.norm(moments, axis=1)
+    top = float(strengths.max())
+    block = pv.MultiBlock()
+    for i, (pos, moment, strength) in enumerate(
+        zip(design.dipole_positions, moments, strengths, strict=True)
+    ):
+        data = {"moment (A m^2)": moment}
+        if strength == 0.0:  # no direction: a small marker
+            marker = _sphere(pos, _MIN_SPHERE_FRACTION * size, resolution)
+            block[f"dipole {i}"] = _labelled(marker, data)
+            continue
+        half = max(
+            0.5 * _ARROW_FRACTION * size * strength / top,
+            1.35 * _covering(pos, centres, radii),
+            _MIN_SPHERE_FRACTION * size * 2.0,
+        )
+        unit = moment / strength
+        mesh = _arrow(pos - half * unit, 2.0 * half * unit, shaft=0.03, tip=0.08)
+        block[f"dipole {i}"] = _labelled(mesh, data)
+    return block
+
+
+def _continuous_block(design: Design) -> pv.MultiBlock:
+    """The continuous bodies' surfaces, one mesh each."""
+    block = pv.MultiBlock()
+    for i, body in enumerate(design.continuous):
+        block[f"{body.kind} {body.shape} {i}"] = continuous_body_mesh(body)
+    return block
+
+
+def _scale_bar(size: float, length: float) -> pv.PolyData:
+    """A line of ``length`` below a body of ``size`` (field data ``length (m)``)."""
+    y, z = -1.15 * size, -1.0 * size
+    bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
+    bar.field_data["length (m)"] = np.array([length])
+    return bar
+
+
+def _block_legend(out: pv.MultiBlock, charge_key: str, length: float) -> list[str]:
+    """One line per kind of block present: its colour and what its size means."""
+    legend = []
+    if "charges" in out.keys():
+        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {charge_key}")
+    if "masses" in out.keys():
+        legend.append("masses: translucent grey; volume ~ mass")
+    if "magnets" in out.keys():
+        legend.append("magnets: translucent green; the sphere of the magnet's volume")
+    if "dipoles" in out.keys():
+        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
+    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
+    return legend
+
+
 def design_blocks(
     design: Design,
     *,
@@ -438,103 +546,23 @@ def design_blocks(
         The scene's ``[body]`` table; default: the one recorded in the design.
     resolution : int
         Sphere resolution (theta and phi).
-
-    Returns
-    -------
-    pyvista.MultiBlock
     """
-    if region is None:
-        region = region_from_design(design)
-    region = _region_spec(region)
+    region = _region_spec(region_from_design(design) if region is None else region)
     size = _body_size(design, region)
     sizes = element_sizes(design, size)
     out = pv.MultiBlock()
     out.field_data["size (m)"] = np.array([size])
-
-    def sphere(center: np.ndarray, radius: float) -> pv.PolyData:
-        return pv.Sphere(
-            radius=float(radius),
-            center=np.asarray(center, dtype=np.float64),
-            theta_resolution=resolution,
-            phi_resolution=resolution,
-        )
-
-    spheres_c: list[np.ndarray] = []
-    spheres_r: list[np.ndarray] = []
-    if len(design.charge_values):
-        block = pv.MultiBlock()
-        for i, (pos, q, r) in enumerate(
-            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
-        ):
-            block[f"charge {i}"] = _labelled(sphere(pos, r), {"charge (C)": q, "radius (m)": r})
-        out["charges"] = block
-        spheres_c.append(design.charge_positions)
-        spheres_r.append(sizes["charges"])
-    if len(design.mass_values):
-        block = pv.MultiBlock()
-        for i, (pos, m, r) in enumerate(
-            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
-        ):
-            block[f"mass {i}"] = _labelled(sphere(pos, r), {"mass (kg)": m, "radius (m)": r})
-        out["masses"] = block
-        spheres_c.append(design.mass_positions)
-        spheres_r.append(sizes["masses"])
-    magnets = sizes["magnets"]
-    if np.any(magnets > 0):
-        block = pv.MultiBlock()
-        for i, (pos, r) in enumerate(zip(design.dipole_positions, magnets, strict=True)):
-            if r > 0:
-                block[f"magnet {i}"] = _labelled(sphere(pos, r), {"radius (m)": r})
-        out["magnets"] = block
-        spheres_c.append(design.dipole_positions[magnets > 0])
-        spheres_r.append(magnets[magnets > 0])
-    moments = design.dipole_moments
-    if len(moments):
-        centres = np.concatenate(spheres_c) if spheres_c else np.zeros((0, 3))
-        radii = np.concatenate(spheres_r) if spheres_r else np.zeros(0)
-        strengths = np.linalg.norm(moments, axis=1)
-        top = float(strengths.max())
-        block = pv.MultiBlock()
-        for i, (pos, moment, strength) in enumerate(
-            zip(design.dipole_positions, moments, strengths, strict=True)
-        ):
-            data = {"moment (A m^2)": moment}
-            if strength == 0.0:  # no direction: a small marker
-                block[f"dipole {i}"] = _labelled(sphere(pos, _MIN_SPHERE_FRACTION * size), data)
-                continue
-            half = max(
-                0.5 * _ARROW_FRACTION * size * strength / top,
-                1.35 * _covering(pos, centres, radii),
-                _MIN_SPHERE_FRACTION * size * 2.0,
-            )
-            unit = moment / strength
-            mesh = _arrow(pos - half * unit, 2.0 * half * unit, shaft=0.03, tip=0.08)
-            block[f"dipole {i}"] = _labelled(mesh, data)
-        out["dipoles"] = block
+    centres, radii = _sphere_blocks(design, sizes, out, resolution)
+    if len(design.dipole_moments):
+        out["dipoles"] = _dipole_block(design, size, centres, radii, resolution)
     if design.continuous:
-        block = pv.MultiBlock()
-        for i, body in enumerate(design.continuous):
-            block[f"{body.kind} {body.shape} {i}"] = continuous_body_mesh(body)
-        out["continuous"] = block
+        out["continuous"] = _continuous_block(design)
     outline = region_mesh(region)
     if outline is not None:
         out["region"] = outline
-    legend = []
-    if "charges" in out.keys():
-        legend.append(f"charges: red > 0, blue < 0 (diverging, by sign); {sizes['charge_key']}")
-    if "masses" in out.keys():
-        legend.append("masses: translucent grey; volume ~ mass")
-    if "magnets" in out.keys():
-        legend.append("magnets: translucent green; the sphere of the magnet's volume")
-    if "dipoles" in out.keys():
-        legend.append("dipoles: green arrows along the moment, sticking out of any sphere")
     length = _nice_length(0.5 * size)
-    legend.append(f"scale bar: {fmt(length, PLAIN)} m")
-    out.field_data["legend"] = legend
-    y, z = -1.15 * size, -1.0 * size
-    bar = pv.Line((-0.5 * length, y, z), (0.5 * length, y, z))
-    bar.field_data["length (m)"] = np.array([length])
-    out["scale_bar"] = bar
+    out.field_data["legend"] = _block_legend(out, sizes["charge_key"], length)
+    out["scale_bar"] = _scale_bar(size, length)
     return out
 
 
@@ -1233,6 +1261,22 @@ def _render_frames(
             plotter.close()
 
 
+def _frame_image(
+    plotter: pv.Plotter, body: _BodyActors, rotation: np.ndarray, done: np.ndarray, caption: str
+) -> np.ndarray:
+    """One frame: the body turned by ``rotation``, its axes, the trace so far and the caption."""
+    matrix = np.eye(4)
+    matrix[:3, :3] = rotation
+    for actor in body.actors:
+        actor.user_matrix = matrix
+    _add_labels(plotter, body.axis_tips @ rotation.T * 1.06, ("x", "y", "z"), "body", AXES_COLOR)
+    if len(done) >= 2:
+        plotter.add_mesh(pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace")
+    plotter.add_text(caption, position="upper_left", font_size=9, color="black", name="time")
+    plotter.reset_camera_clipping_range()
+    return np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3]
+
+
 def _frames(
     plotter: pv.Plotter,
     design: Design,
@@ -1268,27 +1312,9 @@ def _frames(
     images = []
     for i, (time, rotation) in enumerate(zip(times, rotations, strict=True)):
         with deferred_signals():
-            matrix = np.eye(4)
-            matrix[:3, :3] = rotation
-            for actor in body.actors:
-                actor.user_matrix = matrix
-            _add_labels(
-                plotter, body.axis_tips @ rotation.T * 1.06, ("x", "y", "z"), "body", AXES_COLOR
-            )
             done = trace[trace_t <= time]
-            if len(done) >= 2:
-                plotter.add_mesh(
-                    pv.lines_from_points(done), color=AXES_COLOR, line_width=1.5, name="trace"
-                )
-            plotter.add_text(
-                f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}",
-                position="upper_left",
-                font_size=9,
-                color="black",
-                name="time",
-            )
-            plotter.reset_camera_clipping_range()
-            images.append(np.asarray(plotter.screenshot(None, return_img=True))[:, :, :3])
+            caption = f"t = {fmt(time, PRECISE)} s   frame {i + 1}/{len(times)}"
+            images.append(_frame_image(plotter, body, rotation, done, caption))
         if progress is not None:
             progress(i + 1, len(times))
     return np.stack(images)

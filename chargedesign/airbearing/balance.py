@@ -93,26 +93,12 @@ def _i4_rate(states: np.ndarray, params: Any) -> np.ndarray:
     return np.einsum("sa,sa->s", _i4_gradient(states, params), rhs(states[:, 0:6], params))
 
 
-def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float) -> Sensitivity:
-    """The linear response along ``states`` (S, 6 or 9) at ``times`` (S,); ``mass`` in kg.
-
-    A perturbing acceleration d changes I4 directly (``dI4/domega . d``) and moves the state
-    off I3 = 0 (``dI3 = int (I gamma) . d``), where the flow itself changes I4 at
-    ``Q dI3``; ``Q`` is the derivative of the flow's I4 rate across the level (r shifted,
-    central difference).
-    """
-    omega, gamma = states[:, 0:3], states[:, 3:6]
-    params, inertia = plant.params, plant.theorem_inertia
-    i4_0 = float(invariants(states[:1, 0:6], params)[1][0])
-    scale = abs(i4_0) if i4_0 != 0.0 else 1.0
-    grad = _i4_gradient(states, params, 3)
-    eps = 1e-4 * max(1.0, float(np.abs(omega).max()))
-    up, down = states[:, 0:6].copy(), states[:, 0:6].copy()
-    up[:, 2] += eps
-    down[:, 2] -= eps
-    Q = (_i4_rate(up, params) - _i4_rate(down, params)) / (2 * eps * inertia[2] * gamma[:, 2])
-    # perturbing accelerations per unit error, (S, 3, K): inertia (K = 9: dJ_ab), centre of
-    # mass (K = 3), drag (K = 1)
+def _perturbing_accelerations(
+    plant: Plant, omega: np.ndarray, gamma: np.ndarray, mass: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Perturbing accelerations per unit error, (S, 3, K): inertia (K = 9: dJ_ab), centre of
+    mass (K = 3), drag (K = 1)."""
+    inertia = plant.theorem_inertia
     eye = np.eye(3)
     f = plant.theorem_acceleration(omega, gamma)
     d_inertia = (
@@ -133,6 +119,28 @@ def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float
         / inertia[None, :, None]
     )
     d_drag = (-omega / inertia)[:, :, None]
+    return d_inertia, d_balance, d_drag
+
+
+def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float) -> Sensitivity:
+    """The linear response along ``states`` (S, 6 or 9) at ``times`` (S,); ``mass`` in kg.
+
+    A perturbing acceleration d changes I4 directly (``dI4/domega . d``) and moves the state
+    off I3 = 0 (``dI3 = int (I gamma) . d``), where the flow itself changes I4 at
+    ``Q dI3``; ``Q`` is the derivative of the flow's I4 rate across the level (r shifted,
+    central difference).
+    """
+    omega, gamma = states[:, 0:3], states[:, 3:6]
+    params, inertia = plant.params, plant.theorem_inertia
+    i4_0 = float(invariants(states[:1, 0:6], params)[1][0])
+    scale = abs(i4_0) if i4_0 != 0.0 else 1.0
+    grad = _i4_gradient(states, params, 3)
+    eps = 1e-4 * max(1.0, float(np.abs(omega).max()))
+    up, down = states[:, 0:6].copy(), states[:, 0:6].copy()
+    up[:, 2] += eps
+    down[:, 2] -= eps
+    Q = (_i4_rate(up, params) - _i4_rate(down, params)) / (2 * eps * inertia[2] * gamma[:, 2])
+    d_inertia, d_balance, d_drag = _perturbing_accelerations(plant, omega, gamma, mass)
 
     def response(d: np.ndarray) -> np.ndarray:
         off_level = _cumulative(times, np.einsum("sa,sak->sk", gamma * inertia, d))

@@ -75,12 +75,11 @@ class TestbedResult(Result):
         out["runs"] = len(run.I4_drift)
         return out
 
-    def to_dict(self) -> dict[str, Any]:
+    def _results(self) -> dict[str, Any]:
+        """testbed.json's ``results``: the runs, the wheels' peaks and needs."""
         o = self.options
-        arw, bias = o.gyro
-        torque, momentum, resolution = self.wheel_limits
         nominal = self.runs["nominal"]
-        results: dict[str, Any] = {
+        return {
             "initial_state": self.initial_state.tolist(),
             "t_end_s": o.t_end_s,
             "turns": self.turns,
@@ -95,6 +94,12 @@ class TestbedResult(Result):
                 "momentum_bound_N_m_s": self.needs.momentum_bound,
             },
         }
+
+    def to_dict(self) -> dict[str, Any]:
+        results = self._results()
+        o = self.options
+        arw, bias = o.gyro
+        torque, momentum, resolution = self.wheel_limits
         return json_ready(
             {
                 "parameters": self.parameters.as_dict(),

@@ -21,11 +21,11 @@ def _object(properties: dict[str, Any], required: list[str] | None = None) -> di
     }
 
 
-def output_schema() -> dict[str, Any]:
-    """The schema of testbed.json (draft 2020-12)."""
+def _results_schema() -> dict[str, Any]:
+    """testbed.json's ``results``: the start, the span, the loops' drifts, the wheels' peaks."""
     drift = _object({"I4_relative_drift": _NONNEG}, ["I4_relative_drift"])
     nominal = _object({"I4_relative_drift_median": _NONNEG, "I4_relative_drift_p95": _NONNEG})
-    results = _object(
+    return _object(
         {
             "initial_state": {"type": "array", "items": _NUMBER, "minItems": 6, "maxItems": 6},
             "t_end_s": _POSITIVE,
@@ -35,6 +35,11 @@ def output_schema() -> dict[str, Any]:
             "wheel_torque_max_N_m": _NONNEG,
         }
     )
+
+
+def output_schema() -> dict[str, Any]:
+    """The schema of testbed.json (draft 2020-12)."""
+    results = _results_schema()
     properties = {
         "parameters": {"type": "object", "additionalProperties": _NUMBER},
         "platform": _object({"mass_kg": _POSITIVE, "inertia_kg_m2": _MATRIX, "com_m": _VECTOR}),

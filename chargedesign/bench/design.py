@@ -145,31 +145,34 @@ def table_engine_vs_naive(quick: bool) -> BenchTable:
         ],
     )
     for spacing in spacings:
-        cand = candidates_from_table({"shape": "ball", "radius": 1.0, "spacing": spacing})
-        t_engine, result = _engine_mu(cand)
-        A, b = naive_rows(cand.points, gammas, PARAMS, MAGNETIC)
-
-        def naive(A: np.ndarray = A, b: np.ndarray = b) -> np.ndarray:
-            return naive_l1(A, b)
-
-        t_naive, q_naive = timed(naive)
-        conditions = result.conditions
-        A_c, b_c = conditions.system("charges", cand.points)
-        naive_sum = float(np.sum(np.abs(q_naive)))
-        engine_sum = result.sources["charges"].objective_value
-        table.rows.append(
-            [
-                spacing,
-                len(cand),
-                engine_sum,
-                naive_sum / engine_sum,
-                t_engine,
-                t_naive / t_engine,
-                relative_residual(A_c, q_naive, b_c),
-                result.sources["charges"].residual_after,
-            ]
-        )
+        table.rows.append(_engine_vs_naive_row(spacing, gammas))
     return table
+
+
+def _engine_vs_naive_row(spacing: float, gammas: np.ndarray) -> list[Any]:
+    """One spacing: the engine's and the sampled equalities' charges, times and residuals."""
+    cand = candidates_from_table({"shape": "ball", "radius": 1.0, "spacing": spacing})
+    t_engine, result = _engine_mu(cand)
+    A, b = naive_rows(cand.points, gammas, PARAMS, MAGNETIC)
+
+    def naive(A: np.ndarray = A, b: np.ndarray = b) -> np.ndarray:
+        return naive_l1(A, b)
+
+    t_naive, q_naive = timed(naive)
+    conditions = result.conditions
+    A_c, b_c = conditions.system("charges", cand.points)
+    naive_sum = float(np.sum(np.abs(q_naive)))
+    engine_sum = result.sources["charges"].objective_value
+    return [
+        spacing,
+        len(cand),
+        engine_sum,
+        naive_sum / engine_sum,
+        t_engine,
+        t_naive / t_engine,
+        relative_residual(A_c, q_naive, b_c),
+        result.sources["charges"].residual_after,
+    ]
 
 
 def table_full_design(quick: bool) -> BenchTable:

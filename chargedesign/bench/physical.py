@@ -141,32 +141,36 @@ def table_readings(quick: bool) -> BenchTable:
     )
     base: dict[str, float] = {}
     for reading in READINGS:
-        setup = _setup(SPACINGS[0], reading)
-        t0 = time.perf_counter()
-        design = design_physical(setup).design
-        forward_acceptance(design)
-        t_design = time.perf_counter() - t0
-        result = find_frontier(setup)
-        if not base:
-            base = {"K_max": result.K_max, "seconds": result.seconds}
-        table.rows.append(
-            [
-                reading,
-                len(setup.points),
-                len(design.charge_values),
-                t_design,
-                result.s_max,
-                result.K_max,
-                result.n_max if result.n_max is not None else "free",
-                result.evaluations,
-                result.seconds,
-                result.seconds / max(result.evaluations, 1),
-                result.binding.stage,
-                result.K_max / base["K_max"] if base["K_max"] > 0 else "",
-                result.seconds / base["seconds"],
-            ]
-        )
+        table.rows.append(_reading_row(reading, base))
     return table
+
+
+def _reading_row(reading: str, base: dict[str, float]) -> list[Any]:
+    """One reading's design and frontier, timed; the first reading sets ``base``, the
+    charges reading the ratios are taken against."""
+    setup = _setup(SPACINGS[0], reading)
+    t0 = time.perf_counter()
+    design = design_physical(setup).design
+    forward_acceptance(design)
+    t_design = time.perf_counter() - t0
+    result = find_frontier(setup)
+    if not base:
+        base.update({"K_max": result.K_max, "seconds": result.seconds})
+    return [
+        reading,
+        len(setup.points),
+        len(design.charge_values),
+        t_design,
+        result.s_max,
+        result.K_max,
+        result.n_max if result.n_max is not None else "free",
+        result.evaluations,
+        result.seconds,
+        result.seconds / max(result.evaluations, 1),
+        result.binding.stage,
+        result.K_max / base["K_max"] if base["K_max"] > 0 else "",
+        result.seconds / base["seconds"],
+    ]
 
 
 class _Stopwatch:

@@ -75,12 +75,10 @@ def zoh_against_predictive(quick: bool) -> BenchTable:
     )
 
 
-def monte_carlo(quick: bool) -> BenchTable:
-    plant, x0 = _setup()
-    rate, periods = 100.0, 100
-    t_end = periods / rate
+def _loop_settings(rate: float, t_end: float) -> LoopSettings:
+    """The benchmark's loop: predictive command, tactical gyro, 1 um imbalance, 16-bit torque."""
     arw, bias = GYRO_GRADES["tactical"]
-    settings = LoopSettings(
+    return LoopSettings(
         rate_Hz=rate,
         delay_s=1e-3,
         t_end_s=t_end,
@@ -94,6 +92,13 @@ def monte_carlo(quick: bool) -> BenchTable:
         max_torque=5.0,
         resolution=2 * 5.0 / 2**16,
     )
+
+
+def monte_carlo(quick: bool) -> BenchTable:
+    plant, x0 = _setup()
+    rate, periods = 100.0, 100
+    t_end = periods / rate
+    settings = _loop_settings(rate, t_end)
     t0 = time.perf_counter()
     continuous_loop(plant, x0, t_end, 101)
     base = time.perf_counter() - t0

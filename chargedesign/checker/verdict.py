@@ -611,6 +611,51 @@ def inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndar
     return out, gross
 
 
+def _resolved(size: float, gross: float, unit: float) -> bool:
+    """Whether an effect of ``size`` stands above the rounding of its ``gross`` contributions."""
+    return size > 0.0 and rounding_floor(gross / size, unit) <= NOISE_FLOOR
+
+
+def _lorentz_result(
+    count: int, active: bool, gammas: np.ndarray, omegas: np.ndarray, sums: RotatedSums, unit: float
+) -> EffectResult:
+    """Lorentz: the force route (sum r x q (v x B)) against the design's own mu x omega."""
+    size = {
+        "mu": float(np.linalg.norm(sums.mu, axis=1).max(initial=0.0)),
+        "gyroscopic_torque": float(np.linalg.norm(sums.gyro, axis=1).max(initial=0.0)),
+    }
+    route: float | None = None
+    worst = None
+    gross = float((sums.mu_gross * np.linalg.norm(omegas, axis=1)).max(initial=0.0))
+    if active and _resolved(size["gyroscopic_torque"], gross, unit):
+        route, _, _, _, worst = relative_error(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
+    return EffectResult("lorentz", "charges", count, active, size, route, worst)
+
+
+def _field_effect_result(
+    name: str, count: int, degree: int, gammas: np.ndarray, sums: RotatedSums, unit: float
+) -> EffectResult:
+    """A potential's effect: its energy's spread and torque, the torque against the fitted
+    gradient of the energy."""
+    source = EFFECTS[name][0]
+    active = count > 0 and degree > 0
+    e = sums.energy[name]
+    t = sums.torque[name]
+    size = {
+        "V_spread": float(e.max(initial=0.0) - e.min(initial=0.0)) if len(e) else 0.0,
+        "torque": float(np.linalg.norm(t, axis=1).max(initial=0.0)),
+    }
+    route, worst = None, None
+    gross = float(sums.torque_gross[name].max(initial=0.0))
+    # an effect that cancels to rounding (e.g. masses centred at O in uniform gravity)
+    # has no torque to compare: its route agreement would only measure rounding
+    if active and _resolved(size["torque"], gross, unit):
+        fitted = fitted_torque(gammas, e, degree)
+        if fitted is not None:
+            route, _, _, _, worst = relative_error(t, fitted, gross, gammas)
+    return EffectResult(name, source, count, active, size, route, worst)
+
+
 def effect_results(
     elements: Elements,
     degrees: dict[str, int],
@@ -622,49 +667,19 @@ def effect_results(
 ) -> dict[str, EffectResult]:
     """Per-effect sizes and route agreement; ``unit``: unit roundoff of the sums (the route
     agreement is skipped where the effect cancels so far that rounding would dominate it)."""
-
-    def resolved(size: float, gross: float) -> bool:
-        return size > 0.0 and rounding_floor(gross / size, unit) <= NOISE_FLOOR
-
     counts = {
         "charges": len(elements.charge_values),
         "masses": len(elements.mass_values),
         "dipoles": len(elements.dipole_moments),
     }
     out: dict[str, EffectResult] = {}
-    # Lorentz: the force route (sum r x q (v x B)) against the design's own mu x omega.
     active = counts["charges"] > 0 and degrees["magnetic"] > 0
-    size = {
-        "mu": float(np.linalg.norm(sums.mu, axis=1).max(initial=0.0)),
-        "gyroscopic_torque": float(np.linalg.norm(sums.gyro, axis=1).max(initial=0.0)),
-    }
-    route: float | None = None
-    worst = None
-    gross = float((sums.mu_gross * np.linalg.norm(omegas, axis=1)).max(initial=0.0))
-    if active and resolved(size["gyroscopic_torque"], gross):
-        route, _, _, _, worst = relative_error(sums.gyro, np.cross(sums.mu, omegas), gross, gammas)
-    out["lorentz"] = EffectResult(
-        "lorentz", "charges", counts["charges"], active, size, route, worst
-    )
+    out["lorentz"] = _lorentz_result(counts["charges"], active, gammas, omegas, sums, unit)
     for name in ("electric", "gravity", "magnetization"):
         source, field_name = EFFECTS[name]
         assert field_name is not None
-        active = counts[source] > 0 and degrees[field_name] > 0
-        e = sums.energy[name]
-        t = sums.torque[name]
-        size = {
-            "V_spread": float(e.max(initial=0.0) - e.min(initial=0.0)) if len(e) else 0.0,
-            "torque": float(np.linalg.norm(t, axis=1).max(initial=0.0)),
-        }
-        route, worst = None, None
-        gross = float(sums.torque_gross[name].max(initial=0.0))
-        # an effect that cancels to rounding (e.g. masses centred at O in uniform gravity)
-        # has no torque to compare: its route agreement would only measure rounding
-        if active and resolved(size["torque"], gross):
-            fitted = fitted_torque(gammas, e, degrees[field_name])
-            if fitted is not None:
-                route, _, _, _, worst = relative_error(t, fitted, gross, gammas)
-        out[name] = EffectResult(name, source, counts[source], active, size, route, worst)
+        count, degree = counts[source], degrees[field_name]
+        out[name] = _field_effect_result(name, count, degree, gammas, sums, unit)
     out["inertia"] = EffectResult(
         "inertia",
         "masses",

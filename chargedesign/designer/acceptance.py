@@ -69,6 +69,21 @@ def body_check(design: Design, **kwargs: Any) -> Any:
     return check_design(body, **kwargs)
 
 
+def _check_magnitudes(design: Design) -> None:
+    """Every element's values and positions within the supported range ``MAX_MAGNITUDE``."""
+    values = [
+        np.abs(getattr(design, name))
+        for name in ("charge_values", "mass_values", "dipole_moments", "charge_positions")
+    ]
+    largest = max((float(v.max()) for v in values if v.size), default=0.0)
+    if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
+        raise ChargeDesignError(
+            f"the body needs an element of size {largest:.3g} (SI), outside the "
+            f"supported range |x| <= {MAX_MAGNITUDE:g}: the requested total is too large or "
+            "the scale is outside the range; rescale the units. Nothing was written"
+        )
+
+
 def forward_acceptance(design: Design, *, totals_requested: bool = False) -> None:
     """The design command's forward check: raises one line when the body misses the theorem.
 
@@ -84,17 +99,7 @@ def forward_acceptance(design: Design, *, totals_requested: bool = False) -> Non
         Elements outside the supported range, a check that could not run, or a body that
         misses the theorem (the failing quantities and their errors).
     """
-    values = [
-        np.abs(getattr(design, name))
-        for name in ("charge_values", "mass_values", "dipole_moments", "charge_positions")
-    ]
-    largest = max((float(v.max()) for v in values if v.size), default=0.0)
-    if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
-        raise ChargeDesignError(
-            f"the body needs an element of size {largest:.3g} (SI), outside the "
-            f"supported range |x| <= {MAX_MAGNITUDE:g}: the requested total is too large or "
-            "the scale is outside the range; rescale the units. Nothing was written"
-        )
+    _check_magnitudes(design)
     try:
         report = body_check(design)
     except ChargeDesignError as exc:

@@ -187,22 +187,34 @@ def source_cancellations(
             if coefficient == 0:
                 continue
             gross = factor(k) * abs(coefficient) * float(np.sum(mags * radii ** power(k)))
-            amplification = gross / scale
-            evaluation = _legendre_abs_sum(k) * (k if quantity == "V" else 1)
             out.append(
-                Cancellation(
-                    source=source,
-                    quantity=quantity,
-                    kind=kind,
-                    term=_term_name(kind, k),
-                    degree=k,
-                    coefficient=float(coefficient),
-                    amplification=amplification,
-                    forward_error=float(np.finfo(float).eps) * amplification * evaluation,
-                    largest_weight=largest,
-                )
+                _cancellation(source, quantity, kind, k, coefficient, gross / scale, largest)
             )
     return out
+
+
+def _cancellation(
+    source: str,
+    quantity: str,
+    kind: str,
+    k: int,
+    coefficient: float,
+    amplification: float,
+    largest: float,
+) -> Cancellation:
+    """The cancellation through one field term, its forward error from its amplification."""
+    evaluation = _legendre_abs_sum(k) * (k if quantity == "V" else 1)
+    return Cancellation(
+        source=source,
+        quantity=quantity,
+        kind=kind,
+        term=_term_name(kind, k),
+        degree=k,
+        coefficient=float(coefficient),
+        amplification=amplification,
+        forward_error=float(np.finfo(float).eps) * amplification * evaluation,
+        largest_weight=largest,
+    )
 
 
 def forward_accuracy(design: Design) -> list[Cancellation]:
@@ -262,9 +274,22 @@ def _describe_cancellation(
     of this size (target over what unit weights at distance L give); its field term is the
     driver: strengthening it shrinks every weight, hence the cancellation, in proportion.
     """
-    fields = conditions.fields
-    origin = conditions.field_origin
     size = geometry.size if geometry.size > 0 else 1.0
+    driver, driver_text = _weight_driver(problem, size, conditions.fields)
+    remedy = _cancellation_remedy(worst, driver, conditions, size)
+    return (
+        f"{worst.quantity} is met only by cancellation: the {problem.source}' contributions "
+        f"through {worst.term} are {worst.amplification:.2g} times |{worst.quantity}| "
+        f"(largest {worst.largest_weight:.3g} {UNITS[problem.source]}{driver_text}); forward "
+        f"accuracy ~{worst.forward_error:.1g}: {remedy}"
+    )
+
+
+def _weight_driver(
+    problem: DesignProblem, size: float, fields: Mapping[str, Sequence[float]]
+) -> tuple[tuple[str, int] | None, str]:
+    """The field term of the condition needing the largest weight from a round body of this
+    size, and its words (empty when no condition needs a weight)."""
     natural = np.array([natural_row_size(r, size) for r in problem.rows])
     need = np.abs(problem.b) / np.where(natural > 0, natural, np.inf)
     driver_text = ""
@@ -278,6 +303,17 @@ def _describe_cancellation(
             coeffs = fields[kind]
             if 1 <= k <= len(coeffs) and coeffs[k - 1] != 0:
                 driver_text += f" through {_term_value(kind, k, coeffs[k - 1])}"
+    return driver, driver_text
+
+
+def _cancellation_remedy(
+    worst: Cancellation,
+    driver: tuple[str, int] | None,
+    conditions: LinearConditions,
+    size: float,
+) -> str:
+    """The remedy of a cancellation: default strengths, a given electric field, the driver."""
+    origin = conditions.field_origin
     factor = worst.forward_error / FORWARD_NOTE
     remedy = "its targets differ in scale by this factor"
     involved = [(worst.kind, worst.degree)] + ([driver] if driver is not None else [])
@@ -310,12 +346,7 @@ def _describe_cancellation(
         remedy = f"increase {_term_name(*driver)} at least {factor:.2g}-fold"
     elif driver is not None and driver[0] == "inertia":
         remedy = f"weaken {worst.term} or use a larger body (masses scale like C / L^2)"
-    return (
-        f"{worst.quantity} is met only by cancellation: the {problem.source}' contributions "
-        f"through {worst.term} are {worst.amplification:.2g} times |{worst.quantity}| "
-        f"(largest {worst.largest_weight:.3g} {UNITS[problem.source]}{driver_text}); forward "
-        f"accuracy ~{worst.forward_error:.1g}: {remedy}"
-    )
+    return remedy
 
 
 def length_notes(conditions: LinearConditions, size: float) -> list[str]:

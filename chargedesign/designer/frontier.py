@@ -698,12 +698,7 @@ def find_frontier(
     if feasible_rate is not None and feasible is not None:
         search.best[feasible_rate] = feasible
     if not search.s_nec > 0:
-        none_binding = Binding(
-            "charges",
-            f"the external electric field alone exceeds the safe field of {setup.spec.medium.name}",
-            "fields.electric",
-        )
-        return search.result(0.0, 0.0, none_binding, None)
+        return search.result(0.0, 0.0, _external_field_binding(setup), None)
     search.upper_binding = search.hi_binding = _necessary_binding(setup, search.s_nec)
     limit = _charges_limit(setup, rtol) if direct and math.isfinite(search.s_nec) else None
     if limit is not None:
@@ -714,10 +709,24 @@ def find_frontier(
     assert search.hi_binding is not None
     design = _accept_lowest(search)
     front = search.result(search.lo, search.hi, search.hi_binding, design)
+    _record_balance(front, design, search.lo)
+    return front
+
+
+def _external_field_binding(setup: PhysicalSetup) -> Binding:
+    """No rate at all: the external electric field alone exceeds the safe field."""
+    return Binding(
+        "charges",
+        f"the external electric field alone exceeds the safe field of {setup.spec.medium.name}",
+        "fields.electric",
+    )
+
+
+def _record_balance(front: FrontierResult, design: Design | None, s_max: float) -> None:
+    """The balance under gravity and the lowest buildable rate; refused above ``s_max``."""
     balance = (design.balance if design is not None else None) or {}
     if balance:
         front.balance = dict(balance)
         front.s_min = float(balance.get("lowest_rate") or math.inf)
-        if not front.s_min <= search.lo:
-            raise InfeasibleError(no_buildable_rate(balance, search.lo, front.K_max))
-    return front
+        if not front.s_min <= s_max:
+            raise InfeasibleError(no_buildable_rate(balance, s_max, front.K_max))

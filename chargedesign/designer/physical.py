@@ -253,6 +253,24 @@ def _magnet_sites(
     return magnet_sites
 
 
+def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
+    """Each candidate's cell radius (half its nearest neighbour's distance) and the spacing."""
+    if len(points) < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+    dist, _ = cKDTree(points).query(points, k=2)
+    return 0.5 * dist[:, 1], float(np.min(dist[:, 1]))
+
+
+def _electric_grid(
+    conditions: LinearConditions, region: float
+) -> tuple[tuple[float, ...], np.ndarray, np.ndarray]:
+    """The electric field's coefficients, and its largest magnitude on radii out to ``region``."""
+    electric = tuple(conditions.fields.get("electric", ()))
+    grid = np.linspace(0.0, region, 513)
+    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+    return electric, grid, values
+
+
 def setup_physical(
     params: Parameters,
     conditions: LinearConditions,
@@ -271,11 +289,7 @@ def setup_physical(
     options = options or DesignOptions()
     _check_physical_options(options, conditions)
     points = candidates.points
-    if len(points) < 2:
-        raise InputError("body: a physical design needs at least two candidate points")
-    dist, _ = cKDTree(points).query(points, k=2)
-    cell = 0.5 * dist[:, 1]
-    spacing = float(np.min(dist[:, 1]))
+    cell, spacing = _cells(points)
     a = _carrier_radius(spec, spacing)
     region = float(np.max(np.linalg.norm(points, axis=1) + cell))
     _check_field_limits(spec, conditions, region)
@@ -286,9 +300,7 @@ def setup_physical(
         if options.objective_for(source) == "robust"
     }
     magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
-    electric = tuple(conditions.fields.get("electric", ()))
-    grid = np.linspace(0.0, region, 513)
-    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+    electric, grid, values = _electric_grid(conditions, region)
     return PhysicalSetup(
         params=params,
         conditions=conditions,
@@ -512,9 +524,8 @@ def _meet_surface_limits(
     (2) LP rounds where each carrier over its limit gets its own-field bound divided by its
     excess (neighbours' fields then push the charge onto more carriers); (3) the second-order
     cones at the worst surface points of the carriers near their limit, on the working set of
-    every carrier the LPs used (Clarabel), until the surface check passes.
-
-    Raises PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
+    every carrier the LPs used (Clarabel), until the surface check passes. Raises
+    PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
     """
     A, b = setup.systems["charges"]
     working = charge_support(q_lp)
@@ -553,28 +564,25 @@ def _meet_surface_limits(
         q[working] = solved
     else:
         proved = False  # the rounds ran out
-    raise PhysicalInfeasible(
-        Binding(
-            "charges",
-            f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
-            f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
-            f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
-            worst_ratio,
-            proved=proved,
-        )
+    raise PhysicalInfeasible(_surface_binding(setup, worst_ratio, worst_site, proved))
+
+
+def _surface_binding(
+    setup: PhysicalSetup, worst_ratio: float, worst_site: int, proved: bool
+) -> Binding:
+    """The carriers' fields add up beyond the safe surface field at the worst carrier."""
+    return Binding(
+        "charges",
+        f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
+        f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
+        f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
+        worst_ratio,
+        proved=proved,
     )
 
 
-def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
-    """The carriers and their charges at rate ``s`` (see the module doc).
-
-    Raises
-    ------
-    PhysicalInfeasible
-        Naming the binding limit.
-    """
-    A, b = setup.systems["charges"]
-    medium = setup.spec.medium
+def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
+    """Refuse a rate whose electric field exceeds ``fields.electric.max``."""
     if s > setup.field_bound(s) * (1 + 1e-12):
         raise PhysicalInfeasible(
             Binding(
@@ -586,23 +594,43 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
                 proved=True,
             )
         )
-    if not np.any(b):
-        return ChargeSolution(
-            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
-        )
-    caps = setup.charge_caps(s)
-    q_lp = lp_charges(A, s * b, caps, setup.cost("charges"))
+
+
+def _lp_charges(
+    setup: PhysicalSetup, A: np.ndarray, rhs: np.ndarray, caps: np.ndarray
+) -> np.ndarray:
+    """The linear program's charges within every carrier's own-field cap (refused: none)."""
+    q_lp = lp_charges(A, rhs, caps, setup.cost("charges"))
     if q_lp is None:
         raise PhysicalInfeasible(
             Binding(
                 "charges",
                 f"no charges on carriers of radius {setup.carrier_radius:.3g} m meet the "
                 f"conditions with every carrier's own surface field within the safe field of "
-                f"{medium.name} ({setup.safe_field:.3g} V/m)",
+                f"{setup.spec.medium.name} ({setup.safe_field:.3g} V/m)",
                 "the carriers",
                 proved=True,  # the own-field bounds are necessary
             )
         )
+    return q_lp
+
+
+def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
+    """The carriers and their charges at rate ``s`` (see the module doc).
+
+    Raises
+    ------
+    PhysicalInfeasible
+        Naming the binding limit.
+    """
+    A, b = setup.systems["charges"]
+    _check_field_rate(setup, s)
+    if not np.any(b):
+        return ChargeSolution(
+            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
+        )
+    caps = setup.charge_caps(s)
+    q_lp = _lp_charges(setup, A, s * b, caps)
     objective_lp = float(np.sum(np.abs(q_lp)))
     q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
     sites = charge_support(q_full)
@@ -1046,6 +1074,16 @@ def _polish_moments(
     return full_sigma, sig_keep
 
 
+def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0) -> np.ndarray:
+    """``factor`` times the mass of each moment's magnet (density x |moment| / magnetisation)."""
+    return (
+        factor
+        * setup.spec.magnet.density
+        * np.linalg.norm(moments, axis=1)
+        / (setup.spec.magnet.magnetisation or 1.0)
+    )
+
+
 def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
     """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
     program = _solved_mass_program(setup, s, carrier_sites)
@@ -1059,12 +1097,7 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
     # changes at the solver's tolerance; the heavy sites absorb them in the polish below)
     sig_polished = full_sigma.reshape(n, 3)[sites]
-    magnet_floor = (
-        (1 + 1e-6)
-        * setup.spec.magnet.density
-        * np.linalg.norm(sig_polished, axis=1)
-        / (setup.spec.magnet.magnetisation or 1.0)
-    )
+    magnet_floor = _magnet_mass(setup, sig_polished, 1 + 1e-6)
     mass = np.maximum(mass, magnet_floor)
     top_mass = max(float(np.max(mass, initial=0.0)), 1e-300)
     mass_keep = (mass > 1e-9 * top_mass) | sig_keep
@@ -1078,11 +1111,7 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     full_mass = _polish_masses(Am, full_rhs, full_mass, sites, mass, top_mass)
     sig = full_sigma.reshape(n, 3)[sites]
     m = full_mass[sites]
-    magnet_mass = (
-        setup.spec.magnet.density
-        * np.linalg.norm(sig, axis=1)
-        / (setup.spec.magnet.magnetisation or 1.0)
-    )
+    magnet_mass = _magnet_mass(setup, sig)
     if np.any(m < magnet_mass * (1 - 1e-9)):
         raise SolverError("magnets: polishing left a magnet lighter than its volume")
     used = (np.linalg.norm(sig, axis=1) > 0) | (m > 0)
@@ -1397,6 +1426,11 @@ def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
             f"{len(carrier_sites)} carriers leave free",
             "ballast cells",
         )
+    return _magnet_binding(setup, free)
+
+
+def _magnet_binding(setup: PhysicalSetup, free: np.ndarray) -> Binding:
+    """Why the magnets do not fit: the field demagnetises some cells, or no room at all."""
     magnet = setup.spec.magnet
     allowed = setup.magnet_sites[free]
     if not np.all(allowed):
@@ -1493,29 +1527,43 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     return design
 
 
+def _source_result(
+    setup: PhysicalSetup,
+    seconds: float,
+    source: str,
+    value: float,
+    units: str,
+    method: str,
+    residual: float,
+    count: int,
+) -> SourceResult:
+    """One source's outcome: its objective value, method, residual and element count."""
+    A, b = setup.systems[source]
+    return SourceResult(
+        source=source,
+        objective=setup.options.objective_for(source),
+        objective_value=value,
+        objective_value_raw=value,
+        units=units,
+        solver="HiGHS+Clarabel" if source == "charges" else "Clarabel",
+        method=method,
+        status="optimal",
+        n_conditions=len(b),
+        rank=int(np.linalg.matrix_rank(A)) if A.size else 0,
+        n_candidates=len(setup.points),
+        n_elements=count,
+        residual_before=residual,
+        residual_after=residual,
+        seconds=seconds,
+    )
+
+
 def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, SourceResult]:
     """The per-source outcomes in the form the report and summary read."""
     ch, ms = outcome.charges, outcome.masses
 
     def result(source: str, value: float, units: str, method: str, residual: float, count: int):
-        A, b = setup.systems[source]
-        return SourceResult(
-            source=source,
-            objective=setup.options.objective_for(source),
-            objective_value=value,
-            objective_value_raw=value,
-            units=units,
-            solver="HiGHS+Clarabel" if source == "charges" else "Clarabel",
-            method=method,
-            status="optimal",
-            n_conditions=len(b),
-            rank=int(np.linalg.matrix_rank(A)) if A.size else 0,
-            n_candidates=len(setup.points),
-            n_elements=count,
-            residual_before=residual,
-            residual_after=residual,
-            seconds=outcome.seconds,
-        )
+        return _source_result(setup, outcome.seconds, source, value, units, method, residual, count)
 
     out = {
         "charges": result(

@@ -28,7 +28,7 @@ from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solve import solve_problem
-from chargedesign.designer.solvers import InfeasibleProblem
+from chargedesign.designer.solvers import InfeasibleProblem, Solution
 from chargedesign.designer.system import (
     UNITS,
     DesignProblem,
@@ -98,6 +98,107 @@ def _with_robust_costs(
     return p.with_costs(costs)
 
 
+def _no_elements_result(
+    p: DesignProblem, objective: str, rank: int, notes: list[str], t0: float
+) -> SourceResult:
+    """The result of a source whose conditions are all homogeneous: no element needed."""
+    return SourceResult(
+        source=p.source,
+        objective=objective,
+        objective_value=0.0,
+        objective_value_raw=0.0,
+        units=UNITS[p.source],
+        solver="none",
+        method="all conditions are zero: no elements needed",
+        status="optimal",
+        n_conditions=len(p.b),
+        rank=rank,
+        n_candidates=p.n_candidates,
+        n_elements=0,
+        residual_before=0.0,
+        residual_after=0.0,
+        seconds=time.perf_counter() - t0,
+        notes=notes,
+    )
+
+
+def _check_residual(
+    source: str,
+    after: float,
+    options: DesignOptions,
+    solver_text: str,
+    cancels: bool,
+    cancellation: str,
+) -> None:
+    """Refuse a polished solution whose residual exceeds ``design.tol``, naming the cause."""
+    if not after > options.tolerance:
+        return
+    if options.tolerance < 2 * np.finfo(float).eps:
+        raise SolverError(
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
+            f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
+        )
+    if cancels:
+        # the solver is not at fault: the targets are tiny against what the weights carry
+        raise InfeasibleError(
+            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+            f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
+            "solver will not help)"
+        )
+    raise SolverError(
+        f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
+        f"{fmt(options.tolerance, PLAIN)} ({solver_text}); try another solver"
+    )
+
+
+def _solved(
+    p: DesignProblem, objective: str, options: DesignOptions, progress: Progress | None
+) -> Solution:
+    """The solver's solution, finite (infeasible inequalities named)."""
+    try:
+        sol = solve_problem(p, objective, options, progress)
+    except InfeasibleProblem:
+        raise infeasible_inequalities(p, options) from None
+    if sol.u is None or not np.all(np.isfinite(sol.u)):
+        raise SolverError(f"{p.source}: solver {sol.solver} returned no finite solution")
+    return sol
+
+
+def _polished(p: DesignProblem, u: np.ndarray, options: DesignOptions) -> tuple[np.ndarray, str]:
+    """The polished solution (when ``options.polish``) and how it was polished."""
+    if options.polish:
+        return polish_weights(p, u, options.tolerance)
+    return u, "not polished"
+
+
+def _status_notes(source: str, sol: Solution, before: float, options: DesignOptions) -> list[str]:
+    """A solver's non-optimal status whose residual was verified here, and its own notes."""
+    notes = []
+    if sol.status != "optimal" and before > options.tolerance:
+        notes.append(
+            f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
+            "the residuals were verified here"
+        )
+    return notes + list(sol.notes)
+
+
+def _delivery_notes(
+    p: DesignProblem, weights: np.ndarray, worst: Any, cancellation: str, cancels: bool
+) -> list[str]:
+    """Refuse weights met only by a cancellation beyond ``FORWARD_LIMIT``, or negative masses;
+    the note of a cancellation beyond ``FORWARD_NOTE``."""
+    source = p.source
+    if worst is not None and worst.forward_error > FORWARD_LIMIT:
+        raise InfeasibleError(
+            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
+            "realises nothing reliably)"
+        )
+    if p.nonneg and np.any(weights < 0):
+        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
+    return [f"{source}: {cancellation}"] if cancels else []
+
+
 def _design_problem(
     p: DesignProblem,
     rank: int,
@@ -113,77 +214,20 @@ def _design_problem(
     n_cand = p.n_candidates
     shape = (n_cand, 3) if p.group == 3 else (n_cand,)
     if not np.any(p.b):
-        # every condition is homogeneous: no element of this source is needed
-        return np.zeros(shape), SourceResult(
-            source=source,
-            objective=objective,
-            objective_value=0.0,
-            objective_value_raw=0.0,
-            units=UNITS[source],
-            solver="none",
-            method="all conditions are zero: no elements needed",
-            status="optimal",
-            n_conditions=len(p.b),
-            rank=rank,
-            n_candidates=n_cand,
-            n_elements=0,
-            residual_before=0.0,
-            residual_after=0.0,
-            seconds=time.perf_counter() - t0,
-            notes=notes,
-        )
+        return np.zeros(shape), _no_elements_result(p, objective, rank, notes, t0)
     if progress is not None:
         progress(f"{source}: {objective} problem, {len(p.b)} conditions, {n_cand} candidates")
-    try:
-        sol = solve_problem(p, objective, options, progress)
-    except InfeasibleProblem:
-        raise infeasible_inequalities(p, options) from None
-    if sol.u is None or not np.all(np.isfinite(sol.u)):
-        raise SolverError(f"{source}: solver {sol.solver} returned no finite solution")
+    sol = _solved(p, objective, options, progress)
     raw = sol.u * p.scale
     before = relative_residual(p.A, raw, p.b)
-    u = sol.u
-    polish_text = "not polished"
-    if options.polish:
-        u, polish_text = polish_weights(p, sol.u, options.tolerance)
+    u, polish_text = _polished(p, sol.u, options)
     weights = u * p.scale
     after = relative_residual(p.A, weights, p.b)
     worst, cancellation = forward.assess(p, weights) if forward is not None else (None, "")
     cancels = worst is not None and worst.forward_error > FORWARD_NOTE
-    if after > options.tolerance:
-        if options.tolerance < 2 * np.finfo(float).eps:
-            raise SolverError(
-                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-                f"{fmt(options.tolerance, PLAIN)}, which is below the rounding of double precision "
-                f"({fmt(np.finfo(float).eps, ROUGH)}): raise design.tol"
-            )
-        if cancels:
-            # the solver is not at fault: the targets are tiny against what the weights carry
-            raise InfeasibleError(
-                f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-                f"{fmt(options.tolerance, PLAIN)}, most likely because {cancellation} (another "
-                "solver will not help)"
-            )
-        raise SolverError(
-            f"{source}: relative residual {fmt(after, ROUGH)} exceeds design.tol = "
-            f"{fmt(options.tolerance, PLAIN)} ({sol.solver}, {polish_text}); try another solver"
-        )
-    if worst is not None and worst.forward_error > FORWARD_LIMIT:
-        raise InfeasibleError(
-            f"{source}: refused, {cancellation} (beyond {fmt(FORWARD_LIMIT, PLAIN)} the body "
-            "realises nothing reliably)"
-        )
-    if cancels:
-        notes.append(f"{source}: {cancellation}")
-    if p.nonneg and np.any(weights < 0):
-        raise SolverError(f"{source}: a negative mass survived polishing ({fmt(weights.min())} kg)")
-    support = support_of(u, p.group, 0.0)
-    if sol.status != "optimal" and before > options.tolerance:
-        notes.append(
-            f"{source}: {sol.solver} reported {sol.status!r} at its tightened tolerances; "
-            "the residuals were verified here"
-        )
-    notes.extend(sol.notes)
+    _check_residual(source, after, options, f"{sol.solver}, {polish_text}", cancels, cancellation)
+    notes.extend(_delivery_notes(p, weights, worst, cancellation, cancels))
+    notes.extend(_status_notes(source, sol, before, options))
     result = SourceResult(
         source=source,
         objective=objective,
@@ -196,7 +240,7 @@ def _design_problem(
         n_conditions=len(p.b),
         rank=rank,
         n_candidates=n_cand,
-        n_elements=len(support),
+        n_elements=len(support_of(u, p.group, 0.0)),
         residual_before=before,
         residual_after=after,
         seconds=time.perf_counter() - t0,
@@ -219,6 +263,117 @@ def _objective_value(
     if objective == "l2":
         return float(np.sqrt(np.sum(mags**2)))
     return float(np.max(mags))
+
+
+def _check_design_inputs(params: Any, conditions: Any) -> None:
+    """Parameters and linear conditions, of their types."""
+    if not isinstance(params, Parameters):
+        raise input_error("params", "a chargedesign.params.Parameters", params)
+    if not isinstance(conditions, LinearConditions):
+        raise input_error(
+            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
+        )
+
+
+def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str, ...]:
+    """The inertia terms realised: the conditions', unless the options name (the same) ones."""
+    realise = tuple(conditions.realise) if conditions.realise else ()
+    if options.realise is not None:
+        if conditions.realise and set(options.realise) != set(conditions.realise):
+            raise InputError(
+                f"design.realise: the conditions realise {list(conditions.realise)}, the "
+                f"options ask for {list(options.realise)}"
+            )
+        realise = options.realise
+    return realise
+
+
+def _sources_present(conditions: LinearConditions, options: DesignOptions) -> list[str]:
+    """The sources the conditions ask for; options about charges or masses need them."""
+    sources_present = [s for s in SOURCES if conditions.for_source(s)]
+    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if options.n_charges is not None and "charges" not in sources_present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if options.total_mass is not None and "masses" not in sources_present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+    return sources_present
+
+
+def _checked_problems(
+    sources_present: list[str],
+    params: Parameters,
+    conditions: LinearConditions,
+    cand: CandidateSet,
+    options: DesignOptions,
+) -> list[tuple[DesignProblem, int, list[str], float]]:
+    """Every source's problem, its rank, its notes and its setup time, before any solve."""
+    checked = []
+    for source in sources_present:
+        t0 = time.perf_counter()
+        p = build_problem(source, conditions, cand.points, options)
+        p = _with_robust_costs(p, cand.points, conditions, params, options)
+        rank, source_notes = diagnose(p, cand.geometry)
+        checked.append((p, rank, source_notes, time.perf_counter() - t0))
+    return checked
+
+
+def _solve_sources(
+    checked: list[tuple[DesignProblem, int, list[str], float]],
+    options: DesignOptions,
+    progress: Progress | None,
+    forward: ForwardInputs | None,
+    timings: dict[str, float],
+    notes: list[str],
+) -> tuple[dict[str, np.ndarray], dict[str, SourceResult]]:
+    """Solve every checked problem: its weights and result; its time and notes are added."""
+    results: dict[str, SourceResult] = {}
+    weights: dict[str, np.ndarray] = {}
+    for p, rank, source_notes, setup in checked:
+        t0 = time.perf_counter() - setup
+        w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
+        weights[p.source] = w
+        results[p.source] = res
+        timings[p.source] = res.seconds
+        notes.extend(res.notes)
+    return weights, results
+
+
+def _nonzero_elements(
+    weights: dict[str, np.ndarray], source: str, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The positions and weights of a source's non-zero elements (empty when not designed)."""
+    if source not in weights:
+        shape = (0, 3) if source == "dipoles" else (0,)
+        return np.zeros((0, 3)), np.zeros(shape)
+    w = weights[source]
+    mags = np.linalg.norm(w, axis=1) if w.ndim == 2 else np.abs(w)
+    keep = mags > 0
+    return points[keep], w[keep]
+
+
+def _design_of(
+    params: Parameters,
+    conditions: LinearConditions,
+    weights: dict[str, np.ndarray],
+    points: np.ndarray,
+    realise: tuple[str, ...],
+) -> Design:
+    """The design of the solved sources' non-zero elements."""
+    cp_, cv = _nonzero_elements(weights, "charges", points)
+    dp, dm = _nonzero_elements(weights, "dipoles", points)
+    mp, mv = _nonzero_elements(weights, "masses", points)
+    return Design(
+        parameters=params,
+        fields={k: tuple(v) for k, v in conditions.fields.items()},
+        charge_positions=cp_,
+        charge_values=cv,
+        mass_positions=mp,
+        mass_values=mv,
+        dipole_positions=dp,
+        dipole_moments=dm,
+        realises=list(realise),
+    )
 
 
 def design_body(
@@ -244,101 +399,45 @@ def design_body(
     progress : callable, optional
         Called with a short message before each long step.
 
-    Returns
-    -------
-    DesignResult
+    Raises InfeasibleError when the conditions cannot be met on these candidates (the message
+    names them), or only by a cancellation beyond ``FORWARD_LIMIT`` (the message names the
+    cause and the remedy); SolverError when a solver fails or its polished result misses
+    ``options.tolerance``.
 
-    Raises
-    ------
-    InfeasibleError
-        The conditions cannot be met on these candidates (the message names them), or only
-        by a cancellation that leaves the body meaningless (estimated forward error above
-        ``FORWARD_LIMIT``; the message names the cause and the remedy).
-    SolverError
-        A solver failed or its polished result misses ``options.tolerance``.
-
-    Notes
-    -----
-    The design meets ``conditions`` as given. When their default field strengths were chosen
-    for an assumed 1 m body (``conditions.length_assumed``) and these candidates call for
-    other ones, a note gives them (derive the conditions with ``length=`` the candidates'
-    size, as :func:`design_from_scene` does). Every source's delivered weights are assessed
-    for cancellation (:func:`forward_accuracy`): above ``FORWARD_NOTE`` the notes say which
-    quantity is met only by cancellation, the forward accuracy to expect and the remedy.
+    When the conditions' default field strengths were chosen for an assumed 1 m body
+    (``conditions.length_assumed``), a note gives the ones these candidates call for. Above
+    ``FORWARD_NOTE`` (:func:`forward_accuracy`) the notes say which quantity is met only by
+    cancellation, the forward accuracy to expect and the remedy.
     """
-    if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
-    if not isinstance(conditions, LinearConditions):
-        raise input_error(
-            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
-        )
+    _check_design_inputs(params, conditions)
     options = options or DesignOptions()
     cand = (
         candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
     )
-    realise = tuple(conditions.realise) if conditions.realise else ()
-    if options.realise is not None:
-        if conditions.realise and set(options.realise) != set(conditions.realise):
-            raise InputError(
-                f"design.realise: the conditions realise {list(conditions.realise)}, the "
-                f"options ask for {list(options.realise)}"
-            )
-        realise = options.realise
+    realise = _realised(conditions, options)
     timings: dict[str, float] = {}
     t_start = time.perf_counter()
-    sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
-        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
-    if options.n_charges is not None and "charges" not in sources_present:
-        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
-    if options.total_mass is not None and "masses" not in sources_present:
-        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
-    notes = list(cand.notes)
-    notes.extend(length_notes(conditions, cand.geometry.size))
+    sources_present = _sources_present(conditions, options)
+    notes = [*cand.notes, *length_notes(conditions, cand.geometry.size)]
     forward = ForwardInputs.build(params, conditions, cand, realise)
     # fail fast: every source's equality system is checked before any solve
-    checked = []
-    for source in sources_present:
-        t0 = time.perf_counter()
-        p = build_problem(source, conditions, cand.points, options)
-        p = _with_robust_costs(p, cand.points, conditions, params, options)
-        rank, source_notes = diagnose(p, cand.geometry)
-        checked.append((p, rank, source_notes, time.perf_counter() - t0))
-    results: dict[str, SourceResult] = {}
-    weights: dict[str, np.ndarray] = {}
-    for p, rank, source_notes, setup in checked:
-        source = p.source
-        t0 = time.perf_counter() - setup
-        w, res = _design_problem(p, rank, source_notes, options, t0, progress, forward)
-        weights[source] = w
-        results[source] = res
-        timings[source] = res.seconds
-        notes.extend(res.notes)
+    checked = _checked_problems(sources_present, params, conditions, cand, options)
+    weights, results = _solve_sources(checked, options, progress, forward, timings, notes)
     timings["total"] = time.perf_counter() - t_start
+    design = _design_of(params, conditions, weights, cand.points, realise)
+    return _recorded_result(design, results, cand, options, conditions, timings, notes)
 
-    def pick(source: str) -> tuple[np.ndarray, np.ndarray]:
-        if source not in weights:
-            shape = (0, 3) if source == "dipoles" else (0,)
-            return np.zeros((0, 3)), np.zeros(shape)
-        w = weights[source]
-        mags = np.linalg.norm(w, axis=1) if w.ndim == 2 else np.abs(w)
-        keep = mags > 0
-        return cand.points[keep], w[keep]
 
-    cp_, cv = pick("charges")
-    dp, dm = pick("dipoles")
-    mp, mv = pick("masses")
-    design = Design(
-        parameters=params,
-        fields={k: tuple(v) for k, v in conditions.fields.items()},
-        charge_positions=cp_,
-        charge_values=cv,
-        mass_positions=mp,
-        mass_values=mv,
-        dipole_positions=dp,
-        dipole_moments=dm,
-        realises=list(realise),
-    )
+def _recorded_result(
+    design: Design,
+    results: dict[str, SourceResult],
+    cand: CandidateSet,
+    options: DesignOptions,
+    conditions: LinearConditions,
+    timings: dict[str, float],
+    notes: list[str],
+) -> DesignResult:
+    """The design's result, its provenance recorded in the design."""
     result = DesignResult(
         design=design,
         sources=results,
@@ -368,10 +467,6 @@ def design_from_scene(
     **overrides
         DesignOptions fields that replace the scene's ``[design]`` values (None: keep).
 
-    Returns
-    -------
-    DesignResult
-
     The body realises the theorem as its Larmor reading says (``[design] larmor``,
     :func:`larmor_of_scene`): with ``frame`` its elements realise ``n = 0``
     (:func:`chargedesign.larmor.body_parameters`) and ``design.larmor`` records the rate of
@@ -388,19 +483,7 @@ def design_from_scene(
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
     t2 = time.perf_counter()
     if inputs.spec is not None:
-        setup = setup_physical(
-            inputs.body_params, conditions, candidates, inputs.spec, options, larmor=inputs.larmor
-        )
-        result = design_physical(setup, progress=progress)
-        if frontier:
-            if progress is not None:
-                progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-            front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
-            result.design.frontier = front.to_dict()
-            # the budget's K law is judged at the frontier's K_max, known only now
-            realism = result.design.realism
-            if isinstance(realism, dict) and K_LAW_KEY in realism:
-                realism[K_LAW_KEY] = k_law(result.design)
+        result = _physical_design(inputs, progress, frontier)
     else:
         result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
         result.design.parameters = scene.parameters
@@ -414,6 +497,31 @@ def design_from_scene(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
+    return result
+
+
+def _physical_design(
+    inputs: SceneInputs, progress: Progress | None, frontier: bool
+) -> DesignResult:
+    """The physical body a scene with ``[medium]`` describes, with its frontier when asked."""
+    setup = setup_physical(
+        inputs.body_params,
+        inputs.conditions,
+        inputs.candidates,
+        inputs.spec,
+        inputs.options,
+        larmor=inputs.larmor,
+    )
+    result = design_physical(setup, progress=progress)
+    if frontier:
+        if progress is not None:
+            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
+        front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
+        result.design.frontier = front.to_dict()
+        # the budget's K law is judged at the frontier's K_max, known only now
+        realism = result.design.realism
+        if isinstance(realism, dict) and K_LAW_KEY in realism:
+            realism[K_LAW_KEY] = k_law(result.design)
     return result
 
 

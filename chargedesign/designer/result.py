@@ -181,6 +181,46 @@ def record_provenance(design: Design, result: DesignResult) -> None:
         setattr(design, key, value)
 
 
+def _units_record() -> dict[str, str]:
+    """design.json's ``units``: the SI units of every quantity written."""
+    return {
+        "positions": "m",
+        "charges": "C",
+        "masses": "kg",
+        "dipoles": "A m^2",
+        "fields": "legendre f_k of Phi = sum f_k R^k P_k(Z/R): magnetic T m^(1-k), "
+        "electric V m^(-k), gravity J kg^-1 m^(-k)",
+    }
+
+
+def _residuals_record(result: DesignResult) -> dict[str, Any]:
+    """design.json's ``residuals``: their definition, per source before and after polish."""
+    return {
+        "definition": "max_i |(A w - b)_i| / (|A_i|_S |w| + |b_i|) over the conditions "
+        "of each source (A w = b from the conditions engine, SI units; |.| Euclidean, "
+        "|A_i|_S the norm of row i on the support w != 0)",
+        "before_polish": {k: s.residual_before for k, s in result.sources.items()},
+        "after_polish": {k: s.residual_after for k, s in result.sources.items()},
+        "tolerance": result.options.tolerance,
+    }
+
+
+def _forward_accuracy_record(result: DesignResult) -> dict[str, Any]:
+    """design.json's ``forward_accuracy``: its definition, thresholds, the worst per source."""
+    return {
+        "definition": "per source, the field term whose contributions cancel most: sum of "
+        "the elements' |contributions| through it over the size of mu (max |mu|) or V (its "
+        "spread) = amplification; forward_error = eps * amplification * (sum |coefficients| "
+        "of P_k, times k for V), the relative error to expect from any floating-point "
+        "evaluation",
+        "note_above": FORWARD_NOTE,
+        "refused_above": FORWARD_LIMIT,
+        "worst": {
+            k: s.forward.to_dict() for k, s in result.sources.items() if s.forward is not None
+        },
+    }
+
+
 def design_extras(result: DesignResult) -> dict[str, Any]:
     """The provenance record written into design.json beside the contract's keys (units,
     provenance, solver, objective, residuals, forward_accuracy, timings, candidates,
@@ -188,14 +228,7 @@ def design_extras(result: DesignResult) -> dict[str, Any]:
     conditions = result.conditions
     counts = {s: len(conditions.for_source(s)) for s in SOURCES if conditions.for_source(s)}
     out: dict[str, Any] = {
-        "units": {
-            "positions": "m",
-            "charges": "C",
-            "masses": "kg",
-            "dipoles": "A m^2",
-            "fields": "legendre f_k of Phi = sum f_k R^k P_k(Z/R): magnetic T m^(1-k), "
-            "electric V m^(-k), gravity J kg^-1 m^(-k)",
-        },
+        "units": _units_record(),
         "provenance": {
             "generator": f"chargedesign {__version__}",
             "fields_origin": dict(conditions.field_origin),
@@ -214,26 +247,8 @@ def design_extras(result: DesignResult) -> dict[str, Any]:
             }
             for k, s in result.sources.items()
         },
-        "residuals": {
-            "definition": "max_i |(A w - b)_i| / (|A_i|_S |w| + |b_i|) over the conditions "
-            "of each source (A w = b from the conditions engine, SI units; |.| Euclidean, "
-            "|A_i|_S the norm of row i on the support w != 0)",
-            "before_polish": {k: s.residual_before for k, s in result.sources.items()},
-            "after_polish": {k: s.residual_after for k, s in result.sources.items()},
-            "tolerance": result.options.tolerance,
-        },
-        "forward_accuracy": {
-            "definition": "per source, the field term whose contributions cancel most: sum of "
-            "the elements' |contributions| through it over the size of mu (max |mu|) or V (its "
-            "spread) = amplification; forward_error = eps * amplification * (sum |coefficients| "
-            "of P_k, times k for V), the relative error to expect from any floating-point "
-            "evaluation",
-            "note_above": FORWARD_NOTE,
-            "refused_above": FORWARD_LIMIT,
-            "worst": {
-                k: s.forward.to_dict() for k, s in result.sources.items() if s.forward is not None
-            },
-        },
+        "residuals": _residuals_record(result),
+        "forward_accuracy": _forward_accuracy_record(result),
         "timings": {k: round(v, 6) for k, v in result.timings.items()},
         "candidates": result.candidates.description,
         "conditions": {

@@ -117,6 +117,32 @@ def magnet_continuum(design: Any) -> dict[str, Any]:
     }
 
 
+def _part_set(
+    role: str,
+    spec: dict[str, Any],
+    centres: np.ndarray,
+    volumes: np.ndarray,
+    outer: np.ndarray,
+    inner: Any,
+) -> dict[str, Any] | None:
+    """One set of parts of a material: those of non-zero volume (None: none)."""
+    name = spec.get("name", role)
+    keep = volumes > 0
+    if not np.any(keep):
+        return None
+    return {
+        "role": role,
+        "name": name,
+        "centres": centres[keep],
+        "volumes": volumes[keep],
+        "outer": outer[keep],
+        "inner": np.broadcast_to(inner, outer.shape)[keep],
+        "density": spec.get("density_kg_per_m3"),
+        "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
+        "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
+    }
+
+
 def material_parts(design: Any) -> list[dict[str, Any]]:
     """Every part's material as spheres, from the written elements: one dict per part set.
 
@@ -133,23 +159,9 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
         role: str, centres: np.ndarray, volumes: np.ndarray, outer: np.ndarray, inner, spec=None
     ) -> None:
         spec = spec if spec is not None else (materials.get(role) or {})
-        name = spec.get("name", role)
-        keep = volumes > 0
-        if not np.any(keep):
-            return
-        sets.append(
-            {
-                "role": role,
-                "name": name,
-                "centres": centres[keep],
-                "volumes": volumes[keep],
-                "outer": outer[keep],
-                "inner": np.broadcast_to(inner, outer.shape)[keep],
-                "density": spec.get("density_kg_per_m3"),
-                "chi": spec.get("volume_susceptibility", SUSCEPTIBILITY.get(name)),
-                "sigma": spec.get("conductivity_S_per_m", CONDUCTIVITY.get(name)),
-            }
-        )
+        part = _part_set(role, spec, centres, volumes, outer, inner)
+        if part is not None:
+            sets.append(part)
 
     carrier = materials.get("carrier")
     if carrier is not None and len(design.charge_values):
@@ -221,6 +233,53 @@ def _eddy_torques(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate
     return out
 
 
+def _largest_part(parts: list[dict[str, Any]], values: np.ndarray, key: str) -> str:
+    """The part set of the largest value, with its ``key`` (none: no positive value)."""
+    if not len(values) or not np.any(values > 0):
+        return "none"
+    part = parts[int(np.argmax(values))]
+    return f"{part['role']} {part['name']} ({key} = {part[key]:.3g})"
+
+
+def _induced_note(induced: float, energy: np.ndarray, parts: list[dict[str, Any]]) -> str:
+    """What the induced fraction measures, what negligible needs, the parts not counted."""
+    unknown = sorted({f"{p['role']} {p['name']}" for p in parts if p["chi"] is None})
+    note = (
+        "range over orientations of the energy -chi v |B|^2 / (2 mu0) of the parts' materials "
+        f"in the applied field, over the designed torques x 1 rad (largest: "
+        f"{_largest_part(parts, energy, 'chi')})"
+    )
+    if induced >= RESPONSE_FRACTION:
+        note += (
+            f"; negligible needs the parts' chi-weighted dipole and quadrupole moments to "
+            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}"
+        )
+    if unknown:
+        note += "; not counted (no susceptibility given): " + ", ".join(unknown)
+    return note
+
+
+def _eddy_note(
+    damping: float, eddy: np.ndarray, parts: list[dict[str, Any]], periods: float
+) -> str:
+    """What the eddy fraction measures, how fast it damps, the parts not counted."""
+    unknown_sigma = sorted({f"{p['role']} {p['name']}" for p in parts if p["sigma"] is None})
+    note = (
+        "eddy-current torque of the conducting parts turning in their local |B| "
+        f"((2 pi / 15) sigma |omega| B^2 (a^5 - b^5) each; largest: "
+        f"{_largest_part(parts, eddy, 'sigma')}) over the designed torques"
+    )
+    if damping >= RESPONSE_FRACTION:
+        note += (
+            f"; it damps the motion within {periods:.2g} periods; negligible needs "
+            f"conductivities {damping / RESPONSE_FRACTION:.2g} times lower (insulating "
+            f"parts)"
+        )
+    if unknown_sigma:
+        note += "; not counted (no conductivity given): " + ", ".join(unknown_sigma)
+    return note
+
+
 def field_response(design: Any) -> dict[str, Any]:
     """The applied magnetic field acting on the parts' materials, against the designed torques.
 
@@ -236,45 +295,13 @@ def field_response(design: Any) -> dict[str, Any]:
     energies = _induced_energies(legendre, parts)
     energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
     eddy = _eddy_torques(legendre, parts, rate)
-    unknown = sorted({f"{p['role']} {p['name']}" for p in parts if p["chi"] is None})
-    unknown_sigma = sorted({f"{p['role']} {p['name']}" for p in parts if p["sigma"] is None})
-
-    def largest(values: np.ndarray, key: str) -> str:
-        if not len(values) or not np.any(values > 0):
-            return "none"
-        part = parts[int(np.argmax(values))]
-        return f"{part['role']} {part['name']} ({key} = {part[key]:.3g})"
-
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
     damping = float(np.sum(eddy)) / torque
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
     total_eddy = float(np.sum(eddy))
     periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
-    induced_note = (
-        "range over orientations of the energy -chi v |B|^2 / (2 mu0) of the parts' materials "
-        f"in the applied field, over the designed torques x 1 rad (largest: "
-        f"{largest(energy, 'chi')})"
-    )
-    if induced >= RESPONSE_FRACTION:
-        induced_note += (
-            f"; negligible needs the parts' chi-weighted dipole and quadrupole moments to "
-            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}"
-        )
-    if unknown:
-        induced_note += "; not counted (no susceptibility given): " + ", ".join(unknown)
-    eddy_note = (
-        "eddy-current torque of the conducting parts turning in their local |B| "
-        f"((2 pi / 15) sigma |omega| B^2 (a^5 - b^5) each; largest: {largest(eddy, 'sigma')}) "
-        "over the designed torques"
-    )
-    if damping >= RESPONSE_FRACTION:
-        eddy_note += (
-            f"; it damps the motion within {periods:.2g} periods; negligible needs "
-            f"conductivities {damping / RESPONSE_FRACTION:.2g} times lower (insulating "
-            f"parts)"
-        )
-    if unknown_sigma:
-        eddy_note += "; not counted (no conductivity given): " + ", ".join(unknown_sigma)
+    induced_note = _induced_note(induced, energy, parts)
+    eddy_note = _eddy_note(damping, eddy, parts, periods)
     induced_key, eddy_key = FIELD_RESPONSE_KEYS
     return {
         induced_key: _item(induced, "", _verdict(induced, RESPONSE_FRACTION), induced_note),

@@ -91,6 +91,13 @@ class DesignOptions:
     larmor: str | None = None
 
     def __post_init__(self) -> None:
+        self._check_objectives()
+        self._check_amounts()
+        self._check_solve_options()
+        self._check_robust_weight()
+
+    def _check_objectives(self) -> None:
+        """The objective(s), the Larmor reading and the solver's name."""
         _check_objective(self.objective, "design.objective")
         if self.larmor is not None and self.larmor not in LARMOR_READINGS:
             raise input_error("design.larmor", "one of " + ", ".join(LARMOR_READINGS), self.larmor)
@@ -110,6 +117,9 @@ class DesignOptions:
             raise input_error(
                 "design.solver", "a solver name such as 'auto' or 'CLARABEL'", self.solver
             )
+
+    def _check_amounts(self) -> None:
+        """Largest charge, totals, number of charges and the realised terms."""
         for name in ("max_charge", "total_mass"):
             value = getattr(self, name)
             if value is not None:
@@ -128,6 +138,9 @@ class DesignOptions:
             raise input_error("design.n_charges", "an integer >= 1", self.n_charges)
         if self.realise is not None:
             object.__setattr__(self, "realise", _realise_list(self.realise))
+
+    def _check_solve_options(self) -> None:
+        """Polish, tolerance, column generation, sparsity method and time limit."""
         if not isinstance(self.polish, bool):
             raise input_error("design.polish", "true or false", self.polish)
         if self.tol is not None:
@@ -144,6 +157,9 @@ class DesignOptions:
         object.__setattr__(
             self, "time_limit", as_finite_float(self.time_limit, "design.time_limit", positive=True)
         )
+
+    def _check_robust_weight(self) -> None:
+        """The robust objective's weight in [0, 1], only with the robust objective."""
         beta = as_finite_float(self.robust_weight, "design.robust_weight")
         if not 0.0 <= beta <= 1.0:
             raise input_error("design.robust_weight", "a number in [0, 1]", self.robust_weight)

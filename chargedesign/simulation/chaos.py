@@ -163,6 +163,18 @@ def _colours(n: int) -> list[Any]:
     return [cmap(i / max(n - 1, 1)) for i in range(n)]
 
 
+def _section_points(sections: list[np.ndarray]) -> list[np.ndarray]:
+    """Each orbit's crossings as rows ``(t, omega, gamma)`` (from its states' quaternions)."""
+    orbit_points = []
+    for rows in sections:
+        if len(rows) == 0:
+            orbit_points.append(np.zeros((0, 7)))
+            continue
+        gam = quaternion_gamma(rows[:, 4:])
+        orbit_points.append(np.column_stack([rows[:, 0], rows[:, 1:4], gam]))
+    return orbit_points
+
+
 def poincare_atlas(
     system: RigidBodySystem,
     *,
@@ -194,7 +206,6 @@ def poincare_atlas(
     heyoka's event detection on the Taylor series) without stopping the other orbits of the
     same batch.
     """
-
     if not taylor.available():
         raise SolverError(f"poincare atlas: needs heyoka ({taylor.unavailable_reason()})")
     if energy is None:
@@ -206,14 +217,7 @@ def poincare_atlas(
     for level in levels:
         starts = section_starts(system, energy, level, orbits, seed)
         ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
-        orbit_points = []
-        for rows in ens.sections or []:
-            if len(rows) == 0:
-                orbit_points.append(np.zeros((0, 7)))
-                continue
-            gam = quaternion_gamma(rows[:, 4:])
-            orbit_points.append(np.column_stack([rows[:, 0], rows[:, 1:4], gam]))
-        points.append(orbit_points)
+        points.append(_section_points(ens.sections or []))
     return PoincareAtlas(
         energy=float(energy),
         levels=levels,
@@ -343,25 +347,33 @@ def lyapunov_exponent(
         raise input_error("interval", f"a duration of at most t_end = {t_end:g} s", interval)
     hy, eq, ta = _variational_integrator(system, tol, "Lyapunov exponent")
     states = np.atleast_2d(np.asarray(states, dtype=float))
-    n = 7
     times = interval * np.arange(1, math.floor(t_end / interval + 1e-9) + 1)
     out = np.empty((len(states), len(times)))
-    identity = np.eye(n).reshape(-1)
     for i, y0 in enumerate(states):
         _restart(ta, eq, y0)
-        v = TANGENT_START.copy()
-        total = 0.0
-        for k, t in enumerate(times):
-            outcome = ta.propagate_until(float(t))[0]
-            if outcome != hy.taylor_outcome.time_limit:
-                raise SolverError(f"Lyapunov exponent: heyoka stopped at t = {ta.time:.6g} s")
-            v = np.asarray(ta.state[n:]).reshape(n, n) @ v
-            growth = float(np.linalg.norm(v))
-            total += math.log(growth)
-            v /= growth
-            ta.state[n:] = identity
-            out[i, k] = total / t
+        out[i] = _benettin_estimates(hy, ta, times)
     return times, out
+
+
+def _benettin_estimates(hy: Any, ta: Any, times: np.ndarray) -> np.ndarray:
+    """One state's running estimates at ``times``: the tangent vector carried over each
+    interval, its growth logged, renormalised, the tangent flow restarted from the identity."""
+    n = 7
+    identity = np.eye(n).reshape(-1)
+    estimates = np.empty(len(times))
+    v = TANGENT_START.copy()
+    total = 0.0
+    for k, t in enumerate(times):
+        outcome = ta.propagate_until(float(t))[0]
+        if outcome != hy.taylor_outcome.time_limit:
+            raise SolverError(f"Lyapunov exponent: heyoka stopped at t = {ta.time:.6g} s")
+        v = np.asarray(ta.state[n:]).reshape(n, n) @ v
+        growth = float(np.linalg.norm(v))
+        total += math.log(growth)
+        v /= growth
+        ta.state[n:] = identity
+        estimates[k] = total / t
+    return estimates
 
 
 @dataclass

@@ -129,6 +129,16 @@ class SimulationResult(Result):
             ),
         }
 
+    def _initial_record(self) -> dict[str, Any]:
+        """The summary's ``initial``: I1, I3, I4, omega and gamma at the first sample."""
+        return {
+            "I1": float(self.integrals[0, 0]),
+            "I3": float(self.integrals[0, 2]),
+            "I4": float(self.integrals[0, 3]),
+            "omega": self.omega[0].tolist(),
+            "gamma": self.gamma[0].tolist(),
+        }
+
     def summary(self) -> dict[str, Any]:
         """JSON-ready summary; the contract's keys come first.
 
@@ -149,13 +159,7 @@ class SimulationResult(Result):
             "I3_max_dev": d["I3_max_dev"],
             "quaternion_norm_max_dev": d["quaternion_norm_max_dev"],
             "monitors": {k: dict(v) for k, v in self.monitors.items()},
-            "initial": {
-                "I1": float(self.integrals[0, 0]),
-                "I3": float(self.integrals[0, 2]),
-                "I4": float(self.integrals[0, 3]),
-                "omega": self.omega[0].tolist(),
-                "gamma": self.gamma[0].tolist(),
-            },
+            "initial": self._initial_record(),
             "level": None if self.level is None else f"I3={fmt(self.level, PLAIN)}",
             "t_end": self.t_end,
             "t_reached": float(self.times[-1]),
@@ -319,6 +323,20 @@ def _figure(path: Any, figsize: tuple[float, float]) -> Any:
     return fig
 
 
+def _deviations_on_one_axes(
+    ax: Any, t: np.ndarray, series: list[tuple[np.ndarray, str]], title: str
+) -> None:
+    """The integrals' absolute deviations together on one log-scale Axes."""
+    for values, label in series:
+        # drifts are exactly zero at t = 0 and may be at rounding: floor them for the log
+        ax.semilogy(t, np.maximum(np.abs(values), 1e-300), lw=0.8, label=label)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("|deviation from t = 0|")
+    ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.3)
+    ax.set_title(title, fontsize=9)
+
+
 def plot_integrals(
     result: SimulationResult, path: str | os.PathLike[str] | None = None, *, ax: Any = None
 ) -> Any:
@@ -342,14 +360,7 @@ def plot_integrals(
     level = "" if result.level is None else f", level I3 = {fmt(result.level, PLAIN)}"
     title = f"Integrals along the motion ({', '.join(result.effects) or 'free'}{level})"
     if ax is not None and not isinstance(ax, (list, tuple, np.ndarray)):
-        for values, label in series:
-            # drifts are exactly zero at t = 0 and may be at rounding: floor them for the log
-            ax.semilogy(t, np.maximum(np.abs(values), 1e-300), lw=0.8, label=label)
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("|deviation from t = 0|")
-        ax.legend(fontsize=7)
-        ax.grid(True, alpha=0.3)
-        ax.set_title(title, fontsize=9)
+        _deviations_on_one_axes(ax, t, series, title)
         if path is not None:
             _save_png(ax.figure, path)
         return ax
@@ -405,11 +416,9 @@ def plot_poincare(
     return ax
 
 
-def summary_text(s: dict[str, Any]) -> str:
-    """The text ``chargedesign simulate`` prints, from a :meth:`SimulationResult.summary`
-    (with ``files`` when the run wrote some)."""
+def _setup_lines(s: dict[str, Any], body: dict[str, Any]) -> list[str]:
+    """What was simulated and how, the axes it is read in and the body designed for it."""
     effects = ", ".join(s["effects"]) or "none (torque-free)"
-    body = s.get("body") or {}
     if s["method"] == "taylor":
         tol = s.get("tol")
         how = f"taylor (heyoka), tol {'machine epsilon' if tol is None else format(tol, 'g')}"
@@ -435,7 +444,12 @@ def summary_text(s: dict[str, Any]) -> str:
             f"candidates): {c['charges']} charges, {c['dipoles']} dipoles, {c['masses']} masses, "
             f"residual {fmt(body['residuals']['max_after_polish'], ROUGH)}"
         )
-    lines += [
+    return lines
+
+
+def _drift_lines(s: dict[str, Any]) -> list[str]:
+    """The time span and effort, and the integrals' drifts."""
+    return [
         f"t = 0 .. {fmt(s['t_reached'], PLAIN)} s of {fmt(s['t_end'], PLAIN)} s: "
         f"{s['steps']} steps, "
         + (
@@ -453,21 +467,34 @@ def summary_text(s: dict[str, Any]) -> str:
         + f", drift {fmt(s['I3_max_dev'])}",
         f"I1 relative drift {fmt(s['I1_rel_drift'])}; max ||gamma|^2 - 1| {fmt(s['I2_max_dev'])}",
     ]
-    for event in s["events"]:
-        lines.append(f"event: {event['kind']} at t = {fmt(event['t'], CELL)} s")
+
+
+def _level_lines(s: dict[str, Any], body: dict[str, Any]) -> list[str]:
+    """Whether I4 is an integral on the run's level of I3, and how to leave the level."""
     realises_theorem = {"mu", "V", "inertia"} <= set(body.get("realises", ()))
     if s["level"] == "I3=0" and (s["effects"] == ["theorem"] or realises_theorem):
         # a level of the order of C omega with omega ~ 1/s
         example = 0.5 * float(s["parameters"].get("C", 1.0))
-        lines.append(
+        return [
             f"on I3 = 0 the theorem's I4 is an integral; --off-level {fmt(example, PLAIN)} "
             "starts off the level"
-        )
-    elif s["level"] is not None and s["level"] != "I3=0" and realises_theorem:
-        lines.append(
+        ]
+    if s["level"] is not None and s["level"] != "I3=0" and realises_theorem:
+        return [
             f"{s['level'].replace('=', ' = ')} is off the theorem's level I3 = 0: I4 is no "
             "integral there, I1 and I3 are"
-        )
+        ]
+    return []
+
+
+def summary_text(s: dict[str, Any]) -> str:
+    """The text ``chargedesign simulate`` prints, from a :meth:`SimulationResult.summary`
+    (with ``files`` when the run wrote some)."""
+    body = s.get("body") or {}
+    lines = _setup_lines(s, body) + _drift_lines(s)
+    for event in s["events"]:
+        lines.append(f"event: {event['kind']} at t = {fmt(event['t'], CELL)} s")
+    lines += _level_lines(s, body)
     notes = s["notes"]
     if body.get("designed_from_scene"):
         # already said on the body line

@@ -319,6 +319,29 @@ def theorem_is_trivial(params: Parameters) -> bool:
     return all(v == 0.0 for v in (params.n, params.K, params.kappa, params.lam, params.rho))
 
 
+def _requested_effects(
+    body: Body, requested: Sequence[str] | None, notes: list[str]
+) -> tuple[list[str], bool]:
+    """The effects asked for (each once), and whether they were implicit (None: the default)."""
+    if requested is None:
+        names = [n for n in EFFECT_SOURCES if n not in OPT_IN_EFFECTS] if body.has_elements else []
+        if body.source_count("parts"):
+            notes.append(
+                "induced: not computed unless simulation.effects asks for it (the parts' own "
+                "magnetisation; the design's realism budget gives its size)"
+            )
+        return names or ["theorem"], True
+    if isinstance(requested, str) or not isinstance(requested, Sequence):
+        raise input_error("simulation.effects", "a list of effect names", requested)
+    names = []
+    for name in requested:
+        if name not in EFFECTS:
+            raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
+        if name not in names:
+            names.append(name)
+    return names, False
+
+
 def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[str], list[str]]:
     """The effects to compute and notes on those skipped.
 
@@ -338,25 +361,7 @@ def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[st
         One line per skipped effect, with the reason.
     """
     notes: list[str] = []
-    if requested is None:
-        names = [n for n in EFFECT_SOURCES if n not in OPT_IN_EFFECTS] if body.has_elements else []
-        names = names or ["theorem"]
-        implicit = True
-        if body.source_count("parts"):
-            notes.append(
-                "induced: not computed unless simulation.effects asks for it (the parts' own "
-                "magnetisation; the design's realism budget gives its size)"
-            )
-    else:
-        if isinstance(requested, str) or not isinstance(requested, Sequence):
-            raise input_error("simulation.effects", "a list of effect names", requested)
-        names = []
-        for name in requested:
-            if name not in EFFECTS:
-                raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
-            if name not in names:
-                names.append(name)
-        implicit = False
+    names, implicit = _requested_effects(body, requested, notes)
     used: list[str] = []
     for name in EFFECTS:
         if name not in names:

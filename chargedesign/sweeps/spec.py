@@ -275,6 +275,180 @@ def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
         check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
 
 
+def _check_sweep_keys(data: Any, source: str) -> None:
+    """A table of known sweep keys."""
+    if not isinstance(data, Mapping):
+        raise InputError(f"{source}: expected a table of sweep keys")
+    unknown = sorted(set(data) - set(SWEEP_KEYS))
+    if unknown:
+        raise InputError(
+            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
+        )
+
+
+def _chosen_command(
+    data: Mapping[str, Any], source: str, command: Callable[..., dict[str, Any]] | None
+) -> str | Callable[..., dict[str, Any]]:
+    """The command run at every point: the function passed, or the file's named command."""
+    from chargedesign.sweeps.registry import check_command
+
+    if command is not None:
+        if not callable(command):
+            raise InputError(f"command=: expected a function, got {type(command).__name__}")
+        if "command" in data:
+            raise InputError(
+                f"{source}: names command {data['command']!r} and a function was passed as "
+                "command=: give one of them"
+            )
+        return command
+    if "command" not in data:
+        raise InputError(f"{source}: missing key 'command'")
+    # compared with the registry's names only: nothing named by a file is imported
+    check_command(data["command"], f"{source}: command")
+    chosen: str = data["command"]
+    return chosen
+
+
+def _base_scene(
+    data: Mapping[str, Any], source: str, base_dir: Path | None
+) -> tuple[dict[str, Any], str]:
+    """The base scene's TOML mapping and its source (a path, or ``<default>``)."""
+    from chargedesign.scene import default_scene_text
+
+    scene_value = data.get("scene")
+    if scene_value is None:
+        return tomllib.loads(default_scene_text()), "<default>"
+    if not isinstance(scene_value, str) or not scene_value:
+        raise InputError(f"{source}: scene: expected a path to a scene file, got {scene_value!r}")
+    path = Path(scene_value)
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    try:
+        # missing, special files, size, encoding and depth: one line each
+        scene_data = read_toml_file(path, "scene file")
+    except InputError as exc:
+        raise InputError(f"{source}: scene: {exc}") from None
+    return scene_data, str(path)
+
+
+def _sweep_tables(data: Mapping[str, Any], source: str) -> tuple[int, dict, dict, dict | None]:
+    """The ``chunk``, ``options``, ``grid`` and ``random`` entries, of the right types."""
+    chunk = data.get("chunk", 0)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
+        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
+    options = data.get("options", {})
+    if not isinstance(options, dict):
+        raise InputError(f"{source}: options: expected a table")
+    grid = data.get("grid", {})
+    if not isinstance(grid, dict):
+        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
+    random = data.get("random")
+    if random is not None and not isinstance(random, dict):
+        raise InputError(f"{source}: random: expected a table")
+    return chunk, options, grid, random
+
+
+def _grid_lists(grid: Mapping[str, Any], source: str) -> tuple[list[str], list[list[Any]]]:
+    """The grid's keys and their (non-empty) lists of values."""
+    keys: list[str] = []
+    value_lists: list[list[Any]] = []
+    for key, values in grid.items():
+        if not isinstance(values, list):
+            raise InputError(f"{source}: grid key {key!r}: expected a list of values")
+        if not values:
+            raise InputError(f"{source}: grid key {key!r}: empty list of values (empty grid)")
+        keys.append(key)
+        value_lists.append(values)
+    return keys, value_lists
+
+
+def _random_table(
+    random: Mapping[str, Any] | None, grid: Mapping[str, Any], source: str
+) -> tuple[dict[str, Any], int, int]:
+    """The ``[random]`` table's sampled keys, number of samples and seed (none: no keys)."""
+    if random is None:
+        return {}, 0, 0
+    n_random = random.get("samples", 0)
+    seed = random.get("seed", 0)
+    if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
+        raise InputError(f"{source}: random.samples: expected an integer >= 1, got {n_random!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
+    random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}
+    if not random_keys:
+        raise InputError(f"{source}: random: no keys to sample (empty random sample)")
+    for key in random_keys:
+        if key in grid:
+            raise InputError(f"{source}: random key {key!r} is also a grid key")
+    return random_keys, n_random, seed
+
+
+def _check_point_count(
+    keys: list[str],
+    value_lists: list[list[Any]],
+    random_keys: Mapping[str, Any],
+    n_random: int,
+    max_points: int | None,
+    source: str,
+) -> None:
+    """Some keys to sweep, and the points (grid points times draws) within the cap."""
+    if not keys and not random_keys:
+        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
+    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
+    cap = MAX_SWEEP_POINTS if max_points is None else max_points
+    if count > cap:
+        raise InputError(
+            f"{source}: {count:.3g} points exceed the cap of {cap} "
+            "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
+        )
+
+
+def _random_points(
+    grid_points: list[dict[str, Any]],
+    random_keys: Mapping[str, Any],
+    n_random: int,
+    rng: np.random.Generator,
+    source: str,
+) -> list[dict[str, Any]]:
+    """``n_random`` draws of the random keys at every grid point (drawn per grid point)."""
+    points: list[dict[str, Any]] = []
+    for gp in grid_points:
+        draws = {k: _random_values(k, v, n_random, rng, source) for k, v in random_keys.items()}
+        for i in range(n_random):
+            p = dict(gp)
+            p.update({k: draws[k][i] for k in random_keys})
+            points.append(p)
+    return points
+
+
+def _check_grid_values(
+    keys: list[str],
+    value_lists: list[list[Any]],
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    source: str,
+) -> None:
+    """Every value of every grid key, checked alone against the base scene."""
+    for key, values in zip(keys, value_lists, strict=True):
+        for i, value in enumerate(values):
+            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
+            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
+
+
+def _check_random_values(
+    points: list[dict[str, Any]],
+    random_keys: Mapping[str, Any],
+    scene_data: Mapping[str, Any],
+    scene_source: str,
+    source: str,
+) -> None:
+    """Every draw of every random key, and the key (its first draw) against the base scene."""
+    for key in random_keys:
+        for i, p in enumerate(points):
+            check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
+        validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source, scene_source)
+
+
 def sweep_from_dict(
     data: Mapping[str, Any],
     source: str = "<dict>",
@@ -282,7 +456,8 @@ def sweep_from_dict(
     command: Callable[..., dict[str, Any]] | None = None,
     max_points: int | None = None,
 ) -> SweepSpec:
-    """Validate a sweep mapping (see the module docstring).
+    """Validate a sweep mapping (see the module docstring); every point's scene is validated
+    before any runs (:func:`validate_points`).
 
     Parameters
     ----------
@@ -297,124 +472,21 @@ def sweep_from_dict(
         point instead of a built-in command (the file must then not name one).
     max_points : int, optional
         Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
-
-    Every point's scene is validated before any runs (:func:`validate_points`).
     """
-    from chargedesign.scene import default_scene_text
-    from chargedesign.sweeps.registry import check_command
-
-    if not isinstance(data, Mapping):
-        raise InputError(f"{source}: expected a table of sweep keys")
-    unknown = sorted(set(data) - set(SWEEP_KEYS))
-    if unknown:
-        raise InputError(
-            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
-        )
-    if command is not None:
-        if not callable(command):
-            raise InputError(f"command=: expected a function, got {type(command).__name__}")
-        if "command" in data:
-            raise InputError(
-                f"{source}: names command {data['command']!r} and a function was passed as "
-                "command=: give one of them"
-            )
-        chosen: str | Callable[..., dict[str, Any]] = command
-    else:
-        if "command" not in data:
-            raise InputError(f"{source}: missing key 'command'")
-        # compared with the registry's names only: nothing named by a file is imported
-        check_command(data["command"], f"{source}: command")
-        chosen = data["command"]
-    scene_value = data.get("scene")
-    if scene_value is None:
-        scene_data = tomllib.loads(default_scene_text())
-        scene_source = "<default>"
-    else:
-        if not isinstance(scene_value, str) or not scene_value:
-            raise InputError(
-                f"{source}: scene: expected a path to a scene file, got {scene_value!r}"
-            )
-        path = Path(scene_value)
-        if not path.is_absolute() and base_dir is not None:
-            path = base_dir / path
-        try:
-            # missing, special files, size, encoding and depth: one line each
-            scene_data = read_toml_file(path, "scene file")
-        except InputError as exc:
-            raise InputError(f"{source}: scene: {exc}") from None
-        scene_source = str(path)
-    chunk = data.get("chunk", 0)
-    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
-        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
-    options = data.get("options", {})
-    if not isinstance(options, dict):
-        raise InputError(f"{source}: options: expected a table")
-    grid = data.get("grid", {})
-    if not isinstance(grid, dict):
-        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
-    random = data.get("random")
-    if random is not None and not isinstance(random, dict):
-        raise InputError(f"{source}: random: expected a table")
-    keys: list[str] = []
-    value_lists: list[list[Any]] = []
-    for key, values in grid.items():
-        if not isinstance(values, list):
-            raise InputError(f"{source}: grid key {key!r}: expected a list of values")
-        if not values:
-            raise InputError(f"{source}: grid key {key!r}: empty list of values (empty grid)")
-        keys.append(key)
-        value_lists.append(values)
-    random_keys: dict[str, Any] = {}
-    n_random = 0
-    seed = 0
-    if random is not None:
-        n_random = random.get("samples", 0)
-        seed = random.get("seed", 0)
-        if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
-            raise InputError(
-                f"{source}: random.samples: expected an integer >= 1, got {n_random!r}"
-            )
-        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-            raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
-        random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}
-        if not random_keys:
-            raise InputError(f"{source}: random: no keys to sample (empty random sample)")
-        for key in random_keys:
-            if key in grid:
-                raise InputError(f"{source}: random key {key!r} is also a grid key")
-    if not keys and not random_keys:
-        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
+    _check_sweep_keys(data, source)
+    chosen = _chosen_command(data, source, command)
+    scene_data, scene_source = _base_scene(data, source, base_dir)
+    chunk, options, grid, random = _sweep_tables(data, source)
+    keys, value_lists = _grid_lists(grid, source)
+    random_keys, n_random, seed = _random_table(random, grid, source)
     # the work, counted before any point is built
-    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
-    cap = MAX_SWEEP_POINTS if max_points is None else max_points
-    if count > cap:
-        raise InputError(
-            f"{source}: {count:.3g} points exceed the cap of {cap} "
-            "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
-        )
-    # every value of every key, checked alone against the base scene
-    for key, values in zip(keys, value_lists, strict=True):
-        for i, value in enumerate(values):
-            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
-            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
-    rng = np.random.default_rng(seed)
-    grid_points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
-    points: list[dict[str, Any]] = []
+    _check_point_count(keys, value_lists, random_keys, n_random, max_points, source)
+    _check_grid_values(keys, value_lists, scene_data, scene_source, source)
+    points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     if random_keys:
-        for gp in grid_points:
-            draws = {k: _random_values(k, v, n_random, rng, source) for k, v in random_keys.items()}
-            for i in range(n_random):
-                p = dict(gp)
-                p.update({k: draws[k][i] for k in random_keys})
-                points.append(p)
-        for key in random_keys:
-            for i, p in enumerate(points):
-                check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
-            validate_scene_key(
-                scene_with(scene_data, {key: points[0][key]}), key, source, scene_source
-            )
-    else:
-        points = grid_points
+        rng = np.random.default_rng(seed)
+        points = _random_points(points, random_keys, n_random, rng, source)
+        _check_random_values(points, random_keys, scene_data, scene_source, source)
     check_options(chosen, options, source)
     validate_points(scene_data, scene_source, points, chosen, source, options)
     return SweepSpec(
