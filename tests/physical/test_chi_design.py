@@ -21,7 +21,6 @@ from physical.test_buildable import scene_with
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.physical import induced_rows
-from chargedesign.report import render_report
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.model.case import (
@@ -47,6 +46,7 @@ from chargedesign.physical.bom import bom_rows
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
 from chargedesign.physical.realism import field_response, material_parts, typical_rate
+from chargedesign.report import render_report
 from chargedesign.schemas import validate
 
 A1, A2 = 1.0, 10.0  # the small scene's field: T, T/m
