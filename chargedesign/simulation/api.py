@@ -70,11 +70,13 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.body import Design, read_design
 from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
 from chargedesign.results import compact_repr
+from chargedesign.scene import Scene, load_scene
 from chargedesign.scene.simulation import (
     DEFAULT_INITIAL,
     SIMULATION_KEYS,
@@ -173,7 +175,6 @@ class SimulationSetup:
 
 
 def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
-    from chargedesign.body import Design
 
     def block(name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
         b = body.get(name, {})
@@ -199,7 +200,6 @@ def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
 
 def setup_from_scene(scene: Any) -> SimulationSetup:
     """Read the simulation tables of a :class:`~chargedesign.scene.Scene`."""
-    from chargedesign.body import read_design
 
     notes: list[str] = []
     body_table = scene.body.table if scene.body is not None else {}
@@ -454,8 +454,6 @@ def design_pending(
 
 def setup_from_source(source: Any = None) -> SimulationSetup:
     """A setup from a scene, a design, a path (.toml scene, .json design) or None (default)."""
-    from chargedesign.body import Design, read_design
-    from chargedesign.scene import Scene, load_scene
 
     if source is None:
         return setup_from_scene(load_scene(None))
