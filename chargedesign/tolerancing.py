@@ -44,6 +44,8 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.designer.physical import induced_energy
 from chargedesign.errors import InputError
+from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
+from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
 from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.materials import SUSCEPTIBILITY, SUSCEPTIBILITY_METROLOGY
 from chargedesign.physical.realism import (
@@ -94,11 +96,6 @@ KINDS = ("charge", "dipole", "mass")
 #: the design.json blocks of the element kinds
 KIND_BLOCKS = {"charge": "charges", "dipole": "dipoles", "mass": "masses"}
 DEFAULT_TARGET = 1e-4
-#: most perturbed bodies per tolerance level in :func:`monte_carlo` (memory: about 11 kB
-#: per body and level for the ensemble integration's states)
-MAX_SAMPLES = 2000
-#: most tolerance levels
-MAX_LEVELS = 6
 DEFAULT_LEVELS = (0.01, 0.1, 1.0)
 #: integration tolerances of the ensemble (the nominal body's own drift is the floor)
 DEFAULT_RTOL = 1e-10

@@ -88,6 +88,9 @@ SIMULATION_AXES = ("turning", "inertial")
 #: trajectory state names in output files (CONTRACT.md)
 STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
 
+#: how a sweep runs its points (``sweep --executor``)
+SWEEP_EXECUTORS = ("process", "dask", "serial")
+
 #: scipy's solve_ivp methods a simulation may use (``[simulation] method``)
 SOLVE_IVP_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 #: every integration method (:mod:`chargedesign.simulation.integrate`)
@@ -135,4 +138,5 @@ __all__ = [
     "SOLVE_IVP_METHODS",
     "SOURCES",
     "STATE_NAMES",
+    "SWEEP_EXECUTORS",
 ]
