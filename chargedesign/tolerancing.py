@@ -42,10 +42,10 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.designer.physical import induced_energy
 from chargedesign.errors import InputError
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
+from chargedesign.physical.induced import induced_energy
 from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.materials import SUSCEPTIBILITY, SUSCEPTIBILITY_METROLOGY
 from chargedesign.physical.realism import (
@@ -1311,7 +1311,7 @@ def material_uncertainty(
     1 rad, as in the realism budget. Two routes: each perturbed body recomputed from its parts
     by the field (:func:`~chargedesign.physical.realism.field_response`, the Monte Carlo), and
     the exact sensitivity (the energy is linear in each part's chi v; its orientation part by
-    the moment formula, :func:`~chargedesign.designer.physical.induced_energy`), to first order
+    the moment formula, :func:`~chargedesign.physical.induced.induced_energy`), to first order
     in the errors.
 
     Parameters
