@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.files import import_held
+from chargedesign.readers import check_input_file, read_bytes, read_text
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
 from chargedesign.scene.tables import check_region_keys
@@ -381,8 +383,6 @@ def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np
     """
     import io
 
-    from chargedesign.readers import read_bytes, read_text
-
     p = Path(path)
     if not os.path.lexists(p):
         raise InputError(f"{name}: no such file {p}")
@@ -462,8 +462,6 @@ def mesh_points(
     -------
     ndarray, shape (n, 3)
     """
-    from chargedesign.files import import_held
-    from chargedesign.readers import check_input_file
 
     pv = import_held("pyvista")
 

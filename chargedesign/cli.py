@@ -1,7 +1,9 @@
 """The command line: a thin layer over the library.
 
-Each command lives in ``chargedesign/commands/<name>.py`` with ``add_arguments(parser)`` and
-``run(args) -> int``; command modules import heavy packages only inside ``run`` so that
+Each command's arguments are a function in :mod:`chargedesign.commands.arguments` (light:
+the whole parser, so ``--help``, is built from it alone); the command itself is
+``run(args) -> int`` in ``chargedesign/commands/<name>.py``, which imports its stages at the
+top and is imported (by name, with :mod:`importlib`) only when that command runs, so that
 ``chargedesign --help`` stays fast. User mistakes (``ChargeDesignError``) print one line
 and exit 2; a failed check exits 1.
 """
@@ -12,7 +14,9 @@ import argparse
 import importlib
 import sys
 from collections.abc import Callable, Sequence
+from types import ModuleType
 
+from chargedesign.commands.arguments import ARGUMENTS
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import abandon_outputs, hold_signal, signals_held
 from chargedesign.limits import OPTION_RANGES
@@ -46,12 +50,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version="chargedesign 0.1.0")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, help_text in COMMANDS.items():
-        module = importlib.import_module(f"chargedesign.commands.{name}")
         p = sub.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(p)
+        ARGUMENTS[name](p)
         _document_ranges(p, name)
-        p.set_defaults(_module=module)
     return parser
+
+
+def command_module(name: str) -> ModuleType:
+    """The module that runs a command (``chargedesign.commands.<name>``), imported when the
+    command runs: the one place the command line loads the stages lazily."""
+    return importlib.import_module(f"chargedesign.commands.{name}")
 
 
 def _document_ranges(parser: argparse.ArgumentParser, command: str) -> None:
@@ -177,7 +185,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     warnings.showwarning = _one_line_warning(args.command)
     try:
         check_arguments(args)
-        return int(args._module.run(args) or 0)
+        return int(command_module(args.command).run(args) or 0)
     except ChargeDesignError as exc:
         print(f"chargedesign {args.command}: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2

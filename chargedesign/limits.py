@@ -16,6 +16,11 @@ MAX_FIELD_DEGREE = 6
 MAX_ORIENTATIONS = 1_000_000
 #: output samples of a simulation (``simulate --samples``, ``[simulation] samples``)
 MAX_SAMPLES = 1_000_000
+#: perturbed bodies per tolerance level of the Monte Carlo (``tolerance --samples``; memory:
+#: about 11 kB per body and level for the ensemble integration's states)
+MAX_TOLERANCE_SAMPLES = 2000
+#: tolerance levels of the Monte Carlo (``tolerance --levels``)
+MAX_TOLERANCE_LEVELS = 6
 #: fixed steps of a run: ``t_end / step`` (``[simulation] step``, ``--step``)
 MAX_STEPS = 100_000_000
 #: elements drawn by ``show`` (each is a sphere or arrow mesh); ``show --max-elements`` raises it

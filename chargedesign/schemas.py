@@ -20,6 +20,7 @@ from typing import Any
 
 from chargedesign.airbearing.options import table_schema as testbed_table_schema
 from chargedesign.airbearing.schema import output_schema as testbed_output_schema
+from chargedesign.errors import InputError
 from chargedesign.physical.materials import GAS_PROPERTIES
 from chargedesign.scene.keys import TABLE_KEYS, table_schema
 from chargedesign.validation import input_error
@@ -281,8 +282,6 @@ def validate(instance: Any, name: str) -> None:
         With the path of the first offending key and the reason.
     """
     import jsonschema
-
-    from chargedesign.errors import InputError
 
     validator = jsonschema.Draft202012Validator(schema(name))
     errors = sorted(validator.iter_errors(instance), key=lambda e: list(e.absolute_path))

@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
+from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -312,8 +314,6 @@ def _shape_text(shape: Sequence[int | None]) -> str:
 
 def check_field_degree(coefficients: Any, name: str) -> None:
     """Refuse a ``legendre`` list longer than :data:`~chargedesign.limits.MAX_FIELD_DEGREE`."""
-    from chargedesign.limits import MAX_FIELD_DEGREE
-
     if isinstance(coefficients, (list, tuple, np.ndarray)) and len(coefficients) > MAX_FIELD_DEGREE:
         raise InputError(
             f"{name}: expected a field of degree <= {MAX_FIELD_DEGREE}, got "
@@ -355,8 +355,6 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
     check_parameters_range(data.get("parameters"), f"{where}.parameters")
     fields = data.get("fields")
     if isinstance(fields, dict):
-        from chargedesign.vocabulary import FIELD_KINDS
-
         for kind, spec in fields.items():
             if kind not in FIELD_KINDS:
                 raise input_error(
@@ -388,9 +386,29 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
     if "material_errors" in data:
         # the scene's [tolerance] the design records: read by `tolerance`, so checked by
         # every reader (check passed a file whose chi_relative was 2 or a string)
-        from chargedesign.tolerancing import MaterialErrors
+        check_material_errors(data["material_errors"], f"{where}.material_errors")
 
-        MaterialErrors.from_table(data["material_errors"], f"{where}.material_errors")
+
+def check_material_error(value: Any, name: str) -> float:
+    """One relative error of a material property (one standard deviation): in [0, 1)."""
+    number = as_finite_float(value, name)
+    if not 0.0 <= number < 1.0:
+        raise input_error(name, "a relative error in [0, 1)", value)
+    return number
+
+
+def check_material_errors(table: Any, where: str) -> dict[str, float]:
+    """A ``[tolerance]`` table (or design.json's ``material_errors``): keys among
+    :data:`~chargedesign.vocabulary.MATERIAL_ERROR_KEYS`, each a relative error in [0, 1)
+    (None: left out). The checked numbers by key."""
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    check_keys(table, MATERIAL_ERROR_KEYS, where)
+    return {
+        key: check_material_error(value, f"{where}.{key}")
+        for key, value in table.items()
+        if value is not None
+    }
 
 
 def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
@@ -417,8 +435,6 @@ def check_run_caps(
 ) -> None:
     """Caps on a simulation's requested work (chargedesign.limits): output samples and the
     fixed-step count ``t_end / step`` (also ``t_end / max_step``); one-line errors."""
-    from chargedesign.limits import MAX_SAMPLES, MAX_STEPS
-
     if isinstance(samples, (int, np.integer)) and samples > MAX_SAMPLES:
         raise input_error(
             "simulation.samples", f"at most {MAX_SAMPLES} output samples (--samples)", samples
@@ -437,8 +453,6 @@ def check_run_caps(
 def check_element_count(data: Any, where: str) -> None:
     """At most :data:`~chargedesign.limits.MAX_DESIGN_ELEMENTS` elements in a design.json
     mapping, counted from the list lengths before any number is converted or checked."""
-    from chargedesign.limits import MAX_DESIGN_ELEMENTS
-
     total = 0
     for block, key in (("charges", "values"), ("masses", "values"), ("dipoles", "moments")):
         part = data.get(block)

@@ -88,23 +88,55 @@ SIMULATION_AXES = ("turning", "inertial")
 #: trajectory state names in output files (CONTRACT.md)
 STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
 
+#: how a sweep runs its points (``sweep --executor``)
+SWEEP_EXECUTORS = ("process", "dask", "serial")
+
+#: scipy's solve_ivp methods a simulation may use (``[simulation] method``)
+SOLVE_IVP_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: every integration method (:mod:`chargedesign.simulation.integrate`)
+SIMULATION_METHODS = ("taylor", *SOLVE_IVP_METHODS, "gauss-legendre")
+#: the default method (the integrator falls back to DOP853 when heyoka cannot be imported)
+DEFAULT_SIMULATION_METHOD = "taylor"
+#: the equations' routes (``[simulation] route``): reduced polynomials or direct sums
+SIMULATION_ROUTES = ("reduced", "direct")
+#: the conserved-quantity monitors, in report order
+#: (:data:`chargedesign.simulation.monitors.MONITORS` has one entry per name)
+MONITOR_NAMES = (
+    "energy",
+    "gamma_norm",
+    "I3",
+    "I4",
+    "kowalevski",
+    "lagrange",
+    "goriachev_chaplygin",
+)
+#: other names a monitor may be asked for by
+MONITOR_ALIASES = {"I1": "energy", "I2": "gamma_norm", "goriachev": "goriachev_chaplygin"}
+
 __all__ = [
     "BODY_SHAPES",
     "CHECK_DEFAULT_ORIENTATIONS",
     "CHECK_DEFAULT_TOL",
     "CHECK_EFFECTS",
+    "DEFAULT_SIMULATION_METHOD",
     "DESIGN_FORMAT",
     "EFFECTS",
     "EXPORT_FORMATS",
     "FIELD_KINDS",
     "FIELD_NAMES",
     "LARMOR_READINGS",
+    "MONITOR_ALIASES",
+    "MONITOR_NAMES",
     "OBJECTIVES",
     "PARAMETER_NAMES",
     "PRECISIONS",
     "REALISABLE",
     "SCENE_TABLES",
     "SIMULATION_AXES",
+    "SIMULATION_METHODS",
+    "SIMULATION_ROUTES",
+    "SOLVE_IVP_METHODS",
     "SOURCES",
     "STATE_NAMES",
+    "SWEEP_EXECUTORS",
 ]

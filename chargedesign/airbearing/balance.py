@@ -17,7 +17,7 @@ the unit-scale case). Integrated in time (trapezoid rule on the motion's samples
 the drift per unit error; a target drift divided by it is the tolerance. The tests compare
 each against the simulated loop. The inertia's derivatives with respect to each ballast
 part's position are the tolerance module's exact ones
-(:func:`chargedesign.tolerancing.jacobians`).
+(:func:`chargedesign.sensitivity.jacobians`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from chargedesign.airbearing.options import STANDARD_GRAVITY
 from chargedesign.airbearing.platform import Ballast
 from chargedesign.body import Design
 from chargedesign.model.evaluators import rhs
-from chargedesign.tolerancing import jacobians
+from chargedesign.sensitivity import jacobians
 
 
 def _cumulative(times: np.ndarray, rate: np.ndarray) -> np.ndarray:

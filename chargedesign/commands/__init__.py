@@ -1,4 +1,4 @@
-"""One module per CLI command: ``add_arguments(parser)`` and ``run(args) -> int``.
-
-Modules here import only the standard library at the top; library imports go inside ``run``.
+"""The CLI's commands: their arguments in :mod:`.arguments` (light, for ``--help``), and one
+module per command with ``run(args) -> int``, imported by :func:`chargedesign.cli.main` only
+when that command runs (so each imports its stages at the top).
 """

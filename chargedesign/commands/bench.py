@@ -5,42 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
+from chargedesign.bench.runner import run_benchmarks, write_report
+from chargedesign.commands.arguments import AREAS
 from chargedesign.files import check_outputs
-
-AREAS = (
-    "certificate",
-    "fields",
-    "design",
-    "physical",
-    "check",
-    "simulate",
-    "tolerance",
-    "sweep",
-    "testbed",
-    "bifurcation",
-)
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print the tables as JSON")
-    parser.add_argument(
-        "--quick", action="store_true", help="small sizes: a smoke run of a few seconds per area"
-    )
-    parser.add_argument(
-        "--only", choices=AREAS, action="append", help="run only these areas (repeatable)"
-    )
-    parser.add_argument(
-        "--out",
-        default=None,
-        metavar="DIR",
-        help="write benchmarks.md and plots into DIR (e.g. docs); default: print only",
-    )
 
 
 def run(args: argparse.Namespace) -> int:
     import json
-
-    from chargedesign.bench.runner import run_benchmarks, write_report
 
     check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
     heartbeat = _Heartbeat()

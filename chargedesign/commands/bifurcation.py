@@ -15,39 +15,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "scene", nargs="?", default=None, help="scene file (TOML); default: embedded"
-    )
-    parser.add_argument(
-        "--h-range",
-        nargs=2,
-        type=float,
-        metavar=("LO", "HI"),
-        default=None,
-        help="energy range in J (default: from the least energy on the level to the top of "
-        "the amended potential plus half its span)",
-    )
-    parser.add_argument("--out", default="out", metavar="DIR", help="output folder (default out/)")
-    parser.add_argument(
-        "--at",
-        type=float,
-        default=None,
-        metavar="H",
-        help="also draw the atlas and the FLI map at the energy H (J) beside the diagram "
-        "(bifurcation_at.png)",
-    )
-    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
-    parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
+from chargedesign.errors import InputError
+from chargedesign.files import atomic_directory, check_outputs
+from chargedesign.scene import load_scene
+from chargedesign.topology.diagram import bifurcation_diagram, energy_range
+from chargedesign.topology.links import linked_pictures
 
 
 def run(args: argparse.Namespace) -> int:
-    from chargedesign.errors import InputError
-    from chargedesign.files import atomic_directory, check_outputs
-    from chargedesign.scene import load_scene
-    from chargedesign.topology.diagram import bifurcation_diagram, energy_range
-
     check_outputs(
         [("--out", args.out, True)],
         inputs=[args.scene],
@@ -63,8 +38,6 @@ def run(args: argparse.Namespace) -> int:
     diagram = bifurcation_diagram(scene.parameters, h_range)
     linked = None
     if args.at is not None:
-        from chargedesign.topology.links import linked_pictures
-
         linked = linked_pictures(diagram, args.at, orbits=20, t_end=200.0, fli_t_end=10.0)
     # every file or none; a picture at another energy from an earlier run is not kept
     stale = () if linked is not None else ("bifurcation_at.png",)

@@ -22,80 +22,22 @@ from __future__ import annotations
 import argparse
 import sys
 
-from chargedesign.errors import ChargeDesignError
+from chargedesign.body import write_design
+from chargedesign.candidates import candidates_from_table
+from chargedesign.designer import design_from_scene
+from chargedesign.designer.acceptance import forward_acceptance
+from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
-from chargedesign.vocabulary import OBJECTIVES
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "scene", nargs="?", default=None, help="scene file (TOML); default: the embedded scene"
-    )
-    parser.add_argument(
-        "--out", default="out", metavar="DIR", help="output directory (default: out)"
-    )
-    parser.add_argument("--json", action="store_true", help="print a JSON summary")
-    parser.add_argument(
-        "--objective",
-        choices=OBJECTIVES,
-        default=None,
-        help="l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 weighted "
-        "by each place's placement sensitivity); default: the scene's [design] objective, "
-        "else l1",
-    )
-    parser.add_argument(
-        "--robust-weight",
-        type=float,
-        default=None,
-        metavar="BETA",
-        help="with --objective robust: 0 (plain l1) .. 1 (pure sensitivity, the default)",
-    )
-    parser.add_argument(
-        "--solver",
-        default=None,
-        metavar="NAME",
-        help="auto (HiGHS for linear programs, Clarabel for cones) or a cvxpy solver name",
-    )
-    parser.add_argument(
-        "--n-charges", type=int, default=None, metavar="N", help="at most N charges"
-    )
-    parser.add_argument(
-        "--max-charge", type=float, default=None, metavar="Q", help="bound on every |q|, C"
-    )
-    parser.add_argument(
-        "--total-charge", type=float, default=None, metavar="Q", help="required net charge, C"
-    )
-    parser.add_argument(
-        "--total-mass", type=float, default=None, metavar="M", help="required total mass, kg"
-    )
-    parser.add_argument(
-        "--no-polish", action="store_true", help="keep the solvers' weights (no polishing)"
-    )
-    parser.add_argument("--no-picture", action="store_true", help="do not render design.png")
-    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
-    parser.add_argument(
-        "--max-linf-candidates",
-        type=int,
-        default=None,
-        metavar="N",
-        help="raise the cap on candidates of an linf design (default "
-        "chargedesign.limits.MAX_LINF_CANDIDATES)",
-    )
-    parser.add_argument(
-        "--no-forward-check",
-        action="store_true",
-        help="write the body without the forward check (not recommended: it may miss the theorem)",
-    )
+from chargedesign.limits import MAX_LINF_CANDIDATES
+from chargedesign.physical.bom import bom_csv
+from chargedesign.report import plausibility, render_report
+from chargedesign.scene import load_scene
+from chargedesign.tolerancing import tolerance_report
 
 
 def run(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
-
-    from chargedesign.body import write_design
-    from chargedesign.designer import design_from_scene
-    from chargedesign.report import plausibility, render_report
-    from chargedesign.scene import load_scene
 
     # before any work: the folder can be written and holds none of the inputs
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=DESIGN_FILES)
@@ -124,8 +66,6 @@ def run(args: argparse.Namespace) -> int:
         progress("forward check ...")
         _forward_check(design, args)
     if not design.continuous:
-        from chargedesign.tolerancing import tolerance_report
-
         progress("tolerances (exact first-order sensitivity of every element) ...")
         design.tolerance = tolerance_report(design).to_dict()
     out = Path(args.out)
@@ -143,8 +83,6 @@ def run(args: argparse.Namespace) -> int:
         write_design(design, stage / "design.json")
         write_text_atomic(stage / "report.md", report)
         if physical:
-            from chargedesign.physical.bom import bom_csv
-
             write_text_atomic(stage / "bom.csv", bom_csv(design))
         if not args.no_picture:
             progress("rendering design.png ...")
@@ -173,7 +111,6 @@ DESIGN_FILES = ("design.json", "report.md", "bom.csv", "design.png")
 
 def _check_degenerate(scene: object) -> None:
     """A request that would design nothing is refused (``[design] realise = []``)."""
-    from chargedesign.errors import InputError
 
     if scene.design.realise == ():  # type: ignore[attr-defined]
         raise InputError(
@@ -184,9 +121,6 @@ def _check_degenerate(scene: object) -> None:
 
 def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
     """Refuse an linf design on more candidates than the cap (before the dense solve)."""
-    from chargedesign.candidates import candidates_from_table
-    from chargedesign.errors import InputError
-    from chargedesign.limits import MAX_LINF_CANDIDATES
 
     objective = args.objective or scene.design.objective  # type: ignore[attr-defined]
     if objective != "linf":
@@ -205,7 +139,6 @@ def _check_linf_cap(scene: object, args: argparse.Namespace) -> None:
 def _forward_check(design: object, args: argparse.Namespace) -> None:
     """The check command's verdict on the body before it is written; one line if it fails
     (:func:`chargedesign.designer.acceptance.forward_acceptance`, the frontier's too)."""
-    from chargedesign.designer.acceptance import forward_acceptance
 
     forward_acceptance(
         design,  # type: ignore[arg-type]

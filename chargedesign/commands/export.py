@@ -8,23 +8,11 @@ from __future__ import annotations
 import argparse
 import json
 
+from chargedesign.export import export_design, load_any_design, resolve_format
 from chargedesign.files import check_outputs
-from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp/.vtu export)")
-    parser.add_argument(
-        "--format",
-        metavar="F",
-        help="one of " + ", ".join(FORMATS) + " (default: from the extension of --out)",
-    )
-    parser.add_argument("--out", metavar="PATH", required=True, help="file to write")
-    parser.add_argument("--json", action="store_true", help="print a JSON summary")
 
 
 def run(args: argparse.Namespace) -> int:
-    from chargedesign.export import export_design, load_any_design, resolve_format
 
     check_outputs([("--out", args.out, False)], inputs=[args.design])
     fmt = resolve_format(args.format, args.out)

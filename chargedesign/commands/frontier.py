@@ -17,32 +17,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from chargedesign.designer.frontier_scan import scan_frontier, write_scan
+from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "scene", nargs="?", default=None, help="scene file (TOML) with [medium]; default: embedded"
-    )
-    parser.add_argument("--json", action="store_true", help="print the result as JSON")
-    parser.add_argument(
-        "--scan",
-        action="store_true",
-        help="sweep size x medium x field x density, plot K_max (n_max for the charges reading) "
-        "and fit the scaling law",
-    )
-    parser.add_argument(
-        "--out", default=None, metavar="DIR", help="with --scan: write frontier_scan.csv/.png here"
-    )
-    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
     import json
-
-    from chargedesign.designer.pipeline import frontier_from_scene
-    from chargedesign.scene import load_scene
 
     if args.out is not None and not args.scan:
         raise InputError("--out: only --scan writes files; give --scan too, or drop --out")
@@ -59,8 +42,6 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     if args.scan:
         from pathlib import Path
-
-        from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:

@@ -4,17 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-from chargedesign.schemas import NAMES
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "name", choices=NAMES, help="design (design.json), scene (TOML) or testbed (testbed.json)"
-    )
+from chargedesign.schemas import schema_text
 
 
 def run(args: argparse.Namespace) -> int:
-    from chargedesign.schemas import schema_text
 
     print(schema_text(args.name), end="")
     return 0

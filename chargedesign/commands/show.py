@@ -9,49 +9,11 @@ from __future__ import annotations
 import argparse
 import json
 
+from chargedesign import viz
 from chargedesign.errors import InputError
+from chargedesign.export import load_any_design
 from chargedesign.files import check_outputs
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", metavar="DESIGN", help="design.json (or a .csv/.vtp export)")
-    parser.add_argument(
-        "--screenshot", metavar="PNG", help="render off screen to this PNG file instead of a window"
-    )
-    parser.add_argument(
-        "--gamma",
-        nargs=3,
-        type=float,
-        metavar=("G1", "G2", "G3"),
-        help="field axis (space Z) in body axes, normalised; default 0 0 1",
-    )
-    parser.add_argument(
-        "--scene",
-        metavar="SCENE",
-        help="outline the candidate region of this scene's [body] table",
-    )
-    parser.add_argument(
-        "--size",
-        nargs=2,
-        type=int,
-        metavar=("W", "H"),
-        help="image size in pixels (default 1024 768; 480 360 for --animate)",
-    )
-    parser.add_argument(
-        "--animate", metavar="TRAJ", help="animate a simulated motion (.npz from simulate)"
-    )
-    parser.add_argument("--out", metavar="GIF", help="animation file (.gif; .mp4 with ffmpeg)")
-    parser.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
-    parser.add_argument("--fps", type=float, default=15.0, help="frames per second (default 15)")
-    parser.add_argument(
-        "--max-elements",
-        type=int,
-        default=None,
-        metavar="N",
-        help="draw designs of up to N elements (default chargedesign.limits.MAX_SHOW_ELEMENTS "
-        "= 20000)",
-    )
-    parser.add_argument("--json", action="store_true", help="print the written files as JSON")
+from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,9 +21,6 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--out: names the animation file; give --animate TRAJ.npz too")
     if args.animate is not None and args.out is None:
         raise InputError("--animate: needs --out FILE.gif for the animation")
-
-    from chargedesign import viz
-    from chargedesign.export import load_any_design
 
     # before reading and rendering; never onto the design, the trajectory or the scene
     check_outputs(
@@ -74,8 +33,6 @@ def run(args: argparse.Namespace) -> int:
     viz.check_element_count(design, args.max_elements)
     region = None
     if args.scene is not None:
-        from chargedesign.scene import load_scene
-
         body = load_scene(args.scene).body
         region = dict(body.table) if body is not None and body.table else None
         if region is None:

@@ -21,100 +21,17 @@ import math
 import sys
 import time
 
+from chargedesign.body import write_design
 from chargedesign.errors import ChargeDesignError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
+from chargedesign.simulation import prepare, setup_from_source, simulate
+from chargedesign.simulation.chaos import fli_map, poincare_atlas
+from chargedesign.simulation.ensemble import simulate_ensemble
+from chargedesign.simulation.result import summary_text
 from chargedesign.validation import check_periods
-from chargedesign.vocabulary import EFFECTS, SIMULATION_AXES
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "source",
-        nargs="?",
-        default=None,
-        metavar="SCENE_OR_DESIGN",
-        help="scene (.toml) or design (.json); default: the embedded default scene",
-    )
-    parser.add_argument("--t-end", type=float, default=None, metavar="T", help="duration, s")
-    parser.add_argument(
-        "--effects",
-        nargs="+",
-        choices=EFFECTS,
-        default=None,
-        help="effects to compute (default: the scene's, else all with a source)",
-    )
-    parser.add_argument("--out", default=None, metavar="DIR", help="write outputs into DIR")
-    parser.add_argument("--route", choices=("reduced", "direct"), default=None)
-    parser.add_argument(
-        "--method",
-        default=None,
-        help="taylor (default: heyoka, DOP853 where heyoka is missing), DOP853, RK45, ..., "
-        "gauss-legendre",
-    )
-    parser.add_argument(
-        "--tol", type=float, default=None, help="tolerance of taylor (default machine epsilon)"
-    )
-    parser.add_argument(
-        "--monitors",
-        nargs="+",
-        default=None,
-        metavar="NAME",
-        help="integrals whose drift to report even where they are no integral: energy, "
-        "gamma_norm, I3, I4, kowalevski, lagrange, goriachev_chaplygin",
-    )
-    parser.add_argument(
-        "--atlas",
-        action="store_true",
-        help="Poincare atlas on gamma3 = 0: orbits on one energy level on I3 = 0 and on "
-        "--off-level (default 0.5 C J s) (atlas.png, atlas.csv in --out, default out/atlas)",
-    )
-    parser.add_argument(
-        "--orbits", type=int, default=50, help="orbits per level of --atlas (default 50)"
-    )
-    parser.add_argument(
-        "--fli", action="store_true", help="with --atlas: the fast Lyapunov indicator map"
-    )
-    parser.add_argument(
-        "--axes",
-        default=None,
-        metavar="AXES",
-        help="axes the motion is written in: turning (default for a frame body: its own "
-        "motion read in axes turning at its larmor.rate about Z, I4 with that n) or inertial "
-        "(as integrated, n = 0); a body without a frame reading has only inertial",
-    )
-    parser.add_argument("--rtol", type=float, default=None)
-    parser.add_argument("--atol", type=float, default=None)
-    parser.add_argument("--step", type=float, default=None, help="gauss-legendre step, s")
-    parser.add_argument("--samples", type=int, default=None, help="output samples")
-    parser.add_argument(
-        "--off-level",
-        type=float,
-        default=None,
-        metavar="I3",
-        help="start on the level I3 = value (J s) instead of the scene's (default: I3 = 0); "
-        "same gamma, p, q, r solved from it: the theorem's I4 is then not conserved",
-    )
-    parser.add_argument(
-        "--poincare", action="store_true", help="record a Poincare section (poincare.png)"
-    )
-    parser.add_argument(
-        "--max-periods",
-        type=float,
-        default=None,
-        metavar="N",
-        help="raise the cap on the periods of the body's fastest rate a run covers (default "
-        "chargedesign.limits.MAX_PERIODS = 1e7)",
-    )
-    parser.add_argument("--json", action="store_true", help="print the JSON summary")
-    parser.add_argument(
-        "--progress",
-        action=argparse.BooleanOptionalAction,
-        default=None,
-        help="progress bar on stderr (default: when stderr is a terminal); --no-progress also "
-        "silences the 'designing body ...' lines",
-    )
+from chargedesign.vocabulary import SIMULATION_AXES
 
 
 class _ProgressBar:
@@ -144,10 +61,6 @@ def run(args: argparse.Namespace) -> int:
     import contextlib
     import json
     from pathlib import Path
-
-    from chargedesign.body import write_design
-    from chargedesign.simulation import setup_from_source, simulate
-    from chargedesign.simulation.result import summary_text
 
     if args.t_end is not None and not args.t_end > 0:
         raise ChargeDesignError(f"--t-end: expected a duration > 0, got {args.t_end}")
@@ -322,8 +235,6 @@ def _options(args: argparse.Namespace) -> dict:
 def _ensemble(args: argparse.Namespace, setup: object, bar: _ProgressBar | None) -> int:
     import json
 
-    from chargedesign.simulation.ensemble import simulate_ensemble
-
     try:
         result = simulate_ensemble(setup, progress=bar, **_options(args))
     finally:
@@ -347,9 +258,6 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     from pathlib import Path
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    from chargedesign.simulation import prepare
-    from chargedesign.simulation.chaos import fli_map, poincare_atlas
 
     if args.orbits < 1:
         raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {args.orbits}")

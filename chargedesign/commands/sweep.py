@@ -15,44 +15,14 @@ import time
 
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
-
-EXECUTORS = ("process", "dask", "serial")  # mirrors chargedesign.sweeps.EXECUTORS
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("sweep", metavar="SWEEP.toml", help="the sweep file")
-    parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    parser.add_argument(
-        "--workers", type=int, default=None, metavar="N", help="workers (default: the cores, <= 8)"
-    )
-    parser.add_argument(
-        "--executor",
-        default="process",
-        metavar="E",
-        help="process (default), dask (LocalCluster) or serial",
-    )
-    parser.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="ADDRESS",
-        help="join a running Dask cluster (tcp://host:8786); implies --executor dask",
-    )
-    parser.add_argument(
-        "--resume", action="store_true", help="skip points already done in DIR, run the rest"
-    )
-    parser.add_argument(
-        "--chunk", type=int, default=None, metavar="K", help="points per task (default: automatic)"
-    )
-    parser.add_argument(
-        "--max-points",
-        type=int,
-        default=None,
-        metavar="N",
-        help="raise the cap on points of one sweep (default chargedesign.limits.MAX_SWEEP_POINTS "
-        "= 100000)",
-    )
-    parser.add_argument("--json", action="store_true", help="print the outcome as JSON")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+from chargedesign.sweeps import (
+    load_sweep,
+    make_executor,
+    run_sweep,
+    summary_rows,
+    write_summary,
+)
+from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
 
 class _Bar:
@@ -83,14 +53,6 @@ SWEEP_FILES = ("sweep.json", "summary.csv", "summary.parquet", "points")
 def run(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
-
-    from chargedesign.sweeps import (
-        load_sweep,
-        make_executor,
-        run_sweep,
-        summary_rows,
-        write_summary,
-    )
 
     if args.executor not in EXECUTORS:
         raise InputError(

@@ -13,29 +13,14 @@ from __future__ import annotations
 import argparse
 import sys
 
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "scene",
-        nargs="?",
-        default=None,
-        help="scene file (TOML) with [testbed]; default: the embedded testbed scene "
-        "(examples/scenes/testbed.toml)",
-    )
-    parser.add_argument(
-        "--out", default="out/testbed", metavar="DIR", help="output folder (default out/testbed)"
-    )
-    parser.add_argument("--json", action="store_true", help="print testbed.json's content")
-    parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+from chargedesign.airbearing.report import OUTPUTS, write_testbed
+from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
+from chargedesign.files import check_outputs
+from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
     import json
-
-    from chargedesign.airbearing.report import OUTPUTS, write_testbed
-    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
-    from chargedesign.files import check_outputs
-    from chargedesign.scene import load_scene
 
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=OUTPUTS)
 

@@ -22,88 +22,29 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from chargedesign.body import read_design, write_design
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
+from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
+from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
+from chargedesign.tolerancing import (
+    ErrorModel,
+    MaterialErrors,
+    MonteCarloResult,
+    monte_carlo,
+    plot_drift,
+    recorded_material_errors,
+    tolerance_report,
+    with_tolerance,
+)
 from chargedesign.validation import check_error_scale, check_error_spreads, check_periods
-
-MAX_SAMPLES = 2000  # mirrors chargedesign.tolerancing.MAX_SAMPLES (kept here so --help stays light)
-MAX_LEVELS = 6
-
-
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("design", metavar="DESIGN", help="design.json")
-    parser.add_argument("--position", metavar="E", help="position error, e.g. 20um or 0.1%%")
-    parser.add_argument("--charge", metavar="E", help="charge error, C or %% (e.g. 1%%)")
-    parser.add_argument("--dipole", metavar="E", help="dipole moment error, A m^2 or %%")
-    parser.add_argument("--mass", metavar="E", help="mass error, kg or %%")
-    parser.add_argument(
-        "--chi-relative",
-        type=float,
-        metavar="X",
-        help="relative error of every material's susceptibility (one draw per material): the "
-        "induced-magnetisation parasitic it leaves (default: the design's [tolerance] values)",
-    )
-    parser.add_argument(
-        "--density-relative", type=float, metavar="X", help="relative error of the densities"
-    )
-    parser.add_argument(
-        "--magnetisation-relative",
-        type=float,
-        metavar="X",
-        help="relative error of the magnets' remanent magnetisation",
-    )
-    parser.add_argument(
-        "--target",
-        type=float,
-        default=1e-4,
-        metavar="EPS",
-        help="target relative error of mu, V and the inertia for the per-element tolerances "
-        "(default 1e-4)",
-    )
-    parser.add_argument(
-        "--samples",
-        type=int,
-        default=200,
-        metavar="N",
-        help=f"perturbed bodies per tolerance level (default 200, at most {MAX_SAMPLES})",
-    )
-    parser.add_argument(
-        "--t-end", type=float, default=100.0, metavar="T", help="simulated time, s (default 100)"
-    )
-    parser.add_argument(
-        "--levels",
-        default="0.01,0.1,1",
-        metavar="F,F,...",
-        help="scale factors of the errors for the drift-against-tolerance curve "
-        f"(default 0.01,0.1,1; at most {MAX_LEVELS})",
-    )
-    parser.add_argument(
-        "--no-simulate", action="store_true", help="error distributions only, no I4 drift"
-    )
-    parser.add_argument("--seed", type=int, default=0, help="seed of the draws (default 0)")
-    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
-    parser.add_argument(
-        "--out",
-        metavar="DIR",
-        help="write tolerance.json, design.json (with a 'tolerance' block), errors.csv, "
-        "drift.csv, drift_over_time.csv and drift.png (atomically)",
-    )
 
 
 def run(args: argparse.Namespace) -> int:
     import json
     import math
-
-    from chargedesign.body import read_design
-    from chargedesign.tolerancing import (
-        ErrorModel,
-        MaterialErrors,
-        monte_carlo,
-        recorded_material_errors,
-        tolerance_report,
-    )
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
     if not math.isfinite(args.target) or args.target <= 0.0:
@@ -180,9 +121,6 @@ def _write(out: str, result: Any, data: dict, design: Any) -> None:
     import csv
     import io
     import json
-
-    from chargedesign.body import write_design
-    from chargedesign.tolerancing import MonteCarloResult, plot_drift, with_tolerance
 
     report = result.report if isinstance(result, MonteCarloResult) else result
     with atomic_directory(out) as stage:

@@ -10,16 +10,12 @@ import argparse
 import json
 
 from chargedesign.model.verification import CERTIFICATE_CASES as CERTIFICATE_CASES
+from chargedesign.model.verification import VerificationReport
 from chargedesign.model.verification import collect as collect
 from chargedesign.model.verification import format_report as format_report
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--json", action="store_true", help="print JSON")
-
-
 def run(args: argparse.Namespace) -> int:
-    from chargedesign.model.verification import VerificationReport
 
     report = collect()
     if args.json:

@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.candidates import CandidateSet, Geometry
+from chargedesign.candidates import CandidateSet, Geometry, fibonacci_sphere
 from chargedesign.designer.system import UNITS, DesignProblem, natural_row_size
+from chargedesign.model import evaluators
 from chargedesign.moment_conditions import (
     DEFAULT_STRENGTH_HEADROOM,
     FIELD_KINDS,
@@ -133,8 +134,6 @@ def quantity_scales(params: Parameters, n_orientations: int = 256) -> dict[str, 
     The forward check compares with the same sizes (chargedesign.checker). Evaluated on a
     Fibonacci set of ``n_orientations`` (even: no orientation on gamma3 = 0).
     """
-    from chargedesign.candidates import fibonacci_sphere
-    from chargedesign.model import evaluators
 
     gammas = fibonacci_sphere(2 * (n_orientations // 2))
     mu = np.asarray(evaluators.gyroscopic(gammas, params))

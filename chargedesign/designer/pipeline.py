@@ -39,7 +39,12 @@ from chargedesign.designer.system import (
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
-from chargedesign.moment_conditions import SOURCES, LinearConditions
+from chargedesign.moment_conditions import (
+    SOURCES,
+    LinearConditions,
+    derive_conditions,
+    realise_from_scene,
+)
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.scene import Scene
@@ -573,7 +578,6 @@ def larmor_of_scene(
 def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
     its size) of the parameters its body realises."""
-    from chargedesign.moment_conditions import derive_conditions, realise_from_scene
 
     given = {k: v for k, v in overrides.items() if v is not None}
     options = dataclasses.replace(scene.design, **given) if given else scene.design
@@ -594,7 +598,6 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
 
 def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
     """The physical design's setup of a scene with ``[medium]`` (None without one)."""
-    from chargedesign.designer.physical import setup_physical
 
     inputs = _scene_inputs(scene, None, overrides)
     if inputs.spec is None:

@@ -3,7 +3,7 @@
 ``objective = "robust"`` minimises ``sum_j cost_j |w_j|`` (``||sigma_j||`` for dipoles) with
 ``cost_j = (1 - beta) + beta c_j / mean(c)``: ``c_j`` is the worst-case relative error of mu,
 V or the inertia that a unit element at candidate j adds per metre of placement error
-(:func:`chargedesign.tolerancing.sensitivity_weights`), ``beta`` is ``[design] robust_weight``.
+(:func:`chargedesign.sensitivity.sensitivity_weights`), ``beta`` is ``[design] robust_weight``.
 With ``beta = 1`` the optimum is the body whose first-order error bound
 ``sum_j c_j |w_j| |delta|`` is least among those that meet the conditions: the one that
 tolerates the largest placement errors. ``beta = 0`` is the plain (sparse) l1 design.
@@ -15,6 +15,8 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+
+from chargedesign.sensitivity import sensitivity_weights
 
 #: smallest relative cost: a candidate whose placement no condition sees (c_j = 0) stays priced
 COST_FLOOR = 1e-3
@@ -28,8 +30,6 @@ def robust_costs(
     beta: float,
 ) -> np.ndarray:
     """Per-candidate costs of the robust objective (mean 1 when ``beta = 1``), shape (n,)."""
-    from chargedesign.tolerancing import sensitivity_weights  # wave 2: circle to be broken
-
     c = sensitivity_weights(points, source, fields, parameters)
     mean = float(np.mean(c)) if len(c) else 0.0
     if not np.all(np.isfinite(c)) or mean <= 0.0:

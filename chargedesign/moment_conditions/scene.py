@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from chargedesign.candidates import candidates_from_table
+from chargedesign.errors import ChargeDesignError
 from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, REALISABLE
 from chargedesign.moment_conditions.derive import derive_conditions, validate_realise
 from chargedesign.moment_conditions.types import LinearConditions
+from chargedesign.scene import Scene
 from chargedesign.validation import input_error
-
-if TYPE_CHECKING:  # pragma: no cover
-    from chargedesign.scene import Scene
 
 
 def realise_from_scene(scene: Scene) -> tuple[str, ...]:
@@ -27,8 +25,6 @@ def scene_length(scene: Scene) -> tuple[float | None, str]:
     the design choose the same default strengths. A scene with no usable ``[body]`` gives
     ``(None, reason)``: the conditions do not validate the body (the design does).
     """
-    from chargedesign.candidates import candidates_from_table
-    from chargedesign.errors import ChargeDesignError
 
     table = scene.body.table if scene.body is not None else {}
     if not table:
@@ -48,9 +44,8 @@ def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditio
     Default field strengths are chosen for the size of the scene's body
     (:func:`scene_length`), as :func:`chargedesign.designer.design_from_scene` does.
     """
-    from chargedesign.scene import Scene as _Scene
 
-    if not isinstance(scene, _Scene):
+    if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     realise = realise_from_scene(scene)
     length, why = scene_length(scene)

@@ -35,7 +35,7 @@ class DesignOptions:
         Objective for every source (see the module doc); ``objectives`` overrides per source.
         ``"robust"`` minimises ``sum_j c_j |w_j|`` (``||sigma_j||`` for dipoles), ``c_j`` the
         first-order placement sensitivity of a unit element at candidate j
-        (:func:`chargedesign.tolerancing.sensitivity_weights`): the body that tolerates the
+        (:func:`chargedesign.sensitivity.sensitivity_weights`): the body that tolerates the
         largest placement errors.
     robust_weight : float
         With ``"robust"``: the cost of candidate j is ``(1 - beta) + beta c_j / mean(c)``,

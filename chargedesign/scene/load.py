@@ -26,6 +26,13 @@ from chargedesign.readers import read_toml_file
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.medium import Medium
 from chargedesign.scene.physical import PhysicalSpec, spec_from_tables
+from chargedesign.scene.simulation import (
+    OutputOptions,
+    SimulationOptions,
+    parse_initial,
+    parse_output_options,
+    parse_simulation_options,
+)
 from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.validation import (
     as_array,
@@ -99,18 +106,18 @@ class Scene:
         return body_from_table(self.tables.get("body"))
 
     @cached_property
-    def simulation(self) -> Any:
-        return _simulation_api().parse_simulation_options(self.tables.get("simulation", {}))
+    def simulation(self) -> SimulationOptions:
+        return parse_simulation_options(self.tables.get("simulation", {}))
 
     @cached_property
-    def output(self) -> Any:
-        return _simulation_api().parse_output_options(self.tables.get("output", {}))
+    def output(self) -> OutputOptions:
+        return parse_output_options(self.tables.get("output", {}))
 
     @cached_property
     def initial(self) -> dict[str, Any] | None:
         if "initial" not in self.tables:
             return None
-        return _simulation_api().parse_initial(self.tables["initial"], "initial", self.base_dir)
+        return parse_initial(self.tables["initial"], "initial", self.base_dir)
 
     @cached_property
     def testbed(self) -> TestbedOptions:
@@ -215,14 +222,6 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     return Scene(
         parameters=params, fields=fields_out, tables=tables, source=source, field_limits=limits
     )
-
-
-def _simulation_api() -> Any:
-    """The simulation's table parsers (methods, monitors and state files are the
-    simulation's vocabulary; imported when first needed, as the simulation reads scenes)."""
-    from chargedesign.simulation import api
-
-    return api
 
 
 def _precheck(data: dict[str, Any]) -> None:

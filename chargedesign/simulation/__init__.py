@@ -18,16 +18,18 @@ from __future__ import annotations
 
 # No name re-exported here may equal a submodule's (``integrate`` the function would hide
 # ``chargedesign.simulation.integrate`` the module): import the function from its module.
-from chargedesign.simulation.api import (
+from chargedesign.scene.simulation import (
     DEFAULT_INITIAL,
     OutputOptions,
     SimulationOptions,
-    SimulationSetup,
-    design_pending,
-    initial_state,
     parse_initial,
     parse_output_options,
     parse_simulation_options,
+)
+from chargedesign.simulation.api import (
+    SimulationSetup,
+    design_pending,
+    initial_state,
     prepare,
     setup_from_scene,
     setup_from_source,

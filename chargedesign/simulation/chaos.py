@@ -26,8 +26,9 @@ import numpy as np
 
 from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_path
+from chargedesign.scene.simulation import DEFAULT_INITIAL
 from chargedesign.simulation import taylor
-from chargedesign.simulation.api import DEFAULT_INITIAL, initial_state
+from chargedesign.simulation.api import initial_state
 from chargedesign.simulation.system import (
     RigidBodySystem,
     attitude_from_gamma,

@@ -28,6 +28,7 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.results import Result
+from chargedesign.scene.states import STATE_COLUMNS, parse_states
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.api import (
     initial_state,
@@ -36,10 +37,6 @@ from chargedesign.simulation.api import (
     realised_claims,
 )
 from chargedesign.simulation.axes import turning_states
-
-# load_states re-exported: simulation.api still imports it from here
-from chargedesign.simulation.states import STATE_COLUMNS, parse_states
-from chargedesign.simulation.states import load_states as load_states
 from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.validation import input_error
 

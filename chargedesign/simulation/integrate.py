@@ -32,14 +32,15 @@ from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
+from chargedesign.vocabulary import DEFAULT_SIMULATION_METHOD as DEFAULT_METHOD
+from chargedesign.vocabulary import SIMULATION_METHODS as METHODS
+from chargedesign.vocabulary import SOLVE_IVP_METHODS as SOLVE_IVP_METHODS
 
-SOLVE_IVP_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
-METHODS = ("taylor", *SOLVE_IVP_METHODS, "gauss-legendre")
-#: the default method (falls back to :data:`FALLBACK_METHOD` when heyoka cannot be imported)
-DEFAULT_METHOD = "taylor"
-FALLBACK_METHOD = "DOP853"
 #: state names, in order, for Poincare sections and CSV columns
-STATE_NAMES = ("p", "q", "r", "gamma1", "gamma2", "gamma3")
+from chargedesign.vocabulary import STATE_NAMES as STATE_NAMES
+
+#: the method used when heyoka cannot be imported
+FALLBACK_METHOD = "DOP853"
 
 _SQ15 = math.sqrt(15.0)
 _GL_A = np.array(

@@ -37,7 +37,9 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.scene.simulation import parse_monitors as parse_monitors
 from chargedesign.validation import input_error
+from chargedesign.vocabulary import MONITOR_ALIASES
 
 #: relative size below which a polynomial coefficient counts as zero
 _ZERO = 1e-12
@@ -231,26 +233,8 @@ MONITORS: dict[str, Monitor] = {
     ),
 }
 #: aliases accepted in scenes
-ALIASES = {"I1": "energy", "I2": "gamma_norm", "goriachev": "goriachev_chaplygin"}
-
-
-def parse_monitors(value: Any, where: str = "simulation.monitors") -> list[Any]:
-    """Validate monitor requests: names of :data:`MONITORS` (or aliases) or callables."""
-    if isinstance(value, str) or not isinstance(value, Sequence):
-        raise input_error(where, "a list of monitor names", value)
-    out: list[Any] = []
-    for item in value:
-        if callable(item):
-            out.append(item)
-            continue
-        if not isinstance(item, str):
-            raise input_error(where, "names among " + ", ".join(MONITORS), item)
-        name = ALIASES.get(item, item)
-        if name not in MONITORS:
-            raise input_error(where, "names among " + ", ".join(MONITORS), item)
-        if name not in out:
-            out.append(name)
-    return out
+#: other names a monitor may be asked for by
+ALIASES = MONITOR_ALIASES
 
 
 def _drift(values: np.ndarray, scale: str, kinetic: float) -> float:

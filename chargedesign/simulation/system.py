@@ -57,7 +57,8 @@ from chargedesign.validation import input_error
 from chargedesign.vocabulary import EFFECTS as EFFECTS
 
 #: force routes for a designed body
-ROUTES = ("reduced", "direct")
+from chargedesign.vocabulary import SIMULATION_ROUTES as ROUTES
+
 #: which source and field each physical effect needs
 EFFECT_SOURCES = {
     "lorentz": ("charges", "magnetic"),

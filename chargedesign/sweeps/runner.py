@@ -38,8 +38,8 @@ from chargedesign.scene import scene_from_dict
 from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec, scene_with
+from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
-EXECUTORS = ("process", "dask", "serial")
 #: seconds to wait for a Dask scheduler given with ``scheduler=``
 SCHEDULER_TIMEOUT = 5.0
 #: automatic chunks: about this many tasks per worker (load balance against per-task overhead)

@@ -36,9 +36,14 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import InputError
-from chargedesign.limits import MAX_SWEEP_POINTS
+from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
+from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
+from chargedesign.sweeps.registry import check_command, resolve
+from chargedesign.tolerancing import ErrorModel
+from chargedesign.validation import check_error_spreads, check_periods, check_tree
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
 RANDOM_KINDS = ("uniform", "log_uniform", "choice")
@@ -108,7 +113,6 @@ def validate_scene_key(
 ) -> None:
     """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
     the base scene's path, which its relative paths resolve against)."""
-    from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
 
     parts = key.split(".")
     if len(parts) < 2 or not all(parts):
@@ -123,8 +127,6 @@ def validate_scene_key(
         # every table by its owner (chargedesign.scene.validate_tables), and a region's points
         scene = validated(scene_from_dict(data, source=scene_source))
         if parts[0] == "body" and scene.body is not None and "shape" in scene.body.table:
-            from chargedesign.candidates import candidates_from_table
-
             candidates_from_table(scene.body.table, base_dir=scene.base_dir)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
@@ -163,7 +165,6 @@ def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source
 def check_point_value(value: Any, where: str) -> None:
     """A swept value: a number within the input range (no nan, no 1e200), a string, a
     boolean, or a list or table of those (chargedesign.validation.check_tree)."""
-    from chargedesign.validation import check_tree
 
     check_tree(value, where)
 
@@ -171,8 +172,6 @@ def check_point_value(value: Any, where: str) -> None:
 def check_options(command: Any, options: Mapping[str, Any], source: str) -> None:
     """``[options]``: names the command takes (its signature), numbers within the input range."""
     import inspect
-
-    from chargedesign.sweeps.registry import resolve
 
     check_point_value(dict(options), f"{source}: options")
     try:
@@ -190,7 +189,6 @@ def _check_command_options(command: str, options: Mapping[str, Any], prefix: str
     (chargedesign.limits.OPTION_RANGES) and, for ``tolerance``, its errors parsed and within
     theirs: a bad option was found only when its point ran, after the others had written
     (``position = "1e31"``), or not at all (``samples = 1e9``)."""
-    from chargedesign.limits import OPTION_RANGES
 
     ranges = OPTION_RANGES.get(command, {})
     for name, value in options.items():
@@ -200,9 +198,6 @@ def _check_command_options(command: str, options: Mapping[str, Any], prefix: str
         if not bounds.holds(value):
             raise InputError(f"{prefix}{name}: expected a value in {bounds.text()}, got {value!r}")
     if command == "tolerance":
-        from chargedesign.tolerancing import ErrorModel
-        from chargedesign.validation import check_error_spreads
-
         errors = {k: options.get(k) for k in ("position", "charge", "dipole", "mass")}
         try:
             model = ErrorModel.parse(**errors)
@@ -225,8 +220,6 @@ def validate_points(
     (:func:`chargedesign.validation.check_periods`, the cap the ``simulate`` command applies).
     A point that would fail on its input is refused here, with the point and its values
     named, not found after others ran."""
-    from chargedesign.candidates import candidates_from_table
-    from chargedesign.scene import scene_from_dict, validated
 
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
@@ -253,8 +246,6 @@ def validate_points(
 def _check_motion_work(scene: Any, t_end: Any) -> None:
     """A simulate point's periods of its fastest rate within MAX_PERIODS (a ``t_end = 1e8`` on a
     unit-scale body ran unbounded after the other points had written their outputs)."""
-    from chargedesign.limits import MAX_PERIODS
-    from chargedesign.validation import check_periods
 
     if t_end is not None:
         option = "options.t_end"
@@ -266,8 +257,6 @@ def _check_motion_work(scene: Any, t_end: Any) -> None:
 def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
     """A tolerance point's drift simulation (run when it has errors and ``simulate``) within
     MAX_PERIODS of the scene's parameters, as ``tolerance --t-end`` is."""
-    from chargedesign.limits import MAX_PERIODS
-    from chargedesign.validation import check_periods
 
     errors = any(options.get(k) is not None for k in ("position", "charge", "dipole", "mass"))
     if errors and options.get("simulate", True):
@@ -290,7 +279,6 @@ def _chosen_command(
     data: Mapping[str, Any], source: str, command: Callable[..., dict[str, Any]] | None
 ) -> str | Callable[..., dict[str, Any]]:
     """The command run at every point: the function passed, or the file's named command."""
-    from chargedesign.sweeps.registry import check_command
 
     if command is not None:
         if not callable(command):
@@ -313,7 +301,6 @@ def _base_scene(
     data: Mapping[str, Any], source: str, base_dir: Path | None
 ) -> tuple[dict[str, Any], str]:
     """The base scene's TOML mapping and its source (a path, or ``<default>``)."""
-    from chargedesign.scene import default_scene_text
 
     scene_value = data.get("scene")
     if scene_value is None:

@@ -14,8 +14,6 @@ import ast
 from collections.abc import Iterator
 from pathlib import Path
 
-import pytest
-
 PACKAGE = Path(__file__).resolve().parents[2] / "chargedesign"
 
 #: modules that import a heavy third-party package at module level (sympy: the symbolic
@@ -191,7 +189,6 @@ def module_name_in(path: Path, root: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-@pytest.mark.xfail(strict=False, reason="until the lead merges the wave")
 def test_no_function_level_import_of_the_package() -> None:
     remaining = forbidden_function_imports(package_modules())
     print(f"{len(remaining)} function-level imports of the package remain:")
@@ -199,7 +196,6 @@ def test_no_function_level_import_of_the_package() -> None:
     assert remaining == []
 
 
-@pytest.mark.xfail(strict=False, reason="until the lead merges the wave")
 def test_the_import_graph_has_no_circle() -> None:
     edges, _ = import_graph(package_modules())
     found = circles(edges)

@@ -112,7 +112,7 @@ def test_continuous_design_file(tmp_path: Path, capsys) -> None:
 
 def test_cli_defaults_mirror_the_library() -> None:
     from chargedesign import checker as check
-    from chargedesign.commands import check as command
+    from chargedesign.commands import arguments as command
 
     assert command.DEFAULT_TOL == check.DEFAULT_TOL
     assert command.DEFAULT_ORIENTATIONS == check.DEFAULT_ORIENTATIONS

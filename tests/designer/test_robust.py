@@ -19,12 +19,8 @@ from chargedesign.designer.robust import COST_FLOOR, robust_costs, weighted_norm
 from chargedesign.errors import InputError
 from chargedesign.physical.limits import check_limits
 from chargedesign.scene import load_scene
-from chargedesign.tolerancing import (
-    ErrorModel,
-    error_distribution,
-    sensitivity_weights,
-    tolerance_report,
-)
+from chargedesign.sensitivity import sensitivity_weights
+from chargedesign.tolerancing import ErrorModel, error_distribution, tolerance_report
 
 SOURCES = ("charges", "dipoles", "masses")
 SMALL = Path(__file__).resolve().parents[1] / "physical" / "small.toml"

@@ -20,7 +20,6 @@ from physical.test_buildable import scene_with
 
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
-from chargedesign.designer.physical import induced_rows
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.model.case import (
@@ -43,6 +42,7 @@ from chargedesign.model.case import (
     symbolic_case,
 )
 from chargedesign.physical.bom import bom_rows
+from chargedesign.physical.induced import induced_rows
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
 from chargedesign.physical.realism import field_response, material_parts, typical_rate

@@ -118,4 +118,3 @@ def refused(argv: list[str], command: str, capsys, folder: Path) -> str:
     line = assert_clean_error(code, err, command)
     assert snapshot(folder) == before, f"{argv}: wrote or changed files"
     return line
-

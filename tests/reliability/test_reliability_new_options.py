@@ -83,7 +83,6 @@ def test_material_error_options_have_their_range(
 # ------------------------------------------------------------------ sweeps (outside review)
 
 
-
 def _sweep(folder: Path, body: str, scene: str = THEOREM_SCENE) -> None:
     (folder / "t.toml").write_text(scene)
     (folder / "x.sweep").write_text('scene = "t.toml"\n' + body)

@@ -72,13 +72,14 @@ def _no_work(monkeypatch: pytest.MonkeyPatch) -> None:
     def boom(*args: object, **kwargs: object) -> None:
         raise AssertionError("the work started before the output was checked")
 
-    import chargedesign.designer as design_pkg
-    import chargedesign.designer.frontier_scan as scan
-    import chargedesign.simulation as simulate_mod
+    # the names the commands call (each command module imports its stages at the top)
+    import chargedesign.commands.design as design_command
+    import chargedesign.commands.frontier as frontier_command
+    import chargedesign.commands.simulate as simulate_command
 
-    monkeypatch.setattr(design_pkg, "design_from_scene", boom)
-    monkeypatch.setattr(simulate_mod, "simulate", boom)
-    monkeypatch.setattr(scan, "scan_frontier", boom)
+    monkeypatch.setattr(design_command, "design_from_scene", boom)
+    monkeypatch.setattr(simulate_command, "simulate", boom)
+    monkeypatch.setattr(frontier_command, "scan_frontier", boom)
 
 
 @pytest.mark.parametrize(
@@ -427,7 +428,7 @@ def test_simulate_always_hands_the_integrator_a_callback(
     """SIGINT is raised in Python code: the integrator must come back to Python every step,
     also without a progress bar (--no-progress), or heyoka runs on for seconds (33.8 s
     measured; 0.24 s with the callback)."""
-    import chargedesign.simulation as simulate_mod
+    import chargedesign.commands.simulate as simulate_command
 
     seen: dict[str, object] = {}
 
@@ -438,7 +439,7 @@ def test_simulate_always_hands_the_integrator_a_callback(
         seen.update(kwargs)
         raise Stop
 
-    monkeypatch.setattr(simulate_mod, "simulate", capture)
+    monkeypatch.setattr(simulate_command, "simulate", capture)
     (work / "s.toml").write_text(THEOREM_SCENE)
     with pytest.raises(Stop):
         run_cli(["simulate", "s.toml", "--no-progress"], capsys)

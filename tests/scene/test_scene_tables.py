@@ -22,9 +22,10 @@ from chargedesign.scene import (
     validated,
 )
 from chargedesign.scene.keys import BODY_REFERENCE_KEYS, REGION_KEYS, TABLE_KEYS, key_names
+from chargedesign.scene.simulation import INITIAL_KEYS, OUTPUT_KEYS, SIMULATION_KEYS
 from chargedesign.schemas import schema, schema_text, shipped_schema_text
-from chargedesign.simulation.api import INITIAL_KEYS, OUTPUT_KEYS, SIMULATION_KEYS
-from chargedesign.vocabulary import SCENE_TABLES
+from chargedesign.simulation.monitors import MONITORS
+from chargedesign.vocabulary import MONITOR_ALIASES, MONITOR_NAMES, SCENE_TABLES
 
 #: the smallest scene a table needs beside it to be read at all
 NEEDS = {
@@ -177,3 +178,10 @@ def test_load_scene_parses_every_table_at_load(tmp_path):
     path.write_text('[parameters]\nn = 0.5\n\n[output]\nfolder = "x"\n', encoding="utf-8")
     with pytest.raises(InputError, match=r"^output\.folder: "):
         load_scene(path)
+
+
+def test_the_monitor_names_the_scene_accepts_are_the_registry() -> None:
+    """``[simulation] monitors`` is parsed with the vocabulary's names, the registry holds one
+    monitor per name, in the same order (the error message lists them)."""
+    assert tuple(MONITORS) == MONITOR_NAMES
+    assert set(MONITOR_ALIASES.values()) <= set(MONITOR_NAMES)

@@ -10,8 +10,9 @@ import pytest
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene
+from chargedesign.scene.states import load_states, parse_states
 from chargedesign.simulation import chaos, simulate, taylor
-from chargedesign.simulation.ensemble import load_states, parse_states, simulate_ensemble
+from chargedesign.simulation.ensemble import simulate_ensemble
 from chargedesign.simulation.system import Body, RigidBodySystem, quaternion_gamma
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)

@@ -117,8 +117,9 @@ def test_a_frame_body_is_toleranced_against_what_its_elements_realise(design):
     from chargedesign.body import Design
     from chargedesign.larmor import LarmorReading
 
-    as_n0 = Design.from_dict({**design.to_dict(), "parameters": {
-        **design.parameters.as_dict(), "n": 0.0}})
+    as_n0 = Design.from_dict(
+        {**design.to_dict(), "parameters": {**design.parameters.as_dict(), "n": 0.0}}
+    )
     frame = Design.from_dict({**as_n0.to_dict(), "parameters": design.parameters.as_dict()})
     frame.larmor = LarmorReading("frame", design.parameters.n)
     assert frame.body_parameters == replace(design.parameters, n=0.0)

@@ -9,14 +9,8 @@ import numpy as np
 import pytest
 
 from chargedesign.body import read_design
-from chargedesign.tolerancing import (
-    QUANTITIES,
-    ErrorModel,
-    jacobians,
-    parse_spread,
-    sensitivity_weights,
-    tolerance_report,
-)
+from chargedesign.sensitivity import QUANTITIES, jacobians, sensitivity_weights
+from chargedesign.tolerancing import ErrorModel, parse_spread, tolerance_report
 
 DESIGN = Path(__file__).parent / "data" / "default_design.json"
 

@@ -1,7 +1,7 @@
 """Sets of initial states read from a scene (``initial.states``) or a file (``initial.file``).
 
-Light on purpose (no integrator, no scene): :mod:`.api` reads a scene's ``[initial]`` table
-with it and :mod:`.ensemble` runs the states.
+Light on purpose (no integrator): :mod:`chargedesign.scene.simulation` reads a scene's ``[initial]``
+table with it and :mod:`chargedesign.simulation.ensemble` runs the states.
 """
 
 from __future__ import annotations

@@ -1,0 +1,239 @@
+"""The simulation's scene tables: ``[simulation]``, ``[output]`` and ``[initial]`` parsed
+into typed options (the keys are documented in :mod:`chargedesign.simulation.api`).
+
+Part of the scene, so that the scene is parsed once without loading the integrator: the
+method, route, monitor and state names are the vocabulary's.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from chargedesign.errors import InputError
+from chargedesign.scene.keys import key_names
+from chargedesign.scene.states import load_states, parse_states
+from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.vocabulary import (
+    DEFAULT_SIMULATION_METHOD,
+    MONITOR_ALIASES,
+    MONITOR_NAMES,
+    SIMULATION_AXES,
+    SIMULATION_METHODS,
+    SIMULATION_ROUTES,
+    STATE_NAMES,
+)
+
+# the tables' keys are the scene's declaration (the JSON Schema is generated from it too)
+SIMULATION_KEYS = key_names("simulation")
+INITIAL_KEYS = key_names("initial")
+OUTPUT_KEYS = key_names("output")
+
+#: the initial state when a scene has no [initial]: on I3 = 0, omega of order 1
+DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
+
+
+@dataclass
+class SimulationOptions:
+    """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
+
+    t_end: float = 100.0
+    rtol: float = 1e-12
+    atol: float = 1e-12
+    method: str = DEFAULT_SIMULATION_METHOD
+    effects: list[str] | None = None
+    max_step: float = math.inf
+    step: float | None = None
+    samples: int = 2001
+    route: str = "reduced"
+    gamma3_min: float = 1e-2
+    #: tolerance of the taylor method (None: machine epsilon)
+    tol: float | None = None
+    #: monitors asked for (names of :data:`.monitors.MONITORS` or callables)
+    monitors: list[Any] | None = None
+    #: axes the motion is written in (None: turning for a frame body, else inertial)
+    axes: str | None = None
+
+
+@dataclass
+class OutputOptions:
+    """Validated ``[output]`` settings."""
+
+    dir: str | None = None
+    trajectory: bool = True
+    plot: bool = True
+    poincare: bool = False
+    poincare_section: str = "gamma1"
+    poincare_axes: tuple[str, str] = ("gamma2", "q")
+
+
+def _bool(value: Any, name: str) -> bool:
+    if not isinstance(value, bool):
+        raise input_error(name, "true or false", value)
+    return value
+
+
+def _int(value: Any, name: str, minimum: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise input_error(name, f"an integer >= {minimum}", value)
+    return int(value)
+
+
+def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
+    if value not in choices:
+        raise input_error(name, "one of " + ", ".join(choices), value)
+    return str(value)
+
+
+def parse_simulation_options(
+    table: Mapping[str, Any], where: str = "simulation"
+) -> SimulationOptions:
+    """Validate a ``[simulation]`` table (one-line errors naming the key)."""
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    check_keys(table, SIMULATION_KEYS, where)
+    opts = SimulationOptions()
+    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min", "tol"):
+        if key in table:
+            value = table[key]
+            if key == "max_step" and value == math.inf:
+                continue
+            setattr(opts, key, as_finite_float(value, f"{where}.{key}", positive=True))
+    if "method" in table:
+        opts.method = check_choice(table["method"], f"{where}.method", SIMULATION_METHODS)
+    if "route" in table:
+        opts.route = check_choice(table["route"], f"{where}.route", SIMULATION_ROUTES)
+    if "samples" in table:
+        opts.samples = _int(table["samples"], f"{where}.samples", 2)
+    if "effects" in table:
+        effects = table["effects"]
+        if not isinstance(effects, (list, tuple)) or not all(isinstance(e, str) for e in effects):
+            raise input_error(f"{where}.effects", "a list of effect names", effects)
+        opts.effects = list(effects)
+    if "monitors" in table and table["monitors"] is not None:
+        opts.monitors = parse_monitors(table["monitors"], f"{where}.monitors")
+    if "axes" in table and table["axes"] is not None:
+        opts.axes = check_choice(table["axes"], f"{where}.axes", SIMULATION_AXES)
+    return opts
+
+
+def parse_output_options(table: Mapping[str, Any], where: str = "output") -> OutputOptions:
+    """Validate an ``[output]`` table."""
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    check_keys(table, OUTPUT_KEYS, where)
+    out = OutputOptions()
+    if "dir" in table:
+        if not isinstance(table["dir"], str) or not table["dir"]:
+            raise input_error(f"{where}.dir", "a directory path", table["dir"])
+        out.dir = table["dir"]
+    for key in ("trajectory", "plot", "poincare"):
+        if key in table:
+            setattr(out, key, _bool(table[key], f"{where}.{key}"))
+    if "poincare_section" in table:
+        out.poincare_section = check_choice(
+            table["poincare_section"], f"{where}.poincare_section", STATE_NAMES
+        )
+    if "poincare_axes" in table:
+        axes = table["poincare_axes"]
+        if (
+            not isinstance(axes, (list, tuple))
+            or len(axes) != 2
+            or any(a not in STATE_NAMES for a in axes)
+        ):
+            raise input_error(
+                f"{where}.poincare_axes", "two names among " + ", ".join(STATE_NAMES), axes
+            )
+        out.poincare_axes = (str(axes[0]), str(axes[1]))
+    return out
+
+
+def parse_initial(
+    table: Mapping[str, Any], where: str = "initial", base: Path | None = None
+) -> dict[str, Any]:
+    """Validate an ``[initial]`` table; returns a normalised mapping.
+
+    Either ``omega`` and ``gamma`` (explicit state), or ``level = "I3=<value>"`` with
+    ``gamma``, ``p`` and ``q`` (r solved from the level). ``precession`` is optional. Or a set
+    of states: ``states = [[p, q, r, gamma1, gamma2, gamma3], ...]`` or ``file = PATH``
+    (.csv or .npy, relative to ``base``), returned as ``{"states": ndarray (m, 6)}``.
+    """
+    if not isinstance(table, Mapping):
+        raise input_error(where, "a table", table)
+    check_keys(table, INITIAL_KEYS, where)
+    if "states" in table or "file" in table:
+        if "states" in table and "file" in table:
+            raise InputError(f"{where}: give either states or file, not both")
+        others = sorted(set(table) - {"states", "file"})
+        if others:
+            raise InputError(f"{where}.{others[0]}: not used with a set of states")
+        if "states" in table:
+            return {"states": parse_states(table["states"], f"{where}.states")}
+        value = table["file"]
+        if not isinstance(value, str) or not value:
+            raise input_error(f"{where}.file", "a path to a .csv or .npy file", value)
+        path = Path(value)
+        if base is not None and not path.is_absolute():
+            path = base / path
+        return {"states": load_states(path, f"{where}.file")}
+    if "gamma" not in table:
+        raise InputError(f"{where}: missing key 'gamma'")
+    gamma = as_array(table["gamma"], f"{where}.gamma", (3,))
+    norm = float(np.linalg.norm(gamma))
+    if norm < 1e-12:
+        raise input_error(f"{where}.gamma", "a non-zero vector", table["gamma"])
+    out: dict[str, Any] = {"gamma": gamma / norm, "gamma_norm": norm}
+    out["precession"] = as_finite_float(table.get("precession", 0.0), f"{where}.precession")
+    if "level" in table:
+        if "omega" in table:
+            raise InputError(f"{where}: give either omega or level with p and q, not both")
+        level = table["level"]
+        match = re.fullmatch(r"\s*I3\s*=\s*(\S+)\s*", level) if isinstance(level, str) else None
+        value = None
+        if match:
+            try:
+                value = float(match.group(1))
+            except ValueError:
+                value = None
+        if value is None or not math.isfinite(value):
+            raise input_error(f"{where}.level", "a level such as 'I3=0'", level)
+        for key in ("p", "q"):
+            if key not in table:
+                raise InputError(f"{where}: level needs key '{key}'")
+        out["level"] = value
+        out["p"] = as_finite_float(table["p"], f"{where}.p")
+        out["q"] = as_finite_float(table["q"], f"{where}.q")
+    else:
+        if "omega" not in table:
+            raise InputError(f"{where}: give omega, or level = 'I3=0' with p and q")
+        for key in ("p", "q"):
+            if key in table:
+                raise InputError(f"{where}.{key}: only used with level; omega is given")
+        out["omega"] = as_array(table["omega"], f"{where}.omega", (3,))
+    return out
+
+
+def parse_monitors(value: Any, where: str = "simulation.monitors") -> list[Any]:
+    """Validate monitor requests: names of :data:`~chargedesign.vocabulary.MONITOR_NAMES` (or
+    their aliases) or callables."""
+    if isinstance(value, str) or not isinstance(value, Sequence):
+        raise input_error(where, "a list of monitor names", value)
+    out: list[Any] = []
+    for item in value:
+        if callable(item):
+            out.append(item)
+            continue
+        if not isinstance(item, str):
+            raise input_error(where, "names among " + ", ".join(MONITOR_NAMES), item)
+        name = MONITOR_ALIASES.get(item, item)
+        if name not in MONITOR_NAMES:
+            raise input_error(where, "names among " + ", ".join(MONITOR_NAMES), item)
+        if name not in out:
+            out.append(name)
+    return out

@@ -1,0 +1,382 @@
+"""The sensitivity kernel: exact first derivatives of a body's mu, V and inertia with respect
+to every element (:func:`jacobians`), and the per-candidate placement sensitivity the robust
+design objective prices (:func:`sensitivity_weights`).
+
+The formulas are in :mod:`chargedesign.tolerancing`'s docstring; the tolerance report and the
+Monte Carlo (orchestration) build on this kernel there.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.checker import sample_orientations
+from chargedesign.errors import InputError
+from chargedesign.fields import AxisymmetricField
+from chargedesign.model import evaluators
+from chargedesign.validation import as_points, input_error
+
+#: the quantities whose errors are analysed, in the check's names
+QUANTITIES = ("mu", "V", "inertia")
+DEFAULT_ORIENTATIONS = 200
+
+
+# ------------------------------------------------------------------------ element access
+def mass_points(design: Any) -> tuple[np.ndarray, np.ndarray]:
+    """All point masses of a body: positions (m, 3) in m and masses (m,) in kg.
+
+    The ballast plus the carriers' and magnets' own masses
+    (:meth:`~chargedesign.elements.ElementSet.point_elements`); each is perturbed as a point
+    of its own.
+    """
+    points = design.point_elements()
+    return np.asarray(points.mass_positions, float), np.asarray(points.mass_values, float)
+
+
+def with_masses(design: Design, positions: np.ndarray, values: np.ndarray) -> Design:
+    """A copy of ``design`` whose mass points (:func:`mass_points`) are replaced."""
+    return with_arrays(design, mass_positions=positions, mass_values=values)
+
+
+def with_arrays(design: Design, **arrays: Any) -> Design:
+    points = design.point_elements()  # every mass in the mass arrays (see mass_points)
+    fields_ = {k: getattr(points, k) for k in ELEMENT_ARRAYS}
+    fields_.update(arrays)
+    return Design(
+        parameters=design.parameters,
+        fields=dict(design.fields),
+        realises=list(design.realises),
+        larmor=design.larmor,
+        **fields_,
+    )
+
+
+ELEMENT_ARRAYS = (
+    "charge_positions",
+    "charge_values",
+    "mass_positions",
+    "mass_values",
+    "dipole_positions",
+    "dipole_moments",
+)
+
+
+@dataclass
+class Elements:
+    """The element arrays the analysis perturbs (charges, dipoles, all mass points)."""
+
+    cp: np.ndarray
+    cv: np.ndarray
+    dp: np.ndarray
+    dm: np.ndarray
+    mp: np.ndarray
+    mv: np.ndarray
+
+    @classmethod
+    def of(cls, design: Design) -> Elements:
+        if design.continuous:
+            raise InputError(
+                "tolerance: designs with continuous bodies are not supported (point elements only)"
+            )
+        mp, mv = mass_points(design)
+        return cls(
+            np.asarray(design.charge_positions, float),
+            np.asarray(design.charge_values, float),
+            np.asarray(design.dipole_positions, float),
+            np.asarray(design.dipole_moments, float),
+            mp,
+            mv,
+        )
+
+    def labels(self) -> list[tuple[str, int]]:
+        return (
+            [("charge", i) for i in range(len(self.cv))]
+            + [("dipole", i) for i in range(len(self.dm))]
+            + [("mass", i) for i in range(len(self.mv))]
+        )
+
+
+def design_fields(design: Design) -> dict[str, AxisymmetricField]:
+    return {
+        k: AxisymmetricField(tuple(design.field(k))) for k in ("magnetic", "electric", "gravity")
+    }
+
+
+def orientations(n: int, seed: int = 0) -> np.ndarray:
+    return sample_orientations(n, seed)
+
+
+def references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
+
+    # what the elements themselves realise (n = 0 for a frame body: n is the axes' rate)
+    params = design.body_parameters
+    mu = np.asarray(evaluators.gyroscopic(gammas, params), dtype=float)
+    V = np.asarray(evaluators.potential(gammas, params), dtype=float)
+    if not (np.all(np.isfinite(mu)) and np.all(np.isfinite(V))):
+        raise InputError("tolerance: the theorem's mu or V is not finite at a sampled orientation")
+    V = V - V.mean()
+    return {
+        "mu": mu,
+        "V": V,
+        "inertia": np.diag([2.0 * params.C, 2.0 * params.C, params.C]),
+    }
+
+
+# ------------------------------------------------------------------------ the quantities
+def quantities(el: Elements, f: Mapping[str, AxisymmetricField], gammas: np.ndarray) -> dict:
+    """mu (m, 3), V (m,) centred, inertia (3, 3) of the elements (batched over nothing)."""
+    m = len(gammas)
+    mu = np.zeros((m, 3))
+    V = np.zeros(m)
+    if len(el.cv):
+        if not f["magnetic"].is_zero:
+            G = f["magnetic"].gradient_body(el.cp, gammas)
+            s = np.einsum("mni,ni->mn", G, el.cp)
+            mu += np.einsum("mn,n,ni->mi", s, el.cv, el.cp)
+        if not f["electric"].is_zero:
+            V += f["electric"].potential_body(el.cp, gammas) @ el.cv
+    if len(el.dm) and not f["magnetic"].is_zero:
+        V += np.einsum("mki,ki->m", f["magnetic"].gradient_body(el.dp, gammas), el.dm)
+    if len(el.mv) and not f["gravity"].is_zero:
+        V += f["gravity"].potential_body(el.mp, gammas) @ el.mv
+    r = el.mp
+    S = np.einsum("ij,ij->i", r, r)
+    inertia = np.eye(3) * (el.mv @ S) - np.einsum("n,ni,nj->ij", el.mv, r, r)
+    return {"mu": mu, "V": V - V.mean(), "inertia": inertia}
+
+
+def batched_quantities(
+    cp: np.ndarray,
+    cv: np.ndarray,
+    dp: np.ndarray,
+    dm: np.ndarray,
+    mp: np.ndarray,
+    mv: np.ndarray,
+    f: Mapping[str, AxisymmetricField],
+    gammas: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """As :func:`quantities` for B bodies at once (arrays with a leading body axis).
+
+    Returns mu (B, m, 3), V (B, m) centred, inertia (B, 3, 3).
+    """
+    B, m = len(cv), len(gammas)
+    mu = np.zeros((B, m, 3))
+    V = np.zeros((B, m))
+    n = cv.shape[1]
+    if n:
+        if not f["magnetic"].is_zero:
+            G = f["magnetic"].gradient_body(cp.reshape(-1, 3), gammas).reshape(m, B, n, 3)
+            s = np.einsum("mbni,bni->bmn", G, cp)
+            mu += np.einsum("bmn,bn,bni->bmi", s, cv, cp)
+        if not f["electric"].is_zero:
+            P = f["electric"].potential_body(cp.reshape(-1, 3), gammas).reshape(m, B, n)
+            V += np.einsum("mbn,bn->bm", P, cv)
+    k = dm.shape[1]
+    if k and not f["magnetic"].is_zero:
+        G = f["magnetic"].gradient_body(dp.reshape(-1, 3), gammas).reshape(m, B, k, 3)
+        V += np.einsum("mbki,bki->bm", G, dm)
+    nm = mv.shape[1]
+    if nm and not f["gravity"].is_zero:
+        P = f["gravity"].potential_body(mp.reshape(-1, 3), gammas).reshape(m, B, nm)
+        V += np.einsum("mbn,bn->bm", P, mv)
+    S = np.einsum("bni,bni->bn", mp, mp)
+    inertia = np.einsum("bn,bn->b", mv, S)[:, None, None] * np.eye(3) - np.einsum(
+        "bn,bni,bnj->bij", mv, mp, mp
+    )
+    return {"mu": mu, "V": V - V.mean(axis=1, keepdims=True), "inertia": inertia}
+
+
+@dataclass
+class Jacobians:
+    """Exact first derivatives of mu, V and the inertia with respect to every element.
+
+    Attributes
+    ----------
+    labels : list of (kind, index)
+        One per element, in the order charges, dipoles, masses.
+    position : dict[str, ndarray]
+        Per quantity, shape (n_elements, m, d, 3): ``d Q_a(g) / d r_j`` (d = 3 for mu, 1 for
+        V, 9 for the inertia with m = 1). Units: Q's units per m.
+    value : dict[str, ndarray]
+        Per quantity, shape (n_elements, m, d, 3): derivative by the element's value (C, kg:
+        only the first of the 3 columns is used) or dipole moment components (A m^2).
+    value_width : ndarray, shape (n_elements,)
+        1 for charges and masses, 3 for dipoles.
+    """
+
+    labels: list[tuple[str, int]]
+    position: dict[str, np.ndarray]
+    value: dict[str, np.ndarray]
+    value_width: np.ndarray
+
+
+def jacobians(design: Design, gammas: np.ndarray) -> Jacobians:
+    """The exact derivatives of the check's error vectors (see the module docstring).
+
+    Parameters
+    ----------
+    design : Design
+    gammas : ndarray, shape (m, 3)
+        Unit vectors (orientations).
+
+    Returns
+    -------
+    Jacobians
+    """
+    el = Elements.of(design)
+    f = design_fields(design)
+    g = as_points(gammas, "gammas")
+    m = len(g)
+    labels = el.labels()
+    N = len(labels)
+    dims = {"mu": 3, "V": 1, "inertia": 9}
+    pos = {q: np.zeros((N, m if q != "inertia" else 1, d, 3)) for q, d in dims.items()}
+    val = {q: np.zeros((N, m if q != "inertia" else 1, d, 3)) for q, d in dims.items()}
+    width = np.array([3 if k == "dipole" else 1 for k, _ in labels])
+    nc, nd = len(el.cv), len(el.dm)
+    eye = np.eye(3)
+    if nc:
+        sl = slice(0, nc)
+        if not f["magnetic"].is_zero:
+            G = f["magnetic"].gradient_body(el.cp, g)  # (m, n, 3)
+            H = f["magnetic"].hessian_body(el.cp, g)  # (m, n, 3, 3)
+            s = np.einsum("mni,ni->mn", G, el.cp)
+            grad_s = G + np.einsum("mnij,nj->mni", H, el.cp)
+            # d mu_a / d r_b = q (r_a grad_s_b + s delta_ab)
+            jac = np.einsum("na,mnb->nmab", el.cp, grad_s) + np.einsum("mn,ab->nmab", s, eye)
+            pos["mu"][sl] = el.cv[:, None, None, None] * jac
+            val["mu"][sl, :, :, 0] = np.einsum("mn,na->nma", s, el.cp)
+        if not f["electric"].is_zero:
+            Ge = f["electric"].gradient_body(el.cp, g)
+            Pe = f["electric"].potential_body(el.cp, g)
+            pos["V"][sl, :, 0, :] = el.cv[:, None, None] * np.transpose(Ge, (1, 0, 2))
+            val["V"][sl, :, 0, 0] = Pe.T
+    if nd and not f["magnetic"].is_zero:
+        sl = slice(nc, nc + nd)
+        G = f["magnetic"].gradient_body(el.dp, g)
+        H = f["magnetic"].hessian_body(el.dp, g)
+        pos["V"][sl, :, 0, :] = np.einsum("mkij,kj->kmi", H, el.dm)
+        val["V"][sl, :, 0, :] = np.transpose(G, (1, 0, 2))
+    nm = len(el.mv)
+    if nm:
+        sl = slice(nc + nd, nc + nd + nm)
+        r, w = el.mp, el.mv
+        if not f["gravity"].is_zero:
+            Gg = f["gravity"].gradient_body(r, g)
+            Pg = f["gravity"].potential_body(r, g)
+            pos["V"][sl, :, 0, :] = w[:, None, None] * np.transpose(Gg, (1, 0, 2))
+            val["V"][sl, :, 0, 0] = Pg.T
+        S = np.einsum("ij,ij->i", r, r)
+        dI_dm = S[:, None, None] * eye - np.einsum("ni,nj->nij", r, r)
+        val["inertia"][sl, 0, :, 0] = dI_dm.reshape(nm, 9)
+        # d I_ij / d r_a = m (2 r_a delta_ij - delta_ia r_j - r_i delta_ja)
+        dI_dr = (
+            2.0 * np.einsum("na,ij->nija", r, eye)
+            - np.einsum("ia,nj->nija", eye, r)
+            - np.einsum("ni,ja->nija", r, eye)
+        )
+        pos["inertia"][sl, 0] = w[:, None, None] * dI_dr.reshape(nm, 9, 3)
+    # V is compared up to a constant: its derivatives are centred over the orientations too
+    pos["V"] -= pos["V"].mean(axis=1, keepdims=True)
+    val["V"] -= val["V"].mean(axis=1, keepdims=True)
+    return Jacobians(labels=labels, position=pos, value=val, value_width=width)
+
+
+def row_norm(J: np.ndarray, quantity: str) -> np.ndarray:
+    """Worst-direction gain of (N, m, d, c) blocks, max over orientations: shape (N,).
+
+    mu: spectral norm (Euclidean error); V: the vector norm; inertia: the largest row norm
+    (the check's error is the largest absolute entry).
+    """
+    if quantity == "mu":
+        gains = np.linalg.norm(J, ord=2, axis=(2, 3))
+    else:
+        gains = np.linalg.norm(J, axis=3).max(axis=2)
+    return gains.max(axis=1)
+
+
+def quantity_scales(design: Design, ref: Mapping[str, Any]) -> dict[str, float]:
+    out = {
+        "mu": float(np.linalg.norm(ref["mu"], axis=1).max(initial=0.0)),
+        "V": float(np.abs(ref["V"]).max(initial=0.0)),
+        "inertia": 2.0 * design.parameters.C,
+    }
+    # a zero reference (mu when n = K = 0): absolute errors (scale 1)
+    return {k: (v if v > 0.0 else 1.0) for k, v in out.items()}
+
+
+def sensitivity_weights(
+    points: Any,
+    source: str,
+    fields: Mapping[str, Sequence[float]],
+    parameters: Any,
+    *,
+    n_orientations: int = DEFAULT_ORIENTATIONS,
+) -> np.ndarray:
+    """First-order position sensitivity of a unit element at each candidate point.
+
+    The error a displacement ``delta`` of an element of weight ``w`` at point ``p`` adds to
+    quantity Q is at most ``|w| c_Q(p) |delta|`` (worst direction), relative to Q's scale.
+    The returned ``c(p) = max_Q c_Q(p)`` (1/m per unit weight) turns the objective
+    ``sum_j c_j |w_j|`` (charges, masses; ``||sigma_j||`` for dipoles) into the first-order
+    worst-case relative error per metre of placement error: minimising it (alone or mixed
+    with the sparsity objective) gives a body that tolerates the largest errors.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 3)
+        Candidate positions, m (body axes).
+    source : {"charges", "dipoles", "masses"}
+    fields : mapping
+        Legendre coefficients per field kind.
+    parameters : Parameters
+        The theorem's parameters (the scales of mu, V and the inertia).
+    n_orientations : int
+        Orientations sampled.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``c_j`` in 1/(m * weight unit): weight unit C, A m^2 or kg.
+    """
+    pts = as_points(points, "points")
+    if source not in ("charges", "dipoles", "masses"):
+        raise input_error("source", "one of charges, dipoles, masses", source)
+    n = len(pts)
+    unit = np.ones(n)
+    zeros3, zeros = np.zeros((0, 3)), np.zeros(0)
+    arrays: dict[str, Any] = {
+        "charge_positions": zeros3,
+        "charge_values": zeros,
+        "dipole_positions": zeros3,
+        "dipole_moments": zeros3,
+        "mass_positions": zeros3,
+        "mass_values": zeros,
+    }
+    if source == "charges":
+        arrays.update(charge_positions=pts, charge_values=unit)
+    elif source == "masses":
+        arrays.update(mass_positions=pts, mass_values=unit)
+    design = Design(
+        parameters=parameters, fields={k: tuple(v) for k, v in fields.items()}, **arrays
+    )
+    gammas = orientations(n_orientations, 0)
+    scales = quantity_scales(design, references(design, gammas))
+    if source == "dipoles":
+        # |dV/dr| = |H sigma| <= ||H||_2 |sigma|: the spectral norm of the field's Hessian
+        f = AxisymmetricField(tuple(fields.get("magnetic", ())))
+        if f.is_zero or n == 0:
+            return np.zeros(n)
+        H = f.hessian_body(pts, gammas)
+        H = H - H.mean(axis=0, keepdims=True)  # V is compared up to a constant
+        return np.linalg.norm(H, ord=2, axis=(2, 3)).max(axis=0) / scales["V"]
+    jac = jacobians(design, gammas)
+    out = np.zeros(n)
+    for q in QUANTITIES:
+        out = np.maximum(out, row_norm(jac.position[q], q) / scales[q])
+    return out
