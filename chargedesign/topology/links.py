@@ -32,6 +32,7 @@ from chargedesign.simulation.system import (
     quaternion_gamma,
     rotation_quaternion,
 )
+from chargedesign.simulation.taylor import propagate_many
 from chargedesign.topology.compute import crossings
 from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
 from chargedesign.topology.equations import MomentumMap
@@ -70,9 +71,7 @@ def _seven_state(state: np.ndarray) -> np.ndarray:
 
 
 def _section_points(system: RigidBodySystem, starts: np.ndarray, t_end: float) -> list[Any]:
-    from chargedesign.simulation import taylor
-
-    ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
+    ens = propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
     out = []
     for rows in ens.sections or []:
         gam = quaternion_gamma(rows[:, 4:]) if len(rows) else np.zeros((0, 3))
