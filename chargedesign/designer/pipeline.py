@@ -509,14 +509,7 @@ def _physical_design(
     inputs: SceneInputs, progress: Progress | None, frontier: bool
 ) -> DesignResult:
     """The physical body a scene with ``[medium]`` describes, with its frontier when asked."""
-    setup = setup_physical(
-        inputs.body_params,
-        inputs.conditions,
-        inputs.candidates,
-        inputs.spec,
-        inputs.options,
-        larmor=inputs.larmor,
-    )
+    setup = inputs.physical_setup()
     result = design_physical(setup, progress=progress)
     if frontier:
         if progress is not None:
@@ -543,6 +536,17 @@ class SceneInputs:
     larmor_why: str
     larmor_note: str
     spec: Any
+
+    def physical_setup(self) -> Any:
+        """The physical design's setup of these inputs (they must carry a ``[medium]``)."""
+        return setup_physical(
+            self.body_params,
+            self.conditions,
+            self.candidates,
+            self.spec,
+            self.options,
+            larmor=self.larmor,
+        )
 
 
 def larmor_of_scene(
@@ -598,18 +602,10 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
 
 def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
     """The physical design's setup of a scene with ``[medium]`` (None without one)."""
-
     inputs = _scene_inputs(scene, None, overrides)
     if inputs.spec is None:
         return None
-    return setup_physical(
-        inputs.body_params,
-        inputs.conditions,
-        inputs.candidates,
-        inputs.spec,
-        inputs.options,
-        larmor=inputs.larmor,
-    )
+    return inputs.physical_setup()
 
 
 def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
