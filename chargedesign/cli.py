@@ -82,7 +82,7 @@ class Terminated(KeyboardInterrupt):
 SIGTERM_GRACE = 2.0
 
 
-def _on_sigterm(signum: int, frame: object) -> None:
+def on_sigterm(signum: int, frame: object) -> None:
     if not hold_signal(signum):  # inside a held block it is raised again when the block ends
         raise Terminated()
 
@@ -104,7 +104,7 @@ def _install_sigterm() -> Callable[[], None]:
     read_fd, write_fd = os.pipe()
     os.set_blocking(write_fd, False)
     previous_fd = signal.set_wakeup_fd(write_fd, warn_on_full_buffer=False)
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    previous = signal.signal(signal.SIGTERM, on_sigterm)
     previous_int = signal.signal(signal.SIGINT, _on_sigint)
 
     def watch() -> None:

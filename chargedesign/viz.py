@@ -267,7 +267,7 @@ def charge_colors(values: np.ndarray, top: float | None = None) -> np.ndarray:
     """RGB colour of each charge (shape (n, 3), 0..1): blue below 0, red above, white at 0.
 
     Exact in the sign (a colour lookup table's bins could give a tiny charge the colour of
-    the other sign); the weight is :func:`_tint`, as in :func:`_charge_colormap`.
+    the other sign); the weight is :func:`_tint`, as in :func:`charge_colormap`.
     """
     q = np.asarray(values, dtype=np.float64)
     if top is None:
@@ -281,7 +281,7 @@ def charge_colors(values: np.ndarray, top: float | None = None) -> np.ndarray:
     return out
 
 
-def _charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
+def charge_colormap(values: np.ndarray) -> tuple[Any, tuple[float, float]]:
     """A diverging map over the values' range: blue negative, red positive, by sign first.
 
     The colour is linear in ``q`` from the lightest tint (``CHARGE_TINT_FLOOR`` of the full
@@ -609,7 +609,7 @@ def _add_body(
             255.0 * charge_colors(spheres.point_data["charge (C)"], top)
         ).astype(np.uint8)
         actors.append(plotter.add_mesh(spheres, scalars="rgb", rgb=True, smooth_shading=True))
-        cmap, clim = _charge_colormap(q)
+        cmap, clim = charge_colormap(q)
         # the colour bar comes from an invisible copy mapped through the colour map
         actors.append(
             plotter.add_mesh(
@@ -1147,7 +1147,7 @@ def load_trajectory(source: str | os.PathLike[str] | Mapping[str, Any]) -> Traje
     return Trajectory(t=t, rotation=rotation)
 
 
-def _frame_rotations(trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
+def frame_rotations(trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
     """Rotations at ``times`` by spherical interpolation between the samples."""
     from scipy.spatial.transform import Rotation, Slerp
 
@@ -1229,7 +1229,7 @@ def animate(
     region = _region_spec(region)
 
     times = np.linspace(traj.t[0], traj.t[-1], int(frames))
-    rotations = _frame_rotations(traj, times)
+    rotations = frame_rotations(traj, times)
     images = _render_frames(design, traj, times, rotations, region, size, progress)
 
     def write(tmp: Path) -> None:

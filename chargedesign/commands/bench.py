@@ -14,7 +14,7 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
-    heartbeat = _Heartbeat()
+    heartbeat = Heartbeat()
 
     def progress(area: str) -> None:
         heartbeat.area(area)
@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-class _Heartbeat:
+class Heartbeat:
     """Says on stderr which area runs, and every ``period`` seconds that it still runs."""
 
     def __init__(self, period: float = 15.0) -> None:

@@ -262,7 +262,7 @@ def scan_frontier(
                 },
             }
         )
-    exponents, worst, rms = _fit(rows, target, field_name)
+    exponents, worst, rms = fit_power_law(rows, target, field_name)
     expected = EXPECTED[reading]
     if frame:
         law = (
@@ -283,7 +283,7 @@ def scan_frontier(
         worst,
         law.format(**exponents),
         failures,
-        _response_laws(rows),
+        response_laws(rows),
         larmor=reading,
         target=target,
         field_name=field_name,
@@ -297,7 +297,7 @@ def _response_value(item: dict[str, Any] | None) -> float:
     return float(item["value"])
 
 
-def _response_laws(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+def response_laws(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Size exponent of each field-response fraction at the frontier (base field and
     carrier, one intercept per medium) over the measured sizes only."""
     laws: dict[str, dict[str, Any]] = {}
@@ -319,7 +319,7 @@ def _response_laws(rows: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
     return laws
 
 
-def _fit(
+def fit_power_law(
     rows: list[dict[str, Any]], target: str, field_name: str
 ) -> tuple[dict[str, float], float, float]:
     """Exponents of ``target`` in E, the field, L and rho by least squares in logs, the worst

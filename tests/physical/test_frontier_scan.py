@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from chargedesign.designer import frontier_scan
-from chargedesign.designer.frontier_scan import ELEMENTARY_CHARGE, _fit, scan_frontier
+from chargedesign.designer.frontier_scan import ELEMENTARY_CHARGE, fit_power_law, scan_frontier
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.scene import load_scene
 
@@ -102,7 +102,7 @@ def test_the_fit_residual_measures_scatter():
             )
     rows.append({**rows[0], "a2": 5.0, "K_max": rows[0]["K_max"] / 2})
     rows.append({**rows[0], "carrier_density": 8960.0, "K_max": rows[0]["K_max"] * 2700 / 8960})
-    exponents, worst, rms = _fit(rows, "K_max", "a2")
+    exponents, worst, rms = fit_power_law(rows, "K_max", "a2")
     assert exponents["E"] == pytest.approx(1.0, abs=0.02)
     assert 0.001 < rms < 0.02 and worst < 0.05
 
@@ -118,7 +118,7 @@ def test_the_response_laws_stay_within_the_measured_sizes():
         }
         for f in (0.5, 1.0, 2.0)
     ]
-    laws = frontier_scan._response_laws(rows)
+    laws = frontier_scan.response_laws(rows)
     assert laws["induced_magnetisation_fraction"]["size_exponent"] == pytest.approx(2.0)
     assert laws["eddy_torque_fraction"]["measured_size_factors"] == [0.5, 2.0]
     assert all("negligible_below_size_factor" not in law for law in laws.values())

@@ -138,20 +138,20 @@ def test_a_signal_inside_a_held_block_waits_for_its_end() -> None:
     interpreter (a segfault in `import pyvista`, the signal taken by another thread, whose C
     handler made the main thread run the Python handler inside VTK's initialisation). The
     handler now keeps it, and the block's end raises it again."""
-    from chargedesign.cli import Terminated, _on_sigterm
+    from chargedesign.cli import Terminated, on_sigterm
     from chargedesign.files import deferred_signals, signals_held
 
     # the CLI's handler alone: its watchdog would end this process (pytest) 2 s later
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    previous = signal.signal(signal.SIGTERM, on_sigterm)
     try:
         reached_end = False
         with pytest.raises(Terminated):
             with deferred_signals():
                 assert signals_held()
-                _on_sigterm(signal.SIGTERM, None)  # as the main thread runs it mid-block
+                on_sigterm(signal.SIGTERM, None)  # as the main thread runs it mid-block
                 reached_end = True
         assert reached_end and not signals_held()
         with pytest.raises(Terminated):  # outside a block it unwinds at once
-            _on_sigterm(signal.SIGTERM, None)
+            on_sigterm(signal.SIGTERM, None)
     finally:
         signal.signal(signal.SIGTERM, previous)

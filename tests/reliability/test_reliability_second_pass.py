@@ -191,11 +191,11 @@ def test_check_refuses_unknown_keys_and_kinds_of_a_design_field(work: Path, caps
 
 
 def test_the_scene_schema_lists_what_the_medium_validator_reads() -> None:
-    from chargedesign.scene.physical import _KEYS
+    from chargedesign.scene.keys import key_names
     from chargedesign.schemas import scene_schema
 
     medium = scene_schema()["properties"]["medium"]
-    assert set(medium["properties"]) == set(_KEYS["medium"])
+    assert set(medium["properties"]) == set(key_names("medium"))
     assert medium["additionalProperties"] is False
 
 

@@ -112,9 +112,9 @@ def test_bench_says_what_runs_on_stderr(capsys):
 def test_heartbeat_reports_a_long_area(capsys):
     import threading
 
-    from chargedesign.commands.bench import _Heartbeat
+    from chargedesign.commands.bench import Heartbeat
 
-    beat = _Heartbeat(period=0.01)
+    beat = Heartbeat(period=0.01)
     beat.area("simulate")
     threading.Event().wait(0.05)
     beat.stop()

@@ -100,7 +100,7 @@ def test_hues_appear_only_for_charges_of_that_sign(charges, red, blue):
 
 
 def test_charge_colours_are_linear_in_q_and_keep_their_sign_near_zero():
-    cmap, (lo, hi) = viz._charge_colormap(np.array([-0.5, 2.0]))
+    cmap, (lo, hi) = viz.charge_colormap(np.array([-0.5, 2.0]))
     assert (lo, hi) == (-0.5, 2.0)
     floor = viz.CHARGE_TINT_FLOOR
 
@@ -123,7 +123,7 @@ def test_charge_colours_are_linear_in_q_and_keep_their_sign_near_zero():
     # -0.5 is a quarter of the largest |q|: a quarter of the way from the floor to full blue
     weight = floor + (1.0 - floor) * 0.25
     np.testing.assert_allclose(colour(-0.5), tint(viz.NEGATIVE_COLOR, weight), atol=1e-2)
-    only_positive, limits = viz._charge_colormap(np.array([0.1, 0.4]))
+    only_positive, limits = viz.charge_colormap(np.array([0.1, 0.4]))
     assert limits == (0.0, 0.4)
     np.testing.assert_allclose(only_positive(0.0)[:3], tint(viz.POSITIVE_COLOR, floor), atol=1e-2)
 
@@ -217,7 +217,7 @@ def test_frames_interpolate_the_rotation_between_samples():
         }
     )
     np.testing.assert_allclose(
-        viz._frame_rotations(traj, times), expected.rotation, rtol=0.0, atol=1e-12
+        viz.frame_rotations(traj, times), expected.rotation, rtol=0.0, atol=1e-12
     )
 
 
