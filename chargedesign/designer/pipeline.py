@@ -404,11 +404,16 @@ def design_body(
     progress : callable, optional
         Called with a short message before each long step.
 
-    Raises InfeasibleError when the conditions cannot be met on these candidates (the message
-    names them), or only by a cancellation beyond ``FORWARD_LIMIT`` (the message names the
-    cause and the remedy); SolverError when a solver fails or its polished result misses
-    ``options.tolerance``.
+    Raises
+    ------
+    InfeasibleError
+        The conditions cannot be met on these candidates (the message names them), or only
+        by a cancellation beyond ``FORWARD_LIMIT`` (the message names cause and remedy).
+    SolverError
+        A solver fails, or its polished result misses ``options.tolerance``.
 
+    Notes
+    -----
     When the conditions' default field strengths were chosen for an assumed 1 m body
     (``conditions.length_assumed``), a note gives the ones these candidates call for. Above
     ``FORWARD_NOTE`` (:func:`forward_accuracy`) the notes say which quantity is met only by
@@ -472,6 +477,8 @@ def design_from_scene(
     **overrides
         DesignOptions fields that replace the scene's ``[design]`` values (None: keep).
 
+    Notes
+    -----
     The body realises the theorem as its Larmor reading says (``[design] larmor``,
     :func:`larmor_of_scene`): with ``frame`` its elements realise ``n = 0``
     (:func:`chargedesign.larmor.body_parameters`) and ``design.larmor`` records the rate of
