@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import run_cli, snapshot
+from reliability_support import run_cli, snapshot
 
 from chargedesign.errors import InputError
 from chargedesign.sweeps import COMMANDS, load_sweep, run_sweep, sweep_from_dict

@@ -13,9 +13,9 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from conftest import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from reliability_support import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
 
 #: values a hostile or careless file may hold where a number (or anything) is expected
 WEIRD = st.one_of(

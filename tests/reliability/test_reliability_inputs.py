@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
+from reliability_support import SMALL_DESIGN, SMALL_SCENE, assert_clean_error, run_cli, snapshot
 
 from chargedesign.body import Design, read_design
 from chargedesign.errors import InputError

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import SMALL_SCENE, snapshot
+from reliability_support import SMALL_SCENE, snapshot
 
 CLI = [sys.executable, "-m", "chargedesign"]
 OLD = SMALL_SCENE

@@ -11,7 +11,7 @@ import os
 from pathlib import Path
 
 import pytest
-from conftest import (
+from reliability_support import (
     SMALL_DESIGN,
     SMALL_SCENE,
     THEOREM_SCENE,

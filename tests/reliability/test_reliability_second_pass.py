@@ -16,7 +16,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import (
+from reliability_support import (
     SMALL_DESIGN,
     SMALL_SCENE,
     THEOREM_SCENE,
