@@ -14,6 +14,7 @@ from chargedesign.validation import as_finite_float, check_keys, input_error
 
 # names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
 from chargedesign.vocabulary import PARAMETER_NAMES as PARAMETER_NAMES
+from chargedesign.formatting import PLAIN, fmt
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,7 @@ class Parameters(Result):
         return self.as_dict()
 
     def _text(self) -> str:
-        return ", ".join(f"{k} = {v:g}" for k, v in self.as_dict().items())
+        return ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in self.as_dict().items())
 
     def replace(self, **changes: float) -> Parameters:
         if "lambda" in changes:

@@ -26,6 +26,7 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.wheels import wheel_axes, wheel_limits, wheel_needs
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 
 def default_testbed_scene() -> Path:
@@ -75,8 +76,8 @@ def build_testbed(
     total_mass = platform.mass_kg + ballast.total_mass
     if total_mass > opts.bearing_capacity_kg:
         raise InputError(
-            f"testbed.bearing_capacity_kg: the platform with its ballast ({total_mass:.4g} kg) "
-            f"is heavier than the bearing's rating ({opts.bearing_capacity_kg:g} kg)"
+            f"testbed.bearing_capacity_kg: the platform with its ballast ({fmt(total_mass, PRECISE)} kg) "
+            f"is heavier than the bearing's rating ({fmt(opts.bearing_capacity_kg, PLAIN)} kg)"
         )
     inertia = total_inertia(platform, ballast)
     target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
@@ -86,7 +87,9 @@ def build_testbed(
     needs = wheel_needs(plant, x0, axes, opts.t_end_s)
     limits = wheel_limits(needs, opts)
     seconds["platform_and_wheels"] = time.perf_counter() - t0
-    say(f"ballast {ballast.total_mass:.4g} kg in {len(ballast.masses)} parts; wheels sized")
+    say(
+        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels sized"
+    )
 
     sens = sensitivity(plant, needs.times, needs.states, total_mass)
     tolerances = _tolerances(sens, ballast, plant, opts, total_mass)
@@ -109,7 +112,7 @@ def build_testbed(
     t0 = time.perf_counter()
     runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
     seconds["nominal"] = time.perf_counter() - t0
-    say(f"nominal ({opts.seeds} seeds): median I4 drift {np.median(runs['nominal'].I4_drift):.3g}")
+    say(f"nominal ({opts.seeds} seeds): median I4 drift {fmt(np.median(runs['nominal'].I4_drift))}")
     reqs = None
     if with_requirements:
         t0 = time.perf_counter()

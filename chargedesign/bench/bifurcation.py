@@ -15,6 +15,7 @@ from chargedesign.params import Parameters
 from chargedesign.topology.chambers import LevelSampling
 from chargedesign.topology.compute import DiagramOptions
 from chargedesign.topology.diagram import bifurcation_diagram
+from chargedesign.formatting import PRECISE, fmt
 
 #: the unit-scale case's parameters
 UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
@@ -38,7 +39,7 @@ def run(quick: bool = False) -> list[BenchTable]:
             f"{len(diagram.branches)} branches, {sum(len(b.hk) for b in diagram.branches)} "
             f"points, {len(raw.vertices)} rank-zero points, {len(raw.chambers)} chamber "
             f"samples, tori per chamber {sorted({c.tori for c in raw.chambers})}",
-            f"energy range {raw.h_range[0]:.4g} .. {raw.h_range[1]:.4g} J; "
+            f"energy range {fmt(raw.h_range[0], PRECISE)} .. {fmt(raw.h_range[1], PRECISE)} J; "
             f"{raw.seeds_found} seeds kept" + (" (quick options)" if quick else ""),
             "goal: total under 60 s; 'equations' includes compiling the exact derivatives",
         ],

@@ -11,6 +11,7 @@ import numpy as np
 
 from chargedesign.params import Parameters
 from chargedesign.simulation.system import Body
+from chargedesign.formatting import fmt
 
 
 @dataclass
@@ -27,7 +28,7 @@ class BenchTable:
     def to_markdown(self) -> str:
         def fmt(v: Any) -> str:
             if isinstance(v, float):
-                return f"{v:.3g}"
+                return f"{fmt(v)}"
             return str(v)
 
         lines = [f"### {self.title}", "", "| " + " | ".join(self.columns) + " |"]

@@ -27,6 +27,7 @@ from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_
 from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
 from chargedesign.bench.common import BenchTable
 from chargedesign.params import Parameters
+from chargedesign.formatting import PLAIN, fmt
 
 #: examples/scenes/unit_scale.toml's parameters
 UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
@@ -62,7 +63,7 @@ def zoh_against_predictive(quick: bool) -> BenchTable:
         c: math.log(drift[c, rates[0]] / drift[c, rates[1]]) / ratio for c in ("zoh", "predictive")
     }
     return BenchTable(
-        title=f"Testbed loop: ZOH against predictive command, unit-scale case, {t_end:g} s",
+        title=f"Testbed loop: ZOH against predictive command, unit-scale case, {fmt(t_end, PLAIN)} s",
         columns=["rate Hz", "command", "t_end s", "I4 drift", "seconds", "time / ZOH's"],
         rows=rows,
         notes=[

@@ -51,6 +51,7 @@ from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
 from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")
@@ -124,20 +125,20 @@ class ScanResult(Result):
         ]
         for r in self.rows:
             lines.append(
-                f"{r['size_factor']:>6g} {r['medium']:>8} {r[self.field_name]:>7g} "
-                f"{r['carrier']:>10} {r[t]:>11.4g} {r['binding_stage']:>9} "
-                f"{r['smallest_carrier_charge_e']:>10.3g}"
+                f"{fmt(r['size_factor'], PLAIN):>6} {r['medium']:>8} {fmt(r[self.field_name], PLAIN):>7} "
+                f"{r['carrier']:>10} {fmt(r[t], PRECISE):>11} {r['binding_stage']:>9} "
+                f"{fmt(r['smallest_carrier_charge_e']):>10}"
             )
         lines.append(f"law: {self.law}")
         lines.append(
-            f"fit residual: rms {self.rms_fit_error:.3g} in log {t}; worst relative deviation "
-            f"{self.worst_fit_error:.3g}"
+            f"fit residual: rms {fmt(self.rms_fit_error)} in log {t}; worst relative deviation "
+            f"{fmt(self.worst_fit_error)}"
         )
         for key, law in self.response_laws.items():
             lo, hi = law["measured_size_factors"]
             lines.append(
-                f"{key.replace('_', ' ')} at the frontier ~ L^{law['size_exponent']:.3g} over "
-                f"the measured sizes f = {lo:g} .. {hi:g} (fractions per point in the rows; "
+                f"{key.replace('_', ' ')} at the frontier ~ L^{fmt(law['size_exponent'])} over "
+                f"the measured sizes f = {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} (fractions per point in the rows; "
                 "not extrapolated)"
             )
         lines.extend(f"failed: {f}" for f in self.failures)
@@ -227,14 +228,14 @@ def scan_frontier(
         data = _variant(base, f, medium, ff, carrier, index)
         if progress is not None:
             progress(
-                f"[{i + 1}/{len(cases)}] size x{f:g}, {medium}, {field_name} x{ff:g}, "
+                f"[{i + 1}/{len(cases)}] size x{fmt(f, PLAIN)}, {medium}, {field_name} x{fmt(ff, PLAIN)}, "
                 f"{carrier or base_carrier}"
             )
         try:
             result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))
         except Exception as exc:  # one failing point is recorded, the scan goes on
             failures.append(
-                f"size x{f:g} {medium}, {field_name} x{ff:g}, {carrier or base_carrier}: {exc}"
+                f"size x{fmt(f, PLAIN)} {medium}, {field_name} x{fmt(ff, PLAIN)}, {carrier or base_carrier}: {exc}"
             )
             continue
         name = carrier or base_carrier

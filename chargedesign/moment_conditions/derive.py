@@ -33,6 +33,7 @@ from chargedesign.moment_conditions.potential import realise_degree, v_projectio
 from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
+from chargedesign.formatting import PLAIN, fmt
 
 
 def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
@@ -165,7 +166,7 @@ def _refuse_singular(params: Parameters, goals: tuple[str, ...]) -> None:
     """InfeasibleError when lambda or rho is set and mu or V is to be realised."""
     if params.singular and ({"mu", "V"} & set(goals)):
         which = ", ".join(
-            f"{name} = {value:g}"
+            f"{name} = {fmt(value, PLAIN)}"
             for name, value in (("lambda", params.lam), ("rho", params.rho))
             if value != 0
         )

@@ -41,6 +41,7 @@ from chargedesign.moment_conditions.harmonics import (
     project_on_harmonics,
     real_solid_harmonics,
 )
+from chargedesign.formatting import fmt
 
 
 @lru_cache(maxsize=1)
@@ -334,6 +335,6 @@ def _default_strength(
     return f, (
         f"default strength (not forced), chosen for the body's length {length_text}: the "
         f"required degree-{k} moments are then about 1/{DEFAULT_STRENGTH_HEADROOM} of the "
-        f"natural size Q L^{k} of {source} of total size Q ~ {float(natural):.3g} (fixed by "
+        f"natural size Q L^{k} of {source} of total size Q ~ {fmt(float(natural))} (fixed by "
         "the other conditions): no extra weight, no significant cancellation"
     )

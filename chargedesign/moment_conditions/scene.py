@@ -9,6 +9,7 @@ from chargedesign.moment_conditions.derive import derive_conditions, validate_re
 from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.scene import Scene
 from chargedesign.validation import input_error
+from chargedesign.formatting import PLAIN, fmt
 
 
 def realise_from_scene(scene: Scene) -> tuple[str, ...]:
@@ -51,5 +52,5 @@ def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditio
     length, why = scene_length(scene)
     result = derive_conditions(scene.parameters, scene.fields, realise, exact=exact, length=length)
     if result.length_assumed and why:
-        result.notes.append(f"body length {DEFAULT_LENGTH:g} m assumed: {why}")
+        result.notes.append(f"body length {fmt(DEFAULT_LENGTH, PLAIN)} m assumed: {why}")
     return result

@@ -41,6 +41,7 @@ from chargedesign.scene.keys import check_table, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
+from chargedesign.formatting import fmt
 
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
@@ -272,7 +273,7 @@ def _ballast_list(table: Mapping[str, Any]) -> list[Material]:
             Material("ballast", name, BALLAST_DENSITY[name], **_response({}, "ballast", name))
         )
     if len(out) > 1 and not any((m.susceptibility or 0.0) < 0.0 for m in out):
-        given = ", ".join(f"{m.name} (chi {m.susceptibility:.3g})" for m in out)
+        given = ", ".join(f"{m.name} (chi {fmt(m.susceptibility)})" for m in out)
         diamagnetic = ", ".join(
             k for k, v in SUSCEPTIBILITY.items() if v < 0 and k in BALLAST_DENSITY
         )

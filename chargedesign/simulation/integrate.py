@@ -38,6 +38,7 @@ from chargedesign.vocabulary import SOLVE_IVP_METHODS as SOLVE_IVP_METHODS
 
 #: state names, in order, for Poincare sections and CSV columns
 from chargedesign.vocabulary import STATE_NAMES as STATE_NAMES
+from chargedesign.formatting import CELL, PLAIN, fmt
 
 #: the method used when heyoka cannot be imported
 FALLBACK_METHOD = "DOP853"
@@ -147,7 +148,7 @@ def integrate(
             return out
         fallback_note = (
             f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); "
-            f"{FALLBACK_METHOD} at rtol = {rtol:g}, atol = {atol:g} instead"
+            f"{FALLBACK_METHOD} at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
         )
         method = FALLBACK_METHOD
     if method == "gauss-legendre":
@@ -241,7 +242,9 @@ def _integrate_solve_ivp(
     seconds = time.perf_counter() - t0
     if not sol.success:
         reached = float(sol.t[-1]) if len(sol.t) else 0.0
-        raise SolverError(f"simulation: {method} failed near t = {reached:.6g} s: {sol.message}")
+        raise SolverError(
+            f"simulation: {method} failed near t = {fmt(reached, CELL)} s: {sol.message}"
+        )
     times = np.asarray(sol.t)
     accepted = len(times) - 1
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
@@ -373,8 +376,8 @@ def _integrate_gauss(
             if diverged or it == 99:
                 g3 = float(np.min(np.abs(quaternion_gamma(y.reshape(m, 7)[:, 3:])[:, 2])))
                 raise SolverError(
-                    f"simulation: gauss-legendre stages did not converge at t = {(n - 1) * h:.6g}"
-                    f" s (|gamma3| = {g3:.3g}); reduce simulation.step or use DOP853"
+                    f"simulation: gauss-legendre stages did not converge at t = {fmt((n - 1) * h, CELL)}"
+                    f" s (|gamma3| = {fmt(g3)}); reduce simulation.step or use DOP853"
                 )
         y = y + hb @ K
         t = n * h

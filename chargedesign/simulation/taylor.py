@@ -44,6 +44,7 @@ from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
+from chargedesign.formatting import CELL, fmt
 
 #: the default tolerance: machine epsilon (heyoka's own default)
 DEFAULT_TOL = float(np.finfo(float).eps)
@@ -499,7 +500,7 @@ def _check_outcome(outcome: Any, where: str, t: float) -> int | None:
     if -(2**32) < value < 0:
         return -value - 1  # terminal event index
     raise SolverError(
-        f"simulation: taylor (heyoka) stopped near t = {t:.6g} s: {outcome} ({where})"
+        f"simulation: taylor (heyoka) stopped near t = {fmt(t, CELL)} s: {outcome} ({where})"
     )
 
 

@@ -39,6 +39,7 @@ from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec, scene_with
 from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
+from chargedesign.formatting import PLAIN, fmt
 
 #: seconds to wait for a Dask scheduler given with ``scheduler=``
 SCHEDULER_TIMEOUT = 5.0
@@ -248,7 +249,7 @@ def make_executor(
             sys.unraisablehook = hook
         if failure:
             raise InputError(
-                f"--scheduler {scheduler}: no Dask scheduler reachable within {timeout:g} s "
+                f"--scheduler {scheduler}: no Dask scheduler reachable within {fmt(timeout, PLAIN)} s "
                 f"({failure})"
             )
     else:
@@ -325,7 +326,7 @@ class SweepResult(Result):
     def _text(self) -> str:
         lines = [
             f"sweep: {len(self.rows)} points in {self.out} ({self.ran} run, {self.skipped} "
-            f"already done, {self.failed} failed) in {self.seconds:.3g} s on {self.workers} "
+            f"already done, {self.failed} failed) in {fmt(self.seconds)} s on {self.workers} "
             f"{self.executor} worker(s)"
         ]
         if self.lost:

@@ -44,6 +44,7 @@ from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict
 from chargedesign.sweeps.registry import check_command, resolve
 from chargedesign.tolerancing import ErrorModel
 from chargedesign.validation import check_error_spreads, check_periods, check_tree
+from chargedesign.formatting import fmt
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
 RANDOM_KINDS = ("uniform", "log_uniform", "choice")
@@ -385,7 +386,7 @@ def _check_point_count(
     cap = MAX_SWEEP_POINTS if max_points is None else max_points
     if count > cap:
         raise InputError(
-            f"{source}: {count:.3g} points exceed the cap of {cap} "
+            f"{source}: {fmt(count)} points exceed the cap of {cap} "
             "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
         )
 

@@ -34,6 +34,7 @@ from chargedesign.topology.critical import (
 )
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.stability import branch_types, equilibrium_type, linearised_eigenvalues
+from chargedesign.formatting import CELL, PLAIN, fmt
 
 
 @dataclass(frozen=True)
@@ -126,11 +127,13 @@ def resolve_range(
         return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+        raise InputError(
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)} {fmt(hi, PLAIN)}"
+        )
     if hi <= low:
         raise InputError(
-            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
-            f"energy is at least {low:.6g} J"
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J: on I3 = 0 the "
+            f"energy is at least {fmt(low, CELL)} J"
         )
     return (max(lo, low), hi), low
 

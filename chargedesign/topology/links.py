@@ -36,6 +36,7 @@ from chargedesign.simulation.taylor import propagate_many
 from chargedesign.topology.compute import crossings
 from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
 from chargedesign.topology.equations import MomentumMap
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 
 
 @dataclass(frozen=True)
@@ -153,7 +154,7 @@ class LinkedPictures(Result):
     def _text(self) -> str:
         values = ", ".join(f"{c.k:.5g} ({c.type})" for c in self.critical) or "none"
         return (
-            f"energy {self.energy:.6g} J: critical values of k {values}; atlas of "
+            f"energy {fmt(self.energy, CELL)} J: critical values of k {values}; atlas of "
             f"{len(self.orbit_k)} orbits; FLI on {len(self.fli.phi)} x {len(self.fli.v)} points\n"
         )
 
@@ -194,7 +195,7 @@ class LinkedPictures(Result):
                     mew=0.3,
                 )
         middle.set_title(
-            f"Poincare section on I3 = 0 at h = {self.energy:.4g} J (colour: k; large dots: "
+            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J (colour: k; large dots: "
             "critical orbits)",
             fontsize=9,
         )
@@ -203,7 +204,7 @@ class LinkedPictures(Result):
         image = right.pcolormesh(
             self.fli.phi, self.fli.v, self.fli.fli[0], shading="nearest", cmap="magma"
         )
-        fig.colorbar(image, ax=right, label=f"FLI at t = {self.fli.t_end:g} s")
+        fig.colorbar(image, ax=right, label=f"FLI at t = {fmt(self.fli.t_end, PLAIN)} s")
         right.set_title(f"FLI on I3 = 0, {len(self.fli.phi)} x {len(self.fli.v)}", fontsize=9)
         right.set_xlabel("phi on gamma3 = 0 [rad]")
         right.set_ylabel("v = gamma3' [1/s]")
@@ -223,8 +224,8 @@ def linked_pictures(
     lo, hi = diagram.raw.h_range
     if not lo < energy < hi:
         raise InputError(
-            f"energy: expected a value inside the diagram's range {lo:.6g} .. {hi:.6g} J, "
-            f"got {energy:g}"
+            f"energy: expected a value inside the diagram's range {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, "
+            f"got {fmt(energy, PLAIN)}"
         )
     params = diagram.raw.params
     system = RigidBodySystem(Body(parameters=params), ["theorem"])
