@@ -26,14 +26,12 @@ class BenchTable:
     plot: dict[str, Any] | None = None
 
     def to_markdown(self) -> str:
-        def fmt(v: Any) -> str:
-            if isinstance(v, float):
-                return f"{fmt(v)}"
-            return str(v)
+        def cell(v: Any) -> str:
+            return fmt(v) if isinstance(v, float) else str(v)
 
         lines = [f"### {self.title}", "", "| " + " | ".join(self.columns) + " |"]
         lines.append("|" + "---|" * len(self.columns))
-        lines += ["| " + " | ".join(fmt(v) for v in row) + " |" for row in self.rows]
+        lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in self.rows]
         lines += [""] + [f"- {n}" for n in self.notes]
         return "\n".join(lines) + "\n"
 
