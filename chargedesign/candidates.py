@@ -28,6 +28,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import import_held
+from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.readers import check_input_file, read_bytes, read_text
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
@@ -40,7 +41,6 @@ from chargedesign.validation import (
     input_error,
 )
 from chargedesign.vocabulary import BODY_SHAPES
-from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 
 SHAPES = BODY_SHAPES
 #: keys each shape accepts (besides ``shape``): the scene's declaration
@@ -102,11 +102,15 @@ class Geometry:
         """The plane (or line or point) the set lies in, e.g. ``"the plane z = 0"``."""
         c = self.centroid
         if self.dimension == 0:
-            return f"the single point ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)}, {fmt(c[2], PRECISE)}) m"
+            return (
+                f"the single point ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)},"
+                f" {fmt(c[2], PRECISE)}) m"
+            )
         if self.dimension == 1:
             d = self.directions[0]
             return (
-                f"the line through ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)}, {fmt(c[2], PRECISE)}) m along "
+                f"the line through ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)},"
+                f" {fmt(c[2], PRECISE)}) m along "
                 f"({fmt(d[0])}, {fmt(d[1])}, {fmt(d[2])})"
             )
         normal = self.directions[2]

@@ -34,8 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.validation import as_array, as_finite_float, as_points, input_error
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.validation import as_array, as_finite_float, as_points, input_error
 
 #: Largest accepted | |gamma| - 1 | for body-axes evaluations.
 GAMMA_UNIT_TOLERANCE = 1e-9

@@ -7,6 +7,7 @@ option does so explicitly (named beside the cap).
 from __future__ import annotations
 
 from typing import NamedTuple
+
 from chargedesign.formatting import PLAIN, fmt
 
 #: highest degree of any field (the exact derivation of conditions grows like degree^3; the

@@ -9,12 +9,12 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.validation import as_finite_float, check_keys, input_error
 
 # names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
 from chargedesign.vocabulary import PARAMETER_NAMES as PARAMETER_NAMES
-from chargedesign.formatting import PLAIN, fmt
 
 
 @dataclass(frozen=True)

@@ -43,6 +43,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.errors import InputError
+from chargedesign.formatting import AGREEMENT, ERROR, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
 from chargedesign.physical.induced import induced_energy
@@ -90,7 +91,6 @@ from chargedesign.validation import (
     input_error,
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
-from chargedesign.formatting import AGREEMENT, ERROR, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 
 #: element kinds, in report order
 KINDS = ("charge", "dipole", "mass")
@@ -834,14 +834,16 @@ class MonteCarloResult(Result):
         for q, v in self.errors.items():
             mc, lin = _quantiles(v["monte_carlo"]), _quantiles(v["linear"])
             lines.append(
-                f"{q:<9} {fmt(mc['median'], ERROR):>10} {fmt(mc['p90'], ERROR):>10} {fmt(lin['p90'], ERROR):>10}"
+                f"{q:<9} {fmt(mc['median'], ERROR):>10} {fmt(mc['p90'], ERROR):>10}"
+                f" {fmt(lin['p90'], ERROR):>10}"
             )
         lines.append("")
         if not self.drift_mc.size:  # --no-simulate: no drift was computed, say so (no nan)
             lines.append("I4 drift: not simulated (--no-simulate)")
             return "\n".join(lines)
         lines.append(
-            f"I4 relative drift to t = {fmt(self.t_end, PLAIN)} s (median over bodies; nominal body "
+            f"I4 relative drift to t = {fmt(self.t_end, PLAIN)} s (median over bodies; nominal body"
+            " "
             f"{fmt(self.nominal_drift, AGREEMENT)}):"
         )
         lines.append(f"{'level':>8} {'Monte Carlo':>12} {'linear':>12}")

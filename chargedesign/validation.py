@@ -27,9 +27,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
 from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
-from chargedesign.formatting import PLAIN, fmt
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -430,7 +430,8 @@ def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
     n = parameters.get("n", 0.0) if isinstance(parameters, dict) else 0.0
     if _is_real_scalar(n) and not math.isclose(rate, float(n), rel_tol=1e-12, abs_tol=0.0):
         raise InputError(
-            f"{where}.rate: {fmt(rate, PLAIN)} differs from parameters.n = {fmt(float(n), PLAIN)}; the rate is the "
+            f"{where}.rate: {fmt(rate, PLAIN)} differs from parameters.n = {fmt(float(n), PLAIN)};"
+            " the rate is the "
             "theorem's n (the turning axes' rate for a frame body): give the same number"
         )
 
@@ -450,7 +451,8 @@ def check_run_caps(
         if t_end / value > MAX_STEPS:
             raise InputError(
                 f"simulation.{name}: t_end / {name} = {fmt(t_end / value)} steps exceeds the cap "
-                f"of {fmt(MAX_STEPS, PLAIN)} (chargedesign.limits.MAX_STEPS); give a larger {name} or a "
+                f"of {fmt(MAX_STEPS, PLAIN)} (chargedesign.limits.MAX_STEPS); give a larger {name}"
+                " or a "
                 "shorter t_end"
             )
 
@@ -499,7 +501,8 @@ def check_periods(
     if periods > cap:
         how = f"{raise_with} raises the cap" if raise_with else f"give a shorter {option}"
         raise InputError(
-            f"{option}: t_end = {fmt(t_end, PLAIN)} s is {fmt(periods)} periods of the body's fastest rate, "
+            f"{option}: t_end = {fmt(t_end, PLAIN)} s is {fmt(periods)} periods of the body's"
+            " fastest rate, "
             f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS); {how}"
         )
     return periods
@@ -562,14 +565,17 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
             continue
         if spread.relative and drawn > 1.0:
             raise InputError(
-                f"{prefix}{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level {fmt(top, PLAIN)} is "
+                f"{prefix}{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level"
+                f" {fmt(top, PLAIN)} is "
                 f"{fmt(100 * drawn, PLAIN)}%, past 100 %: give a smaller error or smaller --levels"
             )
         if not spread.relative and drawn > size:
             what = "the body's extent" if name == "position" else f"the largest {name}"
             raise InputError(
-                f"{prefix}{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level {fmt(top, PLAIN)} "
-                f"is {fmt(drawn, PLAIN)} {units[name]}, more than {what} ({fmt(size, PLAIN)} {units[name]}): the "
+                f"{prefix}{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level"
+                f" {fmt(top, PLAIN)} "
+                f"is {fmt(drawn, PLAIN)} {units[name]}, more than {what} ({fmt(size, PLAIN)}"
+                f" {units[name]}): the "
                 "perturbed bodies would not be this design; give a smaller error or smaller "
                 "--levels"
             )

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.validation import (
     as_array,
@@ -23,7 +24,6 @@ from chargedesign.validation import (
     check_keys,
     input_error,
 )
-from chargedesign.formatting import CELL, PLAIN, fmt
 
 _DEG = math.pi / 180.0
 _HOUR = 3600.0
@@ -214,7 +214,8 @@ class TestbedOptions:
             )
         if self.platform_mass_kg > self.bearing_capacity_kg:
             raise InputError(
-                f"{where}.platform_mass_kg: the platform ({fmt(self.platform_mass_kg, PLAIN)} kg) is "
+                f"{where}.platform_mass_kg: the platform ({fmt(self.platform_mass_kg, PLAIN)} kg)"
+                " is "
                 f"heavier than the bearing's rating (bearing_capacity_kg = "
                 f"{fmt(self.bearing_capacity_kg, PLAIN)} kg)"
             )
@@ -236,14 +237,16 @@ class TestbedOptions:
         fastest = max(self.rate_Hz, *self.requirement_rates_Hz)
         if self.t_end_s * fastest > MAX_SAMPLES:
             raise InputError(
-                f"{where}.t_end_s: {fmt(self.t_end_s, PLAIN)} s at {fmt(fastest, PLAIN)} Hz is more than "
+                f"{where}.t_end_s: {fmt(self.t_end_s, PLAIN)} s at {fmt(fastest, PLAIN)} Hz is more"
+                " than "
                 f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
             )
         stored = max(self.seeds, len(GYRO_GRADES) * self.requirement_seeds) * self.t_end_s
         if stored * max(self.rate_Hz, *self.requirement_rates_Hz) > MAX_STORED_SAMPLES:
             raise InputError(
                 f"{where}.seeds: {self.seeds} seeds ({self.requirement_seeds} per requirement "
-                f"setting) over {fmt(self.t_end_s, PLAIN)} s keep more than {MAX_STORED_SAMPLES} samples; "
+                f"setting) over {fmt(self.t_end_s, PLAIN)} s keep more than {MAX_STORED_SAMPLES}"
+                " samples; "
                 "ask for fewer seeds, a shorter t_end_s or lower rates"
             )
 

@@ -181,7 +181,8 @@ def _least_mass(rows: np.ndarray, target: np.ndarray, platform: Platform, C: flo
     if lp.status == 2:
         raise InfeasibleError(
             f"testbed: no ballast inside the platform's envelope (radius "
-            f"{fmt(platform.radius_m, PLAIN)} m) brings the inertia to A = B = 2C = {fmt(2 * C, PLAIN)} kg m^2 "
+            f"{fmt(platform.radius_m, PLAIN)} m) brings the inertia to A = B = 2C ="
+            f" {fmt(2 * C, PLAIN)} kg m^2 "
             "with the centre at O; give a larger C, a larger platform_radius_m or a lighter, "
             "smaller platform"
         )

@@ -20,8 +20,8 @@ import numpy as np
 from chargedesign.airbearing.options import SOURCES
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
-from chargedesign.results import format_length
 from chargedesign.formatting import PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
 OUTPUTS = (
@@ -215,13 +215,16 @@ def _platform_section(result: TestbedResult) -> list[str]:
     return [
         "## Platform and ballast",
         "",
-        f"- platform: {fmt(o.platform_mass_kg, PLAIN)} kg, envelope radius {fmt(o.platform_radius_m, PLAIN)} m; "
+        f"- platform: {fmt(o.platform_mass_kg, PLAIN)} kg, envelope radius"
+        f" {fmt(o.platform_radius_m, PLAIN)} m; "
         f"ballast {fmt(result.ballast.total_mass, PRECISE)} kg of {result.ballast.material} in "
         f"{len(result.ballast.masses)} spheres;",
-        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C = {fmt(2 * C, PLAIN)}, "
+        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C ="
+        f" {fmt(2 * C, PLAIN)}, "
         f"C = {fmt(C, PLAIN)}); centre of mass "
         f"{format_length(float(np.linalg.norm(result.com_total)))} from O;",
-        f"- for I4 within {fmt(o.target_I4_drift, PLAIN)} over {fmt(o.t_end_s, PLAIN)} s: A - B within "
+        f"- for I4 within {fmt(o.target_I4_drift, PLAIN)} over {fmt(o.t_end_s, PLAIN)} s: A - B"
+        " within "
         f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2, products within {fmt(products)} "
         f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; the tightest "
         f"part (number {tightest}) placed within "
@@ -236,7 +239,8 @@ def _wheel_section(result: TestbedResult) -> list[str]:
     return [
         "## Wheels",
         "",
-        f"- {result.options.wheels} array; the motion needs {fmt(needs['torque_N_m'], PRECISE)} N m and "
+        f"- {result.options.wheels} array; the motion needs {fmt(needs['torque_N_m'], PRECISE)} N m"
+        " and "
         f"{fmt(needs['momentum_N_m_s'], PRECISE)} N m s on one wheel; |h| stays below "
         f"|L| + max |J omega| = {fmt(needs['momentum_bound_N_m_s'], PRECISE)} N m s "
         f"(reached {fmt(needs['momentum_norm_N_m_s'], PRECISE)});",

@@ -12,9 +12,9 @@ from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
 from chargedesign.airbearing.wheels import WheelNeeds
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, format_length, json_ready
-from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 
 def _quantiles(x: np.ndarray) -> dict[str, float]:
@@ -158,13 +158,18 @@ class TestbedResult(Result):
         torque, momentum, _ = self.wheel_limits
         lines = [
             f"air-bearing testbed for {self.parameters}",
-            f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast {fmt(self.ballast.total_mass, PRECISE)} kg "
+            f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast"
+            f" {fmt(self.ballast.total_mass, PRECISE)} kg "
             f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
-            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)} kg)",
-            f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each (the motion needs "
-            f"{fmt(self.needs.torque, PRECISE)} N m, {fmt(self.needs.momentum, PRECISE)} N m s; momentum bound "
+            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)}"
+            " kg)",
+            f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each"
+            " (the motion needs "
+            f"{fmt(self.needs.torque, PRECISE)} N m, {fmt(self.needs.momentum, PRECISE)} N m s;"
+            " momentum bound "
             f"{fmt(self.needs.momentum_bound, PRECISE)} N m s)",
-            f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command {o.command}; I4 relative drift "
+            f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
+            f" {o.command}; I4 relative drift "
             f"over {fmt(o.t_end_s, PLAIN)} s ({fmt(self.turns)} turns of the motion):",
         ]
         for name, run in self.runs.items():

@@ -25,8 +25,8 @@ from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.wheels import wheel_axes, wheel_limits, wheel_needs
 from chargedesign.errors import InputError
-from chargedesign.params import Parameters
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.params import Parameters
 
 
 def default_testbed_scene() -> Path:
@@ -76,7 +76,8 @@ def build_testbed(
     total_mass = platform.mass_kg + ballast.total_mass
     if total_mass > opts.bearing_capacity_kg:
         raise InputError(
-            f"testbed.bearing_capacity_kg: the platform with its ballast ({fmt(total_mass, PRECISE)} kg) "
+            "testbed.bearing_capacity_kg: the platform with its ballast"
+            f" ({fmt(total_mass, PRECISE)} kg) "
             f"is heavier than the bearing's rating ({fmt(opts.bearing_capacity_kg, PLAIN)} kg)"
         )
     inertia = total_inertia(platform, ballast)
@@ -88,7 +89,8 @@ def build_testbed(
     limits = wheel_limits(needs, opts)
     seconds["platform_and_wheels"] = time.perf_counter() - t0
     say(
-        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels sized"
+        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels"
+        " sized"
     )
 
     sens = sensitivity(plant, needs.times, needs.states, total_mass)

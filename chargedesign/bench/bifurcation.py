@@ -11,11 +11,11 @@ from __future__ import annotations
 import time
 
 from chargedesign.bench.common import BenchTable
+from chargedesign.formatting import PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.chambers import LevelSampling
 from chargedesign.topology.compute import DiagramOptions
 from chargedesign.topology.diagram import bifurcation_diagram
-from chargedesign.formatting import PRECISE, fmt
 
 #: the unit-scale case's parameters
 UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)

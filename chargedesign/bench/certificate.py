@@ -21,9 +21,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.formatting import fmt
 from chargedesign.model import evaluators as ev
 from chargedesign.params import Parameters
-from chargedesign.formatting import fmt
 
 #: wall-time cap of the sympy.simplify baseline (seconds)
 SIMPLIFY_CAP = 120.0

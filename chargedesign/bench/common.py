@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import fmt
 from chargedesign.params import Parameters
 from chargedesign.simulation.system import Body
-from chargedesign.formatting import fmt
 
 
 @dataclass

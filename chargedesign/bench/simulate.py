@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
@@ -39,7 +40,6 @@ from chargedesign.simulation import (
 )
 from chargedesign.simulation.ensemble import simulate_ensemble
 from chargedesign.simulation.integrate import integrate
-from chargedesign.formatting import PLAIN, ROUGH, fmt
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
@@ -75,7 +75,8 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
     y0 = np.concatenate([result.omega[0], result.gamma[0]])
     base_s, base_drift, base_steps = _baseline(t_end, rtol, y0)
     table = BenchTable(
-        title=f"Reduced model over t = {fmt(t_end, PLAIN)} s on I3 = 0 (DOP853, rtol = atol = {fmt(rtol, PLAIN)})",
+        title=f"Reduced model over t = {fmt(t_end, PLAIN)} s on I3 = 0 (DOP853, rtol = atol ="
+        f" {fmt(rtol, PLAIN)})",
         columns=["right-hand side", "I4 rel drift", "steps", "seconds", "speed-up"],
         rows=[
             ["baseline: sympy.lambdify, no cse", base_drift, base_steps, base_s, 1.0],
@@ -251,7 +252,8 @@ def _route_table(t_end: float) -> BenchTable:
             "reduced route (first row).",
             "term by term: the direct route before its kernel (direct_terms per effect, space "
             "axes, checked field methods), the reference the kernel is tested against.",
-            f"torques at 100 random states: kernel vs reduced {fmt(torque_diff, ROUGH)}, kernel vs term "
+            f"torques at 100 random states: kernel vs reduced {fmt(torque_diff, ROUGH)}, kernel vs"
+            " term "
             f"by term {fmt(reference_diff, ROUGH)} (relative to the largest); final states of the "
             f"kernel and reduced runs differ by {fmt(diff, ROUGH)} (the motion amplifies rounding "
             "differences).",
@@ -312,7 +314,8 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     simulate_batch(PARAMS, states, **kw)
     batched = time.perf_counter() - t0
     return BenchTable(
-        title=f"{m} trajectories of the theorem model, t = {fmt(t_end, PLAIN)} s, DOP853 rtol 1e-10",
+        title=f"{m} trajectories of the theorem model, t = {fmt(t_end, PLAIN)} s, DOP853 rtol"
+        " 1e-10",
         columns=["calls", "seconds", "speed-up"],
         rows=[
             [f"{m} separate calls", separate, 1.0],
@@ -458,7 +461,8 @@ def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
             "random omega in [-1, 1]^3 and gamma on the sphere; seconds: the integration "
             "(taylor: without the compile of a first run, reported below); wall s: the whole "
             "simulate_ensemble call, with the compile and the integrals of every trajectory.",
-            f"taylor: largest energy drift over the ensemble {fmt(s.get('energy_max_drift', 0), ROUGH)}"
+            "taylor: largest energy drift over the ensemble"
+            f" {fmt(s.get('energy_max_drift', 0), ROUGH)}"
             f" (compile {fmt(tay.compile_seconds, ROUGH)} s).",
         ],
     )

@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable
-from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 
 SCENE: dict[str, dict[str, Any]] = {
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
@@ -109,7 +109,8 @@ def run(quick: bool = False) -> list[BenchTable]:
             serial_per_point = min(serial_per_point, (time.perf_counter() - t0) / subset)
     t1 = serial_per_point * n_points
     table = BenchTable(
-        title=f"Sweep: {n_points} points of about {fmt(per_point, PLAIN)} s on {workers} local workers",
+        title=f"Sweep: {n_points} points of about {fmt(per_point, PLAIN)} s on {workers} local"
+        " workers",
         columns=[
             "executor",
             "workers",
@@ -124,8 +125,10 @@ def run(quick: bool = False) -> list[BenchTable]:
             "peak RSS/worker MB",
         ],
         notes=[
-            f"points: chargedesign simulate of the theorem's reduced model, t_end = {fmt(t_end, PRECISE)} s "
-            f"of motion (calibrated to about {fmt(per_point, PLAIN)} s per point), a grid over parameters.n",
+            "points: chargedesign simulate of the theorem's reduced model, t_end ="
+            f" {fmt(t_end, PRECISE)} s "
+            f"of motion (calibrated to about {fmt(per_point, PLAIN)} s per point), a grid over"
+            " parameters.n",
             f"T1: {subset} of the points run serially in-process (best of 2 runs), "
             f"{fmt(serial_per_point)} s per point, scaled to all points (load avg before: "
             f"{load_serial:.1f})",

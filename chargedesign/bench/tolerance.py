@@ -17,9 +17,9 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.designer import design_from_scene
+from chargedesign.formatting import AGREEMENT, PLAIN, fmt
 from chargedesign.scene import scene_from_dict
 from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
-from chargedesign.formatting import AGREEMENT, PLAIN, fmt
 
 #: examples/scenes/unit_scale.toml, inline so the bench runs from an installed package
 UNIT_SCENE = {

@@ -46,6 +46,7 @@ from chargedesign.checker.results import (
     QuantityResult,
 )
 from chargedesign.errors import SolverError
+from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
 from chargedesign.physical.limits import check_limits
@@ -54,7 +55,6 @@ from chargedesign.vocabulary import (
     FIELD_NAMES,
     PRECISIONS,
 )
-from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 
 
 # ------------------------------------------------------------------------ comparisons
@@ -185,7 +185,8 @@ def quantity_verdict(
     if not rel <= tol + floor:  # also catches an infinite error
         return (
             "fail",
-            f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor {fmt(floor, FLOOR)})",
+            f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
+            f" {fmt(floor, FLOOR)})",
         )
     if floor > tol:
         if basis == "gross":
@@ -193,14 +194,16 @@ def quantity_verdict(
         else:
             size = f"contributions cancel to 1 part in {fmt(cancellation, ROUGH)}"
         return "unverifiable", (
-            f"cannot be verified at tol {fmt(tol, PLAIN)}: {size} (rounding floor {fmt(floor, FLOOR)} in "
+            f"cannot be verified at tol {fmt(tol, PLAIN)}: {size} (rounding floor"
+            f" {fmt(floor, FLOOR)} in "
             f"{precision}; error seen {fmt(rel, FLOOR)})"
         )
     if rel <= tol:
         return "pass", None
     return (
         "fail",
-        f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor {fmt(floor, FLOOR)})",
+        f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
+        f" {fmt(floor, FLOOR)})",
     )
 
 

@@ -17,10 +17,10 @@ import sys
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.scene import load_scene
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
-from chargedesign.formatting import CELL, PLAIN, fmt
 
 
 def run(args: argparse.Namespace) -> int:
@@ -34,7 +34,8 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = energy_range(scene.parameters, h_range)
     if args.at is not None and not lo < args.at < hi:
         raise InputError(
-            f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got {fmt(args.at, PLAIN)}"
+            f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got"
+            f" {fmt(args.at, PLAIN)}"
         )
     if not args.quiet:
         print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)

@@ -40,8 +40,8 @@ from chargedesign.checker import (
 )
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import ChargeDesignError
-from chargedesign.validation import MAX_MAGNITUDE
 from chargedesign.formatting import PLAIN, ROUGH, fmt
+from chargedesign.validation import MAX_MAGNITUDE
 
 #: the balance double precision holds, in units of roundoff of the body's mass-weighted size
 #: ``sum m |r| / M`` (the polished masses put the centre of mass 0.3 of it from O on the
@@ -80,7 +80,8 @@ def _check_magnitudes(design: Design) -> None:
     if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
         raise ChargeDesignError(
             f"the body needs an element of size {fmt(largest)} (SI), outside the "
-            f"supported range |x| <= {fmt(MAX_MAGNITUDE, PLAIN)}: the requested total is too large or "
+            f"supported range |x| <= {fmt(MAX_MAGNITUDE, PLAIN)}: the requested total is too large"
+            " or "
             "the scale is outside the range; rescale the units. Nothing was written"
         )
 
@@ -195,12 +196,14 @@ class BalanceBound:
         if self.builder_needed < BUILDER_BALANCE_M:
             return (
                 f"under {g} the centre of mass must sit within {fmt(self.builder_needed)} m of O "
-                f"for gravity to stay below {fmt(BUILDER_TORQUE_FRACTION, PLAIN)} of the designed torques, "
+                f"for gravity to stay below {fmt(BUILDER_TORQUE_FRACTION, PLAIN)} of the designed"
+                " torques, "
                 f"finer than the {fmt(BUILDER_BALANCE_M, PLAIN)} m a builder balances to"
             )
         return (
             f"under {g} the centre of mass must sit within {fmt(self.needed)} m of O (the "
-            f"check's tolerance {fmt(self.tol, PLAIN)} of the designed torques), and double precision "
+            f"check's tolerance {fmt(self.tol, PLAIN)} of the designed torques), and double"
+            " precision "
             f"holds this body's balance only to {fmt(self.held)} m"
         )
 

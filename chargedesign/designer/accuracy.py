@@ -20,6 +20,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, Geometry, fibonacci_sphere
 from chargedesign.designer.system import UNITS, DesignProblem, natural_row_size
+from chargedesign.formatting import CELL, ORDER, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moment_conditions import (
     DEFAULT_STRENGTH_HEADROOM,
@@ -30,7 +31,6 @@ from chargedesign.moment_conditions import (
     LinearConditions,
 )
 from chargedesign.params import Parameters
-from chargedesign.formatting import CELL, ORDER, ORDER_SCI, PLAIN, ROUGH, fmt
 
 #: estimated relative forward error (mu, V and their torques evaluated in floating point from
 #: the elements) above which a design says its conditions are met only by cancellation (a
@@ -357,12 +357,14 @@ def length_notes(conditions: LinearConditions, size: float) -> list[str]:
     if suited == conditions.default_strengths:
         return []
     changes = ", ".join(
-        f"{name} = {fmt(conditions.default_strengths.get(name, 0.0), PLAIN)} (for 1 m) would be {fmt(value, PLAIN)}"
+        f"{name} = {fmt(conditions.default_strengths.get(name, 0.0), PLAIN)} (for 1 m) would be"
+        f" {fmt(value, PLAIN)}"
         for name, value in suited.items()
     )
     return [
         "conditions: the default field strengths were chosen for an assumed body length of "
-        f"1 m; for these candidates (L = {fmt(size, CELL)} m) {changes}: derive the conditions with "
+        f"1 m; for these candidates (L = {fmt(size, CELL)} m) {changes}: derive the conditions with"
+        " "
         f"length={fmt(size, CELL)} (design_from_scene does)"
     ]
 

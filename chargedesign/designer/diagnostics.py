@@ -139,7 +139,8 @@ def _cannot_produce(
         where = f"candidates all lie in {geometry.plane_text()}"
     elif geometry.thickness_ratio < 1e-2:
         where = (
-            f"candidates are nearly planar (thickness / width {fmt(geometry.thickness_ratio, ROUGH)}, "
+            "candidates are nearly planar (thickness / width"
+            f" {fmt(geometry.thickness_ratio, ROUGH)}, "
             f"close to {geometry.plane_text()})"
         )
     else:
@@ -160,7 +161,8 @@ def infeasible_inequalities(p: DesignProblem, options: DesignOptions) -> Infeasi
             free = replace(p, upper=None)
             need = float(np.max(np.abs(solve_linf_scalar(free, replace(options, solver="auto")).u)))
             return InfeasibleError(
-                f"charges: design.max_charge = {fmt(options.max_charge, PLAIN)} C is too small: these "
+                f"charges: design.max_charge = {fmt(options.max_charge, PLAIN)} C is too small:"
+                " these "
                 f"conditions on these candidates need a largest |q| of at least "
                 f"{fmt(need * p.scale, CELL)} C"
             )
@@ -176,12 +178,14 @@ def infeasible_inequalities(p: DesignProblem, options: DesignOptions) -> Infeasi
             if least is not None:
                 if options.total_mass < least:
                     return InfeasibleError(
-                        f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is below the "
+                        f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is below"
+                        " the "
                         f"least total mass that meets the conditions on these candidates, "
                         f"{fmt(least, CELL)} kg"
                     )
                 return InfeasibleError(
-                    f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is above the largest "
+                    f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is above the"
+                    " largest "
                     "total mass that meets the conditions on these candidates (the least is "
                     f"{fmt(least, CELL)} kg; add candidates nearer O)"
                 )

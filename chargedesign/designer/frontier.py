@@ -64,10 +64,10 @@ from chargedesign.designer.physical import (
     lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.realism import field_response
 from chargedesign.results import Result
-from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -205,7 +205,8 @@ class FrontierResult(Result):
     def _text(self) -> str:
         if self.n_free:
             rate = (
-                f"K_max = {fmt(self.K_max, PRECISE)} 1/s; n is free: the frame reading realises n = 0 "
+                f"K_max = {fmt(self.K_max, PRECISE)} 1/s; n is free: the frame reading realises n ="
+                " 0 "
                 "and any n reads the motion in axes turning at n"
             )
         else:
@@ -221,7 +222,8 @@ class FrontierResult(Result):
         ]
         if self.balance:
             lines.append(
-                f"balance: under gravity the rate must stay above s_min = {fmt(self.s_min, PRECISE)} "
+                "balance: under gravity the rate must stay above s_min ="
+                f" {fmt(self.s_min, PRECISE)} "
                 f"(at s_max the centre of mass must sit within "
                 f"{fmt(self.balance['builder_centre_of_mass_within_m'])} m of O for gravity to "
                 f"stay below {fmt(self.balance['builder_torque_fraction'], PLAIN)} of the designed "
@@ -312,7 +314,8 @@ def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
     if limit.stage == "fields":
         return Binding(
             "fields",
-            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over the "
+            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over"
+            " the "
             "body region",
             "fields.electric",
             1.0,
@@ -378,7 +381,8 @@ def _accept_body(design: Design) -> Binding | None:
     )
     return Binding(
         "forward",
-        f"the body misses the theorem in the forward check ({errors} against tol {fmt(report.tol, PLAIN)})",
+        f"the body misses the theorem in the forward check ({errors} against tol"
+        f" {fmt(report.tol, PLAIN)})",
         "forward check",
     )
 
@@ -394,9 +398,11 @@ def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> st
     gravity = "1 g" if abs(g - 1) <= 0.01 else f"{fmt(g)} g"
     return (
         f"no buildable rate: under {gravity} the centre of mass must sit within "
-        f"{fmt(balance['builder_centre_of_mass_within_m'])} m of O at s_max = {fmt(s_max, PRECISE)} "
+        f"{fmt(balance['builder_centre_of_mass_within_m'])} m of O at s_max = {fmt(s_max, PRECISE)}"
+        " "
         f"(K_max = {fmt(K_max)} 1/s) for gravity to stay below "
-        f"{fmt(balance['builder_torque_fraction'], PLAIN)} of the designed torques (a builder balances "
+        f"{fmt(balance['builder_torque_fraction'], PLAIN)} of the designed torques (a builder"
+        " balances "
         f"to about {fmt(balance['builder_balance_m'], PLAIN)} m), and within "
         f"{fmt(balance['centre_of_mass_within_m'])} m for the forward check's tolerance "
         f"{fmt(balance['check_tolerance'], PLAIN)} (double precision holds "
@@ -493,7 +499,8 @@ def _necessary_binding(setup: PhysicalSetup, s_nec: float) -> Binding:
     if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
         return Binding(
             "fields",
-            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over the "
+            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over"
+            " the "
             "body region",
             "fields.electric",
         )

@@ -45,13 +45,13 @@ import numpy as np
 from chargedesign.constants import ELEMENTARY_CHARGE
 from chargedesign.designer.pipeline import frontier_from_scene, physical_setup_from_scene
 from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
 from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS
-from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
 MEDIA = ("air", "sf6", "vacuum")
@@ -125,7 +125,8 @@ class ScanResult(Result):
         ]
         for r in self.rows:
             lines.append(
-                f"{fmt(r['size_factor'], PLAIN):>6} {r['medium']:>8} {fmt(r[self.field_name], PLAIN):>7} "
+                f"{fmt(r['size_factor'], PLAIN):>6} {r['medium']:>8}"
+                f" {fmt(r[self.field_name], PLAIN):>7} "
                 f"{r['carrier']:>10} {fmt(r[t], PRECISE):>11} {r['binding_stage']:>9} "
                 f"{fmt(r['smallest_carrier_charge_e']):>10}"
             )
@@ -138,7 +139,8 @@ class ScanResult(Result):
             lo, hi = law["measured_size_factors"]
             lines.append(
                 f"{key.replace('_', ' ')} at the frontier ~ L^{fmt(law['size_exponent'])} over "
-                f"the measured sizes f = {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} (fractions per point in the rows; "
+                f"the measured sizes f = {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} (fractions per point"
+                " in the rows; "
                 "not extrapolated)"
             )
         lines.extend(f"failed: {f}" for f in self.failures)
@@ -228,14 +230,16 @@ def scan_frontier(
         data = _variant(base, f, medium, ff, carrier, index)
         if progress is not None:
             progress(
-                f"[{i + 1}/{len(cases)}] size x{fmt(f, PLAIN)}, {medium}, {field_name} x{fmt(ff, PLAIN)}, "
+                f"[{i + 1}/{len(cases)}] size x{fmt(f, PLAIN)}, {medium}, {field_name}"
+                f" x{fmt(ff, PLAIN)}, "
                 f"{carrier or base_carrier}"
             )
         try:
             result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))
         except Exception as exc:  # one failing point is recorded, the scan goes on
             failures.append(
-                f"size x{fmt(f, PLAIN)} {medium}, {field_name} x{fmt(ff, PLAIN)}, {carrier or base_carrier}: {exc}"
+                f"size x{fmt(f, PLAIN)} {medium}, {field_name} x{fmt(ff, PLAIN)},"
+                f" {carrier or base_carrier}: {exc}"
             )
             continue
         name = carrier or base_carrier

@@ -47,6 +47,7 @@ from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
 from chargedesign.designer.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
@@ -61,7 +62,6 @@ from chargedesign.physical.limits import (
 )
 from chargedesign.physical.realism import realism_budget
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
-from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
@@ -219,7 +219,8 @@ def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region
         top = float(field_magnitude_max(coeffs, np.array([region]))[0])
         if top > limit:
             raise InputError(
-                f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)} over the "
+                f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
+                " over the "
                 f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
             )
 
@@ -885,7 +886,8 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         cones = [point for point, value in zip(cones, used, strict=True) if value >= MINMAX_KEEP]
         cones.extend(worst[i] for i in near)
     raise SolverError(
-        f"charges: the charges' minmax did not close its gap to {fmt(gap, PLAIN)} in {MINMAX_ROUNDS} rounds"
+        f"charges: the charges' minmax did not close its gap to {fmt(gap, PLAIN)} in"
+        f" {MINMAX_ROUNDS} rounds"
     )
 
 
@@ -1609,7 +1611,8 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
             raise PhysicalInfeasible(
                 Binding(
                     "balance",
-                    f"{balance.text()}; rates are accepted from s = {fmt(balance.lowest_rate, PRECISE)} up",
+                    f"{balance.text()}; rates are accepted from s ="
+                    f" {fmt(balance.lowest_rate, PRECISE)} up",
                     "centre of mass",
                     balance.held / balance.needed if balance.needed > 0 else math.inf,
                 )

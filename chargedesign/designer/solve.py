@@ -184,7 +184,8 @@ def _mip_support(
         found = len(best) if best is not None else "none"
         raise SolverError(
             f"charges: no design with at most {target} charges found within "
-            f"design.time_limit = {fmt(options.time_limit, PLAIN)} s (status {status}; the sparsest "
+            f"design.time_limit = {fmt(options.time_limit, PLAIN)} s (status {status}; the sparsest"
+            " "
             f"found has {found}); raise n_charges or the time limit"
         )
     values = np.asarray(u.value, dtype=float)

@@ -13,8 +13,8 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from chargedesign.results import Result
 from chargedesign.formatting import CELL, fmt
+from chargedesign.results import Result
 
 CERTIFICATE_CASES = ("general", "yehia2003", "goriachev", "chaplygin")
 

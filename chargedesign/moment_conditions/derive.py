@@ -14,6 +14,7 @@ from fractions import Fraction
 from typing import Any
 
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.algebra import SourceSystem
 from chargedesign.moment_conditions.constants import (
     DEFAULT_LENGTH,
@@ -33,7 +34,6 @@ from chargedesign.moment_conditions.potential import realise_degree, v_projectio
 from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.validation import as_array, as_finite_float, input_error
-from chargedesign.formatting import PLAIN, fmt
 
 
 def validate_realise(realise: Any, name: str) -> tuple[str, ...]:

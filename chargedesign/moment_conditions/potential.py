@@ -17,6 +17,7 @@ from fractions import Fraction
 from functools import lru_cache
 
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import fmt
 from chargedesign.moment_conditions.algebra import SourceSystem, exact_nullspace, solve_exact
 from chargedesign.moment_conditions.constants import (
     DEFAULT_ELECTRIC_STRENGTH,
@@ -41,7 +42,6 @@ from chargedesign.moment_conditions.harmonics import (
     project_on_harmonics,
     real_solid_harmonics,
 )
-from chargedesign.formatting import fmt
 
 
 @lru_cache(maxsize=1)

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.physical.materials import ballast_groups, ballast_materials, mass_densities
 from chargedesign.formatting import fmt
+from chargedesign.physical.materials import ballast_groups, ballast_materials, mass_densities
 
 BOM_COLUMNS = (
     "part",

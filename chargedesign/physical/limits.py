@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.coulomb import coulomb_field
 from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
 from chargedesign.physical.materials import (
@@ -35,7 +36,6 @@ from chargedesign.physical.materials import (
 from chargedesign.physical.realism import field_response, k_law, magnet_continuum
 from chargedesign.results import Result
 from chargedesign.sampling import GOLDEN_ANGLE, fibonacci_sphere
-from chargedesign.formatting import PRECISE, fmt
 
 #: relative slack for rounding in the comparisons (not a physical margin)
 ROUNDING_SLACK = 1e-9
@@ -199,7 +199,8 @@ class LimitsReport(Result):
         lines = [
             ("buildable" if self.buildable else "NOT buildable")
             + f" (limits recomputed from the elements): largest carrier surface field "
-            f"{fmt(top, PRECISE)} V/m, {fmt(self.worst_fraction_of_breakdown, PRECISE)} of breakdown "
+            f"{fmt(top, PRECISE)} V/m, {fmt(self.worst_fraction_of_breakdown, PRECISE)} of"
+            " breakdown "
             f"({fmt(self.breakdown)} V/m; safe {fmt(self.safe_field)} V/m)"
         ]
         lines += [f"violation: {v}" for v in self.violations]

@@ -37,6 +37,7 @@ from chargedesign.constants import (
     STANDARD_GRAVITY,
 )
 from chargedesign.fields import AxisymmetricField
+from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
     CONDUCTIVITY,
@@ -51,7 +52,6 @@ from chargedesign.physical.materials import (
 )
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.validation import as_finite_float, input_error
-from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 
 G_EARTH = STANDARD_GRAVITY
 MICROGRAVITY = 1e-6 * G_EARTH
@@ -417,8 +417,10 @@ def _k_law_note(item: dict[str, Any], unknown: list[str]) -> str:
     if cancelled and chi_needed is not None:
         note += (
             f" (cancelled by the design's chi-weighted moments; {fmt(ratio_gross)} without the "
-            f"cancellation, which holds only if each material's chi is known to {fmt(chi_needed, ROUGH)} "
-            f"relative: susceptibility metrology reaches about {fmt(SUSCEPTIBILITY_METROLOGY, ORDER_SCI)})"
+            "cancellation, which holds only if each material's chi is known to"
+            f" {fmt(chi_needed, ROUGH)} "
+            "relative: susceptibility metrology reaches about"
+            f" {fmt(SUSCEPTIBILITY_METROLOGY, ORDER_SCI)})"
         )
     note += (
         f". Parity needs G {fmt(math.sqrt(reference))} times larger: surface fields of "

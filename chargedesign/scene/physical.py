@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import fmt
 from chargedesign.physical.materials import (
     BALLAST_DENSITY,
     CARRIER_DENSITY,
@@ -41,7 +42,6 @@ from chargedesign.scene.keys import check_table, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
-from chargedesign.formatting import fmt
 
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25

@@ -73,6 +73,7 @@ import numpy as np
 from chargedesign.body import Design, read_design
 from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.formatting import CELL, ORDER, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
 from chargedesign.results import compact_repr
@@ -110,7 +111,6 @@ from chargedesign.validation import (
     check_run_caps,
     input_error,
 )
-from chargedesign.formatting import CELL, ORDER, PLAIN, PRECISE, ROUGH, fmt
 
 
 @dataclass(repr=False)
@@ -320,7 +320,8 @@ def check_centre(system: RigidBodySystem, realises: Sequence[str]) -> None:
     raise InputError(
         "body: V has a linear term a . gamma with a = "
         f"({fmt(a[0])}, {fmt(a[1])}, {fmt(a[2])}) J that the theorem's V does not have (the "
-        f"design claims V); the centre of mass of {fmt(total, PRECISE)} kg is at ({fmt(centre[0])}, "
+        f"design claims V); the centre of mass of {fmt(total, PRECISE)} kg is at ({fmt(centre[0])},"
+        " "
         f"{fmt(centre[1])}, {fmt(centre[2])}) m: gravity needs it at O"
     )
 
@@ -352,9 +353,11 @@ def _slow_body_notes(params: Parameters) -> list[str]:
     if rate == 0.0 or start < SLOW_BODY_FACTOR * rate:
         return []
     return [
-        f"the default start turns at |(p, q)| = {fmt(start)} 1/s, {fmt(start / rate, ROUGH)} times this "
+        f"the default start turns at |(p, q)| = {fmt(start)} 1/s, {fmt(start / rate, ROUGH)} times"
+        " this "
         f"body's own rate {fmt(rate)} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
-        f"torques are then about {fmt((rate / start) ** 2, ORDER)} of the kinetic terms, which I4's "
+        f"torques are then about {fmt((rate / start) ** 2, ORDER)} of the kinetic terms, which I4's"
+        " "
         "drift tests only weakly; give [initial] (or initial=) at the body's rate"
     ]
 
@@ -439,7 +442,8 @@ def design_pending(
         f"body designed from the scene's [body] ({shape}, {len(result.candidates)} "
         f"candidates): {counts['charges']} charges, {counts['dipoles']} dipoles, "
         f"{counts['masses']} masses; largest relative residual "
-        f"{fmt(residuals['max_after_polish'], ROUGH)} (tolerance {fmt(residuals['tolerance'], ROUGH)}); "
+        f"{fmt(residuals['max_after_polish'], ROUGH)} (tolerance"
+        f" {fmt(residuals['tolerance'], ROUGH)}); "
         f"realises {', '.join(design.realises) or 'nothing'}"
     )
     missing = [k for k in ("mu", "V", "inertia") if k not in design.realises]
@@ -854,7 +858,8 @@ def _result(
     for e in events:
         if e["kind"] == "singular_plane":
             all_notes.append(
-                f"stopped at t = {fmt(e['t'], CELL)} s: |gamma3| = {fmt(abs(e['gamma3']))} reached the "
+                f"stopped at t = {fmt(e['t'], CELL)} s: |gamma3| = {fmt(abs(e['gamma3']))} reached"
+                " the "
                 f"singular plane threshold {fmt(e['threshold'], PLAIN)} (lambda or rho != 0)"
             )
     integrals = system.integrals(states, rate=rate)

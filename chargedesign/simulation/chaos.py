@@ -26,6 +26,7 @@ import numpy as np
 
 from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_path
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.scene.simulation import DEFAULT_INITIAL
 from chargedesign.simulation import taylor
 from chargedesign.simulation.api import initial_state
@@ -36,7 +37,6 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
 )
 from chargedesign.validation import as_finite_float, input_error
-from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 
 
 def section_state(
@@ -85,7 +85,8 @@ def section_starts(
             out.append(state)
     if len(out) < orbits:
         raise InputError(
-            f"poincare: energy {fmt(energy, PLAIN)} J is too low for the level I3 = {fmt(level, PLAIN)} J s on the "
+            f"poincare: energy {fmt(energy, PLAIN)} J is too low for the level I3 ="
+            f" {fmt(level, PLAIN)} J s on the "
             "section gamma3 = 0; raise the energy"
         )
     return np.array(out)
@@ -152,7 +153,8 @@ class PoincareAtlas:
             ax.grid(True, alpha=0.3)
         axes[0].set_ylabel("r [1/s]")
         fig.suptitle(
-            f"Poincare atlas: {len(self.points[0])} orbits per level, energy {fmt(self.energy, PRECISE)} J, "
+            f"Poincare atlas: {len(self.points[0])} orbits per level, energy"
+            f" {fmt(self.energy, PRECISE)} J, "
             f"t = {fmt(self.t_end, PLAIN)} s"
         )
         return fig

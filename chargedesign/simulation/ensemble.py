@@ -27,6 +27,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.scene.states import STATE_COLUMNS, parse_states
 from chargedesign.simulation import monitors as monitors_mod
@@ -39,7 +40,6 @@ from chargedesign.simulation.api import (
 from chargedesign.simulation.axes import turning_states
 from chargedesign.simulation.system import quaternion_gamma
 from chargedesign.validation import input_error
-from chargedesign.formatting import PLAIN, fmt
 
 
 @dataclass(repr=False)

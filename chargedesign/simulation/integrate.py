@@ -28,6 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from chargedesign.errors import SolverError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
@@ -38,7 +39,6 @@ from chargedesign.vocabulary import SOLVE_IVP_METHODS as SOLVE_IVP_METHODS
 
 #: state names, in order, for Poincare sections and CSV columns
 from chargedesign.vocabulary import STATE_NAMES as STATE_NAMES
-from chargedesign.formatting import CELL, PLAIN, fmt
 
 #: the method used when heyoka cannot be imported
 FALLBACK_METHOD = "DOP853"
@@ -376,7 +376,8 @@ def _integrate_gauss(
             if diverged or it == 99:
                 g3 = float(np.min(np.abs(quaternion_gamma(y.reshape(m, 7)[:, 3:])[:, 2])))
                 raise SolverError(
-                    f"simulation: gauss-legendre stages did not converge at t = {fmt((n - 1) * h, CELL)}"
+                    "simulation: gauss-legendre stages did not converge at t ="
+                    f" {fmt((n - 1) * h, CELL)}"
                     f" s (|gamma3| = {fmt(g3)}); reduce simulation.step or use DOP853"
                 )
         y = y + hb @ K

@@ -37,10 +37,10 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.scene.simulation import parse_monitors as parse_monitors
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import MONITOR_ALIASES
-from chargedesign.formatting import PLAIN, fmt
 
 #: relative size below which a polynomial coefficient counts as zero
 _ZERO = 1e-12
@@ -148,7 +148,8 @@ def _turning(ctx: Context, name: str) -> tuple[bool, str] | None:
     if ctx.axes_rate == 0.0:
         return None
     return False, (
-        f"{name} is no integral in axes turning at {fmt(ctx.axes_rate, PLAIN)} 1/s (their Coriolis and "
+        f"{name} is no integral in axes turning at {fmt(ctx.axes_rate, PLAIN)} 1/s (their Coriolis"
+        " and "
         "centrifugal terms act); simulate with axes = 'inertial'"
     )
 

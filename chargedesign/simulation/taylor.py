@@ -40,11 +40,11 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import SolverError
+from chargedesign.formatting import CELL, fmt
 from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.validation import input_error
-from chargedesign.formatting import CELL, fmt
 
 #: the default tolerance: machine epsilon (heyoka's own default)
 DEFAULT_TOL = float(np.finfo(float).eps)

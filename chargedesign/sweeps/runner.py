@@ -32,6 +32,7 @@ from typing import Any
 
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
@@ -39,7 +40,6 @@ from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec, scene_with
 from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
-from chargedesign.formatting import PLAIN, fmt
 
 #: seconds to wait for a Dask scheduler given with ``scheduler=``
 SCHEDULER_TIMEOUT = 5.0
@@ -249,7 +249,8 @@ def make_executor(
             sys.unraisablehook = hook
         if failure:
             raise InputError(
-                f"--scheduler {scheduler}: no Dask scheduler reachable within {fmt(timeout, PLAIN)} s "
+                f"--scheduler {scheduler}: no Dask scheduler reachable within {fmt(timeout, PLAIN)}"
+                " s "
                 f"({failure})"
             )
     else:

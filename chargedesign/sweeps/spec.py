@@ -38,13 +38,13 @@ import numpy as np
 
 from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import InputError
+from chargedesign.formatting import fmt
 from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
 from chargedesign.sweeps.registry import check_command, resolve
 from chargedesign.tolerancing import ErrorModel
 from chargedesign.validation import check_error_spreads, check_periods, check_tree
-from chargedesign.formatting import fmt
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
 RANDOM_KINDS = ("uniform", "log_uniform", "choice")

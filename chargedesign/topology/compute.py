@@ -16,6 +16,7 @@ from itertools import pairwise
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
 from chargedesign.topology.chambers import LevelSampler, LevelSampling
@@ -34,7 +35,6 @@ from chargedesign.topology.critical import (
 )
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.stability import branch_types, equilibrium_type, linearised_eigenvalues
-from chargedesign.formatting import CELL, PLAIN, fmt
 
 
 @dataclass(frozen=True)
@@ -128,11 +128,13 @@ def resolve_range(
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
         raise InputError(
-            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)} {fmt(hi, PLAIN)}"
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
+            f" {fmt(hi, PLAIN)}"
         )
     if hi <= low:
         raise InputError(
-            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J: on I3 = 0 the "
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
+            " on I3 = 0 the "
             f"energy is at least {fmt(low, CELL)} J"
         )
     return (max(lo, low), hi), low

@@ -20,6 +20,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
 from chargedesign.topology.compute import (
@@ -33,7 +34,6 @@ from chargedesign.topology.compute import (
 )
 from chargedesign.topology.equations import MomentumMap, require_regular
 from chargedesign.topology.stability import TYPES
-from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 
 #: the CSV's columns (the contract's header)
 CSV_COLUMNS = ("h", "k", "branch", "type", "p", "q", "r", "gamma1", "gamma2", "gamma3")
@@ -141,7 +141,8 @@ def check_energy_range(
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
         raise InputError(
-            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)} {fmt(hi, PLAIN)}"
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
+            f" {fmt(hi, PLAIN)}"
         )
     reading = Reading.of(params)
     unit = MomentumMap(reading.unit())
@@ -151,7 +152,8 @@ def check_energy_range(
     except InputError:
         _, low = resolve_range(unit, None)
         raise InputError(
-            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J: on I3 = 0 the "
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
+            " on I3 = 0 the "
             f"energy is at least {fmt(float(reading.energy(low)), CELL)} J"
         ) from None
     return unit_range
@@ -274,14 +276,18 @@ class BifurcationDiagram(Result):
             "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
             f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)} J "
             f"(least energy on the level {fmt(raw.h_min, CELL)} J)",
-            f"  computed at n = 0 in time units of 1/s, s = {fmt(Reading.of(raw.params).s, CELL)} 1/s, "
-            f"then mapped exactly (Larmor: h shifted by C n^2 = {fmt(larmor_shift(raw.params), CELL)} J)",
+            f"  computed at n = 0 in time units of 1/s, s = {fmt(Reading.of(raw.params).s, CELL)}"
+            " 1/s, "
+            "then mapped exactly (Larmor: h shifted by C n^2 ="
+            f" {fmt(larmor_shift(raw.params), CELL)} J)",
         ]
         for item in self.to_dict()["branches"]:
             kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
             lines.append(
-                f"  branch {item['branch']}: {item['points']} points, h {fmt(item['h'][0], PRECISE)} .. "
-                f"{fmt(item['h'][1], PRECISE)} J, k {fmt(item['k'][0], PRECISE)} .. {fmt(item['k'][1], PRECISE)} 1/s^4 "
+                f"  branch {item['branch']}: {item['points']} points, h"
+                f" {fmt(item['h'][0], PRECISE)} .. "
+                f"{fmt(item['h'][1], PRECISE)} J, k {fmt(item['k'][0], PRECISE)} .."
+                f" {fmt(item['k'][1], PRECISE)} 1/s^4 "
                 f"({kinds}; ends: {', '.join(item['ends'])}){' exact' if item['exact'] else ''}"
             )
         images = [b.hk for b in self.branches]

@@ -18,9 +18,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple
 from chargedesign.params import Parameters
-from chargedesign.formatting import PLAIN, fmt
 
 #: the four functions, in the order of every array of this package (rows of the Jacobian)
 FUNCTION_NAMES = ("H", "I4", "I2", "I3")

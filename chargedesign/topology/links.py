@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.results import Result, png_html
 from chargedesign.simulation.chaos import (
     FLIMap,
@@ -36,7 +37,6 @@ from chargedesign.simulation.taylor import propagate_many
 from chargedesign.topology.compute import crossings
 from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
 from chargedesign.topology.equations import MomentumMap
-from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 
 
 @dataclass(frozen=True)
@@ -195,7 +195,8 @@ class LinkedPictures(Result):
                     mew=0.3,
                 )
         middle.set_title(
-            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J (colour: k; large dots: "
+            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J (colour: k; large"
+            " dots: "
             "critical orbits)",
             fontsize=9,
         )
@@ -224,7 +225,8 @@ def linked_pictures(
     lo, hi = diagram.raw.h_range
     if not lo < energy < hi:
         raise InputError(
-            f"energy: expected a value inside the diagram's range {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, "
+            f"energy: expected a value inside the diagram's range {fmt(lo, CELL)} .."
+            f" {fmt(hi, CELL)} J, "
             f"got {fmt(energy, PLAIN)}"
         )
     params = diagram.raw.params
