@@ -20,7 +20,7 @@ import numpy as np
 from chargedesign.airbearing.options import SOURCES
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
-from chargedesign.formatting import PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
@@ -203,7 +203,7 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
 
 def _platform_section(result: TestbedResult) -> list[str]:
     o, tol, C = result.options, result.tolerances, result.parameters.C
-    diagonal = ", ".join(f"{x:.12g}" for x in np.diag(result.inertia_total))
+    diagonal = ", ".join(f"{fmt(x, FULL)}" for x in np.diag(result.inertia_total))
     products = min(tol["inertia"][f"product_{k}_kg_m2"] for k in ("xy", "xz", "yz"))
     place = tol["ballast_placement_m"]
     tightest = int(np.argmin(place["binding"]))

@@ -109,7 +109,8 @@ def build_testbed(
             plant, x0, _with(base, command=command), keep_states=command == opts.command
         )
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
-        say(f"{command} noise-free: I4 drift {runs[f'{command}_noise_free'].I4_drift[0]:.3g}")
+        drift = runs[f"{command}_noise_free"].I4_drift[0]
+        say(f"{command} noise-free: I4 drift {fmt(drift)}")
     nominal = _nominal(base, opts, total_mass, limits[2])
     t0 = time.perf_counter()
     runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)

@@ -271,13 +271,15 @@ def scan_frontier(
     expected = EXPECTED[reading]
     if frame:
         law = (
-            "K_max ~ E_breakdown^{E:.3g} a2^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
+            f"K_max ~ E_breakdown^{fmt(exponents['E'])} a2^{fmt(exponents['field'])}"
+            f" L^{fmt(exponents['L'])} rho_carrier^{fmt(exponents['rho'])} "
             "(expected eps0 E a2 / rho_body: E^1 a2^1 L^0, independent of size; "
             "rho_carrier^0 unless the carriers' mass binds)"
         )
     else:
         law = (
-            "n_max ~ E_breakdown^{E:.3g} a1^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
+            f"n_max ~ E_breakdown^{fmt(exponents['E'])} a1^{fmt(exponents['field'])}"
+            f" L^{fmt(exponents['L'])} rho_carrier^{fmt(exponents['rho'])} "
             "(expected eps0 E a1 / (rho_body L): E^1 a1^1 L^-1; rho_carrier^0 unless the "
             "carriers' mass binds)"
         )
@@ -286,7 +288,7 @@ def scan_frontier(
         exponents,
         expected,
         worst,
-        law.format(**exponents),
+        law,
         failures,
         _response_laws(rows),
         larmor=reading,

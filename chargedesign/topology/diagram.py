@@ -20,7 +20,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, write_text_atomic
-from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
+from chargedesign.formatting import CELL, FULL, PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
 from chargedesign.topology.compute import (
@@ -227,7 +227,7 @@ class BifurcationDiagram(Result):
         writer = csv.writer(buffer, lineterminator="\n")
         writer.writerow(CSV_COLUMNS)
         for row in self.rows():
-            writer.writerow([f"{v:.12g}" if isinstance(v, float) else v for v in row])
+            writer.writerow([f"{fmt(v, FULL)}" if isinstance(v, float) else v for v in row])
         return buffer.getvalue()
 
     def to_dict(self) -> dict[str, Any]:

@@ -152,6 +152,7 @@ class LinkedPictures(Result):
         }
 
     def _text(self) -> str:
+        # deliberately 5 digits (no kind has them): nearby critical levels must read apart
         values = ", ".join(f"{c.k:.5g} ({c.type})" for c in self.critical) or "none"
         return (
             f"energy {fmt(self.energy, CELL)} J: critical values of k {values}; atlas of "
