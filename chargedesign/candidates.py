@@ -28,6 +28,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import import_held
+from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.readers import check_input_file, read_bytes, read_text
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
@@ -101,12 +102,16 @@ class Geometry:
         """The plane (or line or point) the set lies in, e.g. ``"the plane z = 0"``."""
         c = self.centroid
         if self.dimension == 0:
-            return f"the single point ({c[0]:.4g}, {c[1]:.4g}, {c[2]:.4g}) m"
+            return (
+                f"the single point ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)},"
+                f" {fmt(c[2], PRECISE)}) m"
+            )
         if self.dimension == 1:
             d = self.directions[0]
             return (
-                f"the line through ({c[0]:.4g}, {c[1]:.4g}, {c[2]:.4g}) m along "
-                f"({d[0]:.3g}, {d[1]:.3g}, {d[2]:.3g})"
+                f"the line through ({fmt(c[0], PRECISE)}, {fmt(c[1], PRECISE)},"
+                f" {fmt(c[2], PRECISE)}) m along "
+                f"({fmt(d[0])}, {fmt(d[1])}, {fmt(d[2])})"
             )
         normal = self.directions[2]
         offset = float(normal @ c)
@@ -114,11 +119,11 @@ class Geometry:
         if abs(abs(normal[axis]) - 1.0) < 1e-9:
             value = offset * math.copysign(1.0, normal[axis])
             value = 0.0 if abs(value) <= 1e-12 * max(self.size, 1e-300) else value
-            return f"the plane {'xyz'[axis]} = {value:.6g}"
+            return f"the plane {'xyz'[axis]} = {fmt(value, CELL)}"
         if offset < 0:
             normal, offset = -normal, -offset
-        terms = " + ".join(f"{v:.3g} {a}" for v, a in zip(normal, "xyz", strict=True) if v != 0)
-        return f"the plane {terms} = {offset:.4g}"
+        terms = " + ".join(f"{fmt(v)} {a}" for v, a in zip(normal, "xyz", strict=True) if v != 0)
+        return f"the plane {terms} = {fmt(offset, PRECISE)}"
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -204,7 +209,7 @@ def planarity_notes(geometry: Geometry) -> list[str]:
     ratio = geometry.thickness_ratio
     if ratio < NEARLY_PLANAR_RATIO:
         return [
-            f"candidates are nearly planar (thickness / width = {ratio:.2g}, close to "
+            f"candidates are nearly planar (thickness / width = {fmt(ratio, ROUGH)}, close to "
             f"{geometry.plane_text()}): moments across that plane need weights growing like "
             "(width / thickness)^2 or faster"
         ]

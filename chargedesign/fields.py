@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.validation import as_array, as_finite_float, as_points, input_error
 
 #: Largest accepted | |gamma| - 1 | for body-axes evaluations.
@@ -51,7 +52,7 @@ def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
         worst = float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", arr, arr)) - 1.0)))
         if worst > GAMMA_UNIT_TOLERANCE:
             raise input_error(
-                name, f"unit vectors (| |gamma| - 1 | <= {GAMMA_UNIT_TOLERANCE:g})", arr
+                name, f"unit vectors (| |gamma| - 1 | <= {fmt(GAMMA_UNIT_TOLERANCE, PLAIN)})", arr
             )
     return arr
 

@@ -7,6 +7,7 @@ Every number the report, the command line, reprs and HTML tables print goes thro
     fmt(0.012345, PRECISE, "C")    # '0.01235 C'  PRECISE: a value to reuse, 4 digits
     fmt(2.5e-14, ROUGH)            # '2.5e-14'    ROUGH: a residual or ratio, 2 digits
     fmt(3.3e-16, ORDER)            # '3e-16'      ORDER: an order of magnitude, 1 digit
+    fmt(0.1 + 0.2, FULL)           # '0.3'        FULL: a number to read back, 12 digits
 
 The kinds and their digits are those the package has always printed (the text of every
 command is unchanged by routing it through here). Pure: imports nothing of the package.
@@ -25,6 +26,7 @@ __all__ = [
     "EXACT",
     "FIGURE",
     "FLOOR",
+    "FULL",
     "KINDS",
     "ORDER",
     "ORDER_SCI",
@@ -49,6 +51,8 @@ ORDER_SCI = "order_sci"
 PLAIN = "plain"
 #: a table cell (HTML): 6 significant digits
 CELL = "cell"
+#: a number a reader copies back (CSV cells, an exact value as a decimal): 12 significant digits
+FULL = "full"
 #: every digit (machine-readable text: CSV): the shortest form that reads back is ``repr``;
 #: this is the fixed 17 digits the tables have always used
 EXACT = "exact"
@@ -70,6 +74,7 @@ KINDS: dict[str, str] = {
     ORDER_SCI: ".0e",
     PLAIN: "g",
     CELL: ".6g",
+    FULL: ".12g",
     EXACT: ".17g",
     ERROR: ".3e",
     FLOOR: ".1e",

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+from chargedesign.formatting import PLAIN, fmt
+
 #: highest degree of any field (the exact derivation of conditions grows like degree^3; the
 #: check and simulation evaluate Legendre terms per orientation): design, check, simulate,
 #: show and export all refuse a longer ``legendre`` list
@@ -54,7 +56,7 @@ MAX_FRAMES = 10_000
 
 def _number(x: float) -> str:
     """An integer as its digits (a seed's 4294967295), anything else as %g."""
-    return str(int(x)) if float(x).is_integer() and abs(x) < 1e10 else f"{x:g}"
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e10 else f"{fmt(x, PLAIN)}"
 
 
 class OptionRange(NamedTuple):

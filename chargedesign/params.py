@@ -9,6 +9,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.validation import as_finite_float, check_keys, input_error
 
@@ -71,7 +72,7 @@ class Parameters(Result):
         return self.as_dict()
 
     def _text(self) -> str:
-        return ", ".join(f"{k} = {v:g}" for k, v in self.as_dict().items())
+        return ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in self.as_dict().items())
 
     def replace(self, **changes: float) -> Parameters:
         if "lambda" in changes:

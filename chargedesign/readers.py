@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 
 #: largest scene (TOML) file read, bytes
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -43,7 +44,7 @@ _TOML_SKIP = re.compile(
 
 
 def _mib(n: int) -> str:
-    return f"{n / (1024 * 1024):g} MiB"
+    return f"{fmt(n / (1024 * 1024), PLAIN)} MiB"
 
 
 def check_input_file(path: str | os.PathLike[str], what: str, limit: int = MAX_DATA_BYTES) -> Path:

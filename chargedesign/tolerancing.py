@@ -43,6 +43,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.errors import InputError
+from chargedesign.formatting import AGREEMENT, ERROR, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
 from chargedesign.physical.induced import induced_energy
@@ -154,7 +155,7 @@ class ToleranceReport(Result):
             return "no element affects mu, V or the inertia"
         return (
             f"{d['element']} dominates: place it within ±{format_length(d['position_tol_m_min'])} "
-            f"to keep the relative error of {d['binding']} below {self.target:.0e}"
+            f"to keep the relative error of {d['binding']} below {fmt(self.target, ORDER_SCI)}"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -186,7 +187,7 @@ class ToleranceReport(Result):
         lines.append(
             f"{'element':<12} {'position tol':>13} {'binding':>8} {'value tol':>10}  "
             "(first order, worst direction; target "
-            f"{self.target:.0e})"
+            f"{fmt(self.target, ORDER_SCI)})"
         )
         for e in self.elements[:20]:
             lines.append(
@@ -221,7 +222,7 @@ def _jsonable(value: Any) -> Any:
 
 
 def _percent(x: float) -> str:
-    return "any" if not math.isfinite(x) else f"{100 * x:.3g} %"
+    return "any" if not math.isfinite(x) else f"{fmt(100 * x)} %"
 
 
 def _safe_div(a: float, b: np.ndarray) -> np.ndarray:
@@ -361,8 +362,8 @@ class Spread:
 
     def __str__(self) -> str:
         if self.relative:
-            return f"{100 * self.value:g}%"
-        return f"{self.value:g}"
+            return f"{fmt(100 * self.value, PLAIN)}%"
+        return f"{fmt(self.value, PLAIN)}"
 
     def scaled(self, factor: float) -> Spread:
         return Spread(self.value * factor, self.relative)
@@ -832,20 +833,24 @@ class MonteCarloResult(Result):
         lines.append(f"{'quantity':<9} {'MC median':>10} {'MC p90':>10} {'linear p90':>10}")
         for q, v in self.errors.items():
             mc, lin = _quantiles(v["monte_carlo"]), _quantiles(v["linear"])
-            lines.append(f"{q:<9} {mc['median']:>10.3e} {mc['p90']:>10.3e} {lin['p90']:>10.3e}")
+            lines.append(
+                f"{q:<9} {fmt(mc['median'], ERROR):>10} {fmt(mc['p90'], ERROR):>10}"
+                f" {fmt(lin['p90'], ERROR):>10}"
+            )
         lines.append("")
         if not self.drift_mc.size:  # --no-simulate: no drift was computed, say so (no nan)
             lines.append("I4 drift: not simulated (--no-simulate)")
             return "\n".join(lines)
         lines.append(
-            f"I4 relative drift to t = {self.t_end:g} s (median over bodies; nominal body "
-            f"{self.nominal_drift:.2e}):"
+            f"I4 relative drift to t = {fmt(self.t_end, PLAIN)} s (median over bodies; nominal body"
+            " "
+            f"{fmt(self.nominal_drift, AGREEMENT)}):"
         )
         lines.append(f"{'level':>8} {'Monte Carlo':>12} {'linear':>12}")
         for i, level in enumerate(self.levels):
             lines.append(
-                f"{level:>8.3g} {np.median(self.drift_mc[i]):>12.3e} "
-                f"{np.median(self.drift_linear[i]):>12.3e}"
+                f"{fmt(level):>8} {fmt(np.median(self.drift_mc[i]), ERROR):>12} "
+                f"{fmt(np.median(self.drift_linear[i]), ERROR):>12}"
             )
         return "\n".join(lines)
 
@@ -1079,7 +1084,7 @@ def plot_drift(result: MonteCarloResult, ax: Any = None) -> Any:
     ax.loglog(x, lin_med, "s--", label="linear response (median)")
     if result.nominal_drift > 0.0:
         ax.axhline(result.nominal_drift, color="gray", lw=0.8, ls=":", label="nominal body")
-    ax.set_ylabel(f"I4 relative drift to t = {result.t_end:g} s")
+    ax.set_ylabel(f"I4 relative drift to t = {fmt(result.t_end, PLAIN)} s")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     return ax
@@ -1240,10 +1245,10 @@ class MaterialUncertainty(Result):
         metrology = SUSCEPTIBILITY_METROLOGY
         reach = "within" if self.chi_needed >= metrology else "beyond"
         return (
-            f"the susceptibilities must be known to {self.chi_needed:.2g} (relative, one "
+            f"the susceptibilities must be known to {fmt(self.chi_needed, ROUGH)} (relative, one "
             f"standard deviation) for the induced parasitic to stay below the designed torques "
-            f"in 90 % of the batches ({self.chi_negligible:.2g} for it to be negligible); "
-            f"susceptibility metrology reaches about {metrology:.0e} (calibrated ac "
+            f"in 90 % of the batches ({fmt(self.chi_negligible, ROUGH)} for it to be negligible); "
+            f"susceptibility metrology reaches about {fmt(metrology, ORDER_SCI)} (calibrated ac "
             f"susceptometers, Chen & Skumryev 2010; SQUID magnetometers at percent level): "
             f"{reach} reach"
         )
@@ -1281,15 +1286,15 @@ class MaterialUncertainty(Result):
         mc, lin = _quantiles(self.monte_carlo), _quantiles(self.linear)
         lines = [
             "Material properties (errors at one standard deviation, one draw per material: "
-            + ", ".join(f"{k} {v:g}" for k, v in self.errors.to_dict().items())
+            + ", ".join(f"{k} {fmt(v, PLAIN)}" for k, v in self.errors.to_dict().items())
             + f"; {len(self.monte_carlo)} bodies):",
             f"induced-magnetisation parasitic over the designed torques: median "
-            f"{mc['median']:.3g}, p90 {mc['p90']:.3g} (Monte Carlo, field at each part); "
-            f"median {lin['median']:.3g}, p90 {lin['p90']:.3g} (first order); the two agree "
-            f"to {self.agreement:.1e}; the design as it is: {self.nominal:.3g}",
+            f"{fmt(mc['median'])}, p90 {fmt(mc['p90'])} (Monte Carlo, field at each part); "
+            f"median {fmt(lin['median'])}, p90 {fmt(lin['p90'])} (first order); the two agree "
+            f"to {fmt(self.agreement, FLOOR)}; the design as it is: {fmt(self.nominal)}",
             "per material, for a relative error of 1 in chi v: "
             + ", ".join(
-                f"{m} {s:.3g}" for m, s in zip(self.materials, self.sensitivity, strict=True)
+                f"{m} {fmt(s)}" for m, s in zip(self.materials, self.sensitivity, strict=True)
             ),
             "verdict: " + self.verdict(),
         ]

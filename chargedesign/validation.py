@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
 from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
 
@@ -193,7 +194,11 @@ def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str =
 
 
 def range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
-    low = f"0 or {lo:g} <= |x| <= {hi:g}" if lo > 0 else f"|x| <= {hi:g}"
+    low = (
+        f"0 or {fmt(lo, PLAIN)} <= |x| <= {fmt(hi, PLAIN)}"
+        if lo > 0
+        else f"|x| <= {fmt(hi, PLAIN)}"
+    )
     return InputError(
         f"{name}: {_describe(value)} is outside the supported range ({low}); {_RESCALE}"
     )
@@ -425,7 +430,8 @@ def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
     n = parameters.get("n", 0.0) if isinstance(parameters, dict) else 0.0
     if _is_real_scalar(n) and not math.isclose(rate, float(n), rel_tol=1e-12, abs_tol=0.0):
         raise InputError(
-            f"{where}.rate: {rate:g} differs from parameters.n = {float(n):g}; the rate is the "
+            f"{where}.rate: {fmt(rate, PLAIN)} differs from parameters.n = {fmt(float(n), PLAIN)};"
+            " the rate is the "
             "theorem's n (the turning axes' rate for a frame body): give the same number"
         )
 
@@ -444,8 +450,9 @@ def check_run_caps(
             continue
         if t_end / value > MAX_STEPS:
             raise InputError(
-                f"simulation.{name}: t_end / {name} = {t_end / value:.3g} steps exceeds the cap "
-                f"of {MAX_STEPS:g} (chargedesign.limits.MAX_STEPS); give a larger {name} or a "
+                f"simulation.{name}: t_end / {name} = {fmt(t_end / value)} steps exceeds the cap "
+                f"of {fmt(MAX_STEPS, PLAIN)} (chargedesign.limits.MAX_STEPS); give a larger {name}"
+                " or a "
                 "shorter t_end"
             )
 
@@ -494,8 +501,9 @@ def check_periods(
     if periods > cap:
         how = f"{raise_with} raises the cap" if raise_with else f"give a shorter {option}"
         raise InputError(
-            f"{option}: t_end = {t_end:g} s is {periods:.3g} periods of the body's fastest rate, "
-            f"past the cap of {cap:g} (chargedesign.limits.MAX_PERIODS); {how}"
+            f"{option}: t_end = {fmt(t_end, PLAIN)} s is {fmt(periods)} periods of the body's"
+            " fastest rate, "
+            f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS); {how}"
         )
     return periods
 
@@ -509,7 +517,7 @@ def check_error_spreads(model: Any, prefix: str = "--") -> None:
         if spread.relative and spread.value > 1.0:
             raise InputError(
                 f"{prefix}{name}: expected a relative error of at most 100%, got "
-                f"{100 * spread.value:g}%"
+                f"{fmt(100 * spread.value, PLAIN)}%"
             )
         if not spread.relative:
             check_input_number(spread.value, f"{prefix}{name}")
@@ -557,14 +565,17 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
             continue
         if spread.relative and drawn > 1.0:
             raise InputError(
-                f"{prefix}{name}: {100 * spread.value:g}% times the largest level {top:g} is "
-                f"{100 * drawn:g}%, past 100 %: give a smaller error or smaller --levels"
+                f"{prefix}{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level"
+                f" {fmt(top, PLAIN)} is "
+                f"{fmt(100 * drawn, PLAIN)}%, past 100 %: give a smaller error or smaller --levels"
             )
         if not spread.relative and drawn > size:
             what = "the body's extent" if name == "position" else f"the largest {name}"
             raise InputError(
-                f"{prefix}{name}: {spread.value:g} {units[name]} times the largest level {top:g} "
-                f"is {drawn:g} {units[name]}, more than {what} ({size:g} {units[name]}): the "
+                f"{prefix}{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level"
+                f" {fmt(top, PLAIN)} "
+                f"is {fmt(drawn, PLAIN)} {units[name]}, more than {what} ({fmt(size, PLAIN)}"
+                f" {units[name]}): the "
                 "perturbed bodies would not be this design; give a smaller error or smaller "
                 "--levels"
             )

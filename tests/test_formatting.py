@@ -8,6 +8,7 @@ from chargedesign.formatting import (
     CELL,
     EXACT,
     FIGURE,
+    FULL,
     KINDS,
     ORDER,
     ORDER_SCI,
@@ -32,6 +33,8 @@ from chargedesign.results import format_length
         (1234567.0, PLAIN, "1.23457e+06"),
         (1 / 3, CELL, "0.333333"),
         (0.1, EXACT, "0.10000000000000001"),
+        (0.1 + 0.2, FULL, "0.3"),
+        (1 / 3, FULL, "0.333333333333"),
         (3, FIGURE, "3"),
     ],
 )

@@ -56,10 +56,14 @@ def cases(quick: bool) -> list[tuple[str, list[str]]]:
         ("design_small", ["design", small, "--out", "{out}/d"]),
         ("check_unit", ["design", unit, "--out", "{out}/d", "&&", "check", "{out}/d/design.json"]),
         ("frontier_small", ["frontier", small, "--json"]),
-        ("simulate_kowalevski", ["simulate", str(ROOT / "examples/simulate_kowalevski.toml"),
-                                 "--out", "{out}/s"]),
-        ("simulate_pendulum", ["simulate", str(ROOT / "examples/simulate_pendulum.toml"),
-                               "--out", "{out}/s"]),
+        (
+            "simulate_kowalevski",
+            ["simulate", str(ROOT / "examples/simulate_kowalevski.toml"), "--out", "{out}/s"],
+        ),
+        (
+            "simulate_pendulum",
+            ["simulate", str(ROOT / "examples/simulate_pendulum.toml"), "--out", "{out}/s"],
+        ),
         ("schema_design", ["schema", "design"]),
         ("schema_scene", ["schema", "scene"]),
         ("bad_no_scene", ["design", "{out}/missing.toml", "--out", "{out}/d"]),
@@ -69,14 +73,43 @@ def cases(quick: bool) -> list[tuple[str, list[str]]]:
     if not quick:
         listed += [
             ("design_default", ["design", "--out", "{out}/d"]),
-            ("design_yehia2003", ["design", str(ROOT / "examples/scenes/yehia2003.toml"),
-                                  "--out", "{out}/d"]),
-            ("design_thin_slab", ["design", str(ROOT / "examples/scenes/thin_slab.toml"),
-                                  "--out", "{out}/d"]),
-            ("tolerance_unit", ["design", unit, "--out", "{out}/d", "&&", "tolerance",
-                                "{out}/d/design.json", "--no-simulate"]),
-            ("export_unit", ["design", unit, "--out", "{out}/d", "&&", "export",
-                             "{out}/d/design.json", "--format", "csv", "--out", "{out}/e.csv"]),
+            (
+                "design_yehia2003",
+                ["design", str(ROOT / "examples/scenes/yehia2003.toml"), "--out", "{out}/d"],
+            ),
+            (
+                "design_thin_slab",
+                ["design", str(ROOT / "examples/scenes/thin_slab.toml"), "--out", "{out}/d"],
+            ),
+            (
+                "tolerance_unit",
+                [
+                    "design",
+                    unit,
+                    "--out",
+                    "{out}/d",
+                    "&&",
+                    "tolerance",
+                    "{out}/d/design.json",
+                    "--no-simulate",
+                ],
+            ),
+            (
+                "export_unit",
+                [
+                    "design",
+                    unit,
+                    "--out",
+                    "{out}/d",
+                    "&&",
+                    "export",
+                    "{out}/d/design.json",
+                    "--format",
+                    "csv",
+                    "--out",
+                    "{out}/e.csv",
+                ],
+            ),
         ]
     return listed
 
@@ -95,7 +128,11 @@ def _run(argv: list[str], folder: Path) -> dict[str, Any]:
     env = {**os.environ, "MPLBACKEND": "Agg", "PYVISTA_OFF_SCREEN": "true"}
     for step in steps:
         proc = subprocess.run(
-            [str(exe), *step], cwd=folder, capture_output=True, text=True, timeout=TIMEOUT_S,
+            [str(exe), *step],
+            cwd=folder,
+            capture_output=True,
+            text=True,
+            timeout=TIMEOUT_S,
             env=env,
         )
         # the case's own folder differs between snapshots: name it {out} in what was printed

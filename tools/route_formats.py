@@ -29,6 +29,7 @@ SPECS = {
     ".0e": "ORDER_SCI",
     "g": "PLAIN",
     ".6g": "CELL",
+    ".12g": "FULL",
     ".17g": "EXACT",
     ".3e": "ERROR",
     ".1e": "FLOOR",

@@ -29,6 +29,7 @@ import numpy as np
 from chargedesign.airbearing.dynamics import Plant, advance, cross, motion_rate
 from chargedesign.airbearing.options import STANDARD_GRAVITY
 from chargedesign.errors import InputError, SolverError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 
@@ -187,8 +188,10 @@ def run_loop(
         for k in range(n_samples + 1):
             if not np.isfinite(x).all() or np.abs(x[:, 0:3]).max() > DIVERGED * rate:
                 raise SolverError(
-                    f"testbed: the closed loop diverged by t = {k * T:.4g} s (|omega| beyond "
-                    f"{DIVERGED:g} times the motion's rate): noise, delay or disturbances too "
+                    f"testbed: the closed loop diverged by t = {fmt(k * T, PRECISE)} s (|omega|"
+                    " beyond "
+                    f"{fmt(DIVERGED, PLAIN)} times the motion's rate): noise, delay or disturbances"
+                    " too "
                     "large for this loop"
                 )
             states[:, k] = x[:, 0:6]

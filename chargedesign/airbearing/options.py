@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.validation import (
     as_array,
@@ -209,18 +210,19 @@ class TestbedOptions:
         if self.delay_s >= 1.0 / self.rate_Hz:
             raise InputError(
                 f"{where}.delay_s: expected a delay shorter than one control period "
-                f"(1/rate_Hz = {1.0 / self.rate_Hz:.6g} s), got {self.delay_s!r}"
+                f"(1/rate_Hz = {fmt(1.0 / self.rate_Hz, CELL)} s), got {self.delay_s!r}"
             )
         if self.platform_mass_kg > self.bearing_capacity_kg:
             raise InputError(
-                f"{where}.platform_mass_kg: the platform ({self.platform_mass_kg:g} kg) is "
+                f"{where}.platform_mass_kg: the platform ({fmt(self.platform_mass_kg, PLAIN)} kg)"
+                " is "
                 f"heavier than the bearing's rating (bearing_capacity_kg = "
-                f"{self.bearing_capacity_kg:g} kg)"
+                f"{fmt(self.bearing_capacity_kg, PLAIN)} kg)"
             )
         if self.bearing_radius_m >= self.platform_radius_m:
             raise InputError(
                 f"{where}.bearing_radius_m: expected less than platform_radius_m "
-                f"({self.platform_radius_m:g} m), got {self.bearing_radius_m!r}"
+                f"({fmt(self.platform_radius_m, PLAIN)} m), got {self.bearing_radius_m!r}"
             )
         self._check_work(where)
 
@@ -235,14 +237,16 @@ class TestbedOptions:
         fastest = max(self.rate_Hz, *self.requirement_rates_Hz)
         if self.t_end_s * fastest > MAX_SAMPLES:
             raise InputError(
-                f"{where}.t_end_s: {self.t_end_s:g} s at {fastest:g} Hz is more than "
+                f"{where}.t_end_s: {fmt(self.t_end_s, PLAIN)} s at {fmt(fastest, PLAIN)} Hz is more"
+                " than "
                 f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
             )
         stored = max(self.seeds, len(GYRO_GRADES) * self.requirement_seeds) * self.t_end_s
         if stored * max(self.rate_Hz, *self.requirement_rates_Hz) > MAX_STORED_SAMPLES:
             raise InputError(
                 f"{where}.seeds: {self.seeds} seeds ({self.requirement_seeds} per requirement "
-                f"setting) over {self.t_end_s:g} s keep more than {MAX_STORED_SAMPLES} samples; "
+                f"setting) over {fmt(self.t_end_s, PLAIN)} s keep more than {MAX_STORED_SAMPLES}"
+                " samples; "
                 "ask for fewer seeds, a shorter t_end_s or lower rates"
             )
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.formatting import PLAIN, fmt
 
 #: the upper triangle of a symmetric 3x3 matrix (row, column)
 _UPPER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
@@ -180,7 +181,8 @@ def _least_mass(rows: np.ndarray, target: np.ndarray, platform: Platform, C: flo
     if lp.status == 2:
         raise InfeasibleError(
             f"testbed: no ballast inside the platform's envelope (radius "
-            f"{platform.radius_m:g} m) brings the inertia to A = B = 2C = {2 * C:g} kg m^2 "
+            f"{fmt(platform.radius_m, PLAIN)} m) brings the inertia to A = B = 2C ="
+            f" {fmt(2 * C, PLAIN)} kg m^2 "
             "with the centre at O; give a larger C, a larger platform_radius_m or a lighter, "
             "smaller platform"
         )
@@ -218,8 +220,8 @@ def _check_fit(ballast: Ballast, outer: float, inner: float) -> None:
     if out.size:
         i = int(out[0])
         raise InfeasibleError(
-            f"testbed: ballast part {i} ({ballast.masses[i]:.3g} kg, radius "
-            f"{ballast.radii[i] * 1e3:.3g} mm) does not fit between the bearing's ball and the "
+            f"testbed: ballast part {i} ({fmt(ballast.masses[i])} kg, radius "
+            f"{fmt(ballast.radii[i] * 1e3)} mm) does not fit between the bearing's ball and the "
             "envelope; give a denser ballast_material, a larger platform_radius_m or a smaller "
             "ballast_spacing_m"
         )

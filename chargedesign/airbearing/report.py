@@ -20,6 +20,7 @@ import numpy as np
 from chargedesign.airbearing.options import SOURCES
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
@@ -68,7 +69,7 @@ def plot_requirements(result: TestbedResult, path: Path) -> None:
         ax.loglog(req.rates_Hz, np.maximum(req.drift[i], 1e-17), "o-", label=f"{grade} gyro")
     ax.axhline(req.target, color="k", ls="--", lw=1, label="target")
     ax.set_xlabel("control rate (Hz)")
-    ax.set_ylabel(f"I4 relative drift over {result.options.t_end_s:g} s (worst seed)")
+    ax.set_ylabel(f"I4 relative drift over {fmt(result.options.t_end_s, PLAIN)} s (worst seed)")
     ax.set_title(f"command: {result.options.command}")
     ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
@@ -202,7 +203,7 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
 
 def _platform_section(result: TestbedResult) -> list[str]:
     o, tol, C = result.options, result.tolerances, result.parameters.C
-    diagonal = ", ".join(f"{x:.12g}" for x in np.diag(result.inertia_total))
+    diagonal = ", ".join(f"{fmt(x, FULL)}" for x in np.diag(result.inertia_total))
     products = min(tol["inertia"][f"product_{k}_kg_m2"] for k in ("xy", "xz", "yz"))
     place = tol["ballast_placement_m"]
     tightest = int(np.argmin(place["binding"]))
@@ -214,14 +215,17 @@ def _platform_section(result: TestbedResult) -> list[str]:
     return [
         "## Platform and ballast",
         "",
-        f"- platform: {o.platform_mass_kg:g} kg, envelope radius {o.platform_radius_m:g} m; "
-        f"ballast {result.ballast.total_mass:.4g} kg of {result.ballast.material} in "
+        f"- platform: {fmt(o.platform_mass_kg, PLAIN)} kg, envelope radius"
+        f" {fmt(o.platform_radius_m, PLAIN)} m; "
+        f"ballast {fmt(result.ballast.total_mass, PRECISE)} kg of {result.ballast.material} in "
         f"{len(result.ballast.masses)} spheres;",
-        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C = {2 * C:g}, "
-        f"C = {C:g}); centre of mass "
+        f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C ="
+        f" {fmt(2 * C, PLAIN)}, "
+        f"C = {fmt(C, PLAIN)}); centre of mass "
         f"{format_length(float(np.linalg.norm(result.com_total)))} from O;",
-        f"- for I4 within {o.target_I4_drift:g} over {o.t_end_s:g} s: A - B within "
-        f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2, products within {products:.3g} "
+        f"- for I4 within {fmt(o.target_I4_drift, PLAIN)} over {fmt(o.t_end_s, PLAIN)} s: A - B"
+        " within "
+        f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2, products within {fmt(products)} "
         f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; the tightest "
         f"part (number {tightest}) placed within "
         f"{format_length(float(place['binding'][tightest]))} ({why} binds).",
@@ -235,12 +239,13 @@ def _wheel_section(result: TestbedResult) -> list[str]:
     return [
         "## Wheels",
         "",
-        f"- {result.options.wheels} array; the motion needs {needs['torque_N_m']:.4g} N m and "
-        f"{needs['momentum_N_m_s']:.4g} N m s on one wheel; |h| stays below "
-        f"|L| + max |J omega| = {needs['momentum_bound_N_m_s']:.4g} N m s "
-        f"(reached {needs['momentum_norm_N_m_s']:.4g});",
-        f"- the nominal runs used at most {r['wheel_torque_max_N_m']:.4g} N m and "
-        f"{r['wheel_momentum_max_N_m_s']:.4g} N m s.",
+        f"- {result.options.wheels} array; the motion needs {fmt(needs['torque_N_m'], PRECISE)} N m"
+        " and "
+        f"{fmt(needs['momentum_N_m_s'], PRECISE)} N m s on one wheel; |h| stays below "
+        f"|L| + max |J omega| = {fmt(needs['momentum_bound_N_m_s'], PRECISE)} N m s "
+        f"(reached {fmt(needs['momentum_norm_N_m_s'], PRECISE)});",
+        f"- the nominal runs used at most {fmt(r['wheel_torque_max_N_m'], PRECISE)} N m and "
+        f"{fmt(r['wheel_momentum_max_N_m_s'], PRECISE)} N m s.",
         "",
     ]
 
@@ -251,7 +256,7 @@ def _loop_section(result: TestbedResult) -> list[str]:
     lines = [
         "## The loop",
         "",
-        f"Over {result.options.t_end_s:g} s, {result.turns:.3g} turns of the motion "
+        f"Over {fmt(result.options.t_end_s, PLAIN)} s, {fmt(result.turns)} turns of the motion "
         "(t_end |omega(0)| / 2 pi):",
         "",
         "| run | I4 relative drift | per turn | I3 max (J s) | per turn |",
@@ -259,19 +264,19 @@ def _loop_section(result: TestbedResult) -> list[str]:
     ]
     for name, run in result.runs.items():
         drift = (
-            f"median {np.median(run.I4_drift):.3g}, p95 {np.percentile(run.I4_drift, 95):.3g}"
+            f"median {fmt(np.median(run.I4_drift))}, p95 {fmt(np.percentile(run.I4_drift, 95))}"
             if len(run.I4_drift) > 1
-            else f"{run.I4_drift[0]:.3g}"
+            else f"{fmt(run.I4_drift[0])}"
         )
         i3 = float(run.I3_max.max())
         per_turn = float(np.median(run.I4_drift)) / turns
-        lines.append(f"| {name} | {drift} | {per_turn:.3g} | {i3:.3g} | {i3 / turns:.3g} |")
+        lines.append(f"| {name} | {drift} | {fmt(per_turn)} | {fmt(i3)} | {fmt(i3 / turns)} |")
     return [
         *lines,
         "",
-        f"Drag alone would drift I4 by {tol['drag_drift']:.3g}, the imbalance by "
-        f"{tol['imbalance_drift']:.3g} (linear response along the planned motion): the target "
-        f"needs the drag below {tol['drag_max_N_m_s']:.3g} N m s and the centre of mass within "
+        f"Drag alone would drift I4 by {fmt(tol['drag_drift'])}, the imbalance by "
+        f"{fmt(tol['imbalance_drift'])} (linear response along the planned motion): the target "
+        f"needs the drag below {fmt(tol['drag_max_N_m_s'])} N m s and the centre of mass within "
         f"{format_length(tol['imbalance_m'])} of O (each alone using the whole target).",
         "",
     ]
@@ -286,15 +291,15 @@ def _requirements_section(result: TestbedResult) -> list[str]:
         "",
         "I4 drift (worst of the seeds) against the control rate, command "
         f"`{result.options.command}`, without drag and imbalance (above); target "
-        f"{req.target:g}:",
+        f"{fmt(req.target, PLAIN)}:",
         "",
-        "| gyro | " + " | ".join(f"{x:g} Hz" for x in req.rates_Hz) + " | lowest rate |",
+        "| gyro | " + " | ".join(f"{fmt(x, PLAIN)} Hz" for x in req.rates_Hz) + " | lowest rate |",
         "| --- " * (len(req.rates_Hz) + 2) + "|",
     ]
     for i, g in enumerate(req.grades):
         low = req.lowest_rate_Hz[g]
-        cells = " | ".join(f"{x:.2g}" for x in req.drift[i])
-        lines.append(f"| {g} | {cells} | {'-' if low is None else f'{low:g} Hz'} |")
+        cells = " | ".join(f"{fmt(x, ROUGH)}" for x in req.drift[i])
+        lines.append(f"| {g} | {cells} | {'-' if low is None else f'{fmt(low, PLAIN)} Hz'} |")
     return [*lines, ""]
 
 

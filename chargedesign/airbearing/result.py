@@ -12,6 +12,7 @@ from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
 from chargedesign.airbearing.wheels import WheelNeeds
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, format_length, json_ready
 
@@ -157,33 +158,38 @@ class TestbedResult(Result):
         torque, momentum, _ = self.wheel_limits
         lines = [
             f"air-bearing testbed for {self.parameters}",
-            f"platform {self.platform.mass_kg:g} kg + ballast {self.ballast.total_mass:.4g} kg "
+            f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast"
+            f" {fmt(self.ballast.total_mass, PRECISE)} kg "
             f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
-            f"{self.total_mass:.4g} kg (bearing rated {o.bearing_capacity_kg:g} kg)",
-            f"wheels ({o.wheels}): {torque:.4g} N m, {momentum:.4g} N m s each (the motion needs "
-            f"{self.needs.torque:.4g} N m, {self.needs.momentum:.4g} N m s; momentum bound "
-            f"{self.needs.momentum_bound:.4g} N m s)",
-            f"loop {o.rate_Hz:g} Hz, delay {o.delay_s:g} s, command {o.command}; I4 relative drift "
-            f"over {o.t_end_s:g} s ({self.turns:.3g} turns of the motion):",
+            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)}"
+            " kg)",
+            f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each"
+            " (the motion needs "
+            f"{fmt(self.needs.torque, PRECISE)} N m, {fmt(self.needs.momentum, PRECISE)} N m s;"
+            " momentum bound "
+            f"{fmt(self.needs.momentum_bound, PRECISE)} N m s)",
+            f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
+            f" {o.command}; I4 relative drift "
+            f"over {fmt(o.t_end_s, PLAIN)} s ({fmt(self.turns)} turns of the motion):",
         ]
         for name, run in self.runs.items():
             d = run.I4_drift
             spread = (
-                f"median {np.median(d):.3g}, p95 {np.percentile(d, 95):.3g} ({len(d)} seeds)"
+                f"median {fmt(np.median(d))}, p95 {fmt(np.percentile(d, 95))} ({len(d)} seeds)"
                 if len(d) > 1
-                else f"{d[0]:.3g}"
+                else f"{fmt(d[0])}"
             )
             lines.append(f"  {name}: {spread}")
         tol = self.tolerances
         lines.append(
-            f"for I4 within {o.target_I4_drift:g}: centre of mass within "
+            f"for I4 within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
             f"{format_length(tol['imbalance_m'])} of O, bearing drag below "
-            f"{tol['drag_max_N_m_s']:.3g} N m s (now {o.drag:.3g}), A - B within "
-            f"{tol['inertia']['A_minus_B_kg_m2']:.3g} kg m^2"
+            f"{fmt(tol['drag_max_N_m_s'])} N m s (now {fmt(o.drag)}), A - B within "
+            f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2"
         )
         if self.requirements is not None:
             for grade, rate in self.requirements.lowest_rate_Hz.items():
-                need = f"{rate:g} Hz" if rate is not None else "none of the rates tried"
+                need = f"{fmt(rate, PLAIN)} Hz" if rate is not None else "none of the rates tried"
                 lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
         return "\n".join(lines) + "\n"
 

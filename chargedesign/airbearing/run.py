@@ -25,6 +25,7 @@ from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.wheels import wheel_axes, wheel_limits, wheel_needs
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 
 
@@ -75,8 +76,9 @@ def build_testbed(
     total_mass = platform.mass_kg + ballast.total_mass
     if total_mass > opts.bearing_capacity_kg:
         raise InputError(
-            f"testbed.bearing_capacity_kg: the platform with its ballast ({total_mass:.4g} kg) "
-            f"is heavier than the bearing's rating ({opts.bearing_capacity_kg:g} kg)"
+            "testbed.bearing_capacity_kg: the platform with its ballast"
+            f" ({fmt(total_mass, PRECISE)} kg) "
+            f"is heavier than the bearing's rating ({fmt(opts.bearing_capacity_kg, PLAIN)} kg)"
         )
     inertia = total_inertia(platform, ballast)
     target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
@@ -86,7 +88,10 @@ def build_testbed(
     needs = wheel_needs(plant, x0, axes, opts.t_end_s)
     limits = wheel_limits(needs, opts)
     seconds["platform_and_wheels"] = time.perf_counter() - t0
-    say(f"ballast {ballast.total_mass:.4g} kg in {len(ballast.masses)} parts; wheels sized")
+    say(
+        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels"
+        " sized"
+    )
 
     sens = sensitivity(plant, needs.times, needs.states, total_mass)
     tolerances = _tolerances(sens, ballast, plant, opts, total_mass)
@@ -104,12 +109,13 @@ def build_testbed(
             plant, x0, _with(base, command=command), keep_states=command == opts.command
         )
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
-        say(f"{command} noise-free: I4 drift {runs[f'{command}_noise_free'].I4_drift[0]:.3g}")
+        drift = runs[f"{command}_noise_free"].I4_drift[0]
+        say(f"{command} noise-free: I4 drift {fmt(drift)}")
     nominal = _nominal(base, opts, total_mass, limits[2])
     t0 = time.perf_counter()
     runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
     seconds["nominal"] = time.perf_counter() - t0
-    say(f"nominal ({opts.seeds} seeds): median I4 drift {np.median(runs['nominal'].I4_drift):.3g}")
+    say(f"nominal ({opts.seeds} seeds): median I4 drift {fmt(np.median(runs['nominal'].I4_drift))}")
     reqs = None
     if with_requirements:
         t0 = time.perf_counter()

@@ -17,6 +17,7 @@ from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import continuous_loop
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 
 
 def wheel_axes(kind: str, pyramid_angle_deg: float) -> np.ndarray:
@@ -92,16 +93,21 @@ def wheel_limits(needs: WheelNeeds, opts: TestbedOptions) -> tuple[float, float,
     momentum = opts.max_momentum_N_m_s
     if torque is not None and torque < needs.torque:
         raise InfeasibleError(
-            f"testbed.max_torque_N_m: the wheels ({torque:.4g} N m) are too weak for the motion, "
-            f"which needs {needs.torque:.4g} N m on one wheel (from initial_p, initial_q, "
-            f"initial_gamma over t_end_s = {needs.times[-1]:g} s); give stronger wheels or a "
+            f"testbed.max_torque_N_m: the wheels ({fmt(torque, PRECISE)} N m) are too weak for the"
+            " motion, "
+            f"which needs {fmt(needs.torque, PRECISE)} N m on one wheel (from initial_p, initial_q,"
+            " "
+            f"initial_gamma over t_end_s = {fmt(needs.times[-1], PLAIN)} s); give stronger wheels"
+            " or a "
             "slower motion"
         )
     if momentum is not None and momentum < needs.momentum:
         raise InfeasibleError(
-            f"testbed.max_momentum_N_m_s: the wheels ({momentum:.4g} N m s) store too little "
-            f"for the motion, which needs {needs.momentum:.4g} N m s on one wheel (bound "
-            f"{needs.momentum_bound:.4g} N m s from the conserved angular momentum); give larger "
+            f"testbed.max_momentum_N_m_s: the wheels ({fmt(momentum, PRECISE)} N m s) store too"
+            " little "
+            f"for the motion, which needs {fmt(needs.momentum, PRECISE)} N m s on one wheel (bound "
+            f"{fmt(needs.momentum_bound, PRECISE)} N m s from the conserved angular momentum); give"
+            " larger "
             "wheels or a slower motion"
         )
     torque = torque if torque is not None else opts.wheel_margin * needs.torque

@@ -11,6 +11,7 @@ from __future__ import annotations
 import time
 
 from chargedesign.bench.common import BenchTable
+from chargedesign.formatting import PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.chambers import LevelSampling
 from chargedesign.topology.compute import DiagramOptions
@@ -38,7 +39,7 @@ def run(quick: bool = False) -> list[BenchTable]:
             f"{len(diagram.branches)} branches, {sum(len(b.hk) for b in diagram.branches)} "
             f"points, {len(raw.vertices)} rank-zero points, {len(raw.chambers)} chamber "
             f"samples, tori per chamber {sorted({c.tori for c in raw.chambers})}",
-            f"energy range {raw.h_range[0]:.4g} .. {raw.h_range[1]:.4g} J; "
+            f"energy range {fmt(raw.h_range[0], PRECISE)} .. {fmt(raw.h_range[1], PRECISE)} J; "
             f"{raw.seeds_found} seeds kept" + (" (quick options)" if quick else ""),
             "goal: total under 60 s; 'equations' includes compiling the exact derivatives",
         ],

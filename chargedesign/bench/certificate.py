@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.formatting import fmt
 from chargedesign.model import evaluators as ev
 from chargedesign.params import Parameters
 
@@ -127,7 +128,7 @@ def _certificate_table(quick: bool) -> BenchTable:
         if case in simplify_cases:
             t_simp, reached_zero = _simplify_seconds(case, SIMPLIFY_CAP)
             row[4:7] = (
-                [f"> {SIMPLIFY_CAP:.0f}", f"> {SIMPLIFY_CAP / t_ring:.3g}", "no"]
+                [f"> {SIMPLIFY_CAP:.0f}", f"> {fmt(SIMPLIFY_CAP / t_ring)}", "no"]
                 if t_simp is None
                 else [t_simp, t_simp / t_ring, "yes" if reached_zero else "no"]
             )

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import fmt
 from chargedesign.params import Parameters
 from chargedesign.simulation.system import Body
 
@@ -25,14 +26,12 @@ class BenchTable:
     plot: dict[str, Any] | None = None
 
     def to_markdown(self) -> str:
-        def fmt(v: Any) -> str:
-            if isinstance(v, float):
-                return f"{v:.3g}"
-            return str(v)
+        def cell(v: Any) -> str:
+            return fmt(v) if isinstance(v, float) else str(v)
 
         lines = [f"### {self.title}", "", "| " + " | ".join(self.columns) + " |"]
         lines.append("|" + "---|" * len(self.columns))
-        lines += ["| " + " | ".join(fmt(v) for v in row) + " |" for row in self.rows]
+        lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in self.rows]
         lines += [""] + [f"- {n}" for n in self.notes]
         return "\n".join(lines) + "\n"
 

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
@@ -74,7 +75,8 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
     y0 = np.concatenate([result.omega[0], result.gamma[0]])
     base_s, base_drift, base_steps = _baseline(t_end, rtol, y0)
     table = BenchTable(
-        title=f"Reduced model over t = {t_end:g} s on I3 = 0 (DOP853, rtol = atol = {rtol:g})",
+        title=f"Reduced model over t = {fmt(t_end, PLAIN)} s on I3 = 0 (DOP853, rtol = atol ="
+        f" {fmt(rtol, PLAIN)})",
         columns=["right-hand side", "I4 rel drift", "steps", "seconds", "speed-up"],
         rows=[
             ["baseline: sympy.lambdify, no cse", base_drift, base_steps, base_s, 1.0],
@@ -105,7 +107,7 @@ def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> Be
         rows.append(
             [
                 "DOP853",
-                f"rtol {rtol:g}",
+                f"rtol {fmt(rtol, PLAIN)}",
                 s["I4_rel_drift"],
                 s["I1_rel_drift"],
                 s["I3_max"],
@@ -119,7 +121,7 @@ def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> Be
         rows.append(
             [
                 "gauss-legendre",
-                f"step {h:g}",
+                f"step {fmt(h, PLAIN)}",
                 s["I4_rel_drift"],
                 s["I1_rel_drift"],
                 s["I3_max"],
@@ -129,7 +131,7 @@ def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> Be
             ]
         )
     return BenchTable(
-        title=f"Tolerance vs drift vs time, theorem effect, t = {t_end:g} s",
+        title=f"Tolerance vs drift vs time, theorem effect, t = {fmt(t_end, PLAIN)} s",
         columns=[
             "method",
             "setting",
@@ -141,7 +143,7 @@ def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> Be
             "time ratio",
         ],
         rows=rows,
-        notes=[f"time ratio: against DOP853 at rtol {rtols[0]:g} (first row)."],
+        notes=[f"time ratio: against DOP853 at rtol {fmt(rtols[0], PLAIN)} (first row)."],
         plot={"x": "seconds", "y": ["I4 rel drift"], "logx": True, "logy": True},
     )
 
@@ -233,7 +235,7 @@ def _route_table(t_end: float) -> BenchTable:
     torque_diff = float(np.max(np.abs(t_red - t_dir))) / scale
     reference_diff = float(np.max(np.abs(t_ref - t_dir))) / scale
     return BenchTable(
-        title=f"Force routes for a 50-element body (t = {t_end:g} s, DOP853 rtol 1e-12)",
+        title=f"Force routes for a 50-element body (t = {fmt(t_end, PLAIN)} s, DOP853 rtol 1e-12)",
         columns=[
             "route",
             "us per evaluation",
@@ -250,9 +252,10 @@ def _route_table(t_end: float) -> BenchTable:
             "reduced route (first row).",
             "term by term: the direct route before its kernel (direct_terms per effect, space "
             "axes, checked field methods), the reference the kernel is tested against.",
-            f"torques at 100 random states: kernel vs reduced {torque_diff:.2g}, kernel vs term "
-            f"by term {reference_diff:.2g} (relative to the largest); final states of the "
-            f"kernel and reduced runs differ by {diff:.2g} (the motion amplifies rounding "
+            f"torques at 100 random states: kernel vs reduced {fmt(torque_diff, ROUGH)}, kernel vs"
+            " term "
+            f"by term {fmt(reference_diff, ROUGH)} (relative to the largest); final states of the "
+            f"kernel and reduced runs differ by {fmt(diff, ROUGH)} (the motion amplifies rounding "
             "differences).",
         ],
     )
@@ -311,7 +314,8 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     simulate_batch(PARAMS, states, **kw)
     batched = time.perf_counter() - t0
     return BenchTable(
-        title=f"{m} trajectories of the theorem model, t = {t_end:g} s, DOP853 rtol 1e-10",
+        title=f"{m} trajectories of the theorem model, t = {fmt(t_end, PLAIN)} s, DOP853 rtol"
+        " 1e-10",
         columns=["calls", "seconds", "speed-up"],
         rows=[
             [f"{m} separate calls", separate, 1.0],
@@ -353,9 +357,9 @@ def _accuracy_rows(source: Any, monitor: str, t_end: float, quick: bool) -> list
         ("taylor", "tol 1e-9", {"tol": 1e-9}),
     ]
     for rtol in [1e-8, 1e-12] if quick else [1e-8, 1e-10, 1e-12, 1e-13]:
-        settings.append(("DOP853", f"rtol {rtol:g}", {"rtol": rtol, "atol": rtol}))
+        settings.append(("DOP853", f"rtol {fmt(rtol, PLAIN)}", {"rtol": rtol, "atol": rtol}))
     for h in [0.05] if quick else [0.05, 0.02]:
-        settings.append(("gauss-legendre", f"step {h:g}", {"step": h}))
+        settings.append(("gauss-legendre", f"step {fmt(h, PLAIN)}", {"step": h}))
     rows: list[list[Any]] = []
     base = None
     for method, label, extra in settings:
@@ -405,7 +409,7 @@ def _accuracy_table(t_end: float, quick: bool) -> list[BenchTable]:
     ):
         out.append(
             BenchTable(
-                title=f"Accuracy against time, t = {t_end:g} s: {title}",
+                title=f"Accuracy against time, t = {fmt(t_end, PLAIN)} s: {title}",
                 columns=columns,
                 rows=_accuracy_rows(source, monitor, t_end, quick),
                 notes=[
@@ -450,15 +454,16 @@ def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
     )
     s = tay.summary()
     return BenchTable(
-        title=f"Ensembles: {m} trajectories of the theorem model to t = {t_end:g} s",
+        title=f"Ensembles: {m} trajectories of the theorem model to t = {fmt(t_end, PLAIN)} s",
         columns=["method", "trajectories", "seconds", "wall s", "ms per trajectory", "x slower"],
         rows=rows,
         notes=[
             "random omega in [-1, 1]^3 and gamma on the sphere; seconds: the integration "
             "(taylor: without the compile of a first run, reported below); wall s: the whole "
             "simulate_ensemble call, with the compile and the integrals of every trajectory.",
-            f"taylor: largest energy drift over the ensemble {s.get('energy_max_drift', 0):.2g}"
-            f" (compile {tay.compile_seconds:.2g} s).",
+            "taylor: largest energy drift over the ensemble"
+            f" {fmt(s.get('energy_max_drift', 0), ROUGH)}"
+            f" (compile {fmt(tay.compile_seconds, ROUGH)} s).",
         ],
     )
 

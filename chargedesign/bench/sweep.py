@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.bench.common import BenchTable
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 
 SCENE: dict[str, dict[str, Any]] = {
@@ -108,7 +109,8 @@ def run(quick: bool = False) -> list[BenchTable]:
             serial_per_point = min(serial_per_point, (time.perf_counter() - t0) / subset)
     t1 = serial_per_point * n_points
     table = BenchTable(
-        title=f"Sweep: {n_points} points of about {per_point:g} s on {workers} local workers",
+        title=f"Sweep: {n_points} points of about {fmt(per_point, PLAIN)} s on {workers} local"
+        " workers",
         columns=[
             "executor",
             "workers",
@@ -123,10 +125,12 @@ def run(quick: bool = False) -> list[BenchTable]:
             "peak RSS/worker MB",
         ],
         notes=[
-            f"points: chargedesign simulate of the theorem's reduced model, t_end = {t_end:.4g} s "
-            f"of motion (calibrated to about {per_point:g} s per point), a grid over parameters.n",
+            "points: chargedesign simulate of the theorem's reduced model, t_end ="
+            f" {fmt(t_end, PRECISE)} s "
+            f"of motion (calibrated to about {fmt(per_point, PLAIN)} s per point), a grid over"
+            " parameters.n",
             f"T1: {subset} of the points run serially in-process (best of 2 runs), "
-            f"{serial_per_point:.3g} s per point, scaled to all points (load avg before: "
+            f"{fmt(serial_per_point)} s per point, scaled to all points (load avg before: "
             f"{load_serial:.1f})",
             "busy fraction: the points' own seconds (timed inside the workers) over p x wall: "
             "the share of worker time spent in points, insensitive to other jobs on the machine "

@@ -26,6 +26,7 @@ from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_state, run_loop
 from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
 from chargedesign.bench.common import BenchTable
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
 
 #: examples/scenes/unit_scale.toml's parameters
@@ -62,7 +63,8 @@ def zoh_against_predictive(quick: bool) -> BenchTable:
         c: math.log(drift[c, rates[0]] / drift[c, rates[1]]) / ratio for c in ("zoh", "predictive")
     }
     return BenchTable(
-        title=f"Testbed loop: ZOH against predictive command, unit-scale case, {t_end:g} s",
+        title=f"Testbed loop: ZOH against predictive command, unit-scale case, {fmt(t_end, PLAIN)}"
+        " s",
         columns=["rate Hz", "command", "t_end s", "I4 drift", "seconds", "time / ZOH's"],
         rows=rows,
         notes=[

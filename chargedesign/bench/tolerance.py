@@ -17,6 +17,7 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.designer import design_from_scene
+from chargedesign.formatting import AGREEMENT, PLAIN, fmt
 from chargedesign.scene import scene_from_dict
 from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
@@ -51,7 +52,7 @@ def _monte_carlo_table(
     lin = float(np.median(result.drift_linear[0]))
     s = result.seconds
     return BenchTable(
-        title=f"Tolerance Monte Carlo: {bodies} perturbed bodies to t = {t_end:g} s",
+        title=f"Tolerance Monte Carlo: {bodies} perturbed bodies to t = {fmt(t_end, PLAIN)} s",
         columns=[
             "bodies",
             "t_end s",
@@ -85,6 +86,6 @@ def _monte_carlo_table(
             f"{len(design.dipole_moments)} dipoles, {len(design.mass_values)} masses), Gaussian "
             "position errors of 20 um per coordinate; one DOP853 batch (rtol = atol = 1e-10) for "
             "all bodies plus the nominal one",
-            f"nominal body's own drift (integration floor): {result.nominal_drift:.2e}",
+            f"nominal body's own drift (integration floor): {fmt(result.nominal_drift, AGREEMENT)}",
         ],
     )

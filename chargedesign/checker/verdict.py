@@ -46,6 +46,7 @@ from chargedesign.checker.results import (
     QuantityResult,
 )
 from chargedesign.errors import SolverError
+from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
 from chargedesign.physical.limits import check_limits
@@ -182,19 +183,28 @@ def quantity_verdict(
     tell), ``pass`` when within the tolerance, ``fail`` otherwise.
     """
     if not rel <= tol + floor:  # also catches an infinite error
-        return "fail", f"error {rel:.2e} exceeds tol {tol:g} (rounding floor {floor:.1e})"
+        return (
+            "fail",
+            f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
+            f" {fmt(floor, FLOOR)})",
+        )
     if floor > tol:
         if basis == "gross":
             size = "the reference is zero and the gross contributions round"
         else:
-            size = f"contributions cancel to 1 part in {cancellation:.2g}"
+            size = f"contributions cancel to 1 part in {fmt(cancellation, ROUGH)}"
         return "unverifiable", (
-            f"cannot be verified at tol {tol:g}: {size} (rounding floor {floor:.1e} in "
-            f"{precision}; error seen {rel:.1e})"
+            f"cannot be verified at tol {fmt(tol, PLAIN)}: {size} (rounding floor"
+            f" {fmt(floor, FLOOR)} in "
+            f"{precision}; error seen {fmt(rel, FLOOR)})"
         )
     if rel <= tol:
         return "pass", None
-    return "fail", f"error {rel:.2e} exceeds tol {tol:g} (rounding floor {floor:.1e})"
+    return (
+        "fail",
+        f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
+        f" {fmt(floor, FLOOR)})",
+    )
 
 
 def fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
@@ -539,8 +549,8 @@ def compare_quantities(
         if accurate and result.claimed and floors[1] > tol and result.status == "pass":
             notes.append(
                 f"{name}: verified in double-double; its contributions cancel to 1 part in "
-                f"{cancel:.2g}, so any double-precision evaluation of this body "
-                f"(e.g. chargedesign simulate) has a rounding floor of ~{floors[1]:.0e}"
+                f"{fmt(cancel, ROUGH)}, so any double-precision evaluation of this body "
+                f"(e.g. chargedesign simulate) has a rounding floor of ~{fmt(floors[1], ORDER_SCI)}"
             )
     return quantities
 
@@ -578,7 +588,7 @@ def design_notes(design: Design, params: Any, claimed: set[str]) -> list[str]:
     if design.larmor is not None and design.larmor.is_frame:
         notes.append(
             f"frame reading: elements checked against the theorem with n = 0; "
-            f"n = {design.larmor.rate:g} 1/s is the rate of the turning axes (the motion "
+            f"n = {fmt(design.larmor.rate, PLAIN)} 1/s is the rate of the turning axes (the motion "
             "read in them is the theorem's with n)"
         )
     return notes

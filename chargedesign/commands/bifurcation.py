@@ -17,6 +17,7 @@ import sys
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.scene import load_scene
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
@@ -32,7 +33,10 @@ def run(args: argparse.Namespace) -> int:
     h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
     lo, hi = energy_range(scene.parameters, h_range)
     if args.at is not None and not lo < args.at < hi:
-        raise InputError(f"--at: expected an energy inside {lo:.6g} .. {hi:.6g} J, got {args.at:g}")
+        raise InputError(
+            f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got"
+            f" {fmt(args.at, PLAIN)}"
+        )
     if not args.quiet:
         print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
     diagram = bifurcation_diagram(scene.parameters, h_range)

@@ -40,6 +40,7 @@ from chargedesign.checker import (
 )
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import ChargeDesignError
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.validation import MAX_MAGNITUDE
 
 #: the balance double precision holds, in units of roundoff of the body's mass-weighted size
@@ -78,8 +79,9 @@ def _check_magnitudes(design: Design) -> None:
     largest = max((float(v.max()) for v in values if v.size), default=0.0)
     if not np.isfinite(largest) or largest > MAX_MAGNITUDE:
         raise ChargeDesignError(
-            f"the body needs an element of size {largest:.3g} (SI), outside the "
-            f"supported range |x| <= {MAX_MAGNITUDE:g}: the requested total is too large or "
+            f"the body needs an element of size {fmt(largest)} (SI), outside the "
+            f"supported range |x| <= {fmt(MAX_MAGNITUDE, PLAIN)}: the requested total is too large"
+            " or "
             "the scale is outside the range; rescale the units. Nothing was written"
         )
 
@@ -109,7 +111,7 @@ def forward_acceptance(design: Design, *, totals_requested: bool = False) -> Non
     if report.passed:
         return
     errors = ", ".join(
-        f"{name} {q.rel_err:.2g}"
+        f"{name} {fmt(q.rel_err, ROUGH)}"
         for name, q in report.quantities.items()
         if name in report.failures
     )
@@ -122,7 +124,7 @@ def forward_acceptance(design: Design, *, totals_requested: bool = False) -> Non
     )
     raise ChargeDesignError(
         f"the body misses the theorem in the forward check ({errors or 'failed'} "
-        f"against tol {report.tol:g}); {'; '.join(causes)}. Nothing was written "
+        f"against tol {fmt(report.tol, PLAIN)}); {'; '.join(causes)}. Nothing was written "
         "(--no-forward-check writes it anyway)"
     )
 
@@ -193,14 +195,16 @@ class BalanceBound:
         g = _gravity_text(self.gravity)
         if self.builder_needed < BUILDER_BALANCE_M:
             return (
-                f"under {g} the centre of mass must sit within {self.builder_needed:.3g} m of O "
-                f"for gravity to stay below {BUILDER_TORQUE_FRACTION:g} of the designed torques, "
-                f"finer than the {BUILDER_BALANCE_M:g} m a builder balances to"
+                f"under {g} the centre of mass must sit within {fmt(self.builder_needed)} m of O "
+                f"for gravity to stay below {fmt(BUILDER_TORQUE_FRACTION, PLAIN)} of the designed"
+                " torques, "
+                f"finer than the {fmt(BUILDER_BALANCE_M, PLAIN)} m a builder balances to"
             )
         return (
-            f"under {g} the centre of mass must sit within {self.needed:.3g} m of O (the "
-            f"check's tolerance {self.tol:g} of the designed torques), and double precision "
-            f"holds this body's balance only to {self.held:.3g} m"
+            f"under {g} the centre of mass must sit within {fmt(self.needed)} m of O (the "
+            f"check's tolerance {fmt(self.tol, PLAIN)} of the designed torques), and double"
+            " precision "
+            f"holds this body's balance only to {fmt(self.held)} m"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -221,7 +225,7 @@ class BalanceBound:
 
 def _gravity_text(g: float) -> str:
     ratio = g / STANDARD_GRAVITY
-    return f"{ratio:.3g} g" if abs(ratio - 1) > 0.01 else "1 g"
+    return f"{fmt(ratio)} g" if abs(ratio - 1) > 0.01 else "1 g"
 
 
 def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | None:

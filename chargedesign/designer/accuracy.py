@@ -20,6 +20,7 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, Geometry, fibonacci_sphere
 from chargedesign.designer.system import UNITS, DesignProblem, natural_row_size
+from chargedesign.formatting import CELL, ORDER, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moment_conditions import (
     DEFAULT_STRENGTH_HEADROOM,
@@ -107,11 +108,11 @@ def _term_name(kind: str, k: int) -> str:
 def _term_value(kind: str, k: int, coefficient: float) -> str:
     """The term's value as the user writes it (a2 = f2 / 2), with units."""
     if kind == "magnetic" and k == 1:
-        return f"a1 = {coefficient:.3g} T"
+        return f"a1 = {fmt(coefficient)} T"
     if kind == "magnetic" and k == 2:
-        return f"a2 = {coefficient / 2:.3g} T/m"
+        return f"a2 = {fmt(coefficient / 2)} T/m"
     units = {"magnetic": f"T m^{1 - k}", "electric": f"V m^-{k}", "gravity": f"J/kg m^-{k}"}
-    return f"{_term_name(kind, k)} = {coefficient:.3g} {units[kind]}"
+    return f"{_term_name(kind, k)} = {fmt(coefficient)} {units[kind]}"
 
 
 #: the field each source feels in each quantity, and how its contributions scale with r:
@@ -278,9 +279,9 @@ def _describe_cancellation(
     remedy = _cancellation_remedy(worst, driver, conditions, size)
     return (
         f"{worst.quantity} is met only by cancellation: the {problem.source}' contributions "
-        f"through {worst.term} are {worst.amplification:.2g} times |{worst.quantity}| "
-        f"(largest {worst.largest_weight:.3g} {UNITS[problem.source]}{driver_text}); forward "
-        f"accuracy ~{worst.forward_error:.1g}: {remedy}"
+        f"through {worst.term} are {fmt(worst.amplification, ROUGH)} times |{worst.quantity}| "
+        f"(largest {fmt(worst.largest_weight)} {UNITS[problem.source]}{driver_text}); forward "
+        f"accuracy ~{fmt(worst.forward_error, ORDER)}: {remedy}"
     )
 
 
@@ -296,7 +297,7 @@ def _weight_driver(
     if len(need) and float(np.max(need)) > 0:
         i = int(np.argmax(need))
         driver = _row_term(problem.source, problem.rows[i])
-        driver_text = f", sized by condition '{problem.labels[i]}' = {problem.b[i]:.3g}"
+        driver_text = f", sized by condition '{problem.labels[i]}' = {fmt(problem.b[i])}"
         if driver is not None and driver[0] in fields:
             kind, k = driver
             coeffs = fields[kind]
@@ -325,7 +326,7 @@ def _cancellation_remedy(
     if defaults and conditions.length_assumed:
         remedy = (
             f"{defaults[0]} was chosen by default for an assumed 1 m body: derive the "
-            f"conditions with length={size:.3g} (the candidates' size)"
+            f"conditions with length={fmt(size)} (the candidates' size)"
         )
     elif (
         worst.kind == "electric"
@@ -338,11 +339,11 @@ def _cancellation_remedy(
             math.log10(abs(worst.coefficient) * DEFAULT_STRENGTH_HEADROOM / worst.amplification)
         )
         remedy = (
-            f"choose {worst.term} ~ {suggested:.0e} V m^-{worst.degree} (or omit "
+            f"choose {worst.term} ~ {fmt(suggested, ORDER_SCI)} V m^-{worst.degree} (or omit "
             "[fields.electric]: the conditions then choose it for the body)"
         )
     elif driver is not None and driver[0] in FIELD_KINDS:
-        remedy = f"increase {_term_name(*driver)} at least {factor:.2g}-fold"
+        remedy = f"increase {_term_name(*driver)} at least {fmt(factor, ROUGH)}-fold"
     elif driver is not None and driver[0] == "inertia":
         remedy = f"weaken {worst.term} or use a larger body (masses scale like C / L^2)"
     return remedy
@@ -356,13 +357,15 @@ def length_notes(conditions: LinearConditions, size: float) -> list[str]:
     if suited == conditions.default_strengths:
         return []
     changes = ", ".join(
-        f"{name} = {conditions.default_strengths.get(name, 0.0):g} (for 1 m) would be {value:g}"
+        f"{name} = {fmt(conditions.default_strengths.get(name, 0.0), PLAIN)} (for 1 m) would be"
+        f" {fmt(value, PLAIN)}"
         for name, value in suited.items()
     )
     return [
         "conditions: the default field strengths were chosen for an assumed body length of "
-        f"1 m; for these candidates (L = {size:.6g} m) {changes}: derive the conditions with "
-        f"length={size:.6g} (design_from_scene does)"
+        f"1 m; for these candidates (L = {fmt(size, CELL)} m) {changes}: derive the conditions with"
+        " "
+        f"length={fmt(size, CELL)} (design_from_scene does)"
     ]
 
 

@@ -16,6 +16,7 @@ from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.problems import dipole_cvxpy, l1_lp_full, weights_cost
 from chargedesign.designer.solvers import Solution, least_norm, solve_linprog
 from chargedesign.designer.system import DesignProblem, group_norms
+from chargedesign.formatting import FLOOR, fmt
 
 #: column generation is used for l1 / mass / group-sparse problems above this many candidates
 CG_MIN_CANDIDATES = 2000
@@ -93,7 +94,7 @@ def l1_lp_column_generation(
                 u,
                 "HiGHS",
                 f"column generation: {rounds} rounds, working set {k} of {n} candidates; "
-                f"optimality verified (least reduced cost {float(np.min(reduced)):.1e})",
+                f"optimality verified (least reduced cost {fmt(float(np.min(reduced)), FLOOR)})",
             )
             return sol
         order = violators[np.argsort(reduced[violators])][:step]

@@ -18,6 +18,7 @@ from chargedesign.designer.problems import l1_lp_full, solve_linf_scalar
 from chargedesign.designer.solvers import InfeasibleProblem, solve_linprog
 from chargedesign.designer.system import DesignProblem, drop_last_row, natural_row_size
 from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 
 #: a direction of the nondimensional condition matrix with singular value below this
 #: fraction of the largest is treated as absent (exact degeneracy up to rounding)
@@ -63,7 +64,7 @@ def diagnose(problem: DesignProblem, geometry: Geometry) -> tuple[int, list[str]
         if all(c == 0 for c in row.coefficients.values()) and row.value != 0:
             raise InfeasibleError(
                 f"{source}: condition '{problem.labels[i]}' ({_short(row.provenance)}) asks "
-                f"for {row.value:.6g} but all its coefficients are zero: no body meets it"
+                f"for {fmt(row.value, CELL)} but all its coefficients are zero: no body meets it"
             )
     size = geometry.size if geometry.size > 0 else 1.0
     natural = np.array([natural_row_size(r, size) for r in problem.rows])
@@ -105,7 +106,7 @@ def diagnose(problem: DesignProblem, geometry: Geometry) -> tuple[int, list[str]
         verb = f"conditions {names} are" if len(involved) > 1 else f"condition {names} is"
         notes.append(
             f"{source}: {verb} weakly produced by these candidates: weights "
-            f"about {worst:.2g} times larger than a round body of this size needs"
+            f"about {fmt(worst, ROUGH)} times larger than a round body of this size needs"
             + (
                 f" ({geometry.plane_text()} is nearly all of it)"
                 if geometry.thickness_ratio < 1e-2
@@ -138,7 +139,8 @@ def _cannot_produce(
         where = f"candidates all lie in {geometry.plane_text()}"
     elif geometry.thickness_ratio < 1e-2:
         where = (
-            f"candidates are nearly planar (thickness / width {geometry.thickness_ratio:.2g}, "
+            "candidates are nearly planar (thickness / width"
+            f" {fmt(geometry.thickness_ratio, ROUGH)}, "
             f"close to {geometry.plane_text()})"
         )
     else:
@@ -147,7 +149,7 @@ def _cannot_produce(
         return f"{where}: they cannot produce the moment{plural} of {what}"
     return (
         f"{where}: they produce the moment{plural} of {what} only with weights "
-        f"{amplification:.2g} times larger than a round body of this size needs; "
+        f"{fmt(amplification, ROUGH)} times larger than a round body of this size needs; "
         "use a thicker candidate region"
     )
 
@@ -159,9 +161,10 @@ def infeasible_inequalities(p: DesignProblem, options: DesignOptions) -> Infeasi
             free = replace(p, upper=None)
             need = float(np.max(np.abs(solve_linf_scalar(free, replace(options, solver="auto")).u)))
             return InfeasibleError(
-                f"charges: design.max_charge = {options.max_charge:g} C is too small: these "
+                f"charges: design.max_charge = {fmt(options.max_charge, PLAIN)} C is too small:"
+                " these "
                 f"conditions on these candidates need a largest |q| of at least "
-                f"{need * p.scale:.6g} C"
+                f"{fmt(need * p.scale, CELL)} C"
             )
         except InfeasibleProblem:
             pass
@@ -175,14 +178,16 @@ def infeasible_inequalities(p: DesignProblem, options: DesignOptions) -> Infeasi
             if least is not None:
                 if options.total_mass < least:
                     return InfeasibleError(
-                        f"masses: design.total_mass = {options.total_mass:g} kg is below the "
+                        f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is below"
+                        " the "
                         f"least total mass that meets the conditions on these candidates, "
-                        f"{least:.6g} kg"
+                        f"{fmt(least, CELL)} kg"
                     )
                 return InfeasibleError(
-                    f"masses: design.total_mass = {options.total_mass:g} kg is above the largest "
+                    f"masses: design.total_mass = {fmt(options.total_mass, PLAIN)} kg is above the"
+                    " largest "
                     "total mass that meets the conditions on these candidates (the least is "
-                    f"{least:.6g} kg; add candidates nearer O)"
+                    f"{fmt(least, CELL)} kg; add candidates nearer O)"
                 )
         idx = _irreducible_rows(p)
         names = ", ".join(f"'{p.labels[i]}' ({_short(p.rows[i].provenance, 100)})" for i in idx)

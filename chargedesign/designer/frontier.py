@@ -64,6 +64,7 @@ from chargedesign.designer.physical import (
     lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.realism import field_response
 from chargedesign.results import Result
@@ -204,29 +205,31 @@ class FrontierResult(Result):
     def _text(self) -> str:
         if self.n_free:
             rate = (
-                f"K_max = {self.K_max:.4g} 1/s; n is free: the frame reading realises n = 0 "
+                f"K_max = {fmt(self.K_max, PRECISE)} 1/s; n is free: the frame reading realises n ="
+                " 0 "
                 "and any n reads the motion in axes turning at n"
             )
         else:
-            period = f"{self.period:.4g} s" if math.isfinite(self.period) else "none"
+            period = f"{fmt(self.period, PRECISE)} s" if math.isfinite(self.period) else "none"
             rate = (
-                f"n_max = {self.n_max or 0.0:.4g} 1/s, period 2 pi / n_max = {period}, "
-                f"K_max = {self.K_max:.4g} 1/s"
+                f"n_max = {fmt(self.n_max or 0.0, PRECISE)} 1/s, period 2 pi / n_max = {period}, "
+                f"K_max = {fmt(self.K_max, PRECISE)} 1/s"
             )
         lines = [
-            f"frontier ({self.larmor} reading): s_max = {self.s_max:.4g} ({rate}) in "
+            f"frontier ({self.larmor} reading): s_max = {fmt(self.s_max, PRECISE)} ({rate}) in "
             f"{self.medium}\n",
             f"binding: {self.binding.text(self.medium)}\n",
         ]
         if self.balance:
             lines.append(
-                f"balance: under gravity the rate must stay above s_min = {self.s_min:.4g} "
+                "balance: under gravity the rate must stay above s_min ="
+                f" {fmt(self.s_min, PRECISE)} "
                 f"(at s_max the centre of mass must sit within "
-                f"{self.balance['builder_centre_of_mass_within_m']:.3g} m of O for gravity to "
-                f"stay below {self.balance['builder_torque_fraction']:g} of the designed "
-                f"torques, a builder balancing to {BUILDER_BALANCE_M:g} m; and within "
-                f"{self.balance['centre_of_mass_within_m']:.3g} m for the check's tolerance "
-                f"{self.balance['check_tolerance']:g})\n"
+                f"{fmt(self.balance['builder_centre_of_mass_within_m'])} m of O for gravity to "
+                f"stay below {fmt(self.balance['builder_torque_fraction'], PLAIN)} of the designed "
+                f"torques, a builder balancing to {fmt(BUILDER_BALANCE_M, PLAIN)} m; and within "
+                f"{fmt(self.balance['centre_of_mass_within_m'])} m for the check's tolerance "
+                f"{fmt(self.balance['check_tolerance'], PLAIN)})\n"
             )
         lines += [
             f"at s_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
@@ -239,7 +242,7 @@ class FrontierResult(Result):
 
 def _value_text(item: dict[str, Any]) -> str:
     value = item.get("value")
-    return "inf" if value is None else f"{value:.3g}"
+    return "inf" if value is None else f"{fmt(value)}"
 
 
 def necessary_rate(setup: PhysicalSetup) -> float:
@@ -311,7 +314,8 @@ def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
     if limit.stage == "fields":
         return Binding(
             "fields",
-            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over"
+            " the "
             "body region",
             "fields.electric",
             1.0,
@@ -320,8 +324,8 @@ def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
     medium = setup.spec.medium
     return Binding(
         "charges",
-        f"no charges meet the conditions above s = {limit.rate:.6g} with every carrier's "
-        f"surface field within the safe field of {medium.name} ({setup.safe_field:.3g} V/m): "
+        f"no charges meet the conditions above s = {fmt(limit.rate, CELL)} with every carrier's "
+        f"surface field within the safe field of {medium.name} ({fmt(setup.safe_field)} V/m): "
         "at the best charges the carriers' fields add up to it here",
         f"charge at {np.array2string(setup.points[limit.worst_site], precision=4)} m",
         1.0,
@@ -371,13 +375,14 @@ def _accept_body(design: Design) -> Binding | None:
     if report.passed:
         return None
     errors = ", ".join(
-        f"{name} {q.rel_err:.2g}"
+        f"{name} {fmt(q.rel_err, ROUGH)}"
         for name, q in report.quantities.items()
         if name in report.failures
     )
     return Binding(
         "forward",
-        f"the body misses the theorem in the forward check ({errors} against tol {report.tol:g})",
+        f"the body misses the theorem in the forward check ({errors} against tol"
+        f" {fmt(report.tol, PLAIN)})",
         "forward check",
     )
 
@@ -390,17 +395,19 @@ def _response_at(design: Design | None) -> dict[str, Any]:
 def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
     """The one line of a frontier whose balance bound lies above its largest rate."""
     g = balance["gravity_m_per_s2"] / STANDARD_GRAVITY
-    gravity = "1 g" if abs(g - 1) <= 0.01 else f"{g:.3g} g"
+    gravity = "1 g" if abs(g - 1) <= 0.01 else f"{fmt(g)} g"
     return (
         f"no buildable rate: under {gravity} the centre of mass must sit within "
-        f"{balance['builder_centre_of_mass_within_m']:.3g} m of O at s_max = {s_max:.4g} "
-        f"(K_max = {K_max:.3g} 1/s) for gravity to stay below "
-        f"{balance['builder_torque_fraction']:g} of the designed torques (a builder balances "
-        f"to about {balance['builder_balance_m']:g} m), and within "
-        f"{balance['centre_of_mass_within_m']:.3g} m for the forward check's tolerance "
-        f"{balance['check_tolerance']:g} (double precision holds "
-        f"{balance['balance_held_m']:.3g} m); rates are accepted from s = "
-        f"{balance['lowest_rate']:.4g}, above s_max"
+        f"{fmt(balance['builder_centre_of_mass_within_m'])} m of O at s_max = {fmt(s_max, PRECISE)}"
+        " "
+        f"(K_max = {fmt(K_max)} 1/s) for gravity to stay below "
+        f"{fmt(balance['builder_torque_fraction'], PLAIN)} of the designed torques (a builder"
+        " balances "
+        f"to about {fmt(balance['builder_balance_m'], PLAIN)} m), and within "
+        f"{fmt(balance['centre_of_mass_within_m'])} m for the forward check's tolerance "
+        f"{fmt(balance['check_tolerance'], PLAIN)} (double precision holds "
+        f"{fmt(balance['balance_held_m'])} m); rates are accepted from s = "
+        f"{fmt(balance['lowest_rate'], PRECISE)}, above s_max"
     )
 
 
@@ -434,7 +441,9 @@ class _Search:
     def probe(self, s: float) -> tuple[bool, Binding | None]:
         """Design at rate ``s`` (unless a proved refusal covers it): accepted, and why not."""
         if self.proved and s >= self.proved[0][0]:
-            self._say(f"s = {s:.6g}: infeasible (proved at s = {self.proved[0][0]:.6g})")
+            self._say(
+                f"s = {fmt(s, CELL)}: infeasible (proved at s = {fmt(self.proved[0][0], CELL)})"
+            )
             return False, self.proved[0][1]
         design, binding = _probe_body(self.setup, s)
         if design is None and binding is not None and binding.proved:
@@ -446,7 +455,7 @@ class _Search:
             self.best.clear()
             self.best[s] = design
         self.history.append((s, ok))
-        self._say(f"s = {s:.6g}: {'feasible' if ok else 'infeasible'}")
+        self._say(f"s = {fmt(s, CELL)}: {'feasible' if ok else 'infeasible'}")
         return ok, binding
 
     def _say(self, text: str) -> None:
@@ -490,14 +499,15 @@ def _necessary_binding(setup: PhysicalSetup, s_nec: float) -> Binding:
     if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
         return Binding(
             "fields",
-            f"fields.electric.max ({setup.spec.field_limits.get('electric'):g} V/m) over the "
+            f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over"
+            " the "
             "body region",
             "fields.electric",
         )
     return Binding(
         "charges",
         f"the carriers' own surface fields reach the safe field of {medium} "
-        f"({setup.safe_field:.3g} V/m)",
+        f"({fmt(setup.safe_field)} V/m)",
         "the carriers",
     )
 

@@ -45,6 +45,7 @@ import numpy as np
 from chargedesign.constants import ELEMENTARY_CHARGE
 from chargedesign.designer.pipeline import frontier_from_scene, physical_setup_from_scene
 from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
@@ -124,20 +125,22 @@ class ScanResult(Result):
         ]
         for r in self.rows:
             lines.append(
-                f"{r['size_factor']:>6g} {r['medium']:>8} {r[self.field_name]:>7g} "
-                f"{r['carrier']:>10} {r[t]:>11.4g} {r['binding_stage']:>9} "
-                f"{r['smallest_carrier_charge_e']:>10.3g}"
+                f"{fmt(r['size_factor'], PLAIN):>6} {r['medium']:>8}"
+                f" {fmt(r[self.field_name], PLAIN):>7} "
+                f"{r['carrier']:>10} {fmt(r[t], PRECISE):>11} {r['binding_stage']:>9} "
+                f"{fmt(r['smallest_carrier_charge_e']):>10}"
             )
         lines.append(f"law: {self.law}")
         lines.append(
-            f"fit residual: rms {self.rms_fit_error:.3g} in log {t}; worst relative deviation "
-            f"{self.worst_fit_error:.3g}"
+            f"fit residual: rms {fmt(self.rms_fit_error)} in log {t}; worst relative deviation "
+            f"{fmt(self.worst_fit_error)}"
         )
         for key, law in self.response_laws.items():
             lo, hi = law["measured_size_factors"]
             lines.append(
-                f"{key.replace('_', ' ')} at the frontier ~ L^{law['size_exponent']:.3g} over "
-                f"the measured sizes f = {lo:g} .. {hi:g} (fractions per point in the rows; "
+                f"{key.replace('_', ' ')} at the frontier ~ L^{fmt(law['size_exponent'])} over "
+                f"the measured sizes f = {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} (fractions per point"
+                " in the rows; "
                 "not extrapolated)"
             )
         lines.extend(f"failed: {f}" for f in self.failures)
@@ -227,14 +230,16 @@ def scan_frontier(
         data = _variant(base, f, medium, ff, carrier, index)
         if progress is not None:
             progress(
-                f"[{i + 1}/{len(cases)}] size x{f:g}, {medium}, {field_name} x{ff:g}, "
+                f"[{i + 1}/{len(cases)}] size x{fmt(f, PLAIN)}, {medium}, {field_name}"
+                f" x{fmt(ff, PLAIN)}, "
                 f"{carrier or base_carrier}"
             )
         try:
             result = frontier_from_scene(scene_from_dict(data, f"{scene.source} (scan {i})"))
         except Exception as exc:  # one failing point is recorded, the scan goes on
             failures.append(
-                f"size x{f:g} {medium}, {field_name} x{ff:g}, {carrier or base_carrier}: {exc}"
+                f"size x{fmt(f, PLAIN)} {medium}, {field_name} x{fmt(ff, PLAIN)},"
+                f" {carrier or base_carrier}: {exc}"
             )
             continue
         name = carrier or base_carrier
@@ -266,13 +271,15 @@ def scan_frontier(
     expected = EXPECTED[reading]
     if frame:
         law = (
-            "K_max ~ E_breakdown^{E:.3g} a2^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
+            f"K_max ~ E_breakdown^{fmt(exponents['E'])} a2^{fmt(exponents['field'])}"
+            f" L^{fmt(exponents['L'])} rho_carrier^{fmt(exponents['rho'])} "
             "(expected eps0 E a2 / rho_body: E^1 a2^1 L^0, independent of size; "
             "rho_carrier^0 unless the carriers' mass binds)"
         )
     else:
         law = (
-            "n_max ~ E_breakdown^{E:.3g} a1^{field:.3g} L^{L:.3g} rho_carrier^{rho:.3g} "
+            f"n_max ~ E_breakdown^{fmt(exponents['E'])} a1^{fmt(exponents['field'])}"
+            f" L^{fmt(exponents['L'])} rho_carrier^{fmt(exponents['rho'])} "
             "(expected eps0 E a1 / (rho_body L): E^1 a1^1 L^-1; rho_carrier^0 unless the "
             "carriers' mass binds)"
         )
@@ -281,7 +288,7 @@ def scan_frontier(
         exponents,
         expected,
         worst,
-        law.format(**exponents),
+        law,
         failures,
         response_laws(rows),
         larmor=reading,

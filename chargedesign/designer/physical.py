@@ -47,6 +47,7 @@ from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
 from chargedesign.designer.system import relative_residual
 from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
@@ -203,7 +204,7 @@ def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
     if a >= 0.5 * spacing:
         raise InputError(
             f"body.carrier_radius: expected below half the candidate spacing "
-            f"({0.5 * spacing:.4g} m) so carriers cannot touch, got {a:g}"
+            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(a, PLAIN)}"
         )
     return float(a)
 
@@ -218,8 +219,9 @@ def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region
         top = float(field_magnitude_max(coeffs, np.array([region]))[0])
         if top > limit:
             raise InputError(
-                f"fields.{kind}.max: the scene's {kind} field already reaches {top:.4g} over the "
-                f"body region (radius {region:.4g} m), above max = {limit:g}"
+                f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
+                " over the "
+                f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
             )
 
 
@@ -246,7 +248,7 @@ def _magnet_sites(
                 else "at every candidate site, and V needs magnets"
             )
             raise InfeasibleError(
-                f"magnets.material: a {spec.magnet.name} magnet withstands {withstood:.3g} T "
+                f"magnets.material: a {spec.magnet.name} magnet withstands {fmt(withstood)} T "
                 "(its intrinsic coercivity less its own demagnetising field M/3), but the "
                 f"magnetic field exceeds that as the body turns {where}: use a "
                 "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
@@ -476,7 +478,7 @@ def _polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray)
 
 
 def _excess(ratio: float) -> str:
-    return f"needs {ratio:.3g}x" if ratio >= 1.01 else "reaches"
+    return f"needs {fmt(ratio)}x" if ratio >= 1.01 else "reaches"
 
 
 def charge_support(q: np.ndarray) -> np.ndarray:
@@ -575,7 +577,7 @@ def _surface_binding(
     return Binding(
         "charges",
         f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
-        f"({setup.safe_field:.3g} V/m): the carriers' fields add up",
+        f"({fmt(setup.safe_field)} V/m): the carriers' fields add up",
         f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
         worst_ratio,
         proved=proved,
@@ -589,7 +591,7 @@ def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
             Binding(
                 "fields",
                 f"the electric field this rate needs exceeds fields.electric.max "
-                f"({setup.spec.field_limits.get('electric'):g} V/m)",
+                f"({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m)",
                 "fields.electric",
                 s / setup.field_bound(s),
                 proved=True,
@@ -606,9 +608,9 @@ def _lp_charges(
         raise PhysicalInfeasible(
             Binding(
                 "charges",
-                f"no charges on carriers of radius {setup.carrier_radius:.3g} m meet the "
+                f"no charges on carriers of radius {fmt(setup.carrier_radius)} m meet the "
                 f"conditions with every carrier's own surface field within the safe field of "
-                f"{setup.spec.medium.name} ({setup.safe_field:.3g} V/m)",
+                f"{setup.spec.medium.name} ({fmt(setup.safe_field)} V/m)",
                 "the carriers",
                 proved=True,  # the own-field bounds are necessary
             )
@@ -636,7 +638,7 @@ def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
     q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
     sites = charge_support(q_full)
     if not len(sites):
-        raise SolverError(f"charges: the solver returned no charges at rate s = {s:.3g}")
+        raise SolverError(f"charges: the solver returned no charges at rate s = {fmt(s)}")
     q = q_full[sites]
     keep = np.abs(q) > 1e-12 * float(np.max(np.abs(q)))
     full = np.zeros(len(setup.points))
@@ -884,7 +886,8 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         cones = [point for point, value in zip(cones, used, strict=True) if value >= MINMAX_KEEP]
         cones.extend(worst[i] for i in near)
     raise SolverError(
-        f"charges: the charges' minmax did not close its gap to {gap:g} in {MINMAX_ROUNDS} rounds"
+        f"charges: the charges' minmax did not close its gap to {fmt(gap, PLAIN)} in"
+        f" {MINMAX_ROUNDS} rounds"
     )
 
 
@@ -1327,16 +1330,16 @@ def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     if not feasible(room=False):
         return Binding(
             "masses",
-            f"the {len(carrier_sites)} carriers ({setup.carrier_mass:.3g} kg each, their own "
-            f"C = {carriers_c:.3g} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
-            f"with C = {setup.params.C:.4g} kg m^2 and the centre of mass at O",
+            f"the {len(carrier_sites)} carriers ({fmt(setup.carrier_mass)} kg each, their own "
+            f"C = {fmt(carriers_c)} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
+            f"with C = {fmt(setup.params.C, PRECISE)} kg m^2 and the centre of mass at O",
             "inertia",
         )
     if not feasible(room=True):
         return Binding(
             "masses",
             f"the {setup.spec.ballast.name} ballast that makes A = B = 2C (C = "
-            f"{setup.params.C:.4g} kg m^2) does not fit in the cells the "
+            f"{fmt(setup.params.C, PRECISE)} kg m^2) does not fit in the cells the "
             f"{len(carrier_sites)} carriers leave free",
             "ballast cells",
         )
@@ -1356,9 +1359,9 @@ def _magnet_binding(setup: PhysicalSetup, free: np.ndarray) -> Binding:
         )
         return Binding(
             "magnets",
-            f"the magnets need more volume of {magnet.name} (M = {magnet.magnetisation:.3g} A/m) "
+            f"the magnets need more volume of {magnet.name} (M = {fmt(magnet.magnetisation)} A/m) "
             f"than {where} hold beside the ballast where the field stays below the "
-            f"{withstood:.3g} T a {magnet.name} magnet withstands (intrinsic coercivity less its "
+            f"{fmt(withstood)} T a {magnet.name} magnet withstands (intrinsic coercivity less its "
             "own demagnetising field); a higher-coercivity grade (ndfeb-eh, smco) or a weaker "
             "field reaches further",
             "magnets.material",
@@ -1366,7 +1369,7 @@ def _magnet_binding(setup: PhysicalSetup, free: np.ndarray) -> Binding:
     return Binding(
         "magnets",
         f"the magnets need more volume of {magnet.name} (M = "
-        f"{magnet.magnetisation:.3g} A/m) than the free cells hold beside the ballast",
+        f"{fmt(magnet.magnetisation)} A/m) than the free cells hold beside the ballast",
         "magnet cells",
     )
 
@@ -1572,7 +1575,7 @@ def beyond_message(setup: PhysicalSetup, binding: Binding, s: float) -> str:
     """One line: what fails at rate ``s`` and what would reach further (no frontier search:
     ``chargedesign frontier`` gives the largest rate)."""
     return (
-        f"{binding.text(setup.spec.medium.name)} at time rate s = {s:.4g}; "
+        f"{binding.text(setup.spec.medium.name)} at time rate s = {fmt(s, PRECISE)}; "
         f"{_FURTHER.get(binding.stage, 'see docs/buildable.md')} (chargedesign frontier "
         "finds the largest rate)"
     )
@@ -1608,7 +1611,8 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
             raise PhysicalInfeasible(
                 Binding(
                     "balance",
-                    f"{balance.text()}; rates are accepted from s = {balance.lowest_rate:.4g} up",
+                    f"{balance.text()}; rates are accepted from s ="
+                    f" {fmt(balance.lowest_rate, PRECISE)} up",
                     "centre of mass",
                     balance.held / balance.needed if balance.needed > 0 else math.inf,
                 )

@@ -12,6 +12,7 @@ import numpy as np
 
 from chargedesign.designer.solvers import least_norm
 from chargedesign.designer.system import DesignProblem, group_norms, relative_residual
+from chargedesign.formatting import PLAIN, fmt
 
 #: supports tried by polishing: weights below these fractions of the largest are dropped
 POLISH_THRESHOLDS = (1e-6, 1e-9, 1e-12, 0.0)
@@ -134,10 +135,12 @@ def polish_weights(p: DesignProblem, u: np.ndarray, tol: float) -> tuple[np.ndar
             sparse_start = cand
         res = relative_residual(p.A, cand * p.scale, p.b)
         if res <= tol:
-            return cand, describe(cand, f"weights below {threshold:g} of the largest dropped")
+            return cand, describe(
+                cand, f"weights below {fmt(threshold, PLAIN)} of the largest dropped"
+            )
         if res < best_res:
             best, best_res = cand, res
-            text = describe(cand, f"weights below {threshold:g} of the largest dropped")
+            text = describe(cand, f"weights below {fmt(threshold, PLAIN)} of the largest dropped")
     if sparse_start is not None:
         extended = _extend_support(p, sparse_start, support_of(sparse_start, p.group, 0.0), tol)
         if extended is not None:

@@ -27,6 +27,7 @@ from chargedesign.designer.problems import (
 from chargedesign.designer.solvers import Solution, import_cvxpy, solve_cvxpy, solver_name
 from chargedesign.designer.system import DesignProblem, restrict_problem
 from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.formatting import PLAIN, fmt
 
 #: candidates above which the mixed-integer fallback for ``n_charges`` is not attempted
 MIP_MAX_CANDIDATES = 5000
@@ -149,7 +150,7 @@ def _reweighted_support(
     if progress is not None:
         progress(
             f"charges: mixed-integer search for at most {target} charges "
-            f"(up to {options.time_limit:g} s) ..."
+            f"(up to {fmt(options.time_limit, PLAIN)} s) ..."
         )
     return _mip_support(p, options, target, best)
 
@@ -161,11 +162,11 @@ def _mip_support(
     n = p.A_s.shape[1]
     if p.upper is not None:
         big_m = p.upper
-        bound_text = f"|q| <= max_charge = {options.max_charge:g} C"
+        bound_text = f"|q| <= max_charge = {fmt(options.max_charge, PLAIN)} C"
     else:
         ref = l1_lp_full(p, None, None).u
         big_m = 10.0 * float(np.max(np.abs(ref)))
-        bound_text = f"|q| <= {big_m * p.scale:.3g} C (10 x the largest l1 charge; set max_charge)"
+        bound_text = f"|q| <= {fmt(big_m * p.scale)} C (10 x the largest l1 charge; set max_charge)"
     u = cp.Variable(n)
     z = cp.Variable(n, boolean=True)
     prob = cp.Problem(
@@ -183,7 +184,8 @@ def _mip_support(
         found = len(best) if best is not None else "none"
         raise SolverError(
             f"charges: no design with at most {target} charges found within "
-            f"design.time_limit = {options.time_limit:g} s (status {status}; the sparsest "
+            f"design.time_limit = {fmt(options.time_limit, PLAIN)} s (status {status}; the sparsest"
+            " "
             f"found has {found}); raise n_charges or the time limit"
         )
     values = np.asarray(u.value, dtype=float)

@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+from chargedesign.formatting import CELL, fmt
 from chargedesign.results import Result
 
 CERTIFICATE_CASES = ("general", "yehia2003", "goriachev", "chaplygin")
@@ -88,7 +89,7 @@ def format_report(report: dict[str, object]) -> str:
         f"{ce['I3_printed']} (derived I3 = {ce['I3']}), gamma = ({state['gamma1']}, "
         f"{state['gamma2']}, {state['gamma3']}), p, q, r = {state['p']}, {state['q']}, "
         f"{state['r']}:",
-        f"  dI4/dt = {ce['dI4_dt']} (~{ce['dI4_dt_float']:.6g}), not 0",
+        f"  dI4/dt = {ce['dI4_dt']} (~{fmt(ce['dI4_dt_float'], CELL)}), not 0",
         "",
         f"audit: {seconds['audit']:.3f} s",
     ]

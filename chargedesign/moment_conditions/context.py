@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from chargedesign.formatting import FULL, fmt
 from chargedesign.moment_conditions.algebra import SourceSystem
 from chargedesign.moment_conditions.constants import FIELD_LETTERS
 from chargedesign.params import Parameters
@@ -38,7 +39,7 @@ class DerivationContext:
 
 def decimal_text(value: Fraction) -> str:
     """Short decimal text of an exact value (for messages and notes)."""
-    return f"{float(value):.12g}"
+    return fmt(float(value), FULL)
 
 
 def field_coefficient_name(kind: str, k: int) -> str:

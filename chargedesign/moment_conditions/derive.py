@@ -14,6 +14,7 @@ from fractions import Fraction
 from typing import Any
 
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.algebra import SourceSystem
 from chargedesign.moment_conditions.constants import (
     DEFAULT_LENGTH,
@@ -165,7 +166,7 @@ def _refuse_singular(params: Parameters, goals: tuple[str, ...]) -> None:
     """InfeasibleError when lambda or rho is set and mu or V is to be realised."""
     if params.singular and ({"mu", "V"} & set(goals)):
         which = ", ".join(
-            f"{name} = {value:g}"
+            f"{name} = {fmt(value, PLAIN)}"
             for name, value in (("lambda", params.lam), ("rho", params.rho))
             if value != 0
         )

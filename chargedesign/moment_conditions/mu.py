@@ -14,6 +14,7 @@ from functools import cache
 from typing import Any
 
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.algebra import ConditionRow, key_rank
 from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE
 from chargedesign.moment_conditions.context import DerivationContext
@@ -96,12 +97,14 @@ def charges_for_mu(ctx: DerivationContext) -> None:
     f2 = ctx.coefficient("magnetic", 2)
     if n != 0 and f1 == 0:
         raise InfeasibleError(
-            f"fields.magnetic: a1 = 0 while n = {ctx.params.n:g} != 0: the n terms of mu need "
+            f"fields.magnetic: a1 = 0 while n = {fmt(ctx.params.n, PLAIN)} != 0: the n terms of mu"
+            " need "
             "charges in a uniform magnetic field (a1 != 0)"
         )
     if K != 0 and f2 == 0:
         raise InfeasibleError(
-            f"fields.magnetic: a2 = 0 while K = {ctx.params.K:g} != 0: the K terms of mu need "
+            f"fields.magnetic: a2 = 0 while K = {fmt(ctx.params.K, PLAIN)} != 0: the K terms of mu"
+            " need "
             "charges in a magnetic quadrupole (a2 != 0)"
         )
     degree = max(len(magnetic), 1)

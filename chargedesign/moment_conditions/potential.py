@@ -17,6 +17,7 @@ from fractions import Fraction
 from functools import lru_cache
 
 from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import fmt
 from chargedesign.moment_conditions.algebra import SourceSystem, exact_nullspace, solve_exact
 from chargedesign.moment_conditions.constants import (
     DEFAULT_ELECTRIC_STRENGTH,
@@ -334,6 +335,6 @@ def _default_strength(
     return f, (
         f"default strength (not forced), chosen for the body's length {length_text}: the "
         f"required degree-{k} moments are then about 1/{DEFAULT_STRENGTH_HEADROOM} of the "
-        f"natural size Q L^{k} of {source} of total size Q ~ {float(natural):.3g} (fixed by "
+        f"natural size Q L^{k} of {source} of total size Q ~ {fmt(float(natural))} (fixed by "
         "the other conditions): no extra weight, no significant cancellation"
     )

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import ChargeDesignError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, REALISABLE
 from chargedesign.moment_conditions.derive import derive_conditions, validate_realise
 from chargedesign.moment_conditions.types import LinearConditions
@@ -51,5 +52,5 @@ def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditio
     length, why = scene_length(scene)
     result = derive_conditions(scene.parameters, scene.fields, realise, exact=exact, length=length)
     if result.length_assumed and why:
-        result.notes.append(f"body length {DEFAULT_LENGTH:g} m assumed: {why}")
+        result.notes.append(f"body length {fmt(DEFAULT_LENGTH, PLAIN)} m assumed: {why}")
     return result

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from chargedesign.formatting import FULL, fmt
 from chargedesign.moment_conditions.constants import SOURCES
 
 PREFIX = {"charges": "I", "dipoles": "S", "masses": "M"}
@@ -20,7 +21,7 @@ def _moment_name(source: str, key: str) -> str:
 
 
 def _number(value: float) -> str:
-    return f"{value:.12g}"
+    return fmt(value, FULL)
 
 
 def _lhs(source: str, coefficients: dict[str, float]) -> str:

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import fmt
 from chargedesign.physical.materials import ballast_groups, ballast_materials, mass_densities
 
 BOM_COLUMNS = (
@@ -44,7 +45,9 @@ def bom_rows(design: Any) -> list[dict[str, Any]]:
         zip(design.dipole_positions, design.dipole_moments, strict=True)
     ):
         extra = mmass[i] - rho_m * vols[i]
-        name = magnet + (f" + {extra:.3g} kg {ballast.get('name', 'ballast')}" if extra > 0 else "")
+        name = magnet + (
+            f" + {fmt(extra)} kg {ballast.get('name', 'ballast')}" if extra > 0 else ""
+        )
         rows.append(_row(f"M{i}", "magnet", pos, vols[i], "m^3", name, None, sigma, mmass[i]))
     names = ["point"] * len(design.mass_values)
     for spec, idx in ballast_groups(design):  # each part's own material

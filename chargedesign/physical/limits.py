@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.coulomb import coulomb_field
 from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
 from chargedesign.physical.materials import (
@@ -198,17 +199,18 @@ class LimitsReport(Result):
         lines = [
             ("buildable" if self.buildable else "NOT buildable")
             + f" (limits recomputed from the elements): largest carrier surface field "
-            f"{top:.4g} V/m, {self.worst_fraction_of_breakdown:.4g} of breakdown "
-            f"({self.breakdown:.3g} V/m; safe {self.safe_field:.3g} V/m)"
+            f"{fmt(top, PRECISE)} V/m, {fmt(self.worst_fraction_of_breakdown, PRECISE)} of"
+            " breakdown "
+            f"({fmt(self.breakdown)} V/m; safe {fmt(self.safe_field)} V/m)"
         ]
         lines += [f"violation: {v}" for v in self.violations]
         for key, item in self.field_response.items():
             value = item.get("value")
-            shown = "inf" if value is None else f"{value:.3g}"
+            shown = "inf" if value is None else f"{fmt(value)}"
             lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
         if self.k_law:
             lines.append(
-                f"at the K frontier (size-free law): {self.k_law['ratio']:.3g} "
+                f"at the K frontier (size-free law): {fmt(self.k_law['ratio'])} "
                 f"({self.k_law['verdict']}): {self.k_law['note']}"
             )
         below = self.magnet_continuum.get("below", 0)
@@ -216,8 +218,8 @@ class LimitsReport(Result):
             m = self.magnet_continuum
             lines.append(
                 f"magnets below the continuum size: {below} of {m['count']} "
-                f"({m['smallest_m']:.3g} m to {m['largest_m']:.3g} m across, under "
-                f"{m['continuum_size_m']:.3g} m): single-domain nanoparticles whose moment and "
+                f"({fmt(m['smallest_m'])} m to {fmt(m['largest_m'])} m across, under "
+                f"{fmt(m['continuum_size_m'])} m): single-domain nanoparticles whose moment and "
                 "coercivity are not their material's data (not buildable as specified)"
             )
         return "\n".join(lines)
@@ -263,8 +265,8 @@ def _demagnetised(design: Any, magnet: dict[str, Any], volumes: np.ndarray) -> l
         return []
     i = int(over[np.argmax(fields[over])])
     return [
-        f"dipole {i}: the field reaches {fields[i]:.3g} T there, beyond the {withstood:.3g} T "
-        f"a {magnet['name']} magnet withstands (intrinsic coercivity {coercivity:.3g} A/m less "
+        f"dipole {i}: the field reaches {fmt(fields[i])} T there, beyond the {fmt(withstood)} T "
+        f"a {magnet['name']} magnet withstands (intrinsic coercivity {fmt(coercivity)} A/m less "
         f"its own demagnetising field M/3): it would be demagnetised as the body turns"
         + (f" ({len(over)} magnets)" if len(over) > 1 else "")
     ]
@@ -286,8 +288,8 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
     over = np.flatnonzero(fields > safe * (1 + ROUNDING_SLACK))
     for i in over[:5]:
         violations.append(
-            f"charge {i}: surface field {fields[i]:.3g} V/m is {fields[i] / safe:.3g}x the safe "
-            f"field of {medium['name']} ({safe:.3g} V/m)"
+            f"charge {i}: surface field {fmt(fields[i])} V/m is {fmt(fields[i] / safe)}x the safe "
+            f"field of {medium['name']} ({fmt(safe)} V/m)"
         )
     if len(over) > 5:
         violations.append(f"... and {len(over) - 5} more carriers above the safe field")
@@ -304,7 +306,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
             bad = gap < -ROUNDING_SLACK * d
             if np.any(bad):
                 i, j = pairs[np.flatnonzero(bad)[0]]
-                violations.append(f"parts {i} and {j} overlap ({-gap[bad][0]:.3g} m)")
+                violations.append(f"parts {i} and {j} overlap ({fmt(-gap[bad][0])} m)")
     magnet = design.materials.get("magnet")
     if magnet is not None and len(design.dipole_moments):
         need = (
@@ -314,8 +316,8 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         small = np.flatnonzero(vol < need * (1 - ROUNDING_SLACK))
         if len(small):
             violations.append(
-                f"dipole {small[0]}: volume {vol[small[0]]:.3g} m^3 below |sigma|/M = "
-                f"{need[small[0]]:.3g} m^3"
+                f"dipole {small[0]}: volume {fmt(vol[small[0]])} m^3 below |sigma|/M = "
+                f"{fmt(need[small[0]])} m^3"
             )
         light = np.flatnonzero(
             design.magnet_masses() < magnet["density_kg_per_m3"] * vol * (1 - ROUNDING_SLACK)
@@ -345,8 +347,8 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         maxima[kind] = float(field_magnitude_max(coeffs, np.array([region]))[0])
         if kind in limits and maxima[kind] > limits[kind] * (1 + ROUNDING_SLACK):
             violations.append(
-                f"fields.{kind}: reaches {maxima[kind]:.3g} over the body region, above its "
-                f"max = {limits[kind]:.3g}"
+                f"fields.{kind}: reaches {fmt(maxima[kind])} over the body region, above its "
+                f"max = {fmt(limits[kind])}"
             )
     response = field_response(design)
     return LimitsReport(

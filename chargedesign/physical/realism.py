@@ -37,6 +37,7 @@ from chargedesign.constants import (
     STANDARD_GRAVITY,
 )
 from chargedesign.fields import AxisymmetricField
+from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
     CONDUCTIVITY,
@@ -238,7 +239,7 @@ def _largest_part(parts: list[dict[str, Any]], values: np.ndarray, key: str) -> 
     if not len(values) or not np.any(values > 0):
         return "none"
     part = parts[int(np.argmax(values))]
-    return f"{part['role']} {part['name']} ({key} = {part[key]:.3g})"
+    return f"{part['role']} {part['name']} ({key} = {fmt(part[key])})"
 
 
 def _induced_note(induced: float, energy: np.ndarray, parts: list[dict[str, Any]]) -> str:
@@ -252,7 +253,7 @@ def _induced_note(induced: float, energy: np.ndarray, parts: list[dict[str, Any]
     if induced >= RESPONSE_FRACTION:
         note += (
             f"; negligible needs the parts' chi-weighted dipole and quadrupole moments to "
-            f"cancel to 1 part in {induced / RESPONSE_FRACTION:.2g}"
+            f"cancel to 1 part in {fmt(induced / RESPONSE_FRACTION, ROUGH)}"
         )
     if unknown:
         note += "; not counted (no susceptibility given): " + ", ".join(unknown)
@@ -271,8 +272,8 @@ def _eddy_note(
     )
     if damping >= RESPONSE_FRACTION:
         note += (
-            f"; it damps the motion within {periods:.2g} periods; negligible needs "
-            f"conductivities {damping / RESPONSE_FRACTION:.2g} times lower (insulating "
+            f"; it damps the motion within {fmt(periods, ROUGH)} periods; negligible needs "
+            f"conductivities {fmt(damping / RESPONSE_FRACTION, ROUGH)} times lower (insulating "
             f"parts)"
         )
     if unknown_sigma:
@@ -406,31 +407,35 @@ def _k_law_note(item: dict[str, Any], unknown: list[str]) -> str:
     eddy_ratio, sigma_needed = item["eddy_ratio"], item["conductivity_needed_S_per_m"]
     top, sigma_top = item["conductivity_needed_for"], item["conductivity_now_S_per_m"]
     note = (
-        f"6 (chi/rho) / (mu0 G^2) with chi/rho = {mix:.3g} m^3/kg (mass-weighted over "
-        f"{mass:.3g} kg of parts), G = K_max / a2 = {k_max:.3g} / {a2:.3g} = {g:.3g} C m/kg "
+        f"6 (chi/rho) / (mu0 G^2) with chi/rho = {fmt(mix)} m^3/kg (mass-weighted over "
+        f"{fmt(mass)} kg of parts), G = K_max / a2 = {fmt(k_max)} / {fmt(a2)} = {fmt(g)} C m/kg "
         f"({source}): the parts' induced-magnetisation energy range over the designed K "
         f"torques C K_max^2, for any size and any a2"
     )
     if ratio_elements is not None:
-        note += f"; element by element {ratio_elements:.3g}"
+        note += f"; element by element {fmt(ratio_elements)}"
     if cancelled and chi_needed is not None:
         note += (
-            f" (cancelled by the design's chi-weighted moments; {ratio_gross:.3g} without the "
-            f"cancellation, which holds only if each material's chi is known to {chi_needed:.2g} "
-            f"relative: susceptibility metrology reaches about {SUSCEPTIBILITY_METROLOGY:.0e})"
+            f" (cancelled by the design's chi-weighted moments; {fmt(ratio_gross)} without the "
+            "cancellation, which holds only if each material's chi is known to"
+            f" {fmt(chi_needed, ROUGH)} "
+            "relative: susceptibility metrology reaches about"
+            f" {fmt(SUSCEPTIBILITY_METROLOGY, ORDER_SCI)})"
         )
     note += (
-        f". Parity needs G {math.sqrt(reference):.3g} times larger: surface fields of "
-        f"{parity_field:.3g} V/m ({parity_field / FIELD_EVAPORATION:.3g} x field evaporation, "
-        f"{parity_field / ATOMIC_FIELD:.3g} x the atomic field)"
-        + (f", or chi/rho = {parity_mix:.3g} m^3/kg" if parity_mix is not None else "")
+        f". Parity needs G {fmt(math.sqrt(reference))} times larger: surface fields of "
+        f"{fmt(parity_field)} V/m ({fmt(parity_field / FIELD_EVAPORATION)} x field evaporation, "
+        f"{fmt(parity_field / ATOMIC_FIELD)} x the atomic field)"
+        + (f", or chi/rho = {fmt(parity_mix)} m^3/kg" if parity_mix is not None else "")
     )
     if eddy_ratio is not None and sigma_needed is not None and top is not None:
-        insulators = ", ".join(f"{k} {v:.0e}" for k, v in INSULATOR_CONDUCTIVITY.items())
+        insulators = ", ".join(
+            f"{k} {fmt(v, ORDER_SCI)}" for k, v in INSULATOR_CONDUCTIVITY.items()
+        )
         note += (
-            f". Eddy currents at the K frontier: {eddy_ratio:.3g} x the designed K torques, a "
-            f"choice of material: below {RESPONSE_FRACTION:g} needs conductivities under "
-            f"{sigma_needed:.3g} S/m (now {top} {sigma_top:.3g} S/m; "
+            f". Eddy currents at the K frontier: {fmt(eddy_ratio)} x the designed K torques, a "
+            f"choice of material: below {fmt(RESPONSE_FRACTION, PLAIN)} needs conductivities under "
+            f"{fmt(sigma_needed)} S/m (now {top} {fmt(sigma_top)} S/m; "
             f"insulators: {insulators} S/m)"
         )
     if unknown:
@@ -736,7 +741,7 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         elif singular:
             here = "none: this body cannot realise it"
         elif no_parts:
-            here = f"turning axes at n = {design.larmor.rate:.3g} 1/s (no parts)"
+            here = f"turning axes at n = {fmt(design.larmor.rate)} 1/s (no parts)"
         elif key == "mu_n":
             here = f"{len(design.charge_values)} charges (second moments in a1)"
         elif key == "mu_K":
@@ -812,7 +817,7 @@ def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict
         drag / torque,
         "",
         _verdict(drag / torque, 1e-3),
-        f"laminar drag of {name} on the enveloping sphere (Re = {reynolds:.3g}) over the "
+        f"laminar drag of {name} on the enveloping sphere (Re = {fmt(reynolds)}) over the "
         "designed torques",
     )
 

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import fmt
 from chargedesign.physical.materials import (
     BALLAST_DENSITY,
     CARRIER_DENSITY,
@@ -272,7 +273,7 @@ def _ballast_list(table: Mapping[str, Any]) -> list[Material]:
             Material("ballast", name, BALLAST_DENSITY[name], **_response({}, "ballast", name))
         )
     if len(out) > 1 and not any((m.susceptibility or 0.0) < 0.0 for m in out):
-        given = ", ".join(f"{m.name} (chi {m.susceptibility:.3g})" for m in out)
+        given = ", ".join(f"{m.name} (chi {fmt(m.susceptibility)})" for m in out)
         diamagnetic = ", ".join(
             k for k, v in SUSCEPTIBILITY.items() if v < 0 and k in BALLAST_DENSITY
         )

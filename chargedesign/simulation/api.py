@@ -73,6 +73,7 @@ import numpy as np
 from chargedesign.body import Design, read_design
 from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.formatting import CELL, ORDER, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
 from chargedesign.results import compact_repr
@@ -275,7 +276,7 @@ def _inertia_from_masses(body: Body) -> tuple[Body, str]:
     if total <= 0.0 or not C > 0.0:
         return body, ""
     body = dataclasses.replace(body, parameters=Parameters(C=C))
-    return body, f"no [parameters]: C = {C:.6g} kg m^2 from the masses (I_zz about O)"
+    return body, f"no [parameters]: C = {fmt(C, CELL)} kg m^2 from the masses (I_zz about O)"
 
 
 def check_inertia(body: Body, effects: Sequence[str]) -> None:
@@ -318,9 +319,10 @@ def check_centre(system: RigidBodySystem, realises: Sequence[str]) -> None:
     _, total, centre = mass_inertia(system.body)
     raise InputError(
         "body: V has a linear term a . gamma with a = "
-        f"({a[0]:.3g}, {a[1]:.3g}, {a[2]:.3g}) J that the theorem's V does not have (the "
-        f"design claims V); the centre of mass of {total:.4g} kg is at ({centre[0]:.3g}, "
-        f"{centre[1]:.3g}, {centre[2]:.3g}) m: gravity needs it at O"
+        f"({fmt(a[0])}, {fmt(a[1])}, {fmt(a[2])}) J that the theorem's V does not have (the "
+        f"design claims V); the centre of mass of {fmt(total, PRECISE)} kg is at ({fmt(centre[0])},"
+        " "
+        f"{fmt(centre[1])}, {fmt(centre[2])}) m: gravity needs it at O"
     )
 
 
@@ -351,9 +353,11 @@ def _slow_body_notes(params: Parameters) -> list[str]:
     if rate == 0.0 or start < SLOW_BODY_FACTOR * rate:
         return []
     return [
-        f"the default start turns at |(p, q)| = {start:.3g} 1/s, {start / rate:.2g} times this "
-        f"body's own rate {rate:.3g} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
-        f"torques are then about {(rate / start) ** 2:.1g} of the kinetic terms, which I4's "
+        f"the default start turns at |(p, q)| = {fmt(start)} 1/s, {fmt(start / rate, ROUGH)} times"
+        " this "
+        f"body's own rate {fmt(rate)} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
+        f"torques are then about {fmt((rate / start) ** 2, ORDER)} of the kinetic terms, which I4's"
+        " "
         "drift tests only weakly; give [initial] (or initial=) at the body's rate"
     ]
 
@@ -438,7 +442,8 @@ def design_pending(
         f"body designed from the scene's [body] ({shape}, {len(result.candidates)} "
         f"candidates): {counts['charges']} charges, {counts['dipoles']} dipoles, "
         f"{counts['masses']} masses; largest relative residual "
-        f"{residuals['max_after_polish']:.2g} (tolerance {residuals['tolerance']:.2g}); "
+        f"{fmt(residuals['max_after_polish'], ROUGH)} (tolerance"
+        f" {fmt(residuals['tolerance'], ROUGH)}); "
         f"realises {', '.join(design.realises) or 'nothing'}"
     )
     missing = [k for k in ("mu", "V", "inertia") if k not in design.realises]
@@ -627,7 +632,7 @@ def prepare(
     if level is not None:
         spec = with_level(spec, level)
         notes.append(
-            f"start moved to the level I3 = {float(level):g} J s (r solved from it)"
+            f"start moved to the level I3 = {fmt(float(level), PLAIN)} J s (r solved from it)"
             + ("" if float(level) == 0.0 else "; off I3 = 0 the theorem's I4 is no integral")
         )
     y0, start_level = initial_state(system, spec, setup.axes_rate)
@@ -635,7 +640,7 @@ def prepare(
         g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
         if abs(g3) <= options.gamma3_min:
             raise input_error(
-                "initial.gamma", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3
+                "initial.gamma", f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}", g3
             )
     return system, y0, start_level, setup, notes
 
@@ -820,7 +825,9 @@ def simulate_batch(
         if np.any(np.abs(g3) <= options.gamma3_min):
             bad = int(np.argmin(np.abs(g3)))
             raise input_error(
-                f"initial_states[{bad}]", f"|gamma3| > gamma3_min = {options.gamma3_min:g}", g3[bad]
+                f"initial_states[{bad}]",
+                f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}",
+                g3[bad],
             )
     run = integrate_with_options(system, y0, options, progress=progress)
     return [
@@ -851,8 +858,9 @@ def _result(
     for e in events:
         if e["kind"] == "singular_plane":
             all_notes.append(
-                f"stopped at t = {e['t']:.6g} s: |gamma3| = {abs(e['gamma3']):.3g} reached the "
-                f"singular plane threshold {e['threshold']:g} (lambda or rho != 0)"
+                f"stopped at t = {fmt(e['t'], CELL)} s: |gamma3| = {fmt(abs(e['gamma3']))} reached"
+                " the "
+                f"singular plane threshold {fmt(e['threshold'], PLAIN)} (lambda or rho != 0)"
             )
     integrals = system.integrals(states, rate=rate)
     kinetic = 0.5 * np.einsum("ij,ij->i", omega * system.inertia_diagonal(), omega)

@@ -26,6 +26,7 @@ import numpy as np
 
 from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_path
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.scene.simulation import DEFAULT_INITIAL
 from chargedesign.simulation import taylor
 from chargedesign.simulation.api import initial_state
@@ -84,7 +85,8 @@ def section_starts(
             out.append(state)
     if len(out) < orbits:
         raise InputError(
-            f"poincare: energy {energy:g} J is too low for the level I3 = {level:g} J s on the "
+            f"poincare: energy {fmt(energy, PLAIN)} J is too low for the level I3 ="
+            f" {fmt(level, PLAIN)} J s on the "
             "section gamma3 = 0; raise the energy"
         )
     return np.array(out)
@@ -146,13 +148,14 @@ class PoincareAtlas:
                     phi = np.arctan2(pts[:, 5], pts[:, 4])
                     ax.plot(phi, pts[:, 3], ".", ms=1.2, color=colours[i])
             kind = "I4 is an integral: invariant curves" if level == 0 else "I4 is no integral"
-            ax.set_title(f"I3 = {level:g} J s ({kind})", fontsize=10)
+            ax.set_title(f"I3 = {fmt(level, PLAIN)} J s ({kind})", fontsize=10)
             ax.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 (upwards) [rad]")
             ax.grid(True, alpha=0.3)
         axes[0].set_ylabel("r [1/s]")
         fig.suptitle(
-            f"Poincare atlas: {len(self.points[0])} orbits per level, energy {self.energy:.4g} J, "
-            f"t = {self.t_end:g} s"
+            f"Poincare atlas: {len(self.points[0])} orbits per level, energy"
+            f" {fmt(self.energy, PRECISE)} J, "
+            f"t = {fmt(self.t_end, PLAIN)} s"
         )
         return fig
 
@@ -303,7 +306,7 @@ def fast_lyapunov_indicator(
         _restart(ta, eq, y0)
         outcome, *_, values = ta.propagate_grid(grid)
         if outcome != hy.taylor_outcome.time_limit:
-            raise SolverError(f"FLI: heyoka stopped at t = {ta.time:.6g} s: {outcome}")
+            raise SolverError(f"FLI: heyoka stopped at t = {fmt(ta.time, CELL)} s: {outcome}")
         phi = np.asarray(values)[:, n:].reshape(len(grid), n, n)
         growth = np.linalg.norm(phi @ w, axis=1)
         out[i] = float(np.log(np.max(growth)))
@@ -345,7 +348,9 @@ def lyapunov_exponent(
     t_end = as_finite_float(t_end, "t_end", positive=True)
     interval = as_finite_float(interval, "interval", positive=True)
     if interval > t_end:
-        raise input_error("interval", f"a duration of at most t_end = {t_end:g} s", interval)
+        raise input_error(
+            "interval", f"a duration of at most t_end = {fmt(t_end, PLAIN)} s", interval
+        )
     hy, eq, ta = _variational_integrator(system, tol, "Lyapunov exponent")
     states = np.atleast_2d(np.asarray(states, dtype=float))
     times = interval * np.arange(1, math.floor(t_end / interval + 1e-9) + 1)
@@ -367,7 +372,7 @@ def _benettin_estimates(hy: Any, ta: Any, times: np.ndarray) -> np.ndarray:
     for k, t in enumerate(times):
         outcome = ta.propagate_until(float(t))[0]
         if outcome != hy.taylor_outcome.time_limit:
-            raise SolverError(f"Lyapunov exponent: heyoka stopped at t = {ta.time:.6g} s")
+            raise SolverError(f"Lyapunov exponent: heyoka stopped at t = {fmt(ta.time, CELL)} s")
         v = np.asarray(ta.state[n:]).reshape(n, n) @ v
         growth = float(np.linalg.norm(v))
         total += math.log(growth)
@@ -406,12 +411,12 @@ class FLIMap:
             image = ax.pcolormesh(
                 self.phi, self.v, values, shading="nearest", cmap="magma", vmin=vmin, vmax=vmax
             )
-            ax.set_title(f"FLI, I3 = {level:g} J s", fontsize=10)
+            ax.set_title(f"FLI, I3 = {fmt(level, PLAIN)} J s", fontsize=10)
             ax.set_xlabel("phi on gamma3 = 0 [rad]")
         axes[0].set_ylabel("v = gamma3' [1/s]")
         if image is not None:
-            fig.colorbar(image, ax=list(axes), label=f"FLI at t = {self.t_end:g} s")
-        fig.suptitle(f"Fast Lyapunov indicator, energy {self.energy:.4g} J (r >= 0 half)")
+            fig.colorbar(image, ax=list(axes), label=f"FLI at t = {fmt(self.t_end, PLAIN)} s")
+        fig.suptitle(f"Fast Lyapunov indicator, energy {fmt(self.energy, PRECISE)} J (r >= 0 half)")
         return fig
 
 

@@ -27,6 +27,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.scene.states import STATE_COLUMNS, parse_states
 from chargedesign.simulation import monitors as monitors_mod
@@ -130,13 +131,13 @@ class EnsembleResult(Result):
         i4 = s["I4_rel_drift"]
         lines = [
             f"ensemble: {s['trajectories']} trajectories, {', '.join(self.effects) or 'free'}, "
-            f"{self.method}, t = 0 .. {s['t_end']:g} s in {s['seconds']:.3g} s "
-            f"(+ {s['compile_seconds']:.3g} s compile)",
+            f"{self.method}, t = 0 .. {fmt(s['t_end'], PLAIN)} s in {fmt(s['seconds'])} s "
+            f"(+ {fmt(s['compile_seconds'])} s compile)",
             "I4 max relative drift "
-            + (f"{i4:.3g} over {s['I4_reported_for']} trajectories" if i4 is not None else "none")
+            + (f"{fmt(i4)} over {s['I4_reported_for']} trajectories" if i4 is not None else "none")
             + (f" ({s['I4_reason']})" if "I4_reason" in s else ""),
-            f"I3 max |I3| {s['I3_max']:.3g} J s; "
-            f"energy max drift {s.get('energy_max_drift', 0):.3g}",
+            f"I3 max |I3| {fmt(s['I3_max'])} J s; "
+            f"energy max drift {fmt(s.get('energy_max_drift', 0))}",
         ]
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
@@ -209,7 +210,7 @@ def simulate_ensemble(
         if len(bad):
             raise input_error(
                 f"initial.states[{int(bad[0])}]",
-                f"|gamma3| > gamma3_min = {options.gamma3_min:g}",
+                f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}",
                 float(g3[bad[0]]),
             )
     run = integrate_with_options(system, y0, options, progress=progress)

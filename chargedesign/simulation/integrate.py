@@ -28,6 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from chargedesign.errors import SolverError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
@@ -147,7 +148,7 @@ def integrate(
             return out
         fallback_note = (
             f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); "
-            f"{FALLBACK_METHOD} at rtol = {rtol:g}, atol = {atol:g} instead"
+            f"{FALLBACK_METHOD} at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
         )
         method = FALLBACK_METHOD
     if method == "gauss-legendre":
@@ -241,7 +242,9 @@ def _integrate_solve_ivp(
     seconds = time.perf_counter() - t0
     if not sol.success:
         reached = float(sol.t[-1]) if len(sol.t) else 0.0
-        raise SolverError(f"simulation: {method} failed near t = {reached:.6g} s: {sol.message}")
+        raise SolverError(
+            f"simulation: {method} failed near t = {fmt(reached, CELL)} s: {sol.message}"
+        )
     times = np.asarray(sol.t)
     accepted = len(times) - 1
     states = np.asarray(sol.y).T.reshape(len(times), m, 7)
@@ -373,8 +376,9 @@ def _integrate_gauss(
             if diverged or it == 99:
                 g3 = float(np.min(np.abs(quaternion_gamma(y.reshape(m, 7)[:, 3:])[:, 2])))
                 raise SolverError(
-                    f"simulation: gauss-legendre stages did not converge at t = {(n - 1) * h:.6g}"
-                    f" s (|gamma3| = {g3:.3g}); reduce simulation.step or use DOP853"
+                    "simulation: gauss-legendre stages did not converge at t ="
+                    f" {fmt((n - 1) * h, CELL)}"
+                    f" s (|gamma3| = {fmt(g3)}); reduce simulation.step or use DOP853"
                 )
         y = y + hb @ K
         t = n * h

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.scene.simulation import parse_monitors as parse_monitors
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import MONITOR_ALIASES
@@ -138,7 +139,7 @@ def _i4_integral(ctx: Context) -> tuple[bool, str]:
             why = "the body is not a design that realises the theorem's mu, V and inertia"
         return False, f"I4 is no integral: {why}"
     if abs(ctx.I3_start) > 1e-9 * ctx.I3_scale:
-        return False, f"I4 is no integral off the level I3 = 0 (I3(0) = {ctx.I3_start:.3g} J s)"
+        return False, f"I4 is no integral off the level I3 = 0 (I3(0) = {fmt(ctx.I3_start)} J s)"
     return True, ""
 
 
@@ -147,7 +148,8 @@ def _turning(ctx: Context, name: str) -> tuple[bool, str] | None:
     if ctx.axes_rate == 0.0:
         return None
     return False, (
-        f"{name} is no integral in axes turning at {ctx.axes_rate:g} 1/s (their Coriolis and "
+        f"{name} is no integral in axes turning at {fmt(ctx.axes_rate, PLAIN)} 1/s (their Coriolis"
+        " and "
         "centrifugal terms act); simulate with axes = 'inertial'"
     )
 

@@ -44,6 +44,7 @@ from chargedesign.body import FIELD_KINDS
 from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
@@ -309,9 +310,11 @@ def inertia_mismatch(body: Body, rtol: float = INERTIA_RTOL) -> str | None:
     A, B, Cm = np.diag(inertia)
     off = max(abs(inertia[0, 1]), abs(inertia[0, 2]), abs(inertia[1, 2]))
     return (
-        f"the masses' inertia about O is diag({A:.6g}, {B:.6g}, {Cm:.6g}) kg m^2 (largest "
-        f"product {off:.3g}) but C = {C:.6g} asks for diag({2 * C:.6g}, {2 * C:.6g}, {C:.6g}) "
-        f"(relative mismatch {err:.2g} > {rtol:g})"
+        f"the masses' inertia about O is diag({fmt(A, CELL)}, {fmt(B, CELL)}, {fmt(Cm, CELL)}) kg"
+        " m^2 (largest "
+        f"product {fmt(off)}) but C = {fmt(C, CELL)} asks for diag({fmt(2 * C, CELL)},"
+        f" {fmt(2 * C, CELL)}, {fmt(C, CELL)}) "
+        f"(relative mismatch {fmt(err, ROUGH)} > {fmt(rtol, PLAIN)})"
     )
 
 

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import SolverError
+from chargedesign.formatting import CELL, fmt
 from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
@@ -499,7 +500,7 @@ def _check_outcome(outcome: Any, where: str, t: float) -> int | None:
     if -(2**32) < value < 0:
         return -value - 1  # terminal event index
     raise SolverError(
-        f"simulation: taylor (heyoka) stopped near t = {t:.6g} s: {outcome} ({where})"
+        f"simulation: taylor (heyoka) stopped near t = {fmt(t, CELL)} s: {outcome} ({where})"
     )
 
 

@@ -32,6 +32,7 @@ from typing import Any
 
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
@@ -248,7 +249,8 @@ def make_executor(
             sys.unraisablehook = hook
         if failure:
             raise InputError(
-                f"--scheduler {scheduler}: no Dask scheduler reachable within {timeout:g} s "
+                f"--scheduler {scheduler}: no Dask scheduler reachable within {fmt(timeout, PLAIN)}"
+                " s "
                 f"({failure})"
             )
     else:
@@ -325,7 +327,7 @@ class SweepResult(Result):
     def _text(self) -> str:
         lines = [
             f"sweep: {len(self.rows)} points in {self.out} ({self.ran} run, {self.skipped} "
-            f"already done, {self.failed} failed) in {self.seconds:.3g} s on {self.workers} "
+            f"already done, {self.failed} failed) in {fmt(self.seconds)} s on {self.workers} "
             f"{self.executor} worker(s)"
         ]
         if self.lost:

@@ -38,6 +38,7 @@ import numpy as np
 
 from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import InputError
+from chargedesign.formatting import fmt
 from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
@@ -385,7 +386,7 @@ def _check_point_count(
     cap = MAX_SWEEP_POINTS if max_points is None else max_points
     if count > cap:
         raise InputError(
-            f"{source}: {count:.3g} points exceed the cap of {cap} "
+            f"{source}: {fmt(count)} points exceed the cap of {cap} "
             "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
         )
 

@@ -16,6 +16,7 @@ from itertools import pairwise
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
 from chargedesign.topology.chambers import LevelSampler, LevelSampling
@@ -126,11 +127,15 @@ def resolve_range(
         return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+        raise InputError(
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
+            f" {fmt(hi, PLAIN)}"
+        )
     if hi <= low:
         raise InputError(
-            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
-            f"energy is at least {low:.6g} J"
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
+            " on I3 = 0 the "
+            f"energy is at least {fmt(low, CELL)} J"
         )
     return (max(lo, low), hi), low
 

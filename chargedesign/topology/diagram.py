@@ -20,6 +20,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, write_text_atomic
+from chargedesign.formatting import CELL, FULL, PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
 from chargedesign.topology.compute import (
@@ -139,7 +140,10 @@ def check_energy_range(
         return None
     lo, hi = (float(v) for v in h_range)
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(f"--h-range: expected two finite energies LO < HI, got {lo:g} {hi:g}")
+        raise InputError(
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
+            f" {fmt(hi, PLAIN)}"
+        )
     reading = Reading.of(params)
     unit = MomentumMap(reading.unit())
     unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
@@ -148,8 +152,9 @@ def check_energy_range(
     except InputError:
         _, low = resolve_range(unit, None)
         raise InputError(
-            f"--h-range: no admissible motion for energies {lo:g} .. {hi:g} J: on I3 = 0 the "
-            f"energy is at least {float(reading.energy(low)):.6g} J"
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
+            " on I3 = 0 the "
+            f"energy is at least {fmt(float(reading.energy(low)), CELL)} J"
         ) from None
     return unit_range
 
@@ -222,7 +227,7 @@ class BifurcationDiagram(Result):
         writer = csv.writer(buffer, lineterminator="\n")
         writer.writerow(CSV_COLUMNS)
         for row in self.rows():
-            writer.writerow([f"{v:.12g}" if isinstance(v, float) else v for v in row])
+            writer.writerow([f"{fmt(v, FULL)}" if isinstance(v, float) else v for v in row])
         return buffer.getvalue()
 
     def to_dict(self) -> dict[str, Any]:
@@ -261,7 +266,7 @@ class BifurcationDiagram(Result):
             "branches": len(self.branches),
             "points": sum(len(b.hk) for b in self.branches),
             "vertices": len(self.raw.vertices),
-            "h_range": [float(f"{v:.6g}") for v in self.raw.h_range],
+            "h_range": [float(f"{fmt(v, CELL)}") for v in self.raw.h_range],
             "tori_per_chamber": tori,
         }
 
@@ -269,23 +274,29 @@ class BifurcationDiagram(Result):
         raw = self.raw
         lines = [
             "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
-            f"  energy range {raw.h_range[0]:.6g} .. {raw.h_range[1]:.6g} J "
-            f"(least energy on the level {raw.h_min:.6g} J)",
-            f"  computed at n = 0 in time units of 1/s, s = {Reading.of(raw.params).s:.6g} 1/s, "
-            f"then mapped exactly (Larmor: h shifted by C n^2 = {larmor_shift(raw.params):.6g} J)",
+            f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)} J "
+            f"(least energy on the level {fmt(raw.h_min, CELL)} J)",
+            f"  computed at n = 0 in time units of 1/s, s = {fmt(Reading.of(raw.params).s, CELL)}"
+            " 1/s, "
+            "then mapped exactly (Larmor: h shifted by C n^2 ="
+            f" {fmt(larmor_shift(raw.params), CELL)} J)",
         ]
         for item in self.to_dict()["branches"]:
             kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
             lines.append(
-                f"  branch {item['branch']}: {item['points']} points, h {item['h'][0]:.4g} .. "
-                f"{item['h'][1]:.4g} J, k {item['k'][0]:.4g} .. {item['k'][1]:.4g} 1/s^4 "
+                f"  branch {item['branch']}: {item['points']} points, h"
+                f" {fmt(item['h'][0], PRECISE)} .. "
+                f"{fmt(item['h'][1], PRECISE)} J, k {fmt(item['k'][0], PRECISE)} .."
+                f" {fmt(item['k'][1], PRECISE)} 1/s^4 "
                 f"({kinds}; ends: {', '.join(item['ends'])}){' exact' if item['exact'] else ''}"
             )
         images = [b.hk for b in self.branches]
         extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
         size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
         for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
-            lines.append(f"  vertex h = {h:.6g} J, k = {k:.6g} 1/s^4: {kind} ({states} states)")
+            lines.append(
+                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} ({states} states)"
+            )
         counts = sorted({c.tori for c in raw.chambers})
         lines.append(
             f"  chambers sampled: {len(raw.chambers)}; tori per chamber: "

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple
 from chargedesign.params import Parameters
 
@@ -31,7 +32,7 @@ def require_regular(params: Parameters) -> None:
         raise InputError(
             "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
             f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
-            f"{params.lam:g}, rho = {params.rho:g}"
+            f"{fmt(params.lam, PLAIN)}, rho = {fmt(params.rho, PLAIN)}"
         )
 
 

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.results import Result, png_html
 from chargedesign.simulation.chaos import (
     FLIMap,
@@ -151,9 +152,10 @@ class LinkedPictures(Result):
         }
 
     def _text(self) -> str:
+        # deliberately 5 digits (no kind has them): nearby critical levels must read apart
         values = ", ".join(f"{c.k:.5g} ({c.type})" for c in self.critical) or "none"
         return (
-            f"energy {self.energy:.6g} J: critical values of k {values}; atlas of "
+            f"energy {fmt(self.energy, CELL)} J: critical values of k {values}; atlas of "
             f"{len(self.orbit_k)} orbits; FLI on {len(self.fli.phi)} x {len(self.fli.v)} points\n"
         )
 
@@ -194,7 +196,8 @@ class LinkedPictures(Result):
                     mew=0.3,
                 )
         middle.set_title(
-            f"Poincare section on I3 = 0 at h = {self.energy:.4g} J (colour: k; large dots: "
+            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J (colour: k; large"
+            " dots: "
             "critical orbits)",
             fontsize=9,
         )
@@ -203,7 +206,7 @@ class LinkedPictures(Result):
         image = right.pcolormesh(
             self.fli.phi, self.fli.v, self.fli.fli[0], shading="nearest", cmap="magma"
         )
-        fig.colorbar(image, ax=right, label=f"FLI at t = {self.fli.t_end:g} s")
+        fig.colorbar(image, ax=right, label=f"FLI at t = {fmt(self.fli.t_end, PLAIN)} s")
         right.set_title(f"FLI on I3 = 0, {len(self.fli.phi)} x {len(self.fli.v)}", fontsize=9)
         right.set_xlabel("phi on gamma3 = 0 [rad]")
         right.set_ylabel("v = gamma3' [1/s]")
@@ -223,8 +226,9 @@ def linked_pictures(
     lo, hi = diagram.raw.h_range
     if not lo < energy < hi:
         raise InputError(
-            f"energy: expected a value inside the diagram's range {lo:.6g} .. {hi:.6g} J, "
-            f"got {energy:g}"
+            f"energy: expected a value inside the diagram's range {fmt(lo, CELL)} .."
+            f" {fmt(hi, CELL)} J, "
+            f"got {fmt(energy, PLAIN)}"
         )
     params = diagram.raw.params
     system = RigidBodySystem(Body(parameters=params), ["theorem"])
