@@ -235,10 +235,14 @@ def _wheel_section(result: TestbedResult) -> list[str]:
     return [
         "## Wheels",
         "",
-        f"- {result.options.wheels} array; the motion needs {needs['torque_N_m']:.4g} N m and "
-        f"{needs['momentum_N_m_s']:.4g} N m s on one wheel; |h| stays below "
+        f"- {result.options.wheels} array, sized over {needs['motions']} planned motions "
+        "(the scene's start, motion 0, and further starts on I3 = 0 at its energy);",
+        f"- the most torque on one wheel, {needs['torque_N_m']:.4g} N m, is motion "
+        f"{needs['torque_motion']}'s; the most momentum, {needs['momentum_N_m_s']:.4g} N m s, "
+        f"is motion {needs['momentum_motion']}'s, whose |h| stays below "
         f"|L| + max |J omega| = {needs['momentum_bound_N_m_s']:.4g} N m s "
         f"(reached {needs['momentum_norm_N_m_s']:.4g});",
+        "- each wheel's momentum saturates at its limit in the sampled loop;",
         f"- the nominal runs used at most {r['wheel_torque_max_N_m']:.4g} N m and "
         f"{r['wheel_momentum_max_N_m_s']:.4g} N m s.",
         "",
