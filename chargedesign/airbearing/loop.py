@@ -16,9 +16,9 @@ less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
 The commanded body torque is shared among the wheels (least-norm), each wheel's torque
 saturated and quantised, then limited so that no wheel's momentum passes its limit by the
 end of the interval the torque is held (a wheel at its momentum limit delivers no torque
-that would push it further; its momentum is tracked per wheel), and the plant integrated (fixed-step DOP853) with the bearing's
-viscous drag ``-b omega`` and the weight's torque ``-M g r_c x gamma`` of a centre of mass
-at ``r_c``. Runs of one ensemble go together as one batch.
+that would push it further; its momentum is tracked per wheel), and the plant integrated
+(fixed-step DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
+``-M g r_c x gamma`` of a centre of mass at ``r_c``. Runs of one ensemble go together as one batch.
 """
 
 from __future__ import annotations

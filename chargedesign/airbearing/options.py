@@ -92,7 +92,8 @@ SOURCES = {
     "rad/s) with r solved from I3 = 0",
     "planned_motions": "4: the scene's start and 3 further starts on I3 = 0 at the same energy "
     "(random attitude and direction of (p, q), seeded: deterministic); the wheels are sized "
-    "for the largest need among them. Each costs one ideal-loop integration (~0.3 s)",
+    "for the largest need among them. Each costs one ideal-loop integration (about 0.2 s "
+    "for the example scene)",
     "t_end_s": "20 s: the horizon of the issue's outside measurement",
     "target_I4_drift": "1e-3: I4 kept to 0.1 % over the run",
     "drag_feedforward": "0: no drag fed forward (the baseline); a measured drag (spin-down "

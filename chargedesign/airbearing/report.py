@@ -96,6 +96,11 @@ def plot_wheels(result: TestbedResult, path: Path) -> None:
     h = np.linalg.norm(needs.states[:, 6:9], axis=1)
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.plot(needs.times, h, label="|h| (ideal loop)")
+    share = np.linalg.pinv(result.wheel_axes.T)  # body -> wheels, as the loop shares it
+    for k, motion in enumerate(result.planned.motions):
+        wheel = np.abs(motion.states[:, 6:9] @ share.T).max(axis=1)
+        label = "largest wheel's |h_i|, each planned motion" if k == 0 else None
+        ax.plot(motion.times, wheel, color="0.55", lw=0.8, label=label)
     ax.axhline(needs.momentum_bound, color="r", ls="--", lw=1, label="bound |L| + max |J omega|")
     ax.axhline(result.wheel_limits[1], color="k", ls=":", lw=1, label="one wheel's capacity")
     ax.set_xlabel("t (s)")

@@ -62,9 +62,7 @@ def test_platform_with_ballast_heavier_than_the_bearing() -> None:
 
 @pytest.mark.parametrize("motions", [1, 4])
 def test_wheels_too_weak_for_the_motion(motions: int) -> None:
-    opts = TestbedOptions.from_table(
-        {**SMALL, "max_torque_N_m": 0.01, "planned_motions": motions}
-    )
+    opts = TestbedOptions.from_table({**SMALL, "max_torque_N_m": 0.01, "planned_motions": motions})
     with pytest.raises(InfeasibleError) as info:
         build_testbed(EXAMPLE, opts, with_requirements=False)
     text = str(info.value)
