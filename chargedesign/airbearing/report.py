@@ -247,7 +247,9 @@ def _wheel_section(result: TestbedResult) -> list[str]:
         f"is motion {needs['momentum_motion']}'s, whose |h| stays below "
         f"|L| + max |J omega| = {needs['momentum_bound_N_m_s']:.4g} N m s "
         f"(reached {needs['momentum_norm_N_m_s']:.4g});",
-        "- each wheel's momentum saturates at its limit in the sampled loop;",
+        f"- each wheel's limits are {result.wheel_limits[0]:.4g} N m and "
+        f"{result.wheel_limits[1]:.4g} N m s; its momentum saturates at the limit in the "
+        "sampled loop;",
         f"- the nominal runs used at most {r['wheel_torque_max_N_m']:.4g} N m and "
         f"{r['wheel_momentum_max_N_m_s']:.4g} N m s.",
         "",
