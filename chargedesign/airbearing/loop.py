@@ -14,9 +14,11 @@ from ``t_k + delay`` to ``t_{k+1} + delay``:
 less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
 
 The commanded body torque is shared among the wheels (least-norm), each wheel's torque
-saturated and quantised, and the plant integrated (fixed-step DOP853) with the bearing's
-viscous drag ``-b omega`` and the weight's torque ``-M g r_c x gamma`` of a centre of mass
-at ``r_c``. Runs of one ensemble go together as one batch.
+saturated and quantised, then limited so that no wheel's momentum passes its limit by the
+end of the interval the torque is held (a wheel at its momentum limit delivers no torque
+that would push it further; its momentum is tracked per wheel), and the plant integrated
+(fixed-step DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
+``-M g r_c x gamma`` of a centre of mass at ``r_c``. Runs of one ensemble go together as one batch.
 """
 
 from __future__ import annotations
@@ -58,6 +60,7 @@ class LoopSettings:
     total_mass_kg: float = 0.0
     wheel_axes: np.ndarray = field(default_factory=lambda: np.eye(3))
     max_torque: float = np.inf
+    max_momentum: float = np.inf  # each wheel's stored momentum limit, N m s
     resolution: float = 0.0
 
     @property
@@ -128,23 +131,36 @@ def relative_drift(curve_I4: np.ndarray) -> np.ndarray:
     return np.abs(curve_I4 - i4_0) / np.where(i4_0 != 0.0, np.abs(i4_0), 1.0)
 
 
-class _Actuator:
-    """Least-norm share of a body torque among the wheels, saturation, quantisation."""
+class Actuator:
+    """Least-norm share of a body torque among the wheels, torque saturation,
+    quantisation, and momentum saturation."""
 
     def __init__(self, settings: LoopSettings) -> None:
         self.axes = np.asarray(settings.wheel_axes, float)  # (k, 3)
         self.share = np.linalg.pinv(self.axes.T)  # (k, 3): body torque -> wheel torques
         self.max_torque = settings.max_torque
+        self.max_momentum = settings.max_momentum
         self.resolution = settings.resolution
 
     def wheel(self, body: np.ndarray) -> np.ndarray:
         return body @ self.share.T
 
-    def apply(self, body: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(body torque actually applied (m, 3), wheel torques (m, k))."""
+    def apply(
+        self, body: np.ndarray, momentum: np.ndarray | None = None, hold: float = 0.0
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(body torque actually applied (m, 3), wheel torques (m, k)).
+
+        With the wheels' ``momentum`` (m, k) at the start of a hold of ``hold`` s, each
+        wheel's torque is limited so that its momentum stays within ``max_momentum`` by the
+        hold's end (after quantisation: the limit is the wheel's speed limit, a hard stop).
+        """
         tau = np.clip(self.wheel(body), -self.max_torque, self.max_torque)
         if self.resolution > 0.0:
             tau = np.round(tau / self.resolution) * self.resolution
+        if momentum is not None and hold > 0.0 and np.isfinite(self.max_momentum):
+            room_up = np.maximum(self.max_momentum - momentum, 0.0) / hold
+            room_down = np.minimum(-self.max_momentum - momentum, 0.0) / hold
+            tau = np.clip(tau, room_down, room_up)
         return tau @ self.axes, tau
 
 
@@ -166,7 +182,7 @@ def run_loop(
     n_samples = max(1, round(settings.t_end_s * settings.rate_Hz))
     rate = motion_rate(plant.params, x0[:3])
     max_step = STEP_FRACTION / rate
-    actuator = _Actuator(settings)
+    actuator = Actuator(settings)
     bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
     arw = settings.per_run("gyro_arw", runs)
     offset = _imbalance(settings.imbalance_m, runs, rng, settings.imbalance_direction)
@@ -179,7 +195,8 @@ def run_loop(
 
     x = np.zeros((runs, 9))
     x[:, 0:6] = x0[:6]
-    held, _ = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    held, held_wheel = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    wheel_h = np.zeros((runs, len(actuator.axes)))  # each wheel's momentum, N m s
     states = np.empty((runs, n_samples + 1, 6))
     momentum = np.empty((runs, n_samples + 1))
     torque_max = np.zeros(runs)
@@ -195,16 +212,19 @@ def run_loop(
                     "large for this loop"
                 )
             states[:, k] = x[:, 0:6]
-            momentum[:, k] = np.abs(actuator.wheel(x[:, 6:9])).max(axis=1)
+            momentum[:, k] = np.abs(wheel_h).max(axis=1)
             if k == n_samples:
                 break
             measured = _measure(x, settings, bias, arw, rng, T)
             wanted = _command(plant, measured, settings, T, max_step)
-            applied, tau = actuator.apply(wanted)
+            # the new torque acts from t_k + delay for one period: room left then
+            at_switch = wheel_h + held_wheel * settings.delay_s
+            applied, tau = actuator.apply(wanted, at_switch, T)
             torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
             x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
             x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
-            held = applied
+            wheel_h = at_switch + tau * (T - settings.delay_s)
+            held, held_wheel = applied, tau
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
     return LoopRun(
@@ -322,6 +342,7 @@ def theorem_motion(
 
 
 __all__ = [
+    "Actuator",
     "LoopRun",
     "LoopSettings",
     "continuous_loop",

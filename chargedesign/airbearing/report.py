@@ -97,6 +97,11 @@ def plot_wheels(result: TestbedResult, path: Path) -> None:
     h = np.linalg.norm(needs.states[:, 6:9], axis=1)
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.plot(needs.times, h, label="|h| (ideal loop)")
+    share = np.linalg.pinv(result.wheel_axes.T)  # body -> wheels, as the loop shares it
+    for k, motion in enumerate(result.planned.motions):
+        wheel = np.abs(motion.states[:, 6:9] @ share.T).max(axis=1)
+        label = "largest wheel's |h_i|, each planned motion" if k == 0 else None
+        ax.plot(motion.times, wheel, color="0.55", lw=0.8, label=label)
     ax.axhline(needs.momentum_bound, color="r", ls="--", lw=1, label="bound |L| + max |J omega|")
     ax.axhline(result.wheel_limits[1], color="k", ls=":", lw=1, label="one wheel's capacity")
     ax.set_xlabel("t (s)")
@@ -239,11 +244,17 @@ def _wheel_section(result: TestbedResult) -> list[str]:
     return [
         "## Wheels",
         "",
-        f"- {result.options.wheels} array; the motion needs {fmt(needs['torque_N_m'], PRECISE)} N m"
-        " and "
-        f"{fmt(needs['momentum_N_m_s'], PRECISE)} N m s on one wheel; |h| stays below "
+        f"- {result.options.wheels} array, sized over {needs['motions']} planned motions "
+        "(the scene's start, motion 0, and further starts on I3 = 0 at its energy);",
+        f"- the most torque on one wheel, {fmt(needs['torque_N_m'], PRECISE)} N m, is motion "
+        f"{needs['torque_motion']}'s; the most momentum, {fmt(needs['momentum_N_m_s'], PRECISE)} N"
+        " m s, "
+        f"is motion {needs['momentum_motion']}'s, whose |h| stays below "
         f"|L| + max |J omega| = {fmt(needs['momentum_bound_N_m_s'], PRECISE)} N m s "
         f"(reached {fmt(needs['momentum_norm_N_m_s'], PRECISE)});",
+        f"- each wheel's limits are {fmt(result.wheel_limits[0], PRECISE)} N m and "
+        f"{fmt(result.wheel_limits[1], PRECISE)} N m s; its momentum saturates at the limit in the "
+        "sampled loop;",
         f"- the nominal runs used at most {fmt(r['wheel_torque_max_N_m'], PRECISE)} N m and "
         f"{fmt(r['wheel_momentum_max_N_m_s'], PRECISE)} N m s.",
         "",

@@ -11,7 +11,7 @@ from chargedesign.airbearing.loop import LoopRun
 from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
-from chargedesign.airbearing.wheels import WheelNeeds
+from chargedesign.airbearing.wheels import PlannedNeeds, WheelNeeds
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, format_length, json_ready
@@ -42,7 +42,8 @@ class TestbedResult(Result):
     com_total: np.ndarray
     wheel_axes: np.ndarray
     wheel_limits: tuple[float, float, float]
-    needs: WheelNeeds
+    needs: WheelNeeds  # the scene's own motion (the runs' start)
+    planned: PlannedNeeds  # every planned motion (the wheels are sized for the largest)
     initial_state: np.ndarray
     runs: dict[str, LoopRun]
     requirements: Requirements | None
@@ -88,12 +89,25 @@ class TestbedResult(Result):
             **{name: self._loop(name) for name in self.runs},
             "wheel_momentum_max_N_m_s": float(nominal.wheel_momentum_max.max()),
             "wheel_torque_max_N_m": float(nominal.wheel_torque_max.max()),
-            "wheel_needs": {
-                "torque_N_m": self.needs.torque,
-                "momentum_N_m_s": self.needs.momentum,
-                "momentum_norm_N_m_s": self.needs.momentum_norm,
-                "momentum_bound_N_m_s": self.needs.momentum_bound,
-            },
+            "wheel_needs": self._wheel_needs(),
+            "planned_motions": [
+                {"initial_state": start, **_needs(motion)}
+                for start, motion in zip(self.planned.starts, self.planned.motions, strict=True)
+            ],
+        }
+
+    def _wheel_needs(self) -> dict[str, Any]:
+        """The largest needs over the planned motions, and which motion has each."""
+        planned = self.planned
+        most = planned.motions[planned.momentum_motion]
+        return {
+            "torque_N_m": planned.torque,
+            "momentum_N_m_s": planned.momentum,
+            "momentum_norm_N_m_s": most.momentum_norm,
+            "momentum_bound_N_m_s": most.momentum_bound,
+            "torque_motion": planned.torque_motion,
+            "momentum_motion": planned.momentum_motion,
+            "motions": len(planned.motions),
         }
 
     def to_dict(self) -> dict[str, Any]:
@@ -164,10 +178,11 @@ class TestbedResult(Result):
             f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)}"
             " kg)",
             f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each"
-            " (the motion needs "
-            f"{fmt(self.needs.torque, PRECISE)} N m, {fmt(self.needs.momentum, PRECISE)} N m s;"
-            " momentum bound "
-            f"{fmt(self.needs.momentum_bound, PRECISE)} N m s)",
+            " (the "
+            f"{len(self.planned.motions)} planned motions need at most "
+            f"{fmt(self.planned.torque, PRECISE)} N m (motion {self.planned.torque_motion}), "
+            f"{fmt(self.planned.momentum, PRECISE)} N m s (motion {self.planned.momentum_motion}); "
+            f"scene's motion: momentum bound {fmt(self.needs.momentum_bound, PRECISE)} N m s)",
             f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
             f" {o.command}; I4 relative drift "
             f"over {fmt(o.t_end_s, PLAIN)} s ({fmt(self.turns)} turns of the motion):",
@@ -192,6 +207,15 @@ class TestbedResult(Result):
                 need = f"{fmt(rate, PLAIN)} Hz" if rate is not None else "none of the rates tried"
                 lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
         return "\n".join(lines) + "\n"
+
+
+def _needs(motion: WheelNeeds) -> dict[str, float]:
+    return {
+        "torque_N_m": motion.torque,
+        "momentum_N_m_s": motion.momentum,
+        "momentum_norm_N_m_s": motion.momentum_norm,
+        "momentum_bound_N_m_s": motion.momentum_bound,
+    }
 
 
 __all__ = ["TestbedResult"]

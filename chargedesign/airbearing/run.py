@@ -23,7 +23,12 @@ from chargedesign.airbearing.platform import (
 )
 from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
-from chargedesign.airbearing.wheels import wheel_axes, wheel_limits, wheel_needs
+from chargedesign.airbearing.wheels import (
+    planned_needs,
+    planned_states,
+    wheel_axes,
+    wheel_limits,
+)
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
@@ -85,12 +90,16 @@ def build_testbed(
     plant = Plant(params, inertia, target)
     x0 = initial_state(params, np.array(opts.initial_gamma), opts.initial_p, opts.initial_q)
     axes = wheel_axes(opts.wheels, opts.pyramid_angle_deg)
-    needs = wheel_needs(plant, x0, axes, opts.t_end_s)
-    limits = wheel_limits(needs, opts)
+    planned = planned_needs(
+        plant, planned_states(params, x0, opts.planned_motions), axes, opts.t_end_s
+    )
+    needs = planned.motions[0]  # the scene's own motion: the runs' start
+    limits = wheel_limits(planned, opts)
     seconds["platform_and_wheels"] = time.perf_counter() - t0
     say(
         f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels"
-        " sized"
+        " sized "
+        f"over {len(planned.motions)} planned motions"
     )
 
     sens = sensitivity(plant, needs.times, needs.states, total_mass)
@@ -101,6 +110,7 @@ def build_testbed(
         t_end_s=opts.t_end_s,
         wheel_axes=axes,
         max_torque=limits[0],
+        max_momentum=limits[1],
     )
     runs = {}
     for command in ("zoh", "predictive"):
@@ -140,6 +150,7 @@ def build_testbed(
         wheel_axes=axes,
         wheel_limits=limits,
         needs=needs,
+        planned=planned,
         initial_state=x0,
         runs=runs,
         requirements=reqs,

@@ -25,15 +25,37 @@ def _results_schema() -> dict[str, Any]:
     """testbed.json's ``results``: the start, the span, the loops' drifts, the wheels' peaks."""
     drift = _object({"I4_relative_drift": _NONNEG}, ["I4_relative_drift"])
     nominal = _object({"I4_relative_drift_median": _NONNEG, "I4_relative_drift_p95": _NONNEG})
+    state = {"type": "array", "items": _NUMBER, "minItems": 6, "maxItems": 6}
+    needs = {
+        "torque_N_m": _NONNEG,
+        "momentum_N_m_s": _NONNEG,
+        "momentum_norm_N_m_s": _NONNEG,
+        "momentum_bound_N_m_s": _NONNEG,
+    }
+    index = {"type": "integer", "minimum": 0}
+    contract = {
+        "initial_state": state,
+        "t_end_s": _POSITIVE,
+        "zoh_noise_free": drift,
+        "nominal": nominal,
+        "wheel_momentum_max_N_m_s": _NONNEG,
+        "wheel_torque_max_N_m": _NONNEG,
+    }
     return _object(
         {
-            "initial_state": {"type": "array", "items": _NUMBER, "minItems": 6, "maxItems": 6},
-            "t_end_s": _POSITIVE,
-            "zoh_noise_free": drift,
-            "nominal": nominal,
-            "wheel_momentum_max_N_m_s": _NONNEG,
-            "wheel_torque_max_N_m": _NONNEG,
-        }
+            **contract,
+            # the largest needs over the planned motions and the motions that have them
+            "wheel_needs": _object(
+                {**needs, "torque_motion": index, "momentum_motion": index, "motions": index}
+            ),
+            # each planned motion's start (the scene's first) and its needs
+            "planned_motions": {
+                "type": "array",
+                "minItems": 1,
+                "items": _object({"initial_state": state, **needs}),
+            },
+        },
+        list(contract),
     )
 
 

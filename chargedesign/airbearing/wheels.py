@@ -1,4 +1,8 @@
-"""The wheel array: its axes, and its torque and momentum sized from the planned motion.
+"""The wheel array: its axes, and its torque and momentum sized from the planned motions.
+
+The planned motions are the scene's start and further starts on I3 = 0 at the same energy
+(:func:`planned_states`); the wheels are sized for the largest need among them
+(:class:`PlannedNeeds`).
 
 The wheels are internal: with no external torque the total angular momentum
 ``L = J omega + h`` is constant in space, so ``|h| = |L - J omega| <= |L| + |J omega|``. With
@@ -9,15 +13,26 @@ the wheels at rest at the start, ``|L| = |J omega(0)|``: the wheels' momentum is
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant
-from chargedesign.airbearing.loop import continuous_loop
+from chargedesign.airbearing.loop import continuous_loop, initial_state
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.model import evaluators
+from chargedesign.params import Parameters
+
+#: the seed of the further planned starts (fixed: the same scene plans the same motions)
+PLANNED_SEED = 20261126
+#: random tries per further start (a start is refused when its attitude's potential is above
+#: the energy, or gamma3 is nearly 0)
+PLANNED_TRIES = 200
+#: the smallest |gamma3| of a further start (r is solved from I3 = 0 by dividing by it)
+PLANNED_MIN_GAMMA3 = 0.1
 
 
 def wheel_axes(kind: str, pyramid_angle_deg: float) -> np.ndarray:
@@ -78,42 +93,150 @@ def wheel_needs(
     )
 
 
-def wheel_limits(needs: WheelNeeds, opts: TestbedOptions) -> tuple[float, float, float]:
+def planned_states(params: Parameters, x0: np.ndarray, count: int) -> np.ndarray:
+    """The planned starts (count, 6): ``x0`` and up to count - 1 further starts on I3 = 0
+    at x0's energy I1, seeded (the same every run).
+
+    Each further start takes a random attitude gamma (|gamma3| >= PLANNED_MIN_GAMMA3) and a
+    random direction of (p, q); along ``(p, q) = s (cos a, sin a)`` with r from I3 = 0 the
+    energy is a quadratic in s (read from three points), solved for I1(s) = I1(x0). An
+    attitude whose potential lies above the energy has no such s and is tried again; fewer
+    starts than asked come back when PLANNED_TRIES tries per start find none.
+    """
+    energy = float(evaluators.integrals(x0[:6], params)[0])
+    rng = np.random.default_rng(PLANNED_SEED)
+    starts = [np.asarray(x0[:6], float)]
+    for _ in range(PLANNED_TRIES * (count - 1)):
+        if len(starts) == count:
+            break
+        start = _start_at_energy(params, energy, rng)
+        if start is not None:
+            starts.append(start)
+    return np.array(starts)
+
+
+def _start_at_energy(
+    params: Parameters, energy: float, rng: np.random.Generator
+) -> np.ndarray | None:
+    """One random start on I3 = 0 at the energy, or None when the attitude cannot have it."""
+    gamma = rng.standard_normal(3)
+    gamma /= np.linalg.norm(gamma)
+    angle = rng.uniform(0.0, 2.0 * np.pi)
+    if abs(gamma[2]) < PLANNED_MIN_GAMMA3:
+        return None
+    direction = np.array([np.cos(angle), np.sin(angle)])
+    line = np.array([initial_state(params, gamma, *(s * direction)) for s in (-1.0, 0.0, 1.0)])
+    low, mid, high = evaluators.integrals(line, params)[:, 0]
+    a, b, c = 0.5 * (high + low) - mid, 0.5 * (high - low), mid - energy
+    disc = b * b - 4.0 * a * c
+    if a <= 0.0 or disc < 0.0:
+        return None
+    sign = 1.0 if rng.uniform() < 0.5 else -1.0  # either root: both lie on the energy
+    scale = (-b + sign * np.sqrt(disc)) / (2.0 * a)
+    return initial_state(params, gamma, *(scale * direction))
+
+
+@dataclass(frozen=True)
+class PlannedNeeds:
+    """What the planned motions ask of the wheels: each motion's needs and the largest.
+
+    Attributes
+    ----------
+    starts : ndarray, shape (motions, 6)
+        The planned starts (the scene's first).
+    motions : list of WheelNeeds
+        Each start's needs (the ideal continuous loop).
+    """
+
+    starts: np.ndarray
+    motions: Sequence[WheelNeeds]
+
+    @property
+    def torque_motion(self) -> int:
+        """The index of the motion that needs the most torque on one wheel."""
+        return int(np.argmax([m.torque for m in self.motions]))
+
+    @property
+    def momentum_motion(self) -> int:
+        """The index of the motion that needs the most momentum on one wheel."""
+        return int(np.argmax([m.momentum for m in self.motions]))
+
+    @property
+    def torque(self) -> float:
+        return self.motions[self.torque_motion].torque
+
+    @property
+    def momentum(self) -> float:
+        return self.motions[self.momentum_motion].momentum
+
+
+def planned_needs(
+    plant: Plant, starts: np.ndarray, axes: np.ndarray, t_end: float, samples: int = 2001
+) -> PlannedNeeds:
+    """The wheel needs of every planned start (one ideal-loop integration each)."""
+    return PlannedNeeds(
+        starts=starts,
+        motions=[wheel_needs(plant, x0, axes, t_end, samples) for x0 in starts],
+    )
+
+
+def _motion_name(index: int, start: np.ndarray) -> str:
+    """A planned motion named in one line: the scene's start, or a further start's state."""
+    if index == 0:
+        return "motion 0 (the scene's initial_p, initial_q, initial_gamma)"
+    state = ", ".join(f"{fmt(v, PRECISE)}" for v in start)
+    return (
+        f"planned motion {index} (start [p, q, r, gamma] = [{state}], at the energy of "
+        "initial_p, initial_q, initial_gamma; see planned_motions)"
+    )
+
+
+def wheel_limits(planned: PlannedNeeds, opts: TestbedOptions) -> tuple[float, float, float]:
     """(max torque N m, max momentum N m s, torque resolution N m) of each wheel.
 
-    Sized from the needs times the margin when the scene gives no limits; checked against
-    the needs when it does.
+    Sized from the planned motions' largest needs times the margin when the scene gives no
+    limits; checked against them when it does.
 
     Raises
     ------
     InfeasibleError
-        When a given limit is below what the motion needs (one line naming both).
+        When a given limit is below what a planned motion needs (one line naming the limit
+        and the motion).
     """
     torque = opts.max_torque_N_m
     momentum = opts.max_momentum_N_m_s
-    if torque is not None and torque < needs.torque:
+    t_end = opts.t_end_s
+    if torque is not None and torque < planned.torque:
+        k = planned.torque_motion
         raise InfeasibleError(
-            f"testbed.max_torque_N_m: the wheels ({fmt(torque, PRECISE)} N m) are too weak for the"
-            " motion, "
-            f"which needs {fmt(needs.torque, PRECISE)} N m on one wheel (from initial_p, initial_q,"
-            " "
-            f"initial_gamma over t_end_s = {fmt(needs.times[-1], PLAIN)} s); give stronger wheels"
-            " or a "
-            "slower motion"
+            f"testbed.max_torque_N_m: the wheels ({fmt(torque, PRECISE)} N m) are too weak for "
+            f"{_motion_name(k, planned.starts[k])}, which needs {fmt(planned.torque, PRECISE)} N m"
+            " on one "
+            f"wheel over t_end_s = {fmt(t_end, PLAIN)} s; give stronger wheels or a slower motion"
         )
-    if momentum is not None and momentum < needs.momentum:
+    if momentum is not None and momentum < planned.momentum:
+        k = planned.momentum_motion
         raise InfeasibleError(
             f"testbed.max_momentum_N_m_s: the wheels ({fmt(momentum, PRECISE)} N m s) store too"
             " little "
-            f"for the motion, which needs {fmt(needs.momentum, PRECISE)} N m s on one wheel (bound "
-            f"{fmt(needs.momentum_bound, PRECISE)} N m s from the conserved angular momentum); give"
-            " larger "
-            "wheels or a slower motion"
+            f"for {_motion_name(k, planned.starts[k])}, which needs"
+            f" {fmt(planned.momentum, PRECISE)} N m s "
+            f"on one wheel (bound {fmt(planned.motions[k].momentum_bound, PRECISE)} N m s from the "
+            "conserved angular momentum); give larger wheels or a slower motion"
         )
-    torque = torque if torque is not None else opts.wheel_margin * needs.torque
-    momentum = momentum if momentum is not None else opts.wheel_margin * needs.momentum
+    torque = torque if torque is not None else opts.wheel_margin * planned.torque
+    momentum = momentum if momentum is not None else opts.wheel_margin * planned.momentum
     resolution = opts.torque_resolution_N_m or 2.0 * torque / 2**16
     return torque, momentum, resolution
 
 
-__all__ = ["WheelNeeds", "wheel_axes", "wheel_limits", "wheel_needs"]
+__all__ = [
+    "PLANNED_SEED",
+    "PlannedNeeds",
+    "WheelNeeds",
+    "planned_needs",
+    "planned_states",
+    "wheel_axes",
+    "wheel_limits",
+    "wheel_needs",
+]

@@ -31,6 +31,10 @@ SMALL = {
         ({"rate_Hz": 0.0}, "testbed.rate_Hz"),
         ({"rate_Hz": 100.0, "delay_s": 0.02}, "testbed.delay_s"),
         ({"wheels": "five"}, "testbed.wheels"),
+        ({"planned_motions": 0}, "testbed.planned_motions"),
+        ({"planned_motions": 2.5}, "testbed.planned_motions"),
+        ({"planned_motions": True}, "testbed.planned_motions"),
+        ({"planned_motions": 10_000}, "testbed.planned_motions"),
         ({"colour": "red"}, "testbed.colour"),
         ({"seeds": 0}, "testbed.seeds"),
         ({"platform_inertia_kg_m2": [[1, 0, 0], [0, 1, 0], [0, 0, 5]]}, "platform_inertia"),
@@ -56,19 +60,40 @@ def test_platform_with_ballast_heavier_than_the_bearing() -> None:
         build_testbed(EXAMPLE, opts, with_requirements=False)
 
 
-def test_wheels_too_weak_for_the_motion() -> None:
-    opts = TestbedOptions.from_table({**SMALL, "max_torque_N_m": 0.01})
+@pytest.mark.parametrize("motions", [1, 4])
+def test_wheels_too_weak_for_the_motion(motions: int) -> None:
+    opts = TestbedOptions.from_table({**SMALL, "max_torque_N_m": 0.01, "planned_motions": motions})
     with pytest.raises(InfeasibleError) as info:
         build_testbed(EXAMPLE, opts, with_requirements=False)
     text = str(info.value)
     assert "max_torque_N_m" in text and "needs" in text and "initial_p" in text
-    assert "\n" not in text
+    assert "motion" in text and "\n" not in text
 
 
-def test_wheels_store_too_little() -> None:
-    opts = TestbedOptions.from_table({**SMALL, "max_momentum_N_m_s": 1e-4})
-    with pytest.raises(InfeasibleError, match="max_momentum_N_m_s"):
+@pytest.mark.parametrize("motions", [1, 4])
+def test_wheels_store_too_little(motions: int) -> None:
+    opts = TestbedOptions.from_table(
+        {**SMALL, "max_momentum_N_m_s": 1e-4, "planned_motions": motions}
+    )
+    with pytest.raises(InfeasibleError) as info:
         build_testbed(EXAMPLE, opts, with_requirements=False)
+    text = str(info.value)
+    assert "max_momentum_N_m_s" in text and "motion" in text and "\n" not in text
+
+
+def test_too_small_wheels_name_the_motion_that_needs_the_most() -> None:
+    """Limits just below the largest planned need fail naming the motion that has it."""
+    sized = build_testbed(EXAMPLE, TestbedOptions.from_table(SMALL), with_requirements=False)
+    planned = sized.planned
+    for key, need, motion in (
+        ("max_torque_N_m", planned.torque, planned.torque_motion),
+        ("max_momentum_N_m_s", planned.momentum, planned.momentum_motion),
+    ):
+        opts = TestbedOptions.from_table({**SMALL, key: 0.999 * need})
+        with pytest.raises(InfeasibleError) as info:
+            build_testbed(EXAMPLE, opts, with_requirements=False)
+        text = str(info.value)
+        assert text.startswith(f"testbed.{key}") and f"motion {motion} " in text
 
 
 def test_no_ballast_reaches_a_tiny_inertia() -> None:

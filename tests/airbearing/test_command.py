@@ -66,6 +66,13 @@ def test_testbed_json_has_the_contract_keys(written: Path) -> None:
     assert {"I4_relative_drift_median", "I4_relative_drift_p95"} <= set(r["nominal"])
     assert r["wheel_momentum_max_N_m_s"] > 0 and r["wheel_torque_max_N_m"] > 0
     assert r["wheel_torque_max_N_m"] <= data["wheels"]["max_torque_N_m"] * (1 + 1e-12)
+    assert r["wheel_momentum_max_N_m_s"] <= data["wheels"]["max_momentum_N_m_s"] * (1 + 1e-12)
+    planned = r["planned_motions"]
+    assert len(planned) == TestbedOptions().planned_motions
+    assert planned[0]["initial_state"] == r["initial_state"]
+    most = max(range(len(planned)), key=lambda k: planned[k]["momentum_N_m_s"])
+    assert r["wheel_needs"]["momentum_motion"] == most
+    assert r["wheel_needs"]["momentum_N_m_s"] == planned[most]["momentum_N_m_s"]
 
 
 def test_written_parts_give_the_inertia(written: Path) -> None:
@@ -106,6 +113,10 @@ def test_scene_schema_carries_the_closed_testbed_table() -> None:
     jsonschema = pytest.importorskip("jsonschema")
     fragment = schema("scene")["properties"]["testbed"]
     assert fragment == table_schema() and fragment["additionalProperties"] is False
+    assert fragment["properties"]["planned_motions"]["type"] == "integer"
+    jsonschema.validate({"testbed": {"planned_motions": 3}}, schema("scene"))
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate({"testbed": {"planned_motions": 0}}, schema("scene"))
     jsonschema.validate(tomllib.loads(EXAMPLE.read_text()), schema("scene"))
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate({"testbed": {"colour": 1}}, schema("scene"))

@@ -1,0 +1,100 @@
+"""The wheels: sized for the largest need over the planned motions, and saturated at their
+momentum limit inside the sampled loop."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from chargedesign.airbearing.dynamics import Plant
+from chargedesign.airbearing.loop import (
+    Actuator,
+    LoopSettings,
+    continuous_loop,
+    initial_state,
+    run_loop,
+)
+from chargedesign.airbearing.options import TestbedOptions
+from chargedesign.airbearing.wheels import (
+    planned_needs,
+    planned_states,
+    wheel_axes,
+    wheel_limits,
+)
+from chargedesign.model import evaluators
+from chargedesign.params import Parameters
+
+UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+TARGET = np.diag([2.0, 2.0, 1.0])
+T_END = 3.0
+SAMPLES = 601
+
+
+@pytest.fixture(scope="module")
+def plant() -> Plant:
+    return Plant(UNIT, TARGET, TARGET)
+
+
+@pytest.fixture(scope="module")
+def x0() -> np.ndarray:
+    return initial_state(UNIT, np.array([0.36, 0.48, 0.8]), 0.6, -0.4)
+
+
+def test_planned_starts_share_the_energy_on_I3_zero(x0: np.ndarray) -> None:
+    starts = planned_states(UNIT, x0, 6)
+    assert starts.shape == (6, 6) and np.array_equal(starts[0], x0)
+    values = evaluators.integrals(starts, UNIT)
+    assert np.abs(values[:, 0] - values[0, 0]).max() < 1e-12 * abs(values[0, 0])
+    assert np.abs(values[:, 1] - 1.0).max() < 1e-14  # unit gamma
+    assert np.abs(values[:, 2]).max() < 1e-13  # I3 = 0
+    assert len({tuple(s) for s in np.round(starts, 12)}) == 6  # six different starts
+    assert np.array_equal(starts, planned_states(UNIT, x0, 6))  # seeded: the same each time
+
+
+def _wheel_peaks(plant: Plant, start: np.ndarray) -> tuple[float, float]:
+    """One motion's largest |momentum| and |torque| of a wheel of the orthogonal array,
+    read from the ideal loop's wheel momentum h (body axes = the wheels' axes) and its
+    time derivative along the loop."""
+    _, states = continuous_loop(plant, start, T_END, SAMPLES)
+    rates = plant.ideal_rates(states)
+    return float(np.abs(states[:, 6:9]).max()), float(np.abs(rates[:, 6:9]).max())
+
+
+def test_wheels_are_sized_for_the_largest_planned_need(plant: Plant, x0: np.ndarray) -> None:
+    starts = planned_states(UNIT, x0, 8)
+    planned = planned_needs(plant, starts, wheel_axes("orthogonal", 54.7), T_END, SAMPLES)
+    peaks = np.array([_wheel_peaks(plant, s) for s in starts])
+    torque, momentum, _ = wheel_limits(planned, TestbedOptions(wheel_margin=1.5))
+    assert momentum == pytest.approx(1.5 * peaks[:, 0].max(), rel=1e-12)
+    assert torque == pytest.approx(1.5 * peaks[:, 1].max(), rel=1e-12)
+    assert planned.momentum_motion == int(np.argmax(peaks[:, 0]))
+    assert planned.torque_motion == int(np.argmax(peaks[:, 1]))
+    assert (peaks.max(axis=0) > peaks[0]).all()  # other motions need more than the scene's
+    for motion in planned.motions:  # the conserved angular momentum still bounds each
+        assert motion.momentum_norm <= motion.momentum_bound
+
+
+def test_a_wheel_at_its_momentum_limit_delivers_no_torque_beyond_it() -> None:
+    settings = LoopSettings(rate_Hz=100.0, delay_s=0.0, t_end_s=1.0, max_momentum=1.0)
+    actuator = Actuator(settings)
+    body = np.array([[0.5, -0.5, 0.5]])
+    at_limit = np.array([[1.0, -1.0, -1.0]])  # wheels 1, 2 at the limit, wheel 3 opposite
+    _, tau = actuator.apply(body, at_limit, 0.01)
+    assert tau[0, 0] == 0.0 and tau[0, 1] == 0.0  # would push further: clipped
+    assert tau[0, 2] == 0.5  # pulls back from the limit: unchanged
+    _, near = actuator.apply(body, np.array([[0.998, 0.0, 0.0]]), 0.01)
+    assert near[0, 0] == pytest.approx(0.2)  # only the room left over the hold
+    _, free = actuator.apply(body, np.zeros((1, 3)), 0.01)
+    assert np.array_equal(free, body)
+
+
+def test_the_loop_saturates_the_wheel_momentum(plant: Plant, x0: np.ndarray) -> None:
+    free = LoopSettings(rate_Hz=100.0, delay_s=2e-3, t_end_s=T_END)
+    unlimited = run_loop(plant, x0, free)
+    limit = 0.5 * float(unlimited.wheel_momentum_max[0])
+    limited = run_loop(plant, x0, replace(free, max_momentum=limit))
+    assert float(limited.wheel_momentum_max[0]) <= limit * (1 + 1e-12)
+    assert float(limited.wheel_momentum_max[0]) > 0.99 * limit  # it reached the limit
+    assert limited.I4_drift[0] > 10 * unlimited.I4_drift[0]  # and the motion suffered
