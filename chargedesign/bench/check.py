@@ -255,13 +255,11 @@ def accurate_cost_table(quick: bool = False) -> BenchTable:
 STENCIL = np.array([1.0, -5.0, 10.0, -10.0, 5.0, -1.0])  # fifth difference
 
 
-def stencil_body(base: Design, weight: float, seed: int = 0) -> Design:
-    """``base`` plus three stencils of charges ``weight (-1)^j C(5, j)`` at ``p + j h``.
+def stencil_points(weight: float, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Three stencils of six collinear points ``p + j h`` with weights ``weight (-1)^j C(5, j)``.
 
-    The fifth difference of a polynomial of degree <= 4 is zero, and every integrand of the
-    benchmark fields is one, so the stencils add exactly nothing to mu, V or the torques
-    (positions on a 2^-10 grid and the weights are exact doubles) while their contributions
-    are ``weight`` times larger than the base body's.
+    ``p`` and ``h`` are multiples of 2^-10 and the weights exact doubles, so any polynomial of
+    degree <= 4 summed over a stencil is exactly zero. Returns points (18, 3) and weights (18,).
     """
     rng = np.random.default_rng(seed)
     points, values = [], []
@@ -270,6 +268,18 @@ def stencil_body(base: Design, weight: float, seed: int = 0) -> Design:
         h = np.round(rng.uniform(-0.08, 0.08, 3) * 1024) / 1024
         points += [p + j * h for j in range(6)]
         values += list(weight * STENCIL)
+    return np.array(points), np.array(values)
+
+
+def stencil_body(base: Design, weight: float, seed: int = 0) -> Design:
+    """``base`` plus three stencils of charges ``weight (-1)^j C(5, j)`` at ``p + j h``.
+
+    The fifth difference of a polynomial of degree <= 4 is zero, and every integrand of the
+    benchmark fields is one, so the stencils add exactly nothing to mu, V or the torques
+    (positions on a 2^-10 grid and the weights are exact doubles) while their contributions
+    are ``weight`` times larger than the base body's.
+    """
+    points, values = stencil_points(weight, seed)
     return Design(
         parameters=base.parameters,
         fields=dict(base.fields),

@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from unit_scene import UNIT_SCENE
 
-from chargedesign.bench.check import bench_design, naive_sums
+from chargedesign.bench.check import bench_design, naive_sums, stencil_points
 from chargedesign.body import Design
 from chargedesign.checker import (
     CheckReport,
@@ -527,7 +527,6 @@ def test_a_design_from_the_default_scene_passes() -> None:
 
 # ------------------------------------------------------- cancellation and rounding floor
 #: finite-difference stencil: the fifth difference of a polynomial of degree <= 4 is zero
-STENCIL = np.array([(-1) ** j * math.comb(5, j) for j in range(6)], dtype=float)
 
 
 def with_cancelling_stencils(design: Design, weight: float = 2.0**30, seed: int = 0) -> Design:
@@ -541,14 +540,7 @@ def with_cancelling_stencils(design: Design, weight: float = 2.0**30, seed: int 
     body's mu, V and torques are exactly the design's, while the contributions are ~1e10
     times larger.
     """
-    rng = np.random.default_rng(seed)
-    points, values = [], []
-    for _ in range(3):
-        p = np.round(rng.uniform(-0.5, 0.5, 3) * 1024) / 1024
-        h = np.round(rng.uniform(-0.08, 0.08, 3) * 1024) / 1024
-        points += [p + j * h for j in range(6)]
-        values += list(weight * STENCIL)
-    points_arr, values_arr = np.array(points), np.array(values)
+    points_arr, values_arr = stencil_points(weight, seed)
     out = copy.deepcopy(design)
     out.charge_positions = np.concatenate([design.charge_positions, points_arr])
     out.charge_values = np.concatenate([design.charge_values, values_arr])
