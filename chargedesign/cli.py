@@ -58,7 +58,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def command_module(name: str) -> ModuleType:
     """The module that runs a command (``chargedesign.commands.<name>``), imported when the
-    command runs: the one place the command line loads the stages lazily."""
+    command runs: the one place the command line loads the stages lazily. Only the
+    commands listed in COMMANDS are imported, whatever string is passed."""
+    if name not in COMMANDS:
+        raise InputError(f"command: one of {', '.join(COMMANDS)}, got {name!r}")
     return importlib.import_module(f"chargedesign.commands.{name}")
 
 

@@ -110,3 +110,15 @@ def test_a_file_naming_a_command_and_a_function_passed_too_is_ambiguous(tmp_path
 def test_a_command_that_is_not_callable_is_refused() -> None:
     with pytest.raises(InputError, match="expected a function"):
         sweep_from_dict({"grid": {"parameters.n": [0.5]}}, command="design")  # type: ignore[arg-type]
+
+
+def test_the_command_line_imports_only_its_listed_commands() -> None:
+    """The one lazy import of the command line takes a listed command name, nothing else."""
+    from chargedesign.cli import COMMANDS, command_module
+    from chargedesign.errors import InputError
+
+    assert command_module("verify").__name__ == "chargedesign.commands.verify"
+    for name in ("arguments", "os", "..sweeps", "verify.sys"):
+        assert name not in COMMANDS
+        with pytest.raises(InputError, match="command: one of"):
+            command_module(name)
