@@ -70,7 +70,13 @@ from chargedesign.designer.diagnostics import (
     RANK_RTOL,
     diagnose,
 )
-from chargedesign.designer.options import (
+from chargedesign.designer.pipeline import design_body, design_from_scene, design_source
+from chargedesign.designer.polish import POLISH_THRESHOLDS
+from chargedesign.designer.result import DesignResult, SourceResult, design_extras
+from chargedesign.designer.solve import MIP_MAX_CANDIDATES
+from chargedesign.designer.solvers import CLARABEL_SETTINGS, HIGHS_OPTIONS
+from chargedesign.designer.system import UNITS, condition_label, relative_residual
+from chargedesign.scene.design import (
     OBJECTIVES,
     POLISHED_TOL,
     RAW_TOL,
@@ -78,12 +84,6 @@ from chargedesign.designer.options import (
     DesignOptions,
     Progress,
 )
-from chargedesign.designer.pipeline import design_body, design_from_scene, design_source
-from chargedesign.designer.polish import POLISH_THRESHOLDS
-from chargedesign.designer.result import DesignResult, SourceResult, design_extras
-from chargedesign.designer.solve import MIP_MAX_CANDIDATES
-from chargedesign.designer.solvers import CLARABEL_SETTINGS, HIGHS_OPTIONS
-from chargedesign.designer.system import UNITS, condition_label, relative_residual
 
 __all__ = [
     "AMPLIFICATION_LIMIT",

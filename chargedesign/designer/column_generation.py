@@ -12,11 +12,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.problems import dipole_cvxpy, l1_lp_full, weights_cost
 from chargedesign.designer.solvers import Solution, least_norm, solve_linprog
 from chargedesign.designer.system import DesignProblem, group_norms
 from chargedesign.formatting import FLOOR, fmt
+from chargedesign.scene.design import DesignOptions, Progress
 
 #: column generation is used for l1 / mass / group-sparse problems above this many candidates
 CG_MIN_CANDIDATES = 2000

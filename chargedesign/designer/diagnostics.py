@@ -13,12 +13,12 @@ from dataclasses import replace
 import numpy as np
 
 from chargedesign.candidates import Geometry
-from chargedesign.designer.options import DesignOptions
 from chargedesign.designer.problems import l1_lp_full, solve_linf_scalar
 from chargedesign.designer.solvers import InfeasibleProblem, solve_linprog
 from chargedesign.designer.system import DesignProblem, drop_last_row, natural_row_size
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
+from chargedesign.scene.design import DesignOptions
 
 #: a direction of the nondimensional condition matrix with singular value below this
 #: fraction of the largest is treated as absent (exact degeneracy up to rounding)

@@ -41,7 +41,6 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.acceptance import balance_bound
-from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
@@ -61,6 +60,7 @@ from chargedesign.physical.limits import (
     sample_spacing,
 )
 from chargedesign.physical.realism import realism_budget
+from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative

@@ -22,7 +22,6 @@ from chargedesign.candidates import CandidateSet, candidates_from_points, candid
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, find_frontier
-from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.physical import design_physical, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
@@ -48,6 +47,7 @@ from chargedesign.moment_conditions import (
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.scene import Scene
+from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.validation import input_error
 
 

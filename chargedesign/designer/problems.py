@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.designer.options import DesignOptions
 from chargedesign.designer.solvers import (
     Solution,
     check_cvxpy_status,
@@ -29,6 +28,7 @@ from chargedesign.designer.solvers import (
     solver_name,
 )
 from chargedesign.designer.system import DesignProblem
+from chargedesign.scene.design import DesignOptions
 
 
 def weights_cost(n: int, costs: np.ndarray | None) -> np.ndarray:

@@ -9,11 +9,11 @@ from chargedesign import __version__
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
-from chargedesign.designer.options import DesignOptions
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions import SOURCES, LinearConditions
 from chargedesign.report import render_report
 from chargedesign.results import Result
+from chargedesign.scene.design import DesignOptions
 
 
 @dataclass

@@ -16,7 +16,6 @@ from chargedesign.designer.column_generation import (
     l1_lp_column_generation,
     use_column_generation,
 )
-from chargedesign.designer.options import DesignOptions, Progress
 from chargedesign.designer.problems import (
     dipole_cvxpy,
     l1_cvxpy,
@@ -28,6 +27,7 @@ from chargedesign.designer.solvers import Solution, import_cvxpy, solve_cvxpy, s
 from chargedesign.designer.system import DesignProblem, restrict_problem
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.scene.design import DesignOptions, Progress
 
 #: candidates above which the mixed-integer fallback for ``n_charges`` is not attempted
 MIP_MAX_CANDIDATES = 5000

@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.designer.options import DesignOptions
 from chargedesign.errors import SolverError
+from chargedesign.scene.design import DesignOptions
 
 #: Clarabel's tolerances (its defaults, 1e-8, bound the objective rather than the rows)
 CLARABEL_SETTINGS = {"tol_gap_abs": 1e-12, "tol_gap_rel": 1e-12, "tol_feas": 1e-12}

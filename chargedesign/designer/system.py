@@ -15,8 +15,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from chargedesign.designer.options import DesignOptions
 from chargedesign.moment_conditions import LinearCondition, LinearConditions
+from chargedesign.scene.design import DesignOptions
 
 UNITS = {"charges": "C", "dipoles": "A m^2", "masses": "kg"}
 
