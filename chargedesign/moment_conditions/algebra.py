@@ -85,6 +85,16 @@ def solve_exact(matrix: list[list[Fraction]], rhs: list[Fraction]) -> list[Fract
     return x
 
 
+def inverse_exact(matrix: list[list[Fraction]]) -> list[list[Fraction]] | None:
+    """The inverse of a square matrix (exact; one Gauss-Jordan pass on ``[matrix | I]``), or
+    None if it is singular."""
+    size = len(matrix)
+    rows = [[*row, *(Fraction(int(i == j)) for j in range(size))] for i, row in enumerate(matrix)]
+    if len(_row_reduce(rows, size)) < size:
+        return None
+    return [row[size:] for row in rows]
+
+
 def exact_nullspace(matrix: list[list[Fraction]], ncols: int) -> list[list[Fraction]]:
     """A basis of ``{x : matrix x = 0}`` (exact), as a list of vectors of length ``ncols``."""
     rows = [list(r) for r in matrix]

@@ -14,7 +14,7 @@ from fractions import Fraction
 from functools import cache, lru_cache
 from typing import Any
 
-from chargedesign.moment_conditions.algebra import solve_exact, sphere_reduce
+from chargedesign.moment_conditions.algebra import inverse_exact, sphere_reduce
 from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE, PARAM_NAMES
 from chargedesign.moments import moment_key
 
@@ -149,16 +149,9 @@ def _sphere_projector(kmax: int) -> tuple[list[tuple[int, int, int]], list[list[
         for mono, coef in sphere_reduce(h.poly).items():
             if coef != 0:
                 basis[index[mono]][j] += coef
-    # invert column by column: projector = basis^-1
-    size = len(monos)
-    inverse_cols = []
-    for i in range(size):
-        e = [Fraction(int(i == j)) for j in range(size)]
-        col = solve_exact(basis, e)
-        if col is None:  # pragma: no cover - the harmonics are a basis on the sphere
-            raise AssertionError("harmonic basis is singular")
-        inverse_cols.append(col)
-    projector = [[inverse_cols[j][i] for j in range(size)] for i in range(size)]
+    projector = inverse_exact(basis)
+    if projector is None:  # pragma: no cover - the harmonics are a basis on the sphere
+        raise AssertionError("harmonic basis is singular")
     return monos, projector
 
 
