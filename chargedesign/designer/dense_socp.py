@@ -132,19 +132,27 @@ class NtScaling:
 
     def apply(self, v: np.ndarray, inverse: bool = False) -> np.ndarray:
         """``W v`` (or ``W^-1 v``) for cone vectors ``v`` of shape ``(m, 4)`` or ``(m, 4, n)``."""
+        if v.ndim == 3:
+            return np.matmul(self.matrices(inverse), v)
         w0, w1 = self.wbar[:, 0], self.wbar[:, 1:]
         sign = -1.0 if inverse else 1.0
-        if v.ndim == 2:
-            t = np.einsum("ij,ij->i", w1, v[:, 1:])
-            head = w0 * v[:, 0] + sign * t
-            tail = v[:, 1:] + (sign * v[:, 0] + t / (1.0 + w0))[:, None] * w1
-            scale = 1.0 / self.eta if inverse else self.eta
-            return np.concatenate([head[:, None], tail], axis=1) * scale[:, None]
-        t = np.einsum("ik,ikn->in", w1, v[:, 1:, :])
+        t = np.einsum("ij,ij->i", w1, v[:, 1:])
         out = np.empty_like(v)
-        out[:, 0, :] = w0[:, None] * v[:, 0, :] + sign * t
-        coef = sign * v[:, 0, :] + t / (1.0 + w0)[:, None]
-        out[:, 1:, :] = v[:, 1:, :] + w1[:, :, None] * coef[:, None, :]
+        out[:, 0] = w0 * v[:, 0] + sign * t
+        out[:, 1:] = v[:, 1:] + (sign * v[:, 0] + t / (1.0 + w0))[:, None] * w1
+        out *= (1.0 / self.eta if inverse else self.eta)[:, None]
+        return out
+
+    def matrices(self, inverse: bool = False) -> np.ndarray:
+        """The ``(m, 4, 4)`` matrices ``W_i`` (or their inverses ``J W_i J / eta_i^2``)."""
+        w0, w1 = self.wbar[:, 0], self.wbar[:, 1:]
+        sign = -1.0 if inverse else 1.0
+        out = np.empty((w0.size, 4, 4))
+        out[:, 0, 0] = w0
+        out[:, 0, 1:] = sign * w1
+        out[:, 1:, 0] = sign * w1
+        out[:, 1:, 1:] = w1[:, :, None] * (w1 / (1.0 + w0)[:, None])[:, None, :]
+        out[:, 1:, 1:] += np.eye(3)
         scale = 1.0 / self.eta if inverse else self.eta
         out *= scale[:, None, None]
         return out
