@@ -158,7 +158,9 @@ class NtScaling:
         return out
 
 
-def nt_scaling(s_lin: np.ndarray, z_lin: np.ndarray, s_soc: np.ndarray, z_soc: np.ndarray):
+def nt_scaling(
+    s_lin: np.ndarray, z_lin: np.ndarray, s_soc: np.ndarray, z_soc: np.ndarray
+) -> NtScaling:
     """The Nesterov-Todd scaling of the interior pair ``(s, z)`` (Vandenberghe 2010, 4.3)."""
     d = np.sqrt(s_lin / z_lin)
     det_s, det_z = lorentz_det(s_soc), lorentz_det(z_soc)
@@ -271,25 +273,25 @@ def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
     return keep, bool(np.abs(A @ x0 - b).max() <= 1e3 * RANK_TOLERANCE * scale)
 
 
-def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> tuple[ConeProgram, np.ndarray, bool]:
-    """The problem as a :class:`ConeProgram`, the kept rows of ``A`` and their consistency."""
+def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> ConeProgram:
+    """The data as a :class:`ConeProgram` of floats in the shapes the solver uses."""
     c = np.asarray(c, dtype=float).ravel()
     n = c.size
-    A = np.asarray(A.toarray() if sp.issparse(A) else A, dtype=float).reshape(-1, n)
-    b = np.asarray(b, dtype=float).ravel()
-    keep, consistent = independent_rows(A, b)
-    G_lin = sp.csr_matrix(G_lin, dtype=float).reshape(-1, n)
-    G_soc = np.ascontiguousarray(np.asarray(G_soc, dtype=float).reshape(-1, 4, n))
-    program = ConeProgram(
+    return ConeProgram(
         c,
-        A[keep],
-        b[keep],
-        sp.csr_matrix(G_lin),
+        np.asarray(A.toarray() if sp.issparse(A) else A, dtype=float).reshape(-1, n),
+        np.asarray(b, dtype=float).ravel(),
+        sp.csr_matrix(sp.csr_matrix(G_lin, dtype=float).reshape(-1, n)),
         np.asarray(h_lin, dtype=float).ravel(),
-        G_soc,
+        np.ascontiguousarray(np.asarray(G_soc, dtype=float).reshape(-1, 4, n)),
         np.asarray(h_soc, dtype=float).reshape(-1, 4),
     )
-    return program, keep, consistent
+
+
+def is_finite(program: ConeProgram) -> bool:
+    """Whether every number of the data is finite."""
+    arrays = (program.c, program.A, program.b, program.G_lin.data, program.h_lin)
+    return all(np.all(np.isfinite(a)) for a in (*arrays, program.G_soc, program.h_soc))
 
 
 # ---------------------------------------------------------------- the Newton systems
@@ -297,14 +299,12 @@ def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> tuple[ConeProgram, n
 
 def regularised_cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
     """Cholesky factor of ``K + delta I`` with the smallest ``delta`` of
-    :data:`REGULARISATIONS` that works (``K`` is overwritten)."""
+    :data:`REGULARISATIONS` (times the largest diagonal entry) that works."""
     top = max(float(np.max(np.diag(K))), 1.0) if K.size else 1.0
-    previous = 0.0
+    identity = np.eye(K.shape[0])
     for delta in REGULARISATIONS:
-        K[np.diag_indices_from(K)] += (delta - previous) * top
-        previous = delta
         try:
-            return la.cho_factor(K, check_finite=False, overwrite_a=True)
+            return la.cho_factor(K + (delta * top) * identity, check_finite=False)
         except np.linalg.LinAlgError:
             continue
     raise np.linalg.LinAlgError("the normal matrix is not positive definite")
@@ -451,7 +451,7 @@ def newton_direction(
 ) -> Point:
     """The solution ``d`` of the Newton system, eliminating ``ds`` and ``dz``::
 
-        A^T dy + G^T dz = rx,   A dx = ry,   G dx + ds = rz,   lam o (W dz + W^-1 ds) = rs.
+    A^T dy + G^T dz = rx,   A dx = ry,   G dx + ds = rz,   lam o (W dz + W^-1 ds) = rs.
     """
     d = scaling.d
     v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / d
@@ -532,9 +532,7 @@ def starting_point(program: ConeProgram) -> Point:
 
 def is_interior(p: Point) -> bool:
     """Whether every slack and dual is finite and strictly inside its cone."""
-    finite = all(
-        np.all(np.isfinite(v)) for v in (p.x, p.y, p.s_lin, p.z_lin, p.s_soc, p.z_soc)
-    )
+    finite = all(np.all(np.isfinite(v)) for v in (p.x, p.y, p.s_lin, p.z_lin, p.s_soc, p.z_soc))
     return (
         finite
         and bool(np.all(p.s_lin > 0) and np.all(p.z_lin > 0))
@@ -633,7 +631,8 @@ def solve_dense_socp(
         Equality constraints, shapes ``(p, n)`` and ``(p,)``; ``p`` may be 0. Dependent rows
         are dropped (rank-revealing QR); an inconsistent system gives ``"not_solved"``.
     G_lin, h_lin : scipy.sparse matrix or numpy.ndarray, numpy.ndarray
-        Linear inequalities ``G_lin x + s_lin = h_lin``, ``s_lin >= 0``; shapes ``(l, n)``, ``(l,)``.
+        Linear inequalities ``G_lin x + s_lin = h_lin``, ``s_lin >= 0``; shapes ``(l, n)``
+        and ``(l,)``.
     G_soc, h_soc : numpy.ndarray
         Cone constraints ``G_soc[i] x + s_i = h_soc[i]``, ``s_i0 >= ||s_i[1:]||``; shapes
         ``(m, 4, n)`` and ``(m, 4)``; ``m`` may be 0.
@@ -659,8 +658,12 @@ def solve_dense_socp(
         inequality at all) returns ``"not_solved"``; this function never raises on numerical
         trouble and never decides infeasibility.
     """
-    program, keep, consistent = as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc)
-    rows = np.asarray(b).size
+    program = as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc)
+    rows = program.b.size
+    if not is_finite(program):
+        return solution("not_solved", empty_point(program), None, 0, np.arange(rows), rows)
+    keep, consistent = independent_rows(program.A, program.b)
+    program.A, program.b = program.A[keep], program.b[keep]
     if not consistent or program.h_lin.size + program.h_soc.shape[0] == 0:
         return solution("not_solved", empty_point(program), None, 0, keep, rows)
     with np.errstate(all="ignore"):

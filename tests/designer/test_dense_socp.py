@@ -66,7 +66,15 @@ def random_lp(n=20, rows=5, seed=3):
     A = rng.standard_normal((rows, n))
     b = A @ rng.uniform(-0.5, 0.5, n)
     G_lin = sp.vstack([sp.eye(n), -sp.eye(n)]).tocsr()
-    return rng.standard_normal(n), A, b, G_lin, np.ones(2 * n), np.zeros((0, 4, n)), np.zeros((0, 4))
+    return (
+        rng.standard_normal(n),
+        A,
+        b,
+        G_lin,
+        np.ones(2 * n),
+        np.zeros((0, 4, n)),
+        np.zeros((0, 4)),
+    )
 
 
 def captured(index):
@@ -81,9 +89,15 @@ def captured(index):
         p, l, m = (int(v) for v in data[pre + "dims"])
     n = c.size
     G_soc = matrix[p + l :].toarray().reshape(m, 4, n)
-    return c, matrix[:p].toarray(), rhs[:p], matrix[p : p + l], rhs[p : p + l], G_soc, rhs[
-        p + l :
-    ].reshape(m, 4)
+    return (
+        c,
+        matrix[:p].toarray(),
+        rhs[:p],
+        matrix[p : p + l],
+        rhs[p : p + l],
+        G_soc,
+        rhs[p + l :].reshape(m, 4),
+    )
 
 
 def clarabel_objective(c, A, b, G_lin, h_lin, G_soc, h_soc):
@@ -211,9 +225,17 @@ def nan_in_data():
     return c, A, b, G_lin, h_lin, G_soc, h_soc
 
 
+def nan_in_matrix():
+    c, A, b, G_lin, h_lin, G_soc, h_soc = coulomb_minmax(seed=6)
+    A = A.copy()
+    A[0, 2] = np.inf
+    return c, A, b, G_lin, h_lin, G_soc, h_soc
+
+
 @pytest.mark.parametrize(
     "make",
     [
+        nan_in_matrix,
         unbounded_minmax,
         infeasible_equality,
         infeasible_cone,
