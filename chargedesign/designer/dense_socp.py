@@ -30,7 +30,7 @@ Conventions (checked by the tests): the scaling ``W`` is symmetric and satisfies
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg as la
@@ -231,6 +231,42 @@ def shift_into_cones(s_lin: np.ndarray, s_soc: np.ndarray) -> tuple[np.ndarray, 
 # ---------------------------------------------------------------- problem data
 
 
+class ConeColumns:
+    """Where the variables enter the cones, to form ``G_soc^T W^-2 G_soc`` cheaply.
+
+    A column of ``G_soc`` is *shared* (nonzero in two or more cones), *private* (nonzero in
+    exactly one cone, as an epigraph variable of that cone) or absent. Only the shared
+    columns need the dense gram product; a private column's products are 4-vectors.
+    """
+
+    def __init__(self, G_soc: np.ndarray):
+        in_cone = np.any(G_soc != 0.0, axis=1)
+        count = in_cone.sum(axis=0)
+        self.n = G_soc.shape[2]
+        self.shared = np.flatnonzero(count >= 2)
+        self.private = np.flatnonzero(count == 1)
+        self.owner = np.argmax(in_cone[:, self.private], axis=0) if in_cone.size else self.private
+        self.G_shared = np.ascontiguousarray(G_soc[:, :, self.shared])
+        self.g_private = G_soc[self.owner, :, self.private]
+
+    def normal_matrix(self, inverse: np.ndarray | None) -> np.ndarray:
+        """``G_soc^T W^-2 G_soc`` (``n x n``) from the matrices ``W_i^-1`` (``None``: I)."""
+        M = np.zeros((self.n, self.n))
+        shared = self.G_shared if inverse is None else np.matmul(inverse, self.G_shared)
+        shared_rows = shared.reshape(4 * shared.shape[0], self.shared.size)
+        M[np.ix_(self.shared, self.shared)] = shared_rows.T @ shared_rows
+        if self.private.size:
+            private = self.g_private
+            if inverse is not None:
+                private = np.einsum("pij,pj->pi", inverse[self.owner], private)
+            cross = np.einsum("pk,pks->ps", private, shared[self.owner])
+            M[np.ix_(self.private, self.shared)] = cross
+            M[np.ix_(self.shared, self.private)] = cross.T
+            same_cone = self.owner[:, None] == self.owner[None, :]
+            M[np.ix_(self.private, self.private)] = (private @ private.T) * same_cone
+        return M
+
+
 @dataclass
 class ConeProgram:
     """The data of the problem, checked and shaped (``A`` with independent rows only)."""
@@ -242,6 +278,10 @@ class ConeProgram:
     h_lin: np.ndarray
     G_soc: np.ndarray
     h_soc: np.ndarray
+    columns: ConeColumns = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.columns = ConeColumns(self.G_soc)
 
     @property
     def G_soc_rows(self) -> np.ndarray:
@@ -323,9 +363,8 @@ class NormalSystem:
         scaled_lin = sp.diags(1.0 / d) @ G_lin
         self.M = np.asarray((scaled_lin.T @ scaled_lin).todense())
         if program.G_soc.shape[0]:
-            Gs = program.G_soc if scaling is None else scaling.apply(program.G_soc, True)
-            Gs = Gs.reshape(-1, program.c.size)
-            self.M += Gs.T @ Gs
+            inverse = None if scaling is None else scaling.matrices(inverse=True)
+            self.M += program.columns.normal_matrix(inverse)
         self.A = program.A
         self.K = regularised_cholesky(self.M + self.A.T @ self.A)
         if self.A.shape[0]:
