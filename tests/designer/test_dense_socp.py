@@ -125,11 +125,18 @@ def with_dependent_rows(problem):
     return (c, np.vstack([A, extra]), np.concatenate([b, [b[0], b.sum()]]), *rest)
 
 
+def cones_only(problem):
+    """The problem without its linear inequalities (the charges bounded by the cones only)."""
+    c, A, b, _, _, G_soc, h_soc = problem
+    return c, A, b, np.zeros((0, c.size)), np.zeros(0), G_soc, h_soc
+
+
 PROBLEMS = {
     "minmax": lambda: coulomb_minmax(),
     "minmax_no_equality": lambda: coulomb_minmax(seed=1, equality=False),
     "minmax_large": lambda: coulomb_minmax(charges=30, points=300, seed=4),
     "lp_only": lambda: random_lp(),
+    "cones_only": lambda: cones_only(coulomb_minmax(seed=7, equality=False)),
     "minmax_dependent_rows": lambda: with_dependent_rows(coulomb_minmax(seed=5)),
     "captured_lp": lambda: captured(0),
     "captured_design_224_equalities": lambda: captured(6),
