@@ -508,27 +508,31 @@ def newton_direction(
 def newton_residual(
     program: ConeProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
 ) -> NewtonRhs:
-    """What ``d`` misses of each block of the Newton system."""
-    Gdx_lin, Gdx_soc = program.G_times(d.x)
+    """What ``d`` misses of each block of the Newton system, for a ``d`` built by
+    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction)."""
     scaled_soc = scaling.apply(d.z_soc) + scaling.apply(d.s_soc, True)
     scaled_lin = d.z_lin * scaling.d + d.s_lin / scaling.d
     return NewtonRhs(
         rhs.rx - program.A.T @ d.y - program.GT_times(d.z_lin, d.z_soc),
         rhs.ry - program.A @ d.x,
-        rhs.rz_lin - Gdx_lin - d.s_lin,
-        rhs.rz_soc - Gdx_soc - d.s_soc,
+        np.zeros_like(rhs.rz_lin),
+        np.zeros_like(rhs.rz_soc),
         rhs.rs_lin - scaling.lam_lin * scaled_lin,
         rhs.rs_soc - jordan_product(scaling.lam_soc, scaled_soc),
     )
 
 
 def refined_newton_direction(
-    program: ConeProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
+    program: ConeProgram,
+    system: NormalSystem,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    refinements: int = NEWTON_REFINEMENTS,
 ) -> Point:
     """:func:`newton_direction` with iterative refinement on the whole Newton system (the
     elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned)."""
     d = newton_direction(program, system, scaling, rhs)
-    for _ in range(NEWTON_REFINEMENTS):
+    for _ in range(refinements):
         correction = newton_direction(
             program, system, scaling, newton_residual(program, scaling, rhs, d)
         )
@@ -543,7 +547,8 @@ def predictor_corrector_step(program: ConeProgram, p: Point, res: Residuals) -> 
     lam_sq_lin = scaling.lam_lin**2
     lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
     rhs = NewtonRhs(-res.rx, -res.ry, -res.rz_lin, -res.rz_soc, -lam_sq_lin, -lam_sq_soc)
-    affine = refined_newton_direction(program, system, scaling, rhs)
+    # the affine direction only sets the centring and the second-order term: no refinement
+    affine = refined_newton_direction(program, system, scaling, rhs, refinements=0)
     step = min(1.0, p.max_step(affine))
     gap = p.gap()
     sigma = min(1.0, max(0.0, p.moved(step, affine).gap() / gap)) ** CENTRING_EXPONENT
