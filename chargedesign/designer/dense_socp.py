@@ -634,10 +634,12 @@ def interior_point_loop(
     except (np.linalg.LinAlgError, ValueError):
         return "not_solved", empty_point(program), None, 0
     best, best_iteration = np.inf, 0
-    res = None
+    res, previous = None, empty_point(program)
     for iteration in range(max_iter + 1):
         if not is_interior(p):
-            return "not_solved", p, res, iteration
+            # the last point that was interior, with its residuals
+            return "not_solved", previous, res, iteration
+        previous = p
         res = residuals(program, p)
         merit = res.merit()
         if merit <= tol:
