@@ -255,7 +255,9 @@ def nan_in_matrix():
 def test_a_problem_without_solution_is_not_solved(make):
     sol = solve_dense_socp(*make(), max_iter=40)
     assert sol.status == "not_solved"
-    assert sol.iterations <= 40
+    # given up early (stall or hopeless residuals), not at the iteration limit
+    assert sol.iterations <= 15
+    assert all(np.all(np.isfinite(v)) for v in (sol.x, sol.y, sol.z_lin, sol.z_soc))
 
 
 def test_an_iteration_limit_gives_not_solved():
