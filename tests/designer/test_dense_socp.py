@@ -131,11 +131,18 @@ def cones_only(problem):
     return c, A, b, np.zeros((0, c.size)), np.zeros(0), G_soc, h_soc
 
 
+def dense_inequalities(problem):
+    """The problem with ``G_lin`` as a dense array (the solver takes either)."""
+    c, A, b, G_lin, *rest = problem
+    return (c, A, b, G_lin.toarray(), *rest)
+
+
 PROBLEMS = {
     "minmax": lambda: coulomb_minmax(),
     "minmax_no_equality": lambda: coulomb_minmax(seed=1, equality=False),
     "minmax_large": lambda: coulomb_minmax(charges=30, points=300, seed=4),
     "lp_only": lambda: random_lp(),
+    "lp_dense_inequalities": lambda: dense_inequalities(random_lp(seed=8)),
     "cones_only": lambda: cones_only(coulomb_minmax(seed=7, equality=False)),
     "minmax_dependent_rows": lambda: with_dependent_rows(coulomb_minmax(seed=5)),
     "captured_lp": lambda: captured(0),
