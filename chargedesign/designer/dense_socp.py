@@ -1,0 +1,725 @@
+"""A dense primal-dual interior-point solver for second-order-cone programs with 4-dim cones.
+
+The problem (all cones of the second-order part have dimension 4)::
+
+    minimise    c^T x
+    subject to  A x = b
+                G_lin x + s_lin = h_lin,         s_lin >= 0
+                G_soc[i] x + s_soc[i] = h_soc[i], s_soc[i] in Q4 = {s : s0 >= ||s[1:]||}
+
+Its dual: maximise ``-b^T y - h_lin^T z_lin - sum_i h_soc[i]^T z_soc[i]`` subject to
+``c + A^T y + G_lin^T z_lin + sum_i G_soc[i]^T z_soc[i] = 0``, ``z_lin >= 0``, ``z_soc[i]`` in Q4.
+
+Why a solver of its own: the problems of the charge design have few variables (hundreds) but
+thousands of dense cone rows (every field row depends on every charge). A sparse solver
+factors the large augmented system; here every iteration forms the small normal matrix
+``G^T W^-2 G`` (one dense gram product over the columns shared by several cones, 4-vector
+products for a column private to one cone) and factors it by Cholesky, all cone operations
+vectorised over the cones (arrays of shape ``(m, 4)``). Meant for a few hundred variables:
+the factorisation is dense, ``O(n^3)`` per iteration.
+
+The method is the infeasible-start path-following method of CVXOPT's ``coneqp`` (L.
+Vandenberghe, *The CVXOPT linear and quadratic cone program solvers*, 2010): Nesterov-Todd
+scaling, Mehrotra predictor-corrector, starting point of ``conelp`` (least-squares ``x`` and
+``z`` shifted into the cones). It proves nothing about infeasibility: anything other than
+convergence (stall, iteration limit, numerical breakdown, diverging iterates) returns status
+``"not_solved"`` quickly, and the caller falls back to a solver that decides infeasibility.
+
+Conventions (checked by the tests): the scaling ``W`` is symmetric and satisfies
+``W z = W^-1 s = lambda``, hence ``W^2 z = s``; the Jordan product of the Lorentz cone is
+``u o v = (u . v, u0 v1 + v0 u1)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+
+#: fraction of the step to the boundary of the cones that an iteration takes
+STEP_FRACTION = 0.99
+#: the Mehrotra centring exponent (sigma = (gap after the affine step / gap)^3)
+CENTRING_EXPONENT = 3
+#: iterations without an improvement of the merit that count as a stall
+STALL_ITERATIONS = 5
+#: factor by which the merit must fall to count as an improvement
+STALL_FACTOR = 0.9
+#: a residual this many times the relative gap (after a few iterations) means infeasibility
+RESIDUAL_OVER_GAP = 1e4
+#: iterates beyond this norm mean an unbounded or infeasible problem
+DIVERGENCE_NORM = 1e13
+#: static regularisations of the normal matrix tried in turn (relative to its largest diagonal
+#: entry): a larger one costs accuracy that the refinement must win back
+REGULARISATIONS = (1e-16, 1e-12, 1e-8)
+#: refinement steps of each Newton direction against the whole Newton system
+NEWTON_REFINEMENTS = 1
+#: refinement steps of each solve of the reduced (normal) system
+NORMAL_REFINEMENTS = 1
+#: relative threshold on the pivots of the rank-revealing QR of A
+RANK_TOLERANCE = 1e-10
+
+
+@dataclass
+class DenseSocpSolution:
+    """Result of :func:`solve_dense_socp`.
+
+    Attributes
+    ----------
+    status : str
+        ``"solved"`` (every relative residual below ``tol``) or ``"not_solved"``.
+    x, y, z_lin, z_soc : numpy.ndarray
+        Primal point, equality duals (one per row of ``A``; zero on dropped dependent rows),
+        duals of the linear inequalities and of the cones (shape ``(m, 4)``).
+    primal_objective, dual_objective : float
+        ``c^T x`` and ``-b^T y - h^T z`` (a lower bound when the dual residual is small).
+    iterations : int
+        Interior-point iterations taken.
+    residuals : dict[str, float]
+        The relative ``primal``, ``dual`` and ``gap`` residuals of the returned point (see
+        :func:`solve_dense_socp`).
+    """
+
+    status: str
+    x: np.ndarray
+    y: np.ndarray
+    z_lin: np.ndarray
+    z_soc: np.ndarray
+    primal_objective: float
+    dual_objective: float
+    iterations: int
+    residuals: dict[str, float]
+
+
+# ---------------------------------------------------------------- cone algebra (vectorised)
+
+
+def lorentz_det(u: np.ndarray) -> np.ndarray:
+    """``u0^2 - ||u[1:]||^2`` of each row of ``u`` (shape ``(m, 4)``), without cancellation."""
+    norm1 = np.linalg.norm(u[:, 1:], axis=1)
+    return (u[:, 0] - norm1) * (u[:, 0] + norm1)
+
+
+def jordan_product(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The Jordan product ``u o v = (u . v, u0 v1 + v0 u1)`` of each pair of rows."""
+    out = np.empty_like(u)
+    out[:, 0] = np.einsum("ij,ij->i", u, v)
+    out[:, 1:] = u[:, :1] * v[:, 1:] + v[:, :1] * u[:, 1:]
+    return out
+
+
+def jordan_divide(lam: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The ``x`` with ``lam o x = v`` for each pair of rows (``lam`` inside the cone)."""
+    out = np.empty_like(v)
+    dot1 = np.einsum("ij,ij->i", lam[:, 1:], v[:, 1:])
+    out[:, 0] = (lam[:, 0] * v[:, 0] - dot1) / lorentz_det(lam)
+    out[:, 1:] = (v[:, 1:] - out[:, :1] * lam[:, 1:]) / lam[:, :1]
+    return out
+
+
+@dataclass
+class NtScaling:
+    """Nesterov-Todd scaling of the linear part (diagonal ``d``) and of the cones.
+
+    The cone part is ``W_i = eta_i * Wbar_i`` with ``Wbar_i`` the Lorentz boost of ``wbar_i``
+    (``wbar_i^T J wbar_i = 1``); ``W z = W^-1 s = lam`` on every cone.
+    """
+
+    d: np.ndarray
+    eta: np.ndarray
+    wbar: np.ndarray
+    lam_lin: np.ndarray
+    lam_soc: np.ndarray
+
+    def apply(self, v: np.ndarray, inverse: bool = False) -> np.ndarray:
+        """``W v`` (or ``W^-1 v``) for cone vectors ``v`` of shape ``(m, 4)`` or ``(m, 4, n)``."""
+        if v.ndim == 3:
+            return np.matmul(self.matrices(inverse), v)
+        w0, w1 = self.wbar[:, 0], self.wbar[:, 1:]
+        sign = -1.0 if inverse else 1.0
+        t = np.einsum("ij,ij->i", w1, v[:, 1:])
+        out = np.empty_like(v)
+        out[:, 0] = w0 * v[:, 0] + sign * t
+        out[:, 1:] = v[:, 1:] + (sign * v[:, 0] + t / (1.0 + w0))[:, None] * w1
+        out *= (1.0 / self.eta if inverse else self.eta)[:, None]
+        return out
+
+    def matrices(self, inverse: bool = False) -> np.ndarray:
+        """The ``(m, 4, 4)`` matrices ``W_i`` (or their inverses ``J W_i J / eta_i^2``)."""
+        w0, w1 = self.wbar[:, 0], self.wbar[:, 1:]
+        sign = -1.0 if inverse else 1.0
+        out = np.empty((w0.size, 4, 4))
+        out[:, 0, 0] = w0
+        out[:, 0, 1:] = sign * w1
+        out[:, 1:, 0] = sign * w1
+        out[:, 1:, 1:] = w1[:, :, None] * (w1 / (1.0 + w0)[:, None])[:, None, :]
+        out[:, 1:, 1:] += np.eye(3)
+        scale = 1.0 / self.eta if inverse else self.eta
+        out *= scale[:, None, None]
+        return out
+
+
+def nt_scaling(
+    s_lin: np.ndarray, z_lin: np.ndarray, s_soc: np.ndarray, z_soc: np.ndarray
+) -> NtScaling:
+    """The Nesterov-Todd scaling of the interior pair ``(s, z)`` (Vandenberghe 2010, 4.3)."""
+    d = np.sqrt(s_lin / z_lin)
+    det_s, det_z = lorentz_det(s_soc), lorentz_det(z_soc)
+    s_bar = s_soc / np.sqrt(det_s)[:, None]
+    z_bar = z_soc / np.sqrt(det_z)[:, None]
+    gamma = np.sqrt(0.5 * (1.0 + np.einsum("ij,ij->i", s_bar, z_bar)))
+    wbar = np.empty_like(s_soc)
+    wbar[:, 0] = s_bar[:, 0] + z_bar[:, 0]
+    wbar[:, 1:] = s_bar[:, 1:] - z_bar[:, 1:]
+    wbar /= 2.0 * gamma[:, None]
+    eta = (det_s / det_z) ** 0.25
+    scaling = NtScaling(d, eta, wbar, np.sqrt(s_lin * z_lin), np.empty_like(s_soc))
+    scaling.lam_soc = scaling.apply(z_soc)
+    return scaling
+
+
+def max_step_lin(x: np.ndarray, dx: np.ndarray) -> float:
+    """Largest ``a >= 0`` with ``x + a dx >= 0`` (``inf`` when unbounded)."""
+    neg = dx < 0
+    if not np.any(neg):
+        return np.inf
+    return float(np.min(-x[neg] / dx[neg]))
+
+
+def max_step_soc(x: np.ndarray, dx: np.ndarray) -> float:
+    """Largest ``a >= 0`` with every ``x[i] + a dx[i]`` in the cone (``x`` interior).
+
+    The boundary is the smallest positive root of the quadratic ``det(x + a dx) = 0``,
+    computed in the cancellation-free form on every cone at once.
+    """
+    if x.shape[0] == 0:
+        return np.inf
+    a = lorentz_det(dx)
+    b = 2.0 * (x[:, 0] * dx[:, 0] - np.einsum("ij,ij->i", x[:, 1:], dx[:, 1:]))
+    c = np.maximum(lorentz_det(x), 0.0)
+    disc = b * b - 4.0 * a * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -b - np.copysign(np.sqrt(np.maximum(disc, 0.0)), b)
+        roots = np.stack([2.0 * c / t, t / (2.0 * a)])
+    roots[~np.isfinite(roots) | (roots < 0)] = np.inf
+    step = roots.min(axis=0)
+    # no boundary crossing: the direction keeps the point in the cone for every a >= 0
+    step[((a > 0) & (b > 0)) | (disc < 0)] = np.inf
+    # a point already on the boundary (c = 0) moving outwards cannot move at all
+    step[(c == 0) & (b < 0)] = 0.0
+    return float(step.min())
+
+
+def shift_into_cones(s_lin: np.ndarray, s_soc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``s + (1 + t) e`` with ``t`` the largest violation (CVXOPT's ``conelp`` start).
+
+    Unchanged when ``s`` is well inside every cone.
+    """
+    lowest = [np.inf]
+    if s_lin.size:
+        lowest.append(float(s_lin.min()))
+    if s_soc.size:
+        lowest.append(float(np.min(s_soc[:, 0] - np.linalg.norm(s_soc[:, 1:], axis=1))))
+    t = -min(lowest)
+    norm = float(np.sqrt(np.sum(s_lin**2) + np.sum(s_soc**2)))
+    if t < -1e-8 * max(norm, 1.0):
+        return s_lin, s_soc
+    s_soc = s_soc.copy()
+    s_soc[:, 0] += 1.0 + t
+    return s_lin + (1.0 + t), s_soc
+
+
+# ---------------------------------------------------------------- problem data
+
+
+class ConeColumns:
+    """Where the variables enter the cones, to form ``G_soc^T W^-2 G_soc`` cheaply.
+
+    A column of ``G_soc`` is *shared* (nonzero in two or more cones), *private* (nonzero in
+    exactly one cone, as an epigraph variable of that cone) or absent. Only the shared
+    columns need the dense gram product; a private column's products are 4-vectors.
+    """
+
+    def __init__(self, G_soc: np.ndarray):
+        in_cone = np.any(G_soc != 0.0, axis=1)
+        count = in_cone.sum(axis=0)
+        self.n = G_soc.shape[2]
+        self.shared = np.flatnonzero(count >= 2)
+        self.private = np.flatnonzero(count == 1)
+        self.owner = np.argmax(in_cone[:, self.private], axis=0) if in_cone.size else self.private
+        self.G_shared = np.ascontiguousarray(G_soc[:, :, self.shared])
+        self.g_private = G_soc[self.owner, :, self.private]
+
+    def normal_matrix(self, inverse: np.ndarray | None) -> np.ndarray:
+        """``G_soc^T W^-2 G_soc`` (``n x n``) from the matrices ``W_i^-1`` (``None``: I)."""
+        M = np.zeros((self.n, self.n))
+        shared = self.G_shared if inverse is None else np.matmul(inverse, self.G_shared)
+        shared_rows = shared.reshape(4 * shared.shape[0], self.shared.size)
+        M[np.ix_(self.shared, self.shared)] = shared_rows.T @ shared_rows
+        if self.private.size:
+            private = self.g_private
+            if inverse is not None:
+                private = np.einsum("pij,pj->pi", inverse[self.owner], private)
+            cross = np.einsum("pk,pks->ps", private, shared[self.owner])
+            M[np.ix_(self.private, self.shared)] = cross
+            M[np.ix_(self.shared, self.private)] = cross.T
+            same_cone = self.owner[:, None] == self.owner[None, :]
+            M[np.ix_(self.private, self.private)] = (private @ private.T) * same_cone
+        return M
+
+
+@dataclass
+class ConeProgram:
+    """The data of the problem, checked and shaped (``A`` with independent rows only)."""
+
+    c: np.ndarray
+    A: np.ndarray
+    b: np.ndarray
+    G_lin: sp.csr_matrix
+    h_lin: np.ndarray
+    G_soc: np.ndarray
+    h_soc: np.ndarray
+    columns: ConeColumns = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.columns = ConeColumns(self.G_soc)
+
+    @property
+    def G_soc_rows(self) -> np.ndarray:
+        """The cone rows as one ``(4 m, n)`` matrix."""
+        return self.G_soc.reshape(-1, self.c.size)
+
+    def G_times(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``G x``, split into the linear rows and the cones ``(m, 4)``."""
+        return self.G_lin @ x, (self.G_soc_rows @ x).reshape(-1, 4)
+
+    def GT_times(self, z_lin: np.ndarray, z_soc: np.ndarray) -> np.ndarray:
+        """``G^T z``."""
+        return self.G_lin.T @ z_lin + self.G_soc_rows.T @ z_soc.ravel()
+
+
+def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Indices of a maximal independent set of rows of ``A`` and whether ``A x = b`` is
+    consistent (rank-revealing QR of ``A^T`` with column pivoting)."""
+    if A.shape[0] == 0:
+        return np.arange(0), True
+    _, r, perm = la.qr(A.T, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(r))
+    rank = int(np.sum(diag > RANK_TOLERANCE * max(diag[0], 1e-300))) if diag.size else 0
+    keep = np.sort(perm[:rank])
+    if rank == A.shape[0]:
+        return keep, True
+    x0 = np.linalg.lstsq(A[keep], b[keep], rcond=None)[0]
+    scale = max(1.0, float(np.abs(b).max()), float(np.abs(A).max() * np.abs(x0).max()))
+    return keep, bool(np.abs(A @ x0 - b).max() <= 1e3 * RANK_TOLERANCE * scale)
+
+
+def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> ConeProgram:
+    """The data as a :class:`ConeProgram` of floats in the shapes the solver uses."""
+    c = np.asarray(c, dtype=float).ravel()
+    n = c.size
+    return ConeProgram(
+        c,
+        np.asarray(A.toarray() if sp.issparse(A) else A, dtype=float).reshape(-1, n),
+        np.asarray(b, dtype=float).ravel(),
+        sp.csr_matrix(sp.csr_matrix(G_lin, dtype=float).reshape(-1, n)),
+        np.asarray(h_lin, dtype=float).ravel(),
+        np.ascontiguousarray(np.asarray(G_soc, dtype=float).reshape(-1, 4, n)),
+        np.asarray(h_soc, dtype=float).reshape(-1, 4),
+    )
+
+
+def is_finite(program: ConeProgram) -> bool:
+    """Whether every number of the data is finite."""
+    arrays = (program.c, program.A, program.b, program.G_lin.data, program.h_lin)
+    return all(np.all(np.isfinite(a)) for a in (*arrays, program.G_soc, program.h_soc))
+
+
+# ---------------------------------------------------------------- the Newton systems
+
+
+def regularised_cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Cholesky factor of ``K + delta I`` with the smallest ``delta`` of
+    :data:`REGULARISATIONS` (times the largest diagonal entry) that works."""
+    top = max(float(np.max(np.diag(K))), 1.0) if K.size else 1.0
+    identity = np.eye(K.shape[0])
+    for delta in REGULARISATIONS:
+        try:
+            return la.cho_factor(K + (delta * top) * identity, check_finite=False)
+        except np.linalg.LinAlgError:
+            continue
+    raise np.linalg.LinAlgError("the normal matrix is not positive definite")
+
+
+class NormalSystem:
+    """The reduced KKT system ``[M A^T; A 0]`` with ``M = G^T W^-2 G``, factored once.
+
+    ``M + A^T A`` (positive definite when ``[G; A]`` has full column rank) is factored by
+    Cholesky with a tiny static regularisation, ``A`` enters through its Schur complement,
+    and each solve is refined against the unregularised system.
+    """
+
+    def __init__(self, program: ConeProgram, d: np.ndarray, scaling: NtScaling | None):
+        G_lin = program.G_lin
+        scaled_lin = sp.diags(1.0 / d) @ G_lin
+        self.M = np.asarray((scaled_lin.T @ scaled_lin).todense())
+        if program.G_soc.shape[0]:
+            inverse = None if scaling is None else scaling.matrices(inverse=True)
+            self.M += program.columns.normal_matrix(inverse)
+        self.A = program.A
+        self.K = regularised_cholesky(self.M + self.A.T @ self.A)
+        if self.A.shape[0]:
+            self.KA = la.cho_solve(self.K, self.A.T, check_finite=False)
+            self.S = la.cho_factor(self.A @ self.KA, check_finite=False)
+
+    def solve_once(self, r1: np.ndarray, r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """One solve with the regularised factors."""
+        rhs = r1 + self.A.T @ r2
+        x = la.cho_solve(self.K, rhs, check_finite=False)
+        if not self.A.shape[0]:
+            return x, np.zeros(0)
+        y = la.cho_solve(self.S, self.A @ x - r2, check_finite=False)
+        return x - self.KA @ y, y
+
+    def solve(
+        self, r1: np.ndarray, r2: np.ndarray, refinements: int = NORMAL_REFINEMENTS
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(x, y)`` with ``M x + A^T y = r1`` and ``A x = r2``."""
+        x, y = self.solve_once(r1, r2)
+        for _ in range(refinements):
+            e1 = r1 - self.M @ x - self.A.T @ y
+            e2 = r2 - self.A @ x
+            dx, dy = self.solve_once(e1, e2)
+            x, y = x + dx, y + dy
+        return x, y
+
+
+@dataclass
+class Point:
+    """A primal-dual point, or a direction: ``x, y`` and the slacks and duals of the cones."""
+
+    x: np.ndarray
+    y: np.ndarray
+    s_lin: np.ndarray
+    z_lin: np.ndarray
+    s_soc: np.ndarray
+    z_soc: np.ndarray
+
+    def moved(self, step: float, d: Point) -> Point:
+        """``self + step * d``."""
+        return Point(
+            self.x + step * d.x,
+            self.y + step * d.y,
+            self.s_lin + step * d.s_lin,
+            self.z_lin + step * d.z_lin,
+            self.s_soc + step * d.s_soc,
+            self.z_soc + step * d.z_soc,
+        )
+
+    def gap(self) -> float:
+        """``s^T z``."""
+        return float(self.s_lin @ self.z_lin + np.sum(self.s_soc * self.z_soc))
+
+    def max_step(self, d: Point) -> float:
+        """Largest step along ``d`` keeping ``s`` and ``z`` in their cones."""
+        return min(
+            max_step_lin(self.s_lin, d.s_lin),
+            max_step_lin(self.z_lin, d.z_lin),
+            max_step_soc(self.s_soc, d.s_soc),
+            max_step_soc(self.z_soc, d.z_soc),
+        )
+
+
+@dataclass
+class Residuals:
+    """The residuals of a point: vectors, objectives and the relative measures."""
+
+    rx: np.ndarray
+    ry: np.ndarray
+    rz_lin: np.ndarray
+    rz_soc: np.ndarray
+    primal_objective: float
+    dual_objective: float
+    relative: dict[str, float]
+
+    def merit(self) -> float:
+        """The largest relative residual (``nan`` propagates as ``inf``)."""
+        worst = max(self.relative.values())
+        return worst if np.isfinite(worst) else np.inf
+
+
+def inf_norm(*arrays: np.ndarray) -> float:
+    """The largest absolute entry of the arrays (0 when all are empty)."""
+    return max([float(np.abs(a).max()) for a in arrays if a.size] + [0.0])
+
+
+def residuals(program: ConeProgram, p: Point) -> Residuals:
+    """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`)."""
+    Gx_lin, Gx_soc = program.G_times(p.x)
+    rx = program.c + program.A.T @ p.y + program.GT_times(p.z_lin, p.z_soc)
+    ry = program.A @ p.x - program.b
+    rz_lin = Gx_lin + p.s_lin - program.h_lin
+    rz_soc = Gx_soc + p.s_soc - program.h_soc
+    pobj = float(program.c @ p.x)
+    dobj = -float(program.b @ p.y + program.h_lin @ p.z_lin + np.sum(program.h_soc * p.z_soc))
+    data = inf_norm(program.b, program.h_lin, program.h_soc)
+    primal_scale = max(1.0, data + inf_norm(p.x) + inf_norm(p.s_lin, p.s_soc))
+    dual_scale = max(1.0, inf_norm(program.c) + inf_norm(p.y, p.z_lin, p.z_soc))
+    gap = max(abs(pobj - dobj), p.gap())
+    relative = {
+        "primal": inf_norm(ry, rz_lin, rz_soc) / primal_scale,
+        "dual": inf_norm(rx) / dual_scale,
+        "gap": gap / max(1.0, min(abs(pobj), abs(dobj))),
+    }
+    return Residuals(rx, ry, rz_lin, rz_soc, pobj, dobj, relative)
+
+
+@dataclass
+class NewtonRhs:
+    """Right-hand side of the Newton system (see :func:`newton_direction`)."""
+
+    rx: np.ndarray
+    ry: np.ndarray
+    rz_lin: np.ndarray
+    rz_soc: np.ndarray
+    rs_lin: np.ndarray
+    rs_soc: np.ndarray
+
+
+def newton_direction(
+    program: ConeProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
+) -> Point:
+    """The solution ``d`` of the Newton system, eliminating ``ds`` and ``dz``::
+
+    A^T dy + G^T dz = rx,   A dx = ry,   G dx + ds = rz,   lam o (W dz + W^-1 ds) = rs.
+    """
+    d = scaling.d
+    v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / d
+    v_soc = jordan_divide(scaling.lam_soc, rhs.rs_soc) - scaling.apply(rhs.rz_soc, True)
+    r1 = rhs.rx - program.GT_times(v_lin / d, scaling.apply(v_soc, True))
+    dx, dy = system.solve(r1, rhs.ry)
+    Gdx_lin, Gdx_soc = program.G_times(dx)
+    dz_lin = (Gdx_lin / d + v_lin) / d
+    dz_soc = scaling.apply(scaling.apply(Gdx_soc, True) + v_soc, True)
+    return Point(dx, dy, rhs.rz_lin - Gdx_lin, dz_lin, rhs.rz_soc - Gdx_soc, dz_soc)
+
+
+def newton_residual(
+    program: ConeProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
+) -> NewtonRhs:
+    """What ``d`` misses of each block of the Newton system, for a ``d`` built by
+    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction)."""
+    scaled_soc = scaling.apply(d.z_soc) + scaling.apply(d.s_soc, True)
+    scaled_lin = d.z_lin * scaling.d + d.s_lin / scaling.d
+    return NewtonRhs(
+        rhs.rx - program.A.T @ d.y - program.GT_times(d.z_lin, d.z_soc),
+        rhs.ry - program.A @ d.x,
+        np.zeros_like(rhs.rz_lin),
+        np.zeros_like(rhs.rz_soc),
+        rhs.rs_lin - scaling.lam_lin * scaled_lin,
+        rhs.rs_soc - jordan_product(scaling.lam_soc, scaled_soc),
+    )
+
+
+def refined_newton_direction(
+    program: ConeProgram,
+    system: NormalSystem,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    refinements: int = NEWTON_REFINEMENTS,
+) -> Point:
+    """:func:`newton_direction` with iterative refinement on the whole Newton system (the
+    elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned)."""
+    d = newton_direction(program, system, scaling, rhs)
+    for _ in range(refinements):
+        correction = newton_direction(
+            program, system, scaling, newton_residual(program, scaling, rhs, d)
+        )
+        d = d.moved(1.0, correction)
+    return d
+
+
+def predictor_corrector_step(program: ConeProgram, p: Point, res: Residuals) -> Point:
+    """One Mehrotra predictor-corrector iteration from the interior point ``p``."""
+    scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
+    system = NormalSystem(program, scaling.d, scaling)
+    lam_sq_lin = scaling.lam_lin**2
+    lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
+    rhs = NewtonRhs(-res.rx, -res.ry, -res.rz_lin, -res.rz_soc, -lam_sq_lin, -lam_sq_soc)
+    # the affine direction only sets the centring and the second-order term: no refinement
+    affine = refined_newton_direction(program, system, scaling, rhs, refinements=0)
+    step = min(1.0, p.max_step(affine))
+    gap = p.gap()
+    sigma = min(1.0, max(0.0, p.moved(step, affine).gap() / gap)) ** CENTRING_EXPONENT
+    mu = gap / (p.s_lin.size + p.s_soc.shape[0])
+    # second-order term (W^-1 ds_a) o (W dz_a) of the complementarity
+    cross_lin = (affine.s_lin / scaling.d) * (affine.z_lin * scaling.d)
+    cross_soc = jordan_product(scaling.apply(affine.s_soc, True), scaling.apply(affine.z_soc))
+    rhs.rs_lin = -lam_sq_lin - cross_lin + sigma * mu
+    rhs.rs_soc = -lam_sq_soc - cross_soc
+    rhs.rs_soc[:, 0] += sigma * mu
+    direction = refined_newton_direction(program, system, scaling, rhs)
+    step = min(1.0, STEP_FRACTION * p.max_step(direction))
+    return p.moved(step, direction)
+
+
+def starting_point(program: ConeProgram) -> Point:
+    """CVXOPT's ``conelp`` start: ``x`` minimising ``||G x - h||`` on ``A x = b``, ``z``
+    of least norm with ``G^T z + A^T y + c = 0``, both shifted into the cones."""
+    system = NormalSystem(program, np.ones(program.h_lin.size), None)
+    x, _ = system.solve(program.GT_times(program.h_lin, program.h_soc), program.b)
+    u, y = system.solve(-program.c, np.zeros(program.b.size))
+    Gx_lin, Gx_soc = program.G_times(x)
+    s_lin, s_soc = shift_into_cones(program.h_lin - Gx_lin, program.h_soc - Gx_soc)
+    z_lin, z_soc = shift_into_cones(*program.G_times(u))
+    return Point(x, y, s_lin, z_lin, s_soc, z_soc)
+
+
+def is_interior(p: Point) -> bool:
+    """Whether every slack and dual is finite and strictly inside its cone."""
+    finite = all(np.all(np.isfinite(v)) for v in (p.x, p.y, p.s_lin, p.z_lin, p.s_soc, p.z_soc))
+    return (
+        finite
+        and bool(np.all(p.s_lin > 0) and np.all(p.z_lin > 0))
+        and bool(np.all(lorentz_det(p.s_soc) > 0) and np.all(p.s_soc[:, 0] > 0))
+        and bool(np.all(lorentz_det(p.z_soc) > 0) and np.all(p.z_soc[:, 0] > 0))
+    )
+
+
+def hopeless(res: Residuals, p: Point, iteration: int) -> bool:
+    """Signs of an infeasible or unbounded problem: diverging iterates, or residuals that
+    stay large while the gap closes."""
+    if inf_norm(p.x, p.y, p.z_lin, p.z_soc, p.s_lin, p.s_soc) > DIVERGENCE_NORM:
+        return True
+    rel = res.relative
+    residual = max(rel["primal"], rel["dual"])
+    return iteration >= 5 and residual > 1e-6 and residual > RESIDUAL_OVER_GAP * rel["gap"]
+
+
+def solution(
+    status: str, p: Point, res: Residuals | None, iterations: int, keep: np.ndarray, rows: int
+) -> DenseSocpSolution:
+    """The result record (equality duals scattered back to every row of ``A``)."""
+    y = np.zeros(rows)
+    y[keep] = p.y
+    nan = float("nan")
+    relative = res.relative if res is not None else {"primal": nan, "dual": nan, "gap": nan}
+    return DenseSocpSolution(
+        status=status,
+        x=p.x,
+        y=y,
+        z_lin=p.z_lin,
+        z_soc=p.z_soc,
+        primal_objective=res.primal_objective if res is not None else nan,
+        dual_objective=res.dual_objective if res is not None else nan,
+        iterations=iterations,
+        residuals=dict(relative),
+    )
+
+
+def empty_point(program: ConeProgram) -> Point:
+    """The zero point (returned with ``not_solved`` before any iteration)."""
+    n, p, l, m = program.c.size, program.b.size, program.h_lin.size, program.h_soc.shape[0]
+    zeros_soc = np.zeros((m, 4))
+    return Point(np.zeros(n), np.zeros(p), np.zeros(l), np.zeros(l), zeros_soc, zeros_soc)
+
+
+def interior_point_loop(
+    program: ConeProgram, tol: float, max_iter: int
+) -> tuple[str, Point, Residuals | None, int]:
+    """Iterate from the starting point until converged, stalled or hopeless."""
+    try:
+        p = starting_point(program)
+    except (np.linalg.LinAlgError, ValueError):
+        return "not_solved", empty_point(program), None, 0
+    best, best_iteration = np.inf, 0
+    res, previous = None, empty_point(program)
+    for iteration in range(max_iter + 1):
+        if not is_interior(p):
+            # the last point that was interior, with its residuals
+            return "not_solved", previous, res, iteration
+        previous = p
+        res = residuals(program, p)
+        merit = res.merit()
+        if merit <= tol:
+            return "solved", p, res, iteration
+        if merit < STALL_FACTOR * best:
+            best, best_iteration = merit, iteration
+        stalled = iteration - best_iteration >= STALL_ITERATIONS
+        if stalled or iteration == max_iter or hopeless(res, p, iteration):
+            return "not_solved", p, res, iteration
+        try:
+            p = predictor_corrector_step(program, p, res)
+        except (np.linalg.LinAlgError, ValueError):
+            return "not_solved", p, res, iteration
+    return "not_solved", p, res, max_iter
+
+
+def solve_dense_socp(
+    c: np.ndarray,
+    A: np.ndarray,
+    b: np.ndarray,
+    G_lin: np.ndarray | sp.spmatrix,
+    h_lin: np.ndarray,
+    G_soc: np.ndarray,
+    h_soc: np.ndarray,
+    *,
+    tol: float = 1e-8,
+    max_iter: int = 60,
+) -> DenseSocpSolution:
+    """Minimise ``c^T x`` subject to ``A x = b``, ``G_lin x <= h_lin`` and
+    ``h_soc[i] - G_soc[i] x`` in the 4-dimensional Lorentz cone for every ``i``.
+
+    Parameters
+    ----------
+    c : numpy.ndarray
+        Objective, shape ``(n,)``.
+    A, b : numpy.ndarray
+        Equality constraints, shapes ``(p, n)`` and ``(p,)``; ``p`` may be 0. Dependent rows
+        are dropped (rank-revealing QR); an inconsistent system gives ``"not_solved"``.
+    G_lin, h_lin : scipy.sparse matrix or numpy.ndarray, numpy.ndarray
+        Linear inequalities ``G_lin x + s_lin = h_lin``, ``s_lin >= 0``; shapes ``(l, n)``
+        and ``(l,)``.
+    G_soc, h_soc : numpy.ndarray
+        Cone constraints ``G_soc[i] x + s_i = h_soc[i]``, ``s_i0 >= ||s_i[1:]||``; shapes
+        ``(m, 4, n)`` and ``(m, 4)``; ``m`` may be 0.
+    tol : float
+        Bound on the three relative residuals below.
+    max_iter : int
+        Iteration limit.
+
+    Returns
+    -------
+    DenseSocpSolution
+        ``status`` is ``"solved"`` only when, at the returned point (infinity norms,
+        as Clarabel defines them),
+
+        - primal: ``max(|A x - b|, |G x + s - h|) / max(1, |(b, h)| + |x| + |s|) <= tol``,
+        - dual: ``|c + A^T y + G^T z| / max(1, |c| + |(y, z)|) <= tol``,
+        - gap: ``max(|c^T x - d|, s^T z) / max(1, min(|c^T x|, |d|)) <= tol`` with the dual
+          objective ``d = -b^T y - h^T z``,
+
+        and every value is finite with ``s`` and ``z`` strictly inside their cones. Anything
+        else (stall, iteration limit, numerical breakdown, diverging iterates, residuals that
+        stay while the gap closes as on infeasible problems, inconsistent equalities, no
+        inequality at all) returns ``"not_solved"``; this function never raises on numerical
+        trouble and never decides infeasibility.
+
+    Notes
+    -----
+    ``tol = 1e-8`` is reached on every problem tried; below about ``1e-10`` the dual
+    residual often stalls (the normal equations lose its accuracy as cones become active)
+    and the result is ``"not_solved"`` after about as many iterations as a success.
+    """
+    program = as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc)
+    rows = program.b.size
+    if not is_finite(program):
+        return solution("not_solved", empty_point(program), None, 0, np.arange(rows), rows)
+    keep, consistent = independent_rows(program.A, program.b)
+    program.A, program.b = program.A[keep], program.b[keep]
+    if not consistent or program.h_lin.size + program.h_soc.shape[0] == 0:
+        return solution("not_solved", empty_point(program), None, 0, keep, rows)
+    with np.errstate(all="ignore"):
+        status, p, res, iterations = interior_point_loop(program, tol, max_iter)
+    return solution(status, p, res, iterations, keep, rows)
