@@ -270,7 +270,7 @@ class ConeColumns:
 
 
 @dataclass
-class ConeProgram:
+class ShapedProgram:
     """The data of the problem, checked and shaped (``A`` with independent rows only)."""
 
     c: np.ndarray
@@ -315,11 +315,11 @@ def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
     return keep, bool(np.abs(A @ x0 - b).max() <= 1e3 * RANK_TOLERANCE * scale)
 
 
-def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> ConeProgram:
-    """The data as a :class:`ConeProgram` of floats in the shapes the solver uses."""
+def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> ShapedProgram:
+    """The data as a :class:`ShapedProgram` of floats in the shapes the solver uses."""
     c = np.asarray(c, dtype=float).ravel()
     n = c.size
-    return ConeProgram(
+    return ShapedProgram(
         c,
         np.asarray(A.toarray() if sp.issparse(A) else A, dtype=float).reshape(-1, n),
         np.asarray(b, dtype=float).ravel(),
@@ -330,7 +330,7 @@ def as_cone_program(c, A, b, G_lin, h_lin, G_soc, h_soc) -> ConeProgram:
     )
 
 
-def is_finite(program: ConeProgram) -> bool:
+def is_finite(program: ShapedProgram) -> bool:
     """Whether every number of the data is finite."""
     arrays = (program.c, program.A, program.b, program.G_lin.data, program.h_lin)
     return all(np.all(np.isfinite(a)) for a in (*arrays, program.G_soc, program.h_soc))
@@ -360,7 +360,7 @@ class NormalSystem:
     and each solve is refined against the unregularised system.
     """
 
-    def __init__(self, program: ConeProgram, d: np.ndarray, scaling: NtScaling | None):
+    def __init__(self, program: ShapedProgram, d: np.ndarray, scaling: NtScaling | None):
         G_lin = program.G_lin
         scaled_lin = sp.diags(1.0 / d) @ G_lin
         self.M = np.asarray((scaled_lin.T @ scaled_lin).todense())
@@ -454,7 +454,7 @@ def inf_norm(*arrays: np.ndarray) -> float:
     return max([float(np.abs(a).max()) for a in arrays if a.size] + [0.0])
 
 
-def residuals(program: ConeProgram, p: Point) -> Residuals:
+def residuals(program: ShapedProgram, p: Point) -> Residuals:
     """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`)."""
     Gx_lin, Gx_soc = program.G_times(p.x)
     rx = program.c + program.A.T @ p.y + program.GT_times(p.z_lin, p.z_soc)
@@ -488,7 +488,7 @@ class NewtonRhs:
 
 
 def newton_direction(
-    program: ConeProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
+    program: ShapedProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
 ) -> Point:
     """The solution ``d`` of the Newton system, eliminating ``ds`` and ``dz``::
 
@@ -506,7 +506,7 @@ def newton_direction(
 
 
 def newton_residual(
-    program: ConeProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
+    program: ShapedProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
 ) -> NewtonRhs:
     """What ``d`` misses of each block of the Newton system, for a ``d`` built by
     :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction)."""
@@ -523,7 +523,7 @@ def newton_residual(
 
 
 def refined_newton_direction(
-    program: ConeProgram,
+    program: ShapedProgram,
     system: NormalSystem,
     scaling: NtScaling,
     rhs: NewtonRhs,
@@ -540,7 +540,7 @@ def refined_newton_direction(
     return d
 
 
-def predictor_corrector_step(program: ConeProgram, p: Point, res: Residuals) -> Point:
+def predictor_corrector_step(program: ShapedProgram, p: Point, res: Residuals) -> Point:
     """One Mehrotra predictor-corrector iteration from the interior point ``p``."""
     scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
     system = NormalSystem(program, scaling.d, scaling)
@@ -564,7 +564,7 @@ def predictor_corrector_step(program: ConeProgram, p: Point, res: Residuals) -> 
     return p.moved(step, direction)
 
 
-def starting_point(program: ConeProgram) -> Point:
+def starting_point(program: ShapedProgram) -> Point:
     """CVXOPT's ``conelp`` start: ``x`` minimising ``||G x - h||`` on ``A x = b``, ``z``
     of least norm with ``G^T z + A^T y + c = 0``, both shifted into the cones."""
     system = NormalSystem(program, np.ones(program.h_lin.size), None)
@@ -618,7 +618,7 @@ def solution(
     )
 
 
-def empty_point(program: ConeProgram) -> Point:
+def empty_point(program: ShapedProgram) -> Point:
     """The zero point (returned with ``not_solved`` before any iteration)."""
     n, p, l, m = program.c.size, program.b.size, program.h_lin.size, program.h_soc.shape[0]
     zeros_soc = np.zeros((m, 4))
@@ -626,7 +626,7 @@ def empty_point(program: ConeProgram) -> Point:
 
 
 def interior_point_loop(
-    program: ConeProgram, tol: float, max_iter: int
+    program: ShapedProgram, tol: float, max_iter: int
 ) -> tuple[str, Point, Residuals | None, int]:
     """Iterate from the starting point until converged, stalled or hopeless."""
     try:

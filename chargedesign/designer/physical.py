@@ -41,6 +41,7 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.acceptance import balance_bound
+from chargedesign.designer.cone_program import ConeProgram, field_cones
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
@@ -433,35 +434,41 @@ def _socp_charges(
     caps: np.ndarray,
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| on ``sites`` with the charge conditions, own-field caps and
-    surface cones."""
-    import cvxpy as cp
-
+    surface cones (:class:`~chargedesign.designer.cone_program.ConeProgram`, in ``x = (u, w)``,
+    ``q = qs u``, ``w >= |u|`` carrying the cost)."""
     A, b = setup.systems["charges"]
     qs = float(np.max(caps[sites]))
     As, bs = _row_scaled(A[:, sites], s * b, qs)
-    u = cp.Variable(len(sites))
+    k = len(sites)
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
-    positions = setup.points[sites]
-    constraints = [As @ u == bs, cp.abs(u) <= caps[sites] / qs]
+    eye = sparse.identity(k, format="csr")
+    zero = sparse.csr_matrix((k, k))
+    cap = caps[sites] / qs
+    G_lin = sparse.vstack(
+        [
+            sparse.hstack([eye, -eye]),  # u - w <= 0
+            sparse.hstack([-eye, -eye]),  # -u - w <= 0
+            sparse.hstack([eye, zero]),  # u <= cap
+            sparse.hstack([-eye, zero]),  # -u <= cap
+        ],
+        format="csr",
+    )
+    h_lin = np.concatenate([np.zeros(2 * k), cap, cap])
+    G_soc, h_soc = np.zeros((0, 4, 2 * k)), np.zeros((0, 4))
     if cones:
         points = np.array([point for _, point in cones])
-        d = points[:, None, :] - positions[None, :, :]  # (m, k, 3)
-        r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-        G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
-        room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
-        fields = cp.reshape(G.reshape(-1, len(sites)) @ u, (len(points), 3), order="C")
-        constraints.append(cp.norm(fields, 2, axis=1) <= room)
-    cost = setup.cost("charges")[sites]
-    problem = cp.Problem(cp.Minimize(cp.norm(cp.multiply(cost, u), 1)), constraints)
-    try:
-        problem.solve(solver=cp.CLARABEL)
-    except cp.SolverError as exc:
-        raise SolverError(f"charges: Clarabel failed on the surface-field cones ({exc})") from exc
-    if problem.status in ("infeasible", "infeasible_inaccurate"):
-        return None
-    if u.value is None:
-        raise SolverError(f"charges: Clarabel returned {problem.status} on the surface cones")
-    return np.asarray(u.value) * qs
+        G = field_cones(points, setup.points[sites], COULOMB * qs / limit)  # (m, 3, k)
+        G_soc = np.zeros((len(points), 4, 2 * k))
+        G_soc[:, 1:, :k] = -G  # the cone's (room, G u)
+        h_soc = np.zeros((len(points), 4))
+        h_soc[:, 0] = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+    cost = np.concatenate([np.zeros(k), setup.cost("charges")[sites]])
+    A_eq = np.hstack([As, np.zeros_like(As)])
+    program = ConeProgram(
+        cost, A_eq, bs, G_lin, h_lin, G_soc, h_soc, "charges: the surface-field cones"
+    )
+    x = program.solve()
+    return None if x is None else x[:k] * qs
 
 
 def _polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) -> np.ndarray:
@@ -673,10 +680,6 @@ MINMAX_CONES = 0.99
 #: cones whose field at a round's charges stays below this fraction of its bound are dropped
 #: (the check adds a carrier's worst point again when it comes back near the bound)
 MINMAX_KEEP = 0.9
-#: Clarabel's factorisation for the minmax (its cones are dense in the charges)
-MINMAX_LDL = "faer"
-#: Clarabel's gap and feasibility tolerances in the minmax (relative)
-MINMAX_TOL = 1e-6
 #: at most this many cone rounds in :func:`charges_rate_limit`
 MINMAX_ROUNDS = 40
 
@@ -721,92 +724,53 @@ class ChargesLimit:
     stage: str
 
 
-def _minmax_cones(
-    setup: PhysicalSetup, points: np.ndarray, field_scale: float, limit: float
-) -> tuple[np.ndarray, np.ndarray, Any, np.ndarray]:
-    """The minmax's second-order cones at ``points`` (m, 3): per point ``(t - ext, G u)`` in
-    the cone of dimension 4, ``G`` the Coulomb kernel times ``field_scale`` (the field of the
-    unit of ``u`` over ``limit``) and ``ext`` the external field over ``limit``.
-
-    Returns G (m, 3, k), ext (m,), the rows (4 m, k + 1; sparse) and their right-hand side."""
-    m, k = len(points), len(setup.points)
-    d = points[:, None, :] - setup.points[None, :, :]  # (m, k, 3)
-    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-    G = field_scale * (d / r3[:, :, None]).transpose(0, 2, 1)  # (m, 3, k)
-    ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
-    rows = np.zeros((m, 4, k + 1))
-    rows[:, 0, k] = -1.0
-    rows[:, 1:, :k] = -G
-    cone_rhs = np.zeros((m, 4))
-    cone_rhs[:, 0] = -ext
-    return G, ext, sparse.csc_matrix(rows.reshape(4 * m, k + 1)), cone_rhs.reshape(-1)
-
-
 def _minmax_charges(
     setup: PhysicalSetup, cones: list[np.ndarray]
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
     """``min t`` over charges ``u`` (rate 1) on every candidate with ``A u = b``, each
     carrier's own surface field plus the external one within ``t``, and the same at the cone
-    points (Clarabel called directly: the cvxpy canonicalisation of the dense cones cost
-    more than the solve). ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``.
-    None: no charges meet the conditions.
+    points (:class:`~chargedesign.designer.cone_program.ConeProgram` in ``x = (u, t)``, u in
+    units of the charge whose own surface field is the limit, t in units of the limit).
+    Returns ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``; None: no charges
+    meet the conditions.
     """
-    import clarabel
-
     A, b = setup.systems["charges"]
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
     As, bs = _row_scaled(A, b, qs)
     k = len(setup.points)
-    # x = (u, t), u in units of qs, t in units of limit; rows A x + slack = rhs, slack in cones
     own_ext = setup.external_max(np.linalg.norm(setup.points, axis=1) + a, 1.0) / limit
-    eye = sparse.identity(k, format="csc")
-    minus_t = sparse.csc_matrix(-np.ones((k, 1)))
-    blocks = [
-        sparse.hstack([sparse.csc_matrix(As), sparse.csc_matrix((len(bs), 1))]),
-        sparse.hstack([eye, minus_t]),  # u_j + own_ext_j <= t
-        sparse.hstack([-eye, minus_t]),  # -u_j + own_ext_j <= t
-    ]
-    rhs = [bs, -own_ext, -own_ext]
-    cone_types: list[Any] = [
-        clarabel.ZeroConeT(len(bs)),
-        clarabel.NonnegativeConeT(2 * k),
-    ]
+    eye = sparse.identity(k, format="csr")
+    minus_t = sparse.csr_matrix(-np.ones((k, 1)))
+    # u_j + own_ext_j <= t and -u_j + own_ext_j <= t
+    G_lin = sparse.vstack([sparse.hstack([eye, minus_t]), sparse.hstack([-eye, minus_t])])
+    h_lin = np.concatenate([-own_ext, -own_ext])
+    G_soc, h_soc = np.zeros((0, 4, k + 1)), np.zeros((0, 4))
     if cones:
-        G, ext, cone_rows, cone_rhs = _minmax_cones(
-            setup, np.array(cones), COULOMB * qs / limit, limit
-        )
-        blocks.append(cone_rows)
-        rhs.append(cone_rhs)
-        cone_types += [clarabel.SecondOrderConeT(4)] * len(cones)
+        points = np.array(cones)
+        G = field_cones(points, setup.points, COULOMB * qs / limit)  # (m, 3, k)
+        ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
+        G_soc = np.zeros((len(points), 4, k + 1))
+        G_soc[:, 0, k] = -1.0  # the cone's (t - ext, G u)
+        G_soc[:, 1:, :k] = -G
+        h_soc = np.zeros((len(points), 4))
+        h_soc[:, 0] = -ext
     cost = np.zeros(k + 1)
     cost[k] = 1.0
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.direct_solve_method = MINMAX_LDL
-    # the rate is wanted to far less than the interior point's default 1e-8 (measured on the
-    # default body: 1.6x faster, the rate within 7e-6)
-    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = MINMAX_TOL
-    settings.tol_ktratio = 10 * MINMAX_TOL
-    solver = clarabel.DefaultSolver(
-        sparse.csc_matrix((k + 1, k + 1)),
+    program = ConeProgram(
         cost,
-        sparse.vstack(blocks, format="csc"),
-        np.concatenate(rhs),
-        cone_types,
-        settings,
+        np.hstack([As, np.zeros((len(bs), 1))]),
+        bs,
+        G_lin,
+        h_lin,
+        G_soc,
+        h_soc,
+        "charges: the charges' minmax",
     )
-    solution = solver.solve()
-    status = solution.status
-    if status in (
-        clarabel.SolverStatus.PrimalInfeasible,
-        clarabel.SolverStatus.AlmostPrimalInfeasible,
-    ):
+    x = program.solve()
+    if x is None:
         return None
-    if status not in (clarabel.SolverStatus.Solved, clarabel.SolverStatus.AlmostSolved):
-        raise SolverError(f"charges: Clarabel returned {status} on the charges' minmax")
-    x = np.asarray(solution.x)
     t = float(x[k])
     used = np.zeros(0)
     if cones:
@@ -918,9 +882,7 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     dirs = fibonacci_directions(samples)
     points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
-    d = points[:, None, :] - setup.points[None, :, :]
-    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-    G = (COULOMB * qs / limit) * (d / r3[:, :, None]).transpose(0, 2, 1)
+    G = field_cones(points, setup.points, COULOMB * qs / limit)
     room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
     fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
     cost = setup.cost("charges")
