@@ -13,7 +13,10 @@ Baselines measured in the same run:
 - the default scene's frontier point (``chargedesign frontier --json`` without the start-up:
   issue 20's goal of 10 s) stage by stage, wall and CPU time, and the limits check of its
   body with its direct Coulomb sum (the baseline of the ratio) beside the design's
-  matrix-product kernel.
+  matrix-product kernel;
+- the same frontier point with every cone program of the charges' stage sent to Clarabel
+  (the baseline) beside the dense interior point that solves them first
+  (:mod:`chargedesign.designer.cone_program`).
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.designer.acceptance import forward_acceptance
+from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier import find_frontier
 from chargedesign.designer.physical import (
     build_design,
@@ -43,6 +47,8 @@ from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
 #: candidate spacings (m) of the 5 cm default ball: 257 ... about 1e4 candidates
 SPACINGS = (0.0125, 0.00833, 0.005, 0.0036)
 PLAIN_SAMPLES = 26
+#: the candidate spacing (m) of the cone solvers' table under --quick (81 candidates)
+QUICK_SPACING = 0.02
 #: the plain program runs while its dense cone matrices stay below this (bytes); at 924
 #: candidates (1.6 GB) Clarabel had not finished after 10 minutes on this machine
 PLAIN_MEMORY_LIMIT = 5e8
@@ -241,5 +247,48 @@ def table_frontier_point(quick: bool) -> BenchTable:
     return table
 
 
+def table_cone_solvers(quick: bool) -> BenchTable:
+    """The default scene's frontier point with the charges' cone programs by Clarabel (the
+    baseline) and by the dense interior point (Clarabel only where it does not converge)."""
+    table = BenchTable(
+        title="The frontier point's cone programs: dense interior point against Clarabel",
+        columns=["cone solver", "wall_s", "cpu_s", "cpu_ratio", "s_max", "s_max_rel_diff"],
+        notes=[
+            "find_frontier on the default scene's physical setup (built once, not timed)",
+            "baseline: every cone program of the charges' stage (the minmax and the design's "
+            "surface cones) by Clarabel (faer, tolerances 1e-8), measured in the same run",
+            "s_max_rel_diff: against the baseline's; the two solvers stop at different points "
+            "of the minmax's degenerate minimum, so the rates agree to the minmax's gap (1e-3)",
+        ],
+    )
+    if quick:
+        table.notes.append(f"--quick: the default ball at spacing {QUICK_SPACING} m")
+    setup = _setup(QUICK_SPACING, "frame") if quick else physical_setup_from_scene(load_scene(None))
+    watch = _Stopwatch()
+    with mock.patch.object(ConeProgram, "solve", ConeProgram.solve_clarabel):
+        baseline = find_frontier(setup)
+    base_wall, base_cpu = watch.read()
+    watch = _Stopwatch()
+    dense = find_frontier(setup)
+    wall, cpu = watch.read()
+    table.rows.append(["Clarabel", base_wall, base_cpu, 1.0, baseline.s_max, 0.0])
+    table.rows.append(
+        [
+            "dense interior point",
+            wall,
+            cpu,
+            cpu / base_cpu,
+            dense.s_max,
+            abs(dense.s_max / baseline.s_max - 1.0) if baseline.s_max > 0 else "",
+        ]
+    )
+    return table
+
+
 def run(quick: bool = False) -> list[BenchTable]:
-    return [table_constraint_generation(quick), table_readings(quick), table_frontier_point(quick)]
+    return [
+        table_constraint_generation(quick),
+        table_readings(quick),
+        table_frontier_point(quick),
+        table_cone_solvers(quick),
+    ]

@@ -8,7 +8,7 @@ import pytest
 from scipy import sparse
 
 # the frontier's acceptance tests' bodies (pytest puts this folder on the path)
-from test_frontier_acceptance import CASES, setup_of
+from test_frontier_acceptance import CASES, setup_of, small
 
 from chargedesign.designer import physical
 from chargedesign.designer.cone_program import ConeProgram, field_cones
@@ -74,3 +74,22 @@ def test_the_charges_limit_is_the_same_by_clarabel(monkeypatch):
     assert dense.stage == judge.stage == "charges"
     assert dense.gap <= physical.MINMAX_GAP and judge.gap <= physical.MINMAX_GAP
     assert dense.rate == pytest.approx(judge.rate, rel=physical.MINMAX_GAP)
+
+
+def test_near_the_limit_both_solvers_design_the_same_carriers(monkeypatch):
+    """The small body in air at s_c (1 - rtol / 4), where the design needs cone rounds: the
+    interior points' residue (charges at 1e-9 to 1e-6 of the largest) is dropped before
+    the polish, so both solvers give the same carriers and charges, and no carrier holds
+    less than CHARGE_RESIDUES[0] of the largest charge."""
+    setup = setup_of(small())
+    s = physical.charges_rate_limit(setup).rate * (1 - 0.01 / 4)
+    dense = physical.design_charges(setup, s)
+    monkeypatch.setattr(ConeProgram, "solve", ConeProgram.solve_clarabel)
+    judge = physical.design_charges(setup, s)
+    assert dense.cones > 0 and judge.cones > 0  # the cone programs were used
+    np.testing.assert_array_equal(dense.sites, judge.sites)
+    np.testing.assert_allclose(dense.charges, judge.charges, rtol=1e-6)
+    for charges in (dense, judge):
+        smallest = np.min(np.abs(charges.charges)) / np.max(np.abs(charges.charges))
+        assert smallest >= physical.CHARGE_RESIDUES[0]
+        assert charges.residual <= physical.POLISHED_RESIDUAL
