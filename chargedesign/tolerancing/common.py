@@ -1,0 +1,64 @@
+"""The tolerance analysis' defaults and the small helpers its modules share (JSON values,
+quantiles, sample counts).
+
+Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
+from chargedesign.validation import input_error
+
+#: element kinds, in report order
+KINDS = ("charge", "dipole", "mass")
+#: the design.json blocks of the element kinds
+KIND_BLOCKS = {"charge": "charges", "dipole": "dipoles", "mass": "masses"}
+DEFAULT_TARGET = 1e-4
+DEFAULT_LEVELS = (0.01, 0.1, 1.0)
+#: integration tolerances of the ensemble (the nominal body's own drift is the floor)
+DEFAULT_RTOL = 1e-10
+DEFAULT_T_END = 100.0
+DEFAULT_MATERIAL_SAMPLES = 200
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` for the reports' JSON blocks: numpy numbers as Python ones, tuples as lists,
+    non-finite floats as None."""
+    if isinstance(value, dict):
+        return {k: jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def quantile_summary(x: np.ndarray) -> dict[str, float]:
+    """Median, p90, max and mean of ``x`` (``{}`` when empty)."""
+    x = np.asarray(x, float)
+    if x.size == 0:
+        return {}
+    return {
+        "median": float(np.median(x)),
+        "p90": float(np.quantile(x, 0.9)),
+        "max": float(x.max()),
+        "mean": float(x.mean()),
+    }
+
+
+def sample_count(value: Any, name: str, minimum: int) -> int:
+    """``value`` as an int in ``minimum .. MAX_SAMPLES`` (else an input error naming ``name``)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, f"an integer in {minimum}..{MAX_SAMPLES}", value)
+    if not minimum <= int(value) <= MAX_SAMPLES:
+        raise input_error(name, f"an integer in {minimum}..{MAX_SAMPLES}", value)
+    return int(value)
