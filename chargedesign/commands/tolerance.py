@@ -31,11 +31,10 @@ from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
 from chargedesign.tolerancing import (
     ErrorModel,
-    MaterialErrors,
     MonteCarloResult,
+    material_errors_with,
     monte_carlo,
     plot_drift,
-    recorded_material_errors,
     tolerance_report,
     with_tolerance,
 )
@@ -69,16 +68,13 @@ def run(args: argparse.Namespace) -> int:
     check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
         check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")
-    given = {
-        "chi_relative": args.chi_relative,
-        "density_relative": args.density_relative,
-        "magnetisation_relative": args.magnetisation_relative,
-    }
-    materials = recorded_material_errors(design)
-    if any(v is not None for v in given.values()):
-        base = materials.to_dict() if materials is not None else {}
-        base.update({k: v for k, v in given.items() if v is not None})
-        materials = MaterialErrors.parse("--", **base)
+    materials = material_errors_with(
+        design,
+        "--",
+        chi_relative=args.chi_relative,
+        density_relative=args.density_relative,
+        magnetisation_relative=args.magnetisation_relative,
+    )
     result: object
     if model.is_zero:
         result = tolerance_report(

@@ -24,7 +24,12 @@ from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.simulation import simulate
 from chargedesign.simulation.api import setup_from_scene
-from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
+from chargedesign.tolerancing import (
+    ErrorModel,
+    material_errors_with,
+    monte_carlo,
+    tolerance_report,
+)
 
 CommandFunction = Callable[..., dict[str, Any]]
 
@@ -86,7 +91,8 @@ def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 
 def run_simulate(scene: Any, point_dir: Path, t_end: float | None = None) -> dict[str, Any]:
-    """Simulate the scene (its [simulation] table); writes summary.json."""
+    """Simulate the scene (its [simulation] table, whose ``axes`` key is ``simulate
+    --axes``); writes summary.json."""
 
     result = simulate(scene, t_end=t_end)
     summary = result.summary()
@@ -118,12 +124,26 @@ def run_tolerance(
     samples: int = 100,
     t_end: float = 100.0,
     simulate: bool = True,
+    chi_relative: float | None = None,
+    density_relative: float | None = None,
+    magnetisation_relative: float | None = None,
 ) -> dict[str, Any]:
-    """Design (unless named) and analyse tolerances; writes tolerance.json."""
+    """Design (unless named) and analyse tolerances; writes tolerance.json. The materials'
+    relative errors (as ``tolerance --chi-relative`` ...) replace those of the scene's
+    ``[tolerance]`` table."""
 
     design = _scene_design(scene, point_dir)
     model = ErrorModel.parse(position, charge, dipole, mass)
-    report = tolerance_report(design, target)
+    materials = material_errors_with(
+        design,
+        "options",
+        chi_relative=chi_relative,
+        density_relative=density_relative,
+        magnetisation_relative=magnetisation_relative,
+    )
+    report = tolerance_report(
+        design, target, material_errors=materials, material_samples=samples
+    )
     figures: dict[str, Any] = {
         "dominant": report.dominant["element"] if report.dominant else "",
         "position_tol_m": report.dominant["position_tol_m_min"] if report.dominant else None,
@@ -140,6 +160,7 @@ def run_tolerance(
             t_end=t_end,
             levels=(1.0,),
             target=target,
+            material_errors=materials,
         )
         data = mc.to_dict()
         for q, v in data["rel_errors"].items():
@@ -147,6 +168,9 @@ def run_tolerance(
         if simulate:
             figures["I4_drift_median"] = data["I4_drift"][0]["monte_carlo"]["median"]
             figures["I4_drift_linear_median"] = data["I4_drift"][0]["linear"]["median"]
+    if report.materials is not None:
+        induced = report.materials.to_dict()["induced_fraction"]["monte_carlo"]
+        figures["induced_fraction_p90"] = induced.get("p90")
     write_json_atomic(point_dir / "tolerance.json", data)
     return figures
 

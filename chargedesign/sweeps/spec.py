@@ -43,8 +43,9 @@ from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
 from chargedesign.sweeps.registry import check_command, resolve
-from chargedesign.tolerancing import ErrorModel
+from chargedesign.tolerancing import ErrorModel, MaterialErrors
 from chargedesign.validation import check_error_spreads, check_periods, check_tree
+from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
 RANDOM_KINDS = ("uniform", "log_uniform", "choice")
@@ -205,6 +206,8 @@ def _check_command_options(command: str, options: Mapping[str, Any], prefix: str
         except InputError as exc:
             raise InputError(f"{prefix}{str(exc).removeprefix('--')}") from None
         check_error_spreads(model, prefix)
+        materials = {k: options[k] for k in MATERIAL_ERROR_KEYS if k in options}
+        MaterialErrors.parse(prefix.removesuffix("."), **materials)
 
 
 def validate_points(
@@ -239,6 +242,7 @@ def validate_points(
                 _check_motion_work(scene, (options or {}).get("t_end"))
             elif command == "tolerance":
                 _check_drift_work(scene, options or {})
+                _check_material_work(scene, options or {})
         except (InputError, TypeError, ValueError) as exc:
             values = ", ".join(f"{k} = {v!r}" for k, v in point.items())
             raise InputError(f"{source}: point p{i:0{width}d} ({values}): {exc}") from None
@@ -263,6 +267,23 @@ def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
     if errors and options.get("simulate", True):
         t_end = options.get("t_end", 100.0)
         check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
+
+
+def _check_material_work(scene: Any, options: Mapping[str, Any]) -> None:
+    """A tolerance point with the materials' errors needs what their analysis needs: a
+    physical design (``[medium]``) in a magnetic field of degree <= 2."""
+
+    given = [k for k in MATERIAL_ERROR_KEYS if options.get(k) is not None]
+    if not given:
+        return
+    if scene.physical is None:
+        raise InputError(
+            f"options.{given[0]}: material errors need a physical design (a scene with [medium])"
+        )
+    if any(scene.fields.get("magnetic", ())[2:]):
+        raise InputError(
+            f"options.{given[0]}: material errors are analysed for magnetic fields of degree <= 2"
+        )
 
 
 def _check_sweep_keys(data: Any, source: str) -> None:

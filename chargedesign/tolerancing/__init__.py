@@ -62,6 +62,7 @@ from chargedesign.tolerancing.error_model import ErrorModel, Spread, parse_sprea
 from chargedesign.tolerancing.material_properties import (
     MaterialErrors,
     MaterialUncertainty,
+    material_errors_with,
     material_uncertainty,
     recorded_material_errors,
 )
@@ -92,6 +93,7 @@ __all__ = [
     "Spread",
     "ToleranceReport",
     "error_distribution",
+    "material_errors_with",
     "material_uncertainty",
     "monte_carlo",
     "parse_spread",

@@ -335,3 +335,15 @@ def recorded_material_errors(design: Design) -> MaterialErrors | None:
     if recorded is None:
         return None
     return MaterialErrors.from_table(recorded, "material_errors")
+
+
+def material_errors_with(design: Design, where: str = "--", **given: Any) -> MaterialErrors | None:
+    """The material errors ``design`` records from its scene (``[tolerance]``) with the
+    ``given`` ones (not None) in their place; a bad value names ``where`` as
+    :meth:`MaterialErrors.parse` does (None: none recorded and none given)."""
+    materials = recorded_material_errors(design)
+    if any(value is not None for value in given.values()):
+        base = materials.to_dict() if materials is not None else {}
+        base.update({key: value for key, value in given.items() if value is not None})
+        materials = MaterialErrors.parse(where, **base)
+    return materials

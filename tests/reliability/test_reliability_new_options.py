@@ -127,6 +127,11 @@ def test_a_sweep_caps_each_points_motion_before_any_runs(
         ("samples = 1000000000", "options.samples: expected a value in [1, 2000]"),  # accepted
         ("target = 2.0", "options.target: expected a value in (0, 1)"),
         ('position = "1um"\nt_end = 1e30', "options.t_end"),  # the drift's periods
+        # the materials' errors, as tolerance --chi-relative ... takes them
+        ("chi_relative = 2.0", "options.chi_relative: expected a value in [0, 1)"),
+        ('density_relative = "5%"', "options.density_relative: expected a real number"),
+        # SMALL_SCENE has no [medium]: no materials to perturb
+        ("magnetisation_relative = 1e-3", "options.magnetisation_relative: material errors need"),
     ],
 )
 def test_a_sweeps_tolerance_options_are_checked_before_any_point(

@@ -10,10 +10,12 @@ from pathlib import Path
 import pytest
 from unit_scene import UNIT_SCENE
 
+from chargedesign.body import read_design
 from chargedesign.cli import main
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M
 from chargedesign.sweeps import load_sweep, make_executor, run_sweep, sweep_from_dict
+from chargedesign.tolerancing import MaterialErrors, tolerance_report
 
 HERE = Path(__file__).parent
 if str(HERE) not in sys.path:  # sweep_helpers, for this process and the spawned workers
@@ -283,3 +285,36 @@ def test_sweep_and_scene_files_go_through_the_safe_readers(tmp_path):
         load_sweep(deep)
     with pytest.raises(InputError, match="is a directory, expected a sweep file"):
         load_sweep(tmp_path)
+
+
+def test_a_tolerance_sweep_takes_the_materials_errors_as_the_command_does(tmp_path):
+    """options.chi_relative (tolerance --chi-relative) reaches each point's material
+    analysis: its tolerance.json and figures equal the tolerance report of the point's own
+    design with the same errors, computed here directly."""
+    small = Path(__file__).resolve().parents[1] / "physical" / "small.toml"
+    spec = sweep_from_dict(
+        {
+            "scene": str(small),
+            "command": "tolerance",
+            "grid": {"medium.name": ["sf6"]},
+            "options": {"chi_relative": 1e-3, "samples": 20},
+        }
+    )
+    result = run_sweep(spec, tmp_path / "t")
+    assert result.failed == 0 and result.lost == 0
+    (row,) = result.rows
+    folder = tmp_path / "t" / "points" / row["point"]
+    written = json.loads((folder / "tolerance.json").read_text())
+    assert written["materials"]["errors"]["chi_relative"] == 1e-3
+    direct = tolerance_report(
+        read_design(folder / "design.json"),
+        material_errors=MaterialErrors(chi_relative=1e-3),
+        material_samples=20,
+    ).materials
+    assert direct is not None
+    p90 = direct.to_dict()["induced_fraction"]["monte_carlo"]["p90"]
+    assert row["induced_fraction_p90"] == pytest.approx(p90, rel=1e-12)
+    assert (
+        written["materials"]["induced_fraction"]["monte_carlo"]["p90"]
+        == row["induced_fraction_p90"]
+    )
