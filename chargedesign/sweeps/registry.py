@@ -141,9 +141,7 @@ def run_tolerance(
         density_relative=density_relative,
         magnetisation_relative=magnetisation_relative,
     )
-    report = tolerance_report(
-        design, target, material_errors=materials, material_samples=samples
-    )
+    report = tolerance_report(design, target, material_errors=materials, material_samples=samples)
     figures: dict[str, Any] = {
         "dominant": report.dominant["element"] if report.dominant else "",
         "position_tol_m": report.dominant["position_tol_m_min"] if report.dominant else None,

@@ -6,7 +6,6 @@ Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -25,21 +24,6 @@ DEFAULT_RTOL = 1e-10
 DEFAULT_T_END = 100.0
 DEFAULT_MATERIAL_SAMPLES = 200
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
-
-
-def jsonable(value: Any) -> Any:
-    """``value`` for the reports' JSON blocks: numpy numbers as Python ones, tuples as lists,
-    non-finite floats as None."""
-    if isinstance(value, dict):
-        return {k: jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
-    if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
 
 
 def quantile_summary(x: np.ndarray) -> dict[str, float]:

@@ -15,7 +15,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.formatting import ORDER_SCI, fmt
-from chargedesign.results import Result, format_length
+from chargedesign.results import Result, format_length, json_ready
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
@@ -29,7 +29,7 @@ from chargedesign.sensitivity import (
     row_norm,
     with_arrays,
 )
-from chargedesign.tolerancing.common import DEFAULT_MATERIAL_SAMPLES, DEFAULT_TARGET, jsonable
+from chargedesign.tolerancing.common import DEFAULT_MATERIAL_SAMPLES, DEFAULT_TARGET
 from chargedesign.tolerancing.material_properties import (
     MaterialErrors,
     MaterialUncertainty,
@@ -99,8 +99,8 @@ class ToleranceReport(Result):
             "n_orientations": self.n_orientations,
             "scales": dict(self.scales),
             "nominal_rel_err": dict(self.nominal),
-            "uniform": jsonable(self.uniform),
-            "elements": [jsonable(e) for e in self.elements],
+            "uniform": json_ready(self.uniform),
+            "elements": [json_ready(e) for e in self.elements],
             "claimed": list(self.claimed),
             **({"materials": self.materials.to_dict()} if self.materials is not None else {}),
         }

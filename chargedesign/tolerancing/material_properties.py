@@ -26,10 +26,9 @@ from chargedesign.physical.realism import (
     material_parts,
     typical_rate,
 )
-from chargedesign.results import Result
+from chargedesign.results import Result, json_ready
 from chargedesign.tolerancing.common import (
     DEFAULT_MATERIAL_SAMPLES,
-    jsonable,
     quantile_summary,
     sample_count,
 )
@@ -197,7 +196,7 @@ class MaterialUncertainty(Result):
         )
 
     def to_dict(self) -> dict[str, Any]:
-        return jsonable(
+        return json_ready(
             {
                 "errors": self.errors.to_dict(),
                 "samples": len(self.monte_carlo),

@@ -17,7 +17,7 @@ from chargedesign.body import Design
 from chargedesign.errors import InputError
 from chargedesign.formatting import AGREEMENT, ERROR, PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
-from chargedesign.results import Result
+from chargedesign.results import Result, json_ready
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
@@ -37,7 +37,6 @@ from chargedesign.tolerancing.common import (
     DEFAULT_RTOL,
     DEFAULT_T_END,
     DEFAULT_TARGET,
-    jsonable,
     quantile_summary,
     sample_count,
 )
@@ -126,7 +125,7 @@ class MonteCarloResult(Result):
         }
         if self.report is not None:
             out["sensitivity"] = self.report.to_dict()
-        return jsonable(out)
+        return json_ready(out)
 
     def _summary(self) -> dict[str, Any]:
         return {
