@@ -6,15 +6,14 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_INERTIA as TARGET
+from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.airbearing.balance import sensitivity
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, initial_state, run_loop
 from chargedesign.airbearing.wheels import wheel_axes, wheel_needs
-from chargedesign.params import Parameters
 
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
-TARGET = np.diag([2.0, 2.0, 1.0])
 T_END, RATE, MASS = 2.0, 200.0, 20.0
 
 

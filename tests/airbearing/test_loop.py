@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_INERTIA as TARGET
+from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.airbearing.dynamics import Plant, advance
 from chargedesign.airbearing.loop import (
@@ -19,10 +21,6 @@ from chargedesign.airbearing.loop import (
 )
 from chargedesign.airbearing.wheels import wheel_axes, wheel_needs
 from chargedesign.errors import SolverError
-from chargedesign.params import Parameters
-
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
-TARGET = np.diag([2.0, 2.0, 1.0])
 
 
 @pytest.fixture(scope="module")

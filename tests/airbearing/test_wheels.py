@@ -7,6 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_INERTIA as TARGET
+from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import (
@@ -24,10 +26,7 @@ from chargedesign.airbearing.wheels import (
     wheel_limits,
 )
 from chargedesign.model import evaluators
-from chargedesign.params import Parameters
 
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
-TARGET = np.diag([2.0, 2.0, 1.0])
 T_END = 3.0
 SAMPLES = 601
 

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_PARAMETERS as PARAMS
 from unit_scene import UNIT_SCENE
 
 from chargedesign.bench.check import bench_design, naive_sums, stencil_points
@@ -31,7 +32,6 @@ from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody, Density, quadrature_points
 
 A1, A2 = 1.0, 0.5  # the paper's Phi = a1 Z + a2 (3 Z^2 - R^2): legendre [a1, 2 a2]
-PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 MAGNETIC = (A1, 2 * A2)
 # With the paper's (p6) the charges' third moments are fixed by mu; in a degree-3 electric
 # field they produce the cubic term (15 e3 / (12 a2)) C K gamma3 f of V, and the theorem's is

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from unit_scene import UNIT_PARAMETERS as DEFAULT
 from unit_scene import UNIT_SCENE
 
 from chargedesign.candidates import candidates_from_points, candidates_from_table
@@ -19,7 +20,6 @@ from chargedesign.params import Parameters
 from chargedesign.report import charge_field, plausibility, render_report
 from chargedesign.scene import load_scene, scene_from_dict
 
-DEFAULT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 DEFAULT_FIELDS = {"magnetic": (1.0, 1.0), "gravity": (9.81,)}
 
 

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from unit_scene import UNIT_PARAMETERS as UNIT
 
-from chargedesign.params import Parameters
 from chargedesign.topology.chambers import LevelSampling
 from chargedesign.topology.compute import DiagramOptions
 
 #: the unit-scale case (examples/scenes/unit_scale.toml)
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 #: fewer seeds and chamber samples than the default: seconds, not tens of seconds
 SMALL = DiagramOptions(seeds=200, sampling=LevelSampling(1500, 48), columns=5)
 

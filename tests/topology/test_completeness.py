@@ -11,13 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import least_squares
+from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.model.evaluators import integrals
-from chargedesign.params import Parameters
 from chargedesign.topology.equations import MomentumMap, relative_singular_value
 
 #: the unit-scale case (examples/scenes/unit_scale.toml)
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 
 
 def test_exact_gradients_match_differences_of_the_model():

@@ -7,14 +7,13 @@ import io
 
 import numpy as np
 import pytest
+from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.model.evaluators import integrals, rhs
-from chargedesign.params import Parameters
 from chargedesign.topology.diagram import CSV_COLUMNS
 from chargedesign.topology.equations import MomentumMap, poisson_tensor, relative_singular_value
 
 #: the unit-scale case (examples/scenes/unit_scale.toml)
-UNIT = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 
 
 def _table(diagram):
