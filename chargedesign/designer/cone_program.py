@@ -109,11 +109,3 @@ class ConeProgram:
         if status not in (clarabel.SolverStatus.Solved, clarabel.SolverStatus.AlmostSolved):
             raise SolverError(f"{self.what}: Clarabel returned {status}")
         return np.asarray(solution.x)
-
-
-def field_cones(points: np.ndarray, sites: np.ndarray, field_scale: float) -> np.ndarray:
-    """The Coulomb kernel from charges at ``sites`` (k, 3) to ``points`` (m, 3): the field at
-    each point per unit charge times ``field_scale``, shape (m, 3, k)."""
-    d = points[:, None, :] - sites[None, :, :]  # (m, k, 3)
-    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
-    return field_scale * (d / r3[:, :, None]).transpose(0, 2, 1)

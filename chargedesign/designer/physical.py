@@ -41,7 +41,7 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.acceptance import balance_bound
-from chargedesign.designer.cone_program import ConeProgram, field_cones
+from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs, weighted_norm
 from chargedesign.designer.solvers import least_norm
@@ -51,7 +51,7 @@ from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
-from chargedesign.physical.coulomb import coulomb_field_gemm
+from chargedesign.physical.coulomb import coulomb_field_gemm, coulomb_kernel
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.induced import induced_rows
 from chargedesign.physical.limits import (
@@ -465,7 +465,7 @@ def _socp_charges(
     G_soc, h_soc = np.zeros((0, 4, 2 * k)), np.zeros((0, 4))
     if cones:
         points = np.array([point for _, point in cones])
-        G = field_cones(points, setup.points[sites], COULOMB * qs / limit)  # (m, 3, k)
+        G = coulomb_kernel(setup.points[sites], points, COULOMB * qs / limit)  # (m, 3, k)
         G_soc = np.zeros((len(points), 4, 2 * k))
         G_soc[:, 1:, :k] = -G  # the cone's (room, G u)
         h_soc = np.zeros((len(points), 4))
@@ -779,7 +779,7 @@ def _minmax_charges(
     G_soc, h_soc = np.zeros((0, 4, k + 1)), np.zeros((0, 4))
     if cones:
         points = np.array(cones)
-        G = field_cones(points, setup.points, COULOMB * qs / limit)  # (m, 3, k)
+        G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)  # (m, 3, k)
         ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
         G_soc = np.zeros((len(points), 4, k + 1))
         G_soc[:, 0, k] = -1.0  # the cone's (t - ext, G u)
@@ -912,7 +912,7 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     dirs = fibonacci_directions(samples)
     points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
-    G = field_cones(points, setup.points, COULOMB * qs / limit)
+    G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)
     room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
     fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
     cost = setup.cost("charges")

@@ -1,10 +1,12 @@
-"""The Coulomb field of point charges: the one place it is written, in its three forms.
+"""The Coulomb field of point charges: the one place it is written, in its four forms.
 
 - :func:`point_charge_field`: the magnitude ``|q| / (4 pi eps0 s^2)`` of one charge;
 - :func:`coulomb_field`: the direct sum over (points, charges) differences, used by the
   independent limits check (:mod:`chargedesign.physical.limits`);
 - :func:`coulomb_field_gemm`: the same sum by matrix products (BLAS), about 1.5x faster but
-  with cancellation in the distances, used by the design's in-loop surface check.
+  with cancellation in the distances, used by the design's in-loop surface check;
+- :func:`coulomb_kernel`: the field per unit charge as a matrix (points x 3 x charges), the
+  rows of the charges' cone programs (:mod:`chargedesign.designer.cone_program`).
 
 Both sums are tested against each other (tests/physical/test_coulomb.py).
 """
@@ -90,3 +92,12 @@ def coulomb_field_gemm(sources: np.ndarray, charges: np.ndarray, points: np.ndar
         np.divide(charges[None, :], w, out=w)
         out[start : start + block] = COULOMB * (p * w.sum(axis=1)[:, None] - w @ sources)
     return out
+
+
+def coulomb_kernel(sources: np.ndarray, points: np.ndarray, scale: float = COULOMB) -> np.ndarray:
+    """The field at ``points`` (m, 3) of a unit charge at each of ``sources`` (k, 3), times
+    ``scale`` over ``COULOMB`` (the default gives V/m per C): shape (m, 3, k). ``scale``
+    takes a program's units in one product (``COULOMB * charge_unit / field_unit``)."""
+    d = points[:, None, :] - sources[None, :, :]  # (m, k, 3)
+    r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
+    return scale * (d / r3[:, :, None]).transpose(0, 2, 1)

@@ -11,7 +11,8 @@ from scipy import sparse
 from test_frontier_acceptance import CASES, setup_of, small
 
 from chargedesign.designer import physical
-from chargedesign.designer.cone_program import ConeProgram, field_cones
+from chargedesign.designer.cone_program import ConeProgram
+from chargedesign.physical.coulomb import coulomb_kernel
 
 
 def _minmax_program(seed: int, k: int = 40, m: int = 120, p: int = 4) -> ConeProgram:
@@ -21,7 +22,7 @@ def _minmax_program(seed: int, k: int = 40, m: int = 120, p: int = 4) -> ConePro
     sites = rng.uniform(-1, 1, (k, 3))
     points = rng.uniform(-1.5, 1.5, (m, 3))
     points *= (1.6 / np.linalg.norm(points, axis=1))[:, None]  # outside the sites' ball
-    G = field_cones(points, sites, 1.0)
+    G = coulomb_kernel(sites, points, 1.0)
     A = np.hstack([rng.normal(size=(p, k)), np.zeros((p, 1))])
     b = rng.normal(size=p)
     eye = sparse.identity(k, format="csr")

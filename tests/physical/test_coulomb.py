@@ -5,8 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from chargedesign.constants import EPSILON_0
-from chargedesign.physical.coulomb import coulomb_field, coulomb_field_gemm, point_charge_field
+from chargedesign.constants import COULOMB, EPSILON_0
+from chargedesign.physical.coulomb import (
+    coulomb_field,
+    coulomb_field_gemm,
+    coulomb_kernel,
+    point_charge_field,
+)
 from chargedesign.sampling import GOLDEN_ANGLE, fibonacci_sphere
 
 
@@ -20,6 +25,21 @@ def test_the_matrix_product_field_equals_the_direct_sum_on_random_bodies():
         fast = coulomb_field_gemm(sources, charges, points)
         rel = np.linalg.norm(fast - direct, axis=1) / np.linalg.norm(direct, axis=1)
         assert rel.max() < 1e-10
+
+
+def test_the_kernel_times_the_charges_is_the_direct_sum():
+    """The cone programs' rows (field per unit charge) applied to charges give the field."""
+    rng = np.random.default_rng(11)
+    sources = rng.uniform(-0.05, 0.05, (80, 3))
+    charges = rng.normal(size=80) * 1e-9
+    points = (sources[:20, None, :] + 0.003 * fibonacci_sphere(30)[None]).reshape(-1, 3)
+    direct = coulomb_field(sources, charges, points)
+    kernel = coulomb_kernel(sources, points)
+    assert kernel.shape == (len(points), 3, len(sources))
+    rel = np.linalg.norm(kernel @ charges - direct, axis=1) / np.linalg.norm(direct, axis=1)
+    assert rel.max() < 1e-12
+    # a scale is the program's units in one product
+    np.testing.assert_allclose(coulomb_kernel(sources, points, 2.0), kernel * 2.0 / COULOMB)
 
 
 def test_one_charge_gives_the_inverse_square_field_along_the_separation():
