@@ -423,26 +423,20 @@ def _sphere_blocks(
     """Add the charges', masses' and magnets' spheres to ``out``; their centres and radii."""
     spheres_c: list[np.ndarray] = []
     spheres_r: list[np.ndarray] = []
-    if len(design.charge_values):
+    kinds = (
+        ("charges", "charge", "charge (C)", design.charge_positions, design.charge_values),
+        ("masses", "mass", "mass (kg)", design.mass_positions, design.mass_values),
+    )
+    for block_name, element, label, positions, values in kinds:
+        if not len(values):
+            continue
         block = pv.MultiBlock()
-        for i, (pos, q, r) in enumerate(
-            zip(design.charge_positions, design.charge_values, sizes["charges"], strict=True)
-        ):
+        for i, (pos, value, r) in enumerate(zip(positions, values, sizes[block_name], strict=True)):
             mesh = _sphere(pos, r, resolution)
-            block[f"charge {i}"] = _labelled(mesh, {"charge (C)": q, "radius (m)": r})
-        out["charges"] = block
-        spheres_c.append(design.charge_positions)
-        spheres_r.append(sizes["charges"])
-    if len(design.mass_values):
-        block = pv.MultiBlock()
-        for i, (pos, m, r) in enumerate(
-            zip(design.mass_positions, design.mass_values, sizes["masses"], strict=True)
-        ):
-            mesh = _sphere(pos, r, resolution)
-            block[f"mass {i}"] = _labelled(mesh, {"mass (kg)": m, "radius (m)": r})
-        out["masses"] = block
-        spheres_c.append(design.mass_positions)
-        spheres_r.append(sizes["masses"])
+            block[f"{element} {i}"] = _labelled(mesh, {label: value, "radius (m)": r})
+        out[block_name] = block
+        spheres_c.append(positions)
+        spheres_r.append(sizes[block_name])
     magnets = sizes["magnets"]
     if np.any(magnets > 0):
         block = pv.MultiBlock()
