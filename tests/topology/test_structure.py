@@ -87,7 +87,9 @@ def test_singular_parameters_are_refused(unit_params):
     assert "\n" not in str(error.value)
 
 
-def test_command_line_bad_range_is_one_line(tmp_path):
+def _refused_by_the_command_line(tmp_path, *options: str) -> str:
+    """``chargedesign bifurcation`` on the unit scene with ``options`` in its own process:
+    exit 2, one line on stderr (returned), no output folder."""
     run = subprocess.run(
         [
             sys.executable,
@@ -95,9 +97,7 @@ def test_command_line_bad_range_is_one_line(tmp_path):
             "chargedesign",
             "bifurcation",
             "examples/scenes/unit_scale.toml",
-            "--h-range",
-            "-5",
-            "-4",
+            *options,
             "--out",
             str(tmp_path / "out"),
         ],
@@ -107,8 +107,14 @@ def test_command_line_bad_range_is_one_line(tmp_path):
     )
     assert run.returncode == 2
     lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and "no admissible motion" in lines[0], run.stderr
+    assert len(lines) == 1, run.stderr
     assert not (tmp_path / "out").exists()
+    return lines[0]
+
+
+def test_command_line_bad_range_is_one_line(tmp_path):
+    line = _refused_by_the_command_line(tmp_path, "--h-range", "-5", "-4")
+    assert "no admissible motion" in line
 
 
 def test_chaplygin_limit_lies_on_the_closed_form_curves(unit_params, small_options):
@@ -150,23 +156,5 @@ def test_si_scale_is_the_unit_diagram_read_in_other_units(unit_params, small_opt
 
 
 def test_command_line_energy_outside_the_range_is_one_line(tmp_path):
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "chargedesign",
-            "bifurcation",
-            "examples/scenes/unit_scale.toml",
-            "--at",
-            "99",
-            "--out",
-            str(tmp_path / "out"),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert run.returncode == 2
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and "--at: expected an energy inside" in lines[0], run.stderr
-    assert not (tmp_path / "out").exists()
+    line = _refused_by_the_command_line(tmp_path, "--at", "99")
+    assert "--at: expected an energy inside" in line
