@@ -14,23 +14,12 @@ from chargedesign.airbearing.dynamics import Plant, advance
 from chargedesign.airbearing.loop import (
     LoopSettings,
     continuous_loop,
-    initial_state,
     invariants,
     run_loop,
     theorem_motion,
 )
 from chargedesign.airbearing.wheels import wheel_axes, wheel_needs
 from chargedesign.errors import SolverError
-
-
-@pytest.fixture(scope="module")
-def plant() -> Plant:
-    return Plant(UNIT, TARGET, TARGET)
-
-
-@pytest.fixture(scope="module")
-def x0() -> np.ndarray:
-    return initial_state(UNIT, np.array([0.36, 0.48, 0.8]), 0.6, -0.4)
 
 
 def test_initial_state_is_on_I3_zero(x0: np.ndarray) -> None:

@@ -7,7 +7,6 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from unit_scene import UNIT_INERTIA as TARGET
 from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.airbearing.dynamics import Plant
@@ -15,7 +14,6 @@ from chargedesign.airbearing.loop import (
     Actuator,
     LoopSettings,
     continuous_loop,
-    initial_state,
     run_loop,
 )
 from chargedesign.airbearing.options import TestbedOptions
@@ -29,16 +27,6 @@ from chargedesign.model import evaluators
 
 T_END = 3.0
 SAMPLES = 601
-
-
-@pytest.fixture(scope="module")
-def plant() -> Plant:
-    return Plant(UNIT, TARGET, TARGET)
-
-
-@pytest.fixture(scope="module")
-def x0() -> np.ndarray:
-    return initial_state(UNIT, np.array([0.36, 0.48, 0.8]), 0.6, -0.4)
 
 
 def test_planned_starts_share_the_energy_on_I3_zero(x0: np.ndarray) -> None:
