@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Callable, Sequence
 from types import ModuleType
+from typing import Any
 
 from chargedesign.commands.arguments import ARGUMENTS
 from chargedesign.errors import ChargeDesignError, InputError
@@ -40,8 +42,21 @@ COMMANDS = {
 }
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse that reads ``-3e-1`` as a negative number, not an option (Python < 3.13
+    takes only ``-3`` and ``-0.3``); subcommands' parsers are of the same class."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+
+#: a negative number in any float spelling: -3, -0.3, -.3, -3., -3e-1, -3.0E+2
+NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="chargedesign",
         description=(
             "Bodies that realise the Yehia-Elmandouh integrable case of rigid-body dynamics."

@@ -135,5 +135,6 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "workers": OptionRange(1, MAX_WORKERS),
         "chunk": OptionRange(1, MAX_SWEEP_POINTS),
         "max_points": OptionRange(1, 1e9),
+        "scheduler_timeout": OptionRange(0.0, 3600.0, lo_open=True),
     },
 }

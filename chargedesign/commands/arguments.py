@@ -402,6 +402,13 @@ def sweep_arguments(parser: argparse.ArgumentParser) -> None:
         help="join a running Dask cluster (tcp://host:8786); implies --executor dask",
     )
     parser.add_argument(
+        "--scheduler-timeout",
+        type=float,
+        default=5.0,
+        metavar="S",
+        help="seconds to wait for the --scheduler to answer (default 5)",
+    )
+    parser.add_argument(
         "--resume", action="store_true", help="skip points already done in DIR, run the rest"
     )
     parser.add_argument(

@@ -67,7 +67,9 @@ def run(args: argparse.Namespace) -> int:
         inputs=[args.sweep, None if spec.scene_source.startswith("<") else spec.scene_source],
         writes=SWEEP_FILES,
     )
-    handle = make_executor(args.executor, args.workers, args.scheduler)
+    handle = make_executor(
+        args.executor, args.workers, args.scheduler, timeout=args.scheduler_timeout
+    )
     try:
         result = run_sweep(
             spec,

@@ -22,6 +22,7 @@ import json
 import math
 import os
 import sys
+import threading
 import time
 import traceback
 from collections.abc import Callable, Iterable, Sequence
@@ -41,8 +42,10 @@ from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec, scene_with
 from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
-#: seconds to wait for a Dask scheduler given with ``scheduler=``
+#: seconds to wait for a Dask scheduler given with ``scheduler=`` (``--scheduler-timeout``)
 SCHEDULER_TIMEOUT = 5.0
+#: the connecting thread's wait beyond the timeout Dask is given (its own handshake)
+CONNECT_GRACE_S = 1.0
 #: automatic chunks: about this many tasks per worker (load balance against per-task overhead)
 TASKS_PER_WORKER = 16
 MAX_CHUNK = 256
@@ -177,6 +180,54 @@ class ExecutorHandle:
     memory_mb: Callable[[], list[float]] = field(default=lambda: [])
 
 
+def _connect(client_type: Any, scheduler: str, timeout: float) -> Any:
+    """A Dask client of the scheduler at ``scheduler``, or one line saying why not.
+
+    Dask's own ``timeout`` bounds the TCP connection only: a server that accepts and never
+    answers holds ``Client()`` without end, and one that answers another protocol (HTTP)
+    makes it read a frame length of exabytes and raise ``MemoryError``. So the connection
+    and a first round trip run in a daemon thread given ``timeout`` seconds, and every
+    failure of the client, whatever its type, becomes one :class:`InputError`.
+    """
+    box: dict[str, Any] = {}
+
+    def attempt() -> None:
+        try:
+            client = client_type(scheduler, timeout=f"{timeout}s", set_as_default=False)
+            box["client"] = client
+            client.scheduler_info()
+            box["ready"] = True
+        except BaseException as exc:  # any failure of the client is the user's one line
+            box["error"] = exc
+
+    # a Client that failed to connect raises again in its __del__ ("Exception ignored in
+    # Client.__del__ ... TimeoutError"): collect it here, with that report silenced
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda _report: None
+    try:
+        thread = threading.Thread(target=attempt, name="dask-connect", daemon=True)
+        thread.start()
+        thread.join(timeout + CONNECT_GRACE_S)
+        if "ready" in box:
+            return box["client"]
+        error = box.pop("error", None)
+        reason = type(error).__name__ if error is not None else "no reply"
+        if isinstance(error, MemoryError):
+            reason = "the server does not speak Dask's protocol"
+        # the exception's traceback holds the half-made client: drop both, then collect
+        del error
+        box.clear()
+        gc.collect()
+    finally:
+        sys.unraisablehook = hook
+    option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
+    if thread.is_alive():
+        raise InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
+    raise InputError(
+        f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})"
+    )
+
+
 def make_executor(
     kind: str = "process",
     workers: int | None = None,
@@ -234,25 +285,7 @@ def make_executor(
         ) from None
     cluster = None
     if scheduler is not None:
-        failure = ""
-        # a Client that failed to connect raises again in its __del__ ("Exception ignored in
-        # Client.__del__ ... TimeoutError"): collect it here, with that report silenced
-        hook = sys.unraisablehook
-        sys.unraisablehook = lambda _report: None
-        try:
-            try:
-                client = Client(scheduler, timeout=f"{timeout}s", set_as_default=False)
-            except (OSError, TimeoutError, ValueError) as exc:
-                failure = type(exc).__name__
-            gc.collect()
-        finally:
-            sys.unraisablehook = hook
-        if failure:
-            raise InputError(
-                f"--scheduler {scheduler}: no Dask scheduler reachable within {fmt(timeout, PLAIN)}"
-                " s "
-                f"({failure})"
-            )
+        client = _connect(Client, scheduler, timeout)
     else:
         cluster = LocalCluster(
             n_workers=n,
