@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.scene.keys import key_names
+from chargedesign.scene.keys import default_of, key_names
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import LARMOR_READINGS, REALISABLE, SOURCES
 from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
@@ -74,20 +74,20 @@ class DesignOptions:
         without ``[medium]``, ``frame`` with one.
     """
 
-    objective: str = "l1"
-    solver: str = "auto"
+    objective: str = default_of("design", "objective")
+    solver: str = default_of("design", "solver")
     max_charge: float | None = None
     total_charge: float | None = None
     n_charges: int | None = None
     total_mass: float | None = None
     realise: tuple[str, ...] | None = None
-    polish: bool = True
+    polish: bool = default_of("design", "polish")
     tol: float | None = None
     objectives: Mapping[str, str] | None = None
     column_generation: bool | None = None
-    sparsity: str = "auto"
-    time_limit: float = 60.0
-    robust_weight: float = 1.0
+    sparsity: str = default_of("design", "sparsity")
+    time_limit: float = default_of("design", "time_limit")
+    robust_weight: float = default_of("design", "robust_weight")
     larmor: str | None = None
 
     def __post_init__(self) -> None:

@@ -14,12 +14,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, GAS_PROPERTIES
-from chargedesign.scene.keys import check_table
+from chargedesign.scene.keys import check_table, default_of
 from chargedesign.validation import as_finite_float, input_error
 
 #: design.json's keys of a medium (the contract), ``gas`` optional
 DESIGN_KEYS = ("name", "breakdown_V_per_m", "safety")
-DEFAULT_SAFETY = 0.5
+DEFAULT_SAFETY = default_of("medium", "safety")
 
 
 @dataclass(frozen=True)

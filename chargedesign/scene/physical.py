@@ -38,7 +38,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     Material,
 )
-from chargedesign.scene.keys import check_table, key_names
+from chargedesign.scene.keys import check_table, default_of, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
@@ -46,9 +46,9 @@ from chargedesign.validation import as_finite_float, input_error
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
 #: default wall of a hollow carrier, m (thin spun or drawn aluminium)
-DEFAULT_SHELL_THICKNESS = 1e-4
+DEFAULT_SHELL_THICKNESS = default_of("carriers", "shell_thickness")
 #: surface sample points per carrier in the design (constraint generation adds the worst)
-DEFAULT_SURFACE_SAMPLES = 26
+DEFAULT_SURFACE_SAMPLES = default_of("carriers", "samples")
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
 #: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
 _KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}

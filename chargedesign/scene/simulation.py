@@ -17,11 +17,10 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import key_names
+from chargedesign.scene.keys import default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
 from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
-    DEFAULT_SIMULATION_METHOD,
     MONITOR_ALIASES,
     MONITOR_NAMES,
     SIMULATION_AXES,
@@ -43,16 +42,16 @@ DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", 
 class SimulationOptions:
     """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
 
-    t_end: float = 100.0
-    rtol: float = 1e-12
-    atol: float = 1e-12
-    method: str = DEFAULT_SIMULATION_METHOD
+    t_end: float = default_of("simulation", "t_end")
+    rtol: float = default_of("simulation", "rtol")
+    atol: float = default_of("simulation", "atol")
+    method: str = default_of("simulation", "method")
     effects: list[str] | None = None
     max_step: float = math.inf
     step: float | None = None
-    samples: int = 2001
-    route: str = "reduced"
-    gamma3_min: float = 1e-2
+    samples: int = default_of("simulation", "samples")
+    route: str = default_of("simulation", "route")
+    gamma3_min: float = default_of("simulation", "gamma3_min")
     #: tolerance of the taylor method (None: machine epsilon)
     tol: float | None = None
     #: monitors asked for (names of :data:`.monitors.MONITORS` or callables)
@@ -66,11 +65,11 @@ class OutputOptions:
     """Validated ``[output]`` settings."""
 
     dir: str | None = None
-    trajectory: bool = True
-    plot: bool = True
-    poincare: bool = False
-    poincare_section: str = "gamma1"
-    poincare_axes: tuple[str, str] = ("gamma2", "q")
+    trajectory: bool = default_of("output", "trajectory")
+    plot: bool = default_of("output", "plot")
+    poincare: bool = default_of("output", "poincare")
+    poincare_section: str = default_of("output", "poincare_section")
+    poincare_axes: tuple[str, str] = default_of("output", "poincare_axes")
 
 
 def _bool(value: Any, name: str) -> bool:

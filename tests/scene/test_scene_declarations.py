@@ -1,0 +1,87 @@
+"""Each scene key declared once: its default is what the typed options hold when the key is
+absent, the validator accepts it, it obeys the key's own JSON Schema, and the docs' words for
+a schema say what the schema says."""
+
+from __future__ import annotations
+
+import math
+
+import jsonschema
+import pytest
+
+from chargedesign.scene import scene_from_dict, validated
+from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.keys import DECLARED, NO_DEFAULT, Key, declared, default_of
+from chargedesign.scene.medium import DEFAULT_SAFETY
+from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS, DEFAULT_SURFACE_SAMPLES
+from chargedesign.scene.simulation import OutputOptions, SimulationOptions
+from chargedesign.schemas import value_text
+
+#: the typed options of each table whose defaults are read from the declarations
+TYPED = {"design": DesignOptions, "simulation": SimulationOptions, "output": OutputOptions}
+
+
+def _all_keys() -> list[tuple[str, Key]]:
+    return [(table, key) for table, keys in DECLARED.items() for key in keys]
+
+
+@pytest.mark.parametrize(("table", "key"), _all_keys(), ids=lambda x: getattr(x, "name", x))
+def test_every_key_has_a_one_line_doc_and_a_default_its_schema_accepts(table: str, key: Key):
+    assert key.doc and "\n" not in key.doc
+    if key.has_default:
+        value = list(key.default) if isinstance(key.default, tuple) else key.default
+        jsonschema.validate(value, key.schema)
+    else:
+        assert key.default is NO_DEFAULT
+
+
+@pytest.mark.parametrize("table", sorted(TYPED))
+def test_the_typed_options_hold_the_declared_defaults(table: str):
+    options = TYPED[table]()
+    for key in DECLARED[table]:
+        if key.has_default:
+            assert getattr(options, key.name) == key.default, key.name
+
+
+@pytest.mark.parametrize(
+    "table", ["design", "simulation", "output", "medium", "carriers", "tolerance", "parameters"]
+)
+def test_a_key_given_its_declared_default_reads_as_the_key_left_out(table: str):
+    """The validator accepts every default, and the scene it gives is the scene without it
+    (read through the scene's own parser, not the declarations)."""
+    given = {key.name: key.default for key in DECLARED[table] if key.has_default}
+    given = {k: list(v) if isinstance(v, tuple) else v for k, v in given.items()}
+    base = {"medium": {"name": "air"}}
+    plain = validated(scene_from_dict({**base, table: {**base.get(table, {})}}))
+    full = validated(scene_from_dict({**base, table: {**base.get(table, {}), **given}}))
+    if table in TYPED:
+        assert getattr(plain, table) == getattr(full, table)
+    elif table == "parameters":
+        assert plain.parameters == full.parameters
+    else:
+        assert plain.physical == full.physical
+
+
+def test_the_owners_constants_are_the_declared_defaults():
+    assert DEFAULT_SAFETY == default_of("medium", "safety") == 0.5
+    assert DEFAULT_SHELL_THICKNESS == default_of("carriers", "shell_thickness")
+    assert DEFAULT_SURFACE_SAMPLES == default_of("carriers", "samples")
+    assert math.isinf(SimulationOptions().max_step)  # unbounded: no JSON default declared
+    assert not declared("simulation", "max_step").has_default
+
+
+@pytest.mark.parametrize(
+    ("spec", "words", "inside", "outside"),
+    [
+        ({"type": "number", "exclusiveMinimum": 0}, "number > 0", 1e-9, 0.0),
+        ({"type": "number", "minimum": 0, "exclusiveMaximum": 1}, "number in [0, 1)", 0.0, 1.0),
+        ({"type": "number", "exclusiveMinimum": 0, "maximum": 1}, "number in (0, 1]", 1.0, 0.0),
+        ({"type": "integer", "minimum": 2}, "integer >= 2", 2, 1),
+        ({"enum": ["a", "b"]}, "`a` \\| `b`", "b", "c"),
+    ],
+)
+def test_the_docs_words_for_a_range_are_the_schema_s(spec, words, inside, outside):
+    assert value_text(spec) == words
+    jsonschema.validate(inside, spec)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(outside, spec)
