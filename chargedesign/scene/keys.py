@@ -17,7 +17,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from chargedesign.validation import check_keys, input_error
+import numpy as np
+
+from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
     BODY_SHAPES,
     DEFAULT_SIMULATION_METHOD,
@@ -28,6 +30,8 @@ from chargedesign.vocabulary import (
     PARAMETER_NAMES,
     REALISABLE,
     SIMULATION_AXES,
+    SIMULATION_METHODS,
+    SIMULATION_ROUTES,
     SOURCES,
     STATE_NAMES,
 )
@@ -71,6 +75,9 @@ class Key:
         is derived from other keys (``source`` then says how).
     source : str
         Where the default comes from or why it is what it is ("" for a plain choice).
+    refusal : str
+        What the one-line error says was expected when a number is out of the key's range
+        (default: the range in words, "a number in [0, 1]").
     """
 
     name: str
@@ -79,6 +86,7 @@ class Key:
     unit: str = ""
     default: Any = NO_DEFAULT
     source: str = ""
+    refusal: str = ""
 
     def __post_init__(self) -> None:
         assert "\n" not in self.doc, f"{self.name}: a key's doc is one line"
@@ -95,6 +103,61 @@ class Key:
         if self.has_default:
             out["default"] = list(self.default) if isinstance(self.default, tuple) else self.default
         return out
+
+
+def _range_words(spec: Mapping[str, Any], kind: str) -> str:
+    """A declared range in the words of the one-line errors ("an integer >= 2")."""
+    lo = spec.get("minimum", spec.get("exclusiveMinimum"))
+    hi = spec.get("maximum", spec.get("exclusiveMaximum"))
+    if lo is not None and hi is not None:
+        left = "(" if "exclusiveMinimum" in spec else "["
+        right = ")" if "exclusiveMaximum" in spec else "]"
+        return f"{kind} in {left}{lo}, {hi}{right}"
+    if lo is not None:
+        return f"{kind} {'>' if 'exclusiveMinimum' in spec else '>='} {lo}"
+    return f"{kind} {'<' if 'exclusiveMaximum' in spec else '<='} {hi}"
+
+
+def _within(value: float, spec: Mapping[str, Any]) -> bool:
+    return not (
+        ("minimum" in spec and value < spec["minimum"])
+        or ("exclusiveMinimum" in spec and value <= spec["exclusiveMinimum"])
+        or ("maximum" in spec and value > spec["maximum"])
+        or ("exclusiveMaximum" in spec and value >= spec["exclusiveMaximum"])
+    )
+
+
+def check_value(table: str, name: str, value: Any, where: str | None = None) -> Any:
+    """``value`` of the key ``table.name`` checked against its declaration, as its type (a
+    float, an int, a bool or one of the declared choices); a one-line error names ``where``
+    (default ``table.name``), what the key expects and what was received.
+
+    Numbers are real and finite (:func:`chargedesign.validation.as_finite_float`) and within
+    the declared range; integers are ints (never bools); choices are the declared enum.
+    """
+    key = declared(table, name)
+    where = where or f"{table}.{name}"
+    spec = key.schema
+    if "enum" in spec:
+        if value not in spec["enum"]:
+            raise input_error(where, "one of " + ", ".join(spec["enum"]), value)
+        return value
+    kind = spec.get("type")
+    if kind == "boolean":
+        if not isinstance(value, bool):
+            raise input_error(where, "true or false", value)
+        return value
+    if kind == "integer":
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise input_error(where, key.refusal or _range_words(spec, "an integer"), value)
+        if not _within(float(value), spec):
+            raise input_error(where, key.refusal or _range_words(spec, "an integer"), value)
+        return int(value)
+    assert kind == "number", f"{table}.{name}: no declared check for {spec}"
+    number = as_finite_float(value, where)
+    if not _within(number, spec):
+        raise input_error(where, key.refusal or _range_words(spec, "a number"), value)
+    return number
 
 
 def _enum(values: tuple[str, ...]) -> dict[str, Any]:
@@ -203,6 +266,7 @@ TOLERANCE = tuple(
         "relative error (one standard deviation, one draw per material)",
         default=0.0,
         source="exact material properties",
+        refusal="a relative error in [0, 1)",
     )
     for name in MATERIAL_ERROR_KEYS
 )
@@ -277,7 +341,7 @@ SIMULATION = (
     Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12),
     Key(
         "method",
-        STRING,
+        _enum(SIMULATION_METHODS),
         "taylor, a solve_ivp method or gauss-legendre",
         default=DEFAULT_SIMULATION_METHOD,
         source="heyoka's Taylor integrator (I4 drift 2.1e-14 at t = 1000, DESIGN.md)",
@@ -298,7 +362,9 @@ SIMULATION = (
         source="min(0.01, t_end), rounded to divide t_end",
     ),
     Key("samples", {"type": "integer", "minimum": 2}, "output samples", default=2001),
-    Key("route", STRING, "reduced or direct", default="reduced"),
+    Key(
+        "route", _enum(SIMULATION_ROUTES), "the reduced model or the direct one", default="reduced"
+    ),
     Key(
         "gamma3_min",
         POSITIVE,

@@ -17,15 +17,12 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import default_of, key_names
+from chargedesign.scene.keys import check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
-from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.validation import as_array, check_keys, input_error
 from chargedesign.vocabulary import (
     MONITOR_ALIASES,
     MONITOR_NAMES,
-    SIMULATION_AXES,
-    SIMULATION_METHODS,
-    SIMULATION_ROUTES,
     STATE_NAMES,
 )
 
@@ -72,18 +69,6 @@ class OutputOptions:
     poincare_axes: tuple[str, str] = default_of("output", "poincare_axes")
 
 
-def _bool(value: Any, name: str) -> bool:
-    if not isinstance(value, bool):
-        raise input_error(name, "true or false", value)
-    return value
-
-
-def _int(value: Any, name: str, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise input_error(name, f"an integer >= {minimum}", value)
-    return int(value)
-
-
 def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(choices), value)
@@ -103,13 +88,10 @@ def parse_simulation_options(
             value = table[key]
             if key == "max_step" and value == math.inf:
                 continue
-            setattr(opts, key, as_finite_float(value, f"{where}.{key}", positive=True))
-    if "method" in table:
-        opts.method = check_choice(table["method"], f"{where}.method", SIMULATION_METHODS)
-    if "route" in table:
-        opts.route = check_choice(table["route"], f"{where}.route", SIMULATION_ROUTES)
-    if "samples" in table:
-        opts.samples = _int(table["samples"], f"{where}.samples", 2)
+            setattr(opts, key, check_value("simulation", key, value, f"{where}.{key}"))
+    for key in ("method", "route", "samples"):
+        if key in table:
+            setattr(opts, key, check_value("simulation", key, table[key], f"{where}.{key}"))
     if "effects" in table:
         effects = table["effects"]
         if not isinstance(effects, (list, tuple)) or not all(isinstance(e, str) for e in effects):
@@ -118,7 +100,7 @@ def parse_simulation_options(
     if "monitors" in table and table["monitors"] is not None:
         opts.monitors = parse_monitors(table["monitors"], f"{where}.monitors")
     if "axes" in table and table["axes"] is not None:
-        opts.axes = check_choice(table["axes"], f"{where}.axes", SIMULATION_AXES)
+        opts.axes = check_value("simulation", "axes", table["axes"], f"{where}.axes")
     return opts
 
 
@@ -132,13 +114,9 @@ def parse_output_options(table: Mapping[str, Any], where: str = "output") -> Out
         if not isinstance(table["dir"], str) or not table["dir"]:
             raise input_error(f"{where}.dir", "a directory path", table["dir"])
         out.dir = table["dir"]
-    for key in ("trajectory", "plot", "poincare"):
+    for key in ("trajectory", "plot", "poincare", "poincare_section"):
         if key in table:
-            setattr(out, key, _bool(table[key], f"{where}.{key}"))
-    if "poincare_section" in table:
-        out.poincare_section = check_choice(
-            table["poincare_section"], f"{where}.poincare_section", STATE_NAMES
-        )
+            setattr(out, key, check_value("output", key, table[key], f"{where}.{key}"))
     if "poincare_axes" in table:
         axes = table["poincare_axes"]
         if (
@@ -188,7 +166,9 @@ def parse_initial(
     if norm < 1e-12:
         raise input_error(f"{where}.gamma", "a non-zero vector", table["gamma"])
     out: dict[str, Any] = {"gamma": gamma / norm, "gamma_norm": norm}
-    out["precession"] = as_finite_float(table.get("precession", 0.0), f"{where}.precession")
+    out["precession"] = check_value(
+        "initial", "precession", table.get("precession", 0.0), f"{where}.precession"
+    )
     if "level" in table:
         if "omega" in table:
             raise InputError(f"{where}: give either omega or level with p and q, not both")
@@ -206,8 +186,8 @@ def parse_initial(
             if key not in table:
                 raise InputError(f"{where}: level needs key '{key}'")
         out["level"] = value
-        out["p"] = as_finite_float(table["p"], f"{where}.p")
-        out["q"] = as_finite_float(table["q"], f"{where}.q")
+        out["p"] = check_value("initial", "p", table["p"], f"{where}.p")
+        out["q"] = check_value("initial", "q", table["q"], f"{where}.q")
     else:
         if "omega" not in table:
             raise InputError(f"{where}: give omega, or level = 'I3=0' with p and q")

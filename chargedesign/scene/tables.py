@@ -11,8 +11,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from chargedesign.scene.keys import BODY_REFERENCE_KEYS, REGION_KEYS, check_table
-from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.scene.keys import BODY_REFERENCE_KEYS, REGION_KEYS, check_table, check_value
+from chargedesign.validation import check_keys, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 
@@ -21,11 +21,7 @@ def material_errors_from_table(table: Any, where: str = "tolerance") -> dict[str
     check_table(table, "tolerance", where)
     out = dict.fromkeys(MATERIAL_ERROR_KEYS, 0.0)
     for key, value in table.items():
-        name = f"{where}.{key}"
-        number = as_finite_float(value, name)
-        if not 0.0 <= number < 1.0:
-            raise input_error(name, "a relative error in [0, 1)", value)
-        out[key] = number
+        out[key] = check_value("tolerance", key, value, f"{where}.{key}")
     return out
 
 

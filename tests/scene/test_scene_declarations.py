@@ -9,6 +9,7 @@ import math
 import jsonschema
 import pytest
 
+from chargedesign.errors import InputError
 from chargedesign.scene import scene_from_dict, validated
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.keys import DECLARED, NO_DEFAULT, Key, declared, default_of
@@ -85,3 +86,12 @@ def test_the_docs_words_for_a_range_are_the_schema_s(spec, words, inside, outsid
     jsonschema.validate(inside, spec)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(outside, spec)
+
+
+@pytest.mark.parametrize("key", ["name", "gas"])
+@pytest.mark.parametrize("value", [["x"], [], {"a": 1}])
+def test_a_medium_name_or_gas_that_is_no_text_is_one_line(key: str, value):
+    """A list or table where a medium's name or gas belongs was a TypeError traceback (found by
+    tools/scene_verdicts.py); it is the one-line error a wrong name gets."""
+    with pytest.raises(InputError, match=rf"^medium\.{key}: expected one of air, sf6, oil, vacuum"):
+        validated(scene_from_dict({"medium": {"name": "air", key: value}}))
