@@ -289,7 +289,9 @@ def value_text(spec: Mapping[str, Any]) -> str:
     return "value"
 
 
-def _default_text(key: Key) -> str:
+def default_text(key: Key, *, source: bool = True) -> str:
+    """A key's default and its source in words (the docs' tables; the options' help, where
+    a default given as a value goes without its source)."""
     value = key.default
     if isinstance(value, bool):
         text = "true" if value else "false"
@@ -299,7 +301,7 @@ def _default_text(key: Key) -> str:
         text = f"`{value}`" if isinstance(value, str) else f"{value:g}"
     else:
         text = ""
-    if key.source:
+    if key.source and (source or not text):
         text = f"{text} ({key.source})" if text else key.source
     return text or "-"
 
@@ -320,7 +322,7 @@ def keys_markdown(table: str) -> str:
                 else ", ".join(shapes)
                 or ("regions" if key.name == "carrier_radius" else "a body to simulate")
             )
-        row += [value_text(key.schema), key.unit or "-", _default_text(key), key.doc]
+        row += [value_text(key.schema), key.unit or "-", default_text(key), key.doc]
         lines.append(
             "| "
             + " | ".join(cell.replace("|", "\\|") if "\\|" not in cell else cell for cell in row)
@@ -378,6 +380,7 @@ def validate(instance: Any, name: str) -> None:
 
 __all__ = [
     "NAMES",
+    "default_text",
     "design_schema",
     "keys_markdown",
     "scene_schema",

@@ -14,11 +14,30 @@ from collections.abc import Callable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
-from chargedesign.schemas import NAMES
+from chargedesign.scene.keys import declared
+from chargedesign.schemas import NAMES, default_text
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
-from chargedesign.vocabulary import EFFECTS, OBJECTIVES, PRECISIONS
+from chargedesign.vocabulary import EFFECTS, PRECISIONS
 from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
+
+
+def key_help(table: str, name: str, extra: str = "") -> str:
+    """The help of an option that sets the scene key ``table.name``, from the key's
+    declaration (chargedesign.scene.keys): its doc, unit and default; ``extra`` is what the
+    option adds."""
+    key = declared(table, name)
+    unit = f", {key.unit}" if key.unit else ""
+    return (
+        f"{key.doc}{unit}{extra} (default: the scene's [{table}] {name}, else "
+        f"{default_text(key, source=False).replace('`', '')})"
+    )
+
+
+def _key_choices(table: str, name: str) -> tuple[str, ...]:
+    """The declared choices of a scene key (its JSON Schema's enum)."""
+    return tuple(declared(table, name).schema["enum"])
+
 
 #: the benchmark areas (``bench --only``)
 AREAS = (
@@ -61,37 +80,37 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print a JSON summary")
     parser.add_argument(
         "--objective",
-        choices=OBJECTIVES,
+        choices=_key_choices("design", "objective"),
         default=None,
-        help="l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 weighted "
-        "by each place's placement sensitivity); default: the scene's [design] objective, "
-        "else l1",
+        help=key_help(
+            "design",
+            "objective",
+            ": l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 "
+            "weighted by each place's placement sensitivity)",
+        ),
     )
     parser.add_argument(
         "--robust-weight",
         type=float,
         default=None,
         metavar="BETA",
-        help="with --objective robust: 0 (plain l1) .. 1 (pure sensitivity, the default)",
+        help=key_help("design", "robust_weight"),
     )
     parser.add_argument(
         "--solver",
         default=None,
         metavar="NAME",
-        help="auto (HiGHS for linear programs, Clarabel for cones) or a cvxpy solver name",
+        help=key_help("design", "solver", " (auto: HiGHS for linear programs, Clarabel for cones)"),
     )
-    parser.add_argument(
-        "--n-charges", type=int, default=None, metavar="N", help="at most N charges"
-    )
-    parser.add_argument(
-        "--max-charge", type=float, default=None, metavar="Q", help="bound on every |q|, C"
-    )
-    parser.add_argument(
-        "--total-charge", type=float, default=None, metavar="Q", help="required net charge, C"
-    )
-    parser.add_argument(
-        "--total-mass", type=float, default=None, metavar="M", help="required total mass, kg"
-    )
+    for flag, name, kind, metavar in (
+        ("--n-charges", "n_charges", int, "N"),
+        ("--max-charge", "max_charge", float, "Q"),
+        ("--total-charge", "total_charge", float, "Q"),
+        ("--total-mass", "total_mass", float, "M"),
+    ):
+        parser.add_argument(
+            flag, type=kind, default=None, metavar=metavar, help=key_help("design", name)
+        )
     parser.add_argument(
         "--no-polish", action="store_true", help="keep the solvers' weights (no polishing)"
     )
@@ -158,7 +177,9 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="SCENE_OR_DESIGN",
         help="scene (.toml) or design (.json); default: the embedded default scene",
     )
-    parser.add_argument("--t-end", type=float, default=None, metavar="T", help="duration, s")
+    parser.add_argument(
+        "--t-end", type=float, default=None, metavar="T", help=key_help("simulation", "t_end")
+    )
     parser.add_argument(
         "--effects",
         nargs="+",
@@ -167,16 +188,18 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         help="effects to compute (default: the scene's, else all with a source)",
     )
     parser.add_argument("--out", default=None, metavar="DIR", help="write outputs into DIR")
-    parser.add_argument("--route", choices=("reduced", "direct"), default=None)
+    parser.add_argument(
+        "--route",
+        choices=_key_choices("simulation", "route"),
+        default=None,
+        help=key_help("simulation", "route"),
+    )
     parser.add_argument(
         "--method",
         default=None,
-        help="taylor (default: heyoka, DOP853 where heyoka is missing), DOP853, RK45, ..., "
-        "gauss-legendre",
+        help=key_help("simulation", "method", " (DOP853 where heyoka is missing)"),
     )
-    parser.add_argument(
-        "--tol", type=float, default=None, help="tolerance of taylor (default machine epsilon)"
-    )
+    parser.add_argument("--tol", type=float, default=None, help=key_help("simulation", "tol"))
     parser.add_argument(
         "--monitors",
         nargs="+",
@@ -205,10 +228,8 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "motion read in axes turning at its larmor.rate about Z, I4 with that n) or inertial "
         "(as integrated, n = 0); a body without a frame reading has only inertial",
     )
-    parser.add_argument("--rtol", type=float, default=None)
-    parser.add_argument("--atol", type=float, default=None)
-    parser.add_argument("--step", type=float, default=None, help="gauss-legendre step, s")
-    parser.add_argument("--samples", type=int, default=None, help="output samples")
+    for name, kind in (("rtol", float), ("atol", float), ("step", float), ("samples", int)):
+        parser.add_argument(f"--{name}", type=kind, default=None, help=key_help("simulation", name))
     parser.add_argument(
         "--off-level",
         type=float,

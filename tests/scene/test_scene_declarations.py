@@ -9,14 +9,24 @@ import math
 import jsonschema
 import pytest
 
+from chargedesign.cli import build_parser
 from chargedesign.errors import InputError
+from chargedesign.limits import OPTION_RANGES
 from chargedesign.scene import scene_from_dict, validated
 from chargedesign.scene.design import DesignOptions
-from chargedesign.scene.keys import DECLARED, NO_DEFAULT, Key, declared, default_of
+from chargedesign.scene.keys import (
+    DECLARED,
+    NO_DEFAULT,
+    Key,
+    check_value,
+    declared,
+    default_of,
+)
 from chargedesign.scene.medium import DEFAULT_SAFETY
 from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS, DEFAULT_SURFACE_SAMPLES
 from chargedesign.scene.simulation import OutputOptions, SimulationOptions
 from chargedesign.schemas import value_text
+from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 #: the typed options of each table whose defaults are read from the declarations
 TYPED = {"design": DesignOptions, "simulation": SimulationOptions, "output": OutputOptions}
@@ -95,3 +105,45 @@ def test_a_medium_name_or_gas_that_is_no_text_is_one_line(key: str, value):
     tools/scene_verdicts.py); it is the one-line error a wrong name gets."""
     with pytest.raises(InputError, match=rf"^medium\.{key}: expected one of air, sf6, oil, vacuum"):
         validated(scene_from_dict({"medium": {"name": "air", key: value}}))
+
+
+#: command-line options that set a scene key: (command, option dest) -> (table, key)
+SCENE_OPTIONS = {
+    ("design", "n_charges"): ("design", "n_charges"),
+    ("design", "max_charge"): ("design", "max_charge"),
+    ("design", "total_charge"): ("design", "total_charge"),
+    ("design", "total_mass"): ("design", "total_mass"),
+    ("simulate", "t_end"): ("simulation", "t_end"),
+    ("simulate", "tol"): ("simulation", "tol"),
+    ("simulate", "rtol"): ("simulation", "rtol"),
+    ("simulate", "atol"): ("simulation", "atol"),
+    ("simulate", "step"): ("simulation", "step"),
+    ("simulate", "samples"): ("simulation", "samples"),
+    **{("tolerance", name): ("tolerance", name) for name in MATERIAL_ERROR_KEYS},
+}
+
+
+@pytest.mark.parametrize(("option", "key"), sorted(SCENE_OPTIONS.items()))
+def test_an_option_that_sets_a_scene_key_stays_within_the_key_s_range(option, key):
+    """The command line's range of such an option (chargedesign.limits.OPTION_RANGES, which
+    cli.py checks and prints in --help) lies inside the key's declared range: the option never
+    accepts what the scene would refuse. It may be narrower (a cap on work)."""
+    bounds = OPTION_RANGES[option[0]][option[1]]
+    spec = declared(*key).schema
+    integer = spec.get("type") == "integer"
+    step = 1 if integer else 1e-12 * max(1.0, abs(bounds.hi - bounds.lo))
+    lo = bounds.lo + step if bounds.lo_open else bounds.lo
+    hi = bounds.hi - step if bounds.hi_open else bounds.hi
+    for value in (lo, hi):
+        value = int(value) if integer else float(value)
+        assert bounds.holds(value)
+        check_value(*key, value)  # raises if the scene would refuse it
+
+
+def test_an_option_s_help_is_its_key_s_declaration():
+    commands = build_parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    for (command, dest), key in SCENE_OPTIONS.items():
+        if key[0] == "tolerance":
+            continue  # tolerance's options are its own (a spread of the errors it draws)
+        helps = {a.dest: a.help for a in commands[command]._actions}
+        assert helps[dest].startswith(declared(*key).doc), (command, dest)
