@@ -37,14 +37,17 @@ from typing import Any
 import numpy as np
 
 from chargedesign.candidates import candidates_from_table
+from chargedesign.designer.pipeline import larmor_of_scene
 from chargedesign.errors import InputError
 from chargedesign.formatting import fmt
 from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
+from chargedesign.simulation.api import setup_from_scene
+from chargedesign.simulation.axes import resolve_axes
 from chargedesign.sweeps.registry import check_command, resolve
 from chargedesign.tolerancing import ErrorModel, MaterialErrors
-from chargedesign.validation import check_error_spreads, check_periods, check_tree
+from chargedesign.validation import check_error_spreads, check_periods, check_tree, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
@@ -228,6 +231,7 @@ def validate_points(
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
     seen: set[str] = set()
+    solvers: list[str] = []
     width = max(4, len(str(max(len(points) - 1, 0))))
     for i, point in enumerate(points):
         try:
@@ -238,8 +242,11 @@ def validate_points(
             if designs and "shape" in body and key not in seen:
                 seen.add(key)
                 candidates_from_table(body, base_dir=base)
+            if designs:
+                _check_solver(scene.design.solver, solvers)
             if command == "simulate":
                 _check_motion_work(scene, (options or {}).get("t_end"))
+                _check_axes(scene)
             elif command == "tolerance":
                 _check_drift_work(scene, options or {})
                 _check_material_work(scene, options or {})
@@ -257,6 +264,40 @@ def _check_motion_work(scene: Any, t_end: Any) -> None:
     else:
         t_end, option = scene.simulation.t_end, "simulation.t_end"
     check_periods(t_end, scene.parameters, scene.table("initial"), MAX_PERIODS, option)
+
+
+def _check_solver(name: str, installed: list[str]) -> None:
+    """``design.solver``: ``auto`` or a solver cvxpy has installed (the designer reads it in
+    upper case). A name that named nothing failed only when its point ran, after the others
+    had written (issue 32). ``installed`` caches cvxpy's list once it is read."""
+
+    if name.upper() == "AUTO":
+        return
+    if not installed:
+        import cvxpy  # heavy: loaded only for a sweep whose scene names a solver
+
+        installed[:] = sorted(cvxpy.installed_solvers())
+    if name.upper() not in installed:
+        raise input_error(
+            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
+        )
+
+
+def _check_axes(scene: Any) -> None:
+    """``simulation.axes = "turning"`` needs a frame body: a design.json read in the frame
+    reading, or a ``[body]`` region designed in it (``[design] larmor``, else frame with
+    ``[medium]``: the designer's rule, :func:`.larmor_of_scene`). It was refused only when its
+    point ran, after the others had written (issue 32)."""
+
+    if scene.simulation.axes != "turning":
+        return  # inertial axes (or the default) suit every body
+    setup = setup_from_scene(scene)  # a referenced design.json is read (one-line errors)
+    larmor = setup.larmor
+    effects = scene.simulation.effects
+    if setup.design_scene is not None and (effects is None or set(effects) - {"theorem"}):
+        # a region the run designs first (the theorem effect alone designs nothing)
+        larmor = larmor_of_scene(scene.design, scene.parameters, scene.physical is not None)[0]
+    resolve_axes("turning", larmor, "simulation.axes")
 
 
 def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
