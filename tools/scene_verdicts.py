@@ -9,7 +9,10 @@ probe value in one base scene (the embedded default, a physical region scene and
 scene with [simulation] and [initial]), written as a TOML file and read with
 :func:`chargedesign.scene.load_scene`, exactly as every command reads a scene. The verdict is
 ``"accepted"`` or the error's text; anything else that escapes is recorded as a crash
-(``"CRASH <type>: <text>"``). :mod:`tools.compare_outputs` runs it into each snapshot.
+(``"CRASH <type>: <text>"``). An accepted scene with a ``[body]`` region also has its
+candidate points built (:func:`chargedesign.candidates.candidates_from_table`, as the
+design stage does): the verdict then adds their count and a hash of their coordinates, or
+the error that refused them. :mod:`tools.compare_outputs` runs it into each snapshot.
 """
 
 from __future__ import annotations
@@ -147,6 +150,23 @@ def _set(data: dict[str, Any], path: tuple[str, ...], value: Any) -> dict[str, A
     return out
 
 
+def _candidates(scene: Any) -> str:
+    """``"; <n> candidates <hash>"`` for a scene with a [body] region (or the refusal)."""
+    import hashlib
+
+    from chargedesign.candidates import candidates_from_table
+    from chargedesign.errors import InputError
+
+    if scene.region is None:
+        return ""
+    try:
+        found = candidates_from_table(scene.region.table, base_dir=scene.base_dir)
+    except InputError as exc:
+        return f"; candidates refused: {exc}"
+    digest = hashlib.sha256(found.points.tobytes()).hexdigest()[:16]
+    return f"; {len(found.points)} candidates {digest}"
+
+
 def verdicts() -> dict[str, str]:
     from chargedesign.errors import InputError
     from chargedesign.scene import load_scene
@@ -160,8 +180,8 @@ def verdicts() -> dict[str, str]:
                     name = f"{base_name} {'.'.join(path)} = {_toml_value(value)}"
                     scene_file.write_text(_toml(_set(base, path, value)), "utf-8")
                     try:
-                        load_scene(scene_file)
-                        out[name] = "accepted"
+                        scene = load_scene(scene_file)
+                        out[name] = "accepted" + _candidates(scene)
                     except InputError as exc:
                         out[name] = str(exc).replace(tmp, "{tmp}")
                     except Exception as exc:  # recorded as a crash, not hidden
@@ -176,7 +196,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     result = verdicts()
     Path(args[0]).write_text(json.dumps(result, indent=1, sort_keys=True) + "\n", "utf-8")
-    refused = sum(v != "accepted" for v in result.values())
+    refused = sum(not v.startswith("accepted") for v in result.values())
     print(
         f"{len(result)} probes: {len(result) - refused} accepted, {refused} refused",
         file=sys.stderr,
