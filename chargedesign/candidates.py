@@ -30,14 +30,14 @@ from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
-from chargedesign.readers import check_input_file, read_bytes, read_text
+from chargedesign.readers import read_mesh
+from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
 from chargedesign.scene.tables import RegionSpec, region_from_table
 from chargedesign.validation import (
     as_array,
     as_points,
-    check_input_array,
     input_error,
 )
 from chargedesign.vocabulary import BODY_SHAPES
@@ -369,73 +369,6 @@ def shell_points(
     return c + radius * unit
 
 
-def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np.ndarray:
-    """Points from a ``.npy`` (shape (n, 3)) or ``.csv`` / ``.txt`` file (x, y, z per line).
-
-    Text files may be comma or whitespace separated, with ``#`` comments and one header
-    line of names (e.g. ``x,y,z``). The file is read safely (a regular file of at most
-    ``MAX_DATA_BYTES``, UTF-8); errors name the file, the line and the reason, never the
-    file's content (it may be any file). Bool, complex and object arrays are refused.
-
-    Returns
-    -------
-    ndarray, shape (n, 3)
-    """
-    import io
-
-    p = Path(path)
-    if not os.path.lexists(p):
-        raise InputError(f"{name}: no such file {p}")
-    suffix = p.suffix.lower()
-    if suffix not in (".npy", ".csv", ".txt"):
-        raise input_error(name, "a .csv, .txt or .npy file", str(p))
-    if suffix == ".npy":
-        raw = read_bytes(p, f"point file ({name})")
-        try:
-            data = np.load(io.BytesIO(raw), allow_pickle=False)
-        except (OSError, ValueError, EOFError) as exc:
-            raise InputError(
-                f"{name}: {p} is not a readable .npy array ({type(exc).__name__})"
-            ) from exc
-        if not isinstance(data, np.ndarray) or data.dtype.kind not in "iuf":
-            kind = getattr(getattr(data, "dtype", None), "name", type(data).__name__)
-            raise InputError(f"{name}: {p} holds {kind} values; expected real numbers")
-    else:
-        data = _read_text_points(p, read_text(p, f"point file ({name})"))
-    pts = as_points(data, f"{name} ({p.name})")
-    check_input_array(pts, f"{name} ({p.name})")
-    return pts
-
-
-def _read_text_points(path: Path, text: str) -> np.ndarray:
-    rows = []
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields_ = [f for f in line.replace(",", " ").replace(";", " ").split() if f]
-        try:
-            rows.append([float(f) for f in fields_])
-        except ValueError as exc:
-            if not rows and all(not _is_number(f) for f in fields_):
-                continue  # a header line of names
-            # the line itself is not echoed: the file may be anything
-            raise InputError(f"{path}: line {number}: expected three numbers") from exc
-        if len(rows[-1]) != 3:
-            raise InputError(
-                f"{path}: line {number}: expected three numbers, got {len(rows[-1])} fields"
-            )
-    return np.array(rows, dtype=np.float64).reshape(-1, 3)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
 def mesh_points(
     path: str | os.PathLike[str],
     *,
@@ -464,24 +397,13 @@ def mesh_points(
     """
 
     pv = import_held("pyvista")
-
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{name}: no such file {p}")
-    check_input_file(p, f"mesh file ({name})")
-    try:
-        mesh = pv.read(p)
-    except Exception as exc:  # pyvista/vtk raise many types for unreadable files
-        raise InputError(f"{name}: PyVista cannot read {p} ({type(exc).__name__})") from exc
-    if isinstance(mesh, pv.MultiBlock):
-        mesh = mesh.combine()
-    if mesh.n_points == 0:
-        raise InputError(f"{name}: the mesh {p} has no points")
+    mesh = read_mesh(p, name)
     if sample == "surface":
         surface = mesh if isinstance(mesh, pv.PolyData) else mesh.extract_surface()
         return unique_points(np.asarray(surface.points, dtype=np.float64) * scale)
-    if spacing is None:
-        raise InputError("body.spacing: required for sample = 'volume'")
+    if spacing is None:  # a scene's region is checked for it (region_from_table)
+        raise ValueError("mesh_points: sample = 'volume' needs a spacing")
     bounds = np.asarray(mesh.bounds, dtype=np.float64).reshape(3, 2) * scale
     center = bounds.mean(axis=1)
     half = 0.5 * (bounds[:, 1] - bounds[:, 0])

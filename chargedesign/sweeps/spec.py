@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.candidates import candidates_from_table
+from chargedesign.candidates import candidates_from_region
 from chargedesign.designer.pipeline import larmor_of_scene
 from chargedesign.errors import InputError
 from chargedesign.formatting import fmt
@@ -131,8 +131,8 @@ def validate_scene_key(
     try:
         # every table by its owner (chargedesign.scene.validate_tables), and a region's points
         scene = validated(scene_from_dict(data, source=scene_source))
-        if parts[0] == "body" and scene.body is not None and "shape" in scene.body.table:
-            candidates_from_table(scene.body.table, base_dir=scene.base_dir)
+        if parts[0] == "body" and scene.region is not None and "shape" in scene.region.table:
+            candidates_from_region(scene.region.spec(), base_dir=scene.base_dir)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
@@ -237,11 +237,11 @@ def validate_points(
         try:
             check_point_value(point, f"point p{i:0{width}d}")
             scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
-            body = scene.body.table if scene.body is not None else {}
-            key = repr(sorted(body.items()))
-            if designs and "shape" in body and key not in seen:
+            region = scene.region
+            key = repr(sorted(region.table.items())) if region is not None else ""
+            if designs and region is not None and "shape" in region.table and key not in seen:
                 seen.add(key)
-                candidates_from_table(body, base_dir=base)
+                candidates_from_region(region.spec(), base_dir=base)
             if designs:
                 _check_solver(scene.design.solver, solvers)
             if command == "simulate":
