@@ -23,6 +23,7 @@ from chargedesign.airbearing.options import table_schema as testbed_table_schema
 from chargedesign.airbearing.schema import output_schema as testbed_output_schema
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import GAS_PROPERTIES
+from chargedesign.scene.design_materials import MATERIAL_KEYS
 from chargedesign.scene.keys import (
     DECLARED,
     FIELD,
@@ -88,14 +89,7 @@ def _medium() -> dict[str, Any]:
 def _materials() -> dict[str, Any]:
     material = {
         "type": "object",
-        "properties": {
-            "name": {"type": "string"},
-            "remanent_magnetisation_A_per_m": _POSITIVE,
-            "density_kg_per_m3": _POSITIVE,
-            "intrinsic_coercivity_A_per_m": _POSITIVE,
-            "volume_susceptibility": {"type": "number", "exclusiveMinimum": -1},
-            "conductivity_S_per_m": {"type": "number", "minimum": 0},
-        },
+        "properties": {key.name: key.json_schema() for key in MATERIAL_KEYS},
         "additionalProperties": True,
     }
     return {
