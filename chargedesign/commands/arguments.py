@@ -14,7 +14,7 @@ from collections.abc import Callable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
-from chargedesign.scene.keys import declared
+from chargedesign.scene.keys import DECLARED, declared
 from chargedesign.schemas import NAMES, default_text
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
@@ -32,6 +32,20 @@ def key_help(table: str, name: str, extra: str = "") -> str:
         f"{key.doc}{unit}{extra} (default: the scene's [{table}] {name}, else "
         f"{default_text(key, source=False).replace('`', '')})"
     )
+
+
+def key_options(parser: argparse.ArgumentParser, table: str) -> None:
+    """One option per key of ``table`` declared with one (``Key.option``, its metavar):
+    ``--max-charge Q`` sets ``[design] max_charge``, its type, help and default the key's."""
+    for key in DECLARED[table]:
+        if key.option:
+            parser.add_argument(
+                "--" + key.name.replace("_", "-"),
+                type=int if key.schema.get("type") == "integer" else float,
+                default=None,
+                metavar=key.option,
+                help=key_help(table, key.name),
+            )
 
 
 def _key_choices(table: str, name: str) -> tuple[str, ...]:
@@ -102,15 +116,7 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="NAME",
         help=key_help("design", "solver", " (auto: HiGHS for linear programs, Clarabel for cones)"),
     )
-    for flag, name, kind, metavar in (
-        ("--n-charges", "n_charges", int, "N"),
-        ("--max-charge", "max_charge", float, "Q"),
-        ("--total-charge", "total_charge", float, "Q"),
-        ("--total-mass", "total_mass", float, "M"),
-    ):
-        parser.add_argument(
-            flag, type=kind, default=None, metavar=metavar, help=key_help("design", name)
-        )
+    key_options(parser, "design")
     parser.add_argument(
         "--no-polish", action="store_true", help="keep the solvers' weights (no polishing)"
     )
@@ -228,8 +234,7 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "motion read in axes turning at its larmor.rate about Z, I4 with that n) or inertial "
         "(as integrated, n = 0); a body without a frame reading has only inertial",
     )
-    for name, kind in (("rtol", float), ("atol", float), ("step", float), ("samples", int)):
-        parser.add_argument(f"--{name}", type=kind, default=None, help=key_help("simulation", name))
+    key_options(parser, "simulation")
     parser.add_argument(
         "--off-level",
         type=float,

@@ -78,6 +78,9 @@ class Key:
     refusal : str
         What the one-line error says was expected when a number is out of the key's range
         (default: the range in words, "a number in [0, 1]").
+    option : str
+        The metavar of the command-line option that sets it (``--max-charge Q``; "" for
+        none): :func:`chargedesign.commands.arguments.key_options` makes the option.
     """
 
     name: str
@@ -87,6 +90,7 @@ class Key:
     default: Any = NO_DEFAULT
     source: str = ""
     refusal: str = ""
+    option: str = ""
 
     def __post_init__(self) -> None:
         assert "\n" not in self.doc, f"{self.name}: a key's doc is one line"
@@ -275,15 +279,23 @@ DESIGN = (
         "objective", _enum(OBJECTIVES), "what every source minimises (docs/design.md)", default="l1"
     ),
     Key("solver", STRING, "auto or a cvxpy solver name", default="auto"),
-    Key("max_charge", POSITIVE, "bound on every |q|", "C", source="none: unbounded"),
-    Key("total_charge", NUMBER, "required total charge", "C", source="none: free"),
+    Key("max_charge", POSITIVE, "bound on every |q|", "C", source="none: unbounded", option="Q"),
+    Key("total_charge", NUMBER, "required total charge", "C", source="none: free", option="Q"),
     Key(
         "n_charges",
         {"type": "integer", "minimum": 1},
         "at most this many charges",
         source="none: as many as the optimum uses",
+        option="N",
     ),
-    Key("total_mass", POSITIVE, "required total mass", "kg", source="none: the least mass"),
+    Key(
+        "total_mass",
+        POSITIVE,
+        "required total mass",
+        "kg",
+        source="none: the least mass",
+        option="M",
+    ),
     Key(
         "realise",
         {"type": "array", "items": _enum(REALISABLE), "uniqueItems": True},
@@ -337,8 +349,8 @@ DESIGN = (
 )
 SIMULATION = (
     Key("t_end", POSITIVE, "end of the run", "s", 100.0),
-    Key("rtol", POSITIVE, "relative tolerance (solve_ivp)", default=1e-12),
-    Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12),
+    Key("rtol", POSITIVE, "relative tolerance (solve_ivp)", default=1e-12, option="RTOL"),
+    Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12, option="ATOL"),
     Key(
         "method",
         _enum(SIMULATION_METHODS),
@@ -360,8 +372,15 @@ SIMULATION = (
         "fixed step of gauss-legendre",
         "s",
         source="min(0.01, t_end), rounded to divide t_end",
+        option="STEP",
     ),
-    Key("samples", {"type": "integer", "minimum": 2}, "output samples", default=2001),
+    Key(
+        "samples",
+        {"type": "integer", "minimum": 2},
+        "output samples",
+        default=2001,
+        option="SAMPLES",
+    ),
     Key(
         "route", _enum(SIMULATION_ROUTES), "the reduced model or the direct one", default="reduced"
     ),

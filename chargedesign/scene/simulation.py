@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import check_value, default_of, key_names
+from chargedesign.scene.keys import DECLARED, check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
 from chargedesign.validation import as_array, check_keys, input_error
 from chargedesign.vocabulary import (
@@ -83,7 +83,8 @@ def parse_simulation_options(
         raise input_error(where, "a table", table)
     check_keys(table, SIMULATION_KEYS, where)
     opts = SimulationOptions()
-    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min", "tol"):
+    # the numbers (each > 0; an infinite max_step is the unbounded default)
+    for key in (k.name for k in DECLARED["simulation"] if k.schema.get("type") == "number"):
         if key in table:
             value = table[key]
             if key == "max_step" and value == math.inf:
