@@ -31,6 +31,7 @@ from chargedesign.scene.keys import (
     REGION_KEYS,
     TABLE_KEYS,
     Key,
+    range_words,
     table_schema,
 )
 from chargedesign.validation import input_error
@@ -242,20 +243,6 @@ def scene_schema() -> dict[str, Any]:
     }
 
 
-def _bounds_text(spec: Mapping[str, Any]) -> str:
-    lo = spec.get("minimum", spec.get("exclusiveMinimum"))
-    hi = spec.get("maximum", spec.get("exclusiveMaximum"))
-    if lo is not None and hi is not None:
-        left = "(" if "exclusiveMinimum" in spec else "["
-        right = ")" if "exclusiveMaximum" in spec else "]"
-        return f" in {left}{lo}, {hi}{right}"
-    if lo is not None:
-        return f" {'>' if 'exclusiveMinimum' in spec else '>='} {lo}"
-    if hi is not None:
-        return f" {'<' if 'exclusiveMaximum' in spec else '<='} {hi}"
-    return ""
-
-
 def value_text(spec: Mapping[str, Any]) -> str:
     """A key's JSON Schema in words, for the docs' key tables ("number > 0", "[x, y, z]")."""
     if "enum" in spec:
@@ -264,7 +251,7 @@ def value_text(spec: Mapping[str, Any]) -> str:
         return " or ".join(value_text(s) for s in spec["anyOf"])
     kind = spec.get("type")
     if kind in ("number", "integer"):
-        return f"{kind}{_bounds_text(spec)}"
+        return range_words(spec, kind)
     if kind == "boolean":
         return "true \\| false"
     if kind == "string":

@@ -109,10 +109,13 @@ class Key:
         return out
 
 
-def _range_words(spec: Mapping[str, Any], kind: str) -> str:
-    """A declared range in the words of the one-line errors ("an integer >= 2")."""
+def range_words(spec: Mapping[str, Any], kind: str) -> str:
+    """A declared range in words, for the one-line errors ("an integer >= 2") and the docs'
+    tables ("number in (0, 1]"); ``kind`` alone when the value has no bounds."""
     lo = spec.get("minimum", spec.get("exclusiveMinimum"))
     hi = spec.get("maximum", spec.get("exclusiveMaximum"))
+    if lo is None and hi is None:
+        return kind
     if lo is not None and hi is not None:
         left = "(" if "exclusiveMinimum" in spec else "["
         right = ")" if "exclusiveMaximum" in spec else "]"
@@ -153,14 +156,14 @@ def check_value(table: str, name: str, value: Any, where: str | None = None) -> 
         return value
     if kind == "integer":
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-            raise input_error(where, key.refusal or _range_words(spec, "an integer"), value)
+            raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
         if not _within(float(value), spec):
-            raise input_error(where, key.refusal or _range_words(spec, "an integer"), value)
+            raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
         return int(value)
     assert kind == "number", f"{table}.{name}: no declared check for {spec}"
     number = as_finite_float(value, where)
     if not _within(number, spec):
-        raise input_error(where, key.refusal or _range_words(spec, "a number"), value)
+        raise input_error(where, key.refusal or range_words(spec, "a number"), value)
     return number
 
 
