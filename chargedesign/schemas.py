@@ -25,6 +25,7 @@ from chargedesign.errors import InputError
 from chargedesign.physical.materials import GAS_PROPERTIES
 from chargedesign.scene.design_materials import MATERIAL_KEYS
 from chargedesign.scene.keys import (
+    BODY_REFERENCE_KEYS,
     DECLARED,
     FIELD,
     PARAMETERS,
@@ -301,7 +302,7 @@ def keys_markdown(table: str) -> str:
                 "all"
                 if len(shapes) == len(REGION_KEYS) or key.name == "shape"
                 else ", ".join(shapes)
-                or ("regions" if key.name == "carrier_radius" else "a body to simulate")
+                or ("a body to simulate" if key.name in BODY_REFERENCE_KEYS else "regions")
             )
         row += [value_text(key.schema), key.unit or "-", default_text(key), key.doc]
         lines.append(

@@ -184,9 +184,6 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         help="scene (.toml) or design (.json); default: the embedded default scene",
     )
     parser.add_argument(
-        "--t-end", type=float, default=None, metavar="T", help=key_help("simulation", "t_end")
-    )
-    parser.add_argument(
         "--effects",
         nargs="+",
         choices=EFFECTS,

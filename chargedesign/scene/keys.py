@@ -351,7 +351,7 @@ DESIGN = (
     ),
 )
 SIMULATION = (
-    Key("t_end", POSITIVE, "end of the run", "s", 100.0),
+    Key("t_end", POSITIVE, "end of the run", "s", 100.0, option="T"),
     Key("rtol", POSITIVE, "relative tolerance (solve_ivp)", default=1e-12, option="RTOL"),
     Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12, option="ATOL"),
     Key(
