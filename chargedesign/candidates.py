@@ -273,18 +273,20 @@ def lattice_in(
     center : ndarray, shape (3,)
         Shape centre, m.
     """
-    lo = np.ceil((center - half_extent) / spacing - 1e-9).astype(np.int64)
-    hi = np.floor((center + half_extent) / spacing + 1e-9).astype(np.int64)
-    counts = hi - lo + 1
+    # counted in floats before any integer is made: a spacing of 1e-30 gives 1e29 lattice
+    # steps, which overflowed int64 into one wrong point (issue 32)
+    lo_steps = np.ceil((center - half_extent) / spacing - 1e-9)
+    hi_steps = np.floor((center + half_extent) / spacing + 1e-9)
+    counts = hi_steps - lo_steps + 1
     if np.any(counts <= 0):
         return np.zeros((0, 3))
-    total = int(np.prod(counts.astype(np.float64)))
-    if total > 8 * MAX_CANDIDATES:
+    if not float(np.prod(counts)) <= 8 * MAX_CANDIDATES:  # (a nan count is refused too)
         raise input_error(
             "body.spacing",
             f"a spacing giving at most {MAX_CANDIDATES} candidates",
             spacing,
         )
+    lo, hi = lo_steps.astype(np.int64), hi_steps.astype(np.int64)
     axes = [np.arange(lo[i], hi[i] + 1) * spacing for i in range(3)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     return grid[inside(grid - center)]
