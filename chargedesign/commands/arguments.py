@@ -22,21 +22,23 @@ from chargedesign.vocabulary import EFFECTS, PRECISIONS
 from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
 
 
-def key_help(table: str, name: str, extra: str = "") -> str:
-    """The help of an option that sets the scene key ``table.name``, from the key's
-    declaration (chargedesign.scene.keys): its doc, unit and default; ``extra`` is what the
-    option adds."""
+def key_help(table: str, name: str, extra: str = "", read_from: str = "scene") -> str:
+    """The help of an option that sets the key ``table.name``, from the key's declaration
+    (chargedesign.scene.keys): its doc, unit and default; ``extra`` is what the option adds,
+    ``read_from`` the file whose table the option overrides (a scene, or a design that
+    recorded it)."""
     key = declared(table, name)
     unit = f", {key.unit}" if key.unit else ""
     return (
-        f"{key.doc}{unit}{extra} (default: the scene's [{table}] {name}, else "
+        f"{key.doc}{unit}{extra} (default: the {read_from}'s [{table}] {name}, else "
         f"{default_text(key, source=False).replace('`', '')})"
     )
 
 
-def key_options(parser: argparse.ArgumentParser, table: str) -> None:
+def key_options(parser: argparse.ArgumentParser, table: str, read_from: str = "scene") -> None:
     """One option per key of ``table`` declared with one (``Key.option``, its metavar):
-    ``--max-charge Q`` sets ``[design] max_charge``, its type, help and default the key's."""
+    ``--max-charge Q`` sets ``[design] max_charge``, its type, help and default the key's
+    (``read_from``: see :func:`key_help`)."""
     for key in DECLARED[table]:
         if key.option:
             parser.add_argument(
@@ -44,7 +46,7 @@ def key_options(parser: argparse.ArgumentParser, table: str) -> None:
                 type=int if key.schema.get("type") == "integer" else float,
                 default=None,
                 metavar=key.option,
-                help=key_help(table, key.name),
+                help=key_help(table, key.name, read_from=read_from),
             )
 
 
@@ -352,22 +354,7 @@ def tolerance_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--charge", metavar="E", help="charge error, C or %% (e.g. 1%%)")
     parser.add_argument("--dipole", metavar="E", help="dipole moment error, A m^2 or %%")
     parser.add_argument("--mass", metavar="E", help="mass error, kg or %%")
-    parser.add_argument(
-        "--chi-relative",
-        type=float,
-        metavar="X",
-        help="relative error of every material's susceptibility (one draw per material): the "
-        "induced-magnetisation parasitic it leaves (default: the design's [tolerance] values)",
-    )
-    parser.add_argument(
-        "--density-relative", type=float, metavar="X", help="relative error of the densities"
-    )
-    parser.add_argument(
-        "--magnetisation-relative",
-        type=float,
-        metavar="X",
-        help="relative error of the magnets' remanent magnetisation",
-    )
+    key_options(parser, "tolerance", read_from="design")
     parser.add_argument(
         "--target",
         type=float,

@@ -143,7 +143,5 @@ def test_an_option_that_sets_a_scene_key_stays_within_the_key_s_range(option, ke
 def test_an_option_s_help_is_its_key_s_declaration():
     commands = build_parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
     for (command, dest), key in SCENE_OPTIONS.items():
-        if key[0] == "tolerance":
-            continue  # tolerance's options are its own (a spread of the errors it draws)
         helps = {a.dest: a.help for a in commands[command]._actions}
         assert helps[dest].startswith(declared(*key).doc), (command, dest)
