@@ -266,23 +266,24 @@ BALLAST = (
     _DENSITY,
     *_RESPONSE,
 )
-#: what each material error is of (the keys are the vocabulary's MATERIAL_ERROR_KEYS)
-_MATERIAL_ERRORS = {
-    "chi_relative": "every material's susceptibility (one draw per material)",
-    "density_relative": "the densities",
-    "magnetisation_relative": "the magnets' remanent magnetisation",
-}
+#: what each material error is of, in the order of the vocabulary's MATERIAL_ERROR_KEYS
+#: (susceptibility, density, magnetisation)
+_MATERIAL_ERRORS = (
+    "every material's susceptibility (one draw per material)",
+    "the densities",
+    "the magnets' remanent magnetisation",
+)
 TOLERANCE = tuple(
     Key(
         name,
         {"type": "number", "minimum": 0, "exclusiveMaximum": 1},
-        f"relative error (one standard deviation) of {_MATERIAL_ERRORS[name]}",
+        f"relative error (one standard deviation) of {what}",
         default=0.0,
         source="exact material properties",
         refusal="a relative error in [0, 1)",
         option="X",
     )
-    for name in MATERIAL_ERROR_KEYS
+    for name, what in zip(MATERIAL_ERROR_KEYS, _MATERIAL_ERRORS, strict=True)
 )
 DESIGN = (
     Key(
