@@ -17,6 +17,7 @@ from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody
 from chargedesign.readers import read_json_file
 from chargedesign.results import compact_repr, design_summary, design_text, html_table
+from chargedesign.scene.design_materials import check_mass_materials, materials_from_dict
 from chargedesign.scene.medium import Medium
 from chargedesign.validation import as_array, as_finite_float, check_design_numbers, input_error
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
@@ -144,8 +145,8 @@ class Design(ElementSet):
         if self.larmor is not None and not isinstance(self.larmor, LarmorReading):
             self.larmor = LarmorReading.from_dict(self.larmor)
         self.medium = Medium.from_dict(self.medium) if self.medium is not None else None
-        self.materials = _materials(self.materials)
-        _check_mass_materials(self)
+        self.materials = materials_from_dict(self.materials)
+        check_mass_materials(self.materials, self.mass_materials, bool(len(self.mass_values)))
         for kind in self.fields:
             if kind not in FIELD_KINDS:
                 raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
@@ -272,91 +273,6 @@ class Design(ElementSet):
         from chargedesign.viz import plot_design  # viz loads PyVista (VTK): only when drawn
 
         return plot_design(self, plotter, **kwargs)
-
-
-_MATERIAL_KEYS = {
-    "name": str,
-    "density_kg_per_m3": float,
-    "remanent_magnetisation_A_per_m": float,
-    "intrinsic_coercivity_A_per_m": float,
-    "shell_thickness_m": float,
-    "volume_susceptibility": float,
-    "conductivity_S_per_m": float,
-}
-
-
-def _materials(value: Any) -> dict[str, Any]:
-    """design.json ``materials``: role -> {name, density_kg_per_m3, ...}; ``ballast`` may be a
-    list of materials (several ballast materials, each part named in ``masses.material``)."""
-    if not isinstance(value, dict):
-        raise input_error("materials", "an object role -> material", value)
-    out: dict[str, Any] = {}
-    for role, spec in value.items():
-        where = f"materials.{role}"
-        if role not in ("carrier", "magnet", "ballast"):
-            raise input_error("materials", "roles among carrier, magnet, ballast", role)
-        if role == "ballast" and isinstance(spec, list):
-            if not spec:
-                raise input_error(where, "a material or a non-empty list of materials", spec)
-            items = [_material(x, f"{where}[{i}]") for i, x in enumerate(spec)]
-            names = [x.get("name") for x in items]
-            if None in names or len(set(names)) != len(names):
-                raise input_error(where, "materials with distinct names", names)
-            out[role] = items
-        else:
-            out[role] = _material(spec, where)
-    if "magnet" in out and "remanent_magnetisation_A_per_m" not in out["magnet"]:
-        raise InputError("materials.magnet: missing key 'remanent_magnetisation_A_per_m'")
-    return out
-
-
-def _material(spec: Any, where: str) -> dict[str, Any]:
-    """One material of design.json ``materials`` (validated copy)."""
-    if not isinstance(spec, dict) or "density_kg_per_m3" not in spec:
-        raise input_error(where, "an object with density_kg_per_m3", spec)
-    clean: dict[str, Any] = {}
-    for key, item in spec.items():
-        if key not in _MATERIAL_KEYS:
-            raise input_error(f"{where}.{key}", "one of " + ", ".join(_MATERIAL_KEYS), key)
-        if key == "name":
-            if not isinstance(item, str):
-                raise input_error(f"{where}.name", "a name", item)
-            clean[key] = item
-        elif key == "volume_susceptibility":
-            clean[key] = as_finite_float(item, f"{where}.{key}")
-            if clean[key] <= -1.0:
-                raise input_error(f"{where}.{key}", "a number > -1", item)
-        elif key == "conductivity_S_per_m":
-            clean[key] = as_finite_float(item, f"{where}.{key}")
-            if clean[key] < 0.0:
-                raise input_error(f"{where}.{key}", "a number >= 0", item)
-        else:
-            clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
-    return clean
-
-
-def _check_mass_materials(design: Design) -> None:
-    """Several ballast materials: ``masses.material`` names each ballast part's, from the list."""
-    ballast = design.materials.get("ballast")
-    names = design.mass_materials
-    if isinstance(ballast, list) and len(ballast) > 1:
-        if names is None and len(design.mass_values):
-            raise InputError(
-                "masses.material: several ballast materials need each ballast part's material"
-            )
-        known = {m["name"] for m in ballast}
-        unknown = sorted(set(names or []) - known)
-        if unknown:
-            raise input_error(
-                "masses.material", "names among " + ", ".join(sorted(known)), unknown[0]
-            )
-    elif names is not None:
-        known = {ballast["name"]} if isinstance(ballast, dict) and "name" in ballast else set()
-        if isinstance(ballast, list):
-            known = {m.get("name") for m in ballast}
-        unknown = sorted(set(names) - known)
-        if unknown:
-            raise input_error("masses.material", "the ballast material's name", unknown[0])
 
 
 def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ()) -> Design:

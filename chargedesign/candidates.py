@@ -29,15 +29,15 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
-from chargedesign.readers import check_input_file, read_bytes, read_text
+from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
+from chargedesign.readers import read_mesh
+from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import REGION_KEYS
-from chargedesign.scene.tables import check_region_keys
+from chargedesign.scene.tables import RegionSpec, region_from_table
 from chargedesign.validation import (
     as_array,
-    as_finite_float,
     as_points,
-    check_input_array,
     input_error,
 )
 from chargedesign.vocabulary import BODY_SHAPES
@@ -45,11 +45,6 @@ from chargedesign.vocabulary import BODY_SHAPES
 SHAPES = BODY_SHAPES
 #: keys each shape accepts (besides ``shape``): the scene's declaration
 SHAPE_KEYS: dict[str, tuple[str, ...]] = REGION_KEYS
-#: a [body] region's key check (the scene's)
-check_body_keys = check_region_keys
-#: refuse sets larger than this (the condition matrices are dense, rows x points: 250 000
-#: points and 40 conditions take 80 MB per copy)
-MAX_CANDIDATES = 250_000
 #: relative thickness (smallest / largest singular value of the centred cloud) below which a
 #: set is called planar (exactly, up to rounding) ...
 PLANAR_RATIO = 1e-9
@@ -278,18 +273,20 @@ def lattice_in(
     center : ndarray, shape (3,)
         Shape centre, m.
     """
-    lo = np.ceil((center - half_extent) / spacing - 1e-9).astype(np.int64)
-    hi = np.floor((center + half_extent) / spacing + 1e-9).astype(np.int64)
-    counts = hi - lo + 1
+    # counted in floats before any integer is made: a spacing of 1e-30 gives 1e29 lattice
+    # steps, which overflowed int64 into one wrong point (issue 32)
+    lo_steps = np.ceil((center - half_extent) / spacing - 1e-9)
+    hi_steps = np.floor((center + half_extent) / spacing + 1e-9)
+    counts = hi_steps - lo_steps + 1
     if np.any(counts <= 0):
         return np.zeros((0, 3))
-    total = int(np.prod(counts.astype(np.float64)))
-    if total > 8 * MAX_CANDIDATES:
+    if not float(np.prod(counts)) <= 8 * MAX_CANDIDATES:  # (a nan count is refused too)
         raise input_error(
             "body.spacing",
             f"a spacing giving at most {MAX_CANDIDATES} candidates",
             spacing,
         )
+    lo, hi = lo_steps.astype(np.int64), hi_steps.astype(np.int64)
     axes = [np.arange(lo[i], hi[i] + 1) * spacing for i in range(3)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     return grid[inside(grid - center)]
@@ -374,73 +371,6 @@ def shell_points(
     return c + radius * unit
 
 
-def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np.ndarray:
-    """Points from a ``.npy`` (shape (n, 3)) or ``.csv`` / ``.txt`` file (x, y, z per line).
-
-    Text files may be comma or whitespace separated, with ``#`` comments and one header
-    line of names (e.g. ``x,y,z``). The file is read safely (a regular file of at most
-    ``MAX_DATA_BYTES``, UTF-8); errors name the file, the line and the reason, never the
-    file's content (it may be any file). Bool, complex and object arrays are refused.
-
-    Returns
-    -------
-    ndarray, shape (n, 3)
-    """
-    import io
-
-    p = Path(path)
-    if not os.path.lexists(p):
-        raise InputError(f"{name}: no such file {p}")
-    suffix = p.suffix.lower()
-    if suffix not in (".npy", ".csv", ".txt"):
-        raise input_error(name, "a .csv, .txt or .npy file", str(p))
-    if suffix == ".npy":
-        raw = read_bytes(p, f"point file ({name})")
-        try:
-            data = np.load(io.BytesIO(raw), allow_pickle=False)
-        except (OSError, ValueError, EOFError) as exc:
-            raise InputError(
-                f"{name}: {p} is not a readable .npy array ({type(exc).__name__})"
-            ) from exc
-        if not isinstance(data, np.ndarray) or data.dtype.kind not in "iuf":
-            kind = getattr(getattr(data, "dtype", None), "name", type(data).__name__)
-            raise InputError(f"{name}: {p} holds {kind} values; expected real numbers")
-    else:
-        data = _read_text_points(p, read_text(p, f"point file ({name})"))
-    pts = as_points(data, f"{name} ({p.name})")
-    check_input_array(pts, f"{name} ({p.name})")
-    return pts
-
-
-def _read_text_points(path: Path, text: str) -> np.ndarray:
-    rows = []
-    for number, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split("#", 1)[0].strip()
-        if not line:
-            continue
-        fields_ = [f for f in line.replace(",", " ").replace(";", " ").split() if f]
-        try:
-            rows.append([float(f) for f in fields_])
-        except ValueError as exc:
-            if not rows and all(not _is_number(f) for f in fields_):
-                continue  # a header line of names
-            # the line itself is not echoed: the file may be anything
-            raise InputError(f"{path}: line {number}: expected three numbers") from exc
-        if len(rows[-1]) != 3:
-            raise InputError(
-                f"{path}: line {number}: expected three numbers, got {len(rows[-1])} fields"
-            )
-    return np.array(rows, dtype=np.float64).reshape(-1, 3)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
 def mesh_points(
     path: str | os.PathLike[str],
     *,
@@ -469,24 +399,13 @@ def mesh_points(
     """
 
     pv = import_held("pyvista")
-
     p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{name}: no such file {p}")
-    check_input_file(p, f"mesh file ({name})")
-    try:
-        mesh = pv.read(p)
-    except Exception as exc:  # pyvista/vtk raise many types for unreadable files
-        raise InputError(f"{name}: PyVista cannot read {p} ({type(exc).__name__})") from exc
-    if isinstance(mesh, pv.MultiBlock):
-        mesh = mesh.combine()
-    if mesh.n_points == 0:
-        raise InputError(f"{name}: the mesh {p} has no points")
+    mesh = read_mesh(p, name)
     if sample == "surface":
         surface = mesh if isinstance(mesh, pv.PolyData) else mesh.extract_surface()
         return unique_points(np.asarray(surface.points, dtype=np.float64) * scale)
-    if spacing is None:
-        raise InputError("body.spacing: required for sample = 'volume'")
+    if spacing is None:  # a scene's region is checked for it (region_from_table)
+        raise ValueError("mesh_points: sample = 'volume' needs a spacing")
     bounds = np.asarray(mesh.bounds, dtype=np.float64).reshape(3, 2) * scale
     center = bounds.mean(axis=1)
     half = 0.5 * (bounds[:, 1] - bounds[:, 0])
@@ -517,151 +436,73 @@ def _is_closed(surface: Any) -> bool:
     return bool(edges.n_cells == 0)
 
 
-# --------------------------------------------------------------------------- the table
-
-
-def _number(table: Mapping[str, Any], key: str, *, default: Any = None) -> float:
-    value = table.get(key, default)
-    if value is None:
-        raise InputError(f"body.{key}: required for shape = {table.get('shape')!r}")
-    return as_finite_float(value, f"body.{key}", positive=True)
-
-
-def _vector3(table: Mapping[str, Any], key: str, *, positive: bool) -> np.ndarray:
-    value = table[key]
-    if isinstance(value, (int, float)) and not isinstance(value, bool):
-        out = np.full(3, as_finite_float(value, f"body.{key}", positive=positive))
-    else:
-        out = as_array(value, f"body.{key}", (3,))
-        if positive and np.any(out <= 0):
-            raise input_error(f"body.{key}", "three numbers > 0", value)
-    return out
-
-
-def _bool(table: Mapping[str, Any], key: str, default: bool) -> bool:
-    value = table.get(key, default)
-    if not isinstance(value, bool):
-        raise input_error(f"body.{key}", "true or false", value)
-    return value
+# --------------------------------------------------------------------------- a region
 
 
 Shaped = tuple[np.ndarray, dict[str, Any], "dict[str, Any] | None"]
 
 
-def _lattice_shape(table: Mapping[str, Any], shape: str, center: np.ndarray) -> Shaped:
-    """Points, description and region of a ball, box or cylinder (lattices through O)."""
-    if shape == "ball":
-        radius = _number(table, "radius")
-        spacing = _number(table, "spacing", default=radius / 4.0)
+def _lattice_shape(region: RegionSpec, center: np.ndarray) -> Shaped:
+    """Points, description and outline of a ball, box or cylinder (lattices through O)."""
+    spacing = region.spacing
+    assert spacing is not None, "a lattice region has a spacing (region_from_table)"
+    if region.shape == "ball":
+        radius = region.radius
+        assert radius is not None
         desc = {"radius": radius, "spacing": spacing}
         return ball_points(radius, spacing, center), desc, {"shape": "ball", "radius": radius}
-    if shape == "box":
-        if "half_size" in table and "size" in table:
-            raise InputError("body.size: give either half_size or size, not both")
-        if "half_size" in table:
-            half = _vector3(table, "half_size", positive=True)
-        elif "size" in table:
-            half = 0.5 * _vector3(table, "size", positive=True)
-        else:
-            raise InputError("body.half_size: required for shape = 'box' (or give size)")
-        spacing = _number(table, "spacing", default=float(np.min(half)) / 2.0)
+    if region.shape == "box":
+        half = np.array(region.half_size, dtype=np.float64)
         desc = {"half_size": half.tolist(), "spacing": spacing}
-        return (
-            box_points(half, spacing, center),
-            desc,
-            {"shape": "box", "half_size": desc["half_size"]},
-        )
-    radius = _number(table, "radius")
-    height = _number(table, "height")
-    spacing = _number(table, "spacing", default=min(radius, 0.5 * height) / 4.0)
+        outline = {"shape": "box", "half_size": desc["half_size"]}
+        return box_points(half, spacing, center), desc, outline
+    radius, height = region.radius, region.height
+    assert radius is not None and height is not None
     desc = {"radius": radius, "height": height, "spacing": spacing}
-    region = {"shape": "cylinder", "radius": radius, "height": height}
-    return cylinder_points(radius, height, spacing, center), desc, region
+    outline = {"shape": "cylinder", "radius": radius, "height": height}
+    return cylinder_points(radius, height, spacing, center), desc, outline
 
 
-def _shell_shape(
-    table: Mapping[str, Any], center: np.ndarray, symmetric: bool, centred: bool
-) -> Shaped:
-    radius = _number(table, "radius")
-    n_raw = table.get("n_points", 200)
-    if isinstance(n_raw, bool) or not isinstance(n_raw, int) or not 4 <= n_raw <= MAX_CANDIDATES:
-        raise input_error("body.n_points", f"an integer in 4..{MAX_CANDIDATES}", n_raw)
+def _shell_shape(region: RegionSpec, center: np.ndarray) -> Shaped:
+    radius, n_points = region.radius, region.n_points
+    assert radius is not None and n_points is not None
     desc: dict[str, Any] = {}
-    if symmetric and centred:
+    if region.symmetric and region.centred:
         # symmetric by construction: no closure needed (it would not add points)
-        pts = shell_points(radius, n_raw, symmetric=True)
+        pts = shell_points(radius, n_points, symmetric=True)
         desc["symmetric_rule"] = "Fibonacci points of x > y > 0, z > 0 and their 16 images"
     else:
-        pts = shell_points(radius, n_raw, symmetric=False, center=center)
-    desc |= {"radius": radius, "n_points": n_raw}
+        pts = shell_points(radius, n_points, symmetric=False, center=center)
+    desc |= {"radius": radius, "n_points": n_points}
     return pts, desc, {"shape": "shell", "radius": radius}
 
 
-def _file_shape(table: Mapping[str, Any], shape: str, center: np.ndarray, base_dir: Any) -> Shaped:
+def _file_shape(region: RegionSpec, center: np.ndarray, base_dir: Any) -> Shaped:
     """Points of a ``points`` file or a ``mesh`` (relative paths against ``base_dir``)."""
-    raw = table.get("path")
-    if not isinstance(raw, str) or not raw:
-        raise input_error("body.path", "a file name (string)", raw)
-    path = Path(raw)
+    path = Path(str(region.path))
     if not path.is_absolute() and base_dir is not None:
         path = Path(base_dir) / path
-    scale = _number(table, "scale", default=1.0)
-    desc: dict[str, Any] = {"path": str(path), "scale": scale}
-    if shape == "points":
-        return read_point_file(path) * scale + center, desc, {"shape": "points"}
-    sample = table.get("sample", "surface")
-    if sample not in ("surface", "volume"):
-        raise input_error("body.sample", "'surface' or 'volume'", sample)
-    spacing_m = _number(table, "spacing") if "spacing" in table else None
-    if sample == "volume" and spacing_m is None:
-        raise InputError("body.spacing: required for shape = 'mesh', sample = 'volume'")
-    pts = mesh_points(path, sample=sample, spacing=spacing_m, scale=scale)
-    desc |= {"sample": sample}
-    if spacing_m is not None:
-        desc["spacing"] = spacing_m
+    desc: dict[str, Any] = {"path": str(path), "scale": region.scale}
+    if region.shape == "points":
+        return read_point_file(path) * region.scale + center, desc, {"shape": "points"}
+    pts = mesh_points(path, sample=region.sample, spacing=region.spacing, scale=region.scale)
+    desc |= {"sample": region.sample}
+    if region.spacing is not None:
+        desc["spacing"] = region.spacing
     return pts + center, desc, None
 
 
-def _shape_of(table: Any) -> str:
-    """The region's shape (``ball`` when a table gives sizes only), checked."""
-    if not isinstance(table, Mapping):
-        raise input_error("body", "a table with key 'shape'", table)
-    shape = table.get("shape", "ball" if table else None)
-    if shape is None:
-        raise InputError(
-            "body: the scene has no [body] table; give one with shape = "
-            + " | ".join(SHAPES)
-            + " (where the design may place elements)"
-        )
-    if shape not in SHAPES:
-        raise input_error("body.shape", "one of " + ", ".join(SHAPES), shape)
-    check_body_keys(table)
-    return str(shape)
-
-
-def _naturally_symmetric(table: Mapping[str, Any], shape: str, centred: bool) -> bool:
-    """Whether the shape's own rule is closed under the symmetries already (then
-    ``symmetric`` defaults on). Lattices through O are, unless a box's |x| and |y| sizes
-    differ (closing under x <-> y would add points outside it)."""
-    if shape == "box" and centred:
-        half_xy = table.get("half_size", table.get("size"))
-        return not isinstance(half_xy, (list, tuple)) or (
-            len(half_xy) == 3 and half_xy[0] == half_xy[1]
-        )
-    return centred and shape in ("ball", "cylinder", "shell")
-
-
-def candidates_from_table(
-    table: Mapping[str, Any], *, base_dir: str | os.PathLike[str] | None = None
+def candidates_from_region(
+    region: RegionSpec, *, base_dir: str | os.PathLike[str] | None = None
 ) -> CandidateSet:
-    """Candidate points from a scene's ``[body]`` table (keys in docs/design.md).
+    """Candidate points of a checked ``[body]`` region (:func:`.region_from_table`).
 
     Parameters
     ----------
-    table : mapping
-        ``shape`` (ball | box | cylinder | shell | points | mesh) and its keys; lengths in m.
+    region : RegionSpec
+        The shape and its sizes, m.
     base_dir : path-like, optional
-        Directory that relative ``path`` keys are resolved against (the scene's folder).
+        Directory that a relative ``path`` is resolved against (the scene's folder).
 
     Returns
     -------
@@ -670,23 +511,34 @@ def candidates_from_table(
     Raises
     ------
     InputError
-        A missing, unknown or malformed key (the message names it), or an empty set.
+        A set that is empty or too large for its sizes, or a file that cannot be read.
     """
-    shape = _shape_of(table)
-    center = _vector3(table, "center", positive=False) if "center" in table else np.zeros(3)
-    centred = not np.any(center)
-    natural = _naturally_symmetric(table, shape, centred)
-    symmetric = _bool(table, "symmetric", natural)
-    if shape in ("ball", "box", "cylinder"):
-        pts, desc, region = _lattice_shape(table, shape, center)
-    elif shape == "shell":
-        pts, desc, region = _shell_shape(table, center, symmetric, centred)
+    center = np.array(region.center, dtype=np.float64)
+    if region.shape in ("ball", "box", "cylinder"):
+        pts, desc, outline = _lattice_shape(region, center)
+    elif region.shape == "shell":
+        pts, desc, outline = _shell_shape(region, center)
     else:
-        pts, desc, region = _file_shape(table, shape, center, base_dir)
-    if symmetric and not natural:
+        pts, desc, outline = _file_shape(region, center, base_dir)
+    if region.symmetric and not region.natural:
         # lattices through O (and the symmetric shell rule) are closed already
         pts = symmetrise(pts)
-    return _candidate_set(pts, {"shape": shape, **desc}, region, center, symmetric)
+    return _candidate_set(pts, {"shape": region.shape, **desc}, outline, center, region.symmetric)
+
+
+def candidates_from_table(
+    table: Mapping[str, Any], *, base_dir: str | os.PathLike[str] | None = None
+) -> CandidateSet:
+    """Candidate points from a scene's ``[body]`` table (keys in docs/design.md): its values
+    checked by the scene (:func:`chargedesign.scene.tables.region_from_table`), then
+    :func:`candidates_from_region`.
+
+    Raises
+    ------
+    InputError
+        A missing, unknown or malformed key (the message names it), or an empty set.
+    """
+    return candidates_from_region(region_from_table(table), base_dir=base_dir)
 
 
 def _candidate_set(

@@ -33,10 +33,13 @@ MAX_LINF_CANDIDATES = 5_000
 #: degree of exactness of continuous bodies' quadrature (``check --quadrature-order``): the
 #: nodes grow like degree^3
 MAX_QUADRATURE_ORDER = 64
+#: candidate points of a ``[body]`` region (the condition matrices are dense, rows x points:
+#: 250 000 points and 40 conditions take 80 MB per copy)
+MAX_CANDIDATES = 250_000
 #: elements (charges, masses, dipoles, continuous bodies) of a design.json read by any command:
-#: the most candidates a design has (chargedesign.candidates.MAX_CANDIDATES); a file of 1e6
-#: charges (50 MB) kept ``check`` busy past 60 s with no word
-MAX_DESIGN_ELEMENTS = 250_000
+#: the most candidates a design has; a file of 1e6 charges (50 MB) kept ``check`` busy past
+#: 60 s with no word
+MAX_DESIGN_ELEMENTS = MAX_CANDIDATES
 #: periods of the fastest rate of a body (n, K, sqrt|kappa|, ..., |omega(0)|) a simulation may
 #: cover: ``t_end * rate / (2 pi)``; ``simulate --max-periods`` raises it. The default scene
 #: asks for 5.7e6 (t_end 5e7 s at |(p, q)| = 0.72 rad/s; 15 s with taylor on a quiet machine, over

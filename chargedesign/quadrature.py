@@ -285,8 +285,12 @@ class ContinuousBody:
 
 
 def _as_order(order: Any) -> int:
-    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
-        raise input_error("order", "an integer >= 0 (degree of exactness)", order)
+    """A rule's degree of exactness. The command line checks its own option's range
+    (``check --quadrature-order``), so a bad order here is a caller's mistake."""
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)):
+        raise TypeError(f"order: expected an integer >= 0 (degree of exactness), got {order!r}")
+    if order < 0:
+        raise ValueError(f"order: expected an integer >= 0 (degree of exactness), got {order!r}")
     return int(order)
 
 
@@ -317,7 +321,7 @@ def rule_sizes(shape: str, order: int) -> dict[str, int]:
         return {"cos_theta": (d + 2) // 2, "phi": d + 1}
     if shape == "cylinder":
         return {"z": (d + 2) // 2, "rho": (d + 3) // 2, "phi": d + 1}
-    raise input_error("shape", "one of " + ", ".join(SHAPES), shape)
+    raise ValueError(f"shape: expected one of {', '.join(SHAPES)}, got {shape!r}")
 
 
 def _sphere_rule(n_t: int, n_phi: int) -> tuple[np.ndarray, np.ndarray]:

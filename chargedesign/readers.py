@@ -1,4 +1,5 @@
-"""Safe readers for every file a user hands in: TOML scenes, JSON designs, text and binary data.
+"""Safe readers for every file a user hands in: TOML scenes, JSON designs, text and binary
+data, point files (``.npy``, ``.csv``, ``.txt``) and meshes (through PyVista).
 
 Each reader refuses, with one line naming the file and the reason (never its content):
 
@@ -14,6 +15,7 @@ Each reader refuses, with one line naming the file and the reason (never its con
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import re
@@ -25,7 +27,9 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.files import import_held
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.validation import as_points, check_input_array, input_error
 
 #: largest scene (TOML) file read, bytes
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -158,3 +162,88 @@ def read_toml_file(path: str | os.PathLike[str], what: str = "scene file") -> di
     """A TOML file, read safely (size, encoding, depth, finite numbers); one-line errors."""
     text = read_text(path, what, MAX_TOML_BYTES)
     return loads_toml(text, str(Path(path)))
+
+
+def read_point_file(path: str | os.PathLike[str], name: str = "body.path") -> np.ndarray:
+    """Points from a ``.npy`` (shape (n, 3)) or ``.csv`` / ``.txt`` file (x, y, z per line).
+
+    Text files may be comma or whitespace separated, with ``#`` comments and one header
+    line of names (e.g. ``x,y,z``). The file is read safely (a regular file of at most
+    ``MAX_DATA_BYTES``, UTF-8); errors name the file, the line and the reason, never the
+    file's content (it may be any file). Bool, complex and object arrays are refused.
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+    """
+    p = Path(path)
+    if not os.path.lexists(p):
+        raise InputError(f"{name}: no such file {p}")
+    suffix = p.suffix.lower()
+    if suffix not in (".npy", ".csv", ".txt"):
+        raise input_error(name, "a .csv, .txt or .npy file", str(p))
+    if suffix == ".npy":
+        raw = read_bytes(p, f"point file ({name})")
+        try:
+            data = np.load(io.BytesIO(raw), allow_pickle=False)
+        except (OSError, ValueError, EOFError) as exc:
+            raise InputError(
+                f"{name}: {p} is not a readable .npy array ({type(exc).__name__})"
+            ) from exc
+        if not isinstance(data, np.ndarray) or data.dtype.kind not in "iuf":
+            kind = getattr(getattr(data, "dtype", None), "name", type(data).__name__)
+            raise InputError(f"{name}: {p} holds {kind} values; expected real numbers")
+    else:
+        data = _read_text_points(p, read_text(p, f"point file ({name})"))
+    pts = as_points(data, f"{name} ({p.name})")
+    check_input_array(pts, f"{name} ({p.name})")
+    return pts
+
+
+def _read_text_points(path: Path, text: str) -> np.ndarray:
+    rows = []
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        fields_ = [f for f in line.replace(",", " ").replace(";", " ").split() if f]
+        try:
+            rows.append([float(f) for f in fields_])
+        except ValueError as exc:
+            if not rows and all(not _is_number(f) for f in fields_):
+                continue  # a header line of names
+            # the line itself is not echoed: the file may be anything
+            raise InputError(f"{path}: line {number}: expected three numbers") from exc
+        if len(rows[-1]) != 3:
+            raise InputError(
+                f"{path}: line {number}: expected three numbers, got {len(rows[-1])} fields"
+            )
+    return np.array(rows, dtype=np.float64).reshape(-1, 3)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def read_mesh(path: Path, name: str = "body.path") -> Any:
+    """A mesh file that PyVista can read (a regular file within :data:`MAX_DATA_BYTES`;
+    several blocks combined), with at least one point; errors name the file, never its
+    content."""
+
+    pv = import_held("pyvista")
+    if not path.is_file():
+        raise InputError(f"{name}: no such file {path}")
+    check_input_file(path, f"mesh file ({name})")
+    try:
+        mesh = pv.read(path)
+    except Exception as exc:  # pyvista/vtk raise many types for unreadable files
+        raise InputError(f"{name}: PyVista cannot read {path} ({type(exc).__name__})") from exc
+    if isinstance(mesh, pv.MultiBlock):
+        mesh = mesh.combine()
+    if mesh.n_points == 0:
+        raise InputError(f"{name}: the mesh {path} has no points")
+    return mesh

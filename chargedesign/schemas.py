@@ -15,6 +15,7 @@ blocks and ``medium`` are closed, as the readers refuse unknown keys there.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from importlib import resources
 from typing import Any
 
@@ -22,7 +23,18 @@ from chargedesign.airbearing.options import table_schema as testbed_table_schema
 from chargedesign.airbearing.schema import output_schema as testbed_output_schema
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import GAS_PROPERTIES
-from chargedesign.scene.keys import TABLE_KEYS, table_schema
+from chargedesign.scene.design_materials import MATERIAL_KEYS
+from chargedesign.scene.keys import (
+    BODY_REFERENCE_KEYS,
+    DECLARED,
+    FIELD,
+    PARAMETERS,
+    REGION_KEYS,
+    TABLE_KEYS,
+    Key,
+    range_words,
+    table_schema,
+)
 from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
     DESIGN_FORMAT,
@@ -47,8 +59,8 @@ _NONNEGS = {"type": "array", "items": _NONNEG}
 
 
 def _parameters() -> dict[str, Any]:
-    props: dict[str, Any] = {name: dict(_NUMBER) for name in PARAMETER_NAMES}
-    props["C"] = {**_POSITIVE, "description": "moment of inertia about the symmetry axis, kg m^2"}
+    props: dict[str, Any] = {key.name: key.json_schema() for key in PARAMETERS}
+    assert tuple(props) == PARAMETER_NAMES
     return {
         "type": "object",
         "description": "the theorem's parameters (SI units); omitted ones are 0, C is 1",
@@ -79,14 +91,7 @@ def _medium() -> dict[str, Any]:
 def _materials() -> dict[str, Any]:
     material = {
         "type": "object",
-        "properties": {
-            "name": {"type": "string"},
-            "remanent_magnetisation_A_per_m": _POSITIVE,
-            "density_kg_per_m3": _POSITIVE,
-            "intrinsic_coercivity_A_per_m": _POSITIVE,
-            "volume_susceptibility": {"type": "number", "exclusiveMinimum": -1},
-            "conductivity_S_per_m": {"type": "number", "minimum": 0},
-        },
+        "properties": {key.name: key.json_schema() for key in MATERIAL_KEYS},
         "additionalProperties": True,
     }
     return {
@@ -188,12 +193,7 @@ def _field_table() -> dict[str, Any]:
     return {
         "type": "object",
         "description": "the paper's a1/a2 (Phi = a1 Z + a2 (3 Z^2 - R^2)) or legendre = [...]",
-        "properties": {
-            "a1": _NUMBER,
-            "a2": _NUMBER,
-            "legendre": _NUMBERS,
-            "max": {**_POSITIVE, "description": "largest |field| over the body"},
-        },
+        "properties": {key.name: key.json_schema() for key in FIELD},
         "not": {"anyOf": [{"required": ["legendre", "a1"]}, {"required": ["legendre", "a2"]}]},
         "additionalProperties": False,
     }
@@ -242,6 +242,75 @@ def scene_schema() -> dict[str, Any]:
         "properties": {name: tables[name] for name in SCENE_TABLES},
         "additionalProperties": False,
     }
+
+
+def value_text(spec: Mapping[str, Any]) -> str:
+    """A key's JSON Schema in words, for the docs' key tables ("number > 0", "[x, y, z]")."""
+    if "enum" in spec:
+        return " \\| ".join(f"`{v}`" for v in spec["enum"])
+    if "anyOf" in spec:
+        return " or ".join(value_text(s) for s in spec["anyOf"])
+    kind = spec.get("type")
+    if kind in ("number", "integer"):
+        return range_words(spec, kind)
+    if kind == "boolean":
+        return "true \\| false"
+    if kind == "string":
+        return "text"
+    if kind == "object":
+        return (
+            "table of " + ", ".join(spec.get("properties", {})) if "properties" in spec else "table"
+        )
+    if kind == "array":
+        items = spec.get("items", {})
+        if spec.get("minItems") == spec.get("maxItems") == 3 and items.get("type") == "number":
+            return "[x, y, z]"
+        count = spec.get("minItems") if spec.get("minItems") == spec.get("maxItems") else None
+        head = f"{count} " if count else ""
+        return f"list of {head}{value_text(items) if items else 'values'}"
+    return "value"
+
+
+def default_text(key: Key, *, source: bool = True) -> str:
+    """A key's default and its source in words (the docs' tables; the options' help, where
+    a default given as a value goes without its source)."""
+    value = key.default
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, (tuple, list)):
+        text = "[" + ", ".join(str(v) for v in value) + "]"
+    elif key.has_default:
+        text = f"`{value}`" if isinstance(value, str) else f"{value:g}"
+    else:
+        text = ""
+    if key.source and (source or not text):
+        text = f"{text} ({key.source})" if text else key.source
+    return text or "-"
+
+
+def keys_markdown(table: str) -> str:
+    """The docs' table of a scene table's keys, generated from their declarations
+    (:mod:`chargedesign.scene.keys`); ``[body]`` adds the shapes each key belongs to."""
+    body = table == "body"
+    head = ["key", *(["shapes"] if body else []), "value", "unit", "default", "meaning"]
+    lines = ["| " + " | ".join(head) + " |", "|" + " --- |" * len(head)]
+    for key in DECLARED[table]:
+        row = [f"`{key.name}`"]
+        if body:
+            shapes = [s for s, names in REGION_KEYS.items() if key.name in names]
+            row.append(
+                "all"
+                if len(shapes) == len(REGION_KEYS) or key.name == "shape"
+                else ", ".join(shapes)
+                or ("a body to simulate" if key.name in BODY_REFERENCE_KEYS else "regions")
+            )
+        row += [value_text(key.schema), key.unit or "-", default_text(key), key.doc]
+        lines.append(
+            "| "
+            + " | ".join(cell.replace("|", "\\|") if "\\|" not in cell else cell for cell in row)
+            + " |"
+        )
+    return "\n".join(lines) + "\n"
 
 
 def schema(name: str) -> dict[str, Any]:
@@ -293,7 +362,9 @@ def validate(instance: Any, name: str) -> None:
 
 __all__ = [
     "NAMES",
+    "default_text",
     "design_schema",
+    "keys_markdown",
     "scene_schema",
     "schema",
     "schema_text",

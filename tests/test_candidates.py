@@ -260,3 +260,12 @@ def test_symmetrise_is_closed_and_idempotent(raw):
     # every original point is in the closure
     for p in pts:
         assert np.min(np.linalg.norm(closed - p, axis=1)) <= 1e-8 * max(1.0, np.abs(pts).max())
+
+
+@pytest.mark.parametrize("spacing", [1e-30, 1e-20, 1e-12])
+def test_a_spacing_too_fine_for_the_lattice_is_refused_by_its_spacing(spacing):
+    """A spacing of 1e-30 made 1e29 lattice steps, which overflowed int64 into one wrong point
+    near O (with two RuntimeWarnings; the design then failed for "all in one point"). It is
+    refused by its spacing, before any point is made."""
+    with pytest.raises(InputError, match=r"^body\.spacing: expected a spacing giving at most"):
+        candidates_from_table({"shape": "ball", "radius": 0.05, "spacing": spacing})

@@ -17,7 +17,11 @@ holds the two snapshots against each other:
   in their last bytes from run to run).
 
 The cases cover the embedded default scene, the example scenes and a set of bad inputs
-(their one-line errors and exit codes).
+(their one-line errors and exit codes). A snapshot also holds
+``scene_verdicts/verdicts.json``: every key of the scene schema set to a fixed set of probe
+values in three base scenes, and whether the scene was accepted or the one-line error that
+refused it (``tools/scene_verdicts.py``), so that the scene's validators must accept and
+refuse exactly what they did.
 """
 
 from __future__ import annotations
@@ -159,6 +163,14 @@ def snapshot(out: Path, quick: bool) -> None:
         print(f"{name}: chargedesign {' '.join(argv)}", file=sys.stderr, flush=True)
         record = _run(argv, folder)
         (folder / "_record.json").write_text(json.dumps(record, indent=1))
+    folder = out / "scene_verdicts"
+    folder.mkdir()
+    print("scene_verdicts: tools/scene_verdicts.py", file=sys.stderr, flush=True)
+    subprocess.run(
+        [sys.executable, str(ROOT / "tools" / "scene_verdicts.py"), str(folder / "verdicts.json")],
+        check=True,
+        timeout=TIMEOUT_S,
+    )
 
 
 # ------------------------------------------------------------------------------ compare

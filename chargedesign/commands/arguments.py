@@ -14,11 +14,46 @@ from collections.abc import Callable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
-from chargedesign.schemas import NAMES
+from chargedesign.scene.keys import DECLARED, declared
+from chargedesign.schemas import NAMES, default_text
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
-from chargedesign.vocabulary import EFFECTS, OBJECTIVES, PRECISIONS
+from chargedesign.vocabulary import EFFECTS, PRECISIONS
 from chargedesign.vocabulary import EXPORT_FORMATS as FORMATS
+
+
+def key_help(table: str, name: str, extra: str = "", read_from: str = "scene") -> str:
+    """The help of an option that sets the key ``table.name``, from the key's declaration
+    (chargedesign.scene.keys): its doc, unit and default; ``extra`` is what the option adds,
+    ``read_from`` the file whose table the option overrides (a scene, or a design that
+    recorded it)."""
+    key = declared(table, name)
+    unit = f", {key.unit}" if key.unit else ""
+    return (
+        f"{key.doc}{unit}{extra} (default: the {read_from}'s [{table}] {name}, else "
+        f"{default_text(key, source=False).replace('`', '')})"
+    )
+
+
+def key_options(parser: argparse.ArgumentParser, table: str, read_from: str = "scene") -> None:
+    """One option per key of ``table`` declared with one (``Key.option``, its metavar):
+    ``--max-charge Q`` sets ``[design] max_charge``, its type, help and default the key's
+    (``read_from``: see :func:`key_help`)."""
+    for key in DECLARED[table]:
+        if key.option:
+            parser.add_argument(
+                "--" + key.name.replace("_", "-"),
+                type=int if key.schema.get("type") == "integer" else float,
+                default=None,
+                metavar=key.option,
+                help=key_help(table, key.name, read_from=read_from),
+            )
+
+
+def _key_choices(table: str, name: str) -> tuple[str, ...]:
+    """The declared choices of a scene key (its JSON Schema's enum)."""
+    return tuple(declared(table, name).schema["enum"])
+
 
 #: the benchmark areas (``bench --only``)
 AREAS = (
@@ -61,37 +96,29 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print a JSON summary")
     parser.add_argument(
         "--objective",
-        choices=OBJECTIVES,
+        choices=_key_choices("design", "objective"),
         default=None,
-        help="l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 weighted "
-        "by each place's placement sensitivity); default: the scene's [design] objective, "
-        "else l1",
+        help=key_help(
+            "design",
+            "objective",
+            ": l1 (sparse), l2 (smooth), linf (smallest largest weight) or robust (l1 "
+            "weighted by each place's placement sensitivity)",
+        ),
     )
     parser.add_argument(
         "--robust-weight",
         type=float,
         default=None,
         metavar="BETA",
-        help="with --objective robust: 0 (plain l1) .. 1 (pure sensitivity, the default)",
+        help=key_help("design", "robust_weight"),
     )
     parser.add_argument(
         "--solver",
         default=None,
         metavar="NAME",
-        help="auto (HiGHS for linear programs, Clarabel for cones) or a cvxpy solver name",
+        help=key_help("design", "solver", " (auto: HiGHS for linear programs, Clarabel for cones)"),
     )
-    parser.add_argument(
-        "--n-charges", type=int, default=None, metavar="N", help="at most N charges"
-    )
-    parser.add_argument(
-        "--max-charge", type=float, default=None, metavar="Q", help="bound on every |q|, C"
-    )
-    parser.add_argument(
-        "--total-charge", type=float, default=None, metavar="Q", help="required net charge, C"
-    )
-    parser.add_argument(
-        "--total-mass", type=float, default=None, metavar="M", help="required total mass, kg"
-    )
+    key_options(parser, "design")
     parser.add_argument(
         "--no-polish", action="store_true", help="keep the solvers' weights (no polishing)"
     )
@@ -158,7 +185,6 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="SCENE_OR_DESIGN",
         help="scene (.toml) or design (.json); default: the embedded default scene",
     )
-    parser.add_argument("--t-end", type=float, default=None, metavar="T", help="duration, s")
     parser.add_argument(
         "--effects",
         nargs="+",
@@ -167,16 +193,18 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         help="effects to compute (default: the scene's, else all with a source)",
     )
     parser.add_argument("--out", default=None, metavar="DIR", help="write outputs into DIR")
-    parser.add_argument("--route", choices=("reduced", "direct"), default=None)
+    parser.add_argument(
+        "--route",
+        choices=_key_choices("simulation", "route"),
+        default=None,
+        help=key_help("simulation", "route"),
+    )
     parser.add_argument(
         "--method",
         default=None,
-        help="taylor (default: heyoka, DOP853 where heyoka is missing), DOP853, RK45, ..., "
-        "gauss-legendre",
+        help=key_help("simulation", "method", " (DOP853 where heyoka is missing)"),
     )
-    parser.add_argument(
-        "--tol", type=float, default=None, help="tolerance of taylor (default machine epsilon)"
-    )
+    parser.add_argument("--tol", type=float, default=None, help=key_help("simulation", "tol"))
     parser.add_argument(
         "--monitors",
         nargs="+",
@@ -205,10 +233,7 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "motion read in axes turning at its larmor.rate about Z, I4 with that n) or inertial "
         "(as integrated, n = 0); a body without a frame reading has only inertial",
     )
-    parser.add_argument("--rtol", type=float, default=None)
-    parser.add_argument("--atol", type=float, default=None)
-    parser.add_argument("--step", type=float, default=None, help="gauss-legendre step, s")
-    parser.add_argument("--samples", type=int, default=None, help="output samples")
+    key_options(parser, "simulation")
     parser.add_argument(
         "--off-level",
         type=float,
@@ -329,22 +354,7 @@ def tolerance_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--charge", metavar="E", help="charge error, C or %% (e.g. 1%%)")
     parser.add_argument("--dipole", metavar="E", help="dipole moment error, A m^2 or %%")
     parser.add_argument("--mass", metavar="E", help="mass error, kg or %%")
-    parser.add_argument(
-        "--chi-relative",
-        type=float,
-        metavar="X",
-        help="relative error of every material's susceptibility (one draw per material): the "
-        "induced-magnetisation parasitic it leaves (default: the design's [tolerance] values)",
-    )
-    parser.add_argument(
-        "--density-relative", type=float, metavar="X", help="relative error of the densities"
-    )
-    parser.add_argument(
-        "--magnetisation-relative",
-        type=float,
-        metavar="X",
-        help="relative error of the magnets' remanent magnetisation",
-    )
+    key_options(parser, "tolerance", read_from="design")
     parser.add_argument(
         "--target",
         type=float,

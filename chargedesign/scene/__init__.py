@@ -1,11 +1,18 @@
 """The one input boundary: a scene file (TOML) becomes a typed :class:`Scene`.
 
-- :mod:`.keys`: every table's keys, declared once (validators and the JSON Schema read them);
+- :mod:`.keys`: every key declared once (type and range, unit, default and its source, doc):
+  validation (:func:`~.keys.check_value`), the JSON Schema, the docs' tables, the typed
+  options' defaults and the command-line options that set a key follow from it;
 - :mod:`.medium`: the :class:`Medium` (scene ``[medium]`` and design.json's ``medium``);
 - :mod:`.design`: ``[design]`` (:class:`DesignOptions`);
-- :mod:`.tables`: ``[body]`` (a region or a reference) and ``[tolerance]``;
+- :mod:`.tables`: ``[body]`` (a region, read into a :class:`~.tables.RegionSpec`, or a
+  reference) and ``[tolerance]``;
 - :mod:`.physical`: ``[medium]``, ``[carriers]``, ``[magnets]``, ``[ballast]``
   (:class:`PhysicalSpec`);
+- :mod:`.simulation`: ``[simulation]``, ``[output]``, ``[initial]``;
+- :mod:`.design_materials`: design.json's ``materials``;
+- :mod:`.sweep_file`: a sweep file's own structure (its points are checked by
+  :mod:`chargedesign.sweeps.spec`);
 - :mod:`.load`: :func:`load_scene`, :func:`scene_from_dict` and the :class:`Scene`.
 """
 

@@ -10,14 +10,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
-import numpy as np
-
-from chargedesign.scene.keys import key_names
+from chargedesign.scene.keys import check_value, declared, default_of, key_names
 from chargedesign.validation import as_finite_float, check_keys, input_error
-from chargedesign.vocabulary import LARMOR_READINGS, REALISABLE, SOURCES
 from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
+from chargedesign.vocabulary import REALISABLE, SOURCES
 
-SPARSITY_METHODS = ("auto", "reweighted", "mip")
+SPARSITY_METHODS: tuple[str, ...] = tuple(declared("design", "sparsity").schema["enum"])
 #: relative residual a polished design must reach (default ``tol`` with polishing)
 POLISHED_TOL = 1e-13
 #: relative residual accepted from a solver alone (default ``tol`` without polishing)
@@ -74,20 +72,20 @@ class DesignOptions:
         without ``[medium]``, ``frame`` with one.
     """
 
-    objective: str = "l1"
-    solver: str = "auto"
+    objective: str = default_of("design", "objective")
+    solver: str = default_of("design", "solver")
     max_charge: float | None = None
     total_charge: float | None = None
     n_charges: int | None = None
     total_mass: float | None = None
     realise: tuple[str, ...] | None = None
-    polish: bool = True
+    polish: bool = default_of("design", "polish")
     tol: float | None = None
     objectives: Mapping[str, str] | None = None
     column_generation: bool | None = None
-    sparsity: str = "auto"
-    time_limit: float = 60.0
-    robust_weight: float = 1.0
+    sparsity: str = default_of("design", "sparsity")
+    time_limit: float = default_of("design", "time_limit")
+    robust_weight: float = default_of("design", "robust_weight")
     larmor: str | None = None
 
     def __post_init__(self) -> None:
@@ -98,9 +96,9 @@ class DesignOptions:
 
     def _check_objectives(self) -> None:
         """The objective(s), the Larmor reading and the solver's name."""
-        _check_objective(self.objective, "design.objective")
-        if self.larmor is not None and self.larmor not in LARMOR_READINGS:
-            raise input_error("design.larmor", "one of " + ", ".join(LARMOR_READINGS), self.larmor)
+        check_value("design", "objective", self.objective)
+        if self.larmor is not None:
+            check_value("design", "larmor", self.larmor)
         if self.objectives is not None:
             if not isinstance(self.objectives, Mapping):
                 raise input_error(
@@ -111,7 +109,7 @@ class DesignOptions:
                     raise input_error(
                         f"design.objectives.{source}", "one of " + ", ".join(SOURCES), source
                     )
-                _check_objective(value, f"design.objectives.{source}")
+                check_value("design", "objective", value, f"design.objectives.{source}")
             object.__setattr__(self, "objectives", dict(self.objectives))
         if not isinstance(self.solver, str) or not self.solver:
             raise input_error(
@@ -120,49 +118,31 @@ class DesignOptions:
 
     def _check_amounts(self) -> None:
         """Largest charge, totals, number of charges and the realised terms."""
-        for name in ("max_charge", "total_mass"):
+        for name in ("max_charge", "total_mass", "total_charge"):
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(
-                    self, name, as_finite_float(value, f"design.{name}", positive=True)
-                )
-        if self.total_charge is not None:
-            object.__setattr__(
-                self, "total_charge", as_finite_float(self.total_charge, "design.total_charge")
-            )
-        if self.n_charges is not None and (
-            isinstance(self.n_charges, bool)
-            or not isinstance(self.n_charges, (int, np.integer))
-            or self.n_charges < 1
-        ):
-            raise input_error("design.n_charges", "an integer >= 1", self.n_charges)
+                object.__setattr__(self, name, check_value("design", name, value))
+        if self.n_charges is not None:
+            check_value("design", "n_charges", self.n_charges)
         if self.realise is not None:
             object.__setattr__(self, "realise", _realise_list(self.realise))
 
     def _check_solve_options(self) -> None:
         """Polish, tolerance, column generation, sparsity method and time limit."""
-        if not isinstance(self.polish, bool):
-            raise input_error("design.polish", "true or false", self.polish)
+        check_value("design", "polish", self.polish)
         if self.tol is not None:
             tol = as_finite_float(self.tol, "design.tol", positive=True)
             if tol >= 1.0:
                 raise input_error("design.tol", "a relative residual below 1", self.tol)
             object.__setattr__(self, "tol", tol)
-        if self.column_generation is not None and not isinstance(self.column_generation, bool):
-            raise input_error("design.column_generation", "true or false", self.column_generation)
-        if self.sparsity not in SPARSITY_METHODS:
-            raise input_error(
-                "design.sparsity", "one of " + ", ".join(SPARSITY_METHODS), self.sparsity
-            )
-        object.__setattr__(
-            self, "time_limit", as_finite_float(self.time_limit, "design.time_limit", positive=True)
-        )
+        if self.column_generation is not None:
+            check_value("design", "column_generation", self.column_generation)
+        check_value("design", "sparsity", self.sparsity)
+        object.__setattr__(self, "time_limit", check_value("design", "time_limit", self.time_limit))
 
     def _check_robust_weight(self) -> None:
         """The robust objective's weight in [0, 1], only with the robust objective."""
-        beta = as_finite_float(self.robust_weight, "design.robust_weight")
-        if not 0.0 <= beta <= 1.0:
-            raise input_error("design.robust_weight", "a number in [0, 1]", self.robust_weight)
+        beta = check_value("design", "robust_weight", self.robust_weight)
         object.__setattr__(self, "robust_weight", beta)
         if beta != 1.0 and not self.robust:
             # a weight that would change nothing: the user meant the robust objective
@@ -209,11 +189,6 @@ class DesignOptions:
         out["realise"] = list(self.realise) if self.realise is not None else None
         out["tolerance"] = self.tolerance
         return out
-
-
-def _check_objective(value: Any, name: str) -> None:
-    if value not in OBJECTIVES:
-        raise input_error(name, "one of " + ", ".join(OBJECTIVES), value)
 
 
 def _realise_list(value: Any) -> tuple[str, ...]:

@@ -1,9 +1,14 @@
-"""The keys of every scene table, declared once: the validators refuse what is not listed
-here and the JSON Schema (:mod:`chargedesign.schemas`) is generated from the same lists, so
-the two cannot drift.
+"""Every scene key, declared once: its name, the JSON Schema of its value (type and range),
+its unit, its default and where that default comes from, and a one-line doc.
 
-Each table is a tuple of :class:`Key` (name, JSON Schema of its value, one-line doc). The
-order is the order the one-line errors list the keys in ("one of t_end, rtol, ...").
+From these declarations follow the validators' key lists (an unknown key is refused with one
+line naming it), the JSON Schema (:mod:`chargedesign.schemas`), the docs' key tables
+(:func:`chargedesign.schemas.keys_markdown`, kept equal to docs/ by a test) and the defaults
+of the typed options (:func:`default_of`: ``DesignOptions``, ``SimulationOptions``,
+``OutputOptions``, the medium's safety and the carriers' wall and samples read them here).
+
+Each table is a tuple of :class:`Key`. The order is the order the one-line errors list the
+keys in ("one of t_end, rtol, ...").
 """
 
 from __future__ import annotations
@@ -12,15 +17,21 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from chargedesign.validation import check_keys, input_error
+import numpy as np
+
+from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
     BODY_SHAPES,
+    DEFAULT_SIMULATION_METHOD,
     EFFECTS,
     LARMOR_READINGS,
     MATERIAL_ERROR_KEYS,
     OBJECTIVES,
+    PARAMETER_NAMES,
     REALISABLE,
     SIMULATION_AXES,
+    SIMULATION_METHODS,
+    SIMULATION_ROUTES,
     SOURCES,
     STATE_NAMES,
 )
@@ -36,19 +47,124 @@ STRING: dict[str, Any] = {"type": "string"}
 TEXT_OR_NUMBER: dict[str, Any] = {"anyOf": [STRING, NUMBER]}
 
 
+class _NoDefault:
+    """The default of a key that has none, or whose default is derived (see ``source``)."""
+
+    def __repr__(self) -> str:
+        return "NO_DEFAULT"
+
+
+NO_DEFAULT: Any = _NoDefault()
+
+
 @dataclass(frozen=True)
 class Key:
-    """One key of a scene table: its name, the JSON Schema of its value and what it means."""
+    """One key of a scene table.
+
+    Attributes
+    ----------
+    name : str
+    schema : mapping
+        The JSON Schema of its value: type and range.
+    doc : str
+        What it means (one line).
+    unit : str
+        SI unit of a quantity ("" for a number without unit, a name or a switch).
+    default : object
+        The value an absent key takes (JSON-ready); ``NO_DEFAULT`` when there is none or it
+        is derived from other keys (``source`` then says how).
+    source : str
+        Where the default comes from or why it is what it is ("" for a plain choice).
+    refusal : str
+        What the one-line error says was expected when a number is out of the key's range
+        (default: the range in words, "a number in [0, 1]").
+    option : str
+        The metavar of the command-line option that sets it (``--max-charge Q``; "" for
+        none): :func:`chargedesign.commands.arguments.key_options` makes the option.
+    """
 
     name: str
     schema: Mapping[str, Any] = field(default_factory=dict)
     doc: str = ""
+    unit: str = ""
+    default: Any = NO_DEFAULT
+    source: str = ""
+    refusal: str = ""
+    option: str = ""
+
+    def __post_init__(self) -> None:
+        assert "\n" not in self.doc, f"{self.name}: a key's doc is one line"
+
+    @property
+    def has_default(self) -> bool:
+        return self.default is not NO_DEFAULT
 
     def json_schema(self) -> dict[str, Any]:
         out = dict(self.schema)
-        if self.doc:
-            out["description"] = self.doc
+        doc = self.doc + (f" ({self.unit})" if self.unit else "")
+        if doc:
+            out["description"] = doc
+        if self.has_default:
+            out["default"] = list(self.default) if isinstance(self.default, tuple) else self.default
         return out
+
+
+def range_words(spec: Mapping[str, Any], kind: str) -> str:
+    """A declared range in words, for the one-line errors ("an integer >= 2") and the docs'
+    tables ("number in (0, 1]"); ``kind`` alone when the value has no bounds."""
+    lo = spec.get("minimum", spec.get("exclusiveMinimum"))
+    hi = spec.get("maximum", spec.get("exclusiveMaximum"))
+    if lo is None and hi is None:
+        return kind
+    if lo is not None and hi is not None:
+        left = "(" if "exclusiveMinimum" in spec else "["
+        right = ")" if "exclusiveMaximum" in spec else "]"
+        return f"{kind} in {left}{lo}, {hi}{right}"
+    if lo is not None:
+        return f"{kind} {'>' if 'exclusiveMinimum' in spec else '>='} {lo}"
+    return f"{kind} {'<' if 'exclusiveMaximum' in spec else '<='} {hi}"
+
+
+def _within(value: float, spec: Mapping[str, Any]) -> bool:
+    return not (
+        ("minimum" in spec and value < spec["minimum"])
+        or ("exclusiveMinimum" in spec and value <= spec["exclusiveMinimum"])
+        or ("maximum" in spec and value > spec["maximum"])
+        or ("exclusiveMaximum" in spec and value >= spec["exclusiveMaximum"])
+    )
+
+
+def check_value(table: str, name: str, value: Any, where: str | None = None) -> Any:
+    """``value`` of the key ``table.name`` checked against its declaration, as its type (a
+    float, an int, a bool or one of the declared choices); a one-line error names ``where``
+    (default ``table.name``), what the key expects and what was received.
+
+    Numbers are real and finite (:func:`chargedesign.validation.as_finite_float`) and within
+    the declared range; integers are ints (never bools); choices are the declared enum.
+    """
+    key = declared(table, name)
+    where = where or f"{table}.{name}"
+    spec = key.schema
+    if "enum" in spec:
+        if value not in spec["enum"]:
+            raise input_error(where, "one of " + ", ".join(spec["enum"]), value)
+        return value
+    kind = spec.get("type")
+    if kind == "boolean":
+        if not isinstance(value, bool):
+            raise input_error(where, "true or false", value)
+        return value
+    if kind == "integer":
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
+        if not _within(float(value), spec):
+            raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
+        return int(value)
+    assert kind == "number", f"{table}.{name}: no declared check for {spec}"
+    number = as_finite_float(value, where)
+    if not _within(number, spec):
+        raise input_error(where, key.refusal or range_words(spec, "a number"), value)
+    return number
 
 
 def _enum(values: tuple[str, ...]) -> dict[str, Any]:
@@ -56,37 +172,89 @@ def _enum(values: tuple[str, ...]) -> dict[str, Any]:
 
 
 _RESPONSE = (
-    Key("susceptibility", {"type": "number", "exclusiveMinimum": -1}, "SI volume susceptibility"),
-    Key("conductivity", NONNEG, "S/m"),
+    Key(
+        "susceptibility",
+        {"type": "number", "exclusiveMinimum": -1},
+        "SI volume susceptibility (replaces the named material's)",
+        source="the material's (chargedesign.physical.materials)",
+    ),
+    Key(
+        "conductivity",
+        NONNEG,
+        "electrical conductivity (replaces the named material's)",
+        "S/m",
+        source="the material's (chargedesign.physical.materials)",
+    ),
 )
 _MATERIAL_NAME = Key("material", STRING, "a named material (docs/buildable.md)")
+_DENSITY = Key("density", POSITIVE, "density (with no material: a custom one)", "kg/m^3")
 
+PARAMETERS = tuple(
+    Key(
+        name,
+        POSITIVE if name == "C" else NUMBER,
+        "moment of inertia about the symmetry axis" if name == "C" else f"the theorem's {name}",
+        {"C": "kg m^2", "n": "1/s", "K": "1/s"}.get(
+            name, "1/s^2" if name in ("kappa", "lambda", "rho") else ""
+        ),
+        1.0 if name == "C" else 0.0,
+        "the unit of inertia" if name == "C" else "an omitted parameter is 0",
+    )
+    for name in PARAMETER_NAMES
+)
+FIELD = (
+    Key("a1", NUMBER, "the paper's uniform term of Phi = a1 Z + a2 (3 Z^2 - R^2)", default=0.0),
+    Key("a2", NUMBER, "the paper's gradient term (legendre = [a1, 2 a2])", default=0.0),
+    Key("legendre", NUMBERS, "coefficients f_k of Phi = sum f_k R^k P_k(Z/R), k >= 1"),
+    Key(
+        "max",
+        POSITIVE,
+        "largest |field| the apparatus makes over the body (T, V/m or m/s^2)",
+        source="none: no limit",
+    ),
+)
 MEDIUM = (
     Key("name", STRING, "vacuum, air, sf6, oil, or any name with breakdown"),
-    Key("breakdown", POSITIVE, "breakdown field, V/m (replaces the named medium's)"),
-    Key("safety", {"type": "number", "exclusiveMinimum": 0, "maximum": 1}, "default 0.5"),
+    Key("breakdown", POSITIVE, "breakdown field (replaces the named medium's)", "V/m"),
+    Key(
+        "safety",
+        {"type": "number", "exclusiveMinimum": 0, "maximum": 1},
+        "surface fields stay <= safety * breakdown",
+        default=0.5,
+        source="half the breakdown field (docs/buildable.md)",
+    ),
     Key(
         "gas",
         _enum(("vacuum", "air", "sf6", "oil")),
-        "whose density and viscosity the drag estimate uses (default: the name's, if it names one)",
+        "whose density and viscosity the drag estimate uses",
+        source="the name's, if it names one",
     ),
 )
 CARRIERS = (
     _MATERIAL_NAME,
-    Key("density", POSITIVE, "kg/m^3"),
-    Key("shell_thickness", NONNEG, "m; 0 = solid"),
+    _DENSITY,
+    Key(
+        "shell_thickness",
+        NONNEG,
+        "wall of a hollow carrier; 0 = solid",
+        "m",
+        1e-4,
+        "thin spun or drawn aluminium",
+    ),
     Key(
         "samples",
         {"type": "integer", "minimum": 6, "maximum": 2000},
         "surface points per carrier in the design",
+        default=26,
+        source="constraint generation adds the worst surface point",
     ),
     *_RESPONSE,
 )
 MAGNETS = (
     _MATERIAL_NAME,
-    Key("density", POSITIVE, "kg/m^3"),
-    Key("magnetisation", POSITIVE, "remanent magnetisation, A/m"),
-    Key("coercivity", POSITIVE, "intrinsic coercivity, A/m"),
+    _DENSITY,
+    Key("magnetisation", POSITIVE, "remanent magnetisation", "A/m", source="the material's"),
+    Key("coercivity", POSITIVE, "intrinsic coercivity", "A/m", source="the material's"),
     *_RESPONSE,
 )
 BALLAST = (
@@ -95,23 +263,63 @@ BALLAST = (
         {"anyOf": [STRING, {"type": "array", "items": STRING, "minItems": 1}]},
         "a material, or a list of materials of opposite susceptibilities",
     ),
-    Key("density", POSITIVE, "kg/m^3"),
+    _DENSITY,
     *_RESPONSE,
 )
+#: what each material error is of, in the order of the vocabulary's MATERIAL_ERROR_KEYS
+#: (susceptibility, density, magnetisation)
+_MATERIAL_ERRORS = (
+    "every material's susceptibility (one draw per material)",
+    "the densities",
+    "the magnets' remanent magnetisation",
+)
 TOLERANCE = tuple(
-    Key(name, {"type": "number", "minimum": 0, "exclusiveMaximum": 1}, "relative error")
-    for name in MATERIAL_ERROR_KEYS
+    Key(
+        name,
+        {"type": "number", "minimum": 0, "exclusiveMaximum": 1},
+        f"relative error (one standard deviation) of {what}",
+        default=0.0,
+        source="exact material properties",
+        refusal="a relative error in [0, 1)",
+        option="X",
+    )
+    for name, what in zip(MATERIAL_ERROR_KEYS, _MATERIAL_ERRORS, strict=True)
 )
 DESIGN = (
-    Key("objective", _enum(OBJECTIVES)),
-    Key("solver", STRING, "auto or a cvxpy solver name"),
-    Key("max_charge", POSITIVE, "C"),
-    Key("total_charge", NUMBER, "C"),
-    Key("n_charges", {"type": "integer", "minimum": 1}),
-    Key("total_mass", POSITIVE, "kg"),
-    Key("realise", {"type": "array", "items": _enum(REALISABLE), "uniqueItems": True}),
-    Key("polish", BOOLEAN),
-    Key("tol", {"type": "number", "exclusiveMinimum": 0, "exclusiveMaximum": 1}),
+    Key(
+        "objective", _enum(OBJECTIVES), "what every source minimises (docs/design.md)", default="l1"
+    ),
+    Key("solver", STRING, "auto or a cvxpy solver name", default="auto"),
+    Key("max_charge", POSITIVE, "bound on every |q|", "C", source="none: unbounded", option="Q"),
+    Key("total_charge", NUMBER, "required total charge", "C", source="none: free", option="Q"),
+    Key(
+        "n_charges",
+        {"type": "integer", "minimum": 1},
+        "at most this many charges",
+        source="none: as many as the optimum uses",
+        option="N",
+    ),
+    Key(
+        "total_mass",
+        POSITIVE,
+        "required total mass",
+        "kg",
+        source="none: the least mass",
+        option="M",
+    ),
+    Key(
+        "realise",
+        {"type": "array", "items": _enum(REALISABLE), "uniqueItems": True},
+        "what the design claims",
+        source="what the conditions realise",
+    ),
+    Key("polish", BOOLEAN, "polish to machine precision on the support", default=True),
+    Key(
+        "tol",
+        {"type": "number", "exclusiveMinimum": 0, "exclusiveMaximum": 1},
+        "largest accepted relative residual",
+        source="1e-13 polished, 1e-7 unpolished",
+    ),
     Key(
         "objectives",
         {
@@ -120,53 +328,123 @@ DESIGN = (
             "additionalProperties": False,
         },
         "the objective per source",
+        source="objective for every source",
     ),
-    Key("column_generation", BOOLEAN),
-    Key("sparsity", _enum(("auto", "reweighted", "mip"))),
-    Key("time_limit", POSITIVE, "s"),
-    Key("robust_weight", {"type": "number", "minimum": 0, "maximum": 1}),
+    Key(
+        "column_generation",
+        BOOLEAN,
+        "force column generation on or off",
+        source="on above 2000 candidates, for HiGHS",
+    ),
+    Key(
+        "sparsity",
+        _enum(("auto", "reweighted", "mip")),
+        "how n_charges is met",
+        default="auto",
+        source="reweighted l1, then mixed integer",
+    ),
+    Key("time_limit", POSITIVE, "time allowed to the mixed-integer solver", "s", 60.0),
+    Key(
+        "robust_weight",
+        {"type": "number", "minimum": 0, "maximum": 1},
+        "with objective robust: 0 is plain l1, 1 pure placement sensitivity",
+        default=1.0,
+    ),
     Key(
         "larmor",
         _enum(LARMOR_READINGS),
         "how n is realised: charges (the paper's (p6) second moments) or frame (the body "
-        "realises n = 0, read in axes turning at n); default charges without [medium], frame "
-        "with it",
+        "realises n = 0, read in axes turning at n)",
+        source="charges without [medium], frame with it",
     ),
 )
 SIMULATION = (
-    Key("t_end", POSITIVE),
-    Key("rtol", POSITIVE),
-    Key("atol", POSITIVE),
-    Key("method", STRING),
-    Key("effects", {"type": "array", "items": _enum(EFFECTS)}),
-    Key("max_step", POSITIVE),
-    Key("step", POSITIVE),
-    Key("samples", {"type": "integer", "minimum": 2}),
-    Key("route", STRING),
-    Key("gamma3_min", POSITIVE),
-    Key("tol", POSITIVE, "tolerance of the taylor method"),
-    Key("monitors", {"type": "array", "items": STRING}),
-    Key("axes", _enum(SIMULATION_AXES)),
+    Key("t_end", POSITIVE, "end of the run", "s", 100.0, option="T"),
+    Key("rtol", POSITIVE, "relative tolerance (solve_ivp)", default=1e-12, option="RTOL"),
+    Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12, option="ATOL"),
+    Key(
+        "method",
+        _enum(SIMULATION_METHODS),
+        "taylor, a solve_ivp method or gauss-legendre",
+        default=DEFAULT_SIMULATION_METHOD,
+        source="heyoka's Taylor integrator (I4 drift 2.1e-14 at t = 1000, DESIGN.md)",
+    ),
+    Key(
+        "effects",
+        {"type": "array", "items": _enum(EFFECTS)},
+        "what acts on the body",
+        source="every physical effect with a source and a non-zero field (induced only by "
+        "name); theorem for a body without elements",
+    ),
+    Key("max_step", POSITIVE, "largest step of solve_ivp", "s", source="unbounded"),
+    Key(
+        "step",
+        POSITIVE,
+        "fixed step of gauss-legendre",
+        "s",
+        source="min(0.01, t_end), rounded to divide t_end",
+        option="STEP",
+    ),
+    Key(
+        "samples",
+        {"type": "integer", "minimum": 2},
+        "output samples",
+        default=2001,
+        option="SAMPLES",
+    ),
+    Key(
+        "route", _enum(SIMULATION_ROUTES), "the reduced model or the direct one", default="reduced"
+    ),
+    Key(
+        "gamma3_min",
+        POSITIVE,
+        "singular-plane threshold (lambda or rho != 0)",
+        default=1e-2,
+    ),
+    Key("tol", POSITIVE, "tolerance of the taylor method", source="machine epsilon"),
+    Key(
+        "monitors",
+        {"type": "array", "items": STRING},
+        "drifts to report even where they are no integrals",
+        source="none",
+    ),
+    Key(
+        "axes",
+        _enum(SIMULATION_AXES),
+        "the axes the motion is written in",
+        source="turning for a frame body, else inertial",
+    ),
 )
 INITIAL = (
-    Key("omega", VECTOR),
-    Key("gamma", VECTOR),
-    Key("level", TEXT_OR_NUMBER, "e.g. 'I3=0'"),
-    Key("p", NUMBER),
-    Key("q", NUMBER),
-    Key("precession", NUMBER),
-    Key("states", {"type": "array", "items": {**NUMBERS, "minItems": 6, "maxItems": 6}}),
+    Key("omega", VECTOR, "angular velocity in body axes", "1/s"),
+    Key("gamma", VECTOR, "the space axis Z in body axes (normalised)"),
+    Key("level", TEXT_OR_NUMBER, "a level of I3, e.g. 'I3=0' (with p and q: r solved)"),
+    Key("p", NUMBER, "p with level", "1/s"),
+    Key("q", NUMBER, "q with level", "1/s"),
+    Key("precession", NUMBER, "turn about space Z", "rad", 0.0, "it does not change the motion"),
+    Key(
+        "states",
+        {"type": "array", "items": {**NUMBERS, "minItems": 6, "maxItems": 6}},
+        "a set of states [p, q, r, gamma1, gamma2, gamma3]",
+    ),
     Key("file", STRING, "a .csv or .npy file of states"),
 )
 OUTPUT = (
-    Key("dir", STRING, "a relative folder without '..'"),
-    Key("trajectory", BOOLEAN),
-    Key("plot", BOOLEAN),
-    Key("poincare", BOOLEAN),
-    Key("poincare_section", _enum(STATE_NAMES)),
+    Key("dir", STRING, "a relative folder without '..'", source="the command's --out"),
+    Key("trajectory", BOOLEAN, "write trajectory.npz and trajectory.csv", default=True),
+    Key("plot", BOOLEAN, "write integrals.png", default=True),
+    Key("poincare", BOOLEAN, "write poincare.png", default=False),
+    Key(
+        "poincare_section",
+        _enum(STATE_NAMES),
+        "upward zero crossings of this state",
+        default="gamma1",
+    ),
     Key(
         "poincare_axes",
         {"type": "array", "items": _enum(STATE_NAMES), "minItems": 2, "maxItems": 2},
+        "the section's two axes",
+        default=("gamma2", "q"),
     ),
 )
 _SIZE = {"anyOf": [POSITIVE, VECTOR]}
@@ -181,23 +459,61 @@ REGION_KEYS: dict[str, tuple[str, ...]] = {
 }
 _BLOCK = {"type": "object", "additionalProperties": False}
 BODY = (
-    Key("shape", _enum(BODY_SHAPES), "a region to design in"),
-    Key("radius", POSITIVE, "m"),
-    Key("height", POSITIVE, "m"),
-    Key("spacing", POSITIVE, "m"),
-    Key("n_points", {"type": "integer", "minimum": 1}),
-    Key("half_size", _SIZE, "m"),
-    Key("size", _SIZE, "m"),
-    Key("center", VECTOR, "m"),
-    Key("symmetric", BOOLEAN),
-    Key("path", STRING),
-    Key("scale", POSITIVE),
-    Key("sample", _enum(("surface", "volume"))),
-    Key("carrier_radius", POSITIVE, "m (physical parts)"),
+    Key("shape", _enum(BODY_SHAPES), "a region to design in", default="ball"),
+    Key("radius", POSITIVE, "radius (required)", "m"),
+    Key(
+        "height", POSITIVE, "full height along body z, spanning -height/2..height/2 (required)", "m"
+    ),
+    Key(
+        "spacing",
+        POSITIVE,
+        "lattice spacing (required for a mesh with sample = volume)",
+        "m",
+        source="ball radius/4, box min(half_size)/2, cylinder min(radius, height/2)/4",
+    ),
+    Key(
+        "n_points",
+        {"type": "integer", "minimum": 1},
+        "about this many points on the sphere (Fibonacci rule)",
+        default=200,
+    ),
+    Key("half_size", _SIZE, "half edge lengths (one of half_size, size required)", "m"),
+    Key("size", _SIZE, "full edge lengths (one of half_size, size required)", "m"),
+    Key("center", VECTOR, "offset of the shape", "m", (0.0, 0.0, 0.0), "O, the fixed point"),
+    Key(
+        "symmetric",
+        BOOLEAN,
+        "close the set under x -> -x, y -> -y, z -> -z and x <-> y",
+        source="true for shapes symmetric already (centred ball, cylinder, shell, square box)",
+    ),
+    Key("path", STRING, "the points' or mesh's file, relative to the scene file"),
+    Key("scale", POSITIVE, "metres per file unit", default=1.0),
+    Key(
+        "sample", _enum(("surface", "volume")), "a mesh's vertices or its volume", default="surface"
+    ),
+    Key(
+        "carrier_radius",
+        POSITIVE,
+        "radius of every charge carrier (physical parts)",
+        "m",
+        source="a quarter of the candidate spacing: carriers never touch",
+    ),
     Key("design", STRING, "a design.json to simulate"),
-    Key("charges", {**_BLOCK, "properties": {"positions": POINTS, "values": NUMBERS}}),
-    Key("masses", {**_BLOCK, "properties": {"positions": POINTS, "values": NUMBERS}}),
-    Key("dipoles", {**_BLOCK, "properties": {"positions": POINTS, "moments": POINTS}}),
+    Key(
+        "charges",
+        {**_BLOCK, "properties": {"positions": POINTS, "values": NUMBERS}},
+        "inline charges (m, C)",
+    ),
+    Key(
+        "masses",
+        {**_BLOCK, "properties": {"positions": POINTS, "values": NUMBERS}},
+        "inline masses (m, kg)",
+    ),
+    Key(
+        "dipoles",
+        {**_BLOCK, "properties": {"positions": POINTS, "moments": POINTS}},
+        "inline dipoles (m, A m^2)",
+    ),
 )
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
@@ -217,9 +533,25 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
 }
 
 
+#: every key table by its place in a scene (a field's keys hold for each fields.<kind>)
+DECLARED: dict[str, tuple[Key, ...]] = {"parameters": PARAMETERS, "fields": FIELD, **TABLE_KEYS}
+
+
 def key_names(table: str) -> tuple[str, ...]:
     """The names of a table's keys, in their declared order."""
-    return tuple(key.name for key in TABLE_KEYS[table])
+    return tuple(key.name for key in DECLARED[table])
+
+
+def declared(table: str, name: str) -> Key:
+    """The declaration of one key."""
+    return next(key for key in DECLARED[table] if key.name == name)
+
+
+def default_of(table: str, name: str) -> Any:
+    """The declared default of a key (its owner's typed options read it here)."""
+    key = declared(table, name)
+    assert key.has_default, f"{table}.{name} has no declared default"
+    return key.default
 
 
 def check_table(table: Any, name: str, where: str | None = None) -> Mapping[str, Any]:
@@ -237,6 +569,6 @@ def table_schema(name: str, description: str) -> dict[str, Any]:
     return {
         "type": "object",
         "description": description,
-        "properties": {key.name: key.json_schema() for key in TABLE_KEYS[name]},
+        "properties": {key.name: key.json_schema() for key in DECLARED[name]},
         "additionalProperties": False,
     }

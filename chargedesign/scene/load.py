@@ -24,6 +24,7 @@ from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.readers import read_toml_file
 from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.keys import check_value, default_of, key_names
 from chargedesign.scene.medium import Medium
 from chargedesign.scene.physical import PhysicalSpec, spec_from_tables
 from chargedesign.scene.simulation import (
@@ -36,7 +37,6 @@ from chargedesign.scene.simulation import (
 from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.validation import (
     as_array,
-    as_finite_float,
     check_field_degree,
     check_keys,
     check_parameters_range,
@@ -171,7 +171,7 @@ def parse_field(spec: Any, where: str) -> tuple[float, ...]:
     """A field table: either the paper's ``a1``/``a2`` (magnetic) or ``legendre = [...]``."""
     if not isinstance(spec, dict):
         raise input_error(where, "a table", spec)
-    check_keys(spec, ("a1", "a2", "legendre", "max"), where)
+    check_keys(spec, key_names("fields"), where)
     if "legendre" in spec:
         if "a1" in spec or "a2" in spec:
             raise InputError(f"{where}: give either legendre or a1/a2, not both")
@@ -180,8 +180,8 @@ def parse_field(spec: Any, where: str) -> tuple[float, ...]:
             return ()
         check_field_degree(value, f"{where}.legendre")
         return tuple(float(x) for x in as_array(value, f"{where}.legendre", (None,)))
-    a1 = as_finite_float(spec.get("a1", 0.0), f"{where}.a1")
-    a2 = as_finite_float(spec.get("a2", 0.0), f"{where}.a2")
+    a1 = check_value("fields", "a1", spec.get("a1", default_of("fields", "a1")), f"{where}.a1")
+    a2 = check_value("fields", "a2", spec.get("a2", default_of("fields", "a2")), f"{where}.a2")
     return (a1, 2.0 * a2)
 
 
@@ -210,7 +210,7 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
         if kind not in FIELD_KINDS:
             raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
         if isinstance(spec, dict) and "max" in spec:
-            limits[kind] = as_finite_float(spec["max"], f"fields.{kind}.max", positive=True)
+            limits[kind] = check_value("fields", "max", spec["max"], f"fields.{kind}.max")
             spec = {k: v for k, v in spec.items() if k != "max"}
             if not spec:
                 continue  # a limit only: the field itself is for the engine to derive

@@ -14,12 +14,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, GAS_PROPERTIES
-from chargedesign.scene.keys import check_table
+from chargedesign.scene.keys import check_table, check_value, default_of
 from chargedesign.validation import as_finite_float, input_error
 
 #: design.json's keys of a medium (the contract), ``gas`` optional
 DESIGN_KEYS = ("name", "breakdown_V_per_m", "safety")
-DEFAULT_SAFETY = 0.5
+DEFAULT_SAFETY = default_of("medium", "safety")
 
 
 @dataclass(frozen=True)
@@ -95,7 +95,7 @@ def _safety(value: Any) -> float:
 
 
 def _gas(value: Any) -> str | None:
-    if value is not None and value not in GAS_PROPERTIES:
+    if value is not None and (not isinstance(value, str) or value not in GAS_PROPERTIES):
         raise input_error("medium.gas", "one of " + ", ".join(GAS_PROPERTIES), value)
     return value
 
@@ -104,13 +104,13 @@ def medium_from_table(table: Mapping[str, Any]) -> Medium:
     """``[medium]``: a named medium or a breakdown field, the safety factor, the gas."""
     check_table(table, "medium")
     if "breakdown" in table:
-        breakdown = as_finite_float(table["breakdown"], "medium.breakdown", positive=True)
+        breakdown = check_value("medium", "breakdown", table["breakdown"])
         name = table.get("name", "custom")
         if not isinstance(name, str):
             raise input_error("medium.name", "a name", name)
     else:
         name = table.get("name")
-        if name not in BREAKDOWN_V_PER_M:
+        if not isinstance(name, str) or name not in BREAKDOWN_V_PER_M:
             raise input_error(
                 "medium.name", "one of " + ", ".join(BREAKDOWN_V_PER_M) + " (or breakdown)", name
             )

@@ -38,7 +38,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     Material,
 )
-from chargedesign.scene.keys import check_table, key_names
+from chargedesign.scene.keys import check_table, check_value, default_of, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
@@ -46,9 +46,9 @@ from chargedesign.validation import as_finite_float, input_error
 #: default carrier radius as a fraction of the candidate spacing (carriers never touch)
 CARRIER_RADIUS_FRACTION = 0.25
 #: default wall of a hollow carrier, m (thin spun or drawn aluminium)
-DEFAULT_SHELL_THICKNESS = 1e-4
+DEFAULT_SHELL_THICKNESS = default_of("carriers", "shell_thickness")
 #: surface sample points per carrier in the design (constraint generation adds the worst)
-DEFAULT_SURFACE_SAMPLES = 26
+DEFAULT_SURFACE_SAMPLES = default_of("carriers", "samples")
 PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
 #: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
 _KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}
@@ -125,7 +125,7 @@ def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], d
     if not isinstance(name, str):
         raise input_error(f"{where}.material", "a material name", name)
     if "density" in table:
-        return name, as_finite_float(table["density"], f"{where}.density", positive=True)
+        return name, check_value(where, "density", table["density"], f"{where}.density")
     if name not in known:
         raise input_error(f"{where}.material", "one of " + ", ".join(known), name)
     return name, known[name]
@@ -191,9 +191,7 @@ def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:
     )
     if shell < 0:
         raise input_error("carriers.shell_thickness", "a thickness >= 0 (0: solid)", shell)
-    samples = carriers.get("samples", DEFAULT_SURFACE_SAMPLES)
-    if isinstance(samples, bool) or not isinstance(samples, int) or not 6 <= samples <= 2000:
-        raise input_error("carriers.samples", "an integer in [6, 2000]", samples)
+    samples = check_value("carriers", "samples", carriers.get("samples", DEFAULT_SURFACE_SAMPLES))
     carrier = Material(
         "carrier",
         name,
@@ -223,12 +221,12 @@ def _magnet(magnets: Mapping[str, Any]) -> Material:
     else:
         m_mag, m_rho = 0.0, 0.0
     if "magnetisation" in magnets:
-        m_mag = as_finite_float(magnets["magnetisation"], "magnets.magnetisation", positive=True)
+        m_mag = check_value("magnets", "magnetisation", magnets["magnetisation"])
     if "density" in magnets:
-        m_rho = as_finite_float(magnets["density"], "magnets.density", positive=True)
+        m_rho = check_value("magnets", "density", magnets["density"])
     coercivity = MAGNET_COERCIVITY.get(mname)
     if "coercivity" in magnets:
-        coercivity = as_finite_float(magnets["coercivity"], "magnets.coercivity", positive=True)
+        coercivity = check_value("magnets", "coercivity", magnets["coercivity"])
     return Material(
         "magnet",
         mname,

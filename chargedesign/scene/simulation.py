@@ -17,16 +17,12 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import key_names
+from chargedesign.scene.keys import DECLARED, check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
-from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.validation import as_array, check_keys, input_error
 from chargedesign.vocabulary import (
-    DEFAULT_SIMULATION_METHOD,
     MONITOR_ALIASES,
     MONITOR_NAMES,
-    SIMULATION_AXES,
-    SIMULATION_METHODS,
-    SIMULATION_ROUTES,
     STATE_NAMES,
 )
 
@@ -43,16 +39,16 @@ DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", 
 class SimulationOptions:
     """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
 
-    t_end: float = 100.0
-    rtol: float = 1e-12
-    atol: float = 1e-12
-    method: str = DEFAULT_SIMULATION_METHOD
+    t_end: float = default_of("simulation", "t_end")
+    rtol: float = default_of("simulation", "rtol")
+    atol: float = default_of("simulation", "atol")
+    method: str = default_of("simulation", "method")
     effects: list[str] | None = None
     max_step: float = math.inf
     step: float | None = None
-    samples: int = 2001
-    route: str = "reduced"
-    gamma3_min: float = 1e-2
+    samples: int = default_of("simulation", "samples")
+    route: str = default_of("simulation", "route")
+    gamma3_min: float = default_of("simulation", "gamma3_min")
     #: tolerance of the taylor method (None: machine epsilon)
     tol: float | None = None
     #: monitors asked for (names of :data:`.monitors.MONITORS` or callables)
@@ -66,23 +62,11 @@ class OutputOptions:
     """Validated ``[output]`` settings."""
 
     dir: str | None = None
-    trajectory: bool = True
-    plot: bool = True
-    poincare: bool = False
-    poincare_section: str = "gamma1"
-    poincare_axes: tuple[str, str] = ("gamma2", "q")
-
-
-def _bool(value: Any, name: str) -> bool:
-    if not isinstance(value, bool):
-        raise input_error(name, "true or false", value)
-    return value
-
-
-def _int(value: Any, name: str, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise input_error(name, f"an integer >= {minimum}", value)
-    return int(value)
+    trajectory: bool = default_of("output", "trajectory")
+    plot: bool = default_of("output", "plot")
+    poincare: bool = default_of("output", "poincare")
+    poincare_section: str = default_of("output", "poincare_section")
+    poincare_axes: tuple[str, str] = default_of("output", "poincare_axes")
 
 
 def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
@@ -99,18 +83,16 @@ def parse_simulation_options(
         raise input_error(where, "a table", table)
     check_keys(table, SIMULATION_KEYS, where)
     opts = SimulationOptions()
-    for key in ("t_end", "rtol", "atol", "max_step", "step", "gamma3_min", "tol"):
+    # the numbers (each > 0; an infinite max_step is the unbounded default)
+    for key in (k.name for k in DECLARED["simulation"] if k.schema.get("type") == "number"):
         if key in table:
             value = table[key]
             if key == "max_step" and value == math.inf:
                 continue
-            setattr(opts, key, as_finite_float(value, f"{where}.{key}", positive=True))
-    if "method" in table:
-        opts.method = check_choice(table["method"], f"{where}.method", SIMULATION_METHODS)
-    if "route" in table:
-        opts.route = check_choice(table["route"], f"{where}.route", SIMULATION_ROUTES)
-    if "samples" in table:
-        opts.samples = _int(table["samples"], f"{where}.samples", 2)
+            setattr(opts, key, check_value("simulation", key, value, f"{where}.{key}"))
+    for key in ("method", "route", "samples"):
+        if key in table:
+            setattr(opts, key, check_value("simulation", key, table[key], f"{where}.{key}"))
     if "effects" in table:
         effects = table["effects"]
         if not isinstance(effects, (list, tuple)) or not all(isinstance(e, str) for e in effects):
@@ -119,7 +101,7 @@ def parse_simulation_options(
     if "monitors" in table and table["monitors"] is not None:
         opts.monitors = parse_monitors(table["monitors"], f"{where}.monitors")
     if "axes" in table and table["axes"] is not None:
-        opts.axes = check_choice(table["axes"], f"{where}.axes", SIMULATION_AXES)
+        opts.axes = check_value("simulation", "axes", table["axes"], f"{where}.axes")
     return opts
 
 
@@ -133,13 +115,9 @@ def parse_output_options(table: Mapping[str, Any], where: str = "output") -> Out
         if not isinstance(table["dir"], str) or not table["dir"]:
             raise input_error(f"{where}.dir", "a directory path", table["dir"])
         out.dir = table["dir"]
-    for key in ("trajectory", "plot", "poincare"):
+    for key in ("trajectory", "plot", "poincare", "poincare_section"):
         if key in table:
-            setattr(out, key, _bool(table[key], f"{where}.{key}"))
-    if "poincare_section" in table:
-        out.poincare_section = check_choice(
-            table["poincare_section"], f"{where}.poincare_section", STATE_NAMES
-        )
+            setattr(out, key, check_value("output", key, table[key], f"{where}.{key}"))
     if "poincare_axes" in table:
         axes = table["poincare_axes"]
         if (
@@ -189,7 +167,9 @@ def parse_initial(
     if norm < 1e-12:
         raise input_error(f"{where}.gamma", "a non-zero vector", table["gamma"])
     out: dict[str, Any] = {"gamma": gamma / norm, "gamma_norm": norm}
-    out["precession"] = as_finite_float(table.get("precession", 0.0), f"{where}.precession")
+    out["precession"] = check_value(
+        "initial", "precession", table.get("precession", 0.0), f"{where}.precession"
+    )
     if "level" in table:
         if "omega" in table:
             raise InputError(f"{where}: give either omega or level with p and q, not both")
@@ -207,8 +187,8 @@ def parse_initial(
             if key not in table:
                 raise InputError(f"{where}: level needs key '{key}'")
         out["level"] = value
-        out["p"] = as_finite_float(table["p"], f"{where}.p")
-        out["q"] = as_finite_float(table["q"], f"{where}.q")
+        out["p"] = check_value("initial", "p", table["p"], f"{where}.p")
+        out["q"] = check_value("initial", "q", table["q"], f"{where}.q")
     else:
         if "omega" not in table:
             raise InputError(f"{where}: give omega, or level = 'I3=0' with p and q")

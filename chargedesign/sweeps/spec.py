@@ -17,18 +17,18 @@ seed = 0
 ```
 
 Every key is checked against the scene before anything runs: one-line errors name the key
-(unknown scene key, empty grid, wrong command, bad random spec). ``command`` names a built-in
-command only; a file never names code to import or run. A function of your own is passed
-from Python: ``load_sweep(path, command=function)`` or ``cd.sweep(path, out, command=function)``.
+(unknown scene key, empty grid, wrong command, bad random spec). The file's own structure is
+read at the boundary (:mod:`chargedesign.scene.sweep_file`); this module checks what the
+points mean for the stages (each point's whole scene, its candidates, its work).
+``command`` names a built-in command only; a file never names code to import or run. A
+function of your own is passed from Python: ``load_sweep(path, command=function)`` or
+``cd.sweep(path, out, command=function)``.
 """
 
 from __future__ import annotations
 
-import copy
 import itertools
-import math
 import os
-import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,19 +36,29 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.candidates import candidates_from_table
+from chargedesign.candidates import candidates_from_region
+from chargedesign.designer.pipeline import larmor_of_scene
 from chargedesign.errors import InputError
-from chargedesign.formatting import fmt
-from chargedesign.limits import MAX_PERIODS, MAX_SWEEP_POINTS, OPTION_RANGES
+from chargedesign.limits import MAX_PERIODS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
-from chargedesign.scene import KNOWN_TABLES, default_scene_text, scene_from_dict, validated
+from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
+from chargedesign.scene.sweep_file import (
+    base_scene,
+    check_point_count,
+    check_point_value,
+    check_sweep_keys,
+    grid_lists,
+    random_points,
+    random_table,
+    scene_with,
+    sweep_tables,
+)
+from chargedesign.simulation.api import setup_from_scene
+from chargedesign.simulation.axes import resolve_axes
 from chargedesign.sweeps.registry import check_command, resolve
 from chargedesign.tolerancing import ErrorModel, MaterialErrors
-from chargedesign.validation import check_error_spreads, check_periods, check_tree
+from chargedesign.validation import check_error_spreads, check_periods, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
-
-SWEEP_KEYS = ("scene", "command", "chunk", "grid", "random", "options")
-RANDOM_KINDS = ("uniform", "log_uniform", "choice")
 
 
 @dataclass
@@ -89,27 +99,6 @@ class SweepSpec:
         return [f"p{i:0{width}d}" for i in range(len(self.points))]
 
 
-def set_dotted(data: dict[str, Any], key: str, value: Any) -> None:
-    """``data["a"]["b"]["c"] = value`` for ``key = "a.b.c"`` (tables created as needed)."""
-    parts = key.split(".")
-    node = data
-    for part in parts[:-1]:
-        child = node.get(part)
-        if child is None:
-            child = node[part] = {}
-        if not isinstance(child, dict):
-            raise InputError(f"grid key {key!r}: {part!r} is a value, not a table, in the scene")
-        node = child
-    node[parts[-1]] = value
-
-
-def scene_with(base: Mapping[str, Any], point: Mapping[str, Any]) -> dict[str, Any]:
-    data = copy.deepcopy(dict(base))
-    for key, value in point.items():
-        set_dotted(data, key, value)
-    return data
-
-
 def validate_scene_key(
     data: dict[str, Any], key: str, source: str, scene_source: str = "<sweep>"
 ) -> None:
@@ -128,47 +117,12 @@ def validate_scene_key(
     try:
         # every table by its owner (chargedesign.scene.validate_tables), and a region's points
         scene = validated(scene_from_dict(data, source=scene_source))
-        if parts[0] == "body" and scene.body is not None and "shape" in scene.body.table:
-            candidates_from_table(scene.body.table, base_dir=scene.base_dir)
+        if parts[0] == "body" and scene.region is not None and "shape" in scene.region.table:
+            candidates_from_region(scene.region.spec(), base_dir=scene.base_dir)
     except InputError as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
     except (TypeError, ValueError) as exc:
         raise InputError(f"{source}: scene key {key!r}: {exc}") from None
-
-
-def _random_values(key: str, spec: Any, n: int, rng: np.random.Generator, source: str) -> list:
-    where = f"{source}: random key {key!r}"
-    if not isinstance(spec, dict) or len(spec) != 1 or next(iter(spec)) not in RANDOM_KINDS:
-        raise InputError(
-            f"{where}: expected one of {{uniform = [lo, hi]}}, "
-            "{log_uniform = [lo, hi]}, {choice = [...]}"
-        )
-    kind, arg = next(iter(spec.items()))
-    if not isinstance(arg, list) or not arg:
-        raise InputError(f"{where}: {kind} needs a non-empty list")
-    if kind == "choice":
-        idx = rng.integers(0, len(arg), n)
-        return [arg[int(i)] for i in idx]
-    if (
-        len(arg) != 2
-        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in arg)
-        or not all(math.isfinite(x) for x in arg)
-        or not arg[0] < arg[1]
-    ):
-        raise InputError(f"{where}: {kind} needs [lo, hi] with lo < hi")
-    lo, hi = float(arg[0]), float(arg[1])
-    if kind == "uniform":
-        return [float(x) for x in rng.uniform(lo, hi, n)]
-    if lo <= 0.0:
-        raise InputError(f"{where}: log_uniform needs lo > 0")
-    return [float(x) for x in np.exp(rng.uniform(math.log(lo), math.log(hi), n))]
-
-
-def check_point_value(value: Any, where: str) -> None:
-    """A swept value: a number within the input range (no nan, no 1e200), a string, a
-    boolean, or a list or table of those (chargedesign.validation.check_tree)."""
-
-    check_tree(value, where)
 
 
 def check_options(command: Any, options: Mapping[str, Any], source: str) -> None:
@@ -228,18 +182,22 @@ def validate_points(
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
     seen: set[str] = set()
+    solvers: list[str] = []
     width = max(4, len(str(max(len(points) - 1, 0))))
     for i, point in enumerate(points):
         try:
             check_point_value(point, f"point p{i:0{width}d}")
             scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
-            body = scene.body.table if scene.body is not None else {}
-            key = repr(sorted(body.items()))
-            if designs and "shape" in body and key not in seen:
+            region = scene.region
+            key = repr(sorted(region.table.items())) if region is not None else ""
+            if designs and region is not None and "shape" in region.table and key not in seen:
                 seen.add(key)
-                candidates_from_table(body, base_dir=base)
+                candidates_from_region(region.spec(), base_dir=base)
+            if designs:
+                _check_solver(scene.design.solver, solvers)
             if command == "simulate":
                 _check_motion_work(scene, (options or {}).get("t_end"))
+                _check_axes(scene)
             elif command == "tolerance":
                 _check_drift_work(scene, options or {})
                 _check_material_work(scene, options or {})
@@ -257,6 +215,40 @@ def _check_motion_work(scene: Any, t_end: Any) -> None:
     else:
         t_end, option = scene.simulation.t_end, "simulation.t_end"
     check_periods(t_end, scene.parameters, scene.table("initial"), MAX_PERIODS, option)
+
+
+def _check_solver(name: str, installed: list[str]) -> None:
+    """``design.solver``: ``auto`` or a solver cvxpy has installed (the designer reads it in
+    upper case). A name that named nothing failed only when its point ran, after the others
+    had written (issue 32). ``installed`` caches cvxpy's list once it is read."""
+
+    if name.upper() == "AUTO":
+        return
+    if not installed:
+        import cvxpy  # heavy: loaded only for a sweep whose scene names a solver
+
+        installed[:] = sorted(cvxpy.installed_solvers())
+    if name.upper() not in installed:
+        raise input_error(
+            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
+        )
+
+
+def _check_axes(scene: Any) -> None:
+    """``simulation.axes = "turning"`` needs a frame body: a design.json read in the frame
+    reading, or a ``[body]`` region designed in it (``[design] larmor``, else frame with
+    ``[medium]``: the designer's rule, :func:`.larmor_of_scene`). It was refused only when its
+    point ran, after the others had written (issue 32)."""
+
+    if scene.simulation.axes != "turning":
+        return  # inertial axes (or the default) suit every body
+    setup = setup_from_scene(scene)  # a referenced design.json is read (one-line errors)
+    larmor = setup.larmor
+    effects = scene.simulation.effects
+    if setup.design_scene is not None and (effects is None or set(effects) - {"theorem"}):
+        # a region the run designs first (the theorem effect alone designs nothing)
+        larmor = larmor_of_scene(scene.design, scene.parameters, scene.physical is not None)[0]
+    resolve_axes("turning", larmor, "simulation.axes")
 
 
 def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
@@ -286,17 +278,6 @@ def _check_material_work(scene: Any, options: Mapping[str, Any]) -> None:
         )
 
 
-def _check_sweep_keys(data: Any, source: str) -> None:
-    """A table of known sweep keys."""
-    if not isinstance(data, Mapping):
-        raise InputError(f"{source}: expected a table of sweep keys")
-    unknown = sorted(set(data) - set(SWEEP_KEYS))
-    if unknown:
-        raise InputError(
-            f"{source}: unknown sweep key {unknown[0]!r} (expected {', '.join(SWEEP_KEYS)})"
-        )
-
-
 def _chosen_command(
     data: Mapping[str, Any], source: str, command: Callable[..., dict[str, Any]] | None
 ) -> str | Callable[..., dict[str, Any]]:
@@ -317,117 +298,6 @@ def _chosen_command(
     check_command(data["command"], f"{source}: command")
     chosen: str = data["command"]
     return chosen
-
-
-def _base_scene(
-    data: Mapping[str, Any], source: str, base_dir: Path | None
-) -> tuple[dict[str, Any], str]:
-    """The base scene's TOML mapping and its source (a path, or ``<default>``)."""
-
-    scene_value = data.get("scene")
-    if scene_value is None:
-        return tomllib.loads(default_scene_text()), "<default>"
-    if not isinstance(scene_value, str) or not scene_value:
-        raise InputError(f"{source}: scene: expected a path to a scene file, got {scene_value!r}")
-    path = Path(scene_value)
-    if not path.is_absolute() and base_dir is not None:
-        path = base_dir / path
-    try:
-        # missing, special files, size, encoding and depth: one line each
-        scene_data = read_toml_file(path, "scene file")
-    except InputError as exc:
-        raise InputError(f"{source}: scene: {exc}") from None
-    return scene_data, str(path)
-
-
-def _sweep_tables(data: Mapping[str, Any], source: str) -> tuple[int, dict, dict, dict | None]:
-    """The ``chunk``, ``options``, ``grid`` and ``random`` entries, of the right types."""
-    chunk = data.get("chunk", 0)
-    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 0:
-        raise InputError(f"{source}: chunk: expected an integer >= 0, got {chunk!r}")
-    options = data.get("options", {})
-    if not isinstance(options, dict):
-        raise InputError(f"{source}: options: expected a table")
-    grid = data.get("grid", {})
-    if not isinstance(grid, dict):
-        raise InputError(f"{source}: grid: expected a table of dotted scene keys")
-    random = data.get("random")
-    if random is not None and not isinstance(random, dict):
-        raise InputError(f"{source}: random: expected a table")
-    return chunk, options, grid, random
-
-
-def _grid_lists(grid: Mapping[str, Any], source: str) -> tuple[list[str], list[list[Any]]]:
-    """The grid's keys and their (non-empty) lists of values."""
-    keys: list[str] = []
-    value_lists: list[list[Any]] = []
-    for key, values in grid.items():
-        if not isinstance(values, list):
-            raise InputError(f"{source}: grid key {key!r}: expected a list of values")
-        if not values:
-            raise InputError(f"{source}: grid key {key!r}: empty list of values (empty grid)")
-        keys.append(key)
-        value_lists.append(values)
-    return keys, value_lists
-
-
-def _random_table(
-    random: Mapping[str, Any] | None, grid: Mapping[str, Any], source: str
-) -> tuple[dict[str, Any], int, int]:
-    """The ``[random]`` table's sampled keys, number of samples and seed (none: no keys)."""
-    if random is None:
-        return {}, 0, 0
-    n_random = random.get("samples", 0)
-    seed = random.get("seed", 0)
-    if isinstance(n_random, bool) or not isinstance(n_random, int) or n_random < 1:
-        raise InputError(f"{source}: random.samples: expected an integer >= 1, got {n_random!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InputError(f"{source}: random.seed: expected an integer >= 0, got {seed!r}")
-    random_keys = {k: v for k, v in random.items() if k not in ("samples", "seed")}
-    if not random_keys:
-        raise InputError(f"{source}: random: no keys to sample (empty random sample)")
-    for key in random_keys:
-        if key in grid:
-            raise InputError(f"{source}: random key {key!r} is also a grid key")
-    return random_keys, n_random, seed
-
-
-def _check_point_count(
-    keys: list[str],
-    value_lists: list[list[Any]],
-    random_keys: Mapping[str, Any],
-    n_random: int,
-    max_points: int | None,
-    source: str,
-) -> None:
-    """Some keys to sweep, and the points (grid points times draws) within the cap."""
-    if not keys and not random_keys:
-        raise InputError(f"{source}: grid: empty grid (give at least one dotted key with values)")
-    count = math.prod(len(v) for v in value_lists) * (n_random if random_keys else 1)
-    cap = MAX_SWEEP_POINTS if max_points is None else max_points
-    if count > cap:
-        raise InputError(
-            f"{source}: {fmt(count)} points exceed the cap of {cap} "
-            "(chargedesign.limits.MAX_SWEEP_POINTS); --max-points N raises it"
-        )
-
-
-def _random_points(
-    grid_points: list[dict[str, Any]],
-    random_keys: Mapping[str, Any],
-    n_random: int,
-    rng: np.random.Generator,
-    source: str,
-) -> list[dict[str, Any]]:
-    """``n_random`` draws of the random keys at every grid point (drawn per grid point)."""
-    points: list[dict[str, Any]] = []
-    for gp in grid_points:
-        draws = {k: _random_values(k, v, n_random, rng, source) for k, v in random_keys.items()}
-        for i in range(n_random):
-            p = dict(gp)
-            p.update({k: draws[k][i] for k in random_keys})
-            points.append(p)
-    return points
 
 
 def _check_grid_values(
@@ -482,19 +352,19 @@ def sweep_from_dict(
     max_points : int, optional
         Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
     """
-    _check_sweep_keys(data, source)
+    check_sweep_keys(data, source)
     chosen = _chosen_command(data, source, command)
-    scene_data, scene_source = _base_scene(data, source, base_dir)
-    chunk, options, grid, random = _sweep_tables(data, source)
-    keys, value_lists = _grid_lists(grid, source)
-    random_keys, n_random, seed = _random_table(random, grid, source)
+    scene_data, scene_source = base_scene(data, source, base_dir)
+    chunk, options, grid, random = sweep_tables(data, source)
+    keys, value_lists = grid_lists(grid, source)
+    random_keys, n_random, seed = random_table(random, grid, source)
     # the work, counted before any point is built
-    _check_point_count(keys, value_lists, random_keys, n_random, max_points, source)
+    check_point_count(keys, value_lists, random_keys, n_random, max_points, source)
     _check_grid_values(keys, value_lists, scene_data, scene_source, source)
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     if random_keys:
         rng = np.random.default_rng(seed)
-        points = _random_points(points, random_keys, n_random, rng, source)
+        points = random_points(points, random_keys, n_random, rng, source)
         _check_random_values(points, random_keys, scene_data, scene_source, source)
     check_options(chosen, options, source)
     validate_points(scene_data, scene_source, points, chosen, source, options)

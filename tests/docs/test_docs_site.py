@@ -40,3 +40,23 @@ def test_the_contract_is_in_the_repository_and_linked():
 @pytest.mark.parametrize("name", ["gallery_default.png", "gallery_yehia2003.png"])
 def test_gallery_pictures_exist(name):
     assert (ROOT / "docs" / "images" / name).stat().st_size > 10_000
+
+
+def test_the_docs_key_tables_are_the_declarations():
+    """Every ``<!-- keys:TABLE -->`` block of docs/ is the table generated from
+    chargedesign/scene/keys.py (regenerate: python tools/docs_tables.py)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("docs_tables", ROOT / "tools/docs_tables.py")
+    assert spec is not None and spec.loader is not None
+    docs_tables = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(docs_tables)
+    pages = docs_tables.pages()
+    assert {p.name for p in pages} >= {"schemas.md", "design.md"}
+    for page in pages:
+        text = page.read_text("utf-8")
+        assert docs_tables.generated(text) == text, f"{page.name}: run tools/docs_tables.py"
+    blocks = {m.group(2) for p in pages for m in docs_tables.BLOCK.finditer(p.read_text("utf-8"))}
+    from chargedesign.scene.keys import DECLARED
+
+    assert blocks == set(DECLARED)  # every declared table has its generated table

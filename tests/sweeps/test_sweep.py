@@ -318,3 +318,49 @@ def test_a_tolerance_sweep_takes_the_materials_errors_as_the_command_does(tmp_pa
         written["materials"]["induced_fraction"]["monte_carlo"]["p90"]
         == row["induced_fraction_p90"]
     )
+
+
+#: a small region scene whose body the designer would make (charges reading: no [medium])
+_REGION = (
+    "[parameters]\nC = 1.0\nc = 0.3\nd = -0.4\nn = 0.7\nK = 0.5\nkappa = 0.9\n"
+    '[fields.magnetic]\na1 = 1.0\na2 = 0.5\n[body]\nshape = "ball"\nradius = 1.0\n'
+    "spacing = 0.34\n[simulation]\nt_end = 1.0\nsamples = 11\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("scene", "command", "grid", "refused"),
+    [
+        # the theorem's reduced model and a region designed in the charges reading: no frame
+        ("theorem", "simulate", '"simulation.axes" = ["inertial", "turning"]', "p0001"),
+        ("region", "simulate", '"simulation.axes" = ["inertial", "turning"]', "p0001"),
+        ("region", "design", '"design.solver" = ["auto", "NOSUCH"]', "p0001"),
+        ("region", "design", '"design.solver" = ["clarabel", "highs"]', None),
+        # the same region designed in the frame reading may be read in turning axes
+        (
+            "region",
+            "simulate",
+            '"simulation.axes" = ["turning"]\n"design.larmor" = ["frame"]',
+            None,
+        ),
+    ],
+)
+def test_values_valid_only_for_some_bodies_are_checked_for_every_point_before_any_runs(
+    tmp_path, scene, command, grid, refused
+):
+    """Issue 32: "simulation.axes" = "turning" on a body without a frame reading, and a
+    design.solver that names no installed solver, failed only when their point ran, after the
+    points before them had written. Validation alone (load_sweep) finds them now."""
+    text = (EXAMPLES / "theorem_scene.toml").read_text() if scene == "theorem" else _REGION
+    (tmp_path / "scene.toml").write_text(text)
+    path = tmp_path / "sweep.toml"
+    path.write_text(f'scene = "scene.toml"\ncommand = "{command}"\n[grid]\n{grid}\n')
+    if refused is None:
+        assert len(load_sweep(path).points) >= 1
+        return
+    with pytest.raises(InputError) as info:
+        load_sweep(path)
+    line = str(info.value)
+    assert "\n" not in line and f"point {refused}" in line, line
+    key = "simulation.axes" if "axes" in grid else "design.solver"
+    assert f"{key}: " in line and ("frame body" in line or "installed solver" in line), line

@@ -1,7 +1,7 @@
-"""The second reliability pass (issue 22): outputs never destroy inputs and are checked before
-the work, every command validates the whole file it reads, checks never pass what they should
-not, degenerate requests and out-of-range options are refused, work is capped before it
-starts, sweeps are validated point by point before any runs.
+"""Refusals before any work (first asked for in issue 22): outputs never destroy inputs and
+are checked before the work, every command validates the whole file it reads, checks never
+pass what they should not, degenerate requests and out-of-range options are refused, work is
+capped before it starts, sweeps are validated point by point before any runs.
 
 Every case asserts one error line (no traceback), nothing written and the inputs unchanged
 (or, for a cap, the refusal and the option that raises it).
@@ -211,7 +211,7 @@ def test_check_needs_realises_to_give_a_verdict(work: Path, capsys) -> None:
 
 
 @pytest.mark.parametrize("command", ["check", "export", "simulate"])
-def test_a_physical_design_without_materials_isrefused(
+def test_a_physical_design_without_materials_is_refused(
     command: str, work: Path, capsys, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     medium = {"name": "air", "breakdown_V_per_m": 3e6, "safety": 0.5}
@@ -228,7 +228,7 @@ def test_a_physical_design_without_materials_isrefused(
 # ------------------------------------------------------------------ degenerate requests
 
 
-def test_a_design_that_realises_nothing_isrefused(work: Path, capsys) -> None:
+def test_a_design_that_realises_nothing_is_refused(work: Path, capsys) -> None:
     (work / "s.toml").write_text(SMALL_SCENE + "\n[design]\nrealise = []\n")
     assert "design.realise" in refused(["design", "s.toml", "--out", "o"], "design", capsys, work)
 
@@ -270,7 +270,7 @@ def test_free_motion_is_said_in_the_output(work: Path, capsys) -> None:
     ],
     ids=lambda a: " ".join(a) if isinstance(a, list) else a,
 )
-def test_out_of_range_options_arerefused(
+def test_out_of_range_options_are_refused(
     argv: list[str], option: str, work: Path, capsys, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     design_json(work, realises=["inertia"])
