@@ -32,8 +32,8 @@ denominator that vanishes on the whole sphere (or level) is refused.
 
 from __future__ import annotations
 
-import itertools
 import os
+import random
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -151,9 +151,10 @@ class Case:
         for expr in parts:
             _, denominator = sp.fraction(sp.together(expr))
             factors |= {f for f, _ in sp.factor_list(denominator)[1]}
+        found = sorted(f"{sp.sstr(f)} = 0" for f in factors)
         if self.level is not None:
-            factors.add(g3)
-        return sorted(f"{sp.sstr(f)} = 0" for f in factors)
+            found.append("gamma3 = 0 (r from the level I3 = const)")
+        return found
 
 
 def _exact_number(value: Any, where: str, names: Mapping[str, sp.Symbol] | None = None) -> Any:
@@ -429,16 +430,12 @@ def _evaluate(element: PolyElement, values: Mapping[sp.Symbol, Any]) -> sp.Ratio
     return sp.Rational(ring.domain.to_sympy(element.evaluate(pairs)))
 
 
-#: stereographic parameters and velocities tried, in order, for rational points
-_TRIALS = (
-    sp.Rational(1, 2),
-    sp.Rational(1, 3),
-    sp.Rational(-2, 5),
-    sp.Rational(3, 4),
-    sp.Rational(-1, 7),
-    sp.Integer(2),
-)
-_VELOCITIES = (sp.Rational(1, 3), sp.Rational(-1, 2), sp.Rational(2, 5), sp.Rational(-3, 4))
+#: seed of the rational states tried (deterministic: the same case gives the same points)
+STATE_SEED = 2026
+
+
+def _small_rational(draw: random.Random) -> sp.Rational:
+    return sp.Rational(draw.randint(-6, 6), draw.randint(1, 7))
 
 
 def sphere_point(s1: sp.Rational, s2: sp.Rational) -> tuple[sp.Rational, ...]:
@@ -450,15 +447,21 @@ def sphere_point(s1: sp.Rational, s2: sp.Rational) -> tuple[sp.Rational, ...]:
 
 def rational_states(case: Case, limit: int = 64) -> list[dict[sp.Symbol, sp.Rational]]:
     """Exact rational states on the unit sphere (and on the case's level), at most ``limit``,
-    where every denominator of the case (and ``t`` of r on the level) is non-zero."""
+    where every denominator of the case (and ``t`` of r on the level) is non-zero.
+
+    gamma is the stereographic point of two small rationals, p, q (and r off a level) small
+    rationals, drawn by a generator seeded with :data:`STATE_SEED`.
+    """
     denominators = [as_fraction(e)[1] for e in (case.V, case.integral, *case.equations())]
     if case.level is not None:
         s, t = _r_on_level(case)
-    states = []
-    for s1, s2, pv, qv in itertools.product(_TRIALS, _TRIALS, _VELOCITIES, _VELOCITIES):
-        gamma = sphere_point(s1, s2)
-        values: dict[sp.Symbol, Any] = {g1: gamma[0], g2: gamma[1], g3: gamma[2], p: pv, q: qv}
-        values[r] = sp.Rational(3, 5) - qv
+    states: list[dict[sp.Symbol, sp.Rational]] = []
+    draw = random.Random(STATE_SEED)
+    for _ in range(50 * limit):
+        gamma = sphere_point(_small_rational(draw), _small_rational(draw))
+        values: dict[sp.Symbol, Any] = {g1: gamma[0], g2: gamma[1], g3: gamma[2]}
+        values.update({p: _small_rational(draw), q: _small_rational(draw)})
+        values[r] = _small_rational(draw)
         if case.level is not None:
             values[r] = sp.Integer(0)
             t_value = _evaluate(t, values)
