@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import ast
 import keyword
+import math
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from fractions import Fraction
 
 import sympy as sp
@@ -54,6 +55,9 @@ MAX_DEGREE = 64
 MAX_LITERAL_DIGITS = 40
 #: most digits (numerator plus denominator) of a number made by a power of a number
 MAX_NUMBER_DIGITS = 400
+#: largest bound on the number of terms of an expanded product or power (the certificate's
+#: work grows with it; the theorem's integral I4 reaches 105)
+MAX_TERMS = 20_000
 
 ACCEPTED = (
     "accepted: numbers, p q r gamma1 gamma2 gamma3, the declared parameters, + - * /, "
@@ -93,11 +97,15 @@ _BINARY_NAMES = {
 
 
 def parameter_name_error(name: object) -> str | None:
-    """Why ``name`` cannot name a parameter, or None when it can."""
+    """Why ``name`` cannot name a parameter, or None when it can.
+
+    A Python keyword may name a parameter (the theorem's ``lambda``): the parser reads it
+    under an alias, it never becomes the keyword.
+    """
     if not isinstance(name, str) or not _NAME.match(name):
         return "a parameter name is a letter followed by letters, digits or _"
-    if keyword.iskeyword(name):
-        return f"{name!r} is a Python keyword (e.g. write lam for lambda)"
+    if name in ("True", "False", "None"):
+        return f"{name!r} is a Python constant"
     if name in STATE_NAMES:
         return f"{name!r} is a state variable"
     return None
@@ -215,8 +223,16 @@ def parse_expression(
         raise InputError(f"{where}: expected an expression, got an empty string")
     # read inside one pair of parentheses: expressions may span lines and start with spaces
     source = f"({source})"
+    parsed = source
+    for name in list(names):
+        if keyword.iskeyword(name):
+            # a parameter named like a Python keyword (the theorem's lambda) is read under an
+            # alias of the same length (columns unchanged) that no declared name can take
+            alias = "_" + name[1:]
+            parsed = re.sub(rf"(?<![A-Za-z0-9_]){name}(?![A-Za-z0-9_])", alias, parsed)
+            names[alias] = names.pop(name)
     try:
-        tree = ast.parse(source, mode="eval")
+        tree = ast.parse(parsed, mode="eval")
     except SyntaxError as exc:
         place = ""
         if exc.offset:
@@ -240,10 +256,11 @@ def parse_expression(
                 stack.append(node.right)
         elif isinstance(node, ast.UnaryOp):
             stack.append(node.operand)
-    built: dict[int, tuple[sp.Expr, int]] = {}  # id(node) -> (expression, degree bound)
+    # id(node) -> (expression, bound on its degree, bound on its expanded terms)
+    built: dict[int, tuple[sp.Expr, int, int]] = {}
     for node in reversed(order):
         built[id(node)] = _build(where, source, node, names, built)
-    expression, _ = built[id(tree.body)]
+    expression, _, _ = built[id(tree.body)]
     return expression
 
 
@@ -252,22 +269,22 @@ def _build(
     text: str,
     node: ast.AST,
     names: Mapping[str, sp.Expr],
-    built: Mapping[int, tuple[sp.Expr, int]],
-) -> tuple[sp.Expr, int]:
+    built: Mapping[int, tuple[sp.Expr, int, int]],
+) -> tuple[sp.Expr, int, int]:
     if isinstance(node, ast.Constant):
-        return _literal(where, text, node), 0
+        return _literal(where, text, node), 0, 1
     if isinstance(node, ast.Name):
         if node.id not in names:
             raise InputError(
-                f"{where}: the name `{node.id}` at {_at(node)} is not a state "
-                "variable (p q r gamma1 gamma2 gamma3) nor a declared parameter"
+                f"{where}: the name `{ast.get_source_segment(text, node)}` at {_at(node)} is "
+                "not a state variable (p q r gamma1 gamma2 gamma3) nor a declared parameter"
             )
-        return names[node.id], 1
+        return names[node.id], 1, 1
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        value, degree = built[id(node.operand)]
-        return (-value if isinstance(node.op, ast.USub) else value), degree
+        value, degree, terms = built[id(node.operand)]
+        return (-value if isinstance(node.op, ast.USub) else value), degree, terms
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
-        base, degree = built[id(node.left)]
+        base, degree, terms = built[id(node.left)]
         exponent = _exponent(where, text, node.right)
         if exponent < 0 and base == 0:
             raise InputError(f"{where}: zero to a negative power at {_at(node)}")
@@ -276,19 +293,23 @@ def _build(
                 f"{where}: the power at {_at(node)} makes a number of more than "
                 f"{MAX_NUMBER_DIGITS} digits"
             )
-        return _bounded(where, node, base**exponent, degree * abs(exponent))
+        size = math.comb(terms + abs(exponent) - 1, abs(exponent)) if exponent else 1
+        return _bounded(where, node, degree * abs(exponent), size, lambda: base**exponent)
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
-        left, left_degree = built[id(node.left)]
-        right, right_degree = built[id(node.right)]
-        if isinstance(node.op, ast.Add):
-            return left + right, max(left_degree, right_degree)
-        if isinstance(node.op, ast.Sub):
-            return left - right, max(left_degree, right_degree)
-        if isinstance(node.op, ast.Mult):
-            return _bounded(where, node, left * right, left_degree + right_degree)
-        if right == 0:
+        left, left_degree, left_terms = built[id(node.left)]
+        right, right_degree, right_terms = built[id(node.right)]
+        if isinstance(node.op, (ast.Add, ast.Sub)):
+            value = left + right if isinstance(node.op, ast.Add) else left - right
+            return value, max(left_degree, right_degree), left_terms + right_terms
+        if isinstance(node.op, ast.Div) and right == 0:
             raise InputError(f"{where}: division by zero at {_at(node)}")
-        return _bounded(where, node, left / right, left_degree + right_degree)
+        return _bounded(
+            where,
+            node,
+            left_degree + right_degree,
+            left_terms * right_terms,
+            lambda: left * right if isinstance(node.op, ast.Mult) else left / right,
+        )
     if isinstance(node, ast.BinOp):
         operator = _BINARY_NAMES.get(type(node.op), type(node.op).__name__)
         raise _refuse(where, text, node, f"the operator {operator} in")
@@ -301,10 +322,17 @@ def _digits(value: sp.Rational) -> int:
     return len(str(abs(value.p))) + len(str(value.q))
 
 
-def _bounded(where: str, node: ast.AST, value: sp.Expr, degree: int) -> tuple[sp.Expr, int]:
+def _bounded(
+    where: str, node: ast.AST, degree: int, terms: int, make: Callable[[], sp.Expr]
+) -> tuple[sp.Expr, int, int]:
+    """Build ``make()`` only when the degree and the expanded size stay within bounds."""
     if degree > MAX_DEGREE:
         raise InputError(f"{where}: the expression's degree exceeds {MAX_DEGREE} at {_at(node)}")
-    return value, degree
+    if terms > MAX_TERMS:
+        raise InputError(
+            f"{where}: the expression at {_at(node)} may expand to more than {MAX_TERMS} terms"
+        )
+    return make(), degree, terms
 
 
 __all__ = [
@@ -316,6 +344,7 @@ __all__ = [
     "MAX_NESTING",
     "MAX_NODES",
     "MAX_NUMBER_DIGITS",
+    "MAX_TERMS",
     "STATE_NAMES",
     "parameter_name_error",
     "parameter_symbol",

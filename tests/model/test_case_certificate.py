@@ -97,6 +97,23 @@ def test_the_equations_conserve_h_and_i3_for_a_rational_case() -> None:
     assert "gamma3 = 0" in result.singular
 
 
+def test_the_theorems_lambda_and_another_name_give_the_same_case() -> None:
+    """The theorem's file names lambda as [parameters] does (a keyword, read under an alias);
+    renamed lam, the case is the same."""
+    table = entry_table({"file": "yehia_elmandouh.toml"})
+    renamed = dict(table)
+    renamed["V"] = table["V"].replace("lambda/", "lam/")
+    renamed["integral"] = table["integral"].replace("lambda*", "lam*")
+    parameters = dict(table["parameters"])
+    parameters["lam"] = parameters.pop("lambda")
+    renamed["parameters"] = parameters
+    assert "lambda" not in renamed["V"] + renamed["integral"]
+    case, original = case_from_table(renamed), case_from_table(table)
+    assert sp.expand(sp.together(case.V - original.V)) == 0
+    assert sp.expand(sp.together(case.integral - original.integral)) == 0
+    assert certify_case(case).holds
+
+
 def test_mu_given_instead_of_l() -> None:
     """Joukovsky's gyrostat with mu = k (a constant l gives mu = l by (mu))."""
     table = entry_table({"file": "joukovsky.toml"})
@@ -113,8 +130,8 @@ def test_mu_given_instead_of_l() -> None:
 # ------------------------------------------- the theorem as a case file against the model
 
 PARAMETER_SETS = [
-    {"C": 1.5, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9, "lam": 0.1, "rho": 0.2},
-    {"C": "2/3", "c": -1.25, "d": 2, "n": -0.3, "K": 1.5, "kappa": -0.4, "lam": 0, "rho": 0.05},
+    {"C": 1.5, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9, "lambda": 0.1, "rho": 0.2},
+    {"C": "2/3", "c": -1.25, "d": 2, "n": -0.3, "K": 1.5, "kappa": -0.4, "lambda": 0, "rho": 0.05},
 ]
 
 
@@ -125,7 +142,6 @@ def _theorem_table(parameters: dict[str, Any]) -> dict[str, Any]:
 def _model_values(parameters: dict[str, Any]) -> dict[sp.Symbol, sp.Rational]:
     model = symbolic_case()
     symbols = {str(s): s for s in model.V.free_symbols | model.I4.free_symbols}
-    symbols["lam"] = symbols.pop("lambda")
     return {symbols[k]: sp.Rational(str(v)) for k, v in parameters.items()}
 
 
@@ -184,7 +200,7 @@ def test_off_the_zero_level_the_case_file_and_the_model_agree_on_df_dt(
         ({"level": "high"}, "case.level: the name `high`"),
         ({"level": ""}, "case.level"),
         ({"integral": "1/(gamma1**2 + gamma2**2 + gamma3**2 - 1)"}, "vanishes on the whole sphere"),
-        ({"parameters": {"lambda": 1.0}}, "case.parameters.lambda: 'lambda' is a Python keyword"),
+        ({"parameters": {"None": 1.0}}, "case.parameters.None: 'None' is a Python constant"),
         ({"parameters": {"g": "p"}}, "case.parameters.g"),
         ({"parameters": {"g": float("nan")}}, "case.parameters.g"),
         ({"colour": "red"}, "case.colour"),

@@ -59,6 +59,7 @@ def _one_line(exc: pytest.ExceptionInfo[InputError]) -> str:
         ("__import__('os').system('true')", "a call `__import__("),
         ("gamma1.real", "an attribute `gamma1.real` at column 1"),
         ("lambda: 1", "a lambda"),
+        ("(lambda: 1)()", "a call"),
         ("g[0]", "a subscript"),
         ("p if q else r", "a conditional"),
         ("p < q", "a comparison"),
@@ -129,7 +130,8 @@ def test_a_hostile_expression_runs_nothing(tmp_path: Path, monkeypatch: pytest.M
 
 def test_parameter_names() -> None:
     assert parameter_name_error("kappa") is None
-    assert "keyword" in (parameter_name_error("lambda") or "")
+    assert parameter_name_error("lambda") is None  # the theorem's name, read under an alias
+    assert "constant" in (parameter_name_error("None") or "")
     assert "state variable" in (parameter_name_error("gamma1") or "")
     assert parameter_name_error("__class__") is not None
     assert parameter_name_error("2x") is not None
@@ -165,3 +167,18 @@ def test_parsed_text_equals_the_expression_built_beside_it(case: tuple[str, sp.E
     """Independent route: each generated text is built alongside by sympy arithmetic."""
     text, expected = case
     assert sp.expand(parse_expression(text, "F", {"g": G}) - expected) == 0
+
+
+def test_a_parameter_named_like_a_keyword_is_a_parameter_and_never_the_keyword() -> None:
+    lam = parameter_symbol("lambda")
+    built = parse_expression("lambda/gamma3**2 + lambdas", "V", {"lambda": lam, "lambdas": G})
+    assert built == lam / g3**2 + G
+    with pytest.raises(InputError, match="invalid syntax"):
+        parse_expression("lambda: 1", "V", {"lambda": lam})
+    with pytest.raises(InputError, match="invalid syntax"):  # undeclared: the keyword
+        parse_expression("lambda + 1", "V")
+
+
+def test_the_expanded_size_is_bounded_before_anything_is_built() -> None:
+    with pytest.raises(InputError, match="may expand to more than"):
+        parse_expression("(p + q + r + gamma1 + gamma2 + gamma3 + 1)**20", "F")
