@@ -644,6 +644,46 @@ def _counterexample(
     raise InputError(f"case {case.name}: no counterexample among the rational states tried")
 
 
+def conserved_combinations(case: Case, candidates: Sequence[sp.Expr]) -> list[sp.Expr]:
+    """The combinations ``sum c_i f_i`` of ``candidates`` whose time derivative vanishes at
+    enough exact rational states of the sphere (and level): how the catalogue's integrals
+    were derived (docs/workbench.md). Each result is a candidate integral, not yet a proof:
+    put it in a case file and let :func:`certify_case` decide.
+
+    Parameters
+    ----------
+    case : Case
+        Its ``integral`` is ignored.
+    candidates : sequence of sympy.Expr
+        Functions of the state (e.g. monomials).
+
+    Returns
+    -------
+    list of sympy.Expr
+        A basis of the combinations found (each scaled so its first coefficient is 1).
+        Functions that vanish on the sphere or the level (``|gamma|^2 - 1``, ``I3 - h``)
+        and the known integrals among the candidates appear too.
+    """
+    flow = _flow(case)
+    states = rational_states(case, limit=2 * len(candidates) + 16)
+    columns = []
+    for candidate in candidates:
+        fraction = as_fraction(candidate)
+        numerator = derivative_numerator(fraction, flow)
+        columns.append(
+            [
+                _evaluate(numerator, v)
+                / (_evaluate(fraction[1], v) ** 2 * _evaluate(flow.common, v))
+                for v in states
+            ]
+        )
+    found = []
+    for vector in sp.Matrix(columns).T.nullspace():
+        lead = next(x for x in vector if x != 0)
+        found.append(sp.expand(sum(c / lead * f for c, f in zip(vector, candidates, strict=True))))
+    return found
+
+
 def verify_case_file(path: str | os.PathLike[str]) -> CaseCertificate:
     """Read ``path`` (its ``[case]`` table) and certify the claim."""
     return certify_case(read_case(path))
@@ -657,6 +697,7 @@ __all__ = [
     "case_from_table",
     "case_ring",
     "certify_case",
+    "conserved_combinations",
     "derivative_numerator",
     "potential_of_mu",
     "rational_states",
