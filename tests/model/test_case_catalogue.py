@@ -10,7 +10,9 @@ from typing import Any
 import pytest
 import sympy as sp
 
+from chargedesign.candidates import ball_points
 from chargedesign.cli import main
+from chargedesign.designer.case_masses import design_case_masses
 from chargedesign.model.case import g1, g2, g3, p, q, r
 from chargedesign.model.case_file import case_from_table, certify_case, conserved_combinations
 from chargedesign.model.catalogue import (
@@ -19,6 +21,7 @@ from chargedesign.model.catalogue import (
     certify_catalogue,
     entry_table,
 )
+from chargedesign.results import REPR_LIMIT
 
 #: the paper's cases the catalogue must hold (names of the entries)
 PAPER_CASES = {
@@ -180,3 +183,21 @@ def test_verify_the_catalogue_files_from_the_command_line(
     assert main(["verify", str(folder / "goriachev.toml")]) == 0
     out = capsys.readouterr().out
     assert "goriachev" in out and "singular where: gamma3 = 0" in out
+
+
+def test_the_workbench_results_follow_the_result_protocol() -> None:
+    kowalevski = catalogue_case("kowalevski")
+    wrong = entry_table({"file": "kowalevski.toml"}) | {"integral": "p*q"}
+    results = [
+        certify_case(kowalevski),
+        certify_case(case_from_table(wrong)),
+        certify_catalogue(),
+        design_case_masses(kowalevski, ball_points(1.0, 0.5)),
+    ]
+    for result in results:
+        data = result.to_dict()
+        json.dumps(data, allow_nan=False)
+        assert json.loads(result.to_json()) == json.loads(json.dumps(data))
+        assert str(result).strip()
+        assert len(repr(result)) <= REPR_LIMIT and "\n" not in repr(result)
+        assert "<table>" in result._repr_html_()
