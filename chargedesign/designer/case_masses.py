@@ -1,16 +1,20 @@
 """A body of point masses for a case of (ep) that masses in uniform gravity realise.
 
 The first step of designing any case (the workbench issue, item 4): a case whose ``l`` is zero
-and whose ``V`` is linear in gamma, ``V = v0 + a . gamma`` (the heavy top: Euler, Lagrange,
-Kowalevski, Goriachev-Chaplygin), is realised by masses alone in the uniform gravity
-``Phi_g = g Z`` (contract: ``legendre = [g]``). A mass m at body point x has energy
-``m g Z = m g (x . gamma)``, so the body's potential is ``g M x_cm . gamma`` and its inertia
-about O is ``sum m (|x|^2 delta - x x^T)``. The linear conditions on the masses' moments:
+and whose ``V`` is at most quadratic in gamma, ``V = v0 + a . gamma + gamma Q gamma``, is
+realised by masses alone in the gravity ``Phi_g = f1 Z + f2 (3 Z^2 - R^2)/2`` (contract:
+``legendre = [f1, f2]``; f1 = g is uniform gravity, f2 a gravity gradient). A mass m at body
+point x has energy ``m Phi_g`` with ``Z = x . gamma``, ``R^2 = |x|^2``, so the body's potential
+is ``f1 sum m x . gamma + (3 f2 / 2) gamma S gamma`` up to a constant, ``S = sum m x x^T`` its
+second moments, and its inertia about O is ``tr(S) delta - S``. The linear conditions:
 
-- first moments ``sum m x = a / g`` (the centre of mass gives exactly the case's V, up to the
-  constant v0);
-- second moments ``sum m x_i x_j = S_ij`` with ``S = tr(S) delta - I``, i.e.
-  ``S_xx = (B + C - A)/2`` (and cyclic), products zero (principal axes).
+- first moments ``sum m x = a / f1`` (the centre of mass gives exactly the linear part);
+- second moments ``S = tr(S) delta - I``: ``S_xx = (B + C - A)/2`` (and cyclic), products zero.
+
+The second moments are fixed by the inertia, so the quadratic part is realised only when
+``Q`` is ``(3 f2 / 2) S`` up to a multiple of the identity (a constant on the sphere); f2 is
+then derived. Clebsch's case (``Q = eps/2 I``) is so: a body in the gradient ``f2 = -eps/3``.
+The heavy tops (Euler, Lagrange, Kowalevski, Goriachev-Chaplygin) have ``Q = 0`` and f2 = 0.
 
 They are the conditions engine's :class:`~chargedesign.moment_conditions.LinearConditions`, and
 the masses are designed by the designer's own problem (:func:`design_source`, ``m >= 0``,
@@ -40,9 +44,9 @@ from chargedesign.scene.design import DesignOptions
 from chargedesign.validation import as_finite_float
 
 
-def linear_potential(case: Case) -> tuple[sp.Rational, ...]:
-    """``a`` of ``V = v0 + a . gamma`` (exact), or a one-line refusal naming why masses in
-    uniform gravity cannot realise the case."""
+def quadratic_potential(case: Case) -> tuple[tuple[sp.Rational, ...], sp.Matrix]:
+    """``(a, Q)`` of ``V = v0 + a . gamma + gamma Q gamma`` (exact, Q symmetric), or a one-line
+    refusal naming why masses in a gravity field cannot realise the case."""
     if case.l is None or any(sp.expand(component) != 0 for component in case.l):
         raise InputError(
             f"case {case.name}: l is not zero; masses realise no gyroscopic forces (charges in "
@@ -54,40 +58,73 @@ def linear_potential(case: Case) -> tuple[sp.Rational, ...]:
             f"case {case.name}: V is singular ({sp.sstr(V)[:60]}); no field realises it"
         )
     degree = sp.Poly(V, *GAMMA).total_degree() if V.free_symbols else 0
-    if degree > 1:
+    if degree > 2:
         raise InputError(
-            f"case {case.name}: V has degree {degree} in gamma; masses in uniform gravity "
-            "realise degree 1 only (higher degrees need fields of that degree: not yet)"
+            f"case {case.name}: V has degree {degree} in gamma; masses in gravity realise "
+            "degrees 1 and 2 only (higher degrees need charges or dipoles: not yet)"
         )
-    return tuple(sp.Rational(V.coeff(x, 1)) for x in GAMMA)
+    a = tuple(sp.Rational(sp.diff(V, x).xreplace(dict.fromkeys(GAMMA, 0))) for x in GAMMA)
+    Q = sp.Matrix(3, 3, lambda i, j: sp.Rational(sp.diff(V, GAMMA[i], GAMMA[j])) / 2)
+    return a, Q
+
+
+def second_moments(case: Case) -> sp.Matrix:
+    """``S = sum m x x^T`` of any masses with the case's inertia: ``tr(S) delta - I``."""
+    inertia = sp.diag(*case.inertia)
+    return sp.eye(3) * inertia.trace() / 2 - inertia
+
+
+def gradient_strength(case: Case) -> sp.Rational:
+    """The f2 whose gradient field ``f2 (3 Z^2 - R^2)/2`` turns the case's second moments into
+    its quadratic V: ``Q = (3 f2 / 2) S + c delta``; a one-line refusal when none does."""
+    _, Q = quadratic_potential(case)
+    S = second_moments(case)
+    traceless_q = Q - sp.eye(3) * Q.trace() / 3
+    traceless_s = S - sp.eye(3) * S.trace() / 3
+    if traceless_q == sp.zeros(3, 3):
+        return sp.Integer(0)
+    ratios = {traceless_q[k] / traceless_s[k] for k in range(9) if traceless_s[k] != 0}
+    if len(ratios) != 1 or traceless_q - next(iter(ratios)) * traceless_s != sp.zeros(3, 3):
+        raise InputError(
+            f"case {case.name}: the quadratic part of V is not the inertia's second moments "
+            "(up to a constant on the sphere): no gravity gradient realises it with these "
+            "masses (it needs dipoles or charges: not yet)"
+        )
+    return sp.Rational(2, 3) * next(iter(ratios))
 
 
 def mass_conditions(case: Case, g: float = STANDARD_GRAVITY) -> LinearConditions:
-    """The masses' linear conditions for ``case`` in uniform gravity ``g`` (m/s^2).
+    """The masses' linear conditions for ``case`` in gravity ``legendre = [g, f2]``.
+
+    ``g`` (m/s^2) is the uniform part, used when V has a linear part; f2 (1/s^2) is derived
+    (:func:`gradient_strength`). The fields are in ``conditions.fields["gravity"]``.
 
     Raises
     ------
     InputError
-        The case is not one masses realise (:func:`linear_potential`), or ``g`` is not > 0.
+        The case is not one masses realise (:func:`quadratic_potential`,
+        :func:`gradient_strength`), or ``g`` is not > 0.
     InfeasibleError
         The inertia breaks a triangle inequality (a second moment would be negative).
     """
     g = as_finite_float(g, "g", positive=True)
-    a = linear_potential(case)
-    A, B, C = case.inertia
-    second = {"xx": (B + C - A) / 2, "yy": (C + A - B) / 2, "zz": (A + B - C) / 2}
+    a, _ = quadratic_potential(case)
+    f2 = gradient_strength(case)
+    S = second_moments(case)
+    second = {"xx": S[0, 0], "yy": S[1, 1], "zz": S[2, 2]}
     for key, value in second.items():
         if value < 0:
             raise InfeasibleError(
-                f"case {case.name}: inertia {A}, {B}, {C} breaks a triangle inequality "
-                f"(M_{key} = {value} < 0): no masses have it"
+                f"case {case.name}: inertia {', '.join(map(str, case.inertia))} breaks a "
+                f"triangle inequality (M_{key} = {value} < 0): no masses have it"
             )
+    uniform = Fraction(repr(g)) if any(a) else Fraction(0)
     rows = [
         LinearCondition(
             "masses",
             {axis: 1.0},
-            float(Fraction(str(value)) / Fraction(repr(g))),
-            f"V: g M x_cm . gamma = a . gamma gives M_{axis} = a_{axis} / g",
+            float(Fraction(str(value)) / uniform) if uniform else 0.0,
+            f"V: f1 M x_cm . gamma = a . gamma gives M_{axis} = a_{axis} / f1",
         )
         for axis, value in zip("xyz", a, strict=True)
     ]
@@ -99,12 +136,16 @@ def mass_conditions(case: Case, g: float = STANDARD_GRAVITY) -> LinearConditions
         LinearCondition("masses", {key: 1.0}, 0.0, f"inertia: product {key} is zero")
         for key in ("xy", "xz", "yz")
     ]
+    legendre = (float(uniform), float(f2)) if f2 else (float(uniform),)
     return LinearConditions(
         conditions=rows,
-        fields={"gravity": (g,)},
-        notes=[f"case {case.name}: masses in uniform gravity g = {g} m/s^2 realise V and I"],
+        fields={"gravity": legendre},
+        notes=[
+            f"case {case.name}: masses in gravity legendre = {list(legendre)} realise V and "
+            "the inertia" + (f" (f2 = {f2} from V's quadratic part)" if f2 else "")
+        ],
         realise=("V", "inertia"),
-        field_origin={"gravity": "given"},
+        field_origin={"gravity": "derived"},
     )
 
 
@@ -119,12 +160,12 @@ class CaseMassBody(Result):
         m, body axes.
     masses : ndarray, shape (n,)
         kg, each > 0.
-    g : float
-        m/s^2.
+    gravity : tuple of float
+        The gravity field's ``legendre`` coefficients (f1 in m/s^2, f2 in 1/s^2).
     inertia : ndarray, shape (3, 3)
         ``sum m (|x|^2 delta - x x^T)`` recomputed from the masses, kg m^2.
     potential : ndarray, shape (3,)
-        ``g sum m x`` recomputed: the body's ``a`` of ``V = a . gamma``, J.
+        ``f1 sum m x`` recomputed: the body's ``a`` of ``V = a . gamma + ...``, J.
     target_inertia, target_potential : ndarray
         The case's.
     """
@@ -132,7 +173,7 @@ class CaseMassBody(Result):
     name: str
     positions: np.ndarray
     masses: np.ndarray
-    g: float
+    gravity: tuple[float, ...]
     inertia: np.ndarray
     potential: np.ndarray
     target_inertia: np.ndarray
@@ -152,7 +193,7 @@ class CaseMassBody(Result):
     def to_dict(self) -> dict[str, Any]:
         return {
             "name": self.name,
-            "g": self.g,
+            "fields": {"gravity": {"legendre": list(self.gravity)}},
             "masses": {"positions": self.positions.tolist(), "values": self.masses.tolist()},
             "inertia": self.inertia.tolist(),
             "potential_linear": self.potential.tolist(),
@@ -182,7 +223,8 @@ def design_case_masses(
     g: float = STANDARD_GRAVITY,
     options: DesignOptions | None = None,
 ) -> CaseMassBody:
-    """Design point masses on ``candidates`` (m) that realise ``case`` in uniform gravity.
+    """Design point masses on ``candidates`` (m) that realise ``case`` in gravity (the uniform
+    part ``g``, m/s^2; the gradient derived: :func:`mass_conditions`).
 
     Raises
     ------
@@ -195,23 +237,26 @@ def design_case_masses(
     weights, _ = design_source("masses", conditions, cand, options or DesignOptions())
     keep = weights > 0
     positions, masses = cand.points[keep], weights[keep]
-    g_value = conditions.fields["gravity"][0]
+    gravity = tuple(conditions.fields["gravity"])
+    a, _ = quadratic_potential(case)
     return CaseMassBody(
         name=case.name,
         positions=positions,
         masses=masses,
-        g=g_value,
+        gravity=gravity,
         inertia=inertia_of(positions, masses),
-        potential=g_value * masses @ positions,
+        potential=gravity[0] * masses @ positions,
         target_inertia=np.diag([float(m) for m in case.inertia]),
-        target_potential=np.array([float(x) for x in linear_potential(case)]),
+        target_potential=np.array([float(x) for x in a]),
     )
 
 
 __all__ = [
     "CaseMassBody",
     "design_case_masses",
+    "gradient_strength",
     "inertia_of",
-    "linear_potential",
     "mass_conditions",
+    "quadratic_potential",
+    "second_moments",
 ]
