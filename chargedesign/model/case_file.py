@@ -70,7 +70,8 @@ CASE_KEYS = (
 #: most declared parameters of one case
 MAX_PARAMETERS = 32
 STATE = (p, q, r, g1, g2, g3)
-_R_INDEX, _G1_INDEX = 2, 3
+#: position of r among the ring's generators
+_R_INDEX = 2
 
 
 # ------------------------------------------------------------------------------ the case
@@ -588,10 +589,11 @@ def certify_case(case: Case) -> CaseCertificate:
     checks["H_conserved"] = derivative_numerator(as_fraction(case.I1), flow) == 0
     checks["I3_conserved"] = derivative_numerator(as_fraction(case.I3), flow) == 0
     integral = as_fraction(case.integral)
-    numerator = derivative_numerator(integral, flow)
+    derivative = derivative_numerator(integral, flow)
+    numerator = derivative
     if case.level is not None:
         s, t = _r_on_level(case)
-        numerator = _substitute_r(numerator, s, t)
+        numerator = _substitute_r(derivative, s, t)
         if sphere_normal_form(_substitute_r(integral[1], s, t))[0] == 0:
             raise InputError("case.integral: its denominator vanishes on the whole level")
     normal, multiplier = sphere_normal_form(numerator)
@@ -606,7 +608,7 @@ def certify_case(case: Case) -> CaseCertificate:
     checks["independent"] = rank_state is not None
     counterexample = None
     if normal != 0:
-        counterexample = _counterexample(case, flow, integral, states)
+        counterexample = _counterexample(case, flow, integral, derivative, states)
     return CaseCertificate(
         name=case.name,
         holds=normal == 0,
@@ -625,10 +627,11 @@ def _counterexample(
     case: Case,
     flow: _Flow,
     integral: tuple[PolyElement, PolyElement],
+    numerator: PolyElement,
     states: Sequence[Mapping[sp.Symbol, Any]],
 ) -> dict[str, Any]:
-    """The first rational state where ``dF/dt = W / (D^2 B)`` is not zero."""
-    numerator = derivative_numerator(integral, flow)
+    """The first rational state where ``dF/dt = W / (D^2 B)`` (``numerator`` is W) is not
+    zero."""
     for values in states:
         value = _evaluate(numerator, values)
         if value != 0:
