@@ -16,6 +16,7 @@ from chargedesign.designer.case_masses import design_case_masses
 from chargedesign.model.case import g1, g2, g3, p, q, r
 from chargedesign.model.case_file import case_from_table, certify_case, conserved_combinations
 from chargedesign.model.catalogue import (
+    CatalogueReport,
     catalogue_case,
     catalogue_entries,
     certify_catalogue,
@@ -43,8 +44,13 @@ PAPER_CASES = {
 }
 
 
-def test_every_catalogue_case_is_certified() -> None:
-    report = certify_catalogue()
+@pytest.fixture(scope="module")
+def catalogue_report() -> CatalogueReport:
+    return certify_catalogue()
+
+
+def test_every_catalogue_case_is_certified(catalogue_report: CatalogueReport) -> None:
+    report = catalogue_report
     names = {c.name for c in report.certificates}
     assert names == PAPER_CASES
     for certificate in report.certificates:
@@ -185,13 +191,15 @@ def test_verify_the_catalogue_files_from_the_command_line(
     assert "goriachev" in out and "singular where: gamma3 = 0" in out
 
 
-def test_the_workbench_results_follow_the_result_protocol() -> None:
+def test_the_workbench_results_follow_the_result_protocol(
+    catalogue_report: CatalogueReport,
+) -> None:
     kowalevski = catalogue_case("kowalevski")
     wrong = entry_table({"file": "kowalevski.toml"}) | {"integral": "p*q"}
     results = [
         certify_case(kowalevski),
         certify_case(case_from_table(wrong)),
-        certify_catalogue(),
+        catalogue_report,
         design_case_masses(kowalevski, ball_points(1.0, 0.5)),
     ]
     for result in results:
