@@ -25,6 +25,10 @@ their decimal text):
    ``|gamma|^2 = 1`` exactly; r from the level) where ``dF/dt`` is not zero, with its value.
 5. Independence: the exact rank of ``d(H, |gamma|^2, I3, F)/d(state)`` at rational points of
    the sphere (and level) is 4.
+6. For all parameters: steps 1-3 again with every non-zero parameter kept as a symbol, the
+   coefficients in the rational functions ``QQ(parameters)`` (zero parameters stay zero: they
+   switch terms off, as the theorem's special cases do). ``R0 = 0`` there proves the claim
+   for all parameter values where the expressions are defined.
 
 Where the case is singular (the zero sets of its denominators) is reported, and a
 denominator that vanishes on the whole sphere (or level) is refused.
@@ -114,6 +118,26 @@ class Case:
     texts: dict[str, Any] = field(default_factory=dict)
     source: str = ""
     note: str = ""
+    free: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def with_free_parameters(self) -> Case | None:
+        """The same case with every non-zero parameter kept as a symbol (zero ones stay 0:
+        they switch terms off), or None when no parameter is free."""
+        if not self.free:
+            return None
+        return Case(
+            name=self.name,
+            inertia=self.free["inertia"],
+            V=self.free["V"],
+            l=self.free["l"],
+            mu=self.free["mu"],
+            integral=self.free["integral"],
+            level=self.free["level"],
+            parameters=self.parameters,
+            texts=self.texts,
+            source=self.source,
+            note=self.note,
+        )
 
     @property
     def I1(self) -> sp.Expr:
@@ -239,49 +263,62 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         raise input_error(f"{where}.name", "a name of 1 to 80 characters", name)
     texts: dict[str, Any] = {}
     names, values = _parameters(table.get("parameters"), f"{where}.parameters")
+    zeros = {symbol: value for symbol, value in values.items() if value == 0}
+    free: dict[str, Any] = {}
 
-    def exact(expr: sp.Expr) -> sp.Expr:
+    def exact(expr: sp.Expr, key: str | None = None) -> sp.Expr:
+        if key is not None:
+            free[key] = expr.xreplace(zeros)
         return expr.xreplace(values)
 
     inertia_in = table["inertia"]
     if not isinstance(inertia_in, list) or len(inertia_in) != 3:
         raise input_error(f"{where}.inertia", "a list [A, B, C] of 3 numbers", inertia_in)
     inertia = []
+    free_inertia = []
     for i, item in enumerate(inertia_in):
         key = f"{where}.inertia[{i}]"
-        moment = _constant(exact(_exact_number(item, key, names)), key)
+        moment = _constant(exact(_exact_number(item, key, names), "moment"), key)
         if moment <= 0:
             raise input_error(key, "a moment of inertia > 0", str(moment))
         inertia.append(moment)
-    V = exact(_only_gamma(parse_expression(table["V"], f"{where}.V", names), f"{where}.V"))
+        free_inertia.append(free.pop("moment"))
+    free["inertia"] = tuple(free_inertia)
+    V = exact(_only_gamma(parse_expression(table["V"], f"{where}.V", names), f"{where}.V"), "V")
     texts["V"] = table["V"]
     if "l" in table and "mu" in table:
         raise InputError(f"{where}: give l or mu, not both")
     l_vec: sp.Matrix | None
     if "mu" in table:
         l_vec = None
-        mu = sp.Matrix([exact(e) for e in _vector(table["mu"], f"{where}.mu", names)])
+        components = _vector(table["mu"], f"{where}.mu", names)
+        mu = sp.Matrix([exact(e) for e in components])
+        free["l"], free["mu"] = None, sp.Matrix([e.xreplace(zeros) for e in components])
         texts["mu"] = list(table["mu"])
     else:
         given = table.get("l", ["0", "0", "0"])
-        l_vec = sp.Matrix([exact(e) for e in _vector(given, f"{where}.l", names)])
+        components = _vector(given, f"{where}.l", names)
+        l_vec = sp.Matrix([exact(e) for e in components])
         mu = mu_from_l(l_vec)
+        free["l"] = sp.Matrix([e.xreplace(zeros) for e in components])
+        free["mu"] = mu_from_l(free["l"])
         texts["l"] = list(given)
-    integral = exact(parse_expression(table["integral"], f"{where}.integral", names))
+    integral = exact(parse_expression(table["integral"], f"{where}.integral", names), "integral")
     texts["integral"] = table["integral"]
     level_in = table.get("level", "general")
     level: sp.Rational | None
-    if level_in == "general":
-        level = None
-    else:
+    free["level"] = None
+    if level_in != "general":
         key = f"{where}.level"
         if isinstance(level_in, str) and not level_in.strip():
             raise input_error(key, '"general" or a number', level_in)
-        level = _constant(exact(_exact_number(level_in, key, names)), key)
+        level = _constant(exact(_exact_number(level_in, key, names), "level"), key)
         if l_vec is None:
             raise InputError(
                 f"{key}: a claim on a level needs l (mu fixes I3 only up to a constant)"
             )
+    else:
+        level = None
     for key, text in (("source", table.get("source", "")), ("note", table.get("note", ""))):
         if not isinstance(text, str) or len(text) > 2000:
             raise input_error(f"{where}.{key}", "a text of at most 2000 characters", text)
@@ -297,6 +334,7 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         texts=texts,
         source=table.get("source", ""),
         note=table.get("note", ""),
+        free=free if len(values) > len(zeros) else {},
     )
     _not_on_whole_sphere(V, f"{where}.V")
     _not_on_whole_sphere(integral, f"{where}.integral")
@@ -360,18 +398,29 @@ def potential_of_mu(mu: sp.Matrix, where: str) -> sp.Expr:
 # ------------------------------------------------------------------- the exact arithmetic
 
 
-@lru_cache(maxsize=1)
-def case_ring() -> PolyRing:
-    """``QQ[p, q, r, gamma1, gamma2, gamma3, u]``: the theorem's ring without its parameters
-    (a case's parameters are exact numbers), so the certificate's helpers apply."""
-    ring, *_ = sp.ring((*STATE, U), sp.QQ)
+@lru_cache(maxsize=16)
+def case_ring(parameters: tuple[sp.Symbol, ...] = ()) -> PolyRing:
+    """``K[p, q, r, gamma1, gamma2, gamma3, u]`` laid out as the theorem's ring (so the
+    certificate's helpers apply), over ``K = QQ`` (parameters are exact numbers) or over the
+    rational functions ``QQ(parameters)`` (parameters kept free)."""
+    domain = sp.QQ.frac_field(*parameters) if parameters else sp.QQ
+    ring, *_ = sp.ring((*STATE, U), domain)
     return ring
 
 
-def as_fraction(expr: sp.Expr) -> tuple[PolyElement, PolyElement]:
-    """``expr = N / D`` with ``N, D`` polynomials of :func:`case_ring`."""
+def ring_of(case: Case) -> PolyRing:
+    """The ring of a case's expressions: over QQ, or over QQ(its free parameters)."""
+    parts = [case.V, case.integral, *case.mu, *case.inertia]
+    if case.level is not None:
+        parts += [case.level, case.l_dot_gamma]
+    symbols = set().union(*(sp.sympify(e).free_symbols for e in parts)) - set(STATE)
+    return case_ring(tuple(sorted(symbols, key=str)))
+
+
+def as_fraction(expr: sp.Expr, ring: PolyRing | None = None) -> tuple[PolyElement, PolyElement]:
+    """``expr = N / D`` with ``N, D`` polynomials of ``ring`` (default :func:`case_ring`)."""
     numerator, denominator = sp.fraction(sp.together(sp.expand(expr)))
-    ring = case_ring()
+    ring = ring or case_ring()
     return ring.from_expr(sp.expand(numerator)), ring.from_expr(sp.expand(denominator))
 
 
@@ -384,9 +433,9 @@ class _Flow:
     common: PolyElement
 
 
-def _flow(case: Case) -> _Flow:
-    pairs = [as_fraction(e) for e in case.equations()]
-    common = case_ring().one
+def _flow(case: Case, ring: PolyRing) -> _Flow:
+    pairs = [as_fraction(e, ring) for e in case.equations()]
+    common = ring.one
     for _, b in pairs:
         common = common.lcm(b)
     return _Flow(tuple(a for a, _ in pairs), tuple(b for _, b in pairs), common)
@@ -395,8 +444,8 @@ def _flow(case: Case) -> _Flow:
 def derivative_numerator(fraction: tuple[PolyElement, PolyElement], flow: _Flow) -> PolyElement:
     """``W`` with ``d(N/D)/dt = W / (D^2 B)`` along the flow (exact, in :func:`case_ring`)."""
     numerator, denominator = fraction
-    gens = case_ring().gens
-    total = case_ring().zero
+    gens = numerator.ring.gens
+    total = numerator.ring.zero
     for k in range(6):
         slope = denominator * numerator.diff(gens[k]) - numerator * denominator.diff(gens[k])
         if slope:
@@ -404,11 +453,10 @@ def derivative_numerator(fraction: tuple[PolyElement, PolyElement], flow: _Flow)
     return total
 
 
-def _r_on_level(case: Case) -> tuple[PolyElement, PolyElement]:
+def _r_on_level(case: Case, ring: PolyRing) -> tuple[PolyElement, PolyElement]:
     """``r = s / t`` on ``I3 = level``: ``t = C gamma3 L_d``, ``l . gamma = L_n / L_d``."""
     assert case.level is not None
-    ring = case_ring()
-    ln, ld = as_fraction(case.l_dot_gamma)
+    ln, ld = as_fraction(case.l_dot_gamma, ring)
     A, B, C = (ring.domain.from_sympy(m) for m in case.inertia)
     level = ring.domain.from_sympy(case.level)
     P, Q, _, G1, G2, G3, _ = ring.gens
@@ -421,7 +469,7 @@ def _substitute_r(element: PolyElement, s: PolyElement, t: PolyElement) -> PolyE
     """``t^m element(r = s/t)``, ``m`` the degree of ``element`` in r."""
     parts = split_by_power(element, _R_INDEX, 1)
     top = max(parts, default=0)
-    return sum((c * s**k * t ** (top - k) for k, c in parts.items()), start=case_ring().zero)
+    return sum((c * s**k * t ** (top - k) for k, c in parts.items()), start=element.ring.zero)
 
 
 def _evaluate(element: PolyElement, values: Mapping[sp.Symbol, Any]) -> sp.Rational:
@@ -455,7 +503,7 @@ def rational_states(case: Case, limit: int = 64) -> list[dict[sp.Symbol, sp.Rati
     """
     denominators = [as_fraction(e)[1] for e in (case.V, case.integral, *case.equations())]
     if case.level is not None:
-        s, t = _r_on_level(case)
+        s, t = _r_on_level(case, case_ring())
     states: list[dict[sp.Symbol, sp.Rational]] = []
     draw = random.Random(STATE_SEED)
     for _ in range(50 * limit):
@@ -488,7 +536,12 @@ class CaseCertificate(Result):
     ----------
     name : str
     holds : bool
-        ``dF/dt`` vanishes exactly on ``|gamma| = 1`` (and on the level).
+        ``dF/dt`` vanishes exactly on ``|gamma| = 1`` (and on the level), at the file's
+        parameter values.
+    holds_for_all_parameters : bool or None
+        The same with every non-zero parameter free (coefficients in ``QQ(parameters)``):
+        the claim holds for all parameter values where the expressions are defined. None
+        when the case has no free parameter.
     level : str or sympy.Rational
         ``"general"`` or the I3 level.
     independent : bool
@@ -507,6 +560,7 @@ class CaseCertificate(Result):
     holds: bool
     level: Any
     independent: bool
+    holds_for_all_parameters: bool | None
     counterexample: dict[str, Any] | None
     checks: dict[str, bool]
     singular: list[str]
@@ -526,6 +580,7 @@ class CaseCertificate(Result):
                 "level": level,
                 "independent": self.independent,
                 "counterexample": self.counterexample,
+                "holds_for_all_parameters": self.holds_for_all_parameters,
                 "level_exact": str(self.level),
                 "checks": dict(self.checks),
                 "singular": list(self.singular),
@@ -554,6 +609,12 @@ class CaseCertificate(Result):
             f"  independent of H, |gamma|^2, I3 (rank 4):      "
             f"{'yes' if self.independent else 'NO'}",
         ]
+        if self.holds_for_all_parameters is not None:
+            lines.insert(
+                4,
+                "  the same with every non-zero parameter free:   "
+                + ("yes" if self.holds_for_all_parameters else "NO (only at these values)"),
+            )
         for name, ok in self.checks.items():
             lines.append(f"    {name:<14} {'yes' if ok else 'NO'}")
         if self.singular:
@@ -583,23 +644,26 @@ def _jacobian_rank(functions: Sequence[sp.Expr], values: Mapping[sp.Symbol, Any]
 def certify_case(case: Case) -> CaseCertificate:
     """Run the exact certificate of ``case`` (see the module docstring)."""
     start = time.perf_counter()
-    flow = _flow(case)
     ring = case_ring()
+    flow = _flow(case, ring)
     checks: dict[str, bool] = {}
     checks["H_conserved"] = derivative_numerator(as_fraction(case.I1), flow) == 0
     checks["I3_conserved"] = derivative_numerator(as_fraction(case.I3), flow) == 0
     integral = as_fraction(case.integral)
     derivative = derivative_numerator(integral, flow)
-    numerator = derivative
-    if case.level is not None:
-        s, t = _r_on_level(case)
-        numerator = _substitute_r(derivative, s, t)
-        if sphere_normal_form(_substitute_r(integral[1], s, t))[0] == 0:
-            raise InputError("case.integral: its denominator vanishes on the whole level")
-    normal, multiplier = sphere_normal_form(numerator)
-    sphere = ring.gens[3] ** 2 + ring.gens[4] ** 2 + ring.gens[5] ** 2 - 1
+    normal, witness = _reduced(case, derivative, integral)
     checks["F_conserved"] = normal == 0
-    checks["witness"] = numerator - multiplier * sphere - normal == 0
+    checks["witness"] = witness
+    free = case.with_free_parameters()
+    for_all: bool | None = None
+    if free is not None:
+        free_ring = ring_of(free)
+        free_integral = as_fraction(free.integral, free_ring)
+        free_derivative = derivative_numerator(free_integral, _flow(free, free_ring))
+        free_normal, free_witness = _reduced(free, free_derivative, free_integral)
+        for_all = free_normal == 0
+        checks["F_conserved_for_all_parameters"] = for_all
+        checks["witness_for_all_parameters"] = free_witness
     states = rational_states(case, limit=64)
     if not states:
         raise InputError(f"case {case.name}: no rational point where the case is defined")
@@ -612,6 +676,7 @@ def certify_case(case: Case) -> CaseCertificate:
     return CaseCertificate(
         name=case.name,
         holds=normal == 0,
+        holds_for_all_parameters=for_all,
         level="general" if case.level is None else case.level,
         independent=rank_state is not None,
         counterexample=counterexample,
@@ -621,6 +686,23 @@ def certify_case(case: Case) -> CaseCertificate:
         source=case.source,
         rank_point=None if rank_state is None else {str(k): str(v) for k, v in rank_state.items()},
     )
+
+
+def _reduced(
+    case: Case, derivative: PolyElement, integral: tuple[PolyElement, PolyElement]
+) -> tuple[PolyElement, bool]:
+    """The normal form of ``dF/dt``'s numerator on the sphere (and level), and whether the
+    identity ``P = N (|gamma|^2 - 1) + R0`` re-multiplies."""
+    numerator = derivative
+    if case.level is not None:
+        s, t = _r_on_level(case, derivative.ring)
+        numerator = _substitute_r(derivative, s, t)
+        if sphere_normal_form(_substitute_r(integral[1], s, t))[0] == 0:
+            raise InputError("case.integral: its denominator vanishes on the whole level")
+    normal, multiplier = sphere_normal_form(numerator)
+    gens = numerator.ring.gens
+    sphere = gens[3] ** 2 + gens[4] ** 2 + gens[5] ** 2 - 1
+    return normal, numerator - multiplier * sphere - normal == 0
 
 
 def _counterexample(
@@ -667,7 +749,7 @@ def conserved_combinations(case: Case, candidates: Sequence[sp.Expr]) -> list[sp
         Functions that vanish on the sphere or the level (``|gamma|^2 - 1``, ``I3 - h``)
         and the known integrals among the candidates appear too.
     """
-    flow = _flow(case)
+    flow = _flow(case, case_ring())
     states = rational_states(case, limit=2 * len(candidates) + 16)
     columns = []
     for candidate in candidates:
@@ -705,6 +787,7 @@ __all__ = [
     "potential_of_mu",
     "rational_states",
     "read_case",
+    "ring_of",
     "sphere_point",
     "verify_case_file",
 ]

@@ -57,6 +57,7 @@ def test_every_catalogue_case_is_certified(catalogue_report: CatalogueReport) ->
         assert certificate.holds, certificate.name
         assert certificate.independent, certificate.name
         assert all(certificate.checks.values()), certificate.name
+        assert certificate.holds_for_all_parameters, certificate.name
         assert certificate.source, certificate.name
     assert report.holds
     assert "15/15 certified" in str(report)

@@ -12,7 +12,7 @@ import sympy as sp
 from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA, OMEGA, symbolic_case
 from chargedesign.model.case_file import Case, case_from_table, certify_case, read_case
-from chargedesign.model.catalogue import entry_table
+from chargedesign.model.catalogue import catalogue_case, entry_table
 from chargedesign.model.certificate import certify
 from chargedesign.model.equations import equations_of_motion, euler_poisson
 
@@ -165,6 +165,41 @@ def test_the_theorem_as_a_case_file_gives_the_models_certificate(
     model = certify("general")
     assert result.holds == model.holds is True
     assert result.independent == model.checks["I4_independent"] is True
+    # with every non-zero parameter free, the case file's certificate is the model's symbolic
+    # one (parameter set 1 has lambda = 0: the model's case with lambda zeroed holds too)
+    assert result.holds_for_all_parameters is True
+    assert result.checks["witness_for_all_parameters"]
+
+
+@pytest.mark.parametrize(
+    ("entry", "model_case"), [("chaplygin", "chaplygin"), ("yehia2003", "yehia2003")]
+)
+def test_the_theorems_limits_hold_for_all_parameters_as_in_the_model(
+    entry: str, model_case: str
+) -> None:
+    result = certify_case(catalogue_case(entry))
+    assert result.holds_for_all_parameters is certify(model_case).holds is True
+
+
+def test_a_claim_true_only_at_the_files_values_is_not_true_for_all_parameters() -> None:
+    """Clebsch's V written with its own numbers j_i = eps A_i: true at these values, false with
+    the j_i free (Clebsch's condition ties them to the inertia)."""
+    table = entry_table({"file": "clebsch.toml"})
+    eps, moments = sp.Rational(2, 5), (3, 2, 1)
+    table["V"] = "j1/2*gamma1**2 + j2/2*gamma2**2 + j3/2*gamma3**2"
+    table["parameters"] = dict(table["parameters"])
+    table["parameters"].update({f"j{i + 1}": str(eps * m) for i, m in enumerate(moments)})
+    result = certify_case(case_from_table(table))
+    assert result.holds and result.independent
+    assert result.holds_for_all_parameters is False
+    assert "only at these values" in str(result)
+
+
+def test_a_case_without_parameters_has_no_all_parameters_verdict() -> None:
+    table = dict(KOWALEVSKI, V="gamma1", integral=KOWALEVSKI["integral"].replace("g*", ""))
+    table.pop("parameters")
+    result = certify_case(case_from_table(table))
+    assert result.holds and result.holds_for_all_parameters is None
 
 
 @pytest.mark.parametrize("parameters", PARAMETER_SETS)
