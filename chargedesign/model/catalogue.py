@@ -109,16 +109,23 @@ class CatalogueReport(Result):
         lines = [
             "Catalogue of the paper's cases: exact certificates (rational arithmetic)",
             "",
-            f"  {'case':<{width}}  {'level':<8} {'holds':<6} {'indep.':<7} {'seconds':<8} source",
+            f"  {'case':<{width}}  {'level':<8} {'holds':<6} {'indep.':<7} {'all par.':<9} "
+            f"{'seconds':<8} source",
         ]
         for c in self.certificates:
             level = "general" if c.level == "general" else f"I3 = {c.level}"
+            for_all = {True: "yes", False: "NO", None: "-"}[c.holds_for_all_parameters]
             lines.append(
                 f"  {c.name:<{width}}  {level:<8} {'yes' if c.holds else 'NO':<6} "
-                f"{'yes' if c.independent else 'NO':<7} {c.seconds:<8.3f} {c.source}"
+                f"{'yes' if c.independent else 'NO':<7} {for_all:<9} {c.seconds:<8.3f} {c.source}"
             )
         certified = sum(c.holds and c.independent for c in self.certificates)
-        lines += ["", f"  {certified}/{len(self.certificates)} certified in {self.seconds:.2f} s"]
+        lines += [
+            "",
+            f"  {certified}/{len(self.certificates)} certified in {self.seconds:.2f} s "
+            "(holds at the files' values, independent; 'all par.': for all values of the "
+            "non-zero parameters)",
+        ]
         return "\n".join(lines)
 
 
