@@ -265,3 +265,31 @@ def test_read_case_refuses_a_file_without_case_or_with_parameters(tmp_path: Any)
     both.write_text('[parameters]\nC = 1.0\n[case]\nname = "x"\n')
     with pytest.raises(InputError, match="together"):
         read_case(both)
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        {"inertia": ["a", 1, 1]},
+        {"inertia": [True, 1, 1]},
+        {"inertia": [[1], 1, 1]},
+        {"l": [1, 2, {"x": 1}]},
+        {"l": "0"},
+        {"V": 3},
+        {"V": ["gamma1"]},
+        {"integral": None},
+        {"level": [0]},
+        {"level": True},
+        {"parameters": {"g": [1]}},
+        {"parameters": {"g": {"x": 1}}},
+        {"parameters": ["g"]},
+        {"parameters": {"g": 1e40}},
+        {"parameters": {f"x{i}": 1 for i in range(40)}},
+        {"source": 3},
+        {"name": 7},
+    ],
+)
+def test_wrong_types_in_a_case_table_are_one_line_errors(change: dict[str, Any]) -> None:
+    with pytest.raises(InputError) as exc:
+        case_from_table(dict(KOWALEVSKI, **change))
+    assert "\n" not in str(exc.value) and str(exc.value).startswith("case")

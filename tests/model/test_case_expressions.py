@@ -182,3 +182,16 @@ def test_a_parameter_named_like_a_keyword_is_a_parameter_and_never_the_keyword()
 def test_the_expanded_size_is_bounded_before_anything_is_built() -> None:
     with pytest.raises(InputError, match="may expand to more than"):
         parse_expression("(p + q + r + gamma1 + gamma2 + gamma3 + 1)**20", "F")
+
+
+_ALPHABET = st.sampled_from(list("pqr gamma123+-*/()**.e0123456789_^%@[]{}'\",:;!<>=~&|lambdx\t"))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(_ALPHABET, max_size=60) | st.text(max_size=30))
+def test_any_text_parses_or_is_refused_in_one_line(text: str) -> None:
+    """Whatever the text, the parser returns an expression or raises InputError (one line)."""
+    try:
+        parse_expression(text, "case.V", {"g": G})
+    except InputError as exc:
+        assert "\n" not in str(exc) and str(exc).startswith("case.V: ")
