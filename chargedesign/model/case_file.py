@@ -73,6 +73,11 @@ CASE_KEYS = (
 )
 #: most declared parameters of one case
 MAX_PARAMETERS = 32
+#: largest work estimate of one certificate: the integral's terms (numerator times
+#: denominator) times the largest right-hand side's terms times (1 + the integral's degree in
+#: r). Measured here (2 shared cores): the theorem's case estimates 9.3e3 (0.5 s); its I4
+#: times (1 + p + q)^3 7.9e4 (35 s), times (1 + p + q + r)^2 1.3e5 (76 s, refused)
+MAX_CERTIFICATE_WORK = 100_000
 STATE = (p, q, r, g1, g2, g3)
 #: position of r among the ring's generators
 _R_INDEX = 2
@@ -650,6 +655,7 @@ def certify_case(case: Case) -> CaseCertificate:
     checks["H_conserved"] = derivative_numerator(as_fraction(case.I1), flow) == 0
     checks["I3_conserved"] = derivative_numerator(as_fraction(case.I3), flow) == 0
     integral = as_fraction(case.integral)
+    _check_work(case, integral, flow)
     derivative = derivative_numerator(integral, flow)
     normal, witness = _reduced(case, derivative, integral)
     checks["F_conserved"] = normal == 0
@@ -686,6 +692,19 @@ def certify_case(case: Case) -> CaseCertificate:
         source=case.source,
         rank_point=None if rank_state is None else {str(k): str(v) for k, v in rank_state.items()},
     )
+
+
+def _check_work(case: Case, integral: tuple[PolyElement, PolyElement], flow: _Flow) -> None:
+    """Refuse, before the work, a claim whose certificate would multiply out too many terms."""
+    numerator, denominator = integral
+    degree = max(numerator.degrees()[_R_INDEX], denominator.degrees()[_R_INDEX], 0)
+    work = len(numerator) * len(denominator) * max(len(a) for a in flow.numerators) * (1 + degree)
+    if work > MAX_CERTIFICATE_WORK:
+        raise InputError(
+            f"case.integral: the certificate's work is estimated at {work:.1e} (limit "
+            f"{MAX_CERTIFICATE_WORK:.0e}, about a minute); simplify the claim (fewer terms, "
+            "lower degree)"
+        )
 
 
 def _reduced(

@@ -57,7 +57,7 @@ MAX_LITERAL_DIGITS = 40
 MAX_NUMBER_DIGITS = 400
 #: largest bound on the number of terms of an expanded product or power (the certificate's
 #: work grows with it; the theorem's integral I4 reaches 105)
-MAX_TERMS = 20_000
+MAX_TERMS = 5_000
 
 ACCEPTED = (
     "accepted: numbers, p q r gamma1 gamma2 gamma3, the declared parameters, + - * /, "

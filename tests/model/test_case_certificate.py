@@ -293,3 +293,12 @@ def test_wrong_types_in_a_case_table_are_one_line_errors(change: dict[str, Any])
     with pytest.raises(InputError) as exc:
         case_from_table(dict(KOWALEVSKI, **change))
     assert "\n" not in str(exc.value) and str(exc.value).startswith("case")
+
+
+def test_a_claim_too_large_to_certify_is_refused_before_the_work() -> None:
+    """Whitelisted but huge: the theorem's I4 times (1 + p + q + r)^2 (about 76 s of work)."""
+    table = entry_table({"file": "yehia_elmandouh.toml"})
+    table["integral"] = f"({table['integral']})*(1 + p + q + r)**2"
+    with pytest.raises(InputError) as exc:
+        certify_case(case_from_table(table))
+    assert "\n" not in str(exc.value) and "work is estimated" in str(exc.value)
