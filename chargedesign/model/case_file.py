@@ -78,6 +78,10 @@ MAX_PARAMETERS = 32
 #: r). Measured here (2 shared cores): the theorem's case estimates 9.3e3 (0.5 s); its I4
 #: times (1 + p + q)^3 7.9e4 (35 s), times (1 + p + q + r)^2 1.3e5 (76 s, refused)
 MAX_CERTIFICATE_WORK = 100_000
+#: largest denominator (terms) factored to say where a case is singular
+MAX_FACTORED_TERMS = 200
+#: highest degree of a mu given without l (I3's gamma part is then found by an ansatz)
+MAX_MU_DEGREE = 8
 STATE = (p, q, r, g1, g2, g3)
 #: position of r among the ring's generators
 _R_INDEX = 2
@@ -180,6 +184,9 @@ class Case:
         factors: set[sp.Expr] = set()
         for expr in parts:
             _, denominator = sp.fraction(sp.together(expr))
+            if len(sp.Add.make_args(sp.expand(denominator))) > MAX_FACTORED_TERMS:
+                factors.add(denominator)  # factoring a large one costs more than it tells
+                continue
             factors |= {f for f, _ in sp.factor_list(denominator)[1]}
         found = sorted(f"{sp.sstr(f)} = 0" for f in factors)
         if self.level is not None:
@@ -377,6 +384,11 @@ def potential_of_mu(mu: sp.Matrix, where: str) -> sp.Expr:
         if not component.is_polynomial(g1, g2, g3):
             raise InputError(f"{where}[{i}]: a rational mu needs l instead (give l)")
     degree = max((sp.Poly(c, g1, g2, g3).total_degree() for c in mu if c != 0), default=0)
+    if degree > MAX_MU_DEGREE:
+        raise InputError(
+            f"{where}: degree {degree} > {MAX_MU_DEGREE}: give l instead (I3 from mu needs an "
+            "ansatz whose size grows with the cube of the degree)"
+        )
     monomials = [
         g1**i * g2**j * g3**k
         for total in range(1, degree + 2)
@@ -652,10 +664,11 @@ def certify_case(case: Case) -> CaseCertificate:
     ring = case_ring()
     flow = _flow(case, ring)
     checks: dict[str, bool] = {}
-    checks["H_conserved"] = derivative_numerator(as_fraction(case.I1), flow) == 0
-    checks["I3_conserved"] = derivative_numerator(as_fraction(case.I3), flow) == 0
-    integral = as_fraction(case.integral)
-    _check_work(case, integral, flow)
+    energy, cyclic, integral = (as_fraction(f) for f in (case.I1, case.I3, case.integral))
+    for name, fraction in (("H", energy), ("I3", cyclic), ("integral", integral)):
+        _check_work(name, fraction, flow)
+    checks["H_conserved"] = derivative_numerator(energy, flow) == 0
+    checks["I3_conserved"] = derivative_numerator(cyclic, flow) == 0
     derivative = derivative_numerator(integral, flow)
     normal, witness = _reduced(case, derivative, integral)
     checks["F_conserved"] = normal == 0
@@ -694,15 +707,15 @@ def certify_case(case: Case) -> CaseCertificate:
     )
 
 
-def _check_work(case: Case, integral: tuple[PolyElement, PolyElement], flow: _Flow) -> None:
-    """Refuse, before the work, a claim whose certificate would multiply out too many terms."""
-    numerator, denominator = integral
+def _check_work(name: str, fraction: tuple[PolyElement, PolyElement], flow: _Flow) -> None:
+    """Refuse, before the work, a function whose time derivative would cost too much."""
+    numerator, denominator = fraction
     degree = max(numerator.degrees()[_R_INDEX], denominator.degrees()[_R_INDEX], 0)
     work = len(numerator) * len(denominator) * max(len(a) for a in flow.numerators) * (1 + degree)
     if work > MAX_CERTIFICATE_WORK:
         raise InputError(
-            f"case.integral: the certificate's work is estimated at {work:.1e} (limit "
-            f"{MAX_CERTIFICATE_WORK:.0e}, about a minute); simplify the claim (fewer terms, "
+            f"case: the certificate's work on {name} is estimated at {work:.1e} (limit "
+            f"{MAX_CERTIFICATE_WORK:.0e}, about a minute); simplify the case (fewer terms, "
             "lower degree)"
         )
 
