@@ -25,7 +25,7 @@ from chargedesign.limits import OPTION_RANGES
 from chargedesign.validation import check_input_number
 
 COMMANDS = {
-    "verify": "certificate of the theorem and audit of the printed formulas",
+    "verify": "certificate of the theorem and audit of the printed formulas, or of a case file",
     "conditions": "the linear conditions on moments a body must meet",
     "design": "design the body (charges, dipoles, masses) and write design.json",
     "check": "forward check of a design by quadrature and direct Lorentz torque",
@@ -39,6 +39,7 @@ COMMANDS = {
     "schema": "print the JSON Schema of design.json or of scene files",
     "testbed": "air-bearing platform, ballast, wheels and sampled closed loop (testbed.json)",
     "bifurcation": "bifurcation diagram of (H, I4) on I3 = 0: critical set, types, chambers",
+    "catalogue": "the paper's integrable cases of (ep), each certified exactly",
 }
 
 

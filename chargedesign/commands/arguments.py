@@ -71,6 +71,17 @@ AREAS = (
 
 
 def verify_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "case",
+        nargs="?",
+        default=None,
+        help="a case file (TOML with a [case] table): certify its claimed integral; "
+        "default: the theorem's certificate and the audit of the printed formulas",
+    )
+    parser.add_argument("--json", action="store_true", help="print JSON")
+
+
+def catalogue_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
@@ -499,4 +510,5 @@ ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "schema": schema_arguments,
     "testbed": testbed_arguments,
     "bifurcation": bifurcation_arguments,
+    "catalogue": catalogue_arguments,
 }

@@ -96,8 +96,12 @@ def to_sympy(element: PolyElement) -> sp.Expr:
 
 
 def laurent_normal(element: PolyElement) -> PolyElement:
-    """Cancel ``gamma3 * u = 1`` in every monomial: the unique Laurent form."""
-    ring = laurent_ring()
+    """Cancel ``gamma3 * u = 1`` in every monomial: the unique Laurent form.
+
+    Works in any ring whose first seven generators are ``p, q, r, gamma1, gamma2, gamma3, u``
+    (the theorem's :func:`laurent_ring`, or a case's ring: :mod:`chargedesign.model.case_file`).
+    """
+    ring = element.ring
     terms: dict[tuple[int, ...], Any] = {}
     for monom, coeff in element.items():
         e = monom[G3_INDEX] - monom[U_INDEX]
@@ -131,7 +135,7 @@ def time_derivative_ring(element: PolyElement, zeroed: tuple[sp.Symbol, ...] = (
 
 def split_by_power(element: PolyElement, index: int, step: int) -> dict[int, PolyElement]:
     """``element = sum_k x^(step k) B_k`` with ``B_k`` of degree < step in ``x``."""
-    ring = laurent_ring()
+    ring = element.ring
     parts: dict[int, dict[tuple[int, ...], Any]] = {}
     for monom, coeff in element.items():
         k, rest = divmod(monom[index], step)
@@ -162,9 +166,9 @@ def sphere_normal_form(element: PolyElement) -> tuple[PolyElement, PolyElement]:
 
     ``R0`` is the unique normal form modulo the sphere in the Laurent ring (gamma1^2 is
     replaced by ``1 - gamma2^2 - gamma3^2``; gamma3 may carry negative powers).
-    Returns ``(R0, N)``.
+    Returns ``(R0, N)``. Any ring laid out as :func:`laurent_normal` says.
     """
-    ring = laurent_ring()
+    ring = element.ring
     gens = ring.gens
     g1_sq = gens[_IG1] ** 2
     s = 1 - gens[_IG2] ** 2 - gens[G3_INDEX] ** 2

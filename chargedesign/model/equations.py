@@ -26,6 +26,32 @@ def potential_gradient_symbolic() -> sp.Matrix:
     return sp.Matrix([sp.diff(V, x) for x in GAMMA])
 
 
+def euler_poisson(inertia: sp.Matrix, V: sp.Expr, mu: sp.Matrix) -> sp.Matrix:
+    """The right-hand sides of (ep) for any case: diagonal ``inertia``, ``V(gamma)``, ``mu(gamma)``.
+
+    Parameters
+    ----------
+    inertia : sympy.Matrix, shape (3, 3)
+        Diagonal (principal axes), each entry non-zero.
+    V : sympy.Expr
+        The potential, a function of ``gamma1, gamma2, gamma3`` (and parameters).
+    mu : sympy.Matrix, shape (3, 1)
+        The gyroscopic vector (e.g. :func:`chargedesign.model.case.mu_from_l` of ``l``).
+
+    Returns
+    -------
+    sympy.Matrix, shape (6, 1)
+        ``(p', q', r', gamma1', gamma2', gamma3')``, each entry expanded.
+    """
+    gradient = sp.Matrix([sp.diff(V, x) for x in GAMMA])
+    torque = GAMMA.cross(gradient)
+    gyro = OMEGA.cross(inertia * OMEGA + mu)
+    omega_dot = [sp.expand((torque[i] - gyro[i]) / inertia[i, i]) for i in range(3)]
+    # gamma' = -omega x gamma = gamma x omega
+    gamma_dot = [sp.expand(e) for e in GAMMA.cross(OMEGA)]
+    return sp.Matrix(omega_dot + gamma_dot)
+
+
 @lru_cache(maxsize=1)
 def equations_of_motion() -> sp.Matrix:
     """The derived right-hand sides ``(p', q', r', gamma1', gamma2', gamma3')``.
@@ -38,13 +64,7 @@ def equations_of_motion() -> sp.Matrix:
         the result is cached.
     """
     case = symbolic_case()
-    inertia = case.inertia
-    torque = GAMMA.cross(potential_gradient_symbolic())
-    gyro = OMEGA.cross(inertia * OMEGA + case.mu)
-    omega_dot = [sp.expand((torque[i] - gyro[i]) / inertia[i, i]) for i in range(3)]
-    # gamma' = -omega x gamma = gamma x omega
-    gamma_dot = [sp.expand(e) for e in GAMMA.cross(OMEGA)]
-    return sp.Matrix(omega_dot + gamma_dot)
+    return euler_poisson(case.inertia, case.V, case.mu)
 
 
 def time_derivative(expr: sp.Expr) -> sp.Expr:
