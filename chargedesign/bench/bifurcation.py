@@ -13,9 +13,9 @@ import time
 from chargedesign.bench.common import BenchTable
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.params import Parameters
-from chargedesign.topology.chambers import LevelSampling
+from chargedesign.topology.chambers import FlowCounting, LevelSampling
 from chargedesign.topology.compute import DiagramOptions
-from chargedesign.topology.diagram import bifurcation_diagram
+from chargedesign.topology.diagram import bifurcation_diagram, chamber_labels
 
 #: the unit-scale case's parameters
 UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
@@ -23,7 +23,7 @@ UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 
 def run(quick: bool = False) -> list[BenchTable]:
     options = (
-        DiagramOptions(seeds=100, sampling=LevelSampling(1000, 32), columns=4)
+        DiagramOptions(seeds=100, counting=FlowCounting(sampling=LevelSampling(1000, 32)))
         if quick
         else DiagramOptions()
     )
@@ -38,7 +38,7 @@ def run(quick: bool = False) -> list[BenchTable]:
         notes=[
             f"{len(diagram.branches)} branches, {sum(len(b.hk) for b in diagram.branches)} "
             f"points, {len(raw.vertices)} rank-zero points, {len(raw.chambers)} chamber "
-            f"samples, tori per chamber {sorted({c.tori for c in raw.chambers})}",
+            f"cells, tori per chamber {[c.tori for c in chamber_labels(raw.chambers)]}",
             f"energy range {fmt(raw.h_range[0], PRECISE)} .. {fmt(raw.h_range[1], PRECISE)} J; "
             f"{raw.seeds_found} seeds kept" + (" (quick options)" if quick else ""),
             "goal: total under 60 s; 'equations' includes compiling the exact derivatives",
