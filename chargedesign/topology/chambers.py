@@ -184,18 +184,23 @@ def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) ->
 def count_by_flow(
     F: MomentumMap, h: float, k: float, counting: FlowCounting | None = None
 ) -> FlowCount:
-    """The number of tori of ``F^-1(h, k)`` by the flow (see the module's notes); 0 when the
-    sampled level is empty. ``F`` at n = 0 and unit time scale (the diagram's reading)."""
+    """The number of tori of ``F^-1(h, k)`` by the flow (see the module's notes); None (with
+    no samples) when no state of the level is found at the sampling and at twice it. ``F`` at
+    n = 0 and unit time scale (the diagram's reading)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
     counting = counting or FlowCounting()
-    sampler = LevelSampler(F, h, counting.sampling)
-    points = sampler.points(k) if sampler.quartic.size else np.zeros((0, 6))
     deltas = list(counting.deltas)
-    if len(points) == 0:
-        return FlowCount(0, 0, 0, deltas, [0] * len(deltas), [1.0] * len(deltas), None, None)
+    for sampling in (counting.sampling, counting.sampling.doubled()):
+        sampler = LevelSampler(F, h, sampling)
+        points = sampler.points(k) if sampler.quartic.size else np.zeros((0, 6))
+        if len(points):
+            break
+    else:
+        # no state found even at doubled sampling: not a count (the caller knows the bounds)
+        return FlowCount(None, 0, 0, deltas, [0] * len(deltas), [0.0] * len(deltas), None, None)
     scale = np.array([sampler.omega_scale] * 3 + [1.0] * 3)
     tree = cKDTree(points)
     rng = np.random.default_rng(counting.seed)

@@ -33,6 +33,9 @@ from chargedesign.params import Parameters
 #: a point of the plane closer than this (relative to the diagram's energy scale, in h and in
 #: sqrt(k)) to a branch is on it
 ON_BRANCH = 1e-9
+#: a level closer than this to a branch (same units) is not counted: its tori are closer
+#: together than the flow counting's samples resolve
+RESOLVED = 1e-5
 #: the name of the wall k = 0
 ZERO_WALL = "degenerate k = 0 (the equator family and the zero sheets of I4)"
 
@@ -77,6 +80,7 @@ class ClosedForm:
     h_min: float
     parabolas: tuple[Parabola, ...]
     switch: float  # K^2 a0: the shapes switch at |kappa| = switch
+    spread: float  # the spread of the critical energies, J (computed before the Larmor shift)
 
     @classmethod
     def of(cls, params: Parameters) -> ClosedForm:
@@ -87,8 +91,13 @@ class ClosedForm:
         if abs(kappa) < K * K * a0:
             candidates.append(-kappa / (K * K))
 
+        def unshifted(s: float) -> float:
+            return C * (kappa * s + 0.5 * K * K * s * s - 0.5 * K * K * c * c)
+
+        spread = max(map(unshifted, candidates)) - min(map(unshifted, candidates))
+
         def energy(s: float) -> float:
-            return C * (kappa * s + 0.5 * K * K * s * s - 0.5 * K * K * c * c) + shift
+            return unshifted(s) + shift
 
         levels: dict[float, float] = {}
         for s in candidates:
@@ -101,7 +110,7 @@ class ClosedForm:
             if h != h_min:
                 start = 0.5 * (h_min + h)
                 parabolas.append(Parabola(h, start, "hyperbolic", levels[h], C, a0, kappa))
-        return cls(params, h_min, tuple(parabolas), K * K * a0)
+        return cls(params, h_min, tuple(parabolas), K * K * a0, spread)
 
     @property
     def energies(self) -> list[float]:
@@ -112,7 +121,7 @@ class ClosedForm:
     def energy_scale(self) -> float:
         """The spread of the critical energies ``h_j`` (J; positive for every parameter set
         with a diagram): the diagram's unit of h."""
-        return max(self.energies) - self.h_min
+        return self.spread
 
     def upper(self, h: float) -> float:
         """The largest I4 at energy h (1/s^4): ``((h - h_min) / C)^2``, 0 below h_min."""
@@ -147,6 +156,17 @@ class ClosedForm:
                 if q.h_j > p.h_j and middle >= max(p.start, q.start):
                     points.add(middle)
         return sorted(h for h in points if lo < h < hi)
+
+    def distance(self, h: float, k: float) -> tuple[float, str]:
+        """The distance from (h, k) to the nearest wall at energy h, in ``C sqrt(k)`` (J:
+        the walls are straight lines there), over the energy spread; and the wall's label."""
+        labels = {p.name: p.label for p in self.parabolas}
+        root = math.sqrt(max(k, 0.0))
+        found = [
+            (abs(root - math.sqrt(value)) * self.params.C / self.energy_scale, labels.get(n, n))
+            for value, n in self.walls(h)
+        ]
+        return min(found) if found else (math.inf, "")
 
     def branch_at(self, h: float, k: float) -> str | None:
         """The branch through (h, k) (to :data:`ON_BRANCH` of the scale), or None."""

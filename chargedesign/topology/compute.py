@@ -20,7 +20,7 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
 from chargedesign.topology.chambers import FlowCounting, count_by_flow
-from chargedesign.topology.closed_form import ClosedForm
+from chargedesign.topology.closed_form import RESOLVED, ClosedForm
 from chargedesign.topology.critical import (
     CriticalPoints,
     Scales,
@@ -307,11 +307,17 @@ def chamber_samples(F: MomentumMap, scales: Scales, counting: FlowCounting) -> l
             if high_k - low_k > tol:
                 parent[root(j)] = root(i)
     roots = sorted({root(i) for i in range(len(gaps))})
+
+    def tori(h: float, k: float) -> int | None:
+        if closed.distance(h, k)[0] < RESOLVED:
+            return None  # the cell is thinner than the counting resolves
+        return count_by_flow(F, h, k, counting).tori
+
     return [
         Chamber(
             h,
             k,
-            count_by_flow(F, h, k, counting).tori,
+            tori(h, k),
             walls,
             roots.index(root(i)),
             b - a,

@@ -20,7 +20,7 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
-from chargedesign.topology.closed_form import ClosedForm
+from chargedesign.topology.closed_form import RESOLVED, ClosedForm
 from chargedesign.topology.diagram import Reading, check_parameters
 from chargedesign.topology.equations import MomentumMap
 
@@ -47,8 +47,6 @@ class ToriCount(Result):
         if e is None:
             bound = "outside 0 <= k <= ((h - h_min) / C)^2 (the proven bound)"
             return f"{head}\n  the level is empty: {bound}\n"
-        if e.points == 0:
-            return head + "\n  the level is empty: no state of it found on the sampled conics\n"
         assert e.plateau is not None
         lines = [
             head,
@@ -88,9 +86,21 @@ def tori_at(
         )
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
         return ToriCount(h, k, 0, "bound", None)
+    nearest, name = closed.distance(h, k)
+    if nearest < RESOLVED:
+        raise InputError(
+            f"--tori: (h, k) = ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is within"
+            f" {fmt(nearest, CELL)} of the energy spread from the {name}: its tori are closer"
+            f" together than the counting resolves (it needs {fmt(RESOLVED, CELL)})"
+        )
     reading = Reading.of(params)
     F = MomentumMap(reading.unit())
     found = count_by_flow(F, reading.energy_unit(h), k / reading.s**4, counting)
+    if found.points == 0:
+        raise InputError(
+            f"--tori: no state of the level ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) found on the"
+            " sampled conics although it lies inside the proven bounds: not counted"
+        )
     if found.tori is None:
         pairs = zip(found.counts, found.deltas, strict=True)
         counts = ", ".join(f"{c} at {fmt(d, CELL)}" for c, d in pairs)

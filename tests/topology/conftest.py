@@ -5,12 +5,12 @@ from __future__ import annotations
 import pytest
 from unit_scene import UNIT_PARAMETERS as UNIT
 
-from chargedesign.topology.chambers import LevelSampling
+from chargedesign.topology.chambers import FlowCounting, LevelSampling
 from chargedesign.topology.compute import DiagramOptions
 
 #: the unit-scale case (examples/scenes/unit_scale.toml)
-#: fewer seeds and chamber samples than the default: seconds, not tens of seconds
-SMALL = DiagramOptions(seeds=200, sampling=LevelSampling(1500, 48), columns=5)
+#: fewer seeds and level samples than the default: seconds, not tens of seconds
+SMALL = DiagramOptions(seeds=200, counting=FlowCounting(sampling=LevelSampling(1000, 40)))
 
 
 @pytest.fixture(scope="session")
