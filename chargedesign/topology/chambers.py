@@ -26,6 +26,15 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.simulation import taylor
+from chargedesign.simulation.integrate import FALLBACK_METHOD, integrate
+from chargedesign.simulation.system import (
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    rotation_quaternion,
+)
 from chargedesign.topology.critical import plane_basis, sphere_points
 from chargedesign.topology.equations import MomentumMap
 
@@ -148,16 +157,6 @@ class FlowCount:
 
 def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) -> np.ndarray:
     """States (omega, gamma) along the trajectories from ``starts`` (m, 6): (m, T, 6)."""
-    from chargedesign.simulation import taylor
-    from chargedesign.simulation.integrate import FALLBACK_METHOD, integrate
-    from chargedesign.simulation.system import (
-        Body,
-        RigidBodySystem,
-        attitude_from_gamma,
-        quaternion_gamma,
-        rotation_quaternion,
-    )
-
     system = RigidBodySystem(Body(parameters=F.params), ["theorem"])
     y0 = np.array(
         [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
