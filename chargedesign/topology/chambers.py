@@ -13,10 +13,12 @@ leaves its torus, so two tori are joined only when some trajectory passes within
 sample of the other: below the tori's separation that cannot happen, however close they are.
 Rounds of new trajectories start from the samples no trajectory has passed yet, until every
 sample is covered. The components are counted over a ladder of join distances; the count
-reported is the one that holds over the longest run of them (at least a factor
-:data:`MIN_PLATEAU` in delta) with every sample covered; each compact regular component is
-one torus (Liouville-Arnold). The separation (least distance between samples of different
-tori) and the coverage are kept as the evidence.
+reported is the first (finest) one that holds over a run of them spanning at least a factor
+:data:`MIN_PLATEAU` with every sample covered (a later run is that of tori merged at the
+larger distances); each compact regular component is one torus (Liouville-Arnold). A level
+with fewer than :data:`MIN_SAMPLES` samples (thin tubes near an elliptic branch) is sampled
+again at twice the resolution, up to :data:`REFINEMENTS` times. The separation (least
+distance between samples of different tori) and the coverage are kept as the evidence.
 """
 
 from __future__ import annotations
@@ -40,6 +42,10 @@ from chargedesign.topology.equations import MomentumMap
 
 #: the count must hold from delta to at least this factor times delta
 MIN_PLATEAU = 2.0
+#: a level with fewer samples is sampled again at twice the resolution, at most
+#: REFINEMENTS times
+MIN_SAMPLES = 1000
+REFINEMENTS = 2
 
 
 @dataclass(frozen=True)
@@ -120,11 +126,11 @@ class FlowCounting:
 
     sampling: LevelSampling = field(default_factory=lambda: LevelSampling(1500, 48))
     starts: int = 48
-    rounds: int = 6
+    rounds: int = 8
     t_end: float = 200.0
-    samples: int = 4000
+    samples: int = 8000
     deltas: tuple[float, ...] = (0.01, 0.014, 0.02, 0.028, 0.04, 0.056, 0.08, 0.11, 0.16)
-    cover: int = 4
+    cover: int = 3
     seed: int = 0
 
 
@@ -192,13 +198,17 @@ def count_by_flow(
 
     counting = counting or FlowCounting()
     deltas = list(counting.deltas)
-    for sampling in (counting.sampling, counting.sampling.doubled()):
+    sampling = counting.sampling
+    for _ in range(REFINEMENTS + 1):
         sampler = LevelSampler(F, h, sampling)
         points = sampler.points(k) if sampler.quartic.size else np.zeros((0, 6))
-        if len(points):
+        if len(points) >= MIN_SAMPLES:
             break
-    else:
-        # no state found even at doubled sampling: not a count (the caller knows the bounds)
+        # a small level (thin tubes near an elliptic branch) may fall between the grid's
+        # points: refine until it has enough samples
+        sampling = sampling.doubled()
+    if len(points) == 0:
+        # no state found even at the finest sampling: not a count (the caller knows the bounds)
         return FlowCount(None, 0, 0, deltas, [0] * len(deltas), [0.0] * len(deltas), None, None)
     scale = np.array([sampler.omega_scale] * 3 + [1.0] * 3)
     tree = cKDTree(points)
@@ -242,9 +252,12 @@ def count_by_flow(
 def _plateau(
     deltas: list[float], counts: list[int], coverage: list[float]
 ) -> tuple[int, int] | None:
-    """The longest run of join distances with every sample covered and the same count,
-    spanning at least :data:`MIN_PLATEAU` (indices of its ends), or None."""
-    best: tuple[int, int] | None = None
+    """The first run of join distances (from the smallest) with every sample covered and the
+    same count, spanning at least :data:`MIN_PLATEAU` (indices of its ends), or None.
+
+    The first, not the longest: tori closer together than a join distance are merged there,
+    so the count that holds at the finest resolution the samples support is the true one
+    (a longer run at larger distances is the merged count)."""
     i = 0
     while i < len(deltas):
         if coverage[i] < 1.0:
@@ -253,10 +266,10 @@ def _plateau(
         j = i
         while j + 1 < len(deltas) and coverage[j + 1] == 1.0 and counts[j + 1] == counts[i]:
             j += 1
-        if deltas[j] >= MIN_PLATEAU * deltas[i] and (best is None or j - i > best[1] - best[0]):
-            best = (i, j)
+        if deltas[j] >= MIN_PLATEAU * deltas[i] * (1 - 1e-9):
+            return i, j
         i = j + 1
-    return best
+    return None
 
 
 def _separation(points: np.ndarray, label: np.ndarray) -> float | None:

@@ -20,20 +20,27 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
-from chargedesign.topology.closed_form import RESOLVED, ClosedForm
+from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.diagram import Reading, check_parameters
 from chargedesign.topology.equations import MomentumMap
 
 
 @dataclass(repr=False)
 class ToriCount(Result):
-    """Tori over ``(h, k)`` (J, 1/s^4) and how sure the count is."""
+    """Tori over ``(h, k)`` (J, 1/s^4) and how sure the count is.
+
+    The count is constant over a chamber (its levels are diffeomorphic: a connected set of
+    regular values), so it is counted where the chamber's tori at this energy are farthest
+    apart, ``k_middle`` (the middle, in sqrt(k), between the walls around k), and at (h, k)
+    itself as a check; ``middle`` and ``at_point`` are the two counts' evidence.
+    """
 
     h: float
     k: float
     tori: int
-    reason: str  # "bound" (outside the closed-form bounds: empty) or "flow"
-    evidence: FlowCount | None
+    k_middle: float | None = None
+    middle: FlowCount | None = None
+    at_point: FlowCount | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {"h": self.h, "k": self.k, "tori": self.tori}
@@ -43,23 +50,33 @@ class ToriCount(Result):
 
     def _text(self) -> str:
         head = f"tori over h = {fmt(self.h, PLAIN)} J, k = {fmt(self.k, PLAIN)} 1/s^4: {self.tori}"
-        e = self.evidence
-        if e is None:
+        e = self.middle
+        if e is None or e.plateau is None or self.k_middle is None:
             bound = "outside 0 <= k <= ((h - h_min) / C)^2 (the proven bound)"
             return f"{head}\n  the level is empty: {bound}\n"
-        assert e.plateau is not None
         lines = [
             head,
-            f"  by the flow: {e.points} samples of the level, {e.trajectories} trajectories;"
-            f" the count holds for every join distance from {fmt(e.plateau[0], CELL)} to"
-            f" {fmt(e.plateau[1], CELL)} (scaled states) with every sample passed by a"
-            " trajectory",
+            f"  counted by the flow at the middle of its chamber at this energy (k ="
+            f" {fmt(self.k_middle, CELL)} 1/s^4), where its tori are farthest apart: {e.points}"
+            f" samples, {e.trajectories} trajectories; the count holds for every join distance"
+            f" from {fmt(e.plateau[0], CELL)} to {fmt(e.plateau[1], CELL)} (scaled states) with"
+            " every sample passed by a trajectory",
         ]
         if e.separation is not None:
-            lines.append(
-                f"  the tori's samples are at least {fmt(e.separation, CELL)} apart"
-                f" ({fmt(e.separation / e.plateau[1], CELL)} times the largest join distance)"
-            )
+            lines.append(f"  the tori's samples there are at least {fmt(e.separation, CELL)} apart")
+        p = self.at_point
+        if p is not None:
+            if p.tori == self.tori:
+                lines.append(
+                    f"  at (h, k) itself the flow gives the same count ({p.points} samples)"
+                )
+            else:
+                found = "no count" if p.tori is None else str(p.tori)
+                lines.append(
+                    f"  at (h, k) itself the flow gives {found} (counts {p.counts} over join"
+                    f" distances {p.deltas}): the tori there come closer together than the"
+                    " counting resolves; the chamber's count is the level's"
+                )
         return "\n".join(lines) + "\n"
 
 
@@ -71,8 +88,8 @@ def tori_at(
     Raises
     ------
     InputError
-        Singular or degenerate parameters; ``(h, k)`` on a branch (a critical value); a count
-        that no range of join distances supports (the level too close to a branch).
+        Singular or degenerate parameters; ``(h, k)`` on a branch (a critical value); a
+        chamber whose count no range of join distances supports.
     """
     check_parameters(params)
     if not (np.isfinite(h) and np.isfinite(k)):
@@ -85,28 +102,22 @@ def tori_at(
             f" {branch}: the level is not a union of tori"
         )
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
-        return ToriCount(h, k, 0, "bound", None)
-    nearest, name = closed.distance(h, k)
-    if nearest < RESOLVED:
-        raise InputError(
-            f"--tori: (h, k) = ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is within"
-            f" {fmt(nearest, CELL)} of the energy spread from the {name}: its tori are closer"
-            f" together than the counting resolves (it needs {fmt(RESOLVED, CELL)})"
-        )
+        return ToriCount(h, k, 0)
+    walls = [value for value, _ in closed.walls(h)]
+    below = max(value for value in walls if value < k)
+    above = min(value for value in walls if value > k)
+    k_middle = float((0.5 * (np.sqrt(below) + np.sqrt(above))) ** 2)
     reading = Reading.of(params)
     F = MomentumMap(reading.unit())
-    found = count_by_flow(F, reading.energy_unit(h), k / reading.s**4, counting)
-    if found.points == 0:
-        raise InputError(
-            f"--tori: no state of the level ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) found on the"
-            " sampled conics although it lies inside the proven bounds: not counted"
-        )
-    if found.tori is None:
-        pairs = zip(found.counts, found.deltas, strict=True)
+    h_unit = reading.energy_unit(h)
+    middle = count_by_flow(F, h_unit, k_middle / reading.s**4, counting)
+    if middle.tori is None:
+        pairs = zip(middle.counts, middle.deltas, strict=True)
         counts = ", ".join(f"{c} at {fmt(d, CELL)}" for c, d in pairs)
         raise InputError(
-            f"--tori: the count at ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is not resolved: no count"
-            f" holds over a factor 2 of join distances with every sample covered ({counts});"
-            " the level is too close to a branch for this sampling"
+            f"--tori: the chamber of ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is not resolved at this"
+            f" energy: at its middle k = {fmt(k_middle, CELL)} no count holds over a factor 2 of"
+            f" join distances with every sample covered ({counts or 'no sample found'})"
         )
-    return ToriCount(h, k, found.tori, "flow", found)
+    at_point = count_by_flow(F, h_unit, k / reading.s**4, counting)
+    return ToriCount(h, k, middle.tori, k_middle, middle, at_point)

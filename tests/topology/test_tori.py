@@ -3,7 +3,6 @@ ones too), kappa < 0, and n as no parameter of the count (Larmor)."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 from unit_scene import UNIT_PARAMETERS as UNIT
 
@@ -29,7 +28,8 @@ def generic_diagram(small_options):
 def test_generic_counts_by_the_flow(h, k, tori):
     count = tori_at(GENERIC, h, k)
     assert count.tori == tori
-    evidence = count.evidence
+    assert count.at_point is not None and count.at_point.tori == tori
+    evidence = count.middle
     assert evidence is not None and evidence.plateau is not None
     # the count holds over a factor of at least 2 of join distances, every sample covered,
     # and the tori's samples lie farther apart than the largest join distance
@@ -99,8 +99,18 @@ def test_outside_the_bounds_is_empty_and_a_branch_is_refused():
     assert "\n" not in str(error.value)
     with pytest.raises(InputError, match="critical value, on the degenerate k = 0"):
         tori_at(GENERIC, 0.55, 0.0)
+
+
+def test_a_level_near_a_branch_takes_its_chambers_count():
+    """Just above a hyperbolic arc (1e-7 of k) the tori nearly touch; the count is the
+    chamber's, counted at its middle, and the text says what the point itself gave."""
+    closed = ClosedForm.of(GENERIC)
     h = 0.55
     k = float(closed.parabolas[2].k(h)) * (1 + 1e-7)
-    with pytest.raises(InputError, match="closer together than the counting resolves"):
-        tori_at(GENERIC, h, k)
-    assert np.isfinite(closed.energy_scale)
+    near = tori_at(GENERIC, h, k)
+    walls = [value for value, _ in closed.walls(h)]
+    above = min(v for v in walls if v > k)
+    middle = tori_at(GENERIC, h, 0.5 * (k + above))
+    assert near.tori == middle.tori
+    assert near.k_middle == pytest.approx(middle.k_middle, rel=1e-6)
+    assert "middle of its chamber" in str(near)
