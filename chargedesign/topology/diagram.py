@@ -365,8 +365,12 @@ class BifurcationDiagram(Result):
         extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
         size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
         for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
+            # on k = 0 (the equator, w = gamma3 = 0) xi vanishes to second order: the Hessian
+            # of I4 = |xi|^2 vanishes, so as singularities of (H, I4) these are degenerate
+            note = "" if k != 0.0 else "; degenerate for (H, I4): the Hessian of I4 vanishes"
             lines.append(
-                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} ({states} states)"
+                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} of the energy"
+                f" ({states} states{note})"
             )
         for p in ClosedForm.of(raw.params).parabolas:
             lines.append(f"  closed form: {p.label}, from h = {fmt(p.start, CELL)} J")

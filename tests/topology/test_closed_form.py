@@ -146,3 +146,50 @@ def test_larmor_shifts_every_branch_by_C_n2():
     atn = ClosedForm.of(GENERIC)
     shift = GENERIC.C * GENERIC.n**2
     assert np.allclose(np.array(atn.energies) - at0.energies, shift, rtol=0, atol=1e-14)
+
+
+def test_off_equator_zero_sheets_are_critical_over_k_0():
+    """Off the equator, xi = 0 on I3 = 0 (w = sqrt(-(c + i d) gamma3^2 (A - i K r)), r from
+    I3 = 0) gives states with gamma3 != 0 and I4 = 0: critical (I4 has its minimum there),
+    so the critical set over k = 0 is more than the equator family. Measured: these lie at
+    the energy of a vertex on k = 0 (an h_j with s = +-a0), not along the segment."""
+    from scipy.optimize import brentq
+
+    params = GENERIC.replace(n=0.0)
+    F = MomentumMap(params)
+    a0 = float(np.hypot(params.c, params.d))
+    energies = []
+    for theta, phi in ((0.7, 0.3), (1.1, 2.0), (0.4, 4.0), (1.3, 5.5)):
+        gamma = np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
+        s = params.c * (gamma[0] ** 2 - gamma[1] ** 2) + 2 * params.d * gamma[0] * gamma[1]
+        A = params.kappa + params.K**2 * s
+        assert A > 0  # sqrt(A - i K r) is then continuous in r (right half-plane)
+
+        def state(r: float, gamma=gamma, A=A) -> np.ndarray:
+            w = np.sqrt(-(params.c + 1j * params.d) * gamma[2] ** 2 + 0j) * np.sqrt(
+                A - 1j * params.K * r
+            )
+            return np.array([w.real, w.imag, r, *gamma])
+
+        r = brentq(lambda r: F.values(state(r))[0, 3], -50.0, 50.0, xtol=1e-14)
+        x = state(r)
+        values = F.values(x)[0]
+        assert abs(values[3]) < 1e-10 and abs(values[1]) < 1e-20
+        assert np.max(np.abs(F.gradients(x)[0, 1])) < 1e-9  # dI4 = 0: critical
+        assert abs(gamma[2]) > 0.2
+        energies.append(values[0])
+    vertices = [p.h_j for p in ClosedForm.of(params).parabolas if abs(abs(p.s) - a0) < 1e-12]
+    for h in energies:
+        assert min(abs(h - v) for v in vertices) < 1e-12
+
+
+def test_vertices_on_k_0_are_degenerate_for_the_momentum_map(unit_diagram):
+    """At the vertices on k = 0 the Hessian of I4 vanishes (xi vanishes to second order on
+    the equator family), at the others it does not."""
+    F = MomentumMap(unit_diagram.raw.params)
+    for vertex in unit_diagram.raw.vertices:
+        hessian = np.max(np.abs(F.hessians(vertex.state)[0, 1]))
+        if vertex.hk[1] < 1e-12:
+            assert hessian < 1e-12
+        else:
+            assert hessian > 1e-3
