@@ -384,18 +384,31 @@ class BifurcationDiagram(Result):
         lines.append(f"  time: {stages}")
         return "\n".join(lines) + "\n"
 
-    def plot(self, axes: Any = None) -> Any:
-        """The diagram: admissible band, curves by type, vertices, chamber tori counts."""
+    def plot(self, axes: Any = None, root: bool = False) -> Any:
+        """The diagram: admissible band, curves by type, vertices, chamber tori counts.
+
+        With ``root`` the vertical axis is ``sqrt(k)``, where every branch is a straight line
+        (``C sqrt(k) = |h - h_j|``) and thin chambers open up. Without ``axes`` a figure with
+        both panels (k, and sqrt(k)).
+        """
         from matplotlib.figure import Figure
 
         if axes is None:
-            fig = Figure(figsize=(7.5, 5.5))
-            axes = fig.subplots()
+            fig = Figure(figsize=(13.0, 5.5))
+            left, right = fig.subplots(1, 2)
+            self.plot(left)
+            self.plot(right, root=True)
+            return fig
+        lift = np.sqrt if root else np.asarray
         raw = self.raw
         band = raw.admissible
         if len(band):
             axes.fill_between(
-                band[:, 0], band[:, 1], band[:, 2], color="0.9", label="admissible (F^-1 not empty)"
+                band[:, 0],
+                lift(band[:, 1]),
+                lift(band[:, 2]),
+                color="0.9",
+                label="admissible (F^-1 not empty)",
             )
         drawn = set()
         for b in self.branches:
@@ -407,26 +420,31 @@ class BifurcationDiagram(Result):
                 hk = np.where(mask[:, None], b.hk, np.nan)
                 axes.plot(
                     hk[:, 0],
-                    hk[:, 1],
+                    lift(np.maximum(hk[:, 1], 0.0)),
                     color=TYPE_COLOURS[kind],
                     lw=1.6,
                     label=kind if kind not in drawn else None,
                 )
                 drawn.add(kind)
         for v in raw.vertices:
-            axes.plot(*v.hk, "ko", ms=4)
+            axes.plot(v.hk[0], lift(max(float(v.hk[1]), 0.0)), "ko", ms=4)
         for c in chamber_labels(raw.chambers):
             axes.annotate(
                 "?" if c.tori is None else str(c.tori),
-                (c.h, c.k),
+                (c.h, float(lift(c.k))),
                 ha="center",
                 va="center",
                 fontsize=9,
                 weight="bold",
             )
         axes.set_xlabel("h = H [J]")
-        axes.set_ylabel("k = I4 [1/s^4]")
-        axes.set_title("Bifurcation diagram on I3 = 0 (numbers: tori per chamber)", fontsize=10)
+        if root:
+            axes.set_ylabel("sqrt(k) = sqrt(I4) [1/s^2]")
+            axes.set_title("the same in sqrt(k): branches C sqrt(k) = |h - h_j|", fontsize=10)
+        else:
+            axes.set_ylabel("k = I4 [1/s^4]")
+            title = "Bifurcation diagram on I3 = 0 (numbers: tori per chamber)"
+            axes.set_title(title, fontsize=10)
         axes.legend(fontsize=8, loc="upper left")
         return axes.figure
 
