@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from topology_cases import GENERIC
 from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.model.case import (
@@ -25,11 +26,7 @@ from chargedesign.model.case import (
     symbolic_case,
 )
 from chargedesign.topology.closed_form import ClosedForm
-from chargedesign.topology.diagram import bifurcation_diagram
 from chargedesign.topology.equations import MomentumMap
-
-#: a generic case: every one of c, d, n, K, kappa non-zero, |kappa| < K^2 sqrt(c^2 + d^2)
-GENERIC = UNIT.replace(kappa=0.05)
 
 
 def _at_n0():
@@ -106,11 +103,10 @@ def test_quartic_is_bounded_by_the_least_energy_on_the_level():
         assert np.all(values[:, 1] <= bound * (1 + 1e-12) + 1e-14)
 
 
-def test_continuation_lies_on_the_closed_form(unit_diagram, small_options):
+def test_continuation_lies_on_the_closed_form(unit_diagram, generic_diagram):
     """Every continued point on a parabola k = ((h - h_j)/C)^2 of its own type, and every
     parabola met by the continuation (two cases: the two shapes of the diagram)."""
-    generic = bifurcation_diagram(GENERIC, None, small_options)
-    for diagram in (unit_diagram, generic):
+    for diagram in (unit_diagram, generic_diagram):
         closed = ClosedForm.of(diagram.raw.params)
         scale = closed.energy_scale
         met = set()

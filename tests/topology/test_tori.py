@@ -4,6 +4,7 @@ ones too), kappa < 0, and n as no parameter of the count (Larmor)."""
 from __future__ import annotations
 
 import pytest
+from topology_cases import GENERIC
 from unit_scene import UNIT_PARAMETERS as UNIT
 
 from chargedesign.errors import InputError
@@ -13,15 +14,8 @@ from chargedesign.topology.diagram import bifurcation_diagram, chamber_labels
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.tori import tori_at
 
-#: every one of c, d, n, K, kappa non-zero, |kappa| < K^2 sqrt(c^2 + d^2): 2 and 4 tori
-GENERIC = UNIT.replace(kappa=0.05)
 #: (h, k, tori) in its chambers; the old sampler said 1 and 2 at the first two
 GENERIC_LEVELS = [(0.5235, 7e-5, 2), (0.5082, 0.00063, 4), (0.5388, 0.00357, 4)]
-
-
-@pytest.fixture(scope="module")
-def generic_diagram(small_options):
-    return bifurcation_diagram(GENERIC, None, small_options)
 
 
 @pytest.mark.parametrize(("h", "k", "tori"), GENERIC_LEVELS)
