@@ -220,15 +220,28 @@ def check_energy_range(
             f"energy is at least {fmt(float(reading.energy(low)), CELL)} J"
         ) from None
     width, spread = hi - max(lo, closed.h_min), closed.energy_scale
-    if not MIN_RANGE_OVER_SPREAD * spread <= width <= MAX_RANGE_OVER_SPREAD * spread:
+    if width < MIN_RANGE_OVER_SPREAD * spread:
         raise InputError(
             f"--h-range: the admissible part of {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J is"
-            f" {fmt(width, CELL)} J wide; the critical energies spread over {fmt(spread, CELL)}"
-            f" J (from the least energy {fmt(closed.h_min, CELL)} J), and the range must be"
-            f" {fmt(MIN_RANGE_OVER_SPREAD, CELL)} to {fmt(MAX_RANGE_OVER_SPREAD, CELL)} times"
-            " that wide for the diagram's structure to be resolved"
+            f" {fmt(width, CELL)} J wide, under {fmt(MIN_RANGE_OVER_SPREAD, CELL)} of the"
+            f" spread of the critical energies ({fmt(spread, CELL)} J): too narrow to resolve"
         )
+    require_energy_in_scale(closed, hi, "--h-range")
     return unit_range
+
+
+def require_energy_in_scale(closed: ClosedForm, h: float, name: str) -> None:
+    """Refuse an energy more than :data:`MAX_RANGE_OVER_SPREAD` spreads of the critical
+    energies above the least energy (the diagram's structure is lost at that scale, and the
+    motion is so fast there that a count by the flow would not end)."""
+    spread = closed.energy_scale
+    if h - closed.h_min > MAX_RANGE_OVER_SPREAD * spread:
+        raise InputError(
+            f"{name}: energy {fmt(h, PLAIN)} J is over {fmt(MAX_RANGE_OVER_SPREAD, CELL)} times"
+            f" the spread of the critical energies ({fmt(spread, CELL)} J) above the least"
+            f" energy {fmt(closed.h_min, CELL)} J: the diagram's structure is not resolved there;"
+            f" give energies up to {fmt(closed.h_min + MAX_RANGE_OVER_SPREAD * spread, CELL)} J"
+        )
 
 
 def energy_range(params: Parameters, h_range: tuple[float, float] | None) -> tuple[float, float]:

@@ -21,7 +21,7 @@ from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
 from chargedesign.topology.closed_form import ClosedForm
-from chargedesign.topology.diagram import Reading, check_parameters
+from chargedesign.topology.diagram import Reading, check_parameters, require_energy_in_scale
 from chargedesign.topology.equations import MomentumMap
 
 
@@ -103,6 +103,7 @@ def tori_at(
         )
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
         return ToriCount(h, k, 0)
+    require_energy_in_scale(closed, h, "--tori")
     walls = [value for value, _ in closed.walls(h)]
     below = max(value for value in walls if value < k)
     above = min(value for value in walls if value > k)

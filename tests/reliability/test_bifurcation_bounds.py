@@ -27,8 +27,15 @@ def test_energy_range_out_of_scale_is_refused_before_the_work(tmp_path, capsys, 
     out = tmp_path / "out"
     argv = ["bifurcation", scene, "--h-range", lo, hi, "--out", str(out)]
     line = refused(argv, "bifurcation", capsys, tmp_path)
-    assert "--h-range" in line and "wide" in line
+    assert "--h-range" in line and "spread of the critical energies" in line
     assert not out.exists()
+
+
+def test_tori_at_an_energy_out_of_scale_is_refused(tmp_path, capsys):
+    """The embedded SI scene's energies are about 1e-17 J: a count at 1 J (inside the bound
+    k <= ((h - h_min)/C)^2) would integrate motions 1e8 times too fast; refused at once."""
+    line = refused(["bifurcation", "--tori", "1", "1"], "bifurcation", capsys, tmp_path)
+    assert "--tori: energy 1 J is over" in line
 
 
 @pytest.mark.parametrize(
