@@ -118,7 +118,7 @@ def test_continuation_lies_on_the_closed_form(unit_diagram, generic_diagram):
                 [np.abs(np.sqrt(k) * p.C - np.abs(h - p.h_j)) for p in closed.parabolas]
             )
             nearest = np.argmin(gaps, axis=0)
-            assert np.max(np.min(gaps, axis=0)) < 1e-7 * scale
+            assert np.max(np.min(gaps, axis=0)) < 1e-9 * scale
             for i, kind in zip(nearest, branch.types, strict=True):
                 if kind != "degenerate":
                     assert kind == closed.parabolas[i].type
