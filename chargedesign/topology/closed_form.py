@@ -22,6 +22,7 @@ kappa / t)`` leaves every term unchanged.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -70,6 +71,22 @@ class Parabola:
     def label(self) -> str:
         """The name with the closed form."""
         return f"{self.name} k = ((h - h_j)/C)^2, h_j = {fmt(self.h_j, CELL)} J"
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One gap between two walls between two consecutive vertex energies ``a < b`` (J): its
+    walls' names, its middle ``(h, k)`` (in h, and in sqrt(k), where the walls are straight),
+    its thickness there (``C`` times the gap in sqrt(k), over the energy spread) and the
+    chamber it belongs to."""
+
+    a: float
+    b: float
+    walls: tuple[str, str]
+    h: float
+    k: float
+    thickness: float
+    chamber: int
 
 
 @dataclass(frozen=True)
@@ -167,6 +184,39 @@ class ClosedForm:
             for value, n in self.walls(h)
         ]
         return min(found) if found else (math.inf, "")
+
+    def cells(self, lo: float, hi: float) -> list[Cell]:
+        """Every cell between the energies lo and hi (J), however thin, with its chamber: two
+        cells on either side of a vertex energy are one chamber when their gaps overlap there
+        (a wall starting on the boundary, or two arcs crossing, splits; a wall ending on
+        ``k = 0`` separates)."""
+        low = max(lo, self.h_min)
+        cuts = [low, *self.breakpoints(low, hi), hi]
+        found: list[tuple[float, float, tuple[str, str], float, float, float]] = []
+        for a, b in itertools.pairwise(cuts):
+            h = 0.5 * (a + b)
+            for (k_a, name_a), (k_b, name_b) in itertools.pairwise(self.walls(h)):
+                root_a, root_b = math.sqrt(k_a), math.sqrt(k_b)
+                thickness = (root_b - root_a) * self.params.C / self.energy_scale
+                found.append((a, b, (name_a, name_b), h, (0.5 * (root_a + root_b)) ** 2, thickness))
+        parent = list(range(len(found)))
+
+        def root(i: int) -> int:
+            while parent[i] != i:
+                i = parent[i]
+            return i
+
+        tol = 1e-9 * self.upper_scale
+        for i, (_, b, left, *_rest) in enumerate(found):
+            for j, (a, _, right, *_more) in enumerate(found):
+                if a != b:
+                    continue
+                low_k = max(self.wall_value(left[0], b), self.wall_value(right[0], b))
+                high_k = min(self.wall_value(left[1], b), self.wall_value(right[1], b))
+                if high_k - low_k > tol:
+                    parent[root(j)] = root(i)
+        roots = sorted({root(i) for i in range(len(found))})
+        return [Cell(*cell, roots.index(root(i))) for i, cell in enumerate(found)]
 
     def branch_at(self, h: float, k: float) -> str | None:
         """The branch through (h, k) (to :data:`ON_BRANCH` of the scale), or None."""

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from itertools import pairwise
 
 import numpy as np
 
@@ -276,53 +275,20 @@ def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]
 
 
 def chamber_samples(F: MomentumMap, scales: Scales, counting: FlowCounting) -> list[Chamber]:
-    """Every cell of the closed-form diagram in the energy range, however thin, with its
-    tori counted by the flow at its middle (in h, and in sqrt(k), where the walls are
-    straight). A cell is one gap between walls between consecutive vertex energies; two
-    cells on either side of a vertex energy are one chamber when their gaps overlap there."""
+    """Every cell of the closed-form diagram in the energy range, however thin
+    (:meth:`~chargedesign.topology.closed_form.ClosedForm.cells`), with its tori counted by
+    the flow at its middle; a cell thinner than :data:`RESOLVED` is not counted (None)."""
     closed = ClosedForm.of(F.params)
-    low = max(scales.h_low, closed.h_min)
-    cuts = [low, *closed.breakpoints(low, scales.h_high), scales.h_high]
-    gaps: list[tuple[float, float, tuple[str, str]]] = []  # (a, b, walls) of each cell
-    points: list[tuple[float, float]] = []
-    for a, b in pairwise(cuts):
-        h = 0.5 * (a + b)
-        for (k_a, name_a), (k_b, name_b) in pairwise(closed.walls(h)):
-            gaps.append((a, b, (name_a, name_b)))
-            points.append((h, (0.5 * (np.sqrt(k_a) + np.sqrt(k_b))) ** 2))
-    parent = list(range(len(gaps)))
-
-    def root(i: int) -> int:
-        while parent[i] != i:
-            i = parent[i]
-        return i
-
-    tol = 1e-9 * closed.upper_scale
-    for i, (_, b, left) in enumerate(gaps):
-        for j, (a, _, right) in enumerate(gaps):
-            if a != b:
-                continue
-            low_k = max(closed.wall_value(left[0], b), closed.wall_value(right[0], b))
-            high_k = min(closed.wall_value(left[1], b), closed.wall_value(right[1], b))
-            if high_k - low_k > tol:
-                parent[root(j)] = root(i)
-    roots = sorted({root(i) for i in range(len(gaps))})
-
-    def tori(h: float, k: float) -> int | None:
-        if closed.distance(h, k)[0] < RESOLVED:
-            return None  # the cell is thinner than the counting resolves
-        return count_by_flow(F, h, k, counting).tori
-
     return [
         Chamber(
-            h,
-            k,
-            tori(h, k),
-            walls,
-            roots.index(root(i)),
-            b - a,
+            cell.h,
+            cell.k,
+            None if cell.thickness < RESOLVED else count_by_flow(F, cell.h, cell.k, counting).tori,
+            cell.walls,
+            cell.chamber,
+            cell.b - cell.a,
         )
-        for i, ((a, b, walls), (h, k)) in enumerate(zip(gaps, points, strict=True))
+        for cell in closed.cells(scales.h_low, scales.h_high)
     ]
 
 

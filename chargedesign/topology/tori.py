@@ -20,7 +20,7 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
-from chargedesign.topology.closed_form import ClosedForm
+from chargedesign.topology.closed_form import Cell, ClosedForm
 from chargedesign.topology.diagram import Reading, check_parameters, require_energy_in_scale
 from chargedesign.topology.equations import MomentumMap
 
@@ -30,15 +30,15 @@ class ToriCount(Result):
     """Tori over ``(h, k)`` (J, 1/s^4) and how sure the count is.
 
     The count is constant over a chamber (its levels are diffeomorphic: a connected set of
-    regular values), so it is counted where the chamber's tori at this energy are farthest
-    apart, ``k_middle`` (the middle, in sqrt(k), between the walls around k), and at (h, k)
-    itself as a check; ``middle`` and ``at_point`` are the two counts' evidence.
+    regular values), so it is counted where the chamber's tori are farthest apart, ``best``
+    (the middle of its thickest cell, :func:`best_cell`), and at (h, k) itself as a check;
+    ``middle`` and ``at_point`` are the two counts' evidence.
     """
 
     h: float
     k: float
     tori: int
-    k_middle: float | None = None
+    best: tuple[float, float] | None = None
     middle: FlowCount | None = None
     at_point: FlowCount | None = None
 
@@ -51,16 +51,16 @@ class ToriCount(Result):
     def _text(self) -> str:
         head = f"tori over h = {fmt(self.h, PLAIN)} J, k = {fmt(self.k, PLAIN)} 1/s^4: {self.tori}"
         e = self.middle
-        if e is None or e.plateau is None or self.k_middle is None:
+        if e is None or e.plateau is None or self.best is None:
             bound = "outside 0 <= k <= ((h - h_min) / C)^2 (the proven bound)"
             return f"{head}\n  the level is empty: {bound}\n"
         lines = [
             head,
-            f"  counted by the flow at the middle of its chamber at this energy (k ="
-            f" {fmt(self.k_middle, CELL)} 1/s^4), where its tori are farthest apart: {e.points}"
-            f" samples, {e.trajectories} trajectories; the count holds for every join distance"
-            f" from {fmt(e.plateau[0], CELL)} to {fmt(e.plateau[1], CELL)} (scaled states) with"
-            " every sample passed by a trajectory",
+            f"  counted by the flow at its chamber's thickest point (h = {fmt(self.best[0], CELL)}"
+            f" J, k = {fmt(self.best[1], CELL)} 1/s^4), where its tori are farthest apart:"
+            f" {e.points} samples, {e.trajectories} trajectories; the count holds for every join"
+            f" distance from {fmt(e.plateau[0], CELL)} to {fmt(e.plateau[1], CELL)} (scaled"
+            " states) with every sample passed by a trajectory",
         ]
         if e.separation is not None:
             lines.append(f"  the tori's samples there are at least {fmt(e.separation, CELL)} apart")
@@ -104,21 +104,33 @@ def tori_at(
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
         return ToriCount(h, k, 0)
     require_energy_in_scale(closed, h, "--tori")
-    walls = [value for value, _ in closed.walls(h)]
-    below = max(value for value in walls if value < k)
-    above = min(value for value in walls if value > k)
-    k_middle = float((0.5 * (np.sqrt(below) + np.sqrt(above))) ** 2)
+    best = best_cell(closed, h, k)
     reading = Reading.of(params)
     F = MomentumMap(reading.unit())
-    h_unit = reading.energy_unit(h)
-    middle = count_by_flow(F, h_unit, k_middle / reading.s**4, counting)
+    middle = count_by_flow(F, reading.energy_unit(best.h), best.k / reading.s**4, counting)
     if middle.tori is None:
         pairs = zip(middle.counts, middle.deltas, strict=True)
         counts = ", ".join(f"{c} at {fmt(d, CELL)}" for c, d in pairs)
         raise InputError(
-            f"--tori: the chamber of ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is not resolved at this"
-            f" energy: at its middle k = {fmt(k_middle, CELL)} no count holds over a factor 2 of"
-            f" join distances with every sample covered ({counts or 'no sample found'})"
+            f"--tori: the chamber of ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is not resolved: at its"
+            f" thickest point ({fmt(best.h, CELL)}, {fmt(best.k, CELL)}) no count holds over a"
+            " factor 2 of join distances with every sample covered"
+            f" ({counts or 'no sample found'})"
         )
-    at_point = count_by_flow(F, h_unit, k / reading.s**4, counting)
-    return ToriCount(h, k, middle.tori, k_middle, middle, at_point)
+    at_point = count_by_flow(F, reading.energy_unit(h), k / reading.s**4, counting)
+    return ToriCount(h, k, middle.tori, (best.h, best.k), middle, at_point)
+
+
+def best_cell(closed: ClosedForm, h: float, k: float) -> Cell:
+    """The thickest cell (at its middle) of the chamber of the regular value (h, k) inside the
+    admissible region: there the chamber's tori are farthest apart."""
+    top = max(h, *closed.energies) + closed.energy_scale
+    cells = closed.cells(closed.h_min, top)
+    for cell in cells:
+        if cell.a <= h <= cell.b:
+            low, high = (closed.wall_value(name, h) for name in cell.walls)
+            if low < k < high:
+                return max(
+                    (c for c in cells if c.chamber == cell.chamber), key=lambda c: c.thickness
+                )
+    raise InputError(f"--tori: ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) lies in no chamber")
