@@ -159,7 +159,7 @@ def bifurcation_diagram(
 
 #: the Larmor shift C n^2 may be at most this many times the spread of the critical energies
 #: (beyond it the diagram's energies differ only in their last digits)
-MAX_SHIFT_OVER_SPREAD = 1e8
+MAX_SHIFT_OVER_SPREAD = 1e10
 #: an energy range may be at most this many times the spread of the critical energies wide
 #: (the continuation's steps are a fiftieth of the range: beyond it the structure is lost)
 MAX_RANGE_OVER_SPREAD = 1e3
