@@ -18,7 +18,7 @@ from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
-from chargedesign.topology.chambers import FlowCounting, count_by_flow
+from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
 from chargedesign.topology.closed_form import RESOLVED, ClosedForm
 from chargedesign.topology.critical import (
     CriticalPoints,
@@ -71,8 +71,9 @@ class Vertex:
 class Chamber:
     """A cell of the diagram (between two walls, between two consecutive vertex energies)
     with its sample point, its number of tori by the flow (None: not resolved), the chamber
-    it belongs to (cells joined across a vertex energy where their walls stay apart) and
-    its energy width (J)."""
+    it belongs to (cells joined across a vertex energy where their walls stay apart), its
+    energy width (J) and the count's evidence (:class:`~.chambers.FlowCount`, None when the
+    cell is too thin to count)."""
 
     h: float
     k: float
@@ -80,6 +81,7 @@ class Chamber:
     walls: tuple[str, str]
     chamber: int
     width: float
+    evidence: FlowCount | None = None
 
 
 @dataclass
@@ -278,18 +280,12 @@ def chamber_samples(F: MomentumMap, scales: Scales, counting: FlowCounting) -> l
     """Every cell of the closed-form diagram in the energy range, however thin
     (:meth:`~chargedesign.topology.closed_form.ClosedForm.cells`), with its tori counted by
     the flow at its middle; a cell thinner than :data:`RESOLVED` is not counted (None)."""
-    closed = ClosedForm.of(F.params)
-    return [
-        Chamber(
-            cell.h,
-            cell.k,
-            None if cell.thickness < RESOLVED else count_by_flow(F, cell.h, cell.k, counting).tori,
-            cell.walls,
-            cell.chamber,
-            cell.b - cell.a,
-        )
-        for cell in closed.cells(scales.h_low, scales.h_high)
-    ]
+    out = []
+    for cell in ClosedForm.of(F.params).cells(scales.h_low, scales.h_high):
+        found = None if cell.thickness < RESOLVED else count_by_flow(F, cell.h, cell.k, counting)
+        tori = None if found is None else found.tori
+        out.append(Chamber(cell.h, cell.k, tori, cell.walls, cell.chamber, cell.b - cell.a, found))
+    return out
 
 
 def admissible_band(F: MomentumMap, scales: Scales, energies: int = 200) -> np.ndarray:

@@ -112,6 +112,7 @@ def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
             c.walls,
             c.chamber,
             c.width * reading.params.C * reading.s**2,
+            c.evidence,
         )
         for c in raw.chambers
     ]
@@ -333,7 +334,14 @@ class BifurcationDiagram(Result):
                 {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
             ],
             "chambers": [
-                {"chamber": c.chamber, "h": c.h, "k": c.k, "tori": c.tori, "walls": list(c.walls)}
+                {
+                    "chamber": c.chamber,
+                    "h": c.h,
+                    "k": c.k,
+                    "tori": c.tori,
+                    "walls": list(c.walls),
+                    "evidence": None if c.evidence is None else c.evidence.to_dict(),
+                }
                 for c in chamber_labels(raw.chambers)
             ],
             "closed_form": [
@@ -393,6 +401,15 @@ class BifurcationDiagram(Result):
             " energies, each counted by the flow); tori per chamber: "
             + (", ".join("unresolved" if c.tori is None else str(c.tori) for c in labels) or "none")
         )
+        evidence = [c.evidence for c in raw.chambers if c.evidence and c.evidence.plateau]
+        if evidence:
+            widest = min(e.plateau[1] / e.plateau[0] for e in evidence if e.plateau)
+            apart = [e.separation for e in evidence if e.separation is not None]
+            lines.append(
+                f"  each count holds over join distances spanning a factor {fmt(widest, CELL)} or"
+                " more with every sample passed by a trajectory"
+                + (f"; the tori's samples at least {fmt(min(apart), CELL)} apart" if apart else "")
+            )
         stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
         lines.append(f"  time: {stages}")
         return "\n".join(lines) + "\n"
