@@ -31,14 +31,15 @@ def test_generic_counts_by_the_flow(h, k, tori):
     assert evidence.separation is not None and evidence.separation > evidence.plateau[1]
 
 
-def test_the_count_has_no_n_in_it():
+def test_the_count_has_no_n_in_it(small_options):
     """Counted directly at n = 0.7 in SI (no unit reading, no Larmor map) and through the
     reading at n = 0: the same numbers of tori (the Larmor map is a change of frame)."""
     h, k, tori = GENERIC_LEVELS[1]
-    direct = count_by_flow(MomentumMap(GENERIC), h, k)
+    light = small_options.counting
+    direct = count_by_flow(MomentumMap(GENERIC), h, k, light)
     assert direct.tori == tori
     shifted = GENERIC.replace(n=0.0)
-    assert tori_at(shifted, h - GENERIC.C * GENERIC.n**2, k).tori == tori
+    assert tori_at(shifted, h - GENERIC.C * GENERIC.n**2, k, light).tori == tori
 
 
 def test_every_chamber_counted_and_labelled_once(generic_diagram):
@@ -69,7 +70,7 @@ def test_chaplygin_chambers_labelled_once(small_options):
     assert all(c.tori == 2 for c in labels)
 
 
-def test_kappa_negative():
+def test_kappa_negative(small_options):
     """kappa < 0 (the other shape: |kappa| > K^2 a0): the boundary sits at s = +a0, and the
     counts through the reading agree with a direct count at n != 0."""
     params = UNIT.replace(kappa=-0.9)
@@ -79,8 +80,8 @@ def test_kappa_negative():
     for h, lower in ((hyperbolic.start + 0.3, True), (hyperbolic.h_j + 0.2, False)):
         walls = [value for value, _ in closed.walls(h)]
         k = 0.5 * (walls[1] + walls[2]) if not lower else 0.25 * walls[1]
-        through = tori_at(params, h, k).tori
-        direct = count_by_flow(MomentumMap(params), h, k).tori
+        through = tori_at(params, h, k, small_options.counting).tori
+        direct = count_by_flow(MomentumMap(params), h, k, small_options.counting).tori
         assert through == direct == 2
 
 
@@ -95,16 +96,16 @@ def test_outside_the_bounds_is_empty_and_a_branch_is_refused():
         tori_at(GENERIC, 0.55, 0.0)
 
 
-def test_a_level_near_a_branch_takes_its_chambers_count():
+def test_a_level_near_a_branch_takes_its_chambers_count(small_options):
     """Just above a hyperbolic arc (1e-7 of k) the tori nearly touch; the count is the
     chamber's, counted at its thickest point, and the text says what the point itself gave."""
     closed = ClosedForm.of(GENERIC)
     h = 0.55
     k = float(closed.parabolas[2].k(h)) * (1 + 1e-7)
-    near = tori_at(GENERIC, h, k)
+    near = tori_at(GENERIC, h, k, small_options.counting)
     walls = [value for value, _ in closed.walls(h)]
     above = min(v for v in walls if v > k)
-    middle = tori_at(GENERIC, h, 0.5 * (k + above))
+    middle = tori_at(GENERIC, h, 0.5 * (k + above), small_options.counting)
     assert near.tori == middle.tori
     assert near.best == middle.best
     assert "chamber's thickest point" in str(near)
