@@ -490,6 +490,15 @@ def bifurcation_arguments(parser: argparse.ArgumentParser) -> None:
         help="also draw the atlas and the FLI map at the energy H (J) beside the diagram "
         "(bifurcation_at.png)",
     )
+    parser.add_argument(
+        "--tori",
+        nargs=2,
+        type=float,
+        default=None,
+        metavar=("H", "K"),
+        help="only count the tori of the level H = h (J), I4 = k (1/s^4) on I3 = 0, by the flow "
+        '(no files written); with --json: {"h": h, "k": k, "tori": n}',
+    )
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
 

@@ -7,7 +7,10 @@ branch, and the number of Liouville tori in each chamber. Writes ``DIR/bifurcati
 neighbours along it) and ``DIR/bifurcation.png`` (default DIR ``out/``). With ``--at H``
 also ``DIR/bifurcation_at.png``: the diagram with the line h = H beside the Poincare atlas
 on I3 = 0 (the orbits on critical values of k marked) and the FLI map at 64 x 48 (heyoka;
-about a minute). lambda or rho != 0 is refused (see docs/bifurcation.md).
+about a minute). With ``--tori H K`` only the number of tori of the level H = h, I4 = k is
+printed (``{"h": h, "k": k, "tori": n}`` with ``--json``; 0 for an empty level; a critical
+value refused in one line naming its branch), nothing written. lambda or rho != 0 is refused
+(see docs/bifurcation.md).
 """
 
 from __future__ import annotations
@@ -21,9 +24,12 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.scene import load_scene
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
+from chargedesign.topology.tori import tori_at
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.tori is not None:
+        return _tori(args)
     check_outputs(
         [("--out", args.out, True)],
         inputs=[args.scene],
@@ -57,4 +63,16 @@ def run(args: argparse.Namespace) -> int:
             print(str(linked), end="")
         names = ["bifurcation.csv", "bifurcation.png"] + (["bifurcation_at.png"] if linked else [])
         print("wrote " + ", ".join(f"{args.out}/{name}" for name in names))
+    return 0
+
+
+def _tori(args: argparse.Namespace) -> int:
+    """``--tori H K``: the count at one point, nothing written."""
+    if args.at is not None or args.h_range is not None:
+        raise InputError("--tori: counts one level; --at and --h-range do not apply with it")
+    scene = load_scene(args.scene)
+    if not args.quiet:
+        print("bifurcation: counting tori by the flow ...", file=sys.stderr, flush=True)
+    count = tori_at(scene.parameters, args.tori[0], args.tori[1])
+    print(count.to_json() if args.json else str(count).rstrip("\n"))
     return 0

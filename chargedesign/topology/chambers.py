@@ -1,25 +1,51 @@
-"""Chambers of the diagram: how many Liouville tori lie over a point (h, k).
+"""Chambers of the diagram: how many Liouville tori lie over a point (h, k), by the flow.
 
 The level ``F^-1(h, k)`` (on ``|gamma| = 1, I3 = 0``) is sampled on a Fibonacci grid of
 gamma: over each gamma the states of energy h form a conic (the plane I3 = 0 cut by the
 energy ellipsoid, :func:`~chargedesign.topology.critical.states_on_level`), and the points of
 the conic where I4 = k are found by sign changes of ``I4 - k`` at ``angles`` samples (one
-secant refinement). The sampled points are joined when closer than a few grid spacings
-(states scaled to unit size) and the connected components are counted: each compact
-regular component is one torus (Liouville-Arnold).
+secant refinement).
+
+The samples are then joined by the motion, not by their distances: trajectories start from
+samples (heyoka's ensemble propagation, DOP853 without heyoka) and each joins its start to
+every sample it passes within ``delta`` of (states scaled to unit size). A trajectory never
+leaves its torus, so two tori are joined only when some trajectory passes within delta of a
+sample of the other: below the tori's separation that cannot happen, however close they are.
+Rounds of new trajectories start from the samples no trajectory has passed yet, until every
+sample is covered. The components are counted over a ladder of join distances; the count
+reported is the first (finest) one that holds over a run of them spanning at least a factor
+:data:`MIN_PLATEAU` with every sample covered (a later run is that of tori merged at the
+larger distances); each compact regular component is one torus (Liouville-Arnold). A level
+with fewer than :data:`MIN_SAMPLES` samples (thin tubes near an elliptic branch) is sampled
+again at twice the resolution, up to :data:`REFINEMENTS` times. The separation (least
+distance between samples of different tori) and the coverage are kept as the evidence.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from chargedesign.simulation import taylor
+from chargedesign.simulation.integrate import FALLBACK_METHOD, integrate
+from chargedesign.simulation.system import (
+    Body,
+    RigidBodySystem,
+    attitude_from_gamma,
+    quaternion_gamma,
+    rotation_quaternion,
+)
 from chargedesign.topology.critical import plane_basis, sphere_points
 from chargedesign.topology.equations import MomentumMap
 
-#: each sampled point is joined to this many nearest others
-NEIGHBOURS = 10
+#: the count must hold from delta to at least this factor times delta
+MIN_PLATEAU = 2.0
+#: a level with fewer samples is sampled again at twice the resolution, at most
+#: REFINEMENTS times
+MIN_SAMPLES = 1000
+REFINEMENTS = 2
 
 
 @dataclass(frozen=True)
@@ -87,18 +113,175 @@ class LevelSampler:
         x = self._states(phi[:, None], rows)[:, 0]
         return x / np.array([self.omega_scale] * 3 + [1.0] * 3)
 
-    def tori(self, k: float) -> int:
-        """The number of connected components of the sampled level (0 when empty)."""
-        from scipy.sparse.csgraph import connected_components
-        from scipy.spatial import cKDTree
 
-        pts = self.points(k)
-        if len(pts) == 0:
-            return 0
-        from scipy.sparse import coo_matrix
+@dataclass(frozen=True)
+class FlowCounting:
+    """How the tori of one level are counted by the flow (unit time scale, n = 0).
 
-        neighbours = min(NEIGHBOURS + 1, len(pts))
-        _, idx = cKDTree(pts).query(pts, k=neighbours)
-        rows = np.repeat(np.arange(len(pts)), neighbours)
-        graph = coo_matrix((np.ones(rows.size), (rows, idx.reshape(-1))), shape=(len(pts),) * 2)
-        return int(connected_components(graph, directed=False)[0])
+    ``starts`` trajectories per round of ``t_end`` (unit time) with ``samples`` output
+    points each, at most ``rounds`` rounds; join distances ``deltas`` (scaled states: omega
+    over its largest value on the level, gamma on the unit sphere); a sample is covered when
+    a trajectory passes within ``deltas[cover]`` of it.
+    """
+
+    sampling: LevelSampling = field(default_factory=lambda: LevelSampling(1500, 48))
+    starts: int = 48
+    rounds: int = 8
+    t_end: float = 200.0
+    samples: int = 8000
+    deltas: tuple[float, ...] = (0.01, 0.014, 0.02, 0.028, 0.04, 0.056, 0.08, 0.11, 0.16)
+    cover: int = 3
+    seed: int = 0
+
+
+@dataclass
+class FlowCount:
+    """The evidence of one count: samples, trajectories, and per join distance the number
+    of components and the fraction of samples a trajectory passed within it."""
+
+    tori: int | None  # None: no count holds over a factor MIN_PLATEAU of join distances
+    points: int
+    trajectories: int
+    deltas: list[float]
+    counts: list[int]
+    coverage: list[float]
+    plateau: tuple[float, float] | None
+    separation: float | None  # least distance between samples of different tori
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "tori": self.tori,
+            "samples": self.points,
+            "trajectories": self.trajectories,
+            "deltas": self.deltas,
+            "counts": self.counts,
+            "coverage": self.coverage,
+            "plateau": None if self.plateau is None else list(self.plateau),
+            "separation": self.separation,
+        }
+
+
+def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) -> np.ndarray:
+    """States (omega, gamma) along the trajectories from ``starts`` (m, 6): (m, T, 6)."""
+    system = RigidBodySystem(Body(parameters=F.params), ["theorem"])
+    y0 = np.array(
+        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
+    )
+    if taylor.available():
+        grid = np.linspace(0.0, counting.t_end, counting.samples)
+        states = taylor.propagate_many(system, y0, grid).states
+    else:
+        step = counting.t_end / counting.samples
+        states = integrate(
+            system,
+            y0,
+            counting.t_end,
+            method=FALLBACK_METHOD,
+            rtol=1e-10,
+            atol=1e-12,
+            max_step=step,
+            samples=counting.samples,
+        ).states
+    gamma = quaternion_gamma(states[..., 3:].reshape(-1, 4)).reshape((*states.shape[:2], 3))
+    return np.concatenate([states[..., :3], gamma], axis=2)
+
+
+def count_by_flow(
+    F: MomentumMap, h: float, k: float, counting: FlowCounting | None = None
+) -> FlowCount:
+    """The number of tori of ``F^-1(h, k)`` by the flow (see the module's notes); None (with
+    no samples) when no state of the level is found at the sampling and at twice it. ``F`` at
+    n = 0 and unit time scale (the diagram's reading)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    counting = counting or FlowCounting()
+    deltas = list(counting.deltas)
+    sampling = counting.sampling
+    for _ in range(REFINEMENTS + 1):
+        sampler = LevelSampler(F, h, sampling)
+        points = sampler.points(k) if sampler.quartic.size else np.zeros((0, 6))
+        if len(points) >= MIN_SAMPLES:
+            break
+        # a small level (thin tubes near an elliptic branch) may fall between the grid's
+        # points: refine until it has enough samples
+        sampling = sampling.doubled()
+    if len(points) == 0:
+        # no state found even at the finest sampling: not a count (the caller knows the bounds)
+        return FlowCount(None, 0, 0, deltas, [0] * len(deltas), [0.0] * len(deltas), None, None)
+    scale = np.array([sampler.omega_scale] * 3 + [1.0] * 3)
+    tree = cKDTree(points)
+    rng = np.random.default_rng(counting.seed)
+    # per trajectory: its start and, for each of its points, the nearest sample and distance
+    visits: list[tuple[int, np.ndarray, np.ndarray]] = []
+    nearest = np.full(len(points), np.inf)  # distance from each sample to the trajectories
+    for _ in range(counting.rounds):
+        waiting = np.flatnonzero(nearest > deltas[counting.cover])
+        if len(waiting) == 0:
+            break
+        chosen = rng.choice(waiting, size=min(counting.starts, len(waiting)), replace=False)
+        paths = _trajectories(F, points[chosen] * scale, counting) / scale
+        for start, path in zip(chosen, paths, strict=True):
+            distance, index = tree.query(path)
+            visits.append((int(start), index, distance))
+            np.minimum.at(nearest, index, distance)
+        nearest[chosen] = 0.0
+    counts, coverage, labels = [], [], []
+    for delta in deltas:
+        rows, cols = [], []
+        for start, index, distance in visits:
+            hit = np.unique(index[distance < delta])
+            rows.append(np.full(hit.size, start))
+            cols.append(hit)
+        r, c = np.concatenate(rows), np.concatenate(cols)
+        graph = coo_matrix((np.ones(r.size), (r, c)), shape=(len(points),) * 2)
+        found, label = connected_components(graph, directed=False)
+        counts.append(int(found))
+        coverage.append(float(np.mean(nearest < delta)))
+        labels.append(label)
+    tori, plateau, separation = None, None, None
+    best = _plateau(deltas, counts, coverage)
+    if best is not None:
+        first, last = best
+        tori, plateau = counts[first], (deltas[first], deltas[last])
+        separation = _separation(points, labels[first])
+    return FlowCount(tori, len(points), len(visits), deltas, counts, coverage, plateau, separation)
+
+
+def _plateau(
+    deltas: list[float], counts: list[int], coverage: list[float]
+) -> tuple[int, int] | None:
+    """The first run of join distances (from the smallest) with every sample covered and the
+    same count, spanning at least :data:`MIN_PLATEAU` (indices of its ends), or None.
+
+    The first, not the longest: tori closer together than a join distance are merged there,
+    so the count that holds at the finest resolution the samples support is the true one
+    (a longer run at larger distances is the merged count)."""
+    i = 0
+    while i < len(deltas):
+        if coverage[i] < 1.0:
+            i += 1
+            continue
+        j = i
+        while j + 1 < len(deltas) and coverage[j + 1] == 1.0 and counts[j + 1] == counts[i]:
+            j += 1
+        if deltas[j] >= MIN_PLATEAU * deltas[i] * (1 - 1e-9):
+            return i, j
+        i = j + 1
+    return None
+
+
+def _separation(points: np.ndarray, label: np.ndarray) -> float | None:
+    """The least distance between samples of different components (None for one)."""
+    from scipy.spatial import cKDTree
+
+    groups = [points[label == g] for g in np.unique(label)]
+    if len(groups) < 2:
+        return None
+    best = np.inf
+    for i, a in enumerate(groups):
+        tree = cKDTree(a)
+        for b in groups[i + 1 :]:
+            best = min(best, float(np.min(tree.query(b)[0])))
+    return best

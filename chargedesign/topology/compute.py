@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from itertools import pairwise
 
 import numpy as np
 
@@ -19,7 +18,8 @@ from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
-from chargedesign.topology.chambers import LevelSampler, LevelSampling
+from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
+from chargedesign.topology.closed_form import RESOLVED, ClosedForm
 from chargedesign.topology.critical import (
     CriticalPoints,
     Scales,
@@ -39,13 +39,12 @@ from chargedesign.topology.stability import branch_types, equilibrium_type, line
 
 @dataclass(frozen=True)
 class DiagramOptions:
-    """How hard to look: seeds, continuation steps, level sampling, chamber columns."""
+    """How hard to look: seeds, continuation steps, the flow counting of the chambers."""
 
     seeds: int = 300
     seed: int = 0
     continuation: ContinuationSettings = field(default_factory=ContinuationSettings)
-    sampling: LevelSampling = field(default_factory=LevelSampling)
-    columns: int = 12
+    counting: FlowCounting = field(default_factory=FlowCounting)
 
 
 @dataclass
@@ -70,12 +69,19 @@ class Vertex:
 
 @dataclass
 class Chamber:
-    """A sample point of a chamber with its number of tori (and at doubled sampling)."""
+    """A cell of the diagram (between two walls, between two consecutive vertex energies)
+    with its sample point, its number of tori by the flow (None: not resolved), the chamber
+    it belongs to (cells joined across a vertex energy where their walls stay apart), its
+    energy width (J) and the count's evidence (:class:`~.chambers.FlowCount`, None when the
+    cell is too thin to count)."""
 
     h: float
     k: float
-    tori: int
-    walls: tuple[int, int]
+    tori: int | None
+    walls: tuple[str, str]
+    chamber: int
+    width: float
+    evidence: FlowCount | None = None
 
 
 @dataclass
@@ -141,9 +147,8 @@ def resolve_range(
 
 
 def make_scales(F: MomentumMap, h_range: tuple[float, float]) -> Scales:
-    """Diagram units: the energy span and the largest I4 at the top energy."""
-    sampler = LevelSampler(F, h_range[1], LevelSampling(800, 24))
-    k_top = float(np.max(sampler.quartic, initial=0.0))
+    """Diagram units: the energy span and the largest I4 at the top energy (closed form)."""
+    k_top = ClosedForm.of(F.params).upper(h_range[1])
     return Scales(
         energy=h_range[1] - h_range[0],
         quartic=max(k_top, 1e-12),
@@ -219,7 +224,8 @@ def critical_diagram(
         )
     branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
     lap("stability")
-    chambers, admissible = chamber_samples(F, branches, scales, options)
+    chambers = chamber_samples(F, scales, options.counting)
+    admissible = admissible_band(F, scales)
     lap("chambers")
     return RawDiagram(
         params, rng_range, h_min, branches, vertices, chambers, admissible, seconds, len(seeds.z)
@@ -270,36 +276,21 @@ def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]
     return sorted(out)
 
 
-def chamber_samples(
-    F: MomentumMap, branches: list[TracedBranch], scales: Scales, options: DiagramOptions
-) -> tuple[list[Chamber], np.ndarray]:
-    """Tori counts between consecutive critical values on ``options.columns`` energies, and
-    the sampled admissible band ``(h, k_min, k_max)`` there."""
-    width = scales.h_high - scales.h_low
-    columns = scales.h_low + width * (np.arange(options.columns) + 0.5) / options.columns
-    chambers: list[Chamber] = []
-    for h in columns:
-        sampler = LevelSampler(F, float(h), options.sampling)
-        if sampler.quartic.size == 0:
-            continue
-        k_lo, k_hi = float(sampler.quartic.min()), float(sampler.quartic.max())
-        walls = [(k_lo, -1)] + [c for c in crossings(branches, float(h)) if k_lo < c[0] < k_hi]
-        walls.append((k_hi, -1))
-        for (k_a, wall_a), (k_b, wall_b) in pairwise(walls):
-            if k_b - k_a < 2e-3 * scales.quartic:
-                continue
-            k = 0.5 * (k_a + k_b)
-            tori = sampler.tori(k)
-            if tori:
-                chambers.append(Chamber(float(h), k, tori, (wall_a, wall_b)))
-    return chambers, admissible_band(F, scales)
+def chamber_samples(F: MomentumMap, scales: Scales, counting: FlowCounting) -> list[Chamber]:
+    """Every cell of the closed-form diagram in the energy range, however thin
+    (:meth:`~chargedesign.topology.closed_form.ClosedForm.cells`), with its tori counted by
+    the flow at its middle; a cell thinner than :data:`RESOLVED` is not counted (None)."""
+    out = []
+    for cell in ClosedForm.of(F.params).cells(scales.h_low, scales.h_high):
+        found = None if cell.thickness < RESOLVED else count_by_flow(F, cell.h, cell.k, counting)
+        tori = None if found is None else found.tori
+        out.append(Chamber(cell.h, cell.k, tori, cell.walls, cell.chamber, cell.b - cell.a, found))
+    return out
 
 
-def admissible_band(F: MomentumMap, scales: Scales, energies: int = 41) -> np.ndarray:
-    """``(h, k_min, k_max)`` of I4 over a coarse sampling of each energy level, (m, 3)."""
-    band = []
-    for h in np.linspace(scales.h_low, scales.h_high, energies)[1:]:
-        sampler = LevelSampler(F, float(h), LevelSampling(1500, 32))
-        if sampler.quartic.size:
-            band.append((h, float(sampler.quartic.min()), float(sampler.quartic.max())))
-    return np.array(band).reshape(-1, 3)
+def admissible_band(F: MomentumMap, scales: Scales, energies: int = 200) -> np.ndarray:
+    """``(h, 0, ((h - h_min) / C)^2)``: the admissible region's bounds (proven, closed form),
+    shape (energies, 3)."""
+    closed = ClosedForm.of(F.params)
+    h = np.linspace(max(scales.h_low, closed.h_min), scales.h_high, energies)
+    return np.stack([h, np.zeros_like(h), [closed.upper(float(x)) for x in h]], axis=1)

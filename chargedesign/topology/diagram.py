@@ -18,11 +18,12 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, FULL, PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
+from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.compute import (
     Chamber,
     DiagramOptions,
@@ -50,23 +51,34 @@ def larmor_shift(params: Parameters) -> float:
 class Reading:
     """How the unit n = 0 computation is read at the user's parameters (exact maps).
 
-    Time scale ``s``: with ``C = 1``, ``n = 0``, ``K / s`` and ``kappa / s^2`` the equations
-    are those of the parameters read with time in units of ``1 / s`` (every term of H is
-    ``C s^2`` times a dimensionless one, I4 ``s^4`` times, omega ``s`` times). Then Larmor:
-    ``omega = s omega_unit - n gamma``, ``h = C s^2 h_unit + C n^2``, ``k = s^4 k_unit``.
+    Two symmetries of the equations and one change of frame:
+
+    - ``(c, d, K, kappa) -> (t c, t d, K / t, kappa / t)`` changes no term of H, l or I4
+      (``c + i d`` enters I4 times ``kappa + K^2 s - i K r``, with s linear in c, d): the
+      unit computation has ``c^2 + d^2 = 1`` (``t = 1 / a0``);
+    - time scale ``s = max(|K| a0, sqrt(|kappa| a0))``: with ``C = 1``, ``K a0 / s`` and
+      ``kappa a0 / s^2`` the equations are those of the parameters read with time in units
+      of ``1 / s`` (H is ``C s^2`` times a dimensionless one, I4 ``s^4`` times, omega ``s``
+      times);
+    - Larmor: ``omega = s omega_unit - n gamma``, ``h = C s^2 h_unit + C n^2``, ``k = s^4
+      k_unit``. So n is no parameter of the computation at all.
     """
 
     params: Parameters
     s: float
+    a0: float
 
     @classmethod
     def of(cls, params: Parameters) -> Reading:
-        s = max(abs(params.n), abs(params.K), abs(params.kappa) ** 0.5)
-        return cls(params, s if s > 0.0 else 1.0)
+        a0 = float(np.hypot(params.c, params.d))
+        s = max(abs(params.K) * a0, (abs(params.kappa) * a0) ** 0.5)
+        return cls(params, s if s > 0.0 else 1.0, a0 if a0 > 0.0 else 1.0)
 
     def unit(self) -> Parameters:
-        p, s = self.params, self.s
-        return Parameters(C=1.0, c=p.c, d=p.d, n=0.0, K=p.K / s, kappa=p.kappa / s**2)
+        p, s, a0 = self.params, self.s, self.a0
+        return Parameters(
+            C=1.0, c=p.c / a0, d=p.d / a0, n=0.0, K=p.K * a0 / s, kappa=p.kappa * a0 / s**2
+        )
 
     def energy(self, h_unit: Any) -> Any:
         return self.params.C * self.s**2 * np.asarray(h_unit) + larmor_shift(self.params)
@@ -93,7 +105,15 @@ def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
     ]
     vertices = [Vertex(reading.states(v.state), reading.image(v.hk), v.type) for v in raw.vertices]
     chambers = [
-        Chamber(float(reading.energy(c.h)), c.k * reading.s**4, c.tori, c.walls)
+        Chamber(
+            float(reading.energy(c.h)),
+            c.k * reading.s**4,
+            c.tori,
+            c.walls,
+            c.chamber,
+            c.width * reading.params.C * reading.s**2,
+            c.evidence,
+        )
         for c in raw.chambers
     ]
     band = raw.admissible.copy()
@@ -127,15 +147,59 @@ def bifurcation_diagram(
     reading = Reading.of(params)
     unit_range = check_energy_range(params, h_range)
     raw = critical_diagram(reading.unit(), unit_range, options)
-    return BifurcationDiagram(mapped(raw, reading))
+    diagram = BifurcationDiagram(mapped(raw, reading))
+    if not any(not b.exact for b in diagram.branches):
+        lo, hi = diagram.raw.h_range
+        raise SolverError(
+            f"bifurcation: no critical curve traced in {fmt(lo, CELL)} .. {fmt(hi, CELL)} J"
+            " besides k = 0 (the closed form has the parabolas k = ((h - h_j) / C)^2 there):"
+            " widen --h-range"
+        )
+    return diagram
+
+
+#: the Larmor shift C n^2 may be at most this many times the spread of the critical energies
+#: (beyond it the diagram's energies differ only in their last digits)
+MAX_SHIFT_OVER_SPREAD = 1e10
+#: an energy range may be at most this many times the spread of the critical energies wide
+#: (the continuation's steps are a fiftieth of the range: beyond it the structure is lost)
+MAX_RANGE_OVER_SPREAD = 1e3
+#: and at least this fraction of it
+MIN_RANGE_OVER_SPREAD = 1e-6
+
+
+def check_parameters(params: Parameters) -> ClosedForm:
+    """Refuse, in one line and before any work, parameters without a diagram: lambda or rho
+    != 0, the free top (c = d = 0 or K = kappa = 0) and an n whose Larmor shift swamps the
+    energies. Returns the closed form of the branches."""
+    require_regular(params)
+    if np.hypot(params.c, params.d) == 0.0 or (params.K == 0.0 and params.kappa == 0.0):
+        raise InputError(
+            "parameters: no bifurcation diagram with c = d = 0 or K = kappa = 0: the potential"
+            " and the extra terms of I4 vanish (a free symmetric top, I4 = |p + i q|^4 after"
+            f" Larmor, every level critical); got c = {fmt(params.c, PLAIN)}, d ="
+            f" {fmt(params.d, PLAIN)}, K = {fmt(params.K, PLAIN)}, kappa ="
+            f" {fmt(params.kappa, PLAIN)}"
+        )
+    closed = ClosedForm.of(params)
+    spread, shift = closed.energy_scale, larmor_shift(params)
+    if not (np.isfinite(spread) and spread > 0.0) or shift > MAX_SHIFT_OVER_SPREAD * spread:
+        raise InputError(
+            f"parameters.n: the Larmor shift C n^2 = {fmt(shift, CELL)} J is over"
+            f" {fmt(MAX_SHIFT_OVER_SPREAD, CELL)} times the spread of the critical energies"
+            f" ({fmt(spread, CELL)} J): the diagram's energies would differ only in their last"
+            " digits; it is the diagram of n = 0 shifted by C n^2, so compute it with n = 0"
+        )
+    return closed
 
 
 def check_energy_range(
     params: Parameters, h_range: tuple[float, float] | None
 ) -> tuple[float, float] | None:
-    """Refuse singular parameters and an energy range (J, at ``params``) without admissible
-    motion, in one line, before any work; returns the range of the unit computation."""
-    require_regular(params)
+    """Refuse parameters without a diagram (:func:`check_parameters`) and an energy range (J,
+    at ``params``) without admissible motion, too wide or too narrow for the diagram's
+    structure, in one line, before any work; returns the range of the unit computation."""
+    closed = check_parameters(params)
     if h_range is None:
         return None
     lo, hi = (float(v) for v in h_range)
@@ -156,7 +220,29 @@ def check_energy_range(
             " on I3 = 0 the "
             f"energy is at least {fmt(float(reading.energy(low)), CELL)} J"
         ) from None
+    width, spread = hi - max(lo, closed.h_min), closed.energy_scale
+    if width < MIN_RANGE_OVER_SPREAD * spread:
+        raise InputError(
+            f"--h-range: the admissible part of {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J is"
+            f" {fmt(width, CELL)} J wide, under {fmt(MIN_RANGE_OVER_SPREAD, CELL)} of the"
+            f" spread of the critical energies ({fmt(spread, CELL)} J): too narrow to resolve"
+        )
+    require_energy_in_scale(closed, hi, "--h-range")
     return unit_range
+
+
+def require_energy_in_scale(closed: ClosedForm, h: float, name: str) -> None:
+    """Refuse an energy more than :data:`MAX_RANGE_OVER_SPREAD` spreads of the critical
+    energies above the least energy (the diagram's structure is lost at that scale, and the
+    motion is so fast there that a count by the flow would not end)."""
+    spread = closed.energy_scale
+    if h - closed.h_min > MAX_RANGE_OVER_SPREAD * spread:
+        raise InputError(
+            f"{name}: energy {fmt(h, PLAIN)} J is over {fmt(MAX_RANGE_OVER_SPREAD, CELL)} times"
+            f" the spread of the critical energies ({fmt(spread, CELL)} J) above the least"
+            f" energy {fmt(closed.h_min, CELL)} J: the diagram's structure is not resolved there;"
+            f" give energies up to {fmt(closed.h_min + MAX_RANGE_OVER_SPREAD * spread, CELL)} J"
+        )
 
 
 def energy_range(params: Parameters, h_range: tuple[float, float] | None) -> tuple[float, float]:
@@ -182,21 +268,15 @@ def vertex_groups(
 
 
 def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
-    """One sample per chamber: a run of adjacent energy columns whose samples lie between the
-    same two walls with the same count; the middle sample of each run."""
-    columns = sorted({c.h for c in chambers})
-    runs: list[list[Chamber]] = []
-    last: dict[tuple[tuple[int, int], int], tuple[int, int]] = {}  # key -> (column, run)
-    for c in sorted(chambers, key=lambda c: c.h):
-        key, column = (c.walls, c.tori), columns.index(c.h)
-        previous = last.get(key)
-        if previous is not None and previous[0] == column - 1:
-            runs[previous[1]].append(c)
-            last[key] = (column, previous[1])
-        else:
-            runs.append([c])
-            last[key] = (column, len(runs) - 1)
-    return [run[len(run) // 2] for run in runs]
+    """One sample per chamber (its widest cell), with the chamber's count: None when its
+    cells disagree or one is not resolved (never a count its own samples contradict)."""
+    out = []
+    for number in sorted({c.chamber for c in chambers}):
+        cells = [c for c in chambers if c.chamber == number]
+        counts = {c.tori for c in cells}
+        widest = max(cells, key=lambda c: c.width)
+        out.append(replace(widest, tori=counts.pop() if len(counts) == 1 else None))
+    return out
 
 
 @dataclass(repr=False)
@@ -254,14 +334,26 @@ class BifurcationDiagram(Result):
                 {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
             ],
             "chambers": [
-                {"h": c.h, "k": c.k, "tori": c.tori, "walls": list(c.walls)} for c in raw.chambers
+                {
+                    "chamber": c.chamber,
+                    "h": c.h,
+                    "k": c.k,
+                    "tori": c.tori,
+                    "walls": list(c.walls),
+                    "evidence": None if c.evidence is None else c.evidence.to_dict(),
+                }
+                for c in chamber_labels(raw.chambers)
+            ],
+            "closed_form": [
+                {"type": p.type, "h_j": p.h_j, "from_h": p.start, "name": p.name}
+                for p in ClosedForm.of(raw.params).parabolas
             ],
             "seconds": dict(raw.seconds),
             "seeds": raw.seeds_found,
         }
 
     def _summary(self) -> dict[str, Any]:
-        tori = sorted({c.tori for c in self.raw.chambers})
+        tori = [c.tori for c in chamber_labels(self.raw.chambers)]
         return {
             "branches": len(self.branches),
             "points": sum(len(b.hk) for b in self.branches),
@@ -294,30 +386,59 @@ class BifurcationDiagram(Result):
         extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
         size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
         for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
+            # on k = 0 (the equator, w = gamma3 = 0) xi vanishes to second order: the Hessian
+            # of I4 = |xi|^2 vanishes, so as singularities of (H, I4) these are degenerate
+            note = "" if k != 0.0 else "; degenerate for (H, I4): the Hessian of I4 vanishes"
             lines.append(
-                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} ({states} states)"
+                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} of the energy"
+                f" ({states} states{note})"
             )
-        counts = sorted({c.tori for c in raw.chambers})
+        for p in ClosedForm.of(raw.params).parabolas:
+            lines.append(f"  closed form: {p.label}, from h = {fmt(p.start, CELL)} J")
+        labels = chamber_labels(raw.chambers)
         lines.append(
-            f"  chambers sampled: {len(raw.chambers)}; tori per chamber: "
-            + (", ".join(str(c) for c in counts) or "none")
+            f"  chambers: {len(labels)} ({len(raw.chambers)} cells between consecutive vertex"
+            " energies, each counted by the flow); tori per chamber: "
+            + (", ".join("unresolved" if c.tori is None else str(c.tori) for c in labels) or "none")
         )
+        evidence = [c.evidence for c in raw.chambers if c.evidence and c.evidence.plateau]
+        if evidence:
+            widest = min(e.plateau[1] / e.plateau[0] for e in evidence if e.plateau)
+            apart = [e.separation for e in evidence if e.separation is not None]
+            lines.append(
+                f"  each count holds over join distances spanning a factor {fmt(widest, CELL)} or"
+                " more with every sample passed by a trajectory"
+                + (f"; the tori's samples at least {fmt(min(apart), CELL)} apart" if apart else "")
+            )
         stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
         lines.append(f"  time: {stages}")
         return "\n".join(lines) + "\n"
 
-    def plot(self, axes: Any = None) -> Any:
-        """The diagram: admissible band, curves by type, vertices, chamber tori counts."""
+    def plot(self, axes: Any = None, root: bool = False) -> Any:
+        """The diagram: admissible band, curves by type, vertices, chamber tori counts.
+
+        With ``root`` the vertical axis is ``sqrt(k)``, where every branch is a straight line
+        (``C sqrt(k) = |h - h_j|``) and thin chambers open up. Without ``axes`` a figure with
+        both panels (k, and sqrt(k)).
+        """
         from matplotlib.figure import Figure
 
         if axes is None:
-            fig = Figure(figsize=(7.5, 5.5))
-            axes = fig.subplots()
+            fig = Figure(figsize=(13.0, 5.5))
+            left, right = fig.subplots(1, 2)
+            self.plot(left)
+            self.plot(right, root=True)
+            return fig
+        lift = np.sqrt if root else np.asarray
         raw = self.raw
         band = raw.admissible
         if len(band):
             axes.fill_between(
-                band[:, 0], band[:, 1], band[:, 2], color="0.9", label="admissible (F^-1 not empty)"
+                band[:, 0],
+                lift(band[:, 1]),
+                lift(band[:, 2]),
+                color="0.9",
+                label="admissible (F^-1 not empty)",
             )
         drawn = set()
         for b in self.branches:
@@ -329,21 +450,31 @@ class BifurcationDiagram(Result):
                 hk = np.where(mask[:, None], b.hk, np.nan)
                 axes.plot(
                     hk[:, 0],
-                    hk[:, 1],
+                    lift(np.maximum(hk[:, 1], 0.0)),
                     color=TYPE_COLOURS[kind],
                     lw=1.6,
                     label=kind if kind not in drawn else None,
                 )
                 drawn.add(kind)
         for v in raw.vertices:
-            axes.plot(*v.hk, "ko", ms=4)
+            axes.plot(v.hk[0], lift(max(float(v.hk[1]), 0.0)), "ko", ms=4)
         for c in chamber_labels(raw.chambers):
             axes.annotate(
-                str(c.tori), (c.h, c.k), ha="center", va="center", fontsize=9, weight="bold"
+                "?" if c.tori is None else str(c.tori),
+                (c.h, float(lift(c.k))),
+                ha="center",
+                va="center",
+                fontsize=9,
+                weight="bold",
             )
         axes.set_xlabel("h = H [J]")
-        axes.set_ylabel("k = I4 [1/s^4]")
-        axes.set_title("Bifurcation diagram on I3 = 0 (numbers: tori per chamber)", fontsize=10)
+        if root:
+            axes.set_ylabel("sqrt(k) = sqrt(I4) [1/s^2]")
+            axes.set_title("the same in sqrt(k): branches C sqrt(k) = |h - h_j|", fontsize=10)
+        else:
+            axes.set_ylabel("k = I4 [1/s^4]")
+            title = "Bifurcation diagram on I3 = 0 (numbers: tori per chamber)"
+            axes.set_title(title, fontsize=10)
         axes.legend(fontsize=8, loc="upper left")
         return axes.figure
 

@@ -66,15 +66,6 @@ def test_n_shift_matches_a_direct_computation(unit_params, small_options, unit_d
     )
 
 
-def test_chamber_counts_are_stable_under_doubling(unit_params, small_options, unit_diagram):
-    F = MomentumMap(unit_params.replace(n=0.0))
-    shift = larmor_shift(unit_params)
-    assert unit_diagram.raw.chambers
-    for chamber in unit_diagram.raw.chambers:
-        fine = LevelSampler(F, chamber.h - shift, small_options.sampling.doubled())
-        assert fine.tori(chamber.k) == chamber.tori
-
-
 def test_no_admissible_energy_is_one_line(unit_params):
     with pytest.raises(InputError, match="no admissible motion") as error:
         bifurcation_diagram(unit_params, (-5.0, -4.0))
