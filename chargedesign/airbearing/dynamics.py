@@ -195,15 +195,31 @@ def advance(
     return x
 
 
+#: directions at which the model's own rates are read (fixed: the same every run)
+_PROBES = np.random.default_rng(7).standard_normal((64, 3))
+_PROBES /= np.linalg.norm(_PROBES, axis=1, keepdims=True)
+
+
+def rate_terms(params: Parameters, omega0: np.ndarray) -> dict[str, float]:
+    """The rates (1/s) the motion may reach, by source: the start's ``|omega0|``, the
+    gyroscopic ``max |mu| / C`` and the potential's ``sqrt(max |dV/dgamma| / C)`` over the
+    sphere, and n, K, sqrt(|kappa|)."""
+    C = params.C
+    mu = evaluators.gyroscopic(_PROBES, params)
+    grad = evaluators.potential_gradient(_PROBES, params)
+    return {
+        "the start (initial_gamma, initial_p, initial_q)": float(np.linalg.norm(omega0)),
+        "parameters n": abs(params.n),
+        "parameters K, c, d (gyroscopic)": max(abs(params.K), float(np.abs(mu).max()) / C),
+        "parameters kappa, c, d (potential)": max(abs(params.kappa), float(np.abs(grad).max()) / C)
+        ** 0.5,
+    }
+
+
 def motion_rate(params: Parameters, omega0: np.ndarray) -> float:
-    """The fastest rate of the motion, 1/s: |omega0|, n, K, sqrt(|kappa|), at least 1e-12."""
-    return max(
-        float(np.linalg.norm(omega0)),
-        abs(params.n),
-        abs(params.K),
-        abs(params.kappa) ** 0.5,
-        1e-12,
-    )
+    """The fastest rate of the motion, 1/s: the largest of :func:`rate_terms`, at least
+    1e-12."""
+    return max(max(rate_terms(params, omega0).values()), 1e-12)
 
 
-__all__ = ["Plant", "advance", "cross", "dop853_step", "motion_rate"]
+__all__ = ["Plant", "advance", "cross", "dop853_step", "motion_rate", "rate_terms"]

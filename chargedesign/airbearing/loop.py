@@ -62,10 +62,34 @@ class LoopSettings:
     max_torque: float = np.inf
     max_momentum: float = np.inf  # each wheel's stored momentum limit, N m s
     resolution: float = 0.0
+    #: K (3x3): the mounts move the centre of mass by K gamma (m) as gravity turns
+    compliance: np.ndarray | None = None
+    #: attitude frames per second (held between frames; inf: one per sample)
+    attitude_rate_Hz: float = np.inf
+    #: the wheels' momentum read by encoders to this step, N m s (0: exact)
+    encoder_step: float = 0.0
+    #: fuse the attitude frames with the gyro (complementary filter)
+    fusion: bool = False
+    #: the attitude blend per frame
+    fusion_gain: float = 0.1
+    #: the gyro's bias is estimated by averaging it at rest for this long before the run (s;
+    #: 0: not estimated): what is left is ``N / sqrt(t)`` for angle random walk N
+    bias_calibration_s: float = 0.0
+    #: estimate the centre-of-mass offset and the drag online (RLS) and feed them forward
+    estimator: bool = False
+    #: the RLS prior: offset (m) and drag (N m s) standard deviations
+    prior_offset_m: float = 1e-4
+    prior_drag_N_m_s: float = 1e-3
 
     @property
     def noisy(self) -> bool:
         return bool(np.any(self.gyro_arw) or np.any(self.gyro_bias) or self.attitude_noise > 0)
+
+    @property
+    def disturbed(self) -> bool:
+        return bool(
+            self.drag_N_m_s != 0.0 or self.imbalance_m != 0.0 or self.compliance is not None
+        )
 
     def per_run(self, name: str, runs: int) -> np.ndarray:
         """A gyro figure as a column (runs, 1): one value for all runs, or one per run."""
@@ -100,6 +124,14 @@ class LoopRun:
     wheel_torque_max: np.ndarray
     wheel_momentum_max: np.ndarray
     wheel_momentum: np.ndarray | None = None
+    #: |estimated - true| centre-of-mass offset (m) at each sample, (m, N + 1), when estimated
+    offset_error: np.ndarray | None = None
+    #: |estimated - true| gyro bias at the end, rad/s (m,), when fused
+    bias_error: np.ndarray | None = None
+
+    @property
+    def t_simulated_s(self) -> float:
+        return float(self.times[-1])
 
 
 def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
@@ -189,9 +221,10 @@ def run_loop(
     weight = settings.total_mass_kg * STANDARD_GRAVITY
 
     def external(x: np.ndarray) -> np.ndarray | None:
-        if settings.drag_N_m_s == 0.0 and settings.imbalance_m == 0.0:
+        if not settings.disturbed:
             return None
-        return -settings.drag_N_m_s * x[:, 0:3] - weight * cross(offset, x[:, 3:6])
+        com = offset if settings.compliance is None else offset + x[:, 3:6] @ settings.compliance.T
+        return -settings.drag_N_m_s * x[:, 0:3] - weight * cross(com, x[:, 3:6])
 
     x = np.zeros((runs, 9))
     x[:, 0:6] = x0[:6]
@@ -200,6 +233,7 @@ def run_loop(
     states = np.empty((runs, n_samples + 1, 6))
     momentum = np.empty((runs, n_samples + 1))
     torque_max = np.zeros(runs)
+    sensing = Sensing(settings, runs, T, bias, arw, rng, plant, weight)
     # a diverging run overflows before it is caught at the next sample: named there
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(n_samples + 1):
@@ -215,8 +249,10 @@ def run_loop(
             momentum[:, k] = np.abs(wheel_h).max(axis=1)
             if k == n_samples:
                 break
-            measured = _measure(x, settings, bias, arw, rng, T)
-            wanted = _command(plant, measured, settings, T, max_step)
+            measured = sensing.read(x, k, actuator.axes)
+            wanted = _command(plant, measured, settings, T, max_step) + sensing.feed_forward(
+                measured
+            )
             # the new torque acts from t_k + delay for one period: room left then
             at_switch = wheel_h + held_wheel * settings.delay_s
             applied, tau = actuator.apply(wanted, at_switch, T)
@@ -236,6 +272,10 @@ def run_loop(
         wheel_torque_max=torque_max,
         wheel_momentum_max=momentum.max(axis=1),
         wheel_momentum=momentum if keep_states else None,
+        offset_error=sensing.offset_errors(offset) if settings.estimator else None,
+        bias_error=np.linalg.norm(sensing.bias_hat - bias, axis=1)
+        if settings.bias_calibration_s > 0.0
+        else None,
     )
 
 
@@ -258,24 +298,144 @@ def _imbalance(
     return size * direction / np.linalg.norm(direction, axis=1, keepdims=True)
 
 
-def _measure(
-    x: np.ndarray,
-    settings: LoopSettings,
-    bias: np.ndarray,
-    arw: np.ndarray,
-    rng: np.random.Generator,
-    T: float,
-) -> np.ndarray:
-    """The controller's view of the state (m, 9): noisy omega and gamma, exact h."""
-    if not settings.noisy:
-        return x.copy()
-    out = x.copy()
-    out[:, 0:3] += bias + (arw / np.sqrt(T)) * rng.standard_normal((len(x), 3))
-    if settings.attitude_noise > 0.0:
-        angle = settings.attitude_noise * rng.standard_normal((len(x), 3))
-        g = x[:, 3:6] + cross(angle, x[:, 3:6])
-        out[:, 3:6] = g / np.linalg.norm(g, axis=1, keepdims=True)
-    return out
+class Sensing:
+    """The controller's view of the state, sample by sample (m runs at once).
+
+    - gyro: ``omega + bias + white noise`` (per-sample deviation ``N / sqrt(T)``);
+    - attitude frames: gamma turned by a small random angle, at the sensor's rate (held in
+      between); with ``fusion`` a complementary filter propagates the estimate with the
+      gyro, blends each frame in by ``fusion_gain`` and estimates the gyro's bias from the
+      frames' innovations (``b += (T / tau) (gamma x innovation) / T_frame``: the
+      innovation of a bias error e over a frame is ``-T_frame gamma x e``);
+    - the wheels' momentum from encoders, quantised to ``encoder_step`` per wheel;
+    - with ``estimator``: recursive least squares of ``theta = (r_c, b)`` on the integrated
+      torque balance between samples, ``J d omega + int omega x (J omega + h) + d h =
+      int (M g gamma x r_c - b omega)`` (trapezoid rule), summed from the start (the gyro
+      noise then enters once, not at every difference), and the feed-forward of
+      ``M g gamma x r_c - b omega`` that cancels the estimated weight torque and drag.
+    """
+
+    def __init__(
+        self,
+        settings: LoopSettings,
+        runs: int,
+        T: float,
+        bias: np.ndarray,
+        arw: np.ndarray,
+        rng: np.random.Generator,
+        plant: Plant,
+        weight: float,
+    ) -> None:
+        self.s, self.T, self.bias, self.arw, self.rng = settings, T, bias, arw, rng
+        self.J, self.weight = plant.model_inertia, weight
+        self.every = (
+            max(1, round(settings.rate_Hz / settings.attitude_rate_Hz))
+            if np.isfinite(settings.attitude_rate_Hz)
+            else 1
+        )
+        self.frame: np.ndarray | None = None
+        self.gamma_hat: np.ndarray | None = None
+        self.bias_hat = np.zeros((runs, 3))
+        if settings.bias_calibration_s > 0.0:
+            self.bias_hat = bias + (
+                arw / np.sqrt(settings.bias_calibration_s)
+            ) * rng.standard_normal((runs, 3))
+        self.last: np.ndarray | None = None
+        self.theta = np.zeros((runs, 4))
+        prior = np.array([settings.prior_offset_m] * 3 + [settings.prior_drag_N_m_s]) ** 2
+        self.P = np.tile(np.diag(prior), (runs, 1, 1))
+        self.Y = np.zeros((runs, 3))
+        self.Phi = np.zeros((runs, 3, 4))
+        self.noise_y = max(float(np.max(arw)) / np.sqrt(T), 1e-12) * float(np.abs(self.J).max())
+        self.prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self.estimates: list[np.ndarray] = []
+
+    def read(self, x: np.ndarray, k: int, wheel_axes: np.ndarray) -> np.ndarray:
+        s, m = self.s, len(x)
+        out = x.copy()
+        if s.noisy:
+            out[:, 0:3] += self.bias + (self.arw / np.sqrt(self.T)) * self.rng.standard_normal(
+                (m, 3)
+            )
+        if k % self.every == 0 or self.frame is None:
+            self.frame = x[:, 3:6].copy()
+            if s.attitude_noise > 0.0:
+                angle = s.attitude_noise * self.rng.standard_normal((m, 3))
+                g = x[:, 3:6] + cross(angle, x[:, 3:6])
+                self.frame = g / np.linalg.norm(g, axis=1, keepdims=True)
+            fresh = True
+        else:
+            fresh = False
+        out[:, 0:3] -= self.bias_hat
+        if s.fusion:
+            self._fuse(out, fresh)
+        else:
+            out[:, 3:6] = self.frame
+        if s.encoder_step > 0.0:
+            share = np.linalg.pinv(wheel_axes.T)
+            wheels = np.round((x[:, 6:9] @ share.T) / s.encoder_step) * s.encoder_step
+            out[:, 6:9] = wheels @ wheel_axes
+        if s.estimator:
+            self._estimate(out)
+        return out
+
+    def _fuse(self, out: np.ndarray, fresh: bool) -> None:
+        assert self.frame is not None
+        if self.gamma_hat is None:
+            self.gamma_hat = self.frame.copy()
+        elif self.last is not None:
+            g = self.gamma_hat + self.T * cross(self.gamma_hat, self.last)
+            self.gamma_hat = g / np.linalg.norm(g, axis=1, keepdims=True)
+        if fresh:
+            g = self.gamma_hat + self.s.fusion_gain * (self.frame - self.gamma_hat)
+            self.gamma_hat = g / np.linalg.norm(g, axis=1, keepdims=True)
+        self.last = out[:, 0:3].copy()
+        out[:, 3:6] = self.gamma_hat
+
+    def _rows(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(J omega + h... terms (m, 3), regressor (m, 3, 4)) at one sample."""
+        omega, gamma, h = y[:, 0:3], y[:, 3:6], y[:, 6:9]
+        gyro = cross(omega, omega @ self.J + h)
+        phi = np.zeros((len(y), 3, 4))
+        # M g gamma x r = M g [gamma]x r
+        phi[:, 0, 1], phi[:, 0, 2] = -gamma[:, 2], gamma[:, 1]
+        phi[:, 1, 0], phi[:, 1, 2] = gamma[:, 2], -gamma[:, 0]
+        phi[:, 2, 0], phi[:, 2, 1] = -gamma[:, 1], gamma[:, 0]
+        phi[:, :, 0:3] *= self.weight
+        phi[:, :, 3] = -omega
+        return gyro, phi
+
+    def _estimate(self, y: np.ndarray) -> None:
+        gyro, phi = self._rows(y)
+        if self.prev is not None:
+            prev, prev_gyro, prev_phi = self.prev
+            self.Y += (
+                (y[:, 0:3] - prev[:, 0:3]) @ self.J
+                + 0.5 * self.T * (prev_gyro + gyro)
+                + (y[:, 6:9] - prev[:, 6:9])
+            )
+            self.Phi += 0.5 * self.T * (prev_phi + phi)
+            # RLS on the summed rows, three at a time
+            Pt = self.P @ self.Phi.transpose(0, 2, 1)
+            gain = Pt @ np.linalg.inv(self.Phi @ Pt + self.noise_y**2 * np.eye(3))
+            residual = self.Y - np.einsum("mij,mj->mi", self.Phi, self.theta)
+            self.theta = self.theta + np.einsum("mij,mj->mi", gain, residual)
+            self.P = self.P - gain @ self.Phi @ self.P
+            self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
+        self.prev = (y.copy(), gyro, phi)
+        self.estimates.append(self.theta[:, 0:3].copy())
+
+    def feed_forward(self, measured: np.ndarray) -> np.ndarray:
+        """The torque that cancels the estimated weight torque and drag (m, 3), or 0."""
+        if not self.s.estimator:
+            return np.zeros((len(measured), 3))
+        r, b = self.theta[:, 0:3], self.theta[:, 3:4]
+        return self.weight * cross(measured[:, 3:6], r) - b * measured[:, 0:3]
+
+    def offset_errors(self, offset: np.ndarray) -> np.ndarray:
+        """|estimated - true| offset at each sample (m, N + 1)."""
+        est = np.stack(self.estimates + [self.estimates[-1]], axis=1)
+        return np.linalg.norm(est - offset[:, None, :], axis=2)
 
 
 def _command(

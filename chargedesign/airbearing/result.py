@@ -7,10 +7,12 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.layout import Layout, Plan
 from chargedesign.airbearing.loop import LoopRun
 from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
+from chargedesign.airbearing.verdict import Requirement, Verdict, Window
 from chargedesign.airbearing.wheels import PlannedNeeds, WheelNeeds
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
@@ -50,6 +52,12 @@ class TestbedResult(Result):
     tolerances: dict[str, Any]
     ideal_states: np.ndarray
     seconds: dict[str, float] = field(default_factory=dict)
+    layout: Layout | None = None
+    plan: Plan | None = None
+    compliance_offset_m: float = 0.0
+    state_of_the_art: list[Requirement] = field(default_factory=list)
+    verdict: Verdict = field(default_factory=lambda: Verdict(False, None, "not assessed"))
+    window: Window | None = None
 
     __test__ = False  # not a pytest class
 
@@ -91,10 +99,45 @@ class TestbedResult(Result):
             "wheel_torque_max_N_m": float(nominal.wheel_torque_max.max()),
             "wheel_needs": self._wheel_needs(),
             "planned_motions": [
-                {"initial_state": start, **_needs(motion)}
-                for start, motion in zip(self.planned.starts, self.planned.motions, strict=True)
+                {"initial_state": start, **_needs(motion), **self._tilt(k)}
+                for k, (start, motion) in enumerate(
+                    zip(self.planned.starts, self.planned.motions, strict=True)
+                )
             ],
+            "target_I4_drift": o.target_I4_drift,
+            "t_simulated_s": self.runs["nominal"].t_simulated_s,
+            **self._estimation(),
         }
+
+    def _tilt(self, k: int) -> dict[str, Any]:
+        if self.plan is None:
+            return {}
+        m = self.plan.motions[k]
+        return {"tilt_max_deg": m.tilt_max_deg, "horizon_s": m.horizon_s}
+
+    def _estimation(self) -> dict[str, Any]:
+        """The estimator's residual and convergence time, the calibrated bias's error."""
+        run = self.runs["nominal"]
+        out: dict[str, Any] = {}
+        if run.offset_error is not None:
+            curve = np.median(run.offset_error, axis=0)
+            final = float(curve[-1])
+            above = np.flatnonzero(curve > 2.0 * final)
+            settle = (
+                float(run.times[above[-1] + 1])
+                if above.size and above[-1] + 1 < len(run.times)
+                else 0.0
+            )
+            out["centre_of_mass_estimator"] = {
+                "residual_offset_m": final,
+                "convergence_time_s": settle,
+                "offset_before_m": self.options.imbalance_m,
+                "method": "recursive least squares of (r_c, b) on the integrated torque "
+                "balance, gravity and drag fed forward",
+            }
+        if run.bias_error is not None:
+            out["gyro_bias_residual_rad_per_s"] = float(np.median(run.bias_error))
+        return out
 
     def _wheel_needs(self) -> dict[str, Any]:
         """The largest needs over the planned motions, and which motion has each."""
@@ -130,9 +173,14 @@ class TestbedResult(Result):
                     "radii": self.ballast.radii,
                     "material": self.ballast.material,
                     "density_kg_m3": self.ballast.density,
+                    "mounts": [] if self.layout is None else self.layout.ballast_mounts.to_list(),
                 },
+                "bearing": None
+                if self.layout is None
+                else self.layout.bearing_dict(o, self.total_mass),
                 "wheels": {
                     "axes": self.wheel_axes,
+                    **self._wheel_layout(),
                     "max_torque_N_m": torque,
                     "max_momentum_N_m_s": momentum,
                     "torque_resolution_N_m": resolution,
@@ -151,13 +199,31 @@ class TestbedResult(Result):
                 "results": results,
                 "requirements": None if self.requirements is None else self.requirements.to_dict(),
                 "tolerances": self.tolerances,
+                "mounts_offset_m": self.compliance_offset_m,
+                "state_of_the_art": [r.to_dict() for r in self.state_of_the_art],
+                "verdict": self.verdict.to_dict(),
+                "window": None if self.window is None else self.window.to_dict(),
                 "sources": SOURCES,
                 "seconds": self.seconds,
             }
         )
 
+    def _wheel_layout(self) -> dict[str, Any]:
+        if self.layout is None:
+            return {}
+        w = self.layout.wheels
+        return {
+            "positions": w.positions,
+            "radii": w.radii,
+            "disc_radii_m": w.disc_radii,
+            "masses_kg": w.masses,
+            "spin_inertia_kg_m2": w.spin_inertia,
+            "mounts": self.layout.wheel_mounts.to_list(),
+        }
+
     def _summary(self) -> dict[str, Any]:
         out: dict[str, Any] = {
+            "buildable": self.verdict.buildable,
             "total_mass_kg": self.total_mass,
             "ballast_parts": len(self.ballast.masses),
             "wheel_torque_N_m": self.wheel_limits[0],
@@ -170,12 +236,14 @@ class TestbedResult(Result):
     def _text(self) -> str:
         o = self.options
         torque, momentum, _ = self.wheel_limits
+        simulated = self.runs["nominal"].t_simulated_s
         lines = [
+            self.verdict.line,
             f"air-bearing testbed for {self.parameters}",
             f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast"
             f" {fmt(self.ballast.total_mass, PRECISE)} kg "
             f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
-            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)}"
+            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.capacity_kg, PLAIN)}"
             " kg)",
             f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each"
             " (the "
@@ -185,8 +253,22 @@ class TestbedResult(Result):
             f"scene's motion: momentum bound {fmt(self.needs.momentum_bound, PRECISE)} N m s)",
             f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
             f" {o.command}; I4 relative drift "
-            f"over {fmt(o.t_end_s, PLAIN)} s ({fmt(self.turns)} turns of the motion):",
+            f"over {fmt(simulated, PLAIN)} s simulated ({fmt(self.turns)} turns of the motion"
+            + (
+                f"; t_end_s = {fmt(o.t_end_s, PLAIN)} s rounded to whole control periods)"
+                if abs(simulated - o.t_end_s) > 1e-9 * o.t_end_s
+                else ")"
+            )
+            + ":",
         ]
+        if self.layout is not None and self.plan is not None:
+            tilt = max(m.tilt_max_deg for m in self.plan.motions)
+            lines.insert(
+                2,
+                f"bearing {self.layout.style}: tilt limit {fmt(self.layout.tilt_limit_deg, PLAIN)}"
+                f" deg, pedestal axis {np.round(self.layout.axis, 4).tolist()}; the "
+                f"{len(self.plan.motions)} planned motions need at most {fmt(tilt, PRECISE)} deg",
+            )
         for name, run in self.runs.items():
             d = run.I4_drift
             spread = (
@@ -195,6 +277,11 @@ class TestbedResult(Result):
                 else f"{fmt(d[0])}"
             )
             lines.append(f"  {name}: {spread}")
+        lines.append(
+            "  (nominal: every effect on: gyro noise and bias, attitude sensor, imbalance, drag, "
+            "mounts, encoders, quantisation; target "
+            f"{fmt(o.target_I4_drift, PLAIN)})"
+        )
         tol = self.tolerances
         lines.append(
             f"for I4 within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
@@ -205,7 +292,14 @@ class TestbedResult(Result):
         if self.requirements is not None:
             for grade, rate in self.requirements.lowest_rate_Hz.items():
                 need = f"{fmt(rate, PLAIN)} Hz" if rate is not None else "none of the rates tried"
-                lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
+                lines.append(
+                    f"  {grade} gyro: lowest loop rate within the target without drag, "
+                    f"imbalance and mounts: {need}"
+                )
+        for r in self.state_of_the_art:
+            lines.append(f"  [{'met' if r.met else 'MISSED'}] {r.line()}")
+        if self.window is not None:
+            lines.append(self.window.line())
         return "\n".join(lines) + "\n"
 
 
