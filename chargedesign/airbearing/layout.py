@@ -97,7 +97,8 @@ def plan_motions(params: Parameters, opts: TestbedOptions) -> Plan:
             raise InputError(
                 f"testbed.initial_gamma: the scene's start needs {fmt(tilt, PRECISE)} deg of "
                 f"tilt (best pedestal axis, over {fmt(sampled.horizon_s, PLAIN)} s), the "
-                f"{opts.bearing} bearing allows {fmt(limit, PLAIN)} deg; {_alternatives(params, opts)}"
+                f"{opts.bearing} bearing allows {fmt(limit, PLAIN)} deg; "
+                f"{_alternatives(params, opts)}"
             )
         motion = PlannedMotion(x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas)
         return Plan([motion], axis, "scene")

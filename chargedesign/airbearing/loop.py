@@ -77,9 +77,11 @@ class LoopSettings:
     bias_calibration_s: float = 0.0
     #: estimate the centre-of-mass offset and the drag online (RLS) and feed them forward
     estimator: bool = False
-    #: the RLS prior: offset (m) and drag (N m s) standard deviations
+    #: the RLS prior: offset (m), drag (N m s) and compliance (each entry of K, m)
+    #: standard deviations
     prior_offset_m: float = 1e-4
     prior_drag_N_m_s: float = 1e-3
+    prior_compliance_m: float = 0.0
 
     @property
     def noisy(self) -> bool:
@@ -124,8 +126,10 @@ class LoopRun:
     wheel_torque_max: np.ndarray
     wheel_momentum_max: np.ndarray
     wheel_momentum: np.ndarray | None = None
-    #: |estimated - true| centre-of-mass offset (m) at each sample, (m, N + 1), when estimated
+    #: the estimate's centre-of-mass error (m), (m, S), at the samples ``offset_error_index``
+    #: (S,), when estimated
     offset_error: np.ndarray | None = None
+    offset_error_index: np.ndarray | None = None
     #: |estimated - true| gyro bias at the end, rad/s (m,), when fused
     bias_error: np.ndarray | None = None
 
@@ -263,6 +267,7 @@ def run_loop(
             held, held_wheel = applied, tau
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
+    errors = sensing.offset_errors(offset) if settings.estimator else None
     return LoopRun(
         times=np.arange(n_samples + 1) * T,
         states=states if keep_states else None,
@@ -272,7 +277,8 @@ def run_loop(
         wheel_torque_max=torque_max,
         wheel_momentum_max=momentum.max(axis=1),
         wheel_momentum=momentum if keep_states else None,
-        offset_error=sensing.offset_errors(offset) if settings.estimator else None,
+        offset_error=errors[1] if errors is not None else None,
+        offset_error_index=errors[0] if errors is not None else None,
         bias_error=np.linalg.norm(sensing.bias_hat - bias, axis=1)
         if settings.bias_calibration_s > 0.0
         else None,
@@ -308,11 +314,13 @@ class Sensing:
       frames' innovations (``b += (T / tau) (gamma x innovation) / T_frame``: the
       innovation of a bias error e over a frame is ``-T_frame gamma x e``);
     - the wheels' momentum from encoders, quantised to ``encoder_step`` per wheel;
-    - with ``estimator``: recursive least squares of ``theta = (r_c, b)`` on the integrated
-      torque balance between samples, ``J d omega + int omega x (J omega + h) + d h =
-      int (M g gamma x r_c - b omega)`` (trapezoid rule), summed from the start (the gyro
-      noise then enters once, not at every difference), and the feed-forward of
-      ``M g gamma x r_c - b omega`` that cancels the estimated weight torque and drag.
+    - with ``estimator``: recursive least squares of ``theta = (r_c, b, K)`` (K symmetric:
+      the mounts move the centre of mass by ``K gamma``) on the integrated torque balance
+      between samples, ``J d omega + int omega x (J omega + h) + d h =
+      int (M g gamma x (r_c + K gamma) - b omega)`` (trapezoid rule), summed from the start
+      (the gyro noise then enters once, not at every difference), and the feed-forward of
+      ``M g gamma x (r_c + K gamma) - b omega`` that cancels the estimated weight torque and
+      drag.
     """
 
     def __init__(
@@ -341,14 +349,19 @@ class Sensing:
                 arw / np.sqrt(settings.bias_calibration_s)
             ) * rng.standard_normal((runs, 3))
         self.last: np.ndarray | None = None
-        self.theta = np.zeros((runs, 4))
-        prior = np.array([settings.prior_offset_m] * 3 + [settings.prior_drag_N_m_s]) ** 2
-        self.P = np.tile(np.diag(prior), (runs, 1, 1))
+        self.theta = np.zeros((runs, THETA))
+        prior = np.array(
+            [settings.prior_offset_m] * 3
+            + [settings.prior_drag_N_m_s]
+            + [max(settings.prior_compliance_m, 1e-30)] * 6
+        )
+        self.P = np.tile(np.diag(prior**2), (runs, 1, 1))
         self.Y = np.zeros((runs, 3))
-        self.Phi = np.zeros((runs, 3, 4))
+        self.Phi = np.zeros((runs, 3, THETA))
         self.noise_y = max(float(np.max(arw)) / np.sqrt(T), 1e-12) * float(np.abs(self.J).max())
         self.prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self.estimates: list[np.ndarray] = []
+        self.compliance = settings.compliance
 
     def read(self, x: np.ndarray, k: int, wheel_axes: np.ndarray) -> np.ndarray:
         s, m = self.s, len(x)
@@ -396,13 +409,16 @@ class Sensing:
         """(J omega + h... terms (m, 3), regressor (m, 3, 4)) at one sample."""
         omega, gamma, h = y[:, 0:3], y[:, 3:6], y[:, 6:9]
         gyro = cross(omega, omega @ self.J + h)
-        phi = np.zeros((len(y), 3, 4))
-        # M g gamma x r = M g [gamma]x r
-        phi[:, 0, 1], phi[:, 0, 2] = -gamma[:, 2], gamma[:, 1]
-        phi[:, 1, 0], phi[:, 1, 2] = gamma[:, 2], -gamma[:, 0]
-        phi[:, 2, 0], phi[:, 2, 1] = -gamma[:, 1], gamma[:, 0]
-        phi[:, :, 0:3] *= self.weight
+        phi = np.zeros((len(y), 3, THETA))
+        for j in range(3):  # M g gamma x r: the columns gamma x e_j
+            phi[:, :, j] = self.weight * cross(gamma, np.broadcast_to(np.eye(3)[j], gamma.shape))
         phi[:, :, 3] = -omega
+        for j, (a, b) in enumerate(_SYMMETRIC):  # M g gamma x (E_ab gamma)
+            column = np.zeros_like(gamma)
+            column[:, a] += gamma[:, b]
+            if a != b:
+                column[:, b] += gamma[:, a]
+            phi[:, :, 4 + j] = self.weight * cross(gamma, column)
         return gyro, phi
 
     def _estimate(self, y: np.ndarray) -> None:
@@ -423,19 +439,56 @@ class Sensing:
             self.P = self.P - gain @ self.Phi @ self.P
             self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
         self.prev = (y.copy(), gyro, phi)
-        self.estimates.append(self.theta[:, 0:3].copy())
+        self.estimates.append(self.theta.copy())
 
     def feed_forward(self, measured: np.ndarray) -> np.ndarray:
         """The torque that cancels the estimated weight torque and drag (m, 3), or 0."""
         if not self.s.estimator:
             return np.zeros((len(measured), 3))
-        r, b = self.theta[:, 0:3], self.theta[:, 3:4]
-        return self.weight * cross(measured[:, 3:6], r) - b * measured[:, 0:3]
+        gamma = measured[:, 3:6]
+        com = self.theta[:, 0:3] + np.einsum("mij,mj->mi", _matrices(self.theta[:, 4:]), gamma)
+        return self.weight * cross(gamma, com) - self.theta[:, 3:4] * measured[:, 0:3]
 
-    def offset_errors(self, offset: np.ndarray) -> np.ndarray:
-        """|estimated - true| offset at each sample (m, N + 1)."""
-        est = np.stack(self.estimates + [self.estimates[-1]], axis=1)
-        return np.linalg.norm(est - offset[:, None, :], axis=2)
+    def offset_errors(self, offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The largest error of the estimated centre of mass normal to gravity over all
+        attitudes, ``max_gamma |(dr + dK gamma) x gamma|`` (m), at up to
+        :data:`ERROR_SAMPLES` samples: (sample indices (S,), errors (m, S))."""
+        every = [*self.estimates, self.estimates[-1]]
+        index = np.unique(np.linspace(0, len(every) - 1, ERROR_SAMPLES).astype(int))
+        est = np.stack([every[i] for i in index], axis=1)  # (m, S, THETA)
+        K = np.zeros((3, 3)) if self.compliance is None else self.compliance
+        dr = est[:, :, 0:3] - offset[:, None, :]
+        dK = _matrices(est[:, :, 4:].reshape(-1, 6)).reshape(*est.shape[:2], 3, 3) - K
+        err = dr[:, :, None, :] + np.einsum("mnij,pj->mnpi", dK, _PROBES)
+        normal = err - np.einsum("mnpi,pi->mnp", err, _PROBES)[..., None] * _PROBES
+        return index, np.linalg.norm(normal, axis=3).max(axis=2)
+
+
+#: the samples at which the estimate's error is read
+ERROR_SAMPLES = 101
+#: the estimator's unknowns: r_c (3), b (1), K's upper triangle (6)
+THETA = 10
+_SYMMETRIC = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+#: attitudes the estimate's error is read at (a Fibonacci sphere)
+_GOLDEN = np.pi * (3.0 - np.sqrt(5.0))
+_Z = 1.0 - 2.0 * (np.arange(200) + 0.5) / 200
+_PROBES = np.stack(
+    [
+        np.sqrt(1 - _Z**2) * np.cos(_GOLDEN * np.arange(200)),
+        np.sqrt(1 - _Z**2) * np.sin(_GOLDEN * np.arange(200)),
+        _Z,
+    ],
+    axis=1,
+)
+
+
+def _matrices(k: np.ndarray) -> np.ndarray:
+    """Symmetric 3x3 matrices (m, 3, 3) from upper triangles (m, 6)."""
+    out = np.zeros((len(k), 3, 3))
+    for j, (a, b) in enumerate(_SYMMETRIC):
+        out[:, a, b] = k[:, j]
+        out[:, b, a] = k[:, j]
+    return out
 
 
 def _command(

@@ -279,9 +279,9 @@ class TestbedOptions:
                 f"{where}.initial_gamma: a start needs all of initial_gamma, initial_p and "
                 "initial_q (or none of them: the tool plans motions that fit the bearing)"
             )
-        for rate_name, rate in (("rate_Hz", self.rate_Hz),) + tuple(
-            ("requirement_rates_Hz", r) for r in self.requirement_rates_Hz
-        ):
+        rates = [("rate_Hz", self.rate_Hz)]
+        rates += [("requirement_rates_Hz", r) for r in self.requirement_rates_Hz]
+        for rate_name, rate in rates:
             low, high = RATE_RANGE_HZ
             if not low <= rate <= high:
                 raise InputError(
@@ -299,7 +299,8 @@ class TestbedOptions:
             if k**3 > MAX_BALLAST_SITES:
                 raise InputError(
                     f"{where}.ballast_spacing_m: {fmt(self.ballast_spacing_m, PLAIN)} m over a "
-                    f"{fmt(self.platform_radius_m, PLAIN)} m platform is a grid of {float(k) ** 3:.3g} "
+                    f"{fmt(self.platform_radius_m, PLAIN)} m platform is a grid of "
+                    f"{float(k) ** 3:.3g} "
                     f"candidate sites (about {float(k) ** 3 * 96 / 1e6:.3g} MB for the ballast "
                     f"program), more than the cap of {MAX_BALLAST_SITES}; give a larger "
                     "ballast_spacing_m"

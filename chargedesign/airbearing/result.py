@@ -120,17 +120,18 @@ class TestbedResult(Result):
         run = self.runs["nominal"]
         out: dict[str, Any] = {}
         if run.offset_error is not None:
+            assert run.offset_error_index is not None
             curve = np.median(run.offset_error, axis=0)
+            times = run.times[run.offset_error_index]
             final = float(curve[-1])
             above = np.flatnonzero(curve > 2.0 * final)
             settle = (
-                float(run.times[above[-1] + 1])
-                if above.size and above[-1] + 1 < len(run.times)
-                else 0.0
+                float(times[above[-1] + 1]) if above.size and above[-1] + 1 < len(times) else 0.0
             )
             out["centre_of_mass_estimator"] = {
                 "residual_offset_m": final,
                 "convergence_time_s": settle,
+                "residual_includes": "the mounts' compliance left after its estimate",
                 "offset_before_m": self.options.imbalance_m,
                 "method": "recursive least squares of (r_c, b) on the integrated torque "
                 "balance, gravity and drag fed forward",

@@ -12,7 +12,7 @@ same densities, C x L^5) and reads each requirement's scaling from its physics:
 
 | requirement | required | best |
 | --- | --- | --- |
-| centre-of-mass offset | x s^2 L^2 (designed torque C s^2 over the weight M g) | mounts x L^2, estimator fixed |
+| centre-of-mass offset | x s^2 L^2 (torque C s^2 over weight M g) | mounts x L^2, rest fixed |
 | bearing drag | x s L^5 (C s) | x L^4 (Couette, ball radius x L) |
 | room air torque | x s^2 L^5 (M g x offset) | x L^3 |
 | wheel torque, momentum | x s^2 L^5, x s L^5 | fixed (catalogue) |
