@@ -205,13 +205,16 @@ def rate_terms(params: Parameters, omega0: np.ndarray) -> dict[str, float]:
     gyroscopic ``max |mu| / C`` and the potential's ``sqrt(max |dV/dgamma| / C)`` over the
     sphere, and n, K, sqrt(|kappa|)."""
     C = params.C
-    mu = evaluators.gyroscopic(_PROBES, params)
-    grad = evaluators.potential_gradient(_PROBES, params)
+    rest = params.replace(n=0.0)  # n's own rate is |n| (Larmor): the other terms without it
+    mu = evaluators.gyroscopic(_PROBES, rest)
+    grad = evaluators.potential_gradient(_PROBES, rest)
     return {
         "the start (initial_gamma, initial_p, initial_q)": float(np.linalg.norm(omega0)),
         "parameters n": abs(params.n),
         "parameters K, c, d (gyroscopic)": max(abs(params.K), float(np.abs(mu).max()) / C),
-        "parameters kappa, c, d (potential)": max(abs(params.kappa), float(np.abs(grad).max()) / C)
+        "parameters kappa, K, c, d (potential)": max(
+            abs(params.kappa), float(np.abs(grad).max()) / C
+        )
         ** 0.5,
     }
 

@@ -267,8 +267,8 @@ def _loop_section(result: TestbedResult) -> list[str]:
     lines = [
         "## The loop",
         "",
-        f"Over {fmt(result.options.t_end_s, PLAIN)} s, {fmt(result.turns)} turns of the motion "
-        "(t_end |omega(0)| / 2 pi):",
+        f"Over {fmt(result.runs['nominal'].t_simulated_s, PLAIN)} s simulated, "
+        f"{fmt(result.turns)} turns of the motion (t |omega(0)| / 2 pi):",
         "",
         "| run | I4 relative drift | per turn | I3 max (J s) | per turn |",
         "| --- | --- | --- | --- | --- |",

@@ -67,9 +67,9 @@ class TestbedResult(Result):
 
     @property
     def turns(self) -> float:
-        """The run's length in turns of the motion, ``t_end |omega(0)| / 2 pi``."""
+        """The run's length in turns of the motion, ``t_simulated |omega(0)| / 2 pi``."""
         rate = float(np.linalg.norm(self.initial_state[:3]))
-        return self.options.t_end_s * rate / (2.0 * np.pi)
+        return self.runs["nominal"].t_simulated_s * rate / (2.0 * np.pi)
 
     def _loop(self, name: str) -> dict[str, Any]:
         run = self.runs[name]
