@@ -133,18 +133,14 @@ def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
         notes.append(f"no 3-D picture ({type(exc).__name__}: {exc})")
         return False
     try:
+        _draw_layout(pv, plotter, result)
+        u = np.array([0.0, 0.0, 1.0]) if result.layout is None else result.layout.axis
+        side = np.cross(u, [0.0, 0.0, 1.0]) if abs(u[2]) < 0.9 else np.cross(u, [1.0, 0.0, 0.0])
+        side /= np.linalg.norm(side)
         R = result.platform.radius_m
-        shell = pv.Sphere(radius=R, theta_resolution=48, phi_resolution=48).clip("z", invert=True)
-        plotter.add_mesh(shell, color="lightgrey", opacity=0.35)
-        bearing = pv.Sphere(radius=result.options.bearing_radius_m)
-        plotter.add_mesh(bearing, color="steelblue")
-        b = result.ballast
-        for pos, rad in zip(b.positions, b.radii, strict=True):
-            plotter.add_mesh(pv.Sphere(radius=float(rad), center=pos), color="goldenrod")
-        for axis in result.wheel_axes:
-            centre = (result.options.bearing_radius_m + 0.1 * R) * axis  # schematic
-            wheel = pv.Cylinder(center=centre, direction=axis, radius=0.07 * R, height=0.03 * R)
-            plotter.add_mesh(wheel, color="firebrick")
+        plotter.camera_position = [tuple(4.5 * R * side + 1.0 * R * u), (0, 0, 0), tuple(u)]
+        plotter.add_legend(size=(0.22, 0.2), bcolor="white")
+        plotter.add_text("body axes; the pedestal axis points up", font_size=9)
         plotter.add_axes()  # type: ignore[call-arg]  # pyvista's decorator confuses mypy
         with atomic_path(path) as tmp:
             plotter.screenshot(str(tmp))
@@ -154,6 +150,78 @@ def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
         return False
     finally:
         plotter.close()
+
+
+def _draw_layout(pv: Any, plotter: Any, result: TestbedResult) -> None:
+    """The platform's shell (with the pedestal's opening), the bearing's ball, the pedestal
+    and its keep-out cone (or the full sphere's cup), the ballast and the wheels on their
+    posts, in body axes."""
+    o, layout = result.options, result.layout
+    R, Rb = result.platform.radius_m, o.bearing_radius_m
+    u = np.array([0.0, 0.0, 1.0]) if layout is None else layout.axis
+    cone = None if layout is None else layout.cone
+    shell = pv.Sphere(radius=R, center=(0, 0, 0), theta_resolution=60, phi_resolution=60)
+    if cone is not None:  # the opening the pedestal passes through
+        alpha = np.radians(cone.half_angle_deg)
+        shell = shell.clip(normal=tuple(u), origin=tuple(-u * R * np.cos(alpha)), invert=False)
+    plotter.add_mesh(shell, color="lightgrey", opacity=0.25, label="platform shell")
+    hub = "bearing ball" if cone is not None else "hub (posts root)"
+    plotter.add_mesh(pv.Sphere(radius=Rb), color="steelblue", label=hub)
+    if cone is not None:
+        length = 1.3 * R
+        plotter.add_mesh(
+            pv.Cylinder(
+                center=tuple(-u * (Rb + length / 2)),
+                direction=tuple(u),
+                radius=o.pedestal_radius,
+                height=length,
+            ),
+            color="dimgray",
+            label="pedestal",
+        )
+        height = 1.2 * R
+        radius = height * np.tan(np.radians(min(cone.half_angle_deg, 80.0)))
+        plotter.add_mesh(
+            pv.Cone(
+                center=tuple(-u * height / 2),
+                direction=tuple(u),
+                height=height,
+                radius=radius,
+                resolution=48,
+                capping=False,
+            ),
+            color="red",
+            opacity=0.12,
+            label="keep-out cone",
+        )
+    else:  # the full sphere's cup, below
+        cup = pv.Sphere(radius=1.04 * R, theta_resolution=60, phi_resolution=60)
+        cup = cup.clip(normal=tuple(-u), origin=tuple(-u * 0.5 * R), invert=False)
+        plotter.add_mesh(cup, color="dimgray", opacity=0.5, label="air cup")
+    b = result.ballast
+    for pos, rad in zip(b.positions, b.radii, strict=True):
+        plotter.add_mesh(pv.Sphere(radius=float(rad), center=pos), color="goldenrod")
+    if layout is None:
+        return
+    w = layout.wheels
+    for pos, axis, disc in zip(w.positions, result.wheel_axes, w.disc_radii, strict=True):
+        plotter.add_mesh(
+            pv.Cylinder(center=pos, direction=axis, radius=float(disc), height=0.3 * float(disc)),
+            color="firebrick",
+        )
+    for mounts in (layout.ballast_mounts, layout.wheel_mounts):
+        for e, s1, s2, d in zip(
+            mounts.directions, mounts.root_m, mounts.tip_m, mounts.diameters_m, strict=True
+        ):
+            plotter.add_mesh(
+                pv.Cylinder(
+                    center=e * (s1 + s2) / 2,
+                    direction=e,
+                    radius=float(d) / 2,
+                    height=float(s2 - s1),
+                ),
+                color="black",
+            )
 
 
 def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
