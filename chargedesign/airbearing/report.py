@@ -139,7 +139,7 @@ def render_testbed(result: TestbedResult, path: Path, notes: list[str]) -> bool:
         side /= np.linalg.norm(side)
         R = result.platform.radius_m
         plotter.camera_position = [tuple(4.5 * R * side + 1.0 * R * u), (0, 0, 0), tuple(u)]
-        plotter.add_legend(size=(0.22, 0.2), bcolor="white")
+        plotter.add_legend(size=(0.22, 0.2), bcolor="white")  # type: ignore[call-arg]
         plotter.add_text("body axes; the pedestal axis points up", font_size=9)
         plotter.add_axes()  # type: ignore[call-arg]  # pyvista's decorator confuses mypy
         with atomic_path(path) as tmp:
