@@ -27,6 +27,10 @@ import numpy as np
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.topology.compute import make_scales, resolve_range
+from chargedesign.topology.critical import equilibria
+from chargedesign.topology.equations import MomentumMap
+from chargedesign.topology.stability import equilibrium_type, linearised_eigenvalues
 
 #: a longer horizon raising the largest tilt by less than this (deg) has settled
 TILT_SETTLED_DEG = 0.05
@@ -174,11 +178,6 @@ def on_level(params: Parameters, gamma: np.ndarray, omega: np.ndarray) -> np.nda
 def stable_equilibria(params: Parameters) -> list[np.ndarray]:
     """The stable (centre-centre) relative equilibria on I3 = 0, states (6,), least energy
     first (chargedesign.topology's public functions)."""
-    from chargedesign.topology.compute import make_scales, resolve_range
-    from chargedesign.topology.critical import equilibria
-    from chargedesign.topology.equations import MomentumMap
-    from chargedesign.topology.stability import equilibrium_type, linearised_eigenvalues
-
     F = MomentumMap(params)
     h_range, _ = resolve_range(F, None)
     scales = make_scales(F, h_range)

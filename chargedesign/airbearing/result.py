@@ -133,8 +133,8 @@ class TestbedResult(Result):
                 "convergence_time_s": settle,
                 "residual_includes": "the mounts' compliance left after its estimate",
                 "offset_before_m": self.options.imbalance_m,
-                "method": "recursive least squares of (r_c, b) on the integrated torque "
-                "balance, gravity and drag fed forward",
+                "method": "recursive least squares of (r_c, b, K) on the integrated torque "
+                "balance; weight torque, posts' bending and drag fed forward",
             }
         if run.bias_error is not None:
             out["gyro_bias_residual_rad_per_s"] = float(np.median(run.bias_error))
