@@ -244,39 +244,31 @@ def build_layout(
         opts.platform_radius_m,
         _allowed(cone, None),
     )
-    wheel_mounts = radial_posts(
-        wheels.positions,
-        wheels.radii,
-        wheels.masses,
-        opts.bearing_radius_m,
-        opts.mount_material,
-        _room(cone, wheels.positions),
-    )
+
+    def posts_under(centres: np.ndarray, radii: np.ndarray, masses: np.ndarray) -> Mounts:
+        return radial_posts(
+            centres, radii, masses, opts.bearing_radius_m, opts.mount_material, _room(cone, centres)
+        )
+
+    wheel_mounts = posts_under(wheels.positions, wheels.radii, wheels.masses)
     allowed = _allowed(cone, wheels)
     base = _with_posts(shell, wheel_mounts)
     ballast = design_ballast(base, params.C, opts, allowed)
-    for _ in range(MOUNT_ROUNDS):
-        posts = radial_posts(
-            ballast.positions,
-            ballast.radii,
-            ballast.masses,
-            opts.bearing_radius_m,
-            opts.mount_material,
-            _room(cone, ballast.positions),
-        )
+
+    def on_posts(ballast: Ballast) -> tuple[Mounts, Platform, Ballast]:
+        """Posts under the ballast as it is, and its masses closed again with them."""
+        posts = posts_under(ballast.positions, ballast.radii, ballast.masses)
         platform = _with_posts(base, posts)
-        ballast = polished(platform, params.C, opts, ballast.positions, ballast.masses)
+        return (
+            posts,
+            platform,
+            polished(platform, params.C, opts, ballast.positions, ballast.masses),
+        )
+
+    for _ in range(MOUNT_ROUNDS):
+        posts, platform, ballast = on_posts(ballast)
     check_fit(ballast, opts.platform_radius_m, opts.bearing_radius_m, allowed)
-    posts = radial_posts(
-        ballast.positions,
-        ballast.radii,
-        ballast.masses,
-        opts.bearing_radius_m,
-        opts.mount_material,
-        _room(cone, ballast.positions),
-    )
-    platform = _with_posts(base, posts)
-    ballast = polished(platform, params.C, opts, ballast.positions, ballast.masses)
+    posts, platform, ballast = on_posts(ballast)
     return Layout(
         style=opts.bearing,
         tilt_limit_deg=opts.tilt_limit if opts.bearing != "full_sphere" else 180.0,

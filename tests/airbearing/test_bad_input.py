@@ -4,24 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from testbed_scene import EXAMPLE, SMALL
 
 from chargedesign.airbearing.options import TestbedOptions, bearing_drag
 from chargedesign.airbearing.run import build_testbed
 from chargedesign.errors import InfeasibleError, InputError
-from chargedesign.params import Parameters
-
-EXAMPLE = Parameters(C=0.5, c=0.3, d=-0.4, n=0.21, K=0.15, kappa=0.081)
-SMALL = {
-    "platform_mass_kg": 6.0,
-    "platform_radius_m": 0.3,
-    "bearing": "full_sphere",
-    "initial_gamma": [0.36, 0.48, 0.8],
-    "initial_p": 0.18,
-    "initial_q": -0.12,
-    "t_end_s": 0.2,
-    "rate_Hz": 20.0,
-    "seeds": 1,
-}
 
 
 @pytest.mark.parametrize(

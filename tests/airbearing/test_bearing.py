@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from testbed_scene import EXAMPLE, SMALL
 
 from chargedesign.airbearing.bearing import best_axis, clear_of_cone, fitting_starts, keep_out
 from chargedesign.airbearing.options import TestbedOptions
@@ -20,7 +21,6 @@ from chargedesign.errors import InputError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 
-EXAMPLE = Parameters(C=0.5, c=0.3, d=-0.4, n=0.21, K=0.15, kappa=0.081)
 TINY = [
     "t_end_s = 0.4",
     "rate_Hz = 20.0",
@@ -160,18 +160,7 @@ def test_fitting_starts_are_on_I3_zero_at_the_asked_tilt() -> None:
 
 
 def test_a_start_beyond_the_tilt_limit_is_refused_with_the_tilt_and_a_start_that_fits() -> None:
-    opts = TestbedOptions.from_table(
-        {
-            "platform_mass_kg": 6.0,
-            "platform_radius_m": 0.3,
-            "initial_gamma": [0.36, 0.48, 0.8],
-            "initial_p": 0.18,
-            "initial_q": -0.12,
-            "t_end_s": 0.2,
-            "rate_Hz": 20.0,
-            "seeds": 1,
-        }
-    )
+    opts = TestbedOptions.from_table({**SMALL, "bearing": "tabletop"})
     with pytest.raises(InputError) as info:
         build_testbed(EXAMPLE, opts, with_requirements=False)
     text = str(info.value)
