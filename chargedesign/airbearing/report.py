@@ -235,29 +235,25 @@ def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
     emulated = run.states[0, :, 3:6]
     ideal = result.ideal_states[:, 3:6]
     t_em = run.times
-    t_id = np.linspace(0.0, result.options.t_end_s, len(ideal))
+    t_id = result.needs.times
     images = []
-    for k in np.linspace(0, len(t_em) - 1, frames).astype(int):
-        fig, ax = plt.subplots(figsize=(4, 4), dpi=60)
+    fig, ax = plt.subplots(figsize=(4, 4), dpi=60)
+    (ideal_line,) = ax.plot([], [], color="tab:blue", lw=1, label="ideal")
+    (emulated_line,) = ax.plot([], [], color="tab:red", lw=1, ls="--", label="emulated")
+    ax.set_xlim(-1, 1)
+    ax.set_ylim(-1, 1)
+    ax.set_aspect("equal")
+    ax.legend(fontsize=7, loc="lower right")
+    title = ax.set_title("", fontsize=9)
+    for k in np.linspace(0, len(t_em) - 1, frames).astype(int):  # one figure, lines updated
         j = int(np.searchsorted(t_id, t_em[k]))
-        ax.plot(ideal[: j + 1, 0], ideal[: j + 1, 1], color="tab:blue", lw=1, label="ideal")
-        ax.plot(
-            emulated[: k + 1, 0],
-            emulated[: k + 1, 1],
-            color="tab:red",
-            lw=1,
-            ls="--",
-            label="emulated",
-        )
-        ax.set_xlim(-1, 1)
-        ax.set_ylim(-1, 1)
-        ax.set_aspect("equal")
-        ax.set_title(f"gamma1, gamma2  t = {t_em[k]:.2f} s", fontsize=9)
-        ax.legend(fontsize=7, loc="lower right")
+        ideal_line.set_data(ideal[: j + 1, 0], ideal[: j + 1, 1])
+        emulated_line.set_data(emulated[: k + 1, 0], emulated[: k + 1, 1])
+        title.set_text(f"gamma1, gamma2  t = {t_em[k]:.2f} s")
         fig.canvas.draw()
         rgba = fig.canvas.buffer_rgba()  # type: ignore[attr-defined]  # the Agg canvas
         images.append(np.asarray(rgba)[..., :3].copy())
-        plt.close(fig)
+    plt.close(fig)
     with atomic_path(path) as tmp:
         iio.imwrite(tmp, np.stack(images), extension=".gif", duration=80, loop=0)
 
