@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.topology.chambers import LevelSampler, LevelSampling
 from chargedesign.topology.compute import make_scales, resolve_range
 from chargedesign.topology.critical import equilibria
 from chargedesign.topology.equations import MomentumMap
@@ -175,11 +177,98 @@ def on_level(params: Parameters, gamma: np.ndarray, omega: np.ndarray) -> np.nda
     return np.concatenate([np.asarray(omega, float) - shift * g, g])
 
 
+@cache
+def level_map(params: Parameters) -> tuple[MomentumMap, tuple[float, float]]:
+    """(H, I4) on I3 = 0 and the diagram's default energy range (chargedesign.topology)."""
+    F = MomentumMap(params)
+    h_range, _ = resolve_range(F, None)
+    return F, h_range
+
+
+@dataclass(frozen=True)
+class TiltMap:
+    """The tilt (deg) from the pedestal axis that the tori over each (h, k) of the
+    bifurcation diagram need: ``tilt`` (energies, quartics), NaN where the level is empty.
+
+    Over each energy the level is sampled by chargedesign.topology's LevelSampler (a
+    Fibonacci grid of gamma, the conic of states over each; ``points(k)`` the states where
+    I4 = k). The points are split into tori: pieces whose points lie within
+    :data:`TORUS_JOIN` grid spacings of each other (single linkage). Each torus needs the
+    largest tilt of its points; the map gives the least of these over the tori of (h, k): the
+    torus the bearing hosts best. The grid's spacing bounds the error (about 3 deg). The
+    tori near a stable equilibrium lie in a thin band of I4 under the elliptic periodic
+    orbits that bound the level (the planned motions sit there): each energy's top cells;
+    tori above the sampled maximum of I4 are not shown."""
+
+    h: np.ndarray
+    k: np.ndarray
+    tilt: np.ndarray
+    limit_deg: float
+
+    def to_dict(self) -> dict:
+        return {
+            "h_J": self.h.tolist(),
+            "I4": self.k.tolist(),  # (energies, quartics): each energy's own I4 values
+            "tilt_max_deg": [[None if np.isnan(v) else float(v) for v in row] for row in self.tilt],
+            "limit_deg": self.limit_deg,
+            "gamma_grid": TILT_MAP_GAMMAS,
+        }
+
+
+#: the tilt map's resolution: energies, I4 values, gamma grid points and conic angles
+TILT_MAP_SHAPE = (16, 16)
+TILT_MAP_GAMMAS = 2000
+TILT_MAP_ANGLES = 32
+
+
+def tilt_map(
+    params: Parameters, axis: np.ndarray, limit_deg: float, h_top: float | None = None
+) -> TiltMap:
+    """The tilt map from the least energy on the level to ``h_top`` (default: the diagram's
+    default range), each energy's I4 from its least to its largest on the level (see
+    :class:`TiltMap`): ``k`` is then (energies, quartics) too."""
+    F, (h_low, h_high) = level_map(params)
+    energies, quartics = TILT_MAP_SHAPE
+    top = h_high if h_top is None else min(h_top, h_high)
+    hs = np.linspace(h_low, top, energies + 1)[1:]
+    out = np.full((energies, quartics), np.nan)
+    ks = np.zeros((energies, quartics))
+    for i, h in enumerate(hs):
+        s = LevelSampler(F, float(h), LevelSampling(TILT_MAP_GAMMAS, TILT_MAP_ANGLES))
+        if not s.quartic.size:
+            continue
+        low, high = float(s.quartic.min()), float(s.quartic.max())
+        ks[i] = low + (high - low) * (np.arange(quartics) + 0.5) / quartics
+        for j, k in enumerate(ks[i]):
+            pts = s.points(float(k))
+            if len(pts):
+                out[i, j] = _hosted_tilt(pts, axis, TORUS_JOIN * s.spacing)
+    return TiltMap(hs, ks, out, limit_deg)
+
+
+#: points of one torus lie within this many grid spacings of another of its points
+TORUS_JOIN = 3.0
+
+
+def _hosted_tilt(points: np.ndarray, axis: np.ndarray, join: float) -> float:
+    """The least, over the tori among ``points`` (scaled states), of their largest tilt."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(join, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(points),) * 2)
+    count, labels = connected_components(graph, directed=False)
+    tilts = tilt_deg(axis, points[:, 3:6] / np.linalg.norm(points[:, 3:6], axis=1, keepdims=True))
+    largest = np.full(count, -np.inf)
+    np.maximum.at(largest, labels, tilts)
+    return float(largest.min())
+
+
 def stable_equilibria(params: Parameters) -> list[np.ndarray]:
     """The stable (centre-centre) relative equilibria on I3 = 0, states (6,), least energy
     first (chargedesign.topology's public functions)."""
-    F = MomentumMap(params)
-    h_range, _ = resolve_range(F, None)
+    F, h_range = level_map(params)
     scales = make_scales(F, h_range)
     found = equilibria(F, scales)
     stable = [
@@ -229,6 +318,7 @@ __all__ = [
     "PLANNED_FRACTIONS",
     "KeepOut",
     "Sampled",
+    "TiltMap",
     "best_axis",
     "clear_of_cone",
     "fitting_starts",
@@ -237,4 +327,5 @@ __all__ = [
     "on_level",
     "stable_equilibria",
     "tilt_deg",
+    "tilt_map",
 ]

@@ -31,6 +31,7 @@ OUTPUTS = (
     "drift_time.png",
     "wheels.png",
     "testbed.png",
+    "tilt_map.png",
     "motion.gif",
 )
 
@@ -47,6 +48,9 @@ def write_testbed(result: TestbedResult, out: str | os.PathLike[str]) -> list[st
         if result.requirements is not None:
             plot_requirements(result, stage / "drift_vs_rate.png")
             written.append("drift_vs_rate.png")
+        if result.tilt_map is not None:
+            plot_tilt_map(result, stage / "tilt_map.png")
+            written.append("tilt_map.png")
         plot_drift(result, stage / "drift_time.png")
         plot_wheels(result, stage / "wheels.png")
         written += ["drift_time.png", "wheels.png"]
@@ -73,6 +77,35 @@ def plot_requirements(result: TestbedResult, path: Path) -> None:
     ax.set_title(f"command: {result.options.command}")
     ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
+    _save(fig, path)
+
+
+def plot_tilt_map(result: TestbedResult, path: Path) -> None:
+    """The bifurcation diagram's (H, I4) plane coloured by the tilt its tori need from the
+    pedestal axis, the contour at the bearing's limit, and the planned motions."""
+    import matplotlib.pyplot as plt
+
+    from chargedesign.model import evaluators
+
+    m = result.tilt_map
+    assert m is not None
+    H = np.repeat(m.h[:, None], m.k.shape[1], axis=1)
+    keep = np.isfinite(m.tilt)
+    h, k, tilt = H[keep], m.k[keep], m.tilt[keep]  # each energy has its own I4 values
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    mesh = ax.tripcolor(h, k, tilt, shading="gouraud", cmap="viridis")
+    fig.colorbar(mesh, ax=ax, label="tilt the torus needs (deg)")
+    if tilt.min() < m.limit_deg < tilt.max():
+        ax.tricontour(h, k, tilt, levels=[m.limit_deg], colors="red", linewidths=1.5)
+    ax.plot([], [], color="red", label=f"the bearing's limit, {fmt(m.limit_deg, PLAIN)} deg")
+    if result.plan is not None:
+        starts = np.array([p.start for p in result.plan.motions])
+        values = evaluators.integrals(starts, result.parameters)
+        ax.plot(values[:, 0], values[:, 3], "w^", mec="k", label="planned motions")
+    ax.set_xlabel("H (J)")
+    ax.set_ylabel("I4")
+    ax.set_title("tori of (H, I4) on I3 = 0 and the tilt they need", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left")
     _save(fig, path)
 
 

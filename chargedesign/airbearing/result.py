@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.bearing import TiltMap
 from chargedesign.airbearing.layout import Layout, Plan
 from chargedesign.airbearing.loop import LoopRun
 from chargedesign.airbearing.options import SOURCES, TestbedOptions
@@ -58,6 +59,7 @@ class TestbedResult(Result):
     state_of_the_art: list[Requirement] = field(default_factory=list)
     verdict: Verdict = field(default_factory=lambda: Verdict(False, None, "not assessed"))
     window: Window | None = None
+    tilt_map: TiltMap | None = None
 
     __test__ = False  # not a pytest class
 
@@ -178,7 +180,10 @@ class TestbedResult(Result):
                 },
                 "bearing": None
                 if self.layout is None
-                else self.layout.bearing_dict(o, self.total_mass),
+                else {
+                    **self.layout.bearing_dict(o, self.total_mass),
+                    "tilt_map": None if self.tilt_map is None else self.tilt_map.to_dict(),
+                },
                 "wheels": {
                     "axes": self.wheel_axes,
                     **self._wheel_layout(),

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.airbearing.balance import inertia_tolerances, part_tolerances, sensitivity
+from chargedesign.airbearing.bearing import level_map, tilt_map
 from chargedesign.airbearing.dynamics import Plant, rate_terms
 from chargedesign.airbearing.layout import Layout, build_layout, plan_motions
 from chargedesign.airbearing.loop import STEP_FRACTION, LoopSettings, initial_state, run_loop
@@ -24,6 +25,7 @@ from chargedesign.airbearing.verdict import Requirement, verdict, window
 from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.state_of_the_art import (
     BALANCE,
@@ -86,6 +88,13 @@ def build_testbed(
     check_loop_work(params, opts)
     plan = plan_motions(params, opts)
     seconds["planned_motions"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    energies = evaluators.integrals(np.array([m.start for m in plan.motions]), params)[:, 0]
+    h_low = level_map(params)[1][0]
+    hosted = tilt_map(
+        params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
+    )
+    seconds["tilt_map"] = time.perf_counter() - t0
     say(
         f"{len(plan.motions)} planned motions, largest tilt "
         f"{fmt(max(m.tilt_max_deg for m in plan.motions), PRECISE)} deg of the {opts.bearing} "
@@ -189,6 +198,7 @@ def build_testbed(
         state_of_the_art=sota,
         verdict=verdict(sota, median, opts.target_I4_drift),
         window=window(sota),
+        tilt_map=hosted,
     )
     say(result.verdict.line)
     return result

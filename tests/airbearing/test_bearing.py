@@ -13,7 +13,12 @@ import pytest
 from scipy.integrate import solve_ivp
 from testbed_scene import EXAMPLE, SMALL
 
-from chargedesign.airbearing.bearing import best_axis, clear_of_cone, fitting_starts, keep_out
+from chargedesign.airbearing.bearing import (
+    best_axis,
+    clear_of_cone,
+    fitting_starts,
+    keep_out,
+)
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.airbearing.run import build_testbed
 from chargedesign.cli import main
@@ -166,3 +171,20 @@ def test_a_start_beyond_the_tilt_limit_is_refused_with_the_tilt_and_a_start_that
     text = str(info.value)
     assert "\n" not in text
     assert "deg of tilt" in text and "allows 30 deg" in text and "initial_gamma = [" in text
+
+
+def test_the_tilt_map_agrees_with_the_integrated_planned_motions(written: dict) -> None:
+    """The planned motions lie next to the elliptic periodic orbits that bound each energy's
+    I4: the map's top cells (the level sampled, split into tori, the best-hosted one's
+    largest tilt), read at each motion's energy, give the tilt its integration needs within
+    the sampling grid's resolution (4 deg)."""
+    params = Parameters(**{k: v for k, v in written["parameters"].items() if k != "lambda"})
+    m = written["bearing"]["tilt_map"]
+    assert m["limit_deg"] == written["bearing"]["tilt_limit_deg"]
+    h = np.array(m["h_J"])
+    tilt = np.array([[np.nan if v is None else v for v in row] for row in m["tilt_max_deg"]])
+    top = np.nanmax(tilt[:, -3:], axis=1)
+    for motion in written["results"]["planned_motions"]:
+        H = evaluators.integrals(np.array(motion["initial_state"]), params)[0]
+        assert h[0] - (h[1] - h[0]) <= H <= h[-1]
+        assert abs(np.interp(H, h, top) - motion["tilt_max_deg"]) < 4.0
