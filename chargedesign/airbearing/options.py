@@ -282,12 +282,6 @@ class TestbedOptions:
         rates = [("rate_Hz", self.rate_Hz)]
         rates += [("requirement_rates_Hz", r) for r in self.requirement_rates_Hz]
         for rate_name, rate in rates:
-            low, high = RATE_RANGE_HZ
-            if not low <= rate <= high:
-                raise InputError(
-                    f"{where}.{rate_name}: expected control rates in {fmt(low, PLAIN)}.."
-                    f"{fmt(high, PLAIN)} Hz, got {rate!r}"
-                )
             if self.t_end_s * rate < 1.0:
                 raise InputError(
                     f"{where}.t_end_s: {fmt(self.t_end_s, PLAIN)} s is shorter than one control "
@@ -469,8 +463,11 @@ def _parse(name: str, value: Any, where: str) -> Any:
         return tuple(float(x) for x in as_array(value, where, (3,)))
     if name == "requirement_rates_Hz":
         rates = as_array(value, where, (None,))
-        if rates.size == 0 or rates.size > 12 or (rates <= 0).any():
-            raise input_error(where, "1 to 12 rates > 0 (Hz)", value)
+        low, high = RATE_RANGE_HZ
+        if rates.size == 0 or rates.size > 12 or (rates < low).any() or (rates > high).any():
+            raise input_error(
+                where, f"1 to 12 rates in {fmt(low, PLAIN)}..{fmt(high, PLAIN)} Hz", value
+            )
         return tuple(sorted(float(x) for x in rates))
     number = as_finite_float(value, where, positive=name in _POSITIVE)
     if name in _NONNEGATIVE and number < 0.0:
@@ -479,6 +476,12 @@ def _parse(name: str, value: Any, where: str) -> Any:
         raise input_error(where, "a margin >= 1", value)
     if name == "drag_feedforward" and not 0.0 <= number <= 1.0:
         raise input_error(where, "the fraction of the drag fed forward, in 0..1", value)
+    if name == "rate_Hz" and not RATE_RANGE_HZ[0] <= number <= RATE_RANGE_HZ[1]:
+        raise input_error(
+            where,
+            f"a control rate in {fmt(RATE_RANGE_HZ[0], PLAIN)}..{fmt(RATE_RANGE_HZ[1], PLAIN)} Hz",
+            value,
+        )
     if name == "tilt_limit_deg" and not 0.0 < number <= 180.0:
         raise input_error(where, "a tilt limit in (0, 180] deg", value)
     if name == "pyramid_angle_deg" and not 5.0 <= number <= 85.0:

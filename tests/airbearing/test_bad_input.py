@@ -34,6 +34,21 @@ from chargedesign.errors import InfeasibleError, InputError
         ({"t_end_s": 1e9}, "testbed.t_end_s"),
         ({"drag_feedforward": 2.0}, "testbed.drag_feedforward"),
         ({"rate_Hz": "fast"}, "testbed.rate_Hz"),
+        ({"bearing": "round"}, "testbed.bearing"),
+        ({"tilt_limit_deg": 0.0}, "testbed.tilt_limit_deg"),
+        ({"tilt_limit_deg": 200.0}, "testbed.tilt_limit_deg"),
+        ({"tilt_limit_deg": 80.0}, "testbed.tilt_limit_deg"),  # the pedestal reaches 90 deg
+        ({"pedestal_radius_m": 0.05}, "testbed.pedestal_radius_m"),
+        ({"pedestal_radius_m": -0.01}, "testbed.pedestal_radius_m"),
+        ({"mount_material": "wood"}, "testbed.mount_material"),
+        ({"attitude_sensor": "star_tracker"}, "testbed.attitude_sensor"),
+        ({"attitude_rate_Hz": 0.0}, "testbed.attitude_rate_Hz"),
+        ({"estimator": "kalman"}, "testbed.estimator"),
+        ({"encoder_counts": 3}, "testbed.encoder_counts"),
+        ({"max_loop_steps": 10}, "testbed.max_loop_steps"),
+        ({"initial_p": 0.1}, "testbed.initial_gamma"),  # a start needs all three
+        ({"rate_Hz": 1e6}, "testbed.rate_Hz"),
+        ({"t_end_s": 1e-3}, "testbed.t_end_s"),
     ],
 )
 def test_table_errors_are_one_line(table: dict, names: str) -> None:
