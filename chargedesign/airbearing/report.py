@@ -257,7 +257,7 @@ def _draw_layout(pv: Any, plotter: Any, result: TestbedResult) -> None:
             )
 
 
-def animate_motion(result: TestbedResult, path: Path, frames: int = 60) -> None:
+def animate_motion(result: TestbedResult, path: Path, frames: int = 40) -> None:
     """GIF: gamma's trace (the vertical seen from the platform) of the emulated run (seed 0
     of the nominal ensemble) beside the ideal continuous loop's, (gamma1, gamma2)."""
     import imageio.v3 as iio
