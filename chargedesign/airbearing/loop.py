@@ -75,6 +75,10 @@ class LoopSettings:
     #: the gyro's bias is estimated by averaging it at rest for this long before the run (s;
     #: 0: not estimated): what is left is ``N / sqrt(t)`` for angle random walk N
     bias_calibration_s: float = 0.0
+    #: the motors' torque bandwidth (Hz; inf: ideal torque sources) and each wheel's
+    #: Coulomb friction (N m, against its momentum's sign)
+    motor_bandwidth_Hz: float = np.inf
+    wheel_friction_N_m: float = 0.0
     #: estimate the centre-of-mass offset and the drag online (RLS) and feed them forward
     estimator: bool = False
     #: the RLS prior: offset (m), drag (N m s) and compliance (each entry of K, m)
@@ -232,7 +236,8 @@ def run_loop(
 
     x = np.zeros((runs, 9))
     x[:, 0:6] = x0[:6]
-    held, held_wheel = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    _, held_wheel = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    motors = Motors(settings, held_wheel)
     wheel_h = np.zeros((runs, len(actuator.axes)))  # each wheel's momentum, N m s
     states = np.empty((runs, n_samples + 1, 6))
     momentum = np.empty((runs, n_samples + 1))
@@ -259,12 +264,13 @@ def run_loop(
             )
             # the new torque acts from t_k + delay for one period: room left then
             at_switch = wheel_h + held_wheel * settings.delay_s
-            applied, tau = actuator.apply(wanted, at_switch, T)
+            _, tau = actuator.apply(wanted, at_switch, T)
             torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
-            x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
-            x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
-            wheel_h = at_switch + tau * (T - settings.delay_s)
-            held, held_wheel = applied, tau
+            for command, dt in ((held_wheel, settings.delay_s), (tau, T - settings.delay_s)):
+                delivered = motors.piece(command, dt, wheel_h)
+                x = advance(_held(plant, delivered @ actuator.axes, external), x, dt, max_step)
+                wheel_h = wheel_h + delivered * dt
+            held_wheel = tau
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
     errors = sensing.offset_errors(offset) if settings.estimator else None
@@ -283,6 +289,36 @@ def run_loop(
         if settings.bias_calibration_s > 0.0
         else None,
     )
+
+
+class Motors:
+    """What the wheels' motors deliver over a piece of time under a held command (m, k):
+    a first-order lag of bandwidth f (time constant ``1 / (2 pi f)``), whose average over the
+    piece ``c + (tau0 - c) (t_c / dt) (1 - exp(-dt / t_c))`` gives the piece its exact
+    impulse, less each wheel's Coulomb friction against its momentum's sign."""
+
+    def __init__(self, settings: LoopSettings, torque: np.ndarray) -> None:
+        self.torque = torque.copy()
+        self.constant = (
+            1.0 / (2.0 * np.pi * settings.motor_bandwidth_Hz)
+            if np.isfinite(settings.motor_bandwidth_Hz)
+            else 0.0
+        )
+        self.friction = settings.wheel_friction_N_m
+
+    def piece(self, command: np.ndarray, dt: float, momentum: np.ndarray) -> np.ndarray:
+        if dt <= 0.0:
+            return command
+        if self.constant > 0.0:
+            decay = np.exp(-dt / self.constant)
+            average = command + (self.torque - command) * (self.constant / dt) * (1.0 - decay)
+            self.torque = command + (self.torque - command) * decay
+        else:
+            average = command
+            self.torque = command
+        if self.friction:
+            average = average - self.friction * np.sign(momentum)
+        return average
 
 
 def _held(
@@ -558,6 +594,7 @@ __all__ = [
     "Actuator",
     "LoopRun",
     "LoopSettings",
+    "Motors",
     "continuous_loop",
     "initial_state",
     "invariants",

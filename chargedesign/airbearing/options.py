@@ -86,6 +86,11 @@ SOURCES = {
     "encoder_counts": "4096 counts per turn (a 12-bit encoder; state_of_the_art)",
     "max_loop_steps": "200000 fixed integration steps per loop run: a run's work is bounded "
     "before it starts",
+    "motors": "ideal torque sources unless the scene gives its wheels' motor_bandwidth_Hz "
+    "(a first-order lag) and wheel_friction_N_m (Coulomb, against the wheel's momentum): "
+    "no default is sourced here (B. Bialke, 'High fidelity mathematical modeling of reaction "
+    "wheel performance', AAS 98-063, 1998 gives the model's form; the figures are the "
+    "wheel's datasheet's)",
     "gyro_grades": "order-of-magnitude class figures (bias; angle random walk): navigation "
     "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
     "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
@@ -134,6 +139,8 @@ _TABLE_KEYS = (
     "max_momentum_N_m_s",
     "wheel_margin",
     "torque_resolution_N_m",
+    "motor_bandwidth_Hz",
+    "wheel_friction_N_m",
     "rate_Hz",
     "delay_s",
     "command",
@@ -204,6 +211,8 @@ class TestbedOptions:
     max_momentum_N_m_s: float | None = None
     wheel_margin: float = 1.5
     torque_resolution_N_m: float | None = None
+    motor_bandwidth_Hz: float | None = None
+    wheel_friction_N_m: float | None = None
     rate_Hz: float = 200.0
     delay_s: float = 1.0e-3
     command: str = "predictive"
@@ -411,6 +420,7 @@ def bearing_drag(radius: float, gap: float, viscosity: float = AIR_VISCOSITY) ->
 _POSITIVE = (
     "pedestal_radius_m",
     "attitude_rate_Hz",
+    "motor_bandwidth_Hz",
     "platform_mass_kg",
     "platform_radius_m",
     "bearing_capacity_kg",
@@ -431,6 +441,7 @@ _NONNEGATIVE = (
     "attitude_noise_rad",
     "imbalance_m",
     "drag_N_m_s",
+    "wheel_friction_N_m",
 )
 _CHOICES = {
     "ballast_material": tuple(BALLAST_DENSITY),

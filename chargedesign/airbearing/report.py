@@ -21,6 +21,7 @@ from chargedesign.airbearing.options import SOURCES
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.model import evaluators
 from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
@@ -84,8 +85,6 @@ def plot_tilt_map(result: TestbedResult, path: Path) -> None:
     """The bifurcation diagram's (H, I4) plane coloured by the tilt its tori need from the
     pedestal axis, the contour at the bearing's limit, and the planned motions."""
     import matplotlib.pyplot as plt
-
-    from chargedesign.model import evaluators
 
     m = result.tilt_map
     assert m is not None

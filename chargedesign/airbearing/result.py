@@ -190,6 +190,8 @@ class TestbedResult(Result):
                     "max_torque_N_m": torque,
                     "max_momentum_N_m_s": momentum,
                     "torque_resolution_N_m": resolution,
+                    "motor_bandwidth_Hz": o.motor_bandwidth_Hz,  # null: ideal torque sources
+                    "friction_N_m": o.wheel_friction_N_m or 0.0,
                 },
                 "control": {"rate_Hz": o.rate_Hz, "delay_s": o.delay_s, "command": o.command},
                 "sensors": {

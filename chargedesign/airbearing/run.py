@@ -403,6 +403,8 @@ def _nominal(
         bias_calibration_s=BIAS_CALIBRATION_S,
         encoder_step=spin * 2.0 * math.pi / counts * opts.rate_Hz,
         compliance=compliance,
+        motor_bandwidth_Hz=np.inf if opts.motor_bandwidth_Hz is None else opts.motor_bandwidth_Hz,
+        wheel_friction_N_m=opts.wheel_friction_N_m or 0.0,
         estimator=opts.estimator == "rls",
         prior_offset_m=max(opts.imbalance_m, 1e-9),
         prior_drag_N_m_s=max(opts.drag, 1e-12),

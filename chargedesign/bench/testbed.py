@@ -20,6 +20,7 @@ default start on I3 = 0, the platform's inertia exactly diag(2C, 2C, C)):
 from __future__ import annotations
 
 import math
+import tempfile
 import time
 from typing import Any
 
@@ -28,9 +29,12 @@ import numpy as np
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_state, run_loop
 from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
+from chargedesign.airbearing.report import write_testbed
+from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.bench.common import BenchTable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
+from chargedesign.scene import load_scene
 
 #: examples/scenes/unit_scale.toml's parameters
 UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
@@ -146,12 +150,6 @@ def monte_carlo(quick: bool) -> BenchTable:
 
 def embedded_command(quick: bool) -> BenchTable:
     """``chargedesign testbed`` on the embedded scene: the stages' seconds and the total."""
-    import tempfile
-
-    from chargedesign.airbearing.report import write_testbed
-    from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
-    from chargedesign.scene import load_scene
-
     overrides: dict[str, Any] = {"t_end_s": 5.0, "seeds": 4} if quick else {}
     t0 = time.perf_counter()
     result = testbed_from_scene(load_scene(default_testbed_scene()), **overrides)

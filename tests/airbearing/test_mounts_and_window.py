@@ -11,7 +11,7 @@ from testbed_scene import EXAMPLE
 
 from chargedesign.airbearing.balance import sensitivity
 from chargedesign.airbearing.dynamics import Plant
-from chargedesign.airbearing.loop import LoopSettings, initial_state, run_loop
+from chargedesign.airbearing.loop import LoopSettings, Motors, initial_state, run_loop
 from chargedesign.airbearing.mounts import radial_posts
 from chargedesign.airbearing.options import STANDARD_GRAVITY, TestbedOptions
 from chargedesign.airbearing.platform import Platform
@@ -180,3 +180,31 @@ def test_the_windows_offset_law_is_the_linear_response_at_the_scaled_rate() -> N
     i = int(np.argmin(np.abs(w.rates - 3.0)))
     j = int(np.argmin(np.abs(w.sizes - 1.0)))
     assert w.margin[i, j] == pytest.approx(1.0 / (tolerance[0] * w.rates[i] ** 2), rel=1e-12)
+
+
+def test_a_lagging_motor_delivers_the_exact_impulse_of_its_exponential() -> None:
+    """The piece's average torque times its length is the integral of the first-order
+    response (by a fine trapezoid), and the motor's torque at the end is the response's."""
+    settings = LoopSettings(rate_Hz=50.0, delay_s=1e-3, t_end_s=1.0, motor_bandwidth_Hz=8.0)
+    motors = Motors(settings, np.array([[0.02, -0.01, 0.0]]))
+    command, dt = np.array([[-0.01, 0.03, 0.005]]), 0.019
+    tc = 1.0 / (2.0 * np.pi * 8.0)
+    t = np.linspace(0.0, dt, 200001)
+    response = command + (np.array([[0.02, -0.01, 0.0]]) - command) * np.exp(-t[:, None] / tc)
+    impulse = np.sum(0.5 * (response[1:] + response[:-1]) * np.diff(t)[:, None], axis=0)
+    delivered = motors.piece(command, dt, np.zeros((1, 3)))
+    assert np.allclose(delivered[0] * dt, impulse, rtol=1e-9, atol=1e-15)
+    assert np.allclose(motors.torque[0], response[-1], rtol=1e-12)
+
+
+def test_motor_lag_and_friction_show_in_the_drift_and_vanish_when_ideal() -> None:
+    inertia = np.diag([1.0, 1.0, 0.5])
+    plant = Plant(EXAMPLE, inertia, inertia)
+    x0 = initial_state(EXAMPLE, np.array([0.36, 0.48, 0.8]), 0.18, -0.12)
+    base = LoopSettings(rate_Hz=50.0, delay_s=1e-3, t_end_s=10.0, command="predictive")
+    ideal = run_loop(plant, x0, base).I4_drift[0]
+    same = run_loop(plant, x0, LoopSettings(**{**base.__dict__, "motor_bandwidth_Hz": np.inf}))
+    assert same.I4_drift[0] == ideal
+    slow = run_loop(plant, x0, LoopSettings(**{**base.__dict__, "motor_bandwidth_Hz": 5.0}))
+    rubbing = run_loop(plant, x0, LoopSettings(**{**base.__dict__, "wheel_friction_N_m": 1e-4}))
+    assert slow.I4_drift[0] > 10 * ideal and rubbing.I4_drift[0] > 10 * ideal
