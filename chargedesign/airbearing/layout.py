@@ -29,7 +29,7 @@ from chargedesign.airbearing.bearing import (
 from chargedesign.airbearing.dynamics import motion_rate
 from chargedesign.airbearing.loop import initial_state
 from chargedesign.airbearing.mounts import Mounts, radial_posts
-from chargedesign.airbearing.options import TestbedOptions, bearing_drag
+from chargedesign.airbearing.options import TestbedOptions, cup_drag, cup_half_angle
 from chargedesign.airbearing.platform import (
     Ballast,
     Platform,
@@ -38,7 +38,7 @@ from chargedesign.airbearing.platform import (
     polished,
 )
 from chargedesign.airbearing.wheels import WheelGeometry, wheel_geometry
-from chargedesign.errors import InputError
+from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.state_of_the_art import FULL_SPHERE
@@ -178,19 +178,14 @@ def full_sphere_figures(opts: TestbedOptions, total_mass: float) -> dict[str, An
     """The floating ball's own limits: its diameter and sphericity, the payload inside it,
     the cup's coverage, the air film's drag (the cup's Couette film)."""
     R = opts.platform_radius_m
-    coverage = FULL_SPHERE["cup_coverage_sr"].value
-    half = math.acos(1.0 - coverage / (2.0 * math.pi))
-    # a cup of half-angle a: the film's torque about the cup's axis (4 pi/3 of the hemisphere
-    # scaled by the cap's share of int sin^3)
-    share = (2.0 / 3.0 - math.cos(half) + math.cos(half) ** 3 / 3.0) / (2.0 / 3.0)
     return {
         "ball_diameter_m": 2.0 * R,
         "largest_ball_diameter_m": FULL_SPHERE["largest_diameter_m"].value,
         "sphericity_m": FULL_SPHERE["sphericity_m"].value,
         "payload_inside_kg": total_mass - opts.platform_mass_kg,
-        "cup_half_angle_deg": math.degrees(half),
-        "cup_coverage_sr": coverage,
-        "air_film_drag_N_m_s": share * bearing_drag(R, opts.bearing_gap_m),
+        "cup_half_angle_deg": math.degrees(cup_half_angle()),
+        "cup_coverage_sr": FULL_SPHERE["cup_coverage_sr"].value,
+        "air_film_drag_N_m_s": cup_drag(R, opts.bearing_gap_m),
         "sources": {k: f.source for k, f in FULL_SPHERE.items()},
     }
 
@@ -256,14 +251,16 @@ def build_layout(
     ballast = design_ballast(base, params.C, opts, allowed)
 
     def on_posts(ballast: Ballast) -> tuple[Mounts, Platform, Ballast]:
-        """Posts under the ballast as it is, and its masses closed again with them."""
+        """Posts under the ballast as it is, and its masses closed again with them; when
+        the same sites cannot absorb the posts (a mass would turn negative), the program
+        chooses its sites again with these posts as part of the structure."""
         posts = posts_under(ballast.positions, ballast.radii, ballast.masses)
         platform = _with_posts(base, posts)
-        return (
-            posts,
-            platform,
-            polished(platform, params.C, opts, ballast.positions, ballast.masses),
-        )
+        try:
+            closed = polished(platform, params.C, opts, ballast.positions, ballast.masses)
+        except InfeasibleError:
+            closed = design_ballast(platform, params.C, opts, allowed)
+        return posts, platform, closed
 
     for _ in range(MOUNT_ROUNDS):
         posts, platform, ballast = on_posts(ballast)

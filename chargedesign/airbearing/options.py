@@ -21,6 +21,7 @@ from chargedesign.physical.state_of_the_art import (
     ATTITUDE_SENSORS,
     BALANCE,
     BEARINGS,
+    FULL_SPHERE,
     GYROS,
     MOUNT_MATERIALS,
 )
@@ -394,9 +395,12 @@ class TestbedOptions:
 
     @property
     def drag(self) -> float:
-        """Bearing drag coefficient, N m s: the scene's, or the air film's Couette drag."""
+        """Bearing drag coefficient, N m s: the scene's, or the air film's Couette drag (for a
+        full sphere, the film between the whole ball and its cup)."""
         if self.drag_N_m_s is not None:
             return self.drag_N_m_s
+        if self.bearing == "full_sphere":
+            return cup_drag(self.platform_radius_m, self.bearing_gap_m)
         return bearing_drag(self.bearing_radius_m, self.bearing_gap_m)
 
     @property
@@ -415,6 +419,21 @@ def bearing_drag(radius: float, gap: float, viscosity: float = AIR_VISCOSITY) ->
     dphi`` over the hemisphere is ``(4 pi / 3) eta R^4 omega / h``.
     """
     return 4.0 * math.pi / 3.0 * viscosity * radius**4 / gap
+
+
+def cup_half_angle() -> float:
+    """The full sphere's cup half-angle, rad (from its coverage, state_of_the_art)."""
+    coverage = FULL_SPHERE["cup_coverage_sr"].value
+    return math.acos(1.0 - coverage / (2.0 * math.pi))
+
+
+def cup_drag(radius: float, gap: float) -> float:
+    """Couette drag (N m s) of a cup of half-angle a under a ball of radius R, about the
+    cup's axis: the hemisphere's ``(4 pi/3) eta R^4 / h`` times the cap's share of
+    ``int sin^3``, ``(2/3 - cos a + cos^3 a / 3) / (2/3)`` (a spin about the axis; other axes
+    shear the film no more than this order)."""
+    c = math.cos(cup_half_angle())
+    return (2.0 / 3.0 - c + c**3 / 3.0) / (2.0 / 3.0) * bearing_drag(radius, gap)
 
 
 _POSITIVE = (

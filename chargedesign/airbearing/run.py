@@ -286,7 +286,14 @@ def against_state_of_the_art(
             tolerances["drag_max_N_m_s"],
             opts.drag,
             "N m s",
-            SOURCES["drag_N_m_s"] if opts.drag_N_m_s is None else "the scene's drag_N_m_s",
+            "the scene's drag_N_m_s"
+            if opts.drag_N_m_s is not None
+            else SOURCES["drag_N_m_s"]
+            + (
+                "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
+                if opts.bearing == "full_sphere"
+                else ""
+            ),
         ),
         Requirement(
             "room_air_torque_N_m",

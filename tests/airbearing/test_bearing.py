@@ -188,3 +188,17 @@ def test_the_tilt_map_agrees_with_the_integrated_planned_motions(written: dict) 
         H = evaluators.integrals(np.array(motion["initial_state"]), params)[0]
         assert h[0] - (h[1] - h[0]) <= H <= h[-1]
         assert abs(np.interp(H, h, top) - motion["tilt_max_deg"]) < 4.0
+
+
+def test_a_full_sphere_holds_a_tumbling_start_and_reports_its_own_limits() -> None:
+    result = build_testbed(EXAMPLE, TestbedOptions.from_table(SMALL), with_requirements=False)
+    bearing = result.to_dict()["bearing"]
+    assert bearing["style"] == "full_sphere" and bearing["keep_out"] is None
+    assert bearing["tilt_limit_deg"] == 180.0
+    assert result.plan is not None and result.plan.motions[0].tilt_max_deg > 90.0  # it tumbles
+    ball = bearing["full_sphere"]
+    assert ball["ball_diameter_m"] == 2 * SMALL["platform_radius_m"]
+    # the cup's film lies under the whole ball: its drag is the one the loop carries
+    assert result.to_dict()["disturbances"]["drag_N_m_s"] == ball["air_film_drag_N_m_s"]
+    half = math.radians(ball["cup_half_angle_deg"])
+    assert ball["cup_coverage_sr"] == pytest.approx(2 * math.pi * (1 - math.cos(half)), rel=1e-12)
