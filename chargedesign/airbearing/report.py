@@ -411,7 +411,9 @@ def _window_section(result: TestbedResult) -> list[str]:
         "densities), each requirement by its physics (chargedesign/airbearing/verdict.py); the "
         "nominal drift is measured at the scene's design only.",
         "",
-        result.window.line(),
+        *[f"- {w.line()}" for w in result.windows],
+        "",
+        f"Recommended: {result.window.line()}",
         "",
     ]
 

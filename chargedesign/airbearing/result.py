@@ -59,6 +59,7 @@ class TestbedResult(Result):
     state_of_the_art: list[Requirement] = field(default_factory=list)
     verdict: Verdict = field(default_factory=lambda: Verdict(False, None, "not assessed"))
     window: Window | None = None
+    windows: list[Window] = field(default_factory=list)
     tilt_map: TiltMap | None = None
 
     __test__ = False  # not a pytest class
@@ -212,7 +213,17 @@ class TestbedResult(Result):
                 "mounts_offset_m": self.compliance_offset_m,
                 "state_of_the_art": [r.to_dict() for r in self.state_of_the_art],
                 "verdict": self.verdict.to_dict(),
-                "window": None if self.window is None else self.window.to_dict(),
+                "window": None
+                if self.window is None
+                else {
+                    **self.window.to_dict(),
+                    "styles": {
+                        w.style: {
+                            k: v for k, v in w.to_dict().items() if k not in ("rates", "sizes")
+                        }
+                        for w in self.windows
+                    },
+                },
                 "sources": SOURCES,
                 "seconds": self.seconds,
             }

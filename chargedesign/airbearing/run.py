@@ -21,7 +21,7 @@ from chargedesign.airbearing.options import GYRO_GRADES, SOURCES, STANDARD_GRAVI
 from chargedesign.airbearing.platform import total_com, total_inertia
 from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
-from chargedesign.airbearing.verdict import Requirement, verdict, window
+from chargedesign.airbearing.verdict import Requirement, best_window, verdict, window
 from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
@@ -29,6 +29,7 @@ from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.state_of_the_art import (
     BALANCE,
+    BEARINGS,
     FULL_SPHERE,
     LOOP_RATE,
     REACTION_WHEELS,
@@ -175,6 +176,7 @@ def build_testbed(
         opts, plan, planned, layout, tolerances, runs, reqs, total_mass, compliance_offset
     )
     median = float(np.median(runs["nominal"].I4_drift))
+    windows = [window(for_style(sota, opts, style), style) for style in BEARINGS]
     result = TestbedResult(
         parameters=params,
         options=opts,
@@ -197,7 +199,8 @@ def build_testbed(
         compliance_offset_m=compliance_offset,
         state_of_the_art=sota,
         verdict=verdict(sota, median, opts.target_I4_drift),
-        window=window(sota),
+        window=best_window(windows),
+        windows=windows,
         tilt_map=hosted,
     )
     say(result.verdict.line)
@@ -344,6 +347,43 @@ def against_state_of_the_art(
             "encoders all on)",
         )
     )
+    return out
+
+
+def for_style(sota: list[Requirement], opts: TestbedOptions, style: str) -> list[Requirement]:
+    """The requirements read for another bearing style (the window's style axis): its tilt
+    limit, rated load and film drag (a full sphere's cup under the whole ball, and its ball's
+    size); the planned motions, the layout and the loop's figures are the scene's."""
+    if style == opts.bearing:
+        return sota
+    other = replace(opts, bearing=style, tilt_limit_deg=None, bearing_capacity_kg=None)
+    out = []
+    for r in sota:
+        if r.name == "ball_diameter_m":
+            continue
+        if r.name == "bearing_tilt_deg":
+            r = replace(
+                r,
+                best=180.0 if style == "full_sphere" else other.tilt_limit,
+                source=BEARINGS[style].source,
+            )
+        elif r.name == "bearing_load_kg":
+            r = replace(r, best=other.capacity_kg, source=BEARINGS[style].source)
+        elif r.name == "bearing_drag_N_m_s" and opts.drag_N_m_s is None:
+            r = replace(r, best=other.drag)
+        out.append(r)
+    if style == "full_sphere":
+        ball = FULL_SPHERE["largest_diameter_m"]
+        out.append(
+            Requirement(
+                "ball_diameter_m",
+                "capacity",
+                2.0 * opts.platform_radius_m,
+                ball.value,
+                "m",
+                ball.source,
+            )
+        )
     return out
 
 

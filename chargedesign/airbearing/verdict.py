@@ -42,6 +42,7 @@ SCALING: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {
     "bearing_load_kg": ((0.0, 3.0), (0.0, 0.0)),
     "loop_rate_Hz": ((1.0, 0.0), (0.0, 0.0)),
     "bearing_tilt_deg": ((0.0, 0.0), (0.0, 0.0)),
+    "ball_diameter_m": ((0.0, 1.0), (0.0, 0.0)),
 }
 #: the grid of the window: time rates and sizes relative to the scene's
 RATES = np.logspace(-1.0, 1.0, 41)
@@ -146,6 +147,7 @@ class Window:
     binding: np.ndarray  # (rates, sizes) the most-missed (or tightest) requirement's index
     names: tuple[str, ...]
     margin: np.ndarray  # (rates, sizes): the worst shortfall (< 1 inside)
+    style: str = ""  # the bearing style the requirements are read for
 
     @property
     def empty(self) -> bool:
@@ -178,6 +180,7 @@ class Window:
         rate, size = self.recommended()
         i, j = np.unravel_index(int(np.argmin(self.margin)), self.margin.shape)
         out: dict[str, Any] = {
+            "bearing": self.style,
             "empty": self.empty,
             "rates": self.rates.tolist(),
             "sizes": self.sizes.tolist(),
@@ -206,7 +209,8 @@ class Window:
         rec = d["recommended"]
         if self.empty:
             return (
-                f"no window: over rates x{fmt(self.rates[0], PLAIN)}..x{fmt(self.rates[-1], PLAIN)}"
+                f"no window ({self.style} bearing): over rates x{fmt(self.rates[0], PLAIN)}"
+                f"..x{fmt(self.rates[-1], PLAIN)}"
                 f" and sizes x{fmt(self.sizes[0], PLAIN)}..x{fmt(self.sizes[-1], PLAIN)} the best "
                 f"design (rate x{fmt(rec['rate_factor'])}, size x{fmt(rec['size_factor'])}) "
                 f"still misses {rec['binding']} by a factor {fmt(rec['worst_shortfall'])}"
@@ -219,13 +223,14 @@ class Window:
             else "none at the scene's size"
         )
         return (
-            f"window: {d['feasible_points']} of {self.feasible.size} (rate, size) designs meet "
+            f"window ({self.style} bearing): {d['feasible_points']} of {self.feasible.size} "
+            "(rate, size) designs meet "
             f"every scaled requirement; {span}; recommended rate x{fmt(rec['rate_factor'])}, size "
             f"x{fmt(rec['size_factor'])}"
         )
 
 
-def window(requirements: list[Requirement]) -> Window:
+def window(requirements: list[Requirement], style: str = "") -> Window:
     """Scale each requirement of :data:`SCALING` over the grid (see the module docstring)."""
     scaled = [r for r in requirements if r.name in SCALING]
     names = tuple(r.name for r in scaled)
@@ -247,7 +252,13 @@ def window(requirements: list[Requirement]) -> Window:
     with np.errstate(divide="ignore"):
         short = np.where(tolerance, best / req, req / best)
     margin = short.max(axis=2)
-    return Window(RATES, SIZES, margin <= 1.0, short.argmax(axis=2), names, margin)
+    return Window(RATES, SIZES, margin <= 1.0, short.argmax(axis=2), names, margin, style)
 
 
-__all__ = ["SCALING", "Requirement", "Verdict", "Window", "verdict", "window"]
+def best_window(windows: list[Window]) -> Window:
+    """The window with the most designs inside, or, when every one is empty, the one whose
+    best design misses least."""
+    return min(windows, key=lambda w: (-int(w.feasible.sum()), float(w.margin.min())))
+
+
+__all__ = ["SCALING", "Requirement", "Verdict", "Window", "best_window", "verdict", "window"]
