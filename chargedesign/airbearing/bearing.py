@@ -53,11 +53,13 @@ def tilt_deg(axis: np.ndarray, gammas: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Sampled:
-    """One motion sampled over its settled horizon: times (s), gammas (S, 3), horizon (s)."""
+    """One motion sampled over its settled horizon: times (s), gammas (S, 3), horizon (s),
+    and whether the last doubling raised the largest tilt by less than TILT_SETTLED_DEG."""
 
     times: np.ndarray
     gammas: np.ndarray
     horizon_s: float
+    settled: bool = True
 
 
 def motion_samples(
@@ -73,6 +75,7 @@ def motion_samples(
     gammas = [np.asarray(x0[3:6], float)[None]]
     state, t0, span = np.asarray(x0[:6], float), 0.0, horizon_s
     last = None
+    settled = False
     for _ in range(HORIZON_DOUBLINGS + 1):
         count = max(2, math.ceil(span * rate * SAMPLES_PER_RATE))
         t_eval = np.linspace(t0, t0 + span, count + 1)[1:]
@@ -88,10 +91,11 @@ def motion_samples(
         u = axis if axis is not None else best_axis([everything])
         tilt = float(tilt_deg(u, everything).max())
         if last is not None and tilt - last < TILT_SETTLED_DEG:
+            settled = True
             break
         last = tilt
         span = t0  # the horizon doubles
-    return Sampled(np.concatenate(times), np.concatenate(gammas), t0)
+    return Sampled(np.concatenate(times), np.concatenate(gammas), t0, settled)
 
 
 def best_axis(gamma_sets: list[np.ndarray]) -> np.ndarray:

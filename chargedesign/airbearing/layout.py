@@ -59,6 +59,7 @@ class PlannedMotion:
     horizon_s: float
     times: np.ndarray
     gammas: np.ndarray
+    settled: bool = True  # a longer horizon no longer raised the tilt (else: the cap)
 
 
 @dataclass(frozen=True)
@@ -100,7 +101,9 @@ def plan_motions(params: Parameters, opts: TestbedOptions) -> Plan:
                 f"{opts.bearing} bearing allows {fmt(limit, PLAIN)} deg; "
                 f"{_alternatives(params, opts)}"
             )
-        motion = PlannedMotion(x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas)
+        motion = PlannedMotion(
+            x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
+        )
         return Plan([motion], axis, "scene")
     reach = min(limit, FULL_SPHERE_PLANNED_DEG)
     count = opts.planned_motions
@@ -113,7 +116,9 @@ def plan_motions(params: Parameters, opts: TestbedOptions) -> Plan:
     ):
         axis = gamma_e
     motions = [
-        PlannedMotion(x0, float(tilt_deg(axis, s.gammas).max()), s.horizon_s, s.times, s.gammas)
+        PlannedMotion(
+            x0, float(tilt_deg(axis, s.gammas).max()), s.horizon_s, s.times, s.gammas, s.settled
+        )
         for x0, s in zip(starts, samples, strict=True)
     ]
     return Plan(motions, axis, "planned")

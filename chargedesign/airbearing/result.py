@@ -116,7 +116,7 @@ class TestbedResult(Result):
         if self.plan is None:
             return {}
         m = self.plan.motions[k]
-        return {"tilt_max_deg": m.tilt_max_deg, "horizon_s": m.horizon_s}
+        return {"tilt_max_deg": m.tilt_max_deg, "horizon_s": m.horizon_s, "tilt_settled": m.settled}
 
     def _estimation(self) -> dict[str, Any]:
         """The estimator's residual and convergence time, the calibrated bias's error."""

@@ -15,6 +15,7 @@ from chargedesign.airbearing.loop import LoopSettings, Motors, initial_state, ru
 from chargedesign.airbearing.mounts import radial_posts
 from chargedesign.airbearing.options import STANDARD_GRAVITY, TestbedOptions
 from chargedesign.airbearing.platform import Platform
+from chargedesign.airbearing.run import for_style
 from chargedesign.airbearing.verdict import Requirement, verdict, window
 from chargedesign.airbearing.wheels import wheel_needs
 from chargedesign.physical.state_of_the_art import MOUNT_MATERIALS
@@ -208,3 +209,20 @@ def test_motor_lag_and_friction_show_in_the_drift_and_vanish_when_ideal() -> Non
     slow = run_loop(plant, x0, LoopSettings(**{**base.__dict__, "motor_bandwidth_Hz": 5.0}))
     rubbing = run_loop(plant, x0, LoopSettings(**{**base.__dict__, "wheel_friction_N_m": 1e-4}))
     assert slow.I4_drift[0] > 10 * ideal and rubbing.I4_drift[0] > 10 * ideal
+
+
+def test_the_window_reads_each_bearing_style_s_own_figures() -> None:
+    opts = TestbedOptions.from_table({"platform_radius_m": 0.3})
+    sota = [
+        Requirement("bearing_tilt_deg", "capacity", 27.0, 30.0, "deg", "s"),
+        Requirement("bearing_load_kg", "capacity", 25.0, 100.0, "kg", "s"),
+        Requirement("bearing_drag_N_m_s", "tolerance", 3e-5, opts.drag, "N m s", "s"),
+    ]
+    assert for_style(sota, opts, "tabletop") == sota
+    sphere = {r.name: r for r in for_style(sota, opts, "full_sphere")}
+    assert sphere["bearing_tilt_deg"].best == 180.0
+    assert sphere["bearing_drag_N_m_s"].best == pytest.approx(
+        TestbedOptions.from_table({"platform_radius_m": 0.3, "bearing": "full_sphere"}).drag
+    )
+    assert sphere["ball_diameter_m"].required == 0.6
+    assert {r.name: r for r in for_style(sota, opts, "umbrella")}["bearing_tilt_deg"].best == 45.0
