@@ -62,12 +62,12 @@ STANDARD_GRAVITY = 9.80665
 
 #: where each default comes from
 SOURCES = {
-    "platform": "a hemispherical shell about O (bearing cup up, platform below; its own "
-    "inertia 2/3 M R^2 about every axis through O, centre of mass R/2 below O); 10 kg and "
-    "0.25 m radius: the tabletop class of the survey Schwartz, Peck & Hall, J. Guid. Control "
-    "Dyn. 26(4) 2003 (e.g. NPS CubeTAS)",
-    "bearing_capacity_kg": "a chosen round figure for a tabletop spherical air bearing of the "
-    "same class; give your bearing's rated load",
+    "platform": "a thin spherical shell (a cage) about O with an opening for the pedestal "
+    "(the keep-out cap; closed for a full sphere): centre of mass R (1 - cos alpha) / 2 along "
+    "the pedestal axis, inertia in closed form; 10 kg and 0.25 m radius: the tabletop class "
+    "of the survey Schwartz, Peck & Hall, J. Guid. Control Dyn. 26(4) 2003 (e.g. NPS CubeTAS)",
+    "bearing_capacity_kg": "the style's rated load (state_of_the_art.BEARINGS: a vendor "
+    "catalogue class); give your bearing's",
     "drag_N_m_s": "derived: viscous Couette drag of the air film, b = (4 pi / 3) eta R^4 / h "
     "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC Handbook)",
     "bearing_gap_m": "10 um: the film thickness of spherical air bearings is of order 5-25 um "
