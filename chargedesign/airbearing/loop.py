@@ -1,24 +1,26 @@
 """The loop as built: sampled control with delay, sensors, wheel limits, disturbances.
 
-At each sample ``t_k = k / rate`` the controller reads the gyro (``omega + bias + white
-noise``; the angle random walk N gives a per-sample standard deviation ``N / sqrt(T)``), the
-attitude sensor (gamma turned by a small random angle of standard deviation
-``attitude_noise``) and the wheels' tachometers (h, exact), computes a command and holds it
-from ``t_k + delay`` to ``t_{k+1} + delay``:
+At each sample ``t_k = k / rate`` the controller reads its sensors (:class:`Sensing`: the
+gyro, ``omega + bias + white noise`` with the bias calibrated at rest; the attitude sensor's
+frames fused with the gyro; the wheels' encoders; the centre-of-mass estimator), computes a
+command and holds it from ``t_k + delay`` to ``t_{k+1} + delay``:
 
 - ``zoh``: the law ``h' = -J f - omega x (J omega + h)`` at the measured state;
 - ``predictive``: the model's own motion (the continuous loop, from the measured state)
   predicted over the delay and the coming interval, and the average of its ``h'`` there,
   ``(h(t_k + delay + T) - h(t_k + delay)) / T``;
 
-less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
+less a known bearing drag fed forward (``- b_ff omega_measured``), when given, plus the
+estimator's weight torque, bending and drag fed forward.
 
 The commanded body torque is shared among the wheels (least-norm), each wheel's torque
 saturated and quantised, then limited so that no wheel's momentum passes its limit by the
 end of the interval the torque is held (a wheel at its momentum limit delivers no torque
-that would push it further; its momentum is tracked per wheel), and the plant integrated
-(fixed-step DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
-``-M g r_c x gamma`` of a centre of mass at ``r_c``. Runs of one ensemble go together as one batch.
+that would push it further; its momentum is tracked per wheel), delivered by the motors
+(:class:`Motors`: ideal, or a lag with friction), and the plant integrated (fixed-step
+DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
+``-M g (r_c + K gamma) x gamma`` of a centre of mass at ``r_c`` moved by the mounts' bending
+``K gamma``. Runs of one ensemble go together as one batch.
 """
 
 from __future__ import annotations
