@@ -79,8 +79,8 @@ SOURCES = {
     "pedestal_radius_m": "the style's pedestal radius over the ball's radius (0.3) times "
     "bearing_radius_m",
     "mount_material": "steel posts (E = 200 GPa, ASM Handbook vol. 1)",
-    "attitude_sensor": "motion capture: 1e-4 rad at 180 Hz (OptiTrack PrimeX 41 datasheet; "
-    "state_of_the_art.ATTITUDE_SENSORS)",
+    "attitude_sensor": "motion capture: 1e-4 rad at 180 Hz (OptiTrack cameras measured by "
+    "Krumpek et al., arXiv:2502.21189; state_of_the_art.ATTITUDE_SENSORS)",
     "estimator": "rls: recursive least squares of the centre-of-mass offset and the drag on "
     "the integrated torque balance, with gravity feed-forward (Kim & Agrawal 2009 estimate "
     "the offset online the same way)",
