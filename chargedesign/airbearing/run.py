@@ -324,17 +324,7 @@ def against_state_of_the_art(
             )
         )
     if opts.bearing == "full_sphere":
-        ball = FULL_SPHERE["largest_diameter_m"]
-        out.append(
-            Requirement(
-                "ball_diameter_m",
-                "capacity",
-                2.0 * opts.platform_radius_m,
-                ball.value,
-                "m",
-                ball.source,
-            )
-        )
+        out.append(ball_requirement(opts))
     median = float(np.median(nominal.I4_drift))
     out.append(
         Requirement(
@@ -373,18 +363,16 @@ def for_style(sota: list[Requirement], opts: TestbedOptions, style: str) -> list
             r = replace(r, best=other.drag)
         out.append(r)
     if style == "full_sphere":
-        ball = FULL_SPHERE["largest_diameter_m"]
-        out.append(
-            Requirement(
-                "ball_diameter_m",
-                "capacity",
-                2.0 * opts.platform_radius_m,
-                ball.value,
-                "m",
-                ball.source,
-            )
-        )
+        out.append(ball_requirement(opts))
     return out
+
+
+def ball_requirement(opts: TestbedOptions) -> Requirement:
+    """A full sphere's ball: its diameter against the largest built."""
+    ball = FULL_SPHERE["largest_diameter_m"]
+    return Requirement(
+        "ball_diameter_m", "capacity", 2.0 * opts.platform_radius_m, ball.value, "m", ball.source
+    )
 
 
 def check_loop_work(params: Parameters, opts: TestbedOptions) -> None:
