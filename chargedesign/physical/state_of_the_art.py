@@ -5,11 +5,12 @@ a publication or a vendor datasheet). Figures quoted from a source's text carry 
 numbers; figures derived from them say how. A scene may always state its own equipment
 instead (``[testbed]`` keys, docs/testbed.md), and the report then names the scene as the source.
 
-Groups: :data:`BALANCE` (manual and automatic balancing), :data:`GYROS` (rate-gyro grades),
-:data:`ATTITUDE_SENSORS` (lab attitude sensors), :data:`REACTION_WHEELS` (the largest commercial
-wheels), :data:`BEARINGS` (air-bearing styles: tilt, load, pedestal), :data:`FULL_SPHERE`
-(a floating precision ball), :data:`ROOM_AIR` (air currents in a lab), :data:`MOUNT_MATERIALS`
-(the posts that hold the parts).
+Groups: :data:`BALANCE` (automatic balancing, the pendulous offset labs keep),
+:data:`GYROS` (rate-gyro grades), :data:`ATTITUDE_SENSORS` (lab attitude sensors),
+:data:`REACTION_WHEELS` (the largest commercial wheels), :data:`BEARINGS` (air-bearing
+styles: tilt, load, pedestal), :data:`FULL_SPHERE` (a floating precision ball),
+:data:`ROOM_AIR` (air currents in a lab), :data:`MOUNT_MATERIALS` (the posts that hold the
+parts). Some vendor figures are quoted from memory and say so; give your equipment's.
 """
 
 from __future__ import annotations
@@ -52,14 +53,10 @@ class Figure:
 BALANCE = {
     # the best published automatic balancing: |(0.08, 0.12)| um horizontally
     "automatic_horizontal_m": Figure(math.hypot(0.08e-6, 0.12e-6), "m", RAMBO_2025),
-    # labs keep a pendulous vertical offset of tens of um for stability
+    # labs keep a pendulous vertical offset of tens of um for stability (Kim & Agrawal
+    # describe manual balancing as limited by the travel limit and the pendulum's period;
+    # no figure of its floor is quoted here)
     "pendulous_vertical_m": Figure(27.62e-6, "m", RAMBO_2025),
-    # manual balancing: trim masses moved by hand until the pendulum period is long; the
-    # floor is the automatic one's vertical figure order (Kim & Agrawal describe manual
-    # balancing as limited by the travel limit and the pendulum's period)
-    "manual_m": Figure(
-        10e-6, "m", KIM_AGRAWAL_2009 + ", sec. I (manual balancing: tens of um, limited accuracy)"
-    ),
 }
 
 
