@@ -10,7 +10,10 @@ Groups: :data:`BALANCE` (automatic balancing, the pendulous offset labs keep),
 :data:`REACTION_WHEELS` (the largest commercial wheels), :data:`BEARINGS` (air-bearing
 styles: tilt, load, pedestal), :data:`FULL_SPHERE` (a floating precision ball),
 :data:`ROOM_AIR` (air currents in a lab), :data:`MOUNT_MATERIALS` (the posts that hold the
-parts). Some vendor figures are quoted from memory and say so; give your equipment's.
+parts). Checked against the documents for this round: the automatic-balancing figures
+(engrXiv doi:10.31224/7342) and the motion-capture noise (arXiv:2502.21189); the other
+vendor, handbook and standard figures are quoted from memory of those documents, not
+re-checked: give your equipment's.
 """
 
 from __future__ import annotations
