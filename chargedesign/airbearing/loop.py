@@ -1,24 +1,26 @@
 """The loop as built: sampled control with delay, sensors, wheel limits, disturbances.
 
-At each sample ``t_k = k / rate`` the controller reads the gyro (``omega + bias + white
-noise``; the angle random walk N gives a per-sample standard deviation ``N / sqrt(T)``), the
-attitude sensor (gamma turned by a small random angle of standard deviation
-``attitude_noise``) and the wheels' tachometers (h, exact), computes a command and holds it
-from ``t_k + delay`` to ``t_{k+1} + delay``:
+At each sample ``t_k = k / rate`` the controller reads its sensors (:class:`Sensing`: the
+gyro, ``omega + bias + white noise`` with the bias calibrated at rest; the attitude sensor's
+frames fused with the gyro; the wheels' encoders; the centre-of-mass estimator), computes a
+command and holds it from ``t_k + delay`` to ``t_{k+1} + delay``:
 
 - ``zoh``: the law ``h' = -J f - omega x (J omega + h)`` at the measured state;
 - ``predictive``: the model's own motion (the continuous loop, from the measured state)
   predicted over the delay and the coming interval, and the average of its ``h'`` there,
   ``(h(t_k + delay + T) - h(t_k + delay)) / T``;
 
-less a known bearing drag fed forward (``- b_ff omega_measured``), when given.
+less a known bearing drag fed forward (``- b_ff omega_measured``), when given, plus the
+estimator's weight torque, bending and drag fed forward.
 
 The commanded body torque is shared among the wheels (least-norm), each wheel's torque
 saturated and quantised, then limited so that no wheel's momentum passes its limit by the
 end of the interval the torque is held (a wheel at its momentum limit delivers no torque
-that would push it further; its momentum is tracked per wheel), and the plant integrated
-(fixed-step DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
-``-M g r_c x gamma`` of a centre of mass at ``r_c``. Runs of one ensemble go together as one batch.
+that would push it further; its momentum is tracked per wheel), delivered by the motors
+(:class:`Motors`: ideal, or a lag with friction), and the plant integrated (fixed-step
+DOP853) with the bearing's viscous drag ``-b omega`` and the weight's torque
+``-M g (r_c + K gamma) x gamma`` of a centre of mass at ``r_c`` moved by the mounts' bending
+``K gamma``. Runs of one ensemble go together as one batch.
 """
 
 from __future__ import annotations
@@ -62,10 +64,40 @@ class LoopSettings:
     max_torque: float = np.inf
     max_momentum: float = np.inf  # each wheel's stored momentum limit, N m s
     resolution: float = 0.0
+    #: K (3x3): the mounts move the centre of mass by K gamma (m) as gravity turns
+    compliance: np.ndarray | None = None
+    #: attitude frames per second (held between frames; inf: one per sample)
+    attitude_rate_Hz: float = np.inf
+    #: the wheels' momentum read by encoders to this step, N m s (0: exact)
+    encoder_step: float = 0.0
+    #: fuse the attitude frames with the gyro (complementary filter)
+    fusion: bool = False
+    #: the attitude blend per frame
+    fusion_gain: float = 0.1
+    #: the gyro's bias is estimated by averaging it at rest for this long before the run (s;
+    #: 0: not estimated): what is left is ``N / sqrt(t)`` for angle random walk N
+    bias_calibration_s: float = 0.0
+    #: the motors' torque bandwidth (Hz; inf: ideal torque sources) and each wheel's
+    #: Coulomb friction (N m, against its momentum's sign)
+    motor_bandwidth_Hz: float = np.inf
+    wheel_friction_N_m: float = 0.0
+    #: estimate the centre-of-mass offset and the drag online (RLS) and feed them forward
+    estimator: bool = False
+    #: the RLS prior: offset (m), drag (N m s) and compliance (each entry of K, m)
+    #: standard deviations
+    prior_offset_m: float = 1e-4
+    prior_drag_N_m_s: float = 1e-3
+    prior_compliance_m: float = 0.0
 
     @property
     def noisy(self) -> bool:
         return bool(np.any(self.gyro_arw) or np.any(self.gyro_bias) or self.attitude_noise > 0)
+
+    @property
+    def disturbed(self) -> bool:
+        return bool(
+            self.drag_N_m_s != 0.0 or self.imbalance_m != 0.0 or self.compliance is not None
+        )
 
     def per_run(self, name: str, runs: int) -> np.ndarray:
         """A gyro figure as a column (runs, 1): one value for all runs, or one per run."""
@@ -100,6 +132,16 @@ class LoopRun:
     wheel_torque_max: np.ndarray
     wheel_momentum_max: np.ndarray
     wheel_momentum: np.ndarray | None = None
+    #: the estimate's centre-of-mass error (m), (m, S), at the samples ``offset_error_index``
+    #: (S,), when estimated
+    offset_error: np.ndarray | None = None
+    offset_error_index: np.ndarray | None = None
+    #: |estimated - true| gyro bias at the end, rad/s (m,), when fused
+    bias_error: np.ndarray | None = None
+
+    @property
+    def t_simulated_s(self) -> float:
+        return float(self.times[-1])
 
 
 def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
@@ -189,17 +231,20 @@ def run_loop(
     weight = settings.total_mass_kg * STANDARD_GRAVITY
 
     def external(x: np.ndarray) -> np.ndarray | None:
-        if settings.drag_N_m_s == 0.0 and settings.imbalance_m == 0.0:
+        if not settings.disturbed:
             return None
-        return -settings.drag_N_m_s * x[:, 0:3] - weight * cross(offset, x[:, 3:6])
+        com = offset if settings.compliance is None else offset + x[:, 3:6] @ settings.compliance.T
+        return -settings.drag_N_m_s * x[:, 0:3] - weight * cross(com, x[:, 3:6])
 
     x = np.zeros((runs, 9))
     x[:, 0:6] = x0[:6]
-    held, held_wheel = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    _, held_wheel = actuator.apply(plant.command(x))  # the loop was running before t = 0
+    motors = Motors(settings, held_wheel)
     wheel_h = np.zeros((runs, len(actuator.axes)))  # each wheel's momentum, N m s
     states = np.empty((runs, n_samples + 1, 6))
     momentum = np.empty((runs, n_samples + 1))
     torque_max = np.zeros(runs)
+    sensing = Sensing(settings, runs, T, bias, arw, rng, plant, weight)
     # a diverging run overflows before it is caught at the next sample: named there
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(n_samples + 1):
@@ -215,18 +260,22 @@ def run_loop(
             momentum[:, k] = np.abs(wheel_h).max(axis=1)
             if k == n_samples:
                 break
-            measured = _measure(x, settings, bias, arw, rng, T)
-            wanted = _command(plant, measured, settings, T, max_step)
+            measured = sensing.read(x, k, actuator.axes)
+            wanted = _command(plant, measured, settings, T, max_step) + sensing.feed_forward(
+                measured
+            )
             # the new torque acts from t_k + delay for one period: room left then
             at_switch = wheel_h + held_wheel * settings.delay_s
-            applied, tau = actuator.apply(wanted, at_switch, T)
+            _, tau = actuator.apply(wanted, at_switch, T)
             torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
-            x = advance(_held(plant, held, external), x, settings.delay_s, max_step)
-            x = advance(_held(plant, applied, external), x, T - settings.delay_s, max_step)
-            wheel_h = at_switch + tau * (T - settings.delay_s)
-            held, held_wheel = applied, tau
+            for command, dt in ((held_wheel, settings.delay_s), (tau, T - settings.delay_s)):
+                delivered = motors.piece(command, dt, wheel_h)
+                x = advance(_held(plant, delivered @ actuator.axes, external), x, dt, max_step)
+                wheel_h = wheel_h + delivered * dt
+            held_wheel = tau
     I3, I4 = invariants(states, plant.params)
     curve = relative_drift(I4)
+    errors = sensing.offset_errors(offset) if settings.estimator else None
     return LoopRun(
         times=np.arange(n_samples + 1) * T,
         states=states if keep_states else None,
@@ -236,7 +285,42 @@ def run_loop(
         wheel_torque_max=torque_max,
         wheel_momentum_max=momentum.max(axis=1),
         wheel_momentum=momentum if keep_states else None,
+        offset_error=errors[1] if errors is not None else None,
+        offset_error_index=errors[0] if errors is not None else None,
+        bias_error=np.linalg.norm(sensing.bias_hat - bias, axis=1)
+        if settings.bias_calibration_s > 0.0
+        else None,
     )
+
+
+class Motors:
+    """What the wheels' motors deliver over a piece of time under a held command (m, k):
+    a first-order lag of bandwidth f (time constant ``1 / (2 pi f)``), whose average over the
+    piece ``c + (tau0 - c) (t_c / dt) (1 - exp(-dt / t_c))`` gives the piece its exact
+    impulse, less each wheel's Coulomb friction against its momentum's sign."""
+
+    def __init__(self, settings: LoopSettings, torque: np.ndarray) -> None:
+        self.torque = torque.copy()
+        self.constant = (
+            1.0 / (2.0 * np.pi * settings.motor_bandwidth_Hz)
+            if np.isfinite(settings.motor_bandwidth_Hz)
+            else 0.0
+        )
+        self.friction = settings.wheel_friction_N_m
+
+    def piece(self, command: np.ndarray, dt: float, momentum: np.ndarray) -> np.ndarray:
+        if dt <= 0.0:
+            return command
+        if self.constant > 0.0:
+            decay = np.exp(-dt / self.constant)
+            average = command + (self.torque - command) * (self.constant / dt) * (1.0 - decay)
+            self.torque = command + (self.torque - command) * decay
+        else:
+            average = command
+            self.torque = command
+        if self.friction:
+            average = average - self.friction * np.sign(momentum)
+        return average
 
 
 def _held(
@@ -258,23 +342,190 @@ def _imbalance(
     return size * direction / np.linalg.norm(direction, axis=1, keepdims=True)
 
 
-def _measure(
-    x: np.ndarray,
-    settings: LoopSettings,
-    bias: np.ndarray,
-    arw: np.ndarray,
-    rng: np.random.Generator,
-    T: float,
-) -> np.ndarray:
-    """The controller's view of the state (m, 9): noisy omega and gamma, exact h."""
-    if not settings.noisy:
-        return x.copy()
-    out = x.copy()
-    out[:, 0:3] += bias + (arw / np.sqrt(T)) * rng.standard_normal((len(x), 3))
-    if settings.attitude_noise > 0.0:
-        angle = settings.attitude_noise * rng.standard_normal((len(x), 3))
-        g = x[:, 3:6] + cross(angle, x[:, 3:6])
-        out[:, 3:6] = g / np.linalg.norm(g, axis=1, keepdims=True)
+class Sensing:
+    """The controller's view of the state, sample by sample (m runs at once).
+
+    - gyro: ``omega + bias + white noise`` (per-sample deviation ``N / sqrt(T)``);
+    - attitude frames: gamma turned by a small random angle, at the sensor's rate (held in
+      between); with ``fusion`` a complementary filter propagates the estimate with the
+      gyro, blends each frame in by ``fusion_gain`` and estimates the gyro's bias from the
+      frames' innovations (``b += (T / tau) (gamma x innovation) / T_frame``: the
+      innovation of a bias error e over a frame is ``-T_frame gamma x e``);
+    - the wheels' momentum from encoders, quantised to ``encoder_step`` per wheel;
+    - with ``estimator``: recursive least squares of ``theta = (r_c, b, K)`` (K symmetric:
+      the mounts move the centre of mass by ``K gamma``) on the integrated torque balance
+      between samples, ``J d omega + int omega x (J omega + h) + d h =
+      int (M g gamma x (r_c + K gamma) - b omega)`` (trapezoid rule), summed from the start
+      (the gyro noise then enters once, not at every difference), and the feed-forward of
+      ``M g gamma x (r_c + K gamma) - b omega`` that cancels the estimated weight torque and
+      drag.
+    """
+
+    def __init__(
+        self,
+        settings: LoopSettings,
+        runs: int,
+        T: float,
+        bias: np.ndarray,
+        arw: np.ndarray,
+        rng: np.random.Generator,
+        plant: Plant,
+        weight: float,
+    ) -> None:
+        self.s, self.T, self.bias, self.arw, self.rng = settings, T, bias, arw, rng
+        self.J, self.weight = plant.model_inertia, weight
+        self.every = (
+            max(1, round(settings.rate_Hz / settings.attitude_rate_Hz))
+            if np.isfinite(settings.attitude_rate_Hz)
+            else 1
+        )
+        self.frame: np.ndarray | None = None
+        self.gamma_hat: np.ndarray | None = None
+        self.bias_hat = np.zeros((runs, 3))
+        if settings.bias_calibration_s > 0.0:
+            self.bias_hat = bias + (
+                arw / np.sqrt(settings.bias_calibration_s)
+            ) * rng.standard_normal((runs, 3))
+        self.last: np.ndarray | None = None
+        self.theta = np.zeros((runs, THETA))
+        prior = np.array(
+            [settings.prior_offset_m] * 3
+            + [settings.prior_drag_N_m_s]
+            + [max(settings.prior_compliance_m, 1e-30)] * 6
+        )
+        self.P = np.tile(np.diag(prior**2), (runs, 1, 1))
+        self.Y = np.zeros((runs, 3))
+        self.Phi = np.zeros((runs, 3, THETA))
+        self.noise_y = max(float(np.max(arw)) / np.sqrt(T), 1e-12) * float(np.abs(self.J).max())
+        self.prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self.estimates: list[np.ndarray] = []
+        self.compliance = settings.compliance
+
+    def read(self, x: np.ndarray, k: int, wheel_axes: np.ndarray) -> np.ndarray:
+        s, m = self.s, len(x)
+        out = x.copy()
+        if s.noisy:
+            out[:, 0:3] += self.bias + (self.arw / np.sqrt(self.T)) * self.rng.standard_normal(
+                (m, 3)
+            )
+        if k % self.every == 0 or self.frame is None:
+            self.frame = x[:, 3:6].copy()
+            if s.attitude_noise > 0.0:
+                angle = s.attitude_noise * self.rng.standard_normal((m, 3))
+                g = x[:, 3:6] + cross(angle, x[:, 3:6])
+                self.frame = g / np.linalg.norm(g, axis=1, keepdims=True)
+            fresh = True
+        else:
+            fresh = False
+        out[:, 0:3] -= self.bias_hat
+        if s.fusion:
+            self._fuse(out, fresh)
+        else:
+            out[:, 3:6] = self.frame
+        if s.encoder_step > 0.0:
+            share = np.linalg.pinv(wheel_axes.T)
+            wheels = np.round((x[:, 6:9] @ share.T) / s.encoder_step) * s.encoder_step
+            out[:, 6:9] = wheels @ wheel_axes
+        if s.estimator:
+            self._estimate(out)
+        return out
+
+    def _fuse(self, out: np.ndarray, fresh: bool) -> None:
+        assert self.frame is not None
+        if self.gamma_hat is None:
+            self.gamma_hat = self.frame.copy()
+        elif self.last is not None:
+            g = self.gamma_hat + self.T * cross(self.gamma_hat, self.last)
+            self.gamma_hat = g / np.linalg.norm(g, axis=1, keepdims=True)
+        if fresh:
+            g = self.gamma_hat + self.s.fusion_gain * (self.frame - self.gamma_hat)
+            self.gamma_hat = g / np.linalg.norm(g, axis=1, keepdims=True)
+        self.last = out[:, 0:3].copy()
+        out[:, 3:6] = self.gamma_hat
+
+    def _rows(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(J omega + h... terms (m, 3), regressor (m, 3, 4)) at one sample."""
+        omega, gamma, h = y[:, 0:3], y[:, 3:6], y[:, 6:9]
+        gyro = cross(omega, omega @ self.J + h)
+        phi = np.zeros((len(y), 3, THETA))
+        for j in range(3):  # M g gamma x r: the columns gamma x e_j
+            phi[:, :, j] = self.weight * cross(gamma, np.broadcast_to(np.eye(3)[j], gamma.shape))
+        phi[:, :, 3] = -omega
+        for j, (a, b) in enumerate(_SYMMETRIC):  # M g gamma x (E_ab gamma)
+            column = np.zeros_like(gamma)
+            column[:, a] += gamma[:, b]
+            if a != b:
+                column[:, b] += gamma[:, a]
+            phi[:, :, 4 + j] = self.weight * cross(gamma, column)
+        return gyro, phi
+
+    def _estimate(self, y: np.ndarray) -> None:
+        gyro, phi = self._rows(y)
+        if self.prev is not None:
+            prev, prev_gyro, prev_phi = self.prev
+            self.Y += (
+                (y[:, 0:3] - prev[:, 0:3]) @ self.J
+                + 0.5 * self.T * (prev_gyro + gyro)
+                + (y[:, 6:9] - prev[:, 6:9])
+            )
+            self.Phi += 0.5 * self.T * (prev_phi + phi)
+            # RLS on the summed rows, three at a time
+            Pt = self.P @ self.Phi.transpose(0, 2, 1)
+            gain = Pt @ np.linalg.inv(self.Phi @ Pt + self.noise_y**2 * np.eye(3))
+            residual = self.Y - np.einsum("mij,mj->mi", self.Phi, self.theta)
+            self.theta = self.theta + np.einsum("mij,mj->mi", gain, residual)
+            self.P = self.P - gain @ self.Phi @ self.P
+            self.P = 0.5 * (self.P + self.P.transpose(0, 2, 1))
+        self.prev = (y.copy(), gyro, phi)
+        self.estimates.append(self.theta.copy())
+
+    def feed_forward(self, measured: np.ndarray) -> np.ndarray:
+        """The torque that cancels the estimated weight torque and drag (m, 3), or 0."""
+        if not self.s.estimator:
+            return np.zeros((len(measured), 3))
+        gamma = measured[:, 3:6]
+        com = self.theta[:, 0:3] + np.einsum("mij,mj->mi", _matrices(self.theta[:, 4:]), gamma)
+        return self.weight * cross(gamma, com) - self.theta[:, 3:4] * measured[:, 0:3]
+
+    def offset_errors(self, offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The largest error of the estimated centre of mass normal to gravity over all
+        attitudes, ``max_gamma |(dr + dK gamma) x gamma|`` (m), at up to
+        :data:`ERROR_SAMPLES` samples: (sample indices (S,), errors (m, S))."""
+        every = [*self.estimates, self.estimates[-1]]
+        index = np.unique(np.linspace(0, len(every) - 1, ERROR_SAMPLES).astype(int))
+        est = np.stack([every[i] for i in index], axis=1)  # (m, S, THETA)
+        K = np.zeros((3, 3)) if self.compliance is None else self.compliance
+        dr = est[:, :, 0:3] - offset[:, None, :]
+        dK = _matrices(est[:, :, 4:].reshape(-1, 6)).reshape(*est.shape[:2], 3, 3) - K
+        err = dr[:, :, None, :] + np.einsum("mnij,pj->mnpi", dK, _PROBES)
+        normal = err - np.einsum("mnpi,pi->mnp", err, _PROBES)[..., None] * _PROBES
+        return index, np.linalg.norm(normal, axis=3).max(axis=2)
+
+
+#: the samples at which the estimate's error is read
+ERROR_SAMPLES = 101
+#: the estimator's unknowns: r_c (3), b (1), K's upper triangle (6)
+THETA = 10
+_SYMMETRIC = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+#: attitudes the estimate's error is read at (a Fibonacci sphere)
+_GOLDEN = np.pi * (3.0 - np.sqrt(5.0))
+_Z = 1.0 - 2.0 * (np.arange(200) + 0.5) / 200
+_PROBES = np.stack(
+    [
+        np.sqrt(1 - _Z**2) * np.cos(_GOLDEN * np.arange(200)),
+        np.sqrt(1 - _Z**2) * np.sin(_GOLDEN * np.arange(200)),
+        _Z,
+    ],
+    axis=1,
+)
+
+
+def _matrices(k: np.ndarray) -> np.ndarray:
+    """Symmetric 3x3 matrices (m, 3, 3) from upper triangles (m, 6)."""
+    out = np.zeros((len(k), 3, 3))
+    for j, (a, b) in enumerate(_SYMMETRIC):
+        out[:, a, b] = k[:, j]
+        out[:, b, a] = k[:, j]
     return out
 
 
@@ -345,6 +596,7 @@ __all__ = [
     "Actuator",
     "LoopRun",
     "LoopSettings",
+    "Motors",
     "continuous_loop",
     "initial_state",
     "invariants",

@@ -14,6 +14,7 @@ the chosen sites (exact Jacobian), which closes the conditions to round-off.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,19 +37,42 @@ class Platform:
     radius_m: float
 
     @classmethod
-    def from_options(cls, opts: TestbedOptions) -> Platform:
+    def from_options(cls, opts: TestbedOptions, up: np.ndarray | None = None) -> Platform:
+        """The scene's structure, or the default: a thin spherical shell (a cage) of radius R
+        about O with an opening for the pedestal, the cap of the keep-out cone's half-angle
+        alpha about ``-up`` (no opening for a full-sphere bearing: the floating ball).
+
+        For the shell from the pole ``up`` to polar angle pi - alpha (areal density uniform,
+        ``c = cos alpha``): centre of mass ``R (1 - c) / 2`` along up; with
+        ``s2 = (c - c^3/3 + 2/3) / (1 + c)`` the mean of sin^2 of the polar angle, inertia
+        ``M R^2 s2`` about up and ``M R^2 (1 - s2 / 2)`` across it (both 2/3 M R^2 for the
+        whole sphere, c = -1... i.e. alpha = 0)."""
         m, R = opts.platform_mass_kg, opts.platform_radius_m
+        u = np.array([0.0, 0.0, 1.0]) if up is None else np.asarray(up, float)
+        alpha = 0.0 if opts.bearing == "full_sphere" else math.radians(opts.keep_out_half_angle_deg)
+        c = math.cos(alpha)
+        s2 = (c - c**3 / 3.0 + 2.0 / 3.0) / (1.0 + c)
+        shell = m * R**2 * ((1.0 - s2 / 2.0) * np.eye(3) + (s2 - (1.0 - s2 / 2.0)) * np.outer(u, u))
         inertia = (
             np.array(opts.platform_inertia_kg_m2)
             if opts.platform_inertia_kg_m2 is not None
-            else (2.0 / 3.0) * m * R**2 * np.eye(3)  # thin hemispherical shell about its centre
+            else shell
         )
         com = (
             np.array(opts.platform_com_m)
             if opts.platform_com_m is not None
-            else np.array([0.0, 0.0, -R / 2.0])  # the shell's centroid, R/2 below O
+            else R * (1.0 - c) / 2.0 * u
         )
         return cls(mass_kg=m, inertia=inertia, com=com, radius_m=R)
+
+    def with_structure(
+        self, mass: float, first_moment: np.ndarray, inertia: np.ndarray
+    ) -> Platform:
+        """This platform with further structure (posts): its mass (kg), first moment (kg m)
+        and inertia about O (3x3) added."""
+        total = self.mass_kg + mass
+        com = (self.mass_kg * self.com + first_moment) / total
+        return Platform(total, self.inertia + inertia, com, self.radius_m)
 
 
 @dataclass(frozen=True)
@@ -112,8 +136,17 @@ def _targets(platform: Platform, C: float) -> np.ndarray:
     return np.concatenate([-platform.mass_kg * platform.com, [want[i, j] for i, j in _UPPER]])
 
 
-def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballast:
+def design_ballast(
+    platform: Platform,
+    C: float,
+    opts: TestbedOptions,
+    allowed: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> Ballast:
     """The least-mass ballast that gives ``diag(2C, 2C, C)`` about O and the centre at O.
+
+    ``allowed(centres (n, 3), radii (n,))`` says which spheres may sit where (clear of the
+    bearing's keep-out cone and of the wheels); every site is tried with the grid's
+    clearance as its radius, and the sized parts are checked again.
 
     Raises
     ------
@@ -124,9 +157,9 @@ def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballas
     spacing = opts.ballast_spacing_m or platform.radius_m / 5.0
     clearance = spacing / 2.0
     for attempt in range(6):
-        ballast = _ballast_on_grid(platform, C, opts, spacing, clearance)
+        ballast = _ballast_on_grid(platform, C, opts, spacing, clearance, allowed)
         try:
-            _check_fit(ballast, platform.radius_m, opts.bearing_radius_m)
+            check_fit(ballast, platform.radius_m, opts.bearing_radius_m, allowed)
             return ballast
         except InfeasibleError:
             if attempt == 5:
@@ -140,9 +173,16 @@ def design_ballast(platform: Platform, C: float, opts: TestbedOptions) -> Ballas
 
 
 def _ballast_on_grid(
-    platform: Platform, C: float, opts: TestbedOptions, spacing: float, clearance: float
+    platform: Platform,
+    C: float,
+    opts: TestbedOptions,
+    spacing: float,
+    clearance: float,
+    allowed: Callable[[np.ndarray, np.ndarray], np.ndarray] | None,
 ) -> Ballast:
     sites = candidate_sites(platform.radius_m, opts.bearing_radius_m, spacing, clearance)
+    if allowed is not None and len(sites):
+        sites = sites[allowed(sites, np.full(len(sites), clearance))]
     if len(sites) == 0:
         raise InfeasibleError(
             "testbed: no room for ballast between the bearing's ball and the envelope; give a "
@@ -155,8 +195,15 @@ def _ballast_on_grid(
         radii = sphere_radii(masses, opts.ballast_density)
         own[3:6] = float((0.4 * masses * radii**2).sum())
     keep = masses > 1e-9 * masses.max()
-    positions = sites[keep]
-    masses = _polish(positions, masses[keep], target, opts.ballast_density)
+    return polished(platform, C, opts, sites[keep], masses[keep])
+
+
+def polished(
+    platform: Platform, C: float, opts: TestbedOptions, positions: np.ndarray, masses: np.ndarray
+) -> Ballast:
+    """The ballast on ``positions`` whose masses (from ``masses``) close the conditions for
+    this platform exactly, each sphere's own inertia included."""
+    masses = _polish(positions, masses, _targets(platform, C), opts.ballast_density)
     return Ballast(
         positions=positions,
         masses=masses,
@@ -214,7 +261,29 @@ def _polish(
     return m
 
 
-def _check_fit(ballast: Ballast, outer: float, inner: float) -> None:
+def check_fit(
+    ballast: Ballast,
+    outer: float,
+    inner: float,
+    allowed: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> None:
+    """Every part inside the envelope, off the ball, apart, and where ``allowed`` lets it be.
+
+    Raises
+    ------
+    InfeasibleError
+        Naming the first part that does not fit.
+    """
+    if allowed is not None:
+        bad = np.flatnonzero(~allowed(ballast.positions, ballast.radii))
+        if bad.size:
+            i = int(bad[0])
+            raise InfeasibleError(
+                f"testbed: ballast part {i} ({fmt(ballast.masses[i])} kg, radius "
+                f"{fmt(ballast.radii[i] * 1e3)} mm) enters the bearing's keep-out cone or a "
+                "wheel; give a denser ballast_material, a larger platform_radius_m or a "
+                "smaller tilt_limit_deg"
+            )
     r = np.linalg.norm(ballast.positions, axis=1)
     out = np.flatnonzero((r + ballast.radii > outer) | (r - ballast.radii < inner))
     if out.size:
@@ -240,8 +309,10 @@ __all__ = [
     "Ballast",
     "Platform",
     "candidate_sites",
+    "check_fit",
     "design_ballast",
     "parts_inertia",
+    "polished",
     "sphere_radii",
     "total_com",
     "total_inertia",

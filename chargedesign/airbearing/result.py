@@ -7,10 +7,13 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.bearing import TiltMap
+from chargedesign.airbearing.layout import Layout, Plan
 from chargedesign.airbearing.loop import LoopRun
 from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
+from chargedesign.airbearing.verdict import Requirement, Verdict, Window
 from chargedesign.airbearing.wheels import PlannedNeeds, WheelNeeds
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
@@ -50,6 +53,14 @@ class TestbedResult(Result):
     tolerances: dict[str, Any]
     ideal_states: np.ndarray
     seconds: dict[str, float] = field(default_factory=dict)
+    layout: Layout | None = None
+    plan: Plan | None = None
+    compliance_offset_m: float = 0.0
+    state_of_the_art: list[Requirement] = field(default_factory=list)
+    verdict: Verdict = field(default_factory=lambda: Verdict(False, None, "not assessed"))
+    window: Window | None = None
+    windows: list[Window] = field(default_factory=list)
+    tilt_map: TiltMap | None = None
 
     __test__ = False  # not a pytest class
 
@@ -59,9 +70,9 @@ class TestbedResult(Result):
 
     @property
     def turns(self) -> float:
-        """The run's length in turns of the motion, ``t_end |omega(0)| / 2 pi``."""
+        """The run's length in turns of the motion, ``t_simulated |omega(0)| / 2 pi``."""
         rate = float(np.linalg.norm(self.initial_state[:3]))
-        return self.options.t_end_s * rate / (2.0 * np.pi)
+        return self.runs["nominal"].t_simulated_s * rate / (2.0 * np.pi)
 
     def _loop(self, name: str) -> dict[str, Any]:
         run = self.runs[name]
@@ -91,10 +102,46 @@ class TestbedResult(Result):
             "wheel_torque_max_N_m": float(nominal.wheel_torque_max.max()),
             "wheel_needs": self._wheel_needs(),
             "planned_motions": [
-                {"initial_state": start, **_needs(motion)}
-                for start, motion in zip(self.planned.starts, self.planned.motions, strict=True)
+                {"initial_state": start, **_needs(motion), **self._tilt(k)}
+                for k, (start, motion) in enumerate(
+                    zip(self.planned.starts, self.planned.motions, strict=True)
+                )
             ],
+            "target_I4_drift": o.target_I4_drift,
+            "t_simulated_s": self.runs["nominal"].t_simulated_s,
+            **self._estimation(),
         }
+
+    def _tilt(self, k: int) -> dict[str, Any]:
+        if self.plan is None:
+            return {}
+        m = self.plan.motions[k]
+        return {"tilt_max_deg": m.tilt_max_deg, "horizon_s": m.horizon_s, "tilt_settled": m.settled}
+
+    def _estimation(self) -> dict[str, Any]:
+        """The estimator's residual and convergence time, the calibrated bias's error."""
+        run = self.runs["nominal"]
+        out: dict[str, Any] = {}
+        if run.offset_error is not None:
+            assert run.offset_error_index is not None
+            curve = np.median(run.offset_error, axis=0)
+            times = run.times[run.offset_error_index]
+            final = float(curve[-1])
+            above = np.flatnonzero(curve > 2.0 * final)
+            settle = (
+                float(times[above[-1] + 1]) if above.size and above[-1] + 1 < len(times) else 0.0
+            )
+            out["centre_of_mass_estimator"] = {
+                "residual_offset_m": final,
+                "convergence_time_s": settle,
+                "residual_includes": "the mounts' compliance left after its estimate",
+                "offset_before_m": self.options.imbalance_m,
+                "method": "recursive least squares of (r_c, b, K) on the integrated torque "
+                "balance; weight torque, posts' bending and drag fed forward",
+            }
+        if run.bias_error is not None:
+            out["gyro_bias_residual_rad_per_s"] = float(np.median(run.bias_error))
+        return out
 
     def _wheel_needs(self) -> dict[str, Any]:
         """The largest needs over the planned motions, and which motion has each."""
@@ -130,19 +177,31 @@ class TestbedResult(Result):
                     "radii": self.ballast.radii,
                     "material": self.ballast.material,
                     "density_kg_m3": self.ballast.density,
+                    "mounts": [] if self.layout is None else self.layout.ballast_mounts.to_list(),
+                },
+                "bearing": None
+                if self.layout is None
+                else {
+                    **self.layout.bearing_dict(o, self.total_mass),
+                    "tilt_map": None if self.tilt_map is None else self.tilt_map.to_dict(),
                 },
                 "wheels": {
                     "axes": self.wheel_axes,
+                    **self._wheel_layout(),
                     "max_torque_N_m": torque,
                     "max_momentum_N_m_s": momentum,
                     "torque_resolution_N_m": resolution,
+                    "motor_bandwidth_Hz": o.motor_bandwidth_Hz,  # null: ideal torque sources
+                    "friction_N_m": o.wheel_friction_N_m or 0.0,
                 },
                 "control": {"rate_Hz": o.rate_Hz, "delay_s": o.delay_s, "command": o.command},
                 "sensors": {
                     "gyro_grade": o.gyro_grade,
                     "gyro_arw_rad_per_sqrt_s": arw,
                     "gyro_bias_rad_per_s": bias,
-                    "attitude_noise_rad": o.attitude_noise_rad,
+                    "attitude_sensor": o.attitude_sensor,
+                    "attitude_noise_rad": o.attitude[0],
+                    "attitude_rate_Hz": o.attitude[1],
                 },
                 "disturbances": {"imbalance_m": o.imbalance_m, "drag_N_m_s": o.drag},
                 "inertia_total_kg_m2": self.inertia_total,
@@ -151,13 +210,41 @@ class TestbedResult(Result):
                 "results": results,
                 "requirements": None if self.requirements is None else self.requirements.to_dict(),
                 "tolerances": self.tolerances,
+                "mounts_offset_m": self.compliance_offset_m,
+                "state_of_the_art": [r.to_dict() for r in self.state_of_the_art],
+                "verdict": self.verdict.to_dict(),
+                "window": None
+                if self.window is None
+                else {
+                    **self.window.to_dict(),
+                    "styles": {
+                        w.style: {
+                            k: v for k, v in w.to_dict().items() if k not in ("rates", "sizes")
+                        }
+                        for w in self.windows
+                    },
+                },
                 "sources": SOURCES,
                 "seconds": self.seconds,
             }
         )
 
+    def _wheel_layout(self) -> dict[str, Any]:
+        if self.layout is None:
+            return {}
+        w = self.layout.wheels
+        return {
+            "positions": w.positions,
+            "radii": w.radii,
+            "disc_radii_m": w.disc_radii,
+            "masses_kg": w.masses,
+            "spin_inertia_kg_m2": w.spin_inertia,
+            "mounts": self.layout.wheel_mounts.to_list(),
+        }
+
     def _summary(self) -> dict[str, Any]:
         out: dict[str, Any] = {
+            "buildable": self.verdict.buildable,
             "total_mass_kg": self.total_mass,
             "ballast_parts": len(self.ballast.masses),
             "wheel_torque_N_m": self.wheel_limits[0],
@@ -170,12 +257,14 @@ class TestbedResult(Result):
     def _text(self) -> str:
         o = self.options
         torque, momentum, _ = self.wheel_limits
+        simulated = self.runs["nominal"].t_simulated_s
         lines = [
+            self.verdict.line,
             f"air-bearing testbed for {self.parameters}",
             f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast"
             f" {fmt(self.ballast.total_mass, PRECISE)} kg "
             f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
-            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.bearing_capacity_kg, PLAIN)}"
+            f"{fmt(self.total_mass, PRECISE)} kg (bearing rated {fmt(o.capacity_kg, PLAIN)}"
             " kg)",
             f"wheels ({o.wheels}): {fmt(torque, PRECISE)} N m, {fmt(momentum, PRECISE)} N m s each"
             " (the "
@@ -185,8 +274,22 @@ class TestbedResult(Result):
             f"scene's motion: momentum bound {fmt(self.needs.momentum_bound, PRECISE)} N m s)",
             f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
             f" {o.command}; I4 relative drift "
-            f"over {fmt(o.t_end_s, PLAIN)} s ({fmt(self.turns)} turns of the motion):",
+            f"over {fmt(simulated, PLAIN)} s simulated ({fmt(self.turns)} turns of the motion"
+            + (
+                f"; t_end_s = {fmt(o.t_end_s, PLAIN)} s rounded to whole control periods)"
+                if abs(simulated - o.t_end_s) > 1e-9 * o.t_end_s
+                else ")"
+            )
+            + ":",
         ]
+        if self.layout is not None and self.plan is not None:
+            tilt = max(m.tilt_max_deg for m in self.plan.motions)
+            lines.insert(
+                2,
+                f"bearing {self.layout.style}: tilt limit {fmt(self.layout.tilt_limit_deg, PLAIN)}"
+                f" deg, pedestal axis {np.round(self.layout.axis, 4).tolist()}; the "
+                f"{len(self.plan.motions)} planned motions need at most {fmt(tilt, PRECISE)} deg",
+            )
         for name, run in self.runs.items():
             d = run.I4_drift
             spread = (
@@ -195,6 +298,11 @@ class TestbedResult(Result):
                 else f"{fmt(d[0])}"
             )
             lines.append(f"  {name}: {spread}")
+        lines.append(
+            "  (nominal: every effect on: gyro noise and bias, attitude sensor, imbalance, drag, "
+            "mounts, encoders, quantisation; target "
+            f"{fmt(o.target_I4_drift, PLAIN)})"
+        )
         tol = self.tolerances
         lines.append(
             f"for I4 within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
@@ -205,7 +313,14 @@ class TestbedResult(Result):
         if self.requirements is not None:
             for grade, rate in self.requirements.lowest_rate_Hz.items():
                 need = f"{fmt(rate, PLAIN)} Hz" if rate is not None else "none of the rates tried"
-                lines.append(f"  {grade} gyro: lowest loop rate within the target: {need}")
+                lines.append(
+                    f"  {grade} gyro: lowest loop rate within the target without drag, "
+                    f"imbalance and mounts: {need}"
+                )
+        for r in self.state_of_the_art:
+            lines.append(f"  [{'met' if r.met else 'MISSED'}] {r.line()}")
+        if self.window is not None:
+            lines.append(self.window.line())
         return "\n".join(lines) + "\n"
 
 

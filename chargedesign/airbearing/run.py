@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import replace
@@ -12,26 +13,32 @@ from typing import Any
 import numpy as np
 
 from chargedesign.airbearing.balance import inertia_tolerances, part_tolerances, sensitivity
-from chargedesign.airbearing.dynamics import Plant
-from chargedesign.airbearing.loop import LoopSettings, initial_state, run_loop
-from chargedesign.airbearing.options import GYRO_GRADES, TestbedOptions
-from chargedesign.airbearing.platform import (
-    Platform,
-    design_ballast,
-    total_com,
-    total_inertia,
-)
+from chargedesign.airbearing.bearing import level_map, tilt_map
+from chargedesign.airbearing.dynamics import Plant, rate_terms
+from chargedesign.airbearing.layout import Layout, build_layout, plan_motions
+from chargedesign.airbearing.loop import STEP_FRACTION, LoopSettings, initial_state, run_loop
+from chargedesign.airbearing.options import GYRO_GRADES, SOURCES, STANDARD_GRAVITY, TestbedOptions
+from chargedesign.airbearing.platform import total_com, total_inertia
 from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
-from chargedesign.airbearing.wheels import (
-    planned_needs,
-    planned_states,
-    wheel_axes,
-    wheel_limits,
-)
+from chargedesign.airbearing.verdict import Requirement, best_window, verdict, window
+from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.state_of_the_art import (
+    BALANCE,
+    BEARINGS,
+    FULL_SPHERE,
+    LOOP_RATE,
+    REACTION_WHEELS,
+    ROOM_AIR,
+    room_air_torque,
+)
+
+#: the gyro's bias is averaged at rest this long before a run (s)
+BIAS_CALIBRATION_S = 60.0
 
 
 def default_testbed_scene() -> Path:
@@ -60,12 +67,15 @@ def build_testbed(
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
 ) -> TestbedResult:
-    """Platform and ballast, wheels, the loop's runs and the requirements.
+    """The motions that fit the bearing, the layout (wheels, ballast, mounts), the loop's
+    runs, the requirements against the state of the art, the verdict and the window.
 
     Raises
     ------
     InputError
-        Singular parameters, or a platform with ballast heavier than the bearing's rating.
+        Singular parameters, a start beyond the bearing's tilt limit, work past a cap, a
+        torque step above the range, or a platform with ballast heavier than the bearing's
+        rating.
     InfeasibleError
         No ballast reaches the inertia, or wheels too weak for the motion.
     """
@@ -76,33 +86,49 @@ def build_testbed(
         )
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
-    platform = Platform.from_options(opts)
-    ballast = design_ballast(platform, params.C, opts)
+    check_loop_work(params, opts)
+    plan = plan_motions(params, opts)
+    seconds["planned_motions"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    energies = evaluators.integrals(np.array([m.start for m in plan.motions]), params)[:, 0]
+    h_low = level_map(params)[1][0]
+    hosted = tilt_map(
+        params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
+    )
+    seconds["tilt_map"] = time.perf_counter() - t0
+    say(
+        f"{len(plan.motions)} planned motions, largest tilt "
+        f"{fmt(max(m.tilt_max_deg for m in plan.motions), PRECISE)} deg of the {opts.bearing} "
+        f"bearing's {fmt(opts.tilt_limit, PLAIN)}"
+    )
+    t0 = time.perf_counter()
+    target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
+    axes = wheel_axes(opts.wheels, opts.pyramid_angle_deg)
+    starts = np.array([m.start for m in plan.motions])
+    planned = planned_needs(Plant(params, target, target), starts, axes, opts.t_end_s)
+    limits = wheel_limits(planned, opts)
+    layout = build_layout(params, opts, plan.axis, axes, limits[1])
+    platform, ballast = layout.platform, layout.ballast
     total_mass = platform.mass_kg + ballast.total_mass
-    if total_mass > opts.bearing_capacity_kg:
+    if total_mass > opts.capacity_kg:
         raise InputError(
-            "testbed.bearing_capacity_kg: the platform with its ballast"
-            f" ({fmt(total_mass, PRECISE)} kg) "
-            f"is heavier than the bearing's rating ({fmt(opts.bearing_capacity_kg, PLAIN)} kg)"
+            "testbed.bearing_capacity_kg: the platform with its ballast and posts"
+            f" ({fmt(total_mass, PRECISE)} kg) is heavier than the {opts.bearing} bearing's "
+            f"rating ({fmt(opts.capacity_kg, PLAIN)} kg)"
         )
     inertia = total_inertia(platform, ballast)
-    target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     plant = Plant(params, inertia, target)
-    x0 = initial_state(params, np.array(opts.initial_gamma), opts.initial_p, opts.initial_q)
-    axes = wheel_axes(opts.wheels, opts.pyramid_angle_deg)
-    planned = planned_needs(
-        plant, planned_states(params, x0, opts.planned_motions), axes, opts.t_end_s
-    )
-    needs = planned.motions[0]  # the scene's own motion: the runs' start
-    limits = wheel_limits(planned, opts)
-    seconds["platform_and_wheels"] = time.perf_counter() - t0
+    x0 = starts[0]
+    needs = planned.motions[0]  # motion 0: the loop's start
+    seconds["layout"] = time.perf_counter() - t0
     say(
-        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts; wheels"
-        " sized "
-        f"over {len(planned.motions)} planned motions"
+        f"ballast {fmt(ballast.total_mass, PRECISE)} kg in {len(ballast.masses)} parts on posts;"
+        f" wheels sized over {len(planned.motions)} planned motions"
     )
-
     sens = sensitivity(plant, needs.times, needs.states, total_mass)
+    compliance = layout.ballast_mounts.com_matrix(total_mass) + layout.wheel_mounts.com_matrix(
+        total_mass
+    )
     tolerances = _tolerances(sens, ballast, plant, opts, total_mass)
     base = LoopSettings(
         rate_Hz=opts.rate_Hz,
@@ -121,26 +147,37 @@ def build_testbed(
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
         drift = runs[f"{command}_noise_free"].I4_drift[0]
         say(f"{command} noise-free: I4 drift {fmt(drift)}")
-    nominal = _nominal(base, opts, total_mass, limits[2])
+    nominal = _nominal(base, opts, total_mass, limits[2], compliance, layout)
     t0 = time.perf_counter()
     runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
     seconds["nominal"] = time.perf_counter() - t0
-    say(f"nominal ({opts.seeds} seeds): median I4 drift {fmt(np.median(runs['nominal'].I4_drift))}")
+    say(
+        f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
+        f"{fmt(np.median(runs['nominal'].I4_drift))}"
+    )
     reqs = None
     if with_requirements:
         t0 = time.perf_counter()
         reqs = requirements(
             plant,
             x0,
-            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0),
+            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
             GYRO_GRADES,
             opts.requirement_rates_Hz,
             opts.requirement_seeds,
             opts.target_I4_drift,
         )
         seconds["requirements"] = time.perf_counter() - t0
-        say("requirements swept")
-    return TestbedResult(
+        say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
+    compliance_offset = float(
+        layout.ballast_mounts.offset_m(total_mass) + layout.wheel_mounts.offset_m(total_mass)
+    )
+    sota = against_state_of_the_art(
+        opts, plan, planned, layout, tolerances, runs, reqs, total_mass, compliance_offset
+    )
+    median = float(np.median(runs["nominal"].I4_drift))
+    windows = [window(for_style(sota, opts, style), style) for style in BEARINGS]
+    result = TestbedResult(
         parameters=params,
         options=opts,
         platform=platform,
@@ -157,7 +194,219 @@ def build_testbed(
         tolerances=tolerances,
         ideal_states=needs.states,
         seconds=seconds,
+        layout=layout,
+        plan=plan,
+        compliance_offset_m=compliance_offset,
+        state_of_the_art=sota,
+        verdict=verdict(sota, median, opts.target_I4_drift),
+        window=best_window(windows),
+        windows=windows,
+        tilt_map=hosted,
     )
+    say(result.verdict.line)
+    return result
+
+
+def against_state_of_the_art(
+    opts: TestbedOptions,
+    plan: Any,
+    planned: Any,
+    layout: Layout,
+    tolerances: dict,
+    runs: dict,
+    reqs: Any,
+    total_mass: float,
+    compliance_offset: float,
+) -> list[Requirement]:
+    """Every requirement with what it needs, the best reached and the source (see
+    chargedesign.airbearing.verdict)."""
+    nominal = runs["nominal"]
+    style = opts.style
+    bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
+    if nominal.offset_error is not None:
+        residual = float(np.median(nominal.offset_error[:, -1]))
+        offset_source = (
+            f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
+            f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
+            f"{fmt(residual)} m, the posts' part included); offset "
+            f"before estimation {fmt(opts.imbalance_m)} m "
+            f"({BALANCE['automatic_horizontal_m'].source})"
+        )
+    else:
+        residual = opts.imbalance_m
+        offset_source = (
+            f"balancing floor {fmt(residual)} m ({BALANCE['automatic_horizontal_m'].source}) + "
+            f"the posts' bending ({fmt(compliance_offset)} m)"
+        )
+    # the estimator's residual already holds what is left of the posts' bending
+    mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
+    weight = total_mass * STANDARD_GRAVITY
+    out = [
+        Requirement(
+            "bearing_tilt_deg",
+            "capacity",
+            max(m.tilt_max_deg for m in plan.motions),
+            layout.tilt_limit_deg,
+            "deg",
+            bearing_source,
+        ),
+        Requirement(
+            "bearing_load_kg",
+            "capacity",
+            total_mass,
+            opts.capacity_kg,
+            "kg",
+            style.source if opts.bearing_capacity_kg is None else "the scene's bearing_capacity_kg",
+        ),
+        Requirement(
+            "wheel_torque_N_m",
+            "capacity",
+            planned.torque,
+            REACTION_WHEELS["torque_N_m"].value,
+            "N m",
+            REACTION_WHEELS["torque_N_m"].source,
+        ),
+        Requirement(
+            "wheel_momentum_N_m_s",
+            "capacity",
+            planned.momentum,
+            REACTION_WHEELS["momentum_N_m_s"].value,
+            "N m s",
+            REACTION_WHEELS["momentum_N_m_s"].source,
+        ),
+        Requirement(
+            "centre_of_mass_offset_m",
+            "tolerance",
+            tolerances["imbalance_m"],
+            residual + mounts_part,
+            "m",
+            offset_source,
+            parts={"estimator_or_floor_m": residual, "mounts_m": mounts_part},
+        ),
+        Requirement(
+            "bearing_drag_N_m_s",
+            "tolerance",
+            tolerances["drag_max_N_m_s"],
+            opts.drag,
+            "N m s",
+            "the scene's drag_N_m_s"
+            if opts.drag_N_m_s is not None
+            else SOURCES["drag_N_m_s"]
+            + (
+                "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
+                if opts.bearing == "full_sphere"
+                else ""
+            ),
+        ),
+        Requirement(
+            "room_air_torque_N_m",
+            "tolerance",
+            weight * tolerances["imbalance_m"],
+            room_air_torque(opts.platform_radius_m),
+            "N m",
+            "; ".join(f.source for f in ROOM_AIR.values()),
+        ),
+    ]
+    if reqs is not None:
+        lowest = reqs.lowest_rate_Hz.get(opts.gyro_grade)
+        out.append(
+            Requirement(
+                "loop_rate_Hz",
+                "capacity",
+                lowest if lowest is not None else float(max(reqs.rates_Hz)),
+                LOOP_RATE.value,
+                "Hz",
+                LOOP_RATE.source,
+                unmet_reason=""
+                if lowest is not None
+                else "none of the rates tried meets the target with this gyro: the figure is the "
+                "highest rate tried, and the requirement is counted as missed",
+            )
+        )
+    if opts.bearing == "full_sphere":
+        out.append(ball_requirement(opts))
+    median = float(np.median(nominal.I4_drift))
+    out.append(
+        Requirement(
+            "nominal_I4_drift",
+            "tolerance",
+            opts.target_I4_drift,
+            median,
+            "1",
+            f"this run's Monte Carlo ({opts.seeds} seeds; noise, bias, imbalance, drag, mounts, "
+            "encoders all on)",
+        )
+    )
+    return out
+
+
+def for_style(sota: list[Requirement], opts: TestbedOptions, style: str) -> list[Requirement]:
+    """The requirements read for another bearing style (the window's style axis): its tilt
+    limit, rated load and film drag (a full sphere's cup under the whole ball, and its ball's
+    size); the planned motions, the layout and the loop's figures are the scene's."""
+    if style == opts.bearing:
+        return sota
+    other = replace(opts, bearing=style, tilt_limit_deg=None, bearing_capacity_kg=None)
+    out = []
+    for r in sota:
+        if r.name == "ball_diameter_m":
+            continue
+        if r.name == "bearing_tilt_deg":
+            r = replace(
+                r,
+                best=180.0 if style == "full_sphere" else other.tilt_limit,
+                source=BEARINGS[style].source,
+            )
+        elif r.name == "bearing_load_kg":
+            r = replace(r, best=other.capacity_kg, source=BEARINGS[style].source)
+        elif r.name == "bearing_drag_N_m_s" and opts.drag_N_m_s is None:
+            r = replace(r, best=other.drag)
+        out.append(r)
+    if style == "full_sphere":
+        out.append(ball_requirement(opts))
+    return out
+
+
+def ball_requirement(opts: TestbedOptions) -> Requirement:
+    """A full sphere's ball: its diameter against the largest built."""
+    ball = FULL_SPHERE["largest_diameter_m"]
+    return Requirement(
+        "ball_diameter_m", "capacity", 2.0 * opts.platform_radius_m, ball.value, "m", ball.source
+    )
+
+
+def check_loop_work(params: Parameters, opts: TestbedOptions) -> None:
+    """Refuse, before any work, a loop run whose fixed integration steps pass
+    ``max_loop_steps`` (the steps follow from the motion's fastest rate), naming the
+    cause (the start or the parameter whose rate is fastest) and the option."""
+    omega0 = np.zeros(3)
+    if opts.has_start:
+        assert opts.initial_gamma is not None
+        omega0 = initial_state(
+            params,
+            np.array(opts.initial_gamma),
+            float(opts.initial_p or 0.0),
+            float(opts.initial_q or 0.0),
+        )[:3]
+    terms = rate_terms(params, omega0)
+    rate = max(max(terms.values()), 1e-12)
+    cause = max(terms, key=lambda k: terms[k])
+    max_step = STEP_FRACTION / rate
+    for loop_rate in (opts.rate_Hz, *opts.requirement_rates_Hz):
+        T = 1.0 / loop_rate
+        periods = max(1, round(opts.t_end_s * loop_rate))
+        delay = min(opts.delay_s, 0.5 * T)
+        per = math.ceil(delay / max_step) + math.ceil((T - delay) / max_step)
+        per += math.ceil(delay / max_step) + math.ceil(T / max_step)  # the predictive command
+        steps = periods * per
+        if steps > opts.max_loop_steps or not math.isfinite(rate):
+            raise InputError(
+                f"testbed: {cause} makes the motion's fastest rate {fmt(rate, PRECISE)} 1/s, "
+                f"so {fmt(opts.t_end_s, PLAIN)} s at {fmt(loop_rate, PLAIN)} Hz needs "
+                f"{float(steps):.3g} integration steps, more than testbed.max_loop_steps = "
+                f"{opts.max_loop_steps}; give a slower start or smaller parameters, a shorter "
+                "t_end_s, or raise testbed.max_loop_steps"
+            )
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
@@ -165,15 +414,36 @@ def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
 
 
 def _nominal(
-    base: LoopSettings, opts: TestbedOptions, mass: float, resolution: float
+    base: LoopSettings,
+    opts: TestbedOptions,
+    mass: float,
+    resolution: float,
+    compliance: np.ndarray,
+    layout: Layout,
 ) -> LoopSettings:
+    """The loop as built: every effect on (noise, bias, imbalance, drag, mounts, encoders),
+    the attitude fused with the gyro, the bias calibrated at rest, the estimator."""
     arw, bias = opts.gyro
+    noise, frames = opts.attitude
+    counts = opts.encoder_counts or REACTION_WHEELS["encoder_counts_per_turn"].value
+    spin = float(layout.wheels.spin_inertia[0])
     return _with(
         base,
         command=opts.command,
         gyro_arw=arw,
         gyro_bias=bias,
-        attitude_noise=opts.attitude_noise_rad,
+        attitude_noise=noise,
+        attitude_rate_Hz=frames,
+        fusion=True,
+        bias_calibration_s=BIAS_CALIBRATION_S,
+        encoder_step=spin * 2.0 * math.pi / counts * opts.rate_Hz,
+        compliance=compliance,
+        motor_bandwidth_Hz=np.inf if opts.motor_bandwidth_Hz is None else opts.motor_bandwidth_Hz,
+        wheel_friction_N_m=opts.wheel_friction_N_m or 0.0,
+        estimator=opts.estimator == "rls",
+        prior_offset_m=max(opts.imbalance_m, 1e-9),
+        prior_drag_N_m_s=max(opts.drag, 1e-12),
+        prior_compliance_m=float(np.abs(compliance).max()),
         imbalance_m=opts.imbalance_m,
         drag_N_m_s=opts.drag,
         drag_feedforward_N_m_s=opts.drag_feedforward * opts.drag,

@@ -48,14 +48,50 @@ def _results_schema() -> dict[str, Any]:
             "wheel_needs": _object(
                 {**needs, "torque_motion": index, "momentum_motion": index, "motions": index}
             ),
-            # each planned motion's start (the scene's first) and its needs
+            # each planned motion's start (the loop's first), its needs, its largest tilt
             "planned_motions": {
                 "type": "array",
                 "minItems": 1,
-                "items": _object({"initial_state": state, **needs}),
+                "items": _object(
+                    {
+                        "initial_state": state,
+                        **needs,
+                        "tilt_max_deg": {"type": "number", "minimum": 0, "maximum": 180},
+                        "horizon_s": _POSITIVE,
+                    }
+                ),
             },
+            "target_I4_drift": _POSITIVE,
         },
-        list(contract),
+        [*contract, "planned_motions", "target_I4_drift"],
+    )
+
+
+def _bearing_schema() -> dict[str, Any]:
+    """testbed.json's ``bearing``: style, tilt limit, pedestal axis, keep-out cone, source."""
+    cone = _object({"axis": _VECTOR, "half_angle_deg": _NONNEG, "inner_radius_m": _NONNEG})
+    return _object(
+        {
+            "style": {"enum": ["tabletop", "umbrella", "full_sphere"]},
+            "tilt_limit_deg": {"type": "number", "exclusiveMinimum": 0, "maximum": 180},
+            "pedestal_axis": _VECTOR,
+            "keep_out": {"oneOf": [cone, {"type": "null"}]},
+            "source": {"type": "string"},
+        }
+    )
+
+
+def _requirement_schema() -> dict[str, Any]:
+    return _object(
+        {
+            "name": {"type": "string"},
+            "kind": {"enum": ["tolerance", "capacity"]},
+            "required": _NUMBER,
+            "best": _NUMBER,
+            "unit": {"type": "string"},
+            "source": {"type": "string"},
+            "met": {"type": "boolean"},
+        }
     )
 
 
@@ -71,6 +107,16 @@ def output_schema() -> dict[str, Any]:
                 "masses": {"type": "array", "items": _POSITIVE},
                 "radii": {"type": "array", "items": _POSITIVE},
                 "material": {"type": "string"},
+                "mounts": {
+                    "type": "array",
+                    "items": _object(
+                        {
+                            "kind": {"type": "string"},
+                            "material": {"type": "string"},
+                            "stiffness_N_per_m": _POSITIVE,
+                        }
+                    ),
+                },
             }
         ),
         "wheels": _object(
@@ -78,6 +124,8 @@ def output_schema() -> dict[str, Any]:
                 "axes": {"type": "array", "items": _VECTOR, "minItems": 3},
                 "max_torque_N_m": _POSITIVE,
                 "max_momentum_N_m_s": _POSITIVE,
+                "positions": {"type": "array", "items": _VECTOR, "minItems": 3},
+                "radii": {"type": "array", "items": _POSITIVE, "minItems": 3},
             }
         ),
         "control": _object({"rate_Hz": _POSITIVE, "delay_s": _NONNEG}),
@@ -91,6 +139,15 @@ def output_schema() -> dict[str, Any]:
         "disturbances": _object({"imbalance_m": _NONNEG, "drag_N_m_s": _NONNEG}),
         "inertia_total_kg_m2": _MATRIX,
         "results": results,
+        "bearing": _bearing_schema(),
+        "state_of_the_art": {"type": "array", "minItems": 1, "items": _requirement_schema()},
+        "verdict": _object(
+            {
+                "buildable": {"type": "boolean"},
+                "binding": {"type": ["string", "null"]},
+                "line": {"type": "string"},
+            }
+        ),
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",

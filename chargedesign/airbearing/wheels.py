@@ -13,7 +13,7 @@ the wheels at rest at the start, ``|L| = |J omega(0)|``: the wheels' momentum is
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,10 +21,11 @@ import numpy as np
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import continuous_loop, initial_state
 from chargedesign.airbearing.options import TestbedOptions
-from chargedesign.errors import InfeasibleError
+from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.state_of_the_art import MOUNT_MATERIALS, REACTION_WHEELS
 
 #: the seed of the further planned starts (fixed: the same scene plans the same motions)
 PLANNED_SEED = 20261126
@@ -45,6 +46,68 @@ def wheel_axes(kind: str, pyramid_angle_deg: float) -> np.ndarray:
             [math.sin(b) * math.cos(a), math.sin(b) * math.sin(a), math.cos(b)]
             for a in (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi)
         ]
+    )
+
+
+#: a wheel's rim: a steel disc of thickness WHEEL_THICKNESS x its radius
+WHEEL_THICKNESS = 0.3
+
+
+@dataclass(frozen=True)
+class WheelGeometry:
+    """Where the wheels sit: centres (k, 3) m, bounding-sphere radii (k,) m, disc radii (k,)
+    m, masses (k,) kg (counted within the platform's mass) and spin inertias (k,) kg m^2."""
+
+    positions: np.ndarray
+    radii: np.ndarray
+    disc_radii: np.ndarray
+    masses: np.ndarray
+    spin_inertia: np.ndarray
+
+
+def wheel_geometry(
+    axes: np.ndarray,
+    momentum: float,
+    ball_radius: float,
+    envelope: float,
+    clear: Callable[[np.ndarray, np.ndarray], np.ndarray],
+) -> WheelGeometry:
+    """Steel disc wheels that store ``momentum`` (N m s) at the rated speed of
+    :data:`~chargedesign.physical.state_of_the_art.REACTION_WHEELS`, each on its spin axis
+    just off the ball, on the side of the axis that ``clear(centres, radii)`` allows.
+
+    Raises
+    ------
+    InfeasibleError
+        When a wheel fits on neither side (inside the envelope, clear of the keep-out cone).
+    """
+    speed = REACTION_WHEELS["speed_rad_per_s"].value
+    density = MOUNT_MATERIALS["steel"][1].value
+    spin = momentum / speed
+    disc = (spin / (0.5 * density * math.pi * WHEEL_THICKNESS)) ** 0.2  # 1/2 m r^2 = spin
+    mass = density * math.pi * disc**2 * WHEEL_THICKNESS * disc
+    bound = math.hypot(disc, WHEEL_THICKNESS * disc / 2.0)
+    distance = ball_radius + 1.1 * bound
+    positions = []
+    for k, axis in enumerate(axes):
+        for side in (1.0, -1.0):
+            centre = side * distance * axis
+            if distance + bound <= envelope and clear(centre[None], np.array([bound]))[0]:
+                positions.append(centre)
+                break
+        else:
+            raise InfeasibleError(
+                f"testbed: wheel {k} ({fmt(2 * disc * 1e3)} mm rim) fits on neither side of its "
+                "axis inside the envelope and clear of the bearing's keep-out cone; give a "
+                "larger platform_radius_m, another wheels array or a smaller tilt_limit_deg"
+            )
+    count = len(axes)
+    return WheelGeometry(
+        np.array(positions),
+        np.full(count, bound),
+        np.full(count, disc),
+        np.full(count, mass),
+        np.full(count, spin),
     )
 
 
@@ -227,16 +290,26 @@ def wheel_limits(planned: PlannedNeeds, opts: TestbedOptions) -> tuple[float, fl
     torque = torque if torque is not None else opts.wheel_margin * planned.torque
     momentum = momentum if momentum is not None else opts.wheel_margin * planned.momentum
     resolution = opts.torque_resolution_N_m or 2.0 * torque / 2**16
+    if resolution > planned.torque / 10.0:
+        key = "torque_resolution_N_m" if opts.torque_resolution_N_m else "max_torque_N_m"
+        raise InputError(
+            f"testbed.{key}: the torque step {fmt(resolution, PRECISE)} N m is more than a tenth "
+            f"of the most torque a planned motion needs ({fmt(planned.torque, PRECISE)} N m): "
+            "the commands would round to a few levels or to zero (an open loop); give a finer "
+            "torque_resolution_N_m or a max_torque_N_m nearer the need"
+        )
     return torque, momentum, resolution
 
 
 __all__ = [
     "PLANNED_SEED",
     "PlannedNeeds",
+    "WheelGeometry",
     "WheelNeeds",
     "planned_needs",
     "planned_states",
     "wheel_axes",
+    "wheel_geometry",
     "wheel_limits",
     "wheel_needs",
 ]

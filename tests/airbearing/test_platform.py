@@ -62,8 +62,9 @@ def test_parts_are_real_spheres_inside_the_envelope(built) -> None:
     assert (gaps[off] >= sums[off]).all()
 
 
-def test_hemispherical_shell_platform() -> None:
-    p = Platform.from_options(TestbedOptions.from_table({"platform_mass_kg": 3.0}))
+def test_full_sphere_shell_platform_is_the_whole_sphere() -> None:
+    opts = TestbedOptions.from_table({"platform_mass_kg": 3.0, "bearing": "full_sphere"})
+    p = Platform.from_options(opts)
     R = 0.25
-    assert np.allclose(p.inertia, 2.0 / 3.0 * 3.0 * R * R * np.eye(3))
-    assert np.allclose(p.com, [0, 0, -R / 2])
+    assert np.allclose(p.inertia, 2.0 / 3.0 * 3.0 * R * R * np.eye(3), rtol=1e-14)
+    assert np.allclose(p.com, 0.0, atol=1e-15)
