@@ -615,14 +615,18 @@ def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
     return inputs.physical_setup()
 
 
-def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
+def frontier_from_scene(
+    scene: Any, *, progress: Any = None, window: Any = None, **overrides: Any
+) -> FrontierResult:
     """The frontier of a scene with ``[medium]`` (see
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
-    physical setup and the frontier, which calls the design (never the other way round)."""
+    physical setup and the frontier, which calls the design (never the other way round).
+    ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
+    window too (None: not)."""
     setup = physical_setup_from_scene(scene, **overrides)
     if setup is None:
         raise InfeasibleError(
             "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
             "name = vacuum | air | sf6 | oil)"
         )
-    return find_frontier(setup, progress=progress)
+    return find_frontier(setup, progress=progress, window=window)

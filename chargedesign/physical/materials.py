@@ -119,6 +119,11 @@ CONDUCTIVITY = {
 #: K1 = 0.35 MJ/m^3, at 300 K). The upper end of 10-20 nm is used.
 MAGNET_CONTINUUM_SIZE = 20e-9
 
+#: a balance a builder reaches, m: automatic balancing of air-bearing platforms to micrometres
+#: (Schwartz, Peck & Hall, J. Guid. Control Dyn. 26, 513 (2003)); published automatic balancing
+#: reaches about 0.1 um horizontally, the floor used for gravity's parasitic on Earth
+BUILDER_BALANCE_M = 1e-7
+
 SOURCES = {
     "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
     "Raizer, Gas Discharge Physics, 1991, ch. 7); smaller gaps hold more",
