@@ -10,6 +10,11 @@ one line when that lies above ``s_max``. ``--scan`` also sweeps the body's size 
 medium (and the magnetic field and the carriers' density), plots ``K_max`` (or ``n_max``)
 against size (log-log, one line per medium) and fits the scaling law, printing the
 exponents and the fit's residual.
+
+Beside ``s_max`` it gives the realised window [s_low, s_high] (:mod:`chargedesign.physical.window`):
+the rates at which every parasitic is below ``--realised-fraction`` of each realised term.
+``--recommend PATH`` searches the field, the materials, the size and the medium for the widest
+window (:mod:`chargedesign.designer.recommend`) and writes that scene to PATH.
 """
 
 from __future__ import annotations
@@ -17,7 +22,10 @@ from __future__ import annotations
 import argparse
 import sys
 
+from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.designer.frontier import REALISED_FRACTION, WindowOptions
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
+from chargedesign.designer.recommend import recommend
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
@@ -29,10 +37,16 @@ def run(args: argparse.Namespace) -> int:
 
     if args.out is not None and not args.scan:
         raise InputError("--out: only --scan writes files; give --scan too, or drop --out")
+    if args.recommend is not None and args.scan:
+        raise InputError("--recommend: give it without --scan (they are two searches)")
     check_outputs(
-        [("--out", args.out, True)],
+        [("--out", args.out, True), ("--recommend", args.recommend, False)],
         inputs=[args.scene],
         writes=("frontier_scan.csv", "frontier_scan.png"),
+    )
+    window = WindowOptions(
+        REALISED_FRACTION if args.realised_fraction is None else args.realised_fraction,
+        STANDARD_GRAVITY if args.realised_gravity is None else args.realised_gravity,
     )
 
     def progress(message: str) -> None:
@@ -49,7 +63,15 @@ def run(args: argparse.Namespace) -> int:
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
         print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
         return 0
-    result = frontier_from_scene(scene, progress=progress)
+    if args.recommend is not None:
+        from pathlib import Path
+
+        found = recommend(scene, window, progress=progress)
+        found.write(Path(args.recommend))
+        progress(f"wrote {args.recommend}")
+        print(json.dumps(found.to_dict(), indent=2, allow_nan=False) if args.json else str(found))
+        return 0
+    result = frontier_from_scene(scene, progress=progress, window=window)
     if args.json:
         print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
     else:

@@ -70,10 +70,12 @@ from chargedesign.physical.realism import field_response, k_law
 from chargedesign.physical.window import (
     REALISED_FRACTION,
     RealisedWindow,
+    WindowModel,
     solve_window,
     window_model,
 )
 from chargedesign.results import Result
+from chargedesign.validation import as_finite_float, input_error
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -775,46 +777,90 @@ class WindowOptions:
     fraction: float = REALISED_FRACTION
     gravity: float = STANDARD_GRAVITY
 
+    def __post_init__(self) -> None:
+        fraction = as_finite_float(self.fraction, "--realised-fraction")
+        if not 0 < fraction < 1:
+            raise input_error("--realised-fraction", "a number between 0 and 1", self.fraction)
+        gravity = as_finite_float(self.gravity, "--realised-gravity")
+        if gravity < 0:
+            raise input_error("--realised-gravity", "a number >= 0 (m/s^2)", self.gravity)
+
 
 #: bodies designed to confirm a window: at most this many corrections of an end
 CONFIRM_STEPS = 3
 
 
-def _measured(search: _Search, s: float, options: WindowOptions) -> dict[str, Any]:
-    """A body designed at ``s`` and accepted, and what its own parts measure there (the
-    window's laws are not used: the independent route)."""
+def _measured(
+    search: _Search, s: float, options: WindowOptions
+) -> tuple[dict[str, Any], WindowModel | None]:
+    """A body designed at ``s`` and accepted, what its own parts measure there (the window's
+    laws are not used: the independent route), and the laws of that body."""
     design, binding = _probe_body(search.setup, s)
     if design is not None and binding is None:
         binding = _accept_body(design)
     if design is None or binding is not None:
         assert binding is not None
-        return {"s": s, "accepted": False, "refused": binding.text(search.setup.spec.medium.name)}
-    ratios = window_model(design, s, fraction=options.fraction, gravity=options.gravity).ratios(s)
+        medium = search.setup.spec.medium.name
+        return {"s": s, "accepted": False, "refused": binding.text(medium)}, None
+    model = window_model(design, s, fraction=options.fraction, gravity=options.gravity)
+    ratios = model.ratios(s)
     worst = max(ratios, key=lambda k: ratios[k]) if ratios else "none"
-    return {
+    entry = {
         "s": s,
         "accepted": True,
         "worst": worst,
         "measured": ratios.get(worst, 0.0) / options.fraction,
         "ratios": {k: v / options.fraction for k, v in ratios.items()},
     }
+    return entry, model
 
 
 def _confirm_end(
-    search: _Search, window: RealisedWindow, model: Any, low: bool, options: WindowOptions
+    search: _Search,
+    window: RealisedWindow,
+    model: WindowModel,
+    low: bool,
+    options: WindowOptions,
+    front: FrontierResult,
 ) -> list[dict[str, Any]]:
-    """Design at one end of the window; move the end inwards while the body there is refused
-    or measures a parasitic above the fraction (at most CONFIRM_STEPS times)."""
+    """Design at one end of the window and let that body's own laws move the end (the laws
+    of the body at s_max assume the other parts fixed; the body designed near the end knows
+    better). An end whose body is refused or measures a parasitic above the fraction moves
+    back inwards. At most CONFIRM_STEPS bodies."""
     out: list[dict[str, Any]] = []
+    confirmed: tuple[float, str] | None = None
     for _ in range(CONFIRM_STEPS):
         assert window.s_low is not None and window.s_high is not None
         s = window.s_low if low else window.s_high
         if not low and s == search.lo:
             return out  # the frontier's own body, accepted there
-        entry = _measured(search, s, options)
+        entry, local = _measured(search, s, options)
         entry["predicted"] = max(model.ratios(s).values(), default=0.0) / options.fraction
         out.append(entry)
         if entry["accepted"] and entry["measured"] <= 1.0:
+            confirmed = (s, window.binding_low if low else window.binding_high)
+            assert local is not None
+            again = solve_window(
+                local,
+                front.s_min if low else s,
+                s if low else front.s_max,
+                floor_text=window.binding_low,
+                ceiling_text=window.binding_high,
+            )
+            end = again.s_low if low else again.s_high
+            if again.empty or end is None or abs(math.log(end / s)) < math.log1p(search.rtol):
+                return out
+            if low:
+                window.s_low, window.binding_low = end, again.binding_low
+            else:
+                window.s_high, window.binding_high = end, again.binding_high
+            continue
+        if confirmed is not None:
+            # the body's own laws overreached: back to the rate confirmed
+            if low:
+                window.s_low, window.binding_low = confirmed
+            else:
+                window.s_high, window.binding_high = confirmed
             return out
         step = (window.s_high / window.s_low) ** 0.25
         if step < 1 + search.rtol:
@@ -830,6 +876,12 @@ def _confirm_end(
             window.s_low, window.binding_low = s * step, reason
         else:
             window.s_high, window.binding_high = s / step, reason
+    if confirmed is not None:
+        # the last end proposed was not designed: keep the last one confirmed
+        if low:
+            window.s_low, window.binding_low = confirmed
+        else:
+            window.s_high, window.binding_high = confirmed
     return out
 
 
@@ -887,9 +939,9 @@ def realised_window(
         model, front.s_min, front.s_max, floor_text=floor_text, ceiling_text=ceiling_text
     )
     if not window.empty:
-        window.confirmed += _confirm_end(search, window, model, True, options)
+        window.confirmed += _confirm_end(search, window, model, True, options, front)
         if not window.empty:
-            window.confirmed += _confirm_end(search, window, model, False, options)
+            window.confirmed += _confirm_end(search, window, model, False, options, front)
     if window.empty:
         window.why = _why_empty(window, design, options)
     else:
