@@ -25,8 +25,8 @@ import sys
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.frontier import REALISED_FRACTION, WindowOptions
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
-from chargedesign.designer.recommend import recommend
 from chargedesign.designer.pipeline import frontier_from_scene
+from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
