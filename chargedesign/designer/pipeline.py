@@ -21,7 +21,7 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
-from chargedesign.designer.frontier import FrontierResult, find_frontier
+from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
 from chargedesign.designer.physical import design_physical, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
@@ -521,7 +521,9 @@ def _physical_design(
     if frontier:
         if progress is not None:
             progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-        front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
+        front = find_frontier(
+            setup, rtol=0.05, feasible_rate=1.0, feasible=result.design, window=WindowOptions()
+        )
         result.design.frontier = front.to_dict()
         # the budget's K law is judged at the frontier's K_max, known only now
         realism = result.design.realism

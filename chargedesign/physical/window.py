@@ -45,7 +45,7 @@ import numpy as np
 from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
-from chargedesign.physical.coils import HARMONIC_SHARE, Apparatus, design_apparatus
+from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.physical.realism import (
@@ -206,24 +206,37 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
     return items
 
 
+def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
+    """Range over orientations of the magnets' energy ``m . grad Phi_error`` (J) in the coils'
+    degree >= 3 terms, over the smallest realised term."""
+    moments = np.asarray(design.dipole_moments, dtype=float)
+    if not len(moments):
+        return 0.0
+    error = AxisymmetricField(apparatus.error_legendre)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+    grad = error.gradient_body(design.dipole_positions, gammas)  # (m, n, 3)
+    energy = np.einsum("mnk,nk->m", grad, moments)  # -m . B with B = -grad Phi
+    return float(np.ptp(energy)) / term
+
+
 def _coil_item(design: Any, legendre, region: float, term: float, fraction: float):
-    """The coil pair's harmonic error acting on the magnets (element by element) and, with
-    charges, the field's relative error (their mu terms err by as much)."""
+    """The coil pairs' harmonic error acting on the magnets (element by element) and, with
+    charges, the field's relative error over the region (their mu terms err by as much).
+    The coils are the smallest of :data:`~chargedesign.physical.coils.COIL_RADII` that keep
+    it below HARMONIC_SHARE of the fraction."""
     a1 = legendre[0] if legendre else 0.0
     a2 = legendre[1] / 2.0 if len(legendre) > 1 else 0.0
     if a1 == 0.0 and a2 == 0.0:
         return None, None
-    apparatus = design_apparatus(a1, a2, region, HARMONIC_SHARE * fraction)
-    value = 0.0
-    moments = np.asarray(design.dipole_moments, dtype=float)
-    if len(moments):
-        error = AxisymmetricField(apparatus.error_legendre)
-        gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-        grad = error.gradient_body(design.dipole_positions, gammas)  # (m, n, 3)
-        energy = np.einsum("mnk,nk->m", grad, moments)  # -m . B, B = -grad Phi
-        value = float(np.ptp(energy)) / term
-    if len(design.charge_values):
-        value = max(value, apparatus.harmonic_error)
+    wanted = HARMONIC_SHARE * fraction
+    apparatus, value = None, math.inf
+    for factor in COIL_RADII:
+        apparatus = apparatus_at(a1, a2, factor * region, region, wanted)
+        value = _magnets_error(design, apparatus, term)
+        if len(design.charge_values):
+            value = max(value, apparatus.harmonic_error)
+        if value < wanted:
+            break
     item = _power_item(
         "coil_harmonics",
         "coils' harmonic error",
