@@ -340,7 +340,7 @@ def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[st
     ratios, model = _realised_at_design(design) if ok else ({}, None)
     worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
     labels = {p.key: p.label for p in model.items} if model is not None else {}
-    if not ok or below:
+    if not ok or below or model is None:
         state = NOT_BUILDABLE
         if below:
             binding = (
