@@ -46,6 +46,7 @@ from chargedesign.moment_conditions import (
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import K_LAW_KEY, k_law
+from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.validation import input_error
@@ -524,6 +525,12 @@ def _physical_design(
         front = find_frontier(
             setup, rtol=0.05, feasible_rate=1.0, feasible=result.design, window=WindowOptions()
         )
+        if front.realised is not None:
+            # the apparatus and the parasitics of this body at its own rate (the window's are
+            # those of the body at s_max)
+            own = window_model(result.design, 1.0)
+            front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
+            front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
         result.design.frontier = front.to_dict()
         # the budget's K law is judged at the frontier's K_max, known only now
         realism = result.design.realism

@@ -206,17 +206,40 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
     return items
 
 
+def _rotate(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray:
+    """``gammas`` (n, 3) turned by ``angle`` about body axis ``axis`` (unit vectors stay unit)."""
+    i, j = [k for k in range(3) if k != axis]
+    out = gammas.copy()
+    c, s = math.cos(angle), math.sin(angle)
+    out[:, i] = c * gammas[:, i] - s * gammas[:, j]
+    out[:, j] = s * gammas[:, i] + c * gammas[:, j]
+    return out
+
+
+#: angle of the central differences of the magnets' energy over orientations, rad
+TORQUE_STEP = 1e-4
+
+
 def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
-    """Range over orientations of the magnets' energy ``m . grad Phi_error`` (J) in the coils'
-    degree >= 3 terms, over the smallest realised term."""
+    """Largest torque over orientations of the magnets in the coils' degree >= 3 terms
+    (energy ``m . grad Phi_error``, differentiated by turning gamma), over the smallest
+    realised term (its range; the largest torque of a degree-2 term of V is its range)."""
     moments = np.asarray(design.dipole_moments, dtype=float)
     if not len(moments):
         return 0.0
     error = AxisymmetricField(apparatus.error_legendre)
     gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-    grad = error.gradient_body(design.dipole_positions, gammas)  # (m, n, 3)
-    energy = np.einsum("mnk,nk->m", grad, moments)  # -m . B with B = -grad Phi
-    return float(np.ptp(energy)) / term
+
+    def energy(g: np.ndarray) -> np.ndarray:
+        grad = error.gradient_body(design.dipole_positions, g)  # (m, n, 3)
+        return np.einsum("mnk,nk->m", grad, moments)  # -m . B with B = -grad Phi
+
+    slopes = [
+        (energy(_rotate(gammas, k, TORQUE_STEP)) - energy(_rotate(gammas, k, -TORQUE_STEP)))
+        / (2 * TORQUE_STEP)
+        for k in range(3)
+    ]
+    return float(np.max(np.linalg.norm(slopes, axis=0))) / term
 
 
 def _coil_item(design: Any, legendre, region: float, term: float, fraction: float):
@@ -240,7 +263,8 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
     item = _power_item(
         "coil_harmonics",
         "coils' harmonic error",
-        "the coil pairs' degree >= 3 terms on the magnets (and charges): like the terms, ~ s^2",
+        "the coil pairs' degree >= 3 terms: their largest torque on the magnets (and the "
+        "field's relative error for charges), like the terms ~ s^2",
         value,
         0.0,
     )
@@ -344,6 +368,9 @@ class RealisedWindow(Result):
     apparatus: dict[str, Any] | None = None
     notes: list[str] = field(default_factory=list)
     why: str = ""
+    #: each parasitic over the fraction for the body designed at the scene's own rate (s = 1;
+    #: written by ``design``, whose ``apparatus`` is then that body's too)
+    at_design: dict[str, float] | None = None
 
     @property
     def empty(self) -> bool:
@@ -373,6 +400,7 @@ class RealisedWindow(Result):
             "apparatus": self.apparatus,
             "notes": list(self.notes),
             "why": self.why,
+            **({"at_design": dict(self.at_design)} if self.at_design is not None else {}),
         }
 
     def _summary(self) -> dict[str, Any]:
