@@ -307,13 +307,6 @@ def _cell(text: str, width: int = 110) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
 
 
-def _realised_at_design(design: Design) -> tuple[dict[str, float], Any]:
-    """Each parasitic over the fraction at the design's own rate, from its written parts (the
-    realised window's items at s = 1), and the field apparatus."""
-    model = window_model(design, 1.0)
-    return {k: v / model.fraction for k, v in model.ratios(1.0).items()}, model
-
-
 def _what_changes(design: Design) -> str:
     """What would move the body into its realised window (from the frontier's record)."""
     window = (design.frontier or {}).get("realised") or {}
@@ -332,46 +325,52 @@ def _what_changes(design: Design) -> str:
     )
 
 
+def _realised_row(design: Design, ratios: dict[str, float], model: Any) -> tuple[str, ...]:
+    """Realised or not: the worst parasitic over the fraction at the design's rate."""
+    worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
+    if worst is None:
+        return (REALISED, "-", "-", "-")
+    label = next(p.label for p in model.items if p.key == worst)
+    binding = f"{label} (of the {model.term_key} term)"
+    if ratios[worst] > 1.0:
+        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(model.fraction, PLAIN)}"
+        return (NOT_REALISED, binding, factor, _what_changes(design))
+    return (REALISED, binding, f"{fmt(ratios[worst], ROUGH)} of the fraction", "-")
+
+
 def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[str, list[str], Any]:
     """The verdict's state and its short table: state, binding item, factor, what would
-    change it."""
+    change it (a body whose parts are not buildable as specified but within their limits has
+    a second row: whether they would be realised)."""
     continuum = magnet_continuum(design)
     below = continuum.get("below", 0)
-    ratios, model = _realised_at_design(design) if ok else ({}, None)
-    worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
-    labels = {p.key: p.label for p in model.items} if model is not None else {}
-    if not ok or below or model is None:
-        state = NOT_BUILDABLE
-        if below:
-            binding = (
+    model = window_model(design, 1.0) if ok else None
+    ratios = {k: v / model.fraction for k, v in model.ratios(1.0).items()} if model else {}
+    rows: list[tuple[str, ...]] = []
+    if not ok:
+        binding = (limits.get("violations") or ["a limit"])[0]
+        rows.append((NOT_BUILDABLE, binding, "-", "see the broken limit below"))
+    elif below:
+        rows.append(
+            (
+                NOT_BUILDABLE,
                 f"{below} of its magnets are smaller than the "
-                f"{fmt_length(continuum['continuum_size_m'])} continuum size"
+                f"{fmt_length(continuum['continuum_size_m'])} continuum size",
+                fmt(continuum["continuum_size_m"] / continuum["smallest_m"], ROUGH),
+                "larger magnets: a slower rate, a weaker field, or a larger body",
             )
-            factor = fmt(continuum["continuum_size_m"] / continuum["smallest_m"], ROUGH)
-            change = "larger magnets: a slower rate, a weaker field, or a larger body"
-        else:
-            binding = (limits.get("violations") or ["a limit"])[0]
-            factor, change = "-", "see the broken limit below"
-    elif worst is not None and ratios[worst] > 1.0:
-        state = NOT_REALISED
-        binding = f"{labels.get(worst, worst)} (of the {model.term_key} term)"
-        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(model.fraction, PLAIN)}"
-        change = _what_changes(design)
-    else:
-        state = REALISED
-        binding = f"{labels.get(worst, worst)} (of the {model.term_key} term)" if worst else "-"
-        factor = (
-            f"{fmt(ratios[worst], ROUGH)} of the fraction {fmt(model.fraction, PLAIN)}"
-            if worst
-            else "-"
         )
-        change = "-"
-    rows = [
+    if ok:
+        realised = _realised_row(design, ratios, model)
+        if not rows or realised[0] != REALISED:
+            rows.append(realised)
+    state = rows[0][0]
+    table = [
         "| state | binding item | factor | what would change it |",
         "|---|---|---|---|",
-        f"| {state} | {_cell(binding)} | {_cell(factor)} | {_cell(change)} |",
+        *["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows],
     ]
-    return state, rows, model
+    return state, table, model
 
 
 def _apparatus_lines(model: Any) -> list[str]:

@@ -158,7 +158,7 @@ def _changes(base: dict[str, Any], choice: Choice, rate: float) -> list[str]:
     return out
 
 
-def _at_rate(data: dict[str, Any], s: float) -> dict[str, Any]:
+def scene_at_rate(data: dict[str, Any], s: float) -> dict[str, Any]:
     """The scene mapping at time rate ``s`` (the same motion s times faster)."""
     out = copy.deepcopy(data)
     params = out.get("parameters", {})
@@ -344,7 +344,7 @@ def recommend(scene: Any, options: WindowOptions, *, progress: Any = None) -> Re
             break
     window = best.window
     rate = window.s_best if window is not None and not window.empty else 1.0
-    scene_out = _at_rate(best.choice.apply(base), rate)
+    scene_out = scene_at_rate(best.choice.apply(base), rate)
     return Recommendation(
         source=str(scene.source),
         base=first,
