@@ -319,8 +319,15 @@ def window_model(
             )
         )
     gas = design.medium.gas_properties if design.medium is not None else None
+    notes = []
     if gas is not None and gas[1] > 0:
         drag = 8 * math.pi * gas[1] * region**3 * rate
+        reynolds = gas[0] * rate * region**2 / gas[1]
+        if reynolds > 1.0:
+            notes.append(
+                f"drag: the laminar estimate 8 pi mu R^3 omega holds for Re << 1; here Re = "
+                f"{fmt(reynolds, ROUGH)}, where it is a lower bound"
+            )
         items.append(
             _power_item(
                 "drag",
@@ -335,7 +342,6 @@ def window_model(
     coil, apparatus = _coil_item(design, legendre, region, term, fraction)
     if coil is not None:
         items.append(coil)
-    notes = []
     if gas is None and design.medium is not None:
         notes.append(f"drag not estimated: medium {design.medium.name!r} names no gas")
     return WindowModel(s_ref, fraction, key, term, items, apparatus, gravity, notes)
@@ -424,6 +430,7 @@ class RealisedWindow(Result):
             f"{k} {fmt(v, ROUGH)}" for k, v in sorted(self.margins.items(), key=lambda kv: -kv[1])
         )
         lines = [head, f"  parasitics over the fraction {where}: {margins}\n"]
+        lines += [f"  note: {n}\n" for n in self.notes]
         for c in self.confirmed:
             lines.append(
                 f"  designed at s = {fmt(c['s'], CELL)}: "

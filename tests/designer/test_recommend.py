@@ -50,12 +50,13 @@ def test_the_rate_scales_n_and_k_once_kappa_twice_and_the_time_inversely():
     data = scene_at_rate(
         {"parameters": {"n": 2.0, "K": 3.0, "kappa": 5.0}, "simulation": {"t_end": 10.0}}, 4.0
     )
-    assert data == {"parameters": {"n": 8.0, "K": 12.0, "kappa": 80.0}, "simulation": {"t_end": 2.5}}
+    assert data == {
+        "parameters": {"n": 8.0, "K": 12.0, "kappa": 80.0},
+        "simulation": {"t_end": 2.5},
+    }
 
 
-def test_recommend_finds_a_realised_choice_and_writes_it_with_every_change(
-    tmp_path, monkeypatch
-):
+def test_recommend_finds_a_realised_choice_and_writes_it_with_every_change(tmp_path, monkeypatch):
     """The search over a few choices (its dimensions cut down to keep the test short): the
     ferrite and brass body's window is empty (its ferrite's own chi); NdFeB and a weaker
     gradient open it. The written scene loads, names every change, and its rate lies inside
