@@ -850,17 +850,11 @@ def _confirm_end(
             end = again.s_low if low else again.s_high
             if again.empty or end is None or abs(math.log(end / s)) < math.log1p(search.rtol):
                 return out
-            if low:
-                window.s_low, window.binding_low = end, again.binding_low
-            else:
-                window.s_high, window.binding_high = end, again.binding_high
+            window.set_end(low, end, again.binding_low if low else again.binding_high)
             continue
         if confirmed is not None:
             # the body's own laws overreached: back to the rate confirmed
-            if low:
-                window.s_low, window.binding_low = confirmed
-            else:
-                window.s_high, window.binding_high = confirmed
+            window.set_end(low, *confirmed)
             return out
         step = (window.s_high / window.s_low) ** 0.25
         if step < 1 + search.rtol:
@@ -872,16 +866,10 @@ def _confirm_end(
             else f"the body designed at s = {fmt(s, CELL)} measures {entry['worst']} "
             f"{fmt(entry['measured'], ROUGH)} x the fraction"
         )
-        if low:
-            window.s_low, window.binding_low = s * step, reason
-        else:
-            window.s_high, window.binding_high = s / step, reason
+        window.set_end(low, s * step if low else s / step, reason)
     if confirmed is not None:
         # the last end proposed was not designed: keep the last one confirmed
-        if low:
-            window.s_low, window.binding_low = confirmed
-        else:
-            window.s_high, window.binding_high = confirmed
+        window.set_end(low, *confirmed)
     return out
 
 

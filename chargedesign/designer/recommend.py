@@ -136,12 +136,10 @@ def _changes(base: dict[str, Any], choice: Choice, rate: float) -> list[str]:
             f"[fields.magnetic] a2: {fmt(a2)} -> {fmt(a2 * choice.a2_factor)} T/m "
             f"(x {fmt(choice.a2_factor, PLAIN)})"
         )
-    if choice.magnets is not None:
-        before = base.get("magnets", {}).get("material", "?")
-        out.append(f"[magnets] material: {before} -> {choice.magnets}")
-    if choice.ballast is not None:
-        before = base.get("ballast", {}).get("material", "?")
-        out.append(f"[ballast] material: {before} -> {choice.ballast}")
+    for table, chosen in (("magnets", choice.magnets), ("ballast", choice.ballast)):
+        if chosen is not None:
+            before = base.get(table, {}).get("material", "?")
+            out.append(f"[{table}] material: {before} -> {chosen}")
     if choice.size != 1.0:
         out.append(
             f"[body] size x {fmt(choice.size, PLAIN)} (radius, spacing, carriers; C x "

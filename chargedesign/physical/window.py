@@ -382,6 +382,13 @@ class RealisedWindow(Result):
     def empty(self) -> bool:
         return self.s_low is None
 
+    def set_end(self, low: bool, rate: float, binding: str) -> None:
+        """Move the low (``low``) or high end of the window to ``rate``, bound by ``binding``."""
+        if low:
+            self.s_low, self.binding_low = rate, binding
+        else:
+            self.s_high, self.binding_high = rate, binding
+
     @property
     def width(self) -> float:
         """``s_high / s_low`` (0 when empty)."""
