@@ -337,6 +337,7 @@ def table_realised_window(quick: bool) -> BenchTable:
     watch = _Stopwatch()
     found = recommend(scene, WindowOptions())
     wall, cpu = watch.read()
+    best = "; ".join(found.changes) or "the scene itself"
     table.rows.append(
         [
             "window search (--recommend)",
@@ -344,7 +345,7 @@ def table_realised_window(quick: bool) -> BenchTable:
             cpu,
             cpu / base_cpu,
             found.evaluations,
-            found.best.text(),
+            f"{found.best.text()} ({best})",
         ]
     )
     return table

@@ -369,6 +369,8 @@ def _normalised(name: str, value: Any, base: dict[str, Any]) -> Any:
 
 def _choice_text(choice: Choice) -> str:
     parts = [
-        f"{k}={v}" for k, v in choice.__dict__.items() if v not in (None, False, 1.0) or k == "size"
+        f"{k}={v}"
+        for k, v in choice.__dict__.items()
+        if v is True or (v is not None and v is not False and v != 1.0) or k == "size"
     ]
     return ", ".join(parts)

@@ -405,7 +405,9 @@ class RealisedWindow(Result):
             "empty": self.empty,
             "fraction": self.fraction,
             "s_best": self.s_best,
-            "missing_factor": self.missing if self.empty else None,
+            "missing_factor": (
+                self.missing if self.empty and math.isfinite(self.missing) else None
+            ),
             "smallest_term": self.term_key,
             "margins": dict(self.margins),
             "laws": dict(self.laws),
