@@ -211,9 +211,16 @@ def test_simulated_with_its_parasitics_the_example_holds_i4_to_the_fraction():
     item, the coils' torque, 0.47 of the fraction)."""
     from chargedesign.simulation.api import simulate
 
+    from chargedesign.report import render_report
+
     design = design_from_scene(load_scene(CHAPLYGIN)).design
     predicted = design.frontier["realised"]["at_design"]
     assert max(predicted.values()) < 1.0
+    text = render_report(design)
+    assert "**Verdict: buildable and realised**" in text
+    assert "| buildable and realised | coils' harmonic error (of the kappa term) |" in text
+    (apparatus,) = [x for x in text.splitlines() if x.startswith("- Field apparatus:")]
+    assert "maxwell pair" in apparatus and " W;" in apparatus and "turns" in apparatus
     clean = simulate(design, effects=["magnetization"], t_end=20.0)
     perturbed = simulate(design, effects=["magnetization", "induced", "coils"], t_end=20.0)
     assert "induced" in perturbed.effects and "coils" not in perturbed.effects
