@@ -26,7 +26,9 @@ from chargedesign.physical.window import (
     solve_window,
     window_model,
 )
+from chargedesign.report import render_report
 from chargedesign.scene import load_scene, scene_from_dict
+from chargedesign.simulation.api import simulate
 
 ROOT = Path(__file__).resolve().parents[2]
 CHAPLYGIN = ROOT / "examples" / "scenes" / "chaplygin_magnetic.toml"
@@ -209,10 +211,6 @@ def test_simulated_with_its_parasitics_the_example_holds_i4_to_the_fraction():
     as design.json records the apparatus). Without them I4 holds to round-off; with them it
     drifts, below the window's fraction 1e-3, by the order the window predicts (the largest
     item, the coils' torque, 0.47 of the fraction)."""
-    from chargedesign.simulation.api import simulate
-
-    from chargedesign.report import render_report
-
     design = design_from_scene(load_scene(CHAPLYGIN)).design
     predicted = design.frontier["realised"]["at_design"]
     assert max(predicted.values()) < 1.0
