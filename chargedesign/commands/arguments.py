@@ -302,7 +302,10 @@ def frontier_arguments(parser: argparse.ArgumentParser) -> None:
         "and fit the scaling law",
     )
     parser.add_argument(
-        "--out", default=None, metavar="DIR", help="with --scan: write frontier_scan.csv/.png here"
+        "--out",
+        default=None,
+        metavar="DIR",
+        help="write realised_window.png here (with --scan: frontier_scan.csv/.png)",
     )
     parser.add_argument(
         "--realised-fraction",

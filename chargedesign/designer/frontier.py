@@ -64,6 +64,7 @@ from chargedesign.designer.physical import (
     lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.files import atomic_directory
 from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.realism import field_response, k_law
@@ -71,6 +72,7 @@ from chargedesign.physical.window import (
     REALISED_FRACTION,
     RealisedWindow,
     WindowModel,
+    plot_window,
     solve_window,
     window_model,
 )
@@ -937,3 +939,19 @@ def realised_window(
         window.s_best = math.sqrt(window.s_low * window.s_high)
         window.margins = {k: v / options.fraction for k, v in model.ratios(window.s_best).items()}
     return window
+
+
+def write_window_picture(front: FrontierResult, out: Any) -> None:
+    """``out/realised_window.png``: the window's laws against the rate (atomic directory)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    assert front.realised is not None
+    with atomic_directory(out) as stage:
+        fig, ax = plt.subplots(figsize=(7.5, 4.6))
+        plot_window(front.realised, front.s_max, ax=ax)
+        fig.tight_layout()
+        fig.savefig(stage / "realised_window.png", dpi=120)
+        plt.close(fig)

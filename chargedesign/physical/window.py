@@ -377,6 +377,9 @@ class RealisedWindow(Result):
     #: each parasitic over the fraction for the body designed at the scene's own rate (s = 1;
     #: written by ``design``, whose ``apparatus`` is then that body's too)
     at_design: dict[str, float] | None = None
+    #: the laws on the grid of rates: ``{"s": rates, label: ratio over the fraction, ...}``
+    #: (for the picture; not in ``to_dict``)
+    curves: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def empty(self) -> bool:
@@ -483,6 +486,47 @@ def _item_text(model: WindowModel, index: int, s: float) -> str:
     return f"{item.label} ({fmt(ratio, ROUGH)} of the {model.term_key} term; {item.law})"
 
 
+def _curves(model: WindowModel, rates: np.ndarray) -> dict[str, np.ndarray]:
+    out = {"s": rates}
+    for item in model.items:
+        out[item.label] = np.asarray(item.ratio(rates / model.s_ref), dtype=float) / model.fraction
+    return out
+
+
+def plot_window(window: RealisedWindow, s_max: float, ax: Any = None) -> Any:
+    """Each parasitic over the fraction against the rate (log-log), the fraction at 1, the
+    realised window shaded and ``s_max`` marked; returns the axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7.5, 4.6))
+    rates = window.curves.get("s")
+    if rates is not None:
+        for label, values in window.curves.items():
+            if label != "s" and np.any(values > 0):
+                ax.plot(rates, np.where(values > 0, values, np.nan), label=label)
+    ax.axhline(1.0, color="k", lw=1.0, ls="--", label=f"the fraction ({fmt(window.fraction)})")
+    if s_max > 0:
+        ax.axvline(s_max, color="0.4", lw=1.0, ls=":", label="s_max (the frontier)")
+    if not window.empty:
+        ax.axvspan(window.s_low, window.s_high, color="tab:green", alpha=0.15, label="realised")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    low = window.s_low if window.s_low is not None else window.s_best
+    if rates is not None and low and s_max > 0:
+        ax.set_xlim(max(float(rates[0]), min(low, s_max) / 1e3), s_max * 1.5)
+    ax.set_ylim(bottom=max(ax.get_ylim()[0], 1e-12))
+    ax.set_xlabel("time rate s (x the scene's rates)")
+    ax.set_ylabel("parasitic / (fraction x smallest realised term)")
+    ax.set_title(
+        "realised window: "
+        + ("EMPTY" if window.empty else f"x {fmt(window.width)}")
+        + " (the laws of the body at s_max)"
+    )
+    ax.legend(fontsize=7, loc="best")
+    return ax
+
+
 def solve_window(
     model: WindowModel,
     s_floor: float,
@@ -524,6 +568,7 @@ def solve_window(
             laws,
             apparatus=apparatus,
             notes=list(model.notes),
+            curves=_curves(model, rates),
         )
     first = int(np.argmax(ok))
     last = len(ok) - 1 - int(np.argmax(ok[::-1]))
@@ -552,4 +597,5 @@ def solve_window(
         laws,
         apparatus=apparatus,
         notes=list(model.notes),
+        curves=_curves(model, rates),
     )

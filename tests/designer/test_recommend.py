@@ -123,3 +123,12 @@ def test_bad_window_options_are_one_line_refusals(capsys, tmp_path, args, fragme
     lines = captured.err.strip().splitlines()
     assert captured.out == "" and len(lines) == 1 and fragment in lines[0]
     assert not (tmp_path / "x.toml").exists()
+
+
+def test_frontier_out_draws_the_window(tmp_path, capsys):
+    out = tmp_path / "window"
+    assert main(["frontier", str(CHAPLYGIN), "--out", str(out), "--quiet"]) == 0
+    assert "realised window: s = " in capsys.readouterr().out
+    picture = out / "realised_window.png"
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in out.iterdir()) == ["realised_window.png"]
