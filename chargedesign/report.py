@@ -41,6 +41,7 @@ from chargedesign.physical.realism import (
     magnet_continuum,
     realisability_map,
 )
+from chargedesign.physical.window import window_model
 
 
 def _spacing(design: Design) -> float | None:
@@ -294,39 +295,89 @@ def _larmor_lines(design: Design) -> list[str]:
     return [f"- Larmor reading: {design.larmor.reading}: {how}" + (f" ({why})." if why else ".")]
 
 
-def _swamped(response: dict[str, Any], law: dict[str, Any]) -> list[str]:
-    """The field responses that are not negligible (the K law's, when it has figures)."""
-    swamped = [k for k, item in response.items() if item.get("verdict") != "negligible"]
-    if law:
-        swamped = [K_LAW_KEY] if law["verdict"] != "negligible" else []
-        eddy = law.get("eddy_ratio")
-        if eddy is not None and eddy >= RESPONSE_FRACTION:
-            swamped.append(FIELD_RESPONSE_KEYS[1])
-    return swamped
+#: the verdict's three states (docs/buildable.md)
+REALISED = "buildable and realised"
+NOT_REALISED = "buildable parts, NOT realised as designed"
+NOT_BUILDABLE = "NOT buildable"
 
 
-def _verdict_and_reasons(design: Design, ok: bool, swamped: list[str]) -> tuple[str, list[str]]:
-    """The verdict's words and its reasons (magnets below the continuum size, swamped)."""
-    verdict = "buildable" if ok else "NOT buildable"
-    if ok and swamped:
-        verdict = "buildable parts, NOT realised as designed"
-    # within the limits, but magnets too small for the bulk data they are designed with
+def _cell(text: str, width: int = 110) -> str:
+    """A table cell: one line, at most ``width`` characters (the detail follows the table)."""
+    text = " ".join(str(text).split()).replace("|", "/")
+    return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _what_changes(design: Design) -> str:
+    """What would move the body into its realised window (from the frontier's record)."""
+    window = (design.frontier or {}).get("realised") or {}
+    if not window:
+        return "`chargedesign frontier SCENE --recommend PATH` searches field, materials, size"
+    if window.get("empty"):
+        if design.parameters.K != 0:
+            return (
+                "nothing at this K: the size-free K law (below) holds for any size and a2; K = 0 "
+                "bodies can be realised (docs/buildable.md)"
+            )
+        return "`chargedesign frontier SCENE --recommend PATH`: no rate of this choice is realised"
+    return (
+        f"a rate s in [{fmt(window['s_low'], ROUGH)}, {fmt(window['s_high'], ROUGH)}] x the "
+        "scene's (the realised window)"
+    )
+
+
+def _realised_row(design: Design, ratios: dict[str, float], model: Any) -> tuple[str, ...]:
+    """Realised or not: the worst parasitic over the fraction at the design's rate."""
+    worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
+    if worst is None:
+        return (REALISED, "-", "-", "-")
+    label = next(p.label for p in model.items if p.key == worst)
+    binding = f"{label} (of the {model.term_key} term)"
+    if ratios[worst] > 1.0:
+        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(model.fraction, PLAIN)}"
+        return (NOT_REALISED, binding, factor, _what_changes(design))
+    return (REALISED, binding, f"{fmt(ratios[worst], ROUGH)} of the fraction", "-")
+
+
+def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[str, list[str], Any]:
+    """The verdict's state and its short table: state, binding item, factor, what would
+    change it (a body whose parts are not buildable as specified but within their limits has
+    a second row: whether they would be realised)."""
     continuum = magnet_continuum(design)
     below = continuum.get("below", 0)
-    if ok and below:
-        verdict = "NOT buildable as specified" + (", NOT realised as designed" if swamped else "")
-    reasons = []
-    if ok and below:
-        reasons.append(
-            f"{below} of its magnets are smaller than the "
-            f"{fmt_length(continuum['continuum_size_m'])} continuum size (below)"
+    model = window_model(design, 1.0) if ok else None
+    ratios = {k: v / model.fraction for k, v in model.ratios(1.0).items()} if model else {}
+    rows: list[tuple[str, ...]] = []
+    if not ok:
+        binding = (limits.get("violations") or ["a limit"])[0]
+        rows.append((NOT_BUILDABLE, binding, "-", "see the broken limit below"))
+    elif below:
+        rows.append(
+            (
+                NOT_BUILDABLE,
+                f"{below} of its magnets are smaller than the "
+                f"{fmt_length(continuum['continuum_size_m'])} continuum size",
+                fmt(continuum["continuum_size_m"] / continuum["smallest_m"], ROUGH),
+                "larger magnets: a slower rate, a weaker field, or a larger body",
+            )
         )
-    if swamped:
-        reasons.append(
-            "the applied field acts on the parts' own materials more than the designed "
-            "charges and magnets do (below)"
-        )
-    return verdict, reasons
+    if ok:
+        realised = _realised_row(design, ratios, model)
+        if not rows or realised[0] != REALISED:
+            rows.append(realised)
+    state = rows[0][0]
+    table = [
+        "| state | binding item | factor | what would change it |",
+        "|---|---|---|---|",
+        *["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows],
+    ]
+    return state, table, model
+
+
+def _apparatus_lines(model: Any) -> list[str]:
+    """The coil pairs that make the field, with their harmonic error."""
+    if model is None or model.apparatus is None:
+        return []
+    return ["- Field apparatus: " + "; ".join(str(model.apparatus).splitlines()) + "."]
 
 
 def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
@@ -381,12 +432,26 @@ def _verdict_lines(design: Design) -> list[str]:
     ok = bool(limits.get("buildable"))
     response = _fresh_response(design, realism)
     law = k_law(design, response) if response else {}
-    verdict, reasons = _verdict_and_reasons(design, ok, _swamped(response, law))
+    verdict, table, model = _verdict_table(design, ok, limits)
+    window = frontier.get("realised") or {}
     lines = [
         f"**Verdict: {verdict}** in {medium['name']} (breakdown "
-        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)})"
-        + (": " + "; ".join(reasons) + "." if reasons else "."),
+        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)}).",
         "",
+        *table,
+        "",
+    ]
+    if window.get("empty") and window.get("why"):
+        lines.append(f"- Why no rate is realised: {window['why']}.")
+    elif window:
+        lines.append(
+            f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
+            f"{fmt(window['s_high'], ROUGH)} x the scene's rates (low end: "
+            f"{window['binding_low'].split(' (')[0]}; high end: "
+            f"{window['binding_high'].split(': ')[0]})."
+        )
+    lines += [
+        *_apparatus_lines(model),
         "- Largest surface field: "
         f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
         f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "

@@ -26,7 +26,9 @@ REALISABLE = ("mu", "V", "inertia")
 SOURCES = ("charges", "dipoles", "masses")
 
 #: effects a simulation may include (scene ``simulation.effects``)
-EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "induced", "theorem")
+#: (``coils``: the magnetic effects act in the field apparatus' own field, the designed a1, a2
+#: plus the coil pairs' degree >= 3 harmonics recorded in design.json)
+EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "induced", "coils", "theorem")
 
 #: effects the forward check reports: effect -> (source, field it needs or None)
 CHECK_EFFECTS: dict[str, tuple[str, str | None]] = {

@@ -338,7 +338,32 @@ def frontier_arguments(parser: argparse.ArgumentParser) -> None:
         "and fit the scaling law",
     )
     parser.add_argument(
-        "--out", default=None, metavar="DIR", help="with --scan: write frontier_scan.csv/.png here"
+        "--out",
+        default=None,
+        metavar="DIR",
+        help="write realised_window.png here (with --scan: frontier_scan.csv/.png)",
+    )
+    parser.add_argument(
+        "--realised-fraction",
+        type=float,
+        default=None,
+        metavar="F",
+        help="the realised window: every parasitic below F of each realised term (default 1e-3)",
+    )
+    parser.add_argument(
+        "--realised-gravity",
+        type=float,
+        default=None,
+        metavar="G",
+        help="gravity on the builder's balance in the realised window, m/s^2 (default 1 g, a lab "
+        "on Earth; 0: free fall)",
+    )
+    parser.add_argument(
+        "--recommend",
+        default=None,
+        metavar="PATH",
+        help="search field, materials, size and medium for the widest realised window and write "
+        "that scene (TOML) to PATH, every change named",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
 

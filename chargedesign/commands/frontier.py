@@ -10,15 +10,30 @@ one line when that lies above ``s_max``. ``--scan`` also sweeps the body's size 
 medium (and the magnetic field and the carriers' density), plots ``K_max`` (or ``n_max``)
 against size (log-log, one line per medium) and fits the scaling law, printing the
 exponents and the fit's residual.
+
+Beside ``s_max`` it gives the realised window [s_low, s_high]
+(:mod:`chargedesign.physical.window`): the rates at which every parasitic is below
+``--realised-fraction`` of each realised term. ``--out DIR`` (without ``--scan``) writes
+``DIR/realised_window.png``: each parasitic over the fraction against the rate, the window
+shaded. ``--recommend PATH`` searches the field, the materials, the size and the medium for
+the widest window (:mod:`chargedesign.designer.recommend`) and writes that scene to PATH.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
+from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.designer.frontier import (
+    REALISED_FRACTION,
+    WindowOptions,
+    write_window_picture,
+)
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import frontier_from_scene
+from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
@@ -27,12 +42,18 @@ from chargedesign.scene import load_scene
 def run(args: argparse.Namespace) -> int:
     import json
 
-    if args.out is not None and not args.scan:
-        raise InputError("--out: only --scan writes files; give --scan too, or drop --out")
+    if args.recommend is not None and args.scan:
+        raise InputError("--recommend: give it without --scan (they are two searches)")
     check_outputs(
-        [("--out", args.out, True)],
+        [("--out", args.out, True), ("--recommend", args.recommend, False)],
         inputs=[args.scene],
-        writes=("frontier_scan.csv", "frontier_scan.png"),
+        writes=("frontier_scan.csv", "frontier_scan.png")
+        if args.scan
+        else ("realised_window.png",),
+    )
+    window = WindowOptions(
+        REALISED_FRACTION if args.realised_fraction is None else args.realised_fraction,
+        STANDARD_GRAVITY if args.realised_gravity is None else args.realised_gravity,
     )
 
     def progress(message: str) -> None:
@@ -41,15 +62,22 @@ def run(args: argparse.Namespace) -> int:
 
     scene = load_scene(args.scene)
     if args.scan:
-        from pathlib import Path
-
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:
             write_scan(scan, Path(args.out))
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
         print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
         return 0
-    result = frontier_from_scene(scene, progress=progress)
+    if args.recommend is not None:
+        found = recommend(scene, window, progress=progress)
+        found.write(Path(args.recommend))
+        progress(f"wrote {args.recommend}")
+        print(json.dumps(found.to_dict(), indent=2, allow_nan=False) if args.json else str(found))
+        return 0
+    result = frontier_from_scene(scene, progress=progress, window=window)
+    if args.out is not None and result.realised is not None:
+        write_window_picture(result, Path(args.out))
+        progress(f"wrote {args.out}/realised_window.png")
     if args.json:
         print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
     else:

@@ -41,15 +41,13 @@ from chargedesign.checker import (
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import ChargeDesignError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
+from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.validation import MAX_MAGNITUDE
 
 #: the balance double precision holds, in units of roundoff of the body's mass-weighted size
 #: ``sum m |r| / M`` (the polished masses put the centre of mass 0.3 of it from O on the
 #: 2 cm test body in SF6: tests/physical/test_frontier_acceptance.py)
 BALANCE_ULPS = 1.0
-#: a balance a builder reaches: automatic balancing of air-bearing platforms to micrometres
-#: (Schwartz, Peck & Hall 2003); the realism budget calls 0.1 um achievable on Earth
-BUILDER_BALANCE_M = 1e-7
 #: gravity's torque from the builder's balance may be at most this fraction of the designed
 #: torques (the realism budget's "negligible": a parasitic below 1e-3 of them)
 BUILDER_TORQUE_FRACTION = 1e-3

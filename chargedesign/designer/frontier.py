@@ -64,10 +64,20 @@ from chargedesign.designer.physical import (
     lp_charges,
 )
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
+from chargedesign.files import atomic_directory
 from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.physical.limits import check_limits
-from chargedesign.physical.realism import field_response
+from chargedesign.physical.realism import field_response, k_law
+from chargedesign.physical.window import (
+    REALISED_FRACTION,
+    RealisedWindow,
+    WindowModel,
+    plot_window,
+    solve_window,
+    window_model,
+)
 from chargedesign.results import Result
+from chargedesign.validation import as_finite_float, input_error
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -146,6 +156,8 @@ class FrontierResult(Result):
     #: the smallest |q| of the body designed at s_max, C (0: no charges)
     smallest_charge: float = 0.0
     s_charges: float | None = None
+    #: the realised window (:mod:`chargedesign.physical.window`); None when not computed
+    realised: RealisedWindow | None = None
 
     @property
     def n_free(self) -> bool:
@@ -188,6 +200,7 @@ class FrontierResult(Result):
             "seconds": self.seconds,
             "field_response": dict(self.field_response),
             "smallest_charge_C": self.smallest_charge,
+            **({"realised": self.realised.to_dict()} if self.realised is not None else {}),
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -236,6 +249,8 @@ class FrontierResult(Result):
             f"torques ({item['verdict']})\n"
             for key, item in self.field_response.items()
         ]
+        if self.realised is not None:
+            lines.append(str(self.realised))
         lines.append(f"({self.evaluations} feasibility problems, {self.seconds:.2f} s)\n")
         return "".join(lines)
 
@@ -341,6 +356,10 @@ def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding 
         design = build_design(setup, design_at_rate(setup, s))
     except PhysicalInfeasible as exc:
         return None, exc.binding
+    except SolverError as exc:
+        # one rate's design failing (e.g. a polish that leaves a magnet lighter than its
+        # volume) refuses that rate; it does not end the search
+        return None, Binding("design", str(exc), "design")
     balance = balance_bound(design)
     if balance is None:
         return design, None
@@ -681,6 +700,7 @@ def find_frontier(
     feasible_rate: float | None = None,
     feasible: Design | None = None,
     direct: bool | None = None,
+    window: WindowOptions | None = None,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
 
@@ -708,18 +728,27 @@ def find_frontier(
     if feasible_rate is not None and feasible is not None:
         search.best[feasible_rate] = feasible
     if not search.s_nec > 0:
-        return search.result(0.0, 0.0, _external_field_binding(setup), None)
+        front = search.result(0.0, 0.0, _external_field_binding(setup), None)
+        if window is not None:
+            front.realised = realised_window(search, front, None, window)
+        return front
     search.upper_binding = search.hi_binding = _necessary_binding(setup, search.s_nec)
     limit = _charges_limit(setup, rtol) if direct and math.isfinite(search.s_nec) else None
     if limit is not None:
         _direct_steps(search, limit)
     if not _search_bracket(search, feasible_rate):
         assert search.hi_binding is not None
-        return search.result(0.0, search.hi, search.hi_binding, None)
+        front = search.result(0.0, search.hi, search.hi_binding, None)
+        if window is not None:
+            front.realised = realised_window(search, front, None, window)
+        return front
     assert search.hi_binding is not None
     design = _accept_lowest(search)
     front = search.result(search.lo, search.hi, search.hi_binding, design)
     _record_balance(front, design, search.lo)
+    if window is not None:
+        front.realised = realised_window(search, front, design, window)
+        front.seconds = time.perf_counter() - t0
     return front
 
 
@@ -740,3 +769,189 @@ def _record_balance(front: FrontierResult, design: Design | None, s_max: float) 
         front.s_min = float(balance.get("lowest_rate") or math.inf)
         if not front.s_min <= s_max:
             raise InfeasibleError(no_buildable_rate(balance, s_max, front.K_max))
+
+
+@dataclass(frozen=True)
+class WindowOptions:
+    """How the realised window is found: each parasitic below ``fraction`` of every realised
+    term, gravity ``gravity`` (m/s^2: 1 g for a lab on Earth, 0 in free fall)."""
+
+    fraction: float = REALISED_FRACTION
+    gravity: float = STANDARD_GRAVITY
+
+    def __post_init__(self) -> None:
+        fraction = as_finite_float(self.fraction, "--realised-fraction")
+        if not 0 < fraction < 1:
+            raise input_error("--realised-fraction", "a number between 0 and 1", self.fraction)
+        gravity = as_finite_float(self.gravity, "--realised-gravity")
+        if gravity < 0:
+            raise input_error("--realised-gravity", "a number >= 0 (m/s^2)", self.gravity)
+
+
+#: bodies designed to confirm a window: at most this many corrections of an end
+CONFIRM_STEPS = 3
+
+
+def _measured(
+    search: _Search, s: float, options: WindowOptions
+) -> tuple[dict[str, Any], WindowModel | None]:
+    """A body designed at ``s`` and accepted, what its own parts measure there (the window's
+    laws are not used: the independent route), and the laws of that body."""
+    design, binding = _probe_body(search.setup, s)
+    if design is not None and binding is None:
+        binding = _accept_body(design)
+    if design is None or binding is not None:
+        assert binding is not None
+        medium = search.setup.spec.medium.name
+        return {"s": s, "accepted": False, "refused": binding.text(medium)}, None
+    model = window_model(design, s, fraction=options.fraction, gravity=options.gravity)
+    ratios = model.ratios(s)
+    worst = max(ratios, key=lambda k: ratios[k]) if ratios else "none"
+    entry = {
+        "s": s,
+        "accepted": True,
+        "worst": worst,
+        "measured": ratios.get(worst, 0.0) / options.fraction,
+        "ratios": {k: v / options.fraction for k, v in ratios.items()},
+    }
+    return entry, model
+
+
+def _confirm_end(
+    search: _Search,
+    window: RealisedWindow,
+    model: WindowModel,
+    low: bool,
+    options: WindowOptions,
+    front: FrontierResult,
+) -> list[dict[str, Any]]:
+    """Design at one end of the window and let that body's own laws move the end (the laws
+    of the body at s_max assume the other parts fixed; the body designed near the end knows
+    better). An end whose body is refused or measures a parasitic above the fraction moves
+    back inwards. At most CONFIRM_STEPS bodies."""
+    out: list[dict[str, Any]] = []
+    confirmed: tuple[float, str] | None = None
+    for _ in range(CONFIRM_STEPS):
+        assert window.s_low is not None and window.s_high is not None
+        s = window.s_low if low else window.s_high
+        if not low and s == search.lo:
+            return out  # the frontier's own body, accepted there
+        entry, local = _measured(search, s, options)
+        entry["predicted"] = max(model.ratios(s).values(), default=0.0) / options.fraction
+        out.append(entry)
+        if entry["accepted"] and entry["measured"] <= 1.0:
+            confirmed = (s, window.binding_low if low else window.binding_high)
+            assert local is not None
+            again = solve_window(
+                local,
+                front.s_min if low else s,
+                s if low else front.s_max,
+                floor_text=window.binding_low,
+                ceiling_text=window.binding_high,
+            )
+            end = again.s_low if low else again.s_high
+            if again.empty or end is None or abs(math.log(end / s)) < math.log1p(search.rtol):
+                return out
+            window.set_end(low, end, again.binding_low if low else again.binding_high)
+            continue
+        if confirmed is not None:
+            # the body's own laws overreached: back to the rate confirmed
+            window.set_end(low, *confirmed)
+            return out
+        step = (window.s_high / window.s_low) ** 0.25
+        if step < 1 + search.rtol:
+            window.s_low = window.s_high = None
+            return out
+        reason = (
+            f"the design refuses s = {fmt(s, CELL)} ({entry['refused']})"
+            if not entry["accepted"]
+            else f"the body designed at s = {fmt(s, CELL)} measures {entry['worst']} "
+            f"{fmt(entry['measured'], ROUGH)} x the fraction"
+        )
+        window.set_end(low, s * step if low else s / step, reason)
+    if confirmed is not None:
+        # the last end proposed was not designed: keep the last one confirmed
+        window.set_end(low, *confirmed)
+    return out
+
+
+def _why_empty(window: RealisedWindow, design: Design | None, options: WindowOptions) -> str:
+    """One line: why no rate realises the body (the K law where it applies)."""
+    if design is None:
+        return "no rate is buildable: " + window.binding_high
+    law = k_law(design)
+    head = (
+        f"at the best rate s = {fmt(window.s_best, CELL)} the worst parasitic is "
+        f"{fmt(window.missing, ROUGH)} x the fraction ({window.binding_low.split(' (')[0]})"
+    )
+    if not law:
+        return head
+    return (
+        f"the K term cannot be realised: the size-free law 6 (chi/rho) / (mu0 G^2) with "
+        f"G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg puts the parts' induced "
+        f"magnetisation at {fmt(law['ratio'], ROUGH)} of the designed K torques at the K "
+        f"frontier, {fmt(law['ratio'] / options.fraction, ROUGH)} x the fraction for any size "
+        f"and a2; {head}"
+    )
+
+
+def realised_window(
+    search: _Search, front: FrontierResult, design: Design | None, options: WindowOptions
+) -> RealisedWindow:
+    """The realised window below the frontier (:mod:`chargedesign.physical.window`): the laws
+    of the body at ``s_max``, then bodies designed at the window's ends confirm it (an end
+    whose body is refused or measures a parasitic above the fraction moves inwards)."""
+    medium = search.setup.spec.medium.name
+    ceiling_text = "the frontier s_max: " + front.binding.text(medium)
+    if design is None or front.s_max <= 0:
+        window = RealisedWindow(
+            None,
+            None,
+            "no buildable rate",
+            ceiling_text,
+            options.fraction,
+            0.0,
+            math.inf,
+            "none",
+            {},
+            {},
+        )
+        window.why = _why_empty(window, None, options)
+        return window
+    search._say("realised window ...")
+    model = window_model(design, front.s_max, fraction=options.fraction, gravity=options.gravity)
+    floor_text = (
+        f"the balance the forward check confirms (s_min = {fmt(front.s_min, CELL)})"
+        if front.s_min > 0
+        else "no parasitic binds down to s_max / 1e12"
+    )
+    window = solve_window(
+        model, front.s_min, front.s_max, floor_text=floor_text, ceiling_text=ceiling_text
+    )
+    if not window.empty:
+        window.confirmed += _confirm_end(search, window, model, True, options, front)
+        if not window.empty:
+            window.confirmed += _confirm_end(search, window, model, False, options, front)
+    if window.empty:
+        window.why = _why_empty(window, design, options)
+    else:
+        assert window.s_low is not None and window.s_high is not None
+        window.s_best = math.sqrt(window.s_low * window.s_high)
+        window.margins = {k: v / options.fraction for k, v in model.ratios(window.s_best).items()}
+    return window
+
+
+def write_window_picture(front: FrontierResult, out: Any) -> None:
+    """``out/realised_window.png``: the window's laws against the rate (atomic directory)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    assert front.realised is not None
+    with atomic_directory(out) as stage:
+        fig, ax = plt.subplots(figsize=(7.5, 4.6))
+        plot_window(front.realised, front.s_max, ax=ax)
+        fig.tight_layout()
+        fig.savefig(stage / "realised_window.png", dpi=120)
+        plt.close(fig)

@@ -147,7 +147,7 @@ class ScanResult(Result):
         return "\n".join(lines) + "\n"
 
 
-def _scene_dict(scene: Any) -> dict[str, Any]:
+def scene_dict(scene: Any) -> dict[str, Any]:
     """The mapping a scene was read from (parameters, fields with limits, tables)."""
 
     params = scene.parameters.as_dict() if isinstance(scene.parameters, Parameters) else {}
@@ -162,7 +162,7 @@ def _scene_dict(scene: Any) -> dict[str, Any]:
     return out
 
 
-def _variant(
+def scene_variant(
     base: dict[str, Any],
     f: float,
     medium: str,
@@ -210,7 +210,7 @@ def scan_frontier(
 ) -> ScanResult:
     """Frontiers over size x medium, plus a weaker field and denser carriers (see module)."""
 
-    base = _scene_dict(scene)
+    base = scene_dict(scene)
     base_carrier = base.get("carriers", {}).get("material", "aluminium")
     setup = physical_setup_from_scene(scene)
     reading = setup.larmor.reading if setup is not None and setup.larmor else "charges"
@@ -227,7 +227,7 @@ def scan_frontier(
     rows: list[dict[str, Any]] = []
     failures: list[str] = []
     for i, (f, medium, ff, carrier) in enumerate(cases):
-        data = _variant(base, f, medium, ff, carrier, index)
+        data = scene_variant(base, f, medium, ff, carrier, index)
         if progress is not None:
             progress(
                 f"[{i + 1}/{len(cases)}] size x{fmt(f, PLAIN)}, {medium}, {field_name}"

@@ -21,7 +21,7 @@ from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
-from chargedesign.designer.frontier import FrontierResult, find_frontier
+from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
 from chargedesign.designer.physical import design_physical, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
@@ -46,6 +46,7 @@ from chargedesign.moment_conditions import (
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import K_LAW_KEY, k_law
+from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.validation import input_error
@@ -521,7 +522,15 @@ def _physical_design(
     if frontier:
         if progress is not None:
             progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-        front = find_frontier(setup, rtol=0.05, feasible_rate=1.0, feasible=result.design)
+        front = find_frontier(
+            setup, rtol=0.05, feasible_rate=1.0, feasible=result.design, window=WindowOptions()
+        )
+        if front.realised is not None:
+            # the apparatus and the parasitics of this body at its own rate (the window's are
+            # those of the body at s_max)
+            own = window_model(result.design, 1.0)
+            front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
+            front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
         result.design.frontier = front.to_dict()
         # the budget's K law is judged at the frontier's K_max, known only now
         realism = result.design.realism
@@ -615,14 +624,18 @@ def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
     return inputs.physical_setup()
 
 
-def frontier_from_scene(scene: Any, *, progress: Any = None, **overrides: Any) -> FrontierResult:
+def frontier_from_scene(
+    scene: Any, *, progress: Any = None, window: Any = None, **overrides: Any
+) -> FrontierResult:
     """The frontier of a scene with ``[medium]`` (see
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
-    physical setup and the frontier, which calls the design (never the other way round)."""
+    physical setup and the frontier, which calls the design (never the other way round).
+    ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
+    window too (None: not)."""
     setup = physical_setup_from_scene(scene, **overrides)
     if setup is None:
         raise InfeasibleError(
             "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
             "name = vacuum | air | sf6 | oil)"
         )
-    return find_frontier(setup, progress=progress)
+    return find_frontier(setup, progress=progress, window=window)

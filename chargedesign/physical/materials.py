@@ -68,6 +68,10 @@ BALLAST_DENSITY = {
     "aluminium": 2700.0,
     "bismuth": 9780.0,
     "copper": 8960.0,
+    # insulating, low-chi ballast (no eddy currents; see SOURCES["insulating_ballast"])
+    "alumina": 3900.0,
+    "zirconia": 6050.0,
+    "fused-silica": 2200.0,
 }
 
 #: SI volume susceptibility chi (dimensionless) of every named material at 20 C. A part of
@@ -89,6 +93,12 @@ SUSCEPTIBILITY = {
     "ndfeb-eh": 0.05,
     "smco": 0.03,
     "ferrite": 0.1,
+    # 4 pi chi_mol rho / M: Al2O3 -37.0e-6 cm^3/mol, 3.90 g/cm^3, 101.96 g/mol
+    "alumina": -1.778e-5,
+    # ZrO2 -13.8e-6 cm^3/mol, 6.05 g/cm^3, 123.22 g/mol
+    "zirconia": -8.51e-6,
+    # SiO2 -29.6e-6 cm^3/mol, 2.20 g/cm^3, 60.08 g/mol
+    "fused-silica": -1.362e-5,
 }
 
 #: electrical conductivity, S/m, at 20 C (eddy currents in the rotating parts)
@@ -106,6 +116,9 @@ CONDUCTIVITY = {
     "ndfeb-eh": 7.1e5,
     "smco": 1.2e6,
     "ferrite": 1.0e-4,
+    "alumina": 1.0e-12,
+    "zirconia": 1.0e-10,
+    "fused-silica": 1.0e-16,
 }
 
 #: smallest magnet, m (edge of the cube of its volume), that the magnet data above describe.
@@ -118,6 +131,11 @@ CONDUCTIVITY = {
 #: 120S (1959); about 3 nm for Nd2Fe14B, K1 = 4.9 MJ/m^3, 7 nm for Sr ferrite,
 #: K1 = 0.35 MJ/m^3, at 300 K). The upper end of 10-20 nm is used.
 MAGNET_CONTINUUM_SIZE = 20e-9
+
+#: a balance a builder reaches, m: automatic balancing of air-bearing platforms to micrometres
+#: (Schwartz, Peck & Hall, J. Guid. Control Dyn. 26, 513 (2003)); published automatic balancing
+#: reaches about 0.1 um horizontally, the floor used for gravity's parasitic on Earth
+BUILDER_BALANCE_M = 1e-7
 
 SOURCES = {
     "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
@@ -154,6 +172,15 @@ SOURCES = {
     "superparamagnetic a few nm further down (K1 v < 25 kB T; Bean & Livingston, J. Appl. "
     "Phys. 30, 120S (1959)); the data-sheet remanence and coercivity are those of "
     "micrometre-grained sintered parts",
+    "insulating_ballast": "99.5 % alumina (CoorsTek AD-995 data sheet: density 3.90 g/cm^3, "
+    "volume resistivity > 1e14 ohm cm at 25 C); yttria-stabilised zirconia 3Y-TZP (density "
+    "6.05 g/cm^3; manufacturers' data sheets give volume resistivities > 1e10 ohm m at 25 C, "
+    "1e-10 S/m used); fused silica (density 2.20 g/cm^3, resistivity about 1e18 ohm m at 20 C: "
+    "Heraeus and Corning 7980 data sheets; 1e-16 S/m used); susceptibilities from the CRC "
+    "Handbook (97th ed.) molar susceptibilities of Al2O3 (-37.0e-6), ZrO2 (-13.8e-6) and SiO2 "
+    "(-29.6e-6 cm^3/mol) times 4 pi rho / M. Tungsten-loaded polymers (densities up to 11 "
+    "g/cm^3) are not listed: their conductivity depends on the filler's percolation and no "
+    "data sheet at hand gives it",
     "conductivity": "CRC Handbook (97th ed.), 'Electrical resistivity of pure metals' at 20 C "
     "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7, Bi 1.29e-6 ohm m); ASM "
     "Handbook vol. 2 for alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 "

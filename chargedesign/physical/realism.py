@@ -186,7 +186,7 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
     return sets
 
 
-def _induced_energies(legendre: tuple[float, ...], parts: list[dict[str, Any]]) -> np.ndarray:
+def induced_energies_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]) -> np.ndarray:
     """``-sum chi v |B|^2 / (2 mu0)`` of each part set at each orientation (J), (sets, n).
 
     The field is axisymmetric, so a part at body position r sees the field at the point of
@@ -213,7 +213,7 @@ def _induced_energies(legendre: tuple[float, ...], parts: list[dict[str, Any]]) 
     return out
 
 
-def _eddy_torques(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
+def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
     """Eddy-current torque of each part set turning at ``rate`` in its local field (N m).
 
     A conducting sphere turning at omega in a uniform B (perpendicular to omega, skin depth
@@ -293,9 +293,9 @@ def field_response(design: Any) -> dict[str, Any]:
         return {}
     torque = design.parameters.C * rate**2 / 4.0
     parts = material_parts(design)
-    energies = _induced_energies(legendre, parts)
+    energies = induced_energies_by_set(legendre, parts)
     energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
-    eddy = _eddy_torques(legendre, parts, rate)
+    eddy = eddy_torques_by_set(legendre, parts, rate)
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
     damping = float(np.sum(eddy)) / torque
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate

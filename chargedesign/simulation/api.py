@@ -578,6 +578,37 @@ def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> Sim
     return parse_simulation_options(merged, "simulation")
 
 
+def _in_coils_field(setup: SimulationSetup) -> tuple[SimulationSetup, list[str]]:
+    """The ``coils`` effect: the body's magnetic field becomes the field apparatus' own, the
+    designed a1, a2 plus the coil pairs' degree >= 3 harmonics that design.json records
+    (``frontier.realised.apparatus.error_legendre``, :mod:`chargedesign.physical.coils`)."""
+    realised = ((getattr(setup.design, "frontier", None) or {}).get("realised")) or {}
+    apparatus = realised.get("apparatus") or {}
+    error = apparatus.get("error_legendre")
+    if not error:
+        raise InputError(
+            "effects: coils needs the field apparatus design.json records (frontier.realised."
+            "apparatus: a physical design with a magnetic field, `chargedesign design`)"
+        )
+    designed = list(setup.body.fields.get("magnetic", ()))
+    size = max(len(designed), len(error))
+    total = np.zeros(size)
+    total[: len(designed)] += designed
+    total[: len(error)] += np.asarray(error, dtype=float)
+    body = dataclasses.replace(
+        setup.body, fields={**setup.body.fields, "magnetic": tuple(float(v) for v in total)}
+    )
+    pairs = ", ".join(
+        f"{p['kind']} pair of radius {fmt(p['radius_m'])} m" for p in apparatus.get("pairs", [])
+    )
+    note = (
+        f"coils: the magnetic field is the apparatus' ({pairs}): the designed terms plus its "
+        f"harmonics to degree {size} (error {fmt(apparatus.get('harmonic_error', 0.0))} of the "
+        "designed field over the body region)"
+    )
+    return dataclasses.replace(setup, body=body), [note]
+
+
 def prepare(
     source: Any = None,
     *,
@@ -617,7 +648,13 @@ def prepare(
     setup = dataclasses.replace(
         setup, options=options, body_info=body_info, axes=axes, axes_rate=rate
     )
-    effects, skipped = select_effects(setup.body, options.effects)
+    coil_notes: list[str] = []
+    asked = options.effects
+    if asked is not None and not isinstance(asked, str) and "coils" in asked:
+        setup, coil_notes = _in_coils_field(setup)
+        asked = [e for e in asked if e != "coils"]
+    effects, skipped = select_effects(setup.body, asked)
+    skipped = coil_notes + skipped
     if any(e != "theorem" for e in effects):
         check_inertia(setup.body, effects)
     notes = list(setup.notes) + pending_notes + skipped

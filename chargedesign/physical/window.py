@@ -1,0 +1,601 @@
+"""The realised window: the rates at which every parasitic is below a fraction of each term.
+
+Time rescaling (``n, K -> s n, s K``; ``kappa, lambda, rho -> s^2 (...)``) is the same motion ``s``
+times faster. A body designed at a rate ``s_ref`` tells how each parasitic and each designed term
+grows with ``x = s / s_ref``, exactly for a body of the same parts (carriers and ballast of the
+same volume, charges ``~ x``, magnets' moments and volumes ``~ x^2``, the same field):
+
+==========================  =================================================  ===============
+item                        parasitic                                          over the terms
+==========================  =================================================  ===============
+each realised term of V, mu  range over orientations (V), ``|omega| |mu|``      ``x^2``
+induced magnetisation        range of ``-sum chi v |B|^2 / 2 mu0``: magnets      per set: ``x^0``
+                             ``x^2``, other parts ``x^0``                        or ``x^-2``
+eddy currents                ``(2 pi/15) sigma omega B^2 a^5``: ``x`` times      ``x^(7/3)``,
+                             ``a^5``, magnets' ``a^5 ~ x^(10/3)``                ``x^-1``
+gravity on the balance       ``M g delta`` (``delta`` = 0.1 um, sourced)         ``x^-2``
+drag in the medium           ``8 pi mu R^3 omega``                               ``x^-1``
+radiation                    Larmor power over ``omega``: ``q^2 omega^3``        ``x^3``
+self-field                   ``mu0 q omega / 4 pi r`` over the applied ``|B|``    ``x^2``
+relativistic                 ``(v / c)^2``                                       ``x^2``
+coils' harmonics             the magnets' energy in the coils' degree >= 3      ``x^0``
+                             terms (charges: the field's relative error)
+==========================  =================================================  ===============
+
+"The terms" are the rows of the realisability map
+(:func:`chargedesign.physical.realism.realisability_map`) that this body's parts realise: each
+must be ``1 / fraction`` times the parasitic (a small term swamped by a parasitic is not
+realised however large the others are), so each parasitic is compared with the smallest.
+
+:func:`window_model` builds these laws from one body; :func:`solve_window` finds the interval
+of rates in ``[s_floor, s_ceiling]`` where every item is below the fraction (each item is a sum
+of powers of ``x``, convex in ``log x``, so its admissible rates are one interval) and what
+binds at each end. The designer confirms the window with bodies designed at its ends
+(:mod:`chargedesign.designer.frontier`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
+from chargedesign.fields import AxisymmetricField
+from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
+from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
+from chargedesign.physical.field_bounds import field_magnitude_max
+from chargedesign.physical.materials import BUILDER_BALANCE_M
+from chargedesign.physical.realism import (
+    RESPONSE_ORIENTATIONS,
+    eddy_torques_by_set,
+    induced_energies_by_set,
+    material_parts,
+    realisability_map,
+    typical_rate,
+)
+from chargedesign.results import Result
+from chargedesign.sampling import fibonacci_sphere
+
+#: the default fraction of each designed term every parasitic must stay below
+REALISED_FRACTION = 1e-3
+#: the growth of a magnet's ``a^5`` with its moment ``~ x^2``: volume ``~ x^2``, so ``x^(10/3)``
+MAGNET_RADIUS5_EXPONENT = 10.0 / 3.0
+#: grid of rates (in log s) on which the window's ends are bracketed before bisection
+GRID_POINTS = 801
+#: how far below the ceiling the window is looked for, when no lower limit is known
+FLOOR_SPAN = 1e12
+
+
+@dataclass
+class Parasitic:
+    """One item of the window: its ratio to the smallest realised term as a function of
+    ``x = s / s_ref`` (``ratio(x)``, vectorised) and the law, in words."""
+
+    key: str
+    label: str
+    law: str
+    ratio: Any
+
+    def at(self, x: float) -> float:
+        return float(np.asarray(self.ratio(np.array([x])))[0])
+
+
+@dataclass
+class WindowModel:
+    """The window's items built from one body designed at ``s_ref``."""
+
+    s_ref: float
+    fraction: float
+    term_key: str
+    term_size: float
+    items: list[Parasitic]
+    apparatus: Apparatus | None
+    gravity: float
+    notes: list[str] = field(default_factory=list)
+
+    def ratios(self, s: float) -> dict[str, float]:
+        """Every item's ratio to the smallest realised term at rate ``s``."""
+        return {p.key: p.at(s / self.s_ref) for p in self.items}
+
+
+def _smallest_term(design: Any) -> tuple[str, float]:
+    """The realised term of V or mu with the smallest size (N m): the one a parasitic swamps
+    first. Terms the turning axes realise (frame reading) need no parts and are not counted."""
+    rows = [
+        r
+        for r in realisability_map(design)
+        if r["frontier_size_N_m"] is not None and math.isfinite(r["size_N_m"]) and r["size_N_m"] > 0
+    ]
+    if not rows:
+        rate = typical_rate(design.parameters)
+        return "typical", design.parameters.C * rate**2 / 4.0
+    row = min(rows, key=lambda r: r["size_N_m"])
+    return row["key"], float(row["size_N_m"])
+
+
+def _set_exponents(parts: list[dict[str, Any]], magnet: float, other: float) -> np.ndarray:
+    return np.array([magnet if p["role"] == "magnet" else other for p in parts])
+
+
+def _induced_item(design: Any, parts: list[dict[str, Any]], legendre, term: float) -> Parasitic:
+    energies = induced_energies_by_set(legendre, parts)  # (sets, orientations)
+    power = _set_exponents(parts, 2.0, 0.0)
+
+    def ratio(x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        scaled = np.einsum("sk,ms->mk", energies, x[:, None] ** power[None, :])
+        return np.ptp(scaled, axis=1) / (term * x**2)
+
+    return Parasitic(
+        "induced",
+        "induced magnetisation",
+        "range of -chi v |B|^2 / 2 mu0 over orientations: the magnets' ~ s^2 like the terms, "
+        "the other parts' fixed (over the terms ~ 1/s^2)",
+        ratio,
+    )
+
+
+def _eddy_item(design: Any, parts: list[dict[str, Any]], legendre, term: float) -> Parasitic:
+    torques = eddy_torques_by_set(legendre, parts, typical_rate(design.parameters))
+    power = _set_exponents(parts, 1.0 + MAGNET_RADIUS5_EXPONENT, 1.0)
+
+    def ratio(x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        return (x[:, None] ** power[None, :]) @ torques / (term * x**2)
+
+    return Parasitic(
+        "eddy",
+        "eddy currents",
+        "(2 pi / 15) sigma |omega| B^2 a^5: ~ s for fixed parts, s^(13/3) for the magnets",
+        ratio,
+    )
+
+
+def _power_item(key: str, label: str, law: str, value: float, exponent: float) -> Parasitic:
+    def ratio(x: np.ndarray) -> np.ndarray:
+        return value * np.asarray(x, dtype=float) ** exponent
+
+    return Parasitic(key, label, law, ratio)
+
+
+def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
+    """Radiation, self-field and v/c of the charges (none without charges)."""
+    q = np.asarray(design.charge_values, dtype=float)
+    rate = typical_rate(design.parameters)
+    positions, _ = design.all_masses()
+    r_max = float(np.max(np.linalg.norm(positions, axis=1), initial=0.0))
+    items = [
+        _power_item(
+            "relativistic",
+            "relativistic corrections",
+            "(v / c)^2 of the fastest part, ~ s^2",
+            (rate * r_max / LIGHT_SPEED) ** 2,
+            2.0,
+        )
+    ]
+    if not len(q):
+        return items
+    radii = np.linalg.norm(design.charge_positions, axis=1)
+    power = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
+        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
+    )
+    items.append(
+        _power_item(
+            "radiation",
+            "radiation",
+            "Larmor power of the charges over |omega|: q^2 omega^3 ~ s^5 (over the terms s^3)",
+            power / rate / term,
+            3.0,
+        )
+    )
+    if applied > 0:
+        inv = np.where(radii > 0, radii, np.inf)
+        b_self = MU_0 / (4 * math.pi) * float(np.sum(np.abs(q) * rate / inv))
+        items.append(
+            _power_item(
+                "self_field",
+                "self-field",
+                "the moving charges' field mu0 q omega / (4 pi r) over the applied |B|: ~ s^2",
+                b_self / applied,
+                2.0,
+            )
+        )
+    return items
+
+
+def _rotate(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray:
+    """``gammas`` (n, 3) turned by ``angle`` about body axis ``axis`` (unit vectors stay unit)."""
+    i, j = [k for k in range(3) if k != axis]
+    out = gammas.copy()
+    c, s = math.cos(angle), math.sin(angle)
+    out[:, i] = c * gammas[:, i] - s * gammas[:, j]
+    out[:, j] = s * gammas[:, i] + c * gammas[:, j]
+    return out
+
+
+#: angle of the central differences of the magnets' energy over orientations, rad
+TORQUE_STEP = 1e-4
+
+
+def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
+    """Largest torque over orientations of the magnets in the coils' degree >= 3 terms
+    (energy ``m . grad Phi_error``, differentiated by turning gamma), over the smallest
+    realised term (its range; the largest torque of a degree-2 term of V is its range)."""
+    moments = np.asarray(design.dipole_moments, dtype=float)
+    if not len(moments):
+        return 0.0
+    error = AxisymmetricField(apparatus.error_legendre)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+
+    def energy(g: np.ndarray) -> np.ndarray:
+        grad = error.gradient_body(design.dipole_positions, g)  # (m, n, 3)
+        return np.einsum("mnk,nk->m", grad, moments)  # -m . B with B = -grad Phi
+
+    slopes = [
+        (energy(_rotate(gammas, k, TORQUE_STEP)) - energy(_rotate(gammas, k, -TORQUE_STEP)))
+        / (2 * TORQUE_STEP)
+        for k in range(3)
+    ]
+    return float(np.max(np.linalg.norm(slopes, axis=0))) / term
+
+
+def _coil_item(design: Any, legendre, region: float, term: float, fraction: float):
+    """The coil pairs' harmonic error acting on the magnets (element by element) and, with
+    charges, the field's relative error over the region (their mu terms err by as much).
+    The coils are the smallest of :data:`~chargedesign.physical.coils.COIL_RADII` that keep
+    it below HARMONIC_SHARE of the fraction."""
+    a1 = legendre[0] if legendre else 0.0
+    a2 = legendre[1] / 2.0 if len(legendre) > 1 else 0.0
+    if a1 == 0.0 and a2 == 0.0:
+        return None, None
+    wanted = HARMONIC_SHARE * fraction
+    apparatus, value = None, math.inf
+    for factor in COIL_RADII:
+        apparatus = apparatus_at(a1, a2, factor * region, region, wanted)
+        value = _magnets_error(design, apparatus, term)
+        if len(design.charge_values):
+            value = max(value, apparatus.harmonic_error)
+        if value < wanted:
+            break
+    item = _power_item(
+        "coil_harmonics",
+        "coils' harmonic error",
+        "the coil pairs' degree >= 3 terms: their largest torque on the magnets (and the "
+        "field's relative error for charges), like the terms ~ s^2",
+        value,
+        0.0,
+    )
+    return item, apparatus
+
+
+def window_model(
+    design: Any,
+    s_ref: float,
+    *,
+    fraction: float = REALISED_FRACTION,
+    gravity: float = STANDARD_GRAVITY,
+) -> WindowModel:
+    """The window's items, from ``design`` (the body designed at rate ``s_ref``).
+
+    Parameters
+    ----------
+    design : Design
+        A physical body (``medium`` and ``materials``).
+    s_ref : float
+        Its time rate (the scene's rates times ``s_ref``).
+    fraction : float
+        Each parasitic must stay below this fraction of every realised term.
+    gravity : float
+        The gravity its balance acts in, m/s^2 (1 g: a lab on Earth; 0: free fall).
+    """
+    legendre = tuple(design.field("magnetic"))
+    key, term = _smallest_term(design)
+    parts = material_parts(design)
+    positions, masses = design.all_masses()
+    region = float(
+        (design.buildability or {}).get(
+            "region_radius_m", np.max(np.linalg.norm(positions, axis=1), initial=0.0)
+        )
+    )
+    rate = typical_rate(design.parameters)
+    items: list[Parasitic] = []
+    if legendre:
+        items += [
+            _induced_item(design, parts, legendre, term),
+            _eddy_item(design, parts, legendre, term),
+        ]
+    if gravity > 0:
+        items.append(
+            _power_item(
+                "gravity",
+                f"gravity on the balance ({fmt(gravity / STANDARD_GRAVITY, ROUGH)} g, "
+                f"{fmt(BUILDER_BALANCE_M, PLAIN)} m)",
+                "M g delta with the builder's balance delta: fixed (over the terms ~ 1/s^2)",
+                float(np.sum(masses)) * gravity * BUILDER_BALANCE_M / term,
+                -2.0,
+            )
+        )
+    gas = design.medium.gas_properties if design.medium is not None else None
+    notes = []
+    if gas is not None and gas[1] > 0:
+        drag = 8 * math.pi * gas[1] * region**3 * rate
+        reynolds = gas[0] * rate * region**2 / gas[1]
+        if reynolds > 1.0:
+            notes.append(
+                f"drag: the laminar estimate 8 pi mu R^3 omega holds for Re << 1; here Re = "
+                f"{fmt(reynolds, ROUGH)}, where it is a lower bound"
+            )
+        items.append(
+            _power_item(
+                "drag",
+                f"drag in {design.medium.name}",
+                "8 pi mu R^3 |omega| (laminar): ~ s (over the terms ~ 1/s)",
+                drag / term,
+                -1.0,
+            )
+        )
+    applied = float(field_magnitude_max(legendre, np.array([region]))[0]) if legendre else 0.0
+    items += _charge_items(design, term, applied)
+    coil, apparatus = _coil_item(design, legendre, region, term, fraction)
+    if coil is not None:
+        items.append(coil)
+    if gas is None and design.medium is not None:
+        notes.append(f"drag not estimated: medium {design.medium.name!r} names no gas")
+    return WindowModel(s_ref, fraction, key, term, items, apparatus, gravity, notes)
+
+
+@dataclass(repr=False)
+class RealisedWindow(Result):
+    """The rates ``[s_low, s_high]`` (multiples of the scene's rates, like ``s_max``) at which
+    the design is accepted and every parasitic is below ``fraction`` of each realised term.
+
+    ``binding_low`` / ``binding_high``: what ends the window below and above (for an empty
+    window: the parasitic that dominates at the best rate, and the upper limit);
+    ``missing``: for an empty window, the factor by which the best rate misses the fraction
+    (its worst ratio over the fraction); ``margins``: each item's ratio over the fraction at
+    the window's geometric middle (the best rate when empty); ``confirmed``: the bodies
+    designed at rates of the window and what their parts measure.
+    """
+
+    s_low: float | None
+    s_high: float | None
+    binding_low: str
+    binding_high: str
+    fraction: float
+    s_best: float
+    missing: float
+    term_key: str
+    margins: dict[str, float]
+    laws: dict[str, str]
+    confirmed: list[dict[str, Any]] = field(default_factory=list)
+    apparatus: dict[str, Any] | None = None
+    notes: list[str] = field(default_factory=list)
+    why: str = ""
+    #: each parasitic over the fraction for the body designed at the scene's own rate (s = 1;
+    #: written by ``design``, whose ``apparatus`` is then that body's too)
+    at_design: dict[str, float] | None = None
+    #: the laws on the grid of rates: ``{"s": rates, label: ratio over the fraction, ...}``
+    #: (for the picture; not in ``to_dict``)
+    curves: dict[str, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def empty(self) -> bool:
+        return self.s_low is None
+
+    def set_end(self, low: bool, rate: float, binding: str) -> None:
+        """Move the low (``low``) or high end of the window to ``rate``, bound by ``binding``."""
+        if low:
+            self.s_low, self.binding_low = rate, binding
+        else:
+            self.s_high, self.binding_high = rate, binding
+
+    @property
+    def width(self) -> float:
+        """``s_high / s_low`` (0 when empty)."""
+        if self.s_low is None or self.s_high is None:
+            return 0.0
+        return self.s_high / self.s_low
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "s_low": self.s_low,
+            "s_high": self.s_high,
+            "binding_low": self.binding_low,
+            "binding_high": self.binding_high,
+            "empty": self.empty,
+            "fraction": self.fraction,
+            "s_best": self.s_best,
+            "missing_factor": (
+                self.missing if self.empty and math.isfinite(self.missing) else None
+            ),
+            "smallest_term": self.term_key,
+            "margins": dict(self.margins),
+            "laws": dict(self.laws),
+            "confirmed": list(self.confirmed),
+            "apparatus": self.apparatus,
+            "notes": list(self.notes),
+            "why": self.why,
+            **({"at_design": dict(self.at_design)} if self.at_design is not None else {}),
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {"s_low": self.s_low, "s_high": self.s_high, "empty": self.empty}
+
+    def _text(self) -> str:
+        if self.empty:
+            head = (
+                f"realised window: EMPTY (every parasitic below {fmt(self.fraction, PLAIN)} of "
+                f"each realised term at no rate): {self.why}\n"
+            )
+        else:
+            head = (
+                f"realised window: s = {fmt(self.s_low, CELL)} to {fmt(self.s_high, CELL)} "
+                f"(x {fmt(self.width, ROUGH)}), every parasitic below "
+                f"{fmt(self.fraction, PLAIN)} of each realised term\n"
+                f"  low end: {self.binding_low}\n  high end: {self.binding_high}\n"
+            )
+        where = "at the best rate" if self.empty else "at the window's middle"
+        margins = ", ".join(
+            f"{k} {fmt(v, ROUGH)}" for k, v in sorted(self.margins.items(), key=lambda kv: -kv[1])
+        )
+        lines = [head, f"  parasitics over the fraction {where}: {margins}\n"]
+        lines += [f"  note: {n}\n" for n in self.notes]
+        for c in self.confirmed:
+            lines.append(
+                f"  designed at s = {fmt(c['s'], CELL)}: "
+                + (
+                    f"worst {c['worst']} {fmt(c['measured'], ROUGH)} of the fraction (law: "
+                    f"{fmt(c['predicted'], ROUGH)})"
+                    if c.get("accepted")
+                    else f"refused ({c.get('refused')})"
+                )
+                + "\n"
+            )
+        return "".join(lines)
+
+
+def _max_ratio(model: WindowModel, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The worst item's ratio over the fraction at each rate, and which item it is."""
+    x = s / model.s_ref
+    table = np.array([np.asarray(p.ratio(x), dtype=float) for p in model.items]).reshape(
+        len(model.items), len(s)
+    )
+    table = table / model.fraction
+    return table.max(axis=0), table.argmax(axis=0)
+
+
+def _edge(model: WindowModel, inside: float, outside: float) -> float:
+    """Bisection in log s between an admissible rate and an inadmissible one (rtol 1e-9)."""
+    for _ in range(100):
+        if abs(math.log(outside / inside)) < 1e-9:
+            break
+        mid = math.sqrt(inside * outside)
+        if _max_ratio(model, np.array([mid]))[0][0] <= 1.0:
+            inside = mid
+        else:
+            outside = mid
+    return inside
+
+
+def _item_text(model: WindowModel, index: int, s: float) -> str:
+    item = model.items[index]
+    ratio = item.at(s / model.s_ref)
+    return f"{item.label} ({fmt(ratio, ROUGH)} of the {model.term_key} term; {item.law})"
+
+
+def _curves(model: WindowModel, rates: np.ndarray) -> dict[str, np.ndarray]:
+    out = {"s": rates}
+    for item in model.items:
+        out[item.label] = np.asarray(item.ratio(rates / model.s_ref), dtype=float) / model.fraction
+    return out
+
+
+def plot_window(window: RealisedWindow, s_max: float, ax: Any = None) -> Any:
+    """Each parasitic over the fraction against the rate (log-log), the fraction at 1, the
+    realised window shaded and ``s_max`` marked; returns the axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7.5, 4.6))
+    rates = window.curves.get("s")
+    if rates is not None:
+        for label, values in window.curves.items():
+            if label != "s" and np.any(values > 0):
+                ax.plot(rates, np.where(values > 0, values, np.nan), label=label)
+    ax.axhline(1.0, color="k", lw=1.0, ls="--", label=f"the fraction ({fmt(window.fraction)})")
+    if s_max > 0:
+        ax.axvline(s_max, color="0.4", lw=1.0, ls=":", label="s_max (the frontier)")
+    if not window.empty:
+        ax.axvspan(window.s_low, window.s_high, color="tab:green", alpha=0.15, label="realised")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    low = window.s_low if window.s_low is not None else window.s_best
+    if rates is not None and low and s_max > 0:
+        ax.set_xlim(max(float(rates[0]), min(low, s_max) / 1e3), s_max * 1.5)
+    ax.set_ylim(bottom=max(ax.get_ylim()[0], 1e-12))
+    ax.set_xlabel("time rate s (x the scene's rates)")
+    ax.set_ylabel("parasitic / (fraction x smallest realised term)")
+    ax.set_title(
+        "realised window: "
+        + ("EMPTY" if window.empty else f"x {fmt(window.width)}")
+        + " (the laws of the body at s_max)"
+    )
+    ax.legend(fontsize=7, loc="best")
+    return ax
+
+
+def solve_window(
+    model: WindowModel,
+    s_floor: float,
+    s_ceiling: float,
+    *,
+    floor_text: str,
+    ceiling_text: str,
+) -> RealisedWindow:
+    """The window in ``[s_floor, s_ceiling]`` (the design's own limits, with what sets them).
+
+    ``s_floor`` 0 means no lower limit is known: the rates down to ``s_ceiling / 1e12``.
+    """
+    top = s_ceiling
+    bottom = s_floor if s_floor > 0 else s_ceiling / FLOOR_SPAN
+    if not model.items:
+        rates = np.array([bottom, top])
+        worst, which = np.zeros(2), np.zeros(2, dtype=int)
+    else:
+        rates = np.geomspace(bottom, top, GRID_POINTS)
+        worst, which = _max_ratio(model, rates)
+    ok = worst <= 1.0
+    best = int(np.argmin(worst))
+    laws = {p.key: p.law for p in model.items}
+    apparatus = model.apparatus.to_dict() if model.apparatus is not None else None
+    if not np.any(ok):
+        s_best = float(rates[best])
+        margins = model.ratios(s_best)
+        falling = int(which[best])
+        return RealisedWindow(
+            None,
+            None,
+            _item_text(model, falling, s_best) if model.items else floor_text,
+            ceiling_text,
+            model.fraction,
+            s_best,
+            float(worst[best]),
+            model.term_key,
+            {k: v / model.fraction for k, v in margins.items()},
+            laws,
+            apparatus=apparatus,
+            notes=list(model.notes),
+            curves=_curves(model, rates),
+        )
+    first = int(np.argmax(ok))
+    last = len(ok) - 1 - int(np.argmax(ok[::-1]))
+    if first == 0:
+        s_low, low_text = float(rates[0]), floor_text
+    else:
+        s_low = _edge(model, float(rates[first]), float(rates[first - 1]))
+        low_text = _item_text(model, int(which[first - 1]), float(rates[first - 1]))
+    if last == len(ok) - 1:
+        s_high, high_text = float(rates[-1]), ceiling_text
+    else:
+        s_high = _edge(model, float(rates[last]), float(rates[last + 1]))
+        high_text = _item_text(model, int(which[last + 1]), float(rates[last + 1]))
+    middle = math.sqrt(s_low * s_high)
+    margins = {k: v / model.fraction for k, v in model.ratios(middle).items()}
+    return RealisedWindow(
+        s_low,
+        s_high,
+        low_text,
+        high_text,
+        model.fraction,
+        middle,
+        float(np.max(list(margins.values()), initial=0.0)),
+        model.term_key,
+        margins,
+        laws,
+        apparatus=apparatus,
+        notes=list(model.notes),
+        curves=_curves(model, rates),
+    )
