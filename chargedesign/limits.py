@@ -134,6 +134,10 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "density_relative": _RELATIVE,
         "magnetisation_relative": _RELATIVE,
     },
+    "frontier": {
+        "realised_fraction": OptionRange(0.0, 1.0, lo_open=True, hi_open=True),
+        "realised_gravity": OptionRange(0.0, 100.0),
+    },
     "sweep": {
         "workers": OptionRange(1, MAX_WORKERS),
         "chunk": OptionRange(1, MAX_SWEEP_POINTS),

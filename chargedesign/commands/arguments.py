@@ -348,15 +348,14 @@ def frontier_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="F",
-        help="the realised window: every parasitic below F of each realised term (default 1e-3)",
+        help=key_help("design", "realised_fraction"),
     )
     parser.add_argument(
         "--realised-gravity",
         type=float,
         default=None,
         metavar="G",
-        help="gravity on the builder's balance in the realised window, m/s^2 (default 1 g, a lab "
-        "on Earth; 0: free fall)",
+        help=key_help("design", "realised_gravity"),
     )
     parser.add_argument(
         "--recommend",

@@ -51,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
         if args.scan
         else ("realised_window.png",),
     )
-    window = WindowOptions(
+    # the options check before the scene loads; the scene's [design] keys fill what is not given
+    WindowOptions(
         REALISED_FRACTION if args.realised_fraction is None else args.realised_fraction,
         STANDARD_GRAVITY if args.realised_gravity is None else args.realised_gravity,
     )
@@ -61,6 +62,12 @@ def run(args: argparse.Namespace) -> int:
             print(f"frontier: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
+    window = WindowOptions(
+        scene.design.realised_fraction
+        if args.realised_fraction is None
+        else args.realised_fraction,
+        scene.design.realised_gravity if args.realised_gravity is None else args.realised_gravity,
+    )
     if args.scan:
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:

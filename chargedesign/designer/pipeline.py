@@ -523,7 +523,11 @@ def _physical_design(
         if progress is not None:
             progress("locating the frontier (largest rate within the limits, to 5 %) ...")
         front = find_frontier(
-            setup, rtol=0.05, feasible_rate=1.0, feasible=result.design, window=WindowOptions()
+            setup,
+            rtol=0.05,
+            feasible_rate=1.0,
+            feasible=result.design,
+            window=WindowOptions(inputs.options.realised_fraction, inputs.options.realised_gravity),
         )
         if front.realised is not None:
             # the apparatus and the parasitics of this body at its own rate (the window's are

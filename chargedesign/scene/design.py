@@ -70,6 +70,11 @@ class DesignOptions:
         (p6) second moments of charge; ``frame``, a body realising n = 0 whose motion, read in
         axes turning at n about Z, is the theorem's. Default (None): ``charges`` for a scene
         without ``[medium]``, ``frame`` with one.
+    realised_fraction : float
+        The realised window (:mod:`chargedesign.physical.window`): every parasitic below
+        this fraction of each realised term (default 1e-3).
+    realised_gravity : float
+        Gravity on the builder's balance in the realised window, m/s^2 (default 1 g).
     """
 
     objective: str = default_of("design", "objective")
@@ -87,8 +92,12 @@ class DesignOptions:
     time_limit: float = default_of("design", "time_limit")
     robust_weight: float = default_of("design", "robust_weight")
     larmor: str | None = None
+    realised_fraction: float = default_of("design", "realised_fraction")
+    realised_gravity: float = default_of("design", "realised_gravity")
 
     def __post_init__(self) -> None:
+        for name in ("realised_fraction", "realised_gravity"):
+            object.__setattr__(self, name, check_value("design", name, getattr(self, name)))
         self._check_objectives()
         self._check_amounts()
         self._check_solve_options()

@@ -357,6 +357,21 @@ DESIGN = (
         "realises n = 0, read in axes turning at n)",
         source="charges without [medium], frame with it",
     ),
+    Key(
+        "realised_fraction",
+        {"type": "number", "exclusiveMinimum": 0, "exclusiveMaximum": 1},
+        "the realised window: every parasitic below this fraction of each realised term",
+        default=1e-3,
+        source="a parasitic torque at a fraction f of the designed ones moves I4 by about f",
+    ),
+    Key(
+        "realised_gravity",
+        {"type": "number", "minimum": 0, "maximum": 100},
+        "gravity on the builder's balance in the realised window",
+        "m/s^2",
+        9.80665,
+        source="standard gravity (a lab on Earth); 0 is free fall",
+    ),
 )
 SIMULATION = (
     Key("t_end", POSITIVE, "end of the run", "s", 100.0, option="T"),

@@ -223,9 +223,7 @@ def _connect(client_type: Any, scheduler: str, timeout: float) -> Any:
     option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
     if thread.is_alive():
         raise InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
-    raise InputError(
-        f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})"
-    )
+    raise InputError(f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})")
 
 
 def make_executor(

@@ -265,7 +265,6 @@ def test_free_motion_is_said_in_the_output(work: Path, capsys) -> None:
         (["tolerance", "design.json", "--target", "2"], "--target"),
         (["tolerance", "design.json", "--seed", "-1"], "--seed"),
         (["tolerance", "design.json", "--position", "1%", "--t-end", "1e29"], "--t-end"),
-        (["frontier", "--out", "o"], "--out"),
         (["show", "design.json", "--frames", "0"], "--frames"),
     ],
     ids=lambda a: " ".join(a) if isinstance(a, list) else a,
