@@ -69,6 +69,7 @@ SCENE_TABLES = (
     "ballast",
     "tolerance",
     "testbed",
+    "case",
 )
 
 #: the materials' relative property errors a scene's ``[tolerance]`` table may give

@@ -56,21 +56,12 @@ from chargedesign.model.equations import euler_poisson
 from chargedesign.model.expressions import parameter_name_error, parameter_symbol, parse_expression
 from chargedesign.readers import read_toml_file
 from chargedesign.results import Result
+from chargedesign.scene.keys import key_names
 from chargedesign.validation import check_input_number, check_keys, input_error
 
-#: the keys of a ``[case]`` table (``source`` and ``note`` are the catalogue's additions)
-CASE_KEYS = (
-    "name",
-    "inertia",
-    "V",
-    "l",
-    "mu",
-    "integral",
-    "level",
-    "parameters",
-    "source",
-    "note",
-)
+#: the keys of a ``[case]`` table, declared once with the scene's keys (``source`` and
+#: ``note`` are the catalogue's additions)
+CASE_KEYS = key_names("case")
 #: most declared parameters of one case
 MAX_PARAMETERS = 32
 #: largest work estimate of one certificate: the integral's terms (numerator times
