@@ -56,12 +56,9 @@ from chargedesign.model.equations import euler_poisson
 from chargedesign.model.expressions import parameter_name_error, parameter_symbol, parse_expression
 from chargedesign.readers import read_toml_file
 from chargedesign.results import Result
-from chargedesign.scene.keys import key_names
 from chargedesign.validation import check_input_number, check_keys, input_error
+from chargedesign.vocabulary import CASE_KEYS
 
-#: the keys of a ``[case]`` table, declared once with the scene's keys (``source`` and
-#: ``note`` are the catalogue's additions)
-CASE_KEYS = key_names("case")
 #: most declared parameters of one case
 MAX_PARAMETERS = 32
 #: largest work estimate of one certificate: the integral's terms (numerator times

@@ -22,6 +22,7 @@ import numpy as np
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
     BODY_SHAPES,
+    CASE_KEYS,
     DEFAULT_SIMULATION_METHOD,
     EFFECTS,
     LARMOR_READINGS,
@@ -545,12 +546,18 @@ CASE = (
     ),
     Key(
         "parameters",
-        {"type": "object", "additionalProperties": TEXT_OR_NUMBER, "maxProperties": 32},
+        {
+            "type": "object",
+            "patternProperties": {"^[A-Za-z_][A-Za-z0-9_]*$": TEXT_OR_NUMBER},
+            "additionalProperties": False,
+            "maxProperties": 32,
+        },
         "named parameters: name = number (exact: 0.1 is 1/10) or a text such as 1/3",
     ),
     Key("source", {**STRING, "maxLength": 2000}, "where the case comes from"),
     Key("note", {**STRING, "maxLength": 2000}, "a remark"),
 )
+assert tuple(key.name for key in CASE) == CASE_KEYS  # the case file's validator's list
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
 
