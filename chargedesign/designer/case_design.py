@@ -25,6 +25,7 @@ from chargedesign.designer.case_masses import CaseMassBody, design_case_masses, 
 from chargedesign.errors import InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.model.case_numeric import case_record
+from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import Scene
@@ -52,6 +53,14 @@ def case_gravity(scene: Scene) -> float:
     if legendre[0] < 0.0:
         raise InputError(f"fields.gravity.legendre[0]: expected g > 0, got {legendre[0]}")
     return float(legendre[0])
+
+
+def case_conditions(scene: Scene) -> LinearConditions:
+    """The masses' linear conditions of a scene's ``[case]`` in its gravity (one-line refusal
+    of what masses cannot realise): what ``chargedesign conditions CASE_SCENE`` prints."""
+    if scene.case is None:
+        raise InputError(f"{scene.source}: no [case] table")
+    return mass_conditions(scene.case, case_gravity(scene))
 
 
 @dataclass(repr=False)
@@ -165,4 +174,4 @@ def design_case_scene(
     return CaseDesignResult(design=design, body=body, certificate=certificate)
 
 
-__all__ = ["CaseDesignResult", "case_gravity", "design_case_scene"]
+__all__ = ["CaseDesignResult", "case_conditions", "case_gravity", "design_case_scene"]

@@ -130,10 +130,25 @@ def design_case_functions(record: Any) -> CaseFunctions:
     return case_functions(case_from_record(record))
 
 
+def simulated_case_functions(record: Any) -> CaseFunctions:
+    """:func:`design_case_functions` for a run: the simulation's body model has the theorem's
+    inertia diag(2C, 2C, C), so a case of another inertia is refused in one line (its motion
+    would be of the wrong body, and its integral's drift meaningless)."""
+    functions = design_case_functions(record)
+    A, B, C = functions.case.inertia
+    if not A == B == 2 * C:
+        raise InputError(
+            f"case {functions.case.name}: inertia diag({A}, {B}, {C}) is not diag(2C, 2C, C); "
+            "simulate moves bodies of the theorem's inertia only (design and check take it)"
+        )
+    return functions
+
+
 __all__ = [
     "CaseFunctions",
     "case_from_record",
     "case_functions",
     "case_record",
     "design_case_functions",
+    "simulated_case_functions",
 ]

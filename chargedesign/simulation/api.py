@@ -203,9 +203,9 @@ def _case_functions(design: Any) -> Any:
     """The numeric functions of the case a design carries (None: the theorem's)."""
     if design is None or "case" not in design.further_keys:
         return None
-    from chargedesign.model.case_numeric import design_case_functions  # sympy: a case only
+    from chargedesign.model.case_numeric import simulated_case_functions  # sympy: a case only
 
-    return design_case_functions(design.further_keys["case"])
+    return simulated_case_functions(design.further_keys["case"])
 
 
 def setup_from_scene(scene: Any) -> SimulationSetup:
@@ -640,6 +640,7 @@ def prepare(
     system = RigidBodySystem(setup.body, effects, options.route)
     if setup.design is not None and "case" not in setup.design.further_keys:
         check_centre(system, setup.design.realises)  # a case's V may have a linear term
+    _case_functions(setup.design)  # a case of another inertia than diag(2C, 2C, C): refused
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial

@@ -173,3 +173,35 @@ def test_cases_masses_cannot_realise_are_refused_in_one_line(
     error = capsys.readouterr().err.strip()
     assert reason in error and "\n" not in error
     assert not out.exists()
+
+
+def test_simulate_refuses_a_case_of_another_inertia(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The simulation's body model has A = B = 2C: Euler's top diag(3, 2, 1) would move as the
+    wrong body (its |I omega|^2 drifted by 0.09 before this refusal); design and check take it."""
+    text = (
+        '[case]\nname = "euler-312"\ninertia = [3, 2, 1]\nV = "0"\n'
+        'integral = "9*p**2 + 4*q**2 + r**2"\n' + BODY
+    )
+    scene = _write(tmp_path, text)
+    out = tmp_path / "out"
+    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    assert main(["check", str(out / "design.json")]) == 0
+    capsys.readouterr()
+    assert main(["simulate", str(out / "design.json"), "--t-end", "1"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert "is not diag(2C, 2C, C)" in error and "\n" not in error
+
+
+def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["conditions", str(_write(tmp_path, KOWALEVSKI)), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["case"] == "kowalevski-held-out" and "parameters" not in out
+    masses = out["masses"]
+    # M_x = C a / g; second moments (B + C - A)/2 = C/2 twice and (A + B - C)/2 = 3C/2
+    assert masses["x"] == pytest.approx(0.75 / 9.80665, rel=1e-15)
+    assert (masses["xx"], masses["yy"], masses["zz"]) == pytest.approx((0.15, 0.15, 0.45))
+    assert masses["xy"] == masses["xz"] == masses["yz"] == masses["y"] == masses["z"] == 0.0
