@@ -21,7 +21,7 @@ from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
-from chargedesign.scene import load_scene
+from chargedesign.scene import load_theorem_scene
 
 
 def run(args: argparse.Namespace) -> int:
@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"frontier: {message}", file=sys.stderr, flush=True)
 
-    scene = load_scene(args.scene)
+    scene = load_theorem_scene(args.scene, "frontier")
     if args.scan:
         from pathlib import Path
 

@@ -205,3 +205,25 @@ def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
     assert masses["x"] == pytest.approx(0.75 / 9.80665, rel=1e-15)
     assert (masses["xx"], masses["yy"], masses["zz"]) == pytest.approx((0.15, 0.15, 0.45))
     assert masses["xy"] == masses["xz"] == masses["yz"] == masses["y"] == masses["z"] == 0.0
+
+
+@pytest.mark.parametrize("command", ["bifurcation", "frontier", "testbed"])
+def test_theorem_only_commands_refuse_a_case_scene(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
+) -> None:
+    """Before, bifurcation ran the theorem's default parameters on a case scene, silently."""
+    assert main([command, str(_write(tmp_path, KOWALEVSKI))]) == 2
+    error = capsys.readouterr().err.strip()
+    assert f"{command} takes the theorem's [parameters], not a [case] scene" in error
+    assert "\n" not in error
+
+
+def test_tolerance_refuses_a_case_design(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "out"
+    scene = _write(tmp_path, KOWALEVSKI)
+    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["tolerance", str(out / "design.json")]) == 2
+    assert "tolerance takes a design of the theorem" in capsys.readouterr().err
