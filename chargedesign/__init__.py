@@ -38,6 +38,8 @@ _LAZY: dict[str, tuple[str, str]] = {
     "testbed": ("chargedesign.api", "testbed"),
     "bifurcation": ("chargedesign.api", "bifurcation"),
     "verify": ("chargedesign.model.verification", "verify"),
+    "verify_case": ("chargedesign.api", "verify_case"),
+    "catalogue": ("chargedesign.api", "catalogue"),
     "conditions": ("chargedesign.moment_conditions", "conditions_for_scene"),
     # elements and files
     "Design": ("chargedesign.body", "Design"),
@@ -55,10 +57,16 @@ _LAZY: dict[str, tuple[str, str]] = {
     "LinearConditions": ("chargedesign.moment_conditions.types", "LinearConditions"),
     "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
     "BifurcationDiagram": ("chargedesign.topology.diagram", "BifurcationDiagram"),
+    "CaseCertificate": ("chargedesign.model.case_file", "CaseCertificate"),
+    "CatalogueReport": ("chargedesign.model.catalogue", "CatalogueReport"),
+    "CaseDesignResult": ("chargedesign.designer.case_design", "CaseDesignResult"),
 }
 
 __all__ = [
     "BifurcationDiagram",
+    "CaseCertificate",
+    "CaseDesignResult",
+    "CatalogueReport",
     "ChargeDesignError",
     "CheckReport",
     "Design",
@@ -74,6 +82,7 @@ __all__ = [
     "VerificationReport",
     "__version__",
     "bifurcation",
+    "catalogue",
     "check",
     "conditions",
     "design",
@@ -87,6 +96,7 @@ __all__ = [
     "testbed",
     "tolerance",
     "verify",
+    "verify_case",
     "write_design",
 ]
 
@@ -108,6 +118,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.api import (
         bifurcation,
+        catalogue,
         check,
         design,
         frontier,
@@ -115,12 +126,16 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
         sweep,
         testbed,
         tolerance,
+        verify_case,
     )
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
+    from chargedesign.designer.case_design import CaseDesignResult
     from chargedesign.designer.result import DesignResult
     from chargedesign.elements import ElementSet
     from chargedesign.export import export_design
+    from chargedesign.model.case_file import CaseCertificate
+    from chargedesign.model.catalogue import CatalogueReport
     from chargedesign.model.verification import VerificationReport, verify
     from chargedesign.moment_conditions import conditions_for_scene as conditions
     from chargedesign.moment_conditions.types import LinearConditions

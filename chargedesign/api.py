@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 import tomllib
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
@@ -28,6 +28,11 @@ from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
+
+if TYPE_CHECKING:
+    from chargedesign.designer.case_design import CaseDesignResult
+    from chargedesign.model.case_file import CaseCertificate
+    from chargedesign.model.catalogue import CatalogueReport
 
 
 def as_scene(source: Any = None, **tables: Any) -> Scene:
@@ -82,7 +87,7 @@ def design(
     fields: Mapping[str, Any] | None = None,
     body: Mapping[str, Any] | None = None,
     **options: Any,
-) -> DesignResult:
+) -> DesignResult | CaseDesignResult:
     """Design the body a scene describes (charges, dipoles, masses that realise the case).
 
     Parameters
@@ -99,8 +104,10 @@ def design(
 
     Returns
     -------
-    DesignResult
-        ``result.design`` is the body (:class:`~chargedesign.body.Design`).
+    DesignResult or CaseDesignResult
+        ``result.design`` is the body (:class:`~chargedesign.body.Design`); a scene with
+        ``[case]`` gives a :class:`~chargedesign.designer.case_design.CaseDesignResult`
+        (masses in gravity, the case's certificate).
 
     Raises
     ------
@@ -108,7 +115,64 @@ def design(
     """
 
     scene = as_scene(source, fields=fields, body=body)
+    if scene.case is not None:
+        if options:
+            raise InputError(
+                f"design: {sorted(options)[0]}: a [case] scene takes its options from its "
+                "[design] table"
+            )
+        from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
+
+        return design_case_scene(scene, progress)
     return design_from_scene(scene, progress=progress, **options)
+
+
+def verify_case(source: Any) -> CaseCertificate:
+    """The exact certificate of a case of (ep) and its claimed integral (docs/workbench.md).
+
+    Parameters
+    ----------
+    source : str, PathLike, Mapping or Case
+        A case file (TOML with ``[case]``, a scene with one too), the ``[case]`` table as a
+        mapping (or a mapping holding it under ``case``), or a validated
+        :class:`~chargedesign.model.case_file.Case`.
+
+    Returns
+    -------
+    CaseCertificate
+        ``holds``, ``independent``, ``counterexample``, ... (``to_dict`` is ``verify --json``).
+
+    Raises
+    ------
+    InputError
+        One line naming the key and the reason (a refused expression names its token).
+    """
+    from chargedesign.model.case_file import (  # sympy: loaded by the case stages only
+        Case,
+        case_from_table,
+        certify_case,
+        verify_case_file,
+    )
+
+    if isinstance(source, (str, os.PathLike)):
+        return verify_case_file(source)
+    if isinstance(source, Mapping):
+        table = source["case"] if "case" in source else source
+        return certify_case(case_from_table(table, "case"))
+    if isinstance(source, Case):
+        return certify_case(source)
+    raise InputError(
+        f"verify_case: expected a case file path, a [case] mapping or a Case, got "
+        f"{type(source).__name__}"
+    )
+
+
+def catalogue() -> CatalogueReport:
+    """The paper's integrable cases of (ep), each certified exactly (``chargedesign
+    catalogue``): a :class:`~chargedesign.model.catalogue.CatalogueReport`."""
+    from chargedesign.model.catalogue import certify_catalogue  # sympy: the case stages only
+
+    return certify_catalogue()
 
 
 def _design_of(design: Any) -> Design:
@@ -163,8 +227,9 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
     SimulationResult
     """
 
-    if isinstance(source, DesignResult):
-        source = source.design
+    inner = getattr(source, "design", None)
+    if isinstance(inner, Design):  # a DesignResult or a CaseDesignResult
+        source = inner
     return simulate_scene_or_design(source, **options)
 
 

@@ -212,6 +212,8 @@ _TABLE_DESCRIPTIONS = {
     "ballast": "the ballast masses (material or a list of materials, or density)",
     "tolerance": "the materials' relative property errors (one standard deviation, one draw "
     "per material) that tolerance analyses",
+    "case": "any case of (ep) with its claimed integral, instead of [parameters] "
+    "(docs/workbench.md)",
 }
 
 

@@ -71,6 +71,22 @@ SCENE_TABLES = (
     "ballast",
     "tolerance",
     "testbed",
+    "case",
+)
+
+#: the keys of a ``[case]`` table (a case of (ep), docs/workbench.md), in the order
+#: chargedesign.scene.keys declares them; ``source`` and ``note`` are the catalogue's additions
+CASE_KEYS = (
+    "name",
+    "inertia",
+    "V",
+    "l",
+    "mu",
+    "integral",
+    "level",
+    "parameters",
+    "source",
+    "note",
 )
 
 #: the materials' relative property errors a scene's ``[tolerance]`` table may give
@@ -110,6 +126,7 @@ MONITOR_NAMES = (
     "I4",
     "kowalevski",
     "lagrange",
+    "F",
     "goriachev_chaplygin",
 )
 #: other names a monitor may be asked for by
@@ -117,6 +134,7 @@ MONITOR_ALIASES = {"I1": "energy", "I2": "gamma_norm", "goriachev": "goriachev_c
 
 __all__ = [
     "BODY_SHAPES",
+    "CASE_KEYS",
     "CHECK_DEFAULT_ORIENTATIONS",
     "CHECK_DEFAULT_TOL",
     "CHECK_EFFECTS",

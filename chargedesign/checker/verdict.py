@@ -304,7 +304,8 @@ def check_design(
     sums = evaluate_rotated(elements, fields, R, omegas, block_pairs=block_pairs)
     # a frame body realises the theorem with n = 0 (its n is the rate of the turning axes)
     params = design.body_parameters
-    ref = theorem_reference(params, gammas)
+    case = _case_functions(design)  # a case of (ep) (design.json "case"): its own reference
+    ref = theorem_reference(params, gammas) if case is None else case.reference(gammas)
     claimed = set(design.realises)
     for name, arr in [("mu", sums.mu), ("gyroscopic torque", sums.gyro)]:
         if not np.all(np.isfinite(arr)):
@@ -316,7 +317,9 @@ def check_design(
     notes: list[str] = []
     quantities = compare_quantities(evaluated, refs, plan, gammas, claimed, tol, notes)
     inertia, inertia_gross = inertia_accurate(elements.mass_positions, elements.mass_values)
-    quantities["inertia"] = inertia_result(inertia, inertia_gross, params, claimed, tol)
+    quantities["inertia"] = inertia_result(
+        inertia, inertia_gross, params, claimed, tol, None if case is None else case.inertia
+    )
     effects = effect_results(
         elements, degrees, gammas, omegas, evaluated.sums, inertia, evaluated.unit
     )
@@ -339,6 +342,15 @@ def check_design(
         limits=check_limits(design) if design.medium else None,
         larmor=larmor_summary(design, params),
     )
+
+
+def _case_functions(design: Design) -> Any:
+    """The numeric functions of the case a design.json carries (None: the theorem's)."""
+    if "case" not in design.further_keys:
+        return None
+    from chargedesign.model.case_numeric import design_case_functions  # sympy: a case only
+
+    return design_case_functions(design.further_keys["case"])
 
 
 def validate_check_options(
@@ -556,16 +568,23 @@ def compare_quantities(
 
 
 def inertia_result(
-    inertia: np.ndarray, inertia_gross: float, params: Any, claimed: set[str], tol: float
+    inertia: np.ndarray,
+    inertia_gross: float,
+    params: Any,
+    claimed: set[str],
+    tol: float,
+    reference: np.ndarray | None = None,
 ) -> QuantityResult:
     """The inertia tensor (summed in double-double, gross ``sum m |r|^2``) against
-    diag(2C, 2C, C)."""
+    diag(2C, 2C, C), or a case's ``reference``."""
     inertia_ref = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
+    inertia_ref = inertia_ref if reference is None else reference
+    scale = float(np.abs(inertia_ref).max())
     inertia_abs = float(np.abs(inertia - inertia_ref).max())
-    inertia_cancel = inertia_gross / (2.0 * params.C)
+    inertia_cancel = inertia_gross / scale
     return quantity_result(
         "inertia",
-        (inertia_abs / (2.0 * params.C), inertia_abs, 2.0 * params.C, "reference", None),
+        (inertia_abs / scale, inertia_abs, scale, "reference", None),
         inertia_gross,
         inertia_cancel,
         (rounding_floor(inertia_cancel, DD_UNIT), rounding_floor(inertia_cancel, EPS)),

@@ -21,7 +21,7 @@ import sys
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
-from chargedesign.scene import load_scene
+from chargedesign.scene import load_theorem_scene
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
         inputs=[args.scene],
         writes=("bifurcation.csv", "bifurcation.png", "bifurcation_at.png"),
     )
-    scene = load_scene(args.scene)
+    scene = load_theorem_scene(args.scene, "bifurcation")
     h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
     lo, hi = energy_range(scene.parameters, h_range)
     if args.at is not None and not lo < args.at < hi:

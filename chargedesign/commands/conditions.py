@@ -1,4 +1,6 @@
-"""`chargedesign conditions [SCENE]`: the linear conditions on moments a body must meet."""
+"""`chargedesign conditions [SCENE]`: the linear conditions on moments a body must meet (for a
+scene with ``[case]``: the masses' conditions in gravity, ``chargedesign.designer.case_design``).
+"""
 
 from __future__ import annotations
 
@@ -19,11 +21,19 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     scene = load_scene(args.scene)  # the whole file, every table (scene.validate_tables)
-    result = conditions_for_scene(scene, exact=args.exact)
+    if scene.case is not None:  # a case of (ep): the masses' conditions in gravity
+        from chargedesign.designer.case_design import case_conditions  # sympy: a case only
+
+        result = case_conditions(scene)
+    else:
+        result = conditions_for_scene(scene, exact=args.exact)
     if args.json:
         out = result.to_dict()
         out["scene"] = scene.source
-        out["parameters"] = scene.parameters.as_dict()
+        if scene.case is None:
+            out["parameters"] = scene.parameters.as_dict()
+        else:
+            out["case"] = scene.case.name
         print(json.dumps(out, indent=2))
     else:
         print(_human(result, scene.source))

@@ -8,6 +8,11 @@ A failed picture fails the command (exit 2, one line naming the cause): the thre
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
+A scene with ``[case]`` (any case of (ep), docs/workbench.md) whose ``l`` is zero and whose
+``V`` is at most quadratic in gamma is designed as point masses in gravity
+(:mod:`chargedesign.designer.case_design`), checked forward against the case's own V and
+inertia; other cases are refused in one line with the reason.
+
 Before anything is written the body is checked forward (``chargedesign.checker``, the check
 command's default tolerance and orientations, against the parameters the elements realise:
 n = 0 for the ``frame`` Larmor reading): a body that misses the theorem is refused
@@ -21,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 
 from chargedesign.body import write_design
 from chargedesign.candidates import candidates_from_table
@@ -31,7 +37,7 @@ from chargedesign.files import atomic_directory, check_outputs, write_text_atomi
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
 from chargedesign.report import plausibility, render_report
-from chargedesign.scene import load_scene
+from chargedesign.scene import Scene, load_scene
 from chargedesign.tolerancing import tolerance_report
 
 
@@ -47,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"design: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
+    if scene.case is not None:
+        return _design_case(scene, args, progress)
     _check_degenerate(scene)
     _check_linf_cap(scene, args)
     result = design_from_scene(
@@ -102,6 +110,37 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(summary, indent=2, allow_nan=False))
     else:
         print(render_report(design), end="")
+    return 0
+
+
+def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str], None]) -> int:
+    """A scene's ``[case]`` as point masses in gravity (:mod:`chargedesign.designer.case_design`):
+    checked forward against the case's own V and inertia, then design.json, report.md and
+    design.png written together."""
+    import json
+    from pathlib import Path
+
+    from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
+
+    result = design_case_scene(scene, progress)
+    design = result.design
+    if not args.no_forward_check:
+        progress("forward check against the case's V and inertia ...")
+        _forward_check(design, args)
+    out = Path(args.out)
+    files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
+    picture = "" if args.no_picture else "\n![the body](design.png)\n"
+    with atomic_directory(out, drop=("design.png", "bom.csv")) as stage:
+        write_design(design, stage / "design.json")
+        write_text_atomic(stage / "report.md", str(result) + picture)
+        if not args.no_picture:
+            progress("rendering design.png ...")
+            _render(design, stage / "design.png", scene.region.table if scene.region else None)
+    progress(f"wrote {', '.join(str(out / f) for f in files)}")
+    if args.json:
+        print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
+    else:
+        print(result, end="")
     return 0
 
 

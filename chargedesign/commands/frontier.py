@@ -36,7 +36,7 @@ from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
-from chargedesign.scene import load_scene
+from chargedesign.scene import load_theorem_scene
 
 
 def run(args: argparse.Namespace) -> int:
@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"frontier: {message}", file=sys.stderr, flush=True)
 
-    scene = load_scene(args.scene)
+    scene = load_theorem_scene(args.scene, "frontier")
     window = WindowOptions(
         scene.design.realised_fraction
         if args.realised_fraction is None

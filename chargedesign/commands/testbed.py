@@ -16,7 +16,7 @@ import sys
 from chargedesign.airbearing.report import OUTPUTS, write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.files import check_outputs
-from chargedesign.scene import load_scene
+from chargedesign.scene import load_theorem_scene
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"testbed: {message}", file=sys.stderr, flush=True)
 
     result = testbed_from_scene(
-        load_scene(args.scene or default_testbed_scene()), progress=progress
+        load_theorem_scene(args.scene or default_testbed_scene(), "testbed"), progress=progress
     )
     written = write_testbed(result, args.out)
     progress(f"wrote {args.out}/: {', '.join(written)}")

@@ -65,6 +65,8 @@ def run(args: argparse.Namespace) -> int:
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
     check_error_spreads(model)
     design = read_design(args.design)
+    if "case" in design.further_keys:  # its sensitivities are the theorem's, not the case's
+        raise InputError(f"{args.design}: tolerance takes a design of the theorem, not of a case")
     check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
         check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")

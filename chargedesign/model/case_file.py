@@ -57,20 +57,8 @@ from chargedesign.model.expressions import parameter_name_error, parameter_symbo
 from chargedesign.readers import read_toml_file
 from chargedesign.results import Result
 from chargedesign.validation import check_input_number, check_keys, input_error
+from chargedesign.vocabulary import CASE_KEYS
 
-#: the keys of a ``[case]`` table (``source`` and ``note`` are the catalogue's additions)
-CASE_KEYS = (
-    "name",
-    "inertia",
-    "V",
-    "l",
-    "mu",
-    "integral",
-    "level",
-    "parameters",
-    "source",
-    "note",
-)
 #: most declared parameters of one case
 MAX_PARAMETERS = 32
 #: largest work estimate of one certificate: the integral's terms (numerator times

@@ -22,6 +22,7 @@ import numpy as np
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
     BODY_SHAPES,
+    CASE_KEYS,
     DEFAULT_SIMULATION_METHOD,
     EFFECTS,
     LARMOR_READINGS,
@@ -530,6 +531,48 @@ BODY = (
         "inline dipoles (m, A m^2)",
     ),
 )
+_EXPRESSION = {**STRING, "maxLength": 20000}
+_EXPRESSIONS = {"type": "array", "items": TEXT_OR_NUMBER, "minItems": 3, "maxItems": 3}
+#: a scene's ``[case]``: any case of (ep) with its claimed integral, instead of
+#: ``[parameters]`` (read by :func:`chargedesign.model.case_file.case_from_table`;
+#: docs/workbench.md)
+CASE = (
+    Key("name", {**STRING, "minLength": 1, "maxLength": 80}, "the case's name (required)"),
+    Key(
+        "inertia",
+        _EXPRESSIONS,
+        "A, B, C: principal moments at O, numbers or expressions of the parameters (required)",
+        "kg m^2",
+    ),
+    Key(
+        "V", _EXPRESSION, "potential: an expression in gamma1..3 and the parameters (required)", "J"
+    ),
+    Key(
+        "l",
+        _EXPRESSIONS,
+        "vector potential l(gamma): 3 expressions (mu follows by (mu))",
+        default=("0", "0", "0"),
+        source="no gyroscopic forces",
+    ),
+    Key("mu", _EXPRESSIONS, "gyroscopic vector mu(gamma) instead of l (general claims only)"),
+    Key("integral", _EXPRESSION, "the claimed integral F in p, q, r, gamma (required)"),
+    Key(
+        "level", TEXT_OR_NUMBER, "general, or the I3 value on which F is claimed", default="general"
+    ),
+    Key(
+        "parameters",
+        {
+            "type": "object",
+            "patternProperties": {"^[A-Za-z_][A-Za-z0-9_]*$": TEXT_OR_NUMBER},
+            "additionalProperties": False,
+            "maxProperties": 32,
+        },
+        "named parameters: name = number (exact: 0.1 is 1/10) or a text such as 1/3",
+    ),
+    Key("source", {**STRING, "maxLength": 2000}, "where the case comes from"),
+    Key("note", {**STRING, "maxLength": 2000}, "a remark"),
+)
+assert tuple(key.name for key in CASE) == CASE_KEYS  # the case file's validator's list
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
 
@@ -545,6 +588,7 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
     "magnets": MAGNETS,
     "ballast": BALLAST,
     "tolerance": TOLERANCE,
+    "case": CASE,
 }
 
 

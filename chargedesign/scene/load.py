@@ -3,8 +3,8 @@
 Every table is parsed and checked when the scene is loaded (one-line errors naming the key):
 ``[parameters]``, ``[fields.*]``, ``[medium]`` with ``[carriers]``, ``[magnets]``,
 ``[ballast]`` (the physical spec), ``[body]`` (a region, or the body to simulate),
-``[design]``, ``[simulation]``, ``[initial]``, ``[output]``, ``[tolerance]`` and
-``[testbed]``. The stages
+``[design]``, ``[simulation]``, ``[initial]``, ``[output]``, ``[tolerance]``,
+``[testbed]`` and ``[case]`` (any case of (ep) instead of ``[parameters]``). The stages
 take these objects; :attr:`Scene.tables` keeps the raw tables only for sweeps, which apply a
 grid of dotted keys to them and parse again.
 """
@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InputError
@@ -44,6 +44,9 @@ from chargedesign.validation import (
     input_error,
 )
 from chargedesign.vocabulary import FIELD_KINDS, SCENE_TABLES
+
+if TYPE_CHECKING:
+    from chargedesign.model.case_file import Case
 
 #: characters no portable file name holds (Windows forbids them; '\\' is a separator there)
 _NOT_PORTABLE = '<>:"\\|?*'
@@ -118,6 +121,17 @@ class Scene:
         if "initial" not in self.tables:
             return None
         return parse_initial(self.tables["initial"], "initial", self.base_dir)
+
+    @cached_property
+    def case(self) -> Case | None:
+        """``[case]``: any case of (ep) with its claimed integral (None: the theorem's
+        ``[parameters]``), validated by :func:`chargedesign.model.case_file.case_from_table`."""
+        if "case" not in self.tables:
+            return None
+        # sympy loads only for a scene that carries a case
+        from chargedesign.model.case_file import case_from_table
+
+        return case_from_table(self.tables["case"], "case")
 
     @cached_property
     def testbed(self) -> TestbedOptions:
@@ -197,6 +211,11 @@ def scene_from_dict(data: dict[str, Any], source: str = "<dict>") -> Scene:
     # the theorem's numbers: real, finite, inside the supported range (a file's other tables
     # are checked as a whole by load_scene; every table by its owner in validate_tables, which
     # load_scene and every sweep point call; a mapping's tables by the stages that own them)
+    if "case" in data and "parameters" in data:
+        raise InputError(
+            f"{source}: [parameters] and [case] together (a scene carries the theorem's "
+            "[parameters] or a [case] of (ep) instead, not both)"
+        )
     _precheck(data)
     check_tree({k: data[k] for k in ("parameters", "fields") if k in data}, "")
     check_output_dir(data.get("output"))
@@ -240,7 +259,16 @@ def validate_tables(scene: Scene) -> None:
     """Every table of a scene parsed (once) by its type, in a fixed order: a key or value no
     stage would accept is refused by every command that reads the scene (one line naming the
     key), not only by the command that uses the table."""
-    for name in ("design", "physical", "body", "simulation", "output", "initial", "testbed"):
+    for name in (
+        "design",
+        "physical",
+        "body",
+        "simulation",
+        "output",
+        "initial",
+        "testbed",
+        "case",
+    ):
         getattr(scene, name)
 
 
@@ -282,6 +310,19 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
     _precheck(data)
     check_tree(data, "")
     return validated(scene_from_dict(data, str(p)))
+
+
+def load_theorem_scene(path: str | os.PathLike[str] | None, command: str) -> Scene:
+    """:func:`load_scene` for a command that works on the theorem's ``[parameters]`` only: a
+    scene with ``[case]`` is refused in one line (the command would otherwise run the
+    theorem's default parameters, silently not the case)."""
+    scene = load_scene(path)
+    if "case" in scene.tables:
+        raise InputError(
+            f"{scene.source}: {command} takes the theorem's [parameters], not a [case] scene "
+            "yet (a case is designed, checked and simulated: docs/workbench.md)"
+        )
+    return scene
 
 
 def validated(scene: Scene) -> Scene:

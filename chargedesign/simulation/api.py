@@ -199,6 +199,15 @@ def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
     )
 
 
+def _case_functions(design: Any) -> Any:
+    """The numeric functions of the case a design carries (None: the theorem's)."""
+    if design is None or "case" not in design.further_keys:
+        return None
+    from chargedesign.model.case_numeric import simulated_case_functions  # sympy: a case only
+
+    return simulated_case_functions(design.further_keys["case"])
+
+
 def setup_from_scene(scene: Any) -> SimulationSetup:
     """Read the simulation tables of a :class:`~chargedesign.scene.Scene`."""
 
@@ -219,6 +228,11 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         origin = str(path)
         if scene.parameters != Parameters() and scene.parameters != design.parameters:
             notes.append("the scene's [parameters] differ from the design's; the design's are used")
+    elif scene.case is not None:  # a case of (ep): masses in gravity, designed at once
+        from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
+
+        design = design_case_scene(scene).design
+        origin = f"[case] {scene.case.name}: masses designed on the [body] region"
     elif any(k in body_table for k in ("charges", "masses", "dipoles")):
         design = _inline_design(body_table, scene)
         origin = "inline [body] elements"
@@ -661,8 +675,9 @@ def prepare(
     if not effects:
         notes.append("no effect acts: torque-free motion")
     system = RigidBodySystem(setup.body, effects, options.route)
-    if setup.design is not None:
-        check_centre(system, setup.design.realises)
+    if setup.design is not None and "case" not in setup.design.further_keys:
+        check_centre(system, setup.design.realises)  # a case's V may have a linear term
+    _case_functions(setup.design)  # a case of another inertia than diag(2C, 2C, C): refused
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial
@@ -913,6 +928,7 @@ def _result(
         I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
         realises=realised_claims(setup, system),
         axes_rate=rate,
+        case=_case_functions(setup.design),
     )
     monitor_table = monitors_mod.evaluate(ctx, omega, gamma, integrals, kinetic, opts.monitors)
     method = str(extra.get("method", opts.method))

@@ -25,6 +25,10 @@ Registry (:data:`MONITORS`):
     (A = B = 2C holds here by construction).
 ``lagrange``
     ``r`` (1/s) when V depends on gamma3 only and no gyroscopic term acts (Lagrange's top).
+``F``
+    The claimed integral of the case of (ep) a design realises (design.json ``case``,
+    evaluated from the case's parsed expressions); an integral of a case body's motion (on
+    the case's level for a conditional claim).
 ``goriachev_chaplygin``
     Needs A = B = 4C (never this body's inertia): reported as not an integral.
 """
@@ -70,6 +74,8 @@ class Context:
     I3_scale: float
     realises: tuple[str, ...] = ()
     axes_rate: float = 0.0
+    #: the numeric functions of the case of (ep) the design realises (None: the theorem's)
+    case: Any = None
 
 
 @dataclass(frozen=True)
@@ -200,6 +206,28 @@ def _kowalevski_values(ctx: Context, omega: np.ndarray, gamma: np.ndarray, _: An
     return np.abs(z - w) ** 2
 
 
+def _case_integral(ctx: Context) -> tuple[bool, str]:
+    """The claimed integral F of the design's case: an integral of the body's own motion
+    (l = 0: masses in gravity), on the case's level when its claim is conditional."""
+    if ctx.case is None:
+        return False, "F is the integral of a case of (ep): the body is no case design"
+    turning = _turning(ctx, "the case's integral F")
+    if turning is not None:
+        return turning
+    if "theorem" in ctx.system.effects:
+        return False, "F is no integral when the theorem effect acts"
+    level = ctx.case.case.level
+    if level is not None and abs(ctx.I3_start - float(level)) > 1e-9 * ctx.I3_scale:
+        return False, f"F is claimed on I3 = {level} only (I3(0) = {fmt(ctx.I3_start)} J s)"
+    return True, ""
+
+
+def _case_values(ctx: Context, omega: np.ndarray, gamma: np.ndarray, _: Any) -> np.ndarray:
+    if ctx.case is None:
+        return np.full(len(omega), np.nan)
+    return np.asarray(ctx.case.integral(np.column_stack([omega, gamma])), dtype=float)
+
+
 MONITORS: dict[str, Monitor] = {
     "energy": Monitor(
         "energy", "J", "1/2 omega . I omega + V", lambda c, o, g, i: i[:, 0], _always, "kinetic"
@@ -222,6 +250,9 @@ MONITORS: dict[str, Monitor] = {
     ),
     "lagrange": Monitor(
         "lagrange", "1/s", "r", lambda c, o, g, i: o[:, 2].copy(), _lagrange_integral, "relative"
+    ),
+    "F": Monitor(
+        "F", "", "the claimed integral of the design's case of (ep)", _case_values, _case_integral
     ),
     "goriachev_chaplygin": Monitor(
         "goriachev_chaplygin",

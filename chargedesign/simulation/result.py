@@ -184,6 +184,9 @@ class SimulationResult(Result):
         }
         if i4 is not None and "reason" in i4:
             out["I4_reason"] = i4["reason"]
+        case_f = self.monitors.get("F", {})
+        if case_f.get("drift") is not None:  # a case design: its own integral's drift
+            out["F_rel_drift"] = case_f["drift"]
         if self.poincare is not None:
             out["poincare_points"] = len(self.poincare)
         if self.body is not None:
@@ -466,7 +469,11 @@ def _drift_lines(s: dict[str, Any]) -> list[str]:
         + (f" (level {s['level']})" if s["level"] else "")
         + f", drift {fmt(s['I3_max_dev'])}",
         f"I1 relative drift {fmt(s['I1_rel_drift'])}; max ||gamma|^2 - 1| {fmt(s['I2_max_dev'])}",
-    ]
+    ] + (
+        [f"the case's integral F: relative drift {fmt(s['F_rel_drift'])}"]
+        if "F_rel_drift" in s
+        else []
+    )
 
 
 def _level_lines(s: dict[str, Any], body: dict[str, Any]) -> list[str]:

@@ -23,6 +23,10 @@ HEAVY_MODULES = frozenset(
     {
         "chargedesign.model.audit",
         "chargedesign.model.case",
+        "chargedesign.model.case_file",
+        "chargedesign.model.case_numeric",
+        "chargedesign.designer.case_design",
+        "chargedesign.model.catalogue",
         "chargedesign.model.certificate",
         "chargedesign.model.equations",
         "chargedesign.model.larmor",

@@ -1,0 +1,177 @@
+"""``chargedesign design CASE_SCENE.toml``: a scene's ``[case]`` designed as point masses.
+
+A case whose ``l`` is zero and whose ``V`` is a polynomial of degree at most 2 in gamma (the
+heavy tops: Euler, Lagrange, Kowalevski, Goriachev-Chaplygin; Clebsch in a gravity gradient)
+is realised by masses in gravity (:func:`chargedesign.designer.case_masses.design_case_masses`).
+This module takes the scene's ``[body]`` region as candidates and its ``[fields.gravity]``
+uniform part as g, refuses in one line what masses cannot realise (before any work), runs the
+case's exact certificate, and returns the body as a :class:`~chargedesign.body.Design` whose
+design.json carries the case (``case``: :func:`chargedesign.model.case_numeric.case_record`)
+so that ``check`` and ``simulate`` compare with the case's own V, inertia and integral.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from chargedesign.body import Design
+from chargedesign.candidates import candidates_from_table
+from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.designer.case_masses import CaseMassBody, design_case_masses, mass_conditions
+from chargedesign.errors import InputError
+from chargedesign.model.case_file import CaseCertificate, certify_case
+from chargedesign.model.case_numeric import case_record
+from chargedesign.moment_conditions import LinearConditions
+from chargedesign.params import Parameters
+from chargedesign.results import Result
+from chargedesign.scene import Scene
+
+
+def case_gravity(scene: Scene) -> float:
+    """The uniform gravity g (m/s^2) a case scene designs in: ``[fields.gravity]``'s first
+    Legendre coefficient, else standard gravity. A gravity gradient is derived from the case
+    (:func:`chargedesign.designer.case_masses.gradient_strength`), so a scene may not give one;
+    electric and magnetic fields act on no mass and are refused."""
+    others = sorted(kind for kind in scene.fields if kind != "gravity")
+    if others:
+        raise InputError(
+            f"fields.{others[0]}: a [case] scene is designed as masses in gravity; only "
+            "[fields.gravity] (its uniform part) may be given"
+        )
+    legendre = scene.fields.get("gravity", ())
+    if len(legendre) > 1 and any(legendre[1:]):
+        raise InputError(
+            "fields.gravity.legendre: give the uniform part only ([g]); the gradient is "
+            "derived from the case's quadratic V"
+        )
+    if not legendre or legendre[0] == 0.0:
+        return STANDARD_GRAVITY
+    if legendre[0] < 0.0:
+        raise InputError(f"fields.gravity.legendre[0]: expected g > 0, got {legendre[0]}")
+    return float(legendre[0])
+
+
+def case_conditions(scene: Scene) -> LinearConditions:
+    """The masses' linear conditions of a scene's ``[case]`` in its gravity (one-line refusal
+    of what masses cannot realise): what ``chargedesign conditions CASE_SCENE`` prints."""
+    if scene.case is None:
+        raise InputError(f"{scene.source}: no [case] table")
+    return mass_conditions(scene.case, case_gravity(scene))
+
+
+@dataclass(repr=False)
+class CaseDesignResult(Result):
+    """A case of (ep) designed as point masses, with its certificate.
+
+    Attributes
+    ----------
+    design : Design
+        The body (design.json: masses, ``fields.gravity``, ``realises`` V and inertia, and the
+        ``case`` record).
+    body : CaseMassBody
+        The masses with the inertia and linear potential recomputed from them.
+    certificate : CaseCertificate
+        The exact certificate of the case's claimed integral.
+    """
+
+    design: Design
+    body: CaseMassBody
+    certificate: CaseCertificate
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "case": self.design.further_keys["case"],
+            "body": self.body.to_dict(),
+            "realises": list(self.design.realises),
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "case": self.body.name,
+            "integral_holds": self.certificate.holds,
+            **{k: v for k, v in self.body._summary().items() if k != "name"},
+        }
+
+    def _text(self) -> str:
+        body = self.body
+        gravity = ", ".join(f"{x:g}" for x in body.gravity)
+        certificate = self.certificate
+        verdict = "holds" if certificate.holds else "does NOT hold"
+        diagonal = ", ".join(f"{x:.10g}" for x in np.diag(body.inertia))
+        product = float(np.max(np.abs(body.inertia - np.diag(np.diag(body.inertia)))))
+        linear = ", ".join(f"{x:.10g}" for x in body.potential)
+        level = "general" if certificate.level == "general" else f"on I3 = {certificate.level}"
+        lines = [
+            f"# Case {body.name}: a body of point masses",
+            "",
+            f"Realises the case's V (up to a constant) and its inertia about O, as "
+            f"{len(body.masses)} masses ({body.masses.sum():.6g} kg in all) in gravity "
+            f"legendre = [{gravity}].",
+            "",
+            f"- inertia recomputed from the masses: diag({diagonal}) kg m^2, largest product "
+            f"{product:.1e}; relative error {body.inertia_rel_err:.1e}",
+            f"- f1 M x_cm = ({linear}) J, the case's linear part of V; relative error "
+            f"{body.potential_err:.1e}",
+            f"- the claimed integral {verdict} exactly ({level}; independent: "
+            f"{'yes' if certificate.independent else 'NO'}; {certificate.seconds:.2f} s)",
+            "- not realised: nothing else is claimed (l = 0: no gyroscopic forces are needed)",
+        ]
+        return "\n".join(lines) + "\n"
+
+
+def design_case_scene(
+    scene: Scene, progress: Callable[[str], None] | None = None
+) -> CaseDesignResult:
+    """Design the ``[case]`` of ``scene`` as point masses on its ``[body]`` region.
+
+    Raises
+    ------
+    InputError
+        The scene has no ``[case]`` or no ``[body]`` region, or the case is not one masses in
+        gravity realise (non-zero l, singular terms, degree > 2 in gamma, a quadratic V not of
+        the inertia's second moments): one line with the reason, before any work.
+    InfeasibleError, SolverError
+    """
+    say = progress or (lambda message: None)
+    case = scene.case
+    if case is None:
+        raise InputError(f"{scene.source}: no [case] table to design")
+    g = case_gravity(scene)
+    mass_conditions(case, g)  # refuses what masses cannot realise, before any work
+    if scene.region is None:
+        raise InputError(
+            f"{scene.source}: a [case] scene needs a [body] region (shape, size) to place the "
+            "masses in"
+        )
+    candidates = candidates_from_table(scene.region.table, base_dir=scene.base_dir)
+    say(f"certificate of the case {case.name} (exact) ...")
+    certificate = certify_case(case)
+    say(f"masses on {len(candidates)} candidates ...")
+    body = design_case_masses(case, candidates, g, scene.design)
+    notes = [
+        f"case {case.name}: masses in gravity legendre = {list(body.gravity)} realise V (up to "
+        "a constant) and the inertia diag(" + ", ".join(str(m) for m in case.inertia) + ")",
+    ]
+    design = Design(
+        # design.json needs the theorem's parameters; a case's body is compared with the case
+        # (the record below), C is the case's third moment
+        parameters=Parameters.from_mapping({"C": float(case.inertia[2])}, "case.inertia[2]"),
+        fields={"gravity": body.gravity},
+        mass_positions=body.positions,
+        mass_values=body.masses,
+        realises=["V", "inertia"],
+        notes=notes,
+        residuals={
+            "inertia_rel_err": body.inertia_rel_err,
+            "potential_linear_rel_err": body.potential_err,
+        },
+        further_keys={"case": case_record(scene.tables["case"], case, certificate)},
+    )
+    return CaseDesignResult(design=design, body=body, certificate=certificate)
+
+
+__all__ = ["CaseDesignResult", "case_conditions", "case_gravity", "design_case_scene"]

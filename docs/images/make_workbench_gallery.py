@@ -1,0 +1,62 @@
+"""The workbench gallery's table: every catalogue case with its certificate time and, where
+masses in gravity realise its forces, the body ``chargedesign design`` makes of it (a ball of
+radius 1 m, spacing 0.25 m; the refusal's reason otherwise). Prints Markdown.
+
+    python docs/images/make_workbench_gallery.py docs/images/workbench_kowalevski_body.png
+
+With a path, the Kowalevski body is also designed by the command line (``chargedesign design``
+of a scene holding the catalogue's ``[case]`` and the ball) and its design.png copied there.
+"""
+
+import json
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from chargedesign.cli import main
+from chargedesign.designer.case_design import design_case_scene
+from chargedesign.errors import ChargeDesignError
+from chargedesign.model.catalogue import catalogue_entries, certify_catalogue, entry_table
+from chargedesign.scene import scene_from_dict
+
+BODY = {"shape": "ball", "radius": 1.0, "spacing": 0.25}
+
+report = certify_catalogue()
+seconds = {c.name: c.seconds for c in report.certificates}
+print("| case | certificate s | body of masses in gravity |")
+print("| --- | --- | --- |")
+for entry in catalogue_entries():
+    table = entry_table(entry)
+    scene = scene_from_dict({"case": table, "body": dict(BODY)}, f"<{table['name']}>")
+    try:
+        result = design_case_scene(scene)
+    except ChargeDesignError as exc:
+        reason = str(exc).split(": ", 1)[1] if ": " in str(exc) else str(exc)
+        outcome = f"refused: {reason.split(';')[0].split(' (')[0]}"
+    else:
+        body = result.body
+        gravity = ", ".join(f"{x:.4g}" for x in body.gravity)
+        outcome = (
+            f"{len(body.masses)} masses, {body.masses.sum():.4g} kg, gravity [{gravity}]; "
+            f"inertia err {body.inertia_rel_err:.0e}, linear V err {body.potential_err:.0e}"
+        )
+    print(f"| {table['name']} | {seconds[table['name']]:.2f} | {outcome} |")
+print(f"\n{len(report.certificates)} cases certified in {report.seconds:.1f} s")
+
+if len(sys.argv) > 1:
+    entry = next(e for e in catalogue_entries() if entry_table(e)["name"] == "kowalevski")
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = Path(tmp) / "kowalevski.toml"
+        table = entry_table(entry)
+        # TOML's strings, numbers and lists are JSON's for these plain ASCII values
+        lines = ["[case]"] + [
+            f"{k} = {json.dumps(v)}" for k, v in table.items() if k != "parameters"
+        ]
+        lines += ["[case.parameters]"] + [
+            f"{k} = {json.dumps(v)}" for k, v in table["parameters"].items()
+        ]
+        lines += ["[body]"] + [f"{k} = {json.dumps(v)}" for k, v in BODY.items()]
+        scene.write_text("\n".join(lines) + "\n", "utf-8")
+        assert main(["design", str(scene), "--out", f"{tmp}/out", "--quiet"]) == 0
+        shutil.copy(Path(tmp) / "out" / "design.png", sys.argv[1])
