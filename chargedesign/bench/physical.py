@@ -30,16 +30,11 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.designer.acceptance import forward_acceptance
+from chargedesign.designer.assembly import build_design, design_at_rate, design_physical
+from chargedesign.designer.charges import charge_program, design_charges
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier import find_frontier
-from chargedesign.designer.physical import (
-    build_design,
-    charge_program,
-    design_at_rate,
-    design_charges,
-    design_masses,
-    design_physical,
-)
+from chargedesign.designer.masses import design_masses
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical import coulomb, limits
 from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
