@@ -70,6 +70,17 @@ def input_error(name: str, expected: str, received: Any) -> InputError:
     return InputError(f"{name}: expected {expected}, got {_describe(received)}")
 
 
+#: the letters of a moment key ("xxz": x^2 z), in their sorted order
+MOMENT_AXES = "xyz"
+
+
+def parse_moment_key(key: str) -> tuple[int, int, int]:
+    """``"xxz" -> (2, 0, 1)``; the letters must be sorted (x before y before z)."""
+    if any(ch not in MOMENT_AXES for ch in key) or list(key) != sorted(key):
+        raise input_error("moment key", "sorted axis letters such as 'xxz'", key)
+    return (key.count("x"), key.count("y"), key.count("z"))
+
+
 def _is_real_scalar(value: Any) -> bool:
     return not isinstance(value, (bool, np.bool_)) and isinstance(
         value, (int, float, np.integer, np.floating)

@@ -48,9 +48,9 @@ from chargedesign.checker.results import (
 from chargedesign.errors import SolverError
 from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
+from chargedesign.moments import moment_keys, monomial_matrix
 from chargedesign.physical.limits import check_limits
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float, input_error, parse_moment_key
 from chargedesign.vocabulary import (
     FIELD_NAMES,
     PRECISIONS,
