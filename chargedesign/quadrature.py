@@ -52,6 +52,7 @@ from chargedesign.scene.design_continuous import (
     continuous_fields,
     density_fields,
 )
+from chargedesign.scene.keys import KEY
 from chargedesign.validation import input_error
 
 
@@ -154,7 +155,7 @@ class ContinuousBody:
                 object.__setattr__(self, key, float(value))
         if self.half_size is not None:
             half = np.broadcast_to(np.asarray(self.half_size, dtype=float), (3,)).copy()
-            object.__setattr__(self, "half_size", half)
+            object.__setattr__(self, KEY.half_size, half)
 
     @property
     def _radius_m(self) -> float:
@@ -199,7 +200,7 @@ class ContinuousBody:
         if self.height is not None:
             out["height"] = self.height
         if self.half_size is not None:
-            out["half_size"] = [float(h) for h in self.half_size]
+            out[KEY.half_size] = [float(h) for h in self.half_size]
         out["center"] = [float(c) for c in self.center]
         out["density"] = self.density.to_dict()
         return out

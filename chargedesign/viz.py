@@ -37,6 +37,7 @@ from chargedesign.files import check_output_path, deferred_signals, write_file_a
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
 from chargedesign.results import png_html
+from chargedesign.scene.keys import KEY
 
 with deferred_signals():
     # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
@@ -162,7 +163,7 @@ def region_mesh(region: Mapping[str, Any] | None) -> pv.PolyData | None:
             )
         return pv.merge(circles)
     if shape == "box":
-        half = _half_sizes(spec.get("half_size"), "region.half_size")
+        half = _half_sizes(spec.get(KEY.half_size), "region.half_size")
         lo, hi = center - half, center + half
         return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2])).extract_feature_edges()
     radius = as_finite_float(spec.get("radius"), "region.radius", positive=True)

@@ -38,6 +38,7 @@ from chargedesign.designer.masses import design_masses
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical import coulomb, limits
 from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
+from chargedesign.scene.keys import KEY
 
 #: candidate spacings (m) of the 5 cm default ball: 257 ... about 1e4 candidates
 SPACINGS = (0.0125, 0.00833, 0.005, 0.0036)
@@ -56,7 +57,7 @@ READINGS = ("charges", "frame")
 def _setup(spacing: float, larmor: str = "charges") -> Any:
     data = tomllib.loads(default_scene_text())
     data["body"]["spacing"] = spacing
-    data["body"]["carrier_radius"] = spacing / 4
+    data["body"][KEY.carrier_radius] = spacing / 4
     data.setdefault("design", {})["larmor"] = larmor
     return physical_setup_from_scene(
         scene_from_dict(data, f"<default, spacing {spacing}, {larmor}>")

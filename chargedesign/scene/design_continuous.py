@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.scene.keys import KEY
 from chargedesign.validation import as_array, as_finite_float, input_error, parse_moment_key
 
 KINDS = ("charge", "mass")
@@ -23,10 +24,10 @@ SIZE_KEYS = {
     "ball": ("radius",),
     "shell": ("radius",),
     "cylinder": ("radius", "height"),
-    "box": ("half_size",),
+    "box": (KEY.half_size,),
 }
 #: the keys of one continuous body
-CONTINUOUS_KEYS = ("kind", "shape", "radius", "height", "half_size", "center", "density")
+CONTINUOUS_KEYS = ("kind", "shape", "radius", "height", KEY.half_size, "center", "density")
 
 
 def _density_values(kind: Any, value: Any, coefficients: Any) -> dict[str, Any]:
@@ -82,7 +83,7 @@ def _body_values(
         "density": density,
         "radius": None,
         "height": None,
-        "half_size": None,
+        KEY.half_size: None,
     }
     needed = SIZE_KEYS[shape]
     for key in ("radius", "height"):
@@ -93,8 +94,8 @@ def _body_values(
             out[key] = as_finite_float(value, f"continuous.{key}", positive=True)
         elif value is not None:
             raise InputError(f"continuous: a {shape} takes no '{key}'")
-    raw = sizes.get("half_size")
-    if "half_size" in needed:
+    raw = sizes.get(KEY.half_size)
+    if KEY.half_size in needed:
         if raw is None:
             raise InputError("continuous: a box needs 'half_size'")
         if isinstance(raw, (int, float)) and not isinstance(raw, bool):
@@ -102,7 +103,7 @@ def _body_values(
         half = as_array(raw, "continuous.half_size", (3,))
         if np.any(half <= 0.0):
             raise input_error("continuous.half_size", "three numbers > 0", half)
-        out["half_size"] = half
+        out[KEY.half_size] = half
     elif raw is not None:
         raise InputError(f"continuous: a {shape} takes no 'half_size'")
     if kind == "mass" and density["type"] == "uniform" and density["value"] < 0:
@@ -128,7 +129,7 @@ def continuous_fields(data: Any, where: str = "continuous") -> dict[str, Any]:
             data["shape"],
             data.get("center", [0.0, 0.0, 0.0]),
             density_fields(data["density"], f"{where}.density"),
-            {key: data.get(key) for key in ("radius", "height", "half_size")},
+            {key: data.get(key) for key in ("radius", "height", KEY.half_size)},
         )
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from exc

@@ -18,6 +18,7 @@ from chargedesign.errors import InputError
 from chargedesign.formatting import AGREEMENT, ERROR, PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.results import Result, json_ready
+from chargedesign.scene.keys import KEY
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
@@ -117,7 +118,7 @@ class MonteCarloResult(Result):
             "format": "chargedesign.tolerance-mc/1",
             "errors_model": self.model.to_dict(),
             "samples": self.n,
-            "t_end": self.t_end,
+            KEY.t_end: self.t_end,
             "rel_errors": errs,
             "I4_drift": drift,
             "I4_drift_nominal": self.nominal_drift,
@@ -131,7 +132,7 @@ class MonteCarloResult(Result):
         return {
             "samples": self.n,
             "levels": len(self.levels),
-            "t_end": self.t_end,
+            KEY.t_end: self.t_end,
             **{
                 f"{q}_rel_err_p90": float(np.percentile(v["monte_carlo"], 90))
                 for q, v in self.errors.items()
@@ -303,7 +304,7 @@ def monte_carlo(
     """
     samples = sample_count(samples, "samples", 1)
     n_drift = samples if drift_samples is None else sample_count(drift_samples, "drift_samples", 0)
-    t_end = as_finite_float(t_end, "t_end", positive=True)
+    t_end = as_finite_float(t_end, KEY.t_end, positive=True)
     lv = np.array([as_finite_float(x, "levels", positive=True) for x in levels], dtype=float)
     if not 1 <= len(lv) <= MAX_LEVELS:
         raise input_error("levels", f"1 to {MAX_LEVELS} scale factors", list(levels))
