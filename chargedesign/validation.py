@@ -29,7 +29,7 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
-from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
+from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -339,6 +339,31 @@ def check_field_degree(coefficients: Any, name: str) -> None:
 
 #: keys of one field in design.json (what body.py reads and writes)
 DESIGN_FIELD_KEYS = ("legendre",)
+
+
+def check_design_head(data: Any, where: str) -> None:
+    """A design.json mapping's frame, before its parameters are read: an object of this
+    format that has parameters."""
+    if not isinstance(data, dict):
+        raise input_error(where, "a JSON object", data)
+    found = data.get("format", DESIGN_FORMAT)
+    if found != DESIGN_FORMAT:
+        raise input_error(f"{where}.format", repr(DESIGN_FORMAT), found)
+    if "parameters" not in data:
+        raise InputError(f"{where}: missing key 'parameters'")
+
+
+def design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
+    fields_in = data.get("fields") or {}
+    if not isinstance(fields_in, dict):
+        raise input_error(f"{where}.fields", "an object", fields_in)
+    out = {}
+    for kind, spec in fields_in.items():
+        if not isinstance(spec, dict) or "legendre" not in spec:
+            raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
+        out[kind] = spec["legendre"]
+    return out
 
 
 def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ()) -> None:

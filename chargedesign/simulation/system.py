@@ -731,7 +731,7 @@ def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
             pts, w = body.part_positions, body.part_susceptances
             poly.add_into(V, poly.contract(b2, pts, w), -1.0 / (2.0 * MU_0))
         else:
-            raise ValueError(f"{name!r} is not a physical effect")
+            raise ValueError(f"effects: {name!r} is not a physical effect")
     return [V, *poly.gamma_gradient(V), *mu, L]
 
 
@@ -770,7 +770,7 @@ def direct_terms(
     elif effect == "induced":
         pts, w = body.part_positions, body.part_susceptances
     else:
-        raise ValueError(f"{effect!r} is not a physical effect")
+        raise ValueError(f"effect: {effect!r} is not a physical effect")
     n = len(pts)
     X = np.einsum("mij,nj->mni", rotation, pts)  # (m, n, 3) space positions
     flat = X.reshape(-1, 3)

@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.errors import InputError
 from chargedesign.formatting import AGREEMENT, ERROR, PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.results import Result, json_ready
@@ -54,7 +53,7 @@ from chargedesign.tolerancing.error_model import (
     standard_deviations,
 )
 from chargedesign.tolerancing.material_properties import MaterialErrors
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float
 
 
 @dataclass(repr=False)
@@ -306,12 +305,11 @@ def monte_carlo(
     n_drift = samples if drift_samples is None else sample_count(drift_samples, "drift_samples", 0)
     t_end = as_finite_float(t_end, KEY.t_end, positive=True)
     lv = np.array([as_finite_float(x, "levels", positive=True) for x in levels], dtype=float)
+    # the command line checks --levels and asks for a simulation only with an error given
     if not 1 <= len(lv) <= MAX_LEVELS:
-        raise input_error("levels", f"1 to {MAX_LEVELS} scale factors", list(levels))
+        raise ValueError(f"levels: expected 1 to {MAX_LEVELS} scale factors, got {list(levels)}")
     if model.is_zero:
-        raise InputError(
-            "tolerance: give at least one error (--position, --charge, --dipole, --mass)"
-        )
+        raise ValueError("model: expected at least one error (position, charge, dipole, mass)")
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     report = tolerance_report(design, target, material_errors=material_errors)
