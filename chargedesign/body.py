@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Any
 
 from chargedesign.elements import ElementSet
-from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
@@ -19,7 +18,14 @@ from chargedesign.readers import read_json_file
 from chargedesign.results import compact_repr, design_summary, design_text, html_table
 from chargedesign.scene.design_materials import check_mass_materials, materials_from_dict
 from chargedesign.scene.medium import Medium
-from chargedesign.validation import as_array, as_finite_float, check_design_numbers, input_error
+from chargedesign.validation import (
+    as_array,
+    as_finite_float,
+    check_design_head,
+    check_design_numbers,
+    design_fields,
+    input_error,
+)
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
 __all__ = [
@@ -208,22 +214,9 @@ class Design(ElementSet):
 
     @classmethod
     def from_dict(cls, data: Any, where: str = "design") -> Design:
-        if not isinstance(data, dict):
-            raise input_error(where, "a JSON object", data)
-        fmt = data.get("format", DESIGN_FORMAT)
-        if fmt != DESIGN_FORMAT:
-            raise input_error(f"{where}.format", repr(DESIGN_FORMAT), fmt)
-        if "parameters" not in data:
-            raise InputError(f"{where}: missing key 'parameters'")
+        check_design_head(data, where)
         params = Parameters.from_mapping(data["parameters"], f"{where}.parameters")
-        fields_in = data.get("fields") or {}
-        if not isinstance(fields_in, dict):
-            raise input_error(f"{where}.fields", "an object", fields_in)
-        fields_out = {}
-        for kind, spec in fields_in.items():
-            if not isinstance(spec, dict) or "legendre" not in spec:
-                raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
-            fields_out[kind] = spec["legendre"]
+        fields_out = design_fields(data, where)
 
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
         known |= {"continuous", "medium", "materials", "larmor", *RECORD_KEYS}

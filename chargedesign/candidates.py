@@ -33,7 +33,7 @@ from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
 from chargedesign.readers import read_mesh
 from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
-from chargedesign.scene.keys import REGION_KEYS
+from chargedesign.scene.keys import KEY, REGION_KEYS
 from chargedesign.scene.tables import RegionSpec, region_from_table
 from chargedesign.validation import (
     as_array,
@@ -453,8 +453,8 @@ def _lattice_shape(region: RegionSpec, center: np.ndarray) -> Shaped:
         return ball_points(radius, spacing, center), desc, {"shape": "ball", "radius": radius}
     if region.shape == "box":
         half = np.array(region.half_size, dtype=np.float64)
-        desc = {"half_size": half.tolist(), "spacing": spacing}
-        outline = {"shape": "box", "half_size": desc["half_size"]}
+        desc = {KEY.half_size: half.tolist(), "spacing": spacing}
+        outline = {"shape": "box", KEY.half_size: desc[KEY.half_size]}
         return box_points(half, spacing, center), desc, outline
     radius, height = region.radius, region.height
     assert radius is not None and height is not None

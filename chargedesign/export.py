@@ -37,7 +37,7 @@ import numpy as np
 
 from chargedesign.body import Design, read_design
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path, import_held
+from chargedesign.files import import_held, write_file_atomic
 from chargedesign.readers import MAX_DATA_BYTES, check_input_file, loads_json, read_text
 from chargedesign.validation import check_design_numbers, input_error
 from chargedesign.vocabulary import EXPORT_FORMATS
@@ -93,11 +93,7 @@ def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str])
         "vtp": _write_vtp,
         "vtu": _write_vtu,
     }
-    try:
-        with atomic_path(target) as tmp:
-            writers[fmt](design, tmp)
-    except OSError as exc:
-        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
+    write_file_atomic(target, lambda tmp: writers[fmt](design, tmp))
     return target
 
 

@@ -30,7 +30,7 @@ import signal
 import stat
 import tempfile
 import threading
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -288,6 +288,17 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
         _TEMPS.discard(tmp_path)
         if os.path.lexists(tmp_path):
             tmp_path.unlink()
+
+
+def write_file_atomic(path: str | os.PathLike[str], write: Callable[[Path], None]) -> None:
+    """Write ``path`` through ``write(temporary path)`` beside it (:func:`atomic_path`); an OS
+    failure of the writer becomes one line naming the file."""
+    target = Path(path)
+    try:
+        with atomic_path(target) as tmp:
+            write(tmp)
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:

@@ -17,22 +17,20 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.validation import as_array, as_points, as_weights, input_error
-
-AXES = "xyz"
+from chargedesign.validation import (
+    MOMENT_AXES,
+    as_array,
+    as_points,
+    as_weights,
+    input_error,
+    parse_moment_key,
+)
 
 
 def moment_key(exponents: tuple[int, int, int]) -> str:
     """``(2, 0, 1) -> "xxz"``."""
     i, j, k = exponents
     return "x" * i + "y" * j + "z" * k
-
-
-def parse_moment_key(key: str) -> tuple[int, int, int]:
-    """``"xxz" -> (2, 0, 1)``; the letters must be sorted (x before y before z)."""
-    if any(ch not in AXES for ch in key) or list(key) != sorted(key):
-        raise input_error("moment key", "sorted axis letters such as 'xxz'", key)
-    return (key.count("x"), key.count("y"), key.count("z"))
 
 
 def moment_keys(order: int) -> list[str]:
@@ -173,7 +171,7 @@ def dipole_moments(points: Any, moments: Any, order: int) -> dict[str, float]:
     values = monomial_matrix(pts, keys) @ sig  # (len(keys), 3)
     return {
         f"{axis}:{key}": float(values[a, c])
-        for c, axis in enumerate(AXES)
+        for c, axis in enumerate(MOMENT_AXES)
         for a, key in enumerate(keys)
     }
 

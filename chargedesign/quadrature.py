@@ -44,20 +44,16 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
-from chargedesign.moments import monomial_matrix, parse_moment_key
-from chargedesign.validation import as_array, as_finite_float, input_error
-
-KINDS = ("charge", "mass")
-SHAPES = ("ball", "shell", "cylinder", "box")
-DENSITY_TYPES = ("uniform", "polynomial")
-#: size keys each shape needs (all in m)
-SIZE_KEYS = {
-    "ball": ("radius",),
-    "shell": ("radius",),
-    "cylinder": ("radius", "height"),
-    "box": ("half_size",),
-}
+from chargedesign.moments import monomial_matrix
+from chargedesign.scene.design_continuous import (
+    DENSITY_TYPES,
+    KINDS,
+    SHAPES,
+    continuous_fields,
+    density_fields,
+)
+from chargedesign.scene.keys import KEY
+from chargedesign.validation import input_error
 
 
 @dataclass(frozen=True)
@@ -80,17 +76,10 @@ class Density:
     coefficients: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        if self.type not in DENSITY_TYPES:
-            raise input_error("density.type", "one of " + ", ".join(DENSITY_TYPES), self.type)
-        object.__setattr__(self, "value", as_finite_float(self.value, "density.value"))
-        coeffs: dict[str, float] = {}
-        if not isinstance(self.coefficients, Mapping):
-            raise input_error("density.coefficients", "an object of moment keys", self.coefficients)
-        for key, coef in self.coefficients.items():
-            if not isinstance(key, str):
-                raise input_error("density.coefficients", "string keys such as 'xxz'", key)
-            parse_moment_key(key)
-            coeffs[key] = as_finite_float(coef, f"density.coefficients.{key or '(constant)'}")
+        # the fields were checked where they were read (scene.design_continuous)
+        assert self.type in DENSITY_TYPES, self.type
+        object.__setattr__(self, "value", float(self.value))
+        coeffs = {key: float(coef) for key, coef in self.coefficients.items()}
         object.__setattr__(self, "coefficients", coeffs)
 
     @property
@@ -117,19 +106,9 @@ class Density:
 
     @classmethod
     def from_dict(cls, data: Any, where: str = "density") -> Density:
-        if not isinstance(data, Mapping):
-            raise input_error(where, "an object with key 'type'", data)
-        kind = data.get("type")
-        if kind == "uniform":
-            if "value" not in data:
-                raise InputError(f"{where}: missing key 'value'")
-            return cls(type="uniform", value=data["value"])
-        if kind == "polynomial":
-            coeffs = data.get("coefficients")
-            if not isinstance(coeffs, Mapping):
-                raise input_error(f"{where}.coefficients", "an object of moment keys", coeffs)
-            return cls(type="polynomial", coefficients=dict(coeffs))
-        raise input_error(f"{where}.type", "one of " + ", ".join(DENSITY_TYPES), kind)
+        """Build from design.json's ``{"type", "value" | "coefficients"}`` (checked by
+        :func:`chargedesign.scene.design_continuous.density_fields`)."""
+        return cls(**density_fields(data, where))
 
 
 @dataclass(frozen=True)
@@ -166,38 +145,17 @@ class ContinuousBody:
     half_size: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise input_error("continuous.kind", "one of " + ", ".join(KINDS), self.kind)
-        if self.shape not in SHAPES:
-            raise input_error("continuous.shape", "one of " + ", ".join(SHAPES), self.shape)
-        object.__setattr__(self, "center", as_array(self.center, "continuous.center", (3,)))
-        if not isinstance(self.density, Density):
-            raise input_error("continuous.density", "a Density", self.density)
-        needed = SIZE_KEYS[self.shape]
+        # the fields were checked where they were read (scene.design_continuous)
+        assert self.kind in KINDS and self.shape in SHAPES, (self.kind, self.shape)
+        assert isinstance(self.density, Density), self.density
+        object.__setattr__(self, "center", np.asarray(self.center, dtype=float))
         for key in ("radius", "height"):
             value = getattr(self, key)
-            if key in needed:
-                if value is None:
-                    raise InputError(f"continuous: a {self.shape} needs '{key}'")
-                object.__setattr__(
-                    self, key, as_finite_float(value, f"continuous.{key}", positive=True)
-                )
-            elif value is not None:
-                raise InputError(f"continuous: a {self.shape} takes no '{key}'")
-        if "half_size" in needed:
-            if self.half_size is None:
-                raise InputError("continuous: a box needs 'half_size'")
-            raw = self.half_size
-            if isinstance(raw, (int, float)) and not isinstance(raw, bool):
-                raw = [raw] * 3
-            half = as_array(raw, "continuous.half_size", (3,))
-            if np.any(half <= 0.0):
-                raise input_error("continuous.half_size", "three numbers > 0", half)
-            object.__setattr__(self, "half_size", half)
-        elif self.half_size is not None:
-            raise InputError(f"continuous: a {self.shape} takes no 'half_size'")
-        if self.kind == "mass" and self.density.type == "uniform" and self.density.value < 0:
-            raise input_error("continuous.density.value", "a mass density >= 0", self.density)
+            if value is not None:
+                object.__setattr__(self, key, float(value))
+        if self.half_size is not None:
+            half = np.broadcast_to(np.asarray(self.half_size, dtype=float), (3,)).copy()
+            object.__setattr__(self, KEY.half_size, half)
 
     @property
     def _radius_m(self) -> float:
@@ -242,7 +200,7 @@ class ContinuousBody:
         if self.height is not None:
             out["height"] = self.height
         if self.half_size is not None:
-            out["half_size"] = [float(h) for h in self.half_size]
+            out[KEY.half_size] = [float(h) for h in self.half_size]
         out["center"] = [float(c) for c in self.center]
         out["density"] = self.density.to_dict()
         return out
@@ -254,27 +212,8 @@ class ContinuousBody:
         Size keys: ``radius`` (ball, shell, cylinder), ``height`` (cylinder), ``half_size``
         (box: three numbers, or one for a cube). ``center`` defaults to the origin.
         """
-        if not isinstance(data, Mapping):
-            raise input_error(where, "an object with keys kind, shape, density", data)
-        known = {"kind", "shape", "radius", "height", "half_size", "center", "density"}
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise input_error(where, "keys among " + ", ".join(sorted(known)), unknown[0])
-        for key in ("kind", "shape", "density"):
-            if key not in data:
-                raise InputError(f"{where}: missing key '{key}'")
-        try:
-            return cls(
-                kind=data["kind"],
-                shape=data["shape"],
-                center=data.get("center", [0.0, 0.0, 0.0]),
-                density=Density.from_dict(data["density"], f"{where}.density"),
-                radius=data.get("radius"),
-                height=data.get("height"),
-                half_size=data.get("half_size"),
-            )
-        except InputError as exc:
-            raise InputError(f"{where}: {exc}") from exc
+        fields = continuous_fields(data, where)
+        return cls(**{**fields, "density": Density(**fields["density"])})
 
     @classmethod
     def coerce(cls, value: Any, where: str = "continuous") -> ContinuousBody:

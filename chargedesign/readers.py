@@ -21,6 +21,8 @@ import os
 import re
 import stat
 import tomllib
+import zipfile
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +31,7 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.validation import as_points, check_input_array, input_error
+from chargedesign.validation import as_array, as_points, check_input_array, input_error
 
 #: largest scene (TOML) file read, bytes
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -247,3 +249,41 @@ def read_mesh(path: Path, name: str = "body.path") -> Any:
     if mesh.n_points == 0:
         raise InputError(f"{name}: the mesh {path} has no points")
     return mesh
+
+
+def read_trajectory(
+    source: str | os.PathLike[str] | Mapping[str, Any],
+) -> tuple[np.ndarray, np.ndarray]:
+    """``t`` (shape (T,), s, nondecreasing) and ``rotation`` (shape (T, 3, 3), body to space)
+    from a simulation's ``.npz`` file or a mapping of arrays.
+
+    Rotations must be orthonormal with determinant +1 to 1e-6.
+    """
+    where = "trajectory"
+    if isinstance(source, Mapping):
+        data: Mapping[str, Any] = source
+    else:
+        where = str(source)
+        p = Path(source)
+        if not p.is_file():
+            raise InputError(f"{p}: no such trajectory file")
+        if not zipfile.is_zipfile(p):
+            raise InputError(f"{p}: not a .npz trajectory file (numpy.savez archive)")
+        try:
+            with np.load(p, allow_pickle=False) as npz:
+                data = {k: npz[k] for k in npz.files}
+        except (OSError, ValueError, zipfile.BadZipFile) as exc:
+            raise InputError(f"{p}: unreadable .npz trajectory ({exc})") from exc
+    for key in ("t", "rotation"):
+        if key not in data:
+            raise InputError(f"{where}: missing key {key!r} (a simulation's .npz has it)")
+    t = as_array(data["t"], f"{where}.t", (None,))
+    if len(t) == 0:
+        raise input_error(f"{where}.t", "at least one time", t)
+    if np.any(np.diff(t) < 0):
+        raise input_error(f"{where}.t", "nondecreasing times", t)
+    rotation = as_array(data["rotation"], f"{where}.rotation", (len(t), 3, 3))
+    gram = np.einsum("tji,tjk->tik", rotation, rotation)
+    if not np.allclose(gram, np.eye(3), rtol=0.0, atol=1e-6) or np.any(np.linalg.det(rotation) < 0):
+        raise input_error(f"{where}.rotation", "rotation matrices (R^T R = I, det R = +1)", "not")
+    return t, rotation

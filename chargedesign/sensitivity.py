@@ -19,7 +19,7 @@ from chargedesign.checker import sample_orientations
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
-from chargedesign.validation import as_points, input_error
+from chargedesign.validation import as_points
 
 #: the quantities whose errors are analysed, in the check's names
 QUANTITIES = ("mu", "V", "inertia")
@@ -346,7 +346,7 @@ def sensitivity_weights(
     """
     pts = as_points(points, "points")
     if source not in ("charges", "dipoles", "masses"):
-        raise input_error("source", "one of charges, dipoles, masses", source)
+        raise ValueError(f"source: expected one of charges, dipoles, masses, got {source!r}")
     n = len(pts)
     unit = np.ones(n)
     zeros3, zeros = np.zeros((0, 3)), np.zeros(0)

@@ -29,7 +29,7 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
-from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
+from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -68,6 +68,17 @@ def _describe(value: Any) -> str:
 def input_error(name: str, expected: str, received: Any) -> InputError:
     """Build the one error message template: names the input and what was received."""
     return InputError(f"{name}: expected {expected}, got {_describe(received)}")
+
+
+#: the letters of a moment key ("xxz": x^2 z), in their sorted order
+MOMENT_AXES = "xyz"
+
+
+def parse_moment_key(key: str) -> tuple[int, int, int]:
+    """``"xxz" -> (2, 0, 1)``; the letters must be sorted (x before y before z)."""
+    if any(ch not in MOMENT_AXES for ch in key) or list(key) != sorted(key):
+        raise input_error("moment key", "sorted axis letters such as 'xxz'", key)
+    return (key.count("x"), key.count("y"), key.count("z"))
 
 
 def _is_real_scalar(value: Any) -> bool:
@@ -328,6 +339,31 @@ def check_field_degree(coefficients: Any, name: str) -> None:
 
 #: keys of one field in design.json (what body.py reads and writes)
 DESIGN_FIELD_KEYS = ("legendre",)
+
+
+def check_design_head(data: Any, where: str) -> None:
+    """A design.json mapping's frame, before its parameters are read: an object of this
+    format that has parameters."""
+    if not isinstance(data, dict):
+        raise input_error(where, "a JSON object", data)
+    found = data.get("format", DESIGN_FORMAT)
+    if found != DESIGN_FORMAT:
+        raise input_error(f"{where}.format", repr(DESIGN_FORMAT), found)
+    if "parameters" not in data:
+        raise InputError(f"{where}: missing key 'parameters'")
+
+
+def design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
+    fields_in = data.get("fields") or {}
+    if not isinstance(fields_in, dict):
+        raise input_error(f"{where}.fields", "an object", fields_in)
+    out = {}
+    for kind, spec in fields_in.items():
+        if not isinstance(spec, dict) or "legendre" not in spec:
+            raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
+        out[kind] = spec["legendre"]
+    return out
 
 
 def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ()) -> None:

@@ -25,7 +25,6 @@ import ctypes.util
 import math
 import os
 import sys
-import zipfile
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,10 +33,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.files import atomic_path, check_output_path, deferred_signals
+from chargedesign.files import check_output_path, deferred_signals, write_file_atomic
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
 from chargedesign.results import png_html
+from chargedesign.scene.keys import KEY
 
 with deferred_signals():
     # VTK's modules, rendering included (``pyvista.Plotter`` loads them), load with SIGINT
@@ -47,6 +47,7 @@ with deferred_signals():
     from pyvista import Plotter as _Plotter  # noqa: F401
 from chargedesign.limits import MAX_SHOW_ELEMENTS
 from chargedesign.quadrature import ContinuousBody
+from chargedesign.readers import read_trajectory
 from chargedesign.validation import as_array, as_finite_float, input_error
 
 if TYPE_CHECKING:  # annotations only: the body module draws through this one (Design.plot)
@@ -162,7 +163,7 @@ def region_mesh(region: Mapping[str, Any] | None) -> pv.PolyData | None:
             )
         return pv.merge(circles)
     if shape == "box":
-        half = _half_sizes(spec.get("half_size"), "region.half_size")
+        half = _half_sizes(spec.get(KEY.half_size), "region.half_size")
         lo, hi = center - half, center + half
         return pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2])).extract_feature_edges()
     radius = as_finite_float(spec.get("radius"), "region.radius", positive=True)
@@ -956,7 +957,7 @@ class Picture(np.ndarray):
         if target.suffix.lower() != ".png":
             raise input_error("picture path", "a file name ending in .png", str(target))
         image = np.asarray(self)
-        _write_file(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
+        write_file_atomic(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
         return target
 
 
@@ -1052,7 +1053,7 @@ def render_screenshot(
     image = render_image(
         design, region=region, gamma=gamma, window_size=window_size, max_elements=max_elements
     )
-    _write_file(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
+    write_file_atomic(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
     return target
 
 
@@ -1111,34 +1112,7 @@ def load_trajectory(source: str | os.PathLike[str] | Mapping[str, Any]) -> Traje
 
     Rotations must be orthonormal with determinant +1 to 1e-6.
     """
-    where = "trajectory"
-    if isinstance(source, Mapping):
-        data: Mapping[str, Any] = source
-    else:
-        where = str(source)
-        p = Path(source)
-        if not p.is_file():
-            raise InputError(f"{p}: no such trajectory file")
-        if not zipfile.is_zipfile(p):
-            raise InputError(f"{p}: not a .npz trajectory file (numpy.savez archive)")
-        try:
-            with np.load(p, allow_pickle=False) as npz:
-                data = {k: npz[k] for k in npz.files}
-        except (OSError, ValueError, zipfile.BadZipFile) as exc:
-            raise InputError(f"{p}: unreadable .npz trajectory ({exc})") from exc
-    for key in ("t", "rotation"):
-        if key not in data:
-            raise InputError(f"{where}: missing key {key!r} (a simulation's .npz has it)")
-    t = as_array(data["t"], f"{where}.t", (None,))
-    if len(t) == 0:
-        raise input_error(f"{where}.t", "at least one time", t)
-    if np.any(np.diff(t) < 0):
-        raise input_error(f"{where}.t", "nondecreasing times", t)
-    rotation = as_array(data["rotation"], f"{where}.rotation", (len(t), 3, 3))
-    gram = np.einsum("tji,tjk->tik", rotation, rotation)
-    if not np.allclose(gram, np.eye(3), rtol=0.0, atol=1e-6) or np.any(np.linalg.det(rotation) < 0):
-        raise input_error(f"{where}.rotation", "rotation matrices (R^T R = I, det R = +1)", "not")
-    return Trajectory(t=t, rotation=rotation)
+    return Trajectory(*read_trajectory(source))
 
 
 def frame_rotations(trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
@@ -1232,7 +1206,7 @@ def animate(
         else:
             iio.imwrite(tmp, images, extension=".mp4", fps=fps)
 
-    _write_file(target, write)
+    write_file_atomic(target, write)
     return target
 
 
@@ -1312,15 +1286,6 @@ def _frames(
         if progress is not None:
             progress(i + 1, len(times))
     return np.stack(images)
-
-
-def _write_file(target: Path, write: Callable[[Path], None]) -> None:
-    """Write through a temporary file beside ``target``; OS failures become one-line errors."""
-    try:
-        with atomic_path(target) as tmp:
-            write(tmp)
-    except OSError as exc:
-        raise InputError(f"{target}: cannot write ({exc.strerror or exc})") from exc
 
 
 def design_picture(design: Design, width: int = 320, height: int = 240) -> str:

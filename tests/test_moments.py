@@ -22,10 +22,10 @@ from chargedesign.moments import (
     moment_keys,
     monomial_matrix,
     multipole_moments,
-    parse_moment_key,
     solid_harmonic_index,
     solid_harmonics,
 )
+from chargedesign.validation import parse_moment_key
 
 RNG_SEED = 7_2024
 

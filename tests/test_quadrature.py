@@ -302,8 +302,11 @@ def test_bad_densities_are_rejected(density: dict, fragment: str) -> None:
 
 
 def test_negative_mass_density_and_bad_order_are_rejected() -> None:
-    with pytest.raises(InputError, match="mass density"):
-        ContinuousBody("mass", "ball", [0, 0, 0], Density("uniform", -1.0), radius=1.0)
+    negative = {"type": "uniform", "value": -1.0}
+    with pytest.raises(InputError, match=r"mass density >= 0, got -1\.0"):
+        ContinuousBody.from_dict(
+            {"kind": "mass", "shape": "ball", "radius": 1.0, "density": negative}
+        )
     body = ContinuousBody(
         "mass", "ball", [0, 0, 0], Density("polynomial", coefficients={"z": 1.0}), radius=1.0
     )

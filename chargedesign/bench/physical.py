@@ -32,20 +32,16 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.designer.acceptance import forward_acceptance
+from chargedesign.designer.assembly import build_design, design_at_rate, design_physical
+from chargedesign.designer.charges import charge_program, design_charges
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier import WindowOptions, find_frontier
-from chargedesign.designer.physical import (
-    build_design,
-    charge_program,
-    design_at_rate,
-    design_charges,
-    design_masses,
-    design_physical,
-)
+from chargedesign.designer.masses import design_masses
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.designer.recommend import recommend
 from chargedesign.physical import coulomb, limits
 from chargedesign.scene import default_scene_text, load_scene, scene_from_dict
+from chargedesign.scene.keys import KEY
 
 #: candidate spacings (m) of the 5 cm default ball: 257 ... about 1e4 candidates
 SPACINGS = (0.0125, 0.00833, 0.005, 0.0036)
@@ -64,7 +60,7 @@ READINGS = ("charges", "frame")
 def _setup(spacing: float, larmor: str = "charges") -> Any:
     data = tomllib.loads(default_scene_text())
     data["body"]["spacing"] = spacing
-    data["body"]["carrier_radius"] = spacing / 4
+    data["body"][KEY.carrier_radius] = spacing / 4
     data.setdefault("design", {})["larmor"] = larmor
     return physical_setup_from_scene(
         scene_from_dict(data, f"<default, spacing {spacing}, {larmor}>")

@@ -27,6 +27,7 @@ from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
+from chargedesign.scene.keys import KEY
 from chargedesign.simulation import (
     RigidBodySystem,
     attitude_from_gamma,
@@ -300,7 +301,7 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     gam /= np.linalg.norm(gam, axis=1)[:, None]
     states = np.hstack([rng.uniform(-1, 1, (m, 3)), gam])
     kw: dict[str, Any] = {
-        "t_end": t_end,
+        KEY.t_end: t_end,
         "method": "DOP853",
         "rtol": 1e-10,
         "atol": 1e-10,

@@ -22,11 +22,12 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable
 from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.scene.keys import KEY
 from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 
 SCENE: dict[str, dict[str, Any]] = {
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
-    "simulation": {"effects": ["theorem"], "t_end": 100.0, "samples": 201},
+    "simulation": {"effects": ["theorem"], KEY.t_end: 100.0, "samples": 201},
     "output": {"trajectory": False, "plot": False},
 }
 
@@ -38,7 +39,7 @@ def idle(scene: Any, point_dir: Path) -> dict[str, Any]:
 
 def _spec(n_points: int, t_end: float, command: Any = "simulate", chunk: int = 0) -> Any:
     data = {k: dict(v) for k, v in SCENE.items()}
-    data["simulation"]["t_end"] = t_end
+    data["simulation"][KEY.t_end] = t_end
     values = [float(x) for x in np.linspace(0.5, 0.9, n_points)]
     return SweepSpec(
         source="<bench>",

@@ -24,7 +24,6 @@ from chargedesign.checker.kernel import (
     Elements,
     trimmed_legendre,
 )
-from chargedesign.validation import input_error
 from chargedesign.vocabulary import (
     FIELD_NAMES,
 )
@@ -110,7 +109,7 @@ def arithmetic_lift(precision: str) -> Callable[[Any], Any]:
         return DoubleDouble
     if precision == "longdouble":
         return lambda x: np.asarray(x, dtype=np.longdouble)
-    raise input_error("precision", "'double-double' or 'longdouble'", precision)
+    raise ValueError(f"precision: expected 'double-double' or 'longdouble', got {precision!r}")
 
 
 class AccurateAccumulator:
@@ -282,7 +281,7 @@ def evaluate_accurate(
     lift = arithmetic_lift(precision)
     gammas = np.asarray(gammas, dtype=np.float64)
     if np.abs(np.einsum("ij,ij->i", gammas, gammas) - 1.0).max(initial=0.0) > 1e-12:
-        raise input_error("gammas", "unit vectors (to 1e-12)", gammas)
+        raise ValueError("gammas: expected unit vectors (to 1e-12)")
     coeffs = {k: trimmed_legendre(fields.get(k, ())) for k in FIELD_NAMES}
     acc = AccurateAccumulator(gammas, omegas, lift, block_pairs)
     r, q = elements.charge_positions, elements.charge_values

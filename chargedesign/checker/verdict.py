@@ -48,9 +48,10 @@ from chargedesign.checker.results import (
 from chargedesign.errors import SolverError
 from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.moments import moment_keys, monomial_matrix, parse_moment_key
+from chargedesign.moments import moment_keys, monomial_matrix
 from chargedesign.physical.limits import check_limits
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.scene.keys import KEY
+from chargedesign.validation import as_finite_float, input_error, parse_moment_key
 from chargedesign.vocabulary import (
     FIELD_NAMES,
     PRECISIONS,
@@ -714,6 +715,6 @@ def effect_results(
         "masses",
         counts["masses"],
         counts["masses"] > 0,
-        {"total_mass": float(elements.mass_values.sum()), "trace": float(np.trace(inertia))},
+        {KEY.total_mass: float(elements.mass_values.sum()), "trace": float(np.trace(inertia))},
     )
     return out

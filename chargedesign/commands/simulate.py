@@ -26,6 +26,7 @@ from chargedesign.errors import ChargeDesignError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
+from chargedesign.scene.keys import KEY
 from chargedesign.simulation import prepare, setup_from_source, simulate
 from chargedesign.simulation.chaos import fli_map, poincare_atlas
 from chargedesign.simulation.ensemble import simulate_ensemble
@@ -219,7 +220,7 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
 def _options(args: argparse.Namespace) -> dict:
     return {
         "effects": args.effects,
-        "t_end": args.t_end,
+        KEY.t_end: args.t_end,
         "rtol": args.rtol,
         "atol": args.atol,
         "method": args.method,
@@ -284,7 +285,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         "energy": atlas.energy,
         "levels": list(atlas.levels),
         "orbits": args.orbits,
-        "t_end": t_end,
+        KEY.t_end: t_end,
         "points": [sum(len(p) for p in level) for level in atlas.points],
         "seconds": atlas.seconds,
         "effects": list(system.effects),

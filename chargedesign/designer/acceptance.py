@@ -3,7 +3,7 @@
 ``chargedesign design`` writes a body only when it passes (in this order):
 
 1. the limits check (physical bodies: :func:`chargedesign.physical.limits.check_limits`, run
-   by :func:`chargedesign.designer.physical.design_physical`);
+   by :func:`chargedesign.designer.assembly.design_physical`);
 2. the balance (a physical body under gravity, :func:`balance_bound`): gravity acts on the
    whole mass, so the centre of mass must sit at O within a distance the forward check's
    tolerance allows against the designed torques. The designed torques scale like ``s^2``

@@ -1,6 +1,6 @@
 """The charges' second-order cone programs: a dense interior point first, Clarabel as the judge.
 
-The charges' stage (:mod:`chargedesign.designer.physical`) solves programs with few unknowns
+The charges' stage (:mod:`chargedesign.designer.charges`) solves programs with few unknowns
 (the candidate carriers' charges, a few hundred) and many 4-dimensional cones, one per surface
 point, each dense in every charge (the Coulomb field). Clarabel's sparse factorisation of the
 augmented system costs ~130 ms per iteration on the default body's largest; the normal

@@ -1,7 +1,7 @@
 """The frontier of the buildable: the largest time rate a body realises within every limit.
 
 Time rescaling ``n, K -> s n, s K`` and ``kappa, lambda, rho -> s^2 (...)`` is the same motion
-``s`` times faster (:func:`chargedesign.designer.physical.scaled_parameters`). The charges grow
+``s`` times faster (:func:`chargedesign.designer.assembly.scaled_parameters`). The charges grow
 like ``s`` (and the surface fields with them), the magnets like ``s^2``; the carriers, whose
 number grows with ``s``, weigh on the inertia. What the charges carry depends on the Larmor
 reading (:mod:`chargedesign.larmor`): with ``charges`` (the paper's (p6)) their second
@@ -17,7 +17,7 @@ the balance under gravity and the forward check):
    every carrier's own surface field within the safe field (a necessary condition; without
    charge conditions, rates 10x apart up to the first refused);
 2. the charges' limit computed directly
-   (:func:`~chargedesign.designer.physical.charges_rate_limit`): the charges' conditions
+   (:func:`~chargedesign.designer.frontier_probes.charges_rate_limit`): the charges' conditions
    ``A q = s b`` and their surface fields are homogeneous in ``(q, s)``, so with ``q = s u``
    the largest rate the charges allow is ``s_c = E_lim / t*``,
    ``t* = min_u max_x |E(u)(x)| + E_ext`` subject to ``A u = b``: one SOCP, solved by the
@@ -28,7 +28,7 @@ the balance under gravity and the forward check):
 3. otherwise (the masses, the balance or the acceptance bind below ``s_c``) bisection in
    ``log s`` over the full acceptance to ``rtol``, below the lowest rate refused.
 
-A refusal the charges' stage proves (:attr:`~chargedesign.designer.physical.Binding.proved`:
+A refusal the charges' stage proves (:attr:`~chargedesign.designer.physical_setup.Binding.proved`:
 the own-field LP, or the surface cones on every usable carrier, infeasible; or the rate above
 ``s_c``) holds at every faster rate, so the checks above the bracket that guard against the
 heuristic's non-monotonicity skip the rates above a proved refusal.
@@ -51,18 +51,11 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.acceptance import BUILDER_BALANCE_M, balance_bound, body_check
-from chargedesign.designer.physical import (
-    Binding,
-    ChargesLimit,
-    PhysicalInfeasible,
-    PhysicalSetup,
-    build_design,
-    charge_support,
-    charges_rate_limit,
-    design_at_rate,
-    design_masses,
-    lp_charges,
-)
+from chargedesign.designer.assembly import build_design, design_at_rate
+from chargedesign.designer.charges import charge_support, lp_charges
+from chargedesign.designer.frontier_probes import ChargesLimit, charges_rate_limit
+from chargedesign.designer.masses import design_masses
+from chargedesign.designer.physical_setup import Binding, PhysicalInfeasible, PhysicalSetup
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.files import atomic_directory
 from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
@@ -90,7 +83,7 @@ LOWEST_RATE_FRACTION = 1e-9
 HIGHEST_RATE = 1e15
 #: rates below s_max tried when the forward check or the limits check refuses the body there
 ACCEPT_RETRIES = 3
-#: the charges' minmax (:func:`~chargedesign.designer.physical.charges_rate_limit`) closes its
+#: the charges' minmax (:func:`~chargedesign.designer.frontier_probes.charges_rate_limit`) closes its
 #: gap to this fraction of the frontier's rtol
 CHARGES_GAP_FRACTION = 0.1
 #: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
@@ -126,7 +119,7 @@ class FrontierResult(Result):
         The charges' own-field upper bound on s (inf without charge conditions).
     s_charges : float or None
         The largest rate the charges allow, from their minmax
-        (:func:`~chargedesign.designer.physical.charges_rate_limit`; an upper bound on
+        (:func:`~chargedesign.designer.frontier_probes.charges_rate_limit`; an upper bound on
         ``s_max``: no charges exist above it); None when not computed.
     s_min : float
         Under gravity, the lowest rate whose balance the forward check confirms (0 without
@@ -350,7 +343,7 @@ def _limit_binding(setup: PhysicalSetup, limit: ChargesLimit) -> Binding:
 
 def _probe_body(setup: PhysicalSetup, s: float) -> tuple[Design | None, Binding | None]:
     """The body at rate ``s`` and what refuses it among the design's per-rate limits: both
-    stages (:func:`~chargedesign.designer.physical.design_at_rate`) and the balance under
+    stages (:func:`~chargedesign.designer.assembly.design_at_rate`) and the balance under
     gravity (a ``balance`` binding, with the body, means ``s`` is too slow)."""
     try:
         design = build_design(setup, design_at_rate(setup, s))

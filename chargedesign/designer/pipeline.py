@@ -22,7 +22,8 @@ from chargedesign.candidates import CandidateSet, candidates_from_points, candid
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
-from chargedesign.designer.physical import design_physical, setup_physical
+from chargedesign.designer.assembly import design_physical
+from chargedesign.designer.physical_setup import setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -484,7 +485,7 @@ def design_from_scene(
     :func:`larmor_of_scene`): with ``frame`` its elements realise ``n = 0``
     (:func:`chargedesign.larmor.body_parameters`) and ``design.larmor`` records the rate of
     the turning axes. A scene with ``[medium]`` is designed as a physical body
-    (:mod:`chargedesign.designer.physical`): carriers, magnets and ballast within every limit,
+    (:mod:`chargedesign.designer.assembly`): carriers, magnets and ballast within every limit,
     accepted as :mod:`chargedesign.designer.acceptance` says; with ``frontier`` the largest rate
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
     frontier; the physical design itself never calls the frontier).

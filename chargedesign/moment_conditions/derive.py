@@ -126,7 +126,7 @@ def derive_conditions(
         The targets cannot be realised (the message names the cause).
     """
     if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
+        raise TypeError(f"params: expected a Parameters, got {type(params).__name__}")
     goals = validate_realise(realise, "realise")
     given = _validate_fields(fields)
     if length is not None:

@@ -18,7 +18,6 @@ from chargedesign.moment_conditions.constants import DEFAULT_LENGTH_RULE, SOURCE
 from chargedesign.moment_conditions.text import format_conditions
 from chargedesign.moments import monomial_matrix
 from chargedesign.results import Result
-from chargedesign.validation import input_error
 
 
 @dataclass(frozen=True)
@@ -128,7 +127,7 @@ class LinearConditions(Result):
         Returns ``A`` of shape (m, n) or (m, 3n) and ``b`` of shape (m,).
         """
         if source not in SOURCES:
-            raise input_error("source", "one of " + ", ".join(SOURCES), source)
+            raise ValueError(f"source: expected one of {', '.join(SOURCES)}, got {source!r}")
         rows = self.for_source(source)
         pts = np.asarray(positions, dtype=np.float64)
         n = len(pts)

@@ -2,7 +2,7 @@
 parts of susceptibility chi and volume v, and the rows whose vanishing cancels it.
 
 Pure functions (a physics kernel): the physical design cancels these rows
-(:mod:`chargedesign.designer.physical`) and the tolerance analysis prices material errors
+(:mod:`chargedesign.designer.assembly`) and the tolerance analysis prices material errors
 with the energy (:mod:`chargedesign.tolerancing`).
 """
 

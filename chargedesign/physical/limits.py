@@ -1,6 +1,6 @@
 """Every physical limit, recomputed independently from a design's written elements.
 
-The design stage (chargedesign.designer.physical) keeps the limits as constraints; this module
+The design stage (chargedesign.designer.assembly) keeps the limits as constraints; this module
 recomputes them from the numbers in design.json alone, with denser surface samples than the
 design used, so that "buildable" is never the optimiser's word for itself:
 

@@ -10,7 +10,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from chargedesign.scene.keys import check_value, declared, default_of, key_names
+from chargedesign.scene.keys import KEY, check_value, declared, default_of, key_names
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import OBJECTIVES as OBJECTIVES
 from chargedesign.vocabulary import REALISABLE, SOURCES
@@ -127,7 +127,7 @@ class DesignOptions:
 
     def _check_amounts(self) -> None:
         """Largest charge, totals, number of charges and the realised terms."""
-        for name in ("max_charge", "total_mass", "total_charge"):
+        for name in ("max_charge", KEY.total_mass, "total_charge"):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, check_value("design", name, value))

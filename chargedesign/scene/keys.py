@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -594,6 +595,10 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
 
 #: every key table by its place in a scene (a field's keys hold for each fields.<kind>)
 DECLARED: dict[str, tuple[Key, ...]] = {"parameters": PARAMETERS, "fields": FIELD, **TABLE_KEYS}
+#: every declared key's name as an attribute (``KEY.t_end == "t_end"``): code that repeats a
+#: key's name (a table's key, an option's or an output's of the same name) takes it from the
+#: declaration here, so that a key is spelled in one place
+KEY: Any = SimpleNamespace(**{key.name: key.name for keys in DECLARED.values() for key in keys})
 
 
 def key_names(table: str) -> tuple[str, ...]:

@@ -38,7 +38,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     Material,
 )
-from chargedesign.scene.keys import check_table, check_value, default_of, key_names
+from chargedesign.scene.keys import KEY, check_table, check_value, default_of, key_names
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
@@ -167,8 +167,8 @@ def spec_from_tables(
     ballasts = _ballasts(tables.get("ballast", {}))
     body = tables.get("body", {})
     radius = None
-    if isinstance(body, Mapping) and "carrier_radius" in body:
-        radius = as_finite_float(body["carrier_radius"], "body.carrier_radius", positive=True)
+    if isinstance(body, Mapping) and KEY.carrier_radius in body:
+        radius = as_finite_float(body[KEY.carrier_radius], "body.carrier_radius", positive=True)
     return PhysicalSpec(
         medium=medium,
         carrier=carrier,

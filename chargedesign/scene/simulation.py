@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import DECLARED, check_value, default_of, key_names
+from chargedesign.scene.keys import DECLARED, KEY, check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
 from chargedesign.validation import as_array, check_keys, input_error
 from chargedesign.vocabulary import (
@@ -39,7 +39,7 @@ DEFAULT_INITIAL: dict[str, Any] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", 
 class SimulationOptions:
     """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
 
-    t_end: float = default_of("simulation", "t_end")
+    t_end: float = default_of("simulation", KEY.t_end)
     rtol: float = default_of("simulation", "rtol")
     atol: float = default_of("simulation", "atol")
     method: str = default_of("simulation", "method")
@@ -87,7 +87,7 @@ def parse_simulation_options(
     for key in (k.name for k in DECLARED["simulation"] if k.schema.get("type") == "number"):
         if key in table:
             value = table[key]
-            if key == "max_step" and value == math.inf:
+            if key == KEY.max_step and value == math.inf:
                 continue
             setattr(opts, key, check_value("simulation", key, value, f"{where}.{key}"))
     for key in ("method", "route", "samples"):

@@ -20,6 +20,7 @@ from chargedesign.errors import InputError
 from chargedesign.limits import MAX_CANDIDATES
 from chargedesign.scene.keys import (
     BODY_REFERENCE_KEYS,
+    KEY,
     REGION_KEYS,
     check_table,
     check_value,
@@ -147,7 +148,7 @@ def _naturally_symmetric(table: Mapping[str, Any], shape: str, centred: bool) ->
     ``symmetric`` defaults on). Lattices through O are, unless a box's |x| and |y| sizes
     differ (closing under x <-> y would add points outside it)."""
     if shape == "box" and centred:
-        half_xy = table.get("half_size", table.get("size"))
+        half_xy = table.get(KEY.half_size, table.get("size"))
         return not isinstance(half_xy, (list, tuple)) or (
             len(half_xy) == 3 and half_xy[0] == half_xy[1]
         )
@@ -160,16 +161,16 @@ def _lattice_sizes(table: Mapping[str, Any], shape: str) -> dict[str, Any]:
         radius = _size(table, "radius")
         return {"radius": radius, "spacing": _size(table, "spacing", radius / 4.0)}
     if shape == "box":
-        if "half_size" in table and "size" in table:
+        if KEY.half_size in table and "size" in table:
             raise InputError("body.size: give either half_size or size, not both")
-        if "half_size" in table:
-            half = _vector3(table, "half_size", positive=True)
+        if KEY.half_size in table:
+            half = _vector3(table, KEY.half_size, positive=True)
         elif "size" in table:
             full = _vector3(table, "size", positive=True)
             half = (0.5 * full[0], 0.5 * full[1], 0.5 * full[2])
         else:
             raise InputError("body.half_size: required for shape = 'box' (or give size)")
-        return {"half_size": half, "spacing": _size(table, "spacing", min(half) / 2.0)}
+        return {KEY.half_size: half, "spacing": _size(table, "spacing", min(half) / 2.0)}
     radius = _size(table, "radius")
     height = _size(table, "height")
     spacing = _size(table, "spacing", min(radius, 0.5 * height) / 4.0)
@@ -250,7 +251,7 @@ def check_region_keys(table: Mapping[str, Any]) -> None:
     if not isinstance(shape, str) or shape not in REGION_KEYS:
         return
     # carrier_radius belongs to the physical parts (chargedesign.scene.physical)
-    allowed = set(REGION_KEYS[shape]) | {"shape", "carrier_radius"}
+    allowed = set(REGION_KEYS[shape]) | {"shape", KEY.carrier_radius}
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise input_error(

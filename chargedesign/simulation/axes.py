@@ -54,8 +54,8 @@ def resolve_axes(requested: str | None, larmor: Any, where: str = "axes") -> tup
     """
     frame = larmor is not None and larmor.is_frame
     axes = requested if requested is not None else ("turning" if frame else "inertial")
-    if axes not in SIMULATION_AXES:
-        raise InputError(f"{where}: expected one of {', '.join(SIMULATION_AXES)}, got {axes!r}")
+    if axes not in SIMULATION_AXES:  # the scene's checked [simulation] axes
+        raise ValueError(f"{where}: expected one of {', '.join(SIMULATION_AXES)}, got {axes!r}")
     if axes == "inertial":
         return axes, 0.0
     if not frame:

@@ -27,6 +27,7 @@ import numpy as np
 from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_path
 from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.simulation import DEFAULT_INITIAL
 from chargedesign.simulation import taylor
 from chargedesign.simulation.api import initial_state
@@ -345,7 +346,7 @@ def lyapunov_exponent(
     estimates : ndarray, shape (m, k)
         ``lambda(t_k)`` per state, 1/s.
     """
-    t_end = as_finite_float(t_end, "t_end", positive=True)
+    t_end = as_finite_float(t_end, KEY.t_end, positive=True)
     interval = as_finite_float(interval, "interval", positive=True)
     if interval > t_end:
         raise input_error(

@@ -39,7 +39,6 @@ import numpy as np
 
 from chargedesign.fields import zonal_z_coefficients
 from chargedesign.physical.materials import MU_0
-from chargedesign.validation import input_error
 
 if TYPE_CHECKING:
     from chargedesign.simulation.system import Body
@@ -84,7 +83,7 @@ class DirectKernel:
 
         for name in effects:
             if name not in KERNEL_EFFECTS:
-                raise input_error("effects", "physical effects", name)
+                raise ValueError(f"effects: {name!r} is not a physical effect")
             if name in ("electric", "gravity"):
                 pts, w = (
                     (body.charge_positions, body.charge_values)

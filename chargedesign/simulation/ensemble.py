@@ -29,6 +29,7 @@ from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.states import STATE_COLUMNS, parse_states
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.api import (
@@ -105,7 +106,7 @@ class EnsembleResult(Result):
         out.update(
             {
                 "method": self.method,
-                "t_end": float(self.times[-1]),
+                KEY.t_end: float(self.times[-1]),
                 "samples": len(self.times),
                 "seconds": self.seconds,
                 "compile_seconds": self.compile_seconds,
@@ -123,7 +124,7 @@ class EnsembleResult(Result):
 
     def _summary(self) -> dict[str, Any]:
         s = self.summary()
-        keys = ("trajectories", "I4_rel_drift", "I3_max", "method", "t_end", "seconds")
+        keys = ("trajectories", "I4_rel_drift", "I3_max", "method", KEY.t_end, "seconds")
         return {k: s[k] for k in keys}
 
     def _text(self) -> str:
@@ -131,7 +132,7 @@ class EnsembleResult(Result):
         i4 = s["I4_rel_drift"]
         lines = [
             f"ensemble: {s['trajectories']} trajectories, {', '.join(self.effects) or 'free'}, "
-            f"{self.method}, t = 0 .. {fmt(s['t_end'], PLAIN)} s in {fmt(s['seconds'])} s "
+            f"{self.method}, t = 0 .. {fmt(s[KEY.t_end], PLAIN)} s in {fmt(s['seconds'])} s "
             f"(+ {fmt(s['compile_seconds'])} s compile)",
             "I4 max relative drift "
             + (f"{fmt(i4)} over {s['I4_reported_for']} trajectories" if i4 is not None else "none")

@@ -124,10 +124,9 @@ def integrate(
     SolverError
         The solver failed or returned non-finite states.
     """
-    if method not in METHODS:
-        raise input_error("simulation.method", "one of " + ", ".join(METHODS), method)
-    if samples < 2:
-        raise input_error("simulation.samples", "an integer >= 2", samples)
+    # method and samples are the scene's checked [simulation] values
+    if method not in METHODS or samples < 2:
+        raise ValueError(f"method {method!r} or samples {samples!r} out of range")
     y0 = np.asarray(initial, dtype=np.float64)
     fallback_note = None
     if method == "taylor":
@@ -213,10 +212,8 @@ def _integrate_solve_ivp(
         singular.direction = -1  # type: ignore[attr-defined]
         events.append(singular)
     if poincare is not None:
-        if poincare not in STATE_NAMES:
-            raise input_error(
-                "output.poincare_section", "one of " + ", ".join(STATE_NAMES), poincare
-            )
+        if poincare not in STATE_NAMES:  # the scene's checked [output] poincare_section
+            raise ValueError(f"poincare: {poincare!r} is not a state name")
         if m != 1:
             raise input_error("poincare", "a single trajectory", f"{m} trajectories")
 
@@ -331,8 +328,8 @@ def _integrate_gauss(
 ) -> Integration:
     m = len(y0)
     h_target = step if step is not None else min(0.01, t_end)
-    if not (h_target > 0.0 and math.isfinite(h_target)):
-        raise input_error("simulation.step", "a step > 0", h_target)
+    if not (h_target > 0.0 and math.isfinite(h_target)):  # the scene checks step > 0
+        raise ValueError(f"step: expected a step > 0, got {h_target!r}")
     n_steps = max(1, math.ceil(t_end / h_target - 1e-9))
     h = t_end / n_steps
     keep = thin_step_ends(np.arange(n_steps + 1, dtype=float), samples)

@@ -31,6 +31,7 @@ from chargedesign.files import atomic_directory, atomic_path
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.scene.keys import KEY
 from chargedesign.simulation.integrate import STATE_NAMES
 from chargedesign.validation import input_error
 
@@ -161,7 +162,7 @@ class SimulationResult(Result):
             "monitors": {k: dict(v) for k, v in self.monitors.items()},
             "initial": self._initial_record(),
             "level": None if self.level is None else f"I3={fmt(self.level, PLAIN)}",
-            "t_end": self.t_end,
+            KEY.t_end: self.t_end,
             "t_reached": float(self.times[-1]),
             "completed": self.completed,
             "route": self.route,
@@ -453,7 +454,7 @@ def _setup_lines(s: dict[str, Any], body: dict[str, Any]) -> list[str]:
 def _drift_lines(s: dict[str, Any]) -> list[str]:
     """The time span and effort, and the integrals' drifts."""
     return [
-        f"t = 0 .. {fmt(s['t_reached'], PLAIN)} s of {fmt(s['t_end'], PLAIN)} s: "
+        f"t = 0 .. {fmt(s['t_reached'], PLAIN)} s of {fmt(s[KEY.t_end], PLAIN)} s: "
         f"{s['steps']} steps, "
         + (
             f"{fmt(s['seconds'])} s (+ {fmt(s['compile_seconds'])} s compile)"

@@ -208,11 +208,11 @@ class Body(ElementSet):
     def __post_init__(self) -> None:
         super().__post_init__()
         if not isinstance(self.parameters, Parameters):
-            raise input_error("parameters", "a chargedesign.params.Parameters", self.parameters)
+            raise TypeError(f"parameters: expected a Parameters, got {self.parameters!r}")
         fields_out: dict[str, tuple[float, ...]] = {}
         for kind, coeffs in dict(self.fields).items():
-            if kind not in FIELD_KINDS:
-                raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+            # a scene's and a design's fields are checked where they are read
+            assert kind in FIELD_KINDS, kind
             fields_out[kind] = AxisymmetricField(tuple(coeffs)).legendre
         self.fields = fields_out
         if self.has_elements is None:
@@ -402,11 +402,9 @@ class RigidBodySystem:
     """
 
     def __init__(self, body: Body, effects: Sequence[str], route: str = "reduced") -> None:
-        if route not in ROUTES:
-            raise input_error("simulation.route", "one of " + ", ".join(ROUTES), route)
-        for name in effects:
-            if name not in EFFECTS:
-                raise input_error("effects", "names among " + ", ".join(EFFECTS), name)
+        # the route is the scene's checked [simulation] route, the effects select_effects'
+        if route not in ROUTES or not set(effects) <= set(EFFECTS):
+            raise ValueError(f"route {route!r} or effects {list(effects)} not known")
         self.body = body
         self.effects = list(effects)
         self.route = route
@@ -733,7 +731,7 @@ def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
             pts, w = body.part_positions, body.part_susceptances
             poly.add_into(V, poly.contract(b2, pts, w), -1.0 / (2.0 * MU_0))
         else:
-            raise input_error("effects", "physical effects", name)
+            raise ValueError(f"effects: {name!r} is not a physical effect")
     return [V, *poly.gamma_gradient(V), *mu, L]
 
 
@@ -772,7 +770,7 @@ def direct_terms(
     elif effect == "induced":
         pts, w = body.part_positions, body.part_susceptances
     else:
-        raise input_error("effect", "a physical effect", effect)
+        raise ValueError(f"effect: {effect!r} is not a physical effect")
     n = len(pts)
     X = np.einsum("mij,nj->mni", rotation, pts)  # (m, n, 3) space positions
     flat = X.reshape(-1, 3)

@@ -347,8 +347,8 @@ def build_equations(system: RigidBodySystem) -> Equations:
 
 def section_expression(eq: Equations, name: str) -> Any:
     """The expression of a state name (:data:`SECTION_NAMES`) in the equations' variables."""
-    if name not in SECTION_NAMES:
-        raise input_error("poincare", "one of " + ", ".join(SECTION_NAMES), name)
+    if name not in SECTION_NAMES:  # the scene's checked [output] poincare_section
+        raise ValueError(f"poincare: {name!r} is not a section name")
     i = SECTION_NAMES.index(name)
     return eq.variables[i] if i < 3 else eq.gamma[i - 3]
 
@@ -761,7 +761,7 @@ def propagate_many(
     m = len(y0)
     systems = list(system) if isinstance(system, Sequence) else [system] * m
     if len(systems) != m:
-        raise input_error("systems", f"{m} systems (one per state)", len(systems))
+        raise ValueError(f"systems: expected {m} systems (one per state), got {len(systems)}")
     # 4 lanes on 2 threads measured fastest here (AVX-512 machine: 8 lanes were slower)
     B = int(batch or min(4, hy.recommended_simd_size()))
     B = max(1, min(B, m)) if m < B else B
@@ -822,7 +822,7 @@ def _ensemble_parameters(
         if id(s) not in cache_eq:
             eq = build_equations(s) if s is not systems[0] else comp.equations
             if eq.key != key0:
-                raise input_error("systems", "bodies of one structure", "a different structure")
+                raise ValueError("systems: expected bodies of one structure")
             cache_eq[id(s)] = eq.pars
         par_rows.append(cache_eq[id(s)])
     P = np.array(par_rows)  # (m, n_par)

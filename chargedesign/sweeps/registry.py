@@ -22,6 +22,7 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
+from chargedesign.scene.keys import KEY
 from chargedesign.simulation import simulate
 from chargedesign.simulation.api import setup_from_scene
 from chargedesign.tolerancing import (
@@ -72,7 +73,7 @@ def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
         "masses": len(d.mass_values),
         "residual_after": float(result.residual_after),
         "max_abs_charge": float(abs(d.charge_values).max()) if len(d.charge_values) else 0.0,
-        "total_mass": float(d.mass_values.sum()),
+        KEY.total_mass: float(d.mass_values.sum()),
     }
 
 

@@ -42,6 +42,7 @@ from chargedesign.errors import InputError
 from chargedesign.limits import MAX_PERIODS, OPTION_RANGES
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.sweep_file import (
     base_scene,
     check_point_count,
@@ -196,7 +197,7 @@ def validate_points(
             if designs:
                 _check_solver(scene.design.solver, solvers)
             if command == "simulate":
-                _check_motion_work(scene, (options or {}).get("t_end"))
+                _check_motion_work(scene, (options or {}).get(KEY.t_end))
                 _check_axes(scene)
             elif command == "tolerance":
                 _check_drift_work(scene, options or {})
@@ -257,7 +258,7 @@ def _check_drift_work(scene: Any, options: Mapping[str, Any]) -> None:
 
     errors = any(options.get(k) is not None for k in ("position", "charge", "dipole", "mass"))
     if errors and options.get("simulate", True):
-        t_end = options.get("t_end", 100.0)
+        t_end = options.get(KEY.t_end, 100.0)
         check_periods(t_end, scene.parameters, None, MAX_PERIODS, "options.t_end")
 
 

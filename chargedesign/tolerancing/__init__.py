@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
+from chargedesign.scene.spreads import LENGTH_UNITS, Spread, parse_spread
 from chargedesign.sensitivity import DEFAULT_ORIENTATIONS
 from chargedesign.tolerancing.common import (
     DEFAULT_LEVELS,
@@ -50,7 +51,6 @@ from chargedesign.tolerancing.common import (
     DEFAULT_TARGET,
     KIND_BLOCKS,
     KINDS,
-    LENGTH_UNITS,
 )
 from chargedesign.tolerancing.element_tolerances import (
     ToleranceReport,
@@ -58,7 +58,7 @@ from chargedesign.tolerancing.element_tolerances import (
     with_tolerance,
 )
 from chargedesign.tolerancing.ensemble import EnsembleRun, simulate_ensemble
-from chargedesign.tolerancing.error_model import ErrorModel, Spread, parse_spread
+from chargedesign.tolerancing.error_model import ErrorModel
 from chargedesign.tolerancing.material_properties import (
     MaterialErrors,
     MaterialUncertainty,

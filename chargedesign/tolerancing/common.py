@@ -23,7 +23,6 @@ DEFAULT_LEVELS = (0.01, 0.1, 1.0)
 DEFAULT_RTOL = 1e-10
 DEFAULT_T_END = 100.0
 DEFAULT_MATERIAL_SAMPLES = 200
-LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9}
 
 
 def quantile_summary(x: np.ndarray) -> dict[str, float]:

@@ -36,7 +36,7 @@ from chargedesign.tolerancing.material_properties import (
     material_uncertainty,
     recorded_material_errors,
 )
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float
 
 
 @dataclass(repr=False)
@@ -183,7 +183,7 @@ def tolerance_report(
         ``to_dict()`` is the JSON block to store in design.json (key ``tolerance``).
     """
     if not isinstance(design, Design):
-        raise input_error("design", "a Design", design)
+        raise TypeError(f"design: expected a Design, got {type(design).__name__}")
     target = as_finite_float(target, "target", positive=True)
     gammas = orientations(n_orientations, seed)
     ref = references(design, gammas)

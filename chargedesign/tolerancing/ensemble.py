@@ -25,7 +25,6 @@ from chargedesign.simulation.system import (
     theorem_i4,
 )
 from chargedesign.tolerancing.common import DEFAULT_RTOL, DEFAULT_T_END
-from chargedesign.validation import input_error
 
 
 class _Ensemble:
@@ -145,7 +144,7 @@ def simulate_ensemble(
     """
 
     if not designs:
-        raise input_error("designs", "at least one design", designs)
+        raise ValueError("designs: expected at least one design")
     spec = api.parse_initial(api.DEFAULT_INITIAL if initial is None else initial)
     bodies = [Body.from_design(d) for d in designs]
     effects = _physical_effects(bodies[0])

@@ -273,9 +273,9 @@ def material_uncertainty(
     """
 
     if not isinstance(design, Design):
-        raise input_error("design", "a Design", design)
+        raise TypeError(f"design: expected a Design, got {type(design).__name__}")
     if not isinstance(errors, MaterialErrors):
-        raise input_error("errors", "MaterialErrors", errors)
+        raise TypeError(f"errors: expected MaterialErrors, got {type(errors).__name__}")
     samples = sample_count(samples, "samples", 1)
     parts, groups = _material_groups(design)
     rate = typical_rate(design.parameters)

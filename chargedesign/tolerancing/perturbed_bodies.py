@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.errors import InputError
 from chargedesign.formatting import AGREEMENT, ERROR, PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.results import Result, json_ready
+from chargedesign.scene.keys import KEY
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
@@ -53,7 +53,7 @@ from chargedesign.tolerancing.error_model import (
     standard_deviations,
 )
 from chargedesign.tolerancing.material_properties import MaterialErrors
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float
 
 
 @dataclass(repr=False)
@@ -117,7 +117,7 @@ class MonteCarloResult(Result):
             "format": "chargedesign.tolerance-mc/1",
             "errors_model": self.model.to_dict(),
             "samples": self.n,
-            "t_end": self.t_end,
+            KEY.t_end: self.t_end,
             "rel_errors": errs,
             "I4_drift": drift,
             "I4_drift_nominal": self.nominal_drift,
@@ -131,7 +131,7 @@ class MonteCarloResult(Result):
         return {
             "samples": self.n,
             "levels": len(self.levels),
-            "t_end": self.t_end,
+            KEY.t_end: self.t_end,
             **{
                 f"{q}_rel_err_p90": float(np.percentile(v["monte_carlo"], 90))
                 for q, v in self.errors.items()
@@ -303,14 +303,13 @@ def monte_carlo(
     """
     samples = sample_count(samples, "samples", 1)
     n_drift = samples if drift_samples is None else sample_count(drift_samples, "drift_samples", 0)
-    t_end = as_finite_float(t_end, "t_end", positive=True)
+    t_end = as_finite_float(t_end, KEY.t_end, positive=True)
     lv = np.array([as_finite_float(x, "levels", positive=True) for x in levels], dtype=float)
+    # the command line checks --levels and asks for a simulation only with an error given
     if not 1 <= len(lv) <= MAX_LEVELS:
-        raise input_error("levels", f"1 to {MAX_LEVELS} scale factors", list(levels))
+        raise ValueError(f"levels: expected 1 to {MAX_LEVELS} scale factors, got {list(levels)}")
     if model.is_zero:
-        raise InputError(
-            "tolerance: give at least one error (--position, --charge, --dipole, --mass)"
-        )
+        raise ValueError("model: expected at least one error (position, charge, dipole, mass)")
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     report = tolerance_report(design, target, material_errors=material_errors)

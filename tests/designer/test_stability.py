@@ -586,9 +586,7 @@ BAD_INPUTS: list[tuple[str, Callable[[], Any], str]] = [
     ("conditions field nan", lambda: derive_conditions(PARAMS, {"magnetic": (NAN,)}), "magnetic"),
     ("conditions field kind", lambda: derive_conditions(PARAMS, {"magnet": (1.0,)}), "magnet"),
     ("conditions realise", lambda: derive_conditions(PARAMS, None, ("mu", "X")), "realise"),
-    ("conditions params", lambda: derive_conditions({"C": 1.0}), "params"),
     ("system positions nan", lambda: _mu_conditions().system("charges", BAD_POINTS), "points"),
-    ("system source", lambda: _mu_conditions().system("charge", POINTS), "source"),
     ("candidates nan", lambda: candidates_from_points(BAD_POINTS), "candidates"),
     ("candidates empty", lambda: candidates_from_points(np.zeros((0, 3))), "candidates"),
     ("body radius nan", lambda: candidates_from_table({"shape": "ball", "radius": NAN}), "radius"),
@@ -653,6 +651,26 @@ BAD_INPUTS: list[tuple[str, Callable[[], Any], str]] = [
 def test_bad_input_raises_input_error_naming_it(call: Callable[[], Any], name: str) -> None:
     with pytest.raises(InputError) as info:
         call()
+    assert name in assert_one_line(info.value)
+
+
+#: a kernel's misuse (what no user input reaches: the scene and the readers check first) is a
+#: programming error, TypeError or ValueError, not an InputError (issue 33)
+MISUSES = [
+    ("conditions params", lambda: derive_conditions({"C": 1.0}), TypeError, "params"),
+    ("system source", lambda: _mu_conditions().system("charge", POINTS), ValueError, "source"),
+]
+
+
+@pytest.mark.parametrize(
+    ("call", "error", "name"), [c[1:] for c in MISUSES], ids=[c[0] for c in MISUSES]
+)
+def test_kernel_misuse_is_a_programming_error(
+    call: Callable[[], Any], error: type[Exception], name: str
+) -> None:
+    with pytest.raises(error) as info:
+        call()
+    assert not isinstance(info.value, InputError)
     assert name in assert_one_line(info.value)
 
 

@@ -358,8 +358,10 @@ def test_bad_inputs(kwargs: dict, name: str) -> None:
 
 
 def test_params_must_be_parameters() -> None:
-    with pytest.raises(InputError, match="params"):
+    # a kernel's misuse is a programming error, not a user's input error (issue 33)
+    with pytest.raises(TypeError, match="params: expected a Parameters") as info:
         derive_conditions({"C": 1.0}, {})  # type: ignore[arg-type]
+    assert not isinstance(info.value, InputError)
 
 
 # --------------------------------------------------------------------------- scenes

@@ -13,12 +13,9 @@ import pytest
 
 from chargedesign.body import Design, read_design
 from chargedesign.constants import COULOMB, EPSILON_0
+from chargedesign.designer.assembly import design_physical
+from chargedesign.designer.charges import charge_program, design_charges
 from chargedesign.designer.frontier import find_frontier
-from chargedesign.designer.physical import (
-    charge_program,
-    design_charges,
-    design_physical,
-)
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.bom import bom_csv, bom_rows

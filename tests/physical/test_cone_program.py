@@ -10,8 +10,9 @@ from scipy import sparse
 # the frontier's acceptance tests' bodies (pytest puts this folder on the path)
 from test_frontier_acceptance import CASES, setup_of, small
 
-from chargedesign.designer import physical
+from chargedesign.designer.charges import CHARGE_RESIDUES, POLISHED_RESIDUAL, design_charges
 from chargedesign.designer.cone_program import ConeProgram
+from chargedesign.designer.frontier_probes import MINMAX_GAP, charges_rate_limit
 from chargedesign.physical.coulomb import coulomb_kernel
 
 
@@ -69,12 +70,12 @@ def test_the_charges_limit_is_the_same_by_clarabel(monkeypatch):
     points of the degenerate minimum, so the rounds' cone points differ; each rate is
     certified to the minmax's gap (charges exist at rate / (1 + gap)), so they agree to it."""
     setup = setup_of(CASES["small in SF6, frame"])
-    dense = physical.charges_rate_limit(setup)
+    dense = charges_rate_limit(setup)
     monkeypatch.setattr(ConeProgram, "solve", ConeProgram.solve_clarabel)
-    judge = physical.charges_rate_limit(setup)
+    judge = charges_rate_limit(setup)
     assert dense.stage == judge.stage == "charges"
-    assert dense.gap <= physical.MINMAX_GAP and judge.gap <= physical.MINMAX_GAP
-    assert dense.rate == pytest.approx(judge.rate, rel=physical.MINMAX_GAP)
+    assert dense.gap <= MINMAX_GAP and judge.gap <= MINMAX_GAP
+    assert dense.rate == pytest.approx(judge.rate, rel=MINMAX_GAP)
 
 
 def test_near_the_limit_both_solvers_design_the_same_carriers(monkeypatch):
@@ -83,10 +84,10 @@ def test_near_the_limit_both_solvers_design_the_same_carriers(monkeypatch):
     the polish, so both solvers give the same carriers and charges, and no carrier holds
     less than CHARGE_RESIDUES[0] of the largest charge."""
     setup = setup_of(small())
-    s = physical.charges_rate_limit(setup).rate * (1 - 0.01 / 4)
-    dense = physical.design_charges(setup, s)
+    s = charges_rate_limit(setup).rate * (1 - 0.01 / 4)
+    dense = design_charges(setup, s)
     monkeypatch.setattr(ConeProgram, "solve", ConeProgram.solve_clarabel)
-    judge = physical.design_charges(setup, s)
+    judge = design_charges(setup, s)
     assert dense.cones > 0 and judge.cones > 0  # the cone programs were used
     np.testing.assert_array_equal(dense.sites, judge.sites)
     # to 1e-6 of the largest charge: the polish ends each at machine residual, and a carrier
@@ -96,5 +97,5 @@ def test_near_the_limit_both_solvers_design_the_same_carriers(monkeypatch):
     np.testing.assert_allclose(dense.charges, judge.charges, rtol=0, atol=1e-6 * largest)
     for charges in (dense, judge):
         smallest = np.min(np.abs(charges.charges)) / np.max(np.abs(charges.charges))
-        assert smallest >= physical.CHARGE_RESIDUES[0]
-        assert charges.residual <= physical.POLISHED_RESIDUAL
+        assert smallest >= CHARGE_RESIDUES[0]
+        assert charges.residual <= POLISHED_RESIDUAL

@@ -268,8 +268,8 @@ def test_the_fractions_scale_with_the_rate_as_the_physics_says(small_design):
 
 
 def test_the_frontier_reports_the_field_response_of_its_own_body():
+    from chargedesign.designer.assembly import build_design, design_at_rate
     from chargedesign.designer.frontier import find_frontier
-    from chargedesign.designer.physical import build_design, design_at_rate
 
     setup = physical_setup_from_scene(load_scene(SMALL))
     frontier = find_frontier(setup)

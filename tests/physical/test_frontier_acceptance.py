@@ -20,8 +20,8 @@ from chargedesign.designer.acceptance import (
     body_check,
     forward_acceptance,
 )
+from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.frontier import find_frontier
-from chargedesign.designer.physical import design_physical
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InfeasibleError
 from chargedesign.scene import scene_from_dict
@@ -179,7 +179,7 @@ def test_under_1e_7_m_per_s2_no_builder_balance_is_fine_enough():
 def _designed_scale(setup, s):
     """Smaller of the designed V spread and largest potential torque at rate s (J, N m)."""
     from chargedesign.checker import DEFAULT_ORIENTATIONS, sample_orientations, theorem_reference
-    from chargedesign.designer.physical import scaled_parameters
+    from chargedesign.designer.assembly import scaled_parameters
 
     gammas = sample_orientations(DEFAULT_ORIENTATIONS, 0)
     ref = theorem_reference(scaled_parameters(setup.params, s), gammas)
@@ -206,6 +206,6 @@ def test_held_out_under_1g_has_no_buildable_rate_and_design_refuses():
 
 
 def accepted_limits_only(setup, s):
-    from chargedesign.designer.physical import build_design, design_at_rate
+    from chargedesign.designer.assembly import build_design, design_at_rate
 
     return build_design(setup, design_at_rate(setup, s))

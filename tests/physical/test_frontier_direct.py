@@ -10,8 +10,10 @@ import pytest
 # the frontier's acceptance tests' bodies (pytest puts this folder on the path)
 from test_frontier_acceptance import CASES, setup_of, small
 
-from chargedesign.designer import physical
+from chargedesign.designer.charges import design_charges
 from chargedesign.designer.frontier import FRONTIER_RTOL, find_frontier
+from chargedesign.designer.frontier_probes import MINMAX_GAP, charges_rate_limit
+from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalInfeasible
 from chargedesign.physical.limits import carrier_surface_fields
 
 #: the small body in SF6 (frame reading), where the carriers' surface field binds
@@ -21,7 +23,7 @@ CHARGES_BIND = CASES["small in SF6, frame"]
 @pytest.fixture(scope="module")
 def sf6():
     setup = setup_of(CHARGES_BIND)
-    return setup, physical.charges_rate_limit(setup)
+    return setup, charges_rate_limit(setup)
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +34,7 @@ def bisected(sf6):
 def test_the_charges_limit_lies_in_the_bisection_bracket(sf6, bisected):
     _, limit = sf6
     assert bisected.binding.stage == "charges"
-    assert limit.stage == "charges" and limit.gap <= physical.MINMAX_GAP
+    assert limit.stage == "charges" and limit.gap <= MINMAX_GAP
     # an upper bound on every rate the design accepts, and reached within the bracket
     assert bisected.s_max <= limit.rate <= bisected.s_above
 
@@ -55,12 +57,12 @@ def test_just_above_the_limit_the_charges_stage_refuses(sf6, body):
         setup, limit = sf6
     else:
         setup = setup_of(small())
-        limit = physical.charges_rate_limit(setup)
-    with pytest.raises(physical.PhysicalInfeasible) as info:
-        physical.design_charges(setup, 1.001 * limit.rate)
+        limit = charges_rate_limit(setup)
+    with pytest.raises(PhysicalInfeasible) as info:
+        design_charges(setup, 1.001 * limit.rate)
     assert info.value.binding.stage == "charges"
     # and just below it the stage finds charges
-    charges = physical.design_charges(setup, limit.rate / (1 + FRONTIER_RTOL / 4))
+    charges = design_charges(setup, limit.rate / (1 + FRONTIER_RTOL / 4))
     assert len(charges.sites) > 0
 
 
@@ -77,7 +79,7 @@ def test_the_limit_charges_reach_the_safe_field_by_the_limits_check_kernel(sf6):
     np.testing.assert_allclose(A @ full, s * b, rtol=0, atol=1e-7 * np.abs(s * b).max())
     radii = np.full(len(q), setup.carrier_radius)
     fields, _ = carrier_surface_fields(setup.points[limit.sites], q, radii, setup.electric, 400)
-    top = float(np.max(fields)) / (setup.safe_field * (1 - physical.DESIGN_MARGIN))
+    top = float(np.max(fields)) / (setup.safe_field * (1 - DESIGN_MARGIN))
     assert 1 - 2e-3 <= top <= 1 + 2e-3
     # the worst carrier named is the one the kernel finds at the top (within the gap)
     worst = fields[list(limit.sites).index(limit.worst_site)]

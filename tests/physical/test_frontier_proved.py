@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chargedesign.designer import physical
+from chargedesign.designer.charges import design_charges
 from chargedesign.designer.frontier import find_frontier
+from chargedesign.designer.physical_setup import Binding, PhysicalInfeasible
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical.limits import carrier_surface_fields
 from chargedesign.scene import scene_from_dict
@@ -32,8 +33,8 @@ def frontier(setup):
 
 def _refusal(setup, s):
     try:
-        physical.design_charges(setup, s)
-    except physical.PhysicalInfeasible as exc:
+        design_charges(setup, s)
+    except PhysicalInfeasible as exc:
         return exc.binding
     return None
 
@@ -51,7 +52,7 @@ def test_feasible_charges_scale_down_with_the_rate(setup, frontier):
     """The premise of the proof: charges feasible at s, times s'/s, meet the conditions at
     s' < s with every surface field lower (by the limits check's own kernel)."""
     s = frontier.s_max
-    charges = physical.design_charges(setup, s)
+    charges = design_charges(setup, s)
     A, b = setup.systems["charges"]
     radii = np.full(len(charges.sites), setup.carrier_radius)
     positions = setup.points[charges.sites]
@@ -68,12 +69,12 @@ def test_feasible_charges_scale_down_with_the_rate(setup, frontier):
 
 def test_skipping_the_rates_above_a_proved_refusal_changes_nothing(setup, frontier, monkeypatch):
     """Against the same frontier with every proof withdrawn (every rate designed)."""
-    original = physical.PhysicalInfeasible.__init__
+    original = PhysicalInfeasible.__init__
 
     def unproved(self, binding):
-        original(self, physical.Binding(**{**binding.__dict__, "proved": False}))
+        original(self, Binding(**{**binding.__dict__, "proved": False}))
 
-    monkeypatch.setattr(physical.PhysicalInfeasible, "__init__", unproved)
+    monkeypatch.setattr(PhysicalInfeasible, "__init__", unproved)
     plain = find_frontier(setup, direct=False)
     assert plain.s_max == frontier.s_max and plain.s_above == frontier.s_above
     assert plain.binding.to_dict() == frontier.binding.to_dict()

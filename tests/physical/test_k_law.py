@@ -22,8 +22,8 @@ import pytest
 from physical.test_buildable import SMALL
 
 from chargedesign.body import Design, read_design, write_design
+from chargedesign.designer.assembly import build_design, design_at_rate
 from chargedesign.designer.frontier import find_frontier
-from chargedesign.designer.physical import build_design, design_at_rate
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.larmor import LarmorReading

@@ -1,0 +1,435 @@
+"""Physical design, the charges' stage (carriers of radius ``a`` at candidate points).
+
+``A_c q = s b_c`` and, at sample points x on every carrier surface,
+``|sum_j q_j G_j(x)| <= E_safe - s E_ext(|x|)`` (second-order cones, linear in q; ``E_ext``
+the largest external field over orientations). Solved by constraint generation: an LP with each
+carrier's own-field bound ``|q_i| <= 4 pi eps0 a^2 (E_safe - s E_ext)`` (necessary, so its
+infeasibility proves the design impossible), then cones only where the independent surface
+check finds a carrier above its limit, on the working set of used carriers. The charges are
+polished to machine precision on their support and the limits verified again with denser
+samples (:func:`chargedesign.physical.limits.check_limits`). :func:`charge_program` returns the
+whole stage as one cvxpy problem, for a user to extend and for the tests to compare.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy import sparse
+from scipy.optimize import linprog
+
+from chargedesign.constants import COULOMB
+from chargedesign.designer.cone_program import ConeProgram
+from chargedesign.designer.physical_setup import (
+    DESIGN_MARGIN,
+    Binding,
+    PhysicalInfeasible,
+    PhysicalSetup,
+    polish_equal,
+    row_scaled,
+)
+from chargedesign.designer.system import relative_residual
+from chargedesign.errors import SolverError
+from chargedesign.formatting import PLAIN, fmt
+from chargedesign.physical.coulomb import coulomb_field_gemm, coulomb_kernel
+from chargedesign.physical.limits import (
+    fibonacci_directions,
+    local_caps,
+    sample_spacing,
+)
+
+#: surface samples of the in-loop check (constraint generation)
+LOOP_SURFACE_SAMPLES = 200
+
+
+#: LP rounds first (at most LP_ROUNDS), then cone rounds until the total reaches this
+MAX_ROUNDS = 26
+
+
+#: rounds of own-field bound tightening before the cones
+LP_ROUNDS = 12
+
+
+#: carriers above this fraction of the safe field get cones before they break it
+CONE_THRESHOLD = 0.95
+
+
+#: charges below these fractions of the largest are dropped before the polish, the first
+#: that polishes within the limits is kept: an interior point leaves the zeros of the optimum
+#: at its tolerance, carriers that would take the masses' cells for nothing (measured on the
+#: small test body at s = 79.2: Clarabel left 7 carriers at 5e-9 to 2e-6 of the largest, the
+#: smallest true charge being 1.7e-3 of it); 1e-9 keeps the solver's whole support
+CHARGE_RESIDUES = (1e-5, 1e-9)
+
+
+#: the polished charges meet A q = s b to this relative residual
+POLISHED_RESIDUAL = 1e-12
+
+
+# ------------------------------------------------------------------------------ charges
+@dataclass
+class ChargeSolution:
+    sites: np.ndarray  # candidate indices of the carriers
+    charges: np.ndarray  # C
+    surface_fields: np.ndarray  # V/m, per carrier (in-loop samples)
+    residual: float
+    rounds: int
+    cones: int
+    objective_lp: float
+    method: str
+
+
+def lp_charges(
+    A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
+) -> np.ndarray | None:
+    """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
+    usable = caps > 0
+    cols = np.flatnonzero(usable)
+    if len(cols) == 0:
+        return None
+    qs = float(np.max(caps[cols]))
+    As, bs = row_scaled(A[:, cols], b, qs)
+    k = len(cols)
+    res = linprog(
+        np.ones(2 * k) if cost is None else np.tile(cost[cols], 2),
+        A_eq=np.hstack([As, -As]),
+        b_eq=bs,  # q = qs * u
+        bounds=list(zip(np.zeros(2 * k), np.tile(caps[cols] / qs, 2), strict=True)),
+        method="highs",
+    )
+    if res.status == 2:
+        return None
+    if res.status != 0 or res.x is None:
+        raise SolverError(f"charges: HiGHS failed on the carriers' own-field LP ({res.message})")
+    q = np.zeros(len(caps))
+    q[cols] = (res.x[:k] - res.x[k:]) * qs
+    return q
+
+
+def surface_check(
+    setup: PhysicalSetup, positions: np.ndarray, q: np.ndarray, s: float, samples: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Largest surface field of each carrier over the safe field, and where it occurs.
+
+    ``samples`` Fibonacci points per carrier, then a refinement around the largest one
+    (:func:`~chargedesign.physical.limits.local_cap`), so the maximum between samples is found.
+
+    Returns
+    -------
+    ratios : ndarray, shape (k,)
+    worst : ndarray, shape (k, 3)
+    """
+    k = len(q)
+    if k == 0:
+        return np.zeros(0), np.zeros((0, 3))
+    dirs = fibonacci_directions(samples)
+    a = setup.carrier_radius
+
+    def magnitudes(points: np.ndarray) -> np.ndarray:
+        """|E| at points (k, m, 3) from every carrier plus the external bound: (k, m)."""
+        flat = points.reshape(-1, 3)
+        e = np.linalg.norm(coulomb_field_gemm(positions, q, flat), axis=1)
+        e = e + setup.external_max(np.linalg.norm(flat, axis=1), s)
+        return e.reshape(k, -1)
+
+    # every carrier's samples in one evaluation, then a cap around each one's largest
+    e = magnitudes(positions[:, None, :] + a * dirs[None, :, :])
+    caps = positions[:, None, :] + a * local_caps(
+        dirs[np.argmax(e, axis=1)], 1.5 * sample_spacing(samples)
+    )
+    e_cap = magnitudes(caps)
+    best = np.argmax(e_cap, axis=1)
+    rows = np.arange(k)
+    ratios = np.maximum(e_cap[rows, best], e.max(axis=1)) / setup.safe_field
+    return ratios, caps[rows, best]
+
+
+def _socp_charges(
+    setup: PhysicalSetup,
+    sites: np.ndarray,
+    s: float,
+    cones: list[tuple[int, np.ndarray]],
+    caps: np.ndarray,
+) -> np.ndarray | None:
+    """min sum cost_j |q_j| on ``sites`` with the charge conditions, own-field caps and
+    surface cones (:class:`~chargedesign.designer.cone_program.ConeProgram`, in ``x = (u, w)``,
+    ``q = qs u``, ``w >= |u|`` carrying the cost)."""
+    A, b = setup.systems["charges"]
+    qs = float(np.max(caps[sites]))
+    As, bs = row_scaled(A[:, sites], s * b, qs)
+    k = len(sites)
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    eye = sparse.identity(k, format="csr")
+    zero = sparse.csr_matrix((k, k))
+    cap = caps[sites] / qs
+    G_lin = sparse.vstack(
+        [
+            sparse.hstack([eye, -eye]),  # u - w <= 0
+            sparse.hstack([-eye, -eye]),  # -u - w <= 0
+            sparse.hstack([eye, zero]),  # u <= cap
+            sparse.hstack([-eye, zero]),  # -u <= cap
+        ],
+        format="csr",
+    )
+    h_lin = np.concatenate([np.zeros(2 * k), cap, cap])
+    G_soc, h_soc = np.zeros((0, 4, 2 * k)), np.zeros((0, 4))
+    if cones:
+        points = np.array([point for _, point in cones])
+        G = coulomb_kernel(setup.points[sites], points, COULOMB * qs / limit)  # (m, 3, k)
+        G_soc = np.zeros((len(points), 4, 2 * k))
+        G_soc[:, 1:, :k] = -G  # the cone's (room, G u)
+        h_soc = np.zeros((len(points), 4))
+        h_soc[:, 0] = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+    cost = np.concatenate([np.zeros(k), setup.cost("charges")[sites]])
+    A_eq = np.hstack([As, np.zeros_like(As)])
+    program = ConeProgram(
+        cost, A_eq, bs, G_lin, h_lin, G_soc, h_soc, "charges: the surface-field cones"
+    )
+    x = program.solve()
+    return None if x is None else x[:k] * qs
+
+
+def _excess(ratio: float) -> str:
+    return f"needs {fmt(ratio)}x" if ratio >= 1.01 else "reaches"
+
+
+def charge_support(q: np.ndarray) -> np.ndarray:
+    top = float(np.max(np.abs(q))) if len(q) else 0.0
+    return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
+
+
+def _charges_method(rounds: int, n_cones: int) -> str:
+    """How the charges were found, for design.json's solver record."""
+    return (
+        "HiGHS LP with the carriers' own-field bounds"
+        + (f", tightened in {rounds - 1} rounds" if rounds > 1 and not n_cones else "")
+        + (f", then Clarabel with {n_cones} surface cones" if n_cones else "")
+    )
+
+
+def _cone_round(
+    setup: PhysicalSetup,
+    working: np.ndarray,
+    s: float,
+    cones: list[tuple[int, np.ndarray]],
+    caps: np.ndarray,
+) -> tuple[np.ndarray | None, np.ndarray]:
+    """The surface cones solved on the working set, else on every usable candidate: the
+    charges on the working set returned (None: infeasible there too) and that set.
+
+    The working set may lack carriers a solution needs: on every usable candidate the cones
+    (a subset of the surface limits) relax the true problem, so its infeasibility proves the
+    rate infeasible, and every faster one too (the feasible charges scale down with the
+    rate): the frontier then sees a monotone answer.
+    """
+    solved = _socp_charges(setup, working, s, cones, caps)
+    usable = np.flatnonzero(caps > 0)
+    if solved is None and len(working) < len(usable):
+        working = usable
+        solved = _socp_charges(setup, working, s, cones, caps)
+    return solved, working
+
+
+def _meet_surface_limits(
+    setup: PhysicalSetup, s: float, caps: np.ndarray, q_lp: np.ndarray
+) -> tuple[np.ndarray, str, int, int]:
+    """Charges on all candidates that keep every carrier's surface field within its limit.
+
+    Constraint generation, cheapest first: (1) the LP's answer when no carrier is over;
+    (2) LP rounds where each carrier over its limit gets its own-field bound divided by its
+    excess (neighbours' fields then push the charge onto more carriers); (3) the second-order
+    cones at the worst surface points of the carriers near their limit, on the working set of
+    every carrier the LPs used (Clarabel), until the surface check passes. Raises
+    PhysicalInfeasible when the LPs run out of room and the cones cannot be met.
+    """
+    A, b = setup.systems["charges"]
+    working = charge_support(q_lp)
+    q = q_lp
+    lp_caps = caps.copy()
+    cones: list[tuple[int, np.ndarray]] = []
+    worst_ratio, worst_site = 0.0, -1
+    lp_alive = True
+    for rounds in range(1, MAX_ROUNDS + 1):
+        sites = charge_support(q)
+        ratios, worst = surface_check(setup, setup.points[sites], q[sites], s, LOOP_SURFACE_SAMPLES)
+        over = np.flatnonzero(ratios > 1 - DESIGN_MARGIN / 2)
+        if len(over) == 0:
+            return q, _charges_method(rounds, len(cones)), rounds, len(cones)
+        k = int(over[np.argmax(ratios[over])])
+        worst_ratio, worst_site = float(ratios[k]), int(sites[k])
+        if lp_alive and rounds <= LP_ROUNDS:
+            near = np.flatnonzero(ratios > CONE_THRESHOLD)
+            lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
+            more = lp_charges(A, s * b, lp_caps, setup.cost("charges"))
+            if more is not None:
+                working = np.union1d(working, charge_support(more))
+                q = more
+                continue
+            lp_alive = False
+        near = np.flatnonzero(ratios > CONE_THRESHOLD)
+        cones.extend((int(sites[i]), worst[i]) for i in near)
+        working = np.union1d(working, sites)
+        solved, working = _cone_round(setup, working, s, cones, caps)
+        if solved is None:
+            proved = True  # the cones on every usable candidate: a relaxation
+            break
+        q = np.zeros(len(setup.points))
+        q[working] = solved
+    else:
+        proved = False  # the rounds ran out
+    raise PhysicalInfeasible(_surface_binding(setup, worst_ratio, worst_site, proved))
+
+
+def _surface_binding(
+    setup: PhysicalSetup, worst_ratio: float, worst_site: int, proved: bool
+) -> Binding:
+    """The carriers' fields add up beyond the safe surface field at the worst carrier."""
+    return Binding(
+        "charges",
+        f"{_excess(worst_ratio)} the safe surface field of {setup.spec.medium.name} "
+        f"({fmt(setup.safe_field)} V/m): the carriers' fields add up",
+        f"charge at {np.array2string(setup.points[worst_site], precision=4)} m",
+        worst_ratio,
+        proved=proved,
+    )
+
+
+def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
+    """Refuse a rate whose electric field exceeds ``fields.electric.max``."""
+    if s > setup.field_bound(s) * (1 + 1e-12):
+        raise PhysicalInfeasible(
+            Binding(
+                "fields",
+                f"the electric field this rate needs exceeds fields.electric.max "
+                f"({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m)",
+                "fields.electric",
+                s / setup.field_bound(s),
+                proved=True,
+            )
+        )
+
+
+def _lp_charges(
+    setup: PhysicalSetup, A: np.ndarray, rhs: np.ndarray, caps: np.ndarray
+) -> np.ndarray:
+    """The linear program's charges within every carrier's own-field cap (refused: none)."""
+    q_lp = lp_charges(A, rhs, caps, setup.cost("charges"))
+    if q_lp is None:
+        raise PhysicalInfeasible(
+            Binding(
+                "charges",
+                f"no charges on carriers of radius {fmt(setup.carrier_radius)} m meet the "
+                f"conditions with every carrier's own surface field within the safe field of "
+                f"{setup.spec.medium.name} ({fmt(setup.safe_field)} V/m)",
+                "the carriers",
+                proved=True,  # the own-field bounds are necessary
+            )
+        )
+    return q_lp
+
+
+def _polished_charges(
+    setup: PhysicalSetup, s: float, caps: np.ndarray, q_full: np.ndarray, residue: float
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The charges without those below ``residue`` times the largest, polished to meet
+    ``A q = s b`` to rounding on the rest, and their surface ratios (None: the polished
+    charges miss the conditions, unless ``residue`` is the last resort, or come within
+    DESIGN_MARGIN / 4 of a limit)."""
+    A, b = setup.systems["charges"]
+    top = float(np.max(np.abs(q_full)))
+    kept = np.flatnonzero(np.abs(q_full) > residue * top)
+    full = np.zeros(len(setup.points))
+    full[kept] = q_full[kept]
+    full = polish_equal(A, s * b, full, kept)
+    sites = np.flatnonzero(full)
+    q = full[sites]
+    ratios, _ = surface_check(setup, setup.points[sites], q, s, LOOP_SURFACE_SAMPLES)
+    if (
+        (residue != CHARGE_RESIDUES[-1] and relative_residual(A, full, s * b) > POLISHED_RESIDUAL)
+        or np.any(ratios > 1 - DESIGN_MARGIN / 4)
+        or np.any(np.abs(q) > np.maximum(caps[sites], 0) * (1 + 1e-9))
+    ):
+        return None
+    return full, ratios
+
+
+def design_charges(setup: PhysicalSetup, s: float) -> ChargeSolution:
+    """The carriers and their charges at rate ``s`` (see the module doc).
+
+    Raises
+    ------
+    PhysicalInfeasible
+        Naming the binding limit.
+    """
+    A, b = setup.systems["charges"]
+    _check_field_rate(setup, s)
+    if not np.any(b):
+        return ChargeSolution(
+            np.zeros(0, dtype=int), np.zeros(0), np.zeros(0), 0.0, 0, 0, 0.0, "none"
+        )
+    caps = setup.charge_caps(s)
+    q_lp = _lp_charges(setup, A, s * b, caps)
+    objective_lp = float(np.sum(np.abs(q_lp)))
+    q_full, method, rounds, n_cones = _meet_surface_limits(setup, s, caps, q_lp)
+    sites = charge_support(q_full)
+    if not len(sites):
+        raise SolverError(f"charges: the solver returned no charges at rate s = {fmt(s)}")
+    for residue in CHARGE_RESIDUES:
+        polished = _polished_charges(setup, s, caps, q_full, residue)
+        if polished is not None:
+            break
+    else:
+        raise SolverError("charges: polishing pushed a carrier to its surface-field limit")
+    full, ratios = polished
+    sites = np.flatnonzero(full)
+    q = full[sites]
+    return ChargeSolution(
+        sites=sites,
+        charges=q,
+        surface_fields=ratios * setup.safe_field,
+        residual=relative_residual(A, full, s * b),
+        rounds=rounds,
+        cones=n_cones,
+        objective_lp=objective_lp,
+        method=method,
+    )
+
+
+@dataclass
+class ChargeProgram:
+    """The charges' stage as one cvxpy problem on every candidate (no constraint generation).
+
+    ``problem`` minimises ``sum |q|`` subject to the charge conditions and a second-order cone
+    at every one of ``samples`` points on every candidate carrier's surface. ``q`` is in units
+    of ``charge_scale`` (C). Dense: meant for small candidate sets, for users who add their
+    own constraints, and as the reference the constraint generation is tested against.
+    """
+
+    problem: Any
+    q: Any
+    charge_scale: float
+
+
+def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeProgram:
+    """Build (not solve) the full charges program at rate ``s`` (see :class:`ChargeProgram`)."""
+    import cvxpy as cp
+
+    A, b = setup.systems["charges"]
+    caps = setup.charge_caps(s)
+    qs = float(np.max(caps))
+    As, bs = row_scaled(A, s * b, qs)
+    q = cp.Variable(len(setup.points))
+    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    dirs = fibonacci_directions(samples)
+    points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
+    G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)
+    room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
+    fields = cp.reshape(G.reshape(-1, len(setup.points)) @ q, (len(points), 3), order="C")
+    cost = setup.cost("charges")
+    problem = cp.Problem(
+        cp.Minimize(cp.norm(cp.multiply(cost, q), 1)),
+        [As @ q == bs, cp.norm(fields, 2, axis=1) <= room],
+    )
+    return ChargeProgram(problem, q, qs)

@@ -1,0 +1,474 @@
+"""Physical design, the magnets' and masses' stage, jointly, on the sites not holding a carrier.
+
+``A_d sigma = s^2 b_d``, ``A_m w = b_m - A_m(carriers) m_carrier`` (the inertia and centre of
+mass of all mass), site mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its
+volume), and ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the
+cell). Polished to machine precision on its support; :func:`mass_program` returns the stage as
+one program for a user to extend.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.optimize import linprog
+
+from chargedesign.designer.physical_setup import (
+    DESIGN_MARGIN,
+    Binding,
+    PhysicalInfeasible,
+    PhysicalSetup,
+    polish_equal,
+    row_scaled,
+)
+from chargedesign.designer.system import relative_residual
+from chargedesign.errors import InputError, SolverError
+from chargedesign.formatting import PRECISE, fmt
+from chargedesign.physical.induced import induced_rows
+from chargedesign.scene.physical import PhysicalSpec
+
+
+# ------------------------------------------------------------------- magnets and masses
+@dataclass
+class MassSolution:
+    sites: np.ndarray  # candidate indices of the sites (no carrier)
+    moments: np.ndarray  # (k, 3) A m^2
+    site_masses: np.ndarray  # (k,) kg
+    residual_dipoles: float
+    residual_masses: float
+    method: str
+    #: with several ballast materials: each entry's material (index into ``spec.ballasts``;
+    #: -1 for a magnet), and the induced-magnetisation rows' relative residual
+    materials: np.ndarray | None = None
+    residual_induced: float | None = None
+
+
+@dataclass
+class MassProgram:
+    """The second stage as a cvxpy problem: variables and what they mean."""
+
+    problem: Any
+    sigma: Any  # (k, 3) in units of sigma_scale
+    mass: Any  # (k,) in units of mass_scale
+    sites: np.ndarray
+    sigma_scale: float
+    mass_scale: float
+    rhs_masses: np.ndarray
+
+
+def _unknown_scale(A: np.ndarray, b: np.ndarray) -> float:
+    """The size of the unknowns ``A w = b`` asks for (0 when b = 0): max_i |b_i| / max_j |A_ij|."""
+    if A.size == 0 or not np.any(b):
+        return 0.0
+    top = np.max(np.abs(A), axis=1)
+    ok = top > 0
+    return float(np.max(np.abs(b[ok]) / top[ok])) if np.any(ok) else 0.0
+
+
+def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
+
+    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
+    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled).
+    """
+    import cvxpy as cp
+
+    spec = setup.spec
+    n = len(setup.points)
+    free = np.ones(n, dtype=bool)
+    free[carrier_sites] = False
+    sites = np.flatnonzero(free)
+    Ad, bd = setup.systems["dipoles"]
+    Am, bm = setup.systems["masses"]
+    bd = s * s * bd
+    bm = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    M, rho_m, rho_b = spec.magnet.magnetisation or 1.0, spec.magnet.density, spec.ballast.density
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[sites] ** 3 * (1 - DESIGN_MARGIN)
+    mass_scale = _unknown_scale(Am[:, sites], bm) or float(np.max(v_cap)) * rho_b
+    cols = (3 * sites[:, None] + np.arange(3)).reshape(-1)
+    sigma_scale = _unknown_scale(Ad[:, cols], bd) or float(np.max(v_cap)) * M
+    k = len(sites)
+    sigma = cp.Variable((k, 3))
+    mass = cp.Variable(k, nonneg=True)
+    constraints = []
+    if len(bd):
+        Ads, bds = row_scaled(Ad[:, cols], bd, sigma_scale)
+        constraints.append(Ads @ cp.reshape(sigma, (3 * k,), order="C") == bds)
+    if len(bm):
+        Ams, bms = row_scaled(Am[:, sites], bm, mass_scale)
+        constraints.append(Ams @ mass == bms)
+    blocked = np.flatnonzero(~setup.magnet_sites[sites])
+    if len(blocked):  # the field there would demagnetise a magnet
+        constraints.append(sigma[blocked, :] == 0)
+    norms = cp.norm(sigma, 2, axis=1)
+    constraints.append(mass >= (1 + 1e-6) * rho_m * sigma_scale / M / mass_scale * norms)
+    constraints.append(
+        cp.multiply(sigma_scale / M / v_cap, norms) + cp.multiply(mass_scale / rho_b / v_cap, mass)
+        <= 1.0
+    )
+    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
+    # (each weighted by its site's cost under the robust objective)
+    objective = cp.Minimize(
+        setup.cost("masses")[sites] @ mass + setup.cost("dipoles")[sites] @ norms
+    )
+    return MassProgram(
+        problem=cp.Problem(objective, constraints),
+        sigma=sigma,
+        mass=mass,
+        sites=sites,
+        sigma_scale=sigma_scale,
+        mass_scale=mass_scale,
+        rhs_masses=bm,
+    )
+
+
+def _solved_mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+    """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
+    naming the binding limit when it has no solution)."""
+    import cvxpy as cp
+
+    if len(np.unique(carrier_sites)) >= len(setup.points):
+        # (the minmax's charges on every candidate, say): nothing left to solve for
+        raise PhysicalInfeasible(
+            Binding(
+                "masses",
+                f"the {len(setup.points)} carriers fill every candidate site: no cell is left "
+                "for the magnets and the ballast",
+                "ballast cells",
+            )
+        )
+    program = mass_program(setup, s, carrier_sites)
+    _, bd = setup.systems["dipoles"]
+    if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
+        # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
+    try:
+        program.problem.solve(solver=cp.CLARABEL)
+    except cp.SolverError as exc:
+        raise SolverError(f"magnets and masses: Clarabel failed ({exc})") from exc
+    if program.problem.status in ("infeasible", "infeasible_inaccurate"):
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
+    if program.sigma.value is None or program.mass.value is None:
+        raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
+    return program
+
+
+def _polish_moments(
+    setup: PhysicalSetup, s: float, sites: np.ndarray, sigma: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The solver's moments on ``sites`` polished on their support: all moments (3 n,) and
+    which sites keep a magnet."""
+    Ad, bd = setup.systems["dipoles"]
+    n = len(setup.points)
+    # polish each system on its support
+    sig_norm = np.linalg.norm(sigma, axis=1)
+    top_sigma = max(float(np.max(sig_norm, initial=0.0)), 1e-300)
+    sig_keep = sig_norm > 1e-6 * top_sigma
+    full_sigma = np.zeros(3 * n)
+    cols = (3 * sites[sig_keep][:, None] + np.arange(3)).reshape(-1)
+    full_sigma[cols] = sigma[sig_keep].reshape(-1)
+    big = sites[sig_norm > 1e-3 * top_sigma]
+    if len(bd):
+        # corrections on the strong magnets only (relative changes ~ the solver's residual)
+        big_cols = (3 * big[:, None] + np.arange(3)).reshape(-1)
+        full_sigma = polish_equal(Ad, s * s * bd, full_sigma, big_cols)
+    return full_sigma, sig_keep
+
+
+def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0) -> np.ndarray:
+    """``factor`` times the mass of each moment's magnet (density x |moment| / magnetisation)."""
+    return (
+        factor
+        * setup.spec.magnet.density
+        * np.linalg.norm(moments, axis=1)
+        / (setup.spec.magnet.magnetisation or 1.0)
+    )
+
+
+def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
+    program = _solved_mass_program(setup, s, carrier_sites)
+    sites = program.sites
+    sigma = np.asarray(program.sigma.value) * program.sigma_scale
+    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    Ad, bd = setup.systems["dipoles"]
+    Am, _ = setup.systems["masses"]
+    n = len(setup.points)
+    full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
+    # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
+    # changes at the solver's tolerance; the heavy sites absorb them in the polish below)
+    sig_polished = full_sigma.reshape(n, 3)[sites]
+    magnet_floor = _magnet_mass(setup, sig_polished, 1 + 1e-6)
+    mass = np.maximum(mass, magnet_floor)
+    top_mass = max(float(np.max(mass, initial=0.0)), 1e-300)
+    mass_keep = (mass > 1e-9 * top_mass) | sig_keep
+    full_rhs = program.rhs_masses
+    full_mass = np.zeros(n)
+    full_mass[sites[mass_keep]] = mass[mass_keep]
+    # the correction goes to the heavy sites only, so that light ones (and magnets) keep
+    # their sign and their bound: relative changes there are ~ the solver's residual. A
+    # robust design spreads its masses, so the heaviest few may not span the mass rows:
+    # lighter sites then join, as long as every mass stays nonnegative.
+    full_mass = _polish_masses(Am, full_rhs, full_mass, sites, mass, top_mass)
+    sig = full_sigma.reshape(n, 3)[sites]
+    m = full_mass[sites]
+    magnet_mass = _magnet_mass(setup, sig)
+    if np.any(m < magnet_mass * (1 - 1e-9)):
+        raise SolverError("magnets: polishing left a magnet lighter than its volume")
+    used = (np.linalg.norm(sig, axis=1) > 0) | (m > 0)
+    residual_dipoles = relative_residual(Ad, full_sigma, s * s * bd) if len(bd) else 0.0
+    if setup.spec.designs_induced:
+        return induced_ballast(setup, carrier_sites, full_sigma.reshape(n, 3), residual_dipoles)
+    return MassSolution(
+        sites=sites[used],
+        moments=sig[used],
+        site_masses=m[used],
+        residual_dipoles=residual_dipoles,
+        residual_masses=relative_residual(Am, full_mass, full_rhs) if len(full_rhs) else 0.0,
+        method="Clarabel (magnet-mass and cell-volume cones), least-norm polish on the supports",
+    )
+
+
+def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:
+    """Each part material's susceptibility by (name, role); one line naming the table whose
+    material has none."""
+    chi = {}
+    for part in (spec.carrier, spec.magnet, *spec.ballasts):
+        if part.susceptibility is None:
+            table = "carriers" if part.role == "carrier" else f"{part.role}s"
+            raise InputError(
+                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+                f"{part.role} material's susceptibility ({part.name} has none)"
+            )
+        chi[part.name, part.role] = part.susceptibility
+    return chi
+
+
+def _one_material_per_cell(
+    cost: np.ndarray, room: np.ndarray, As: np.ndarray, bs: np.ndarray, mats: Any
+) -> np.ndarray:
+    """The ballast LP (masses per material and cell, scaled; shape (materials, cells)) with
+    one material per cell: cells given two are fixed to the one filling more of the cell
+    and the LP solved again."""
+    J, k = len(mats), room.shape[0]
+    allowed = np.ones(J * k, dtype=bool)
+    for _ in range(6):
+        res = linprog(
+            cost,
+            A_ub=room,
+            b_ub=np.ones(k),
+            A_eq=As,
+            b_eq=bs,
+            bounds=[(0.0, None if ok else 0.0) for ok in allowed],
+            method="highs",
+        )
+        if res.status == 2:
+            raise PhysicalInfeasible(
+                Binding(
+                    "masses",
+                    "no ballast of " + ", ".join(m.name for m in mats) + " in the free cells "
+                    "makes A = B = 2C, the centre of mass at O and the induced magnetisation "
+                    "independent of the orientation",
+                    "ballast.material",
+                )
+            )
+        if res.status != 0 or res.x is None:
+            raise SolverError(
+                f"ballast: HiGHS failed on the induced-magnetisation LP ({res.message})"
+            )
+        x = res.x.reshape(J, k)
+        top = max(float(np.max(x)), 1e-300)
+        used = x > 1e-12 * top
+        split = np.flatnonzero(used.sum(axis=0) > 1)
+        if not len(split):
+            return x
+        keep = np.argmax(x[:, split] / np.array([m.density for m in mats])[:, None], axis=0)
+        mask = allowed.reshape(J, k)
+        mask[:, split] = False
+        mask[keep, split] = True
+    raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
+
+
+def induced_ballast(
+    setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
+) -> MassSolution:
+    """Ballast of several materials that cancels the parts' induced magnetisation.
+
+    The carriers and the magnets ``sigma`` (n, 3), A m^2, are kept; the ballast is designed
+    anew, one material per free cell: its masses (per cell and material, kg) meet the mass
+    rows (inertia, centre of mass) and the induced-magnetisation rows (:func:`induced_rows`,
+    linear in the masses through ``chi v = (chi / rho) m``), within the cells' room. A linear
+    program (HiGHS, least total mass); cells given two materials are fixed to the larger and
+    the program solved again; then a least-norm polish on the support to rounding.
+    """
+    spec = setup.spec
+    mats = spec.ballasts
+    chi = _susceptibilities(spec)
+    n = len(setup.points)
+    legendre = tuple(setup.conditions.fields.get("magnetic", ()))
+    Am, bm = setup.systems["masses"]
+    M = spec.magnet.magnetisation or 1.0
+    norms = np.linalg.norm(sigma, axis=1)
+    magnet_sites = np.flatnonzero(norms > 0)
+    volumes = norms[magnet_sites] / M
+    magnet_mass = spec.magnet.density * volumes
+    carrier_volume = setup.carrier_mass / spec.carrier.density
+    rows_all = induced_rows(legendre, setup.points)
+    # what the carriers and magnets already contribute (constants of both row sets)
+    fixed_mass = np.zeros(n)
+    fixed_mass[carrier_sites] = setup.carrier_mass
+    fixed_mass[magnet_sites] = magnet_mass
+    chi_v = np.zeros(n)
+    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume
+    chi_v[magnet_sites] = chi[spec.magnet.name, "magnet"] * volumes
+    free = np.setdiff1d(np.arange(n), np.concatenate([carrier_sites, magnet_sites]))
+    k, J = len(free), len(mats)
+    per_kg = np.array([chi[m.name, "ballast"] / m.density for m in mats])  # chi v per kg
+    A = np.vstack(
+        [
+            np.hstack([Am[:, free]] * J),
+            np.hstack([rows_all[:, free] * c for c in per_kg]),
+        ]
+    )
+    b = np.concatenate([bm - Am @ fixed_mass, -rows_all @ chi_v])
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+    scale = _unknown_scale(A, b) or float(np.max(v_cap)) * mats[0].density
+    As, bs = row_scaled(A, b, scale)
+    # one material per cell: sum_j m_j / (rho_j v_cap) <= 1
+    room = np.hstack([np.diag(scale / (m.density * v_cap)) for m in mats])
+    cost = np.tile(setup.cost("masses")[free], J)
+    x = _one_material_per_cell(cost, room, As, bs, mats)
+    flat = x.reshape(-1) * scale
+    support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
+    # the solver's crumbs off the support are dropped before the polish, so that the parts
+    # written are exactly the ones the rows were polished with
+    flat = np.where(np.isin(np.arange(len(flat)), support), flat, 0.0)
+    polished = polish_equal(A, b, flat, support)
+    if np.any(polished < 0):
+        raise SolverError("ballast: polishing made a ballast mass negative")
+    per = polished.reshape(J, k)
+    entries = [(j, i) for j in range(J) for i in range(k) if per[j, i] > 0]
+    nm = len(magnet_sites)
+    material = np.concatenate([np.full(nm, -1), [j for j, _ in entries]]).astype(int)
+    site_list = np.concatenate([magnet_sites, [free[i] for _, i in entries]]).astype(int)
+    moments = np.vstack([sigma[magnet_sites], np.zeros((len(entries), 3))])
+    masses = np.concatenate([magnet_mass, [per[j, i] for j, i in entries]])
+    full = fixed_mass.copy()
+    full[free] += per.sum(axis=0)
+    n_mass = len(bm)
+    return MassSolution(
+        sites=site_list,
+        moments=moments,
+        site_masses=masses,
+        residual_dipoles=residual_dipoles,
+        residual_masses=relative_residual(Am, full, bm) if n_mass else 0.0,
+        method="Clarabel for the magnets; HiGHS for the ballast of "
+        + ", ".join(m.name for m in mats)
+        + " (induced magnetisation cancelled), least-norm polish on the supports",
+        materials=material,
+        residual_induced=relative_residual(A[n_mass:], polished, b[n_mass:])
+        if len(b) > n_mass
+        else 0.0,
+    )
+
+
+def _polish_masses(
+    Am: np.ndarray,
+    rhs: np.ndarray,
+    full_mass: np.ndarray,
+    sites: np.ndarray,
+    mass: np.ndarray,
+    top_mass: float,
+) -> np.ndarray:
+    """Masses meeting ``Am m = rhs`` to rounding, corrected on the heaviest sites that do it.
+
+    Heavy sets from the heaviest (above 1e-3 of the largest mass) to every site are tried;
+    the best nonnegative result wins (the first at rounding level ends the search).
+    """
+    best: tuple[float, np.ndarray] | None = None
+    for level in (1e-3, 1e-6, 1e-9, 0.0):
+        polished = polish_equal(Am, rhs, full_mass, sites[mass > level * top_mass])
+        if np.any(polished < 0):
+            continue
+        residual = relative_residual(Am, polished, rhs) if len(rhs) else 0.0
+        if best is None or residual < best[0]:
+            best = (residual, polished)
+        if residual < 1e-15:
+            break
+    if best is None:
+        raise SolverError("masses: polishing made a site mass negative")
+    return best[1]
+
+
+def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> Binding:
+    """Why the second stage is infeasible: the carriers' mass, the ballast's room, or the
+    magnets' volume (each tried without the later ones)."""
+    import cvxpy as cp
+
+    Am, bm = setup.systems["masses"]
+    free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
+    rhs = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    scale = _unknown_scale(Am[:, free], rhs) or 1.0
+    Ams, bms = row_scaled(Am[:, free], rhs, scale)
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+
+    def feasible(room: bool) -> bool:
+        w = cp.Variable(len(free), nonneg=True)
+        cons = [Ams @ w == bms]
+        if room:
+            cons.append(w * scale / setup.spec.ballast.density <= v_cap)
+        prob = cp.Problem(cp.Minimize(0), cons)
+        prob.solve(solver=cp.CLARABEL)
+        return prob.status not in ("infeasible", "infeasible_inaccurate")
+
+    carriers_c = float(
+        setup.carrier_mass * np.sum(np.sum(setup.points[carrier_sites, :2] ** 2, axis=1))
+    )
+    if not feasible(room=False):
+        return Binding(
+            "masses",
+            f"the {len(carrier_sites)} carriers ({fmt(setup.carrier_mass)} kg each, their own "
+            f"C = {fmt(carriers_c)} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
+            f"with C = {fmt(setup.params.C, PRECISE)} kg m^2 and the centre of mass at O",
+            "inertia",
+        )
+    if not feasible(room=True):
+        return Binding(
+            "masses",
+            f"the {setup.spec.ballast.name} ballast that makes A = B = 2C (C = "
+            f"{fmt(setup.params.C, PRECISE)} kg m^2) does not fit in the cells the "
+            f"{len(carrier_sites)} carriers leave free",
+            "ballast cells",
+        )
+    return _magnet_binding(setup, free)
+
+
+def _magnet_binding(setup: PhysicalSetup, free: np.ndarray) -> Binding:
+    """Why the magnets do not fit: the field demagnetises some cells, or no room at all."""
+    magnet = setup.spec.magnet
+    allowed = setup.magnet_sites[free]
+    if not np.all(allowed):
+        withstood = magnet.field_withstood() or 0.0
+        where = (
+            f"{int(np.sum(allowed))} of the {len(free)} free cells"
+            if np.any(allowed)
+            else "none of the free cells"
+        )
+        return Binding(
+            "magnets",
+            f"the magnets need more volume of {magnet.name} (M = {fmt(magnet.magnetisation)} A/m) "
+            f"than {where} hold beside the ballast where the field stays below the "
+            f"{fmt(withstood)} T a {magnet.name} magnet withstands (intrinsic coercivity less its "
+            "own demagnetising field); a higher-coercivity grade (ndfeb-eh, smco) or a weaker "
+            "field reaches further",
+            "magnets.material",
+        )
+    return Binding(
+        "magnets",
+        f"the magnets need more volume of {magnet.name} (M = "
+        f"{fmt(magnet.magnetisation)} A/m) than the free cells hold beside the ballast",
+        "magnet cells",
+    )

@@ -1,0 +1,325 @@
+"""Physical design, its setup: every element a real part within the limits of its medium.
+
+The conditions engine gives, per source, ``A w = b`` (SI). With the theorem's time rate ``s``
+(``n, K -> s n, s K``; ``kappa, lambda, rho -> s^2 ...``; the same motion s times faster)
+the charges' right-hand sides and the derived electric field scale with ``s``, the dipoles'
+with ``s^2``, and the masses' not at all. The design at rate ``s`` is two convex programs,
+because the charges' conditions involve no mass while the carriers' masses depend on which
+carriers are used: the charges (:mod:`chargedesign.designer.charges`), then the magnets and
+masses jointly (:mod:`chargedesign.designer.masses`); :mod:`chargedesign.designer.assembly`
+puts them together into a body. This module holds what all stages share: the setup at rate 1
+(:func:`setup_physical`), the design margin, the binding limit of a refusal, and the row
+scaling and equality polish of their programs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from chargedesign.candidates import CandidateSet
+from chargedesign.constants import EPSILON_0
+from chargedesign.designer.robust import robust_costs
+from chargedesign.designer.solvers import least_norm
+from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.larmor import LarmorReading
+from chargedesign.moment_conditions import LinearConditions
+from chargedesign.params import Parameters
+from chargedesign.physical.field_bounds import field_magnitude_max
+from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
+
+#: the design keeps every limit this fraction below its value, so that polishing (relative
+#: changes ~1e-10) and the check's denser samples never find it above
+DESIGN_MARGIN = 1e-3
+
+
+#: objectives of the physical design (l2 and linf are not built for the cones and cells)
+PHYSICAL_OBJECTIVES = ("l1", "robust")
+
+
+@dataclass
+class Binding:
+    """The limit that stops a design: which element, which limit, and by how much."""
+
+    stage: str  # charges | magnets | masses | fields | balance | limits | forward
+    limit: str
+    element: str = ""
+    factor: float = math.inf  # the limit is exceeded by this factor (inf: not measured)
+    #: the refusal is proved for this rate and every faster one (a relaxation of the limits
+    #: is infeasible, and feasible charges scale down with the rate), not only found by the
+    #: heuristic: the frontier need not design faster rates
+    proved: bool = False
+
+    def text(self, medium: str) -> str:
+        return f"{self.element + ': ' if self.element else ''}{self.limit}"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"stage": self.stage, "limit": self.limit, "element": self.element}
+
+
+class PhysicalInfeasible(InfeasibleError):
+    """A design at this time rate breaks a physical limit (``binding`` names it)."""
+
+    def __init__(self, binding: Binding) -> None:
+        super().__init__(binding.text(""))
+        self.binding = binding
+
+
+@dataclass
+class PhysicalSetup:
+    """Everything the physical design needs at time rate 1, in SI units."""
+
+    params: Parameters
+    conditions: LinearConditions
+    candidates: CandidateSet
+    spec: PhysicalSpec
+    options: DesignOptions
+    points: np.ndarray
+    cell_radius: np.ndarray  # half the nearest-neighbour distance of each candidate, m
+    carrier_radius: float
+    carrier_mass: float
+    region_radius: float
+    systems: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    electric: tuple[float, ...] = ()
+    e_grid: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    e_grid_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: per-candidate objective costs of the sources designed robustly (others cost 1)
+    costs: dict[str, np.ndarray] = field(default_factory=dict)
+    #: candidates where a magnet keeps its magnetisation: the largest |B| over its cell stays
+    #: below what the magnet material withstands (all True when its coercivity is unknown)
+    magnet_sites: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    #: how the theorem's n is realised (rate at time rate 1); ``params`` are then the
+    #: parameters the elements realise (n = 0 for ``frame``)
+    larmor: LarmorReading | None = None
+
+    @property
+    def theorem_params(self) -> Parameters:
+        """The theorem's parameters at rate 1 (``params`` with the Larmor rate as n)."""
+        if self.larmor is not None and self.larmor.is_frame:
+            return replace(self.params, n=self.larmor.rate)
+        return self.params
+
+    def cost(self, source: str) -> np.ndarray:
+        """Objective cost of each candidate for ``source`` (ones unless robust)."""
+        return self.costs.get(source, np.ones(len(self.points)))
+
+    @property
+    def safe_field(self) -> float:
+        return self.spec.medium.safe_field
+
+    def external_max(self, radii: np.ndarray, s: float) -> np.ndarray:
+        """Largest external electric field over orientations at these radii, rate s (V/m).
+
+        A nondecreasing function of the radius sampled on a grid: the next grid value up is
+        an upper bound.
+        """
+        if not self.electric:
+            return np.zeros_like(radii)
+        idx = np.searchsorted(self.e_grid, radii, side="left")
+        idx = np.minimum(idx, len(self.e_grid) - 1)
+        return s * self.e_grid_values[idx]
+
+    def charge_caps(self, s: float) -> np.ndarray:
+        """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
+        limit = self.safe_field * (1 - DESIGN_MARGIN) - self.external_max(
+            np.linalg.norm(self.points, axis=1) + self.carrier_radius, s
+        )
+        return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
+
+    def field_bound(self, s: float) -> float:
+        """Largest rate the apparatus' electric-field limit allows (inf: no limit)."""
+        limit = self.spec.field_limits.get("electric")
+        if limit is None or not self.electric:
+            return math.inf
+        top = float(field_magnitude_max(self.electric, np.array([self.region_radius]))[0])
+        return limit / top if top > 0 else math.inf
+
+
+def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
+    """The [design] options a physical design takes (one line naming the one it does not)."""
+    for source in ("charges", "dipoles", "masses"):
+        if options.objective_for(source) not in PHYSICAL_OBJECTIVES:
+            raise InputError(
+                f"design.objective: {options.objective_for(source)!r} for {source} is not "
+                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
+            )
+    if "inertia" not in (options.realise or conditions.realise):
+        raise InputError(
+            "design.realise: a physical design realises the inertia (every part has mass)"
+        )
+    if options.total_charge is not None or options.n_charges is not None:
+        raise InputError(
+            "design.total_charge / n_charges: not available with [medium] (the carriers' "
+            "limits decide the charges)"
+        )
+
+
+def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
+    """The carriers' radius: the scene's, below half the candidate spacing, or a fixed
+    fraction of it."""
+    a = spec.carrier_radius
+    if a is None:
+        return CARRIER_RADIUS_FRACTION * spacing
+    if a >= 0.5 * spacing:
+        raise InputError(
+            f"body.carrier_radius: expected below half the candidate spacing "
+            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(a, PLAIN)}"
+        )
+    return float(a)
+
+
+def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region: float) -> None:
+    """The scene's magnetic and gravity fields within their ``max`` over the body region
+    (the electric field's limit bounds the rate instead)."""
+    for kind, limit in spec.field_limits.items():
+        coeffs = conditions.fields.get(kind, ())
+        if kind == "electric" or not coeffs:
+            continue
+        top = float(field_magnitude_max(coeffs, np.array([region]))[0])
+        if top > limit:
+            raise InputError(
+                f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
+                " over the "
+                f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
+            )
+
+
+def _magnet_sites(
+    spec: PhysicalSpec,
+    conditions: LinearConditions,
+    points: np.ndarray,
+    cell: np.ndarray,
+    dipoles: tuple[np.ndarray, np.ndarray],
+) -> np.ndarray:
+    """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell stays
+    below what the magnet withstands); InfeasibleError when V's moments cannot be met there."""
+    magnet_sites = np.ones(len(points), dtype=bool)
+    withstood = spec.magnet.field_withstood()
+    magnetic = tuple(conditions.fields.get("magnetic", ()))
+    if withstood is not None and magnetic:
+        reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
+        magnet_sites = reach <= withstood
+        if not _moments_reachable(dipoles, magnet_sites):
+            where = (
+                f"at every candidate site but {int(np.sum(magnet_sites))}, and magnets there "
+                "cannot give the moments V needs"
+                if np.any(magnet_sites)
+                else "at every candidate site, and V needs magnets"
+            )
+            raise InfeasibleError(
+                f"magnets.material: a {spec.magnet.name} magnet withstands {fmt(withstood)} T "
+                "(its intrinsic coercivity less its own demagnetising field M/3), but the "
+                f"magnetic field exceeds that as the body turns {where}: use a "
+                "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
+            )
+    return magnet_sites
+
+
+def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
+    """Each candidate's cell radius (half its nearest neighbour's distance) and the spacing."""
+    if len(points) < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+    dist, _ = cKDTree(points).query(points, k=2)
+    return 0.5 * dist[:, 1], float(np.min(dist[:, 1]))
+
+
+def _electric_grid(
+    conditions: LinearConditions, region: float
+) -> tuple[tuple[float, ...], np.ndarray, np.ndarray]:
+    """The electric field's coefficients, and its largest magnitude on radii out to ``region``."""
+    electric = tuple(conditions.fields.get("electric", ()))
+    grid = np.linspace(0.0, region, 513)
+    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+    return electric, grid, values
+
+
+def setup_physical(
+    params: Parameters,
+    conditions: LinearConditions,
+    candidates: CandidateSet,
+    spec: PhysicalSpec,
+    options: DesignOptions | None = None,
+    *,
+    larmor: LarmorReading | None = None,
+) -> PhysicalSetup:
+    """Validate the physical spec against the candidates and build the systems at rate 1.
+
+    ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
+    theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
+    ``frame``).
+    """
+    options = options or DesignOptions()
+    _check_physical_options(options, conditions)
+    points = candidates.points
+    cell, spacing = _cells(points)
+    a = _carrier_radius(spec, spacing)
+    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
+    _check_field_limits(spec, conditions, region)
+    systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    costs = {
+        source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
+        for source in systems
+        if options.objective_for(source) == "robust"
+    }
+    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
+    electric, grid, values = _electric_grid(conditions, region)
+    return PhysicalSetup(
+        params=params,
+        conditions=conditions,
+        candidates=candidates,
+        spec=spec,
+        options=options,
+        points=points,
+        cell_radius=cell,
+        carrier_radius=a,
+        carrier_mass=spec.carrier.sphere_mass(a),
+        region_radius=region,
+        systems=systems,
+        electric=electric,
+        e_grid=grid,
+        e_grid_values=values,
+        costs=costs,
+        magnet_sites=magnet_sites,
+        larmor=larmor,
+    )
+
+
+def _moments_reachable(system: tuple[np.ndarray, np.ndarray], sites: np.ndarray) -> bool:
+    """Whether dipoles on ``sites`` alone can meet ``A sigma = b`` (any size, any rate: the
+    right-hand side only scales with the rate), by least squares on those columns."""
+    A, b = system
+    if not len(b) or not np.any(b != 0):
+        return True
+    idx = np.flatnonzero(sites)
+    if not len(idx):
+        return False
+    cols = (3 * idx[:, None] + np.arange(3)).reshape(-1)
+    x, *_ = np.linalg.lstsq(A[:, cols], b, rcond=None)
+    return bool(np.linalg.norm(A[:, cols] @ x - b) <= 1e-9 * np.linalg.norm(b))
+
+
+def row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rows divided by their largest entry (columns in units of ``col_scale``)."""
+    As = A * col_scale
+    top = np.max(np.abs(As), axis=1) if As.shape[1] else np.ones(len(b))
+    top = np.where(top > 0, top, 1.0)
+    return As / top[:, None], b / top
+
+
+def polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Least-norm correction of ``w`` on ``cols`` so that ``A w = b`` to rounding."""
+    out = w.copy()
+    if len(cols) == 0:
+        return out
+    top = np.max(np.abs(A[:, cols]), axis=1)
+    top = np.where(top > 0, top, 1.0)
+    As = A[:, cols] / top[:, None]
+    for _ in range(3):
+        out[cols] += least_norm(As, (b - A @ out) / top)
+    return out
