@@ -70,7 +70,7 @@ def _tori(args: argparse.Namespace) -> int:
     """``--tori H K``: the count at one point, nothing written."""
     if args.at is not None or args.h_range is not None:
         raise InputError("--tori: counts one level; --at and --h-range do not apply with it")
-    scene = load_scene(args.scene)
+    scene = load_theorem_scene(args.scene, "bifurcation")
     if not args.quiet:
         print("bifurcation: counting tori by the flow ...", file=sys.stderr, flush=True)
     count = tori_at(scene.parameters, args.tori[0], args.tori[1])

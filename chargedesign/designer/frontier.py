@@ -83,8 +83,8 @@ LOWEST_RATE_FRACTION = 1e-9
 HIGHEST_RATE = 1e15
 #: rates below s_max tried when the forward check or the limits check refuses the body there
 ACCEPT_RETRIES = 3
-#: the charges' minmax (:func:`~chargedesign.designer.frontier_probes.charges_rate_limit`) closes its
-#: gap to this fraction of the frontier's rtol
+#: the charges' minmax (:func:`~chargedesign.designer.frontier_probes.charges_rate_limit`)
+#: closes its gap to this fraction of the frontier's rtol
 CHARGES_GAP_FRACTION = 0.1
 #: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
 #: s_c / (1 + rtol) (None)

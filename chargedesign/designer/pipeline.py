@@ -20,9 +20,9 @@ import numpy as np
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
+from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
-from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.physical_setup import setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance

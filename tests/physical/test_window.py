@@ -15,8 +15,8 @@ import pytest
 from chargedesign.constants import MU_0
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import body_check
-from chargedesign.designer.frontier import WindowOptions
 from chargedesign.designer.assembly import build_design, design_at_rate
+from chargedesign.designer.frontier import WindowOptions
 from chargedesign.designer.pipeline import frontier_from_scene, physical_setup_from_scene
 from chargedesign.designer.recommend import scene_at_rate
 from chargedesign.errors import InputError
