@@ -22,6 +22,7 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.model import evaluators
+from chargedesign.physical.state_of_the_art import UNVERIFIED
 from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
@@ -407,13 +408,48 @@ def _window_section(result: TestbedResult) -> list[str]:
     return [
         "## Feasibility window",
         "",
-        "The design scaled in time (rate x s: n, K x s, kappa x s^2) and size (x L, same "
-        "densities), each requirement by its physics (chargedesign/airbearing/verdict.py); the "
-        "nominal drift is measured at the scene's design only.",
+        "The design scaled in time (rate x s: n, K x s, kappa x s^2), size (x L) and mass "
+        "(x m: inertia x m L^2), flying all the planned motions or one alone, on each bearing "
+        "style; each requirement by its law (chargedesign/airbearing/verdict.py). The wheels' "
+        "own mass is charged when their torque falls in the catalogue class. The nominal "
+        "drift is measured at the scene's design only.",
         "",
         *[f"- {w.line()}" for w in result.windows],
         "",
         f"Recommended: {result.window.line()}",
+        "",
+        *_unverified_binding(result),
+        *_recomputed_lines(result.window_check),
+    ]
+
+
+def _unverified_binding(result: TestbedResult) -> list[str]:
+    """Say so when the recommended design's binding limit rests on a figure quoted from
+    memory (state_of_the_art.UNVERIFIED)."""
+    if result.window is None:
+        return []
+    binding = result.window.to_dict()["recommended"]["binding"]
+    source = next((r.source for r in result.state_of_the_art if r.name == binding), "")
+    if not source.endswith(UNVERIFIED):
+        return []
+    return [f"The binding limit ({binding}) rests on a figure quoted from memory: {source}.", ""]
+
+
+def _recomputed_lines(check: dict) -> list[str]:
+    if not check:
+        return []
+    rows = [
+        f"| {name} | {fmt(r['law'])} | {fmt(r['recomputed'])} |"
+        for name, r in check["required"].items()
+    ]
+    return [
+        f"The recommended design recomputed in full (rate x{fmt(check['rate_factor'])}, size "
+        f"x{fmt(check['size_factor'])}, mass x{fmt(check['mass_factor'])}, "
+        f"{check['motion']}): the laws agree within {fmt(check['largest_law_error'])}.",
+        "",
+        "| requirement | by the law | recomputed |",
+        "| --- | --- | --- |",
+        *rows,
         "",
     ]
 

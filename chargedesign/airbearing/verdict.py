@@ -54,9 +54,9 @@ SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
 #: what the choice of planned motion sets (the rest is the loop start's)
 MOTION_SET = ("bearing_tilt_deg", "wheel_torque_N_m", "wheel_momentum_N_m_s")
 #: the grid of the window: time rates, sizes and masses relative to the scene's
-RATES = np.logspace(-1.0, 1.0, 41)
+RATES = np.logspace(-1.0, 2.0, 61)
 SIZES = np.logspace(-0.5, 0.5, 21)
-MASSES = np.logspace(-1.0, 1.0, 21)
+MASSES = np.logspace(-0.5, 0.5, 21)
 
 
 @dataclass(frozen=True)
