@@ -293,9 +293,9 @@ def test_the_window_reads_each_planned_motion_alone() -> None:
     assert w.recommended()[3] == "motion 1 alone"
     # the torque law, s^2 L^2 m, at rate x10: 0.2 of 0.2 N m
     torque = w.names.index("wheel_torque_N_m")
-    short = w.margin[-1, j, k, 2]
-    assert short == pytest.approx(max(0.5, 0.002 * 100.0 / 0.2), rel=1e-12)
-    assert w.names[w.binding[-1, j, k, 2]] in ("bearing_tilt_deg", w.names[torque])
+    ten = int(np.argmin(np.abs(w.rates - 10.0)))
+    assert w.margin[ten, j, k, 2] == pytest.approx(max(0.5, 0.002 * 100.0 / 0.2), rel=1e-12)
+    assert w.names[w.binding[-1, j, k, 2]] == w.names[torque]  # x100: 100 times short
 
 
 def test_wheels_in_the_catalogue_class_weigh_what_its_lightest_wheel_weighs() -> None:
@@ -309,9 +309,9 @@ def test_wheels_in_the_catalogue_class_weigh_what_its_lightest_wheel_weighs() ->
     # 21 kg of wheels on a 10 kg design: short by 2.1, and by 2.1 / m at mass x m
     assert w.margin[i, j, k, 0] == pytest.approx(3 * 7.0 / 10.0, rel=1e-12)
     assert w.names[w.binding[i, j, k, 0]] == "wheel_mass_kg"
-    heavier = int(np.argmin(np.abs(w.masses - 10.0)))
-    # x10 the mass: 2.1 kg of wheels per 10, but 10 x 0.1 N m of torque against 0.2
-    assert w.margin[i, j, heavier, 0] == pytest.approx(max(2.1 / 10.0, 1.0 / 0.2), rel=1e-9)
+    # the heaviest design: 2.1 / m short of wheels' mass, but m x 0.1 N m against 0.2
+    m = w.masses[-1]
+    assert w.margin[i, j, -1, 0] == pytest.approx(max(2.1 / m, 0.1 * m / 0.2), rel=1e-9)
     # below the class, no wheel mass is charged
     light = window(
         [Requirement("wheel_torque_N_m", "capacity", low / 20.0, 0.2, "N m", "s")],
