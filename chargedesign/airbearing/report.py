@@ -430,7 +430,7 @@ def _unverified_binding(result: TestbedResult) -> list[str]:
         return []
     binding = result.window.to_dict()["recommended"]["binding"]
     source = next((r.source for r in result.state_of_the_art if r.name == binding), "")
-    if not source.endswith(UNVERIFIED):
+    if UNVERIFIED not in source:
         return []
     return [f"The binding limit ({binding}) rests on a figure quoted from memory: {source}.", ""]
 

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.physical.state_of_the_art import REACTION_WHEELS
+from chargedesign.physical.state_of_the_art import REACTION_WHEELS, UNVERIFIED
 
 #: how each requirement's (required, best) scale with (s, L, m): exponents of s, L and m
 SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {
@@ -107,6 +107,8 @@ class Requirement:
             "unit": self.unit,
             "source": self.source,
             "met": self.met,
+            # the source holds a figure quoted from memory (state_of_the_art.UNVERIFIED)
+            "unverified": UNVERIFIED in self.source,
         }
         if self.unmet_reason:
             out["note"] = self.unmet_reason

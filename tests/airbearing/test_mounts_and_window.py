@@ -339,3 +339,14 @@ def test_every_figure_quoted_from_memory_says_so() -> None:
     assert ATTITUDE_SENSORS["motion_capture"][0].verified  # arXiv:2502.21189
     assert not any(f.verified for f in REACTION_WHEELS.values())
     assert all(b.source.endswith(UNVERIFIED) and not b.verified for b in BEARINGS.values())
+
+
+def test_a_requirement_resting_on_a_figure_from_memory_says_so_in_testbed_json() -> None:
+    wheel = REACTION_WHEELS["torque_N_m"]
+    joined = "; ".join(f.source for f in ROOM_AIR.values())  # ends with the assumed asymmetry
+    assert Requirement("w", "capacity", 0.1, wheel.value, "N m", wheel.source).to_dict()[
+        "unverified"
+    ]
+    assert Requirement("a", "tolerance", 1.0, 2.0, "N m", joined).to_dict()["unverified"]
+    balance = BALANCE["automatic_horizontal_m"]
+    assert not Requirement("b", "tolerance", 1.0, 2.0, "m", balance.source).to_dict()["unverified"]
