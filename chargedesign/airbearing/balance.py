@@ -29,9 +29,9 @@ import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant, cross
 from chargedesign.airbearing.loop import invariants
-from chargedesign.airbearing.options import STANDARD_GRAVITY
 from chargedesign.airbearing.platform import Ballast
 from chargedesign.body import Design
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.model.evaluators import rhs
 from chargedesign.sensitivity import jacobians
 

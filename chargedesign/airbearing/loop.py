@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant, advance, cross, motion_rate
-from chargedesign.airbearing.options import STANDARD_GRAVITY
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import InputError, SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators

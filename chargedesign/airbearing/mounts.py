@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from chargedesign.airbearing.options import STANDARD_GRAVITY
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.physical.state_of_the_art import MOUNT_MATERIALS
 
 #: a post's diameter: this fraction of its part's diameter, within the bounds below

@@ -24,6 +24,7 @@ from chargedesign.physical.state_of_the_art import (
     FULL_SPHERE,
     GYROS,
     MOUNT_MATERIALS,
+    UNVERIFIED,
 )
 from chargedesign.validation import (
     as_array,
@@ -55,11 +56,8 @@ WHEEL_ARRAYS = ("orthogonal", "pyramid")
 COMMANDS = ("predictive", "zoh")
 
 #: dynamic viscosity of air at 20 C, Pa s (CRC Handbook of Chemistry and Physics, 97th ed.,
-#: "Viscosity of gases": 18.2 uPa s at 20 C, 1 atm)
+#: "Viscosity of gases": 18.2 uPa s at 20 C, 1 atm; quoted from memory, not re-checked)
 AIR_VISCOSITY = 1.82e-5
-#: standard gravity, m/s^2 (CGPM 1901)
-STANDARD_GRAVITY = 9.80665
-
 #: where each default comes from
 SOURCES = {
     "platform": "a thin spherical shell (a cage) about O with an opening for the pedestal "
@@ -69,33 +67,36 @@ SOURCES = {
     "bearing_capacity_kg": "the style's rated load (state_of_the_art.BEARINGS: a vendor "
     "catalogue class); give your bearing's",
     "drag_N_m_s": "derived: viscous Couette drag of the air film, b = (4 pi / 3) eta R^4 / h "
-    "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC Handbook)",
+    "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC Handbook, "
+    "97th ed., CRC Press 2016)" + UNVERIFIED,
     "bearing_gap_m": "10 um: the film thickness of spherical air bearings is of order 5-25 um "
-    "(Schwartz, Peck & Hall 2003 describe micrometre films)",
+    "(Schwartz, Peck & Hall 2003 describe micrometre films)" + UNVERIFIED,
     "imbalance_m": "0.14 um: the best published automatic balancing, horizontally "
     "(chargedesign.physical.state_of_the_art.BALANCE: engrXiv doi:10.31224/7342)",
     "bearing": "tabletop: tilt limit 30 deg, umbrella 45 deg, full_sphere every attitude "
-    "(Schwartz, Peck & Hall 2003; chargedesign.physical.state_of_the_art.BEARINGS)",
+    "(Schwartz, Peck & Hall 2003; chargedesign.physical.state_of_the_art.BEARINGS)" + UNVERIFIED,
     "pedestal_radius_m": "the style's pedestal radius over the ball's radius (0.3) times "
     "bearing_radius_m",
-    "mount_material": "steel posts (E = 200 GPa, ASM Handbook vol. 1)",
+    "mount_material": "steel posts (E = 200 GPa, ASM Handbook vol. 1, ASM International 1990)"
+    + UNVERIFIED,
     "attitude_sensor": "motion capture: 1e-4 rad at 180 Hz (OptiTrack cameras measured by "
-    "Krumpek et al., arXiv:2502.21189; state_of_the_art.ATTITUDE_SENSORS)",
+    "Krumpek et al., arXiv:2502.21189, checked; the 180 Hz rate from the PrimeX 41 datasheet "
+    "unverified (from memory); state_of_the_art.ATTITUDE_SENSORS)",
     "estimator": "rls: recursive least squares of the centre-of-mass offset and the drag on "
     "the integrated torque balance, with gravity feed-forward (Kim & Agrawal 2009 estimate "
     "the offset online the same way)",
-    "encoder_counts": "4096 counts per turn (a 12-bit encoder; state_of_the_art)",
+    "encoder_counts": "4096 counts per turn (a 12-bit encoder; state_of_the_art)" + UNVERIFIED,
     "max_loop_steps": "200000 fixed integration steps per loop run: a run's work is bounded "
     "before it starts",
     "motors": "ideal torque sources unless the scene gives its wheels' motor_bandwidth_Hz "
     "(a first-order lag) and wheel_friction_N_m (Coulomb, against the wheel's momentum): "
     "no default is sourced here (B. Bialke, 'High fidelity mathematical modeling of reaction "
     "wheel performance', AAS 98-063, 1998 gives the model's form; the figures are the "
-    "wheel's datasheet's)",
+    "wheel's datasheet's)" + UNVERIFIED,
     "gyro_grades": "order-of-magnitude class figures (bias; angle random walk): navigation "
     "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
     "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
-    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades)",
+    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades)" + UNVERIFIED,
     "attitude_noise_rad": "the attitude sensor's (attitude_sensor)",
     "rate_Hz": "200 Hz and 1 ms of delay: the contract's example loop",
     "wheels": "limits sized from the planned motion times wheel_margin (1.5: headroom for "
@@ -587,7 +588,6 @@ __all__ = [
     "GYRO_GRADES",
     "MAX_PLANNED_MOTIONS",
     "SOURCES",
-    "STANDARD_GRAVITY",
     "WHEEL_ARRAYS",
     "TestbedOptions",
     "bearing_drag",

@@ -2,6 +2,7 @@
 
 ``write_testbed(result, out)`` writes into a staging folder that replaces ``out`` in one swap
 (:func:`chargedesign.files.atomic_directory`): ``testbed.json``, ``report.md``,
+``window.png`` (the feasibility window's shortfall over rate, size and mass),
 ``drift_vs_rate.png`` (the requirements: drift against control rate, one line per gyro
 grade), ``drift_time.png`` (the runs' I4 drift in time), ``wheels.png`` (the wheels' momentum
 against its bound), ``testbed.png`` (PyVista: platform, ballast, wheels; skipped with a note
@@ -22,6 +23,7 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.model import evaluators
+from chargedesign.physical.state_of_the_art import UNVERIFIED
 from chargedesign.results import format_length
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
@@ -33,6 +35,7 @@ OUTPUTS = (
     "wheels.png",
     "testbed.png",
     "tilt_map.png",
+    "window.png",
     "motion.gif",
 )
 
@@ -52,6 +55,9 @@ def write_testbed(result: TestbedResult, out: str | os.PathLike[str]) -> list[st
         if result.tilt_map is not None:
             plot_tilt_map(result, stage / "tilt_map.png")
             written.append("tilt_map.png")
+        if result.window is not None:
+            plot_window(result, stage / "window.png")
+            written.append("window.png")
         plot_drift(result, stage / "drift_time.png")
         plot_wheels(result, stage / "wheels.png")
         written += ["drift_time.png", "wheels.png"]
@@ -105,6 +111,46 @@ def plot_tilt_map(result: TestbedResult, path: Path) -> None:
     ax.set_ylabel("I4")
     ax.set_title("tori of (H, I4) on I3 = 0 and the tilt they need", fontsize=10)
     ax.legend(fontsize=8, loc="upper left")
+    _save(fig, path)
+
+
+def plot_window(result: TestbedResult, path: Path) -> None:
+    """The recommended window's worst shortfall over (rate, size) and (rate, mass) through
+    the recommended design, the contour where it is 1 (inside: below), the scene and the
+    recommended design marked."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    w = result.window
+    if w is None:
+        return
+    i, j, k, m = w.best_index()
+    rate, size, mass, motion = w.recommended()
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.4), layout="constrained")
+    panels = (
+        (w.sizes, w.margin[:, :, k, m], "size factor L", size, f"mass x{fmt(mass)}"),
+        (w.masses, w.margin[:, j, :, m], "mass factor m", mass, f"size x{fmt(size)}"),
+    )
+    shortfall = w.margin[:, :, :, m]
+    norm = LogNorm(vmin=float(shortfall.min()), vmax=float(shortfall.max()))
+    for ax, (ys, grid, label, y_best, fixed) in zip(axes, panels, strict=True):
+        mesh = ax.pcolormesh(w.rates, ys, grid.T, norm=norm, cmap="magma_r", shading="auto")
+        if grid.min() < 1.0 < grid.max():
+            ax.contour(w.rates, ys, grid.T, levels=[1.0], colors="cyan", linewidths=1.5)
+        ax.plot([1.0], [1.0], "wo", mec="k", label="the scene")
+        ax.plot([rate], [y_best], "c*", mec="k", ms=12, label="recommended")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("rate factor s")
+        ax.set_ylabel(label)
+        ax.set_title(f"{fixed}, {motion}", fontsize=9)
+        ax.legend(fontsize=8, loc="lower left")
+    fig.colorbar(mesh, ax=axes, label="worst shortfall (inside the window: < 1)")
+    fig.suptitle(
+        f"feasibility window, {w.style} bearing"
+        + (f": none, best misses by {fmt(float(w.margin[i, j, k, m]))}" if w.empty else ""),
+        fontsize=10,
+    )
     _save(fig, path)
 
 
@@ -407,13 +453,48 @@ def _window_section(result: TestbedResult) -> list[str]:
     return [
         "## Feasibility window",
         "",
-        "The design scaled in time (rate x s: n, K x s, kappa x s^2) and size (x L, same "
-        "densities), each requirement by its physics (chargedesign/airbearing/verdict.py); the "
-        "nominal drift is measured at the scene's design only.",
+        "The design scaled in time (rate x s: n, K x s, kappa x s^2), size (x L) and mass "
+        "(x m: inertia x m L^2), flying all the planned motions or one alone, on each bearing "
+        "style; each requirement by its law (chargedesign/airbearing/verdict.py). The wheels' "
+        "own mass is charged when their torque falls in the catalogue class. The nominal "
+        "drift is measured at the scene's design only.",
         "",
         *[f"- {w.line()}" for w in result.windows],
         "",
         f"Recommended: {result.window.line()}",
+        "",
+        *_unverified_binding(result),
+        *_recomputed_lines(result.window_check),
+    ]
+
+
+def _unverified_binding(result: TestbedResult) -> list[str]:
+    """Say so when the recommended design's binding limit rests on a figure quoted from
+    memory (state_of_the_art.UNVERIFIED)."""
+    if result.window is None:
+        return []
+    binding = result.window.to_dict()["recommended"]["binding"]
+    source = next((r.source for r in result.state_of_the_art if r.name == binding), "")
+    if UNVERIFIED not in source:
+        return []
+    return [f"The binding limit ({binding}) rests on a figure quoted from memory: {source}.", ""]
+
+
+def _recomputed_lines(check: dict) -> list[str]:
+    if not check:
+        return []
+    rows = [
+        f"| {name} | {fmt(r['law'])} | {fmt(r['recomputed'])} |"
+        for name, r in check["required"].items()
+    ]
+    return [
+        f"The recommended design recomputed in full (rate x{fmt(check['rate_factor'])}, size "
+        f"x{fmt(check['size_factor'])}, mass x{fmt(check['mass_factor'])}, "
+        f"{check['motion']}): the laws agree within {fmt(check['largest_law_error'])}.",
+        "",
+        "| requirement | by the law | recomputed |",
+        "| --- | --- | --- |",
+        *rows,
         "",
     ]
 

@@ -60,6 +60,7 @@ class TestbedResult(Result):
     verdict: Verdict = field(default_factory=lambda: Verdict(False, None, "not assessed"))
     window: Window | None = None
     windows: list[Window] = field(default_factory=list)
+    window_check: dict[str, Any] = field(default_factory=dict)  # the recommended, recomputed
     tilt_map: TiltMap | None = None
 
     __test__ = False  # not a pytest class
@@ -217,9 +218,12 @@ class TestbedResult(Result):
                 if self.window is None
                 else {
                     **self.window.to_dict(),
+                    "recommended_recomputed": self.window_check,
                     "styles": {
                         w.style: {
-                            k: v for k, v in w.to_dict().items() if k not in ("rates", "sizes")
+                            k: v
+                            for k, v in w.to_dict().items()
+                            if k not in ("rates", "sizes", "masses")
                         }
                         for w in self.windows
                     },

@@ -7,20 +7,26 @@ every requirement is met and the nominal Monte Carlo's median drift (every effec
 most the target; otherwise it names the requirement missed by the largest factor.
 
 The window (:func:`window`) scales the design in time (rate s: the theorem's n, K x s,
-kappa x s^2, the motion s times faster) and in size (L: every length x L, masses x L^3 at the
-same densities, C x L^5) and reads each requirement's scaling from its physics:
+kappa x s^2, the motion s times faster), in size (L: every length x L) and in mass (m: the
+total mass x m, so every inertia x m L^2), and reads each requirement's law from its physics.
+With C' = m L^2 C the designed torques are C' s^2, the gravity torque of an offset e is
+m M g e:
 
 | requirement | required | best |
 | --- | --- | --- |
-| centre-of-mass offset | x s^2 L^2 (torque C s^2 over weight M g) | mounts x L^2, rest fixed |
-| bearing drag | x s L^5 (C s) | x L^4 (Couette, ball radius x L) |
-| room air torque | x s^2 L^5 (M g x offset) | x L^3 |
-| wheel torque, momentum | x s^2 L^5, x s L^5 | fixed (catalogue) |
-| bearing load | x L^3 | fixed |
+| centre-of-mass offset | x s^2 L^2 (C' s^2 over m M g) | mounts x m / L (W l^3 / E r^4) |
+| bearing drag | x s m L^2 (C' s) | x L^4 (Couette, ball radius x L) |
+| room air torque | x s^2 m L^2 (weight x offset) | x L^3 |
+| wheel torque, momentum | x s^2 m L^2, x s m L^2 | fixed (catalogue) |
+| bearing load | x m | fixed |
 | loop rate | x s | fixed |
+| ball diameter | x L | fixed |
 
-The tilt does not change (the same motion, faster or larger). The nominal drift is measured at
-the scene's design only; the window says so.
+The same densities are m = L^3. The tilt does not change with (s, L, m). The window's last
+axis is the planned motion flown: all of them (the scene's plan) or one alone, each setting
+the tilt and the wheels' torque and momentum it needs (``motion_needs``); the balance
+tolerances are those of the loop's start (motion 0) on every motion. The nominal drift is
+measured at the scene's design only; the window says so.
 """
 
 from __future__ import annotations
@@ -31,22 +37,26 @@ from typing import Any
 import numpy as np
 
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.physical.state_of_the_art import REACTION_WHEELS, UNVERIFIED
 
-#: how each requirement's (required, best) scale with (s, L): exponents of s and L
-SCALING: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {
-    "centre_of_mass_offset_m": ((2.0, 2.0), (0.0, 0.0)),
-    "bearing_drag_N_m_s": ((1.0, 5.0), (0.0, 4.0)),
-    "room_air_torque_N_m": ((2.0, 5.0), (0.0, 3.0)),
-    "wheel_torque_N_m": ((2.0, 5.0), (0.0, 0.0)),
-    "wheel_momentum_N_m_s": ((1.0, 5.0), (0.0, 0.0)),
-    "bearing_load_kg": ((0.0, 3.0), (0.0, 0.0)),
-    "loop_rate_Hz": ((1.0, 0.0), (0.0, 0.0)),
-    "bearing_tilt_deg": ((0.0, 0.0), (0.0, 0.0)),
-    "ball_diameter_m": ((0.0, 1.0), (0.0, 0.0)),
+#: how each requirement's (required, best) scale with (s, L, m): exponents of s, L and m
+SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {
+    "centre_of_mass_offset_m": ((2.0, 2.0, 0.0), (0.0, 0.0, 0.0)),
+    "bearing_drag_N_m_s": ((1.0, 2.0, 1.0), (0.0, 4.0, 0.0)),
+    "room_air_torque_N_m": ((2.0, 2.0, 1.0), (0.0, 3.0, 0.0)),
+    "wheel_torque_N_m": ((2.0, 2.0, 1.0), (0.0, 0.0, 0.0)),
+    "wheel_momentum_N_m_s": ((1.0, 2.0, 1.0), (0.0, 0.0, 0.0)),
+    "bearing_load_kg": ((0.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
+    "loop_rate_Hz": ((1.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    "bearing_tilt_deg": ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    "ball_diameter_m": ((0.0, 1.0, 0.0), (0.0, 0.0, 0.0)),
 }
-#: the grid of the window: time rates and sizes relative to the scene's
-RATES = np.logspace(-1.0, 1.0, 41)
+#: what the choice of planned motion sets (the rest is the loop start's)
+MOTION_SET = ("bearing_tilt_deg", "wheel_torque_N_m", "wheel_momentum_N_m_s")
+#: the grid of the window: time rates, sizes and masses relative to the scene's
+RATES = np.logspace(-1.0, 2.0, 61)
 SIZES = np.logspace(-0.5, 0.5, 21)
+MASSES = np.logspace(-0.5, 0.5, 21)
 
 
 @dataclass(frozen=True)
@@ -97,6 +107,8 @@ class Requirement:
             "unit": self.unit,
             "source": self.source,
             "met": self.met,
+            # the source holds a figure quoted from memory (state_of_the_art.UNVERIFIED)
+            "unverified": UNVERIFIED in self.source,
         }
         if self.unmet_reason:
             out["note"] = self.unmet_reason
@@ -137,122 +149,209 @@ def verdict(requirements: list[Requirement], nominal_median: float, target: floa
     return Verdict(False, worst.name, "NOT buildable: " + worst.line())
 
 
+#: the window's axes, in the order of its arrays
+AXES = ("rate", "size", "mass", "motion")
+
+
 @dataclass(frozen=True)
 class Window:
-    """The (rate, size) designs where every scaled requirement is met."""
+    """The (rate, size, mass, motion) designs where every scaled requirement is met.
+
+    ``motions`` names the last axis: ``all planned`` (the scene's plan), then each planned
+    motion alone. ``feasible``, ``binding`` (the most-missed or tightest requirement's index
+    in ``names``) and ``margin`` (the worst shortfall, < 1 inside) have shape (rates, sizes,
+    masses, motions)."""
 
     rates: np.ndarray
     sizes: np.ndarray
-    feasible: np.ndarray  # (rates, sizes) bool
-    binding: np.ndarray  # (rates, sizes) the most-missed (or tightest) requirement's index
+    masses: np.ndarray
+    motions: tuple[str, ...]
+    feasible: np.ndarray
+    binding: np.ndarray
     names: tuple[str, ...]
-    margin: np.ndarray  # (rates, sizes): the worst shortfall (< 1 inside)
+    margin: np.ndarray
     style: str = ""  # the bearing style the requirements are read for
 
     @property
     def empty(self) -> bool:
         return not bool(self.feasible.any())
 
-    def recommended(self) -> tuple[float, float]:
-        """(rate, size) factors: inside, the largest margin; outside, the least shortfall."""
-        i, j = np.unravel_index(int(np.argmin(self.margin)), self.margin.shape)
-        return float(self.rates[i]), float(self.sizes[j])
+    def _axis_values(self) -> tuple[np.ndarray, ...]:
+        return self.rates, self.sizes, self.masses, np.arange(len(self.motions))
+
+    def best_index(self) -> tuple[int, ...]:
+        """Inside, the design with the largest margin; outside, the least shortfall."""
+        return tuple(
+            int(i) for i in np.unravel_index(int(np.argmin(self.margin)), self.margin.shape)
+        )
+
+    def scene_index(self) -> tuple[int, int, int, int]:
+        """The scene's own design: factors 1 and every planned motion."""
+        return (
+            int(np.argmin(np.abs(np.log(self.rates)))),
+            int(np.argmin(np.abs(np.log(self.sizes)))),
+            int(np.argmin(np.abs(np.log(self.masses)))),
+            0,
+        )
+
+    def recommended(self) -> tuple[float, float, float, str]:
+        """(rate, size, mass) factors and the motion of :meth:`best_index`."""
+        i, j, k, m = self.best_index()
+        return (
+            float(self.rates[i]),
+            float(self.sizes[j]),
+            float(self.masses[k]),
+            self.motions[m],
+        )
+
+    def edges(self, axis: int, point: tuple[int, ...]) -> dict[str, Any]:
+        """The window along one axis through ``point``, and the limits beyond its ends."""
+        line = list(point)
+        line[axis] = slice(None)  # type: ignore[call-overload]
+        feasible = self.feasible[tuple(line)]
+        binding = self.binding[tuple(line)]
+        values = self._axis_values()[axis]
+        inside = np.flatnonzero(feasible)
+        if inside.size == 0:
+            return {"low": None, "high": None, "binding_low": None, "binding_high": None}
+        lo, hi = int(inside[0]), int(inside[-1])
+        label = self.motions if axis == 3 else None
+        return {
+            "low": label[lo] if label else float(values[lo]),
+            "high": label[hi] if label else float(values[hi]),
+            "binding_low": self.names[binding[lo - 1]] if lo > 0 else "the grid's end",
+            "binding_high": self.names[binding[hi + 1]]
+            if hi + 1 < len(values)
+            else "the grid's end",
+        }
 
     def _edges(self) -> dict[str, Any]:
-        """The window along the rate at the scene's size, and the limits at its ends."""
-        j = int(np.argmin(np.abs(np.log(self.sizes))))
-        inside = np.flatnonzero(self.feasible[:, j])
-        if inside.size == 0:
-            return {"rate_low": None, "rate_high": None, "binding_low": None, "binding_high": None}
-        lo, hi = int(inside[0]), int(inside[-1])
-        below = self.names[self.binding[lo - 1, j]] if lo > 0 else "the grid's end"
-        above = (
-            self.names[self.binding[hi + 1, j]] if hi + 1 < len(self.rates) else "the grid's end"
-        )
+        """The window along the rate at the scene's size, mass and motions."""
+        e = self.edges(0, self.scene_index())
         return {
-            "rate_low": float(self.rates[lo]),
-            "rate_high": float(self.rates[hi]),
-            "binding_low": below,
-            "binding_high": above,
+            "rate_low": e["low"],
+            "rate_high": e["high"],
+            "binding_low": e["binding_low"],
+            "binding_high": e["binding_high"],
         }
 
     def to_dict(self) -> dict[str, Any]:
-        rate, size = self.recommended()
-        i, j = np.unravel_index(int(np.argmin(self.margin)), self.margin.shape)
+        rate, size, mass, motion = self.recommended()
+        best = self.best_index()
         out: dict[str, Any] = {
             "bearing": self.style,
             "empty": self.empty,
             "rates": self.rates.tolist(),
             "sizes": self.sizes.tolist(),
+            "masses": self.masses.tolist(),
+            "motions": list(self.motions),
             "feasible_points": int(self.feasible.sum()),
-            "scene_inside": bool(self._scene_feasible()),
+            "scene_inside": bool(self.feasible[self.scene_index()]),
             "recommended": {
                 "rate_factor": rate,
                 "size_factor": size,
-                "worst_shortfall": float(self.margin[i, j]),
-                "binding": self.names[self.binding[i, j]],
+                "mass_factor": mass,
+                "motion": motion,
+                "worst_shortfall": float(self.margin[best]),
+                "binding": self.names[self.binding[best]],
             },
             "at_scene_size": self._edges(),
+            "through_recommended": {a: self.edges(n, best) for n, a in enumerate(AXES)},
             "measured_only_at_the_scene": ["nominal_I4_drift"],
         }
         if self.empty:
             out["missing_factor"] = float(self.margin.min())
         return out
 
-    def _scene_feasible(self) -> bool:
-        i = int(np.argmin(np.abs(np.log(self.rates))))
-        j = int(np.argmin(np.abs(np.log(self.sizes))))
-        return bool(self.feasible[i, j])
-
     def line(self) -> str:
         d = self.to_dict()
         rec = d["recommended"]
+        design = (
+            f"rate x{fmt(rec['rate_factor'])}, size x{fmt(rec['size_factor'])}, mass "
+            f"x{fmt(rec['mass_factor'])}, {rec['motion']}"
+        )
         if self.empty:
             return (
                 f"no window ({self.style} bearing): over rates x{fmt(self.rates[0], PLAIN)}"
-                f"..x{fmt(self.rates[-1], PLAIN)}"
-                f" and sizes x{fmt(self.sizes[0], PLAIN)}..x{fmt(self.sizes[-1], PLAIN)} the best "
-                f"design (rate x{fmt(rec['rate_factor'])}, size x{fmt(rec['size_factor'])}) "
-                f"still misses {rec['binding']} by a factor {fmt(rec['worst_shortfall'])}"
+                f"..x{fmt(self.rates[-1], PLAIN)}, sizes x{fmt(self.sizes[0], PLAIN)}"
+                f"..x{fmt(self.sizes[-1], PLAIN)}, masses x{fmt(self.masses[0], PLAIN)}"
+                f"..x{fmt(self.masses[-1], PLAIN)} and {len(self.motions)} motion choices the "
+                f"best design ({design}) still misses {rec['binding']} by a factor "
+                f"{fmt(rec['worst_shortfall'])}"
             )
         edges = d["at_scene_size"]
         span = (
-            f"at the scene's size, rates x{fmt(edges['rate_low'])}..x{fmt(edges['rate_high'])} "
-            f"(bound by {edges['binding_low']} below, {edges['binding_high']} above)"
+            f"at the scene's size, mass and motions, rates x{fmt(edges['rate_low'])}.."
+            f"x{fmt(edges['rate_high'])} (bound by {edges['binding_low']} below, "
+            f"{edges['binding_high']} above)"
             if edges["rate_low"] is not None
-            else "none at the scene's size"
+            else "none at the scene's size, mass and motions"
         )
         return (
             f"window ({self.style} bearing): {d['feasible_points']} of {self.feasible.size} "
-            "(rate, size) designs meet "
-            f"every scaled requirement; {span}; recommended rate x{fmt(rec['rate_factor'])}, size "
-            f"x{fmt(rec['size_factor'])}"
+            f"(rate, size, mass, motion) designs meet every scaled requirement; {span}; "
+            f"recommended {design}"
         )
 
 
-def window(requirements: list[Requirement], style: str = "") -> Window:
-    """Scale each requirement of :data:`SCALING` over the grid (see the module docstring)."""
+def window(
+    requirements: list[Requirement],
+    style: str = "",
+    motion_needs: list[dict[str, float]] | None = None,
+    wheels: tuple[int, float] | None = None,
+) -> Window:
+    """Scale each requirement of :data:`SCALING` over the grid (see the module docstring).
+
+    ``motion_needs``: for each planned motion alone, what it requires of :data:`MOTION_SET`
+    (the requirements' own figures are the plan's, every motion). ``wheels`` = (number of
+    wheels, the scene's total mass kg) adds ``wheel_mass_kg``: a design whose wheels need a
+    torque in the catalogue class's range weighs at least that many of its lightest wheel
+    (:func:`_wheel_mass_shortfall`)."""
     scaled = [r for r in requirements if r.name in SCALING]
     names = tuple(r.name for r in scaled)
-    s = RATES[:, None, None]
-    L = SIZES[None, :, None]
-    req = np.array([r.required for r in scaled])[None, None, :]
-    best = np.array([r.best for r in scaled])[None, None, :]
-    (rs, rl), (bs, bl) = (
-        np.array([SCALING[n][0] for n in names]).T,
-        np.array([SCALING[n][1] for n in names]).T,
-    )
-    req = req * s**rs * L**rl
-    best = best * s**bs * L**bl
-    for k, r in enumerate(scaled):  # the offset's best: the mounts' part grows as L^2
+    alone = tuple(f"motion {k} alone" for k in range(len(motion_needs or [])))
+    motions = ("all planned motions", *alone)
+    req0 = np.array([[r.required for r in scaled]] * len(motions))  # (motions, names)
+    for k, needs in enumerate(motion_needs or []):
+        for n, name in enumerate(names):
+            if name in needs:
+                req0[k + 1, n] = needs[name]
+    s = RATES[:, None, None, None, None]
+    L = SIZES[None, :, None, None, None]
+    m = MASSES[None, None, :, None, None]
+    exps = np.array([SCALING[n] for n in names])  # (names, 2, 3)
+    (rs, rl, rm), (bs, bl, bm) = exps[:, 0].T, exps[:, 1].T
+    req = req0[None, None, None] * s**rs * L**rl * m**rm
+    best = np.array([r.best for r in scaled]) * s**bs * L**bl * m**bm
+    best = np.broadcast_to(best, req.shape).copy()
+    for n, r in enumerate(scaled):  # the offset's best: the mounts' part bends as m / L
         if r.name == "centre_of_mass_offset_m" and "mounts_m" in r.parts:
             fixed = r.best - r.parts["mounts_m"]
-            best[:, :, k] = fixed + r.parts["mounts_m"] * L[:, :, 0] ** 2
+            best[..., n] = fixed + r.parts["mounts_m"] * (m / L)[..., 0]
     tolerance = np.array([r.kind == "tolerance" for r in scaled])
     with np.errstate(divide="ignore"):
         short = np.where(tolerance, best / req, req / best)
-    margin = short.max(axis=2)
-    return Window(RATES, SIZES, margin <= 1.0, short.argmax(axis=2), names, margin, style)
+    if wheels is not None and "wheel_torque_N_m" in names:
+        names = (*names, "wheel_mass_kg")
+        short = np.concatenate([short, _wheel_mass_shortfall(req, names, m, *wheels)], axis=-1)
+    margin = short.max(axis=-1)
+    return Window(
+        RATES, SIZES, MASSES, motions, margin <= 1.0, short.argmax(axis=-1), names, margin, style
+    )
+
+
+def _wheel_mass_shortfall(
+    req: np.ndarray, names: tuple[str, ...], m: np.ndarray, count: int, scene_mass: float
+) -> np.ndarray:
+    """The wheels' own mass against the design's: a wheel torque at or above the catalogue
+    class's lowest (state_of_the_art.REACTION_WHEELS ``torque_low_N_m``) takes wheels of that
+    class, each at least its lowest mass; below it no class is sourced and the wheels' mass
+    is not charged (shortfall 0)."""
+    torque = req[..., names.index("wheel_torque_N_m")]
+    in_class = torque >= REACTION_WHEELS["torque_low_N_m"].value
+    needed = count * REACTION_WHEELS["mass_low_kg"].value
+    total = scene_mass * m[..., 0]
+    return np.where(in_class, needed / total, 0.0)[..., None]
 
 
 def best_window(windows: list[Window]) -> Window:
@@ -261,4 +360,14 @@ def best_window(windows: list[Window]) -> Window:
     return min(windows, key=lambda w: (-int(w.feasible.sum()), float(w.margin.min())))
 
 
-__all__ = ["SCALING", "Requirement", "Verdict", "Window", "best_window", "verdict", "window"]
+__all__ = [
+    "AXES",
+    "MOTION_SET",
+    "SCALING",
+    "Requirement",
+    "Verdict",
+    "Window",
+    "best_window",
+    "verdict",
+    "window",
+]

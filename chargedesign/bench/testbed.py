@@ -9,8 +9,9 @@ default start on I3 = 0, the platform's inertia exactly diag(2C, 2C, C)):
    rate (the baseline in the same run). The issue's outside measurement for the plain ZOH is
    4.3e-2 (100 Hz) and 4.3e-3 (1 kHz);
 2. the command on the embedded testbed scene, every stage timed (the tilt search of the
-   planned motions, the layout, the loop's runs, the requirement sweep, the verdict and the
-   window, and the files); ``quick`` shortens its horizon to 5 s with 4 seeds;
+   planned motions, the layout, the loop's runs, the requirement sweep, the window search
+   with its recomputed design, the verdict, and the files); ``quick`` shortens its horizon
+   to 5 s with 4 seeds;
 3. a closed-loop run of 100 control periods (100 Hz, predictive command, tactical gyro,
    attitude noise, 1 um imbalance, bearing drag, 16-bit torque quantisation) and a 100-seed
    Monte Carlo of the same loop in one batch (10 seeds with ``quick``); the baseline is the
@@ -159,7 +160,7 @@ def embedded_command(quick: bool) -> BenchTable:
         write_testbed(result, folder)
         files = time.perf_counter() - t0
     rows = [[stage, seconds] for stage, seconds in result.seconds.items()]
-    rows += [["verdict and window (the rest of the build)", built - sum(result.seconds.values())]]
+    rows += [["verdict and the rest of the build", built - sum(result.seconds.values())]]
     rows += [["files (json, report, pictures, gif)", files], ["total", built + files]]
     return BenchTable(
         title="Testbed command on the embedded scene"

@@ -88,7 +88,7 @@ def test_written_parts_give_the_inertia(written: Path) -> None:
 def test_report_and_pictures(written: Path) -> None:
     report = (written / "report.md").read_text()
     assert "# Air-bearing testbed" in report and "## Requirements" in report
-    for name in ("drift_vs_rate.png", "drift_time.png", "wheels.png", "motion.gif"):
+    for name in ("drift_vs_rate.png", "drift_time.png", "wheels.png", "window.png", "motion.gif"):
         assert (written / name).stat().st_size > 1000
 
 
