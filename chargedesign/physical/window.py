@@ -487,6 +487,12 @@ class RealisedWindow(Result):
         )
         lines = [head, f"  parasitics over the fraction {where}: {margins}\n"]
         lines += [f"  note: {n}\n" for n in self.notes]
+        if self.support:
+            lines.append(
+                f"  support (stated, not counted): {self.support['bearing']} air bearing, its "
+                f"film's drag {fmt(self.support['drag_over_term'] / self.fraction, ROUGH)} x the "
+                "fraction (the body the window was drawn from, at its typical rate)\n"
+            )
         for c in self.confirmed:
             lines.append(
                 f"  designed at s = {fmt(c['s'], CELL)}: "
