@@ -81,3 +81,14 @@ def test_i4_drift_is_the_windows_eddy_ratio(design, runs):
     i4 = dissipative.to_dict()["I4_rel_drift"]
     assert i4 > 1e6 * conservative.to_dict()["I4_rel_drift"]
     assert i4 < 1e-3
+
+
+def test_the_routes_and_integrators_lose_the_same_energy(design):
+    """The eddy torque on the reduced and the direct force route, integrated by DOP853 and by
+    the fixed-step Gauss-Legendre method: one energy loss."""
+    losses = []
+    for kwargs in ({}, {"route": "direct"}, {"method": "gauss-legendre", "step": 0.005}):
+        run = simulate(design, effects=["magnetization", "eddy"], t_end=0.5, **kwargs)
+        losses.append(run.integrals[-1, 0] - run.integrals[0, 0])
+    assert losses[0] < 0
+    np.testing.assert_allclose(losses[1:], losses[0], rtol=2e-3)
