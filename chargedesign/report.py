@@ -380,6 +380,23 @@ def _apparatus_lines(model: Any) -> list[str]:
     return ["- Field apparatus: " + "; ".join(str(model.apparatus).splitlines()) + "."]
 
 
+def _support_lines(model: Any) -> list[str]:
+    """The fixed point O (the window's ``support``) and its air film's drag."""
+    support = getattr(model, "support", None) if model is not None else None
+    if not support:
+        return []
+    return [
+        f"- Support: a {support['bearing']} air bearing (tilt {fmt(support['tilt_limit_deg'])} "
+        f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
+        f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support['drag_N_m_s'])} "
+        f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
+        f"{fmt(support['drag_over_term'] / model.fraction, ROUGH)} x the fraction of the "
+        f"smallest term, NOT counted in the verdict or the realised window above; it needs "
+        f"{support['needs']}. Sources: {support['source']}; "
+        f"{support['drag_source']}."
+    ]
+
+
 def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
     """The frontier of K and the time rate n against the frontier's n_max."""
     lines = []
@@ -452,6 +469,7 @@ def _verdict_lines(design: Design) -> list[str]:
         )
     lines += [
         *_apparatus_lines(model),
+        *_support_lines(model),
         "- Largest surface field: "
         f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
         f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "

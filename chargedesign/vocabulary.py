@@ -28,7 +28,16 @@ SOURCES = ("charges", "dipoles", "masses")
 #: effects a simulation may include (scene ``simulation.effects``)
 #: (``coils``: the magnetic effects act in the field apparatus' own field, the designed a1, a2
 #: plus the coil pairs' degree >= 3 harmonics recorded in design.json)
-EFFECTS = ("lorentz", "electric", "magnetization", "gravity", "induced", "coils", "theorem")
+EFFECTS = (
+    "lorentz",
+    "electric",
+    "magnetization",
+    "gravity",
+    "induced",
+    "eddy",
+    "coils",
+    "theorem",
+)
 
 #: effects the forward check reports: effect -> (source, field it needs or None)
 CHECK_EFFECTS: dict[str, tuple[str, str | None]] = {

@@ -535,6 +535,7 @@ def _physical_design(
             # those of the body at s_max)
             own = window_model(result.design, 1.0)
             front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
+            front.realised.support = own.support
             front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
         result.design.frontier = front.to_dict()
         # the budget's K law is judged at the frontier's K_max, known only now

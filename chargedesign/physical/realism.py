@@ -234,6 +234,98 @@ def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]
     return out
 
 
+def eddy_weights(parts: list[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray]:
+    """The conducting parts as spheres: centres (k, 3) and ``sigma (a^5 - b^5)`` (k,) (S m^4).
+
+    The eddy torque of a sphere or shell is this weight times the field's terms
+    (:func:`eddy_torques_by_set`, :func:`eddy_torque`); parts of no or zero conductivity are
+    left out.
+    """
+    conducting = [p for p in parts if p["sigma"]]
+    if not conducting:
+        return np.zeros((0, 3)), np.zeros(0)
+    centres = np.concatenate([p["centres"] for p in conducting])
+    weights = np.concatenate([p["sigma"] * (p["outer"] ** 5 - p["inner"] ** 5) for p in conducting])
+    return centres, weights
+
+
+def eddy_torque(
+    legendre: tuple[float, ...],
+    centres: np.ndarray,
+    weights: np.ndarray,
+    omega: np.ndarray,
+    gammas: np.ndarray,
+) -> np.ndarray:
+    """Eddy-current torque about O on conducting spheres turning with the body (N m, body axes).
+
+    Each sphere (centre ``c``, weight ``sigma (a^5 - b^5)``, :func:`eddy_weights`) moves at
+    ``v = omega x (c + rho)`` through ``B(c + rho) = B0 + G rho`` (``B0 = -grad Phi(c)``,
+    ``G = -Hess Phi(c)``, the field linear over the part). The uniform part of ``v x B``
+    drives no current (surface charges cancel it); of the part linear in ``rho``,
+    ``M rho = (omega x c) x (G rho) + (omega x rho) x B0``, the symmetric part is a gradient
+    cancelled by charges and the antisymmetric part ``w x rho`` drives ``J = sigma w x rho``
+    (divergence-free, tangent to every sphere about c: it meets the boundary condition as it
+    is). With ``int rho rho^T dV = (4 pi / 15)(a^5 - b^5) 1`` the torque is
+    ``sigma (4 pi / 15)(a^5 - b^5) (w x B0 + c x G w)`` (``tr G = 0``), linear in omega:
+    ``tau = -D(gamma) omega``. Spinning about its centre in a uniform B (``w = omega x B0 /
+    2``) this is ``-(2 pi / 15) sigma a^5 B0 x (omega x B0)``: the slow-rotation limit of
+    the rotating sphere (H. Hertz, "On induction in rotating spheres", 1880, *Miscellaneous
+    Papers* ch. II; the current ``(sigma / 2) rho x (B0 x omega)`` is derived above and
+    checked by quadrature in tests/physical/test_eddy.py), whose magnitude
+    :func:`eddy_torques_by_set` estimates. Dropped: terms
+    ``(a / |c|)^2`` smaller (the current of the part quadratic in rho), and skin effects
+    (slow rotation: skin depth much larger than the part).
+
+    Parameters
+    ----------
+    legendre : tuple of float
+        The magnetic field's Legendre coefficients.
+    centres : ndarray, shape (k, 3)
+        Sphere centres in body axes, m.
+    weights : ndarray, shape (k,)
+        ``sigma (a^5 - b^5)`` per sphere, S m^4.
+    omega, gammas : ndarray, shape (m, 3)
+        Angular velocities (1/s) and the field axis, in body axes.
+
+    Returns
+    -------
+    ndarray, shape (m, 3)
+    """
+    omega = np.asarray(omega, dtype=float)
+    out = np.zeros_like(omega)
+    fld = AxisymmetricField(tuple(legendre))
+    if not len(weights) or fld.is_zero:
+        return out
+    c = np.asarray(centres, dtype=float)[None]  # (1, k, 3)
+    b0 = -fld.gradient_body(centres, gammas)  # (m, k, 3)
+    g = -fld.hessian_body(centres, gammas)  # (m, k, 3, 3)
+    w_ = omega[:, None, :]
+    u = np.cross(w_, c)  # (m, k, 3): the part centre's velocity
+    # M = [u]x G - [B0]x [omega]x, and w the axial vector of its antisymmetric part
+    m_mat = np.einsum("...ij,...jk->...ik", _skew(u), g) - np.einsum(
+        "...ij,...jk->...ik", _skew(b0), _skew(np.broadcast_to(w_, u.shape))
+    )
+    w = 0.5 * np.stack(
+        [
+            m_mat[..., 2, 1] - m_mat[..., 1, 2],
+            m_mat[..., 0, 2] - m_mat[..., 2, 0],
+            m_mat[..., 1, 0] - m_mat[..., 0, 1],
+        ],
+        axis=-1,
+    )
+    per_part = np.cross(w, b0) + np.cross(c, np.einsum("...ij,...j->...i", g, w))
+    return (4.0 * np.pi / 15.0) * np.einsum("mki,k->mi", per_part, np.asarray(weights, float))
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """The cross-product matrices ``[v]x`` of (..., 3) vectors, shape (..., 3, 3)."""
+    out = np.zeros((*v.shape, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
 def _largest_part(parts: list[dict[str, Any]], values: np.ndarray, key: str) -> str:
     """The part set of the largest value, with its ``key`` (none: no positive value)."""
     if not len(values) or not np.any(values > 0):

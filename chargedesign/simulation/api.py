@@ -675,6 +675,14 @@ def prepare(
     if not effects:
         notes.append("no effect acts: torque-free motion")
     system = RigidBodySystem(setup.body, effects, options.route)
+    if system.dissipative and options.method == "taylor":
+        # heyoka's compiled route takes polynomial torques only: the eddy torque runs on scipy
+        options = dataclasses.replace(options, method="DOP853")
+        setup = dataclasses.replace(setup, options=options)
+        notes.append(
+            "method: DOP853 (solve_ivp) instead of taylor, which does not take the eddy "
+            f"torque; rtol {fmt(options.rtol, PLAIN)}, atol {fmt(options.atol, PLAIN)}"
+        )
     if setup.design is not None and "case" not in setup.design.further_keys:
         check_centre(system, setup.design.realises)  # a case's V may have a linear term
     _case_functions(setup.design)  # a case of another inertia than diag(2C, 2C, C): refused

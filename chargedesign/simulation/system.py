@@ -48,7 +48,7 @@ from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
-from chargedesign.physical.realism import material_parts
+from chargedesign.physical.realism import eddy_torque, eddy_weights, material_parts
 from chargedesign.quadrature import gather_elements
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
@@ -68,10 +68,15 @@ EFFECT_SOURCES = {
     "gravity": ("masses", "gravity"),
     # the parts' own materials magnetised by the field (energy -chi v |B|^2 / (2 mu0))
     "induced": ("parts", "magnetic"),
+    # the eddy currents of the conducting parts turning in the field (a damping torque)
+    "eddy": ("conductors", "magnetic"),
 }
 #: effects computed only when a scene asks: for a real body they can be 1e11 times the
 #: designed torques, and a run meant for the designed motion would take as many more steps
-OPT_IN_EFFECTS = ("induced",)
+OPT_IN_EFFECTS = ("induced", "eddy")
+#: effects whose torque depends on omega beyond the gyroscopic mu x omega (no potential,
+#: no polynomial bank: added to the torque as they are)
+DISSIPATIVE_EFFECTS = ("eddy",)
 #: column layout of the reduced polynomial bank
 _V, _DV, _MU, _L = 0, slice(1, 4), slice(4, 7), 7
 
@@ -198,11 +203,17 @@ class Body(ElementSet):
     #: their ``chi v`` (m^3): the ``induced`` effect (from a physical design's materials)
     part_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     part_susceptances: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: centres of the conducting parts (m, body axes) and their ``sigma (a^5 - b^5)``
+    #: (S m^4): the ``eddy`` effect (:func:`~chargedesign.physical.realism.eddy_torque`)
+    conductor_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    conductor_weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def source_count(self, source: str) -> int:
         """Number of non-zero elements of a source; ``parts``: parts with a susceptibility."""
         if source == "parts":
             return int(np.count_nonzero(self.part_susceptances))
+        if source == "conductors":
+            return int(np.count_nonzero(self.conductor_weights))
         return super().source_count(source)
 
     def __post_init__(self) -> None:
@@ -240,8 +251,11 @@ class Body(ElementSet):
             for i, b in enumerate(gathered.quadrature)
         ]
         part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
+        conductor_positions, conductor_weights = np.zeros((0, 3)), np.zeros(0)
         if getattr(design, "medium", None) is not None:
-            parts = [p for p in material_parts(design) if p["chi"] is not None]
+            every_part = material_parts(design)
+            conductor_positions, conductor_weights = eddy_weights(every_part)
+            parts = [p for p in every_part if p["chi"] is not None]
             if parts:
                 part_positions = np.concatenate([p["centres"] for p in parts])
                 part_susceptances = np.concatenate([p["chi"] * p["volumes"] for p in parts])
@@ -260,6 +274,8 @@ class Body(ElementSet):
             notes=notes,
             part_positions=part_positions,
             part_susceptances=part_susceptances,
+            conductor_positions=conductor_positions,
+            conductor_weights=conductor_weights,
         )
 
     def field(self, kind: str) -> AxisymmetricField:
@@ -410,7 +426,8 @@ class RigidBodySystem:
         self.route = route
         self.C = body.parameters.C
         self.parameters = body.parameters
-        self.physical = [e for e in self.effects if e != "theorem"]
+        self.physical = [e for e in self.effects if e != "theorem" and e not in DISSIPATIVE_EFFECTS]
+        self.dissipative = [e for e in self.effects if e in DISSIPATIVE_EFFECTS]
         self.singular = "theorem" in self.effects and body.parameters.singular
         self._banks: dict[str, poly.PolynomialBank] = {}
         for name in self.physical:
@@ -470,7 +487,16 @@ class RigidBodySystem:
         names = self.effects if effects is None else list(effects)
         route = self.route if route is None else route
         out = np.zeros_like(gamma)
-        physical = [e for e in names if e != "theorem"]
+        physical = [e for e in names if e != "theorem" and e not in DISSIPATIVE_EFFECTS]
+        if "eddy" in names:
+            body = self.body
+            out += eddy_torque(
+                body.fields.get("magnetic", ()),
+                body.conductor_positions,
+                body.conductor_weights,
+                omega,
+                gamma,
+            )
         if physical:
             if route == "reduced":
                 bank = self._bank if physical == self.physical else None
@@ -566,11 +592,12 @@ class RigidBodySystem:
         otherwise; the direct route evaluates its elements in one numpy pass); batches use
         :meth:`derivatives`.
         """
-        if batch != 1:
+        if batch != 1 or self.dissipative:
+            # a dissipative torque (eddy) is evaluated in numpy, one state at a time if need be
             derivatives = self.derivatives
 
             def fun_batch(t: float, y: np.ndarray) -> np.ndarray:
-                return derivatives(y.reshape(batch, 7)).reshape(-1)
+                return derivatives(y.reshape(-1, 7)).reshape(-1)
 
             return fun_batch
         return self._single_state_function()
