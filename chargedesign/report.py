@@ -364,6 +364,7 @@ def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[st
         realised = _realised_row(design, ratios, model)
         if not rows or realised[0] != REALISED:
             rows.append(realised)
+        rows += _support_rows(model)
     state = rows[0][0]
     table = [
         "| state | binding item | factor | what would change it |",
@@ -378,6 +379,26 @@ def _apparatus_lines(model: Any) -> list[str]:
     if model is None or model.apparatus is None:
         return []
     return ["- Field apparatus: " + "; ".join(str(model.apparatus).splitlines()) + "."]
+
+
+def _support_rows(model: Any) -> list[tuple[str, ...]]:
+    """The support as an open item of the verdict when its drag is over the fraction: the
+    state speaks for the body and its field apparatus, this row for what holds O."""
+    support = getattr(model, "support", None) if model is not None else None
+    if not support:
+        return []
+    over = support["drag_over_term"] / model.fraction
+    if over <= 1.0:
+        return []
+    return [
+        (
+            "support: open (not counted)",
+            f"the {support['bearing']} air bearing's film drag",
+            f"{fmt(over, ROUGH)} x the fraction",
+            f"a support with every attitude free and {fmt(over, ROUGH)} x less drag"
+            + (f"; {support['needs']}" if support.get("needs") else ""),
+        )
+    ]
 
 
 def _support_lines(model: Any) -> list[str]:
@@ -450,6 +471,8 @@ def _verdict_lines(design: Design) -> list[str]:
     response = _fresh_response(design, realism)
     law = k_law(design, response) if response else {}
     verdict, table, model = _verdict_table(design, ok, limits)
+    if any("| support: open" in row for row in table):
+        verdict += " (the body and its field; its support is open, see the table)"
     window = frontier.get("realised") or {}
     lines = [
         f"**Verdict: {verdict}** in {medium['name']} (breakdown "

@@ -215,7 +215,9 @@ def test_simulated_with_its_parasitics_the_example_holds_i4_to_the_fraction():
     predicted = design.frontier["realised"]["at_design"]
     assert max(predicted.values()) < 1.0
     text = render_report(design)
-    assert "**Verdict: buildable and realised**" in text
+    assert "**Verdict: buildable and realised (the body and its field; its support is open" in text
+    # the support is an open item of the verdict, with its factor, never hidden
+    assert "| support: open (not counted) | the full_sphere air bearing's film drag |" in text
     assert "| buildable and realised | coils' harmonic error (of the kappa term) |" in text
     (apparatus,) = [x for x in text.splitlines() if x.startswith("- Field apparatus:")]
     assert "maxwell pair" in apparatus and " W;" in apparatus and "turns" in apparatus
