@@ -471,7 +471,7 @@ def _verdict_lines(design: Design) -> list[str]:
     response = _fresh_response(design, realism)
     law = k_law(design, response) if response else {}
     verdict, table, model = _verdict_table(design, ok, limits)
-    if any("| support: open" in row for row in table):
+    if verdict == REALISED and any("| support: open" in row for row in table):
         verdict += " (the body and its field; its support is open, see the table)"
     window = frontier.get("realised") or {}
     lines = [
