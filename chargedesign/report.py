@@ -42,6 +42,7 @@ from chargedesign.physical.realism import (
     realisability_map,
 )
 from chargedesign.physical.window import window_model
+from chargedesign.scene.medium import Medium
 
 
 def _spacing(design: Design) -> float | None:
@@ -467,6 +468,7 @@ def _verdict_lines(design: Design) -> list[str]:
     frontier = design.frontier or {}
     realism = design.realism or {}
     medium = design.medium
+    assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
     ok = bool(limits.get("buildable"))
     response = _fresh_response(design, realism)
     law = k_law(design, response) if response else {}
@@ -475,8 +477,8 @@ def _verdict_lines(design: Design) -> list[str]:
         verdict += " (the body and its field; its support is open, see the table)"
     window = frontier.get("realised") or {}
     lines = [
-        f"**Verdict: {verdict}** in {medium['name']} (breakdown "
-        f"{fmt(medium['breakdown_V_per_m'])} V/m, safety {fmt(medium['safety'], PLAIN)}).",
+        f"**Verdict: {verdict}** in {medium.name} (breakdown "
+        f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
         "",
         *table,
         "",

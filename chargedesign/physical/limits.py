@@ -278,8 +278,8 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
     ``design`` is a :class:`~chargedesign.body.Design` with ``medium`` and ``materials``.
     """
     medium = design.medium
-    safe = medium["safety"] * medium["breakdown_V_per_m"]
-    breakdown = medium["breakdown_V_per_m"]
+    safe = medium.safety * medium.breakdown
+    breakdown = medium.breakdown
     violations: list[str] = []
     radii = design.carrier_radii()
     fields, _ = carrier_surface_fields(
@@ -289,7 +289,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
     for i in over[:5]:
         violations.append(
             f"charge {i}: surface field {fmt(fields[i])} V/m is {fmt(fields[i] / safe)}x the safe "
-            f"field of {medium['name']} ({fmt(safe)} V/m)"
+            f"field of {medium.name} ({fmt(safe)} V/m)"
         )
     if len(over) > 5:
         violations.append(f"... and {len(over) - 5} more carriers above the safe field")

@@ -66,10 +66,6 @@ class Medium:
             out["gas"] = self.gas
         return out
 
-    def __getitem__(self, key: str) -> Any:
-        """The design.json key ``key`` (readers written for the dict form)."""
-        return self.to_dict()[key]
-
     @classmethod
     def from_dict(cls, value: Any) -> Medium:
         """design.json's ``medium`` object (keys ``name``, ``breakdown_V_per_m``, ``safety``;

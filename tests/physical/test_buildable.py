@@ -64,7 +64,7 @@ def dense_surface_max(design: Design, samples: int = 20000) -> np.ndarray:
 def test_every_surface_field_is_below_the_safe_field(result):
     design = result.design
     dense = dense_surface_max(design)
-    safe = design.medium["safety"] * design.medium["breakdown_V_per_m"]
+    safe = design.medium.safety * design.medium.breakdown
     assert np.all(dense <= safe), dense.max() / safe
     # near the frontier the design works at its limit: the largest carrier is within 1 %
     assert dense.max() > 0.99 * safe
@@ -287,7 +287,7 @@ def test_the_embedded_default_is_buildable():
     from chargedesign.designer.acceptance import body_check
 
     design = design_from_scene(load_scene(None), frontier=False).design
-    assert design.medium is not None and design.medium["name"] == "vacuum"
+    assert design.medium is not None and design.medium.name == "vacuum"
     assert design.larmor.reading == "frame" and design.larmor.rate == 2.45e-6
     assert check_limits(design).buildable
     assert body_check(design).passed

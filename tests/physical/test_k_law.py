@@ -178,7 +178,7 @@ def test_the_ratio_does_not_depend_on_the_gradient():
 def test_parity_eddy_currents_and_the_size_bound_follow_from_the_numbers(bodies):
     body = bodies[1.0, "vacuum"]
     law = k_law(body)
-    e_safe = body.medium["safety"] * body.medium["breakdown_V_per_m"]
+    e_safe = body.medium.safety * body.medium.breakdown
     # the ratio goes like 1/E^2: at E_safe sqrt(ratio) it is 1
     assert law["parity_surface_field_V_per_m"] == pytest.approx(
         e_safe * math.sqrt(law["ratio"]), rel=1e-12

@@ -164,7 +164,7 @@ def test_old_design_json_medium_stays_readable():
         }
     )
     assert design.medium == Medium("air", 3e6, 0.5)
-    assert design.medium["breakdown_V_per_m"] == 3e6
+    assert design.medium.breakdown == 3e6
     assert "gas" not in design.to_dict()["medium"]
 
 
