@@ -49,6 +49,14 @@ def _write(tmp_path: Path, text: str, name: str = "case.toml") -> Path:
     return path
 
 
+def _design(tmp_path: Path, text: str = KOWALEVSKI) -> Path:
+    """``chargedesign design`` of the case scene ``text`` (must succeed): its out folder."""
+    out = tmp_path / "out"
+    scene = _write(tmp_path, text)
+    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    return out
+
+
 def test_a_scene_reads_its_case_through_the_case_file_validation(tmp_path: Path) -> None:
     scene = load_scene(_write(tmp_path, KOWALEVSKI))
     assert scene.case is not None and scene.case.name == "kowalevski-held-out"
@@ -81,9 +89,7 @@ def test_the_scene_schema_declares_the_case_table() -> None:
 def test_design_check_and_simulate_a_held_out_kowalevski_top(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    scene = _write(tmp_path, KOWALEVSKI)
-    out = tmp_path / "out"
-    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    out = _design(tmp_path)
     report = capsys.readouterr().out
     assert "Realises the case's V" in report and "holds exactly" in report
     data = json.loads((out / "design.json").read_text("utf-8"))
@@ -127,9 +133,7 @@ def test_check_compares_with_the_case_not_the_theorem(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """The same body against a case record whose V is twice as large fails check."""
-    out = tmp_path / "out"
-    scene = _write(tmp_path, KOWALEVSKI)
-    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    out = _design(tmp_path)
     capsys.readouterr()
     data = json.loads((out / "design.json").read_text("utf-8"))
     data["case"]["table"]["V"] = "2*C*a*gamma1"
@@ -184,9 +188,7 @@ def test_simulate_refuses_a_case_of_another_inertia(
         '[case]\nname = "euler-312"\ninertia = [3, 2, 1]\nV = "0"\n'
         'integral = "9*p**2 + 4*q**2 + r**2"\n' + BODY
     )
-    scene = _write(tmp_path, text)
-    out = tmp_path / "out"
-    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    out = _design(tmp_path, text)
     assert main(["check", str(out / "design.json")]) == 0
     capsys.readouterr()
     assert main(["simulate", str(out / "design.json"), "--t-end", "1"]) == 2
@@ -221,9 +223,7 @@ def test_theorem_only_commands_refuse_a_case_scene(
 def test_tolerance_refuses_a_case_design(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    out = tmp_path / "out"
-    scene = _write(tmp_path, KOWALEVSKI)
-    assert main(["design", str(scene), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    out = _design(tmp_path)
     capsys.readouterr()
     assert main(["tolerance", str(out / "design.json")]) == 2
     assert "tolerance takes a design of the theorem" in capsys.readouterr().err
