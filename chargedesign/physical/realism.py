@@ -229,9 +229,13 @@ def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]
         if part["sigma"] is None:
             continue
         b = field_magnitude_max(tuple(legendre), np.linalg.norm(part["centres"], axis=1))
-        shells = part["outer"] ** 5 - part["inner"] ** 5
-        out[k] = float(np.sum(2.0 * np.pi / 15.0 * part["sigma"] * rate * b**2 * shells))
+        out[k] = float(np.sum(2.0 * np.pi / 15.0 * rate * b**2 * _eddy_weight(part)))
     return out
+
+
+def _eddy_weight(part: dict[str, Any]) -> np.ndarray:
+    """``sigma (a^5 - b^5)`` of each sphere or shell of a part set, S m^4."""
+    return part["sigma"] * (part["outer"] ** 5 - part["inner"] ** 5)
 
 
 def eddy_weights(parts: list[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray]:
@@ -245,7 +249,7 @@ def eddy_weights(parts: list[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray]:
     if not conducting:
         return np.zeros((0, 3)), np.zeros(0)
     centres = np.concatenate([p["centres"] for p in conducting])
-    weights = np.concatenate([p["sigma"] * (p["outer"] ** 5 - p["inner"] ** 5) for p in conducting])
+    weights = np.concatenate([_eddy_weight(p) for p in conducting])
     return centres, weights
 
 
