@@ -25,12 +25,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.designer.frontier import (
-    REALISED_FRACTION,
-    WindowOptions,
-    write_window_picture,
-)
+from chargedesign.designer.frontier import WindowOptions, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.recommend import recommend
@@ -51,17 +46,14 @@ def run(args: argparse.Namespace) -> int:
         if args.scan
         else ("realised_window.png",),
     )
-    # the options check before the scene loads; the scene's [design] keys fill what is not given
-    WindowOptions(
-        REALISED_FRACTION if args.realised_fraction is None else args.realised_fraction,
-        STANDARD_GRAVITY if args.realised_gravity is None else args.realised_gravity,
-    )
 
     def progress(message: str) -> None:
         if not args.quiet:
             print(f"frontier: {message}", file=sys.stderr, flush=True)
 
     scene = load_theorem_scene(args.scene, "frontier")
+    # --realised-* are range-checked with every option (limits.OPTION_RANGES) before the run;
+    # the scene's [design] keys fill what is not given
     window = WindowOptions(
         scene.design.realised_fraction
         if args.realised_fraction is None
