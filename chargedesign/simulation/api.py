@@ -140,6 +140,9 @@ class SimulationSetup:
         :func:`prepare`).
     axes_rate : float
         Their rate about Z, 1/s: 0 for inertial axes, the frame reading's n for turning axes.
+    case : CaseFunctions or None
+        The numeric functions of the case a design carries (set by :func:`prepare`; None:
+        the theorem's), built once for the refusal and the ``F`` monitor.
     """
 
     body: Body
@@ -153,6 +156,7 @@ class SimulationSetup:
     body_info: dict[str, Any] = field(default_factory=dict)
     axes: str = "inertial"
     axes_rate: float = 0.0
+    case: Any = None
 
     @property
     def larmor(self) -> Any:
@@ -685,7 +689,8 @@ def prepare(
         )
     if setup.design is not None and "case" not in setup.design.further_keys:
         check_centre(system, setup.design.realises)  # a case's V may have a linear term
-    _case_functions(setup.design)  # a case of another inertia than diag(2C, 2C, C): refused
+    # a case of another inertia than diag(2C, 2C, C) is refused here
+    setup = dataclasses.replace(setup, case=_case_functions(setup.design))
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial
@@ -936,7 +941,7 @@ def _result(
         I3_scale=max(system.C * max(omega_scale, 1.0), float(np.max(np.abs(integrals[:, 2])))),
         realises=realised_claims(setup, system),
         axes_rate=rate,
-        case=_case_functions(setup.design),
+        case=setup.case,
     )
     monitor_table = monitors_mod.evaluate(ctx, omega, gamma, integrals, kinetic, opts.monitors)
     method = str(extra.get("method", opts.method))
