@@ -29,10 +29,12 @@ from chargedesign.designer.case_elements import (
 from chargedesign.designer.case_masses import CaseMassBody, design_case_masses, mass_conditions
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
-from chargedesign.model.case_numeric import case_record
+from chargedesign.model.case_numeric import case_functions, case_record
 from chargedesign.moment_conditions import LinearConditions, scene_length
 from chargedesign.moment_conditions.case import derive_case_conditions
 from chargedesign.params import Parameters
+from chargedesign.physical.realism import case_realism_budget
+from chargedesign.physical.window import case_realised_window
 from chargedesign.results import Result
 from chargedesign.scene import Scene
 
@@ -181,6 +183,28 @@ class CaseElementsResult(Result):
             **{k: v for k, v in self.body._summary().items() if k != "name"},
         }
 
+    def _realism_lines(self) -> list[str]:
+        record = self.design.further_keys["case"]
+        budget, window = record.get("realism"), record.get("realised")
+        if not budget or not window:
+            return []
+        items = ", ".join(
+            f"{key} {item['value']:.1e} ({item['verdict']})"
+            for key, item in budget["items"].items()
+            if item["value"] is not None
+        )
+        span = (
+            "empty"
+            if window["s_low"] is None
+            else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
+        )
+        return [
+            f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
+            f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
+            f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
+            f"below: {window['binding_low']}; above: {window['binding_high']}",
+        ]
+
     def _text(self) -> str:
         body = self.body
         certificate = self.certificate
@@ -204,6 +228,7 @@ class CaseElementsResult(Result):
             f"omega x mu at {TORQUE_SAMPLES} states: relative error {body.torque_rel_err:.1e}",
             f"- the claimed integral {verdict} exactly ({level}; independent: "
             f"{'yes' if certificate.independent else 'NO'}; {certificate.seconds:.2f} s)",
+            *self._realism_lines(),
             "",
             "Choices of the conditions engine:",
             "",
@@ -246,6 +271,19 @@ def design_case_elements_scene(
         },
         further_keys={"case": case_record(scene.tables["case"], case, certificate)},
     )
+    # the realism budget and the realised window of the point elements, at the case's rate
+    functions = case_functions(case)
+    budget = case_realism_budget(design, functions)
+    window = case_realised_window(design, budget)
+    design.further_keys["case"]["realism"] = budget
+    design.further_keys["case"]["realised"] = {
+        "s_low": window.s_low,
+        "s_high": window.s_high,
+        "binding_low": window.binding_low,
+        "binding_high": window.binding_high,
+        "fraction": window.fraction,
+        "notes": list(window.notes),
+    }
     return CaseElementsResult(design=design, body=body, certificate=certificate)
 
 
