@@ -237,9 +237,7 @@ class CaseElementsResult(Result):
         return "\n".join(lines) + "\n"
 
 
-def design_case_elements_scene(
-    scene: Scene, say: Callable[[str], None]
-) -> CaseElementsResult:
+def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> CaseElementsResult:
     """A scene's case that masses alone do not realise, as charges, dipoles and masses in the
     scene's fields (given) and the fields the conditions engine derives (one-line refusal of a
     singular term, a degree above 4, a constant mu, before any design work)."""

@@ -60,11 +60,10 @@ CASE_MAX_DEGREE = 4
 #: dipoles' quadrupole when V's degree 2 needs it (legendre f2 = 1 T/m: a2 = 0.5 T/m)
 CASE_MAGNETIC_STRENGTH = 1.0
 #: which source realises each degree of V of a case, in order of preference
-CASE_PREFERENCE = {
+CASE_PREFERENCE: dict[int, tuple[str, ...]] = {
     1: ("masses", "charges", "dipoles"),
     2: ("masses", "dipoles", "charges"),
 }
-
 
 
 @dataclass(frozen=True)
@@ -173,7 +172,9 @@ def _masses_give_degree_two(target: CaseTarget) -> bool:
         sum((c * second.get(key, Fraction(0)) for key, c in h.moments().items()), Fraction(0))
         for h in real_solid_harmonics(2)
     ]
-    wanted = [v / h.weight for v, h in zip(target.v_harmonics(2), real_solid_harmonics(2))]
+    wanted = [
+        v / h.weight for v, h in zip(target.v_harmonics(2), real_solid_harmonics(2), strict=True)
+    ]
     if not any(fixed):
         return not any(wanted)
     ratios = {w / f for w, f in zip(wanted, fixed, strict=True) if f != 0}
@@ -187,7 +188,9 @@ def _derived_magnetic(target: CaseTarget) -> list[Fraction]:
     if any(target.v_harmonics(2)) and not _masses_give_degree_two(target):
         degrees.add(2)  # dipoles in the quadrupole (they feel no Lorentz force)
     strength = Fraction(CASE_MAGNETIC_STRENGTH)
-    return [strength if k in degrees else Fraction(0) for k in range(1, max(degrees, default=0) + 1)]
+    return [
+        strength if k in degrees else Fraction(0) for k in range(1, max(degrees, default=0) + 1)
+    ]
 
 
 def _charges_for_case_mu(ctx: DerivationContext, target: CaseTarget) -> None:
@@ -224,8 +227,7 @@ def _charges_for_case_mu(ctx: DerivationContext, target: CaseTarget) -> None:
                     )
                 )
             text = (
-                f"mu_{a + 1}: coefficient of the degree-{h.degree} harmonic {h.text} "
-                f"(case: {rhs})"
+                f"mu_{a + 1}: coefficient of the degree-{h.degree} harmonic {h.text} (case: {rhs})"
             )
             status, combo = system.add(coeffs, rhs, text)
             if status == "inconsistent":

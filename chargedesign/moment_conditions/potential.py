@@ -158,7 +158,7 @@ def realise_degree(ctx: DerivationContext, k: int) -> None:
                 f"{s}: fields.{kind} has no degree-{k} term ({field_coefficient_name(kind, k)} = 0)"
             )
     description = (
-        _degree_description(k, ctx.P) if ctx.v_target is None else "the case's degree-%d part" % k
+        _degree_description(k, ctx.P) if ctx.v_target is None else f"the case's degree-{k} part"
     )
     for designated in options:
         trial = {s: ctx.systems[s].copy() for s in present}

@@ -680,7 +680,9 @@ def case_window_model(
         "gravity_balance": "M g delta over the terms: ~ 1/s^2",
     }
     items = [
-        _power_item(key, key.replace("_", " "), laws[key], float(item["value"] or 0.0), exponents[key])
+        _power_item(
+            key, key.replace("_", " "), laws[key], float(item["value"] or 0.0), exponents[key]
+        )
         for key, item in budget["items"].items()
         if item["value"]
     ]

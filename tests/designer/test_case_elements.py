@@ -32,9 +32,12 @@ integral = "r"
 a = 0.5
 b = 0.3
 """
-THEOREM_VARIANT = (CASES / "yehia_elmandouh.toml").read_text("utf-8").replace(
-    "lambda = 0.1\nrho = 0.2", "lambda = 0\nrho = 0"
-).replace("n = 0.7", "n = -0.45")
+THEOREM_VARIANT = (
+    (CASES / "yehia_elmandouh.toml")
+    .read_text("utf-8")
+    .replace("lambda = 0.1\nrho = 0.2", "lambda = 0\nrho = 0")
+    .replace("n = 0.7", "n = -0.45")
+)
 
 
 def _design(tmp_path: Path, text: str) -> dict:

@@ -62,13 +62,15 @@ def test_a_case_projection_is_exact_on_the_sphere() -> None:
     }
     case = case_from_table(table)
     target = case_target(case)
-    x, y, z = sp.symbols("x y z", real=True)
     total = sp.Integer(0)
     for k in range(target.v_degree + 1):
         for h in real_solid_harmonics(k):
             value = target.v.get(h.label, 0)
             poly = sum(
-                sp.Rational(c.numerator, c.denominator) * GAMMA[0] ** a * GAMMA[1] ** b * GAMMA[2] ** e
+                sp.Rational(c.numerator, c.denominator)
+                * GAMMA[0] ** a
+                * GAMMA[1] ** b
+                * GAMMA[2] ** e
                 for (a, b, e), c in h.poly.items()
             )
             total += sp.Rational(value.numerator, value.denominator) * poly
