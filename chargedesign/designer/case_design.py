@@ -137,6 +137,10 @@ class CaseDesignResult(Result):
         return "\n".join(lines) + "\n"
 
 
+def _count(number: int, one: str, many: str | None = None) -> str:
+    return f"{number} {one if number == 1 else many or one + 's'}"
+
+
 def masses_realise(scene: Scene) -> bool:
     """Whether masses in gravity alone realise the scene's case (l = 0, V of degree <= 2 with
     its quadratic part the inertia's, only ``[fields.gravity]`` given): the masses' path.
@@ -219,8 +223,10 @@ class CaseElementsResult(Result):
             f"# Case {body.name}: a body of charges, dipoles and masses",
             "",
             f"Realises the case's {', '.join(self.design.realises)} as "
-            f"{len(body.charge_values)} charges, {len(body.dipole_moments)} dipoles and "
-            f"{len(body.mass_values)} masses in the fields: {fields or 'none'}.",
+            f"{_count(len(body.charge_values), 'charge')}, "
+            f"{_count(len(body.dipole_moments), 'dipole')} and "
+            f"{_count(len(body.mass_values), 'mass', 'masses')} in the fields: "
+            f"{fields or 'none'}.",
             "",
             f"- inertia recomputed from the masses: diag({diagonal}) kg m^2; relative error "
             f"{body.inertia_rel_err:.1e}",
@@ -228,6 +234,14 @@ class CaseElementsResult(Result):
             f"omega x mu at {TORQUE_SAMPLES} states: relative error {body.torque_rel_err:.1e}",
             f"- the claimed integral {verdict} exactly ({level}; independent: "
             f"{'yes' if certificate.independent else 'NO'}; {certificate.seconds:.2f} s)",
+            f"- the charges' l . gamma is the case's plus {body.level_offset:.6g} kg m^2/s "
+            f"(a constant: spread {body.level_spread:.1e})"
+            + (
+                f"; the case's level I3 = {certificate.level} is the body's I3 = "
+                f"{float(certificate.level) + body.level_offset:.6g}"
+                if certificate.level != "general"
+                else ""
+            ),
             *self._realism_lines(),
             "",
             "Choices of the conditions engine:",
@@ -273,6 +287,7 @@ def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> Case
     functions = case_functions(case)
     budget = case_realism_budget(design, functions)
     window = case_realised_window(design, budget)
+    design.further_keys["case"]["level_offset"] = body.level_offset
     design.further_keys["case"]["realism"] = budget
     design.further_keys["case"]["realised"] = {
         "s_low": window.s_low,

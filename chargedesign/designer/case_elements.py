@@ -22,7 +22,7 @@ from chargedesign.candidates import CandidateSet, candidates_from_points
 from chargedesign.designer.case_masses import inertia_of
 from chargedesign.designer.pipeline import design_source
 from chargedesign.fields import AxisymmetricField
-from chargedesign.moment_conditions import LinearConditions
+from chargedesign.moment_conditions import LinearConditions, physical_l_dot_gamma
 from chargedesign.moment_conditions.case import derive_case_conditions
 from chargedesign.results import Result
 from chargedesign.scene.design import DesignOptions
@@ -52,6 +52,14 @@ class CaseElementBody(Result):
     torque_rel_err : float
         Largest ``|T_elements - T_case|`` over the samples, relative to the largest
         ``|T_case|`` (:func:`element_torques`).
+    level_offset : float
+        ``l . gamma`` of the charges (their canonical angular momentum about Z) minus the
+        case's ``l . gamma``, kg m^2/s: a constant on the sphere when mu is matched, so the
+        body's ``I3`` is the case's plus this constant (a conditional case's level ``h`` is
+        the body's ``h + level_offset``).
+    level_spread : float
+        The largest deviation of that difference from its mean over the samples (0 up to
+        rounding when mu is matched; kg m^2/s).
     """
 
     name: str
@@ -65,6 +73,8 @@ class CaseElementBody(Result):
     inertia: np.ndarray
     target_inertia: np.ndarray
     torque_rel_err: float
+    level_offset: float = 0.0
+    level_spread: float = 0.0
 
     @property
     def fields(self) -> dict[str, tuple[float, ...]]:
@@ -94,6 +104,8 @@ class CaseElementBody(Result):
             "inertia": self.inertia.tolist(),
             "inertia_rel_err": self.inertia_rel_err,
             "torque_rel_err": self.torque_rel_err,
+            "level_offset": self.level_offset,
+            "level_spread": self.level_spread,
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -201,8 +213,10 @@ def design_case_elements(
     body = element_torques(
         used, placed["charges"], placed["dipoles"], placed["masses"], gammas, omegas
     )
-    reference = case_torques(case_functions(case), gammas, omegas)
+    functions = case_functions(case)
+    reference = case_torques(functions, gammas, omegas)
     scale = max(float(np.max(np.abs(reference))), 1e-300)
+    offset, spread = level_offset(case, used, placed["charges"], gammas)
     return CaseElementBody(
         name=case.name,
         conditions=conditions,
@@ -215,7 +229,38 @@ def design_case_elements(
         inertia=inertia_of(*placed["masses"]),
         target_inertia=np.diag([float(m) for m in case.inertia]),
         torque_rel_err=float(np.max(np.abs(body - reference))) / scale,
+        level_offset=offset,
+        level_spread=spread,
     )
+
+
+def level_offset(
+    case: Any,
+    fields: dict[str, tuple[float, ...]],
+    charges: tuple[np.ndarray, np.ndarray],
+    gammas: np.ndarray,
+) -> tuple[float, float]:
+    """``(mean, spread)`` of the charges' ``l . gamma`` (``sum q psi``, the natural
+    axisymmetric gauge) minus the case's ``l . gamma`` at ``gammas``, kg m^2/s. A case given
+    by ``mu`` fixes ``l . gamma`` only up to a constant: its offset is then a choice."""
+    import sympy as sp
+
+    from chargedesign.model.case import GAMMA
+
+    positions, values = charges
+    magnetic = fields.get("magnetic", ())
+    body = (
+        physical_l_dot_gamma(positions, values, magnetic, gammas)
+        if len(values) and any(magnetic)
+        else np.zeros(len(gammas))
+    )
+    own = sp.lambdify(GAMMA, case.l_dot_gamma, modules="numpy")
+    target = np.broadcast_to(
+        np.asarray(own(gammas[:, 0], gammas[:, 1], gammas[:, 2]), dtype=float), (len(gammas),)
+    )
+    difference = body - target
+    mean = float(np.mean(difference))
+    return mean, float(np.max(np.abs(difference - mean)))
 
 
 __all__ = [
@@ -224,5 +269,6 @@ __all__ = [
     "case_torques",
     "design_case_elements",
     "element_torques",
+    "level_offset",
     "torque_samples",
 ]

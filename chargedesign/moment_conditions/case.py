@@ -330,7 +330,13 @@ def derive_case_conditions(
     if "electric" not in given:
         ctx.fields["electric"] = []
         origin["electric"] = "derived"
-    needs_charges = target.has_mu or target.v_degree >= 3 or bool(given.get("electric"))
+    # charges: for mu, for V's degrees 3 and 4, and as the last resort for its degree 2
+    needs_charges = (
+        target.has_mu
+        or target.v_degree >= 3
+        or bool(given.get("electric"))
+        or (any(target.v_harmonics(2)) and not _masses_give_degree_two(target))
+    )
     if needs_charges:
         ctx.systems["charges"] = SourceSystem()
     if any(ctx.fields["magnetic"]):

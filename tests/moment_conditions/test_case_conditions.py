@@ -129,3 +129,28 @@ def test_steklov_lyapunov_mu_needs_charges_in_a_uniform_field() -> None:
     assert fixed["yy"] == pytest.approx(2 / 5, rel=1e-15)
     assert fixed["zz"] == pytest.approx(4 / 5, rel=1e-15)
     assert fixed["xy"] == fixed["xz"] == fixed["yz"] == 0.0
+
+
+def test_the_conditions_command_prints_a_case_scenes_conditions(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``chargedesign conditions`` of a Steklov-Lyapunov scene: the charges' second moments
+    (JSON), the derived magnetic field, and a quadratic V without a magnetic quadrupole given
+    is refused naming the degree (the charges' quadrupole, fixed by mu, does not give it)."""
+    import json
+
+    from chargedesign.cli import main
+
+    scene = tmp_path / "steklov.toml"
+    body = '\n[body]\nshape = "ball"\nradius = 0.5\nspacing = 0.125\n'
+    scene.write_text((CASES / "steklov_lyapunov.toml").read_text("utf-8") + body, "utf-8")
+    assert main(["conditions", str(scene), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["charges"]["xx"] == pytest.approx(-4 / 15, rel=1e-15)
+    assert data["fields"]["magnetic"] == {"legendre": [1.0, 1.0], "origin": "derived"}
+    assert data["dipoles"]  # V's quadratic part: dipoles in the quadrupole
+    uniform = scene.read_text("utf-8") + "\n[fields.magnetic]\nlegendre = [1.0]\n"
+    scene.write_text(uniform, "utf-8")
+    assert main(["conditions", str(scene)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert "V degree 2" in error and "\n" not in error
