@@ -288,6 +288,7 @@ def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> Case
     budget = case_realism_budget(design, functions)
     window = case_realised_window(design, budget)
     design.further_keys["case"]["level_offset"] = body.level_offset
+    design.further_keys["case"]["level_spread"] = body.level_spread
     design.further_keys["case"]["realism"] = budget
     design.further_keys["case"]["realised"] = {
         "s_low": window.s_low,

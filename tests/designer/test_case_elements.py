@@ -134,6 +134,11 @@ def test_element_torques_are_the_cases_euler_poisson_torques(
         "gravity_balance",
     }
     assert "s_low" in data["case"]["realised"]
+    # mu matched: the charges' l . gamma is the case's up to a constant on the sphere; for the
+    # theorem's case the constant is 0 (its 2 n C is in the charges' l . gamma)
+    assert data["case"]["level_spread"] <= 1e-12
+    if case.name == "yehia-elmandouh":
+        assert abs(data["case"]["level_offset"]) <= 1e-12
 
 
 def test_a_wrong_sign_of_mu_is_caught_by_the_element_torques(tmp_path: Path) -> None:
