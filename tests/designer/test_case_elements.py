@@ -151,3 +151,31 @@ def test_a_wrong_sign_of_mu_is_caught_by_the_element_torques(tmp_path: Path) -> 
     body = _element_torques(data, gammas, omegas)
     reference = _case_torques(data_case, gammas, omegas)
     assert np.max(np.abs(body - reference)) > 0.1 * np.max(np.abs(reference))
+
+
+def test_the_windows_laws_are_the_time_rescaled_bodies_budgets() -> None:
+    """Steklov-Lyapunov with mu -> s mu is the same case s times faster (V ~ mu^2, l ~ mu):
+    the body designed for it has the budget the window's laws predict from the body at s = 1
+    (radiation s^3, self-field and (v/c)^2 s^2, the balance s^-2), and at the window's ends
+    the worst item is the fraction."""
+    import tomllib
+
+    from chargedesign.designer.case_design import design_case_scene
+    from chargedesign.physical.window import case_realised_window, case_window_model
+    from chargedesign.scene import scene_from_dict
+
+    table = tomllib.loads((CASES / "steklov_lyapunov.toml").read_text("utf-8"))["case"]
+    designs = {}
+    for s in (1.0, 2.0):
+        scaled = dict(table, parameters=dict(table["parameters"], mu=0.4 * s))
+        body = {"shape": "ball", "radius": 0.5, "spacing": 0.125}
+        designs[s] = design_case_scene(scene_from_dict({"case": scaled, "body": body}, "<s>"))
+    budget = designs[1.0].design.further_keys["case"]["realism"]
+    model = case_window_model(designs[1.0].design, budget)
+    rescaled = designs[2.0].design.further_keys["case"]["realism"]["items"]
+    for key, predicted in model.ratios(2.0).items():
+        assert predicted == pytest.approx(rescaled[key]["value"], rel=1e-9)
+    window = case_realised_window(designs[1.0].design, budget)
+    assert window.s_low is not None and window.s_high is not None
+    for end in (window.s_low, window.s_high):
+        assert max(model.ratios(end).values()) == pytest.approx(window.fraction, rel=1e-6)
