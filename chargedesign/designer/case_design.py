@@ -77,6 +77,33 @@ def case_conditions(scene: Scene) -> LinearConditions:
     return derive_case_conditions(scene.case, given or None, length=length)
 
 
+def realism_lines(design: Design) -> list[str]:
+    """The report's lines of a case design's realism budget and realised window (none when
+    the record has neither)."""
+    record = design.further_keys["case"]
+    budget, window = record.get("realism"), record.get("realised")
+    if budget and budget["term_key"] is None:
+        return ["- realism: the case realises no force (V and mu constant): no term to hold"]
+    if not budget or not window:
+        return []
+    items = ", ".join(
+        f"{key} {item['value']:.1e} ({item['verdict']})"
+        for key, item in budget["items"].items()
+        if item["value"] is not None
+    )
+    span = (
+        "empty"
+        if window["s_low"] is None
+        else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
+    )
+    return [
+        f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
+        f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
+        f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
+        f"below: {window['binding_low']}; above: {window['binding_high']}",
+    ]
+
+
 @dataclass(repr=False)
 class CaseDesignResult(Result):
     """A case of (ep) designed as point masses, with its certificate.
@@ -133,8 +160,28 @@ class CaseDesignResult(Result):
             f"- the claimed integral {verdict} exactly ({level}; independent: "
             f"{'yes' if certificate.independent else 'NO'}; {certificate.seconds:.2f} s)",
             "- not realised: nothing else is claimed (l = 0: no gyroscopic forces are needed)",
+            *realism_lines(self.design),
         ]
         return "\n".join(lines) + "\n"
+
+
+def record_realism(design: Design, case: Any) -> None:
+    """Add the realism budget and the realised window of a case body (point elements, at the
+    case's typical rate) to its design.json ``case`` record (``realism``, ``realised``)."""
+    budget = case_realism_budget(design, case_functions(case))
+    design.further_keys["case"]["realism"] = budget
+    if budget["term_key"] is None:
+        design.further_keys["case"]["realised"] = None
+        return
+    window = case_realised_window(design, budget)
+    design.further_keys["case"]["realised"] = {
+        "s_low": window.s_low,
+        "s_high": window.s_high,
+        "binding_low": window.binding_low,
+        "binding_high": window.binding_high,
+        "fraction": window.fraction,
+        "notes": list(window.notes),
+    }
 
 
 def _count(number: int, one: str, many: str | None = None) -> str:
@@ -187,28 +234,6 @@ class CaseElementsResult(Result):
             **{k: v for k, v in self.body._summary().items() if k != "name"},
         }
 
-    def _realism_lines(self) -> list[str]:
-        record = self.design.further_keys["case"]
-        budget, window = record.get("realism"), record.get("realised")
-        if not budget or not window:
-            return []
-        items = ", ".join(
-            f"{key} {item['value']:.1e} ({item['verdict']})"
-            for key, item in budget["items"].items()
-            if item["value"] is not None
-        )
-        span = (
-            "empty"
-            if window["s_low"] is None
-            else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
-        )
-        return [
-            f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
-            f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
-            f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
-            f"below: {window['binding_low']}; above: {window['binding_high']}",
-        ]
-
     def _text(self) -> str:
         body = self.body
         certificate = self.certificate
@@ -242,7 +267,7 @@ class CaseElementsResult(Result):
                 if certificate.level != "general"
                 else ""
             ),
-            *self._realism_lines(),
+            *realism_lines(self.design),
             "",
             "Choices of the conditions engine:",
             "",
@@ -283,21 +308,9 @@ def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> Case
         },
         further_keys={"case": case_record(scene.tables["case"], case, certificate)},
     )
-    # the realism budget and the realised window of the point elements, at the case's rate
-    functions = case_functions(case)
-    budget = case_realism_budget(design, functions)
-    window = case_realised_window(design, budget)
     design.further_keys["case"]["level_offset"] = body.level_offset
     design.further_keys["case"]["level_spread"] = body.level_spread
-    design.further_keys["case"]["realism"] = budget
-    design.further_keys["case"]["realised"] = {
-        "s_low": window.s_low,
-        "s_high": window.s_high,
-        "binding_low": window.binding_low,
-        "binding_high": window.binding_high,
-        "fraction": window.fraction,
-        "notes": list(window.notes),
-    }
+    record_realism(design, case)
     return CaseElementsResult(design=design, body=body, certificate=certificate)
 
 
@@ -351,6 +364,7 @@ def design_case_scene(
         },
         further_keys={"case": case_record(scene.tables["case"], case, certificate)},
     )
+    record_realism(design, case)
     return CaseDesignResult(design=design, body=body, certificate=certificate)
 
 
@@ -362,4 +376,6 @@ __all__ = [
     "design_case_elements_scene",
     "design_case_scene",
     "masses_realise",
+    "realism_lines",
+    "record_realism",
 ]
