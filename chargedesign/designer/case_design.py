@@ -286,11 +286,12 @@ def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> Case
     given = {kind: tuple(v) for kind, v in scene.fields.items()}
     candidates = _region_candidates(scene)
     length = float(np.max(np.linalg.norm(candidates.points, axis=1)))
-    derive_case_conditions(case, given or None, length=length)  # refusals before any work
+    # the refusals (singular, degree, constant mu, fields) come here, before any work
+    conditions = derive_case_conditions(case, given or None, length=length)
     say(f"certificate of the case {case.name} (exact) ...")
     certificate = certify_case(case)
     say(f"charges, dipoles and masses on {len(candidates)} candidates ...")
-    body = design_case_elements(case, candidates, given, scene.design)
+    body = design_case_elements(case, candidates, given, scene.design, conditions=conditions)
     design = Design(
         parameters=Parameters.from_mapping({"C": float(case.inertia[2])}, "case.inertia[2]"),
         fields=body.fields,

@@ -179,12 +179,14 @@ def design_case_elements(
     candidates: CandidateSet | np.ndarray,
     fields: dict[str, tuple[float, ...]] | None = None,
     options: DesignOptions | None = None,
+    *,
+    conditions: LinearConditions | None = None,
 ) -> CaseElementBody:
     """Design charges, dipoles and masses on ``candidates`` (m) that realise ``case``.
 
     ``fields``: given fields (legendre per kind); the others are derived
     (:func:`~chargedesign.moment_conditions.case.derive_case_conditions`, for the candidates'
-    size).
+    size); ``conditions``: already derived for these candidates (derived here otherwise).
 
     Raises
     ------
@@ -195,8 +197,9 @@ def design_case_elements(
     cand = (
         candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
     )
-    length = float(np.max(np.linalg.norm(cand.points, axis=1)))
-    conditions = derive_case_conditions(case, fields or None, length=length)
+    if conditions is None:
+        length = float(np.max(np.linalg.norm(cand.points, axis=1)))
+        conditions = derive_case_conditions(case, fields or None, length=length)
     opts = options or DesignOptions()
     placed: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for source in ("charges", "dipoles", "masses"):
