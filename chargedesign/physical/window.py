@@ -651,3 +651,78 @@ def solve_window(
         notes=list(model.notes),
         curves=_curves(model, rates),
     )
+
+
+# --- a case of (ep) (the workbench) -----------------------------------------------------------
+
+
+def case_window_model(
+    design: Any,
+    budget: dict[str, Any],
+    *,
+    fraction: float = REALISED_FRACTION,
+) -> WindowModel:
+    """The window's items for a case body of point elements, from its realism budget
+    (:func:`chargedesign.physical.realism.case_realism_budget`, at the rate ``s = 1``).
+
+    A case rescaled in time (``V -> s^2 V``, ``l -> s l``) keeps its motions ``s`` times
+    faster; its elements follow with charges ``~ s`` (mu) and the fields and weights of V
+    ``~ s^2``. The items then scale over the terms as in :func:`window_model`: radiation
+    ``s^3``, self-field and ``(v / c)^2`` ``s^2``, gravity on the balance ``s^-2``. A case
+    whose V is realised by masses in gravity cannot be rescaled (g is fixed): the caller
+    keeps only ``s = 1`` (:func:`case_realised_window`).
+    """
+    exponents = {"radiation": 3.0, "self_field": 2.0, "relativistic": 2.0, "gravity_balance": -2.0}
+    laws = {
+        "radiation": "Larmor power of the charges over |omega|: over the terms ~ s^3",
+        "self_field": "mu0 q omega / (4 pi r) over the applied |B|: ~ s^2",
+        "relativistic": "(v / c)^2 of the fastest element: ~ s^2",
+        "gravity_balance": "M g delta over the terms: ~ 1/s^2",
+    }
+    items = [
+        _power_item(
+            key, key.replace("_", " "), laws[key], float(item["value"] or 0.0), exponents[key]
+        )
+        for key, item in budget["items"].items()
+        if item["value"]
+    ]
+    return WindowModel(
+        1.0,
+        fraction,
+        str(budget["term_key"]),
+        float(budget["term_N_m"]),
+        items,
+        None,
+        STANDARD_GRAVITY,
+    )
+
+
+def case_realised_window(
+    design: Any,
+    budget: dict[str, Any],
+    *,
+    fraction: float = REALISED_FRACTION,
+    span: float = 1e6,
+) -> RealisedWindow:
+    """The rates ``s`` (multiples of the budget's typical rate) in ``[1/span, span]`` where
+    every item of :func:`case_window_model` is below ``fraction`` of the smallest term. With
+    masses in a gravity field that realise V (``design.fields["gravity"]`` non-zero) the rate
+    is fixed: the window is ``[1, 1]`` when every item is below the fraction there, else empty.
+    """
+    model = case_window_model(design, budget, fraction=fraction)
+    gravity_fixed = any(design.field("gravity"))
+    if gravity_fixed:
+        window = solve_window(
+            model, 1.0, 1.0, floor_text="the rate g fixes", ceiling_text="the rate g fixes"
+        )
+        window.notes.append(
+            "V is realised by masses in gravity: g fixes the case's rate (s = 1 only)"
+        )
+        return window
+    return solve_window(
+        model,
+        1.0 / span,
+        span,
+        floor_text=f"the searched range (s >= {1.0 / span:g})",
+        ceiling_text=f"the searched range (s <= {span:g})",
+    )
