@@ -939,6 +939,7 @@ TESTBED = (
         "control rates of the requirements sweep",
         "Hz",
         (25.0, 50.0, 100.0, 200.0),
+        "25 Hz doubling up to the default loop's 200 Hz (rate_Hz)",
         refusal=f"1 to 12 rates in {_RATES}",
     ),
     Key(
