@@ -138,7 +138,8 @@ def range_words(spec: Mapping[str, Any], kind: str) -> str:
     return f"{kind} {'<' if 'exclusiveMaximum' in spec else '<='} {hi}"
 
 
-def _within(value: float, spec: Mapping[str, Any]) -> bool:
+def within_range(value: float, spec: Mapping[str, Any]) -> bool:
+    """``value`` within a declared range (its minimum, maximum and exclusive bounds)."""
     return not (
         ("minimum" in spec and value < spec["minimum"])
         or ("exclusiveMinimum" in spec and value <= spec["exclusiveMinimum"])
@@ -170,12 +171,12 @@ def check_value(table: str, name: str, value: Any, where: str | None = None) -> 
     if kind == "integer":
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
             raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
-        if not _within(float(value), spec):
+        if not within_range(float(value), spec):
             raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
         return int(value)
     assert kind == "number", f"{table}.{name}: no declared check for {spec}"
     number = as_finite_float(value, where)
-    if not _within(number, spec):
+    if not within_range(number, spec):
         raise input_error(where, key.refusal or range_words(spec, "a number"), value)
     return number
 

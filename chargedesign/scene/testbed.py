@@ -26,12 +26,12 @@ from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.physical.state_of_the_art import ATTITUDE_SENSORS, BEARINGS, GYROS
 from chargedesign.scene.keys import (
     KEY,
-    MAX_PLANNED_MOTIONS,
     TESTBED,
     Key,
     declared,
     key_names,
     range_words,
+    within_range,
 )
 from chargedesign.validation import (
     as_array,
@@ -49,10 +49,6 @@ GYRO_GRADES: dict[str, tuple[float, float]] = {
     **{name: (arw.value, bias.value) for name, (arw, bias) in GYROS.items()},
 }
 assert list(GYRO_GRADES) == declared("testbed", KEY.gyro_grade).schema["enum"]
-
-#: the wheel arrays and the command laws (their declared choices)
-WHEEL_ARRAYS = tuple(declared("testbed", KEY.wheels).schema["enum"])
-COMMANDS = tuple(declared("testbed", KEY.command).schema["enum"])
 
 #: testbed.json's ``sources`` (and the report's list): each default's declared source, under
 #: its key's name, or the name of the group of keys that share it
@@ -421,18 +417,9 @@ def _parse(key: Key, value: Any, where: str) -> Any:
         return tuple(sorted(float(x) for x in rates))
     assert kind == "number", f"testbed.{key.name}: no declared check for {spec}"
     number = as_finite_float(value, where, positive=key.name in _POSITIVE_FIRST)
-    if not _within(number, spec):
+    if not within_range(number, spec):
         raise input_error(where, key.refusal or range_words(spec, "a number"), value)
     return number
-
-
-def _within(value: float, spec: Mapping[str, Any]) -> bool:
-    return not (
-        ("minimum" in spec and value < spec["minimum"])
-        or ("exclusiveMinimum" in spec and value <= spec["exclusiveMinimum"])
-        or ("maximum" in spec and value > spec["maximum"])
-        or ("exclusiveMaximum" in spec and value >= spec["exclusiveMaximum"])
-    )
 
 
 def _inertia(value: Any, where: str, refusal: str) -> tuple[tuple[float, ...], ...]:
@@ -446,10 +433,7 @@ def _inertia(value: Any, where: str, refusal: str) -> tuple[tuple[float, ...], .
 
 
 __all__ = [
-    "COMMANDS",
     "GYRO_GRADES",
-    "MAX_PLANNED_MOTIONS",
     "SOURCES",
-    "WHEEL_ARRAYS",
     "TestbedOptions",
 ]
