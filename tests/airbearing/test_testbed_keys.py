@@ -6,9 +6,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numpy as np
 import pytest
 
+from chargedesign.airbearing.loop import initial_state
 from chargedesign.errors import InputError
+from chargedesign.params import Parameters
 from chargedesign.physical.drag import bearing_drag, cup_drag
 from chargedesign.scene.keys import KEY, TESTBED, declared, key_names
 from chargedesign.scene.testbed import SOURCES, TestbedOptions
@@ -83,3 +86,19 @@ def test_the_derived_drag_is_the_film_s():
     # the cup covers part of the ball: its drag is below a hemisphere's of the same radius
     assert 0.0 < sphere.drag < bearing_drag(sphere.platform_radius_m, sphere.bearing_gap_m)
     assert math.isfinite(sphere.drag)
+
+
+def test_a_start_on_the_singular_plane_is_refused_at_reading_and_misuse_below():
+    """gamma3 = 0 is the user's error when the scene is read (one line naming the key); the
+    loop's ``initial_state`` trusts its caller and raises a plain ValueError."""
+    with pytest.raises(InputError) as info:
+        TestbedOptions.from_table(
+            {KEY.initial_gamma: [1.0, 0.0, 0.0], KEY.initial_p: 0.1, KEY.initial_q: 0.1}
+        )
+    assert str(info.value) == (
+        "testbed.initial_gamma: expected a vector with gamma3 != 0 (r is solved from I3 = 0), "
+        "got [1.0, 0.0, 0.0]"
+    )
+    with pytest.raises(ValueError) as misuse:
+        initial_state(Parameters(C=0.5), np.array([1.0, 0.0, 0.0]), 0.1, 0.1)
+    assert not isinstance(misuse.value, InputError)
