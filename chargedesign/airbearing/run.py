@@ -17,7 +17,6 @@ from chargedesign.airbearing.bearing import level_map, tilt_map
 from chargedesign.airbearing.dynamics import Plant, rate_terms
 from chargedesign.airbearing.layout import Layout, build_layout, plan_motions
 from chargedesign.airbearing.loop import STEP_FRACTION, LoopSettings, initial_state, run_loop
-from chargedesign.airbearing.options import GYRO_GRADES, SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import total_com, total_inertia
 from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
@@ -31,7 +30,6 @@ from chargedesign.airbearing.verdict import (
 )
 from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits, wheel_needs
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
@@ -44,6 +42,8 @@ from chargedesign.physical.state_of_the_art import (
     ROOM_AIR,
     room_air_torque,
 )
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import GYRO_GRADES, SOURCES, TestbedOptions
 
 #: the gyro's bias is averaged at rest this long before a run (s)
 BIAS_CALIBRATION_S = 60.0
@@ -83,20 +83,17 @@ def build_testbed(
     InputError
         Singular parameters, a start beyond the bearing's tilt limit, work past a cap, a
         torque step above the range, or a platform with ballast heavier than the bearing's
-        rating.
+        rating (each refused by the options' own check, :mod:`chargedesign.scene.testbed`).
     InfeasibleError
         No ballast reaches the inertia, or wheels too weak for the motion.
     """
     say = progress or (lambda message: None)
-    if params.singular:
-        raise InputError(
-            "testbed: lambda and rho must be 0 (their torques are singular on gamma3 = 0)"
-        )
+    opts.check_parameters(params.singular)
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts)
     plan = plan_motions(params, opts)
-    seconds["planned_motions"] = time.perf_counter() - t0
+    seconds[KEY.planned_motions] = time.perf_counter() - t0
     t0 = time.perf_counter()
     energies = evaluators.integrals(np.array([m.start for m in plan.motions]), params)[:, 0]
     h_low = level_map(params)[1][0]
@@ -118,12 +115,7 @@ def build_testbed(
     layout = build_layout(params, opts, plan.axis, axes, limits[1])
     platform, ballast = layout.platform, layout.ballast
     total_mass = platform.mass_kg + ballast.total_mass
-    if total_mass > opts.capacity_kg:
-        raise InputError(
-            "testbed.bearing_capacity_kg: the platform with its ballast and posts"
-            f" ({fmt(total_mass, PRECISE)} kg) is heavier than the {opts.bearing} bearing's "
-            f"rating ({fmt(opts.capacity_kg, PLAIN)} kg)"
-        )
+    opts.check_capacity(total_mass)
     inertia = total_inertia(platform, ballast)
     plant = Plant(params, inertia, target)
     x0 = starts[0]
@@ -305,7 +297,7 @@ def against_state_of_the_art(
         Requirement(
             "centre_of_mass_offset_m",
             "tolerance",
-            tolerances["imbalance_m"],
+            tolerances[KEY.imbalance_m],
             residual + mounts_part,
             "m",
             offset_source,
@@ -319,7 +311,7 @@ def against_state_of_the_art(
             "N m s",
             "the scene's drag_N_m_s"
             if opts.drag_N_m_s is not None
-            else SOURCES["drag_N_m_s"]
+            else SOURCES[KEY.drag_N_m_s]
             + (
                 "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
                 if opts.bearing == "full_sphere"
@@ -329,7 +321,7 @@ def against_state_of_the_art(
         Requirement(
             "room_air_torque_N_m",
             "tolerance",
-            weight * tolerances["imbalance_m"],
+            weight * tolerances[KEY.imbalance_m],
             room_air_torque(opts.platform_radius_m),
             "N m",
             "; ".join(f.source for f in ROOM_AIR.values()),
@@ -478,23 +470,7 @@ def check_loop_work(params: Parameters, opts: TestbedOptions) -> None:
         )[:3]
     terms = rate_terms(params, omega0)
     rate = max(max(terms.values()), 1e-12)
-    cause = max(terms, key=lambda k: terms[k])
-    max_step = STEP_FRACTION / rate
-    for loop_rate in (opts.rate_Hz, *opts.requirement_rates_Hz):
-        T = 1.0 / loop_rate
-        periods = max(1, round(opts.t_end_s * loop_rate))
-        delay = min(opts.delay_s, 0.5 * T)
-        per = math.ceil(delay / max_step) + math.ceil((T - delay) / max_step)
-        per += math.ceil(delay / max_step) + math.ceil(T / max_step)  # the predictive command
-        steps = periods * per
-        if steps > opts.max_loop_steps or not math.isfinite(rate):
-            raise InputError(
-                f"testbed: {cause} makes the motion's fastest rate {fmt(rate, PRECISE)} 1/s, "
-                f"so {fmt(opts.t_end_s, PLAIN)} s at {fmt(loop_rate, PLAIN)} Hz needs "
-                f"{float(steps):.3g} integration steps, more than testbed.max_loop_steps = "
-                f"{opts.max_loop_steps}; give a slower start or smaller parameters, a shorter "
-                "t_end_s, or raise testbed.max_loop_steps"
-            )
+    opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
@@ -545,8 +521,8 @@ def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mas
     parts = part_tolerances(sens, ballast, plant, target, mass)
     drag_drift = (1.0 - opts.drag_feedforward) * opts.drag * sens.drag_per_unit
     return {
-        "target_I4_drift": target,
-        "imbalance_m": target / sens.imbalance_per_m,
+        KEY.target_I4_drift: target,
+        KEY.imbalance_m: target / sens.imbalance_per_m,
         "imbalance_drift": opts.imbalance_m * sens.imbalance_per_m,
         "drag_drift": drag_drift,
         "drag_max_N_m_s": target / sens.drag_per_unit,

@@ -42,12 +42,11 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.airbearing.options import SOURCES as TESTBED_SOURCES
-from chargedesign.airbearing.options import TestbedOptions, cup_drag
 from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
+from chargedesign.physical.drag import cup_drag
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.physical.realism import (
@@ -61,6 +60,7 @@ from chargedesign.physical.realism import (
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
+from chargedesign.scene.keys import KEY, declared, default_of
 
 #: the default fraction of each designed term every parasitic must stay below
 REALISED_FRACTION = 1e-3
@@ -282,26 +282,26 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
 def support_of(region: float, rate: float, term: float) -> dict[str, Any]:
     """The fixed point O the motion needs, as the testbed builds it: a full-sphere air bearing
     (the body inside a ball of the body region's radius floating in a cup), and its cup's
-    air-film drag ``b |omega|`` (``b`` the testbed's Couette film, ``airbearing.options.
+    air-film drag ``b |omega|`` (``b`` the testbed's Couette film, ``physical.drag.
     cup_drag``, at its default film) at the typical rate, over the smallest realised term.
     Stated beside the window, not one of its items (``in_window`` False): the drag falls
     like ``1/s`` over the terms and, for the bodies the search finds, sits far above the
     fraction at every rate below the frontier.
     """
-    gap = TestbedOptions().bearing_gap_m
+    gap = default_of("testbed", KEY.bearing_gap_m)
     drag = cup_drag(region, gap)
     style = BEARINGS[SUPPORT_BEARING]
     return {
         "bearing": SUPPORT_BEARING,
-        "tilt_limit_deg": style.tilt_limit_deg,
+        KEY.tilt_limit_deg: style.tilt_limit_deg,
         "load_kg": style.load_kg,
         "source": style.source,
         "ball_radius_m": region,
         "film_gap_m": gap,
-        "drag_N_m_s": drag,
-        "drag_source": TESTBED_SOURCES["drag_N_m_s"]
+        KEY.drag_N_m_s: drag,
+        "drag_source": declared("testbed", KEY.drag_N_m_s).source
         + "; the film: "
-        + TESTBED_SOURCES["bearing_gap_m"],
+        + declared("testbed", KEY.bearing_gap_m).source,
         "drag_torque_N_m": drag * rate,
         "drag_over_term": drag * rate / term,
         "needs": "a gas at the film (an air bearing does not run in vacuum)",
