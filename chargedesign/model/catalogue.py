@@ -16,9 +16,10 @@ from importlib import resources
 from typing import Any
 
 from chargedesign.errors import InputError
-from chargedesign.model.case_file import Case, CaseCertificate, case_from_table, certify_case
+from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.readers import loads_toml
 from chargedesign.results import Result
+from chargedesign.scene.case_file import Case, case_from_table
 from chargedesign.validation import check_keys
 
 #: the keys of one catalogue entry
