@@ -201,6 +201,33 @@ def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str =
     return int(value)
 
 
+def check_integer(
+    value: Any, name: str, *, minimum: int, none_allowed: bool = False, expected: str = ""
+) -> None:
+    """Refuse anything but an integer >= ``minimum`` (or None, when allowed) in one line."""
+    if value is None and none_allowed:
+        return
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or value < minimum
+    ):
+        default = f"an integer >= {minimum}" + (" or None" if none_allowed else "")
+        raise input_error(name, expected or default, value)
+
+
+def check_instance(value: Any, kind: type | tuple[type, ...], name: str, expected: str) -> None:
+    """Refuse a value of the wrong type (an argument of the Python API) in one line."""
+    if not isinstance(value, kind):
+        raise input_error(name, expected, value)
+
+
+def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
+    """Refuse a value outside ``choices`` in one line (``one of a, b, c``)."""
+    if value not in choices:
+        raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
+
+
 # --------------------------------------------------------------------- the input range
 
 

@@ -50,7 +50,7 @@ from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
-from chargedesign.validation import input_error
+from chargedesign.validation import check_instance
 
 
 def design_source(
@@ -274,12 +274,13 @@ def _objective_value(
 
 def _check_design_inputs(params: Any, conditions: Any) -> None:
     """Parameters and linear conditions, of their types."""
-    if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
-    if not isinstance(conditions, LinearConditions):
-        raise input_error(
-            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
-        )
+    check_instance(params, Parameters, "params", "a chargedesign.params.Parameters")
+    check_instance(
+        conditions,
+        LinearConditions,
+        "conditions",
+        "a chargedesign.moment_conditions.LinearConditions",
+    )
 
 
 def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str, ...]:
@@ -490,8 +491,7 @@ def design_from_scene(
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
     frontier; the physical design itself never calls the frontier).
     """
-    if not isinstance(scene, Scene):
-        raise input_error("scene", "a chargedesign.scene.Scene", scene)
+    check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
