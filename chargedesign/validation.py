@@ -182,6 +182,14 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
     return as_array(value, name, (n,))
 
 
+def as_nonnegative_weights(value: Any, name: str, n: int | None = None) -> np.ndarray:
+    """:func:`as_weights`, every one >= 0 (sizes, masses)."""
+    arr = as_weights(value, name, n)
+    if np.any(arr < 0):
+        raise input_error(name, "nonnegative numbers", float(arr.min()))
+    return arr
+
+
 def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
     """One-line error naming ``where.key`` for the first unknown key (sorted) of ``table``."""
     unknown = sorted(set(table) - set(allowed))
@@ -226,6 +234,41 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
     """Refuse a value outside ``choices`` in one line (``one of a, b, c``)."""
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
+
+
+def check_items(values: Any, choices: Sequence[str], name: str) -> None:
+    """Refuse the first item of ``values`` outside ``choices`` in one line."""
+    for item in values:
+        if item not in choices:
+            raise input_error(name, "items among " + ", ".join(choices), item)
+
+
+def check_object(value: Any, keys: Sequence[str], where: str) -> None:
+    """Refuse anything but a dict with exactly ``keys`` in one line."""
+    if not isinstance(value, dict) or set(value) != set(keys):
+        raise input_error(where, "an object with keys " + ", ".join(keys), value)
+
+
+def check_names(value: Any, n: int, name: str) -> list[str]:
+    """A list (or tuple) of ``n`` strings, as a list; else one line naming ``name``."""
+    if (
+        not isinstance(value, (list, tuple))
+        or len(value) != n
+        or not all(isinstance(x, str) for x in value)
+    ):
+        raise input_error(name, f"{n} material names", value)
+    return list(value)
+
+
+def as_order(value: Any, name: str, top: int | None = None) -> int:
+    """A non-negative int (bools rejected), at most ``top`` when given."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, "a non-negative integer", value)
+    out = int(value)
+    if out < 0 or (top is not None and out > top):
+        bound = f"an integer in 0..{top}" if top is not None else "a non-negative integer"
+        raise input_error(name, bound, value)
+    return out
 
 
 # --------------------------------------------------------------------- the input range
