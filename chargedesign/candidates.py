@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
@@ -39,6 +38,7 @@ from chargedesign.validation import (
     as_array,
     as_point_set,
     check_candidate_points,
+    check_closed_surface,
     check_lattice_steps,
 )
 from chargedesign.vocabulary import BODY_SHAPES
@@ -407,11 +407,7 @@ def mesh_points(
     def inside(d: np.ndarray) -> np.ndarray:
         pts = (d + center) / scale
         if isinstance(mesh, pv.PolyData):
-            if mesh.n_cells == 0 or not _is_closed(mesh):
-                raise InputError(
-                    f"{name}: the surface in {p} is not closed; its interior is undefined "
-                    "(use sample = 'surface')"
-                )
+            check_closed_surface(mesh.n_cells > 0 and _is_closed(mesh), name, p)
             probe = pv.PolyData(pts)
             if hasattr(probe, "select_interior_points"):  # pyvista >= 0.47
                 marked = probe.select_interior_points(mesh, check_surface=False)

@@ -389,6 +389,53 @@ def as_point_set(value: Any, name: str) -> np.ndarray:
     return points
 
 
+#: Largest accepted | |gamma| - 1 | for body-axes evaluations.
+GAMMA_UNIT_TOLERANCE = 1e-9
+
+
+def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
+    """Unit vectors as ``ndarray, shape (m, 3)``, rejecting norms off 1 by more than 1e-9.
+
+    The vectors are used as given (not renormalised), so that every body-axes quantity is
+    the same polynomial in gamma that its derivatives describe.
+    """
+    arr = as_array(value, name, (None, 3))
+    if len(arr):
+        worst = float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", arr, arr)) - 1.0)))
+        if worst > GAMMA_UNIT_TOLERANCE:
+            raise input_error(
+                name, f"unit vectors (| |gamma| - 1 | <= {fmt(GAMMA_UNIT_TOLERANCE, PLAIN)})", arr
+            )
+    return arr
+
+
+def check_closed_surface(closed: bool, name: str, path: Any) -> None:
+    """Refuse a volume sample of a mesh whose surface is not closed."""
+    if not closed:
+        raise InputError(
+            f"{name}: the surface in {path} is not closed; its interior is undefined "
+            "(use sample = 'surface')"
+        )
+
+
+def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
+    """A part material's susceptibility, which cancelling the induced magnetisation needs."""
+    if susceptibility is None:
+        table = "carriers" if role == "carrier" else f"{role}s"
+        raise InputError(
+            f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+            f"{role} material's susceptibility ({name} has none)"
+        )
+
+
+def check_point_elements(continuous: Any) -> None:
+    """The tolerance report's elements are points: refuse a design with continuous bodies."""
+    if continuous:
+        raise InputError(
+            "tolerance: designs with continuous bodies are not supported (point elements only)"
+        )
+
+
 # --------------------------------------------------------------------- the input range
 
 
