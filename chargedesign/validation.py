@@ -409,6 +409,15 @@ def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
     return arr
 
 
+def check_off_singular(singular: bool, gamma3: np.ndarray, name: str, values: Any) -> None:
+    """With lambda or rho != 0 the theorem's potential is singular on gamma3 = 0: refuse
+    states there."""
+    if singular and np.any(gamma3 == 0.0):
+        raise input_error(
+            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
+        )
+
+
 def check_closed_surface(closed: bool, name: str, path: Any) -> None:
     """Refuse a volume sample of a mesh whose surface is not closed."""
     if not closed:

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, check_instance, input_error
+from chargedesign.validation import as_array, check_instance, check_off_singular, input_error
 
 #: what each evaluator returns per item
 OUTPUT_WIDTH = {
@@ -115,10 +115,7 @@ def _validate(
     arr = as_array(values, name, (width,) if single else (None, width))
     if single:
         arr = arr[None, :]
-    if params.singular and np.any(arr[:, -1] == 0.0):
-        raise input_error(
-            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
-        )
+    check_off_singular(params.singular, arr[:, -1], name, values)
     return arr, single, pt
 
 
