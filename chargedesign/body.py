@@ -21,10 +21,12 @@ from chargedesign.scene.medium import Medium
 from chargedesign.validation import (
     as_array,
     as_finite_float,
+    check_choice,
     check_design_head,
     check_design_numbers,
+    check_instance,
+    check_items,
     design_fields,
-    input_error,
 )
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
 
@@ -154,14 +156,10 @@ class Design(ElementSet):
         self.materials = materials_from_dict(self.materials)
         check_mass_materials(self.materials, self.mass_materials, bool(len(self.mass_values)))
         for kind in self.fields:
-            if kind not in FIELD_KINDS:
-                raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+            check_choice(kind, FIELD_KINDS, f"fields.{kind}")
         self.fields = {k: _legendre(v, f"fields.{k}.legendre") for k, v in self.fields.items()}
-        for item in self.realises:
-            if item not in REALISABLE:
-                raise input_error("realises", "items among " + ", ".join(REALISABLE), item)
-        if not isinstance(self.continuous, (list, tuple)):
-            raise input_error("continuous", "a list of bodies", self.continuous)
+        check_items(self.realises, REALISABLE, "realises")
+        check_instance(self.continuous, (list, tuple), "continuous", "a list of bodies")
         self.continuous = [
             ContinuousBody.coerce(b, f"continuous[{i}]") for i, b in enumerate(self.continuous)
         ]

@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
@@ -37,8 +36,10 @@ from chargedesign.scene.keys import KEY, REGION_KEYS
 from chargedesign.scene.tables import RegionSpec, region_from_table
 from chargedesign.validation import (
     as_array,
-    as_points,
-    input_error,
+    as_point_set,
+    check_candidate_points,
+    check_closed_surface,
+    check_lattice_steps,
 )
 from chargedesign.vocabulary import BODY_SHAPES
 
@@ -165,9 +166,7 @@ def geometry_of(points: Any, *, spacing: float | None = None) -> Geometry:
 
     ``spacing`` (m), when known (lattices), saves the nearest-neighbour search.
     """
-    pts = as_points(points, "candidates")
-    if len(pts) == 0:
-        raise InputError("candidates: the set is empty")
+    pts = as_point_set(points, "candidates")
     size = float(np.max(np.linalg.norm(pts, axis=1)))
     centroid = pts.mean(axis=0)
     centred = pts - centroid
@@ -280,12 +279,7 @@ def lattice_in(
     counts = hi_steps - lo_steps + 1
     if np.any(counts <= 0):
         return np.zeros((0, 3))
-    if not float(np.prod(counts)) <= 8 * MAX_CANDIDATES:  # (a nan count is refused too)
-        raise input_error(
-            "body.spacing",
-            f"a spacing giving at most {MAX_CANDIDATES} candidates",
-            spacing,
-        )
+    check_lattice_steps(float(np.prod(counts)), spacing)
     lo, hi = lo_steps.astype(np.int64), hi_steps.astype(np.int64)
     axes = [np.arange(lo[i], hi[i] + 1) * spacing for i in range(3)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
@@ -413,11 +407,7 @@ def mesh_points(
     def inside(d: np.ndarray) -> np.ndarray:
         pts = (d + center) / scale
         if isinstance(mesh, pv.PolyData):
-            if mesh.n_cells == 0 or not _is_closed(mesh):
-                raise InputError(
-                    f"{name}: the surface in {p} is not closed; its interior is undefined "
-                    "(use sample = 'surface')"
-                )
+            check_closed_surface(mesh.n_cells > 0 and _is_closed(mesh), name, p)
             probe = pv.PolyData(pts)
             if hasattr(probe, "select_interior_points"):  # pyvista >= 0.47
                 marked = probe.select_interior_points(mesh, check_surface=False)
@@ -550,12 +540,7 @@ def _candidate_set(
 ) -> CandidateSet:
     """The set of a shape's points: size checked, geometry measured, planarity named."""
     shape = desc["shape"]
-    if len(pts) == 0:
-        raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
-    if len(pts) > MAX_CANDIDATES:
-        raise input_error(
-            "body", f"at most {MAX_CANDIDATES} candidates (a coarser spacing)", len(pts)
-        )
+    check_candidate_points(len(pts), shape)
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     lattice = desc.get("spacing") if shape in ("ball", "box", "cylinder") else None
     geometry = geometry_of(pts, spacing=lattice)
@@ -576,9 +561,7 @@ def _candidate_set(
 
 def candidates_from_points(points: Any, name: str = "candidates") -> CandidateSet:
     """Wrap an array of points (n, 3), m, as a :class:`CandidateSet`."""
-    pts = as_points(points, name)
-    if len(pts) == 0:
-        raise InputError(f"{name}: the set is empty")
+    pts = as_point_set(points, name)
     geometry = geometry_of(pts)
     return CandidateSet(
         points=pts,

@@ -25,7 +25,14 @@ from typing import Any
 import numpy as np
 
 from chargedesign.results import compact_repr
-from chargedesign.validation import as_points, as_weights, check_keys, input_error
+from chargedesign.validation import (
+    as_nonnegative_weights,
+    as_points,
+    as_weights,
+    check_instance,
+    check_keys,
+    check_names,
+)
 
 #: the design.json block of each source and its keys, in the order they are written
 BLOCKS = {
@@ -100,16 +107,9 @@ class ElementSet:
         ballast = _nonneg(self.mass_values, "masses.values", len(self.mass_positions))
         self.mass_values = ballast if ballast is not None else np.zeros(0)
         if self.mass_materials is not None:
-            names = self.mass_materials
-            if (
-                not isinstance(names, (list, tuple))
-                or len(names) != len(self.mass_values)
-                or not all(isinstance(x, str) for x in names)
-            ):
-                raise input_error(
-                    "masses.material", f"{len(self.mass_values)} material names", names
-                )
-            self.mass_materials = list(names)
+            self.mass_materials = check_names(
+                self.mass_materials, len(self.mass_values), "masses.material"
+            )
 
     # ------------------------------------------------------------------ sizes and masses
     def carrier_radii(self) -> np.ndarray:
@@ -258,8 +258,7 @@ class ElementSet:
         out: dict[str, Any] = {}
         for block, keys in BLOCKS.items():
             b = data.get(block) or {}
-            if not isinstance(b, dict):
-                raise input_error(f"{where}.{block}", "an object", b)
+            check_instance(b, dict, f"{where}.{block}", "an object")
             check_keys(b, keys, f"{where}.{block}")
             for key, name in zip(keys, names[block], strict=True):
                 if key in b:
@@ -273,10 +272,7 @@ def _nonneg(value: Any, name: str, n: int) -> np.ndarray | None:
     """An optional per-element array of sizes or masses: None when absent, >= 0 otherwise."""
     if value is None:
         return None
-    arr = as_weights(value, name, n)
-    if np.any(arr < 0):
-        raise input_error(name, "nonnegative numbers", float(arr.min()))
-    return arr
+    return as_nonnegative_weights(value, name, n)
 
 
 def _or_zeros(value: np.ndarray | None, n: int) -> np.ndarray:

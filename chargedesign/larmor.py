@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.validation import as_finite_float, check_choice, check_object
 from chargedesign.vocabulary import LARMOR_READINGS
 
 __all__ = [
@@ -51,9 +51,7 @@ class LarmorReading:
     rate: float
 
     def __post_init__(self) -> None:
-        if self.reading not in LARMOR_READINGS:
-            expected = "one of " + ", ".join(LARMOR_READINGS)
-            raise input_error("larmor.reading", expected, self.reading)
+        check_choice(self.reading, LARMOR_READINGS, "larmor.reading")
         object.__setattr__(self, "rate", as_finite_float(self.rate, "larmor.rate"))
 
     @property
@@ -66,8 +64,7 @@ class LarmorReading:
 
     @classmethod
     def from_dict(cls, value: Any, where: str = "larmor") -> LarmorReading:
-        if not isinstance(value, dict) or set(value) != {"reading", "rate"}:
-            raise input_error(where, "an object with keys reading, rate", value)
+        check_object(value, ("reading", "rate"), where)
         return cls(value["reading"], value["rate"])
 
 

@@ -20,9 +20,9 @@ import numpy as np
 from chargedesign.validation import (
     MOMENT_AXES,
     as_array,
+    as_order,
     as_points,
     as_weights,
-    input_error,
     parse_moment_key,
 )
 
@@ -74,17 +74,6 @@ def monomial_matrix(points: np.ndarray, keys: list[str]) -> np.ndarray:
 MAX_TENSOR_ORDER = 8
 
 
-def _order(value: Any, name: str, top: int | None = None) -> int:
-    """A non-negative int (bools rejected), at most ``top`` when given."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise input_error(name, "a non-negative integer", value)
-    out = int(value)
-    if out < 0 or (top is not None and out > top):
-        bound = f"an integer in 0..{top}" if top is not None else "a non-negative integer"
-        raise input_error(name, bound, value)
-    return out
-
-
 def _points_and_weights(
     points: Any, weights: Any, weights_name: str = "weights"
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -114,7 +103,7 @@ def cartesian_moment_tensor(points: Any, weights: Any, order: int) -> np.ndarray
         weight). Units: weight unit times m^order.
     """
     pts, w = _points_and_weights(points, weights)
-    k = _order(order, "order", MAX_TENSOR_ORDER)
+    k = as_order(order, "order", MAX_TENSOR_ORDER)
     # Build sum_j w_j x_j (x) x_j (x) ... as one (n, 3, ..., 3) product, then sum over j.
     prod = w.copy()
     for _ in range(k):
@@ -140,7 +129,7 @@ def cartesian_moments(points: Any, weights: Any, order: int) -> dict[str, float]
         ``{"xx": sum w x^2, "xy": sum w x y, ...}`` for ``order = 2``; ``{"": sum w}`` for 0.
     """
     pts, w = _points_and_weights(points, weights)
-    keys = moment_keys(_order(order, "order"))
+    keys = moment_keys(as_order(order, "order"))
     values = monomial_matrix(pts, keys) @ w
     return {key: float(v) for key, v in zip(keys, values, strict=True)}
 
@@ -167,7 +156,7 @@ def dipole_moments(points: Any, moments: Any, order: int) -> dict[str, float]:
     if isinstance(moments, (list, tuple)) and len(moments) == 0:
         moments = np.zeros((0, 3))
     sig = as_array(moments, "moments", (len(pts), 3))
-    keys = moment_keys(_order(order, "order"))
+    keys = moment_keys(as_order(order, "order"))
     values = monomial_matrix(pts, keys) @ sig  # (len(keys), 3)
     return {
         f"{axis}:{key}": float(values[a, c])
@@ -179,7 +168,7 @@ def dipole_moments(points: Any, moments: Any, order: int) -> dict[str, float]:
 def solid_harmonic_index(l: int, m: int) -> int:
     """Column of ``R_lm`` in :func:`solid_harmonics`: ``l*l + l + m`` (``-l <= m <= l``)."""
     if not -l <= m <= l:
-        raise input_error("m", f"an integer in -{l}..{l}", m)
+        raise ValueError(f"m: expected an integer in -{l}..{l}, got {m}")
     return l * l + l + m
 
 
@@ -211,7 +200,7 @@ def solid_harmonics(points: Any, lmax: int) -> np.ndarray:
     - ``R_{l+1}^m = ((2l + 1) z R_l^m - sqrt(l^2 - m^2) r^2 R_{l-1}^m) / sqrt((l+1)^2 - m^2)``.
     """
     pts = as_points(points, "points")
-    L = _order(lmax, "lmax")
+    L = as_order(lmax, "lmax")
     n = len(pts)
     x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
     r2 = np.einsum("ij,ij->i", pts, pts)

@@ -11,7 +11,7 @@ from typing import Any
 
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
-from chargedesign.validation import as_finite_float, check_keys, input_error
+from chargedesign.validation import as_finite_float, check_instance, check_keys
 
 # names as written in scenes and design.json (``lambda`` is a Python keyword: attribute ``lam``)
 from chargedesign.vocabulary import PARAMETER_NAMES as PARAMETER_NAMES
@@ -54,8 +54,7 @@ class Parameters(Result):
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any], where: str = "parameters") -> Parameters:
         """Build from a mapping with the contract's names; omitted ones are 0, C defaults to 1."""
-        if not isinstance(data, Mapping):
-            raise input_error(where, "a table of parameters", data)
+        check_instance(data, Mapping, where, "a table of parameters")
         check_keys(data, PARAMETER_NAMES, where)
         kwargs = {("lam" if k == "lambda" else k): v for k, v in data.items()}
         return cls(**kwargs)

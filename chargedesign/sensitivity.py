@@ -19,7 +19,7 @@ from chargedesign.checker import sample_orientations
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
-from chargedesign.validation import as_points
+from chargedesign.validation import as_points, check_point_elements
 
 #: the quantities whose errors are analysed, in the check's names
 QUANTITIES = ("mu", "V", "inertia")
@@ -79,10 +79,7 @@ class Elements:
 
     @classmethod
     def of(cls, design: Design) -> Elements:
-        if design.continuous:
-            raise InputError(
-                "tolerance: designs with continuous bodies are not supported (point elements only)"
-            )
+        check_point_elements(design.continuous)
         mp, mv = mass_points(design)
         return cls(
             np.asarray(design.charge_positions, float),

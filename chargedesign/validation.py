@@ -27,8 +27,14 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.formatting import PLAIN, fmt
-from chargedesign.limits import MAX_DESIGN_ELEMENTS, MAX_FIELD_DEGREE, MAX_SAMPLES, MAX_STEPS
+from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.limits import (
+    MAX_CANDIDATES,
+    MAX_DESIGN_ELEMENTS,
+    MAX_FIELD_DEGREE,
+    MAX_SAMPLES,
+    MAX_STEPS,
+)
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
@@ -182,6 +188,14 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
     return as_array(value, name, (n,))
 
 
+def as_nonnegative_weights(value: Any, name: str, n: int | None = None) -> np.ndarray:
+    """:func:`as_weights`, every one >= 0 (sizes, masses)."""
+    arr = as_weights(value, name, n)
+    if np.any(arr < 0):
+        raise input_error(name, "nonnegative numbers", float(arr.min()))
+    return arr
+
+
 def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
     """One-line error naming ``where.key`` for the first unknown key (sorted) of ``table``."""
     unknown = sorted(set(table) - set(allowed))
@@ -199,6 +213,236 @@ def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str =
         how = f" ({option} raises the cap)" if option else ""
         raise input_error(name, f"an integer <= {cap}{how}", value)
     return int(value)
+
+
+def check_integer(
+    value: Any, name: str, *, minimum: int, none_allowed: bool = False, expected: str = ""
+) -> None:
+    """Refuse anything but an integer >= ``minimum`` (or None, when allowed) in one line."""
+    if value is None and none_allowed:
+        return
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or value < minimum
+    ):
+        default = f"an integer >= {minimum}" + (" or None" if none_allowed else "")
+        raise input_error(name, expected or default, value)
+
+
+def check_instance(value: Any, kind: type | tuple[type, ...], name: str, expected: str) -> None:
+    """Refuse a value of the wrong type (an argument of the Python API) in one line."""
+    if not isinstance(value, kind):
+        raise input_error(name, expected, value)
+
+
+def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
+    """Refuse a value outside ``choices`` in one line (``one of a, b, c``)."""
+    if value not in choices:
+        raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
+
+
+def check_items(values: Any, choices: Sequence[str], name: str) -> None:
+    """Refuse the first item of ``values`` outside ``choices`` in one line."""
+    for item in values:
+        if item not in choices:
+            raise input_error(name, "items among " + ", ".join(choices), item)
+
+
+def check_object(value: Any, keys: Sequence[str], where: str) -> None:
+    """Refuse anything but a dict with exactly ``keys`` in one line."""
+    if not isinstance(value, dict) or set(value) != set(keys):
+        raise input_error(where, "an object with keys " + ", ".join(keys), value)
+
+
+def check_names(value: Any, n: int, name: str) -> list[str]:
+    """A list (or tuple) of ``n`` strings, as a list; else one line naming ``name``."""
+    if (
+        not isinstance(value, (list, tuple))
+        or len(value) != n
+        or not all(isinstance(x, str) for x in value)
+    ):
+        raise input_error(name, f"{n} material names", value)
+    return list(value)
+
+
+def as_order(value: Any, name: str, top: int | None = None) -> int:
+    """A non-negative int (bools rejected), at most ``top`` when given."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, "a non-negative integer", value)
+    out = int(value)
+    if out < 0 or (top is not None and out > top):
+        bound = f"an integer in 0..{top}" if top is not None else "a non-negative integer"
+        raise input_error(name, bound, value)
+    return out
+
+
+# ------------------------------------------------------- a design's options, one against another
+
+
+def check_design_sources(
+    present: Sequence[str], total_charge: Any, n_charges: Any, total_mass: Any
+) -> None:
+    """Refuse a ``[design]`` total or count for a source the conditions do not design."""
+    if total_charge not in (None, 0.0) and "charges" not in present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if n_charges is not None and "charges" not in present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if total_mass is not None and "masses" not in present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+
+
+def check_realise_agrees(conditions_realise: Sequence[str], options_realise: Any) -> None:
+    """Refuse ``design.realise`` naming other terms than the conditions realise."""
+    if (
+        options_realise is not None
+        and conditions_realise
+        and set(options_realise) != set(conditions_realise)
+    ):
+        raise InputError(
+            f"design.realise: the conditions realise {list(conditions_realise)}, the "
+            f"options ask for {list(options_realise)}"
+        )
+
+
+def check_robust_parameters(objective: str, source: str, params: Any) -> None:
+    """A robust objective is costed at the theorem's parameters: refuse it without them."""
+    if objective == "robust" and params is None:
+        raise InputError(f"design.objective: robust {source} need the parameters (params=)")
+
+
+def check_physical_options(
+    objectives: Mapping[str, str],
+    allowed: Sequence[str],
+    realise: Sequence[str],
+    total_charge: Any,
+    n_charges: Any,
+) -> None:
+    """The ``[design]`` options a physical design takes (one line naming the one it does
+    not): the objective of each source among ``allowed``, the inertia realised, no charge
+    total or count."""
+    for source, objective in objectives.items():
+        if objective not in allowed:
+            raise InputError(
+                f"design.objective: {objective!r} for {source} is not "
+                "available with [medium] (expected " + " or ".join(allowed) + ")"
+            )
+    if "inertia" not in realise:
+        raise InputError(
+            "design.realise: a physical design realises the inertia (every part has mass)"
+        )
+    if total_charge is not None or n_charges is not None:
+        raise InputError(
+            "design.total_charge / n_charges: not available with [medium] (the carriers' "
+            "limits decide the charges)"
+        )
+
+
+def check_carrier_radius(radius: float, spacing: float) -> None:
+    """The scene's carrier radius below half the candidate spacing (carriers cannot touch)."""
+    if radius >= 0.5 * spacing:
+        raise InputError(
+            f"body.carrier_radius: expected below half the candidate spacing "
+            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(radius, PLAIN)}"
+        )
+
+
+def check_field_reach(kind: str, top: float, limit: float, region: float) -> None:
+    """The scene's ``kind`` field, reaching ``top`` over the body region, within its ``max``."""
+    if top > limit:
+        raise InputError(
+            f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
+            " over the "
+            f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
+        )
+
+
+def check_physical_candidates(n: int) -> None:
+    """A physical design's candidates: at least two (each cell is half the nearest
+    neighbour's distance)."""
+    if n < 2:
+        raise InputError("body: a physical design needs at least two candidate points")
+
+
+def check_candidate_points(n: int, shape: Any) -> None:
+    """A shape's candidate set: at least one point, at most the cap."""
+    if n == 0:
+        raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
+    if n > MAX_CANDIDATES:
+        raise input_error("body", f"at most {MAX_CANDIDATES} candidates (a coarser spacing)", n)
+
+
+def check_lattice_steps(steps: float, spacing: Any) -> None:
+    """A lattice's point count (counted in floats, before any integer is made) within the
+    cap; a nan count is refused too."""
+    if not steps <= 8 * MAX_CANDIDATES:
+        raise input_error(
+            "body.spacing", f"a spacing giving at most {MAX_CANDIDATES} candidates", spacing
+        )
+
+
+def as_point_set(value: Any, name: str) -> np.ndarray:
+    """:func:`as_points`, at least one."""
+    points = as_points(value, name)
+    if len(points) == 0:
+        raise InputError(f"{name}: the set is empty")
+    return points
+
+
+#: Largest accepted | |gamma| - 1 | for body-axes evaluations.
+GAMMA_UNIT_TOLERANCE = 1e-9
+
+
+def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
+    """Unit vectors as ``ndarray, shape (m, 3)``, rejecting norms off 1 by more than 1e-9.
+
+    The vectors are used as given (not renormalised), so that every body-axes quantity is
+    the same polynomial in gamma that its derivatives describe.
+    """
+    arr = as_array(value, name, (None, 3))
+    if len(arr):
+        worst = float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", arr, arr)) - 1.0)))
+        if worst > GAMMA_UNIT_TOLERANCE:
+            raise input_error(
+                name, f"unit vectors (| |gamma| - 1 | <= {fmt(GAMMA_UNIT_TOLERANCE, PLAIN)})", arr
+            )
+    return arr
+
+
+def check_off_singular(singular: bool, gamma3: np.ndarray, name: str, values: Any) -> None:
+    """With lambda or rho != 0 the theorem's potential is singular on gamma3 = 0: refuse
+    states there."""
+    if singular and np.any(gamma3 == 0.0):
+        raise input_error(
+            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
+        )
+
+
+def check_closed_surface(closed: bool, name: str, path: Any) -> None:
+    """Refuse a volume sample of a mesh whose surface is not closed."""
+    if not closed:
+        raise InputError(
+            f"{name}: the surface in {path} is not closed; its interior is undefined "
+            "(use sample = 'surface')"
+        )
+
+
+def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
+    """A part material's susceptibility, which cancelling the induced magnetisation needs."""
+    if susceptibility is None:
+        table = "carriers" if role == "carrier" else f"{role}s"
+        raise InputError(
+            f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+            f"{role} material's susceptibility ({name} has none)"
+        )
+
+
+def check_point_elements(continuous: Any) -> None:
+    """The tolerance report's elements are points: refuse a design with continuous bodies."""
+    if continuous:
+        raise InputError(
+            "tolerance: designs with continuous bodies are not supported (point elements only)"
+        )
 
 
 # --------------------------------------------------------------------- the input range

@@ -18,7 +18,7 @@ from chargedesign.checker.constants import (
 from chargedesign.elements import ElementSet
 from chargedesign.fields import AxisymmetricField
 from chargedesign.quadrature import gather_elements
-from chargedesign.validation import input_error
+from chargedesign.validation import check_integer
 from chargedesign.vocabulary import (
     FIELD_NAMES,
 )
@@ -36,8 +36,7 @@ def sample_orientations(n: int, seed: int = 0) -> np.ndarray:
     -------
     ndarray, shape (n, 3)
     """
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise input_error("n_orientations", "an integer >= 1", n)
+    check_integer(n, "n_orientations", minimum=1)
     n = int(n)
     n_fib = n - n // 2
     n_fib -= n_fib % 2

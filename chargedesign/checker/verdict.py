@@ -51,7 +51,13 @@ from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix
 from chargedesign.physical.limits import check_limits
 from chargedesign.scene.keys import KEY
-from chargedesign.validation import as_finite_float, input_error, parse_moment_key
+from chargedesign.validation import (
+    as_finite_float,
+    check_choice,
+    check_instance,
+    check_integer,
+    parse_moment_key,
+)
 from chargedesign.vocabulary import (
     FIELD_NAMES,
     PRECISIONS,
@@ -363,23 +369,12 @@ def validate_check_options(
     precision: Any,
 ) -> float:
     """Refuse bad arguments of :func:`check_design` (one line each); the tolerance as a float."""
-    if not isinstance(design, Design):
-        raise input_error("design", "a Design", design)
+    check_instance(design, Design, "design", "a Design")
     tol = as_finite_float(tol, "tol", positive=True)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise input_error("seed", "an integer >= 0", seed)
-    if quadrature_order is not None and (
-        isinstance(quadrature_order, bool)
-        or not isinstance(quadrature_order, (int, np.integer))
-        or quadrature_order < 0
-    ):
-        raise input_error("quadrature_order", "an integer >= 0 or None", quadrature_order)
-    if isinstance(block_pairs, bool) or not isinstance(block_pairs, (int, np.integer)):
-        raise input_error("block_pairs", "an integer >= 1", block_pairs)
-    if block_pairs < 1:
-        raise input_error("block_pairs", "an integer >= 1", block_pairs)
-    if precision not in PRECISIONS:
-        raise input_error("precision", "one of " + ", ".join(PRECISIONS), precision)
+    check_integer(seed, "seed", minimum=0)
+    check_integer(quadrature_order, "quadrature_order", minimum=0, none_allowed=True)
+    check_integer(block_pairs, "block_pairs", minimum=1)
+    check_choice(precision, PRECISIONS, "precision")
     return tol
 
 

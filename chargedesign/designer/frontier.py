@@ -70,7 +70,6 @@ from chargedesign.physical.window import (
     window_model,
 )
 from chargedesign.results import Result
-from chargedesign.validation import as_finite_float, input_error
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -773,12 +772,12 @@ class WindowOptions:
     gravity: float = STANDARD_GRAVITY
 
     def __post_init__(self) -> None:
-        fraction = as_finite_float(self.fraction, "--realised-fraction")
-        if not 0 < fraction < 1:
-            raise input_error("--realised-fraction", "a number between 0 and 1", self.fraction)
-        gravity = as_finite_float(self.gravity, "--realised-gravity")
-        if gravity < 0:
-            raise input_error("--realised-gravity", "a number >= 0 (m/s^2)", self.gravity)
+        # the scene's [design] keys and the command line's ranges (limits.OPTION_RANGES)
+        # check both before the run: out of range here is a caller's mistake
+        if not 0 < self.fraction < 1:
+            raise ValueError(f"fraction: expected a number between 0 and 1, got {self.fraction}")
+        if not 0 <= self.gravity < math.inf:
+            raise ValueError(f"gravity: expected a number >= 0 (m/s^2), got {self.gravity}")
 
 
 #: bodies designed to confirm a window: at most this many corrections of an end

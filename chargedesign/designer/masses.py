@@ -25,10 +25,11 @@ from chargedesign.designer.physical_setup import (
     row_scaled,
 )
 from chargedesign.designer.system import relative_residual
-from chargedesign.errors import InputError, SolverError
+from chargedesign.errors import SolverError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.induced import induced_rows
 from chargedesign.scene.physical import PhysicalSpec
+from chargedesign.validation import check_susceptibility
 
 
 # ------------------------------------------------------------------- magnets and masses
@@ -237,12 +238,8 @@ def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:
     material has none."""
     chi = {}
     for part in (spec.carrier, spec.magnet, *spec.ballasts):
-        if part.susceptibility is None:
-            table = "carriers" if part.role == "carrier" else f"{part.role}s"
-            raise InputError(
-                f"{table}.susceptibility: cancelling the induced magnetisation needs the "
-                f"{part.role} material's susceptibility ({part.name} has none)"
-            )
+        check_susceptibility(part.susceptibility, part.role, part.name)
+        assert part.susceptibility is not None
         chi[part.name, part.role] = part.susceptibility
     return chi
 

@@ -25,14 +25,20 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solvers import least_norm
-from chargedesign.errors import InfeasibleError, InputError
-from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.errors import InfeasibleError
+from chargedesign.formatting import fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
+from chargedesign.validation import (
+    check_carrier_radius,
+    check_field_reach,
+    check_physical_candidates,
+    check_physical_options,
+)
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
@@ -143,21 +149,13 @@ class PhysicalSetup:
 
 def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
     """The [design] options a physical design takes (one line naming the one it does not)."""
-    for source in ("charges", "dipoles", "masses"):
-        if options.objective_for(source) not in PHYSICAL_OBJECTIVES:
-            raise InputError(
-                f"design.objective: {options.objective_for(source)!r} for {source} is not "
-                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
-            )
-    if "inertia" not in (options.realise or conditions.realise):
-        raise InputError(
-            "design.realise: a physical design realises the inertia (every part has mass)"
-        )
-    if options.total_charge is not None or options.n_charges is not None:
-        raise InputError(
-            "design.total_charge / n_charges: not available with [medium] (the carriers' "
-            "limits decide the charges)"
-        )
+    check_physical_options(
+        {s: options.objective_for(s) for s in ("charges", "dipoles", "masses")},
+        PHYSICAL_OBJECTIVES,
+        options.realise or conditions.realise,
+        options.total_charge,
+        options.n_charges,
+    )
 
 
 def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
@@ -166,11 +164,7 @@ def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
     a = spec.carrier_radius
     if a is None:
         return CARRIER_RADIUS_FRACTION * spacing
-    if a >= 0.5 * spacing:
-        raise InputError(
-            f"body.carrier_radius: expected below half the candidate spacing "
-            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(a, PLAIN)}"
-        )
+    check_carrier_radius(a, spacing)
     return float(a)
 
 
@@ -182,12 +176,7 @@ def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region
         if kind == "electric" or not coeffs:
             continue
         top = float(field_magnitude_max(coeffs, np.array([region]))[0])
-        if top > limit:
-            raise InputError(
-                f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
-                " over the "
-                f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
-            )
+        check_field_reach(kind, top, limit, region)
 
 
 def _magnet_sites(
@@ -223,8 +212,7 @@ def _magnet_sites(
 
 def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
     """Each candidate's cell radius (half its nearest neighbour's distance) and the spacing."""
-    if len(points) < 2:
-        raise InputError("body: a physical design needs at least two candidate points")
+    check_physical_candidates(len(points))
     dist, _ = cKDTree(points).query(points, k=2)
     return 0.5 * dist[:, 1], float(np.min(dist[:, 1]))
 

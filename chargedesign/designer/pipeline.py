@@ -36,7 +36,7 @@ from chargedesign.designer.system import (
     group_norms,
     relative_residual,
 )
-from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.moment_conditions import (
@@ -50,7 +50,12 @@ from chargedesign.physical.realism import K_LAW_KEY, k_law
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
-from chargedesign.validation import input_error
+from chargedesign.validation import (
+    check_design_sources,
+    check_instance,
+    check_realise_agrees,
+    check_robust_parameters,
+)
 
 
 def design_source(
@@ -99,8 +104,8 @@ def _with_robust_costs(
     """``p`` with the robust objective's costs when its source is designed robustly."""
     if options.objective_for(p.source) != "robust":
         return p
-    if params is None:
-        raise InputError(f"design.objective: robust {p.source} need the parameters (params=)")
+    check_robust_parameters("robust", p.source, params)
+    assert params is not None
     costs = robust_costs(points, p.source, conditions.fields, params, options.robust_weight)
     return p.with_costs(costs)
 
@@ -274,23 +279,20 @@ def _objective_value(
 
 def _check_design_inputs(params: Any, conditions: Any) -> None:
     """Parameters and linear conditions, of their types."""
-    if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
-    if not isinstance(conditions, LinearConditions):
-        raise input_error(
-            "conditions", "a chargedesign.moment_conditions.LinearConditions", conditions
-        )
+    check_instance(params, Parameters, "params", "a chargedesign.params.Parameters")
+    check_instance(
+        conditions,
+        LinearConditions,
+        "conditions",
+        "a chargedesign.moment_conditions.LinearConditions",
+    )
 
 
 def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str, ...]:
     """The inertia terms realised: the conditions', unless the options name (the same) ones."""
     realise = tuple(conditions.realise) if conditions.realise else ()
     if options.realise is not None:
-        if conditions.realise and set(options.realise) != set(conditions.realise):
-            raise InputError(
-                f"design.realise: the conditions realise {list(conditions.realise)}, the "
-                f"options ask for {list(options.realise)}"
-            )
+        check_realise_agrees(conditions.realise, options.realise)
         realise = options.realise
     return realise
 
@@ -298,12 +300,9 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
 def _sources_present(conditions: LinearConditions, options: DesignOptions) -> list[str]:
     """The sources the conditions ask for; options about charges or masses need them."""
     sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
-        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
-    if options.n_charges is not None and "charges" not in sources_present:
-        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
-    if options.total_mass is not None and "masses" not in sources_present:
-        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
+    check_design_sources(
+        sources_present, options.total_charge, options.n_charges, options.total_mass
+    )
     return sources_present
 
 
@@ -490,8 +489,7 @@ def design_from_scene(
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
     frontier; the physical design itself never calls the frontier).
     """
-    if not isinstance(scene, Scene):
-        raise input_error("scene", "a chargedesign.scene.Scene", scene)
+    check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
     options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions

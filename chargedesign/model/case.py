@@ -12,6 +12,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from chargedesign.scene.case_file import mu_from_l  # the paper's (mu), as a case file's l means
+
 p, q, r = sp.symbols("p q r", real=True)
 g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
 c, d, n, K = sp.symbols("c d n K", real=True)
@@ -23,14 +25,6 @@ GAMMA = sp.Matrix([g1, g2, g3])
 STATE_SYMBOLS = (p, q, r, g1, g2, g3)
 #: order of the parameter arguments of every compiled evaluator
 PARAMETER_SYMBOLS = (C, c, d, n, K, kappa, lam, rho)
-
-
-def mu_from_l(l_vec: sp.Matrix) -> sp.Matrix:
-    """The paper's formula (mu): ``mu = d(l . gamma)/dgamma - (div_gamma l) gamma``."""
-    lg = l_vec.dot(GAMMA)
-    grad = sp.Matrix([sp.diff(lg, x) for x in GAMMA])
-    div = sum(sp.diff(l_vec[i], GAMMA[i]) for i in range(3))
-    return (grad - div * GAMMA).applyfunc(sp.expand)
 
 
 @dataclass(frozen=True)

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
-from chargedesign.errors import InputError
-from chargedesign.model.case_file import Case, CaseCertificate, case_from_table, certify_case
+from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.readers import loads_toml
 from chargedesign.results import Result
+from chargedesign.scene.case_file import Case, case_from_table
 from chargedesign.validation import check_keys
 
 #: the keys of one catalogue entry
@@ -46,7 +46,7 @@ def entry_table(entry: Mapping[str, Any]) -> dict[str, Any]:
     parameters = dict(table.get("parameters", {}))
     for key, value in entry.get("parameters", {}).items():
         if key not in parameters:
-            raise InputError(f"catalogue: {name} has no parameter {key!r} to override")
+            raise ValueError(f"catalogue: {name} has no parameter {key!r} to override")
         parameters[key] = value
     table["parameters"] = parameters
     for key in ("name", "source"):
@@ -67,7 +67,7 @@ def catalogue_case(name: str) -> Case:
         if table["name"] == name:
             return case_from_table(table, f"case {entry['file']}")
     names = ", ".join(entry_table(e)["name"] for e in catalogue_entries())
-    raise InputError(f"catalogue: no case named {name!r} (the cases: {names})")
+    raise ValueError(f"catalogue: no case named {name!r} (the cases: {names})")
 
 
 @dataclass(repr=False)

@@ -37,7 +37,6 @@ from typing import Any
 import sympy as sp
 from sympy.polys.rings import PolyElement, PolyRing
 
-from chargedesign.errors import InputError
 from chargedesign.model.case import (
     GAMMA,
     OMEGA,
@@ -206,7 +205,7 @@ def r_on_level(level: sp.Expr | int = 0) -> PolyElement:
     ring = laurent_ring()
     over_c = sp.expand(sp.sympify(level) / C)
     if over_c.has(C):
-        raise InputError(f"level: expected a multiple of C, got {level}")
+        raise ValueError(f"level: expected a multiple of C, got {level}")
     without_r = _ring_integrals()["I3_over_C"].compose(ring.gens[_IR], ring.zero)
     # I3/C = gamma3 r + without_r  =>  r = (level/C - without_r) / gamma3
     return laurent_normal((to_ring(over_c) - without_r) * ring.gens[U_INDEX])
@@ -330,7 +329,7 @@ def certify(case: str = "general") -> CertificateResult:
         (K = n = rho = lambda = 0).
     """
     if case not in CASES:
-        raise InputError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
+        raise ValueError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
     zeroed = CASES[case]
     start = time.perf_counter()
     integrals = {k: _zeroed(v, zeroed) for k, v in _ring_integrals().items()}
@@ -371,7 +370,7 @@ def multipliers(case: str = "general") -> tuple[sp.Expr, sp.Expr]:
     Both are Laurent polynomials in gamma3 with rational coefficients.
     """
     if case not in CASES:
-        raise InputError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
+        raise ValueError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
     zeroed = CASES[case]
     d_i4 = time_derivative_ring(_zeroed(_ring_integrals()["I4"], zeroed), zeroed)
     quotient, on_level = divide_by_linear_in_r(d_i4, _zeroed(r_on_level(), zeroed))

@@ -25,9 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, input_error
+from chargedesign.validation import as_array, check_instance, check_off_singular, input_error
 
 #: what each evaluator returns per item
 OUTPUT_WIDTH = {
@@ -46,8 +45,7 @@ ParamTuple = tuple[float, float, float, float, float, float, float, float]
 
 def parameter_tuple(params: Parameters) -> ParamTuple:
     """``(C, c, d, n, K, kappa, lambda, rho)``: the order of every compiled function."""
-    if not isinstance(params, Parameters):
-        raise input_error("params", "a chargedesign.params.Parameters", params)
+    check_instance(params, Parameters, "params", "a chargedesign.params.Parameters")
     return (
         params.C,
         params.c,
@@ -83,7 +81,7 @@ def model_expressions(quantity: str) -> list[Any]:
         return omega_dot + list(GAMMA.cross(OMEGA))
     if quantity == "integrals":
         return [case.I1, case.I2, case.I3, case.I4]
-    raise InputError(f"quantity: expected one of {', '.join(OUTPUT_WIDTH)}, got {quantity!r}")
+    raise ValueError(f"quantity: expected one of {', '.join(OUTPUT_WIDTH)}, got {quantity!r}")
 
 
 @cache
@@ -117,10 +115,7 @@ def _validate(
     arr = as_array(values, name, (width,) if single else (None, width))
     if single:
         arr = arr[None, :]
-    if params.singular and np.any(arr[:, -1] == 0.0):
-        raise input_error(
-            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
-        )
+    check_off_singular(params.singular, arr[:, -1], name, values)
     return arr, single, pt
 
 

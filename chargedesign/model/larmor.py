@@ -38,7 +38,6 @@ from typing import Any
 
 import sympy as sp
 
-from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, p, q, r, symbolic_case
 from chargedesign.model.certificate import (
     RING_SYMBOLS,
@@ -161,7 +160,7 @@ def certify_larmor(map_sign: int = -1) -> LarmorCertificate:
     LarmorCertificate
     """
     if map_sign not in (-1, 1):
-        raise InputError(f"map_sign: expected -1 or +1, got {map_sign!r}")
+        raise ValueError(f"map_sign: expected -1 or +1, got {map_sign!r}")
     return _certify(map_sign)
 
 

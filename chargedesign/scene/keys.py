@@ -547,7 +547,7 @@ BODY = (
 _EXPRESSION = {**STRING, "maxLength": 20000}
 _EXPRESSIONS = {"type": "array", "items": TEXT_OR_NUMBER, "minItems": 3, "maxItems": 3}
 #: a scene's ``[case]``: any case of (ep) with its claimed integral, instead of
-#: ``[parameters]`` (read by :func:`chargedesign.model.case_file.case_from_table`;
+#: ``[parameters]`` (read by :func:`chargedesign.scene.case_file.case_from_table`;
 #: docs/workbench.md)
 CASE = (
     Key("name", {**STRING, "minLength": 1, "maxLength": 80}, "the case's name (required)"),

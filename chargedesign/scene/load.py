@@ -46,7 +46,7 @@ from chargedesign.validation import (
 from chargedesign.vocabulary import FIELD_KINDS, SCENE_TABLES
 
 if TYPE_CHECKING:
-    from chargedesign.model.case_file import Case
+    from chargedesign.scene.case_file import Case
 
 #: characters no portable file name holds (Windows forbids them; '\\' is a separator there)
 _NOT_PORTABLE = '<>:"\\|?*'
@@ -125,11 +125,11 @@ class Scene:
     @cached_property
     def case(self) -> Case | None:
         """``[case]``: any case of (ep) with its claimed integral (None: the theorem's
-        ``[parameters]``), validated by :func:`chargedesign.model.case_file.case_from_table`."""
+        ``[parameters]``), validated by :func:`chargedesign.scene.case_file.case_from_table`."""
         if "case" not in self.tables:
             return None
         # sympy loads only for a scene that carries a case
-        from chargedesign.model.case_file import case_from_table
+        from chargedesign.scene.case_file import case_from_table
 
         return case_from_table(self.tables["case"], "case")
 

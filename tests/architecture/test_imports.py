@@ -31,6 +31,8 @@ HEAVY_MODULES = frozenset(
         "chargedesign.model.equations",
         "chargedesign.model.larmor",
         "chargedesign.model.printed",
+        "chargedesign.scene.case_file",
+        "chargedesign.scene.expressions",
         "chargedesign.viz",
     }
 )

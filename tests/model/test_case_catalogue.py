@@ -15,7 +15,7 @@ from chargedesign.cli import main
 from chargedesign.commands import catalogue as catalogue_command
 from chargedesign.designer.case_masses import design_case_masses
 from chargedesign.model.case import g1, g2, g3, p, q, r
-from chargedesign.model.case_file import case_from_table, certify_case, conserved_combinations
+from chargedesign.model.case_file import certify_case, conserved_combinations
 from chargedesign.model.catalogue import (
     CatalogueReport,
     catalogue_case,
@@ -24,6 +24,7 @@ from chargedesign.model.catalogue import (
     entry_table,
 )
 from chargedesign.results import REPR_LIMIT
+from chargedesign.scene.case_file import case_from_table
 
 #: the paper's cases the catalogue must hold (names of the entries)
 PAPER_CASES = {

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 
 from chargedesign.errors import InputError
 from chargedesign.model.case import g1, g2, g3, p, q, r
-from chargedesign.model.expressions import (
+from chargedesign.scene.expressions import (
     MAX_EXPONENT,
     MAX_LENGTH,
     MAX_LITERAL_DIGITS,

@@ -19,8 +19,8 @@ from chargedesign.designer.case_masses import (
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.fields import zonal_sums
 from chargedesign.model.case import GAMMA, OMEGA
-from chargedesign.model.case_file import case_from_table
 from chargedesign.model.catalogue import catalogue_case, entry_table
+from chargedesign.scene.case_file import case_from_table
 
 TIGHT = 1e-12
 

@@ -10,7 +10,6 @@ import pytest
 import sympy as sp
 
 from chargedesign.cli import main
-from chargedesign.errors import InputError
 from chargedesign.model import evaluators
 from chargedesign.model.case import GAMMA, C, g1, g2, g3, n, p, q, r
 from chargedesign.model.larmor import (
@@ -61,7 +60,7 @@ def test_the_wrong_map_fails_the_certificate() -> None:
         assert wrong.checks[name] is False, name
     # gamma's equation holds for any shift along gamma (gamma x gamma = 0): not a discriminator
     assert wrong.checks["equations_gamma"] is True
-    with pytest.raises(InputError, match="map_sign"):
+    with pytest.raises(ValueError, match="map_sign"):
         certify_larmor(map_sign=2)
 
 

@@ -29,8 +29,12 @@ from fractions import Fraction
 import sympy as sp
 
 from chargedesign.errors import InputError
-from chargedesign.model.case import g1, g2, g3, p, q, r
 from chargedesign.validation import MAX_MAGNITUDE, MIN_MAGNITUDE
+
+# The state's symbols, made as :mod:`chargedesign.model.case` makes them: sympy symbols of
+# the same name and assumptions are the same symbol, so the boundary needs no model import.
+p, q, r = sp.symbols("p q r", real=True)
+g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
 
 #: the state's names as written in a case file
 STATE_NAMES: dict[str, sp.Symbol] = {
