@@ -448,7 +448,7 @@ def check_executor(kind: str, workers: Any) -> int:
     return n
 
 
-def check_sweep_out(out: Path, points: list[dict[str, Any]], command: str, resume: bool) -> None:
+def check_sweep_out(out: Path, points: Any, command: str, resume: bool) -> None:
     """``out`` is a directory, new, or (``resume``) holding the same sweep: its
     ``sweep.json`` lists the same ``points`` and ``command``."""
     if out.exists() and not out.is_dir():
