@@ -245,8 +245,7 @@ class SweptKey:
         key = self.declaration
         if key is None or not _checked_alone(self.table, key):
             return
-        where = self.path
-        check_value(self.table, key.name, value, where)
+        check_value(self.table, key.name, value, self.path)
 
 
 #: tables whose owners check each plain key by its declaration first, named by its dotted
