@@ -26,6 +26,7 @@ from chargedesign.physical.realism import (
     typical_rate,
 )
 from chargedesign.results import Result, json_ready
+from chargedesign.scene.keys import KEY
 from chargedesign.tolerancing.common import (
     DEFAULT_MATERIAL_SAMPLES,
     quantile_summary,
@@ -105,11 +106,11 @@ def _perturbed_materials(
         out = dict(spec)
         chi = spec.get("volume_susceptibility", SUSCEPTIBILITY.get(out.get("name", "")))
         if chi is not None:
-            out["volume_susceptibility"] = chi * (1.0 + e["chi_relative"][j])
-        out["density_kg_per_m3"] = spec["density_kg_per_m3"] * (1.0 + e["density_relative"][j])
+            out["volume_susceptibility"] = chi * (1.0 + e[KEY.chi_relative][j])
+        out["density_kg_per_m3"] = spec["density_kg_per_m3"] * (1.0 + e[KEY.density_relative][j])
         if role == "magnet":
             out["remanent_magnetisation_A_per_m"] = spec["remanent_magnetisation_A_per_m"] * (
-                1.0 + e["magnetisation_relative"][j]
+                1.0 + e[KEY.magnetisation_relative][j]
             )
         return out
 
@@ -125,7 +126,7 @@ def _perturbed_materials(
         j = groups.index(("magnet", magnet["name"])) if ("magnet", magnet["name"]) in groups else -1
         if j >= 0:
             vol = design.magnet_volumes()
-            new_vol = vol / (1.0 + e["magnetisation_relative"][j])
+            new_vol = vol / (1.0 + e[KEY.magnetisation_relative][j])
             rho, new_rho = magnet["density_kg_per_m3"], materials["magnet"]["density_kg_per_m3"]
             # the attached ballast (mass beyond the magnet's own) keeps its mass
             arrays["dipole_volumes"] = new_vol
@@ -290,9 +291,12 @@ def material_uncertainty(
     }
     # first order: chi v of each material changes by e_chi - e_rho (e_chi - e_M for magnets)
     volume_error = np.array(
-        ["magnetisation_relative" if role == "magnet" else "density_relative" for role, _ in groups]
+        [
+            KEY.magnetisation_relative if role == "magnet" else KEY.density_relative
+            for role, _ in groups
+        ]
     )
-    delta = draws["chi_relative"].copy()
+    delta = draws[KEY.chi_relative].copy()
     for j, key in enumerate(volume_error):
         delta[:, j] -= draws[key][:, j]
     linear = np.ptp(nominal_energy[None] + delta @ per, axis=1) / torque
