@@ -20,14 +20,15 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.frontier import FrontierResult
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.result import DesignResult
-from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
+from chargedesign.scene.sweep_file import check_no_command_with_spec
 from chargedesign.simulation.api import simulate as simulate_scene_or_design
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
+from chargedesign.validation import check_no_options, wrong_kind
 
 if TYPE_CHECKING:
     from chargedesign.designer.case_design import CaseDesignResult, CaseElementsResult
@@ -70,10 +71,7 @@ def as_scene(source: Any = None, **tables: Any) -> Scene:
         data = {k: v for k, v in source.items()}
         where = "<dict>"
     else:
-        raise InputError(
-            f"design: expected a scene, a path, a mapping, Parameters or None, got "
-            f"{type(source).__name__}"
-        )
+        raise wrong_kind("design", "a scene, a path, a mapping, Parameters or None", source)
     for name, table in tables.items():
         if table is not None:
             data[name] = table
@@ -118,11 +116,9 @@ def design(
 
     scene = as_scene(source, fields=fields, body=body)
     if scene.case is not None:
-        if options:
-            raise InputError(
-                f"design: {sorted(options)[0]}: a [case] scene takes its options from its "
-                "[design] table"
-            )
+        check_no_options(
+            "design", options, "a [case] scene takes its options from its [design] table"
+        )
         from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
 
         return design_case_scene(scene, progress)
@@ -163,10 +159,7 @@ def verify_case(source: Any) -> CaseCertificate:
         return certify_case(case_from_table(table, "case"))
     if isinstance(source, Case):
         return certify_case(source)
-    raise InputError(
-        f"verify_case: expected a case file path, a [case] mapping or a Case, got "
-        f"{type(source).__name__}"
-    )
+    raise wrong_kind("verify_case", "a case file path, a [case] mapping or a Case", source)
 
 
 def catalogue() -> CatalogueReport:
@@ -189,10 +182,7 @@ def _design_of(design: Any) -> Design:
     if isinstance(design, Mapping):
         return Design.from_dict(dict(design))
 
-    raise InputError(
-        f"check: expected a Design, a DesignResult, a design.json path or mapping, got "
-        f"{type(design).__name__}"
-    )
+    raise wrong_kind("check", "a Design, a DesignResult, a design.json path or mapping", design)
 
 
 def check(design: Any, **options: Any) -> CheckReport:
@@ -259,8 +249,8 @@ def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> SweepResu
 
     if not isinstance(spec, SweepSpec):
         spec = load_sweep(spec, command=command)
-    elif command is not None:
-        raise InputError("command=: give it with a sweep file, not with a parsed SweepSpec")
+    else:
+        check_no_command_with_spec(command)
     return run_sweep(spec, out, **options)
 
 

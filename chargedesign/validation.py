@@ -34,6 +34,7 @@ from chargedesign.limits import (
     MAX_FIELD_DEGREE,
     MAX_SAMPLES,
     MAX_STEPS,
+    MAX_TOLERANCE_SAMPLES,
 )
 from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
 
@@ -694,6 +695,72 @@ def check_material_errors(table: Any, where: str) -> dict[str, float]:
         for key, value in table.items()
         if value is not None
     }
+
+
+def material_error_values(where: str, values: Mapping[str, Any]) -> dict[str, float]:
+    """Keyword material errors (``chi_relative = 0.1``, ...; None: left out), each checked
+    by :func:`check_material_error`; a bad value names ``where.key``, or ``--key`` on the
+    command line (``where = "--"``)."""
+    out = {}
+    for key, value in values.items():
+        if key not in MATERIAL_ERROR_KEYS:
+            raise input_error(where, "keys among " + ", ".join(MATERIAL_ERROR_KEYS), key)
+        if value is None:
+            continue
+        name = "--" + key.replace("_", "-") if where == "--" else f"{where}.{key}"
+        out[key] = check_material_error(value, name)
+    return out
+
+
+def check_material_analysis(where: str, physical: bool, magnetic: Sequence[float]) -> None:
+    """What the materials' error analysis needs: a physical design (``[medium]``, its
+    materials) in a magnetic field of degree <= 2 (``magnetic``: its Legendre
+    coefficients)."""
+    if not physical:
+        raise InputError(f"{where}: material errors need a physical design (a scene with [medium])")
+    if any(magnetic[2:]):
+        raise InputError(
+            f"{where}: material errors are analysed for magnetic fields of degree <= 2"
+        )
+
+
+def check_material_motion(rate: float, magnetic: Sequence[float]) -> None:
+    """The materials' error analysis weighs induced torques against a typical motion: it
+    needs a magnetic field and a non-zero typical rate."""
+    if rate == 0 or not magnetic:
+        raise InputError("tolerance: material errors need a magnetic field and a typical motion")
+
+
+def sample_count(value: Any, name: str, minimum: int) -> int:
+    """``value`` as an int in ``minimum .. MAX_TOLERANCE_SAMPLES`` (else an input error
+    naming ``name``): the tolerance analysis' perturbed bodies."""
+    expected = f"an integer in {minimum}..{MAX_TOLERANCE_SAMPLES}"
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, expected, value)
+    if not minimum <= int(value) <= MAX_TOLERANCE_SAMPLES:
+        raise input_error(name, expected, value)
+    return int(value)
+
+
+def check_solver_name(name: str, installed: Sequence[str]) -> None:
+    """``design.solver``: ``auto`` or one of the ``installed`` solvers (upper case, as the
+    designer reads it)."""
+    if name.upper() != "AUTO" and name.upper() not in installed:
+        raise input_error(
+            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
+        )
+
+
+def wrong_kind(where: str, expected: str, value: Any) -> InputError:
+    """The one line for an argument of a kind an entry point does not take (the notebook
+    API's sources): ``where: expected ..., got <type name>``."""
+    return InputError(f"{where}: expected {expected}, got {type(value).__name__}")
+
+
+def check_no_options(where: str, options: Mapping[str, Any], reason: str) -> None:
+    """Options an entry point does not take in this case: one line naming the first."""
+    if options:
+        raise InputError(f"{where}: {sorted(options)[0]}: {reason}")
 
 
 def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:

@@ -15,6 +15,7 @@ import time
 
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
+from chargedesign.scene.sweep_file import check_executor
 from chargedesign.sweeps import (
     load_sweep,
     make_executor,
@@ -22,7 +23,6 @@ from chargedesign.sweeps import (
     summary_rows,
     write_summary,
 )
-from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
 
 class _Bar:
@@ -54,10 +54,7 @@ def run(args: argparse.Namespace) -> int:
     import json
     from pathlib import Path
 
-    if args.executor not in EXECUTORS:
-        raise InputError(
-            f"--executor: expected one of {', '.join(EXECUTORS)}, got {args.executor!r}"
-        )
+    check_executor(args.executor, args.workers)  # before any file is read
     if args.chunk is not None and args.chunk < 1:
         raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     check_outputs([("--out", args.out, True)], inputs=[args.sweep], writes=SWEEP_FILES)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from chargedesign.sweeps.registry import COMMANDS, resolve
 from chargedesign.sweeps.runner import (
-    EXECUTORS,
     ExecutorHandle,
     SerialExecutor,
     SweepResult,
@@ -25,6 +24,7 @@ from chargedesign.sweeps.runner import (
     write_summary,
 )
 from chargedesign.sweeps.spec import SweepSpec, load_sweep, sweep_from_dict
+from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
 __all__ = [
     "COMMANDS",

@@ -20,9 +20,9 @@ from chargedesign.body import write_design
 from chargedesign.checker import check_design
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import frontier_from_scene
-from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.scene.keys import KEY
+from chargedesign.scene.sweep_file import builtin_command
 from chargedesign.simulation import simulate
 from chargedesign.simulation.api import setup_from_scene
 from chargedesign.tolerancing import (
@@ -184,25 +184,6 @@ COMMANDS: dict[str, CommandFunction] = {
 }
 
 
-def check_command(command: Any, where: str) -> None:
-    """One-line error unless ``command`` names a built-in command.
-
-    Nothing is imported or called here: a name from a file is compared with the registry's
-    keys, and anything else (``module:function`` included) is refused.
-    """
-    if isinstance(command, str) and command in COMMANDS:
-        return
-    hint = ""
-    if isinstance(command, str) and ":" in command:
-        hint = (
-            "; a sweep file never names code to run: pass your own function from Python, "
-            "cd.sweep(file, out, command=function)"
-        )
-    raise InputError(
-        f"{where}: unknown command {command!r} (expected one of {', '.join(COMMANDS)}){hint}"
-    )
-
-
 def command_label(command: str | CommandFunction) -> str:
     """How a command is named in sweep.json: its registry name, or ``module.qualname`` of a
     function passed from Python (a label only: nothing ever imports it back)."""
@@ -223,8 +204,4 @@ def resolve(command: str | CommandFunction) -> CommandFunction:
     """
     if callable(command):
         return command
-    if isinstance(command, str) and command in COMMANDS:
-        return COMMANDS[command]
-    raise InputError(
-        f"command {command!r}: not a built-in command (expected one of {', '.join(COMMANDS)})"
-    )
+    return COMMANDS[builtin_command(command, tuple(COMMANDS))]

@@ -37,10 +37,10 @@ from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
+from chargedesign.scene.sweep_file import check_executor, check_sweep_out, scene_with
 from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
-from chargedesign.sweeps.spec import SweepSpec, scene_with
-from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
+from chargedesign.sweeps.spec import SweepSpec
 
 #: seconds to wait for a Dask scheduler given with ``scheduler=`` (``--scheduler-timeout``)
 SCHEDULER_TIMEOUT = 5.0
@@ -243,11 +243,7 @@ def make_executor(
     """
     if scheduler is not None:
         kind = "dask"
-    if kind not in EXECUTORS:
-        raise InputError(f"--executor: expected one of {', '.join(EXECUTORS)}, got {kind!r}")
-    n = workers if workers is not None else max(1, min(os.cpu_count() or 1, 8))
-    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-        raise InputError(f"--workers: expected an integer >= 1, got {workers!r}")
+    n = check_executor(kind, workers)
     if kind == "serial":
         return ExecutorHandle(SerialExecutor(), 1, "serial")
     if kind == "process":
@@ -393,25 +389,8 @@ def _plan(spec: SweepSpec, out: Path, resume: bool) -> list[tuple[str, dict[str,
             {"point": pid, "keys": keys} for pid, keys in zip(ids, spec.points, strict=True)
         ],
     }
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: expected an output directory, it is a file")
+    check_sweep_out(out, plan["points"], command_label(spec.command), resume)
     plan_path = out / "sweep.json"
-    if plan_path.exists():
-        try:
-            old = json.loads(plan_path.read_text(encoding="utf-8"))
-        except (OSError, json.JSONDecodeError):
-            old = None
-        same = old is not None and old.get("points") == json.loads(json.dumps(plan["points"]))
-        if not resume:
-            raise InputError(
-                f"{out}: holds an earlier sweep; pass --resume to complete it or choose "
-                "another --out"
-            )
-        if not same or old.get("command") != command_label(spec.command):
-            raise InputError(
-                f"{out}: --resume: the sweep file's points or command differ from the sweep "
-                "started there"
-            )
     out.mkdir(parents=True, exist_ok=True)
     write_json_atomic(plan_path, plan)
     todo = []

@@ -38,28 +38,43 @@ import numpy as np
 
 from chargedesign.candidates import candidates_from_region
 from chargedesign.designer.pipeline import larmor_of_scene
-from chargedesign.errors import InputError
-from chargedesign.limits import MAX_PERIODS, OPTION_RANGES
+from chargedesign.limits import MAX_PERIODS
 from chargedesign.readers import read_toml_file
-from chargedesign.scene import KNOWN_TABLES, scene_from_dict, validated
+from chargedesign.scene import Scene
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.sweep_file import (
+    SweptKey,
+    base_is_valid,
     base_scene,
+    check_option_names,
+    check_option_ranges,
     check_point_count,
     check_point_value,
+    check_points,
+    check_scene_key,
     check_sweep_keys,
+    chosen_command,
     grid_lists,
+    named_as_option,
+    point_scene,
     random_points,
     random_table,
-    scene_with,
+    resolve_sweep_key,
     sweep_tables,
 )
 from chargedesign.simulation.api import setup_from_scene
 from chargedesign.simulation.axes import resolve_axes
-from chargedesign.sweeps.registry import check_command, resolve
+from chargedesign.sweeps.registry import COMMANDS, resolve
 from chargedesign.tolerancing import ErrorModel, MaterialErrors
-from chargedesign.validation import check_error_spreads, check_periods, input_error
+from chargedesign.validation import (
+    check_error_spreads,
+    check_material_analysis,
+    check_periods,
+    check_solver_name,
+)
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
+
+__all__ = ["SweepSpec", "load_sweep", "sweep_from_dict"]
 
 
 @dataclass
@@ -100,66 +115,26 @@ class SweepSpec:
         return [f"p{i:0{width}d}" for i in range(len(self.points))]
 
 
-def validate_scene_key(
-    data: dict[str, Any], key: str, source: str, scene_source: str = "<sweep>"
-) -> None:
-    """Raise an InputError naming ``key`` when the scene's owners reject it (``scene_source``:
-    the base scene's path, which its relative paths resolve against)."""
-
-    parts = key.split(".")
-    if len(parts) < 2 or not all(parts):
-        raise InputError(
-            f"{source}: grid key {key!r}: expected a dotted scene key such as body.radius"
-        )
-    if parts[0] not in KNOWN_TABLES:
-        raise InputError(
-            f"{source}: unknown scene key {key!r} (scene tables: {', '.join(KNOWN_TABLES)})"
-        )
-    try:
-        # every table by its owner (chargedesign.scene.validate_tables), and a region's points
-        scene = validated(scene_from_dict(data, source=scene_source))
-        if parts[0] == "body" and scene.region is not None and "shape" in scene.region.table:
-            candidates_from_region(scene.region.spec(), base_dir=scene.base_dir)
-    except InputError as exc:
-        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{source}: scene key {key!r}: {exc}") from None
+def _region_candidates(scene: Scene) -> None:
+    """A ``[body]`` region's candidates (their count within the cap), designed or not."""
+    if scene.region is not None and "shape" in scene.region.table:
+        candidates_from_region(scene.region.spec(), base_dir=scene.base_dir)
 
 
 def check_options(command: Any, options: Mapping[str, Any], source: str) -> None:
-    """``[options]``: names the command takes (its signature), numbers within the input range."""
-    import inspect
-
-    check_point_value(dict(options), f"{source}: options")
-    try:
-        inspect.signature(resolve(command)).bind(None, None, **options)
-    except TypeError as exc:
-        raise InputError(f"{source}: options: {exc}") from None
-    except ValueError:  # pragma: no cover - a callable without a signature
+    """``[options]``: names the command takes (its signature), numbers within the input range
+    and, for a built-in command, within its command-line options' ranges; for ``tolerance``
+    its errors parsed and within theirs. A bad option was found only when its point ran,
+    after the others had written (``position = "1e31"``), or not at all (``samples = 1e9``)."""
+    check_option_names(resolve(command), options, source)
+    if not isinstance(command, str):
         return
-    if isinstance(command, str):
-        _check_command_options(command, options, f"{source}: options.")
-
-
-def _check_command_options(command: str, options: Mapping[str, Any], prefix: str) -> None:
-    """A built-in command's options within the ranges its command-line options have
-    (chargedesign.limits.OPTION_RANGES) and, for ``tolerance``, its errors parsed and within
-    theirs: a bad option was found only when its point ran, after the others had written
-    (``position = "1e31"``), or not at all (``samples = 1e9``)."""
-
-    ranges = OPTION_RANGES.get(command, {})
-    for name, value in options.items():
-        bounds = ranges.get(name)
-        if bounds is None or isinstance(value, bool) or not isinstance(value, (int, float)):
-            continue
-        if not bounds.holds(value):
-            raise InputError(f"{prefix}{name}: expected a value in {bounds.text()}, got {value!r}")
+    prefix = f"{source}: options."
+    check_option_ranges(command, options, prefix)
     if command == "tolerance":
         errors = {k: options.get(k) for k in ("position", "charge", "dipole", "mass")}
-        try:
+        with named_as_option(prefix):
             model = ErrorModel.parse(**errors)
-        except InputError as exc:
-            raise InputError(f"{prefix}{str(exc).removeprefix('--')}") from None
         check_error_spreads(model, prefix)
         materials = {k: options[k] for k in MATERIAL_ERROR_KEYS if k in options}
         MaterialErrors.parse(prefix.removesuffix("."), **materials)
@@ -173,38 +148,36 @@ def validate_points(
     source: str,
     options: Mapping[str, Any] | None = None,
 ) -> None:
-    """Every point's whole scene, before any point runs: its tables by their owners
-    (chargedesign.scene.scene_from_dict), for a command that designs its ``[body]`` region's
-    candidates (each distinct region once), and for ``simulate`` the work of its motion
+    """Every point's whole scene, before any point runs (:func:`.point_scene`: its tables by
+    their owners), for a command that designs its ``[body]`` region's candidates (each
+    distinct region once), and for ``simulate`` the work of its motion
     (:func:`chargedesign.validation.check_periods`, the cap the ``simulate`` command applies).
     A point that would fail on its input is refused here, with the point and its values
-    named, not found after others ran."""
+    named (:func:`.check_points`), not found after others ran."""
 
     designs = command in ("design", "check", "tolerance", "frontier")
     base = None if scene_source.startswith("<") else Path(scene_source).parent
     seen: set[str] = set()
     solvers: list[str] = []
-    width = max(4, len(str(max(len(points) - 1, 0))))
-    for i, point in enumerate(points):
-        try:
-            check_point_value(point, f"point p{i:0{width}d}")
-            scene = validated(scene_from_dict(scene_with(scene_data, point), scene_source))
-            region = scene.region
-            key = repr(sorted(region.table.items())) if region is not None else ""
-            if designs and region is not None and "shape" in region.table and key not in seen:
-                seen.add(key)
-                candidates_from_region(region.spec(), base_dir=base)
-            if designs:
-                _check_solver(scene.design.solver, solvers)
-            if command == "simulate":
-                _check_motion_work(scene, (options or {}).get(KEY.t_end))
-                _check_axes(scene)
-            elif command == "tolerance":
-                _check_drift_work(scene, options or {})
-                _check_material_work(scene, options or {})
-        except (InputError, TypeError, ValueError) as exc:
-            values = ", ".join(f"{k} = {v!r}" for k, v in point.items())
-            raise InputError(f"{source}: point p{i:0{width}d} ({values}): {exc}") from None
+    given = options or {}
+
+    def check(point: dict[str, Any]) -> None:
+        scene = point_scene(scene_data, point, scene_source)
+        region = scene.region
+        key = repr(sorted(region.table.items())) if region is not None else ""
+        if designs and region is not None and "shape" in region.table and key not in seen:
+            seen.add(key)
+            candidates_from_region(region.spec(), base_dir=base)
+        if designs:
+            _check_solver(scene.design.solver, solvers)
+        if command == "simulate":
+            _check_motion_work(scene, given.get(KEY.t_end))
+            _check_axes(scene)
+        elif command == "tolerance":
+            _check_drift_work(scene, given)
+            _check_material_work(scene, given)
+
+    check_points(points, source, check)
 
 
 def _check_motion_work(scene: Any, t_end: Any) -> None:
@@ -229,10 +202,7 @@ def _check_solver(name: str, installed: list[str]) -> None:
         import cvxpy  # heavy: loaded only for a sweep whose scene names a solver
 
         installed[:] = sorted(cvxpy.installed_solvers())
-    if name.upper() not in installed:
-        raise input_error(
-            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
-        )
+    check_solver_name(name, installed)
 
 
 def _check_axes(scene: Any) -> None:
@@ -267,66 +237,38 @@ def _check_material_work(scene: Any, options: Mapping[str, Any]) -> None:
     physical design (``[medium]``) in a magnetic field of degree <= 2."""
 
     given = [k for k in MATERIAL_ERROR_KEYS if options.get(k) is not None]
-    if not given:
-        return
-    if scene.physical is None:
-        raise InputError(
-            f"options.{given[0]}: material errors need a physical design (a scene with [medium])"
-        )
-    if any(scene.fields.get("magnetic", ())[2:]):
-        raise InputError(
-            f"options.{given[0]}: material errors are analysed for magnetic fields of degree <= 2"
+    if given:
+        check_material_analysis(
+            f"options.{given[0]}", scene.physical is not None, scene.fields.get("magnetic", ())
         )
 
 
-def _chosen_command(
-    data: Mapping[str, Any], source: str, command: Callable[..., dict[str, Any]] | None
-) -> str | Callable[..., dict[str, Any]]:
-    """The command run at every point: the function passed, or the file's named command."""
+@dataclass
+class _KeyChecks:
+    """Swept keys checked alone against the base scene, each resolved once
+    (:func:`.resolve_sweep_key`): its declaration, the whole scene it makes, a region's
+    candidates."""
 
-    if command is not None:
-        if not callable(command):
-            raise InputError(f"command=: expected a function, got {type(command).__name__}")
-        if "command" in data:
-            raise InputError(
-                f"{source}: names command {data['command']!r} and a function was passed as "
-                "command=: give one of them"
-            )
-        return command
-    if "command" not in data:
-        raise InputError(f"{source}: missing key 'command'")
-    # compared with the registry's names only: nothing named by a file is imported
-    check_command(data["command"], f"{source}: command")
-    chosen: str = data["command"]
-    return chosen
+    scene_data: Mapping[str, Any]
+    scene_source: str
+    source: str
+    keys: dict[str, SweptKey] = field(default_factory=dict)
+    base_valid: bool | None = None
 
-
-def _check_grid_values(
-    keys: list[str],
-    value_lists: list[list[Any]],
-    scene_data: Mapping[str, Any],
-    scene_source: str,
-    source: str,
-) -> None:
-    """Every value of every grid key, checked alone against the base scene."""
-    for key, values in zip(keys, value_lists, strict=True):
-        for i, value in enumerate(values):
-            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
-            validate_scene_key(scene_with(scene_data, {key: value}), key, source, scene_source)
-
-
-def _check_random_values(
-    points: list[dict[str, Any]],
-    random_keys: Mapping[str, Any],
-    scene_data: Mapping[str, Any],
-    scene_source: str,
-    source: str,
-) -> None:
-    """Every draw of every random key, and the key (its first draw) against the base scene."""
-    for key in random_keys:
-        for i, p in enumerate(points):
-            check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
-        validate_scene_key(scene_with(scene_data, {key: points[0][key]}), key, source, scene_source)
+    def check(self, path: str, value: Any) -> None:
+        if self.base_valid is None:
+            self.base_valid = base_is_valid(self.scene_data, self.scene_source)
+        key = self.keys.get(path) or resolve_sweep_key(path, self.source)
+        self.keys[path] = key
+        check_scene_key(
+            key,
+            value,
+            self.scene_data,
+            self.source,
+            self.scene_source,
+            _region_candidates if key.table == "body" else None,
+            by_declaration=self.base_valid,
+        )
 
 
 def sweep_from_dict(
@@ -354,19 +296,26 @@ def sweep_from_dict(
         Raise the cap on points (default :data:`chargedesign.limits.MAX_SWEEP_POINTS`).
     """
     check_sweep_keys(data, source)
-    chosen = _chosen_command(data, source, command)
+    chosen = chosen_command(data, source, command, tuple(COMMANDS))
     scene_data, scene_source = base_scene(data, source, base_dir)
     chunk, options, grid, random = sweep_tables(data, source)
     keys, value_lists = grid_lists(grid, source)
     random_keys, n_random, seed = random_table(random, grid, source)
     # the work, counted before any point is built
     check_point_count(keys, value_lists, random_keys, n_random, max_points, source)
-    _check_grid_values(keys, value_lists, scene_data, scene_source, source)
+    swept = _KeyChecks(scene_data, scene_source, source)
+    for key, values in zip(keys, value_lists, strict=True):
+        for i, value in enumerate(values):  # every value of every grid key, alone
+            check_point_value(value, f"{source}: grid key {key!r}[{i}]")
+            swept.check(key, value)
     points = [dict(zip(keys, combo, strict=True)) for combo in itertools.product(*value_lists)]
     if random_keys:
         rng = np.random.default_rng(seed)
         points = random_points(points, random_keys, n_random, rng, source)
-        _check_random_values(points, random_keys, scene_data, scene_source, source)
+        for key in random_keys:  # every draw in range; the key (its first draw) alone
+            for i, p in enumerate(points):
+                check_point_value(p[key], f"{source}: random key {key!r} (draw {i})")
+            swept.check(key, points[0][key])
     check_options(chosen, options, source)
     validate_points(scene_data, scene_source, points, chosen, source, options)
     return SweepSpec(

@@ -1,17 +1,12 @@
 """The tolerance analysis' defaults and the small helpers its modules share (JSON values,
-quantiles, sample counts).
+quantiles).
 
 Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
 """
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
-
-from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
-from chargedesign.validation import input_error
 
 #: element kinds, in report order
 KINDS = ("charge", "dipole", "mass")
@@ -36,12 +31,3 @@ def quantile_summary(x: np.ndarray) -> dict[str, float]:
         "max": float(x.max()),
         "mean": float(x.mean()),
     }
-
-
-def sample_count(value: Any, name: str, minimum: int) -> int:
-    """``value`` as an int in ``minimum .. MAX_SAMPLES`` (else an input error naming ``name``)."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise input_error(name, f"an integer in {minimum}..{MAX_SAMPLES}", value)
-    if not minimum <= int(value) <= MAX_SAMPLES:
-        raise input_error(name, f"an integer in {minimum}..{MAX_SAMPLES}", value)
-    return int(value)

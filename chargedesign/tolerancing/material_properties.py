@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.errors import InputError
 from chargedesign.formatting import FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.induced import induced_energy
 from chargedesign.physical.limits import fibonacci_directions
@@ -27,12 +26,18 @@ from chargedesign.physical.realism import (
     typical_rate,
 )
 from chargedesign.results import Result, json_ready
+from chargedesign.scene.keys import KEY
 from chargedesign.tolerancing.common import (
     DEFAULT_MATERIAL_SAMPLES,
     quantile_summary,
+)
+from chargedesign.validation import (
+    check_material_analysis,
+    check_material_errors,
+    check_material_motion,
+    material_error_values,
     sample_count,
 )
-from chargedesign.validation import check_material_error, check_material_errors, input_error
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 
@@ -54,15 +59,7 @@ class MaterialErrors:
     def parse(cls, where: str = "tolerance", **values: Any) -> MaterialErrors:
         """From keyword values (None: 0); a bad value names ``where.key`` (``--key`` on the
         command line, ``where = "--"``)."""
-        out = {}
-        for key, value in values.items():
-            if key not in MATERIAL_ERROR_KEYS:
-                raise input_error(where, "keys among " + ", ".join(MATERIAL_ERROR_KEYS), key)
-            if value is None:
-                continue
-            name = "--" + key.replace("_", "-") if where == "--" else f"{where}.{key}"
-            out[key] = check_material_error(value, name)
-        return cls(**out)
+        return cls(**material_error_values(where, values))
 
     @classmethod
     def from_table(cls, table: Any, where: str = "tolerance") -> MaterialErrors:
@@ -80,15 +77,11 @@ class MaterialErrors:
 def _material_groups(design: Design) -> tuple[list[dict[str, Any]], list[tuple[str, str]]]:
     """The parts with a known susceptibility, and the (role, name) of each material."""
 
-    if design.medium is None or not design.materials:
-        raise InputError(
-            "tolerance: material errors need a physical design (a scene with [medium])"
-        )
-    legendre = tuple(design.field("magnetic"))
-    if len(legendre) > 2 and any(legendre[2:]):
-        raise InputError(
-            "tolerance: material errors are analysed for magnetic fields of degree <= 2"
-        )
+    check_material_analysis(
+        "tolerance",
+        design.medium is not None and bool(design.materials),
+        tuple(design.field("magnetic")),
+    )
     parts = [part for part in material_parts(design) if part["chi"] is not None]
     groups: list[tuple[str, str]] = []
     for part in parts:
@@ -113,11 +106,11 @@ def _perturbed_materials(
         out = dict(spec)
         chi = spec.get("volume_susceptibility", SUSCEPTIBILITY.get(out.get("name", "")))
         if chi is not None:
-            out["volume_susceptibility"] = chi * (1.0 + e["chi_relative"][j])
-        out["density_kg_per_m3"] = spec["density_kg_per_m3"] * (1.0 + e["density_relative"][j])
+            out["volume_susceptibility"] = chi * (1.0 + e[KEY.chi_relative][j])
+        out["density_kg_per_m3"] = spec["density_kg_per_m3"] * (1.0 + e[KEY.density_relative][j])
         if role == "magnet":
             out["remanent_magnetisation_A_per_m"] = spec["remanent_magnetisation_A_per_m"] * (
-                1.0 + e["magnetisation_relative"][j]
+                1.0 + e[KEY.magnetisation_relative][j]
             )
         return out
 
@@ -133,7 +126,7 @@ def _perturbed_materials(
         j = groups.index(("magnet", magnet["name"])) if ("magnet", magnet["name"]) in groups else -1
         if j >= 0:
             vol = design.magnet_volumes()
-            new_vol = vol / (1.0 + e["magnetisation_relative"][j])
+            new_vol = vol / (1.0 + e[KEY.magnetisation_relative][j])
             rho, new_rho = magnet["density_kg_per_m3"], materials["magnet"]["density_kg_per_m3"]
             # the attached ballast (mass beyond the magnet's own) keeps its mass
             arrays["dipole_volumes"] = new_vol
@@ -280,8 +273,7 @@ def material_uncertainty(
     parts, groups = _material_groups(design)
     rate = typical_rate(design.parameters)
     legendre = tuple(design.field("magnetic"))
-    if rate == 0 or not legendre:
-        raise InputError("tolerance: material errors need a magnetic field and a typical motion")
+    check_material_motion(rate, legendre)
     torque = design.parameters.C * rate**2 / 4.0
     gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
     per = np.zeros((len(groups), len(gammas)))
@@ -299,9 +291,12 @@ def material_uncertainty(
     }
     # first order: chi v of each material changes by e_chi - e_rho (e_chi - e_M for magnets)
     volume_error = np.array(
-        ["magnetisation_relative" if role == "magnet" else "density_relative" for role, _ in groups]
+        [
+            KEY.magnetisation_relative if role == "magnet" else KEY.density_relative
+            for role, _ in groups
+        ]
     )
-    delta = draws["chi_relative"].copy()
+    delta = draws[KEY.chi_relative].copy()
     for j, key in enumerate(volume_error):
         delta[:, j] -= draws[key][:, j]
     linear = np.ptp(nominal_energy[None] + delta @ per, axis=1) / torque

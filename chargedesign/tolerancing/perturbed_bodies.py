@@ -38,7 +38,6 @@ from chargedesign.tolerancing.common import (
     DEFAULT_T_END,
     DEFAULT_TARGET,
     quantile_summary,
-    sample_count,
 )
 from chargedesign.tolerancing.element_tolerances import (
     ToleranceReport,
@@ -53,7 +52,7 @@ from chargedesign.tolerancing.error_model import (
     standard_deviations,
 )
 from chargedesign.tolerancing.material_properties import MaterialErrors
-from chargedesign.validation import as_finite_float
+from chargedesign.validation import as_finite_float, sample_count
 
 
 @dataclass(repr=False)
