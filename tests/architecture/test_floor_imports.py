@@ -26,11 +26,8 @@ PACKAGE = Path(__file__).resolve().parents[2] / "chargedesign"
 FLOOR_MODULES = ("validation", "readers", "files", "limits", "errors", "formatting")
 BASE = frozenset(f"chargedesign.{m}" for m in ("vocabulary", "constants", "params", "results"))
 #: (floor module, imported module): kept on purpose, with the reason
-EXCEPTIONS: dict[tuple[str, str], str] = {
-    ("chargedesign.scene.load", "chargedesign.model.case_file"): "the [case] table's parser "
-    "builds sympy expressions: imported in the function that reads a [case], so sympy loads "
-    "only for a scene that carries one",
-}
+#: (none today: the [case] table's reader moved to the floor, chargedesign.scene.case_file)
+EXCEPTIONS: dict[tuple[str, str], str] = {}
 
 
 def module_name(path: Path) -> str:
