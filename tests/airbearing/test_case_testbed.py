@@ -234,3 +234,28 @@ def test_the_command_flies_a_case_and_says_which(
     assert "case kowalevski-testbed" in report
     assert not (out / "tilt_map.png").exists()  # a case has no tilt map yet: said in the report
     assert "tilt map" in report
+
+
+def test_the_theorem_entered_as_a_case_is_flown_as_the_theorem() -> None:
+    """The catalogue's Yehia-Elmandouh case file at the example testbed scene's parameters
+    (lambda = rho = 0): the case route's wheel command, I3 and F equal the theorem's own
+    route (compiled evaluators of the derived model, not the case file) at random states."""
+    table = tomllib.loads((CASES / "yehia_elmandouh.toml").read_text())["case"]
+    theorem = {"C": 0.5, "c": 0.3, "d": -0.4, "n": 0.21, "K": 0.15, "kappa": 0.081}
+    table["parameters"] = {**theorem, "lambda": 0, "rho": 0}
+    model = case_model(case_from_table(table))
+    assert model.conditional and model.level == 0.0
+    params = Parameters(**theorem)
+    body = np.diag([1.0, 1.0, 0.5])
+    J = body + np.diag([0.1, 0.2, 0.05])
+    by_case, by_theorem = Plant(params, J, J, model), Plant(params, J, J)
+    omega, gamma, h = _states(60, seed=11)
+    x = np.hstack([omega, gamma, h])
+    np.testing.assert_allclose(by_case.command(x), by_theorem.command(x), rtol=0, atol=1e-13)
+    I3_case, F = by_case.invariants(x[:, 0:6])
+    I3, I4 = by_theorem.invariants(x[:, 0:6])
+    np.testing.assert_allclose(I3_case, I3, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(F, I4, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        by_case.reduced_rhs(x[:, 0:6]), by_theorem.reduced_rhs(x[:, 0:6]), rtol=0, atol=1e-13
+    )
