@@ -30,7 +30,7 @@ from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
 
 if TYPE_CHECKING:
-    from chargedesign.designer.case_design import CaseDesignResult
+    from chargedesign.designer.case_design import CaseDesignResult, CaseElementsResult
     from chargedesign.model.case_file import CaseCertificate
     from chargedesign.model.catalogue import CatalogueReport
 
@@ -87,7 +87,7 @@ def design(
     fields: Mapping[str, Any] | None = None,
     body: Mapping[str, Any] | None = None,
     **options: Any,
-) -> DesignResult | CaseDesignResult:
+) -> DesignResult | CaseDesignResult | CaseElementsResult:
     """Design the body a scene describes (charges, dipoles, masses that realise the case).
 
     Parameters
@@ -104,10 +104,12 @@ def design(
 
     Returns
     -------
-    DesignResult or CaseDesignResult
+    DesignResult, CaseDesignResult or CaseElementsResult
         ``result.design`` is the body (:class:`~chargedesign.body.Design`); a scene with
         ``[case]`` gives a :class:`~chargedesign.designer.case_design.CaseDesignResult`
-        (masses in gravity, the case's certificate).
+        (masses in gravity, the case's certificate) or, for a case masses alone do not
+        realise, a :class:`~chargedesign.designer.case_design.CaseElementsResult` (charges,
+        dipoles and masses).
 
     Raises
     ------

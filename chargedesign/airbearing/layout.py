@@ -29,7 +29,6 @@ from chargedesign.airbearing.bearing import (
 from chargedesign.airbearing.dynamics import motion_rate
 from chargedesign.airbearing.loop import initial_state
 from chargedesign.airbearing.mounts import Mounts, radial_posts
-from chargedesign.airbearing.options import TestbedOptions, cup_drag, cup_half_angle
 from chargedesign.airbearing.platform import (
     Ballast,
     Platform,
@@ -38,10 +37,13 @@ from chargedesign.airbearing.platform import (
     polished,
 )
 from chargedesign.airbearing.wheels import WheelGeometry, wheel_geometry
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
+from chargedesign.physical.drag import cup_drag, cup_half_angle
 from chargedesign.physical.state_of_the_art import FULL_SPHERE
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import TestbedOptions
 
 #: the turns of the motion the tilt is first read over (the horizon then doubles)
 BASE_TURNS = 10.0
@@ -95,12 +97,7 @@ def plan_motions(params: Parameters, opts: TestbedOptions) -> Plan:
         axis = best_axis([sampled.gammas])
         tilt = float(tilt_deg(axis, sampled.gammas).max())
         if tilt > limit:
-            raise InputError(
-                f"testbed.initial_gamma: the scene's start needs {fmt(tilt, PRECISE)} deg of "
-                f"tilt (best pedestal axis, over {fmt(sampled.horizon_s, PLAIN)} s), the "
-                f"{opts.bearing} bearing allows {fmt(limit, PLAIN)} deg; "
-                f"{_alternatives(params, opts)}"
-            )
+            opts.check_start_tilt(tilt, limit, sampled.horizon_s, _alternatives(params, opts))
         motion = PlannedMotion(
             x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
         )
@@ -165,12 +162,12 @@ class Layout:
         """testbed.json's ``bearing``."""
         out: dict[str, Any] = {
             "style": self.style,
-            "tilt_limit_deg": self.tilt_limit_deg,
+            KEY.tilt_limit_deg: self.tilt_limit_deg,
             "pedestal_axis": self.axis.tolist(),
             "keep_out": None if self.cone is None else self.cone.to_dict(),
             "source": self.source,
             "ball_radius_m": opts.bearing_radius_m,
-            "pedestal_radius_m": opts.pedestal_radius if self.cone is not None else None,
+            KEY.pedestal_radius_m: opts.pedestal_radius if self.cone is not None else None,
             "load_rating_kg": opts.capacity_kg,
             "load_kg": total_mass,
         }

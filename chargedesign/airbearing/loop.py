@@ -32,7 +32,7 @@ import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant, advance, cross, invariants
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.errors import InputError, SolverError
+from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
@@ -148,7 +148,8 @@ def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> 
     """``(p, q, r, gamma)`` on I3 = 0: r solved from ``(I omega + l) . gamma = 0``."""
     g = np.asarray(gamma, float) / np.linalg.norm(gamma)
     if abs(g[2]) < 1e-8:
-        raise InputError("testbed.initial_gamma: gamma3 must be non-zero to solve r from I3 = 0")
+        # the scene's start is refused at reading (TestbedOptions): a caller's misuse here
+        raise ValueError("initial_state: gamma3 must be non-zero to solve r from I3 = 0")
     l_vec = evaluators.angular_potential(g, params)
     C = params.C
     r = -(2.0 * C * (p * g[0] + q * g[1]) + float(l_vec @ g)) / (C * g[2])

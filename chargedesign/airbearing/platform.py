@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.scene.testbed import TestbedOptions
 
 #: the upper triangle of a symmetric 3x3 matrix (row, column)
 _UPPER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))

@@ -18,13 +18,14 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.airbearing.options import SOURCES
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.physical.state_of_the_art import UNVERIFIED
 from chargedesign.results import format_length
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import SOURCES
 
 #: the files a testbed run writes (the picture and animation when they can be drawn)
 OUTPUTS = (
@@ -549,7 +550,7 @@ def _platform_section(result: TestbedResult) -> list[str]:
         f"- for I4 within {fmt(o.target_I4_drift, PLAIN)} over {fmt(o.t_end_s, PLAIN)} s: A - B"
         " within "
         f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2, products within {fmt(products)} "
-        f"kg m^2, centre of mass within {format_length(tol['imbalance_m'])} of O; the tightest "
+        f"kg m^2, centre of mass within {format_length(tol[KEY.imbalance_m])} of O; the tightest "
         f"part (number {tightest}) placed within "
         f"{format_length(float(place['binding'][tightest]))} ({why} binds).",
         "",
@@ -606,7 +607,7 @@ def _loop_section(result: TestbedResult) -> list[str]:
         f"Drag alone would drift I4 by {fmt(tol['drag_drift'])}, the imbalance by "
         f"{fmt(tol['imbalance_drift'])} (linear response along the planned motion): the target "
         f"needs the drag below {fmt(tol['drag_max_N_m_s'])} N m s and the centre of mass within "
-        f"{format_length(tol['imbalance_m'])} of O (each alone using the whole target).",
+        f"{format_length(tol[KEY.imbalance_m])} of O (each alone using the whole target).",
         "",
     ]
 

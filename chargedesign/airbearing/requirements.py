@@ -16,6 +16,7 @@ import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, run_loop
+from chargedesign.scene.keys import KEY
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,7 @@ class Requirements:
 
     def to_dict(self) -> dict:
         return {
-            "target_I4_drift": self.target,
+            KEY.target_I4_drift: self.target,
             "rates_Hz": list(self.rates_Hz),
             "delays_s": list(self.delays_s),
             "I4_relative_drift": {g: self.drift[i].tolist() for i, g in enumerate(self.grades)},

@@ -11,7 +11,6 @@ from chargedesign.airbearing.bearing import TiltMap
 from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.airbearing.layout import Layout, Plan
 from chargedesign.airbearing.loop import LoopRun
-from chargedesign.airbearing.options import SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
 from chargedesign.airbearing.verdict import Requirement, Verdict, Window
@@ -19,6 +18,8 @@ from chargedesign.airbearing.wheels import PlannedNeeds, WheelNeeds
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, format_length, json_ready
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import SOURCES, TestbedOptions
 
 
 def _quantiles(x: np.ndarray) -> dict[str, float]:
@@ -113,20 +114,20 @@ class TestbedResult(Result):
         nominal = self.runs["nominal"]
         return {
             "initial_state": self.initial_state.tolist(),
-            "t_end_s": o.t_end_s,
+            KEY.t_end_s: o.t_end_s,
             "turns": self.turns,
             "command": o.command,
             **{name: self._loop(name) for name in self.runs},
             "wheel_momentum_max_N_m_s": float(nominal.wheel_momentum_max.max()),
             "wheel_torque_max_N_m": float(nominal.wheel_torque_max.max()),
             "wheel_needs": self._wheel_needs(),
-            "planned_motions": [
+            KEY.planned_motions: [
                 {"initial_state": start, **_needs(motion), **self._tilt(k)}
                 for k, (start, motion) in enumerate(
                     zip(self.planned.starts, self.planned.motions, strict=True)
                 )
             ],
-            "target_I4_drift": o.target_I4_drift,
+            KEY.target_I4_drift: o.target_I4_drift,
             "t_simulated_s": self.runs["nominal"].t_simulated_s,
             **self._estimation(),
         }
@@ -207,22 +208,22 @@ class TestbedResult(Result):
                 "wheels": {
                     "axes": self.wheel_axes,
                     **self._wheel_layout(),
-                    "max_torque_N_m": torque,
-                    "max_momentum_N_m_s": momentum,
-                    "torque_resolution_N_m": resolution,
-                    "motor_bandwidth_Hz": o.motor_bandwidth_Hz,  # null: ideal torque sources
+                    KEY.max_torque_N_m: torque,
+                    KEY.max_momentum_N_m_s: momentum,
+                    KEY.torque_resolution_N_m: resolution,
+                    KEY.motor_bandwidth_Hz: o.motor_bandwidth_Hz,  # null: ideal torque sources
                     "friction_N_m": o.wheel_friction_N_m or 0.0,
                 },
-                "control": {"rate_Hz": o.rate_Hz, "delay_s": o.delay_s, "command": o.command},
+                "control": {KEY.rate_Hz: o.rate_Hz, KEY.delay_s: o.delay_s, "command": o.command},
                 "sensors": {
-                    "gyro_grade": o.gyro_grade,
-                    "gyro_arw_rad_per_sqrt_s": arw,
-                    "gyro_bias_rad_per_s": bias,
-                    "attitude_sensor": o.attitude_sensor,
-                    "attitude_noise_rad": o.attitude[0],
-                    "attitude_rate_Hz": o.attitude[1],
+                    KEY.gyro_grade: o.gyro_grade,
+                    KEY.gyro_arw_rad_per_sqrt_s: arw,
+                    KEY.gyro_bias_rad_per_s: bias,
+                    KEY.attitude_sensor: o.attitude_sensor,
+                    KEY.attitude_noise_rad: o.attitude[0],
+                    KEY.attitude_rate_Hz: o.attitude[1],
                 },
-                "disturbances": {"imbalance_m": o.imbalance_m, "drag_N_m_s": o.drag},
+                "disturbances": {KEY.imbalance_m: o.imbalance_m, KEY.drag_N_m_s: o.drag},
                 "inertia_total_kg_m2": self.inertia_total,
                 "com_total_m": self.com_total,
                 "total_mass_kg": self.total_mass,
@@ -329,7 +330,7 @@ class TestbedResult(Result):
         tol = self.tolerances
         lines.append(
             f"for {self.monitored} within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
-            f"{format_length(tol['imbalance_m'])} of O, bearing drag below "
+            f"{format_length(tol[KEY.imbalance_m])} of O, bearing drag below "
             f"{fmt(tol['drag_max_N_m_s'])} N m s (now {fmt(o.drag)}), A - B within "
             f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2"
         )

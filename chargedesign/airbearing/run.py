@@ -30,7 +30,6 @@ from chargedesign.airbearing.layout import (
     plan_motions,
 )
 from chargedesign.airbearing.loop import STEP_FRACTION, LoopSettings, initial_state, run_loop
-from chargedesign.airbearing.options import GYRO_GRADES, SOURCES, TestbedOptions
 from chargedesign.airbearing.platform import total_com, total_inertia
 from chargedesign.airbearing.requirements import requirements
 from chargedesign.airbearing.result import TestbedResult
@@ -57,6 +56,8 @@ from chargedesign.physical.state_of_the_art import (
     ROOM_AIR,
     room_air_torque,
 )
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import GYRO_GRADES, SOURCES, TestbedOptions
 
 #: the gyro's bias is averaged at rest this long before a run (s)
 BIAS_CALIBRATION_S = 60.0
@@ -126,20 +127,17 @@ def build_testbed(
     InputError
         Singular parameters, a start beyond the bearing's tilt limit, work past a cap, a
         torque step above the range, or a platform with ballast heavier than the bearing's
-        rating.
+        rating (each refused by the options' own check, :mod:`chargedesign.scene.testbed`).
     InfeasibleError
         No ballast reaches the inertia, or wheels too weak for the motion.
     """
     say = progress or (lambda message: None)
-    if params.singular:
-        raise InputError(
-            "testbed: lambda and rho must be 0 (their torques are singular on gamma3 = 0)"
-        )
+    opts.check_parameters(params.singular)
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts, case)
     plan = plan_motions(params, opts) if case is None else case_plan(params, case, opts)
-    seconds["planned_motions"] = time.perf_counter() - t0
+    seconds[KEY.planned_motions] = time.perf_counter() - t0
     hosted = None  # a case's tilt map needs its own bifurcation diagram: not drawn yet
     if case is None:
         t0 = time.perf_counter()
@@ -164,12 +162,7 @@ def build_testbed(
     layout = build_layout(params, opts, plan.axis, axes, limits[1])
     platform, ballast = layout.platform, layout.ballast
     total_mass = platform.mass_kg + ballast.total_mass
-    if total_mass > opts.capacity_kg:
-        raise InputError(
-            "testbed.bearing_capacity_kg: the platform with its ballast and posts"
-            f" ({fmt(total_mass, PRECISE)} kg) is heavier than the {opts.bearing} bearing's "
-            f"rating ({fmt(opts.capacity_kg, PLAIN)} kg)"
-        )
+    opts.check_capacity(total_mass)
     inertia = total_inertia(platform, ballast)
     plant = Plant(params, inertia, target, case)
     x0 = starts[0]
@@ -352,7 +345,7 @@ def against_state_of_the_art(
         Requirement(
             "centre_of_mass_offset_m",
             "tolerance",
-            tolerances["imbalance_m"],
+            tolerances[KEY.imbalance_m],
             residual + mounts_part,
             "m",
             offset_source,
@@ -366,7 +359,7 @@ def against_state_of_the_art(
             "N m s",
             "the scene's drag_N_m_s"
             if opts.drag_N_m_s is not None
-            else SOURCES["drag_N_m_s"]
+            else SOURCES[KEY.drag_N_m_s]
             + (
                 "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
                 if opts.bearing == "full_sphere"
@@ -376,7 +369,7 @@ def against_state_of_the_art(
         Requirement(
             "room_air_torque_N_m",
             "tolerance",
-            weight * tolerances["imbalance_m"],
+            weight * tolerances[KEY.imbalance_m],
             room_air_torque(opts.platform_radius_m),
             "N m",
             "; ".join(f.source for f in ROOM_AIR.values()),
@@ -533,23 +526,7 @@ def check_loop_work(
         )[:3]
     terms = rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
     rate = max(max(terms.values()), 1e-12)
-    cause = max(terms, key=lambda k: terms[k])
-    max_step = STEP_FRACTION / rate
-    for loop_rate in (opts.rate_Hz, *opts.requirement_rates_Hz):
-        T = 1.0 / loop_rate
-        periods = max(1, round(opts.t_end_s * loop_rate))
-        delay = min(opts.delay_s, 0.5 * T)
-        per = math.ceil(delay / max_step) + math.ceil((T - delay) / max_step)
-        per += math.ceil(delay / max_step) + math.ceil(T / max_step)  # the predictive command
-        steps = periods * per
-        if steps > opts.max_loop_steps or not math.isfinite(rate):
-            raise InputError(
-                f"testbed: {cause} makes the motion's fastest rate {fmt(rate, PRECISE)} 1/s, "
-                f"so {fmt(opts.t_end_s, PLAIN)} s at {fmt(loop_rate, PLAIN)} Hz needs "
-                f"{float(steps):.3g} integration steps, more than testbed.max_loop_steps = "
-                f"{opts.max_loop_steps}; give a slower start or smaller parameters, a shorter "
-                "t_end_s, or raise testbed.max_loop_steps"
-            )
+    opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
 
 
 def case_start(case: CaseModel, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
@@ -644,8 +621,8 @@ def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mas
     parts = part_tolerances(sens, ballast, plant, target, mass)
     drag_drift = (1.0 - opts.drag_feedforward) * opts.drag * sens.drag_per_unit
     return {
-        "target_I4_drift": target,
-        "imbalance_m": target / sens.imbalance_per_m,
+        KEY.target_I4_drift: target,
+        KEY.imbalance_m: target / sens.imbalance_per_m,
         "imbalance_drift": opts.imbalance_m * sens.imbalance_per_m,
         "drag_drift": drag_drift,
         "drag_max_N_m_s": target / sens.drag_per_unit,

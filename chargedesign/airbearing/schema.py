@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from chargedesign.scene.keys import KEY
+
 _NUMBER = {"type": "number"}
 _NONNEG = {"type": "number", "minimum": 0}
 _POSITIVE = {"type": "number", "exclusiveMinimum": 0}
@@ -35,7 +37,7 @@ def _results_schema() -> dict[str, Any]:
     index = {"type": "integer", "minimum": 0}
     contract = {
         "initial_state": state,
-        "t_end_s": _POSITIVE,
+        KEY.t_end_s: _POSITIVE,
         "zoh_noise_free": drift,
         "nominal": nominal,
         "wheel_momentum_max_N_m_s": _NONNEG,
@@ -49,7 +51,7 @@ def _results_schema() -> dict[str, Any]:
                 {**needs, "torque_motion": index, "momentum_motion": index, "motions": index}
             ),
             # each planned motion's start (the loop's first), its needs, its largest tilt
-            "planned_motions": {
+            KEY.planned_motions: {
                 "type": "array",
                 "minItems": 1,
                 "items": _object(
@@ -61,9 +63,9 @@ def _results_schema() -> dict[str, Any]:
                     }
                 ),
             },
-            "target_I4_drift": _POSITIVE,
+            KEY.target_I4_drift: _POSITIVE,
         },
-        [*contract, "planned_motions", "target_I4_drift"],
+        [*contract, KEY.planned_motions, KEY.target_I4_drift],
     )
 
 
@@ -73,7 +75,7 @@ def _bearing_schema() -> dict[str, Any]:
     return _object(
         {
             "style": {"enum": ["tabletop", "umbrella", "full_sphere"]},
-            "tilt_limit_deg": {"type": "number", "exclusiveMinimum": 0, "maximum": 180},
+            KEY.tilt_limit_deg: {"type": "number", "exclusiveMinimum": 0, "maximum": 180},
             "pedestal_axis": _VECTOR,
             "keep_out": {"oneOf": [cone, {"type": "null"}]},
             "source": {"type": "string"},
@@ -122,21 +124,21 @@ def output_schema() -> dict[str, Any]:
         "wheels": _object(
             {
                 "axes": {"type": "array", "items": _VECTOR, "minItems": 3},
-                "max_torque_N_m": _POSITIVE,
-                "max_momentum_N_m_s": _POSITIVE,
+                KEY.max_torque_N_m: _POSITIVE,
+                KEY.max_momentum_N_m_s: _POSITIVE,
                 "positions": {"type": "array", "items": _VECTOR, "minItems": 3},
                 "radii": {"type": "array", "items": _POSITIVE, "minItems": 3},
             }
         ),
-        "control": _object({"rate_Hz": _POSITIVE, "delay_s": _NONNEG}),
+        "control": _object({KEY.rate_Hz: _POSITIVE, KEY.delay_s: _NONNEG}),
         "sensors": _object(
             {
-                "gyro_arw_rad_per_sqrt_s": _NONNEG,
-                "gyro_bias_rad_per_s": _NONNEG,
-                "attitude_noise_rad": _NONNEG,
+                KEY.gyro_arw_rad_per_sqrt_s: _NONNEG,
+                KEY.gyro_bias_rad_per_s: _NONNEG,
+                KEY.attitude_noise_rad: _NONNEG,
             }
         ),
-        "disturbances": _object({"imbalance_m": _NONNEG, "drag_N_m_s": _NONNEG}),
+        "disturbances": _object({KEY.imbalance_m: _NONNEG, KEY.drag_N_m_s: _NONNEG}),
         "inertia_total_kg_m2": _MATRIX,
         "results": results,
         "bearing": _bearing_schema(),

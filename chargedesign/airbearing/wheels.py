@@ -20,12 +20,12 @@ import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import continuous_loop, initial_state
-from chargedesign.airbearing.options import TestbedOptions
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.state_of_the_art import MOUNT_MATERIALS, REACTION_WHEELS
+from chargedesign.scene.testbed import TestbedOptions
 
 #: the seed of the further planned starts (fixed: the same scene plans the same motions)
 PLANNED_SEED = 20261126
@@ -290,14 +290,7 @@ def wheel_limits(planned: PlannedNeeds, opts: TestbedOptions) -> tuple[float, fl
     torque = torque if torque is not None else opts.wheel_margin * planned.torque
     momentum = momentum if momentum is not None else opts.wheel_margin * planned.momentum
     resolution = opts.torque_resolution_N_m or 2.0 * torque / 2**16
-    if resolution > planned.torque / 10.0:
-        key = "torque_resolution_N_m" if opts.torque_resolution_N_m else "max_torque_N_m"
-        raise InputError(
-            f"testbed.{key}: the torque step {fmt(resolution, PRECISE)} N m is more than a tenth "
-            f"of the most torque a planned motion needs ({fmt(planned.torque, PRECISE)} N m): "
-            "the commands would round to a few levels or to zero (an open loop); give a finer "
-            "torque_resolution_N_m or a max_torque_N_m nearer the need"
-        )
+    opts.check_torque_step(resolution, planned.torque)
     return torque, momentum, resolution
 
 

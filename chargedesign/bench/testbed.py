@@ -29,13 +29,15 @@ import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_state, run_loop
-from chargedesign.airbearing.options import GYRO_GRADES, bearing_drag
 from chargedesign.airbearing.report import write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.bench.common import BenchTable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
+from chargedesign.physical.drag import bearing_drag
 from chargedesign.scene import load_scene
+from chargedesign.scene.keys import KEY
+from chargedesign.scene.testbed import GYRO_GRADES
 
 #: examples/scenes/unit_scale.toml's parameters
 UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
@@ -151,7 +153,7 @@ def monte_carlo(quick: bool) -> BenchTable:
 
 def embedded_command(quick: bool) -> BenchTable:
     """``chargedesign testbed`` on the embedded scene: the stages' seconds and the total."""
-    overrides: dict[str, Any] = {"t_end_s": 5.0, "seeds": 4} if quick else {}
+    overrides: dict[str, Any] = {KEY.t_end_s: 5.0, "seeds": 4} if quick else {}
     t0 = time.perf_counter()
     result = testbed_from_scene(load_scene(default_testbed_scene()), **overrides)
     built = time.perf_counter() - t0

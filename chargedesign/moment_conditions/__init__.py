@@ -38,7 +38,9 @@ Modules (each imports only those above it):
 - :mod:`~chargedesign.moment_conditions.scene`: :func:`conditions_for_scene`, :func:`scene_length`,
   :func:`realise_from_scene`;
 - :mod:`~chargedesign.moment_conditions.level`: the level of I3 (``l . gamma`` of the charges);
-- :mod:`~chargedesign.moment_conditions.audit`: :func:`audit_p6`, the paper's printed conditions.
+- :mod:`~chargedesign.moment_conditions.audit`: :func:`audit_p6`, the paper's printed conditions;
+- :mod:`~chargedesign.moment_conditions.case`: ``derive_case_conditions``, the same steps for a
+  case of (ep) with polynomial V and mu (the workbench).
 """
 
 from chargedesign.moment_conditions.audit import audit_p6

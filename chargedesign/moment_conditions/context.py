@@ -25,6 +25,10 @@ class DerivationContext:
     length: Fraction = Fraction(1)  # body length scale (m) for default strengths
     length_given: bool = False
     defaults: dict[str, Fraction] = field(default_factory=dict)  # strengths chosen by default
+    #: a case's V on the sphere (harmonic label -> (exact coefficient, text)); None: the theorem's
+    v_target: dict[str, tuple[Fraction, str]] | None = None
+    #: which source realises each degree of V (None: DEGREE_PREFERENCE / DEFAULT_PREFERENCE)
+    preference: dict[int, tuple[str, ...]] | None = None
 
     def coefficient(self, kind: str, k: int) -> Fraction:
         coeffs = self.fields.get(kind, [])

@@ -49,7 +49,7 @@ def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
     return tuple(k for k in REALISABLE if k in items)
 
 
-def _validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
+def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
     if fields is None:
         return {}
     if not isinstance(fields, Mapping):
@@ -128,7 +128,7 @@ def derive_conditions(
     if not isinstance(params, Parameters):
         raise TypeError(f"params: expected a Parameters, got {type(params).__name__}")
     goals = validate_realise(realise, "realise")
-    given = _validate_fields(fields)
+    given = validate_fields(fields)
     if length is not None:
         length = as_finite_float(length, "length", positive=True)
     _refuse_singular(params, goals)
@@ -147,8 +147,8 @@ def derive_conditions(
     )
     origin = _derive_missing_fields(ctx, given, goals)
     _run_steps(ctx, given, goals)
-    conditions = _rounded_conditions(ctx)
-    out_fields = _output_fields(ctx, origin)
+    conditions = rounded_conditions(ctx)
+    out_fields = output_fields(ctx, origin)
     return LinearConditions(
         conditions=conditions,
         fields=out_fields,
@@ -244,7 +244,7 @@ def _run_steps(
         ctx.notes.append("charges: mu is not realised; their moments serve V only")
 
 
-def _rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
+def rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
     """The rows of every source's system, rounded to floats (with exact text when exact)."""
     exact = ctx.exact
     conditions = []
@@ -266,7 +266,7 @@ def _rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
     return conditions
 
 
-def _output_fields(
+def output_fields(
     ctx: DerivationContext, origin: Mapping[str, str]
 ) -> dict[str, tuple[float, ...]]:
     """Every field kind's coefficients as floats (trailing zeros dropped); with ``exact``,

@@ -46,6 +46,32 @@ class _MuEquation:
 
 
 @cache
+def physical_mu_rows(
+    degree: int, kmax: int
+) -> tuple[dict[str, dict[str, dict[int, Fraction]]], ...]:
+    """The charges' ``mu = -sum q (r . B) r`` on the sphere in the harmonic basis up to
+    ``kmax``, per component: ``{harmonic label: {moment key: {k: coefficient of f_k}}}``
+    (symbolic field coefficients f_1..f_degree; cached)."""
+    import sympy as sp
+
+    x, y, z, Z, S = body_coordinates()
+    fs = field_symbols(degree)
+    phi = sum(f * zonal_solid_harmonic(k, Z, S) for k, f in enumerate(fs, start=1))
+    B = [-sp.diff(phi, v) for v in (x, y, z)]
+    r_dot_B = x * B[0] + y * B[1] + z * B[2]
+    out = []
+    for ra in (x, y, z):
+        physical = cartesian_split(-r_dot_B * ra)
+        rows: dict[str, dict[str, dict[int, Fraction]]] = {}
+        for key, per_k in physical.items():
+            for k, gpoly in per_k.items():
+                for label, coef in project_on_harmonics(gpoly, kmax).items():
+                    rows.setdefault(label, {}).setdefault(key, {})[k] = coef
+        out.append(rows)
+    return tuple(out)
+
+
+@cache
 def mu_system(degree: int) -> tuple[_MuEquation, ...]:
     """The coefficient-matching equations of the charges' mu for a magnetic field of
     ``degree`` (symbolic field coefficients f_1..f_degree; cached per degree).
@@ -59,21 +85,10 @@ def mu_system(degree: int) -> tuple[_MuEquation, ...]:
 
     from chargedesign.model.case import symbolic_case
 
-    x, y, z, Z, S = body_coordinates()
-    fs = field_symbols(degree)
-    phi = sum(f * zonal_solid_harmonic(k, Z, S) for k, f in enumerate(fs, start=1))
-    B = [-sp.diff(phi, v) for v in (x, y, z)]
-    r_dot_B = x * B[0] + y * B[1] + z * B[2]
     kmax = max(degree, 2)
     target = symbolic_case().mu
     equations = []
-    for a, ra in enumerate((x, y, z)):
-        physical = cartesian_split(-r_dot_B * ra)
-        rows: dict[str, dict[str, dict[int, Fraction]]] = {}
-        for key, per_k in physical.items():
-            for k, gpoly in per_k.items():
-                for label, coef in project_on_harmonics(gpoly, kmax).items():
-                    rows.setdefault(label, {}).setdefault(key, {})[k] = coef
+    for a, rows in enumerate(physical_mu_rows(degree, kmax)):
         theorem = project_on_harmonics(gamma_poly(target[a]), kmax)
         harmonics = {h.label: h for kk in range(kmax + 1) for h in real_solid_harmonics(kk)}
         for label in [h.label for kk in range(kmax + 1) for h in real_solid_harmonics(kk)]:

@@ -123,11 +123,19 @@ def _degree_description(k: int, P: Sequence[Fraction]) -> str:
     return "; ".join(parts) if parts else "no target terms"
 
 
+def v_target(ctx: DerivationContext) -> dict[str, tuple[Fraction, str]]:
+    """V on the sphere, harmonic label -> (exact coefficient, its text): a case's own
+    (``ctx.v_target``) or the theorem's at the derivation's parameters."""
+    if ctx.v_target is not None:
+        return ctx.v_target
+    return {label: (poly(ctx.P), poly.text) for label, poly in v_projection().items()}
+
+
 def realise_degree(ctx: DerivationContext, k: int) -> None:
     """Assign the degree-k part of V to one source; make the others contribute their least."""
-    proj = v_projection()
+    proj = v_target(ctx)
     harmonics = real_solid_harmonics(k)
-    target = [proj[h.label](ctx.P) if h.label in proj else Fraction(0) for h in harmonics]
+    target = [proj[h.label][0] if h.label in proj else Fraction(0) for h in harmonics]
     weights = [h.weight for h in harmonics]
     present = list(ctx.systems)
     carriers = [
@@ -135,7 +143,8 @@ def realise_degree(ctx: DerivationContext, k: int) -> None:
         for s in present
         if ctx.coefficient(SOURCE_FIELD[s], k) != 0 or SOURCE_FIELD[s] in ctx.derivable
     ]
-    preference = DEGREE_PREFERENCE.get(k, DEFAULT_PREFERENCE)
+    table = DEGREE_PREFERENCE if ctx.preference is None else ctx.preference
+    preference = table.get(k, DEFAULT_PREFERENCE)
     options: list[str | None] = [s for s in preference if s in carriers]
     if not options:
         options = [None]
@@ -148,7 +157,9 @@ def realise_degree(ctx: DerivationContext, k: int) -> None:
             reasons.append(
                 f"{s}: fields.{kind} has no degree-{k} term ({field_coefficient_name(kind, k)} = 0)"
             )
-    description = _degree_description(k, ctx.P)
+    description = (
+        _degree_description(k, ctx.P) if ctx.v_target is None else f"the case's degree-{k} part"
+    )
     for designated in options:
         trial = {s: ctx.systems[s].copy() for s in present}
         remainder = list(target)
@@ -273,13 +284,14 @@ def _designate(
         if any(scaled):
             return False, f"{source}: fields.{kind} {name} = 0"
         return True, ""
-    proj = v_projection()
+    proj = v_target(ctx)
+    whose = "theorem's" if ctx.v_target is None else "case's"
     for (h, L), value in zip(funcs, scaled, strict=True):
-        theorem = proj[h.label].text if h.label in proj else "0"
+        theorem = proj[h.label][1] if h.label in proj else "0"
         trial[source].add_display(
             L,
             value / f,
-            f"V degree {k}: {source} in fields.{kind} {name} realise the theorem's "
+            f"V degree {k}: {source} in fields.{kind} {name} realise the {whose} "
             f"coefficient {theorem} of the harmonic {h.text}",
         )
     if any(scaled):

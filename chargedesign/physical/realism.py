@@ -40,6 +40,7 @@ from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
+    BUILDER_BALANCE_M,
     CONDUCTIVITY,
     GAS_PROPERTIES,
     INSULATOR_CONDUCTIVITY,
@@ -995,3 +996,88 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
         **response,
         **({K_LAW_KEY: law} if law else {}),
     }
+
+
+# --- a case of (ep) (the workbench): its own terms and rate, not the theorem's ---------------
+
+#: orientations on which a case's realised terms are sized
+CASE_TERM_ORIENTATIONS = 512
+
+
+def case_terms(design: Any, functions: Any) -> dict[str, Any]:
+    """The realised terms of a case body and its typical rate, from the case's own V and mu.
+
+    ``functions``: :class:`chargedesign.model.case_numeric.CaseFunctions`. The potential term is
+    the largest ``|gamma x dV/dgamma|`` over the sphere (N m); the gyroscopic term
+    ``omega_typ max |mu|`` (N m), with the typical rate ``omega_typ = max(sqrt(T_V / C_min),
+    max |mu| / C_min)`` (rad/s): the rate at which the kinetic terms match the forces (a case
+    has no time parameter of its own). Terms that are zero are left out.
+    """
+    gammas = fibonacci_sphere(CASE_TERM_ORIENTATIONS)
+    potential = float(
+        np.max(np.linalg.norm(np.cross(gammas, functions.potential_gradient(gammas)), axis=1))
+    )
+    gyro = float(np.max(np.linalg.norm(functions.gyroscopic(gammas), axis=1)))
+    c_min = float(np.min(np.diag(functions.inertia)[np.diag(functions.inertia) > 0]))
+    rate = max(math.sqrt(potential / c_min), gyro / c_min)
+    terms = {"potential_torque": potential, "gyroscopic_torque": gyro * rate}
+    return {"rate_rad_s": rate, "terms": {k: v for k, v in terms.items() if v > 0}}
+
+
+def case_realism_budget(design: Any, functions: Any) -> dict[str, Any]:
+    """The realism budget of a case body of point elements: each parasitic of the charges and
+    masses over the case's smallest realised term (:func:`case_terms`), at its typical rate.
+
+    Items: the charges' Larmor radiation over ``omega`` (``q^2 omega^3 r^2 / (6 pi eps0 c^3)``),
+    their self-field ``mu0 |q| omega / (4 pi r)`` over the applied ``|B|``, ``(v / c)^2`` of
+    the fastest element, and gravity on the builder's balance ``M g delta`` (``delta`` =
+    BUILDER_BALANCE_M). A verdict is "negligible" below 1e-3 of the term.
+    """
+
+    sized = case_terms(design, functions)
+    rate = sized["rate_rad_s"]
+    if not sized["terms"]:
+        return {"rate_rad_s": rate, "term_key": None, "term_N_m": 0.0, "items": {}}
+    term_key = min(sized["terms"], key=sized["terms"].get)
+    term = sized["terms"][term_key]
+    positions, masses = design.all_masses()
+    every = np.concatenate(
+        [np.asarray(p, dtype=float).reshape(-1, 3) for p in (positions, design.charge_positions)]
+    )
+    r_max = float(np.max(np.linalg.norm(every, axis=1), initial=0.0))
+    q = np.asarray(design.charge_values, dtype=float)
+    radii = np.linalg.norm(np.asarray(design.charge_positions, dtype=float).reshape(-1, 3), axis=1)
+    radiation = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
+        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
+    )
+    legendre = tuple(design.field("magnetic"))
+    applied = float(field_magnitude_max(legendre, np.array([r_max]))[0]) if legendre else 0.0
+    inverse = np.where(radii > 0, 1.0 / np.where(radii > 0, radii, 1.0), 0.0)
+    b_self = MU_0 / (4 * math.pi) * float(np.sum(np.abs(q) * rate * inverse))
+    items = {
+        "radiation": _item(
+            radiation / rate / term,
+            "of the term",
+            _verdict(radiation / rate / term, 1e-3),
+            "Larmor power of the charges over omega",
+        ),
+        "self_field": _item(
+            b_self / applied if applied > 0 else 0.0,
+            "of the applied |B|",
+            _verdict(b_self / applied if applied > 0 else 0.0, 1e-3),
+            "the moving charges' own field mu0 |q| omega / (4 pi r)",
+        ),
+        "relativistic": _item(
+            (rate * r_max / LIGHT_SPEED) ** 2,
+            "(v/c)^2",
+            _verdict((rate * r_max / LIGHT_SPEED) ** 2, 1e-3),
+            "the fastest element's speed",
+        ),
+        "gravity_balance": _item(
+            float(np.sum(masses)) * STANDARD_GRAVITY * BUILDER_BALANCE_M / term,
+            "of the term",
+            _verdict(float(np.sum(masses)) * STANDARD_GRAVITY * BUILDER_BALANCE_M / term, 1e-3),
+            f"M g delta on the builder's balance (delta = {BUILDER_BALANCE_M} m)",
+        ),
+    }
+    return {"rate_rad_s": rate, "term_key": term_key, "term_N_m": term, "items": items}

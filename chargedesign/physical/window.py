@@ -42,12 +42,11 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.airbearing.options import SOURCES as TESTBED_SOURCES
-from chargedesign.airbearing.options import TestbedOptions, cup_drag
 from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
+from chargedesign.physical.drag import cup_drag
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.physical.realism import (
@@ -61,6 +60,7 @@ from chargedesign.physical.realism import (
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
+from chargedesign.scene.keys import KEY, declared, default_of
 
 #: the default fraction of each designed term every parasitic must stay below
 REALISED_FRACTION = 1e-3
@@ -282,26 +282,26 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
 def support_of(region: float, rate: float, term: float) -> dict[str, Any]:
     """The fixed point O the motion needs, as the testbed builds it: a full-sphere air bearing
     (the body inside a ball of the body region's radius floating in a cup), and its cup's
-    air-film drag ``b |omega|`` (``b`` the testbed's Couette film, ``airbearing.options.
+    air-film drag ``b |omega|`` (``b`` the testbed's Couette film, ``physical.drag.
     cup_drag``, at its default film) at the typical rate, over the smallest realised term.
     Stated beside the window, not one of its items (``in_window`` False): the drag falls
     like ``1/s`` over the terms and, for the bodies the search finds, sits far above the
     fraction at every rate below the frontier.
     """
-    gap = TestbedOptions().bearing_gap_m
+    gap = default_of("testbed", KEY.bearing_gap_m)
     drag = cup_drag(region, gap)
     style = BEARINGS[SUPPORT_BEARING]
     return {
         "bearing": SUPPORT_BEARING,
-        "tilt_limit_deg": style.tilt_limit_deg,
+        KEY.tilt_limit_deg: style.tilt_limit_deg,
         "load_kg": style.load_kg,
         "source": style.source,
         "ball_radius_m": region,
         "film_gap_m": gap,
-        "drag_N_m_s": drag,
-        "drag_source": TESTBED_SOURCES["drag_N_m_s"]
+        KEY.drag_N_m_s: drag,
+        "drag_source": declared("testbed", KEY.drag_N_m_s).source
         + "; the film: "
-        + TESTBED_SOURCES["bearing_gap_m"],
+        + declared("testbed", KEY.bearing_gap_m).source,
         "drag_torque_N_m": drag * rate,
         "drag_over_term": drag * rate / term,
         "needs": "a gas at the film (an air bearing does not run in vacuum)",
@@ -650,4 +650,79 @@ def solve_window(
         support=model.support,
         notes=list(model.notes),
         curves=_curves(model, rates),
+    )
+
+
+# --- a case of (ep) (the workbench) -----------------------------------------------------------
+
+
+def case_window_model(
+    design: Any,
+    budget: dict[str, Any],
+    *,
+    fraction: float = REALISED_FRACTION,
+) -> WindowModel:
+    """The window's items for a case body of point elements, from its realism budget
+    (:func:`chargedesign.physical.realism.case_realism_budget`, at the rate ``s = 1``).
+
+    A case rescaled in time (``V -> s^2 V``, ``l -> s l``) keeps its motions ``s`` times
+    faster; its elements follow with charges ``~ s`` (mu) and the fields and weights of V
+    ``~ s^2``. The items then scale over the terms as in :func:`window_model`: radiation
+    ``s^3``, self-field and ``(v / c)^2`` ``s^2``, gravity on the balance ``s^-2``. A case
+    whose V is realised by masses in gravity cannot be rescaled (g is fixed): the caller
+    keeps only ``s = 1`` (:func:`case_realised_window`).
+    """
+    exponents = {"radiation": 3.0, "self_field": 2.0, "relativistic": 2.0, "gravity_balance": -2.0}
+    laws = {
+        "radiation": "Larmor power of the charges over |omega|: over the terms ~ s^3",
+        "self_field": "mu0 q omega / (4 pi r) over the applied |B|: ~ s^2",
+        "relativistic": "(v / c)^2 of the fastest element: ~ s^2",
+        "gravity_balance": "M g delta over the terms: ~ 1/s^2",
+    }
+    items = [
+        _power_item(
+            key, key.replace("_", " "), laws[key], float(item["value"] or 0.0), exponents[key]
+        )
+        for key, item in budget["items"].items()
+        if item["value"]
+    ]
+    return WindowModel(
+        1.0,
+        fraction,
+        str(budget["term_key"]),
+        float(budget["term_N_m"]),
+        items,
+        None,
+        STANDARD_GRAVITY,
+    )
+
+
+def case_realised_window(
+    design: Any,
+    budget: dict[str, Any],
+    *,
+    fraction: float = REALISED_FRACTION,
+    span: float = 1e6,
+) -> RealisedWindow:
+    """The rates ``s`` (multiples of the budget's typical rate) in ``[1/span, span]`` where
+    every item of :func:`case_window_model` is below ``fraction`` of the smallest term. With
+    masses in a gravity field that realise V (``design.fields["gravity"]`` non-zero) the rate
+    is fixed: the window is ``[1, 1]`` when every item is below the fraction there, else empty.
+    """
+    model = case_window_model(design, budget, fraction=fraction)
+    gravity_fixed = any(design.field("gravity"))
+    if gravity_fixed:
+        window = solve_window(
+            model, 1.0, 1.0, floor_text="the rate g fixes", ceiling_text="the rate g fixes"
+        )
+        window.notes.append(
+            "V is realised by masses in gravity: g fixes the case's rate (s = 1 only)"
+        )
+        return window
+    return solve_window(
+        model,
+        1.0 / span,
+        span,
+        floor_text=f"the searched range (s >= {1.0 / span:g})",
+        ceiling_text=f"the searched range (s <= {span:g})",
     )

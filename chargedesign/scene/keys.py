@@ -13,6 +13,7 @@ keys in ("one of t_end, rtol, ...").
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import SimpleNamespace
@@ -20,6 +21,16 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import PLAIN, fmt
+from chargedesign.physical.materials import BALLAST_DENSITY
+from chargedesign.physical.state_of_the_art import (
+    ATTITUDE_SENSORS,
+    BALANCE,
+    BEARINGS,
+    GYROS,
+    MOUNT_MATERIALS,
+    UNVERIFIED,
+)
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
     BODY_SHAPES,
@@ -127,7 +138,8 @@ def range_words(spec: Mapping[str, Any], kind: str) -> str:
     return f"{kind} {'<' if 'exclusiveMaximum' in spec else '<='} {hi}"
 
 
-def _within(value: float, spec: Mapping[str, Any]) -> bool:
+def within_range(value: float, spec: Mapping[str, Any]) -> bool:
+    """``value`` within a declared range (its minimum, maximum and exclusive bounds)."""
     return not (
         ("minimum" in spec and value < spec["minimum"])
         or ("exclusiveMinimum" in spec and value <= spec["exclusiveMinimum"])
@@ -159,12 +171,12 @@ def check_value(table: str, name: str, value: Any, where: str | None = None) -> 
     if kind == "integer":
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
             raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
-        if not _within(float(value), spec):
+        if not within_range(float(value), spec):
             raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
         return int(value)
     assert kind == "number", f"{table}.{name}: no declared check for {spec}"
     number = as_finite_float(value, where)
-    if not _within(number, spec):
+    if not within_range(number, spec):
         raise input_error(where, key.refusal or range_words(spec, "a number"), value)
     return number
 
@@ -574,6 +586,379 @@ CASE = (
     Key("note", {**STRING, "maxLength": 2000}, "a remark"),
 )
 assert tuple(key.name for key in CASE) == CASE_KEYS  # the case file's validator's list
+#: caps on the testbed's work (a scene asks for no more): noise seeds, planned motions (one
+#: ideal-loop integration each), the rates (Hz) a loop or a requirement setting may take,
+#: the default cap on fixed integration steps per loop run
+MAX_SEEDS = 10_000
+MAX_PLANNED_MOTIONS = 64
+RATE_RANGE_HZ = (0.1, 100_000.0)
+MAX_LOOP_STEPS = 200_000
+_RATES = f"{fmt(RATE_RANGE_HZ[0], PLAIN)}..{fmt(RATE_RANGE_HZ[1], PLAIN)} Hz"
+_PLATFORM = (
+    "a thin spherical shell (a cage) about O with an opening for the pedestal "
+    "(the keep-out cap; closed for a full sphere): centre of mass R (1 - cos alpha) / 2 along "
+    "the pedestal axis, inertia in closed form; 10 kg and 0.25 m radius: the tabletop class "
+    "of the survey Schwartz, Peck & Hall, J. Guid. Control Dyn. 26(4) 2003 (e.g. NPS CubeTAS)"
+)
+_SHELL = "the thin spherical shell of platform_mass_kg and platform_radius_m (closed form)"
+_MOTORS = (
+    "ideal torque sources unless the scene gives its wheels' motor_bandwidth_Hz "
+    "(a first-order lag) and wheel_friction_N_m (Coulomb, against the wheel's momentum): "
+    "no default is sourced here (B. Bialke, 'High fidelity mathematical modeling of reaction "
+    "wheel performance', AAS 98-063, 1998 gives the model's form; the figures are the "
+    "wheel's datasheet's)" + UNVERIFIED
+)
+_WHEEL_LIMITS = (
+    "limits sized from the planned motion times wheel_margin (1.5: headroom for "
+    "noise and disturbances); flight-like wheels give 0.01-0.1 N m (Schwartz, Peck & Hall "
+    "2003); give max_torque_N_m and max_momentum_N_m_s to check a real wheel"
+)
+_GYRO_GRADES = (
+    "order-of-magnitude class figures (bias; angle random walk): navigation "
+    "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
+    "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
+    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades)" + UNVERIFIED
+)
+_ATTITUDE = "the attitude sensor's (attitude_sensor)"
+_LOOP = "200 Hz and 1 ms of delay: the contract's example loop"
+_START = (
+    "none: the tool plans motions that fit the bearing (near the stable relative "
+    "equilibrium on I3 = 0); a scene's start (initial_gamma, initial_p, initial_q; r from "
+    "I3 = 0) is used when it fits"
+)
+_SEEDS = (
+    "16 noise seeds (and 2 per requirement setting): a spread in seconds of run time; "
+    "raise them for tighter percentiles"
+)
+_RATE_LIST = {
+    "type": "array",
+    "items": {"type": "number", "minimum": RATE_RANGE_HZ[0], "maximum": RATE_RANGE_HZ[1]},
+    "minItems": 1,
+    "maxItems": 12,
+}
+#: a scene's ``[testbed]``: the air-bearing platform, its ballast and wheels, the sampled loop,
+#: sensors, disturbances and requirements (read by :mod:`chargedesign.scene.testbed`;
+#: docs/testbed.md). Every default's source is here; testbed.json's ``sources`` lists them.
+TESTBED = (
+    Key(
+        "platform_mass_kg", POSITIVE, "the platform's mass, wheels included", "kg", 10.0, _PLATFORM
+    ),
+    Key(
+        "platform_radius_m",
+        POSITIVE,
+        "envelope radius (ballast stays inside)",
+        "m",
+        0.25,
+        "with platform_mass_kg: the tabletop class (Schwartz, Peck & Hall 2003)",
+    ),
+    Key(
+        "platform_inertia_kg_m2",
+        {"type": "array", "items": VECTOR, "minItems": 3, "maxItems": 3},
+        "3x3 about O, symmetric, physical",
+        "kg m^2",
+        source=_SHELL,
+        refusal="a symmetric 3x3 inertia matrix (kg m^2)",
+    ),
+    Key("platform_com_m", VECTOR, "the platform's centre of mass", "m", source=_SHELL),
+    Key(
+        "bearing",
+        _enum(tuple(BEARINGS)),
+        "the air bearing's style (tilt limit, rated load, geometry)",
+        default="tabletop",
+        source="tabletop: tilt limit 30 deg, umbrella 45 deg, full_sphere every attitude "
+        "(Schwartz, Peck & Hall 2003; chargedesign.physical.state_of_the_art.BEARINGS)"
+        + UNVERIFIED,
+    ),
+    Key(
+        "tilt_limit_deg",
+        {"type": "number", "exclusiveMinimum": 0, "maximum": 180},
+        "the bearing's tilt limit",
+        "deg",
+        source="the style's: 30, 45, 180 deg",
+        refusal="a tilt limit in (0, 180] deg",
+    ),
+    Key(
+        "pedestal_radius_m",
+        POSITIVE,
+        "the pedestal's radius (less than the ball's)",
+        "m",
+        source="the style's pedestal radius over the ball's radius (0.3) times bearing_radius_m",
+    ),
+    Key(
+        "bearing_capacity_kg",
+        POSITIVE,
+        "the bearing's rated load",
+        "kg",
+        source="the style's rated load (state_of_the_art.BEARINGS: a vendor "
+        "catalogue class); give your bearing's",
+    ),
+    Key(
+        "bearing_radius_m",
+        POSITIVE,
+        "the bearing ball's radius (no ballast inside)",
+        "m",
+        0.05,
+        "a 50 mm ball; the drag follows from it",
+    ),
+    Key(
+        "bearing_gap_m",
+        POSITIVE,
+        "the air film's thickness",
+        "m",
+        1.0e-5,
+        "10 um: the film thickness of spherical air bearings is of order 5-25 um "
+        "(Schwartz, Peck & Hall 2003 describe micrometre films)" + UNVERIFIED,
+    ),
+    Key(
+        "ballast_material",
+        _enum(tuple(BALLAST_DENSITY)),
+        "the ballast parts' material",
+        default="brass",
+        source="brass (8500 kg/m^3, chargedesign.physical.materials): machinable, "
+        "non-magnetic, dense",
+    ),
+    Key(
+        "ballast_spacing_m",
+        POSITIVE,
+        "grid of candidate ballast sites (at most 100000: memory)",
+        "m",
+        source="a fifth of the platform's radius, coarsened if parts would touch",
+    ),
+    Key(
+        "mount_material",
+        _enum(tuple(MOUNT_MATERIALS)),
+        "the posts' material",
+        default="steel",
+        source="steel posts (E = 200 GPa, ASM Handbook vol. 1, ASM International 1990)"
+        + UNVERIFIED,
+    ),
+    Key(
+        "wheels",
+        _enum(("orthogonal", "pyramid")),
+        "the wheel array: three orthogonal wheels, or four on a pyramid about body z",
+        default="orthogonal",
+    ),
+    Key(
+        "pyramid_angle_deg",
+        {"type": "number", "minimum": 5, "maximum": 85},
+        "the pyramid wheels' angle from body z",
+        "deg",
+        math.degrees(math.acos(1.0 / math.sqrt(3.0))),
+        "arccos(1/sqrt(3)) = 54.74 deg: the four-wheel pyramid whose wheels "
+        "share the three body axes equally",
+        refusal="an angle from the body z axis in 5..85 deg",
+    ),
+    Key(
+        "max_torque_N_m",
+        POSITIVE,
+        "each wheel's torque limit (checked when given)",
+        "N m",
+        source=_WHEEL_LIMITS,
+    ),
+    Key(
+        "max_momentum_N_m_s",
+        POSITIVE,
+        "each wheel's momentum limit (checked when given)",
+        "N m s",
+        source="as max_torque_N_m",
+    ),
+    Key(
+        "wheel_margin",
+        {"type": "number", "minimum": 1},
+        "headroom of sized wheels over the planned need",
+        default=1.5,
+        source="noise and disturbances",
+        refusal="a margin >= 1",
+    ),
+    Key(
+        "torque_resolution_N_m",
+        POSITIVE,
+        "torque quantum (at most a tenth of the need)",
+        "N m",
+        source="a 16-bit command over +-max torque: 2 max_torque / 2^16",
+    ),
+    Key(
+        "motor_bandwidth_Hz",
+        POSITIVE,
+        "the motors' torque bandwidth (a first-order lag)",
+        "Hz",
+        source=_MOTORS,
+    ),
+    Key(
+        "wheel_friction_N_m",
+        NONNEG,
+        "each wheel's Coulomb friction",
+        "N m",
+        source="none: as motor_bandwidth_Hz",
+    ),
+    Key(
+        "rate_Hz",
+        {"type": "number", "minimum": RATE_RANGE_HZ[0], "maximum": RATE_RANGE_HZ[1]},
+        "control rate",
+        "Hz",
+        200.0,
+        _LOOP,
+        refusal=f"a control rate in {_RATES}",
+    ),
+    Key("delay_s", NONNEG, "the loop's delay (less than a control period)", "s", 1.0e-3, _LOOP),
+    Key(
+        "command",
+        _enum(("predictive", "zoh")),
+        "zero-order hold of the law sampled at t_k (zoh), or the model's average over the "
+        "coming interval (predictive)",
+        default="predictive",
+        source="the better one (docs/testbed.md measures both)",
+    ),
+    Key(
+        "gyro_grade",
+        _enum(("ideal", *GYROS)),
+        "the gyro's class (ideal: a perfect gyro)",
+        default="tactical",
+        source=_GYRO_GRADES,
+    ),
+    Key(
+        "gyro_arw_rad_per_sqrt_s",
+        NONNEG,
+        "angle random walk (replaces the grade's)",
+        "rad/sqrt(s)",
+        source="the grade's",
+    ),
+    Key(
+        "gyro_bias_rad_per_s",
+        NONNEG,
+        "gyro bias (replaces the grade's)",
+        "rad/s",
+        source="the grade's",
+    ),
+    Key(
+        "attitude_sensor",
+        _enum(tuple(ATTITUDE_SENSORS)),
+        "the lab's attitude sensor",
+        default="motion_capture",
+        source="motion capture: 1e-4 rad at 180 Hz (OptiTrack cameras measured by "
+        "Krumpek et al., arXiv:2502.21189, checked; the 180 Hz rate from the PrimeX 41 datasheet "
+        "unverified (from memory); state_of_the_art.ATTITUDE_SENSORS)",
+    ),
+    Key(
+        "attitude_noise_rad",
+        NONNEG,
+        "attitude noise per sample (replaces the sensor's)",
+        "rad",
+        source=_ATTITUDE,
+    ),
+    Key(
+        "attitude_rate_Hz",
+        POSITIVE,
+        "attitude update rate (replaces the sensor's)",
+        "Hz",
+        source=_ATTITUDE,
+    ),
+    Key(
+        "encoder_counts",
+        {"type": "integer", "minimum": 16, "maximum": 2**32},
+        "the wheels' encoders, counts per turn",
+        source="4096 counts per turn (a 12-bit encoder; state_of_the_art)" + UNVERIFIED,
+    ),
+    Key(
+        "estimator",
+        _enum(("rls", "none")),
+        "the centre-of-mass estimator: recursive least squares with gravity feed-forward, or none",
+        default="rls",
+        source="rls: recursive least squares of the centre-of-mass offset and the drag on "
+        "the integrated torque balance, with gravity feed-forward (Kim & Agrawal 2009 estimate "
+        "the offset online the same way)",
+    ),
+    Key(
+        "imbalance_m",
+        NONNEG,
+        "centre-of-mass offset from O before estimation",
+        "m",
+        BALANCE["automatic_horizontal_m"].value,
+        "0.14 um: the best published automatic balancing, horizontally "
+        "(chargedesign.physical.state_of_the_art.BALANCE: engrXiv doi:10.31224/7342)",
+    ),
+    Key(
+        "drag_N_m_s",
+        NONNEG,
+        "the bearing's viscous drag coefficient b",
+        "N m s",
+        source="derived: viscous Couette drag of the air film, b = (4 pi / 3) eta R^4 / h "
+        "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC "
+        "Handbook, 97th ed., CRC Press 2016)" + UNVERIFIED,
+    ),
+    Key(
+        "drag_feedforward",
+        {"type": "number", "minimum": 0, "maximum": 1},
+        "fraction of the drag the controller cancels",
+        default=0.0,
+        source="0: no drag fed forward (the baseline); a measured drag (spin-down "
+        "test) fed forward as a fraction of the bearing's drag cancels that much of it",
+        refusal="the fraction of the drag fed forward, in 0..1",
+    ),
+    Key(
+        "initial_gamma",
+        VECTOR,
+        "a start's gamma (with initial_p, initial_q; r from I3 = 0)",
+        source=_START,
+    ),
+    Key("initial_p", NUMBER, "a start's p", "1/s", source="as initial_gamma"),
+    Key("initial_q", NUMBER, "a start's q", "1/s", source="as initial_gamma"),
+    Key(
+        "planned_motions",
+        {"type": "integer", "minimum": 1, "maximum": MAX_PLANNED_MOTIONS},
+        "starts that fit, at 0.9, 0.6, 0.3 ... of the tilt limit",
+        default=3,
+        source="3: starts at 0.9, 0.6 and 0.3 of the tilt limit from the stable "
+        "relative equilibrium (the first is the loop's); the wheels are sized for the largest "
+        "need among them",
+    ),
+    Key(
+        "t_end_s",
+        POSITIVE,
+        "horizon of every run",
+        "s",
+        20.0,
+        "20 s: the horizon of the issue's outside measurement",
+    ),
+    Key(
+        "seeds",
+        {"type": "integer", "minimum": 1, "maximum": MAX_SEEDS},
+        "Monte Carlo runs",
+        default=16,
+        source=_SEEDS,
+    ),
+    Key(
+        "target_I4_drift",
+        POSITIVE,
+        "the I4 drift the requirements keep",
+        default=1.0e-3,
+        source="1e-3: I4 kept to 0.1 % over the run",
+    ),
+    Key(
+        "requirement_rates_Hz",
+        _RATE_LIST,
+        "control rates of the requirements sweep",
+        "Hz",
+        (25.0, 50.0, 100.0, 200.0),
+        "25 Hz doubling up to the default loop's 200 Hz (rate_Hz)",
+        refusal=f"1 to 12 rates in {_RATES}",
+    ),
+    Key(
+        "requirement_seeds",
+        {"type": "integer", "minimum": 1, "maximum": MAX_SEEDS},
+        "seeds per gyro grade and rate",
+        default=2,
+        source="as seeds",
+    ),
+    Key(
+        "max_loop_steps",
+        {"type": "integer", "minimum": 1000, "maximum": 10**9},
+        "fixed integration steps a loop run may take (checked before any work)",
+        default=MAX_LOOP_STEPS,
+        source="200000 fixed integration steps per loop run: a run's work is bounded "
+        "before it starts",
+    ),
+)
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
 
@@ -590,6 +975,7 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
     "ballast": BALLAST,
     "tolerance": TOLERANCE,
     "case": CASE,
+    "testbed": TESTBED,
 }
 
 

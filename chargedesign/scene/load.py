@@ -19,7 +19,6 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.readers import read_toml_file
@@ -35,6 +34,7 @@ from chargedesign.scene.simulation import (
     parse_simulation_options,
 )
 from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
+from chargedesign.scene.testbed import TestbedOptions
 from chargedesign.validation import (
     as_array,
     check_field_degree,

@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 from testbed_scene import EXAMPLE, SMALL
 
-from chargedesign.airbearing.options import TestbedOptions, bearing_drag
 from chargedesign.airbearing.run import build_testbed
 from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.physical.drag import bearing_drag
+from chargedesign.scene.testbed import TestbedOptions
 
 
 @pytest.mark.parametrize(

@@ -19,12 +19,12 @@ from chargedesign.airbearing.bearing import (
     fitting_starts,
     keep_out,
 )
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.airbearing.run import build_testbed
 from chargedesign.cli import main
 from chargedesign.errors import InputError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.scene.testbed import TestbedOptions
 
 TINY = [
     "t_end_s = 0.4",

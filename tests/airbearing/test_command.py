@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 
 import chargedesign as cd
-from chargedesign.airbearing.options import TestbedOptions, table_schema
 from chargedesign.airbearing.run import default_testbed_scene
 from chargedesign.cli import main
+from chargedesign.scene.keys import table_schema
+from chargedesign.scene.testbed import TestbedOptions
 from chargedesign.schemas import schema
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "testbed.toml"
@@ -112,7 +113,8 @@ def test_example_scene_table_is_valid_and_embedded() -> None:
 def test_scene_schema_carries_the_closed_testbed_table() -> None:
     jsonschema = pytest.importorskip("jsonschema")
     fragment = schema("scene")["properties"]["testbed"]
-    assert fragment == table_schema() and fragment["additionalProperties"] is False
+    assert fragment == table_schema("testbed", fragment["description"])
+    assert fragment["additionalProperties"] is False
     assert fragment["properties"]["planned_motions"]["type"] == "integer"
     jsonschema.validate({"testbed": {"planned_motions": 3}}, schema("scene"))
     with pytest.raises(jsonschema.ValidationError):

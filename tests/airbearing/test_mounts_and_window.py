@@ -13,7 +13,6 @@ from chargedesign.airbearing.balance import sensitivity
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, Motors, initial_state, run_loop
 from chargedesign.airbearing.mounts import radial_posts
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.airbearing.platform import Platform
 from chargedesign.airbearing.run import for_style
 from chargedesign.airbearing.verdict import SCALING, Requirement, verdict, window
@@ -31,6 +30,7 @@ from chargedesign.physical.state_of_the_art import (
     ROOM_AIR,
     UNVERIFIED,
 )
+from chargedesign.scene.testbed import TestbedOptions
 
 E_STEEL = MOUNT_MATERIALS["steel"][0].value
 

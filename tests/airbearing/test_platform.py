@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.airbearing.platform import Platform, design_ballast
 from chargedesign.physical.materials import BALLAST_DENSITY
+from chargedesign.scene.testbed import TestbedOptions
 
 C = 0.5
 

@@ -16,7 +16,6 @@ from chargedesign.airbearing.loop import (
     continuous_loop,
     run_loop,
 )
-from chargedesign.airbearing.options import TestbedOptions
 from chargedesign.airbearing.wheels import (
     planned_needs,
     planned_states,
@@ -24,6 +23,7 @@ from chargedesign.airbearing.wheels import (
     wheel_limits,
 )
 from chargedesign.model import evaluators
+from chargedesign.scene.testbed import TestbedOptions
 
 T_END = 3.0
 SAMPLES = 601

@@ -9,13 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chargedesign.airbearing.options import AIR_VISCOSITY, TestbedOptions
 from chargedesign.designer import design_from_scene
+from chargedesign.physical.drag import AIR_VISCOSITY
 from chargedesign.physical.realism import typical_rate
 from chargedesign.physical.state_of_the_art import BEARINGS, FULL_SPHERE
 from chargedesign.physical.window import REALISED_FRACTION, support_of, window_model
 from chargedesign.report import render_report
 from chargedesign.scene import load_scene
+from chargedesign.scene.testbed import TestbedOptions
 
 CHAPLYGIN = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "chaplygin_magnetic.toml"
 
