@@ -23,16 +23,13 @@ part's position are the tolerance module's exact ones
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant, cross
-from chargedesign.airbearing.loop import invariants
 from chargedesign.airbearing.platform import Ballast
 from chargedesign.body import Design
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.model.evaluators import rhs
 from chargedesign.sensitivity import jacobians
 
 
@@ -74,7 +71,7 @@ class Sensitivity:
         return float(np.abs(self.drag).max())
 
 
-def _i4_gradient(states: np.ndarray, params: Any, columns: int = 6) -> np.ndarray:
+def _i4_gradient(states: np.ndarray, plant: Plant, columns: int = 6) -> np.ndarray:
     """dI4/dx of the first ``columns`` state entries (5-point stencil, exact for quartics)."""
     h = 1e-3 * max(1.0, float(np.abs(states[:, 0:3]).max()))
     grad = np.zeros((len(states), columns))
@@ -83,14 +80,14 @@ def _i4_gradient(states: np.ndarray, params: Any, columns: int = 6) -> np.ndarra
         for k in (-2, -1, 1, 2):
             w = states[:, 0:6].copy()
             w[:, a] += k * h
-            vals.append(invariants(w, params)[1])
+            vals.append(plant.invariants(w)[1])
         grad[:, a] = (vals[0] - 8 * vals[1] + 8 * vals[2] - vals[3]) / (12 * h)
     return grad
 
 
-def _i4_rate(states: np.ndarray, params: Any) -> np.ndarray:
-    """dI4/dt along the theorem's flow (zero on I3 = 0, proportional to I3 off it)."""
-    return np.einsum("sa,sa->s", _i4_gradient(states, params), rhs(states[:, 0:6], params))
+def _i4_rate(states: np.ndarray, plant: Plant) -> np.ndarray:
+    """dI4/dt along the flown model's flow (zero on its level, proportional to I3 off it)."""
+    return np.einsum("sa,sa->s", _i4_gradient(states, plant), plant.reduced_rhs(states[:, 0:6]))
 
 
 def _perturbing_accelerations(
@@ -131,15 +128,15 @@ def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float
     central difference).
     """
     omega, gamma = states[:, 0:3], states[:, 3:6]
-    params, inertia = plant.params, plant.theorem_inertia
-    i4_0 = float(invariants(states[:1, 0:6], params)[1][0])
+    inertia = plant.theorem_inertia
+    i4_0 = float(plant.invariants(states[:1, 0:6])[1][0])
     scale = abs(i4_0) if i4_0 != 0.0 else 1.0
-    grad = _i4_gradient(states, params, 3)
+    grad = _i4_gradient(states, plant, 3)
     eps = 1e-4 * max(1.0, float(np.abs(omega).max()))
     up, down = states[:, 0:6].copy(), states[:, 0:6].copy()
     up[:, 2] += eps
     down[:, 2] -= eps
-    Q = (_i4_rate(up, params) - _i4_rate(down, params)) / (2 * eps * inertia[2] * gamma[:, 2])
+    Q = (_i4_rate(up, plant) - _i4_rate(down, plant)) / (2 * eps * inertia[2] * gamma[:, 2])
     d_inertia, d_balance, d_drag = _perturbing_accelerations(plant, omega, gamma, mass)
 
     def response(d: np.ndarray) -> np.ndarray:

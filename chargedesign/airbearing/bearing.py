@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cache
+from typing import Any
 
 import numpy as np
 
@@ -63,14 +64,19 @@ class Sampled:
 
 
 def motion_samples(
-    params: Parameters, x0: np.ndarray, horizon_s: float, rate: float, axis: np.ndarray | None
+    params: Parameters,
+    x0: np.ndarray,
+    horizon_s: float,
+    rate: float,
+    axis: np.ndarray | None,
+    rhs: Any = None,
 ) -> Sampled:
-    """The theorem's motion from ``x0`` over a horizon that starts at ``horizon_s`` and
-    doubles until the largest tilt from ``axis`` (or, without one, from the best axis of the
-    samples so far) settles to :data:`TILT_SETTLED_DEG`."""
+    """The theorem's motion (or ``rhs(t, y)``'s, a case's) from ``x0`` over a horizon that
+    starts at ``horizon_s`` and doubles until the largest tilt from ``axis`` (or, without one,
+    from the best axis of the samples so far) settles to :data:`TILT_SETTLED_DEG`."""
     from scipy.integrate import solve_ivp
 
-    f = evaluators.rhs_function(params)
+    f = evaluators.rhs_function(params) if rhs is None else rhs
     times = [np.zeros(1)]
     gammas = [np.asarray(x0[3:6], float)[None]]
     state, t0, span = np.asarray(x0[:6], float), 0.0, horizon_s

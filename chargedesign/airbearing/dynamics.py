@@ -15,13 +15,18 @@ omega x (I omega + mu))`` with ``I = diag(2C, 2C, C)``; the command that gives i
 
 which for J = I is the issue's ``-omega x h + omega x mu - gamma x dV/dgamma``. Arrays are
 batched: ``(m, 9)`` for m runs at once.
+
+A case of (ep) (issue 34: ``[case]`` with inertia, V, l or mu, and its integral F) takes the
+theorem's place through :class:`CaseModel`: the same ``f`` with the case's inertia, dV/dgamma
+and mu, and F monitored in place of I4.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _dop853
@@ -96,6 +101,132 @@ def polynomial_terms(params: Parameters) -> np.ndarray | None:
     return coef
 
 
+Column = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+StateColumn = Callable[..., np.ndarray]
+
+
+@dataclass(frozen=True)
+class CaseModel:
+    """A case of (ep) as numbers: what the plant needs in place of the theorem's parameters.
+
+    Built from the case's sympy expressions by
+    :func:`chargedesign.airbearing.case_model.case_model`; this class holds NumPy functions
+    only. ``time`` and ``mass`` scale the case as the feasibility window does (the motion
+    ``time`` times faster, every inertia ``mass`` times larger): ``I -> mass I``,
+    ``dV -> mass time^2 dV``, ``mu -> mass time mu``, so the scaled motion is
+    ``omega(t) = time omega_1(time t)`` and ``F`` is read at ``omega / time``.
+
+    Attributes
+    ----------
+    name : str
+    inertia : ndarray, shape (3,)
+        ``(A, B, C)`` of the unscaled case, kg m^2.
+    level : float
+        The I3 value the motions keep (the case's level; 0 for a general case).
+    conditional : bool
+        The integral is claimed on ``level`` only.
+    gradient, gyroscopic : tuple of 3 functions of (gamma1, gamma2, gamma3)
+        ``dV/dgamma`` and ``mu``.
+    integral, cyclic, energy : functions of (p, q, r, gamma1, gamma2, gamma3)
+        ``F``, ``I3`` and ``I1``.
+    equations : tuple of 6 functions of the state
+        The right-hand sides of (ep).
+    time, mass : float
+        The window's scaling (1: the case as written).
+    record : dict
+        testbed.json's ``case``: the case's name, source, inertia, V, l . gamma, integral
+        and level as text.
+    """
+
+    name: str
+    inertia: np.ndarray
+    level: float
+    conditional: bool
+    gradient: tuple[Column, ...]
+    gyroscopic: tuple[Column, ...]
+    integral: StateColumn
+    cyclic: StateColumn
+    energy: StateColumn
+    equations: tuple[StateColumn, ...]
+    time: float = 1.0
+    mass: float = 1.0
+    record: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def scaled(self, time: float, mass: float) -> CaseModel:
+        """The case flown ``time`` times faster with every inertia ``mass`` times larger."""
+        return replace(self, time=self.time * time, mass=self.mass * mass)
+
+    @property
+    def moments(self) -> np.ndarray:
+        """``(A, B, C)`` as flown, kg m^2."""
+        return self.inertia * self.mass
+
+    @property
+    def level_value(self) -> float:
+        """The I3 level as flown."""
+        return self.level * self.mass * self.time
+
+    def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """dV/dgamma and mu at ``gamma`` (m, 3) each, as flown."""
+        g = gamma.T
+        grad = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gradient], axis=1)
+        mu = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gyroscopic], axis=1)
+        return self.mass * self.time**2 * grad, self.mass * self.time * mu
+
+    def _unscaled(self, states: np.ndarray) -> list[np.ndarray]:
+        flat = states.reshape(-1, 6)
+        return [flat[:, 0] / self.time, flat[:, 1] / self.time, flat[:, 2] / self.time] + [
+            flat[:, k] for k in (3, 4, 5)
+        ]
+
+    def invariants(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``I3 - level`` and ``F`` at ``states`` (..., 6), as flown."""
+        columns, shape = self._unscaled(states), states.shape[:-1]
+        n = len(columns[0])
+        I3 = np.broadcast_to(self.cyclic(*columns), n) * self.mass * self.time
+        F = np.broadcast_to(self.integral(*columns), n)
+        return (I3 - self.level_value).reshape(shape), F.reshape(shape)
+
+    def energies(self, states: np.ndarray) -> np.ndarray:
+        """``I1`` at ``states`` (n, 6), as flown, J."""
+        columns = self._unscaled(states)
+        n = len(columns[0])
+        return np.broadcast_to(self.energy(*columns), n) * self.mass * self.time**2
+
+    def rhs(self, states: np.ndarray) -> np.ndarray:
+        """The reduced model's ``(omega', gamma')`` at ``states`` (n, 6), as flown."""
+        columns = self._unscaled(states)
+        n = len(columns[0])
+        out = np.stack([np.broadcast_to(f(*columns), n) for f in self.equations], axis=1)
+        out[:, 0:3] *= self.time**2
+        out[:, 3:6] *= self.time
+        return out
+
+    def rhs_function(self) -> Callable[[float, np.ndarray], np.ndarray]:
+        """``rhs`` as ``solve_ivp`` takes it: ``f(t, y)`` for one state."""
+        return lambda _t, y: self.rhs(np.asarray(y, float)[None])[0]
+
+    def initial_state(self, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
+        """``(p, q, r, gamma)`` on the level: r solved from the linear ``I3 = level``."""
+        g = np.asarray(gamma, float) / np.linalg.norm(gamma)
+        C = self.moments[2]
+        x = np.array([[p, q, 0.0, *g]])
+        residual = float(self.invariants(x)[0][0])  # I3 - level at r = 0; dI3/dr = C gamma3
+        return np.array([p, q, -residual / (C * g[2]), *g])
+
+    def rate_terms(self, omega0: np.ndarray) -> dict[str, float]:
+        """The rates (1/s) the motion may reach, as :func:`rate_terms` reads the theorem's:
+        the start's, the gyroscopic ``max |mu| / min(I)`` and the potential's
+        ``sqrt(max |dV/dgamma| / min(I))`` over the sphere."""
+        grad, mu = self.terms(_PROBES)
+        least = float(self.moments.min())
+        return {
+            "the start (initial_gamma, initial_p, initial_q)": float(np.linalg.norm(omega0)),
+            f"case {self.name}: mu (gyroscopic)": float(np.abs(mu).max()) / least,
+            f"case {self.name}: V (potential)": (float(np.abs(grad).max()) / least) ** 0.5,
+        }
+
+
 @dataclass(frozen=True)
 class Plant:
     """The theorem's model and the platform's inertia.
@@ -103,15 +234,19 @@ class Plant:
     Attributes
     ----------
     params : Parameters
+        The theorem's parameters (with a case: C only, the platform's scale).
     inertia : ndarray, shape (3, 3)
         The platform's true inertia about O, kg m^2.
     model_inertia : ndarray, shape (3, 3)
         The inertia the controller assumes (the designed total), kg m^2.
+    case : CaseModel or None
+        A case of (ep) flown instead of the theorem (None: the theorem's).
     """
 
     params: Parameters
     inertia: np.ndarray
     model_inertia: np.ndarray
+    case: CaseModel | None = None
     inverse: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -119,11 +254,35 @@ class Plant:
 
     @property
     def theorem_inertia(self) -> np.ndarray:
+        """The flown model's ``(A, B, C)``: the theorem's ``(2C, 2C, C)`` or the case's."""
+        if self.case is not None:
+            return self.case.moments
         C = self.params.C
         return np.array([2.0 * C, 2.0 * C, C])
 
+    def invariants(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The level's integral and the monitored one at ``states`` (..., 6): the theorem's
+        I3 and I4, or a case's ``I3 - level`` and F."""
+        if self.case is not None:
+            return self.case.invariants(states)
+        return invariants(states, self.params)
+
+    def reduced_rhs(self, states: np.ndarray) -> np.ndarray:
+        """The reduced model's ``(omega', gamma')`` at ``states`` (n, 6)."""
+        if self.case is not None:
+            return self.case.rhs(states)
+        return evaluators.rhs(states, self.params)
+
+    def motion_rate(self, omega0: np.ndarray) -> float:
+        """:func:`motion_rate` of the flown model."""
+        if self.case is not None:
+            return max(max(self.case.rate_terms(omega0).values()), 1e-12)
+        return motion_rate(self.params, omega0)
+
     def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """dV/dgamma and mu at ``gamma`` (m, 3) each."""
+        if self.case is not None:
+            return self.case.terms(gamma)
         coef = polynomial_terms(self.params)
         if coef is not None:
             both = monomials(gamma) @ coef
@@ -163,6 +322,18 @@ class Plant:
     def ideal_rates(self, x: np.ndarray) -> np.ndarray:
         """The continuous, noise-free closed loop (the model's own prediction)."""
         return self.rates(x, self.command(x), None)
+
+
+def invariants(states: np.ndarray, params: Parameters) -> tuple[np.ndarray, np.ndarray]:
+    """I3 and I4 of the theorem at ``states`` (..., 6)."""
+    flat = states.reshape(-1, 6)
+    pt = evaluators.parameter_tuple(params)
+    values = evaluators.compiled("integrals", params.singular, "numpy")(*flat.T, *pt)
+    shape = states.shape[:-1]
+    return (
+        np.broadcast_to(values[2], flat.shape[:1]).reshape(shape),
+        np.broadcast_to(values[3], flat.shape[:1]).reshape(shape),
+    )
 
 
 def _columns(outputs: list, m: int) -> np.ndarray:
@@ -243,4 +414,13 @@ def motion_rate(params: Parameters, omega0: np.ndarray) -> float:
     return max(max(rate_terms(params, omega0).values()), 1e-12)
 
 
-__all__ = ["Plant", "advance", "cross", "dop853_step", "motion_rate", "rate_terms"]
+__all__ = [
+    "CaseModel",
+    "Plant",
+    "advance",
+    "cross",
+    "dop853_step",
+    "invariants",
+    "motion_rate",
+    "rate_terms",
+]

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from chargedesign.airbearing.dynamics import Plant, advance, cross, motion_rate
+from chargedesign.airbearing.dynamics import Plant, advance, cross, invariants
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
@@ -156,18 +156,6 @@ def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> 
     return np.array([p, q, r, *g])
 
 
-def invariants(states: np.ndarray, params: Parameters) -> tuple[np.ndarray, np.ndarray]:
-    """I3 and I4 of the theorem at ``states`` (..., 6)."""
-    flat = states.reshape(-1, 6)
-    pt = evaluators.parameter_tuple(params)
-    values = evaluators.compiled("integrals", params.singular, "numpy")(*flat.T, *pt)
-    shape = states.shape[:-1]
-    return (
-        np.broadcast_to(values[2], flat.shape[:1]).reshape(shape),
-        np.broadcast_to(values[3], flat.shape[:1]).reshape(shape),
-    )
-
-
 def relative_drift(curve_I4: np.ndarray) -> np.ndarray:
     """``|I4(t) - I4(0)| / |I4(0)|`` along the last axis."""
     i4_0 = curve_I4[..., :1]
@@ -223,7 +211,7 @@ def run_loop(
     rng = np.random.default_rng(seed)
     T = 1.0 / settings.rate_Hz
     n_samples = max(1, round(settings.t_end_s * settings.rate_Hz))
-    rate = motion_rate(plant.params, x0[:3])
+    rate = plant.motion_rate(x0[:3])
     max_step = STEP_FRACTION / rate
     actuator = Actuator(settings)
     bias = settings.per_run("gyro_bias", runs) * rng.standard_normal((runs, 3))
@@ -274,7 +262,7 @@ def run_loop(
                 x = advance(_held(plant, delivered @ actuator.axes, external), x, dt, max_step)
                 wheel_h = wheel_h + delivered * dt
             held_wheel = tau
-    I3, I4 = invariants(states, plant.params)
+    I3, I4 = plant.invariants(states)
     curve = relative_drift(I4)
     errors = sensing.offset_errors(offset) if settings.estimator else None
     return LoopRun(

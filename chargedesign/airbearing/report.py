@@ -341,6 +341,7 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
     """The human report (Markdown)."""
     lines = ["# Air-bearing testbed", "", f"**{result.verdict.line}**", ""]
     lines += ["```", str(result).rstrip(), "```", ""]
+    lines += _case_section(result)
     lines += _state_of_the_art_section(result) + _bearing_section(result)
     lines += _platform_section(result) + _wheel_section(result) + _loop_section(result)
     lines += _estimator_section(result) + _requirements_section(result) + _window_section(result)
@@ -349,6 +350,30 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
     lines += ["", "## Sources of the defaults", ""]
     lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
     return "\n".join(lines) + "\n"
+
+
+def _case_section(result: TestbedResult) -> list[str]:
+    """What a case's testbed flies (nothing for the theorem's)."""
+    if result.case is None:
+        return []
+    r = result.case.record
+    return [
+        f"## The case: {r['name']}",
+        "",
+        f"- source: {r.get('source') or 'not given'};",
+        f"- inertia {r['inertia_kg_m2']} kg m^2, V = {r['V']}, l . gamma = {r['l_dot_gamma']};",
+        f"- claimed integral F = {r['integral']}, level {r['level']}; flown on I3 = "
+        f"{fmt(result.case.level_value, PLAIN)} (a general case on the area-zero level);",
+        "- the wheels apply the case's torque `gamma x dV/dgamma - omega x mu` and what the "
+        "platform's own inertia J lacks: `h' = -J f - omega x (J omega + h)`, f the case's "
+        "Euler-Poisson right-hand side (its V and l differentiated in sympy, then numeric);",
+        "- **every I4 figure below (runs, tolerances, requirements, pictures) is the relative "
+        "drift of the case's F**; testbed.json's `case` says so;",
+        "- no tilt map: it is drawn on the theorem's bifurcation diagram, which a case does not "
+        "have here yet (the planned motion is the scene's start, its tilt over a settled "
+        "horizon as for the theorem).",
+        "",
+    ]
 
 
 def _state_of_the_art_section(result: TestbedResult) -> list[str]:

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.airbearing.bearing import TiltMap
+from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.airbearing.layout import Layout, Plan
 from chargedesign.airbearing.loop import LoopRun
 from chargedesign.airbearing.platform import Ballast, Platform
@@ -63,12 +64,29 @@ class TestbedResult(Result):
     windows: list[Window] = field(default_factory=list)
     window_check: dict[str, Any] = field(default_factory=dict)  # the recommended, recomputed
     tilt_map: TiltMap | None = None
+    case: CaseModel | None = None  # a case of (ep) flown instead of the theorem
 
     __test__ = False  # not a pytest class
 
     @property
     def total_mass(self) -> float:
         return self.platform.mass_kg + self.ballast.total_mass
+
+    @property
+    def flown(self) -> str:
+        """What the wheels make the platform fly: the theorem's parameters or a case."""
+        if self.case is None:
+            return str(self.parameters)
+        r = self.case.record
+        return (
+            f"case {self.case.name} (inertia {r.get('inertia_kg_m2')} kg m^2, V = {r.get('V')}, "
+            f"level {r.get('level')}, flown on I3 = {fmt(self.case.level_value, PLAIN)})"
+        )
+
+    @property
+    def monitored(self) -> str:
+        """The monitored integral's name: the theorem's I4, or the case's F."""
+        return "I4" if self.case is None else f"F (case {self.case.name})"
 
     @property
     def turns(self) -> float:
@@ -231,6 +249,7 @@ class TestbedResult(Result):
                 },
                 "sources": SOURCES,
                 "seconds": self.seconds,
+                **({} if self.case is None else {"case": dict(self.case.record)}),
             }
         )
 
@@ -265,7 +284,7 @@ class TestbedResult(Result):
         simulated = self.runs["nominal"].t_simulated_s
         lines = [
             self.verdict.line,
-            f"air-bearing testbed for {self.parameters}",
+            f"air-bearing testbed for {self.flown}",
             f"platform {fmt(self.platform.mass_kg, PLAIN)} kg + ballast"
             f" {fmt(self.ballast.total_mass, PRECISE)} kg "
             f"({len(self.ballast.masses)} {self.ballast.material} spheres) = "
@@ -278,7 +297,7 @@ class TestbedResult(Result):
             f"{fmt(self.planned.momentum, PRECISE)} N m s (motion {self.planned.momentum_motion}); "
             f"scene's motion: momentum bound {fmt(self.needs.momentum_bound, PRECISE)} N m s)",
             f"loop {fmt(o.rate_Hz, PLAIN)} Hz, delay {fmt(o.delay_s, PLAIN)} s, command"
-            f" {o.command}; I4 relative drift "
+            f" {o.command}; {self.monitored} relative drift "
             f"over {fmt(simulated, PLAIN)} s simulated ({fmt(self.turns)} turns of the motion"
             + (
                 f"; t_end_s = {fmt(o.t_end_s, PLAIN)} s rounded to whole control periods)"
@@ -310,7 +329,7 @@ class TestbedResult(Result):
         )
         tol = self.tolerances
         lines.append(
-            f"for I4 within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
+            f"for {self.monitored} within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
             f"{format_length(tol[KEY.imbalance_m])} of O, bearing drag below "
             f"{fmt(tol['drag_max_N_m_s'])} N m s (now {fmt(o.drag)}), A - B within "
             f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2"

@@ -13,9 +13,22 @@ from typing import Any
 import numpy as np
 
 from chargedesign.airbearing.balance import inertia_tolerances, part_tolerances, sensitivity
-from chargedesign.airbearing.bearing import level_map, tilt_map
-from chargedesign.airbearing.dynamics import Plant, rate_terms
-from chargedesign.airbearing.layout import Layout, build_layout, plan_motions
+from chargedesign.airbearing.bearing import (
+    best_axis,
+    level_map,
+    motion_samples,
+    tilt_deg,
+    tilt_map,
+)
+from chargedesign.airbearing.dynamics import CaseModel, Plant, rate_terms
+from chargedesign.airbearing.layout import (
+    BASE_TURNS,
+    Layout,
+    Plan,
+    PlannedMotion,
+    build_layout,
+    plan_motions,
+)
 from chargedesign.airbearing.loop import STEP_FRACTION, LoopSettings, initial_state, run_loop
 from chargedesign.airbearing.platform import total_com, total_inertia
 from chargedesign.airbearing.requirements import requirements
@@ -30,6 +43,7 @@ from chargedesign.airbearing.verdict import (
 )
 from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits, wheel_needs
 from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
@@ -66,7 +80,36 @@ def testbed_from_scene(
     if overrides:
         table: Mapping[str, Any] = {**scene.table("testbed"), **overrides}
         options = TestbedOptions.from_table(table)
+    case = scene.case
+    if case is not None:
+        return build_case_testbed(case, options, progress)
     return build_testbed(scene.parameters, options, progress)
+
+
+def build_case_testbed(
+    case: Any,
+    opts: TestbedOptions,
+    progress: Callable[[str], None] | None = None,
+    with_requirements: bool = True,
+) -> TestbedResult:
+    """:func:`build_testbed` for a case of (ep) (``[case]``, issue 34): the wheels apply the
+    case's torques, the motion keeps the case's level, F is monitored in place of I4.
+
+    A case the testbed cannot fly (its inertia, a singular V or mu: see
+    :func:`chargedesign.airbearing.case_model.refusal`) or a scene without a start is
+    refused in one line before any work."""
+    from chargedesign.airbearing.case_model import case_model  # sympy: a case only
+
+    model = case_model(case)
+    if not opts.has_start:
+        raise InputError(
+            f"testbed: case {model.name}: give initial_gamma, initial_p and initial_q in "
+            "[testbed] (a case's motion starts from the scene's start; r is solved from its "
+            "level)"
+        )
+    return build_testbed(
+        Parameters(C=float(model.inertia[2])), opts, progress, with_requirements, case=model
+    )
 
 
 def build_testbed(
@@ -74,6 +117,7 @@ def build_testbed(
     opts: TestbedOptions,
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
+    case: CaseModel | None = None,
 ) -> TestbedResult:
     """The motions that fit the bearing, the layout (wheels, ballast, mounts), the loop's
     runs, the requirements against the state of the art, the verdict and the window.
@@ -91,16 +135,19 @@ def build_testbed(
     opts.check_parameters(params.singular)
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
-    check_loop_work(params, opts)
-    plan = plan_motions(params, opts)
+    check_loop_work(params, opts, case)
+    plan = plan_motions(params, opts) if case is None else case_plan(params, case, opts)
     seconds[KEY.planned_motions] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    energies = evaluators.integrals(np.array([m.start for m in plan.motions]), params)[:, 0]
-    h_low = level_map(params)[1][0]
-    hosted = tilt_map(
-        params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
-    )
-    seconds["tilt_map"] = time.perf_counter() - t0
+    hosted = None  # a case's tilt map needs its own bifurcation diagram: not drawn yet
+    if case is None:
+        t0 = time.perf_counter()
+        starts = np.array([m.start for m in plan.motions])
+        energies = evaluators.integrals(starts, params)[:, 0]
+        h_low = level_map(params)[1][0]
+        hosted = tilt_map(
+            params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
+        )
+        seconds["tilt_map"] = time.perf_counter() - t0
     say(
         f"{len(plan.motions)} planned motions, largest tilt "
         f"{fmt(max(m.tilt_max_deg for m in plan.motions), PRECISE)} deg of the {opts.bearing} "
@@ -110,14 +157,14 @@ def build_testbed(
     target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     axes = wheel_axes(opts.wheels, opts.pyramid_angle_deg)
     starts = np.array([m.start for m in plan.motions])
-    planned = planned_needs(Plant(params, target, target), starts, axes, opts.t_end_s)
+    planned = planned_needs(Plant(params, target, target, case), starts, axes, opts.t_end_s)
     limits = wheel_limits(planned, opts)
     layout = build_layout(params, opts, plan.axis, axes, limits[1])
     platform, ballast = layout.platform, layout.ballast
     total_mass = platform.mass_kg + ballast.total_mass
     opts.check_capacity(total_mass)
     inertia = total_inertia(platform, ballast)
-    plant = Plant(params, inertia, target)
+    plant = Plant(params, inertia, target, case)
     x0 = starts[0]
     needs = planned.motions[0]  # motion 0: the loop's start
     seconds["layout"] = time.perf_counter() - t0
@@ -222,6 +269,7 @@ def build_testbed(
         windows=windows,
         window_check=check,
         tilt_map=hosted,
+        case=case,
     )
     say(result.verdict.line)
     return result
@@ -383,12 +431,16 @@ def recompute_point(
     params = p.replace(C=p.C * scale, n=p.n * s, K=p.K * s, kappa=p.kappa * s * s)
     target = np.diag([2.0 * params.C, 2.0 * params.C, params.C])
     fast = np.concatenate([starts[:, :3] * s, starts[:, 3:]], axis=1)
-    model = Plant(params, target, target)
+    case = None if plant.case is None else plant.case.scaled(s, scale)
+    model = Plant(params, target, target, case)
     chosen = fast if m == 0 else fast[m - 1 : m]
     needs = planned_needs(model, chosen, axes, opts.t_end_s / s)
     start = needs.motions[0] if m <= 1 else wheel_needs(model, fast[0], axes, opts.t_end_s / s)
     sens = sensitivity(
-        Plant(params, plant.inertia * scale, target), start.times, start.states, total_mass * mass
+        Plant(params, plant.inertia * scale, target, case),
+        start.times,
+        start.states,
+        total_mass * mass,
     )
     offset = opts.target_I4_drift / sens.imbalance_per_m
     recomputed = {
@@ -455,22 +507,70 @@ def ball_requirement(opts: TestbedOptions) -> Requirement:
     )
 
 
-def check_loop_work(params: Parameters, opts: TestbedOptions) -> None:
+def check_loop_work(
+    params: Parameters, opts: TestbedOptions, case: CaseModel | None = None
+) -> None:
     """Refuse, before any work, a loop run whose fixed integration steps pass
     ``max_loop_steps`` (the steps follow from the motion's fastest rate), naming the
     cause (the start or the parameter whose rate is fastest) and the option."""
     omega0 = np.zeros(3)
     if opts.has_start:
         assert opts.initial_gamma is not None
-        omega0 = initial_state(
-            params,
+        gamma, p, q = (
             np.array(opts.initial_gamma),
             float(opts.initial_p or 0.0),
             float(opts.initial_q or 0.0),
+        )
+        omega0 = (
+            initial_state(params, gamma, p, q) if case is None else case_start(case, gamma, p, q)
         )[:3]
-    terms = rate_terms(params, omega0)
+    terms = rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
     rate = max(max(terms.values()), 1e-12)
     opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
+
+
+def case_start(case: CaseModel, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
+    """The scene's start on the case's level (r solved from the linear I3 = level)."""
+    g = np.asarray(gamma, float) / np.linalg.norm(gamma)
+    if abs(g[2]) < 1e-8:
+        raise InputError(
+            f"testbed.initial_gamma: gamma3 must be non-zero to solve r from case {case.name}'s "
+            f"level I3 = {fmt(case.level_value, PRECISE)}"
+        )
+    return case.initial_state(g, p, q)
+
+
+def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan:
+    """A case's planned motion: the scene's start on the case's level, its largest tilt over
+    a horizon that doubles until it settles (as the theorem's, by the case's reduced model),
+    the pedestal axis the centre of the smallest cap holding its gammas.
+
+    Raises
+    ------
+    InputError
+        The start needs more tilt than the bearing allows (one line: the tilt and the limit).
+    """
+    assert opts.initial_gamma is not None
+    x0 = case_start(
+        case, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0
+    )
+    rate = max(max(case.rate_terms(x0[:3]).values()), 1e-12)
+    horizon = max(opts.t_end_s, BASE_TURNS * 2.0 * math.pi / rate)
+    sampled = motion_samples(params, x0, horizon, rate, None, rhs=case.rhs_function())
+    axis = best_axis([sampled.gammas])
+    tilt = float(tilt_deg(axis, sampled.gammas).max())
+    if tilt > opts.tilt_limit:
+        raise InputError(
+            f"testbed.initial_gamma: case {case.name}'s motion from the scene's start needs "
+            f"{fmt(tilt, PRECISE)} deg of tilt (best pedestal axis, over "
+            f"{fmt(sampled.horizon_s, PLAIN)} s), the {opts.bearing} bearing allows "
+            f"{fmt(opts.tilt_limit, PLAIN)} deg; give a start nearer a stable equilibrium of "
+            'the case, or bearing = "full_sphere"'
+        )
+    motion = PlannedMotion(
+        x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
+    )
+    return Plan([motion], axis, "scene")
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
@@ -535,4 +635,4 @@ def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mas
     }
 
 
-__all__ = ["build_testbed", "testbed_from_scene"]
+__all__ = ["build_case_testbed", "build_testbed", "case_plan", "testbed_from_scene"]

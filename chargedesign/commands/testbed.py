@@ -1,5 +1,5 @@
 """`chargedesign testbed [SCENE] [--out DIR] [--json]`: an air-bearing platform whose reaction
-wheels make it move as the theorem says.
+wheels make it move as the theorem says, or as a ``[case]`` of (ep) says (issue 34).
 
 Designs the ballast that gives the platform A = B = 2C with the centre of mass at O, sizes
 the wheels from the motion, runs the sampled loop (ZOH and predictive commands, noise-free;
@@ -16,7 +16,7 @@ import sys
 from chargedesign.airbearing.report import OUTPUTS, write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.files import check_outputs
-from chargedesign.scene import load_theorem_scene
+from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
@@ -29,7 +29,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"testbed: {message}", file=sys.stderr, flush=True)
 
     result = testbed_from_scene(
-        load_theorem_scene(args.scene or default_testbed_scene(), "testbed"), progress=progress
+        load_scene(args.scene or default_testbed_scene()), progress=progress
     )
     written = write_testbed(result, args.out)
     progress(f"wrote {args.out}/: {', '.join(written)}")

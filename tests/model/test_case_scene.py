@@ -209,7 +209,7 @@ def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
     assert masses["xy"] == masses["xz"] == masses["yz"] == masses["y"] == masses["z"] == 0.0
 
 
-@pytest.mark.parametrize("command", ["bifurcation", "frontier", "testbed"])
+@pytest.mark.parametrize("command", ["bifurcation", "frontier"])
 def test_theorem_only_commands_refuse_a_case_scene(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
 ) -> None:

@@ -1,0 +1,95 @@
+"""A case of (ep) made into the testbed's :class:`~chargedesign.airbearing.dynamics.CaseModel`.
+
+The case's expressions are the sympy objects the whitelisted parser built
+(:mod:`chargedesign.model.case_file`); they are differentiated here (dV/dgamma, the
+right-hand sides of (ep), I1, I3) and turned into NumPy functions by ``sympy.lambdify`` (the
+printed code is sympy's own, of trees whose leaves are the state's names and rationals: no
+text from a file reaches ``eval``).
+
+A case the testbed cannot fly is refused here, in one line naming why, before any work:
+an inertia the platform's ballast cannot give, a V or mu singular somewhere on the sphere
+(the wheels' torque would be unbounded there), or a claimed level whose r cannot be solved.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from chargedesign.airbearing.dynamics import CaseModel
+from chargedesign.errors import InputError
+from chargedesign.model.case import GAMMA
+from chargedesign.model.case_file import STATE, Case
+
+_GAMMA = tuple(GAMMA)
+
+
+def _function(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> object:
+    return sp.lambdify(symbols, expr, modules="numpy")
+
+
+def _singular_factors(expr: sp.Expr) -> list[str]:
+    """The denominator's factors of ``expr`` that depend on gamma (``"<factor> = 0"``)."""
+    _, denominator = sp.fraction(sp.together(expr))
+    factors = sp.factor_list(denominator)[1]
+    return [f"{sp.sstr(f)} = 0" for f, _ in factors if f.free_symbols & set(_GAMMA)]
+
+
+def refusal(case: Case) -> str | None:
+    """Why the testbed cannot fly ``case`` (one line), or None."""
+    A, B, C = case.inertia
+    if not (A == B == 2 * C):
+        return (
+            f"testbed: case {case.name}: inertia diag({A}, {B}, {C}) is not realisable by the "
+            "platform, whose ballast closes diag(2C, 2C, C) only (the layout's least-mass "
+            "program); the testbed flies cases of that inertia"
+        )
+    singular = sorted({f for expr in (case.V, *case.mu) for f in _singular_factors(expr)})
+    if singular:
+        return (
+            f"testbed: case {case.name}: V or mu is singular on {', '.join(singular)}, so the "
+            "wheels' torque would be unbounded there; the testbed flies cases whose V and mu "
+            "are finite on the whole sphere"
+        )
+    return None
+
+
+def case_model(case: Case) -> CaseModel:
+    """The testbed's numeric model of ``case`` (refused first by :func:`refusal`).
+
+    The level is the case's I3 value for a conditional claim; a general case is flown on
+    I3 = 0 (the area-zero level, as the theorem's motions are)."""
+    reason = refusal(case)
+    if reason is not None:
+        raise InputError(reason)
+    gradient = [sp.diff(case.V, x) for x in _GAMMA]
+    equations = case.equations()
+    return CaseModel(
+        name=case.name,
+        inertia=np.array([float(m) for m in case.inertia]),
+        level=0.0 if case.level is None else float(case.level),
+        conditional=case.level is not None,
+        gradient=tuple(_function(g, _GAMMA) for g in gradient),  # type: ignore[misc]
+        gyroscopic=tuple(_function(m, _GAMMA) for m in case.mu),  # type: ignore[misc]
+        integral=_function(case.integral, STATE),  # type: ignore[arg-type]
+        cyclic=_function(case.I3, STATE),  # type: ignore[arg-type]
+        energy=_function(case.I1, STATE),  # type: ignore[arg-type]
+        equations=tuple(_function(e, STATE) for e in equations),  # type: ignore[misc]
+        record={
+            "name": case.name,
+            "source": case.source,
+            "inertia_kg_m2": [float(m) for m in case.inertia],
+            "V": sp.sstr(case.V),
+            "l_dot_gamma": sp.sstr(case.l_dot_gamma),
+            "integral": sp.sstr(case.integral),
+            "level": "general" if case.level is None else str(case.level),
+            "flown_on_I3": 0.0 if case.level is None else float(case.level),
+            "monitored_integral": "F",
+            "note": "the I4_* figures of results, requirements, tolerances and the verdict hold "
+            "the relative drift of the case's F; the wheels apply the case's torque "
+            "gamma x dV/dgamma - omega x mu (model/case_file.py's (ep))",
+        },
+    )
+
+
+__all__ = ["case_model", "refusal"]
