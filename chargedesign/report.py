@@ -394,9 +394,9 @@ def _support_rows(window: WindowAtDesign) -> list[tuple[str, ...]]:
 
 def _support_lines(window: WindowAtDesign | None) -> list[str]:
     """The fixed point O (the window's ``support``) and its air film's drag."""
-    support = window.support if window is not None else None
-    if not support:
+    if window is None or not window.support:
         return []
+    support = window.support
     return [
         f"- Support: a {support['bearing']} air bearing (tilt {fmt(support['tilt_limit_deg'])} "
         f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
