@@ -248,7 +248,9 @@ def render_report(
         File name of a picture to show under the title (e.g. ``design.png``).
     """
     lines = [f"# {title}", ""]
-    lines += _verdict_lines(design)
+    # a physical body's figures, as its realism budget recorded them (read once)
+    record = RealismRecord.read(design.realism) if design.medium is not None else None
+    lines += _verdict_lines(design, record)
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     lines += _scene_lines(design)
@@ -260,8 +262,8 @@ def render_report(
             "",
             "Timings: " + ", ".join(f"{k} {fmt(v)} s" for k, v in timings.items()) + ".",
         ]
-    if design.medium is not None:
-        lines += _physical_sections(design)
+    if record is not None:
+        lines += _physical_sections(design, record)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
@@ -445,9 +447,9 @@ def _placement_lines(design: Design) -> list[str]:
     return []
 
 
-def _verdict_lines(design: Design) -> list[str]:
+def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
-    if design.medium is None:
+    if design.medium is None or record is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
             "elements, the mathematical case).",
@@ -456,7 +458,6 @@ def _verdict_lines(design: Design) -> list[str]:
         ]
     limits = design.buildability or {}
     frontier = design.frontier or {}
-    record = RealismRecord.read(design.realism)
     medium = design.medium
     assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
     ok = bool(limits.get("buildable"))
@@ -657,9 +658,9 @@ def _part_size_lines(sizes: dict[str, Any]) -> list[str]:
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
 
 
-def _physical_sections(design: Design) -> list[str]:
+def _physical_sections(design: Design, record: RealismRecord) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
-    return _bom_lines(design) + _realism_lines(design)
+    return _bom_lines(design) + _realism_lines(record)
 
 
 def _bom_lines(design: Design) -> list[str]:
@@ -711,28 +712,23 @@ def _bom_lines(design: Design) -> list[str]:
     return lines
 
 
-def _realism_lines(design: Design) -> list[str]:
+def _realism_lines(record: RealismRecord) -> list[str]:
     """The realism budget as recorded (its items, the field response and the K law among
     them) and the realisability map."""
-    lines: list[str] = []
-    if design.realism:
-        record = RealismRecord.read(design.realism)
-        budget = record.budget
-        lines += ["", "## Realism budget", ""]
-        lines.append(
-            f"Typical motion: |omega| = {fmt(budget.get('typical_rate_1_per_s', 0), PRECISE)} "
-            f"1/s, period {fmt(budget.get('period_s', 0), PRECISE)} s, designed torques ~"
-            f"{fmt(budget.get('designed_torque_N_m', 0))} N m."
-        )
-        lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
-        for key, item in budget.items():
-            if isinstance(item, dict):
-                amount = item.get("value")
-                shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
-                lines.append(
-                    f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |"
-                )
-        lines += _map_lines(record.realisability_map)
+    budget = record.budget
+    lines = ["", "## Realism budget", ""]
+    lines.append(
+        f"Typical motion: |omega| = {fmt(budget.get('typical_rate_1_per_s', 0), PRECISE)} "
+        f"1/s, period {fmt(budget.get('period_s', 0), PRECISE)} s, designed torques ~"
+        f"{fmt(budget.get('designed_torque_N_m', 0))} N m."
+    )
+    lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
+    for key, item in budget.items():
+        if isinstance(item, dict):
+            amount = item.get("value")
+            shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
+            lines.append(f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |")
+    lines += _map_lines(record.realisability_map)
     return lines
 
 

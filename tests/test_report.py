@@ -167,6 +167,14 @@ def test_the_recorded_figures_equal_a_fresh_recomputation(tmp_path):
     assert design.realism["k_law_induced_ratio"] == k_law(design)
     after = design.realism["realisability_map"]
     assert after == json_ready(realisability_map(design)) and after != before
+    # ... and the window at the design's rate, not recomputed, is still a fresh one's
+    model = window_model(design, 1.0)
+    ratios = model.ratios(1.0)
+    kept = design.realism["window_at_design"]
+    assert model.term_key == kept["term_key"] and list(ratios) == [i["key"] for i in kept["items"]]
+    for item in kept["items"]:
+        expected = ratios[item["key"]] / model.fraction
+        assert item["over_fraction"] == pytest.approx(expected, rel=1e-14)
     # the report renders the same from memory and from the written file
     write_design(design, tmp_path / "design.json")
     assert render_report(read_design(tmp_path / "design.json")) == render_report(design)

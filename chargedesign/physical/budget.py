@@ -65,12 +65,14 @@ def realism_record(design: Any, response: dict[str, Any] | None = None) -> dict[
 
 
 def judge_at_frontier(design: Any) -> None:
-    """The budget's K law and the report's figures again, once ``design.frontier`` is known
-    (the K law and the map's frontier columns are judged at its ``K_max``)."""
+    """The budget's K law and the realisability map again, once ``design.frontier`` is known:
+    the law and the map's frontier columns are judged at its ``K_max``. The part sizes and
+    the window at the design's rate do not depend on it (the window's smallest term is chosen
+    by the sizes here)."""
     realism = design.realism
     if not isinstance(realism, dict):
         return
     if K_LAW_KEY in realism:
         realism[K_LAW_KEY] = k_law(design)
     if MAP_KEY in realism:
-        realism |= report_figures(design)
+        realism[MAP_KEY] = json_ready(realisability_map(design))
