@@ -15,6 +15,7 @@ Each reader refuses, with one line naming the file and the reason (never its con
 
 from __future__ import annotations
 
+import csv
 import io
 import json
 import os
@@ -31,7 +32,14 @@ import numpy as np
 from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.validation import as_array, as_points, check_input_array, input_error
+from chargedesign.validation import (
+    as_array,
+    as_points,
+    check_design_numbers,
+    check_input_array,
+    input_error,
+)
+from chargedesign.vocabulary import EXPORT_FORMATS
 
 #: largest scene (TOML) file read, bytes
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -287,3 +295,185 @@ def read_trajectory(
     if not np.allclose(gram, np.eye(3), rtol=0.0, atol=1e-6) or np.any(np.linalg.det(rotation) < 0):
         raise input_error(f"{where}.rotation", "rotation matrices (R^T R = I, det R = +1)", "not")
     return t, rotation
+
+
+# ---------------------------------------------------------------------------------------------
+# exports (:mod:`chargedesign.export` writes them): the format a file name calls for, and the
+# CSV, VTP and VTU files read back into design.json's mapping
+
+CSV_COLUMNS = ("kind", "x", "y", "z", "value", "mx", "my", "mz")
+#: the columns written: the element columns and the ``design`` column of the header row
+CSV_WRITTEN = (*CSV_COLUMNS, "design")
+VTP_FIELD = "chargedesign_design"
+#: suffix of field data holding text as UTF-8 bytes (``.vtu``, which meshio reads)
+UTF8_SUFFIX = "_utf8"
+EXPORT_ELEMENT_KEYS = ("charges", "masses", "dipoles")
+
+
+#: header key of the physical per-element arrays (carrier radii and masses, magnet volumes and
+#: masses), in element order; the tables and VTK arrays carry positions and values only
+SIZES_KEY = "element_sizes"
+
+
+def format_from_path(path: str | os.PathLike[str]) -> str:
+    """The export format a file name calls for (``.json``, ``.csv``, ``.vtp``, ``.vtu``)."""
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in EXPORT_FORMATS:
+        raise input_error(
+            f"{path}: format",
+            "a file name ending in " + ", ".join("." + f for f in EXPORT_FORMATS),
+            suffix,
+        )
+    return suffix
+
+
+def resolve_format(fmt: str | None, path: str | os.PathLike[str]) -> str:
+    """``fmt`` checked against :data:`EXPORT_FORMATS`, or the format the file name calls for."""
+    if fmt is None:
+        return format_from_path(path)
+    if fmt not in EXPORT_FORMATS:
+        raise input_error("format", "one of " + ", ".join(EXPORT_FORMATS), fmt)
+    return fmt
+
+
+def export_mapping(header: Any, elements: dict[str, dict[str, Any]], where: str) -> dict[str, Any]:
+    """design.json's mapping from an export's header and element arrays, its numbers checked
+    against the input range (:func:`chargedesign.validation.check_design_numbers`)."""
+    if not isinstance(header, dict):
+        raise input_error(where, "a JSON object describing the design", header)
+    header = dict(header)
+    sizes = header.pop(SIZES_KEY, None) or {}
+    if not isinstance(sizes, dict):
+        raise input_error(f"{where}: {SIZES_KEY}", "a JSON object", sizes)
+    merged = {block: dict(arrays) for block, arrays in elements.items()}
+    for block, arrays in sizes.items():
+        if block not in EXPORT_ELEMENT_KEYS or not isinstance(arrays, dict):
+            raise input_error(f"{where}: {SIZES_KEY}.{block}", "charges, masses or dipoles", block)
+        merged.setdefault(block, {}).update(arrays)
+    data = {**header, **merged}
+    check_design_numbers(data, where)  # the same input range as design.json
+    return data
+
+
+def _csv_header(path: Path, text: str) -> tuple[dict[str, Any], list[str]]:
+    """The ``# design.KEY: JSON`` header lines, parsed, and the other (CSV) lines."""
+    header: dict[str, Any] = {}
+    body_lines = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.startswith("#"):
+            body_lines.append(line)
+            continue
+        key, sep, value = line[1:].strip().partition(": ")
+        if not sep or not key.startswith("design."):
+            continue  # descriptive lines (units, columns)
+        key = key.removeprefix("design.")
+        header[key] = loads_json(value, f"{path}: line {number}: header {key!r}")
+    return header, body_lines
+
+
+def _plain_form_rows(path: Path, rows: list[list[str]], header: dict[str, Any]) -> list[list[str]]:
+    """The element rows of the plain form, its design row's JSON merged into ``header``."""
+    # the plain form: the design row carries the header as JSON in the last column
+    kept = [rows[0][: len(CSV_COLUMNS)]]
+    for number, row in enumerate(rows[1:], start=2):
+        if row and row[0] == "design":
+            try:
+                found = json.loads(row[-1])
+            except json.JSONDecodeError as exc:
+                raise InputError(f"{path}: row {number}: design cell is not JSON ({exc})") from exc
+            if not isinstance(found, dict):
+                raise input_error(f"{path}: row {number}: design", "a JSON object", found)
+            found.pop("csv_units", None)
+            header.update(found)
+        else:
+            kept.append(row[: len(CSV_COLUMNS)])
+    return kept
+
+
+def _csv_elements(path: Path, rows: list[list[str]]) -> dict[str, dict[str, list[Any]]]:
+    """The charges, masses and dipoles of the element rows (after the column row)."""
+    elements: dict[str, dict[str, list[Any]]] = {
+        "charges": {"positions": [], "values": []},
+        "masses": {"positions": [], "values": []},
+        "dipoles": {"positions": [], "moments": []},
+    }
+    for number, row in enumerate(rows[1:], start=2):
+        if not row:
+            continue
+        try:
+            kind = row[0]
+            position = [float(v) for v in row[1:4]]
+            if kind in ("charge", "mass"):
+                block = elements["charges" if kind == "charge" else "masses"]
+                block["values"].append(float(row[4]))
+            elif kind == "dipole":
+                block = elements["dipoles"]
+                block["moments"].append([float(v) for v in row[5:8]])
+            else:
+                raise InputError(f"{path}: row {number}: kind: expected charge, mass or dipole")
+        except (ValueError, IndexError) as exc:
+            if isinstance(exc, InputError):
+                raise
+            raise InputError(
+                f"{path}: row {number}: not a valid element row ({type(exc).__name__})"
+            ) from exc
+        block["positions"].append(position)
+    return elements
+
+
+def read_csv_export(path: Path) -> dict[str, Any]:
+    """design.json's mapping of a CSV export (the plain form, or the earlier ``# design.KEY``
+    comment header)."""
+    text = read_text(path, "CSV export")
+    header, body_lines = _csv_header(path, text)
+    rows = list(csv.reader(body_lines))
+    if rows and tuple(rows[0]) == CSV_WRITTEN:
+        rows = _plain_form_rows(path, rows, header)
+    if not rows or tuple(rows[0]) != CSV_COLUMNS:
+        # the file's own text is not echoed (it may not be an export at all)
+        raise InputError(f"{path}: columns: expected {', '.join(CSV_WRITTEN)} (header row)")
+    elements = _csv_elements(path, rows)
+    if "parameters" not in header:
+        raise InputError(f"{path}: no design row with the parameters (header missing)")
+    return export_mapping(header, elements, str(path))
+
+
+def read_vtk_export(path: Path) -> dict[str, Any]:
+    """design.json's mapping of a VTP or VTU export (its field data and point data)."""
+    pv = import_held("pyvista")
+
+    try:
+        polydata = pv.read(str(path))
+    except Exception as exc:  # VTK readers raise assorted types on bad files
+        raise InputError(f"{path}: not a readable VTK file ({exc})") from exc
+    fields: Any = polydata.field_data if isinstance(polydata, pv.DataSet) else {}
+    if VTP_FIELD in fields:
+        text = str(fields[VTP_FIELD][0]) if len(fields[VTP_FIELD]) else ""
+    elif VTP_FIELD + UTF8_SUFFIX in fields:
+        text = np.asarray(fields[VTP_FIELD + UTF8_SUFFIX], np.uint8).tobytes().decode("utf-8")
+    else:
+        raise InputError(f"{path}: not a chargedesign export (no field data {VTP_FIELD!r})")
+    try:
+        header = loads_json(text, f"{path}: field data {VTP_FIELD!r}")
+    except IndexError as exc:
+        raise InputError(f"{path}: field data {VTP_FIELD!r} is empty") from exc
+    elements: dict[str, dict[str, Any]] = {}
+    if polydata.n_points:
+        points = np.asarray(polydata.points, dtype=np.float64)
+        try:
+            kind = np.asarray(polydata.point_data["kind"])
+            value = np.asarray(polydata.point_data["value"], dtype=np.float64)
+            moment = np.asarray(polydata.point_data["moment"], dtype=np.float64)
+        except KeyError as exc:
+            raise InputError(f"{path}: point data {exc} missing") from exc
+        for name, code, second in (
+            ("charges", 0, "values"),
+            ("masses", 1, "values"),
+            ("dipoles", 2, "moments"),
+        ):
+            rows = kind == code
+            elements[name] = {
+                "positions": points[rows],
+                second: moment[rows] if second == "moments" else value[rows],
+            }
+    return export_mapping(header, elements, str(path))

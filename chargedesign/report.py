@@ -25,23 +25,12 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 # the plausibility figures: the Coulomb field and the material data of the physical design
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
-from chargedesign.physical.materials import (
-    BREAKDOWN_V_PER_M,
-    MAGNET_DATA,
-    ballast_label,
-    mass_densities,
-    sphere_radius,
-)
-from chargedesign.physical.realism import (
-    FIELD_RESPONSE_KEYS,
-    K_LAW_KEY,
+from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
+from chargedesign.scene.design_realism import (
     RESPONSE_FRACTION,
-    field_response,
-    k_law,
-    magnet_continuum,
-    realisability_map,
+    RealismRecord,
+    WindowAtDesign,
 )
-from chargedesign.physical.window import window_model
 from chargedesign.scene.medium import Medium
 
 
@@ -259,7 +248,9 @@ def render_report(
         File name of a picture to show under the title (e.g. ``design.png``).
     """
     lines = [f"# {title}", ""]
-    lines += _verdict_lines(design)
+    # a physical body's figures, as its realism budget recorded them (read once)
+    record = RealismRecord.read(design.realism) if design.medium is not None else None
+    lines += _verdict_lines(design, record)
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     lines += _scene_lines(design)
@@ -271,8 +262,8 @@ def render_report(
             "",
             "Timings: " + ", ".join(f"{k} {fmt(v)} s" for k, v in timings.items()) + ".",
         ]
-    if design.medium is not None:
-        lines += _physical_sections(design)
+    if record is not None:
+        lines += _physical_sections(design, record)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
@@ -326,27 +317,28 @@ def _what_changes(design: Design) -> str:
     )
 
 
-def _realised_row(design: Design, ratios: dict[str, float], model: Any) -> tuple[str, ...]:
+def _realised_row(design: Design, window: WindowAtDesign) -> tuple[str, ...]:
     """Realised or not: the worst parasitic over the fraction at the design's rate."""
+    ratios = window.ratios
     worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
     if worst is None:
         return (REALISED, "-", "-", "-")
-    label = next(p.label for p in model.items if p.key == worst)
-    binding = f"{label} (of the {model.term_key} term)"
+    binding = f"{window.label(worst)} (of the {window.term_key} term)"
     if ratios[worst] > 1.0:
-        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(model.fraction, PLAIN)}"
+        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(window.fraction, PLAIN)}"
         return (NOT_REALISED, binding, factor, _what_changes(design))
     return (REALISED, binding, f"{fmt(ratios[worst], ROUGH)} of the fraction", "-")
 
 
-def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[str, list[str], Any]:
+def _verdict_table(
+    design: Design, ok: bool, limits: dict[str, Any], record: RealismRecord
+) -> tuple[str, list[str], WindowAtDesign | None]:
     """The verdict's state and its short table: state, binding item, factor, what would
     change it (a body whose parts are not buildable as specified but within their limits has
     a second row: whether they would be realised)."""
-    continuum = magnet_continuum(design)
+    continuum = record.magnets
     below = continuum.get("below", 0)
-    model = window_model(design, 1.0) if ok else None
-    ratios = {k: v / model.fraction for k, v in model.ratios(1.0).items()} if model else {}
+    window = record.window if ok else None
     rows: list[tuple[str, ...]] = []
     if not ok:
         binding = (limits.get("violations") or ["a limit"])[0]
@@ -361,34 +353,34 @@ def _verdict_table(design: Design, ok: bool, limits: dict[str, Any]) -> tuple[st
                 "larger magnets: a slower rate, a weaker field, or a larger body",
             )
         )
-    if ok:
-        realised = _realised_row(design, ratios, model)
+    if window is not None:
+        realised = _realised_row(design, window)
         if not rows or realised[0] != REALISED:
             rows.append(realised)
-        rows += _support_rows(model)
+        rows += _support_rows(window)
     state = rows[0][0]
     table = [
         "| state | binding item | factor | what would change it |",
         "|---|---|---|---|",
         *["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows],
     ]
-    return state, table, model
+    return state, table, window
 
 
-def _apparatus_lines(model: Any) -> list[str]:
+def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
     """The coil pairs that make the field, with their harmonic error."""
-    if model is None or model.apparatus is None:
+    if window is None or window.apparatus_summary is None:
         return []
-    return ["- Field apparatus: " + "; ".join(str(model.apparatus).splitlines()) + "."]
+    return ["- Field apparatus: " + window.apparatus_summary + "."]
 
 
-def _support_rows(model: Any) -> list[tuple[str, ...]]:
+def _support_rows(window: WindowAtDesign) -> list[tuple[str, ...]]:
     """The support as an open item of the verdict when its drag is over the fraction: the
     state speaks for the body and its field apparatus, this row for what holds O."""
-    support = getattr(model, "support", None) if model is not None else None
+    support = window.support
     if not support:
         return []
-    over = support["drag_over_term"] / model.fraction
+    over = support["drag_over_term"] / window.fraction
     if over <= 1.0:
         return []
     return [
@@ -402,17 +394,17 @@ def _support_rows(model: Any) -> list[tuple[str, ...]]:
     ]
 
 
-def _support_lines(model: Any) -> list[str]:
+def _support_lines(window: WindowAtDesign | None) -> list[str]:
     """The fixed point O (the window's ``support``) and its air film's drag."""
-    support = getattr(model, "support", None) if model is not None else None
-    if not support:
+    if window is None or not window.support:
         return []
+    support = window.support
     return [
         f"- Support: a {support['bearing']} air bearing (tilt {fmt(support['tilt_limit_deg'])} "
         f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
         f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support['drag_N_m_s'])} "
         f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
-        f"{fmt(support['drag_over_term'] / model.fraction, ROUGH)} x the fraction of the "
+        f"{fmt(support['drag_over_term'] / window.fraction, ROUGH)} x the fraction of the "
         f"smallest term, NOT counted in the verdict or the realised window above; it needs "
         f"{support['needs']}. Sources: {support['source']}; "
         f"{support['drag_source']}."
@@ -455,9 +447,9 @@ def _placement_lines(design: Design) -> list[str]:
     return []
 
 
-def _verdict_lines(design: Design) -> list[str]:
+def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
     """The report's opening: the buildability verdict and what a builder must achieve."""
-    if design.medium is None:
+    if design.medium is None or record is None:
         return [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
             "elements, the mathematical case).",
@@ -466,13 +458,12 @@ def _verdict_lines(design: Design) -> list[str]:
         ]
     limits = design.buildability or {}
     frontier = design.frontier or {}
-    realism = design.realism or {}
     medium = design.medium
     assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
     ok = bool(limits.get("buildable"))
-    response = _fresh_response(design, realism)
-    law = k_law(design, response) if response else {}
-    verdict, table, model = _verdict_table(design, ok, limits)
+    response = record.response
+    law = record.law if response else {}
+    verdict, table, window_now = _verdict_table(design, ok, limits, record)
     if verdict == REALISED and any("| support: open" in row for row in table):
         verdict += " (the body and its field; its support is open, see the table)"
     window = frontier.get("realised") or {}
@@ -493,8 +484,8 @@ def _verdict_lines(design: Design) -> list[str]:
             f"{window['binding_high'].split(': ')[0]})."
         )
     lines += [
-        *_apparatus_lines(model),
-        *_support_lines(model),
+        *_apparatus_lines(window_now),
+        *_support_lines(window_now),
         "- Largest surface field: "
         f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
         f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "
@@ -502,27 +493,19 @@ def _verdict_lines(design: Design) -> list[str]:
     ]
     lines += _larmor_lines(design)
     lines += _frontier_lines(design, frontier)
-    bal = realism.get("balance_offset_1g_m") or {}
-    micro = realism.get("balance_offset_microgravity_m") or {}
+    bal = record.budget.get("balance_offset_1g_m") or {}
+    micro = record.budget.get("balance_offset_microgravity_m") or {}
     if bal:
         lines.append(
             f"- Balance: the centre of mass must sit within {fmt(bal.get('value', 0))} m of O "
             f"under 1 g ({bal.get('verdict')}), {fmt(micro.get('value', 0))} m under 1e-6 g."
         )
-    lines += _k_law_lines(law, design) if law else _response_lines(response)
-    lines += _part_size_lines(design)
+    lines += _k_law_lines(law, record) if law else _response_lines(response)
+    lines += _part_size_lines(record.part_sizes)
     lines += _placement_lines(design)
     for v in limits.get("violations", []):
         lines.append(f"- Limit broken: {v}")
     return [*lines, ""]
-
-
-def _fresh_response(design: Design, realism: dict[str, Any]) -> dict[str, Any]:
-    """The field response recomputed from the written parts and materials (the budget's
-    stored one may predate an edit of design.json); empty when the budget has none."""
-    if not any(key in realism for key in FIELD_RESPONSE_KEYS):
-        return {}
-    return field_response(design)
 
 
 def _response_lines(response: dict[str, Any]) -> list[str]:
@@ -599,7 +582,7 @@ def _k_law_parity_line(law: dict[str, Any]) -> str:
     )
 
 
-def _k_law_size_line(law: dict[str, Any], design: Design, smallest: float) -> str:
+def _k_law_size_line(law: dict[str, Any], record: RealismRecord, smallest: float) -> str:
     """The sizes the law holds for: one elementary charge per carrier, continuum magnets."""
     line = (
         "- Size: the law holds for similar bodies while each carrier at the safe field "
@@ -609,7 +592,7 @@ def _k_law_size_line(law: dict[str, Any], design: Design, smallest: float) -> st
         "size only through the surface field the medium holds (as 1/E^2; the breakdown "
         "field used is that of mm to cm gaps)."
     )
-    continuum = magnet_continuum(design)
+    continuum = record.magnets
     if continuum:
         where = "already below it" if continuum["below"] else "above it"
         line += (
@@ -621,7 +604,7 @@ def _k_law_size_line(law: dict[str, Any], design: Design, smallest: float) -> st
     return line
 
 
-def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
+def _k_law_lines(law: dict[str, Any], record: RealismRecord) -> list[str]:
     """The verdict on the parts' materials by the size-free K law, with its numbers."""
     lines = [_k_law_induced_line(law)]
     if law["ratio"] > 0:
@@ -641,26 +624,25 @@ def _k_law_lines(law: dict[str, Any], design: Design) -> list[str]:
         )
     smallest = law.get("smallest_similar_body_radius_m")
     if smallest is not None:
-        lines.append(_k_law_size_line(law, design, smallest))
+        lines.append(_k_law_size_line(law, record, smallest))
     return lines
 
 
-def _part_size_lines(design: Design) -> list[str]:
-    """How large each kind of part is, from the written elements: what a builder must make
+def _part_size_lines(sizes: dict[str, Any]) -> list[str]:
+    """How large each kind of part is (the budget's ``part_sizes``): what a builder must make
     (the magnets' size is the cube root of their material's volume)."""
 
-    def span(sizes: np.ndarray) -> str:
-        lo, hi = float(np.min(sizes)), float(np.max(sizes))
+    def span(kind: dict[str, Any]) -> str:
+        lo, hi = kind["smallest_m"], kind["largest_m"]
         return fmt_length(lo) if lo == hi else f"{fmt_length(lo)} to {fmt_length(hi)}"
 
     parts = []
-    radii = design.carrier_radii()
-    if len(radii):
-        parts.append(f"{len(radii)} carriers of radius {span(radii)}")
-    volumes = design.magnet_volumes()
-    if len(volumes):
-        magnets = f"{len(volumes)} magnets of {span(np.cbrt(volumes))} across"
-        continuum = magnet_continuum(design)
+    carriers = sizes.get("carriers")
+    if carriers:
+        parts.append(f"{carriers['count']} carriers of radius {span(carriers)}")
+    continuum = sizes.get("magnets")
+    if continuum:
+        magnets = f"{continuum['count']} magnets of {span(continuum)} across"
         if continuum["below"]:
             magnets += (
                 f" ({continuum['below']} of them below the "
@@ -670,16 +652,15 @@ def _part_size_lines(design: Design) -> list[str]:
                 "micrometre-grained sintered parts; not buildable as specified)"
             )
         parts.append(magnets)
-    density = mass_densities(design)
-    if len(design.mass_values) and np.all(np.isfinite(density)):
-        ballast = sphere_radius(design.mass_values / density)
-        parts.append(f"{len(ballast)} ballast spheres of radius {span(ballast)}")
+    ballast = sizes.get("ballast")
+    if ballast:
+        parts.append(f"{ballast['count']} ballast spheres of radius {span(ballast)}")
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
 
 
-def _physical_sections(design: Design) -> list[str]:
+def _physical_sections(design: Design, record: RealismRecord) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
-    return _bom_lines(design) + _realism_lines(design)
+    return _bom_lines(design) + _realism_lines(record)
 
 
 def _bom_lines(design: Design) -> list[str]:
@@ -731,37 +712,28 @@ def _bom_lines(design: Design) -> list[str]:
     return lines
 
 
-def _realism_lines(design: Design) -> list[str]:
-    """The realism budget (its field response and K law recomputed) and the maps."""
-    lines: list[str] = []
-    realism = design.realism or {}
-    if realism:
-        lines += ["", "## Realism budget", ""]
-        lines.append(
-            f"Typical motion: |omega| = {fmt(realism.get('typical_rate_1_per_s', 0), PRECISE)} "
-            f"1/s, period {fmt(realism.get('period_s', 0), PRECISE)} s, designed torques ~"
-            f"{fmt(realism.get('designed_torque_N_m', 0))} N m."
-        )
-        realism = dict(realism)
-        response = _fresh_response(design, realism)
-        realism |= response
-        law = k_law(design, response) if response else {}
-        if law:  # recomputed: the budget was written before the frontier was known
-            realism[K_LAW_KEY] = law
-        lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
-        for key, item in realism.items():
-            if isinstance(item, dict):
-                amount = item.get("value")
-                shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
-                lines.append(
-                    f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |"
-                )
-        lines += _map_lines(design, response)
+def _realism_lines(record: RealismRecord) -> list[str]:
+    """The realism budget as recorded (its items, the field response and the K law among
+    them) and the realisability map."""
+    budget = record.budget
+    lines = ["", "## Realism budget", ""]
+    lines.append(
+        f"Typical motion: |omega| = {fmt(budget.get('typical_rate_1_per_s', 0), PRECISE)} "
+        f"1/s, period {fmt(budget.get('period_s', 0), PRECISE)} s, designed torques ~"
+        f"{fmt(budget.get('designed_torque_N_m', 0))} N m."
+    )
+    lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
+    for key, item in budget.items():
+        if isinstance(item, dict):
+            amount = item.get("value")
+            shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
+            lines.append(f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |")
+    lines += _map_lines(record.realisability_map)
     return lines
 
 
-def _map_lines(design: Design, response: dict[str, Any]) -> list[str]:
-    """The realisability map (:func:`~chargedesign.physical.realism.realisability_map`)."""
+def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """The realisability map, as the budget records it (``realisability_map``)."""
 
     def num(x: float | None) -> str:
         return "" if x is None else fmt(x)
@@ -781,11 +753,13 @@ def _map_lines(design: Design, response: dict[str, Any]) -> list[str]:
         "| eddy / term | size at the K frontier (N m) | induced / term | eddy / term |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for row in realisability_map(design, response):
+    for row in rows:
+        # an unbounded size (a singular term that is present) is recorded as null
+        size = "inf" if row["size_N_m"] is None else fmt(row["size_N_m"])
         lines.append(
             f"| {row['term']}: `{row['expression']}` | {row['where']} | "
             f"{_table_cell(row['mechanisms'])} | {_table_cell(row['here'])} | "
-            f"{num(row['size_N_m'])} | {num(row['induced_over_term'])} | "
+            f"{size} | {num(row['induced_over_term'])} | "
             f"{num(row['eddy_over_term'])} | {num(row['frontier_size_N_m'])} | "
             f"{num(row['frontier_induced_over_term'])} | {num(row['frontier_eddy_over_term'])} |"
         )

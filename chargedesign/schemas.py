@@ -23,6 +23,7 @@ from chargedesign.airbearing.schema import output_schema as testbed_output_schem
 from chargedesign.errors import InputError
 from chargedesign.physical.materials import GAS_PROPERTIES
 from chargedesign.scene.design_materials import MATERIAL_KEYS
+from chargedesign.scene.design_realism import MAP_KEY, PART_SIZES_KEY, WINDOW_KEY
 from chargedesign.scene.keys import (
     BODY_REFERENCE_KEYS,
     DECLARED,
@@ -104,6 +105,59 @@ def _materials() -> dict[str, Any]:
     }
 
 
+def _realism() -> dict[str, Any]:
+    """design.json's ``realism``: the budget's items and the report's figure blocks
+    (:mod:`chargedesign.scene.design_realism`); open, as the budget grows."""
+    span = {
+        "type": "object",
+        "properties": {
+            "count": {"type": "integer", "minimum": 1},
+            "smallest_m": _NUMBER,
+            "largest_m": _NUMBER,
+        },
+    }
+    return {
+        "type": "object",
+        "description": "the realism budget: items (value, unit, verdict, note) and the figures "
+        "the report prints",
+        "properties": {
+            PART_SIZES_KEY: {
+                "type": "object",
+                "description": "carriers' and ballast spheres' radii, magnets' cube edges "
+                "against their continuum size, m",
+                "properties": {"carriers": span, "ballast": span, "magnets": {"type": "object"}},
+            },
+            MAP_KEY: {
+                "type": "array",
+                "description": "each term of V and mu: its mechanisms, this body's, its size "
+                "(N m; null: unbounded) and the parasitics over it",
+                "items": {"type": "object", "required": ["key", "where", "term", "size_N_m"]},
+            },
+            WINDOW_KEY: {
+                "type": ["object", "null"],
+                "description": "the realised window's items at the design's rate over the "
+                "fraction (null: not buildable)",
+                "required": ["fraction", "term_key", "items"],
+                "properties": {
+                    "fraction": _NUMBER,
+                    "term_key": {"type": "string"},
+                    "items": {
+                        "type": "array",
+                        "items": {
+                            "type": "object",
+                            "required": ["key", "label", "over_fraction"],
+                        },
+                    },
+                    "apparatus": {"type": ["object", "null"]},
+                    "apparatus_summary": {"type": ["string", "null"]},
+                    "support": {"type": ["object", "null"]},
+                },
+            },
+        },
+        "additionalProperties": True,
+    }
+
+
 def design_schema() -> dict[str, Any]:
     """The schema of design.json (format ``chargedesign.design/1``)."""
     legendre_field = {
@@ -171,6 +225,7 @@ def design_schema() -> dict[str, Any]:
             "continuous": {"type": "array", "items": {"type": "object"}},
             "medium": _medium(),
             "materials": _materials(),
+            "realism": _realism(),
             "larmor": {
                 "type": "object",
                 "description": "how the body realises n: charges (the paper's (p6) reading) "

@@ -32,7 +32,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.files import check_output_path, deferred_signals, write_file_atomic
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
@@ -70,7 +69,7 @@ _MIN_SPHERE_FRACTION = 0.018  # smallest drawn radius, so tiny elements stay vis
 _ARROW_FRACTION = 0.35  # largest dipole arrow length, as a fraction of the body's size
 _BODY_AXIS_FRACTION = 1.25
 _FIELD_AXIS_FRACTION = 1.5
-_MAX_WINDOW = 8192
+MAX_WINDOW = 8192
 _MAX_FRAMES = 5000
 
 
@@ -78,16 +77,39 @@ _MAX_FRAMES = 5000
 # inputs
 
 
+def _misuse(name: str, expected: str, received: Any) -> ValueError:
+    """A caller's error in the one error template's words: a ValueError, not an InputError
+    (the command line checks what a user gives first, commands/show.py)."""
+    return ValueError(str(input_error(name, expected, received)))
+
+
+#: why no window opens (the command line says so before drawing, commands/show.py)
+NO_DISPLAY = (
+    "no display to open a window on ($DISPLAY and $WAYLAND_DISPLAY are unset); "
+    "render to a file with --screenshot PNG"
+)
+
+
+def window_size_ok(value: Any) -> bool:
+    """Two integers (width, height) in 16..MAX_WINDOW."""
+    return (
+        isinstance(value, (tuple, list))
+        and len(value) == 2
+        and all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in value)
+        and all(16 <= int(v) <= MAX_WINDOW for v in value)
+    )
+
+
+#: what a window size must be, in the error's words
+WINDOW_SIZE_EXPECTED = f"two integers (width, height) in 16..{MAX_WINDOW}"
+#: the picture and animation files each kind of output takes
+SCREENSHOT_SUFFIXES = (".png",)
+ANIMATION_SUFFIXES = (".gif", ".mp4")
+
+
 def _window_size(value: Any) -> tuple[int, int]:
-    if (
-        not isinstance(value, (tuple, list))
-        or len(value) != 2
-        or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool) for v in value)
-        or not all(16 <= int(v) <= _MAX_WINDOW for v in value)
-    ):
-        raise input_error(
-            "window_size", f"two integers (width, height) in 16..{_MAX_WINDOW}", value
-        )
+    if not window_size_ok(value):
+        raise _misuse("window_size", WINDOW_SIZE_EXPECTED, value)
     return int(value[0]), int(value[1])
 
 
@@ -95,7 +117,7 @@ def _unit_gamma(gamma: Any) -> np.ndarray:
     g = as_array((0.0, 0.0, 1.0) if gamma is None else gamma, "gamma", (3,))
     norm = float(np.linalg.norm(g))
     if norm == 0.0:
-        raise input_error("gamma", "a non-zero vector", gamma)
+        raise _misuse("gamma", "a non-zero vector", gamma)
     return g / norm
 
 
@@ -104,10 +126,10 @@ def _region_spec(region: Any) -> dict[str, Any] | None:
     if region is None:
         return None
     if not isinstance(region, Mapping):
-        raise input_error("region", "a table with key 'shape'", region)
+        raise _misuse("region", "a table with key 'shape'", region)
     shape = region.get("shape")
     if shape not in REGION_SHAPES:
-        raise input_error("region.shape", "one of " + ", ".join(REGION_SHAPES), shape)
+        raise _misuse("region.shape", "one of " + ", ".join(REGION_SHAPES), shape)
     return dict(region)
 
 
@@ -130,7 +152,7 @@ def _half_sizes(value: Any, where: str) -> np.ndarray:
     else:
         half = as_array(value, where, (3,))
     if np.any(half <= 0):
-        raise input_error(where, "half sizes > 0", value)
+        raise _misuse(where, "half sizes > 0", value)
     return half
 
 
@@ -733,14 +755,23 @@ def _place_camera(plotter: pv.Plotter, size: float, direction: Sequence[float]) 
 _VIEW_DIRECTION = (1.0, -1.6, 0.9)
 
 
-def check_element_count(design: Design, max_elements: int | None = None) -> None:
-    """Refuse to draw more elements than the cap (each is a mesh; 200 000 take minutes)."""
+def too_many_elements(design: Design, max_elements: int | None = None) -> str | None:
+    """Why a design has more elements than the cap drawn (each is a mesh; 200 000 take
+    minutes), or None."""
     cap = MAX_SHOW_ELEMENTS if max_elements is None else int(max_elements)
     if design.n_elements > cap:
-        raise InputError(
+        return (
             f"the design has {design.n_elements} elements, more than the {cap} drawn at most "
             "(chargedesign.limits.MAX_SHOW_ELEMENTS; show --max-elements N raises it)"
         )
+    return None
+
+
+def check_element_count(design: Design, max_elements: int | None = None) -> None:
+    """Refuse to draw more elements than the cap (a caller's error: ``show`` checks first)."""
+    problem = too_many_elements(design, max_elements)
+    if problem is not None:
+        raise ValueError(problem)
 
 
 def _use_offscreen_backend() -> None:
@@ -752,6 +783,16 @@ def _use_offscreen_backend() -> None:
         and ctypes.util.find_library("EGL")
     ):
         os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = "vtkEGLRenderWindow"
+
+
+def display_available() -> bool:
+    """A window can open: a display, and PyVista not forced off screen."""
+    return _has_display() and not pv.OFF_SCREEN
+
+
+def mp4_missing(target: Path) -> str:
+    """Why an MP4 cannot be written without imageio-ffmpeg."""
+    return f"{target}: MP4 needs the imageio-ffmpeg package; write a .gif instead"
 
 
 def _has_display() -> bool:
@@ -955,7 +996,7 @@ class Picture(np.ndarray):
 
         target = Path(path)
         if target.suffix.lower() != ".png":
-            raise input_error("picture path", "a file name ending in .png", str(target))
+            raise _misuse("picture path", "a file name ending in .png", str(target))
         image = np.asarray(self)
         write_file_atomic(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
         return target
@@ -986,7 +1027,8 @@ def render_image(
     window_size : (int, int)
         Width and height in pixels.
     max_elements : int, optional
-        Cap on the elements drawn (default ``MAX_SHOW_ELEMENTS``); more is an InputError.
+        Cap on the elements drawn (default ``MAX_SHOW_ELEMENTS``); more is a ValueError
+        (the command line refuses it first).
 
     Returns
     -------
@@ -1047,8 +1089,8 @@ def render_screenshot(
     import imageio.v3 as iio
 
     target = Path(path)
-    if target.suffix.lower() != ".png":
-        raise input_error("screenshot path", "a file name ending in .png", str(target))
+    if target.suffix.lower() not in SCREENSHOT_SUFFIXES:
+        raise _misuse("screenshot path", "a file name ending in .png", str(target))
     check_output_path(target)  # before rendering: no FIFO, device, socket or link
     image = render_image(
         design, region=region, gamma=gamma, window_size=window_size, max_elements=max_elements
@@ -1071,18 +1113,15 @@ def show_interactive(
 
     Raises
     ------
-    InputError
+    ValueError
         When there is no display (Linux without ``DISPLAY``/``WAYLAND_DISPLAY``, or PyVista
         forced off screen) outside a notebook: render to a file instead.
     """
     if in_notebook():
         plot_design(design, region=region, gamma=gamma, window_size=window_size, show=True)
         return
-    if not _has_display() or pv.OFF_SCREEN:
-        raise InputError(
-            "no display to open a window on ($DISPLAY and $WAYLAND_DISPLAY are unset); "
-            "render to a file with --screenshot PNG"
-        )
+    if not display_available():
+        raise ValueError(NO_DISPLAY)
     size = _window_size(window_size)
     check_element_count(design, max_elements)
     if region is None:
@@ -1174,19 +1213,17 @@ def animate(
 
     target = Path(out_path)
     suffix = target.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise input_error("animation path", "a file name ending in .gif or .mp4", str(target))
+    if suffix not in ANIMATION_SUFFIXES:
+        raise _misuse("animation path", "a file name ending in .gif or .mp4", str(target))
     if suffix == ".mp4":
         try:
             import imageio_ffmpeg  # noqa: F401
         except ImportError as exc:
-            raise InputError(
-                f"{target}: MP4 needs the imageio-ffmpeg package; write a .gif instead"
-            ) from exc
+            raise ValueError(mp4_missing(target)) from exc
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)):
-        raise input_error("frames", "an integer", frames)
+        raise _misuse("frames", "an integer", frames)
     if not 1 <= frames <= _MAX_FRAMES:
-        raise input_error("frames", f"an integer in 1..{_MAX_FRAMES}", frames)
+        raise _misuse("frames", f"an integer in 1..{_MAX_FRAMES}", frames)
     fps = as_finite_float(fps, "fps", positive=True)
     size = _window_size(window_size)
     check_element_count(design, max_elements)

@@ -4,9 +4,12 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
+from chargedesign.errors import InputError
+from chargedesign.physical.budget import realism_record
 from chargedesign.report import render_report
 from chargedesign.results import design_text, format_length
 from chargedesign.scene import load_scene
@@ -50,7 +53,10 @@ def test_realism_notes_with_bars_stay_in_their_table_cell():
         }
     )
     design.realism = {
-        "x": {"value": 1.0, "unit": "", "verdict": "negligible", "note": "at |omega| in |B|"}
+        "x": {"value": 1.0, "unit": "", "verdict": "negligible", "note": "at |omega| in |B|"},
+        "part_sizes": {},
+        "realisability_map": [],
+        "window_at_design": None,
     }
     rows = [line for line in render_report(design).splitlines() if line.startswith("| x |")]
     assert len(rows) == 1
@@ -79,11 +85,14 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     for row, line in zip(computed, rows, strict=True):
         assert line.startswith(f"| {row['term']}: ")
         assert f"| {row['size_N_m']:.3g} |" in line
-    # another body, other numbers: ten times the parts' susceptibilities
+    # another body, other numbers: ten times the parts' susceptibilities (its budget
+    # recomputed: the report renders the record)
     data = design.to_dict()
     for material in data["materials"].values():
         material["volume_susceptibility"] *= 10
-    other = render_report(Design.from_dict(data))
+    edited = Design.from_dict(data)
+    edited.realism = realism_record(edited)
+    other = render_report(edited)
     assert f"{10 * law['ratio']:.3g} times the designed K torques" in other
     assert f"element by element {10 * law['ratio_elements']:.3g}" in other
 
@@ -100,3 +109,123 @@ def test_a_design_prints_its_figures_and_the_result_its_report():
     assert text == design_text(design)
     assert text.splitlines()[0] == "Design:" and "masses" in text and "C=1 n=0.7" in text
     assert "Design report" in render_report(design)
+
+
+def _small_design() -> Design:
+    return design_from_scene(load_scene(SMALL), frontier=False).design
+
+
+def test_the_recorded_figures_equal_a_fresh_recomputation(tmp_path):
+    """Every figure the report prints is in design.json's ``realism``; each equals the same
+    figure recomputed from the written parts (the realism and window functions, and the
+    part sizes from the elements by hand), also after the frontier moves K_max."""
+    from chargedesign.body import read_design, write_design
+    from chargedesign.physical.budget import judge_at_frontier
+    from chargedesign.physical.realism import field_response, k_law, realisability_map
+    from chargedesign.physical.window import window_model
+    from chargedesign.results import json_ready
+
+    design = _small_design()
+    realism = design.realism
+    for key, item in field_response(design).items():
+        assert realism[key] == item
+    assert realism["k_law_induced_ratio"] == k_law(design)
+    assert realism["realisability_map"] == json_ready(realisability_map(design))
+    # the part sizes by hand: carrier radii, magnet cube edges, ballast sphere radii
+    sizes = realism["part_sizes"]
+    radii = np.asarray(design.charge_radii)
+    assert sizes["carriers"] == {
+        "count": len(radii),
+        "smallest_m": radii.min(),
+        "largest_m": radii.max(),
+    }
+    edges = np.cbrt(np.asarray(design.dipole_volumes))
+    assert sizes["magnets"]["count"] == len(edges) == 12
+    assert sizes["magnets"]["smallest_m"] == pytest.approx(edges.min(), rel=1e-15)
+    assert sizes["magnets"]["largest_m"] == pytest.approx(edges.max(), rel=1e-15)
+    density = design.materials["ballast"]["density_kg_per_m3"]
+    balls = (3.0 * np.asarray(design.mass_values) / (4.0 * np.pi * density)) ** (1.0 / 3.0)
+    assert sizes["ballast"]["count"] == len(balls) > 0
+    assert sizes["ballast"]["smallest_m"] == pytest.approx(balls.min(), rel=1e-14)
+    assert sizes["ballast"]["largest_m"] == pytest.approx(balls.max(), rel=1e-14)
+    # the window's items at the design's rate
+    model = window_model(design, 1.0)
+    window = realism["window_at_design"]
+    assert window["fraction"] == model.fraction and window["term_key"] == model.term_key
+    ratios = model.ratios(1.0)
+    assert [i["key"] for i in window["items"]] == list(ratios)
+    for item in window["items"]:
+        assert item["over_fraction"] == pytest.approx(
+            ratios[item["key"]] / model.fraction, rel=1e-14
+        )
+    assert window["support"] == json_ready(model.support)
+    assert window["apparatus"] == json_ready(model.apparatus.to_dict())
+    # a frontier known later: the K law and the map's frontier columns follow its K_max
+    design.frontier = {"K_max": 3.0 * abs(design.parameters.K)}
+    before = realism["realisability_map"]
+    judge_at_frontier(design)
+    assert design.realism["k_law_induced_ratio"] == k_law(design)
+    after = design.realism["realisability_map"]
+    assert after == json_ready(realisability_map(design)) and after != before
+    # ... and the window at the design's rate, not recomputed, is still a fresh one's
+    model = window_model(design, 1.0)
+    ratios = model.ratios(1.0)
+    kept = design.realism["window_at_design"]
+    assert model.term_key == kept["term_key"] and list(ratios) == [i["key"] for i in kept["items"]]
+    for item in kept["items"]:
+        expected = ratios[item["key"]] / model.fraction
+        assert item["over_fraction"] == pytest.approx(expected, rel=1e-14)
+    # the report renders the same from memory and from the written file
+    write_design(design, tmp_path / "design.json")
+    assert render_report(read_design(tmp_path / "design.json")) == render_report(design)
+
+
+def test_an_older_design_json_without_the_figures_is_one_line():
+    """A design.json written before the budget recorded the report's figures: one line
+    naming the missing block, no traceback, no report from half a record."""
+    data = _small_design().to_dict()
+    for key in ("part_sizes", "realisability_map", "window_at_design"):
+        del data["realism"][key]
+    with pytest.raises(InputError) as caught:
+        render_report(Design.from_dict(data))
+    assert str(caught.value) == (
+        "design realism.part_sizes: missing (a design.json written before the realism budget "
+        "recorded the report's figures): design the scene again with `chargedesign design` to "
+        "render its report"
+    )
+    # without [medium] (the mathematical case) nothing of the budget is needed
+    del data["medium"], data["realism"]
+    data.pop("buildability", None)
+    assert "not checked for buildability" in render_report(Design.from_dict(data))
+
+
+def test_the_report_imports_no_computation_of_the_budget():
+    """report.py renders: it imports neither the realism budget's computations nor the
+    window's (nor the module that assembles them); it reads the typed record."""
+    import ast
+
+    import chargedesign.report as report
+
+    tree = ast.parse(Path(report.__file__).read_text())
+    imported = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            imported.add(node.module)
+            imported |= {f"{node.module}.{alias.name}" for alias in node.names}
+        elif isinstance(node, ast.Import):
+            imported |= {alias.name for alias in node.names}
+    computing = {
+        "chargedesign.physical.realism",
+        "chargedesign.physical.window",
+        "chargedesign.physical.budget",
+        "chargedesign.physical.coils",
+        "chargedesign.physical.field_bounds",
+    }
+    assert not imported & computing
+    assert not {m for m in imported if m.startswith(tuple(f"{c}." for c in computing))}
+    assert "chargedesign.scene.design_realism.RealismRecord" in imported
+    # the materials module serves the mathematical case's plausibility constants and a label
+    materials = {
+        m.rsplit(".", 1)[1] for m in imported if m.startswith("chargedesign.physical.materials.")
+    }
+    assert materials == {"BREAKDOWN_V_PER_M", "MAGNET_DATA", "ballast_label"}

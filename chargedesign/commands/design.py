@@ -188,8 +188,10 @@ def _forward_check(design: object, args: argparse.Namespace) -> None:
 def _render(design: object, path: object, region: object) -> None:
     """Render the picture; any failure becomes a one-line ChargeDesignError (nothing written)."""
     try:
-        from chargedesign.viz import render_screenshot
+        from chargedesign.viz import render_screenshot, too_many_elements
 
+        if problem := too_many_elements(design):  # type: ignore[arg-type]
+            raise InputError(problem)  # the one line, as the picture's kernel no longer raises it
         render_screenshot(design, path, region=region)  # type: ignore[arg-type]
     except ChargeDesignError as exc:
         raise ChargeDesignError(

@@ -8,8 +8,9 @@ from __future__ import annotations
 import argparse
 import json
 
-from chargedesign.export import export_design, load_any_design, resolve_format
+from chargedesign.export import export_design, load_any_design
 from chargedesign.files import check_outputs
+from chargedesign.readers import resolve_format
 
 
 def run(args: argparse.Namespace) -> int:

@@ -9,11 +9,14 @@ from __future__ import annotations
 import argparse
 import json
 
+import numpy as np
+
 from chargedesign import viz
 from chargedesign.errors import InputError
 from chargedesign.export import load_any_design
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
+from chargedesign.validation import input_error
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,7 +33,8 @@ def run(args: argparse.Namespace) -> int:
     if args.screenshot is not None and args.out is not None and _same(args.screenshot, args.out):
         raise InputError("--out: the same file as --screenshot; give two names")
     design = load_any_design(args.design)
-    viz.check_element_count(design, args.max_elements)
+    if problem := viz.too_many_elements(design, args.max_elements):
+        raise InputError(problem)
     region = None
     if args.scene is not None:
         body = load_scene(args.scene).body
@@ -40,6 +44,8 @@ def run(args: argparse.Namespace) -> int:
     written: dict[str, str] = {}
     if args.screenshot is not None:
         size = tuple(args.size) if args.size else (1024, 768)
+        _check_path(args.screenshot, "screenshot path", viz.SCREENSHOT_SUFFIXES)
+        _check_view(size, args.gamma)
         path = viz.render_screenshot(
             design,
             args.screenshot,
@@ -51,6 +57,8 @@ def run(args: argparse.Namespace) -> int:
         written["screenshot"] = str(path)
     if args.animate is not None:
         size = tuple(args.size) if args.size else (480, 360)
+        _check_animation(args.out)
+        _check_view(size, None)
         path = viz.animate(
             design,
             args.animate,
@@ -64,6 +72,9 @@ def run(args: argparse.Namespace) -> int:
         )
         written["animation"] = str(path)
     if not written:
+        if not viz.in_notebook() and not viz.display_available():
+            raise InputError(viz.NO_DISPLAY)
+        _check_view(tuple(args.size) if args.size else (1024, 768), args.gamma)
         viz.show_interactive(
             design,
             region=region,
@@ -78,6 +89,36 @@ def run(args: argparse.Namespace) -> int:
         for what, name in written.items():
             print(f"wrote {what}: {name}")
     return 0
+
+
+def _check_path(path: str, what: str, suffixes: tuple[str, ...]) -> None:
+    """The output file's kind, from its name (before any rendering)."""
+    from pathlib import Path
+
+    if Path(path).suffix.lower() not in suffixes:
+        ending = " or ".join(suffixes)
+        raise input_error(what, f"a file name ending in {ending}", str(Path(path)))
+
+
+def _check_animation(out: str) -> None:
+    """An animation file: .gif, or .mp4 with imageio-ffmpeg installed."""
+    from pathlib import Path
+
+    _check_path(out, "animation path", viz.ANIMATION_SUFFIXES)
+    if Path(out).suffix.lower() == ".mp4":
+        try:
+            import imageio_ffmpeg  # noqa: F401
+        except ImportError:
+            raise InputError(viz.mp4_missing(Path(out))) from None
+
+
+def _check_view(size: tuple[int, ...], gamma: list[float] | None) -> None:
+    """The picture's size (the option's range reaches past what a window takes) and the field
+    axis (a direction: not zero)."""
+    if not viz.window_size_ok(size):
+        raise input_error("window_size", viz.WINDOW_SIZE_EXPECTED, size)
+    if gamma is not None and float(np.linalg.norm(np.asarray(gamma, dtype=float))) == 0.0:
+        raise input_error("gamma", "a non-zero vector", gamma)
 
 
 def _same(a: str, b: str) -> bool:

@@ -31,10 +31,10 @@ from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.params import Parameters
+from chargedesign.physical.budget import realism_record
 from chargedesign.physical.limits import (
     check_limits,
 )
-from chargedesign.physical.realism import realism_budget
 from chargedesign.scene.design import Progress
 
 
@@ -185,7 +185,7 @@ def design_physical(
 
     The body is accepted as :mod:`chargedesign.designer.acceptance` says: its limits are
     checked again from the written parts and, under gravity, its balance; the realism budget
-    (:func:`chargedesign.physical.realism.realism_budget`) is written into
+    (:func:`chargedesign.physical.budget.realism_record`) is written into
     ``design.realism``. The design never locates the frontier (the frontier calls
     the design): :func:`chargedesign.designer.pipeline.design_from_scene` adds it.
 
@@ -212,7 +212,7 @@ def design_physical(
     )
     record_provenance(design, result)
     design.buildability = limits.to_dict()
-    design.realism = realism_budget(design, limits.field_response)
+    design.realism = realism_record(design, limits.field_response)
     design.physical_design = {
         "carrier_radius_m": setup.carrier_radius,
         "carrier_mass_kg": setup.carrier_mass,

@@ -46,7 +46,7 @@ from chargedesign.moment_conditions import (
     realise_from_scene,
 )
 from chargedesign.params import Parameters
-from chargedesign.physical.realism import K_LAW_KEY, k_law
+from chargedesign.physical.budget import judge_at_frontier
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
@@ -536,10 +536,8 @@ def _physical_design(
             front.realised.support = own.support
             front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
         result.design.frontier = front.to_dict()
-        # the budget's K law is judged at the frontier's K_max, known only now
-        realism = result.design.realism
-        if isinstance(realism, dict) and K_LAW_KEY in realism:
-            realism[K_LAW_KEY] = k_law(result.design)
+        # the budget's K law and the report's figures are judged at the frontier's K_max
+        judge_at_frontier(result.design)
     return result
 
 

@@ -49,26 +49,22 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY_METROLOGY,
     ballast_groups,
     ballast_materials,
+    mass_densities,
     sphere_radius,
 )
 from chargedesign.sampling import fibonacci_sphere
+from chargedesign.scene.design_realism import FIELD_RESPONSE_KEYS, K_LAW_KEY, RESPONSE_FRACTION
 from chargedesign.validation import as_finite_float, input_error
 
 G_EARTH = STANDARD_GRAVITY
 MICROGRAVITY = 1e-6 * G_EARTH
 #: a torque this fraction of the designed torques is what "balanced" tolerates
 BALANCE_FRACTION = 1e-3
-#: a torque from the parts' materials below this fraction of the designed torques is negligible
-RESPONSE_FRACTION = 1e-3
 #: a body whose element-level induced range is below this fraction of the same matter's
 #: uncancelled law has its chi-weighted moments cancelled by design
 CANCELLED = 1e-2
 #: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
 RESPONSE_ORIENTATIONS = 2000
-#: the budget's items for the applied field acting on the parts' materials
-FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
-#: the budget's item for the size-free K law (:func:`k_law`)
-K_LAW_KEY = "k_law_induced_ratio"
 #: field at which metal surfaces evaporate as ions, V/m: 20-60 V/nm for most metals
 #: (Tsong, Atom-Probe Field Ion Microscopy, Cambridge UP 1990, ch. 2, evaporation fields);
 #: the round 5e10 V/m of tungsten's order
@@ -117,6 +113,38 @@ def magnet_continuum(design: Any) -> dict[str, Any]:
         "below": int(np.count_nonzero(edges < MAGNET_CONTINUUM_SIZE)),
         "material": material.get("name"),
     }
+
+
+def _span(sizes: np.ndarray) -> dict[str, Any]:
+    return {
+        "count": len(sizes),
+        "smallest_m": float(np.min(sizes)),
+        "largest_m": float(np.max(sizes)),
+    }
+
+
+def part_sizes(design: Any) -> dict[str, Any]:
+    """How large each kind of part is, from the written elements: what a builder must make.
+
+    Returns
+    -------
+    dict
+        ``carriers`` (the carriers' sphere radii) and ``ballast`` (the radius of each ballast
+        part's sphere of its material; absent when a part's material is unknown): ``count``,
+        ``smallest_m``, ``largest_m``; ``magnets``: :func:`magnet_continuum` (the edge of each
+        magnet's cube of material). A kind of part the body has not is absent.
+    """
+    out: dict[str, Any] = {}
+    radii = design.carrier_radii()
+    if len(radii):
+        out["carriers"] = _span(radii)
+    magnets = magnet_continuum(design)
+    if magnets:
+        out["magnets"] = magnets
+    density = mass_densities(design)
+    if len(design.mass_values) and np.all(np.isfinite(density)):
+        out["ballast"] = _span(sphere_radius(design.mass_values / density))
+    return out
 
 
 def _part_set(

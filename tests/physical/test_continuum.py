@@ -15,6 +15,7 @@ import pytest
 
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
+from chargedesign.physical.budget import realism_record
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import MAGNET_CONTINUUM_SIZE
 from chargedesign.physical.realism import magnet_continuum
@@ -30,10 +31,13 @@ def small_design() -> Design:
 
 
 def with_edges(design: Design, edges: np.ndarray) -> Design:
-    """The same design with magnets of the given cube edges, m (volumes edited only)."""
+    """The same design with magnets of the given cube edges, m (volumes edited only; its
+    realism budget recomputed, as the report renders the record)."""
     data = design.to_dict()
     data["dipoles"]["volumes"] = [float(e) ** 3 for e in edges]
-    return Design.from_dict(data)
+    edited = Design.from_dict(data)
+    edited.realism = realism_record(edited)
+    return edited
 
 
 def test_the_small_bodys_magnets_are_nanoparticles(small_design):

@@ -16,6 +16,7 @@ from chargedesign.cli import main
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody
+from chargedesign.validation import input_error
 
 SMALL = (160, 120)
 
@@ -137,7 +138,7 @@ def test_region_outlines_lie_on_the_region():
     np.testing.assert_allclose(np.hypot(cyl.points[:, 0], cyl.points[:, 1]), 0.5, rtol=1e-6)
     np.testing.assert_allclose(np.abs(cyl.points[:, 2]), 1.0, rtol=1e-7)
     assert viz.region_mesh({"shape": "points"}) is None
-    with pytest.raises(InputError, match=r"region\.shape: expected one of"):
+    with pytest.raises(ValueError, match=r"region\.shape: expected one of"):
         viz.region_mesh({"shape": "cone"})
     with pytest.raises(InputError, match=r"region\.radius: expected a number > 0"):
         viz.region_mesh({"shape": "ball", "radius": -1.0})
@@ -176,12 +177,14 @@ def test_continuous_body_meshes_and_colours():
 
 
 def test_bad_render_inputs_are_named():
+    """A caller's bad arguments to the drawing kernel are ValueErrors in the error template's
+    words (the command line refuses what a user gives first: below)."""
     design = make_design(charges=[1.0])
-    with pytest.raises(InputError, match="window_size: expected two integers"):
+    with pytest.raises(ValueError, match="window_size: expected two integers"):
         viz.render_image(design, window_size=(0, 10))
-    with pytest.raises(InputError, match="gamma: expected a non-zero vector"):
+    with pytest.raises(ValueError, match="gamma: expected a non-zero vector"):
         viz.render_image(design, gamma=(0, 0, 0), window_size=SMALL)
-    with pytest.raises(InputError, match=r"screenshot path: expected a file name ending in \.png"):
+    with pytest.raises(ValueError, match=r"screenshot path: expected a file name ending in \.png"):
         viz.render_screenshot(design, "picture.jpg")
 
 
@@ -189,7 +192,7 @@ def test_no_display_gives_a_clear_error(monkeypatch):
     monkeypatch.setattr(viz.sys, "platform", "linux")
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
-    with pytest.raises(InputError, match="--screenshot"):
+    with pytest.raises(ValueError, match="--screenshot"):
         viz.show_interactive(make_design(charges=[1.0]))
 
 
@@ -253,9 +256,9 @@ def test_bad_trajectories_are_named(tmp_path):
     not_npz.write_text("{}")
     with pytest.raises(InputError, match=r"not a \.npz trajectory file"):
         viz.animate(design, not_npz, tmp_path / "a.gif", frames=2)
-    with pytest.raises(InputError, match="frames: expected an integer in"):
+    with pytest.raises(ValueError, match="frames: expected an integer in"):
         viz.animate(design, spin_trajectory(), tmp_path / "a.gif", frames=0)
-    with pytest.raises(InputError, match=r"animation path: expected a file name ending in \.gif"):
+    with pytest.raises(ValueError, match=r"animation path: expected a file name ending in \.gif"):
         viz.animate(design, spin_trajectory(), tmp_path / "a.png", frames=2)
     assert not (tmp_path / "a.gif").exists()
 
@@ -302,3 +305,41 @@ def test_show_command_without_display_or_design(tmp_path, capsys, monkeypatch):
     assert "render to a file with --screenshot PNG" in capsys.readouterr().err
     assert main(["show", str(tmp_path / "none.json"), "--screenshot", "x.png"]) == 2
     assert "no such design file" in capsys.readouterr().err
+
+
+def test_show_refuses_bad_view_options_in_one_line_before_drawing(tmp_path, capsys):
+    """The command line's checks (commands/show.py): the same one-line messages the drawing
+    kernel gave, now InputErrors at the boundary, exit code 2, nothing written."""
+    from chargedesign.cli import main
+
+    design_path = tmp_path / "design.json"
+    write_design(make_design(charges=[1.0]), design_path)
+    np.savez(tmp_path / "t.npz", **spin_trajectory(n=5))
+    shot = str(tmp_path / "s.png")
+    jpg, png = str(tmp_path / "s.jpg"), str(tmp_path / "a.png")
+    cases = [  # options; the template's name, what it expects, what it got
+        (["--screenshot", jpg], "screenshot path", "a file name ending in .png", jpg),
+        (
+            ["--screenshot", shot, "--size", "10000", "100"],
+            "window_size",
+            "two integers (width, height) in 16..8192",
+            (10000, 100),
+        ),
+        (
+            ["--screenshot", shot, "--gamma", "0", "0", "0"],
+            "gamma",
+            "a non-zero vector",
+            [0.0, 0.0, 0.0],
+        ),
+        (
+            ["--animate", str(tmp_path / "t.npz"), "--out", png],
+            "animation path",
+            "a file name ending in .gif or .mp4",
+            png,
+        ),
+    ]
+    for options, name, expected, got in cases:
+        assert main(["show", str(design_path), *options]) == 2
+        message = str(input_error(name, expected, got))
+        assert capsys.readouterr().err == f"chargedesign show: error: {message}\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["design.json", "t.npz"]
