@@ -19,7 +19,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple
+from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
 
 #: the four functions, in the order of every array of this package (rows of the Jacobian)
@@ -116,6 +116,19 @@ class MomentumMap:
         """``diag(2C, 2C, C)``."""
         C = self.params.C
         return np.array([2 * C, 2 * C, C])
+
+    @property
+    def i3_scale(self) -> float:
+        """The size of I3 the critical equations divide it by (kg m^2 / s per 1/s)."""
+        return float(self.params.C)
+
+    def velocity(self, x: np.ndarray) -> np.ndarray:
+        """The flow's right-hand side at one state x (6,)."""
+        return np.asarray(rhs(x, self.params), dtype=float)
+
+    def poisson(self, x: np.ndarray) -> np.ndarray:
+        """The Poisson tensor at one state x (6,) (:func:`poisson_tensor`)."""
+        return poisson_tensor(self, x)
 
 
 def relative_singular_value(gradients: np.ndarray) -> np.ndarray:
