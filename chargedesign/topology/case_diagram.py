@@ -21,6 +21,7 @@ Where the case is Kowalevski's on I3 = 0 the branches are named by their Appelro
 
 from __future__ import annotations
 
+import itertools
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -195,7 +196,7 @@ def cells(
     points = _breakpoints(branches, names, vertices, scales)
     out: list[Chamber] = []
     previous: dict[tuple[str, str], int] = {}
-    for a, b in zip(points[:-1], points[1:], strict=True):
+    for a, b in itertools.pairwise(points):
         h = 0.5 * (a + b)
         walls: list[tuple[float, int]] = []
         for k, index in crossings(branches, h):
@@ -204,7 +205,7 @@ def cells(
             if gap > (SAME_CURVE if walls and names[walls[-1][1]] == names[index] else SAME_WALL):
                 walls.append((k, index))
         current: dict[tuple[str, str], int] = {}
-        for (k0, i0), (k1, i1) in zip(walls[:-1], walls[1:], strict=True):
+        for (k0, i0), (k1, i1) in itertools.pairwise(walls):
             pair = (names[i0], names[i1])
             number = previous.get(pair, len(out))
             current[pair] = number
@@ -260,7 +261,9 @@ def case_diagram(
     branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
     names = _names(case, level, branches)
     lap("stability")
-    chambers = cells(F, branches, curve_labels(branches, names, scales), vertices, scales, options, count)
+    chambers = cells(
+        F, branches, curve_labels(branches, names, scales), vertices, scales, options, count
+    )
     lap("chambers")
     band = _band(branches, scales)
     return CaseDiagram(
@@ -289,7 +292,10 @@ def curve_labels(branches: list[TracedBranch], names: list[str], scales: Scales)
         if not labels[j].startswith("branch "):
             continue
         for i in range(j):
-            near = [distance_to_branch(hk, _as_branch(branches[i]), scales) < 1e-3 for hk in branches[j].hk]
+            near = [
+                distance_to_branch(hk, _as_branch(branches[i]), scales) < 1e-3
+                for hk in branches[j].hk
+            ]
             if np.mean(near) > 0.5:
                 labels[j] = labels[i]
                 break
@@ -383,7 +389,8 @@ class CaseDiagram(Result):
     def _text(self) -> str:
         raw = self.raw
         lines = [
-            f"bifurcation diagram of (H, F) of case {raw.case.name} on I3 = {raw.level}, |gamma| = 1",
+            f"bifurcation diagram of (H, F) of case {raw.case.name} on I3 = {raw.level},"
+            " |gamma| = 1",
             f"  F = {raw.case.texts.get('integral', '')}",
             f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)}"
             f" (least energy on the level {fmt(raw.h_min, CELL)})",
@@ -397,7 +404,8 @@ class CaseDiagram(Result):
             )
         for v in raw.vertices:
             lines.append(
-                f"  vertex h = {fmt(float(v.hk[0]), CELL)}, k = {fmt(float(v.hk[1]), CELL)}: {v.type} of the energy"
+                f"  vertex h = {fmt(float(v.hk[0]), CELL)}, k = {fmt(float(v.hk[1]), CELL)}:"
+                f" {v.type} of the energy"
             )
         labels = self.labels()
         lines.append(

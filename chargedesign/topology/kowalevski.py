@@ -56,8 +56,8 @@ def curve_value(index: int, h: np.ndarray, k: np.ndarray) -> np.ndarray:
 
 
 def curve_points(index: int, h: np.ndarray) -> np.ndarray:
-    """``k`` on curve ``index`` at published energies ``h``."""
-    return np.asarray(curve_value(index, np.asarray(h, float), np.zeros_like(h, dtype=float)))
+    """``k`` on curve ``index`` at published energies ``h`` (every curve is ``k - f(h) = 0``)."""
+    return -np.asarray(curve_value(index, np.asarray(h, float), np.zeros_like(h, dtype=float)))
 
 
 def kowalevski_constants(case: Case) -> tuple[float, float] | None:
