@@ -41,11 +41,11 @@ from chargedesign.topology.compute import (
     DiagramOptions,
     TracedBranch,
     Vertex,
-    _clipped,
-    _name_ends,
-    _typed,
+    clipped_runs,
     crossings,
+    name_vertex_ends,
     resolve_range,
+    typed_branch,
 )
 from chargedesign.topology.critical import (
     CriticalPoints,
@@ -255,10 +255,12 @@ def case_diagram(
     raw = trace_all(F, seeds, scales, options.continuation)
     degenerate = _degenerate_branch(degenerate_set(F, scales), scales)
     lap("continuation")
-    branches = [_typed(F, b, scales) for b in raw if len(b.z) > 1]
+    branches = [typed_branch(F, b, scales) for b in raw if len(b.z) > 1]
     if degenerate is not None:
         branches.append(degenerate)
-    branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
+    branches = [
+        name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
+    ]
     names = _names(case, level, branches)
     lap("stability")
     chambers = cells(
