@@ -32,7 +32,8 @@ from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.scene import Scene, load_scene
 from chargedesign.topology.case_diagram import case_diagram
-from chargedesign.topology.case_map import diagram_refusal
+from chargedesign.topology.case_map import CaseMomentumMap, diagram_refusal
+from chargedesign.topology.compute import resolve_range
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
@@ -122,6 +123,10 @@ def _case(args: argparse.Namespace, scene: Scene) -> int:
         raise InputError(refusal)
     level = case_level(case, args.level)
     h_range = check_case_range(args.h_range)
+    try:  # an energy range without admissible motion, before the diagram's work
+        resolve_range(CaseMomentumMap(case, level), h_range)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
     if not args.quiet:
         print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
     diagram = case_diagram(case, level, h_range)

@@ -14,7 +14,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
@@ -132,16 +131,17 @@ def resolve_range(
     if h_range is None:
         return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
     lo, hi = (float(v) for v in h_range)
+    # the command checks the range first (diagram.check_energy_range, commands.bifurcation):
+    # here a bad one is the caller's error
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(
+        raise ValueError(
             f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
             f" {fmt(hi, PLAIN)}"
         )
     if hi <= low:
-        raise InputError(
-            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
-            " on I3 = 0 the "
-            f"energy is at least {fmt(low, CELL)} J"
+        raise ValueError(
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)}:"
+            f" on the level the energy is at least {fmt(low, CELL)}"
         )
     return (max(lo, low), hi), low
 

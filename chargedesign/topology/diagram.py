@@ -172,7 +172,10 @@ def check_parameters(params: Parameters) -> ClosedForm:
     """Refuse, in one line and before any work, parameters without a diagram: lambda or rho
     != 0, the free top (c = d = 0 or K = kappa = 0) and an n whose Larmor shift swamps the
     energies. Returns the closed form of the branches."""
-    require_regular(params)
+    try:
+        require_regular(params)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
     if np.hypot(params.c, params.d) == 0.0 or (params.K == 0.0 and params.kappa == 0.0):
         raise InputError(
             "parameters: no bifurcation diagram with c = d = 0 or K = kappa = 0: the potential"
@@ -213,7 +216,7 @@ def check_energy_range(
     unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
     try:
         resolve_range(unit, unit_range)
-    except InputError:
+    except ValueError:
         _, low = resolve_range(unit, None)
         raise InputError(
             f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"

@@ -17,7 +17,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
@@ -27,9 +26,10 @@ FUNCTION_NAMES = ("H", "I4", "I2", "I3")
 
 
 def require_regular(params: Parameters) -> None:
-    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case)."""
+    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case;
+    the command refuses them first, through :func:`~.diagram.check_parameters`)."""
     if params.singular:
-        raise InputError(
+        raise ValueError(
             "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
             f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
             f"{fmt(params.lam, PLAIN)}, rho = {fmt(params.rho, PLAIN)}"
