@@ -124,9 +124,15 @@ def _case(args: argparse.Namespace, scene: Scene) -> int:
     level = case_level(case, args.level)
     h_range = check_case_range(args.h_range)
     try:  # an energy range without admissible motion, before the diagram's work
-        resolve_range(CaseMomentumMap(case, level), h_range)
+        (lo, hi), _ = resolve_range(CaseMomentumMap(case, level), h_range)
     except ValueError as exc:
         raise InputError(str(exc)) from None
+    if not hi > lo:
+        raise InputError(
+            f"case {case.name}: the energies on I3 = {level} have no scale (the least energy"
+            f" and the top of the amended potential are both {fmt(lo, CELL)}): give"
+            " --h-range LO HI"
+        )
     if not args.quiet:
         print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
     diagram = case_diagram(case, level, h_range)

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.errors import SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, PRECISE, fmt
 from chargedesign.model.case_file import Case
@@ -242,6 +243,8 @@ def case_diagram(
     F = CaseMomentumMap(case, level)
     lap("equations")
     rng_range, h_min = resolve_range(F, h_range)
+    if not rng_range[1] > rng_range[0]:
+        raise ValueError(f"case {case.name}: an empty energy range {rng_range}: give h_range")
     scales = case_scales(F, rng_range)
     F.time_unit = float(np.sqrt(np.max(F.inertia()) / max(scales.energy, 1e-300)))
     lap("energy range")
@@ -255,12 +258,19 @@ def case_diagram(
     raw = trace_all(F, seeds, scales, options.continuation)
     degenerate = _degenerate_branch(degenerate_set(F, scales), scales)
     lap("continuation")
-    branches = [typed_branch(F, b, scales) for b in raw if len(b.z) > 1]
+    # a family whose image is a point (at a vertex, to round-off) draws nothing
+    moved = [b for b in raw if len(b.z) > 1 and np.ptp(scales.image(b.hk), axis=0).max() > 1e-6]
+    branches = [typed_branch(F, b, scales) for b in moved]
     if degenerate is not None:
         branches.append(degenerate)
     branches = [
         name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
     ]
+    if not branches:
+        raise SolverError(
+            f"bifurcation: no critical curve of case {case.name} traced in"
+            f" {fmt(rng_range[0], CELL)} .. {fmt(rng_range[1], CELL)}: widen --h-range"
+        )
     names = _names(case, level, branches)
     lap("stability")
     chambers = cells(

@@ -201,6 +201,7 @@ def _seven() -> FlowCount:
         ((f"{CASES}/kowalevski.toml", "--h-range", "2", "1"), "--h-range: expected two"),
         ((f"{CASES}/kowalevski.toml", "--h-range", "-5", "-4"), "no admissible motion"),
         ((f"{CASES}/kowalevski.toml", "--at", "0.5"), "--at: the atlas is drawn"),
+        ((f"{CASES}/euler.toml",), "have no scale"),
         ((f"{CASES}/kowalevski.toml", "--tori", "0.5", "0.1"), "--tori counts the theorem"),
         (("examples/scenes/unit_scale.toml", "--level", "1"), "--level: for a [case] scene"),
     ],
