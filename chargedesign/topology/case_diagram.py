@@ -124,13 +124,18 @@ def _degenerate_branch(points: CriticalPoints, scales: Scales) -> TracedBranch |
     if np.ptp(k) > 1e-8 * scales.quartic:
         return None
     order = np.argsort(points.hk[:, 0])
-    low = points.hk[order[0], 0]
-    h = np.linspace(
-        low, scales.h_high, max(2, int(np.ceil((scales.h_high - low) / scales.energy / 0.02)) + 1)
-    )
+    low, high = points.hk[order[0], 0], points.hk[order[-1], 0]
+    if high - low <= 1e-6 * scales.energy:
+        return None  # a point (Joukovsky's M = 0): a vertex, not a segment
+    # sampled from states across the range: a set that reaches its top goes on above it
+    if high >= scales.h_high - 0.05 * scales.energy:
+        high = scales.h_high
+    steps = int(np.ceil((high - low) / scales.energy / 0.02))
+    h = np.linspace(low, high, max(2, steps + 1))
     hk = np.stack([h, np.full_like(h, float(np.median(k)))], axis=1)
     states = np.repeat(points.z[order[:1], :6], len(h), axis=0)
-    return TracedBranch(states, hk, ["degenerate"] * len(h), ("sampled", "energy range"), True)
+    top = "energy range" if high == scales.h_high else "sampled"
+    return TracedBranch(states, hk, ["degenerate"] * len(h), ("sampled", top), True)
 
 
 def _vertices(F: CaseMomentumMap, scales: Scales) -> list[Vertex]:
