@@ -59,7 +59,7 @@ from chargedesign.topology.critical import (
     sphere_points,
     states_on_level,
 )
-from chargedesign.topology.diagram import chamber_labels, csv_table, draw_diagram
+from chargedesign.topology.diagram import chamber_labels, csv_table, draw_diagram, vertex_groups
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
 from chargedesign.topology.stability import TYPES, equilibrium_type, linearised_eigenvalues
 
@@ -419,10 +419,14 @@ class CaseDiagram(Result):
                 f" {fmt(item['h'][1], PRECISE)}, k {fmt(item['k'][0], PRECISE)} .."
                 f" {fmt(item['k'][1], PRECISE)} ({kinds}; ends: {', '.join(item['ends'])})"
             )
-        for v in raw.vertices:
+        size = (
+            raw.h_range[1] - raw.h_range[0],
+            float(np.max(np.abs(raw.admissible[:, 1:]), initial=1.0)),
+        )
+        for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
             lines.append(
-                f"  vertex h = {fmt(float(v.hk[0]), CELL)}, k = {fmt(float(v.hk[1]), CELL)}:"
-                f" {v.type} of the energy"
+                f"  vertex h = {fmt(h, CELL)}, k = {fmt(k, CELL)}: {kind} of the energy"
+                f" ({states} states)"
             )
         labels = self.labels()
         lines.append(
