@@ -211,3 +211,24 @@ def test_refusals_are_one_line(tmp_path, capsys, argv, message):
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_chaplygin_case_file_gives_the_theorems_closed_form():
+    """The catalogue's Chaplygin entry (the theorem's file with K = n = lambda = rho = 0) through
+    the case route: every traced point on k = 0 or on the theorem's closed form
+    k = (h / C -+ a)^2, a = |kappa| sqrt(c^2 + d^2) (docs/bifurcation.md), to 1e-9 of k's scale."""
+    from chargedesign.model.catalogue import catalogue_case
+
+    case = catalogue_case("chaplygin")
+    C, c, d, kappa = (float(case.parameters[n]) for n in ("C", "c", "d", "kappa"))
+    a = abs(kappa) * np.hypot(c, d)
+    diagram = case_diagram(case, 0, count=False)
+    scale = max(float(np.max(b.hk[:, 1])) for b in diagram.branches)
+    curves = {"elliptic": 0, "hyperbolic": 0}
+    for b in diagram.branches:
+        h, k = b.hk[:, 0], b.hk[:, 1]
+        gaps = np.stack([np.abs(k), np.abs(k - (h / C + a) ** 2), np.abs(k - (h / C - a) ** 2)])
+        assert np.max(np.min(gaps, axis=0)) < 1e-9 * scale
+        for kind, row in (("elliptic", 1), ("hyperbolic", 2)):
+            curves[kind] += int(np.sum(gaps[row] < 1e-9 * scale))
+    assert curves["elliptic"] > 10 and curves["hyperbolic"] > 10
