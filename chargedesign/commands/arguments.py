@@ -523,6 +523,13 @@ def bifurcation_arguments(parser: argparse.ArgumentParser) -> None:
         help="only count the tori of the level H = h (J), I4 = k (1/s^4) on I3 = 0, by the flow "
         '(no files written); with --json: {"h": h, "k": k, "tori": n}',
     )
+    parser.add_argument(
+        "--level",
+        default=None,
+        metavar="G",
+        help="a case scene's I3 level (a number or a fraction; default: the case's own level,"
+        " or 0 for a general case)",
+    )
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
 

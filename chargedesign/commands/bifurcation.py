@@ -11,17 +11,29 @@ about a minute). With ``--tori H K`` only the number of tori of the level H = h,
 printed (``{"h": h, "k": k, "tori": n}`` with ``--json``; 0 for an empty level; a critical
 value refused in one line naming its branch), nothing written. lambda or rho != 0 is refused
 (see docs/bifurcation.md).
+
+A scene with a ``[case]`` table (or a bare case file) draws that case's diagram of (H, F)
+on ``I3 = --level`` (default: the case's own level, or 0 for a general claim), with the same
+files; a conditional case asked for another level, a singular case and a case given by
+``mu`` alone are refused in one line (docs/workbench.md).
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
-from chargedesign.scene import load_theorem_scene
+from chargedesign.scene import Scene, load_scene
+from chargedesign.topology.case_diagram import case_diagram
+from chargedesign.topology.case_map import CaseMomentumMap, diagram_refusal
+from chargedesign.topology.compute import resolve_range
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
@@ -35,7 +47,11 @@ def run(args: argparse.Namespace) -> int:
         inputs=[args.scene],
         writes=("bifurcation.csv", "bifurcation.png", "bifurcation_at.png"),
     )
-    scene = load_theorem_scene(args.scene, "bifurcation")
+    scene = load_scene(args.scene)
+    if "case" in scene.tables:
+        return _case(args, scene)
+    if args.level is not None:
+        raise InputError("--level: for a [case] scene; the theorem's diagram is on I3 = 0")
     h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
     lo, hi = energy_range(scene.parameters, h_range)
     if args.at is not None and not lo < args.at < hi:
@@ -66,11 +82,79 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def case_level(case: Any, text: str | None) -> Fraction:
+    """The I3 level of a case's diagram: ``--level`` read exactly (a number or a fraction;
+    never through sympy), which a conditional case allows only at its own level."""
+    if text is None:
+        return Fraction(0) if case.level is None else Fraction(str(case.level))
+    try:
+        level = Fraction(text.strip())
+    except (ValueError, ZeroDivisionError):
+        raise InputError(f"--level: expected a number or a fraction, got {text!r}") from None
+    if case.level is not None and level != Fraction(str(case.level)):
+        raise InputError(
+            f"--level: case {case.name}'s integral holds on I3 = {case.level} only, not on"
+            f" I3 = {level}"
+        )
+    return level
+
+
+def check_case_range(h_range: Any) -> tuple[float, float] | None:
+    """``--h-range`` for a case: two finite energies LO < HI (the case's units)."""
+    if h_range is None:
+        return None
+    lo, hi = float(h_range[0]), float(h_range[1])
+    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+        raise InputError(
+            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
+            f" {fmt(hi, PLAIN)}"
+        )
+    return lo, hi
+
+
+def _case(args: argparse.Namespace, scene: Scene) -> int:
+    """A ``[case]`` scene: the case's diagram of (H, F) on its level."""
+    case = scene.case
+    assert case is not None
+    if args.at is not None:
+        raise InputError("--at: the atlas is drawn for the theorem's scenes only, not a [case]")
+    refusal = diagram_refusal(case)
+    if refusal is not None:
+        raise InputError(refusal)
+    level = case_level(case, args.level)
+    h_range = check_case_range(args.h_range)
+    try:  # an energy range without admissible motion, before the diagram's work
+        (lo, hi), _ = resolve_range(CaseMomentumMap(case, level), h_range)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+    if not hi > lo:
+        raise InputError(
+            f"case {case.name}: the energies on I3 = {level} have no scale (the least energy"
+            f" and the top of the amended potential are both {fmt(lo, CELL)}): give"
+            " --h-range LO HI"
+        )
+    if not args.quiet:
+        print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
+    diagram = case_diagram(case, level, h_range)
+    diagram.write(args.out)
+    if args.json:
+        print(diagram.to_json())
+    else:
+        print(str(diagram), end="")
+        print(f"wrote {args.out}/bifurcation.csv, {args.out}/bifurcation.png")
+    return 0
+
+
 def _tori(args: argparse.Namespace) -> int:
     """``--tori H K``: the count at one point, nothing written."""
     if args.at is not None or args.h_range is not None:
         raise InputError("--tori: counts one level; --at and --h-range do not apply with it")
-    scene = load_theorem_scene(args.scene, "bifurcation")
+    scene = load_scene(args.scene)
+    if "case" in scene.tables:
+        raise InputError(
+            f"{scene.source}: --tori counts the theorem's levels; a [case] scene's diagram"
+            " gives each chamber's tori (run without --tori)"
+        )
     if not args.quiet:
         print("bifurcation: counting tori by the flow ...", file=sys.stderr, flush=True)
     count = tori_at(scene.parameters, args.tori[0], args.tori[1])

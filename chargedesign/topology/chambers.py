@@ -37,6 +37,7 @@ from chargedesign.simulation.system import (
     quaternion_gamma,
     rotation_quaternion,
 )
+from chargedesign.topology.case_map import CaseMomentumMap, case_trajectories
 from chargedesign.topology.critical import plane_basis, sphere_points
 from chargedesign.topology.equations import MomentumMap
 
@@ -163,6 +164,8 @@ class FlowCount:
 
 def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) -> np.ndarray:
     """States (omega, gamma) along the trajectories from ``starts`` (m, 6): (m, T, 6)."""
+    if isinstance(F, CaseMomentumMap):
+        return case_trajectories(F, starts, counting.t_end * F.time_unit, counting.samples)
     system = RigidBodySystem(Body(parameters=F.params), ["theorem"])
     y0 = np.array(
         [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]

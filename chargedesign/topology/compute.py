@@ -14,7 +14,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.topology.branches import Branch, ContinuationSettings, trace_all
@@ -132,16 +131,17 @@ def resolve_range(
     if h_range is None:
         return (low, top + 0.5 * (top - low) + 1e-9 * max(abs(top), abs(low))), low
     lo, hi = (float(v) for v in h_range)
+    # the command checks the range first (diagram.check_energy_range, commands.bifurcation):
+    # here a bad one is the caller's error
     if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(
+        raise ValueError(
             f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
             f" {fmt(hi, PLAIN)}"
         )
     if hi <= low:
-        raise InputError(
-            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
-            " on I3 = 0 the "
-            f"energy is at least {fmt(low, CELL)} J"
+        raise ValueError(
+            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)}:"
+            f" on the level the energy is at least {fmt(low, CELL)}"
         )
     return (max(lo, low), hi), low
 
@@ -211,7 +211,7 @@ def critical_diagram(
     raw = trace_all(F, seeds, scales, options.continuation)
     exact = equator_family(F, scales, options.continuation.max_image_step)
     lap("continuation")
-    branches = [_typed(F, b, scales) for b in raw if len(b.z) > 1]
+    branches = [typed_branch(F, b, scales) for b in raw if len(b.z) > 1]
     if len(exact.z):
         branches.append(
             TracedBranch(
@@ -222,7 +222,9 @@ def critical_diagram(
                 True,
             )
         )
-    branches = [_name_ends(run, vertices, scales) for b in branches for run in _clipped(b, scales)]
+    branches = [
+        name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
+    ]
     lap("stability")
     chambers = chamber_samples(F, scales, options.counting)
     admissible = admissible_band(F, scales)
@@ -232,11 +234,11 @@ def critical_diagram(
     )
 
 
-def _typed(F: MomentumMap, branch: Branch, scales: Scales) -> TracedBranch:
+def typed_branch(F: MomentumMap, branch: Branch, scales: Scales) -> TracedBranch:
     return TracedBranch(branch.z[:, :6], branch.hk, branch_types(F, branch.z, scales), branch.ends)
 
 
-def _clipped(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
+def clipped_runs(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
     """The runs of at least two points inside the energy range (continuation overshoots)."""
     slack = 1e-9 * scales.energy
     inside = (branch.hk[:, 0] >= scales.h_low - slack) & (branch.hk[:, 0] <= scales.h_high + slack)
@@ -252,7 +254,7 @@ def _clipped(branch: TracedBranch, scales: Scales) -> list[TracedBranch]:
     return runs
 
 
-def _name_ends(branch: TracedBranch, vertices: list[Vertex], scales: Scales) -> TracedBranch:
+def name_vertex_ends(branch: TracedBranch, vertices: list[Vertex], scales: Scales) -> TracedBranch:
     """An end where the step collapsed is called ``vertex`` when it lies at a rank-zero
     point's image (within 0.2 % of the diagram): the family ends at a relative equilibrium
     or meets another family there."""

@@ -19,7 +19,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from chargedesign.model.evaluators import rhs
 from chargedesign.topology.equations import MomentumMap, relative_singular_value
 
 #: Newton converged: scaled residual below this
@@ -53,7 +52,7 @@ def residual_and_jacobian(
     E[:, :6] = np.einsum("mi,mij->mj", weights, grads)
     values = F.values(x)
     E[:, 6] = values[:, 2] - 1.0
-    E[:, 7] = values[:, 3] / F.params.C
+    E[:, 7] = values[:, 3] / F.i3_scale
     J = np.zeros((m, 8, 9))
     J[:, :6, :6] = np.einsum("mi,mijk->mjk", weights, hess)
     J[:, :6, 6] = (
@@ -63,7 +62,7 @@ def residual_and_jacobian(
     J[:, :6, 7] = grads[:, 2]
     J[:, :6, 8] = grads[:, 3]
     J[:, 6, :6] = grads[:, 2]
-    J[:, 7, :6] = grads[:, 3] / F.params.C
+    J[:, 7, :6] = grads[:, 3] / F.i3_scale
     return E, J
 
 
@@ -218,7 +217,7 @@ def keep_critical(
 def flow_direction(F: MomentumMap, z: np.ndarray) -> np.ndarray:
     """The flow's velocity lifted to z (multipliers fixed), unit length, shape (9,)."""
     f = np.zeros(9)
-    f[:6] = rhs(z[:6], F.params)
+    f[:6] = F.velocity(z[:6])
     norm = np.linalg.norm(f)
     return f / norm if norm > 0 else f
 

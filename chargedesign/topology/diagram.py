@@ -172,7 +172,10 @@ def check_parameters(params: Parameters) -> ClosedForm:
     """Refuse, in one line and before any work, parameters without a diagram: lambda or rho
     != 0, the free top (c = d = 0 or K = kappa = 0) and an n whose Larmor shift swamps the
     energies. Returns the closed form of the branches."""
-    require_regular(params)
+    try:
+        require_regular(params)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
     if np.hypot(params.c, params.d) == 0.0 or (params.K == 0.0 and params.kappa == 0.0):
         raise InputError(
             "parameters: no bifurcation diagram with c = d = 0 or K = kappa = 0: the potential"
@@ -213,7 +216,7 @@ def check_energy_range(
     unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
     try:
         resolve_range(unit, unit_range)
-    except InputError:
+    except ValueError:
         _, low = resolve_range(unit, None)
         raise InputError(
             f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
@@ -296,19 +299,10 @@ class BifurcationDiagram(Result):
 
     def rows(self) -> list[tuple[Any, ...]]:
         """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
-        out = []
-        for index, b in enumerate(self.branches):
-            for hk, kind, x in zip(b.hk, b.types, b.states, strict=True):
-                out.append((float(hk[0]), float(hk[1]), index, kind, *map(float, x)))
-        return out
+        return csv_rows(self.branches)
 
     def csv_text(self) -> str:
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(CSV_COLUMNS)
-        for row in self.rows():
-            writer.writerow([f"{fmt(v, FULL)}" if isinstance(v, float) else v for v in row])
-        return buffer.getvalue()
+        return csv_table(self.branches)
 
     def to_dict(self) -> dict[str, Any]:
         raw = self.raw
@@ -431,42 +425,8 @@ class BifurcationDiagram(Result):
             return fig
         lift = np.sqrt if root else np.asarray
         raw = self.raw
-        band = raw.admissible
-        if len(band):
-            axes.fill_between(
-                band[:, 0],
-                lift(band[:, 1]),
-                lift(band[:, 2]),
-                color="0.9",
-                label="admissible (F^-1 not empty)",
-            )
-        drawn = set()
-        for b in self.branches:
-            kinds = np.array(b.types)
-            for kind in TYPES:
-                mask = kinds == kind
-                if not np.any(mask):
-                    continue
-                hk = np.where(mask[:, None], b.hk, np.nan)
-                axes.plot(
-                    hk[:, 0],
-                    lift(np.maximum(hk[:, 1], 0.0)),
-                    color=TYPE_COLOURS[kind],
-                    lw=1.6,
-                    label=kind if kind not in drawn else None,
-                )
-                drawn.add(kind)
-        for v in raw.vertices:
-            axes.plot(v.hk[0], lift(max(float(v.hk[1]), 0.0)), "ko", ms=4)
-        for c in chamber_labels(raw.chambers):
-            axes.annotate(
-                "?" if c.tori is None else str(c.tori),
-                (c.h, float(lift(c.k))),
-                ha="center",
-                va="center",
-                fontsize=9,
-                weight="bold",
-            )
+        labels = chamber_labels(raw.chambers)
+        draw_diagram(axes, self.branches, raw.vertices, labels, raw.admissible, lift)
         axes.set_xlabel("h = H [J]")
         if root:
             axes.set_ylabel("sqrt(k) = sqrt(I4) [1/s^2]")
@@ -495,3 +455,71 @@ class BifurcationDiagram(Result):
         canvas.draw()
         image = np.asarray(canvas.buffer_rgba())[..., :3]
         return png_html(image, 420)
+
+
+def draw_diagram(
+    axes: Any,
+    branches: list[TracedBranch],
+    vertices: list[Vertex],
+    labels: list[Chamber],
+    band: np.ndarray,
+    lift: Any = np.asarray,
+    clip: bool = True,
+) -> None:
+    """Admissible band, curves coloured by type, vertices and each chamber's tori count into
+    ``axes`` (``lift`` maps k to the vertical axis; ``clip``: k drawn at least 0)."""
+    if len(band):
+        axes.fill_between(
+            band[:, 0],
+            lift(band[:, 1]),
+            lift(band[:, 2]),
+            color="0.9",
+            label="admissible (F^-1 not empty)",
+        )
+    drawn = set()
+    for b in branches:
+        kinds = np.array(b.types)
+        for kind in TYPES:
+            mask = kinds == kind
+            if not np.any(mask):
+                continue
+            hk = np.where(mask[:, None], b.hk, np.nan)
+            axes.plot(
+                hk[:, 0],
+                lift(np.maximum(hk[:, 1], 0.0) if clip else hk[:, 1]),
+                color=TYPE_COLOURS[kind],
+                lw=1.6,
+                label=kind if kind not in drawn else None,
+            )
+            drawn.add(kind)
+    for v in vertices:
+        k = max(float(v.hk[1]), 0.0) if clip else float(v.hk[1])
+        axes.plot(v.hk[0], lift(k), "ko", ms=4)
+    for c in labels:
+        axes.annotate(
+            "?" if c.tori is None else str(c.tori),
+            (c.h, float(lift(c.k))),
+            ha="center",
+            va="center",
+            fontsize=9,
+            weight="bold",
+        )
+
+
+def csv_rows(branches: list[TracedBranch]) -> list[tuple[Any, ...]]:
+    """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
+    out = []
+    for index, b in enumerate(branches):
+        for hk, kind, x in zip(b.hk, b.types, b.states, strict=True):
+            out.append((float(hk[0]), float(hk[1]), index, kind, *map(float, x)))
+    return out
+
+
+def csv_table(branches: list[TracedBranch]) -> str:
+    """The branches as the contract's CSV (:data:`CSV_COLUMNS`)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    for row in csv_rows(branches):
+        writer.writerow([f"{fmt(v, FULL)}" if isinstance(v, float) else v for v in row])
+    return buffer.getvalue()

@@ -17,9 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple
+from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
 
 #: the four functions, in the order of every array of this package (rows of the Jacobian)
@@ -27,9 +26,10 @@ FUNCTION_NAMES = ("H", "I4", "I2", "I3")
 
 
 def require_regular(params: Parameters) -> None:
-    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case)."""
+    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case;
+    the command refuses them first, through :func:`~.diagram.check_parameters`)."""
     if params.singular:
-        raise InputError(
+        raise ValueError(
             "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
             f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
             f"{fmt(params.lam, PLAIN)}, rho = {fmt(params.rho, PLAIN)}"
@@ -116,6 +116,19 @@ class MomentumMap:
         """``diag(2C, 2C, C)``."""
         C = self.params.C
         return np.array([2 * C, 2 * C, C])
+
+    @property
+    def i3_scale(self) -> float:
+        """The size of I3 the critical equations divide it by (kg m^2 / s per 1/s)."""
+        return float(self.params.C)
+
+    def velocity(self, x: np.ndarray) -> np.ndarray:
+        """The flow's right-hand side at one state x (6,)."""
+        return np.asarray(rhs(x, self.params), dtype=float)
+
+    def poisson(self, x: np.ndarray) -> np.ndarray:
+        """The Poisson tensor at one state x (6,) (:func:`poisson_tensor`)."""
+        return poisson_tensor(self, x)
 
 
 def relative_singular_value(gradients: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from chargedesign.topology.critical import Scales
-from chargedesign.topology.equations import MomentumMap, poisson_tensor
+from chargedesign.topology.equations import MomentumMap
 
 #: the types written to the diagram, in the order of the legend
 TYPES = ("elliptic", "hyperbolic", "degenerate")
@@ -33,7 +33,7 @@ def linearised_eigenvalues(F: MomentumMap, z: np.ndarray, scales: Scales) -> np.
     x, t, beta, delta = z[:6], z[6], z[7], z[8]
     weights = np.array([np.cos(t) / scales.energy, np.sin(t) / scales.quartic, beta, delta])
     hess = np.einsum("i,ijk->jk", weights, F.hessians(x)[0])
-    return np.linalg.eigvals(poisson_tensor(F, x) @ hess)
+    return np.linalg.eigvals(F.poisson(x) @ hess)
 
 
 def classify(eigenvalues: np.ndarray) -> str:

@@ -209,11 +209,12 @@ def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
     assert masses["xy"] == masses["xz"] == masses["yz"] == masses["y"] == masses["z"] == 0.0
 
 
-@pytest.mark.parametrize("command", ["bifurcation", "frontier"])
+@pytest.mark.parametrize("command", ["frontier"])
 def test_theorem_only_commands_refuse_a_case_scene(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
 ) -> None:
-    """Before, bifurcation ran the theorem's default parameters on a case scene, silently."""
+    """Before, bifurcation ran the theorem's default parameters on a case scene, silently
+    (it now draws the case's diagram: tests/topology/test_case_diagram.py)."""
     assert main([command, str(_write(tmp_path, KOWALEVSKI))]) == 2
     error = capsys.readouterr().err.strip()
     assert f"{command} takes the theorem's [parameters], not a [case] scene" in error

@@ -1,0 +1,183 @@
+"""The momentum map ``(H, F)`` of any case of (ep) on the level ``|gamma| = 1, I3 = g``.
+
+A case file (:mod:`chargedesign.model.case_file`) gives the inertia, ``V``, ``l`` and a
+claimed integral ``F``. Its energy ``H = 1/2 omega I omega + V``, ``F``, ``I2 = |gamma|^2`` and
+``I3 - g = (I omega + l) . gamma - g`` are the case's own sympy objects (built by the
+whitelisted parser: no text reaches sympy), differentiated by sympy and compiled once per
+map. :class:`CaseMomentumMap` has the interface of the theorem's
+:class:`~chargedesign.topology.equations.MomentumMap`, so the critical equations, the
+continuation, the stability types and the flow counting of this package run on it
+unchanged; only the theorem's closed forms (:mod:`.closed_form`) and its exact equator family
+do not apply.
+
+The map is defined for polynomial cases with ``l`` given (the Poisson tensor needs the
+vector potential); :func:`diagram_refusal` says why another case has no diagram here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from chargedesign.model.case import GAMMA, STATE_SYMBOLS
+from chargedesign.model.case_file import Case
+from chargedesign.topology.equations import MomentumMap
+
+
+def _compile(outputs: Any, module: str) -> Callable[..., Any]:
+    return sp.lambdify(STATE_SYMBOLS, outputs, modules=module, cse=True)
+
+
+def _stack(out: Any, m: int) -> np.ndarray:
+    """Nested lists of scalars or arrays from a lambdified function, as one array (m, ...)."""
+    if isinstance(out, (list, tuple)):
+        return np.stack([_stack(v, m) for v in out], axis=1)
+    return np.broadcast_to(np.asarray(out, dtype=float), (m,))
+
+
+def diagram_refusal(case: Case) -> str | None:
+    """Why ``case`` has no diagram here (None: it has one): a singular case (a denominator
+    in V, l or F; the set named) or one given by ``mu`` without ``l``."""
+    parts = [case.V, case.integral, *(case.l if case.l is not None else case.mu)]
+    singular = sorted(
+        {
+            f"{sp.sstr(f)} = 0"
+            for expr in parts
+            for f, _ in sp.factor_list(sp.fraction(sp.together(expr))[1])[1]
+        }
+    )
+    if singular:
+        return (
+            f"case {case.name}: no bifurcation diagram for a singular case (its expressions"
+            f" blow up on {', '.join(singular)}; the level's compact sampling and the flow need"
+            " a polynomial V, l and F)"
+        )
+    if case.l is None:
+        return (
+            f"case {case.name}: no bifurcation diagram for a case given by mu without l (the"
+            " stability types need the Poisson tensor of m = I omega + l)"
+        )
+    return None
+
+
+class CaseMomentumMap(MomentumMap):
+    """``H, F, I2, I3 - level`` of one case with their exact derivatives.
+
+    Every method takes states of shape (m, 6) (``p, q, r, gamma1, gamma2, gamma3``). The
+    second column is the case's integral ``F`` (the theorem's I4 in
+    :class:`~chargedesign.topology.equations.MomentumMap`).
+    """
+
+    def __init__(self, case: Case, level: Any = 0) -> None:
+        refusal = diagram_refusal(case)
+        if refusal is not None:
+            raise ValueError(refusal)
+        assert case.l is not None
+        self.case = case
+        self.level = sp.Rational(str(level))  # exact: an int, Fraction or Rational's text
+        functions = [case.I1, case.integral, sum(g**2 for g in GAMMA), case.I3 - self.level]
+        gradients = [[sp.diff(e, x) for x in STATE_SYMBOLS] for e in functions]
+        hessians = [sp.hessian(e, STATE_SYMBOLS).tolist() for e in functions]
+        self._functions = {
+            (order, module): _compile(outputs, module)
+            for order, outputs in enumerate((functions, gradients, hessians))
+            for module in ("numpy", "math")
+        }
+        self._velocity = _compile(list(case.equations()), "math")
+        self._velocity_batch = _compile(list(case.equations()), "numpy")
+        self._l = _compile(list(case.l), "math")
+        self._dl = _compile(case.l.jacobian(GAMMA).tolist(), "math")
+        self._inertia = np.array([float(m) for m in case.inertia])
+        #: the flow counting's unit of time (s): its t_end is read in these units
+        self.time_unit = 1.0
+
+    def _evaluate(self, order: int, x: np.ndarray) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.shape[0] == 1:
+            return np.array([self._functions[order, "math"](*x[0].tolist())], dtype=float)
+        return _stack(self._functions[order, "numpy"](*x.T), x.shape[0])
+
+    def values(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4): ``H, F, I2, I3 - level``."""
+        return self._evaluate(0, x)
+
+    def gradients(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4, 6)."""
+        return self._evaluate(1, x)
+
+    def hessians(self, x: np.ndarray) -> np.ndarray:
+        """Shape (m, 4, 6, 6)."""
+        return self._evaluate(2, x)
+
+    def inertia(self) -> np.ndarray:
+        """``(A, B, C)``."""
+        return self._inertia
+
+    @property
+    def i3_scale(self) -> float:
+        return float(np.max(self._inertia))
+
+    def velocity(self, x: np.ndarray) -> np.ndarray:
+        return np.array(self._velocity(*np.asarray(x, dtype=float).tolist()), dtype=float)
+
+    def velocities(self, x: np.ndarray) -> np.ndarray:
+        """The right-hand side at a batch of states (m, 6) -> (m, 6)."""
+        x = np.atleast_2d(x)
+        return _stack(self._velocity_batch(*x.T), x.shape[0])
+
+    def poisson(self, x: np.ndarray) -> np.ndarray:
+        """The Poisson tensor in ``(omega, gamma)`` (as
+        :func:`~chargedesign.topology.equations.poisson_tensor`, with the case's l)."""
+        omega, gamma = x[:3], x[3:]
+        dl = np.array(self._dl(*x.tolist()), dtype=float)
+        m = self._inertia * omega + np.array(self._l(*x.tolist()), dtype=float)
+        return lie_poisson_tensor(m, gamma, self._inertia, dl)
+
+
+def _hat(v: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def lie_poisson_tensor(
+    m: np.ndarray, gamma: np.ndarray, inertia: np.ndarray, dl: np.ndarray
+) -> np.ndarray:
+    """``P Pi P^T``: the Lie-Poisson tensor of e(3)* at ``(m, gamma)`` read in ``(omega,
+    gamma)`` through ``m = I omega + l(gamma)`` (``dl = dl/dgamma``), shape (6, 6)."""
+    pi = np.zeros((6, 6))
+    pi[:3, :3] = _hat(m)
+    pi[:3, 3:] = _hat(gamma)
+    pi[3:, :3] = _hat(gamma)
+    P = np.zeros((6, 6))
+    P[:3, :3] = np.diag(1.0 / inertia)
+    P[:3, 3:] = -dl / inertia[:, None]
+    P[3:, 3:] = np.eye(3)
+    return P @ pi @ P.T
+
+
+def case_trajectories(
+    F: CaseMomentumMap, starts: np.ndarray, t_end: float, samples: int
+) -> np.ndarray:
+    """States along the case's flow from ``starts`` (m, 6) at ``samples`` times in
+    ``[0, t_end]``: (m, samples, 6). One DOP853 run of the stacked system (rtol 1e-10), the
+    case's own right-hand side (``gamma' = gamma x omega``: |gamma| is kept to the tolerance)."""
+    from scipy.integrate import solve_ivp
+
+    m = len(starts)
+
+    def field(_: float, y: np.ndarray) -> np.ndarray:
+        return F.velocities(y.reshape(m, 6)).ravel()
+
+    grid = np.linspace(0.0, t_end, samples)
+    solution = solve_ivp(
+        field,
+        (0.0, t_end),
+        np.asarray(starts, float).ravel(),
+        method="DOP853",
+        t_eval=grid,
+        rtol=1e-10,
+        atol=1e-12,
+    )
+    return solution.y.reshape(m, 6, -1).transpose(0, 2, 1)
