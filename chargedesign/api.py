@@ -133,7 +133,7 @@ def verify_case(source: Any) -> CaseCertificate:
     source : str, PathLike, Mapping or Case
         A case file (TOML with ``[case]``, a scene with one too), the ``[case]`` table as a
         mapping (or a mapping holding it under ``case``), or a validated
-        :class:`~chargedesign.model.case_file.Case`.
+        :class:`~chargedesign.scene.case_file.Case`.
 
     Returns
     -------
@@ -146,11 +146,10 @@ def verify_case(source: Any) -> CaseCertificate:
         One line naming the key and the reason (a refused expression names its token).
     """
     from chargedesign.model.case_file import (  # sympy: loaded by the case stages only
-        Case,
-        case_from_table,
         certify_case,
         verify_case_file,
     )
+    from chargedesign.scene.case_file import Case, case_from_table
 
     if isinstance(source, (str, os.PathLike)):
         return verify_case_file(source)

@@ -19,7 +19,8 @@ import sympy as sp
 from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA
-from chargedesign.model.case_file import STATE, Case
+from chargedesign.model.case_file import STATE, case_equations
+from chargedesign.scene.case_file import Case
 
 _GAMMA = tuple(GAMMA)
 
@@ -63,7 +64,7 @@ def case_model(case: Case) -> CaseModel:
     if reason is not None:
         raise InputError(reason)
     gradient = [sp.diff(case.V, x) for x in _GAMMA]
-    equations = case.equations()
+    equations = case_equations(case)
     return CaseModel(
         name=case.name,
         inertia=np.array([float(m) for m in case.inertia]),

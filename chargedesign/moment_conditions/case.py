@@ -2,7 +2,7 @@
 
 The theorem's derivation (:func:`~chargedesign.moment_conditions.derive_conditions`) matches
 the theorem's mu and V in the harmonic basis on ``|gamma| = 1``. Here the targets are a case's
-own (:class:`chargedesign.model.case_file.Case`): its ``V``, its ``mu`` (from ``l`` by (mu))
+own (:class:`chargedesign.scene.case_file.Case`): its ``V``, its ``mu`` (from ``l`` by (mu))
 and its inertia ``diag(A, B, C)``, exact rationals. The same steps run on the same exact
 systems:
 
@@ -124,7 +124,7 @@ def _polynomial_part(expr: Any, what: str, name: str) -> tuple[Any, int]:
 
 
 def case_target(case: Any) -> CaseTarget:
-    """The exact targets of a case (:class:`chargedesign.model.case_file.Case`), or a one-line
+    """The exact targets of a case (:class:`chargedesign.scene.case_file.Case`), or a one-line
     refusal of a singular term or a degree above :data:`CASE_MAX_DEGREE`."""
     V, v_degree = _polynomial_part(case.V, "V", case.name)
     mus = []
@@ -277,7 +277,7 @@ def derive_case_conditions(
 
     Parameters
     ----------
-    case : chargedesign.model.case_file.Case
+    case : chargedesign.scene.case_file.Case
         Its V and mu polynomial in gamma of degree <= :data:`CASE_MAX_DEGREE`.
     fields : mapping, optional
         Given fields (``legendre`` per kind, read as the decimals they print as). A kind

@@ -23,7 +23,8 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS
-from chargedesign.model.case_file import Case
+from chargedesign.model.case_file import case_equations
+from chargedesign.scene.case_file import Case
 from chargedesign.topology.equations import MomentumMap
 
 
@@ -86,8 +87,8 @@ class CaseMomentumMap(MomentumMap):
             for order, outputs in enumerate((functions, gradients, hessians))
             for module in ("numpy", "math")
         }
-        self._velocity = _compile(list(case.equations()), "math")
-        self._velocity_batch = _compile(list(case.equations()), "numpy")
+        self._velocity = _compile(list(case_equations(case)), "math")
+        self._velocity_batch = _compile(list(case_equations(case)), "numpy")
         self._l = _compile(list(case.l), "math")
         self._dl = _compile(case.l.jacobian(GAMMA).tolist(), "math")
         self._inertia = np.array([float(m) for m in case.inertia])

@@ -33,7 +33,7 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.model.case import GAMMA, g1, g2, p, q
-from chargedesign.model.case_file import Case
+from chargedesign.scene.case_file import Case
 
 #: the curves on g = 0: (name, F(h, k) vanishing on it, least h), published normalization
 CURVES: tuple[tuple[str, str, float], ...] = (

@@ -24,7 +24,7 @@ from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, run_loop
 from chargedesign.airbearing.run import case_start
 from chargedesign.cli import main
-from chargedesign.model.case_file import case_from_table, read_case
+from chargedesign.scene.case_file import case_from_table, read_case
 from chargedesign.params import Parameters
 
 CASES = Path(str(resources.files("chargedesign").joinpath("data/cases")))

@@ -14,7 +14,7 @@ import pytest
 
 import chargedesign
 from chargedesign.errors import InfeasibleError
-from chargedesign.model.case_file import case_from_table, read_case
+from chargedesign.scene.case_file import case_from_table, read_case
 from chargedesign.moment_conditions import derive_conditions
 from chargedesign.moment_conditions.case import case_target, derive_case_conditions
 from chargedesign.params import Parameters

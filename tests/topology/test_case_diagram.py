@@ -18,7 +18,7 @@ from scipy.optimize import brentq
 
 from chargedesign.cli import main
 from chargedesign.model.case import g1, g2, g3, p, q, r
-from chargedesign.model.case_file import read_case
+from chargedesign.scene.case_file import read_case
 from chargedesign.topology import case_diagram as case_diagram_module
 from chargedesign.topology.branches import Branch, distance_to_branch
 from chargedesign.topology.case_diagram import case_diagram, case_scales
