@@ -463,7 +463,7 @@ def _shell_shape(region: RegionSpec, center: np.ndarray) -> Shaped:
         desc["symmetric_rule"] = "Fibonacci points of x > y > 0, z > 0 and their 16 images"
     else:
         pts = shell_points(radius, n_points, symmetric=False, center=center)
-    desc |= {"radius": radius, "n_points": n_points}
+    desc |= {"radius": radius, KEY.n_points: n_points}
     return pts, desc, {"shape": "shell", "radius": radius}
 
 

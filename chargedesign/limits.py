@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
 #: highest degree of any field (the exact derivation of conditions grows like degree^3; the
 #: check and simulation evaluate Legendre terms per orientation): design, check, simulate,
@@ -130,9 +131,7 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
         "seed": _SEED,
         # relative errors of material properties (one standard deviation): a 100 % error
         # would allow a negative susceptibility, density or magnetisation
-        "chi_relative": _RELATIVE,
-        "density_relative": _RELATIVE,
-        "magnetisation_relative": _RELATIVE,
+        **dict.fromkeys(MATERIAL_ERROR_KEYS, _RELATIVE),
     },
     "frontier": {
         "realised_fraction": OptionRange(0.0, 1.0, lo_open=True, hi_open=True),

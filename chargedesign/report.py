@@ -31,6 +31,7 @@ from chargedesign.scene.design_realism import (
     RealismRecord,
     WindowAtDesign,
 )
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
 
 
@@ -400,9 +401,9 @@ def _support_lines(window: WindowAtDesign | None) -> list[str]:
         return []
     support = window.support
     return [
-        f"- Support: a {support['bearing']} air bearing (tilt {fmt(support['tilt_limit_deg'])} "
+        f"- Support: a {support['bearing']} air bearing (tilt {fmt(support[KEY.tilt_limit_deg])} "
         f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
-        f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support['drag_N_m_s'])} "
+        f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support[KEY.drag_N_m_s])} "
         f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
         f"{fmt(support['drag_over_term'] / window.fraction, ROUGH)} x the fraction of the "
         f"smallest term, NOT counted in the verdict or the realised window above; it needs "

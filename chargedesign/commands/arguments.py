@@ -14,7 +14,7 @@ from collections.abc import Callable
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
 from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
-from chargedesign.scene.keys import DECLARED, declared
+from chargedesign.scene.keys import DECLARED, KEY, declared
 from chargedesign.schemas import NAMES, default_text
 from chargedesign.vocabulary import CHECK_DEFAULT_ORIENTATIONS as DEFAULT_ORIENTATIONS
 from chargedesign.vocabulary import CHECK_DEFAULT_TOL as DEFAULT_TOL
@@ -121,7 +121,7 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="BETA",
-        help=key_help("design", "robust_weight"),
+        help=key_help("design", KEY.robust_weight),
     )
     parser.add_argument(
         "--solver",
@@ -348,14 +348,14 @@ def frontier_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="F",
-        help=key_help("design", "realised_fraction"),
+        help=key_help("design", KEY.realised_fraction),
     )
     parser.add_argument(
         "--realised-gravity",
         type=float,
         default=None,
         metavar="G",
-        help=key_help("design", "realised_gravity"),
+        help=key_help("design", KEY.realised_gravity),
     )
     parser.add_argument(
         "--recommend",

@@ -26,6 +26,7 @@ from chargedesign.moment_conditions import LinearConditions, physical_l_dot_gamm
 from chargedesign.moment_conditions.case import derive_case_conditions
 from chargedesign.results import Result
 from chargedesign.scene.design import DesignOptions
+from chargedesign.scene.keys import KEY
 
 #: attitudes and angular velocities of the element-level torque comparison
 TORQUE_SAMPLES = 64
@@ -111,7 +112,7 @@ class CaseElementBody(Result):
     def _summary(self) -> dict[str, Any]:
         return {
             "name": self.name,
-            "n_charges": len(self.charge_values),
+            KEY.n_charges: len(self.charge_values),
             "n_dipoles": len(self.dipole_moments),
             "n_masses": len(self.mass_values),
             "inertia_rel_err": self.inertia_rel_err,

@@ -51,6 +51,7 @@ from chargedesign.physical.materials import BREAKDOWN_V_PER_M, CARRIER_DENSITY
 from chargedesign.physical.realism import FIELD_RESPONSE_KEYS, RESPONSE_FRACTION
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.physical import DEFAULT_SHELL_THICKNESS
 
 SIZE_FACTORS = (0.5, 1.0, 2.0)
@@ -174,15 +175,15 @@ def scene_variant(
     ``field_index`` (0: a1, 1: 2 a2) times ``field_factor``, carrier material."""
     data = copy.deepcopy(base)
     body = data.setdefault("body", {})
-    for key in ("radius", "spacing", "carrier_radius", "height"):
+    for key in ("radius", "spacing", KEY.carrier_radius, "height"):
         if key in body:
             body[key] = body[key] * f
     data["parameters"]["C"] = data["parameters"].get("C", 1.0) * f**5
     carriers = data.setdefault("carriers", {})
-    if "shell_thickness" in carriers:
-        carriers["shell_thickness"] = carriers["shell_thickness"] * f
+    if KEY.shell_thickness in carriers:
+        carriers[KEY.shell_thickness] = carriers[KEY.shell_thickness] * f
     else:
-        carriers["shell_thickness"] = DEFAULT_SHELL_THICKNESS * f
+        carriers[KEY.shell_thickness] = DEFAULT_SHELL_THICKNESS * f
     if carrier is not None:
         carriers.pop("density", None)
         carriers["material"] = carrier

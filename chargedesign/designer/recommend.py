@@ -38,6 +38,7 @@ from chargedesign.physical.materials import BALLAST_DENSITY, MAGNET_DATA
 from chargedesign.physical.window import RealisedWindow
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
+from chargedesign.scene.keys import KEY
 
 #: the gradient a2 tried, relative to the scene's
 A2_FACTORS = (0.03, 0.1, 0.3, 1.0, 3.0)
@@ -167,8 +168,8 @@ def scene_at_rate(data: dict[str, Any], s: float) -> dict[str, Any]:
         if key in params:
             params[key] = params[key] * s**2
     simulation = out.get("simulation", {})
-    if "t_end" in simulation:
-        simulation["t_end"] = simulation["t_end"] / s
+    if KEY.t_end in simulation:
+        simulation[KEY.t_end] = simulation[KEY.t_end] / s
     return out
 
 

@@ -89,14 +89,14 @@ class DesignOptions:
     objectives: Mapping[str, str] | None = None
     column_generation: bool | None = None
     sparsity: str = default_of("design", "sparsity")
-    time_limit: float = default_of("design", "time_limit")
-    robust_weight: float = default_of("design", "robust_weight")
+    time_limit: float = default_of("design", KEY.time_limit)
+    robust_weight: float = default_of("design", KEY.robust_weight)
     larmor: str | None = None
-    realised_fraction: float = default_of("design", "realised_fraction")
-    realised_gravity: float = default_of("design", "realised_gravity")
+    realised_fraction: float = default_of("design", KEY.realised_fraction)
+    realised_gravity: float = default_of("design", KEY.realised_gravity)
 
     def __post_init__(self) -> None:
-        for name in ("realised_fraction", "realised_gravity"):
+        for name in (KEY.realised_fraction, KEY.realised_gravity):
             object.__setattr__(self, name, check_value("design", name, getattr(self, name)))
         self._check_objectives()
         self._check_amounts()
@@ -127,12 +127,12 @@ class DesignOptions:
 
     def _check_amounts(self) -> None:
         """Largest charge, totals, number of charges and the realised terms."""
-        for name in ("max_charge", KEY.total_mass, "total_charge"):
+        for name in (KEY.max_charge, KEY.total_mass, KEY.total_charge):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, check_value("design", name, value))
         if self.n_charges is not None:
-            check_value("design", "n_charges", self.n_charges)
+            check_value("design", KEY.n_charges, self.n_charges)
         if self.realise is not None:
             object.__setattr__(self, "realise", _realise_list(self.realise))
 
@@ -145,14 +145,16 @@ class DesignOptions:
                 raise input_error("design.tol", "a relative residual below 1", self.tol)
             object.__setattr__(self, "tol", tol)
         if self.column_generation is not None:
-            check_value("design", "column_generation", self.column_generation)
+            check_value("design", KEY.column_generation, self.column_generation)
         check_value("design", "sparsity", self.sparsity)
-        object.__setattr__(self, "time_limit", check_value("design", "time_limit", self.time_limit))
+        object.__setattr__(
+            self, KEY.time_limit, check_value("design", KEY.time_limit, self.time_limit)
+        )
 
     def _check_robust_weight(self) -> None:
         """The robust objective's weight in [0, 1], only with the robust objective."""
-        beta = check_value("design", "robust_weight", self.robust_weight)
-        object.__setattr__(self, "robust_weight", beta)
+        beta = check_value("design", KEY.robust_weight, self.robust_weight)
+        object.__setattr__(self, KEY.robust_weight, beta)
         if beta != 1.0 and not self.robust:
             # a weight that would change nothing: the user meant the robust objective
             raise input_error(
@@ -188,8 +190,8 @@ class DesignOptions:
         kwargs = dict(table)
         if "realise" in kwargs:
             kwargs["realise"] = _realise_list(kwargs["realise"])
-        if "n_charges" in kwargs and isinstance(kwargs["n_charges"], float):
-            raise input_error("design.n_charges", "an integer >= 1", kwargs["n_charges"])
+        if KEY.n_charges in kwargs and isinstance(kwargs[KEY.n_charges], float):
+            raise input_error("design.n_charges", "an integer >= 1", kwargs[KEY.n_charges])
         kwargs.update({k: v for k, v in overrides.items() if v is not None})
         return cls(**kwargs)
 
