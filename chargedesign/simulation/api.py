@@ -121,16 +121,31 @@ def _case_functions(design: Any) -> Any:
     return simulated_case_functions(design.further_keys["case"])
 
 
-def check_inertia(body: Body, effects: Sequence[str]) -> None:
-    """Refuse a body whose masses' inertia disagrees with the given C (one-line reason).
+def reduced_case_effects(
+    asked: Sequence[str] | None, skipped: list[str]
+) -> tuple[list[str], list[str]]:
+    """The effects of a case scene's reduced model (no body): ``theorem`` (the case's V and
+    l) unless the effects asked leave it out; the theorem's own "V and mu vanish" note goes
+    (the case's do not)."""
+    notes = [n for n in skipped if not n.startswith("theorem:")]
+    wanted = asked is None or "theorem" in asked
+    return (["theorem"] if wanted else []), notes
+
+
+def check_inertia(
+    body: Body, effects: Sequence[str], inertia: Sequence[float] | None = None
+) -> None:
+    """Refuse a body whose masses' inertia disagrees with the given C, or with a case's
+    ``inertia`` (A, B, C) (one-line reason).
 
     The theorem's reduced model alone (effects = ["theorem"]) uses C as given.
     """
     if not any(e != "theorem" for e in effects) and not body.has_elements:
         return
-    reason = inertia_mismatch(body)
+    reason = inertia_mismatch(body, target=inertia)
     if reason is not None:
-        raise InputError(f"body: {reason}; give C to match the masses or fix the masses")
+        fix = "give C to match the masses" if inertia is None else "design the case again"
+        raise InputError(f"body: {reason}; {fix} or fix the masses")
 
 
 #: relative size of a linear term of V that counts as a centre of mass off O
@@ -271,13 +286,19 @@ def prepare(
         setup, coil_notes = _in_coils_field(setup)
         asked = [e for e in asked if e != "coils"]
     effects, skipped = select_effects(setup.body, asked)
+    # a case's numeric functions (a singular case is refused here), built once for the run
+    case = setup.case if setup.case is not None else _case_functions(setup.design)
+    inertia = None if case is None else [float(m) for m in case.case.inertia]
+    if case is not None and setup.design is None:
+        # the reduced model of a case scene: the theorem effect is the case's V and l
+        effects, skipped = reduced_case_effects(asked, skipped)
     skipped = coil_notes + skipped
     if any(e != "theorem" for e in effects):
-        check_inertia(setup.body, effects)
+        check_inertia(setup.body, effects, inertia)
     notes = list(setup.notes) + pending_notes + skipped
     if not effects:
         notes.append("no effect acts: torque-free motion")
-    system = RigidBodySystem(setup.body, effects, options.route)
+    system = RigidBodySystem(setup.body, effects, options.route, inertia=inertia, case=case)
     if system.dissipative and options.method == "taylor":
         # heyoka's compiled route takes polynomial torques only: the eddy torque runs on scipy
         options = dataclasses.replace(options, method="DOP853")
@@ -288,8 +309,7 @@ def prepare(
         )
     if setup.design is not None and "case" not in setup.design.further_keys:
         check_centre(system, setup.design.realises)  # a case's V may have a linear term
-    # a case of another inertia than diag(2C, 2C, C) is refused here
-    setup = dataclasses.replace(setup, case=_case_functions(setup.design))
+    setup = dataclasses.replace(setup, case=case)
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial

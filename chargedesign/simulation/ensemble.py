@@ -236,6 +236,7 @@ def simulate_ensemble(
             I3_scale=max(system.C * max(float(np.max(np.abs(om[0]))), 1.0), 1e-300),
             realises=realises,
             axes_rate=rate,
+            case=setup.case,
         )
         gamma = quaternion_gamma(states_out[i, :, 3:])
         table.append(monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors))

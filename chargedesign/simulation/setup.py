@@ -130,6 +130,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
     notes: list[str] = []
     body_table = scene.body.table if scene.body is not None else {}
     design = None
+    case = None
     origin = ""
     if "design" in body_table:
         path = design_path(body_table, scene.source)
@@ -137,6 +138,17 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         origin = str(path)
         if scene.parameters != Parameters() and scene.parameters != design.parameters:
             notes.append("the scene's [parameters] differ from the design's; the design's are used")
+    elif "case" in scene.tables and not body_table:
+        # a case of (ep) without a body: its reduced model (the case's V and l, any inertia)
+        from chargedesign.model.case_numeric import simulated_functions  # sympy: a case only
+
+        case = simulated_functions(scene.case)
+        A, B, C = (float(m) for m in case.case.inertia)
+        notes.append(
+            f"case {case.case.name}: the reduced model of (ep), inertia diag({fmt(A, CELL)}, "
+            f"{fmt(B, CELL)}, {fmt(C, CELL)}) kg m^2, its V and l (the theorem effect)"
+        )
+        origin = f"none: the reduced model of the [case] {case.case.name}"
     elif scene.case is not None:  # a case of (ep): masses in gravity, designed at once
         from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
 
@@ -153,6 +165,9 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
             body, note = _inertia_from_masses(body)
             if note:
                 notes.append(note)
+        info = _body_info(body, origin)
+    elif case is not None:
+        body = Body(parameters=Parameters(C=float(case.case.inertia[2])), fields=dict(scene.fields))
         info = _body_info(body, origin)
     else:
         body = Body(parameters=scene.parameters, fields=dict(scene.fields))
@@ -178,6 +193,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         design=design,
         design_scene=pending,
         body_info=info,
+        case=case,
     )
 
 
