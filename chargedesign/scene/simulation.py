@@ -22,6 +22,7 @@ from chargedesign.scene.keys import DECLARED, KEY, check_value, default_of, key_
 from chargedesign.scene.states import load_states, parse_states
 from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
+    EFFECTS,
     MONITOR_ALIASES,
     MONITOR_NAMES,
     STATE_NAMES,
@@ -74,6 +75,20 @@ def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(choices), value)
     return str(value)
+
+
+def check_effect_names(requested: Any) -> list[str]:
+    """The effects asked for (``simulation.effects`` or ``effects=``), each once, in order;
+    one line naming a value that is no list of effect names."""
+    if isinstance(requested, str) or not isinstance(requested, Sequence):
+        raise input_error("simulation.effects", "a list of effect names", requested)
+    names: list[str] = []
+    for name in requested:
+        if name not in EFFECTS:
+            raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
+        if name not in names:
+            names.append(name)
+    return names
 
 
 def parse_simulation_options(
@@ -312,6 +327,16 @@ def with_level(initial: Any, level: float) -> dict[str, Any]:
         out["p"], out["q"] = spec["p"], spec["q"]
     out["level"] = value
     return out
+
+
+def ensemble_states(spec: Any, states: Any = None) -> np.ndarray:
+    """The starts of an ensemble, ``(m, 6)``: ``states`` when given (checked), else the set of
+    an ``[initial]`` spec (``states`` or ``file``); one line when neither gives a set."""
+    if states is not None:
+        return parse_states(states, "states")
+    if not (isinstance(spec, Mapping) and "states" in spec):
+        raise InputError("initial: give states = [[p, q, r, gamma1, gamma2, gamma3], ...]")
+    return np.asarray(spec["states"], dtype=float)
 
 
 def check_off_singular_plane(gamma3: Any, threshold: float, name: str) -> None:

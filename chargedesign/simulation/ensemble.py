@@ -18,20 +18,19 @@ import csv
 import io
 import json
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.scene.keys import KEY
-from chargedesign.scene.simulation import check_off_singular_plane
-from chargedesign.scene.states import STATE_COLUMNS, parse_states
+from chargedesign.scene.simulation import check_off_singular_plane, ensemble_states
+from chargedesign.scene.states import STATE_COLUMNS
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.api import (
     initial_state,
@@ -198,13 +197,7 @@ def simulate_ensemble(
     """
 
     system, _, _, setup, notes = prepare(source, **kwargs)
-    if states is None:
-        spec = setup.initial
-        if not (isinstance(spec, Mapping) and "states" in spec):
-            raise InputError("initial: give states = [[p, q, r, gamma1, gamma2, gamma3], ...]")
-        arr = np.asarray(spec["states"], dtype=float)
-    else:
-        arr = parse_states(states, "states")
+    arr = ensemble_states(setup.initial, states)
     rate = setup.axes_rate
     y0 = np.array([initial_state(system, s, rate)[0] for s in arr])
     options = setup.options

@@ -52,9 +52,9 @@ from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
 from chargedesign.physical.realism import eddy_torque, eddy_weights, material_parts
 from chargedesign.quadrature import gather_elements
+from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
-from chargedesign.validation import input_error
 
 #: every effect a scene may call for
 from chargedesign.vocabulary import EFFECTS as EFFECTS
@@ -362,15 +362,7 @@ def _requested_effects(
                 "magnetisation; the design's realism budget gives its size)"
             )
         return names or ["theorem"], True
-    if isinstance(requested, str) or not isinstance(requested, Sequence):
-        raise input_error("simulation.effects", "a list of effect names", requested)
-    names = []
-    for name in requested:
-        if name not in EFFECTS:
-            raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
-        if name not in names:
-            names.append(name)
-    return names, False
+    return check_effect_names(requested), False
 
 
 def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[str], list[str]]:

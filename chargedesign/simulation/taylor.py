@@ -44,7 +44,6 @@ from chargedesign.formatting import CELL, fmt
 from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
-from chargedesign.validation import input_error
 
 #: the default tolerance: machine epsilon (heyoka's own default)
 DEFAULT_TOL = float(np.finfo(float).eps)
@@ -563,7 +562,8 @@ def integrate_taylor(
     if len(y0) == 1:
         return _integrate_one(system, y0, grid, t_end, tol, gamma3_min, poincare, progress, t0)
     if poincare is not None:
-        raise input_error("poincare", "a single trajectory", f"{len(y0)} trajectories")
+        # simulate records a section of its one trajectory; batches and ensembles none
+        raise ValueError(f"poincare: a section of a single trajectory, not of {len(y0)}")
     return _integrate_many(system, y0, grid, tol, gamma3_min, progress, t0)
 
 
