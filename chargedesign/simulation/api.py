@@ -293,7 +293,8 @@ def prepare(
         # the reduced model of a case scene: the theorem effect is the case's V and l
         effects, skipped = reduced_case_effects(asked, skipped)
     skipped = coil_notes + skipped
-    if any(e != "theorem" for e in effects):
+    # a case design's masses move with the case's inertia: checked even when no effect acts
+    if any(e != "theorem" for e in effects) or (inertia is not None and setup.design is not None):
         check_inertia(setup.body, effects, inertia)
     notes = list(setup.notes) + pending_notes + skipped
     if not effects:

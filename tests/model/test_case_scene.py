@@ -194,6 +194,13 @@ def test_simulate_moves_a_case_design_of_another_inertia(
     assert main(["simulate", str(out / "design.json"), "--t-end", "10", "--json"]) == 0
     run = json.loads(capsys.readouterr().out)
     assert run["F_rel_drift"] <= 1e-12 and run["I1_rel_drift"] <= 1e-12
+    # masses that are not the case's inertia are refused in one line, before any run
+    data = json.loads((out / "design.json").read_text("utf-8"))
+    data["case"]["table"]["inertia"] = [3, 2, 2]
+    (out / "other.json").write_text(json.dumps(data), "utf-8")
+    assert main(["simulate", str(out / "other.json"), "--t-end", "1"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert "but the case asks for diag(3, 2, 2)" in error and "\n" not in error
 
 
 def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
