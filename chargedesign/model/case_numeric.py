@@ -22,7 +22,7 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.errors import InputError
-from chargedesign.model.case import GAMMA
+from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.case_file import STATE, Case, CaseCertificate, case_from_table
 
 
@@ -46,6 +46,8 @@ class CaseFunctions:
     _dV: tuple[Callable[..., np.ndarray], ...]
     _mu: tuple[Callable[..., np.ndarray], ...]
     _F: Callable[..., np.ndarray]
+    _l_dot_gamma: Callable[..., np.ndarray] | None = None
+    _terms: Callable[[float, float, float], Any] | None = None
 
     @property
     def inertia(self) -> np.ndarray:
@@ -66,6 +68,19 @@ class CaseFunctions:
         """``mu`` at each row -> (n, 3)."""
         g = np.asarray(gammas, dtype=float)
         return np.stack([f(g[:, 0], g[:, 1], g[:, 2]) for f in self._mu], axis=1)
+
+    def momentum(self, gammas: np.ndarray) -> np.ndarray:
+        """``l . gamma`` at each row (the gamma part of I3, J s) -> (n,)."""
+        if self._l_dot_gamma is None:
+            raise ValueError("case functions built without l . gamma (case_functions builds it)")
+        g = np.asarray(gammas, dtype=float)
+        return self._l_dot_gamma(g[:, 0], g[:, 1], g[:, 2])
+
+    def scalar_terms(self) -> Callable[[float, float, float], Any]:
+        """``(g1, g2, g3) -> (dV/dg1, dV/dg2, dV/dg3, mu1, mu2, mu3)`` in Python floats."""
+        if self._terms is None:
+            raise ValueError("case functions built without the scalar terms")
+        return self._terms
 
     def integral(self, states: np.ndarray) -> np.ndarray:
         """The claimed ``F`` at each state ``[p, q, r, gamma1, gamma2, gamma3]`` -> (n,)."""
@@ -89,10 +104,57 @@ def case_functions(case: Case) -> CaseFunctions:
         _dV=tuple(_vectorised(sp.diff(case.V, x), GAMMA_SYMBOLS) for x in GAMMA_SYMBOLS),
         _mu=tuple(_vectorised(m, GAMMA_SYMBOLS) for m in case.mu),
         _F=_vectorised(case.integral, STATE),
+        _l_dot_gamma=_vectorised(case.l_dot_gamma, GAMMA_SYMBOLS),
+        _terms=sp.lambdify(
+            GAMMA_SYMBOLS, [*(sp.diff(case.V, x) for x in GAMMA_SYMBOLS), *case.mu], modules="math"
+        ),
     )
 
 
 GAMMA_SYMBOLS: tuple[sp.Symbol, ...] = tuple(GAMMA)
+
+
+def lagrangian_torque(case: Any) -> sp.Matrix:
+    """``N(omega, gamma)`` (3, 1) of a :class:`~chargedesign.model.case_file.Case`, each
+    entry expanded, derived from the case's Lagrangian.
+
+    ``L = 1/2 omega . I omega + l(gamma) . omega - V(gamma)`` with ``gamma`` carried by the body
+    (``gamma' = gamma x omega``). The Euler-Poincare equations with an advected vector give
+
+        d/dt (dL/domega) = dL/domega x omega + dL/dgamma x gamma,
+
+    ``dL/domega = I omega + l`` and ``dL/dgamma = grad(l . omega) - grad V`` (gradients in
+    gamma, omega held). With ``dl/dt = J gamma'`` (``J = dl/dgamma``) the torque of
+    ``I omega' = (I omega) x omega + N`` is
+
+        N = l x omega + dL/dgamma x gamma - J (gamma x omega),
+
+    linear in omega: ``gamma x grad V + mu x omega`` with the paper's (mu). A case given by
+    ``mu`` (no ``l``) takes ``N = gamma x grad V + mu x omega`` as written. The simulation's
+    Taylor route integrates this torque (:mod:`chargedesign.simulation.taylor`); its NumPy route
+    evaluates ``gamma x grad V + mu x omega`` from the case's ``mu``
+    (:mod:`chargedesign.model.case_numeric`), so the two routes start from different forms.
+    """
+    grad_V = sp.Matrix([sp.diff(case.V, x) for x in GAMMA])
+    if case.l is None:
+        return (GAMMA.cross(grad_V) + case.mu.cross(OMEGA)).applyfunc(sp.expand)
+    l_vec = sp.Matrix(case.l)
+    l_dot_omega = l_vec.dot(OMEGA)
+    dL_dgamma = sp.Matrix([sp.diff(l_dot_omega, x) for x in GAMMA]) - grad_V
+    J = l_vec.jacobian(GAMMA)
+    gamma_dot = GAMMA.cross(OMEGA)
+    torque = l_vec.cross(OMEGA) + dL_dgamma.cross(GAMMA) - J * gamma_dot
+    return torque.applyfunc(sp.expand)
+
+
+def case_equations(case: Any) -> sp.Matrix:
+    """``(p', q', r', gamma1', gamma2', gamma3')`` (6, 1) of a case, from its Lagrangian."""
+    inertia = [sp.sympify(m) for m in case.inertia]
+    I_omega = sp.Matrix([m * w for m, w in zip(inertia, OMEGA, strict=True)])
+    N = lagrangian_torque(case)
+    kinetic = I_omega.cross(OMEGA)
+    omega_dot = [sp.expand((kinetic[i] + N[i]) / inertia[i]) for i in range(3)]
+    return sp.Matrix(omega_dot + [sp.expand(e) for e in GAMMA.cross(OMEGA)])
 
 
 def case_record(
@@ -131,24 +193,33 @@ def design_case_functions(record: Any) -> CaseFunctions:
 
 
 def simulated_case_functions(record: Any) -> CaseFunctions:
-    """:func:`design_case_functions` for a run: the simulation's body model has the theorem's
-    inertia diag(2C, 2C, C), so a case of another inertia is refused in one line (its motion
-    would be of the wrong body, and its integral's drift meaningless)."""
-    functions = design_case_functions(record)
-    A, B, C = functions.case.inertia
-    if not A == B == 2 * C:
+    """:func:`design_case_functions` for a run (:func:`simulated_functions`)."""
+    return simulated_functions(case_from_record(record))
+
+
+def simulated_functions(case: Case) -> CaseFunctions:
+    """:func:`case_functions` for a run: a case with singular terms (a denominator in gamma, as
+    Goriachev's ``1/gamma3^2``) is refused in one line: the integrators take polynomial
+    torques (its terms are infinite on the zero set the message names)."""
+    parts = [case.V, *(case.l if case.l is not None else case.mu)]
+    denominators = {sp.fraction(sp.together(e))[1] for e in parts}
+    where = sorted(f"{sp.sstr(d)} = 0" for d in denominators if d.free_symbols & set(GAMMA))
+    if where:
         raise InputError(
-            f"case {functions.case.name}: inertia diag({A}, {B}, {C}) is not diag(2C, 2C, C); "
-            "simulate moves bodies of the theorem's inertia only (design and check take it)"
+            f"case {case.name}: singular where {'; '.join(where)}; simulate moves cases whose V "
+            "and l (or mu) are polynomials in gamma (verify certifies the others)"
         )
-    return functions
+    return case_functions(case)
 
 
 __all__ = [
     "CaseFunctions",
+    "case_equations",
     "case_from_record",
     "case_functions",
     "case_record",
     "design_case_functions",
+    "lagrangian_torque",
     "simulated_case_functions",
+    "simulated_functions",
 ]

@@ -17,10 +17,12 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.scene.keys import DECLARED, KEY, check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
-from chargedesign.validation import as_array, check_keys, input_error
+from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
+    EFFECTS,
     MONITOR_ALIASES,
     MONITOR_NAMES,
     STATE_NAMES,
@@ -73,6 +75,20 @@ def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(choices), value)
     return str(value)
+
+
+def check_effect_names(requested: Any) -> list[str]:
+    """The effects asked for (``simulation.effects`` or ``effects=``), each once, in order;
+    one line naming a value that is no list of effect names."""
+    if isinstance(requested, str) or not isinstance(requested, Sequence):
+        raise input_error("simulation.effects", "a list of effect names", requested)
+    names: list[str] = []
+    for name in requested:
+        if name not in EFFECTS:
+            raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
+        if name not in names:
+            names.append(name)
+    return names
 
 
 def parse_simulation_options(
@@ -217,3 +233,114 @@ def parse_monitors(value: Any, where: str = "simulation.monitors") -> list[Any]:
         if name not in out:
             out.append(name)
     return out
+
+
+# ------------------------------------------------------------------ the simulated body
+#: the kinds of element a ``[body]`` table may give inline, with their two keys
+INLINE_BLOCKS: dict[str, tuple[str, str]] = {
+    "charges": ("positions", "values"),
+    "masses": ("positions", "values"),
+    "dipoles": ("positions", "moments"),
+}
+
+
+def has_inline_elements(body_table: Mapping[str, Any]) -> bool:
+    """True when a ``[body]`` table gives elements inline."""
+    return any(k in body_table for k in INLINE_BLOCKS)
+
+
+def inline_elements(body_table: Mapping[str, Any]) -> dict[str, tuple[Any, Any]]:
+    """``[body.charges]``, ``[body.masses]`` and ``[body.dipoles]`` as ``{kind: (positions,
+    values or moments)}`` (each an empty list when not given); the numbers are checked where
+    the design is built."""
+    out: dict[str, tuple[Any, Any]] = {}
+    for name, keys in INLINE_BLOCKS.items():
+        block = body_table.get(name, {})
+        if not isinstance(block, Mapping):
+            raise input_error(f"body.{name}", "a table", block)
+        check_keys(block, keys, f"body.{name}")
+        out[name] = (block.get(keys[0], []), block.get(keys[1], []))
+    return out
+
+
+def design_path(body_table: Mapping[str, Any], source: str) -> Path:
+    """The design file a ``[body]`` names (``design = PATH``, relative to the scene file)."""
+    if has_inline_elements(body_table):
+        raise InputError("body: give either design = PATH or inline elements, not both")
+    value = body_table["design"]
+    if not isinstance(value, str) or not value:
+        raise input_error("body.design", "a path to design.json", value)
+    path = Path(value)
+    if not path.is_absolute() and source not in ("<default>", "<dict>"):
+        path = Path(source).parent / path
+    return path
+
+
+# ------------------------------------------------------------------ runs' options and starts
+def merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
+    """A setup's options with a call's overrides (None keeps the setup's), validated again."""
+    table = {k: v for k, v in overrides.items() if v is not None}
+    merged = {
+        k: getattr(base, k)
+        for k in SIMULATION_KEYS
+        if getattr(base, k) is not None and not (k == "max_step" and getattr(base, k) == math.inf)
+    }
+    merged.update(table)
+    return parse_simulation_options(merged, "simulation")
+
+
+def initial_spec(initial: Any) -> dict[str, Any]:
+    """An initial spec as :func:`parse_initial` returns it, from a parsed spec, a raw
+    ``[initial]`` mapping or ``(p, q, r, gamma1, gamma2, gamma3)``."""
+    if isinstance(initial, Mapping):
+        return dict(initial) if "gamma_norm" in initial else parse_initial(initial)
+    arr = as_array(initial, "initial", (6,))
+    return parse_initial({"omega": arr[:3].tolist(), "gamma": arr[3:].tolist()})
+
+
+def with_level(initial: Any, level: float) -> dict[str, Any]:
+    """An initial spec moved onto the level ``I3 = level`` (J s).
+
+    Keeps gamma, the precession and p, q (of ``omega`` when the spec gives it); r is then
+    solved from the level when the run starts. Used to start off the level ``I3 = 0``, where
+    the theorem's I4 is not an integral.
+
+    Parameters
+    ----------
+    initial : mapping or array_like
+        As for :func:`initial_spec`.
+    level : float
+        The value of the physical I3, J s.
+
+    Returns
+    -------
+    dict
+        A spec as returned by :func:`parse_initial`.
+    """
+    value = as_finite_float(level, "level")
+    spec = initial_spec(initial)
+    out = {k: spec[k] for k in ("gamma", "gamma_norm", "precession")}
+    if "omega" in spec:
+        omega = np.asarray(spec["omega"], dtype=float)
+        out["p"], out["q"] = float(omega[0]), float(omega[1])
+    else:
+        out["p"], out["q"] = spec["p"], spec["q"]
+    out["level"] = value
+    return out
+
+
+def ensemble_states(spec: Any, states: Any = None) -> np.ndarray:
+    """The starts of an ensemble, ``(m, 6)``: ``states`` when given (checked), else the set of
+    an ``[initial]`` spec (``states`` or ``file``); one line when neither gives a set."""
+    if states is not None:
+        return parse_states(states, "states")
+    if not (isinstance(spec, Mapping) and "states" in spec):
+        raise InputError("initial: give states = [[p, q, r, gamma1, gamma2, gamma3], ...]")
+    return np.asarray(spec["states"], dtype=float)
+
+
+def check_off_singular_plane(gamma3: Any, threshold: float, name: str) -> None:
+    """Refuse a start with ``|gamma3| <= gamma3_min`` (the plane where a singular case's
+    terms are infinite), in one line naming the start (``name``) and the value."""
+    if abs(gamma3) <= threshold:
+        raise input_error(name, f"|gamma3| > gamma3_min = {fmt(threshold, PLAIN)}", gamma3)

@@ -8,10 +8,12 @@ The package re-exports :func:`.api.simulate` and friends (``cd.simulate`` is
 - :mod:`.integrate`: the methods (taylor by default), events, batching.
 - :mod:`.taylor`: the heyoka back end (equations as heyoka expressions, compiled once).
 - :mod:`.monitors`: the integral registry and what a run reports.
-- :mod:`.ensemble`: sets of initial states.
+- :mod:`.ensemble`: sets of initial states and batches.
 - :mod:`.chaos`: Poincare atlases and the fast Lyapunov indicator.
 - :mod:`.result`: the result, drift monitors, output files and plots.
-- :mod:`.api`: scenes' simulation tables and :func:`simulate`.
+- :mod:`.setup`: a run's setup from a scene, a design or parameters.
+- :mod:`.pending_design`: a scene's ``[body]`` region designed when a run needs it.
+- :mod:`.api`: :func:`simulate` (the entry point).
 """
 
 from __future__ import annotations
@@ -25,18 +27,9 @@ from chargedesign.scene.simulation import (
     parse_initial,
     parse_output_options,
     parse_simulation_options,
-)
-from chargedesign.simulation.api import (
-    SimulationSetup,
-    design_pending,
-    initial_state,
-    prepare,
-    setup_from_scene,
-    setup_from_source,
-    simulate,
-    simulate_batch,
     with_level,
 )
+from chargedesign.simulation.api import initial_state, prepare, simulate
 from chargedesign.simulation.chaos import (
     FLIMap,
     PoincareAtlas,
@@ -45,10 +38,12 @@ from chargedesign.simulation.chaos import (
     lyapunov_exponent,
     poincare_atlas,
 )
-from chargedesign.simulation.ensemble import EnsembleResult, simulate_ensemble
+from chargedesign.simulation.ensemble import EnsembleResult, simulate_batch, simulate_ensemble
 from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration
 from chargedesign.simulation.monitors import MONITORS
+from chargedesign.simulation.pending_design import design_pending
 from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
+from chargedesign.simulation.setup import SimulationSetup, setup_from_scene, setup_from_source
 from chargedesign.simulation.system import (
     EFFECTS,
     ROUTES,

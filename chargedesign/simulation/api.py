@@ -1,4 +1,5 @@
-"""Simulation scenes and the public entry :func:`simulate`.
+"""The public entry :func:`simulate`: a setup prepared into a system and a start, integrated,
+and its result with the monitors.
 
 A scene (TOML or :class:`~chargedesign.scene.Scene`) may add these tables to the contract's
 ``[parameters]`` and ``[fields.*]``::
@@ -55,44 +56,48 @@ run first needs its elements (:func:`chargedesign.designer.design_from_scene` wi
 ``[design]``), then simulated from its own elements under every physical effect with a source
 and a field. A run whose effects are only ``theorem`` does not design it. The body is designed
 once per :class:`SimulationSetup`: pass the setup to :func:`simulate` again to reuse it.
+
+The setup is read in :mod:`chargedesign.simulation.setup` (the tables' checks in
+:mod:`chargedesign.scene.simulation`), a pending ``[body]`` region designed in
+:mod:`chargedesign.simulation.pending_design`, and many starts of one body run in
+:mod:`chargedesign.simulation.ensemble` (:func:`~chargedesign.simulation.ensemble.simulate_batch`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
-import os
-import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from chargedesign.body import Design, read_design
-from chargedesign.designer import design_from_scene
-from chargedesign.errors import InfeasibleError, InputError
-from chargedesign.formatting import CELL, ORDER, PLAIN, PRECISE, ROUGH, fmt
-from chargedesign.params import Parameters
-from chargedesign.physical.realism import typical_rate
-from chargedesign.results import compact_repr
-from chargedesign.scene import Scene, load_scene
+from chargedesign.errors import InputError
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
+
+# read through this module by callers of the earlier single-module layout (tolerancing)
+from chargedesign.scene.simulation import DEFAULT_INITIAL as DEFAULT_INITIAL
 from chargedesign.scene.simulation import (
-    DEFAULT_INITIAL,
-    SIMULATION_KEYS,
-    OutputOptions,
     SimulationOptions,
     check_choice,
-    parse_initial,
-    parse_simulation_options,
+    check_off_singular_plane,
+    initial_spec,
+    merge_options,
+    with_level,
 )
+from chargedesign.scene.simulation import parse_initial as parse_initial
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.axes import resolve_axes, turning_poincare, turning_states
 from chargedesign.simulation.integrate import STATE_NAMES, integrate
+from chargedesign.simulation.pending_design import design_pending, needs_elements
 from chargedesign.simulation.result import SimulationResult
+from chargedesign.simulation.setup import (
+    SimulationSetup,
+    body_counts,
+    realised_claims,
+    setup_from_source,
+)
+from chargedesign.simulation.setup import setup_from_scene as setup_from_scene
 from chargedesign.simulation.system import (
-    EFFECTS,
     Body,
     RigidBodySystem,
     attitude_from_gamma,
@@ -104,103 +109,7 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
     select_effects,
 )
-from chargedesign.validation import (
-    as_array,
-    as_finite_float,
-    check_keys,
-    check_run_caps,
-    input_error,
-)
-
-
-@dataclass(repr=False)
-class SimulationSetup:
-    """Everything a run needs: the body, the initial-state spec and the options.
-
-    Attributes
-    ----------
-    body : Body
-        The body simulated (bare parameters until a pending design is done).
-    initial : mapping or ndarray
-        The initial-state spec (see :func:`parse_initial`).
-    options, output : SimulationOptions, OutputOptions
-    notes : list of str
-    source : str
-        Where the setup came from (a path, ``<default>``, ``<design>``, ...).
-    design : Design or None
-        The design simulated (read from a file, inline, or designed from the scene).
-    design_scene : Scene or None
-        A scene whose ``[body]`` region is still to be designed (see :func:`design_pending`).
-    body_info : dict
-        JSON-ready description of the body (``designed_from_scene``, ``origin``, ``counts``;
-        for a designed body also ``shape``, ``candidates``, ``residuals``, ``realises``,
-        ``design_seconds``); the result's summary reports it as ``body``.
-    axes : str
-        The axes the motion is written in: ``inertial`` or ``turning`` (set by
-        :func:`prepare`).
-    axes_rate : float
-        Their rate about Z, 1/s: 0 for inertial axes, the frame reading's n for turning axes.
-    case : CaseFunctions or None
-        The numeric functions of the case a design carries (set by :func:`prepare`; None:
-        the theorem's), built once for the refusal and the ``F`` monitor.
-    """
-
-    body: Body
-    initial: Mapping[str, Any] | np.ndarray
-    options: SimulationOptions = field(default_factory=SimulationOptions)
-    output: OutputOptions = field(default_factory=OutputOptions)
-    notes: list[str] = field(default_factory=list)
-    source: str = ""
-    design: Any = None
-    design_scene: Any = None
-    body_info: dict[str, Any] = field(default_factory=dict)
-    axes: str = "inertial"
-    axes_rate: float = 0.0
-    case: Any = None
-
-    @property
-    def larmor(self) -> Any:
-        """The simulated design's Larmor reading (None: no design or no ``larmor`` key)."""
-        return getattr(self.design, "larmor", None)
-
-    def __repr__(self) -> str:
-        return compact_repr(
-            "SimulationSetup",
-            {
-                "source": self.source,
-                "charges": len(self.body.charge_values),
-                "dipoles": len(self.body.dipole_moments),
-                "masses": len(self.body.mass_values),
-                "effects": self.options.effects,
-                "t_end": self.options.t_end,
-                "method": self.options.method,
-                "pending_design": self.design_scene is not None,
-            },
-        )
-
-
-def _inline_design(body: Mapping[str, Any], scene: Any) -> Any:
-
-    def block(name: str, keys: tuple[str, str]) -> tuple[Any, Any]:
-        b = body.get(name, {})
-        if not isinstance(b, Mapping):
-            raise input_error(f"body.{name}", "a table", b)
-        check_keys(b, keys, f"body.{name}")
-        return b.get(keys[0], []), b.get(keys[1], [])
-
-    cp, cv = block("charges", ("positions", "values"))
-    mp, mv = block("masses", ("positions", "values"))
-    dp, dm = block("dipoles", ("positions", "moments"))
-    return Design(
-        parameters=scene.parameters,
-        fields=dict(scene.fields),
-        charge_positions=cp,
-        charge_values=cv,
-        mass_positions=mp,
-        mass_values=mv,
-        dipole_positions=dp,
-        dipole_moments=dm,
-    )
+from chargedesign.validation import check_run_caps
 
 
 def _case_functions(design: Any) -> Any:
@@ -212,101 +121,31 @@ def _case_functions(design: Any) -> Any:
     return simulated_case_functions(design.further_keys["case"])
 
 
-def setup_from_scene(scene: Any) -> SimulationSetup:
-    """Read the simulation tables of a :class:`~chargedesign.scene.Scene`."""
-
-    notes: list[str] = []
-    body_table = scene.body.table if scene.body is not None else {}
-    design = None
-    origin = ""
-    if "design" in body_table:
-        if any(k in body_table for k in ("charges", "masses", "dipoles")):
-            raise InputError("body: give either design = PATH or inline elements, not both")
-        path_value = body_table["design"]
-        if not isinstance(path_value, str) or not path_value:
-            raise input_error("body.design", "a path to design.json", path_value)
-        path = Path(path_value)
-        if not path.is_absolute() and scene.source not in ("<default>", "<dict>"):
-            path = Path(scene.source).parent / path
-        design = read_design(path)
-        origin = str(path)
-        if scene.parameters != Parameters() and scene.parameters != design.parameters:
-            notes.append("the scene's [parameters] differ from the design's; the design's are used")
-    elif scene.case is not None:  # a case of (ep): masses in gravity, designed at once
-        from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
-
-        design = design_case_scene(scene).design
-        origin = f"[case] {scene.case.name}: masses designed on the [body] region"
-    elif any(k in body_table for k in ("charges", "masses", "dipoles")):
-        design = _inline_design(body_table, scene)
-        origin = "inline [body] elements"
-    pending = None
-    if design is not None:
-        body = Body.from_design(design, dict(scene.fields))
-        notes += body.notes
-        if body.parameters == Parameters():
-            body, note = _inertia_from_masses(body)
-            if note:
-                notes.append(note)
-        info = _body_info(body, origin)
-    else:
-        body = Body(parameters=scene.parameters, fields=dict(scene.fields))
-        if "shape" in body_table:
-            # designed when a run needs its elements (not for the theorem effect alone)
-            pending = scene
-            info = {"designed_from_scene": False, "origin": "[body] region, not designed yet"}
-        else:
-            info = _body_info(body, "none: the theorem's parameters only")
-    if scene.initial is None:
-        initial = parse_initial(DEFAULT_INITIAL, "initial")
-        notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
-        notes += _slow_body_notes(body.parameters)
-    else:
-        initial = dict(scene.initial)
-    return SimulationSetup(
-        body=body,
-        initial=initial,
-        options=dataclasses.replace(scene.simulation),
-        output=dataclasses.replace(scene.output),
-        notes=notes,
-        source=scene.source,
-        design=design,
-        design_scene=pending,
-        body_info=info,
-    )
+def reduced_case_effects(
+    asked: Sequence[str] | None, skipped: list[str]
+) -> tuple[list[str], list[str]]:
+    """The effects of a case scene's reduced model (no body): ``theorem`` (the case's V and
+    l) unless the effects asked leave it out; the theorem's own "V and mu vanish" note goes
+    (the case's do not)."""
+    notes = [n for n in skipped if not n.startswith("theorem:")]
+    wanted = asked is None or "theorem" in asked
+    return (["theorem"] if wanted else []), notes
 
 
-def realised_claims(setup: SimulationSetup, system: RigidBodySystem) -> tuple[str, ...]:
-    """What the simulated design claims; a massless body's inertia is the given C itself."""
-    if setup.design is None:
-        return ()
-    out = list(setup.design.realises)
-    _, m = body_mass_points(system.body)
-    if "inertia" not in out and not np.any(m != 0.0):
-        out.append("inertia")
-    return tuple(out)
-
-
-def _inertia_from_masses(body: Body) -> tuple[Body, str]:
-    """A body without theorem parameters takes C from its masses (C = I_zz about O)."""
-    inertia, total, _ = mass_inertia(body)
-    C = float(inertia[2, 2])
-    if total <= 0.0 or not C > 0.0:
-        return body, ""
-    body = dataclasses.replace(body, parameters=Parameters(C=C))
-    return body, f"no [parameters]: C = {fmt(C, CELL)} kg m^2 from the masses (I_zz about O)"
-
-
-def check_inertia(body: Body, effects: Sequence[str]) -> None:
-    """Refuse a body whose masses' inertia disagrees with the given C (one-line reason).
+def check_inertia(
+    body: Body, effects: Sequence[str], inertia: Sequence[float] | None = None
+) -> None:
+    """Refuse a body whose masses' inertia disagrees with the given C, or with a case's
+    ``inertia`` (A, B, C) (one-line reason).
 
     The theorem's reduced model alone (effects = ["theorem"]) uses C as given.
     """
     if not any(e != "theorem" for e in effects) and not body.has_elements:
         return
-    reason = inertia_mismatch(body)
+    reason = inertia_mismatch(body, target=inertia)
     if reason is not None:
-        raise InputError(f"body: {reason}; give C to match the masses or fix the masses")
+        fix = "give C to match the masses" if inertia is None else "design the case again"
+        raise InputError(f"body: {reason}; {fix} or fix the masses")
 
 
 #: relative size of a linear term of V that counts as a centre of mass off O
@@ -344,180 +183,6 @@ def check_centre(system: RigidBodySystem, realises: Sequence[str]) -> None:
     )
 
 
-def _counts(body: Body) -> dict[str, int]:
-    return {
-        "charges": len(body.charge_values),
-        "dipoles": len(body.dipole_moments),
-        "masses": len(body.mass_values),
-    }
-
-
-#: a default start turning this many times faster than the body's own rate gets a note
-SLOW_BODY_FACTOR = 1e3
-
-
-def _slow_body_notes(params: Parameters) -> list[str]:
-    """A note when the default start turns far faster than the body's own rate.
-
-    The default start (p, q) = (0.6, -0.4) 1/s suits the unit-scale case. A physical body's
-    theorem terms turn at ``2 max(|n|, |K|, sqrt|kappa|, ...)`` (micro-radians per second for
-    the embedded default): started at 0.7 1/s, its designed torques are a tiny fraction of
-    the kinetic terms and I4's drift tests them weakly. Said, not changed: the start is the
-    user's to give.
-    """
-
-    start = math.hypot(DEFAULT_INITIAL["p"], DEFAULT_INITIAL["q"])
-    rate = typical_rate(params)
-    if rate == 0.0 or start < SLOW_BODY_FACTOR * rate:
-        return []
-    return [
-        f"the default start turns at |(p, q)| = {fmt(start)} 1/s, {fmt(start / rate, ROUGH)} times"
-        " this "
-        f"body's own rate {fmt(rate)} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
-        f"torques are then about {fmt((rate / start) ** 2, ORDER)} of the kinetic terms, which I4's"
-        " "
-        "drift tests only weakly; give [initial] (or initial=) at the body's rate"
-    ]
-
-
-def _body_info(body: Body, origin: str) -> dict[str, Any]:
-    return {"designed_from_scene": False, "origin": origin, "counts": _counts(body)}
-
-
-def _needs_elements(effects: Sequence[str] | None) -> bool:
-    """True unless the effects asked for are only the theorem's reduced model."""
-    if effects is None:
-        return True
-    return any(name != "theorem" for name in effects if name in EFFECTS)
-
-
-def design_pending(
-    setup: SimulationSetup, progress: Callable[[str], None] | None = None
-) -> SimulationSetup:
-    """Design the body of a setup whose scene gives a ``[body]`` region (once; in place).
-
-    Runs :func:`chargedesign.designer.design_from_scene` with the scene's ``[design]`` table and
-    replaces ``setup.body`` by the designed elements in the scene's fields (each kind the
-    scene gives replaces the design's). Does nothing when nothing is pending.
-
-    Parameters
-    ----------
-    setup : SimulationSetup
-    progress : callable, optional
-        ``progress(message)`` with the designer's stages.
-
-    Returns
-    -------
-    SimulationSetup
-        The same setup, designed.
-
-    Raises
-    ------
-    InfeasibleError
-        The scene's targets cannot be realised in its region (the message says how to
-        simulate the reduced model instead).
-    InputError, SolverError
-        As :func:`~chargedesign.designer.design_from_scene`.
-    """
-    scene = setup.design_scene
-    if scene is None:
-        return setup
-
-    t0 = time.perf_counter()
-    try:
-        result = design_from_scene(scene, progress=progress, frontier=False)
-    except InfeasibleError as exc:
-        raise InfeasibleError(
-            f"{exc} (to simulate the theorem's reduced model instead: effects = ['theorem'])"
-        ) from exc
-    seconds = time.perf_counter() - t0
-    design = result.design
-    body = Body.from_design(design, dict(scene.fields))
-    summary = result.summary()
-    residuals = summary["residuals"]
-    shape = str(scene.body.table.get("shape"))
-    counts = _counts(body)
-    setup.body = body
-    setup.design = design
-    setup.design_scene = None
-    setup.body_info = {
-        "designed_from_scene": True,
-        "origin": f"designed from the scene's [body] (shape = {shape!r})",
-        "counts": counts,
-        "shape": shape,
-        "candidates": len(result.candidates),
-        "residuals": {
-            "max_after_polish": residuals["max_after_polish"],
-            "tolerance": residuals["tolerance"],
-            "after_polish": dict(residuals["after_polish"]),
-            "before_polish": dict(residuals["before_polish"]),
-        },
-        "realises": list(design.realises),
-        "fields": {kind: list(coeffs) for kind, coeffs in body.fields.items()},
-        "design_seconds": seconds,
-    }
-    setup.notes.append(
-        f"body designed from the scene's [body] ({shape}, {len(result.candidates)} "
-        f"candidates): {counts['charges']} charges, {counts['dipoles']} dipoles, "
-        f"{counts['masses']} masses; largest relative residual "
-        f"{fmt(residuals['max_after_polish'], ROUGH)} (tolerance"
-        f" {fmt(residuals['tolerance'], ROUGH)}); "
-        f"realises {', '.join(design.realises) or 'nothing'}"
-    )
-    missing = [k for k in ("mu", "V", "inertia") if k not in design.realises]
-    if missing:
-        setup.notes.append(
-            f"the design does not realise {', '.join(missing)}: I4 is the theorem's integral "
-            "only for a body that realises mu, V and inertia"
-        )
-    setup.notes += [f"design: {note}" for note in result.notes]
-    setup.notes += body.notes
-    return setup
-
-
-def setup_from_source(source: Any = None) -> SimulationSetup:
-    """A setup from a scene, a design, a path (.toml scene, .json design) or None (default)."""
-
-    if source is None:
-        return setup_from_scene(load_scene(None))
-    if isinstance(source, SimulationSetup):
-        return source
-    if isinstance(source, Scene):
-        return setup_from_scene(source)
-    if isinstance(source, Design):
-        body = Body.from_design(source)
-        return SimulationSetup(
-            body=body,
-            initial=parse_initial(DEFAULT_INITIAL),
-            notes=[
-                "default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0",
-                *_slow_body_notes(body.parameters),
-                *body.notes,
-            ],
-            source="<design>",
-            design=source,
-            body_info=_body_info(body, "a design"),
-        )
-    if isinstance(source, Parameters):
-        body = Body(parameters=source)
-        return SimulationSetup(
-            body=body,
-            initial=parse_initial(DEFAULT_INITIAL),
-            source="<parameters>",
-            body_info=_body_info(body, "none: the theorem's parameters only"),
-        )
-    if isinstance(source, (str, os.PathLike)):
-        path = Path(source)
-        if path.suffix.lower() == ".json":
-            setup = setup_from_source(read_design(path))
-            setup.source = str(path)
-            setup.body_info["origin"] = f"design file {path}"
-            return setup
-        return setup_from_scene(load_scene(path))
-    raise input_error("simulate", "a scene, a design, a path or None", source)
-
-
-# --------------------------------------------------------------------------- running
 def initial_state(
     system: RigidBodySystem, initial: Any, rate: float = 0.0
 ) -> tuple[np.ndarray, float | None]:
@@ -531,11 +196,7 @@ def initial_state(
     """
     if isinstance(initial, Mapping) and "states" in initial:
         initial = np.asarray(initial["states"], dtype=float)[0]  # the first of a set
-    if isinstance(initial, Mapping):
-        spec = dict(initial) if "gamma_norm" in initial else parse_initial(initial)
-    else:
-        arr = as_array(initial, "initial", (6,))
-        spec = parse_initial({"omega": arr[:3].tolist(), "gamma": arr[3:].tolist()})
+    spec = initial_spec(initial)
     gamma = spec["gamma"]
     R0 = attitude_from_gamma(gamma, spec.get("precession", 0.0))
     quat = rotation_quaternion(R0)
@@ -547,53 +208,6 @@ def initial_state(
     else:
         omega = np.asarray(spec["omega"], dtype=float) + rate * g
     return np.concatenate([omega, quat]), level
-
-
-def with_level(initial: Any, level: float) -> dict[str, Any]:
-    """An initial spec moved onto the level ``I3 = level`` (J s).
-
-    Keeps gamma, the precession and p, q (of ``omega`` when the spec gives it); r is then
-    solved from the level (:meth:`RigidBodySystem.solve_r`). Used to start off the level
-    ``I3 = 0``, where the theorem's I4 is not an integral.
-
-    Parameters
-    ----------
-    initial : mapping or array_like
-        As for :func:`initial_state`.
-    level : float
-        The value of the physical I3, J s.
-
-    Returns
-    -------
-    dict
-        A spec as returned by :func:`parse_initial`.
-    """
-    value = as_finite_float(level, "level")
-    if isinstance(initial, Mapping):
-        spec = dict(initial) if "gamma_norm" in initial else parse_initial(initial)
-    else:
-        arr = as_array(initial, "initial", (6,))
-        spec = parse_initial({"omega": arr[:3].tolist(), "gamma": arr[3:].tolist()})
-    out = {k: spec[k] for k in ("gamma", "gamma_norm", "precession")}
-    if "omega" in spec:
-        omega = np.asarray(spec["omega"], dtype=float)
-        out["p"], out["q"] = float(omega[0]), float(omega[1])
-    else:
-        out["p"], out["q"] = spec["p"], spec["q"]
-    out["level"] = value
-    return out
-
-
-def _merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
-    """The setup's options with the call's overrides (None keeps the setup's)."""
-    table = {k: v for k, v in overrides.items() if v is not None}
-    merged = {
-        k: getattr(base, k)
-        for k in SIMULATION_KEYS
-        if getattr(base, k) is not None and not (k == "max_step" and getattr(base, k) == math.inf)
-    }
-    merged.update(table)
-    return parse_simulation_options(merged, "simulation")
 
 
 def _in_coils_field(setup: SimulationSetup) -> tuple[SimulationSetup, list[str]]:
@@ -642,11 +256,11 @@ def prepare(
     done in it, once) and the notes.
     """
     setup = setup_from_source(source)
-    options = _merge_options(setup.options, overrides)
+    options = merge_options(setup.options, overrides)
     body_info = dict(setup.body_info)
     pending_notes: list[str] = []
     if setup.design_scene is not None:
-        if _needs_elements(options.effects):
+        if needs_elements(options.effects):
             design_pending(setup, design_progress)
             body_info = dict(setup.body_info)
         else:
@@ -655,7 +269,7 @@ def prepare(
                 f"[body] region (shape = {shape!r}) not designed: the theorem effect is the "
                 "reduced model"
             )
-            body_info["counts"] = _counts(setup.body)
+            body_info["counts"] = body_counts(setup.body)
             pending_notes.append(
                 f"body: the [body] region (shape = {shape!r}) was not designed; the theorem "
                 "effect is the reduced model (its V and mu), no elements"
@@ -672,13 +286,20 @@ def prepare(
         setup, coil_notes = _in_coils_field(setup)
         asked = [e for e in asked if e != "coils"]
     effects, skipped = select_effects(setup.body, asked)
+    # a case's numeric functions (a singular case is refused here), built once for the run
+    case = setup.case if setup.case is not None else _case_functions(setup.design)
+    inertia = None if case is None else [float(m) for m in case.case.inertia]
+    if case is not None and setup.design is None:
+        # the reduced model of a case scene: the theorem effect is the case's V and l
+        effects, skipped = reduced_case_effects(asked, skipped)
     skipped = coil_notes + skipped
-    if any(e != "theorem" for e in effects):
-        check_inertia(setup.body, effects)
+    # a case design's masses move with the case's inertia: checked even when no effect acts
+    if any(e != "theorem" for e in effects) or (inertia is not None and setup.design is not None):
+        check_inertia(setup.body, effects, inertia)
     notes = list(setup.notes) + pending_notes + skipped
     if not effects:
         notes.append("no effect acts: torque-free motion")
-    system = RigidBodySystem(setup.body, effects, options.route)
+    system = RigidBodySystem(setup.body, effects, options.route, inertia=inertia, case=case)
     if system.dissipative and options.method == "taylor":
         # heyoka's compiled route takes polynomial torques only: the eddy torque runs on scipy
         options = dataclasses.replace(options, method="DOP853")
@@ -689,8 +310,7 @@ def prepare(
         )
     if setup.design is not None and "case" not in setup.design.further_keys:
         check_centre(system, setup.design.realises)  # a case's V may have a linear term
-    # a case of another inertia than diag(2C, 2C, C) is refused here
-    setup = dataclasses.replace(setup, case=_case_functions(setup.design))
+    setup = dataclasses.replace(setup, case=case)
     if "theorem" in effects and options.route == "direct":
         notes.append("theorem: the reduced model has one route (the evaluators)")
     spec = setup.initial if initial is None else initial
@@ -703,10 +323,7 @@ def prepare(
     y0, start_level = initial_state(system, spec, setup.axes_rate)
     if system.singular:
         g3 = float(quaternion_gamma(y0[None, 3:])[0, 2])
-        if abs(g3) <= options.gamma3_min:
-            raise input_error(
-                "initial.gamma", f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}", g3
-            )
+        check_off_singular_plane(g3, options.gamma3_min, "initial.gamma")
     return system, y0, start_level, setup, notes
 
 
@@ -821,7 +438,7 @@ def simulate(
             "reading; the points are written in the turning axes"
         )
     run = integrate_with_options(system, y0[None], options, poincare=section, progress=progress)
-    return _result(system, run.times, run.states[0], run, level, setup, notes, section)
+    return trajectory_result(system, run.times, run.states[0], run, level, setup, notes, section)
 
 
 def integrate_with_options(
@@ -854,54 +471,7 @@ def integrate_with_options(
     )
 
 
-def simulate_batch(
-    source: Any,
-    initial_states: Any,
-    **kwargs: Any,
-) -> list[SimulationResult]:
-    """Simulate many trajectories of one body in a single integrator call.
-
-    Parameters
-    ----------
-    source
-        As for :func:`simulate`.
-    initial_states : array_like, shape (m, 6)
-        ``(p, q, r, gamma1, gamma2, gamma3)`` per trajectory.
-    **kwargs
-        ``effects``, ``t_end``, ``rtol``, ``atol``, ``method``, ``max_step``, ``step``,
-        ``samples``, ``route``, ``gamma3_min``, ``progress``, ``design_progress`` as for
-        :func:`simulate`.
-
-    Notes
-    -----
-    With ``taylor`` (the default) the trajectories run on heyoka batch integrators: each has
-    its own step size and a singular-plane event stops only its own trajectory (the others
-    keep their last state after it). With the solve_ivp methods one adaptive step size serves
-    all trajectories and an event on any trajectory stops the whole batch. For the summaries
-    of many trajectories see :func:`chargedesign.simulation.ensemble.simulate_ensemble`.
-    """
-    progress = kwargs.pop("progress", None)
-    states = as_array(initial_states, "initial_states", (None, 6))
-    system, _, _, setup, notes = prepare(source, **kwargs)
-    y0 = np.array([initial_state(system, s, setup.axes_rate)[0] for s in states])
-    options = setup.options
-    if system.singular:
-        g3 = quaternion_gamma(y0[:, 3:])[:, 2]
-        if np.any(np.abs(g3) <= options.gamma3_min):
-            bad = int(np.argmin(np.abs(g3)))
-            raise input_error(
-                f"initial_states[{bad}]",
-                f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}",
-                g3[bad],
-            )
-    run = integrate_with_options(system, y0, options, progress=progress)
-    return [
-        _result(system, run.times, run.states[i], run, None, setup, notes, None)
-        for i in range(len(y0))
-    ]
-
-
-def _result(
+def trajectory_result(
     system: RigidBodySystem,
     times: np.ndarray,
     states: np.ndarray,

@@ -18,29 +18,31 @@ import csv
 import io
 import json
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.scene.keys import KEY
-from chargedesign.scene.states import STATE_COLUMNS, parse_states
+from chargedesign.scene.simulation import check_off_singular_plane, ensemble_states
+from chargedesign.scene.states import STATE_COLUMNS
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.api import (
     initial_state,
     integrate_with_options,
     prepare,
-    realised_claims,
+    trajectory_result,
 )
 from chargedesign.simulation.axes import turning_states
+from chargedesign.simulation.result import SimulationResult
+from chargedesign.simulation.setup import realised_claims
 from chargedesign.simulation.system import quaternion_gamma
-from chargedesign.validation import input_error
+from chargedesign.validation import as_array
 
 
 @dataclass(repr=False)
@@ -195,13 +197,7 @@ def simulate_ensemble(
     """
 
     system, _, _, setup, notes = prepare(source, **kwargs)
-    if states is None:
-        spec = setup.initial
-        if not (isinstance(spec, Mapping) and "states" in spec):
-            raise InputError("initial: give states = [[p, q, r, gamma1, gamma2, gamma3], ...]")
-        arr = np.asarray(spec["states"], dtype=float)
-    else:
-        arr = parse_states(states, "states")
+    arr = ensemble_states(setup.initial, states)
     rate = setup.axes_rate
     y0 = np.array([initial_state(system, s, rate)[0] for s in arr])
     options = setup.options
@@ -209,10 +205,8 @@ def simulate_ensemble(
         g3 = quaternion_gamma(y0[:, 3:])[:, 2]
         bad = np.flatnonzero(np.abs(g3) <= options.gamma3_min)
         if len(bad):
-            raise input_error(
-                f"initial.states[{int(bad[0])}]",
-                f"|gamma3| > gamma3_min = {fmt(options.gamma3_min, PLAIN)}",
-                float(g3[bad[0]]),
+            check_off_singular_plane(
+                float(g3[bad[0]]), options.gamma3_min, f"initial.states[{int(bad[0])}]"
             )
     run = integrate_with_options(system, y0, options, progress=progress)
     # the integrator's own time (without a first run's compile, reported apart)
@@ -235,6 +229,7 @@ def simulate_ensemble(
             I3_scale=max(system.C * max(float(np.max(np.abs(om[0]))), 1.0), 1e-300),
             realises=realises,
             axes_rate=rate,
+            case=setup.case,
         )
         gamma = quaternion_gamma(states_out[i, :, 3:])
         table.append(monitors_mod.evaluate(ctx, om, gamma, integrals[i], kin, options.monitors))
@@ -254,3 +249,46 @@ def simulate_ensemble(
         events=list(run.events),
         source=setup.source,
     )
+
+
+def simulate_batch(
+    source: Any,
+    initial_states: Any,
+    **kwargs: Any,
+) -> list[SimulationResult]:
+    """Simulate many trajectories of one body in a single integrator call.
+
+    Parameters
+    ----------
+    source
+        As for :func:`simulate`.
+    initial_states : array_like, shape (m, 6)
+        ``(p, q, r, gamma1, gamma2, gamma3)`` per trajectory.
+    **kwargs
+        ``effects``, ``t_end``, ``rtol``, ``atol``, ``method``, ``max_step``, ``step``,
+        ``samples``, ``route``, ``gamma3_min``, ``progress``, ``design_progress`` as for
+        :func:`simulate`.
+
+    Notes
+    -----
+    With ``taylor`` (the default) the trajectories run on heyoka batch integrators: each has
+    its own step size and a singular-plane event stops only its own trajectory (the others
+    keep their last state after it). With the solve_ivp methods one adaptive step size serves
+    all trajectories and an event on any trajectory stops the whole batch. For the summaries
+    of many trajectories see :func:`chargedesign.simulation.ensemble.simulate_ensemble`.
+    """
+    progress = kwargs.pop("progress", None)
+    states = as_array(initial_states, "initial_states", (None, 6))
+    system, _, _, setup, notes = prepare(source, **kwargs)
+    y0 = np.array([initial_state(system, s, setup.axes_rate)[0] for s in states])
+    options = setup.options
+    if system.singular:
+        g3 = quaternion_gamma(y0[:, 3:])[:, 2]
+        if np.any(np.abs(g3) <= options.gamma3_min):
+            bad = int(np.argmin(np.abs(g3)))
+            check_off_singular_plane(g3[bad], options.gamma3_min, f"initial_states[{bad}]")
+    run = integrate_with_options(system, y0, options, progress=progress)
+    return [
+        trajectory_result(system, run.times, run.states[i], run, None, setup, notes, None)
+        for i in range(len(y0))
+    ]

@@ -32,7 +32,6 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
-from chargedesign.validation import input_error
 from chargedesign.vocabulary import DEFAULT_SIMULATION_METHOD as DEFAULT_METHOD
 from chargedesign.vocabulary import SIMULATION_METHODS as METHODS
 from chargedesign.vocabulary import SOLVE_IVP_METHODS as SOLVE_IVP_METHODS
@@ -215,7 +214,8 @@ def _integrate_solve_ivp(
         if poincare not in STATE_NAMES:  # the scene's checked [output] poincare_section
             raise ValueError(f"poincare: {poincare!r} is not a state name")
         if m != 1:
-            raise input_error("poincare", "a single trajectory", f"{m} trajectories")
+            # simulate records a section of its one trajectory; batches and ensembles none
+            raise ValueError(f"poincare: a section of a single trajectory, not of {m}")
 
         def section(t: float, y: np.ndarray) -> float:
             return float(_state_value(y.reshape(1, 7), poincare)[0])

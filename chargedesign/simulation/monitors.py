@@ -21,16 +21,17 @@ Registry (:data:`MONITORS`):
     the theorem's reduced model or a body that realises mu, V and inertia.
 ``kowalevski``
     ``|(p + i q)^2 - (a1 + i a2)(gamma1 + i gamma2) / C|^2`` for ``V = a1 gamma1 + a2 gamma2``
-    (a centre of the linear potential in the equator), no gyroscopic terms: Kowalevski's case
-    (A = B = 2C holds here by construction).
+    (a centre of the linear potential in the equator), no gyroscopic terms, inertia
+    diag(2C, 2C, C): Kowalevski's case.
 ``lagrange``
-    ``r`` (1/s) when V depends on gamma3 only and no gyroscopic term acts (Lagrange's top).
+    ``r`` (1/s) when A = B, V depends on gamma3 only and no gyroscopic term acts (Lagrange's
+    top).
 ``F``
-    The claimed integral of the case of (ep) a design realises (design.json ``case``,
-    evaluated from the case's parsed expressions); an integral of a case body's motion (on
-    the case's level for a conditional claim).
+    The claimed integral of the case of (ep) a design realises (design.json ``case``) or a
+    case scene's reduced model, evaluated from the case's parsed expressions; an integral of
+    the case's motion (on the case's level for a conditional claim).
 ``goriachev_chaplygin``
-    Needs A = B = 4C (never this body's inertia): reported as not an integral.
+    Needs A = B = 4C: reported as not an integral (a case of that inertia monitors its F).
 """
 
 from __future__ import annotations
@@ -133,6 +134,11 @@ def _always(_: Context) -> tuple[bool, str]:
 
 def _i4_integral(ctx: Context) -> tuple[bool, str]:
     system = ctx.system
+    if system.case is not None and "theorem" in system.effects:
+        return False, (
+            f"I4 is the theorem's integral; this is the reduced model of the case "
+            f"{system.case.case.name} (its own integral is F)"
+        )
     theorem_only = system.effects == ["theorem"]
     realised = {"mu", "V", "inertia"} <= set(ctx.realises) and "theorem" not in system.effects
     if not (theorem_only or realised):
@@ -164,6 +170,9 @@ def _kowalevski_integral(ctx: Context) -> tuple[bool, str]:
     turning = _turning(ctx, "Kowalevski's integral")
     if turning is not None:
         return turning
+    A, B, C = ctx.system.inertia_diagonal()
+    if not A == B == 2.0 * C:
+        return False, "Kowalevski's integral needs the inertia diag(2C, 2C, C)"
     lin = _linear_potential(ctx.system)
     if lin is None:
         return False, (
@@ -181,6 +190,9 @@ def _lagrange_integral(ctx: Context) -> tuple[bool, str]:
     if turning is not None:
         return turning
     system = ctx.system
+    A, B, _ = system.inertia_diagonal()
+    if A != B:
+        return False, "Lagrange's integral r needs A = B"
     if "theorem" in system.effects:
         return False, "Lagrange's integral r needs V(gamma3) and no gyroscopic terms"
     if not system.physical:
@@ -214,7 +226,8 @@ def _case_integral(ctx: Context) -> tuple[bool, str]:
     turning = _turning(ctx, "the case's integral F")
     if turning is not None:
         return turning
-    if "theorem" in ctx.system.effects:
+    system = ctx.system
+    if "theorem" in system.effects and (system.case is None or system.physical):
         return False, "F is no integral when the theorem effect acts"
     level = ctx.case.case.level
     if level is not None and abs(ctx.I3_start - float(level)) > 1e-9 * ctx.I3_scale:
@@ -261,7 +274,9 @@ MONITORS: dict[str, Monitor] = {
         lambda c, o, g, i: np.full(len(o), np.nan),
         lambda c: (
             False,
-            "the Goriachev-Chaplygin case needs A = B = 4C; this body has A = B = 2C",
+            "the Goriachev-Chaplygin case needs A = B = 4C; this body has A = B = 2C"
+            if not c.system.general_inertia
+            else "the Goriachev-Chaplygin case is a [case] of (ep): monitor its F",
         ),
     ),
 }

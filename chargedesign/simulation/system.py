@@ -6,7 +6,8 @@ and a quaternion ``(w, x, y, z)`` of the attitude (body to space). The rotation 
 for any non-zero quaternion and ``gamma = R^T e_Z`` (the third row) is a unit vector by
 construction; the quaternion's norm, which the exact flow conserves, is monitored.
 
-Equations (body axes, ``I = diag(2C, 2C, C)``)::
+Equations (body axes, ``I = diag(2C, 2C, C)``, or any principal ``diag(A, B, C)`` of a case
+of (ep))::
 
     I omega' = (I omega) x omega + N(omega, gamma, R)
     quaternion' = 1/2 quaternion * (0, omega)
@@ -29,7 +30,8 @@ Two routes compute ``N``:
   (:mod:`chargedesign.simulation.polynomials`); exact for the polynomial fields.
 
 The ``theorem`` effect is the reduced model itself: ``V`` and ``mu`` of the theorem from
-:mod:`chargedesign.model.evaluators` (lambda and rho allowed).
+:mod:`chargedesign.model.evaluators` (lambda and rho allowed), or of a case of (ep) when the
+system is given one (its polynomial V and mu, :mod:`chargedesign.model.case_numeric`).
 """
 
 from __future__ import annotations
@@ -50,9 +52,9 @@ from chargedesign.params import Parameters
 from chargedesign.physical.materials import MU_0
 from chargedesign.physical.realism import eddy_torque, eddy_weights, material_parts
 from chargedesign.quadrature import gather_elements
+from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.direct import DirectKernel
-from chargedesign.validation import input_error
 
 #: every effect a scene may call for
 from chargedesign.vocabulary import EFFECTS as EFFECTS
@@ -307,7 +309,9 @@ def mass_inertia(body: Body) -> tuple[np.ndarray, float, np.ndarray]:
 INERTIA_RTOL = 1e-6
 
 
-def inertia_mismatch(body: Body, rtol: float = INERTIA_RTOL) -> str | None:
+def inertia_mismatch(
+    body: Body, rtol: float = INERTIA_RTOL, target: Sequence[float] | None = None
+) -> str | None:
     """Why the masses' inertia disagrees with ``diag(2C, 2C, C)``, or None when it agrees.
 
     Compares the given C with the masses' inertia about O (A = B = 2C, products zero). A
@@ -318,13 +322,20 @@ def inertia_mismatch(body: Body, rtol: float = INERTIA_RTOL) -> str | None:
         return None
     inertia, _, _ = mass_inertia(body)
     C = body.parameters.C
-    target = np.diag([2.0 * C, 2.0 * C, C])
+    wanted = np.diag([2.0 * C, 2.0 * C, C]) if target is None else np.diag(target)
     scale = float(np.max(np.abs(inertia))) or 1.0
-    err = float(np.max(np.abs(inertia - target))) / scale
+    err = float(np.max(np.abs(inertia - wanted))) / scale
     if err <= rtol:
         return None
     A, B, Cm = np.diag(inertia)
     off = max(abs(inertia[0, 1]), abs(inertia[0, 2]), abs(inertia[1, 2]))
+    if target is not None:
+        return (
+            f"the masses' inertia about O is diag({fmt(A, CELL)}, {fmt(B, CELL)}, {fmt(Cm, CELL)})"
+            f" kg m^2 (largest product {fmt(off)}) but the case asks for diag("
+            + ", ".join(fmt(float(m), CELL) for m in target)
+            + f") (relative mismatch {fmt(err, ROUGH)} > {fmt(rtol, PLAIN)})"
+        )
     return (
         f"the masses' inertia about O is diag({fmt(A, CELL)}, {fmt(B, CELL)}, {fmt(Cm, CELL)}) kg"
         " m^2 (largest "
@@ -351,15 +362,7 @@ def _requested_effects(
                 "magnetisation; the design's realism budget gives its size)"
             )
         return names or ["theorem"], True
-    if isinstance(requested, str) or not isinstance(requested, Sequence):
-        raise input_error("simulation.effects", "a list of effect names", requested)
-    names = []
-    for name in requested:
-        if name not in EFFECTS:
-            raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
-        if name not in names:
-            names.append(name)
-    return names, False
+    return check_effect_names(requested), False
 
 
 def select_effects(body: Body, requested: Sequence[str] | None) -> tuple[list[str], list[str]]:
@@ -415,9 +418,23 @@ class RigidBodySystem:
         Effects to compute (already selected, see :func:`select_effects`).
     route : {"reduced", "direct"}
         Force route for the physical effects (the ``theorem`` effect has only one).
+    inertia : sequence of 3 floats, optional
+        The principal moments ``(A, B, C)`` about O, kg m^2 (default the theorem's
+        ``(2C, 2C, C)`` of the body's C): a case of (ep) of any inertia.
+    case : CaseFunctions, optional
+        A case of (ep) (:mod:`chargedesign.model.case_numeric`): with the ``theorem`` effect
+        the reduced model is the case's V and l instead of the theorem's.
     """
 
-    def __init__(self, body: Body, effects: Sequence[str], route: str = "reduced") -> None:
+    def __init__(
+        self,
+        body: Body,
+        effects: Sequence[str],
+        route: str = "reduced",
+        *,
+        inertia: Sequence[float] | None = None,
+        case: Any = None,
+    ) -> None:
         # the route is the scene's checked [simulation] route, the effects select_effects'
         if route not in ROUTES or not set(effects) <= set(EFFECTS):
             raise ValueError(f"route {route!r} or effects {list(effects)} not known")
@@ -428,14 +445,25 @@ class RigidBodySystem:
         self.parameters = body.parameters
         self.physical = [e for e in self.effects if e != "theorem" and e not in DISSIPATIVE_EFFECTS]
         self.dissipative = [e for e in self.effects if e in DISSIPATIVE_EFFECTS]
-        self.singular = "theorem" in self.effects and body.parameters.singular
+        self.case = case
+        C = self.C
+        theorem_inertia = np.array([2.0 * C, 2.0 * C, C])
+        self.inertia = theorem_inertia if inertia is None else np.asarray(inertia, dtype=float)
+        if self.inertia.shape != (3,) or not np.all(self.inertia > 0.0):
+            raise ValueError(f"inertia {inertia!r}: expected three principal moments > 0")
+        #: True unless the inertia is the theorem's diag(2C, 2C, C) (its equations' own form)
+        self.general_inertia = not np.array_equal(self.inertia, theorem_inertia)
+        reduced_by_theorem = "theorem" in self.effects and case is None
+        self.singular = reduced_by_theorem and body.parameters.singular
         self._banks: dict[str, poly.PolynomialBank] = {}
         for name in self.physical:
             self._banks[name] = poly.PolynomialBank(reduced_polynomials(body, name))
         self._bank = poly.PolynomialBank(
             reduced_polynomials(body, *self.physical) if self.physical else [{}] * 8
         )
-        self._theorem = _TheoremTerms(body.parameters) if "theorem" in self.effects else None
+        self._theorem: _TheoremTerms | _CaseTerms | None = None
+        if "theorem" in self.effects:
+            self._theorem = _CaseTerms(case) if case is not None else _TheoremTerms(body.parameters)
         self._kernels: dict[tuple[str, ...], DirectKernel] = {}
 
     @property
@@ -563,7 +591,8 @@ class RigidBodySystem:
 
     # ----------------------------------------------------------------- dynamics
     def inertia_diagonal(self) -> np.ndarray:
-        return np.array([2.0 * self.C, 2.0 * self.C, self.C])
+        """``(A, B, C)``, kg m^2."""
+        return self.inertia.copy()
 
     def derivatives(self, states: np.ndarray) -> np.ndarray:
         """Right-hand side for states ``(p, q, r, w, x, y, z)``, ndarray (m, 7) -> (m, 7)."""
@@ -574,10 +603,14 @@ class RigidBodySystem:
         C = self.C
         p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
         out = np.empty_like(states)
-        # I omega' = (I omega) x omega + N with I = diag(2C, 2C, C)
-        out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
-        out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
-        out[:, 2] = N[:, 2] / C
+        if self.general_inertia:
+            # I omega' = (I omega) x omega + N with I = diag(A, B, C)
+            out[:, :3] = (_cross(omega * self.inertia, omega) + N) / self.inertia
+        else:
+            # I omega' = (I omega) x omega + N with I = diag(2C, 2C, C)
+            out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
+            out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
+            out[:, 2] = N[:, 2] / C
         w, x, y, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
         out[:, 3] = -0.5 * (x * p + y * q + z * r)
         out[:, 4] = 0.5 * (w * p + y * r - z * q)
@@ -592,7 +625,7 @@ class RigidBodySystem:
         otherwise; the direct route evaluates its elements in one numpy pass); batches use
         :meth:`derivatives`.
         """
-        if batch != 1 or self.dissipative:
+        if batch != 1 or self.dissipative or self.general_inertia:
             # a dissipative torque (eddy) is evaluated in numpy, one state at a time if need be
             derivatives = self.derivatives
 
@@ -705,6 +738,9 @@ class RigidBodySystem:
         L = float(self.momentum_potential(g, np.array([attitude_from_gamma(gamma)]))[0])
         if abs(gamma[2]) < 1e-8:
             raise InputError("initial.gamma: gamma3 must be non-zero to solve r from the level")
+        if self.general_inertia:
+            A, B, C = self.inertia
+            return (level - A * p * gamma[0] - B * q * gamma[1] - L) / (C * gamma[2])
         return (level - 2.0 * self.C * (p * gamma[0] + q * gamma[1]) - L) / (self.C * gamma[2])
 
 
@@ -882,6 +918,36 @@ class _TheoremTerms:
 
     def momentum(self, gamma: np.ndarray) -> np.ndarray:
         return np.einsum("ij,ij->i", self._batch("angular_potential", gamma), gamma)
+
+
+class _CaseTerms:
+    """V, mu and l of a case of (ep) from its numeric functions (polynomials in gamma:
+    :func:`chargedesign.model.case_numeric.simulated_functions` refuses singular ones)."""
+
+    def __init__(self, functions: Any) -> None:
+        self.functions = functions
+
+    def scalar_functions(self) -> Callable[[float, float, float], tuple[float, ...]]:
+        """``(g1, g2, g3) -> (dV/dg1, dV/dg2, dV/dg3, mu1, mu2, mu3)`` in Python floats."""
+        terms = self.functions.scalar_terms()
+
+        def scalar(g1: float, g2: float, g3: float) -> tuple[float, ...]:
+            return tuple(float(v) for v in terms(g1, g2, g3))
+
+        return scalar
+
+    def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
+        grad = self.functions.potential_gradient(gamma)
+        return _cross(gamma, grad) + _cross(self.functions.gyroscopic(gamma), omega)
+
+    def energy(self, gamma: np.ndarray) -> np.ndarray:
+        return np.asarray(self.functions.potential(gamma), dtype=float)
+
+    def gyroscopic(self, gamma: np.ndarray) -> np.ndarray:
+        return np.asarray(self.functions.gyroscopic(gamma), dtype=float)
+
+    def momentum(self, gamma: np.ndarray) -> np.ndarray:
+        return np.asarray(self.functions.momentum(gamma), dtype=float)
 
 
 def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:

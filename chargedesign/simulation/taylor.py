@@ -44,7 +44,6 @@ from chargedesign.formatting import CELL, fmt
 from chargedesign.model import evaluators
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
-from chargedesign.validation import input_error
 
 #: the default tolerance: machine epsilon (heyoka's own default)
 DEFAULT_TOL = float(np.finfo(float).eps)
@@ -254,6 +253,17 @@ def _theorem_terms(
     return out[:3], out[3:], ("theorem", singular)
 
 
+def _case_torque(hy: Any, torque: Any, gamma: list[Any], omega: Any) -> list[Any]:
+    """A case's torque (sympy, in omega and gamma) as heyoka expressions, numbers as
+    constants (the key holds the expressions: each case compiles its own code)."""
+    from chargedesign.model.case import GAMMA, OMEGA
+
+    mapping = {GAMMA[i]: gamma[i] for i in range(3)}
+    mapping.update({OMEGA[i]: omega[i] for i in range(3)})
+    memo: dict[Any, Any] = {}
+    return [_from_sympy(hy, e, mapping, memo) for e in torque]
+
+
 def _from_sympy(hy: Any, e: Any, mapping: dict[Any, Any], memo: dict[Any, Any]) -> Any:
     """A sympy polynomial / rational expression as a heyoka expression.
 
@@ -313,7 +323,7 @@ def build_equations(system: RigidBodySystem) -> Equations:
             parts.append(_direct_terms(hy, system, gamma, pars))
         else:
             parts.append(_reduced_terms(hy, system, gamma, pars))
-    if "theorem" in system.effects:
+    if "theorem" in system.effects and system.case is None:
         parts.append(_theorem_terms(hy, system, gamma, pars))
     omega = (p, q, r)
     for D, M, part_key in parts:
@@ -324,10 +334,34 @@ def build_equations(system: RigidBodySystem) -> Equations:
             N[1] + g3 * D[0] - g1 * D[2] + M[2] * omega[0] - M[0] * omega[2],
             N[2] + g1 * D[1] - g2 * D[0] + M[0] * omega[1] - M[1] * omega[0],
         ]
+    if "theorem" in system.effects and system.case is not None:
+        # the case's torque derived from its Lagrangian (case_numeric.lagrangian_torque)
+        import sympy as sp
+
+        from chargedesign.model.case_numeric import lagrangian_torque
+
+        torque = lagrangian_torque(system.case.case)
+        key.append(("case", tuple(sp.srepr(e) for e in torque)))
+        N = [a + b for a, b in zip(N, _case_torque(hy, torque, gamma, omega), strict=True)]
+    if system.general_inertia:
+        # I omega' = (I omega) x omega + N, I = diag(A, B, C)
+        A, B, C = (float(m) for m in system.inertia)
+        key.append("inertia")
+        omega_dot = [
+            pars((B - C) / A) * q * r + pars(1.0 / A) * N[0],
+            pars((C - A) / B) * r * p + pars(1.0 / B) * N[1],
+            pars((A - B) / C) * p * q + pars(1.0 / C) * N[2],
+        ]
+    else:
+        omega_dot = [
+            0.5 * q * r + 0.5 * inv_C * N[0],
+            -0.5 * p * r + 0.5 * inv_C * N[1],
+            inv_C * N[2],
+        ]
     sys = [
-        (p, 0.5 * q * r + 0.5 * inv_C * N[0]),
-        (q, -0.5 * p * r + 0.5 * inv_C * N[1]),
-        (r, inv_C * N[2]),
+        (p, omega_dot[0]),
+        (q, omega_dot[1]),
+        (r, omega_dot[2]),
         (w, -0.5 * (x * p + y * q + z * r)),
         (x, 0.5 * (w * p + y * r - z * q)),
         (y, 0.5 * (w * q + z * p - x * r)),
@@ -528,7 +562,8 @@ def integrate_taylor(
     if len(y0) == 1:
         return _integrate_one(system, y0, grid, t_end, tol, gamma3_min, poincare, progress, t0)
     if poincare is not None:
-        raise input_error("poincare", "a single trajectory", f"{len(y0)} trajectories")
+        # simulate records a section of its one trajectory; batches and ensembles none
+        raise ValueError(f"poincare: a section of a single trajectory, not of {len(y0)}")
     return _integrate_many(system, y0, grid, tol, gamma3_min, progress, t0)
 
 

@@ -179,11 +179,11 @@ def test_cases_no_supported_field_realises_are_refused_in_one_line(
     assert not out.exists()
 
 
-def test_simulate_refuses_a_case_of_another_inertia(
+def test_simulate_moves_a_case_design_of_another_inertia(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """The simulation's body model has A = B = 2C: Euler's top diag(3, 2, 1) would move as the
-    wrong body (its |I omega|^2 drifted by 0.09 before this refusal); design and check take it."""
+    """Euler's top diag(3, 2, 1) designed as masses: simulate moves it with the case's inertia
+    (its |I omega|^2 drifted by 0.09 when the body model was diag(2C, 2C, C))."""
     text = (
         '[case]\nname = "euler-312"\ninertia = [3, 2, 1]\nV = "0"\n'
         'integral = "9*p**2 + 4*q**2 + r**2"\n' + BODY
@@ -191,9 +191,16 @@ def test_simulate_refuses_a_case_of_another_inertia(
     out = _design(tmp_path, text)
     assert main(["check", str(out / "design.json")]) == 0
     capsys.readouterr()
-    assert main(["simulate", str(out / "design.json"), "--t-end", "1"]) == 2
+    assert main(["simulate", str(out / "design.json"), "--t-end", "10", "--json"]) == 0
+    run = json.loads(capsys.readouterr().out)
+    assert run["F_rel_drift"] <= 1e-12 and run["I1_rel_drift"] <= 1e-12
+    # masses that are not the case's inertia are refused in one line, before any run
+    data = json.loads((out / "design.json").read_text("utf-8"))
+    data["case"]["table"]["inertia"] = [3, 2, 2]
+    (out / "other.json").write_text(json.dumps(data), "utf-8")
+    assert main(["simulate", str(out / "other.json"), "--t-end", "1"]) == 2
     error = capsys.readouterr().err.strip()
-    assert "is not diag(2C, 2C, C)" in error and "\n" not in error
+    assert "but the case asks for diag(3, 2, 2)" in error and "\n" not in error
 
 
 def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
