@@ -54,7 +54,7 @@ from chargedesign.model.case import GAMMA, g1, g2, g3, p, q, r
 from chargedesign.model.certificate import U, sphere_normal_form, split_by_power
 from chargedesign.model.equations import euler_poisson
 from chargedesign.results import Result
-from chargedesign.scene.case_file import Case, case_from_table, read_case
+from chargedesign.scene.case_file import Case, read_case
 
 #: largest work estimate of one certificate: the integral's terms (numerator times
 #: denominator) times the largest right-hand side's terms times (1 + the integral's degree in
@@ -466,20 +466,15 @@ def conserved_combinations(case: Case, candidates: Sequence[sp.Expr]) -> list[sp
     return found
 
 
-# transitional: Case, case_from_table and read_case live in chargedesign.scene.case_file;
-# importers from here move there after the merge, then they leave this list
 __all__ = [
-    "Case",
     "CaseCertificate",
     "as_fraction",
     "case_equations",
-    "case_from_table",
     "case_ring",
     "certify_case",
     "conserved_combinations",
     "derivative_numerator",
     "rational_states",
-    "read_case",
     "ring_of",
     "sphere_point",
     "verify_case_file",

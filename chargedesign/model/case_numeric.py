@@ -3,7 +3,7 @@
 The checker compares a case's body with the case's own ``V``, ``dV/dgamma``, ``mu`` and
 inertia, and the simulation monitors the case's own integral ``F``. Both need numbers from
 the case's expressions: they are the sympy objects the whitelisted parser built
-(:mod:`chargedesign.model.expressions`), turned into NumPy functions by ``sympy.lambdify``
+(:mod:`chargedesign.scene.expressions`), turned into NumPy functions by ``sympy.lambdify``
 (no text from a file reaches ``eval``: the printed code is sympy's own, of a tree whose
 leaves are the state's names and rationals).
 
@@ -23,7 +23,8 @@ import sympy as sp
 
 from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA, OMEGA
-from chargedesign.model.case_file import STATE, Case, CaseCertificate, case_from_table
+from chargedesign.model.case_file import STATE, CaseCertificate
+from chargedesign.scene.case_file import Case, case_from_table
 
 
 def _vectorised(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> Callable[..., np.ndarray]:
