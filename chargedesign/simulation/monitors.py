@@ -139,6 +139,11 @@ def _i4_integral(ctx: Context) -> tuple[bool, str]:
             f"I4 is the theorem's integral; this is the reduced model of the case "
             f"{system.case.case.name} (its own integral is F)"
         )
+    if ctx.case is not None:
+        return False, (
+            f"I4 is the theorem's integral; this body realises the case {ctx.case.case.name}"
+            " (its own integral is F)"
+        )
     theorem_only = system.effects == ["theorem"]
     realised = {"mu", "V", "inertia"} <= set(ctx.realises) and "theorem" not in system.effects
     if not (theorem_only or realised):

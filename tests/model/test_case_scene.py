@@ -127,6 +127,10 @@ def test_design_check_and_simulate_a_held_out_kowalevski_top(
     # polynomial bank (not from the case's expressions), has the same value at t = 0
     kowalevski = run["monitors"]["kowalevski"]
     assert run["monitors"]["F"]["initial"] == pytest.approx(kowalevski["initial"], rel=1e-12)
+    # the theorem's I4 is not this body's integral: no drift is reported as if it were
+    assert run["I4_rel_drift"] is None
+    assert run["monitors"]["I4"]["integral"] is False
+    assert "realises the case kowalevski-held-out" in run["monitors"]["I4"]["reason"]
 
 
 def test_check_compares_with_the_case_not_the_theorem(
