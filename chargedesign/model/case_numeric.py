@@ -116,7 +116,7 @@ GAMMA_SYMBOLS: tuple[sp.Symbol, ...] = tuple(GAMMA)
 
 
 def lagrangian_torque(case: Any) -> sp.Matrix:
-    """``N(omega, gamma)`` (3, 1) of a :class:`~chargedesign.model.case_file.Case`, each
+    """``N(omega, gamma)`` (3, 1) of a :class:`~chargedesign.scene.case_file.Case`, each
     entry expanded, derived from the case's Lagrangian.
 
     ``L = 1/2 omega . I omega + l(gamma) . omega - V(gamma)`` with ``gamma`` carried by the body
