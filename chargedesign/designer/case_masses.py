@@ -37,9 +37,9 @@ from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.pipeline import design_source
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.model.case import GAMMA
-from chargedesign.scene.case_file import Case
 from chargedesign.moment_conditions import LinearCondition, LinearConditions
 from chargedesign.results import Result
+from chargedesign.scene.case_file import Case
 from chargedesign.scene.design import DesignOptions
 from chargedesign.validation import as_finite_float
 

@@ -32,8 +32,8 @@ import numpy as np
 from chargedesign.errors import SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, PRECISE, fmt
-from chargedesign.scene.case_file import Case
 from chargedesign.results import Result
+from chargedesign.scene.case_file import Case
 from chargedesign.topology.branches import Branch, distance_to_branch, trace_all
 from chargedesign.topology.case_map import CaseMomentumMap
 from chargedesign.topology.chambers import count_by_flow

@@ -14,10 +14,10 @@ import pytest
 
 import chargedesign
 from chargedesign.errors import InfeasibleError
-from chargedesign.scene.case_file import case_from_table, read_case
 from chargedesign.moment_conditions import derive_conditions
 from chargedesign.moment_conditions.case import case_target, derive_case_conditions
 from chargedesign.params import Parameters
+from chargedesign.scene.case_file import case_from_table, read_case
 
 CASES = Path(chargedesign.__file__).parent / "data" / "cases"
 
