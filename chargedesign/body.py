@@ -24,6 +24,7 @@ from chargedesign.validation import (
     check_choice,
     check_design_head,
     check_design_numbers,
+    check_frontier_rates,
     check_instance,
     check_items,
     design_fields,
@@ -277,6 +278,7 @@ def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ())
     data = read_json_file(p, "design file")
     check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys
     # a verdict needs, e.g. check's ``realises``)
+    check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
     return Design.from_dict(data, where=str(p))
 
 
