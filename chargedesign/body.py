@@ -214,6 +214,7 @@ class Design(ElementSet):
     @classmethod
     def from_dict(cls, data: Any, where: str = "design") -> Design:
         check_design_head(data, where)
+        check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
         params = Parameters.from_mapping(data["parameters"], f"{where}.parameters")
         fields_out = design_fields(data, where)
 
@@ -278,7 +279,6 @@ def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ())
     data = read_json_file(p, "design file")
     check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys
     # a verdict needs, e.g. check's ``realises``)
-    check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
     return Design.from_dict(data, where=str(p))
 
 
