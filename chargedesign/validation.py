@@ -21,7 +21,7 @@ The number rules (docs/reliability.md):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from typing import Any, NoReturn
 
 import numpy as np
@@ -36,7 +36,7 @@ from chargedesign.limits import (
     MAX_STEPS,
     MAX_TOLERANCE_SAMPLES,
 )
-from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
+from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -935,10 +935,6 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
 
 def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
     """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
-    from collections.abc import Iterable
-
-    from chargedesign.vocabulary import REALISABLE
-
     if isinstance(realise, str) or not isinstance(realise, Iterable):
         raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
     items = list(realise)
