@@ -24,6 +24,7 @@ from chargedesign.validation import (
     check_choice,
     check_design_head,
     check_design_numbers,
+    check_frontier_rates,
     check_instance,
     check_items,
     design_fields,
@@ -213,6 +214,7 @@ class Design(ElementSet):
     @classmethod
     def from_dict(cls, data: Any, where: str = "design") -> Design:
         check_design_head(data, where)
+        check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
         params = Parameters.from_mapping(data["parameters"], f"{where}.parameters")
         fields_out = design_fields(data, where)
 

@@ -53,7 +53,7 @@ from chargedesign.scene.design_continuous import (
     density_fields,
 )
 from chargedesign.scene.keys import KEY
-from chargedesign.validation import input_error
+from chargedesign.validation import check_mass_weights
 
 
 @dataclass(frozen=True)
@@ -354,10 +354,8 @@ def quadrature_points(body: ContinuousBody, order: int) -> tuple[np.ndarray, np.
     body = ContinuousBody.coerce(body)
     pts, w = geometric_rule(body, order)
     weights = w * body.density.evaluate(pts)
-    if body.kind == "mass" and np.any(weights < 0.0):
-        raise input_error(
-            "continuous.density", "a mass density >= 0 at every node", float(weights.min())
-        )
+    if body.kind == "mass":
+        check_mass_weights(float(weights.min()))
     return pts, weights
 
 

@@ -16,10 +16,9 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.checker import sample_orientations
-from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
-from chargedesign.validation import as_points, check_point_elements
+from chargedesign.validation import as_points, check_point_elements, check_theorem_finite
 
 #: the quantities whose errors are analysed, in the check's names
 QUANTITIES = ("mu", "V", "inertia")
@@ -114,8 +113,7 @@ def references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
     params = design.body_parameters
     mu = np.asarray(evaluators.gyroscopic(gammas, params), dtype=float)
     V = np.asarray(evaluators.potential(gammas, params), dtype=float)
-    if not (np.all(np.isfinite(mu)) and np.all(np.isfinite(V))):
-        raise InputError("tolerance: the theorem's mu or V is not finite at a sampled orientation")
+    check_theorem_finite(bool(np.all(np.isfinite(mu)) and np.all(np.isfinite(V))))
     V = V - V.mean()
     return {
         "mu": mu,

@@ -21,8 +21,8 @@ The number rules (docs/reliability.md):
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping, Sequence
-from typing import Any
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -36,7 +36,7 @@ from chargedesign.limits import (
     MAX_STEPS,
     MAX_TOLERANCE_SAMPLES,
 )
-from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS
+from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -926,3 +926,114 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
                 "perturbed bodies would not be this design; give a smaller error or smaller "
                 "--levels"
             )
+
+
+# --- issue 33 (errs2): refusals the core used to raise, at the boundary -----------------------
+# The input checks moved here from the conditions engine; the others take a figure the caller
+# computed (plain values) and raise the same one-line error there, before the heavy work.
+
+
+def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
+    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
+    if isinstance(realise, str) or not isinstance(realise, Iterable):
+        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
+    items = list(realise)
+    for item in items:
+        if item not in REALISABLE:
+            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
+    if len(set(items)) != len(items):
+        raise input_error(name, "no repeated items", items)
+    return tuple(k for k in REALISABLE if k in items)
+
+
+def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
+    """``{kind: legendre coefficients}`` of a fields mapping, trailing zeros dropped."""
+    if fields is None:
+        return {}
+    if not isinstance(fields, Mapping):
+        raise input_error("fields", "a mapping of field kind to legendre coefficients", fields)
+    out: dict[str, tuple[float, ...]] = {}
+    for kind, value in fields.items():
+        if kind not in FIELD_KINDS:
+            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+        if isinstance(value, (list, tuple)) and len(value) == 0:
+            coeffs: tuple[float, ...] = ()
+        else:
+            coeffs = tuple(float(v) for v in as_array(value, f"fields.{kind}", (None,)))
+        while coeffs and coeffs[-1] == 0.0:
+            coeffs = coeffs[:-1]
+        if len(coeffs) > MAX_FIELD_DEGREE:
+            raise input_error(
+                f"fields.{kind}", f"a field of degree <= {MAX_FIELD_DEGREE}", list(coeffs)
+            )
+        out[kind] = coeffs
+    return out
+
+
+def check_mu_degree(degree: Any) -> int:
+    """The field degree of the symbolic mu solution: an integer in 2..MAX_FIELD_DEGREE
+    (degree 1 cannot give the K terms of mu: they need a magnetic quadrupole)."""
+    if (
+        isinstance(degree, bool)
+        or not isinstance(degree, int)
+        or not 2 <= degree <= MAX_FIELD_DEGREE
+    ):
+        raise input_error("degree", f"an integer in 2..{MAX_FIELD_DEGREE}", degree)
+    return degree
+
+
+def check_induced_field_degree(legendre: Sequence[float]) -> None:
+    """Cancelling the induced magnetisation is derived for a magnetic field of degree <= 2."""
+    if any(x != 0 for x in legendre[2:]):
+        raise InputError(
+            "fields.magnetic: cancelling the induced magnetisation needs a field of degree <= 2 "
+            "(the paper's a1 Z + a2 (3 Z^2 - R^2)); give one ballast material"
+        )
+
+
+def check_mass_weights(smallest: float) -> None:
+    """A mass body's quadrature weights (density x volume weight): none negative."""
+    if smallest < 0.0:
+        raise input_error("continuous.density", "a mass density >= 0 at every node", smallest)
+
+
+def check_theorem_finite(finite: bool) -> None:
+    """The theorem's mu and V at the sampled orientations of ``tolerance``: all finite."""
+    if not finite:
+        raise InputError("tolerance: the theorem's mu or V is not finite at a sampled orientation")
+
+
+def refuse_overflow(name: str, quantity: str, item: int, values: Any) -> NoReturn:
+    """The model's ``quantity`` overflows at item ``item`` of the caller's ``values``."""
+    raise input_error(
+        name, f"values where the model's {quantity} is finite (item {item} overflows)", values
+    )
+
+
+def check_frontier_rates(frontier: Any, where: str = "") -> None:
+    """design.json's ``frontier.K_max`` (1/s) and ``frontier.s_max``: numbers >= 0 when given
+    (``where``: the file, prefixed to the message when given)."""
+    if not isinstance(frontier, Mapping):
+        return
+    prefix = f"{where}: " if where else ""
+    for key, expected in (("K_max", "a number >= 0 (1/s)"), ("s_max", "a number >= 0")):
+        value = frontier.get(key)
+        if value is None:
+            continue
+        number = as_finite_float(value, f"{prefix}frontier.{key}")
+        if number < 0:
+            raise input_error(f"{prefix}frontier.{key}", expected, value)
+
+
+def scheduler_unreachable(scheduler: str, timeout: float, reason: str | None) -> InputError:
+    """The one line of ``--scheduler ADDRESS`` that did not connect: no answer within the
+    timeout (``reason`` None) or the connection's failure (``reason``: the exception's name)."""
+    option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
+    if reason is None:
+        return InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
+    return InputError(f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})")
+
+
+def dask_missing() -> InputError:
+    """``--executor dask`` without Dask installed."""
+    return InputError("--executor dask: Dask is not installed (pip install 'chargedesign[dask]')")

@@ -20,7 +20,6 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import candidates_from_table
-from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.case_elements import (
     TORQUE_SAMPLES,
     CaseElementBody,
@@ -36,7 +35,7 @@ from chargedesign.params import Parameters
 from chargedesign.physical.realism import case_realism_budget
 from chargedesign.physical.window import case_realised_window
 from chargedesign.results import Result
-from chargedesign.scene import Scene
+from chargedesign.scene import Scene, case_refusals
 
 
 def case_gravity(scene: Scene) -> float:
@@ -44,23 +43,7 @@ def case_gravity(scene: Scene) -> float:
     Legendre coefficient, else standard gravity. A gravity gradient is derived from the case
     (:func:`chargedesign.designer.case_masses.gradient_strength`), so a scene may not give one;
     electric and magnetic fields act on no mass and are refused."""
-    others = sorted(kind for kind in scene.fields if kind != "gravity")
-    if others:
-        raise InputError(
-            f"fields.{others[0]}: a [case] scene is designed as masses in gravity; only "
-            "[fields.gravity] (its uniform part) may be given"
-        )
-    legendre = scene.fields.get("gravity", ())
-    if len(legendre) > 1 and any(legendre[1:]):
-        raise InputError(
-            "fields.gravity.legendre: give the uniform part only ([g]); the gradient is "
-            "derived from the case's quadratic V"
-        )
-    if not legendre or legendre[0] == 0.0:
-        return STANDARD_GRAVITY
-    if legendre[0] < 0.0:
-        raise InputError(f"fields.gravity.legendre[0]: expected g > 0, got {legendre[0]}")
-    return float(legendre[0])
+    return case_refusals.case_gravity(scene.fields)
 
 
 def case_conditions(scene: Scene) -> LinearConditions:
@@ -69,7 +52,7 @@ def case_conditions(scene: Scene) -> LinearConditions:
     refusal of what no supported field realises): what ``chargedesign conditions CASE_SCENE``
     prints."""
     if scene.case is None:
-        raise InputError(f"{scene.source}: no [case] table")
+        raise ValueError(f"{scene.source}: no [case] table")  # callers route [case] scenes only
     if masses_realise(scene):
         return mass_conditions(scene.case, case_gravity(scene))
     given = {kind: tuple(v) for kind, v in scene.fields.items()}
@@ -204,11 +187,8 @@ def masses_realise(scene: Scene) -> bool:
 
 
 def _region_candidates(scene: Scene) -> Any:
-    if scene.region is None:
-        raise InputError(
-            f"{scene.source}: a [case] scene needs a [body] region (shape, size) to place the "
-            "elements in"
-        )
+    case_refusals.require_region(scene.source, scene.region is not None, "elements")
+    assert scene.region is not None
     return candidates_from_table(scene.region.table, base_dir=scene.base_dir)
 
 
@@ -282,7 +262,7 @@ def design_case_elements_scene(scene: Scene, say: Callable[[str], None]) -> Case
     singular term, a degree above 4, a constant mu, before any design work)."""
     case = scene.case
     if case is None:
-        raise InputError(f"{scene.source}: no [case] table to design")
+        raise ValueError(f"{scene.source}: no [case] table to design")  # callers route cases only
     given = {kind: tuple(v) for kind, v in scene.fields.items()}
     candidates = _region_candidates(scene)
     length = float(np.max(np.linalg.norm(candidates.points, axis=1)))
@@ -331,16 +311,13 @@ def design_case_scene(
     say = progress or (lambda message: None)
     case = scene.case
     if case is None:
-        raise InputError(f"{scene.source}: no [case] table to design")
+        raise ValueError(f"{scene.source}: no [case] table to design")  # callers route cases only
     if not masses_realise(scene):
         return design_case_elements_scene(scene, say)
     g = case_gravity(scene)
     mass_conditions(case, g)  # refuses what masses cannot realise, before any work
-    if scene.region is None:
-        raise InputError(
-            f"{scene.source}: a [case] scene needs a [body] region (shape, size) to place the "
-            "masses in"
-        )
+    case_refusals.require_region(scene.source, scene.region is not None, "masses")
+    assert scene.region is not None
     candidates = candidates_from_table(scene.region.table, base_dir=scene.base_dir)
     say(f"certificate of the case {case.name} (exact) ...")
     certificate = certify_case(case)

@@ -35,11 +35,17 @@ import sympy as sp
 from chargedesign.candidates import CandidateSet, candidates_from_points
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.pipeline import design_source
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InfeasibleError
 from chargedesign.model.case import GAMMA
 from chargedesign.moment_conditions import LinearCondition, LinearConditions
 from chargedesign.results import Result
 from chargedesign.scene.case_file import Case
+from chargedesign.scene.case_refusals import (
+    refuse_gyroscopic,
+    refuse_mass_degree,
+    refuse_quadratic_mismatch,
+    refuse_singular_v,
+)
 from chargedesign.scene.design import DesignOptions
 from chargedesign.validation import as_finite_float
 
@@ -48,21 +54,12 @@ def quadratic_potential(case: Case) -> tuple[tuple[sp.Rational, ...], sp.Matrix]
     """``(a, Q)`` of ``V = v0 + a . gamma + gamma Q gamma`` (exact, Q symmetric), or a one-line
     refusal naming why masses in a gravity field cannot realise the case."""
     if case.l is None or any(sp.expand(component) != 0 for component in case.l):
-        raise InputError(
-            f"case {case.name}: l is not zero; masses realise no gyroscopic forces (charges in "
-            "a magnetic field would: not derived for a general case yet)"
-        )
+        refuse_gyroscopic(case.name)
     V = sp.expand(case.V)
     if not V.is_polynomial(*GAMMA):
-        raise InputError(
-            f"case {case.name}: V is singular ({sp.sstr(V)[:60]}); no field realises it"
-        )
+        refuse_singular_v(case.name, sp.sstr(V))
     degree = sp.Poly(V, *GAMMA).total_degree() if V.free_symbols else 0
-    if degree > 2:
-        raise InputError(
-            f"case {case.name}: V has degree {degree} in gamma; masses in gravity realise "
-            "degrees 1 and 2 only (higher degrees need charges or dipoles: not yet)"
-        )
+    refuse_mass_degree(case.name, degree)
     a = tuple(sp.Rational(sp.diff(V, x).xreplace(dict.fromkeys(GAMMA, 0))) for x in GAMMA)
     Q = sp.Matrix(3, 3, lambda i, j: sp.Rational(sp.diff(V, GAMMA[i], GAMMA[j])) / 2)
     return a, Q
@@ -85,11 +82,7 @@ def gradient_strength(case: Case) -> sp.Rational:
         return sp.Integer(0)
     ratios = {traceless_q[k] / traceless_s[k] for k in range(9) if traceless_s[k] != 0}
     if len(ratios) != 1 or traceless_q - next(iter(ratios)) * traceless_s != sp.zeros(3, 3):
-        raise InputError(
-            f"case {case.name}: the quadratic part of V is not the inertia's second moments "
-            "(up to a constant on the sphere): no gravity gradient realises it with these "
-            "masses (it needs dipoles or charges: not yet)"
-        )
+        refuse_quadratic_mismatch(case.name)
     return sp.Rational(2, 3) * next(iter(ratios))
 
 

@@ -26,7 +26,12 @@ from typing import Any
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, check_instance, check_off_singular, input_error
+from chargedesign.validation import (
+    as_array,
+    check_instance,
+    check_off_singular,
+    refuse_overflow,
+)
 
 #: what each evaluator returns per item
 OUTPUT_WIDTH = {
@@ -137,9 +142,7 @@ def _evaluate(quantity: str, values: Any, name: str, params: Parameters) -> np.n
             out[:, k] = column  # broadcasts outputs that do not depend on the state
     if not np.all(np.isfinite(out)):
         bad = int(np.argmin(np.all(np.isfinite(out), axis=1)))
-        raise input_error(
-            name, f"values where the model's {quantity} is finite (item {bad} overflows)", values
-        )
+        refuse_overflow(name, quantity, bad, values)
     if quantity == "potential":
         out = out[:, 0]
     return out[0] if single else out

@@ -33,7 +33,7 @@ from fractions import Fraction
 from typing import Any
 
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InfeasibleError
 from chargedesign.moment_conditions.algebra import ConditionRow, SourceSystem, key_rank
 from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, FIELD_KINDS
 from chargedesign.moment_conditions.context import DerivationContext, decimal_text
@@ -51,6 +51,7 @@ from chargedesign.moment_conditions.mu import physical_mu_rows
 from chargedesign.moment_conditions.potential import realise_degree
 from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.params import Parameters
+from chargedesign.scene.case_refusals import refuse_free_symbol
 from chargedesign.validation import as_finite_float
 
 #: highest degree in gamma of a case's V and of each component of its mu that the engine takes
@@ -109,7 +110,7 @@ def _polynomial_part(expr: Any, what: str, name: str) -> tuple[Any, int]:
                 "and masses give a polynomial in gamma)"
             )
         if term.free_symbols - set(GAMMA):
-            raise InputError(f"case {name}: {what} has a free symbol in {sp.sstr(term)[:60]}")
+            refuse_free_symbol(name, what, sp.sstr(term))
     if expanded == 0:
         return expanded, 0
     poly = sp.Poly(expanded, *GAMMA)

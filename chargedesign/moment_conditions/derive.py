@@ -11,7 +11,6 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
-from typing import Any
 
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
@@ -20,7 +19,6 @@ from chargedesign.moment_conditions.constants import (
     DEFAULT_LENGTH,
     DEFAULT_MAGNETIC,
     FIELD_KINDS,
-    MAX_FIELD_DEGREE,
     PARAM_NAMES,
     REALISABLE,
     SOURCES,
@@ -33,43 +31,7 @@ from chargedesign.moment_conditions.mu import charges_for_mu
 from chargedesign.moment_conditions.potential import realise_degree, v_projection
 from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_finite_float, input_error
-
-
-def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
-    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
-    if isinstance(realise, str) or not isinstance(realise, Iterable):
-        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
-    items = list(realise)
-    for item in items:
-        if item not in REALISABLE:
-            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
-    if len(set(items)) != len(items):
-        raise input_error(name, "no repeated items", items)
-    return tuple(k for k in REALISABLE if k in items)
-
-
-def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
-    if fields is None:
-        return {}
-    if not isinstance(fields, Mapping):
-        raise input_error("fields", "a mapping of field kind to legendre coefficients", fields)
-    out: dict[str, tuple[float, ...]] = {}
-    for kind, value in fields.items():
-        if kind not in FIELD_KINDS:
-            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
-        if isinstance(value, (list, tuple)) and len(value) == 0:
-            coeffs: tuple[float, ...] = ()
-        else:
-            coeffs = tuple(float(v) for v in as_array(value, f"fields.{kind}", (None,)))
-        while coeffs and coeffs[-1] == 0.0:
-            coeffs = coeffs[:-1]
-        if len(coeffs) > MAX_FIELD_DEGREE:
-            raise input_error(
-                f"fields.{kind}", f"a field of degree <= {MAX_FIELD_DEGREE}", list(coeffs)
-            )
-        out[kind] = coeffs
-    return out
+from chargedesign.validation import as_finite_float, validate_fields, validate_realise
 
 
 def _exact(value: float, exact: bool) -> Fraction:

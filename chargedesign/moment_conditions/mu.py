@@ -16,7 +16,6 @@ from typing import Any
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.algebra import ConditionRow, key_rank
-from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE
 from chargedesign.moment_conditions.context import DerivationContext
 from chargedesign.moment_conditions.harmonics import (
     ParamPoly,
@@ -30,7 +29,7 @@ from chargedesign.moment_conditions.harmonics import (
     zonal_solid_harmonic,
 )
 from chargedesign.moments import moment_keys
-from chargedesign.validation import input_error
+from chargedesign.validation import check_mu_degree
 
 
 @dataclass(frozen=True)
@@ -172,14 +171,7 @@ def symbolic_mu_solution(degree: int = 2) -> dict[str, Any]:
         ``{moment key: expression}`` for every moment of orders 2..degree+1.
     """
 
-    if (
-        isinstance(degree, bool)
-        or not isinstance(degree, int)
-        or not 2 <= degree <= MAX_FIELD_DEGREE
-    ):
-        # degree 1 cannot give the K terms of mu (they need a magnetic quadrupole)
-        raise input_error("degree", f"an integer in 2..{MAX_FIELD_DEGREE}", degree)
-    return dict(_symbolic_mu_solution(degree))
+    return dict(_symbolic_mu_solution(check_mu_degree(degree)))
 
 
 @cache

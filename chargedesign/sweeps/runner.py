@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from chargedesign.errors import ChargeDesignError, InputError
+from chargedesign.errors import ChargeDesignError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
-from chargedesign.formatting import PLAIN, fmt
+from chargedesign.formatting import fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
@@ -41,6 +41,7 @@ from chargedesign.scene.sweep_file import check_executor, check_sweep_out, scene
 from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec
+from chargedesign.validation import dask_missing, scheduler_unreachable
 
 #: seconds to wait for a Dask scheduler given with ``scheduler=`` (``--scheduler-timeout``)
 SCHEDULER_TIMEOUT = 5.0
@@ -220,10 +221,7 @@ def _connect(client_type: Any, scheduler: str, timeout: float) -> Any:
         gc.collect()
     finally:
         sys.unraisablehook = hook
-    option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
-    if thread.is_alive():
-        raise InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
-    raise InputError(f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})")
+    raise scheduler_unreachable(scheduler, timeout, None if thread.is_alive() else reason)
 
 
 def make_executor(
@@ -274,9 +272,7 @@ def make_executor(
 
         from distributed import Client, LocalCluster
     except ImportError:
-        raise InputError(
-            "--executor dask: Dask is not installed (pip install 'chargedesign[dask]')"
-        ) from None
+        raise dask_missing() from None
     cluster = None
     if scheduler is not None:
         client = _connect(Client, scheduler, timeout)
