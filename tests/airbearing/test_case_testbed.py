@@ -24,8 +24,8 @@ from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, run_loop
 from chargedesign.airbearing.run import case_start
 from chargedesign.cli import main
-from chargedesign.scene.case_file import case_from_table, read_case
 from chargedesign.params import Parameters
+from chargedesign.scene.case_file import case_from_table, read_case
 
 CASES = Path(str(resources.files("chargedesign").joinpath("data/cases")))
 
