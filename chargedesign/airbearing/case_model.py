@@ -6,9 +6,11 @@ right-hand sides of (ep), I1, I3) and turned into NumPy functions by ``sympy.lam
 printed code is sympy's own, of trees whose leaves are the state's names and rationals: no
 text from a file reaches ``eval``).
 
-A case the testbed cannot fly is refused here, in one line naming why, before any work:
-an inertia the platform's ballast cannot give, a V or mu singular somewhere on the sphere
-(the wheels' torque would be unbounded there), or a claimed level whose r cannot be solved.
+A case the testbed cannot fly is refused by the testbed's options
+(:meth:`chargedesign.scene.testbed.TestbedOptions.check_case`, on the singular factors found
+here), in one line naming why, before any work: an inertia the platform's ballast cannot
+give, or a V or mu singular somewhere on the sphere (the wheels' torque would be unbounded
+there).
 """
 
 from __future__ import annotations
@@ -17,10 +19,10 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.airbearing.dynamics import CaseModel
-from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA
 from chargedesign.model.case_file import STATE, case_equations
 from chargedesign.scene.case_file import Case
+from chargedesign.scene.testbed import case_refusal
 
 _GAMMA = tuple(GAMMA)
 
@@ -36,23 +38,15 @@ def _singular_factors(expr: sp.Expr) -> list[str]:
     return [f"{sp.sstr(f)} = 0" for f, _ in factors if f.free_symbols & set(_GAMMA)]
 
 
+def singular_factors(case: Case) -> list[str]:
+    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted."""
+    return sorted({f for expr in (case.V, *case.mu) for f in _singular_factors(expr)})
+
+
 def refusal(case: Case) -> str | None:
-    """Why the testbed cannot fly ``case`` (one line), or None."""
-    A, B, C = case.inertia
-    if not (A == B == 2 * C):
-        return (
-            f"testbed: case {case.name}: inertia diag({A}, {B}, {C}) is not realisable by the "
-            "platform, whose ballast closes diag(2C, 2C, C) only (the layout's least-mass "
-            "program); the testbed flies cases of that inertia"
-        )
-    singular = sorted({f for expr in (case.V, *case.mu) for f in _singular_factors(expr)})
-    if singular:
-        return (
-            f"testbed: case {case.name}: V or mu is singular on {', '.join(singular)}, so the "
-            "wheels' torque would be unbounded there; the testbed flies cases whose V and mu "
-            "are finite on the whole sphere"
-        )
-    return None
+    """Why the testbed cannot fly ``case`` (one line, :func:`~chargedesign.scene.testbed.
+    case_refusal`), or None."""
+    return case_refusal(case.name, case.inertia, singular_factors(case))
 
 
 def case_model(case: Case) -> CaseModel:
@@ -61,8 +55,8 @@ def case_model(case: Case) -> CaseModel:
     The level is the case's I3 value for a conditional claim; a general case is flown on
     I3 = 0 (the area-zero level, as the theorem's motions are)."""
     reason = refusal(case)
-    if reason is not None:
-        raise InputError(reason)
+    if reason is not None:  # the testbed refuses it first (TestbedOptions.check_case)
+        raise ValueError(reason)
     gradient = [sp.diff(case.V, x) for x in _GAMMA]
     equations = case_equations(case)
     return CaseModel(
@@ -93,4 +87,4 @@ def case_model(case: Case) -> CaseModel:
     )
 
 
-__all__ = ["case_model", "refusal"]
+__all__ = ["case_model", "refusal", "singular_factors"]

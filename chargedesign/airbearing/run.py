@@ -43,7 +43,6 @@ from chargedesign.airbearing.verdict import (
 )
 from chargedesign.airbearing.wheels import planned_needs, wheel_axes, wheel_limits, wheel_needs
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.errors import InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
@@ -98,15 +97,12 @@ def build_case_testbed(
     A case the testbed cannot fly (its inertia, a singular V or mu: see
     :func:`chargedesign.airbearing.case_model.refusal`) or a scene without a start is
     refused in one line before any work."""
-    from chargedesign.airbearing.case_model import case_model  # sympy: a case only
+    # sympy: a case only
+    from chargedesign.airbearing.case_model import case_model, singular_factors
 
+    opts.check_case(case.name, case.inertia, singular_factors(case))
+    opts.check_case_start(case.name)
     model = case_model(case)
-    if not opts.has_start:
-        raise InputError(
-            f"testbed: case {model.name}: give initial_gamma, initial_p and initial_q in "
-            "[testbed] (a case's motion starts from the scene's start; r is solved from its "
-            "level)"
-        )
     return build_testbed(
         Parameters(C=float(model.inertia[2])), opts, progress, with_requirements, case=model
     )
@@ -532,8 +528,8 @@ def check_loop_work(
 def case_start(case: CaseModel, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
     """The scene's start on the case's level (r solved from the linear I3 = level)."""
     g = np.asarray(gamma, float) / np.linalg.norm(gamma)
-    if abs(g[2]) < 1e-8:
-        raise InputError(
+    if abs(g[2]) < 1e-8:  # the scene's reader refuses such a start first: a caller's error
+        raise ValueError(
             f"testbed.initial_gamma: gamma3 must be non-zero to solve r from case {case.name}'s "
             f"level I3 = {fmt(case.level_value, PRECISE)}"
         )
@@ -559,14 +555,7 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
     sampled = motion_samples(params, x0, horizon, rate, None, rhs=case.rhs_function())
     axis = best_axis([sampled.gammas])
     tilt = float(tilt_deg(axis, sampled.gammas).max())
-    if tilt > opts.tilt_limit:
-        raise InputError(
-            f"testbed.initial_gamma: case {case.name}'s motion from the scene's start needs "
-            f"{fmt(tilt, PRECISE)} deg of tilt (best pedestal axis, over "
-            f"{fmt(sampled.horizon_s, PLAIN)} s), the {opts.bearing} bearing allows "
-            f"{fmt(opts.tilt_limit, PLAIN)} deg; give a start nearer a stable equilibrium of "
-            'the case, or bearing = "full_sphere"'
-        )
+    opts.check_case_tilt(case.name, tilt, sampled.horizon_s)
     motion = PlannedMotion(
         x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
     )

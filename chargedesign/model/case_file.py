@@ -48,19 +48,19 @@ from typing import Any
 import sympy as sp
 from sympy.polys.rings import PolyElement, PolyRing
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, fmt
 from chargedesign.model.case import GAMMA, g1, g2, g3, p, q, r
 from chargedesign.model.certificate import U, sphere_normal_form, split_by_power
 from chargedesign.model.equations import euler_poisson
 from chargedesign.results import Result
-from chargedesign.scene.case_file import Case, read_case
+from chargedesign.scene.case_file import (
+    Case,
+    check_certificate_work,
+    check_denominator_on_level,
+    check_rational_points,
+    read_case,
+)
 
-#: largest work estimate of one certificate: the integral's terms (numerator times
-#: denominator) times the largest right-hand side's terms times (1 + the integral's degree in
-#: r). Measured here (2 shared cores): the theorem's case estimates 9.3e3 (0.5 s); its I4
-#: times (1 + p + q)^3 7.9e4 (35 s), times (1 + p + q + r)^2 1.3e5 (76 s, refused)
-MAX_CERTIFICATE_WORK = 100_000
 STATE = (p, q, r, g1, g2, g3)
 #: position of r among the ring's generators
 _R_INDEX = 2
@@ -349,8 +349,7 @@ def certify_case(case: Case) -> CaseCertificate:
         checks["F_conserved_for_all_parameters"] = for_all
         checks["witness_for_all_parameters"] = free_witness
     states = rational_states(case, limit=64)
-    if not states:
-        raise InputError(f"case {case.name}: no rational point where the case is defined")
+    check_rational_points(case.name, len(states))
     functions = (case.I1, GAMMA.dot(GAMMA), case.I3, case.integral)
     rank_state = next((v for v in states[:6] if _jacobian_rank(functions, v) == 4), None)
     checks["independent"] = rank_state is not None
@@ -377,12 +376,7 @@ def _check_work(name: str, fraction: tuple[PolyElement, PolyElement], flow: _Flo
     numerator, denominator = fraction
     degree = max(numerator.degrees()[_R_INDEX], denominator.degrees()[_R_INDEX], 0)
     work = len(numerator) * len(denominator) * max(len(a) for a in flow.numerators) * (1 + degree)
-    if work > MAX_CERTIFICATE_WORK:
-        raise InputError(
-            f"case: the certificate's work on {name} is estimated at {work:.1e} (limit "
-            f"{MAX_CERTIFICATE_WORK:.0e}, about a minute); simplify the case (fewer terms, "
-            "lower degree)"
-        )
+    check_certificate_work(name, work)
 
 
 def _reduced(
@@ -394,8 +388,7 @@ def _reduced(
     if case.level is not None:
         s, t = _r_on_level(case, derivative.ring)
         numerator = _substitute_r(derivative, s, t)
-        if sphere_normal_form(_substitute_r(integral[1], s, t))[0] == 0:
-            raise InputError("case.integral: its denominator vanishes on the whole level")
+        check_denominator_on_level(sphere_normal_form(_substitute_r(integral[1], s, t))[0] == 0)
     normal, multiplier = sphere_normal_form(numerator)
     gens = numerator.ring.gens
     sphere = gens[3] ** 2 + gens[4] ** 2 + gens[5] ** 2 - 1

@@ -379,14 +379,48 @@ def potential_of_mu(mu: sp.Matrix, where: str) -> sp.Expr:
     )
 
 
+#: largest work estimate of one certificate: the integral's terms (numerator times
+#: denominator) times the largest right-hand side's terms times (1 + the integral's degree in
+#: r). Measured here (2 shared cores): the theorem's case estimates 9.3e3 (0.5 s); its I4
+#: times (1 + p + q)^3 7.9e4 (35 s), times (1 + p + q + r)^2 1.3e5 (76 s, refused)
+MAX_CERTIFICATE_WORK = 100_000
+
+
+def check_certificate_work(name: str, work: float) -> None:
+    """Refuse, before the work, a certificate whose estimated ``work`` on the function
+    ``name`` passes :data:`MAX_CERTIFICATE_WORK`."""
+    if work > MAX_CERTIFICATE_WORK:
+        raise InputError(
+            f"case: the certificate's work on {name} is estimated at {work:.1e} (limit "
+            f"{MAX_CERTIFICATE_WORK:.0e}, about a minute); simplify the case (fewer terms, "
+            "lower degree)"
+        )
+
+
+def check_rational_points(name: str, found: int) -> None:
+    """Refuse case ``name`` when no rational point where it is defined was ``found``."""
+    if found == 0:
+        raise InputError(f"case {name}: no rational point where the case is defined")
+
+
+def check_denominator_on_level(vanishes: bool) -> None:
+    """Refuse an integral whose denominator ``vanishes`` on the whole claimed level."""
+    if vanishes:
+        raise InputError("case.integral: its denominator vanishes on the whole level")
+
+
 __all__ = [
     "GAMMA",
+    "MAX_CERTIFICATE_WORK",
     "MAX_FACTORED_TERMS",
     "MAX_MU_DEGREE",
     "MAX_PARAMETERS",
     "OMEGA",
     "Case",
     "case_from_table",
+    "check_certificate_work",
+    "check_denominator_on_level",
+    "check_rational_points",
     "mu_from_l",
     "potential_of_mu",
     "read_case",

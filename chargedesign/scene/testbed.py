@@ -12,7 +12,7 @@ All values are SI.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields
 from types import SimpleNamespace
 from typing import Any
@@ -335,6 +335,34 @@ class TestbedOptions:
                 "testbed: lambda and rho must be 0 (their torques are singular on gamma3 = 0)"
             )
 
+    def check_case(self, name: str, inertia: Sequence[Any], singular: Sequence[str]) -> None:
+        """A case the testbed can fly (:func:`case_refusal`: its ``inertia`` and the
+        ``singular`` factors of its V and mu)."""
+        reason = case_refusal(name, inertia, singular)
+        if reason is not None:
+            raise InputError(reason)
+
+    def check_case_start(self, case_name: str) -> None:
+        """A case's motion starts from the scene's start: the scene must give one."""
+        if not self.has_start:
+            raise InputError(
+                f"testbed: case {case_name}: give initial_gamma, initial_p and initial_q in "
+                "[testbed] (a case's motion starts from the scene's start; r is solved from its "
+                "level)"
+            )
+
+    def check_case_tilt(self, case_name: str, tilt: float, horizon: float) -> None:
+        """A case's motion from the scene's start within the bearing's tilt limit: it needs
+        ``tilt`` deg over ``horizon`` s."""
+        if tilt > self.tilt_limit:
+            raise InputError(
+                f"testbed.initial_gamma: case {case_name}'s motion from the scene's start needs "
+                f"{fmt(tilt, PRECISE)} deg of tilt (best pedestal axis, over "
+                f"{fmt(horizon, PLAIN)} s), the {self.bearing} bearing allows "
+                f"{fmt(self.tilt_limit, PLAIN)} deg; give a start nearer a stable equilibrium of "
+                'the case, or bearing = "full_sphere"'
+            )
+
     def check_loop_steps(self, rate: float, cause: str, step_fraction: float) -> None:
         """Refuse, before any work, a loop run whose fixed integration steps (no longer than
         ``step_fraction`` over the motion's fastest ``rate``, 1/s, whose source is ``cause``)
@@ -390,6 +418,26 @@ class TestbedOptions:
                 f" ({fmt(total_mass, PRECISE)} kg) is heavier than the {self.bearing} bearing's "
                 f"rating ({fmt(self.capacity_kg, PLAIN)} kg)"
             )
+
+
+def case_refusal(name: str, inertia: Sequence[Any], singular: Sequence[str]) -> str | None:
+    """Why the testbed cannot fly case ``name`` (one line), or None: its ``inertia`` (exact
+    numbers) not diag(2C, 2C, C), or ``singular`` (the ``"<factor> = 0"`` on which its V or mu
+    blows up) not empty."""
+    A, B, C = inertia
+    if not (A == B == 2 * C):
+        return (
+            f"testbed: case {name}: inertia diag({A}, {B}, {C}) is not realisable by the "
+            "platform, whose ballast closes diag(2C, 2C, C) only (the layout's least-mass "
+            "program); the testbed flies cases of that inertia"
+        )
+    if singular:
+        return (
+            f"testbed: case {name}: V or mu is singular on {', '.join(singular)}, so the "
+            "wheels' torque would be unbounded there; the testbed flies cases whose V and mu "
+            "are finite on the whole sphere"
+        )
+    return None
 
 
 def _parse(key: Key, value: Any, where: str) -> Any:

@@ -18,11 +18,20 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError, SolverError
+from chargedesign.errors import SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
-from chargedesign.formatting import CELL, FULL, PLAIN, PRECISE, fmt
+from chargedesign.formatting import CELL, FULL, PRECISE, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result, png_html
+from chargedesign.scene.bifurcation import (
+    check_energy_in_scale,
+    check_h_range,
+    check_larmor_shift,
+    check_not_free_top,
+    check_range_width,
+    check_regular,
+    refuse_inadmissible_range,
+)
 from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.compute import (
     Chamber,
@@ -33,7 +42,7 @@ from chargedesign.topology.compute import (
     critical_diagram,
     resolve_range,
 )
-from chargedesign.topology.equations import MomentumMap, require_regular
+from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.stability import TYPES
 
 #: the CSV's columns (the contract's header)
@@ -158,41 +167,15 @@ def bifurcation_diagram(
     return diagram
 
 
-#: the Larmor shift C n^2 may be at most this many times the spread of the critical energies
-#: (beyond it the diagram's energies differ only in their last digits)
-MAX_SHIFT_OVER_SPREAD = 1e10
-#: an energy range may be at most this many times the spread of the critical energies wide
-#: (the continuation's steps are a fiftieth of the range: beyond it the structure is lost)
-MAX_RANGE_OVER_SPREAD = 1e3
-#: and at least this fraction of it
-MIN_RANGE_OVER_SPREAD = 1e-6
-
-
 def check_parameters(params: Parameters) -> ClosedForm:
     """Refuse, in one line and before any work, parameters without a diagram: lambda or rho
     != 0, the free top (c = d = 0 or K = kappa = 0) and an n whose Larmor shift swamps the
-    energies. Returns the closed form of the branches."""
-    try:
-        require_regular(params)
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
-    if np.hypot(params.c, params.d) == 0.0 or (params.K == 0.0 and params.kappa == 0.0):
-        raise InputError(
-            "parameters: no bifurcation diagram with c = d = 0 or K = kappa = 0: the potential"
-            " and the extra terms of I4 vanish (a free symmetric top, I4 = |p + i q|^4 after"
-            f" Larmor, every level critical); got c = {fmt(params.c, PLAIN)}, d ="
-            f" {fmt(params.d, PLAIN)}, K = {fmt(params.K, PLAIN)}, kappa ="
-            f" {fmt(params.kappa, PLAIN)}"
-        )
+    energies (the checks of :mod:`chargedesign.scene.bifurcation`). Returns the closed form
+    of the branches."""
+    check_regular(params.lam, params.rho)
+    check_not_free_top(params.c, params.d, params.K, params.kappa)
     closed = ClosedForm.of(params)
-    spread, shift = closed.energy_scale, larmor_shift(params)
-    if not (np.isfinite(spread) and spread > 0.0) or shift > MAX_SHIFT_OVER_SPREAD * spread:
-        raise InputError(
-            f"parameters.n: the Larmor shift C n^2 = {fmt(shift, CELL)} J is over"
-            f" {fmt(MAX_SHIFT_OVER_SPREAD, CELL)} times the spread of the critical energies"
-            f" ({fmt(spread, CELL)} J): the diagram's energies would differ only in their last"
-            " digits; it is the diagram of n = 0 shifted by C n^2, so compute it with n = 0"
-        )
+    check_larmor_shift(larmor_shift(params), closed.energy_scale)
     return closed
 
 
@@ -206,11 +189,7 @@ def check_energy_range(
     if h_range is None:
         return None
     lo, hi = (float(v) for v in h_range)
-    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(
-            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
-            f" {fmt(hi, PLAIN)}"
-        )
+    check_h_range(lo, hi)
     reading = Reading.of(params)
     unit = MomentumMap(reading.unit())
     unit_range = (reading.energy_unit(lo), reading.energy_unit(hi))
@@ -218,34 +197,16 @@ def check_energy_range(
         resolve_range(unit, unit_range)
     except ValueError:
         _, low = resolve_range(unit, None)
-        raise InputError(
-            f"--h-range: no admissible motion for energies {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J:"
-            " on I3 = 0 the "
-            f"energy is at least {fmt(float(reading.energy(low)), CELL)} J"
-        ) from None
-    width, spread = hi - max(lo, closed.h_min), closed.energy_scale
-    if width < MIN_RANGE_OVER_SPREAD * spread:
-        raise InputError(
-            f"--h-range: the admissible part of {fmt(lo, PLAIN)} .. {fmt(hi, PLAIN)} J is"
-            f" {fmt(width, CELL)} J wide, under {fmt(MIN_RANGE_OVER_SPREAD, CELL)} of the"
-            f" spread of the critical energies ({fmt(spread, CELL)} J): too narrow to resolve"
-        )
+        refuse_inadmissible_range(lo, hi, float(reading.energy(low)))
+    check_range_width(lo, hi, hi - max(lo, closed.h_min), closed.energy_scale)
     require_energy_in_scale(closed, hi, "--h-range")
     return unit_range
 
 
 def require_energy_in_scale(closed: ClosedForm, h: float, name: str) -> None:
-    """Refuse an energy more than :data:`MAX_RANGE_OVER_SPREAD` spreads of the critical
-    energies above the least energy (the diagram's structure is lost at that scale, and the
-    motion is so fast there that a count by the flow would not end)."""
-    spread = closed.energy_scale
-    if h - closed.h_min > MAX_RANGE_OVER_SPREAD * spread:
-        raise InputError(
-            f"{name}: energy {fmt(h, PLAIN)} J is over {fmt(MAX_RANGE_OVER_SPREAD, CELL)} times"
-            f" the spread of the critical energies ({fmt(spread, CELL)} J) above the least"
-            f" energy {fmt(closed.h_min, CELL)} J: the diagram's structure is not resolved there;"
-            f" give energies up to {fmt(closed.h_min + MAX_RANGE_OVER_SPREAD * spread, CELL)} J"
-        )
+    """Refuse an energy too far above the least energy for the diagram's structure
+    (:func:`chargedesign.scene.bifurcation.check_energy_in_scale`)."""
+    check_energy_in_scale(name, h, closed.h_min, closed.energy_scale)
 
 
 def energy_range(params: Parameters, h_range: tuple[float, float] | None) -> tuple[float, float]:

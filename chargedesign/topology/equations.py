@@ -27,7 +27,8 @@ FUNCTION_NAMES = ("H", "I4", "I2", "I3")
 
 def require_regular(params: Parameters) -> None:
     """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case;
-    the command refuses them first, through :func:`~.diagram.check_parameters`)."""
+    the command refuses them first, through :func:`~.diagram.check_parameters` and
+    :func:`chargedesign.scene.bifurcation.check_regular`)."""
     if params.singular:
         raise ValueError(
             "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "

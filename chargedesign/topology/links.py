@@ -17,7 +17,6 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.results import Result, png_html
 from chargedesign.simulation.chaos import (
@@ -224,8 +223,8 @@ def linked_pictures(
 ) -> LinkedPictures:
     """The atlas and the FLI at ``energy`` (J), tied to the diagram (see the module)."""
     lo, hi = diagram.raw.h_range
-    if not lo < energy < hi:
-        raise InputError(
+    if not lo < energy < hi:  # the command refuses --at outside first: a caller's error here
+        raise ValueError(
             f"energy: expected a value inside the diagram's range {fmt(lo, CELL)} .."
             f" {fmt(hi, CELL)} J, "
             f"got {fmt(energy, PLAIN)}"

@@ -13,12 +13,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
-from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
+from chargedesign.scene.bifurcation import (
+    check_regular_value,
+    check_tori_point,
+    refuse_no_chamber,
+    refuse_unresolved_chamber,
+)
 from chargedesign.topology.chambers import FlowCount, FlowCounting, count_by_flow
 from chargedesign.topology.closed_form import Cell, ClosedForm
 from chargedesign.topology.diagram import Reading, check_parameters, require_energy_in_scale
@@ -92,15 +95,9 @@ def tori_at(
         chamber whose count no range of join distances supports.
     """
     check_parameters(params)
-    if not (np.isfinite(h) and np.isfinite(k)):
-        raise InputError(f"--tori: expected two finite numbers H K, got {h} {k}")
+    check_tori_point(h, k)
     closed = ClosedForm.of(params)
-    branch = closed.branch_at(h, k)
-    if branch is not None:
-        raise InputError(
-            f"--tori: (h, k) = ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is a critical value, on the"
-            f" {branch}: the level is not a union of tori"
-        )
+    check_regular_value(h, k, closed.branch_at(h, k))
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
         return ToriCount(h, k, 0)
     require_energy_in_scale(closed, h, "--tori")
@@ -109,14 +106,7 @@ def tori_at(
     F = MomentumMap(reading.unit())
     middle = count_by_flow(F, reading.energy_unit(best.h), best.k / reading.s**4, counting)
     if middle.tori is None:
-        pairs = zip(middle.counts, middle.deltas, strict=True)
-        counts = ", ".join(f"{c} at {fmt(d, CELL)}" for c, d in pairs)
-        raise InputError(
-            f"--tori: the chamber of ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) is not resolved: at its"
-            f" thickest point ({fmt(best.h, CELL)}, {fmt(best.k, CELL)}) no count holds over a"
-            " factor 2 of join distances with every sample covered"
-            f" ({counts or 'no sample found'})"
-        )
+        refuse_unresolved_chamber(h, k, (best.h, best.k), middle.counts, middle.deltas)
     at_point = count_by_flow(F, reading.energy_unit(h), k / reading.s**4, counting)
     return ToriCount(h, k, middle.tori, (best.h, best.k), middle, at_point)
 
@@ -133,4 +123,4 @@ def best_cell(closed: ClosedForm, h: float, k: float) -> Cell:
                 return max(
                     (c for c in cells if c.chamber == cell.chamber), key=lambda c: c.thickness
                 )
-    raise InputError(f"--tori: ({fmt(h, PLAIN)}, {fmt(k, PLAIN)}) lies in no chamber")
+    refuse_no_chamber(h, k)

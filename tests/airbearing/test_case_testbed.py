@@ -259,3 +259,12 @@ def test_the_theorem_entered_as_a_case_is_flown_as_the_theorem() -> None:
     np.testing.assert_allclose(
         by_case.reduced_rhs(x[:, 0:6]), by_theorem.reduced_rhs(x[:, 0:6]), rtol=0, atol=1e-13
     )
+
+
+def test_the_kernel_takes_a_refused_case_as_a_callers_error() -> None:
+    """The testbed's options refuse the case first (InputError); case_model given it anyway
+    raises a plain ValueError with the same reason."""
+    case = read_case(CASES / "lagrange.toml")
+    with pytest.raises(ValueError, match="is not realisable by the platform") as error:
+        case_model(case)
+    assert type(error.value) is ValueError

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from chargedesign.errors import InputError
 from chargedesign.simulation import taylor
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.links import critical_motions, linked_pictures
@@ -23,7 +22,7 @@ def test_critical_motions_on_a_vertical_line(unit_diagram, unit_params):
 
 
 def test_energy_outside_the_diagram_is_refused(unit_diagram):
-    with pytest.raises(InputError, match="inside the diagram's range"):
+    with pytest.raises(ValueError, match="inside the diagram.s range"):
         linked_pictures(unit_diagram, 50.0)
 
 
