@@ -22,7 +22,7 @@ def test_critical_motions_on_a_vertical_line(unit_diagram, unit_params):
 
 
 def test_energy_outside_the_diagram_is_refused(unit_diagram):
-    with pytest.raises(ValueError, match="inside the diagram.s range"):
+    with pytest.raises(ValueError, match=r"inside the diagram.s range"):
         linked_pictures(unit_diagram, 50.0)
 
 
