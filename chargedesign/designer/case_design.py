@@ -88,7 +88,31 @@ def realism_lines(design: Design) -> list[str]:
 
 
 @dataclass(repr=False)
-class CaseDesignResult(Result):
+class CaseBodyResult(Result):
+    """A body designed for a case of (ep), with its certificate: what the two kinds of case
+    body (masses; charges, dipoles and masses) share."""
+
+    design: Design
+    body: Any
+    certificate: CaseCertificate
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "case": self.design.further_keys["case"],
+            "body": self.body.to_dict(),
+            "realises": list(self.design.realises),
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "case": self.body.name,
+            "integral_holds": self.certificate.holds,
+            **{k: v for k, v in self.body._summary().items() if k != "name"},
+        }
+
+
+@dataclass(repr=False)
+class CaseDesignResult(CaseBodyResult):
     """A case of (ep) designed as point masses, with its certificate.
 
     Attributes
@@ -105,20 +129,6 @@ class CaseDesignResult(Result):
     design: Design
     body: CaseMassBody
     certificate: CaseCertificate
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "case": self.design.further_keys["case"],
-            "body": self.body.to_dict(),
-            "realises": list(self.design.realises),
-        }
-
-    def _summary(self) -> dict[str, Any]:
-        return {
-            "case": self.body.name,
-            "integral_holds": self.certificate.holds,
-            **{k: v for k, v in self.body._summary().items() if k != "name"},
-        }
 
     def _text(self) -> str:
         body = self.body
@@ -193,26 +203,12 @@ def _region_candidates(scene: Scene) -> Any:
 
 
 @dataclass(repr=False)
-class CaseElementsResult(Result):
+class CaseElementsResult(CaseBodyResult):
     """A case of (ep) designed as charges, dipoles and masses, with its certificate."""
 
     design: Design
     body: CaseElementBody
     certificate: CaseCertificate
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "case": self.design.further_keys["case"],
-            "body": self.body.to_dict(),
-            "realises": list(self.design.realises),
-        }
-
-    def _summary(self) -> dict[str, Any]:
-        return {
-            "case": self.body.name,
-            "integral_holds": self.certificate.holds,
-            **{k: v for k, v in self.body._summary().items() if k != "name"},
-        }
 
     def _text(self) -> str:
         body = self.body

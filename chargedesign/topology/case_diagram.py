@@ -59,9 +59,17 @@ from chargedesign.topology.critical import (
     sphere_points,
     states_on_level,
 )
-from chargedesign.topology.diagram import chamber_labels, csv_table, draw_diagram, vertex_groups
+from chargedesign.topology.diagram import (
+    branch_record,
+    chamber_labels,
+    chamber_record,
+    csv_table,
+    draw_diagram,
+    vertex_groups,
+    vertex_record,
+)
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
-from chargedesign.topology.stability import TYPES, equilibrium_type, linearised_eigenvalues
+from chargedesign.topology.stability import equilibrium_type, linearised_eigenvalues
 
 #: a wall closer than this (diagram units) to another at the same energy is the same wall
 SAME_WALL = 1e-6
@@ -365,32 +373,11 @@ class CaseDiagram(Result):
             "h_range": list(raw.h_range),
             "h_min": raw.h_min,
             "branches": [
-                {
-                    "branch": i,
-                    "name": raw.names[i],
-                    "points": len(b.hk),
-                    "types": {t: b.types.count(t) for t in TYPES if t in b.types},
-                    "h": [float(b.hk[:, 0].min()), float(b.hk[:, 0].max())],
-                    "k": [float(b.hk[:, 1].min()), float(b.hk[:, 1].max())],
-                    "ends": list(b.ends),
-                    "exact": b.exact,
-                }
+                {"branch": i, "name": raw.names[i]} | branch_record(b)
                 for i, b in enumerate(raw.branches)
             ],
-            "vertices": [
-                {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
-            ],
-            "chambers": [
-                {
-                    "chamber": c.chamber,
-                    "h": c.h,
-                    "k": c.k,
-                    "tori": c.tori,
-                    "walls": list(c.walls),
-                    "evidence": None if c.evidence is None else c.evidence.to_dict(),
-                }
-                for c in self.labels()
-            ],
+            "vertices": [vertex_record(v) for v in raw.vertices],
+            "chambers": [chamber_record(c) for c in self.labels()],
             "seconds": dict(raw.seconds),
             "seeds": raw.seeds_found,
         }

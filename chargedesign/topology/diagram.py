@@ -231,6 +231,35 @@ def vertex_groups(
     return groups
 
 
+def branch_record(b: TracedBranch) -> dict[str, Any]:
+    """A traced branch in the JSON summary (its number and name are the caller's)."""
+    return {
+        "points": len(b.hk),
+        "types": {t: b.types.count(t) for t in TYPES if t in b.types},
+        "h": [float(b.hk[:, 0].min()), float(b.hk[:, 0].max())],
+        "k": [float(b.hk[:, 1].min()), float(b.hk[:, 1].max())],
+        "ends": list(b.ends),
+        "exact": b.exact,
+    }
+
+
+def vertex_record(v: Vertex) -> dict[str, Any]:
+    """A vertex of the diagram in the JSON summary."""
+    return {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type}
+
+
+def chamber_record(c: Chamber) -> dict[str, Any]:
+    """A chamber with its tori count and the evidence of the count, in the JSON summary."""
+    return {
+        "chamber": c.chamber,
+        "h": c.h,
+        "k": c.k,
+        "tori": c.tori,
+        "walls": list(c.walls),
+        "evidence": None if c.evidence is None else c.evidence.to_dict(),
+    }
+
+
 def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
     """One sample per chamber (its widest cell), with the chamber's count: None when its
     cells disagree or one is not resolved (never a count its own samples contradict)."""
@@ -273,32 +302,9 @@ class BifurcationDiagram(Result):
             "h_min": raw.h_min,
             "larmor_shift": larmor_shift(raw.params),
             "time_scale": Reading.of(raw.params).s,
-            "branches": [
-                {
-                    "branch": i,
-                    "points": len(b.hk),
-                    "types": {t: b.types.count(t) for t in TYPES if t in b.types},
-                    "h": [float(b.hk[:, 0].min()), float(b.hk[:, 0].max())],
-                    "k": [float(b.hk[:, 1].min()), float(b.hk[:, 1].max())],
-                    "ends": list(b.ends),
-                    "exact": b.exact,
-                }
-                for i, b in enumerate(self.branches)
-            ],
-            "vertices": [
-                {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type} for v in raw.vertices
-            ],
-            "chambers": [
-                {
-                    "chamber": c.chamber,
-                    "h": c.h,
-                    "k": c.k,
-                    "tori": c.tori,
-                    "walls": list(c.walls),
-                    "evidence": None if c.evidence is None else c.evidence.to_dict(),
-                }
-                for c in chamber_labels(raw.chambers)
-            ],
+            "branches": [{"branch": i} | branch_record(b) for i, b in enumerate(self.branches)],
+            "vertices": [vertex_record(v) for v in raw.vertices],
+            "chambers": [chamber_record(c) for c in chamber_labels(raw.chambers)],
             "closed_form": [
                 {"type": p.type, "h_j": p.h_j, "from_h": p.start, "name": p.name}
                 for p in ClosedForm.of(raw.params).parabolas
