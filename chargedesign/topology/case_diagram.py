@@ -47,6 +47,7 @@ from chargedesign.topology.compute import (
     name_vertex_ends,
     resolve_range,
     typed_branch,
+    typed_vertices,
 )
 from chargedesign.topology.critical import (
     CriticalPoints,
@@ -54,7 +55,6 @@ from chargedesign.topology.critical import (
     critical_seeds,
     equilibria,
     gauss_newton,
-    multipliers,
     rank_zero,
     sphere_points,
     states_on_level,
@@ -69,7 +69,6 @@ from chargedesign.topology.diagram import (
     vertex_record,
 )
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
-from chargedesign.topology.stability import equilibrium_type, linearised_eigenvalues
 
 #: a wall closer than this (diagram units) to another at the same energy is the same wall
 SAME_WALL = 1e-6
@@ -147,14 +146,7 @@ def _degenerate_branch(points: CriticalPoints, scales: Scales) -> TracedBranch |
 
 
 def _vertices(F: CaseMomentumMap, scales: Scales) -> list[Vertex]:
-    points = equilibria(F, scales)
-    z = points.z.copy()
-    z[:, 6] = 0.0
-    z[:, 7:] = multipliers(F, z[:, :6], z[:, 6], scales)
-    return [
-        Vertex(zi[:6], hk, equilibrium_type(linearised_eigenvalues(F, zi, scales)))
-        for zi, hk in zip(z, points.hk, strict=True)
-    ]
+    return typed_vertices(F, equilibria(F, scales), scales)
 
 
 def _breakpoints(

@@ -25,7 +25,7 @@ import sympy as sp
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS
 from chargedesign.model.case_file import case_equations
 from chargedesign.scene.case_file import Case
-from chargedesign.topology.equations import MomentumMap
+from chargedesign.topology.equations import MomentumMap, lie_poisson_tensor
 
 
 def _compile(outputs: Any, module: str) -> Callable[..., Any]:
@@ -136,26 +136,6 @@ class CaseMomentumMap(MomentumMap):
         dl = np.array(self._dl(*x.tolist()), dtype=float)
         m = self._inertia * omega + np.array(self._l(*x.tolist()), dtype=float)
         return lie_poisson_tensor(m, gamma, self._inertia, dl)
-
-
-def _hat(v: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def lie_poisson_tensor(
-    m: np.ndarray, gamma: np.ndarray, inertia: np.ndarray, dl: np.ndarray
-) -> np.ndarray:
-    """``P Pi P^T``: the Lie-Poisson tensor of e(3)* at ``(m, gamma)`` read in ``(omega,
-    gamma)`` through ``m = I omega + l(gamma)`` (``dl = dl/dgamma``), shape (6, 6)."""
-    pi = np.zeros((6, 6))
-    pi[:3, :3] = _hat(m)
-    pi[:3, 3:] = _hat(gamma)
-    pi[3:, :3] = _hat(gamma)
-    P = np.zeros((6, 6))
-    P[:3, :3] = np.diag(1.0 / inertia)
-    P[:3, 3:] = -dl / inertia[:, None]
-    P[3:, 3:] = np.eye(3)
-    return P @ pi @ P.T
 
 
 def case_trajectories(

@@ -173,7 +173,12 @@ def _vertices(F: MomentumMap, scales: Scales) -> list[Vertex]:
     points = distinct(
         CriticalPoints(np.concatenate([p.z for p in found]), np.concatenate([p.hk for p in found]))
     )
-    # the type is that of the energy's flow: (a, b) = (1, 0), multipliers refitted
+    return typed_vertices(F, points, scales)
+
+
+def typed_vertices(F: MomentumMap, points: CriticalPoints, scales: Scales) -> list[Vertex]:
+    """Rest states as vertices, each typed by the energy's flow: (a, b) = (1, 0), multipliers
+    refitted (any momentum map of the room: the theorem's or a case's)."""
     z = points.z.copy()
     z[:, 6] = 0.0
     z[:, 7:] = multipliers(F, z[:, :6], z[:, 6], scales)

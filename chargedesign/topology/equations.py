@@ -176,6 +176,14 @@ def poisson_tensor(F: MomentumMap, x: np.ndarray) -> np.ndarray:
     inertia = F.inertia()
     dl = np.array(_compiled_angular_potential_jacobian()(*gamma.tolist(), *F.pt), dtype=float)
     m = inertia * omega + np.asarray(angular_potential(gamma, F.params), dtype=float)
+    return lie_poisson_tensor(m, gamma, inertia, dl)
+
+
+def lie_poisson_tensor(
+    m: np.ndarray, gamma: np.ndarray, inertia: np.ndarray, dl: np.ndarray
+) -> np.ndarray:
+    """``P Pi P^T``: the Lie-Poisson tensor of e(3)* at ``(m, gamma)`` read in ``(omega,
+    gamma)`` through ``m = I omega + l(gamma)`` (``dl = dl/dgamma``), shape (6, 6)."""
     pi = np.zeros((6, 6))
     pi[:3, :3] = _hat(m)
     pi[:3, 3:] = _hat(gamma)
