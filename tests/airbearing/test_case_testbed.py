@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from case_tables import kowalevski_table
 
 import chargedesign as cd
 from chargedesign.airbearing.case_model import case_model, refusal
@@ -31,18 +32,7 @@ CASES = Path(str(resources.files("chargedesign").joinpath("data/cases")))
 
 #: a Kowalevski top at testbed scale: C = 0.5 kg m^2, a = 0.1 1/s^2 (V = 0.05 gamma1 J)
 C, A_COEF = 0.5, 0.1
-CASE = f"""
-[case]
-name = "kowalevski-testbed"
-inertia = ["2*C", "2*C", "C"]
-V = "C*a*gamma1"
-l = ["0", "0", "0"]
-integral = "(p**2 - q**2 - a*gamma1)**2 + (2*p*q - a*gamma2)**2"
-level = "general"
-[case.parameters]
-C = {C}
-a = {A_COEF}
-"""
+CASE = kowalevski_table("kowalevski-testbed", C, A_COEF)
 START = {"initial_gamma": [-1.0, 0.25, 0.3], "initial_p": 0.0, "initial_q": 0.0}
 TINY = {
     "platform_mass_kg": 6.0,

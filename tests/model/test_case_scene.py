@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from case_tables import kowalevski_table
 
 from chargedesign.cli import main
 from chargedesign.errors import InputError
@@ -22,24 +23,8 @@ from chargedesign.schemas import schema
 
 #: a Kowalevski top the catalogue does not hold: C = 0.3 kg m^2, a = 2.5 1/s^2, so
 #: V = C a gamma1 = 0.75 gamma1 J
-KOWALEVSKI = """
-[case]
-name = "kowalevski-held-out"
-inertia = ["2*C", "2*C", "C"]
-V = "C*a*gamma1"
-l = ["0", "0", "0"]
-integral = "(p**2 - q**2 - a*gamma1)**2 + (2*p*q - a*gamma2)**2"
-level = "general"
-[case.parameters]
-C = 0.3
-a = 2.5
-
-[body]
-shape = "ball"
-radius = 0.5
-spacing = 0.125
-"""
 BODY = '\n[body]\nshape = "ball"\nradius = 0.5\nspacing = 0.125\n'
+KOWALEVSKI = kowalevski_table("kowalevski-held-out", 0.3, 2.5) + BODY
 TIGHT = 1e-12
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
+from case_tables import kowalevski_table
 
 from chargedesign.errors import InputError
 from chargedesign.model import case as model_case
@@ -31,18 +32,7 @@ from chargedesign.simulation import simulate
 from chargedesign.simulation.system import Body, RigidBodySystem, quaternion_gamma
 
 #: the three cases of the brief, each with a start (on its level for a conditional claim)
-KOWALEVSKI = """
-[case]
-name = "kowalevski-k"
-inertia = ["2*C", "2*C", "C"]
-V = "C*a*gamma1"
-l = ["0", "0", "0"]
-integral = "(p**2 - q**2 - a*gamma1)**2 + (2*p*q - a*gamma2)**2"
-level = "general"
-[case.parameters]
-C = 0.3
-a = 2.5
-"""
+KOWALEVSKI = kowalevski_table("kowalevski-k", 0.3, 2.5)
 LAGRANGE = """
 [case]
 name = "lagrange-2-2-1.5"
