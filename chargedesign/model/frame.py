@@ -36,7 +36,6 @@ gamma)`` (the formula (mu) of ``n I gamma``) and ``l.gamma`` is the case's own
 
 from __future__ import annotations
 
-import html
 import time
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -47,6 +46,7 @@ import sympy as sp
 
 from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, p, q, r
 from chargedesign.model.case_file import case_equations
+from chargedesign.results import Result
 from chargedesign.scene.case_file import Case, mu_from_l
 
 #: the map, as text
@@ -129,8 +129,8 @@ def _zero(expr: sp.Expr) -> bool:
     return sp.cancel(sp.together(sp.expand(expr))) == 0
 
 
-@dataclass(frozen=True)
-class FrameCertificate:
+@dataclass(frozen=True, repr=False)
+class FrameCertificate(Result):
     """Outcome of :func:`certify_frame`: the frame reading of one case, checked exactly.
 
     Attributes
@@ -167,7 +167,10 @@ class FrameCertificate:
             "notes": list(self.notes),
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {"case": self.case, "rate": self.rate, "holds": self.holds}
+
+    def _text(self) -> str:
         lines = [
             f"Frame reading of {self.case} at n = {self.rate} (exact): "
             f"{'holds' if self.holds else 'does NOT hold'}",
@@ -175,12 +178,6 @@ class FrameCertificate:
         ]
         lines += [f"    {name}: {'yes' if ok else 'NO'}" for name, ok in self.checks.items()]
         return "\n".join(lines + [f"  {note}" for note in self.notes])
-
-    def __repr__(self) -> str:
-        return f"FrameCertificate(case={self.case!r}, rate={self.rate!r}, holds={self.holds})"
-
-    def _repr_html_(self) -> str:
-        return f"<pre>{html.escape(str(self))}</pre>"
 
 
 def certify_frame(case: Case, n: Any = N) -> FrameCertificate:

@@ -19,7 +19,6 @@ construction of gamma from the quaternion (see :mod:`.system`).
 
 from __future__ import annotations
 
-import html
 import math
 import time
 from collections.abc import Callable
@@ -31,6 +30,7 @@ from scipy.integrate import DOP853, solve_ivp
 
 from chargedesign.errors import SolverError
 from chargedesign.formatting import CELL, PLAIN, fmt
+from chargedesign.results import Result
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
@@ -448,8 +448,8 @@ class Symbolic:
     rhs: tuple[Any, ...]
 
 
-@dataclass(frozen=True)
-class Solution:
+@dataclass(frozen=True, repr=False)
+class Solution(Result):
     """The checked outcome of :func:`solve`.
 
     Attributes
@@ -490,18 +490,15 @@ class Solution:
             "note": self.note,
         }
 
-    def __str__(self) -> str:
+    def _summary(self) -> dict[str, Any]:
+        return {"method": self.method, "samples": len(self.t), "t_end": float(self.t[-1])}
+
+    def _text(self) -> str:
         text = (
             f"{self.method}: {len(self.t)} samples to t = {fmt(float(self.t[-1]), CELL)} s,"
             f" {self.steps} steps"
         )
         return text if self.note is None else f"{text} ({self.note})"
-
-    def __repr__(self) -> str:
-        return f"Solution(method={self.method!r}, samples={len(self.t)})"
-
-    def _repr_html_(self) -> str:
-        return f"<p>{html.escape(str(self))}</p>"
 
 
 def solve(

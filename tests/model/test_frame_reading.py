@@ -4,14 +4,23 @@ turning axes against the read case."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 import sympy as sp
 
+from chargedesign.cli import main
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS, symbolic_case
 from chargedesign.model.case_file import case_equations
 from chargedesign.model.equations import equations_of_motion
-from chargedesign.model.frame import N, certify_frame, frame_reading, prove_frame_reading
+from chargedesign.model.frame import (
+    FRAME_CHECKS,
+    N,
+    certify_frame,
+    frame_reading,
+    prove_frame_reading,
+)
 from chargedesign.model.larmor import certify_larmor
 from chargedesign.scene.case_file import Case, case_from_table, mu_from_l
 from chargedesign.simulation.integrate import Symbolic, solve
@@ -101,3 +110,12 @@ def motion(case: Case, x0: np.ndarray, t: np.ndarray) -> np.ndarray:
         rtol=1e-13,
         atol=1e-14,
     ).y
+
+
+def test_verify_case_json_carries_the_frame_reading(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["verify", "examples/scenes/kowalevski_case.toml", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["case"]["holds"] is True  # the contract's key, unchanged
+    frame = data["frame"]
+    assert frame["holds"] is True and frame["rate"] == "n"
+    assert set(frame["checks"]) == set(FRAME_CHECKS) and all(frame["checks"].values())
