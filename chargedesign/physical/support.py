@@ -219,6 +219,40 @@ FIGURES: dict[str, Figure] = {
         "quoted in a 2004 web note; the paper itself not read",
         False,
     ),
+    "camera.frame_rate_Hz": Figure(
+        200.0,
+        "Hz",
+        "an optical motion-capture system's frame rate (passive markers)",
+        "PMC4788418, 'a frame rate criterion for optical tracking with passive markers' "
+        "(Sensors, 2016)",
+        "introduction ('high temporal resolution (upward to several hundred Hz)')",
+        True,
+    ),
+    "camera.marker_noise_across_m": Figure(
+        1.2e-4,
+        "m",
+        "a marker's position noise across the cameras' line of sight",
+        "arXiv:2502.21189 (2025)",
+        "as the issue quotes it (0.12 mm across); the paper itself not read",
+        False,
+    ),
+    "camera.marker_noise_along_m": Figure(
+        7.4e-4,
+        "m",
+        "a marker's position noise along the cameras' line of sight",
+        "arXiv:2502.21189 (2025)",
+        "as the issue quotes it (0.74 mm along); the paper itself not read",
+        False,
+    ),
+    "camera.static_marker_precision_m": Figure(
+        6e-5,
+        "m",
+        "a single stationary marker's variation (95 %), OptiTrack: a lower bound of the noise",
+        "K. Racz, B. Seregely, R. M. Kiss, 'Static Precision of Instrumented Pointers ...', "
+        "Ann. Biomed. Eng. (2025), doi:10.1007/s10439-025-03753-8",
+        "key findings",
+        True,
+    ),
 }
 
 #: the turns the motion must make within the flight (issue 40)
