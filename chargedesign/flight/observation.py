@@ -36,7 +36,7 @@ from chargedesign.simulation.system import quaternion_rotation, theorem_i4
 #: frames per fitted window
 WINDOW_FRAMES = 40
 #: degree of the polynomial in time the rotation vectors of a window are fitted by
-FIT_DEGREE = 4
+FIT_DEGREE = 5
 #: noise seeds of the reconstruction
 SEEDS = 12
 #: the relative omega error of the control release

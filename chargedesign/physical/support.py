@@ -450,7 +450,7 @@ def tidal_torque(rate_squared: float, C: float) -> float:
     return 1.5 * rate_squared * (2.0 * C - C)
 
 
-def _coil_room(pairs: list[CoilPair]) -> tuple[float, float, float]:
+def coil_room(pairs: list[CoilPair]) -> tuple[float, float, float]:
     """The coils' outer diameter, axial length (m) and copper mass (kg): a square winding of
     ``turns`` wires of :data:`~chargedesign.physical.coils.WIRE_SECTION` on each loop."""
     diameter = length = mass = 0.0
@@ -535,7 +535,7 @@ def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]
     centred = field_on_parts(design, body.pairs, np.zeros(3))
     harmonic = at_offset.energy_error_J / body.term
     tidal = tidal_torque(STANDARD_GRAVITY / figure("earth.radius_m"), body.C) / body.term
-    room_d, room_l, copper = _coil_room(body.pairs)
+    room_d, room_l, copper = coil_room(body.pairs)
     room_d = max(room_d, 2.0 * chamber)
     p_chamber = figure("chamber.pressure_Pa")
     p_max = body.fraction * body.term / free_molecular_torque(1.0, body.region, body.rate)
