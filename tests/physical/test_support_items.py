@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -129,7 +130,7 @@ def test_a_lone_dipole_feels_the_gradient():
     class OneMagnet:  # the attributes field_on_parts reads, no materials
         dipole_positions = np.zeros((1, 3))
         dipole_moments = np.array([[0.0, 0.0, 0.01]])
-        materials: dict = {}
+        materials: ClassVar[dict] = {}
         charge_values = dipole_volumes = mass_values = np.zeros(0)
 
         def field(self, kind):
