@@ -36,7 +36,7 @@ from chargedesign.simulation.system import quaternion_rotation, theorem_i4
 #: frames per fitted window
 WINDOW_FRAMES = 40
 #: degree of the polynomial in time the rotation vectors of a window are fitted by
-FIT_DEGREE = 5
+FIT_DEGREE = 4
 #: noise seeds of the reconstruction
 SEEDS = 12
 #: the relative omega error of the control release
@@ -208,6 +208,7 @@ def observe(
     *,
     cameras: Cameras | None = None,
     window: int = WINDOW_FRAMES,
+    degree: int = FIT_DEGREE,
     seeds: int = SEEDS,
     control_error: float = CONTROL_ERROR,
     seed: int = 0,
@@ -230,7 +231,7 @@ def observe(
         R = quaternion_rotation(quats[which])
         for _ in range(seeds):
             fitted = fit_attitudes(noisy_track(R, markers, cameras, rng), markers)
-            mids, fitted_states = fit_states(times, fitted, window)
+            mids, fitted_states = fit_states(times, fitted, window, degree)
             i4 = theorem_i4(fitted_states, params)
             ranges[which].append(float(spread(i4[None, :])[0]))
             if which == 0:
