@@ -492,8 +492,7 @@ class _Body:
 
 def _body(design: Any, gravity: float, fraction: float) -> _Body:
     model = window_model(design, 1.0, fraction=fraction, gravity=gravity)
-    _, masses = design.all_masses()
-    positions, _ = design.all_masses()
+    positions, masses = design.all_masses()
     region = float(
         (design.buildability or {}).get(
             "region_radius_m", np.max(np.linalg.norm(positions, axis=1), initial=0.0)
@@ -637,6 +636,8 @@ def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]
         f"vacuum chamber: inner radius {fmt(chamber, ROUGH)} m (half the coils' radius), "
         f"clearance {fmt(clearance, ROUGH)} m around the body region",
     ]
+    if len(design.charge_values):
+        notes.append("the charges' Lorentz forces are not in the net force (not estimated)")
     return {
         "facility": facility,
         "microgravity_s": micro,

@@ -13,6 +13,7 @@ from chargedesign.flight.release import (
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.support import MIN_TURNS
+from chargedesign.report import flight_lines
 from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.equations import MomentumMap
 
@@ -64,3 +65,23 @@ def test_the_tolerance_grows_with_the_release_error_and_the_exact_release_holds(
     assert tol.largest_error == pytest.approx(1e-3 / tol.slope)
     assert tol.largest_error < 1e-2  # the release must be accurate to better than 1 %
     assert "release tolerance" in str(tol) and set(tol.to_dict()) >= {"slope", "I4_drifts"}
+
+
+def test_the_report_s_flight_section_renders_the_record():
+    assert flight_lines(None) == []
+    record = {
+        "style": "free_fall",
+        "facility": "drop_tower_catapult",
+        "microgravity_s": 9.3,
+        "state": "included",
+        "items": [
+            {"name": "turns_in_flight", "value": 22.0, "limit": 5.0, "unit": "", "met": True}
+        ],
+        "notes": ["a note"],
+        "flight": {"lines": ["release: ..."]},
+    }
+    lines = flight_lines(record)
+    assert lines[:3] == ["", "## Flight", ""]
+    assert "support: free_fall (drop_tower_catapult, 9.3 s of microgravity): included" in lines
+    assert "- turns_in_flight: 22 (limit 5): met" in lines
+    assert lines[-2:] == ["- a note", "- release: ..."]
