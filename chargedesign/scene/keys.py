@@ -972,8 +972,7 @@ SUPPORT = (
     Key(
         "facility",
         _enum(SUPPORT_FACILITIES),
-        "the free-fall facility: ZARM's Bremen Drop Tower, a drop (4.74 s) or the catapult "
-        "(9.3 s)",
+        "the free-fall facility: ZARM's Bremen Drop Tower, a drop (4.74 s) or the catapult (9.3 s)",
         default="drop_tower_catapult",
         source="the longest free fall (zarm.uni-bremen.de, the catapult system)",
     ),
