@@ -68,6 +68,7 @@ RECORD_KEYS = (
     "frontier",
     "tolerance",
     "larmor_why",
+    "verdict",
 )
 
 
@@ -145,6 +146,8 @@ class Design(ElementSet):
     frontier: JSONObject | None = None
     tolerance: JSONObject | None = None
     larmor_why: str | None = None
+    #: the verdict, judged once when the design is accepted (chargedesign.verdict)
+    verdict: JSONObject | None = None
     further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:

@@ -33,6 +33,12 @@ from chargedesign.scene.design_realism import (
 )
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
+from chargedesign.verdict import (
+    parts_within_limits,
+    recorded_verdict,
+    verdict_state_line,
+    verdict_table,
+)
 
 
 def _spacing(design: Design) -> float | None:
@@ -288,84 +294,14 @@ def _larmor_lines(design: Design) -> list[str]:
     return [f"- Larmor reading: {design.larmor.reading}: {how}" + (f" ({why})." if why else ".")]
 
 
-#: the verdict's three states (docs/buildable.md)
-REALISED = "buildable and realised"
-NOT_REALISED = "buildable parts, NOT realised as designed"
-NOT_BUILDABLE = "NOT buildable"
-
-
-def _cell(text: str, width: int = 110) -> str:
-    """A table cell: one line, at most ``width`` characters (the detail follows the table)."""
-    text = " ".join(str(text).split()).replace("|", "/")
-    return text if len(text) <= width else text[: width - 3] + "..."
-
-
-def _what_changes(design: Design) -> str:
-    """What would move the body into its realised window (from the frontier's record)."""
-    window = (design.frontier or {}).get("realised") or {}
-    if not window:
-        return "`chargedesign frontier SCENE --recommend PATH` searches field, materials, size"
-    if window.get("empty"):
-        if design.parameters.K != 0:
-            return (
-                "nothing at this K: the size-free K law (below) holds for any size and a2; K = 0 "
-                "bodies can be realised (docs/buildable.md)"
-            )
-        return "`chargedesign frontier SCENE --recommend PATH`: no rate of this choice is realised"
-    return (
-        f"a rate s in [{fmt(window['s_low'], ROUGH)}, {fmt(window['s_high'], ROUGH)}] x the "
-        "scene's (the realised window)"
-    )
-
-
-def _realised_row(design: Design, window: WindowAtDesign) -> tuple[str, ...]:
-    """Realised or not: the worst parasitic over the fraction at the design's rate."""
-    ratios = window.ratios
-    worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
-    if worst is None:
-        return (REALISED, "-", "-", "-")
-    binding = f"{window.label(worst)} (of the {window.term_key} term)"
-    if ratios[worst] > 1.0:
-        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(window.fraction, PLAIN)}"
-        return (NOT_REALISED, binding, factor, _what_changes(design))
-    return (REALISED, binding, f"{fmt(ratios[worst], ROUGH)} of the fraction", "-")
-
-
 def _verdict_table(
-    design: Design, ok: bool, limits: dict[str, Any], record: RealismRecord
-) -> tuple[str, list[str], WindowAtDesign | None]:
-    """The verdict's state and its short table: state, binding item, factor, what would
-    change it (a body whose parts are not buildable as specified but within their limits has
-    a second row: whether they would be realised)."""
-    continuum = record.magnets
-    below = continuum.get("below", 0)
-    window = record.window if ok else None
-    rows: list[tuple[str, ...]] = []
-    if not ok:
-        binding = (limits.get("violations") or ["a limit"])[0]
-        rows.append((NOT_BUILDABLE, binding, "-", "see the broken limit below"))
-    elif below:
-        rows.append(
-            (
-                NOT_BUILDABLE,
-                f"{below} of its magnets are smaller than the "
-                f"{fmt_length(continuum['continuum_size_m'])} continuum size",
-                fmt(continuum["continuum_size_m"] / continuum["smallest_m"], ROUGH),
-                "larger magnets: a slower rate, a weaker field, or a larger body",
-            )
-        )
-    if window is not None:
-        realised = _realised_row(design, window)
-        if not rows or realised[0] != REALISED:
-            rows.append(realised)
-        rows += _support_rows(window)
-    state = rows[0][0]
-    table = [
-        "| state | binding item | factor | what would change it |",
-        "|---|---|---|---|",
-        *["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows],
-    ]
-    return state, table, window
+    design: Design, record: RealismRecord
+) -> tuple[dict[str, Any], list[str], WindowAtDesign | None]:
+    """The recorded verdict (:func:`chargedesign.verdict.recorded_verdict`: design.json's
+    ``verdict``), its short table, and the realised window at the design's rate it read."""
+    verdict = recorded_verdict(design)
+    window = record.window if parts_within_limits(design.buildability) else None
+    return verdict, verdict_table(verdict), window
 
 
 def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
@@ -373,26 +309,6 @@ def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
     if window is None or window.apparatus_summary is None:
         return []
     return ["- Field apparatus: " + window.apparatus_summary + "."]
-
-
-def _support_rows(window: WindowAtDesign) -> list[tuple[str, ...]]:
-    """The support as an open item of the verdict when its drag is over the fraction: the
-    state speaks for the body and its field apparatus, this row for what holds O."""
-    support = window.support
-    if not support:
-        return []
-    over = support["drag_over_term"] / window.fraction
-    if over <= 1.0:
-        return []
-    return [
-        (
-            "support: open (not counted)",
-            f"the {support['bearing']} air bearing's film drag",
-            f"{fmt(over, ROUGH)} x the fraction",
-            f"a support with every attitude free and {fmt(over, ROUGH)} x less drag"
-            + (f"; {support['needs']}" if support.get("needs") else ""),
-        )
-    ]
 
 
 def _support_lines(window: WindowAtDesign | None) -> list[str]:
@@ -461,15 +377,12 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
     frontier = design.frontier or {}
     medium = design.medium
     assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
-    ok = bool(limits.get("buildable"))
     response = record.response
     law = record.law if response else {}
-    verdict, table, window_now = _verdict_table(design, ok, limits, record)
-    if verdict == REALISED and any("| support: open" in row for row in table):
-        verdict += " (the body and its field; its support is open, see the table)"
+    verdict, table, window_now = _verdict_table(design, record)
     window = frontier.get("realised") or {}
     lines = [
-        f"**Verdict: {verdict}** in {medium.name} (breakdown "
+        f"**Verdict: {verdict_state_line(verdict)}** in {medium.name} (breakdown "
         f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
         "",
         *table,
