@@ -14,6 +14,7 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -38,6 +39,7 @@ from chargedesign.verdict import (
     recorded_verdict,
     verdict_state_line,
     verdict_table,
+    verdict_text_table,
 )
 
 
@@ -278,6 +280,70 @@ def render_report(
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
     return "\n".join(lines) + "\n"
+
+
+#: the terminal's widest line and longest summary (``chargedesign design`` without --verbose)
+TERMINAL_WIDTH = 160
+SUMMARY_LINES = 40
+
+
+def _wrapped(text: str, width: int = TERMINAL_WIDTH, indent: str = "  ") -> list[str]:
+    """One paragraph wrapped to ``width`` characters (continuation lines indented)."""
+    return textwrap.wrap(
+        " ".join(text.split()), width, subsequent_indent=indent, break_on_hyphens=False
+    ) or [""]
+
+
+def render_summary(design: Design, *, report: str | None = None) -> str:
+    """The short text of a design for a terminal: the recorded verdict as a table, then the
+    main figures; at most :data:`SUMMARY_LINES` lines of at most :data:`TERMINAL_WIDTH`
+    characters (the full report: :func:`render_report`, report.md).
+
+    Parameters
+    ----------
+    design : Design
+    report : str, optional
+        Where the full report is (e.g. ``out/report.md``), named in the last line.
+    """
+    verdict = recorded_verdict(design)
+    medium = design.medium
+    where = f" in {medium.name}" if isinstance(medium, Medium) else ""
+    lines = [f"Verdict: {verdict_state_line(verdict)}{where}", ""]
+    lines += verdict_text_table(verdict) if verdict.get("rows") else _wrapped(verdict["binding"])
+    lines.append("")
+    body: list[str] = []
+    for line in _scene_lines(design)[:3]:
+        body += _wrapped(line)
+    counts = [
+        f"{len(design.charge_values)} charges" if len(design.charge_values) else "",
+        f"{len(design.dipole_moments)} magnets" if len(design.dipole_moments) else "",
+        f"{len(design.mass_values)} ballast masses" if len(design.mass_values) else "",
+    ]
+    after = ((design.residuals or {}).get("after_polish")) or {}
+    residual = max((v for v in after.values() if isinstance(v, (int, float))), default=None)
+    body += _wrapped(
+        "Elements: "
+        + (", ".join(c for c in counts if c) or "none")
+        + (f"; largest relative residual {fmt(residual, PRECISE)}" if residual is not None else "")
+        + "."
+    )
+    window = (design.frontier or {}).get("realised") or {}
+    if window.get("empty") and window.get("why"):
+        body += _wrapped(f"Why no rate is realised: {window['why']}.")
+    elif window:
+        body += _wrapped(
+            f"Realised window: s = {fmt(window['s_low'], ROUGH)} to "
+            f"{fmt(window['s_high'], ROUGH)} x the scene's rates."
+        )
+    for line in _frontier_lines(design, design.frontier or {}):
+        body += _wrapped(line.removeprefix("- "))
+    room = SUMMARY_LINES - len(lines) - 2
+    if len(body) > room:
+        body = [*body[: room - 1], "  ..."]
+    lines += body
+    tail = f"Full report: {report}" if report else "Full report: chargedesign.report.render_report"
+    lines += ["", tail + " (--verbose prints it)."]
+    return "\n".join(line[:TERMINAL_WIDTH] for line in lines) + "\n"
 
 
 def _larmor_lines(design: Design) -> list[str]:

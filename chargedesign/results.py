@@ -202,7 +202,9 @@ __all__ = [
 def design_summary(design: Any) -> dict[str, Any]:
     """The main figures of a :class:`~chargedesign.body.Design` (for repr and notebooks)."""
     p = design.parameters.as_dict()
-    out: dict[str, Any] = {
+    verdict = getattr(design, "verdict", None)
+    out: dict[str, Any] = {"verdict": verdict["state"]} if isinstance(verdict, dict) else {}
+    out |= {
         "charges": len(design.charge_values),
         "dipoles": len(design.dipole_moments),
         "masses": len(design.mass_values),

@@ -38,13 +38,11 @@ from typing import Any
 from chargedesign.body import Design
 from chargedesign.formatting import PLAIN, ROUGH, fmt, fmt_length
 from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign
+from chargedesign.vocabulary import VERDICT_STATES
 
-#: the verdict's four states (the contract's strings)
-REALISED = "buildable and realised"
-NOT_REALISED = "buildable parts, NOT realised as designed"
-NOT_BUILDABLE = "NOT buildable"
-NOT_CHECKED = "not checked for buildability"
-STATES = (REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED)
+#: the verdict's four states (the contract's strings, ``vocabulary.VERDICT_STATES``)
+STATES = VERDICT_STATES
+REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
 #: design.json ``buildability``'s flag: every part within its limits (renamed from
 #: ``buildable``, which a body whose parasitics are too large is not; read from old files too)

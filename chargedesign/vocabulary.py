@@ -22,6 +22,16 @@ FIELD_NAMES = FIELD_KINDS
 #: what a design may claim to realise (design.json ``realises``, scene ``design.realise``)
 REALISABLE = ("mu", "V", "inertia")
 
+#: the verdict's four states (design.json ``verdict.state``, CONTRACT.md "The verdict record")
+VERDICT_STATES = (
+    "buildable and realised",
+    "buildable parts, NOT realised as designed",
+    "NOT buildable",
+    "not checked for buildability",
+)
+#: what holds the fixed point O, as the verdict records it (``verdict.support.state``)
+SUPPORT_STATES = ("included", "open", "none")
+
 #: the element sources of a body, as design.json blocks
 SOURCES = ("charges", "dipoles", "masses")
 

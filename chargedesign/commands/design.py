@@ -36,7 +36,7 @@ from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
-from chargedesign.report import plausibility, render_report
+from chargedesign.report import plausibility, render_report, render_summary
 from chargedesign.scene import Scene, load_scene
 from chargedesign.tolerancing import tolerance_report
 
@@ -108,8 +108,10 @@ def run(args: argparse.Namespace) -> int:
             "plausibility": plausibility(design),
         }
         print(json.dumps(summary, indent=2, allow_nan=False))
+    elif args.verbose:
+        print(report, end="")
     else:
-        print(render_report(design), end="")
+        print(render_summary(design, report=str(out / "report.md")), end="")
     return 0
 
 
