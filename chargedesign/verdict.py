@@ -37,6 +37,7 @@ from typing import Any
 
 from chargedesign.body import Design
 from chargedesign.formatting import PLAIN, ROUGH, fmt, fmt_length
+from chargedesign.physical.limits import within_limits
 from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign
 from chargedesign.vocabulary import VERDICT_STATES
 
@@ -44,16 +45,8 @@ from chargedesign.vocabulary import VERDICT_STATES
 STATES = VERDICT_STATES
 REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
-#: design.json ``buildability``'s flag: every part within its limits (renamed from
-#: ``buildable``, which a body whose parasitics are too large is not; read from old files too)
-WITHIN_LIMITS_KEY = "parts_within_limits"
-OLD_WITHIN_LIMITS_KEY = "buildable"
-
-
-def parts_within_limits(limits: dict[str, Any] | None) -> bool:
-    """``buildability.parts_within_limits`` (or the old ``buildable``) of a limits record."""
-    limits = limits or {}
-    return bool(limits.get(WITHIN_LIMITS_KEY, limits.get(OLD_WITHIN_LIMITS_KEY)))
+#: design.json ``buildability``'s flag (read from old files under ``buildable`` too)
+parts_within_limits = within_limits
 
 
 def _what_changes(design: Design) -> str:

@@ -21,7 +21,7 @@ def test_part_sizes_are_those_of_the_written_parts():
     result = design_from_scene(load_scene(SMALL), frontier=False)
     design = result.design
     # the physical record: named fields, read through by the result
-    assert result.limits is design.buildability and result.limits["buildable"] is True
+    assert result.limits is design.buildability and result.limits["parts_within_limits"] is True
     assert result.realism is design.realism and result.realism
     assert result.time_rate == design.time_rate == 1.0
     assert result.frontier is None and "frontier" not in design.to_dict()

@@ -377,11 +377,11 @@ def _accept_body(design: Design) -> Binding | None:
         report = body_check(design)
     except ChargeDesignError as exc:
         limits = check_limits(design)
-        if not limits.buildable:
+        if not limits.parts_within_limits:
             return Binding("limits", limits.violations[0], "limits check")
         return Binding("forward", f"the forward check could not run ({exc})", "check")
     limits = report.limits if report.limits is not None else check_limits(design)
-    if not limits.buildable:
+    if not limits.parts_within_limits:
         return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
         return None

@@ -91,7 +91,7 @@ def test_the_report_says_the_parts_are_not_buildable_as_specified(small_design):
 
 def test_the_limits_check_flags_them_without_a_broken_limit(small_design):
     limits = check_limits(small_design)
-    assert limits.buildable and not limits.violations
+    assert limits.parts_within_limits and not limits.violations
     assert limits.to_dict()["magnet_continuum"]["below"] == 12
     assert "magnets below the continuum size: 12 of 12" in str(limits)
     large = check_limits(with_edges(small_design, np.full(12, 30e-9)))
