@@ -279,6 +279,7 @@ def render_report(
     notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
+    lines += _sources_lines(record)
     return "\n".join(lines) + "\n"
 
 
@@ -329,7 +330,8 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
     )
     window = (design.frontier or {}).get("realised") or {}
     if window.get("empty") and window.get("why"):
-        body += _wrapped(f"Why no rate is realised: {window['why']}.")
+        law = RealismRecord.read(design.realism).law if design.medium is not None else {}
+        body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
         body += _wrapped(
             f"Realised window: s = {fmt(window['s_low'], ROUGH)} to "
@@ -370,6 +372,27 @@ def _verdict_table(
     return verdict, verdict_table(verdict), window
 
 
+def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
+    """Why no rate is realised, with the K law's one figure (the realism budget's
+    ``k_law_induced_ratio``, the same number as its line below and the budget's table) where
+    it applies; else the frontier's own words."""
+    if not law or law.get("value") is None:
+        return str(window["why"])
+    fraction = window.get("fraction") or 1.0
+    text = (
+        "the K term cannot be realised: the K law (below) puts the parts' induced "
+        f"magnetisation at {fmt(law['value'])} x the designed K torques C K_max^2 at the K "
+        f"frontier ({fmt(law['value'] / fraction, ROUGH)} x the fraction "
+        f"{fmt(fraction, PLAIN)}), for any size and a2"
+    )
+    if window.get("s_best") is not None and window.get("missing_factor") is not None:
+        text += (
+            f"; at the best rate s = {fmt(window['s_best'], ROUGH)} the worst parasitic is "
+            f"{fmt(window['missing_factor'], ROUGH)} x the fraction of the smallest realised term"
+        )
+    return text
+
+
 def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
     """The coil pairs that make the field, with their harmonic error."""
     if window is None or window.apparatus_summary is None:
@@ -389,9 +412,38 @@ def _support_lines(window: WindowAtDesign | None) -> list[str]:
         f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
         f"{fmt(support['drag_over_term'] / window.fraction, ROUGH)} x the fraction of the "
         f"smallest term, NOT counted in the verdict or the realised window above; it needs "
-        f"{support['needs']}. Sources: {support['source']}; "
-        f"{support['drag_source']}."
+        f"{support['needs']} (its sources: Sources, below)."
     ]
+
+
+def _top_level_parts(text: str) -> list[str]:
+    """``text`` split at its ``;`` outside parentheses (one source each)."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if ch == ";" and depth == 0:
+            parts.append(text[start:i])
+            start = i + 1
+    parts.append(text[start:])
+    return [p.strip() for p in parts if p.strip()]
+
+
+def _sources_lines(record: RealismRecord | None) -> list[str]:
+    """The report's sources in one section at its end, each with its checked status as the
+    source says it (``[unverified ...]``); the figures above cite them, never inline."""
+    window = record.window if record is not None else None
+    support = (window.support if window is not None else None) or {}
+    cited = [
+        part
+        for key in ("source", "drag_source")
+        if support.get(key)
+        for part in _top_level_parts(str(support[key]))
+    ]
+    if not cited:
+        return []
+    lines = ["", "## Sources", "", "The support's figures (air film and cup drag):", ""]
+    lines += [f"- {part}" for part in cited]
+    return lines
 
 
 def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
@@ -455,7 +507,7 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
         "",
     ]
     if window.get("empty") and window.get("why"):
-        lines.append(f"- Why no rate is realised: {window['why']}.")
+        lines.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
         lines.append(
             f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
@@ -531,19 +583,20 @@ def _k_law_induced_line(law: dict[str, Any]) -> str:
             f"susceptibility metrology reaches about "
             f"{fmt(law['metrology_chi_relative'], ORDER_SCI)}" + tail
         )
+    value = law.get("value", law["ratio"])
+    how = (
+        "element by element"
+        if law.get("ratio_elements") is not None and value == law.get("ratio_elements")
+        else "by the law"
+    )
     return (
-        f"- Induced magnetisation at the K frontier: {fmt(law['ratio'])} times the designed K "
-        f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
-        f"(mu0 G^2) with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
+        f"- Induced magnetisation at the K frontier (the K law): {fmt(value)} x the designed K "
+        f"torques C K_max^2 ({law['verdict']}; {how}, the figure the verdict and the budget "
+        f"use). The size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law['ratio'])} "
+        f"with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
         f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
         f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
-        f"{fmt(law['a2_T_per_m'])} T/m)"
-        + (
-            f"; element by element {fmt(law['ratio_elements'])}"
-            if law.get("ratio_elements") is not None
-            else ""
-        )
-        + tail
+        f"{fmt(law['a2_T_per_m'])} T/m)" + tail
     )
 
 

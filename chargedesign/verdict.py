@@ -112,9 +112,13 @@ def _window_rows(design: Design, window: WindowAtDesign) -> tuple[dict[str, Any]
     binding = f"{window.label(worst)} (of the {window.term_key} term)"
     over = ratios[worst]
     if over > 1.0:
-        text = f"{fmt(over, ROUGH)} x the fraction {fmt(window.fraction, PLAIN)}"
+        text = (
+            f"{fmt(over, ROUGH)} x the fraction {fmt(window.fraction, PLAIN)} of the "
+            f"{window.term_key} term, at s = 1"
+        )
         return _row(NOT_REALISED, binding, over, text, _what_changes(design)), items
-    return _row(REALISED, binding, over, f"{fmt(over, ROUGH)} of the fraction", "-"), items
+    text = f"{fmt(over, ROUGH)} of the fraction {fmt(window.fraction, PLAIN)}, at s = 1"
+    return _row(REALISED, binding, over, text, "-"), items
 
 
 def _support(

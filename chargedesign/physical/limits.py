@@ -225,9 +225,10 @@ class LimitsReport(Result):
             shown = "inf" if value is None else f"{fmt(value)}"
             lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
         if self.k_law:
+            value = self.k_law.get("value", self.k_law["ratio"])
             lines.append(
-                f"at the K frontier (size-free law): {fmt(self.k_law['ratio'])} "
-                f"({self.k_law['verdict']}): {self.k_law['note']}"
+                f"induced magnetisation at the K frontier (the K law): {fmt(value)} x the "
+                f"designed K torques C K_max^2 ({self.k_law['verdict']}): {self.k_law['note']}"
             )
         below = self.magnet_continuum.get("below", 0)
         if below:
