@@ -21,6 +21,7 @@ from chargedesign.physical.materials import MAGNET_CONTINUUM_SIZE
 from chargedesign.physical.realism import magnet_continuum
 from chargedesign.report import render_report
 from chargedesign.scene import load_scene
+from chargedesign.verdict import verdict_record
 
 SMALL = Path(__file__).parent / "small.toml"
 
@@ -32,11 +33,12 @@ def small_design() -> Design:
 
 def with_edges(design: Design, edges: np.ndarray) -> Design:
     """The same design with magnets of the given cube edges, m (volumes edited only; its
-    realism budget recomputed, as the report renders the record)."""
+    realism budget and verdict recomputed, as the report renders the record)."""
     data = design.to_dict()
     data["dipoles"]["volumes"] = [float(e) ** 3 for e in edges]
     edited = Design.from_dict(data)
     edited.realism = realism_record(edited)
+    edited.verdict = verdict_record(edited)
     return edited
 
 
