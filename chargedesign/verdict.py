@@ -32,6 +32,7 @@ open item when it is).
 
 from __future__ import annotations
 
+import math
 import textwrap
 from typing import Any
 
@@ -95,16 +96,17 @@ def _limit_items(limits: dict[str, Any], ok: bool) -> list[dict[str, Any]]:
 def _window_rows(design: Design, window: WindowAtDesign) -> tuple[dict[str, Any], list]:
     """Realised or not: the worst parasitic over the fraction at the design's rate; every
     parasitic of the window's catalogue as an item."""
-    ratios = window.ratios
+    # an unbounded parasitic is written as null (JSON has no infinity): it is over the fraction
+    ratios = {k: math.inf if v is None else float(v) for k, v in window.ratios.items()}
     items = [
         _item(
             f"{label} (of the {window.term_key} term)",
-            over * window.fraction,
+            _finite(ratios[key] * window.fraction),
             window.fraction,
             "of the smallest realised term",
-            over <= 1.0,
+            ratios[key] <= 1.0,
         )
-        for key, label, over in window.items
+        for key, label, _ in window.items
     ]
     worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
     if worst is None:
@@ -116,9 +118,14 @@ def _window_rows(design: Design, window: WindowAtDesign) -> tuple[dict[str, Any]
             f"{fmt(over, ROUGH)} x the fraction {fmt(window.fraction, PLAIN)} of the "
             f"{window.term_key} term, at s = 1"
         )
-        return _row(NOT_REALISED, binding, over, text, _what_changes(design)), items
+        return _row(NOT_REALISED, binding, _finite(over), text, _what_changes(design)), items
     text = f"{fmt(over, ROUGH)} of the fraction {fmt(window.fraction, PLAIN)}, at s = 1"
     return _row(REALISED, binding, over, text, "-"), items
+
+
+def _finite(x: float) -> float | None:
+    """A number for design.json: None for an infinite one."""
+    return x if math.isfinite(x) else None
 
 
 def _support(
@@ -127,8 +134,8 @@ def _support(
     """What holds O: ``design.support`` when recorded, else the realised window's support
     record (an air bearing's film drag). Returns the support summary, its open rows and its
     items."""
-    recorded = design.support if isinstance(getattr(design, "support", None), dict) else None
-    if recorded is not None:
+    recorded = getattr(design, "support", None)  # the support record, when designed with one
+    if isinstance(recorded, dict):
         items = [dict(i) for i in recorded.get("items") or []]
         unmet = [i for i in items if not i.get("met")]
         summary = {"style": recorded.get("style"), "state": "open" if unmet else "included"}
