@@ -295,6 +295,20 @@ def _wrapped(text: str, width: int = TERMINAL_WIDTH, indent: str = "  ") -> list
     ) or [""]
 
 
+def wrapped_text(text: str, width: int = TERMINAL_WIDTH) -> str:
+    """``text`` with every line wrapped to ``width`` characters (for a terminal)."""
+    lines = [
+        part
+        for line in text.splitlines()
+        for part in (
+            textwrap.wrap(line, width, subsequent_indent="  ", break_on_hyphens=False)
+            if len(line) > width
+            else [line]
+        )
+    ]
+    return "\n".join(lines) + ("\n" if text.endswith("\n") else "")
+
+
 def render_summary(design: Design, *, report: str | None = None) -> str:
     """The short text of a design for a terminal: the recorded verdict as a table, then the
     main figures; at most :data:`SUMMARY_LINES` lines of at most :data:`TERMINAL_WIDTH`

@@ -310,8 +310,8 @@ def verdict_state_line(verdict: dict[str, Any]) -> str:
 
 
 def verdict_line(verdict: dict[str, Any]) -> str:
-    """One line: ``verdict: STATE; binding: ...`` (at most 160 characters)."""
-    line = f"verdict: {verdict['state']}"
+    """One line: ``Verdict: STATE; binding: ...`` (at most 160 characters)."""
+    line = f"Verdict: {verdict['state']}"
     binding = verdict.get("binding")
     if binding and binding != "-" and verdict["state"] != NOT_CHECKED:
         line += f"; binding: {binding}"

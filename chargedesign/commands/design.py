@@ -36,9 +36,10 @@ from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
-from chargedesign.report import plausibility, render_report, render_summary
+from chargedesign.report import plausibility, render_report, render_summary, wrapped_text
 from chargedesign.scene import Scene, load_scene
 from chargedesign.tolerancing import tolerance_report
+from chargedesign.verdict import recorded_verdict, verdict_line
 
 
 def run(args: argparse.Namespace) -> int:
@@ -142,7 +143,8 @@ def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str
     if args.json:
         print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
     else:
-        print(result, end="")
+        print(verdict_line(recorded_verdict(design)))
+        print(wrapped_text(str(result)), end="")
     return 0
 
 
