@@ -91,6 +91,12 @@ def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
         "V_rel_err": data.get("V_rel_err"),
         "inertia_rel_err": data.get("inertia_rel_err"),
         "passed": bool(report.passed),
+        # the check's own verdict, recomputed from the parts, and whether the record agrees
+        **(
+            {"verdict": data["verdict"]["state"], "verdict_agrees": data["verdict_agrees"]}
+            if "verdict" in data
+            else {}
+        ),
     }
 
 
