@@ -38,6 +38,7 @@ from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.files import check_outputs
 from chargedesign.physical.budget import judge_at_frontier
+from chargedesign.report import wrapped_text
 from chargedesign.scene import Scene, load_theorem_scene
 from chargedesign.verdict import verdict_record, verdict_state_line, verdict_text_table
 
@@ -73,13 +74,21 @@ def run(args: argparse.Namespace) -> int:
         if args.out is not None:
             write_scan(scan, Path(args.out))
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
-        print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
+        print(
+            json.dumps(scan.to_dict(), indent=2, allow_nan=False)
+            if args.json
+            else wrapped_text(str(scan))
+        )
         return 0
     if args.recommend is not None:
         found = recommend(scene, window, progress=progress)
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
-        print(json.dumps(found.to_dict(), indent=2, allow_nan=False) if args.json else str(found))
+        print(
+            json.dumps(found.to_dict(), indent=2, allow_nan=False)
+            if args.json
+            else wrapped_text(str(found))
+        )
         return 0
     body = _body_at_scene_rate(scene, progress)
     if body is None:
@@ -109,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
         if verdict is not None:
             print("Verdict at the scene's rate (s = 1): " + verdict_state_line(verdict))
             print("\n".join(verdict_text_table(verdict)) + "\n")
-        print(str(result), end="")
+        print(wrapped_text(str(result)), end="")
     return 0
 
 
