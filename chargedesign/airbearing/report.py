@@ -554,16 +554,24 @@ def _window_section(result: TestbedResult) -> list[str]:
 
 
 def _unverified_binding(result: TestbedResult) -> list[str]:
-    """Say so when the recommended design's binding limit rests on an unverified figure (not
-    read in its source) or the scene's own."""
+    """Say so when the recommended design's binding limit, or any figure it rests on, is
+    unverified (not read in its source) or the scene's own."""
     if result.window is None:
         return []
-    binding = result.window.to_dict()["recommended"]["binding"]
-    req = next((r for r in result.state_of_the_art if r.name == binding), None)
-    if req is None or req.checked:
-        return []
-    keys = ", ".join(req.unchecked_keys) or "the scene's own figure"
-    return [f"The binding limit ({binding}) rests on an unverified figure: {keys}.", ""]
+    rec = result.window.to_dict()["recommended"]
+    lines = []
+    source = rec["binding_source"]
+    if not source["checked"]:
+        lines.append(
+            f"The binding limit ({rec['binding']}) rests on an unverified figure: {source['key']}."
+        )
+    if rec["unverified"]:
+        lines.append(
+            "The recommended design rests on unverified figures: "
+            + ", ".join(rec["unverified"])
+            + "."
+        )
+    return [*lines, ""] if lines else []
 
 
 def _recomputed_lines(check: dict) -> list[str]:

@@ -216,6 +216,12 @@ def verdict(requirements: list[Requirement], nominal_median: float, target: floa
 
 #: the window's axes, in the order of its arrays
 AXES = ("rate", "size", "mass", "motion")
+#: the wheel requirements the actuator catalogue decides, and the actuator's figure for each
+WHEEL_FIELDS = {
+    "wheel_torque_N_m": "torque",
+    "wheel_momentum_N_m_s": "momentum",
+    "wheel_mass_kg": "mass",
+}
 
 
 @dataclass(frozen=True)
@@ -237,6 +243,35 @@ class Window:
     margin: np.ndarray
     style: str = ""  # the bearing style the requirements are read for
     actuator: np.ndarray | None = None  # index in the catalogue of each point's wheels
+    keys: tuple[tuple[str, ...], ...] = ()  # each requirement's sources-table keys (names')
+    origins: tuple[str, ...] = ()  # each requirement's origin (table, scene, run)
+
+    def binding_source(self, point: tuple[int, ...]) -> dict[str, Any]:
+        """The key of the figure that binds at ``point`` and whether it was checked: a wheel
+        requirement's is the chosen actuator's figure, the others their requirement's."""
+        n = int(self.binding[point])
+        name = self.names[n]
+        if self.actuator is not None and name in WHEEL_FIELDS:
+            key = catalogue()[int(self.actuator[point])].key(WHEEL_FIELDS[name])
+            return {"key": key, "checked": key_checked(key)}
+        keys = self.keys[n] if n < len(self.keys) else ()
+        origin = self.origins[n] if n < len(self.origins) else "table"
+        probe = Requirement(name, "tolerance", 1.0, 1.0, "", "", keys=keys, origin=origin)
+        return probe.binding_source()
+
+    def unverified_at(self, point: tuple[int, ...]) -> list[str]:
+        """The unverified keys the design at ``point`` rests on (every requirement's; the
+        wheels' are the chosen actuator's)."""
+        out: list[str] = []
+        for n, name in enumerate(self.names):
+            if self.actuator is not None and name in WHEEL_FIELDS:
+                keys: tuple[str, ...] = (
+                    catalogue()[int(self.actuator[point])].key(WHEEL_FIELDS[name]),
+                )
+            else:
+                keys = self.keys[n] if n < len(self.keys) else ()
+            out += [k for k in keys if not key_checked(k) and k not in out]
+        return out
 
     @property
     def empty(self) -> bool:
@@ -320,7 +355,9 @@ class Window:
                 "motion": motion,
                 "worst_shortfall": float(self.margin[best]),
                 "binding": self.names[self.binding[best]],
+                "binding_source": self.binding_source(best),
                 "actuator": self.actuator_name(best),
+                "unverified": self.unverified_at(best),
             },
             "at_scene_size": self._edges(),
             "through_recommended": {a: self.edges(n, best) for n, a in enumerate(AXES)},
@@ -344,6 +381,8 @@ class Window:
             f"x{fmt(rec['mass_factor'])}, {rec['motion']}"
             + (f", wheels: {rec['actuator']}" if rec.get("actuator") else "")
         )
+        if rec["unverified"]:
+            design += f" (resting on unverified figures: {', '.join(rec['unverified'])})"
         if self.empty:
             return (
                 f"no window ({self.style} bearing): over rates x{fmt(self.rates[0], PLAIN)}"
@@ -419,6 +458,8 @@ def window(
         margin,
         style,
         actuator,
+        tuple(r.keys for r in scaled),
+        tuple(r.origin for r in scaled),
     )
 
 

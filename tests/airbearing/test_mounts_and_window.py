@@ -19,6 +19,7 @@ from chargedesign.airbearing.run import for_style
 from chargedesign.airbearing.verdict import SCALING, Requirement, verdict, window
 from chargedesign.airbearing.wheels import wheel_needs
 from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.physical.sources import source
 from chargedesign.physical.state_of_the_art import (
     ATTITUDE_SENSORS,
     BALANCE,
@@ -315,7 +316,9 @@ def test_every_figure_cites_its_key_and_says_whether_it_was_checked() -> None:
         assert f.source.endswith(f", {UNVERIFIED}]") == (not f.verified), f.source
     assert all(f.verified for f in BALANCE.values())  # checked against engrXiv 10.31224/7342
     assert "estimated" in BALANCE["automatic_horizontal_m"].source
-    assert ATTITUDE_SENSORS["motion_capture"][0].verified  # arXiv:2502.21189
+    noise = ATTITUDE_SENSORS["motion_capture"][0]  # the line of sight's error (arXiv:2502.21189)
+    assert noise.key == "sensors.motion_capture.along_m" and source(noise.key).checked
+    assert not noise.verified  # over an assumed marker baseline
     assert REACTION_WHEELS["speed_rad_per_s"].verified  # Basilisk's HR16: 6000 rpm
     assert not any(b.verified for b in BEARINGS.values())
     assert all(UNVERIFIED in b.source for b in BEARINGS.values())
