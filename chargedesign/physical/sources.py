@@ -135,7 +135,7 @@ class SourcesTable:
 
     rows: tuple[SourceRow, ...]
 
-    def to_dict(self) -> list[dict[str, Any]]:  # type: ignore[override]
+    def to_dict(self) -> list[dict[str, Any]]:
         return [r.to_dict() for r in self.rows]
 
     @property

@@ -106,13 +106,16 @@ def test_a_citation_marks_the_unchecked() -> None:
 
 def test_the_drop_tower_keys_the_support_stage_reads() -> None:
     for key, expected in (
-        ("drop_tower.drop_s", 4.74),
-        ("drop_tower.catapult_s", 9.3),
+        ("drop_tower.drop_time_s", 4.74),
+        ("drop_tower.catapult_time_s", 9.3),
         ("drop_tower.residual_g", 1e-6),
-        ("drop_tower.launch_g", 35.0),
-        ("drop_tower.launch_s", 0.25),
+        ("drop_tower.catapult_launch_g", 35.0),
+        ("drop_tower.catapult_launch_s", 0.25),
         ("drop_tower.landing_g", 50.0),
         ("drop_tower.tube_pressure_fraction", 1e-4),
+        ("drop_tower.capsule_diameter_m", 0.8),
+        ("drop_tower.capsule_length_m", 2.5),
+        ("drop_tower.capsule_pressure_Pa", 101325.0),
     ):
         assert value(key) == expected and source(key).checked
 
