@@ -339,23 +339,23 @@ def against_state_of_the_art(
             keys=(style.load_key,) if opts.bearing_capacity_kg is None else (),
             origin="table" if opts.bearing_capacity_kg is None else "scene",
         ),
-        Requirement(
+        _wheel_requirement(
             "wheel_torque_N_m",
-            "capacity",
             planned.torque,
-            wheel.torque,
+            opts.max_torque_N_m,
             "N m",
+            wheel.torque,
             f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
-            keys=(wheel.key("torque"),),
+            wheel.key("torque"),
         ),
-        Requirement(
+        _wheel_requirement(
             "wheel_momentum_N_m_s",
-            "capacity",
             planned.momentum,
-            wheel.momentum,
+            opts.max_momentum_N_m_s,
             "N m s",
+            wheel.momentum,
             f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
-            keys=(wheel.key("momentum"),),
+            wheel.key("momentum"),
         ),
         Requirement(
             "wheel_mass_kg",
@@ -425,6 +425,25 @@ def against_state_of_the_art(
         )
     )
     return out
+
+
+def _wheel_requirement(
+    name: str,
+    need: float,
+    given: float | None,
+    unit: str,
+    best: float,
+    source: str,
+    key: str,
+) -> Requirement:
+    """A wheel requirement: against the scene's own wheels when it gives their limit, else
+    against the catalogue actuator chosen for the planned needs."""
+    if given is not None:
+        key_name = KEY.max_torque_N_m if "torque" in name else KEY.max_momentum_N_m_s
+        return Requirement(
+            name, "capacity", need, given, unit, f"the scene's {key_name}", origin="scene"
+        )
+    return Requirement(name, "capacity", need, best, unit, source, keys=(key,))
 
 
 def _sensor_keys(opts: TestbedOptions) -> tuple[str, ...]:
