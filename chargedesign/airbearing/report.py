@@ -402,7 +402,7 @@ def _actuator_section() -> list[str]:
     ]
     for a in catalogue():
         status = " (in development)" if a.in_development else ""
-        marks = " ".join(cite(k) for k in a.keys)
+        marks = "; ".join(cite(k) for k in a.keys)
         lines.append(
             f"| {a.name}{status} | {a.kind} | {fmt(a.torque)} | {fmt(a.momentum)} | "
             f"{fmt(a.mass)} | {'yes' if a.checked else 'no'} {marks} |"

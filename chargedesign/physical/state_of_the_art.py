@@ -86,7 +86,7 @@ MOTION_CAPTURE_NOISE = Figure(
     "rad",
     f"{_ALONG.source}: {_ALONG.value * 1e3:g} mm along the line of sight (across it "
     f"{source('sensors.motion_capture.across_m').value * 1e3:g} mm) over an assumed "
-    f"{_BASELINE.value:g} m marker baseline (derived) {_ALONG.cite()} {_BASELINE.cite()}",
+    f"{_BASELINE.value:g} m marker baseline (derived) {_ALONG.cite()}; {_BASELINE.cite()}",
     _ALONG.checked and _BASELINE.checked,
     _ALONG.key,
 )

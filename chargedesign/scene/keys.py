@@ -620,7 +620,7 @@ _GYRO_GRADES = (
     "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
     "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
     "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades) "
-    + " ".join(
+    + "; ".join(
         cite(f"sensors.gyro.{g}.{k}")
         for g in ("navigation", "tactical", "industrial")
         for k in ("arw", "bias")
@@ -674,7 +674,7 @@ TESTBED = (
         default="tabletop",
         source="tabletop: tilt limit 30 deg, umbrella 45 deg, full_sphere every attitude "
         "(Schwartz, Peck & Hall 2003) "
-        + " ".join(cite(f"bearings.{b}.tilt_limit_deg") for b in BEARINGS),
+        + "; ".join(cite(f"bearings.{b}.tilt_limit_deg") for b in BEARINGS),
     ),
     Key(
         "tilt_limit_deg",
@@ -716,7 +716,7 @@ TESTBED = (
         f"{fmt(AIR_FILM['thin_m'].value * 1e6, PLAIN)} um, the thin end (the most drag) of the air "
         f"film's range {fmt(AIR_FILM['thin_m'].value * 1e6, PLAIN)}-"
         f"{fmt(AIR_FILM['thick_m'].value * 1e6, PLAIN)} um "
-        f"{cite(AIR_FILM['thin_m'].key)} {cite(AIR_FILM['thick_m'].key)}",
+        f"{cite(AIR_FILM['thin_m'].key)}; {cite(AIR_FILM['thick_m'].key)}",
     ),
     Key(
         "ballast_material",
@@ -850,7 +850,7 @@ TESTBED = (
         "error along the line of sight (about 7 times the error across it), "
         f"{fmt(figure_value('sensors.motion_capture.along_m') * 1e3, PLAIN)} mm over an assumed "
         f"{fmt(figure_value('sensors.motion_capture.baseline_m'), PLAIN)} m baseline "
-        f"{cite('sensors.motion_capture.along_m')} {cite('sensors.motion_capture.baseline_m')})",
+        f"{cite('sensors.motion_capture.along_m')}; {cite('sensors.motion_capture.baseline_m')})",
     ),
     Key(
         "attitude_noise_rad",
