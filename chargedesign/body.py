@@ -68,6 +68,7 @@ RECORD_KEYS = (
     "frontier",
     "tolerance",
     "larmor_why",
+    "support",
 )
 
 
@@ -145,6 +146,8 @@ class Design(ElementSet):
     frontier: JSONObject | None = None
     tolerance: JSONObject | None = None
     larmor_why: str | None = None
+    #: how the body is held and whether its support passes (physical.support.support_record)
+    support: JSONObject | None = None
     further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:
