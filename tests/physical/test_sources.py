@@ -10,7 +10,15 @@ import sys
 
 import pytest
 
-from chargedesign.physical import coils, drag, materials, realism, sources, state_of_the_art
+from chargedesign.physical import (
+    coils,
+    drag,
+    materials,
+    realism,
+    sources,
+    state_of_the_art,
+    support,
+)
 from chargedesign.physical.sources import FIELDS, cite, rows, source, table, value
 
 
@@ -149,3 +157,9 @@ def test_the_command_prints_the_contracts_json() -> None:
         check=True,
     ).stdout
     assert max(len(line) for line in text.splitlines()) <= 160
+
+
+def test_the_support_stages_figures_are_the_tables() -> None:
+    """physical/support.py keeps its figures under the table's keys: the same values."""
+    for key, figure in support.FIGURES.items():
+        assert value(key) == figure.value, key
