@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.actuators import catalogue
 from chargedesign.airbearing.bearing import TiltMap
 from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.airbearing.layout import Layout, Plan
@@ -235,6 +236,7 @@ class TestbedResult(Result):
                 "mounts_offset_m": self.compliance_offset_m,
                 "state_of_the_art": [r.to_dict() for r in self.state_of_the_art],
                 "verdict": self.verdict.to_dict(),
+                "actuators": [a.to_dict() for a in catalogue()],
                 "window": None
                 if self.window is None
                 else {

@@ -540,6 +540,12 @@ def bifurcation_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
 
 
+def sources_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--json", action="store_true", help="print the table as a JSON list of rows"
+    )
+
+
 #: command name -> the function that adds its arguments
 ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "verify": verify_arguments,
@@ -557,4 +563,5 @@ ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "testbed": testbed_arguments,
     "bifurcation": bifurcation_arguments,
     "catalogue": catalogue_arguments,
+    "sources": sources_arguments,
 }
