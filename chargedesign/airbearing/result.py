@@ -353,7 +353,7 @@ class TestbedResult(Result):
 
 
 #: a source's checked status as the figures carry it inline (moved to one line at the end)
-_UNVERIFIED = re.compile(r"\s*\[unverified[^\]]*\]")
+_UNVERIFIED = re.compile(r"\s*\[(?:unverified[^\]]*|[A-Za-z0-9_.\-]+, unverified)\]")
 
 
 def terminal_text(lines: list[str], width: int = 160) -> str:
@@ -370,8 +370,8 @@ def terminal_text(lines: list[str], width: int = 160) -> str:
         ) or [""]
     if marks:
         out.append(
-            f"({marks} figures above rest on sources not yet checked (from memory): report.md "
-            "lists every source with its status)"
+            f"({marks} figures above rest on sources not yet checked: report.md and "
+            "`chargedesign sources` list every source with its status)"
         )
     return "\n".join(out) + "\n"
 
