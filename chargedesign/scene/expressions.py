@@ -4,8 +4,9 @@ The text is parsed by Python's :func:`ast.parse` (which builds a tree and runs n
 the tree is walked, without recursion, against a whitelist:
 
 - numbers, read exactly from their decimal text (``0.1`` is ``1/10``, ``2.5e-3`` is
-  ``1/400``); at most :data:`MAX_LITERAL_DIGITS` digits and magnitudes within
-  :data:`chargedesign.validation.MAX_MAGNITUDE`;
+  ``1/400``), their size checked on the text before the number is built
+  (:func:`chargedesign.validation.exact_decimal`: at most 40 digits, a written exponent of
+  at most 99, magnitudes within :data:`chargedesign.validation.MAX_MAGNITUDE`);
 - the state's names ``p q r gamma1 gamma2 gamma3`` and the case's declared parameters;
 - ``+ - * /``, unary ``+``/``-``, ``**`` with an integer literal exponent of at most
   :data:`MAX_EXPONENT` in size, parentheses.
@@ -24,12 +25,11 @@ import keyword
 import math
 import re
 from collections.abc import Callable, Mapping
-from fractions import Fraction
 
 import sympy as sp
 
 from chargedesign.errors import InputError
-from chargedesign.validation import MAX_MAGNITUDE, MIN_MAGNITUDE
+from chargedesign.validation import DECIMAL_PATTERN, MAX_LITERAL_DIGITS, exact_decimal
 
 # The state's symbols, made as :mod:`chargedesign.model.case` makes them: sympy symbols of
 # the same name and assumptions are the same symbol, so the boundary needs no model import.
@@ -55,8 +55,6 @@ MAX_NODES = 5_000
 MAX_EXPONENT = 24
 #: largest degree bound of an expression (numerator plus denominator, over all names)
 MAX_DEGREE = 64
-#: most digits of one numeric literal
-MAX_LITERAL_DIGITS = 40
 #: most digits (numerator plus denominator) of a number made by a power of a number
 MAX_NUMBER_DIGITS = 400
 #: largest bound on the number of terms of an expanded product or power (the certificate's
@@ -68,7 +66,7 @@ ACCEPTED = (
     "** with an integer exponent, parentheses"
 )
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-_DIGITS = re.compile(r"\d{" + str(MAX_LITERAL_DIGITS + 1) + ",}")
+_DIGITS = re.compile(r"\d(?:_?\d){" + str(MAX_LITERAL_DIGITS) + ",}")
 _WHAT = {
     ast.Call: "a call",
     ast.Attribute: "an attribute",
@@ -140,16 +138,11 @@ def _literal(where: str, text: str, node: ast.Constant) -> sp.Rational:
     value = node.value
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise _refuse(where, text, node, "the constant")
-    source = (ast.get_source_segment(text, node) or "").replace("_", "")
-    try:
-        exact = Fraction(source)
-    except (ValueError, ZeroDivisionError):
-        raise _refuse(where, text, node, "the literal (not a decimal number)") from None
-    if exact != 0 and not MIN_MAGNITUDE <= abs(exact) <= MAX_MAGNITUDE:
-        raise InputError(
-            f"{where}: the number `{source[:30]}` at {_at(node)} is outside "
-            f"{MIN_MAGNITUDE:g}..{MAX_MAGNITUDE:g} in magnitude"
-        )
+    source = ast.get_source_segment(text, node) or ""
+    if DECIMAL_PATTERN.match(source) is None:
+        raise _refuse(where, text, node, "the literal (not a decimal number)")
+    # read from the text, its size checked before it is built (1e99999999 is never made)
+    exact = exact_decimal(source, f"{where} (at {_at(node)})")
     return sp.Rational(exact.numerator, exact.denominator)
 
 
