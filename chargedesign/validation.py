@@ -533,10 +533,11 @@ def _decimal_part(part: str, name: str, shown: str, fraction: bool) -> Fraction:
     whole = (whole or "").replace("_", "")
     decimals = (decimals or "").replace("_", "")
     digits = (whole + decimals).lstrip("0")
-    if len(digits.rstrip("0")) > MAX_LITERAL_DIGITS or len(whole + decimals) > 4 * MAX_LITERAL_DIGITS:
-        raise InputError(
-            f"{name}: the number `{shown}` has more than {MAX_LITERAL_DIGITS} digits"
-        )
+    if (
+        len(digits.rstrip("0")) > MAX_LITERAL_DIGITS
+        or len(whole + decimals) > 4 * MAX_LITERAL_DIGITS
+    ):
+        raise InputError(f"{name}: the number `{shown}` has more than {MAX_LITERAL_DIGITS} digits")
     written = (exponent or "0").replace("_", "").lstrip("0") or "0"
     if len(written) > len(str(MAX_LITERAL_EXPONENT)) or int(written) > MAX_LITERAL_EXPONENT:
         raise InputError(
