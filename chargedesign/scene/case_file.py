@@ -167,6 +167,31 @@ def _exact_number(value: Any, where: str, names: Mapping[str, sp.Symbol] | None 
     return sp.Rational(exact.numerator, exact.denominator)
 
 
+_UNDEFINED = (sp.zoo, sp.nan, sp.oo, -sp.oo)
+
+
+def _defined(written: sp.Expr, value: sp.Expr, values: Mapping[sp.Symbol, Any], at: str) -> Any:
+    """``value`` (``written`` with the parameters' ``values`` substituted) when no term of it
+    became infinite or undefined; else one line naming the key and the parameters whose
+    values make a denominator vanish (sympy's ``zoo``, ``nan`` never reach the user)."""
+    if not value.has(*_UNDEFINED):
+        return value
+    culprits = sorted(
+        str(symbol)
+        for symbol in written.free_symbols & set(values)
+        if written.xreplace({symbol: values[symbol]}).has(*_UNDEFINED)
+    )
+    if not culprits:  # only together (1/(a - b) with a = b): the denominator's parameters
+        denominators = {sp.denom(term) for term in sp.preorder_traversal(written)}
+        used = set().union(*(d.free_symbols for d in denominators)) & set(values)
+        culprits = sorted(str(symbol) for symbol in used or written.free_symbols & set(values))
+    given = ", ".join(f"{name} = {values[parameter_symbol(name)]}" for name in culprits)
+    raise InputError(
+        f"{at}: becomes infinite or undefined with {given} (a denominator vanishes at "
+        f"{'these values' if len(culprits) > 1 else 'this value'})"
+    )
+
+
 def _constant(expr: sp.Expr, where: str) -> sp.Rational:
     if not isinstance(expr, sp.Rational):
         raise input_error(where, "a number (it may use only the declared parameters)", str(expr))
@@ -245,10 +270,10 @@ def case_from_table(table: Any, where: str = "case") -> Case:
     zeros = {symbol: value for symbol, value in values.items() if value == 0}
     free: dict[str, Any] = {}
 
-    def exact(expr: sp.Expr, key: str | None = None) -> sp.Expr:
+    def exact(expr: sp.Expr, at: str, key: str | None = None) -> sp.Expr:
         if key is not None:
-            free[key] = expr.xreplace(zeros)
-        return expr.xreplace(values)
+            free[key] = _defined(expr, expr.xreplace(zeros), zeros, at)
+        return _defined(expr, expr.xreplace(values), values, at)
 
     inertia_in = table["inertia"]
     if not isinstance(inertia_in, list) or len(inertia_in) != 3:
@@ -257,13 +282,17 @@ def case_from_table(table: Any, where: str = "case") -> Case:
     free_inertia = []
     for i, item in enumerate(inertia_in):
         key = f"{where}.inertia[{i}]"
-        moment = _constant(exact(_exact_number(item, key, names), "moment"), key)
+        moment = _constant(exact(_exact_number(item, key, names), key, "moment"), key)
         if moment <= 0:
             raise input_error(key, "a moment of inertia > 0", str(moment))
         inertia.append(moment)
         free_inertia.append(free.pop("moment"))
     free["inertia"] = tuple(free_inertia)
-    V = exact(_only_gamma(parse_expression(table["V"], f"{where}.V", names), f"{where}.V"), "V")
+    V = exact(
+        _only_gamma(parse_expression(table["V"], f"{where}.V", names), f"{where}.V"),
+        f"{where}.V",
+        "V",
+    )
     texts["V"] = table["V"]
     if "l" in table and "mu" in table:
         raise InputError(f"{where}: give l or mu, not both")
@@ -271,18 +300,22 @@ def case_from_table(table: Any, where: str = "case") -> Case:
     if "mu" in table:
         l_vec = None
         components = _vector(table["mu"], f"{where}.mu", names)
-        mu = sp.Matrix([exact(e) for e in components])
+        mu = sp.Matrix([exact(e, f"{where}.mu[{i}]") for i, e in enumerate(components)])
         free["l"], free["mu"] = None, sp.Matrix([e.xreplace(zeros) for e in components])
         texts["mu"] = list(table["mu"])
     else:
         given = table.get("l", ["0", "0", "0"])
         components = _vector(given, f"{where}.l", names)
-        l_vec = sp.Matrix([exact(e) for e in components])
+        l_vec = sp.Matrix([exact(e, f"{where}.l[{i}]") for i, e in enumerate(components)])
         mu = mu_from_l(l_vec)
         free["l"] = sp.Matrix([e.xreplace(zeros) for e in components])
         free["mu"] = mu_from_l(free["l"])
         texts["l"] = list(given)
-    integral = exact(parse_expression(table["integral"], f"{where}.integral", names), "integral")
+    integral = exact(
+        parse_expression(table["integral"], f"{where}.integral", names),
+        f"{where}.integral",
+        "integral",
+    )
     texts["integral"] = table["integral"]
     level_in = table.get("level", "general")
     level: sp.Rational | None
@@ -291,7 +324,7 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         key = f"{where}.level"
         if isinstance(level_in, str) and not level_in.strip():
             raise input_error(key, '"general" or a number', level_in)
-        level = _constant(exact(_exact_number(level_in, key, names), "level"), key)
+        level = _constant(exact(_exact_number(level_in, key, names), key, "level"), key)
         if l_vec is None:
             raise InputError(
                 f"{key}: a claim on a level needs l (mu fixes I3 only up to a constant)"
