@@ -494,6 +494,7 @@ def exact_decimal(
     fraction: bool = False,
     lo: float = MIN_MAGNITUDE,
     hi: float = MAX_MAGNITUDE,
+    at: str = "",
 ) -> Fraction:
     """A decimal literal (``2.5e-3``; with ``fraction``, also ``P/Q`` of two of them) read
     exactly, its size checked on the text before any number is built: at most
@@ -512,19 +513,20 @@ def exact_decimal(
     parts = text.strip().split("/") if fraction else [text.strip()]
     if len(parts) > 2:
         raise InputError(f"{name}: expected a number or a fraction P/Q, got {shown!r}")
-    values = [_decimal_part(part, name, shown, fraction) for part in parts]
+    values = [_decimal_part(part, name, shown, fraction, at) for part in parts]
     if len(values) == 2 and values[1] == 0:
         raise InputError(f"{name}: a fraction with denominator zero, got {shown!r}")
     value = values[0] / values[1] if len(values) == 2 else values[0]
-    if value != 0 and not lo <= abs(value) <= hi:
+    # the bounds as written (the float 1e-30 lies above the exact 10^-30)
+    if value != 0 and not Fraction(repr(lo)) <= abs(value) <= Fraction(repr(hi)):
         raise InputError(
-            f"{name}: the number `{shown}` is outside {fmt(lo, PLAIN)}..{fmt(hi, PLAIN)} in "
+            f"{name}: the number `{shown}`{at} is outside {fmt(lo, PLAIN)}..{fmt(hi, PLAIN)} in "
             f"magnitude; {_RESCALE}"
         )
     return value
 
 
-def _decimal_part(part: str, name: str, shown: str, fraction: bool) -> Fraction:
+def _decimal_part(part: str, name: str, shown: str, fraction: bool, at: str) -> Fraction:
     match = DECIMAL_PATTERN.match(part.strip())
     if match is None:
         what = "a number or a fraction P/Q" if fraction else "a decimal number"
@@ -537,11 +539,13 @@ def _decimal_part(part: str, name: str, shown: str, fraction: bool) -> Fraction:
         len(digits.rstrip("0")) > MAX_LITERAL_DIGITS
         or len(whole + decimals) > 4 * MAX_LITERAL_DIGITS
     ):
-        raise InputError(f"{name}: the number `{shown}` has more than {MAX_LITERAL_DIGITS} digits")
+        raise InputError(
+            f"{name}: the number `{shown}`{at} has more than {MAX_LITERAL_DIGITS} digits"
+        )
     written = (exponent or "0").replace("_", "").lstrip("0") or "0"
     if len(written) > len(str(MAX_LITERAL_EXPONENT)) or int(written) > MAX_LITERAL_EXPONENT:
         raise InputError(
-            f"{name}: the exponent of `{shown}` is larger than {MAX_LITERAL_EXPONENT} in size "
+            f"{name}: the exponent of `{shown}`{at} is larger than {MAX_LITERAL_EXPONENT} in size "
             "(outside the supported range of numbers)"
         )
     if not digits:
