@@ -204,6 +204,13 @@ class TestbedOptions:
                 f"{where}.pedestal_radius_m: expected less than bearing_radius_m "
                 f"({fmt(self.bearing_radius_m, PLAIN)} m), got {self.pedestal_radius_m!r}"
             )
+        if self.bearing == "full_sphere" and self.tilt_limit_deg is not None:
+            # a ball floating in its cup has no pedestal: every attitude is free (180 deg).
+            # A limit given with it made testbed.json say 180 while its tilt map used the limit
+            raise InputError(
+                f"{where}.tilt_limit_deg: a full_sphere bearing allows every attitude (no "
+                "pedestal); drop tilt_limit_deg, or give a tabletop or umbrella bearing with it"
+            )
         if self.bearing != "full_sphere" and self.keep_out_half_angle_deg >= 90.0:
             raise InputError(
                 f"{where}.tilt_limit_deg: a {self.bearing} bearing's pedestal must stay below the "
