@@ -560,7 +560,7 @@ def check_output_location(
         # a file's writer makes no folder: refused now, not after the work (frontier
         # --recommend new/rec.toml searched for 51 s first)
         raise InputError(
-            f"{option}: {target}: cannot write it, its folder {target.parent} does not exist"
+            f"{option}: {target}: cannot write it, directory {target.parent} does not exist"
         )
     if not existing.is_dir() and not (not directory and existing == absolute):
         # an existing file is a valid target (it is replaced whole), a folder's is not

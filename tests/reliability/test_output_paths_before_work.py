@@ -28,7 +28,7 @@ def test_an_existing_file_is_a_valid_target(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("option", ["--recommend", "--out", "--screenshot"])
 def test_a_files_missing_folder_is_refused_at_once(option: str, tmp_path: Path) -> None:
-    with pytest.raises(InputError, match=f"{option}: .*its folder .*new does not exist"):
+    with pytest.raises(InputError, match=f"{option}: .*directory .*new does not exist"):
         check_output_location(tmp_path / "new" / "rec.toml", option=option)
 
 
