@@ -455,7 +455,7 @@ def sweep_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scheduler-timeout",
         type=float,
-        default=5.0,
+        default=None,  # 5 s; given without --scheduler it is refused (it would be ignored)
         metavar="S",
         help="seconds to wait for the --scheduler to answer (default 5)",
     )

@@ -55,6 +55,9 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     check_executor(args.executor, args.workers)  # before any file is read
+    if args.scheduler_timeout is not None and args.scheduler is None:
+        raise InputError("--scheduler-timeout: needs --scheduler (the Dask cluster it waits for)")
+    timeout = 5.0 if args.scheduler_timeout is None else args.scheduler_timeout
     if args.chunk is not None and args.chunk < 1:
         raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     check_outputs([("--out", args.out, True)], inputs=[args.sweep], writes=SWEEP_FILES)
@@ -64,9 +67,7 @@ def run(args: argparse.Namespace) -> int:
         inputs=[args.sweep, None if spec.scene_source.startswith("<") else spec.scene_source],
         writes=SWEEP_FILES,
     )
-    handle = make_executor(
-        args.executor, args.workers, args.scheduler, timeout=args.scheduler_timeout
-    )
+    handle = make_executor(args.executor, args.workers, args.scheduler, timeout=timeout)
     try:
         result = run_sweep(
             spec,
