@@ -68,6 +68,8 @@ RECORD_KEYS = (
     "frontier",
     "tolerance",
     "larmor_why",
+    "inertia",
+    "holder",
 )
 
 
@@ -145,6 +147,10 @@ class Design(ElementSet):
     frontier: JSONObject | None = None
     tolerance: JSONObject | None = None
     larmor_why: str | None = None
+    #: the whole inertia about O (points, the parts' own, the holder's; chargedesign.physical.
+    #: holder.whole_inertia) and the holder (its material, radius, bores), or None
+    inertia: JSONObject | None = None
+    holder: JSONObject | None = None
     further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:

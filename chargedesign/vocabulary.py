@@ -78,6 +78,7 @@ SCENE_TABLES = (
     "carriers",
     "magnets",
     "ballast",
+    "holder",
     "tolerance",
     "testbed",
     "case",
