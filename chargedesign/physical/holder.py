@@ -133,6 +133,8 @@ def _magnet_layers(
 ) -> list[tuple[float, float, float]]:
     """A magnet of ``volume`` (m^3, ``density``) with its attached ballast (the mass beyond the
     magnet's own, at density ``attached``) as a concentric shell."""
+    if not math.isfinite(density):  # no material written: a point
+        return []
     core = float(sphere_radius(volume))
     extra = max(mass - density * volume, 0.0)
     layers = [(density, 0.0, core)]
@@ -179,6 +181,9 @@ def parts_from_arrays(
             out_names.append(names[2][i] if names else f"ballast {i}")
             centres.append(np.asarray(pos[i], float))
             masses.append(float(mass[i]))
+            if not math.isfinite(density[i]):  # no material written: a point
+                layers.append([])
+                continue
             radius = float(sphere_radius(mass[i] / density[i]))
             layers.append([(float(density[i]), 0.0, radius)])
     return PartSpheres(
