@@ -63,7 +63,7 @@ OBJECTIVES = ("l1", "l2", "linf", "robust")
 BODY_SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")
 
 #: export formats of ``chargedesign export``
-EXPORT_FORMATS = ("json", "csv", "vtp", "vtu")
+EXPORT_FORMATS = ("json", "csv", "vtp", "vtu", "stl", "step")
 
 #: the scene tables every stage may read (CONTRACT.md, and the physical tables of the limits)
 SCENE_TABLES = (
