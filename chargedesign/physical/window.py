@@ -42,21 +42,25 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
 from chargedesign.physical.drag import cup_drag
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
-from chargedesign.physical.realism import (
+from chargedesign.physical.parasitics import (
     RESPONSE_ORIENTATIONS,
+    balance_torque,
     eddy_torques_by_set,
     induced_energies_by_set,
-    material_parts,
-    realisability_map,
-    typical_rate,
+    laminar_drag,
+    larmor_power,
+    reynolds,
+    self_field,
+    speed_over_c,
 )
+from chargedesign.physical.realism import material_parts, realisability_map, typical_rate
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
@@ -180,16 +184,14 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
             "relativistic",
             "relativistic corrections",
             "(v / c)^2 of the fastest part, ~ s^2",
-            (rate * r_max / LIGHT_SPEED) ** 2,
+            speed_over_c(rate, r_max) ** 2,
             2.0,
         )
     ]
     if not len(q):
         return items
     radii = np.linalg.norm(design.charge_positions, axis=1)
-    power = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
-        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
-    )
+    power = larmor_power(q, radii, rate)
     items.append(
         _power_item(
             "radiation",
@@ -200,8 +202,7 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
         )
     )
     if applied > 0:
-        inv = np.where(radii > 0, radii, np.inf)
-        b_self = MU_0 / (4 * math.pi) * float(np.sum(np.abs(q) * rate / inv))
+        b_self = self_field(q, radii, rate)
         items.append(
             _power_item(
                 "self_field",
@@ -352,19 +353,19 @@ def window_model(
                 f"gravity on the balance ({fmt(gravity / STANDARD_GRAVITY, ROUGH)} g, "
                 f"{fmt(BUILDER_BALANCE_M, PLAIN)} m)",
                 "M g delta with the builder's balance delta: fixed (over the terms ~ 1/s^2)",
-                float(np.sum(masses)) * gravity * BUILDER_BALANCE_M / term,
+                balance_torque(float(np.sum(masses)), gravity) / term,
                 -2.0,
             )
         )
     gas = design.medium.gas_properties if design.medium is not None else None
     notes = []
     if gas is not None and gas[1] > 0:
-        drag = 8 * math.pi * gas[1] * region**3 * rate
-        reynolds = gas[0] * rate * region**2 / gas[1]
-        if reynolds > 1.0:
+        drag = laminar_drag(gas[1], region, rate)
+        re = reynolds(gas[0], gas[1], region, rate)
+        if re > 1.0:
             notes.append(
                 f"drag: the laminar estimate 8 pi mu R^3 omega holds for Re << 1; here Re = "
-                f"{fmt(reynolds, ROUGH)}, where it is a lower bound"
+                f"{fmt(re, ROUGH)}, where it is a lower bound"
             )
         items.append(
             _power_item(

@@ -51,7 +51,8 @@ from chargedesign.model import evaluators
 from chargedesign.params import Parameters
 from chargedesign.physical.holder import whole_inertia
 from chargedesign.physical.materials import MU_0
-from chargedesign.physical.realism import eddy_torque, eddy_weights, material_parts
+from chargedesign.physical.parasitics import eddy_torque, eddy_weights
+from chargedesign.physical.realism import material_parts
 from chargedesign.quadrature import gather_elements
 from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly
@@ -207,7 +208,7 @@ class Body(ElementSet):
     part_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     part_susceptances: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: centres of the conducting parts (m, body axes) and their ``sigma (a^5 - b^5)``
-    #: (S m^4): the ``eddy`` effect (:func:`~chargedesign.physical.realism.eddy_torque`)
+    #: (S m^4): the ``eddy`` effect (:func:`~chargedesign.physical.parasitics.eddy_torque`)
     conductor_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     conductor_weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: the inertia beyond the point masses (kg m^2, (3, 3)): every part's own and the
