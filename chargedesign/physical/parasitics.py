@@ -31,7 +31,6 @@ import numpy as np
 
 from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.sampling import fibonacci_sphere
 
@@ -107,14 +106,42 @@ def induced_energies_by_set(legendre: tuple[float, ...], parts: list[dict[str, A
     return out
 
 
-def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
-    """Eddy-current torque of each part set turning at ``rate`` in its local field (N m).
+def eddy_rate_squared(legendre: tuple[float, ...], centres: np.ndarray) -> np.ndarray:
+    """``max |dB/dt|^2 / |omega|^2`` over orientations and directions of omega at each part
+    centre (T^2), (k,).
 
-    A conducting sphere turning at omega in a uniform B (perpendicular to omega, skin depth
-    much larger than the part) carries the current of ``E = (omega B / 2) y x r`` and is
-    retarded by ``(2 pi / 15) sigma omega B^2 a^5`` (a shell: ``a^5 - b^5``). B is the largest
-    |B| over orientations at the part's distance from O; the parts' motion through the
-    gradient adds a term of the same order, so this is an order-of-magnitude estimate.
+    In body axes a part at ``c`` moving at ``v = omega x c`` through the field sees
+    ``dB/dt = R^T (v . grad) B - omega x B = L omega`` with ``L = [B0]x - G [c]x`` (``B0`` and
+    ``G`` the field and its gradient at the part, body axes): its largest value over the
+    directions of omega is the spectral norm of L, maximised here over
+    :data:`RESPONSE_ORIENTATIONS` orientations. Without the gradient it is ``max |B|^2``.
+    """
+    fld = AxisymmetricField(tuple(legendre))
+    centres = np.asarray(centres, dtype=float).reshape(-1, 3)
+    out = np.zeros(len(centres))
+    if fld.is_zero or not len(centres):
+        return out
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+    for start in range(0, len(centres), 16):
+        c = centres[start : start + 16]
+        b0 = -fld.gradient_body(c, gammas)  # (m, k, 3)
+        g = -fld.hessian_body(c, gammas)  # (m, k, 3, 3)
+        lin = _skew(b0) - np.einsum("mkij,kjl->mkil", g, _skew(c))
+        norms = np.linalg.norm(lin, ord=2, axis=(-2, -1))  # (m, k)
+        out[start : start + 16] = np.max(norms, axis=0) ** 2
+    return out
+
+
+def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
+    """Eddy-current torque of each part set turning at ``rate`` through the field (N m).
+
+    A conducting sphere (radius a, a shell: ``a^5 - b^5``; skin depth much larger than the
+    part) in a field changing uniformly at ``dB/dt`` carries ``E = -(dB/dt) x rho / 2`` and
+    dissipates ``(2 pi / 15) sigma |dB/dt|^2 a^5``; over ``|omega|`` that is the damping
+    torque ``(2 pi / 15) sigma |omega| max|L|^2 a^5`` (:func:`eddy_rate_squared`: the part's
+    rotation in B and its motion through the gradient). Spinning in a uniform B this is the
+    slow-rotation limit of the rotating sphere (:func:`eddy_torque`, whose dissipated power
+    it bounds from above). Dropped: the current quadratic in rho, ``(a / |c|)^2`` smaller.
     """
     out = np.zeros(len(parts))
     if not legendre:
@@ -122,9 +149,30 @@ def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]
     for k, part in enumerate(parts):
         if part["sigma"] is None:
             continue
-        b = field_magnitude_max(tuple(legendre), np.linalg.norm(part["centres"], axis=1))
-        out[k] = float(np.sum(2.0 * np.pi / 15.0 * rate * b**2 * _eddy_weight(part)))
+        b2 = eddy_rate_squared(tuple(legendre), part["centres"])
+        out[k] = float(np.sum(2.0 * np.pi / 15.0 * rate * b2 * _eddy_weight(part)))
     return out
+
+
+def holder_eddy_torque(legendre: tuple[float, ...], holder: dict[str, Any] | None, rate: float):
+    """An upper bound of the eddy torque on a conducting holder (a sphere of radius R about
+    O), N m: with ``v x B = (omega x rho) x (B0 + G rho)`` the dissipated power is at most
+    ``sigma int |v x B|^2`` (the current is the projection of ``sigma v x B`` on the
+    divergence-free fields), so ``tau <= 4 pi sigma |omega| (B0^2 R^5 / 5 + B0 G R^6 / 3 +
+    G^2 R^7 / 7)`` with ``B0 = |B(O)|`` and ``G`` the largest singular value of the gradient
+    at O. 0 without a holder or its conductivity; the bores are not subtracted (a bound)."""
+    if not holder or not legendre or not holder.get("conductivity_S_per_m"):
+        return 0.0
+    fld = AxisymmetricField(tuple(legendre))
+    if fld.is_zero:
+        return 0.0
+    origin = np.zeros((1, 3))
+    axis = np.array([[0.0, 0.0, 1.0]])
+    b0 = float(np.linalg.norm(fld.gradient_body(origin, axis)[0, 0]))
+    g = float(np.linalg.norm(fld.hessian_body(origin, axis)[0, 0], ord=2))
+    r = float(holder["radius_m"])
+    sigma = float(holder["conductivity_S_per_m"])
+    return 4 * math.pi * sigma * rate * (b0**2 * r**5 / 5 + b0 * g * r**6 / 3 + g**2 * r**7 / 7)
 
 
 def _eddy_weight(part: dict[str, Any]) -> np.ndarray:

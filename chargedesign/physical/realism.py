@@ -55,6 +55,7 @@ from chargedesign.physical.parasitics import (
     balance_offset,
     balance_torque,
     eddy_torques_by_set,
+    holder_eddy_torque,
     induced_energies_by_set,
     laminar_drag,
     larmor_power,
@@ -270,8 +271,9 @@ def _eddy_note(
     """What the eddy fraction measures, how fast it damps, the parts not counted."""
     unknown_sigma = sorted({f"{p['role']} {p['name']}" for p in parts if p["sigma"] is None})
     note = (
-        "eddy-current torque of the conducting parts turning in their local |B| "
-        f"((2 pi / 15) sigma |omega| B^2 (a^5 - b^5) each; largest: "
+        "eddy-current torque of the conducting parts turning in the field and moving through "
+        "its gradient ((2 pi / 15) sigma |omega| max|L|^2 (a^5 - b^5) each, dB/dt = L omega = "
+        "R^T (v . grad) B - omega x B; a conducting holder by its bound; largest: "
         f"{_largest_part(parts, eddy, 'sigma')}) over the designed torques"
     )
     if damping >= RESPONSE_FRACTION:
@@ -300,10 +302,12 @@ def field_response(design: Any) -> dict[str, Any]:
     energies = induced_energies_by_set(legendre, parts)
     energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
     eddy = eddy_torques_by_set(legendre, parts, rate)
+    total_eddy = float(np.sum(eddy)) + holder_eddy_torque(
+        legendre, getattr(design, "holder", None), rate
+    )
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
-    damping = float(np.sum(eddy)) / torque
+    damping = total_eddy / torque
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
-    total_eddy = float(np.sum(eddy))
     periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
     induced_note = _induced_note(induced, energy, parts)
     eddy_note = _eddy_note(damping, eddy, parts, periods)

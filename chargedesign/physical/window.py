@@ -11,7 +11,7 @@ item                        parasitic                                          o
 each realised term of V, mu  range over orientations (V), ``|omega| |mu|``      ``x^2``
 induced magnetisation        range of ``-sum chi v |B|^2 / 2 mu0``: magnets      per set: ``x^0``
                              ``x^2``, other parts ``x^0``                        or ``x^-2``
-eddy currents                ``(2 pi/15) sigma omega B^2 a^5``: ``x`` times      ``x^(7/3)``,
+eddy currents                ``(2 pi/15) sigma omega |L|^2 a^5``: ``x`` times    ``x^(7/3)``,
                              ``a^5``, magnets' ``a^5 ~ x^(10/3)``                ``x^-1``
 gravity on the balance       ``M g delta`` (``delta`` = 0.1 um, sourced)         ``x^-2``
 drag in the medium           ``8 pi mu R^3 omega``                               ``x^-1``
@@ -53,6 +53,7 @@ from chargedesign.physical.parasitics import (
     RESPONSE_ORIENTATIONS,
     balance_torque,
     eddy_torques_by_set,
+    holder_eddy_torque,
     induced_energies_by_set,
     laminar_drag,
     larmor_power,
@@ -151,17 +152,20 @@ def _induced_item(design: Any, parts: list[dict[str, Any]], legendre, term: floa
 
 
 def _eddy_item(design: Any, parts: list[dict[str, Any]], legendre, term: float) -> Parasitic:
-    torques = eddy_torques_by_set(legendre, parts, typical_rate(design.parameters))
+    rate = typical_rate(design.parameters)
+    torques = eddy_torques_by_set(legendre, parts, rate)
+    holder = holder_eddy_torque(legendre, getattr(design, "holder", None), rate)
     power = _set_exponents(parts, 1.0 + MAGNET_RADIUS5_EXPONENT, 1.0)
 
     def ratio(x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float)
-        return (x[:, None] ** power[None, :]) @ torques / (term * x**2)
+        return ((x[:, None] ** power[None, :]) @ torques + x * holder) / (term * x**2)
 
     return Parasitic(
         "eddy",
         "eddy currents",
-        "(2 pi / 15) sigma |omega| B^2 a^5: ~ s for fixed parts, s^(13/3) for the magnets",
+        "(2 pi / 15) sigma |omega| max|L|^2 a^5 (dB/dt = L omega: the rotation in B and the "
+        "motion through the gradient): ~ s for fixed parts, s^(13/3) for the magnets",
         ratio,
     )
 
