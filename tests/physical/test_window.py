@@ -78,8 +78,11 @@ def test_the_laws_of_one_body_are_the_parasitics_of_a_body_designed_at_another_r
     law = window_model(chaplygin_bodies[1.0], 1.0).ratios(0.25)
     own = window_model(chaplygin_bodies[0.25], 0.25).ratios(0.25)
     assert set(law) == {"induced", "eddy", "gravity", "relativistic", "coil_harmonics"}
-    for key in ("eddy", "gravity", "relativistic", "coil_harmonics"):
+    for key in ("eddy", "relativistic", "coil_harmonics"):
         assert own[key] == pytest.approx(law[key], rel=1e-6), key
+    # the smaller magnets' own inertia is smaller, and the ballast that makes up for it
+    # moves the total mass by a few 1e-4 (the law keeps the parts' masses)
+    assert own["gravity"] == pytest.approx(law["gravity"], rel=1e-3)
     # the ballast the smaller magnets leave is re-placed: 1 % in the induced range
     assert own["induced"] == pytest.approx(law["induced"], rel=0.02)
 
