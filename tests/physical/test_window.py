@@ -103,8 +103,9 @@ def outside_recheck(design: dict, fraction: float) -> dict[str, float]:
     """From design.json's written parts, by hand: the smallest realised term (the kappa term's
     range over the sphere, 2 C kappa sqrt(c^2 + d^2)), the induced energy's range over
     orientations (the eigenvalues of sum chi v r r^T: |B|^2 = 4 a2^2 (r^2 + 3 (r . gamma)^2)
-    for Phi = a2 (3 Z^2 - R^2)) and the eddy torque (2 pi / 15) sigma omega B^2 a^5 with the
-    largest |B| = 4 a2 r and omega = 2 sqrt(kappa)."""
+    for Phi = a2 (3 Z^2 - R^2)) and the eddy torque (2 pi / 15) sigma omega |L|^2 a^5 with
+    the largest |dB/dt| / omega = |L| = 6 a2 r (the rotation in |B| <= 4 a2 r and the motion
+    through the gradient, docs/buildable.md) and omega = 2 sqrt(kappa)."""
     p = design["parameters"]
     a1, f2 = design["fields"]["magnetic"]["legendre"]
     assert a1 == 0.0
@@ -137,7 +138,7 @@ def outside_recheck(design: dict, fraction: float) -> dict[str, float]:
                 / 15
                 * m["conductivity_S_per_m"]
                 * omega
-                * (4 * a2 * np.linalg.norm(r, axis=1)) ** 2
+                * (6 * a2 * np.linalg.norm(r, axis=1)) ** 2
                 * np.cbrt(3 * v / (4 * math.pi)) ** 5
             )
         )
