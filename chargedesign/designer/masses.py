@@ -213,9 +213,9 @@ def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0)
 
 def _program_masses(
     setup: PhysicalSetup, s: float, program: MassProgram
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
-    """The solved program's moments, polished on their support (3 n,), which sites keep a
-    magnet, and its masses: per site (n,), as solved on the program's sites, and the largest."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The solved program's moments, polished on their support (3 n,), and its masses: per
+    site (n,), as solved on the program's sites, and the largest."""
     sites = program.sites
     sigma = np.asarray(program.sigma.value) * program.sigma_scale
     mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale

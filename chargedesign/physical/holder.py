@@ -176,16 +176,16 @@ def parts_from_arrays(
             masses.append(float(mass[i]))
             layers.append(_magnet_layers(float(mass[i]), float(volume[i]), density, attached))
     if ballast is not None:
-        pos, mass, density = ballast
+        pos, mass, rho = ballast
         for i in range(len(mass)):
             out_names.append(names[2][i] if names else f"ballast {i}")
             centres.append(np.asarray(pos[i], float))
             masses.append(float(mass[i]))
-            if not math.isfinite(density[i]):  # no material written: a point
+            if not math.isfinite(rho[i]):  # no material written: a point
                 layers.append([])
                 continue
-            radius = float(sphere_radius(mass[i] / density[i]))
-            layers.append([(float(density[i]), 0.0, radius)])
+            radius = float(sphere_radius(mass[i] / rho[i]))
+            layers.append([(float(rho[i]), 0.0, radius)])
     return PartSpheres(
         out_names,
         np.array(centres, dtype=float).reshape(-1, 3),
