@@ -233,6 +233,48 @@ def _program_masses(
     return full_sigma, full_mass, mass, top_mass
 
 
+#: the program is solved again while its parts change the correction by more than this
+PROGRAM_SETTLED = 1e-8
+#: solves of the program at most (the correction contracts by about 1e-2 a solve)
+MAX_PROGRAMS = 6
+
+
+def _fixed_point(
+    terms: WholeTerms,
+    kappa: float,
+    Am: np.ndarray,
+    rows: np.ndarray,
+    full_mass: np.ndarray,
+    sites: np.ndarray,
+    chooser: np.ndarray,
+    top_mass: float,
+    correction: np.ndarray,
+    n: int,
+    full_sigma: np.ndarray,
+) -> tuple[np.ndarray, Convergence, np.ndarray]:
+    """Rounds of the least-norm polish on the support (the sites ``chooser`` picks by size)
+    with the correction of the last round's parts, until it settles."""
+    carriers_rows = terms.b - rows if len(rows) else rows
+    convergence = Convergence()
+    for rounds in range(1, MAX_ROUNDS + 1):
+        # the correction goes to the heavy sites only, so that light ones (and magnets) keep
+        # their sign and their bound: relative changes there are ~ the solver's residual. A
+        # robust design spreads its masses, so the heaviest few may not span the mass rows:
+        # lighter sites then join, as long as every mass stays nonnegative.
+        full_mass = _polish_masses(
+            kappa * Am, rows - correction, full_mass, sites, chooser, top_mass
+        )
+        fresh = terms.correction(
+            terms.parts(full_sigma.reshape(n, 3), full_mass),
+            kappa * Am @ full_mass + carriers_rows,
+        )
+        convergence = Convergence(rounds, terms.change(fresh, correction))
+        correction = fresh
+        if convergence.change <= CONVERGED:
+            break
+    return full_mass, convergence, correction
+
+
 def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
     """Magnets and ballast at rate ``s`` around the given carriers (see the module doc), with
     every part's own inertia and the holder's (:mod:`chargedesign.designer.whole_inertia`)."""
@@ -243,41 +285,43 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     program = _solved_mass_program(setup, s, carrier_sites, terms, correction)
     full_sigma, full_mass, mass, top_mass = _program_masses(setup, s, program)
     # the program again with the correction of its own parts (the cells' room then holds
-    # for the parts' true sizes), then the fixed point on its support
+    # for the parts' true sizes) until it settles, then the fixed point on its support
     Am, bm = setup.systems["masses"]
-    carriers_rows = bm - program.rhs_masses - (0.0 if correction is None else correction)
-    fresh = terms.correction(
-        terms.parts(full_sigma.reshape(n, 3), full_mass), kappa * Am @ full_mass + carriers_rows
-    )
-    if terms.change(fresh, correction) > 1e-9:
+    carriers_rows = bm - program.rhs_masses - correction
+    for _ in range(MAX_PROGRAMS):
+        fresh = terms.correction(
+            terms.parts(full_sigma.reshape(n, 3), full_mass),
+            kappa * Am @ full_mass + carriers_rows,
+        )
+        if terms.change(fresh, correction) <= PROGRAM_SETTLED:
+            break
         correction = fresh
         terms.restart()
         program = _solved_mass_program(setup, s, carrier_sites, terms, correction)
         full_sigma, full_mass, mass, top_mass = _program_masses(setup, s, program)
     terms.restart()
     sites = program.sites
-    convergence = Convergence()
-    for rounds in range(1, MAX_ROUNDS + 1):
-        rhs = bm - carriers_rows - correction
-        # the correction goes to the heavy sites only, so that light ones (and magnets) keep
-        # their sign and their bound: relative changes there are ~ the solver's residual. A
-        # robust design spreads its masses, so the heaviest few may not span the mass rows:
-        # lighter sites then join, as long as every mass stays nonnegative.
-        full_mass = _polish_masses(kappa * Am, rhs, full_mass, sites, mass, top_mass)
-        fresh = terms.correction(
-            terms.parts(full_sigma.reshape(n, 3), full_mass),
-            kappa * Am @ full_mass + carriers_rows,
+    # a magnet at its floor (no attached ballast to give) keeps its mass: the rounds' changes
+    # go to the sites that can take them (every site when those alone cannot)
+    floor = _magnet_mass(setup, full_sigma.reshape(n, 3)[sites])
+    movable = np.where(mass > floor * (1 + 1e-4), mass, 0.0)
+    start = full_mass
+    for chooser in (movable, mass):
+        full_mass, convergence, correction = _fixed_point(
+            terms,
+            kappa,
+            Am,
+            bm - carriers_rows,
+            start,
+            sites,
+            chooser,
+            top_mass,
+            correction,
+            n,
+            full_sigma,
         )
-        convergence = Convergence(rounds, terms.change(fresh, correction))
-        correction = fresh
-        if convergence.change <= CONVERGED:
+        if terms.residual(terms.parts(full_sigma.reshape(n, 3), full_mass)) <= 1e-13:
             break
-    else:
-        if convergence.change > 1e3 * CONVERGED:
-            raise SolverError(
-                "masses: the parts' own inertia and the holder's did not converge in "
-                f"{MAX_ROUNDS} rounds (last change {fmt(convergence.change)} of the rows)"
-            )
     Ad, bd = setup.systems["dipoles"]
     sig = full_sigma.reshape(n, 3)[sites]
     m = full_mass[sites]
