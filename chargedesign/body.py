@@ -70,6 +70,7 @@ RECORD_KEYS = (
     "larmor_why",
     "inertia",
     "holder",
+    "support",
 )
 
 
@@ -151,6 +152,8 @@ class Design(ElementSet):
     #: holder.whole_inertia) and the holder (its material, radius, bores), or None
     inertia: JSONObject | None = None
     holder: JSONObject | None = None
+    #: how the body is held and whether its support passes (physical.support.support_record)
+    support: JSONObject | None = None
     further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:

@@ -26,6 +26,7 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
+from chargedesign.physical.support import support_lines
 from chargedesign.scene.design_realism import (
     RESPONSE_FRACTION,
     RealismRecord,
@@ -265,6 +266,7 @@ def render_report(
         ]
     if record is not None:
         lines += _physical_sections(design, record)
+    lines += flight_lines(design.support)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
@@ -272,6 +274,16 @@ def render_report(
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
     return "\n".join(lines) + "\n"
+
+
+def flight_lines(support: dict[str, Any] | None) -> list[str]:
+    """The "Flight" section: the support's items and, in free fall, the release, its
+    tolerance and what the cameras would show (``design.support``, docs/flight.md)."""
+    if not support:
+        return []
+    flight = support.get("flight") or {}
+    lines = [f"- {x}" for x in flight.get("lines", [])]
+    return ["", "## Flight", "", *support_lines(support), *lines]
 
 
 def _larmor_lines(design: Design) -> list[str]:

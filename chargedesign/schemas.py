@@ -271,6 +271,8 @@ _TABLE_DESCRIPTIONS = {
     "(docs/workbench.md)",
     "testbed": "the air-bearing testbed (docs/testbed.md): platform, ballast, wheels, "
     "sampled loop, sensors, disturbances, requirements",
+    "support": "how the body is held: free fall in a drop tower, orbit, an air bearing or an "
+    "electrostatic suspension (docs/flight.md)",
 }
 
 

@@ -82,7 +82,14 @@ SCENE_TABLES = (
     "tolerance",
     "testbed",
     "case",
+    "support",
 )
+
+#: how the body is held (the ``[support]`` table, docs/flight.md): in free fall, in orbit, on
+#: a full-sphere air bearing, or suspended electrostatically (like Gravity Probe B's rotors)
+SUPPORT_STYLES = ("free_fall", "orbit", "air_bearing", "electrostatic")
+#: the free-fall facilities the support knows (ZARM's Bremen Drop Tower: a drop, the catapult)
+SUPPORT_FACILITIES = ("drop_tower_drop", "drop_tower_catapult")
 
 #: the keys of a ``[case]`` table (a case of (ep), docs/workbench.md), in the order
 #: chargedesign.scene.keys declares them; ``source`` and ``note`` are the catalogue's additions
@@ -168,5 +175,7 @@ __all__ = [
     "SOLVE_IVP_METHODS",
     "SOURCES",
     "STATE_NAMES",
+    "SUPPORT_FACILITIES",
+    "SUPPORT_STYLES",
     "SWEEP_EXECUTORS",
 ]

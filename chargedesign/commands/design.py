@@ -34,6 +34,7 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
+from chargedesign.flight.record import add_flight
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
 from chargedesign.report import plausibility, render_report
@@ -76,6 +77,7 @@ def run(args: argparse.Namespace) -> int:
     if not design.continuous:
         progress("tolerances (exact first-order sensitivity of every element) ...")
         design.tolerance = tolerance_report(design).to_dict()
+    add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
     out = Path(args.out)
     physical = design.medium is not None
     files = (

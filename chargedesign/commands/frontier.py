@@ -31,6 +31,7 @@ from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
+from chargedesign.physical.support import scene_window_gravity
 from chargedesign.scene import load_theorem_scene
 
 
@@ -58,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
         scene.design.realised_fraction
         if args.realised_fraction is None
         else args.realised_fraction,
-        scene.design.realised_gravity if args.realised_gravity is None else args.realised_gravity,
+        scene_window_gravity(scene) if args.realised_gravity is None else args.realised_gravity,
     )
     if args.scan:
         scan = scan_frontier(scene, progress=progress)
