@@ -57,6 +57,7 @@ from chargedesign.validation import (
     check_realise_agrees,
     check_robust_parameters,
 )
+from chargedesign.verdict import verdict_record
 
 
 def design_source(
@@ -514,6 +515,7 @@ def design_from_scene(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
+    result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
 
 
