@@ -74,6 +74,8 @@ RECORD_KEYS = (
     "frontier",
     "tolerance",
     "larmor_why",
+    "inertia",
+    "holder",
     "support",
     "verdict",
 )
@@ -163,6 +165,10 @@ class Design(ElementSet):
     frontier: JSONObject | None = None
     tolerance: JSONObject | None = None
     larmor_why: str | None = None
+    #: the whole inertia about O (points, the parts' own, the holder's; chargedesign.physical.
+    #: holder.whole_inertia) and the holder (its material, radius, bores), or None
+    inertia: JSONObject | None = None
+    holder: JSONObject | None = None
     #: how the body is held and whether its support passes (physical.support.support_record)
     support: JSONObject | None = None
     #: the verdict, judged once when the design is accepted (chargedesign.verdict)

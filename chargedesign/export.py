@@ -1,5 +1,13 @@
 """Export and import a design's geometry: JSON (canonical), CSV (tables), VTK PolyData (.vtp).
 
+- ``stl`` and ``step``: the holder (design.json ``holder``, :mod:`chargedesign.physical.
+  holder`), write-only. STL (ASCII, metres: every ``solid`` line says ``units=m``): the
+  holder's outer sphere (outward normals) and one closed shell per bore (inward normals), each
+  bore a ``solid`` named after its part; each shell's vertices are scaled so that its volume
+  is the sphere's, so the mesh encloses exactly the recorded ``volume_m3``; a sidecar
+  ``PATH.bores.json`` lists the bores. STEP (ISO 10303-21, millimetres) through build123d, the
+  optional extra ``[cad]``: the holder as one solid (the sphere less its bores) and each part
+  as a named solid in its bore.
 - ``json``: the contract's ``design.json`` mapping (:meth:`Design.to_dict`), lossless.
 - ``csv``: a plain header row ``kind, x, y, z, value, mx, my, mz, design`` (``pandas.read_csv``
   and ``csv.DictReader`` read it as it is), then one row of kind ``design`` whose ``design``
@@ -38,6 +46,7 @@ import numpy as np
 from chargedesign.body import Design, read_design
 from chargedesign.errors import InputError
 from chargedesign.files import import_held, write_file_atomic
+from chargedesign.physical.holder import Holder
 
 # the reading half (a user's file: the boundary) and the names both halves use
 from chargedesign.readers import (
@@ -77,7 +86,16 @@ def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str])
         "csv": _write_csv,
         "vtp": _write_vtp,
         "vtu": _write_vtu,
+        "stl": _write_stl,
+        "step": _write_step,
     }
+    if fmt in HOLDER_FORMATS:
+        holder = _holder_of(design)
+        if fmt == "step":
+            _cad_module()  # refused before anything is written
+        if fmt == "stl":
+            sidecar = target.with_name(target.name + ".bores.json")
+            write_file_atomic(sidecar, lambda tmp: _write_bores(holder, tmp))
     write_file_atomic(target, lambda tmp: writers[fmt](design, tmp))
     return target
 
@@ -90,6 +108,8 @@ def import_design(path: str | os.PathLike[str]) -> Design:
     The round trip is exact: positions, values and moments come back bit-identical.
     """
     fmt = format_from_path(path)
+    if fmt in HOLDER_FORMATS:
+        raise InputError(f"{path}: a .{fmt} file holds the holder's shape only; read design.json")
     p = check_input_file(path, "file", MAX_DATA_BYTES)
     if fmt == "json":
         return check_case_record(read_design(p))
@@ -119,6 +139,140 @@ def check_case_record(design: Design) -> Design:
 
     case_from_table(record["table"], "design.case.table")
     return design
+
+
+# ---------------------------------------------------------------------------------------------
+# the holder: stl and step
+
+#: the formats that write the holder (not the design's elements)
+HOLDER_FORMATS = ("stl", "step")
+#: subdivisions of the icosahedron each sphere of the STL is made of (20 * 4^k facets)
+STL_SUBDIVISIONS = 3
+#: the optional extra that writes STEP
+CAD_EXTRA = "cad"
+
+
+def _holder_of(design: Design) -> Holder:
+    if not design.holder:
+        raise InputError(
+            "design: no holder in design.json (design it with a [holder] table) to export"
+        )
+    return Holder.from_record(design.holder)
+
+
+def icosphere(subdivisions: int = STL_SUBDIVISIONS) -> tuple[np.ndarray, np.ndarray]:
+    """Unit-sphere vertices (v, 3) and outward triangles (f, 3) of a subdivided icosahedron."""
+    t = (1.0 + 5.0**0.5) / 2.0
+    verts = [
+        (-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
+        (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1),
+    ]  # fmt: skip
+    faces = [
+        (0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
+        (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
+        (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1),
+    ]  # fmt: skip
+    points = [np.array(v, float) / np.linalg.norm(v) for v in verts]
+    for _ in range(subdivisions):
+        middle: dict[tuple[int, int], int] = {}
+        new = []
+        for a, b, c in faces:
+            ab, bc, ca = (_midpoint(points, middle, i, j) for i, j in ((a, b), (b, c), (c, a)))
+            new += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = new
+    return np.array(points), np.array(faces, dtype=int)
+
+
+def _midpoint(points: list[np.ndarray], middle: dict[tuple[int, int], int], i: int, j: int) -> int:
+    """The index of the unit vector between points i and j (added once per edge)."""
+    key = (min(i, j), max(i, j))
+    if key not in middle:
+        m = points[i] + points[j]
+        points.append(m / np.linalg.norm(m))
+        middle[key] = len(points) - 1
+    return middle[key]
+
+
+def _sphere_mesh(centre: np.ndarray, radius: float, inward: bool) -> np.ndarray:
+    """Triangles (f, 3, 3) of a sphere whose enclosed volume is exactly ``4/3 pi r^3``."""
+    unit, faces = icosphere()
+    tri = unit[faces]
+    volume = float(np.sum(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])))) / 6
+    scale = radius * (4.0 / 3.0 * np.pi / volume) ** (1.0 / 3.0)
+    tri = centre + scale * tri
+    return tri[:, ::-1] if inward else tri
+
+
+def _stl_solid(name: str, tri: np.ndarray) -> str:
+    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    lines = [f"solid {name}"]
+    for n, t in zip(normals, tri, strict=True):
+        lines.append(f"  facet normal {n[0]:.9g} {n[1]:.9g} {n[2]:.9g}")
+        lines.append("    outer loop")
+        lines += [f"      vertex {v[0]:.12g} {v[1]:.12g} {v[2]:.12g}" for v in t]
+        lines.append("    endloop")
+        lines.append("  endfacet")
+    lines.append(f"endsolid {name}")
+    return "\n".join(lines) + "\n"
+
+
+def _part_label(part: str) -> str:
+    return part.replace(" ", "_")
+
+
+def _write_stl(design: Design, path: Path) -> None:
+    holder = _holder_of(design)
+    text = _stl_solid(
+        f"holder units=m material={holder.material} radius_m={holder.radius!r}",
+        _sphere_mesh(np.zeros(3), holder.radius, inward=False),
+    )
+    for centre, radius, part in zip(
+        holder.bore_centres, holder.bore_radii, holder.bore_parts, strict=True
+    ):
+        text += _stl_solid(
+            f"bore part={_part_label(part)} units=m radius_m={float(radius)!r}",
+            _sphere_mesh(centre, float(radius), inward=True),
+        )
+    path.write_text(text, encoding="ascii")
+
+
+def _write_bores(holder: Holder, path: Path) -> None:
+    record = {"units": "m", **holder.record()}
+    path.write_text(json.dumps(record, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+
+
+def _cad_module() -> Any:
+    """build123d, the optional extra ``[cad]`` (imported here: it is large and optional)."""
+    try:
+        import build123d
+    except ImportError:
+        raise InputError(
+            f"--format step needs the optional extra: pip install 'chargedesign[{CAD_EXTRA}]' "
+            "(build123d)"
+        ) from None
+    return build123d
+
+
+def _write_step(design: Design, path: Path) -> None:
+    cad = _cad_module()
+    holder = _holder_of(design)
+    mm = 1e3
+    body = cad.Solid.make_sphere(holder.radius * mm)
+    parts = []
+    for centre, radius, part in zip(
+        holder.bore_centres, holder.bore_radii, holder.bore_parts, strict=True
+    ):
+        sphere = cad.Pos(*(float(x) * mm for x in centre)) * cad.Solid.make_sphere(
+            float(radius) * mm
+        )
+        body = body - sphere
+        sphere.label = _part_label(part)
+        parts.append(sphere)
+    body.label = f"holder_{holder.material}"
+    compound = cad.Compound(children=[body, *parts])
+    compound.label = "chargedesign_holder"
+    cad.export_step(compound, str(path), unit=cad.Unit.MM)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -306,6 +306,7 @@ _TABLE_DESCRIPTIONS = {
     "carriers": "the charge carriers (material or density, wall, surface samples)",
     "magnets": "the magnets (material, or magnetisation and density; coercivity)",
     "ballast": "the ballast masses (material or a list of materials, or density)",
+    "holder": "the holder: a sphere about O with a bore for each part (its material)",
     "tolerance": "the materials' relative property errors (one standard deviation, one draw "
     "per material) that tolerance analyses",
     "case": "any case of (ep) with its claimed integral, instead of [parameters] "

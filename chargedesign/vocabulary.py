@@ -79,7 +79,7 @@ OBJECTIVES = ("l1", "l2", "linf", "robust")
 BODY_SHAPES = ("ball", "box", "cylinder", "shell", "points", "mesh")
 
 #: export formats of ``chargedesign export``
-EXPORT_FORMATS = ("json", "csv", "vtp", "vtu")
+EXPORT_FORMATS = ("json", "csv", "vtp", "vtu", "stl", "step")
 
 #: the scene tables every stage may read (CONTRACT.md, and the physical tables of the limits)
 SCENE_TABLES = (
@@ -94,6 +94,7 @@ SCENE_TABLES = (
     "carriers",
     "magnets",
     "ballast",
+    "holder",
     "tolerance",
     "testbed",
     "case",

@@ -188,7 +188,7 @@ def test_vtp_arrays_read_by_pyvista(tmp_path):
 def test_format_from_the_extension_and_bad_formats(tmp_path):
     design = sample_design(continuous=False)
     assert export.export_design(design, None, tmp_path / "a.CSV").read_text().startswith("kind")
-    with pytest.raises(InputError, match="format: expected one of json, csv, vtp, vtu, got 'xml'"):
+    with pytest.raises(InputError, match="format: expected one of json, csv, vtp, vtu, stl, step"):
         export.export_design(design, "xml", tmp_path / "a.xml")
     with pytest.raises(InputError, match=r"expected a file name ending in \.json, \.csv, \.vtp"):
         export.export_design(design, None, tmp_path / "a.txt")
@@ -254,7 +254,8 @@ def test_export_command_writes_each_format(tmp_path, capsys, fmt):
     ("args", "fragment"),
     [
         (["design.json", "--out", "x.txt"], "x.txt: format: expected a file name ending in"),
-        (["design.json", "--format", "stl", "--out", "x.stl"], "format: expected one of json"),
+        (["design.json", "--format", "obj", "--out", "x.obj"], "format: expected one of json"),
+        (["design.json", "--format", "stl", "--out", "x.stl"], "no holder in design.json"),
         (["none.json", "--out", "x.json"], "none.json: no such design file"),
         (["design.json", "--out", "nowhere/x.vtp"], "directory nowhere does not exist"),
     ],
@@ -276,3 +277,96 @@ def test_exported_files_get_the_usual_permissions(tmp_path):
     os.umask(mask)
     path = export.export_design(sample_design(continuous=False), "csv", tmp_path / "body.csv")
     assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~mask
+
+
+# --- the holder: stl and step ------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def held_design(tmp_path_factory):
+    """A body with a PMI-foam holder (tests/physical/holder.toml), designed at s = 1."""
+    from pathlib import Path
+
+    from chargedesign.designer.assembly import design_physical
+    from chargedesign.designer.pipeline import physical_setup_from_scene
+    from chargedesign.scene import load_scene
+
+    scene = Path(__file__).parent / "physical" / "holder.toml"
+    return design_physical(physical_setup_from_scene(load_scene(scene))).design
+
+
+def _stl_solids(text):
+    """{solid line: triangles (f, 3, 3)} of an ASCII STL."""
+    solids, name, tri = {}, None, []
+    for line in text.splitlines():
+        words = line.split()
+        if words[0] == "solid":
+            name, tri = line[len("solid ") :], []
+        elif words[0] == "vertex":
+            tri.append([float(w) for w in words[1:]])
+        elif words[0] == "endsolid":
+            solids[name] = np.array(tri).reshape(-1, 3, 3)
+    return solids
+
+
+def _closed(tri):
+    """Every edge of the shell is met twice, once each way (closed and oriented)."""
+    keys = [tuple(np.round(v, 12)) for v in tri.reshape(-1, 3)]
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    faces = np.array([index[k] for k in keys]).reshape(-1, 3)
+    edges = {}
+    for a, b, c in faces:
+        for e in ((a, b), (b, c), (c, a)):
+            edges[e] = edges.get(e, 0) + 1
+    return all(n == 1 and edges.get((j, i)) == 1 for (i, j), n in edges.items())
+
+
+def test_holder_stl_is_closed_and_encloses_the_recorded_volume(held_design, tmp_path):
+    path = export.export_design(held_design, "stl", tmp_path / "holder.stl")
+    solids = _stl_solids(path.read_text("ascii"))
+    holder = held_design.holder
+    assert len(solids) == 1 + len(holder["bores"])
+    assert all("units=m" in name for name in solids)
+    volume = 0.0
+    for tri in solids.values():
+        assert _closed(tri)
+        volume += np.sum(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))) / 6
+    assert volume == pytest.approx(holder["volume_m3"], rel=1e-2)
+    assert volume == pytest.approx(holder["volume_m3"], rel=1e-9)  # each shell scaled to it
+    # each bore names its part, in the solid's name and in the sidecar
+    parts = {b["part"].replace(" ", "_") for b in holder["bores"]}
+    assert {n.split()[1].removeprefix("part=") for n in solids if n.startswith("bore")} == parts
+    sidecar = json.loads((tmp_path / "holder.stl.bores.json").read_text())
+    assert sidecar["units"] == "m" and sidecar["bores"] == holder["bores"]
+
+
+def test_holder_step_names_every_part(held_design, tmp_path):
+    pytest.importorskip("build123d")
+    path = export.export_design(held_design, "step", tmp_path / "holder.step")
+    text = path.read_text("utf-8", errors="replace")
+    assert text.startswith("ISO-10303-21;")
+    for bore in held_design.holder["bores"]:
+        assert f"PRODUCT('{bore['part'].replace(' ', '_')}'" in text
+
+
+def test_step_without_the_extra_is_one_line(held_design, tmp_path, monkeypatch):
+    import builtins
+
+    real = builtins.__import__
+
+    def no_cad(name, *args, **kwargs):
+        if name == "build123d":
+            raise ImportError("no build123d")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_cad)
+    with pytest.raises(InputError, match=r"pip install 'chargedesign\[cad\]'") as info:
+        export.export_design(held_design, "step", tmp_path / "holder.step")
+    assert "\n" not in str(info.value)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_holder_files_are_not_read_back(held_design, tmp_path):
+    path = export.export_design(held_design, "stl", tmp_path / "holder.stl")
+    with pytest.raises(InputError, match="holds the holder's shape only"):
+        export.import_design(path)

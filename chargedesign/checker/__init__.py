@@ -93,6 +93,7 @@ from chargedesign.checker.double_double import (
     two_prod,
     two_sum,
 )
+from chargedesign.checker.inertia import inertia_accurate
 from chargedesign.checker.kernel import (
     POTENTIAL_EFFECTS,
     Elements,
@@ -129,7 +130,6 @@ from chargedesign.checker.verdict import (
     effect_results,
     field_bounds,
     fitted_torque,
-    inertia_accurate,
     orientation_norms,
     quantity_verdict,
     relative_error,

@@ -29,8 +29,8 @@ from chargedesign.checker.constants import (
 )
 from chargedesign.checker.double_double import (
     DD_UNIT,
-    DoubleDouble,
 )
+from chargedesign.checker.inertia import whole_inertia_check
 from chargedesign.checker.kernel import (
     Elements,
     RotatedSums,
@@ -333,7 +333,10 @@ def check_design(
     evaluated = evaluate_quantities(elements, fields, gammas, omegas, sums, accurate, block_pairs)
     notes: list[str] = []
     quantities = compare_quantities(evaluated, refs, plan, gammas, claimed, tol, notes)
-    inertia, inertia_gross = inertia_accurate(elements.mass_positions, elements.mass_values)
+    # the whole inertia: the points, every part's own and the holder's (checker.inertia)
+    inertia, inertia_gross, compared = whole_inertia_check(design, elements)
+    if compared:
+        notes.append(_inertia_note(compared))
     quantities["inertia"] = inertia_result(
         inertia, inertia_gross, params, claimed, tol, None if case is None else case.inertia
     )
@@ -630,6 +633,17 @@ def inertia_result(
     )
 
 
+def _inertia_note(compared: dict[str, Any]) -> str:
+    """How the recomputed whole inertia compares with design.json's record."""
+    return (
+        "inertia: recomputed from the written parts (points, each part's own "
+        f"{fmt(compared['parts_own_kg_m2'])} kg m^2"
+        + (", the holder less its bores" if compared["holder"] else ", no holder")
+        + f"); design.json's inertia.total_kg_m2 agrees to "
+        f"{fmt(compared['recorded_vs_recomputed'], ORDER_SCI)} relative"
+    )
+
+
 def design_notes(design: Design, params: Any, claimed: set[str]) -> list[str]:
     """Notes on what the design cannot realise, claims nothing, or reads in turning axes."""
     notes = []
@@ -658,22 +672,6 @@ def larmor_summary(design: Design, params: Any) -> dict[str, Any] | None:
         "rate": design.larmor.rate,
         "checked_n": params.n,
     }
-
-
-def inertia_accurate(positions: np.ndarray, masses: np.ndarray) -> tuple[np.ndarray, float]:
-    """``sum m (|r|^2 1 - r r^T)`` summed in double-double, and ``sum m |r|^2`` (kg m^2)."""
-    r = [positions[:, i] for i in range(3)]
-    out = np.zeros((3, 3))
-    for i in range(3):
-        for j in range(i, 3):
-            if i == j:
-                a, b = r[(i + 1) % 3], r[(i + 2) % 3]
-                entry = (DoubleDouble(masses) * a) * a + (DoubleDouble(masses) * b) * b
-            else:
-                entry = -((DoubleDouble(masses) * r[i]) * r[j])
-            out[i, j] = out[j, i] = float(entry.total(-1).to_float())
-    gross = float(np.abs(masses) @ np.einsum("ij,ij->i", positions, positions))
-    return out, gross
 
 
 def _resolved(size: float, gross: float, unit: float) -> bool:

@@ -32,9 +32,11 @@ from chargedesign.formatting import PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.params import Parameters
 from chargedesign.physical.budget import realism_record
+from chargedesign.physical.holder import design_parts, holder_for, whole_inertia
 from chargedesign.physical.limits import (
     check_limits,
 )
+from chargedesign.physical.materials import Material
 from chargedesign.scene.design import Progress
 
 
@@ -103,9 +105,22 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     )
     design.field_limits = dict(spec.field_limits)
     design.time_rate = s
+    whole_record(design, spec.holder, ms)
     if spec.material_errors:
         design.material_errors = dict(spec.material_errors)
     return design
+
+
+def whole_record(design: Design, material: Material | None, masses: MassSolution) -> None:
+    """Write the holder (of ``material``, at the radius the design converged to; none without
+    a material) and the whole inertia about O into ``design``."""
+    holder = None
+    if material is not None:
+        holder = holder_for(material, design_parts(design), masses.holder_radius)
+        design.holder = holder.record()
+    design.inertia = whole_inertia(design, holder)
+    if masses.convergence is not None:
+        design.inertia["convergence"] = masses.convergence.to_dict()
 
 
 def _source_result(

@@ -25,6 +25,7 @@ from chargedesign.designer.physical_setup import (
     row_scaled,
 )
 from chargedesign.designer.system import relative_residual
+from chargedesign.designer.whole_inertia import CONVERGED, MAX_ROUNDS, Convergence, WholeTerms
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.induced import induced_rows
@@ -45,6 +46,9 @@ class MassSolution:
     #: -1 for a magnet), and the induced-magnetisation rows' relative residual
     materials: np.ndarray | None = None
     residual_induced: float | None = None
+    #: how the whole inertia's fixed point ended, and the holder's radius (None: no holder)
+    convergence: Convergence | None = None
+    holder_radius: float | None = None
 
 
 @dataclass
@@ -69,8 +73,18 @@ def _unknown_scale(A: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(b[ok]) / top[ok])) if np.any(ok) else 0.0
 
 
-def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+def mass_program(
+    setup: PhysicalSetup,
+    s: float,
+    carrier_sites: np.ndarray,
+    correction: np.ndarray | None = None,
+    kappa: float = 1.0,
+) -> MassProgram:
     """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
+
+    ``correction`` (the mass rows' whole-inertia terms, :mod:`chargedesign.designer.
+    whole_inertia`) is taken off the right-hand side and the free sites' columns are scaled by
+    ``kappa`` (what a kilogram adds in the holder's bore); the default is the point masses.
 
     Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
     constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled).
@@ -86,6 +100,9 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
     Am, bm = setup.systems["masses"]
     bd = s * s * bd
     bm = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    if correction is not None:
+        bm = bm - correction
+    Am = kappa * Am
     M, rho_m, rho_b = spec.magnet.magnetisation or 1.0, spec.magnet.density, spec.ballast.density
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[sites] ** 3 * (1 - DESIGN_MARGIN)
     mass_scale = _unknown_scale(Am[:, sites], bm) or float(np.max(v_cap)) * rho_b
@@ -126,7 +143,9 @@ def mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> M
     )
 
 
-def _solved_mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassProgram:
+def _solved_mass_program(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
+) -> MassProgram:
     """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
     naming the binding limit when it has no solution)."""
     import cvxpy as cp
@@ -141,17 +160,20 @@ def _solved_mass_program(setup: PhysicalSetup, s: float, carrier_sites: np.ndarr
                 "ballast cells",
             )
         )
-    program = mass_program(setup, s, carrier_sites)
+    kappa = terms.kappa(setup.spec.ballast.density)
+    if kappa <= 0:
+        raise PhysicalInfeasible(_holder_binding(setup, kappa))
+    program = mass_program(setup, s, carrier_sites, correction, kappa)
     _, bd = setup.systems["dipoles"]
     if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
         # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
-        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     try:
         program.problem.solve(solver=cp.CLARABEL)
     except cp.SolverError as exc:
         raise SolverError(f"magnets and masses: Clarabel failed ({exc})") from exc
     if program.problem.status in ("infeasible", "infeasible_inaccurate"):
-        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites))
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
     return program
@@ -189,14 +211,14 @@ def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0)
     )
 
 
-def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
-    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc)."""
-    program = _solved_mass_program(setup, s, carrier_sites)
+def _program_masses(
+    setup: PhysicalSetup, s: float, program: MassProgram
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The solved program's moments, polished on their support (3 n,), and its masses: per
+    site (n,), as solved on the program's sites, and the largest."""
     sites = program.sites
     sigma = np.asarray(program.sigma.value) * program.sigma_scale
     mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
-    Ad, bd = setup.systems["dipoles"]
-    Am, _ = setup.systems["masses"]
     n = len(setup.points)
     full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
@@ -206,14 +228,101 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     mass = np.maximum(mass, magnet_floor)
     top_mass = max(float(np.max(mass, initial=0.0)), 1e-300)
     mass_keep = (mass > 1e-9 * top_mass) | sig_keep
-    full_rhs = program.rhs_masses
     full_mass = np.zeros(n)
     full_mass[sites[mass_keep]] = mass[mass_keep]
-    # the correction goes to the heavy sites only, so that light ones (and magnets) keep
-    # their sign and their bound: relative changes there are ~ the solver's residual. A
-    # robust design spreads its masses, so the heaviest few may not span the mass rows:
-    # lighter sites then join, as long as every mass stays nonnegative.
-    full_mass = _polish_masses(Am, full_rhs, full_mass, sites, mass, top_mass)
+    return full_sigma, full_mass, mass, top_mass
+
+
+#: the program is solved again while its parts change the correction by more than this
+PROGRAM_SETTLED = 1e-8
+#: solves of the program at most (the correction contracts by about 1e-2 a solve)
+MAX_PROGRAMS = 6
+
+
+def _fixed_point(
+    terms: WholeTerms,
+    kappa: float,
+    Am: np.ndarray,
+    rows: np.ndarray,
+    full_mass: np.ndarray,
+    sites: np.ndarray,
+    chooser: np.ndarray,
+    top_mass: float,
+    correction: np.ndarray,
+    n: int,
+    full_sigma: np.ndarray,
+) -> tuple[np.ndarray, Convergence, np.ndarray]:
+    """Rounds of the least-norm polish on the support (the sites ``chooser`` picks by size)
+    with the correction of the last round's parts, until it settles."""
+    carriers_rows = terms.b - rows if len(rows) else rows
+    convergence = Convergence()
+    for rounds in range(1, MAX_ROUNDS + 1):
+        # the correction goes to the heavy sites only, so that light ones (and magnets) keep
+        # their sign and their bound: relative changes there are ~ the solver's residual. A
+        # robust design spreads its masses, so the heaviest few may not span the mass rows:
+        # lighter sites then join, as long as every mass stays nonnegative.
+        full_mass = _polish_masses(
+            kappa * Am, rows - correction, full_mass, sites, chooser, top_mass
+        )
+        fresh = terms.correction(
+            terms.parts(full_sigma.reshape(n, 3), full_mass),
+            kappa * Am @ full_mass + carriers_rows,
+        )
+        convergence = Convergence(rounds, terms.change(fresh, correction))
+        correction = fresh
+        if convergence.change <= CONVERGED:
+            break
+    return full_mass, convergence, correction
+
+
+def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """Magnets and ballast at rate ``s`` around the given carriers (see the module doc), with
+    every part's own inertia and the holder's (:mod:`chargedesign.designer.whole_inertia`)."""
+    terms = WholeTerms(setup, carrier_sites)
+    kappa = terms.kappa(setup.spec.ballast.density)
+    n = len(setup.points)
+    correction = terms.initial()
+    program = _solved_mass_program(setup, s, carrier_sites, terms, correction)
+    full_sigma, full_mass, mass, top_mass = _program_masses(setup, s, program)
+    # the program again with the correction of its own parts (the cells' room then holds
+    # for the parts' true sizes) until it settles, then the fixed point on its support
+    Am, bm = setup.systems["masses"]
+    carriers_rows = bm - program.rhs_masses - correction
+    for _ in range(MAX_PROGRAMS):
+        fresh = terms.correction(
+            terms.parts(full_sigma.reshape(n, 3), full_mass),
+            kappa * Am @ full_mass + carriers_rows,
+        )
+        if terms.change(fresh, correction) <= PROGRAM_SETTLED:
+            break
+        correction = fresh
+        terms.restart()
+        program = _solved_mass_program(setup, s, carrier_sites, terms, correction)
+        full_sigma, full_mass, mass, top_mass = _program_masses(setup, s, program)
+    terms.restart()
+    sites = program.sites
+    # a magnet at its floor (no attached ballast to give) keeps its mass: the rounds' changes
+    # go to the sites that can take them (every site when those alone cannot)
+    floor = _magnet_mass(setup, full_sigma.reshape(n, 3)[sites])
+    movable = np.where(mass > floor * (1 + 1e-4), mass, 0.0)
+    start = full_mass
+    for chooser in (movable, mass):
+        full_mass, convergence, correction = _fixed_point(
+            terms,
+            kappa,
+            Am,
+            bm - carriers_rows,
+            start,
+            sites,
+            chooser,
+            top_mass,
+            correction,
+            n,
+            full_sigma,
+        )
+        if terms.residual(terms.parts(full_sigma.reshape(n, 3), full_mass)) <= 1e-13:
+            break
+    Ad, bd = setup.systems["dipoles"]
     sig = full_sigma.reshape(n, 3)[sites]
     m = full_mass[sites]
     magnet_mass = _magnet_mass(setup, sig)
@@ -222,14 +331,22 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     used = (np.linalg.norm(sig, axis=1) > 0) | (m > 0)
     residual_dipoles = relative_residual(Ad, full_sigma, s * s * bd) if len(bd) else 0.0
     if setup.spec.designs_induced:
-        return induced_ballast(setup, carrier_sites, full_sigma.reshape(n, 3), residual_dipoles)
+        return induced_ballast(
+            setup, carrier_sites, full_sigma.reshape(n, 3), residual_dipoles, terms, correction
+        )
+    parts = terms.parts(full_sigma.reshape(n, 3), full_mass)
     return MassSolution(
         sites=sites[used],
         moments=sig[used],
         site_masses=m[used],
         residual_dipoles=residual_dipoles,
-        residual_masses=relative_residual(Am, full_mass, full_rhs) if len(full_rhs) else 0.0,
-        method="Clarabel (magnet-mass and cell-volume cones), least-norm polish on the supports",
+        residual_masses=terms.residual(parts) if len(bm) else 0.0,
+        method="Clarabel (magnet-mass and cell-volume cones), least-norm polish on the supports"
+        + ", every part's own inertia"
+        + (f" and the {setup.spec.holder.name} holder's" if setup.spec.holder else "")
+        + " by fixed point",
+        convergence=convergence,
+        holder_radius=terms.radius if setup.spec.holder is not None else None,
     )
 
 
@@ -290,7 +407,12 @@ def _one_material_per_cell(
 
 
 def induced_ballast(
-    setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray, residual_dipoles: float
+    setup: PhysicalSetup,
+    carrier_sites: np.ndarray,
+    sigma: np.ndarray,
+    residual_dipoles: float,
+    terms: WholeTerms | None = None,
+    correction: np.ndarray | None = None,
 ) -> MassSolution:
     """Ballast of several materials that cancels the parts' induced magnetisation.
 
@@ -299,10 +421,15 @@ def induced_ballast(
     rows (inertia, centre of mass) and the induced-magnetisation rows (:func:`induced_rows`,
     linear in the masses through ``chi v = (chi / rho) m``), within the cells' room. A linear
     program (HiGHS, least total mass); cells given two materials are fixed to the larger and
-    the program solved again; then a least-norm polish on the support to rounding.
+    the program solved again; then a least-norm polish on the support to rounding. With
+    ``terms`` the mass rows hold the whole inertia (each material's columns scaled by its
+    ``kappa``, the correction by fixed point on the support) and the induced rows the
+    contrast ``chi_part - chi_holder`` of each bore.
     """
     spec = setup.spec
+    terms = WholeTerms(setup, carrier_sites) if terms is None else terms
     mats = spec.ballasts
+    chi_h = (spec.holder.susceptibility or 0.0) if spec.holder is not None else 0.0
     chi = _susceptibilities(spec)
     n = len(setup.points)
     legendre = tuple(setup.conditions.fields.get("magnetic", ()))
@@ -319,18 +446,25 @@ def induced_ballast(
     fixed_mass[carrier_sites] = setup.carrier_mass
     fixed_mass[magnet_sites] = magnet_mass
     chi_v = np.zeros(n)
-    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume
-    chi_v[magnet_sites] = chi[spec.magnet.name, "magnet"] * volumes
+    outer_volume = 4.0 / 3.0 * math.pi * setup.carrier_radius**3
+    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume - chi_h * outer_volume
+    chi_v[magnet_sites] = (chi[spec.magnet.name, "magnet"] - chi_h) * volumes
     free = np.setdiff1d(np.arange(n), np.concatenate([carrier_sites, magnet_sites]))
     k, J = len(free), len(mats)
-    per_kg = np.array([chi[m.name, "ballast"] / m.density for m in mats])  # chi v per kg
+    # chi v per kg, in the holder's bore
+    per_kg = np.array([(chi[m.name, "ballast"] - chi_h) / m.density for m in mats])
+    kappas = [terms.kappa(m.density) for m in mats]
+    if min(kappas) <= 0:
+        raise PhysicalInfeasible(_holder_binding(setup, min(kappas)))
     A = np.vstack(
         [
-            np.hstack([Am[:, free]] * J),
+            np.hstack([Am[:, free] * kj for kj in kappas]),
             np.hstack([rows_all[:, free] * c for c in per_kg]),
         ]
     )
-    b = np.concatenate([bm - Am @ fixed_mass, -rows_all @ chi_v])
+    n_mass = len(bm)
+    correction = terms.initial() if correction is None else correction
+    b = np.concatenate([bm - Am @ fixed_mass - correction, -rows_all @ chi_v])
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
     scale = _unknown_scale(A, b) or float(np.max(v_cap)) * mats[0].density
     As, bs = row_scaled(A, b, scale)
@@ -343,7 +477,29 @@ def induced_ballast(
     # the solver's crumbs off the support are dropped before the polish, so that the parts
     # written are exactly the ones the rows were polished with
     flat = np.where(np.isin(np.arange(len(flat)), support), flat, 0.0)
-    polished = polish_equal(A, b, flat, support)
+    densities = np.full(n, spec.ballast.density)
+
+    def parts_of(values: np.ndarray):
+        per = values.reshape(J, k)
+        site_mass = fixed_mass.copy()
+        site_mass[carrier_sites] = 0.0
+        site_mass[free] += per.sum(axis=0)
+        for j, m in enumerate(mats):
+            densities[free[per[j] > 0]] = m.density
+        return terms.parts(sigma, site_mass, densities)
+
+    convergence = Convergence()
+    polished = flat
+    terms.restart()
+    for rounds in range(1, MAX_ROUNDS + 1):
+        polished = polish_equal(A, b, polished, support)
+        lhs = A[:n_mass] @ polished + Am @ fixed_mass
+        fresh = terms.correction(parts_of(polished), lhs)
+        convergence = Convergence(rounds, terms.change(fresh, correction))
+        b[:n_mass] += correction - fresh
+        correction = fresh
+        if convergence.change <= CONVERGED:
+            break
     if np.any(polished < 0):
         raise SolverError("ballast: polishing made a ballast mass negative")
     per = polished.reshape(J, k)
@@ -353,18 +509,20 @@ def induced_ballast(
     site_list = np.concatenate([magnet_sites, [free[i] for _, i in entries]]).astype(int)
     moments = np.vstack([sigma[magnet_sites], np.zeros((len(entries), 3))])
     masses = np.concatenate([magnet_mass, [per[j, i] for j, i in entries]])
-    full = fixed_mass.copy()
-    full[free] += per.sum(axis=0)
-    n_mass = len(bm)
     return MassSolution(
         sites=site_list,
         moments=moments,
         site_masses=masses,
         residual_dipoles=residual_dipoles,
-        residual_masses=relative_residual(Am, full, bm) if n_mass else 0.0,
+        residual_masses=terms.residual(parts_of(polished)) if n_mass else 0.0,
         method="Clarabel for the magnets; HiGHS for the ballast of "
         + ", ".join(m.name for m in mats)
-        + " (induced magnetisation cancelled), least-norm polish on the supports",
+        + " (induced magnetisation cancelled), least-norm polish on the supports, every "
+        "part's own inertia"
+        + (f" and the {spec.holder.name} holder's" if spec.holder else "")
+        + " by fixed point",
+        convergence=convergence,
+        holder_radius=terms.radius if spec.holder is not None else None,
         materials=material,
         residual_induced=relative_residual(A[n_mass:], polished, b[n_mass:])
         if len(b) > n_mass
@@ -400,14 +558,49 @@ def _polish_masses(
     return best[1]
 
 
-def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> Binding:
+def _holder_binding(setup: PhysicalSetup, kappa: float) -> Binding:
+    """A holder at least as dense as the ballast: a part in its bore adds nothing (or less
+    than nothing) to the inertia."""
+    holder, ballast = setup.spec.holder, setup.spec.ballast
+    assert holder is not None
+    return Binding(
+        "masses",
+        f"a {holder.name} holder ({fmt(holder.density)} kg/m^3) is at least as dense as the "
+        f"{ballast.name} ballast ({fmt(ballast.density)} kg/m^3): a part in its bore adds "
+        f"{fmt(kappa, PRECISE)} of its mass to the inertia; a lighter holder (pmi-foam, peek) "
+        "or a denser ballast",
+        "holder.material",
+    )
+
+
+def _holder_text(setup: PhysicalSetup, terms: WholeTerms) -> str:
+    """The holder's share of the inertia, for a refusal (empty without a holder)."""
+    holder = setup.spec.holder
+    if holder is None:
+        return ""
+    sphere = 0.4 * holder.density * 4.0 / 3.0 * math.pi * terms.largest**5
+    return (
+        f"; the {holder.name} holder (radius up to {fmt(terms.largest)} m) adds up to "
+        f"{fmt(sphere)} kg m^2 to each moment against C = {fmt(setup.params.C, PRECISE)} "
+        "kg m^2: a lighter holder (pmi-foam) or a smaller body reaches further"
+    )
+
+
+def _mass_binding(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms
+) -> Binding:
     """Why the second stage is infeasible: the carriers' mass, the ballast's room, or the
     magnets' volume (each tried without the later ones)."""
     import cvxpy as cp
 
     Am, bm = setup.systems["masses"]
     free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
-    rhs = bm - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    rhs = (
+        bm
+        - terms.initial()
+        - Am[:, carrier_sites] @ np.full(len(carrier_sites), setup.carrier_mass)
+    )
+    Am = terms.kappa(setup.spec.ballast.density) * Am
     scale = _unknown_scale(Am[:, free], rhs) or 1.0
     Ams, bms = row_scaled(Am[:, free], rhs, scale)
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
@@ -429,8 +622,9 @@ def _mass_binding(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
             "masses",
             f"the {len(carrier_sites)} carriers ({fmt(setup.carrier_mass)} kg each, their own "
             f"C = {fmt(carriers_c)} kg m^2) leave no nonnegative ballast that makes A = B = 2C "
-            f"with C = {fmt(setup.params.C, PRECISE)} kg m^2 and the centre of mass at O",
-            "inertia",
+            f"with C = {fmt(setup.params.C, PRECISE)} kg m^2 and the centre of mass at O"
+            + _holder_text(setup, terms),
+            "holder" if setup.spec.holder is not None else "inertia",
         )
     if not feasible(room=True):
         return Binding(

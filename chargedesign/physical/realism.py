@@ -32,11 +32,9 @@ from chargedesign.constants import (
     BOHR_RADIUS,
     ELEMENTARY_CHARGE,
     EPSILON_0,
-    LIGHT_SPEED,
     MU_0,
     STANDARD_GRAVITY,
 )
-from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import (
@@ -52,6 +50,19 @@ from chargedesign.physical.materials import (
     mass_densities,
     sphere_radius,
 )
+from chargedesign.physical.parasitics import (
+    RESPONSE_ORIENTATIONS,
+    balance_offset,
+    balance_torque,
+    eddy_torques_by_set,
+    holder_eddy_torque,
+    induced_energies_by_set,
+    laminar_drag,
+    larmor_power,
+    reynolds,
+    self_field,
+    speed_over_c,
+)
 from chargedesign.physical.sources import value
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.design_realism import FIELD_RESPONSE_KEYS, K_LAW_KEY, RESPONSE_FRACTION
@@ -64,8 +75,6 @@ BALANCE_FRACTION = 1e-3
 #: a body whose element-level induced range is below this fraction of the same matter's
 #: uncancelled law has its chi-weighted moments cancelled by design
 CANCELLED = 1e-2
-#: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
-RESPONSE_ORIENTATIONS = 2000
 #: field at which metal surfaces evaporate as ions, V/m: about 6e10 V/m for tungsten (57 V/nm
 #: in Tsong's table; sources table: limits.field_evaporation.tungsten, checked)
 FIELD_EVAPORATION_KEY = "limits.field_evaporation.tungsten"
@@ -213,151 +222,22 @@ def material_parts(design: Any) -> list[dict[str, Any]]:
     for spec, idx in ballast_groups(design) if len(design.mass_values) else []:
         volumes = design.mass_values[idx] / spec["density_kg_per_m3"]
         add("ballast", design.mass_positions[idx], volumes, sphere_radius(volumes), 0.0, spec)
+    holder = getattr(design, "holder", None)
+    if holder:
+        # a concentric homogeneous sphere's energy does not depend on the orientation; each
+        # bore removes holder material at its part: the contrast chi_part - chi_holder
+        bores = holder.get("bores") or []
+        centres = np.array([b["position"] for b in bores], dtype=float).reshape(-1, 3)
+        radii = np.array([b["radius_m"] for b in bores], dtype=float)
+        chi = holder.get("volume_susceptibility")
+        bore = {
+            "name": f"{holder['material']} (its bores)",
+            "density_kg_per_m3": holder["density_kg_per_m3"],
+            "volume_susceptibility": None if chi is None else -chi,
+            "conductivity_S_per_m": None,
+        }
+        add("holder", centres, 4.0 / 3.0 * np.pi * radii**3, radii, 0.0, bore)
     return sets
-
-
-def induced_energies_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]) -> np.ndarray:
-    """``-sum chi v |B|^2 / (2 mu0)`` of each part set at each orientation (J), (sets, n).
-
-    The field is axisymmetric, so a part at body position r sees the field at the point of
-    polar coordinates (|r|, gamma . r): ``|B|^2`` there, for gamma on a Fibonacci sphere.
-    For fields of degree <= 2 (the paper's) ``|B|^2`` is quadratic, and its mean over a
-    sphere or shell of material differs from its value at the centre by an orientation-free
-    constant, so the parts may be taken as points.
-    """
-    fld = AxisymmetricField(tuple(legendre))
-    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-    out = np.zeros((len(parts), len(gammas)))
-    for k, part in enumerate(parts):
-        if part["chi"] is None or fld.is_zero:
-            continue
-        energy = out[k]
-        for start in range(0, len(part["volumes"]), 64):
-            centres = part["centres"][start : start + 64]
-            weights = part["chi"] * part["volumes"][start : start + 64]
-            z = centres @ gammas.T  # (k, orientations)
-            rho = np.sqrt(np.maximum(np.sum(centres**2, axis=1)[:, None] - z**2, 0.0))
-            points = np.stack([rho, np.zeros_like(rho), z], axis=-1).reshape(-1, 3)
-            b2 = np.sum(fld.gradient(points) ** 2, axis=1).reshape(z.shape)
-            energy -= weights @ b2 / (2.0 * MU_0)
-    return out
-
-
-def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]], rate: float):
-    """Eddy-current torque of each part set turning at ``rate`` in its local field (N m).
-
-    A conducting sphere turning at omega in a uniform B (perpendicular to omega, skin depth
-    much larger than the part) carries the current of ``E = (omega B / 2) y x r`` and is
-    retarded by ``(2 pi / 15) sigma omega B^2 a^5`` (a shell: ``a^5 - b^5``). B is the largest
-    |B| over orientations at the part's distance from O; the parts' motion through the
-    gradient adds a term of the same order, so this is an order-of-magnitude estimate.
-    """
-    out = np.zeros(len(parts))
-    if not legendre:
-        return out
-    for k, part in enumerate(parts):
-        if part["sigma"] is None:
-            continue
-        b = field_magnitude_max(tuple(legendre), np.linalg.norm(part["centres"], axis=1))
-        out[k] = float(np.sum(2.0 * np.pi / 15.0 * rate * b**2 * _eddy_weight(part)))
-    return out
-
-
-def _eddy_weight(part: dict[str, Any]) -> np.ndarray:
-    """``sigma (a^5 - b^5)`` of each sphere or shell of a part set, S m^4."""
-    return part["sigma"] * (part["outer"] ** 5 - part["inner"] ** 5)
-
-
-def eddy_weights(parts: list[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray]:
-    """The conducting parts as spheres: centres (k, 3) and ``sigma (a^5 - b^5)`` (k,) (S m^4).
-
-    The eddy torque of a sphere or shell is this weight times the field's terms
-    (:func:`eddy_torques_by_set`, :func:`eddy_torque`); parts of no or zero conductivity are
-    left out.
-    """
-    conducting = [p for p in parts if p["sigma"]]
-    if not conducting:
-        return np.zeros((0, 3)), np.zeros(0)
-    centres = np.concatenate([p["centres"] for p in conducting])
-    weights = np.concatenate([_eddy_weight(p) for p in conducting])
-    return centres, weights
-
-
-def eddy_torque(
-    legendre: tuple[float, ...],
-    centres: np.ndarray,
-    weights: np.ndarray,
-    omega: np.ndarray,
-    gammas: np.ndarray,
-) -> np.ndarray:
-    """Eddy-current torque about O on conducting spheres turning with the body (N m, body axes).
-
-    Each sphere (centre ``c``, weight ``sigma (a^5 - b^5)``, :func:`eddy_weights`) moves at
-    ``v = omega x (c + rho)`` through ``B(c + rho) = B0 + G rho`` (``B0 = -grad Phi(c)``,
-    ``G = -Hess Phi(c)``, the field linear over the part). The uniform part of ``v x B``
-    drives no current (surface charges cancel it); of the part linear in ``rho``,
-    ``M rho = (omega x c) x (G rho) + (omega x rho) x B0``, the symmetric part is a gradient
-    cancelled by charges and the antisymmetric part ``w x rho`` drives ``J = sigma w x rho``
-    (divergence-free, tangent to every sphere about c: it meets the boundary condition as it
-    is). With ``int rho rho^T dV = (4 pi / 15)(a^5 - b^5) 1`` the torque is
-    ``sigma (4 pi / 15)(a^5 - b^5) (w x B0 + c x G w)`` (``tr G = 0``), linear in omega:
-    ``tau = -D(gamma) omega``. Spinning about its centre in a uniform B (``w = omega x B0 /
-    2``) this is ``-(2 pi / 15) sigma a^5 B0 x (omega x B0)``: the slow-rotation limit of
-    the rotating sphere (H. Hertz, "On induction in rotating spheres", 1880, *Miscellaneous
-    Papers* ch. II; the current ``(sigma / 2) rho x (B0 x omega)`` is derived above and
-    checked by quadrature in tests/physical/test_eddy.py), whose magnitude
-    :func:`eddy_torques_by_set` estimates. Dropped: terms
-    ``(a / |c|)^2`` smaller (the current of the part quadratic in rho), and skin effects
-    (slow rotation: skin depth much larger than the part).
-
-    Parameters
-    ----------
-    legendre : tuple of float
-        The magnetic field's Legendre coefficients.
-    centres : ndarray, shape (k, 3)
-        Sphere centres in body axes, m.
-    weights : ndarray, shape (k,)
-        ``sigma (a^5 - b^5)`` per sphere, S m^4.
-    omega, gammas : ndarray, shape (m, 3)
-        Angular velocities (1/s) and the field axis, in body axes.
-
-    Returns
-    -------
-    ndarray, shape (m, 3)
-    """
-    omega = np.asarray(omega, dtype=float)
-    out = np.zeros_like(omega)
-    fld = AxisymmetricField(tuple(legendre))
-    if not len(weights) or fld.is_zero:
-        return out
-    c = np.asarray(centres, dtype=float)[None]  # (1, k, 3)
-    b0 = -fld.gradient_body(centres, gammas)  # (m, k, 3)
-    g = -fld.hessian_body(centres, gammas)  # (m, k, 3, 3)
-    w_ = omega[:, None, :]
-    u = np.cross(w_, c)  # (m, k, 3): the part centre's velocity
-    # M = [u]x G - [B0]x [omega]x, and w the axial vector of its antisymmetric part
-    m_mat = np.einsum("...ij,...jk->...ik", _skew(u), g) - np.einsum(
-        "...ij,...jk->...ik", _skew(b0), _skew(np.broadcast_to(w_, u.shape))
-    )
-    w = 0.5 * np.stack(
-        [
-            m_mat[..., 2, 1] - m_mat[..., 1, 2],
-            m_mat[..., 0, 2] - m_mat[..., 2, 0],
-            m_mat[..., 1, 0] - m_mat[..., 0, 1],
-        ],
-        axis=-1,
-    )
-    per_part = np.cross(w, b0) + np.cross(c, np.einsum("...ij,...j->...i", g, w))
-    return (4.0 * np.pi / 15.0) * np.einsum("mki,k->mi", per_part, np.asarray(weights, float))
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """The cross-product matrices ``[v]x`` of (..., 3) vectors, shape (..., 3, 3)."""
-    out = np.zeros((*v.shape, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
 
 
 def _largest_part(parts: list[dict[str, Any]], values: np.ndarray, key: str) -> str:
@@ -392,8 +272,9 @@ def _eddy_note(
     """What the eddy fraction measures, how fast it damps, the parts not counted."""
     unknown_sigma = sorted({f"{p['role']} {p['name']}" for p in parts if p["sigma"] is None})
     note = (
-        "eddy-current torque of the conducting parts turning in their local |B| "
-        f"((2 pi / 15) sigma |omega| B^2 (a^5 - b^5) each; largest: "
+        "eddy-current torque of the conducting parts turning in the field and moving through "
+        "its gradient ((2 pi / 15) sigma |omega| max|L|^2 (a^5 - b^5) each, dB/dt = L omega = "
+        "R^T (v . grad) B - omega x B; a conducting holder by its bound; largest: "
         f"{_largest_part(parts, eddy, 'sigma')}) over the designed torques"
     )
     if damping >= RESPONSE_FRACTION:
@@ -422,10 +303,12 @@ def field_response(design: Any) -> dict[str, Any]:
     energies = induced_energies_by_set(legendre, parts)
     energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
     eddy = eddy_torques_by_set(legendre, parts, rate)
+    total_eddy = float(np.sum(eddy)) + holder_eddy_torque(
+        legendre, getattr(design, "holder", None), rate
+    )
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
-    damping = float(np.sum(eddy)) / torque
+    damping = total_eddy / torque
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
-    total_eddy = float(np.sum(eddy))
     periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
     induced_note = _induced_note(induced, energy, parts)
     eddy_note = _eddy_note(damping, eddy, parts, periods)
@@ -461,6 +344,8 @@ def chi_over_rho(design: Any, gross: bool = False) -> tuple[float, float, list[s
     num = mass = 0.0
     unknown: list[str] = []
     for part in material_parts(design):
+        if part["role"] == "holder":  # the bores: the holder's contrast, not matter of its own
+            continue
         if part["chi"] is None or part["density"] is None:
             unknown.append(f"{part['role']} {part['name']}")
             continue
@@ -933,13 +818,13 @@ def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict
     rho_gas, viscosity = gas
     if medium is not None and medium.gas not in (None, name):
         name = f"{name} ({medium.gas})"
-    drag = 8 * math.pi * viscosity * envelope**3 * rate
-    reynolds = rho_gas * rate * envelope**2 / viscosity if viscosity > 0 else 0.0
+    drag = laminar_drag(viscosity, envelope, rate)
+    re = reynolds(rho_gas, viscosity, envelope, rate)
     return _item(
         drag / torque,
         "",
         _verdict(drag / torque, 1e-3),
-        f"laminar drag of {name} on the enveloping sphere (Re = {fmt(reynolds)}) over the "
+        f"laminar drag of {name} on the enveloping sphere (Re = {fmt(re)}) over the "
         "designed torques",
     )
 
@@ -962,24 +847,15 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     period = 2 * math.pi / rate
     kinetic = p.C * rate**2  # ~ (1/2) omega . I omega with I ~ 2C
     torque = p.C * rate**2 / 4.0
-    v_over_c = rate * r_max / LIGHT_SPEED
-    larmor = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
-        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
-    )
+    v_over_c = speed_over_c(rate, r_max)
+    larmor = larmor_power(q, radii, rate)
     damping_time = kinetic / larmor if larmor > 0 else math.inf
     damping_periods = damping_time / period
-    with np.errstate(divide="ignore"):
-        b_self = (
-            MU_0
-            / (4 * math.pi)
-            * float(np.sum(np.abs(q) * rate / np.where(radii > 0, radii, np.inf)))
-        )
+    b_self = self_field(q, radii, rate)
     applied = abs(design.field("magnetic")[0]) if design.field("magnetic") else 0.0
     total_mass = float(np.sum(masses))
-    offset_1g = BALANCE_FRACTION * torque / (total_mass * G_EARTH) if total_mass > 0 else math.inf
-    offset_micro = (
-        BALANCE_FRACTION * torque / (total_mass * MICROGRAVITY) if total_mass > 0 else math.inf
-    )
+    offset_1g = balance_offset(BALANCE_FRACTION * torque, total_mass, G_EARTH)
+    offset_micro = balance_offset(BALANCE_FRACTION * torque, total_mass, MICROGRAVITY)
     envelope = float((design.buildability or {}).get("region_radius_m", r_max))
     drag_item = _drag_item(design.medium, envelope, rate, torque)
 
@@ -1072,13 +948,12 @@ def case_realism_budget(design: Any, functions: Any) -> dict[str, Any]:
     r_max = float(np.max(np.linalg.norm(every, axis=1), initial=0.0))
     q = np.asarray(design.charge_values, dtype=float)
     radii = np.linalg.norm(np.asarray(design.charge_positions, dtype=float).reshape(-1, 3), axis=1)
-    radiation = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
-        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
-    )
+    radiation = larmor_power(q, radii, rate)
     legendre = tuple(design.field("magnetic"))
     applied = float(field_magnitude_max(legendre, np.array([r_max]))[0]) if legendre else 0.0
-    inverse = np.where(radii > 0, 1.0 / np.where(radii > 0, radii, 1.0), 0.0)
-    b_self = MU_0 / (4 * math.pi) * float(np.sum(np.abs(q) * rate * inverse))
+    b_self = self_field(q, radii, rate)
+    relativistic = speed_over_c(rate, r_max) ** 2
+    gravity = balance_torque(float(np.sum(masses)), STANDARD_GRAVITY) / term
     items = {
         "radiation": _item(
             radiation / rate / term,
@@ -1093,15 +968,12 @@ def case_realism_budget(design: Any, functions: Any) -> dict[str, Any]:
             "the moving charges' own field mu0 |q| omega / (4 pi r)",
         ),
         "relativistic": _item(
-            (rate * r_max / LIGHT_SPEED) ** 2,
-            "(v/c)^2",
-            _verdict((rate * r_max / LIGHT_SPEED) ** 2, 1e-3),
-            "the fastest element's speed",
+            relativistic, "(v/c)^2", _verdict(relativistic, 1e-3), "the fastest element's speed"
         ),
         "gravity_balance": _item(
-            float(np.sum(masses)) * STANDARD_GRAVITY * BUILDER_BALANCE_M / term,
+            gravity,
             "of the term",
-            _verdict(float(np.sum(masses)) * STANDARD_GRAVITY * BUILDER_BALANCE_M / term, 1e-3),
+            _verdict(gravity, 1e-3),
             f"M g delta on the builder's balance (delta = {BUILDER_BALANCE_M} m)",
         ),
     }

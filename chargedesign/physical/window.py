@@ -11,7 +11,7 @@ item                        parasitic                                          o
 each realised term of V, mu  range over orientations (V), ``|omega| |mu|``      ``x^2``
 induced magnetisation        range of ``-sum chi v |B|^2 / 2 mu0``: magnets      per set: ``x^0``
                              ``x^2``, other parts ``x^0``                        or ``x^-2``
-eddy currents                ``(2 pi/15) sigma omega B^2 a^5``: ``x`` times      ``x^(7/3)``,
+eddy currents                ``(2 pi/15) sigma omega |L|^2 a^5``: ``x`` times    ``x^(7/3)``,
                              ``a^5``, magnets' ``a^5 ~ x^(10/3)``                ``x^-1``
 gravity on the balance       ``M g delta`` (``delta`` = 0.1 um, sourced)         ``x^-2``
 drag in the medium           ``8 pi mu R^3 omega``                               ``x^-1``
@@ -42,21 +42,26 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0, STANDARD_GRAVITY
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
 from chargedesign.physical.drag import cup_drag
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
-from chargedesign.physical.realism import (
+from chargedesign.physical.parasitics import (
     RESPONSE_ORIENTATIONS,
+    balance_torque,
     eddy_torques_by_set,
+    holder_eddy_torque,
     induced_energies_by_set,
-    material_parts,
-    realisability_map,
-    typical_rate,
+    laminar_drag,
+    larmor_power,
+    reynolds,
+    self_field,
+    speed_over_c,
 )
+from chargedesign.physical.realism import material_parts, realisability_map, typical_rate
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
@@ -147,17 +152,20 @@ def _induced_item(design: Any, parts: list[dict[str, Any]], legendre, term: floa
 
 
 def _eddy_item(design: Any, parts: list[dict[str, Any]], legendre, term: float) -> Parasitic:
-    torques = eddy_torques_by_set(legendre, parts, typical_rate(design.parameters))
+    rate = typical_rate(design.parameters)
+    torques = eddy_torques_by_set(legendre, parts, rate)
+    holder = holder_eddy_torque(legendre, getattr(design, "holder", None), rate)
     power = _set_exponents(parts, 1.0 + MAGNET_RADIUS5_EXPONENT, 1.0)
 
     def ratio(x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float)
-        return (x[:, None] ** power[None, :]) @ torques / (term * x**2)
+        return ((x[:, None] ** power[None, :]) @ torques + x * holder) / (term * x**2)
 
     return Parasitic(
         "eddy",
         "eddy currents",
-        "(2 pi / 15) sigma |omega| B^2 a^5: ~ s for fixed parts, s^(13/3) for the magnets",
+        "(2 pi / 15) sigma |omega| max|L|^2 a^5 (dB/dt = L omega: the rotation in B and the "
+        "motion through the gradient): ~ s for fixed parts, s^(13/3) for the magnets",
         ratio,
     )
 
@@ -180,16 +188,14 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
             "relativistic",
             "relativistic corrections",
             "(v / c)^2 of the fastest part, ~ s^2",
-            (rate * r_max / LIGHT_SPEED) ** 2,
+            speed_over_c(rate, r_max) ** 2,
             2.0,
         )
     ]
     if not len(q):
         return items
     radii = np.linalg.norm(design.charge_positions, axis=1)
-    power = float(np.sum(q**2 * (rate**2 * radii) ** 2)) / (
-        6 * math.pi * EPSILON_0 * LIGHT_SPEED**3
-    )
+    power = larmor_power(q, radii, rate)
     items.append(
         _power_item(
             "radiation",
@@ -200,8 +206,7 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
         )
     )
     if applied > 0:
-        inv = np.where(radii > 0, radii, np.inf)
-        b_self = MU_0 / (4 * math.pi) * float(np.sum(np.abs(q) * rate / inv))
+        b_self = self_field(q, radii, rate)
         items.append(
             _power_item(
                 "self_field",
@@ -352,19 +357,19 @@ def window_model(
                 f"gravity on the balance ({fmt(gravity / STANDARD_GRAVITY, ROUGH)} g, "
                 f"{fmt(BUILDER_BALANCE_M, PLAIN)} m)",
                 "M g delta with the builder's balance delta: fixed (over the terms ~ 1/s^2)",
-                float(np.sum(masses)) * gravity * BUILDER_BALANCE_M / term,
+                balance_torque(float(np.sum(masses)), gravity) / term,
                 -2.0,
             )
         )
     gas = design.medium.gas_properties if design.medium is not None else None
     notes = []
     if gas is not None and gas[1] > 0:
-        drag = 8 * math.pi * gas[1] * region**3 * rate
-        reynolds = gas[0] * rate * region**2 / gas[1]
-        if reynolds > 1.0:
+        drag = laminar_drag(gas[1], region, rate)
+        re = reynolds(gas[0], gas[1], region, rate)
+        if re > 1.0:
             notes.append(
                 f"drag: the laminar estimate 8 pi mu R^3 omega holds for Re << 1; here Re = "
-                f"{fmt(reynolds, ROUGH)}, where it is a lower bound"
+                f"{fmt(re, ROUGH)}, where it is a lower bound"
             )
         items.append(
             _power_item(

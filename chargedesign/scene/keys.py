@@ -284,6 +284,16 @@ BALLAST = (
     _DENSITY,
     *_RESPONSE,
 )
+#: a scene's ``[holder]``: the sphere about O with a bore for each part
+#: (chargedesign.physical.holder); the table's presence makes the design hold its parts
+HOLDER = (
+    Key(
+        "material",
+        STRING,
+        "the holder's material (chargedesign.physical.holder.HOLDER_MATERIAL_NAMES)",
+        source="the ballast's (its first material)",
+    ),
+)
 #: what each material error is of, in the order of the vocabulary's MATERIAL_ERROR_KEYS
 #: (susceptibility, density, magnetisation)
 _MATERIAL_ERRORS = (
@@ -1005,6 +1015,7 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
     "carriers": CARRIERS,
     "magnets": MAGNETS,
     "ballast": BALLAST,
+    "holder": HOLDER,
     "tolerance": TOLERANCE,
     "case": CASE,
     "testbed": TESTBED,

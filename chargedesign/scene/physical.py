@@ -13,6 +13,8 @@ Scene tables (docs/buildable.md)::
                         design then cancels the parts' induced magnetisation
     (each of the three) susceptibility (SI volume), conductivity (S/m): override the
                         material's values, which the realism budget uses
+    [holder]            material (default: the ballast's): a sphere about O with a bore for
+                        each part, whose inertia, susceptibility and conductivity count
     [body]              carrier_radius (m; default a quarter of the candidate spacing)
     [tolerance]         chi_relative, density_relative, magnetisation_relative: the
                         materials' relative errors that ``tolerance`` analyses
@@ -24,11 +26,12 @@ A scene without ``[medium]`` is the mathematical case: point elements, no limits
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from chargedesign.errors import InputError
 from chargedesign.formatting import fmt
+from chargedesign.physical.holder import HOLDER_MATERIAL_NAMES, holder_material
 from chargedesign.physical.materials import (
     BALLAST_DENSITY,
     CARRIER_DENSITY,
@@ -49,7 +52,7 @@ CARRIER_RADIUS_FRACTION = 0.25
 DEFAULT_SHELL_THICKNESS = default_of("carriers", "shell_thickness")
 #: surface sample points per carrier in the design (constraint generation adds the worst)
 DEFAULT_SURFACE_SAMPLES = default_of("carriers", "samples")
-PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast")
+PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast", "holder")
 #: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
 _KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}
 #: how a part's material answers the applied field: magnetisation and eddy currents
@@ -90,6 +93,8 @@ class PhysicalSpec:
     ballasts: tuple[Material, ...] = ()
     #: the scene's ``[tolerance]`` material errors (relative), recorded in design.json
     material_errors: dict[str, float] = field(default_factory=dict)
+    #: the holder's material (``[holder]``; None: no holder, the parts are not held)
+    holder: Material | None = None
 
     @property
     def designs_induced(self) -> bool:
@@ -155,7 +160,7 @@ def spec_from_tables(
     if "tolerance" in tables:
         material_errors = material_errors_from_table(tables["tolerance"])
     if "medium" not in tables:
-        for name in ("carriers", "magnets", "ballast", "tolerance"):
+        for name in ("carriers", "magnets", "ballast", "holder", "tolerance"):
             if name in tables:
                 raise InputError(
                     f"{name}: physical parts need a [medium] table (vacuum, air, sf6, oil)"
@@ -179,7 +184,19 @@ def spec_from_tables(
         surface_samples=samples,
         ballasts=tuple(ballasts) if len(ballasts) > 1 else (),
         material_errors=material_errors,
+        holder=_holder(tables["holder"], ballasts[0]) if "holder" in tables else None,
     )
+
+
+def _holder(table: Mapping[str, Any], ballast: Material) -> Material:
+    """``[holder]``: its material, by default the (first) ballast's."""
+    _check_keys(table, "holder")
+    name = table.get("material")
+    if name is None:
+        return replace(ballast, role="holder")
+    if not isinstance(name, str) or name not in HOLDER_MATERIAL_NAMES:
+        raise input_error("holder.material", "one of " + ", ".join(HOLDER_MATERIAL_NAMES), name)
+    return holder_material(name)
 
 
 def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:

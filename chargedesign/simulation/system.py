@@ -49,8 +49,10 @@ from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.holder import whole_inertia
 from chargedesign.physical.materials import MU_0
-from chargedesign.physical.realism import eddy_torque, eddy_weights, material_parts
+from chargedesign.physical.parasitics import eddy_torque, eddy_weights
+from chargedesign.physical.realism import material_parts
 from chargedesign.quadrature import gather_elements
 from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly
@@ -206,9 +208,12 @@ class Body(ElementSet):
     part_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     part_susceptances: np.ndarray = field(default_factory=lambda: np.zeros(0))
     #: centres of the conducting parts (m, body axes) and their ``sigma (a^5 - b^5)``
-    #: (S m^4): the ``eddy`` effect (:func:`~chargedesign.physical.realism.eddy_torque`)
+    #: (S m^4): the ``eddy`` effect (:func:`~chargedesign.physical.parasitics.eddy_torque`)
     conductor_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     conductor_weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the inertia beyond the point masses (kg m^2, (3, 3)): every part's own and the
+    #: holder's (chargedesign.physical.holder.whole_inertia, recomputed from the parts)
+    parts_inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
 
     def source_count(self, source: str) -> int:
         """Number of non-zero elements of a source; ``parts``: parts with a susceptibility."""
@@ -254,7 +259,18 @@ class Body(ElementSet):
         ]
         part_positions, part_susceptances = np.zeros((0, 3)), np.zeros(0)
         conductor_positions, conductor_weights = np.zeros((0, 3)), np.zeros(0)
+        parts_inertia = np.zeros((3, 3))
         if getattr(design, "medium", None) is not None:
+            whole = whole_inertia(design)
+            own = np.asarray(whole["total_kg_m2"]) - np.asarray(whole["points_kg_m2"])
+            if getattr(design, "inertia", None) is not None:
+                parts_inertia = own
+            else:  # a file designed with point masses: simulated as it was designed
+                notes.append(
+                    "design.json has no whole-inertia record (designed with point masses): "
+                    f"the parts' own inertia ({fmt(float(own[2, 2]))} kg m^2 on each axis) is "
+                    "left out"
+                )
             every_part = material_parts(design)
             conductor_positions, conductor_weights = eddy_weights(every_part)
             parts = [p for p in every_part if p["chi"] is not None]
@@ -278,6 +294,7 @@ class Body(ElementSet):
             part_susceptances=part_susceptances,
             conductor_positions=conductor_positions,
             conductor_weights=conductor_weights,
+            parts_inertia=parts_inertia,
         )
 
     def field(self, kind: str) -> AxisymmetricField:
@@ -294,12 +311,14 @@ def body_mass_points(body: Body) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mass_inertia(body: Body) -> tuple[np.ndarray, float, np.ndarray]:
-    """Inertia tensor about O (kg m^2, (3, 3)), total mass (kg) and centre of mass (m, (3,))."""
+    """Inertia tensor about O (kg m^2, (3, 3)), total mass (kg) and centre of mass (m, (3,)):
+    the point masses' plus the parts' own and the holder's (``body.parts_inertia``)."""
     pts, m = body_mass_points(body)
     if len(m) == 0:
         return np.zeros((3, 3)), 0.0, np.zeros(3)
     r2 = np.einsum("ij,ij->i", pts, pts)
     inertia = np.eye(3) * float(m @ r2) - np.einsum("i,ij,ik->jk", m, pts, pts)
+    inertia = inertia + body.parts_inertia
     total = float(np.sum(m))
     centre = (m @ pts) / total if total != 0.0 else np.zeros(3)
     return inertia, total, centre

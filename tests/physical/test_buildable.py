@@ -20,6 +20,7 @@ from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.bom import bom_csv, bom_rows
 from chargedesign.physical.coulomb import coulomb_field
+from chargedesign.physical.holder import design_parts
 from chargedesign.physical.limits import (
     carrier_surface_fields,
     check_limits,
@@ -103,14 +104,19 @@ def test_all_three_mass_sets_give_the_inertia_and_centre(result, setup):
     assert np.all(design.magnet_masses() >= 7500 * design.magnet_volumes())
     r, m = design.all_masses()
     C = setup.params.C
-    A = np.sum(m * (r[:, 1] ** 2 + r[:, 2] ** 2))
-    B = np.sum(m * (r[:, 0] ** 2 + r[:, 2] ** 2))
-    Cz = np.sum(m * (r[:, 0] ** 2 + r[:, 1] ** 2))
+    # the point masses plus every part's own inertia (spheres; the carriers hollow shells)
+    own = float(np.sum(design_parts(design).own_inertia()))
+    assert own > 1e-4 * C
+    A = np.sum(m * (r[:, 1] ** 2 + r[:, 2] ** 2)) + own
+    B = np.sum(m * (r[:, 0] ** 2 + r[:, 2] ** 2)) + own
+    Cz = np.sum(m * (r[:, 0] ** 2 + r[:, 1] ** 2)) + own
     scale = np.sum(m * np.sum(r**2, axis=1))
     for value, target in ((A, 2 * C), (B, 2 * C), (Cz, C)):
         assert abs(value - target) <= 1e-12 * scale
     for i, j in ((0, 1), (0, 2), (1, 2)):
         assert abs(np.sum(m * r[:, i] * r[:, j])) <= 1e-12 * scale
+    total = np.asarray(design.inertia["total_kg_m2"])
+    assert np.allclose(total, np.diag([2 * C, 2 * C, C]), rtol=0, atol=1e-12 * scale)
     # the carriers alone are a real share of the body: leaving them out breaks the inertia
     ballast_only = np.sum(design.mass_values * np.sum(design.mass_positions[:, :2] ** 2, axis=1))
     assert abs(ballast_only - C) > 1e-6 * C

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from chargedesign.fields import AxisymmetricField
-from chargedesign.physical.realism import eddy_torque
+from chargedesign.physical.parasitics import eddy_torque
 
 
 def _ball_nodes(radius: float, n: int = 8) -> tuple[np.ndarray, np.ndarray]:

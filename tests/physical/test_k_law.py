@@ -171,8 +171,10 @@ def test_the_ratio_does_not_depend_on_the_gradient():
     for law in laws[1:]:
         assert law["G_C_m_per_kg"] == pytest.approx(laws[0]["G_C_m_per_kg"], rel=1e-9)
         assert law["ratio"] == pytest.approx(laws[0]["ratio"], rel=1e-9)
-        # the range of an energy whose orientation-free part is larger: round-off (1.2e-9 here)
-        assert law["ratio_elements"] == pytest.approx(laws[0]["ratio_elements"], rel=1e-8)
+        # the range of an energy whose orientation-free part is larger: round-off (1.2e-9
+        # here), and the magnets' own inertia, which the ballast makes up for, depends on
+        # their size in each gradient (1.9e-8)
+        assert law["ratio_elements"] == pytest.approx(laws[0]["ratio_elements"], rel=1e-7)
 
 
 def test_parity_eddy_currents_and_the_size_bound_follow_from_the_numbers(bodies):

@@ -78,8 +78,11 @@ def test_the_laws_of_one_body_are_the_parasitics_of_a_body_designed_at_another_r
     law = window_model(chaplygin_bodies[1.0], 1.0).ratios(0.25)
     own = window_model(chaplygin_bodies[0.25], 0.25).ratios(0.25)
     assert set(law) == {"induced", "eddy", "gravity", "relativistic", "coil_harmonics"}
-    for key in ("eddy", "gravity", "relativistic", "coil_harmonics"):
+    for key in ("eddy", "relativistic", "coil_harmonics"):
         assert own[key] == pytest.approx(law[key], rel=1e-6), key
+    # the smaller magnets' own inertia is smaller, and the ballast that makes up for it
+    # moves the total mass by a few 1e-4 (the law keeps the parts' masses)
+    assert own["gravity"] == pytest.approx(law["gravity"], rel=1e-3)
     # the ballast the smaller magnets leave is re-placed: 1 % in the induced range
     assert own["induced"] == pytest.approx(law["induced"], rel=0.02)
 
@@ -100,8 +103,9 @@ def outside_recheck(design: dict, fraction: float) -> dict[str, float]:
     """From design.json's written parts, by hand: the smallest realised term (the kappa term's
     range over the sphere, 2 C kappa sqrt(c^2 + d^2)), the induced energy's range over
     orientations (the eigenvalues of sum chi v r r^T: |B|^2 = 4 a2^2 (r^2 + 3 (r . gamma)^2)
-    for Phi = a2 (3 Z^2 - R^2)) and the eddy torque (2 pi / 15) sigma omega B^2 a^5 with the
-    largest |B| = 4 a2 r and omega = 2 sqrt(kappa)."""
+    for Phi = a2 (3 Z^2 - R^2)) and the eddy torque (2 pi / 15) sigma omega |L|^2 a^5 with
+    the largest |dB/dt| / omega = |L| = 6 a2 r (the rotation in |B| <= 4 a2 r and the motion
+    through the gradient, docs/buildable.md) and omega = 2 sqrt(kappa)."""
     p = design["parameters"]
     a1, f2 = design["fields"]["magnetic"]["legendre"]
     assert a1 == 0.0
@@ -134,7 +138,7 @@ def outside_recheck(design: dict, fraction: float) -> dict[str, float]:
                 / 15
                 * m["conductivity_S_per_m"]
                 * omega
-                * (4 * a2 * np.linalg.norm(r, axis=1)) ** 2
+                * (6 * a2 * np.linalg.norm(r, axis=1)) ** 2
                 * np.cbrt(3 * v / (4 * math.pi)) ** 5
             )
         )

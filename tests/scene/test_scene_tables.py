@@ -29,7 +29,8 @@ from chargedesign.vocabulary import MONITOR_ALIASES, MONITOR_NAMES, SCENE_TABLES
 
 #: the smallest scene a table needs beside it to be read at all
 NEEDS = {
-    name: {"medium": {"name": "air"}} for name in ("carriers", "magnets", "ballast", "tolerance")
+    name: {"medium": {"name": "air"}}
+    for name in ("carriers", "magnets", "ballast", "holder", "tolerance")
 }
 
 

@@ -66,10 +66,11 @@ def test_its_energy_loss_is_the_dissipation_along_the_motion(design, runs):
 
 
 def test_i4_drift_is_the_windows_eddy_ratio(design, runs):
-    """The budget's eddy ratio f (torque over C w^2 / 4 at the typical rate w, the spin of
-    each part in its largest |B|) predicts the power f (C w^2 / 4) <|omega|^2> / w; the run's
-    is 1.17 of it (the parts' motion through the gradient adds its currents). The I4 the
-    magnets keep to 1e-14 then drifts by the dissipation, below the window's fraction."""
+    """The budget's eddy ratio f (torque over C w^2 / 4 at the typical rate w, each part's
+    largest |dB/dt| / |omega|: its spin in B and its motion through the gradient) bounds the
+    power f (C w^2 / 4) <|omega|^2> / w; the run's is 0.52 of it (1.17 of the spin alone). The
+    I4 the magnets keep to 1e-14 then drifts by the dissipation, below the window's
+    fraction."""
     dissipative, conservative = runs
     fraction = field_response(design)[FIELD_RESPONSE_KEYS[1]]["value"]
     rate = typical_rate(design.parameters)
@@ -77,7 +78,7 @@ def test_i4_drift_is_the_windows_eddy_ratio(design, runs):
     mean_square = np.mean(np.sum(conservative.omega**2, axis=1))
     predicted = fraction * C * rate**2 / 4.0 * mean_square / rate
     measured = -(dissipative.integrals[-1, 0] - dissipative.integrals[0, 0]) / T_END
-    assert 0.8 < measured / predicted < 1.5
+    assert 0.3 < measured / predicted <= 1.0
     i4 = dissipative.to_dict()["I4_rel_drift"]
     assert i4 > 1e6 * conservative.to_dict()["I4_rel_drift"]
     assert i4 < 1e-3
