@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"design: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
-    if scene.case is not None:
+    if scene.case is not None and scene.physical is None:
         return _design_case(scene, args, progress)
     _check_degenerate(scene)
     _check_linf_cap(scene, args)
@@ -120,9 +120,7 @@ def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str
     import json
     from pathlib import Path
 
-    from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
-
-    result = design_case_scene(scene, progress)
+    result = design_from_scene(scene, progress=progress)
     design = result.design
     if not args.no_forward_check:
         progress("forward check against the case's V and inertia ...")
