@@ -58,33 +58,6 @@ def case_conditions(scene: Scene, length: float | None = None) -> LinearConditio
     return derive_case_conditions(scene.case, given or None, length=length)
 
 
-def realism_lines(design: Design) -> list[str]:
-    """The report's lines of a case design's realism budget and realised window (none when
-    the record has neither)."""
-    record = design.further_keys["case"]
-    budget, window = record.get("realism"), record.get("realised")
-    if budget and budget["term_key"] is None:
-        return ["- realism: the case realises no force (V and mu constant): no term to hold"]
-    if not budget or not window:
-        return []
-    items = ", ".join(
-        f"{key} {item['value']:.1e} ({item['verdict']})"
-        for key, item in budget["items"].items()
-        if item["value"] is not None
-    )
-    span = (
-        "empty"
-        if window["s_low"] is None
-        else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
-    )
-    return [
-        f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
-        f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
-        f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
-        f"below: {window['binding_low']}; above: {window['binding_high']}",
-    ]
-
-
 def record_realism(design: Design, case: Any) -> None:
     """Add the realism budget and the realised window of a case body (point elements, at the
     case's typical rate) to its design.json ``case`` record (``realism``, ``realised``)."""
@@ -144,8 +117,7 @@ def record_case(
         "inertia_rel_err": checks["inertia_rel_err"],
         "torque_rel_err": checks["torque_rel_err"],
     }
-    if theorem is None:
-        record_realism(design, case)
+    record_realism(design, case)
     return certificate
 
 
@@ -155,7 +127,6 @@ __all__ = [
     "case_conditions",
     "case_gravity",
     "masses_realise",
-    "realism_lines",
     "record_case",
     "record_realism",
 ]

@@ -23,7 +23,7 @@ from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardI
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
-from chargedesign.designer.physical_setup import setup_physical
+from chargedesign.designer.physical_setup import refuse_unread_options, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -665,6 +665,8 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
     given = {k: v for k, v in overrides.items() if v is not None}
     options = dataclasses.replace(scene.design, **given) if given else scene.design
     spec = scene.physical
+    if spec is not None:
+        refuse_unread_options(options)  # before any work
     model = scene_model(scene)
     if model.theorem is not None:
         larmor, why, note = larmor_of_scene(options, model.theorem, spec is not None)

@@ -160,7 +160,7 @@ def test_the_windows_laws_are_the_time_rescaled_bodies_budgets() -> None:
     the worst item is the fraction."""
     import tomllib
 
-    from chargedesign.designer.case_design import design_case_scene
+    from chargedesign.designer.pipeline import design_from_scene
     from chargedesign.physical.window import case_realised_window, case_window_model
     from chargedesign.scene import scene_from_dict
 
@@ -169,7 +169,7 @@ def test_the_windows_laws_are_the_time_rescaled_bodies_budgets() -> None:
     for s in (1.0, 2.0):
         scaled = dict(table, parameters=dict(table["parameters"], mu=0.4 * s))
         body = {"shape": "ball", "radius": 0.5, "spacing": 0.125}
-        designs[s] = design_case_scene(scene_from_dict({"case": scaled, "body": body}, "<s>"))
+        designs[s] = design_from_scene(scene_from_dict({"case": scaled, "body": body}, "<s>"))
     budget = designs[1.0].design.further_keys["case"]["realism"]
     model = case_window_model(designs[1.0].design, budget)
     rescaled = designs[2.0].design.further_keys["case"]["realism"]["items"]

@@ -125,3 +125,31 @@ def test_a_general_case_with_medium_is_refused_in_one_line(tmp_path: Path) -> No
     data["medium"] = {"name": "vacuum"}
     with pytest.raises(InputError, match=r"\[medium\] with a \[case\] not of the theorem's form"):
         cd.design(scene_from_dict(data, "<kowalevski with medium>"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "option"),
+    [
+        (["--max-charge", "1e-15"], "max_charge"),
+        (["--total-mass", "1.0"], "total_mass"),
+        (["--solver", "SCS"], "solver"),
+        (["--no-polish"], "polish"),
+    ],
+)
+def test_an_option_the_physical_program_does_not_read_is_refused_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], option: str
+) -> None:
+    """The default scene has [medium]: before any work, one line naming the option and the
+    route, exit 2, nothing written (it was silently ignored: 1.87e-9 C under a 1e-15 cap)."""
+    from chargedesign.cli import main
+
+    out = tmp_path / "out"
+    assert main(["design", "--out", str(out), "--quiet", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"design.{option}: not available with [medium]" in err and "\n" not in err
+    assert not out.exists()
+
+
+def test_the_tolerance_of_a_physical_scene_is_refused_through_the_api() -> None:
+    with pytest.raises(InputError, match=r"design\.tol: not available with \[medium\]"):
+        cd.design(EXAMPLES / "chaplygin_magnetic.toml", tol=1e-9)
