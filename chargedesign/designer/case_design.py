@@ -99,14 +99,18 @@ def record_case(
     theorem: Parameters | None,
 ) -> CaseCertificate:
     """Record a case scene's body: the case's exact certificate and design.json ``case``
-    (the table as written, to rebuild the case), the checks of a point body's elements
-    against the case (``case.checks``; also in ``residuals``), and for a case not of the
-    theorem's form its realism budget and realised window at its typical rate
-    (``case.realism``, ``case.realised``). Returns the certificate."""
+    (the table as written, to rebuild the case); for a general case (``theorem`` None: not
+    of the theorem's form) also the checks of its point body's elements against the case
+    (``case.checks``; also in ``residuals``) and its realism budget and realised window at
+    the case's typical rate (``case.realism``, ``case.realised``). A case of the theorem's
+    form has the theorem's body and records: its forward accuracy, and with ``[medium]`` its
+    limits, realism budget and window. Returns the certificate."""
     certificate = certify_case(case)
     design.further_keys["case"] = case_record(table or {}, case, certificate)
-    if design.medium is not None:
-        return certificate  # real parts: the limits, realism budget and window say the rest
+    if design.medium is not None or theorem is not None:
+        # the theorem's body: its own forward accuracy, limits, realism budget and window
+        # (as the theorem's scene has them) say the rest
+        return certificate
     checks = case_checks(case, design)
     record = design.further_keys["case"]
     record["checks"] = checks
