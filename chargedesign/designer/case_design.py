@@ -80,7 +80,7 @@ def record_realism(design: Design, case: Any) -> None:
 def masses_realise(scene: Scene) -> bool:
     """Whether masses in gravity alone realise the scene's case (l = 0, V of degree <= 2 with
     its quadratic part the inertia's, only ``[fields.gravity]`` given): the masses' path.
-    Any other case goes to charges, dipoles and masses (:func:`design_case_elements_scene`)."""
+    Any other case goes to the conditions engine's charges, dipoles and masses."""
     if scene.case is None:
         return False
     try:

@@ -160,3 +160,18 @@ def test_an_option_the_physical_program_does_not_read_is_refused_in_one_line(
 def test_the_tolerance_of_a_physical_scene_is_refused_through_the_api() -> None:
     with pytest.raises(InputError, match=r"design\.tol: not available with \[medium\]"):
         cd.design(EXAMPLES / "chaplygin_magnetic.toml", tol=1e-9)
+
+
+def test_the_command_line_options_reach_a_case_scene(tmp_path: Path) -> None:
+    """The case's point route reads the same options as the theorem's (it dropped them)."""
+    import json
+
+    from chargedesign.cli import main
+
+    out = tmp_path / "out"
+    scene = str(EXAMPLES / "kowalevski_case.toml")
+    argv = ["design", scene, "--out", str(out), "--quiet", "--no-picture", "--objective", "l2"]
+    assert main(argv) == 0
+    data = json.loads((out / "design.json").read_text("utf-8"))
+    assert data["provenance"]["options"]["objective"] == "l2"
+    assert data["case"]["certificate"]["holds"] is True
