@@ -136,6 +136,12 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-picture", action="store_true", help="do not render design.png")
     parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     parser.add_argument(
+        "--verbose",
+        action="store_true",
+        help="print the full report (default: the verdict and a short summary; the report "
+        "is in DIR/report.md)",
+    )
+    parser.add_argument(
         "--max-linf-candidates",
         type=int,
         default=None,

@@ -47,6 +47,8 @@ from chargedesign.vocabulary import (
     SIMULATION_ROUTES,
     SOURCES,
     STATE_NAMES,
+    SUPPORT_FACILITIES,
+    SUPPORT_STYLES,
 )
 
 NUMBER: dict[str, Any] = {"type": "number"}
@@ -959,6 +961,22 @@ TESTBED = (
         "before it starts",
     ),
 )
+SUPPORT = (
+    Key(
+        "style",
+        _enum(SUPPORT_STYLES),
+        "how the body is held: free fall, orbit, a full-sphere air bearing, electrostatic",
+        default="air_bearing",
+        source="the lab's full-sphere air bearing (the testbed's; docs/flight.md)",
+    ),
+    Key(
+        "facility",
+        _enum(SUPPORT_FACILITIES),
+        "the free-fall facility: ZARM's Bremen Drop Tower, a drop (4.74 s) or the catapult (9.3 s)",
+        default="drop_tower_catapult",
+        source="the longest free fall (zarm.uni-bremen.de, the catapult system)",
+    ),
+)
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
 
@@ -976,6 +994,7 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
     "tolerance": TOLERANCE,
     "case": CASE,
     "testbed": TESTBED,
+    "support": SUPPORT,
 }
 
 

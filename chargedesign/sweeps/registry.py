@@ -31,6 +31,7 @@ from chargedesign.tolerancing import (
     monte_carlo,
     tolerance_report,
 )
+from chargedesign.verdict import recorded_verdict
 
 CommandFunction = Callable[..., dict[str, Any]]
 
@@ -62,12 +63,14 @@ def _scene_design(scene: Any, point_dir: Path) -> Any:
 
 
 def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
-    """Design the body; writes design.json. Figures: element counts, residual, seconds."""
+    """Design the body; writes design.json. Figures: the recorded verdict's state, element
+    counts, residual, seconds."""
 
     result = design_from_scene(scene)
     write_design(result.design, point_dir / "design.json")
     d = result.design
     return {
+        "verdict": recorded_verdict(d)["state"],
         "charges": len(d.charge_values),
         "dipoles": len(d.dipole_moments),
         "masses": len(d.mass_values),
@@ -88,6 +91,12 @@ def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
         "V_rel_err": data.get("V_rel_err"),
         "inertia_rel_err": data.get("inertia_rel_err"),
         "passed": bool(report.passed),
+        # the check's own verdict, recomputed from the parts, and whether the record agrees
+        **(
+            {"verdict": data["verdict"]["state"], "verdict_agrees": data["verdict_agrees"]}
+            if "verdict" in data
+            else {}
+        ),
     }
 
 
