@@ -135,10 +135,10 @@ def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str
         _forward_check(design, args)
     out = Path(args.out)
     files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
-    picture = "" if args.no_picture else "\n![the body](design.png)\n"
+    report = render_report(design, picture=None if args.no_picture else "design.png")
     with atomic_directory(out, drop=("design.png", "bom.csv")) as stage:
         write_design(design, stage / "design.json")
-        write_text_atomic(stage / "report.md", str(result) + picture)
+        write_text_atomic(stage / "report.md", report)
         if not args.no_picture:
             progress("rendering design.png ...")
             _render(design, stage / "design.png", scene.region.table if scene.region else None)
