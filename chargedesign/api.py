@@ -28,10 +28,9 @@ from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
-from chargedesign.validation import check_no_options, wrong_kind
+from chargedesign.validation import wrong_kind
 
 if TYPE_CHECKING:
-    from chargedesign.designer.case_design import CaseDesignResult, CaseElementsResult
     from chargedesign.model.case_file import CaseCertificate
     from chargedesign.model.catalogue import CatalogueReport
 
@@ -50,6 +49,7 @@ def as_scene(source: Any = None, **tables: Any) -> Scene:
         ``fields`` given as ``{"magnetic": {"a1": 1.0, "a2": 0.5}}`` or with ``legendre``.
     """
 
+    tables = {name: table for name, table in tables.items() if table is not None}
     if isinstance(source, Scene) and not tables:
         return source
     if source is None or isinstance(source, Parameters):
@@ -59,7 +59,8 @@ def as_scene(source: Any = None, **tables: Any) -> Scene:
             data["parameters"] = source.as_dict()
             where = "<parameters>"
     elif isinstance(source, Scene):
-        data = {"parameters": source.parameters.as_dict(), **source.tables}
+        model = {} if "case" in source.tables else {"parameters": source.parameters.as_dict()}
+        data = {**model, **source.tables}
         data["fields"] = {k: {"legendre": list(v)} for k, v in source.fields.items()}
         where = source.source
     elif isinstance(source, (str, os.PathLike)):
@@ -85,7 +86,7 @@ def design(
     fields: Mapping[str, Any] | None = None,
     body: Mapping[str, Any] | None = None,
     **options: Any,
-) -> DesignResult | CaseDesignResult | CaseElementsResult:
+) -> DesignResult:
     """Design the body a scene describes (charges, dipoles, masses that realise the case).
 
     Parameters
@@ -102,12 +103,10 @@ def design(
 
     Returns
     -------
-    DesignResult, CaseDesignResult or CaseElementsResult
+    DesignResult
         ``result.design`` is the body (:class:`~chargedesign.body.Design`); a scene with
-        ``[case]`` gives a :class:`~chargedesign.designer.case_design.CaseDesignResult`
-        (masses in gravity, the case's certificate) or, for a case masses alone do not
-        realise, a :class:`~chargedesign.designer.case_design.CaseElementsResult` (charges,
-        dipoles and masses).
+        ``[case]`` takes the same route (:func:`~chargedesign.designer.design_from_scene`)
+        and its result carries the case's exact certificate (``result.certificate``).
 
     Raises
     ------
@@ -115,13 +114,6 @@ def design(
     """
 
     scene = as_scene(source, fields=fields, body=body)
-    if scene.case is not None:
-        check_no_options(
-            "design", options, "a [case] scene takes its options from its [design] table"
-        )
-        from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
-
-        return design_case_scene(scene, progress)
     return design_from_scene(scene, progress=progress, **options)
 
 

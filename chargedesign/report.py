@@ -264,6 +264,7 @@ def render_report(
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     lines += _scene_lines(design)
+    lines += _case_lines(design)
     lines += _element_lines(design)
     lines += _problem_lines(design)
     timings = design.timings or {}
@@ -285,6 +286,53 @@ def render_report(
     return "\n".join(lines) + "\n"
 
 
+def _case_lines(design: Design) -> list[str]:
+    """A ``[case]`` scene's record (design.json ``case``): the case, its certificate, the
+    checks of the elements against it, its realism budget and window (none: the theorem's)."""
+    record = design.further_keys.get("case")
+    if not isinstance(record, dict):
+        return []
+    certificate = record.get("certificate") or {}
+    level = "general" if record.get("level") == "general" else f"on I3 = {record.get('level')}"
+    verdict = "holds" if certificate.get("holds") else "does NOT hold"
+    independent = "yes" if certificate.get("independent") else "NO"
+    lines = [
+        "",
+        f"Realises the case's {', '.join(design.realises)}: case {record.get('name')}, "
+        f"inertia diag({', '.join(f'{m:.10g}' for m in record.get('inertia', []))}) kg m^2.",
+        f"- the claimed integral {verdict} exactly ({level}; independent: {independent})",
+    ]
+    checks = record.get("checks")
+    if checks:
+        lines.append(
+            f"- recomputed from the elements: inertia relative error "
+            f"{checks['inertia_rel_err']:.1e}; torque of every element in its field against the "
+            f"case's gamma x dV/dgamma - omega x mu: relative error {checks['torque_rel_err']:.1e}"
+            f"; the charges' l . gamma is the case's plus {checks['level_offset']:.6g} kg m^2/s"
+        )
+    budget, window = record.get("realism"), record.get("realised")
+    if budget and budget["term_key"] is None:
+        lines.append("- realism: the case realises no force (V and mu constant): no term to hold")
+    elif budget and window:
+        items = ", ".join(
+            f"{key} {item['value']:.1e} ({item['verdict']})"
+            for key, item in budget["items"].items()
+            if item["value"] is not None
+        )
+        span = (
+            "empty"
+            if window["s_low"] is None
+            else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
+        )
+        lines += [
+            f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
+            f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
+            f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
+            f"below: {window['binding_low']}; above: {window['binding_high']}",
+        ]
+    return lines
+
+
 def flight_lines(support: dict[str, Any] | None) -> list[str]:
     """The "Flight" section: the support's items and, in free fall, the release, its
     tolerance and what the cameras would show (``design.support``, docs/flight.md)."""
@@ -293,6 +341,8 @@ def flight_lines(support: dict[str, Any] | None) -> list[str]:
     flight = support.get("flight") or {}
     lines = [f"- {x}" for x in flight.get("lines", [])]
     return ["", "## Flight", "", *support_lines(support), *lines]
+
+
 #: the terminal's widest line and longest summary (``chargedesign design`` without --verbose)
 TERMINAL_WIDTH = 160
 SUMMARY_LINES = 40

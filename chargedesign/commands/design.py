@@ -8,10 +8,9 @@ A failed picture fails the command (exit 2, one line naming the cause): the thre
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
-A scene with ``[case]`` (any case of (ep), docs/workbench.md) whose ``l`` is zero and whose
-``V`` is at most quadratic in gamma is designed as point masses in gravity
-(:mod:`chargedesign.designer.case_design`), checked forward against the case's own V and
-inertia; other cases are refused in one line with the reason.
+A scene with ``[case]`` (any case of (ep), docs/workbench.md) takes the same route
+(:func:`chargedesign.designer.design_from_scene`, the same options), checked forward against
+the case's own V and inertia; what no supported field realises is refused in one line.
 
 Before anything is written the body is checked forward (``chargedesign.checker``, the check
 command's default tolerance and orientations, against the parameters the elements realise:
@@ -27,6 +26,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Callable
+from typing import Any
 
 from chargedesign.body import write_design
 from chargedesign.candidates import candidates_from_table
@@ -55,22 +55,11 @@ def run(args: argparse.Namespace) -> int:
             print(f"design: {message}", file=sys.stderr, flush=True)
 
     scene = load_scene(args.scene)
-    if scene.case is not None:
+    if scene.case is not None and scene.physical is None:
         return _design_case(scene, args, progress)
     _check_degenerate(scene)
     _check_linf_cap(scene, args)
-    result = design_from_scene(
-        scene,
-        progress=progress,
-        objective=args.objective,
-        robust_weight=args.robust_weight,
-        solver=args.solver,
-        n_charges=args.n_charges,
-        max_charge=args.max_charge,
-        total_charge=args.total_charge,
-        total_mass=args.total_mass,
-        polish=False if args.no_polish else None,
-    )
+    result = design_from_scene(scene, progress=progress, **_design_options(args))
     design = result.design
     if not args.no_forward_check:
         progress("forward check ...")
@@ -118,6 +107,20 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _design_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The command line's [design] options (None: the scene's), for every route."""
+    return {
+        "objective": args.objective,
+        "robust_weight": args.robust_weight,
+        "solver": args.solver,
+        "n_charges": args.n_charges,
+        "max_charge": args.max_charge,
+        "total_charge": args.total_charge,
+        "total_mass": args.total_mass,
+        "polish": False if args.no_polish else None,
+    }
+
+
 def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str], None]) -> int:
     """A scene's ``[case]`` as point masses in gravity (:mod:`chargedesign.designer.case_design`):
     checked forward against the case's own V and inertia, then design.json, report.md and
@@ -125,19 +128,17 @@ def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str
     import json
     from pathlib import Path
 
-    from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
-
-    result = design_case_scene(scene, progress)
+    result = design_from_scene(scene, progress=progress, **_design_options(args))
     design = result.design
     if not args.no_forward_check:
         progress("forward check against the case's V and inertia ...")
         _forward_check(design, args)
     out = Path(args.out)
     files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
-    picture = "" if args.no_picture else "\n![the body](design.png)\n"
+    report = render_report(design, picture=None if args.no_picture else "design.png")
     with atomic_directory(out, drop=("design.png", "bom.csv")) as stage:
         write_design(design, stage / "design.json")
-        write_text_atomic(stage / "report.md", str(result) + picture)
+        write_text_atomic(stage / "report.md", report)
         if not args.no_picture:
             progress("rendering design.png ...")
             _render(design, stage / "design.png", scene.region.table if scene.region else None)

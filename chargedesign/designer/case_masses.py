@@ -1,4 +1,4 @@
-"""A body of point masses for a case of (ep) that masses in uniform gravity realise.
+"""The conditions of a case of (ep) that point masses in uniform gravity realise.
 
 The first step of designing any case (the workbench issue, item 4): a case whose ``l`` is zero
 and whose ``V`` is at most quadratic in gamma, ``V = v0 + a . gamma + gamma Q gamma``, is
@@ -17,28 +17,23 @@ then derived. Clebsch's case (``Q = eps/2 I``) is so: a body in the gradient ``f
 The heavy tops (Euler, Lagrange, Kowalevski, Goriachev-Chaplygin) have ``Q = 0`` and f2 = 0.
 
 They are the conditions engine's :class:`~chargedesign.moment_conditions.LinearConditions`, and
-the masses are designed by the designer's own problem (:func:`design_source`, ``m >= 0``,
-polished). Other cases (a non-zero ``l``, a V of higher degree, singular terms) are refused
-with the reason: they need charges, dipoles and fields of higher degree, which this module
-does not derive yet.
+the masses are designed by the one design program (:func:`chargedesign.designer.pipeline.
+design_body`, ``m >= 0``, polished). Other cases (a non-zero ``l``, a V of higher degree,
+singular terms) go to the general conditions engine
+(:func:`chargedesign.moment_conditions.case.derive_case_conditions`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
 
 import numpy as np
 import sympy as sp
 
-from chargedesign.candidates import CandidateSet, candidates_from_points
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.designer.pipeline import design_source
 from chargedesign.errors import InfeasibleError
 from chargedesign.model.case import GAMMA
 from chargedesign.moment_conditions import LinearCondition, LinearConditions
-from chargedesign.results import Result
 from chargedesign.scene.case_file import Case
 from chargedesign.scene.case_refusals import (
     refuse_gyroscopic,
@@ -46,7 +41,6 @@ from chargedesign.scene.case_refusals import (
     refuse_quadratic_mismatch,
     refuse_singular_v,
 )
-from chargedesign.scene.design import DesignOptions
 from chargedesign.validation import as_finite_float
 
 
@@ -142,111 +136,13 @@ def mass_conditions(case: Case, g: float = STANDARD_GRAVITY) -> LinearConditions
     )
 
 
-@dataclass(repr=False)
-class CaseMassBody(Result):
-    """Masses that realise a case in uniform gravity, with what they realise recomputed.
-
-    Attributes
-    ----------
-    name : str
-    positions : ndarray, shape (n, 3)
-        m, body axes.
-    masses : ndarray, shape (n,)
-        kg, each > 0.
-    gravity : tuple of float
-        The gravity field's ``legendre`` coefficients (f1 in m/s^2, f2 in 1/s^2).
-    inertia : ndarray, shape (3, 3)
-        ``sum m (|x|^2 delta - x x^T)`` recomputed from the masses, kg m^2.
-    potential : ndarray, shape (3,)
-        ``f1 sum m x`` recomputed: the body's ``a`` of ``V = a . gamma + ...``, J.
-    target_inertia, target_potential : ndarray
-        The case's.
-    """
-
-    name: str
-    positions: np.ndarray
-    masses: np.ndarray
-    gravity: tuple[float, ...]
-    inertia: np.ndarray
-    potential: np.ndarray
-    target_inertia: np.ndarray
-    target_potential: np.ndarray
-
-    @property
-    def inertia_rel_err(self) -> float:
-        scale = float(np.max(np.abs(self.target_inertia)))
-        return float(np.max(np.abs(self.inertia - self.target_inertia))) / scale
-
-    @property
-    def potential_err(self) -> float:
-        """Largest error of ``a`` relative to the largest component of the case's ``a``."""
-        scale = max(float(np.max(np.abs(self.target_potential))), 1e-300)
-        return float(np.max(np.abs(self.potential - self.target_potential))) / scale
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "name": self.name,
-            "fields": {"gravity": {"legendre": list(self.gravity)}},
-            "masses": {"positions": self.positions.tolist(), "values": self.masses.tolist()},
-            "inertia": self.inertia.tolist(),
-            "potential_linear": self.potential.tolist(),
-            "inertia_rel_err": self.inertia_rel_err,
-            "potential_err": self.potential_err,
-        }
-
-    def _summary(self) -> dict[str, Any]:
-        return {
-            "name": self.name,
-            "n_masses": len(self.masses),
-            "total_mass_kg": float(self.masses.sum()),
-            "inertia_rel_err": self.inertia_rel_err,
-            "potential_err": self.potential_err,
-        }
-
-
 def inertia_of(positions: np.ndarray, masses: np.ndarray) -> np.ndarray:
     """``sum m (|x|^2 delta - x x^T)`` about O, kg m^2, shape (3, 3)."""
     squared = np.einsum("i,ij,ij->", masses, positions, positions)
     return np.eye(3) * squared - np.einsum("i,ij,ik->jk", masses, positions, positions)
 
 
-def design_case_masses(
-    case: Case,
-    candidates: CandidateSet | np.ndarray,
-    g: float = STANDARD_GRAVITY,
-    options: DesignOptions | None = None,
-) -> CaseMassBody:
-    """Design point masses on ``candidates`` (m) that realise ``case`` in gravity (the uniform
-    part ``g``, m/s^2; the gradient derived: :func:`mass_conditions`).
-
-    Raises
-    ------
-    InputError, InfeasibleError, SolverError
-    """
-    conditions = mass_conditions(case, g)
-    cand = (
-        candidates if isinstance(candidates, CandidateSet) else candidates_from_points(candidates)
-    )
-    weights, _ = design_source("masses", conditions, cand, options or DesignOptions())
-    keep = weights > 0
-    positions, masses = cand.points[keep], weights[keep]
-    gravity = tuple(conditions.fields["gravity"])
-    a, _ = quadratic_potential(case)
-    return CaseMassBody(
-        name=case.name,
-        positions=positions,
-        masses=masses,
-        gravity=gravity,
-        inertia=inertia_of(positions, masses),
-        potential=gravity[0] * masses @ positions,
-        target_inertia=np.diag([float(m) for m in case.inertia]),
-        target_potential=np.array([float(x) for x in a]),
-    )
-
-
 __all__ = [
-    "CaseMassBody",
-    "design_case_masses",
     "gradient_strength",
     "inertia_of",
     "mass_conditions",

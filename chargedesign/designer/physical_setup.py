@@ -25,7 +25,7 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solvers import least_norm
-from chargedesign.errors import InfeasibleError
+from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
@@ -147,8 +147,34 @@ class PhysicalSetup:
         return limit / top if top > 0 else math.inf
 
 
+#: [design] options the physical program does not read: each is refused with [medium] (the
+#: carriers' own-field limits bound every charge, the parts' materials fix the masses, and the
+#: program's own solvers and equality polish reach its accuracy)
+PHYSICAL_REFUSED = {
+    "max_charge": "the carriers' own-field limits bound every |q|",
+    "total_mass": "the parts' materials and sizes fix the masses",
+    "solver": "the physical program runs its own linear and cone solvers",
+    "polish": "the physical program always polishes its equalities",
+    "tol": "the physical program is accepted by its limits and the forward check",
+}
+
+
+def refuse_unread_options(options: DesignOptions) -> None:
+    """Refuse, in one line naming the option, a ``[design]`` option the physical program
+    (a scene with ``[medium]``) would not read; called before any design work."""
+    default = DesignOptions()
+    for name, reason in PHYSICAL_REFUSED.items():
+        value = getattr(options, name)
+        if value != getattr(default, name):
+            raise InputError(
+                f"design.{name}: not available with [medium] ({reason}); drop it, or drop "
+                "[medium] for point elements"
+            )
+
+
 def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
     """The [design] options a physical design takes (one line naming the one it does not)."""
+    refuse_unread_options(options)
     check_physical_options(
         {s: options.objective_for(s) for s in ("charges", "dipoles", "masses")},
         PHYSICAL_OBJECTIVES,

@@ -23,7 +23,7 @@ from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardI
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
 from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
-from chargedesign.designer.physical_setup import setup_physical
+from chargedesign.designer.physical_setup import refuse_unread_options, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -36,7 +36,7 @@ from chargedesign.designer.system import (
     group_norms,
     relative_residual,
 )
-from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.moment_conditions import (
@@ -50,6 +50,7 @@ from chargedesign.physical.budget import judge_at_frontier
 from chargedesign.physical.support import scene_window_gravity, support_record
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
+from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.validation import (
     check_design_sources,
@@ -391,6 +392,7 @@ def design_body(
     options: DesignOptions | None = None,
     *,
     progress: Progress | None = None,
+    forward: bool = True,
 ) -> DesignResult:
     """Design charges, dipoles and masses on candidate points that meet the conditions.
 
@@ -406,6 +408,9 @@ def design_body(
     options : DesignOptions, optional
     progress : callable, optional
         Called with a short message before each long step.
+    forward : bool
+        Assess the forward accuracy against the theorem's mu and V at ``params`` (False for
+        a case not of the theorem's form: its own scales are not the theorem's).
 
     Raises
     ------
@@ -432,10 +437,10 @@ def design_body(
     t_start = time.perf_counter()
     sources_present = _sources_present(conditions, options)
     notes = [*cand.notes, *length_notes(conditions, cand.geometry.size)]
-    forward = ForwardInputs.build(params, conditions, cand, realise)
+    assess = ForwardInputs.build(params, conditions, cand, realise) if forward else None
     # fail fast: every source's equality system is checked before any solve
     checked = _checked_problems(sources_present, params, conditions, cand, options)
-    weights, results = _solve_sources(checked, options, progress, forward, timings, notes)
+    weights, results = _solve_sources(checked, options, progress, assess, timings, notes)
     timings["total"] = time.perf_counter() - t_start
     design = _design_of(params, conditions, weights, cand.points, realise)
     return _recorded_result(design, results, cand, options, conditions, timings, notes)
@@ -471,11 +476,13 @@ def design_from_scene(
     frontier: bool = True,
     **overrides: Any,
 ) -> DesignResult:
-    """Design the body a scene describes: its parameters, fields, ``[body]`` and ``[design]``.
+    """Design the body a scene describes: its model, fields, ``[body]`` and ``[design]``.
 
     Parameters
     ----------
     scene : chargedesign.scene.Scene
+        Its model is the theorem's ``[parameters]`` or a ``[case]`` of (ep)
+        (:func:`scene_model`); both take the same program below.
     progress : callable, optional
     **overrides
         DesignOptions fields that replace the scene's ``[design]`` values (None: keep).
@@ -489,7 +496,9 @@ def design_from_scene(
     (:mod:`chargedesign.designer.assembly`): carriers, magnets and ballast within every limit,
     accepted as :mod:`chargedesign.designer.acceptance` says; with ``frontier`` the largest rate
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
-    frontier; the physical design itself never calls the frontier).
+    frontier; the physical design itself never calls the frontier). A ``[case]`` scene's body
+    carries the case (design.json ``case``: ``check`` and ``simulate`` compare with it) and
+    its exact certificate (``result.certificate``).
     """
     check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
     t0 = time.perf_counter()
@@ -503,8 +512,15 @@ def design_from_scene(
                 result.design, scene.support, fraction=options.realised_fraction
             )
     else:
-        result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
-        result.design.parameters = scene.parameters
+        result = design_body(
+            inputs.body_params,
+            conditions,
+            candidates,
+            options,
+            progress=progress,
+            forward=inputs.model.theorem is not None,
+        )
+        result.design.parameters = inputs.model.parameters
         result.design.larmor = inputs.larmor
         result.timings = {"setup": t2 - t0, **result.timings}
         result.timings["total"] = time.perf_counter() - t0
@@ -515,8 +531,52 @@ def design_from_scene(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
+    if inputs.model.case is not None:
+        _record_case(result, inputs.model, progress)
     result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
+
+
+def _record_case(result: DesignResult, model: SceneModel, progress: Progress | None) -> None:
+    """A case scene's body: its exact certificate, its case record and the checks of the
+    elements against the case's own V, mu and inertia (:mod:`chargedesign.designer.case_design`)."""
+    from chargedesign.designer.case_design import record_case  # sympy: a case scene only
+
+    if progress is not None:
+        progress(f"certificate of the case {model.case.name} (exact) ...")
+    result.certificate = record_case(result.design, model.case, model.table, model.theorem)
+
+
+@dataclass
+class SceneModel:
+    """The model a scene's body realises: the theorem's ``[parameters]`` or a ``[case]``.
+
+    ``case`` is the scene's ``[case]`` (None: the theorem's scene, whose conditions come from
+    the theorem's own engine); ``theorem`` the theorem's parameters (the scene's, or those a
+    case of the theorem's form carries: :func:`chargedesign.model.catalogue.theorem_parameters`;
+    None: a general case); ``table`` the ``[case]`` table as written.
+    """
+
+    case: Any
+    theorem: Parameters | None
+    table: dict[str, Any] | None = None
+
+    @property
+    def parameters(self) -> Parameters:
+        """The parameters design.json records: the theorem's, or a general case's C."""
+        if self.theorem is not None:
+            return self.theorem
+        return Parameters.from_mapping({"C": float(self.case.inertia[2])}, "case.inertia[2]")
+
+
+def scene_model(scene: Any) -> SceneModel:
+    """The scene's model (:class:`SceneModel`)."""
+    if "case" not in scene.tables:
+        return SceneModel(case=None, theorem=scene.parameters)
+    from chargedesign.model.catalogue import theorem_parameters  # sympy: a case scene only
+
+    case = scene.case
+    return SceneModel(case=case, theorem=theorem_parameters(case), table=scene.tables["case"])
 
 
 def _physical_design(
@@ -561,6 +621,7 @@ class SceneInputs:
     larmor_why: str
     larmor_note: str
     spec: Any
+    model: SceneModel
 
     def physical_setup(self) -> Any:
         """The physical design's setup of these inputs (they must carry a ``[medium]``)."""
@@ -606,25 +667,60 @@ def larmor_of_scene(
 
 def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
-    its size) of the parameters its body realises."""
+    its size) of the model its body realises."""
 
     given = {k: v for k, v in overrides.items() if v is not None}
     options = dataclasses.replace(scene.design, **given) if given else scene.design
     if given.get("realised_gravity") is None:  # the support decides (free fall: residual g)
         options = dataclasses.replace(options, realised_gravity=scene_window_gravity(scene))
     spec = scene.physical
-    larmor, why, note = larmor_of_scene(options, scene.parameters, spec is not None)
-    params = body_parameters(scene.parameters, larmor)
+    if spec is not None:
+        refuse_unread_options(options)  # before any work
+    model = scene_model(scene)
+    if model.theorem is not None:
+        larmor, why, note = larmor_of_scene(options, model.theorem, spec is not None)
+        params = body_parameters(model.theorem, larmor)
+    else:
+        larmor, why, note = _general_case_reading(scene, options, spec)
+        params = model.parameters
     if progress is not None:
         progress("candidates ...")
+    if model.case is not None:
+        require_region(scene.source, scene.region is not None, "elements")
     body = scene.body.table if scene.body is not None else {}
     candidates = candidates_from_table(body, base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
     realise = options.realise if options.realise is not None else realise_from_scene(scene)
     size = candidates.geometry.size
-    conditions = derive_conditions(params, scene.fields, realise, length=size if size > 0 else None)
-    return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec)
+    length = size if size > 0 else None
+    if model.theorem is not None:
+        conditions = derive_conditions(params, scene.fields, realise, length=length)
+    else:
+        from chargedesign.designer.case_design import case_conditions  # sympy: a case only
+
+        conditions = case_conditions(scene, length=length)
+    return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec, model)
+
+
+def _general_case_reading(
+    scene: Any, options: DesignOptions, spec: Any
+) -> tuple[LarmorReading, str, str]:
+    """A case not of the theorem's form: its elements realise its own V and l (the charges
+    reading), refused in one line where the route still needs the theorem's parameters."""
+    if spec is not None:
+        raise InputError(
+            f"{scene.source}: [medium] with a [case] not of the theorem's form: the physical "
+            "design reads the theorem's rates (typical rate, K law, Larmor rate) and this case "
+            "has none yet; drop [medium] to design it as point elements"
+        )
+    if options.larmor == "frame":
+        raise InputError(
+            "design.larmor: 'frame' reads the theorem's n as turning axes; a [case] not of the "
+            "theorem's form has no n (use 'charges' or drop the key)"
+        )
+    why = "a [case] not of the theorem's form: its elements realise its own V and l"
+    return LarmorReading("charges", 0.0), why, ""
 
 
 def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:

@@ -66,6 +66,9 @@ class DesignResult(Result):
     notes : list of str
     status : str
         ``"optimal"`` (every problem solved and verified).
+    certificate : CaseCertificate or None
+        A ``[case]`` scene's exact certificate of its claimed integral
+        (:func:`chargedesign.model.case_file.certify_case`); None for the theorem's scene.
     """
 
     design: Design
@@ -76,6 +79,7 @@ class DesignResult(Result):
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     status: str = "optimal"
+    certificate: Any = None
 
     @property
     def limits(self) -> dict[str, Any] | None:

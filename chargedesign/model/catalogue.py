@@ -15,10 +15,14 @@ from dataclasses import dataclass
 from importlib import resources
 from typing import Any
 
+import sympy as sp
+
+from chargedesign.model.case import GAMMA
 from chargedesign.model.case_file import CaseCertificate, certify_case
+from chargedesign.params import Parameters
 from chargedesign.readers import loads_toml
 from chargedesign.results import Result
-from chargedesign.scene.case_file import Case, case_from_table
+from chargedesign.scene.case_file import Case, case_from_table, vanishes_on_sphere
 from chargedesign.validation import check_keys
 
 #: the keys of one catalogue entry
@@ -68,6 +72,134 @@ def catalogue_case(name: str) -> Case:
             return case_from_table(table, f"case {entry['file']}")
     names = ", ".join(entry_table(e)["name"] for e in catalogue_entries())
     raise ValueError(f"catalogue: no case named {name!r} (the cases: {names})")
+
+
+#: the catalogue's file of the theorem (Yehia & Elmandouh): V, l and I4 as the paper states them
+THEOREM_FILE = "yehia_elmandouh.toml"
+#: the name of the theorem's case built from a scene's parameters
+THEOREM_NAME = "yehia-elmandouh"
+
+
+def theorem_case(params: Parameters) -> Case:
+    """The theorem as a case of (ep): the catalogue's entry with ``params`` as its parameters.
+
+    Each float is read as the decimal it prints as (``0.3 -> 3/10``, as a case file reads
+    it), so the case's V, l, inertia and I4 are exact; ``case.parameters`` holds them. The
+    conditions engine gives it the theorem's own conditions
+    (:func:`chargedesign.moment_conditions.case.derive_case_conditions`; the two agree row for
+    row, tests/model/test_theorem_case.py).
+    """
+    table = entry_table({"file": THEOREM_FILE, "parameters": params.as_dict()})
+    table["name"] = THEOREM_NAME
+    return case_from_table(table, f"case {THEOREM_FILE}")
+
+
+def theorem_parameters(case: Case) -> Parameters | None:
+    """The theorem's parameters of a case of the theorem's form, or None for any other case.
+
+    A case is the theorem's when its inertia is ``(2C, 2C, C)`` and its V and l are, on
+    ``|gamma| = 1``, the theorem's with lambda = rho = 0 for some ``(c, d, n, K, kappa)``
+    (exact rationals). V and l fix ``n``, ``K (c, d)`` and ``kappa (c, d)`` only (the theorem
+    is unchanged under ``(c, d, K, kappa) -> (t c, t d, K / t, kappa / t)``), so:
+
+    - a case whose ``parameters`` name the theorem's and give its V and l exactly (the
+      catalogue's entry, :func:`theorem_case`) is read with those parameters;
+    - any other is read with the paper's ``c^2 + d^2 = 1/4`` and ``K >= 0`` (``kappa >= 0``
+      when K = 0).
+
+    The physical design reads of these parameters what a general case does not give: the
+    typical rate of the realism budget, the K law and the Larmor rate n.
+    """
+    A, B, C = case.inertia
+    if not (A == B == 2 * C) or case.l is None:
+        return None
+    given = _given_theorem_parameters(case)
+    if given is not None:
+        return given
+    products = _theorem_products(case)
+    if products is None:
+        return None
+    n, Kc, Kd, kc, kd = products
+    if Kc != 0 or Kd != 0:
+        K = 2 * sp.sqrt(Kc**2 + Kd**2)
+        c, d = Kc / K, Kd / K
+        if kc * Kd != kd * Kc:
+            return None  # kappa (c, d) not along K (c, d): not the theorem's V
+        kappa = kc / c if c != 0 else kd / d
+    elif kc != 0 or kd != 0:
+        K = sp.Integer(0)
+        kappa = 2 * sp.sqrt(kc**2 + kd**2)
+        c, d = kc / kappa, kd / kappa
+    else:
+        K = kappa = c = d = sp.Integer(0)
+    return Parameters(
+        C=float(C), c=float(c), d=float(d), n=float(n), K=float(K), kappa=float(kappa)
+    )
+
+
+def _given_theorem_parameters(case: Case) -> Parameters | None:
+    """The case's own ``parameters`` when they are the theorem's and give its V and l."""
+    names = set(Parameters().as_dict())
+    if not case.parameters or not set(case.parameters) <= names:
+        return None
+    values = {k: float(v) for k, v in case.parameters.items()}
+    params = Parameters.from_mapping(values, f"case {case.name}.parameters")
+    if params.singular:
+        return None
+    theorem = theorem_case(params)
+    assert theorem.l is not None and case.l is not None
+    same = (
+        tuple(theorem.inertia) == tuple(case.inertia)
+        and vanishes_on_sphere(theorem.V - case.V)
+        and all(vanishes_on_sphere(a - b) for a, b in zip(theorem.l, case.l, strict=True))
+    )
+    return params if same else None
+
+
+def _sphere_coefficients(expr: sp.Expr, constant: bool) -> list[sp.Expr]:
+    """The coefficients of ``expr``'s normal form on ``|gamma| = 1`` (its constant term too
+    when ``constant``): all zero iff ``expr`` vanishes on the sphere (up to a constant)."""
+    gamma = tuple(GAMMA)
+    sphere = sp.Poly(sum(g**2 for g in gamma) - 1, *gamma)
+    rem = sp.Poly(sp.expand(expr), *gamma).rem(sphere)
+    return [c for m, c in rem.terms() if constant or any(m)]
+
+
+def _theorem_products(case: Case) -> tuple[sp.Expr, ...] | None:
+    """``(n, K c, K d, kappa c, kappa d)`` whose theorem V and l are the case's on the
+    sphere (exact), or None (no such: the case is not the theorem's)."""
+    assert case.l is not None
+    g1, g2, g3 = tuple(GAMMA)
+    C = case.inertia[2]
+    n, Kc, Kd, kc, kd = sp.symbols("n Kc Kd kc kd")
+    f = Kd * (g2**2 - g1**2) + 2 * Kc * g1 * g2  # K times the theorem's quadratic f
+    l_theorem = [C * 2 * n * g1, C * 2 * n * g2, C * (n * g3 + f)]
+    V_theorem = C * (
+        2 * kd * g1 * g2
+        + kc * (g1**2 - g2**2)
+        + n**2 * g3**2 / 2
+        - n * g3 * f
+        + 2 * Kc * Kd * g1 * g2 * (g1**2 - g2**2)
+        + Kd**2 / 2 * (g3**4 + 4 * g1**2 * g2**2)
+        - Kc**2 * (g3**2 * (g1**2 + g2**2) + 2 * g1**2 * g2**2)
+    )
+    try:
+        l_rows = [
+            c
+            for a, b in zip(l_theorem, case.l, strict=True)
+            for c in _sphere_coefficients(a - b, True)
+        ]
+        l_solutions = list(sp.linsolve(l_rows, [n, Kc, Kd]))
+        if len(l_solutions) != 1 or any(s.free_symbols for s in l_solutions[0]):
+            return None
+        first = dict(zip((n, Kc, Kd), l_solutions[0], strict=True))
+        v_rows = _sphere_coefficients(V_theorem.subs(first) - case.V, False)
+        v_solutions = list(sp.linsolve(v_rows, [kc, kd]))
+    except (sp.PolynomialError, sp.polys.polyerrors.PolificationFailed):
+        return None  # a singular (rational) V or l: not the theorem's polynomial form
+    if len(v_solutions) != 1 or any(s.free_symbols for s in v_solutions[0]):
+        return None
+    return (*l_solutions[0], *v_solutions[0])
 
 
 @dataclass(repr=False)
@@ -143,4 +275,6 @@ __all__ = [
     "catalogue_entries",
     "certify_catalogue",
     "entry_table",
+    "theorem_case",
+    "theorem_parameters",
 ]

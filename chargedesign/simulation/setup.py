@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design, read_design
+from chargedesign.designer.pipeline import design_from_scene
 from chargedesign.formatting import CELL, ORDER, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
@@ -150,9 +151,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         )
         origin = f"none: the reduced model of the [case] {case.case.name}"
     elif scene.case is not None:  # a case of (ep): masses in gravity, designed at once
-        from chargedesign.designer.case_design import design_case_scene  # sympy: a case only
-
-        design = design_case_scene(scene).design
+        design = design_from_scene(scene).design
         origin = f"[case] {scene.case.name}: masses designed on the [body] region"
     elif has_inline_elements(body_table):
         design = _inline_design(body_table, scene)

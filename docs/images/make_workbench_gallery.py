@@ -15,7 +15,7 @@ import tempfile
 from pathlib import Path
 
 from chargedesign.cli import main
-from chargedesign.designer.case_design import CaseElementsResult, design_case_scene
+from chargedesign.designer.pipeline import design_from_scene
 from chargedesign.errors import ChargeDesignError
 from chargedesign.model.catalogue import catalogue_entries, certify_catalogue, entry_table
 from chargedesign.scene import scene_from_dict
@@ -30,29 +30,21 @@ for entry in catalogue_entries():
     table = entry_table(entry)
     scene = scene_from_dict({"case": table, "body": dict(BODY)}, f"<{table['name']}>")
     try:
-        result = design_case_scene(scene)
+        result = design_from_scene(scene)
     except ChargeDesignError as exc:
         reason = str(exc).split(": ", 1)[1] if ": " in str(exc) else str(exc)
         outcome = f"refused: {reason.split(';')[0].split(' (')[0]}"
     else:
-        if isinstance(result, CaseElementsResult):  # charges, dipoles and masses
-            elements = result.body
-            fields = "; ".join(
-                f"{kind} [{', '.join(f'{x:.4g}' for x in v)}]"
-                for kind, v in elements.fields.items()
-            )
-            outcome = (
-                f"{len(elements.charge_values)} charges, {len(elements.dipole_moments)} "
-                f"dipoles, {len(elements.mass_values)} masses; {fields}; inertia err "
-                f"{elements.inertia_rel_err:.0e}, torque err {elements.torque_rel_err:.0e}"
-            )
-        else:
-            body = result.body
-            gravity = ", ".join(f"{x:.4g}" for x in body.gravity)
-            outcome = (
-                f"{len(body.masses)} masses, {body.masses.sum():.4g} kg, gravity [{gravity}]; "
-                f"inertia err {body.inertia_rel_err:.0e}, linear V err {body.potential_err:.0e}"
-            )
+        design = result.design
+        fields = "; ".join(
+            f"{kind} [{', '.join(f'{x:.4g}' for x in v)}]" for kind, v in design.fields.items() if v
+        )
+        checks = design.further_keys["case"]["checks"]
+        outcome = (
+            f"{len(design.charge_values)} charges, {len(design.dipole_moments)} "
+            f"dipoles, {len(design.mass_values)} masses; {fields}; inertia err "
+            f"{checks['inertia_rel_err']:.0e}, torque err {checks['torque_rel_err']:.0e}"
+        )
     print(f"| {table['name']} | {seconds[table['name']]:.2f} | {outcome} |")
 print(f"\n{len(report.certificates)} cases certified in {report.seconds:.1f} s")
 

@@ -15,15 +15,29 @@ import matplotlib.pyplot as plt
 from scipy.integrate import solve_ivp
 
 from chargedesign.candidates import ball_points
-from chargedesign.designer.case_masses import design_case_masses, inertia_of
+from chargedesign.designer.case_masses import inertia_of, mass_conditions
+from chargedesign.designer.pipeline import design_body
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.catalogue import catalogue_case
+from chargedesign.params import Parameters
+
+
+class MassBody:
+    """A case's masses in gravity, designed by the one design program."""
+
+    def __init__(self, case):
+        params = Parameters(C=float(case.inertia[2]))
+        design = design_body(params, mass_conditions(case), ball_points(1.0, 0.25), forward=False)
+        body = design.design
+        self.positions, self.masses = body.mass_positions, body.mass_values
+        self.gravity = body.fields["gravity"]
+
 
 fig = plt.figure(figsize=(12, 4))
 drift_ax = fig.add_subplot(1, 3, 3)
 for k, name in enumerate(["kowalevski", "clebsch"]):
     case = catalogue_case(name)
-    body = design_case_masses(case, ball_points(1.0, 0.25))
+    body = MassBody(case)
     ax = fig.add_subplot(1, 3, k + 1, projection="3d")
     x = body.positions
     ax.scatter(

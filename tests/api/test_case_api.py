@@ -51,12 +51,14 @@ def test_catalogue_certifies_every_case() -> None:
 def test_design_of_a_case_scene_is_masses_checked_and_simulated(tmp_path: Path) -> None:
     scene = {"case": KOWALEVSKI, "body": {"shape": "ball", "radius": 0.5, "spacing": 0.125}}
     result = cd.design(scene)
-    assert isinstance(result, cd.CaseDesignResult)
+    assert isinstance(result, cd.DesignResult) and result.certificate.holds
     data = _protocol(result)
-    assert data["realises"] == ["V", "inertia"] and data["case"]["certificate"]["holds"]
-    assert result.body.inertia_rel_err <= 1e-12 and result.body.potential_err <= 1e-12
+    assert data["realises"] == ["V", "inertia"] and data["design"]["case"]["certificate"]["holds"]
+    residuals = result.design.residuals
+    assert residuals["inertia_rel_err"] <= 1e-12 and residuals["torque_rel_err"] <= 1e-12
     assert cd.check(result, n_orientations=40).passed
     motion = cd.simulate(result, t_end=2.0)
     assert motion.summary()["F_rel_drift"] <= 1e-12
-    with pytest.raises(cd.InputError, match="objective: a \\[case\\] scene"):
-        cd.design(scene, objective="l1")
+    # the one route honours the design options of a case scene too
+    l2 = cd.design(scene, objective="l2")
+    assert l2.design.provenance["options"]["objective"] == "l2"

@@ -10,10 +10,9 @@ from typing import Any
 import pytest
 import sympy as sp
 
-from chargedesign.candidates import ball_points
 from chargedesign.cli import main
 from chargedesign.commands import catalogue as catalogue_command
-from chargedesign.designer.case_masses import design_case_masses
+from chargedesign.designer.pipeline import design_from_scene
 from chargedesign.model.case import g1, g2, g3, p, q, r
 from chargedesign.model.case_file import certify_case, conserved_combinations
 from chargedesign.model.catalogue import (
@@ -24,6 +23,7 @@ from chargedesign.model.catalogue import (
     entry_table,
 )
 from chargedesign.results import REPR_LIMIT
+from chargedesign.scene import scene_from_dict
 from chargedesign.scene.case_file import case_from_table
 
 #: the paper's cases the catalogue must hold (names of the entries)
@@ -215,7 +215,15 @@ def test_the_workbench_results_follow_the_result_protocol(
         certify_case(kowalevski),
         certify_case(case_from_table(wrong)),
         catalogue_report,
-        design_case_masses(kowalevski, ball_points(1.0, 0.5)),
+        design_from_scene(
+            scene_from_dict(
+                {
+                    "case": entry_table({"file": "kowalevski.toml"}),
+                    "body": {"shape": "ball", "radius": 1.0, "spacing": 0.5},
+                },
+                "<kowalevski>",
+            )
+        ),
     ]
     for result in results:
         data = result.to_dict()

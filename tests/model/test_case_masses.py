@@ -1,7 +1,10 @@
-"""Bodies of masses for the catalogue's heavy tops (designer/case_masses.py): the inertia and
-the potential recomputed here from the designed masses, by plain sums."""
+"""Bodies of masses for the catalogue's heavy tops (the conditions of designer/case_masses.py,
+designed by the one design program): the inertia and the potential recomputed here from the
+designed masses, by plain sums."""
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -10,19 +13,31 @@ from scipy.integrate import solve_ivp
 
 from chargedesign.candidates import ball_points
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.designer.case_masses import (
-    CaseMassBody,
-    design_case_masses,
-    gradient_strength,
-    mass_conditions,
-)
+from chargedesign.designer.case_masses import gradient_strength, mass_conditions
+from chargedesign.designer.pipeline import design_body
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.fields import zonal_sums
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.catalogue import catalogue_case, entry_table
-from chargedesign.scene.case_file import case_from_table
+from chargedesign.params import Parameters
+from chargedesign.scene.case_file import Case, case_from_table
 
 TIGHT = 1e-12
+
+
+@dataclass
+class MassBody:
+    positions: np.ndarray
+    masses: np.ndarray
+    gravity: tuple[float, ...]
+
+
+def design_case_masses(case: Case, points: np.ndarray) -> MassBody:
+    """The case's masses in gravity on ``points`` by the one design program."""
+    conditions = mass_conditions(case)
+    params = Parameters(C=float(case.inertia[2]))
+    design = design_body(params, conditions, points, forward=False).design
+    return MassBody(design.mass_positions, design.mass_values, design.fields["gravity"])
 
 
 def _inertia(positions: np.ndarray, masses: np.ndarray) -> np.ndarray:
@@ -32,7 +47,7 @@ def _inertia(positions: np.ndarray, masses: np.ndarray) -> np.ndarray:
     return inertia
 
 
-def _body_potential(body: CaseMassBody, gamma: np.ndarray) -> float:
+def _body_potential(body: MassBody, gamma: np.ndarray) -> float:
     """sum m Phi_g(x) with the project's field evaluator (Z = x . gamma, S = |x|^2)."""
     Z = body.positions @ gamma
     S = np.einsum("ij,ij->i", body.positions, body.positions)

@@ -1,0 +1,177 @@
+"""One model, one design route: a ``[case]`` scene takes the theorem's program.
+
+Independent entries of the same physics: the theorem's scene (``[parameters]``) and the same
+theorem written by hand as a ``[case]`` (its V and l as plain numbers, or with the theorem's
+parameters) with the same ``[fields]``, ``[medium]``, ``[magnets]``, ``[ballast]`` and
+``[body]``: the same parts (counts, positions to 1e-9 relative, masses) and the same verdict.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import chargedesign as cd
+from chargedesign.errors import InputError
+from chargedesign.model.catalogue import theorem_case
+from chargedesign.params import Parameters
+from chargedesign.report import render_report
+from chargedesign.scene import scene_from_dict
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
+
+#: the K = 0 example's theorem (C = 2e-5, c = 0.3, d = -0.4, n = K = 0, kappa = 64) by hand:
+#: V = C kappa (2 d g1 g2 + c (g1^2 - g2^2)), l = 0, I4 = F1^2 + F2^2 on I3 = 0
+CHAPLYGIN_CASE = {
+    "name": "chaplygin by hand",
+    "inertia": ["4.0e-5", "4.0e-5", "2.0e-5"],
+    "V": "-1.024e-3*gamma1*gamma2 + 3.84e-4*(gamma1**2 - gamma2**2)",
+    "l": ["0", "0", "0"],
+    "integral": "(p**2 - q**2 + 19.2*gamma3**2)**2 + (2*p*q - 25.6*gamma3**2)**2",
+    "level": 0,
+}
+
+#: the unit-scale theorem (C = 1, c = 0.3, d = -0.4, n = 0.7, K = 0.5, kappa = 0.9) by hand
+UNIT_CASE = {
+    "name": "unit scale by hand",
+    "inertia": [2, 2, 1],
+    "V": (
+        "0.9*(-0.8*gamma1*gamma2 + 0.3*(gamma1**2 - gamma2**2)) + 0.245*gamma3**2"
+        " - 0.35*gamma3*(-0.4*(gamma2**2 - gamma1**2) + 0.6*gamma1*gamma2)"
+        " + 0.25*(-0.24*gamma1*gamma2*(gamma1**2 - gamma2**2)"
+        " + 0.08*(gamma3**4 + 4*gamma1**2*gamma2**2)"
+        " - 0.09*(gamma3**2*(gamma1**2 + gamma2**2) + 2*gamma1**2*gamma2**2))"
+    ),
+    "l": [
+        "1.4*gamma1",
+        "1.4*gamma2",
+        "0.7*gamma3 + 0.5*(-0.4*(gamma2**2 - gamma1**2) + 0.6*gamma1*gamma2)",
+    ],
+    # the theorem's I4 at these parameters, on I3 = 0 (its printed text, from the catalogue)
+    "integral": sp.sstr(
+        theorem_case(Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)).integral
+    ),
+    "level": 0,
+}
+
+
+def _twin(path: Path, case: dict) -> tuple[object, object]:
+    data = tomllib.loads(path.read_text("utf-8"))
+    theorem = scene_from_dict(data, str(path))
+    tables = {k: v for k, v in data.items() if k not in ("parameters", "simulation")}
+    return theorem, scene_from_dict({**tables, "case": case}, f"{path} as a case")
+
+
+def _verdict(design) -> str:
+    """The report's verdict line (its state and what it rests on)."""
+    return next(line for line in render_report(design).splitlines() if "Verdict" in line)
+
+
+def _same_parts(a, b) -> None:
+    for positions, values in (
+        ("charge_positions", "charge_values"),
+        ("dipole_positions", "dipole_moments"),
+        ("mass_positions", "mass_values"),
+    ):
+        pa, pb = getattr(a, positions), getattr(b, positions)
+        assert pa.shape == pb.shape, positions
+        scale = max(float(np.max(np.abs(pa), initial=0.0)), 1e-300)
+        assert np.allclose(pa, pb, rtol=0, atol=1e-9 * scale), positions
+        va, vb = getattr(a, values), getattr(b, values)
+        top = max(float(np.max(np.abs(va), initial=0.0)), 1e-300)
+        assert np.allclose(va, vb, rtol=0, atol=1e-9 * top), values
+    for extra in ("charge_masses", "charge_radii", "dipole_masses", "dipole_volumes"):
+        xa, xb = getattr(a, extra, None), getattr(b, extra, None)
+        if xa is None or xb is None:
+            assert xa is None and xb is None, extra
+            continue
+        assert np.allclose(xa, xb, rtol=1e-9, atol=0), extra
+
+
+def test_the_k0_example_as_a_case_gets_the_theorems_parts_and_verdict() -> None:
+    theorem_scene, case_scene = _twin(EXAMPLES / "chaplygin_magnetic.toml", CHAPLYGIN_CASE)
+    theorem = cd.design(theorem_scene)
+    case = cd.design(case_scene)
+    assert case.design.medium is not None and case.design.dipole_moments.shape[0] > 0
+    _same_parts(theorem.design, case.design)
+    assert case.design.parameters == theorem.design.parameters
+    assert _verdict(case.design) == _verdict(theorem.design)
+    assert case.design.frontier["s_max"] == pytest.approx(theorem.design.frontier["s_max"])
+    assert case.certificate is not None and case.certificate.holds
+    assert case.design.further_keys["case"]["name"] == "chaplygin by hand"
+    assert theorem.certificate is None and "case" not in theorem.design.further_keys
+
+
+def test_the_unit_scale_scene_and_its_case_twin_give_the_same_body() -> None:
+    theorem_scene, case_scene = _twin(EXAMPLES / "unit_scale.toml", UNIT_CASE)
+    theorem = cd.design(theorem_scene)
+    case = cd.design(case_scene)
+    assert type(case) is type(theorem)
+    _same_parts(theorem.design, case.design)
+    assert case.design.parameters == theorem.design.parameters
+    assert case.design.realises == theorem.design.realises
+    assert case.design.forward_accuracy == theorem.design.forward_accuracy
+    assert case.certificate is not None and case.certificate.holds
+
+
+def test_design_takes_a_case_scene_from_its_path(tmp_path: Path) -> None:
+    text = (EXAMPLES / "kowalevski_case.toml").read_text("utf-8")
+    path = tmp_path / "kowalevski.toml"
+    path.write_text(text, "utf-8")
+    result = cd.design(str(path))
+    assert isinstance(result, cd.DesignResult)
+    assert result.certificate.holds and len(result.design.mass_values) > 0
+
+
+def test_a_general_case_with_medium_is_refused_in_one_line(tmp_path: Path) -> None:
+    data = tomllib.loads((EXAMPLES / "kowalevski_case.toml").read_text("utf-8"))
+    data["medium"] = {"name": "vacuum"}
+    with pytest.raises(InputError, match=r"\[medium\] with a \[case\] not of the theorem's form"):
+        cd.design(scene_from_dict(data, "<kowalevski with medium>"))
+
+
+@pytest.mark.parametrize(
+    ("argv", "option"),
+    [
+        (["--max-charge", "1e-15"], "max_charge"),
+        (["--total-mass", "1.0"], "total_mass"),
+        (["--solver", "SCS"], "solver"),
+        (["--no-polish"], "polish"),
+    ],
+)
+def test_an_option_the_physical_program_does_not_read_is_refused_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], option: str
+) -> None:
+    """The default scene has [medium]: before any work, one line naming the option and the
+    route, exit 2, nothing written (it was silently ignored: 1.87e-9 C under a 1e-15 cap)."""
+    from chargedesign.cli import main
+
+    out = tmp_path / "out"
+    assert main(["design", "--out", str(out), "--quiet", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"design.{option}: not available with [medium]" in err and "\n" not in err
+    assert not out.exists()
+
+
+def test_the_tolerance_of_a_physical_scene_is_refused_through_the_api() -> None:
+    with pytest.raises(InputError, match=r"design\.tol: not available with \[medium\]"):
+        cd.design(EXAMPLES / "chaplygin_magnetic.toml", tol=1e-9)
+
+
+def test_the_command_line_options_reach_a_case_scene(tmp_path: Path) -> None:
+    """The case's point route reads the same options as the theorem's (it dropped them)."""
+    import json
+
+    from chargedesign.cli import main
+
+    out = tmp_path / "out"
+    scene = str(EXAMPLES / "kowalevski_case.toml")
+    argv = ["design", scene, "--out", str(out), "--quiet", "--no-picture", "--objective", "l2"]
+    assert main(argv) == 0
+    data = json.loads((out / "design.json").read_text("utf-8"))
+    assert data["provenance"]["options"]["objective"] == "l2"
+    assert data["case"]["certificate"]["holds"] is True
