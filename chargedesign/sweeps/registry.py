@@ -50,17 +50,6 @@ def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
     return out
 
 
-def _designed(scene: Any) -> Any:
-    """The scene designed by the route ``design`` takes: a ``[case]`` scene designs its case
-    (the theorem's route alone gave every point of a case sweep the theorem's default body)."""
-    if scene.case is not None:
-        # sympy is loaded for a case only (it stays out of a theorem sweep's workers)
-        from chargedesign.designer.case_design import design_case_scene
-
-        return design_case_scene(scene)
-    return design_from_scene(scene)
-
-
 def _scene_design(scene: Any, point_dir: Path) -> Any:
     """The design a scene names (``body.design`` or inline elements), else designed now."""
 
@@ -68,7 +57,7 @@ def _scene_design(scene: Any, point_dir: Path) -> Any:
     if setup.design is not None:
         return setup.design
 
-    result = _designed(scene)
+    result = design_from_scene(scene)
     write_design(result.design, point_dir / "design.json")
     return result.design
 
@@ -77,7 +66,7 @@ def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
     """Design the body; writes design.json. Figures: the recorded verdict's state, element
     counts, residual, seconds."""
 
-    result = _designed(scene)
+    result = design_from_scene(scene)
     write_design(result.design, point_dir / "design.json")
     d = result.design
     residual = getattr(result, "residual_after", None)  # a case's result has its residuals
