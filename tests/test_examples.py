@@ -18,6 +18,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from chargedesign.cli import main
@@ -175,10 +176,53 @@ def test_example_design_scene_is_designed_and_checked(scene: Path, tmp_path: Pat
     if scene.name == "thin_slab.toml":
         assert any("nearly planar" in note for note in summary["notes"]), summary["notes"]
     if scene.name == "chaplygin_drop.toml":  # free fall: its support is counted and passes
-        support = json.loads((out_dir / "design.json").read_text())["support"]
+        written = json.loads((out_dir / "design.json").read_text())
+        support = written["support"]
         assert support["style"] == "free_fall" and support["state"] == "included"
         assert support["turns"] >= 5 and support["flight"]["release"]["turns"] >= 5
         assert "## Flight" in (out_dir / "report.md").read_text()
+        assert written["verdict"]["state"] == "buildable and realised"
+        assert written["verdict"]["support"] == {"style": "free_fall", "state": "included"}
+        total = whole_inertia_from_parts(written)
+        C = written["parameters"]["C"]
+        assert np.max(np.abs(total - np.diag([2 * C, 2 * C, C]))) <= 1e-9 * C
+        assert np.max(np.abs(total - np.array(written["inertia"]["total_kg_m2"]))) <= 1e-9 * C
+
+
+def whole_inertia_from_parts(written: dict) -> np.ndarray:
+    """The body's inertia about O recomputed from design.json alone, by its own formulas (not
+    the package's): each part a concentric sphere at its position (a ballast sphere of its
+    density; a magnet's core of its volume with the rest of its mass as a ballast shell), every
+    part's own (8 pi / 15) sum rho (r_out^5 - r_in^5) and its point term m (|c|^2 I - c c^T),
+    and the holder: a solid sphere about O less a sphere of holder material at each bore."""
+    materials, eye = written["materials"], np.eye(3)
+    rho_ballast = materials["ballast"]["density_kg_per_m3"]
+    rho_magnet = materials["magnet"]["density_kg_per_m3"]
+    assert not written.get("charges", {}).get("values"), "a K = 0 body has no charges"
+
+    def point(mass: float, c: np.ndarray) -> np.ndarray:
+        return mass * (c @ c * eye - np.outer(c, c))
+
+    def ball(rho: float, r_in: float, r_out: float) -> float:
+        return 8 * np.pi / 15 * rho * (r_out**5 - r_in**5)
+
+    total = np.zeros((3, 3))
+    dipoles, masses = written["dipoles"], written["masses"]
+    for c, v, m in zip(dipoles["positions"], dipoles["volumes"], dipoles["masses"], strict=True):
+        core = (3 * v / (4 * np.pi)) ** (1 / 3)
+        outer = (3 * (v + (m - rho_magnet * v) / rho_ballast) / (4 * np.pi)) ** (1 / 3)
+        own = ball(rho_magnet, 0.0, core) + ball(rho_ballast, core, outer)
+        total += point(m, np.array(c)) + own * eye
+    for c, m in zip(masses["positions"], masses["values"], strict=True):
+        radius = (3 * m / (4 * np.pi * rho_ballast)) ** (1 / 3)
+        total += point(m, np.array(c)) + ball(rho_ballast, 0.0, radius) * eye
+    holder = written["holder"]
+    rho_holder = holder["density_kg_per_m3"]
+    total += ball(rho_holder, 0.0, holder["radius_m"]) * eye
+    for bore in holder["bores"]:
+        a, c = bore["radius_m"], np.array(bore["position"])
+        total -= point(rho_holder * 4 / 3 * np.pi * a**3, c) + ball(rho_holder, 0.0, a) * eye
+    return total
 
 
 # ------------------------------------------------------------------ the user guide
