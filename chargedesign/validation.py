@@ -844,13 +844,18 @@ def check_periods(
 ) -> float:
     """Refuse a run of more than ``cap`` periods of its fastest rate (:func:`motion_rate`):
     ``t_end * rate / (2 pi)``, the work a solver does grows with it. Returns the periods."""
-    periods = float(t_end) * motion_rate(parameters, initial) / (2.0 * math.pi)
+    rate = motion_rate(parameters, initial)
+    periods = float(t_end) * rate / (2.0 * math.pi)
     if periods > cap:
         how = f"{raise_with} raises the cap" if raise_with else f"give a shorter {option}"
+        fits = f"t_end <= {fmt(cap * 2.0 * math.pi / rate, PLAIN)} s fits"
+        own = motion_rate(parameters)  # the parameters' rates alone: the start's excluded
+        if own > 0.0 and rate > 10.0 * own:
+            fits += f", or a start turning at the body's own rate {fmt(own)} 1/s"
         raise InputError(
             f"{option}: t_end = {fmt(t_end, PLAIN)} s is {fmt(periods)} periods of the body's"
             " fastest rate, "
-            f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS); {how}"
+            f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS): {fits}; {how}"
         )
     return periods
 

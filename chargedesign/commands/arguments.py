@@ -262,7 +262,7 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="N",
         help="raise the cap on the periods of the body's fastest rate a run covers (default "
-        "chargedesign.limits.MAX_PERIODS = 1e7)",
+        "chargedesign.limits.MAX_PERIODS = 1e5)",
     )
     parser.add_argument("--json", action="store_true", help="print the JSON summary")
     parser.add_argument(
