@@ -50,4 +50,4 @@ def test_periods_and_t_end_together_are_refused() -> None:
     data = dict(load_scene(None).tables)
     data["simulation"] = {"periods": 3.0, "t_end": 10.0}
     with pytest.raises(InputError, match="either t_end or periods"):
-        scene_from_dict(data, "<test>").simulation
+        _ = scene_from_dict(data, "<test>").simulation
