@@ -269,8 +269,9 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "--progress",
         action=argparse.BooleanOptionalAction,
         default=None,
-        help="progress bar on stderr (default: when stderr is a terminal); --no-progress also "
-        "silences the 'designing body ...' lines",
+        help="progress on stderr with the time left (default: on; a bar on a terminal, a line "
+        "every few seconds without one); --no-progress also silences the 'designing body ...' "
+        "lines",
     )
 
 

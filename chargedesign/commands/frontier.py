@@ -25,6 +25,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from chargedesign.commands.progress import Progress
 from chargedesign.designer.frontier import WindowOptions, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import frontier_from_scene
@@ -68,7 +69,18 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
         return 0
     if args.recommend is not None:
-        found = recommend(scene, window, progress=progress)
+        # the probes counted against the most the search makes, with the time left
+        bar = None if args.quiet else Progress("frontier --recommend", unit="probes")
+        try:
+            found = recommend(
+                scene,
+                window,
+                progress=None if bar is None else (lambda m: bar.say(f"frontier: {m}")),
+                tally=None if bar is None else bar.update,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
         print(json.dumps(found.to_dict(), indent=2, allow_nan=False) if args.json else str(found))
