@@ -22,6 +22,7 @@ from chargedesign.body import Design, read_design
 from chargedesign.formatting import CELL, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
+from chargedesign.readers import refuse_other_kind, sniff_kind
 from chargedesign.results import compact_repr
 from chargedesign.scene import Scene, load_scene
 from chargedesign.scene.simulation import (
@@ -310,5 +311,9 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
             setup.source = str(path)
             setup.body_info["origin"] = f"design file {path}"
             return setup
+        # a trajectory.csv, a bifurcation csv, a sweep file ...: one line naming both kinds
+        kind = sniff_kind(path)
+        if kind not in ("scene", "case"):
+            refuse_other_kind(path, kind, "scene")
         return setup_from_scene(load_scene(path))
     raise input_error("simulate", "a scene, a design, a path or None", source)
