@@ -146,6 +146,8 @@ class Progress:
 
     def _beat(self) -> None:
         while not self.stop.wait(EVERY if not self.tty else 1.0):
+            if self.total > 0 and self.done >= self.total:
+                continue  # said once when it ended
             self._say()
 
 

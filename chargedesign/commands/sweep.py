@@ -47,6 +47,8 @@ def run(args: argparse.Namespace) -> int:
     # the points counted against their total, with the time left (a line every few seconds
     # without a terminal)
     bar = None if args.quiet else Progress("sweep", unit="points")
+    if bar is not None:
+        bar.update(0, len(spec.points))  # the count from the start (a point may take minutes)
 
     def tally(done: int, total: int, failed: int) -> None:
         assert bar is not None
