@@ -744,7 +744,7 @@ def caption_counts(design: Design) -> str:
     """The picture's counts, as ``chargedesign check`` counts them: every mass of the body
     (carriers, magnets and ballast; the title once said 160 masses where check counted 208),
     the ballast among them."""
-    masses = len(design.all_masses()[1])
+    masses = len(design.point_elements().mass_values)  # massless carriers left out, as check
     ballast = len(design.mass_values)
     mass_text = f"{masses} masses" + (f" ({ballast} ballast)" if ballast != masses else "")
     return f"{len(design.charge_values)} charges, {mass_text}, {len(design.dipole_moments)} dipoles"
