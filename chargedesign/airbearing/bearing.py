@@ -26,9 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import InfeasibleError, SolverError
+from chargedesign.errors import InfeasibleError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.simulation.integrate import solve
 from chargedesign.topology.chambers import LevelSampler, LevelSampling
 from chargedesign.topology.compute import make_scales, resolve_range
 from chargedesign.topology.critical import equilibria
@@ -74,8 +75,6 @@ def motion_samples(
     """The theorem's motion (or ``rhs(t, y)``'s, a case's) from ``x0`` over a horizon that
     starts at ``horizon_s`` and doubles until the largest tilt from ``axis`` (or, without one,
     from the best axis of the samples so far) settles to :data:`TILT_SETTLED_DEG`."""
-    from scipy.integrate import solve_ivp
-
     f = evaluators.rhs_function(params) if rhs is None else rhs
     times = [np.zeros(1)]
     gammas = [np.asarray(x0[3:6], float)[None]]
@@ -85,14 +84,19 @@ def motion_samples(
     for _ in range(HORIZON_DOUBLINGS + 1):
         count = max(2, math.ceil(span * rate * SAMPLES_PER_RATE))
         t_eval = np.linspace(t0, t0 + span, count + 1)[1:]
-        sol = solve_ivp(
-            f, (t0, t0 + span), state, method="DOP853", rtol=1e-10, atol=1e-12, t_eval=t_eval
+        sol = solve(
+            f,
+            state,
+            (t0, t0 + span),
+            t_eval=t_eval,
+            method="DOP853",
+            rtol=1e-10,
+            atol=1e-12,
+            what="testbed: the planned motion's integration",
         )
-        if not sol.success:
-            raise SolverError(f"testbed: the planned motion's integration failed ({sol.message})")
         times.append(sol.t)
-        gammas.append(sol.y[3:6].T)
-        state, t0 = sol.y[:, -1], t0 + span
+        gammas.append(sol.y[:, 3:6])
+        state, t0 = sol.end, t0 + span
         everything = np.concatenate(gammas)
         u = axis if axis is not None else best_axis([everything])
         tilt = float(tilt_deg(u, everything).max())

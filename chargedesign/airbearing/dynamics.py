@@ -1,4 +1,4 @@
-"""The platform with reaction wheels: plant, command law and a fixed-step DOP853 stepper.
+"""The platform with reaction wheels: plant and command law (the integrator service steps it).
 
 State per run ``x = (omega, gamma, h)`` (body axes): angular velocity (rad/s), the space
 vertical Z (unit vector) and the wheels' stored angular momentum (N m s). With the total
@@ -29,19 +29,9 @@ from functools import cache
 from typing import Any
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _dop853
 
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
-
-#: the 12 stages of Dormand and Prince's 8th-order method (scipy's DOP853 tableau), used
-#: with a fixed step between control samples (the held command makes the right-hand side
-#: smooth there; no step-size control is needed at steps well inside its radius)
-_STAGES = _dop853.N_STAGES
-_A = _dop853.A[:_STAGES, :_STAGES]
-_B = _dop853.B
-_C = _dop853.C[:_STAGES]
-
 
 _NEXT = np.array([1, 2, 0])
 _LAST = np.array([2, 0, 1])
@@ -343,47 +333,6 @@ def _columns(outputs: list, m: int) -> np.ndarray:
     return out
 
 
-def dop853_step(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
-    """One fixed step of DOP853 (8th order) of ``x' = f(x)`` from x by h."""
-    k = np.empty((_STAGES, x.size))  # stage derivatives, flattened: one matmul per stage
-    flat = x.reshape(-1)
-    k[0] = f(x).reshape(-1)
-    for s in range(1, _STAGES):
-        k[s] = f((flat + h * (_A[s, :s] @ k[:s])).reshape(x.shape)).reshape(-1)
-    return (flat + h * (_B @ k)).reshape(x.shape)
-
-
-#: pieces up to this fraction of a step are taken by one RK4 step (see :func:`advance`)
-SHORT_PIECE = 0.1
-
-
-def rk4_step(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
-    """One classical Runge-Kutta step (4th order) of ``x' = f(x)``."""
-    k1 = f(x)
-    k2 = f(x + 0.5 * h * k1)
-    k3 = f(x + 0.5 * h * k2)
-    k4 = f(x + h * k3)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-
-
-def advance(
-    f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, dt: float, max_step: float
-) -> np.ndarray:
-    """``x`` advanced by dt in equal fixed DOP853 steps no longer than ``max_step``; a piece
-    shorter than :data:`SHORT_PIECE` of a step (the delay: dt times the motion's rate below
-    5e-3 with the loop's steps) takes one classical Runge-Kutta step instead, whose local
-    error ``(dt rate)^5 / 120 < 3e-14`` is below the long steps'."""
-    if dt <= 0.0:
-        return x
-    if dt <= SHORT_PIECE * max_step:
-        return rk4_step(f, x, dt)
-    n = max(1, int(np.ceil(dt / max_step - 1e-12)))
-    h = dt / n
-    for _ in range(n):
-        x = dop853_step(f, x, h)
-    return x
-
-
 #: directions at which the model's own rates are read (fixed: the same every run)
 _PROBES = np.random.default_rng(7).standard_normal((64, 3))
 _PROBES /= np.linalg.norm(_PROBES, axis=1, keepdims=True)
@@ -417,9 +366,7 @@ def motion_rate(params: Parameters, omega0: np.ndarray) -> float:
 __all__ = [
     "CaseModel",
     "Plant",
-    "advance",
     "cross",
-    "dop853_step",
     "invariants",
     "motion_rate",
     "rate_terms",

@@ -30,16 +30,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from chargedesign.airbearing.dynamics import Plant, advance, cross, invariants
+from chargedesign.airbearing.dynamics import Plant, cross, invariants
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.simulation.integrate import solve
 
 #: the longest fixed DOP853 step, in units of 1 / (the motion's fastest rate): local errors
 #: of order (0.05)^9 ~ 2e-12 per step
 STEP_FRACTION = 0.05
+#: the integrator service's method between control samples: the held command makes the
+#: right-hand side smooth there, and fixed steps cost less than adaptive ones for the same
+#: drift (measured in docs/testbed.md, "The plant's integrator")
+PIECE_METHOD = "fixed-DOP853"
+#: the adaptive methods' tolerances (continuous loop, theorem's motion, and a PIECE_METHOD
+#: other than the fixed one)
+RTOL = 1e-12
 #: |omega| beyond this many times the motion's fastest rate: the loop has diverged
 DIVERGED = 1e3
 
@@ -238,13 +246,7 @@ def run_loop(
     with np.errstate(over="ignore", invalid="ignore"):
         for k in range(n_samples + 1):
             if not np.isfinite(x).all() or np.abs(x[:, 0:3]).max() > DIVERGED * rate:
-                raise SolverError(
-                    f"testbed: the closed loop diverged by t = {fmt(k * T, PRECISE)} s (|omega|"
-                    " beyond "
-                    f"{fmt(DIVERGED, PLAIN)} times the motion's rate): noise, delay or disturbances"
-                    " too "
-                    "large for this loop"
-                )
+                raise _diverged(k * T)
             states[:, k] = x[:, 0:6]
             momentum[:, k] = np.abs(wheel_h).max(axis=1)
             if k == n_samples:
@@ -259,7 +261,10 @@ def run_loop(
             torque_max = np.maximum(torque_max, np.abs(tau).max(axis=1))
             for command, dt in ((held_wheel, settings.delay_s), (tau, T - settings.delay_s)):
                 delivered = motors.piece(command, dt, wheel_h)
-                x = advance(_held(plant, delivered @ actuator.axes, external), x, dt, max_step)
+                try:
+                    x = _piece(_held(plant, delivered @ actuator.axes, external), x, dt, max_step)
+                except SolverError as exc:  # non-finite states within the piece
+                    raise _diverged((k + 1) * T) from exc
                 wheel_h = wheel_h + delivered * dt
             held_wheel = tau
     I3, I4 = plant.invariants(states)
@@ -310,6 +315,32 @@ class Motors:
         if self.friction:
             average = average - self.friction * np.sign(momentum)
         return average
+
+
+def _diverged(t: float) -> SolverError:
+    return SolverError(
+        f"testbed: the closed loop diverged by t = {fmt(t, PRECISE)} s (|omega| beyond "
+        f"{fmt(DIVERGED, PLAIN)} times the motion's rate): noise, delay or disturbances too "
+        "large for this loop"
+    )
+
+
+def _piece(
+    f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, dt: float, max_step: float
+) -> np.ndarray:
+    """``x`` (m, 9) advanced by ``dt`` under ``x' = f(x)`` by the integrator service."""
+    if dt <= 0.0:
+        return x
+    return solve(
+        lambda _t, y: f(y),
+        x,
+        (0.0, dt),
+        method=PIECE_METHOD,
+        max_step=max_step,
+        rtol=RTOL,
+        atol=RTOL,
+        what="testbed: the plant between control samples",
+    ).end
 
 
 def _held(
@@ -526,8 +557,8 @@ def _command(
     if settings.command == "zoh":
         wanted = plant.command(measured)
     else:
-        start = advance(plant.ideal_rates, measured, settings.delay_s, max_step)
-        end = advance(plant.ideal_rates, start, T, max_step)
+        start = _piece(plant.ideal_rates, measured, settings.delay_s, max_step)
+        end = _piece(plant.ideal_rates, start, T, max_step)
         wanted = (end[:, 6:9] - start[:, 6:9]) / T
     if settings.drag_feedforward_N_m_s:
         wanted = wanted - settings.drag_feedforward_N_m_s * measured[:, 0:3]
@@ -535,50 +566,41 @@ def _command(
 
 
 def continuous_loop(
-    plant: Plant, x0: np.ndarray, t_end: float, samples: int, rtol: float = 1e-12
+    plant: Plant, x0: np.ndarray, t_end: float, samples: int, rtol: float = RTOL
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ideal continuous loop (no sampling, noise or disturbance) by adaptive DOP853.
 
     Returns ``(times (samples,), states (samples, 9))``.
     """
-    from scipy.integrate import solve_ivp
-
     y0 = np.zeros(9)
     y0[:6] = x0[:6]
-    t = np.linspace(0.0, t_end, samples)
-    sol = solve_ivp(
+    out = solve(
         lambda _t, y: plant.ideal_rates(y[None])[0],
-        (0.0, t_end),
         y0,
+        (0.0, t_end),
+        t_eval=np.linspace(0.0, t_end, samples),
         method="DOP853",
         rtol=rtol,
         atol=rtol,
-        t_eval=t,
+        what="testbed: the continuous loop",
     )
-    if not sol.success:
-        raise SolverError(f"testbed: the continuous loop's integration failed ({sol.message})")
-    return sol.t, sol.y.T
+    return out.t, out.y
 
 
 def theorem_motion(
-    params: Parameters, x0: np.ndarray, t_end: float, samples: int, rtol: float = 1e-12
+    params: Parameters, x0: np.ndarray, t_end: float, samples: int, rtol: float = RTOL
 ) -> np.ndarray:
     """The theorem's reduced model (the derived Euler-Poisson equations), (samples, 6)."""
-    from scipy.integrate import solve_ivp
-
-    t = np.linspace(0.0, t_end, samples)
-    sol = solve_ivp(
+    return solve(
         evaluators.rhs_function(params),
-        (0.0, t_end),
         np.asarray(x0[:6], float),
+        (0.0, t_end),
+        t_eval=np.linspace(0.0, t_end, samples),
         method="DOP853",
         rtol=rtol,
         atol=rtol,
-        t_eval=t,
-    )
-    if not sol.success:
-        raise SolverError(f"testbed: the theorem's integration failed ({sol.message})")
-    return sol.y.T
+        what="testbed: the theorem's motion",
+    ).y
 
 
 __all__ = [

@@ -22,13 +22,15 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import DOP853, solve_ivp
 
 from chargedesign.errors import SolverError
 from chargedesign.formatting import CELL, PLAIN, fmt
+from chargedesign.results import Result
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integration import Integration
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
@@ -412,3 +414,275 @@ def _integrate_gauss(
         rhs_evaluations=rhs_evals,
         seconds=seconds,
     )
+
+
+# -------------------------------------------------------------- the one service
+#: the methods of :func:`solve`: heyoka's Taylor integrator (a symbolic system), scipy's
+#: solve_ivp methods, and a fixed-step DOP853 for short pieces between control samples
+SOLVE_METHODS = ("taylor", *SOLVE_IVP_METHODS, "fixed-DOP853")
+
+#: the 12 stages of Dormand and Prince's 8th-order method (the tableau of scipy's DOP853
+#: class), used with a fixed step by ``fixed-DOP853``
+_FIXED_STAGES = DOP853.n_stages
+_FIXED_A = DOP853.A
+_FIXED_B = DOP853.B
+_FIXED_C = DOP853.C
+
+#: pieces up to this fraction of ``max_step`` take one classical Runge-Kutta step (fixed-DOP853)
+SHORT_PIECE = 0.1
+
+
+@dataclass(frozen=True)
+class Symbolic:
+    """A system ``x' = rhs(x)`` as sympy expressions (autonomous), for the ``taylor`` method.
+
+    Attributes
+    ----------
+    variables : tuple of sympy.Symbol
+        The state's names, in the order of ``y0``'s last axis.
+    rhs : tuple of sympy.Expr
+        Their derivatives: polynomial or rational in ``variables``, numbers as constants.
+    """
+
+    variables: tuple[Any, ...]
+    rhs: tuple[Any, ...]
+
+
+@dataclass(frozen=True, repr=False)
+class Solution(Result):
+    """The checked outcome of :func:`solve`.
+
+    Attributes
+    ----------
+    t : ndarray, shape (T,)
+        Output times, s (``t_eval``, or the accepted step ends without it).
+    y : ndarray, shape (T, *y0.shape)
+        States at ``t``.
+    method : str
+        The method that ran (``DOP853`` when ``taylor`` fell back).
+    steps : int
+        Steps taken (scipy: right-hand side evaluations, its ``nfev``).
+    t_events, y_events : list of ndarray
+        scipy's event records (empty lists for the other methods).
+    note : str or None
+        Why the method asked did not run (heyoka unavailable).
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    method: str
+    steps: int = 0
+    t_events: list[np.ndarray] = field(default_factory=list)
+    y_events: list[np.ndarray] = field(default_factory=list)
+    note: str | None = None
+
+    @property
+    def end(self) -> np.ndarray:
+        """The last state, shape ``y0.shape``."""
+        return self.y[-1]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "method": self.method,
+            "samples": len(self.t),
+            "t_end": float(self.t[-1]),
+            "steps": self.steps,
+            "note": self.note,
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {"method": self.method, "samples": len(self.t), "t_end": float(self.t[-1])}
+
+    def _text(self) -> str:
+        text = (
+            f"{self.method}: {len(self.t)} samples to t = {fmt(float(self.t[-1]), CELL)} s,"
+            f" {self.steps} steps"
+        )
+        return text if self.note is None else f"{text} ({self.note})"
+
+
+def solve(
+    rhs: Callable[[float, np.ndarray], np.ndarray] | None,
+    y0: np.ndarray,
+    t_span: tuple[float, float],
+    *,
+    t_eval: np.ndarray | None = None,
+    events: list[Callable[..., float]] | None = None,
+    rtol: float = 1e-12,
+    atol: float = 1e-12,
+    method: str = "DOP853",
+    max_step: float = math.inf,
+    symbolic: Symbolic | None = None,
+    tol: float | None = None,
+    what: str = "integration",
+) -> Solution:
+    """Integrate ``y' = rhs(t, y)`` over ``t_span``: the package's one integrator service.
+
+    Parameters
+    ----------
+    rhs : callable or None
+        ``rhs(t, y)`` with ``y`` of ``y0``'s shape, returning that shape (scipy and fixed
+        methods; may be None with ``taylor`` when heyoka is sure to be there).
+    y0 : ndarray
+        Initial state, any shape (``taylor``: shape (n,), or (m, n) for m independent
+        trajectories of ``symbolic``).
+    t_span : (float, float)
+        Start and end time, s.
+    t_eval : ndarray, optional
+        Output times within ``t_span`` (default: scipy's step ends; ``taylor`` the two ends;
+        ``fixed-DOP853`` the two ends).
+    events : list of callable, optional
+        scipy's events (scipy methods only).
+    rtol, atol : float
+        scipy's tolerances (and the fallback's when ``taylor`` cannot run).
+    method : str
+        One of :data:`SOLVE_METHODS`. ``taylor`` needs ``symbolic`` and falls back to DOP853
+        at ``rtol``/``atol`` (the solution's ``note`` says so) without heyoka.
+        ``fixed-DOP853`` takes equal steps no longer than ``max_step``; a piece shorter than
+        :data:`SHORT_PIECE` of ``max_step`` takes one classical Runge-Kutta step.
+    max_step : float
+        Largest step, s (scipy; the fixed step's bound, required there).
+    symbolic : Symbolic, optional
+        The same system as sympy expressions (``taylor``).
+    tol : float, optional
+        heyoka's tolerance (default machine epsilon).
+    what : str
+        Names the integration in an error.
+
+    Raises
+    ------
+    SolverError
+        The solver did not reach the end (scipy's ``success`` false, heyoka's outcome not
+        a success) or gave non-finite states.
+    """
+    if method not in SOLVE_METHODS:
+        raise ValueError(f"method {method!r} is not one of {SOLVE_METHODS}")
+    t0, t1 = float(t_span[0]), float(t_span[1])
+    y0 = np.asarray(y0, dtype=float)
+    note = None
+    if method == "taylor":
+        if symbolic is None:
+            raise ValueError("method 'taylor' needs the system as sympy expressions (symbolic)")
+        if taylor.available():
+            return _solve_taylor(symbolic, y0, t0, t1, t_eval, tol, what)
+        note = (
+            f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); {FALLBACK_METHOD}"
+            f" at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
+        )
+        method = FALLBACK_METHOD
+    if rhs is None:
+        raise ValueError(f"method {method!r} needs the right-hand side rhs(t, y)")
+    if method == "fixed-DOP853":
+        if t_eval is not None or events:
+            raise ValueError("fixed-DOP853 gives the end state only (no t_eval, no events)")
+        end = advance(rhs, y0, t1 - t0, max_step, t0)
+        if not np.all(np.isfinite(end)):
+            raise SolverError(f"{what}: fixed-DOP853 produced non-finite states")
+        return Solution(t=np.array([t0, t1]), y=np.stack([y0, end]), method=method)
+    shape = y0.shape
+    sol = solve_ivp(
+        lambda t, v: np.asarray(rhs(t, v.reshape(shape)), dtype=float).reshape(-1),
+        (t0, t1),
+        y0.reshape(-1),
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        max_step=max_step,
+        t_eval=t_eval,
+        events=events,
+    )
+    if not sol.success:
+        reached = float(sol.t[-1]) if len(sol.t) else t0
+        raise SolverError(f"{what}: {method} failed near t = {fmt(reached, CELL)} s: {sol.message}")
+    y = np.asarray(sol.y).T.reshape(len(sol.t), *shape)
+    if not np.all(np.isfinite(y)):
+        raise SolverError(f"{what}: {method} produced non-finite states")
+    return Solution(
+        t=np.asarray(sol.t),
+        y=y,
+        method=method,
+        steps=int(sol.nfev),
+        t_events=list(sol.t_events or []),
+        y_events=list(sol.y_events or []),
+        note=note,
+    )
+
+
+def _solve_taylor(
+    symbolic: Symbolic,
+    y0: np.ndarray,
+    t0: float,
+    t1: float,
+    t_eval: np.ndarray | None,
+    tol: float | None,
+    what: str,
+) -> Solution:
+    grid = np.array([t0, t1]) if t_eval is None else np.asarray(t_eval, dtype=float)
+    start = grid[0] != t0
+    if start:  # the grid starts at t0 (dropped from the output again)
+        grid = np.concatenate([[t0], grid])
+    rows = y0 if y0.ndim == 2 else y0[None]
+    out, steps = [], 0
+    try:
+        for row in rows:
+            states, n = taylor.propagate_symbolic(
+                symbolic.variables,
+                symbolic.rhs,
+                row,
+                grid,
+                tol=taylor.DEFAULT_TOL if tol is None else tol,
+            )
+            out.append(states[1:] if start else states)
+            steps += n
+    except SolverError as exc:
+        raise SolverError(f"{what}: {exc}") from exc
+    y = np.stack(out, axis=1) if y0.ndim == 2 else out[0]
+    return Solution(t=grid[1:] if start else grid, y=y, method="taylor", steps=steps)
+
+
+def dop853_step(
+    f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float
+) -> np.ndarray:
+    """One fixed step of DOP853 (8th order) of ``x' = f(t, x)`` from ``(t, x)`` by h."""
+    k = np.empty((_FIXED_STAGES, x.size))  # stage derivatives, flattened: one matmul per stage
+    flat = x.reshape(-1)
+    k[0] = f(t, x).reshape(-1)
+    for s in range(1, _FIXED_STAGES):
+        stage = (flat + h * (_FIXED_A[s, :s] @ k[:s])).reshape(x.shape)
+        k[s] = f(t + _FIXED_C[s] * h, stage).reshape(-1)
+    return (flat + h * (_FIXED_B @ k)).reshape(x.shape)
+
+
+def rk4_step(
+    f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float
+) -> np.ndarray:
+    """One classical Runge-Kutta step (4th order) of ``x' = f(t, x)``."""
+    k1 = f(t, x)
+    k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
+    k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
+    k4 = f(t + h, x + h * k3)
+    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def advance(
+    f: Callable[[float, np.ndarray], np.ndarray],
+    x: np.ndarray,
+    dt: float,
+    max_step: float,
+    t: float = 0.0,
+) -> np.ndarray:
+    """``x`` advanced by dt in equal fixed DOP853 steps no longer than ``max_step``; a piece
+    shorter than :data:`SHORT_PIECE` of a step (the testbed's delay: dt times the motion's
+    rate below 5e-3 with the loop's steps) takes one classical Runge-Kutta step instead,
+    whose local error ``(dt rate)^5 / 120 < 3e-14`` is below the long steps'."""
+    if dt <= 0.0:
+        return x
+    if not (max_step > 0.0 and math.isfinite(max_step)):
+        raise ValueError(f"fixed-DOP853: max_step must be finite and > 0, got {max_step!r}")
+    if dt <= SHORT_PIECE * max_step:
+        return rk4_step(f, t, x, dt)
+    n = max(1, int(np.ceil(dt / max_step - 1e-12)))
+    h = dt / n
+    for i in range(n):
+        x = dop853_step(f, t + i * h, x, h)
+    return x

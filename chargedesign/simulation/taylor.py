@@ -962,3 +962,66 @@ class _EnsembleRun:
                 self.t_stop[i] = t_hit
             if record:
                 self.sections[i] = rows
+
+
+# ------------------------------------------------------------ any symbolic system
+def symbolic_integrator(variables: Sequence[Any], rhs: Sequence[Any], *, tol: float) -> Any:
+    """heyoka's ``taylor_adaptive`` of ``x' = rhs(x)`` for sympy ``rhs`` in ``variables``.
+
+    ``rhs`` are polynomial or rational sympy expressions in ``variables`` (numbers enter as
+    constants); integer powers become products (see :func:`_from_sympy`). The integrator is
+    compiled once per (expressions, tolerance) in this process and shared: callers set its
+    time and state before each use.
+
+    Raises
+    ------
+    SolverError
+        heyoka cannot be imported.
+    """
+    import sympy as sp
+
+    hy = heyoka_module()
+    if hy is None:
+        raise SolverError(f"simulation: heyoka is not available ({unavailable_reason()})")
+    key = ("symbolic", tuple(sp.srepr(v) for v in variables), tuple(map(sp.srepr, rhs)), tol)
+    with _LOCK:
+        hit = _CACHE.get(key)
+    if hit is not None:
+        return hit
+    names = [f"x{k}" for k in range(len(variables))]
+    heyoka_vars = hy.make_vars(*names) if len(names) > 1 else [hy.make_vars(*names)]
+    mapping = dict(zip(variables, heyoka_vars, strict=True))
+    memo: dict[Any, Any] = {}
+    sys = [
+        (v, _from_sympy(hy, sp.sympify(e), mapping, memo))
+        for v, e in zip(heyoka_vars, rhs, strict=True)
+    ]
+    ta = hy.taylor_adaptive(sys, np.zeros(len(sys)), tol=tol)
+    with _LOCK:
+        _CACHE[key] = ta
+    return ta
+
+
+def propagate_symbolic(
+    variables: Sequence[Any], rhs: Sequence[Any], y0: np.ndarray, grid: np.ndarray, *, tol: float
+) -> tuple[np.ndarray, int]:
+    """States (T, n) of ``x' = rhs(x)`` from ``y0`` (n,) at ``grid`` (T,) (``grid[0]`` the
+    start), heyoka's outcome checked; and the steps taken.
+
+    Raises
+    ------
+    SolverError
+        heyoka is unavailable, stopped before the grid's end or gave non-finite states.
+    """
+    ta = symbolic_integrator(variables, rhs, tol=tol)
+    ta.time = float(grid[0])
+    ta.state[:] = np.asarray(y0, dtype=float)
+    outcome, _, _, nsteps, _, states = ta.propagate_grid(np.asarray(grid, dtype=float))
+    hit = _check_outcome(outcome, "propagate_grid", float(ta.time))
+    states = np.asarray(states, dtype=float)
+    if hit is not None or len(states) < len(grid) or not np.all(np.isfinite(states)):
+        raise SolverError(
+            f"taylor (heyoka) stopped near t = {fmt(float(ta.time), CELL)} s before the grid's"
+            " end or gave non-finite states"
+        )
+    return states, int(nsteps)

@@ -25,6 +25,7 @@ import sympy as sp
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS
 from chargedesign.model.case_file import case_equations
 from chargedesign.scene.case_file import Case
+from chargedesign.simulation.integrate import Symbolic, solve
 from chargedesign.topology.equations import MomentumMap, lie_poisson_tensor
 
 
@@ -87,8 +88,11 @@ class CaseMomentumMap(MomentumMap):
             for order, outputs in enumerate((functions, gradients, hessians))
             for module in ("numpy", "math")
         }
-        self._velocity = _compile(list(case_equations(case)), "math")
-        self._velocity_batch = _compile(list(case_equations(case)), "numpy")
+        equations = tuple(case_equations(case))
+        self._velocity = _compile(list(equations), "math")
+        self._velocity_batch = _compile(list(equations), "numpy")
+        #: the equations as the integrator service's Taylor method takes them
+        self.symbolic = Symbolic(tuple(STATE_SYMBOLS), equations)
         self._l = _compile(list(case.l), "math")
         self._dl = _compile(case.l.jacobian(GAMMA).tolist(), "math")
         self._inertia = np.array([float(m) for m in case.inertia])
@@ -142,23 +146,20 @@ def case_trajectories(
     F: CaseMomentumMap, starts: np.ndarray, t_end: float, samples: int
 ) -> np.ndarray:
     """States along the case's flow from ``starts`` (m, 6) at ``samples`` times in
-    ``[0, t_end]``: (m, samples, 6). One DOP853 run of the stacked system (rtol 1e-10), the
-    case's own right-hand side (``gamma' = gamma x omega``: |gamma| is kept to the tolerance)."""
-    from scipy.integrate import solve_ivp
-
+    ``[0, t_end]``: (m, samples, 6). The integrator service on the case's own equations
+    (``gamma' = gamma x omega``): heyoka's Taylor method at machine precision on their sympy
+    form, as the theorem's flow counting; without heyoka one DOP853 run of the stacked system
+    (rtol 1e-10)."""
     m = len(starts)
-
-    def field(_: float, y: np.ndarray) -> np.ndarray:
-        return F.velocities(y.reshape(m, 6)).ravel()
-
-    grid = np.linspace(0.0, t_end, samples)
-    solution = solve_ivp(
-        field,
+    solution = solve(
+        lambda _t, y: F.velocities(y),
+        np.asarray(starts, float).reshape(m, 6),
         (0.0, t_end),
-        np.asarray(starts, float).ravel(),
-        method="DOP853",
-        t_eval=grid,
+        t_eval=np.linspace(0.0, t_end, samples),
+        method="taylor",
+        symbolic=F.symbolic,
         rtol=1e-10,
         atol=1e-12,
+        what=f"case {F.case.name}: the flow counting's trajectories",
     )
-    return solution.y.reshape(m, 6, -1).transpose(0, 2, 1)
+    return solution.y.transpose(1, 0, 2)

@@ -10,7 +10,7 @@ import pytest
 from unit_scene import UNIT_INERTIA as TARGET
 from unit_scene import UNIT_PARAMETERS as UNIT
 
-from chargedesign.airbearing.dynamics import Plant, advance
+from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import (
     LoopSettings,
     continuous_loop,
@@ -20,6 +20,7 @@ from chargedesign.airbearing.loop import (
 )
 from chargedesign.airbearing.wheels import wheel_axes, wheel_needs
 from chargedesign.errors import SolverError
+from chargedesign.simulation.integrate import solve
 
 
 def test_initial_state_is_on_I3_zero(x0: np.ndarray) -> None:
@@ -91,7 +92,13 @@ def test_noise_free_loop_agrees_with_adaptive_dop853(plant: Plant, x0: np.ndarra
         rtol=1e-13,
         atol=1e-13,
     ).y[:, -1]
-    fixed = advance(lambda y: plant.rates(y, u, None), x, T, 0.05 / 1.5)[0]
+    fixed = solve(
+        lambda _t, y: plant.rates(y, u, None),
+        x,
+        (0.0, T),
+        method="fixed-DOP853",
+        max_step=0.05 / 1.5,
+    ).end[0]
     assert np.abs(fixed - adaptive).max() < 1e-12
 
 
