@@ -148,7 +148,10 @@ class Progress:
         while not self.stop.wait(EVERY if not self.tty else 1.0):
             if self.total > 0 and self.done >= self.total:
                 continue  # said once when it ended
-            self._say()
+            try:
+                self._say()
+            except (OSError, ValueError):  # the stream was closed under it: stop saying
+                return
 
 
 def duration_text(seconds: float) -> str:

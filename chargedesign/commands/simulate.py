@@ -52,12 +52,13 @@ def run(args: argparse.Namespace) -> int:
     setup = setup_from_source(args.source)
     _check_out(args, setup)
     _check_work(args, setup)
-    # the run's progress on stderr: a bar on a terminal, a line every few seconds without one
-    # (--no-progress: none; the default simulate once ran 596 s saying nothing)
-    bar = Progress("simulate") if args.progress is not False else None
     designing = setup.design_scene is not None
     if args.atlas:
         return _atlas(args, setup)
+    # the run's progress on stderr: a bar on a terminal, a line every few seconds without one
+    # (--no-progress: none; the default simulate once ran 596 s saying nothing); closed on
+    # every path below (its heartbeat is a thread)
+    bar = Progress("simulate") if args.progress is not False else None
     if isinstance(setup.initial, dict) and "states" in setup.initial:
         return _ensemble(args, setup, bar)
 
