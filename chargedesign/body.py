@@ -30,7 +30,13 @@ from chargedesign.validation import (
     check_items,
     design_fields,
 )
-from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, REALISABLE
+from chargedesign.vocabulary import (
+    DESIGN_FORMAT,
+    FIELD_KINDS,
+    OLD_WITHIN_LIMITS_KEY,
+    REALISABLE,
+    WITHIN_LIMITS_KEY,
+)
 
 __all__ = [
     "DESIGN_FORMAT",
@@ -69,7 +75,19 @@ RECORD_KEYS = (
     "frontier",
     "tolerance",
     "larmor_why",
+    "support",
+    "verdict",
 )
+
+
+def _renamed(key: str, value: Any) -> Any:
+    """A record block as this version names its keys: ``buildability.buildable`` (files
+    written before the rename) is read as ``buildability.parts_within_limits``."""
+    if key == "buildability" and isinstance(value, dict) and OLD_WITHIN_LIMITS_KEY in value:
+        value = dict(value)
+        old = value.pop(OLD_WITHIN_LIMITS_KEY)
+        value.setdefault(WITHIN_LIMITS_KEY, old)
+    return value
 
 
 def _legendre(value: Any, name: str) -> tuple[float, ...]:
@@ -146,6 +164,10 @@ class Design(ElementSet):
     frontier: JSONObject | None = None
     tolerance: JSONObject | None = None
     larmor_why: str | None = None
+    #: how the body is held and whether its support passes (physical.support.support_record)
+    support: JSONObject | None = None
+    #: the verdict, judged once when the design is accepted (chargedesign.verdict)
+    verdict: JSONObject | None = None
     further_keys: JSONObject = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -226,7 +248,7 @@ class Design(ElementSet):
             fields=fields_out,
             **ElementSet.arrays_from_blocks(data, where),
             realises=list(data.get("realises", [])),
-            **{k: data[k] for k in RECORD_KEYS if k in data},
+            **{k: _renamed(k, data[k]) for k in RECORD_KEYS if k in data},
             further_keys={k: v for k, v in data.items() if k not in known},
             continuous=data.get("continuous") or [],
             medium=data.get("medium"),

@@ -40,6 +40,7 @@ COMMANDS = {
     "testbed": "air-bearing platform, ballast, wheels and sampled closed loop (testbed.json)",
     "bifurcation": "bifurcation diagram of (H, I4) on I3 = 0: critical set, types, chambers",
     "catalogue": "the paper's integrable cases of (ep), each certified exactly",
+    "sources": "every physical figure the tool uses, its source and whether it was checked",
 }
 
 

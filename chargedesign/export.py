@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design, read_design
+from chargedesign.errors import InputError
 from chargedesign.files import import_held, write_file_atomic
 
 # the reading half (a user's file: the boundary) and the names both halves use
@@ -83,24 +84,41 @@ def export_design(design: Design, fmt: str | None, path: str | os.PathLike[str])
 
 def import_design(path: str | os.PathLike[str]) -> Design:
     """Read a design from a ``.json``, ``.csv``, ``.vtp`` or ``.vtu`` file written by
-    :func:`export_design`.
+    :func:`export_design`, validated whole as ``check`` validates it (its ``case`` record
+    too, :func:`check_case_record`).
 
     The round trip is exact: positions, values and moments come back bit-identical.
     """
     fmt = format_from_path(path)
     p = check_input_file(path, "file", MAX_DATA_BYTES)
     if fmt == "json":
-        return read_design(p)
+        return check_case_record(read_design(p))
     data = read_csv_export(p) if fmt == "csv" else read_vtk_export(p)  # .vtp and .vtu alike
-    return Design.from_dict(data, where=str(p))
+    return check_case_record(Design.from_dict(data, where=str(p)))
 
 
 def load_any_design(path: str | os.PathLike[str]) -> Design:
     """A design from ``.csv``, ``.vtp`` or ``.vtu`` exports, else from design.json (whatever the
-    name)."""
+    name), validated whole (:func:`check_case_record`)."""
     if Path(path).suffix.lower() in (".csv", ".vtp", ".vtu"):
         return import_design(path)
-    return read_design(path)
+    return check_case_record(read_design(path))
+
+
+def check_case_record(design: Design) -> Design:
+    """``design`` once its ``case`` record (when present) passes the validation ``check`` and
+    ``simulate`` give it: its ``table`` read again by the case parser, so an export never
+    carries a case those commands refuse (an ``__import__`` call in ``V``)."""
+    record = design.further_keys.get("case")
+    if record is None:
+        return design
+    if not isinstance(record, dict) or not isinstance(record.get("table"), dict):
+        raise InputError("design.case: expected an object with the [case] table under 'table'")
+    # sympy is loaded only for a design that carries a case (it stays out of the CLI's start)
+    from chargedesign.scene.case_file import case_from_table
+
+    case_from_table(record["table"], "design.case.table")
+    return design
 
 
 # ---------------------------------------------------------------------------------------------

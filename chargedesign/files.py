@@ -555,7 +555,15 @@ def check_output_location(
         if directory and _same_file(target, source):
             raise InputError(f"{option}: {target} is the command's input {source}")
     existing = _nearest_existing(target)
-    if not existing.is_dir():
+    absolute = Path(os.path.abspath(target))
+    if not directory and existing not in (absolute, absolute.parent):
+        # a file's writer makes no folder: refused now, not after the work (frontier
+        # --recommend new/rec.toml searched for 51 s first)
+        raise InputError(
+            f"{option}: {target}: cannot write it, directory {target.parent} does not exist"
+        )
+    if not existing.is_dir() and not (not directory and existing == absolute):
+        # an existing file is a valid target (it is replaced whole), a folder's is not
         raise InputError(f"{option}: {target}: cannot create it, {existing} is not a directory")
     probes = [existing]
     if existing == Path(os.path.abspath(target)):

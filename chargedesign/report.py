@@ -14,6 +14,7 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -26,6 +27,7 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
+from chargedesign.physical.support import support_lines
 from chargedesign.scene.design_realism import (
     RESPONSE_FRACTION,
     RealismRecord,
@@ -33,6 +35,13 @@ from chargedesign.scene.design_realism import (
 )
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
+from chargedesign.verdict import (
+    parts_within_limits,
+    recorded_verdict,
+    verdict_state_line,
+    verdict_table,
+    verdict_text_table,
+)
 
 
 def _spacing(design: Design) -> float | None:
@@ -265,13 +274,102 @@ def render_report(
         ]
     if record is not None:
         lines += _physical_sections(design, record)
+    lines += flight_lines(design.support)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
         lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
     notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
+    lines += _sources_lines(record)
     return "\n".join(lines) + "\n"
+
+
+def flight_lines(support: dict[str, Any] | None) -> list[str]:
+    """The "Flight" section: the support's items and, in free fall, the release, its
+    tolerance and what the cameras would show (``design.support``, docs/flight.md)."""
+    if not support:
+        return []
+    flight = support.get("flight") or {}
+    lines = [f"- {x}" for x in flight.get("lines", [])]
+    return ["", "## Flight", "", *support_lines(support), *lines]
+#: the terminal's widest line and longest summary (``chargedesign design`` without --verbose)
+TERMINAL_WIDTH = 160
+SUMMARY_LINES = 40
+
+
+def _wrapped(text: str, width: int = TERMINAL_WIDTH, indent: str = "  ") -> list[str]:
+    """One paragraph wrapped to ``width`` characters (continuation lines indented)."""
+    return textwrap.wrap(
+        " ".join(text.split()), width, subsequent_indent=indent, break_on_hyphens=False
+    ) or [""]
+
+
+def wrapped_text(text: str, width: int = TERMINAL_WIDTH) -> str:
+    """``text`` with every line wrapped to ``width`` characters (for a terminal)."""
+    lines = [
+        part
+        for line in text.splitlines()
+        for part in (
+            textwrap.wrap(line, width, subsequent_indent="  ", break_on_hyphens=False)
+            if len(line) > width
+            else [line]
+        )
+    ]
+    return "\n".join(lines) + ("\n" if text.endswith("\n") else "")
+
+
+def render_summary(design: Design, *, report: str | None = None) -> str:
+    """The short text of a design for a terminal: the recorded verdict as a table, then the
+    main figures; at most :data:`SUMMARY_LINES` lines of at most :data:`TERMINAL_WIDTH`
+    characters (the full report: :func:`render_report`, report.md).
+
+    Parameters
+    ----------
+    design : Design
+    report : str, optional
+        Where the full report is (e.g. ``out/report.md``), named in the last line.
+    """
+    verdict = recorded_verdict(design)
+    medium = design.medium
+    where = f" in {medium.name}" if isinstance(medium, Medium) else ""
+    lines = [f"Verdict: {verdict_state_line(verdict)}{where}", ""]
+    lines += verdict_text_table(verdict) if verdict.get("rows") else _wrapped(verdict["binding"])
+    lines.append("")
+    body: list[str] = []
+    for line in _scene_lines(design)[:3]:
+        body += _wrapped(line)
+    counts = [
+        f"{len(design.charge_values)} charges" if len(design.charge_values) else "",
+        f"{len(design.dipole_moments)} magnets" if len(design.dipole_moments) else "",
+        f"{len(design.mass_values)} ballast masses" if len(design.mass_values) else "",
+    ]
+    after = ((design.residuals or {}).get("after_polish")) or {}
+    residual = max((v for v in after.values() if isinstance(v, (int, float))), default=None)
+    body += _wrapped(
+        "Elements: "
+        + (", ".join(c for c in counts if c) or "none")
+        + (f"; largest relative residual {fmt(residual, PRECISE)}" if residual is not None else "")
+        + "."
+    )
+    window = (design.frontier or {}).get("realised") or {}
+    if window.get("empty") and window.get("why"):
+        law = RealismRecord.read(design.realism).law if design.medium is not None else {}
+        body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
+    elif window:
+        body += _wrapped(
+            f"Realised window: s = {fmt(window['s_low'], ROUGH)} to "
+            f"{fmt(window['s_high'], ROUGH)} x the scene's rates."
+        )
+    for line in _frontier_lines(design, design.frontier or {}):
+        body += _wrapped(line.removeprefix("- "))
+    room = SUMMARY_LINES - len(lines) - 2
+    if len(body) > room:
+        body = [*body[: room - 1], "  ..."]
+    lines += body
+    tail = f"Full report: {report}" if report else "Full report: chargedesign.report.render_report"
+    lines += ["", tail + " (--verbose prints it)."]
+    return "\n".join(line[:TERMINAL_WIDTH] for line in lines) + "\n"
 
 
 def _larmor_lines(design: Design) -> list[str]:
@@ -288,84 +386,35 @@ def _larmor_lines(design: Design) -> list[str]:
     return [f"- Larmor reading: {design.larmor.reading}: {how}" + (f" ({why})." if why else ".")]
 
 
-#: the verdict's three states (docs/buildable.md)
-REALISED = "buildable and realised"
-NOT_REALISED = "buildable parts, NOT realised as designed"
-NOT_BUILDABLE = "NOT buildable"
-
-
-def _cell(text: str, width: int = 110) -> str:
-    """A table cell: one line, at most ``width`` characters (the detail follows the table)."""
-    text = " ".join(str(text).split()).replace("|", "/")
-    return text if len(text) <= width else text[: width - 3] + "..."
-
-
-def _what_changes(design: Design) -> str:
-    """What would move the body into its realised window (from the frontier's record)."""
-    window = (design.frontier or {}).get("realised") or {}
-    if not window:
-        return "`chargedesign frontier SCENE --recommend PATH` searches field, materials, size"
-    if window.get("empty"):
-        if design.parameters.K != 0:
-            return (
-                "nothing at this K: the size-free K law (below) holds for any size and a2; K = 0 "
-                "bodies can be realised (docs/buildable.md)"
-            )
-        return "`chargedesign frontier SCENE --recommend PATH`: no rate of this choice is realised"
-    return (
-        f"a rate s in [{fmt(window['s_low'], ROUGH)}, {fmt(window['s_high'], ROUGH)}] x the "
-        "scene's (the realised window)"
-    )
-
-
-def _realised_row(design: Design, window: WindowAtDesign) -> tuple[str, ...]:
-    """Realised or not: the worst parasitic over the fraction at the design's rate."""
-    ratios = window.ratios
-    worst = max(ratios, key=lambda k: ratios[k]) if ratios else None
-    if worst is None:
-        return (REALISED, "-", "-", "-")
-    binding = f"{window.label(worst)} (of the {window.term_key} term)"
-    if ratios[worst] > 1.0:
-        factor = f"{fmt(ratios[worst], ROUGH)} x the fraction {fmt(window.fraction, PLAIN)}"
-        return (NOT_REALISED, binding, factor, _what_changes(design))
-    return (REALISED, binding, f"{fmt(ratios[worst], ROUGH)} of the fraction", "-")
-
-
 def _verdict_table(
-    design: Design, ok: bool, limits: dict[str, Any], record: RealismRecord
-) -> tuple[str, list[str], WindowAtDesign | None]:
-    """The verdict's state and its short table: state, binding item, factor, what would
-    change it (a body whose parts are not buildable as specified but within their limits has
-    a second row: whether they would be realised)."""
-    continuum = record.magnets
-    below = continuum.get("below", 0)
-    window = record.window if ok else None
-    rows: list[tuple[str, ...]] = []
-    if not ok:
-        binding = (limits.get("violations") or ["a limit"])[0]
-        rows.append((NOT_BUILDABLE, binding, "-", "see the broken limit below"))
-    elif below:
-        rows.append(
-            (
-                NOT_BUILDABLE,
-                f"{below} of its magnets are smaller than the "
-                f"{fmt_length(continuum['continuum_size_m'])} continuum size",
-                fmt(continuum["continuum_size_m"] / continuum["smallest_m"], ROUGH),
-                "larger magnets: a slower rate, a weaker field, or a larger body",
-            )
+    design: Design, record: RealismRecord
+) -> tuple[dict[str, Any], list[str], WindowAtDesign | None]:
+    """The recorded verdict (:func:`chargedesign.verdict.recorded_verdict`: design.json's
+    ``verdict``), its short table, and the realised window at the design's rate it read."""
+    verdict = recorded_verdict(design)
+    window = record.window if parts_within_limits(design.buildability) else None
+    return verdict, verdict_table(verdict), window
+
+
+def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
+    """Why no rate is realised, with the K law's one figure (the realism budget's
+    ``k_law_induced_ratio``, the same number as its line below and the budget's table) where
+    it applies; else the frontier's own words."""
+    if not law or law.get("value") is None:
+        return str(window["why"])
+    fraction = window.get("fraction") or 1.0
+    text = (
+        "the K term cannot be realised: the K law (below) puts the parts' induced "
+        f"magnetisation at {fmt(law['value'])} x the designed K torques C K_max^2 at the K "
+        f"frontier ({fmt(law['value'] / fraction, ROUGH)} x the fraction "
+        f"{fmt(fraction, PLAIN)}), for any size and a2"
+    )
+    if window.get("s_best") is not None and window.get("missing_factor") is not None:
+        text += (
+            f"; at the best rate s = {fmt(window['s_best'], ROUGH)} the worst parasitic is "
+            f"{fmt(window['missing_factor'], ROUGH)} x the fraction of the smallest realised term"
         )
-    if window is not None:
-        realised = _realised_row(design, window)
-        if not rows or realised[0] != REALISED:
-            rows.append(realised)
-        rows += _support_rows(window)
-    state = rows[0][0]
-    table = [
-        "| state | binding item | factor | what would change it |",
-        "|---|---|---|---|",
-        *["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows],
-    ]
-    return state, table, window
+    return text
 
 
 def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
@@ -373,26 +422,6 @@ def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
     if window is None or window.apparatus_summary is None:
         return []
     return ["- Field apparatus: " + window.apparatus_summary + "."]
-
-
-def _support_rows(window: WindowAtDesign) -> list[tuple[str, ...]]:
-    """The support as an open item of the verdict when its drag is over the fraction: the
-    state speaks for the body and its field apparatus, this row for what holds O."""
-    support = window.support
-    if not support:
-        return []
-    over = support["drag_over_term"] / window.fraction
-    if over <= 1.0:
-        return []
-    return [
-        (
-            "support: open (not counted)",
-            f"the {support['bearing']} air bearing's film drag",
-            f"{fmt(over, ROUGH)} x the fraction",
-            f"a support with every attitude free and {fmt(over, ROUGH)} x less drag"
-            + (f"; {support['needs']}" if support.get("needs") else ""),
-        )
-    ]
 
 
 def _support_lines(window: WindowAtDesign | None) -> list[str]:
@@ -407,9 +436,38 @@ def _support_lines(window: WindowAtDesign | None) -> list[str]:
         f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
         f"{fmt(support['drag_over_term'] / window.fraction, ROUGH)} x the fraction of the "
         f"smallest term, NOT counted in the verdict or the realised window above; it needs "
-        f"{support['needs']}. Sources: {support['source']}; "
-        f"{support['drag_source']}."
+        f"{support['needs']} (its sources: Sources, below)."
     ]
+
+
+def _top_level_parts(text: str) -> list[str]:
+    """``text`` split at its ``;`` outside parentheses (one source each)."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if ch == ";" and depth == 0:
+            parts.append(text[start:i])
+            start = i + 1
+    parts.append(text[start:])
+    return [p.strip() for p in parts if p.strip()]
+
+
+def _sources_lines(record: RealismRecord | None) -> list[str]:
+    """The report's sources in one section at its end, each with its checked status as the
+    source says it (``[unverified ...]``); the figures above cite them, never inline."""
+    window = record.window if record is not None else None
+    support = (window.support if window is not None else None) or {}
+    cited = [
+        part
+        for key in ("source", "drag_source")
+        if support.get(key)
+        for part in _top_level_parts(str(support[key]))
+    ]
+    if not cited:
+        return []
+    lines = ["", "## Sources", "", "The support's figures (air film and cup drag):", ""]
+    lines += [f"- {part}" for part in cited]
+    return lines
 
 
 def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
@@ -461,22 +519,19 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
     frontier = design.frontier or {}
     medium = design.medium
     assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
-    ok = bool(limits.get("buildable"))
     response = record.response
     law = record.law if response else {}
-    verdict, table, window_now = _verdict_table(design, ok, limits, record)
-    if verdict == REALISED and any("| support: open" in row for row in table):
-        verdict += " (the body and its field; its support is open, see the table)"
+    verdict, table, window_now = _verdict_table(design, record)
     window = frontier.get("realised") or {}
     lines = [
-        f"**Verdict: {verdict}** in {medium.name} (breakdown "
+        f"**Verdict: {verdict_state_line(verdict)}** in {medium.name} (breakdown "
         f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
         "",
         *table,
         "",
     ]
     if window.get("empty") and window.get("why"):
-        lines.append(f"- Why no rate is realised: {window['why']}.")
+        lines.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
         lines.append(
             f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
@@ -552,19 +607,20 @@ def _k_law_induced_line(law: dict[str, Any]) -> str:
             f"susceptibility metrology reaches about "
             f"{fmt(law['metrology_chi_relative'], ORDER_SCI)}" + tail
         )
+    value = law.get("value", law["ratio"])
+    how = (
+        "element by element"
+        if law.get("ratio_elements") is not None and value == law.get("ratio_elements")
+        else "by the law"
+    )
     return (
-        f"- Induced magnetisation at the K frontier: {fmt(law['ratio'])} times the designed K "
-        f"torques C K_max^2 ({law['verdict']}), by the size-free law 6 (chi/rho) / "
-        f"(mu0 G^2) with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
+        f"- Induced magnetisation at the K frontier (the K law): {fmt(value)} x the designed K "
+        f"torques C K_max^2 ({law['verdict']}; {how}, the figure the verdict and the budget "
+        f"use). The size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law['ratio'])} "
+        f"with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
         f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
         f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
-        f"{fmt(law['a2_T_per_m'])} T/m)"
-        + (
-            f"; element by element {fmt(law['ratio_elements'])}"
-            if law.get("ratio_elements") is not None
-            else ""
-        )
-        + tail
+        f"{fmt(law['a2_T_per_m'])} T/m)" + tail
     )
 
 

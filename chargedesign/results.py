@@ -26,6 +26,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from chargedesign.formatting import CELL, PRECISE, fmt, fmt_length
+from chargedesign.vocabulary import VERDICT_STATES
 
 #: the longest ``repr`` of any result, characters
 REPR_LIMIT = 300
@@ -41,8 +42,8 @@ def short_value(value: Any) -> str:
         return fmt(value, PRECISE)
     if isinstance(value, int):
         return str(value)
-    if isinstance(value, str):
-        return repr(value if len(value) <= 40 else value[:37] + "...")
+    if isinstance(value, str):  # a verdict's state is said whole (its words are its meaning)
+        return repr(value if len(value) <= 40 or value in VERDICT_STATES else value[:37] + "...")
     if isinstance(value, (list, tuple)):
         if len(value) <= 4 and all(isinstance(v, (int, float, str)) for v in value):
             inner = ", ".join(short_value(v) for v in value)
@@ -202,7 +203,9 @@ __all__ = [
 def design_summary(design: Any) -> dict[str, Any]:
     """The main figures of a :class:`~chargedesign.body.Design` (for repr and notebooks)."""
     p = design.parameters.as_dict()
-    out: dict[str, Any] = {
+    verdict = getattr(design, "verdict", None)
+    out: dict[str, Any] = {"verdict": verdict["state"]} if isinstance(verdict, dict) else {}
+    out |= {
         "charges": len(design.charge_values),
         "dipoles": len(design.dipole_moments),
         "masses": len(design.mass_values),

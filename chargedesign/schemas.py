@@ -43,6 +43,8 @@ from chargedesign.vocabulary import (
     PARAMETER_NAMES,
     REALISABLE,
     SCENE_TABLES,
+    SUPPORT_STATES,
+    VERDICT_STATES,
 )
 
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -158,6 +160,45 @@ def _realism() -> dict[str, Any]:
     }
 
 
+def _verdict() -> dict[str, Any]:
+    """design.json's ``verdict``: judged once when the design is accepted
+    (:mod:`chargedesign.verdict`; CONTRACT.md "The verdict record")."""
+    item = {
+        "type": "object",
+        "required": ["name", "value", "limit", "unit", "met"],
+        "properties": {
+            "name": {"type": "string"},
+            "unit": {"type": "string"},
+            "met": {"type": "boolean"},
+            "source": {"type": "string"},
+            "checked": {"type": "boolean"},
+        },
+    }
+    return {
+        "type": "object",
+        "description": "the verdict, judged once when the design is accepted; every output "
+        "renders it",
+        "required": ["state", "binding", "factor", "change", "support", "items"],
+        "properties": {
+            "state": {"enum": list(VERDICT_STATES)},
+            "binding": {"type": "string"},
+            "factor": {"type": ["number", "null"]},
+            "change": {"type": "string"},
+            "support": {
+                "type": "object",
+                "required": ["style", "state"],
+                "properties": {
+                    "style": {"type": ["string", "null"]},
+                    "state": {"enum": list(SUPPORT_STATES)},
+                },
+            },
+            "items": {"type": "array", "items": item},
+            "rows": {"type": "array", "items": {"type": "object"}},
+        },
+        "additionalProperties": True,
+    }
+
+
 def design_schema() -> dict[str, Any]:
     """The schema of design.json (format ``chargedesign.design/1``)."""
     legendre_field = {
@@ -226,6 +267,7 @@ def design_schema() -> dict[str, Any]:
             "medium": _medium(),
             "materials": _materials(),
             "realism": _realism(),
+            "verdict": _verdict(),
             "larmor": {
                 "type": "object",
                 "description": "how the body realises n: charges (the paper's (p6) reading) "
@@ -270,6 +312,8 @@ _TABLE_DESCRIPTIONS = {
     "(docs/workbench.md)",
     "testbed": "the air-bearing testbed (docs/testbed.md): platform, ballast, wheels, "
     "sampled loop, sensors, disturbances, requirements",
+    "support": "how the body is held: free fall in a drop tower, orbit, an air bearing or an "
+    "electrostatic suspension (docs/flight.md)",
 }
 
 

@@ -21,7 +21,9 @@ The number rules (docs/reliability.md):
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
+from fractions import Fraction
 from typing import Any, NoReturn
 
 import numpy as np
@@ -483,6 +485,85 @@ def check_input_number(
     if size > hi or (0.0 < size < lo):
         raise range_error(name, value, lo, hi)
     return out
+
+
+#: largest written exponent of a decimal literal (``1e99``): with at most
+#: :data:`MAX_LITERAL_DIGITS` digits of mantissa, every number of the supported range has one
+MAX_LITERAL_EXPONENT = 99
+#: most digits of the mantissa of one decimal literal
+MAX_LITERAL_DIGITS = 40
+#: a decimal literal as written (sign, digits, fraction digits, exponent sign and digits)
+DECIMAL_PATTERN = re.compile(
+    r"([+-]?)(?=\.?\d)(\d(?:_?\d)*)?(?:\.(\d(?:_?\d)*)?)?(?:[eE]([+-]?)(\d(?:_?\d)*))?\Z"
+)
+
+
+def exact_decimal(
+    text: str,
+    name: str,
+    *,
+    fraction: bool = False,
+    lo: float = MIN_MAGNITUDE,
+    hi: float = MAX_MAGNITUDE,
+    at: str = "",
+) -> Fraction:
+    """A decimal literal (``2.5e-3``; with ``fraction``, also ``P/Q`` of two of them) read
+    exactly, its size checked on the text before any number is built: at most
+    :data:`MAX_LITERAL_DIGITS` digits of mantissa, a written exponent of at most
+    :data:`MAX_LITERAL_EXPONENT` in size, and a non-zero magnitude within ``lo .. hi``
+    (``1e99999999`` would otherwise build a number of 10^8 digits, and ``int()`` of more than
+    4300 digits fails).
+
+    Raises
+    ------
+    InputError
+        One line naming ``name``, the text (shortened) and the bound.
+    """
+    shown = text.strip()
+    shown = shown if len(shown) <= 30 else shown[:27] + "..."
+    parts = text.strip().split("/") if fraction else [text.strip()]
+    if len(parts) > 2:
+        raise InputError(f"{name}: expected a number or a fraction P/Q, got {shown!r}")
+    values = [_decimal_part(part, name, shown, fraction, at) for part in parts]
+    if len(values) == 2 and values[1] == 0:
+        raise InputError(f"{name}: a fraction with denominator zero, got {shown!r}")
+    value = values[0] / values[1] if len(values) == 2 else values[0]
+    # the bounds as written (the float 1e-30 lies above the exact 10^-30)
+    if value != 0 and not Fraction(repr(lo)) <= abs(value) <= Fraction(repr(hi)):
+        raise InputError(
+            f"{name}: the number `{shown}`{at} is outside {fmt(lo, PLAIN)}..{fmt(hi, PLAIN)} in "
+            f"magnitude; {_RESCALE}"
+        )
+    return value
+
+
+def _decimal_part(part: str, name: str, shown: str, fraction: bool, at: str) -> Fraction:
+    match = DECIMAL_PATTERN.match(part.strip())
+    if match is None:
+        what = "a number or a fraction P/Q" if fraction else "a decimal number"
+        raise InputError(f"{name}: expected {what}, got {shown!r}")
+    sign, whole, decimals, exponent_sign, exponent = match.groups()
+    whole = (whole or "").replace("_", "")
+    decimals = (decimals or "").replace("_", "")
+    digits = (whole + decimals).lstrip("0")
+    if (
+        len(digits.rstrip("0")) > MAX_LITERAL_DIGITS
+        or len(whole + decimals) > 4 * MAX_LITERAL_DIGITS
+    ):
+        raise InputError(
+            f"{name}: the number `{shown}`{at} has more than {MAX_LITERAL_DIGITS} digits"
+        )
+    written = (exponent or "0").replace("_", "").lstrip("0") or "0"
+    if len(written) > len(str(MAX_LITERAL_EXPONENT)) or int(written) > MAX_LITERAL_EXPONENT:
+        raise InputError(
+            f"{name}: the exponent of `{shown}`{at} is larger than {MAX_LITERAL_EXPONENT} in size "
+            "(outside the supported range of numbers)"
+        )
+    if not digits:
+        return Fraction(0)
+    power = (-1 if exponent_sign == "-" else 1) * int(written) - len(decimals)
+    mantissa = int(digits) * (-1 if sign == "-" else 1)
+    return Fraction(mantissa * 10**power) if power >= 0 else Fraction(mantissa, 10**-power)
 
 
 def check_input_array(

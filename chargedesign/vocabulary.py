@@ -22,6 +22,22 @@ FIELD_NAMES = FIELD_KINDS
 #: what a design may claim to realise (design.json ``realises``, scene ``design.realise``)
 REALISABLE = ("mu", "V", "inertia")
 
+#: the verdict's four states (design.json ``verdict.state``, CONTRACT.md "The verdict record")
+VERDICT_STATES = (
+    "buildable and realised",
+    "buildable parts, NOT realised as designed",
+    "NOT buildable",
+    "not checked for buildability",
+)
+#: what holds the fixed point O, as the verdict records it (``verdict.support.state``)
+SUPPORT_STATES = ("included", "open", "none")
+
+#: design.json ``buildability``'s flag: every part within its limits (renamed from
+#: ``buildable``: a body within its limits may still not be buildable or realised, which is
+#: the verdict's word); files with the old name are read (``Design.from_dict``)
+WITHIN_LIMITS_KEY = "parts_within_limits"
+OLD_WITHIN_LIMITS_KEY = "buildable"
+
 #: the element sources of a body, as design.json blocks
 SOURCES = ("charges", "dipoles", "masses")
 
@@ -81,7 +97,14 @@ SCENE_TABLES = (
     "tolerance",
     "testbed",
     "case",
+    "support",
 )
+
+#: how the body is held (the ``[support]`` table, docs/flight.md): in free fall, in orbit, on
+#: a full-sphere air bearing, or suspended electrostatically (like Gravity Probe B's rotors)
+SUPPORT_STYLES = ("free_fall", "orbit", "air_bearing", "electrostatic")
+#: the free-fall facilities the support knows (ZARM's Bremen Drop Tower: a drop, the catapult)
+SUPPORT_FACILITIES = ("drop_tower_drop", "drop_tower_catapult")
 
 #: the keys of a ``[case]`` table (a case of (ep), docs/workbench.md), in the order
 #: chargedesign.scene.keys declares them; ``source`` and ``note`` are the catalogue's additions
@@ -167,5 +190,7 @@ __all__ = [
     "SOLVE_IVP_METHODS",
     "SOURCES",
     "STATE_NAMES",
+    "SUPPORT_FACILITIES",
+    "SUPPORT_STYLES",
     "SWEEP_EXECUTORS",
 ]

@@ -174,6 +174,11 @@ def test_example_design_scene_is_designed_and_checked(scene: Path, tmp_path: Pat
     assert report["passed"] and report["failures"] == []
     if scene.name == "thin_slab.toml":
         assert any("nearly planar" in note for note in summary["notes"]), summary["notes"]
+    if scene.name == "chaplygin_drop.toml":  # free fall: its support is counted and passes
+        support = json.loads((out_dir / "design.json").read_text())["support"]
+        assert support["style"] == "free_fall" and support["state"] == "included"
+        assert support["turns"] >= 5 and support["flight"]["release"]["turns"] >= 5
+        assert "## Flight" in (out_dir / "report.md").read_text()
 
 
 # ------------------------------------------------------------------ the user guide

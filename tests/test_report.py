@@ -21,7 +21,7 @@ def test_part_sizes_are_those_of_the_written_parts():
     result = design_from_scene(load_scene(SMALL), frontier=False)
     design = result.design
     # the physical record: named fields, read through by the result
-    assert result.limits is design.buildability and result.limits["buildable"] is True
+    assert result.limits is design.buildability and result.limits["parts_within_limits"] is True
     assert result.realism is design.realism and result.realism
     assert result.time_rate == design.time_rate == 1.0
     assert result.frontier is None and "frontier" not in design.to_dict()
@@ -76,7 +76,9 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
         assert stale not in text
     law = k_law(design)
     (line,) = [x for x in text.splitlines() if x.startswith("- Induced magnetisation at the K")]
-    assert f"{law['ratio']:.3g} times the designed K torques" in line
+    # one figure, the budget's (the verdict rests on it), and the law's estimate beside it
+    assert f"{law['value']:.3g} x the designed K torques" in line
+    assert f"estimates it at {law['ratio']:.3g}" in line
     assert "field evaporation" in text.split("## ")[0] or "evaporates" in text.split("## ")[0]
     table = text.split("## Realisability map")[1].split("\n## ")[0]
     rows = [x for x in table.splitlines() if x.startswith("| ") and not x.startswith("| term")]
@@ -93,8 +95,8 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     edited = Design.from_dict(data)
     edited.realism = realism_record(edited)
     other = render_report(edited)
-    assert f"{10 * law['ratio']:.3g} times the designed K torques" in other
-    assert f"element by element {10 * law['ratio_elements']:.3g}" in other
+    assert f"estimates it at {10 * law['ratio']:.3g}" in other
+    assert f"{10 * law['ratio_elements']:.3g} x the designed K torques" in other
 
 
 def test_a_design_prints_its_figures_and_the_result_its_report():

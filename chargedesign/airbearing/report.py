@@ -13,16 +13,18 @@ ideal one: gamma's trace on the unit sphere).
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.actuators import catalogue
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.physical.state_of_the_art import UNVERIFIED
+from chargedesign.physical.sources import UNVERIFIED_MARK, cite, rows
 from chargedesign.results import format_length
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.testbed import SOURCES
@@ -349,7 +351,63 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
     lines += [f"- note: {n}" for n in notes]
     lines += ["", "## Sources of the defaults", ""]
     lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
+    lines += _actuator_section()
+    lines += sources_section("\n".join(lines))
     return "\n".join(lines) + "\n"
+
+
+#: a citation of the sources table in a text: ``[key]`` or ``[key, unverified]``
+CITATION = re.compile(r"\[([A-Za-z0-9_.\-]+)(, " + UNVERIFIED_MARK + r")?\]")
+
+
+def sources_section(text: str) -> list[str]:
+    """The report's last section: every sources-table figure ``text`` cites (by its key),
+    with its value, source, locator and whether it was checked."""
+    known = {r.key: r for r in rows()}
+    cited = [k for k in dict.fromkeys(m.group(1) for m in CITATION.finditer(text)) if k in known]
+    if not cited:
+        return []
+    unchecked = sum(not known[k].checked for k in cited)
+    lines = [
+        "",
+        "## Sources",
+        "",
+        f"The figures this report rests on, by their key in the sources table (`chargedesign "
+        f"sources`): {len(cited)} cited, {unchecked} of them unverified (not read in the source "
+        "named; marked `[key, unverified]` above).",
+        "",
+        "| key | value | unit | checked | source | locator |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for k in cited:
+        r = known[k]
+        lines.append(
+            f"| {k} | {fmt(r.value, FULL)} | {r.unit} | {'yes' if r.checked else '**no**'} | "
+            f"{r.source} | {r.locator} |"
+        )
+    return lines
+
+
+def _actuator_section() -> list[str]:
+    """The actuator catalogue the window searched."""
+    lines = [
+        "",
+        "## Actuator catalogue",
+        "",
+        "The wheels of every design the window tries are the lightest of these covering its "
+        "torque and momentum on each axis (or the nearest where none does):",
+        "",
+        "| actuator | kind | torque (N m) | momentum (N m s) | mass (kg) | checked |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for a in catalogue():
+        status = " (in development)" if a.in_development else ""
+        marks = "; ".join(cite(k) for k in a.keys)
+        lines.append(
+            f"| {a.name}{status} | {a.kind} | {fmt(a.torque)} | {fmt(a.momentum)} | "
+            f"{fmt(a.mass)} | {'yes' if a.checked else 'no'} {marks} |"
+        )
+    return lines
 
 
 def _case_section(result: TestbedResult) -> list[str]:
@@ -481,9 +539,10 @@ def _window_section(result: TestbedResult) -> list[str]:
         "",
         "The design scaled in time (rate x s: n, K x s, kappa x s^2), size (x L) and mass "
         "(x m: inertia x m L^2), flying all the planned motions or one alone, on each bearing "
-        "style; each requirement by its law (chargedesign/airbearing/verdict.py). The wheels' "
-        "own mass is charged when their torque falls in the catalogue class. The nominal "
-        "drift is measured at the scene's design only.",
+        "style; each requirement by its law (chargedesign/airbearing/verdict.py). At every "
+        "design the wheels are chosen from the actuator catalogue (below): the lightest covering "
+        "its torque and momentum, its mass (one per axis) counted within the platform's. The "
+        "nominal drift is measured at the scene's design only.",
         "",
         *[f"- {w.line()}" for w in result.windows],
         "",
@@ -495,15 +554,24 @@ def _window_section(result: TestbedResult) -> list[str]:
 
 
 def _unverified_binding(result: TestbedResult) -> list[str]:
-    """Say so when the recommended design's binding limit rests on a figure quoted from
-    memory (state_of_the_art.UNVERIFIED)."""
+    """Say so when the recommended design's binding limit, or any figure it rests on, is
+    unverified (not read in its source) or the scene's own."""
     if result.window is None:
         return []
-    binding = result.window.to_dict()["recommended"]["binding"]
-    source = next((r.source for r in result.state_of_the_art if r.name == binding), "")
-    if UNVERIFIED not in source:
-        return []
-    return [f"The binding limit ({binding}) rests on a figure quoted from memory: {source}.", ""]
+    rec = result.window.to_dict()["recommended"]
+    lines = []
+    source = rec["binding_source"]
+    if not source["checked"]:
+        lines.append(
+            f"The binding limit ({rec['binding']}) rests on an unverified figure: {source['key']}."
+        )
+    if rec["unverified"]:
+        lines.append(
+            "The recommended design rests on unverified figures: "
+            + ", ".join(rec["unverified"])
+            + "."
+        )
+    return [*lines, ""] if lines else []
 
 
 def _recomputed_lines(check: dict) -> list[str]:

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import re
+import textwrap
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.actuators import catalogue
 from chargedesign.airbearing.bearing import TiltMap
 from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.airbearing.layout import Layout, Plan
@@ -233,6 +236,7 @@ class TestbedResult(Result):
                 "mounts_offset_m": self.compliance_offset_m,
                 "state_of_the_art": [r.to_dict() for r in self.state_of_the_art],
                 "verdict": self.verdict.to_dict(),
+                "actuators": [a.to_dict() for a in catalogue()],
                 "window": None
                 if self.window is None
                 else {
@@ -345,7 +349,31 @@ class TestbedResult(Result):
             lines.append(f"  [{'met' if r.met else 'MISSED'}] {r.line()}")
         if self.window is not None:
             lines.append(self.window.line())
-        return "\n".join(lines) + "\n"
+        return terminal_text(lines)
+
+
+#: a source's checked status as the figures carry it inline (moved to one line at the end)
+_UNVERIFIED = re.compile(r"\s*\[(?:unverified[^\]]*|[A-Za-z0-9_.\-]+, unverified)\]")
+
+
+def terminal_text(lines: list[str], width: int = 160) -> str:
+    """Lines for a terminal: each wrapped to ``width`` characters; the sources' inline
+    ``[unverified ...]`` marks gathered into one closing line (report.md lists the sources)."""
+    marks = 0
+    out: list[str] = []
+    for line in lines:
+        marks += len(_UNVERIFIED.findall(line))
+        line = _UNVERIFIED.sub("", line)
+        indent = " " * (len(line) - len(line.lstrip()))
+        out += textwrap.wrap(
+            line, width, subsequent_indent=indent + "  ", break_on_hyphens=False
+        ) or [""]
+    if marks:
+        out.append(
+            f"({marks} figures above rest on sources not yet checked: report.md and "
+            "`chargedesign sources` list every source with its status)"
+        )
+    return "\n".join(out) + "\n"
 
 
 def _needs(motion: WheelNeeds) -> dict[str, float]:

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.actuators import chosen
 from chargedesign.airbearing.balance import inertia_tolerances, part_tolerances, sensitivity
 from chargedesign.airbearing.bearing import (
     best_axis,
@@ -46,10 +47,15 @@ from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.drag import AIR_VISCOSITY_KEY
+from chargedesign.physical.sources import cite
 from chargedesign.physical.state_of_the_art import (
+    AIR_FILM,
+    ATTITUDE_SENSORS,
     BALANCE,
     BEARINGS,
     FULL_SPHERE,
+    GYROS,
     LOOP_RATE,
     REACTION_WHEELS,
     ROOM_AIR,
@@ -228,10 +234,7 @@ def build_testbed(
         for motion, needs_k in zip(plan.motions, planned.motions, strict=True)
     ]
     t0 = time.perf_counter()
-    windows = [
-        window(for_style(sota, opts, style), style, alone, (len(axes), total_mass))
-        for style in BEARINGS
-    ]
+    windows = [window(for_style(sota, opts, style), style, alone, len(axes)) for style in BEARINGS]
     best = best_window(windows)
     check = recompute_point(best, sota, alone, plant, starts, axes, opts, total_mass)
     seconds["window"] = time.perf_counter() - t0
@@ -267,7 +270,7 @@ def build_testbed(
         tilt_map=hosted,
         case=case,
     )
-    say(result.verdict.line)
+    say("verdict reached (printed with the result)")  # the verdict is said once: in the text
     return result
 
 
@@ -287,24 +290,34 @@ def against_state_of_the_art(
     nominal = runs["nominal"]
     style = opts.style
     bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
+    balance = BALANCE["automatic_horizontal_m"]
+    given_offset = opts.imbalance_m != balance.value
+    offset_origin = "the scene's imbalance_m" if given_offset else balance.source
     if nominal.offset_error is not None:
         residual = float(np.median(nominal.offset_error[:, -1]))
         offset_source = (
             f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
             f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
             f"{fmt(residual)} m, the posts' part included); offset "
-            f"before estimation {fmt(opts.imbalance_m)} m "
-            f"({BALANCE['automatic_horizontal_m'].source})"
+            f"before estimation {fmt(opts.imbalance_m)} m ({offset_origin})"
         )
     else:
         residual = opts.imbalance_m
         offset_source = (
-            f"balancing floor {fmt(residual)} m ({BALANCE['automatic_horizontal_m'].source}) + "
+            f"balancing floor {fmt(residual)} m ({offset_origin}) + "
             f"the posts' bending ({fmt(compliance_offset)} m)"
         )
     # the estimator's residual already holds what is left of the posts' bending
     mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
     weight = total_mass * STANDARD_GRAVITY
+    wheel = chosen(planned.torque, planned.momentum)
+    wheels_note = (
+        f"{wheel.name}, the lightest of the actuator catalogue covering the planned torque and "
+        "momentum"
+        if wheel.torque >= planned.torque and wheel.momentum >= planned.momentum
+        else f"{wheel.name}, the catalogue's nearest: none covers the planned torque and momentum"
+    )
+    sensor_keys = _sensor_keys(opts)
     out = [
         Requirement(
             "bearing_tilt_deg",
@@ -313,6 +326,8 @@ def against_state_of_the_art(
             layout.tilt_limit_deg,
             "deg",
             bearing_source,
+            keys=(style.tilt_key,) if opts.tilt_limit_deg is None else (),
+            origin="table" if opts.tilt_limit_deg is None else "scene",
         ),
         Requirement(
             "bearing_load_kg",
@@ -321,22 +336,36 @@ def against_state_of_the_art(
             opts.capacity_kg,
             "kg",
             style.source if opts.bearing_capacity_kg is None else "the scene's bearing_capacity_kg",
+            keys=(style.load_key,) if opts.bearing_capacity_kg is None else (),
+            origin="table" if opts.bearing_capacity_kg is None else "scene",
         ),
-        Requirement(
+        _wheel_requirement(
             "wheel_torque_N_m",
-            "capacity",
             planned.torque,
-            REACTION_WHEELS["torque_N_m"].value,
+            opts.max_torque_N_m,
             "N m",
-            REACTION_WHEELS["torque_N_m"].source,
+            wheel.torque,
+            f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
+            wheel.key("torque"),
+        ),
+        _wheel_requirement(
+            "wheel_momentum_N_m_s",
+            planned.momentum,
+            opts.max_momentum_N_m_s,
+            "N m s",
+            wheel.momentum,
+            f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
+            wheel.key("momentum"),
         ),
         Requirement(
-            "wheel_momentum_N_m_s",
-            "capacity",
-            planned.momentum,
-            REACTION_WHEELS["momentum_N_m_s"].value,
-            "N m s",
-            REACTION_WHEELS["momentum_N_m_s"].source,
+            "wheel_mass_kg",
+            "tolerance",
+            total_mass,
+            len(layout.wheels.masses) * wheel.mass,
+            "kg",
+            f"{len(layout.wheels.masses)} x {wheel.name} ({wheel.source} "
+            f"{cite(wheel.key('mass'))}) within the platform's mass, which holds them",
+            keys=(wheel.key("mass"),),
         ),
         Requirement(
             "centre_of_mass_offset_m",
@@ -346,22 +375,10 @@ def against_state_of_the_art(
             "m",
             offset_source,
             parts={"estimator_or_floor_m": residual, "mounts_m": mounts_part},
+            keys=() if given_offset else (balance.key,),
+            origin="scene" if given_offset else "table",
         ),
-        Requirement(
-            "bearing_drag_N_m_s",
-            "tolerance",
-            tolerances["drag_max_N_m_s"],
-            opts.drag,
-            "N m s",
-            "the scene's drag_N_m_s"
-            if opts.drag_N_m_s is not None
-            else SOURCES[KEY.drag_N_m_s]
-            + (
-                "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
-                if opts.bearing == "full_sphere"
-                else ""
-            ),
-        ),
+        _drag_requirement(opts, tolerances),
         Requirement(
             "room_air_torque_N_m",
             "tolerance",
@@ -369,6 +386,7 @@ def against_state_of_the_art(
             room_air_torque(opts.platform_radius_m),
             "N m",
             "; ".join(f.source for f in ROOM_AIR.values()),
+            keys=tuple(f.key for f in ROOM_AIR.values()),
         ),
     ]
     if reqs is not None:
@@ -385,6 +403,7 @@ def against_state_of_the_art(
                 if lowest is not None
                 else "none of the rates tried meets the target with this gyro: the figure is the "
                 "highest rate tried, and the requirement is counted as missed",
+                keys=(LOOP_RATE.key, *sensor_keys),
             )
         )
     if opts.bearing == "full_sphere":
@@ -398,10 +417,95 @@ def against_state_of_the_art(
             median,
             "1",
             f"this run's Monte Carlo ({opts.seeds} seeds; noise, bias, imbalance, drag, mounts, "
-            "encoders all on)",
+            "encoders all on; the sensors' figures: "
+            + (", ".join(cite(k) for k in sensor_keys) or "the scene's")
+            + ")",
+            keys=sensor_keys,
+            origin="run",
         )
     )
     return out
+
+
+def _wheel_requirement(
+    name: str,
+    need: float,
+    given: float | None,
+    unit: str,
+    best: float,
+    source: str,
+    key: str,
+) -> Requirement:
+    """A wheel requirement: against the scene's own wheels when it gives their limit, else
+    against the catalogue actuator chosen for the planned needs."""
+    if given is not None:
+        key_name = KEY.max_torque_N_m if "torque" in name else KEY.max_momentum_N_m_s
+        return Requirement(
+            name, "capacity", need, given, unit, f"the scene's {key_name}", origin="scene"
+        )
+    return Requirement(name, "capacity", need, best, unit, source, keys=(key,))
+
+
+def _sensor_keys(opts: TestbedOptions) -> tuple[str, ...]:
+    """The sources-table keys of the gyro's and the attitude sensor's figures the loop runs
+    with (none where the scene gives its own)."""
+    keys: list[str] = []
+    if opts.gyro_grade in GYROS:
+        arw, bias = GYROS[opts.gyro_grade]
+        if opts.gyro_arw_rad_per_sqrt_s is None:
+            keys.append(arw.key)
+        if opts.gyro_bias_rad_per_s is None:
+            keys.append(bias.key)
+    noise, rate = ATTITUDE_SENSORS[opts.attitude_sensor]
+    if opts.attitude_noise_rad is None:
+        keys.append(noise.key)
+    if opts.attitude_rate_Hz is None:
+        keys.append(rate.key)
+    return tuple(keys)
+
+
+def _drag_requirement(opts: TestbedOptions, tolerances: dict) -> Requirement:
+    """The bearing's drag, taken at the air film's worst end: the thinnest film of its range
+    (the most drag; drag goes as 1/h) unless the scene gives its gap or its drag."""
+    name, unit = "bearing_drag_N_m_s", "N m s"
+    required = tolerances["drag_max_N_m_s"]
+    if opts.drag_N_m_s is not None:
+        return Requirement(
+            name, "tolerance", required, opts.drag, unit, "the scene's drag_N_m_s", origin="scene"
+        )
+    cup = "; a full sphere's film lies under the whole ball in its cup (cup_drag)"
+    where = cup if opts.bearing == "full_sphere" else ""
+    thin, thick = AIR_FILM["thin_m"], AIR_FILM["thick_m"]
+    if opts.bearing_gap_m != thin.value:
+        return Requirement(
+            name,
+            "tolerance",
+            required,
+            opts.drag,
+            unit,
+            f"{SOURCES[KEY.drag_N_m_s]} {cite(AIR_VISCOSITY_KEY)}, the scene's bearing_gap_m "
+            f"{fmt(opts.bearing_gap_m)} m{where}",
+            keys=(AIR_VISCOSITY_KEY,),
+            origin="scene",
+        )
+    at_thick = opts.drag * thin.value / thick.value  # Couette drag goes as 1/h
+    return Requirement(
+        name,
+        "tolerance",
+        required,
+        opts.drag,
+        unit,
+        f"{SOURCES[KEY.drag_N_m_s]} {cite(AIR_VISCOSITY_KEY)}, at the thin end of the air film's "
+        f"range {fmt(thin.value)}..{fmt(thick.value)} m (the most drag; "
+        f"{fmt(at_thick)} N m s at the thick end) {thin.source} {cite(thin.key)}; "
+        f"{thick.source} {cite(thick.key)}{where}",
+        parts={
+            "film_thin_m": thin.value,
+            "film_thick_m": thick.value,
+            "drag_at_thick_film_N_m_s": at_thick,
+        },
+        keys=(AIR_VISCOSITY_KEY, thin.key, thick.key),
+    )
 
 
 def recompute_point(
@@ -484,11 +588,23 @@ def for_style(sota: list[Requirement], opts: TestbedOptions, style: str) -> list
                 r,
                 best=180.0 if style == "full_sphere" else other.tilt_limit,
                 source=BEARINGS[style].source,
+                keys=(BEARINGS[style].tilt_key,),
+                origin="table",
             )
         elif r.name == "bearing_load_kg":
-            r = replace(r, best=other.capacity_kg, source=BEARINGS[style].source)
+            r = replace(
+                r,
+                best=other.capacity_kg,
+                source=BEARINGS[style].source,
+                keys=(BEARINGS[style].load_key,),
+                origin="table",
+            )
         elif r.name == "bearing_drag_N_m_s" and opts.drag_N_m_s is None:
-            r = replace(r, best=other.drag)
+            scale = other.drag / opts.drag
+            parts = dict(r.parts)
+            if "drag_at_thick_film_N_m_s" in parts:
+                parts["drag_at_thick_film_N_m_s"] *= scale
+            r = replace(r, best=other.drag, parts=parts)
         out.append(r)
     if style == "full_sphere":
         out.append(ball_requirement(opts))
@@ -499,7 +615,13 @@ def ball_requirement(opts: TestbedOptions) -> Requirement:
     """A full sphere's ball: its diameter against the largest built."""
     ball = FULL_SPHERE["largest_diameter_m"]
     return Requirement(
-        "ball_diameter_m", "capacity", 2.0 * opts.platform_radius_m, ball.value, "m", ball.source
+        "ball_diameter_m",
+        "capacity",
+        2.0 * opts.platform_radius_m,
+        ball.value,
+        "m",
+        ball.source,
+        keys=(ball.key,),
     )
 
 

@@ -148,8 +148,27 @@ def output_schema() -> dict[str, Any]:
                 "buildable": {"type": "boolean"},
                 "binding": {"type": ["string", "null"]},
                 "line": {"type": "string"},
+                "binding_source": _object(
+                    {"key": {"type": "string"}, "checked": {"type": "boolean"}}
+                ),
             }
         ),
+        "actuators": {
+            "type": "array",
+            "minItems": 1,
+            "items": _object(
+                {
+                    "name": {"type": "string"},
+                    "kind": {"enum": ["reaction_wheel", "cmg"]},
+                    "torque_N_m": _POSITIVE,
+                    "momentum_N_m_s": _POSITIVE,
+                    "mass_kg": _POSITIVE,
+                    "power_W": {"oneOf": [_POSITIVE, {"type": "null"}]},
+                    "source": {"type": "string"},
+                    "checked": {"type": "boolean"},
+                }
+            ),
+        },
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",

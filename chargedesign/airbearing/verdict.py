@@ -17,7 +17,8 @@ m M g e:
 | centre-of-mass offset | x s^2 L^2 (C' s^2 over m M g) | mounts x m / L (W l^3 / E r^4) |
 | bearing drag | x s m L^2 (C' s) | x L^4 (Couette, ball radius x L) |
 | room air torque | x s^2 m L^2 (weight x offset) | x L^3 |
-| wheel torque, momentum | x s^2 m L^2, x s m L^2 | fixed (catalogue) |
+| wheel torque, momentum | x s^2 m L^2, x s m L^2 | the chosen actuator's (catalogue) |
+| wheel mass | x m (the platform's mass holds the wheels) | one chosen actuator per axis |
 | bearing load | x m | fixed |
 | loop rate | x s | fixed |
 | ball diameter | x L | fixed |
@@ -36,8 +37,9 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.airbearing.actuators import capacities, catalogue, choose
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.physical.state_of_the_art import REACTION_WHEELS, UNVERIFIED
+from chargedesign.physical.sources import checked as key_checked
 
 #: how each requirement's (required, best) scale with (s, L, m): exponents of s, L and m
 SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {
@@ -46,6 +48,7 @@ SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
     "room_air_torque_N_m": ((2.0, 2.0, 1.0), (0.0, 3.0, 0.0)),
     "wheel_torque_N_m": ((2.0, 2.0, 1.0), (0.0, 0.0, 0.0)),
     "wheel_momentum_N_m_s": ((1.0, 2.0, 1.0), (0.0, 0.0, 0.0)),
+    "wheel_mass_kg": ((0.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
     "bearing_load_kg": ((0.0, 0.0, 1.0), (0.0, 0.0, 0.0)),
     "loop_rate_Hz": ((1.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
     "bearing_tilt_deg": ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
@@ -71,6 +74,34 @@ class Requirement:
     source: str
     unmet_reason: str = ""  # missed whatever the numbers say (e.g. no rate tried meets it)
     parts: dict[str, float] = field(default_factory=dict)
+    keys: tuple[str, ...] = ()  # the sources-table keys its figures rest on
+    origin: str = "table"  # where the best comes from: table | scene | run
+
+    @property
+    def unchecked_keys(self) -> list[str]:
+        """Its keys whose figures were not read in their sources."""
+        return [k for k in dict.fromkeys(self.keys) if not key_checked(k)]
+
+    @property
+    def checked(self) -> bool:
+        """Every figure it rests on checked (a scene's own figure is not: the tool did not
+        read it in a source)."""
+        return self.origin != "scene" and not self.unchecked_keys
+
+    def binding_source(self) -> dict[str, Any]:
+        """The contract's ``verdict.binding_source``: the key of the figure that binds (its
+        first unchecked one, else its first; ``scene`` for a scene's own figure, ``run``
+        for a figure this run measured from checked figures alone) and whether checked."""
+        unchecked = self.unchecked_keys
+        if self.origin == "scene":
+            key = "scene"
+        elif unchecked:
+            key = unchecked[0]
+        elif self.keys:
+            key = self.keys[0]
+        else:
+            key = "run"
+        return {"key": key, "checked": self.checked}
 
     @property
     def met(self) -> bool:
@@ -107,8 +138,10 @@ class Requirement:
             "unit": self.unit,
             "source": self.source,
             "met": self.met,
-            # the source holds a figure quoted from memory (state_of_the_art.UNVERIFIED)
-            "unverified": UNVERIFIED in self.source,
+            # a figure it rests on was not read in its source (or is the scene's own)
+            "unverified": not self.checked,
+            "keys": list(self.keys),
+            "origin": self.origin,
         }
         if self.unmet_reason:
             out["note"] = self.unmet_reason
@@ -122,21 +155,48 @@ class Verdict:
     buildable: bool
     binding: str | None
     line: str
+    binding_source: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"buildable": self.buildable, "binding": self.binding, "line": self.line}
+        return {
+            "buildable": self.buildable,
+            "binding": self.binding,
+            "line": self.line,
+            "binding_source": self.binding_source,
+        }
+
+
+def _unverified_note(requirements: list[Requirement]) -> str:
+    """What the verdict line says of the unverified figures the requirements rest on."""
+    keys = list(dict.fromkeys(k for r in requirements for k in r.unchecked_keys))
+    scene = [r.name for r in requirements if r.origin == "scene"]
+    parts = []
+    if keys:
+        parts.append("unverified figures: " + ", ".join(keys))
+    if scene:
+        parts.append("the scene's own figures for " + ", ".join(scene))
+    return f" (rests on {'; '.join(parts)})" if parts else ""
 
 
 def verdict(requirements: list[Requirement], nominal_median: float, target: float) -> Verdict:
-    """Buildable only when every requirement is met and the nominal median is within target."""
+    """Buildable only when every requirement is met and the nominal median is within target.
+
+    The line says when an unverified figure decides it: for "buildable", every requirement
+    decides (each met one's unverified figures are named); for "NOT buildable", the binding
+    requirement's."""
     unmet = [r for r in requirements if not r.met]
     if not unmet and nominal_median <= target:
+        unverified = [r for r in requirements if not r.checked]
         return Verdict(
             True,
             None,
             "buildable: every requirement is met and the nominal Monte "
             f"Carlo's median I4 drift {fmt(nominal_median)} is within the target "
-            f"{fmt(target, PLAIN)}",
+            f"{fmt(target, PLAIN)}" + _unverified_note(requirements),
+            {
+                "key": unverified[0].binding_source()["key"] if unverified else "run",
+                "checked": not unverified,
+            },
         )
     if not unmet:  # the drift requirement is in the list; kept for a list without it
         return Verdict(
@@ -144,13 +204,24 @@ def verdict(requirements: list[Requirement], nominal_median: float, target: floa
             "nominal_I4_drift",
             f"NOT buildable: the nominal median drift "
             f"{fmt(nominal_median)} is above the target {fmt(target, PLAIN)}",
+            {"key": "run", "checked": True},
         )
     worst = max(unmet, key=lambda r: r.shortfall)
-    return Verdict(False, worst.name, "NOT buildable: " + worst.line())
+    note = _unverified_note([worst])
+    line = "NOT buildable: " + worst.line()
+    if note:
+        line += "; the binding figure is not checked" + note
+    return Verdict(False, worst.name, line, worst.binding_source())
 
 
 #: the window's axes, in the order of its arrays
 AXES = ("rate", "size", "mass", "motion")
+#: the wheel requirements the actuator catalogue decides, and the actuator's figure for each
+WHEEL_FIELDS = {
+    "wheel_torque_N_m": "torque",
+    "wheel_momentum_N_m_s": "momentum",
+    "wheel_mass_kg": "mass",
+}
 
 
 @dataclass(frozen=True)
@@ -171,6 +242,36 @@ class Window:
     names: tuple[str, ...]
     margin: np.ndarray
     style: str = ""  # the bearing style the requirements are read for
+    actuator: np.ndarray | None = None  # index in the catalogue of each point's wheels
+    keys: tuple[tuple[str, ...], ...] = ()  # each requirement's sources-table keys (names')
+    origins: tuple[str, ...] = ()  # each requirement's origin (table, scene, run)
+
+    def binding_source(self, point: tuple[int, ...]) -> dict[str, Any]:
+        """The key of the figure that binds at ``point`` and whether it was checked: a wheel
+        requirement's is the chosen actuator's figure, the others their requirement's."""
+        n = int(self.binding[point])
+        name = self.names[n]
+        if self.actuator is not None and name in WHEEL_FIELDS:
+            key = catalogue()[int(self.actuator[point])].key(WHEEL_FIELDS[name])
+            return {"key": key, "checked": key_checked(key)}
+        keys = self.keys[n] if n < len(self.keys) else ()
+        origin = self.origins[n] if n < len(self.origins) else "table"
+        probe = Requirement(name, "tolerance", 1.0, 1.0, "", "", keys=keys, origin=origin)
+        return probe.binding_source()
+
+    def unverified_at(self, point: tuple[int, ...]) -> list[str]:
+        """The unverified keys the design at ``point`` rests on (every requirement's; the
+        wheels' are the chosen actuator's)."""
+        out: list[str] = []
+        for n, name in enumerate(self.names):
+            if self.actuator is not None and name in WHEEL_FIELDS:
+                keys: tuple[str, ...] = (
+                    catalogue()[int(self.actuator[point])].key(WHEEL_FIELDS[name]),
+                )
+            else:
+                keys = self.keys[n] if n < len(self.keys) else ()
+            out += [k for k in keys if not key_checked(k) and k not in out]
+        return out
 
     @property
     def empty(self) -> bool:
@@ -254,6 +355,9 @@ class Window:
                 "motion": motion,
                 "worst_shortfall": float(self.margin[best]),
                 "binding": self.names[self.binding[best]],
+                "binding_source": self.binding_source(best),
+                "actuator": self.actuator_name(best),
+                "unverified": self.unverified_at(best),
             },
             "at_scene_size": self._edges(),
             "through_recommended": {a: self.edges(n, best) for n, a in enumerate(AXES)},
@@ -263,13 +367,22 @@ class Window:
             out["missing_factor"] = float(self.margin.min())
         return out
 
+    def actuator_name(self, point: tuple[int, ...]) -> str | None:
+        """The catalogue actuator the wheels of ``point`` are (None: no wheel figures)."""
+        if self.actuator is None:
+            return None
+        return catalogue()[int(self.actuator[point])].name
+
     def line(self) -> str:
         d = self.to_dict()
         rec = d["recommended"]
         design = (
             f"rate x{fmt(rec['rate_factor'])}, size x{fmt(rec['size_factor'])}, mass "
             f"x{fmt(rec['mass_factor'])}, {rec['motion']}"
+            + (f", wheels: {rec['actuator']}" if rec.get("actuator") else "")
         )
+        if rec["unverified"]:
+            design += f" (resting on unverified figures: {', '.join(rec['unverified'])})"
         if self.empty:
             return (
                 f"no window ({self.style} bearing): over rates x{fmt(self.rates[0], PLAIN)}"
@@ -298,15 +411,14 @@ def window(
     requirements: list[Requirement],
     style: str = "",
     motion_needs: list[dict[str, float]] | None = None,
-    wheels: tuple[int, float] | None = None,
+    wheels: int | None = None,
 ) -> Window:
     """Scale each requirement of :data:`SCALING` over the grid (see the module docstring).
 
     ``motion_needs``: for each planned motion alone, what it requires of :data:`MOTION_SET`
-    (the requirements' own figures are the plan's, every motion). ``wheels`` = (number of
-    wheels, the scene's total mass kg) adds ``wheel_mass_kg``: a design whose wheels need a
-    torque in the catalogue class's range weighs at least that many of its lightest wheel
-    (:func:`_wheel_mass_shortfall`)."""
+    (the requirements' own figures are the plan's, every motion). ``wheels`` (the number of
+    wheel axes) chooses each point's wheels from the actuator catalogue: their torque,
+    momentum and, when ``wheel_mass_kg`` is a requirement, their mass (:func:`_wheels`)."""
     scaled = [r for r in requirements if r.name in SCALING]
     names = tuple(r.name for r in scaled)
     alone = tuple(f"motion {k} alone" for k in range(len(motion_needs or [])))
@@ -328,30 +440,42 @@ def window(
         if r.name == "centre_of_mass_offset_m" and "mounts_m" in r.parts:
             fixed = r.best - r.parts["mounts_m"]
             best[..., n] = fixed + r.parts["mounts_m"] * (m / L)[..., 0]
+    actuator = None
+    if wheels is not None and {"wheel_torque_N_m", "wheel_momentum_N_m_s"} <= set(names):
+        actuator = _wheels(req, best, names, wheels)
     tolerance = np.array([r.kind == "tolerance" for r in scaled])
     with np.errstate(divide="ignore"):
         short = np.where(tolerance, best / req, req / best)
-    if wheels is not None and "wheel_torque_N_m" in names:
-        names = (*names, "wheel_mass_kg")
-        short = np.concatenate([short, _wheel_mass_shortfall(req, names, m, *wheels)], axis=-1)
     margin = short.max(axis=-1)
     return Window(
-        RATES, SIZES, MASSES, motions, margin <= 1.0, short.argmax(axis=-1), names, margin, style
+        RATES,
+        SIZES,
+        MASSES,
+        motions,
+        margin <= 1.0,
+        short.argmax(axis=-1),
+        names,
+        margin,
+        style,
+        actuator,
+        tuple(r.keys for r in scaled),
+        tuple(r.origin for r in scaled),
     )
 
 
-def _wheel_mass_shortfall(
-    req: np.ndarray, names: tuple[str, ...], m: np.ndarray, count: int, scene_mass: float
-) -> np.ndarray:
-    """The wheels' own mass against the design's: a wheel torque at or above the catalogue
-    class's lowest (state_of_the_art.REACTION_WHEELS ``torque_low_N_m``) takes wheels of that
-    class, each at least its lowest mass; below it no class is sourced and the wheels' mass
-    is not charged (shortfall 0)."""
-    torque = req[..., names.index("wheel_torque_N_m")]
-    in_class = torque >= REACTION_WHEELS["torque_low_N_m"].value
-    needed = count * REACTION_WHEELS["mass_low_kg"].value
-    total = scene_mass * m[..., 0]
-    return np.where(in_class, needed / total, 0.0)[..., None]
+def _wheels(req: np.ndarray, best: np.ndarray, names: tuple[str, ...], count: int) -> np.ndarray:
+    """Each point's wheels from the catalogue (in place on ``best``): the chosen actuator's
+    torque and momentum are the wheel requirements' bests, and ``count`` of its mass the
+    ``wheel_mass_kg`` best (against the platform's mass, its required); returns the
+    chosen actuator's index at every point."""
+    t, h = names.index("wheel_torque_N_m"), names.index("wheel_momentum_N_m_s")
+    index = choose(req[..., t], req[..., h])
+    caps = capacities()
+    best[..., t] = caps["torque"][index]
+    best[..., h] = caps["momentum"][index]
+    if "wheel_mass_kg" in names:
+        best[..., names.index("wheel_mass_kg")] = count * caps["mass"][index]
+    return index
 
 
 def best_window(windows: list[Window]) -> Window:

@@ -6,11 +6,15 @@ Part of :mod:`chargedesign.checker` (see its docstring for the method).
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import dataclass, field
 from typing import Any
 
 from chargedesign.formatting import AGREEMENT, DIRECTION, ERROR, FLOOR, PLAIN, PRECISE, fmt
 from chargedesign.results import Result
+from chargedesign.vocabulary import VERDICT_STATES
+
+REALISED, NOT_REALISED, _NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
 
 # --------------------------------------------------------------------------- results
@@ -187,24 +191,57 @@ class CheckReport(Result):
     #: key, the charges reading); ``checked_n`` is the n of the theorem compared with
     larmor: dict[str, Any] | None = None
 
+    #: the verdict recomputed from the written parts (:func:`chargedesign.verdict.judge` on
+    #: the limits and the realised window recomputed here); None when not asked for
+    verdict: dict[str, Any] | None = None
+    #: the design's own record (design.json ``verdict``, or what its record gives)
+    recorded_verdict: dict[str, Any] | None = None
+    #: what the forward check compares with: ``theorem`` or ``case`` (a [case] of (ep))
+    reference: str = "theorem"
+
+    @property
+    def parts_within_limits(self) -> bool | None:
+        """The limits check for a physical body (every part within its limits, recomputed
+        from its elements); None for point elements."""
+        return None if self.limits is None else bool(self.limits.parts_within_limits)
+
     @property
     def buildable(self) -> bool | None:
-        """The limits check's verdict for a physical body; None for point elements."""
-        return None if self.limits is None else bool(self.limits.buildable)
+        """Whether the recomputed verdict calls the parts buildable (``buildable and
+        realised`` or ``buildable parts, NOT realised as designed``); None when not checked
+        for buildability (point elements, or no verdict computed)."""
+        state = (self.verdict or {}).get("state")
+        if state is None or state == NOT_CHECKED:
+            return None
+        return state in (REALISED, NOT_REALISED)
+
+    @property
+    def verdict_agrees(self) -> bool | None:
+        """The recomputed verdict's state equals the recorded one (None: no verdict)."""
+        if self.verdict is None:
+            return None
+        recorded = (self.recorded_verdict or {}).get("state")
+        return recorded == self.verdict["state"]
+
+    @property
+    def reproduced(self) -> bool:
+        """Every claimed quantity verified within the tolerance: the theorem (or the case)
+        reproduced by the written elements."""
+        return all(q.passed is not False for q in self.quantities.values())
 
     @property
     def passed(self) -> bool:
-        """True when every claimed quantity is verified within the tolerance and a physical
-        body is within every limit of its medium and materials."""
-        quantities = all(q.passed is not False for q in self.quantities.values())
-        return quantities and self.buildable is not False
+        """True when the theorem is reproduced (:attr:`reproduced`) and a physical body is
+        within every limit of its medium and materials (the exit status of ``check``; the
+        verdict is :attr:`verdict`)."""
+        return self.reproduced and self.parts_within_limits is not False
 
     @property
     def failures(self) -> list[str]:
         """Names of the claimed quantities that did not pass (``fail`` or ``unverifiable``),
-        and ``buildable`` for a physical body outside its limits."""
+        and ``parts_within_limits`` for a physical body outside its limits."""
         out = [name for name, q in self.quantities.items() if q.passed is False]
-        return out + (["buildable"] if self.buildable is False else [])
+        return out + (["parts_within_limits"] if self.parts_within_limits is False else [])
 
     @property
     def unverifiable(self) -> list[str]:
@@ -231,7 +268,16 @@ class CheckReport(Result):
         out["effects"] = {k: v.to_dict() for k, v in self.effects.items()}
         out["quadrature"] = list(self.quadrature)
         out["notes"] = list(self.notes)
+        out["reproduced"] = self.reproduced
+        out["reference"] = self.reference
+        out["parts_within_limits"] = self.parts_within_limits
         out["buildable"] = self.buildable
+        if self.verdict is not None:
+            out["verdict"] = _public(self.verdict)
+            out["recorded_verdict"] = (
+                None if self.recorded_verdict is None else _public(self.recorded_verdict)
+            )
+            out["verdict_agrees"] = self.verdict_agrees
         if self.limits is not None:
             out["limits"] = self.limits.to_dict()
         if self.larmor is not None:
@@ -240,7 +286,11 @@ class CheckReport(Result):
 
     # result protocol (chargedesign.results): text, compact repr, notebook table
     def _summary(self) -> dict[str, Any]:
-        out: dict[str, Any] = {"passed": self.passed, "tol": self.tol}
+        out: dict[str, Any] = {}
+        if self.verdict is not None:
+            out["verdict"] = self.verdict["state"]
+            out["verdict_agrees"] = self.verdict_agrees
+        out |= {f"{self.reference}_reproduced": self.reproduced, "tol": self.tol}
         for name in ("mu", "V", "inertia"):
             q = self.quantities.get(name)
             if q is not None:
@@ -249,8 +299,8 @@ class CheckReport(Result):
         out["n_orientations"] = self.n_orientations
         if self.larmor is not None:
             out["larmor"] = self.larmor["reading"]
-        if self.buildable is not None:
-            out["buildable"] = self.buildable
+        if self.parts_within_limits is not None:
+            out["parts_within_limits"] = self.parts_within_limits
         if self.failures:
             out["failures"] = list(self.failures)
         return out
@@ -315,5 +365,42 @@ def summary_lines(report: CheckReport) -> list[str]:
     lines += [f"{name}: {q.reason}" for name, q in report.quantities.items() if q.reason]
     if report.limits is not None:
         lines.append(str(report.limits))
-    lines.append("PASSED" if report.passed else "FAILED: " + ", ".join(report.failures))
+    failed = [name for name, q in report.quantities.items() if q.passed is False]
+    lines.append(
+        f"{report.reference} reproduced (every claimed quantity within tol)"
+        if report.reproduced
+        else f"{report.reference} NOT reproduced: " + ", ".join(failed)
+    )
+    lines += verdict_lines(report)
+    return [part for line in lines for part in _wrapped(line)]
+
+
+def _wrapped(text: str) -> list[str]:
+    """Each line of ``text`` wrapped to the terminal's 160 characters."""
+    out = []
+    for line in text.splitlines():
+        out += textwrap.wrap(line, 160, subsequent_indent="  ", break_on_hyphens=False) or [""]
+    return out
+
+
+def _public(verdict: dict[str, Any]) -> dict[str, Any]:
+    """The contract's keys of a verdict record (without the report's table rows)."""
+    return {k: v for k, v in verdict.items() if k != "rows"}
+
+
+def verdict_lines(report: CheckReport) -> list[str]:
+    """The check's own verdict beside the design's record, and whether they agree."""
+    if report.verdict is None:
+        return []
+    own = report.verdict
+    lines = [
+        f"verdict (recomputed from the written parts): {own['state']}",
+        *(_wrapped(f"  binding: {own['binding']}") if own["state"] != NOT_CHECKED else []),
+    ]
+    recorded = report.recorded_verdict
+    if recorded is None:
+        lines.append("recorded verdict: none (design.json has no verdict): cannot compare")
+    else:
+        agree = "agrees" if report.verdict_agrees else "DISAGREES"
+        lines.append(f"recorded verdict (design.json): {recorded['state']}; the check {agree}")
     return lines

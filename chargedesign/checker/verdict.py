@@ -45,11 +45,14 @@ from chargedesign.checker.results import (
     EffectResult,
     QuantityResult,
 )
-from chargedesign.errors import SolverError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix
-from chargedesign.physical.limits import check_limits
+from chargedesign.physical.budget import window_at_design
+from chargedesign.physical.limits import LimitsReport, check_limits
+from chargedesign.results import json_ready
+from chargedesign.scene.design_realism import WindowAtDesign
 from chargedesign.scene.keys import KEY
 from chargedesign.validation import (
     as_finite_float,
@@ -58,6 +61,7 @@ from chargedesign.validation import (
     check_integer,
     parse_moment_key,
 )
+from chargedesign.verdict import judge, not_checked, recorded_verdict
 from chargedesign.vocabulary import (
     FIELD_NAMES,
     PRECISIONS,
@@ -265,6 +269,7 @@ def check_design(
     quadrature_order: int | None = None,
     block_pairs: int = BLOCK_PAIRS,
     precision: str = "auto",
+    verdict: bool = True,
 ) -> CheckReport:
     """Recompute mu, V, the torques and the inertia of a design and compare with the theorem.
 
@@ -288,6 +293,11 @@ def check_design(
         contributions cancel so far that double rounding could decide it (its double
         rounding floor above ``ACCURATE_FRACTION * tol``); ``double`` or ``double-double``
         to force one.
+    verdict : bool
+        Recompute the verdict from the written parts too (default; the design's own
+        acceptance, which has just judged them, passes False): the limits and the realised
+        window's items at the body's rate, judged by :func:`chargedesign.verdict.judge`, beside
+        the design's record (``verdict_agrees``).
 
     Returns
     -------
@@ -298,8 +308,8 @@ def check_design(
         A claimed quantity passes when its error is within ``tol``; it is ``unverifiable``
         (and fails) when the rounding floor of the evaluation exceeds ``tol``. A physical
         body (with ``medium``) also has its limits recomputed from its elements
-        (:func:`chargedesign.physical.limits.check_limits`): the report passes only when it
-        is buildable too.
+        (:func:`chargedesign.physical.limits.check_limits`): the report passes only when
+        its parts are within their limits too.
     """
     tol = validate_check_options(design, tol, seed, quadrature_order, block_pairs, precision)
     gammas = sample_orientations(n_orientations, seed)
@@ -334,6 +344,7 @@ def check_design(
     n_pairs = len(gammas) * (
         len(elements.charge_values) + len(elements.mass_values) + len(elements.dipole_moments)
     )
+    limits = check_limits(design) if design.medium else None
     return CheckReport(
         tol=tol,
         n_orientations=len(gammas),
@@ -346,9 +357,38 @@ def check_design(
         n_pairs=n_pairs,
         notes=notes,
         precision=evaluated.precision,
-        limits=check_limits(design) if design.medium else None,
+        limits=limits,
         larmor=larmor_summary(design, params),
+        verdict=recomputed_verdict(design, limits) if verdict else None,
+        recorded_verdict=_recorded(design) if verdict else None,
+        reference="theorem" if case is None else "case",
     )
+
+
+def recomputed_verdict(design: Design, limits: LimitsReport | None) -> dict[str, Any]:
+    """The verdict from the written parts alone: the limits recomputed
+    (:func:`~chargedesign.physical.limits.check_limits`), the magnets against their continuum
+    size and the realised window's items at the body's rate
+    (:func:`~chargedesign.physical.budget.window_at_design`), judged as the design's record is
+    (:func:`chargedesign.verdict.judge`); the design's realism record is not read."""
+    if design.medium is None or limits is None:
+        return not_checked()
+    window = window_at_design(design, parts_ok=limits.parts_within_limits)
+    return judge(
+        design,
+        limits=limits.to_dict(),
+        magnets=limits.magnet_continuum,
+        window=None if window is None else WindowAtDesign.from_dict(json_ready(window)),
+    )
+
+
+def _recorded(design: Design) -> dict[str, Any] | None:
+    """The design's verdict record (or, for a file written before it, what its record gives;
+    None when that record is incomplete)."""
+    try:
+        return recorded_verdict(design)
+    except InputError:
+        return None
 
 
 def _case_functions(design: Design) -> Any:

@@ -136,6 +136,12 @@ def design_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-picture", action="store_true", help="do not render design.png")
     parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     parser.add_argument(
+        "--verbose",
+        action="store_true",
+        help="print the full report (default: the verdict and a short summary; the report "
+        "is in DIR/report.md)",
+    )
+    parser.add_argument(
         "--max-linf-candidates",
         type=int,
         default=None,
@@ -450,7 +456,7 @@ def sweep_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scheduler-timeout",
         type=float,
-        default=5.0,
+        default=None,  # 5 s; given without --scheduler it is refused (it would be ignored)
         metavar="S",
         help="seconds to wait for the --scheduler to answer (default 5)",
     )
@@ -535,6 +541,12 @@ def bifurcation_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress message on stderr")
 
 
+def sources_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--json", action="store_true", help="print the table as a JSON list of rows"
+    )
+
+
 #: command name -> the function that adds its arguments
 ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "verify": verify_arguments,
@@ -552,4 +564,5 @@ ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
     "testbed": testbed_arguments,
     "bifurcation": bifurcation_arguments,
     "catalogue": catalogue_arguments,
+    "sources": sources_arguments,
 }

@@ -37,6 +37,7 @@ from chargedesign.topology.compute import resolve_range
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
+from chargedesign.validation import exact_decimal
 
 
 def run(args: argparse.Namespace) -> int:
@@ -87,10 +88,7 @@ def case_level(case: Any, text: str | None) -> Fraction:
     never through sympy), which a conditional case allows only at its own level."""
     if text is None:
         return Fraction(0) if case.level is None else Fraction(str(case.level))
-    try:
-        level = Fraction(text.strip())
-    except (ValueError, ZeroDivisionError):
-        raise InputError(f"--level: expected a number or a fraction, got {text!r}") from None
+    level = exact_decimal(text, "--level", fraction=True)  # its size checked on the text
     if case.level is not None and level != Fraction(str(case.level)):
         raise InputError(
             f"--level: case {case.name}'s integral holds on I3 = {case.level} only, not on"

@@ -34,11 +34,13 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs, write_text_atomic
+from chargedesign.flight.record import add_flight
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
-from chargedesign.report import plausibility, render_report
+from chargedesign.report import plausibility, render_report, render_summary, wrapped_text
 from chargedesign.scene import Scene, load_scene
 from chargedesign.tolerancing import tolerance_report
+from chargedesign.verdict import recorded_verdict, verdict_line
 
 
 def run(args: argparse.Namespace) -> int:
@@ -76,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
     if not design.continuous:
         progress("tolerances (exact first-order sensitivity of every element) ...")
         design.tolerance = tolerance_report(design).to_dict()
+    add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
     out = Path(args.out)
     physical = design.medium is not None
     files = (
@@ -108,8 +111,10 @@ def run(args: argparse.Namespace) -> int:
             "plausibility": plausibility(design),
         }
         print(json.dumps(summary, indent=2, allow_nan=False))
+    elif args.verbose:
+        print(report, end="")
     else:
-        print(render_report(design), end="")
+        print(render_summary(design, report=str(out / "report.md")), end="")
     return 0
 
 
@@ -140,7 +145,8 @@ def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str
     if args.json:
         print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
     else:
-        print(result, end="")
+        print(verdict_line(recorded_verdict(design)))
+        print(wrapped_text(str(result)), end="")
     return 0
 
 

@@ -23,16 +23,26 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
+from chargedesign.body import Design
 from chargedesign.commands.progress import Progress
-from chargedesign.designer.frontier import WindowOptions, write_window_picture
+from chargedesign.designer.frontier import WindowOptions, find_frontier, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
-from chargedesign.designer.pipeline import frontier_from_scene
+from chargedesign.designer.pipeline import (
+    design_from_scene,
+    frontier_from_scene,
+    physical_setup_from_scene,
+)
 from chargedesign.designer.recommend import recommend
-from chargedesign.errors import InputError
+from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.files import check_outputs
-from chargedesign.scene import load_theorem_scene
+from chargedesign.physical.budget import judge_at_frontier
+from chargedesign.physical.support import scene_window_gravity
+from chargedesign.report import wrapped_text
+from chargedesign.scene import Scene, load_theorem_scene
+from chargedesign.verdict import verdict_record, verdict_state_line, verdict_text_table
 
 
 def run(args: argparse.Namespace) -> int:
@@ -59,14 +69,18 @@ def run(args: argparse.Namespace) -> int:
         scene.design.realised_fraction
         if args.realised_fraction is None
         else args.realised_fraction,
-        scene.design.realised_gravity if args.realised_gravity is None else args.realised_gravity,
+        scene_window_gravity(scene) if args.realised_gravity is None else args.realised_gravity,
     )
     if args.scan:
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:
             write_scan(scan, Path(args.out))
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
-        print(json.dumps(scan.to_dict(), indent=2, allow_nan=False) if args.json else str(scan))
+        print(
+            json.dumps(scan.to_dict(), indent=2, allow_nan=False)
+            if args.json
+            else wrapped_text(str(scan))
+        )
         return 0
     if args.recommend is not None:
         # the probes counted against the most the search makes, with the time left
@@ -83,14 +97,53 @@ def run(args: argparse.Namespace) -> int:
                 bar.close()
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
-        print(json.dumps(found.to_dict(), indent=2, allow_nan=False) if args.json else str(found))
+        print(
+            json.dumps(found.to_dict(), indent=2, allow_nan=False)
+            if args.json
+            else wrapped_text(str(found))
+        )
         return 0
-    result = frontier_from_scene(scene, progress=progress, window=window)
+    body = _body_at_scene_rate(scene, progress)
+    if body is None:
+        result = frontier_from_scene(scene, progress=progress, window=window)
+    else:
+        result = find_frontier(
+            physical_setup_from_scene(scene),
+            progress=progress,
+            window=window,
+            feasible_rate=1.0,
+            feasible=body,
+        )
+        # the body at the scene's rate, judged with this frontier (as `design` judges it)
+        body.frontier = result.to_dict()
+        judge_at_frontier(body)
+        body.verdict = verdict_record(body)
     if args.out is not None and result.realised is not None:
         write_window_picture(result, Path(args.out))
         progress(f"wrote {args.out}/realised_window.png")
+    verdict = None if body is None else body.verdict
     if args.json:
-        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
+        data = result.to_dict()
+        if verdict is not None:
+            data["verdict"] = {k: v for k, v in verdict.items() if k != "rows"}
+        print(json.dumps(data, indent=2, allow_nan=False))
     else:
-        print(str(result), end="")
+        if verdict is not None:
+            print("Verdict at the scene's rate (s = 1): " + verdict_state_line(verdict))
+            print("\n".join(verdict_text_table(verdict)) + "\n")
+        print(wrapped_text(str(result)), end="")
     return 0
+
+
+def _body_at_scene_rate(scene: Scene, progress: Callable[[str], None]) -> Design | None:
+    """The body the scene designs at its own rate (its verdict is the one `design` records);
+    None when that rate is not accepted, or the scene has no [medium] (the frontier says
+    why)."""
+    if scene.medium is None:
+        return None
+    progress("designing the body at the scene's rate (its verdict) ...")
+    try:
+        return design_from_scene(scene, progress=progress, frontier=False).design
+    except (InfeasibleError, SolverError) as exc:
+        progress(f"the scene's own rate is not accepted ({exc}): the frontier alone")
+        return None

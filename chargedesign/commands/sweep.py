@@ -32,6 +32,9 @@ def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     check_executor(args.executor, args.workers)  # before any file is read
+    if args.scheduler_timeout is not None and args.scheduler is None:
+        raise InputError("--scheduler-timeout: needs --scheduler (the Dask cluster it waits for)")
+    timeout = 5.0 if args.scheduler_timeout is None else args.scheduler_timeout
     if args.chunk is not None and args.chunk < 1:
         raise InputError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     check_outputs([("--out", args.out, True)], inputs=[args.sweep], writes=SWEEP_FILES)
@@ -41,9 +44,7 @@ def run(args: argparse.Namespace) -> int:
         inputs=[args.sweep, None if spec.scene_source.startswith("<") else spec.scene_source],
         writes=SWEEP_FILES,
     )
-    handle = make_executor(
-        args.executor, args.workers, args.scheduler, timeout=args.scheduler_timeout
-    )
+    handle = make_executor(args.executor, args.workers, args.scheduler, timeout=timeout)
     # the points counted against their total, with the time left (a line every few seconds
     # without a terminal)
     bar = None if args.quiet else Progress("sweep", unit="points")

@@ -266,7 +266,7 @@ def accept_at_rate(setup: PhysicalSetup, s: float) -> tuple[Design, PhysicalOutc
     outcome = design_at_rate(setup, s)
     design = build_design(setup, outcome)
     limits = check_limits(design)
-    if not limits.buildable:
+    if not limits.parts_within_limits:
         raise SolverError("physical design failed its own limits check: " + limits.violations[0])
     balance = balance_bound(design)
     if balance is not None:

@@ -377,11 +377,11 @@ def _accept_body(design: Design) -> Binding | None:
         report = body_check(design)
     except ChargeDesignError as exc:
         limits = check_limits(design)
-        if not limits.buildable:
+        if not limits.parts_within_limits:
             return Binding("limits", limits.violations[0], "limits check")
         return Binding("forward", f"the forward check could not run ({exc})", "check")
     limits = report.limits if report.limits is not None else check_limits(design)
-    if not limits.buildable:
+    if not limits.parts_within_limits:
         return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
         return None
@@ -880,10 +880,11 @@ def _why_empty(window: RealisedWindow, design: Design | None, options: WindowOpt
         return head
     return (
         f"the K term cannot be realised: the size-free law 6 (chi/rho) / (mu0 G^2) with "
-        f"G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg puts the parts' induced "
-        f"magnetisation at {fmt(law['ratio'], ROUGH)} of the designed K torques at the K "
-        f"frontier, {fmt(law['ratio'] / options.fraction, ROUGH)} x the fraction for any size "
-        f"and a2; {head}"
+        f"G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg puts the induced "
+        f"magnetisation of the body designed at s_max at {fmt(law['ratio'], ROUGH)} x the "
+        f"designed K torques C K_max^2, {fmt(law['ratio'] / options.fraction, ROUGH)} x the "
+        f"fraction, for any size and a2 (a design's own figure: its realism budget's "
+        f"k_law_induced_ratio); {head}"
     )
 
 

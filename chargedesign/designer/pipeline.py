@@ -47,6 +47,7 @@ from chargedesign.moment_conditions import (
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.budget import judge_at_frontier
+from chargedesign.physical.support import scene_window_gravity, support_record
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.design import DesignOptions, Progress
@@ -56,6 +57,7 @@ from chargedesign.validation import (
     check_realise_agrees,
     check_robust_parameters,
 )
+from chargedesign.verdict import verdict_record
 
 
 def design_source(
@@ -496,6 +498,10 @@ def design_from_scene(
     t2 = time.perf_counter()
     if inputs.spec is not None:
         result = _physical_design(inputs, progress, frontier)
+        if scene.support.given:  # how the body is held, counted (physical/support.py)
+            result.design.support = support_record(
+                result.design, scene.support, fraction=options.realised_fraction
+            )
     else:
         result = design_body(inputs.body_params, conditions, candidates, options, progress=progress)
         result.design.parameters = scene.parameters
@@ -509,6 +515,7 @@ def design_from_scene(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
+    result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
 
 
@@ -531,7 +538,7 @@ def _physical_design(
         if front.realised is not None:
             # the apparatus and the parasitics of this body at its own rate (the window's are
             # those of the body at s_max)
-            own = window_model(result.design, 1.0)
+            own = window_model(result.design, 1.0, gravity=inputs.options.realised_gravity)
             front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
             front.realised.support = own.support
             front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
@@ -603,6 +610,8 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
 
     given = {k: v for k, v in overrides.items() if v is not None}
     options = dataclasses.replace(scene.design, **given) if given else scene.design
+    if given.get("realised_gravity") is None:  # the support decides (free fall: residual g)
+        options = dataclasses.replace(options, realised_gravity=scene_window_gravity(scene))
     spec = scene.physical
     larmor, why, note = larmor_of_scene(options, scene.parameters, spec is not None)
     params = body_parameters(scene.parameters, larmor)

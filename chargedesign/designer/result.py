@@ -11,9 +11,10 @@ from chargedesign.candidates import CandidateSet
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions import SOURCES, LinearConditions
-from chargedesign.report import render_report
+from chargedesign.report import render_summary
 from chargedesign.results import Result
 from chargedesign.scene.design import DesignOptions
+from chargedesign.verdict import recorded_verdict
 
 
 @dataclass
@@ -121,6 +122,7 @@ class DesignResult(Result):
         d = self.design
         return {
             "status": self.status,
+            "verdict": recorded_verdict(d),
             "residuals": {
                 "before_polish": {k: s.residual_before for k, s in self.sources.items()},
                 "after_polish": {k: s.residual_after for k, s in self.sources.items()},
@@ -150,7 +152,9 @@ class DesignResult(Result):
 
     def _summary(self) -> dict[str, Any]:
         d = self.design
+        verdict = recorded_verdict(d)
         return {
+            "verdict": verdict["state"],
             "status": self.status,
             "charges": len(d.charge_values),
             "dipoles": len(d.dipole_moments),
@@ -161,10 +165,17 @@ class DesignResult(Result):
         }
 
     def _text(self) -> str:
-        return render_report(self.design)
+        """The verdict and a short summary (the full report:
+        :func:`chargedesign.report.render_report`)."""
+        return render_summary(self.design)
 
     def _html_rows(self) -> dict[str, Any]:
         rows = self._summary()
+        verdict = recorded_verdict(self.design)
+        if verdict.get("binding") and verdict["binding"] != "-":
+            rows["binding"] = verdict["binding"]
+        if verdict.get("change") and verdict["change"] != "-":
+            rows["what would change it"] = verdict["change"]
         rows["parameters"] = ", ".join(
             f"{k} = {fmt(v, PLAIN)}" for k, v in self.design.parameters.as_dict().items()
         )

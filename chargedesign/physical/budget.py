@@ -14,16 +14,18 @@ from __future__ import annotations
 
 from typing import Any
 
+from chargedesign.physical.limits import within_limits
 from chargedesign.physical.realism import k_law, part_sizes, realisability_map, realism_budget
 from chargedesign.physical.window import window_model
 from chargedesign.results import json_ready
 from chargedesign.scene.design_realism import K_LAW_KEY, MAP_KEY, PART_SIZES_KEY, WINDOW_KEY
 
 
-def window_at_design(design: Any) -> dict[str, Any] | None:
+def window_at_design(design: Any, parts_ok: bool | None = None) -> dict[str, Any] | None:
     """The realised window's items at the design's own rate (``s = 1``, the default fraction
-    and 1 g), as the verdict reads them; None for a body that is not buildable."""
-    if not (design.buildability or {}).get("buildable"):
+    and 1 g), as the verdict reads them; None for a body whose parts are not within their
+    limits (``parts_ok``; None: as its ``buildability`` record says)."""
+    if not (within_limits(design.buildability) if parts_ok is None else parts_ok):
         return None
     model = window_model(design, 1.0)
     ratios = model.ratios(1.0)

@@ -36,6 +36,7 @@ import numpy as np
 from chargedesign.constants import MU_0
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
+from chargedesign.physical.sources import value
 
 #: Legendre degrees kept in a coil's series (the error terms beyond decay like (r / a)^j)
 SERIES_DEGREE = 12
@@ -44,11 +45,12 @@ COIL_RADII = (2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 30.0, 50.0)
 #: the coils' harmonic error is kept below this share of the realised window's fraction (each
 #: parasitic is held below the fraction on its own; half leaves a margin)
 HARMONIC_SHARE = 0.5
-#: resistivity of annealed copper at 20 C, ohm m (CRC Handbook, 97th ed.: 1.68e-8)
-COPPER_RESISTIVITY = 1.68e-8
+#: resistivity of copper at 20 C, ohm m (sources table: coils.copper_resistivity)
+COPPER_RESISTIVITY = value("coils.copper_resistivity")
 #: current density of an air-cooled copper winding, A/m^2: 1-3 A/mm^2 without forced cooling
 #: (Montgomery, Solenoid Magnet Design, Wiley 1969, ch. 1); 2 A/mm^2 used
-AIR_COOLED_CURRENT_DENSITY = 2.0e6
+#: (sources table: coils.air_cooled_current_density)
+AIR_COOLED_CURRENT_DENSITY = value("coils.air_cooled_current_density")
 #: cross-section of the wire the turns are counted in, m^2 (1 mm^2: AWG 17)
 WIRE_SECTION = 1.0e-6
 

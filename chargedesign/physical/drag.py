@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import math
 
+from chargedesign.physical.sources import value
 from chargedesign.physical.state_of_the_art import FULL_SPHERE
 
-#: dynamic viscosity of air at 20 C, Pa s (CRC Handbook of Chemistry and Physics, 97th ed.,
-#: "Viscosity of gases": 18.2 uPa s at 20 C, 1 atm; quoted from memory, not re-checked)
-AIR_VISCOSITY = 1.82e-5
+#: dynamic viscosity of air at 20 C, Pa s (sources table: media.viscosity.air, checked)
+AIR_VISCOSITY_KEY = "media.viscosity.air"
+AIR_VISCOSITY = value(AIR_VISCOSITY_KEY)
 
 
 def bearing_drag(radius: float, gap: float, viscosity: float = AIR_VISCOSITY) -> float:
@@ -40,4 +41,4 @@ def cup_drag(radius: float, gap: float) -> float:
     return (2.0 / 3.0 - c + c**3 / 3.0) / (2.0 / 3.0) * bearing_drag(radius, gap)
 
 
-__all__ = ["AIR_VISCOSITY", "bearing_drag", "cup_drag", "cup_half_angle"]
+__all__ = ["AIR_VISCOSITY", "AIR_VISCOSITY_KEY", "bearing_drag", "cup_drag", "cup_half_angle"]

@@ -2,7 +2,8 @@
 
 The design stage (chargedesign.designer.assembly) keeps the limits as constraints; this module
 recomputes them from the numbers in design.json alone, with denser surface samples than the
-design used, so that "buildable" is never the optimiser's word for itself:
+design used, so that "within its limits" is never the optimiser's word for itself (whether
+the body is buildable, and realised, is the verdict's: :mod:`chargedesign.verdict`):
 
 - surface fields: at points on every carrier sphere, the Coulomb field of all charges (each
   carrier's charge at its centre, exact for its own field) plus the largest external electric
@@ -36,6 +37,7 @@ from chargedesign.physical.materials import (
 from chargedesign.physical.realism import field_response, k_law, magnet_continuum
 from chargedesign.results import Result
 from chargedesign.sampling import GOLDEN_ANGLE, fibonacci_sphere
+from chargedesign.vocabulary import OLD_WITHIN_LIMITS_KEY, WITHIN_LIMITS_KEY
 
 #: relative slack for rounding in the comparisons (not a physical margin)
 ROUNDING_SLACK = 1e-9
@@ -126,13 +128,23 @@ def carrier_surface_fields(
     return best, positions + radii[:, None] * best_dir
 
 
+def within_limits(record: dict[str, Any] | None) -> bool:
+    """``buildability.parts_within_limits`` of a limits record (or the old ``buildable``)."""
+    record = record or {}
+    return bool(record.get(WITHIN_LIMITS_KEY, record.get(OLD_WITHIN_LIMITS_KEY)))
+
+
 @dataclass(repr=False)
 class LimitsReport(Result):
     """The verdict on a design's physical limits.
 
     Attributes
     ----------
-    buildable : bool
+    parts_within_limits : bool
+        Every part within every limit (design.json ``buildability.parts_within_limits``;
+        files written before the rename say ``buildable``, read by :func:`within_limits`).
+        Not the verdict: magnets below the continuum size and parasitics above the fraction
+        are judged there (:mod:`chargedesign.verdict`).
     surface_fields : ndarray, shape (n,)
         Largest surface field of every carrier, V/m.
     safe_field : float
@@ -146,7 +158,7 @@ class LimitsReport(Result):
     field_response : dict
         The applied field acting on the parts' materials (induced magnetisation, eddy
         currents; :func:`chargedesign.physical.realism.field_response`): realism verdicts,
-        not limits, so they do not decide ``buildable``.
+        not limits, so they do not decide ``parts_within_limits``.
     k_law : dict
         The induced-magnetisation parasitic at the K frontier by the size-free law
         ``6 (chi/rho) / (mu0 G^2)`` (:func:`chargedesign.physical.realism.k_law`), recomputed
@@ -157,7 +169,7 @@ class LimitsReport(Result):
         flagged in the text and in ``to_dict``, not counted as a broken limit.
     """
 
-    buildable: bool
+    parts_within_limits: bool
     surface_fields: np.ndarray
     safe_field: float
     breakdown: float
@@ -174,7 +186,7 @@ class LimitsReport(Result):
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "buildable": self.buildable,
+            WITHIN_LIMITS_KEY: self.parts_within_limits,
             "largest_surface_field_V_per_m": float(np.max(self.surface_fields, initial=0.0)),
             "largest_surface_field_fraction_of_breakdown": self.worst_fraction_of_breakdown,
             "safe_field_V_per_m": self.safe_field,
@@ -188,7 +200,7 @@ class LimitsReport(Result):
 
     def _summary(self) -> dict[str, Any]:
         return {
-            "buildable": self.buildable,
+            WITHIN_LIMITS_KEY: self.parts_within_limits,
             "fraction_of_breakdown": self.worst_fraction_of_breakdown,
             "carriers": len(self.surface_fields),
             "violations": len(self.violations),
@@ -197,8 +209,12 @@ class LimitsReport(Result):
     def _text(self) -> str:
         top = float(np.max(self.surface_fields, initial=0.0))
         lines = [
-            ("buildable" if self.buildable else "NOT buildable")
-            + f" (limits recomputed from the elements): largest carrier surface field "
+            (
+                "parts within their limits"
+                if self.parts_within_limits
+                else "parts NOT within their limits"
+            )
+            + f" (recomputed from the elements): largest carrier surface field "
             f"{fmt(top, PRECISE)} V/m, {fmt(self.worst_fraction_of_breakdown, PRECISE)} of"
             " breakdown "
             f"({fmt(self.breakdown)} V/m; safe {fmt(self.safe_field)} V/m)"
@@ -209,9 +225,10 @@ class LimitsReport(Result):
             shown = "inf" if value is None else f"{fmt(value)}"
             lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
         if self.k_law:
+            value = self.k_law.get("value", self.k_law["ratio"])
             lines.append(
-                f"at the K frontier (size-free law): {fmt(self.k_law['ratio'])} "
-                f"({self.k_law['verdict']}): {self.k_law['note']}"
+                f"induced magnetisation at the K frontier (the K law): {fmt(value)} x the "
+                f"designed K torques C K_max^2 ({self.k_law['verdict']}): {self.k_law['note']}"
             )
         below = self.magnet_continuum.get("below", 0)
         if below:
@@ -352,7 +369,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
             )
     response = field_response(design)
     return LimitsReport(
-        buildable=not violations,
+        parts_within_limits=not violations,
         field_response=response,
         k_law=k_law(design, response),
         magnet_continuum=magnet_continuum(design),

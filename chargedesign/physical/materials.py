@@ -1,7 +1,8 @@
 """Media (breakdown fields) and materials (densities, magnetisations), with their sources.
 
-Every number here is a documented, deliberately conservative engineering value; the
-sources are quoted in ``SOURCES`` and in docs/buildable.md. A scene may always give its own
+Every number here is read from the sources table (:mod:`chargedesign.physical.sources`,
+``chargedesign sources``) by its key (:data:`KEYS`); ``SOURCES`` quotes the sources in words
+for the reports. A scene may always give its own
 value instead (``[medium] breakdown = ...``, ``density = ...``, ``magnetisation = ...``).
 """
 
@@ -17,125 +18,91 @@ from chargedesign.constants import COULOMB as COULOMB
 from chargedesign.constants import EPSILON_0 as EPSILON_0
 from chargedesign.constants import LIGHT_SPEED as LIGHT_SPEED
 from chargedesign.constants import MU_0 as MU_0
+from chargedesign.physical.sources import value
 
-#: breakdown field of each named medium, V/m
-BREAKDOWN_V_PER_M = {
-    "air": 3.0e6,
-    "sf6": 8.9e6,
-    "oil": 1.0e7,
-    "vacuum": 1.0e7,
-}
+#: breakdown field of each named medium, V/m (sources table: media.breakdown.<name>)
+BREAKDOWN_V_PER_M = {m: value(f"media.breakdown.{m}") for m in ("air", "sf6", "oil", "vacuum")}
 
 #: kinematic data of the gas media for the drag estimate: (density kg/m^3, viscosity Pa s)
+#: (sources table: media.density.<name>, media.viscosity.<name>; vacuum has none)
 GAS_PROPERTIES = {
-    "air": (1.204, 1.81e-5),
-    "sf6": (6.17, 1.53e-5),
-    "oil": (880.0, 2.0e-2),
+    **{
+        m: (value(f"media.density.{m}"), value(f"media.viscosity.{m}"))
+        for m in ("air", "sf6", "oil")
+    },
     "vacuum": (0.0, 0.0),
 }
 
-#: carrier materials: density, kg/m^3
-CARRIER_DENSITY = {
-    "aluminium": 2700.0,
-    "titanium": 4506.0,
-    "copper": 8960.0,
-    "stainless": 8000.0,
-}
 
-#: magnet materials: (remanent magnetisation A/m, density kg/m^3)
-MAGNET_DATA = {
-    "ndfeb": (1.0e6, 7500.0),
-    "ndfeb-eh": (1.0e6, 7500.0),
-    "smco": (8.4e5, 8400.0),
-    "ferrite": (3.2e5, 4900.0),
-}
+def _density(name: str) -> float:
+    return value(f"materials.density.{name}")
+
+
+#: carrier materials: density, kg/m^3 (materials.density.<name>)
+CARRIER_DENSITY = {m: _density(m) for m in ("aluminium", "titanium", "copper", "stainless")}
+
+#: the magnet materials the tool knows
+MAGNETS = ("ndfeb", "ndfeb-eh", "smco", "ferrite")
+
+#: magnet materials: (remanent magnetisation A/m, density kg/m^3) (materials.remanence.<name>)
+MAGNET_DATA = {m: (value(f"materials.remanence.{m}"), _density(m)) for m in MAGNETS}
 
 #: intrinsic coercivity Hcj of each magnet material at 20 C, A/m (the minimum of its grade):
 #: a reverse field inside the magnet beyond it demagnetises it for good
-MAGNET_COERCIVITY = {
-    "ndfeb": 9.55e5,
-    "ndfeb-eh": 2.39e6,
-    "smco": 1.59e6,
-    "ferrite": 2.4e5,
+#: (materials.coercivity.<name>)
+MAGNET_COERCIVITY = {m: value(f"materials.coercivity.{m}") for m in MAGNETS}
+
+#: ballast materials: density, kg/m^3 (materials.density.<name>); alumina, zirconia and
+#: fused silica are insulating, low-chi ballast (no eddy currents)
+BALLAST_DENSITY = {
+    m: _density(m)
+    for m in (
+        "tungsten",
+        "lead",
+        "brass",
+        "steel",
+        "aluminium",
+        "bismuth",
+        "copper",
+        "alumina",
+        "zirconia",
+        "fused-silica",
+    )
 }
 
-#: ballast materials: density, kg/m^3
-BALLAST_DENSITY = {
-    "tungsten": 19250.0,
-    "lead": 11340.0,
-    "brass": 8500.0,
-    "steel": 7850.0,
-    "aluminium": 2700.0,
-    "bismuth": 9780.0,
-    "copper": 8960.0,
-    # insulating, low-chi ballast (no eddy currents; see SOURCES["insulating_ballast"])
-    "alumina": 3900.0,
-    "zirconia": 6050.0,
-    "fused-silica": 2200.0,
-}
+#: every named material of a part
+_MATERIALS = (*CARRIER_DENSITY, *BALLAST_DENSITY, *MAGNETS)
+_NAMED = tuple(dict.fromkeys(_MATERIALS))
 
 #: SI volume susceptibility chi (dimensionless) of every named material at 20 C. A part of
 #: volume v in a field B gains the energy -chi v |B|^2 / (2 mu0) (|chi| << 1): in a field
-#: gradient this depends on the body's orientation. Elements: CRC molar susceptibilities
-#: chi_mol (cgs, cm^3/mol) converted as 4 pi chi_mol rho / M; alloys and magnets: see SOURCES.
-SUSCEPTIBILITY = {
-    "aluminium": 2.07e-5,
-    "titanium": 1.81e-4,
-    "copper": -9.64e-6,
-    "stainless": 3.5e-3,
-    "tungsten": 6.97e-5,
-    "lead": -1.58e-5,
-    # 4 pi (-280.1e-6 cm^3/mol) (9.78 g/cm^3) / (208.98 g/mol) = -1.647e-4
-    "bismuth": -1.647e-4,
-    "brass": -1.0e-5,
-    "steel": 100.0,
-    "ndfeb": 0.05,
-    "ndfeb-eh": 0.05,
-    "smco": 0.03,
-    "ferrite": 0.1,
-    # 4 pi chi_mol rho / M: Al2O3 -37.0e-6 cm^3/mol, 3.90 g/cm^3, 101.96 g/mol
-    "alumina": -1.778e-5,
-    # ZrO2 -13.8e-6 cm^3/mol, 6.05 g/cm^3, 123.22 g/mol
-    "zirconia": -8.51e-6,
-    # SiO2 -29.6e-6 cm^3/mol, 2.20 g/cm^3, 60.08 g/mol
-    "fused-silica": -1.362e-5,
-}
+#: gradient this depends on the body's orientation (materials.susceptibility.<name>;
+#: elements: CRC molar susceptibilities chi_mol (cgs) converted as 4 pi chi_mol rho / M)
+SUSCEPTIBILITY = {m: value(f"materials.susceptibility.{m}") for m in _NAMED}
 
 #: electrical conductivity, S/m, at 20 C (eddy currents in the rotating parts)
-CONDUCTIVITY = {
-    "aluminium": 3.77e7,
-    "titanium": 2.38e6,
-    "copper": 5.96e7,
-    "stainless": 1.35e6,
-    "tungsten": 1.89e7,
-    "lead": 4.81e6,
-    "bismuth": 7.75e5,
-    "brass": 1.6e7,
-    "steel": 7.0e6,
-    "ndfeb": 7.1e5,
-    "ndfeb-eh": 7.1e5,
-    "smco": 1.2e6,
-    "ferrite": 1.0e-4,
-    "alumina": 1.0e-12,
-    "zirconia": 1.0e-10,
-    "fused-silica": 1.0e-16,
+#: (materials.conductivity.<name>)
+CONDUCTIVITY = {m: value(f"materials.conductivity.{m}") for m in _NAMED}
+
+#: smallest magnet, m (edge of the cube of its volume), that the magnet data above describe:
+#: bulk properties of sintered magnets; below about 10-20 nm a ferromagnet is a
+#: single-domain nanoparticle (limits.magnet_continuum_size; the upper end is used)
+MAGNET_CONTINUUM_SIZE = value("limits.magnet_continuum_size")
+
+#: a balance a builder reaches, m: published automatic balancing reaches an estimated
+#: 0.14 um horizontally; 0.1 um, the floor used for gravity's parasitic on Earth
+#: (limits.builder_balance_m)
+BUILDER_BALANCE_M = value("limits.builder_balance_m")
+
+#: the sources table's key of each figure above, by the dict it fills and the material
+KEYS = {
+    "breakdown": {m: f"media.breakdown.{m}" for m in BREAKDOWN_V_PER_M},
+    "density": {m: f"materials.density.{m}" for m in _NAMED},
+    "remanence": {m: f"materials.remanence.{m}" for m in MAGNETS},
+    "coercivity": {m: f"materials.coercivity.{m}" for m in MAGNETS},
+    "susceptibility": {m: f"materials.susceptibility.{m}" for m in _NAMED},
+    "conductivity": {m: f"materials.conductivity.{m}" for m in _NAMED},
 }
-
-#: smallest magnet, m (edge of the cube of its volume), that the magnet data above describe.
-#: They are bulk properties of sintered magnets (data sheets of mm-size parts whose grains
-#: are micrometres across). Below about 10-20 nm a ferromagnet is a single-domain
-#: nanoparticle whose surface layer carries a reduced, canted magnetisation (Coey, Magnetism
-#: and Magnetic Materials, Cambridge UP 2010, ch. 8), so neither the remanence nor the
-#: coercivity used here is its own; a few nm further down, thermal fluctuations flip its
-#: moment (superparamagnetism where K1 v < 25 kB T: Bean & Livingston, J. Appl. Phys. 30,
-#: 120S (1959); about 3 nm for Nd2Fe14B, K1 = 4.9 MJ/m^3, 7 nm for Sr ferrite,
-#: K1 = 0.35 MJ/m^3, at 300 K). The upper end of 10-20 nm is used.
-MAGNET_CONTINUUM_SIZE = 20e-9
-
-#: a balance a builder reaches, m: automatic balancing of air-bearing platforms to micrometres
-#: (Schwartz, Peck & Hall, J. Guid. Control Dyn. 26, 513 (2003)); published automatic balancing
-#: reaches about 0.1 um horizontally, the floor used for gravity's parasitic on Earth
-BUILDER_BALANCE_M = 1e-7
 
 SOURCES = {
     "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
@@ -144,7 +111,7 @@ SOURCES = {
     "J. Phys. Chem. Ref. Data 29, 267 (2000))",
     "oil": "10 MV/m, conservative for new mineral transformer oil (IEC 60156: >= 30 kV "
     "across 2.5 mm, i.e. 12 MV/m)",
-    "vacuum": "10 MV/m, the conservative end of 1e7-1e8 V/m for macroscopic mm gaps "
+    "vacuum": "10 MV/m, the top of the practical range 1e6-1e7 V/m for macroscopic mm gaps "
     "(Latham, High Voltage Vacuum Insulation, 1995, ch. 1)",
     "densities": "CRC Handbook of Chemistry and Physics (97th ed.), densities of the elements "
     "and common alloys at 20 C (bismuth 9.78, copper 8.96 g/cm^3)",
@@ -309,13 +276,15 @@ def ballast_label(materials: Any) -> str:
 
 
 #: relative accuracy of susceptibility metrology: a calibrated ac susceptometer holds its
-#: magnitude error below 0.7 % (Chen & Skumryev, Rev. Sci. Instrum. 81, 025104 (2010));
-#: commercial SQUID magnetometers calibrated against a palladium standard carry sample-shape
-#: errors of percent order (Quantum Design, SQUID VSM application note 1500-015)
-SUSCEPTIBILITY_METROLOGY = 7e-3
+#: magnitude error below 0.7 % (materials.susceptibility_metrology: Chen & Skumryev, Rev.
+#: Sci. Instrum. 81, 025104 (2010))
+SUSCEPTIBILITY_METROLOGY = value("materials.susceptibility_metrology")
 
 #: conductivity of insulators a part could be made of, S/m at 20 C (upper ends, from the
 #: volume resistivities: 99.5 % alumina > 1e14 ohm cm, e.g. CoorsTek AD-995 data sheet;
 #: PTFE > 1e18 ohm cm, Chemours Teflon PTFE data sheet; soda-lime glass 1e10-1e14 ohm m,
 #: Serway, Physics for Scientists and Engineers, table 27.2)
-INSULATOR_CONDUCTIVITY = {"alumina": 1e-12, "soda-lime glass": 1e-10, "PTFE": 1e-16}
+INSULATOR_CONDUCTIVITY = {
+    name: value(f"materials.insulator_conductivity.{name.replace(' ', '_')}")
+    for name in ("alumina", "soda-lime glass", "PTFE")
+}

@@ -52,6 +52,7 @@ from chargedesign.physical.materials import (
     mass_densities,
     sphere_radius,
 )
+from chargedesign.physical.sources import value
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.design_realism import FIELD_RESPONSE_KEYS, K_LAW_KEY, RESPONSE_FRACTION
 from chargedesign.validation import as_finite_float
@@ -65,10 +66,10 @@ BALANCE_FRACTION = 1e-3
 CANCELLED = 1e-2
 #: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
 RESPONSE_ORIENTATIONS = 2000
-#: field at which metal surfaces evaporate as ions, V/m: 20-60 V/nm for most metals
-#: (Tsong, Atom-Probe Field Ion Microscopy, Cambridge UP 1990, ch. 2, evaporation fields);
-#: the round 5e10 V/m of tungsten's order
-FIELD_EVAPORATION = 5.0e10
+#: field at which metal surfaces evaporate as ions, V/m: about 6e10 V/m for tungsten (57 V/nm
+#: in Tsong's table; sources table: limits.field_evaporation.tungsten, checked)
+FIELD_EVAPORATION_KEY = "limits.field_evaporation.tungsten"
+FIELD_EVAPORATION = value(FIELD_EVAPORATION_KEY)
 #: the atomic unit of field, e / (4 pi eps0 a0^2), V/m (CODATA: 5.14e11): the field that
 #: binds a hydrogen electron
 ATOMIC_FIELD = ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * BOHR_RADIUS**2)

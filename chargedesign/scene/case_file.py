@@ -28,7 +28,7 @@ from chargedesign.scene.expressions import (
     p,
     parameter_name_error,
     parameter_symbol,
-    parse_expression,
+    parse_bounded,
     q,
     r,
 )
@@ -155,16 +155,64 @@ class Case:
         return found
 
 
-def _exact_number(value: Any, where: str, names: Mapping[str, sp.Symbol] | None = None) -> Any:
+def _expression(
+    value: Any,
+    where: str,
+    names: Mapping[str, sp.Symbol] | None,
+    known: Mapping[str, sp.Rational] | None,
+    sizes: dict[str, int] | None,
+) -> sp.Expr:
+    """An expression of the file, parsed with its bounds (``known``: the parameters' values);
+    the bound on its expanded terms goes into ``sizes[where]``."""
+    parsed = parse_bounded(value, where, names, known)
+    if sizes is not None:
+        sizes[where] = parsed.terms
+    return parsed.expression
+
+
+def _exact_number(
+    value: Any,
+    where: str,
+    names: Mapping[str, sp.Symbol] | None = None,
+    known: Mapping[str, sp.Rational] | None = None,
+    sizes: dict[str, int] | None = None,
+) -> Any:
     """A number of the file as an exact rational: an int, a float as its decimal text
-    (``0.1 -> 1/10``), or a string expression of numbers (and ``names``)."""
+    (``0.1 -> 1/10``), or a string expression of numbers (and ``names``, ``known`` their
+    values for the bound on its coefficients; the bound on its expanded terms goes into
+    ``sizes[where]``)."""
     if isinstance(value, str):
-        return parse_expression(value, where, names)
+        return _expression(value, where, names, known, sizes)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise input_error(where, "a number or an expression in a string", value)
     check_input_number(value, where)
     exact = Fraction(repr(value)) if isinstance(value, float) else Fraction(value)
     return sp.Rational(exact.numerator, exact.denominator)
+
+
+_UNDEFINED = (sp.zoo, sp.nan, sp.oo, -sp.oo)
+
+
+def _defined(written: sp.Expr, value: sp.Expr, values: Mapping[sp.Symbol, Any], at: str) -> Any:
+    """``value`` (``written`` with the parameters' ``values`` substituted) when no term of it
+    became infinite or undefined; else one line naming the key and the parameters whose
+    values make a denominator vanish (sympy's ``zoo``, ``nan`` never reach the user)."""
+    if not value.has(*_UNDEFINED):
+        return value
+    culprits = sorted(
+        str(symbol)
+        for symbol in written.free_symbols & set(values)
+        if written.xreplace({symbol: values[symbol]}).has(*_UNDEFINED)
+    )
+    if not culprits:  # only together (1/(a - b) with a = b): the denominator's parameters
+        denominators = {sp.denom(term) for term in sp.preorder_traversal(written)}
+        used = set().union(*(d.free_symbols for d in denominators)) & set(values)
+        culprits = sorted(str(symbol) for symbol in used or written.free_symbols & set(values))
+    given = ", ".join(f"{name} = {values[parameter_symbol(name)]}" for name in culprits)
+    raise InputError(
+        f"{at}: becomes infinite or undefined with {given} (a denominator vanishes at "
+        f"{'these values' if len(culprits) > 1 else 'this value'})"
+    )
 
 
 def _constant(expr: sp.Expr, where: str) -> sp.Rational:
@@ -180,11 +228,17 @@ def _only_gamma(expr: sp.Expr, where: str) -> sp.Expr:
     return expr
 
 
-def _vector(value: Any, where: str, names: Mapping[str, sp.Symbol]) -> list[sp.Expr]:
+def _vector(
+    value: Any,
+    where: str,
+    names: Mapping[str, sp.Symbol],
+    known: Mapping[str, sp.Rational],
+    sizes: dict[str, int],
+) -> list[sp.Expr]:
     if not isinstance(value, list) or len(value) != 3:
         raise input_error(where, "a list of 3 expressions", value)
     return [
-        _only_gamma(_exact_number(item, f"{where}[{i}]", names), f"{where}[{i}]")
+        _only_gamma(_exact_number(item, f"{where}[{i}]", names, known, sizes), f"{where}[{i}]")
         for i, item in enumerate(value)
     ]
 
@@ -242,13 +296,15 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         raise input_error(f"{where}.name", "a name of 1 to 80 characters", name)
     texts: dict[str, Any] = {}
     names, values = _parameters(table.get("parameters"), f"{where}.parameters")
+    known = {str(symbol): value for symbol, value in values.items()}
+    sizes: dict[str, int] = {}
     zeros = {symbol: value for symbol, value in values.items() if value == 0}
     free: dict[str, Any] = {}
 
-    def exact(expr: sp.Expr, key: str | None = None) -> sp.Expr:
+    def exact(expr: sp.Expr, at: str, key: str | None = None) -> sp.Expr:
         if key is not None:
-            free[key] = expr.xreplace(zeros)
-        return expr.xreplace(values)
+            free[key] = _defined(expr, expr.xreplace(zeros), zeros, at)
+        return _defined(expr, expr.xreplace(values), values, at)
 
     inertia_in = table["inertia"]
     if not isinstance(inertia_in, list) or len(inertia_in) != 3:
@@ -257,32 +313,40 @@ def case_from_table(table: Any, where: str = "case") -> Case:
     free_inertia = []
     for i, item in enumerate(inertia_in):
         key = f"{where}.inertia[{i}]"
-        moment = _constant(exact(_exact_number(item, key, names), "moment"), key)
+        moment = _constant(exact(_exact_number(item, key, names, known), key, "moment"), key)
         if moment <= 0:
             raise input_error(key, "a moment of inertia > 0", str(moment))
         inertia.append(moment)
         free_inertia.append(free.pop("moment"))
     free["inertia"] = tuple(free_inertia)
-    V = exact(_only_gamma(parse_expression(table["V"], f"{where}.V", names), f"{where}.V"), "V")
+    V = exact(
+        _only_gamma(_expression(table["V"], f"{where}.V", names, known, sizes), f"{where}.V"),
+        f"{where}.V",
+        "V",
+    )
     texts["V"] = table["V"]
     if "l" in table and "mu" in table:
         raise InputError(f"{where}: give l or mu, not both")
     l_vec: sp.Matrix | None
     if "mu" in table:
         l_vec = None
-        components = _vector(table["mu"], f"{where}.mu", names)
-        mu = sp.Matrix([exact(e) for e in components])
+        components = _vector(table["mu"], f"{where}.mu", names, known, sizes)
+        mu = sp.Matrix([exact(e, f"{where}.mu[{i}]") for i, e in enumerate(components)])
         free["l"], free["mu"] = None, sp.Matrix([e.xreplace(zeros) for e in components])
         texts["mu"] = list(table["mu"])
     else:
         given = table.get("l", ["0", "0", "0"])
-        components = _vector(given, f"{where}.l", names)
-        l_vec = sp.Matrix([exact(e) for e in components])
+        components = _vector(given, f"{where}.l", names, known, sizes)
+        l_vec = sp.Matrix([exact(e, f"{where}.l[{i}]") for i, e in enumerate(components)])
         mu = mu_from_l(l_vec)
         free["l"] = sp.Matrix([e.xreplace(zeros) for e in components])
         free["mu"] = mu_from_l(free["l"])
         texts["l"] = list(given)
-    integral = exact(parse_expression(table["integral"], f"{where}.integral", names), "integral")
+    integral = exact(
+        _expression(table["integral"], f"{where}.integral", names, known, sizes),
+        f"{where}.integral",
+        "integral",
+    )
     texts["integral"] = table["integral"]
     level_in = table.get("level", "general")
     level: sp.Rational | None
@@ -291,13 +355,14 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         key = f"{where}.level"
         if isinstance(level_in, str) and not level_in.strip():
             raise input_error(key, '"general" or a number', level_in)
-        level = _constant(exact(_exact_number(level_in, key, names), "level"), key)
+        level = _constant(exact(_exact_number(level_in, key, names, known), key, "level"), key)
         if l_vec is None:
             raise InputError(
                 f"{key}: a claim on a level needs l (mu fixes I3 only up to a constant)"
             )
     else:
         level = None
+    check_expansion(sizes, where)
     for key, text in (("source", table.get("source", "")), ("note", table.get("note", ""))):
         if not isinstance(text, str) or len(text) > 2000:
             raise input_error(f"{where}.{key}", "a text of at most 2000 characters", text)
@@ -397,6 +462,24 @@ def check_certificate_work(name: str, work: float) -> None:
         )
 
 
+def check_expansion(sizes: Mapping[str, int], where: str = "case") -> None:
+    """Refuse, before anything is expanded, a case whose expansion alone would cost the
+    certificate's whole budget: ``sizes`` are the parser's bounds on the expanded terms of
+    V, l (or mu) and the integral. The right-hand sides of (ep) hold about as many terms as
+    V and l together, and the energy's derivative costs its terms times theirs (the model's
+    own estimate, :data:`MAX_CERTIFICATE_WORK`, needs the expansion: 50 s for
+    ``(gamma1+gamma2+gamma3+1)**24``)."""
+    sides = sum(n for key, n in sizes.items() if not key.endswith(".integral"))
+    integral = sizes.get(f"{where}.integral", 1)
+    work = (sides + 3) * max(sides, integral)
+    if work > MAX_CERTIFICATE_WORK:
+        raise InputError(
+            f"{where}: V, l and the integral may expand to {sides} and {integral} terms: the "
+            f"certificate's work is estimated at {work:.1e} (limit {MAX_CERTIFICATE_WORK:.0e},"
+            " about a minute); simplify the case (fewer terms, lower degree)"
+        )
+
+
 def check_rational_points(name: str, found: int) -> None:
     """Refuse case ``name`` when no rational point where it is defined was ``found``."""
     if found == 0:
@@ -420,6 +503,7 @@ __all__ = [
     "case_from_table",
     "check_certificate_work",
     "check_denominator_on_level",
+    "check_expansion",
     "check_rational_points",
     "mu_from_l",
     "potential_of_mu",

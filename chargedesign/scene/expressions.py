@@ -4,8 +4,9 @@ The text is parsed by Python's :func:`ast.parse` (which builds a tree and runs n
 the tree is walked, without recursion, against a whitelist:
 
 - numbers, read exactly from their decimal text (``0.1`` is ``1/10``, ``2.5e-3`` is
-  ``1/400``); at most :data:`MAX_LITERAL_DIGITS` digits and magnitudes within
-  :data:`chargedesign.validation.MAX_MAGNITUDE`;
+  ``1/400``), their size checked on the text before the number is built
+  (:func:`chargedesign.validation.exact_decimal`: at most 40 digits, a written exponent of
+  at most 99, magnitudes within :data:`chargedesign.validation.MAX_MAGNITUDE`);
 - the state's names ``p q r gamma1 gamma2 gamma3`` and the case's declared parameters;
 - ``+ - * /``, unary ``+``/``-``, ``**`` with an integer literal exponent of at most
   :data:`MAX_EXPONENT` in size, parentheses.
@@ -24,12 +25,12 @@ import keyword
 import math
 import re
 from collections.abc import Callable, Mapping
-from fractions import Fraction
+from dataclasses import dataclass
 
 import sympy as sp
 
 from chargedesign.errors import InputError
-from chargedesign.validation import MAX_MAGNITUDE, MIN_MAGNITUDE
+from chargedesign.validation import DECIMAL_PATTERN, MAX_LITERAL_DIGITS, exact_decimal
 
 # The state's symbols, made as :mod:`chargedesign.model.case` makes them: sympy symbols of
 # the same name and assumptions are the same symbol, so the boundary needs no model import.
@@ -55,10 +56,11 @@ MAX_NODES = 5_000
 MAX_EXPONENT = 24
 #: largest degree bound of an expression (numerator plus denominator, over all names)
 MAX_DEGREE = 64
-#: most digits of one numeric literal
-MAX_LITERAL_DIGITS = 40
 #: most digits (numerator plus denominator) of a number made by a power of a number
 MAX_NUMBER_DIGITS = 400
+#: largest bound on the decades of an expanded coefficient's size (the parameters at their
+#: values): the case's numbers become floats (1e308 at most) and are squared on the way
+MAX_SCALE = 100
 #: largest bound on the number of terms of an expanded product or power (the certificate's
 #: work grows with it; the theorem's integral I4 reaches 105)
 MAX_TERMS = 5_000
@@ -68,7 +70,7 @@ ACCEPTED = (
     "** with an integer exponent, parentheses"
 )
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-_DIGITS = re.compile(r"\d{" + str(MAX_LITERAL_DIGITS + 1) + ",}")
+_DIGITS = re.compile(r"\d(?:_?\d){" + str(MAX_LITERAL_DIGITS) + ",}")
 _WHAT = {
     ast.Call: "a call",
     ast.Attribute: "an attribute",
@@ -140,16 +142,11 @@ def _literal(where: str, text: str, node: ast.Constant) -> sp.Rational:
     value = node.value
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise _refuse(where, text, node, "the constant")
-    source = (ast.get_source_segment(text, node) or "").replace("_", "")
-    try:
-        exact = Fraction(source)
-    except (ValueError, ZeroDivisionError):
-        raise _refuse(where, text, node, "the literal (not a decimal number)") from None
-    if exact != 0 and not MIN_MAGNITUDE <= abs(exact) <= MAX_MAGNITUDE:
-        raise InputError(
-            f"{where}: the number `{source[:30]}` at {_at(node)} is outside "
-            f"{MIN_MAGNITUDE:g}..{MAX_MAGNITUDE:g} in magnitude"
-        )
+    source = ast.get_source_segment(text, node) or ""
+    if DECIMAL_PATTERN.match(source) is None:
+        raise _refuse(where, text, node, "the literal (not a decimal number)")
+    # read from the text, its size checked before it is built (1e99999999 is never made)
+    exact = exact_decimal(source, where, at=f" at {_at(node)}")
     return sp.Rational(exact.numerator, exact.denominator)
 
 
@@ -201,6 +198,31 @@ def _check_text(where: str, text: object) -> str:
     return text
 
 
+@dataclass(frozen=True)
+class Parsed:
+    """An expression with bounds on what its expansion makes, known before it is expanded.
+
+    Attributes
+    ----------
+    expression : sympy.Expr
+    degree : int
+        Bound on the degree (numerator plus denominator, over all names).
+    terms : int
+        Bound on the number of terms of its expansion.
+    scale : float
+        Bound on ``|log10|`` of the size of its expanded coefficients (the sum of their
+        magnitudes, the parameters at their values).
+    digits : int
+        Bound on the digits (numerator plus denominator) of one expanded coefficient.
+    """
+
+    expression: sp.Expr
+    degree: int
+    terms: int
+    scale: float
+    digits: int
+
+
 def parse_expression(
     text: object, where: str, parameters: Mapping[str, sp.Symbol] | None = None
 ) -> sp.Expr:
@@ -220,14 +242,32 @@ def parse_expression(
     InputError
         One line naming the refused token and its column, or the bound exceeded.
     """
+    return parse_bounded(text, where, parameters).expression
+
+
+def parse_bounded(
+    text: object,
+    where: str,
+    parameters: Mapping[str, sp.Symbol] | None = None,
+    values: Mapping[str, sp.Rational] | None = None,
+) -> Parsed:
+    """:func:`parse_expression` with the bounds of its expansion (:class:`Parsed`), the
+    declared parameters at their ``values`` (when given) for the coefficients' scale.
+
+    Every number the expansion would make is bounded before it is built: at most
+    :data:`MAX_NUMBER_DIGITS` digits (products of numbers as powers) and a scale of at most
+    :data:`MAX_SCALE` decades, so every coefficient becomes a float.
+    """
     source = _check_text(where, text)
     names: dict[str, sp.Expr] = dict(STATE_NAMES)
     names.update(parameters or {})
+    scales = {name: _scale_of(value) for name, value in (values or {}).items()}
     if not source.strip():
         raise InputError(f"{where}: expected an expression, got an empty string")
     # read inside one pair of parentheses: expressions may span lines and start with spaces
     source = f"({source})"
     parsed = source
+    aliases: dict[str, str] = {}
     for name in list(names):
         if keyword.iskeyword(name):
             # a parameter named like a Python keyword (the theorem's lambda) is read under an
@@ -235,6 +275,10 @@ def parse_expression(
             alias = "_" + name[1:]
             parsed = re.sub(rf"(?<![A-Za-z0-9_]){name}(?![A-Za-z0-9_])", alias, parsed)
             names[alias] = names.pop(name)
+            aliases[alias] = name
+    for alias, name in aliases.items():
+        if name in scales:
+            scales[alias] = scales.pop(name)
     try:
         tree = ast.parse(parsed, mode="eval")
     except SyntaxError as exc:
@@ -260,12 +304,24 @@ def parse_expression(
                 stack.append(node.right)
         elif isinstance(node, ast.UnaryOp):
             stack.append(node.operand)
-    # id(node) -> (expression, bound on its degree, bound on its expanded terms)
-    built: dict[int, tuple[sp.Expr, int, int]] = {}
+    built: dict[int, Parsed] = {}
     for node in reversed(order):
-        built[id(node)] = _build(where, source, node, names, built)
-    expression, _, _ = built[id(tree.body)]
-    return expression
+        built[id(node)] = _build(where, source, node, names, scales, built)
+    result = built[id(tree.body)]
+    # the numbers sympy combined on the way (1/3 + 1/7 + ...), measured as built
+    for number in result.expression.atoms(sp.Rational):
+        if _digits(number) > MAX_NUMBER_DIGITS:
+            raise InputError(
+                f"{where}: the expression makes a number of more than {MAX_NUMBER_DIGITS} digits"
+            )
+    return result
+
+
+def _scale_of(value: sp.Rational) -> float:
+    """``|log10 |value||`` of an exact rational (0 for zero), without converting to float."""
+    if value == 0:
+        return 0.0
+    return abs(math.log10(abs(int(value.p))) - math.log10(int(value.q)))
 
 
 def _build(
@@ -273,46 +329,79 @@ def _build(
     text: str,
     node: ast.AST,
     names: Mapping[str, sp.Expr],
-    built: Mapping[int, tuple[sp.Expr, int, int]],
-) -> tuple[sp.Expr, int, int]:
+    scales: Mapping[str, float],
+    built: Mapping[int, Parsed],
+) -> Parsed:
     if isinstance(node, ast.Constant):
-        return _literal(where, text, node), 0, 1
+        value = _literal(where, text, node)
+        return Parsed(value, 0, 1, _scale_of(value), _digits(value))
     if isinstance(node, ast.Name):
         if node.id not in names:
             raise InputError(
                 f"{where}: the name `{ast.get_source_segment(text, node)}` at {_at(node)} is "
                 "not a state variable (p q r gamma1 gamma2 gamma3) nor a declared parameter"
             )
-        return names[node.id], 1, 1
+        return Parsed(names[node.id], 1, 1, scales.get(node.id, 0.0), 0)
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        value, degree, terms = built[id(node.operand)]
-        return (-value if isinstance(node.op, ast.USub) else value), degree, terms
+        inner = built[id(node.operand)]
+        value = -inner.expression if isinstance(node.op, ast.USub) else inner.expression
+        return Parsed(value, inner.degree, inner.terms, inner.scale, inner.digits)
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
-        base, degree, terms = built[id(node.left)]
+        base = built[id(node.left)]
         exponent = _exponent(where, text, node.right)
-        if exponent < 0 and base == 0:
+        if exponent < 0 and base.expression == 0:
             raise InputError(f"{where}: zero to a negative power at {_at(node)}")
-        if isinstance(base, sp.Rational) and _digits(base) * abs(exponent) > MAX_NUMBER_DIGITS:
-            raise InputError(
-                f"{where}: the power at {_at(node)} makes a number of more than "
-                f"{MAX_NUMBER_DIGITS} digits"
-            )
-        size = math.comb(terms + abs(exponent) - 1, abs(exponent)) if exponent else 1
-        return _bounded(where, node, degree * abs(exponent), size, lambda: base**exponent)
+        size = math.comb(base.terms + abs(exponent) - 1, abs(exponent)) if exponent else 1
+        return _bounded(
+            where,
+            node,
+            Parsed(
+                sp.Integer(0),
+                base.degree * abs(exponent),
+                size,
+                base.scale * abs(exponent),
+                base.digits * abs(exponent),
+            ),
+            lambda: base.expression**exponent,
+        )
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
-        left, left_degree, left_terms = built[id(node.left)]
-        right, right_degree, right_terms = built[id(node.right)]
+        left, right = built[id(node.left)], built[id(node.right)]
         if isinstance(node.op, (ast.Add, ast.Sub)):
-            value = left + right if isinstance(node.op, ast.Add) else left - right
-            return value, max(left_degree, right_degree), left_terms + right_terms
-        if isinstance(node.op, ast.Div) and right == 0:
+            add = isinstance(node.op, ast.Add)
+            value = (
+                left.expression + right.expression if add else left.expression - right.expression
+            )
+            # a sum's coefficients: their sizes add; digits: the larger (decimals share
+            # their denominators; what sympy combines is measured at the end)
+            return _bounded(
+                where,
+                node,
+                Parsed(
+                    sp.Integer(0),
+                    max(left.degree, right.degree),
+                    left.terms + right.terms,
+                    _sum_scale(left.scale, right.scale),
+                    max(left.digits, right.digits),
+                ),
+                lambda: value,
+            )
+        if isinstance(node.op, ast.Div) and right.expression == 0:
             raise InputError(f"{where}: division by zero at {_at(node)}")
         return _bounded(
             where,
             node,
-            left_degree + right_degree,
-            left_terms * right_terms,
-            lambda: left * right if isinstance(node.op, ast.Mult) else left / right,
+            Parsed(
+                sp.Integer(0),
+                left.degree + right.degree,
+                left.terms * right.terms,
+                left.scale + right.scale,
+                left.digits + right.digits,
+            ),
+            lambda: (
+                left.expression * right.expression
+                if isinstance(node.op, ast.Mult)
+                else left.expression / right.expression
+            ),
         )
     if isinstance(node, ast.BinOp):
         operator = _BINARY_NAMES.get(type(node.op), type(node.op).__name__)
@@ -322,21 +411,43 @@ def _build(
     raise _refuse(where, text, node, _WHAT.get(type(node), "the construct"))
 
 
+def _sum_scale(left: float, right: float) -> float:
+    """``log10(10^left + 10^right)`` without overflow."""
+    high, low = max(left, right), min(left, right)
+    return high + math.log10(1.0 + 10.0 ** (low - high))
+
+
 def _digits(value: sp.Rational) -> int:
-    return len(str(abs(value.p))) + len(str(value.q))
+    """Decimal digits of the numerator, plus the denominator's unless it is 1 (from their
+    logarithms: no conversion to text, which Python refuses past 4300 digits)."""
+    parts = (value.p,) if value.q == 1 else (value.p, value.q)
+    return sum(math.floor(math.log10(abs(int(x)))) + 1 if x else 1 for x in parts)
 
 
-def _bounded(
-    where: str, node: ast.AST, degree: int, terms: int, make: Callable[[], sp.Expr]
-) -> tuple[sp.Expr, int, int]:
-    """Build ``make()`` only when the degree and the expanded size stay within bounds."""
-    if degree > MAX_DEGREE:
+def _bounded(where: str, node: ast.AST, bounds: Parsed, make: Callable[[], sp.Expr]) -> Parsed:
+    """Build ``make()`` only when the degree, the expanded size and the numbers it makes
+    stay within bounds."""
+    if bounds.degree > MAX_DEGREE:
         raise InputError(f"{where}: the expression's degree exceeds {MAX_DEGREE} at {_at(node)}")
-    if terms > MAX_TERMS:
+    if bounds.terms > MAX_TERMS:
         raise InputError(
             f"{where}: the expression at {_at(node)} may expand to more than {MAX_TERMS} terms"
         )
-    return make(), degree, terms
+    if bounds.digits > MAX_NUMBER_DIGITS:
+        raise InputError(
+            f"{where}: the expression at {_at(node)} makes a number of more than "
+            f"{MAX_NUMBER_DIGITS} digits"
+        )
+    value = make()
+    # a number is measured as built (its digits are bounded): 333/331 is near 1 in size
+    scale = _scale_of(value) if isinstance(value, sp.Rational) else bounds.scale
+    if scale > MAX_SCALE:
+        raise InputError(
+            f"{where}: the expression at {_at(node)} makes coefficients outside "
+            f"1e-{MAX_SCALE}..1e{MAX_SCALE} in size (with the parameters' values); rescale "
+            "the units"
+        )
+    return Parsed(value, bounds.degree, bounds.terms, scale, bounds.digits)
 
 
 __all__ = [
@@ -348,9 +459,12 @@ __all__ = [
     "MAX_NESTING",
     "MAX_NODES",
     "MAX_NUMBER_DIGITS",
+    "MAX_SCALE",
     "MAX_TERMS",
     "STATE_NAMES",
+    "Parsed",
     "parameter_name_error",
     "parameter_symbol",
+    "parse_bounded",
     "parse_expression",
 ]

@@ -23,13 +23,15 @@ import numpy as np
 
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.physical.materials import BALLAST_DENSITY
+from chargedesign.physical.sources import cite
+from chargedesign.physical.sources import value as figure_value
 from chargedesign.physical.state_of_the_art import (
+    AIR_FILM,
     ATTITUDE_SENSORS,
     BALANCE,
     BEARINGS,
     GYROS,
     MOUNT_MATERIALS,
-    UNVERIFIED,
 )
 from chargedesign.validation import as_finite_float, check_keys, input_error
 from chargedesign.vocabulary import (
@@ -47,6 +49,8 @@ from chargedesign.vocabulary import (
     SIMULATION_ROUTES,
     SOURCES,
     STATE_NAMES,
+    SUPPORT_FACILITIES,
+    SUPPORT_STYLES,
 )
 
 NUMBER: dict[str, Any] = {"type": "number"}
@@ -612,7 +616,7 @@ _MOTORS = (
     "(a first-order lag) and wheel_friction_N_m (Coulomb, against the wheel's momentum): "
     "no default is sourced here (B. Bialke, 'High fidelity mathematical modeling of reaction "
     "wheel performance', AAS 98-063, 1998 gives the model's form; the figures are the "
-    "wheel's datasheet's)" + UNVERIFIED
+    "wheel's datasheet's; no default)"
 )
 _WHEEL_LIMITS = (
     "limits sized from the planned motion times wheel_margin (1.5: headroom for "
@@ -623,7 +627,12 @@ _GYRO_GRADES = (
     "order-of-magnitude class figures (bias; angle random walk): navigation "
     "0.01 deg/h, 0.002 deg/sqrt(h); tactical 1 deg/h, 0.1 deg/sqrt(h); industrial 10 deg/h, "
     "0.5 deg/sqrt(h): P. D. Groves, Principles of GNSS, Inertial, and Multisensor Integrated "
-    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades)" + UNVERIFIED
+    "Navigation Systems, 2nd ed., Artech House 2013, ch. 4 (inertial sensor grades) "
+    + "; ".join(
+        cite(f"sensors.gyro.{g}.{k}")
+        for g in ("navigation", "tactical", "industrial")
+        for k in ("arw", "bias")
+    )
 )
 _ATTITUDE = "the attitude sensor's (attitude_sensor)"
 _LOOP = "200 Hz and 1 ms of delay: the contract's example loop"
@@ -672,8 +681,8 @@ TESTBED = (
         "the air bearing's style (tilt limit, rated load, geometry)",
         default="tabletop",
         source="tabletop: tilt limit 30 deg, umbrella 45 deg, full_sphere every attitude "
-        "(Schwartz, Peck & Hall 2003; chargedesign.physical.state_of_the_art.BEARINGS)"
-        + UNVERIFIED,
+        "(Schwartz, Peck & Hall 2003) "
+        + "; ".join(cite(f"bearings.{b}.tilt_limit_deg") for b in BEARINGS),
     ),
     Key(
         "tilt_limit_deg",
@@ -711,9 +720,11 @@ TESTBED = (
         POSITIVE,
         "the air film's thickness",
         "m",
-        1.0e-5,
-        "10 um: the film thickness of spherical air bearings is of order 5-25 um "
-        "(Schwartz, Peck & Hall 2003 describe micrometre films)" + UNVERIFIED,
+        AIR_FILM["thin_m"].value,
+        f"{fmt(AIR_FILM['thin_m'].value * 1e6, PLAIN)} um, the thin end (the most drag) of the air "
+        f"film's range {fmt(AIR_FILM['thin_m'].value * 1e6, PLAIN)}-"
+        f"{fmt(AIR_FILM['thick_m'].value * 1e6, PLAIN)} um "
+        f"{cite(AIR_FILM['thin_m'].key)}; {cite(AIR_FILM['thick_m'].key)}",
     ),
     Key(
         "ballast_material",
@@ -735,8 +746,8 @@ TESTBED = (
         _enum(tuple(MOUNT_MATERIALS)),
         "the posts' material",
         default="steel",
-        source="steel posts (E = 200 GPa, ASM Handbook vol. 1, ASM International 1990)"
-        + UNVERIFIED,
+        source="steel posts (E = 200 GPa, ASM Handbook vol. 1, ASM International 1990) "
+        + cite("mounts.steel.youngs_modulus"),
     ),
     Key(
         "wheels",
@@ -841,9 +852,13 @@ TESTBED = (
         _enum(tuple(ATTITUDE_SENSORS)),
         "the lab's attitude sensor",
         default="motion_capture",
-        source="motion capture: 1e-4 rad at 180 Hz (OptiTrack cameras measured by "
-        "Krumpek et al., arXiv:2502.21189, checked; the 180 Hz rate from the PrimeX 41 datasheet "
-        "unverified (from memory); state_of_the_art.ATTITUDE_SENSORS)",
+        source=f"motion capture: {fmt(ATTITUDE_SENSORS['motion_capture'][0].value, PLAIN)} rad at "
+        "180 Hz (OptiTrack cameras measured by Krumpek et al., arXiv:2502.21189; the 180 Hz rate "
+        f"from the PrimeX 41 datasheet {cite('sensors.motion_capture.rate')}; the noise is the "
+        "error along the line of sight (about 7 times the error across it), "
+        f"{fmt(figure_value('sensors.motion_capture.along_m') * 1e3, PLAIN)} mm over an assumed "
+        f"{fmt(figure_value('sensors.motion_capture.baseline_m'), PLAIN)} m baseline "
+        f"{cite('sensors.motion_capture.along_m')}; {cite('sensors.motion_capture.baseline_m')})",
     ),
     Key(
         "attitude_noise_rad",
@@ -863,7 +878,7 @@ TESTBED = (
         "encoder_counts",
         {"type": "integer", "minimum": 16, "maximum": 2**32},
         "the wheels' encoders, counts per turn",
-        source="4096 counts per turn (a 12-bit encoder; state_of_the_art)" + UNVERIFIED,
+        source="4096 counts per turn (a 12-bit encoder) " + cite("sensors.encoder.counts"),
     ),
     Key(
         "estimator",
@@ -880,8 +895,9 @@ TESTBED = (
         "centre-of-mass offset from O before estimation",
         "m",
         BALANCE["automatic_horizontal_m"].value,
-        "0.14 um: the best published automatic balancing, horizontally "
-        "(chargedesign.physical.state_of_the_art.BALANCE: engrXiv doi:10.31224/7342)",
+        "0.14 um: the best published automatic balancing's ESTIMATED horizontal offset (an "
+        "estimate, not a measurement; engrXiv doi:10.31224/7342) "
+        + cite(BALANCE["automatic_horizontal_m"].key),
     ),
     Key(
         "drag_N_m_s",
@@ -890,7 +906,7 @@ TESTBED = (
         "N m s",
         source="derived: viscous Couette drag of the air film, b = (4 pi / 3) eta R^4 / h "
         "for a hemispherical cup of radius R and gap h (eta of air at 20 C from the CRC "
-        "Handbook, 97th ed., CRC Press 2016)" + UNVERIFIED,
+        "Handbook, 97th ed., CRC Press 2016) " + cite("media.viscosity.air"),
     ),
     Key(
         "drag_feedforward",
@@ -965,6 +981,22 @@ TESTBED = (
         "before it starts",
     ),
 )
+SUPPORT = (
+    Key(
+        "style",
+        _enum(SUPPORT_STYLES),
+        "how the body is held: free fall, orbit, a full-sphere air bearing, electrostatic",
+        default="air_bearing",
+        source="the lab's full-sphere air bearing (the testbed's; docs/flight.md)",
+    ),
+    Key(
+        "facility",
+        _enum(SUPPORT_FACILITIES),
+        "the free-fall facility: ZARM's Bremen Drop Tower, a drop (4.74 s) or the catapult (9.3 s)",
+        default="drop_tower_catapult",
+        source="the longest free fall (zarm.uni-bremen.de, the catapult system)",
+    ),
+)
 #: the keys of a [body] that names the body to simulate (a design reference or inline elements)
 BODY_REFERENCE_KEYS = ("design", "charges", "masses", "dipoles")
 
@@ -982,6 +1014,7 @@ TABLE_KEYS: dict[str, tuple[Key, ...]] = {
     "tolerance": TOLERANCE,
     "case": CASE,
     "testbed": TESTBED,
+    "support": SUPPORT,
 }
 
 

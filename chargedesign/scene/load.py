@@ -33,6 +33,7 @@ from chargedesign.scene.simulation import (
     parse_output_options,
     parse_simulation_options,
 )
+from chargedesign.scene.support import SupportOptions
 from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
 from chargedesign.scene.testbed import TestbedOptions
 from chargedesign.validation import (
@@ -137,6 +138,11 @@ class Scene:
     def testbed(self) -> TestbedOptions:
         """``[testbed]``: the air-bearing platform (defaults where the scene has none)."""
         return TestbedOptions.from_table(self.tables.get("testbed"))
+
+    @cached_property
+    def support(self) -> SupportOptions:
+        """``[support]``: how the body is held (docs/flight.md; the air bearing when absent)."""
+        return SupportOptions.from_table(self.tables.get("support"))
 
     @property
     def medium(self) -> Medium | None:
@@ -268,6 +274,7 @@ def validate_tables(scene: Scene) -> None:
         "initial",
         "testbed",
         "case",
+        "support",
     ):
         getattr(scene, name)
 

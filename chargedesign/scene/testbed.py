@@ -93,6 +93,17 @@ SOURCES = {_SOURCE_GROUPS.get(k, k): declared("testbed", k).source for k in _SOU
 MAX_SAMPLES = 20_000_000
 #: runs x samples an ensemble keeps (states of 6 floats each: 480 MB)
 MAX_STORED_SAMPLES = 10_000_000
+#: bytes the testbed holds per run (seed), whatever its length, and per run and control sample
+#: (states, the wheels' momentum, the invariants and their drift curves), measured here with
+#: the example's testbed at 50 Hz: 100 -> 300 seeds over 5 s raised the peak memory by
+#: 218 MB (1.1 MB a seed), 5 -> 10 s with 300 seeds by 13 MB (170 B a run-sample)
+BYTES_PER_RUN = 1_200_000
+BYTES_PER_RUN_SAMPLE = 200
+#: CPU seconds per run and control sample, measured with the same runs (3e-5 s)
+SECONDS_PER_RUN_SAMPLE = 3e-5
+#: the memory a testbed run may take (well below the machine's: `seeds = 2000`,
+#: `t_end_s = 5` needed more than 4 GB and was accepted under MAX_STORED_SAMPLES)
+MAX_TESTBED_BYTES = 2 * 1024**3
 #: candidate ballast sites a grid may hold (the program's memory grows with them)
 MAX_BALLAST_SITES = 100_000
 #: every key's declared default (None where the default is derived from other keys)
@@ -193,6 +204,13 @@ class TestbedOptions:
                 f"{where}.pedestal_radius_m: expected less than bearing_radius_m "
                 f"({fmt(self.bearing_radius_m, PLAIN)} m), got {self.pedestal_radius_m!r}"
             )
+        if self.bearing == "full_sphere" and self.tilt_limit_deg is not None:
+            # a ball floating in its cup has no pedestal: every attitude is free (180 deg).
+            # A limit given with it made testbed.json say 180 while its tilt map used the limit
+            raise InputError(
+                f"{where}.tilt_limit_deg: a full_sphere bearing allows every attitude (no "
+                "pedestal); drop tilt_limit_deg, or give a tabletop or umbrella bearing with it"
+            )
         if self.bearing != "full_sphere" and self.keep_out_half_angle_deg >= 90.0:
             raise InputError(
                 f"{where}.tilt_limit_deg: a {self.bearing} bearing's pedestal must stay below the "
@@ -256,6 +274,28 @@ class TestbedOptions:
                 f"setting) over {fmt(self.t_end_s, PLAIN)} s keep more than {MAX_STORED_SAMPLES}"
                 " samples; "
                 "ask for fewer seeds, a shorter t_end_s or lower rates"
+            )
+
+        self._check_memory(where)
+
+    def _check_memory(self, where: str) -> None:
+        """The peak memory of the runs, estimated from what one batch holds (per run, and per
+        run and control sample: the nominal batch, or one rate's batch of the requirement
+        sweep, whichever is larger), refused above :data:`MAX_TESTBED_BYTES` with the time."""
+        batch = len(GYRO_GRADES) * self.requirement_seeds
+        batches = [(self.seeds, self.rate_Hz)] + [(batch, f) for f in self.requirement_rates_Hz]
+        peak = max(
+            runs * (BYTES_PER_RUN + self.t_end_s * rate * BYTES_PER_RUN_SAMPLE)
+            for runs, rate in batches
+        )
+        if peak > MAX_TESTBED_BYTES:
+            seconds = sum(runs * self.t_end_s * f for runs, f in batches) * SECONDS_PER_RUN_SAMPLE
+            raise InputError(
+                f"{where}.seeds: {self.seeds} seeds over {fmt(self.t_end_s, PLAIN)} s at "
+                f"{fmt(self.rate_Hz, PLAIN)} Hz ({self.requirement_seeds} per requirement "
+                f"setting) need about {peak / 1024**3:.1f} GiB of memory and "
+                f"{seconds:.0f} s (limit {MAX_TESTBED_BYTES / 1024**3:.0f} GiB); ask for fewer "
+                "seeds, a shorter t_end_s or lower rates"
             )
 
     @property

@@ -31,6 +31,7 @@ from chargedesign.tolerancing import (
     monte_carlo,
     tolerance_report,
 )
+from chargedesign.verdict import recorded_verdict
 
 CommandFunction = Callable[..., dict[str, Any]]
 
@@ -49,6 +50,17 @@ def _flat(data: Any, prefix: str = "") -> dict[str, Any]:
     return out
 
 
+def _designed(scene: Any) -> Any:
+    """The scene designed by the route ``design`` takes: a ``[case]`` scene designs its case
+    (the theorem's route alone gave every point of a case sweep the theorem's default body)."""
+    if scene.case is not None:
+        # sympy is loaded for a case only (it stays out of a theorem sweep's workers)
+        from chargedesign.designer.case_design import design_case_scene
+
+        return design_case_scene(scene)
+    return design_from_scene(scene)
+
+
 def _scene_design(scene: Any, point_dir: Path) -> Any:
     """The design a scene names (``body.design`` or inline elements), else designed now."""
 
@@ -56,22 +68,25 @@ def _scene_design(scene: Any, point_dir: Path) -> Any:
     if setup.design is not None:
         return setup.design
 
-    result = design_from_scene(scene)
+    result = _designed(scene)
     write_design(result.design, point_dir / "design.json")
     return result.design
 
 
 def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
-    """Design the body; writes design.json. Figures: element counts, residual, seconds."""
+    """Design the body; writes design.json. Figures: the recorded verdict's state, element
+    counts, residual, seconds."""
 
-    result = design_from_scene(scene)
+    result = _designed(scene)
     write_design(result.design, point_dir / "design.json")
     d = result.design
+    residual = getattr(result, "residual_after", None)  # a case's result has its residuals
     return {
+        "verdict": recorded_verdict(d)["state"],
         "charges": len(d.charge_values),
         "dipoles": len(d.dipole_moments),
         "masses": len(d.mass_values),
-        "residual_after": float(result.residual_after),
+        **({} if residual is None else {"residual_after": float(residual)}),
         "max_abs_charge": float(abs(d.charge_values).max()) if len(d.charge_values) else 0.0,
         KEY.total_mass: float(d.mass_values.sum()),
     }
@@ -88,6 +103,12 @@ def run_check(scene: Any, point_dir: Path) -> dict[str, Any]:
         "V_rel_err": data.get("V_rel_err"),
         "inertia_rel_err": data.get("inertia_rel_err"),
         "passed": bool(report.passed),
+        # the check's own verdict, recomputed from the parts, and whether the record agrees
+        **(
+            {"verdict": data["verdict"]["state"], "verdict_agrees": data["verdict_agrees"]}
+            if "verdict" in data
+            else {}
+        ),
     }
 
 

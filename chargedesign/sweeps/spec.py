@@ -38,7 +38,9 @@ import numpy as np
 
 from chargedesign.candidates import candidates_from_region
 from chargedesign.designer.pipeline import larmor_of_scene
+from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.limits import MAX_PERIODS
+from chargedesign.moment_conditions.case import case_target
 from chargedesign.readers import read_toml_file
 from chargedesign.scene import Scene
 from chargedesign.scene.keys import KEY
@@ -164,6 +166,15 @@ def validate_points(
 
     def check(point: dict[str, Any]) -> None:
         scene = point_scene(scene_data, point, scene_source)
+        if "case" in scene.tables:
+            # the point's [case] read by the case loader (the scene's own loader), and for
+            # the commands that design it the refusals design makes before its work
+            case = scene.case
+            if designs:
+                try:
+                    case_target(case)
+                except InfeasibleError as exc:
+                    raise InputError(str(exc)) from None
         region = scene.region
         key = repr(sorted(region.table.items())) if region is not None else ""
         if designs and region is not None and "shape" in region.table and key not in seen:

@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 import chargedesign as cd
+from chargedesign.airbearing.actuators import catalogue
 from chargedesign.airbearing.run import default_testbed_scene
 from chargedesign.cli import main
+from chargedesign.physical.sources import rows
 from chargedesign.scene.keys import table_schema
 from chargedesign.scene.testbed import TestbedOptions
 from chargedesign.schemas import schema
@@ -76,6 +78,30 @@ def test_testbed_json_has_the_contract_keys(written: Path) -> None:
     assert r["wheel_needs"]["momentum_N_m_s"] == planned[most]["momentum_N_m_s"]
 
 
+def test_testbed_json_names_its_actuators_and_the_binding_figure(written: Path) -> None:
+    """The contract's ``actuators`` (the catalogue the window searched) and
+    ``verdict.binding_source``; every requirement names the table keys it rests on."""
+    data = json.loads((written / "testbed.json").read_text())
+    assert [a["name"] for a in data["actuators"]] == [a.name for a in catalogue()]
+    for a in data["actuators"]:
+        assert a["kind"] in ("reaction_wheel", "cmg") and isinstance(a["checked"], bool)
+        assert a["torque_N_m"] > 0 and a["momentum_N_m_s"] > 0 and a["mass_kg"] > 0
+    source = data["verdict"]["binding_source"]
+    assert set(source) == {"key", "checked"}
+    named = data["verdict"]["binding"]
+    binding = next((r for r in data["state_of_the_art"] if r["name"] == named), None)
+    if binding is not None:  # (None: buildable, every requirement decides)
+        assert source["checked"] == (not binding["unverified"])
+    if not source["checked"]:
+        assert "not checked" in data["verdict"]["line"] or "rests on" in data["verdict"]["line"]
+    for r in data["state_of_the_art"]:
+        assert {"keys", "origin", "unverified"} <= set(r)
+        assert all(k in {row.key for row in rows()} for k in r["keys"])
+    drag = next(r for r in data["state_of_the_art"] if r["name"] == "bearing_drag_N_m_s")
+    assert drag["parts"]["film_thin_m"] < drag["parts"]["film_thick_m"]
+    assert drag["best"] > drag["parts"]["drag_at_thick_film_N_m_s"]  # the worst end decides
+
+
 def test_written_parts_give_the_inertia(written: Path) -> None:
     """testbed.json's own numbers: the platform plus each written sphere is the total."""
     data = json.loads((written / "testbed.json").read_text())
@@ -89,6 +115,10 @@ def test_written_parts_give_the_inertia(written: Path) -> None:
 def test_report_and_pictures(written: Path) -> None:
     report = (written / "report.md").read_text()
     assert "# Air-bearing testbed" in report and "## Requirements" in report
+    assert "from memory" not in report and "## Actuator catalogue" in report
+    sources = report[report.index("\n## Sources\n") :]  # the last section: the figures cited
+    assert "| key | value | unit | checked | source | locator |" in sources
+    assert "[bearings.tabletop.tilt_limit_deg, unverified]" in report
     for name in ("drift_vs_rate.png", "drift_time.png", "wheels.png", "window.png", "motion.gif"):
         assert (written / name).stat().st_size > 1000
 

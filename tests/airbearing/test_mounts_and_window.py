@@ -4,6 +4,7 @@ scaling laws, each against an independent route."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from chargedesign.airbearing.run import for_style
 from chargedesign.airbearing.verdict import SCALING, Requirement, verdict, window
 from chargedesign.airbearing.wheels import wheel_needs
 from chargedesign.constants import STANDARD_GRAVITY
+from chargedesign.physical.sources import source
 from chargedesign.physical.state_of_the_art import (
     ATTITUDE_SENSORS,
     BALANCE,
@@ -298,31 +300,7 @@ def test_the_window_reads_each_planned_motion_alone() -> None:
     assert w.names[w.binding[-1, j, k, 2]] == w.names[torque]  # x100: 100 times short
 
 
-def test_wheels_in_the_catalogue_class_weigh_what_its_lightest_wheel_weighs() -> None:
-    """A torque in the HR16 class's range takes three of its lightest (7 kg) wheels: a
-    platform lighter than them is outside the window, whatever else it meets."""
-    low = REACTION_WHEELS["torque_low_N_m"].value
-    sota = [Requirement("wheel_torque_N_m", "capacity", low, 0.2, "N m", "s")]
-    w = window(sota, "tabletop", None, (3, 10.0))
-    i, j, k, _ = w.scene_index()
-    assert w.names[-1] == "wheel_mass_kg"
-    # 21 kg of wheels on a 10 kg design: short by 2.1, and by 2.1 / m at mass x m
-    assert w.margin[i, j, k, 0] == pytest.approx(3 * 7.0 / 10.0, rel=1e-12)
-    assert w.names[w.binding[i, j, k, 0]] == "wheel_mass_kg"
-    # the heaviest design: 2.1 / m short of wheels' mass, but m x 0.1 N m against 0.2
-    m = w.masses[-1]
-    assert w.margin[i, j, -1, 0] == pytest.approx(max(2.1 / m, 0.1 * m / 0.2), rel=1e-9)
-    # below the class, no wheel mass is charged
-    light = window(
-        [Requirement("wheel_torque_N_m", "capacity", low / 20.0, 0.2, "N m", "s")],
-        "tabletop",
-        None,
-        (3, 10.0),
-    )
-    assert light.feasible[i, j, k, 0]
-
-
-def test_every_figure_quoted_from_memory_says_so() -> None:
+def test_every_figure_cites_its_key_and_says_whether_it_was_checked() -> None:
     figures = [
         *BALANCE.values(),
         *(f for pair in GYROS.values() for f in pair),
@@ -334,19 +312,46 @@ def test_every_figure_quoted_from_memory_says_so() -> None:
         LOOP_RATE,
     ]
     for f in figures:
-        assert f.source.endswith(UNVERIFIED) == (not f.verified), f.source
+        assert f.key and f.key in f.source, f.source
+        assert f.source.endswith(f", {UNVERIFIED}]") == (not f.verified), f.source
     assert all(f.verified for f in BALANCE.values())  # checked against engrXiv 10.31224/7342
-    assert ATTITUDE_SENSORS["motion_capture"][0].verified  # arXiv:2502.21189
-    assert not any(f.verified for f in REACTION_WHEELS.values())
-    assert all(b.source.endswith(UNVERIFIED) and not b.verified for b in BEARINGS.values())
+    assert "estimated" in BALANCE["automatic_horizontal_m"].source
+    noise = ATTITUDE_SENSORS["motion_capture"][0]  # the line of sight's error (arXiv:2502.21189)
+    assert noise.key == "sensors.motion_capture.along_m" and source(noise.key).checked
+    assert not noise.verified  # over an assumed marker baseline
+    assert REACTION_WHEELS["speed_rad_per_s"].verified  # Basilisk's HR16: 6000 rpm
+    assert not any(b.verified for b in BEARINGS.values())
+    assert all(UNVERIFIED in b.source for b in BEARINGS.values())
 
 
-def test_a_requirement_resting_on_a_figure_from_memory_says_so_in_testbed_json() -> None:
-    wheel = REACTION_WHEELS["torque_N_m"]
-    joined = "; ".join(f.source for f in ROOM_AIR.values())  # ends with the assumed asymmetry
-    assert Requirement("w", "capacity", 0.1, wheel.value, "N m", wheel.source).to_dict()[
-        "unverified"
-    ]
-    assert Requirement("a", "tolerance", 1.0, 2.0, "N m", joined).to_dict()["unverified"]
+def test_a_requirement_resting_on_an_unverified_figure_says_so_in_testbed_json() -> None:
+    asymmetry = ROOM_AIR["asymmetry"]  # assumed by the tool
+    air = Requirement("a", "tolerance", 1.0, 2.0, "N m", "s", keys=(asymmetry.key,))
+    assert air.to_dict()["unverified"] and air.unchecked_keys == [asymmetry.key]
     balance = BALANCE["automatic_horizontal_m"]
-    assert not Requirement("b", "tolerance", 1.0, 2.0, "m", balance.source).to_dict()["unverified"]
+    offset = Requirement("b", "tolerance", 1.0, 2.0, "m", balance.source, keys=(balance.key,))
+    assert not offset.to_dict()["unverified"]
+    assert offset.binding_source() == {"key": balance.key, "checked": True}
+    scene = Requirement("c", "capacity", 1.0, 2.0, "kg", "the scene's", origin="scene")
+    assert scene.binding_source() == {"key": "scene", "checked": False}
+
+
+def test_a_verdict_decided_by_an_unverified_figure_says_so() -> None:
+    asymmetry = ROOM_AIR["asymmetry"]
+    balance = BALANCE["automatic_horizontal_m"]
+    missed = Requirement(
+        "room_air_torque_N_m", "tolerance", 1.0, 2.0, "N m", "s", keys=(asymmetry.key,)
+    )
+    met = Requirement(
+        "centre_of_mass_offset_m", "tolerance", 1.0, 0.5, "m", "s", keys=(balance.key,)
+    )
+    out = verdict([missed, met], 0.0, 1e-3)
+    assert out.binding == "room_air_torque_N_m"
+    assert out.binding_source == {"key": asymmetry.key, "checked": False}
+    assert "not checked" in out.line and asymmetry.key in out.line
+    checked = verdict([replace(missed, keys=(balance.key,)), met], 0.0, 1e-3)
+    assert checked.binding_source == {"key": balance.key, "checked": True}
+    assert "not checked" not in checked.line
+    fine = verdict([met, replace(met, name="x", keys=(asymmetry.key,))], 0.0, 1e-3)
+    assert fine.buildable and asymmetry.key in fine.line
+    assert fine.binding_source == {"key": asymmetry.key, "checked": False}

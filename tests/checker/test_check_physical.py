@@ -25,9 +25,10 @@ def design():
 
 def test_a_buildable_body_passes_with_its_limits(design, tmp_path):
     report = check_design(design, n_orientations=60)
-    assert report.buildable is True and report.passed
+    assert report.parts_within_limits is True and report.passed
     data = report.to_dict()
-    assert data["buildable"] is True
+    assert data["parts_within_limits"] is True
+    assert data["verdict"]["state"] == design.verdict["state"] and data["verdict_agrees"]
     top = float(
         np.max(
             carrier_surface_fields(
@@ -39,7 +40,8 @@ def test_a_buildable_body_passes_with_its_limits(design, tmp_path):
         )
     )
     assert data["limits"]["largest_surface_field_V_per_m"] == pytest.approx(top, rel=1e-12)
-    assert "buildable (limits recomputed from the elements)" in str(report)
+    assert "parts within their limits (recomputed from the elements)" in str(report)
+    assert "theorem reproduced" in str(report) and "PASSED" not in str(report)
 
 
 def test_a_body_beyond_its_limits_fails_the_check_and_the_cli(design, tmp_path, capsys):
@@ -51,12 +53,15 @@ def test_a_body_beyond_its_limits_fails_the_check_and_the_cli(design, tmp_path, 
     data["charges"]["values"] = [100 * q for q in data["charges"]["values"]]
     path.write_text(json.dumps(data))
     report = check_design(read_design(path), n_orientations=60)
-    assert report.buildable is False and not report.passed
-    assert "buildable" in report.failures
+    assert report.parts_within_limits is False and not report.passed
+    assert report.buildable is False and report.verdict["state"] == "NOT buildable"
+    assert "parts_within_limits" in report.failures
     assert report.limits.violations and "surface field" in report.limits.violations[0]
     assert main(["check", str(path), "--orientations", "60", "--json"]) == 1
     printed = json.loads(capsys.readouterr().out)
-    assert printed["buildable"] is False and printed["passed"] is False
+    assert printed["parts_within_limits"] is False and printed["passed"] is False
+    assert printed["verdict"]["state"] == "NOT buildable"
+    assert printed["verdict_agrees"] is (design.verdict["state"] == "NOT buildable")
 
 
 def test_point_elements_have_no_buildability(design):
@@ -70,4 +75,6 @@ def test_point_elements_have_no_buildability(design):
         realises=[],
     )
     report = check_design(points, n_orientations=20)
-    assert report.buildable is None and "limits" not in report.to_dict()
+    assert report.parts_within_limits is None and "limits" not in report.to_dict()
+    assert report.buildable is None
+    assert report.verdict["state"] == "not checked for buildability"

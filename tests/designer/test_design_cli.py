@@ -86,10 +86,13 @@ def test_default_design_writes_design_report_and_picture(tmp_path, capsys):
     assert main(["design", str(UNIT_SCENE), "--out", str(out)]) == 0
     captured = capsys.readouterr()
     assert sorted(p.name for p in out.iterdir()) == ["design.json", "design.png", "report.md"]
-    assert captured.out.startswith("# Design report")
-    assert "breakdown field of air" in captured.out
+    # the terminal: the verdict and a short summary; the report is in report.md
+    assert captured.out.startswith("Verdict: not checked for buildability")
+    assert f"Full report: {out / 'report.md'}" in captured.out
+    assert len(captured.out.splitlines()) <= 40
     assert "design: charges:" in captured.err  # progress on stderr
     report = (out / "report.md").read_text()
+    assert "breakdown field of air" in report
     assert "![the designed body](design.png)" in report
     design = check_written_design(out / "design.json")
     assert design.realises == ["mu", "V", "inertia"]
@@ -252,3 +255,14 @@ def test_scene_without_body_table_names_the_missing_table(tmp_path, capsys):
     assert code == 2
     assert "no [body] table" in err[-1]
     assert not out_dir.exists()
+
+
+def test_verbose_prints_the_report_the_default_a_short_summary(tmp_path, capsys):
+    out = tmp_path / "out"
+    args = ["design", str(UNIT_SCENE), "--out", str(out), "--no-picture", "--quiet"]
+    assert main([*args, "--verbose"]) == 0
+    assert capsys.readouterr().out == (out / "report.md").read_text()
+    assert main(args) == 0
+    short = capsys.readouterr().out
+    assert short.splitlines()[0] == "Verdict: not checked for buildability"
+    assert len(short.splitlines()) <= 40 and max(len(x) for x in short.splitlines()) <= 160

@@ -124,7 +124,7 @@ def test_design_passes_its_forward_check_and_the_limits_check(result):
     report = body_check(result.design)
     assert report.passed, str(report)
     limits = check_limits(result.design)
-    assert limits.buildable and not limits.violations
+    assert limits.parts_within_limits and not limits.violations
 
 
 def test_design_json_round_trip_keeps_every_part(result, tmp_path):
@@ -138,7 +138,7 @@ def test_design_json_round_trip_keeps_every_part(result, tmp_path):
     )
     assert data["medium"]["name"] == "air" and data["medium"]["breakdown_V_per_m"] == 3e6
     assert again.total_mass == pytest.approx(result.design.total_mass, rel=1e-15)
-    assert check_limits(again).buildable
+    assert check_limits(again).parts_within_limits
 
 
 def test_bill_of_materials_lists_every_part(result):
@@ -289,7 +289,7 @@ def test_the_embedded_default_is_buildable():
     design = design_from_scene(load_scene(None), frontier=False).design
     assert design.medium is not None and design.medium.name == "vacuum"
     assert design.larmor.reading == "frame" and design.larmor.rate == 2.45e-6
-    assert check_limits(design).buildable
+    assert check_limits(design).parts_within_limits
     assert body_check(design).passed
     assert design.realism["v_over_c"]["verdict"] == "negligible"
     # ... but the applied field acts on its tungsten and aluminium far more than the designed

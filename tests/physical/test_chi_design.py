@@ -91,7 +91,7 @@ def test_the_chi_designed_body_has_its_induced_range_at_round_off(chi_design, pl
     assert induced * torque <= 1e3 * np.finfo(float).eps * gross
     plain = field_response(plain_design)["induced_magnetisation_fraction"]["value"]
     assert plain > 1e13 and induced < 1e-13 * plain
-    assert check_limits(chi_design).buildable
+    assert check_limits(chi_design).parts_within_limits
 
 
 def test_the_chi_weighted_moments_of_the_written_parts_vanish(chi_design):

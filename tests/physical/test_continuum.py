@@ -21,6 +21,7 @@ from chargedesign.physical.materials import MAGNET_CONTINUUM_SIZE
 from chargedesign.physical.realism import magnet_continuum
 from chargedesign.report import render_report
 from chargedesign.scene import load_scene
+from chargedesign.verdict import verdict_record
 
 SMALL = Path(__file__).parent / "small.toml"
 
@@ -32,11 +33,12 @@ def small_design() -> Design:
 
 def with_edges(design: Design, edges: np.ndarray) -> Design:
     """The same design with magnets of the given cube edges, m (volumes edited only; its
-    realism budget recomputed, as the report renders the record)."""
+    realism budget and verdict recomputed, as the report renders the record)."""
     data = design.to_dict()
     data["dipoles"]["volumes"] = [float(e) ** 3 for e in edges]
     edited = Design.from_dict(data)
     edited.realism = realism_record(edited)
+    edited.verdict = verdict_record(edited)
     return edited
 
 
@@ -91,7 +93,7 @@ def test_the_report_says_the_parts_are_not_buildable_as_specified(small_design):
 
 def test_the_limits_check_flags_them_without_a_broken_limit(small_design):
     limits = check_limits(small_design)
-    assert limits.buildable and not limits.violations
+    assert limits.parts_within_limits and not limits.violations
     assert limits.to_dict()["magnet_continuum"]["below"] == 12
     assert "magnets below the continuum size: 12 of 12" in str(limits)
     large = check_limits(with_edges(small_design, np.full(12, 30e-9)))

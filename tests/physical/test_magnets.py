@@ -49,7 +49,7 @@ def test_every_designed_magnet_sits_where_its_material_holds(small_design):
     assert max(fields) <= withstood
     # and the field does vary enough over the body for the limit to exclude outer sites
     assert paper_field_max(a1, f2 / 2, 0.05) > withstood
-    assert check_limits(small_design).buildable
+    assert check_limits(small_design).parts_within_limits
 
 
 def test_the_check_finds_a_magnet_that_would_be_demagnetised(small_design):
@@ -58,12 +58,12 @@ def test_the_check_finds_a_magnet_that_would_be_demagnetised(small_design):
     data["materials"]["magnet"]["name"] = "ndfeb"
     data["materials"]["magnet"]["intrinsic_coercivity_A_per_m"] = MAGNET_COERCIVITY["ndfeb"]
     limits = check_limits(Design.from_dict(data))
-    assert not limits.buildable
+    assert not limits.parts_within_limits
     (line,) = [v for v in limits.violations if "demagnetised" in v]
     assert "0.781 T" in line and "ndfeb" in line
     # an older file without the coercivity: the named material's is used
     del data["materials"]["magnet"]["intrinsic_coercivity_A_per_m"]
-    assert not check_limits(Design.from_dict(data)).buildable
+    assert not check_limits(Design.from_dict(data)).parts_within_limits
 
 
 def test_a_scene_whose_magnets_cannot_hold_anywhere_fails_in_one_line():

@@ -21,3 +21,15 @@ def design_file(tmp_path: Path):
         return path
 
     return make
+
+
+@pytest.fixture(scope="session")
+def case_design(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """design.json of the Kowalevski example scene (designed once per session), as a dict."""
+    from case_scene import EXAMPLE
+
+    from chargedesign.cli import main
+
+    out = tmp_path_factory.mktemp("case_design") / "out"
+    assert main(["design", str(EXAMPLE), "--out", str(out), "--no-picture"]) == 0
+    return json.loads((out / "design.json").read_text())
