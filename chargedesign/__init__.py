@@ -112,7 +112,9 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+    """The public names only (``__all__``): not the module's own imports (``Any``,
+    ``TYPE_CHECKING``, ``annotations``, ``importlib``) nor the submodules loaded so far."""
+    return sorted(__all__)
 
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs

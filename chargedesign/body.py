@@ -10,11 +10,12 @@ from pathlib import Path
 from typing import Any
 
 from chargedesign.elements import ElementSet
+from chargedesign.errors import InputError
 from chargedesign.files import write_json_atomic
 from chargedesign.larmor import LarmorReading, body_parameters
 from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody
-from chargedesign.readers import read_json_file
+from chargedesign.readers import json_kind, read_json_file, refuse_other_kind, sniff_kind
 from chargedesign.results import compact_repr, design_summary, design_text, html_table
 from chargedesign.scene.design_materials import check_mass_materials, materials_from_dict
 from chargedesign.scene.medium import Medium
@@ -304,7 +305,13 @@ def read_design(path: str | os.PathLike[str], *, required: tuple[str, ...] = ())
     (docs/reliability.md); fields longer than ``MAX_FIELD_DEGREE`` are refused.
     """
     p = Path(path)
-    data = read_json_file(p, "design file")
+    try:
+        data = read_json_file(p, "design file")
+    except InputError:
+        # a scene, a case file, a CSV handed in for a design: say which (readers.FILE_KINDS)
+        refuse_other_kind(p, None if p.suffix.lower() == ".json" else sniff_kind(p), "design")
+        raise
+    refuse_other_kind(p, json_kind(data), "design")  # a testbed.json, a simulation summary ...
     check_design_numbers(data, str(p), required=required)  # the whole file (``required``: keys
     # a verdict needs, e.g. check's ``realises``)
     return Design.from_dict(data, where=str(p))

@@ -43,9 +43,11 @@ MAX_CANDIDATES = 250_000
 MAX_DESIGN_ELEMENTS = MAX_CANDIDATES
 #: periods of the fastest rate of a body (n, K, sqrt|kappa|, ..., |omega(0)|) a simulation may
 #: cover: ``t_end * rate / (2 pi)``; ``simulate --max-periods`` raises it. The default scene
-#: asks for 5.7e6 (t_end 5e7 s at |(p, q)| = 0.72 rad/s; 15 s with taylor on a quiet machine, over
-#: 2 min on this shared one); ``--t-end 1e8`` on a unit-scale body (1.6e7) ran unbounded
-MAX_PERIODS = 10_000_000
+#: once asked for 5.7e6 (t_end 5e7 s at |(p, q)| = 0.72 rad/s): 36 million steps, 596 s on
+#: this shared machine. Measured here with taylor: about 6 steps a period on the default body
+#: (256 elements, 0.1 ms a step), 34 on the unit-scale one (35 elements): 1e5 periods is a
+#: few minutes of CPU at most; the default run (20 periods) takes seconds
+MAX_PERIODS = 100_000
 #: orbits per level of ``simulate --atlas`` (each is a run of t_end)
 MAX_ATLAS_ORBITS = 10_000
 #: points of one sweep (grid x random samples), counted before they are built; ``sweep

@@ -39,7 +39,7 @@ from chargedesign.validation import (
     check_input_array,
     input_error,
 )
-from chargedesign.vocabulary import EXPORT_FORMATS
+from chargedesign.vocabulary import DESIGN_FORMAT, EXPORT_FORMATS
 
 #: largest scene (TOML) file read, bytes
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -425,6 +425,7 @@ def read_csv_export(path: Path) -> dict[str, Any]:
     """design.json's mapping of a CSV export (the plain form, or the earlier ``# design.KEY``
     comment header)."""
     text = read_text(path, "CSV export")
+    refuse_other_kind(path, text_kind(path, text), "design_export")
     header, body_lines = _csv_header(path, text)
     rows = list(csv.reader(body_lines))
     if rows and tuple(rows[0]) == CSV_WRITTEN:
@@ -477,3 +478,104 @@ def read_vtk_export(path: Path) -> dict[str, Any]:
                 second: moment[rows] if second == "moments" else value[rows],
             }
     return export_mapping(header, elements, str(path))
+
+
+# ------------------------------------------------------------------ the kinds of file
+#: every kind of file the tool writes (and the inputs it reads), as a reader names it; a
+#: command meant for one refuses another in one line naming both (:func:`refuse_other_kind`)
+FILE_KINDS: dict[str, str] = {
+    "design": "a design.json",
+    "design_export": "a design export (csv)",
+    "testbed": "a testbed.json",
+    "simulation": "a simulation summary",
+    "ensemble": "an ensemble summary",
+    "atlas": "a Poincare atlas summary",
+    "check": "a check report",
+    "frontier": "a frontier result",
+    "sweep": "a sweep summary",
+    "bifurcation": "a bifurcation csv",
+    "trajectory": "a trajectory.csv",
+    "scene": "a scene (TOML)",
+    "case": "a case file (TOML)",
+    "sweep_file": "a sweep file",
+}
+#: the ``format`` key of the files that carry one
+SWEEP_FORMAT = "chargedesign.sweep/1"
+
+
+def json_kind(data: Any) -> str | None:
+    """The kind (a key of :data:`FILE_KINDS`) of a JSON file's content, None when it names
+    none (an old design.json without ``format`` reads on, checked by its keys)."""
+    if not isinstance(data, Mapping):
+        return None
+    keys = set(data)
+    form = data.get("format")
+    if form == DESIGN_FORMAT:
+        return "design"
+    if form == SWEEP_FORMAT or {"points", "ran", "failed", "not_run"} <= keys:
+        return "sweep"
+    if "platform" in keys and keys & {"wheels", "ballast", "control"}:
+        return "testbed"
+    if "I4_rel_drift" in keys and "effects" in keys:
+        return "ensemble" if "trajectories" in keys else "simulation"
+    if {"energy", "levels", "orbits"} <= keys:
+        return "atlas"
+    if "mu_rel_err" in keys and "V_rel_err" in keys:
+        return "check"
+    if "s_max" in keys and "binding" in keys:
+        return "frontier"
+    return None
+
+
+def csv_kind(header: str) -> str | None:
+    """The kind of a CSV file from its first row that is not a comment (None: unknown)."""
+    cells = [c.strip() for c in header.split(",")]
+    if cells[:1] == ["t"] and {"p", "q", "r", "gamma1"} <= set(cells):
+        return "trajectory"
+    if cells[:4] == ["h", "k", "branch", "type"]:
+        return "bifurcation"
+    if cells[:1] == ["point"] and "status" in cells:
+        return "sweep"
+    if cells[:1] == ["kind"]:
+        return "design_export"
+    return None
+
+
+def toml_kind(data: Mapping[str, Any]) -> str:
+    """The kind of a TOML file's tables: a sweep file, a case file or a scene."""
+    if "grid" in data or ("command" in data and "scene" in data):
+        return "sweep_file"
+    if "case" in data:
+        return "case"
+    return "scene"
+
+
+def text_kind(path: str | os.PathLike[str], text: str) -> str | None:
+    """The kind of a file that is no JSON: a CSV by its header row, TOML by its tables."""
+    suffix = Path(path).suffix.lower()
+    lines = [line for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    if suffix == ".csv" or (lines and "," in lines[0] and "=" not in lines[0]):
+        return csv_kind(lines[0]) if lines else None
+    try:
+        return toml_kind(tomllib.loads(text))
+    except (tomllib.TOMLDecodeError, ValueError, RecursionError):
+        return None
+
+
+def refuse_other_kind(path: str | os.PathLike[str], found: str | None, expected: str) -> None:
+    """One line naming both kinds when a file of one kind is handed to a command meant for
+    another: ``sim/summary.json is a simulation summary, not a design.json`` (exit 2)."""
+    if found is not None and found != expected:
+        raise InputError(f"{path} is {FILE_KINDS[found]}, not {FILE_KINDS[expected]}")
+
+
+def sniff_kind(path: str | os.PathLike[str]) -> str | None:
+    """The kind of the file at ``path`` (None: unreadable or unknown; its reader then says
+    why). Reads at most :data:`MAX_TOML_BYTES` of text; a JSON file is parsed whole."""
+    p = Path(path)
+    try:
+        if p.suffix.lower() == ".json":
+            return json_kind(read_json_file(p))
+        return text_kind(p, read_text(p, "file", MAX_TOML_BYTES))
+    except InputError:
+        return None

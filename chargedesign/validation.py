@@ -360,11 +360,22 @@ def check_field_reach(kind: str, top: float, limit: float, region: float) -> Non
         )
 
 
-def check_physical_candidates(n: int) -> None:
+def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> None:
     """A physical design's candidates: at least two (each cell is half the nearest
-    neighbour's distance)."""
+    neighbour's distance). ``body`` (the ``[body]`` table) lets the line say why: a spacing
+    larger than the body's size leaves one point (a sweep's 0.25 m spacing on a 5 cm ball)."""
     if n < 2:
-        raise InputError("body: a physical design needs at least two candidate points")
+        why = ""
+        table = body or {}
+        spacing = table.get("spacing")
+        sizes = [table[k] for k in ("radius", "size", "height") if k in table]
+        sizes = [max(v) if isinstance(v, list) else v for v in sizes]
+        if isinstance(spacing, (int, float)) and sizes:
+            why = (
+                f": body.spacing = {fmt(spacing, PLAIN)} m on a {table.get('shape', 'body')} "
+                f"of {fmt(max(sizes), PLAIN)} m gives {n}; give a spacing well below its size"
+            )
+        raise InputError(f"body: a physical design needs at least two candidate points{why}")
 
 
 def check_candidate_points(n: int, shape: Any) -> None:
@@ -925,13 +936,18 @@ def check_periods(
 ) -> float:
     """Refuse a run of more than ``cap`` periods of its fastest rate (:func:`motion_rate`):
     ``t_end * rate / (2 pi)``, the work a solver does grows with it. Returns the periods."""
-    periods = float(t_end) * motion_rate(parameters, initial) / (2.0 * math.pi)
+    rate = motion_rate(parameters, initial)
+    periods = float(t_end) * rate / (2.0 * math.pi)
     if periods > cap:
         how = f"{raise_with} raises the cap" if raise_with else f"give a shorter {option}"
+        fits = f"t_end <= {fmt(cap * 2.0 * math.pi / rate, PLAIN)} s fits"
+        own = motion_rate(parameters)  # the parameters' rates alone: the start's excluded
+        if own > 0.0 and rate > 10.0 * own:
+            fits += f", or a start turning at the body's own rate {fmt(own)} 1/s"
         raise InputError(
             f"{option}: t_end = {fmt(t_end, PLAIN)} s is {fmt(periods)} periods of the body's"
             " fastest rate, "
-            f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS); {how}"
+            f"past the cap of {fmt(cap, PLAIN)} (chargedesign.limits.MAX_PERIODS): {fits}; {how}"
         )
     return periods
 

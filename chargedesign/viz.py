@@ -286,8 +286,21 @@ def _tint(q: float, top: float) -> float:
     return CHARGE_TINT_FLOOR + (1.0 - CHARGE_TINT_FLOOR) * min(abs(q) / top, 1.0)
 
 
+#: a charge below this fraction of the largest is round-off: drawn without a sign colour
+ROUND_OFF_CHARGE = 1e-9
+
+
+def significant_charges(values: Any) -> np.ndarray:
+    """The charges with round-off (``|q| < ROUND_OFF_CHARGE max|q|``) set to 0: a 1e-12 C
+    charge beside 1e-9 C ones carries no sign worth a colour."""
+    q = np.asarray(values, dtype=np.float64)
+    top = float(np.max(np.abs(q))) if q.size else 0.0
+    return np.where(np.abs(q) < ROUND_OFF_CHARGE * top, 0.0, q)
+
+
 def charge_colors(values: np.ndarray, top: float | None = None) -> np.ndarray:
-    """RGB colour of each charge (shape (n, 3), 0..1): blue below 0, red above, white at 0.
+    """RGB colour of each charge (shape (n, 3), 0..1): blue below 0, red above, white at 0
+    (and at round-off, :func:`significant_charges`).
 
     Exact in the sign (a colour lookup table's bins could give a tiny charge the colour of
     the other sign); the weight is :func:`_tint`, as in :func:`charge_colormap`.
@@ -295,6 +308,7 @@ def charge_colors(values: np.ndarray, top: float | None = None) -> np.ndarray:
     q = np.asarray(values, dtype=np.float64)
     if top is None:
         top = float(np.max(np.abs(q))) if q.size else 0.0
+    q = np.where(np.abs(q) < ROUND_OFF_CHARGE * top, 0.0, q)
     out = np.ones((q.size, 3))
     if top <= 0.0:
         return out
@@ -626,7 +640,7 @@ def _add_body(
             255.0 * charge_colors(spheres.point_data["charge (C)"], top)
         ).astype(np.uint8)
         actors.append(plotter.add_mesh(spheres, scalars="rgb", rgb=True, smooth_shading=True))
-        cmap, clim = charge_colormap(q)
+        cmap, clim = charge_colormap(significant_charges(q))
         # the colour bar comes from an invisible copy mapped through the colour map
         actors.append(
             plotter.add_mesh(
@@ -653,9 +667,10 @@ def _add_body(
                 point_size=0.0,
             )
         )
-        if np.any(q > 0):
+        signed = significant_charges(q)  # round-off gets no sign in the legend either
+        if np.any(signed > 0):
             legend.append(["charge > 0", POSITIVE_COLOR, "circle"])
-        if np.any(q < 0):
+        if np.any(signed < 0):
             legend.append(["charge < 0", NEGATIVE_COLOR, "circle"])
 
     if "masses" in names:
@@ -723,6 +738,22 @@ def _add_labels(
         always_visible=True,
         reset_camera=False,
     )
+
+
+def caption_counts(design: Design) -> str:
+    """The picture's counts, as ``chargedesign check`` counts them: every mass of the body
+    (carriers, magnets and ballast; the title once said 160 masses where check counted 208),
+    the ballast among them."""
+    masses = len(design.point_elements().mass_values)  # massless carriers left out, as check
+    ballast = len(design.mass_values)
+    mass_text = f"{masses} masses" + (f" ({ballast} ballast)" if ballast != masses else "")
+    return f"{len(design.charge_values)} charges, {mass_text}, {len(design.dipole_moments)} dipoles"
+
+
+def _caption_size(plotter: pv.Plotter) -> int:
+    """The caption's size in points: legible at the default 1024 x 768 (once 9 points, about
+    8 pixels high)."""
+    return max(10, int(plotter.window_size[1]) // 60)
 
 
 def _font_size(plotter: pv.Plotter) -> int:
@@ -831,11 +862,11 @@ def _draw_scene(
         _add_legend(plotter, entries)
     key = _size_key(design, size)
     plotter.add_text(
-        f"{len(design.charge_values)} charges, {len(design.mass_values)} masses, "
-        f"{len(design.dipole_moments)} dipoles; gamma = ({fmt(g[0])}, {fmt(g[1])}, {fmt(g[2])})"
-        + (f"\n{key}" if key else ""),
+        caption_counts(design)
+        + f"; gamma = ({fmt(g[0])}, {fmt(g[1])}, {fmt(g[2])})"
+        + ("".join(f"\n{part}" for part in key.split("; ")) if key else ""),
         position="upper_left",
-        font_size=9 if plotter.window_size[0] >= 640 else 6,
+        font_size=_caption_size(plotter),
         color="black",
         name="caption",
     )

@@ -268,15 +268,16 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="N",
         help="raise the cap on the periods of the body's fastest rate a run covers (default "
-        "chargedesign.limits.MAX_PERIODS = 1e7)",
+        "chargedesign.limits.MAX_PERIODS = 1e5)",
     )
     parser.add_argument("--json", action="store_true", help="print the JSON summary")
     parser.add_argument(
         "--progress",
         action=argparse.BooleanOptionalAction,
         default=None,
-        help="progress bar on stderr (default: when stderr is a terminal); --no-progress also "
-        "silences the 'designing body ...' lines",
+        help="progress on stderr with the time left (default: on; a bar on a terminal, a line "
+        "every few seconds without one); --no-progress also silences the 'designing body ...' "
+        "lines",
     )
 
 

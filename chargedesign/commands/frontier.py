@@ -27,6 +27,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from chargedesign.body import Design
+from chargedesign.commands.progress import Progress
 from chargedesign.designer.frontier import WindowOptions, find_frontier, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import (
@@ -82,7 +83,18 @@ def run(args: argparse.Namespace) -> int:
         )
         return 0
     if args.recommend is not None:
-        found = recommend(scene, window, progress=progress)
+        # the probes counted against the most the search makes, with the time left
+        bar = None if args.quiet else Progress("frontier --recommend", unit="probes")
+        try:
+            found = recommend(
+                scene,
+                window,
+                progress=None if bar is None else (lambda m: bar.say(f"frontier: {m}")),
+                tally=None if bar is None else bar.update,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
         print(

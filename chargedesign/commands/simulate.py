@@ -19,9 +19,9 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import time
 
 from chargedesign.body import write_design
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import ChargeDesignError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
@@ -33,29 +33,6 @@ from chargedesign.simulation.ensemble import simulate_ensemble
 from chargedesign.simulation.result import summary_text
 from chargedesign.validation import check_periods
 from chargedesign.vocabulary import SIMULATION_AXES
-
-
-class _ProgressBar:
-    """A one-line bar on stderr, drawn only once a run has lasted a second."""
-
-    def __init__(self) -> None:
-        self.start = time.perf_counter()
-        self.drawn = False
-        self.last = -1
-
-    def __call__(self, fraction: float) -> None:
-        elapsed = time.perf_counter() - self.start
-        percent = int(100 * fraction)
-        if elapsed < 1.0 or percent == self.last:
-            return
-        self.last = percent
-        bar = "#" * (percent // 4) + "-" * (25 - percent // 4)
-        print(f"\rsimulate [{bar}] {percent:3d}% {elapsed:6.1f} s", end="", file=sys.stderr)
-        self.drawn = True
-
-    def close(self) -> None:
-        if self.drawn:
-            print(file=sys.stderr)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -71,8 +48,6 @@ def run(args: argparse.Namespace) -> int:
         raise ChargeDesignError(
             f"--axes: expected one of {', '.join(SIMULATION_AXES)}, got {args.axes!r}"
         )
-    show_bar = sys.stderr.isatty() if args.progress is None else args.progress
-    bar = _ProgressBar() if show_bar else None
     _check_out(args, None)
     setup = setup_from_source(args.source)
     _check_out(args, setup)
@@ -80,6 +55,10 @@ def run(args: argparse.Namespace) -> int:
     designing = setup.design_scene is not None
     if args.atlas:
         return _atlas(args, setup)
+    # the run's progress on stderr: a bar on a terminal, a line every few seconds without one
+    # (--no-progress: none; the default simulate once ran 596 s saying nothing); closed on
+    # every path below (its heartbeat is a thread)
+    bar = Progress("simulate") if args.progress is not False else None
     if isinstance(setup.initial, dict) and "states" in setup.initial:
         return _ensemble(args, setup, bar)
 
@@ -233,7 +212,7 @@ def _options(args: argparse.Namespace) -> dict:
     }
 
 
-def _ensemble(args: argparse.Namespace, setup: object, bar: _ProgressBar | None) -> int:
+def _ensemble(args: argparse.Namespace, setup: object, bar: Progress | None) -> int:
     import json
 
     try:

@@ -10,9 +10,8 @@ input. See docs/sweep.md.
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.scene.sweep_file import check_executor
@@ -23,28 +22,6 @@ from chargedesign.sweeps import (
     summary_rows,
     write_summary,
 )
-
-
-class _Bar:
-    """A one-line progress bar on stderr."""
-
-    def __init__(self) -> None:
-        self.t0 = time.perf_counter()
-
-    def __call__(self, done: int, total: int, failed: int) -> None:
-        width = 30
-        frac = done / total if total else 1.0
-        filled = round(width * frac)
-        elapsed = time.perf_counter() - self.t0
-        eta = elapsed * (total - done) / done if done else 0.0
-        sys.stderr.write(
-            f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} points, "
-            f"{failed} failed, {elapsed:.0f} s, eta {eta:.0f} s "
-        )
-        if done >= total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
 
 #: what a sweep writes into --out (``points/`` holds one folder per point)
 SWEEP_FILES = ("sweep.json", "summary.csv", "summary.parquet", "points")
@@ -68,6 +45,16 @@ def run(args: argparse.Namespace) -> int:
         writes=SWEEP_FILES,
     )
     handle = make_executor(args.executor, args.workers, args.scheduler, timeout=timeout)
+    # the points counted against their total, with the time left (a line every few seconds
+    # without a terminal)
+    bar = None if args.quiet else Progress("sweep", unit="points")
+    if bar is not None:
+        bar.update(0, len(spec.points))  # the count from the start (a point may take minutes)
+
+    def tally(done: int, total: int, failed: int) -> None:
+        assert bar is not None
+        bar.update(done, total, f"{failed} failed" if failed else "")
+
     try:
         result = run_sweep(
             spec,
@@ -75,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
             executor=handle,
             resume=args.resume,
             chunk=args.chunk,
-            progress=None if args.quiet else _Bar(),
+            progress=None if bar is None else tally,
         )
     except KeyboardInterrupt:
         # let the points in flight finish or stop, then list every point on disk
@@ -86,6 +73,8 @@ def run(args: argparse.Namespace) -> int:
         raise
     finally:
         handle.close()
+        if bar is not None:
+            bar.close()
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:

@@ -284,8 +284,28 @@ class Recommendation(Result):
         lines += [
             "searched: " + "; ".join(f"{k} {v}" for k, v in self.searched.items()),
             f"({self.evaluations} frontiers with windows, {self.seconds:.1f} s)",
+            self.answer(),
         ]
         return "\n".join(lines) + "\n"
+
+    def answer(self) -> str:
+        """One line that answers the search: which choice realises the theorem within the
+        fraction, over which rates; or that none searched does, and by how much the closest
+        misses."""
+        window = self.best.window
+        if window is None:
+            return f"answer: every choice searched was refused ({self.best.error})"
+        what = "; ".join(self.changes) if self.changes else "the input scene as it is"
+        if window.empty:
+            return (
+                f"answer: no choice searched is realised within the fraction; the closest "
+                f"({what}) misses it by x {fmt(window.missing, ROUGH)}"
+            )
+        return (
+            f"answer: realised for s = {fmt(window.s_low, CELL)} to {fmt(window.s_high, CELL)} "
+            f"(x {fmt(window.width, ROUGH)}) with {what}; the scene written runs at s = "
+            f"{fmt(self.rate, CELL)}"
+        )
 
 
 def _dimensions(base: dict[str, Any]) -> dict[str, tuple[Any, ...]]:
@@ -305,11 +325,18 @@ def _dimensions(base: dict[str, Any]) -> dict[str, tuple[Any, ...]]:
     return dims
 
 
-def recommend(scene: Any, options: WindowOptions, *, progress: Any = None) -> Recommendation:
-    """The choice with the widest realised window (see the module doc) and its scene."""
+def recommend(
+    scene: Any, options: WindowOptions, *, progress: Any = None, tally: Any = None
+) -> Recommendation:
+    """The choice with the widest realised window (see the module doc) and its scene.
+
+    ``progress(message)`` is told each probe's outcome; ``tally(done, total)`` counts the
+    probes (frontiers with windows) against the most the search can make.
+    """
     t0 = time.perf_counter()
     base = scene_dict(scene)
     dims = _dimensions(base)
+    total = probes_at_most(dims)
     cache: dict[Choice, Evaluation] = {}
     history: list[tuple[str, str]] = []
 
@@ -327,7 +354,11 @@ def recommend(scene: Any, options: WindowOptions, *, progress: Any = None) -> Re
         cache[choice] = found
         history.append((repr(choice), found.text()))
         if progress is not None:
-            progress(f"recommend {len(cache)}: {_choice_text(choice)}: {found.text()}")
+            progress(
+                f"probe {len(cache)} of at most {total}: {_choice_text(choice)}: {found.text()}"
+            )
+        if tally is not None:
+            tally(len(cache), total)
         return found
 
     first = evaluate(Choice())
@@ -341,6 +372,8 @@ def recommend(scene: Any, options: WindowOptions, *, progress: Any = None) -> Re
                     best = trial
         if best.choice == before:
             break
+    if tally is not None:
+        tally(len(cache), len(cache))  # the search ended: every probe it makes is made
     window = best.window
     rate = window.s_best if window is not None and not window.empty else 1.0
     scene_out = scene_at_rate(best.choice.apply(base), rate)
@@ -356,6 +389,12 @@ def recommend(scene: Any, options: WindowOptions, *, progress: Any = None) -> Re
         rate=rate,
         history=history,
     )
+
+
+def probes_at_most(dims: dict[str, tuple[Any, ...]]) -> int:
+    """The most probes the coordinate search makes: the input, then every value of every
+    dimension in each pass (a repeated choice is not probed again)."""
+    return 1 + PASSES * sum(len(values) for values in dims.values())
 
 
 def _normalised(name: str, value: Any, base: dict[str, Any]) -> Any:

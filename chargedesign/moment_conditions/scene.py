@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import ChargeDesignError
 from chargedesign.formatting import PLAIN, fmt
@@ -39,18 +41,23 @@ def scene_length(scene: Scene) -> tuple[float | None, str]:
     return size, ""
 
 
-def conditions_for_scene(scene: Scene, *, exact: bool = False) -> LinearConditions:
+def conditions_for_scene(
+    scene: Scene, *, exact: bool = False, parameters: Any = None
+) -> LinearConditions:
     """:func:`derive_conditions` for a scene's parameters, fields and ``[design] realise``.
 
     Default field strengths are chosen for the size of the scene's body
     (:func:`scene_length`), as :func:`chargedesign.designer.design_from_scene` does.
+    ``parameters``: the parameters the body realises when they are not the scene's (the
+    ``frame`` Larmor reading's n = 0; ``chargedesign conditions`` passes the design's).
     """
 
     if not isinstance(scene, Scene):
         raise input_error("scene", "a chargedesign.scene.Scene", scene)
     realise = realise_from_scene(scene)
     length, why = scene_length(scene)
-    result = derive_conditions(scene.parameters, scene.fields, realise, exact=exact, length=length)
+    params = scene.parameters if parameters is None else parameters
+    result = derive_conditions(params, scene.fields, realise, exact=exact, length=length)
     if result.length_assumed and why:
         result.notes.append(f"body length {fmt(DEFAULT_LENGTH, PLAIN)} m assumed: {why}")
     return result

@@ -556,10 +556,11 @@ def plot_window(window: RealisedWindow, s_max: float, ax: Any = None) -> Any:
     if ax is None:
         _, ax = plt.subplots(figsize=(7.5, 4.6))
     rates = window.curves.get("s")
+    curves = []
     if rates is not None:
         for label, values in window.curves.items():
             if label != "s" and np.any(values > 0):
-                ax.plot(rates, np.where(values > 0, values, np.nan), label=label)
+                curves += ax.plot(rates, np.where(values > 0, values, np.nan), label=label)
     ax.axhline(1.0, color="k", lw=1.0, ls="--", label=f"the fraction ({fmt(window.fraction)})")
     if s_max > 0:
         ax.axvline(s_max, color="0.4", lw=1.0, ls=":", label="s_max (the frontier)")
@@ -578,6 +579,12 @@ def plot_window(window: RealisedWindow, s_max: float, ax: Any = None) -> Any:
         + ("EMPTY" if window.empty else f"x {fmt(window.width)}")
         + " (the laws of the body at s_max)"
     )
+    # the legend names only the curves drawn inside the axes (one below the floor is not)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    for line in curves:
+        x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+        if not np.any((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)):
+            line.set_label(f"_{line.get_label()}")  # matplotlib leaves "_" labels out
     ax.legend(fontsize=7, loc="best")
     return ax
 

@@ -403,6 +403,12 @@ DESIGN = (
 )
 SIMULATION = (
     Key("t_end", POSITIVE, "end of the run", "s", 100.0, option="T"),
+    Key(
+        "periods",
+        POSITIVE,
+        "the run's length in periods 2 pi / rate of its fastest rate (instead of t_end)",
+        source="none: t_end",
+    ),
     Key("rtol", POSITIVE, "relative tolerance (solve_ivp)", default=1e-12, option="RTOL"),
     Key("atol", POSITIVE, "absolute tolerance (solve_ivp)", default=1e-12, option="ATOL"),
     Key(

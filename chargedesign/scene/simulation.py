@@ -10,17 +10,23 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.formatting import PLAIN, fmt
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.scene.keys import DECLARED, KEY, check_value, default_of, key_names
 from chargedesign.scene.states import load_states, parse_states
-from chargedesign.validation import as_array, as_finite_float, check_keys, input_error
+from chargedesign.validation import (
+    as_array,
+    as_finite_float,
+    check_keys,
+    input_error,
+    motion_rate,
+)
 from chargedesign.vocabulary import (
     EFFECTS,
     MONITOR_ALIASES,
@@ -42,6 +48,9 @@ class SimulationOptions:
     """Validated ``[simulation]`` settings (see the module docstring for the keys)."""
 
     t_end: float = default_of("simulation", KEY.t_end)
+    #: the run's length in periods of its fastest rate (None: t_end); the setup turns it into
+    #: t_end once the body and the start are known (:func:`resolve_periods`)
+    periods: float | None = None
     rtol: float = default_of("simulation", "rtol")
     atol: float = default_of("simulation", "atol")
     method: str = default_of("simulation", "method")
@@ -106,6 +115,8 @@ def parse_simulation_options(
             if key == KEY.max_step and value == math.inf:
                 continue
             setattr(opts, key, check_value("simulation", key, value, f"{where}.{key}"))
+    if "periods" in table and KEY.t_end in table:
+        raise InputError(f"{where}: give either t_end or periods, not both")
     for key in ("method", "route", "samples"):
         if key in table:
             setattr(opts, key, check_value("simulation", key, table[key], f"{where}.{key}"))
@@ -287,6 +298,28 @@ def merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> Simu
     }
     merged.update(table)
     return parse_simulation_options(merged, "simulation")
+
+
+def resolve_periods(
+    options: SimulationOptions, parameters: Any, initial: Any
+) -> tuple[SimulationOptions, list[str]]:
+    """Options whose ``periods`` is turned into ``t_end``: ``periods * 2 pi / rate`` for the
+    motion's fastest rate (:func:`~chargedesign.validation.motion_rate`: the parameters' rates
+    and the start's), with the note that says it; unchanged without ``periods``."""
+    if options.periods is None:
+        return options, []
+    rate = motion_rate(parameters, initial)
+    if not rate > 0.0:
+        raise InputError(
+            "simulation.periods: the body and its start have no rate to count periods of; "
+            "give simulation.t_end"
+        )
+    t_end = options.periods * 2.0 * math.pi / rate
+    note = (
+        f"t_end = {fmt(t_end, PRECISE)} s: simulation.periods = {fmt(options.periods, PLAIN)} "
+        f"periods 2 pi / rate of the motion's fastest rate {fmt(rate)} 1/s"
+    )
+    return replace(options, t_end=t_end, periods=None), [note]
 
 
 def initial_spec(initial: Any) -> dict[str, Any]:

@@ -153,6 +153,14 @@ class PoincareAtlas:
             ax.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 (upwards) [rad]")
             ax.grid(True, alpha=0.3)
         axes[0].set_ylabel("r [1/s]")
+        # the colour carries the orbit's number (its start, in order): its bar
+        from matplotlib import colormaps
+        from matplotlib.cm import ScalarMappable
+        from matplotlib.colors import Normalize
+
+        count = max(len(self.points[0]), 1)
+        shades = ScalarMappable(Normalize(1, max(count, 2)), colormaps["turbo"])
+        fig.colorbar(shades, ax=list(axes), label="orbit (in the order of its start)")
         fig.suptitle(
             f"Poincare atlas: {len(self.points[0])} orbits per level, energy"
             f" {fmt(self.energy, PRECISE)} J, "

@@ -10,7 +10,6 @@ inline elements, a ``[case]`` designed at once, or a ``[body]`` region left pend
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -24,6 +23,7 @@ from chargedesign.designer.pipeline import design_from_scene
 from chargedesign.formatting import CELL, ORDER, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
+from chargedesign.readers import refuse_other_kind, sniff_kind
 from chargedesign.results import compact_repr
 from chargedesign.scene import Scene, load_scene
 from chargedesign.scene.simulation import (
@@ -34,6 +34,7 @@ from chargedesign.scene.simulation import (
     has_inline_elements,
     inline_elements,
     parse_initial,
+    resolve_periods,
 )
 from chargedesign.simulation.system import (
     Body,
@@ -177,15 +178,16 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         else:
             info = _body_info(body, "none: the theorem's parameters only")
     if scene.initial is None:
-        initial = parse_initial(DEFAULT_INITIAL, "initial")
-        notes.append("no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0")
-        notes += _slow_body_notes(body.parameters)
+        initial, start_notes = default_initial(body.parameters)
+        notes += start_notes
     else:
         initial = dict(scene.initial)
+    options, period_notes = resolve_periods(scene.simulation, body.parameters, initial)
+    notes += period_notes
     return SimulationSetup(
         body=body,
         initial=initial,
-        options=dataclasses.replace(scene.simulation),
+        options=dataclasses.replace(options),
         output=dataclasses.replace(scene.output),
         notes=notes,
         source=scene.source,
@@ -225,32 +227,48 @@ def body_counts(body: Body) -> dict[str, int]:
     }
 
 
-#: a default start turning this many times faster than the body's own rate gets a note
+#: a default start turning this many times faster (or slower) than the body's own rate is
+#: scaled to it
 SLOW_BODY_FACTOR = 1e3
+#: the rate the default start suits: the unit-scale case's (c = 0.3, d = -0.4, n = 0.7,
+#: K = 0.5, kappa = 0.9; examples/scenes/unit_scale.toml), ``2 sqrt(0.9)`` 1/s
+UNIT_SCALE_RATE = typical_rate(Parameters(c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9))
 
 
-def _slow_body_notes(params: Parameters) -> list[str]:
-    """A note when the default start turns far faster than the body's own rate.
+def default_initial(params: Parameters) -> tuple[dict[str, Any], list[str]]:
+    """The start of a run that gives none, and the note that says it.
 
-    The default start (p, q) = (0.6, -0.4) 1/s suits the unit-scale case. A physical body's
-    theorem terms turn at ``2 max(|n|, |K|, sqrt|kappa|, ...)`` (micro-radians per second for
-    the embedded default): started at 0.7 1/s, its designed torques are a tiny fraction of
-    the kinetic terms and I4's drift tests them weakly. Said, not changed: the start is the
-    user's to give.
+    The default start (gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0) suits the
+    unit-scale case, whose terms turn at ``2 sqrt(0.9)`` 1/s. A body whose own rate
+    (:func:`~chargedesign.physical.realism.typical_rate`, ``2 max(|n|, |K|, sqrt|kappa|,
+    ...)``) is more than :data:`SLOW_BODY_FACTOR` away from that gets the same start with
+    p and q scaled by ``rate / UNIT_SCALE_RATE``: the same motion on its own time scale (the
+    embedded default, at 6.6e-6 1/s, was started 1.1e5 times too fast: 36 million steps).
+
+    Parameters
+    ----------
+    params : Parameters
+        The body's theorem parameters.
+
+    Returns
+    -------
+    (dict, list of str)
+        The spec as :func:`parse_initial` returns it, and one note.
     """
-
-    start = math.hypot(DEFAULT_INITIAL["p"], DEFAULT_INITIAL["q"])
     rate = typical_rate(params)
-    if rate == 0.0 or start < SLOW_BODY_FACTOR * rate:
-        return []
-    return [
-        f"the default start turns at |(p, q)| = {fmt(start)} 1/s, {fmt(start / rate, ROUGH)} times"
-        " this "
-        f"body's own rate {fmt(rate)} 1/s (2 max(|n|, |K|, sqrt|kappa|, ...)): its designed "
-        f"torques are then about {fmt((rate / start) ** 2, ORDER)} of the kinetic terms, which I4's"
-        " "
-        "drift tests only weakly; give [initial] (or initial=) at the body's rate"
-    ]
+    factor = rate / UNIT_SCALE_RATE
+    table = dict(DEFAULT_INITIAL)
+    if rate > 0.0 and not 1.0 / SLOW_BODY_FACTOR <= factor <= SLOW_BODY_FACTOR:
+        table["p"] = DEFAULT_INITIAL["p"] * factor
+        table["q"] = DEFAULT_INITIAL["q"] * factor
+        note = (
+            f"no [initial]: the default start (gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 1/s "
+            f"on I3 = 0) scaled to this body's own rate: p, q x {fmt(factor)} "
+            f"(rate {fmt(rate)} 1/s against the unit-scale case's {fmt(UNIT_SCALE_RATE)})"
+        )
+    else:
+        note = "no [initial]: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0"
+    return parse_initial(table, "initial"), [note]
 
 
 def _body_info(body: Body, origin: str) -> dict[str, Any]:
@@ -268,14 +286,11 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
         return setup_from_scene(source)
     if isinstance(source, Design):
         body = Body.from_design(source)
+        initial, start_notes = default_initial(body.parameters)
         return SimulationSetup(
             body=body,
-            initial=parse_initial(DEFAULT_INITIAL),
-            notes=[
-                "default initial state: gamma = (0.36, 0.48, 0.8), p = 0.6, q = -0.4 on I3 = 0",
-                *_slow_body_notes(body.parameters),
-                *body.notes,
-            ],
+            initial=initial,
+            notes=[*start_notes, *body.notes],
             source="<design>",
             design=source,
             body_info=_body_info(body, "a design"),
@@ -295,5 +310,9 @@ def setup_from_source(source: Any = None) -> SimulationSetup:
             setup.source = str(path)
             setup.body_info["origin"] = f"design file {path}"
             return setup
+        # a trajectory.csv, a bifurcation csv, a sweep file ...: one line naming both kinds
+        kind = sniff_kind(path)
+        if kind not in ("scene", "case"):
+            refuse_other_kind(path, kind, "scene")
         return setup_from_scene(load_scene(path))
     raise input_error("simulate", "a scene, a design, a path or None", source)

@@ -72,6 +72,7 @@ from chargedesign.validation import (
     check_error_spreads,
     check_material_analysis,
     check_periods,
+    check_physical_candidates,
     check_solver_name,
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
@@ -178,7 +179,9 @@ def validate_points(
         key = repr(sorted(region.table.items())) if region is not None else ""
         if designs and region is not None and "shape" in region.table and key not in seen:
             seen.add(key)
-            candidates_from_region(region.spec(), base_dir=base)
+            found = candidates_from_region(region.spec(), base_dir=base)
+            if scene.physical is not None:  # a physical design's cells need two points
+                check_physical_candidates(len(found), region.table)
         if designs:
             _check_solver(scene.design.solver, solvers)
         if command == "simulate":

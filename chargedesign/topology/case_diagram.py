@@ -429,6 +429,19 @@ class CaseDiagram(Result):
         axes.set_title(
             f"{raw.case.name} on I3 = {raw.level} (numbers: tori per chamber)", fontsize=10
         )
+        # each traced branch's Appelrot class on its curve (Kowalevski's case on I3 = 0): the
+        # class alone, its formula is in the published normalization, not these axes' units
+        for branch, name in zip(raw.branches, raw.names, strict=True):
+            if name.startswith("Appelrot") and len(branch.hk):
+                h, k = branch.hk[int(0.75 * (len(branch.hk) - 1))]
+                axes.annotate(
+                    name.split(":")[0],
+                    (h, k),
+                    xytext=(4, 4),
+                    textcoords="offset points",
+                    fontsize=8,
+                    color="0.2",
+                )
         axes.legend(fontsize=8, loc="upper left")
         return axes.figure
 

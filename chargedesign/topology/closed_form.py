@@ -59,11 +59,13 @@ class Parabola:
     @property
     def name(self) -> str:
         """The branch's short name: its type and critical point on the equator, with the sign
-        of kappa (which of ``s = +-a0`` is the boundary depends on it); the same at any scale."""
+        of kappa (which of ``s = +-a0`` is the boundary depends on it); the same at any scale.
+        Said with ``u`` for the equator coordinate ``s`` (the docs' glossary: in output text
+        ``s`` is the rate factor alone)."""
         if abs(abs(self.s) - self.a0) > 1e-12 * self.a0:
-            where = "s = -kappa/K^2"
+            where = "u = -kappa/K^2"
         else:
-            where = f"s = {'+' if self.s > 0 else '-'}a0"
+            where = f"u = {'+' if self.s > 0 else '-'}a0"
         sign = "kappa > 0" if self.kappa > 0 else ("kappa < 0" if self.kappa < 0 else "kappa = 0")
         return f"{self.type} (equator at {where}, {sign})"
 

@@ -329,8 +329,8 @@ class BifurcationDiagram(Result):
             "bifurcation diagram of (H, I4) on I3 = 0, |gamma| = 1",
             f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)} J "
             f"(least energy on the level {fmt(raw.h_min, CELL)} J)",
-            f"  computed at n = 0 in time units of 1/s, s = {fmt(Reading.of(raw.params).s, CELL)}"
-            " 1/s, "
+            f"  computed at n = 0 in time units of 1/w0, w0 = "
+            f"{fmt(Reading.of(raw.params).s, CELL)} 1/s, "
             "then mapped exactly (Larmor: h shifted by C n^2 ="
             f" {fmt(larmor_shift(raw.params), CELL)} J)",
         ]

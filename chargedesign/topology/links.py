@@ -168,6 +168,8 @@ class LinkedPictures(Result):
     def plot(self) -> Any:
         """Three panels: diagram with the line h = const, atlas on I3 = 0, FLI on I3 = 0."""
         from matplotlib import colormaps
+        from matplotlib.cm import ScalarMappable
+        from matplotlib.colors import Normalize
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(17, 5.2))
@@ -202,6 +204,9 @@ class LinkedPictures(Result):
         )
         middle.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 [rad]")
         middle.set_ylabel("r [1/s]")
+        # the colour carries k: its bar, as the FLI panel has one
+        shades = ScalarMappable(Normalize(lo, hi if hi > lo else lo + 1.0), cmap)
+        fig.colorbar(shades, ax=middle, label="k = I4 of the orbit")
         image = right.pcolormesh(
             self.fli.phi, self.fli.v, self.fli.fli[0], shading="nearest", cmap="magma"
         )

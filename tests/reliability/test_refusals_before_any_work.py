@@ -295,7 +295,7 @@ def test_help_states_every_range_that_is_checked() -> None:
 
 
 def test_caps_name_the_option_that_raises_them(work: Path, capsys) -> None:
-    line = refused(["simulate", "--t-end", "1e8", "--no-progress"], "simulate", capsys, work)
+    line = refused(["simulate", "--t-end", "1e13", "--no-progress"], "simulate", capsys, work)
     assert "--max-periods" in line and "periods" in line
     line = refused(["simulate", "--t-end", "1e30", "--no-progress"], "simulate", capsys, work)
     assert "--max-periods" in line

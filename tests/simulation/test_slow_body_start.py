@@ -1,40 +1,53 @@
-"""The default start (p, q) = (0.6, -0.4) 1/s suits the unit-scale case; on a physical body
-turning at micro-radians per second it buries the designed torques, and simulate says so."""
+"""The default start (p, q) = (0.6, -0.4) 1/s suits the unit-scale case; a physical body
+turning at micro-radians per second gets it scaled to its own rate (the embedded default was
+started 1.1e5 times too fast and ran 36 million steps), and its run is a number of periods of
+the motion's own rate (``simulation.periods``)."""
 
 from __future__ import annotations
 
 import math
-import re
 
+import pytest
+
+from chargedesign.errors import InputError
 from chargedesign.scene import load_scene, scene_from_dict
 from chargedesign.simulation.api import setup_from_source
+from chargedesign.validation import motion_rate
 
 
-def slow_note(notes: list[str]) -> str | None:
-    found = [x for x in notes if x.startswith("the default start turns at")]
-    assert len(found) <= 1
-    return found[0] if found else None
+def start_note(notes: list[str]) -> str:
+    found = [x for x in notes if x.startswith("no [initial]")]
+    assert len(found) == 1, notes
+    return found[0]
 
 
-def test_the_embedded_default_gets_the_note_with_its_numbers() -> None:
+def test_the_embedded_default_starts_at_its_own_rate() -> None:
     scene = load_scene(None)
     p = scene.parameters
-    note = slow_note(setup_from_source(scene).notes)
-    assert note is not None
-    # the body's rate, recomputed: 2 max(|n|, |K|, sqrt|kappa|) (lambda = rho = 0 here)
-    rate = 2 * max(abs(p.n), abs(p.K), math.sqrt(abs(p.kappa)))
-    start = math.hypot(0.6, -0.4)
-    assert f"|(p, q)| = {start:.3g} 1/s, {start / rate:.2g} times" in note
-    assert f"own rate {rate:.3g} 1/s" in note
-    ratio = float(re.search(r"about ([0-9.e+-]+) of the kinetic", note).group(1))
-    assert ratio == float(f"{(rate / start) ** 2:.1g}") and ratio < 1e-9
+    setup = setup_from_source(scene)
+    rate = 2 * max(abs(p.n), abs(p.K), math.sqrt(abs(p.kappa)))  # lambda = rho = 0 here
+    factor = rate / (2 * math.sqrt(0.9))
+    assert setup.initial["p"] == pytest.approx(0.6 * factor, rel=1e-12)
+    assert setup.initial["q"] == pytest.approx(-0.4 * factor, rel=1e-12)
+    assert "scaled to this body's own rate" in start_note(setup.notes)
+    # t_end: 20 periods of the motion's fastest rate (the parameters' and the start's)
+    fastest = motion_rate(p, setup.initial)
+    assert setup.options.t_end == pytest.approx(20 * 2 * math.pi / fastest, rel=1e-12)
+    assert any(n.startswith("t_end = ") and "simulation.periods = 20" in n for n in setup.notes)
 
 
-def test_no_note_at_the_unit_scale_or_with_a_given_start() -> None:
+def test_the_unit_scale_keeps_the_default_start() -> None:
     unit = load_scene(None).tables
-    data = {k: v for k, v in unit.items() if k != "initial"}
+    data = {k: v for k, v in unit.items() if k not in ("initial", "simulation")}
     data["parameters"] = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
-    assert slow_note(setup_from_source(scene_from_dict(data, "<test>")).notes) is None
-    slow = {k: v for k, v in unit.items()}
-    slow["initial"] = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 1e-6, "q": 0.0}
-    assert slow_note(setup_from_source(scene_from_dict(slow, "<test>")).notes) is None
+    setup = setup_from_source(scene_from_dict(data, "<test>"))
+    assert (setup.initial["p"], setup.initial["q"]) == (0.6, -0.4)
+    assert "scaled" not in start_note(setup.notes)
+    assert setup.options.t_end == 100.0  # the declared default
+
+
+def test_periods_and_t_end_together_are_refused() -> None:
+    data = dict(load_scene(None).tables)
+    data["simulation"] = {"periods": 3.0, "t_end": 10.0}
+    with pytest.raises(InputError, match="either t_end or periods"):
+        _ = scene_from_dict(data, "<test>").simulation

@@ -115,12 +115,14 @@ def test_charge_colours_are_linear_in_q_and_keep_their_sign_near_zero():
     # just above and below zero: the lightest tint of each sign, never white or grey
     np.testing.assert_allclose(colour(0.02), tint(viz.POSITIVE_COLOR, floor), atol=1e-2)
     np.testing.assert_allclose(colour(-0.02), tint(viz.NEGATIVE_COLOR, floor), atol=1e-2)
-    # the colours drawn are exact in the sign however small the charge
-    rgb = viz.charge_colors(np.array([1e-300, -1e-300, 0.0, 2.0]))
-    np.testing.assert_allclose(rgb[0], tint(viz.POSITIVE_COLOR, floor))
-    np.testing.assert_allclose(rgb[1], tint(viz.NEGATIVE_COLOR, floor))
+    # the colours drawn are exact in the sign however small the charge, down to round-off
+    # (|q| < viz.ROUND_OFF_CHARGE of the largest: white, as zero)
+    rgb = viz.charge_colors(np.array([1e-8, -1e-8, 0.0, 2.0, 1e-300, -1e-12]))
+    np.testing.assert_allclose(rgb[0], tint(viz.POSITIVE_COLOR, floor), atol=1e-8)
+    np.testing.assert_allclose(rgb[1], tint(viz.NEGATIVE_COLOR, floor), atol=1e-8)
     np.testing.assert_allclose(rgb[2], (1.0, 1.0, 1.0))
     np.testing.assert_allclose(rgb[3], viz.POSITIVE_COLOR)
+    np.testing.assert_allclose(rgb[4:], np.ones((2, 3)))
     # -0.5 is a quarter of the largest |q|: a quarter of the way from the floor to full blue
     weight = floor + (1.0 - floor) * 0.25
     np.testing.assert_allclose(colour(-0.5), tint(viz.NEGATIVE_COLOR, weight), atol=1e-2)
