@@ -20,7 +20,7 @@ import numpy as np
 
 from chargedesign.body import Design, read_design
 from chargedesign.designer.pipeline import design_from_scene
-from chargedesign.formatting import CELL, ORDER, ROUGH, fmt
+from chargedesign.formatting import CELL, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
 from chargedesign.readers import refuse_other_kind, sniff_kind
