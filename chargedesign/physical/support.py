@@ -39,6 +39,7 @@ import numpy as np
 from chargedesign.constants import EPSILON_0, MU_0, STANDARD_GRAVITY
 from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import PLAIN, ROUGH, fmt
+from chargedesign.physical import sources
 from chargedesign.physical.coils import WIRE_SECTION, CoilPair
 from chargedesign.physical.realism import material_parts, typical_rate
 from chargedesign.physical.window import REALISED_FRACTION, WindowModel, window_model
@@ -66,193 +67,47 @@ class Figure:
 #: the Boltzmann constant, J/K (exact, SI 2019)
 BOLTZMANN = 1.380649e-23
 
-_ZARM = "ZARM, 'The Bremen Drop Tower', zarm.uni-bremen.de/en/drop-tower.html (2024)"
-_ZARM_CATAPULT = (
-    "ZARM, 'What is the catapult system?', zarm.uni-bremen.de/en/drop-tower/general-"
-    "information/what-is-the-catapult-system.html (2024)"
-)
-_ESA_DYT = (
-    "ESA Education, 'The ZARM drop tower in Bremen' (Drop Your Thesis), esa.int/Education/"
-    "Drop_Your_Thesis (2024)"
-)
-_GPB = "Stanford University, 'GP-B Post-Flight Analysis - Final Report' (2007)"
 
-#: every figure the supports use, keyed for the project's sources table
+#: the keys of every figure the supports use; their values and sources are the project's
+#: sources table's (chargedesign/data/sources.toml, :mod:`chargedesign.physical.sources`)
+SUPPORT_KEYS = (
+    "drop_tower.drop_time_s",
+    "drop_tower.catapult_time_s",
+    "drop_tower.residual_g",
+    "drop_tower.capsule_diameter_m",
+    "drop_tower.capsule_length_m",
+    "drop_tower.capsule_pressure_Pa",
+    "drop_tower.tube_pressure_fraction",
+    "drop_tower.capsule_total_mass_kg",
+    "drop_tower.catapult_launch_s",
+    "drop_tower.catapult_launch_g",
+    "drop_tower.landing_g",
+    "drop_tower.release_velocity_error_m_per_s",
+    "drop_tower.release_and_cage_s",
+    "chamber.pressure_Pa",
+    "chamber.bore_share",
+    "copper.density_kg_per_m3",
+    "gas.air_molecular_mass_kg",
+    "gas.temperature_K",
+    "earth.radius_m",
+    "orbit.residual_g",
+    "orbit.altitude_m",
+    "orbit.run_s",
+    "gpb.rotor_diameter_m",
+    "gpb.spin_down_years_min",
+    "gpb.spin_down_years_max",
+    "rotor.coating_conductivity_S_per_m",
+    "rotor.coating_thickness_m",
+    "gpb.sphericity_m",
+    "camera.frame_rate_Hz",
+    "camera.marker_noise_across_m",
+    "camera.marker_noise_along_m",
+    "camera.static_marker_precision_m",
+)
 FIGURES: dict[str, Figure] = {
-    "drop_tower.drop_time_s": Figure(
-        4.74, "s", "microgravity time of a drop", _ZARM, "'How does the drop tower work?'", True
-    ),
-    "drop_tower.catapult_time_s": Figure(
-        9.3, "s", "microgravity time with the catapult", _ZARM_CATAPULT, "last paragraph", True
-    ),
-    "drop_tower.residual_g": Figure(
-        1e-6, "g", "residual acceleration in the capsule", _ZARM, "first paragraph", True
-    ),
-    "drop_tower.capsule_diameter_m": Figure(
-        0.8, "m", "the capsule's width", _ZARM, "'How does the drop tower work?'", True
-    ),
-    "drop_tower.capsule_length_m": Figure(
-        2.5, "m", "the capsule's length", _ZARM, "'How does the drop tower work?'", True
-    ),
-    "drop_tower.capsule_pressure_Pa": Figure(
-        101325.0,
-        "Pa",
-        "the capsule's inside: normal atmospheric pressure",
-        _ESA_DYT,
-        "second paragraph ('pressurised to normal atmospheric pressure')",
-        True,
-    ),
-    "drop_tower.tube_pressure_fraction": Figure(
-        1e-4,
-        "",
-        "the drop tube's pressure over normal",
-        _ZARM,
-        "'How does the drop tower work?'",
-        True,
-    ),
-    "drop_tower.capsule_total_mass_kg": Figure(
-        350.0,
-        "kg",
-        "the capsule's total mass with payload (its structure's share not subtracted here)",
-        "Wikipedia (de), 'Fallkapsel' (2024)",
-        "'Functionality'",
-        True,
-    ),
-    "drop_tower.catapult_launch_s": Figure(
-        0.25, "s", "the catapult's launch", _ZARM_CATAPULT, "first paragraph", True
-    ),
-    "drop_tower.catapult_launch_g": Figure(
-        35.0, "g", "the catapult's launch acceleration", _ESA_DYT, "'Drop capsule'", True
-    ),
-    "drop_tower.landing_g": Figure(
-        50.0, "g", "the landing's deceleration", _ESA_DYT, "'Drop capsule'", True
-    ),
-    "drop_tower.release_velocity_error_m_per_s": Figure(
-        1e-4,
-        "m/s",
-        "the body's velocity relative to the capsule when its cage opens",
-        "not sourced: a release-caging mechanism's residual velocity (a choice)",
-        "-",
-        False,
-    ),
-    "drop_tower.release_and_cage_s": Figure(
-        0.5,
-        "s",
-        "the microgravity time spent releasing the body after launch and caging it before landing",
-        "not sourced (a choice)",
-        "-",
-        False,
-    ),
-    "chamber.pressure_Pa": Figure(
-        1e-3,
-        "Pa",
-        "the body's own vacuum chamber (a small sealed, pumped chamber)",
-        "not sourced (a turbo-pumped chamber reaches 1e-3 Pa and below: from memory)",
-        "-",
-        False,
-    ),
-    "chamber.bore_share": Figure(
-        0.5,
-        "",
-        "the vacuum chamber's inner radius over the coils' radius (windings and walls take "
-        "the rest)",
-        "not sourced (a choice)",
-        "-",
-        False,
-    ),
-    "copper.density_kg_per_m3": Figure(
-        8960.0, "kg/m^3", "copper's density", "CRC Handbook, 97th ed. (2016)", "from memory", False
-    ),
-    "gas.air_molecular_mass_kg": Figure(
-        4.81e-26, "kg", "mean mass of an air molecule (28.97 u)", "standard", "from memory", False
-    ),
-    "gas.temperature_K": Figure(293.0, "K", "the chamber's temperature", "a choice", "-", False),
-    "earth.radius_m": Figure(
-        6.371e6, "m", "Earth's mean radius", "IUGG mean radius", "from memory", False
-    ),
-    "orbit.residual_g": Figure(
-        1e-6,
-        "g",
-        "quasi-steady residual acceleration aboard a crewed station",
-        "not sourced (the ISS's microgravity requirement, from memory)",
-        "-",
-        False,
-    ),
-    "orbit.altitude_m": Figure(
-        4.0e5, "m", "a low orbit's altitude", "not sourced (the ISS's, from memory)", "-", False
-    ),
-    "orbit.run_s": Figure(
-        60.0, "s", "an observed run aboard a station", "not sourced (a choice)", "-", False
-    ),
-    "gpb.rotor_diameter_m": Figure(
-        0.038,
-        "m",
-        "Gravity Probe B's fused-quartz rotors",
-        "C. W. F. Everitt et al., 'Gravity Probe B: Final Results', Phys. Rev. Lett. 106, "
-        "221101 (2011); APS Physics 4, 43 (2011) figure 2",
-        "figure 2 caption ('about the size of a ping-pong ball'; 3.8 cm)",
-        True,
-    ),
-    "gpb.spin_down_years_min": Figure(
-        7000.0, "yr", "GP-B's shortest rotor spin-down time", _GPB, "section 15.4.4", True
-    ),
-    "gpb.spin_down_years_max": Figure(
-        26000.0, "yr", "GP-B's longest rotor spin-down time", _GPB, "section 15.4.4", True
-    ),
-    "rotor.coating_conductivity_S_per_m": Figure(
-        4.1e7,
-        "S/m",
-        "a room-temperature rotor's conducting coat (gold; GP-B's niobium was superconducting "
-        "at 1.8 K)",
-        "CRC Handbook, 97th ed. (2016)",
-        "from memory",
-        False,
-    ),
-    "rotor.coating_thickness_m": Figure(
-        1e-6, "m", "the rotor's conducting coat", "not sourced (a choice)", "-", False
-    ),
-    "gpb.sphericity_m": Figure(
-        12e-9,
-        "m",
-        "GP-B rotors' deviation from a sphere (+-0.5 micro inch)",
-        "'Precision Spheres for Gravity Probe B Experiment' (Stanford), as quoted",
-        "quoted in a 2004 web note; the paper itself not read",
-        False,
-    ),
-    "camera.frame_rate_Hz": Figure(
-        200.0,
-        "Hz",
-        "an optical motion-capture system's frame rate (passive markers)",
-        "PMC4788418, 'a frame rate criterion for optical tracking with passive markers' "
-        "(Sensors, 2016)",
-        "introduction ('high temporal resolution (upward to several hundred Hz)')",
-        True,
-    ),
-    "camera.marker_noise_across_m": Figure(
-        1.2e-4,
-        "m",
-        "a marker's position noise across the cameras' line of sight",
-        "arXiv:2502.21189 (2025)",
-        "as the issue quotes it (0.12 mm across); the paper itself not read",
-        False,
-    ),
-    "camera.marker_noise_along_m": Figure(
-        7.4e-4,
-        "m",
-        "a marker's position noise along the cameras' line of sight",
-        "arXiv:2502.21189 (2025)",
-        "as the issue quotes it (0.74 mm along); the paper itself not read",
-        False,
-    ),
-    "camera.static_marker_precision_m": Figure(
-        6e-5,
-        "m",
-        "a single stationary marker's variation (95 %), OptiTrack: a lower bound of the noise",
-        "K. Racz, B. Seregely, R. M. Kiss, 'Static Precision of Instrumented Pointers ...', "
-        "Ann. Biomed. Eng. (2025), doi:10.1007/s10439-025-03753-8",
-        "key findings",
-        True,
-    ),
+    key: Figure(row.value, row.unit, row.what, row.source, row.locator, row.checked)
+    for key in SUPPORT_KEYS
+    for row in (sources.source(key),)
 }
 
 #: the turns the motion must make within the flight (issue 40)

@@ -160,6 +160,18 @@ def test_the_command_prints_the_contracts_json() -> None:
 
 
 def test_the_support_stages_figures_are_the_tables() -> None:
-    """physical/support.py keeps its figures under the table's keys: the same values."""
+    """physical/support.py reads every figure from the table (one source of truth), and the
+    drop tower's figures are the ones read at ZARM (4.74 s, 9.3 s, 1e-6 g, 0.8 m x 2.5 m)."""
+    assert set(support.FIGURES) == set(support.SUPPORT_KEYS)
     for key, figure in support.FIGURES.items():
-        assert value(key) == figure.value, key
+        row = source(key)
+        assert (figure.value, figure.unit, figure.checked) == (row.value, row.unit, row.checked)
+    read_at_zarm = {
+        "drop_tower.drop_time_s": 4.74,
+        "drop_tower.catapult_time_s": 9.3,
+        "drop_tower.residual_g": 1e-6,
+        "drop_tower.capsule_diameter_m": 0.8,
+        "drop_tower.capsule_length_m": 2.5,
+    }
+    for key, expected in read_at_zarm.items():
+        assert support.figure(key) == expected and source(key).checked, key
