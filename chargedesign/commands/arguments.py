@@ -237,7 +237,7 @@ def simulate_arguments(parser: argparse.ArgumentParser) -> None:
         "--off-level (default 0.5 C J s) (atlas.png, atlas.csv in --out, default out/atlas)",
     )
     parser.add_argument(
-        "--orbits", type=int, default=50, help="orbits per level of --atlas (default 50)"
+        "--orbits", type=int, default=None, help="orbits per level of --atlas (default 50)"
     )
     parser.add_argument(
         "--fli", action="store_true", help="with --atlas: the fast Lyapunov indicator map"
@@ -309,8 +309,12 @@ def show_arguments(parser: argparse.ArgumentParser) -> None:
         "--animate", metavar="TRAJ", help="animate a simulated motion (.npz from simulate)"
     )
     parser.add_argument("--out", metavar="GIF", help="animation file (.gif; .mp4 with ffmpeg)")
-    parser.add_argument("--frames", type=int, default=60, help="animation frames (default 60)")
-    parser.add_argument("--fps", type=float, default=15.0, help="frames per second (default 15)")
+    parser.add_argument(
+        "--frames", type=int, default=None, help="with --animate: frames (default 60)"
+    )
+    parser.add_argument(
+        "--fps", type=float, default=None, help="with --animate: frames per second (default 15)"
+    )
     parser.add_argument(
         "--max-elements",
         type=int,

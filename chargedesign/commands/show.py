@@ -18,8 +18,15 @@ from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
 from chargedesign.validation import input_error
 
+#: the animation's frames and frames per second when --frames / --fps are not given
+ANIMATION_FRAMES = 60
+ANIMATION_FPS = 15.0
+
 
 def run(args: argparse.Namespace) -> int:
+    for option, value in (("--frames", args.frames), ("--fps", args.fps)):
+        if value is not None and args.animate is None:  # needs its companion
+            raise InputError(f"{option}: sets the animation; give --animate TRAJ.npz too")
     if args.animate is None and args.out is not None:
         raise InputError("--out: names the animation file; give --animate TRAJ.npz too")
     if args.animate is not None and args.out is None:
@@ -63,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
             design,
             args.animate,
             args.out,
-            frames=args.frames,
-            fps=args.fps,
+            frames=ANIMATION_FRAMES if args.frames is None else args.frames,
+            fps=ANIMATION_FPS if args.fps is None else args.fps,
             region=region,
             window_size=size,
             max_elements=args.max_elements,

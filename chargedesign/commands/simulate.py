@@ -22,7 +22,7 @@ import sys
 
 from chargedesign.body import write_design
 from chargedesign.commands.progress import Progress
-from chargedesign.errors import ChargeDesignError
+from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
@@ -34,12 +34,21 @@ from chargedesign.simulation.result import summary_text
 from chargedesign.validation import check_periods
 from chargedesign.vocabulary import SIMULATION_AXES
 
+#: orbits per level of --atlas when --orbits is not given
+ATLAS_ORBITS = 50
+
 
 def run(args: argparse.Namespace) -> int:
     import contextlib
     import json
     from pathlib import Path
 
+    for option, given, what in (
+        ("--orbits", args.orbits is not None, "the Poincare atlas's orbits per level"),
+        ("--fli", args.fli, "the fast Lyapunov indicator map beside the atlas"),
+    ):
+        if given and not args.atlas:  # an option that needs its companion is refused without it
+            raise InputError(f"{option}: sets {what}; give --atlas too")
     if args.t_end is not None and not args.t_end > 0:
         raise ChargeDesignError(f"--t-end: expected a duration > 0, got {args.t_end}")
     if args.off_level is not None and not math.isfinite(args.off_level):
@@ -239,15 +248,16 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    if args.orbits < 1:
-        raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {args.orbits}")
+    orbits = ATLAS_ORBITS if args.orbits is None else args.orbits
+    if orbits < 1:
+        raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {orbits}")
     system, _, _, _, _ = prepare(setup, effects=args.effects, route=args.route)
     out = Path(args.out or "out/atlas")
     off = args.off_level if args.off_level is not None else 0.5 * system.C
     if off == 0.0:
         raise ChargeDesignError("--off-level: the atlas needs a level other than I3 = 0")
     t_end = args.t_end or 500.0
-    atlas = poincare_atlas(system, off_level=off, orbits=args.orbits, t_end=t_end)
+    atlas = poincare_atlas(system, off_level=off, orbits=orbits, t_end=t_end)
     fmap = fli_map(system, off_level=off, t_end=min(t_end, 100.0)) if args.fli else None
     # everything is computed first; the folder then changes in one swap (all or nothing)
     with atomic_directory(out) as stage:
@@ -263,7 +273,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     summary = {
         "energy": atlas.energy,
         "levels": list(atlas.levels),
-        "orbits": args.orbits,
+        "orbits": orbits,
         KEY.t_end: t_end,
         "points": [sum(len(p) for p in level) for level in atlas.points],
         "seconds": atlas.seconds,
@@ -278,7 +288,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
         print(json.dumps(summary, indent=2, allow_nan=False))
         return 0
     print(
-        f"Poincare atlas: {args.orbits} orbits per level at energy {fmt(atlas.energy, CELL)} J, "
+        f"Poincare atlas: {orbits} orbits per level at energy {fmt(atlas.energy, CELL)} J, "
         f"I3 = {fmt(atlas.levels[0], PLAIN)} and {fmt(atlas.levels[1], PLAIN)} J s, t = "
         f"{fmt(t_end, PLAIN)} s: "
         f"{summary['points'][0]} and {summary['points'][1]} section points in "

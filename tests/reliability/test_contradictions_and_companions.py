@@ -36,3 +36,23 @@ def test_scheduler_timeout_needs_a_scheduler(
     argv = ["sweep", str(sweep), "--out", str(tmp_path / "out"), "--scheduler-timeout", "3"]
     line = refused(argv, "sweep", capsys, tmp_path)
     assert "--scheduler-timeout: needs --scheduler" in line, line
+
+
+@pytest.mark.parametrize(
+    ("argv", "command", "needs"),
+    [
+        (["simulate", "--orbits", "5"], "simulate", "give --atlas too"),
+        (["simulate", "--fli"], "simulate", "give --atlas too"),
+        (["show", "design.json", "--frames", "10"], "show", "give --animate TRAJ.npz too"),
+        (["show", "design.json", "--fps", "5"], "show", "give --animate TRAJ.npz too"),
+    ],
+)
+def test_an_option_without_its_companion_is_refused_before_any_work(
+    argv: list[str], command: str, needs: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--orbits and --fli set the atlas, --frames and --fps the animation: alone they were
+    silently ignored; now one line names the option and its companion, before any work (the
+    design.json named here does not exist: the refusal comes first)."""
+    line = refused([*argv], command, capsys, tmp_path)
+    assert line.split(": error: ")[1].startswith(argv[-2] if argv[-1][0].isdigit() else argv[-1])
+    assert needs in line, line
