@@ -27,8 +27,10 @@ def test_a_count_says_its_total_and_the_time_left(quick: None) -> None:
         bar.update(4, 4)
     lines = stream.getvalue().splitlines()
     assert lines, "no line without a terminal"
-    assert any("2 of 4 points (1 failed)" in line and "left" in line for line in lines), lines
-    assert lines[-1].startswith("sweep: 4 of 4 points") and lines[-1].endswith("done")
+    # which counts are written between the heartbeat's lines depends on the machine's load:
+    # some line says the total and the time left, the last says the whole count and its extra
+    assert any(" of 4 points" in line and "left" in line for line in lines), lines
+    assert lines[-1].startswith("sweep: 4 of 4 points (1 failed)") and lines[-1].endswith("done")
     assert all("\r" not in line for line in lines)
 
 

@@ -50,11 +50,14 @@ def test_the_frontier_reads_the_scene_and_its_option_overrides(tmp_path, monkeyp
 
     seen = []
 
-    def fake_frontier(scene, *, progress=None, window=None, **_):
+    def fake_frontier(*_, progress=None, window=None, **__):
         seen.append((window.fraction, window.gravity))
         raise InputError("stop here")
 
+    # the command locates the frontier from the body at the scene's rate (find_frontier) or,
+    # when that rate is refused, from the scene (frontier_from_scene): both read the window
     monkeypatch.setattr(frontier_command, "frontier_from_scene", fake_frontier)
+    monkeypatch.setattr(frontier_command, "find_frontier", fake_frontier)
     path = _scene(tmp_path, "realised_fraction = 0.02")
     assert main(["frontier", str(path), "--quiet"]) == 2
     assert main(["frontier", str(path), "--quiet", "--realised-fraction", "0.3"]) == 2
