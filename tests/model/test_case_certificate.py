@@ -304,7 +304,7 @@ def test_a_claim_too_large_to_certify_is_refused_before_the_work() -> None:
         certify_case(case_from_table(table))
     assert "\n" not in str(exc.value) and "work on integral is estimated" in str(exc.value)
     huge_v = dict(KOWALEVSKI, V="(gamma1 + gamma2 + gamma3 + 1)**12")
-    with pytest.raises(InputError, match="work on H is estimated"):
+    with pytest.raises(InputError, match=r"work( on H)? is estimated"):  # by its expansion first
         certify_case(case_from_table(huge_v))
     with_mu = {k: v for k, v in KOWALEVSKI.items() if k != "l"}
     with pytest.raises(InputError, match="give l instead"):

@@ -222,7 +222,7 @@ def test_check_recomputes_the_law_from_design_json(bodies, tmp_path):
     limits = check_limits(written)
     assert limits.k_law["ratio"] == pytest.approx(k_law(body)["ratio"], rel=1e-12)
     assert limits.to_dict()["k_law"]["K_max_source"] == "frontier.K_max"
-    assert "size-free law" in str(limits)
+    assert "induced magnetisation at the K frontier (the K law)" in str(limits)
     K = body.parameters.K
     written.frontier = {"s_max": 2.0}
     law = k_law(written)
