@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from typing import Any
 
 from chargedesign.body import write_design
 from chargedesign.commands.progress import Progress
@@ -270,7 +271,7 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
             FigureCanvasAgg(fig)
             fig.savefig(stage / "fli.png", dpi=110)
     files = [str(out / "atlas.png"), str(out / "atlas.csv")]
-    summary = {
+    summary: dict[str, Any] = {
         "energy": atlas.energy,
         "levels": list(atlas.levels),
         "orbits": orbits,
