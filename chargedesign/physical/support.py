@@ -46,24 +46,6 @@ from chargedesign.physical.window import REALISED_FRACTION, WindowModel, window_
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.support import SupportOptions
 
-
-@dataclass(frozen=True)
-class Figure:
-    """One sourced figure: value, unit, what it is, its source and locator, and whether the
-    source was read (``checked``) or the figure is from memory or a plain choice."""
-
-    value: float
-    unit: str
-    what: str
-    source: str
-    locator: str
-    checked: bool
-
-    def cite(self) -> str:
-        mark = "" if self.checked else " [unchecked]"
-        return f"{self.source}, {self.locator}{mark}"
-
-
 #: the Boltzmann constant, J/K (exact, SI 2019)
 BOLTZMANN = 1.380649e-23
 
@@ -104,11 +86,7 @@ SUPPORT_KEYS = (
     "camera.marker_noise_along_m",
     "camera.static_marker_precision_m",
 )
-FIGURES: dict[str, Figure] = {
-    key: Figure(row.value, row.unit, row.what, row.source, row.locator, row.checked)
-    for key in SUPPORT_KEYS
-    for row in (sources.source(key),)
-}
+FIGURES: dict[str, sources.SourceRow] = {key: sources.source(key) for key in SUPPORT_KEYS}
 
 #: the turns the motion must make within the flight (issue 40)
 MIN_TURNS = 5.0
@@ -164,7 +142,10 @@ def item(
         "met": bool(met),
     }
     if key is not None:
-        out["source"] = f"{key}: {FIGURES[key].cite()}"
+        row = FIGURES[key]
+        out["source"] = f"{key}: {row.source}, {row.locator}" + (
+            "" if row.checked else " [unchecked]"
+        )
         out["checked"] = FIGURES[key].checked
     else:
         out["source"] = "computed from the design"
@@ -611,6 +592,11 @@ def _electrostatic(design: Any, body: _Body) -> dict[str, Any]:
         "in 1 g the field must lift the body (the electrodes' area is the body region's "
         "cross-section: not sourced) and an aspherical rotor's lift makes a torque M g delta",
     ]
+    return _held_in_one_g(items, notes)
+
+
+def _held_in_one_g(items: list[dict[str, Any]], notes: list[str]) -> dict[str, Any]:
+    """The record of a support that holds the body in the lab's 1 g (no flight, no turns)."""
     return {
         "facility": None,
         "microgravity_s": None,
@@ -650,15 +636,7 @@ def _air_bearing(design: Any, body: _Body) -> dict[str, Any]:
         entry["source"] = source or entry["source"]
         entry["checked"] = "unverified" not in source
     notes = [str(found.get("needs", ""))] if found.get("needs") else []
-    return {
-        "facility": None,
-        "microgravity_s": None,
-        "residual_g": 1.0,
-        "turns": None,
-        "net_force_N": None,
-        "items": items,
-        "notes": notes,
-    }
+    return _held_in_one_g(items, notes)
 
 
 def support_record(
