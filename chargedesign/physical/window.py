@@ -428,6 +428,10 @@ class RealisedWindow(Result):
     #: the laws on the grid of rates: ``{"s": rates, label: ratio over the fraction, ...}``
     #: (for the picture; not in ``to_dict``)
     curves: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the laws of the body designed and accepted last at each end (``"low"``, ``"high"``: a
+    #: :class:`WindowModel`), the laws that end was solved from (for the picture; not in
+    #: ``to_dict``)
+    end_laws: dict[str, Any] = field(default_factory=dict)
 
     @property
     def empty(self) -> bool:
