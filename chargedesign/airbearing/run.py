@@ -77,6 +77,7 @@ def default_testbed_scene() -> Path:
 def testbed_from_scene(
     scene: Any,
     progress: Callable[[str], None] | None = None,
+    tally: Callable[[int, int], None] | None = None,
     **overrides: Any,
 ) -> TestbedResult:
     """The testbed of a scene's parameters and ``[testbed]`` table (``overrides`` replace
@@ -87,8 +88,8 @@ def testbed_from_scene(
         options = TestbedOptions.from_table(table)
     case = scene.case
     if case is not None:
-        return build_case_testbed(case, options, progress)
-    return build_testbed(scene.parameters, options, progress)
+        return build_case_testbed(case, options, progress, tally=tally)
+    return build_testbed(scene.parameters, options, progress, tally=tally)
 
 
 def build_case_testbed(
@@ -96,6 +97,7 @@ def build_case_testbed(
     opts: TestbedOptions,
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """:func:`build_testbed` for a case of (ep) (``[case]``, issue 34): the wheels apply the
     case's torques, the motion keeps the case's level, F is monitored in place of I4.
@@ -110,7 +112,12 @@ def build_case_testbed(
     opts.check_case_start(case.name)
     model = case_model(case)
     return build_testbed(
-        Parameters(C=float(model.inertia[2])), opts, progress, with_requirements, case=model
+        Parameters(C=float(model.inertia[2])),
+        opts,
+        progress,
+        with_requirements,
+        case=model,
+        tally=tally,
     )
 
 
@@ -120,6 +127,7 @@ def build_testbed(
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
     case: CaseModel | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """The motions that fit the bearing, the layout (wheels, ballast, mounts), the loop's
     runs, the requirements against the state of the art, the verdict and the window.
@@ -135,6 +143,7 @@ def build_testbed(
     """
     say = progress or (lambda message: None)
     opts.check_parameters(params.singular)
+    count = run_counter(tally, opts, with_requirements)  # the sampled runs, done of their total
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts, case)
@@ -194,12 +203,14 @@ def build_testbed(
             plant, x0, _with(base, command=command), keep_states=command == opts.command
         )
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
+        count(1)
         drift = runs[f"{command}_noise_free"].I4_drift[0]
         say(f"{command} noise-free: I4 drift {fmt(drift)}")
     nominal = _nominal(base, opts, total_mass, limits[2], compliance, layout)
     t0 = time.perf_counter()
     runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
     seconds["nominal"] = time.perf_counter() - t0
+    count(opts.seeds)
     say(
         f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
         f"{fmt(np.median(runs['nominal'].I4_drift))}"
@@ -215,6 +226,7 @@ def build_testbed(
             opts.requirement_rates_Hz,
             opts.requirement_seeds,
             opts.target_I4_drift,
+            tally=count,
         )
         seconds["requirements"] = time.perf_counter() - t0
         say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
@@ -682,6 +694,25 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
         x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
     )
     return Plan([motion], axis, "scene")
+
+
+def run_counter(
+    tally: Callable[[int, int], None] | None, opts: TestbedOptions, with_requirements: bool
+) -> Callable[[int], None]:
+    """``count(k)``: ``k`` more sampled closed-loop runs done, told to ``tally(done, total)``
+    (the noise-free ZOH and predictive runs, the nominal seeds, the requirements' grid)."""
+    sweep = len(GYRO_GRADES) * opts.requirement_seeds * len(opts.requirement_rates_Hz)
+    total = 2 + opts.seeds + (sweep if with_requirements else 0)
+    done = 0
+
+    def count(k: int) -> None:
+        nonlocal done
+        done += k
+        if tally is not None:
+            tally(done, total)
+
+    count(0)
+    return count
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:

@@ -986,7 +986,7 @@ def window_figure(window: RealisedWindow, s_max: float) -> Any:
     fig, ax = plt.subplots(figsize=(7.5, 4.8))
     plot_window(dataclasses.replace(window, curves=curves), s_max, ax=ax)
     for line in ax.get_lines():
-        if line.get_label().lstrip("_") in curves:
+        if str(line.get_label()).lstrip("_") in curves:
             line.set_gid("law")  # a drawn law (the tests read the picture's own curves)
     if switch is not None:
         ax.axvline(switch, color="0.6", lw=0.8, ls="-.", label="the laws pass to the other body")
