@@ -36,9 +36,7 @@ def often(monkeypatch: pytest.MonkeyPatch) -> None:
 def counted(err: str, label: str, unit: str) -> list[tuple[int, int, str]]:
     """The progress lines of ``label``: (k, N, the rest of the line)."""
     pattern = re.compile(rf"^{re.escape(label)}: (\d+)/(\d+) {unit}\b(.*)$")
-    return [
-        (int(m[1]), int(m[2]), m[3]) for line in err.splitlines() if (m := pattern.match(line))
-    ]
+    return [(int(m[1]), int(m[2]), m[3]) for line in err.splitlines() if (m := pattern.match(line))]
 
 
 def assert_progress(err: str, label: str, unit: str) -> None:
