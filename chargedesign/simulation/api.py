@@ -118,7 +118,7 @@ def _case_functions(design: Any) -> Any:
         return None
     from chargedesign.model.case_numeric import simulated_case_functions  # sympy: a case only
 
-    return simulated_case_functions(design.further_keys["case"])
+    return simulated_case_functions(design.further_keys["case"], design.larmor)
 
 
 def reduced_case_effects(
