@@ -101,8 +101,8 @@ def induced_energies_by_set(legendre: tuple[float, ...], parts: list[dict[str, A
     key = tuple(
         (
             None if part["chi"] is None else float(part["chi"]),
-            _array_key(part["centres"], 3),
-            _array_key(part["volumes"], 1),
+            array_key(part["centres"], 3),
+            array_key(part["volumes"], 1),
         )
         for part in parts
     )
@@ -139,8 +139,9 @@ def _field_key(legendre: Any) -> tuple[float, ...]:
     return tuple(float(f) for f in legendre)
 
 
-def _array_key(values: Any, width: int) -> bytes:
-    """The float64 bytes of an array (rows of ``width``), a hashable key of its content."""
+def array_key(values: Any, width: int) -> bytes:
+    """The float64 bytes of an array (rows of ``width``): a hashable key of its content, for
+    the caches of rate-free factors (``np.frombuffer(key).reshape(-1, width)`` reads it back)."""
     return np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1, width)).tobytes()
 
 
@@ -167,7 +168,7 @@ def eddy_rate_squared(legendre: tuple[float, ...], centres: np.ndarray) -> np.nd
     It does not depend on the rate: computed once per field and set of centres
     (:data:`FACTOR_CACHE_SIZE` kept), a fresh copy returned each call.
     """
-    return _eddy_rate_squared(_field_key(legendre), _array_key(centres, 3)).copy()
+    return _eddy_rate_squared(_field_key(legendre), array_key(centres, 3)).copy()
 
 
 @functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
