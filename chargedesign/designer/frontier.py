@@ -485,6 +485,8 @@ class _Search:
     accepted_at: float | None = None
     #: the lowest rate refused by the direct steps, and why
     first: tuple[float, Binding] | None = None
+    #: the checks around the bracket after bisection (False: a frontier only ranked)
+    checks: bool = True
     #: what each rate designed gave (a rate is designed once; the caller's accepted rate
     #: is known without a design)
     outcomes: dict[float, tuple[bool, Binding | None]] = field(default_factory=dict)
@@ -668,6 +670,9 @@ def _bisect_with_restarts(search: _Search) -> None:
     s_max, which design must accept, is tried too.
     """
     rtol = search.rtol
+    if not search.checks:
+        _bisect(search)  # a ranking frontier (recommend): the bracket alone
+        return
     for _ in range(UPWARD_RESTARTS + 1):
         _bisect(search)
         found = next((s_up for s_up in _rates_above(search) if search.probe(s_up)[0]), None)
@@ -749,8 +754,14 @@ def find_frontier(
     feasible: Design | None = None,
     direct: bool | None = None,
     window: WindowOptions | None = None,
+    checks: bool = True,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
+
+    ``checks``: after bisection, design the rates just above and below the bracket that
+    guard against the heuristic's non-monotonicity (False: the bracket alone, for a frontier
+    only ranked against others, as :func:`~chargedesign.designer.recommend.recommend` ranks
+    its choices before it locates the best one with them).
 
     ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
     which starts the bracket and saves the search for a feasible point; ``feasible`` its
@@ -769,7 +780,7 @@ def find_frontier(
         ("no buildable rate: ...").
     """
     t0 = time.perf_counter()
-    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0)
+    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0, checks=checks)
     search.s_lp = search.s_nec
     if direct is None:
         direct = _reading(setup) == "frame"

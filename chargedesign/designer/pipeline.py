@@ -819,14 +819,20 @@ def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
 
 
 def frontier_from_scene(
-    scene: Any, *, progress: Any = None, window: Any = None, **overrides: Any
+    scene: Any,
+    *,
+    progress: Any = None,
+    window: Any = None,
+    rtol: float = FRONTIER_RTOL,
+    checks: bool = True,
+    **overrides: Any,
 ) -> FrontierResult:
     """The frontier of a scene with ``[medium]`` (see
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
     physical setup and the frontier, which calls the design (never the other way round).
     ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
-    window too (None: not)."""
+    window too (None: not); ``rtol``, ``checks`` as there."""
     setup = physical_setup_from_scene(scene, **overrides)
     if setup is None:
         raise InfeasibleError(NO_MEDIUM)
-    return find_frontier(setup, progress=progress, window=window)
+    return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks)
