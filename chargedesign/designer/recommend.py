@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from chargedesign.designer.frontier import WindowOptions
+from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions
 from chargedesign.designer.frontier_scan import scene_dict, scene_variant
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import ChargeDesignError
@@ -356,7 +356,8 @@ def recommend(
             front = frontier_from_scene(
                 scene_from_dict(data, f"{scene.source} (recommend {made[0]})"),
                 window=options,
-                **({"rtol": RANK_RTOL, "checks": False} if ranked else {}),
+                rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
+                checks=not ranked,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
