@@ -27,7 +27,7 @@ UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 
 
 #: the quick run's diagram options (a smoke run: fewer seeds, a coarser level sampling)
-_QUICK_OPTIONS = DiagramOptions(seeds=100, counting=FlowCounting(sampling=LevelSampling(1000, 32)))
+_QUICK_OPTIONS = DiagramOptions(seeds=60, counting=FlowCounting(sampling=LevelSampling(800, 32)))
 
 
 def run(quick: bool = False) -> list[BenchTable]:
