@@ -101,7 +101,7 @@ def run(quick: bool = False) -> list[BenchTable]:
     t_end = _calibrate(per_point)
     # serial baseline on a subset (best of two runs), scaled to all points
     subset = 2 if quick else 20
-    attempts = 1 if quick else 2
+    attempts = 2  # the first run pays one-time work (the best of two is warm)
     load_serial = os.getloadavg()[0]
     serial_per_point = math.inf
     for attempt in range(attempts):
