@@ -4,7 +4,7 @@ PYTHON ?= python3
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test lint bench clean docs schemas
+.PHONY: demo test lint bench clean docs schemas tables
 
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -36,6 +36,10 @@ docs: $(VENV)/.test
 schemas: $(VENV)/.base
 	$(PY) -c "from chargedesign.schemas import NAMES, schema_text; \
 	[open(f'chargedesign/data/schemas/{n}.schema.json', 'w').write(schema_text(n)) for n in NAMES]"
+
+# regenerate the shipped tables of the conditions engine (harmonics, V, mu) with sympy
+tables: $(VENV)/.base
+	$(PY) -c "from chargedesign.moment_conditions.tables import write_tables; write_tables()"
 
 CLEAN := $(VENV) out site .pytest_cache .mypy_cache .ruff_cache .hypothesis
 

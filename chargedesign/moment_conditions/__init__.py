@@ -18,7 +18,8 @@ moments (see ``docs/conditions.md`` for the derivation and the choices):
 
 The data types are shared with the design stage: :class:`LinearCondition` and
 :class:`LinearConditions` (``system(source, positions)`` builds ``A`` and ``b``).
-SymPy is imported lazily (only the derivation needs it), so importing the data types is cheap.
+SymPy is imported lazily (only a derivation beyond the shipped tables needs it), so importing the
+data types is cheap.
 
 Modules (each imports only those above it):
 
@@ -26,6 +27,8 @@ Modules (each imports only those above it):
 - :mod:`~chargedesign.moment_conditions.types`: :class:`LinearCondition`, :class:`LinearConditions`;
 - :mod:`~chargedesign.moment_conditions.algebra`: exact rational algebra (reduction on the sphere,
   elimination, the per-source echelon system);
+- :mod:`~chargedesign.moment_conditions.table_data`: the shipped tables of the pure, degree-only
+  pieces (harmonics, V on the sphere, mu equations), read without sympy;
 - :mod:`~chargedesign.moment_conditions.harmonics`: real solid harmonics and the projection on
   ``|gamma| = 1`` (sympy, lazily);
 - :mod:`~chargedesign.moment_conditions.context`: the state of one derivation;
@@ -40,7 +43,9 @@ Modules (each imports only those above it):
 - :mod:`~chargedesign.moment_conditions.level`: the level of I3 (``l . gamma`` of the charges);
 - :mod:`~chargedesign.moment_conditions.audit`: :func:`audit_p6`, the paper's printed conditions;
 - :mod:`~chargedesign.moment_conditions.case`: ``derive_case_conditions``, the same steps for a
-  case of (ep) with polynomial V and mu (the workbench).
+  case of (ep) with polynomial V and mu (the workbench);
+- :mod:`~chargedesign.moment_conditions.tables`: the tables derived with sympy, their text and
+  ``write_tables`` (``make tables``).
 """
 
 from chargedesign.moment_conditions.audit import audit_p6

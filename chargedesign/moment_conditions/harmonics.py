@@ -2,7 +2,9 @@
 
 The real solid harmonics ``H_km`` with their addition-theorem weights (Racah
 normalisation), the exact projection of a polynomial in gamma onto them, and the symbolic
-pieces the mu and V derivations share. SymPy is imported inside the functions only.
+pieces the mu and V derivations share. SymPy is imported inside the functions only; the
+harmonics up to ``MAX_FIELD_DEGREE`` are read from the shipped table
+(:mod:`~chargedesign.moment_conditions.table_data`), which the tests re-derive with sympy.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from typing import Any
 
 from chargedesign.moment_conditions.algebra import inverse_exact, sphere_reduce
 from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE, PARAM_NAMES
+from chargedesign.moment_conditions.table_data import fraction_text, shipped_table
 from chargedesign.moments import moment_key
 
 
@@ -97,6 +100,21 @@ class SolidHarmonic:
                 out[key] = out.get(key, Fraction(0)) + e * coef
         return {k: v for k, v in out.items() if v != 0}
 
+    def to_json(self) -> dict[str, Any]:
+        """The harmonic as a row of the shipped table (exact fractions as text)."""
+        return {
+            "label": self.label,
+            "weight": fraction_text(self.weight),
+            "poly": [[list(e), fraction_text(c)] for e, c in self.poly.items()],
+            "text": self.text,
+        }
+
+    @classmethod
+    def from_json(cls, degree: int, row: Mapping[str, Any]) -> SolidHarmonic:
+        """The harmonic of a row of the shipped table (:meth:`to_json`)."""
+        poly = {(e[0], e[1], e[2]): Fraction(c) for e, c in row["poly"]}
+        return cls(degree, row["label"], Fraction(row["weight"]), poly, row["text"])
+
 
 def _to_fraction(value: Any) -> Fraction:
     return Fraction(int(value.p), int(value.q))
@@ -104,7 +122,21 @@ def _to_fraction(value: Any) -> Fraction:
 
 @cache
 def real_solid_harmonics(k: int) -> tuple[SolidHarmonic, ...]:
-    """The 2k+1 real solid harmonics of degree k (see :class:`SolidHarmonic`)."""
+    """The 2k+1 real solid harmonics of degree k (see :class:`SolidHarmonic`).
+
+    Read from the shipped table up to ``MAX_FIELD_DEGREE`` (the same as
+    :func:`derive_real_solid_harmonics`, which the tests check exactly), derived otherwise.
+    """
+    table = shipped_table("harmonics")
+    if table is not None and str(k) in table:
+        return tuple(SolidHarmonic.from_json(k, row) for row in table[str(k)])
+    return derive_real_solid_harmonics(k)
+
+
+@cache
+def derive_real_solid_harmonics(k: int) -> tuple[SolidHarmonic, ...]:
+    """The 2k+1 real solid harmonics of degree k, derived with sympy (the source of truth of
+    the shipped table)."""
     import sympy as sp
 
     sym = sympy_symbols()
@@ -209,6 +241,15 @@ class ParamPoly:
         poly = sp.Poly(sp.expand(expr), *params)
         terms = tuple((e, _to_fraction(c)) for e, c in poly.terms() if c != 0)
         return cls(terms, str(sp.factor(expr)))
+
+    def to_json(self) -> dict[str, Any]:
+        """The polynomial as an entry of a shipped table (exact fractions as text)."""
+        return {"terms": [[list(e), fraction_text(c)] for e, c in self.terms], "text": self.text}
+
+    @classmethod
+    def from_json(cls, entry: Mapping[str, Any]) -> ParamPoly:
+        """The polynomial of a shipped table's entry (:meth:`to_json`)."""
+        return cls(tuple((tuple(e), Fraction(c)) for e, c in entry["terms"]), entry["text"])
 
     def __call__(self, values: Sequence[Fraction]) -> Fraction:
         total = Fraction(0)

@@ -8,6 +8,7 @@ symbolically for generic field coefficients (:func:`symbolic_mu_solution`).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cache
@@ -28,6 +29,7 @@ from chargedesign.moment_conditions.harmonics import (
     sympy_symbols,
     zonal_solid_harmonic,
 )
+from chargedesign.moment_conditions.table_data import fraction_text, shipped_table
 from chargedesign.moments import moment_keys
 from chargedesign.validation import check_mu_degree
 
@@ -42,6 +44,29 @@ class _MuEquation:
     coefficients: dict[str, dict[int, Fraction]]
     rhs: ParamPoly
     label: str
+
+    def to_json(self) -> dict[str, Any]:
+        """The equation as a row of the shipped table (exact fractions as text)."""
+        return {
+            "component": self.component,
+            "harmonic": self.harmonic,
+            "coefficients": {
+                key: {str(k): fraction_text(c) for k, c in per_k.items()}
+                for key, per_k in self.coefficients.items()
+            },
+            "rhs": self.rhs.to_json(),
+            "label": self.label,
+        }
+
+    @classmethod
+    def from_json(cls, row: Mapping[str, Any]) -> _MuEquation:
+        """The equation of a row of the shipped table (:meth:`to_json`)."""
+        coefficients = {
+            key: {int(k): Fraction(c) for k, c in per_k.items()}
+            for key, per_k in row["coefficients"].items()
+        }
+        rhs = ParamPoly.from_json(row["rhs"])
+        return cls(row["component"], row["harmonic"], coefficients, rhs, row["label"])
 
 
 @cache
@@ -74,6 +99,19 @@ def physical_mu_rows(
 def mu_system(degree: int) -> tuple[_MuEquation, ...]:
     """The coefficient-matching equations of the charges' mu for a magnetic field of
     ``degree`` (symbolic field coefficients f_1..f_degree; cached per degree).
+
+    Read from the shipped table up to ``MAX_FIELD_DEGREE`` (the same as
+    :func:`derive_mu_system`, which the tests check exactly), derived otherwise.
+    """
+    table = shipped_table("mu_system")
+    if table is not None and str(degree) in table:
+        return tuple(_MuEquation.from_json(row) for row in table[str(degree)])
+    return derive_mu_system(degree)
+
+
+@cache
+def derive_mu_system(degree: int) -> tuple[_MuEquation, ...]:
+    """The equations of :func:`mu_system`, derived with sympy (the shipped table's source).
 
     ``mu = -sum q (r . B) r`` with ``B = -grad Phi``, ``Phi = sum_k f_k R^k P_k(r . gamma / R)``
     in body axes; the moments ``I_key = sum q x^i y^j z^l`` are the unknowns. Both sides are

@@ -42,11 +42,25 @@ from chargedesign.moment_conditions.harmonics import (
     project_on_harmonics,
     real_solid_harmonics,
 )
+from chargedesign.moment_conditions.table_data import shipped_table
 
 
 @lru_cache(maxsize=1)
 def v_projection() -> dict[str, ParamPoly]:
-    """The theorem's V (lambda = rho = 0) on the sphere in the harmonic basis, degrees 0..4."""
+    """The theorem's V (lambda = rho = 0) on the sphere in the harmonic basis, degrees 0..4.
+
+    Read from the shipped table (the same as :func:`derive_v_projection`, which the tests
+    check exactly).
+    """
+    table = shipped_table("v_projection")
+    if table is not None:
+        return {label: ParamPoly.from_json(entry) for label, entry in table.items()}
+    return derive_v_projection()
+
+
+@lru_cache(maxsize=1)
+def derive_v_projection() -> dict[str, ParamPoly]:
+    """:func:`v_projection` derived with sympy (the source of the shipped table)."""
     import sympy as sp
 
     from chargedesign.model.case import lam, rho, symbolic_case

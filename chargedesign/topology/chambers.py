@@ -37,7 +37,6 @@ from chargedesign.simulation.system import (
     quaternion_gamma,
     rotation_quaternion,
 )
-from chargedesign.topology.case_map import CaseMomentumMap, case_trajectories
 from chargedesign.topology.critical import plane_basis, sphere_points
 from chargedesign.topology.equations import MomentumMap
 
@@ -164,6 +163,9 @@ class FlowCount:
 
 def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) -> np.ndarray:
     """States (omega, gamma) along the trajectories from ``starts`` (m, 6): (m, T, 6)."""
+    # sympy (a case file's map): lazy, so that design's and simulate's start-up skip it
+    from chargedesign.topology.case_map import CaseMomentumMap, case_trajectories
+
     if isinstance(F, CaseMomentumMap):
         return case_trajectories(F, starts, counting.t_end * F.time_unit, counting.samples)
     system = RigidBodySystem(Body(parameters=F.params), ["theorem"])
