@@ -4,7 +4,7 @@ PYTHON ?= python3
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test lint bench clean docs schemas
+.PHONY: demo test test-slow lint bench clean docs schemas
 
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -18,8 +18,14 @@ $(VENV)/.test: pyproject.toml $(VENV)/.base
 demo: $(VENV)/.base
 	$(VENV)/bin/chargedesign design --out out
 
+# the suite on every core (pytest-xdist; each test file stays on one worker, so a file's
+# module fixtures are built once); the tests marked slow are left to `make test-slow`
 test: $(VENV)/.test
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --dist loadfile
+
+# the soak runs and benchmarks (marked slow); their properties are checked by `make test` too
+test-slow: $(VENV)/.test
+	$(PY) -m pytest -q -m slow
 
 lint: $(VENV)/.test
 	$(VENV)/bin/ruff check chargedesign tests examples tools

@@ -72,6 +72,14 @@ def _leftovers(folder: Path) -> list[str]:
 @pytest.mark.slow
 @pytest.mark.parametrize("command", ["design", "simulate"])
 def test_interrupted_runs_leave_one_run_s_outputs(tmp_path: Path, command: str) -> None:
+    """A soak run (`make test-slow`): six real runs and two signals per command. The default
+    run keeps its checks in fast tests: the swap is all or nothing and a failed run leaves no
+    staging (test_reliability_inputs.py::test_atomic_directory_swaps_the_whole_folder_or_nothing),
+    a killed process's staging is removed and a set-aside folder restored by the next run
+    (::test_stale_staging_of_a_dead_process_is_removed_and_set_aside_folders_restored), the
+    folder exists at every rename (test_output_paths_before_work.py::
+    test_a_folder_swap_never_leaves_the_folder_missing), and a real ``design`` process stopped
+    by a signal leaves no staging and no traceback (test_sigterm_cleans_the_staging_folder)."""
     (tmp_path / "old.toml").write_text(OLD)
     (tmp_path / "new.toml").write_text(NEW)
     # the first run of old.toml: its outputs are the old reference, its time the duration
