@@ -18,10 +18,11 @@ $(VENV)/.test: pyproject.toml $(VENV)/.base
 demo: $(VENV)/.base
 	$(VENV)/bin/chargedesign design --out out
 
-# the suite on every core (pytest-xdist; each test file stays on one worker, so a file's
-# module fixtures are built once); the tests marked slow are left to `make test-slow`
+# the suite on every core (pytest-xdist): worksteal gives each worker a contiguous half and
+# moves work when one runs dry, so a file's module fixtures are mostly built once; one BLAS
+# thread per worker (the workers fill the cores); the tests marked slow: `make test-slow`
 test: $(VENV)/.test
-	$(PY) -m pytest -q -n auto --dist loadfile
+	OPENBLAS_NUM_THREADS=1 $(PY) -m pytest -q -n auto --dist worksteal
 
 # the soak runs and benchmarks (marked slow); their properties are checked by `make test` too
 test-slow: $(VENV)/.test
