@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -290,33 +290,8 @@ def against_state_of_the_art(
     nominal = runs["nominal"]
     style = opts.style
     bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
-    balance = BALANCE["automatic_horizontal_m"]
-    given_offset = opts.imbalance_m != balance.value
-    offset_origin = "the scene's imbalance_m" if given_offset else balance.source
-    if nominal.offset_error is not None:
-        residual = float(np.median(nominal.offset_error[:, -1]))
-        offset_source = (
-            f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
-            f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
-            f"{fmt(residual)} m, the posts' part included); offset "
-            f"before estimation {fmt(opts.imbalance_m)} m ({offset_origin})"
-        )
-    else:
-        residual = opts.imbalance_m
-        offset_source = (
-            f"balancing floor {fmt(residual)} m ({offset_origin}) + "
-            f"the posts' bending ({fmt(compliance_offset)} m)"
-        )
-    # the estimator's residual already holds what is left of the posts' bending
-    mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
+    offset = _offset_reached(opts, nominal, compliance_offset)
     weight = total_mass * STANDARD_GRAVITY
-    wheel = chosen(planned.torque, planned.momentum)
-    wheels_note = (
-        f"{wheel.name}, the lightest of the actuator catalogue covering the planned torque and "
-        "momentum"
-        if wheel.torque >= planned.torque and wheel.momentum >= planned.momentum
-        else f"{wheel.name}, the catalogue's nearest: none covers the planned torque and momentum"
-    )
     sensor_keys = _sensor_keys(opts)
     out = [
         Requirement(
@@ -339,44 +314,17 @@ def against_state_of_the_art(
             keys=(style.load_key,) if opts.bearing_capacity_kg is None else (),
             origin="table" if opts.bearing_capacity_kg is None else "scene",
         ),
-        _wheel_requirement(
-            "wheel_torque_N_m",
-            planned.torque,
-            opts.max_torque_N_m,
-            "N m",
-            wheel.torque,
-            f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
-            wheel.key("torque"),
-        ),
-        _wheel_requirement(
-            "wheel_momentum_N_m_s",
-            planned.momentum,
-            opts.max_momentum_N_m_s,
-            "N m s",
-            wheel.momentum,
-            f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
-            wheel.key("momentum"),
-        ),
-        Requirement(
-            "wheel_mass_kg",
-            "tolerance",
-            total_mass,
-            len(layout.wheels.masses) * wheel.mass,
-            "kg",
-            f"{len(layout.wheels.masses)} x {wheel.name} ({wheel.source} "
-            f"{cite(wheel.key('mass'))}) within the platform's mass, which holds them",
-            keys=(wheel.key("mass"),),
-        ),
+        *_wheel_requirements(opts, planned, layout, total_mass),
         Requirement(
             "centre_of_mass_offset_m",
             "tolerance",
             tolerances[KEY.imbalance_m],
-            residual + mounts_part,
+            offset.residual + offset.mounts_part,
             "m",
-            offset_source,
-            parts={"estimator_or_floor_m": residual, "mounts_m": mounts_part},
-            keys=() if given_offset else (balance.key,),
-            origin="scene" if given_offset else "table",
+            offset.source,
+            parts={"estimator_or_floor_m": offset.residual, "mounts_m": offset.mounts_part},
+            keys=offset.keys,
+            origin=offset.origin,
         ),
         _drag_requirement(opts, tolerances),
         Requirement(
@@ -425,6 +373,91 @@ def against_state_of_the_art(
         )
     )
     return out
+
+
+@dataclass(frozen=True)
+class _OffsetReached:
+    """The centre of mass offset the platform reaches: the estimator's residual (or the
+    balancing floor), the posts' bending part, and where each figure comes from."""
+
+    residual: float
+    mounts_part: float
+    source: str
+    keys: tuple[str, ...]
+    origin: str
+
+
+def _offset_reached(opts: TestbedOptions, nominal: Any, compliance_offset: float) -> _OffsetReached:
+    balance = BALANCE["automatic_horizontal_m"]
+    given_offset = opts.imbalance_m != balance.value
+    offset_origin = "the scene's imbalance_m" if given_offset else balance.source
+    if nominal.offset_error is not None:
+        residual = float(np.median(nominal.offset_error[:, -1]))
+        source = (
+            f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
+            f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
+            f"{fmt(residual)} m, the posts' part included); offset "
+            f"before estimation {fmt(opts.imbalance_m)} m ({offset_origin})"
+        )
+    else:
+        residual = opts.imbalance_m
+        source = (
+            f"balancing floor {fmt(residual)} m ({offset_origin}) + "
+            f"the posts' bending ({fmt(compliance_offset)} m)"
+        )
+    # the estimator's residual already holds what is left of the posts' bending
+    mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
+    return _OffsetReached(
+        residual,
+        mounts_part,
+        source,
+        () if given_offset else (balance.key,),
+        "scene" if given_offset else "table",
+    )
+
+
+def _wheel_requirements(
+    opts: TestbedOptions, planned: Any, layout: Layout, total_mass: float
+) -> list[Requirement]:
+    """The wheels' torque, momentum and mass against the actuator catalogue's lightest wheel
+    that covers the planned motions."""
+    wheel = chosen(planned.torque, planned.momentum)
+    wheels_note = (
+        f"{wheel.name}, the lightest of the actuator catalogue covering the planned torque and "
+        "momentum"
+        if wheel.torque >= planned.torque and wheel.momentum >= planned.momentum
+        else f"{wheel.name}, the catalogue's nearest: none covers the planned torque and momentum"
+    )
+    return [
+        _wheel_requirement(
+            "wheel_torque_N_m",
+            planned.torque,
+            opts.max_torque_N_m,
+            "N m",
+            wheel.torque,
+            f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
+            wheel.key("torque"),
+        ),
+        _wheel_requirement(
+            "wheel_momentum_N_m_s",
+            planned.momentum,
+            opts.max_momentum_N_m_s,
+            "N m s",
+            wheel.momentum,
+            f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
+            wheel.key("momentum"),
+        ),
+        Requirement(
+            "wheel_mass_kg",
+            "tolerance",
+            total_mass,
+            len(layout.wheels.masses) * wheel.mass,
+            "kg",
+            f"{len(layout.wheels.masses)} x {wheel.name} ({wheel.source} "
+            f"{cite(wheel.key('mass'))}) within the platform's mass, which holds them",
+            keys=(wheel.key("mass"),),
+        ),
+    ]
 
 
 def _wheel_requirement(
