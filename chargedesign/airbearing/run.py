@@ -77,6 +77,7 @@ def default_testbed_scene() -> Path:
 def testbed_from_scene(
     scene: Any,
     progress: Callable[[str], None] | None = None,
+    tally: Callable[[int, int], None] | None = None,
     **overrides: Any,
 ) -> TestbedResult:
     """The testbed of a scene's parameters and ``[testbed]`` table (``overrides`` replace
@@ -87,8 +88,8 @@ def testbed_from_scene(
         options = TestbedOptions.from_table(table)
     case = scene.case
     if case is not None:
-        return build_case_testbed(case, options, progress)
-    return build_testbed(scene.parameters, options, progress)
+        return build_case_testbed(case, options, progress, tally=tally)
+    return build_testbed(scene.parameters, options, progress, tally=tally)
 
 
 def build_case_testbed(
@@ -96,6 +97,7 @@ def build_case_testbed(
     opts: TestbedOptions,
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """:func:`build_testbed` for a case of (ep) (``[case]``, issue 34): the wheels apply the
     case's torques, the motion keeps the case's level, F is monitored in place of I4.
@@ -110,7 +112,12 @@ def build_case_testbed(
     opts.check_case_start(case.name)
     model = case_model(case)
     return build_testbed(
-        Parameters(C=float(model.inertia[2])), opts, progress, with_requirements, case=model
+        Parameters(C=float(model.inertia[2])),
+        opts,
+        progress,
+        with_requirements,
+        case=model,
+        tally=tally,
     )
 
 
@@ -120,6 +127,7 @@ def build_testbed(
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
     case: CaseModel | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """The motions that fit the bearing, the layout (wheels, ballast, mounts), the loop's
     runs, the requirements against the state of the art, the verdict and the window.
@@ -135,20 +143,16 @@ def build_testbed(
     """
     say = progress or (lambda message: None)
     opts.check_parameters(params.singular)
+    count = run_counter(tally, opts, with_requirements)  # the sampled runs, done of their total
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts, case)
     plan = plan_motions(params, opts) if case is None else case_plan(params, case, opts)
     seconds[KEY.planned_motions] = time.perf_counter() - t0
-    hosted = None  # a case's tilt map needs its own bifurcation diagram: not drawn yet
-    if case is None:
-        t0 = time.perf_counter()
-        starts = np.array([m.start for m in plan.motions])
-        energies = evaluators.integrals(starts, params)[:, 0]
-        h_low = level_map(params)[1][0]
-        hosted = tilt_map(
-            params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
-        )
+    t0 = time.perf_counter()
+    # a case's tilt map needs its own bifurcation diagram: not drawn yet
+    hosted = _hosted_tilt_map(params, plan, opts) if case is None else None
+    if hosted is not None:
         seconds["tilt_map"] = time.perf_counter() - t0
     say(
         f"{len(plan.motions)} planned motions, largest tilt "
@@ -187,37 +191,10 @@ def build_testbed(
         max_torque=limits[0],
         max_momentum=limits[1],
     )
-    runs = {}
-    for command in ("zoh", "predictive"):
-        t0 = time.perf_counter()
-        runs[f"{command}_noise_free"] = run_loop(
-            plant, x0, _with(base, command=command), keep_states=command == opts.command
-        )
-        seconds[f"{command}_noise_free"] = time.perf_counter() - t0
-        drift = runs[f"{command}_noise_free"].I4_drift[0]
-        say(f"{command} noise-free: I4 drift {fmt(drift)}")
     nominal = _nominal(base, opts, total_mass, limits[2], compliance, layout)
-    t0 = time.perf_counter()
-    runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
-    seconds["nominal"] = time.perf_counter() - t0
-    say(
-        f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
-        f"{fmt(np.median(runs['nominal'].I4_drift))}"
+    runs, reqs = _sampled_runs(
+        plant, x0, base, nominal, opts, with_requirements, count, say, seconds
     )
-    reqs = None
-    if with_requirements:
-        t0 = time.perf_counter()
-        reqs = requirements(
-            plant,
-            x0,
-            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
-            GYRO_GRADES,
-            opts.requirement_rates_Hz,
-            opts.requirement_seeds,
-            opts.target_I4_drift,
-        )
-        seconds["requirements"] = time.perf_counter() - t0
-        say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
     compliance_offset = float(
         layout.ballast_mounts.offset_m(total_mass) + layout.wheel_mounts.offset_m(total_mass)
     )
@@ -225,22 +202,8 @@ def build_testbed(
         opts, plan, planned, layout, tolerances, runs, reqs, total_mass, compliance_offset
     )
     median = float(np.median(runs["nominal"].I4_drift))
-    alone = [
-        {
-            "bearing_tilt_deg": motion.tilt_max_deg,
-            "wheel_torque_N_m": needs_k.torque,
-            "wheel_momentum_N_m_s": needs_k.momentum,
-        }
-        for motion, needs_k in zip(plan.motions, planned.motions, strict=True)
-    ]
-    t0 = time.perf_counter()
-    windows = [window(for_style(sota, opts, style), style, alone, len(axes)) for style in BEARINGS]
-    best = best_window(windows)
-    check = recompute_point(best, sota, alone, plant, starts, axes, opts, total_mass)
-    seconds["window"] = time.perf_counter() - t0
-    say(
-        "window searched over rate, size, mass, motion and bearing style; the recommended "
-        f"design recomputed: the laws agree within {fmt(check['largest_law_error'])}"
+    windows, best, check = _window_search(
+        sota, opts, plan, planned, plant, starts, axes, total_mass, say, seconds
     )
     result = TestbedResult(
         parameters=params,
@@ -272,6 +235,99 @@ def build_testbed(
     )
     say("verdict reached (printed with the result)")  # the verdict is said once: in the text
     return result
+
+
+def _hosted_tilt_map(params: Parameters, plan: Plan, opts: TestbedOptions) -> Any:
+    """The theorem's tilt map over the energies of the planned starts (up to 3 times their
+    span above the lowest level)."""
+    starts = np.array([m.start for m in plan.motions])
+    energies = evaluators.integrals(starts, params)[:, 0]
+    h_low = level_map(params)[1][0]
+    return tilt_map(
+        params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
+    )
+
+
+def _sampled_runs(
+    plant: Plant,
+    x0: np.ndarray,
+    base: LoopSettings,
+    nominal: LoopSettings,
+    opts: TestbedOptions,
+    with_requirements: bool,
+    count: Callable[[int], None],
+    say: Callable[[str], None],
+    seconds: dict[str, float],
+) -> tuple[dict[str, Any], Any]:
+    """The loop's runs: noise-free with each command, the nominal Monte Carlo, and (with
+    ``with_requirements``) the requirements' sweep; each timed into ``seconds``."""
+    runs = {}
+    for command in ("zoh", "predictive"):
+        t0 = time.perf_counter()
+        runs[f"{command}_noise_free"] = run_loop(
+            plant, x0, _with(base, command=command), keep_states=command == opts.command
+        )
+        seconds[f"{command}_noise_free"] = time.perf_counter() - t0
+        count(1)
+        drift = runs[f"{command}_noise_free"].I4_drift[0]
+        say(f"{command} noise-free: I4 drift {fmt(drift)}")
+    t0 = time.perf_counter()
+    runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
+    seconds["nominal"] = time.perf_counter() - t0
+    count(opts.seeds)
+    say(
+        f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
+        f"{fmt(np.median(runs['nominal'].I4_drift))}"
+    )
+    reqs = None
+    if with_requirements:
+        t0 = time.perf_counter()
+        reqs = requirements(
+            plant,
+            x0,
+            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
+            GYRO_GRADES,
+            opts.requirement_rates_Hz,
+            opts.requirement_seeds,
+            opts.target_I4_drift,
+            tally=count,
+        )
+        seconds["requirements"] = time.perf_counter() - t0
+        say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
+    return runs, reqs
+
+
+def _window_search(
+    sota: list[Requirement],
+    opts: TestbedOptions,
+    plan: Plan,
+    planned: Any,
+    plant: Plant,
+    starts: np.ndarray,
+    axes: np.ndarray,
+    total_mass: float,
+    say: Callable[[str], None],
+    seconds: dict[str, float],
+) -> tuple[list[Any], Any, dict[str, Any]]:
+    """The window of every bearing style, the best one, and that design recomputed."""
+    alone = [
+        {
+            "bearing_tilt_deg": motion.tilt_max_deg,
+            "wheel_torque_N_m": needs_k.torque,
+            "wheel_momentum_N_m_s": needs_k.momentum,
+        }
+        for motion, needs_k in zip(plan.motions, planned.motions, strict=True)
+    ]
+    t0 = time.perf_counter()
+    windows = [window(for_style(sota, opts, style), style, alone, len(axes)) for style in BEARINGS]
+    best = best_window(windows)
+    check = recompute_point(best, sota, alone, plant, starts, axes, opts, total_mass)
+    seconds["window"] = time.perf_counter() - t0
+    say(
+        "window searched over rate, size, mass, motion and bearing style; the recommended "
+        f"design recomputed: the laws agree within {fmt(check['largest_law_error'])}"
+    )
+    return windows, best, check
 
 
 def against_state_of_the_art(
@@ -715,6 +771,25 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
         x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
     )
     return Plan([motion], axis, "scene")
+
+
+def run_counter(
+    tally: Callable[[int, int], None] | None, opts: TestbedOptions, with_requirements: bool
+) -> Callable[[int], None]:
+    """``count(k)``: ``k`` more sampled closed-loop runs done, told to ``tally(done, total)``
+    (the noise-free ZOH and predictive runs, the nominal seeds, the requirements' grid)."""
+    sweep = len(GYRO_GRADES) * opts.requirement_seeds * len(opts.requirement_rates_Hz)
+    total = 2 + opts.seeds + (sweep if with_requirements else 0)
+    done = 0
+
+    def count(k: int) -> None:
+        nonlocal done
+        done += k
+        if tally is not None:
+            tally(done, total)
+
+    count(0)
+    return count
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
