@@ -4,7 +4,7 @@ PYTHON ?= python3
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 
-.PHONY: demo test lint bench clean docs schemas tables
+.PHONY: demo test test-slow lint bench clean docs schemas tables
 
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -18,8 +18,15 @@ $(VENV)/.test: pyproject.toml $(VENV)/.base
 demo: $(VENV)/.base
 	$(VENV)/bin/chargedesign design --out out
 
+# the suite on every core (pytest-xdist): worksteal gives each worker a contiguous half and
+# moves work when one runs dry, so a file's module fixtures are mostly built once; one BLAS
+# thread per worker (the workers fill the cores); the tests marked slow: `make test-slow`
 test: $(VENV)/.test
-	$(PY) -m pytest -q
+	OPENBLAS_NUM_THREADS=1 $(PY) -m pytest -q -n auto --dist worksteal
+
+# the soak runs and benchmarks (marked slow); their properties are checked by `make test` too
+test-slow: $(VENV)/.test
+	$(PY) -m pytest -q -m slow
 
 lint: $(VENV)/.test
 	$(VENV)/bin/ruff check chargedesign tests examples tools

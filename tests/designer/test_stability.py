@@ -502,7 +502,7 @@ def test_singular_parameters_cannot_be_designed() -> None:
 
 
 # ============================================================== 5. 10^5 candidates
-@pytest.mark.slow
+# (part of `make test`: no smaller test checks the optimum at this scale)
 def test_design_on_1e5_candidates_is_optimal_to_machine_precision() -> None:
     """About 1.06e5 lattice points: charges by l1 (column generation), polished.
 

@@ -4,14 +4,13 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from chargedesign.body import Design, read_design
+from chargedesign.cli import main
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.charges import charge_program, design_charges
@@ -257,30 +256,23 @@ def test_a_field_limit_the_fixed_field_exceeds_is_refused():
         physical_setup_from_scene(scene_from_dict(data, "<test>"))
 
 
-def test_cli_bad_medium_is_one_line_and_writes_nothing(tmp_path):
+def test_cli_bad_medium_is_one_line_and_writes_nothing(tmp_path, capsys):
     scene = tmp_path / "bad.toml"
     scene.write_text(SMALL.read_text().replace('name = "air"', 'name = "helium"'))
     out = tmp_path / "out"
-    proc = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "design", str(scene), "--out", str(out), "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert proc.returncode == 2
-    assert proc.stderr.strip().count("\n") == 0 and "medium.name" in proc.stderr
+    # in-process: the command's exit code and stderr (an escaping exception fails the test)
+    code = main(["design", str(scene), "--out", str(out), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.strip().count("\n") == 0 and "medium.name" in err
     assert not out.exists()
 
 
-def test_cli_frontier_json_has_the_contract_keys():
-    proc = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "frontier", str(SMALL), "--json", "--quiet"],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    data = json.loads(proc.stdout)
+def test_cli_frontier_json_has_the_contract_keys(capsys):
+    code = main(["frontier", str(SMALL), "--json", "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    data = json.loads(captured.out)
     assert {"s_max", "n_max", "K_max", "larmor", "binding"} <= set(data)
     # small.toml has [medium]: the frame reading, where n is free and K binds
     assert data["larmor"] == "frame" and data["n_max"] is None and data["n_free"] is True

@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 
 import pytest
 
+from chargedesign.cli import main
 from chargedesign.physical import (
     coils,
     drag,
@@ -137,25 +136,16 @@ def test_the_table_as_a_result() -> None:
     assert "<table>" in t._repr_html_()
 
 
-def test_the_command_prints_the_contracts_json() -> None:
-    out = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "sources", "--json"],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    data = json.loads(out.stdout)
+def test_the_command_prints_the_contracts_json(capsys) -> None:
+    assert main(["sources", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
     assert isinstance(data, list) and len(data) == len(rows())
     for row in data:
         assert list(row) == list(FIELDS)
         assert isinstance(row["key"], str) and isinstance(row["value"], float)
         assert isinstance(row["checked"], bool)
-    text = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "sources"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    assert main(["sources"]) == 0
+    text = capsys.readouterr().out
     assert max(len(line) for line in text.splitlines()) <= 160
 
 

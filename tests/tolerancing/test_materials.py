@@ -7,15 +7,13 @@ in each part's chi v; the moment formula), to first order in the errors.
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 from physical.test_buildable import scene_with
 from tolerancing.test_sensitivity import DESIGN as POINT_DESIGN
 
 from chargedesign.body import Design, read_design, write_design
+from chargedesign.cli import main
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
@@ -60,12 +58,16 @@ def test_density_errors_are_first_order(chi_design):
     assert 5.0 < big.agreement / small.agreement < 20.0
 
 
-def test_the_chi_accuracy_needed_is_what_the_monte_carlo_finds(chi_design):
+@pytest.mark.parametrize("samples", [200, pytest.param(400, marks=pytest.mark.slow)])
+def test_the_chi_accuracy_needed_is_what_the_monte_carlo_finds(chi_design, samples):
     """At 1000 times the accuracy the verdict names, the field route's p90 of the parasitic
-    is 1000 times the designed torques (to the sampling error of a p90 over 400 bodies)."""
+    is 1000 times the designed torques (to the sampling error of a p90 over the bodies: a
+    bootstrap of the 400 bodies measured 5.4 % over 200, 3.7 % over 400; the band is 20 %;
+    measured p90 954 over 200, 944 over 400). 200 bodies in `make test`, 400 in
+    `make test-slow`: each body is one field evaluation of its parts."""
     r = material_uncertainty(chi_design, MaterialErrors(chi_relative=1e-3), samples=10)
     check = material_uncertainty(
-        chi_design, MaterialErrors(chi_relative=1e3 * r.chi_needed), samples=400, seed=5
+        chi_design, MaterialErrors(chi_relative=1e3 * r.chi_needed), samples=samples, seed=5
     )
     assert np.quantile(check.monte_carlo, 0.9) == pytest.approx(1e3, rel=0.2)
     assert r.chi_negligible == pytest.approx(1e-3 * r.chi_needed)
@@ -101,14 +103,11 @@ def test_material_errors_need_a_physical_design():
         material_uncertainty(read_design(POINT_DESIGN), MaterialErrors(chi_relative=1e-3))
 
 
-def test_cli_negative_chi_relative_is_one_line(chi_design, tmp_path):
+def test_cli_negative_chi_relative_is_one_line(chi_design, tmp_path, capsys):
     path = tmp_path / "design.json"
     write_design(chi_design, path)
-    proc = subprocess.run(
-        [sys.executable, "-m", "chargedesign", "tolerance", str(path), "--chi-relative=-1e-3"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert proc.returncode == 2
-    assert proc.stderr.strip().count("\n") == 0 and "--chi-relative" in proc.stderr
+    # in-process: the command's exit code and stderr (an escaping exception fails the test)
+    code = main(["tolerance", str(path), "--chi-relative=-1e-3"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.strip().count("\n") == 0 and "--chi-relative" in err
