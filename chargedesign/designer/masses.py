@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linprog
 
+from chargedesign.designer.mass_columns import MassData, solve_by_columns
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
@@ -73,24 +74,15 @@ def _unknown_scale(A: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(b[ok]) / top[ok])) if np.any(ok) else 0.0
 
 
-def mass_program(
+def mass_data(
     setup: PhysicalSetup,
     s: float,
     carrier_sites: np.ndarray,
     correction: np.ndarray | None = None,
     kappa: float = 1.0,
-) -> MassProgram:
-    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
-
-    ``correction`` (the mass rows' whole-inertia terms, :mod:`chargedesign.designer.
-    whole_inertia`) is taken off the right-hand side and the free sites' columns are scaled by
-    ``kappa`` (what a kilogram adds in the holder's bore); the default is the point masses.
-
-    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
-    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled).
-    """
-    import cvxpy as cp
-
+) -> MassData:
+    """The magnets-and-masses program's data at rate ``s`` for these carriers, scaled (see
+    :func:`mass_program`, which writes it as a cvxpy problem)."""
     spec = setup.spec
     n = len(setup.points)
     free = np.ones(n, dtype=bool)
@@ -109,47 +101,105 @@ def mass_program(
     cols = (3 * sites[:, None] + np.arange(3)).reshape(-1)
     sigma_scale = _unknown_scale(Ad[:, cols], bd) or float(np.max(v_cap)) * M
     k = len(sites)
-    sigma = cp.Variable((k, 3))
-    mass = cp.Variable(k, nonneg=True)
-    constraints = []
-    if len(bd):
-        Ads, bds = row_scaled(Ad[:, cols], bd, sigma_scale)
-        constraints.append(Ads @ cp.reshape(sigma, (3 * k,), order="C") == bds)
-    if len(bm):
-        Ams, bms = row_scaled(Am[:, sites], bm, mass_scale)
-        constraints.append(Ams @ mass == bms)
-    blocked = np.flatnonzero(~setup.magnet_sites[sites])
-    if len(blocked):  # the field there would demagnetise a magnet
-        constraints.append(sigma[blocked, :] == 0)
-    norms = cp.norm(sigma, 2, axis=1)
-    constraints.append(mass >= (1 + 1e-6) * rho_m * sigma_scale / M / mass_scale * norms)
-    constraints.append(
-        cp.multiply(sigma_scale / M / v_cap, norms) + cp.multiply(mass_scale / rho_b / v_cap, mass)
-        <= 1.0
-    )
-    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
-    # (each weighted by its site's cost under the robust objective)
-    objective = cp.Minimize(
-        setup.cost("masses")[sites] @ mass + setup.cost("dipoles")[sites] @ norms
-    )
-    return MassProgram(
-        problem=cp.Problem(objective, constraints),
-        sigma=sigma,
-        mass=mass,
+    Ads, bds = row_scaled(Ad[:, cols], bd, sigma_scale) if len(bd) else (np.zeros((0, 3 * k)), bd)
+    Ams, bms = row_scaled(Am[:, sites], bm, mass_scale) if len(bm) else (np.zeros((0, k)), bm)
+    return MassData(
         sites=sites,
+        Ads=Ads,
+        bds=bds,
+        Ams=Ams,
+        bms=bms,
+        alpha=(1 + 1e-6) * rho_m * sigma_scale / M / mass_scale,
+        beta=sigma_scale / M / v_cap,
+        gamma=mass_scale / rho_b / v_cap,
+        cm=setup.cost("masses")[sites],
+        cd=setup.cost("dipoles")[sites],
+        blocked=~setup.magnet_sites[sites],
         sigma_scale=sigma_scale,
         mass_scale=mass_scale,
         rhs_masses=bm,
     )
 
 
-def _solved_mass_program(
-    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
+def mass_program(
+    setup: PhysicalSetup,
+    s: float,
+    carrier_sites: np.ndarray,
+    correction: np.ndarray | None = None,
+    kappa: float = 1.0,
 ) -> MassProgram:
-    """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
-    naming the binding limit when it has no solution)."""
+    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
+
+    ``correction`` (the mass rows' whole-inertia terms, :mod:`chargedesign.designer.
+    whole_inertia`) is taken off the right-hand side and the free sites' columns are scaled by
+    ``kappa`` (what a kilogram adds in the holder's bore); the default is the point masses.
+
+    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
+    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled). The
+    design solves the same program by columns (:mod:`chargedesign.designer.mass_columns`).
+    """
     import cvxpy as cp
 
+    data = mass_data(setup, s, carrier_sites, correction, kappa)
+    k = len(data.sites)
+    sigma = cp.Variable((k, 3))
+    mass = cp.Variable(k, nonneg=True)
+    constraints = []
+    if len(data.bds):
+        constraints.append(data.Ads @ cp.reshape(sigma, (3 * k,), order="C") == data.bds)
+    if len(data.bms):
+        constraints.append(data.Ams @ mass == data.bms)
+    blocked = np.flatnonzero(data.blocked)
+    if len(blocked):  # the field there would demagnetise a magnet
+        constraints.append(sigma[blocked, :] == 0)
+    norms = cp.norm(sigma, 2, axis=1)
+    constraints.append(mass >= data.alpha * norms)
+    constraints.append(cp.multiply(data.beta, norms) + cp.multiply(data.gamma, mass) <= 1.0)
+    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
+    # (each weighted by its site's cost under the robust objective)
+    objective = cp.Minimize(data.cm @ mass + data.cd @ norms)
+    assert data.rhs_masses is not None
+    return MassProgram(
+        problem=cp.Problem(objective, constraints),
+        sigma=sigma,
+        mass=mass,
+        sites=data.sites,
+        sigma_scale=data.sigma_scale,
+        mass_scale=data.mass_scale,
+        rhs_masses=data.rhs_masses,
+    )
+
+
+@dataclass
+class SolvedMasses:
+    """The magnets-and-masses program solved: its data, the scaled moments (k, 3) and masses
+    (k,) on ``data.sites``, and the route (``columns``, or ``whole`` through cvxpy)."""
+
+    data: MassData
+    sigma: np.ndarray
+    mass: np.ndarray
+    route: str
+
+    @property
+    def sites(self) -> np.ndarray:
+        return self.data.sites
+
+    @property
+    def rhs_masses(self) -> np.ndarray:
+        assert self.data.rhs_masses is not None
+        return self.data.rhs_masses
+
+
+#: the key of :attr:`PhysicalSetup.warm` that seeds the masses' working set
+MASS_SEED = "masses: working set"
+
+
+def _solved_mass_program(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
+) -> SolvedMasses:
+    """The magnets-and-masses program around the carriers, solved by columns (the whole
+    program when they cannot decide; PhysicalInfeasible naming the binding limit when it
+    has no solution)."""
     if len(np.unique(carrier_sites)) >= len(setup.points):
         # (the minmax's charges on every candidate, say): nothing left to solve for
         raise PhysicalInfeasible(
@@ -163,11 +213,19 @@ def _solved_mass_program(
     kappa = terms.kappa(setup.spec.ballast.density)
     if kappa <= 0:
         raise PhysicalInfeasible(_holder_binding(setup, kappa))
-    program = mass_program(setup, s, carrier_sites, correction, kappa)
+    data = mass_data(setup, s, carrier_sites, correction, kappa)
     _, bd = setup.systems["dipoles"]
-    if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
+    if np.any(bd != 0) and not np.any(~data.blocked):
         # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+    by_columns = solve_by_columns(data, setup.warm.get(MASS_SEED))
+    if by_columns is not None:
+        setup.warm[MASS_SEED] = by_columns.working
+        return SolvedMasses(data, by_columns.sigma, by_columns.mass, "columns")
+    # a slack stayed or the rounds ran out: the whole program decides (infeasibility too)
+    import cvxpy as cp  # slow to import: only when the whole program must decide
+
+    program = mass_program(setup, s, carrier_sites, correction, kappa)
     try:
         program.problem.solve(solver=cp.CLARABEL)
     except cp.SolverError as exc:
@@ -176,7 +234,9 @@ def _solved_mass_program(
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
-    return program
+    return SolvedMasses(
+        data, np.asarray(program.sigma.value), np.asarray(program.mass.value), "whole"
+    )
 
 
 def _polish_moments(
@@ -212,13 +272,13 @@ def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0)
 
 
 def _program_masses(
-    setup: PhysicalSetup, s: float, program: MassProgram
+    setup: PhysicalSetup, s: float, program: SolvedMasses
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """The solved program's moments, polished on their support (3 n,), and its masses: per
     site (n,), as solved on the program's sites, and the largest."""
     sites = program.sites
-    sigma = np.asarray(program.sigma.value) * program.sigma_scale
-    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    sigma = program.sigma * program.data.sigma_scale
+    mass = np.maximum(program.mass, 0.0) * program.data.mass_scale
     n = len(setup.points)
     full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
