@@ -39,6 +39,8 @@ PRICE_TOL = 1e-9
 PENALTY = 1e4
 #: a slack above this (relative to the right-hand side) leaves the decision to the whole program
 SLACK_TOL = 1e-9
+#: a reduced cost within this (times the cost scale) of zero puts a site on the optimal face
+FACE_TOL = 1e-7
 #: parts above this fraction of the largest seed the next working set
 SEED_FRACTION = 1e-6
 #: Clarabel's tolerances on the restricted programs (the penalty of the slacks costs two
@@ -162,6 +164,18 @@ def prices(data: MassData, y: np.ndarray) -> np.ndarray:
     return np.minimum(0.0, np.minimum(mass_ray, magnet_ray))
 
 
+def on_face(data: MassData, y: np.ndarray, tol: float) -> np.ndarray:
+    """Which sites have a zero reduced cost (within ``tol``) along a ray of their set: the
+    sites an optimal solution may use (the others are zero in every one)."""
+    md = len(data.bds)
+    yd, ym = y[:md], y[md:]
+    r = data.cm + data.Ams.T @ ym
+    k = len(data.sites)
+    g = np.linalg.norm((data.Ads.T @ yd).reshape(k, 3), axis=1) if md else np.zeros(k)
+    magnet = np.abs(data.alpha * r + data.cd - g) <= tol
+    return (np.abs(r) <= tol) | (magnet & ~data.blocked)
+
+
 def start_set(data: MassData, seed: np.ndarray | None) -> np.ndarray:
     """The first working set: the seed's sites (candidate indices) that are free, and the
     sites that carry the least-norm solutions of the two row sets."""
@@ -207,6 +221,13 @@ def solve_by_columns(data: MassData, seed: np.ndarray | None = None) -> ColumnsS
         violators = np.flatnonzero(value < -PRICE_TOL * cost_scale)
         if len(violators):
             in_work[violators[np.argsort(value[violators])][:step]] = True
+            continue
+        face = np.flatnonzero(~in_work & on_face(data, y, FACE_TOL * cost_scale))
+        if len(face):
+            # every site of the optimal face joins, and the last program is solved again: its
+            # interior point then spreads the parts over the face as the whole program's does
+            # (symmetric sites alike), not over the few a working set happened to hold
+            in_work[face] = True
             continue
         me = md + len(data.bms)
         slack = float(np.sum(np.abs(x[-2 * me :]))) if me else 0.0
