@@ -3,8 +3,9 @@
 ``A_d sigma = s^2 b_d``, ``A_m w = b_m - A_m(carriers) m_carrier`` (the inertia and centre of
 mass of all mass), site mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its
 volume), and ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the
-cell). Polished to machine precision on its support; :func:`mass_program` returns the stage as
-one program for a user to extend.
+cell). Solved by column generation over the sites (:mod:`chargedesign.designer.mass_columns`,
+the whole program deciding when the columns cannot) and polished to machine precision on its
+support; :func:`mass_program` returns the stage as one program for a user to extend.
 """
 
 from __future__ import annotations
