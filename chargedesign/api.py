@@ -20,6 +20,7 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.frontier import FrontierResult
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.designer.result import DesignResult
+from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
 from chargedesign.scene.sweep_file import check_no_command_with_spec
@@ -28,7 +29,6 @@ from chargedesign.simulation.result import SimulationResult
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
-from chargedesign.validation import wrong_kind
 
 if TYPE_CHECKING:
     from chargedesign.model.case_file import CaseCertificate
@@ -275,6 +275,12 @@ def bifurcation(
     in J (default: see :func:`chargedesign.topology.diagram.bifurcation_diagram`).
     """
     return bifurcation_diagram(as_scene(source).parameters, h_range)
+
+
+def wrong_kind(where: str, expected: str, value: Any) -> InputError:
+    """The one line for an argument of a kind an entry point does not take (the notebook
+    API's sources): ``where: expected ..., got <type name>``."""
+    return InputError(f"{where}: expected {expected}, got {type(value).__name__}")
 
 
 __all__ = [

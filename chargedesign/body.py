@@ -5,6 +5,7 @@ fields; read and written as ``design.json`` (format ``chargedesign.design/1``, s
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,12 +24,11 @@ from chargedesign.validation import (
     as_array,
     as_finite_float,
     check_choice,
-    check_design_head,
     check_design_numbers,
     check_frontier_rates,
     check_instance,
-    check_items,
     design_fields,
+    input_error,
 )
 from chargedesign.vocabulary import (
     DESIGN_FORMAT,
@@ -37,6 +37,26 @@ from chargedesign.vocabulary import (
     REALISABLE,
     WITHIN_LIMITS_KEY,
 )
+
+
+def check_items(values: Any, choices: Sequence[str], name: str) -> None:
+    """Refuse the first item of ``values`` outside ``choices`` in one line."""
+    for item in values:
+        if item not in choices:
+            raise input_error(name, "items among " + ", ".join(choices), item)
+
+
+def check_design_head(data: Any, where: str) -> None:
+    """A design.json mapping's frame, before its parameters are read: an object of this
+    format that has parameters."""
+    if not isinstance(data, dict):
+        raise input_error(where, "a JSON object", data)
+    found = data.get("format", DESIGN_FORMAT)
+    if found != DESIGN_FORMAT:
+        raise input_error(f"{where}.format", repr(DESIGN_FORMAT), found)
+    if "parameters" not in data:
+        raise InputError(f"{where}: missing key 'parameters'")
+
 
 __all__ = [
     "DESIGN_FORMAT",

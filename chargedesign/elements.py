@@ -25,14 +25,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.results import compact_repr
-from chargedesign.validation import (
-    as_nonnegative_weights,
-    as_points,
-    as_weights,
-    check_instance,
-    check_keys,
-    check_names,
-)
+from chargedesign.validation import as_points, as_weights, check_instance, check_keys, input_error
 
 #: the design.json block of each source and its keys, in the order they are written
 BLOCKS = {
@@ -277,3 +270,22 @@ def _nonneg(value: Any, name: str, n: int) -> np.ndarray | None:
 
 def _or_zeros(value: np.ndarray | None, n: int) -> np.ndarray:
     return np.zeros(n) if value is None else value
+
+
+def check_names(value: Any, n: int, name: str) -> list[str]:
+    """A list (or tuple) of ``n`` strings, as a list; else one line naming ``name``."""
+    if (
+        not isinstance(value, (list, tuple))
+        or len(value) != n
+        or not all(isinstance(x, str) for x in value)
+    ):
+        raise input_error(name, f"{n} material names", value)
+    return list(value)
+
+
+def as_nonnegative_weights(value: Any, name: str, n: int | None = None) -> np.ndarray:
+    """:func:`as_weights`, every one >= 0 (sizes, masses)."""
+    arr = as_weights(value, name, n)
+    if np.any(arr < 0):
+        raise input_error(name, "nonnegative numbers", float(arr.min()))
+    return arr

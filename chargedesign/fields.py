@@ -34,11 +34,13 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.validation import (
+    GAMMA_UNIT_TOLERANCE,
     as_array,
     as_finite_float,
     as_points,
-    as_unit_vectors,
+    input_error,
 )
 
 
@@ -454,3 +456,19 @@ def zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[
         out["ZS"] = d_dz(total["S"])
         out["SS"] = total["SS"]
     return out
+
+
+def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
+    """Unit vectors as ``ndarray, shape (m, 3)``, rejecting norms off 1 by more than 1e-9.
+
+    The vectors are used as given (not renormalised), so that every body-axes quantity is
+    the same polynomial in gamma that its derivatives describe.
+    """
+    arr = as_array(value, name, (None, 3))
+    if len(arr):
+        worst = float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", arr, arr)) - 1.0)))
+        if worst > GAMMA_UNIT_TOLERANCE:
+            raise input_error(
+                name, f"unit vectors (| |gamma| - 1 | <= {fmt(GAMMA_UNIT_TOLERANCE, PLAIN)})", arr
+            )
+    return arr

@@ -17,14 +17,22 @@ A body can realise n in two ways (``design.json`` key ``larmor``, scene ``[desig
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.validation import as_finite_float, check_choice, check_object
+from chargedesign.validation import as_finite_float, check_choice, input_error
 from chargedesign.vocabulary import LARMOR_READINGS
+
+
+def check_object(value: Any, keys: Sequence[str], where: str) -> None:
+    """Refuse anything but a dict with exactly ``keys`` in one line."""
+    if not isinstance(value, dict) or set(value) != set(keys):
+        raise input_error(where, "an object with keys " + ", ".join(keys), value)
+
 
 __all__ = [
     "LARMOR_READINGS",

@@ -20,9 +20,9 @@ import numpy as np
 from chargedesign.validation import (
     MOMENT_AXES,
     as_array,
-    as_order,
     as_points,
     as_weights,
+    input_error,
     parse_moment_key,
 )
 
@@ -259,3 +259,14 @@ def multipole_moments(points: Any, weights: Any, lmax: int) -> np.ndarray:
     """
     pts, w = _points_and_weights(points, weights)
     return solid_harmonics(pts, lmax).T @ w
+
+
+def as_order(value: Any, name: str, top: int | None = None) -> int:
+    """A non-negative int (bools rejected), at most ``top`` when given."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, "a non-negative integer", value)
+    out = int(value)
+    if out < 0 or (top is not None and out > top):
+        bound = f"an integer in 0..{top}" if top is not None else "a non-negative integer"
+        raise input_error(name, bound, value)
+    return out

@@ -53,7 +53,7 @@ from chargedesign.scene.design_continuous import (
     density_fields,
 )
 from chargedesign.scene.keys import KEY
-from chargedesign.validation import check_mass_weights
+from chargedesign.validation import input_error
 
 
 @dataclass(frozen=True)
@@ -420,3 +420,9 @@ def gather_elements(
         dipole_moments=points.dipole_moments,
         quadrature=info,
     )
+
+
+def check_mass_weights(smallest: float) -> None:
+    """A mass body's quadrature weights (density x volume weight): none negative."""
+    if smallest < 0.0:
+        raise input_error("continuous.density", "a mass density >= 0 at every node", smallest)

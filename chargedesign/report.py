@@ -14,6 +14,7 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
+import re
 import textwrap
 from typing import Any
 
@@ -27,6 +28,7 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
+from chargedesign.physical.sources import rows as source_rows
 from chargedesign.physical.support import support_lines
 from chargedesign.scene.design_realism import (
     RESPONSE_FRACTION,
@@ -260,9 +262,14 @@ def render_report(
     lines = [f"# {title}", ""]
     # a physical body's figures, as its realism budget recorded them (read once)
     record = RealismRecord.read(design.realism) if design.medium is not None else None
-    lines += _verdict_lines(design, record)
+    # the summary first (the recorded verdict, what binds, the headline figures), then the
+    # detail they rest on, in sections
+    summary, detail = _verdict_lines(design, record)
+    lines += summary
     if picture:
         lines += [f"![the designed body]({picture})", ""]
+    if detail:
+        lines += ["## Detail", "", *detail, ""]
     lines += _scene_lines(design)
     lines += _case_lines(design)
     lines += _element_lines(design)
@@ -282,8 +289,67 @@ def render_report(
     notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
-    lines += _sources_lines(record)
-    return "\n".join(lines) + "\n"
+    # one sources section at the end: the support's sources and every key cited above, each
+    # with its checked status from the sources table (inline: only the key)
+    text, keys = cited_keys("\n".join(lines))
+    support, more = cited_keys("\n".join(_sources_lines(record)))
+    keys += [key for key in more if key not in keys]
+    if support or keys:
+        section = ["", "## Sources", *(support.split("\n") if support else [])]
+        text += "\n" + "\n".join(section + sources_table_lines(keys))
+    return text + "\n"
+
+
+#: a figure's citation of its row in the sources table: ``[key]`` or ``[key, unverified ...]``
+_CITATION = re.compile(r"\[([a-z][a-z0-9_]*(?:\.[a-z0-9_]+)+)(?:, unverified[^\]]*)?\]")
+#: a mark of an unchecked figure with no row in the table
+_UNCHECKED = re.compile(r"\[unverified[^\]]*\]")
+
+
+def cited_keys(text: str) -> tuple[str, list[str]]:
+    """``text`` with each citation reduced to its reference key ``[key]`` (the checked status
+    goes to the sources section, not inline), and the keys cited, in order of first use.
+    A mark ``[unverified ...]`` without a key becomes ``[unchecked]``."""
+    keys: list[str] = []
+
+    def reference(match: re.Match[str]) -> str:
+        if match[1] not in keys:
+            keys.append(match[1])
+        return f"[{match[1]}]"
+
+    text = _CITATION.sub(reference, text)
+    if _UNCHECKED.search(text):
+        text = _UNCHECKED.sub("[unchecked]", text)
+        keys.append("unchecked")
+    return text, keys
+
+
+def sources_table_lines(keys: list[str]) -> list[str]:
+    """The sources section's table: each key cited above, its figure, its source and whether
+    the figure was checked in that source (:mod:`chargedesign.physical.sources`)."""
+    if not keys:
+        return []
+    lines = [
+        "",
+        "Figures cited above by their key (the sources table, `chargedesign sources`):",
+        "",
+        "| key | figure | source | checked |",
+        "|---|---|---|---|",
+    ]
+    table = {row.key: row for row in source_rows()}
+    for key in keys:
+        row = table.get(key)
+        if key == "unchecked":
+            lines.append("| unchecked | a figure with no row in the sources table | - | no |")
+        elif row is None:
+            lines.append(f"| {key} | not in the sources table | - | no |")
+        else:
+            figure = f"{fmt(row.value)} {row.unit}".strip()
+            lines.append(
+                f"| {key} | {figure} ({_table_cell(row.what)}) | {_table_cell(row.source)} | "
+                f"{'yes' if row.checked else 'no (unverified)'} |"
+            )
+    return lines
 
 
 def _case_lines(design: Design) -> list[str]:
@@ -452,12 +518,10 @@ def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
     it applies; else the frontier's own words."""
     if not law or law.get("value") is None:
         return str(window["why"])
-    fraction = window.get("fraction") or 1.0
     text = (
         "the K term cannot be realised: the K law (below) puts the parts' induced "
         f"magnetisation at {fmt(law['value'])} x the designed K torques C K_max^2 at the K "
-        f"frontier ({fmt(law['value'] / fraction, ROUGH)} x the fraction "
-        f"{fmt(fraction, PLAIN)}), for any size and a2"
+        "frontier, for any size and a2"
     )
     if window.get("s_best") is not None and window.get("missing_factor") is not None:
         text += (
@@ -515,9 +579,7 @@ def _sources_lines(record: RealismRecord | None) -> list[str]:
     ]
     if not cited:
         return []
-    lines = ["", "## Sources", "", "The support's figures (air film and cup drag):", ""]
-    lines += [f"- {part}" for part in cited]
-    return lines
+    return ["", "The support's figures (air film and cup drag):", "", *[f"- {p}" for p in cited]]
 
 
 def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
@@ -556,15 +618,18 @@ def _placement_lines(design: Design) -> list[str]:
     return []
 
 
-def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
-    """The report's opening: the buildability verdict and what a builder must achieve."""
+def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[str], list[str]]:
+    """The report's opening and its detail: the summary (the recorded verdict, its table of
+    what binds, the headline figures, each with what it is relative to and at which rate) and
+    the detail the summary rests on (the lines of the section ``Detail``)."""
     if design.medium is None or record is None:
-        return [
+        summary = [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
             "elements, the mathematical case).",
             *_larmor_lines(design),
             "",
         ]
+        return summary, []
     limits = design.buildability or {}
     frontier = design.frontier or {}
     medium = design.medium
@@ -573,45 +638,61 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> list[str]:
     law = record.law if response else {}
     verdict, table, window_now = _verdict_table(design, record)
     window = frontier.get("realised") or {}
-    lines = [
+    summary = [
         f"**Verdict: {verdict_state_line(verdict)}** in {medium.name} (breakdown "
         f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
         "",
         *table,
         "",
+        "Headline figures (the detail below):",
+        "",
     ]
+    detail = []
+    fraction = window.get("fraction")
     if window.get("empty") and window.get("why"):
-        lines.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
+        best, missing = window.get("s_best"), window.get("missing_factor")
+        summary.append(
+            "- Realised window: empty (no rate realises the body"
+            + (
+                f"; at the best rate s = {fmt(best, ROUGH)} the worst parasitic is "
+                f"{fmt(missing, ROUGH)} x the fraction {fmt(fraction, PLAIN)} of the smallest "
+                "realised term)."
+                if best is not None and missing is not None and fraction
+                else ")."
+            )
+        )
+        detail.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
-        lines.append(
+        summary.append(
             f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
-            f"{fmt(window['s_high'], ROUGH)} x the scene's rates (low end: "
+            f"{fmt(window['s_high'], ROUGH)} x the scene's rates, every parasitic below "
+            f"{fmt(fraction, PLAIN)} of each realised term (low end: "
             f"{window['binding_low'].split(' (')[0]}; high end: "
             f"{window['binding_high'].split(': ')[0]})."
         )
-    lines += [
-        *_apparatus_lines(window_now),
-        *_support_lines(window_now),
+    summary.append(
         "- Largest surface field: "
         f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
-        f"breakdown (recomputed from the written parts at {CHECK_SURFACE_SAMPLES} points per "
-        "carrier and around the largest).",
-    ]
-    lines += _larmor_lines(design)
-    lines += _frontier_lines(design, frontier)
+        f"breakdown at the scene's rate (s = 1; recomputed from the written parts at "
+        f"{CHECK_SURFACE_SAMPLES} points per carrier and around the largest)."
+    )
     bal = record.budget.get("balance_offset_1g_m") or {}
     micro = record.budget.get("balance_offset_microgravity_m") or {}
     if bal:
-        lines.append(
-            f"- Balance: the centre of mass must sit within {fmt(bal.get('value', 0))} m of O "
-            f"under 1 g ({bal.get('verdict')}), {fmt(micro.get('value', 0))} m under 1e-6 g."
+        summary.append(
+            f"- Balance: the centre of mass within {fmt(bal.get('value', 0))} m of O under 1 g "
+            f"({bal.get('verdict')}), {fmt(micro.get('value', 0))} m under 1e-6 g, for a "
+            "gravity torque below 1e-3 of the designed torques at s = 1."
         )
-    lines += _k_law_lines(law, record) if law else _response_lines(response)
-    lines += _part_size_lines(record.part_sizes)
-    lines += _placement_lines(design)
+    detail += [*_apparatus_lines(window_now), *_support_lines(window_now)]
+    detail += _larmor_lines(design)
+    detail += _frontier_lines(design, frontier)
+    detail += _k_law_lines(law, record) if law else _response_lines(response)
+    detail += _part_size_lines(record.part_sizes)
+    detail += _placement_lines(design)
     for v in limits.get("violations", []):
-        lines.append(f"- Limit broken: {v}")
-    return [*lines, ""]
+        detail.append(f"- Limit broken: {v}")
+    return [*summary, ""], detail
 
 
 def _response_lines(response: dict[str, Any]) -> list[str]:
@@ -682,7 +763,8 @@ def _k_law_parity_line(law: dict[str, Any]) -> str:
         f"carrier surface fields of {fmt(parity)} V/m instead of "
         f"{fmt(law['surface_field_V_per_m'])} V/m, "
         f"{fmt(parity / law['field_evaporation_V_per_m'])} times the field that evaporates "
-        f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m, Tsong 1990) and "
+        f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m "
+        "[limits.field_evaporation.tungsten]) and "
         f"{fmt(parity / law['atomic_field_V_per_m'])} times the atomic field "
         f"e / (4 pi eps0 a0^2) = {fmt(law['atomic_field_V_per_m'])} V/m; or parts with "
         f"chi/rho = {fmt(law['parity_chi_over_rho_m3_per_kg'])} m^3/kg."

@@ -16,9 +16,10 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.checker import sample_orientations
+from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
-from chargedesign.validation import as_points, check_point_elements, check_theorem_finite
+from chargedesign.validation import as_points
 
 #: the quantities whose errors are analysed, in the check's names
 QUANTITIES = ("mu", "V", "inertia")
@@ -375,3 +376,17 @@ def sensitivity_weights(
     for q in QUANTITIES:
         out = np.maximum(out, row_norm(jac.position[q], q) / scales[q])
     return out
+
+
+def check_point_elements(continuous: Any) -> None:
+    """The tolerance report's elements are points: refuse a design with continuous bodies."""
+    if continuous:
+        raise InputError(
+            "tolerance: designs with continuous bodies are not supported (point elements only)"
+        )
+
+
+def check_theorem_finite(finite: bool) -> None:
+    """The theorem's mu and V at the sampled orientations of ``tolerance``: all finite."""
+    if not finite:
+        raise InputError("tolerance: the theorem's mu or V is not finite at a sampled orientation")

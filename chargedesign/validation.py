@@ -24,7 +24,7 @@ import math
 import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from fractions import Fraction
-from typing import Any, NoReturn
+from typing import Any
 
 import numpy as np
 
@@ -34,11 +34,9 @@ from chargedesign.limits import (
     MAX_CANDIDATES,
     MAX_DESIGN_ELEMENTS,
     MAX_FIELD_DEGREE,
-    MAX_SAMPLES,
-    MAX_STEPS,
     MAX_TOLERANCE_SAMPLES,
 )
-from chargedesign.vocabulary import DESIGN_FORMAT, FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
+from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -191,14 +189,6 @@ def as_weights(value: Any, name: str = "values", n: int | None = None) -> np.nda
     return as_array(value, name, (n,))
 
 
-def as_nonnegative_weights(value: Any, name: str, n: int | None = None) -> np.ndarray:
-    """:func:`as_weights`, every one >= 0 (sizes, masses)."""
-    arr = as_weights(value, name, n)
-    if np.any(arr < 0):
-        raise input_error(name, "nonnegative numbers", float(arr.min()))
-    return arr
-
-
 def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
     """One-line error naming ``where.key`` for the first unknown key (sorted) of ``table``."""
     unknown = sorted(set(table) - set(allowed))
@@ -243,41 +233,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
     """Refuse a value outside ``choices`` in one line (``one of a, b, c``)."""
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
-
-
-def check_items(values: Any, choices: Sequence[str], name: str) -> None:
-    """Refuse the first item of ``values`` outside ``choices`` in one line."""
-    for item in values:
-        if item not in choices:
-            raise input_error(name, "items among " + ", ".join(choices), item)
-
-
-def check_object(value: Any, keys: Sequence[str], where: str) -> None:
-    """Refuse anything but a dict with exactly ``keys`` in one line."""
-    if not isinstance(value, dict) or set(value) != set(keys):
-        raise input_error(where, "an object with keys " + ", ".join(keys), value)
-
-
-def check_names(value: Any, n: int, name: str) -> list[str]:
-    """A list (or tuple) of ``n`` strings, as a list; else one line naming ``name``."""
-    if (
-        not isinstance(value, (list, tuple))
-        or len(value) != n
-        or not all(isinstance(x, str) for x in value)
-    ):
-        raise input_error(name, f"{n} material names", value)
-    return list(value)
-
-
-def as_order(value: Any, name: str, top: int | None = None) -> int:
-    """A non-negative int (bools rejected), at most ``top`` when given."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise input_error(name, "a non-negative integer", value)
-    out = int(value)
-    if out < 0 or (top is not None and out > top):
-        bound = f"an integer in 0..{top}" if top is not None else "a non-negative integer"
-        raise input_error(name, bound, value)
-    return out
 
 
 # ------------------------------------------------------- a design's options, one against another
@@ -407,31 +362,6 @@ def as_point_set(value: Any, name: str) -> np.ndarray:
 GAMMA_UNIT_TOLERANCE = 1e-9
 
 
-def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:
-    """Unit vectors as ``ndarray, shape (m, 3)``, rejecting norms off 1 by more than 1e-9.
-
-    The vectors are used as given (not renormalised), so that every body-axes quantity is
-    the same polynomial in gamma that its derivatives describe.
-    """
-    arr = as_array(value, name, (None, 3))
-    if len(arr):
-        worst = float(np.max(np.abs(np.sqrt(np.einsum("ij,ij->i", arr, arr)) - 1.0)))
-        if worst > GAMMA_UNIT_TOLERANCE:
-            raise input_error(
-                name, f"unit vectors (| |gamma| - 1 | <= {fmt(GAMMA_UNIT_TOLERANCE, PLAIN)})", arr
-            )
-    return arr
-
-
-def check_off_singular(singular: bool, gamma3: np.ndarray, name: str, values: Any) -> None:
-    """With lambda or rho != 0 the theorem's potential is singular on gamma3 = 0: refuse
-    states there."""
-    if singular and np.any(gamma3 == 0.0):
-        raise input_error(
-            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
-        )
-
-
 def check_closed_surface(closed: bool, name: str, path: Any) -> None:
     """Refuse a volume sample of a mesh whose surface is not closed."""
     if not closed:
@@ -448,14 +378,6 @@ def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
         raise InputError(
             f"{table}.susceptibility: cancelling the induced magnetisation needs the "
             f"{role} material's susceptibility ({name} has none)"
-        )
-
-
-def check_point_elements(continuous: Any) -> None:
-    """The tolerance report's elements are points: refuse a design with continuous bodies."""
-    if continuous:
-        raise InputError(
-            "tolerance: designs with continuous bodies are not supported (point elements only)"
         )
 
 
@@ -678,18 +600,6 @@ def check_field_degree(coefficients: Any, name: str) -> None:
 DESIGN_FIELD_KEYS = ("legendre",)
 
 
-def check_design_head(data: Any, where: str) -> None:
-    """A design.json mapping's frame, before its parameters are read: an object of this
-    format that has parameters."""
-    if not isinstance(data, dict):
-        raise input_error(where, "a JSON object", data)
-    found = data.get("format", DESIGN_FORMAT)
-    if found != DESIGN_FORMAT:
-        raise input_error(f"{where}.format", repr(DESIGN_FORMAT), found)
-    if "parameters" not in data:
-        raise InputError(f"{where}: missing key 'parameters'")
-
-
 def design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
     """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
     fields_in = data.get("fields") or {}
@@ -834,27 +744,6 @@ def sample_count(value: Any, name: str, minimum: int) -> int:
     return int(value)
 
 
-def check_solver_name(name: str, installed: Sequence[str]) -> None:
-    """``design.solver``: ``auto`` or one of the ``installed`` solvers (upper case, as the
-    designer reads it)."""
-    if name.upper() != "AUTO" and name.upper() not in installed:
-        raise input_error(
-            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
-        )
-
-
-def wrong_kind(where: str, expected: str, value: Any) -> InputError:
-    """The one line for an argument of a kind an entry point does not take (the notebook
-    API's sources): ``where: expected ..., got <type name>``."""
-    return InputError(f"{where}: expected {expected}, got {type(value).__name__}")
-
-
-def check_no_options(where: str, options: Mapping[str, Any], reason: str) -> None:
-    """Options an entry point does not take in this case: one line naming the first."""
-    if options:
-        raise InputError(f"{where}: {sorted(options)[0]}: {reason}")
-
-
 def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
     """design.json's ``larmor.rate`` is the theorem's n (docs/contract.md): within n's range
     and equal to ``parameters.n``. A rate that differs was silently ignored (``charges``) or
@@ -873,27 +762,6 @@ def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
             " the rate is the "
             "theorem's n (the turning axes' rate for a frame body): give the same number"
         )
-
-
-def check_run_caps(
-    t_end: float, *, step: float | None = None, max_step: float | None = None, samples: int = 2
-) -> None:
-    """Caps on a simulation's requested work (chargedesign.limits): output samples and the
-    fixed-step count ``t_end / step`` (also ``t_end / max_step``); one-line errors."""
-    if isinstance(samples, (int, np.integer)) and samples > MAX_SAMPLES:
-        raise input_error(
-            "simulation.samples", f"at most {MAX_SAMPLES} output samples (--samples)", samples
-        )
-    for name, value in (("step", step), ("max_step", max_step)):
-        if value is None or not math.isfinite(value) or value <= 0:
-            continue
-        if t_end / value > MAX_STEPS:
-            raise InputError(
-                f"simulation.{name}: t_end / {name} = {fmt(t_end / value)} steps exceeds the cap "
-                f"of {fmt(MAX_STEPS, PLAIN)} (chargedesign.limits.MAX_STEPS); give a larger {name}"
-                " or a "
-                "shorter t_end"
-            )
 
 
 def check_element_count(data: Any, where: str) -> None:
@@ -1088,25 +956,6 @@ def check_induced_field_degree(legendre: Sequence[float]) -> None:
         )
 
 
-def check_mass_weights(smallest: float) -> None:
-    """A mass body's quadrature weights (density x volume weight): none negative."""
-    if smallest < 0.0:
-        raise input_error("continuous.density", "a mass density >= 0 at every node", smallest)
-
-
-def check_theorem_finite(finite: bool) -> None:
-    """The theorem's mu and V at the sampled orientations of ``tolerance``: all finite."""
-    if not finite:
-        raise InputError("tolerance: the theorem's mu or V is not finite at a sampled orientation")
-
-
-def refuse_overflow(name: str, quantity: str, item: int, values: Any) -> NoReturn:
-    """The model's ``quantity`` overflows at item ``item`` of the caller's ``values``."""
-    raise input_error(
-        name, f"values where the model's {quantity} is finite (item {item} overflows)", values
-    )
-
-
 def check_frontier_rates(frontier: Any, where: str = "") -> None:
     """design.json's ``frontier.K_max`` (1/s) and ``frontier.s_max``: numbers >= 0 when given
     (``where``: the file, prefixed to the message when given)."""
@@ -1120,17 +969,3 @@ def check_frontier_rates(frontier: Any, where: str = "") -> None:
         number = as_finite_float(value, f"{prefix}frontier.{key}")
         if number < 0:
             raise input_error(f"{prefix}frontier.{key}", expected, value)
-
-
-def scheduler_unreachable(scheduler: str, timeout: float, reason: str | None) -> InputError:
-    """The one line of ``--scheduler ADDRESS`` that did not connect: no answer within the
-    timeout (``reason`` None) or the connection's failure (``reason``: the exception's name)."""
-    option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
-    if reason is None:
-        return InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
-    return InputError(f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})")
-
-
-def dask_missing() -> InputError:
-    """``--executor dask`` without Dask installed."""
-    return InputError("--executor dask: Dask is not installed (pip install 'chargedesign[dask]')")

@@ -79,7 +79,8 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     # one figure, the budget's (the verdict rests on it), and the law's estimate beside it
     assert f"{law['value']:.3g} x the designed K torques" in line
     assert f"estimates it at {law['ratio']:.3g}" in line
-    assert "field evaporation" in text.split("## ")[0] or "evaporates" in text.split("## ")[0]
+    detail = text.split("## Detail")[1].split("\n## ")[0]  # the detail after the summary
+    assert "field evaporation" in detail or "evaporates" in detail
     table = text.split("## Realisability map")[1].split("\n## ")[0]
     rows = [x for x in table.splitlines() if x.startswith("| ") and not x.startswith("| term")]
     computed = realisability_map(design)
@@ -231,3 +232,27 @@ def test_the_report_imports_no_computation_of_the_budget():
         m.rsplit(".", 1)[1] for m in imported if m.startswith("chargedesign.physical.materials.")
     }
     assert materials == {"BREAKDOWN_V_PER_M", "MAGNET_DATA", "ballast_label"}
+
+
+def test_citations_are_keys_inline_and_the_sources_section_says_their_status():
+    """Inline a figure is cited by its key alone; the sources section lists each key once with
+    its checked status from the sources table (unverified ones say so there, not inline)."""
+    from chargedesign.physical.sources import rows
+    from chargedesign.report import cited_keys, sources_table_lines
+
+    table = {row.key: row for row in rows()}
+    unchecked = next(row for row in table.values() if not row.checked)
+    checked = next(row for row in table.values() if row.checked)
+    text = (
+        f"a figure [{unchecked.key}, unverified], again [{unchecked.key}, unverified], "
+        f"a checked one [{checked.key}] and a mark [unverified (from memory)]"
+    )
+    out, keys = cited_keys(text)
+    assert "unverified" not in out and out.count(f"[{unchecked.key}]") == 2
+    assert keys == [unchecked.key, checked.key, "unchecked"]
+    lines = sources_table_lines(keys)
+    (row_u,) = [x for x in lines if x.startswith(f"| {unchecked.key} |")]
+    (row_c,) = [x for x in lines if x.startswith(f"| {checked.key} |")]
+    assert row_u.endswith("| no (unverified) |") and row_c.endswith("| yes |")
+    assert any(x.startswith("| unchecked |") and x.endswith("| no |") for x in lines)
+    assert sources_table_lines([]) == []

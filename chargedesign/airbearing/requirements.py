@@ -10,6 +10,7 @@ meets the target when the largest drift over its seeds is within ``target_I4_dri
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -60,8 +61,10 @@ def requirements(
     seeds: int,
     target: float,
     seed: int = 1,
+    tally: Callable[[int], None] | None = None,
 ) -> Requirements:
-    """Run every grade at every rate (see the module docstring)."""
+    """Run every grade at every rate (see the module docstring); ``tally(k)`` is told the
+    ``k`` runs each rate adds."""
     names = tuple(grades)
     arw = np.repeat([grades[g][0] for g in names], seeds)
     bias = np.repeat([grades[g][1] for g in names], seeds)
@@ -75,6 +78,8 @@ def requirements(
         )
         run = run_loop(plant, x0, settings, runs=len(arw), seed=seed + j)
         drift[:, j] = run.I4_drift.reshape(len(names), seeds).max(axis=1)
+        if tally is not None:
+            tally(len(arw))
     lowest: dict[str, float | None] = {}
     for i, g in enumerate(names):
         ok = np.flatnonzero(drift[i] <= target)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -77,6 +77,7 @@ def default_testbed_scene() -> Path:
 def testbed_from_scene(
     scene: Any,
     progress: Callable[[str], None] | None = None,
+    tally: Callable[[int, int], None] | None = None,
     **overrides: Any,
 ) -> TestbedResult:
     """The testbed of a scene's parameters and ``[testbed]`` table (``overrides`` replace
@@ -87,8 +88,8 @@ def testbed_from_scene(
         options = TestbedOptions.from_table(table)
     case = scene.case
     if case is not None:
-        return build_case_testbed(case, options, progress)
-    return build_testbed(scene.parameters, options, progress)
+        return build_case_testbed(case, options, progress, tally=tally)
+    return build_testbed(scene.parameters, options, progress, tally=tally)
 
 
 def build_case_testbed(
@@ -96,6 +97,7 @@ def build_case_testbed(
     opts: TestbedOptions,
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """:func:`build_testbed` for a case of (ep) (``[case]``, issue 34): the wheels apply the
     case's torques, the motion keeps the case's level, F is monitored in place of I4.
@@ -110,7 +112,12 @@ def build_case_testbed(
     opts.check_case_start(case.name)
     model = case_model(case)
     return build_testbed(
-        Parameters(C=float(model.inertia[2])), opts, progress, with_requirements, case=model
+        Parameters(C=float(model.inertia[2])),
+        opts,
+        progress,
+        with_requirements,
+        case=model,
+        tally=tally,
     )
 
 
@@ -120,6 +127,7 @@ def build_testbed(
     progress: Callable[[str], None] | None = None,
     with_requirements: bool = True,
     case: CaseModel | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> TestbedResult:
     """The motions that fit the bearing, the layout (wheels, ballast, mounts), the loop's
     runs, the requirements against the state of the art, the verdict and the window.
@@ -135,20 +143,16 @@ def build_testbed(
     """
     say = progress or (lambda message: None)
     opts.check_parameters(params.singular)
+    count = run_counter(tally, opts, with_requirements)  # the sampled runs, done of their total
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts, case)
     plan = plan_motions(params, opts) if case is None else case_plan(params, case, opts)
     seconds[KEY.planned_motions] = time.perf_counter() - t0
-    hosted = None  # a case's tilt map needs its own bifurcation diagram: not drawn yet
-    if case is None:
-        t0 = time.perf_counter()
-        starts = np.array([m.start for m in plan.motions])
-        energies = evaluators.integrals(starts, params)[:, 0]
-        h_low = level_map(params)[1][0]
-        hosted = tilt_map(
-            params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
-        )
+    t0 = time.perf_counter()
+    # a case's tilt map needs its own bifurcation diagram: not drawn yet
+    hosted = _hosted_tilt_map(params, plan, opts) if case is None else None
+    if hosted is not None:
         seconds["tilt_map"] = time.perf_counter() - t0
     say(
         f"{len(plan.motions)} planned motions, largest tilt "
@@ -187,37 +191,10 @@ def build_testbed(
         max_torque=limits[0],
         max_momentum=limits[1],
     )
-    runs = {}
-    for command in ("zoh", "predictive"):
-        t0 = time.perf_counter()
-        runs[f"{command}_noise_free"] = run_loop(
-            plant, x0, _with(base, command=command), keep_states=command == opts.command
-        )
-        seconds[f"{command}_noise_free"] = time.perf_counter() - t0
-        drift = runs[f"{command}_noise_free"].I4_drift[0]
-        say(f"{command} noise-free: I4 drift {fmt(drift)}")
     nominal = _nominal(base, opts, total_mass, limits[2], compliance, layout)
-    t0 = time.perf_counter()
-    runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
-    seconds["nominal"] = time.perf_counter() - t0
-    say(
-        f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
-        f"{fmt(np.median(runs['nominal'].I4_drift))}"
+    runs, reqs = _sampled_runs(
+        plant, x0, base, nominal, opts, with_requirements, count, say, seconds
     )
-    reqs = None
-    if with_requirements:
-        t0 = time.perf_counter()
-        reqs = requirements(
-            plant,
-            x0,
-            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
-            GYRO_GRADES,
-            opts.requirement_rates_Hz,
-            opts.requirement_seeds,
-            opts.target_I4_drift,
-        )
-        seconds["requirements"] = time.perf_counter() - t0
-        say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
     compliance_offset = float(
         layout.ballast_mounts.offset_m(total_mass) + layout.wheel_mounts.offset_m(total_mass)
     )
@@ -225,22 +202,8 @@ def build_testbed(
         opts, plan, planned, layout, tolerances, runs, reqs, total_mass, compliance_offset
     )
     median = float(np.median(runs["nominal"].I4_drift))
-    alone = [
-        {
-            "bearing_tilt_deg": motion.tilt_max_deg,
-            "wheel_torque_N_m": needs_k.torque,
-            "wheel_momentum_N_m_s": needs_k.momentum,
-        }
-        for motion, needs_k in zip(plan.motions, planned.motions, strict=True)
-    ]
-    t0 = time.perf_counter()
-    windows = [window(for_style(sota, opts, style), style, alone, len(axes)) for style in BEARINGS]
-    best = best_window(windows)
-    check = recompute_point(best, sota, alone, plant, starts, axes, opts, total_mass)
-    seconds["window"] = time.perf_counter() - t0
-    say(
-        "window searched over rate, size, mass, motion and bearing style; the recommended "
-        f"design recomputed: the laws agree within {fmt(check['largest_law_error'])}"
+    windows, best, check = _window_search(
+        sota, opts, plan, planned, plant, starts, axes, total_mass, say, seconds
     )
     result = TestbedResult(
         parameters=params,
@@ -274,6 +237,99 @@ def build_testbed(
     return result
 
 
+def _hosted_tilt_map(params: Parameters, plan: Plan, opts: TestbedOptions) -> Any:
+    """The theorem's tilt map over the energies of the planned starts (up to 3 times their
+    span above the lowest level)."""
+    starts = np.array([m.start for m in plan.motions])
+    energies = evaluators.integrals(starts, params)[:, 0]
+    h_low = level_map(params)[1][0]
+    return tilt_map(
+        params, plan.axis, opts.tilt_limit, h_top=h_low + 3.0 * (float(energies.max()) - h_low)
+    )
+
+
+def _sampled_runs(
+    plant: Plant,
+    x0: np.ndarray,
+    base: LoopSettings,
+    nominal: LoopSettings,
+    opts: TestbedOptions,
+    with_requirements: bool,
+    count: Callable[[int], None],
+    say: Callable[[str], None],
+    seconds: dict[str, float],
+) -> tuple[dict[str, Any], Any]:
+    """The loop's runs: noise-free with each command, the nominal Monte Carlo, and (with
+    ``with_requirements``) the requirements' sweep; each timed into ``seconds``."""
+    runs = {}
+    for command in ("zoh", "predictive"):
+        t0 = time.perf_counter()
+        runs[f"{command}_noise_free"] = run_loop(
+            plant, x0, _with(base, command=command), keep_states=command == opts.command
+        )
+        seconds[f"{command}_noise_free"] = time.perf_counter() - t0
+        count(1)
+        drift = runs[f"{command}_noise_free"].I4_drift[0]
+        say(f"{command} noise-free: I4 drift {fmt(drift)}")
+    t0 = time.perf_counter()
+    runs["nominal"] = run_loop(plant, x0, nominal, runs=opts.seeds, seed=0, keep_states=True)
+    seconds["nominal"] = time.perf_counter() - t0
+    count(opts.seeds)
+    say(
+        f"nominal ({opts.seeds} seeds, every effect on): median I4 drift "
+        f"{fmt(np.median(runs['nominal'].I4_drift))}"
+    )
+    reqs = None
+    if with_requirements:
+        t0 = time.perf_counter()
+        reqs = requirements(
+            plant,
+            x0,
+            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
+            GYRO_GRADES,
+            opts.requirement_rates_Hz,
+            opts.requirement_seeds,
+            opts.target_I4_drift,
+            tally=count,
+        )
+        seconds["requirements"] = time.perf_counter() - t0
+        say("requirements swept (gyro grade x loop rate, without drag, imbalance and mounts)")
+    return runs, reqs
+
+
+def _window_search(
+    sota: list[Requirement],
+    opts: TestbedOptions,
+    plan: Plan,
+    planned: Any,
+    plant: Plant,
+    starts: np.ndarray,
+    axes: np.ndarray,
+    total_mass: float,
+    say: Callable[[str], None],
+    seconds: dict[str, float],
+) -> tuple[list[Any], Any, dict[str, Any]]:
+    """The window of every bearing style, the best one, and that design recomputed."""
+    alone = [
+        {
+            "bearing_tilt_deg": motion.tilt_max_deg,
+            "wheel_torque_N_m": needs_k.torque,
+            "wheel_momentum_N_m_s": needs_k.momentum,
+        }
+        for motion, needs_k in zip(plan.motions, planned.motions, strict=True)
+    ]
+    t0 = time.perf_counter()
+    windows = [window(for_style(sota, opts, style), style, alone, len(axes)) for style in BEARINGS]
+    best = best_window(windows)
+    check = recompute_point(best, sota, alone, plant, starts, axes, opts, total_mass)
+    seconds["window"] = time.perf_counter() - t0
+    say(
+        "window searched over rate, size, mass, motion and bearing style; the recommended "
+        f"design recomputed: the laws agree within {fmt(check['largest_law_error'])}"
+    )
+    return windows, best, check
+
+
 def against_state_of_the_art(
     opts: TestbedOptions,
     plan: Any,
@@ -290,33 +346,8 @@ def against_state_of_the_art(
     nominal = runs["nominal"]
     style = opts.style
     bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
-    balance = BALANCE["automatic_horizontal_m"]
-    given_offset = opts.imbalance_m != balance.value
-    offset_origin = "the scene's imbalance_m" if given_offset else balance.source
-    if nominal.offset_error is not None:
-        residual = float(np.median(nominal.offset_error[:, -1]))
-        offset_source = (
-            f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
-            f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
-            f"{fmt(residual)} m, the posts' part included); offset "
-            f"before estimation {fmt(opts.imbalance_m)} m ({offset_origin})"
-        )
-    else:
-        residual = opts.imbalance_m
-        offset_source = (
-            f"balancing floor {fmt(residual)} m ({offset_origin}) + "
-            f"the posts' bending ({fmt(compliance_offset)} m)"
-        )
-    # the estimator's residual already holds what is left of the posts' bending
-    mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
+    offset = _offset_reached(opts, nominal, compliance_offset)
     weight = total_mass * STANDARD_GRAVITY
-    wheel = chosen(planned.torque, planned.momentum)
-    wheels_note = (
-        f"{wheel.name}, the lightest of the actuator catalogue covering the planned torque and "
-        "momentum"
-        if wheel.torque >= planned.torque and wheel.momentum >= planned.momentum
-        else f"{wheel.name}, the catalogue's nearest: none covers the planned torque and momentum"
-    )
     sensor_keys = _sensor_keys(opts)
     out = [
         Requirement(
@@ -339,44 +370,17 @@ def against_state_of_the_art(
             keys=(style.load_key,) if opts.bearing_capacity_kg is None else (),
             origin="table" if opts.bearing_capacity_kg is None else "scene",
         ),
-        _wheel_requirement(
-            "wheel_torque_N_m",
-            planned.torque,
-            opts.max_torque_N_m,
-            "N m",
-            wheel.torque,
-            f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
-            wheel.key("torque"),
-        ),
-        _wheel_requirement(
-            "wheel_momentum_N_m_s",
-            planned.momentum,
-            opts.max_momentum_N_m_s,
-            "N m s",
-            wheel.momentum,
-            f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
-            wheel.key("momentum"),
-        ),
-        Requirement(
-            "wheel_mass_kg",
-            "tolerance",
-            total_mass,
-            len(layout.wheels.masses) * wheel.mass,
-            "kg",
-            f"{len(layout.wheels.masses)} x {wheel.name} ({wheel.source} "
-            f"{cite(wheel.key('mass'))}) within the platform's mass, which holds them",
-            keys=(wheel.key("mass"),),
-        ),
+        *_wheel_requirements(opts, planned, layout, total_mass),
         Requirement(
             "centre_of_mass_offset_m",
             "tolerance",
             tolerances[KEY.imbalance_m],
-            residual + mounts_part,
+            offset.residual + offset.mounts_part,
             "m",
-            offset_source,
-            parts={"estimator_or_floor_m": residual, "mounts_m": mounts_part},
-            keys=() if given_offset else (balance.key,),
-            origin="scene" if given_offset else "table",
+            offset.source,
+            parts={"estimator_or_floor_m": offset.residual, "mounts_m": offset.mounts_part},
+            keys=offset.keys,
+            origin=offset.origin,
         ),
         _drag_requirement(opts, tolerances),
         Requirement(
@@ -425,6 +429,91 @@ def against_state_of_the_art(
         )
     )
     return out
+
+
+@dataclass(frozen=True)
+class _OffsetReached:
+    """The centre of mass offset the platform reaches: the estimator's residual (or the
+    balancing floor), the posts' bending part, and where each figure comes from."""
+
+    residual: float
+    mounts_part: float
+    source: str
+    keys: tuple[str, ...]
+    origin: str
+
+
+def _offset_reached(opts: TestbedOptions, nominal: Any, compliance_offset: float) -> _OffsetReached:
+    balance = BALANCE["automatic_horizontal_m"]
+    given_offset = opts.imbalance_m != balance.value
+    offset_origin = "the scene's imbalance_m" if given_offset else balance.source
+    if nominal.offset_error is not None:
+        residual = float(np.median(nominal.offset_error[:, -1]))
+        source = (
+            f"this run's online estimator (RLS of the offset, the drag and the posts' bending "
+            f"{fmt(compliance_offset)} m; {opts.seeds} seeds: median residual "
+            f"{fmt(residual)} m, the posts' part included); offset "
+            f"before estimation {fmt(opts.imbalance_m)} m ({offset_origin})"
+        )
+    else:
+        residual = opts.imbalance_m
+        source = (
+            f"balancing floor {fmt(residual)} m ({offset_origin}) + "
+            f"the posts' bending ({fmt(compliance_offset)} m)"
+        )
+    # the estimator's residual already holds what is left of the posts' bending
+    mounts_part = 0.0 if nominal.offset_error is not None else compliance_offset
+    return _OffsetReached(
+        residual,
+        mounts_part,
+        source,
+        () if given_offset else (balance.key,),
+        "scene" if given_offset else "table",
+    )
+
+
+def _wheel_requirements(
+    opts: TestbedOptions, planned: Any, layout: Layout, total_mass: float
+) -> list[Requirement]:
+    """The wheels' torque, momentum and mass against the actuator catalogue's lightest wheel
+    that covers the planned motions."""
+    wheel = chosen(planned.torque, planned.momentum)
+    wheels_note = (
+        f"{wheel.name}, the lightest of the actuator catalogue covering the planned torque and "
+        "momentum"
+        if wheel.torque >= planned.torque and wheel.momentum >= planned.momentum
+        else f"{wheel.name}, the catalogue's nearest: none covers the planned torque and momentum"
+    )
+    return [
+        _wheel_requirement(
+            "wheel_torque_N_m",
+            planned.torque,
+            opts.max_torque_N_m,
+            "N m",
+            wheel.torque,
+            f"{wheels_note}: {wheel.source} {cite(wheel.key('torque'))}",
+            wheel.key("torque"),
+        ),
+        _wheel_requirement(
+            "wheel_momentum_N_m_s",
+            planned.momentum,
+            opts.max_momentum_N_m_s,
+            "N m s",
+            wheel.momentum,
+            f"{wheel.name}: {wheel.source} {cite(wheel.key('momentum'))}",
+            wheel.key("momentum"),
+        ),
+        Requirement(
+            "wheel_mass_kg",
+            "tolerance",
+            total_mass,
+            len(layout.wheels.masses) * wheel.mass,
+            "kg",
+            f"{len(layout.wheels.masses)} x {wheel.name} ({wheel.source} "
+            f"{cite(wheel.key('mass'))}) within the platform's mass, which holds them",
+            keys=(wheel.key("mass"),),
+        ),
+    ]
 
 
 def _wheel_requirement(
@@ -682,6 +771,25 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
         x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
     )
     return Plan([motion], axis, "scene")
+
+
+def run_counter(
+    tally: Callable[[int, int], None] | None, opts: TestbedOptions, with_requirements: bool
+) -> Callable[[int], None]:
+    """``count(k)``: ``k`` more sampled closed-loop runs done, told to ``tally(done, total)``
+    (the noise-free ZOH and predictive runs, the nominal seeds, the requirements' grid)."""
+    sweep = len(GYRO_GRADES) * opts.requirement_seeds * len(opts.requirement_rates_Hz)
+    total = 2 + opts.seeds + (sweep if with_requirements else 0)
+    done = 0
+
+    def count(k: int) -> None:
+        nonlocal done
+        done += k
+        if tally is not None:
+            tally(done, total)
+
+    count(0)
+    return count
 
 
 def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:

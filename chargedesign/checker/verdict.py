@@ -395,12 +395,14 @@ def _recorded(design: Design) -> dict[str, Any] | None:
 
 
 def _case_functions(design: Design) -> Any:
-    """The numeric functions of the case a design.json carries (None: the theorem's)."""
+    """The numeric functions of the case a design.json carries, read in the body's own axes
+    (:func:`~chargedesign.model.case_numeric.body_case`: the frame reading's elements realise
+    the case at n = 0); None: the theorem's."""
     if "case" not in design.further_keys:
         return None
     from chargedesign.model.case_numeric import design_case_functions  # sympy: a case only
 
-    return design_case_functions(design.further_keys["case"])
+    return design_case_functions(design.further_keys["case"], design.larmor)
 
 
 def validate_check_options(

@@ -27,13 +27,14 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.scene import Scene, load_scene
 from chargedesign.topology.case_diagram import case_diagram
 from chargedesign.topology.case_map import CaseMomentumMap, diagram_refusal
-from chargedesign.topology.compute import resolve_range
+from chargedesign.topology.compute import STAGES, resolve_range
 from chargedesign.topology.diagram import bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
@@ -60,18 +61,30 @@ def run(args: argparse.Namespace) -> int:
             f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got"
             f" {fmt(args.at, PLAIN)}"
         )
-    if not args.quiet:
-        print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
-    diagram = bifurcation_diagram(scene.parameters, h_range)
-    linked = None
-    if args.at is not None:
-        linked = linked_pictures(diagram, args.at, orbits=20, t_end=200.0, fli_t_end=10.0)
-    # every file or none; a picture at another energy from an earlier run is not kept
-    stale = () if linked is not None else ("bifurcation_at.png",)
-    with atomic_directory(args.out, drop=stale) as stage:
-        diagram.write(args.out)
-        if linked is not None:
-            linked.plot().savefig(stage / "bifurcation_at.png", dpi=90)
+    # the diagram's stages (STAGES), the --at atlas and the files, against their total
+    total = len(STAGES) + (args.at is not None) + 1
+    bar = None if args.quiet else Progress("bifurcation", unit="stages")
+    try:
+        if bar is not None:
+            bar.say("bifurcation: critical set, continuation, chambers ...")
+        tally = None if bar is None else (lambda done, _: bar.update(done, total))
+        diagram = bifurcation_diagram(scene.parameters, h_range, tally=tally)
+        linked = None
+        if args.at is not None:
+            linked = linked_pictures(diagram, args.at, orbits=20, t_end=200.0, fli_t_end=10.0)
+            if tally is not None:
+                tally(total - 1, total)
+        # every file or none; a picture at another energy from an earlier run is not kept
+        stale = () if linked is not None else ("bifurcation_at.png",)
+        with atomic_directory(args.out, drop=stale) as stage:
+            diagram.write(args.out)
+            if linked is not None:
+                linked.plot().savefig(stage / "bifurcation_at.png", dpi=90)
+        if tally is not None:
+            tally(total, total)
+    finally:
+        if bar is not None:
+            bar.close()
     if args.json:
         print(diagram.to_json())
     else:

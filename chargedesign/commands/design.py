@@ -24,12 +24,12 @@ The ``linf`` objective (a dense problem) is capped at ``MAX_LINF_CANDIDATES`` ca
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from typing import Any
 
 from chargedesign.body import write_design
 from chargedesign.candidates import candidates_from_table
+from chargedesign.commands.progress import Progress, Stages
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.errors import ChargeDesignError, InputError
@@ -42,17 +42,29 @@ from chargedesign.scene import Scene, load_scene
 from chargedesign.tolerancing import tolerance_report
 from chargedesign.verdict import recorded_verdict, verdict_line
 
+#: the stages a design counts on stderr: candidates, conditions, the program, the frontier (a
+#: physical body), the forward check, the tolerances, the picture, the files written
+DESIGN_STAGES = 8
+
 
 def run(args: argparse.Namespace) -> int:
-    import json
-    from pathlib import Path
-
     # before any work: the folder can be written and holds none of the inputs
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=DESIGN_FILES)
+    # each stage's message, and the stages counted against their total with the time left
+    bar = None if args.quiet else Progress("design", unit="stages")
+    stages = Stages(bar, DESIGN_STAGES)
+    try:
+        code = _run(args, stages)
+        stages.end()
+        return code
+    finally:
+        if bar is not None:
+            bar.close()
 
-    def progress(message: str) -> None:
-        if not args.quiet:
-            print(f"design: {message}", file=sys.stderr, flush=True)
+
+def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
+    import json
+    from pathlib import Path
 
     scene = load_scene(args.scene)
     if scene.case is not None and scene.physical is None:

@@ -110,7 +110,7 @@ class Progress:
         if self.t_work is None or self.total <= 0:
             count, frac = "preparing", 0.0
         elif self.unit:
-            count = f"{int(self.done)} of {int(self.total)} {self.unit}"
+            count = f"{int(self.done)}/{int(self.total)} {self.unit}"
         else:
             count = f"{int(100 * frac):3d}%"
         if self.tty and self.total > 0:
@@ -162,3 +162,29 @@ def duration_text(seconds: float) -> str:
     if s < 3600.0:
         return f"{int(s // 60)} min {int(s % 60)} s"
     return f"{int(s // 3600)} h {int(s % 3600 // 60)} min"
+
+
+class Stages:
+    """A run counted in stages (``k/N stages``): each message said starts the next stage.
+
+    ``stages(message)`` says the message (``label: message``) and counts the stages before it
+    as done, against ``total`` (raised when a route says more); :meth:`end` counts all done.
+    With ``bar`` None (``--quiet``) nothing is said.
+    """
+
+    def __init__(self, bar: Progress | None, total: int) -> None:
+        self.bar = bar
+        self.total = total
+        self.started = 0
+
+    def __call__(self, message: str) -> None:
+        if self.bar is None:
+            return
+        self.bar.say(f"{self.bar.label}: {message}")
+        self.started += 1
+        self.total = max(self.total, self.started)
+        self.bar.update(self.started - 1, self.total)
+
+    def end(self) -> None:
+        if self.bar is not None:
+            self.bar.update(self.total, self.total)

@@ -11,10 +11,10 @@ requirements sweep (gyro grade x control rate), and writes ``DIR/testbed.json``,
 from __future__ import annotations
 
 import argparse
-import sys
 
 from chargedesign.airbearing.report import OUTPUTS, write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
+from chargedesign.commands.progress import Progress
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
 
@@ -24,15 +24,24 @@ def run(args: argparse.Namespace) -> int:
 
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=OUTPUTS)
 
-    def progress(message: str) -> None:
-        if not args.quiet:
-            print(f"testbed: {message}", file=sys.stderr, flush=True)
+    # the sampled runs counted against their total, with the time left (--quiet: nothing)
+    bar = None if args.quiet else Progress("testbed", unit="runs")
 
-    result = testbed_from_scene(
-        load_scene(args.scene or default_testbed_scene()), progress=progress
-    )
-    written = write_testbed(result, args.out)
-    progress(f"wrote {args.out}/: {', '.join(written)}")
+    def progress(message: str) -> None:
+        if bar is not None:
+            bar.say(f"testbed: {message}")
+
+    try:
+        result = testbed_from_scene(
+            load_scene(args.scene or default_testbed_scene()),
+            progress=progress,
+            tally=None if bar is None else bar.update,
+        )
+        written = write_testbed(result, args.out)
+        progress(f"wrote {args.out}/: {', '.join(written)}")
+    finally:
+        if bar is not None:
+            bar.close()
     if args.json:
         print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
     else:

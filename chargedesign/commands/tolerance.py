@@ -23,6 +23,7 @@ import argparse
 from typing import Any
 
 from chargedesign.body import read_design, write_design
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
@@ -83,17 +84,24 @@ def run(args: argparse.Namespace) -> int:
             design, args.target, material_errors=materials, material_samples=args.samples
         )
     else:
-        result = monte_carlo(
-            design,
-            model,
-            samples=args.samples,
-            drift_samples=0 if args.no_simulate else args.samples,
-            t_end=args.t_end,
-            levels=levels,
-            seed=args.seed,
-            target=args.target,
-            material_errors=materials,
-        )
+        # the Monte-Carlo bodies counted against their total, with the time left
+        bar = None if args.quiet else Progress("tolerance", unit="bodies")
+        try:
+            result = monte_carlo(
+                design,
+                model,
+                samples=args.samples,
+                drift_samples=0 if args.no_simulate else args.samples,
+                t_end=args.t_end,
+                levels=levels,
+                seed=args.seed,
+                target=args.target,
+                material_errors=materials,
+                tally=None if bar is None else bar.update,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
     data = result.to_dict()
     if args.out:
         _write(args.out, result, data, design)

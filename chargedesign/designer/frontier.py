@@ -834,6 +834,7 @@ def _confirm_end(
         if entry["accepted"] and entry["measured"] <= 1.0:
             confirmed = (s, window.binding_low if low else window.binding_high)
             assert local is not None
+            window.end_laws["low" if low else "high"] = local  # the picture draws these laws
             again = solve_window(
                 local,
                 front.s_min if low else s,
@@ -943,8 +944,57 @@ def write_window_picture(front: FrontierResult, out: Any) -> None:
 
     assert front.realised is not None
     with atomic_directory(out) as stage:
-        fig, ax = plt.subplots(figsize=(7.5, 4.6))
-        plot_window(front.realised, front.s_max, ax=ax)
-        fig.tight_layout()
+        fig = window_figure(front.realised, front.s_max)
         fig.savefig(stage / "realised_window.png", dpi=120)
         plt.close(fig)
+
+
+def window_figure(window: RealisedWindow, s_max: float) -> Any:
+    """The realised window's picture (a matplotlib Figure): the laws each end is solved from.
+
+    The window's ends come from the laws of the bodies designed and accepted at each end
+    (``window.end_laws``; the body at ``s_max`` where no end body was designed), so below the
+    window's geometric middle the curves are the low end body's laws and above it the high
+    end body's: each shaded end is where a drawn curve crosses 1 (or a limit drawn as a line:
+    the frontier ``s_max``). A dotted line marks where the drawn laws pass from one body to
+    the other.
+    """
+    import dataclasses
+
+    import matplotlib.pyplot as plt
+
+    rates = window.curves.get("s")
+    curves = dict(window.curves)
+    switch = None
+    whose = {"low": "the body at s_max", "high": "the body at s_max"}
+    if rates is not None and not window.empty and window.end_laws:
+        assert window.s_low is not None and window.s_high is not None
+        switch = math.sqrt(window.s_low * window.s_high)
+        for side, part in (("low", rates < switch), ("high", rates >= switch)):
+            model = window.end_laws.get(side)
+            if model is None:
+                continue  # this side's end was solved from the laws of the body at s_max
+            whose[side] = f"the body designed at s = {fmt(model.s_ref)}"
+            own = {
+                item.label: np.asarray(item.ratio(rates / model.s_ref), float) / model.fraction
+                for item in model.items
+            }
+            for label in (set(curves) - {"s"}) | set(own):
+                values = np.array(curves.get(label, np.zeros_like(rates)), dtype=float)
+                values[part] = own.get(label, np.zeros_like(rates))[part]
+                curves[label] = values
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    plot_window(dataclasses.replace(window, curves=curves), s_max, ax=ax)
+    for line in ax.get_lines():
+        if str(line.get_label()).lstrip("_") in curves:
+            line.set_gid("law")  # a drawn law (the tests read the picture's own curves)
+    if switch is not None:
+        ax.axvline(switch, color="0.6", lw=0.8, ls="-.", label="the laws pass to the other body")
+        ax.legend(fontsize=7, loc="best")
+        head = ax.get_title().replace(" (the laws of the body at s_max)", "")
+        ax.set_title(
+            f"{head}\nlaws below s = {fmt(switch)}: {whose['low']}; above: {whose['high']}",
+            fontsize=10,
+        )
+    fig.tight_layout()
+    return fig

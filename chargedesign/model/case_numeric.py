@@ -24,6 +24,7 @@ import sympy as sp
 from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.case_file import STATE, CaseCertificate
+from chargedesign.model.frame import frame_reading
 from chargedesign.scene.case_file import Case, case_from_table
 
 
@@ -188,14 +189,27 @@ def case_from_record(record: Any, where: str = "design.case") -> Case:
     return case_from_table(record["table"], f"{where}.table")
 
 
-def design_case_functions(record: Any) -> CaseFunctions:
-    """The numeric functions of a design.json ``case`` record (:func:`case_from_record`)."""
-    return case_functions(case_from_record(record))
+def body_case(record: Any, larmor: Any = None) -> Case:
+    """The case a body's own elements realise, of a design.json ``case`` record.
+
+    With the ``frame`` Larmor reading at rate n (``design.larmor``) the elements realise the
+    case read in axes turning at ``-n`` (:func:`chargedesign.model.frame.frame_reading`;
+    for the theorem that is its n = 0 case, up to a constant on the sphere): the record's
+    case is what the body does in axes turning at n. Otherwise the record's case itself."""
+    case = case_from_record(record)
+    if larmor is not None and larmor.is_frame and larmor.rate != 0.0:
+        return frame_reading(case, -larmor.rate)
+    return case
 
 
-def simulated_case_functions(record: Any) -> CaseFunctions:
+def design_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
+    """The numeric functions of the case a design's elements realise (:func:`body_case`)."""
+    return case_functions(body_case(record, larmor))
+
+
+def simulated_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
     """:func:`design_case_functions` for a run (:func:`simulated_functions`)."""
-    return simulated_functions(case_from_record(record))
+    return simulated_functions(body_case(record, larmor))
 
 
 def simulated_functions(case: Case) -> CaseFunctions:
@@ -215,6 +229,7 @@ def simulated_functions(case: Case) -> CaseFunctions:
 
 __all__ = [
     "CaseFunctions",
+    "body_case",
     "case_equations",
     "case_from_record",
     "case_functions",

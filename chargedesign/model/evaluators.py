@@ -21,17 +21,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from functools import cache
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
 from chargedesign.params import Parameters
-from chargedesign.validation import (
-    as_array,
-    check_instance,
-    check_off_singular,
-    refuse_overflow,
-)
+from chargedesign.validation import as_array, check_instance, input_error
 
 #: what each evaluator returns per item
 OUTPUT_WIDTH = {
@@ -260,3 +255,19 @@ def rhs_function(params: Parameters, batch: int = 1) -> Callable[[float, np.ndar
         return np.stack(vector(*y.reshape(batch, 6).T, *pt), axis=1).reshape(-1)
 
     return fun_batch
+
+
+def check_off_singular(singular: bool, gamma3: np.ndarray, name: str, values: Any) -> None:
+    """With lambda or rho != 0 the theorem's potential is singular on gamma3 = 0: refuse
+    states there."""
+    if singular and np.any(gamma3 == 0.0):
+        raise input_error(
+            name, "gamma3 != 0 when lambda or rho != 0 (the potential is singular there)", values
+        )
+
+
+def refuse_overflow(name: str, quantity: str, item: int, values: Any) -> NoReturn:
+    """The model's ``quantity`` overflows at item ``item`` of the caller's ``values``."""
+    raise input_error(
+        name, f"values where the model's {quantity} is finite (item {item} overflows)", values
+    )

@@ -24,18 +24,25 @@ eddy currents              :func:`eddy_torques_by_set` (the estimate) and :func:
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
 import numpy as np
 
 from chargedesign.constants import EPSILON_0, LIGHT_SPEED, MU_0
-from chargedesign.fields import AxisymmetricField
+from chargedesign.fields import AxisymmetricField, zonal_sums
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.sampling import fibonacci_sphere
 
 #: orientations (a Fibonacci sphere) at which the induced-magnetisation energy is evaluated
 RESPONSE_ORIENTATIONS = 2000
+#: how many bodies' rate-free factors (the field at the parts over the orientations, for one
+#: field and one set of part centres or part sets) are kept: the stages that judge one body
+#: (its limits, budget, map, window, the frontier's probes) compute each once
+FACTOR_CACHE_SIZE = 128
+#: part centres per block of the eddy factor's (orientations, centres) arrays
+EDDY_BLOCK = 256
 
 
 def speed_over_c(rate: float, r_max: float) -> float:
@@ -87,23 +94,55 @@ def induced_energies_by_set(legendre: tuple[float, ...], parts: list[dict[str, A
     For fields of degree <= 2 (the paper's) ``|B|^2`` is quadratic, and its mean over a
     sphere or shell of material differs from its value at the centre by an orientation-free
     constant, so the parts may be taken as points.
+
+    It does not depend on the rate: computed once per field and part sets (their ``chi``,
+    centres and volumes; :data:`FACTOR_CACHE_SIZE` kept), a fresh copy returned each call.
     """
-    fld = AxisymmetricField(tuple(legendre))
+    key = tuple(
+        (
+            None if part["chi"] is None else float(part["chi"]),
+            array_key(part["centres"], 3),
+            array_key(part["volumes"], 1),
+        )
+        for part in parts
+    )
+    return _induced_energies(_field_key(legendre), key).copy()
+
+
+@functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
+def _induced_energies(
+    legendre: tuple[float, ...], sets: tuple[tuple[float | None, bytes, bytes], ...]
+) -> np.ndarray:
+    """:func:`induced_energies_by_set` on hashable content (the arrays as float64 bytes)."""
+    fld = AxisymmetricField(legendre)
     gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-    out = np.zeros((len(parts), len(gammas)))
-    for k, part in enumerate(parts):
-        if part["chi"] is None or fld.is_zero:
+    out = np.zeros((len(sets), len(gammas)))
+    for k, (chi, centres_bytes, volumes_bytes) in enumerate(sets):
+        if chi is None or fld.is_zero:
             continue
+        all_centres = np.frombuffer(centres_bytes).reshape(-1, 3)
+        volumes = np.frombuffer(volumes_bytes)
         energy = out[k]
-        for start in range(0, len(part["volumes"]), 64):
-            centres = part["centres"][start : start + 64]
-            weights = part["chi"] * part["volumes"][start : start + 64]
+        for start in range(0, len(volumes), 64):
+            centres = all_centres[start : start + 64]
+            weights = chi * volumes[start : start + 64]
             z = centres @ gammas.T  # (k, orientations)
             rho = np.sqrt(np.maximum(np.sum(centres**2, axis=1)[:, None] - z**2, 0.0))
             points = np.stack([rho, np.zeros_like(rho), z], axis=-1).reshape(-1, 3)
             b2 = np.sum(fld.gradient(points) ** 2, axis=1).reshape(z.shape)
             energy -= weights @ b2 / (2.0 * MU_0)
+    out.flags.writeable = False
     return out
+
+
+def _field_key(legendre: Any) -> tuple[float, ...]:
+    return tuple(float(f) for f in legendre)
+
+
+def array_key(values: Any, width: int) -> bytes:
+    """The float64 bytes of an array (rows of ``width``): a hashable key of its content, for
+    the caches of rate-free factors (``np.frombuffer(key).reshape(-1, width)`` reads it back)."""
+    return np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1, width)).tobytes()
 
 
 def eddy_rate_squared(legendre: tuple[float, ...], centres: np.ndarray) -> np.ndarray:
@@ -115,20 +154,61 @@ def eddy_rate_squared(legendre: tuple[float, ...], centres: np.ndarray) -> np.nd
     ``G`` the field and its gradient at the part, body axes): its largest value over the
     directions of omega is the spectral norm of L, maximised here over
     :data:`RESPONSE_ORIENTATIONS` orientations. Without the gradient it is ``max |B|^2``.
+
+    The field is axisymmetric, so the normal ``e`` of the plane of ``c`` and gamma is an
+    eigenvector of ``G`` (the field is even in the distance from that plane), and ``B0``,
+    ``c``, ``G (c x e)`` lie in the plane: ``L = u e^T + e w^T`` with ``u = L e`` and
+    ``w = L^T e`` both in the plane, so the singular values of L are ``|u|``, ``|w|`` and 0.
+    With ``Phi(Z, S)`` (``Z = c . gamma``, ``S = |c|^2``, ``rho^2 = S - Z^2``; the partial
+    derivatives of :func:`chargedesign.fields.zonal_sums`) they are ``|w| = |Phi_Z|`` (the
+    part turning in B) and ``|u|^2 = (Phi_Z + 2 rho^2 Phi_ZS)^2 + rho^2 (Phi_ZZ + 2 Z
+    Phi_ZS)^2`` (with its motion through the gradient): the spectral norm without an SVD
+    (tests/physical/test_parasitics_once.py checks it against ``np.linalg.norm(L, 2)``).
+
+    It does not depend on the rate: computed once per field and set of centres
+    (:data:`FACTOR_CACHE_SIZE` kept), a fresh copy returned each call.
     """
-    fld = AxisymmetricField(tuple(legendre))
-    centres = np.asarray(centres, dtype=float).reshape(-1, 3)
+    return _eddy_rate_squared(_field_key(legendre), array_key(centres, 3)).copy()
+
+
+@functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
+def _eddy_rate_squared(legendre: tuple[float, ...], centres_bytes: bytes) -> np.ndarray:
+    """:func:`eddy_rate_squared` on hashable content (the centres as float64 bytes)."""
+    fld = AxisymmetricField(legendre)
+    centres = np.frombuffer(centres_bytes).reshape(-1, 3)
     out = np.zeros(len(centres))
-    if fld.is_zero or not len(centres):
+    if not fld.is_zero and len(centres):
+        coeffs = np.asarray(fld.legendre[: fld.degree], dtype=np.float64)
+        gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+        for start in range(0, len(centres), EDDY_BLOCK):
+            c = centres[start : start + EDDY_BLOCK]
+            s = np.einsum("ij,ij->i", c, c)
+            z = gammas @ c.T  # (orientations, k)
+            rho2 = np.maximum(s[None, :] - z * z, 0.0)
+            d = zonal_sums(coeffs, z, s, 2, want_value=False)
+            turning = d["Z"] ** 2
+            moving = (d["Z"] + 2.0 * rho2 * d["ZS"]) ** 2 + rho2 * (
+                d["ZZ"] + 2.0 * z * d["ZS"]
+            ) ** 2
+            out[start : start + EDDY_BLOCK] = np.max(np.maximum(turning, moving), axis=0)
+    out.flags.writeable = False
+    return out
+
+
+def eddy_coefficients_by_set(
+    legendre: tuple[float, ...], parts: list[dict[str, Any]]
+) -> np.ndarray:
+    """The eddy-current torque of each part set per unit rate (N m s): the rate-free factor
+    ``(2 pi / 15) sum sigma max|L|^2 (a^5 - b^5)`` of :func:`eddy_torques_by_set` (0 for a
+    set of unknown conductivity, or without a field)."""
+    out = np.zeros(len(parts))
+    if not legendre:
         return out
-    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-    for start in range(0, len(centres), 16):
-        c = centres[start : start + 16]
-        b0 = -fld.gradient_body(c, gammas)  # (m, k, 3)
-        g = -fld.hessian_body(c, gammas)  # (m, k, 3, 3)
-        lin = _skew(b0) - np.einsum("mkij,kjl->mkil", g, _skew(c))
-        norms = np.linalg.norm(lin, ord=2, axis=(-2, -1))  # (m, k)
-        out[start : start + 16] = np.max(norms, axis=0) ** 2
+    for k, part in enumerate(parts):
+        if part["sigma"] is None:
+            continue
+        b2 = eddy_rate_squared(tuple(legendre), part["centres"])
+        out[k] = float(np.sum(2.0 * np.pi / 15.0 * b2 * _eddy_weight(part)))
     return out
 
 
@@ -142,16 +222,9 @@ def eddy_torques_by_set(legendre: tuple[float, ...], parts: list[dict[str, Any]]
     rotation in B and its motion through the gradient). Spinning in a uniform B this is the
     slow-rotation limit of the rotating sphere (:func:`eddy_torque`, whose dissipated power
     it bounds from above). Dropped: the current quadratic in rho, ``(a / |c|)^2`` smaller.
+    Linear in the rate: ``rate`` times :func:`eddy_coefficients_by_set`.
     """
-    out = np.zeros(len(parts))
-    if not legendre:
-        return out
-    for k, part in enumerate(parts):
-        if part["sigma"] is None:
-            continue
-        b2 = eddy_rate_squared(tuple(legendre), part["centres"])
-        out[k] = float(np.sum(2.0 * np.pi / 15.0 * rate * b2 * _eddy_weight(part)))
-    return out
+    return rate * eddy_coefficients_by_set(legendre, parts)
 
 
 def holder_eddy_torque(legendre: tuple[float, ...], holder: dict[str, Any] | None, rate: float):

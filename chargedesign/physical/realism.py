@@ -23,6 +23,7 @@ rate the theorem's terms set; the designed torques: ``C omega^2 / 4``.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -683,20 +684,11 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         ``frontier_eddy_over_term``: the induced energy does not change with the rate, the
         eddy torque grows like it).
     """
-    import sympy as sp
-
-    from chargedesign.model.case import GAMMA, C, K, kappa, lam, n, rho, symbolic_case
-
-    case = symbolic_case()
     p = design.parameters
     frame = design.larmor_reading == "frame"
     # the frame reading's n is the turning axes' rate (the parts realise n = 0)
     rate_n = design.larmor.rate if frame else p.n
-    values = {kappa: p.kappa, n: rate_n, K: p.K, lam: p.lam, rho: p.rho}
-    symbols = (kappa, n, K, lam, rho)
-    v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
-    mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
-    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+    values = dict(zip(_MAP_SYMBOLS, (p.kappa, rate_n, p.K, p.lam, p.rho), strict=True))
     rate = typical_rate(p)
     response = field_response(design) if response is None else response
     torque = p.C * rate**2 / 4.0
@@ -709,38 +701,19 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     scale2 = (k_max / abs(p.K)) ** 2 if p.K else 1.0
     rows = []
     for key, where, powers, name, mechanisms in _MAP_TERMS:
-        monomial = sp.Mul(*[s**e for s, e in zip(symbols, powers, strict=True)])
-        amount = math.prod(values[s] ** e for s, e in zip(symbols, powers, strict=True))
+        amount = math.prod(values[s] ** e for s, e in zip(_MAP_SYMBOLS, powers, strict=True))
+        expression, degree = _map_term_symbols()[key]
         if where == "V":
-            coeff = v_terms[powers]
-            expression = str(sp.factor(coeff) * monomial)
             singular = key in ("lambda", "rho")
             if amount == 0.0:
                 size = 0.0
             elif singular:
                 size = math.inf
             else:
-                f = sp.lambdify([C, *GAMMA], coeff.subs(_model_constants(p)), "numpy")
-                term = amount * np.broadcast_to(f(p.C, *gammas.T), len(gammas))
+                term = amount * _map_term_values(key, p.C, p.c, p.d)
                 size = float(np.ptp(term))
-            degree = int(sp.Poly(coeff, *GAMMA).total_degree()) if not singular else 0
         else:
-            mono = powers[1:3]
-            comps = [m.get(mono, sp.Integer(0)) for m in mu_terms]
-            expression = "(" + ", ".join(str(sp.factor(c * monomial)) for c in comps) + ")"
-            vec = np.array(
-                [
-                    np.broadcast_to(
-                        sp.lambdify([C, *GAMMA], comp.subs(_model_constants(p)), "numpy")(
-                            p.C, *gammas.T
-                        ),
-                        len(gammas),
-                    )
-                    for comp in comps
-                ]
-            )
-            size = abs(amount) * rate * float(np.max(np.linalg.norm(vec, axis=0)))
-            degree = 1 if key == "mu_n" else 2
+            size = abs(amount) * rate * float(np.max(_map_term_values(key, p.C, p.c, p.d)))
             singular = False
         no_parts = frame and key in ("n2", "nK", "mu_n")
         if amount == 0.0:
@@ -781,11 +754,80 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     return rows
 
 
-def _model_constants(p: Any) -> dict[Any, float]:
-    """The model's shape constants c, d as numbers (the sizes are per unit of the parameter)."""
-    from chargedesign.model.case import c, d
+#: the parameters of the map's monomials, in the order of :data:`_MAP_TERMS`' exponents
+_MAP_SYMBOLS = ("kappa", "n", "K", "lambda", "rho")
 
-    return {c: p.c, d: p.d}
+
+@functools.lru_cache(maxsize=1)
+def _map_term_coefficients() -> dict[str, tuple[Any, ...]]:
+    """Each map term's coefficients in the model (sympy, in C, c, d and gamma): one for a term
+    of V, the three components for a term of mu. Rate-free: derived once per process."""
+    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
+
+    from chargedesign.model.case import K, kappa, lam, n, rho, symbolic_case
+
+    case = symbolic_case()
+    symbols = (kappa, n, K, lam, rho)
+    v_terms = dict(sp.Poly(sp.expand(case.V), *symbols).terms())
+    mu_terms = [dict(sp.Poly(sp.expand(m), n, K).terms()) for m in case.mu]
+    out: dict[str, tuple[Any, ...]] = {}
+    for key, where, powers, _, _ in _MAP_TERMS:
+        if where == "V":
+            out[key] = (v_terms[powers],)
+        else:
+            out[key] = tuple(m.get(powers[1:3], sp.Integer(0)) for m in mu_terms)
+    return out
+
+
+@functools.lru_cache(maxsize=1)
+def _map_term_symbols() -> dict[str, tuple[str, int]]:
+    """Each map term's expression (in gamma1..3, with its parameter monomial) and its degree
+    in gamma: they depend on no body, derived once per process."""
+    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
+
+    from chargedesign.model.case import GAMMA, K, kappa, lam, n, rho
+
+    symbols = (kappa, n, K, lam, rho)
+    coefficients = _map_term_coefficients()
+    out: dict[str, tuple[str, int]] = {}
+    for key, where, powers, _, _ in _MAP_TERMS:
+        monomial = sp.Mul(*[s**e for s, e in zip(symbols, powers, strict=True)])
+        comps = coefficients[key]
+        if where == "V":
+            singular = key in ("lambda", "rho")
+            expression = str(sp.factor(comps[0]) * monomial)
+            degree = int(sp.Poly(comps[0], *GAMMA).total_degree()) if not singular else 0
+        else:
+            expression = "(" + ", ".join(str(sp.factor(c * monomial)) for c in comps) + ")"
+            degree = 1 if key == "mu_n" else 2
+        out[key] = (expression, degree)
+    return out
+
+
+@functools.lru_cache(maxsize=256)
+def _map_term_values(key: str, C_value: float, c_value: float, d_value: float) -> np.ndarray:
+    """A map term per unit of its parameter monomial on the map's orientations: its values
+    (2000,) for a term of V, ``max |mu_term|`` (a scalar array) for a term of mu. Rate-free:
+    the same for every body of one C, c, d (the probes of a frontier)."""
+    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
+
+    from chargedesign.model.case import GAMMA, C, c, d
+
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
+    constants = {c: c_value, d: d_value}
+    values = [
+        np.broadcast_to(
+            sp.lambdify([C, *GAMMA], comp.subs(constants), "numpy")(C_value, *gammas.T),
+            len(gammas),
+        )
+        for comp in _map_term_coefficients()[key]
+    ]
+    if len(values) == 1:
+        out = np.array(values[0], dtype=float)
+    else:
+        out = np.array(np.max(np.linalg.norm(np.array(values), axis=0)))
+    out.flags.writeable = False
+    return out
 
 
 def _item(value: float, unit: str, verdict: str, note: str) -> dict[str, Any]:

@@ -345,7 +345,53 @@ def _body(design: Any, gravity: float, fraction: float) -> _Body:
     )
 
 
+@dataclass
+class _Drop:
+    """The figures of one drop: times, drift, forces and the field on the parts."""
+
+    facility: str
+    time_key: str
+    micro: float
+    flight: float
+    needed: float
+    g_res: float
+    turns: float
+    chamber: float
+    clearance: float
+    v_err: float
+    drift: float
+    force: float
+    force_limit: float
+    residual_limit: float
+    harmonic: float
+    tidal: float
+    room: tuple[float, float, float]
+    p_chamber: float
+    p_max: float
+    p_tube: float
+    on: list[Any]
+    centred: Any
+
+
 def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]:
+    drop = _drop(design, spec, body)
+    notes = _drop_notes(drop, body)
+    if len(design.charge_values):
+        notes.append("the charges' Lorentz forces are not in the net force (not estimated)")
+    return {
+        "facility": drop.facility,
+        "microgravity_s": drop.micro,
+        "flight_s": drop.flight,
+        "residual_g": drop.g_res,
+        "turns": drop.turns,
+        "net_force_N": drop.force,
+        "drift_m": drop.drift,
+        "items": _drop_items(drop, body),
+        "notes": notes,
+    }
+
+
+def _drop(design: Any, spec: SupportOptions, body: _Body) -> _Drop:
     facility = spec.facility or "drop_tower_catapult"
     time_key = _FACILITY_TIME[facility]
     micro = figure(time_key)
@@ -376,7 +422,52 @@ def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]
     p_max = body.fraction * body.term / free_molecular_torque(1.0, body.region, body.rate)
     p_tube = figure("drop_tower.tube_pressure_fraction") * figure("drop_tower.capsule_pressure_Pa")
     residual_limit = 2.0 * max(clearance - v_err * flight, 0.0) / flight**2 / STANDARD_GRAVITY
-    items = [
+    return _Drop(
+        facility,
+        time_key,
+        micro,
+        flight,
+        needed,
+        g_res,
+        turns,
+        chamber,
+        clearance,
+        v_err,
+        drift,
+        force,
+        force_limit,
+        residual_limit,
+        harmonic,
+        tidal,
+        (room_d, room_l, copper),
+        p_chamber,
+        p_max,
+        p_tube,
+        on,
+        centred,
+    )
+
+
+def _drop_items(drop: _Drop, body: _Body) -> list[dict[str, Any]]:
+    """The drop's requirements, each with its limit and source."""
+    d = drop
+    micro, needed, turns, g_res, residual_limit = (
+        d.micro,
+        d.needed,
+        d.turns,
+        d.g_res,
+        d.residual_limit,
+    )
+    drift, clearance, harmonic, force, force_limit = (
+        d.drift,
+        d.clearance,
+        d.harmonic,
+        d.force,
+        d.force_limit,
+    )
+    centred, tidal, (room_d, room_l, copper) = d.centred, d.tidal, d.room
+    p_chamber, p_max, time_key = d.p_chamber, d.p_max, d.time_key
+    return [
         item("microgravity_time_s", micro, needed, "s", micro >= needed, time_key),
         item("turns_in_flight", turns, MIN_TURNS, "", turns >= MIN_TURNS),
         item(
@@ -451,7 +542,13 @@ def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]
             "chamber.pressure_Pa",
         ),
     ]
-    notes = [
+
+
+def _drop_notes(drop: _Drop, body: _Body) -> list[str]:
+    """What the drop's items do not say: the pressures, the launch and landing, the forces."""
+    p_tube, p_max, centred, force, on = drop.p_tube, drop.p_max, drop.centred, drop.force, drop.on
+    harmonic, chamber, clearance = drop.harmonic, drop.chamber, drop.clearance
+    return [
         f"the capsule is at normal pressure and the tube at {fmt(p_tube, ROUGH)} Pa "
         f"(1e-4 of it): at the tube's pressure the gas's drag would be "
         f"{fmt(free_molecular_torque(p_tube, body.region, body.rate) / body.term, ROUGH)} of "
@@ -472,19 +569,6 @@ def _free_fall(design: Any, spec: SupportOptions, body: _Body) -> dict[str, Any]
         f"vacuum chamber: inner radius {fmt(chamber, ROUGH)} m (half the coils' radius), "
         f"clearance {fmt(clearance, ROUGH)} m around the body region",
     ]
-    if len(design.charge_values):
-        notes.append("the charges' Lorentz forces are not in the net force (not estimated)")
-    return {
-        "facility": facility,
-        "microgravity_s": micro,
-        "flight_s": flight,
-        "residual_g": g_res,
-        "turns": turns,
-        "net_force_N": force,
-        "drift_m": drift,
-        "items": items,
-        "notes": notes,
-    }
 
 
 def _orbit(design: Any, body: _Body) -> dict[str, Any]:

@@ -36,6 +36,7 @@ binds at each end. The designer confirms the window with bodies designed at its 
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -43,14 +44,16 @@ from typing import Any
 import numpy as np
 
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.fields import AxisymmetricField
+from chargedesign.fields import AxisymmetricField, zonal_sums
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
 from chargedesign.physical.drag import cup_drag
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.physical.materials import BUILDER_BALANCE_M
 from chargedesign.physical.parasitics import (
+    FACTOR_CACHE_SIZE,
     RESPONSE_ORIENTATIONS,
+    array_key,
     balance_torque,
     eddy_torques_by_set,
     holder_eddy_torque,
@@ -240,19 +243,49 @@ def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
     moments = np.asarray(design.dipole_moments, dtype=float)
     if not len(moments):
         return 0.0
-    error = AxisymmetricField(apparatus.error_legendre)
+    torque = _magnets_torque(
+        tuple(float(f) for f in apparatus.error_legendre),
+        array_key(design.dipole_positions, 3),
+        array_key(moments, 3),
+    )
+    return torque / term
+
+
+#: magnets per block of the (orientations, magnets) arrays of :func:`_magnets_torque`
+MAGNETS_BLOCK = 256
+
+
+@functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
+def _magnets_torque(legendre: tuple[float, ...], positions_bytes: bytes, moments_bytes: bytes):
+    """The largest torque over orientations of magnets (positions, moments as float64 bytes)
+    in the field ``legendre``, N m: central differences of their energy ``m . grad Phi`` over
+    turns of gamma by :data:`TORQUE_STEP` about each body axis. Rate-free for the field and
+    the parts: computed once per body and coil size (the window at a body's own rate and the
+    verdict's check ask for the same)."""
+    error = AxisymmetricField(legendre)
+    coeffs = np.asarray(error.legendre[: error.degree], dtype=np.float64)
+    positions = np.frombuffer(positions_bytes).reshape(-1, 3)
+    moments = np.frombuffer(moments_bytes).reshape(-1, 3)
     gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
 
     def energy(g: np.ndarray) -> np.ndarray:
-        grad = error.gradient_body(design.dipole_positions, g)  # (m, n, 3)
-        return np.einsum("mnk,nk->m", grad, moments)  # -m . B with B = -grad Phi
+        # -m . B with B = -grad Phi = -(Phi_Z gamma + 2 Phi_S r) in body axes
+        out = np.zeros(len(g))
+        for start in range(0, len(positions), MAGNETS_BLOCK):
+            r = positions[start : start + MAGNETS_BLOCK]
+            m = moments[start : start + MAGNETS_BLOCK]
+            s = np.einsum("ij,ij->i", r, r)
+            d = zonal_sums(coeffs, g @ r.T, s, 1, want_value=False)
+            out += np.einsum("nk,nk->n", d["Z"], g @ m.T)
+            out += (2.0 * d["S"]) @ np.einsum("ij,ij->i", r, m)
+        return out
 
     slopes = [
         (energy(_rotate(gammas, k, TORQUE_STEP)) - energy(_rotate(gammas, k, -TORQUE_STEP)))
         / (2 * TORQUE_STEP)
         for k in range(3)
     ]
-    return float(np.max(np.linalg.norm(slopes, axis=0))) / term
+    return float(np.max(np.linalg.norm(slopes, axis=0)))
 
 
 def _coil_item(design: Any, legendre, region: float, term: float, fraction: float):
@@ -428,6 +461,10 @@ class RealisedWindow(Result):
     #: the laws on the grid of rates: ``{"s": rates, label: ratio over the fraction, ...}``
     #: (for the picture; not in ``to_dict``)
     curves: dict[str, np.ndarray] = field(default_factory=dict)
+    #: the laws of the body designed and accepted last at each end (``"low"``, ``"high"``: a
+    #: :class:`WindowModel`), the laws that end was solved from (for the picture; not in
+    #: ``to_dict``)
+    end_laws: dict[str, Any] = field(default_factory=dict)
 
     @property
     def empty(self) -> bool:

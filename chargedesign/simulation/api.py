@@ -66,6 +66,7 @@ The setup is read in :mod:`chargedesign.simulation.setup` (the tables' checks in
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -73,6 +74,7 @@ import numpy as np
 
 from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
+from chargedesign.limits import MAX_SAMPLES, MAX_STEPS
 
 # read through this module by callers of the earlier single-module layout (tolerancing)
 from chargedesign.scene.simulation import DEFAULT_INITIAL as DEFAULT_INITIAL
@@ -109,7 +111,7 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
     select_effects,
 )
-from chargedesign.validation import check_run_caps
+from chargedesign.validation import input_error
 
 
 def _case_functions(design: Any) -> Any:
@@ -118,7 +120,7 @@ def _case_functions(design: Any) -> Any:
         return None
     from chargedesign.model.case_numeric import simulated_case_functions  # sympy: a case only
 
-    return simulated_case_functions(design.further_keys["case"])
+    return simulated_case_functions(design.further_keys["case"], design.larmor)
 
 
 def reduced_case_effects(
@@ -548,3 +550,24 @@ def trajectory_result(
         axes_rate=rate,
         larmor=None if setup.larmor is None else setup.larmor.to_dict(),
     )
+
+
+def check_run_caps(
+    t_end: float, *, step: float | None = None, max_step: float | None = None, samples: int = 2
+) -> None:
+    """Caps on a simulation's requested work (chargedesign.limits): output samples and the
+    fixed-step count ``t_end / step`` (also ``t_end / max_step``); one-line errors."""
+    if isinstance(samples, (int, np.integer)) and samples > MAX_SAMPLES:
+        raise input_error(
+            "simulation.samples", f"at most {MAX_SAMPLES} output samples (--samples)", samples
+        )
+    for name, value in (("step", step), ("max_step", max_step)):
+        if value is None or not math.isfinite(value) or value <= 0:
+            continue
+        if t_end / value > MAX_STEPS:
+            raise InputError(
+                f"simulation.{name}: t_end / {name} = {fmt(t_end / value)} steps exceeds the cap "
+                f"of {fmt(MAX_STEPS, PLAIN)} (chargedesign.limits.MAX_STEPS); give a larger {name}"
+                " or a "
+                "shorter t_end"
+            )

@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from chargedesign.errors import ChargeDesignError
+from chargedesign.errors import ChargeDesignError, InputError
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
-from chargedesign.formatting import fmt
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.params import Parameters
 from chargedesign.results import Result
 from chargedesign.scene import scene_from_dict
@@ -41,7 +41,6 @@ from chargedesign.scene.sweep_file import check_executor, check_sweep_out, scene
 from chargedesign.simulation import simulate
 from chargedesign.sweeps.registry import command_label, resolve
 from chargedesign.sweeps.spec import SweepSpec
-from chargedesign.validation import dask_missing, scheduler_unreachable
 
 #: seconds to wait for a Dask scheduler given with ``scheduler=`` (``--scheduler-timeout``)
 SCHEDULER_TIMEOUT = 5.0
@@ -559,3 +558,17 @@ def write_summary(rows: Sequence[dict[str, Any]], keys: Iterable[str], out: Path
     with atomic_path(out / "summary.parquet") as tmp:
         pq.write_table(table, tmp)
     return "written"
+
+
+def scheduler_unreachable(scheduler: str, timeout: float, reason: str | None) -> InputError:
+    """The one line of ``--scheduler ADDRESS`` that did not connect: no answer within the
+    timeout (``reason`` None) or the connection's failure (``reason``: the exception's name)."""
+    option = f"(--scheduler-timeout, now {fmt(timeout, PLAIN)} s)"
+    if reason is None:
+        return InputError(f"--scheduler {scheduler}: no answer from a Dask scheduler {option}")
+    return InputError(f"--scheduler {scheduler}: no Dask scheduler reachable {option} ({reason})")
+
+
+def dask_missing() -> InputError:
+    """``--executor dask`` without Dask installed."""
+    return InputError("--executor dask: Dask is not installed (pip install 'chargedesign[dask]')")

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -73,9 +73,19 @@ from chargedesign.validation import (
     check_material_analysis,
     check_periods,
     check_physical_candidates,
-    check_solver_name,
+    input_error,
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
+
+
+def check_solver_name(name: str, installed: Sequence[str]) -> None:
+    """``design.solver``: ``auto`` or one of the ``installed`` solvers (upper case, as the
+    designer reads it)."""
+    if name.upper() != "AUTO" and name.upper() not in installed:
+        raise input_error(
+            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
+        )
+
 
 __all__ = ["SweepSpec", "load_sweep", "sweep_from_dict"]
 

@@ -6,7 +6,7 @@ Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -118,6 +118,7 @@ def simulate_ensemble(
     atol: float = DEFAULT_RTOL,
     samples: int = 201,
     initial: Any = None,
+    progress: Callable[[float], None] | None = None,
 ) -> EnsembleRun:
     """Integrate many bodies of one structure in one batch; I4 drift of each over time.
 
@@ -136,6 +137,8 @@ def simulate_ensemble(
         Output samples (at least 2).
     initial : mapping, optional
         Initial-state spec (default: the simulation's default on I3 = 0, r solved per body).
+    progress : callable, optional
+        Told the fraction of the time span integrated (the whole batch advances together).
 
     Returns
     -------
@@ -158,6 +161,7 @@ def simulate_ensemble(
         rtol=rtol,
         atol=atol,
         samples=samples,
+        progress=progress,
     )
     states = run.states  # (B, s, 7)
     B, s = states.shape[0], states.shape[1]

@@ -7,7 +7,7 @@ Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -198,8 +198,10 @@ def error_distribution(
     *,
     seed: int = 0,
     n_orientations: int = DEFAULT_ORIENTATIONS,
+    tally: Callable[[int], None] | None = None,
 ) -> dict[str, dict[str, Any]]:
-    """Relative errors of ``n`` perturbed bodies: exact (Monte Carlo) and first order.
+    """Relative errors of ``n`` perturbed bodies: exact (Monte Carlo) and first order
+    (``tally(done)`` is told the bodies drawn so far).
 
     Returns
     -------
@@ -235,6 +237,8 @@ def error_distribution(
         for q, v in relative_errors(predicted, ref, scales).items():
             lin[q].append(v)
         done += k
+        if tally is not None:
+            tally(done)
     sig = standard_deviations(el, model)
     spos = np.concatenate([sig["cp"], sig["dp"], sig["mp"]])  # (N, 3)
     sval = np.zeros_like(spos)
@@ -271,6 +275,7 @@ def monte_carlo(
     rtol: float = DEFAULT_RTOL,
     target: float = DEFAULT_TARGET,
     material_errors: MaterialErrors | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> MonteCarloResult:
     """Monte Carlo of perturbed bodies: error distributions, I4 drift, linear prediction.
 
@@ -295,6 +300,10 @@ def monte_carlo(
         Target of the sensitivity report included.
     material_errors : MaterialErrors, optional
         The materials' property errors, analysed in the report included.
+    tally : callable, optional
+        ``tally(done, total)``: the bodies done, of ``samples`` drawn for the distributions
+        and then the nominal and every perturbed body simulated (one batch, counted by the
+        time integrated).
 
     Returns
     -------
@@ -310,11 +319,14 @@ def monte_carlo(
     if model.is_zero:
         raise ValueError("model: expected at least one error (position, charge, dipole, mass)")
     seconds: dict[str, float] = {}
+    total = samples + (1 + len(lv) * n_drift if n_drift else 0)
+    count = (lambda done: None) if tally is None else (lambda done: tally(done, total))
+    count(0)
     t0 = time.perf_counter()
     report = tolerance_report(design, target, material_errors=material_errors)
     seconds["sensitivity"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    errors = error_distribution(design, model, samples, seed=seed)
+    errors = error_distribution(design, model, samples, seed=seed, tally=count)
     seconds["errors"] = time.perf_counter() - t0
     el = Elements.of(design)
     rng = np.random.default_rng([seed, 1])
@@ -329,7 +341,13 @@ def monte_carlo(
             draws = perturbed_arrays(el, model.scaled(float(level)), n_drift, rng)
             bodies += _designs_from_draws(design, draws)
         t0 = time.perf_counter()
-        run = simulate_ensemble(bodies, t_end=t_end, rtol=rtol, atol=rtol)
+        run = simulate_ensemble(
+            bodies,
+            t_end=t_end,
+            rtol=rtol,
+            atol=rtol,
+            progress=lambda f: count(samples + int(f * len(bodies))),
+        )
         seconds["simulation"] = time.perf_counter() - t0
         nominal_drift = float(run.drift[0].max())
         per_body = run.drift[1:].max(axis=1).reshape(len(lv), n_drift)

@@ -10,6 +10,7 @@ parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor).
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -188,12 +189,18 @@ def typed_vertices(F: MomentumMap, points: CriticalPoints, scales: Scales) -> li
     ]
 
 
+#: the stages of :func:`critical_diagram`, in order (its ``seconds`` keys)
+STAGES = ("equations", "energy range", "seeds", "continuation", "stability", "chambers")
+
+
 def critical_diagram(
     params: Parameters,
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> RawDiagram:
-    """The critical set, its image and the chambers, computed at ``params`` as given."""
+    """The critical set, its image and the chambers, computed at ``params`` as given
+    (``tally(done, total)`` is told the stages done of :data:`STAGES`)."""
     options = options or DiagramOptions()
     seconds: dict[str, float] = {}
     clock = time.perf_counter()
@@ -203,6 +210,8 @@ def critical_diagram(
         now = time.perf_counter()
         seconds[stage] = now - clock
         clock = now
+        if tally is not None:
+            tally(len(seconds), len(STAGES))
 
     F = MomentumMap(params)
     F.hessians(np.zeros((2, 6)))

@@ -12,6 +12,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -146,6 +147,7 @@ def bifurcation_diagram(
     params: Parameters,
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
+    tally: Callable[[int, int], None] | None = None,
 ) -> BifurcationDiagram:
     """The diagram at ``params``: computed at unit time scale and n = 0, then mapped exactly
     (:class:`Reading`: the time scale and Larmor's ``H_n = H_0 + C n^2``).
@@ -155,7 +157,7 @@ def bifurcation_diagram(
     """
     reading = Reading.of(params)
     unit_range = check_energy_range(params, h_range)
-    raw = critical_diagram(reading.unit(), unit_range, options)
+    raw = critical_diagram(reading.unit(), unit_range, options, tally)
     diagram = BifurcationDiagram(mapped(raw, reading))
     if not any(not b.exact for b in diagram.branches):
         lo, hi = diagram.raw.h_range

@@ -175,3 +175,60 @@ def test_the_command_line_options_reach_a_case_scene(tmp_path: Path) -> None:
     data = json.loads((out / "design.json").read_text("utf-8"))
     assert data["provenance"]["options"]["objective"] == "l2"
     assert data["case"]["certificate"]["holds"] is True
+
+
+def _default_as_a_case() -> tuple[object, object]:
+    """The default scene (n != 0, [medium], frame reading) and its twin: the theorem at the
+    default parameters as a hand-written ``[case]`` (exact text of the catalogue's entry)."""
+    from chargedesign.scene.load import default_scene_text
+
+    data = tomllib.loads(default_scene_text())
+    given = data["parameters"]
+    params = Parameters(**{("lam" if k == "lambda" else k): v for k, v in given.items()})
+    case = theorem_case(params)
+    table = {
+        "name": "default by hand",
+        "inertia": [sp.sstr(x) for x in case.inertia],
+        "V": sp.sstr(case.V),
+        "l": [sp.sstr(x) for x in case.l],
+        "integral": sp.sstr(case.integral),
+        "level": 0,
+    }
+    tables = {k: v for k, v in data.items() if k not in ("parameters", "simulation")}
+    theorem = scene_from_dict(data, "default")
+    return theorem, scene_from_dict({**tables, "case": table}, "default as a case")
+
+
+def test_a_case_of_the_theorems_form_with_n_is_checked_in_its_bodys_own_axes() -> None:
+    """With [medium] the frame reading builds the n = 0 body; the forward check compares it
+    with the case read in axes turning at -n (``case_numeric.body_case``), not with the case's
+    own n (the body missed it by mu 1, V 0.32 and the design was refused)."""
+    from chargedesign.checker import check_design
+    from chargedesign.designer.pipeline import design_from_scene
+
+    theorem_scene, case_scene = _default_as_a_case()
+    theorem = design_from_scene(theorem_scene, frontier=False).design
+    case = design_from_scene(case_scene, frontier=False).design
+    assert case.larmor.is_frame and case.larmor.rate == theorem.larmor.rate > 0
+    _same_parts(theorem, case)
+    report = check_design(case)
+    assert report.reference == "case" and report.passed, report.failures
+    assert report.verdict["state"] == theorem.verdict["state"] == case.verdict["state"]
+
+
+def test_the_body_case_of_a_frame_reading_is_the_theorem_at_n_zero() -> None:
+    """Exact: the default theorem's case read in axes turning at -n is its n = 0 case (V up
+    to a constant on the sphere, the same l)."""
+    from dataclasses import replace
+
+    from chargedesign.model.frame import frame_reading
+
+    params = Parameters(C=2.0e-5, c=0.3, d=-0.4, n=2.45e-6, K=1.75e-6, kappa=1.1025e-11)
+    read = frame_reading(theorem_case(params), -params.n)
+    plain = theorem_case(replace(params, n=0.0))
+    from chargedesign.model.case import GAMMA
+
+    g1, g2, g3 = GAMMA
+    _, difference = sp.reduced(sp.expand(read.V - plain.V), [g1**2 + g2**2 + g3**2 - 1])
+    assert difference.free_symbols == set()
+    assert all(sp.expand(a - b) == 0 for a, b in zip(read.l, plain.l, strict=True))

@@ -86,7 +86,8 @@ def test_the_report_says_the_parts_are_not_buildable_as_specified(small_design):
     # the same body with magnets of 30 nm: no flag, the verdict of the limits and the budget
     large = render_report(with_edges(small_design, np.full(12, 30e-9)))
     verdict = next(x for x in large.splitlines() if x.startswith("**Verdict:"))
-    assert "continuum size" not in large.split("## ")[0].split("- Part sizes")[0]
+    opening = large.split("\n## Elements")[0]  # the summary and its detail
+    assert "continuum size" not in opening.split("- Part sizes")[0]
     assert verdict.startswith("**Verdict: buildable parts, NOT realised as designed**")
     assert "below the 20 nm" not in large and "30 nm, above it" in large
 
