@@ -23,26 +23,19 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
 from pathlib import Path
 
-from chargedesign.body import Design
 from chargedesign.commands.progress import Progress
-from chargedesign.designer.frontier import WindowOptions, find_frontier, write_window_picture
+from chargedesign.designer.frontier import WindowOptions, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
-from chargedesign.designer.pipeline import (
-    design_from_scene,
-    frontier_from_scene,
-    physical_setup_from_scene,
-)
+from chargedesign.designer.pipeline import design_and_frontier_from_scene
 from chargedesign.designer.recommend import recommend
-from chargedesign.errors import InfeasibleError, InputError, SolverError
+from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
-from chargedesign.physical.budget import judge_at_frontier
 from chargedesign.physical.support import scene_window_gravity
 from chargedesign.report import wrapped_text
-from chargedesign.scene import Scene, load_theorem_scene
-from chargedesign.verdict import verdict_record, verdict_state_line, verdict_text_table
+from chargedesign.scene import load_theorem_scene
+from chargedesign.verdict import verdict_state_line, verdict_text_table
 
 
 def run(args: argparse.Namespace) -> int:
@@ -103,21 +96,15 @@ def run(args: argparse.Namespace) -> int:
             else wrapped_text(str(found))
         )
         return 0
-    body = _body_at_scene_rate(scene, progress)
-    if body is None:
-        result = frontier_from_scene(scene, progress=progress, window=window)
-    else:
-        result = find_frontier(
-            physical_setup_from_scene(scene),
-            progress=progress,
-            window=window,
-            feasible_rate=1.0,
-            feasible=body,
-        )
-        # the body at the scene's rate, judged with this frontier (as `design` judges it)
-        body.frontier = result.to_dict()
-        judge_at_frontier(body)
-        body.verdict = verdict_record(body)
+    # the body at the scene's rate (its recorded verdict) and the frontier: one setup, one
+    # derivation of the conditions, the frontier located once (as `design` locates it)
+    designed, result = design_and_frontier_from_scene(
+        scene,
+        progress=progress,
+        realised_fraction=args.realised_fraction,
+        realised_gravity=args.realised_gravity,
+    )
+    body = None if designed is None else designed.design
     if args.out is not None and result.realised is not None:
         write_window_picture(result, Path(args.out))
         progress(f"wrote {args.out}/realised_window.png")
@@ -133,17 +120,3 @@ def run(args: argparse.Namespace) -> int:
             print("\n".join(verdict_text_table(verdict)) + "\n")
         print(wrapped_text(str(result)), end="")
     return 0
-
-
-def _body_at_scene_rate(scene: Scene, progress: Callable[[str], None]) -> Design | None:
-    """The body the scene designs at its own rate (its verdict is the one `design` records);
-    None when that rate is not accepted, or the scene has no [medium] (the frontier says
-    why)."""
-    if scene.medium is None:
-        return None
-    progress("designing the body at the scene's rate (its verdict) ...")
-    try:
-        return design_from_scene(scene, progress=progress, frontier=False).design
-    except (InfeasibleError, SolverError) as exc:
-        progress(f"the scene's own rate is not accepted ({exc}): the frontier alone")
-        return None

@@ -150,6 +150,12 @@ class FrontierResult(Result):
     s_charges: float | None = None
     #: the realised window (:mod:`chargedesign.physical.window`); None when not computed
     realised: RealisedWindow | None = None
+    #: the K law's item (:func:`chargedesign.physical.realism.k_law`): the induced
+    #: magnetisation at the K frontier over the designed K torques C K_max^2, the one figure
+    #: of that effect the frontier prints (empty: the law does not apply)
+    k_law: dict[str, Any] = field(default_factory=dict)
+    #: whose parts the K law's figure measures
+    k_law_body: str = ""
 
     @property
     def n_free(self) -> bool:
@@ -192,7 +198,20 @@ class FrontierResult(Result):
             "seconds": self.seconds,
             "field_response": dict(self.field_response),
             "smallest_charge_C": self.smallest_charge,
+            "k_law_induced_ratio": self._k_law_figure(),
             **({"realised": self.realised.to_dict()} if self.realised is not None else {}),
+        }
+
+    def _k_law_figure(self) -> dict[str, Any] | None:
+        """The K law's one figure: its value, verdict and whose parts it measures (None: the
+        law does not apply)."""
+        if not self.k_law or self.k_law.get("value") is None:
+            return None
+        return {
+            "value": self.k_law["value"],
+            "of": "the designed K torques C K_max^2 at the K frontier",
+            "verdict": self.k_law.get("verdict"),
+            "body": self.k_law_body,
         }
 
     def _summary(self) -> dict[str, Any]:
@@ -236,10 +255,19 @@ class FrontierResult(Result):
                 f"{fmt(self.balance['centre_of_mass_within_m'])} m for the check's tolerance "
                 f"{fmt(self.balance['check_tolerance'], PLAIN)})\n"
             )
+        figure = self._k_law_figure()
+        if figure is not None:
+            # the induced magnetisation's one figure (the report's and the budget's)
+            lines.append(
+                f"induced magnetisation at the K frontier (the K law): {fmt(figure['value'])} x "
+                f"the designed K torques C K_max^2 ({figure['verdict']}; {figure['body']})\n"
+            )
         lines += [
-            f"at s_max, {key.replace('_', ' ')}: {_value_text(item)} of the designed "
-            f"torques ({item['verdict']})\n"
+            f"the body designed at s_max = {fmt(self.s_max, PRECISE)}, its "
+            f"{key.replace('_', ' ')}: {_value_text(item)} of its designed torques at its "
+            f"typical rate ({item['verdict']})\n"
             for key, item in self.field_response.items()
+            if figure is None or not key.startswith("induced")
         ]
         if self.realised is not None:
             lines.append(str(self.realised))
@@ -366,7 +394,7 @@ def _balance_fails(design: Design, s: float) -> bool:
     return bool(balance) and not float(balance.get("lowest_rate") or math.inf) <= s
 
 
-def _accept_body(design: Design) -> Binding | None:
+def _accept_body(design: Design, responses: dict[int, Any] | None = None) -> Binding | None:
     """The rest of the design's acceptance on a body whose limits and balance hold: the
     limits recomputed from the written parts and the forward check (None: accepted).
 
@@ -381,6 +409,9 @@ def _accept_body(design: Design) -> Binding | None:
             return Binding("limits", limits.violations[0], "limits check")
         return Binding("forward", f"the forward check could not run ({exc})", "check")
     limits = report.limits if report.limits is not None else check_limits(design)
+    if responses is not None and limits.field_response:
+        # the limits check's field response of this body (the frontier reports it: not twice)
+        responses[id(design)] = (design, limits.field_response)
     if not limits.parts_within_limits:
         return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
@@ -398,9 +429,15 @@ def _accept_body(design: Design) -> Binding | None:
     )
 
 
-def _response_at(design: Design | None) -> dict[str, Any]:
-    """The field response of the body designed at the frontier (empty when none)."""
-    return {} if design is None else field_response(design)
+def _response_at(design: Design | None, responses: dict[int, Any]) -> dict[str, Any]:
+    """The field response of the body designed at the frontier (empty when none; the one its
+    acceptance computed when it has)."""
+    if design is None:
+        return {}
+    known = responses.get(id(design))
+    if known is not None and known[0] is design:
+        return dict(known[1])
+    return field_response(design)
 
 
 def no_buildable_rate(balance: dict[str, Any], s_max: float, K_max: float) -> str:
@@ -448,9 +485,23 @@ class _Search:
     accepted_at: float | None = None
     #: the lowest rate refused by the direct steps, and why
     first: tuple[float, Binding] | None = None
+    #: the checks around the bracket after bisection (False: a frontier only ranked)
+    checks: bool = True
+    #: what each rate designed gave (a rate is designed once; the caller's accepted rate
+    #: is known without a design)
+    outcomes: dict[float, tuple[bool, Binding | None]] = field(default_factory=dict)
+    #: the field response each accepted body's limits check computed (by the body's id,
+    #: with the body: an id is only unique while its object lives)
+    responses: dict[int, Any] = field(default_factory=dict)
 
     def probe(self, s: float) -> tuple[bool, Binding | None]:
-        """Design at rate ``s`` (unless a proved refusal covers it): accepted, and why not."""
+        """Design at rate ``s`` (unless a proved refusal covers it, or the rate was designed
+        already: every rate is designed once): accepted, and why not."""
+        known = self.outcomes.get(s)
+        if known is not None:
+            if all(x != s for x, _ in self.history):
+                self.history.append((s, known[0]))
+            return known
         if self.proved and s >= self.proved[0][0]:
             self._say(
                 f"s = {fmt(s, CELL)}: infeasible (proved at s = {fmt(self.proved[0][0], CELL)})"
@@ -466,6 +517,7 @@ class _Search:
             self.best.clear()
             self.best[s] = design
         self.history.append((s, ok))
+        self.outcomes[s] = (ok, binding)
         self._say(f"s = {fmt(s, CELL)}: {'feasible' if ok else 'infeasible'}")
         return ok, binding
 
@@ -487,7 +539,7 @@ class _Search:
             seconds=time.perf_counter() - self.t0,
             medium=self.setup.spec.medium.name,
             history=self.history,
-            field_response=_response_at(design),
+            field_response=_response_at(design, self.responses),
             K=theorem.K,
             larmor=_reading(self.setup),
             smallest_charge=(
@@ -542,7 +594,11 @@ def _direct_steps(search: _Search, limit: ChargesLimit) -> None:
         design_try = search.best.get(s_try) if ok else None
         if design_try is not None:
             # the balance, if it fails, speaks below (too slow); else the acceptance
-            refused = None if _balance_fails(design_try, s_try) else _accept_body(design_try)
+            refused = (
+                None
+                if _balance_fails(design_try, s_try)
+                else _accept_body(design_try, search.responses)
+            )
             if refused is None:
                 search.accepted_at = search.lo = s_try
                 return
@@ -614,6 +670,9 @@ def _bisect_with_restarts(search: _Search) -> None:
     s_max, which design must accept, is tried too.
     """
     rtol = search.rtol
+    if not search.checks:
+        _bisect(search)  # a ranking frontier (recommend): the bracket alone
+        return
     for _ in range(UPWARD_RESTARTS + 1):
         _bisect(search)
         found = next((s_up for s_up in _rates_above(search) if search.probe(s_up)[0]), None)
@@ -650,7 +709,9 @@ def _accept_lowest(search: _Search) -> Design | None:
             design, _ = _probe_body(search.setup, search.lo)
         if design is None or _balance_fails(design, search.lo):
             return design  # the balance speaks below
-        refused = None if search.lo == search.accepted_at else _accept_body(design)
+        refused = (
+            None if search.lo == search.accepted_at else _accept_body(design, search.responses)
+        )
         if refused is None:
             return design
         search.hi, search.hi_binding = search.lo, refused
@@ -693,8 +754,14 @@ def find_frontier(
     feasible: Design | None = None,
     direct: bool | None = None,
     window: WindowOptions | None = None,
+    checks: bool = True,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
+
+    ``checks``: after bisection, design the rates just above and below the bracket that
+    guard against the heuristic's non-monotonicity (False: the bracket alone, for a frontier
+    only ranked against others, as :func:`~chargedesign.designer.recommend.recommend` ranks
+    its choices before it locates the best one with them).
 
     ``feasible_rate``: a rate already known to be accepted (e.g. the one just designed),
     which starts the bracket and saves the search for a feasible point; ``feasible`` its
@@ -713,12 +780,13 @@ def find_frontier(
         ("no buildable rate: ...").
     """
     t0 = time.perf_counter()
-    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0)
+    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0, checks=checks)
     search.s_lp = search.s_nec
     if direct is None:
         direct = _reading(setup) == "frame"
     if feasible_rate is not None and feasible is not None:
         search.best[feasible_rate] = feasible
+        search.outcomes[feasible_rate] = (True, None)
     if not search.s_nec > 0:
         front = search.result(0.0, 0.0, _external_field_binding(setup), None)
         if window is not None:
@@ -737,6 +805,9 @@ def find_frontier(
     assert search.hi_binding is not None
     design = _accept_lowest(search)
     front = search.result(search.lo, search.hi, search.hi_binding, design)
+    if design is not None:
+        front.k_law = k_law(design, front.field_response)
+        front.k_law_body = f"the body designed at s_max = {fmt(front.s_max, PRECISE)}"
     _record_balance(front, design, search.lo)
     if window is not None:
         front.realised = realised_window(search, front, design, window)
@@ -868,25 +939,35 @@ def _confirm_end(
     return out
 
 
-def _why_empty(window: RealisedWindow, design: Design | None, options: WindowOptions) -> str:
-    """One line: why no rate realises the body (the K law where it applies)."""
-    if design is None:
+def _why_empty(window: RealisedWindow, law: dict[str, Any] | None) -> str:
+    """One line: why no rate realises the body (with the K law's one figure where it
+    applies: ``law``, the :func:`~chargedesign.physical.realism.k_law` item; None: no body)."""
+    if law is None:
         return "no rate is buildable: " + window.binding_high
-    law = k_law(design)
     head = (
         f"at the best rate s = {fmt(window.s_best, CELL)} the worst parasitic is "
         f"{fmt(window.missing, ROUGH)} x the fraction ({window.binding_low.split(' (')[0]})"
     )
-    if not law:
+    if not law or law.get("value") is None:
         return head
     return (
-        f"the K term cannot be realised: the size-free law 6 (chi/rho) / (mu0 G^2) with "
-        f"G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg puts the induced "
-        f"magnetisation of the body designed at s_max at {fmt(law['ratio'], ROUGH)} x the "
-        f"designed K torques C K_max^2, {fmt(law['ratio'] / options.fraction, ROUGH)} x the "
-        f"fraction, for any size and a2 (a design's own figure: its realism budget's "
-        f"k_law_induced_ratio); {head}"
+        f"the K term cannot be realised: the K law puts the parts' induced magnetisation at "
+        f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier "
+        f"({fmt(law['value'] / window.fraction, ROUGH)} x the fraction "
+        f"{fmt(window.fraction, PLAIN)}), for any size and a2 (the size-free law "
+        f"6 (chi/rho) / (mu0 G^2), G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg; "
+        f"design.json's realism k_law_induced_ratio); {head}"
     )
+
+
+def restate_k_law(front: FrontierResult, law: dict[str, Any], body: str) -> None:
+    """Give the frontier the K law's figure of ``body`` (the body ``design`` records, judged
+    at this frontier's K_max), so the frontier, its window's why-line, the report and the
+    budget print one number for the induced magnetisation."""
+    front.k_law, front.k_law_body = dict(law), body
+    if front.realised is not None and front.realised.empty and front.realised.why:
+        if not front.realised.why.startswith("no rate is buildable"):
+            front.realised.why = _why_empty(front.realised, law)
 
 
 def realised_window(
@@ -910,7 +991,7 @@ def realised_window(
             {},
             {},
         )
-        window.why = _why_empty(window, None, options)
+        window.why = _why_empty(window, None)
         return window
     search._say("realised window ...")
     model = window_model(design, front.s_max, fraction=options.fraction, gravity=options.gravity)
@@ -927,7 +1008,7 @@ def realised_window(
         if not window.empty:
             window.confirmed += _confirm_end(search, window, model, False, options, front)
     if window.empty:
-        window.why = _why_empty(window, design, options)
+        window.why = _why_empty(window, front.k_law)
     else:
         assert window.s_low is not None and window.s_high is not None
         window.s_best = math.sqrt(window.s_low * window.s_high)

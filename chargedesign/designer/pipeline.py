@@ -19,10 +19,17 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
+from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
-from chargedesign.designer.frontier import FrontierResult, WindowOptions, find_frontier
+from chargedesign.designer.frontier import (
+    FRONTIER_RTOL,
+    FrontierResult,
+    WindowOptions,
+    find_frontier,
+    restate_k_law,
+)
 from chargedesign.designer.physical_setup import refuse_unread_options, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
@@ -52,6 +59,7 @@ from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
+from chargedesign.scene.design_realism import K_LAW_KEY, WINDOW_KEY
 from chargedesign.validation import (
     check_design_sources,
     check_instance,
@@ -59,6 +67,12 @@ from chargedesign.validation import (
     check_robust_parameters,
 )
 from chargedesign.verdict import verdict_record
+
+#: the frontier of a scene without ``[medium]``
+NO_MEDIUM = (
+    "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
+    "name = vacuum | air | sf6 | oil)"
+)
 
 
 def design_source(
@@ -503,28 +517,61 @@ def design_from_scene(
     check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
-    options, candidates, conditions = inputs.options, inputs.candidates, inputs.conditions
-    t2 = time.perf_counter()
     if inputs.spec is not None:
-        result = _physical_design(inputs, progress, frontier)
-        if scene.support.given:  # how the body is held, counted (physical/support.py)
-            result.design.support = support_record(
-                result.design, scene.support, fraction=options.realised_fraction
-            )
-    else:
-        result = design_body(
-            inputs.body_params,
-            conditions,
-            candidates,
-            options,
-            progress=progress,
-            forward=inputs.model.theorem is not None,
+        result, _ = _physical_design(inputs, inputs.physical_setup(), progress, frontier)
+        return _finish_scene_design(scene, inputs, result, progress)
+    t2 = time.perf_counter()
+    result = design_body(
+        inputs.body_params,
+        inputs.conditions,
+        inputs.candidates,
+        inputs.options,
+        progress=progress,
+        forward=inputs.model.theorem is not None,
+    )
+    result.design.parameters = inputs.model.parameters
+    result.design.larmor = inputs.larmor
+    result.timings = {"setup": t2 - t0, **result.timings}
+    result.timings["total"] = time.perf_counter() - t0
+    result.design.timings = {k: round(v, 6) for k, v in result.timings.items()}
+    return _finish_scene_design(scene, inputs, result, progress)
+
+
+def design_and_frontier_from_scene(
+    scene: Any, *, progress: Progress | None = None, **overrides: Any
+) -> tuple[DesignResult | None, FrontierResult]:
+    """The body a scene with ``[medium]`` designs at its own rate and its frontier, from one
+    physical setup and one derivation of the conditions (what ``chargedesign frontier``
+    prints): the body is the one :func:`design_from_scene` records (its frontier, K law and
+    verdict judged the same way, once). When the scene's own rate is not accepted the body is
+    None and the frontier is located alone, on the same setup. ``overrides`` as in
+    :func:`design_from_scene` (``realised_fraction``, ``realised_gravity``: the window's)."""
+    check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
+    if scene.physical is None:
+        raise InfeasibleError(NO_MEDIUM)
+    inputs = _scene_inputs(scene, progress, overrides)
+    setup = inputs.physical_setup()
+    try:
+        result = design_physical(setup, progress=progress)
+    except (InfeasibleError, SolverError) as exc:
+        if progress is not None:
+            progress(f"the scene's own rate is not accepted ({exc}): the frontier alone")
+        return None, find_frontier(setup, progress=progress, window=_window_options(inputs))
+    result, front = _physical_design(inputs, setup, progress, True, result)
+    assert front is not None
+    return _finish_scene_design(scene, inputs, result, progress), front
+
+
+def _finish_scene_design(
+    scene: Any, inputs: SceneInputs, result: DesignResult, progress: Progress | None
+) -> DesignResult:
+    """What every scene's body records after its design: the support, the Larmor reading's
+    why, the case, the provenance and the verdict (judged once)."""
+    if inputs.spec is not None and scene.support.given:
+        # how the body is held, counted (physical/support.py)
+        result.design.support = support_record(
+            result.design, scene.support, fraction=inputs.options.realised_fraction
         )
-        result.design.parameters = inputs.model.parameters
-        result.design.larmor = inputs.larmor
-        result.timings = {"setup": t2 - t0, **result.timings}
-        result.timings["total"] = time.perf_counter() - t0
-        result.design.timings = {k: round(v, 6) for k, v in result.timings.items()}
     result.design.larmor_why = inputs.larmor_why
     if inputs.larmor_note:
         result.notes.append(inputs.larmor_note)
@@ -579,33 +626,73 @@ def scene_model(scene: Any) -> SceneModel:
     return SceneModel(case=case, theorem=theorem_parameters(case), table=scene.tables["case"])
 
 
+def _window_options(inputs: SceneInputs) -> WindowOptions:
+    """The realised window's options of a scene's inputs (its ``[design]`` keys, the support's
+    gravity, any override)."""
+    return WindowOptions(inputs.options.realised_fraction, inputs.options.realised_gravity)
+
+
 def _physical_design(
-    inputs: SceneInputs, progress: Progress | None, frontier: bool
-) -> DesignResult:
-    """The physical body a scene with ``[medium]`` describes, with its frontier when asked."""
-    setup = inputs.physical_setup()
-    result = design_physical(setup, progress=progress)
-    if frontier:
-        if progress is not None:
-            progress("locating the frontier (largest rate within the limits, to 5 %) ...")
-        front = find_frontier(
-            setup,
-            rtol=0.05,
-            feasible_rate=1.0,
-            feasible=result.design,
-            window=WindowOptions(inputs.options.realised_fraction, inputs.options.realised_gravity),
+    inputs: SceneInputs,
+    setup: Any,
+    progress: Progress | None,
+    frontier: bool,
+    result: DesignResult | None = None,
+) -> tuple[DesignResult, FrontierResult | None]:
+    """The physical body a scene with ``[medium]`` describes (``result``: already designed on
+    ``setup``), with its frontier when asked: located once, on the same setup, and reused for
+    the realised window, the K law, the report and the verdict."""
+    result = design_physical(setup, progress=progress) if result is None else result
+    if not frontier:
+        return result, None
+    if progress is not None:
+        progress(
+            f"locating the frontier (largest rate within the limits, to "
+            f"{fmt(100 * FRONTIER_RTOL, PLAIN)} %) ..."
         )
-        if front.realised is not None:
-            # the apparatus and the parasitics of this body at its own rate (the window's are
-            # those of the body at s_max)
-            own = window_model(result.design, 1.0, gravity=inputs.options.realised_gravity)
-            front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
-            front.realised.support = own.support
-            front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
-        result.design.frontier = front.to_dict()
-        # the budget's K law and the report's figures are judged at the frontier's K_max
-        judge_at_frontier(result.design)
-    return result
+    design = result.design
+    front = find_frontier(
+        setup,
+        progress=progress,
+        feasible_rate=1.0,
+        feasible=design,
+        window=_window_options(inputs),
+    )
+    if front.realised is not None:
+        # the apparatus and the parasitics of this body at its own rate (the window's are
+        # those of the body at s_max)
+        _record_at_design(front, design, inputs.options.realised_gravity)
+    design.frontier = front.to_dict()
+    # the budget's K law and the report's figures are judged at the frontier's K_max
+    judge_at_frontier(design)
+    realism = design.realism if isinstance(design.realism, dict) else {}
+    if realism.get(K_LAW_KEY):
+        # the K law's one figure: this body's, judged at K_max (the report's and the budget's)
+        restate_k_law(front, realism[K_LAW_KEY], "the body at the scene's rate (s = 1)")
+        design.frontier = front.to_dict()
+    return result, front
+
+
+def _record_at_design(front: FrontierResult, design: Design, gravity: float) -> None:
+    """The realised window's apparatus, support and parasitics at the design's own rate: the
+    realism record's window at the design (judged with the default fraction and 1 g) when
+    the window's gravity is 1 g, else that body's window laws again at this gravity."""
+    assert front.realised is not None
+    realism = design.realism if isinstance(design.realism, dict) else {}
+    recorded = realism.get(WINDOW_KEY)
+    if recorded and gravity == STANDARD_GRAVITY:
+        front.realised.apparatus = recorded.get("apparatus")
+        front.realised.support = recorded.get("support")
+        front.realised.at_design = {
+            # an unbounded parasitic is null in the JSON-ready record
+            item["key"]: float("inf") if item["over_fraction"] is None else item["over_fraction"]
+            for item in recorded.get("items", [])
+        }
+        return
+    own = window_model(design, 1.0, gravity=gravity)
+    front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
+    front.realised.support = own.support
+    front.realised.at_design = {k: v / own.fraction for k, v in own.ratios(1.0).items()}
 
 
 @dataclass
@@ -732,17 +819,20 @@ def physical_setup_from_scene(scene: Any, **overrides: Any) -> Any:
 
 
 def frontier_from_scene(
-    scene: Any, *, progress: Any = None, window: Any = None, **overrides: Any
+    scene: Any,
+    *,
+    progress: Any = None,
+    window: Any = None,
+    rtol: float = FRONTIER_RTOL,
+    checks: bool = True,
+    **overrides: Any,
 ) -> FrontierResult:
     """The frontier of a scene with ``[medium]`` (see
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
     physical setup and the frontier, which calls the design (never the other way round).
     ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
-    window too (None: not)."""
+    window too (None: not); ``rtol``, ``checks`` as there."""
     setup = physical_setup_from_scene(scene, **overrides)
     if setup is None:
-        raise InfeasibleError(
-            "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
-            "name = vacuum | air | sf6 | oil)"
-        )
-    return find_frontier(setup, progress=progress, window=window)
+        raise InfeasibleError(NO_MEDIUM)
+    return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks)

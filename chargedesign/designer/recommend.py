@@ -14,8 +14,13 @@ anything), every point a frontier with its window (``frontier_from_scene``):
 - the medium: :data:`MEDIA`.
 
 A choice is better when its window is wider (``s_high / s_low``); among empty windows, when
-its best rate misses the fraction by less. The recommended scene runs at the window's
-geometric middle (n, K x s; kappa, lambda, rho x s^2; the simulated time / s).
+its best rate misses the fraction by less. The choices are ranked by frontiers located to
+:data:`RANK_RTOL` without the checks around their bracket (a ranking needs no more: the
+windows of the choices differ by factors); the best one is then located once more as
+``chargedesign frontier`` locates it (to :data:`~chargedesign.designer.frontier.FRONTIER_RTOL`,
+its bracket checked), and that frontier's window is the one reported and written. The
+recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
+the simulated time / s).
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from chargedesign.designer.frontier import WindowOptions
+from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions
 from chargedesign.designer.frontier_scan import scene_dict, scene_variant
 from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.errors import ChargeDesignError
@@ -47,6 +52,9 @@ SIZE_FACTORS = (0.5, 1.0, 2.0, 4.0)
 MEDIA = ("vacuum", "air", "sf6")
 #: passes of the coordinate search (the second only when the first changed something)
 PASSES = 2
+#: the frontier's tolerance while the choices are ranked (the best is located to
+#: FRONTIER_RTOL after)
+RANK_RTOL = 0.05
 #: the order in which the tables are written
 TABLE_ORDER = (
     "parameters",
@@ -339,27 +347,33 @@ def recommend(
     total = probes_at_most(dims)
     cache: dict[Choice, Evaluation] = {}
     history: list[tuple[str, str]] = []
+    made = [0]
 
-    def evaluate(choice: Choice) -> Evaluation:
-        if choice in cache:
-            return cache[choice]
+    def frontier_of(choice: Choice, ranked: bool) -> Evaluation:
+        made[0] += 1
         try:
             data = choice.apply(base)
             front = frontier_from_scene(
-                scene_from_dict(data, f"{scene.source} (recommend {len(cache)})"), window=options
+                scene_from_dict(data, f"{scene.source} (recommend {made[0]})"),
+                window=options,
+                rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
+                checks=not ranked,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
             found = Evaluation(choice, error=str(exc))
-        cache[choice] = found
         history.append((repr(choice), found.text()))
         if progress is not None:
-            progress(
-                f"probe {len(cache)} of at most {total}: {_choice_text(choice)}: {found.text()}"
-            )
+            what = "probe" if ranked else "the best choice located"
+            progress(f"{what} {made[0]} of at most {total}: {_choice_text(choice)}: {found.text()}")
         if tally is not None:
-            tally(len(cache), total)
+            tally(made[0], total)
         return found
+
+    def evaluate(choice: Choice) -> Evaluation:
+        if choice not in cache:
+            cache[choice] = frontier_of(choice, ranked=True)
+        return cache[choice]
 
     first = evaluate(Choice())
     best = first
@@ -372,8 +386,13 @@ def recommend(
                     best = trial
         if best.choice == before:
             break
+    located = frontier_of(best.choice, ranked=False)
+    if located.window is not None or best.window is None:
+        best = located
+        if best.choice == first.choice:
+            first = located
     if tally is not None:
-        tally(len(cache), len(cache))  # the search ended: every probe it makes is made
+        tally(made[0], made[0])  # the search ended: every probe it makes is made
     window = best.window
     rate = window.s_best if window is not None and not window.empty else 1.0
     scene_out = scene_at_rate(best.choice.apply(base), rate)
@@ -382,7 +401,7 @@ def recommend(
         base=first,
         best=best,
         searched={k: list(v) for k, v in dims.items()},
-        evaluations=len(cache),
+        evaluations=made[0],
         seconds=time.perf_counter() - t0,
         changes=_changes(base, best.choice, rate),
         scene=scene_out,
@@ -393,8 +412,9 @@ def recommend(
 
 def probes_at_most(dims: dict[str, tuple[Any, ...]]) -> int:
     """The most probes the coordinate search makes: the input, then every value of every
-    dimension in each pass (a repeated choice is not probed again)."""
-    return 1 + PASSES * sum(len(values) for values in dims.values())
+    dimension in each pass (a repeated choice is not probed again), then the best choice
+    located to the frontier's tolerance."""
+    return 2 + PASSES * sum(len(values) for values in dims.values())
 
 
 def _normalised(name: str, value: Any, base: dict[str, Any]) -> Any:

@@ -45,7 +45,7 @@ def test_out_of_range_is_one_line(tmp_path, line):
 
 
 def test_the_frontier_reads_the_scene_and_its_option_overrides(tmp_path, monkeypatch, capsys):
-    import chargedesign.commands.frontier as frontier_command
+    import chargedesign.designer.pipeline as pipeline
     from chargedesign.cli import main
 
     seen = []
@@ -54,10 +54,9 @@ def test_the_frontier_reads_the_scene_and_its_option_overrides(tmp_path, monkeyp
         seen.append((window.fraction, window.gravity))
         raise InputError("stop here")
 
-    # the command locates the frontier from the body at the scene's rate (find_frontier) or,
-    # when that rate is refused, from the scene (frontier_from_scene): both read the window
-    monkeypatch.setattr(frontier_command, "frontier_from_scene", fake_frontier)
-    monkeypatch.setattr(frontier_command, "find_frontier", fake_frontier)
+    # the command locates the frontier on the setup of the body at the scene's rate, or alone
+    # on that setup when the rate is refused: both routes read the window
+    monkeypatch.setattr(pipeline, "find_frontier", fake_frontier)
     path = _scene(tmp_path, "realised_fraction = 0.02")
     assert main(["frontier", str(path), "--quiet"]) == 2
     assert main(["frontier", str(path), "--quiet", "--realised-fraction", "0.3"]) == 2
