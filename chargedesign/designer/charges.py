@@ -64,6 +64,19 @@ CONE_THRESHOLD = 0.95
 CHARGE_RESIDUES = (1e-5, 1e-9)
 
 
+#: the own-field LP is solved by columns above this many usable carriers
+LP_COLUMNS_MIN = 400
+
+
+#: the key of ``PhysicalSetup.warm`` that seeds the own-field LP's working set (the last
+#: support, at this rate or a neighbouring one)
+CHARGE_SEED = "charges: working set"
+
+
+#: rounds of the LP's column generation at most (then the whole LP decides)
+LP_COLUMN_ROUNDS = 60
+
+
 #: the polished charges meet A q = s b to this relative residual
 POLISHED_RESIDUAL = 1e-12
 
@@ -82,30 +95,99 @@ class ChargeSolution:
 
 
 def lp_charges(
-    A: np.ndarray, b: np.ndarray, caps: np.ndarray, cost: np.ndarray | None = None
+    A: np.ndarray,
+    b: np.ndarray,
+    caps: np.ndarray,
+    cost: np.ndarray | None = None,
+    seed: np.ndarray | None = None,
 ) -> np.ndarray | None:
-    """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible)."""
+    """min sum cost_j |q_j| with A q = b, |q| <= caps, by HiGHS (None: infeasible).
+
+    Above :data:`LP_COLUMNS_MIN` usable carriers by columns (:func:`lp_by_columns`, seeded
+    from ``seed``, candidate indices), the whole LP deciding when they cannot.
+    """
     usable = caps > 0
     cols = np.flatnonzero(usable)
     if len(cols) == 0:
         return None
     qs = float(np.max(caps[cols]))
     As, bs = row_scaled(A[:, cols], b, qs)
-    k = len(cols)
+    c = np.ones(len(cols)) if cost is None else cost[cols]
+    u = None
+    if len(cols) > LP_COLUMNS_MIN:
+        start = None if seed is None else np.flatnonzero(np.isin(cols, seed))
+        u = lp_by_columns(As, bs, caps[cols] / qs, c, start)
+    if u is None:
+        u = _whole_lp(As, bs, caps[cols] / qs, c)
+    if u is None:
+        return None
+    q = np.zeros(len(caps))
+    q[cols] = u * qs
+    return q
+
+
+def _whole_lp(As: np.ndarray, bs: np.ndarray, cap: np.ndarray, c: np.ndarray) -> np.ndarray | None:
+    """The scaled LP on every column by HiGHS: ``u`` (None: infeasible)."""
+    k = len(c)
     res = linprog(
-        np.ones(2 * k) if cost is None else np.tile(cost[cols], 2),
+        np.tile(c, 2),
         A_eq=np.hstack([As, -As]),
         b_eq=bs,  # q = qs * u
-        bounds=list(zip(np.zeros(2 * k), np.tile(caps[cols] / qs, 2), strict=True)),
+        bounds=list(zip(np.zeros(2 * k), np.tile(cap, 2), strict=True)),
         method="highs",
     )
     if res.status == 2:
         return None
     if res.status != 0 or res.x is None:
         raise SolverError(f"charges: HiGHS failed on the carriers' own-field LP ({res.message})")
-    q = np.zeros(len(caps))
-    q[cols] = (res.x[:k] - res.x[k:]) * qs
-    return q
+    return np.asarray(res.x[:k] - res.x[k:])
+
+
+def lp_by_columns(
+    As: np.ndarray, bs: np.ndarray, cap: np.ndarray, c: np.ndarray, start: np.ndarray | None
+) -> np.ndarray | None:
+    """The scaled LP ``min c |u|``, ``As u = bs``, ``|u| <= cap`` by column generation.
+
+    Restricted LPs on a working set carry elastic slacks; every column is priced with the
+    duals ``y`` (a column at zero cannot improve when ``c_j >= |a_j . y|``) and the worst
+    join, until none is left: then the restricted optimum is the LP's. None: a slack stayed
+    or the rounds ran out (the whole LP decides, infeasibility too).
+    """
+    m, n = As.shape
+    penalty = 1e4 * float(np.max(c)) * max(1.0, float(np.max(np.abs(bs), initial=0.0)))
+    size = min(n, max(4 * m, 60))
+    picks = [np.argsort(-np.abs(As.T @ bs))[:size], np.argsort(-cap)[:size]]
+    if start is not None:
+        picks.append(start)
+    in_work = np.zeros(n, dtype=bool)
+    in_work[np.concatenate(picks)] = True
+    eye = np.eye(m)
+    step = max(2 * m, 40)
+    for _ in range(LP_COLUMN_ROUNDS):
+        work = np.flatnonzero(in_work)
+        k = len(work)
+        Aw = As[:, work]
+        res = linprog(
+            np.concatenate([c[work], c[work], np.full(2 * m, penalty)]),
+            A_eq=np.hstack([Aw, -Aw, eye, -eye]),
+            b_eq=bs,
+            bounds=[(0.0, u) for u in np.tile(cap[work], 2)] + [(0.0, None)] * (2 * m),
+            method="highs",
+        )
+        if res.status != 0 or res.x is None:
+            return None
+        reduced = c - np.abs(As.T @ res.eqlin.marginals)
+        reduced[in_work] = 0.0
+        violators = np.flatnonzero(reduced < -1e-9 * float(np.max(c)))
+        if len(violators):
+            in_work[violators[np.argsort(reduced[violators])][:step]] = True
+            continue
+        if float(np.sum(res.x[2 * k :])) > 1e-9 * max(1.0, float(np.max(np.abs(bs)))):
+            return None
+        u = np.zeros(n)
+        u[work] = res.x[:k] - res.x[k : 2 * k]
+        return u
+    return None
 
 
 def surface_check(
@@ -262,7 +344,7 @@ def _meet_surface_limits(
         if lp_alive and rounds <= LP_ROUNDS:
             near = np.flatnonzero(ratios > CONE_THRESHOLD)
             lp_caps[sites[near]] *= np.minimum(1.0, (1 - DESIGN_MARGIN) / ratios[near])
-            more = lp_charges(A, s * b, lp_caps, setup.cost("charges"))
+            more = lp_charges(A, s * b, lp_caps, setup.cost("charges"), seed=working)
             if more is not None:
                 working = np.union1d(working, charge_support(more))
                 q = more
@@ -315,7 +397,7 @@ def _lp_charges(
     setup: PhysicalSetup, A: np.ndarray, rhs: np.ndarray, caps: np.ndarray
 ) -> np.ndarray:
     """The linear program's charges within every carrier's own-field cap (refused: none)."""
-    q_lp = lp_charges(A, rhs, caps, setup.cost("charges"))
+    q_lp = lp_charges(A, rhs, caps, setup.cost("charges"), seed=setup.warm.get(CHARGE_SEED))
     if q_lp is None:
         raise PhysicalInfeasible(
             Binding(
@@ -327,6 +409,7 @@ def _lp_charges(
                 proved=True,  # the own-field bounds are necessary
             )
         )
+    setup.warm[CHARGE_SEED] = charge_support(q_lp)
     return q_lp
 
 

@@ -3,8 +3,9 @@
 ``A_d sigma = s^2 b_d``, ``A_m w = b_m - A_m(carriers) m_carrier`` (the inertia and centre of
 mass of all mass), site mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its
 volume), and ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the
-cell). Polished to machine precision on its support; :func:`mass_program` returns the stage as
-one program for a user to extend.
+cell). Solved by column generation over the sites (:mod:`chargedesign.designer.mass_columns`,
+the whole program deciding when the columns cannot) and polished to machine precision on its
+support; :func:`mass_program` returns the stage as one program for a user to extend.
 """
 
 from __future__ import annotations
@@ -14,8 +15,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from scipy import sparse
 from scipy.optimize import linprog
 
+from chargedesign.designer.mass_columns import MassData, solve_by_columns
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
@@ -73,24 +76,15 @@ def _unknown_scale(A: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.abs(b[ok]) / top[ok])) if np.any(ok) else 0.0
 
 
-def mass_program(
+def mass_data(
     setup: PhysicalSetup,
     s: float,
     carrier_sites: np.ndarray,
     correction: np.ndarray | None = None,
     kappa: float = 1.0,
-) -> MassProgram:
-    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
-
-    ``correction`` (the mass rows' whole-inertia terms, :mod:`chargedesign.designer.
-    whole_inertia`) is taken off the right-hand side and the free sites' columns are scaled by
-    ``kappa`` (what a kilogram adds in the holder's bore); the default is the point masses.
-
-    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
-    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled).
-    """
-    import cvxpy as cp
-
+) -> MassData:
+    """The magnets-and-masses program's data at rate ``s`` for these carriers, scaled (see
+    :func:`mass_program`, which writes it as a cvxpy problem)."""
     spec = setup.spec
     n = len(setup.points)
     free = np.ones(n, dtype=bool)
@@ -109,47 +103,105 @@ def mass_program(
     cols = (3 * sites[:, None] + np.arange(3)).reshape(-1)
     sigma_scale = _unknown_scale(Ad[:, cols], bd) or float(np.max(v_cap)) * M
     k = len(sites)
-    sigma = cp.Variable((k, 3))
-    mass = cp.Variable(k, nonneg=True)
-    constraints = []
-    if len(bd):
-        Ads, bds = row_scaled(Ad[:, cols], bd, sigma_scale)
-        constraints.append(Ads @ cp.reshape(sigma, (3 * k,), order="C") == bds)
-    if len(bm):
-        Ams, bms = row_scaled(Am[:, sites], bm, mass_scale)
-        constraints.append(Ams @ mass == bms)
-    blocked = np.flatnonzero(~setup.magnet_sites[sites])
-    if len(blocked):  # the field there would demagnetise a magnet
-        constraints.append(sigma[blocked, :] == 0)
-    norms = cp.norm(sigma, 2, axis=1)
-    constraints.append(mass >= (1 + 1e-6) * rho_m * sigma_scale / M / mass_scale * norms)
-    constraints.append(
-        cp.multiply(sigma_scale / M / v_cap, norms) + cp.multiply(mass_scale / rho_b / v_cap, mass)
-        <= 1.0
-    )
-    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
-    # (each weighted by its site's cost under the robust objective)
-    objective = cp.Minimize(
-        setup.cost("masses")[sites] @ mass + setup.cost("dipoles")[sites] @ norms
-    )
-    return MassProgram(
-        problem=cp.Problem(objective, constraints),
-        sigma=sigma,
-        mass=mass,
+    Ads, bds = row_scaled(Ad[:, cols], bd, sigma_scale) if len(bd) else (np.zeros((0, 3 * k)), bd)
+    Ams, bms = row_scaled(Am[:, sites], bm, mass_scale) if len(bm) else (np.zeros((0, k)), bm)
+    return MassData(
         sites=sites,
+        Ads=Ads,
+        bds=bds,
+        Ams=Ams,
+        bms=bms,
+        alpha=(1 + 1e-6) * rho_m * sigma_scale / M / mass_scale,
+        beta=sigma_scale / M / v_cap,
+        gamma=mass_scale / rho_b / v_cap,
+        cm=setup.cost("masses")[sites],
+        cd=setup.cost("dipoles")[sites],
+        blocked=~setup.magnet_sites[sites],
         sigma_scale=sigma_scale,
         mass_scale=mass_scale,
         rhs_masses=bm,
     )
 
 
-def _solved_mass_program(
-    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
+def mass_program(
+    setup: PhysicalSetup,
+    s: float,
+    carrier_sites: np.ndarray,
+    correction: np.ndarray | None = None,
+    kappa: float = 1.0,
 ) -> MassProgram:
-    """The magnets-and-masses program around the carriers, solved (PhysicalInfeasible
-    naming the binding limit when it has no solution)."""
+    """Build (not solve) the magnets-and-masses program at rate ``s`` for these carriers.
+
+    ``correction`` (the mass rows' whole-inertia terms, :mod:`chargedesign.designer.
+    whole_inertia`) is taken off the right-hand side and the free sites' columns are scaled by
+    ``kappa`` (what a kilogram adds in the holder's bore); the default is the point masses.
+
+    Returns a :class:`MassProgram`; ``program.problem`` is a ``cvxpy.Problem`` a user may add
+    constraints to (``program.sigma`` and ``program.mass`` are the variables, scaled). The
+    design solves the same program by columns (:mod:`chargedesign.designer.mass_columns`).
+    """
     import cvxpy as cp
 
+    data = mass_data(setup, s, carrier_sites, correction, kappa)
+    k = len(data.sites)
+    sigma = cp.Variable((k, 3))
+    mass = cp.Variable(k, nonneg=True)
+    constraints = []
+    if len(data.bds):
+        constraints.append(data.Ads @ cp.reshape(sigma, (3 * k,), order="C") == data.bds)
+    if len(data.bms):
+        constraints.append(data.Ams @ mass == data.bms)
+    blocked = np.flatnonzero(data.blocked)
+    if len(blocked):  # the field there would demagnetise a magnet
+        constraints.append(sigma[blocked, :] == 0)
+    norms = cp.norm(sigma, 2, axis=1)
+    constraints.append(mass >= data.alpha * norms)
+    constraints.append(cp.multiply(data.beta, norms) + cp.multiply(data.gamma, mass) <= 1.0)
+    # both terms in their natural units: the l1 norm of the moments keeps the magnets few
+    # (each weighted by its site's cost under the robust objective)
+    objective = cp.Minimize(data.cm @ mass + data.cd @ norms)
+    assert data.rhs_masses is not None
+    return MassProgram(
+        problem=cp.Problem(objective, constraints),
+        sigma=sigma,
+        mass=mass,
+        sites=data.sites,
+        sigma_scale=data.sigma_scale,
+        mass_scale=data.mass_scale,
+        rhs_masses=data.rhs_masses,
+    )
+
+
+@dataclass
+class SolvedMasses:
+    """The magnets-and-masses program solved: its data, the scaled moments (k, 3) and masses
+    (k,) on ``data.sites``, and the route (``columns``, or ``whole`` through cvxpy)."""
+
+    data: MassData
+    sigma: np.ndarray
+    mass: np.ndarray
+    route: str
+
+    @property
+    def sites(self) -> np.ndarray:
+        return self.data.sites
+
+    @property
+    def rhs_masses(self) -> np.ndarray:
+        assert self.data.rhs_masses is not None
+        return self.data.rhs_masses
+
+
+#: the key of :attr:`PhysicalSetup.warm` that seeds the masses' working set
+MASS_SEED = "masses: working set"
+
+
+def _solved_mass_program(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
+) -> SolvedMasses:
+    """The magnets-and-masses program around the carriers, solved by columns (the whole
+    program when they cannot decide; PhysicalInfeasible naming the binding limit when it
+    has no solution)."""
     if len(np.unique(carrier_sites)) >= len(setup.points):
         # (the minmax's charges on every candidate, say): nothing left to solve for
         raise PhysicalInfeasible(
@@ -163,11 +215,19 @@ def _solved_mass_program(
     kappa = terms.kappa(setup.spec.ballast.density)
     if kappa <= 0:
         raise PhysicalInfeasible(_holder_binding(setup, kappa))
-    program = mass_program(setup, s, carrier_sites, correction, kappa)
+    data = mass_data(setup, s, carrier_sites, correction, kappa)
     _, bd = setup.systems["dipoles"]
-    if np.any(bd != 0) and not np.any(setup.magnet_sites[program.sites]):
+    if np.any(bd != 0) and not np.any(~data.blocked):
         # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+    by_columns = solve_by_columns(data, setup.warm.get(MASS_SEED))
+    if by_columns is not None:
+        setup.warm[MASS_SEED] = by_columns.working
+        return SolvedMasses(data, by_columns.sigma, by_columns.mass, "columns")
+    # a slack stayed or the rounds ran out: the whole program decides (infeasibility too)
+    import cvxpy as cp  # slow to import: only when the whole program must decide
+
+    program = mass_program(setup, s, carrier_sites, correction, kappa)
     try:
         program.problem.solve(solver=cp.CLARABEL)
     except cp.SolverError as exc:
@@ -176,7 +236,9 @@ def _solved_mass_program(
         raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
-    return program
+    return SolvedMasses(
+        data, np.asarray(program.sigma.value), np.asarray(program.mass.value), "whole"
+    )
 
 
 def _polish_moments(
@@ -212,13 +274,13 @@ def _magnet_mass(setup: PhysicalSetup, moments: np.ndarray, factor: float = 1.0)
 
 
 def _program_masses(
-    setup: PhysicalSetup, s: float, program: MassProgram
+    setup: PhysicalSetup, s: float, program: SolvedMasses
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     """The solved program's moments, polished on their support (3 n,), and its masses: per
     site (n,), as solved on the program's sites, and the largest."""
     sites = program.sites
-    sigma = np.asarray(program.sigma.value) * program.sigma_scale
-    mass = np.maximum(np.asarray(program.mass.value), 0.0) * program.mass_scale
+    sigma = program.sigma * program.data.sigma_scale
+    mass = np.maximum(program.mass, 0.0) * program.data.mass_scale
     n = len(setup.points)
     full_sigma, sig_keep = _polish_moments(setup, s, sites, sigma)
     # a magnet weighs at least its volume: lift the solver's slack on that bound (relative
@@ -406,6 +468,161 @@ def _one_material_per_cell(
     raise SolverError("ballast: cells kept two materials after 6 rounds of the LP")
 
 
+@dataclass
+class FixedParts:
+    """What the carriers and magnets already put in the mass and induced rows: the mass and
+    ``chi v`` (contrast to the holder) of every site, and the magnets' sites and masses."""
+
+    mass: np.ndarray  # (n,) kg
+    chi_v: np.ndarray  # (n,) m^3
+    magnet_sites: np.ndarray
+    magnet_mass: np.ndarray
+
+
+@dataclass
+class BallastRows:
+    """The ballast's equality rows on the free cells, one column block per material: the
+    first ``n_mass`` rows are the mass rows, the rest the induced-magnetisation rows."""
+
+    A: np.ndarray
+    b: np.ndarray
+    free: np.ndarray
+    n_mass: int
+    correction: np.ndarray
+
+
+def _holder_chi(spec: PhysicalSpec) -> float:
+    """The holder's susceptibility (0 without a holder)."""
+    return (spec.holder.susceptibility or 0.0) if spec.holder is not None else 0.0
+
+
+def _fixed_parts(setup: PhysicalSetup, carrier_sites: np.ndarray, sigma: np.ndarray) -> FixedParts:
+    """The carriers' and magnets' masses and ``chi v`` (constants of both row sets)."""
+    spec = setup.spec
+    chi, chi_h = _susceptibilities(spec), _holder_chi(spec)
+    n = len(setup.points)
+    norms = np.linalg.norm(sigma, axis=1)
+    magnet_sites = np.flatnonzero(norms > 0)
+    volumes = norms[magnet_sites] / (spec.magnet.magnetisation or 1.0)
+    magnet_mass = spec.magnet.density * volumes
+    carrier_volume = setup.carrier_mass / spec.carrier.density
+    fixed_mass = np.zeros(n)
+    fixed_mass[carrier_sites] = setup.carrier_mass
+    fixed_mass[magnet_sites] = magnet_mass
+    chi_v = np.zeros(n)
+    outer_volume = 4.0 / 3.0 * math.pi * setup.carrier_radius**3
+    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume - chi_h * outer_volume
+    chi_v[magnet_sites] = (chi[spec.magnet.name, "magnet"] - chi_h) * volumes
+    return FixedParts(fixed_mass, chi_v, magnet_sites, magnet_mass)
+
+
+def _ballast_rows(
+    setup: PhysicalSetup,
+    carrier_sites: np.ndarray,
+    fixed: FixedParts,
+    terms: WholeTerms,
+    correction: np.ndarray | None,
+) -> BallastRows:
+    """The mass rows (each material's columns scaled by its ``kappa``) and the induced rows
+    (``chi v = (chi / rho) m`` in the holder's bore) on the free cells."""
+    spec = setup.spec
+    chi, chi_h = _susceptibilities(spec), _holder_chi(spec)
+    mats = spec.ballasts
+    n = len(setup.points)
+    legendre = tuple(setup.conditions.fields.get("magnetic", ()))
+    Am, bm = setup.systems["masses"]
+    rows_all = induced_rows(legendre, setup.points)
+    free = np.setdiff1d(np.arange(n), np.concatenate([carrier_sites, fixed.magnet_sites]))
+    # chi v per kg, in the holder's bore
+    per_kg = np.array([(chi[m.name, "ballast"] - chi_h) / m.density for m in mats])
+    kappas = [terms.kappa(m.density) for m in mats]
+    if min(kappas) <= 0:
+        raise PhysicalInfeasible(_holder_binding(setup, min(kappas)))
+    A = np.vstack(
+        [
+            np.hstack([Am[:, free] * kj for kj in kappas]),
+            np.hstack([rows_all[:, free] * c for c in per_kg]),
+        ]
+    )
+    correction = terms.initial() if correction is None else correction
+    b = np.concatenate([bm - Am @ fixed.mass - correction, -rows_all @ fixed.chi_v])
+    return BallastRows(A, b, free, len(bm), correction)
+
+
+def _ballast_lp(setup: PhysicalSetup, rows: BallastRows) -> tuple[np.ndarray, np.ndarray]:
+    """The ballast LP's masses (per material and free cell, flat, kg; the solver's crumbs
+    off the support dropped) and their support."""
+    mats = setup.spec.ballasts
+    free = rows.free
+    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
+    scale = _unknown_scale(rows.A, rows.b) or float(np.max(v_cap)) * mats[0].density
+    As, bs = row_scaled(rows.A, rows.b, scale)
+    # one material per cell: sum_j m_j / (rho_j v_cap) <= 1 (sparse: one entry per column)
+    room = sparse.hstack([sparse.diags(scale / (m.density * v_cap)) for m in mats], format="csr")
+    cost = np.tile(setup.cost("masses")[free], len(mats))
+    x = _one_material_per_cell(cost, room, As, bs, mats)
+    flat = x.reshape(-1) * scale
+    support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
+    # the solver's crumbs off the support are dropped before the polish, so that the parts
+    # written are exactly the ones the rows were polished with
+    kept = np.zeros_like(flat)
+    kept[support] = flat[support]
+    return kept, support
+
+
+def _ballast_parts(
+    setup: PhysicalSetup,
+    carrier_sites: np.ndarray,
+    sigma: np.ndarray,
+    fixed: FixedParts,
+    free: np.ndarray,
+    terms: WholeTerms,
+    values: np.ndarray,
+) -> Any:
+    """The whole-inertia parts of the body with these ballast masses (flat, per material
+    and free cell), each cell of its material's density."""
+    mats = setup.spec.ballasts
+    per = values.reshape(len(mats), len(free))
+    site_mass = fixed.mass.copy()
+    site_mass[carrier_sites] = 0.0
+    site_mass[free] += per.sum(axis=0)
+    densities = np.full(len(setup.points), setup.spec.ballast.density)
+    for j, m in enumerate(mats):
+        densities[free[per[j] > 0]] = m.density
+    return terms.parts(sigma, site_mass, densities)
+
+
+def _polished_ballast(
+    setup: PhysicalSetup,
+    carrier_sites: np.ndarray,
+    sigma: np.ndarray,
+    fixed: FixedParts,
+    rows: BallastRows,
+    terms: WholeTerms,
+    flat: np.ndarray,
+    support: np.ndarray,
+) -> tuple[np.ndarray, Convergence]:
+    """The LP's masses polished on their support to rounding, the whole inertia's
+    correction by fixed point (``rows.b`` and ``rows.correction`` follow it)."""
+    Am, _ = setup.systems["masses"]
+    convergence = Convergence()
+    polished = flat
+    terms.restart()
+    for rounds in range(1, MAX_ROUNDS + 1):
+        polished = polish_equal(rows.A, rows.b, polished, support)
+        lhs = rows.A[: rows.n_mass] @ polished + Am @ fixed.mass
+        parts = _ballast_parts(setup, carrier_sites, sigma, fixed, rows.free, terms, polished)
+        fresh = terms.correction(parts, lhs)
+        convergence = Convergence(rounds, terms.change(fresh, rows.correction))
+        rows.b[: rows.n_mass] += rows.correction - fresh
+        rows.correction = fresh
+        if convergence.change <= CONVERGED:
+            break
+    if np.any(polished < 0):
+        raise SolverError("ballast: polishing made a ballast mass negative")
+    return polished, convergence
+
+
 def induced_ballast(
     setup: PhysicalSetup,
     carrier_sites: np.ndarray,
@@ -428,93 +645,23 @@ def induced_ballast(
     """
     spec = setup.spec
     terms = WholeTerms(setup, carrier_sites) if terms is None else terms
-    mats = spec.ballasts
-    chi_h = (spec.holder.susceptibility or 0.0) if spec.holder is not None else 0.0
-    chi = _susceptibilities(spec)
-    n = len(setup.points)
-    legendre = tuple(setup.conditions.fields.get("magnetic", ()))
-    Am, bm = setup.systems["masses"]
-    M = spec.magnet.magnetisation or 1.0
-    norms = np.linalg.norm(sigma, axis=1)
-    magnet_sites = np.flatnonzero(norms > 0)
-    volumes = norms[magnet_sites] / M
-    magnet_mass = spec.magnet.density * volumes
-    carrier_volume = setup.carrier_mass / spec.carrier.density
-    rows_all = induced_rows(legendre, setup.points)
-    # what the carriers and magnets already contribute (constants of both row sets)
-    fixed_mass = np.zeros(n)
-    fixed_mass[carrier_sites] = setup.carrier_mass
-    fixed_mass[magnet_sites] = magnet_mass
-    chi_v = np.zeros(n)
-    outer_volume = 4.0 / 3.0 * math.pi * setup.carrier_radius**3
-    chi_v[carrier_sites] = chi[spec.carrier.name, "carrier"] * carrier_volume - chi_h * outer_volume
-    chi_v[magnet_sites] = (chi[spec.magnet.name, "magnet"] - chi_h) * volumes
-    free = np.setdiff1d(np.arange(n), np.concatenate([carrier_sites, magnet_sites]))
-    k, J = len(free), len(mats)
-    # chi v per kg, in the holder's bore
-    per_kg = np.array([(chi[m.name, "ballast"] - chi_h) / m.density for m in mats])
-    kappas = [terms.kappa(m.density) for m in mats]
-    if min(kappas) <= 0:
-        raise PhysicalInfeasible(_holder_binding(setup, min(kappas)))
-    A = np.vstack(
-        [
-            np.hstack([Am[:, free] * kj for kj in kappas]),
-            np.hstack([rows_all[:, free] * c for c in per_kg]),
-        ]
+    fixed = _fixed_parts(setup, carrier_sites, sigma)
+    rows = _ballast_rows(setup, carrier_sites, fixed, terms, correction)
+    flat, support = _ballast_lp(setup, rows)
+    polished, convergence = _polished_ballast(
+        setup, carrier_sites, sigma, fixed, rows, terms, flat, support
     )
-    n_mass = len(bm)
-    correction = terms.initial() if correction is None else correction
-    b = np.concatenate([bm - Am @ fixed_mass - correction, -rows_all @ chi_v])
-    v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
-    scale = _unknown_scale(A, b) or float(np.max(v_cap)) * mats[0].density
-    As, bs = row_scaled(A, b, scale)
-    # one material per cell: sum_j m_j / (rho_j v_cap) <= 1
-    room = np.hstack([np.diag(scale / (m.density * v_cap)) for m in mats])
-    cost = np.tile(setup.cost("masses")[free], J)
-    x = _one_material_per_cell(cost, room, As, bs, mats)
-    flat = x.reshape(-1) * scale
-    support = np.flatnonzero(flat > 1e-12 * float(np.max(flat)))
-    # the solver's crumbs off the support are dropped before the polish, so that the parts
-    # written are exactly the ones the rows were polished with
-    flat = np.where(np.isin(np.arange(len(flat)), support), flat, 0.0)
-    densities = np.full(n, spec.ballast.density)
-
-    def parts_of(values: np.ndarray):
-        per = values.reshape(J, k)
-        site_mass = fixed_mass.copy()
-        site_mass[carrier_sites] = 0.0
-        site_mass[free] += per.sum(axis=0)
-        for j, m in enumerate(mats):
-            densities[free[per[j] > 0]] = m.density
-        return terms.parts(sigma, site_mass, densities)
-
-    convergence = Convergence()
-    polished = flat
-    terms.restart()
-    for rounds in range(1, MAX_ROUNDS + 1):
-        polished = polish_equal(A, b, polished, support)
-        lhs = A[:n_mass] @ polished + Am @ fixed_mass
-        fresh = terms.correction(parts_of(polished), lhs)
-        convergence = Convergence(rounds, terms.change(fresh, correction))
-        b[:n_mass] += correction - fresh
-        correction = fresh
-        if convergence.change <= CONVERGED:
-            break
-    if np.any(polished < 0):
-        raise SolverError("ballast: polishing made a ballast mass negative")
-    per = polished.reshape(J, k)
-    entries = [(j, i) for j in range(J) for i in range(k) if per[j, i] > 0]
-    nm = len(magnet_sites)
-    material = np.concatenate([np.full(nm, -1), [j for j, _ in entries]]).astype(int)
-    site_list = np.concatenate([magnet_sites, [free[i] for _, i in entries]]).astype(int)
-    moments = np.vstack([sigma[magnet_sites], np.zeros((len(entries), 3))])
-    masses = np.concatenate([magnet_mass, [per[j, i] for j, i in entries]])
+    mats, free, n_mass = spec.ballasts, rows.free, rows.n_mass
+    per = polished.reshape(len(mats), len(free))
+    material_of, cell = np.nonzero(per > 0)  # material-major, as the entries were listed
+    nm = len(fixed.magnet_sites)
+    parts = _ballast_parts(setup, carrier_sites, sigma, fixed, free, terms, polished)
     return MassSolution(
-        sites=site_list,
-        moments=moments,
-        site_masses=masses,
+        sites=np.concatenate([fixed.magnet_sites, free[cell]]).astype(int),
+        moments=np.vstack([sigma[fixed.magnet_sites], np.zeros((len(cell), 3))]),
+        site_masses=np.concatenate([fixed.magnet_mass, per[material_of, cell]]),
         residual_dipoles=residual_dipoles,
-        residual_masses=terms.residual(parts_of(polished)) if n_mass else 0.0,
+        residual_masses=terms.residual(parts) if n_mass else 0.0,
         method="Clarabel for the magnets; HiGHS for the ballast of "
         + ", ".join(m.name for m in mats)
         + " (induced magnetisation cancelled), least-norm polish on the supports, every "
@@ -523,9 +670,9 @@ def induced_ballast(
         + " by fixed point",
         convergence=convergence,
         holder_radius=terms.radius if spec.holder is not None else None,
-        materials=material,
-        residual_induced=relative_residual(A[n_mass:], polished, b[n_mass:])
-        if len(b) > n_mass
+        materials=np.concatenate([np.full(nm, -1), material_of]).astype(int),
+        residual_induced=relative_residual(rows.A[n_mass:], polished, rows.b[n_mass:])
+        if len(rows.b) > n_mass
         else 0.0,
     )
 

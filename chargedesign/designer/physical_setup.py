@@ -103,6 +103,9 @@ class PhysicalSetup:
     #: how the theorem's n is realised (rate at time rate 1); ``params`` are then the
     #: parameters the elements realise (n = 0 for ``frame``)
     larmor: LarmorReading | None = None
+    #: the constraint generations' last working sets (candidate indices), seeds of the next
+    #: solve on the same candidates (the whole-inertia rounds, probes at other rates)
+    warm: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def theorem_params(self) -> Parameters:

@@ -350,7 +350,11 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
             carrier["density_kg_per_m3"],
             shell_thickness=carrier.get("shell_thickness_m"),
         )
-        need_mass = np.array([material.sphere_mass(a) for a in radii])
+        # Material.sphere_mass on every carrier at once (a shell at least as thick as the
+        # sphere is the solid sphere)
+        wall = material.shell_thickness
+        inner = np.zeros_like(radii) if wall is None else np.where(wall < radii, radii - wall, 0)
+        need_mass = material.density * 4.0 / 3.0 * math.pi * (radii**3 - inner**3)
         light = np.flatnonzero(design.carrier_masses() < need_mass * (1 - ROUNDING_SLACK))
         if len(light):
             violations.append(f"charge {light[0]}: carrier lighter than its sphere of material")
