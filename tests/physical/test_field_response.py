@@ -16,6 +16,7 @@ from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
+from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.limits import check_limits, fibonacci_directions
 from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
 from chargedesign.physical.realism import (
@@ -276,4 +277,7 @@ def test_the_frontier_reports_the_field_response_of_its_own_body():
     body = build_design(setup, design_at_rate(setup, frontier.s_max))
     assert frontier.field_response == field_response(body)
     assert frontier.to_dict()["field_response"] == frontier.field_response
-    assert "at s_max, induced magnetisation fraction" in str(frontier)
+    # the text names the body whose response it prints and what each figure is relative to
+    text = str(frontier)
+    assert f"the body designed at s_max = {fmt(frontier.s_max, PRECISE)}, its" in text
+    assert "of its designed torques at its typical rate" in text

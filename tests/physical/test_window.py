@@ -78,8 +78,12 @@ def test_the_laws_of_one_body_are_the_parasitics_of_a_body_designed_at_another_r
     law = window_model(chaplygin_bodies[1.0], 1.0).ratios(0.25)
     own = window_model(chaplygin_bodies[0.25], 0.25).ratios(0.25)
     assert set(law) == {"induced", "eddy", "gravity", "relativistic", "coil_harmonics"}
-    for key in ("eddy", "relativistic", "coil_harmonics"):
+    for key in ("eddy", "relativistic"):
         assert own[key] == pytest.approx(law[key], rel=1e-6), key
+    # the coils' harmonics see the magnets' moments: the magnets-and-masses program's column
+    # route (Clarabel at 1e-10 on the working set, designer/mass_columns.py) gives moments that
+    # scale as s^2 to 1.6e-5 between the two rates (measured), which moves this figure by 2.6e-6
+    assert own["coil_harmonics"] == pytest.approx(law["coil_harmonics"], rel=1e-5)
     # the smaller magnets' own inertia is smaller, and the ballast that makes up for it
     # moves the total mass by a few 1e-4 (the law keeps the parts' masses)
     assert own["gravity"] == pytest.approx(law["gravity"], rel=1e-3)
