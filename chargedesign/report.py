@@ -14,7 +14,6 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
-import re
 import textwrap
 from typing import Any
 
@@ -28,7 +27,7 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
-from chargedesign.physical.sources import rows as source_rows
+from chargedesign.physical.sources import cited_keys, sources_table_lines
 from chargedesign.physical.support import support_lines
 from chargedesign.scene.design_realism import (
     RESPONSE_FRACTION,
@@ -298,58 +297,6 @@ def render_report(
         section = ["", "## Sources", *(support.split("\n") if support else [])]
         text += "\n" + "\n".join(section + sources_table_lines(keys))
     return text + "\n"
-
-
-#: a figure's citation of its row in the sources table: ``[key]`` or ``[key, unverified ...]``
-_CITATION = re.compile(r"\[([a-z][a-z0-9_]*(?:\.[a-z0-9_]+)+)(?:, unverified[^\]]*)?\]")
-#: a mark of an unchecked figure with no row in the table
-_UNCHECKED = re.compile(r"\[unverified[^\]]*\]")
-
-
-def cited_keys(text: str) -> tuple[str, list[str]]:
-    """``text`` with each citation reduced to its reference key ``[key]`` (the checked status
-    goes to the sources section, not inline), and the keys cited, in order of first use.
-    A mark ``[unverified ...]`` without a key becomes ``[unchecked]``."""
-    keys: list[str] = []
-
-    def reference(match: re.Match[str]) -> str:
-        if match[1] not in keys:
-            keys.append(match[1])
-        return f"[{match[1]}]"
-
-    text = _CITATION.sub(reference, text)
-    if _UNCHECKED.search(text):
-        text = _UNCHECKED.sub("[unchecked]", text)
-        keys.append("unchecked")
-    return text, keys
-
-
-def sources_table_lines(keys: list[str]) -> list[str]:
-    """The sources section's table: each key cited above, its figure, its source and whether
-    the figure was checked in that source (:mod:`chargedesign.physical.sources`)."""
-    if not keys:
-        return []
-    lines = [
-        "",
-        "Figures cited above by their key (the sources table, `chargedesign sources`):",
-        "",
-        "| key | figure | source | checked |",
-        "|---|---|---|---|",
-    ]
-    table = {row.key: row for row in source_rows()}
-    for key in keys:
-        row = table.get(key)
-        if key == "unchecked":
-            lines.append("| unchecked | a figure with no row in the sources table | - | no |")
-        elif row is None:
-            lines.append(f"| {key} | not in the sources table | - | no |")
-        else:
-            figure = f"{fmt(row.value)} {row.unit}".strip()
-            lines.append(
-                f"| {key} | {figure} ({_table_cell(row.what)}) | {_table_cell(row.source)} | "
-                f"{'yes' if row.checked else 'no (unverified)'} |"
-            )
-    return lines
 
 
 def _case_lines(design: Design) -> list[str]:

@@ -237,8 +237,7 @@ def test_the_report_imports_no_computation_of_the_budget():
 def test_citations_are_keys_inline_and_the_sources_section_says_their_status():
     """Inline a figure is cited by its key alone; the sources section lists each key once with
     its checked status from the sources table (unverified ones say so there, not inline)."""
-    from chargedesign.physical.sources import rows
-    from chargedesign.report import cited_keys, sources_table_lines
+    from chargedesign.physical.sources import cited_keys, rows, sources_table_lines
 
     table = {row.key: row for row in rows()}
     unchecked = next(row for row in table.values() if not row.checked)

@@ -13,7 +13,6 @@ ideal one: gamma's trace on the unit sphere).
 from __future__ import annotations
 
 import os
-import re
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +23,7 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
 from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.physical.sources import UNVERIFIED_MARK, cite, rows
+from chargedesign.physical.sources import cite, cited_keys, sources_table_lines
 from chargedesign.results import format_length
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.testbed import SOURCES
@@ -352,40 +351,11 @@ def report_markdown(result: TestbedResult, written: list[str], notes: list[str])
     lines += ["", "## Sources of the defaults", ""]
     lines += [f"- {k}: {v}" for k, v in SOURCES.items()]
     lines += _actuator_section()
-    lines += sources_section("\n".join(lines))
-    return "\n".join(lines) + "\n"
-
-
-#: a citation of the sources table in a text: ``[key]`` or ``[key, unverified]``
-CITATION = re.compile(r"\[([A-Za-z0-9_.\-]+)(, " + UNVERIFIED_MARK + r")?\]")
-
-
-def sources_section(text: str) -> list[str]:
-    """The report's last section: every sources-table figure ``text`` cites (by its key),
-    with its value, source, locator and whether it was checked."""
-    known = {r.key: r for r in rows()}
-    cited = [k for k in dict.fromkeys(m.group(1) for m in CITATION.finditer(text)) if k in known]
-    if not cited:
-        return []
-    unchecked = sum(not known[k].checked for k in cited)
-    lines = [
-        "",
-        "## Sources",
-        "",
-        f"The figures this report rests on, by their key in the sources table (`chargedesign "
-        f"sources`): {len(cited)} cited, {unchecked} of them unverified (not read in the source "
-        "named; marked `[key, unverified]` above).",
-        "",
-        "| key | value | unit | checked | source | locator |",
-        "| --- | --- | --- | --- | --- | --- |",
-    ]
-    for k in cited:
-        r = known[k]
-        lines.append(
-            f"| {k} | {fmt(r.value, FULL)} | {r.unit} | {'yes' if r.checked else '**no**'} | "
-            f"{r.source} | {r.locator} |"
-        )
-    return lines
+    # inline a figure carries its key only; its checked status is in the one sources section
+    text, keys = cited_keys("\n".join(lines))
+    if keys:
+        text += "\n" + "\n".join(["", "## Sources", *sources_table_lines(keys)])
+    return text + "\n"
 
 
 def _actuator_section() -> list[str]:

@@ -15,12 +15,15 @@ figure, ``[key, unverified]`` for the others.
 from __future__ import annotations
 
 import html
+import re
 import tomllib
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 from typing import Any
+
+from chargedesign.formatting import fmt
 
 #: the mark an unchecked figure's citation carries
 UNVERIFIED_MARK = "unverified"
@@ -186,16 +189,85 @@ def table() -> SourcesTable:
     return SourcesTable(rows())
 
 
+#: a figure's citation of its row in the table: ``[key]`` or ``[key, unverified ...]`` (keys
+#: are dotted names; their parts may hold capitals and hyphens, as ``...fused-silica``, ``PTFE``)
+CITATION = re.compile(
+    r"\[([A-Za-z][A-Za-z0-9_\-]*(?:\.[A-Za-z0-9_\-]+)+)(, " + UNVERIFIED_MARK + r"[^\]]*)?\]"
+)
+#: a mark of an unchecked figure with no row in the table
+UNCHECKED_MARK = re.compile(r"\[" + UNVERIFIED_MARK + r"[^\]]*\]")
+
+
+def cited_keys(text: str) -> tuple[str, list[str]]:
+    """``text`` with each citation reduced to its reference key ``[key]`` (the checked status
+    goes to the sources section, not inline), and the keys cited, in order of first use.
+    A mark ``[unverified ...]`` without a key becomes ``[unchecked]``."""
+    keys: list[str] = []
+    known = {row.key for row in rows()}
+
+    def reference(match: re.Match[str]) -> str:
+        if match[1] not in known and match[2] is None:
+            return match[0]  # a bracketed dotted name that is no key (``[design.json]``)
+        if match[1] not in keys:
+            keys.append(match[1])
+        return f"[{match[1]}]"
+
+    text = CITATION.sub(reference, text)
+    if UNCHECKED_MARK.search(text):
+        text = UNCHECKED_MARK.sub("[unchecked]", text)
+        keys.append("unchecked")
+    return text, keys
+
+
+def _cell(text: str) -> str:
+    """Text for a Markdown table cell: its ``|`` (as in ``|B|``) would end the cell."""
+    return text.replace("|", "\\|")
+
+
+def sources_table_lines(keys: list[str]) -> list[str]:
+    """A report's sources table (the design's and the testbed's): each key cited above, its
+    figure, its source and locator, and whether the figure was checked in that source."""
+    if not keys:
+        return []
+    known = {row.key: row for row in rows()}
+    unverified = sum(1 for k in keys if k not in known or not known[k].checked)
+    lines = [
+        "",
+        "Figures cited above by their key (the sources table, `chargedesign sources`): "
+        f"{len(keys)} cited, {unverified} of them unverified (not read in the source named).",
+        "",
+        "| key | figure | source | locator | checked |",
+        "|---|---|---|---|---|",
+    ]
+    for key in keys:
+        row = known.get(key)
+        if key == "unchecked":
+            lines.append("| unchecked | a figure with no row in the sources table | - | - | no |")
+        elif row is None:
+            lines.append(f"| {key} | not in the sources table | - | - | no |")
+        else:
+            figure = f"{fmt(row.value)} {row.unit}".strip()
+            lines.append(
+                f"| {key} | {figure} ({_cell(row.what)}) | {_cell(row.source)} | "
+                f"{_cell(row.locator)} | {'yes' if row.checked else 'no (unverified)'} |"
+            )
+    return lines
+
+
 __all__ = [
+    "CITATION",
     "FIELDS",
+    "UNCHECKED_MARK",
     "UNVERIFIED_MARK",
     "SourceRow",
     "SourcesTable",
     "checked",
     "cite",
+    "cited_keys",
     "rows",
     "rows_under",
     "source",
+    "sources_table_lines",
     "table",
     "unchecked",
     "value",

@@ -117,8 +117,13 @@ def test_report_and_pictures(written: Path) -> None:
     assert "# Air-bearing testbed" in report and "## Requirements" in report
     assert "from memory" not in report and "## Actuator catalogue" in report
     sources = report[report.index("\n## Sources\n") :]  # the last section: the figures cited
-    assert "| key | value | unit | checked | source | locator |" in sources
-    assert "[bearings.tabletop.tilt_limit_deg, unverified]" in report
+    assert "| key | figure | source | locator | checked |" in sources
+    # inline the key alone; its status in the sources section
+    assert "[bearings.tabletop.tilt_limit_deg]" in report and ", unverified]" not in report
+    (row,) = [
+        x for x in sources.splitlines() if x.startswith("| bearings.tabletop.tilt_limit_deg |")
+    ]
+    assert row.endswith("| no (unverified) |")
     for name in ("drift_vs_rate.png", "drift_time.png", "wheels.png", "window.png", "motion.gif"):
         assert (written / name).stat().st_size > 1000
 

@@ -165,3 +165,19 @@ def test_the_support_stages_figures_are_the_tables() -> None:
     }
     for key, expected in read_at_zarm.items():
         assert support.figure(key) == expected and source(key).checked, key
+
+
+def test_citations_of_keys_with_hyphens_and_capitals_are_found_and_other_brackets_kept() -> None:
+    """Every key of the table is a citation (``fused-silica``, ``PTFE``: the design report's
+    pattern used to miss them, inline and in its sources section); a bracketed dotted name
+    that is no key and carries no mark (``[design.json]``) is left as written."""
+    from chargedesign.physical.sources import cited_keys
+
+    text = (
+        "a [materials.density.fused-silica, unverified], b [materials.insulator_conductivity.PTFE]"
+        ", c [design.json]"
+    )
+    out, keys = cited_keys(text)
+    assert keys == ["materials.density.fused-silica", "materials.insulator_conductivity.PTFE"]
+    assert "[materials.density.fused-silica]," in out and "[design.json]" in out
+    assert "unverified" not in out
