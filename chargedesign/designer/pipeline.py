@@ -19,7 +19,6 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
-from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
@@ -59,7 +58,7 @@ from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
-from chargedesign.scene.design_realism import K_LAW_KEY, WINDOW_KEY
+from chargedesign.scene.design_realism import K_LAW_KEY
 from chargedesign.validation import (
     check_design_sources,
     check_instance,
@@ -674,21 +673,10 @@ def _physical_design(
 
 
 def _record_at_design(front: FrontierResult, design: Design, gravity: float) -> None:
-    """The realised window's apparatus, support and parasitics at the design's own rate: the
-    realism record's window at the design (judged with the default fraction and 1 g) when
-    the window's gravity is 1 g, else that body's window laws again at this gravity."""
+    """The realised window's apparatus, support and parasitics at the design's own rate (the
+    window laws of the body at s = 1, at the window's gravity; cheap: the rate-free factors
+    are computed once per body, physical/parasitics.py)."""
     assert front.realised is not None
-    realism = design.realism if isinstance(design.realism, dict) else {}
-    recorded = realism.get(WINDOW_KEY)
-    if recorded and gravity == STANDARD_GRAVITY:
-        front.realised.apparatus = recorded.get("apparatus")
-        front.realised.support = recorded.get("support")
-        front.realised.at_design = {
-            # an unbounded parasitic is null in the JSON-ready record
-            item["key"]: float("inf") if item["over_fraction"] is None else item["over_fraction"]
-            for item in recorded.get("items", [])
-        }
-        return
     own = window_model(design, 1.0, gravity=gravity)
     front.realised.apparatus = own.apparatus.to_dict() if own.apparatus else None
     front.realised.support = own.support
