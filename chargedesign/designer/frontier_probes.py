@@ -8,7 +8,7 @@ stage (:mod:`chargedesign.designer.charges`) could design; the frontier
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import sparse
@@ -72,6 +72,9 @@ class ChargesLimit:
     stage : str
         What sets ``rate``: ``charges`` (the surface fields), ``fields`` (the apparatus'
         ``fields.electric.max``) or ``none``.
+    cone_points : ndarray, shape (m, 3)
+        The surface points of the last round's cones, m (a design near ``rate`` may start
+        its own cones there).
     """
 
     rate: float
@@ -83,6 +86,7 @@ class ChargesLimit:
     rounds: int
     cones: int
     stage: str
+    cone_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def _minmax_charges(
@@ -206,6 +210,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
                 rounds=rounds,
                 cones=len(cones),
                 stage=stage,
+                cone_points=np.array(cones).reshape(-1, 3),
             )
         near = np.flatnonzero(ratios > MINMAX_CONES * (1 - DESIGN_MARGIN))
         cones = [point for point, value in zip(cones, used, strict=True) if value >= MINMAX_KEEP]
