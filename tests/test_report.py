@@ -75,8 +75,8 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     for stale in ("18 nm", "negligible below", "size below which", "n above"):
         assert stale not in text
     law = k_law(design)
-    (line,) = [x for x in text.splitlines() if x.startswith("- Induced magnetisation at the K")]
-    # one figure, the budget's (the verdict rests on it), and the law's estimate beside it
+    (line,) = [x for x in text.splitlines() if x.startswith("- The K law (")]
+    # the law's figure, the budget's, and the formula's estimate beside it
     assert f"{law['value']:.3g} x the designed K torques" in line
     assert f"estimates it at {law['ratio']:.3g}" in line
     detail = text.split("## Detail")[1].split("\n## ")[0]  # the detail after the summary

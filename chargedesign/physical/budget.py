@@ -119,7 +119,7 @@ def induced_magnetisation(
                 f"range over orientations of the energy -chi v |B|^2 / (2 mu0) of the parts' "
                 f"materials in the applied field, over the smallest realised term "
                 f"({model.term_key}, {model.term_size:.3g} N m), at {rate} (s = {s:.6g}); "
-                f"the verdict's item, negligible below {model.fraction:g}"
+                f"the verdict's item, held to the limit {model.fraction:g}"
                 + (
                     f"; that needs the parts' chi-weighted dipole and quadrupole moments to "
                     f"cancel to 1 part in {value / model.fraction:.2g}"
