@@ -911,8 +911,11 @@ def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
         "of a V term over orientations; the gyroscopic torque |omega| max|mu term| of a mu "
         "term at the typical motion) here and at the K frontier (every term scales like the "
         "rate squared), and the parts' induced-magnetisation energy range and eddy torque over "
-        "it (the induced energy does not change with the rate, the eddy torque grows like it). "
-        "Computed from this body by `chargedesign.physical.realism.realisability_map`.",
+        "it (the induced energy by the window's law: the magnets' grows like the terms, the "
+        "other parts' does not; over the smallest realised term at s = 1 it is the induced "
+        "magnetisation's one figure above; the eddy torque grows like the rate). Computed "
+        "from this body by `chargedesign.physical.realism.realisability_map`, the induced "
+        "columns by `chargedesign.physical.budget.map_figures`.",
         "",
         "| term | in | mechanisms | this body | size here (N m) | induced / term "
         "| eddy / term | size at the K frontier (N m) | induced / term | eddy / term |",

@@ -100,9 +100,9 @@ def induced_magnetisation(
         field).
     """
     model = _model_at_design(design, parts_ok)
-    if model is None or INDUCED_ITEM not in {p.key for p in model.items}:
+    value = _induced_ratio(model, s)
+    if model is None or value is None:
         return None
-    value = float(model.ratios(s)[INDUCED_ITEM])
     rate = "the design's rate" if s == 1.0 else f"{s:.6g} x the design's rates"
     return json_ready(
         {
@@ -131,13 +131,50 @@ def induced_magnetisation(
     )
 
 
+def _induced_ratio(model: WindowModel | None, s: float) -> float | None:
+    """The window's induced item over its smallest realised term at rate ``s`` (None: no
+    window judged, or no magnetic field): the one place the figure is computed."""
+    if model is None or INDUCED_ITEM not in {p.key for p in model.items}:
+        return None
+    return float(model.ratios(s)[INDUCED_ITEM])
+
+
+def map_figures(
+    design: Any, response: dict[str, Any] | None = None, parts_ok: bool | None = None
+) -> list[dict[str, Any]]:
+    """The realisability map's rows (:func:`~chargedesign.physical.realism.realisability_map`)
+    with their induced columns from the one figure's function: each term's induced
+    magnetisation over it at the design's rate (``induced_over_term``) and at the K frontier
+    (``frontier_induced_over_term``, the window's law at ``s = sqrt(frontier size / size)``:
+    the magnets' energy grows like the terms, the other parts' does not), so over the smallest
+    term the map says the figure's number at either rate. A body whose window is not judged
+    keeps the map's own columns."""
+    rows = realisability_map(design, response)
+    model = _model_at_design(design, parts_ok)
+    now = _induced_ratio(model, 1.0)
+    if model is None or now is None:
+        return rows
+    out = []
+    for row in rows:
+        row = dict(row)
+        size, front = row["size_N_m"], row["frontier_size_N_m"]
+        if row["induced_over_term"] is not None and size and math.isfinite(size):
+            per_term = model.term_size / size
+            row["induced_over_term"] = now * per_term
+            there = _induced_ratio(model, math.sqrt(front / size)) if front else None
+            if there is not None and row["frontier_induced_over_term"] is not None:
+                row["frontier_induced_over_term"] = there * per_term
+        out.append(row)
+    return out
+
+
 def report_figures(design: Any, response: dict[str, Any] | None = None) -> dict[str, Any]:
     """The figure blocks of the budget (JSON-ready, as design.json holds them: an infinite
     size is null, so the report renders the same from memory and from the file)."""
     return json_ready(
         {
             PART_SIZES_KEY: part_sizes(design),
-            MAP_KEY: realisability_map(design, response),
+            MAP_KEY: map_figures(design, response),
             WINDOW_KEY: window_at_design(design),
         }
     )
@@ -165,4 +202,4 @@ def judge_at_frontier(design: Any) -> None:
     if K_LAW_KEY in realism:
         realism[K_LAW_KEY] = k_law(design)
     if MAP_KEY in realism:
-        realism[MAP_KEY] = json_ready(realisability_map(design))
+        realism[MAP_KEY] = json_ready(map_figures(design))
