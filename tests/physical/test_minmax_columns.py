@@ -38,7 +38,7 @@ from threadpoolctl import threadpool_limits
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.charges import LOOP_SURFACE_SAMPLES, charge_support, surface_check
 from chargedesign.designer.dense_socp import solve_dense_socp
-from chargedesign.designer.frontier_probes import MINMAX_CONES, MINMAX_KEEP, _minmax_charges
+from chargedesign.designer.frontier_probes import MINMAX_CONES, MINMAX_KEEP, minmax_charges
 from chargedesign.designer.physical_setup import DESIGN_MARGIN, row_scaled
 from chargedesign.physical.coulomb import coulomb_kernel
 from chargedesign.scene.load import default_scene_text
@@ -141,7 +141,7 @@ def test_the_columns_reach_the_whole_programs_optimum(setup):
     the whole program's to 1e-9 relative."""
     cones: list[np.ndarray] = []
     for _ in range(2):
-        whole = _minmax_charges(setup, cones)
+        whole = minmax_charges(setup, cones)
         assert whole is not None
         t, u, _, _ = minmax_by_columns(setup, np.array(cones).reshape(-1, 3))
         assert t == pytest.approx(whole[0], rel=1e-9)
