@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
 #: fraction of the step to the boundary of the cones that an iteration takes
 STEP_FRACTION = 0.99
@@ -233,40 +234,167 @@ def shift_into_cones(s_lin: np.ndarray, s_soc: np.ndarray) -> tuple[np.ndarray, 
 # ---------------------------------------------------------------- problem data
 
 
+def index_block(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice when it is a contiguous run (a view instead of a gather)."""
+    if index.size and index[-1] - index[0] + 1 == index.size:
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
+
+
+def block(rows: np.ndarray, cols: np.ndarray) -> tuple:
+    """The index of the block ``M[rows][:, cols]`` (slices where the indices are runs)."""
+    r, c = index_block(rows), index_block(cols)
+    if isinstance(r, slice) and isinstance(c, slice):
+        return r, c
+    return np.ix_(rows, cols)
+
+
+def gram(Y: np.ndarray) -> np.ndarray:
+    """``Y^T Y`` of the rows of ``Y`` of shape ``(m, r, s)`` (all ``m r`` rows)."""
+    rows = Y.reshape(-1, Y.shape[-1])
+    return rows.T @ rows
+
+
 class ConeColumns:
     """Where the variables enter the cones, to form ``G_soc^T W^-2 G_soc`` cheaply.
 
     A column of ``G_soc`` is *shared* (nonzero in two or more cones), *private* (nonzero in
     exactly one cone, as an epigraph variable of that cone) or absent. Only the shared
     columns need the dense gram product; a private column's products are 4-vectors.
+
+    Most shared columns (the charges) are zero in the first row of every cone: on those,
+    ``W_i^-2`` enters only through its lower ``3 x 3`` block ``(I + 2 w w^T) / eta^2``
+    (``w`` the spatial part of the scaling point), whose square root ``R_i = (I + c w w^T) /
+    eta`` gives a gram product over ``3 m`` rows instead of ``4 m``. The products ``G_soc x``
+    and ``G_soc^T z`` skip the absent columns (the charges' cost variables) and the cone
+    components that are zero throughout.
     """
 
     def __init__(self, G_soc: np.ndarray):
-        in_cone = np.any(G_soc != 0.0, axis=1)
+        m = G_soc.shape[0]
+        nonzero = G_soc != 0.0
+        in_cone = np.any(nonzero, axis=1)
         count = in_cone.sum(axis=0)
         self.n = G_soc.shape[2]
+        self.m = m
         self.shared = np.flatnonzero(count >= 2)
         self.private = np.flatnonzero(count == 1)
         self.owner = np.argmax(in_cone[:, self.private], axis=0) if in_cone.size else self.private
-        self.G_shared = np.ascontiguousarray(G_soc[:, :, self.shared])
         self.g_private = G_soc[self.owner, :, self.private]
+        self.G_owner_shared = G_soc[self.owner][:, :, self.shared]
+        # the shared columns without (zero) and with (full) a first row
+        first_row = np.any(nonzero[:, 0, self.shared], axis=0)
+        self.zero, self.full = self.shared[~first_row], self.shared[first_row]
+        self.G_zero = np.ascontiguousarray(G_soc[:, 1:, self.zero])
+        self.G_full = np.ascontiguousarray(G_soc[:, :, self.full])
+        self.zero_block = block(self.zero, self.zero)
+        self.cross_block = block(self.zero, self.full)
+        self.cross_block_T = block(self.full, self.zero)
+        self.full_block = block(self.full, self.full)
+        # the products: present columns, nonzero components
+        present = np.flatnonzero(count >= 1)
+        self.present = index_block(present)
+        self.components = np.flatnonzero(np.any(nonzero, axis=(0, 2)))
+        rows = G_soc[:, index_block(self.components)][:, :, self.present]
+        self.G_present = np.ascontiguousarray(rows).reshape(m * self.components.size, present.size)
 
-    def normal_matrix(self, inverse: np.ndarray | None) -> np.ndarray:
-        """``G_soc^T W^-2 G_soc`` (``n x n``) from the matrices ``W_i^-1`` (``None``: I)."""
-        M = np.zeros((self.n, self.n))
-        shared = self.G_shared if inverse is None else np.matmul(inverse, self.G_shared)
-        shared_rows = shared.reshape(4 * shared.shape[0], self.shared.size)
-        M[np.ix_(self.shared, self.shared)] = shared_rows.T @ shared_rows
+    def times(self, x: np.ndarray) -> np.ndarray:
+        """``G_soc x`` as ``(m, 4)``."""
+        out = np.zeros((self.m, 4))
+        if self.components.size:
+            product = self.G_present @ x[self.present]
+            out[:, self.components] = product.reshape(self.m, self.components.size)
+        return out
+
+    def transposed_times(self, z_soc: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``out + G_soc^T z`` (``out`` updated in place)."""
+        if self.components.size:
+            out[self.present] += self.G_present.T @ z_soc[:, self.components].ravel()
+        return out
+
+    def add_normal_matrix(self, M: np.ndarray, scaling: NtScaling | None) -> np.ndarray:
+        """``M + G_soc^T W^-2 G_soc`` (``M`` updated in place; ``scaling`` None: W = I)."""
+        if scaling is None:
+            root, inverse, square = None, None, None
+            Y_zero, Y_full = self.G_zero, self.G_full
+            H_full = self.G_full[:, 1:]
+        else:
+            w1 = scaling.wbar[:, 1:]
+            c = 2.0 / (np.sqrt(1.0 + 2.0 * np.einsum("ij,ij->i", w1, w1)) + 1.0)
+            root = (c / scaling.eta)[:, None, None] * w1[:, :, None] * w1[:, None, :]
+            root += np.eye(3) / scaling.eta[:, None, None]
+            Y_zero = np.matmul(root, self.G_zero)
+            inverse = scaling.matrices(inverse=True)
+            square = np.matmul(inverse, inverse)
+            Y_full = np.matmul(inverse, self.G_full)
+            H_full = np.matmul(square[:, 1:], self.G_full)
+        if self.zero.size:
+            M[self.zero_block] += gram(Y_zero)
+        if self.full.size:
+            M[self.full_block] += gram(Y_full)
+            if self.zero.size:
+                cross = self.G_zero.reshape(-1, self.zero.size).T @ H_full.reshape(
+                    -1, self.full.size
+                )
+                M[self.cross_block] += cross
+                M[self.cross_block_T] += cross.T
         if self.private.size:
-            private = self.g_private
-            if inverse is not None:
-                private = np.einsum("pij,pj->pi", inverse[self.owner], private)
-            cross = np.einsum("pk,pks->ps", private, shared[self.owner])
-            M[np.ix_(self.private, self.shared)] = cross
-            M[np.ix_(self.shared, self.private)] = cross.T
+            h = (
+                self.g_private
+                if square is None
+                else np.einsum("pij,pj->pi", square[self.owner], self.g_private)
+            )
+            cross = np.einsum("pk,pks->ps", h, self.G_owner_shared)
+            M[np.ix_(self.private, self.shared)] += cross
+            M[np.ix_(self.shared, self.private)] += cross.T
             same_cone = self.owner[:, None] == self.owner[None, :]
-            M[np.ix_(self.private, self.private)] = (private @ private.T) * same_cone
+            M[np.ix_(self.private, self.private)] += (h @ self.g_private.T) * same_cone
         return M
+
+    def normal_matrix(self, scaling: NtScaling | None) -> np.ndarray:
+        """``G_soc^T W^-2 G_soc`` (``n x n``)."""
+        return self.add_normal_matrix(np.zeros((self.n, self.n)), scaling)
+
+
+class LinearGram:
+    """``G_lin^T D^-2 G_lin`` for a sparse ``G_lin`` whose rows have few entries (the
+    charges' bounds: one or two per row), without sparse products.
+
+    Each pair of entries ``(r, a)``, ``(r, b)`` of a row ``r`` adds ``G_ra G_rb / d_r^2`` to
+    ``M[a, b]``: the pairs and their products are listed once per program and each iteration
+    sums the weighted products into place. Rows with many entries (a dense ``G_lin``) use
+    one BLAS product instead.
+    """
+
+    #: pairs per unknown squared beyond which the dense product is cheaper
+    DENSE_PAIRS = 0.25
+
+    def __init__(self, G_lin: sp.csr_matrix):
+        self.n = G_lin.shape[1]
+        per_row = np.diff(G_lin.indptr)
+        pairs = int(np.sum(per_row.astype(np.int64) ** 2))
+        self.dense = pairs > self.DENSE_PAIRS * self.n * self.n
+        if self.dense:
+            self.G = G_lin.toarray()
+            return
+        rows = np.repeat(np.arange(G_lin.shape[0]), per_row)  # the row of each entry
+        partners = per_row[rows]  # the entries of its row, itself included
+        # every entry (first) against every entry of its row (second)
+        first = np.repeat(np.arange(G_lin.nnz), partners)
+        offset = np.arange(first.size) - np.repeat(np.cumsum(partners) - partners, partners)
+        second = G_lin.indptr[rows[first]] + offset
+        self.row = rows[first]
+        self.flat = G_lin.indices[first] * self.n + G_lin.indices[second]
+        self.product = G_lin.data[first] * G_lin.data[second]
+
+    def matrix(self, d: np.ndarray) -> np.ndarray:
+        """``G_lin^T diag(d)^-2 G_lin`` as a dense ``n x n`` array."""
+        if self.dense:
+            scaled = self.G / d[:, None]
+            return scaled.T @ scaled
+        weights = self.product / (d * d)[self.row]
+        M = np.bincount(self.flat, weights, minlength=self.n * self.n)
+        return M.reshape(self.n, self.n).astype(float, copy=False)
 
 
 @dataclass
@@ -281,9 +409,21 @@ class ShapedProgram:
     G_soc: np.ndarray
     h_soc: np.ndarray
     columns: ConeColumns = field(init=False)
+    lin_gram: LinearGram = field(init=False)
+    G_lin_T: sp.csr_matrix = field(init=False)
+    AtA: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
-        self.columns = ConeColumns(self.G_soc)
+        with np.errstate(all="ignore"):  # data that is not finite is refused on its own
+            self.columns = ConeColumns(self.G_soc)
+            self.lin_gram = LinearGram(self.G_lin)
+            self.G_lin_T = self.G_lin.T.tocsr()
+            self.keep_rows(np.arange(self.b.size))
+
+    def keep_rows(self, keep: np.ndarray) -> None:
+        """Keep only the rows ``keep`` of ``A x = b``."""
+        self.A, self.b = self.A[keep], self.b[keep]
+        self.AtA = self.A.T @ self.A
 
     @property
     def G_soc_rows(self) -> np.ndarray:
@@ -292,11 +432,11 @@ class ShapedProgram:
 
     def G_times(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``G x``, split into the linear rows and the cones ``(m, 4)``."""
-        return self.G_lin @ x, (self.G_soc_rows @ x).reshape(-1, 4)
+        return self.G_lin @ x, self.columns.times(x)
 
     def GT_times(self, z_lin: np.ndarray, z_soc: np.ndarray) -> np.ndarray:
         """``G^T z``."""
-        return self.G_lin.T @ z_lin + self.G_soc_rows.T @ z_soc.ravel()
+        return self.columns.transposed_times(z_soc, self.G_lin_T @ z_lin)
 
 
 def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
@@ -339,17 +479,37 @@ def is_finite(program: ShapedProgram) -> bool:
 # ---------------------------------------------------------------- the Newton systems
 
 
+def cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Cholesky factor of ``K`` in the ``(factor, lower)`` form of ``scipy.linalg.cho_factor``
+    (LAPACK directly: the wrappers' checks cost more than the factorisation here)."""
+    factor, info = lapack.dpotrf(K, lower=False, clean=False, overwrite_a=False)
+    if info != 0:
+        raise np.linalg.LinAlgError("the matrix is not positive definite")
+    return factor, False
+
+
 def regularised_cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
     """Cholesky factor of ``K + delta I`` with the smallest ``delta`` of
-    :data:`REGULARISATIONS` (times the largest diagonal entry) that works."""
-    top = max(float(np.max(np.diag(K))), 1.0) if K.size else 1.0
-    identity = np.eye(K.shape[0])
+    :data:`REGULARISATIONS` (times the largest diagonal entry) that works (``K`` is
+    overwritten), in the ``(factor, lower)`` form of ``scipy.linalg.cho_factor``."""
+    diagonal = K.reshape(-1)[:: K.shape[0] + 1] if K.size else np.zeros(0)
+    original = diagonal.copy()
+    top = max(float(np.max(original)), 1.0) if K.size else 1.0
     for delta in REGULARISATIONS:
+        diagonal[:] = original + delta * top
         try:
-            return la.cho_factor(K + (delta * top) * identity, check_finite=False)
+            return cholesky(K)
         except np.linalg.LinAlgError:
             continue
     raise np.linalg.LinAlgError("the normal matrix is not positive definite")
+
+
+def cholesky_solve(factor: tuple[np.ndarray, bool], rhs: np.ndarray) -> np.ndarray:
+    """``K^-1 rhs`` from :func:`regularised_cholesky`'s factor (``rhs`` a vector or columns)."""
+    x, info = lapack.dpotrs(factor[0], rhs, lower=factor[1])
+    if info != 0:
+        raise np.linalg.LinAlgError("the normal matrix cannot be solved")
+    return x
 
 
 class NormalSystem:
@@ -361,25 +521,22 @@ class NormalSystem:
     """
 
     def __init__(self, program: ShapedProgram, d: np.ndarray, scaling: NtScaling | None):
-        G_lin = program.G_lin
-        scaled_lin = sp.diags(1.0 / d) @ G_lin
-        self.M = np.asarray((scaled_lin.T @ scaled_lin).todense())
+        self.M = program.lin_gram.matrix(d)
         if program.G_soc.shape[0]:
-            inverse = None if scaling is None else scaling.matrices(inverse=True)
-            self.M += program.columns.normal_matrix(inverse)
+            program.columns.add_normal_matrix(self.M, scaling)
         self.A = program.A
-        self.K = regularised_cholesky(self.M + self.A.T @ self.A)
+        self.K = regularised_cholesky(self.M + program.AtA)
         if self.A.shape[0]:
-            self.KA = la.cho_solve(self.K, self.A.T, check_finite=False)
-            self.S = la.cho_factor(self.A @ self.KA, check_finite=False)
+            self.KA = cholesky_solve(self.K, self.A.T)
+            self.S = cholesky(self.A @ self.KA)
 
     def solve_once(self, r1: np.ndarray, r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One solve with the regularised factors."""
         rhs = r1 + self.A.T @ r2
-        x = la.cho_solve(self.K, rhs, check_finite=False)
+        x = cholesky_solve(self.K, rhs)
         if not self.A.shape[0]:
             return x, np.zeros(0)
-        y = la.cho_solve(self.S, self.A @ x - r2, check_finite=False)
+        y = cholesky_solve(self.S, self.A @ x - r2)
         return x - self.KA @ y, y
 
     def solve(
@@ -717,7 +874,7 @@ def solve_dense_socp(
     if not is_finite(program):
         return solution("not_solved", empty_point(program), None, 0, np.arange(rows), rows)
     keep, consistent = independent_rows(program.A, program.b)
-    program.A, program.b = program.A[keep], program.b[keep]
+    program.keep_rows(keep)
     if not consistent or program.h_lin.size + program.h_soc.shape[0] == 0:
         return solution("not_solved", empty_point(program), None, 0, keep, rows)
     with np.errstate(all="ignore"):
