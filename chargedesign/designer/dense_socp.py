@@ -266,8 +266,8 @@ class ConeColumns:
     ``W_i^-2`` enters only through its lower ``3 x 3`` block ``(I + 2 w w^T) / eta^2``
     (``w`` the spatial part of the scaling point), whose square root ``R_i = (I + c w w^T) /
     eta`` gives a gram product over ``3 m`` rows instead of ``4 m``. The products ``G_soc x``
-    and ``G_soc^T z`` skip the absent columns (the charges' cost variables) and the cone
-    components that are zero throughout.
+    and ``G_soc^T z`` use the same blocks (the absent columns, the charges' cost variables,
+    and the zero first rows skipped).
     """
 
     def __init__(self, G_soc: np.ndarray):
@@ -291,25 +291,31 @@ class ConeColumns:
         self.cross_block = block(self.zero, self.full)
         self.cross_block_T = block(self.full, self.zero)
         self.full_block = block(self.full, self.full)
-        # the products: present columns, nonzero components
-        present = np.flatnonzero(count >= 1)
-        self.present = index_block(present)
-        self.components = np.flatnonzero(np.any(nonzero, axis=(0, 2)))
-        rows = G_soc[:, index_block(self.components)][:, :, self.present]
-        self.G_present = np.ascontiguousarray(rows).reshape(m * self.components.size, present.size)
+        self.absent = np.flatnonzero(count == 0)
+        self.zero_index = index_block(self.zero)
+        self.full_index = index_block(self.full)
+        self.G_zero_rows = self.G_zero.reshape(3 * m, self.zero.size)
+        self.G_full_rows = self.G_full.reshape(4 * m, self.full.size)
 
     def times(self, x: np.ndarray) -> np.ndarray:
-        """``G_soc x`` as ``(m, 4)``."""
+        """``G_soc x`` as ``(m, 4)`` (the absent columns and the zero first rows skipped)."""
         out = np.zeros((self.m, 4))
-        if self.components.size:
-            product = self.G_present @ x[self.present]
-            out[:, self.components] = product.reshape(self.m, self.components.size)
+        if self.zero.size:
+            out[:, 1:] = (self.G_zero_rows @ x[self.zero_index]).reshape(self.m, 3)
+        if self.full.size:
+            out += (self.G_full_rows @ x[self.full_index]).reshape(self.m, 4)
+        if self.private.size:
+            np.add.at(out, self.owner, self.g_private * x[self.private][:, None])
         return out
 
     def transposed_times(self, z_soc: np.ndarray, out: np.ndarray) -> np.ndarray:
         """``out + G_soc^T z`` (``out`` updated in place)."""
-        if self.components.size:
-            out[self.present] += self.G_present.T @ z_soc[:, self.components].ravel()
+        if self.zero.size:
+            out[self.zero_index] += self.G_zero_rows.T @ z_soc[:, 1:].ravel()
+        if self.full.size:
+            out[self.full_index] += self.G_full_rows.T @ z_soc.ravel()
+        if self.private.size:
+            out[self.private] += np.einsum("pk,pk->p", self.g_private, z_soc[self.owner])
         return out
 
     def add_normal_matrix(self, M: np.ndarray, scaling: NtScaling | None) -> np.ndarray:
@@ -384,7 +390,9 @@ class LinearGram:
         offset = np.arange(first.size) - np.repeat(np.cumsum(partners) - partners, partners)
         second = G_lin.indptr[rows[first]] + offset
         self.row = rows[first]
-        self.flat = G_lin.indices[first] * self.n + G_lin.indices[second]
+        self.first = G_lin.indices[first]
+        self.second = G_lin.indices[second]
+        self.flat = self.first * self.n + self.second
         self.product = G_lin.data[first] * G_lin.data[second]
 
     def matrix(self, d: np.ndarray) -> np.ndarray:
@@ -412,6 +420,7 @@ class ShapedProgram:
     lin_gram: LinearGram = field(init=False)
     G_lin_T: sp.csr_matrix = field(init=False)
     AtA: np.ndarray = field(init=False)
+    split: tuple[np.ndarray, np.ndarray] | None = field(init=False)
 
     def __post_init__(self) -> None:
         with np.errstate(all="ignore"):  # data that is not finite is refused on its own
@@ -419,6 +428,7 @@ class ShapedProgram:
             self.lin_gram = LinearGram(self.G_lin)
             self.G_lin_T = self.G_lin.T.tocsr()
             self.keep_rows(np.arange(self.b.size))
+            self.split = diagonal_split(self)
 
     def keep_rows(self, keep: np.ndarray) -> None:
         """Keep only the rows ``keep`` of ``A x = b``."""
@@ -437,6 +447,28 @@ class ShapedProgram:
     def GT_times(self, z_lin: np.ndarray, z_soc: np.ndarray) -> np.ndarray:
         """``G^T z``."""
         return self.columns.transposed_times(z_soc, self.G_lin_T @ z_lin)
+
+
+def diagonal_split(program: ShapedProgram) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(rest, diagonal)``: the unknowns whose block of the normal matrix is diagonal at every
+    scaling (in no cone, no equality, and no linear row with another of them: the charges'
+    cost variables ``w >= |u|``) and the others; None when either is empty.
+
+    The factorisation eliminates the diagonal block first: a Cholesky of the rest's Schur
+    complement (half the charges' unknowns) instead of the whole normal matrix.
+    """
+    gram = program.lin_gram
+    if gram.dense:
+        return None
+    n = program.c.size
+    candidate = np.zeros(n, dtype=bool)
+    candidate[program.columns.absent] = True
+    candidate &= ~np.any(program.A != 0.0, axis=0)
+    coupled = (gram.first != gram.second) & candidate[gram.first] & candidate[gram.second]
+    candidate[gram.first[coupled]] = False
+    if candidate.all() or not candidate.any():
+        return None
+    return np.flatnonzero(~candidate), np.flatnonzero(candidate)
 
 
 def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
@@ -505,11 +537,56 @@ def regularised_cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
 
 
 def cholesky_solve(factor: tuple[np.ndarray, bool], rhs: np.ndarray) -> np.ndarray:
-    """``K^-1 rhs`` from :func:`regularised_cholesky`'s factor (``rhs`` a vector or columns)."""
+    """``K^-1 rhs`` from :func:`cholesky`'s factor (``rhs`` a vector or columns)."""
     x, info = lapack.dpotrs(factor[0], rhs, lower=factor[1])
     if info != 0:
         raise np.linalg.LinAlgError("the normal matrix cannot be solved")
     return x
+
+
+class NormalFactor:
+    """``K + delta I`` factored, ``delta`` the smallest of :data:`REGULARISATIONS` (times the
+    largest diagonal entry) that works; with a ``split`` (:func:`diagonal_split`), by
+    eliminating the diagonal block ``D`` first::
+
+        S = K_RR - K_RD K_DD^-1 K_DR  (Cholesky),   x_R = S^-1 (r_R - K_RD K_DD^-1 r_D),
+        x_D = K_DD^-1 (r_D - K_DR x_R).
+    """
+
+    def __init__(self, K: np.ndarray, split: tuple[np.ndarray, np.ndarray] | None):
+        self.split = split
+        if split is None:
+            self.factor = regularised_cholesky(K)
+            return
+        rest, diagonal = split
+        self.rest, self.diagonal = index_block(rest), index_block(diagonal)
+        k_dd = np.diag(K)[diagonal]
+        self.K_RD = K[block(rest, diagonal)]
+        K_RR = K[block(rest, rest)]
+        top = max(float(np.max(np.diag(K))), 1.0)
+        for delta in REGULARISATIONS:
+            self.k_dd = k_dd + delta * top
+            if not np.all(self.k_dd > 0):
+                continue
+            schur = K_RR - (self.K_RD / self.k_dd) @ self.K_RD.T
+            schur.reshape(-1)[:: schur.shape[0] + 1] += delta * top
+            try:
+                self.factor = cholesky(schur)
+                return
+            except np.linalg.LinAlgError:
+                continue
+        raise np.linalg.LinAlgError("the normal matrix is not positive definite")
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``(K + delta I)^-1 rhs`` (``rhs`` a vector or columns)."""
+        if self.split is None:
+            return cholesky_solve(self.factor, rhs)
+        k_dd = self.k_dd if rhs.ndim == 1 else self.k_dd[:, None]
+        scaled = rhs[self.diagonal] / k_dd
+        x = np.empty_like(rhs, dtype=float)
+        x[self.rest] = cholesky_solve(self.factor, rhs[self.rest] - self.K_RD @ scaled)
+        x[self.diagonal] = scaled - (self.K_RD.T @ x[self.rest]) / k_dd
+        return x
 
 
 class NormalSystem:
@@ -525,15 +602,15 @@ class NormalSystem:
         if program.G_soc.shape[0]:
             program.columns.add_normal_matrix(self.M, scaling)
         self.A = program.A
-        self.K = regularised_cholesky(self.M + program.AtA)
+        self.K = NormalFactor(self.M + program.AtA, program.split)
         if self.A.shape[0]:
-            self.KA = cholesky_solve(self.K, self.A.T)
+            self.KA = self.K.solve(self.A.T)
             self.S = cholesky(self.A @ self.KA)
 
     def solve_once(self, r1: np.ndarray, r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One solve with the regularised factors."""
         rhs = r1 + self.A.T @ r2
-        x = cholesky_solve(self.K, rhs)
+        x = self.K.solve(rhs)
         if not self.A.shape[0]:
             return x, np.zeros(0)
         y = cholesky_solve(self.S, self.A @ x - r2)
