@@ -319,31 +319,47 @@ class ConeColumns:
         return out
 
     def add_normal_matrix(self, M: np.ndarray, scaling: NtScaling | None) -> np.ndarray:
-        """``M + G_soc^T W^-2 G_soc`` (``M`` updated in place; ``scaling`` None: W = I)."""
+        """``M + G_soc^T W^-2 G_soc`` (``M`` updated in place; ``scaling`` None: W = I).
+
+        The charge columns' block is ``(R G')^T (R G')`` with ``R_i^2`` the lower block of
+        ``W_i^-2``; their cross block with the full columns, ``G'^T (W^-2 G_full)[1:]``, is
+        ``(R G')^T (R^-1 (W^-2 G_full)[1:])``: both come from one gram product of the
+        columns ``[R G', R^-1 (W^-2 G_full)[1:]]``, one pass over the cone rows.
+        """
+        nz, nf = self.zero.size, self.full.size
+        square = None
         if scaling is None:
-            root, inverse, square = None, None, None
-            Y_zero, Y_full = self.G_zero, self.G_full
-            H_full = self.G_full[:, 1:]
+            Y_full = self.G_full
+            stacked = np.concatenate([self.G_zero, self.G_full[:, 1:]], axis=2) if nf else None
+            Y_zero = self.G_zero
         else:
             w1 = scaling.wbar[:, 1:]
-            c = 2.0 / (np.sqrt(1.0 + 2.0 * np.einsum("ij,ij->i", w1, w1)) + 1.0)
-            root = (c / scaling.eta)[:, None, None] * w1[:, :, None] * w1[:, None, :]
+            norm_sq = np.einsum("ij,ij->i", w1, w1)
+            c = 2.0 / (np.sqrt(1.0 + 2.0 * norm_sq) + 1.0)
+            outer = w1[:, :, None] * w1[:, None, :]
+            root = (c / scaling.eta)[:, None, None] * outer
             root += np.eye(3) / scaling.eta[:, None, None]
-            Y_zero = np.matmul(root, self.G_zero)
             inverse = scaling.matrices(inverse=True)
             square = np.matmul(inverse, inverse)
             Y_full = np.matmul(inverse, self.G_full)
-            H_full = np.matmul(square[:, 1:], self.G_full)
-        if self.zero.size:
-            M[self.zero_block] += gram(Y_zero)
-        if self.full.size:
+            if nf:
+                stacked = np.empty((self.m, 3, nz + nf))
+                np.matmul(root, self.G_zero, out=stacked[:, :, :nz])
+                root_inverse = (-c / (1.0 + c * norm_sq) * scaling.eta)[:, None, None] * outer
+                root_inverse += np.eye(3) * scaling.eta[:, None, None]
+                P = np.matmul(square[:, 1:], self.G_full)
+                np.matmul(root_inverse, P, out=stacked[:, :, nz:])
+            else:
+                Y_zero = np.matmul(root, self.G_zero)
+        if nf:
             M[self.full_block] += gram(Y_full)
-            if self.zero.size:
-                cross = self.G_zero.reshape(-1, self.zero.size).T @ H_full.reshape(
-                    -1, self.full.size
-                )
-                M[self.cross_block] += cross
-                M[self.cross_block_T] += cross.T
+        if nz and nf:
+            both = gram(stacked)
+            M[self.zero_block] += both[:nz, :nz]
+            M[self.cross_block] += both[:nz, nz:]
+            M[self.cross_block_T] += both[nz:, :nz]
+        elif nz:
+            M[self.zero_block] += gram(Y_zero)
         if self.private.size:
             h = (
                 self.g_private
@@ -657,11 +673,14 @@ class Point:
 
     def max_step(self, d: Point) -> float:
         """Largest step along ``d`` keeping ``s`` and ``z`` in their cones."""
+        # s and z at once: the same elementwise roots, half the calls
         return min(
-            max_step_lin(self.s_lin, d.s_lin),
-            max_step_lin(self.z_lin, d.z_lin),
-            max_step_soc(self.s_soc, d.s_soc),
-            max_step_soc(self.z_soc, d.z_soc),
+            max_step_lin(
+                np.concatenate([self.s_lin, self.z_lin]), np.concatenate([d.s_lin, d.z_lin])
+            ),
+            max_step_soc(
+                np.concatenate([self.s_soc, self.z_soc]), np.concatenate([d.s_soc, d.z_soc])
+            ),
         )
 
 
