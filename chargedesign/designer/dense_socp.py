@@ -318,6 +318,23 @@ class ConeColumns:
             out[self.private] += np.einsum("pk,pk->p", self.g_private, z_soc[self.owner])
         return out
 
+    def transposed_times_pair(
+        self, z_soc: np.ndarray, other: np.ndarray, out: np.ndarray
+    ) -> np.ndarray:
+        """``out + G_soc^T [z, other]`` (``out`` of shape ``(n, 2)``, updated in place): two
+        products in one pass over the cone rows."""
+        if self.zero.size:
+            pair = np.stack([z_soc[:, 1:].ravel(), other[:, 1:].ravel()], axis=1)
+            out[self.zero_index] += self.G_zero_rows.T @ pair
+        if self.full.size:
+            out[self.full_index] += self.G_full_rows.T @ np.stack(
+                [z_soc.ravel(), other.ravel()], axis=1
+            )
+        if self.private.size:
+            out[self.private, 0] += np.einsum("pk,pk->p", self.g_private, z_soc[self.owner])
+            out[self.private, 1] += np.einsum("pk,pk->p", self.g_private, other[self.owner])
+        return out
+
     def add_normal_matrix(self, M: np.ndarray, scaling: NtScaling | None) -> np.ndarray:
         """``M + G_soc^T W^-2 G_soc`` (``M`` updated in place; ``scaling`` None: W = I).
 
@@ -463,6 +480,14 @@ class ShapedProgram:
     def GT_times(self, z_lin: np.ndarray, z_soc: np.ndarray) -> np.ndarray:
         """``G^T z``."""
         return self.columns.transposed_times(z_soc, self.G_lin_T @ z_lin)
+
+    def GT_times_pair(
+        self, z: tuple[np.ndarray, np.ndarray], other: tuple[np.ndarray, np.ndarray]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``G^T z`` and ``G^T other`` (each a pair of linear and cone parts) in one pass."""
+        out = np.asarray(self.G_lin_T @ np.stack([z[0], other[0]], axis=1), dtype=float)
+        out = self.columns.transposed_times_pair(z[1], other[1], out)
+        return out[:, 0], out[:, 1]
 
 
 def diagonal_split(program: ShapedProgram) -> tuple[np.ndarray, np.ndarray] | None:
@@ -695,6 +720,8 @@ class Residuals:
     primal_objective: float
     dual_objective: float
     relative: dict[str, float]
+    #: ``G^T u`` of the affine direction's elimination (:func:`residuals` with a scaling)
+    affine_product: np.ndarray | None = None
 
     def merit(self) -> float:
         """The largest relative residual (``nan`` propagates as ``inf``)."""
@@ -707,13 +734,25 @@ def inf_norm(*arrays: np.ndarray) -> float:
     return max([float(np.abs(a).max()) for a in arrays if a.size] + [0.0])
 
 
-def residuals(program: ShapedProgram, p: Point) -> Residuals:
-    """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`)."""
+def residuals(program: ShapedProgram, p: Point, scaling: NtScaling | None = None) -> Residuals:
+    """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`).
+
+    With the ``scaling`` at ``p``, the product ``G^T u`` that the affine direction's
+    elimination needs (:func:`affine_rhs`, :func:`eliminated`) is formed in the same pass
+    over the cone rows as ``G^T z``.
+    """
     Gx_lin, Gx_soc = program.G_times(p.x)
-    rx = program.c + program.A.T @ p.y + program.GT_times(p.z_lin, p.z_soc)
     ry = program.A @ p.x - program.b
     rz_lin = Gx_lin + p.s_lin - program.h_lin
     rz_soc = Gx_soc + p.s_soc - program.h_soc
+    affine_product = None
+    if scaling is None:
+        GTz = program.GT_times(p.z_lin, p.z_soc)
+    else:
+        rhs = affine_rhs(scaling, np.zeros_like(p.x), ry, rz_lin, rz_soc)
+        _, _, u_lin, u_soc = eliminated(scaling, rhs)
+        GTz, affine_product = program.GT_times_pair((p.z_lin, p.z_soc), (u_lin, u_soc))
+    rx = program.c + program.A.T @ p.y + GTz
     pobj = float(program.c @ p.x)
     dobj = -float(program.b @ p.y + program.h_lin @ p.z_lin + np.sum(program.h_soc * p.z_soc))
     data = inf_norm(program.b, program.h_lin, program.h_soc)
@@ -725,7 +764,7 @@ def residuals(program: ShapedProgram, p: Point) -> Residuals:
         "dual": inf_norm(rx) / dual_scale,
         "gap": gap / max(1.0, min(abs(pobj), abs(dobj))),
     }
-    return Residuals(rx, ry, rz_lin, rz_soc, pobj, dobj, relative)
+    return Residuals(rx, ry, rz_lin, rz_soc, pobj, dobj, relative, affine_product)
 
 
 @dataclass
@@ -741,16 +780,28 @@ class NewtonRhs:
 
 
 def newton_direction(
-    program: ShapedProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
+    program: ShapedProgram,
+    system: NormalSystem,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    dual_part: tuple[np.ndarray, np.ndarray] | None = None,
+    product: np.ndarray | None = None,
 ) -> Point:
     """The solution ``d`` of the Newton system, eliminating ``ds`` and ``dz``::
 
     A^T dy + G^T dz = rx,   A dx = ry,   G dx + ds = rz,   lam o (W dz + W^-1 ds) = rs.
+
+    With ``dual_part`` ``(z_lin, z_soc)`` the first block's right-hand side is
+    ``rx - G^T dual_part``, its product folded into the elimination's own ``G^T`` product;
+    ``product`` is that product formed already (:func:`residuals`).
     """
     d = scaling.d
-    v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / d
-    v_soc = jordan_divide(scaling.lam_soc, rhs.rs_soc) - scaling.apply(rhs.rz_soc, True)
-    r1 = rhs.rx - program.GT_times(v_lin / d, scaling.apply(v_soc, True))
+    v_lin, v_soc, u_lin, u_soc = eliminated(scaling, rhs)
+    if product is None:
+        if dual_part is not None:
+            u_lin, u_soc = u_lin + dual_part[0], u_soc + dual_part[1]
+        product = program.GT_times(u_lin, u_soc)
+    r1 = rhs.rx - product
     dx, dy = system.solve(r1, rhs.ry)
     Gdx_lin, Gdx_soc = program.G_times(dx)
     dz_lin = (Gdx_lin / d + v_lin) / d
@@ -758,15 +809,42 @@ def newton_direction(
     return Point(dx, dy, rhs.rz_lin - Gdx_lin, dz_lin, rhs.rz_soc - Gdx_soc, dz_soc)
 
 
+def eliminated(
+    scaling: NtScaling, rhs: NewtonRhs
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``v`` (the eliminated ``W dz`` less ``W^-1 G dx``) and ``u = W^-1 v`` of both parts,
+    whose ``G^T u`` enters the reduced system's right-hand side."""
+    v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / scaling.d
+    v_soc = jordan_divide(scaling.lam_soc, rhs.rs_soc) - scaling.apply(rhs.rz_soc, True)
+    return v_lin, v_soc, v_lin / scaling.d, scaling.apply(v_soc, True)
+
+
+def affine_rhs(
+    scaling: NtScaling, rx: np.ndarray, ry: np.ndarray, rz_lin: np.ndarray, rz_soc: np.ndarray
+) -> NewtonRhs:
+    """The affine (predictor) right-hand side at residuals ``r`` and scaling ``lam``."""
+    lam_sq_lin = scaling.lam_lin**2
+    lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
+    return NewtonRhs(-rx, -ry, -rz_lin, -rz_soc, -lam_sq_lin, -lam_sq_soc)
+
+
 def newton_residual(
-    program: ShapedProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
+    program: ShapedProgram,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    d: Point,
+    dual_product: bool = True,
 ) -> NewtonRhs:
     """What ``d`` misses of each block of the Newton system, for a ``d`` built by
-    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction)."""
+    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction); without
+    ``dual_product`` the first block leaves out ``- G^T dz`` (for ``dual_part``)."""
     scaled_soc = scaling.apply(d.z_soc) + scaling.apply(d.s_soc, True)
     scaled_lin = d.z_lin * scaling.d + d.s_lin / scaling.d
+    rx = rhs.rx - program.A.T @ d.y
+    if dual_product:
+        rx = rx - program.GT_times(d.z_lin, d.z_soc)
     return NewtonRhs(
-        rhs.rx - program.A.T @ d.y - program.GT_times(d.z_lin, d.z_soc),
+        rx,
         rhs.ry - program.A @ d.x,
         np.zeros_like(rhs.rz_lin),
         np.zeros_like(rhs.rz_soc),
@@ -783,25 +861,30 @@ def refined_newton_direction(
     refinements: int = NEWTON_REFINEMENTS,
 ) -> Point:
     """:func:`newton_direction` with iterative refinement on the whole Newton system (the
-    elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned)."""
+    elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned). The
+    residual's ``G^T dz`` and the correction's own ``G^T`` product are one product."""
     d = newton_direction(program, system, scaling, rhs)
     for _ in range(refinements):
+        residual = newton_residual(program, scaling, rhs, d, dual_product=False)
         correction = newton_direction(
-            program, system, scaling, newton_residual(program, scaling, rhs, d)
+            program, system, scaling, residual, dual_part=(d.z_lin, d.z_soc)
         )
         d = d.moved(1.0, correction)
     return d
 
 
-def predictor_corrector_step(program: ShapedProgram, p: Point, res: Residuals) -> Point:
-    """One Mehrotra predictor-corrector iteration from the interior point ``p``."""
-    scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
+def predictor_corrector_step(
+    program: ShapedProgram, p: Point, res: Residuals, scaling: NtScaling | None = None
+) -> Point:
+    """One Mehrotra predictor-corrector iteration from the interior point ``p`` (``res``
+    and ``scaling`` at ``p``; the scaling computed here when not given)."""
+    if scaling is None:
+        scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
     system = NormalSystem(program, scaling.d, scaling)
-    lam_sq_lin = scaling.lam_lin**2
-    lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
-    rhs = NewtonRhs(-res.rx, -res.ry, -res.rz_lin, -res.rz_soc, -lam_sq_lin, -lam_sq_soc)
+    rhs = affine_rhs(scaling, res.rx, res.ry, res.rz_lin, res.rz_soc)
+    lam_sq_lin, lam_sq_soc = -rhs.rs_lin, -rhs.rs_soc
     # the affine direction only sets the centring and the second-order term: no refinement
-    affine = refined_newton_direction(program, system, scaling, rhs, refinements=0)
+    affine = newton_direction(program, system, scaling, rhs, product=res.affine_product)
     step = min(1.0, p.max_step(affine))
     gap = p.gap()
     sigma = min(1.0, max(0.0, p.moved(step, affine).gap() / gap)) ** CENTRING_EXPONENT
@@ -893,7 +976,8 @@ def interior_point_loop(
             # the last point that was interior, with its residuals
             return "not_solved", previous, res, iteration
         previous = p
-        res = residuals(program, p)
+        scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
+        res = residuals(program, p, scaling)
         merit = res.merit()
         if merit <= tol:
             return "solved", p, res, iteration
@@ -903,7 +987,7 @@ def interior_point_loop(
         if stalled or iteration == max_iter or hopeless(res, p, iteration):
             return "not_solved", p, res, iteration
         try:
-            p = predictor_corrector_step(program, p, res)
+            p = predictor_corrector_step(program, p, res, scaling)
         except (np.linalg.LinAlgError, ValueError):
             return "not_solved", p, res, iteration
     return "not_solved", p, res, max_iter
