@@ -13,10 +13,12 @@ Its dual: maximise ``-b^T y - h_lin^T z_lin - sum_i h_soc[i]^T z_soc[i]`` subjec
 Why a solver of its own: the problems of the charge design have few variables (hundreds) but
 thousands of dense cone rows (every field row depends on every charge). A sparse solver
 factors the large augmented system; here every iteration forms the small normal matrix
-``G^T W^-2 G`` (one dense gram product over the columns shared by several cones, 4-vector
-products for a column private to one cone) and factors it by Cholesky, all cone operations
-vectorised over the cones (arrays of shape ``(m, 4)``). Meant for a few hundred variables:
-the factorisation is dense, ``O(n^3)`` per iteration.
+``G^T W^-2 G`` (one dense gram product over the columns shared by several cones, over 3 rows
+a cone where their first rows vanish, 4-vector products for a column private to one cone;
+the linear rows' part from their listed pairs of entries) and factors it by Cholesky (the
+unknowns with a diagonal block, the charges' cost variables, eliminated first), all cone
+operations vectorised over the cones (arrays of shape ``(m, 4)``). Meant for a few hundred
+variables: the factorisation is dense, ``O(n^3)`` per iteration.
 
 The method is the infeasible-start path-following method of CVXOPT's ``coneqp`` (L.
 Vandenberghe, *The CVXOPT linear and quadratic cone program solvers*, 2010): Nesterov-Todd
