@@ -347,10 +347,13 @@ class ConeColumns:
         """
         nz, nf = self.zero.size, self.full.size
         square = None
+        # the charge columns' rows (R G'), stacked with R^-1 (W^-2 G_full)[1:] when there are
+        # full columns
+        stacked = self.G_zero
         if scaling is None:
             Y_full = self.G_full
-            stacked = np.concatenate([self.G_zero, self.G_full[:, 1:]], axis=2) if nf else None
-            Y_zero = self.G_zero
+            if nf:
+                stacked = np.concatenate([self.G_zero, self.G_full[:, 1:]], axis=2)
         else:
             w1 = scaling.wbar[:, 1:]
             norm_sq = np.einsum("ij,ij->i", w1, w1)
@@ -369,7 +372,7 @@ class ConeColumns:
                 P = np.matmul(square[:, 1:], self.G_full)
                 np.matmul(root_inverse, P, out=stacked[:, :, nz:])
             else:
-                Y_zero = np.matmul(root, self.G_zero)
+                stacked = np.matmul(root, self.G_zero)
         if nf:
             M[self.full_block] += gram(Y_full)
         if nz and nf:
@@ -378,7 +381,7 @@ class ConeColumns:
             M[self.cross_block] += both[:nz, nz:]
             M[self.cross_block_T] += both[nz:, :nz]
         elif nz:
-            M[self.zero_block] += gram(Y_zero)
+            M[self.zero_block] += gram(stacked)
         if self.private.size:
             h = (
                 self.g_private
