@@ -187,7 +187,8 @@ def compiled(quantity: str, singular: bool, module: str) -> Callable[..., Any]:
     if source is None:
         source = generated_source(quantity, singular, module)
     namespace: dict[str, Any] = {"numpy": np, "math": math}
-    exec(compile(source, f"<chargedesign.model.evaluators {key}>", "exec"), namespace)  # noqa: S102
+    # the package's own generated text, as lambdify itself execs it
+    exec(compile(source, f"<chargedesign.model.evaluators {key}>", "exec"), namespace)
     function: Callable[..., Any] = namespace["_lambdifygenerated"]
     return function
 
