@@ -26,7 +26,12 @@ the balance under gravity and the forward check):
    bracket when accepted (measured: the default body in 1 design instead of 11, the small body
    in SF6 in 1 instead of 11);
 3. otherwise (the masses, the balance or the acceptance bind below ``s_c``) bisection in
-   ``log s`` over the full acceptance to ``rtol``, below the lowest rate refused.
+   ``log s`` over the full acceptance to ``rtol``, below the lowest rate refused. A frontier
+   only ranked (``checks=False``) on a body without charge conditions follows that
+   bisection's path with the outcomes the masses' rate law predicts
+   (:func:`masses_rate_law`: the magnets' conditions are homogeneous in ``(sigma, s^2)``, one
+   SOCP) and designs only the cell it ends in (the K = 0 example: 2 designs instead of 8,
+   the same bracket).
 
 A refusal the charges' stage proves (:attr:`~chargedesign.designer.physical_setup.Binding.proved`:
 the own-field LP, or the surface cones on every usable carrier, infeasible; or the rate above
@@ -90,10 +95,10 @@ CHARGES_GAP_FRACTION = 0.1
 #: with the charges' limit s_c known, the rates designed first: s_c (1 - rtol / 4), then
 #: s_c / (1 + rtol) (None)
 DIRECT_STEPS = (0.25, None)
-#: a ranking frontier (``checks=False``) without charge conditions starts its bracket at the
-#: masses' rate law (:func:`masses_rate_law`) times these factors of (1 + rtol): one design
-#: below it and one above close the bracket when the law holds to rtol / 2
-LAW_STEPS = (-0.5, 0.5)
+#: a ranking frontier (``checks=False``) without charge conditions finds its bracket from the
+#: masses' rate law (:func:`masses_rate_law`, :func:`_law_bracket`); after this many designed
+#: ends that contradict the law's prediction the search without the law decides
+LAW_ROUNDS = 6
 
 
 @dataclass(repr=False)
@@ -705,38 +710,72 @@ def _lowest_feasible(search: _Search, feasible_rate: float | None) -> None:
         search.hi, search.hi_binding = s, binding
 
 
+def _bisection_path(search: _Search, ok: Any) -> tuple[float, float]:
+    """The bracket ``[lo, hi]`` the search without the law (:func:`_scan_decades`,
+    :func:`_search_bracket`, :func:`_lowest_feasible`, :func:`_bisect`) ends in when rate
+    ``s`` is accepted iff ``ok(s)``: the same rates, in the same floating point (lo = 0: none
+    accepted)."""
+    rtol = search.rtol
+    s, s_nec = 1.0, HIGHEST_RATE
+    while s < HIGHEST_RATE:
+        if not ok(s):
+            s_nec = s
+            break
+        s *= 10.0
+    if ok(s_nec):
+        return s_nec, s_nec * (1 + rtol)
+    lo, hi, s = 0.0, s_nec, s_nec
+    while lo == 0.0 and s > s_nec * LOWEST_RATE_FRACTION:
+        s *= 0.1
+        if ok(s):
+            lo = s
+        else:
+            hi = s
+    if lo == 0.0:
+        return 0.0, hi
+    while hi / lo > 1 + rtol:
+        mid = math.sqrt(lo * hi)
+        if ok(mid):
+            lo = mid
+        else:
+            hi = mid
+    return lo, hi
+
+
 def _law_bracket(search: _Search, law: float) -> bool:
-    """A bracket from the masses' rate law (:func:`masses_rate_law`): designs at ``law`` times
-    ``(1 + rtol)^LAW_STEPS``, then steps doubling outwards in ``log s`` until one is accepted
-    and one refused, and bisection (False: nothing accepted down to LOWEST_RATE_FRACTION of
-    the law, or everything up to HIGHEST_RATE)."""
-    step = 1 + search.rtol
-    below, above = (law * step**k for k in LAW_STEPS)
-    lo, hi = 0.0, math.inf
-    ok, binding = search.probe(below)
-    if ok:
-        lo = below
-        ok, binding = search.probe(above)
+    """The bisection's own bracket, found from the masses' rate law (:func:`masses_rate_law`).
+
+    The search without the law visits rates 10x apart, then bisects in ``log s``; it ends in
+    the one cell of its grid where the design passes from accepted to refused. Here that
+    path is followed with the outcomes the law predicts (accepted up to ``x``, the law at
+    first) and only the cell it ends in is designed: accepted below, refused above, the
+    bracket is the bisection's, so ``s_max``, its body and the binding are those the search
+    without the law finds wherever the design's outcome is monotone in the rate. When a
+    designed end contradicts the prediction, ``x`` moves past it (by steps doubling in
+    ``log s``) and the path is followed again, every rate designed keeping its outcome.
+    After LAW_ROUNDS contradictions the search without the law decides (False: no rate
+    accepted).
+    """
+    x, factor = law, 1 + search.rtol
+
+    def predicted(s: float) -> bool:
+        known = search.outcomes.get(s)
+        return known[0] if known is not None else s <= x
+
+    for _ in range(LAW_ROUNDS):
+        lo, hi = _bisection_path(search, predicted)
+        if lo == 0.0:
+            break
+        if not search.probe(lo)[0]:
+            x, factor = lo / factor, factor * factor
+            continue
+        ok, binding = search.probe(hi)
         if ok:
-            lo = above
-        else:
-            hi, search.hi_binding = above, binding
-    else:
-        hi, search.hi_binding = below, binding
-    factor = above / below
-    while lo == 0.0 or hi == math.inf:
-        factor *= factor
-        s_try = hi / factor if lo == 0.0 else lo * factor
-        if not LOWEST_RATE_FRACTION * law < s_try < HIGHEST_RATE:
-            return False
-        ok, binding = search.probe(s_try)
-        if ok:
-            lo = s_try
-        else:
-            hi, search.hi_binding = s_try, binding
-    search.lo, search.hi = lo, hi
-    _bisect(search)
-    return True
+            x, factor = hi * factor, factor * factor
+            continue
+        search.lo, search.hi, search.hi_binding = lo, hi, binding
+        return True
+    return _search_bracket(search, None)
 
 
 def _bisect(search: _Search) -> None:
