@@ -57,6 +57,9 @@ PASSES = 2
 #: the frontier's tolerance while the choices are ranked (the best is located to
 #: FRONTIER_RTOL after)
 RANK_RTOL = 0.05
+#: rank by frontiers whose bracket comes from the masses' rate law where it applies (False:
+#: the bisection from rates 10x apart, 8 designs a frontier instead of 2 to 4)
+RANK_LAW = True
 #: the order in which the tables are written
 TABLE_ORDER = (
     "parameters",
@@ -360,6 +363,7 @@ def recommend(
                 window=options,
                 rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
                 checks=not ranked,
+                law=RANK_LAW and ranked,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
