@@ -844,14 +844,15 @@ def frontier_from_scene(
     window: Any = None,
     rtol: float = FRONTIER_RTOL,
     checks: bool = True,
+    law: bool | None = None,
     **overrides: Any,
 ) -> FrontierResult:
     """The frontier of a scene with ``[medium]`` (see
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
     physical setup and the frontier, which calls the design (never the other way round).
     ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
-    window too (None: not); ``rtol``, ``checks`` as there."""
+    window too (None: not); ``rtol``, ``checks``, ``law`` as there."""
     setup = physical_setup_from_scene(scene, **overrides)
     if setup is None:
         raise InfeasibleError(NO_MEDIUM)
-    return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks)
+    return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)

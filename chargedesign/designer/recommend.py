@@ -16,7 +16,9 @@ anything), every point a frontier with its window (``frontier_from_scene``):
 A choice is better when its window is wider (``s_high / s_low``); among empty windows, when
 its best rate misses the fraction by less. The choices are ranked by frontiers located to
 :data:`RANK_RTOL` without the checks around their bracket (a ranking needs no more: the
-windows of the choices differ by factors); the best one is then located once more as
+windows of the choices differ by factors; without charge conditions the bracket is found from
+the masses' rate law, :func:`~chargedesign.designer.frontier.masses_rate_law`: 2 to 4
+designs instead of 8); the best one is then located once more as
 ``chargedesign frontier`` locates it (to :data:`~chargedesign.designer.frontier.FRONTIER_RTOL`,
 its bracket checked), and that frontier's window is the one reported and written. The
 recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
@@ -55,6 +57,9 @@ PASSES = 2
 #: the frontier's tolerance while the choices are ranked (the best is located to
 #: FRONTIER_RTOL after)
 RANK_RTOL = 0.05
+#: rank by frontiers whose bracket comes from the masses' rate law where it applies (False:
+#: the bisection from rates 10x apart, 8 designs a frontier instead of 2 to 4)
+RANK_LAW = True
 #: the order in which the tables are written
 TABLE_ORDER = (
     "parameters",
@@ -358,6 +363,7 @@ def recommend(
                 window=options,
                 rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
                 checks=not ranked,
+                law=RANK_LAW and ranked,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
