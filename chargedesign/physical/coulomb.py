@@ -101,3 +101,152 @@ def coulomb_kernel(sources: np.ndarray, points: np.ndarray, scale: float = COULO
     d = points[:, None, :] - sources[None, :, :]  # (m, k, 3)
     r3 = np.einsum("mkc,mkc->mk", d, d) ** 1.5
     return scale * (d / r3[:, :, None]).transpose(0, 2, 1)
+
+
+#: elements of the sphere kernel's (samples, charges) work arrays per block (512 kB: in cache)
+SPHERE_BLOCK_ELEMENTS = 1 << 16
+
+
+def _offsets_and_squares(centres: np.ndarray, i: int, radius: float) -> tuple[np.ndarray, ...]:
+    """Carrier ``i``'s offsets ``d_j = x_j - x_i`` (k, 3) and the rows (4, k) that give
+    ``|a n - d_j|^2 = a^2 + |d_j|^2 - 2 a n . d_j`` as ``[n, 1] @ rows`` (``a`` the radius)."""
+    d = centres - centres[i]
+    rows = np.empty((4, len(centres)))
+    rows[:3] = (-2.0 * radius) * d.T
+    rows[3] = radius * radius + np.einsum("jk,jk->j", d, d)
+    return d, rows
+
+
+def sphere_fields(
+    centres: np.ndarray, charges: np.ndarray, radii: np.ndarray, directions: np.ndarray
+) -> np.ndarray:
+    """Field of the point charges at ``centres`` (k, 3) on every carrier's sphere, V/m.
+
+    The points are ``centres[i] + radii[i] * directions`` (``directions`` (m, 3), the same
+    for every carrier, or (k, m, 3), each carrier's own): shape (k, m, 3). Summed in each
+    carrier's own coordinates, ``E = k_e sum_j q_j (a n - d_j) / |a n - d_j|^3`` with
+    ``d_j = x_j - x_i``: the carrier's own charge (``d = 0``) gives its radial
+    ``q / (4 pi eps0 a^2)`` to rounding, and the distances lose nothing to the body's size
+    (:func:`coulomb_field_gemm` loses ``(|p| / |p - x|)^2`` ulps). Each carrier is one
+    matrix product ``[n, 1] @ rows`` for the squared distances and one, ``w @ [q, q d]``,
+    for the sums (tests/physical/test_coulomb.py against the direct sum).
+    """
+    k = len(centres)
+    radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
+    shared = directions.ndim == 2
+    m = directions.shape[-2]
+    out = np.empty((k, m, 3))
+    block = max(1, SPHERE_BLOCK_ELEMENTS // max(1, k))
+    lhs = np.empty((m, 4))
+    lhs[:, 3] = 1.0
+    if shared:
+        lhs[:, :3] = directions
+    sums = np.empty((k, 4))
+    for i in range(k):
+        a = float(radii[i])
+        d, rows = _offsets_and_squares(centres, i, a)
+        if not shared:
+            lhs[:, :3] = directions[i]
+        sums[:, 0] = charges
+        np.multiply(charges[:, None], d, out=sums[:, 1:])
+        for start in range(0, m, block):
+            w = lhs[start : start + block] @ rows  # |a n - d_j|^2
+            r = np.sqrt(w)
+            w *= r
+            np.divide(1.0, w, out=w)  # 1 / |a n - d_j|^3
+            t = w @ sums  # (block, 4): sum_j q_j w_j [1, d_j]
+            n = lhs[start : start + block, :3]
+            out[i, start : start + block] = (a * t[:, :1]) * n - t[:, 1:]
+    out *= COULOMB
+    return out
+
+
+#: largest (carriers, samples, carriers) array a :class:`SphereKernel` keeps (2^25 doubles:
+#: 268 MB; the default body's 257 candidates at 200 samples take 13.2M), and the most
+#: elements all kept kernels hold together
+SPHERE_KERNEL_ELEMENTS = 1 << 25
+
+
+class SphereKernel:
+    """The charge-free geometry of :func:`sphere_fields` on fixed carriers and directions.
+
+    ``1 / |a n_m - d_ij|^3`` for every carrier i, direction m and carrier j (shape (k, m, k))
+    and the sample points' distances from the origin do not depend on the charges: computed
+    once, each evaluation is then one matrix product per carrier (the charges on any subset
+    of the carriers, zero on the rest). Kept by :func:`sphere_kernel` per content.
+    """
+
+    def __init__(self, centres: np.ndarray, radius: float, directions: np.ndarray) -> None:
+        self.centres = np.array(centres, dtype=float)
+        self.radius = float(radius)
+        self.directions = np.array(directions, dtype=float)
+        k, m = len(self.centres), len(self.directions)
+        self.index = {row.tobytes(): i for i, row in enumerate(self.centres)}
+        self.inverse_cubes = np.empty((k, m, k))
+        lhs = np.empty((m, 4))
+        lhs[:, :3] = self.directions
+        lhs[:, 3] = 1.0
+        block = max(1, SPHERE_BLOCK_ELEMENTS // max(1, k))
+        for i in range(k):
+            _, rows = _offsets_and_squares(self.centres, i, self.radius)
+            for start in range(0, m, block):
+                w = self.inverse_cubes[i, start : start + block]
+                np.matmul(lhs[start : start + block], rows, out=w)
+                r = np.sqrt(w)
+                w *= r
+                np.divide(1.0, w, out=w)
+        points = self.centres[:, None, :] + self.radius * self.directions[None, :, :]
+        self.distances = np.linalg.norm(points, axis=2)  # (k, m): |x_i + a n_m|
+
+    @property
+    def elements(self) -> int:
+        return self.inverse_cubes.size
+
+    def rows_of(self, positions: np.ndarray) -> np.ndarray | None:
+        """The carriers' indices of ``positions`` (rows of the centres), None if one is not."""
+        rows = [self.index.get(np.asarray(p, dtype=float).tobytes()) for p in positions]
+        if any(r is None for r in rows):
+            return None
+        return np.array(rows, dtype=int)
+
+    def fields(self, rows: np.ndarray, charges: np.ndarray) -> np.ndarray:
+        """:func:`sphere_fields` of ``charges`` on the carriers ``rows``, at their own spheres'
+        directions: shape (len(rows), m, 3), V/m."""
+        full = np.zeros(len(self.centres))
+        full[rows] = charges
+        n = self.directions
+        out = np.empty((len(rows), len(n), 3))
+        sums = np.empty((len(self.centres), 4))
+        sums[:, 0] = full
+        for out_i, i in zip(out, rows, strict=True):
+            np.multiply(full[:, None], self.centres - self.centres[i], out=sums[:, 1:])
+            t = self.inverse_cubes[i] @ sums
+            np.subtract((self.radius * t[:, :1]) * n, t[:, 1:], out=out_i)
+        out *= COULOMB
+        return out
+
+
+_KERNELS: dict[tuple[bytes, float, bytes], SphereKernel] = {}
+
+
+def sphere_kernel(
+    centres: np.ndarray, radius: float, directions: np.ndarray
+) -> SphereKernel | None:
+    """The :class:`SphereKernel` of these carriers and directions, computed on first use and
+    kept (the most recent first, :data:`SPHERE_KERNEL_ELEMENTS` in all); None when it would
+    be larger than that (then sum directly, :func:`sphere_fields`)."""
+    k, m = len(centres), len(directions)
+    if k * k * m > SPHERE_KERNEL_ELEMENTS:
+        return None
+    key = (
+        np.ascontiguousarray(centres, dtype=float).tobytes(),
+        float(radius),
+        np.ascontiguousarray(directions, dtype=float).tobytes(),
+    )
+    kernel = _KERNELS.pop(key, None)
+    if kernel is None:
+        kernel = SphereKernel(centres, radius, directions)
+    _KERNELS[key] = kernel  # the most recent last
+    while sum(kern.elements for kern in _KERNELS.values()) > SPHERE_KERNEL_ELEMENTS:
+        del _KERNELS[next(iter(_KERNELS))]
+    return kernel
