@@ -107,14 +107,36 @@ def coulomb_kernel(sources: np.ndarray, points: np.ndarray, scale: float = COULO
 SPHERE_BLOCK_ELEMENTS = 1 << 16
 
 
-def _offsets_and_squares(centres: np.ndarray, i: int, radius: float) -> tuple[np.ndarray, ...]:
-    """Carrier ``i``'s offsets ``d_j = x_j - x_i`` (k, 3) and the rows (4, k) that give
-    ``|a n - d_j|^2 = a^2 + |d_j|^2 - 2 a n . d_j`` as ``[n, 1] @ rows`` (``a`` the radius)."""
-    d = centres - centres[i]
-    rows = np.empty((4, len(centres)))
-    rows[:3] = (-2.0 * radius) * d.T
-    rows[3] = radius * radius + np.einsum("jk,jk->j", d, d)
+def _offsets_and_squares(centres: np.ndarray, radii: np.ndarray, block: slice) -> tuple:
+    """The carriers ``block``'s offsets ``d_j = x_j - x_i`` (b, k, 3) and the rows (b, 4, k)
+    that give ``|a n - d_j|^2 = a^2 + |d_j|^2 - 2 a n . d_j`` as ``[n, 1] @ rows``."""
+    d = centres[None, :, :] - centres[block, None, :]
+    a = radii[block]
+    rows = np.empty((len(d), 4, len(centres)))
+    rows[:, :3] = (-2.0 * a)[:, None, None] * d.transpose(0, 2, 1)
+    rows[:, 3] = (a * a)[:, None] + np.einsum("bjk,bjk->bj", d, d)
     return d, rows
+
+
+def _inverse_cubes(lhs: np.ndarray, rows: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """``1 / |a n - d_j|^3`` from ``[n, 1]`` (b, m, 4) and the rows (b, 4, k): (b, m, k)."""
+    w = np.matmul(lhs, rows, out=out)  # |a n - d_j|^2
+    r = np.sqrt(w)
+    w *= r
+    return np.divide(1.0, w, out=w)
+
+
+def _blocks(k: int, m: int) -> tuple[int, int]:
+    """Carriers and samples per block: about :data:`SPHERE_BLOCK_ELEMENTS` pairs."""
+    samples = min(m, max(1, SPHERE_BLOCK_ELEMENTS // max(1, k)))
+    return max(1, SPHERE_BLOCK_ELEMENTS // (samples * max(1, k))), samples
+
+
+def _directions_with_one(directions: np.ndarray) -> np.ndarray:
+    out = np.empty((*directions.shape[:-1], 4))
+    out[..., :3] = directions
+    out[..., 3] = 1.0
+    return out
 
 
 def sphere_fields(
@@ -127,36 +149,29 @@ def sphere_fields(
     carrier's own coordinates, ``E = k_e sum_j q_j (a n - d_j) / |a n - d_j|^3`` with
     ``d_j = x_j - x_i``: the carrier's own charge (``d = 0``) gives its radial
     ``q / (4 pi eps0 a^2)`` to rounding, and the distances lose nothing to the body's size
-    (:func:`coulomb_field_gemm` loses ``(|p| / |p - x|)^2`` ulps). Each carrier is one
-    matrix product ``[n, 1] @ rows`` for the squared distances and one, ``w @ [q, q d]``,
-    for the sums (tests/physical/test_coulomb.py against the direct sum).
+    (:func:`coulomb_field_gemm` loses ``(|p| / |p - x|)^2`` ulps). Per block of carriers,
+    one matrix product ``[n, 1] @ rows`` gives the squared distances and one,
+    ``w @ [q, q d]``, the sums (tests/physical/test_coulomb.py against the direct sum).
     """
     k = len(centres)
     radii = np.broadcast_to(np.asarray(radii, dtype=float), (k,))
-    shared = directions.ndim == 2
     m = directions.shape[-2]
+    lhs = _directions_with_one(directions)
+    if directions.ndim == 2:
+        lhs = np.broadcast_to(lhs, (k, m, 4))
     out = np.empty((k, m, 3))
-    block = max(1, SPHERE_BLOCK_ELEMENTS // max(1, k))
-    lhs = np.empty((m, 4))
-    lhs[:, 3] = 1.0
-    if shared:
-        lhs[:, :3] = directions
-    sums = np.empty((k, 4))
-    for i in range(k):
-        a = float(radii[i])
-        d, rows = _offsets_and_squares(centres, i, a)
-        if not shared:
-            lhs[:, :3] = directions[i]
-        sums[:, 0] = charges
-        np.multiply(charges[:, None], d, out=sums[:, 1:])
-        for start in range(0, m, block):
-            w = lhs[start : start + block] @ rows  # |a n - d_j|^2
-            r = np.sqrt(w)
-            w *= r
-            np.divide(1.0, w, out=w)  # 1 / |a n - d_j|^3
-            t = w @ sums  # (block, 4): sum_j q_j w_j [1, d_j]
-            n = lhs[start : start + block, :3]
-            out[i, start : start + block] = (a * t[:, :1]) * n - t[:, 1:]
+    per_block, per_samples = _blocks(k, m)
+    for start in range(0, k, per_block):
+        block = slice(start, start + per_block)
+        d, rows = _offsets_and_squares(centres, radii, block)
+        sums = np.empty((len(d), k, 4))
+        sums[..., 0] = charges
+        np.multiply(charges[:, None], d, out=sums[..., 1:])
+        a = radii[block, None, None]
+        for first in range(0, m, per_samples):
+            part = slice(first, first + per_samples)
+            t = np.matmul(_inverse_cubes(lhs[block, part], rows), sums)  # sum q w [1, d]
+            out[block, part] = (a * t[..., :1]) * lhs[block, part, :3] - t[..., 1:]
     out *= COULOMB
     return out
 
@@ -182,19 +197,16 @@ class SphereKernel:
         self.directions = np.array(directions, dtype=float)
         k, m = len(self.centres), len(self.directions)
         self.index = {row.tobytes(): i for i, row in enumerate(self.centres)}
+        radii = np.full(k, self.radius)
+        self.offsets, rows = _offsets_and_squares(self.centres, radii, slice(0, k))
         self.inverse_cubes = np.empty((k, m, k))
-        lhs = np.empty((m, 4))
-        lhs[:, :3] = self.directions
-        lhs[:, 3] = 1.0
-        block = max(1, SPHERE_BLOCK_ELEMENTS // max(1, k))
-        for i in range(k):
-            _, rows = _offsets_and_squares(self.centres, i, self.radius)
-            for start in range(0, m, block):
-                w = self.inverse_cubes[i, start : start + block]
-                np.matmul(lhs[start : start + block], rows, out=w)
-                r = np.sqrt(w)
-                w *= r
-                np.divide(1.0, w, out=w)
+        lhs = _directions_with_one(self.directions)
+        per_block, per_samples = _blocks(k, m)
+        for start in range(0, k, per_block):
+            block = slice(start, start + per_block)
+            for first in range(0, m, per_samples):
+                part = slice(first, first + per_samples)
+                _inverse_cubes(lhs[part], rows[block], self.inverse_cubes[block, part])
         points = self.centres[:, None, :] + self.radius * self.directions[None, :, :]
         self.distances = np.linalg.norm(points, axis=2)  # (k, m): |x_i + a n_m|
 
@@ -219,7 +231,7 @@ class SphereKernel:
         sums = np.empty((len(self.centres), 4))
         sums[:, 0] = full
         for out_i, i in zip(out, rows, strict=True):
-            np.multiply(full[:, None], self.centres - self.centres[i], out=sums[:, 1:])
+            np.multiply(full[:, None], self.offsets[i], out=sums[:, 1:])
             t = self.inverse_cubes[i] @ sums
             np.subtract((self.radius * t[:, :1]) * n, t[:, 1:], out=out_i)
         out *= COULOMB
