@@ -1,14 +1,18 @@
-"""The Coulomb field of point charges: the one place it is written, in its four forms.
+"""The Coulomb field of point charges: the one place it is written, in its forms.
 
 - :func:`point_charge_field`: the magnitude ``|q| / (4 pi eps0 s^2)`` of one charge;
-- :func:`coulomb_field`: the direct sum over (points, charges) differences, used by the
-  independent limits check (:mod:`chargedesign.physical.limits`);
-- :func:`coulomb_field_gemm`: the same sum by matrix products (BLAS), about 1.5x faster but
-  with cancellation in the distances, used by the design's in-loop surface check;
+- :func:`coulomb_field`: the direct sum over (points, charges) differences, the reference
+  the others are tested against (and the benchmark's baseline);
+- :func:`coulomb_field_gemm`: the same sum by matrix products (BLAS), with cancellation in
+  the distances;
+- :func:`sphere_fields`: the field on carriers' spheres, summed in each carrier's own
+  coordinates (its own charge exact), used by the design's in-loop surface check and the
+  independent limits check (:mod:`chargedesign.physical.limits`); :class:`SphereKernel`
+  keeps its charge-free geometry for the in-loop check's repeated calls;
 - :func:`coulomb_kernel`: the field per unit charge as a matrix (points x 3 x charges), the
   rows of the charges' cone programs (:mod:`chargedesign.designer.cone_program`).
 
-Both sums are tested against each other (tests/physical/test_coulomb.py).
+All are tested against the direct sum (tests/physical/test_coulomb.py).
 """
 
 from __future__ import annotations
