@@ -1,14 +1,14 @@
 """The Coulomb field of point charges: the one place it is written, in its forms.
 
 - :func:`point_charge_field`: the magnitude ``|q| / (4 pi eps0 s^2)`` of one charge;
-- :func:`coulomb_field`: the direct sum over (points, charges) differences, the reference
-  the others are tested against (and the benchmark's baseline);
+- :func:`coulomb_field`: the direct sum over (points, charges) differences, used by the
+  independent limits check (:mod:`chargedesign.physical.limits`: a code path of its own,
+  not the design's) and the reference the others are tested against;
 - :func:`coulomb_field_gemm`: the same sum by matrix products (BLAS), with cancellation in
-  the distances;
+  the distances (the benchmark's comparison);
 - :func:`sphere_fields`: the field on carriers' spheres, summed in each carrier's own
-  coordinates (its own charge exact), used by the design's in-loop surface check and the
-  independent limits check (:mod:`chargedesign.physical.limits`); :class:`SphereKernel`
-  keeps its charge-free geometry for the in-loop check's repeated calls;
+  coordinates (its own charge exact), used by the design's in-loop surface check;
+  :class:`SphereKernel` keeps its charge-free geometry for the check's repeated calls;
 - :func:`coulomb_kernel`: the field per unit charge as a matrix (points x 3 x charges), the
   rows of the charges' cone programs (:mod:`chargedesign.designer.cone_program`).
 

@@ -6,10 +6,8 @@ design used, so that "within its limits" is never the optimiser's word for itsel
 the body is buildable, and realised, is the verdict's: :mod:`chargedesign.verdict`):
 
 - surface fields: at points on every carrier sphere, the Coulomb field of all charges (each
-  carrier's charge at its centre, exact for its own field; summed in each carrier's own
-  coordinates, :func:`chargedesign.physical.coulomb.sphere_fields`) plus the largest
-  external electric field over all orientations at that radius, against
-  ``safety * breakdown``;
+  carrier's charge at its centre, exact for its own field) plus the largest external electric
+  field over all orientations at that radius, against ``safety * breakdown``;
 - parts do not overlap (carriers, magnets with any attached ballast, ballast spheres);
 - every magnet has at least the volume ``|sigma| / M`` and the mass of that volume; every
   carrier at least the mass of its sphere or shell;
@@ -26,7 +24,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from chargedesign.formatting import PRECISE, fmt
-from chargedesign.physical.coulomb import sphere_fields
+from chargedesign.physical.coulomb import coulomb_field
 from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
 from chargedesign.physical.materials import (
     MAGNET_COERCIVITY,
@@ -107,15 +105,14 @@ def carrier_surface_fields(
     external = RadialBound(tuple(electric), r_top * (1 + 1e-9))
 
     def magnitudes(unit: np.ndarray) -> np.ndarray:
-        """|E| at ``positions + radii * unit`` (unit: (m, 3) directions, the same for every
-        carrier, or (n, m, 3), each its own), shape (n, m)."""
-        points = positions[:, None, :] + radii[:, None, None] * unit
-        e = np.linalg.norm(sphere_fields(positions, charges, radii, unit), axis=2)
-        return e + external(np.linalg.norm(points, axis=2))
+        """|E| at ``positions + radii * unit`` (unit: (n, m, 3) directions), shape (n, m)."""
+        flat = (positions[:, None, :] + radii[:, None, None] * unit).reshape(-1, 3)
+        e = np.linalg.norm(coulomb_field(positions, charges, flat), axis=1)
+        return (e + external(np.linalg.norm(flat, axis=1))).reshape(n, -1)
 
     # every carrier's samples at once, then caps of shrinking size around each one's largest,
     # so the maximum between samples is found too
-    e = magnitudes(dirs)
+    e = magnitudes(np.broadcast_to(dirs, (n, *dirs.shape)))
     rows = np.arange(n)
     top = np.argmax(e, axis=1)
     best, best_dir = e[rows, top], dirs[top]
