@@ -38,6 +38,7 @@ bench: $(VENV)/.base
 # the documentation site (mkdocs-material + mkdocstrings); warnings are errors
 docs: $(VENV)/.test
 	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
+	$(PY) tools/check_site.py site
 
 # regenerate the shipped JSON Schemas from chargedesign/schemas.py
 schemas: $(VENV)/.base

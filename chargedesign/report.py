@@ -30,9 +30,14 @@ from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ball
 from chargedesign.physical.sources import cited_keys, sources_table_lines
 from chargedesign.physical.support import support_lines
 from chargedesign.scene.design_realism import (
+    FIELD_RESPONSE_KEYS,
+    INDUCED_KEY,
+    INDUCED_NAME,
     RESPONSE_FRACTION,
     RealismRecord,
     WindowAtDesign,
+    induced_text,
+    parasitic_text,
 )
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
@@ -416,8 +421,11 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
         + "."
     )
     window = (design.frontier or {}).get("realised") or {}
+    record = RealismRecord.read(design.realism) if design.medium is not None else None
+    if record is not None and record.induced:
+        body += _wrapped(f"{induced_text(record.induced)}.")
     if window.get("empty") and window.get("why"):
-        law = RealismRecord.read(design.realism).law if design.medium is not None else {}
+        law = record.law if record is not None else {}
         body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
         body += _wrapped(
@@ -459,23 +467,39 @@ def _verdict_table(
     return verdict, verdict_table(verdict), window
 
 
+def _best_rate_text(window: dict[str, Any]) -> str | None:
+    """The worst parasitic at the empty window's best rate, with its reference and rate (the
+    window's laws, drawn from the body designed at s_max); None when not recorded."""
+    best, missing, fraction = (
+        window.get("s_best"),
+        window.get("missing_factor"),
+        window.get("fraction"),
+    )
+    if best is None or missing is None or not fraction:
+        return None
+    worst = str(window.get("binding_low", "")).split(" (")[0] or "the worst parasitic"
+    term = window.get("smallest_term") or "?"
+    return (
+        f"at the best rate the worst parasitic ({worst}) is "
+        f"{parasitic_text(missing * fraction, term, best)} by the window's laws (the body "
+        f"designed at s_max)"
+    )
+
+
 def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
-    """Why no rate is realised, with the K law's one figure (the realism budget's
-    ``k_law_induced_ratio``, the same number as its line below and the budget's table) where
-    it applies; else the frontier's own words."""
+    """Why no rate is realised: the K law where it applies (the realism budget's
+    ``k_law_induced_ratio``: a law of matter at the K frontier, named as the law, the same
+    number as its line below and the budget's table), then the worst parasitic at the best
+    rate with its reference and rate; else the frontier's own words."""
     if not law or law.get("value") is None:
         return str(window["why"])
     text = (
-        "the K term cannot be realised: the K law (below) puts the parts' induced "
-        f"magnetisation at {fmt(law['value'])} x the designed K torques C K_max^2 at the K "
-        "frontier, for any size and a2"
+        "the K term cannot be realised by ordinary matter: the K law (below) is "
+        f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier, for any "
+        "size and a2"
     )
-    if window.get("s_best") is not None and window.get("missing_factor") is not None:
-        text += (
-            f"; at the best rate s = {fmt(window['s_best'], ROUGH)} the worst parasitic is "
-            f"{fmt(window['missing_factor'], ROUGH)} x the fraction of the smallest realised term"
-        )
-    return text
+    best = _best_rate_text(window)
+    return text + (f"; {best}" if best else "")
 
 
 def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
@@ -596,17 +620,13 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
     ]
     detail = []
     fraction = window.get("fraction")
+    if record.induced:
+        summary.append(f"- {induced_text(record.induced)}.")
     if window.get("empty") and window.get("why"):
-        best, missing = window.get("s_best"), window.get("missing_factor")
+        best = _best_rate_text(window)
         summary.append(
             "- Realised window: empty (no rate realises the body"
-            + (
-                f"; at the best rate s = {fmt(best, ROUGH)} the worst parasitic is "
-                f"{fmt(missing, ROUGH)} x the fraction {fmt(fraction, PLAIN)} of the smallest "
-                "realised term)."
-                if best is not None and missing is not None and fraction
-                else ")."
-            )
+            + (f"; {best})." if best else ").")
         )
         detail.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
     elif window:
@@ -634,7 +654,7 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
     detail += [*_apparatus_lines(window_now), *_support_lines(window_now)]
     detail += _larmor_lines(design)
     detail += _frontier_lines(design, frontier)
-    detail += _k_law_lines(law, record) if law else _response_lines(response)
+    detail += _k_law_lines(law, record) if law else _response_lines(response, bool(record.induced))
     detail += _part_size_lines(record.part_sizes)
     detail += _placement_lines(design)
     for v in limits.get("violations", []):
@@ -642,10 +662,13 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
     return [*summary, ""], detail
 
 
-def _response_lines(response: dict[str, Any]) -> list[str]:
-    """The field response at the designed rate (a body without the K law's figures)."""
+def _response_lines(response: dict[str, Any], induced: bool) -> list[str]:
+    """The field response at the designed rate (a body without the K law's figures); the
+    induced magnetisation only when its one figure is not recorded (an older design.json)."""
     lines = []
     for key, item in response.items():
+        if key == FIELD_RESPONSE_KEYS[0] and induced:  # its one figure, in the summary
+            continue
         value = item.get("value")
         title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
         lines.append(
@@ -674,7 +697,8 @@ def _k_law_induced_line(law: dict[str, Any]) -> str:
     tail = _k_law_tail(law)
     if law.get("cancelled_by_design"):
         return (
-            "- Induced magnetisation at the K frontier: cancelled by the design's chi-weighted "
+            "- The K law (ordinary matter's induced-magnetisation energy range at the K "
+            "frontier): cancelled by the design's chi-weighted "
             f"moments to {fmt(law['ratio_elements'])} of the designed K torques C K_max^2 "
             f"({law['verdict']}, element by element); the same matter without the "
             f"cancellation gives {fmt(law['ratio_without_cancellation'])} by the size-free law "
@@ -692,9 +716,10 @@ def _k_law_induced_line(law: dict[str, Any]) -> str:
         else "by the law"
     )
     return (
-        f"- Induced magnetisation at the K frontier (the K law): {fmt(value)} x the designed K "
-        f"torques C K_max^2 ({law['verdict']}; {how}, the figure the verdict and the budget "
-        f"use). The size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law['ratio'])} "
+        f"- The K law (ordinary matter's induced-magnetisation energy range at the K frontier, "
+        f"not the {INDUCED_NAME} figure above): {fmt(value)} x the designed K "
+        f"torques C K_max^2 ({law['verdict']}; {how}, the budget's k_law_induced_ratio). The "
+        f"size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law['ratio'])} "
         f"with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
         f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
         f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
@@ -860,9 +885,13 @@ def _realism_lines(record: RealismRecord) -> list[str]:
     )
     lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
     for key, item in budget.items():
-        if isinstance(item, dict):
+        # the induced magnetisation is printed once, as its one figure (INDUCED_KEY): the
+        # field response's energy over the typical torque is its input in design.json
+        if isinstance(item, dict) and (key != FIELD_RESPONSE_KEYS[0] or INDUCED_KEY not in budget):
             amount = item.get("value")
             shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
+            if key == INDUCED_KEY:
+                shown = parasitic_text(amount, item["term"], item["s"])
             lines.append(f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |")
     lines += _map_lines(record.realisability_map)
     return lines
@@ -882,8 +911,11 @@ def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
         "of a V term over orientations; the gyroscopic torque |omega| max|mu term| of a mu "
         "term at the typical motion) here and at the K frontier (every term scales like the "
         "rate squared), and the parts' induced-magnetisation energy range and eddy torque over "
-        "it (the induced energy does not change with the rate, the eddy torque grows like it). "
-        "Computed from this body by `chargedesign.physical.realism.realisability_map`.",
+        "it (the induced energy by the window's law: the magnets' grows like the terms, the "
+        "other parts' does not; over the smallest realised term at s = 1 it is the induced "
+        "magnetisation's one figure above; the eddy torque grows like the rate). Computed "
+        "from this body by `chargedesign.physical.realism.realisability_map`, the induced "
+        "columns by `chargedesign.physical.budget.map_figures`.",
         "",
         "| term | in | mechanisms | this body | size here (N m) | induced / term "
         "| eddy / term | size at the K frontier (N m) | induced / term | eddy / term |",

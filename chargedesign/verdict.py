@@ -39,7 +39,7 @@ from typing import Any
 from chargedesign.body import Design
 from chargedesign.formatting import PLAIN, ROUGH, fmt, fmt_length
 from chargedesign.physical.limits import within_limits
-from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign
+from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign, parasitic_text
 from chargedesign.vocabulary import VERDICT_STATES
 
 #: the verdict's four states (the contract's strings, ``vocabulary.VERDICT_STATES``)
@@ -113,13 +113,12 @@ def _window_rows(design: Design, window: WindowAtDesign) -> tuple[dict[str, Any]
         return _row(REALISED, "-", None, "-", "-"), items
     binding = f"{window.label(worst)} (of the {window.term_key} term)"
     over = ratios[worst]
+    # the item's own figure (its reference and rate beside it: the one text every output
+    # prints, chargedesign.scene.design_realism.parasitic_text) and the limit it is held to
+    value = _finite(over * window.fraction)
+    text = f"{parasitic_text(value, window.term_key, 1.0)}; limit {fmt(window.fraction, PLAIN)}"
     if over > 1.0:
-        text = (
-            f"{fmt(over, ROUGH)} x the fraction {fmt(window.fraction, PLAIN)} of the "
-            f"{window.term_key} term, at s = 1"
-        )
         return _row(NOT_REALISED, binding, _finite(over), text, _what_changes(design)), items
-    text = f"{fmt(over, ROUGH)} of the fraction {fmt(window.fraction, PLAIN)}, at s = 1"
     return _row(REALISED, binding, over, text, "-"), items
 
 

@@ -75,8 +75,8 @@ def test_the_verdict_rests_on_the_k_law_and_the_report_carries_the_map():
     for stale in ("18 nm", "negligible below", "size below which", "n above"):
         assert stale not in text
     law = k_law(design)
-    (line,) = [x for x in text.splitlines() if x.startswith("- Induced magnetisation at the K")]
-    # one figure, the budget's (the verdict rests on it), and the law's estimate beside it
+    (line,) = [x for x in text.splitlines() if x.startswith("- The K law (")]
+    # the law's figure, the budget's, and the formula's estimate beside it
     assert f"{law['value']:.3g} x the designed K torques" in line
     assert f"estimates it at {law['ratio']:.3g}" in line
     detail = text.split("## Detail")[1].split("\n## ")[0]  # the detail after the summary
@@ -123,7 +123,7 @@ def test_the_recorded_figures_equal_a_fresh_recomputation(tmp_path):
     figure recomputed from the written parts (the realism and window functions, and the
     part sizes from the elements by hand), also after the frontier moves K_max."""
     from chargedesign.body import read_design, write_design
-    from chargedesign.physical.budget import judge_at_frontier
+    from chargedesign.physical.budget import judge_at_frontier, map_figures
     from chargedesign.physical.realism import field_response, k_law, realisability_map
     from chargedesign.physical.window import window_model
     from chargedesign.results import json_ready
@@ -133,7 +133,17 @@ def test_the_recorded_figures_equal_a_fresh_recomputation(tmp_path):
     for key, item in field_response(design).items():
         assert realism[key] == item
     assert realism["k_law_induced_ratio"] == k_law(design)
-    assert realism["realisability_map"] == json_ready(realisability_map(design))
+    # the map's rows, their induced columns from the one figure's function (physical.budget)
+    assert realism["realisability_map"] == json_ready(map_figures(design))
+    rows = {r["key"]: r for r in realisability_map(design)}
+    for row in realism["realisability_map"]:
+        if row["induced_over_term"] is not None:  # the same energy at the design's rate
+            assert row["induced_over_term"] == pytest.approx(
+                rows[row["key"]]["induced_over_term"], rel=1e-9
+            )
+    figure = realism["induced_magnetisation"]
+    smallest = next(r for r in realism["realisability_map"] if r["key"] == figure["term"])
+    assert smallest["induced_over_term"] == pytest.approx(figure["value"], rel=1e-12)
     # the part sizes by hand: carrier radii, magnet cube edges, ballast sphere radii
     sizes = realism["part_sizes"]
     radii = np.asarray(design.charge_radii)
@@ -169,7 +179,7 @@ def test_the_recorded_figures_equal_a_fresh_recomputation(tmp_path):
     judge_at_frontier(design)
     assert design.realism["k_law_induced_ratio"] == k_law(design)
     after = design.realism["realisability_map"]
-    assert after == json_ready(realisability_map(design)) and after != before
+    assert after == json_ready(map_figures(design)) and after != before
     # ... and the window at the design's rate, not recomputed, is still a fresh one's
     model = window_model(design, 1.0)
     ratios = model.ratios(1.0)

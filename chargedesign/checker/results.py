@@ -12,6 +12,7 @@ from typing import Any
 
 from chargedesign.formatting import AGREEMENT, DIRECTION, ERROR, FLOOR, PLAIN, PRECISE, fmt
 from chargedesign.results import Result
+from chargedesign.scene.design_realism import induced_text
 from chargedesign.vocabulary import VERDICT_STATES
 
 REALISED, NOT_REALISED, _NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
@@ -198,6 +199,9 @@ class CheckReport(Result):
     recorded_verdict: dict[str, Any] | None = None
     #: what the forward check compares with: ``theorem`` or ``case`` (a [case] of (ep))
     reference: str = "theorem"
+    #: the induced magnetisation's one figure, recomputed from the written parts
+    #: (:func:`chargedesign.physical.budget.induced_magnetisation`); None: not judged
+    induced: dict[str, Any] | None = None
 
     @property
     def parts_within_limits(self) -> bool | None:
@@ -280,6 +284,8 @@ class CheckReport(Result):
             out["verdict_agrees"] = self.verdict_agrees
         if self.limits is not None:
             out["limits"] = self.limits.to_dict()
+        if self.induced is not None:
+            out["induced_magnetisation"] = dict(self.induced)
         if self.larmor is not None:
             out["larmor"] = dict(self.larmor)
         return out
@@ -365,6 +371,8 @@ def summary_lines(report: CheckReport) -> list[str]:
     lines += [f"{name}: {q.reason}" for name, q in report.quantities.items() if q.reason]
     if report.limits is not None:
         lines.append(str(report.limits))
+    if report.induced is not None:
+        lines.append(f"{induced_text(report.induced)} (recomputed from the written parts)")
     failed = [name for name, q in report.quantities.items() if q.passed is False]
     lines.append(
         f"{report.reference} reproduced (every claimed quantity within tol)"

@@ -49,7 +49,7 @@ from chargedesign.errors import InputError, SolverError
 from chargedesign.formatting import AGREEMENT, FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix
-from chargedesign.physical.budget import window_at_design
+from chargedesign.physical.budget import induced_magnetisation, window_at_design
 from chargedesign.physical.limits import LimitsReport, check_limits
 from chargedesign.results import json_ready
 from chargedesign.scene.design_realism import WindowAtDesign
@@ -365,6 +365,11 @@ def check_design(
         verdict=recomputed_verdict(design, limits) if verdict else None,
         recorded_verdict=_recorded(design) if verdict else None,
         reference="theorem" if case is None else "case",
+        induced=(
+            induced_magnetisation(design, parts_ok=limits.parts_within_limits)
+            if verdict and limits is not None
+            else None
+        ),
     )
 
 

@@ -70,6 +70,7 @@ from chargedesign.physical.window import (
     window_model,
 )
 from chargedesign.results import Result
+from chargedesign.scene.design_realism import induced_text, parasitic_text
 
 #: relative width of the final bracket [s_max, s_above]
 FRONTIER_RTOL = 1e-2
@@ -156,6 +157,10 @@ class FrontierResult(Result):
     k_law: dict[str, Any] = field(default_factory=dict)
     #: whose parts the K law's figure measures
     k_law_body: str = ""
+    #: the induced magnetisation's one figure of the body at the scene's rate
+    #: (:func:`chargedesign.physical.budget.induced_magnetisation`, as design.json's
+    #: ``realism.induced_magnetisation``; empty: no such body)
+    induced: dict[str, Any] = field(default_factory=dict)
 
     @property
     def n_free(self) -> bool:
@@ -199,6 +204,7 @@ class FrontierResult(Result):
             "field_response": dict(self.field_response),
             "smallest_charge_C": self.smallest_charge,
             "k_law_induced_ratio": self._k_law_figure(),
+            "induced_magnetisation": dict(self.induced) or None,
             **({"realised": self.realised.to_dict()} if self.realised is not None else {}),
         }
 
@@ -208,6 +214,7 @@ class FrontierResult(Result):
         if not self.k_law or self.k_law.get("value") is None:
             return None
         return {
+            "name": "the K law",
             "value": self.k_law["value"],
             "of": "the designed K torques C K_max^2 at the K frontier",
             "verdict": self.k_law.get("verdict"),
@@ -255,19 +262,23 @@ class FrontierResult(Result):
                 f"{fmt(self.balance['centre_of_mass_within_m'])} m for the check's tolerance "
                 f"{fmt(self.balance['check_tolerance'], PLAIN)})\n"
             )
+        if self.induced:
+            # the induced magnetisation's one figure (design.json's, the report's, the verdict's)
+            lines.append(f"{induced_text(self.induced)}; the body at the scene's rate\n")
         figure = self._k_law_figure()
         if figure is not None:
-            # the induced magnetisation's one figure (the report's and the budget's)
+            # a law of matter at the K frontier, named as the law (not the figure above)
             lines.append(
-                f"induced magnetisation at the K frontier (the K law): {fmt(figure['value'])} x "
-                f"the designed K torques C K_max^2 ({figure['verdict']}; {figure['body']})\n"
+                f"the K law (ordinary matter's induced-magnetisation energy range at the K "
+                f"frontier, any size and a2): {fmt(figure['value'])} x the designed K torques "
+                f"C K_max^2 ({figure['verdict']}; {figure['body']})\n"
             )
         lines += [
             f"the body designed at s_max = {fmt(self.s_max, PRECISE)}, its "
             f"{key.replace('_', ' ')}: {_value_text(item)} of its designed torques at its "
             f"typical rate ({item['verdict']})\n"
             for key, item in self.field_response.items()
-            if figure is None or not key.startswith("induced")
+            if not key.startswith("induced")  # the induced magnetisation: its one figure
         ]
         if self.realised is not None:
             lines.append(str(self.realised))
@@ -944,19 +955,19 @@ def _why_empty(window: RealisedWindow, law: dict[str, Any] | None) -> str:
     applies: ``law``, the :func:`~chargedesign.physical.realism.k_law` item; None: no body)."""
     if law is None:
         return "no rate is buildable: " + window.binding_high
+    worst = window.missing * window.fraction
     head = (
-        f"at the best rate s = {fmt(window.s_best, CELL)} the worst parasitic is "
-        f"{fmt(window.missing, ROUGH)} x the fraction ({window.binding_low.split(' (')[0]})"
+        f"at the best rate the worst parasitic ({window.binding_low.split(' (')[0]}) is "
+        f"{parasitic_text(worst if math.isfinite(worst) else None, window.term_key, window.s_best)}"
+        " by the window's laws"
     )
     if not law or law.get("value") is None:
         return head
     return (
-        f"the K term cannot be realised: the K law puts the parts' induced magnetisation at "
-        f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier "
-        f"({fmt(law['value'] / window.fraction, ROUGH)} x the fraction "
-        f"{fmt(window.fraction, PLAIN)}), for any size and a2 (the size-free law "
-        f"6 (chi/rho) / (mu0 G^2), G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg; "
-        f"design.json's realism k_law_induced_ratio); {head}"
+        f"the K term cannot be realised by ordinary matter: the K law is {fmt(law['value'])} x "
+        f"the designed K torques C K_max^2 at the K frontier, for any size and a2 (the "
+        f"size-free law 6 (chi/rho) / (mu0 G^2), G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} "
+        f"C m/kg; design.json's realism k_law_induced_ratio); {head}"
     )
 
 

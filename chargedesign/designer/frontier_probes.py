@@ -89,7 +89,7 @@ class ChargesLimit:
     cone_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
 
-def _minmax_charges(
+def minmax_charges(
     setup: PhysicalSetup, cones: list[np.ndarray]
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
     """``min t`` over charges ``u`` (rate 1) on every candidate with ``A u = b``, each
@@ -184,7 +184,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     cones: list[np.ndarray] = []
     for rounds in range(1, MINMAX_ROUNDS + 1):
-        solved = _minmax_charges(setup, cones)
+        solved = minmax_charges(setup, cones)
         if solved is None:
             return ChargesLimit(0.0, 0.0, math.inf, empty, np.zeros(0), -1, rounds, 0, "charges")
         t, u, used = solved

@@ -58,7 +58,7 @@ from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
-from chargedesign.scene.design_realism import K_LAW_KEY
+from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
 from chargedesign.validation import (
     check_design_sources,
     check_instance,
@@ -665,10 +665,12 @@ def _physical_design(
     # the budget's K law and the report's figures are judged at the frontier's K_max
     judge_at_frontier(design)
     realism = design.realism if isinstance(design.realism, dict) else {}
+    # the induced magnetisation's one figure: this body's (design.json's, the verdict's)
+    front.induced = dict(realism.get(INDUCED_KEY) or {})
     if realism.get(K_LAW_KEY):
         # the K law's one figure: this body's, judged at K_max (the report's and the budget's)
         restate_k_law(front, realism[K_LAW_KEY], "the body at the scene's rate (s = 1)")
-        design.frontier = front.to_dict()
+    design.frontier = front.to_dict()
     return result, front
 
 

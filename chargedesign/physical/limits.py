@@ -221,14 +221,20 @@ class LimitsReport(Result):
         ]
         lines += [f"violation: {v}" for v in self.violations]
         for key, item in self.field_response.items():
+            if key.startswith("induced"):
+                # the induced magnetisation is printed once, as its one figure (the check's
+                # own, physical.budget.induced_magnetisation); the energy over the typical
+                # torque stays in to_dict as its input
+                continue
             value = item.get("value")
             shown = "inf" if value is None else f"{fmt(value)}"
             lines.append(f"{key.replace('_', ' ')}: {shown} ({item['verdict']}): {item['note']}")
         if self.k_law:
             value = self.k_law.get("value", self.k_law["ratio"])
             lines.append(
-                f"induced magnetisation at the K frontier (the K law): {fmt(value)} x the "
-                f"designed K torques C K_max^2 ({self.k_law['verdict']}): {self.k_law['note']}"
+                f"the K law (ordinary matter's induced-magnetisation energy range at the K "
+                f"frontier): {fmt(value)} x the designed K torques C K_max^2 "
+                f"({self.k_law['verdict']}): {self.k_law['note']}"
             )
         below = self.magnet_continuum.get("below", 0)
         if below:

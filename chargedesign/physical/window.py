@@ -523,11 +523,19 @@ class RealisedWindow(Result):
                 f"{fmt(self.fraction, PLAIN)} of each realised term\n"
                 f"  low end: {self.binding_low}\n  high end: {self.binding_high}\n"
             )
-        where = "at the best rate" if self.empty else "at the window's middle"
+        where = "the best rate" if self.empty else "the window's middle"
+        # each parasitic's figure (of the smallest realised term, at the named rate), as the
+        # verdict and the induced magnetisation's one figure state theirs; margins stay over
+        # the fraction in to_dict
         margins = ", ".join(
-            f"{k} {fmt(v, ROUGH)}" for k, v in sorted(self.margins.items(), key=lambda kv: -kv[1])
+            f"{k} {fmt(v * self.fraction, ROUGH)}"
+            for k, v in sorted(self.margins.items(), key=lambda kv: -kv[1])
         )
-        lines = [head, f"  parasitics over the fraction {where}: {margins}\n"]
+        lines = [
+            head,
+            f"  parasitics of the smallest realised term ({self.term_key}) at {where} s = "
+            f"{fmt(self.s_best, ROUGH)} (limit {fmt(self.fraction, PLAIN)}): {margins}\n",
+        ]
         lines += [f"  note: {n}\n" for n in self.notes]
         if self.support:
             lines.append(

@@ -28,18 +28,43 @@ from dataclasses import dataclass
 from typing import Any
 
 from chargedesign.errors import InputError
+from chargedesign.formatting import PLAIN, ROUGH, fmt
 
 #: a torque from the parts' materials below this fraction of the designed torques is negligible
 RESPONSE_FRACTION = 1e-3
 #: the budget's items for the applied field acting on the parts' materials
 FIELD_RESPONSE_KEYS = ("induced_magnetisation_fraction", "eddy_torque_fraction")
-#: the budget's item for the size-free K law
+#: the budget's item for the size-free K law (a law of matter at the K frontier, named as such)
 K_LAW_KEY = "k_law_induced_ratio"
+#: the induced magnetisation's one figure: the parts' induced-energy range over the smallest
+#: realised term, at a named rate (:func:`chargedesign.physical.budget.induced_magnetisation`)
+INDUCED_KEY = "induced_magnetisation"
+#: its one name and its reference, as every output prints them
+INDUCED_NAME = "induced magnetisation"
+INDUCED_REFERENCE = "of the smallest realised term"
 #: the figure blocks beside the budget's items (not rows of its table)
 PART_SIZES_KEY = "part_sizes"
 MAP_KEY = "realisability_map"
 WINDOW_KEY = "window_at_design"
 FIGURE_KEYS = (PART_SIZES_KEY, MAP_KEY, WINDOW_KEY)
+
+
+def parasitic_text(value: float | None, term: str, s: float) -> str:
+    """A parasitic's figure with its reference and its rate, as every output prints it:
+    ``4.6e+12 of the smallest realised term (K2) at s = 1`` (None: unbounded)."""
+    shown = "inf" if value is None else fmt(value, ROUGH)
+    return f"{shown} {INDUCED_REFERENCE} ({term}) at s = {fmt(s, ROUGH)}"
+
+
+def induced_text(figure: dict[str, Any]) -> str:
+    """The induced magnetisation's one line, from its record (:data:`INDUCED_KEY`):
+    ``induced magnetisation: 4.6e+12 of the smallest realised term (K2) at s = 1 (the
+    design's rate; limit 0.001: NOT negligible)``."""
+    value = parasitic_text(figure["value"], figure["term"], figure["s"])
+    return (
+        f"{INDUCED_NAME}: {value} ({figure['rate']}; limit {fmt(figure['limit'], PLAIN)}: "
+        f"{figure['verdict']})"
+    )
 
 
 @dataclass(frozen=True)
@@ -86,6 +111,12 @@ class RealismRecord:
     def response(self) -> dict[str, Any]:
         """The field response items (induced magnetisation, eddy currents), when written."""
         return {k: self.budget[k] for k in FIELD_RESPONSE_KEYS if k in self.budget}
+
+    @property
+    def induced(self) -> dict[str, Any]:
+        """The induced magnetisation's one figure ({} when not recorded: no magnetic field,
+        parts outside their limits, or a design.json written before it)."""
+        return self.budget.get(INDUCED_KEY) or {}
 
     @property
     def law(self) -> dict[str, Any]:

@@ -196,10 +196,10 @@ class LinkedPictures(Result):
                     mec="k",
                     mew=0.3,
                 )
+        # two lines: on one, the title runs into the diagram's beside it
         middle.set_title(
-            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J (colour: k; large"
-            " dots: "
-            "critical orbits)",
+            f"Poincare section on I3 = 0 at h = {fmt(self.energy, PRECISE)} J\n"
+            "(colour: k; large dots: critical orbits)",
             fontsize=9,
         )
         middle.set_xlabel("phi = atan2(gamma2, gamma1) on gamma3 = 0 [rad]")

@@ -19,7 +19,7 @@ from chargedesign.designer.pipeline import (
 )
 from chargedesign.formatting import fmt
 from chargedesign.scene import scene_from_dict
-from chargedesign.scene.design_realism import K_LAW_KEY
+from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY, induced_text
 
 SMALL = Path(__file__).parents[1] / "physical" / "small.toml"
 
@@ -64,13 +64,19 @@ def test_the_k_law_figure_is_the_one_the_body_records(shared):
     law = body.design.realism.get(K_LAW_KEY) or {}
     figure = front.to_dict()["k_law_induced_ratio"]
     text = str(front)
-    if k_zero:  # no K term: no K law, and the field response's lines stay
-        assert figure is None and "its induced magnetisation" in text
+    # the induced magnetisation's one figure: the body's record, printed under its name
+    induced = body.design.realism.get(INDUCED_KEY)
+    assert induced and front.to_dict()["induced_magnetisation"] == induced
+    assert f"{induced_text(induced)}; the body at the scene's rate" in text
+    assert "its induced magnetisation" not in text  # no second figure of the same effect
+    if k_zero:  # no K term: no K law
+        assert figure is None and "the K law" not in text
         return
     assert figure is not None and figure["value"] == law["value"]
-    # printed under one name, with the same number in the K law's line and the why-line
-    assert f"induced magnetisation at the K frontier (the K law): {fmt(law['value'])}" in text
-    assert "its induced magnetisation" not in text  # no second figure of the same effect
+    assert figure["name"] == "the K law"
+    # the law named as the law, with the same number in its line and the why-line
+    assert "the K law (ordinary matter's induced-magnetisation energy range at the K " in text
+    assert f"any size and a2): {fmt(law['value'])} x" in " ".join(text.split())
     why = front.realised.why if front.realised is not None else ""
     if why.startswith("the K term cannot be realised"):
-        assert f"induced magnetisation at {fmt(law['value'])} x" in why
+        assert f"the K law is {fmt(law['value'])} x" in why

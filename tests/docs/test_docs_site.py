@@ -11,6 +11,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 
+# CI builds the site in `make docs` (mkdocs --strict, then tools/check_site.py): here only with
+# `make test-slow`, where it would repeat that half a minute of the suite
+@pytest.mark.slow
 def test_docs_build_strict(tmp_path):
     mkdocs = Path(sys.executable).with_name("mkdocs")
     command = [str(mkdocs)] if mkdocs.exists() else [shutil.which("mkdocs") or "mkdocs"]
@@ -24,10 +27,29 @@ def test_docs_build_strict(tmp_path):
         timeout=300,
     )
     assert run.returncode == 0, run.stderr[-3000:]
-    api = (tmp_path / "site" / "api" / "viz" / "index.html").read_text()
-    assert "design_blocks" in api  # the reference is generated from the docstrings
-    gallery = (tmp_path / "site" / "gallery" / "index.html").read_text()
-    assert gallery.count("<img") >= 5
+    assert _site_checks().site_problems(tmp_path / "site") == []
+
+
+def _site_checks():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("check_site", ROOT / "tools/check_site.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_site_checks_find_a_missing_reference_and_pictures(tmp_path):
+    (tmp_path / "api" / "viz").mkdir(parents=True)
+    (tmp_path / "api" / "viz" / "index.html").write_text("<p>nothing</p>")
+    (tmp_path / "gallery").mkdir()
+    (tmp_path / "gallery" / "index.html").write_text("<img>" * 4)
+    problems = _site_checks().site_problems(tmp_path)
+    assert len(problems) == 2 and "design_blocks" in problems[0] and "4 pictures" in problems[1]
+    (tmp_path / "api" / "viz" / "index.html").write_text("design_blocks")
+    (tmp_path / "gallery" / "index.html").write_text("<img>" * 5)
+    assert _site_checks().site_problems(tmp_path) == []
 
 
 def test_the_contract_is_in_the_repository_and_linked():

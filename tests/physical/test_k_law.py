@@ -222,7 +222,9 @@ def test_check_recomputes_the_law_from_design_json(bodies, tmp_path):
     limits = check_limits(written)
     assert limits.k_law["ratio"] == pytest.approx(k_law(body)["ratio"], rel=1e-12)
     assert limits.to_dict()["k_law"]["K_max_source"] == "frontier.K_max"
-    assert "induced magnetisation at the K frontier (the K law)" in str(limits)
+    # the law named as the law; the induced magnetisation's one figure is check's own line
+    assert "the K law (ordinary matter's induced-magnetisation energy range" in str(limits)
+    assert "induced magnetisation fraction" not in str(limits)
     K = body.parameters.K
     written.frontier = {"s_max": 2.0}
     law = k_law(written)
