@@ -45,9 +45,13 @@ schemas: $(VENV)/.base
 	$(PY) -c "from chargedesign.schemas import NAMES, schema_text; \
 	[open(f'chargedesign/data/schemas/{n}.schema.json', 'w').write(schema_text(n)) for n in NAMES]"
 
-# regenerate the shipped tables of the conditions engine (harmonics, V, mu) with sympy
+# regenerate the shipped tables of the conditions engine (harmonics, V, mu), the
+# realisability map's terms and the model's evaluators (lambdify's sources) with sympy
 tables: $(VENV)/.base
 	$(PY) -c "from chargedesign.moment_conditions.tables import write_tables; write_tables()"
+	$(PY) -c "from chargedesign.model.evaluators import write_evaluators; write_evaluators()"
+	$(PY) -c "from chargedesign.physical.map_data import write_map; \
+	from chargedesign.physical.realism import derived_map_terms; write_map(derived_map_terms())"
 
 CLEAN := $(VENV) out site .pytest_cache .mypy_cache .ruff_cache .hypothesis
 

@@ -31,6 +31,12 @@ MAX_SHOW_ELEMENTS = 20_000
 #: candidates of an ``linf`` design (a dense problem: 2469 candidates took 15 s, 9900 more than
 #: 600 s on this machine); ``design --max-linf-candidates`` raises it
 MAX_LINF_CANDIDATES = 5_000
+#: candidates of a body whose frontier is located: the charges' minmax that bounds it is a
+#: cone program dense in every candidate, and its optimum uses nearly all of them (so no
+#: working set helps): 2.9 s of CPU at 257 candidates, 55 s at 925, unfinished after 300 s at
+#: 1,935 (docs/benchmarks.md, "The charges' minmax by columns"). ``design`` above it writes the
+#: body without its frontier and says so; ``frontier`` refuses such a scene before the work
+MAX_FRONTIER_CANDIDATES = 1_000
 #: degree of exactness of continuous bodies' quadrature (``check --quadrature-order``): the
 #: nodes grow like degree^3
 MAX_QUADRATURE_ORDER = 64

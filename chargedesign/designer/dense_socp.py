@@ -13,10 +13,12 @@ Its dual: maximise ``-b^T y - h_lin^T z_lin - sum_i h_soc[i]^T z_soc[i]`` subjec
 Why a solver of its own: the problems of the charge design have few variables (hundreds) but
 thousands of dense cone rows (every field row depends on every charge). A sparse solver
 factors the large augmented system; here every iteration forms the small normal matrix
-``G^T W^-2 G`` (one dense gram product over the columns shared by several cones, 4-vector
-products for a column private to one cone) and factors it by Cholesky, all cone operations
-vectorised over the cones (arrays of shape ``(m, 4)``). Meant for a few hundred variables:
-the factorisation is dense, ``O(n^3)`` per iteration.
+``G^T W^-2 G`` (one dense gram product over the columns shared by several cones, over 3 rows
+a cone where their first rows vanish, 4-vector products for a column private to one cone;
+the linear rows' part from their listed pairs of entries) and factors it by Cholesky (the
+unknowns with a diagonal block, the charges' cost variables, eliminated first), all cone
+operations vectorised over the cones (arrays of shape ``(m, 4)``). Meant for a few hundred
+variables: the factorisation is dense, ``O(n^3)`` per iteration.
 
 The method is the infeasible-start path-following method of CVXOPT's ``coneqp`` (L.
 Vandenberghe, *The CVXOPT linear and quadratic cone program solvers*, 2010): Nesterov-Todd
@@ -37,6 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
 #: fraction of the step to the boundary of the cones that an iteration takes
 STEP_FRACTION = 0.99
@@ -233,40 +236,211 @@ def shift_into_cones(s_lin: np.ndarray, s_soc: np.ndarray) -> tuple[np.ndarray, 
 # ---------------------------------------------------------------- problem data
 
 
+def index_block(index: np.ndarray) -> slice | np.ndarray:
+    """``index`` as a slice when it is a contiguous run (a view instead of a gather)."""
+    if index.size and index[-1] - index[0] + 1 == index.size:
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
+
+
+def block(rows: np.ndarray, cols: np.ndarray) -> tuple:
+    """The index of the block ``M[rows][:, cols]`` (slices where the indices are runs)."""
+    r, c = index_block(rows), index_block(cols)
+    if isinstance(r, slice) and isinstance(c, slice):
+        return r, c
+    return np.ix_(rows, cols)
+
+
+def gram(Y: np.ndarray) -> np.ndarray:
+    """``Y^T Y`` of the rows of ``Y`` of shape ``(m, r, s)`` (all ``m r`` rows)."""
+    rows = Y.reshape(-1, Y.shape[-1])
+    return rows.T @ rows
+
+
 class ConeColumns:
     """Where the variables enter the cones, to form ``G_soc^T W^-2 G_soc`` cheaply.
 
     A column of ``G_soc`` is *shared* (nonzero in two or more cones), *private* (nonzero in
     exactly one cone, as an epigraph variable of that cone) or absent. Only the shared
     columns need the dense gram product; a private column's products are 4-vectors.
+
+    Most shared columns (the charges) are zero in the first row of every cone: on those,
+    ``W_i^-2`` enters only through its lower ``3 x 3`` block ``(I + 2 w w^T) / eta^2``
+    (``w`` the spatial part of the scaling point), whose square root ``R_i = (I + c w w^T) /
+    eta`` gives a gram product over ``3 m`` rows instead of ``4 m``. The products ``G_soc x``
+    and ``G_soc^T z`` use the same blocks (the absent columns, the charges' cost variables,
+    and the zero first rows skipped).
     """
 
     def __init__(self, G_soc: np.ndarray):
-        in_cone = np.any(G_soc != 0.0, axis=1)
+        m = G_soc.shape[0]
+        nonzero = G_soc != 0.0
+        in_cone = np.any(nonzero, axis=1)
         count = in_cone.sum(axis=0)
         self.n = G_soc.shape[2]
+        self.m = m
         self.shared = np.flatnonzero(count >= 2)
         self.private = np.flatnonzero(count == 1)
         self.owner = np.argmax(in_cone[:, self.private], axis=0) if in_cone.size else self.private
-        self.G_shared = np.ascontiguousarray(G_soc[:, :, self.shared])
         self.g_private = G_soc[self.owner, :, self.private]
+        self.G_owner_shared = G_soc[self.owner][:, :, self.shared]
+        # the shared columns without (zero) and with (full) a first row
+        first_row = np.any(nonzero[:, 0, self.shared], axis=0)
+        self.zero, self.full = self.shared[~first_row], self.shared[first_row]
+        self.G_zero = np.ascontiguousarray(G_soc[:, 1:, self.zero])
+        self.G_full = np.ascontiguousarray(G_soc[:, :, self.full])
+        self.zero_block = block(self.zero, self.zero)
+        self.cross_block = block(self.zero, self.full)
+        self.cross_block_T = block(self.full, self.zero)
+        self.full_block = block(self.full, self.full)
+        self.absent = np.flatnonzero(count == 0)
+        self.zero_index = index_block(self.zero)
+        self.full_index = index_block(self.full)
+        self.G_zero_rows = self.G_zero.reshape(3 * m, self.zero.size)
+        self.G_full_rows = self.G_full.reshape(4 * m, self.full.size)
 
-    def normal_matrix(self, inverse: np.ndarray | None) -> np.ndarray:
-        """``G_soc^T W^-2 G_soc`` (``n x n``) from the matrices ``W_i^-1`` (``None``: I)."""
-        M = np.zeros((self.n, self.n))
-        shared = self.G_shared if inverse is None else np.matmul(inverse, self.G_shared)
-        shared_rows = shared.reshape(4 * shared.shape[0], self.shared.size)
-        M[np.ix_(self.shared, self.shared)] = shared_rows.T @ shared_rows
+    def times(self, x: np.ndarray) -> np.ndarray:
+        """``G_soc x`` as ``(m, 4)`` (the absent columns and the zero first rows skipped)."""
+        out = np.zeros((self.m, 4))
+        if self.zero.size:
+            out[:, 1:] = (self.G_zero_rows @ x[self.zero_index]).reshape(self.m, 3)
+        if self.full.size:
+            out += (self.G_full_rows @ x[self.full_index]).reshape(self.m, 4)
         if self.private.size:
-            private = self.g_private
-            if inverse is not None:
-                private = np.einsum("pij,pj->pi", inverse[self.owner], private)
-            cross = np.einsum("pk,pks->ps", private, shared[self.owner])
-            M[np.ix_(self.private, self.shared)] = cross
-            M[np.ix_(self.shared, self.private)] = cross.T
+            np.add.at(out, self.owner, self.g_private * x[self.private][:, None])
+        return out
+
+    def transposed_times(self, z_soc: np.ndarray, out: np.ndarray) -> np.ndarray:
+        """``out + G_soc^T z`` (``out`` updated in place)."""
+        if self.zero.size:
+            out[self.zero_index] += self.G_zero_rows.T @ z_soc[:, 1:].ravel()
+        if self.full.size:
+            out[self.full_index] += self.G_full_rows.T @ z_soc.ravel()
+        if self.private.size:
+            out[self.private] += np.einsum("pk,pk->p", self.g_private, z_soc[self.owner])
+        return out
+
+    def transposed_times_pair(
+        self, z_soc: np.ndarray, other: np.ndarray, out: np.ndarray
+    ) -> np.ndarray:
+        """``out + G_soc^T [z, other]`` (``out`` of shape ``(n, 2)``, updated in place): two
+        products in one pass over the cone rows."""
+        if self.zero.size:
+            pair = np.stack([z_soc[:, 1:].ravel(), other[:, 1:].ravel()], axis=1)
+            out[self.zero_index] += self.G_zero_rows.T @ pair
+        if self.full.size:
+            out[self.full_index] += self.G_full_rows.T @ np.stack(
+                [z_soc.ravel(), other.ravel()], axis=1
+            )
+        if self.private.size:
+            out[self.private, 0] += np.einsum("pk,pk->p", self.g_private, z_soc[self.owner])
+            out[self.private, 1] += np.einsum("pk,pk->p", self.g_private, other[self.owner])
+        return out
+
+    def add_normal_matrix(self, M: np.ndarray, scaling: NtScaling | None) -> np.ndarray:
+        """``M + G_soc^T W^-2 G_soc`` (``M`` updated in place; ``scaling`` None: W = I).
+
+        The charge columns' block is ``(R G')^T (R G')`` with ``R_i^2`` the lower block of
+        ``W_i^-2``; their cross block with the full columns, ``G'^T (W^-2 G_full)[1:]``, is
+        ``(R G')^T (R^-1 (W^-2 G_full)[1:])``: both come from one gram product of the
+        columns ``[R G', R^-1 (W^-2 G_full)[1:]]``, one pass over the cone rows.
+        """
+        nz, nf = self.zero.size, self.full.size
+        square = None
+        # the charge columns' rows (R G'), stacked with R^-1 (W^-2 G_full)[1:] when there are
+        # full columns
+        stacked = self.G_zero
+        if scaling is None:
+            Y_full = self.G_full
+            if nf:
+                stacked = np.concatenate([self.G_zero, self.G_full[:, 1:]], axis=2)
+        else:
+            w1 = scaling.wbar[:, 1:]
+            norm_sq = np.einsum("ij,ij->i", w1, w1)
+            c = 2.0 / (np.sqrt(1.0 + 2.0 * norm_sq) + 1.0)
+            outer = w1[:, :, None] * w1[:, None, :]
+            root = (c / scaling.eta)[:, None, None] * outer
+            root += np.eye(3) / scaling.eta[:, None, None]
+            inverse = scaling.matrices(inverse=True)
+            square = np.matmul(inverse, inverse)
+            Y_full = np.matmul(inverse, self.G_full)
+            if nf:
+                stacked = np.empty((self.m, 3, nz + nf))
+                np.matmul(root, self.G_zero, out=stacked[:, :, :nz])
+                root_inverse = (-c / (1.0 + c * norm_sq) * scaling.eta)[:, None, None] * outer
+                root_inverse += np.eye(3) * scaling.eta[:, None, None]
+                P = np.matmul(square[:, 1:], self.G_full)
+                np.matmul(root_inverse, P, out=stacked[:, :, nz:])
+            else:
+                stacked = np.matmul(root, self.G_zero)
+        if nf:
+            M[self.full_block] += gram(Y_full)
+        if nz and nf:
+            both = gram(stacked)
+            M[self.zero_block] += both[:nz, :nz]
+            M[self.cross_block] += both[:nz, nz:]
+            M[self.cross_block_T] += both[nz:, :nz]
+        elif nz:
+            M[self.zero_block] += gram(stacked)
+        if self.private.size:
+            h = (
+                self.g_private
+                if square is None
+                else np.einsum("pij,pj->pi", square[self.owner], self.g_private)
+            )
+            cross = np.einsum("pk,pks->ps", h, self.G_owner_shared)
+            M[np.ix_(self.private, self.shared)] += cross
+            M[np.ix_(self.shared, self.private)] += cross.T
             same_cone = self.owner[:, None] == self.owner[None, :]
-            M[np.ix_(self.private, self.private)] = (private @ private.T) * same_cone
+            M[np.ix_(self.private, self.private)] += (h @ self.g_private.T) * same_cone
         return M
+
+    def normal_matrix(self, scaling: NtScaling | None) -> np.ndarray:
+        """``G_soc^T W^-2 G_soc`` (``n x n``)."""
+        return self.add_normal_matrix(np.zeros((self.n, self.n)), scaling)
+
+
+class LinearGram:
+    """``G_lin^T D^-2 G_lin`` for a sparse ``G_lin`` whose rows have few entries (the
+    charges' bounds: one or two per row), without sparse products.
+
+    Each pair of entries ``(r, a)``, ``(r, b)`` of a row ``r`` adds ``G_ra G_rb / d_r^2`` to
+    ``M[a, b]``: the pairs and their products are listed once per program and each iteration
+    sums the weighted products into place. Rows with many entries (a dense ``G_lin``) use
+    one BLAS product instead.
+    """
+
+    #: pairs per unknown squared beyond which the dense product is cheaper
+    DENSE_PAIRS = 0.25
+
+    def __init__(self, G_lin: sp.csr_matrix):
+        self.n = G_lin.shape[1]
+        per_row = np.diff(G_lin.indptr)
+        pairs = int(np.sum(per_row.astype(np.int64) ** 2))
+        self.dense = pairs > self.DENSE_PAIRS * self.n * self.n
+        if self.dense:
+            self.G = G_lin.toarray()
+            return
+        rows = np.repeat(np.arange(G_lin.shape[0]), per_row)  # the row of each entry
+        partners = per_row[rows]  # the entries of its row, itself included
+        # every entry (first) against every entry of its row (second)
+        first = np.repeat(np.arange(G_lin.nnz), partners)
+        offset = np.arange(first.size) - np.repeat(np.cumsum(partners) - partners, partners)
+        second = G_lin.indptr[rows[first]] + offset
+        self.row = rows[first]
+        self.first = G_lin.indices[first]
+        self.second = G_lin.indices[second]
+        self.flat = self.first * self.n + self.second
+        self.product = G_lin.data[first] * G_lin.data[second]
+
+    def matrix(self, d: np.ndarray) -> np.ndarray:
+        """``G_lin^T diag(d)^-2 G_lin`` as a dense ``n x n`` array."""
+        if self.dense:
+            scaled = self.G / d[:, None]
+            return scaled.T @ scaled
+        weights = self.product / (d * d)[self.row]
+        M = np.bincount(self.flat, weights, minlength=self.n * self.n)
+        return M.reshape(self.n, self.n).astype(float, copy=False)
 
 
 @dataclass
@@ -281,9 +455,23 @@ class ShapedProgram:
     G_soc: np.ndarray
     h_soc: np.ndarray
     columns: ConeColumns = field(init=False)
+    lin_gram: LinearGram = field(init=False)
+    G_lin_T: sp.csr_matrix = field(init=False)
+    AtA: np.ndarray = field(init=False)
+    split: tuple[np.ndarray, np.ndarray] | None = field(init=False)
 
     def __post_init__(self) -> None:
-        self.columns = ConeColumns(self.G_soc)
+        with np.errstate(all="ignore"):  # data that is not finite is refused on its own
+            self.columns = ConeColumns(self.G_soc)
+            self.lin_gram = LinearGram(self.G_lin)
+            self.G_lin_T = self.G_lin.T.tocsr()
+            self.keep_rows(np.arange(self.b.size))
+            self.split = diagonal_split(self)
+
+    def keep_rows(self, keep: np.ndarray) -> None:
+        """Keep only the rows ``keep`` of ``A x = b``."""
+        self.A, self.b = self.A[keep], self.b[keep]
+        self.AtA = self.A.T @ self.A
 
     @property
     def G_soc_rows(self) -> np.ndarray:
@@ -292,11 +480,41 @@ class ShapedProgram:
 
     def G_times(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``G x``, split into the linear rows and the cones ``(m, 4)``."""
-        return self.G_lin @ x, (self.G_soc_rows @ x).reshape(-1, 4)
+        return self.G_lin @ x, self.columns.times(x)
 
     def GT_times(self, z_lin: np.ndarray, z_soc: np.ndarray) -> np.ndarray:
         """``G^T z``."""
-        return self.G_lin.T @ z_lin + self.G_soc_rows.T @ z_soc.ravel()
+        return self.columns.transposed_times(z_soc, self.G_lin_T @ z_lin)
+
+    def GT_times_pair(
+        self, z: tuple[np.ndarray, np.ndarray], other: tuple[np.ndarray, np.ndarray]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``G^T z`` and ``G^T other`` (each a pair of linear and cone parts) in one pass."""
+        out = np.asarray(self.G_lin_T @ np.stack([z[0], other[0]], axis=1), dtype=float)
+        out = self.columns.transposed_times_pair(z[1], other[1], out)
+        return out[:, 0], out[:, 1]
+
+
+def diagonal_split(program: ShapedProgram) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(rest, diagonal)``: the unknowns whose block of the normal matrix is diagonal at every
+    scaling (in no cone, no equality, and no linear row with another of them: the charges'
+    cost variables ``w >= |u|``) and the others; None when either is empty.
+
+    The factorisation eliminates the diagonal block first: a Cholesky of the rest's Schur
+    complement (half the charges' unknowns) instead of the whole normal matrix.
+    """
+    gram = program.lin_gram
+    if gram.dense:
+        return None
+    n = program.c.size
+    candidate = np.zeros(n, dtype=bool)
+    candidate[program.columns.absent] = True
+    candidate &= ~np.any(program.A != 0.0, axis=0)
+    coupled = (gram.first != gram.second) & candidate[gram.first] & candidate[gram.second]
+    candidate[gram.first[coupled]] = False
+    if candidate.all() or not candidate.any():
+        return None
+    return np.flatnonzero(~candidate), np.flatnonzero(candidate)
 
 
 def independent_rows(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
@@ -339,17 +557,82 @@ def is_finite(program: ShapedProgram) -> bool:
 # ---------------------------------------------------------------- the Newton systems
 
 
+def cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Cholesky factor of ``K`` in the ``(factor, lower)`` form of ``scipy.linalg.cho_factor``
+    (LAPACK directly: the wrappers' checks cost more than the factorisation here)."""
+    factor, info = lapack.dpotrf(K, lower=False, clean=False, overwrite_a=False)
+    if info != 0:
+        raise np.linalg.LinAlgError("the matrix is not positive definite")
+    return factor, False
+
+
 def regularised_cholesky(K: np.ndarray) -> tuple[np.ndarray, bool]:
     """Cholesky factor of ``K + delta I`` with the smallest ``delta`` of
-    :data:`REGULARISATIONS` (times the largest diagonal entry) that works."""
-    top = max(float(np.max(np.diag(K))), 1.0) if K.size else 1.0
-    identity = np.eye(K.shape[0])
+    :data:`REGULARISATIONS` (times the largest diagonal entry) that works (``K`` is
+    overwritten), in the ``(factor, lower)`` form of ``scipy.linalg.cho_factor``."""
+    diagonal = K.reshape(-1)[:: K.shape[0] + 1] if K.size else np.zeros(0)
+    original = diagonal.copy()
+    top = max(float(np.max(original)), 1.0) if K.size else 1.0
     for delta in REGULARISATIONS:
+        diagonal[:] = original + delta * top
         try:
-            return la.cho_factor(K + (delta * top) * identity, check_finite=False)
+            return cholesky(K)
         except np.linalg.LinAlgError:
             continue
     raise np.linalg.LinAlgError("the normal matrix is not positive definite")
+
+
+def cholesky_solve(factor: tuple[np.ndarray, bool], rhs: np.ndarray) -> np.ndarray:
+    """``K^-1 rhs`` from :func:`cholesky`'s factor (``rhs`` a vector or columns)."""
+    x, info = lapack.dpotrs(factor[0], rhs, lower=factor[1])
+    if info != 0:
+        raise np.linalg.LinAlgError("the normal matrix cannot be solved")
+    return x
+
+
+class NormalFactor:
+    """``K + delta I`` factored, ``delta`` the smallest of :data:`REGULARISATIONS` (times the
+    largest diagonal entry) that works; with a ``split`` (:func:`diagonal_split`), by
+    eliminating the diagonal block ``D`` first::
+
+        S = K_RR - K_RD K_DD^-1 K_DR  (Cholesky),   x_R = S^-1 (r_R - K_RD K_DD^-1 r_D),
+        x_D = K_DD^-1 (r_D - K_DR x_R).
+    """
+
+    def __init__(self, K: np.ndarray, split: tuple[np.ndarray, np.ndarray] | None):
+        self.split = split
+        if split is None:
+            self.factor = regularised_cholesky(K)
+            return
+        rest, diagonal = split
+        self.rest, self.diagonal = index_block(rest), index_block(diagonal)
+        k_dd = np.diag(K)[diagonal]
+        self.K_RD = K[block(rest, diagonal)]
+        K_RR = K[block(rest, rest)]
+        top = max(float(np.max(np.diag(K))), 1.0)
+        for delta in REGULARISATIONS:
+            self.k_dd = k_dd + delta * top
+            if not np.all(self.k_dd > 0):
+                continue
+            schur = K_RR - (self.K_RD / self.k_dd) @ self.K_RD.T
+            schur.reshape(-1)[:: schur.shape[0] + 1] += delta * top
+            try:
+                self.factor = cholesky(schur)
+                return
+            except np.linalg.LinAlgError:
+                continue
+        raise np.linalg.LinAlgError("the normal matrix is not positive definite")
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``(K + delta I)^-1 rhs`` (``rhs`` a vector or columns)."""
+        if self.split is None:
+            return cholesky_solve(self.factor, rhs)
+        k_dd = self.k_dd if rhs.ndim == 1 else self.k_dd[:, None]
+        scaled = rhs[self.diagonal] / k_dd
+        x = np.empty_like(rhs, dtype=float)
+        x[self.rest] = cholesky_solve(self.factor, rhs[self.rest] - self.K_RD @ scaled)
+        x[self.diagonal] = scaled - (self.K_RD.T @ x[self.rest]) / k_dd
+        return x
 
 
 class NormalSystem:
@@ -361,25 +644,22 @@ class NormalSystem:
     """
 
     def __init__(self, program: ShapedProgram, d: np.ndarray, scaling: NtScaling | None):
-        G_lin = program.G_lin
-        scaled_lin = sp.diags(1.0 / d) @ G_lin
-        self.M = np.asarray((scaled_lin.T @ scaled_lin).todense())
+        self.M = program.lin_gram.matrix(d)
         if program.G_soc.shape[0]:
-            inverse = None if scaling is None else scaling.matrices(inverse=True)
-            self.M += program.columns.normal_matrix(inverse)
+            program.columns.add_normal_matrix(self.M, scaling)
         self.A = program.A
-        self.K = regularised_cholesky(self.M + self.A.T @ self.A)
+        self.K = NormalFactor(self.M + program.AtA, program.split)
         if self.A.shape[0]:
-            self.KA = la.cho_solve(self.K, self.A.T, check_finite=False)
-            self.S = la.cho_factor(self.A @ self.KA, check_finite=False)
+            self.KA = self.K.solve(self.A.T)
+            self.S = cholesky(self.A @ self.KA)
 
     def solve_once(self, r1: np.ndarray, r2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One solve with the regularised factors."""
         rhs = r1 + self.A.T @ r2
-        x = la.cho_solve(self.K, rhs, check_finite=False)
+        x = self.K.solve(rhs)
         if not self.A.shape[0]:
             return x, np.zeros(0)
-        y = la.cho_solve(self.S, self.A @ x - r2, check_finite=False)
+        y = cholesky_solve(self.S, self.A @ x - r2)
         return x - self.KA @ y, y
 
     def solve(
@@ -423,11 +703,14 @@ class Point:
 
     def max_step(self, d: Point) -> float:
         """Largest step along ``d`` keeping ``s`` and ``z`` in their cones."""
+        # s and z at once: the same elementwise roots, half the calls
         return min(
-            max_step_lin(self.s_lin, d.s_lin),
-            max_step_lin(self.z_lin, d.z_lin),
-            max_step_soc(self.s_soc, d.s_soc),
-            max_step_soc(self.z_soc, d.z_soc),
+            max_step_lin(
+                np.concatenate([self.s_lin, self.z_lin]), np.concatenate([d.s_lin, d.z_lin])
+            ),
+            max_step_soc(
+                np.concatenate([self.s_soc, self.z_soc]), np.concatenate([d.s_soc, d.z_soc])
+            ),
         )
 
 
@@ -442,6 +725,8 @@ class Residuals:
     primal_objective: float
     dual_objective: float
     relative: dict[str, float]
+    #: ``G^T u`` of the affine direction's elimination (:func:`residuals` with a scaling)
+    affine_product: np.ndarray | None = None
 
     def merit(self) -> float:
         """The largest relative residual (``nan`` propagates as ``inf``)."""
@@ -454,13 +739,25 @@ def inf_norm(*arrays: np.ndarray) -> float:
     return max([float(np.abs(a).max()) for a in arrays if a.size] + [0.0])
 
 
-def residuals(program: ShapedProgram, p: Point) -> Residuals:
-    """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`)."""
+def residuals(program: ShapedProgram, p: Point, scaling: NtScaling | None = None) -> Residuals:
+    """Residuals and relative measures of ``p`` (defined in :func:`solve_dense_socp`).
+
+    With the ``scaling`` at ``p``, the product ``G^T u`` that the affine direction's
+    elimination needs (:func:`affine_rhs`, :func:`eliminated`) is formed in the same pass
+    over the cone rows as ``G^T z``.
+    """
     Gx_lin, Gx_soc = program.G_times(p.x)
-    rx = program.c + program.A.T @ p.y + program.GT_times(p.z_lin, p.z_soc)
     ry = program.A @ p.x - program.b
     rz_lin = Gx_lin + p.s_lin - program.h_lin
     rz_soc = Gx_soc + p.s_soc - program.h_soc
+    affine_product = None
+    if scaling is None:
+        GTz = program.GT_times(p.z_lin, p.z_soc)
+    else:
+        rhs = affine_rhs(scaling, np.zeros_like(p.x), ry, rz_lin, rz_soc)
+        _, _, u_lin, u_soc = eliminated(scaling, rhs)
+        GTz, affine_product = program.GT_times_pair((p.z_lin, p.z_soc), (u_lin, u_soc))
+    rx = program.c + program.A.T @ p.y + GTz
     pobj = float(program.c @ p.x)
     dobj = -float(program.b @ p.y + program.h_lin @ p.z_lin + np.sum(program.h_soc * p.z_soc))
     data = inf_norm(program.b, program.h_lin, program.h_soc)
@@ -472,7 +769,7 @@ def residuals(program: ShapedProgram, p: Point) -> Residuals:
         "dual": inf_norm(rx) / dual_scale,
         "gap": gap / max(1.0, min(abs(pobj), abs(dobj))),
     }
-    return Residuals(rx, ry, rz_lin, rz_soc, pobj, dobj, relative)
+    return Residuals(rx, ry, rz_lin, rz_soc, pobj, dobj, relative, affine_product)
 
 
 @dataclass
@@ -488,16 +785,28 @@ class NewtonRhs:
 
 
 def newton_direction(
-    program: ShapedProgram, system: NormalSystem, scaling: NtScaling, rhs: NewtonRhs
+    program: ShapedProgram,
+    system: NormalSystem,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    dual_part: tuple[np.ndarray, np.ndarray] | None = None,
+    product: np.ndarray | None = None,
 ) -> Point:
     """The solution ``d`` of the Newton system, eliminating ``ds`` and ``dz``::
 
     A^T dy + G^T dz = rx,   A dx = ry,   G dx + ds = rz,   lam o (W dz + W^-1 ds) = rs.
+
+    With ``dual_part`` ``(z_lin, z_soc)`` the first block's right-hand side is
+    ``rx - G^T dual_part``, its product folded into the elimination's own ``G^T`` product;
+    ``product`` is that product formed already (:func:`residuals`).
     """
     d = scaling.d
-    v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / d
-    v_soc = jordan_divide(scaling.lam_soc, rhs.rs_soc) - scaling.apply(rhs.rz_soc, True)
-    r1 = rhs.rx - program.GT_times(v_lin / d, scaling.apply(v_soc, True))
+    v_lin, v_soc, u_lin, u_soc = eliminated(scaling, rhs)
+    if product is None:
+        if dual_part is not None:
+            u_lin, u_soc = u_lin + dual_part[0], u_soc + dual_part[1]
+        product = program.GT_times(u_lin, u_soc)
+    r1 = rhs.rx - product
     dx, dy = system.solve(r1, rhs.ry)
     Gdx_lin, Gdx_soc = program.G_times(dx)
     dz_lin = (Gdx_lin / d + v_lin) / d
@@ -505,15 +814,42 @@ def newton_direction(
     return Point(dx, dy, rhs.rz_lin - Gdx_lin, dz_lin, rhs.rz_soc - Gdx_soc, dz_soc)
 
 
+def eliminated(
+    scaling: NtScaling, rhs: NewtonRhs
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``v`` (the eliminated ``W dz`` less ``W^-1 G dx``) and ``u = W^-1 v`` of both parts,
+    whose ``G^T u`` enters the reduced system's right-hand side."""
+    v_lin = rhs.rs_lin / scaling.lam_lin - rhs.rz_lin / scaling.d
+    v_soc = jordan_divide(scaling.lam_soc, rhs.rs_soc) - scaling.apply(rhs.rz_soc, True)
+    return v_lin, v_soc, v_lin / scaling.d, scaling.apply(v_soc, True)
+
+
+def affine_rhs(
+    scaling: NtScaling, rx: np.ndarray, ry: np.ndarray, rz_lin: np.ndarray, rz_soc: np.ndarray
+) -> NewtonRhs:
+    """The affine (predictor) right-hand side at residuals ``r`` and scaling ``lam``."""
+    lam_sq_lin = scaling.lam_lin**2
+    lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
+    return NewtonRhs(-rx, -ry, -rz_lin, -rz_soc, -lam_sq_lin, -lam_sq_soc)
+
+
 def newton_residual(
-    program: ShapedProgram, scaling: NtScaling, rhs: NewtonRhs, d: Point
+    program: ShapedProgram,
+    scaling: NtScaling,
+    rhs: NewtonRhs,
+    d: Point,
+    dual_product: bool = True,
 ) -> NewtonRhs:
     """What ``d`` misses of each block of the Newton system, for a ``d`` built by
-    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction)."""
+    :func:`newton_direction` (which meets ``G dx + ds = rz`` by construction); without
+    ``dual_product`` the first block leaves out ``- G^T dz`` (for ``dual_part``)."""
     scaled_soc = scaling.apply(d.z_soc) + scaling.apply(d.s_soc, True)
     scaled_lin = d.z_lin * scaling.d + d.s_lin / scaling.d
+    rx = rhs.rx - program.A.T @ d.y
+    if dual_product:
+        rx = rx - program.GT_times(d.z_lin, d.z_soc)
     return NewtonRhs(
-        rhs.rx - program.A.T @ d.y - program.GT_times(d.z_lin, d.z_soc),
+        rx,
         rhs.ry - program.A @ d.x,
         np.zeros_like(rhs.rz_lin),
         np.zeros_like(rhs.rz_soc),
@@ -530,25 +866,30 @@ def refined_newton_direction(
     refinements: int = NEWTON_REFINEMENTS,
 ) -> Point:
     """:func:`newton_direction` with iterative refinement on the whole Newton system (the
-    elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned)."""
+    elimination loses the dual residual's accuracy as ``W`` grows ill-conditioned). The
+    residual's ``G^T dz`` and the correction's own ``G^T`` product are one product."""
     d = newton_direction(program, system, scaling, rhs)
     for _ in range(refinements):
+        residual = newton_residual(program, scaling, rhs, d, dual_product=False)
         correction = newton_direction(
-            program, system, scaling, newton_residual(program, scaling, rhs, d)
+            program, system, scaling, residual, dual_part=(d.z_lin, d.z_soc)
         )
         d = d.moved(1.0, correction)
     return d
 
 
-def predictor_corrector_step(program: ShapedProgram, p: Point, res: Residuals) -> Point:
-    """One Mehrotra predictor-corrector iteration from the interior point ``p``."""
-    scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
+def predictor_corrector_step(
+    program: ShapedProgram, p: Point, res: Residuals, scaling: NtScaling | None = None
+) -> Point:
+    """One Mehrotra predictor-corrector iteration from the interior point ``p`` (``res``
+    and ``scaling`` at ``p``; the scaling computed here when not given)."""
+    if scaling is None:
+        scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
     system = NormalSystem(program, scaling.d, scaling)
-    lam_sq_lin = scaling.lam_lin**2
-    lam_sq_soc = jordan_product(scaling.lam_soc, scaling.lam_soc)
-    rhs = NewtonRhs(-res.rx, -res.ry, -res.rz_lin, -res.rz_soc, -lam_sq_lin, -lam_sq_soc)
+    rhs = affine_rhs(scaling, res.rx, res.ry, res.rz_lin, res.rz_soc)
+    lam_sq_lin, lam_sq_soc = -rhs.rs_lin, -rhs.rs_soc
     # the affine direction only sets the centring and the second-order term: no refinement
-    affine = refined_newton_direction(program, system, scaling, rhs, refinements=0)
+    affine = newton_direction(program, system, scaling, rhs, product=res.affine_product)
     step = min(1.0, p.max_step(affine))
     gap = p.gap()
     sigma = min(1.0, max(0.0, p.moved(step, affine).gap() / gap)) ** CENTRING_EXPONENT
@@ -640,7 +981,8 @@ def interior_point_loop(
             # the last point that was interior, with its residuals
             return "not_solved", previous, res, iteration
         previous = p
-        res = residuals(program, p)
+        scaling = nt_scaling(p.s_lin, p.z_lin, p.s_soc, p.z_soc)
+        res = residuals(program, p, scaling)
         merit = res.merit()
         if merit <= tol:
             return "solved", p, res, iteration
@@ -650,7 +992,7 @@ def interior_point_loop(
         if stalled or iteration == max_iter or hopeless(res, p, iteration):
             return "not_solved", p, res, iteration
         try:
-            p = predictor_corrector_step(program, p, res)
+            p = predictor_corrector_step(program, p, res, scaling)
         except (np.linalg.LinAlgError, ValueError):
             return "not_solved", p, res, iteration
     return "not_solved", p, res, max_iter
@@ -717,7 +1059,7 @@ def solve_dense_socp(
     if not is_finite(program):
         return solution("not_solved", empty_point(program), None, 0, np.arange(rows), rows)
     keep, consistent = independent_rows(program.A, program.b)
-    program.A, program.b = program.A[keep], program.b[keep]
+    program.keep_rows(keep)
     if not consistent or program.h_lin.size + program.h_soc.shape[0] == 0:
         return solution("not_solved", empty_point(program), None, 0, keep, rows)
     with np.errstate(all="ignore"):

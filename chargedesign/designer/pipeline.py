@@ -45,6 +45,7 @@ from chargedesign.designer.system import (
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.larmor import LarmorReading, body_parameters
+from chargedesign.limits import MAX_FRONTIER_CANDIDATES
 from chargedesign.moment_conditions import (
     SOURCES,
     LinearConditions,
@@ -549,6 +550,9 @@ def design_and_frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, progress, overrides)
+    too_many = frontier_too_large(inputs.candidates)
+    if too_many is not None:
+        raise InputError(f"frontier: {too_many}")  # before the work: it would not end
     setup = inputs.physical_setup()
     try:
         result = design_physical(setup, progress=progress)
@@ -644,6 +648,13 @@ def _physical_design(
     result = design_physical(setup, progress=progress) if result is None else result
     if not frontier:
         return result, None
+    too_many = frontier_too_large(inputs.candidates)
+    if too_many is not None:
+        # the body stands without it: said in the report's notes and on the terminal
+        result.design.notes = [*(result.design.notes or []), f"frontier not located: {too_many}"]
+        if progress is not None:
+            progress(f"frontier not located: {too_many}")
+        return result, None
     if progress is not None:
         progress(
             f"locating the frontier (largest rate within the limits, to "
@@ -672,6 +683,24 @@ def _physical_design(
         restate_k_law(front, realism[K_LAW_KEY], "the body at the scene's rate (s = 1)")
     design.frontier = front.to_dict()
     return result, front
+
+
+def frontier_too_large(candidates: CandidateSet) -> str | None:
+    """Why a body of these candidates has no frontier located (None: it can have one): above
+    :data:`~chargedesign.limits.MAX_FRONTIER_CANDIDATES`, with the spacing that would fit."""
+    count = len(candidates)
+    if count <= MAX_FRONTIER_CANDIDATES:
+        return None
+    spacing = candidates.description.get("spacing")
+    fits = ""
+    if isinstance(spacing, (int, float)) and spacing > 0:
+        # the count goes like spacing^-3 in a region of fixed size
+        wider = float(spacing) * (count / MAX_FRONTIER_CANDIDATES) ** (1 / 3)
+        fits = f"; a [body] spacing of about {fmt(wider, ROUGH)} m keeps it within"
+    return (
+        f"{count:,} candidates is above the {MAX_FRONTIER_CANDIDATES:,} a frontier takes (its "
+        f"charges' minmax is a cone program dense in every candidate){fits}"
+    )
 
 
 def _record_at_design(front: FrontierResult, design: Design, gravity: float) -> None:

@@ -7,8 +7,10 @@ from the model's own expressions (:mod:`chargedesign.model.case`): ``V``, ``dV/d
 from the expanded equations, which keeps cancellation small) and the integrals ``I1..I4``.
 Two variants are compiled per quantity: *regular* (lambda = rho = 0 substituted, so the
 result is finite on the plane gamma3 = 0) and *singular* (all parameters); the parameters
-choose. Compilation takes a fraction of a second and happens on first use (sympy is imported
-then, not at module import).
+choose. The generated sources are derived once with sympy and shipped
+(``chargedesign/data/model/evaluators.json``, ``make tables``; the tests re-derive them and
+compare the text): compiling one on first use takes well under a millisecond, and sympy
+stays out of every command that only evaluates the model.
 
 Public functions validate their inputs (:mod:`chargedesign.validation`), accept one item
 (1-D) or a batch (2-D), and raise :class:`~chargedesign.errors.InputError` rather than
@@ -19,8 +21,11 @@ this machine; see ``docs/theory.md``).
 
 from __future__ import annotations
 
+import json
+import math
 from collections.abc import Callable
 from functools import cache
+from importlib import resources
 from typing import Any, NoReturn
 
 import numpy as np
@@ -84,6 +89,89 @@ def model_expressions(quantity: str) -> list[Any]:
     raise ValueError(f"quantity: expected one of {', '.join(OUTPUT_WIDTH)}, got {quantity!r}")
 
 
+#: the format tag the shipped evaluators carry (``chargedesign/data/model/evaluators.json``)
+EVALUATORS_FORMAT = "chargedesign.model-evaluators/1"
+#: the name lambdify's source gives ``lambda`` (a Python keyword: a numbered Dummy otherwise)
+LAMBDA_ARGUMENT = "lambda_"
+
+
+def evaluator_key(quantity: str, singular: bool, module: str) -> str:
+    """The shipped source's key: ``"<quantity>/<regular|singular>/<module>"``."""
+    return f"{quantity}/{'singular' if singular else 'regular'}/{module}"
+
+
+def evaluators_path() -> Any:
+    """Where the shipped evaluators' sources live in the package (a Traversable)."""
+    return resources.files("chargedesign").joinpath("data/model/evaluators.json")
+
+
+def generated_source(quantity: str, singular: bool, module: str) -> str:
+    """The source :func:`sympy.lambdify` (``cse=True``) generates for ``quantity`` (sympy:
+    what ``make tables`` ships); arguments ``(*variables, *parameter_tuple)``, ``lambda``
+    named :data:`LAMBDA_ARGUMENT`. With ``singular=False`` lambda and rho are 0."""
+    import inspect
+    import re
+
+    import sympy as sp  # sympy stays out of every command that only evaluates (shipped code)
+
+    from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, STATE_SYMBOLS, lam, rho
+
+    expressions = model_expressions(quantity)
+    if not singular:
+        expressions = [sp.sympify(e).xreplace({lam: 0, rho: 0}) for e in expressions]
+    variables = tuple(GAMMA) if quantity in GAMMA_ONLY else STATE_SYMBOLS
+    function = sp.lambdify(variables + PARAMETER_SYMBOLS, expressions, modules=module, cse=True)
+    return re.sub(r"_Dummy_\d+", LAMBDA_ARGUMENT, inspect.getsource(function))
+
+
+def derived_evaluators() -> dict[str, str]:
+    """Every compiled function's source, by :func:`evaluator_key` (sympy, JSON-ready)."""
+    return {
+        evaluator_key(quantity, singular, module): generated_source(quantity, singular, module)
+        for quantity in OUTPUT_WIDTH
+        for singular in (False, True)
+        for module in ("numpy", "math")
+    }
+
+
+def evaluators_text(entries: dict[str, str]) -> str:
+    """The text of the shipped evaluators for these sources (JSON, one entry a line)."""
+    data = {
+        "format": EVALUATORS_FORMAT,
+        "about": (
+            "chargedesign.model.evaluators, sympy.lambdify's sources (cse=True); regenerate "
+            "with `make tables`, never by hand"
+        ),
+        "entries": entries,
+    }
+    return json.dumps(data, indent=1) + "\n"
+
+
+def shipped_evaluators_text() -> str:
+    """The text of the evaluators the package ships ('' when it ships none)."""
+    path = evaluators_path()
+    return path.read_text(encoding="utf-8") if path.is_file() else ""
+
+
+def write_evaluators() -> str:
+    """Write the derived sources into the package's data folder; the file's path."""
+    path = str(evaluators_path())
+    with open(path, "w", encoding="utf-8") as out:
+        out.write(evaluators_text(derived_evaluators()))
+    return path
+
+
+@cache
+def shipped_evaluators() -> dict[str, str]:
+    """The shipped sources by key ({} when none are shipped: :func:`compiled` derives)."""
+    text = shipped_evaluators_text()
+    data = json.loads(text) if text else {}
+    if data.get("format") != EVALUATORS_FORMAT:
+        return {}
+    entries: dict[str, str] = data["entries"]
+    return entries
+
+
 @cache
 def compiled(quantity: str, singular: bool, module: str) -> Callable[..., Any]:
     """The compiled function of ``quantity``: arguments ``(*variables, *parameter_tuple)``.
@@ -92,16 +180,17 @@ def compiled(quantity: str, singular: bool, module: str) -> Callable[..., Any]:
     ``(p, q, r, gamma1, gamma2, gamma3)`` otherwise. ``module`` is ``"numpy"`` (arrays,
     vectorised) or ``"math"`` (Python floats: the fastest for one state). Returns a list of
     the outputs. With ``singular=False`` lambda and rho are set to 0 in the expressions.
+    The source is lambdify's, shipped (:func:`generated_source`; derived when not shipped).
     """
-    import sympy as sp
-
-    from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, STATE_SYMBOLS, lam, rho
-
-    expressions = model_expressions(quantity)
-    if not singular:
-        expressions = [sp.sympify(e).xreplace({lam: 0, rho: 0}) for e in expressions]
-    variables = tuple(GAMMA) if quantity in GAMMA_ONLY else STATE_SYMBOLS
-    return sp.lambdify(variables + PARAMETER_SYMBOLS, expressions, modules=module, cse=True)
+    key = evaluator_key(quantity, singular, module)
+    source = shipped_evaluators().get(key)
+    if source is None:
+        source = generated_source(quantity, singular, module)
+    namespace: dict[str, Any] = {"numpy": np, "math": math}
+    # the package's own generated text, as lambdify itself execs it
+    exec(compile(source, f"<chargedesign.model.evaluators {key}>", "exec"), namespace)
+    function: Callable[..., Any] = namespace["_lambdifygenerated"]
+    return function
 
 
 def _validate(

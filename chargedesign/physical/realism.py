@@ -38,6 +38,7 @@ from chargedesign.constants import (
 )
 from chargedesign.formatting import ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.field_bounds import field_magnitude_max
+from chargedesign.physical.map_data import component_values, shipped_map
 from chargedesign.physical.materials import (
     BUILDER_BALANCE_M,
     CONDUCTIVITY,
@@ -702,7 +703,8 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
     rows = []
     for key, where, powers, name, mechanisms in _MAP_TERMS:
         amount = math.prod(values[s] ** e for s, e in zip(_MAP_SYMBOLS, powers, strict=True))
-        expression, degree = _map_term_symbols()[key]
+        entry = shipped_map()[key]
+        expression, degree = entry["expression"], entry["degree"]
         if where == "V":
             singular = key in ("lambda", "rho")
             if amount == 0.0:
@@ -710,10 +712,10 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
             elif singular:
                 size = math.inf
             else:
-                term = amount * _map_term_values(key, p.C, p.c, p.d)
+                term = amount * map_term_values(key, p.C, p.c, p.d)
                 size = float(np.ptp(term))
         else:
-            size = abs(amount) * rate * float(np.max(_map_term_values(key, p.C, p.c, p.d)))
+            size = abs(amount) * rate * float(np.max(map_term_values(key, p.C, p.c, p.d)))
             singular = False
         no_parts = frame and key in ("n2", "nK", "mu_n")
         if amount == 0.0:
@@ -759,10 +761,11 @@ _MAP_SYMBOLS = ("kappa", "n", "K", "lambda", "rho")
 
 
 @functools.lru_cache(maxsize=1)
-def _map_term_coefficients() -> dict[str, tuple[Any, ...]]:
+def map_term_coefficients() -> dict[str, tuple[Any, ...]]:
     """Each map term's coefficients in the model (sympy, in C, c, d and gamma): one for a term
-    of V, the three components for a term of mu. Rate-free: derived once per process."""
-    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
+    of V, the three components for a term of mu. The derivation behind the shipped map
+    (:func:`derived_map_terms`); the map itself reads :mod:`~chargedesign.physical.map_data`."""
+    import sympy as sp  # sympy stays out of ``import chargedesign`` (the map reads its table)
 
     from chargedesign.model.case import K, kappa, lam, n, rho, symbolic_case
 
@@ -779,48 +782,65 @@ def _map_term_coefficients() -> dict[str, tuple[Any, ...]]:
     return out
 
 
-@functools.lru_cache(maxsize=1)
-def _map_term_symbols() -> dict[str, tuple[str, int]]:
-    """Each map term's expression (in gamma1..3, with its parameter monomial) and its degree
-    in gamma: they depend on no body, derived once per process."""
-    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
+def derived_map_terms() -> dict[str, Any]:
+    """The map's terms derived with sympy, JSON-ready (what ``make tables`` ships in
+    ``chargedesign/data/realism/map_terms.json``): per key, the ``expression`` (in
+    gamma1..3, with its parameter monomial), its ``degree`` in gamma, and the coefficients'
+    ``components`` as :func:`chargedesign.physical.map_data.component_values` reads them
+    (None for a singular term, which the map never evaluates)."""
+    import sympy as sp  # sympy stays out of ``import chargedesign`` (the map reads its table)
 
-    from chargedesign.model.case import GAMMA, K, kappa, lam, n, rho
+    from chargedesign.model.case import GAMMA, C, K, c, d, kappa, lam, n, rho
 
     symbols = (kappa, n, K, lam, rho)
-    coefficients = _map_term_coefficients()
-    out: dict[str, tuple[str, int]] = {}
+    coefficients = map_term_coefficients()
+    out: dict[str, Any] = {}
     for key, where, powers, _, _ in _MAP_TERMS:
         monomial = sp.Mul(*[s**e for s, e in zip(symbols, powers, strict=True)])
         comps = coefficients[key]
+        singular = where == "V" and key in ("lambda", "rho")
         if where == "V":
-            singular = key in ("lambda", "rho")
             expression = str(sp.factor(comps[0]) * monomial)
             degree = int(sp.Poly(comps[0], *GAMMA).total_degree()) if not singular else 0
         else:
-            expression = "(" + ", ".join(str(sp.factor(c * monomial)) for c in comps) + ")"
+            expression = "(" + ", ".join(str(sp.factor(c_ * monomial)) for c_ in comps) + ")"
             degree = 1 if key == "mu_n" else 2
-        out[key] = (expression, degree)
+        components = None
+        if not singular:
+            components = []
+            for comp in comps:
+                # lex in (C, gamma1..3), descending: the order sympy prints the terms in
+                by_gamma = sp.Poly(comp, C, *GAMMA).terms() if comp != 0 else []
+                components.append(
+                    [
+                        {
+                            "powers": list(gamma_powers),
+                            "terms": [
+                                [str(sp.Rational(r)), i, j]
+                                for (i, j), r in sp.Poly(inner, c, d).terms()
+                            ],
+                        }
+                        for gamma_powers, inner in by_gamma
+                    ]
+                )
+        out[key] = {"expression": expression, "degree": degree, "components": components}
     return out
+
+
+def map_term_values(key: str, C_value: float, c_value: float, d_value: float) -> np.ndarray:
+    """A map term per unit of its parameter monomial on the map's orientations: its values
+    (2000,) for a term of V, ``max |mu_term|`` (a scalar array) for a term of mu. Read from
+    the shipped map (no sympy), as ``lambdify`` of the derived coefficients computes it."""
+    return _map_term_values(key, float(C_value), float(c_value), float(d_value))
 
 
 @functools.lru_cache(maxsize=256)
 def _map_term_values(key: str, C_value: float, c_value: float, d_value: float) -> np.ndarray:
-    """A map term per unit of its parameter monomial on the map's orientations: its values
-    (2000,) for a term of V, ``max |mu_term|`` (a scalar array) for a term of mu. Rate-free:
-    the same for every body of one C, c, d (the probes of a frontier)."""
-    import sympy as sp  # sympy stays out of ``import chargedesign`` (a map is drawn on demand)
-
-    from chargedesign.model.case import GAMMA, C, c, d
-
+    """Rate-free: the same for every body of one C, c, d (the probes of a frontier)."""
     gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
-    constants = {c: c_value, d: d_value}
     values = [
-        np.broadcast_to(
-            sp.lambdify([C, *GAMMA], comp.subs(constants), "numpy")(C_value, *gammas.T),
-            len(gammas),
-        )
-        for comp in _map_term_coefficients()[key]
+        np.broadcast_to(component_values(comp, C_value, c_value, d_value, gammas), len(gammas))
+        for comp in shipped_map()[key]["components"]
     ]
     if len(values) == 1:
         out = np.array(values[0], dtype=float)
