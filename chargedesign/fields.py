@@ -43,6 +43,10 @@ from chargedesign.validation import (
     input_error,
 )
 
+#: points per block of :func:`zonal_sums` (8192 doubles: 64 kB an array, the recurrence's dozen
+#: in cache; measured 2-3x faster than one block of 5e5 points)
+ZONAL_BLOCK = 1 << 13
+
 
 def zonal_sums(
     coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, *, want_value: bool = True
@@ -71,6 +75,32 @@ def zonal_sums(
     ``"S"``, ``"ZZ"``, ``"ZS"``, ``"SS"`` as requested).
     """
     shape = np.broadcast_shapes(Z.shape, S.shape)
+    size = int(np.prod(shape))
+    if size <= ZONAL_BLOCK:
+        return _zonal_block(coeffs, Z, S, order, want_value)
+    # elementwise: blocks of the flattened points, so the recurrence's arrays stay in cache
+    # (the same operations on every point, so the same bits)
+    z = np.broadcast_to(Z, shape).reshape(-1)
+    s = np.broadcast_to(S, shape).reshape(-1)
+    out: dict[str, np.ndarray] = {}
+    for start in range(0, size, ZONAL_BLOCK):
+        part = _zonal_block(
+            coeffs,
+            z[start : start + ZONAL_BLOCK],
+            s[start : start + ZONAL_BLOCK],
+            order,
+            want_value,
+        )
+        for nm, values in part.items():
+            out.setdefault(nm, np.empty(size))[start : start + len(values)] = values
+    return {nm: values.reshape(shape) for nm, values in out.items()}
+
+
+def _zonal_block(
+    coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, want_value: bool
+) -> dict[str, np.ndarray]:
+    """:func:`zonal_sums` on one block of points (``Z`` and ``S`` broadcastable)."""
+    shape = np.broadcast_shapes(Z.shape, S.shape)
     names = [""] if (want_value or order == 0) else []
     names += ["Z", "S"] if order >= 1 else []
     names += ["ZZ", "ZS", "SS"] if order >= 2 else []
@@ -78,8 +108,11 @@ def zonal_sums(
     K = len(coeffs)
     if K == 0:
         return out
+    # The recurrence below runs in place on recycled buffers, every product and sum the same
+    # IEEE operation as the plain expression in its comment (so the same bits): ``S`` and
+    # ``b S`` keep their own (broadcast) shape, ``a Z`` is formed once per k.
     Zb = np.broadcast_to(Z, shape)
-    Sb = np.broadcast_to(S, shape)
+    Sf = np.asarray(S, dtype=np.float64)
     # Running (k-1, k) values of u_k and its derivatives. u_0 = 1, u_1 = Z; every derivative
     # of u_0 vanishes, and of u_1 only d/dZ (= 1).
     zero = np.zeros(shape)
@@ -94,28 +127,71 @@ def zonal_sums(
     # At order 1, Phi_Z comes from the Cartesian identity d u_k / dZ|_{X,Y} = k u_{k-1}:
     # Phi_Z|_S = sum_k f_k k u_{k-1} - 2 Z Phi_S (cheaper than a recurrence of its own).
     cartesian_z = np.zeros(shape) if order == 1 else None
+    tmp = np.empty(shape)
+    a_z = np.empty(shape)
+    made: list[dict[str, np.ndarray]] = []  # the buffers the loop made (the others are shared)
+    spare: dict[str, np.ndarray] | None = None  # made, and free to reuse
     for k in range(1, K + 1):
         f = float(coeffs[k - 1])
         if f != 0.0:
             if "" in out:
-                out[""] += f * cur[""]
+                out[""] += np.multiply(cur[""], f, out=tmp)  # f * u_k
             if cartesian_z is not None:
-                cartesian_z += (f * k) * prev[""]
+                cartesian_z += np.multiply(prev[""], f * k, out=tmp)  # (f k) * u_{k-1}
             for nm in ("S", "Z", "ZZ", "ZS", "SS"):
                 if nm in out and nm in cur:
-                    out[nm] += f * cur[nm]
+                    out[nm] += np.multiply(cur[nm], f, out=tmp)
         if k == K:
             break
         a, b = (2 * k + 1) / (k + 1), k / (k + 1)
+        b_s = b * Sf
+        np.multiply(Zb, a, out=a_z)  # a * Z
+        if spare is None:
+            spare = {nm: np.empty(shape) for nm in cur}
+            made.append(spare)
+        nxt = spare
         # (k+1) u_{k+1} = (2k+1) Z u_k - k S u_{k-1}, differentiated term by term.
-        nxt = {"": a * Zb * cur[""] - b * Sb * prev[""]}
+        # u: a Z u_k - b S u_{k-1}
+        np.multiply(a_z, cur[""], out=nxt[""])
+        nxt[""] -= np.multiply(b_s, prev[""], out=tmp)
         if order >= 1:
-            nxt["S"] = a * Zb * cur["S"] - b * (prev[""] + Sb * prev["S"])
+            # S: a Z u_k,S - b (u_{k-1} + S u_{k-1},S)
+            np.multiply(a_z, cur["S"], out=nxt["S"])
+            np.multiply(Sf, prev["S"], out=tmp)
+            tmp += prev[""]
+            tmp *= b
+            nxt["S"] -= tmp
         if order >= 2:
-            nxt["Z"] = a * (cur[""] + Zb * cur["Z"]) - b * Sb * prev["Z"]
-            nxt["ZZ"] = a * (2.0 * cur["Z"] + Zb * cur["ZZ"]) - b * Sb * prev["ZZ"]
-            nxt["ZS"] = a * (cur["S"] + Zb * cur["ZS"]) - b * (prev["Z"] + Sb * prev["ZS"])
-            nxt["SS"] = a * Zb * cur["SS"] - b * (2.0 * prev["S"] + Sb * prev["SS"])
+            # Z: a (u_k + Z u_k,Z) - b S u_{k-1},Z
+            nz = nxt["Z"]
+            np.multiply(Zb, cur["Z"], out=nz)
+            nz += cur[""]
+            nz *= a
+            nz -= np.multiply(b_s, prev["Z"], out=tmp)
+            # ZZ: a (2 u_k,Z + Z u_k,ZZ) - b S u_{k-1},ZZ
+            nzz = nxt["ZZ"]
+            np.multiply(Zb, cur["ZZ"], out=nzz)
+            nzz += np.multiply(cur["Z"], 2.0, out=tmp)
+            nzz *= a
+            nzz -= np.multiply(b_s, prev["ZZ"], out=tmp)
+            # ZS: a (u_k,S + Z u_k,ZS) - b (u_{k-1},Z + S u_{k-1},ZS)
+            nzs = nxt["ZS"]
+            np.multiply(Zb, cur["ZS"], out=nzs)
+            nzs += cur["S"]
+            nzs *= a
+            np.multiply(Sf, prev["ZS"], out=tmp)
+            tmp += prev["Z"]
+            tmp *= b
+            nzs -= tmp
+            # SS: a Z u_k,SS - b (2 u_{k-1},S + S u_{k-1},SS)
+            nss = nxt["SS"]
+            np.multiply(a_z, cur["SS"], out=nss)
+            np.multiply(Sf, prev["SS"], out=tmp)
+            tmp += np.multiply(prev["S"], 2.0, out=a_z)  # a_z is formed again next k
+            tmp *= b
+            nss -= tmp
+        # the buffers of u_{k-1} are free once u_{k+1} is formed, if the loop made them
+        spare = prev if any(prev is m for m in made) else None
         prev, cur = cur, nxt
     if cartesian_z is not None:
         out["Z"] = cartesian_z - 2.0 * Zb * out["S"]

@@ -33,7 +33,7 @@ from chargedesign.designer.physical_setup import (
 from chargedesign.designer.system import relative_residual
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.physical.coulomb import coulomb_field_gemm, coulomb_kernel
+from chargedesign.physical.coulomb import coulomb_kernel, sphere_fields, sphere_kernel
 from chargedesign.physical.limits import (
     fibonacci_directions,
     local_caps,
@@ -197,6 +197,10 @@ def surface_check(
 
     ``samples`` Fibonacci points per carrier, then a refinement around the largest one
     (:func:`~chargedesign.physical.limits.local_cap`), so the maximum between samples is found.
+    The fields are summed in each carrier's own coordinates
+    (:func:`~chargedesign.physical.coulomb.sphere_fields`: its own charge exact); at the
+    samples through the candidates' charge-free geometry, kept per candidate set
+    (:func:`~chargedesign.physical.coulomb.sphere_kernel`), when ``positions`` are candidates.
 
     Returns
     -------
@@ -208,24 +212,24 @@ def surface_check(
         return np.zeros(0), np.zeros((0, 3))
     dirs = fibonacci_directions(samples)
     a = setup.carrier_radius
-
-    def magnitudes(points: np.ndarray) -> np.ndarray:
-        """|E| at points (k, m, 3) from every carrier plus the external bound: (k, m)."""
-        flat = points.reshape(-1, 3)
-        e = np.linalg.norm(coulomb_field_gemm(positions, q, flat), axis=1)
-        e = e + setup.external_max(np.linalg.norm(flat, axis=1), s)
-        return e.reshape(k, -1)
-
-    # every carrier's samples in one evaluation, then a cap around each one's largest
-    e = magnitudes(positions[:, None, :] + a * dirs[None, :, :])
-    caps = positions[:, None, :] + a * local_caps(
-        dirs[np.argmax(e, axis=1)], 1.5 * sample_spacing(samples)
-    )
-    e_cap = magnitudes(caps)
+    radii = np.full(k, a)
+    kernel = sphere_kernel(setup.points, a, dirs)
+    rows = None if kernel is None else kernel.rows_of(positions)
+    if kernel is not None and rows is not None:
+        fields, distances = kernel.fields(rows, q), kernel.distances[rows]
+    else:
+        fields = sphere_fields(positions, q, radii, dirs)
+        distances = np.linalg.norm(positions[:, None, :] + a * dirs[None, :, :], axis=2)
+    # every carrier's samples, then a cap around each one's largest
+    e = np.linalg.norm(fields, axis=2) + setup.external_max(distances, s)
+    cap_dirs = local_caps(dirs[np.argmax(e, axis=1)], 1.5 * sample_spacing(samples))
+    caps = positions[:, None, :] + a * cap_dirs
+    e_cap = np.linalg.norm(sphere_fields(positions, q, radii, cap_dirs), axis=2)
+    e_cap += setup.external_max(np.linalg.norm(caps, axis=2), s)
     best = np.argmax(e_cap, axis=1)
-    rows = np.arange(k)
-    ratios = np.maximum(e_cap[rows, best], e.max(axis=1)) / setup.safe_field
-    return ratios, caps[rows, best]
+    rows_k = np.arange(k)
+    ratios = np.maximum(e_cap[rows_k, best], e.max(axis=1)) / setup.safe_field
+    return ratios, caps[rows_k, best]
 
 
 def _socp_charges(
