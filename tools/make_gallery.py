@@ -3,7 +3,7 @@
 Designs the embedded default scene and the example scenes, and draws each body with
 ``Design.plot`` into an off-screen plotter of its own. Run::
 
-    .venv/bin/python examples/make_gallery.py [OUT_DIR]
+    .venv/bin/python tools/make_gallery.py [OUT_DIR]
 
 OUT_DIR defaults to docs/images. Takes about half a minute.
 """
@@ -15,16 +15,16 @@ from pathlib import Path
 
 import chargedesign as cd
 
-ROOT = Path(__file__).resolve().parent
+ROOT = Path(__file__).resolve().parents[1]  # the repository
 SCENES = {
     "default": None,
-    "yehia2003": ROOT / "scenes" / "yehia2003.toml",
-    "si_scale": ROOT / "scenes" / "si_scale.toml",
+    "yehia2003": ROOT / "examples" / "scenes" / "yehia2003.toml",
+    "si_scale": ROOT / "examples" / "scenes" / "si_scale.toml",
 }
 
 
 def main(out_dir: str | None = None) -> int:
-    out = Path(out_dir or ROOT.parent / "docs" / "images")
+    out = Path(out_dir or ROOT / "docs" / "images")
     out.mkdir(parents=True, exist_ok=True)
     for name, scene in SCENES.items():
         result = cd.design(scene)

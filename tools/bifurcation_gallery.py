@@ -7,7 +7,7 @@
 
 Run::
 
-    .venv/bin/python examples/bifurcation_gallery.py [OUT_DIR]
+    .venv/bin/python tools/bifurcation_gallery.py [OUT_DIR]
 
 OUT_DIR defaults to docs/images (bifurcation_*.png). Takes about half a minute.
 """
@@ -21,7 +21,7 @@ import numpy as np
 
 import chargedesign as cd
 
-ROOT = Path(__file__).resolve().parent
+ROOT = Path(__file__).resolve().parents[1]  # the repository
 UNIT = cd.Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 CASES = {
     "unit_scale": UNIT,
@@ -42,7 +42,7 @@ def chaplygin_gap(diagram: cd.BifurcationDiagram) -> float:
 
 
 def main(out_dir: str | None = None) -> int:
-    out = Path(out_dir or ROOT.parent / "docs" / "images")
+    out = Path(out_dir or ROOT / "docs" / "images")
     out.mkdir(parents=True, exist_ok=True)
     for name, params in CASES.items():
         diagram = cd.bifurcation(params)
