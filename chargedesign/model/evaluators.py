@@ -21,16 +21,15 @@ this machine; see ``docs/theory.md``).
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable
 from functools import cache
-from importlib import resources
 from typing import Any, NoReturn
 
 import numpy as np
 
 from chargedesign.params import Parameters
+from chargedesign.shipped_data import ShippedData
 from chargedesign.validation import as_array, check_instance, input_error
 
 #: what each evaluator returns per item
@@ -100,9 +99,14 @@ def evaluator_key(quantity: str, singular: bool, module: str) -> str:
     return f"{quantity}/{'singular' if singular else 'regular'}/{module}"
 
 
-def evaluators_path() -> Any:
-    """Where the shipped evaluators' sources live in the package (a Traversable)."""
-    return resources.files("chargedesign").joinpath("data/model/evaluators.json")
+#: the shipped file of the evaluators' sources
+EVALUATORS_FILE = ShippedData(
+    "data/model/evaluators.json",
+    EVALUATORS_FORMAT,
+    "chargedesign.model.evaluators, sympy.lambdify's sources (cse=True); regenerate "
+    "with `make tables`, never by hand",
+    indent=1,
+)
 
 
 def generated_source(quantity: str, singular: bool, module: str) -> str:
@@ -136,40 +140,23 @@ def derived_evaluators() -> dict[str, str]:
 
 def evaluators_text(entries: dict[str, str]) -> str:
     """The text of the shipped evaluators for these sources (JSON, one entry a line)."""
-    data = {
-        "format": EVALUATORS_FORMAT,
-        "about": (
-            "chargedesign.model.evaluators, sympy.lambdify's sources (cse=True); regenerate "
-            "with `make tables`, never by hand"
-        ),
-        "entries": entries,
-    }
-    return json.dumps(data, indent=1) + "\n"
+    return EVALUATORS_FILE.text(entries)
 
 
 def shipped_evaluators_text() -> str:
     """The text of the evaluators the package ships ('' when it ships none)."""
-    path = evaluators_path()
-    return path.read_text(encoding="utf-8") if path.is_file() else ""
+    return EVALUATORS_FILE.shipped_text()
 
 
 def write_evaluators() -> str:
     """Write the derived sources into the package's data folder; the file's path."""
-    path = str(evaluators_path())
-    with open(path, "w", encoding="utf-8") as out:
-        out.write(evaluators_text(derived_evaluators()))
-    return path
+    return EVALUATORS_FILE.write(derived_evaluators())
 
 
-@cache
 def shipped_evaluators() -> dict[str, str]:
     """The shipped sources by key ({} when none are shipped: :func:`compiled` derives)."""
-    text = shipped_evaluators_text()
-    data = json.loads(text) if text else {}
-    if data.get("format") != EVALUATORS_FORMAT:
-        return {}
-    entries: dict[str, str] = data["entries"]
-    return entries
+    entries: dict[str, str] | None = EVALUATORS_FILE.entries()
+    return {} if entries is None else entries
 
 
 @cache

@@ -10,11 +10,11 @@ of a float derivation's start-up (about 2 s of CPU: its import and the harmonics
 
 from __future__ import annotations
 
-import json
 from fractions import Fraction
 from functools import cache
-from importlib import resources
 from typing import Any
+
+from chargedesign.shipped_data import ShippedData
 
 #: the format tag every shipped table carries
 TABLE_FORMAT = "chargedesign.conditions-table/1"
@@ -27,20 +27,19 @@ def fraction_text(value: Fraction) -> str:
     return str(value)
 
 
-def table_path(name: str) -> Any:
-    """Where the shipped table ``name`` lives in the package (a Traversable)."""
-    return resources.files("chargedesign").joinpath(f"data/conditions/{name}.json")
-
-
 @cache
+def table_file(name: str) -> ShippedData:
+    """The shipped file of the table ``name``."""
+    return ShippedData(
+        f"data/conditions/{name}.json",
+        TABLE_FORMAT,
+        f"chargedesign.moment_conditions {name}, derived with sympy; regenerate with "
+        "`make tables`, never by hand",
+    )
+
+
 def shipped_table(name: str) -> dict[str, Any] | None:
-    """The entries of the shipped table ``name``; None when it is not shipped (the callers
-    then derive with sympy, as when the table is regenerated)."""
-    path = table_path(name)
-    if not path.is_file():
-        return None
-    data = json.loads(path.read_text(encoding="utf-8"))
-    if data.get("format") != TABLE_FORMAT:  # pragma: no cover - a stale file from a checkout
-        return None
-    entries: dict[str, Any] = data["entries"]
+    """The entries of the shipped table ``name``; None when it is not shipped, or stale
+    (the callers then derive with sympy, as when the table is regenerated)."""
+    entries: dict[str, Any] | None = table_file(name).entries()
     return entries

@@ -8,14 +8,13 @@ text, character for character (as for the JSON Schemas).
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 from chargedesign.moment_conditions.constants import MAX_FIELD_DEGREE
 from chargedesign.moment_conditions.harmonics import derive_real_solid_harmonics
 from chargedesign.moment_conditions.mu import derive_mu_system
 from chargedesign.moment_conditions.potential import derive_v_projection
-from chargedesign.moment_conditions.table_data import TABLE_FORMAT, TABLE_NAMES, table_path
+from chargedesign.moment_conditions.table_data import TABLE_NAMES, table_file
 
 
 def derived_entries(name: str) -> dict[str, Any]:
@@ -37,27 +36,16 @@ def derived_entries(name: str) -> dict[str, Any]:
 
 def table_text(name: str) -> str:
     """The text of the table ``name`` as shipped (derived with sympy now)."""
-    data = {
-        "format": TABLE_FORMAT,
-        "about": (
-            f"chargedesign.moment_conditions {name}, derived with sympy; regenerate with "
-            "`make tables`, never by hand"
-        ),
-        "entries": derived_entries(name),
-    }
-    return json.dumps(data, indent=None, separators=(",", ":")) + "\n"
+    return table_file(name).text(derived_entries(name))
 
 
 def shipped_table_text(name: str) -> str:
     """The text of the table ``name`` the package ships ('' when it ships none)."""
-    path = table_path(name)
-    return path.read_text(encoding="utf-8") if path.is_file() else ""
+    return table_file(name).shipped_text()
 
 
 def write_tables() -> list[str]:
     """Write every table's derived text into the package's data folder; their names."""
     for name in TABLE_NAMES:
-        text = table_text(name)
-        with open(str(table_path(name)), "w", encoding="utf-8") as out:
-            out.write(text)
+        table_file(name).write(derived_entries(name))
     return list(TABLE_NAMES)

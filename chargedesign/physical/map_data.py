@@ -17,15 +17,14 @@ expression's order of operations. The tests check the two routes agree exactly.
 
 from __future__ import annotations
 
-import json
 import math
 from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
-from functools import cache
-from importlib import resources
 from typing import Any
 
 import numpy as np
+
+from chargedesign.shipped_data import ShippedData
 
 #: the format tag the shipped map carries
 MAP_FORMAT = "chargedesign.realisability-map-terms/1"
@@ -33,47 +32,36 @@ MAP_FORMAT = "chargedesign.realisability-map-terms/1"
 PRINTED_DIGITS = 15
 
 
-def map_path() -> Any:
-    """Where the shipped map terms live in the package (a Traversable)."""
-    return resources.files("chargedesign").joinpath("data/realism/map_terms.json")
+#: the shipped file of the map's terms
+MAP_FILE = ShippedData(
+    "data/realism/map_terms.json",
+    MAP_FORMAT,
+    "chargedesign.physical.realism map terms, derived with sympy; regenerate with "
+    "`make tables`, never by hand",
+)
 
 
 def map_text(entries: dict[str, Any]) -> str:
     """The text of the shipped map for these entries (one line of JSON)."""
-    data = {
-        "format": MAP_FORMAT,
-        "about": (
-            "chargedesign.physical.realism map terms, derived with sympy; regenerate with "
-            "`make tables`, never by hand"
-        ),
-        "entries": entries,
-    }
-    return json.dumps(data, indent=None, separators=(",", ":")) + "\n"
+    return MAP_FILE.text(entries)
 
 
 def shipped_map_text() -> str:
     """The text of the map the package ships ('' when it ships none)."""
-    path = map_path()
-    return path.read_text(encoding="utf-8") if path.is_file() else ""
+    return MAP_FILE.shipped_text()
 
 
 def write_map(entries: dict[str, Any]) -> str:
     """Write the map's text for these entries into the package's data folder; its path."""
-    path = str(map_path())
-    with open(path, "w", encoding="utf-8") as out:
-        out.write(map_text(entries))
-    return path
+    return MAP_FILE.write(entries)
 
 
-@cache
 def shipped_map() -> dict[str, Any]:
     """The entries of the shipped map: per term key, ``expression``, ``degree`` and
     ``components`` (see :func:`component_values`; None for a singular term)."""
-    text = shipped_map_text()
-    data = json.loads(text) if text else {}
-    if data.get("format") != MAP_FORMAT:
-        raise RuntimeError(f"{map_path()}: missing or stale (regenerate it: make tables)")
-    entries: dict[str, Any] = data["entries"]
+    entries: dict[str, Any] | None = MAP_FILE.entries()
+    if entries is None:
+        raise RuntimeError(f"{MAP_FILE.path()}: missing or stale (regenerate it: make tables)")
     return entries
 
 
