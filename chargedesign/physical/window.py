@@ -222,7 +222,7 @@ def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
     return items
 
 
-def _rotate(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray:
+def turned_about_axis(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray:
     """``gammas`` (n, 3) turned by ``angle`` about body axis ``axis`` (unit vectors stay unit)."""
     i, j = [k for k in range(3) if k != axis]
     out = gammas.copy()
@@ -281,7 +281,10 @@ def _magnets_torque(legendre: tuple[float, ...], positions_bytes: bytes, moments
         return out
 
     slopes = [
-        (energy(_rotate(gammas, k, TORQUE_STEP)) - energy(_rotate(gammas, k, -TORQUE_STEP)))
+        (
+            energy(turned_about_axis(gammas, k, TORQUE_STEP))
+            - energy(turned_about_axis(gammas, k, -TORQUE_STEP))
+        )
         / (2 * TORQUE_STEP)
         for k in range(3)
     ]

@@ -32,7 +32,7 @@ from chargedesign.physical.parasitics import (
     induced_energies_by_set,
 )
 from chargedesign.physical.realism import field_response, k_law, material_parts, realisability_map
-from chargedesign.physical.window import TORQUE_STEP, window_model
+from chargedesign.physical.window import TORQUE_STEP, turned_about_axis, window_model
 from chargedesign.results import json_ready
 from chargedesign.sampling import fibonacci_sphere
 
@@ -177,15 +177,6 @@ def test_the_factors_are_returned_fresh_and_the_eddy_torque_is_linear_in_the_rat
         assert np.array_equal(eddy_torques_by_set(legendre, parts, rate), rate * coefficients)
 
 
-def _rotate(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray:
-    i, j = [k for k in range(3) if k != axis]
-    out = gammas.copy()
-    c, s = math.cos(angle), math.sin(angle)
-    out[:, i] = c * gammas[:, i] - s * gammas[:, j]
-    out[:, j] = s * gammas[:, i] + c * gammas[:, j]
-    return out
-
-
 @pytest.mark.parametrize("name", sorted(BODIES))
 def test_the_magnets_coil_torque_is_the_body_axes_gradients(bodies, name):
     """The window's coil item against the magnets' energy from ``gradient_body`` (the route
@@ -201,7 +192,10 @@ def test_the_magnets_coil_torque_is_the_body_axes_gradients(bodies, name):
         return np.einsum("mnk,nk->m", error.gradient_body(design.dipole_positions, g), moments)
 
     slopes = [
-        (energy(_rotate(gammas, k, TORQUE_STEP)) - energy(_rotate(gammas, k, -TORQUE_STEP)))
+        (
+            energy(turned_about_axis(gammas, k, TORQUE_STEP))
+            - energy(turned_about_axis(gammas, k, -TORQUE_STEP))
+        )
         / (2 * TORQUE_STEP)
         for k in range(3)
     ]
