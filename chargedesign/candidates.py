@@ -32,7 +32,7 @@ from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
 from chargedesign.readers import read_mesh
 from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
-from chargedesign.scene.keys import KEY, REGION_KEYS
+from chargedesign.scene.keys import KEY
 from chargedesign.scene.tables import RegionSpec, region_from_table
 from chargedesign.validation import (
     as_array,
@@ -44,8 +44,6 @@ from chargedesign.validation import (
 from chargedesign.vocabulary import BODY_SHAPES
 
 SHAPES = BODY_SHAPES
-#: keys each shape accepts (besides ``shape``): the scene's declaration
-SHAPE_KEYS: dict[str, tuple[str, ...]] = REGION_KEYS
 #: relative thickness (smallest / largest singular value of the centred cloud) below which a
 #: set is called planar (exactly, up to rounding) ...
 PLANAR_RATIO = 1e-9

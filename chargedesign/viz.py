@@ -258,18 +258,6 @@ def _sphere_radii(values: np.ndarray, size: float) -> np.ndarray:
     return size * np.maximum(_SPHERE_FRACTION * relative, _MIN_SPHERE_FRACTION)
 
 
-def _spheres(
-    points: np.ndarray, radii: np.ndarray, resolution: int, data: Mapping[str, Any] | None = None
-) -> pv.PolyData:
-    """One sphere per point; ``data`` (arrays of shape (n,)) is copied onto each sphere."""
-    cloud = pv.PolyData(np.asarray(points, dtype=np.float64))
-    cloud.point_data["radius"] = radii
-    for name, values in (data or {}).items():
-        cloud.point_data[name] = values
-    template = pv.Sphere(radius=1.0, theta_resolution=resolution, phi_resolution=resolution)
-    return cloud.glyph(scale="radius", orient=False, geom=template)
-
-
 def _toward_white(color: tuple[float, float, float], weight: float) -> tuple[float, float, float]:
     """``color`` at ``weight`` 1, white at 0."""
     r, g, b = (weight * c + (1.0 - weight) for c in color)

@@ -20,12 +20,6 @@ import sympy as sp
 from chargedesign.model.case import GAMMA, OMEGA, symbolic_case
 
 
-def potential_gradient_symbolic() -> sp.Matrix:
-    """``dV/dgamma``, shape (3,), as a sympy Matrix (units of V)."""
-    V = symbolic_case().V
-    return sp.Matrix([sp.diff(V, x) for x in GAMMA])
-
-
 def euler_poisson(inertia: sp.Matrix, V: sp.Expr, mu: sp.Matrix) -> sp.Matrix:
     """The right-hand sides of (ep) for any case: diagonal ``inertia``, ``V(gamma)``, ``mu(gamma)``.
 

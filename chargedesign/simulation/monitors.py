@@ -36,7 +36,7 @@ Registry (:data:`MONITORS`):
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -45,7 +45,6 @@ import numpy as np
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.scene.simulation import parse_monitors as parse_monitors
 from chargedesign.validation import input_error
-from chargedesign.vocabulary import MONITOR_ALIASES
 
 #: relative size below which a polynomial coefficient counts as zero
 _ZERO = 1e-12
@@ -285,9 +284,6 @@ MONITORS: dict[str, Monitor] = {
         ),
     ),
 }
-#: aliases accepted in scenes
-#: other names a monitor may be asked for by
-ALIASES = MONITOR_ALIASES
 
 
 def _drift(values: np.ndarray, scale: str, kinetic: float) -> float:
@@ -349,26 +345,3 @@ def evaluate(
                 "scale": "relative",
             }
     return out
-
-
-def monitor_values(
-    ctx: Context, name: str, omega: np.ndarray, gamma: np.ndarray, integrals: np.ndarray
-) -> np.ndarray:
-    """Values of one registry monitor along a trajectory, ndarray shape (T,)."""
-    if name not in MONITORS:
-        raise input_error("monitor", "names among " + ", ".join(MONITORS), name)
-    return MONITORS[name].values(ctx, omega, gamma, integrals)
-
-
-def requested_names(items: Sequence[Any] | None) -> list[str]:
-    """The names of requested monitors (callables by ``__name__``), JSON-ready."""
-    return [i if isinstance(i, str) else getattr(i, "__name__", "callable") for i in items or []]
-
-
-def context_mapping(ctx: Context) -> Mapping[str, Any]:
-    return {
-        "level": ctx.level,
-        "I3_start": ctx.I3_start,
-        "realises": list(ctx.realises),
-        "axes_rate": ctx.axes_rate,
-    }

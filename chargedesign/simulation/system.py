@@ -973,6 +973,3 @@ def theorem_i4(states: np.ndarray, params: Parameters) -> np.ndarray:
     """The theorem's quartic integral I4 at states ``(p, q, r, g1, g2, g3)`` (m, 6), shape (m,)."""
 
     return np.asarray(evaluators.integrals(states, params), dtype=float)[:, 3]
-
-
-ProgressCallback = Callable[[float], None]
