@@ -19,7 +19,7 @@ The body's mass distribution is all three mass sets together (:meth:`ElementSet.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -206,10 +206,6 @@ class ElementSet:
     def element_arrays(self) -> dict[str, Any]:
         """The element fields of this set by name (to build another element type from it)."""
         return {f.name: getattr(self, f.name) for f in fields(ElementSet)}
-
-    def with_elements(self, other: ElementSet) -> Any:
-        """A copy of this object (a Design, a Body, ...) carrying ``other``'s elements."""
-        return replace(self, **other.element_arrays())
 
     # ------------------------------------------------------------------ design.json blocks
     def blocks(self) -> dict[str, dict[str, list[Any]]]:

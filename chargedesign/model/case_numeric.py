@@ -149,16 +149,6 @@ def lagrangian_torque(case: Any) -> sp.Matrix:
     return torque.applyfunc(sp.expand)
 
 
-def case_equations(case: Any) -> sp.Matrix:
-    """``(p', q', r', gamma1', gamma2', gamma3')`` (6, 1) of a case, from its Lagrangian."""
-    inertia = [sp.sympify(m) for m in case.inertia]
-    I_omega = sp.Matrix([m * w for m, w in zip(inertia, OMEGA, strict=True)])
-    N = lagrangian_torque(case)
-    kinetic = I_omega.cross(OMEGA)
-    omega_dot = [sp.expand((kinetic[i] + N[i]) / inertia[i]) for i in range(3)]
-    return sp.Matrix(omega_dot + [sp.expand(e) for e in GAMMA.cross(OMEGA)])
-
-
 def case_record(
     table: Mapping[str, Any], case: Case, certificate: CaseCertificate | None
 ) -> dict[str, Any]:
@@ -230,7 +220,6 @@ def simulated_functions(case: Case) -> CaseFunctions:
 __all__ = [
     "CaseFunctions",
     "body_case",
-    "case_equations",
     "case_from_record",
     "case_functions",
     "case_record",

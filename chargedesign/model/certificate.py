@@ -30,7 +30,6 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from fractions import Fraction
 from functools import lru_cache
 from typing import Any
 
@@ -404,8 +403,3 @@ def counterexample() -> dict[str, object]:
         "dI4_dt_float": float(value),
         "nonzero": value != 0,
     }
-
-
-def exact_fraction(text: str) -> Fraction:
-    """Parse one of :func:`counterexample`'s exact strings."""
-    return Fraction(text)

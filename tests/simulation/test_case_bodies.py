@@ -23,7 +23,7 @@ from chargedesign.errors import InputError
 from chargedesign.model import case as model_case
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.case_file import case_equations as ep_equations
-from chargedesign.model.case_numeric import case_equations, case_functions
+from chargedesign.model.case_numeric import case_functions, lagrangian_torque
 from chargedesign.model.catalogue import catalogue_cases
 from chargedesign.model.equations import equations_of_motion
 from chargedesign.params import Parameters
@@ -170,6 +170,17 @@ def _theorem_parameters(case: object) -> dict[sp.Symbol, sp.Rational]:
     names |= {"K": model_case.K, "kappa": model_case.kappa, "lambda": model_case.lam}
     names |= {"rho": model_case.rho}
     return {names[k]: v for k, v in case.parameters.items()}  # type: ignore[attr-defined]
+
+
+def case_equations(case: object) -> sp.Matrix:
+    """``(p', q', r', gamma1', gamma2', gamma3')`` (6, 1) from the case's Lagrangian: ``I omega'
+    = (I omega) x omega + N`` with :func:`lagrangian_torque`'s ``N`` (the route the Taylor
+    method integrates), against model/case_file.py's (ep) from the paper's (mu)."""
+    inertia = [sp.sympify(m) for m in case.inertia]  # type: ignore[attr-defined]
+    I_omega = sp.Matrix([m * w for m, w in zip(inertia, OMEGA, strict=True)])
+    kinetic, N = I_omega.cross(OMEGA), lagrangian_torque(case)
+    omega_dot = [sp.expand((kinetic[i] + N[i]) / inertia[i]) for i in range(3)]
+    return sp.Matrix(omega_dot + [sp.expand(e) for e in GAMMA.cross(OMEGA)])
 
 
 def test_the_lagrangian_equations_are_the_theorems_for_the_theorems_case() -> None:
