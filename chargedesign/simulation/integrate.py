@@ -32,7 +32,7 @@ from chargedesign.errors import SolverError
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.results import Result
 from chargedesign.simulation import taylor
-from chargedesign.simulation.integration import Integration
+from chargedesign.simulation.integration import Integration, singular_plane_event
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 from chargedesign.vocabulary import DEFAULT_SIMULATION_METHOD as DEFAULT_METHOD
 from chargedesign.vocabulary import SIMULATION_METHODS as METHODS
@@ -259,16 +259,7 @@ def _integrate_solve_ivp(
             y_hit = np.asarray(sol.y_events[0][0]).reshape(m, 7)
             g3 = quaternion_gamma(y_hit[:, 3:])[:, 2]
             which = int(np.argmin(np.abs(g3)))
-            found.append(
-                {
-                    "kind": "singular_plane",
-                    "t": t_hit,
-                    "trajectory": which,
-                    "gamma3": float(g3[which]),
-                    "threshold": gamma3_min,
-                    "terminal": True,
-                }
-            )
+            found.append(singular_plane_event(t_hit, which, float(g3[which]), gamma3_min))
             if times.size == 0 or times[-1] < t_hit:
                 times = np.append(times, t_hit)
                 states = np.concatenate([states, y_hit[None]], axis=0)
@@ -389,15 +380,13 @@ def _integrate_gauss(
             if np.min(np.abs(g3_all)) < gamma3_min:
                 which = int(np.argmin(np.abs(g3_all)))
                 events.append(
-                    {
-                        "kind": "singular_plane",
-                        "t": t,
-                        "trajectory": which,
-                        "gamma3": float(g3_all[which]),
-                        "threshold": gamma3_min,
-                        "terminal": True,
-                        "located": "at the end of the step that crossed the threshold",
-                    }
+                    singular_plane_event(
+                        t,
+                        which,
+                        float(g3_all[which]),
+                        gamma3_min,
+                        located="at the end of the step that crossed the threshold",
+                    )
                 )
                 if n not in keep_set:
                     times.append(t)

@@ -40,3 +40,15 @@ class Integration:
     seconds: float = 0.0
     #: back-end details (the taylor method: compile seconds, whether the compiled code was reused)
     extra: dict[str, Any] = field(default_factory=dict)
+
+
+def singular_plane_event(
+    t: float, trajectory: int, gamma3: float | None, threshold: float | None, **more: Any
+) -> dict[str, Any]:
+    """The terminal event of every back end: trajectory ``trajectory`` reached
+    ``|gamma3| < threshold`` at time ``t`` (s); ``gamma3`` there (None: not recorded) and
+    ``more`` (e.g. ``located``, ``stops``) as written."""
+    event: dict[str, Any] = {"kind": "singular_plane", "t": t, "trajectory": trajectory}
+    if gamma3 is not None:
+        event["gamma3"] = gamma3
+    return event | {"threshold": threshold, "terminal": True} | more

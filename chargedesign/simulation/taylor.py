@@ -42,7 +42,7 @@ import numpy as np
 from chargedesign.errors import SolverError
 from chargedesign.formatting import CELL, fmt
 from chargedesign.model import evaluators
-from chargedesign.simulation.integration import Integration
+from chargedesign.simulation.integration import Integration, singular_plane_event
 from chargedesign.simulation.system import RigidBodySystem, quaternion_gamma
 
 #: the default tolerance: machine epsilon (heyoka's own default)
@@ -610,16 +610,7 @@ def _integrate_one(
     if hit is not None:
         t_hit = float(ta.time)
         g3 = float(quaternion_gamma(np.asarray(ta.state)[None, 3:])[0, 2])
-        events.append(
-            {
-                "kind": "singular_plane",
-                "t": t_hit,
-                "trajectory": 0,
-                "gamma3": g3,
-                "threshold": gamma3_min,
-                "terminal": True,
-            }
-        )
+        events.append(singular_plane_event(t_hit, 0, g3, gamma3_min))
         times = np.append(times, t_hit)
         states = np.vstack([states, np.asarray(ta.state)[None]])
     points = None
@@ -659,14 +650,9 @@ def _integrate_many(
     """Several trajectories on batch integrators; a terminal event stops its own only."""
     ens = propagate_many(system, y0, grid, tol=tol, gamma3_min=gamma3_min, progress=progress)
     events = [
-        {
-            "kind": "singular_plane",
-            "t": float(ens.t_stop[i]),
-            "trajectory": int(i),
-            "threshold": gamma3_min,
-            "terminal": True,
-            "stops": "this trajectory only",
-        }
+        singular_plane_event(
+            float(ens.t_stop[i]), int(i), None, gamma3_min, stops="this trajectory only"
+        )
         for i in np.flatnonzero(ens.stopped)
     ]
     # trajectories stopped early keep their last state (NaN rows are not returned)
