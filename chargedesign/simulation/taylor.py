@@ -94,12 +94,6 @@ def cache_info() -> dict[str, Any]:
     return out
 
 
-def clear_cache() -> None:
-    """Forget the compiled integrators of this process."""
-    with _LOCK:
-        _CACHE.clear()
-
-
 # ----------------------------------------------------------------------- equations
 @dataclass
 class Equations:
