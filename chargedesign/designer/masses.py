@@ -752,8 +752,10 @@ def _mass_binding(
 
     def feasible(room: bool) -> bool:
         # w >= 0 (scaled ballast masses), Ams w = bms, and with room each mass within its cell
-        upper = v_cap * setup.spec.ballast.density / scale if room else None
-        bounds = np.column_stack([np.zeros(len(free)), upper]) if room else (0, None)
+        bounds: Any = (0, None)
+        if room:
+            upper = v_cap * setup.spec.ballast.density / scale
+            bounds = np.column_stack([np.zeros(len(free)), upper])
         res = linprog(np.zeros(len(free)), A_eq=Ams, b_eq=bms, bounds=bounds, method="highs")
         return res.status != 2  # 2: HiGHS proved the program infeasible
 
