@@ -737,9 +737,7 @@ def _mass_binding(
     setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms
 ) -> Binding:
     """Why the second stage is infeasible: the carriers' mass, the ballast's room, or the
-    magnets' volume (each tried without the later ones)."""
-    import cvxpy as cp
-
+    magnets' volume (each tried without the later ones; feasibility LPs, HiGHS)."""
     Am, bm = setup.systems["masses"]
     free = np.setdiff1d(np.arange(len(setup.points)), carrier_sites)
     rhs = (
@@ -753,13 +751,13 @@ def _mass_binding(
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
 
     def feasible(room: bool) -> bool:
-        w = cp.Variable(len(free), nonneg=True)
-        cons = [Ams @ w == bms]
+        # w >= 0 (scaled ballast masses), Ams w = bms, and with room each mass within its cell
+        bounds: Any = (0, None)
         if room:
-            cons.append(w * scale / setup.spec.ballast.density <= v_cap)
-        prob = cp.Problem(cp.Minimize(0), cons)
-        prob.solve(solver=cp.CLARABEL)
-        return prob.status not in ("infeasible", "infeasible_inaccurate")
+            upper = v_cap * setup.spec.ballast.density / scale
+            bounds = np.column_stack([np.zeros(len(free)), upper])
+        res = linprog(np.zeros(len(free)), A_eq=Ams, b_eq=bms, bounds=bounds, method="highs")
+        return res.status != 2  # 2: HiGHS proved the program infeasible
 
     carriers_c = float(
         setup.carrier_mass * np.sum(np.sum(setup.points[carrier_sites, :2] ** 2, axis=1))
