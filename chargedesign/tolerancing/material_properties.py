@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.formatting import FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.errors import InputError
+from chargedesign.formatting import FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.budget import induced_reference
 from chargedesign.physical.induced import induced_energy
 from chargedesign.physical.limits import fibonacci_directions
@@ -265,9 +265,10 @@ def material_uncertainty(
 
     Each material's susceptibility, density and (magnets) magnetisation is drawn once per
     body (Gaussian, one standard deviation = the relative error). The figure reported is the
-    induced magnetisation's one figure (:func:`~chargedesign.physical.budget.induced_magnetisation`):
-    the range over orientations of the parts' induced energy over the smallest realised term
-    at the design's rate. Two routes: each perturbed body recomputed from its parts
+    induced magnetisation's one figure
+    (:func:`~chargedesign.physical.budget.induced_magnetisation`): the range over
+    orientations of the parts' induced energy over the smallest realised term at the
+    design's rate. Two routes: each perturbed body recomputed from its parts
     by the field (:func:`~chargedesign.physical.realism.field_response`, the Monte Carlo), and
     the exact sensitivity (the energy is linear in each part's chi v; its orientation part by
     the moment formula, :func:`~chargedesign.physical.induced.induced_energy`), to first order
