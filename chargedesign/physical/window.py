@@ -552,8 +552,9 @@ class RealisedWindow(Result):
             lines.append(
                 f"  designed at s = {fmt(c['s'], CELL)}: "
                 + (
-                    f"worst {c['worst']} {fmt(c['measured'], ROUGH)} of the fraction (law: "
-                    f"{fmt(c['predicted'], ROUGH)})"
+                    f"worst {c['worst']} "
+                    f"{parasitic_text(c['measured'] * self.fraction, self.term_key, c['s'])} "
+                    f"(law: {fmt(c['predicted'] * self.fraction, ROUGH)})"
                     if c.get("accepted")
                     else f"refused ({c.get('refused')})"
                 )
