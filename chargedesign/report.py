@@ -519,8 +519,9 @@ def _support_lines(window: WindowAtDesign | None) -> list[str]:
         f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
         f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support[KEY.drag_N_m_s])} "
         f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
-        f"{fmt(support['drag_over_term'] / window.fraction, ROUGH)} x the fraction of the "
-        f"smallest term, NOT counted in the verdict or the realised window above; it needs "
+        f"{parasitic_text(support['drag_over_term'], window.term_key, 1.0)} (limit "
+        f"{fmt(window.fraction, PLAIN)}), NOT counted in the verdict or the realised window "
+        f"above; it needs "
         f"{support['needs']} (its sources: Sources, below)."
     ]
 

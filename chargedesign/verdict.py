@@ -156,11 +156,13 @@ def _support(
     support = window.support if window is not None else None
     if not support:
         return {"style": None, "state": "none"}, [], []
-    over = support["drag_over_term"] / window.fraction  # type: ignore[union-attr]
+    assert window is not None  # a support is stated only with a window
+    term, fraction = window.term_key, window.fraction
+    over = support["drag_over_term"] / fraction
     item = _item(
         f"the {support['bearing']} air bearing's film drag",
         support["drag_over_term"],
-        window.fraction,  # type: ignore[union-attr]
+        window.fraction,
         "of the smallest realised term",
         over <= 1.0,
     )
@@ -174,7 +176,7 @@ def _support(
         "support: open (not counted)",
         item["name"],
         over,
-        f"{fmt(over, ROUGH)} x the fraction",
+        f"{parasitic_text(support['drag_over_term'], term, 1.0)}; limit {fmt(fraction, PLAIN)}",
         change,
     )
     return summary, [row], [item]

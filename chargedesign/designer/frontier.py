@@ -1109,7 +1109,7 @@ def _confirm_end(
             f"the design refuses s = {fmt(s, CELL)} ({entry['refused']})"
             if not entry["accepted"]
             else f"the body designed at s = {fmt(s, CELL)} measures {entry['worst']} "
-            f"{fmt(entry['measured'], ROUGH)} x the fraction"
+            f"{parasitic_text(entry['measured'] * options.fraction, window.term_key, s)}"
         )
         window.set_end(low, s * step if low else s / step, reason)
     if confirmed is not None:

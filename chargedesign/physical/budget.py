@@ -131,6 +131,30 @@ def induced_magnetisation(
     )
 
 
+def induced_reference(design: Any, parts_ok: bool | None = None) -> dict[str, Any] | None:
+    """The reference of the induced magnetisation's one figure: the smallest realised term at
+    the design's own rate (``s = 1``), for analyses that compute the same energy by another
+    route (the tolerance's Monte Carlo) and must state it over the same reference.
+
+    Returns
+    -------
+    dict or None
+        ``term`` (its key in the map), ``term_N_m``, ``s`` (1), ``unit`` (``"of the smallest
+        realised term"``), ``limit`` (the realised fraction); None when the figure is not
+        judged (as :func:`induced_magnetisation`).
+    """
+    model = _model_at_design(design, parts_ok)
+    if model is None or _induced_ratio(model, 1.0) is None:
+        return None
+    return {
+        "term": model.term_key,
+        "term_N_m": float(model.term_size),
+        "s": 1.0,
+        "unit": INDUCED_REFERENCE,
+        "limit": float(model.fraction),
+    }
+
+
 def _induced_ratio(model: WindowModel | None, s: float) -> float | None:
     """The window's induced item over its smallest realised term at rate ``s`` (None: no
     window judged, or no magnetic field): the one place the figure is computed."""

@@ -68,6 +68,7 @@ from chargedesign.physical.realism import material_parts, realisability_map, typ
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
+from chargedesign.scene.design_realism import parasitic_text
 from chargedesign.scene.keys import KEY, declared, default_of
 
 #: the default fraction of each designed term every parasitic must stay below
@@ -543,15 +544,17 @@ class RealisedWindow(Result):
         if self.support:
             lines.append(
                 f"  support (stated, not counted): {self.support['bearing']} air bearing, its "
-                f"film's drag {fmt(self.support['drag_over_term'] / self.fraction, ROUGH)} x the "
-                "fraction (the body the window was drawn from, at its typical rate)\n"
+                f"film's drag {parasitic_text(self.support['drag_over_term'], self.term_key, 1.0)} "
+                f"(limit {fmt(self.fraction, PLAIN)}; the body the window was drawn from, at its "
+                "own rate)\n"
             )
         for c in self.confirmed:
             lines.append(
                 f"  designed at s = {fmt(c['s'], CELL)}: "
                 + (
-                    f"worst {c['worst']} {fmt(c['measured'], ROUGH)} of the fraction (law: "
-                    f"{fmt(c['predicted'], ROUGH)})"
+                    f"worst {c['worst']} "
+                    f"{parasitic_text(c['measured'] * self.fraction, self.term_key, c['s'])} "
+                    f"(law: {fmt(c['predicted'] * self.fraction, ROUGH)})"
                     if c.get("accepted")
                     else f"refused ({c.get('refused')})"
                 )

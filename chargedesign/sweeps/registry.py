@@ -178,8 +178,10 @@ def run_tolerance(
             figures["I4_drift_median"] = data["I4_drift"][0]["monte_carlo"]["median"]
             figures["I4_drift_linear_median"] = data["I4_drift"][0]["linear"]["median"]
     if report.materials is not None:
-        induced = report.materials.to_dict()["induced_fraction"]["monte_carlo"]
-        figures["induced_fraction_p90"] = induced.get("p90")
+        induced = report.materials.to_dict()["induced_over_term"]["monte_carlo"]
+        figures["induced_over_term_p90"] = induced.get("p90")
+        # deprecated alias: the same value (over the smallest realised term at s = 1)
+        figures["induced_fraction_p90"] = figures["induced_over_term_p90"]
     write_json_atomic(point_dir / "tolerance.json", data)
     return figures
 

@@ -14,18 +14,20 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.errors import InputError
 from chargedesign.formatting import FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
+from chargedesign.physical.budget import induced_reference
 from chargedesign.physical.induced import induced_energy
 from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.materials import SUSCEPTIBILITY, SUSCEPTIBILITY_METROLOGY
 from chargedesign.physical.realism import (
-    RESPONSE_FRACTION,
     RESPONSE_ORIENTATIONS,
     field_response,
     material_parts,
     typical_rate,
 )
 from chargedesign.results import Result, json_ready
+from chargedesign.scene.design_realism import INDUCED_NAME, INDUCED_REFERENCE
 from chargedesign.scene.keys import KEY
 from chargedesign.tolerancing.common import (
     DEFAULT_MATERIAL_SAMPLES,
@@ -144,19 +146,24 @@ class MaterialUncertainty(Result):
     materials : list of str
         ``role name`` of each material with a known susceptibility.
     sensitivity : ndarray, shape (materials,)
-        Range over orientations of each material's induced energy over the designed torques
-        x 1 rad: the parasitic a relative error of 1 in its chi v leaves (exact: the energy is
-        linear in chi v).
+        Range over orientations of each material's induced energy over the smallest realised
+        term at the design's rate (the reference of the induced magnetisation's one figure,
+        :func:`~chargedesign.physical.budget.induced_magnetisation`): the parasitic a relative
+        error of 1 in its chi v leaves (exact: the energy is linear in chi v).
     nominal : float
-        The design's own induced fraction (field_response; its round-off floor).
+        The design's own induced magnetisation over that term (the one figure's value, by the
+        field route; its round-off floor).
     monte_carlo, linear : ndarray, shape (samples,)
-        The induced fraction of each perturbed body: recomputed from its parts by the field
-        (:func:`~chargedesign.physical.realism.field_response`), and to first order from the
-        sensitivity (moment formula).
+        The induced magnetisation of each perturbed body over that term: recomputed from its
+        parts by the field (:func:`~chargedesign.physical.realism.field_response`), and to
+        first order from the sensitivity (moment formula).
     chi_needed, chi_negligible : float
         The relative accuracy of every material's chi (one standard deviation) at which the
-        parasitic stays below the designed torques, and below ``RESPONSE_FRACTION`` of them,
-        for 90 % of the batches (first order).
+        parasitic stays below the smallest realised term, and below the realised fraction of
+        it (the one figure's limit), for 90 % of the batches (first order).
+    reference : dict
+        The reference (:func:`~chargedesign.physical.budget.induced_reference`): ``term``,
+        ``term_N_m``, ``s``, ``unit``, ``limit``.
     """
 
     errors: MaterialErrors
@@ -167,6 +174,7 @@ class MaterialUncertainty(Result):
     linear: np.ndarray
     chi_needed: float
     chi_negligible: float
+    reference: dict[str, Any]
 
     @property
     def agreement(self) -> float:
@@ -181,27 +189,37 @@ class MaterialUncertainty(Result):
         reach = "within" if self.chi_needed >= metrology else "beyond"
         return (
             f"the susceptibilities must be known to {fmt(self.chi_needed, ROUGH)} (relative, one "
-            f"standard deviation) for the induced parasitic to stay below the designed torques "
-            f"in 90 % of the batches ({fmt(self.chi_negligible, ROUGH)} for it to be negligible); "
+            f"standard deviation) for the induced magnetisation to stay below the smallest "
+            f"realised term ({self._term()}) in 90 % of the batches "
+            f"({fmt(self.chi_negligible, ROUGH)} for it to be below the limit "
+            f"{fmt(self.reference['limit'], PLAIN)} of it, negligible); "
             f"susceptibility metrology reaches about {fmt(metrology, ORDER_SCI)} (calibrated ac "
             f"susceptometers, Chen & Skumryev 2010; SQUID magnetometers at percent level): "
             f"{reach} reach"
         )
 
+    def _term(self) -> str:
+        return f"{self.reference['term']} at s = {fmt(self.reference['s'], ROUGH)}"
+
     def to_dict(self) -> dict[str, Any]:
+        sensitivity = dict(zip(self.materials, self.sensitivity.tolist(), strict=True))
+        induced = {
+            "monte_carlo": quantile_summary(self.monte_carlo),
+            "linear": quantile_summary(self.linear),
+        }
         return json_ready(
             {
                 "errors": self.errors.to_dict(),
                 "samples": len(self.monte_carlo),
                 "materials": list(self.materials),
-                "sensitivity_fraction_per_unit_error": dict(
-                    zip(self.materials, self.sensitivity.tolist(), strict=True)
-                ),
+                "reference": dict(self.reference),
+                "sensitivity_over_term_per_unit_error": sensitivity,
+                "nominal_induced_over_term": self.nominal,
+                "induced_over_term": induced,
+                # deprecated aliases (same values, same reference as the keys above)
+                "sensitivity_fraction_per_unit_error": sensitivity,
                 "nominal_induced_fraction": self.nominal,
-                "induced_fraction": {
-                    "monte_carlo": quantile_summary(self.monte_carlo),
-                    "linear": quantile_summary(self.linear),
-                },
+                "induced_fraction": induced,
                 "agreement": self.agreement,
                 "chi_relative_needed": self.chi_needed,
                 "chi_relative_negligible": self.chi_negligible,
@@ -213,7 +231,7 @@ class MaterialUncertainty(Result):
     def _summary(self) -> dict[str, Any]:
         return {
             "samples": len(self.monte_carlo),
-            "induced_fraction_p90": float(np.quantile(self.monte_carlo, 0.9)),
+            "induced_over_term_p90": float(np.quantile(self.monte_carlo, 0.9)),
             "chi_relative_needed": self.chi_needed,
         }
 
@@ -223,7 +241,7 @@ class MaterialUncertainty(Result):
             "Material properties (errors at one standard deviation, one draw per material: "
             + ", ".join(f"{k} {fmt(v, PLAIN)}" for k, v in self.errors.to_dict().items())
             + f"; {len(self.monte_carlo)} bodies):",
-            f"induced-magnetisation parasitic over the designed torques: median "
+            f"{INDUCED_NAME} {INDUCED_REFERENCE} ({self._term()}): median "
             f"{fmt(mc['median'])}, p90 {fmt(mc['p90'])} (Monte Carlo, field at each part); "
             f"median {fmt(lin['median'])}, p90 {fmt(lin['p90'])} (first order); the two agree "
             f"to {fmt(self.agreement, FLOOR)}; the design as it is: {fmt(self.nominal)}",
@@ -246,9 +264,11 @@ def material_uncertainty(
     """The induced-magnetisation parasitic left by the materials' property errors.
 
     Each material's susceptibility, density and (magnets) magnetisation is drawn once per
-    body (Gaussian, one standard deviation = the relative error). The fraction reported is
-    the range over orientations of the parts' induced energy over the designed torques x
-    1 rad, as in the realism budget. Two routes: each perturbed body recomputed from its parts
+    body (Gaussian, one standard deviation = the relative error). The figure reported is the
+    induced magnetisation's one figure
+    (:func:`~chargedesign.physical.budget.induced_magnetisation`): the range over
+    orientations of the parts' induced energy over the smallest realised term at the
+    design's rate. Two routes: each perturbed body recomputed from its parts
     by the field (:func:`~chargedesign.physical.realism.field_response`, the Monte Carlo), and
     the exact sensitivity (the energy is linear in each part's chi v; its orientation part by
     the moment formula, :func:`~chargedesign.physical.induced.induced_energy`), to first order
@@ -274,15 +294,26 @@ def material_uncertainty(
     rate = typical_rate(design.parameters)
     legendre = tuple(design.field("magnetic"))
     check_material_motion(rate, legendre)
+    # the reference is stated for any body, also one whose parts are outside their limits
+    reference = induced_reference(design, parts_ok=True)
+    if reference is None:
+        raise InputError(
+            "material errors: this body's realised window has no induced-magnetisation item "
+            "(no magnetic field acts on its parts)"
+        )
+    # field_response states the energy over C omega^2 / 4; the one figure's reference is the
+    # smallest realised term at s = 1, so every ratio below is over that term
     torque = design.parameters.C * rate**2 / 4.0
+    per_term = torque / reference["term_N_m"]
     gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
     per = np.zeros((len(groups), len(gammas)))
     for part in parts:
         j = groups.index((part["role"], part["name"]))
         per[j] += induced_energy(legendre, part["centres"], part["chi"] * part["volumes"], gammas)
-    sensitivity = np.ptp(per, axis=1) / torque
+    term = reference["term_N_m"]
+    sensitivity = np.ptp(per, axis=1) / term
     base = field_response(design)["induced_magnetisation_fraction"]["value"]
-    nominal = float(base) if base is not None else math.inf
+    nominal = float(base) * per_term if base is not None else math.inf
     nominal_energy = per.sum(axis=0)
     rng = np.random.default_rng(seed)
     draws = {
@@ -299,16 +330,16 @@ def material_uncertainty(
     delta = draws[KEY.chi_relative].copy()
     for j, key in enumerate(volume_error):
         delta[:, j] -= draws[key][:, j]
-    linear = np.ptp(nominal_energy[None] + delta @ per, axis=1) / torque
+    linear = np.ptp(nominal_energy[None] + delta @ per, axis=1) / term
     monte_carlo = np.empty(samples)
     for b in range(samples):
         body = _perturbed_materials(design, groups, {k: v[b] for k, v in draws.items()})
         value = field_response(body)["induced_magnetisation_fraction"]["value"]
-        monte_carlo[b] = math.inf if value is None else value
+        monte_carlo[b] = math.inf if value is None else value * per_term
     # the chi accuracy needed: the first-order parasitic is homogeneous of degree 1 in the
     # errors, so unit chi errors give it per unit accuracy (90 % of the batches)
     unit = np.random.default_rng([seed, 2]).standard_normal((max(samples, 1000), len(groups)))
-    p90 = float(np.quantile(np.ptp(unit @ per, axis=1), 0.9)) / torque
+    p90 = float(np.quantile(np.ptp(unit @ per, axis=1), 0.9)) / term
     needed = 1.0 / p90 if p90 > 0 else math.inf
     return MaterialUncertainty(
         errors=errors,
@@ -318,7 +349,8 @@ def material_uncertainty(
         monte_carlo=monte_carlo,
         linear=linear,
         chi_needed=needed,
-        chi_negligible=RESPONSE_FRACTION * needed,
+        chi_negligible=reference["limit"] * needed,
+        reference=reference,
     )
 
 
