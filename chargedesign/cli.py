@@ -16,7 +16,7 @@ import re
 import sys
 from collections.abc import Callable, Sequence
 from types import ModuleType
-from typing import Any
+from typing import Any, NoReturn
 
 from chargedesign.commands.arguments import ARGUMENTS
 from chargedesign.errors import ChargeDesignError, InputError
@@ -51,6 +51,11 @@ class Parser(argparse.ArgumentParser):
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message: str) -> NoReturn:
+        """A usage mistake in one line, as every other bad input gets (argparse's own
+        prints the whole usage first); ``--help`` still prints it."""
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 #: a negative number in any float spelling: -3, -0.3, -.3, -3., -3e-1, -3.0E+2
