@@ -10,10 +10,17 @@ import sys
 
 def imports_module(code: str, module: str = "sympy") -> bool:
     """Whether running ``code`` in a fresh Python imports ``module``."""
-    probe = f"import sys\n{code}\nprint({module!r} in sys.modules)\n"
+    return module in imported_of(code, (module,))
+
+
+def imported_of(code: str, modules: tuple[str, ...]) -> set[str]:
+    """Which of ``modules`` running ``code`` in a fresh Python imports (one interpreter)."""
+    probe = f"import sys\n{code}\nprint(sorted(m for m in {modules!r} if m in sys.modules))\n"
     out = subprocess.run(
         [sys.executable, "-c", probe], capture_output=True, text=True, check=True, timeout=120
     )
     answer = out.stdout.strip().splitlines()[-1]
-    assert answer in ("True", "False"), out.stdout
-    return answer == "True"
+    assert answer.startswith("[") and answer.endswith("]"), out.stdout
+    found = {name.strip().strip("'") for name in answer[1:-1].split(",") if name.strip()}
+    assert found <= set(modules), out.stdout
+    return found

@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 from scipy import sparse
-from scipy.optimize import linprog
 
 from chargedesign.constants import COULOMB
 from chargedesign.designer.cone_program import ConeProgram
@@ -128,6 +127,8 @@ def lp_charges(
 
 def _whole_lp(As: np.ndarray, bs: np.ndarray, cap: np.ndarray, c: np.ndarray) -> np.ndarray | None:
     """The scaled LP on every column by HiGHS: ``u`` (None: infeasible)."""
+    from scipy.optimize import linprog
+
     k = len(c)
     res = linprog(
         np.tile(c, 2),
@@ -163,6 +164,8 @@ def lp_by_columns(
     in_work[np.concatenate(picks)] = True
     eye = np.eye(m)
     step = max(2 * m, 40)
+    from scipy.optimize import linprog
+
     for _ in range(LP_COLUMN_ROUNDS):
         work = np.flatnonzero(in_work)
         k = len(work)

@@ -16,7 +16,6 @@ from typing import Any
 
 import numpy as np
 from scipy import sparse
-from scipy.optimize import linprog
 
 from chargedesign.designer.mass_columns import MassData, solve_by_columns
 from chargedesign.designer.physical_setup import (
@@ -431,6 +430,8 @@ def _one_material_per_cell(
     and the LP solved again."""
     J, k = len(mats), room.shape[0]
     allowed = np.ones(J * k, dtype=bool)
+    from scipy.optimize import linprog
+
     for _ in range(6):
         res = linprog(
             cost,

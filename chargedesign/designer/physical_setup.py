@@ -19,7 +19,6 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
@@ -242,6 +241,8 @@ def _magnet_sites(
 def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
     """Each candidate's cell radius (half its nearest neighbour's distance) and the spacing."""
     check_physical_candidates(len(points))
+    from scipy.spatial import cKDTree
+
     dist, _ = cKDTree(points).query(points, k=2)
     return 0.5 * dist[:, 1], float(np.min(dist[:, 1]))
 

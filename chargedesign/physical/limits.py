@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.coulomb import coulomb_field
@@ -321,6 +320,8 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         violations.append(f"charge {point_carriers[0]}: a point charge has no carrier")
     centres, part_r = part_radii(design)
     if len(centres) > 1:
+        from scipy.spatial import cKDTree
+
         tree = cKDTree(centres)
         pairs = tree.query_pairs(2.0 * float(part_r.max()), output_type="ndarray")
         if len(pairs):
