@@ -9,6 +9,9 @@ PIP    := $(PY) -m pip --disable-pip-version-check -q
 $(VENV)/.base: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PIP) install -e .
+	# this machine sets PYTHONDONTWRITEBYTECODE, so without this every command compiles the
+	# package anew (about 0.3 s of CPU per command, docs/benchmarks.md "Start-up")
+	$(PY) -m compileall -q chargedesign
 	touch $@
 
 $(VENV)/.test: pyproject.toml $(VENV)/.base
