@@ -60,12 +60,7 @@ from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
-from chargedesign.validation import (
-    check_design_sources,
-    check_instance,
-    check_realise_agrees,
-    check_robust_parameters,
-)
+from chargedesign.validation import check_instance
 from chargedesign.verdict import verdict_record
 
 #: the frontier of a scene without ``[medium]``
@@ -121,8 +116,8 @@ def _with_robust_costs(
     """``p`` with the robust objective's costs when its source is designed robustly."""
     if options.objective_for(p.source) != "robust":
         return p
-    check_robust_parameters("robust", p.source, params)
-    assert params is not None
+    if params is None:  # a robust objective is costed at the theorem's parameters
+        raise InputError(f"design.objective: robust {p.source} need the parameters (params=)")
     costs = robust_costs(points, p.source, conditions.fields, params, options.robust_weight)
     return p.with_costs(costs)
 
@@ -309,7 +304,11 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
     """The inertia terms realised: the conditions', unless the options name (the same) ones."""
     realise = tuple(conditions.realise) if conditions.realise else ()
     if options.realise is not None:
-        check_realise_agrees(conditions.realise, options.realise)
+        if conditions.realise and set(options.realise) != set(conditions.realise):
+            raise InputError(
+                f"design.realise: the conditions realise {list(conditions.realise)}, the "
+                f"options ask for {list(options.realise)}"
+            )
         realise = options.realise
     return realise
 
@@ -317,9 +316,13 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
 def _sources_present(conditions: LinearConditions, options: DesignOptions) -> list[str]:
     """The sources the conditions ask for; options about charges or masses need them."""
     sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    check_design_sources(
-        sources_present, options.total_charge, options.n_charges, options.total_mass
-    )
+    # a [design] total or count for a source the conditions do not design is refused
+    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if options.n_charges is not None and "charges" not in sources_present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if options.total_mass is not None and "masses" not in sources_present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
     return sources_present
 
 
