@@ -50,7 +50,6 @@ from chargedesign.moment_conditions import (
     SOURCES,
     LinearConditions,
     derive_conditions,
-    realise_from_scene,
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.budget import judge_at_frontier
@@ -62,6 +61,7 @@ from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
 from chargedesign.validation import check_instance
 from chargedesign.verdict import verdict_record
+from chargedesign.vocabulary import REALISABLE
 
 #: the frontier of a scene without ``[medium]``
 NO_MEDIUM = (
@@ -800,7 +800,8 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
     candidates = candidates_from_table(body, base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
-    realise = options.realise if options.realise is not None else realise_from_scene(scene)
+    # the options are the scene's [design] read once (with the overrides): all three by default
+    realise = options.realise if options.realise is not None else REALISABLE
     size = candidates.geometry.size
     length = size if size > 0 else None
     if model.theorem is not None:
@@ -854,8 +855,9 @@ def frontier_from_scene(
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
     physical setup and the frontier, which calls the design (never the other way round).
     ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
-    window too (None: not); ``rtol``, ``checks``, ``law`` as there."""
-    setup = physical_setup_from_scene(scene, **overrides)
-    if setup is None:
+    window too (None: not); ``rtol``, ``checks``, ``law`` as there. The scene is read once,
+    into typed inputs (:class:`SceneInputs`); the setup and the frontier take those."""
+    if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
+    setup = _scene_inputs(scene, None, overrides).physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
