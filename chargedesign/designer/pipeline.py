@@ -859,5 +859,6 @@ def frontier_from_scene(
     into typed inputs (:class:`SceneInputs`); the setup and the frontier take those."""
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
-    setup = _scene_inputs(scene, None, overrides).physical_setup()
+    inputs = _scene_inputs(scene, None, overrides)
+    setup = inputs.physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
