@@ -807,9 +807,9 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
     if model.theorem is not None:
         conditions = derive_conditions(params, scene.fields, realise, length=length)
     else:
-        from chargedesign.designer.case_design import case_conditions  # sympy: a case only
+        from chargedesign.designer.case_design import conditions_of_case  # sympy: a case only
 
-        conditions = case_conditions(scene, length=length)
+        conditions = conditions_of_case(model.case, scene.fields, length)
     return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec, model)
 
 
