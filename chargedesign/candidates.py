@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.errors import InputError
 from chargedesign.files import import_held
 from chargedesign.formatting import CELL, PRECISE, ROUGH, fmt
 from chargedesign.limits import MAX_CANDIDATES as MAX_CANDIDATES
@@ -34,13 +35,7 @@ from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.tables import RegionSpec, region_from_table
-from chargedesign.validation import (
-    as_array,
-    as_point_set,
-    check_candidate_points,
-    check_closed_surface,
-    check_lattice_steps,
-)
+from chargedesign.validation import as_array, as_point_set, check_closed_surface, input_error
 from chargedesign.vocabulary import BODY_SHAPES
 
 SHAPES = BODY_SHAPES
@@ -277,7 +272,10 @@ def lattice_in(
     counts = hi_steps - lo_steps + 1
     if np.any(counts <= 0):
         return np.zeros((0, 3))
-    check_lattice_steps(float(np.prod(counts)), spacing)
+    if not float(np.prod(counts)) <= 8 * MAX_CANDIDATES:  # a nan count is refused too
+        raise input_error(
+            "body.spacing", f"a spacing giving at most {MAX_CANDIDATES} candidates", spacing
+        )
     lo, hi = lo_steps.astype(np.int64), hi_steps.astype(np.int64)
     axes = [np.arange(lo[i], hi[i] + 1) * spacing for i in range(3)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
@@ -538,7 +536,12 @@ def _candidate_set(
 ) -> CandidateSet:
     """The set of a shape's points: size checked, geometry measured, planarity named."""
     shape = desc["shape"]
-    check_candidate_points(len(pts), shape)
+    if len(pts) == 0:
+        raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
+    if len(pts) > MAX_CANDIDATES:
+        raise input_error(
+            "body", f"at most {MAX_CANDIDATES} candidates (a coarser spacing)", len(pts)
+        )
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     lattice = desc.get("spacing") if shape in ("ball", "box", "cylinder") else None
     geometry = geometry_of(pts, spacing=lattice)

@@ -29,9 +29,8 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import InputError
-from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import (
-    MAX_CANDIDATES,
     MAX_DESIGN_ELEMENTS,
     MAX_FIELD_DEGREE,
     MAX_TOLERANCE_SAMPLES,
@@ -238,83 +237,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
 # ------------------------------------------------------- a design's options, one against another
 
 
-def check_design_sources(
-    present: Sequence[str], total_charge: Any, n_charges: Any, total_mass: Any
-) -> None:
-    """Refuse a ``[design]`` total or count for a source the conditions do not design."""
-    if total_charge not in (None, 0.0) and "charges" not in present:
-        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
-    if n_charges is not None and "charges" not in present:
-        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
-    if total_mass is not None and "masses" not in present:
-        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
-
-
-def check_realise_agrees(conditions_realise: Sequence[str], options_realise: Any) -> None:
-    """Refuse ``design.realise`` naming other terms than the conditions realise."""
-    if (
-        options_realise is not None
-        and conditions_realise
-        and set(options_realise) != set(conditions_realise)
-    ):
-        raise InputError(
-            f"design.realise: the conditions realise {list(conditions_realise)}, the "
-            f"options ask for {list(options_realise)}"
-        )
-
-
-def check_robust_parameters(objective: str, source: str, params: Any) -> None:
-    """A robust objective is costed at the theorem's parameters: refuse it without them."""
-    if objective == "robust" and params is None:
-        raise InputError(f"design.objective: robust {source} need the parameters (params=)")
-
-
-def check_physical_options(
-    objectives: Mapping[str, str],
-    allowed: Sequence[str],
-    realise: Sequence[str],
-    total_charge: Any,
-    n_charges: Any,
-) -> None:
-    """The ``[design]`` options a physical design takes (one line naming the one it does
-    not): the objective of each source among ``allowed``, the inertia realised, no charge
-    total or count."""
-    for source, objective in objectives.items():
-        if objective not in allowed:
-            raise InputError(
-                f"design.objective: {objective!r} for {source} is not "
-                "available with [medium] (expected " + " or ".join(allowed) + ")"
-            )
-    if "inertia" not in realise:
-        raise InputError(
-            "design.realise: a physical design realises the inertia (every part has mass)"
-        )
-    if total_charge is not None or n_charges is not None:
-        raise InputError(
-            "design.total_charge / n_charges: not available with [medium] (the carriers' "
-            "limits decide the charges)"
-        )
-
-
-def check_carrier_radius(radius: float, spacing: float) -> None:
-    """The scene's carrier radius below half the candidate spacing (carriers cannot touch)."""
-    if radius >= 0.5 * spacing:
-        raise InputError(
-            f"body.carrier_radius: expected below half the candidate spacing "
-            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(radius, PLAIN)}"
-        )
-
-
-def check_field_reach(kind: str, top: float, limit: float, region: float) -> None:
-    """The scene's ``kind`` field, reaching ``top`` over the body region, within its ``max``."""
-    if top > limit:
-        raise InputError(
-            f"fields.{kind}.max: the scene's {kind} field already reaches {fmt(top, PRECISE)}"
-            " over the "
-            f"body region (radius {fmt(region, PRECISE)} m), above max = {fmt(limit, PLAIN)}"
-        )
-
-
 def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> None:
     """A physical design's candidates: at least two (each cell is half the nearest
     neighbour's distance). ``body`` (the ``[body]`` table) lets the line say why: a spacing
@@ -331,23 +253,6 @@ def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> 
                 f"of {fmt(max(sizes), PLAIN)} m gives {n}; give a spacing well below its size"
             )
         raise InputError(f"body: a physical design needs at least two candidate points{why}")
-
-
-def check_candidate_points(n: int, shape: Any) -> None:
-    """A shape's candidate set: at least one point, at most the cap."""
-    if n == 0:
-        raise InputError(f"body: shape {shape!r} with these sizes holds no candidate point")
-    if n > MAX_CANDIDATES:
-        raise input_error("body", f"at most {MAX_CANDIDATES} candidates (a coarser spacing)", n)
-
-
-def check_lattice_steps(steps: float, spacing: Any) -> None:
-    """A lattice's point count (counted in floats, before any integer is made) within the
-    cap; a nan count is refused too."""
-    if not steps <= 8 * MAX_CANDIDATES:
-        raise input_error(
-            "body.spacing", f"a spacing giving at most {MAX_CANDIDATES} candidates", spacing
-        )
 
 
 def as_point_set(value: Any, name: str) -> np.ndarray:

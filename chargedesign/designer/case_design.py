@@ -13,14 +13,14 @@ general case its realism budget and realised window at the case's typical rate.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from chargedesign.body import Design
 from chargedesign.designer.case_elements import case_checks
 from chargedesign.designer.case_masses import mass_conditions
 from chargedesign.designer.result import DesignResult
-from chargedesign.errors import InfeasibleError, InputError
+from chargedesign.errors import InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.model.case_numeric import case_functions, case_record
 from chargedesign.moment_conditions import LinearConditions, scene_length
@@ -35,27 +35,47 @@ CaseDesignResult = DesignResult
 CaseElementsResult = DesignResult
 
 
-def case_gravity(scene: Scene) -> float:
-    """The uniform gravity g (m/s^2) a case scene designs in: ``[fields.gravity]``'s first
-    Legendre coefficient, else standard gravity. A gravity gradient is derived from the case
-    (:func:`chargedesign.designer.case_masses.gradient_strength`), so a scene may not give one;
-    electric and magnetic fields act on no mass and are refused."""
-    return case_refusals.case_gravity(scene.fields)
-
-
 def case_conditions(scene: Scene, length: float | None = None) -> LinearConditions:
-    """The linear conditions of a scene's ``[case]``: the masses' in gravity when masses
-    alone realise it, else the charges', dipoles' and masses' of the conditions engine (one-line
-    refusal of what no supported field realises): what ``chargedesign conditions CASE_SCENE``
+    """The linear conditions of a scene's ``[case]`` (:func:`conditions_of_case`; ``length``
+    None: the scene's own, from its ``[body]``): what ``chargedesign conditions CASE_SCENE``
     prints."""
     if scene.case is None:
         raise ValueError(f"{scene.source}: no [case] table")  # callers route [case] scenes only
-    if masses_realise(scene):
-        return mass_conditions(scene.case, case_gravity(scene))
-    given = {kind: tuple(v) for kind, v in scene.fields.items()}
+    masses = _masses_conditions(scene.case, scene.fields)
+    if masses is not None:
+        return masses
     if length is None:
         length, _ = scene_length(scene)
-    return derive_case_conditions(scene.case, given or None, length=length)
+    return _engine_conditions(scene.case, scene.fields, length)
+
+
+def conditions_of_case(
+    case: Any, fields: Mapping[str, Sequence[float]], length: float | None
+) -> LinearConditions:
+    """The linear conditions of a case with the scene's fields (as the scene read them once):
+    the masses' in gravity when masses alone realise it (l = 0, V of degree <= 2 with its
+    quadratic part the inertia's, only ``[fields.gravity]`` given), else the charges',
+    dipoles' and masses' of the conditions engine (one-line refusal of what no supported field
+    realises)."""
+    masses = _masses_conditions(case, fields)
+    return masses if masses is not None else _engine_conditions(case, fields, length)
+
+
+def _masses_conditions(case: Any, fields: Mapping[str, Sequence[float]]) -> LinearConditions | None:
+    """The masses' conditions in the scene's uniform gravity (None: masses alone do not
+    realise the case); the masses' own refusal (a broken triangle inequality) is raised."""
+    try:
+        return mass_conditions(case, case_refusals.case_gravity(fields))
+    except InputError:
+        return None
+
+
+def _engine_conditions(
+    case: Any, fields: Mapping[str, Sequence[float]], length: float | None
+) -> LinearConditions:
+    """The conditions engine's charges, dipoles and masses of a case."""
+    given = {kind: tuple(v) for kind, v in fields.items()}
+    return derive_case_conditions(case, given or None, length=length)
 
 
 def record_realism(design: Design, case: Any) -> None:
@@ -75,21 +95,6 @@ def record_realism(design: Design, case: Any) -> None:
         "fraction": window.fraction,
         "notes": list(window.notes),
     }
-
-
-def masses_realise(scene: Scene) -> bool:
-    """Whether masses in gravity alone realise the scene's case (l = 0, V of degree <= 2 with
-    its quadratic part the inertia's, only ``[fields.gravity]`` given): the masses' path.
-    Any other case goes to the conditions engine's charges, dipoles and masses."""
-    if scene.case is None:
-        return False
-    try:
-        mass_conditions(scene.case, case_gravity(scene))
-    except InputError:
-        return False
-    except InfeasibleError:
-        return True  # the masses' own refusal (a broken triangle inequality) is the reason
-    return True
 
 
 def record_case(
@@ -129,8 +134,7 @@ __all__ = [
     "CaseDesignResult",
     "CaseElementsResult",
     "case_conditions",
-    "case_gravity",
-    "masses_realise",
+    "conditions_of_case",
     "record_case",
     "record_realism",
 ]

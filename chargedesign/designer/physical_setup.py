@@ -25,19 +25,14 @@ from chargedesign.constants import EPSILON_0
 from chargedesign.designer.robust import robust_costs
 from chargedesign.designer.solvers import least_norm
 from chargedesign.errors import InfeasibleError, InputError
-from chargedesign.formatting import fmt
+from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
-from chargedesign.validation import (
-    check_carrier_radius,
-    check_field_reach,
-    check_physical_candidates,
-    check_physical_options,
-)
+from chargedesign.validation import check_physical_candidates
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
@@ -94,6 +89,9 @@ class PhysicalSetup:
     electric: tuple[float, ...] = ()
     e_grid: np.ndarray = field(default_factory=lambda: np.zeros(0))
     e_grid_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: the largest rate the apparatus' electric-field limit allows (inf: no limit); computed
+    #: once, where the setup is made
+    rate_bound: float = math.inf
     #: per-candidate objective costs of the sources designed robustly (others cost 1)
     costs: dict[str, np.ndarray] = field(default_factory=dict)
     #: candidates where a magnet keeps its magnetisation: the largest |B| over its cell stays
@@ -141,12 +139,9 @@ class PhysicalSetup:
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
 
     def field_bound(self, s: float) -> float:
-        """Largest rate the apparatus' electric-field limit allows (inf: no limit)."""
-        limit = self.spec.field_limits.get("electric")
-        if limit is None or not self.electric:
-            return math.inf
-        top = float(field_magnitude_max(self.electric, np.array([self.region_radius]))[0])
-        return limit / top if top > 0 else math.inf
+        """Largest rate the apparatus' electric-field limit allows (inf: no limit); the same
+        at every rate (:attr:`rate_bound`)."""
+        return self.rate_bound
 
 
 #: [design] options the physical program does not read: each is refused with [medium] (the
@@ -175,15 +170,26 @@ def refuse_unread_options(options: DesignOptions) -> None:
 
 
 def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
-    """The [design] options a physical design takes (one line naming the one it does not)."""
+    """The [design] options a physical design takes (one line naming the one it does not):
+    the objective of each source among :data:`PHYSICAL_OBJECTIVES`, the inertia realised, no
+    charge total or count."""
     refuse_unread_options(options)
-    check_physical_options(
-        {s: options.objective_for(s) for s in ("charges", "dipoles", "masses")},
-        PHYSICAL_OBJECTIVES,
-        options.realise or conditions.realise,
-        options.total_charge,
-        options.n_charges,
-    )
+    for source in ("charges", "dipoles", "masses"):
+        objective = options.objective_for(source)
+        if objective not in PHYSICAL_OBJECTIVES:
+            raise InputError(
+                f"design.objective: {objective!r} for {source} is not "
+                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
+            )
+    if "inertia" not in (options.realise or conditions.realise):
+        raise InputError(
+            "design.realise: a physical design realises the inertia (every part has mass)"
+        )
+    if options.total_charge is not None or options.n_charges is not None:
+        raise InputError(
+            "design.total_charge / n_charges: not available with [medium] (the carriers' "
+            "limits decide the charges)"
+        )
 
 
 def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
@@ -192,7 +198,11 @@ def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
     a = spec.carrier_radius
     if a is None:
         return CARRIER_RADIUS_FRACTION * spacing
-    check_carrier_radius(a, spacing)
+    if a >= 0.5 * spacing:
+        raise InputError(
+            f"body.carrier_radius: expected below half the candidate spacing "
+            f"({fmt(0.5 * spacing, PRECISE)} m) so carriers cannot touch, got {fmt(a, PLAIN)}"
+        )
     return float(a)
 
 
@@ -204,7 +214,12 @@ def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region
         if kind == "electric" or not coeffs:
             continue
         top = float(field_magnitude_max(coeffs, np.array([region]))[0])
-        check_field_reach(kind, top, limit, region)
+        if top > limit:
+            raise InputError(
+                f"fields.{kind}.max: the scene's {kind} field already reaches "
+                f"{fmt(top, PRECISE)} over the body region (radius {fmt(region, PRECISE)} m), "
+                f"above max = {fmt(limit, PLAIN)}"
+            )
 
 
 def _magnet_sites(
@@ -248,13 +263,19 @@ def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def _electric_grid(
-    conditions: LinearConditions, region: float
-) -> tuple[tuple[float, ...], np.ndarray, np.ndarray]:
-    """The electric field's coefficients, and its largest magnitude on radii out to ``region``."""
+    spec: PhysicalSpec, conditions: LinearConditions, region: float
+) -> tuple[tuple[float, ...], np.ndarray, np.ndarray, float]:
+    """The electric field's coefficients, its largest magnitude on radii out to ``region``,
+    and the largest rate the apparatus' electric-field limit allows (inf: no limit)."""
     electric = tuple(conditions.fields.get("electric", ()))
     grid = np.linspace(0.0, region, 513)
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
-    return electric, grid, values
+    limit = spec.field_limits.get("electric")
+    bound = math.inf
+    if limit is not None and electric:
+        top = float(field_magnitude_max(electric, np.array([region]))[0])
+        bound = limit / top if top > 0 else math.inf
+    return electric, grid, values, bound
 
 
 def setup_physical(
@@ -286,7 +307,7 @@ def setup_physical(
         if options.objective_for(source) == "robust"
     }
     magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
-    electric, grid, values = _electric_grid(conditions, region)
+    electric, grid, values, bound = _electric_grid(spec, conditions, region)
     return PhysicalSetup(
         params=params,
         conditions=conditions,
@@ -302,6 +323,7 @@ def setup_physical(
         electric=electric,
         e_grid=grid,
         e_grid_values=values,
+        rate_bound=bound,
         costs=costs,
         magnet_sites=magnet_sites,
         larmor=larmor,

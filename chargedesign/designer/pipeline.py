@@ -50,7 +50,6 @@ from chargedesign.moment_conditions import (
     SOURCES,
     LinearConditions,
     derive_conditions,
-    realise_from_scene,
 )
 from chargedesign.params import Parameters
 from chargedesign.physical.budget import judge_at_frontier
@@ -60,13 +59,9 @@ from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
-from chargedesign.validation import (
-    check_design_sources,
-    check_instance,
-    check_realise_agrees,
-    check_robust_parameters,
-)
+from chargedesign.validation import check_instance
 from chargedesign.verdict import verdict_record
+from chargedesign.vocabulary import REALISABLE
 
 #: the frontier of a scene without ``[medium]``
 NO_MEDIUM = (
@@ -121,8 +116,8 @@ def _with_robust_costs(
     """``p`` with the robust objective's costs when its source is designed robustly."""
     if options.objective_for(p.source) != "robust":
         return p
-    check_robust_parameters("robust", p.source, params)
-    assert params is not None
+    if params is None:  # a robust objective is costed at the theorem's parameters
+        raise InputError(f"design.objective: robust {p.source} need the parameters (params=)")
     costs = robust_costs(points, p.source, conditions.fields, params, options.robust_weight)
     return p.with_costs(costs)
 
@@ -309,7 +304,11 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
     """The inertia terms realised: the conditions', unless the options name (the same) ones."""
     realise = tuple(conditions.realise) if conditions.realise else ()
     if options.realise is not None:
-        check_realise_agrees(conditions.realise, options.realise)
+        if conditions.realise and set(options.realise) != set(conditions.realise):
+            raise InputError(
+                f"design.realise: the conditions realise {list(conditions.realise)}, the "
+                f"options ask for {list(options.realise)}"
+            )
         realise = options.realise
     return realise
 
@@ -317,9 +316,13 @@ def _realised(conditions: LinearConditions, options: DesignOptions) -> tuple[str
 def _sources_present(conditions: LinearConditions, options: DesignOptions) -> list[str]:
     """The sources the conditions ask for; options about charges or masses need them."""
     sources_present = [s for s in SOURCES if conditions.for_source(s)]
-    check_design_sources(
-        sources_present, options.total_charge, options.n_charges, options.total_mass
-    )
+    # a [design] total or count for a source the conditions do not design is refused
+    if options.total_charge not in (None, 0.0) and "charges" not in sources_present:
+        raise InputError("design.total_charge: no charges are designed (no charge conditions)")
+    if options.n_charges is not None and "charges" not in sources_present:
+        raise InputError("design.n_charges: no charges are designed (no charge conditions)")
+    if options.total_mass is not None and "masses" not in sources_present:
+        raise InputError("design.total_mass: no masses are designed (inertia is not realised)")
     return sources_present
 
 
@@ -797,15 +800,16 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
     candidates = candidates_from_table(body, base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
-    realise = options.realise if options.realise is not None else realise_from_scene(scene)
+    # the options are the scene's [design] read once (with the overrides): all three by default
+    realise = options.realise if options.realise is not None else REALISABLE
     size = candidates.geometry.size
     length = size if size > 0 else None
     if model.theorem is not None:
         conditions = derive_conditions(params, scene.fields, realise, length=length)
     else:
-        from chargedesign.designer.case_design import case_conditions  # sympy: a case only
+        from chargedesign.designer.case_design import conditions_of_case  # sympy: a case only
 
-        conditions = case_conditions(scene, length=length)
+        conditions = conditions_of_case(model.case, scene.fields, length)
     return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec, model)
 
 
@@ -851,8 +855,10 @@ def frontier_from_scene(
     :func:`~chargedesign.designer.frontier.find_frontier`): the pipeline composes the scene's
     physical setup and the frontier, which calls the design (never the other way round).
     ``window``: :class:`~chargedesign.designer.frontier.WindowOptions` to find the realised
-    window too (None: not); ``rtol``, ``checks``, ``law`` as there."""
-    setup = physical_setup_from_scene(scene, **overrides)
-    if setup is None:
+    window too (None: not); ``rtol``, ``checks``, ``law`` as there. The scene is read once,
+    into typed inputs (:class:`SceneInputs`); the setup and the frontier take those."""
+    if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
+    inputs = _scene_inputs(scene, None, overrides)
+    setup = inputs.physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
