@@ -751,6 +751,8 @@ def _mass_binding(
     Ams, bms = row_scaled(Am[:, free], rhs, scale)
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
 
+    from scipy.optimize import linprog  # here, not at import: the frontier command's start
+
     def feasible(room: bool) -> bool:
         # w >= 0 (scaled ballast masses), Ams w = bms, and with room each mass within its cell
         bounds: Any = (0, None)
