@@ -97,8 +97,11 @@ class ElementSet:
         self.dipole_volumes = _nonneg(self.dipole_volumes, "dipoles.volumes", k)
         self.dipole_masses = _nonneg(self.dipole_masses, "dipoles.masses", k)
         self.mass_positions = as_points(self.mass_positions, "masses.positions")
-        ballast = _nonneg(self.mass_values, "masses.values", len(self.mass_positions))
-        self.mass_values = ballast if ballast is not None else np.zeros(0)
+        # a ballast mass needs its value: unlike sizes, values are not optional per element
+        values = self.mass_values
+        if values is None and not len(self.mass_positions):
+            values = np.zeros(0)
+        self.mass_values = as_nonnegative_weights(values, "masses.values", len(self.mass_positions))
         if self.mass_materials is not None:
             self.mass_materials = check_names(
                 self.mass_materials, len(self.mass_values), "masses.material"

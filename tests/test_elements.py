@@ -78,3 +78,11 @@ def test_unknown_block_key_is_refused():
     data["charges"]["radius"] = [0.1]
     with pytest.raises(InputError, match=r"charges\.radius"):
         Design.from_dict(data)
+
+
+def test_ballast_positions_without_values_are_refused():
+    """Found by the design-file fuzz: `masses.values = null` beside positions used to read as
+    no ballast, and `export` then failed on the unequal columns."""
+    with pytest.raises(InputError, match=r"masses\.values"):
+        ElementSet(mass_positions=np.zeros((2, 3)), mass_values=None)
+    assert len(ElementSet(mass_values=None).mass_values) == 0
