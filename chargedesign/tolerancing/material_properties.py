@@ -303,14 +303,13 @@ def material_uncertainty(
         )
     # field_response states the energy over C omega^2 / 4; the one figure's reference is the
     # smallest realised term at s = 1, so every ratio below is over that term
-    torque = design.parameters.C * rate**2 / 4.0
-    per_term = torque / reference["term_N_m"]
+    term = reference["term_N_m"]
+    per_term = design.parameters.C * rate**2 / 4.0 / term
     gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
     per = np.zeros((len(groups), len(gammas)))
     for part in parts:
         j = groups.index((part["role"], part["name"]))
         per[j] += induced_energy(legendre, part["centres"], part["chi"] * part["volumes"], gammas)
-    term = reference["term_N_m"]
     sensitivity = np.ptp(per, axis=1) / term
     base = field_response(design)["induced_magnetisation_fraction"]["value"]
     nominal = float(base) * per_term if base is not None else math.inf
