@@ -35,7 +35,7 @@ from chargedesign.readers import read_point_file as read_point_file
 from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.tables import RegionSpec, region_from_table
-from chargedesign.validation import as_array, as_point_set, check_closed_surface, input_error
+from chargedesign.validation import as_array, as_points, input_error
 from chargedesign.vocabulary import BODY_SHAPES
 
 SHAPES = BODY_SHAPES
@@ -154,12 +154,24 @@ class CandidateSet:
 # --------------------------------------------------------------------------- geometry
 
 
+def _point_set(value: Any, name: str) -> np.ndarray:
+    """Points given from outside (ndarray, shape (n, 3), m), checked: at least one."""
+    points = as_points(value, name)
+    if len(points) == 0:
+        raise InputError(f"{name}: the set is empty")
+    return points
+
+
 def geometry_of(points: Any, *, spacing: float | None = None) -> Geometry:
     """Shape measures of ``points`` (ndarray, shape (n, 3), m); see :class:`Geometry`.
 
     ``spacing`` (m), when known (lattices), saves the nearest-neighbour search.
     """
-    pts = as_point_set(points, "candidates")
+    return _geometry(_point_set(points, "candidates"), spacing)
+
+
+def _geometry(pts: np.ndarray, spacing: float | None) -> Geometry:
+    """:func:`geometry_of` of points already checked (float64, shape (n, 3), n >= 1)."""
     size = float(np.max(np.linalg.norm(pts, axis=1)))
     centroid = pts.mean(axis=0)
     centred = pts - centroid
@@ -403,7 +415,11 @@ def mesh_points(
     def inside(d: np.ndarray) -> np.ndarray:
         pts = (d + center) / scale
         if isinstance(mesh, pv.PolyData):
-            check_closed_surface(mesh.n_cells > 0 and _is_closed(mesh), name, p)
+            if not (mesh.n_cells > 0 and _is_closed(mesh)):
+                raise InputError(
+                    f"{name}: the surface in {p} is not closed; its interior is undefined "
+                    "(use sample = 'surface')"
+                )
             probe = pv.PolyData(pts)
             if hasattr(probe, "select_interior_points"):  # pyvista >= 0.47
                 marked = probe.select_interior_points(mesh, check_surface=False)
@@ -469,13 +485,17 @@ def _file_shape(region: RegionSpec, center: np.ndarray, base_dir: Any) -> Shaped
     if not path.is_absolute() and base_dir is not None:
         path = Path(base_dir) / path
     desc: dict[str, Any] = {"path": str(path), "scale": region.scale}
+    outline: dict[str, Any] | None = {"shape": "points"}
     if region.shape == "points":
-        return read_point_file(path) * region.scale + center, desc, {"shape": "points"}
-    pts = mesh_points(path, sample=region.sample, spacing=region.spacing, scale=region.scale)
-    desc |= {"sample": region.sample}
-    if region.spacing is not None:
-        desc["spacing"] = region.spacing
-    return pts + center, desc, None
+        pts = read_point_file(path) * region.scale
+    else:
+        pts = mesh_points(path, sample=region.sample, spacing=region.spacing, scale=region.scale)
+        desc |= {"sample": region.sample}
+        if region.spacing is not None:
+            desc["spacing"] = region.spacing
+        outline = None
+    # a file's points are checked where they enter (finite, scaled); the others are built here
+    return as_points(pts + center, "candidates"), desc, outline
 
 
 def candidates_from_region(
@@ -544,7 +564,7 @@ def _candidate_set(
         )
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     lattice = desc.get("spacing") if shape in ("ball", "box", "cylinder") else None
-    geometry = geometry_of(pts, spacing=lattice)
+    geometry = _geometry(pts, lattice)  # built from checked sizes, or checked on entry
     if np.any(center):
         desc["center"] = center.tolist()
         if region is not None:
@@ -562,8 +582,8 @@ def _candidate_set(
 
 def candidates_from_points(points: Any, name: str = "candidates") -> CandidateSet:
     """Wrap an array of points (n, 3), m, as a :class:`CandidateSet`."""
-    pts = as_point_set(points, name)
-    geometry = geometry_of(pts)
+    pts = _point_set(points, name)
+    geometry = _geometry(pts, None)
     return CandidateSet(
         points=pts,
         description={"shape": "points", "n": len(pts), "geometry": geometry.to_dict()},

@@ -255,25 +255,8 @@ def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> 
         raise InputError(f"body: a physical design needs at least two candidate points{why}")
 
 
-def as_point_set(value: Any, name: str) -> np.ndarray:
-    """:func:`as_points`, at least one."""
-    points = as_points(value, name)
-    if len(points) == 0:
-        raise InputError(f"{name}: the set is empty")
-    return points
-
-
 #: Largest accepted | |gamma| - 1 | for body-axes evaluations.
 GAMMA_UNIT_TOLERANCE = 1e-9
-
-
-def check_closed_surface(closed: bool, name: str, path: Any) -> None:
-    """Refuse a volume sample of a mesh whose surface is not closed."""
-    if not closed:
-        raise InputError(
-            f"{name}: the surface in {path} is not closed; its interior is undefined "
-            "(use sample = 'surface')"
-        )
 
 
 def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:

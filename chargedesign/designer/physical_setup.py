@@ -33,6 +33,7 @@ from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
 from chargedesign.validation import check_physical_candidates
+from chargedesign.vocabulary import REALISABLE
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
@@ -156,9 +157,11 @@ PHYSICAL_REFUSED = {
 }
 
 
-def refuse_unread_options(options: DesignOptions) -> None:
-    """Refuse, in one line naming the option, a ``[design]`` option the physical program
-    (a scene with ``[medium]``) would not read; called before any design work."""
+def check_physical_options(options: DesignOptions) -> None:
+    """The ``[design]`` options a physical design (a scene with ``[medium]``) takes, refused in
+    one line naming the one it does not, once, before any design work: an option the program
+    would not read (:data:`PHYSICAL_REFUSED`), an objective outside
+    :data:`PHYSICAL_OBJECTIVES`, inertia not realised, a charge total or count."""
     default = DesignOptions()
     for name, reason in PHYSICAL_REFUSED.items():
         value = getattr(options, name)
@@ -167,13 +170,6 @@ def refuse_unread_options(options: DesignOptions) -> None:
                 f"design.{name}: not available with [medium] ({reason}); drop it, or drop "
                 "[medium] for point elements"
             )
-
-
-def _check_physical_options(options: DesignOptions, conditions: LinearConditions) -> None:
-    """The [design] options a physical design takes (one line naming the one it does not):
-    the objective of each source among :data:`PHYSICAL_OBJECTIVES`, the inertia realised, no
-    charge total or count."""
-    refuse_unread_options(options)
     for source in ("charges", "dipoles", "masses"):
         objective = options.objective_for(source)
         if objective not in PHYSICAL_OBJECTIVES:
@@ -181,7 +177,8 @@ def _check_physical_options(options: DesignOptions, conditions: LinearConditions
                 f"design.objective: {objective!r} for {source} is not "
                 "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
             )
-    if "inertia" not in (options.realise or conditions.realise):
+    # the conditions realise what the options name (all three when they name none)
+    if "inertia" not in (options.realise if options.realise is not None else REALISABLE):
         raise InputError(
             "design.realise: a physical design realises the inertia (every part has mass)"
         )
@@ -291,10 +288,10 @@ def setup_physical(
 
     ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
     theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
-    ``frame``).
+    ``frame``). ``options`` are those :func:`check_physical_options` took, before the
+    candidates and conditions were made.
     """
     options = options or DesignOptions()
-    _check_physical_options(options, conditions)
     points = candidates.points
     cell, spacing = _cells(points)
     a = _carrier_radius(spec, spacing)

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
-from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_table
+from chargedesign.candidates import CandidateSet, candidates_from_points, candidates_from_region
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, ForwardInputs, length_notes
 from chargedesign.designer.assembly import design_physical
 from chargedesign.designer.diagnostics import diagnose, infeasible_inequalities
@@ -29,7 +29,7 @@ from chargedesign.designer.frontier import (
     find_frontier,
     restate_k_law,
 )
-from chargedesign.designer.physical_setup import refuse_unread_options, setup_physical
+from chargedesign.designer.physical_setup import check_physical_options, setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -59,6 +59,7 @@ from chargedesign.scene import Scene
 from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
+from chargedesign.scene.tables import region_spec
 from chargedesign.validation import check_instance
 from chargedesign.verdict import verdict_record
 from chargedesign.vocabulary import REALISABLE
@@ -779,12 +780,12 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
     its size) of the model its body realises."""
 
     given = {k: v for k, v in overrides.items() if v is not None}
-    options = dataclasses.replace(scene.design, **given) if given else scene.design
-    if given.get("realised_gravity") is None:  # the support decides (free fall: residual g)
-        options = dataclasses.replace(options, realised_gravity=scene_window_gravity(scene))
+    if "realised_gravity" not in given:  # the support decides (free fall: residual g)
+        given["realised_gravity"] = scene_window_gravity(scene)
+    options = dataclasses.replace(scene.design, **given)  # the overrides checked once
     spec = scene.physical
     if spec is not None:
-        refuse_unread_options(options)  # before any work
+        check_physical_options(options)  # once, before any work
     model = scene_model(scene)
     if model.theorem is not None:
         larmor, why, note = larmor_of_scene(options, model.theorem, spec is not None)
@@ -796,8 +797,8 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
         progress("candidates ...")
     if model.case is not None:
         require_region(scene.source, scene.region is not None, "elements")
-    body = scene.body.table if scene.body is not None else {}
-    candidates = candidates_from_table(body, base_dir=scene.base_dir)
+    # the [body] region as the scene read it (its keys checked once, its values once)
+    candidates = candidates_from_region(region_spec(scene.body), base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
     # the options are the scene's [design] read once (with the overrides): all three by default

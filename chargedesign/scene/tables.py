@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -97,13 +98,21 @@ class BodyRegion:
 
     table: Mapping[str, Any] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        check_region_keys(self.table)
+
     @property
     def shape(self) -> str:
         return str(self.table.get("shape", default_of("body", "shape")))
 
     def spec(self) -> RegionSpec:
-        """The region's values, checked (:func:`region_from_table`)."""
-        return region_from_table(self.table)
+        """The region's values, checked once, when first asked for (:func:`region_from_table`
+        without its second look at the keys, checked as the region was made)."""
+        return self._spec
+
+    @cached_property
+    def _spec(self) -> RegionSpec:
+        return _region_values(self.table, _shape_name(self.table))
 
 
 def _size(table: Mapping[str, Any], key: str, default: float | None = None) -> float:
@@ -126,8 +135,8 @@ def _vector3(table: Mapping[str, Any], key: str, *, positive: bool) -> Vector:
     return (float(out[0]), float(out[1]), float(out[2]))
 
 
-def _shape_of(table: Any) -> str:
-    """The region's shape (``ball`` when a table gives sizes only), checked with its keys."""
+def _shape_name(table: Any) -> str:
+    """The region's shape (``ball`` when a table gives sizes only), one of the shapes."""
     if not isinstance(table, Mapping):
         raise input_error("body", "a table with key 'shape'", table)
     shape = table.get("shape", default_of("body", "shape") if table else None)
@@ -139,7 +148,6 @@ def _shape_of(table: Any) -> str:
         )
     if shape not in BODY_SHAPES:
         raise input_error("body.shape", "one of " + ", ".join(BODY_SHAPES), shape)
-    check_region_keys(table)
     return str(shape)
 
 
@@ -214,7 +222,13 @@ def region_from_table(table: Any) -> RegionSpec:
     InputError
         A missing, unknown or malformed key.
     """
-    shape = _shape_of(table)
+    shape = _shape_name(table)
+    check_region_keys(table)
+    return _region_values(table, shape)
+
+
+def _region_values(table: Mapping[str, Any], shape: str) -> RegionSpec:
+    """The values of a region whose shape and keys are checked."""
     center = _vector3(table, "center", positive=False) if "center" in table else (0.0, 0.0, 0.0)
     natural = _naturally_symmetric(table, shape, not any(center))
     symmetric = table.get("symmetric", natural)
@@ -261,6 +275,15 @@ def check_region_keys(table: Mapping[str, Any]) -> None:
         )
 
 
+def region_spec(body: BodyRegion | BodyReference | None) -> RegionSpec:
+    """The checked values of a scene's ``[body]`` region (read once, :meth:`BodyRegion.spec`);
+    a scene whose ``[body]`` is absent or names a body to simulate is refused in the one line
+    :func:`region_from_table` gives it."""
+    if isinstance(body, BodyRegion):
+        return body.spec()
+    return region_from_table(body.table if body is not None else {})
+
+
 def body_from_table(table: Any) -> BodyRegion | BodyReference | None:
     """``[body]`` as a region or a reference (None: the scene has no ``[body]``)."""
     if table is None:
@@ -268,7 +291,6 @@ def body_from_table(table: Any) -> BodyRegion | BodyReference | None:
     if not isinstance(table, Mapping):
         raise input_error("body", "a table", table)
     if "shape" in table or not set(table) & set(BODY_REFERENCE_KEYS):
-        check_region_keys(table)
-        return BodyRegion(dict(table))
+        return BodyRegion(dict(table))  # its keys checked as it is made
     check_keys(table, BODY_REFERENCE_KEYS, "body")
     return BodyReference(dict(table))
