@@ -237,24 +237,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
 # ------------------------------------------------------- a design's options, one against another
 
 
-def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> None:
-    """A physical design's candidates: at least two (each cell is half the nearest
-    neighbour's distance). ``body`` (the ``[body]`` table) lets the line say why: a spacing
-    larger than the body's size leaves one point (a sweep's 0.25 m spacing on a 5 cm ball)."""
-    if n < 2:
-        why = ""
-        table = body or {}
-        spacing = table.get("spacing")
-        sizes = [table[k] for k in ("radius", "size", "height") if k in table]
-        sizes = [max(v) if isinstance(v, list) else v for v in sizes]
-        if isinstance(spacing, (int, float)) and sizes:
-            why = (
-                f": body.spacing = {fmt(spacing, PLAIN)} m on a {table.get('shape', 'body')} "
-                f"of {fmt(max(sizes), PLAIN)} m gives {n}; give a spacing well below its size"
-            )
-        raise InputError(f"body: a physical design needs at least two candidate points{why}")
-
-
 #: Largest accepted | |gamma| - 1 | for body-axes evaluations.
 GAMMA_UNIT_TOLERANCE = 1e-9
 

@@ -15,7 +15,9 @@ scaling and equality polish of their programs.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -32,7 +34,6 @@ from chargedesign.params import Parameters
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
-from chargedesign.validation import check_physical_candidates
 from chargedesign.vocabulary import REALISABLE
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
@@ -132,11 +133,15 @@ class PhysicalSetup:
         idx = np.minimum(idx, len(self.e_grid) - 1)
         return s * self.e_grid_values[idx]
 
+    @cached_property
+    def carrier_external(self) -> np.ndarray:
+        """The external field's bound at each candidate carrier's outer surface at rate 1,
+        V/m, shape (n,): read once from the grid (every rate scales it)."""
+        return self.external_max(np.linalg.norm(self.points, axis=1) + self.carrier_radius, 1.0)
+
     def charge_caps(self, s: float) -> np.ndarray:
         """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
-        limit = self.safe_field * (1 - DESIGN_MARGIN) - self.external_max(
-            np.linalg.norm(self.points, axis=1) + self.carrier_radius, s
-        )
+        limit = self.safe_field * (1 - DESIGN_MARGIN) - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
 
     def field_bound(self, s: float) -> float:
@@ -248,6 +253,24 @@ def _magnet_sites(
                 "higher-coercivity grade (ndfeb-eh, smco), a weaker field or a larger body"
             )
     return magnet_sites
+
+
+def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> None:
+    """A physical design's candidates: at least two (each cell is half the nearest
+    neighbour's distance). ``body`` (the ``[body]`` table) lets the line say why: a spacing
+    larger than the body's size leaves one point (a sweep's 0.25 m spacing on a 5 cm ball)."""
+    if n < 2:
+        why = ""
+        table = body or {}
+        spacing = table.get("spacing")
+        sizes = [table[k] for k in ("radius", "size", "height") if k in table]
+        sizes = [max(v) if isinstance(v, list) else v for v in sizes]
+        if isinstance(spacing, (int, float)) and sizes:
+            why = (
+                f": body.spacing = {fmt(spacing, PLAIN)} m on a {table.get('shape', 'body')} "
+                f"of {fmt(max(sizes), PLAIN)} m gives {n}; give a spacing well below its size"
+            )
+        raise InputError(f"body: a physical design needs at least two candidate points{why}")
 
 
 def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.candidates import candidates_from_region
+from chargedesign.designer.physical_setup import check_physical_candidates
 from chargedesign.designer.pipeline import larmor_of_scene
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.limits import MAX_PERIODS
@@ -72,7 +73,6 @@ from chargedesign.validation import (
     check_error_spreads,
     check_material_analysis,
     check_periods,
-    check_physical_candidates,
     input_error,
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
