@@ -288,12 +288,14 @@ def _electric_grid(
     """The electric field's coefficients, its largest magnitude on radii out to ``region``,
     and the largest rate the apparatus' electric-field limit allows (inf: no limit)."""
     electric = tuple(conditions.fields.get("electric", ()))
-    grid = np.linspace(0.0, region, 513)
+    grid = np.linspace(0.0, region, 513)  # its last radius is the region's, exactly
     values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
     limit = spec.field_limits.get("electric")
     bound = math.inf
     if limit is not None and electric:
-        top = float(field_magnitude_max(electric, np.array([region]))[0])
+        # the field over the body region: the grid's last value (each radius's maximum is
+        # computed alone, to the last bit: physical/field_bounds.py), not a second evaluation
+        top = float(values[-1])
         bound = limit / top if top > 0 else math.inf
     return electric, grid, values, bound
 
