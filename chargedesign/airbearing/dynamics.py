@@ -116,7 +116,9 @@ class CaseModel:
     conditional : bool
         The integral is claimed on ``level`` only.
     gradient, gyroscopic : tuple of 3 functions of (gamma1, gamma2, gamma3)
-        ``dV/dgamma`` and ``mu``.
+        ``dV/dgamma`` and ``mu``. Every function here takes columns of shape (n,) and
+        returns shape (n,), constants broadcast
+        (:func:`chargedesign.model.case_numeric.lambdified`).
     integral, cyclic, energy : functions of (p, q, r, gamma1, gamma2, gamma3)
         ``F``, ``I3`` and ``I1``.
     equations : tuple of 6 functions of the state
@@ -159,8 +161,8 @@ class CaseModel:
     def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """dV/dgamma and mu at ``gamma`` (m, 3) each, as flown."""
         g = gamma.T
-        grad = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gradient], axis=1)
-        mu = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gyroscopic], axis=1)
+        grad = np.stack([f(*g) for f in self.gradient], axis=1)
+        mu = np.stack([f(*g) for f in self.gyroscopic], axis=1)
         return self.mass * self.time**2 * grad, self.mass * self.time * mu
 
     def _unscaled(self, states: np.ndarray) -> list[np.ndarray]:
@@ -172,22 +174,18 @@ class CaseModel:
     def invariants(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``I3 - level`` and ``F`` at ``states`` (..., 6), as flown."""
         columns, shape = self._unscaled(states), states.shape[:-1]
-        n = len(columns[0])
-        I3 = np.broadcast_to(self.cyclic(*columns), n) * self.mass * self.time
-        F = np.broadcast_to(self.integral(*columns), n)
+        I3 = self.cyclic(*columns) * self.mass * self.time
+        F = self.integral(*columns)
         return (I3 - self.level_value).reshape(shape), F.reshape(shape)
 
     def energies(self, states: np.ndarray) -> np.ndarray:
         """``I1`` at ``states`` (n, 6), as flown, J."""
-        columns = self._unscaled(states)
-        n = len(columns[0])
-        return np.broadcast_to(self.energy(*columns), n) * self.mass * self.time**2
+        return self.energy(*self._unscaled(states)) * self.mass * self.time**2
 
     def rhs(self, states: np.ndarray) -> np.ndarray:
         """The reduced model's ``(omega', gamma')`` at ``states`` (n, 6), as flown."""
         columns = self._unscaled(states)
-        n = len(columns[0])
-        out = np.stack([np.broadcast_to(f(*columns), n) for f in self.equations], axis=1)
+        out = np.stack([f(*columns) for f in self.equations], axis=1)
         out[:, 0:3] *= self.time**2
         out[:, 3:6] *= self.time
         return out
