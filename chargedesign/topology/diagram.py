@@ -283,7 +283,7 @@ class DiagramResult(Result):
 
     @property
     def branches(self) -> list[TracedBranch]:
-        return self.raw.branches  # type: ignore[no-any-return]
+        return self.raw.branches
 
     def labels(self) -> list[Chamber]:
         """One cell per chamber (its widest), with the chamber's count (None if its cells
