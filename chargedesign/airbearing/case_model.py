@@ -23,22 +23,17 @@ from chargedesign.airbearing.dynamics import CaseModel
 from chargedesign.model.case import GAMMA
 from chargedesign.model.case_file import STATE, case_equations
 from chargedesign.model.case_numeric import lambdified
+from chargedesign.model.case_numeric import singular_factors as case_singular_factors
 from chargedesign.scene.case_file import Case
 from chargedesign.scene.testbed import case_refusal
 
 _GAMMA = tuple(GAMMA)
 
 
-def _singular_factors(expr: sp.Expr) -> list[str]:
-    """The denominator's factors of ``expr`` that depend on gamma (``"<factor> = 0"``)."""
-    _, denominator = sp.fraction(sp.together(expr))
-    factors = sp.factor_list(denominator)[1]
-    return [f"{sp.sstr(f)} = 0" for f, _ in factors if f.free_symbols & set(_GAMMA)]
-
-
 def singular_factors(case: Case) -> list[str]:
-    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted."""
-    return sorted({f for expr in (case.V, *case.mu) for f in _singular_factors(expr)})
+    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted
+    (:func:`chargedesign.model.case_numeric.singular_factors`)."""
+    return case_singular_factors([case.V, *case.mu])
 
 
 def refusal(case: Case) -> str | None:

@@ -221,13 +221,23 @@ def simulated_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
     return simulated_functions(body_case(record, larmor))
 
 
+def singular_factors(expressions: Any) -> list[str]:
+    """``"<factor> = 0"`` for each factor of a denominator of ``expressions`` that depends on
+    the state (the case's numbers substituted), sorted: where the case's numbers blow up."""
+    found = set()
+    for expr in expressions:
+        denominator = sp.fraction(sp.together(expr))[1]
+        for factor, _ in sp.factor_list(denominator)[1]:
+            if factor.free_symbols & set(STATE):
+                found.add(f"{sp.sstr(factor)} = 0")
+    return sorted(found)
+
+
 def simulated_functions(case: Case) -> CaseFunctions:
     """:func:`case_functions` for a run: a case with singular terms (a denominator in gamma, as
     Goriachev's ``1/gamma3^2``) is refused in one line: the integrators take polynomial
     torques (its terms are infinite on the zero set the message names)."""
-    parts = [case.V, *(case.l if case.l is not None else case.mu)]
-    denominators = {sp.fraction(sp.together(e))[1] for e in parts}
-    where = sorted(f"{sp.sstr(d)} = 0" for d in denominators if d.free_symbols & set(GAMMA))
+    where = singular_factors([case.V, *(case.l if case.l is not None else case.mu)])
     if where:
         raise InputError(
             f"case {case.name}: singular where {'; '.join(where)}; simulate moves cases whose V "
@@ -247,4 +257,5 @@ __all__ = [
     "lambdified",
     "simulated_case_functions",
     "simulated_functions",
+    "singular_factors",
 ]

@@ -24,7 +24,7 @@ import sympy as sp
 
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS
 from chargedesign.model.case_file import case_equations
-from chargedesign.model.case_numeric import lambdified
+from chargedesign.model.case_numeric import lambdified, singular_factors
 from chargedesign.scene.case_file import Case
 from chargedesign.simulation.integrate import Symbolic, solve
 from chargedesign.topology.equations import MomentumMap, lie_poisson_tensor
@@ -33,13 +33,8 @@ from chargedesign.topology.equations import MomentumMap, lie_poisson_tensor
 def diagram_refusal(case: Case) -> str | None:
     """Why ``case`` has no diagram here (None: it has one): a singular case (a denominator
     in V, l or F; the set named) or one given by ``mu`` without ``l``."""
-    parts = [case.V, case.integral, *(case.l if case.l is not None else case.mu)]
-    singular = sorted(
-        {
-            f"{sp.sstr(f)} = 0"
-            for expr in parts
-            for f, _ in sp.factor_list(sp.fraction(sp.together(expr))[1])[1]
-        }
+    singular = singular_factors(
+        [case.V, case.integral, *(case.l if case.l is not None else case.mu)]
     )
     if singular:
         return (
