@@ -17,24 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.formatting import PLAIN, fmt
 from chargedesign.model.evaluators import angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
-
-#: the four functions, in the order of every array of this package (rows of the Jacobian)
-FUNCTION_NAMES = ("H", "I4", "I2", "I3")
+from chargedesign.scene.bifurcation import check_regular
 
 
 def require_regular(params: Parameters) -> None:
-    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case;
-    the command refuses them first, through :func:`~.diagram.check_parameters` and
-    :func:`chargedesign.scene.bifurcation.check_regular`)."""
-    if params.singular:
-        raise ValueError(
-            "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
-            f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
-            f"{fmt(params.lam, PLAIN)}, rho = {fmt(params.rho, PLAIN)}"
-        )
+    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case):
+    :func:`chargedesign.scene.bifurcation.check_regular`, which the command runs first
+    (through :func:`~.diagram.check_parameters`)."""
+    check_regular(params.lam, params.rho)
 
 
 def _expressions() -> list[Any]:
