@@ -20,14 +20,11 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.airbearing.dynamics import CaseModel
-from chargedesign.model.case import GAMMA
 from chargedesign.model.case_file import STATE, case_equations
-from chargedesign.model.case_numeric import lambdified
+from chargedesign.model.case_numeric import case_functions, lambdified
 from chargedesign.model.case_numeric import singular_factors as case_singular_factors
 from chargedesign.scene.case_file import Case
 from chargedesign.scene.testbed import case_refusal
-
-_GAMMA = tuple(GAMMA)
 
 
 def singular_factors(case: Case) -> list[str]:
@@ -50,16 +47,13 @@ def case_model(case: Case) -> CaseModel:
     reason = refusal(case)
     if reason is not None:  # the testbed refuses it first (TestbedOptions.check_case)
         raise ValueError(reason)
-    gradient = [sp.diff(case.V, x) for x in _GAMMA]
     equations = case_equations(case)
     return CaseModel(
         name=case.name,
         inertia=np.array([float(m) for m in case.inertia]),
         level=0.0 if case.level is None else float(case.level),
         conditional=case.level is not None,
-        gradient=tuple(lambdified(g, _GAMMA) for g in gradient),
-        gyroscopic=tuple(lambdified(m, _GAMMA) for m in case.mu),
-        integral=lambdified(case.integral, STATE),
+        functions=case_functions(case),
         cyclic=lambdified(case.I3, STATE),
         energy=lambdified(case.I1, STATE),
         equations=tuple(lambdified(e, STATE) for e in equations),
