@@ -2,9 +2,10 @@
 
 The case's expressions are the sympy objects the whitelisted parser built
 (:mod:`chargedesign.model.case_file`); they are differentiated here (dV/dgamma, the
-right-hand sides of (ep), I1, I3) and turned into NumPy functions by ``sympy.lambdify`` (the
-printed code is sympy's own, of trees whose leaves are the state's names and rationals: no
-text from a file reaches ``eval``).
+right-hand sides of (ep), I1, I3) and turned into NumPy functions by
+:func:`chargedesign.model.case_numeric.lambdified` (``sympy.lambdify``: the printed code is
+sympy's own, of trees whose leaves are the state's names and rationals: no text from a file
+reaches ``eval``).
 
 A case the testbed cannot fly is refused by the testbed's options
 (:meth:`chargedesign.scene.testbed.TestbedOptions.check_case`, on the singular factors found
@@ -19,28 +20,17 @@ import numpy as np
 import sympy as sp
 
 from chargedesign.airbearing.dynamics import CaseModel
-from chargedesign.model.case import GAMMA
 from chargedesign.model.case_file import STATE, case_equations
+from chargedesign.model.case_numeric import case_functions, lambdified
+from chargedesign.model.case_numeric import singular_factors as case_singular_factors
 from chargedesign.scene.case_file import Case
 from chargedesign.scene.testbed import case_refusal
 
-_GAMMA = tuple(GAMMA)
-
-
-def _function(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> object:
-    return sp.lambdify(symbols, expr, modules="numpy")
-
-
-def _singular_factors(expr: sp.Expr) -> list[str]:
-    """The denominator's factors of ``expr`` that depend on gamma (``"<factor> = 0"``)."""
-    _, denominator = sp.fraction(sp.together(expr))
-    factors = sp.factor_list(denominator)[1]
-    return [f"{sp.sstr(f)} = 0" for f, _ in factors if f.free_symbols & set(_GAMMA)]
-
 
 def singular_factors(case: Case) -> list[str]:
-    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted."""
-    return sorted({f for expr in (case.V, *case.mu) for f in _singular_factors(expr)})
+    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted
+    (:func:`chargedesign.model.case_numeric.singular_factors`)."""
+    return case_singular_factors([case.V, *case.mu])
 
 
 def refusal(case: Case) -> str | None:
@@ -57,19 +47,16 @@ def case_model(case: Case) -> CaseModel:
     reason = refusal(case)
     if reason is not None:  # the testbed refuses it first (TestbedOptions.check_case)
         raise ValueError(reason)
-    gradient = [sp.diff(case.V, x) for x in _GAMMA]
     equations = case_equations(case)
     return CaseModel(
         name=case.name,
         inertia=np.array([float(m) for m in case.inertia]),
         level=0.0 if case.level is None else float(case.level),
         conditional=case.level is not None,
-        gradient=tuple(_function(g, _GAMMA) for g in gradient),  # type: ignore[misc]
-        gyroscopic=tuple(_function(m, _GAMMA) for m in case.mu),  # type: ignore[misc]
-        integral=_function(case.integral, STATE),  # type: ignore[arg-type]
-        cyclic=_function(case.I3, STATE),  # type: ignore[arg-type]
-        energy=_function(case.I1, STATE),  # type: ignore[arg-type]
-        equations=tuple(_function(e, STATE) for e in equations),  # type: ignore[misc]
+        functions=case_functions(case),
+        cyclic=lambdified(case.I3, STATE),
+        energy=lambdified(case.I1, STATE),
+        equations=tuple(lambdified(e, STATE) for e in equations),
         record={
             "name": case.name,
             "source": case.source,

@@ -26,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -35,6 +35,9 @@ from chargedesign.params import Parameters
 
 _NEXT = np.array([1, 2, 0])
 _LAST = np.array([2, 0, 1])
+
+if TYPE_CHECKING:  # sympy: a case only
+    from chargedesign.model.case_numeric import CaseFunctions
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -91,7 +94,6 @@ def polynomial_terms(params: Parameters) -> np.ndarray | None:
     return coef
 
 
-Column = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 StateColumn = Callable[..., np.ndarray]
 
 
@@ -115,10 +117,12 @@ class CaseModel:
         The I3 value the motions keep (the case's level; 0 for a general case).
     conditional : bool
         The integral is claimed on ``level`` only.
-    gradient, gyroscopic : tuple of 3 functions of (gamma1, gamma2, gamma3)
-        ``dV/dgamma`` and ``mu``.
-    integral, cyclic, energy : functions of (p, q, r, gamma1, gamma2, gamma3)
-        ``F``, ``I3`` and ``I1``.
+    functions : CaseFunctions
+        The case's ``dV/dgamma``, ``mu`` and ``F`` (:func:`chargedesign.model.case_numeric.
+        case_functions`, what the checker and the simulation read too).
+    cyclic, energy : functions of (p, q, r, gamma1, gamma2, gamma3)
+        ``I3`` and ``I1``. These and the equations take columns of shape (n,) and return
+        shape (n,), constants broadcast (:func:`chargedesign.model.case_numeric.lambdified`).
     equations : tuple of 6 functions of the state
         The right-hand sides of (ep).
     time, mass : float
@@ -132,9 +136,7 @@ class CaseModel:
     inertia: np.ndarray
     level: float
     conditional: bool
-    gradient: tuple[Column, ...]
-    gyroscopic: tuple[Column, ...]
-    integral: StateColumn
+    functions: CaseFunctions
     cyclic: StateColumn
     energy: StateColumn
     equations: tuple[StateColumn, ...]
@@ -158,9 +160,8 @@ class CaseModel:
 
     def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """dV/dgamma and mu at ``gamma`` (m, 3) each, as flown."""
-        g = gamma.T
-        grad = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gradient], axis=1)
-        mu = np.stack([np.broadcast_to(f(*g), len(gamma)) for f in self.gyroscopic], axis=1)
+        grad = self.functions.potential_gradient(gamma)
+        mu = self.functions.gyroscopic(gamma)
         return self.mass * self.time**2 * grad, self.mass * self.time * mu
 
     def _unscaled(self, states: np.ndarray) -> list[np.ndarray]:
@@ -172,22 +173,18 @@ class CaseModel:
     def invariants(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``I3 - level`` and ``F`` at ``states`` (..., 6), as flown."""
         columns, shape = self._unscaled(states), states.shape[:-1]
-        n = len(columns[0])
-        I3 = np.broadcast_to(self.cyclic(*columns), n) * self.mass * self.time
-        F = np.broadcast_to(self.integral(*columns), n)
+        I3 = self.cyclic(*columns) * self.mass * self.time
+        F = self.functions.integral(np.stack(columns, axis=1))
         return (I3 - self.level_value).reshape(shape), F.reshape(shape)
 
     def energies(self, states: np.ndarray) -> np.ndarray:
         """``I1`` at ``states`` (n, 6), as flown, J."""
-        columns = self._unscaled(states)
-        n = len(columns[0])
-        return np.broadcast_to(self.energy(*columns), n) * self.mass * self.time**2
+        return self.energy(*self._unscaled(states)) * self.mass * self.time**2
 
     def rhs(self, states: np.ndarray) -> np.ndarray:
         """The reduced model's ``(omega', gamma')`` at ``states`` (n, 6), as flown."""
         columns = self._unscaled(states)
-        n = len(columns[0])
-        out = np.stack([np.broadcast_to(f(*columns), n) for f in self.equations], axis=1)
+        out = np.stack([f(*columns) for f in self.equations], axis=1)
         out[:, 0:3] *= self.time**2
         out[:, 3:6] *= self.time
         return out

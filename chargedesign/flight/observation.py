@@ -27,11 +27,12 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from chargedesign.flight.release import Start, perturbed, propagate
+from chargedesign.flight.release import Start, perturbed
 from chargedesign.formatting import ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.support import figure
 from chargedesign.simulation.system import quaternion_rotation, theorem_i4
+from chargedesign.topology.chambers import propagate
 
 #: frames per fitted window
 WINDOW_FRAMES = 40

@@ -11,8 +11,8 @@ level's sampled conics (:class:`chargedesign.topology.chambers.LevelSampler`). A
 
 The tolerance: the released omega errs by ``epsilon |omega|`` in a random direction, so I3
 is no longer 0 and I4 is no longer an integral; each released state is integrated over the
-flight by the integrator service (:func:`chargedesign.simulation.taylor.propagate_many`,
-DOP853 without heyoka) and its I4 drift ``max |I4(t) - I4(0)| / |I4(0)|`` recorded. The
+flight by the flow counting's route (:func:`chargedesign.topology.chambers.propagate`: heyoka's
+ensemble, DOP853 without heyoka) and its I4 drift ``max |I4(t) - I4(0)| / |I4(0)|`` recorded. The
 drift is linear in the error for small errors: the largest error that keeps the drift below
 ``target`` is ``target / slope``.
 """
@@ -28,17 +28,8 @@ import numpy as np
 from chargedesign.formatting import CELL, ROUGH, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.support import MIN_TURNS
-from chargedesign.simulation import taylor
-from chargedesign.simulation.integrate import FALLBACK_METHOD, integrate
-from chargedesign.simulation.system import (
-    Body,
-    RigidBodySystem,
-    attitude_from_gamma,
-    quaternion_gamma,
-    rotation_quaternion,
-    theorem_i4,
-)
-from chargedesign.topology.chambers import LevelSampler, LevelSampling
+from chargedesign.simulation.system import theorem_i4
+from chargedesign.topology.chambers import LevelSampler, LevelSampling, propagate
 from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.equations import MomentumMap
 
@@ -87,40 +78,6 @@ class Start:
             "turns": self.turns,
             "name": self.name,
         }
-
-
-def system_of(params: Parameters) -> RigidBodySystem:
-    """The theorem's reduced model of ``params`` (the body's rigid motion, exact torques)."""
-    return RigidBodySystem(Body(parameters=params), ["theorem"])
-
-
-def propagate(params: Parameters, starts: np.ndarray, t_end: float, samples: int) -> Any:
-    """Trajectories of the theorem's model from ``starts`` (m, 6) on an even grid of
-    ``samples`` times over ``[0, t_end]``: ``(times (T,), states (m, T, 6), quaternions (m, T,
-    4))``, by heyoka's ensemble (DOP853 with rtol 1e-12 without heyoka)."""
-    system = system_of(params)
-    y0 = np.array(
-        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
-    )
-    grid = np.linspace(0.0, t_end, samples)
-    if taylor.available():
-        states = taylor.propagate_many(system, y0, grid).states
-        times = grid
-    else:
-        run = integrate(
-            system,
-            y0,
-            t_end,
-            method=FALLBACK_METHOD,
-            rtol=1e-12,
-            atol=1e-14,
-            max_step=t_end / samples,
-            samples=samples,
-        )
-        states, times = run.states, run.times
-    quats = states[..., 3:]
-    gamma = quaternion_gamma(quats.reshape(-1, 4)).reshape((*states.shape[:2], 3))
-    return times, np.concatenate([states[..., :3], gamma], axis=2), quats
 
 
 def turns_of(times: np.ndarray, states: np.ndarray) -> np.ndarray:

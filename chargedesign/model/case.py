@@ -27,6 +27,12 @@ STATE_SYMBOLS = (p, q, r, g1, g2, g3)
 PARAMETER_SYMBOLS = (C, c, d, n, K, kappa, lam, rho)
 
 
+def omega_shift(rate: sp.Expr, sign: int = 1) -> dict[sp.Symbol, sp.Expr]:
+    """``omega -> omega + sign rate gamma`` as a substitution: the frame reading's map (axes
+    turning at ``rate``) and, with sign -1 and the theorem's n, Larmor's."""
+    return {p: p + sign * rate * g1, q: q + sign * rate * g2, r: r + sign * rate * g3}
+
+
 @dataclass(frozen=True)
 class SymbolicCase:
     """The case's symbolic objects (all in body axes)."""

@@ -28,14 +28,33 @@ from chargedesign.model.frame import frame_reading
 from chargedesign.scene.case_file import Case, case_from_table
 
 
-def _vectorised(expr: sp.Expr, symbols: tuple[sp.Symbol, ...]) -> Callable[..., np.ndarray]:
-    """``expr`` of ``symbols`` as a NumPy function broadcasting over its arguments' shape."""
-    function = sp.lambdify(symbols, expr, modules="numpy")
+def lambdified(
+    outputs: Any, symbols: tuple[sp.Symbol, ...], module: str = "numpy", cse: bool = False
+) -> Callable[..., Any]:
+    """``outputs`` (one sympy expression or nested lists of them) of ``symbols`` compiled by
+    ``sympy.lambdify``: the house's one wrapper of it for numbers at run time.
 
-    def evaluate(*columns: np.ndarray) -> np.ndarray:
-        return np.broadcast_to(np.asarray(function(*columns), dtype=float), columns[0].shape)
+    ``module="numpy"``: the function takes columns of shape (n,) first (further arguments,
+    e.g. parameters, may be floats) and returns one float array of shape (n, ...): constant
+    entries broadcast, nested lists stacked along the axes after the first. ``module="math"``:
+    Python floats in, nested lists out (one state, far less overhead). ``cse``: common
+    subexpressions eliminated (worth it for gradients and Hessians).
+    """
+    function = sp.lambdify(symbols, outputs, modules=module, cse=cse)
+    if module != "numpy":
+        return function
+
+    def evaluate(*columns: Any) -> np.ndarray:
+        return _stacked(function(*columns), len(columns[0]))
 
     return evaluate
+
+
+def _stacked(out: Any, m: int) -> np.ndarray:
+    """Nested lists of scalars or (m,) arrays from a lambdified function, as one array (m, ...)."""
+    if isinstance(out, (list, tuple)):
+        return np.stack([_stacked(v, m) for v in out], axis=1)
+    return np.broadcast_to(np.asarray(out, dtype=float), (m,))
 
 
 @dataclass(frozen=True)
@@ -102,13 +121,13 @@ def case_functions(case: Case) -> CaseFunctions:
     """The numeric functions of ``case`` (its parameters substituted)."""
     return CaseFunctions(
         case=case,
-        _V=_vectorised(case.V, GAMMA_SYMBOLS),
-        _dV=tuple(_vectorised(sp.diff(case.V, x), GAMMA_SYMBOLS) for x in GAMMA_SYMBOLS),
-        _mu=tuple(_vectorised(m, GAMMA_SYMBOLS) for m in case.mu),
-        _F=_vectorised(case.integral, STATE),
-        _l_dot_gamma=_vectorised(case.l_dot_gamma, GAMMA_SYMBOLS),
-        _terms=sp.lambdify(
-            GAMMA_SYMBOLS, [*(sp.diff(case.V, x) for x in GAMMA_SYMBOLS), *case.mu], modules="math"
+        _V=lambdified(case.V, GAMMA_SYMBOLS),
+        _dV=tuple(lambdified(sp.diff(case.V, x), GAMMA_SYMBOLS) for x in GAMMA_SYMBOLS),
+        _mu=tuple(lambdified(m, GAMMA_SYMBOLS) for m in case.mu),
+        _F=lambdified(case.integral, STATE),
+        _l_dot_gamma=lambdified(case.l_dot_gamma, GAMMA_SYMBOLS),
+        _terms=lambdified(
+            [*(sp.diff(case.V, x) for x in GAMMA_SYMBOLS), *case.mu], GAMMA_SYMBOLS, "math"
         ),
     )
 
@@ -202,13 +221,23 @@ def simulated_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
     return simulated_functions(body_case(record, larmor))
 
 
+def singular_factors(expressions: Any) -> list[str]:
+    """``"<factor> = 0"`` for each factor of a denominator of ``expressions`` that depends on
+    the state (the case's numbers substituted), sorted: where the case's numbers blow up."""
+    found = set()
+    for expr in expressions:
+        denominator = sp.fraction(sp.together(expr))[1]
+        for factor, _ in sp.factor_list(denominator)[1]:
+            if factor.free_symbols & set(STATE):
+                found.add(f"{sp.sstr(factor)} = 0")
+    return sorted(found)
+
+
 def simulated_functions(case: Case) -> CaseFunctions:
     """:func:`case_functions` for a run: a case with singular terms (a denominator in gamma, as
     Goriachev's ``1/gamma3^2``) is refused in one line: the integrators take polynomial
     torques (its terms are infinite on the zero set the message names)."""
-    parts = [case.V, *(case.l if case.l is not None else case.mu)]
-    denominators = {sp.fraction(sp.together(e))[1] for e in parts}
-    where = sorted(f"{sp.sstr(d)} = 0" for d in denominators if d.free_symbols & set(GAMMA))
+    where = singular_factors([case.V, *(case.l if case.l is not None else case.mu)])
     if where:
         raise InputError(
             f"case {case.name}: singular where {'; '.join(where)}; simulate moves cases whose V "
@@ -225,6 +254,8 @@ __all__ = [
     "case_record",
     "design_case_functions",
     "lagrangian_torque",
+    "lambdified",
     "simulated_case_functions",
     "simulated_functions",
+    "singular_factors",
 ]

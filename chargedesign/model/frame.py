@@ -44,7 +44,7 @@ from typing import Any
 
 import sympy as sp
 
-from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, p, q, r
+from chargedesign.model.case import GAMMA, OMEGA, n, omega_shift
 from chargedesign.model.case_file import case_equations
 from chargedesign.results import Result
 from chargedesign.scene.case_file import Case, mu_from_l
@@ -73,11 +73,6 @@ def _rate(n: Any) -> sp.Expr:
     return sp.Rational(exact.numerator, exact.denominator)
 
 
-def _shift(n: sp.Expr, sign: int) -> dict[sp.Symbol, sp.Expr]:
-    """``omega -> omega + sign n gamma``."""
-    return {p: p + sign * n * g1, q: q + sign * n * g2, r: r + sign * n * g3}
-
-
 def frame_reading(case: Case, n: Any) -> Case:
     """The case read in axes turning at rate ``n`` (1/s) about the space axis Z.
 
@@ -104,7 +99,7 @@ def frame_reading(case: Case, n: Any) -> Case:
         if l_new is not None
         else (case.mu + rate * mu_from_l(spin)).applyfunc(sp.expand)
     )
-    integral = sp.expand(case.integral.xreplace(_shift(rate, +1)))
+    integral = sp.expand(case.integral.xreplace(omega_shift(rate, +1)))
     texts = dict(case.texts)
     texts.update({"V": sp.sstr(V), "integral": sp.sstr(integral)})
     if l_new is not None:
@@ -194,7 +189,7 @@ def certify_frame(case: Case, n: Any = N) -> FrameCertificate:
     start = time.perf_counter()
     rate = _rate(n)
     read = frame_reading(case, rate)
-    back = _shift(rate, -1)
+    back = omega_shift(rate, -1)
     old, new = case_equations(case), case_equations(read)
     checks = {
         "equations_omega": all(

@@ -38,7 +38,7 @@ from typing import Any
 
 import sympy as sp
 
-from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, p, q, r, symbolic_case
+from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, omega_shift, p, q, r, symbolic_case
 from chargedesign.model.certificate import (
     RING_SYMBOLS,
     laurent_normal,
@@ -88,11 +88,6 @@ def euler_poincare_residuals() -> list[sp.Expr]:
     chain = dl_domega.jacobian(GAMMA) * gamma_dot
     rhs = equations_of_motion()
     return [case.inertia[i, i] * rhs[i] - (momentum_rate[i] - chain[i]) for i in range(3)]
-
-
-def _shift(sign: int) -> dict[sp.Symbol, sp.Expr]:
-    """``omega -> omega + sign n gamma`` (sign -1: the Larmor map)."""
-    return {p: p + sign * n * g1, q: q + sign * n * g2, r: r + sign * n * g3}
 
 
 def _n0(expr: sp.Expr) -> sp.Expr:
@@ -169,7 +164,7 @@ def _certify(sign: int) -> LarmorCertificate:
     start = time.perf_counter()
     case = symbolic_case()
     rhs = equations_of_motion()
-    shift = _shift(sign)
+    shift = omega_shift(n, sign)
     checks: dict[str, bool] = {}
 
     # 1. equations: f_n(omega0 + s n gamma) = f_0(omega0) + s n gamma'_0(omega0)

@@ -22,17 +22,13 @@ Where the case is Kowalevski's on I3 = 0 the branches are named by their Appelro
 from __future__ import annotations
 
 import itertools
-import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from chargedesign.errors import SolverError
-from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, PRECISE, fmt
-from chargedesign.results import Result
 from chargedesign.scene.case_file import Case
 from chargedesign.topology.branches import Branch, distance_to_branch, trace_all
 from chargedesign.topology.case_map import CaseMomentumMap
@@ -40,13 +36,12 @@ from chargedesign.topology.chambers import count_by_flow
 from chargedesign.topology.compute import (
     Chamber,
     DiagramOptions,
+    Stopwatch,
     TracedBranch,
     Vertex,
-    clipped_runs,
     crossings,
-    name_vertex_ends,
+    drawn_branches,
     resolve_range,
-    typed_branch,
     typed_vertices,
 )
 from chargedesign.topology.critical import (
@@ -60,10 +55,9 @@ from chargedesign.topology.critical import (
     states_on_level,
 )
 from chargedesign.topology.diagram import (
+    DiagramResult,
     branch_record,
-    chamber_labels,
     chamber_record,
-    csv_table,
     draw_diagram,
     vertex_groups,
     vertex_record,
@@ -236,15 +230,8 @@ def case_diagram(
     """The diagram of ``case``'s ``(H, F)`` on ``|gamma| = 1, I3 = level`` (the case's
     units); ``count``: tori of each cell by the flow (the slow stage)."""
     options = options or DiagramOptions()
-    seconds: dict[str, float] = {}
-    clock = time.perf_counter()
-
-    def lap(stage: str) -> None:
-        nonlocal clock
-        now = time.perf_counter()
-        seconds[stage] = now - clock
-        clock = now
-
+    watch = Stopwatch()
+    lap = watch.lap
     F = CaseMomentumMap(case, level)
     lap("equations")
     rng_range, h_min = resolve_range(F, h_range)
@@ -265,12 +252,7 @@ def case_diagram(
     lap("continuation")
     # a family whose image is a point (at a vertex, to round-off) draws nothing
     moved = [b for b in raw if len(b.z) > 1 and np.ptp(scales.image(b.hk), axis=0).max() > 1e-6]
-    branches = [typed_branch(F, b, scales) for b in moved]
-    if degenerate is not None:
-        branches.append(degenerate)
-    branches = [
-        name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
-    ]
+    branches = drawn_branches(F, moved, degenerate, vertices, scales)
     if not branches:
         raise SolverError(
             f"bifurcation: no critical curve of case {case.name} traced in"
@@ -294,7 +276,7 @@ def case_diagram(
             vertices,
             chambers,
             band,
-            seconds,
+            watch.seconds,
             len(seeds.z),
         )
     )
@@ -343,19 +325,10 @@ def _band(branches: list[TracedBranch], scales: Scales, energies: int = 200) -> 
 
 
 @dataclass(repr=False)
-class CaseDiagram(Result):
+class CaseDiagram(DiagramResult):
     """The bifurcation diagram of a case: branches, vertices, cells with their tori."""
 
     raw: CaseRaw
-
-    @property
-    def branches(self) -> list[TracedBranch]:
-        return self.raw.branches
-
-    def labels(self) -> list[Chamber]:
-        """One cell per chamber (its widest), with the chamber's count (None if its cells
-        disagree)."""
-        return chamber_labels(self.raw.chambers)
 
     def to_dict(self) -> dict[str, Any]:
         raw = self.raw
@@ -407,13 +380,11 @@ class CaseDiagram(Result):
                 f"  vertex h = {fmt(h, CELL)}, k = {fmt(k, CELL)}: {kind} of the energy"
                 f" ({states} states)"
             )
-        labels = self.labels()
         lines.append(
-            f"  chambers: {len(labels)} ({len(raw.chambers)} cells); tori per chamber: "
-            + (", ".join("unresolved" if c.tori is None else str(c.tori) for c in labels) or "none")
+            f"  chambers: {len(self.labels())} ({len(raw.chambers)} cells); tori per chamber:"
+            f" {self._tori_text()}"
         )
-        stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
-        lines.append(f"  time: {stages}")
+        lines.append(self._time_line())
         return "\n".join(lines) + "\n"
 
     def plot(self, axes: Any = None) -> Any:
@@ -444,14 +415,3 @@ class CaseDiagram(Result):
                 )
         axes.legend(fontsize=8, loc="upper left")
         return axes.figure
-
-    def csv_text(self) -> str:
-        return csv_table(self.branches)
-
-    def write(self, out: Any) -> Any:
-        """``bifurcation.csv`` and ``bifurcation.png`` into ``out``, together or not at all."""
-        target = Path(out)
-        with atomic_directory(target) as stage:
-            write_text_atomic(stage / "bifurcation.csv", self.csv_text())
-            self.plot().savefig(stage / "bifurcation.png", dpi=130)
-        return target

@@ -24,32 +24,17 @@ import sympy as sp
 
 from chargedesign.model.case import GAMMA, STATE_SYMBOLS
 from chargedesign.model.case_file import case_equations
+from chargedesign.model.case_numeric import lambdified, singular_factors
 from chargedesign.scene.case_file import Case
 from chargedesign.simulation.integrate import Symbolic, solve
 from chargedesign.topology.equations import MomentumMap, lie_poisson_tensor
 
 
-def _compile(outputs: Any, module: str) -> Callable[..., Any]:
-    return sp.lambdify(STATE_SYMBOLS, outputs, modules=module, cse=True)
-
-
-def _stack(out: Any, m: int) -> np.ndarray:
-    """Nested lists of scalars or arrays from a lambdified function, as one array (m, ...)."""
-    if isinstance(out, (list, tuple)):
-        return np.stack([_stack(v, m) for v in out], axis=1)
-    return np.broadcast_to(np.asarray(out, dtype=float), (m,))
-
-
 def diagram_refusal(case: Case) -> str | None:
     """Why ``case`` has no diagram here (None: it has one): a singular case (a denominator
     in V, l or F; the set named) or one given by ``mu`` without ``l``."""
-    parts = [case.V, case.integral, *(case.l if case.l is not None else case.mu)]
-    singular = sorted(
-        {
-            f"{sp.sstr(f)} = 0"
-            for expr in parts
-            for f, _ in sp.factor_list(sp.fraction(sp.together(expr))[1])[1]
-        }
+    singular = singular_factors(
+        [case.V, case.integral, *(case.l if case.l is not None else case.mu)]
     )
     if singular:
         return (
@@ -84,38 +69,25 @@ class CaseMomentumMap(MomentumMap):
         gradients = [[sp.diff(e, x) for x in STATE_SYMBOLS] for e in functions]
         hessians = [sp.hessian(e, STATE_SYMBOLS).tolist() for e in functions]
         self._functions = {
-            (order, module): _compile(outputs, module)
+            (order, module): lambdified(outputs, STATE_SYMBOLS, module, cse=True)
             for order, outputs in enumerate((functions, gradients, hessians))
             for module in ("numpy", "math")
         }
+        #: no parameters after the state: the case's numbers are in its expressions
+        self.pt = ()
         equations = tuple(case_equations(case))
-        self._velocity = _compile(list(equations), "math")
-        self._velocity_batch = _compile(list(equations), "numpy")
+        self._velocity = lambdified(list(equations), STATE_SYMBOLS, "math", cse=True)
+        self._velocity_batch = lambdified(list(equations), STATE_SYMBOLS, cse=True)
         #: the equations as the integrator service's Taylor method takes them
         self.symbolic = Symbolic(tuple(STATE_SYMBOLS), equations)
-        self._l = _compile(list(case.l), "math")
-        self._dl = _compile(case.l.jacobian(GAMMA).tolist(), "math")
+        self._l = lambdified(list(case.l), STATE_SYMBOLS, "math", cse=True)
+        self._dl = lambdified(case.l.jacobian(GAMMA).tolist(), STATE_SYMBOLS, "math", cse=True)
         self._inertia = np.array([float(m) for m in case.inertia])
         #: the flow counting's unit of time (s): its t_end is read in these units
         self.time_unit = 1.0
 
-    def _evaluate(self, order: int, x: np.ndarray) -> np.ndarray:
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        if x.shape[0] == 1:
-            return np.array([self._functions[order, "math"](*x[0].tolist())], dtype=float)
-        return _stack(self._functions[order, "numpy"](*x.T), x.shape[0])
-
-    def values(self, x: np.ndarray) -> np.ndarray:
-        """Shape (m, 4): ``H, F, I2, I3 - level``."""
-        return self._evaluate(0, x)
-
-    def gradients(self, x: np.ndarray) -> np.ndarray:
-        """Shape (m, 4, 6)."""
-        return self._evaluate(1, x)
-
-    def hessians(self, x: np.ndarray) -> np.ndarray:
-        """Shape (m, 4, 6, 6)."""
-        return self._evaluate(2, x)
+    def _compiled(self, order: int, module: str) -> Callable[..., Any]:
+        return self._functions[order, module]
 
     def inertia(self) -> np.ndarray:
         """``(A, B, C)``."""
@@ -130,8 +102,8 @@ class CaseMomentumMap(MomentumMap):
 
     def velocities(self, x: np.ndarray) -> np.ndarray:
         """The right-hand side at a batch of states (m, 6) -> (m, 6)."""
-        x = np.atleast_2d(x)
-        return _stack(self._velocity_batch(*x.T), x.shape[0])
+        out: np.ndarray = self._velocity_batch(*np.atleast_2d(x).T)
+        return out
 
     def poisson(self, x: np.ndarray) -> np.ndarray:
         """The Poisson tensor in ``(omega, gamma)`` (as

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.params import Parameters
 from chargedesign.simulation import taylor
 from chargedesign.simulation.integrate import FALLBACK_METHOD, integrate
 from chargedesign.simulation.system import (
@@ -161,6 +162,43 @@ class FlowCount:
         }
 
 
+def propagate(
+    params: Parameters,
+    starts: np.ndarray,
+    t_end: float,
+    samples: int,
+    rtol: float = 1e-12,
+    atol: float = 1e-14,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Trajectories of the theorem's reduced model from ``starts`` (m, 6) on an even grid of
+    ``samples`` times over ``[0, t_end]``: ``(times (T,), states (m, T, 6), quaternions (m, T,
+    4))``, by heyoka's ensemble (without heyoka DOP853 at ``rtol``, ``atol``, its accepted step
+    ends as the times). The flow counting's and the flight's one route."""
+    system = RigidBodySystem(Body(parameters=params), ["theorem"])
+    y0 = np.array(
+        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
+    )
+    grid = np.linspace(0.0, t_end, samples)
+    if taylor.available():
+        states = taylor.propagate_many(system, y0, grid).states
+        times = grid
+    else:
+        run = integrate(
+            system,
+            y0,
+            t_end,
+            method=FALLBACK_METHOD,
+            rtol=rtol,
+            atol=atol,
+            max_step=t_end / samples,
+            samples=samples,
+        )
+        states, times = run.states, run.times
+    quats = states[..., 3:]
+    gamma = quaternion_gamma(quats.reshape(-1, 4)).reshape((*states.shape[:2], 3))
+    return times, np.concatenate([states[..., :3], gamma], axis=2), quats
+
+
 def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) -> np.ndarray:
     """States (omega, gamma) along the trajectories from ``starts`` (m, 6): (m, T, 6)."""
     # sympy (a case file's map): lazy, so that design's and simulate's start-up skip it
@@ -168,27 +206,7 @@ def _trajectories(F: MomentumMap, starts: np.ndarray, counting: FlowCounting) ->
 
     if isinstance(F, CaseMomentumMap):
         return case_trajectories(F, starts, counting.t_end * F.time_unit, counting.samples)
-    system = RigidBodySystem(Body(parameters=F.params), ["theorem"])
-    y0 = np.array(
-        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
-    )
-    if taylor.available():
-        grid = np.linspace(0.0, counting.t_end, counting.samples)
-        states = taylor.propagate_many(system, y0, grid).states
-    else:
-        step = counting.t_end / counting.samples
-        states = integrate(
-            system,
-            y0,
-            counting.t_end,
-            method=FALLBACK_METHOD,
-            rtol=1e-10,
-            atol=1e-12,
-            max_step=step,
-            samples=counting.samples,
-        ).states
-    gamma = quaternion_gamma(states[..., 3:].reshape(-1, 4)).reshape((*states.shape[:2], 3))
-    return np.concatenate([states[..., :3], gamma], axis=2)
+    return propagate(F.params, starts, counting.t_end, counting.samples, rtol=1e-10, atol=1e-12)[1]
 
 
 def count_by_flow(

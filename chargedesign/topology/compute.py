@@ -193,6 +193,42 @@ def typed_vertices(F: MomentumMap, points: CriticalPoints, scales: Scales) -> li
 STAGES = ("equations", "energy range", "seeds", "continuation", "stability", "chambers")
 
 
+class Stopwatch:
+    """The seconds of each stage of a diagram (:meth:`lap` ends one); ``tally(done, total)``,
+    when given, is told the stages done of ``total``."""
+
+    def __init__(self, total: int = 0, tally: Callable[[int, int], None] | None = None) -> None:
+        self.seconds: dict[str, float] = {}
+        self._clock = time.perf_counter()
+        self._total = total
+        self._tally = tally
+
+    def lap(self, stage: str) -> None:
+        now = time.perf_counter()
+        self.seconds[stage] = now - self._clock
+        self._clock = now
+        if self._tally is not None:
+            self._tally(len(self.seconds), self._total)
+
+
+def drawn_branches(
+    F: MomentumMap,
+    traced: list[Branch],
+    extra: TracedBranch | None,
+    vertices: list[Vertex],
+    scales: Scales,
+) -> list[TracedBranch]:
+    """The families to draw: each traced one typed by the flow, the ``extra`` one (exact or
+    sampled, already typed) after them, every one cut to its runs inside the energy range with
+    the ends at a vertex named (:func:`clipped_runs`, :func:`name_vertex_ends`)."""
+    branches = [typed_branch(F, b, scales) for b in traced]
+    if extra is not None:
+        branches.append(extra)
+    return [
+        name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
+    ]
+
+
 def critical_diagram(
     params: Parameters,
     h_range: tuple[float, float] | None = None,
@@ -202,17 +238,8 @@ def critical_diagram(
     """The critical set, its image and the chambers, computed at ``params`` as given
     (``tally(done, total)`` is told the stages done of :data:`STAGES`)."""
     options = options or DiagramOptions()
-    seconds: dict[str, float] = {}
-    clock = time.perf_counter()
-
-    def lap(stage: str) -> None:
-        nonlocal clock
-        now = time.perf_counter()
-        seconds[stage] = now - clock
-        clock = now
-        if tally is not None:
-            tally(len(seconds), len(STAGES))
-
+    watch = Stopwatch(len(STAGES), tally)
+    lap = watch.lap
     F = MomentumMap(params)
     F.hessians(np.zeros((2, 6)))
     lap("equations")
@@ -225,26 +252,25 @@ def critical_diagram(
     raw = trace_all(F, seeds, scales, options.continuation)
     exact = equator_family(F, scales, options.continuation.max_image_step)
     lap("continuation")
-    branches = [typed_branch(F, b, scales) for b in raw if len(b.z) > 1]
+    equator = None
     if len(exact.z):
-        branches.append(
-            TracedBranch(
-                exact.z[:, :6],
-                exact.hk,
-                ["degenerate"] * len(exact.z),
-                ("end", "energy range"),
-                True,
-            )
-        )
-    branches = [
-        name_vertex_ends(run, vertices, scales) for b in branches for run in clipped_runs(b, scales)
-    ]
+        kinds = ["degenerate"] * len(exact.z)
+        equator = TracedBranch(exact.z[:, :6], exact.hk, kinds, ("end", "energy range"), True)
+    branches = drawn_branches(F, [b for b in raw if len(b.z) > 1], equator, vertices, scales)
     lap("stability")
     chambers = chamber_samples(F, scales, options.counting)
     admissible = admissible_band(F, scales)
     lap("chambers")
     return RawDiagram(
-        params, rng_range, h_min, branches, vertices, chambers, admissible, seconds, len(seeds.z)
+        params,
+        rng_range,
+        h_min,
+        branches,
+        vertices,
+        chambers,
+        admissible,
+        watch.seconds,
+        len(seeds.z),
     )
 
 

@@ -274,8 +274,52 @@ def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
     return out
 
 
+class DiagramResult(Result):
+    """What the theorem's diagram (:class:`BifurcationDiagram`) and a case's
+    (:class:`~chargedesign.topology.case_diagram.CaseDiagram`) share: ``raw`` with the
+    branches, vertices and chambers; the contract's CSV; the files; the chambers' labels."""
+
+    raw: Any
+
+    @property
+    def branches(self) -> list[TracedBranch]:
+        return self.raw.branches
+
+    def labels(self) -> list[Chamber]:
+        """One cell per chamber (its widest), with the chamber's count (None if its cells
+        disagree): :func:`chamber_labels`."""
+        return chamber_labels(self.raw.chambers)
+
+    def rows(self) -> list[tuple[Any, ...]]:
+        """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
+        return csv_rows(self.branches)
+
+    def csv_text(self) -> str:
+        return csv_table(self.branches)
+
+    def plot(self, axes: Any = None) -> Any:  # pragma: no cover - every diagram overrides it
+        raise NotImplementedError
+
+    def _tori_text(self) -> str:
+        """The tori per chamber, in words (``unresolved`` for a chamber without a count)."""
+        labels = self.labels()
+        return ", ".join("unresolved" if c.tori is None else str(c.tori) for c in labels) or "none"
+
+    def _time_line(self) -> str:
+        stages = ", ".join(f"{k} {v:.2f} s" for k, v in self.raw.seconds.items())
+        return f"  time: {stages}"
+
+    def write(self, out: str | os.PathLike[str]) -> Path:
+        """``bifurcation.csv`` and ``bifurcation.png`` into ``out``, together or not at all."""
+        target = Path(out)
+        with atomic_directory(target) as stage:
+            write_text_atomic(stage / "bifurcation.csv", self.csv_text())
+            self.plot().savefig(stage / "bifurcation.png", dpi=130)
+        return target
+
+
 @dataclass(repr=False)
-class BifurcationDiagram(Result):
+class BifurcationDiagram(DiagramResult):
     """The bifurcation diagram: branches (critical families), vertices, chambers.
 
     ``raw`` holds the arrays (:class:`~chargedesign.topology.compute.RawDiagram`, SI, body
@@ -284,17 +328,6 @@ class BifurcationDiagram(Result):
     """
 
     raw: RawDiagram
-
-    @property
-    def branches(self) -> list[TracedBranch]:
-        return self.raw.branches
-
-    def rows(self) -> list[tuple[Any, ...]]:
-        """The CSV rows ``h, k, branch, type, p, q, r, gamma1, gamma2, gamma3``."""
-        return csv_rows(self.branches)
-
-    def csv_text(self) -> str:
-        return csv_table(self.branches)
 
     def to_dict(self) -> dict[str, Any]:
         raw = self.raw
@@ -306,7 +339,7 @@ class BifurcationDiagram(Result):
             "time_scale": Reading.of(raw.params).s,
             "branches": [{"branch": i} | branch_record(b) for i, b in enumerate(self.branches)],
             "vertices": [vertex_record(v) for v in raw.vertices],
-            "chambers": [chamber_record(c) for c in chamber_labels(raw.chambers)],
+            "chambers": [chamber_record(c) for c in self.labels()],
             "closed_form": [
                 {"type": p.type, "h_j": p.h_j, "from_h": p.start, "name": p.name}
                 for p in ClosedForm.of(raw.params).parabolas
@@ -316,7 +349,7 @@ class BifurcationDiagram(Result):
         }
 
     def _summary(self) -> dict[str, Any]:
-        tori = [c.tori for c in chamber_labels(self.raw.chambers)]
+        tori = [c.tori for c in self.labels()]
         return {
             "branches": len(self.branches),
             "points": sum(len(b.hk) for b in self.branches),
@@ -358,11 +391,9 @@ class BifurcationDiagram(Result):
             )
         for p in ClosedForm.of(raw.params).parabolas:
             lines.append(f"  closed form: {p.label}, from h = {fmt(p.start, CELL)} J")
-        labels = chamber_labels(raw.chambers)
         lines.append(
-            f"  chambers: {len(labels)} ({len(raw.chambers)} cells between consecutive vertex"
-            " energies, each counted by the flow); tori per chamber: "
-            + (", ".join("unresolved" if c.tori is None else str(c.tori) for c in labels) or "none")
+            f"  chambers: {len(self.labels())} ({len(raw.chambers)} cells between consecutive"
+            f" vertex energies, each counted by the flow); tori per chamber: {self._tori_text()}"
         )
         evidence = [c.evidence for c in raw.chambers if c.evidence and c.evidence.plateau]
         if evidence:
@@ -373,8 +404,7 @@ class BifurcationDiagram(Result):
                 " more with every sample passed by a trajectory"
                 + (f"; the tori's samples at least {fmt(min(apart), CELL)} apart" if apart else "")
             )
-        stages = ", ".join(f"{k} {v:.2f} s" for k, v in raw.seconds.items())
-        lines.append(f"  time: {stages}")
+        lines.append(self._time_line())
         return "\n".join(lines) + "\n"
 
     def plot(self, axes: Any = None, root: bool = False) -> Any:
@@ -394,8 +424,7 @@ class BifurcationDiagram(Result):
             return fig
         lift = np.sqrt if root else np.asarray
         raw = self.raw
-        labels = chamber_labels(raw.chambers)
-        draw_diagram(axes, self.branches, raw.vertices, labels, raw.admissible, lift)
+        draw_diagram(axes, self.branches, raw.vertices, self.labels(), raw.admissible, lift)
         axes.set_xlabel("h = H [J]")
         if root:
             axes.set_ylabel("sqrt(k) = sqrt(I4) [1/s^2]")
@@ -406,15 +435,6 @@ class BifurcationDiagram(Result):
             axes.set_title(title, fontsize=10)
         axes.legend(fontsize=8, loc="upper left")
         return axes.figure
-
-    def write(self, out: str | os.PathLike[str]) -> Path:
-        """``bifurcation.csv`` and ``bifurcation.png`` into ``out``, together or not at all."""
-        target = Path(out)
-        with atomic_directory(target) as stage:
-            write_text_atomic(stage / "bifurcation.csv", self.csv_text())
-            fig = self.plot()
-            fig.savefig(stage / "bifurcation.png", dpi=130)
-        return target
 
     def _html_picture(self) -> str:
         import matplotlib.backends.backend_agg as agg

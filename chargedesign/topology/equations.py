@@ -17,24 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.formatting import PLAIN, fmt
-from chargedesign.model.evaluators import ParamTuple, angular_potential, parameter_tuple, rhs
+from chargedesign.model.evaluators import angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
-
-#: the four functions, in the order of every array of this package (rows of the Jacobian)
-FUNCTION_NAMES = ("H", "I4", "I2", "I3")
+from chargedesign.scene.bifurcation import check_regular
 
 
 def require_regular(params: Parameters) -> None:
-    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case;
-    the command refuses them first, through :func:`~.diagram.check_parameters` and
-    :func:`chargedesign.scene.bifurcation.check_regular`)."""
-    if params.singular:
-        raise ValueError(
-            "parameters: the bifurcation diagram needs lambda = rho = 0 (the singular terms "
-            f"blow up on gamma3 = 0, which the level I3 = 0 crosses); got lambda = "
-            f"{fmt(params.lam, PLAIN)}, rho = {fmt(params.rho, PLAIN)}"
-        )
+    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case):
+    :func:`chargedesign.scene.bifurcation.check_regular`, which the command runs first
+    (through :func:`~.diagram.check_parameters`)."""
+    check_regular(params.lam, params.rho)
 
 
 def _expressions() -> list[Any]:
@@ -53,6 +45,7 @@ def _compiled(order: int, module: str = "numpy") -> Callable[..., Any]:
     import sympy as sp
 
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS
+    from chargedesign.model.case_numeric import lambdified
 
     expressions = _expressions()
     if order == 0:
@@ -61,11 +54,7 @@ def _compiled(order: int, module: str = "numpy") -> Callable[..., Any]:
         outputs = [[sp.diff(e, x) for x in STATE_SYMBOLS] for e in expressions]
     else:
         outputs = [sp.hessian(e, STATE_SYMBOLS).tolist() for e in expressions]
-    return sp.lambdify(STATE_SYMBOLS + PARAMETER_SYMBOLS, outputs, modules=module, cse=True)
-
-
-def _broadcast(value: Any, shape: tuple[int, ...]) -> np.ndarray:
-    return np.broadcast_to(np.asarray(value, dtype=float), shape)
+    return lambdified(outputs, STATE_SYMBOLS + PARAMETER_SYMBOLS, module, cse=True)
 
 
 class MomentumMap:
@@ -77,41 +66,32 @@ class MomentumMap:
     def __init__(self, params: Parameters) -> None:
         require_regular(params)
         self.params = params
-        self.pt: ParamTuple = parameter_tuple(params)
+        self.pt: tuple[float, ...] = parameter_tuple(params)
+
+    def _compiled(self, order: int, module: str) -> Callable[..., Any]:
+        """The compiled function of ``order`` (values 0, gradients 1, Hessians 2); its
+        arguments after the state are :attr:`pt`."""
+        return _compiled(order, module)
+
+    def _evaluate(self, order: int, x: np.ndarray) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.shape[0] == 1:
+            return np.array([self._compiled(order, "math")(*x[0].tolist(), *self.pt)], float)
+        out: np.ndarray = self._compiled(order, "numpy")(*x.T, *self.pt)
+        return out
 
     def values(self, x: np.ndarray) -> np.ndarray:
-        """Shape (m, 4): ``H (J), I4 (1/s^4), I2, I3 (kg m^2/s)``."""
-        x = np.atleast_2d(x)
-        if x.shape[0] == 1:
-            return np.array([_compiled(0, "math")(*x[0].tolist(), *self.pt)], dtype=float)
-        out = _compiled(0)(*x.T, *self.pt)
-        return np.stack([_broadcast(v, (x.shape[0],)) for v in out], axis=1)
+        """Shape (m, 4): ``H (J), I4 (1/s^4), I2, I3 (kg m^2/s)`` (a case's map: ``H, F, I2,
+        I3 - level``)."""
+        return self._evaluate(0, x)
 
     def gradients(self, x: np.ndarray) -> np.ndarray:
         """Shape (m, 4, 6): the rows dH, dI4, dI2, dI3."""
-        x = np.atleast_2d(x)
-        m = x.shape[0]
-        if m == 1:
-            return np.array([_compiled(1, "math")(*x[0].tolist(), *self.pt)], dtype=float)
-        out = _compiled(1)(*x.T, *self.pt)
-        return np.stack(
-            [np.stack([_broadcast(v, (m,)) for v in row], axis=1) for row in out], axis=1
-        )
+        return self._evaluate(1, x)
 
     def hessians(self, x: np.ndarray) -> np.ndarray:
         """Shape (m, 4, 6, 6)."""
-        x = np.atleast_2d(x)
-        m = x.shape[0]
-        if m == 1:
-            return np.array([_compiled(2, "math")(*x[0].tolist(), *self.pt)], dtype=float)
-        out = _compiled(2)(*x.T, *self.pt)
-        return np.stack(
-            [
-                np.stack([np.stack([_broadcast(v, (m,)) for v in row], axis=1) for row in h], 1)
-                for h in out
-            ],
-            axis=1,
-        )
+        return self._evaluate(2, x)
 
     def inertia(self) -> np.ndarray:
         """``diag(2C, 2C, C)``."""
@@ -150,12 +130,11 @@ def relative_singular_value(gradients: np.ndarray) -> np.ndarray:
 @cache
 def _compiled_angular_potential_jacobian() -> Callable[..., Any]:
     """``dl/dgamma`` (3x3) of the model's vector potential, compiled."""
-    import sympy as sp
-
     from chargedesign.model.case import GAMMA, PARAMETER_SYMBOLS, symbolic_case
+    from chargedesign.model.case_numeric import lambdified
 
     jac = symbolic_case().l.jacobian(GAMMA).tolist()
-    return sp.lambdify(tuple(GAMMA) + PARAMETER_SYMBOLS, jac, modules="math", cse=True)
+    return lambdified(jac, tuple(GAMMA) + PARAMETER_SYMBOLS, "math", cse=True)
 
 
 def _hat(v: np.ndarray) -> np.ndarray:

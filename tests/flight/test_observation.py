@@ -13,9 +13,10 @@ from chargedesign.flight.observation import (
     noisy_track,
     observe,
 )
-from chargedesign.flight.release import propagate, release_start
+from chargedesign.flight.release import release_start
 from chargedesign.params import Parameters
 from chargedesign.simulation.system import quaternion_rotation, theorem_i4
+from chargedesign.topology.chambers import propagate
 
 DROP = Parameters(C=1.5e-6, c=0.3, d=-0.4, n=0.0, K=0.0, kappa=64.0)
 FLIGHT = 8.8

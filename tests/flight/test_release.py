@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from chargedesign.flight.release import (
-    propagate,
     release_start,
     release_tolerance,
     turns_of,
@@ -14,6 +13,7 @@ from chargedesign.flight.release import (
 from chargedesign.params import Parameters
 from chargedesign.physical.support import MIN_TURNS
 from chargedesign.report import flight_lines
+from chargedesign.topology.chambers import propagate
 from chargedesign.topology.closed_form import ClosedForm
 from chargedesign.topology.equations import MomentumMap
 
