@@ -15,7 +15,7 @@ and for a general case its realism budget and realised window at the case's typi
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from chargedesign.body import Design
@@ -25,7 +25,7 @@ from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.model.case_numeric import case_functions, case_record
-from chargedesign.model.catalogue import theorem_case
+from chargedesign.model.catalogue import THEOREM_NAME, theorem_case
 from chargedesign.moment_conditions import LinearConditions, scene_length
 from chargedesign.moment_conditions.case import derive_case_conditions
 from chargedesign.params import Parameters
@@ -138,12 +138,29 @@ def model_certificate(case: Case) -> CaseCertificate:
     return certificate
 
 
+def _theorem_certificate(
+    design: Design, theorem: Parameters, progress: Callable[[str], None] | None
+) -> CaseCertificate | None:
+    """The theorem's scene's certificate (:func:`theorem_model`); design.json's parameters are
+    its record (they rebuild the case). A refusal of the case's bounds is a note, not an error:
+    the body stands."""
+    if progress is not None:
+        progress(f"certificate of the case {THEOREM_NAME} (exact) ...")
+    try:
+        return model_certificate(theorem_model(theorem))
+    except InputError as exc:
+        design.notes = [*(design.notes or []), f"the model's exact certificate was not made: {exc}"]
+        return None
+
+
 def record_case(
     design: Design,
     case: Any,
     table: Mapping[str, Any] | None,
     theorem: Parameters | None,
-) -> CaseCertificate:
+    *,
+    progress: Callable[[str], None] | None = None,
+) -> CaseCertificate | None:
     """Record the model a scene's body realises: its exact certificate (returned), and for a
     ``[case]`` scene (``table``, the ``[case]`` as written) design.json ``case`` (to rebuild
     the case). ``case`` None is the theorem's scene: its model is :func:`theorem_model` of
@@ -152,14 +169,21 @@ def record_case(
     against the case (``case.checks``; also in ``residuals``) and its realism budget and
     realised window at the case's typical rate (``case.realism``, ``case.realised``). A case of
     the theorem's form has the theorem's body and records: its forward accuracy, and with
-    ``[medium]`` its limits, realism budget and window."""
+    ``[medium]`` its limits, realism budget and window.
+
+    The theorem's scene whose case the catalogue's bounds refuse (a parameter outside the
+    supported range of a case file, or a certificate beyond its work limit) keeps its body:
+    the certificate is None and a note says why (the theorem holds for all parameters:
+    ``chargedesign verify``)."""
     if case is None:
         if theorem is None:
             raise ValueError("record_case: neither a case nor the theorem's parameters")
-        case = theorem_model(theorem)
+        return _theorem_certificate(design, theorem, progress)
+    if progress is not None:
+        progress(f"certificate of the case {case.name} (exact) ...")
     certificate = model_certificate(case)
     if table is None:
-        return certificate  # the theorem's scene: design.json's parameters rebuild its case
+        return certificate
     design.further_keys["case"] = case_record(table, case, certificate)
     if design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window

@@ -594,12 +594,11 @@ def _record_case(result: DesignResult, model: SceneModel, progress: Progress | N
     catalogue's case built from its parameters); a case scene's also its case record and the
     checks of the elements against the case's own V, mu and inertia
     (:mod:`chargedesign.designer.case_design`)."""
-    from chargedesign.designer.case_design import record_case, theorem_model  # sympy
+    from chargedesign.designer.case_design import record_case  # sympy
 
-    case = model.case if model.case is not None else theorem_model(model.parameters)
-    if progress is not None:
-        progress(f"certificate of the case {case.name} (exact) ...")
-    result.certificate = record_case(result.design, case, model.table, model.theorem)
+    result.certificate = record_case(
+        result.design, model.case, model.table, model.theorem, progress=progress
+    )
 
 
 @dataclass

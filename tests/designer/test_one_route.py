@@ -254,3 +254,16 @@ def test_a_model_is_certified_once_per_process() -> None:
     first = model_certificate(case)
     assert first.holds and first.holds_for_all_parameters is None
     assert model_certificate(theorem_model(params)) is first
+
+
+def test_a_theorem_scene_whose_case_the_catalogue_refuses_keeps_its_body() -> None:
+    """c = 1e-35 is a valid theorem parameter and outside a case file's range (1e-30): the
+    record step notes that the certificate was not made, and raises nothing."""
+    from chargedesign.body import Design
+    from chargedesign.designer.case_design import record_case
+
+    params = Parameters(C=1.0, c=1e-35, d=0.5, kappa=1.0)
+    design = Design(params, charge_positions=[[0.1, 0.0, 0.0]], charge_values=[1.0])
+    assert record_case(design, None, None, params) is None
+    assert any("certificate was not made" in note and "1e-35" in note for note in design.notes)
+    assert "case" not in design.further_keys
