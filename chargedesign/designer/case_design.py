@@ -5,15 +5,17 @@ theorem's form (:func:`chargedesign.model.catalogue.theorem_parameters`) takes t
 conditions and program unchanged (points, or real parts with ``[medium]``). Any other case
 takes its own conditions here (:func:`case_conditions`: masses in gravity when they alone
 realise it, else the conditions engine's charges, dipoles and masses) and the same point
-design. This module then records the case (:func:`record_case`): its exact certificate, the
-design.json ``case`` record (so that ``check`` and ``simulate`` compare with the case's own V,
-inertia and integral), the checks of a point body's elements against the case, and for a
-general case its realism budget and realised window at the case's typical rate.
+design. This module then records the model of every scene (:func:`record_case`): the theorem's
+scene is the catalogue's case built from its parameters (:func:`theorem_model`), so every body
+carries the exact certificate of the model it realises, at the body's own numbers; a ``[case]``
+scene adds the design.json ``case`` record (so that ``check`` and ``simulate`` compare with the
+case's own V, inertia and integral), the checks of a point body's elements against the case,
+and for a general case its realism budget and realised window at the case's typical rate.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from chargedesign.body import Design
@@ -23,12 +25,14 @@ from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.model.case_numeric import case_functions, case_record
+from chargedesign.model.catalogue import THEOREM_NAME, theorem_case
 from chargedesign.moment_conditions import LinearConditions, scene_length
 from chargedesign.moment_conditions.case import derive_case_conditions
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import case_realism_budget
 from chargedesign.physical.window import case_realised_window
 from chargedesign.scene import Scene, case_refusals
+from chargedesign.scene.case_file import Case
 
 #: the one result of a design: a case scene's carries its ``certificate``
 CaseDesignResult = DesignResult
@@ -97,21 +101,90 @@ def record_realism(design: Design, case: Any) -> None:
     }
 
 
+#: certificates already made in this process, by the case's exact content (a sweep or a test
+#: session designs the same model many times; the certificate is exact, so it is reused)
+_CERTIFIED: dict[tuple[Any, ...], CaseCertificate] = {}
+#: most certificates kept
+MAX_CERTIFIED = 16
+
+
+def theorem_model(params: Parameters) -> Case:
+    """The theorem's scene as a case of (ep): the catalogue's entry built from the scene's
+    parameters (:func:`chargedesign.model.catalogue.theorem_case`), at their values: its
+    certificate is the claim at the body's own numbers, as its ``[case]`` twin's is (the
+    theorem for all parameters is ``chargedesign verify``'s)."""
+    return theorem_case(params).at_values()
+
+
+def model_certificate(case: Case) -> CaseCertificate:
+    """The exact certificate of ``case`` (:func:`chargedesign.model.case_file.certify_case`),
+    made once per process for the same exact case."""
+    key = (
+        case.name,
+        tuple(case.inertia),
+        case.V,
+        None if case.l is None else tuple(case.l),
+        tuple(case.mu),
+        case.integral,
+        case.level,
+        bool(case.free),
+    )
+    certificate = _CERTIFIED.get(key)
+    if certificate is None:
+        certificate = certify_case(case)
+        if len(_CERTIFIED) >= MAX_CERTIFIED:
+            _CERTIFIED.pop(next(iter(_CERTIFIED)))
+        _CERTIFIED[key] = certificate
+    return certificate
+
+
+def _theorem_certificate(
+    design: Design, theorem: Parameters, progress: Callable[[str], None] | None
+) -> CaseCertificate | None:
+    """The theorem's scene's certificate (:func:`theorem_model`); design.json's parameters are
+    its record (they rebuild the case). A refusal of the case's bounds is a note, not an error:
+    the body stands."""
+    if progress is not None:
+        progress(f"certificate of the case {THEOREM_NAME} (exact) ...")
+    try:
+        return model_certificate(theorem_model(theorem))
+    except InputError as exc:
+        design.notes = [*(design.notes or []), f"the model's exact certificate was not made: {exc}"]
+        return None
+
+
 def record_case(
     design: Design,
     case: Any,
     table: Mapping[str, Any] | None,
     theorem: Parameters | None,
-) -> CaseCertificate:
-    """Record a case scene's body: the case's exact certificate and design.json ``case``
-    (the table as written, to rebuild the case); for a general case (``theorem`` None: not
-    of the theorem's form) also the checks of its point body's elements against the case
-    (``case.checks``; also in ``residuals``) and its realism budget and realised window at
-    the case's typical rate (``case.realism``, ``case.realised``). A case of the theorem's
-    form has the theorem's body and records: its forward accuracy, and with ``[medium]`` its
-    limits, realism budget and window. Returns the certificate."""
-    certificate = certify_case(case)
-    design.further_keys["case"] = case_record(table or {}, case, certificate)
+    *,
+    progress: Callable[[str], None] | None = None,
+) -> CaseCertificate | None:
+    """Record the model a scene's body realises: its exact certificate (returned), and for a
+    ``[case]`` scene (``table``, the ``[case]`` as written) design.json ``case`` (to rebuild
+    the case). ``case`` None is the theorem's scene: its model is :func:`theorem_model` of
+    ``theorem``, and design.json's ``parameters`` are its record. For a general case
+    (``theorem`` None: not of the theorem's form) also the checks of its point body's elements
+    against the case (``case.checks``; also in ``residuals``) and its realism budget and
+    realised window at the case's typical rate (``case.realism``, ``case.realised``). A case of
+    the theorem's form has the theorem's body and records: its forward accuracy, and with
+    ``[medium]`` its limits, realism budget and window.
+
+    The theorem's scene whose case the catalogue's bounds refuse (a parameter outside the
+    supported range of a case file, or a certificate beyond its work limit) keeps its body:
+    the certificate is None and a note says why (the theorem holds for all parameters:
+    ``chargedesign verify``)."""
+    if case is None:
+        if theorem is None:
+            raise ValueError("record_case: neither a case nor the theorem's parameters")
+        return _theorem_certificate(design, theorem, progress)
+    if progress is not None:
+        progress(f"certificate of the case {case.name} (exact) ...")
+    certificate = model_certificate(case)
+    if table is None:
+        return certificate
+    design.further_keys["case"] = case_record(table, case, certificate)
     if design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window
         # (as the theorem's scene has them) say the rest
@@ -135,6 +208,8 @@ __all__ = [
     "CaseElementsResult",
     "case_conditions",
     "conditions_of_case",
+    "model_certificate",
     "record_case",
     "record_realism",
+    "theorem_model",
 ]

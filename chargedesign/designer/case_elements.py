@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.designer.case_masses import inertia_of
 from chargedesign.fields import AxisymmetricField
 from chargedesign.moment_conditions import physical_l_dot_gamma
+from chargedesign.physical.holder import point_inertia
 
 #: attitudes and angular velocities of the element-level torque comparison
 TORQUE_SAMPLES = 64
@@ -95,7 +95,7 @@ def case_checks(case: Any, design: Any) -> dict[str, float]:
     reference = case_torques(case_functions(case), gammas, omegas)
     scale = max(float(np.max(np.abs(reference))), 1e-300)
     target = np.diag([float(m) for m in case.inertia])
-    inertia = inertia_of(*masses)
+    inertia = point_inertia(*masses)  # the whole inertia's points term, one formula
     offset, spread = level_offset(case, fields, charges, gammas)
     return {
         "inertia_rel_err": float(np.max(np.abs(inertia - target))) / float(np.max(target)),

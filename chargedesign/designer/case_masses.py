@@ -27,7 +27,6 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-import numpy as np
 import sympy as sp
 
 from chargedesign.constants import STANDARD_GRAVITY
@@ -136,15 +135,8 @@ def mass_conditions(case: Case, g: float = STANDARD_GRAVITY) -> LinearConditions
     )
 
 
-def inertia_of(positions: np.ndarray, masses: np.ndarray) -> np.ndarray:
-    """``sum m (|x|^2 delta - x x^T)`` about O, kg m^2, shape (3, 3)."""
-    squared = np.einsum("i,ij,ij->", masses, positions, positions)
-    return np.eye(3) * squared - np.einsum("i,ij,ik->jk", masses, positions, positions)
-
-
 __all__ = [
     "gradient_strength",
-    "inertia_of",
     "mass_conditions",
     "quadratic_potential",
     "second_moments",

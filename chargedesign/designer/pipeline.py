@@ -514,10 +514,10 @@ def design_from_scene(
     (:mod:`chargedesign.designer.assembly`): carriers, magnets and ballast within every limit,
     accepted as :mod:`chargedesign.designer.acceptance` says; with ``frontier`` the largest rate
     within the limits is then located too (:mod:`chargedesign.designer.frontier`, the report's
-    frontier; the physical design itself never calls the frontier). A ``[case]`` scene's body
-    carries the case (design.json ``case``: ``check`` and ``simulate`` compare with it) and
-    its exact certificate (``result.certificate``).
-    """
+    frontier; the physical design itself never calls the frontier). Every result carries the
+    exact certificate of its model (``result.certificate``; the theorem's scene: the
+    catalogue's case at its parameters); a ``[case]`` scene's body also carries the case
+    (design.json ``case``: ``check`` and ``simulate`` compare with it)."""
     check_instance(scene, Scene, "scene", "a chargedesign.scene.Scene")
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
@@ -585,20 +585,21 @@ def _finish_scene_design(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
-    if inputs.model.case is not None:
-        _record_case(result, inputs.model, progress)
+    _record_case(result, inputs.model, progress)  # every model, the theorem's too
     result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
 
 
 def _record_case(result: DesignResult, model: SceneModel, progress: Progress | None) -> None:
-    """A case scene's body: its exact certificate, its case record and the checks of the
-    elements against the case's own V, mu and inertia (:mod:`chargedesign.designer.case_design`)."""
-    from chargedesign.designer.case_design import record_case  # sympy: a case scene only
+    """Every scene's body: the exact certificate of its model (the theorem's scene: the
+    catalogue's case built from its parameters); a case scene's also its case record and the
+    checks of the elements against the case's own V, mu and inertia
+    (:mod:`chargedesign.designer.case_design`)."""
+    from chargedesign.designer.case_design import record_case  # sympy
 
-    if progress is not None:
-        progress(f"certificate of the case {model.case.name} (exact) ...")
-    result.certificate = record_case(result.design, model.case, model.table, model.theorem)
+    result.certificate = record_case(
+        result.design, model.case, model.table, model.theorem, progress=progress
+    )
 
 
 @dataclass
@@ -606,9 +607,11 @@ class SceneModel:
     """The model a scene's body realises: the theorem's ``[parameters]`` or a ``[case]``.
 
     ``case`` is the scene's ``[case]`` (None: the theorem's scene, whose conditions come from
-    the theorem's own engine); ``theorem`` the theorem's parameters (the scene's, or those a
-    case of the theorem's form carries: :func:`chargedesign.model.catalogue.theorem_parameters`;
-    None: a general case); ``table`` the ``[case]`` table as written.
+    the theorem's own engine and whose case is the catalogue's, built from its parameters when
+    the body is recorded: :func:`chargedesign.designer.case_design.theorem_model`); ``theorem``
+    the theorem's parameters (the scene's, or those a case of the theorem's form carries:
+    :func:`chargedesign.model.catalogue.theorem_parameters`; None: a general case); ``table``
+    the ``[case]`` table as written (None: the theorem's scene).
     """
 
     case: Any

@@ -67,8 +67,10 @@ class DesignResult(Result):
     status : str
         ``"optimal"`` (every problem solved and verified).
     certificate : CaseCertificate or None
-        A ``[case]`` scene's exact certificate of its claimed integral
-        (:func:`chargedesign.model.case_file.certify_case`); None for the theorem's scene.
+        The exact certificate of the model the body realises, at the body's own numbers
+        (:func:`chargedesign.model.case_file.certify_case`): a ``[case]`` scene's claimed
+        integral, or the theorem's I4 for the theorem's scene (the catalogue's case built from
+        its parameters); None for a body designed outside a scene (``design_body``).
     """
 
     design: Design

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any
 
@@ -93,6 +93,12 @@ class Case:
     source: str = ""
     note: str = ""
     free: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def at_values(self) -> Case:
+        """The same case without its free-parameter form: its certificate is then the claim
+        at the parameters' values only (as a case written with plain numbers), its
+        ``holds_for_all_parameters`` None."""
+        return replace(self, free={})
 
     def with_free_parameters(self) -> Case | None:
         """The same case with every non-zero parameter kept as a symbol (zero ones stay 0:

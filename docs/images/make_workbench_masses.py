@@ -15,11 +15,12 @@ import matplotlib.pyplot as plt
 from scipy.integrate import solve_ivp
 
 from chargedesign.candidates import ball_points
-from chargedesign.designer.case_masses import inertia_of, mass_conditions
+from chargedesign.designer.case_masses import mass_conditions
 from chargedesign.designer.pipeline import design_body
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.catalogue import catalogue_case
 from chargedesign.params import Parameters
+from chargedesign.physical.holder import point_inertia
 
 
 class MassBody:
@@ -59,7 +60,7 @@ for k, name in enumerate(["kowalevski", "clebsch"]):
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
-    moments = np.diag(inertia_of(x, body.masses))
+    moments = np.diag(point_inertia(x, body.masses))
     legendre = ", ".join(format(v, ".4g") for v in body.gravity)
     ax.set_title(
         f"{name}: {len(body.masses)} masses, {body.masses.sum():.3g} kg\n"
@@ -69,7 +70,7 @@ for k, name in enumerate(["kowalevski", "clebsch"]):
     )
     f = np.zeros(2)
     f[: len(body.gravity)] = body.gravity
-    Im = inertia_of(x, body.masses)
+    Im = point_inertia(x, body.masses)
 
     def rhs(_, y):
         w, g = y[:3], y[3:]

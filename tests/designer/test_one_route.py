@@ -103,7 +103,11 @@ def test_the_k0_example_as_a_case_gets_the_theorems_parts_and_verdict() -> None:
     assert case.design.frontier["s_max"] == pytest.approx(theorem.design.frontier["s_max"])
     assert case.certificate is not None and case.certificate.holds
     assert case.design.further_keys["case"]["name"] == "chaplygin by hand"
-    assert theorem.certificate is None and "case" not in theorem.design.further_keys
+    # the theorem's scene is the catalogue's case at its parameters, certified the same way;
+    # its design.json keeps the parameters as its record (no case key)
+    assert theorem.certificate.name == "yehia-elmandouh" and theorem.certificate.holds
+    assert theorem.certificate.independent and theorem.certificate.holds_for_all_parameters is None
+    assert "case" not in theorem.design.further_keys
 
 
 def test_the_unit_scale_scene_and_its_case_twin_give_the_same_body() -> None:
@@ -116,6 +120,10 @@ def test_the_unit_scale_scene_and_its_case_twin_give_the_same_body() -> None:
     assert case.design.realises == theorem.design.realises
     assert case.design.forward_accuracy == theorem.design.forward_accuracy
     assert case.certificate is not None and case.certificate.holds
+    # one record step: the same exact certificate of the same model, at the same numbers
+    mine, twin = theorem.certificate.to_dict()["case"], case.certificate.to_dict()["case"]
+    for key in ("holds", "independent", "holds_for_all_parameters", "level", "counterexample"):
+        assert mine[key] == twin[key], key
 
 
 def test_design_takes_a_case_scene_from_its_path(tmp_path: Path) -> None:
@@ -232,3 +240,30 @@ def test_the_body_case_of_a_frame_reading_is_the_theorem_at_n_zero() -> None:
     _, difference = sp.reduced(sp.expand(read.V - plain.V), [g1**2 + g2**2 + g3**2 - 1])
     assert difference.free_symbols == set()
     assert all(sp.expand(a - b) == 0 for a, b in zip(read.l, plain.l, strict=True))
+
+
+def test_a_model_is_certified_once_per_process() -> None:
+    """The theorem's scene as a case (the catalogue's entry at its parameters, at their values:
+    no "for all parameters" step, as its twin written in numbers has none) is certified once:
+    a second design of the same model reuses the exact certificate."""
+    from chargedesign.designer.case_design import model_certificate, theorem_model
+
+    params = Parameters(C=2e-5, c=0.3, d=-0.4, kappa=64.0)
+    case = theorem_model(params)
+    assert case.free == {} and case.parameters["kappa"] == 64
+    first = model_certificate(case)
+    assert first.holds and first.holds_for_all_parameters is None
+    assert model_certificate(theorem_model(params)) is first
+
+
+def test_a_theorem_scene_whose_case_the_catalogue_refuses_keeps_its_body() -> None:
+    """c = 1e-35 is a valid theorem parameter and outside a case file's range (1e-30): the
+    record step notes that the certificate was not made, and raises nothing."""
+    from chargedesign.body import Design
+    from chargedesign.designer.case_design import record_case
+
+    params = Parameters(C=1.0, c=1e-35, d=0.5, kappa=1.0)
+    design = Design(params, charge_positions=[[0.1, 0.0, 0.0]], charge_values=[1.0])
+    assert record_case(design, None, None, params) is None
+    assert any("certificate was not made" in note and "1e-35" in note for note in design.notes)
+    assert "case" not in design.further_keys
