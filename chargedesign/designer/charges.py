@@ -236,8 +236,10 @@ def surface_check(
 
 
 class ConeRows:
-    """The field per unit charge of every candidate at the surface cones' points, each point's
-    rows computed once (the constraint generation's rounds keep their cones and add a few).
+    """The field per unit charge of the sources at the surface cones' points, each point's
+    rows computed once while the columns stay the same (the constraint generation's rounds
+    keep their cones, add a few, and mostly keep their working set; a new set of columns
+    starts afresh, so the kept rows never outgrow one round's program).
 
     ``of(points, scale, cols)`` is ``coulomb_kernel(sources[cols], points, scale)`` to the
     bit: the kernel is elementwise in the (point, source) pairs and ``scale`` multiplies the
@@ -246,22 +248,24 @@ class ConeRows:
 
     def __init__(self, sources: np.ndarray) -> None:
         self.sources = sources
+        self.cols: np.ndarray | None = None
         self.rows: dict[bytes, np.ndarray] = {}
 
-    def of(
-        self, points: np.ndarray, scale: float, cols: np.ndarray | None = None
-    ) -> np.ndarray:
+    def of(self, points: np.ndarray, scale: float, cols: np.ndarray | None = None) -> np.ndarray:
         """The rows at ``points`` (m, 3) of the sources ``cols`` (all: None), times ``scale``
         over ``COULOMB``: shape (m, 3, k)."""
+        same = (cols is None and self.cols is None) or (
+            cols is not None and self.cols is not None and np.array_equal(cols, self.cols)
+        )
+        if not same:
+            self.cols, self.rows = (None if cols is None else np.array(cols)), {}
+        sources = self.sources if self.cols is None else self.sources[self.cols]
         keys = [point.tobytes() for point in points]
         missing = [i for i, key in enumerate(keys) if key not in self.rows]
         if missing:
-            fresh = coulomb_kernel(self.sources, points[missing], 1.0)
+            fresh = coulomb_kernel(sources, points[missing], 1.0)
             self.rows.update((keys[i], row) for i, row in zip(missing, fresh, strict=True))
-        unit = np.stack([self.rows[key] for key in keys])
-        if cols is not None:
-            unit = unit[:, :, cols]
-        return scale * unit
+        return scale * np.stack([self.rows[key] for key in keys])
 
 
 def _socp_charges(

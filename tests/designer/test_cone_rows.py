@@ -44,13 +44,19 @@ def test_kept_rows_equal_the_plain_kernel_bit_for_bit():
     more = _surface_points(sources, 0.004, 20, 2)
     scale = COULOMB * 1.7e-11 / 4.9e6
     np.testing.assert_array_equal(rows.of(first, scale), coulomb_kernel(sources, first, scale))
-    # a later round: kept points (in another order) with new ones, on a subset of the sources
+    # a later round: kept points (in another order) with new ones, another scale
     later = np.concatenate([first[::-2], more])
-    cols = np.sort(rng.choice(len(sources), 25, replace=False))
     np.testing.assert_array_equal(
-        rows.of(later, 2.5 * scale, cols), coulomb_kernel(sources[cols], later, 2.5 * scale)
+        rows.of(later, 2.5 * scale), coulomb_kernel(sources, later, 2.5 * scale)
     )
     assert len(rows.rows) == len(first) + len(more)  # each point computed once
+    # a subset of the sources (a working set): its own rows, then kept for it
+    cols = np.sort(rng.choice(len(sources), 25, replace=False))
+    for points in (later, first):
+        np.testing.assert_array_equal(
+            rows.of(points, scale, cols), coulomb_kernel(sources[cols], points, scale)
+        )
+    assert len(rows.rows) == len(first) + len(more)
 
 
 def _captured(monkeypatch):
