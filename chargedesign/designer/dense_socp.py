@@ -371,6 +371,7 @@ class ConeColumns:
                 np.matmul(root, self.G_zero, out=stacked[:, :, :nz])
                 root_inverse = (-c / (1.0 + c * norm_sq) * scaling.eta)[:, None, None] * outer
                 root_inverse += np.eye(3) * scaling.eta[:, None, None]
+                assert square is not None  # formed above: there are full columns
                 P = np.matmul(square[:, 1:], self.G_full)
                 np.matmul(root_inverse, P, out=stacked[:, :, nz:])
             else:
