@@ -235,16 +235,51 @@ def surface_check(
     return ratios, caps[rows_k, best]
 
 
+class ConeRows:
+    """The field per unit charge of the sources at the surface cones' points, each point's
+    rows computed once while the columns stay the same (the constraint generation's rounds
+    keep their cones, add a few, and mostly keep their working set; a new set of columns
+    starts afresh, so the kept rows never outgrow one round's program).
+
+    ``of(points, scale, cols)`` is ``coulomb_kernel(sources[cols], points, scale)`` to the
+    bit: the kernel is elementwise in the (point, source) pairs and ``scale`` multiplies the
+    unit rows last, as there (tests/designer/test_cone_rows.py).
+    """
+
+    def __init__(self, sources: np.ndarray) -> None:
+        self.sources = sources
+        self.cols: np.ndarray | None = None
+        self.rows: dict[bytes, np.ndarray] = {}
+
+    def of(self, points: np.ndarray, scale: float, cols: np.ndarray | None = None) -> np.ndarray:
+        """The rows at ``points`` (m, 3) of the sources ``cols`` (all: None), times ``scale``
+        over ``COULOMB``: shape (m, 3, k)."""
+        same = (cols is None and self.cols is None) or (
+            cols is not None and self.cols is not None and np.array_equal(cols, self.cols)
+        )
+        if not same:
+            self.cols, self.rows = (None if cols is None else np.array(cols)), {}
+        sources = self.sources if self.cols is None else self.sources[self.cols]
+        keys = [point.tobytes() for point in points]
+        missing = [i for i, key in enumerate(keys) if key not in self.rows]
+        if missing:
+            fresh = coulomb_kernel(sources, points[missing], 1.0)
+            self.rows.update((keys[i], row) for i, row in zip(missing, fresh, strict=True))
+        return scale * np.stack([self.rows[key] for key in keys])
+
+
 def _socp_charges(
     setup: PhysicalSetup,
     sites: np.ndarray,
     s: float,
     cones: list[tuple[int, np.ndarray]],
     caps: np.ndarray,
+    rows: ConeRows | None = None,
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| on ``sites`` with the charge conditions, own-field caps and
     surface cones (:class:`~chargedesign.designer.cone_program.ConeProgram`, in ``x = (u, w)``,
-    ``q = qs u``, ``w >= |u|`` carrying the cost)."""
+    ``q = qs u``, ``w >= |u|`` carrying the cost); ``rows`` keeps the cones' kernel rows
+    between rounds."""
     A, b = setup.systems["charges"]
     qs = float(np.max(caps[sites]))
     As, bs = row_scaled(A[:, sites], s * b, qs)
@@ -266,7 +301,8 @@ def _socp_charges(
     G_soc, h_soc = np.zeros((0, 4, 2 * k)), np.zeros((0, 4))
     if cones:
         points = np.array([point for _, point in cones])
-        G = coulomb_kernel(setup.points[sites], points, COULOMB * qs / limit)  # (m, 3, k)
+        rows = ConeRows(setup.points) if rows is None else rows
+        G = rows.of(points, COULOMB * qs / limit, sites)  # (m, 3, k)
         G_soc = np.zeros((len(points), 4, 2 * k))
         G_soc[:, 1:, :k] = -G  # the cone's (room, G u)
         h_soc = np.zeros((len(points), 4))
@@ -304,6 +340,7 @@ def _cone_round(
     s: float,
     cones: list[tuple[int, np.ndarray]],
     caps: np.ndarray,
+    rows: ConeRows | None = None,
 ) -> tuple[np.ndarray | None, np.ndarray]:
     """The surface cones solved on the working set, else on every usable candidate: the
     charges on the working set returned (None: infeasible there too) and that set.
@@ -313,11 +350,11 @@ def _cone_round(
     rate infeasible, and every faster one too (the feasible charges scale down with the
     rate): the frontier then sees a monotone answer.
     """
-    solved = _socp_charges(setup, working, s, cones, caps)
+    solved = _socp_charges(setup, working, s, cones, caps, rows)
     usable = np.flatnonzero(caps > 0)
     if solved is None and len(working) < len(usable):
         working = usable
-        solved = _socp_charges(setup, working, s, cones, caps)
+        solved = _socp_charges(setup, working, s, cones, caps, rows)
     return solved, working
 
 
@@ -338,6 +375,7 @@ def _meet_surface_limits(
     q = q_lp
     lp_caps = caps.copy()
     cones: list[tuple[int, np.ndarray]] = []
+    rows = ConeRows(setup.points)
     worst_ratio, worst_site = 0.0, -1
     lp_alive = True
     for rounds in range(1, MAX_ROUNDS + 1):
@@ -360,7 +398,7 @@ def _meet_surface_limits(
         near = np.flatnonzero(ratios > CONE_THRESHOLD)
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
-        solved, working = _cone_round(setup, working, s, cones, caps)
+        solved, working = _cone_round(setup, working, s, cones, caps, rows)
         if solved is None:
             proved = True  # the cones on every usable candidate: a relaxation
             break

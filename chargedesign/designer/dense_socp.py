@@ -287,8 +287,9 @@ class ConeColumns:
         # the shared columns without (zero) and with (full) a first row
         first_row = np.any(nonzero[:, 0, self.shared], axis=0)
         self.zero, self.full = self.shared[~first_row], self.shared[first_row]
-        self.G_zero = np.ascontiguousarray(G_soc[:, 1:, self.zero])
-        self.G_full = np.ascontiguousarray(G_soc[:, :, self.full])
+        # a slice where the columns are a run: a copy without the gather
+        self.G_zero = np.ascontiguousarray(G_soc[:, 1:, index_block(self.zero)])
+        self.G_full = np.ascontiguousarray(G_soc[:, :, index_block(self.full)])
         self.zero_block = block(self.zero, self.zero)
         self.cross_block = block(self.zero, self.full)
         self.cross_block_T = block(self.full, self.zero)
@@ -361,14 +362,16 @@ class ConeColumns:
             outer = w1[:, :, None] * w1[:, None, :]
             root = (c / scaling.eta)[:, None, None] * outer
             root += np.eye(3) / scaling.eta[:, None, None]
-            inverse = scaling.matrices(inverse=True)
-            square = np.matmul(inverse, inverse)
-            Y_full = np.matmul(inverse, self.G_full)
+            if nf or self.private.size:  # the whole W^-2 (only the charge columns: none)
+                inverse = scaling.matrices(inverse=True)
+                square = np.matmul(inverse, inverse)
+                Y_full = np.matmul(inverse, self.G_full)
             if nf:
                 stacked = np.empty((self.m, 3, nz + nf))
                 np.matmul(root, self.G_zero, out=stacked[:, :, :nz])
                 root_inverse = (-c / (1.0 + c * norm_sq) * scaling.eta)[:, None, None] * outer
                 root_inverse += np.eye(3) * scaling.eta[:, None, None]
+                assert square is not None  # formed above: there are full columns
                 P = np.matmul(square[:, 1:], self.G_full)
                 np.matmul(root_inverse, P, out=stacked[:, :, nz:])
             else:

@@ -16,6 +16,7 @@ from scipy import sparse
 from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.charges import (
     LOOP_SURFACE_SAMPLES,
+    ConeRows,
     charge_support,
     surface_check,
 )
@@ -23,7 +24,6 @@ from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalSetup, row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.physical.coulomb import coulomb_kernel
 
 # ------------------------------------------------------- the charges' limit on the rate
 #: the rounds of :func:`charges_rate_limit` stop when the largest field the surface check
@@ -90,14 +90,14 @@ class ChargesLimit:
 
 
 def minmax_charges(
-    setup: PhysicalSetup, cones: list[np.ndarray]
+    setup: PhysicalSetup, cones: list[np.ndarray], rows: ConeRows | None = None
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
     """``min t`` over charges ``u`` (rate 1) on every candidate with ``A u = b``, each
     carrier's own surface field plus the external one within ``t``, and the same at the cone
     points (:class:`~chargedesign.designer.cone_program.ConeProgram` in ``x = (u, t)``, u in
     units of the charge whose own surface field is the limit, t in units of the limit).
     Returns ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``; None: no charges
-    meet the conditions.
+    meet the conditions. ``rows`` keeps the cones' kernel rows between rounds.
     """
     A, b = setup.systems["charges"]
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
@@ -114,7 +114,8 @@ def minmax_charges(
     G_soc, h_soc = np.zeros((0, 4, k + 1)), np.zeros((0, 4))
     if cones:
         points = np.array(cones)
-        G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)  # (m, 3, k)
+        rows = ConeRows(setup.points) if rows is None else rows
+        G = rows.of(points, COULOMB * qs / limit)  # (m, 3, k)
         ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
         G_soc = np.zeros((len(points), 4, k + 1))
         G_soc[:, 0, k] = -1.0  # the cone's (t - ext, G u)
@@ -183,8 +184,9 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         return ChargesLimit(bound, 0.0, 0.0, empty, np.zeros(0), -1, 0, 0, stage)
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     cones: list[np.ndarray] = []
+    rows = ConeRows(setup.points)
     for rounds in range(1, MINMAX_ROUNDS + 1):
-        solved = minmax_charges(setup, cones)
+        solved = minmax_charges(setup, cones, rows)
         if solved is None:
             return ChargesLimit(0.0, 0.0, math.inf, empty, np.zeros(0), -1, rounds, 0, "charges")
         t, u, used = solved
