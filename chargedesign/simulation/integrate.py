@@ -430,6 +430,7 @@ def _dop853_tableau() -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
 
     return DOP853.n_stages, DOP853.A, DOP853.B, DOP853.C
 
+
 #: pieces up to this fraction of ``max_step`` take one classical Runge-Kutta step (fixed-DOP853)
 SHORT_PIECE = 0.1
 
