@@ -79,3 +79,11 @@ def test_the_check_command_runs_without_scipy_optimize_or_spatial(physical_desig
         f"assert main(['check', {str(physical_design)!r}, '--orientations', '20']) in (0, 1)"
     )
     assert imported_of(run, HEAVY) == set()
+
+
+def test_the_parser_runs_no_scene_reader():
+    # the command line's parser needs the scene's key declarations only (scene.keys), not the
+    # scene's loader and its readers (the package's names load on first use)
+    light = ("chargedesign.scene.load", "chargedesign.readers")
+    assert imported_of("import chargedesign.cli", light) == set()
+    assert imported_of("from chargedesign.scene import load_scene", light) == set(light)
