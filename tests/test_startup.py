@@ -9,6 +9,7 @@ timing test (the CPU seconds: docs/benchmarks.md, "Start-up by command")."""
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import pytest
@@ -87,3 +88,18 @@ def test_the_parser_runs_no_scene_reader():
     light = ("chargedesign.scene.load", "chargedesign.readers")
     assert imported_of("import chargedesign.cli", light) == set()
     assert imported_of("from chargedesign.scene import load_scene", light) == set(light)
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("heyoka") is None, reason="without heyoka simulate falls back to scipy"
+)
+def test_simulating_a_written_design_loads_no_scipy(physical_design):
+    # a design.json has its elements: no design, so none of the designer's scipy (sparse,
+    # linalg), and heyoka's Taylor integrator in place of solve_ivp
+    run = (
+        "import contextlib, io\n"
+        "from chargedesign.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    assert main(['simulate', {str(physical_design)!r}, '--json', '--t-end', '1']) == 0"
+    )
+    assert not imports_module(run, "scipy")
