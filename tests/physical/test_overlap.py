@@ -38,7 +38,7 @@ def test_the_check_names_two_parts_moved_onto_each_other(small_design):
     assert not any("overlap" in v for v in check_limits(small_design).violations)
     data = small_design.to_dict()
     positions = np.asarray(data["charges"]["positions"], dtype=float)
-    centres, radii = part_radii(small_design)
+    _, radii = part_radii(small_design)
     # the third carrier beside the second, closer than their radii
     positions[2] = positions[1] + [0.5 * (radii[1] + radii[2]), 0.0, 0.0]
     data["charges"]["positions"] = positions.tolist()
