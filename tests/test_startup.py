@@ -1,21 +1,28 @@
 """Start-up structure (issue 42 item 4): importing the command line, and the modules a command
 imports before it runs, loads no heavy library that the import itself does not use. The
 libraries are loaded where they are called (``linprog`` in the charge and ballast LPs,
-``cKDTree`` in the cells and the limits check), so they cannot come back to the start path
-through a module-level import unnoticed. A structure test, not a timing test."""
+``cKDTree`` in the cells, ``solve_ivp`` and the DOP853 tableau in the integrator service,
+``Rotation`` in the flight's observation), so they cannot come back to the start path through
+a module-level import unnoticed; the check command, run on a physical design, loads neither
+scipy.optimize nor scipy.spatial (its overlap pairs are numpy's). A structure test, not a
+timing test (the CPU seconds: docs/benchmarks.md, "Start-up by command")."""
 
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+
 import pytest
 
-from tests.fresh_process import imported_of
+from tests.fresh_process import imported_of, imports_module
 
 #: heavy libraries no command's start path imports (scipy.optimize brings scipy.spatial in
-#: with it; matplotlib, pyvista: the pictures; sympy: the symbolic model; cvxpy: the
-#: mass program's old route; heyoka: the integrator)
+#: with it, scipy.integrate brings both; matplotlib, pyvista: the pictures; sympy: the symbolic
+#: model; cvxpy: the mass program's old route; heyoka: the integrator)
 HEAVY = (
     "scipy.optimize",
     "scipy.spatial",
+    "scipy.integrate",
     "matplotlib",
     "pyvista",
     "sympy",
@@ -29,6 +36,9 @@ HEAVY = (
     [
         "import chargedesign.cli",
         "import chargedesign.cli, chargedesign.commands.frontier",
+        "import chargedesign.cli, chargedesign.commands.design",
+        "import chargedesign.cli, chargedesign.commands.simulate",
+        "import chargedesign.cli, chargedesign.commands.check",
         "import chargedesign.designer",
         "import chargedesign.physical.limits, chargedesign.checker.verdict",
     ],
@@ -40,3 +50,56 @@ def test_start_path_keeps_heavy_libraries_out(code):
 def test_the_probe_sees_an_import():
     # the same probe on code that does import them: the test above can fail
     assert imported_of("import scipy.optimize", HEAVY) == {"scipy.optimize", "scipy.spatial"}
+
+
+def test_the_check_command_imports_no_scipy():
+    # what the check command imports before it runs: numpy only (scipy loads, if at all, in
+    # the stages that call it)
+    assert not imports_module("import chargedesign.cli, chargedesign.commands.check", "scipy")
+
+
+@pytest.fixture(scope="module")
+def physical_design(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A small physical body (a medium, so the check runs the limits and the overlap pairs)."""
+    from physical.test_buildable import SMALL
+
+    from chargedesign.body import write_design
+    from chargedesign.designer import design_from_scene
+    from chargedesign.scene import load_scene
+
+    path = tmp_path_factory.mktemp("startup") / "design.json"
+    write_design(design_from_scene(load_scene(SMALL), frontier=False).design, path)
+    return path
+
+
+def test_the_check_command_runs_without_scipy_optimize_or_spatial(physical_design):
+    # the whole command in a fresh process: the limits check's overlap pairs (numpy) and the
+    # forward check load neither (scipy.special still loads: the coils' Gegenbauer terms)
+    run = (
+        "from chargedesign.cli import main\n"
+        f"assert main(['check', {str(physical_design)!r}, '--orientations', '20']) in (0, 1)"
+    )
+    assert imported_of(run, HEAVY) == set()
+
+
+def test_the_parser_runs_no_scene_reader():
+    # the command line's parser needs the scene's key declarations only (scene.keys), not the
+    # scene's loader and its readers (the package's names load on first use)
+    light = ("chargedesign.scene.load", "chargedesign.readers")
+    assert imported_of("import chargedesign.cli", light) == set()
+    assert imported_of("from chargedesign.scene import load_scene", light) == set(light)
+
+
+@pytest.mark.skipif(
+    importlib.util.find_spec("heyoka") is None, reason="without heyoka simulate falls back to scipy"
+)
+def test_simulating_a_written_design_loads_no_scipy(physical_design):
+    # a design.json has its elements: no design, so none of the designer's scipy (sparse,
+    # linalg), and heyoka's Taylor integrator in place of solve_ivp
+    run = (
+        "import contextlib, io\n"
+        "from chargedesign.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    assert main(['simulate', {str(physical_design)!r}, '--json', '--t-end', '1']) == 0"
+    )
+    assert not imports_module(run, "scipy")

@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from chargedesign.flight.release import Start, perturbed
 from chargedesign.formatting import ROUGH, fmt
@@ -109,6 +108,10 @@ def fit_states(
 ):
     """States fitted over consecutive windows of ``window`` frames: the windows' middle times
     (n,) and states (n, 6) ``(p, q, r, gamma1, gamma2, gamma3)``."""
+    # here, not at import: the design command imports this module for every scene (the
+    # flight record), a flight only in free fall; scipy.spatial is heavy (tests/test_startup.py)
+    from scipy.spatial.transform import Rotation
+
     count = len(times) // window
     mids, states = [], []
     for w in range(count):

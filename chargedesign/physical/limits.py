@@ -268,6 +268,28 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
     return centres, radii
 
 
+def close_pairs(centres: np.ndarray, reach: float) -> np.ndarray:
+    """Index pairs ``(i, j)``, ``i < j``, of the centres at most ``reach`` apart, shape (k, 2),
+    in lexicographic order.
+
+    ``centres`` has shape (p, 3), m; ``reach`` m. Blocks of rows against the rows after them
+    in numpy, a few MB at a time: the check command then loads no scipy at all
+    (``scipy.spatial.cKDTree``, used here before, cost about 0.5 s of CPU to import, a third
+    of the whole check of the default design; docs/benchmarks.md).
+    """
+    n = len(centres)
+    block = max(1, 2**17 // max(n, 1))
+    found = []
+    for start in range(0, n - 1, block):
+        rows = centres[start : start + block]
+        d2 = np.sum((rows[:, None, :] - centres[None, start + 1 :, :]) ** 2, axis=2)
+        i, j = np.nonzero(d2 <= reach * reach)
+        j = j + start + 1
+        keep = j > i + start
+        found.append(np.stack([i[keep] + start, j[keep]], axis=1))
+    return np.concatenate(found) if found else np.empty((0, 2), dtype=np.intp)
+
+
 def _demagnetised(design: Any, magnet: dict[str, Any], volumes: np.ndarray) -> list[str]:
     """A magnet in a field beyond what its material withstands loses its magnetisation.
 
@@ -320,10 +342,7 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         violations.append(f"charge {point_carriers[0]}: a point charge has no carrier")
     centres, part_r = part_radii(design)
     if len(centres) > 1:
-        from scipy.spatial import cKDTree
-
-        tree = cKDTree(centres)
-        pairs = tree.query_pairs(2.0 * float(part_r.max()), output_type="ndarray")
+        pairs = close_pairs(centres, 2.0 * float(part_r.max()))
         if len(pairs):
             d = np.linalg.norm(centres[pairs[:, 0]] - centres[pairs[:, 1]], axis=1)
             gap = d - part_r[pairs[:, 0]] - part_r[pairs[:, 1]]

@@ -14,22 +14,38 @@
 - :mod:`.sweep_file`: a sweep file's own structure (its points are checked by
   :mod:`chargedesign.sweeps.spec`);
 - :mod:`.load`: :func:`load_scene`, :func:`scene_from_dict` and the :class:`Scene`.
+
+The names below are loaded on first use (PEP 562, as the package's top level): importing
+:mod:`.keys` alone (the command line's parser, so ``--help`` and the commands that read no
+scene) then runs none of :mod:`.load`'s imports (the readers, the tables' parsers).
 """
 
-from chargedesign.scene.load import (
-    KNOWN_TABLES,
-    Scene,
-    check_output_dir,
-    default_scene_text,
-    load_scene,
-    load_theorem_scene,
-    parse_field,
-    scene_from_dict,
-    validate_tables,
-    validated,
-)
-from chargedesign.scene.medium import Medium
-from chargedesign.scene.tables import BodyReference, BodyRegion
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+#: public name -> the module that defines it
+_LAZY = {
+    **dict.fromkeys(
+        (
+            "KNOWN_TABLES",
+            "Scene",
+            "check_output_dir",
+            "default_scene_text",
+            "load_scene",
+            "load_theorem_scene",
+            "parse_field",
+            "scene_from_dict",
+            "validate_tables",
+            "validated",
+        ),
+        "chargedesign.scene.load",
+    ),
+    "Medium": "chargedesign.scene.medium",
+    "BodyReference": "chargedesign.scene.tables",
+    "BodyRegion": "chargedesign.scene.tables",
+}
 
 __all__ = [
     "KNOWN_TABLES",
@@ -46,3 +62,30 @@ __all__ = [
     "validate_tables",
     "validated",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    try:
+        module_name = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'chargedesign.scene' has no attribute {name!r}") from None
+    value = getattr(importlib.import_module(module_name), name)
+    globals()[name] = value  # later look-ups skip __getattr__
+    return value
+
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
+    from chargedesign.scene.load import (
+        KNOWN_TABLES,
+        Scene,
+        check_output_dir,
+        default_scene_text,
+        load_scene,
+        load_theorem_scene,
+        parse_field,
+        scene_from_dict,
+        validate_tables,
+        validated,
+    )
+    from chargedesign.scene.medium import Medium
+    from chargedesign.scene.tables import BodyReference, BodyRegion

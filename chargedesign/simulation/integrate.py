@@ -23,10 +23,10 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from scipy.integrate import DOP853, solve_ivp
 
 from chargedesign.errors import SolverError
 from chargedesign.formatting import CELL, PLAIN, fmt
@@ -410,12 +410,26 @@ def _integrate_gauss(
 #: solve_ivp methods, and a fixed-step DOP853 for short pieces between control samples
 SOLVE_METHODS = ("taylor", *SOLVE_IVP_METHODS, "fixed-DOP853")
 
-#: the 12 stages of Dormand and Prince's 8th-order method (the tableau of scipy's DOP853
-#: class), used with a fixed step by ``fixed-DOP853``
-_FIXED_STAGES = DOP853.n_stages
-_FIXED_A = DOP853.A
-_FIXED_B = DOP853.B
-_FIXED_C = DOP853.C
+
+def solve_ivp(*args: Any, **kwargs: Any) -> Any:
+    """:func:`scipy.integrate.solve_ivp`, imported on the first call: ``scipy.integrate``
+    imports ``scipy.optimize`` (about 0.1 s of CPU at start-up), which a run on heyoka's
+    Taylor integrator and the commands that never integrate (``design`` imports this module
+    through the flight record) do not need. The tests replace this name to make it fail."""
+    from scipy.integrate import solve_ivp as scipy_solve_ivp
+
+    return scipy_solve_ivp(*args, **kwargs)
+
+
+@lru_cache(maxsize=1)
+def _dop853_tableau() -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """The 12 stages of Dormand and Prince's 8th-order method (the tableau of scipy's DOP853
+    class: ``n_stages``, ``A``, ``B``, ``C``), used with a fixed step by ``fixed-DOP853``; read
+    on first use, not at import (``scipy.integrate`` is heavy, see :func:`solve_ivp`)."""
+    from scipy.integrate import DOP853
+
+    return DOP853.n_stages, DOP853.A, DOP853.B, DOP853.C
+
 
 #: pieces up to this fraction of ``max_step`` take one classical Runge-Kutta step (fixed-DOP853)
 SHORT_PIECE = 0.1
@@ -633,13 +647,14 @@ def dop853_step(
     f: Callable[[float, np.ndarray], np.ndarray], t: float, x: np.ndarray, h: float
 ) -> np.ndarray:
     """One fixed step of DOP853 (8th order) of ``x' = f(t, x)`` from ``(t, x)`` by h."""
-    k = np.empty((_FIXED_STAGES, x.size))  # stage derivatives, flattened: one matmul per stage
+    stages, a, b, c = _dop853_tableau()
+    k = np.empty((stages, x.size))  # stage derivatives, flattened: one matmul per stage
     flat = x.reshape(-1)
     k[0] = f(t, x).reshape(-1)
-    for s in range(1, _FIXED_STAGES):
-        stage = (flat + h * (_FIXED_A[s, :s] @ k[:s])).reshape(x.shape)
-        k[s] = f(t + _FIXED_C[s] * h, stage).reshape(-1)
-    return (flat + h * (_FIXED_B @ k)).reshape(x.shape)
+    for s in range(1, stages):
+        stage = (flat + h * (a[s, :s] @ k[:s])).reshape(x.shape)
+        k[s] = f(t + c[s] * h, stage).reshape(-1)
+    return (flat + h * (b @ k)).reshape(x.shape)
 
 
 def rk4_step(

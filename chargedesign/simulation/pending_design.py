@@ -10,7 +10,6 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 
-from chargedesign.designer import design_from_scene
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import ROUGH, fmt
 from chargedesign.simulation.setup import SimulationSetup, body_counts
@@ -58,6 +57,9 @@ def design_pending(
     scene = setup.design_scene
     if scene is None:
         return setup
+    # here, not at import: the designer loads scipy.sparse and scipy.linalg (about 0.4 s of
+    # CPU), which a run of a written design.json never calls (tests/test_startup.py)
+    from chargedesign.designer import design_from_scene
 
     t0 = time.perf_counter()
     try:

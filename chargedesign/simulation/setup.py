@@ -19,7 +19,6 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design, read_design
-from chargedesign.designer.pipeline import design_from_scene
 from chargedesign.formatting import CELL, fmt
 from chargedesign.params import Parameters
 from chargedesign.physical.realism import typical_rate
@@ -152,6 +151,9 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         )
         origin = f"none: the reduced model of the [case] {case.case.name}"
     elif scene.case is not None:  # a case of (ep): masses in gravity, designed at once
+        # the designer here, not at import (scipy.sparse, scipy.linalg): see pending_design
+        from chargedesign.designer.pipeline import design_from_scene
+
         design = design_from_scene(scene).design
         origin = f"[case] {scene.case.name}: masses designed on the [body] region"
     elif has_inline_elements(body_table):
