@@ -4,7 +4,8 @@
 mass of all mass), site mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its
 volume), and ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the
 cell). Solved by column generation over the sites (:mod:`chargedesign.designer.mass_columns`,
-the whole program deciding when the columns cannot) and polished to machine precision on its
+the whole program deciding when the columns cannot: a refusal Clarabel proves on it directly,
+cvxpy otherwise) and polished to machine precision on its
 support; :func:`mass_program` returns the stage as one program for a user to extend.
 """
 
@@ -17,7 +18,7 @@ from typing import Any
 import numpy as np
 from scipy import sparse
 
-from chargedesign.designer.mass_columns import MassData, solve_by_columns
+from chargedesign.designer.mass_columns import MassData, solve_by_columns, whole_infeasible
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
@@ -223,7 +224,10 @@ def _solved_mass_program(
     if by_columns is not None:
         setup.warm[MASS_SEED] = by_columns.working
         return SolvedMasses(data, by_columns.sigma, by_columns.mass, "columns")
-    # a slack stayed or the rounds ran out: the whole program decides (infeasibility too)
+    # a slack stayed or the rounds ran out: the whole program decides. Clarabel's proof of
+    # infeasibility on it, built directly, refuses at once; otherwise cvxpy solves it
+    if whole_infeasible(data):
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     import cvxpy as cp  # slow to import: only when the whole program must decide
 
     program = mass_program(setup, s, carrier_sites, correction, kappa)
