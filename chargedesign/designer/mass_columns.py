@@ -16,8 +16,9 @@ program's optimum (its duals are feasible for the whole program).
 
 Restricted programs carry elastic slacks on the equality rows (so each is feasible); a slack
 left at the end (or rounds run out) hands the decision to the whole program
-(``None`` is returned; :func:`whole_infeasible` proves a refusal on it directly). The working set is seeded from the last one on the same candidates
-(the whole-inertia rounds, and probes at neighbouring rates).
+(``None`` is returned; :func:`whole_infeasible` proves a refusal on it directly). The
+working set is seeded from the last one on the same candidates (the whole-inertia rounds, and
+probes at neighbouring rates).
 
 Measured (docs/design.md): the default body at 9,939 candidates, one solve of the whole
 program through cvxpy and Clarabel 4-7 s, by columns a few tenths of a second.
