@@ -16,8 +16,9 @@ program's optimum (its duals are feasible for the whole program).
 
 Restricted programs carry elastic slacks on the equality rows (so each is feasible); a slack
 left at the end (or rounds run out) hands the decision to the whole program
-(``None`` is returned). The working set is seeded from the last one on the same candidates
-(the whole-inertia rounds, and probes at neighbouring rates).
+(``None`` is returned; :func:`whole_infeasible` proves a refusal on it directly). The
+working set is seeded from the last one on the same candidates (the whole-inertia rounds, and
+probes at neighbouring rates).
 
 Measured (docs/design.md): the default body at 9,939 candidates, one solve of the whole
 program through cvxpy and Clarabel 4-7 s, by columns a few tenths of a second.
@@ -86,6 +87,78 @@ class ColumnsSolution:
     working: np.ndarray
 
 
+def restricted_matrix(data: MassData, work: np.ndarray, free: np.ndarray) -> sparse.csc_matrix:
+    """The restricted program's constraint matrix (CSC, canonical: rows sorted in each
+    column; the zeros of the dense rows not stored), assembled from its triplets at once.
+
+    Rows: the equality rows (dipoles, then masses), the linear rows (``-w + alpha t <= 0``,
+    ``gamma w + beta t <= 1``, ``e >= 0``), then one block of 4 per second-order cone;
+    columns ``(w, t, sigma, e+, e-)`` (see :func:`restricted_program`)."""
+    k, kf = len(work), len(free)
+    md, mm = len(data.bds), len(data.bms)
+    me = md + mm
+    n = k + kf + 3 * kf + 2 * me
+    t0, s0, e0 = k, k + kf, k + 4 * kf
+    lin0, soc0 = me, me + 2 * k + 2 * me
+    where_free = np.searchsorted(work, free)
+    sig_cols = (3 * free[:, None] + np.arange(3)).reshape(-1)
+    block_m = data.Ams[:, work]
+    mi, mj = np.nonzero(block_m)
+    block_d = data.Ads[:, sig_cols]
+    di, dj = np.nonzero(block_d)
+    r, f, e = np.arange(k), np.arange(kf), np.arange(me)
+    rows = [
+        md + mi,  # the mass rows on w
+        lin0 + r,  # -w
+        lin0 + k + r,  # gamma w
+        lin0 + where_free,  # alpha t
+        lin0 + k + where_free,  # beta t
+        soc0 + 4 * f,  # -t in its cone
+        di,  # the dipole rows on sigma
+        soc0 + 4 * f[:, None] + 1 + np.arange(3),  # -sigma in its cone
+        e,  # e+ in the equality rows
+        lin0 + 2 * k + e,  # -e+
+        e,  # -e- in the equality rows
+        lin0 + 2 * k + me + e,  # -e-
+    ]
+    cols = [
+        mj,
+        r,
+        r,
+        t0 + f,
+        t0 + f,
+        t0 + f,
+        s0 + dj,
+        s0 + 3 * f[:, None] + np.arange(3),
+        e0 + e,
+        e0 + e,
+        e0 + me + e,
+        e0 + me + e,
+    ]
+    vals = [
+        block_m[mi, mj],
+        -np.ones(k),
+        data.gamma[work],
+        np.full(kf, data.alpha),
+        data.beta[free],
+        -np.ones(kf),
+        block_d[di, dj],
+        -np.ones(3 * kf),
+        np.ones(me),
+        -np.ones(me),
+        -np.ones(me),
+        -np.ones(me),
+    ]
+    row = np.concatenate([np.ravel(x) for x in rows]).astype(np.int64)
+    col = np.concatenate([np.ravel(x) for x in cols]).astype(np.int64)
+    val = np.concatenate([np.ravel(x) for x in vals]).astype(float)
+    order = np.lexsort((row, col))
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(col, minlength=n), out=indptr[1:])
+    shape = (me + 2 * k + 2 * me + 4 * kf, n)
+    return sparse.csc_matrix((val[order], row[order], indptr), shape=shape)
+
+
 def restricted_program(data: MassData, work: np.ndarray, penalty: float) -> Any:
     """Clarabel's solution of the program on the sites ``work`` (indices into ``data``),
     with elastic slacks on the equality rows, and the layout ``(k, kf, free)``."""
@@ -94,50 +167,11 @@ def restricted_program(data: MassData, work: np.ndarray, penalty: float) -> Any:
     k = len(work)
     free = work[~data.blocked[work]]
     kf = len(free)
-    md, mm = len(data.bds), len(data.bms)
-    me = md + mm
+    me = len(data.bds) + len(data.bms)
     n = k + kf + 3 * kf + 2 * me  # (w, t, sigma, e+, e-)
-    t0, s0, e0 = k, k + kf, k + 4 * kf
-    where_free = np.searchsorted(work, free)
-    eye_e = sparse.identity(me, format="csr")
-    sig_cols = (3 * free[:, None] + np.arange(3)).reshape(-1)
-    eq = sparse.hstack(
-        [
-            sparse.vstack([sparse.csr_matrix((md, k)), sparse.csr_matrix(data.Ams[:, work])]),
-            sparse.csr_matrix((me, kf)),
-            sparse.vstack(
-                [sparse.csr_matrix(data.Ads[:, sig_cols]), sparse.csr_matrix((mm, 3 * kf))]
-            ),
-            eye_e,
-            -eye_e,
-        ],
-        format="csr",
-    )
-    rows, cols, vals = [], [], []
-    # -w + alpha t <= 0 on the free sites; -w <= 0 on the blocked ones
-    r = np.arange(k)
-    rows += [r, where_free]
-    cols += [r, t0 + np.arange(kf)]
-    vals += [-np.ones(k), np.full(kf, data.alpha)]
-    # gamma w + beta t <= 1
-    rows += [k + r, k + where_free]
-    cols += [r, t0 + np.arange(kf)]
-    vals += [data.gamma[work], data.beta[free]]
-    # e >= 0
-    rows += [2 * k + np.arange(2 * me)]
-    cols += [e0 + np.arange(2 * me)]
-    vals += [-np.ones(2 * me)]
-    lin = sparse.csr_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(2 * k + 2 * me, n),
-    )
+    A = restricted_matrix(data, work, free)
     h_lin = np.concatenate([np.zeros(k), np.ones(k), np.zeros(2 * me)])
-    # (t, sigma) in Q4 on every free site
-    soc_rows = (4 * np.arange(kf)[:, None] + np.arange(4)).reshape(-1)
-    soc_cols = np.column_stack([t0 + np.arange(kf), s0 + 3 * np.arange(kf)[:, None] + np.arange(3)])
-    soc = sparse.csr_matrix((-np.ones(4 * kf), (soc_rows, soc_cols.reshape(-1))), shape=(4 * kf, n))
     q = np.concatenate([data.cm[work], data.cd[free], np.zeros(3 * kf), np.full(2 * me, penalty)])
-    A = sparse.vstack([eq, lin, soc], format="csc")
     b = np.concatenate([data.bds, data.bms, h_lin, np.zeros(4 * kf)])
     cones = [clarabel.ZeroConeT(me), clarabel.NonnegativeConeT(2 * k + 2 * me)]
     cones += [clarabel.SecondOrderConeT(4)] * kf
@@ -146,6 +180,39 @@ def restricted_program(data: MassData, work: np.ndarray, penalty: float) -> Any:
     settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = CLARABEL_TOL
     solution = clarabel.DefaultSolver(sparse.csc_matrix((n, n)), q, A, b, cones, settings).solve()
     return solution, (k, kf, free)
+
+
+def whole_infeasible(data: MassData) -> bool:
+    """Whether Clarabel proves the whole program (every free site, no slacks) infeasible,
+    at its default tolerances (those cvxpy's whole program is solved with).
+
+    The rows of :func:`restricted_matrix` on every site without the slacks' columns and rows:
+    the same program :func:`chargedesign.designer.masses.mass_program` writes in cvxpy. Only a
+    proof counts (``PrimalInfeasible`` or ``AlmostPrimalInfeasible``, which cvxpy reports as
+    ``infeasible`` and ``infeasible_inaccurate``); any other outcome leaves the decision to
+    the whole program through cvxpy."""
+    import clarabel  # the solver: imported where used (keeps import chargedesign light)
+
+    work = np.arange(len(data.sites))
+    free = work[~data.blocked]
+    k, kf = len(work), len(free)
+    me = len(data.bds) + len(data.bms)
+    n = k + 4 * kf
+    full = restricted_matrix(data, work, free)
+    lin0 = me
+    rows = np.concatenate(
+        [np.arange(me + 2 * k), lin0 + 2 * k + 2 * me + np.arange(4 * kf)]
+    )  # the slacks' sign rows left out
+    A = sparse.csc_matrix(full[rows][:, :n])
+    q = np.concatenate([data.cm, data.cd[free], np.zeros(3 * kf)])
+    b = np.concatenate([data.bds, data.bms, np.zeros(k), np.ones(k), np.zeros(4 * kf)])
+    cones = [clarabel.ZeroConeT(me), clarabel.NonnegativeConeT(2 * k)]
+    cones += [clarabel.SecondOrderConeT(4)] * kf
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    solution = clarabel.DefaultSolver(sparse.csc_matrix((n, n)), q, A, b, cones, settings).solve()
+    proofs = (clarabel.SolverStatus.PrimalInfeasible, clarabel.SolverStatus.AlmostPrimalInfeasible)
+    return solution.status in proofs
 
 
 def prices(data: MassData, y: np.ndarray) -> np.ndarray:

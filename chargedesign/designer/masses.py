@@ -4,7 +4,8 @@
 mass of all mass), site mass ``w_i >= rho_magnet |sigma_i| / M`` (a magnet weighs at least its
 volume), and ``|sigma_i| / M + w_i / rho_ballast <= V_cell`` (magnet plus ballast fit in the
 cell). Solved by column generation over the sites (:mod:`chargedesign.designer.mass_columns`,
-the whole program deciding when the columns cannot) and polished to machine precision on its
+the whole program deciding when the columns cannot: a refusal Clarabel proves on it directly,
+cvxpy otherwise) and polished to machine precision on its
 support; :func:`mass_program` returns the stage as one program for a user to extend.
 """
 
@@ -17,7 +18,7 @@ from typing import Any
 import numpy as np
 from scipy import sparse
 
-from chargedesign.designer.mass_columns import MassData, solve_by_columns
+from chargedesign.designer.mass_columns import MassData, solve_by_columns, whole_infeasible
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
@@ -223,7 +224,10 @@ def _solved_mass_program(
     if by_columns is not None:
         setup.warm[MASS_SEED] = by_columns.working
         return SolvedMasses(data, by_columns.sigma, by_columns.mass, "columns")
-    # a slack stayed or the rounds ran out: the whole program decides (infeasibility too)
+    # a slack stayed or the rounds ran out: the whole program decides. Clarabel's proof of
+    # infeasibility on it, built directly, refuses at once; otherwise cvxpy solves it
+    if whole_infeasible(data):
+        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     import cvxpy as cp  # slow to import: only when the whole program must decide
 
     program = mass_program(setup, s, carrier_sites, correction, kappa)
@@ -312,9 +316,11 @@ def _fixed_point(
     correction: np.ndarray,
     n: int,
     full_sigma: np.ndarray,
-) -> tuple[np.ndarray, Convergence, np.ndarray]:
+) -> tuple[np.ndarray, Convergence, np.ndarray, Any]:
     """Rounds of the least-norm polish on the support (the sites ``chooser`` picks by size)
-    with the correction of the last round's parts, until it settles."""
+    with the correction of the last round's parts, until it settles; the masses, how it
+    ended, the correction and the parts of the masses returned (built once: the caller's
+    residual reads them)."""
     carriers_rows = terms.b - rows if len(rows) else rows
     convergence = Convergence()
     for rounds in range(1, MAX_ROUNDS + 1):
@@ -325,15 +331,13 @@ def _fixed_point(
         full_mass = _polish_masses(
             kappa * Am, rows - correction, full_mass, sites, chooser, top_mass
         )
-        fresh = terms.correction(
-            terms.parts(full_sigma.reshape(n, 3), full_mass),
-            kappa * Am @ full_mass + carriers_rows,
-        )
+        parts = terms.parts(full_sigma.reshape(n, 3), full_mass)
+        fresh = terms.correction(parts, kappa * Am @ full_mass + carriers_rows)
         convergence = Convergence(rounds, terms.change(fresh, correction))
         correction = fresh
         if convergence.change <= CONVERGED:
             break
-    return full_mass, convergence, correction
+    return full_mass, convergence, correction, parts
 
 
 def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
@@ -368,7 +372,7 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
     movable = np.where(mass > floor * (1 + 1e-4), mass, 0.0)
     start = full_mass
     for chooser in (movable, mass):
-        full_mass, convergence, correction = _fixed_point(
+        full_mass, convergence, correction, parts = _fixed_point(
             terms,
             kappa,
             Am,
@@ -381,7 +385,7 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
             n,
             full_sigma,
         )
-        if terms.residual(terms.parts(full_sigma.reshape(n, 3), full_mass)) <= 1e-13:
+        if terms.residual(parts) <= 1e-13:
             break
     Ad, bd = setup.systems["dipoles"]
     sig = full_sigma.reshape(n, 3)[sites]
@@ -395,7 +399,6 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         return induced_ballast(
             setup, carrier_sites, full_sigma.reshape(n, 3), residual_dipoles, terms, correction
         )
-    parts = terms.parts(full_sigma.reshape(n, 3), full_mass)
     return MassSolution(
         sites=sites[used],
         moments=sig[used],
