@@ -268,7 +268,7 @@ class ConeRows:
         return scale * np.stack([self.rows[key] for key in keys])
 
 
-def _socp_charges(
+def socp_charges(
     setup: PhysicalSetup,
     sites: np.ndarray,
     s: float,
@@ -350,11 +350,11 @@ def _cone_round(
     rate infeasible, and every faster one too (the feasible charges scale down with the
     rate): the frontier then sees a monotone answer.
     """
-    solved = _socp_charges(setup, working, s, cones, caps, rows)
+    solved = socp_charges(setup, working, s, cones, caps, rows)
     usable = np.flatnonzero(caps > 0)
     if solved is None and len(working) < len(usable):
         working = usable
-        solved = _socp_charges(setup, working, s, cones, caps, rows)
+        solved = socp_charges(setup, working, s, cones, caps, rows)
     return solved, working
 
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from chargedesign.constants import COULOMB, EPSILON_0
-from chargedesign.designer.charges import ConeRows, _socp_charges
+from chargedesign.designer.charges import ConeRows, socp_charges
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier_probes import minmax_charges
 from chargedesign.designer.physical_setup import DESIGN_MARGIN
@@ -104,7 +104,7 @@ def test_the_design_cone_rounds_build_the_plain_programs(setup, monkeypatch):
     cones = [(int(usable[0]), p) for p in points]
     rows = ConeRows(setup.points)
     for chosen in (usable[::2], usable):
-        _socp_charges(setup, chosen, s, cones, caps, rows)
+        socp_charges(setup, chosen, s, cones, caps, rows)
         qs = float(np.max(caps[chosen]))
         plain = coulomb_kernel(setup.points[chosen], points, COULOMB * qs / limit)
         np.testing.assert_array_equal(-seen[-1].G_soc[:, 1:, : len(chosen)], plain)
