@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from chargedesign.errors import ChargeDesignError, InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
-
-__version__ = "0.1.0"
+from chargedesign.version import __version__ as __version__
 
 #: public name -> (module, attribute), resolved on first use so that ``import chargedesign``
 #: loads none of the heavy packages (sympy, cvxpy, PyVista, heyoka, dask). The stages are
