@@ -120,3 +120,15 @@ def test_module_paths() -> None:
     assert module_path("chargedesign.physical") == "physical/"
     assert module_path("chargedesign.physical.realism") == "physical/realism.py"
     assert isinstance(DOC, Path) and DOC.is_file()
+
+
+def test_the_table_places_the_physical_folder_on_two_bands() -> None:
+    """The scene reads the physical tables (boundary); the realised window and the realism
+    budget read the scene's records (kernels), below every stage (issue 33's floor rule)."""
+    rows = band_table(DOC.read_text(encoding="utf-8"))
+    names = [r[0] for r in rows]
+    assert names[band_of("chargedesign.physical.drag", rows) or 0] == "boundary"
+    assert names[band_of("chargedesign.physical.materials", rows) or 0] == "boundary"
+    assert names[band_of("chargedesign.scene.keys", rows) or 0] == "boundary"
+    assert names[band_of("chargedesign.physical.window", rows) or 0] == "kernels"
+    assert names[band_of("chargedesign.airbearing.run", rows) or 0] == "stages"
