@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from chargedesign.errors import ChargeDesignError, InfeasibleError, InputError, SolverError
 from chargedesign.params import Parameters
-
-__version__ = "0.1.0"
+from chargedesign.version import __version__ as __version__
 
 #: public name -> (module, attribute), resolved on first use so that ``import chargedesign``
 #: loads none of the heavy packages (sympy, cvxpy, PyVista, heyoka, dask). The stages are
@@ -37,7 +36,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "sweep": ("chargedesign.api", "sweep"),
     "testbed": ("chargedesign.api", "testbed"),
     "bifurcation": ("chargedesign.api", "bifurcation"),
-    "verify": ("chargedesign.model.verification", "verify"),
+    "verify": ("chargedesign.verification", "verify"),
     "verify_case": ("chargedesign.api", "verify_case"),
     "catalogue": ("chargedesign.api", "catalogue"),
     "conditions": ("chargedesign.moment_conditions", "conditions_for_scene"),
@@ -55,7 +54,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "CheckReport": ("chargedesign.checker", "CheckReport"),
     "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
     "LinearConditions": ("chargedesign.moment_conditions.types", "LinearConditions"),
-    "VerificationReport": ("chargedesign.model.verification", "VerificationReport"),
+    "VerificationReport": ("chargedesign.verification", "VerificationReport"),
     "BifurcationDiagram": ("chargedesign.topology.diagram", "BifurcationDiagram"),
     "CaseCertificate": ("chargedesign.model.case_file", "CaseCertificate"),
     "CatalogueReport": ("chargedesign.model.catalogue", "CatalogueReport"),
@@ -138,10 +137,10 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.export import export_design
     from chargedesign.model.case_file import CaseCertificate
     from chargedesign.model.catalogue import CatalogueReport
-    from chargedesign.model.verification import VerificationReport, verify
     from chargedesign.moment_conditions import conditions_for_scene as conditions
     from chargedesign.moment_conditions.types import LinearConditions
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation.result import SimulationResult
     from chargedesign.topology.diagram import BifurcationDiagram
+    from chargedesign.verification import VerificationReport, verify

@@ -28,10 +28,11 @@ import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
+from chargedesign.elements import ElementSet
 from chargedesign.files import check_output_path, deferred_signals, write_file_atomic
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
@@ -49,8 +50,40 @@ from chargedesign.quadrature import ContinuousBody
 from chargedesign.readers import read_trajectory
 from chargedesign.validation import as_array, as_finite_float, input_error
 
-if TYPE_CHECKING:  # annotations only: the body module draws through this one (Design.plot)
-    from chargedesign.body import Design
+
+class DrawnDesign(Protocol):
+    """What the pictures read of a design: :class:`chargedesign.body.Design` is one.
+
+    The body module draws through this one (``Design.plot``, ``Design.to_pyvista``, the
+    notebook picture), so this module names the members it reads and imports no design
+    module: its elements (:class:`~chargedesign.elements.ElementSet`'s arrays, SI units, body
+    axes), the continuous bodies and the candidate region the design records.
+    """
+
+    @property
+    def charge_positions(self) -> np.ndarray: ...
+    @property
+    def charge_values(self) -> np.ndarray: ...
+    @property
+    def dipole_positions(self) -> np.ndarray: ...
+    @property
+    def dipole_moments(self) -> np.ndarray: ...
+    @property
+    def mass_positions(self) -> np.ndarray: ...
+    @property
+    def mass_values(self) -> np.ndarray: ...
+    @property
+    def n_elements(self) -> int: ...
+    @property
+    def continuous(self) -> Sequence[ContinuousBody]: ...
+    @property
+    def region(self) -> Mapping[str, Any] | None: ...
+    @property
+    def further_keys(self) -> Mapping[str, Any]: ...
+    def carrier_radii(self) -> np.ndarray: ...
+    def magnet_volumes(self) -> np.ndarray: ...
+    def point_elements(self) -> ElementSet: ...
+
 
 # Colours: element kinds never share a hue, so a picture can be checked for them.
 POSITIVE_COLOR = (1.0, 0.0, 0.0)
@@ -133,7 +166,7 @@ def _region_spec(region: Any) -> dict[str, Any] | None:
     return dict(region)
 
 
-def region_from_design(design: Design) -> dict[str, Any] | None:
+def region_from_design(design: DrawnDesign) -> dict[str, Any] | None:
     """The candidate region recorded in a design (design.json ``region``, or ``body`` in older
     files), if any."""
     for value in (design.region, design.further_keys.get("body")):
@@ -233,7 +266,7 @@ def continuous_body_color(body: ContinuousBody, mesh: pv.PolyData) -> Any:
     return "orchid"  # mixed signs (or zero): neither red nor blue
 
 
-def _body_size(design: Design, region: Mapping[str, Any] | None) -> float:
+def _body_size(design: DrawnDesign, region: Mapping[str, Any] | None) -> float:
     """Characteristic length L of the picture, m: farthest element or region point from O."""
     sizes = [0.0]
     for points in (design.charge_positions, design.mass_positions, design.dipole_positions):
@@ -403,7 +436,7 @@ def _labelled(mesh: pv.PolyData, data: Mapping[str, Any]) -> pv.PolyData:
     return mesh
 
 
-def element_sizes(design: Design, size: float) -> dict[str, Any]:
+def element_sizes(design: DrawnDesign, size: float) -> dict[str, Any]:
     """Drawn radii and how they were chosen, per kind of element (m).
 
     Carriers with a radius (``charges.radii``) are drawn at it; the others by ``|q|`` (sphere
@@ -443,7 +476,7 @@ def _sphere(center: np.ndarray, radius: float, resolution: int) -> pv.PolyData:
 
 
 def _sphere_blocks(
-    design: Design, sizes: Mapping[str, Any], out: pv.MultiBlock, resolution: int
+    design: DrawnDesign, sizes: Mapping[str, Any], out: pv.MultiBlock, resolution: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """Add the charges', masses' and magnets' spheres to ``out``; their centres and radii."""
     spheres_c: list[np.ndarray] = []
@@ -477,7 +510,7 @@ def _sphere_blocks(
 
 
 def _dipole_block(
-    design: Design, size: float, centres: np.ndarray, radii: np.ndarray, resolution: int
+    design: DrawnDesign, size: float, centres: np.ndarray, radii: np.ndarray, resolution: int
 ) -> pv.MultiBlock:
     """An arrow per dipole along its moment, sticking out of every sphere around its centre."""
     moments = design.dipole_moments
@@ -503,7 +536,7 @@ def _dipole_block(
     return block
 
 
-def _continuous_block(design: Design) -> pv.MultiBlock:
+def _continuous_block(design: DrawnDesign) -> pv.MultiBlock:
     """The continuous bodies' surfaces, one mesh each."""
     block = pv.MultiBlock()
     for i, body in enumerate(design.continuous):
@@ -535,7 +568,7 @@ def _block_legend(out: pv.MultiBlock, charge_key: str, length: float) -> list[st
 
 
 def design_blocks(
-    design: Design,
+    design: DrawnDesign,
     *,
     region: Mapping[str, Any] | None = None,
     resolution: int = 16,
@@ -590,7 +623,7 @@ def _combined(block: Any) -> pv.PolyData:
     return pv.merge([block[i] for i in range(len(block))])
 
 
-def _size_key(design: Design, size: float) -> str:
+def _size_key(design: DrawnDesign, size: float) -> str:
     """One line telling what the drawn sizes mean."""
     parts = []
     q = design.charge_values
@@ -607,7 +640,7 @@ def _size_key(design: Design, size: float) -> str:
 
 def _add_body(
     plotter: pv.Plotter,
-    design: Design,
+    design: DrawnDesign,
     region: Mapping[str, Any] | None,
     *,
     sphere_resolution: int,
@@ -728,7 +761,7 @@ def _add_labels(
     )
 
 
-def caption_counts(design: Design) -> str:
+def caption_counts(design: DrawnDesign) -> str:
     """The picture's counts, as ``chargedesign check`` counts them: every mass of the body
     (carriers, magnets and ballast; the title once said 160 masses where check counted 208),
     the ballast among them."""
@@ -774,7 +807,7 @@ def _place_camera(plotter: pv.Plotter, size: float, direction: Sequence[float]) 
 _VIEW_DIRECTION = (1.0, -1.6, 0.9)
 
 
-def too_many_elements(design: Design, max_elements: int | None = None) -> str | None:
+def too_many_elements(design: DrawnDesign, max_elements: int | None = None) -> str | None:
     """Why a design has more elements than the cap drawn (each is a mesh; 200 000 take
     minutes), or None."""
     cap = MAX_SHOW_ELEMENTS if max_elements is None else int(max_elements)
@@ -786,7 +819,7 @@ def too_many_elements(design: Design, max_elements: int | None = None) -> str | 
     return None
 
 
-def check_element_count(design: Design, max_elements: int | None = None) -> None:
+def check_element_count(design: DrawnDesign, max_elements: int | None = None) -> None:
     """Refuse to draw more elements than the cap (a caller's error: ``show`` checks first)."""
     problem = too_many_elements(design, max_elements)
     if problem is not None:
@@ -822,7 +855,7 @@ def _has_display() -> bool:
 
 def _draw_scene(
     plotter: pv.Plotter,
-    design: Design,
+    design: DrawnDesign,
     *,
     region: Mapping[str, Any] | None,
     gamma: Any,
@@ -864,7 +897,7 @@ def _draw_scene(
 
 
 def _body_plotter(
-    design: Design,
+    design: DrawnDesign,
     *,
     region: Mapping[str, Any] | None,
     gamma: Any,
@@ -919,7 +952,7 @@ def notebook_backend(backend: str | None = None) -> str:
 
 
 def plot_design(
-    design: Design,
+    design: DrawnDesign,
     plotter: pv.Plotter | None = None,
     *,
     region: Mapping[str, Any] | None = None,
@@ -1026,7 +1059,7 @@ class Picture(np.ndarray):
 
 
 def render_image(
-    design: Design,
+    design: DrawnDesign,
     *,
     region: Mapping[str, Any] | None = None,
     gamma: Any = None,
@@ -1075,7 +1108,7 @@ def render_image(
 
 
 def render_screenshot(
-    design: Design,
+    design: DrawnDesign,
     path: str | os.PathLike[str],
     *,
     region: dict | None = None,
@@ -1119,7 +1152,7 @@ def render_screenshot(
 
 
 def show_interactive(
-    design: Design,
+    design: DrawnDesign,
     *,
     region: Mapping[str, Any] | None = None,
     gamma: Any = None,
@@ -1186,7 +1219,7 @@ def frame_rotations(trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
 
 
 def animate(
-    design: Design,
+    design: DrawnDesign,
     trajectory: str | os.PathLike[str] | Mapping[str, Any],
     out_path: str | os.PathLike[str],
     *,
@@ -1267,7 +1300,7 @@ def animate(
 
 
 def _render_frames(
-    design: Design,
+    design: DrawnDesign,
     traj: Trajectory,
     times: np.ndarray,
     rotations: np.ndarray,
@@ -1303,7 +1336,7 @@ def _frame_image(
 
 def _frames(
     plotter: pv.Plotter,
-    design: Design,
+    design: DrawnDesign,
     traj: Trajectory,
     times: np.ndarray,
     rotations: np.ndarray,
@@ -1344,7 +1377,7 @@ def _frames(
     return np.stack(images)
 
 
-def design_picture(design: Design, width: int = 320, height: int = 240) -> str:
+def design_picture(design: DrawnDesign, width: int = 320, height: int = 240) -> str:
     """An inline HTML picture of a design for notebooks (empty when it cannot be rendered here)."""
     try:
         image = render_image(design, window_size=(width, height))

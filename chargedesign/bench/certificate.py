@@ -133,7 +133,7 @@ def _certificate_table(quick: bool) -> BenchTable:
                 else [t_simp, t_simp / t_ring, "yes" if reached_zero else "no"]
             )
         table.rows.append(row)
-    t_audit, _ = best_time(lambda: audit_printed(include_p6=False), 1 if quick else 3)
+    t_audit, _ = best_time(lambda: audit_printed(), 1 if quick else 3)
     t_cold = None if quick else _fresh_process_seconds()  # quick: no second interpreter
     table.notes += [
         "ring route: sparse polynomials over QQ with u = 1/gamma3, division by r - a and "

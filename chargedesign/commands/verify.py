@@ -14,11 +14,11 @@ import json
 
 from chargedesign.model.case_file import verify_case_file
 from chargedesign.model.frame import certify_frame
-from chargedesign.model.verification import CERTIFICATE_CASES as CERTIFICATE_CASES
-from chargedesign.model.verification import VerificationReport
-from chargedesign.model.verification import collect as collect
-from chargedesign.model.verification import format_report as format_report
 from chargedesign.scene.case_file import read_case
+from chargedesign.verification import CERTIFICATE_CASES as CERTIFICATE_CASES
+from chargedesign.verification import VerificationReport
+from chargedesign.verification import collect as collect
+from chargedesign.verification import format_report as format_report
 
 
 def run(args: argparse.Namespace) -> int:

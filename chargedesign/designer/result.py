@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from chargedesign import __version__
 from chargedesign.body import Design
 from chargedesign.candidates import CandidateSet
 from chargedesign.designer.accuracy import FORWARD_LIMIT, FORWARD_NOTE, Cancellation
@@ -15,6 +14,7 @@ from chargedesign.report import render_summary
 from chargedesign.results import Result
 from chargedesign.scene.design import DesignOptions
 from chargedesign.verdict import recorded_verdict
+from chargedesign.version import __version__
 
 
 @dataclass

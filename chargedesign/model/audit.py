@@ -18,7 +18,6 @@ import re
 
 import sympy as sp
 
-from chargedesign.errors import ChargeDesignError
 from chargedesign.model import case
 from chargedesign.model.audit_entry import AuditEntry
 from chargedesign.model.case import STATE_SYMBOLS, C, g3, mu_from_l, p, q, r, symbolic_case
@@ -42,10 +41,10 @@ from chargedesign.model.printed import (
     printed_l,
     printed_mu,
 )
-from chargedesign.moment_conditions import audit as conditions_audit
 
-#: the entries :func:`audit_printed` returns, in order
-ENTRY_NAMES = ("mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I3_level", "I4", "p6")
+#: the entries :func:`audit_printed` returns, in order (the moment conditions (p6) are the
+#: conditions engine's: :func:`chargedesign.moment_conditions.audit.audit_p6`)
+ENTRY_NAMES = ("mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I3_level", "I4")
 
 
 def sphere_canonical(expr: sp.Expr) -> sp.Expr:
@@ -192,34 +191,18 @@ def _entry_I4() -> AuditEntry:
     )
 
 
-def _entry_p6() -> AuditEntry:
-    audit_p6 = getattr(conditions_audit, "audit_p6", None)
-    if audit_p6 is None:
-        raise ChargeDesignError(
-            "p6: the conditions engine (chargedesign.moment_conditions.audit_p6) is not available"
-        )
-    entry = audit_p6()
-    if entry.name != "p6":
-        raise AssertionError(f"conditions.audit_p6 returned entry {entry.name!r}")
-    return entry
-
-
-def audit_printed(include_p6: bool = True) -> list[AuditEntry]:
-    """Compare each printed formula of the paper with its derived counterpart.
-
-    Parameters
-    ----------
-    include_p6 : bool
-        Include the moment conditions (p6), audited by the conditions engine
-        (:func:`chargedesign.moment_conditions.audit_p6`).
+def audit_printed() -> list[AuditEntry]:
+    """Compare each printed formula of the model with its derived counterpart.
 
     Returns
     -------
     list of AuditEntry
-        In the order of :data:`ENTRY_NAMES` (``p6`` last). An entry that does not agree is a
-        finding about the paper, not a failure of the model.
+        In the order of :data:`ENTRY_NAMES`. An entry that does not agree is a finding about
+        the paper, not a failure of the model. The moment conditions (p6) are audited by the
+        conditions engine (:func:`chargedesign.moment_conditions.audit.audit_p6`);
+        :mod:`chargedesign.verification` joins both.
     """
-    entries = [
+    return [
         _entry_mu_from_l(),
         _entry_eom(0, "eom_p"),
         _entry_eom(1, "eom_q"),
@@ -229,6 +212,3 @@ def audit_printed(include_p6: bool = True) -> list[AuditEntry]:
         _entry_I3_level(),
         _entry_I4(),
     ]
-    if include_p6:
-        entries.append(_entry_p6())
-    return entries

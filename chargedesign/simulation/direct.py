@@ -33,15 +33,12 @@ not a moment of the body: the cost is linear in the number of elements.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from chargedesign.fields import zonal_z_coefficients
 from chargedesign.physical.materials import MU_0
-
-if TYPE_CHECKING:
-    from chargedesign.simulation.system import Body
+from chargedesign.simulation.body import Body
 
 #: columns of a row's output vector: D (3), M (3), and T (3 x 3, row-major) with D += T gamma
 _D, _M, _T = slice(0, 3), slice(3, 6), slice(6, 15)
@@ -60,7 +57,7 @@ class DirectKernel:
     Parameters
     ----------
     body : Body
-        Elements and fields (already validated by :class:`~chargedesign.simulation.system.Body`).
+        Elements and fields (already validated by :class:`~chargedesign.simulation.body.Body`).
     effects : sequence of str
         Physical effects among :data:`KERNEL_EFFECTS`.
     """

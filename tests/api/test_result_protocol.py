@@ -32,8 +32,8 @@ VERIFY_DATA = {
 
 @pytest.fixture(scope="module")
 def results(default_result):
-    from chargedesign.model.verification import VerificationReport
     from chargedesign.moment_conditions import conditions_for_scene
+    from chargedesign.verification import VerificationReport
 
     report = cd.check(default_result.design, n_orientations=40)
     return {

@@ -4,8 +4,8 @@
     that itself loads a heavy third-party package (sympy, pyvista) at import time: deferring
     that import keeps the light modules light. Any other exception is listed, with its reason,
     in :data:`ALLOWED`.
-(b) The module import graph has no circle, counting function-level imports and the implicit
-    import of a module's parent packages.
+(b) The module import graph has no circle, counting function-level imports, the imports
+    under ``if TYPE_CHECKING`` and the implicit import of a module's parent packages.
 """
 
 from __future__ import annotations
@@ -73,16 +73,15 @@ def is_type_checking(node: ast.AST) -> bool:
 
 
 def imports(
-    tree: ast.AST, in_function: bool = False
-) -> Iterator[tuple[ast.Import | ast.ImportFrom, bool]]:
-    """Every import statement (outside ``if TYPE_CHECKING``), with whether it is in a function."""
+    tree: ast.AST, in_function: bool = False, typing_only: bool = False
+) -> Iterator[tuple[ast.Import | ast.ImportFrom, bool, bool]]:
+    """Every import statement, with whether it is in a function and whether it is under
+    ``if TYPE_CHECKING`` (for annotations only)."""
     for child in ast.iter_child_nodes(tree):
-        if is_type_checking(child):
-            continue
         if isinstance(child, (ast.Import, ast.ImportFrom)):
-            yield child, in_function
+            yield child, in_function, typing_only
         nested = in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
-        yield from imports(child, nested)
+        yield from imports(child, nested, typing_only or is_type_checking(child))
 
 
 def targets(
@@ -113,16 +112,20 @@ def import_graph(
     modules: dict[str, Path],
 ) -> tuple[dict[str, set[str]], list[tuple[str, str, int]]]:
     """Edges module -> imported modules (with the parent packages Python imports first, for
-    a module outside them), and every function-level own import as (module, target, line)."""
+    a module outside them), and every function-level own import as (module, target, line).
+
+    The edges count every import: at module level, in a function (a lazy import is still a
+    dependence) and under ``if TYPE_CHECKING`` (an annotation names the other module's type:
+    a circle of types is a circle of the design)."""
     edges: dict[str, set[str]] = {m: set() for m in modules}
     function_level = []
     for module, path in modules.items():
         tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node, in_function in imports(tree):
+        for node, in_function, typing_only in imports(tree):
             for target in targets(node, module, path, modules):
                 own = set(parents(module)) | {module}
                 edges[module] |= {target, *(p for p in parents(target) if p not in own)}
-                if in_function:
+                if in_function and not typing_only:
                     function_level.append((module, target, node.lineno))
     return edges, function_level
 
@@ -197,6 +200,15 @@ def test_the_checks_see_a_function_level_import_and_a_circle(tmp_path: Path) -> 
     # b importing c closes a circle through the parent package sub
     (package / "sub" / "b.py").write_text("import chargedesign.c\n", encoding="utf-8")
     edges, _ = import_graph(modules)
+    assert circles(edges) == [["chargedesign.c", "chargedesign.sub", "chargedesign.sub.b"]]
+    # an import for annotations only closes a circle too (and is no function-level import)
+    (package / "sub" / "b.py").write_text(
+        "from typing import TYPE_CHECKING\n"
+        "if TYPE_CHECKING:\n    def f():\n        from chargedesign.c import x\n",
+        encoding="utf-8",
+    )
+    edges, function_level = import_graph(modules)
+    assert function_level == [("chargedesign.a", "chargedesign.sub.b", 2)]
     assert circles(edges) == [["chargedesign.c", "chargedesign.sub", "chargedesign.sub.b"]]
 
 

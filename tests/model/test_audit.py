@@ -7,7 +7,6 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 
-from chargedesign.errors import ChargeDesignError
 from chargedesign.model import audit, printed
 from chargedesign.model.case import (
     PARAMETER_SYMBOLS,
@@ -39,11 +38,11 @@ def zero_on_sphere(expr: sp.Expr) -> bool:
 
 @pytest.fixture(scope="module")
 def entries() -> dict[str, audit.AuditEntry]:
-    return {e.name: e for e in audit.audit_printed(include_p6=False)}
+    return {e.name: e for e in audit.audit_printed()}
 
 
 def test_entries_and_computed_verdicts(entries: dict[str, audit.AuditEntry]) -> None:
-    assert list(entries) == list(audit.ENTRY_NAMES[:-1])
+    assert list(entries) == list(audit.ENTRY_NAMES)
     verdicts = {name: e.agrees for name, e in entries.items()}
     assert verdicts == {
         "mu_from_l": True,
@@ -134,17 +133,17 @@ def test_parse_difference_reads_lambda() -> None:
     )
 
 
-def test_p6_entry_comes_from_the_conditions_engine(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_p6_entry_comes_from_the_conditions_engine() -> None:
+    """verify joins the model's entries and the conditions engine's (p6), in that order."""
+    from chargedesign import verification
     from chargedesign.moment_conditions import audit as conditions_audit
 
-    entries = audit.audit_printed()
-    assert [e.name for e in entries] == list(audit.ENTRY_NAMES)
-    p6 = entries[-1]
+    model_entries = audit.audit_printed()
+    assert [e.name for e in model_entries] == list(audit.ENTRY_NAMES)
     expected = conditions_audit.audit_p6()
-    assert p6 == expected and isinstance(p6.agrees, bool) and p6.difference
-    monkeypatch.delattr(conditions_audit, "audit_p6")
-    with pytest.raises(ChargeDesignError, match="p6"):
-        audit.audit_printed()
+    assert expected.name == "p6" and isinstance(expected.agrees, bool) and expected.difference
+    printed = [e.to_dict() for e in [*model_entries, expected]]
+    assert verification.collect()["printed"] == printed
 
 
 def test_printed_p6_conditions_as_data() -> None:

@@ -6,8 +6,9 @@ import json
 
 import pytest
 
+from chargedesign import verification
 from chargedesign.cli import main
-from chargedesign.moment_conditions import audit as conditions_audit
+from chargedesign.errors import ChargeDesignError
 
 CONTRACT_NAMES = {"mu_from_l", "eom_p", "eom_q", "eom_r", "eom_gamma", "I3", "I4", "p6"}
 
@@ -39,10 +40,13 @@ def test_verify_prints_a_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert "eom_q" in out and "dI4/dt" in out
 
 
-def test_verify_without_the_p6_engine_fails_with_one_line(
+def test_verify_when_the_p6_engine_fails_says_so_in_one_line(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.delattr(conditions_audit, "audit_p6")
+    def broken() -> None:
+        raise ChargeDesignError("p6: the conditions engine failed")
+
+    monkeypatch.setattr(verification, "audit_p6", broken)
     assert main(["verify", "--json"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "p6" in err

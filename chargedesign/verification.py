@@ -1,5 +1,7 @@
 """The verification of the theorem as one result: the exact certificate in the paper's four
-cases and the audit of the printed formulas (what ``chargedesign verify`` prints).
+cases and the audit of the printed formulas (what ``chargedesign verify`` prints): the model's
+own (:func:`chargedesign.model.audit.audit_printed`), then the moment conditions (p6) by the
+conditions engine (:func:`chargedesign.moment_conditions.audit.audit_p6`). It stands above both.
 
 ``verify().holds`` is True when the certificate holds in every case and the Larmor
 certificate holds (:mod:`chargedesign.model.larmor`: the n-system is the n = 0 system in axes
@@ -14,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from chargedesign.formatting import CELL, fmt
+from chargedesign.moment_conditions.audit import audit_p6
 from chargedesign.results import Result
 
 CERTIFICATE_CASES = ("general", "yehia2003", "goriachev", "chaplygin")
@@ -28,7 +31,7 @@ def collect() -> dict[str, object]:
     results = [certify(case) for case in CERTIFICATE_CASES]
     larmor = certify_larmor()
     start = time.perf_counter()
-    entries = audit_printed()
+    entries = [*audit_printed(), audit_p6()]  # the model's formulas, then (p6) by the conditions
     audit_seconds = time.perf_counter() - start
     return {
         "certificate": {res.case: res.holds for res in results},
