@@ -4,7 +4,8 @@
     python tools/shared_functions.py THEOREM.toml CASE.toml  # two given scenes
 
 Issue 39's measure of "one model": ``cd.design(path)`` is run on each scene in a fresh process
-(so that caches warmed by the first design do not hide functions from the second) and every
+(so that caches warmed by the first design do not hide functions from the second), its result's
+``certificate`` is read (the theorem's scene's is made when first read), and every
 package function entered is recorded with ``sys.setprofile`` (module path and qualified name,
 comprehensions included). It prints both counts, the shared count, shared / union, and with
 ``--list`` the functions on one side only.
@@ -58,7 +59,8 @@ def write_twin(theorem_scene: Path, out: Path) -> Path:
 
 
 def functions_called(scene: Path) -> set[tuple[str, str]]:
-    """Every package function ``cd.design(scene)`` enters, in this process."""
+    """Every package function ``cd.design(scene)`` and its ``certificate`` enter, in this
+    process."""
     import chargedesign as cd
 
     seen: set[tuple[str, str]] = set()
@@ -71,7 +73,7 @@ def functions_called(scene: Path) -> set[tuple[str, str]]:
 
     sys.setprofile(record)
     try:
-        cd.design(str(scene))
+        cd.design(str(scene)).certificate  # noqa: B018 - the theorem's is made when first read
     finally:
         sys.setprofile(None)
     return seen
