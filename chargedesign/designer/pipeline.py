@@ -600,7 +600,7 @@ def _record_case(result: DesignResult, model: SceneModel, progress: Progress | N
     The theorem's scene's certificate is made when ``result.certificate`` is first read
     (:func:`theorem_certificate`): no output of ``design``, ``frontier``, ``sweep`` or the
     report prints it (design.json keeps the parameters, which rebuild the case), and it costs
-    sympy and 0.4-8 s. A refusal of the case (the note of
+    sympy and about 1.7 s of CPU. A refusal of the case (the note of
     :func:`chargedesign.designer.case_design.record_case`) goes into ``design.notes`` when it
     is read (a scene's parameters are all within a case file's range: the scene's reader
     checks them as the case's parser does)."""
