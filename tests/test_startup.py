@@ -103,3 +103,24 @@ def test_simulating_a_written_design_loads_no_scipy(physical_design):
         f"    assert main(['simulate', {str(physical_design)!r}, '--json', '--t-end', '1']) == 0"
     )
     assert not imports_module(run, "scipy")
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["frontier", "--json"],
+        ["design", "examples/scenes/unit_scale.toml", "--out", "{out}"],
+    ],
+)
+def test_a_theorem_scenes_design_and_frontier_run_without_sympy(args, tmp_path):
+    """The theorem's scene's exact certificate is made when ``result.certificate`` is read
+    (designer/pipeline._record_case): no output of these commands prints it, so the run,
+    not only its start path, keeps sympy out."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    argv = [a.format(out=tmp_path) for a in args]
+    code = (
+        f"import contextlib, os; os.chdir({str(root)!r})\n"
+        "from chargedesign.cli import main\n"
+        f"with contextlib.redirect_stdout(open(os.devnull, 'w')): assert main({argv!r}) == 0"
+    )
+    assert imported_of(code, ("sympy",)) == set()

@@ -11,6 +11,7 @@ the residual and assess the forward accuracy (:mod:`~chargedesign.designer.accur
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -594,12 +595,32 @@ def _record_case(result: DesignResult, model: SceneModel, progress: Progress | N
     """Every scene's body: the exact certificate of its model (the theorem's scene: the
     catalogue's case built from its parameters); a case scene's also its case record and the
     checks of the elements against the case's own V, mu and inertia
-    (:mod:`chargedesign.designer.case_design`)."""
+    (:mod:`chargedesign.designer.case_design`).
+
+    The theorem's scene's certificate is made when ``result.certificate`` is first read
+    (:func:`theorem_certificate`): no output of ``design``, ``frontier``, ``sweep`` or the
+    report prints it (design.json keeps the parameters, which rebuild the case), and it costs
+    sympy and about 1.7 s of CPU. A refusal of the case (the note of
+    :func:`chargedesign.designer.case_design.record_case`) goes into ``design.notes`` when it
+    is read (a scene's parameters are all within a case file's range: the scene's reader
+    checks them as the case's parser does)."""
+    if model.case is None and model.theorem is not None:
+        result.certificate_of = functools.partial(theorem_certificate, result.design, model.theorem)
+        return
     from chargedesign.designer.case_design import record_case  # sympy
 
     result.certificate = record_case(
         result.design, model.case, model.table, model.theorem, progress=progress
     )
+
+
+def theorem_certificate(design: Design, theorem: Parameters) -> Any:
+    """The exact certificate of the theorem's scene's model, the catalogue's case at its
+    parameters (:func:`chargedesign.designer.case_design.record_case`; None and a note in
+    ``design.notes`` when the case is refused)."""
+    from chargedesign.designer.case_design import record_case  # sympy
+
+    return record_case(design, None, None, theorem)
 
 
 @dataclass

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -70,7 +71,11 @@ class DesignResult(Result):
         The exact certificate of the model the body realises, at the body's own numbers
         (:func:`chargedesign.model.case_file.certify_case`): a ``[case]`` scene's claimed
         integral, or the theorem's I4 for the theorem's scene (the catalogue's case built from
-        its parameters); None for a body designed outside a scene (``design_body``).
+        its parameters); None for a body designed outside a scene (``design_body``). The
+        theorem's scene's is made when first read (``certificate_of``: no output of ``design``
+        or ``frontier`` prints it, and it costs sympy and about a second).
+    certificate_of : callable or None
+        Makes the certificate when it is first read (then None).
     """
 
     design: Design
@@ -81,7 +86,19 @@ class DesignResult(Result):
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     status: str = "optimal"
-    certificate: Any = None
+    _certificate: Any = field(default=None, repr=False)
+    certificate_of: Callable[[], Any] | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def certificate(self) -> Any:
+        """The exact certificate of the body's model (made now when it was deferred)."""
+        if self.certificate_of is not None:
+            self._certificate, self.certificate_of = self.certificate_of(), None
+        return self._certificate
+
+    @certificate.setter
+    def certificate(self, value: Any) -> None:
+        self._certificate, self.certificate_of = value, None
 
     @property
     def limits(self) -> dict[str, Any] | None:

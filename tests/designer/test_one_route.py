@@ -267,3 +267,45 @@ def test_a_theorem_scene_whose_case_the_catalogue_refuses_keeps_its_body() -> No
     assert record_case(design, None, None, params) is None
     assert any("certificate was not made" in note and "1e-35" in note for note in design.notes)
     assert "case" not in design.further_keys
+
+
+def _fields(certificate) -> dict:
+    """The certificate's record without its seconds."""
+    record = certificate.to_dict()["case"]
+    record.pop("seconds")
+    return record
+
+
+def test_the_theorem_scenes_certificate_is_made_when_first_read() -> None:
+    """The theorem's scene defers its certificate (no output of design or frontier prints it):
+    read, it is the one route's (record_case of the catalogue's case at the parameters), field
+    for field; the deferred result pickles (a sweep's process pool) and is read there too."""
+    import pickle
+
+    from chargedesign.designer.case_design import theorem_model
+    from chargedesign.model.case_file import certify_case
+
+    scene = scene_from_dict(
+        tomllib.loads((EXAMPLES / "unit_scale.toml").read_text("utf-8")), "unit_scale"
+    )
+    result = cd.design(scene)
+    assert result.certificate_of is not None  # not made by the design
+    copy = pickle.loads(pickle.dumps(result))
+    fresh = certify_case(theorem_model(scene.parameters))
+    assert _fields(result.certificate) == _fields(fresh)
+    assert result.certificate_of is None and result.certificate is result.certificate
+    assert _fields(copy.certificate) == _fields(fresh)
+
+
+def test_a_refused_theorem_case_notes_it_when_its_certificate_is_read() -> None:
+    """A scene's reader refuses c = 1e-35 as a case file's does; a scene made in code with it
+    designs, and reading its certificate gives None and the record step's note."""
+    import dataclasses
+
+    data = tomllib.loads((EXAMPLES / "unit_scale.toml").read_text("utf-8"))
+    scene = scene_from_dict(data, "unit_scale")
+    params = dataclasses.replace(scene.parameters, c=1e-35)
+    result = cd.design(dataclasses.replace(scene, parameters=params))
+    assert not any("certificate was not made" in note for note in result.design.notes or [])
+    assert result.certificate is None
+    assert any("certificate was not made" in n and "1e-35" in n for n in result.design.notes)
