@@ -16,6 +16,7 @@ import sys
 
 from chargedesign.model.audit import audit_printed
 from chargedesign.model.certificate import CASES, certify, counterexample
+from chargedesign.moment_conditions.audit import audit_p6
 
 
 def main() -> int:
@@ -30,7 +31,7 @@ def main() -> int:
             f"({passed}/{len(result.checks)} exact checks, {zeroed}, {result.seconds:.2f} s)"
         )
     print()
-    for entry in audit_printed():
+    for entry in [*audit_printed(), audit_p6()]:  # the model's formulas, then (p6)
         line = f"printed {entry.name:<10} " + ("agrees" if entry.agrees else "differs by ")
         print(line + ("" if entry.agrees else entry.difference))
     point = counterexample()
