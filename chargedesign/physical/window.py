@@ -268,7 +268,7 @@ def _turns() -> list[np.ndarray]:
     ]
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=1)  # the body whose coil sizes are being tried
 def _torque_terms(positions_bytes: bytes, moments_bytes: bytes, degrees: int):
     """A body's magnets at every turned orientation, the field-free part of their energy:
     per turn and block of magnets ``(Z, g . m, r . m, terms)`` with ``terms`` the zonal
