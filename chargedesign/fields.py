@@ -97,9 +97,19 @@ def zonal_sums(
 
 
 def _zonal_block(
-    coeffs: np.ndarray, Z: np.ndarray, S: np.ndarray, order: int, want_value: bool
+    coeffs: np.ndarray,
+    Z: np.ndarray,
+    S: np.ndarray,
+    order: int,
+    want_value: bool,
+    record: list[tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> dict[str, np.ndarray]:
-    """:func:`zonal_sums` on one block of points (``Z`` and ``S`` broadcastable)."""
+    """:func:`zonal_sums` on one block of points (``Z`` and ``S`` broadcastable).
+
+    ``record`` (order 1 only): a list that gets, for each k = 1..K, copies of the terms the
+    sums take at that k, ``(u_{k-1}, u_k,S)``; they do not depend on ``coeffs`` (see
+    :func:`zonal_first_from_terms`, which sums them again for other coefficients).
+    """
     shape = np.broadcast_shapes(Z.shape, S.shape)
     names = [""] if (want_value or order == 0) else []
     names += ["Z", "S"] if order >= 1 else []
@@ -133,6 +143,8 @@ def _zonal_block(
     spare: dict[str, np.ndarray] | None = None  # made, and free to reuse
     for k in range(1, K + 1):
         f = float(coeffs[k - 1])
+        if record is not None:
+            record.append((prev[""].copy(), np.broadcast_to(cur["S"], shape).copy()))
         if f != 0.0:
             if "" in out:
                 out[""] += np.multiply(cur[""], f, out=tmp)  # f * u_k
@@ -195,6 +207,32 @@ def _zonal_block(
         prev, cur = cur, nxt
     if cartesian_z is not None:
         out["Z"] = cartesian_z - 2.0 * Zb * out["S"]
+    return out
+
+
+def zonal_first_from_terms(
+    coeffs: np.ndarray, Z: np.ndarray, terms: list[tuple[np.ndarray, np.ndarray]]
+) -> dict[str, np.ndarray]:
+    """``Phi_Z`` and ``Phi_S`` (:func:`zonal_sums` at order 1, no value) from the terms
+    :func:`_zonal_block` recorded at these points (``terms``, for at least ``len(coeffs)``
+    degrees): the same sums in the same order, so the same bits, without the recurrence.
+    A body's magnets in many fields (the coils' sizes) run the recurrence once."""
+    shape = terms[0][0].shape if terms else np.shape(Z)
+    out = {"Z": np.zeros(shape), "S": np.zeros(shape)}
+    K = len(coeffs)
+    if K == 0:
+        return out
+    if K > len(terms):
+        raise ValueError(f"{K} degrees asked of terms recorded for {len(terms)}")
+    cartesian_z = np.zeros(shape)
+    tmp = np.empty(shape)
+    for k in range(1, K + 1):
+        f = float(coeffs[k - 1])
+        if f != 0.0:
+            u_prev, u_s = terms[k - 1]
+            cartesian_z += np.multiply(u_prev, f * k, out=tmp)  # (f k) * u_{k-1}
+            out["S"] += np.multiply(u_s, f, out=tmp)
+    out["Z"] = cartesian_z - 2.0 * np.broadcast_to(Z, shape) * out["S"]
     return out
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
 from chargedesign.designer.robust import robust_costs
-from chargedesign.designer.solvers import least_norm
+from chargedesign.designer.solvers import least_norm, least_norm_solver
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
@@ -382,6 +382,7 @@ def polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) 
     top = np.max(np.abs(A[:, cols]), axis=1)
     top = np.where(top > 0, top, 1.0)
     As = A[:, cols] / top[:, None]
+    solve = least_norm_solver(As)  # one factor for the three corrections
     for _ in range(3):
-        out[cols] += least_norm(As, (b - A @ out) / top)
+        out[cols] += least_norm(As, (b - A @ out) / top, solve)
     return out

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from chargedesign.designer.solvers import least_norm
+from chargedesign.designer.solvers import least_norm, least_norm_solver
 from chargedesign.designer.system import DesignProblem, group_norms, relative_residual
 from chargedesign.formatting import PLAIN, fmt
 
@@ -50,17 +50,19 @@ def _polish_on(p: DesignProblem, u: np.ndarray, support: np.ndarray) -> np.ndarr
         return None
     A_free = p.A_s[:, cols[free]]
     rhs = p.b_s - p.A_s[:, cols[fixed]] @ values[fixed]
+    solve = least_norm_solver(A_free)  # one factor for both corrections
     for _ in range(2):
-        values[free] += least_norm(A_free, rhs - A_free @ values[free])
+        values[free] += least_norm(A_free, rhs - A_free @ values[free], solve)
     if p.nonneg and np.any(values < 0):
         # nonnegative least squares on the support, then the least-norm correction on the
         # masses it keeps positive
         A_sup = p.A_s[:, cols]
         values, _ = nnls(A_sup, p.b_s, maxiter=50 * len(cols) + 100)
         keep = values > 0
+        A_keep = A_sup[:, keep]
+        solve = least_norm_solver(A_keep)
         for _ in range(2):
-            A_keep = A_sup[:, keep]
-            values[keep] += least_norm(A_keep, p.b_s - A_keep @ values[keep])
+            values[keep] += least_norm(A_keep, p.b_s - A_keep @ values[keep], solve)
         if np.any(values < 0):
             return None
     if p.upper is not None and np.any(np.abs(values) > p.upper * (1.0 + 1e-12)):

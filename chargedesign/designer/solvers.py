@@ -9,6 +9,7 @@ defaults bound the objective rather than the equality rows).
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -102,21 +103,41 @@ def solve_linprog(
     return res
 
 
-def least_norm(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Minimum-norm solution of ``A x = b`` (A: shape (m, N)), with one refinement step.
+def least_norm_solver(A: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """The minimum-norm solve ``rhs -> x`` of ``A x = rhs`` (A: shape (m, N)), one factor of
+    ``A`` for every right-hand side.
 
     For wide matrices through a QR of ``A^T = Q R``: ``x = Q z`` with ``z`` the least-norm
-    solution of the small system ``R^T z = b`` (rank-revealing ``lstsq``), since ``|x| = |z|``.
-    (A direct ``lstsq`` on a wide matrix with millions of columns overflows LAPACK's
-    workspace size.)
+    solution of the small system ``R^T z = rhs`` (rank-revealing ``lstsq``), since
+    ``|x| = |z|``; the QR is made once (the same factor, so the same bits, as a QR per
+    solve). (A direct ``lstsq`` on a wide matrix with millions of columns overflows LAPACK's
+    workspace size.) Otherwise ``lstsq`` on ``A``.
     """
+    if A.shape[1] > 4 * A.shape[0]:
+        Q, R = np.linalg.qr(A.T)
+        Rt = R.T
 
-    def solve(rhs: np.ndarray) -> np.ndarray:
-        if A.shape[1] > 4 * A.shape[0]:
-            Q, R = np.linalg.qr(A.T)
-            return Q @ np.linalg.lstsq(R.T, rhs, rcond=None)[0]
+        def solve(rhs: np.ndarray) -> np.ndarray:
+            return Q @ np.linalg.lstsq(Rt, rhs, rcond=None)[0]
+
+        return solve
+
+    def solve_direct(rhs: np.ndarray) -> np.ndarray:
         return np.linalg.lstsq(A, rhs, rcond=None)[0]
 
+    return solve_direct
+
+
+def least_norm(
+    A: np.ndarray, b: np.ndarray, solve: Callable[[np.ndarray], np.ndarray] | None = None
+) -> np.ndarray:
+    """Minimum-norm solution of ``A x = b`` (A: shape (m, N)), with one refinement step.
+
+    ``solve``: :func:`least_norm_solver` of ``A`` when the caller has made it (a loop of
+    corrections on one matrix factors it once); else it is made here.
+    """
+    if solve is None:
+        solve = least_norm_solver(A)
     x = solve(b)
     return x + solve(b - A @ x)
 

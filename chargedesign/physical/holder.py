@@ -157,39 +157,70 @@ def parts_from_arrays(
     masses, volumes, magnet density, attached ballast density); ``ballast`` = (positions,
     masses, densities). ``names``: each block's part names (default ``carrier i`` ...).
     """
+    # Each block's sizes as arrays at once (np.cbrt elementwise: the same bits as one part
+    # at a time); the layers stay Python floats, part by part.
     out_names: list[str] = []
     centres: list[np.ndarray] = []
-    masses: list[float] = []
+    masses: list[np.ndarray] = []
     layers: list[list[tuple[float, float, float]]] = []
     if carriers is not None:
         pos, mass, radii, wall = carriers
-        for i in range(len(mass)):
-            out_names.append(names[0][i] if names else f"carrier {i}")
-            centres.append(np.asarray(pos[i], float))
-            masses.append(float(mass[i]))
-            layers.append(_shell_layers(float(mass[i]), float(radii[i]), wall))
+        mass_f = np.asarray(mass, dtype=float).reshape(-1)
+        radii_f = np.asarray(radii, dtype=float).reshape(-1)
+        out_names += (
+            names[0][: len(mass_f)] if names else [f"carrier {i}" for i in range(len(mass_f))]
+        )
+        centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
+        masses.append(mass_f)
+        layers += [
+            _shell_layers(m, r, wall)
+            for m, r in zip(mass_f.tolist(), radii_f.tolist(), strict=True)
+        ]
     if magnets is not None:
         pos, mass, volume, density, attached = magnets
-        for i in range(len(mass)):
-            out_names.append(names[1][i] if names else f"magnet {i}")
-            centres.append(np.asarray(pos[i], float))
-            masses.append(float(mass[i]))
-            layers.append(_magnet_layers(float(mass[i]), float(volume[i]), density, attached))
+        mass_f = np.asarray(mass, dtype=float).reshape(-1)
+        volume_f = np.asarray(volume, dtype=float).reshape(-1)[: len(mass_f)]
+        out_names += (
+            names[1][: len(mass_f)] if names else [f"magnet {i}" for i in range(len(mass_f))]
+        )
+        centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
+        masses.append(mass_f)
+        if not math.isfinite(density):  # no material written: points
+            layers += [[] for _ in range(len(mass_f))]
+        else:
+            cores = sphere_radius(volume_f).tolist()
+            extras = [
+                max(m - density * v, 0.0)
+                for m, v in zip(mass_f.tolist(), volume_f.tolist(), strict=True)
+            ]
+            outers = (
+                sphere_radius(volume_f + np.array(extras) / attached).tolist()
+                if attached > 0
+                else [0.0] * len(extras)
+            )
+            for core, extra, outer in zip(cores, extras, outers, strict=True):
+                block = [(density, 0.0, core)]
+                if extra > 0 and attached > 0:
+                    block.append((attached, core, outer))
+                layers.append(block)
     if ballast is not None:
         pos, mass, rho = ballast
-        for i in range(len(mass)):
-            out_names.append(names[2][i] if names else f"ballast {i}")
-            centres.append(np.asarray(pos[i], float))
-            masses.append(float(mass[i]))
-            if not math.isfinite(rho[i]):  # no material written: a point
-                layers.append([])
-                continue
-            radius = float(sphere_radius(mass[i] / rho[i]))
-            layers.append([(float(rho[i]), 0.0, radius)])
+        mass_f = np.asarray(mass, dtype=float).reshape(-1)
+        rho_f = np.asarray(rho, dtype=float).reshape(-1)[: len(mass_f)]
+        out_names += (
+            names[2][: len(mass_f)] if names else [f"ballast {i}" for i in range(len(mass_f))]
+        )
+        centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
+        masses.append(mass_f)
+        finite = np.isfinite(rho_f)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            radii_b = sphere_radius(np.where(finite, mass_f / np.where(finite, rho_f, 1.0), 0.0))
+        for ok, r, a in zip(finite.tolist(), rho_f.tolist(), radii_b.tolist(), strict=True):
+            layers.append([(r, 0.0, a)] if ok else [])  # not finite: no material, a point
     return PartSpheres(
         out_names,
-        np.array(centres, dtype=float).reshape(-1, 3),
-        np.array(masses, dtype=float),
+        np.concatenate(centres).reshape(-1, 3) if centres else np.zeros((0, 3)),
+        np.concatenate(masses) if masses else np.zeros(0),
         layers,
     )
 
@@ -253,6 +284,14 @@ def monomial_moments(
     top = max((sum(e) for e in exps), default=0)
     radial_by_n = {n: (masses if n == 0 else radial(n)) for n in range(0, top + 1, 2)}
     out = np.zeros((len(keys), len(centres)))
+    # each power of a centre coordinate once (the same expression, so the same bits)
+    powers: dict[tuple[int, int], np.ndarray] = {}
+
+    def power(axis: int, e: int) -> np.ndarray:
+        if (axis, e) not in powers:
+            powers[axis, e] = centres[:, axis] ** e
+        return powers[axis, e]
+
     for a, (i, j, k) in enumerate(exps):
         for p in range(0, i + 1, 2):
             for q in range(0, j + 1, 2):
@@ -262,9 +301,9 @@ def monomial_moments(
                     out[a] += (
                         coef
                         * radial_by_n[p + q + r]
-                        * centres[:, 0] ** (i - p)
-                        * centres[:, 1] ** (j - q)
-                        * centres[:, 2] ** (k - r)
+                        * power(0, i - p)
+                        * power(1, j - q)
+                        * power(2, k - r)
                     )
     return out
 
