@@ -77,14 +77,14 @@ def zonal_sums(
     shape = np.broadcast_shapes(Z.shape, S.shape)
     size = int(np.prod(shape))
     if size <= ZONAL_BLOCK:
-        return _zonal_block(coeffs, Z, S, order, want_value)
+        return zonal_block(coeffs, Z, S, order, want_value)
     # elementwise: blocks of the flattened points, so the recurrence's arrays stay in cache
     # (the same operations on every point, so the same bits)
     z = np.broadcast_to(Z, shape).reshape(-1)
     s = np.broadcast_to(S, shape).reshape(-1)
     out: dict[str, np.ndarray] = {}
     for start in range(0, size, ZONAL_BLOCK):
-        part = _zonal_block(
+        part = zonal_block(
             coeffs,
             z[start : start + ZONAL_BLOCK],
             s[start : start + ZONAL_BLOCK],
@@ -96,7 +96,7 @@ def zonal_sums(
     return {nm: values.reshape(shape) for nm, values in out.items()}
 
 
-def _zonal_block(
+def zonal_block(
     coeffs: np.ndarray,
     Z: np.ndarray,
     S: np.ndarray,
@@ -214,7 +214,7 @@ def zonal_first_from_terms(
     coeffs: np.ndarray, Z: np.ndarray, terms: list[tuple[np.ndarray, np.ndarray]]
 ) -> dict[str, np.ndarray]:
     """``Phi_Z`` and ``Phi_S`` (:func:`zonal_sums` at order 1, no value) from the terms
-    :func:`_zonal_block` recorded at these points (``terms``, for at least ``len(coeffs)``
+    :func:`zonal_block` recorded at these points (``terms``, for at least ``len(coeffs)``
     degrees): the same sums in the same order, so the same bits, without the recurrence.
     A body's magnets in many fields (the coils' sizes) run the recurrence once."""
     shape = terms[0][0].shape if terms else np.shape(Z)

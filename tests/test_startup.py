@@ -103,6 +103,8 @@ def test_simulating_a_written_design_loads_no_scipy(physical_design):
         f"    assert main(['simulate', {str(physical_design)!r}, '--json', '--t-end', '1']) == 0"
     )
     assert not imports_module(run, "scipy")
+
+
 @pytest.mark.parametrize(
     "args",
     [

@@ -258,7 +258,7 @@ def _double_factorial(n: int) -> int:
     return math.prod(range(n, 0, -2)) if n > 0 else 1
 
 
-def _direction_mean(p: int, q: int, r: int) -> float:
+def direction_mean(p: int, q: int, r: int) -> float:
     """The mean of ``u_x^p u_y^q u_z^r`` over unit vectors (0 unless all are even)."""
     if p % 2 or q % 2 or r % 2:
         return 0.0
@@ -296,7 +296,7 @@ def monomial_moments(
         for p in range(0, i + 1, 2):
             for q in range(0, j + 1, 2):
                 for r in range(0, k + 1, 2):
-                    mean = _direction_mean(p, q, r)
+                    mean = direction_mean(p, q, r)
                     coef = math.comb(i, p) * math.comb(j, q) * math.comb(k, r) * mean
                     out[a] += (
                         coef

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.fields import AxisymmetricField, _zonal_block, zonal_first_from_terms, zonal_sums
+from chargedesign.fields import AxisymmetricField, zonal_block, zonal_first_from_terms, zonal_sums
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.coils import COIL_RADII, HARMONIC_SHARE, Apparatus, apparatus_at
 from chargedesign.physical.drag import cup_drag
@@ -244,7 +244,7 @@ def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
     moments = np.asarray(design.dipole_moments, dtype=float)
     if not len(moments):
         return 0.0
-    torque = _magnets_torque(
+    torque = magnets_torque(
         tuple(float(f) for f in apparatus.error_legendre),
         array_key(design.dipole_positions, 3),
         array_key(moments, 3),
@@ -252,9 +252,9 @@ def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
     return torque / term
 
 
-#: magnets per block of the (orientations, magnets) arrays of :func:`_magnets_torque`
+#: magnets per block of the (orientations, magnets) arrays of :func:`magnets_torque`
 MAGNETS_BLOCK = 256
-#: largest memory of a body's recorded zonal terms (:func:`_torque_terms`), bytes; beyond it
+#: largest memory of a body's recorded zonal terms (:func:`torque_terms`), bytes; beyond it
 #: each field runs the recurrence itself
 TORQUE_TERMS_BYTES = 1 << 27
 
@@ -269,7 +269,7 @@ def _turns() -> list[np.ndarray]:
 
 
 @functools.lru_cache(maxsize=1)  # the body whose coil sizes are being tried
-def _torque_terms(positions_bytes: bytes, moments_bytes: bytes, degrees: int):
+def torque_terms(positions_bytes: bytes, moments_bytes: bytes, degrees: int):
     """A body's magnets at every turned orientation, the field-free part of their energy:
     per turn and block of magnets ``(Z, g . m, r . m, terms)`` with ``terms`` the zonal
     recurrence's terms (:func:`chargedesign.fields.zonal_first_from_terms`) to ``degrees``.
@@ -286,29 +286,29 @@ def _torque_terms(positions_bytes: bytes, moments_bytes: bytes, degrees: int):
             s = np.einsum("ij,ij->i", r, r)
             Z = g @ r.T
             terms: list[tuple[np.ndarray, np.ndarray]] = []
-            _zonal_block(zero, Z, s, 1, False, record=terms)
+            zonal_block(zero, Z, s, 1, False, record=terms)
             blocks.append((Z, g @ m.T, np.einsum("ij,ij->i", r, m), terms))
         out.append(blocks)
     return out
 
 
 @functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
-def _magnets_torque(legendre: tuple[float, ...], positions_bytes: bytes, moments_bytes: bytes):
+def magnets_torque(legendre: tuple[float, ...], positions_bytes: bytes, moments_bytes: bytes):
     """The largest torque over orientations of magnets (positions, moments as float64 bytes)
     in the field ``legendre``, N m: central differences of their energy ``m . grad Phi`` over
     turns of gamma by :data:`TORQUE_STEP` about each body axis. Rate-free for the field and
     the parts: computed once per body and coil size (the window at a body's own rate and the
     verdict's check ask for the same). The zonal recurrence at the turned orientations does
-    not depend on the field: it runs once per body (:func:`_torque_terms`) when its terms fit
+    not depend on the field: it runs once per body (:func:`torque_terms`) when its terms fit
     in :data:`TORQUE_TERMS_BYTES`, with the same sums (the same bits) as
-    :func:`_magnets_torque_direct`."""
+    :func:`magnets_torque_direct`."""
     error = AxisymmetricField(legendre)
     coeffs = np.asarray(error.legendre[: error.degree], dtype=np.float64)
     n_magnets = len(positions_bytes) // 24
     size = 6 * RESPONSE_ORIENTATIONS * n_magnets * 2 * len(legendre) * 8
     if size > TORQUE_TERMS_BYTES:
-        return _magnets_torque_direct(coeffs, positions_bytes, moments_bytes)
-    turns = _torque_terms(positions_bytes, moments_bytes, len(legendre))
+        return magnets_torque_direct(coeffs, positions_bytes, moments_bytes)
+    turns = torque_terms(positions_bytes, moments_bytes, len(legendre))
 
     def energy(blocks) -> np.ndarray:
         out = np.zeros(RESPONSE_ORIENTATIONS)
@@ -324,8 +324,8 @@ def _magnets_torque(legendre: tuple[float, ...], positions_bytes: bytes, moments
     return float(np.max(np.linalg.norm(slopes, axis=0)))
 
 
-def _magnets_torque_direct(coeffs: np.ndarray, positions_bytes: bytes, moments_bytes: bytes):
-    """:func:`_magnets_torque` with the recurrence run for this field (``coeffs``)."""
+def magnets_torque_direct(coeffs: np.ndarray, positions_bytes: bytes, moments_bytes: bytes):
+    """:func:`magnets_torque` with the recurrence run for this field (``coeffs``)."""
     positions = np.frombuffer(positions_bytes).reshape(-1, 3)
     moments = np.frombuffer(moments_bytes).reshape(-1, 3)
     gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from chargedesign.physical.holder import (
-    _direction_mean,
+    direction_mean,
     monomial_moments,
     parts_from_arrays,
 )
@@ -61,7 +61,7 @@ def _old_moments(keys, centres, radial, masses):
             for q in range(0, j + 1, 2):
                 for r in range(0, k + 1, 2):
                     coef = math.comb(i, p) * math.comb(j, q) * math.comb(k, r)
-                    coef *= _direction_mean(p, q, r)
+                    coef *= direction_mean(p, q, r)
                     out[a] += (
                         coef
                         * radial_by_n[p + q + r]
