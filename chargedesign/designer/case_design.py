@@ -138,12 +138,14 @@ def model_certificate(case: Case) -> CaseCertificate:
     return certificate
 
 
-def _theorem_certificate(
-    design: Design, theorem: Parameters, progress: Callable[[str], None] | None
+def theorem_certificate(
+    design: Design, theorem: Parameters, progress: Callable[[str], None] | None = None
 ) -> CaseCertificate | None:
     """The theorem's scene's certificate (:func:`theorem_model`); design.json's parameters are
-    its record (they rebuild the case). A refusal of the case's bounds is a note, not an error:
-    the body stands."""
+    its record (they rebuild the case). The theorem's scene whose case the catalogue's bounds
+    refuse (a parameter outside the supported range of a case file, or a certificate beyond its
+    work limit) keeps its body: the certificate is None and a note says why (the theorem holds
+    for all parameters: ``chargedesign verify``)."""
     if progress is not None:
         progress(f"certificate of the case {THEOREM_NAME} (exact) ...")
     try:
@@ -161,24 +163,14 @@ def record_case(
     *,
     progress: Callable[[str], None] | None = None,
 ) -> CaseCertificate | None:
-    """Record the model a scene's body realises: its exact certificate (returned), and for a
-    ``[case]`` scene (``table``, the ``[case]`` as written) design.json ``case`` (to rebuild
-    the case). ``case`` None is the theorem's scene: its model is :func:`theorem_model` of
-    ``theorem``, and design.json's ``parameters`` are its record. For a general case
+    """Record the model a ``[case]`` scene's body realises: its exact certificate (returned),
+    and with ``table`` (the ``[case]`` as written) design.json ``case`` (to rebuild the case).
+    The theorem's scene's model is :func:`theorem_certificate`'s. For a general case
     (``theorem`` None: not of the theorem's form) also the checks of its point body's elements
     against the case (``case.checks``; also in ``residuals``) and its realism budget and
     realised window at the case's typical rate (``case.realism``, ``case.realised``). A case of
     the theorem's form has the theorem's body and records: its forward accuracy, and with
-    ``[medium]`` its limits, realism budget and window.
-
-    The theorem's scene whose case the catalogue's bounds refuse (a parameter outside the
-    supported range of a case file, or a certificate beyond its work limit) keeps its body:
-    the certificate is None and a note says why (the theorem holds for all parameters:
-    ``chargedesign verify``)."""
-    if case is None:
-        if theorem is None:
-            raise ValueError("record_case: neither a case nor the theorem's parameters")
-        return _theorem_certificate(design, theorem, progress)
+    ``[medium]`` its limits, realism budget and window."""
     if progress is not None:
         progress(f"certificate of the case {case.name} (exact) ...")
     certificate = model_certificate(case)
@@ -211,5 +203,6 @@ __all__ = [
     "model_certificate",
     "record_case",
     "record_realism",
+    "theorem_certificate",
     "theorem_model",
 ]

@@ -601,9 +601,9 @@ def _record_case(result: DesignResult, model: SceneModel, progress: Progress | N
     (:func:`theorem_certificate`): no output of ``design``, ``frontier``, ``sweep`` or the
     report prints it (design.json keeps the parameters, which rebuild the case), and it costs
     sympy and about 1.7 s of CPU. A refusal of the case (the note of
-    :func:`chargedesign.designer.case_design.record_case`) goes into ``design.notes`` when it
-    is read (a scene's parameters are all within a case file's range: the scene's reader
-    checks them as the case's parser does)."""
+    :func:`chargedesign.designer.case_design.theorem_certificate`) goes into ``design.notes``
+    when it is read (a scene's parameters are all within a case file's range: the scene's
+    reader checks them as the case's parser does)."""
     if model.case is None and model.theorem is not None:
         result.certificate_of = functools.partial(theorem_certificate, result.design, model.theorem)
         return
@@ -616,11 +616,11 @@ def _record_case(result: DesignResult, model: SceneModel, progress: Progress | N
 
 def theorem_certificate(design: Design, theorem: Parameters) -> Any:
     """The exact certificate of the theorem's scene's model, the catalogue's case at its
-    parameters (:func:`chargedesign.designer.case_design.record_case`; None and a note in
-    ``design.notes`` when the case is refused)."""
-    from chargedesign.designer.case_design import record_case  # sympy
+    parameters (:func:`chargedesign.designer.case_design.theorem_certificate`; None and a
+    note in ``design.notes`` when the case is refused), imported when read: it loads sympy."""
+    from chargedesign.designer import case_design  # sympy
 
-    return record_case(design, None, None, theorem)
+    return case_design.theorem_certificate(design, theorem)
 
 
 @dataclass

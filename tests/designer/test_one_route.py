@@ -260,11 +260,11 @@ def test_a_theorem_scene_whose_case_the_catalogue_refuses_keeps_its_body() -> No
     """c = 1e-35 is a valid theorem parameter and outside a case file's range (1e-30): the
     record step notes that the certificate was not made, and raises nothing."""
     from chargedesign.body import Design
-    from chargedesign.designer.case_design import record_case
+    from chargedesign.designer.case_design import theorem_certificate
 
     params = Parameters(C=1.0, c=1e-35, d=0.5, kappa=1.0)
     design = Design(params, charge_positions=[[0.1, 0.0, 0.0]], charge_values=[1.0])
-    assert record_case(design, None, None, params) is None
+    assert theorem_certificate(design, params) is None
     assert any("certificate was not made" in note and "1e-35" in note for note in design.notes)
     assert "case" not in design.further_keys
 
