@@ -163,28 +163,29 @@ def parts_from_arrays(
     centres: list[np.ndarray] = []
     masses: list[np.ndarray] = []
     layers: list[list[tuple[float, float, float]]] = []
-    if carriers is not None:
-        pos, mass, radii, wall = carriers
+
+    def start_block(index: int, label: str, pos: Any, mass: Any) -> np.ndarray:
+        """One block's masses, its names and centres recorded (as many as it has masses)."""
         mass_f = np.asarray(mass, dtype=float).reshape(-1)
-        radii_f = np.asarray(radii, dtype=float).reshape(-1)
-        out_names += (
-            names[0][: len(mass_f)] if names else [f"carrier {i}" for i in range(len(mass_f))]
+        out_names.extend(
+            names[index][: len(mass_f)] if names else [f"{label} {i}" for i in range(len(mass_f))]
         )
         centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
         masses.append(mass_f)
+        return mass_f
+
+    if carriers is not None:
+        pos, mass, radii, wall = carriers
+        mass_f = start_block(0, "carrier", pos, mass)
+        radii_f = np.asarray(radii, dtype=float).reshape(-1)
         layers += [
             _shell_layers(m, r, wall)
             for m, r in zip(mass_f.tolist(), radii_f.tolist(), strict=True)
         ]
     if magnets is not None:
         pos, mass, volume, density, attached = magnets
-        mass_f = np.asarray(mass, dtype=float).reshape(-1)
+        mass_f = start_block(1, "magnet", pos, mass)
         volume_f = np.asarray(volume, dtype=float).reshape(-1)[: len(mass_f)]
-        out_names += (
-            names[1][: len(mass_f)] if names else [f"magnet {i}" for i in range(len(mass_f))]
-        )
-        centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
-        masses.append(mass_f)
         if not math.isfinite(density):  # no material written: points
             layers += [[] for _ in range(len(mass_f))]
         else:
@@ -205,13 +206,8 @@ def parts_from_arrays(
                 layers.append(block)
     if ballast is not None:
         pos, mass, rho = ballast
-        mass_f = np.asarray(mass, dtype=float).reshape(-1)
+        mass_f = start_block(2, "ballast", pos, mass)
         rho_f = np.asarray(rho, dtype=float).reshape(-1)[: len(mass_f)]
-        out_names += (
-            names[2][: len(mass_f)] if names else [f"ballast {i}" for i in range(len(mass_f))]
-        )
-        centres.append(np.asarray(pos, dtype=float).reshape(-1, 3)[: len(mass_f)])
-        masses.append(mass_f)
         finite = np.isfinite(rho_f)
         with np.errstate(divide="ignore", invalid="ignore"):
             radii_b = sphere_radius(np.where(finite, mass_f / np.where(finite, rho_f, 1.0), 0.0))
