@@ -10,7 +10,10 @@ after can be compared:
   package files in which it occurs as a string literal exactly (an output of the same name
   counts too);
 - ``InputError`` raise sites outside the boundary modules: ``raise InputError(...)`` and
-  ``raise input_error(...)`` statements, by module.
+  ``raise input_error(...)`` statements, by module;
+- package imports per module (issue 39): for each package module, the distinct other package
+  modules it imports at any level (``from chargedesign.a import b`` counts ``chargedesign.a.b``
+  when that is a module, else ``chargedesign.a``; relative imports resolved), and their mean.
 """
 
 from __future__ import annotations
@@ -143,6 +146,37 @@ def input_error_sites() -> dict[str, int]:
     return dict(sorted(out.items(), key=lambda kv: (-kv[1], kv[0])))
 
 
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def package_imports() -> dict[str, int]:
+    """Every package module -> how many distinct other package modules it imports."""
+    names = {_module_name(path): path for path in _modules()}
+    out = {}
+    for name, path in names.items():
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        found: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text("utf-8"))):
+            if isinstance(node, ast.Import):
+                found.update(a.name for a in node.names if a.name.startswith("chargedesign"))
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = package[: len(package) - node.level + 1]
+                    module = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    module = node.module or ""
+                if not module.startswith("chargedesign"):
+                    continue
+                for alias in node.names:
+                    sub = f"{module}.{alias.name}"
+                    found.add(sub if sub in names else module)
+        found.discard(name)
+        out[name] = len(found)
+    return out
+
+
 def metrics() -> dict[str, Any]:
     keys = files_per_key()
     sites = input_error_sites()
@@ -154,6 +188,8 @@ def metrics() -> dict[str, Any]:
         "input_error_sites": sites,
         "input_error_sites_total": sum(sites.values()),
         "input_error_modules": len(sites),
+        "package_imports": (imports := package_imports()),
+        "package_imports_mean": statistics.fmean(imports.values()),
     }
 
 
@@ -174,6 +210,12 @@ def report(m: dict[str, Any]) -> str:
     )
     for name, n in m["input_error_sites"].items():
         out.append(f"  {name:<50} {n:>4}")
+    imports = m["package_imports"]
+    out.append(
+        f"package imports per module: mean {m['package_imports_mean']:.3f} over {len(imports)} "
+        "modules; the most: "
+        + ", ".join(f"{k} ({n})" for k, n in sorted(imports.items(), key=lambda kv: -kv[1])[:8])
+    )
     return "\n".join(out)
 
 
