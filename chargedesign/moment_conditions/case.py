@@ -27,32 +27,26 @@ no field in use produces.
 from __future__ import annotations
 
 import functools
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import InfeasibleError
-from chargedesign.moment_conditions.algebra import ConditionRow, SourceSystem, key_rank
-from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, FIELD_KINDS
+from chargedesign.moment_conditions.algebra import SourceSystem
 from chargedesign.moment_conditions.context import DerivationContext, decimal_text
-from chargedesign.moment_conditions.derive import (
-    output_fields,
-    rounded_conditions,
-    validate_fields,
-)
+from chargedesign.moment_conditions.derive import close_derivation, open_derivation
 from chargedesign.moment_conditions.harmonics import (
     gamma_poly,
     project_on_harmonics,
     real_solid_harmonics,
 )
-from chargedesign.moment_conditions.mu import physical_mu_rows
+from chargedesign.moment_conditions.mu import field_weighted, physical_mu_rows, solve_mu
 from chargedesign.moment_conditions.potential import realise_degree
 from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.scene.case_refusals import refuse_free_symbol
-from chargedesign.validation import as_finite_float
 
 #: highest degree in gamma of a case's V and of each component of its mu that the engine takes
 #: (degree 4 in mu needs a magnetic hexadecapole f4; the exact derivation grows like degree^3)
@@ -198,21 +192,28 @@ def _charges_for_case_mu(ctx: DerivationContext, target: CaseTarget) -> None:
     """The charges' mu conditions: the case's mu matched harmonic by harmonic (exact)."""
     magnetic = ctx.fields.get("magnetic", [])
     degree = max(len(magnetic), 1)
-    kmax = max(degree, target.mu_degree, 2)
     system = ctx.systems["charges"]
+    refusal = f"case {target.name}: mu cannot be realised by charges in this magnetic field: "
+    solve_mu(system, _case_mu_rows(target, magnetic, degree), refusal)
+    ctx.notes.append(
+        f"charges: the case's mu matched on |gamma| = 1 for a magnetic field of degree "
+        f"{degree}: {len(system.pivots)} independent conditions"
+    )
+
+
+def _case_mu_rows(
+    target: CaseTarget, magnetic: list[Fraction], degree: int
+) -> Iterator[tuple[dict[str, Fraction], Fraction, str]]:
+    """The case's mu equations, harmonic by harmonic: a term no charge in the field gives is
+    refused (one line naming it)."""
+    kmax = max(degree, target.mu_degree, 2)
     harmonics = [h for kk in range(kmax + 1) for h in real_solid_harmonics(kk)]
     for a, rows in enumerate(physical_mu_rows(degree, kmax)):
         wanted = target.mu[a]
         for h in harmonics:
             if h.label not in rows and h.label not in wanted:
                 continue
-            coeffs = {
-                key: sum(
-                    (magnetic[k - 1] * c for k, c in per_k.items() if k <= len(magnetic)),
-                    Fraction(0),
-                )
-                for key, per_k in rows.get(h.label, {}).items()
-            }
+            coeffs = field_weighted(rows.get(h.label, {}), magnetic)
             rhs = wanted.get(h.label, Fraction(0))
             if rhs != 0 and not any(coeffs.values()):
                 raise InfeasibleError(
@@ -230,19 +231,7 @@ def _charges_for_case_mu(ctx: DerivationContext, target: CaseTarget) -> None:
             text = (
                 f"mu_{a + 1}: coefficient of the degree-{h.degree} harmonic {h.text} (case: {rhs})"
             )
-            status, combo = system.add(coeffs, rhs, text)
-            if status == "inconsistent":
-                raise InfeasibleError(
-                    f"case {target.name}: mu cannot be realised by charges in this magnetic "
-                    "field: " + system._describe(combo)
-                )
-    for pivot in sorted(system.pivots, key=key_rank):
-        row, rhs, combo = system.pivots[pivot]
-        system.display.append(ConditionRow(dict(row), rhs, system._describe(combo)))
-    ctx.notes.append(
-        f"charges: the case's mu matched on |gamma| = 1 for a magnetic field of degree "
-        f"{degree}: {len(system.pivots)} independent conditions"
-    )
+            yield coeffs, rhs, text
 
 
 def _masses_for_case_inertia(ctx: DerivationContext, target: CaseTarget) -> None:
@@ -303,20 +292,12 @@ def derive_case_conditions(
                 f"{component['0,0c']}: a constant mu is a gyrostat's rotor (stored angular "
                 "momentum); charges in a static field give mu of degree >= 1 in gamma only"
             )
-    given = validate_fields(fields)
-    if length is not None:
-        length = as_finite_float(length, "length", positive=True)
-    exact_fields = {k: [Fraction(repr(v)) for v in c] for k, c in given.items()}
-    ctx = DerivationContext(
-        params=Parameters.from_mapping({"C": float(target.inertia[2])}, "case.inertia[2]"),
-        P=[],
+    given, ctx = open_derivation(
+        Parameters.from_mapping({"C": float(target.inertia[2])}, "case.inertia[2]"),
+        [],
+        fields,
+        length,
         exact=True,
-        fields=exact_fields,
-        derivable=set(),
-        systems={},
-        notes=[],
-        length=Fraction(repr(DEFAULT_LENGTH if length is None else length)),
-        length_given=length is not None,
         v_target={label: (value, str(value)) for label, value in target.v.items()},
         preference=CASE_PREFERENCE,
     )
@@ -362,17 +343,11 @@ def derive_case_conditions(
         if k >= 2 and "gravity" not in given:
             ctx.derivable.add("gravity")
         realise_degree(ctx, k)
-    conditions = rounded_conditions(ctx)
-    return LinearConditions(
-        conditions=conditions,
-        fields=output_fields(ctx, origin),
-        notes=ctx.notes,
-        realise=("mu", "V", "inertia") if target.has_mu else ("V", "inertia"),
-        field_origin={kind: origin[kind] for kind in FIELD_KINDS},
-        length=float(ctx.length) if ctx.defaults else None,
-        length_assumed=bool(ctx.defaults) and length is None,
-        default_strengths={name: float(v) for name, v in ctx.defaults.items()},
-        _rederive=functools.partial(derive_case_conditions, case, fields),
+    return close_derivation(
+        ctx,
+        origin,
+        ("mu", "V", "inertia") if target.has_mu else ("V", "inertia"),
+        functools.partial(derive_case_conditions, case, fields),
     )
 
 

@@ -9,8 +9,9 @@ degree) on one exact echelon system per source, and rounds the result to
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from fractions import Fraction
+from typing import Any
 
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
@@ -90,37 +91,69 @@ def derive_conditions(
     if not isinstance(params, Parameters):
         raise TypeError(f"params: expected a Parameters, got {type(params).__name__}")
     goals = validate_realise(realise, "realise")
+    P = [_exact(getattr(params, name), exact) for name in PARAM_NAMES]
+    given, ctx = open_derivation(params, P, fields, length, exact=exact)
+    _refuse_singular(params, goals)
+    origin = _derive_missing_fields(ctx, given, goals)
+    _run_steps(ctx, given, goals)
+    return close_derivation(
+        ctx,
+        origin,
+        goals,
+        functools.partial(derive_conditions, params, fields, goals, exact=exact),
+    )
+
+
+def open_derivation(
+    params: Parameters,
+    P: list[Fraction],
+    fields: Mapping[str, Sequence[float]] | None,
+    length: float | None,
+    *,
+    exact: bool,
+    **context: Any,
+) -> tuple[dict[str, tuple[float, ...]], DerivationContext]:
+    """The given fields and length checked (one-line errors), and the state of a derivation
+    that reads them as exact rationals (as printed with ``exact``, else their binary values);
+    ``context``: the further fields of :class:`DerivationContext` (a case's targets)."""
     given = validate_fields(fields)
     if length is not None:
         length = as_finite_float(length, "length", positive=True)
-    _refuse_singular(params, goals)
-    P = [_exact(getattr(params, name), exact) for name in PARAM_NAMES]
-    fields_exact = {kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()}
     ctx = DerivationContext(
         params=params,
         P=P,
         exact=exact,
-        fields=fields_exact,
+        fields={kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()},
         derivable=set(),
         systems={},
         notes=[],
         length=_exact(DEFAULT_LENGTH if length is None else length, exact),
         length_given=length is not None,
+        **context,
     )
-    origin = _derive_missing_fields(ctx, given, goals)
-    _run_steps(ctx, given, goals)
+    return given, ctx
+
+
+def close_derivation(
+    ctx: DerivationContext,
+    origin: Mapping[str, str],
+    realise: tuple[str, ...],
+    rederive: Callable[..., LinearConditions],
+) -> LinearConditions:
+    """The derivation's result: every source's rows rounded, the fields in use and their
+    origin (given/derived), the notes, and the default strengths with the length they were
+    chosen for; ``rederive(length=...)`` derives again for another body size."""
     conditions = rounded_conditions(ctx)
-    out_fields = output_fields(ctx, origin)
     return LinearConditions(
         conditions=conditions,
-        fields=out_fields,
+        fields=output_fields(ctx, origin),
         notes=ctx.notes,
-        realise=goals,
+        realise=realise,
         field_origin={kind: origin[kind] for kind in FIELD_KINDS},
         length=float(ctx.length) if ctx.defaults else None,
-        length_assumed=bool(ctx.defaults) and length is None,
+        length_assumed=bool(ctx.defaults) and not ctx.length_given,
         default_strengths={name: float(v) for name, v in ctx.defaults.items()},
-        _rederive=functools.partial(derive_conditions, params, fields, goals, exact=exact),
+        _rederive=rederive,
     )
 
 

@@ -8,7 +8,7 @@ symbolically for generic field coefficients (:func:`symbolic_mu_solution`).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cache
@@ -16,7 +16,7 @@ from typing import Any
 
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.moment_conditions.algebra import ConditionRow, key_rank
+from chargedesign.moment_conditions.algebra import ConditionRow, SourceSystem, key_rank
 from chargedesign.moment_conditions.context import DerivationContext
 from chargedesign.moment_conditions.harmonics import (
     ParamPoly,
@@ -161,23 +161,11 @@ def charges_for_mu(ctx: DerivationContext) -> None:
         )
     degree = max(len(magnetic), 1)
     system = ctx.systems["charges"]
-    for eq in mu_system(degree):
-        coeffs = {
-            key: sum(
-                (magnetic[k - 1] * c for k, c in per_k.items() if k <= len(magnetic)), Fraction(0)
-            )
-            for key, per_k in eq.coefficients.items()
-        }
-        rhs = eq.rhs(ctx.P)
-        status, combo = system.add(coeffs, rhs, eq.label)
-        if status == "inconsistent":
-            raise InfeasibleError(
-                "mu cannot be realised by charges in this magnetic field: "
-                + system._describe(combo)
-            )
-    for pivot in sorted(system.pivots, key=key_rank):
-        row, rhs, combo = system.pivots[pivot]
-        system.display.append(ConditionRow(dict(row), rhs, system._describe(combo)))
+    rows = (
+        (field_weighted(eq.coefficients, magnetic), eq.rhs(ctx.P), eq.label)
+        for eq in mu_system(degree)
+    )
+    solve_mu(system, rows, "mu cannot be realised by charges in this magnetic field: ")
     ctx.notes.append(
         f"charges: mu matched on |gamma| = 1 for a magnetic field of degree {degree}: "
         f"{len(system.pivots)} independent conditions on the moments of orders 2..{degree + 1}"
@@ -187,6 +175,32 @@ def charges_for_mu(ctx: DerivationContext) -> None:
         "gauge), then equals the theorem's l . gamma on |gamma| = 1, constant 2 n C included "
         "(l_dot_gamma_residual)"
     )
+
+
+def field_weighted(
+    coefficients: Mapping[str, Mapping[int, Fraction]], magnetic: Sequence[Fraction]
+) -> dict[str, Fraction]:
+    """Each moment's coefficient in a mu equation for the magnetic field in use: ``sum_k f_k
+    c_k`` over the degrees k the field has (``coefficients``: moment key -> {k: c_k})."""
+    return {
+        key: sum((magnetic[k - 1] * c for k, c in per_k.items() if k <= len(magnetic)), Fraction(0))
+        for key, per_k in coefficients.items()
+    }
+
+
+def solve_mu(
+    system: SourceSystem, rows: Iterable[tuple[dict[str, Fraction], Fraction, str]], refusal: str
+) -> None:
+    """Add the mu equations ``(coefficients, value, provenance)`` to the charges' exact
+    system, then display its reduced rows; an equation inconsistent with those before it is
+    refused (``refusal`` and the combination of equations that shows it)."""
+    for coeffs, rhs, text in rows:
+        status, combo = system.add(coeffs, rhs, text)
+        if status == "inconsistent":
+            raise InfeasibleError(refusal + system._describe(combo))
+    for pivot in sorted(system.pivots, key=key_rank):
+        row, rhs, combo = system.pivots[pivot]
+        system.display.append(ConditionRow(dict(row), rhs, system._describe(combo)))
 
 
 def moment_symbol(key: str) -> Any:
