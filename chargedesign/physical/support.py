@@ -153,6 +153,13 @@ def item(
     return out
 
 
+def at_most(
+    name: str, value: float, limit: float, unit: str, key: str | None = None
+) -> dict[str, Any]:
+    """The :func:`item` of a figure that must stay at or below its ``limit``."""
+    return item(name, value, limit, unit, value <= limit, key)
+
+
 # ----------------------------------------------------------------------------- the field
 
 
@@ -450,50 +457,20 @@ def _drop(design: Any, spec: SupportOptions, body: _Body) -> _Drop:
 
 def _drop_items(drop: _Drop, body: _Body) -> list[dict[str, Any]]:
     """The drop's requirements, each with its limit and source."""
-    d = drop
-    micro, needed, turns, g_res, residual_limit = (
-        d.micro,
-        d.needed,
-        d.turns,
-        d.g_res,
-        d.residual_limit,
-    )
-    drift, clearance, harmonic, force, force_limit = (
-        d.drift,
-        d.clearance,
-        d.harmonic,
-        d.force,
-        d.force_limit,
-    )
-    centred, tidal, (room_d, room_l, copper) = d.centred, d.tidal, d.room
-    p_chamber, p_max, time_key = d.p_chamber, d.p_max, d.time_key
+    d, centred, (room_d, room_l, copper) = drop, drop.centred, drop.room
     return [
-        item("microgravity_time_s", micro, needed, "s", micro >= needed, time_key),
-        item("turns_in_flight", turns, MIN_TURNS, "", turns >= MIN_TURNS),
-        item(
-            "residual_acceleration_g",
-            g_res,
-            residual_limit,
-            "g",
-            g_res <= residual_limit,
-            "drop_tower.residual_g",
-        ),
-        item(
+        item("microgravity_time_s", d.micro, d.needed, "s", d.micro >= d.needed, d.time_key),
+        item("turns_in_flight", d.turns, MIN_TURNS, "", d.turns >= MIN_TURNS),
+        at_most("residual_acceleration_g", d.g_res, d.residual_limit, "g", "drop_tower.residual_g"),
+        at_most(
             "drift_relative_to_coils_m",
-            drift,
-            clearance,
+            d.drift,
+            d.clearance,
             "m",
-            drift <= clearance,
             "drop_tower.release_velocity_error_m_per_s",
         ),
-        item(
-            "coil_harmonics_at_offset_over_term",
-            harmonic,
-            body.fraction,
-            "",
-            harmonic <= body.fraction,
-        ),
-        item("net_force_N", force, force_limit, "N", force <= force_limit),
+        at_most("coil_harmonics_at_offset_over_term", d.harmonic, body.fraction, ""),
+        at_most("net_force_N", d.force, d.force_limit, "N"),
         item(
             "net_dipole_over_dipoles",
             centred.dipole_sum / centred.dipole_magnitudes if centred.dipole_magnitudes else 0.0,
@@ -501,46 +478,16 @@ def _drop_items(drop: _Drop, body: _Body) -> list[dict[str, Any]]:
             "",
             (centred.dipole_sum <= 1e-6 * centred.dipole_magnitudes),
         ),
-        item(
-            "gravity_gradient_torque_over_term",
-            tidal,
-            body.fraction,
-            "",
-            tidal <= body.fraction,
-            "earth.radius_m",
+        at_most("gravity_gradient_torque_over_term", d.tidal, body.fraction, "", "earth.radius_m"),
+        *(
+            at_most(name, value, figure(key), unit, key)
+            for name, value, unit, key in (
+                ("capsule_diameter_m", room_d, "m", "drop_tower.capsule_diameter_m"),
+                ("capsule_length_m", room_l, "m", "drop_tower.capsule_length_m"),
+                ("coil_copper_mass_kg", copper, "kg", "drop_tower.capsule_total_mass_kg"),
+            )
         ),
-        item(
-            "capsule_diameter_m",
-            room_d,
-            figure("drop_tower.capsule_diameter_m"),
-            "m",
-            room_d <= figure("drop_tower.capsule_diameter_m"),
-            "drop_tower.capsule_diameter_m",
-        ),
-        item(
-            "capsule_length_m",
-            room_l,
-            figure("drop_tower.capsule_length_m"),
-            "m",
-            room_l <= figure("drop_tower.capsule_length_m"),
-            "drop_tower.capsule_length_m",
-        ),
-        item(
-            "coil_copper_mass_kg",
-            copper,
-            figure("drop_tower.capsule_total_mass_kg"),
-            "kg",
-            copper <= figure("drop_tower.capsule_total_mass_kg"),
-            "drop_tower.capsule_total_mass_kg",
-        ),
-        item(
-            "chamber_pressure_Pa",
-            p_chamber,
-            p_max,
-            "Pa",
-            p_chamber <= p_max,
-            "chamber.pressure_Pa",
-        ),
+        at_most("chamber_pressure_Pa", d.p_chamber, d.p_max, "Pa", "chamber.pressure_Pa"),
     ]
 
 
@@ -584,23 +531,9 @@ def _orbit(design: Any, body: _Body) -> dict[str, Any]:
     force_limit = body.mass * 2.0 * max(clearance - drift, 0.0) / run**2
     residual_limit = 2.0 * clearance / run**2 / STANDARD_GRAVITY
     items = [
-        item(
-            "residual_acceleration_g",
-            g_res,
-            residual_limit,
-            "g",
-            g_res <= residual_limit,
-            "orbit.residual_g",
-        ),
-        item(
-            "gravity_gradient_torque_over_term",
-            tidal,
-            body.fraction,
-            "",
-            tidal <= body.fraction,
-            "orbit.altitude_m",
-        ),
-        item("net_force_N", on.net_force_N, force_limit, "N", on.net_force_N <= force_limit),
+        at_most("residual_acceleration_g", g_res, residual_limit, "g", "orbit.residual_g"),
+        at_most("gravity_gradient_torque_over_term", tidal, body.fraction, "", "orbit.altitude_m"),
+        at_most("net_force_N", on.net_force_N, force_limit, "N"),
     ]
     notes = [
         f"the orbit's rate {fmt(math.sqrt(rate_squared), ROUGH)} 1/s at "
@@ -641,31 +574,12 @@ def _electrostatic(design: Any, body: _Body) -> dict[str, Any]:
         / body.term
     )
     items = [
-        item(
-            "spin_down_drag_over_term",
-            drag,
-            body.fraction,
-            "",
-            drag <= body.fraction,
-            "gpb.spin_down_years_min",
+        at_most("spin_down_drag_over_term", drag, body.fraction, "", "gpb.spin_down_years_min"),
+        at_most("lifting_field_1g_V_per_m", lift, safe, "V/m"),
+        at_most(
+            "asphericity_torque_1g_over_term", aspherical, body.fraction, "", "gpb.sphericity_m"
         ),
-        item("lifting_field_1g_V_per_m", lift, safe, "V/m", lift <= safe),
-        item(
-            "asphericity_torque_1g_over_term",
-            aspherical,
-            body.fraction,
-            "",
-            aspherical <= body.fraction,
-            "gpb.sphericity_m",
-        ),
-        item(
-            "rotor_coat_eddy_over_term",
-            coat,
-            body.fraction,
-            "",
-            coat <= body.fraction,
-            "rotor.coating_thickness_m",
-        ),
+        at_most("rotor_coat_eddy_over_term", coat, body.fraction, "", "rotor.coating_thickness_m"),
     ]
     notes = [
         "a suspension like Gravity Probe B's: the body inside a conducting spherical rotor "
@@ -697,23 +611,12 @@ def _air_bearing(design: Any, body: _Body) -> dict[str, Any]:
     gas = design.medium.gas_properties if design.medium is not None else None
     has_gas = gas is not None and gas[0] > 0
     drag = float(found.get("drag_over_term", math.inf))
+    tilt = float(found.get(KEY.tilt_limit_deg, 0.0))
     items = [
-        item("film_drag_over_term", drag, body.fraction, "", drag <= body.fraction),
-        item(
-            "tilt_limit_deg",
-            float(found.get(KEY.tilt_limit_deg, 0.0)),
-            180.0,
-            "deg",
-            float(found.get(KEY.tilt_limit_deg, 0.0)) >= 180.0,
-        ),
+        at_most("film_drag_over_term", drag, body.fraction, ""),
+        item("tilt_limit_deg", tilt, 180.0, "deg", tilt >= 180.0),
         item("gas_at_the_film", 1.0 if has_gas else 0.0, 1.0, "", has_gas),
-        item(
-            "load_kg",
-            body.mass,
-            float(found.get("load_kg", 0.0)),
-            "kg",
-            body.mass <= float(found.get("load_kg", 0.0)),
-        ),
+        at_most("load_kg", body.mass, float(found.get("load_kg", 0.0)), "kg"),
     ]
     source = str(found.get("source", ""))
     for entry in items:
