@@ -128,22 +128,6 @@ def _shell_layers(
     return [(mass / volume if volume > 0 else 0.0, inner, outer)]
 
 
-def _magnet_layers(
-    mass: float, volume: float, density: float, attached: float
-) -> list[tuple[float, float, float]]:
-    """A magnet of ``volume`` (m^3, ``density``) with its attached ballast (the mass beyond the
-    magnet's own, at density ``attached``) as a concentric shell."""
-    if not math.isfinite(density):  # no material written: a point
-        return []
-    core = float(sphere_radius(volume))
-    extra = max(mass - density * volume, 0.0)
-    layers = [(density, 0.0, core)]
-    if extra > 0 and attached > 0:
-        outer = float(sphere_radius(volume + extra / attached))
-        layers.append((attached, core, outer))
-    return layers
-
-
 def parts_from_arrays(
     *,
     carriers: tuple[np.ndarray, np.ndarray, np.ndarray, float | None] | None = None,

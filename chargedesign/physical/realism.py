@@ -316,8 +316,8 @@ def field_response(design: Any) -> dict[str, Any]:
     eddy_note = _eddy_note(damping, eddy, parts, periods)
     induced_key, eddy_key = FIELD_RESPONSE_KEYS
     return {
-        induced_key: _item(induced, "", _verdict(induced, RESPONSE_FRACTION), induced_note),
-        eddy_key: _item(damping, "", _verdict(damping, RESPONSE_FRACTION), eddy_note),
+        induced_key: _judged(induced, "", RESPONSE_FRACTION, induced_note),
+        eddy_key: _judged(damping, "", RESPONSE_FRACTION, eddy_note),
     }
 
 
@@ -863,6 +863,11 @@ def _verdict(value: float, negligible_below: float) -> str:
     return "negligible" if value < negligible_below else "NOT negligible"
 
 
+def _judged(value: float, unit: str, negligible_below: float, note: str) -> dict[str, Any]:
+    """A budget item whose verdict is "negligible" below ``negligible_below``."""
+    return _item(value, unit, _verdict(value, negligible_below), note)
+
+
 def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict[str, Any]:
     """The laminar drag of the medium's gas on the enveloping sphere over the designed
     torques; a medium that names no gas (a custom breakdown without ``gas``) says so."""
@@ -882,10 +887,10 @@ def _drag_item(medium: Any, envelope: float, rate: float, torque: float) -> dict
         name = f"{name} ({medium.gas})"
     drag = laminar_drag(viscosity, envelope, rate)
     re = reynolds(rho_gas, viscosity, envelope, rate)
-    return _item(
+    return _judged(
         drag / torque,
         "",
-        _verdict(drag / torque, 1e-3),
+        1e-3,
         f"laminar drag of {name} on the enveloping sphere (Re = {fmt(re)}) over the "
         "designed torques",
     )
@@ -928,19 +933,17 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
         "typical_rate_1_per_s": rate,
         "period_s": period,
         "designed_torque_N_m": torque,
-        "v_over_c": item(
-            v_over_c, "", _verdict(v_over_c, 1e-6), "fastest element at |omega| r_max"
-        ),
+        "v_over_c": _judged(v_over_c, "", 1e-6, "fastest element at |omega| r_max"),
         "radiation_damping_periods": item(
             damping_periods,
             "periods",
             "negligible" if damping_periods > 1e6 else "NOT negligible",
             "kinetic energy over the Larmor power of the charges (incoherent upper bound)",
         ),
-        "self_field_fraction": item(
+        "self_field_fraction": _judged(
             b_self / applied if applied > 0 else math.inf,
             "",
-            _verdict(b_self / applied if applied > 0 else math.inf, 1e-6),
+            1e-6,
             "field of the moving charges at O over the applied a1",
         ),
         "balance_offset_1g_m": item(
@@ -1017,25 +1020,23 @@ def case_realism_budget(design: Any, functions: Any) -> dict[str, Any]:
     relativistic = speed_over_c(rate, r_max) ** 2
     gravity = balance_torque(float(np.sum(masses)), STANDARD_GRAVITY) / term
     items = {
-        "radiation": _item(
+        "radiation": _judged(
             radiation / rate / term,
             "of the term",
-            _verdict(radiation / rate / term, 1e-3),
+            1e-3,
             "Larmor power of the charges over omega",
         ),
-        "self_field": _item(
+        "self_field": _judged(
             b_self / applied if applied > 0 else 0.0,
             "of the applied |B|",
-            _verdict(b_self / applied if applied > 0 else 0.0, 1e-3),
+            1e-3,
             "the moving charges' own field mu0 |q| omega / (4 pi r)",
         ),
-        "relativistic": _item(
-            relativistic, "(v/c)^2", _verdict(relativistic, 1e-3), "the fastest element's speed"
-        ),
-        "gravity_balance": _item(
+        "relativistic": _judged(relativistic, "(v/c)^2", 1e-3, "the fastest element's speed"),
+        "gravity_balance": _judged(
             gravity,
             "of the term",
-            _verdict(gravity, 1e-3),
+            1e-3,
             f"M g delta on the builder's balance (delta = {BUILDER_BALANCE_M} m)",
         ),
     }

@@ -160,8 +160,12 @@ def check_value(table: str, name: str, value: Any, where: str | None = None) -> 
     Numbers are real and finite (:func:`chargedesign.validation.as_finite_float`) and within
     the declared range; integers are ints (never bools); choices are the declared enum.
     """
-    key = declared(table, name)
-    where = where or f"{table}.{name}"
+    return check_declared(declared(table, name), value, where or f"{table}.{name}")
+
+
+def check_declared(key: Key, value: Any, where: str, *, positive: bool = False) -> Any:
+    """:func:`check_value` of one declaration; ``positive``: a number is refused as "a number
+    > 0" before its declared range is checked."""
     spec = key.schema
     if "enum" in spec:
         if value not in spec["enum"]:
@@ -178,8 +182,8 @@ def check_value(table: str, name: str, value: Any, where: str | None = None) -> 
         if not within_range(float(value), spec):
             raise input_error(where, key.refusal or range_words(spec, "an integer"), value)
         return int(value)
-    assert kind == "number", f"{table}.{name}: no declared check for {spec}"
-    number = as_finite_float(value, where)
+    assert kind == "number", f"{where}: no declared check for {spec}"
+    number = as_finite_float(value, where, positive=positive)
     if not within_range(number, spec):
         raise input_error(where, key.refusal or range_words(spec, "a number"), value)
     return number

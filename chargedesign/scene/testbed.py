@@ -24,19 +24,10 @@ from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.physical.drag import bearing_drag, cup_drag
 from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.physical.state_of_the_art import ATTITUDE_SENSORS, BEARINGS, GYROS
-from chargedesign.scene.keys import (
-    KEY,
-    TESTBED,
-    Key,
-    declared,
-    key_names,
-    range_words,
-    within_range,
-)
+from chargedesign.scene.keys import KEY, TESTBED, Key, check_declared, declared, key_names
 from chargedesign.validation import (
     as_array,
     as_count,
-    as_finite_float,
     check_keys,
     input_error,
 )
@@ -483,10 +474,6 @@ def case_refusal(name: str, inertia: Sequence[Any], singular: Sequence[str]) -> 
 def _parse(key: Key, value: Any, where: str) -> Any:
     """One key's value checked against its declaration (one-line refusals naming ``where``)."""
     spec = key.schema
-    if "enum" in spec:
-        if value not in spec["enum"]:
-            raise input_error(where, "one of " + ", ".join(spec["enum"]), value)
-        return value
     kind = spec.get("type")
     if kind == "integer":
         return as_count(value, where, minimum=spec["minimum"], cap=spec["maximum"])
@@ -503,11 +490,7 @@ def _parse(key: Key, value: Any, where: str) -> Any:
         ):
             raise input_error(where, key.refusal, value)
         return tuple(sorted(float(x) for x in rates))
-    assert kind == "number", f"testbed.{key.name}: no declared check for {spec}"
-    number = as_finite_float(value, where, positive=key.name in _POSITIVE_FIRST)
-    if not within_range(number, spec):
-        raise input_error(where, key.refusal or range_words(spec, "a number"), value)
-    return number
+    return check_declared(key, value, where, positive=key.name in _POSITIVE_FIRST)
 
 
 def _inertia(value: Any, where: str, refusal: str) -> tuple[tuple[float, ...], ...]:
