@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from chargedesign.physical.materials import MU_0
+from chargedesign.constants import MU_0
 from chargedesign.validation import check_induced_field_degree
 
 

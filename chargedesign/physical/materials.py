@@ -1,8 +1,8 @@
 """Media (breakdown fields) and materials (densities, magnetisations), with their sources.
 
 Every number here is read from the sources table (:mod:`chargedesign.physical.sources`,
-``chargedesign sources``) by its key (:data:`KEYS`); ``SOURCES`` quotes the sources in words
-for the reports. A scene may always give its own
+``chargedesign sources``) by its key (:data:`KEYS`), and that table's rows quote the sources
+in words. A scene may always give its own
 value instead (``[medium] breakdown = ...``, ``density = ...``, ``magnetisation = ...``).
 """
 
@@ -13,10 +13,7 @@ from typing import Any
 
 import numpy as np
 
-# the constants live in chargedesign.constants; re-exported for the modules that read them here
-from chargedesign.constants import COULOMB as COULOMB
-from chargedesign.constants import EPSILON_0 as EPSILON_0
-from chargedesign.constants import LIGHT_SPEED as LIGHT_SPEED
+# the constants live in chargedesign.constants; MU_0 re-exported for simulation/ that reads it here
 from chargedesign.constants import MU_0 as MU_0
 from chargedesign.physical.sources import value
 
@@ -102,58 +99,6 @@ KEYS = {
     "coercivity": {m: f"materials.coercivity.{m}" for m in MAGNETS},
     "susceptibility": {m: f"materials.susceptibility.{m}" for m in _NAMED},
     "conductivity": {m: f"materials.conductivity.{m}" for m in _NAMED},
-}
-
-SOURCES = {
-    "air": "about 3 MV/m for uniform fields across cm gaps at 1 atm, 20 C (Paschen curve; "
-    "Raizer, Gas Discharge Physics, 1991, ch. 7); smaller gaps hold more",
-    "sf6": "8.9 MV/m at 1 atm (critical E/N of 361 Td; Christophorou & Olthoff, "
-    "J. Phys. Chem. Ref. Data 29, 267 (2000))",
-    "oil": "10 MV/m, conservative for new mineral transformer oil (IEC 60156: >= 30 kV "
-    "across 2.5 mm, i.e. 12 MV/m)",
-    "vacuum": "10 MV/m, the top of the practical range 1e6-1e7 V/m for macroscopic mm gaps "
-    "(Latham, High Voltage Vacuum Insulation, 1995, ch. 1)",
-    "densities": "CRC Handbook of Chemistry and Physics (97th ed.), densities of the elements "
-    "and common alloys at 20 C (bismuth 9.78, copper 8.96 g/cm^3)",
-    "ndfeb": "sintered NdFeB grade N42: remanence 1.28-1.32 T, M = Br / mu0 >= 1.0e6 A/m, "
-    "density 7.4-7.6 g/cm^3 (manufacturers' data sheets, e.g. Arnold Magnetic Technologies)",
-    "ndfeb-eh": "sintered NdFeB grade N42EH: remanence 1.28-1.32 T (M >= 1.0e6 A/m), "
-    "intrinsic coercivity Hcj >= 30 kOe (2.39 MA/m), density 7.5 g/cm^3 (manufacturers' data "
-    "sheets); N42 itself: Hcj >= 12 kOe (0.955 MA/m)",
-    "smco": "Sm2Co17: remanence about 1.05 T (M = 8.4e5 A/m), density 8.4 g/cm^3, Hcj >= 20 kOe "
-    "(1.59 MA/m; data sheets give 18-25 kOe by grade)",
-    "ferrite": "hard ferrite (strontium) grade C8: remanence about 0.4 T (M = 3.2e5 A/m), "
-    "density 4.9 g/cm^3, Hcj about 3.0-3.5 kOe (2.4e5 A/m used)",
-    "susceptibility": "elements: CRC Handbook (97th ed.), 'Magnetic susceptibility of the "
-    "elements and inorganic compounds', chi_mol in cgs (Al +16.5e-6, Ti +153e-6, Cu -5.46e-6, "
-    "W +53e-6, Pb -23.0e-6, Bi -280.1e-6 cm^3/mol) times 4 pi rho / M (bismuth: 4 pi x "
-    "-280.1e-6 x 9.78 / 208.98 = -1.647e-4; copper: 4 pi x -5.46e-6 x 8.96 / 63.546 = "
-    "-9.67e-6); Schenck, Med. Phys. 23, 815 (1996) "
-    "lists the same order (Al 20.7e-6, Ti 182e-6, W 77.2e-6, Cu -9.63e-6, Pb -15.8e-6) and "
-    "annealed austenitic stainless 3.52e-3 to 6.70e-3; brass from its Cu and Zn (iron traces "
-    "can make it paramagnetic); carbon steel is ferromagnetic (mu_r 1e2-1e3, saturating near "
-    "1.7 T: the linear estimate is then only an order of magnitude); magnets: recoil "
-    "permeability mu_rec - 1 (NdFeB N42 1.05, Sm2Co17 1.03, ferrite C8 1.05-1.2; data sheets)",
-    "magnet_continuum": "magnets below about 10-20 nm are single-domain nanoparticles with a "
-    "reduced surface magnetisation (Coey, Magnetism and Magnetic Materials, 2010, ch. 8), "
-    "superparamagnetic a few nm further down (K1 v < 25 kB T; Bean & Livingston, J. Appl. "
-    "Phys. 30, 120S (1959)); the data-sheet remanence and coercivity are those of "
-    "micrometre-grained sintered parts",
-    "insulating_ballast": "99.5 % alumina (CoorsTek AD-995 data sheet: density 3.90 g/cm^3, "
-    "volume resistivity > 1e14 ohm cm at 25 C); yttria-stabilised zirconia 3Y-TZP (density "
-    "6.05 g/cm^3; manufacturers' data sheets give volume resistivities > 1e10 ohm m at 25 C, "
-    "1e-10 S/m used); fused silica (density 2.20 g/cm^3, resistivity about 1e18 ohm m at 20 C: "
-    "Heraeus and Corning 7980 data sheets; 1e-16 S/m used); susceptibilities from the CRC "
-    "Handbook (97th ed.) molar susceptibilities of Al2O3 (-37.0e-6), ZrO2 (-13.8e-6) and SiO2 "
-    "(-29.6e-6 cm^3/mol) times 4 pi rho / M. Tungsten-loaded polymers (densities up to 11 "
-    "g/cm^3) are not listed: their conductivity depends on the filler's percolation and no "
-    "data sheet at hand gives it",
-    "conductivity": "CRC Handbook (97th ed.), 'Electrical resistivity of pure metals' at 20 C "
-    "(Al 2.65e-8, Ti 4.2e-7, Cu 1.68e-8, W 5.28e-8, Pb 2.08e-7, Bi 1.29e-6 ohm m); ASM "
-    "Handbook vol. 2 for alloys (316 stainless 7.4e-7, cartridge brass C26000 6.2e-8, 1010 "
-    "steel 1.43e-7 ohm m); "
-    "magnets' data sheets (sintered NdFeB 1.4e-6, Sm2Co17 8.6e-7 ohm m; hard ferrite above "
-    "1e4 ohm m, an insulator)",
 }
 
 

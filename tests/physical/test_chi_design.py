@@ -19,6 +19,7 @@ import sympy as sp
 from physical.test_buildable import scene_with
 
 from chargedesign.body import Design
+from chargedesign.constants import MU_0
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
@@ -44,7 +45,7 @@ from chargedesign.model.case import (
 from chargedesign.physical.bom import bom_rows
 from chargedesign.physical.induced import induced_rows
 from chargedesign.physical.limits import check_limits
-from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
+from chargedesign.physical.materials import SUSCEPTIBILITY
 from chargedesign.physical.realism import field_response, material_parts, typical_rate
 from chargedesign.report import render_report
 from chargedesign.schemas import validate

@@ -13,12 +13,13 @@ import pytest
 from physical.test_buildable import SMALL, scene_with
 
 from chargedesign.body import Design
+from chargedesign.constants import MU_0
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.limits import check_limits, fibonacci_directions
-from chargedesign.physical.materials import MU_0, SUSCEPTIBILITY
+from chargedesign.physical.materials import SUSCEPTIBILITY
 from chargedesign.physical.realism import (
     FIELD_RESPONSE_KEYS,
     RESPONSE_ORIENTATIONS,

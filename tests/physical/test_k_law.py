@@ -22,13 +22,14 @@ import pytest
 from physical.test_buildable import SMALL
 
 from chargedesign.body import Design, read_design, write_design
+from chargedesign.constants import MU_0
 from chargedesign.designer.assembly import build_design, design_at_rate
 from chargedesign.designer.frontier import find_frontier
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.larmor import LarmorReading
 from chargedesign.physical.limits import check_limits
-from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MU_0
+from chargedesign.physical.materials import BREAKDOWN_V_PER_M
 from chargedesign.physical.realism import (
     ATOMIC_FIELD,
     FIELD_EVAPORATION,

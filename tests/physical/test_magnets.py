@@ -14,11 +14,12 @@ import pytest
 from physical.test_buildable import SMALL, scene_with
 
 from chargedesign.body import Design
+from chargedesign.constants import MU_0
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.physical.limits import check_limits
-from chargedesign.physical.materials import MAGNET_COERCIVITY, MAGNET_DATA, MU_0
+from chargedesign.physical.materials import MAGNET_COERCIVITY, MAGNET_DATA
 from chargedesign.scene import load_scene, scene_from_dict
 
 
