@@ -94,6 +94,16 @@ def typical_rate(params: Any) -> float:
     )
 
 
+def region_radius(design: Any) -> float:
+    """The radius of the body's region, m: ``buildability.region_radius_m`` as written (a
+    one-line error names it when it is not a number), else the farthest part's distance
+    from O."""
+    written = (design.buildability or {}).get("region_radius_m")
+    if written is not None:
+        return as_finite_float(written, "buildability.region_radius_m")
+    return float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
+
+
 def magnet_continuum(design: Any) -> dict[str, Any]:
     """The designed magnets against the continuum size their material data hold for.
 
@@ -394,12 +404,7 @@ def _one_charge_sizes(design: Any, e_safe: float) -> tuple[float, float | None]:
     radii = design.carrier_radii()
     one_e = math.sqrt(ELEMENTARY_CHARGE / (4.0 * math.pi * EPSILON_0 * e_safe))
     carrier = float(np.max(radii, initial=0.0))
-    written = (design.buildability or {}).get("region_radius_m")
-    region = (
-        as_finite_float(written, "buildability.region_radius_m")
-        if written is not None
-        else float(np.max(np.linalg.norm(design.all_masses()[0], axis=1), initial=0.0))
-    )
+    region = region_radius(design)
     return one_e, (region * one_e / carrier if carrier > 0 else None)
 
 
@@ -923,8 +928,7 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     total_mass = float(np.sum(masses))
     offset_1g = balance_offset(BALANCE_FRACTION * torque, total_mass, G_EARTH)
     offset_micro = balance_offset(BALANCE_FRACTION * torque, total_mass, MICROGRAVITY)
-    envelope = float((design.buildability or {}).get("region_radius_m", r_max))
-    drag_item = _drag_item(design.medium, envelope, rate, torque)
+    drag_item = _drag_item(design.medium, region_radius(design), rate, torque)
 
     response = field_response(design) if response is None else response
     law = k_law(design, response)
