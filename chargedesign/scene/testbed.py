@@ -24,11 +24,10 @@ from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.physical.drag import bearing_drag, cup_drag
 from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.physical.state_of_the_art import ATTITUDE_SENSORS, BEARINGS, GYROS
-from chargedesign.scene.keys import KEY, TESTBED, Key, check_declared, declared, key_names
+from chargedesign.scene.keys import KEY, TESTBED, Key, check_declared, check_table, declared
 from chargedesign.validation import (
     as_array,
     as_count,
-    check_keys,
     input_error,
 )
 
@@ -164,11 +163,7 @@ class TestbedOptions:
     @classmethod
     def from_table(cls, table: Mapping[str, Any] | None, where: str = "testbed") -> TestbedOptions:
         """Validate a ``[testbed]`` table (one-line errors naming ``testbed.<key>``)."""
-        if table is None:
-            table = {}
-        if not isinstance(table, Mapping):
-            raise input_error(where, "a table", table)
-        check_keys(table, key_names("testbed"), where)
+        table = check_table({} if table is None else table, "testbed", where)
         values: dict[str, Any] = {}
         for f in fields(cls):
             if f.name not in table:
