@@ -61,22 +61,11 @@ def bom_rows(design: Any) -> list[dict[str, Any]]:
 
 
 def _row(part, kind, pos, size, unit, material, q, sigma, mass) -> dict[str, Any]:
+    """One part's row, its values in the order of :data:`BOM_COLUMNS`."""
     sigma = np.zeros(3) if sigma is None else sigma
-    return {
-        "part": part,
-        "kind": kind,
-        "x_m": float(pos[0]),
-        "y_m": float(pos[1]),
-        "z_m": float(pos[2]),
-        "size": float(size),
-        "size_unit": unit,
-        "material": material,
-        "charge_C": 0.0 if q is None else float(q),
-        "moment_x_A_m2": float(sigma[0]),
-        "moment_y_A_m2": float(sigma[1]),
-        "moment_z_A_m2": float(sigma[2]),
-        "mass_kg": float(mass),
-    }
+    charge = 0.0 if q is None else float(q)
+    values = (part, kind, *map(float, pos[:3]), float(size), unit, material, charge)
+    return dict(zip(BOM_COLUMNS, (*values, *map(float, sigma[:3]), float(mass)), strict=True))
 
 
 def bom_csv(design: Any) -> str:
