@@ -53,8 +53,8 @@ schemas: $(VENV)/.base
 tables: $(VENV)/.base
 	$(PY) -c "from chargedesign.moment_conditions.tables import write_tables; write_tables()"
 	$(PY) -c "from chargedesign.model.evaluators import write_evaluators; write_evaluators()"
-	$(PY) -c "from chargedesign.physical.map_data import write_map; \
-	from chargedesign.physical.realism import derived_map_terms; write_map(derived_map_terms())"
+	$(PY) -c "from chargedesign.physical.map_data import MAP_FILE; \
+	from chargedesign.physical.realism import derived_map_terms; MAP_FILE.write(derived_map_terms())"
 
 CLEAN := $(VENV) out site .pytest_cache .mypy_cache .ruff_cache .hypothesis
 

@@ -41,21 +41,6 @@ MAP_FILE = ShippedData(
 )
 
 
-def map_text(entries: dict[str, Any]) -> str:
-    """The text of the shipped map for these entries (one line of JSON)."""
-    return MAP_FILE.text(entries)
-
-
-def shipped_map_text() -> str:
-    """The text of the map the package ships ('' when it ships none)."""
-    return MAP_FILE.shipped_text()
-
-
-def write_map(entries: dict[str, Any]) -> str:
-    """Write the map's text for these entries into the package's data folder; its path."""
-    return MAP_FILE.write(entries)
-
-
 def shipped_map() -> dict[str, Any]:
     """The entries of the shipped map: per term key, ``expression``, ``degree`` and
     ``components`` (see :func:`component_values`; None for a singular term)."""

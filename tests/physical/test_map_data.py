@@ -13,12 +13,11 @@ from fresh_process import imports_module
 
 from chargedesign.model.case import GAMMA, C, c, d
 from chargedesign.physical.map_data import (
+    MAP_FILE,
     MAP_FORMAT,
     PRINTED_DIGITS,
-    map_text,
     printed_float,
     shipped_map,
-    shipped_map_text,
 )
 from chargedesign.physical.parasitics import RESPONSE_ORIENTATIONS
 from chargedesign.physical.realism import (
@@ -33,8 +32,8 @@ KEYS = ("kappa", "n2", "nK", "K2", "mu_n", "mu_K")
 
 def test_the_shipped_map_is_the_derived_one():
     derived = derived_map_terms()
-    assert shipped_map_text() == map_text(derived)  # regenerate: make tables
-    assert json.loads(shipped_map_text())["format"] == MAP_FORMAT
+    assert MAP_FILE.shipped_text() == MAP_FILE.text(derived)  # regenerate: make tables
+    assert json.loads(MAP_FILE.shipped_text())["format"] == MAP_FORMAT
     assert shipped_map() == derived
     assert set(KEYS) | {"lambda", "rho"} == set(derived)
     assert derived["lambda"]["components"] is None and derived["rho"]["components"] is None
