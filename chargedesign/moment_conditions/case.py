@@ -301,17 +301,10 @@ def derive_case_conditions(
         v_target={label: (value, str(value)) for label, value in target.v.items()},
         preference=CASE_PREFERENCE,
     )
-    origin = {kind: "given" for kind in given}
     if "magnetic" not in given:
         ctx.fields["magnetic"] = _derived_magnetic(target)
-        origin["magnetic"] = "derived"
-    if "gravity" not in given:
-        linear = any(target.v_harmonics(1))
-        ctx.fields["gravity"] = [Fraction(repr(STANDARD_GRAVITY))] if linear else []
-        origin["gravity"] = "derived"
-    if "electric" not in given:
-        ctx.fields["electric"] = []
-        origin["electric"] = "derived"
+    if "gravity" not in given and any(target.v_harmonics(1)):
+        ctx.fields["gravity"] = [Fraction(repr(STANDARD_GRAVITY))]
     # charges: for mu, for V's degrees 3 and 4, and as the last resort for its degree 2
     needs_charges = (
         target.has_mu
@@ -343,12 +336,8 @@ def derive_case_conditions(
         if k >= 2 and "gravity" not in given:
             ctx.derivable.add("gravity")
         realise_degree(ctx, k)
-    return close_derivation(
-        ctx,
-        origin,
-        ("mu", "V", "inertia") if target.has_mu else ("V", "inertia"),
-        functools.partial(derive_case_conditions, case, fields),
-    )
+    realise = ("mu", "V", "inertia") if target.has_mu else ("V", "inertia")
+    return close_derivation(ctx, realise, functools.partial(derive_case_conditions, case, fields))
 
 
 __all__ = [

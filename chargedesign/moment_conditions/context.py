@@ -29,6 +29,8 @@ class DerivationContext:
     v_target: dict[str, tuple[Fraction, str]] | None = None
     #: which source realises each degree of V (None: DEGREE_PREFERENCE / DEFAULT_PREFERENCE)
     preference: dict[int, tuple[str, ...]] | None = None
+    #: per field kind: "given" (by the scene) or "derived" (by the engine)
+    origin: dict[str, str] = field(default_factory=dict)
 
     def coefficient(self, kind: str, k: int) -> Fraction:
         coeffs = self.fields.get(kind, [])

@@ -94,14 +94,10 @@ def derive_conditions(
     P = [_exact(getattr(params, name), exact) for name in PARAM_NAMES]
     given, ctx = open_derivation(params, P, fields, length, exact=exact)
     _refuse_singular(params, goals)
-    origin = _derive_missing_fields(ctx, given, goals)
+    _derive_missing_fields(ctx, given, goals)
     _run_steps(ctx, given, goals)
-    return close_derivation(
-        ctx,
-        origin,
-        goals,
-        functools.partial(derive_conditions, params, fields, goals, exact=exact),
-    )
+    rederive = functools.partial(derive_conditions, params, fields, goals, exact=exact)
+    return close_derivation(ctx, goals, rederive)
 
 
 def open_derivation(
@@ -114,8 +110,9 @@ def open_derivation(
     **context: Any,
 ) -> tuple[dict[str, tuple[float, ...]], DerivationContext]:
     """The given fields and length checked (one-line errors), and the state of a derivation
-    that reads them as exact rationals (as printed with ``exact``, else their binary values);
-    ``context``: the further fields of :class:`DerivationContext` (a case's targets)."""
+    that reads them as exact rationals (as printed with ``exact``, else their binary values):
+    a kind not given is empty and "derived" until the engine derives it; ``context``: the
+    further fields of :class:`DerivationContext` (a case's targets)."""
     given = validate_fields(fields)
     if length is not None:
         length = as_finite_float(length, "length", positive=True)
@@ -123,22 +120,20 @@ def open_derivation(
         params=params,
         P=P,
         exact=exact,
-        fields={kind: [_exact(v, exact) for v in coeffs] for kind, coeffs in given.items()},
+        fields={kind: [_exact(v, exact) for v in given.get(kind, ())] for kind in FIELD_KINDS},
         derivable=set(),
         systems={},
         notes=[],
         length=_exact(DEFAULT_LENGTH if length is None else length, exact),
         length_given=length is not None,
+        origin={kind: "given" if kind in given else "derived" for kind in FIELD_KINDS},
         **context,
     )
     return given, ctx
 
 
 def close_derivation(
-    ctx: DerivationContext,
-    origin: Mapping[str, str],
-    realise: tuple[str, ...],
-    rederive: Callable[..., LinearConditions],
+    ctx: DerivationContext, realise: tuple[str, ...], rederive: Callable[..., LinearConditions]
 ) -> LinearConditions:
     """The derivation's result: every source's rows rounded, the fields in use and their
     origin (given/derived), the notes, and the default strengths with the length they were
@@ -146,10 +141,10 @@ def close_derivation(
     conditions = rounded_conditions(ctx)
     return LinearConditions(
         conditions=conditions,
-        fields=output_fields(ctx, origin),
+        fields=output_fields(ctx),
         notes=ctx.notes,
         realise=realise,
-        field_origin={kind: origin[kind] for kind in FIELD_KINDS},
+        field_origin={kind: ctx.origin[kind] for kind in FIELD_KINDS},
         length=float(ctx.length) if ctx.defaults else None,
         length_assumed=bool(ctx.defaults) and not ctx.length_given,
         default_strengths={name: float(v) for name, v in ctx.defaults.items()},
@@ -173,10 +168,10 @@ def _refuse_singular(params: Parameters, goals: tuple[str, ...]) -> None:
 
 def _derive_missing_fields(
     ctx: DerivationContext, given: Mapping[str, tuple[float, ...]], goals: tuple[str, ...]
-) -> dict[str, str]:
-    """Fill in ``ctx.fields`` for the kinds not given; the origin (given/derived) per kind."""
+) -> None:
+    """Fill in ``ctx.fields`` for the kinds not given: the magnetic field where mu or V needs
+    it; the electric field is the engine's to choose for V."""
     P = ctx.P
-    origin = {kind: "given" for kind in given}
     if "magnetic" not in given:
         needs_f1 = "mu" in goals and P[3] != 0
         proj = v_projection()
@@ -191,21 +186,13 @@ def _derive_missing_fields(
         while derived and derived[-1] == 0:
             derived.pop()
         ctx.fields["magnetic"] = derived
-        origin["magnetic"] = "derived"
         if derived:
             ctx.notes.append(
                 "fields.magnetic derived (none given): legendre "
                 f"{[float(v) for v in derived]} (a1 = 1 T, a2 = 0.5 T/m where needed)"
             )
-    if "electric" not in given:
-        ctx.fields["electric"] = []
-        origin["electric"] = "derived"
-        if "V" in goals:
-            ctx.derivable.add("electric")
-    if "gravity" not in given:
-        ctx.fields["gravity"] = []
-        origin["gravity"] = "derived"
-    return origin
+    if "electric" not in given and "V" in goals:
+        ctx.derivable.add("electric")
 
 
 def _run_steps(
@@ -261,9 +248,7 @@ def rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
     return conditions
 
 
-def output_fields(
-    ctx: DerivationContext, origin: Mapping[str, str]
-) -> dict[str, tuple[float, ...]]:
+def output_fields(ctx: DerivationContext) -> dict[str, tuple[float, ...]]:
     """Every field kind's coefficients as floats (trailing zeros dropped); with ``exact``,
     a note of each derived field's exact coefficients."""
     out_fields: dict[str, tuple[float, ...]] = {}
@@ -272,6 +257,6 @@ def output_fields(
         while coeffs and coeffs[-1] == 0:
             coeffs.pop()
         out_fields[kind] = tuple(float(v) for v in coeffs)
-        if ctx.exact and origin[kind] == "derived" and coeffs:
+        if ctx.exact and ctx.origin[kind] == "derived" and coeffs:
             ctx.notes.append(f"fields.{kind} exact legendre: [{', '.join(map(_fmt, coeffs))}]")
     return out_fields
