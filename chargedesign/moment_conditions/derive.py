@@ -40,10 +40,6 @@ def _exact(value: float, exact: bool) -> Fraction:
     return Fraction(repr(value)) if exact else Fraction(value)
 
 
-def _fmt(value: Fraction) -> str:
-    return str(value)
-
-
 def derive_conditions(
     params: Parameters,
     fields: Mapping[str, Sequence[float]] | None = None,
@@ -241,8 +237,8 @@ def rounded_conditions(ctx: DerivationContext) -> list[LinearCondition]:
                     coefficients={k: float(v) for k, v in row.coeffs.items()},
                     value=float(row.rhs),
                     provenance=row.provenance,
-                    exact_value=_fmt(row.rhs) if exact else "",
-                    exact_coefficients={k: _fmt(v) for k, v in row.coeffs.items()} if exact else {},
+                    exact_value=str(row.rhs) if exact else "",
+                    exact_coefficients={k: str(v) for k, v in row.coeffs.items()} if exact else {},
                 )
             )
     return conditions
@@ -258,5 +254,5 @@ def output_fields(ctx: DerivationContext) -> dict[str, tuple[float, ...]]:
             coeffs.pop()
         out_fields[kind] = tuple(float(v) for v in coeffs)
         if ctx.exact and ctx.origin[kind] == "derived" and coeffs:
-            ctx.notes.append(f"fields.{kind} exact legendre: [{', '.join(map(_fmt, coeffs))}]")
+            ctx.notes.append(f"fields.{kind} exact legendre: [{', '.join(map(str, coeffs))}]")
     return out_fields

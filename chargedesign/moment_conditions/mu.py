@@ -144,21 +144,14 @@ def derive_mu_system(degree: int) -> tuple[_MuEquation, ...]:
 def charges_for_mu(ctx: DerivationContext) -> None:
     """Add the charges' mu conditions for the magnetic field in use (exact, reported reduced)."""
     magnetic = ctx.fields.get("magnetic", [])
-    n, K = ctx.P[3], ctx.P[4]
-    f1 = ctx.coefficient("magnetic", 1)
-    f2 = ctx.coefficient("magnetic", 2)
-    if n != 0 and f1 == 0:
-        raise InfeasibleError(
-            f"fields.magnetic: a1 = 0 while n = {fmt(ctx.params.n, PLAIN)} != 0: the n terms of mu"
-            " need "
-            "charges in a uniform magnetic field (a1 != 0)"
-        )
-    if K != 0 and f2 == 0:
-        raise InfeasibleError(
-            f"fields.magnetic: a2 = 0 while K = {fmt(ctx.params.K, PLAIN)} != 0: the K terms of mu"
-            " need "
-            "charges in a magnetic quadrupole (a2 != 0)"
-        )
+    # the n terms need charges in the uniform field a1, the K terms in the quadrupole a2
+    for name, k, where in (("n", 1, "a uniform magnetic field"), ("K", 2, "a magnetic quadrupole")):
+        value = getattr(ctx.params, name)
+        if value != 0 and ctx.coefficient("magnetic", k) == 0:
+            raise InfeasibleError(
+                f"fields.magnetic: a{k} = 0 while {name} = {fmt(value, PLAIN)} != 0: the {name} "
+                f"terms of mu need charges in {where} (a{k} != 0)"
+            )
     degree = max(len(magnetic), 1)
     system = ctx.systems["charges"]
     rows = (
