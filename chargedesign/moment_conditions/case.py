@@ -118,6 +118,15 @@ def _polynomial_part(expr: Any, what: str, name: str) -> tuple[Any, int]:
     return expanded, poly.total_degree()
 
 
+def _on_sphere(expanded: Any, degree: int) -> dict[str, Fraction]:
+    """A polynomial in gamma of ``degree`` on the sphere in the harmonic basis (label ->
+    exact coefficient); a constant is the degree-0 harmonic ``0,0c``."""
+    if not degree:
+        return {"0,0c": _fraction(expanded)} if expanded != 0 else {}
+    projected = project_on_harmonics(gamma_poly(expanded), degree)
+    return {label: _fraction(c) for label, c in projected.items()}
+
+
 def case_target(case: Any) -> CaseTarget:
     """The exact targets of a case (:class:`chargedesign.scene.case_file.Case`), or a one-line
     refusal of a singular term or a degree above :data:`CASE_MAX_DEGREE`."""
@@ -127,18 +136,8 @@ def case_target(case: Any) -> CaseTarget:
     for a, component in enumerate(case.mu):
         expanded, degree = _polynomial_part(component, f"mu_{a + 1}", case.name)
         mu_degree = max(mu_degree, degree)
-        projected = project_on_harmonics(gamma_poly(expanded), max(degree, 1)) if degree else {}
-        if not degree and expanded != 0:
-            projected = {"0,0c": expanded}
-        mus.append({label: _fraction(c) for label, c in projected.items()})
-    v = (
-        {
-            label: _fraction(c)
-            for label, c in project_on_harmonics(gamma_poly(V), max(v_degree, 1)).items()
-        }
-        if v_degree
-        else {}
-    )
+        mus.append(_on_sphere(expanded, degree))
+    v = _on_sphere(V, v_degree) if v_degree else {}  # a constant V acts on nothing
     inertia = tuple(_fraction(m) for m in case.inertia)
     return CaseTarget(
         name=case.name,
