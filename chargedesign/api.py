@@ -16,16 +16,15 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.body import Design, read_design
 from chargedesign.checker import CheckReport, check_design
-from chargedesign.designer import design_from_scene
+from chargedesign.designer import DesignResult, design_from_scene
 from chargedesign.designer.frontier import FrontierResult
 from chargedesign.designer.pipeline import frontier_from_scene
-from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
 from chargedesign.scene.sweep_file import check_no_command_with_spec
-from chargedesign.simulation.api import simulate as simulate_scene_or_design
-from chargedesign.simulation.result import SimulationResult
+from chargedesign.simulation import SimulationResult
+from chargedesign.simulation import simulate as simulate_scene_or_design
 from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram

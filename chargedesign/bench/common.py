@@ -11,7 +11,7 @@ import numpy as np
 
 from chargedesign.formatting import fmt
 from chargedesign.params import Parameters
-from chargedesign.simulation.system import Body
+from chargedesign.simulation import Body
 
 
 @dataclass

@@ -38,8 +38,8 @@ from chargedesign.simulation import (
     setup_from_source,
     simulate,
     simulate_batch,
+    simulate_ensemble,
 )
-from chargedesign.simulation.ensemble import simulate_ensemble
 from chargedesign.simulation.integrate import integrate
 
 PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)

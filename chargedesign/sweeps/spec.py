@@ -65,7 +65,7 @@ from chargedesign.scene.sweep_file import (
     resolve_sweep_key,
     sweep_tables,
 )
-from chargedesign.simulation.api import setup_from_scene
+from chargedesign.simulation import setup_from_scene
 from chargedesign.simulation.axes import resolve_axes
 from chargedesign.sweeps.registry import COMMANDS, resolve
 from chargedesign.tolerancing import ErrorModel, MaterialErrors
