@@ -22,10 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.bench.common import UNIT_SCALE as PARAMS
+from chargedesign.bench.common import BenchTable, best_time, measured, random_body
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
 from chargedesign.scene.keys import KEY
 from chargedesign.simulation import (
@@ -42,7 +42,6 @@ from chargedesign.simulation import (
 )
 from chargedesign.simulation.integrate import integrate
 
-PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
 
 
@@ -61,9 +60,9 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
     def fun(t: float, y: np.ndarray) -> np.ndarray:
         return np.array(f(*y, *pt), dtype=float)
 
-    t0 = time.perf_counter()
-    sol = solve_ivp(fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol)
-    seconds = time.perf_counter() - t0
+    sol, seconds, _ = measured(
+        solve_ivp, fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol
+    )
     if not sol.success:
         raise RuntimeError(sol.message)
     I4 = evaluators.integrals(sol.y.T, PARAMS)[:, 3]
@@ -311,9 +310,7 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     for k in range(m):
         simulate(PARAMS, initial=states[k], **kw)
     separate = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    simulate_batch(PARAMS, states, **kw)
-    batched = time.perf_counter() - t0
+    _, batched, _ = measured(simulate_batch, PARAMS, states, **kw)
     return BenchTable(
         title=f"{m} trajectories of the theorem model, t = {fmt(t_end, PLAIN)} s, DOP853 rtol"
         " 1e-10",
@@ -435,9 +432,7 @@ def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
     gam /= np.linalg.norm(gam, axis=1)[:, None]
     states = np.hstack([rng.uniform(-1, 1, (m, 3)), gam])
     rows: list[list[Any]] = []
-    t0 = time.perf_counter()
-    tay = simulate_ensemble(PARAMS, states, t_end=t_end, samples=2)
-    wall = time.perf_counter() - t0
+    tay, wall, _ = measured(simulate_ensemble, PARAMS, states, t_end=t_end, samples=2)
     per = tay.seconds / m
     rows.append(["taylor (batch, 4 lanes x 2 threads)", m, tay.seconds, wall, per * 1e3, 1.0])
     dop = simulate_ensemble(

@@ -12,13 +12,12 @@ import argparse
 
 from chargedesign.body import read_design
 from chargedesign.checker import check_design
+from chargedesign.commands import print_result
 from chargedesign.errors import InputError
 from chargedesign.vocabulary import PRECISIONS
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
-
     # --tol, --orientations and --quadrature-order: their ranges are checked by the command
     # line before this runs (chargedesign.limits.OPTION_RANGES, shown in --help)
     if args.precision not in PRECISIONS:
@@ -35,8 +34,5 @@ def run(args: argparse.Namespace) -> int:
         quadrature_order=args.quadrature_order,
         precision=args.precision,
     )
-    if args.json:
-        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
-    else:
-        print(report)
+    print_result(report, args.json)
     return 0 if report.passed else 1

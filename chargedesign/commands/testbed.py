@@ -14,14 +14,13 @@ import argparse
 
 from chargedesign.airbearing.report import OUTPUTS, write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
+from chargedesign.commands import print_result
 from chargedesign.commands.progress import Progress
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
-
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=OUTPUTS)
 
     # the sampled runs counted against their total, with the time left (--quiet: nothing)
@@ -42,8 +41,5 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    if args.json:
-        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
-    else:
-        print(str(result), end="")
+    print_result(result, args.json, end="")
     return 0
