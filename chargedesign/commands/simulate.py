@@ -199,6 +199,8 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
 
 
 def _options(args: argparse.Namespace) -> dict:
+    """The run's options from the command line (None: the scene's), for one run and an
+    ensemble alike."""
     return {
         "effects": args.effects,
         KEY.t_end: args.t_end,
