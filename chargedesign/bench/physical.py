@@ -124,9 +124,9 @@ def _quick_frontier() -> tuple[Any, tuple[float, float], Any, tuple[float, float
     the setup's (wall, CPU) seconds, the result and its (wall, CPU) seconds. Measured once
     and shared by the quick tables, whose baselines or rows are this same computation (the
     full run measures each table's own)."""
-    setup, *setup_times = measured(_setup, QUICK_SPACING, "frame")
-    result, *times = measured(find_frontier, setup)
-    return setup, tuple(setup_times), result, tuple(times)
+    setup, setup_wall, setup_cpu = measured(_setup, QUICK_SPACING, "frame")
+    result, wall, cpu = measured(find_frontier, setup)
+    return setup, (setup_wall, setup_cpu), result, (wall, cpu)
 
 
 def table_readings(quick: bool) -> BenchTable:
@@ -248,7 +248,8 @@ def table_frontier_point(quick: bool) -> BenchTable:
         table.notes.append(f"--quick: the default ball at spacing {QUICK_SPACING} m")
         setup, setup_times, result, (wall, cpu) = _quick_frontier()
     else:
-        setup, *setup_times = measured(physical_setup_from_scene, load_scene(None))
+        setup, setup_wall, setup_cpu = measured(physical_setup_from_scene, load_scene(None))
+        setup_times = (setup_wall, setup_cpu)
         result, wall, cpu = measured(find_frontier, setup)
     table.rows.append(["scene to physical setup (conditions)", *setup_times, "", ""])
     table.rows.append([f"find_frontier ({result.evaluations} design)", wall, cpu, "", ""])
