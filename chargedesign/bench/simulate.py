@@ -97,9 +97,9 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
-    runs = [("DOP853", f"rtol {fmt(r, PLAIN)}", {"rtol": r, "atol": r}) for r in rtols] + [
-        ("gauss-legendre", f"step {fmt(h, PLAIN)}", {"step": h}) for h in steps
-    ]
+    runs: list[tuple[str, str, dict[str, Any]]] = [
+        ("DOP853", f"rtol {fmt(r, PLAIN)}", {"rtol": r, "atol": r}) for r in rtols
+    ] + [("gauss-legendre", f"step {fmt(h, PLAIN)}", {"step": h}) for h in steps]
     rows: list[list[Any]] = []
     base = None  # the first DOP853 run's seconds: the baseline of the ratios
     for method, setting, options in runs:

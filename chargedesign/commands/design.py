@@ -29,7 +29,7 @@ from typing import Any
 
 from chargedesign.body import write_design
 from chargedesign.candidates import candidates_from_table
-from chargedesign.commands.progress import Progress, Stages
+from chargedesign.commands.progress import Stages, progress_bar
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.errors import ChargeDesignError, InputError
@@ -51,15 +51,11 @@ def run(args: argparse.Namespace) -> int:
     # before any work: the folder can be written and holds none of the inputs
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=DESIGN_FILES)
     # each stage's message, and the stages counted against their total with the time left
-    bar = None if args.quiet else Progress("design", unit="stages")
-    stages = Stages(bar, DESIGN_STAGES)
-    try:
+    with progress_bar("design", "stages", args.quiet) as bar:
+        stages = Stages(bar, DESIGN_STAGES)
         code = _run(args, stages)
         stages.end()
         return code
-    finally:
-        if bar is not None:
-            bar.close()
 
 
 def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:

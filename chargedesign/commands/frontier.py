@@ -26,7 +26,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.designer.frontier import WindowOptions, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import design_and_frontier_from_scene
@@ -73,17 +73,13 @@ def run(args: argparse.Namespace) -> int:
         return _print(scan, args.json)
     if args.recommend is not None:
         # the probes counted against the most the search makes, with the time left
-        bar = None if args.quiet else Progress("frontier --recommend", unit="probes")
-        try:
+        with progress_bar("frontier --recommend", "probes", args.quiet) as bar:
             found = recommend(
                 scene,
                 window,
                 progress=None if bar is None else (lambda m: bar.say(f"frontier: {m}")),
                 tally=None if bar is None else bar.update,
             )
-        finally:
-            if bar is not None:
-                bar.close()
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
         return _print(found, args.json)

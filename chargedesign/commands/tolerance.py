@@ -23,7 +23,7 @@ import argparse
 from typing import Any
 
 from chargedesign.body import read_design, write_design
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
@@ -80,8 +80,7 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         # the Monte-Carlo bodies counted against their total, with the time left
-        bar = None if args.quiet else Progress("tolerance", unit="bodies")
-        try:
+        with progress_bar("tolerance", "bodies", args.quiet) as bar:
             result = monte_carlo(
                 design,
                 model,
@@ -94,9 +93,6 @@ def run(args: argparse.Namespace) -> int:
                 material_errors=materials,
                 tally=None if bar is None else bar.update,
             )
-        finally:
-            if bar is not None:
-                bar.close()
     data = result.to_dict()
     if args.out:
         _write(args.out, result, data, design)
