@@ -50,10 +50,10 @@ _LAZY: dict[str, tuple[str, str]] = {
     "export_design": ("chargedesign.export", "export_design"),
     "schema": ("chargedesign.schemas", "schema"),
     # results
-    "DesignResult": ("chargedesign.designer.result", "DesignResult"),
+    "DesignResult": ("chargedesign.designer", "DesignResult"),
     "CheckReport": ("chargedesign.checker", "CheckReport"),
-    "SimulationResult": ("chargedesign.simulation.result", "SimulationResult"),
-    "LinearConditions": ("chargedesign.moment_conditions.types", "LinearConditions"),
+    "SimulationResult": ("chargedesign.simulation", "SimulationResult"),
+    "LinearConditions": ("chargedesign.moment_conditions", "LinearConditions"),
     "VerificationReport": ("chargedesign.verification", "VerificationReport"),
     "BifurcationDiagram": ("chargedesign.topology.diagram", "BifurcationDiagram"),
     "CaseCertificate": ("chargedesign.model.case_file", "CaseCertificate"),
@@ -131,16 +131,16 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     )
     from chargedesign.body import Design, read_design, write_design
     from chargedesign.checker import CheckReport
+    from chargedesign.designer import DesignResult
     from chargedesign.designer.case_design import CaseDesignResult
-    from chargedesign.designer.result import DesignResult
     from chargedesign.elements import ElementSet
     from chargedesign.export import export_design
     from chargedesign.model.case_file import CaseCertificate
     from chargedesign.model.catalogue import CatalogueReport
+    from chargedesign.moment_conditions import LinearConditions
     from chargedesign.moment_conditions import conditions_for_scene as conditions
-    from chargedesign.moment_conditions.types import LinearConditions
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
-    from chargedesign.simulation.result import SimulationResult
+    from chargedesign.simulation import SimulationResult
     from chargedesign.topology.diagram import BifurcationDiagram
     from chargedesign.verification import VerificationReport, verify

@@ -16,17 +16,15 @@ from chargedesign.airbearing.result import TestbedResult
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
 from chargedesign.body import Design, read_design
 from chargedesign.checker import CheckReport, check_design
-from chargedesign.designer import design_from_scene
+from chargedesign.designer import DesignResult, design_from_scene
 from chargedesign.designer.frontier import FrontierResult
 from chargedesign.designer.pipeline import frontier_from_scene
-from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.params import Parameters
 from chargedesign.scene import Scene, default_scene_text, load_scene, scene_from_dict
-from chargedesign.scene.sweep_file import check_no_command_with_spec
-from chargedesign.simulation.api import simulate as simulate_scene_or_design
-from chargedesign.simulation.result import SimulationResult
-from chargedesign.sweeps import SweepResult, SweepSpec, load_sweep, run_sweep
+from chargedesign.simulation import SimulationResult
+from chargedesign.simulation import simulate as simulate_scene_or_design
+from chargedesign.sweeps import SweepResult, as_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
 from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
 
@@ -161,8 +159,9 @@ def catalogue() -> CatalogueReport:
     return certify_catalogue()
 
 
-def _design_of(design: Any) -> Design:
-
+def _design_of(design: Any, where: str) -> Design:
+    """The body of a Design, a DesignResult (or a case's), a design.json path or mapping;
+    another kind is refused in one line naming the entry point ``where``."""
     if isinstance(design, Design):
         return design
     inner = getattr(design, "design", None)
@@ -173,7 +172,7 @@ def _design_of(design: Any) -> Design:
     if isinstance(design, Mapping):
         return Design.from_dict(dict(design))
 
-    raise wrong_kind("check", "a Design, a DesignResult, a design.json path or mapping", design)
+    raise wrong_kind(where, "a Design, a DesignResult, a design.json path or mapping", design)
 
 
 def check(design: Any, **options: Any) -> CheckReport:
@@ -192,7 +191,7 @@ def check(design: Any, **options: Any) -> CheckReport:
     CheckReport
     """
 
-    return check_design(_design_of(design), **options)
+    return check_design(_design_of(design, "check"), **options)
 
 
 def simulate(source: Any = None, **options: Any) -> SimulationResult:
@@ -219,15 +218,12 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
 def tolerance(design: Any, target: float | None = None, **options: Any) -> ToleranceReport:
     """Per-element tolerances of a design (:func:`chargedesign.tolerancing.tolerance_report`).
 
-    ``design``: a Design, a DesignResult or a design.json path; ``target`` the relative
+    ``design``: a Design, a DesignResult, a design.json path or mapping; ``target`` the relative
     accuracy of mu, V and the inertia to keep.
     """
 
-    if isinstance(design, DesignResult):
-        design = design.design
-    if not isinstance(design, Design):
-        design = read_design(design)
-    return tolerance_report(design, DEFAULT_TARGET if target is None else target, **options)
+    target = DEFAULT_TARGET if target is None else target
+    return tolerance_report(_design_of(design, "tolerance"), target, **options)
 
 
 def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> SweepResult:
@@ -238,11 +234,7 @@ def sweep(spec: Any, out: Any, command: Any = None, **options: Any) -> SweepResu
     commands: the tool never imports or calls code a file names.
     """
 
-    if not isinstance(spec, SweepSpec):
-        spec = load_sweep(spec, command=command)
-    else:
-        check_no_command_with_spec(command)
-    return run_sweep(spec, out, **options)
+    return run_sweep(as_sweep(spec, command), out, **options)
 
 
 def frontier(source: Any = None, *, progress: Any = None, **overrides: Any) -> FrontierResult:

@@ -15,17 +15,12 @@ from __future__ import annotations
 import time
 from typing import Any
 
-from chargedesign.bench.common import BenchTable
+from chargedesign.bench.common import UNIT_SCALE, BenchTable, measured
 from chargedesign.formatting import PRECISE, fmt
-from chargedesign.params import Parameters
 from chargedesign.topology.chambers import FlowCounting, LevelSampling, count_by_flow
 from chargedesign.topology.compute import DiagramOptions
 from chargedesign.topology.diagram import Reading, bifurcation_diagram, chamber_labels
 from chargedesign.topology.equations import MomentumMap
-
-#: the unit-scale case's parameters
-UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
-
 
 #: the quick run's diagram options (a smoke run: fewer seeds, a coarser level sampling)
 _QUICK_OPTIONS = DiagramOptions(seeds=60, counting=FlowCounting(sampling=LevelSampling(800, 32)))
@@ -33,9 +28,7 @@ _QUICK_OPTIONS = DiagramOptions(seeds=60, counting=FlowCounting(sampling=LevelSa
 
 def run(quick: bool = False) -> list[BenchTable]:
     options = _QUICK_OPTIONS if quick else DiagramOptions()
-    t0 = time.perf_counter()
-    diagram = bifurcation_diagram(UNIT_SCALE, None, options)
-    total = time.perf_counter() - t0
+    diagram, total, _ = measured(bifurcation_diagram, UNIT_SCALE, None, options)
     raw = diagram.raw
     table = BenchTable(
         title="Bifurcation diagram of the unit-scale case: time per stage",

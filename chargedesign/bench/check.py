@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.bench.common import UNIT_SCALE, BenchTable, best_time
 from chargedesign.body import Design
 from chargedesign.checker import (
     EPS,
@@ -47,7 +47,6 @@ from chargedesign.checker import (
 )
 from chargedesign.fields import AxisymmetricField
 from chargedesign.files import atomic_path
-from chargedesign.params import Parameters
 from chargedesign.quadrature import ContinuousBody, Density, geometric_rule
 
 #: fields of the benchmark design (the default scene's magnetic field, a degree-4 electric
@@ -65,7 +64,7 @@ def bench_design(n_charges: int, n_masses: int, n_dipoles: int, seed: int = 0) -
         return v * rng.uniform(0.0, 1.0, (n, 1)) ** (1.0 / 3.0)
 
     return Design(
-        parameters=Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9),
+        parameters=UNIT_SCALE,
         fields=dict(BENCH_FIELDS),
         charge_positions=ball(n_charges),
         charge_values=rng.standard_normal(n_charges),

@@ -1,4 +1,4 @@
-"""Shared pieces of the benchmarks (and the tests): a result table, a timer, a random body."""
+"""Shared pieces of the benchmarks (and the tests): a result table, timers, a random body."""
 
 from __future__ import annotations
 
@@ -11,7 +11,10 @@ import numpy as np
 
 from chargedesign.formatting import fmt
 from chargedesign.params import Parameters
-from chargedesign.simulation.system import Body
+from chargedesign.simulation import Body
+
+#: the unit-scale case (examples/scenes/unit_scale.toml): the parameters most tables time
+UNIT_SCALE = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 
 
 @dataclass
@@ -43,6 +46,14 @@ class BenchTable:
             "notes": self.notes,
             "plot": self.plot,
         }
+
+
+def measured(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> tuple[Any, float, float]:
+    """``fn(*args, **kwargs)`` once: its value, wall seconds and the process's CPU seconds (the
+    benchmarks' one timer; CPU time is less sensitive than wall time to other jobs)."""
+    wall, cpu = time.perf_counter(), time.process_time()
+    value = fn(*args, **kwargs)
+    return value, time.perf_counter() - wall, time.process_time() - cpu
 
 
 def best_time(fn: Callable[[], Any], repeat: int = 3) -> tuple[float, Any]:

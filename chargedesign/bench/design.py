@@ -20,12 +20,12 @@ Run ``python -m chargedesign.bench.design [--quick]`` or ``chargedesign bench --
 from __future__ import annotations
 
 import sys
-import time
 from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.bench.common import UNIT_SCALE as PARAMS
+from chargedesign.bench.common import BenchTable, best_time, measured
 from chargedesign.candidates import candidates_from_table, fibonacci_sphere
 from chargedesign.designer import DesignOptions, design_body, relative_residual
 from chargedesign.errors import ChargeDesignError
@@ -34,8 +34,7 @@ from chargedesign.moment_conditions import derive_conditions
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene
 
-#: the default scene's parameters and magnetic field
-PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+#: the magnetic field of the tables (parameters: the unit-scale case, bench.common.UNIT_SCALE)
 MAGNETIC = (1.0, 1.0)
 
 
@@ -93,9 +92,7 @@ def naive_l1(A: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def timed(fn: Any) -> tuple[float, Any]:
     """Best of 3 wall times for runs under a second, else the single run's time (s)."""
-    t0 = time.perf_counter()
-    result = fn()
-    first = time.perf_counter() - t0
+    result, first, _ = measured(fn)
     if first >= 1.0:
         return first, result
     best, result = best_time(fn, repeat=2)

@@ -31,7 +31,7 @@ from unittest import mock
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable
+from chargedesign.bench.common import BenchTable, measured
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.designer.assembly import build_design, design_at_rate, design_physical
 from chargedesign.designer.charges import charge_program, design_charges
@@ -124,12 +124,9 @@ def _quick_frontier() -> tuple[Any, tuple[float, float], Any, tuple[float, float
     the setup's (wall, CPU) seconds, the result and its (wall, CPU) seconds. Measured once
     and shared by the quick tables, whose baselines or rows are this same computation (the
     full run measures each table's own)."""
-    watch = _Stopwatch()
-    setup = _setup(QUICK_SPACING, "frame")
-    setup_times = watch.read()
-    watch = _Stopwatch()
-    result = find_frontier(setup)
-    return setup, setup_times, result, watch.read()
+    setup, setup_wall, setup_cpu = measured(_setup, QUICK_SPACING, "frame")
+    result, wall, cpu = measured(find_frontier, setup)
+    return setup, (setup_wall, setup_cpu), result, (wall, cpu)
 
 
 def table_readings(quick: bool) -> BenchTable:
@@ -211,16 +208,6 @@ def _reading_row(
     ]
 
 
-class _Stopwatch:
-    """Wall and CPU seconds since it was started."""
-
-    def __init__(self) -> None:
-        self.wall, self.cpu = time.perf_counter(), time.process_time()
-
-    def read(self) -> tuple[float, float]:
-        return time.perf_counter() - self.wall, time.process_time() - self.cpu
-
-
 def _limits_kernel_ratio(design: Any) -> tuple[list[Any], list[Any]]:
     """The limits check's surface fields of ``design`` by its direct Coulomb sum (the
     baseline) and with the design's matrix-product kernel in its place, timed: two rows."""
@@ -230,13 +217,9 @@ def _limits_kernel_ratio(design: Any) -> tuple[list[Any], list[Any]]:
         design.carrier_radii(),
         design.field("electric"),
     )
-    watch = _Stopwatch()
-    direct, _ = limits.carrier_surface_fields(*args)
-    base_wall, base_cpu = watch.read()
-    watch = _Stopwatch()
+    (direct, _), base_wall, base_cpu = measured(limits.carrier_surface_fields, *args)
     with mock.patch.object(limits, "coulomb_field", coulomb.coulomb_field_gemm):
-        fast, _ = limits.carrier_surface_fields(*args)
-    wall, cpu = watch.read()
+        (fast, _), wall, cpu = measured(limits.carrier_surface_fields, *args)
     agree = float(np.max(np.abs(fast / direct - 1.0), initial=0.0))
     return (
         ["limits check surface fields: direct sum (its kernel)", base_wall, base_cpu, 1.0, ""],
@@ -265,12 +248,9 @@ def table_frontier_point(quick: bool) -> BenchTable:
         table.notes.append(f"--quick: the default ball at spacing {QUICK_SPACING} m")
         setup, setup_times, result, (wall, cpu) = _quick_frontier()
     else:
-        watch = _Stopwatch()
-        setup = physical_setup_from_scene(load_scene(None))
-        setup_times = watch.read()
-        watch = _Stopwatch()
-        result = find_frontier(setup)
-        wall, cpu = watch.read()
+        setup, setup_wall, setup_cpu = measured(physical_setup_from_scene, load_scene(None))
+        setup_times = (setup_wall, setup_cpu)
+        result, wall, cpu = measured(find_frontier, setup)
     table.rows.append(["scene to physical setup (conditions)", *setup_times, "", ""])
     table.rows.append([f"find_frontier ({result.evaluations} design)", wall, cpu, "", ""])
     total_wall = sum(float(row[1]) for row in table.rows)
@@ -306,14 +286,10 @@ def table_cone_solvers(quick: bool) -> BenchTable:
         setup, _, dense, (wall, cpu) = _quick_frontier()
     else:
         setup = physical_setup_from_scene(load_scene(None))
-    watch = _Stopwatch()
     with mock.patch.object(ConeProgram, "solve", ConeProgram.solve_clarabel):
-        baseline = find_frontier(setup)
-    base_wall, base_cpu = watch.read()
+        baseline, base_wall, base_cpu = measured(find_frontier, setup)
     if not quick:
-        watch = _Stopwatch()
-        dense = find_frontier(setup)
-        wall, cpu = watch.read()
+        dense, wall, cpu = measured(find_frontier, setup)
     table.rows.append(["Clarabel", base_wall, base_cpu, 1.0, baseline.s_max, 0.0])
     table.rows.append(
         [
@@ -349,13 +325,9 @@ def table_realised_window(quick: bool) -> BenchTable:
         setup, _, plain, (base_wall, base_cpu) = _quick_frontier()
     else:
         setup = physical_setup_from_scene(scene)
-        watch = _Stopwatch()
-        plain = find_frontier(setup)
-        base_wall, base_cpu = watch.read()
+        plain, base_wall, base_cpu = measured(find_frontier, setup)
     table.rows.append(["plain frontier point", base_wall, base_cpu, 1.0, 1, plain.s_max])
-    watch = _Stopwatch()
-    windowed = find_frontier(setup, window=WindowOptions())
-    wall, cpu = watch.read()
+    windowed, wall, cpu = measured(find_frontier, setup, window=WindowOptions())
     window = windowed.realised
     assert window is not None
     summary = (
@@ -367,9 +339,7 @@ def table_realised_window(quick: bool) -> BenchTable:
     if quick:
         table.notes.append(f"--quick: the default ball at spacing {QUICK_SPACING} m; no search")
         return table
-    watch = _Stopwatch()
-    found = recommend(scene, WindowOptions())
-    wall, cpu = watch.read()
+    found, wall, cpu = measured(recommend, scene, WindowOptions())
     best = "; ".join(found.changes) or "the scene itself"
     table.rows.append(
         [

@@ -22,10 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time, random_body
+from chargedesign.bench.common import UNIT_SCALE as PARAMS
+from chargedesign.bench.common import BenchTable, best_time, measured, random_body
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
-from chargedesign.params import Parameters
 from chargedesign.scene import scene_from_dict
 from chargedesign.scene.keys import KEY
 from chargedesign.simulation import (
@@ -38,11 +38,10 @@ from chargedesign.simulation import (
     setup_from_source,
     simulate,
     simulate_batch,
+    simulate_ensemble,
 )
-from chargedesign.simulation.ensemble import simulate_ensemble
 from chargedesign.simulation.integrate import integrate
 
-PARAMS = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
 START = {"gamma": [0.36, 0.48, 0.8], "level": "I3=0", "p": 0.6, "q": -0.4}
 
 
@@ -61,9 +60,9 @@ def _baseline(t_end: float, rtol: float, y0: np.ndarray) -> tuple[float, float, 
     def fun(t: float, y: np.ndarray) -> np.ndarray:
         return np.array(f(*y, *pt), dtype=float)
 
-    t0 = time.perf_counter()
-    sol = solve_ivp(fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol)
-    seconds = time.perf_counter() - t0
+    sol, seconds, _ = measured(
+        solve_ivp, fun, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol
+    )
     if not sol.success:
         raise RuntimeError(sol.message)
     I4 = evaluators.integrals(sol.y.T, PARAMS)[:, 3]
@@ -98,31 +97,19 @@ def _reduced_model_table(t_end: float, rtol: float) -> BenchTable:
 
 
 def _tolerance_table(t_end: float, rtols: list[float], steps: list[float]) -> BenchTable:
+    runs: list[tuple[str, str, dict[str, Any]]] = [
+        ("DOP853", f"rtol {fmt(r, PLAIN)}", {"rtol": r, "atol": r}) for r in rtols
+    ] + [("gauss-legendre", f"step {fmt(h, PLAIN)}", {"step": h}) for h in steps]
     rows: list[list[Any]] = []
-    base = None
-    for rtol in rtols:
-        s = simulate(
-            PARAMS, t_end=t_end, method="DOP853", rtol=rtol, atol=rtol, initial=START
-        ).summary()
-        base = base or s["seconds"]
+    base = None  # the first DOP853 run's seconds: the baseline of the ratios
+    for method, setting, options in runs:
+        s = simulate(PARAMS, t_end=t_end, method=method, initial=START, **options).summary()
+        if method == "DOP853":
+            base = base or s["seconds"]
         rows.append(
             [
-                "DOP853",
-                f"rtol {fmt(rtol, PLAIN)}",
-                s["I4_rel_drift"],
-                s["I1_rel_drift"],
-                s["I3_max"],
-                s["steps"],
-                s["seconds"],
-                s["seconds"] / base,
-            ]
-        )
-    for h in steps:
-        s = simulate(PARAMS, t_end=t_end, method="gauss-legendre", step=h, initial=START).summary()
-        rows.append(
-            [
-                "gauss-legendre",
-                f"step {fmt(h, PLAIN)}",
+                method,
+                setting,
                 s["I4_rel_drift"],
                 s["I1_rel_drift"],
                 s["I3_max"],
@@ -311,9 +298,7 @@ def _batch_table(m: int, t_end: float) -> BenchTable:
     for k in range(m):
         simulate(PARAMS, initial=states[k], **kw)
     separate = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    simulate_batch(PARAMS, states, **kw)
-    batched = time.perf_counter() - t0
+    _, batched, _ = measured(simulate_batch, PARAMS, states, **kw)
     return BenchTable(
         title=f"{m} trajectories of the theorem model, t = {fmt(t_end, PLAIN)} s, DOP853 rtol"
         " 1e-10",
@@ -435,9 +420,7 @@ def _ensemble_table(m: int, t_end: float, m_dop: int) -> BenchTable:
     gam /= np.linalg.norm(gam, axis=1)[:, None]
     states = np.hstack([rng.uniform(-1, 1, (m, 3)), gam])
     rows: list[list[Any]] = []
-    t0 = time.perf_counter()
-    tay = simulate_ensemble(PARAMS, states, t_end=t_end, samples=2)
-    wall = time.perf_counter() - t0
+    tay, wall, _ = measured(simulate_ensemble, PARAMS, states, t_end=t_end, samples=2)
     per = tay.seconds / m
     rows.append(["taylor (batch, 4 lanes x 2 threads)", m, tay.seconds, wall, per * 1e3, 1.0])
     dop = simulate_ensemble(

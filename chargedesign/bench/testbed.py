@@ -31,29 +31,24 @@ from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.loop import LoopSettings, continuous_loop, initial_state, run_loop
 from chargedesign.airbearing.report import write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
-from chargedesign.bench.common import BenchTable
+from chargedesign.bench.common import UNIT_SCALE, BenchTable, measured
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.params import Parameters
 from chargedesign.physical.drag import bearing_drag
 from chargedesign.scene import load_scene
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.testbed import GYRO_GRADES
 
-#: examples/scenes/unit_scale.toml's parameters
-UNIT_PARAMETERS = {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9}
-
 
 def _setup() -> tuple[Any, np.ndarray]:
-    params = Parameters(**UNIT_PARAMETERS)
+    params = UNIT_SCALE
     inertia = np.diag([2.0, 2.0, 1.0])
     plant = Plant(params, inertia, inertia)
     return plant, initial_state(params, np.array([0.36, 0.48, 0.8]), 0.6, -0.4)
 
 
 def _timed(plant: Any, x0: np.ndarray, settings: Any, runs: int = 1) -> tuple[Any, float]:
-    t0 = time.perf_counter()
-    run = run_loop(plant, x0, settings, runs=runs, seed=0)
-    return run, time.perf_counter() - t0
+    run, seconds, _ = measured(run_loop, plant, x0, settings, runs=runs, seed=0)
+    return run, seconds
 
 
 def zoh_against_predictive(quick: bool) -> BenchTable:

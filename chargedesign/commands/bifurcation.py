@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
@@ -63,8 +63,7 @@ def run(args: argparse.Namespace) -> int:
         )
     # the diagram's stages (STAGES), the --at atlas and the files, against their total
     total = len(STAGES) + (args.at is not None) + 1
-    bar = None if args.quiet else Progress("bifurcation", unit="stages")
-    try:
+    with progress_bar("bifurcation", "stages", args.quiet) as bar:
         if bar is not None:
             bar.say("bifurcation: critical set, continuation, chambers ...")
         tally = None if bar is None else (lambda done, _: bar.update(done, total))
@@ -82,9 +81,6 @@ def run(args: argparse.Namespace) -> int:
                 linked.plot().savefig(stage / "bifurcation_at.png", dpi=90)
         if tally is not None:
             tally(total, total)
-    finally:
-        if bar is not None:
-            bar.close()
     if args.json:
         print(diagram.to_json())
     else:

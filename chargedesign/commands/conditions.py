@@ -15,11 +15,6 @@ from chargedesign.moment_conditions.text import format_conditions
 from chargedesign.scene import load_scene
 
 
-def _human(result: Any, scene_source: str) -> str:
-
-    return format_conditions(result, scene_source)
-
-
 def run(args: argparse.Namespace) -> int:
     import json
 
@@ -46,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
             out["case"] = scene.case.name
         print(json.dumps(out, indent=2))
     else:
-        text = _human(result, scene.source)
+        text = format_conditions(result, scene.source)
         if reading is not None:
             first, _, rest = text.partition("\n")
             text = f"{first}\n{reading_line(reading)}\n{rest}"

@@ -29,7 +29,7 @@ from typing import Any
 
 from chargedesign.body import write_design
 from chargedesign.candidates import candidates_from_table
-from chargedesign.commands.progress import Progress, Stages
+from chargedesign.commands.progress import Stages, progress_bar
 from chargedesign.designer import design_from_scene
 from chargedesign.designer.acceptance import forward_acceptance
 from chargedesign.errors import ChargeDesignError, InputError
@@ -38,7 +38,7 @@ from chargedesign.flight.record import add_flight
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
 from chargedesign.report import plausibility, render_report, render_summary, wrapped_text
-from chargedesign.scene import Scene, load_scene
+from chargedesign.scene import load_scene
 from chargedesign.tolerancing import tolerance_report
 from chargedesign.verdict import recorded_verdict, verdict_line
 
@@ -51,58 +51,49 @@ def run(args: argparse.Namespace) -> int:
     # before any work: the folder can be written and holds none of the inputs
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=DESIGN_FILES)
     # each stage's message, and the stages counted against their total with the time left
-    bar = None if args.quiet else Progress("design", unit="stages")
-    stages = Stages(bar, DESIGN_STAGES)
-    try:
+    with progress_bar("design", "stages", args.quiet) as bar:
+        stages = Stages(bar, DESIGN_STAGES)
         code = _run(args, stages)
         stages.end()
         return code
-    finally:
-        if bar is not None:
-            bar.close()
 
 
 def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
+    """One route for every scene: a ``[case]`` without ``[medium]`` is checked forward against
+    the case's own V and inertia (no tolerances, no free fall), the others as the theorem's."""
     import json
     from pathlib import Path
 
     scene = load_scene(args.scene)
-    if scene.case is not None and scene.physical is None:
-        return _design_case(scene, args, progress)
-    _check_degenerate(scene)
-    _check_linf_cap(scene, args)
+    bare_case = scene.case is not None and scene.physical is None
+    if not bare_case:
+        _check_degenerate(scene)
+        _check_linf_cap(scene, args)
     result = design_from_scene(scene, progress=progress, **_design_options(args))
     design = result.design
     if not args.no_forward_check:
-        progress("forward check ...")
+        progress(
+            "forward check against the case's V and inertia ..."
+            if bare_case
+            else "forward check ..."
+        )
         _forward_check(design, args)
-    if not design.continuous:
-        progress("tolerances (exact first-order sensitivity of every element) ...")
-        design.tolerance = tolerance_report(design).to_dict()
-    add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
+    if bare_case:
+        region = scene.region.table if scene.region else None
+    else:
+        region = result.candidates.region
+        if not design.continuous:
+            progress("tolerances (exact first-order sensitivity of every element) ...")
+            design.tolerance = tolerance_report(design).to_dict()
+        add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
     out = Path(args.out)
-    physical = design.medium is not None
-    files = (
-        ["design.json", "report.md"]
-        + (["bom.csv"] if physical else [])
-        + ([] if args.no_picture else ["design.png"])
-    )
-    report = render_report(design, picture=None if args.no_picture else "design.png")
-    stale = out / "design.png"
-    had_picture = args.no_picture and stale.exists()
-    # a picture of an earlier body beside this design.json would mislead: --no-picture drops it
-    with atomic_directory(out, drop=("design.png",) if args.no_picture else ()) as stage:
-        write_design(design, stage / "design.json")
-        write_text_atomic(stage / "report.md", report)
-        if physical:
-            write_text_atomic(stage / "bom.csv", bom_csv(design))
-        if not args.no_picture:
-            progress("rendering design.png ...")
-            _render(design, stage / "design.png", result.candidates.region)
-    if had_picture:
-        progress(f"removed the earlier {stale} (--no-picture)")
-    progress(f"wrote {', '.join(str(out / f) for f in files)}")
-    if args.json:
+    files, report = _write(design, out, region, args.no_picture, progress)
+    if bare_case and args.json:
+        print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
+    elif bare_case:
+        print(verdict_line(recorded_verdict(design)))
+        print(wrapped_text(str(result)), end="")
+    elif args.json:
         summary = result.summary()
         summary = {
             "residuals": summary.pop("residuals"),
@@ -119,6 +110,37 @@ def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
     return 0
 
 
+def _write(
+    design: Any, out: Any, region: Any, no_picture: bool, progress: Callable[[str], None]
+) -> tuple[list[str], str]:
+    """design.json, report.md, bom.csv (a physical body) and design.png written together
+    into ``out`` (one swap). A file this body does not have (the picture
+    with ``--no-picture``, the bill of materials of a point body) is dropped from ``out``: an
+    earlier body's beside this design.json would mislead. Returns the names and the report."""
+    physical = design.medium is not None
+    files = (
+        ["design.json", "report.md"]
+        + (["bom.csv"] if physical else [])
+        + ([] if no_picture else ["design.png"])
+    )
+    report = render_report(design, picture=None if no_picture else "design.png")
+    stale = out / "design.png"
+    had_picture = no_picture and stale.exists()
+    drop = tuple(name for name in ("design.png", "bom.csv") if name not in files)
+    with atomic_directory(out, drop=drop) as stage:
+        write_design(design, stage / "design.json")
+        write_text_atomic(stage / "report.md", report)
+        if physical:
+            write_text_atomic(stage / "bom.csv", bom_csv(design))
+        if not no_picture:
+            progress("rendering design.png ...")
+            _render(design, stage / "design.png", region)
+    if had_picture:
+        progress(f"removed the earlier {stale} (--no-picture)")
+    progress(f"wrote {', '.join(str(out / f) for f in files)}")
+    return files, report
+
+
 def _design_options(args: argparse.Namespace) -> dict[str, Any]:
     """The command line's [design] options (None: the scene's), for every route."""
     return {
@@ -131,36 +153,6 @@ def _design_options(args: argparse.Namespace) -> dict[str, Any]:
         "total_mass": args.total_mass,
         "polish": False if args.no_polish else None,
     }
-
-
-def _design_case(scene: Scene, args: argparse.Namespace, progress: Callable[[str], None]) -> int:
-    """A scene's ``[case]`` as point masses in gravity (:mod:`chargedesign.designer.case_design`):
-    checked forward against the case's own V and inertia, then design.json, report.md and
-    design.png written together."""
-    import json
-    from pathlib import Path
-
-    result = design_from_scene(scene, progress=progress, **_design_options(args))
-    design = result.design
-    if not args.no_forward_check:
-        progress("forward check against the case's V and inertia ...")
-        _forward_check(design, args)
-    out = Path(args.out)
-    files = ["design.json", "report.md"] + ([] if args.no_picture else ["design.png"])
-    report = render_report(design, picture=None if args.no_picture else "design.png")
-    with atomic_directory(out, drop=("design.png", "bom.csv")) as stage:
-        write_design(design, stage / "design.json")
-        write_text_atomic(stage / "report.md", report)
-        if not args.no_picture:
-            progress("rendering design.png ...")
-            _render(design, stage / "design.png", scene.region.table if scene.region else None)
-    progress(f"wrote {', '.join(str(out / f) for f in files)}")
-    if args.json:
-        print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
-    else:
-        print(verdict_line(recorded_verdict(design)))
-        print(wrapped_text(str(result)), end="")
-    return 0
 
 
 #: every file the design command may write into its folder

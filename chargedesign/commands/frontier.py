@@ -24,8 +24,9 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.designer.frontier import WindowOptions, write_window_picture
 from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import design_and_frontier_from_scene
@@ -69,33 +70,19 @@ def run(args: argparse.Namespace) -> int:
         if args.out is not None:
             write_scan(scan, Path(args.out))
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
-        print(
-            json.dumps(scan.to_dict(), indent=2, allow_nan=False)
-            if args.json
-            else wrapped_text(str(scan))
-        )
-        return 0
+        return _print(scan, args.json)
     if args.recommend is not None:
         # the probes counted against the most the search makes, with the time left
-        bar = None if args.quiet else Progress("frontier --recommend", unit="probes")
-        try:
+        with progress_bar("frontier --recommend", "probes", args.quiet) as bar:
             found = recommend(
                 scene,
                 window,
                 progress=None if bar is None else (lambda m: bar.say(f"frontier: {m}")),
                 tally=None if bar is None else bar.update,
             )
-        finally:
-            if bar is not None:
-                bar.close()
         found.write(Path(args.recommend))
         progress(f"wrote {args.recommend}")
-        print(
-            json.dumps(found.to_dict(), indent=2, allow_nan=False)
-            if args.json
-            else wrapped_text(str(found))
-        )
-        return 0
+        return _print(found, args.json)
     # the body at the scene's rate (its recorded verdict) and the frontier: one setup, one
     # derivation of the conditions, the frontier located once (as `design` locates it)
     designed, result = design_and_frontier_from_scene(
@@ -119,4 +106,16 @@ def run(args: argparse.Namespace) -> int:
             print("Verdict at the scene's rate (s = 1): " + verdict_state_line(verdict))
             print("\n".join(verdict_text_table(verdict)) + "\n")
         print(wrapped_text(str(result)), end="")
+    return 0
+
+
+def _print(result: Any, as_json: bool) -> int:
+    """A search's result on stdout: its ``to_dict`` as JSON, or its text wrapped."""
+    import json
+
+    print(
+        json.dumps(result.to_dict(), indent=2, allow_nan=False)
+        if as_json
+        else wrapped_text(str(result))
+    )
     return 0

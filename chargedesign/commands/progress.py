@@ -12,6 +12,8 @@ from __future__ import annotations
 import sys
 import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import IO
 
 #: seconds before the first report (a run shorter than this says nothing)
@@ -152,6 +154,18 @@ class Progress:
                 self._say()
             except (OSError, ValueError):  # the stream was closed under it: stop saying
                 return
+
+
+@contextmanager
+def progress_bar(label: str, unit: str = "", quiet: bool = False) -> Iterator[Progress | None]:
+    """A command's :class:`Progress` (None with ``--quiet``: nothing said), closed on every
+    path out of the block (its heartbeat is a thread)."""
+    bar = None if quiet else Progress(label, unit=unit)
+    try:
+        yield bar
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def duration_text(seconds: float) -> str:

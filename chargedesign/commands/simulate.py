@@ -17,7 +17,6 @@ Lyapunov indicator map (``fli.png``).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from typing import Any
 
@@ -28,9 +27,14 @@ from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
 from chargedesign.scene.keys import KEY
-from chargedesign.simulation import prepare, setup_from_source, simulate
-from chargedesign.simulation.chaos import fli_map, poincare_atlas
-from chargedesign.simulation.ensemble import simulate_ensemble
+from chargedesign.simulation import (
+    fli_map,
+    poincare_atlas,
+    prepare,
+    setup_from_source,
+    simulate,
+    simulate_ensemble,
+)
 from chargedesign.simulation.result import summary_text
 from chargedesign.validation import check_periods
 from chargedesign.vocabulary import SIMULATION_AXES
@@ -50,10 +54,8 @@ def run(args: argparse.Namespace) -> int:
     ):
         if given and not args.atlas:  # an option that needs its companion is refused without it
             raise InputError(f"{option}: sets {what}; give --atlas too")
-    if args.t_end is not None and not args.t_end > 0:
-        raise ChargeDesignError(f"--t-end: expected a duration > 0, got {args.t_end}")
-    if args.off_level is not None and not math.isfinite(args.off_level):
-        raise ChargeDesignError(f"--off-level: expected a finite I3 in J s, got {args.off_level}")
+    # --t-end, --off-level, --orbits: their ranges are checked by the command line before
+    # this runs (chargedesign.limits.OPTION_RANGES, shown in --help)
     if args.axes is not None and args.axes not in SIMULATION_AXES:
         raise ChargeDesignError(
             f"--axes: expected one of {', '.join(SIMULATION_AXES)}, got {args.axes!r}"
@@ -79,19 +81,9 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = simulate(
             setup,
-            effects=args.effects,
-            t_end=args.t_end,
-            rtol=args.rtol,
-            atol=args.atol,
-            method=args.method,
-            step=args.step,
-            samples=args.samples,
-            route=args.route,
+            **_options(args),
             poincare=True if args.poincare else None,
             level=args.off_level,
-            tol=args.tol,
-            monitors=args.monitors,
-            axes=args.axes,
             # always a callback: the integrator returns to Python every step, so SIGINT stops
             # the run at once (without one, heyoka ran on in C++ for seconds)
             progress=bar if bar is not None else _interruptible,
@@ -207,6 +199,8 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
 
 
 def _options(args: argparse.Namespace) -> dict:
+    """The run's options from the command line (None: the scene's), for one run and an
+    ensemble alike."""
     return {
         "effects": args.effects,
         KEY.t_end: args.t_end,
@@ -250,8 +244,6 @@ def _atlas(args: argparse.Namespace, setup: object) -> int:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     orbits = ATLAS_ORBITS if args.orbits is None else args.orbits
-    if orbits < 1:
-        raise ChargeDesignError(f"--orbits: expected an integer >= 1, got {orbits}")
     system, _, _, _, _ = prepare(setup, effects=args.effects, route=args.route)
     out = Path(args.out or "out/atlas")
     off = args.off_level if args.off_level is not None else 0.5 * system.C

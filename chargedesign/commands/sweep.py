@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.scene.sweep_file import check_executor
@@ -47,34 +47,32 @@ def run(args: argparse.Namespace) -> int:
     handle = make_executor(args.executor, args.workers, args.scheduler, timeout=timeout)
     # the points counted against their total, with the time left (a line every few seconds
     # without a terminal)
-    bar = None if args.quiet else Progress("sweep", unit="points")
-    if bar is not None:
-        bar.update(0, len(spec.points))  # the count from the start (a point may take minutes)
-
-    def tally(done: int, total: int, failed: int) -> None:
-        assert bar is not None
-        bar.update(done, total, f"{failed} failed" if failed else "")
-
-    try:
-        result = run_sweep(
-            spec,
-            args.out,
-            executor=handle,
-            resume=args.resume,
-            chunk=args.chunk,
-            progress=None if bar is None else tally,
-        )
-    except KeyboardInterrupt:
-        # let the points in flight finish or stop, then list every point on disk
-        handle.close()
-        out = Path(args.out)
-        if (out / "sweep.json").is_file():
-            write_summary(summary_rows(spec, out), spec.keys, out)
-        raise
-    finally:
-        handle.close()
+    with progress_bar("sweep", "points", args.quiet) as bar:
         if bar is not None:
-            bar.close()
+            bar.update(0, len(spec.points))  # the count from the start (a point may take minutes)
+
+        def tally(done: int, total: int, failed: int) -> None:
+            assert bar is not None
+            bar.update(done, total, f"{failed} failed" if failed else "")
+
+        try:
+            result = run_sweep(
+                spec,
+                args.out,
+                executor=handle,
+                resume=args.resume,
+                chunk=args.chunk,
+                progress=None if bar is None else tally,
+            )
+        except KeyboardInterrupt:
+            # let the points in flight finish or stop, then list every point on disk
+            handle.close()
+            out = Path(args.out)
+            if (out / "sweep.json").is_file():
+                write_summary(summary_rows(spec, out), spec.keys, out)
+            raise
+        finally:
+            handle.close()
     if args.json:
         print(json.dumps(result.to_dict(), indent=2))
     else:

@@ -14,24 +14,22 @@ import argparse
 
 from chargedesign.airbearing.report import OUTPUTS, write_testbed
 from chargedesign.airbearing.run import default_testbed_scene, testbed_from_scene
-from chargedesign.commands.progress import Progress
+from chargedesign.commands import print_result
+from chargedesign.commands.progress import progress_bar
 from chargedesign.files import check_outputs
 from chargedesign.scene import load_scene
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
-
     check_outputs([("--out", args.out, True)], inputs=[args.scene], writes=OUTPUTS)
 
     # the sampled runs counted against their total, with the time left (--quiet: nothing)
-    bar = None if args.quiet else Progress("testbed", unit="runs")
+    with progress_bar("testbed", "runs", args.quiet) as bar:
 
-    def progress(message: str) -> None:
-        if bar is not None:
-            bar.say(f"testbed: {message}")
+        def progress(message: str) -> None:
+            if bar is not None:
+                bar.say(f"testbed: {message}")
 
-    try:
         result = testbed_from_scene(
             load_scene(args.scene or default_testbed_scene()),
             progress=progress,
@@ -39,11 +37,5 @@ def run(args: argparse.Namespace) -> int:
         )
         written = write_testbed(result, args.out)
         progress(f"wrote {args.out}/: {', '.join(written)}")
-    finally:
-        if bar is not None:
-            bar.close()
-    if args.json:
-        print(json.dumps(result.to_dict(), indent=2, allow_nan=False))
-    else:
-        print(str(result), end="")
+    print_result(result, args.json, end="")
     return 0

@@ -23,13 +23,12 @@ import argparse
 from typing import Any
 
 from chargedesign.body import read_design, write_design
-from chargedesign.commands.progress import Progress
+from chargedesign.commands.progress import progress_bar
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
-from chargedesign.limits import MAX_TOLERANCE_SAMPLES as MAX_SAMPLES
 from chargedesign.tolerancing import (
     ErrorModel,
     MonteCarloResult,
@@ -47,12 +46,8 @@ def run(args: argparse.Namespace) -> int:
     import math
 
     check_outputs([("--out", args.out, True)], inputs=[args.design], writes=TOLERANCE_FILES)
-    if not math.isfinite(args.target) or args.target <= 0.0:
-        raise InputError(f"--target: expected a number > 0, got {args.target!r}")
-    if not 1 <= args.samples <= MAX_SAMPLES:
-        raise InputError(f"--samples: expected an integer in 1..{MAX_SAMPLES}, got {args.samples}")
-    if not math.isfinite(args.t_end) or args.t_end <= 0.0:
-        raise InputError(f"--t-end: expected a number > 0, got {args.t_end!r}")
+    # --target, --samples, --t-end: their ranges are checked by the command line before this
+    # runs (chargedesign.limits.OPTION_RANGES, shown in --help)
     try:
         levels = [float(x) for x in args.levels.split(",") if x.strip()]
     except ValueError:
@@ -85,8 +80,7 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         # the Monte-Carlo bodies counted against their total, with the time left
-        bar = None if args.quiet else Progress("tolerance", unit="bodies")
-        try:
+        with progress_bar("tolerance", "bodies", args.quiet) as bar:
             result = monte_carlo(
                 design,
                 model,
@@ -99,9 +93,6 @@ def run(args: argparse.Namespace) -> int:
                 material_errors=materials,
                 tally=None if bar is None else bar.update,
             )
-        finally:
-            if bar is not None:
-                bar.close()
     data = result.to_dict()
     if args.out:
         _write(args.out, result, data, design)

@@ -23,7 +23,7 @@ from chargedesign.sweeps.runner import (
     warm_up,
     write_summary,
 )
-from chargedesign.sweeps.spec import SweepSpec, load_sweep, sweep_from_dict
+from chargedesign.sweeps.spec import SweepSpec, as_sweep, load_sweep, sweep_from_dict
 from chargedesign.vocabulary import SWEEP_EXECUTORS as EXECUTORS
 
 __all__ = [
@@ -33,6 +33,7 @@ __all__ = [
     "SerialExecutor",
     "SweepResult",
     "SweepSpec",
+    "as_sweep",
     "load_sweep",
     "make_executor",
     "resolve",

@@ -23,8 +23,7 @@ from chargedesign.designer.pipeline import frontier_from_scene
 from chargedesign.files import write_json_atomic
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.sweep_file import builtin_command
-from chargedesign.simulation import simulate
-from chargedesign.simulation.api import setup_from_scene
+from chargedesign.simulation import setup_from_scene, simulate
 from chargedesign.tolerancing import (
     ErrorModel,
     material_errors_with,

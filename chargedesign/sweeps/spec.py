@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -49,6 +49,7 @@ from chargedesign.scene.sweep_file import (
     SweptKey,
     base_is_valid,
     base_scene,
+    check_no_command_with_spec,
     check_option_names,
     check_option_ranges,
     check_point_count,
@@ -65,7 +66,7 @@ from chargedesign.scene.sweep_file import (
     resolve_sweep_key,
     sweep_tables,
 )
-from chargedesign.simulation.api import setup_from_scene
+from chargedesign.simulation import setup_from_scene
 from chargedesign.simulation.axes import resolve_axes
 from chargedesign.sweeps.registry import COMMANDS, resolve
 from chargedesign.tolerancing import ErrorModel, MaterialErrors
@@ -77,17 +78,7 @@ from chargedesign.validation import (
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
-
-def check_solver_name(name: str, installed: Sequence[str]) -> None:
-    """``design.solver``: ``auto`` or one of the ``installed`` solvers (upper case, as the
-    designer reads it)."""
-    if name.upper() != "AUTO" and name.upper() not in installed:
-        raise input_error(
-            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
-        )
-
-
-__all__ = ["SweepSpec", "load_sweep", "sweep_from_dict"]
+__all__ = ["SweepSpec", "as_sweep", "load_sweep", "sweep_from_dict"]
 
 
 @dataclass
@@ -226,7 +217,10 @@ def _check_solver(name: str, installed: list[str]) -> None:
         import cvxpy  # heavy: loaded only for a sweep whose scene names a solver
 
         installed[:] = sorted(cvxpy.installed_solvers())
-    check_solver_name(name, installed)
+    if name.upper() not in installed:
+        raise input_error(
+            "design.solver", f"auto or an installed solver ({', '.join(installed)})", name
+        )
 
 
 def _check_axes(scene: Any) -> None:
@@ -368,3 +362,13 @@ def load_sweep(
     return sweep_from_dict(
         read_toml_file(p, "sweep file"), str(p), p.parent, command=command, max_points=max_points
     )
+
+
+def as_sweep(spec: Any, command: Callable[..., dict[str, Any]] | None = None) -> SweepSpec:
+    """A parsed sweep: ``spec`` itself (``command`` must then be None: a parsed sweep holds
+    its command), or the sweep file at that path read and validated (:func:`load_sweep`,
+    ``command`` a function of your own run at every point)."""
+    if isinstance(spec, SweepSpec):
+        check_no_command_with_spec(command)
+        return spec
+    return load_sweep(spec, command=command)
