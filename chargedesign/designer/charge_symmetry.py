@@ -170,8 +170,10 @@ def charge_symmetry(setup: PhysicalSetup) -> ChargeSymmetry | None:
 
 
 def one_per_orbit(near: np.ndarray, ratios: np.ndarray, orbit: np.ndarray) -> np.ndarray:
-    """Of the carriers ``near``, the one with the largest ratio in each orbit (the symmetric
-    minmax's cone at its worst point stands for the orbit's images)."""
+    """Of the carriers ``near``, the one with the largest ratio in each orbit (``orbit`` of
+    each carrier; -1: none, kept): a cone at its worst point stands for the orbit's images
+    in the symmetric programs."""
     order = near[np.argsort(-ratios[near], kind="stable")]
     _, first = np.unique(orbit[order], return_index=True)
-    return np.sort(order[first])
+    own = order[orbit[order] < 0]
+    return np.union1d(order[first][orbit[order[first]] >= 0], own)
