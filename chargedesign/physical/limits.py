@@ -16,6 +16,7 @@ the body is buildable, and realised, is the verdict's: :mod:`chargedesign.verdic
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -105,7 +106,7 @@ def carrier_surface_fields(
         return np.zeros(0), np.zeros((0, 3))
     dirs = fibonacci_directions(samples)
     r_top = float(np.max(np.linalg.norm(positions, axis=1) + radii, initial=0.0))
-    external = RadialBound(tuple(electric), r_top * (1 + 1e-9))
+    external = _external_bound(tuple(electric), r_top * (1 + 1e-9))
 
     def magnitudes(unit: np.ndarray) -> np.ndarray:
         """|E| at ``positions + radii * unit`` (unit: (n, m, 3) directions), shape (n, m)."""
@@ -129,6 +130,23 @@ def carrier_surface_fields(
         best_dir = np.where(better[:, None], cap_dirs[rows, k], best_dir)
         angle /= 4.0
     return best, positions + radii[:, None] * best_dir
+
+
+def _external_bound(electric: tuple[float, ...], r_max: float) -> Any:
+    """The external field's :class:`~chargedesign.physical.field_bounds.RadialBound` up to
+    ``r_max``: the bound of the field scaled to its largest coefficient, times that
+    coefficient (the largest magnitude is homogeneous of degree 1 in the coefficients), so
+    the bodies of one frontier, whose electric fields differ by the rate alone, share it."""
+    scale = max((abs(c) for c in electric), default=0.0)
+    if scale == 0.0:
+        return RadialBound(tuple(electric), r_max)
+    unit = _unit_bound(tuple(c / scale for c in electric), r_max)
+    return lambda radii: scale * unit(radii)
+
+
+@functools.lru_cache(maxsize=8)
+def _unit_bound(electric: tuple[float, ...], r_max: float) -> RadialBound:
+    return RadialBound(electric, r_max)
 
 
 def within_limits(record: dict[str, Any] | None) -> bool:
