@@ -20,6 +20,7 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
@@ -275,19 +276,37 @@ def socp_charges(
     cones: list[tuple[int, np.ndarray]],
     caps: np.ndarray,
     rows: ConeRows | None = None,
+    symmetry: ChargeSymmetry | None = None,
 ) -> np.ndarray | None:
     """min sum cost_j |q_j| on ``sites`` with the charge conditions, own-field caps and
     surface cones (:class:`~chargedesign.designer.cone_program.ConeProgram`, in ``x = (u, w)``,
     ``q = qs u``, ``w >= |u|`` carrying the cost); ``rows`` keeps the cones' kernel rows
-    between rounds."""
+    between rounds.
+
+    With a ``symmetry`` (``sites`` a union of its orbits, costs the same on each orbit) the
+    charges are the symmetric ones, ``u = basis v`` with one unknown per orbit: their optimum
+    is the program's with every cone at every image of its point
+    (:class:`~chargedesign.designer.charge_symmetry.ChargeSymmetry`)."""
     A, b = setup.systems["charges"]
     qs = float(np.max(caps[sites]))
     As, bs = row_scaled(A[:, sites], s * b, qs)
-    k = len(sites)
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    cap = caps[sites] / qs
+    cost = setup.cost("charges")[sites]
+    basis = None
+    if symmetry is not None:
+        orbits = np.unique(symmetry.orbit[sites])
+        orbits = orbits[orbits >= 0]  # a candidate whose charge is zero: a zero row
+        basis = symmetry.basis[np.ix_(sites, orbits)]  # at most one nonzero in each row
+        weight = np.abs(basis)
+        As = As @ basis
+        # |u_j| = |B_jo| |v_o| <= cap_j on every candidate of the orbit; the cost of |v_o|
+        room = np.divide(cap[:, None], weight, out=np.full(weight.shape, np.inf), where=weight > 0)
+        cap = np.min(room, axis=0)
+        cost = cost @ weight
+    k = len(cap)
     eye = sparse.identity(k, format="csr")
     zero = sparse.csr_matrix((k, k))
-    cap = caps[sites] / qs
     G_lin = sparse.vstack(
         [
             sparse.hstack([eye, -eye]),  # u - w <= 0
@@ -302,18 +321,29 @@ def socp_charges(
     if cones:
         points = np.array([point for _, point in cones])
         rows = ConeRows(setup.points) if rows is None else rows
-        G = rows.of(points, COULOMB * qs / limit, sites)  # (m, 3, k)
+        G = rows.of(points, COULOMB * qs / limit, sites)  # (m, 3, sites)
+        if basis is not None:
+            G = G @ basis  # (m, 3, k): the field of each orbit's unit charges
         G_soc = np.zeros((len(points), 4, 2 * k))
         G_soc[:, 1:, :k] = -G  # the cone's (room, G u)
         h_soc = np.zeros((len(points), 4))
         h_soc[:, 0] = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit
-    cost = np.concatenate([np.zeros(k), setup.cost("charges")[sites]])
     A_eq = np.hstack([As, np.zeros_like(As)])
     program = ConeProgram(
-        cost, A_eq, bs, G_lin, h_lin, G_soc, h_soc, "charges: the surface-field cones"
+        np.concatenate([np.zeros(k), cost]),
+        A_eq,
+        bs,
+        G_lin,
+        h_lin,
+        G_soc,
+        h_soc,
+        "charges: the surface-field cones",
     )
     x = program.solve()
-    return None if x is None else x[:k] * qs
+    if x is None:
+        return None
+    u = x[:k] if basis is None else basis @ x[:k]
+    return u * qs
 
 
 def _excess(ratio: float) -> str:
@@ -341,6 +371,7 @@ def _cone_round(
     cones: list[tuple[int, np.ndarray]],
     caps: np.ndarray,
     rows: ConeRows | None = None,
+    symmetry: ChargeSymmetry | None = None,
 ) -> tuple[np.ndarray | None, np.ndarray]:
     """The surface cones solved on the working set, else on every usable candidate: the
     charges on the working set returned (None: infeasible there too) and that set.
@@ -348,14 +379,41 @@ def _cone_round(
     The working set may lack carriers a solution needs: on every usable candidate the cones
     (a subset of the surface limits) relax the true problem, so its infeasibility proves the
     rate infeasible, and every faster one too (the feasible charges scale down with the
-    rate): the frontier then sees a monotone answer.
+    rate): the frontier then sees a monotone answer. With a ``symmetry`` the working set is
+    the union of its orbits and the charges symmetric (:func:`socp_charges`): infeasible
+    there, no charges meet the cones at every image of their points, a relaxation too.
     """
-    solved = socp_charges(setup, working, s, cones, caps, rows)
     usable = np.flatnonzero(caps > 0)
+    if symmetry is not None:
+        working = _orbits_of(working, symmetry)
+        usable = _orbits_of(usable, symmetry)
+    solved = socp_charges(setup, working, s, cones, caps, rows, symmetry)
     if solved is None and len(working) < len(usable):
         working = usable
-        solved = socp_charges(setup, working, s, cones, caps, rows)
+        solved = socp_charges(setup, working, s, cones, caps, rows, symmetry)
     return solved, working
+
+
+def _orbits_of(sites: np.ndarray, symmetry: ChargeSymmetry) -> np.ndarray:
+    """The candidates of every orbit that meets ``sites`` (the orbits whose charges are zero
+    in every symmetric solution left out)."""
+    orbits = np.unique(symmetry.orbit[sites])
+    return np.flatnonzero(np.isin(symmetry.orbit, orbits[orbits >= 0]))
+
+
+def design_symmetry(setup: PhysicalSetup) -> ChargeSymmetry | None:
+    """The charges' symmetry the design's cone rounds use: that of the conditions
+    (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) when the charges' costs
+    are the same on each orbit (None: none)."""
+    symmetry = charge_symmetry(setup)
+    if symmetry is None:
+        return None
+    cost = setup.cost("charges")
+    kept = symmetry.orbit >= 0
+    mean = np.bincount(symmetry.orbit[kept], cost[kept]) / np.bincount(symmetry.orbit[kept])
+    if not np.allclose(cost[kept], mean[symmetry.orbit[kept]], rtol=1e-12, atol=0.0):
+        return None
+    return symmetry
 
 
 def _meet_surface_limits(
@@ -378,6 +436,9 @@ def _meet_surface_limits(
     rows = ConeRows(setup.points)
     worst_ratio, worst_site = 0.0, -1
     lp_alive = True
+    # the charges' symmetry, looked for when the cones start
+    symmetry: ChargeSymmetry | None = None
+    looked = False
     for rounds in range(1, MAX_ROUNDS + 1):
         sites = charge_support(q)
         ratios, worst = surface_check(setup, setup.points[sites], q[sites], s, LOOP_SURFACE_SAMPLES)
@@ -396,9 +457,14 @@ def _meet_surface_limits(
                 continue
             lp_alive = False
         near = np.flatnonzero(ratios > CONE_THRESHOLD)
+        if not looked:
+            symmetry, looked = design_symmetry(setup), True
+        if symmetry is not None:
+            # the symmetric charges meet a cone at every image of its point
+            near = one_per_orbit(near, ratios, symmetry.orbit[sites])
         cones.extend((int(sites[i]), worst[i]) for i in near)
         working = np.union1d(working, sites)
-        solved, working = _cone_round(setup, working, s, cones, caps, rows)
+        solved, working = _cone_round(setup, working, s, cones, caps, rows, symmetry)
         if solved is None:
             proved = True  # the cones on every usable candidate: a relaxation
             break

@@ -14,6 +14,7 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB, EPSILON_0
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
 from chargedesign.designer.charges import (
     LOOP_SURFACE_SAMPLES,
     ConeRows,
@@ -74,7 +75,10 @@ class ChargesLimit:
         ``fields.electric.max``) or ``none``.
     cone_points : ndarray, shape (m, 3)
         The surface points of the last round's cones, m (a design near ``rate`` may start
-        its own cones there).
+        its own cones there; with a symmetry each stands for its images).
+    symmetry : int
+        The order of the charges' symmetry group the minmax used (:func:`charge_symmetry`;
+        1: none).
     """
 
     rate: float
@@ -87,10 +91,14 @@ class ChargesLimit:
     cones: int
     stage: str
     cone_points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    symmetry: int = 1
 
 
 def minmax_charges(
-    setup: PhysicalSetup, cones: list[np.ndarray], rows: ConeRows | None = None
+    setup: PhysicalSetup,
+    cones: list[np.ndarray],
+    rows: ConeRows | None = None,
+    symmetry: ChargeSymmetry | None = None,
 ) -> tuple[float, np.ndarray, np.ndarray] | None:
     """``min t`` over charges ``u`` (rate 1) on every candidate with ``A u = b``, each
     carrier's own surface field plus the external one within ``t``, and the same at the cone
@@ -98,15 +106,28 @@ def minmax_charges(
     units of the charge whose own surface field is the limit, t in units of the limit).
     Returns ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``; None: no charges
     meet the conditions. ``rows`` keeps the cones' kernel rows between rounds.
+
+    With a ``symmetry`` (:func:`charge_symmetry`) the charges are ``u = basis v``, one
+    unknown per orbit (the same ``t``: see :class:`ChargeSymmetry`), each cone standing for
+    its point's images and each orbit's own-field rows for its candidates'.
     """
     A, b = setup.systems["charges"]
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
     As, bs = row_scaled(A, b, qs)
-    k = len(setup.points)
     own_ext = setup.external_max(np.linalg.norm(setup.points, axis=1) + a, 1.0) / limit
-    eye = sparse.identity(k, format="csr")
+    basis = None if symmetry is None else symmetry.basis
+    if symmetry is None:
+        k = len(setup.points)
+        eye = sparse.identity(k, format="csr")
+    else:
+        assert basis is not None
+        k = basis.shape[1]
+        As = As @ basis
+        own_ext = own_ext[symmetry.reps]
+        # u at each orbit's candidate: its column's entry times v
+        eye = sparse.diags(basis[symmetry.reps, np.arange(k)], format="csr")
     minus_t = sparse.csr_matrix(-np.ones((k, 1)))
     # u_j + own_ext_j <= t and -u_j + own_ext_j <= t
     G_lin = sparse.vstack([sparse.hstack([eye, minus_t]), sparse.hstack([-eye, minus_t])])
@@ -115,7 +136,9 @@ def minmax_charges(
     if cones:
         points = np.array(cones)
         rows = ConeRows(setup.points) if rows is None else rows
-        G = rows.of(points, COULOMB * qs / limit)  # (m, 3, k)
+        G = rows.of(points, COULOMB * qs / limit)  # (m, 3, candidates)
+        if basis is not None:
+            G = G @ basis  # (m, 3, k): the field of each orbit's unit charges
         ext = setup.external_max(np.linalg.norm(points, axis=1), 1.0) / limit
         G_soc = np.zeros((len(points), 4, k + 1))
         G_soc[:, 0, k] = -1.0  # the cone's (t - ext, G u)
@@ -141,7 +164,8 @@ def minmax_charges(
     used = np.zeros(0)
     if cones:
         used = (np.linalg.norm(G @ x[:k], axis=1) + ext) / t
-    return t * limit, x[:k] * qs, used
+    u = x[:k] if basis is None else basis @ x[:k]
+    return t * limit, u * qs, used
 
 
 def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> ChargesLimit:
@@ -159,7 +183,12 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     working points are a subset of the check's, so each round's ``t`` is a lower bound and
     ``E_lim / t`` bounds the rate from above; the last charges reach ``E_lim`` at
     ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
-    (:meth:`PhysicalSetup.field_bound`).
+    (:meth:`PhysicalSetup.field_bound`). Where the candidates and the conditions have
+    symmetries (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) the programs
+    are solved on the symmetric charges, one unknown per orbit and one cone per orbit of
+    carriers near the maximum: the same optimum (the symmetric charges reach it), the check
+    on every carrier as before (the default body: 67 unknowns instead of 257, its minmax
+    about 4x faster).
 
     The cones hold at their points whether or not a body puts a carrier there (a body that
     leaves a candidate empty is not bound on its surface): the bound is the one the design's
@@ -185,8 +214,9 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
     cones: list[np.ndarray] = []
     rows = ConeRows(setup.points)
+    symmetry = charge_symmetry(setup)
     for rounds in range(1, MINMAX_ROUNDS + 1):
-        solved = minmax_charges(setup, cones, rows)
+        solved = minmax_charges(setup, cones, rows, symmetry)
         if solved is None:
             return ChargesLimit(0.0, 0.0, math.inf, empty, np.zeros(0), -1, rounds, 0, "charges")
         t, u, used = solved
@@ -213,8 +243,11 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
                 cones=len(cones),
                 stage=stage,
                 cone_points=np.array(cones).reshape(-1, 3),
+                symmetry=1 if symmetry is None else symmetry.order,
             )
         near = np.flatnonzero(ratios > MINMAX_CONES * (1 - DESIGN_MARGIN))
+        if symmetry is not None:
+            near = one_per_orbit(near, ratios, symmetry.orbit[sites])
         cones = [point for point, value in zip(cones, used, strict=True) if value >= MINMAX_KEEP]
         cones.extend(worst[i] for i in near)
     raise SolverError(
