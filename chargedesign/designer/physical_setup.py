@@ -139,6 +139,18 @@ class PhysicalSetup:
         limit = self.safe_field * (1 - DESIGN_MARGIN) - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
 
+    @cached_property
+    def rest_caps(self) -> np.ndarray:
+        """Each candidate carrier's own-field bound at rate 0, C, shape (n,)
+        (:meth:`charge_caps` at ``s = 0``), computed once."""
+        return self.charge_caps(0.0)
+
+    @cached_property
+    def caps_per_rate(self) -> np.ndarray:
+        """What the external field takes of each carrier's bound per unit rate, C, shape
+        (n,): ``rest_caps - charge_caps(1)``, computed once (the caps are linear in the rate)."""
+        return self.rest_caps - self.charge_caps(1.0)
+
     def field_bound(self, s: float) -> float:
         """Largest rate the apparatus' electric-field limit allows (inf: no limit); the same
         at every rate (:attr:`rate_bound`)."""
