@@ -845,7 +845,9 @@ def check_physical_options(options: DesignOptions) -> None:
         )
 
 
-def _scene_inputs(scene: Scene, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
+def _scene_inputs(
+    scene: Scene, progress: Progress | None, overrides: dict[str, Any]
+) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
     its size) of the model its body realises."""
 
