@@ -312,11 +312,11 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     from scipy.optimize import linprog
 
     A, b = setup.systems["charges"]
-    bound = setup.field_bound(1.0)
+    bound = setup.rate_bound
     if not np.any(b):
         return bound
-    c0 = setup.charge_caps(0.0)
-    c1 = c0 - setup.charge_caps(1.0)  # the external field's share per unit rate
+    c0 = setup.rest_caps
+    c1 = setup.caps_per_rate  # the external field's share per unit rate
     qs = float(np.max(c0))
     top = np.max(np.abs(A), axis=1) * qs
     top = np.where(top > 0, top, 1.0)
@@ -647,7 +647,7 @@ def _necessary_binding(setup: PhysicalSetup, s_nec: float) -> Binding:
     """What refuses rates just above the necessary bound: the own-field LP, or the
     apparatus' electric field when it sets that bound."""
     medium = setup.spec.medium.name
-    if math.isfinite(setup.field_bound(1.0)) and s_nec >= setup.field_bound(1.0) * (1 - 1e-12):
+    if math.isfinite(setup.rate_bound) and s_nec >= setup.rate_bound * (1 - 1e-12):
         return Binding(
             "fields",
             f"fields.electric.max ({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m) over"

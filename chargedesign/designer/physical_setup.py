@@ -34,15 +34,10 @@ from chargedesign.params import Parameters
 from chargedesign.physical.field_bounds import field_magnitude_max
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
-from chargedesign.vocabulary import REALISABLE
 
 #: the design keeps every limit this fraction below its value, so that polishing (relative
 #: changes ~1e-10) and the check's denser samples never find it above
 DESIGN_MARGIN = 1e-3
-
-
-#: objectives of the physical design (l2 and linf are not built for the cones and cells)
-PHYSICAL_OBJECTIVES = ("l1", "robust")
 
 
 @dataclass
@@ -144,54 +139,22 @@ class PhysicalSetup:
         limit = self.safe_field * (1 - DESIGN_MARGIN) - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
 
+    @cached_property
+    def rest_caps(self) -> np.ndarray:
+        """Each candidate carrier's own-field bound at rate 0, C, shape (n,)
+        (:meth:`charge_caps` at ``s = 0``), computed once."""
+        return self.charge_caps(0.0)
+
+    @cached_property
+    def caps_per_rate(self) -> np.ndarray:
+        """What the external field takes of each carrier's bound per unit rate, C, shape
+        (n,): ``rest_caps - charge_caps(1)``, computed once (the caps are linear in the rate)."""
+        return self.rest_caps - self.charge_caps(1.0)
+
     def field_bound(self, s: float) -> float:
         """Largest rate the apparatus' electric-field limit allows (inf: no limit); the same
         at every rate (:attr:`rate_bound`)."""
         return self.rate_bound
-
-
-#: [design] options the physical program does not read: each is refused with [medium] (the
-#: carriers' own-field limits bound every charge, the parts' materials fix the masses, and the
-#: program's own solvers and equality polish reach its accuracy)
-PHYSICAL_REFUSED = {
-    "max_charge": "the carriers' own-field limits bound every |q|",
-    "total_mass": "the parts' materials and sizes fix the masses",
-    "solver": "the physical program runs its own linear and cone solvers",
-    "polish": "the physical program always polishes its equalities",
-    "tol": "the physical program is accepted by its limits and the forward check",
-}
-
-
-def check_physical_options(options: DesignOptions) -> None:
-    """The ``[design]`` options a physical design (a scene with ``[medium]``) takes, refused in
-    one line naming the one it does not, once, before any design work: an option the program
-    would not read (:data:`PHYSICAL_REFUSED`), an objective outside
-    :data:`PHYSICAL_OBJECTIVES`, inertia not realised, a charge total or count."""
-    default = DesignOptions()
-    for name, reason in PHYSICAL_REFUSED.items():
-        value = getattr(options, name)
-        if value != getattr(default, name):
-            raise InputError(
-                f"design.{name}: not available with [medium] ({reason}); drop it, or drop "
-                "[medium] for point elements"
-            )
-    for source in ("charges", "dipoles", "masses"):
-        objective = options.objective_for(source)
-        if objective not in PHYSICAL_OBJECTIVES:
-            raise InputError(
-                f"design.objective: {objective!r} for {source} is not "
-                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
-            )
-    # the conditions realise what the options name (all three when they name none)
-    if "inertia" not in (options.realise if options.realise is not None else REALISABLE):
-        raise InputError(
-            "design.realise: a physical design realises the inertia (every part has mass)"
-        )
-    if options.total_charge is not None or options.n_charges is not None:
-        raise InputError(
-            "design.total_charge / n_charges: not available with [medium] (the carriers' "
-            "limits decide the charges)"
-        )
 
 
 def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
@@ -313,8 +276,9 @@ def setup_physical(
 
     ``params`` and ``conditions`` are those the elements realise; ``larmor`` (its rate the
     theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
-    ``frame``). ``options`` are those :func:`check_physical_options` took, before the
-    candidates and conditions were made.
+    ``frame``). ``options`` are those
+    :func:`~chargedesign.designer.pipeline.check_physical_options` took, before the candidates
+    and conditions were made.
     """
     options = options or DesignOptions()
     points = candidates.points

@@ -30,7 +30,7 @@ from chargedesign.designer.frontier import (
     find_frontier,
     restate_k_law,
 )
-from chargedesign.designer.physical_setup import check_physical_options, setup_physical
+from chargedesign.designer.physical_setup import setup_physical
 from chargedesign.designer.polish import polish_weights, support_of
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import robust_costs
@@ -57,10 +57,8 @@ from chargedesign.physical.budget import judge_at_frontier
 from chargedesign.physical.support import scene_window_gravity, support_record
 from chargedesign.physical.window import window_model
 from chargedesign.scene import Scene
-from chargedesign.scene.case_refusals import require_region
 from chargedesign.scene.design import DesignOptions, Progress
 from chargedesign.scene.design_realism import INDUCED_KEY, K_LAW_KEY
-from chargedesign.scene.tables import region_spec
 from chargedesign.validation import check_instance
 from chargedesign.verdict import verdict_record
 from chargedesign.vocabulary import REALISABLE
@@ -799,7 +797,57 @@ def larmor_of_scene(
     return LarmorReading(reading, params.n), why, note
 
 
-def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, Any]) -> SceneInputs:
+#: objectives of the physical design (l2 and linf are not built for the cones and cells)
+PHYSICAL_OBJECTIVES = ("l1", "robust")
+
+
+#: [design] options the physical program does not read: each is refused with [medium] (the
+#: carriers' own-field limits bound every charge, the parts' materials fix the masses, and the
+#: program's own solvers and equality polish reach its accuracy)
+PHYSICAL_REFUSED = {
+    "max_charge": "the carriers' own-field limits bound every |q|",
+    "total_mass": "the parts' materials and sizes fix the masses",
+    "solver": "the physical program runs its own linear and cone solvers",
+    "polish": "the physical program always polishes its equalities",
+    "tol": "the physical program is accepted by its limits and the forward check",
+}
+
+
+def check_physical_options(options: DesignOptions) -> None:
+    """The ``[design]`` options a physical design (a scene with ``[medium]``) takes, refused in
+    one line naming the one it does not, once, before any design work: an option the program
+    would not read (:data:`PHYSICAL_REFUSED`), an objective outside
+    :data:`PHYSICAL_OBJECTIVES`, inertia not realised, a charge total or count."""
+    default = DesignOptions()
+    for name, reason in PHYSICAL_REFUSED.items():
+        value = getattr(options, name)
+        if value != getattr(default, name):
+            raise InputError(
+                f"design.{name}: not available with [medium] ({reason}); drop it, or drop "
+                "[medium] for point elements"
+            )
+    for source in ("charges", "dipoles", "masses"):
+        objective = options.objective_for(source)
+        if objective not in PHYSICAL_OBJECTIVES:
+            raise InputError(
+                f"design.objective: {objective!r} for {source} is not "
+                "available with [medium] (expected " + " or ".join(PHYSICAL_OBJECTIVES) + ")"
+            )
+    # the conditions realise what the options name (all three when they name none)
+    if "inertia" not in (options.realise if options.realise is not None else REALISABLE):
+        raise InputError(
+            "design.realise: a physical design realises the inertia (every part has mass)"
+        )
+    if options.total_charge is not None or options.n_charges is not None:
+        raise InputError(
+            "design.total_charge / n_charges: not available with [medium] (the carriers' "
+            "limits decide the charges)"
+        )
+
+
+def _scene_inputs(
+    scene: Scene, progress: Progress | None, overrides: dict[str, Any]
+) -> SceneInputs:
     """A scene's design options, candidate set, Larmor reading and the conditions (derived for
     its size) of the model its body realises."""
 
@@ -819,10 +867,8 @@ def _scene_inputs(scene: Any, progress: Progress | None, overrides: dict[str, An
         params = model.parameters
     if progress is not None:
         progress("candidates ...")
-    if model.case is not None:
-        require_region(scene.source, scene.region is not None, "elements")
     # the [body] region as the scene read it (its keys checked once, its values once)
-    candidates = candidates_from_region(region_spec(scene.body), base_dir=scene.base_dir)
+    candidates = candidates_from_region(scene.region_spec(), base_dir=scene.base_dir)
     if progress is not None:
         progress(f"conditions ({len(candidates)} candidates, Larmor reading {larmor.reading}) ...")
     # the options are the scene's [design] read once (with the overrides): all three by default

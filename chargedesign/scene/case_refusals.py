@@ -38,14 +38,6 @@ def case_gravity(fields: Mapping[str, Sequence[float]]) -> float:
     return float(legendre[0])
 
 
-def require_region(source: str, has_region: bool, what: str) -> None:
-    """A ``[case]`` scene's elements need a ``[body]`` region to be placed in."""
-    if not has_region:
-        raise InputError(
-            f"{source}: a [case] scene needs a [body] region (shape, size) to place the {what} in"
-        )
-
-
 def refuse_gyroscopic(name: str) -> NoReturn:
     """Masses realise no gyroscopic forces: a case with ``l`` not zero."""
     raise InputError(

@@ -34,7 +34,13 @@ from chargedesign.scene.simulation import (
     parse_simulation_options,
 )
 from chargedesign.scene.support import SupportOptions
-from chargedesign.scene.tables import BodyReference, BodyRegion, body_from_table
+from chargedesign.scene.tables import (
+    BodyReference,
+    BodyRegion,
+    RegionSpec,
+    body_from_table,
+    region_from_table,
+)
 from chargedesign.scene.testbed import TestbedOptions
 from chargedesign.validation import (
     as_array,
@@ -175,6 +181,21 @@ class Scene:
     def region(self) -> BodyRegion | None:
         """The ``[body]`` region to design in (None: the body is a reference, or absent)."""
         return self.body if isinstance(self.body, BodyRegion) else None
+
+    def region_spec(self) -> RegionSpec:
+        """The checked values of the ``[body]`` region the design places elements in (read
+        once, :meth:`BodyRegion.spec`). A scene without such a region is refused in one line:
+        a ``[case]`` scene's names the scene; any other's is the line
+        :func:`~chargedesign.scene.tables.region_from_table` gives an absent ``[body]`` or one
+        that names a body to simulate."""
+        if self.region is not None:
+            return self.region.spec()
+        if "case" in self.tables:
+            raise InputError(
+                f"{self.source}: a [case] scene needs a [body] region (shape, size) to place "
+                "the elements in"
+            )
+        return region_from_table(self.body.table if self.body is not None else {})
 
     @property
     def base_dir(self) -> Path | None:

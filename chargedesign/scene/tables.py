@@ -3,9 +3,10 @@
 ``[body]`` means one of two things: a region the design places elements in
 (:class:`BodyRegion`, ``shape = ...``), or the body to simulate (:class:`BodyReference`, a
 ``design = PATH`` or inline ``charges``/``masses``/``dipoles``). A region's values are read
-into a :class:`RegionSpec` (:func:`region_from_table`) when a stage first needs its points,
-as they always were: the candidate sets (:mod:`chargedesign.candidates`) are built from the
-checked values and check nothing of the table themselves.
+into a :class:`RegionSpec` (:meth:`BodyRegion.spec`; a scene's:
+:meth:`~chargedesign.scene.Scene.region_spec`) when a stage first needs its points, as they
+always were: the candidate sets (:mod:`chargedesign.candidates`) are built from the checked
+values and check nothing of the table themselves.
 """
 
 from __future__ import annotations
@@ -273,15 +274,6 @@ def check_region_keys(table: Mapping[str, Any]) -> None:
             f"a key of shape {shape!r} (" + ", ".join(REGION_KEYS[shape]) + ")",
             unknown[0],
         )
-
-
-def region_spec(body: BodyRegion | BodyReference | None) -> RegionSpec:
-    """The checked values of a scene's ``[body]`` region (read once, :meth:`BodyRegion.spec`);
-    a scene whose ``[body]`` is absent or names a body to simulate is refused in the one line
-    :func:`region_from_table` gives it."""
-    if isinstance(body, BodyRegion):
-        return body.spec()
-    return region_from_table(body.table if body is not None else {})
 
 
 def body_from_table(table: Any) -> BodyRegion | BodyReference | None:

@@ -39,13 +39,7 @@ def test_case_gravity_refuses_in_one_line(fields, message) -> None:
     assert str(refused.value) == message
 
 
-def test_the_region_and_the_degree_are_refused_only_when_wrong() -> None:
-    case_refusals.require_region("s.toml", True, "masses")
+def test_the_degree_is_refused_only_when_wrong() -> None:
     case_refusals.refuse_mass_degree("k", 2)
-    with pytest.raises(InputError) as refused:
-        case_refusals.require_region("s.toml", False, "masses")
-    assert str(refused.value) == (
-        "s.toml: a [case] scene needs a [body] region (shape, size) to place the masses in"
-    )
     with pytest.raises(InputError, match="V has degree 3 in gamma"):
         case_refusals.refuse_mass_degree("k", 3)

@@ -117,6 +117,23 @@ def test_the_scene_is_typed_at_load():
     assert physical.carriers.name == "aluminium"
 
 
+def test_the_region_to_design_in_is_read_once_or_refused_in_one_line():
+    scene = load_scene()
+    assert scene.region_spec() is scene.region_spec()  # its values checked once
+    assert (scene.region_spec().shape, scene.region_spec().radius) == ("ball", 0.05)
+    with pytest.raises(InputError) as refused:
+        scene_from_dict({}).region_spec()
+    assert str(refused.value).startswith("body: the scene has no [body] table; give one")
+    with pytest.raises(InputError, match=r"^body\.design: expected a key of shape 'ball'"):
+        scene_from_dict({"body": {"design": "body.json"}}).region_spec()
+    case = dataclasses.replace(scene_from_dict({}), tables={"case": {}}, source="s.toml")
+    with pytest.raises(InputError) as refused:
+        case.region_spec()
+    assert str(refused.value) == (
+        "s.toml: a [case] scene needs a [body] region (shape, size) to place the elements in"
+    )
+
+
 def _design(medium: Medium) -> Design:
     return Design(
         parameters=Parameters(C=1e-6, n=2.0, K=1.0),
