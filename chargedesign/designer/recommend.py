@@ -35,10 +35,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions
+from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions, find_frontier
 from chargedesign.designer.frontier_scan import scene_dict, scene_variant
-from chargedesign.designer.pipeline import frontier_from_scene
-from chargedesign.errors import ChargeDesignError
+from chargedesign.designer.masses import similar_bodies
+from chargedesign.designer.pipeline import NO_MEDIUM, physical_setup_from_scene
+from chargedesign.errors import ChargeDesignError, InfeasibleError
 from chargedesign.files import write_text_atomic
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.materials import BALLAST_DENSITY, MAGNET_DATA
@@ -238,6 +239,9 @@ class Recommendation(Result):
     scene: dict[str, Any]
     rate: float
     history: list[tuple[str, str]] = field(default_factory=list)
+    #: the magnets-and-masses designs taken from a similar body's and made
+    #: (:class:`~chargedesign.designer.masses.SimilarBodies`)
+    sharing: tuple[int, int] = (0, 0)
 
     def comments(self) -> list[str]:
         window = self.best.window
@@ -362,12 +366,21 @@ def recommend(
         made[0] += 1
         try:
             data = choice.apply(base)
-            front = frontier_from_scene(
-                scene_from_dict(data, f"{scene.source} (recommend {made[0]})"),
+            setup = physical_setup_from_scene(
+                scene_from_dict(data, f"{scene.source} (recommend {made[0]})")
+            )
+            if setup is None:
+                raise InfeasibleError(NO_MEDIUM)
+            key, ratio = similar_class(choice)
+            shared.add(setup, key, ratio)
+            front = find_frontier(
+                setup,
                 window=options,
                 rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
                 checks=not ranked,
                 law=RANK_LAW and ranked,
+                # a ranked frontier follows its class's path (the located one, frontier's own)
+                start=1.0 / math.sqrt(ratio) if ranked else 1.0,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
@@ -385,18 +398,20 @@ def recommend(
             cache[choice] = frontier_of(choice, ranked=True)
         return cache[choice]
 
-    first = evaluate(Choice())
-    best = first
-    for _ in range(PASSES):
-        before = best.choice
-        for name, values in dims.items():
-            for value in values:
-                trial = evaluate(replace(best.choice, **{name: _normalised(name, value, base)}))
-                if trial.score > best.score:
-                    best = trial
-        if best.choice == before:
-            break
-    located = frontier_of(best.choice, ranked=False)
+    with similar_bodies() as shared:
+        first = evaluate(Choice())
+        best = first
+        for _ in range(PASSES):
+            before = best.choice
+            for name, values in dims.items():
+                for value in values:
+                    trial = evaluate(replace(best.choice, **{name: _normalised(name, value, base)}))
+                    if trial.score > best.score:
+                        best = trial
+            if best.choice == before:
+                break
+        located = frontier_of(best.choice, ranked=False)
+        sharing = (shared.shared, shared.designed)
     if located.window is not None or best.window is None:
         best = located
         if best.choice == first.choice:
@@ -417,7 +432,18 @@ def recommend(
         scene=scene_out,
         rate=rate,
         history=history,
+        sharing=sharing,
     )
+
+
+def similar_class(choice: Choice) -> tuple[Choice, float]:
+    """The class of similar bodies a choice's body belongs to, and its size over the class's
+    body (a power of 4: :class:`~chargedesign.designer.masses.SimilarBodies`). The medium is
+    left out: the magnets-and-masses design reads only the carriers the charges leave, which
+    the sharing compares."""
+    k = math.floor(math.log(choice.size, 4) + 0.5) if choice.size > 0 else 0
+    ratio = 4.0**k
+    return replace(choice, size=choice.size / ratio, medium=None), ratio
 
 
 def probes_at_most(dims: dict[str, tuple[Any, ...]]) -> int:
