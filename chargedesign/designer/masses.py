@@ -435,15 +435,23 @@ def _designed_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) 
 
 
 # ---------------------------------------------------------------- similar bodies' designs
-def _program_digest(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> bytes | None:
+def _program_digest(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, ratio: float
+) -> bytes | None:
     """The bytes of the first magnets-and-masses program a design at rate ``s`` solves (its
-    scaled data, :func:`mass_data`; None when the design refuses before any program)."""
+    scaled data, :func:`mass_data`), with the sites, cells and carriers in the units of a body
+    ``ratio`` times smaller (None when the design refuses before any program)."""
     terms = WholeTerms(setup, carrier_sites)
     kappa = terms.kappa(setup.spec.ballast.density)
     if kappa <= 0 or len(np.unique(carrier_sites)) >= len(setup.points):
         return None
     data = mass_data(setup, s, carrier_sites, terms.initial(), kappa)
     digest = hashlib.sha256()
+    shell = setup.spec.carrier.shell_thickness
+    lengths = [setup.carrier_radius, setup.region_radius, -1.0 if shell is None else shell]
+    for x in (setup.points, setup.cell_radius, np.asarray(lengths)):
+        digest.update(np.ascontiguousarray(x / ratio, dtype=float).tobytes())
+    digest.update(np.asarray([setup.carrier_mass / ratio**3], dtype=float).tobytes())
     for x in (data.Ads, data.bds, data.Ams, data.bms, data.beta, data.gamma, data.cm, data.cd):
         digest.update(np.ascontiguousarray(x, dtype=float).tobytes())
     digest.update(np.asarray([data.alpha], dtype=float).tobytes())
@@ -487,7 +495,8 @@ class SimilarBodies:
     design is the one the body makes itself, to the bit. Members of a class (``add``: a key
     and the ratio ``r`` to the class's body) then share their designs: a design at the class
     rate ``s sqrt(r)``, with the same carriers and the same working set to start from, whose
-    first program has the same bytes (checked on every use), is the design made before,
+    first program has the same bytes and whose sites, cells and carriers over ``r`` too
+    (checked on every use), is the design made before,
     scaled (a refusal refuses again, in the body's own words). ``shared`` and ``designed``
     count the designs taken and made.
     """
@@ -509,10 +518,12 @@ class SimilarBodies:
     def design(self, setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
         """:func:`design_masses` of a member, shared within its class (others: their own)."""
         member = self._members.get(id(setup))
-        digest = _program_digest(setup, s, carrier_sites) if member is not None else None
-        if member is None or member[0] is not setup or digest is None:
+        if member is None or member[0] is not setup:
             return _designed_masses(setup, s, carrier_sites)
         _, key, ratio = member
+        digest = _program_digest(setup, s, carrier_sites, ratio)
+        if digest is None:
+            return _designed_masses(setup, s, carrier_sites)
         seed = setup.warm.get(MASS_SEED)
         where = (
             key,
