@@ -451,7 +451,10 @@ def _program_digest(
     lengths = [setup.carrier_radius, setup.region_radius, -1.0 if shell is None else shell]
     for x in (setup.points, setup.cell_radius, np.asarray(lengths)):
         digest.update(np.ascontiguousarray(x / ratio, dtype=float).tobytes())
-    digest.update(np.asarray([setup.carrier_mass / ratio**3], dtype=float).tobytes())
+    magnet = setup.spec.magnet
+    figures = [setup.carrier_mass / ratio**3, magnet.density, magnet.magnetisation or 0.0]
+    figures.append(math.nan if magnet.susceptibility is None else magnet.susceptibility)
+    digest.update(np.asarray(figures, dtype=float).tobytes())
     for x in (data.Ads, data.bds, data.Ams, data.bms, data.beta, data.gamma, data.cm, data.cd):
         digest.update(np.ascontiguousarray(x, dtype=float).tobytes())
     digest.update(np.asarray([data.alpha], dtype=float).tobytes())
@@ -495,8 +498,8 @@ class SimilarBodies:
     design is the one the body makes itself, to the bit. Members of a class (``add``: a key
     and the ratio ``r`` to the class's body) then share their designs: a design at the class
     rate ``s sqrt(r)``, with the same carriers and the same working set to start from, whose
-    first program has the same bytes and whose sites, cells and carriers over ``r`` too
-    (checked on every use), is the design made before,
+    first program has the same bytes and whose sites, cells and carriers over ``r`` and
+    magnet material's figures too (checked on every use), is the design made before,
     scaled (a refusal refuses again, in the body's own words). ``shared`` and ``designed``
     count the designs taken and made.
     """

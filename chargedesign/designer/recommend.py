@@ -438,12 +438,14 @@ def recommend(
 
 def similar_class(choice: Choice) -> tuple[Choice, float]:
     """The class of similar bodies a choice's body belongs to, and its size over the class's
-    body (a power of 4: :class:`~chargedesign.designer.masses.SimilarBodies`). The medium is
-    left out: the magnets-and-masses design reads only the carriers the charges leave, which
-    the sharing compares."""
+    body (a power of 4: :class:`~chargedesign.designer.masses.SimilarBodies`). The medium and
+    the magnets' grade are left out: the magnets-and-masses design reads the carriers the
+    charges leave and the magnet material's figures (not its name), which the sharing
+    compares (ndfeb-eh is ndfeb with a higher coercivity: the same body where no cell's
+    field demagnetises either)."""
     k = math.floor(math.log(choice.size, 4) + 0.5) if choice.size > 0 else 0
     ratio = 4.0**k
-    return replace(choice, size=choice.size / ratio, medium=None), ratio
+    return replace(choice, size=choice.size / ratio, medium=None, magnets=None), ratio
 
 
 def probes_at_most(dims: dict[str, tuple[Any, ...]]) -> int:

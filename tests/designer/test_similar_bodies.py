@@ -72,6 +72,13 @@ def test_members_share_and_others_do_not(base):
         assert (shared.shared, shared.designed) == (1, 1)
         outcome(other, 1.0)  # not a member: its own design
         assert (shared.shared, shared.designed) == (1, 1)
+        # a member of the class by its key whose magnets differ makes its own design
+        smco = Choice(size=4.0, magnets="smco")
+        assert similar_class(smco) == similar_class(Choice(size=4.0))
+        member = setup_of(base, smco)
+        shared.add(member, *similar_class(smco))
+        outcome(member, 1.0)
+        assert (shared.shared, shared.designed) == (1, 2)
     same(made, taken)
     same(own, taken, 1.0)  # the design taken is the one the body makes itself
     assert similar_class(Choice(size=2.0)) == (Choice(size=0.5), 4.0)
