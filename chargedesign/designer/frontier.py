@@ -978,13 +978,15 @@ def find_frontier(
         _direct_steps(search, limit)
     if law is None:
         law = not checks
-    start = (
+    law_rate = (
         masses_rate_law(setup)
         if law and feasible_rate is None and math.isinf(search.s_nec)
         else None
     )
     found = (
-        _law_bracket(search, start) if start is not None else _search_bracket(search, feasible_rate)
+        _law_bracket(search, law_rate)
+        if law_rate is not None
+        else _search_bracket(search, feasible_rate)
     )
     if not found:
         assert search.hi_binding is not None
