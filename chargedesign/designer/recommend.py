@@ -20,8 +20,15 @@ windows of the choices differ by factors; without charge conditions the bracket 
 the masses' rate law, :func:`~chargedesign.designer.frontier.masses_rate_law`: 2 to 4
 designs instead of 8); the best one is then located once more as
 ``chargedesign frontier`` locates it (to :data:`~chargedesign.designer.frontier.FRONTIER_RTOL`,
-its bracket checked), and that frontier's window is the one reported and written. The
-recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
+its bracket checked), and that frontier's window is the one reported and written.
+
+Similar bodies share their designs (:class:`~chargedesign.designer.masses.SimilarBodies`): a
+body ``4^k`` times the size of another of the same materials in the same field has, at
+``2^-k`` times the rate, the other's magnets-and-masses program, and its design is the other's
+scaled, to the bit. So a ranked frontier starts its scan at ``2^-k`` (:func:`similar_class`:
+the sizes 1 and 4, 0.5 and 2 are one class, as are the media and the magnet grades of equal
+figures) and takes its class's designs where the class made them (the K = 0 example: 124 of
+409 designs). The recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
 the simulated time / s).
 """
 
