@@ -28,8 +28,8 @@ body ``4^k`` times the size of another of the same materials in the same field h
 scaled, to the bit. So a ranked frontier starts its scan at ``2^-k`` (:func:`similar_class`:
 the sizes 1 and 4, 0.5 and 2 are one class, as are the media and the magnet grades of equal
 figures) and takes its class's designs where the class made them (the K = 0 example: 124 of
-409 designs). The recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
-the simulated time / s).
+409 designs). The recommended scene runs at the window's geometric middle (n, K x s; kappa,
+lambda, rho x s^2; the simulated time / s).
 """
 
 from __future__ import annotations
