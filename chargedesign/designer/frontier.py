@@ -581,6 +581,8 @@ class _Search:
     #: the field response each accepted body's limits check computed (by the body's id,
     #: with the body: an id is only unique while its object lives)
     responses: dict[int, Any] = field(default_factory=dict)
+    #: the first rate of the scan without charge conditions (rates 10x apart from it)
+    start: float = 1.0
 
     def probe(self, s: float) -> tuple[bool, Binding | None]:
         """Design at rate ``s`` (unless a proved refusal covers it, or the rate was designed
@@ -700,7 +702,7 @@ def _direct_steps(search: _Search, limit: ChargesLimit) -> None:
 
 def _scan_decades(search: _Search, feasible_rate: float | None) -> None:
     """No charge conditions (frame with K = 0): rates 10x apart up to the first refused."""
-    s = feasible_rate or 1.0
+    s = feasible_rate or search.start
     search.s_nec = HIGHEST_RATE
     while s < HIGHEST_RATE:
         ok, binding = search.probe(s)
@@ -732,7 +734,7 @@ def _bisection_path(search: _Search, ok: Any) -> tuple[float, float]:
     ``s`` is accepted iff ``ok(s)``: the same rates, in the same floating point (lo = 0: none
     accepted)."""
     rtol = search.rtol
-    s, s_nec = 1.0, HIGHEST_RATE
+    s, s_nec = search.start, HIGHEST_RATE
     while s < HIGHEST_RATE:
         if not ok(s):
             s_nec = s
@@ -918,6 +920,7 @@ def find_frontier(
     window: WindowOptions | None = None,
     checks: bool = True,
     law: bool | None = None,
+    start: float = 1.0,
 ) -> FrontierResult:
     """The largest time rate the design accepts, and the limit that binds above it.
 
@@ -942,6 +945,12 @@ def find_frontier(
     ``s_max`` is another point of it. By default (None) used for a frontier only ranked
     (``checks=False``), so ``chargedesign frontier`` keeps its s_max.
 
+    ``start``: without charge conditions, the first rate of the scan 10x apart (the bracket
+    lies on the grid ``start 10^(j / 2^k)``). A body ``4^k`` times the size of another (the
+    same materials) has the other's masses program at twice the rate (:class:`~chargedesign.
+    designer.masses.SimilarBodies`): started at ``2^-k``, its frontier follows the other's
+    path and shares its designs (:func:`~chargedesign.designer.recommend.recommend`).
+
     Raises
     ------
     InfeasibleError
@@ -949,7 +958,9 @@ def find_frontier(
         ("no buildable rate: ...").
     """
     t0 = time.perf_counter()
-    search = _Search(setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0, checks=checks)
+    search = _Search(
+        setup, rtol, progress, s_nec=necessary_rate(setup), t0=t0, checks=checks, start=start
+    )
     search.s_lp = search.s_nec
     if direct is None:
         direct = _reading(setup) == "frame"
@@ -967,13 +978,15 @@ def find_frontier(
         _direct_steps(search, limit)
     if law is None:
         law = not checks
-    start = (
+    law_rate = (
         masses_rate_law(setup)
         if law and feasible_rate is None and math.isinf(search.s_nec)
         else None
     )
     found = (
-        _law_bracket(search, start) if start is not None else _search_bracket(search, feasible_rate)
+        _law_bracket(search, law_rate)
+        if law_rate is not None
+        else _search_bracket(search, feasible_rate)
     )
     if not found:
         assert search.hi_binding is not None

@@ -11,8 +11,12 @@ support; :func:`mass_program` returns the stage as one program for a user to ext
 
 from __future__ import annotations
 
+import hashlib
 import math
-from dataclasses import dataclass
+from collections.abc import Hashable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -196,6 +200,11 @@ class SolvedMasses:
 MASS_SEED = "masses: working set"
 
 
+class MassesInfeasible(PhysicalInfeasible):
+    """The magnets-and-masses program has no solution (its binding named by the feasibility
+    programs of :func:`_mass_binding`, whose words hold the body's own figures)."""
+
+
 def _solved_mass_program(
     setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, terms: WholeTerms, correction
 ) -> SolvedMasses:
@@ -219,7 +228,7 @@ def _solved_mass_program(
     _, bd = setup.systems["dipoles"]
     if np.any(bd != 0) and not np.any(~data.blocked):
         # every free cell would demagnetise a magnet, and V needs magnets: no solver asked
-        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+        raise MassesInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     by_columns = solve_by_columns(data, setup.warm.get(MASS_SEED))
     if by_columns is not None:
         setup.warm[MASS_SEED] = by_columns.working
@@ -227,7 +236,7 @@ def _solved_mass_program(
     # a slack stayed or the rounds ran out: the whole program decides. Clarabel's proof of
     # infeasibility on it, built directly, refuses at once; otherwise cvxpy solves it
     if whole_infeasible(data):
-        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+        raise MassesInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     import cvxpy as cp  # slow to import: only when the whole program must decide
 
     program = mass_program(setup, s, carrier_sites, correction, kappa)
@@ -236,7 +245,7 @@ def _solved_mass_program(
     except cp.SolverError as exc:
         raise SolverError(f"magnets and masses: Clarabel failed ({exc})") from exc
     if program.problem.status in ("infeasible", "infeasible_inaccurate"):
-        raise PhysicalInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+        raise MassesInfeasible(_mass_binding(setup, s, carrier_sites, terms))
     if program.sigma.value is None or program.mass.value is None:
         raise SolverError(f"magnets and masses: Clarabel returned {program.problem.status}")
     return SolvedMasses(
@@ -342,7 +351,18 @@ def _fixed_point(
 
 def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
     """Magnets and ballast at rate ``s`` around the given carriers (see the module doc), with
-    every part's own inertia and the holder's (:mod:`chargedesign.designer.whole_inertia`)."""
+    every part's own inertia and the holder's (:mod:`chargedesign.designer.whole_inertia`).
+
+    Inside :func:`similar_bodies`, a body made a member of a class of similar bodies takes a
+    design of the class made before, scaled, when it is the one it would make itself."""
+    shared = _SIMILAR.get()
+    if shared is not None:
+        return shared.design(setup, s, carrier_sites)
+    return _designed_masses(setup, s, carrier_sites)
+
+
+def _designed_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+    """The body's own design (:func:`design_masses`)."""
     terms = WholeTerms(setup, carrier_sites)
     kappa = terms.kappa(setup.spec.ballast.density)
     n = len(setup.points)
@@ -412,6 +432,153 @@ def design_masses(setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> 
         convergence=convergence,
         holder_radius=terms.radius if setup.spec.holder is not None else None,
     )
+
+
+# ---------------------------------------------------------------- similar bodies' designs
+def _program_digest(
+    setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, ratio: float
+) -> bytes | None:
+    """The bytes of the first magnets-and-masses program a design at rate ``s`` solves (its
+    scaled data, :func:`mass_data`), with the sites, cells and carriers in the units of a body
+    ``ratio`` times smaller (None when the design refuses before any program)."""
+    terms = WholeTerms(setup, carrier_sites)
+    kappa = terms.kappa(setup.spec.ballast.density)
+    if kappa <= 0 or len(np.unique(carrier_sites)) >= len(setup.points):
+        return None
+    data = mass_data(setup, s, carrier_sites, terms.initial(), kappa)
+    digest = hashlib.sha256()
+    shell = setup.spec.carrier.shell_thickness
+    lengths = [setup.carrier_radius, setup.region_radius, -1.0 if shell is None else shell]
+    for x in (setup.points, setup.cell_radius, np.asarray(lengths)):
+        digest.update(np.ascontiguousarray(x / ratio, dtype=float).tobytes())
+    magnet = setup.spec.magnet
+    figures = [setup.carrier_mass / ratio**3, magnet.density, magnet.magnetisation or 0.0]
+    figures.append(math.nan if magnet.susceptibility is None else magnet.susceptibility)
+    digest.update(np.asarray(figures, dtype=float).tobytes())
+    for x in (data.Ads, data.bds, data.Ams, data.bms, data.beta, data.gamma, data.cm, data.cd):
+        digest.update(np.ascontiguousarray(x, dtype=float).tobytes())
+    digest.update(np.asarray([data.alpha], dtype=float).tobytes())
+    digest.update(np.asarray(data.blocked, dtype=bool).tobytes())
+    return digest.digest()
+
+
+def _scaled(solution: MassSolution, factor: float) -> MassSolution:
+    """The design of the body ``factor`` times the size: masses and moments x factor^3, the
+    holder's radius x factor (exact when ``factor`` is a power of 2)."""
+    cube = factor**3
+    return replace(
+        solution,
+        moments=solution.moments * cube,
+        site_masses=solution.site_masses * cube,
+        convergence=replace(solution.convergence) if solution.convergence else None,
+        holder_radius=None if solution.holder_radius is None else solution.holder_radius * factor,
+    )
+
+
+@dataclass
+class _Shared:
+    """One design of a class, in the units of the class's body of ratio 1 (or its refusal),
+    the bytes of its first program, and the working set it left (the next design's seed)."""
+
+    digest: bytes
+    solution: MassSolution | None
+    error: Exception | None
+    seed_after: np.ndarray | None
+
+
+class SimilarBodies:
+    """Magnets-and-masses designs shared between similar bodies.
+
+    A body ``r`` times the size of another (its radius, spacing and carriers x r, C x r^5) of
+    the same materials in the same field has, at rate ``s / sqrt(r)``, the other's program at
+    rate ``s``: the dipole rows grow like r (the field's gradient at r times the distance), their
+    right-hand side like ``s^2 C``, the mass rows like r^2 (inertia) and r (centre of mass)
+    against C, the cells' volumes like r^3, and every part's own inertia like the body's. For
+    ``r = 4^k`` every figure of the design is the other's times a power of 2, so the scaled
+    design is the one the body makes itself, to the bit. Members of a class (``add``: a key
+    and the ratio ``r`` to the class's body) then share their designs: a design at the class
+    rate ``s sqrt(r)``, with the same carriers and the same working set to start from, whose
+    first program has the same bytes and whose sites, cells and carriers over ``r`` and
+    magnet material's figures too (checked on every use), is the design made before,
+    scaled (a refusal refuses again, in the body's own words). ``shared`` and ``designed``
+    count the designs taken and made.
+    """
+
+    def __init__(self) -> None:
+        self._members: dict[int, tuple[PhysicalSetup, Hashable, float]] = {}
+        self._designs: dict[Hashable, _Shared] = {}
+        self.shared = 0
+        self.designed = 0
+
+    def add(self, setup: PhysicalSetup, key: Hashable, ratio: float) -> None:
+        """Make ``setup`` a member of the class ``key``, ``ratio`` (a power of 4) times the size
+        of the class's body."""
+        k = round(math.log(ratio, 4)) if ratio > 0 else 0
+        if ratio != 4.0**k:
+            raise ValueError(f"similar bodies: the size ratio {ratio!r} is not a power of 4")
+        self._members[id(setup)] = (setup, key, ratio)
+
+    def design(self, setup: PhysicalSetup, s: float, carrier_sites: np.ndarray) -> MassSolution:
+        """:func:`design_masses` of a member, shared within its class (others: their own)."""
+        member = self._members.get(id(setup))
+        if member is None or member[0] is not setup:
+            return _designed_masses(setup, s, carrier_sites)
+        _, key, ratio = member
+        digest = _program_digest(setup, s, carrier_sites, ratio)
+        if digest is None:
+            return _designed_masses(setup, s, carrier_sites)
+        seed = setup.warm.get(MASS_SEED)
+        where = (
+            key,
+            s * math.sqrt(ratio),
+            np.asarray(carrier_sites).tobytes(),
+            None if seed is None else np.asarray(seed).tobytes(),
+        )
+        known = self._designs.get(where)
+        if known is not None and known.digest == digest:
+            self.shared += 1
+            return self._replay(setup, s, carrier_sites, known, ratio)
+        self.designed += 1
+        try:
+            solution = _designed_masses(setup, s, carrier_sites)
+        except (PhysicalInfeasible, SolverError) as exc:
+            self._designs[where] = _Shared(digest, None, exc, setup.warm.get(MASS_SEED))
+            raise
+        self._designs[where] = _Shared(
+            digest, _scaled(solution, 1.0 / ratio), None, setup.warm.get(MASS_SEED)
+        )
+        return solution
+
+    @staticmethod
+    def _replay(
+        setup: PhysicalSetup, s: float, carrier_sites: np.ndarray, known: _Shared, ratio: float
+    ) -> MassSolution:
+        if known.seed_after is not None:
+            setup.warm[MASS_SEED] = known.seed_after
+        if isinstance(known.error, MassesInfeasible):
+            terms = WholeTerms(setup, carrier_sites)
+            raise MassesInfeasible(_mass_binding(setup, s, carrier_sites, terms))
+        if isinstance(known.error, PhysicalInfeasible):
+            raise PhysicalInfeasible(known.error.binding)
+        if known.error is not None:
+            raise type(known.error)(*known.error.args)
+        assert known.solution is not None
+        return _scaled(known.solution, ratio)
+
+
+_SIMILAR: ContextVar[SimilarBodies | None] = ContextVar("similar_bodies", default=None)
+
+
+@contextmanager
+def similar_bodies() -> Iterator[SimilarBodies]:
+    """Within the block, :func:`design_masses` shares designs between the members of the
+    :class:`SimilarBodies` it yields (:func:`~chargedesign.designer.recommend.recommend`)."""
+    shared = SimilarBodies()
+    token = _SIMILAR.set(shared)
+    try:
+        yield shared
+    finally:
+        _SIMILAR.reset(token)
 
 
 def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:

@@ -20,9 +20,16 @@ windows of the choices differ by factors; without charge conditions the bracket 
 the masses' rate law, :func:`~chargedesign.designer.frontier.masses_rate_law`: 2 to 4
 designs instead of 8); the best one is then located once more as
 ``chargedesign frontier`` locates it (to :data:`~chargedesign.designer.frontier.FRONTIER_RTOL`,
-its bracket checked), and that frontier's window is the one reported and written. The
-recommended scene runs at the window's geometric middle (n, K x s; kappa, lambda, rho x s^2;
-the simulated time / s).
+its bracket checked), and that frontier's window is the one reported and written.
+
+Similar bodies share their designs (:class:`~chargedesign.designer.masses.SimilarBodies`): a
+body ``4^k`` times the size of another of the same materials in the same field has, at
+``2^-k`` times the rate, the other's magnets-and-masses program, and its design is the other's
+scaled, to the bit. So a ranked frontier starts its scan at ``2^-k`` (:func:`similar_class`:
+the sizes 1 and 4, 0.5 and 2 are one class, as are the media and the magnet grades of equal
+figures) and takes its class's designs where the class made them (the K = 0 example: 124 of
+409 designs). The recommended scene runs at the window's geometric middle (n, K x s; kappa,
+lambda, rho x s^2; the simulated time / s).
 """
 
 from __future__ import annotations
@@ -35,10 +42,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions
+from chargedesign.designer.frontier import FRONTIER_RTOL, WindowOptions, find_frontier
 from chargedesign.designer.frontier_scan import scene_dict, scene_variant
-from chargedesign.designer.pipeline import frontier_from_scene
-from chargedesign.errors import ChargeDesignError
+from chargedesign.designer.masses import similar_bodies
+from chargedesign.designer.pipeline import NO_MEDIUM, physical_setup_from_scene
+from chargedesign.errors import ChargeDesignError, InfeasibleError
 from chargedesign.files import write_text_atomic
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.physical.materials import BALLAST_DENSITY, MAGNET_DATA
@@ -238,6 +246,9 @@ class Recommendation(Result):
     scene: dict[str, Any]
     rate: float
     history: list[tuple[str, str]] = field(default_factory=list)
+    #: the magnets-and-masses designs taken from a similar body's and made
+    #: (:class:`~chargedesign.designer.masses.SimilarBodies`)
+    sharing: tuple[int, int] = (0, 0)
 
     def comments(self) -> list[str]:
         window = self.best.window
@@ -362,12 +373,21 @@ def recommend(
         made[0] += 1
         try:
             data = choice.apply(base)
-            front = frontier_from_scene(
-                scene_from_dict(data, f"{scene.source} (recommend {made[0]})"),
+            setup = physical_setup_from_scene(
+                scene_from_dict(data, f"{scene.source} (recommend {made[0]})")
+            )
+            if setup is None:
+                raise InfeasibleError(NO_MEDIUM)
+            key, ratio = similar_class(choice)
+            shared.add(setup, key, ratio)
+            front = find_frontier(
+                setup,
                 window=options,
                 rtol=RANK_RTOL if ranked else FRONTIER_RTOL,
                 checks=not ranked,
                 law=RANK_LAW and ranked,
+                # a ranked frontier follows its class's path (the located one, frontier's own)
+                start=1.0 / math.sqrt(ratio) if ranked else 1.0,
             )
             found = Evaluation(choice, front.s_max, front.realised)
         except ChargeDesignError as exc:
@@ -385,18 +405,20 @@ def recommend(
             cache[choice] = frontier_of(choice, ranked=True)
         return cache[choice]
 
-    first = evaluate(Choice())
-    best = first
-    for _ in range(PASSES):
-        before = best.choice
-        for name, values in dims.items():
-            for value in values:
-                trial = evaluate(replace(best.choice, **{name: _normalised(name, value, base)}))
-                if trial.score > best.score:
-                    best = trial
-        if best.choice == before:
-            break
-    located = frontier_of(best.choice, ranked=False)
+    with similar_bodies() as shared:
+        first = evaluate(Choice())
+        best = first
+        for _ in range(PASSES):
+            before = best.choice
+            for name, values in dims.items():
+                for value in values:
+                    trial = evaluate(replace(best.choice, **{name: _normalised(name, value, base)}))
+                    if trial.score > best.score:
+                        best = trial
+            if best.choice == before:
+                break
+        located = frontier_of(best.choice, ranked=False)
+        sharing = (shared.shared, shared.designed)
     if located.window is not None or best.window is None:
         best = located
         if best.choice == first.choice:
@@ -417,7 +439,20 @@ def recommend(
         scene=scene_out,
         rate=rate,
         history=history,
+        sharing=sharing,
     )
+
+
+def similar_class(choice: Choice) -> tuple[Choice, float]:
+    """The class of similar bodies a choice's body belongs to, and its size over the class's
+    body (a power of 4: :class:`~chargedesign.designer.masses.SimilarBodies`). The medium and
+    the magnets' grade are left out: the magnets-and-masses design reads the carriers the
+    charges leave and the magnet material's figures (not its name), which the sharing
+    compares (ndfeb-eh is ndfeb with a higher coercivity: the same body where no cell's
+    field demagnetises either)."""
+    k = math.floor(math.log(choice.size, 4) + 0.5) if choice.size > 0 else 0
+    ratio = 4.0**k
+    return replace(choice, size=choice.size / ratio, medium=None, magnets=None), ratio
 
 
 def probes_at_most(dims: dict[str, tuple[Any, ...]]) -> int:
