@@ -21,7 +21,13 @@ from chargedesign.airbearing.bearing import (
     tilt_deg,
     tilt_map,
 )
-from chargedesign.airbearing.dynamics import CaseModel, Plant, rate_terms
+from chargedesign.airbearing.dynamics import (
+    CaseModel,
+    Plant,
+    case_model,
+    case_singular_factors,
+    rate_terms,
+)
 from chargedesign.airbearing.layout import (
     BASE_TURNS,
     Layout,
@@ -103,12 +109,9 @@ def build_case_testbed(
     case's torques, the motion keeps the case's level, F is monitored in place of I4.
 
     A case the testbed cannot fly (its inertia, a singular V or mu: see
-    :func:`chargedesign.airbearing.case_model.refusal`) or a scene without a start is
+    :func:`chargedesign.airbearing.dynamics.flight_refusal`) or a scene without a start is
     refused in one line before any work."""
-    # sympy: a case only
-    from chargedesign.airbearing.case_model import case_model, singular_factors
-
-    opts.check_case(case.name, case.inertia, singular_factors(case))
+    opts.check_case(case.name, case.inertia, case_singular_factors(case))
     opts.check_case_start(case.name)
     model = case_model(case)
     return build_testbed(

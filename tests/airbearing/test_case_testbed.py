@@ -20,8 +20,7 @@ import pytest
 from case_tables import kowalevski_table
 
 import chargedesign as cd
-from chargedesign.airbearing.case_model import case_model, refusal
-from chargedesign.airbearing.dynamics import Plant
+from chargedesign.airbearing.dynamics import Plant, case_model, flight_refusal
 from chargedesign.airbearing.loop import LoopSettings, run_loop
 from chargedesign.airbearing.run import case_start
 from chargedesign.cli import main
@@ -172,7 +171,7 @@ def test_the_noise_free_loop_keeps_F_and_follows_simulate_of_a_body_of_masses(
     ],
 )
 def test_a_case_of_another_inertia_is_refused_in_one_line(case_file: str, message: str) -> None:
-    reason = refusal(read_case(CASES / case_file))
+    reason = flight_refusal(read_case(CASES / case_file))
     assert reason is not None and message in reason and "\n" not in reason
 
 
@@ -181,7 +180,7 @@ def test_a_singular_potential_is_refused_in_one_line() -> None:
     text = text.replace('integral = "(p**2', 'integral = "p + (p**2').replace(
         'level = "general"', "level = 0"
     )
-    reason = refusal(case_from_table(_table(text)))
+    reason = flight_refusal(case_from_table(_table(text)))
     assert reason is not None and "singular on gamma3 = 0" in reason and "\n" not in reason
 
 

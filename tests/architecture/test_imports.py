@@ -26,7 +26,6 @@ HEAVY_MODULES = frozenset(
         "chargedesign.model.case_file",
         "chargedesign.model.case_numeric",
         "chargedesign.designer.case_design",
-        "chargedesign.airbearing.case_model",
         "chargedesign.model.catalogue",
         "chargedesign.model.certificate",
         "chargedesign.model.equations",
