@@ -732,23 +732,10 @@ def check_loop_work(
             float(opts.initial_p or 0.0),
             float(opts.initial_q or 0.0),
         )
-        omega0 = (
-            initial_state(params, gamma, p, q) if case is None else case_start(case, gamma, p, q)
-        )[:3]
+        omega0 = initial_state(params, gamma, p, q, case)[:3]
     terms = rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
     rate = max(max(terms.values()), 1e-12)
     opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
-
-
-def case_start(case: CaseModel, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
-    """The scene's start on the case's level (r solved from the linear I3 = level)."""
-    g = np.asarray(gamma, float) / np.linalg.norm(gamma)
-    if abs(g[2]) < 1e-8:  # the scene's reader refuses such a start first: a caller's error
-        raise ValueError(
-            f"testbed.initial_gamma: gamma3 must be non-zero to solve r from case {case.name}'s "
-            f"level I3 = {fmt(case.level_value, PRECISE)}"
-        )
-    return case.initial_state(g, p, q)
 
 
 def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan:
@@ -762,8 +749,8 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
         The start needs more tilt than the bearing allows (one line: the tilt and the limit).
     """
     assert opts.initial_gamma is not None
-    x0 = case_start(
-        case, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0
+    x0 = initial_state(
+        params, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0, case
     )
     rate = max(max(case.rate_terms(x0[:3]).values()), 1e-12)
     horizon = max(opts.t_end_s, BASE_TURNS * 2.0 * math.pi / rate)

@@ -21,8 +21,7 @@ from case_tables import kowalevski_table
 
 import chargedesign as cd
 from chargedesign.airbearing.dynamics import Plant, case_model, flight_refusal
-from chargedesign.airbearing.loop import LoopSettings, run_loop
-from chargedesign.airbearing.run import case_start
+from chargedesign.airbearing.loop import LoopSettings, initial_state, run_loop
 from chargedesign.cli import main
 from chargedesign.params import Parameters
 from chargedesign.scene.case_file import case_from_table, read_case
@@ -121,7 +120,7 @@ def test_the_case_start_lies_on_the_level_of_a_conditional_case() -> None:
     )
     text = text.replace("[case.parameters]", "[case.parameters]\nk = 0.2")
     model = case_model(case_from_table(_table(text)))
-    x0 = case_start(model, np.array([0.2, -0.3, 0.9]), 0.1, -0.05)
+    x0 = initial_state(Parameters(C=C), np.array([0.2, -0.3, 0.9]), 0.1, -0.05, model)
     p, q, r, g1, g2, g3 = x0
     hand_I3 = 2 * C * (p * g1 + q * g2) + C * r * g3 + C * 0.2 * g3
     assert hand_I3 == pytest.approx(0.3, abs=1e-14)
@@ -137,7 +136,7 @@ def test_the_noise_free_loop_keeps_F_and_follows_simulate_of_a_body_of_masses(
     model = case_model(case)
     body = np.diag([2 * C, 2 * C, C])
     plant = Plant(Parameters(C=C), body, body, model)
-    x0 = case_start(model, np.array(START["initial_gamma"]), 0.0, 0.0)
+    x0 = initial_state(Parameters(C=C), np.array(START["initial_gamma"]), 0.0, 0.0, model)
     settings = LoopSettings(rate_Hz=50.0, delay_s=0.001, t_end_s=5.0, command="predictive")
     run = run_loop(plant, x0, settings, keep_states=True)
     assert run.I4_drift[0] <= 1e-6  # F's relative drift, the stated tolerance
