@@ -599,22 +599,6 @@ def continuous_loop(
     return out.t, out.y
 
 
-def theorem_motion(
-    params: Parameters, x0: np.ndarray, t_end: float, samples: int, rtol: float = RTOL
-) -> np.ndarray:
-    """The theorem's reduced model (the derived Euler-Poisson equations), (samples, 6)."""
-    return solve(
-        evaluators.rhs_function(params),
-        np.asarray(x0[:6], float),
-        (0.0, t_end),
-        t_eval=np.linspace(0.0, t_end, samples),
-        method="DOP853",
-        rtol=rtol,
-        atol=rtol,
-        what="testbed: the theorem's motion",
-    ).y
-
-
 __all__ = [
     "Actuator",
     "LoopRun",
@@ -625,5 +609,4 @@ __all__ = [
     "invariants",
     "relative_drift",
     "run_loop",
-    "theorem_motion",
 ]
