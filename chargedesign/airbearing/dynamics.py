@@ -329,9 +329,7 @@ class Plant:
 
     def motion_rate(self, omega0: np.ndarray) -> float:
         """:func:`motion_rate` of the flown model."""
-        if self.case is not None:
-            return max(max(self.case.rate_terms(omega0).values()), 1e-12)
-        return motion_rate(self.params, omega0)
+        return motion_rate(self.params, omega0, self.case)
 
     def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """dV/dgamma and mu at ``gamma`` (m, 3) each."""
@@ -421,10 +419,18 @@ def rate_terms(params: Parameters, omega0: np.ndarray) -> dict[str, float]:
     }
 
 
-def motion_rate(params: Parameters, omega0: np.ndarray) -> float:
-    """The fastest rate of the motion, 1/s: the largest of :func:`rate_terms`, at least
-    1e-12."""
-    return max(max(rate_terms(params, omega0).values()), 1e-12)
+def model_rate_terms(
+    params: Parameters, omega0: np.ndarray, case: CaseModel | None = None
+) -> dict[str, float]:
+    """The flown model's rates (1/s) by source: the theorem's (:func:`rate_terms`) or the
+    ``case``'s (:meth:`CaseModel.rate_terms`; ``params`` unused)."""
+    return rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
+
+
+def motion_rate(params: Parameters, omega0: np.ndarray, case: CaseModel | None = None) -> float:
+    """The fastest rate of the flown model's motion, 1/s: the largest of
+    :func:`model_rate_terms`, at least 1e-12."""
+    return max(max(model_rate_terms(params, omega0, case).values()), 1e-12)
 
 
 __all__ = [
@@ -435,6 +441,7 @@ __all__ = [
     "cross",
     "flight_refusal",
     "invariants",
+    "model_rate_terms",
     "motion_rate",
     "rate_terms",
 ]

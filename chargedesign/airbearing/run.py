@@ -26,7 +26,8 @@ from chargedesign.airbearing.dynamics import (
     Plant,
     case_model,
     case_singular_factors,
-    rate_terms,
+    model_rate_terms,
+    motion_rate,
 )
 from chargedesign.airbearing.layout import (
     BASE_TURNS,
@@ -733,7 +734,7 @@ def check_loop_work(
             float(opts.initial_q or 0.0),
         )
         omega0 = initial_state(params, gamma, p, q, case)[:3]
-    terms = rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
+    terms = model_rate_terms(params, omega0, case)
     rate = max(max(terms.values()), 1e-12)
     opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
 
@@ -752,7 +753,7 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
     x0 = initial_state(
         params, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0, case
     )
-    rate = max(max(case.rate_terms(x0[:3]).values()), 1e-12)
+    rate = motion_rate(params, x0[:3], case)
     horizon = max(opts.t_end_s, BASE_TURNS * 2.0 * math.pi / rate)
     sampled = motion_samples(params, x0, horizon, rate, None, rhs=case.rhs_function())
     axis = best_axis([sampled.gammas])
