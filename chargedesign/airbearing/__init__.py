@@ -6,12 +6,12 @@ declared in :mod:`chargedesign.scene.keys`). Modules, one concern each: :mod:`.b
 pedestal axis, keep-out cone, motions that fit, the tilt map), :mod:`.layout` (planned motions;
 wheels, ballast and posts around the bearing), :mod:`.mounts` (posts and their bending),
 :mod:`.platform` (platform and ballast: the mass program), :mod:`.dynamics` (plant, command
-law, fixed-step DOP853), :mod:`.loop` (the sampled loop with sensors, estimator, motors, wheel
-limits and disturbances), :mod:`.wheels` (array, geometry and sizing), :mod:`.balance` (linear
-response: balance and placement tolerances), :mod:`.requirements` (grade x rate sweep),
-:mod:`.verdict` (requirements against the state of the art, the verdict, the window),
-:mod:`.result` (:class:`TestbedResult`), :mod:`.report` (files and pictures), :mod:`.run` (the
-stage).
+law, a case of (ep) as the plant's model), :mod:`.loop` (the sampled loop with sensors,
+estimator, motors, wheel limits and disturbances), :mod:`.wheels` (array, geometry and sizing),
+:mod:`.balance` (linear response: balance and placement tolerances), :mod:`.requirements`
+(grade x rate sweep), :mod:`.verdict` (requirements against the state of the art, the verdict,
+the window), :mod:`.result` (:class:`TestbedResult`), :mod:`.report` (files and pictures),
+:mod:`.run` (the stage).
 """
 
 from __future__ import annotations

@@ -18,7 +18,18 @@ batched: ``(m, 9)`` for m runs at once.
 
 A case of (ep) (issue 34: ``[case]`` with inertia, V, l or mu, and its integral F) takes the
 theorem's place through :class:`CaseModel`: the same ``f`` with the case's inertia, dV/dgamma
-and mu, and F monitored in place of I4.
+and mu, and F monitored in place of I4. :func:`case_model` builds it from the sympy objects
+the whitelisted parser made (:mod:`chargedesign.model.case_file`): they are differentiated
+(dV/dgamma, the right-hand sides of (ep), I1, I3) and turned into NumPy functions by
+:func:`chargedesign.model.case_numeric.lambdified` (``sympy.lambdify``: the printed code is
+sympy's own, of trees whose leaves are the state's names and rationals: no text from a file
+reaches ``eval``). sympy is imported there, for a case only.
+
+A case the testbed cannot fly is refused by the testbed's options
+(:meth:`chargedesign.scene.testbed.TestbedOptions.check_case`, on the singular factors
+:func:`case_singular_factors` finds), in one line naming why, before any work: an inertia the
+platform's ballast cannot give, or a V or mu singular somewhere on the sphere (the wheels'
+torque would be unbounded there).
 """
 
 from __future__ import annotations
@@ -32,12 +43,14 @@ import numpy as np
 
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.scene.testbed import case_refusal
 
 _NEXT = np.array([1, 2, 0])
 _LAST = np.array([2, 0, 1])
 
 if TYPE_CHECKING:  # sympy: a case only
     from chargedesign.model.case_numeric import CaseFunctions
+    from chargedesign.scene.case_file import Case
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -101,9 +114,8 @@ StateColumn = Callable[..., np.ndarray]
 class CaseModel:
     """A case of (ep) as numbers: what the plant needs in place of the theorem's parameters.
 
-    Built from the case's sympy expressions by
-    :func:`chargedesign.airbearing.case_model.case_model`; this class holds NumPy functions
-    only. ``time`` and ``mass`` scale the case as the feasibility window does (the motion
+    Built from the case's sympy expressions by :func:`case_model`; this class holds NumPy
+    functions only. ``time`` and ``mass`` scale the case as the feasibility window does (the motion
     ``time`` times faster, every inertia ``mass`` times larger): ``I -> mass I``,
     ``dV -> mass time^2 dV``, ``mu -> mass time mu``, so the scaled motion is
     ``omega(t) = time omega_1(time t)`` and ``F`` is read at ``omega / time``.
@@ -214,6 +226,61 @@ class CaseModel:
         }
 
 
+def case_singular_factors(case: Case) -> list[str]:
+    """The factors (``"<factor> = 0"``) on which the case's V or mu is singular, sorted
+    (:func:`chargedesign.model.case_numeric.singular_factors`)."""
+    from chargedesign.model.case_numeric import singular_factors  # sympy: a case only
+
+    return singular_factors([case.V, *case.mu])
+
+
+def flight_refusal(case: Case) -> str | None:
+    """Why the testbed cannot fly ``case`` (one line, :func:`~chargedesign.scene.testbed.
+    case_refusal`), or None."""
+    return case_refusal(case.name, case.inertia, case_singular_factors(case))
+
+
+def case_model(case: Case) -> CaseModel:
+    """The testbed's numeric model of ``case`` (refused first by :func:`flight_refusal`).
+
+    The level is the case's I3 value for a conditional claim; a general case is flown on
+    I3 = 0 (the area-zero level, as the theorem's motions are)."""
+    # sympy: a case only
+    import sympy as sp
+
+    from chargedesign.model.case_file import STATE, case_equations
+    from chargedesign.model.case_numeric import case_functions, lambdified
+
+    reason = flight_refusal(case)
+    if reason is not None:  # the testbed refuses it first (TestbedOptions.check_case)
+        raise ValueError(reason)
+    equations = case_equations(case)
+    return CaseModel(
+        name=case.name,
+        inertia=np.array([float(m) for m in case.inertia]),
+        level=0.0 if case.level is None else float(case.level),
+        conditional=case.level is not None,
+        functions=case_functions(case),
+        cyclic=lambdified(case.I3, STATE),
+        energy=lambdified(case.I1, STATE),
+        equations=tuple(lambdified(e, STATE) for e in equations),
+        record={
+            "name": case.name,
+            "source": case.source,
+            "inertia_kg_m2": [float(m) for m in case.inertia],
+            "V": sp.sstr(case.V),
+            "l_dot_gamma": sp.sstr(case.l_dot_gamma),
+            "integral": sp.sstr(case.integral),
+            "level": "general" if case.level is None else str(case.level),
+            "flown_on_I3": 0.0 if case.level is None else float(case.level),
+            "monitored_integral": "F",
+            "note": "the I4_* figures of results, requirements, tolerances and the verdict hold "
+            "the relative drift of the case's F; the wheels apply the case's torque "
+            "gamma x dV/dgamma - omega x mu (model/case_file.py's (ep))",
+        },
+    )
+
+
 @dataclass(frozen=True)
 class Plant:
     """The theorem's model and the platform's inertia.
@@ -262,9 +329,7 @@ class Plant:
 
     def motion_rate(self, omega0: np.ndarray) -> float:
         """:func:`motion_rate` of the flown model."""
-        if self.case is not None:
-            return max(max(self.case.rate_terms(omega0).values()), 1e-12)
-        return motion_rate(self.params, omega0)
+        return motion_rate(self.params, omega0, self.case)
 
     def terms(self, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """dV/dgamma and mu at ``gamma`` (m, 3) each."""
@@ -354,17 +419,29 @@ def rate_terms(params: Parameters, omega0: np.ndarray) -> dict[str, float]:
     }
 
 
-def motion_rate(params: Parameters, omega0: np.ndarray) -> float:
-    """The fastest rate of the motion, 1/s: the largest of :func:`rate_terms`, at least
-    1e-12."""
-    return max(max(rate_terms(params, omega0).values()), 1e-12)
+def model_rate_terms(
+    params: Parameters, omega0: np.ndarray, case: CaseModel | None = None
+) -> dict[str, float]:
+    """The flown model's rates (1/s) by source: the theorem's (:func:`rate_terms`) or the
+    ``case``'s (:meth:`CaseModel.rate_terms`; ``params`` unused)."""
+    return rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
+
+
+def motion_rate(params: Parameters, omega0: np.ndarray, case: CaseModel | None = None) -> float:
+    """The fastest rate of the flown model's motion, 1/s: the largest of
+    :func:`model_rate_terms`, at least 1e-12."""
+    return max(max(model_rate_terms(params, omega0, case).values()), 1e-12)
 
 
 __all__ = [
     "CaseModel",
     "Plant",
+    "case_model",
+    "case_singular_factors",
     "cross",
+    "flight_refusal",
     "invariants",
+    "model_rate_terms",
     "motion_rate",
     "rate_terms",
 ]

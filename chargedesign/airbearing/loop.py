@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from chargedesign.airbearing.dynamics import Plant, cross, invariants
+from chargedesign.airbearing.dynamics import CaseModel, Plant, cross, invariants
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
@@ -152,12 +152,24 @@ class LoopRun:
         return float(self.times[-1])
 
 
-def initial_state(params: Parameters, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
-    """``(p, q, r, gamma)`` on I3 = 0: r solved from ``(I omega + l) . gamma = 0``."""
+def initial_state(
+    params: Parameters, gamma: np.ndarray, p: float, q: float, case: CaseModel | None = None
+) -> np.ndarray:
+    """``(p, q, r, gamma)`` on the flown model's level, r solved from the linear ``I3 =
+    level``: the theorem's I3 = 0, ``(I omega + l) . gamma = 0`` (``params``), or the
+    ``case``'s level (:meth:`~chargedesign.airbearing.dynamics.CaseModel.initial_state`;
+    ``params`` unused)."""
     g = np.asarray(gamma, float) / np.linalg.norm(gamma)
     if abs(g[2]) < 1e-8:
         # the scene's start is refused at reading (TestbedOptions): a caller's misuse here
-        raise ValueError("initial_state: gamma3 must be non-zero to solve r from I3 = 0")
+        if case is None:
+            raise ValueError("initial_state: gamma3 must be non-zero to solve r from I3 = 0")
+        raise ValueError(
+            f"testbed.initial_gamma: gamma3 must be non-zero to solve r from case {case.name}'s "
+            f"level I3 = {fmt(case.level_value, PRECISE)}"
+        )
+    if case is not None:
+        return case.initial_state(g, p, q)
     l_vec = evaluators.angular_potential(g, params)
     C = params.C
     r = -(2.0 * C * (p * g[0] + q * g[1]) + float(l_vec @ g)) / (C * g[2])
@@ -587,22 +599,6 @@ def continuous_loop(
     return out.t, out.y
 
 
-def theorem_motion(
-    params: Parameters, x0: np.ndarray, t_end: float, samples: int, rtol: float = RTOL
-) -> np.ndarray:
-    """The theorem's reduced model (the derived Euler-Poisson equations), (samples, 6)."""
-    return solve(
-        evaluators.rhs_function(params),
-        np.asarray(x0[:6], float),
-        (0.0, t_end),
-        t_eval=np.linspace(0.0, t_end, samples),
-        method="DOP853",
-        rtol=rtol,
-        atol=rtol,
-        what="testbed: the theorem's motion",
-    ).y
-
-
 __all__ = [
     "Actuator",
     "LoopRun",
@@ -613,5 +609,4 @@ __all__ = [
     "invariants",
     "relative_drift",
     "run_loop",
-    "theorem_motion",
 ]

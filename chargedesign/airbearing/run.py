@@ -21,7 +21,14 @@ from chargedesign.airbearing.bearing import (
     tilt_deg,
     tilt_map,
 )
-from chargedesign.airbearing.dynamics import CaseModel, Plant, rate_terms
+from chargedesign.airbearing.dynamics import (
+    CaseModel,
+    Plant,
+    case_model,
+    case_singular_factors,
+    model_rate_terms,
+    motion_rate,
+)
 from chargedesign.airbearing.layout import (
     BASE_TURNS,
     Layout,
@@ -103,12 +110,9 @@ def build_case_testbed(
     case's torques, the motion keeps the case's level, F is monitored in place of I4.
 
     A case the testbed cannot fly (its inertia, a singular V or mu: see
-    :func:`chargedesign.airbearing.case_model.refusal`) or a scene without a start is
+    :func:`chargedesign.airbearing.dynamics.flight_refusal`) or a scene without a start is
     refused in one line before any work."""
-    # sympy: a case only
-    from chargedesign.airbearing.case_model import case_model, singular_factors
-
-    opts.check_case(case.name, case.inertia, singular_factors(case))
+    opts.check_case(case.name, case.inertia, case_singular_factors(case))
     opts.check_case_start(case.name)
     model = case_model(case)
     return build_testbed(
@@ -729,23 +733,10 @@ def check_loop_work(
             float(opts.initial_p or 0.0),
             float(opts.initial_q or 0.0),
         )
-        omega0 = (
-            initial_state(params, gamma, p, q) if case is None else case_start(case, gamma, p, q)
-        )[:3]
-    terms = rate_terms(params, omega0) if case is None else case.rate_terms(omega0)
+        omega0 = initial_state(params, gamma, p, q, case)[:3]
+    terms = model_rate_terms(params, omega0, case)
     rate = max(max(terms.values()), 1e-12)
     opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
-
-
-def case_start(case: CaseModel, gamma: np.ndarray, p: float, q: float) -> np.ndarray:
-    """The scene's start on the case's level (r solved from the linear I3 = level)."""
-    g = np.asarray(gamma, float) / np.linalg.norm(gamma)
-    if abs(g[2]) < 1e-8:  # the scene's reader refuses such a start first: a caller's error
-        raise ValueError(
-            f"testbed.initial_gamma: gamma3 must be non-zero to solve r from case {case.name}'s "
-            f"level I3 = {fmt(case.level_value, PRECISE)}"
-        )
-    return case.initial_state(g, p, q)
 
 
 def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan:
@@ -759,10 +750,10 @@ def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan
         The start needs more tilt than the bearing allows (one line: the tilt and the limit).
     """
     assert opts.initial_gamma is not None
-    x0 = case_start(
-        case, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0
+    x0 = initial_state(
+        params, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0, case
     )
-    rate = max(max(case.rate_terms(x0[:3]).values()), 1e-12)
+    rate = motion_rate(params, x0[:3], case)
     horizon = max(opts.t_end_s, BASE_TURNS * 2.0 * math.pi / rate)
     sampled = motion_samples(params, x0, horizon, rate, None, rhs=case.rhs_function())
     axis = best_axis([sampled.gammas])

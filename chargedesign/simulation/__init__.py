@@ -11,8 +11,8 @@ The package re-exports :func:`.api.simulate` and friends (``cd.simulate`` is
 - :mod:`.ensemble`: sets of initial states and batches.
 - :mod:`.chaos`: Poincare atlases and the fast Lyapunov indicator.
 - :mod:`.result`: the result, drift monitors, output files and plots.
-- :mod:`.setup`: a run's setup from a scene, a design or parameters.
-- :mod:`.pending_design`: a scene's ``[body]`` region designed when a run needs it.
+- :mod:`.setup`: a run's setup from a scene, a design or parameters; a scene's ``[body]``
+  region designed when a run needs it.
 - :mod:`.api`: :func:`simulate` (the entry point).
 """
 
@@ -41,9 +41,13 @@ from chargedesign.simulation.chaos import (
 from chargedesign.simulation.ensemble import EnsembleResult, simulate_batch, simulate_ensemble
 from chargedesign.simulation.integrate import METHODS, STATE_NAMES, Integration
 from chargedesign.simulation.monitors import MONITORS
-from chargedesign.simulation.pending_design import design_pending
 from chargedesign.simulation.result import SimulationResult, plot_integrals, plot_poincare
-from chargedesign.simulation.setup import SimulationSetup, setup_from_scene, setup_from_source
+from chargedesign.simulation.setup import (
+    SimulationSetup,
+    design_pending,
+    setup_from_scene,
+    setup_from_source,
+)
 from chargedesign.simulation.system import (
     EFFECTS,
     ROUTES,

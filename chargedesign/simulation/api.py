@@ -57,9 +57,9 @@ run first needs its elements (:func:`chargedesign.designer.design_from_scene` wi
 and a field. A run whose effects are only ``theorem`` does not design it. The body is designed
 once per :class:`SimulationSetup`: pass the setup to :func:`simulate` again to reuse it.
 
-The setup is read in :mod:`chargedesign.simulation.setup` (the tables' checks in
-:mod:`chargedesign.scene.simulation`), a pending ``[body]`` region designed in
-:mod:`chargedesign.simulation.pending_design`, and many starts of one body run in
+The setup is read, and a pending ``[body]`` region designed, in
+:mod:`chargedesign.simulation.setup` (the tables' checks in
+:mod:`chargedesign.scene.simulation`), and many starts of one body run in
 :mod:`chargedesign.simulation.ensemble` (:func:`~chargedesign.simulation.ensemble.simulate_batch`).
 """
 
@@ -90,11 +90,12 @@ from chargedesign.scene.simulation import parse_initial as parse_initial
 from chargedesign.simulation import monitors as monitors_mod
 from chargedesign.simulation.axes import resolve_axes, turning_poincare, turning_states
 from chargedesign.simulation.integrate import STATE_NAMES, integrate
-from chargedesign.simulation.pending_design import design_pending, needs_elements
 from chargedesign.simulation.result import SimulationResult
 from chargedesign.simulation.setup import (
     SimulationSetup,
     body_counts,
+    design_pending,
+    needs_elements,
     realised_claims,
     setup_from_source,
 )

@@ -41,9 +41,15 @@ from chargedesign.validation import as_finite_float, input_error
 
 
 def section_state(
-    system: RigidBodySystem, phi: float, v: float, energy: float, level: float, sign: float
+    system: RigidBodySystem,
+    phi: float,
+    v: float,
+    energy: float,
+    level: float = 0.0,
+    sign: float = 1.0,
 ) -> np.ndarray | None:
-    """The 7-state on the section at angle ``phi`` with ``gamma3' = v``, or None."""
+    """The 7-state on the section at angle ``phi`` with ``gamma3' = v``, the given energy and
+    level of I3, ``r`` of the given sign, or None (the energy too low there)."""
     C = system.C
     g = np.array([math.cos(phi), math.sin(phi), 0.0])
     R = attitude_from_gamma(g)
@@ -176,10 +182,13 @@ def _colours(n: int) -> list[Any]:
     return [cmap(i / max(n - 1, 1)) for i in range(n)]
 
 
-def _section_points(sections: list[np.ndarray]) -> list[np.ndarray]:
-    """Each orbit's crossings as rows ``(t, omega, gamma)`` (from its states' quaternions)."""
+def section_points(system: RigidBodySystem, starts: np.ndarray, t_end: float) -> list[np.ndarray]:
+    """Each orbit's upward crossings of ``gamma3 = 0`` from ``starts`` (m, 7) over
+    ``[0, t_end]`` as rows ``(t, omega, gamma)`` (heyoka's non-terminal event; gamma from the
+    states' quaternions)."""
+    ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
     orbit_points = []
-    for rows in sections:
+    for rows in ens.sections or []:
         if len(rows) == 0:
             orbit_points.append(np.zeros((0, 7)))
             continue
@@ -228,9 +237,9 @@ def poincare_atlas(
     points = []
     levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
     for level in levels:
-        starts = section_starts(system, energy, level, orbits, seed)
-        ens = taylor.propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
-        points.append(_section_points(ens.sections or []))
+        points.append(
+            section_points(system, section_starts(system, energy, level, orbits, seed), t_end)
+        )
     return PoincareAtlas(
         energy=float(energy),
         levels=levels,
@@ -398,7 +407,7 @@ class FLIMap:
     phi: np.ndarray
     v: np.ndarray
     fli: list[np.ndarray]  # per level, shape (len(v), len(phi)), NaN where no state
-    levels: tuple[float, float]
+    levels: tuple[float, ...]
     energy: float
     t_end: float
     seconds: float
@@ -437,15 +446,19 @@ def fli_map(
     n_phi: int = 24,
     n_v: int = 12,
     t_end: float = 100.0,
+    on_level_only: bool = False,
 ) -> FLIMap:
-    """The FLI over a ``(phi, v)`` grid of the section at one energy, on and off I3 = 0."""
+    """The FLI over a ``(phi, v)`` grid of the section at one energy, on and off I3 = 0
+    (``on_level_only``: on I3 = 0 alone, half the cost)."""
     if energy is None:
         y0, _ = initial_state(system, DEFAULT_INITIAL)
         energy = float(system.integrals(y0[None])[0, 0])
     t0 = time.perf_counter()
     phi = np.linspace(0.0, 2.0 * math.pi, n_phi, endpoint=False)
     v = np.linspace(0.05, 1.0, n_v) * math.sqrt(max(energy, 1e-300) / system.C)
-    levels = (0.0, float(0.5 * system.C if off_level is None else off_level))
+    levels: tuple[float, ...] = (0.0,)
+    if not on_level_only:
+        levels += (float(0.5 * system.C if off_level is None else off_level),)
     maps = []
     for level in levels:
         values = np.full((n_v, n_phi), np.nan)

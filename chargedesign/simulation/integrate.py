@@ -66,6 +66,15 @@ _GL_E = np.array(
 )
 
 
+def _fallback_note(rtol: float, atol: float) -> str:
+    """What a run asked for ``taylor`` says when heyoka cannot be imported: it runs
+    :data:`FALLBACK_METHOD` at ``rtol``, ``atol`` instead."""
+    return (
+        f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); "
+        f"{FALLBACK_METHOD} at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
+    )
+
+
 def _state_value(states: np.ndarray, name: str) -> np.ndarray:
     index = STATE_NAMES.index(name)
     if index < 3:
@@ -146,10 +155,7 @@ def integrate(
             if progress is not None:
                 progress(1.0)
             return out
-        fallback_note = (
-            f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); "
-            f"{FALLBACK_METHOD} at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
-        )
+        fallback_note = _fallback_note(rtol, atol)
         method = FALLBACK_METHOD
     if method == "gauss-legendre":
         out = _integrate_gauss(system, y0, t_end, step, samples, gamma3_min, progress)
@@ -228,25 +234,21 @@ def _integrate_solve_ivp(
     t0 = time.perf_counter()
     # every accepted step is kept (no t_eval): step ends carry the integrator's accuracy,
     # interpolated points are less accurate and would show up as spurious drift
-    sol = solve_ivp(
+    sol = solve(
         fun,
-        (0.0, t_end),
         y0.reshape(-1),
+        (0.0, t_end),
         method=method,
         rtol=rtol,
         atol=atol,
         max_step=max_step,
         events=events or None,
+        what="simulation",
     )
     seconds = time.perf_counter() - t0
-    if not sol.success:
-        reached = float(sol.t[-1]) if len(sol.t) else 0.0
-        raise SolverError(
-            f"simulation: {method} failed near t = {fmt(reached, CELL)} s: {sol.message}"
-        )
-    times = np.asarray(sol.t)
+    times = sol.t
     accepted = len(times) - 1
-    states = np.asarray(sol.y).T.reshape(len(times), m, 7)
+    states = sol.y.reshape(len(times), m, 7)
     keep = thin_step_ends(times, samples)
     times, states = times[keep], states[keep]
     short = samples_note(method, accepted, len(times), samples)
@@ -276,7 +278,7 @@ def _integrate_solve_ivp(
         events=found,
         poincare=poincare_points,
         steps=accepted,
-        rhs_evaluations=int(sol.nfev),
+        rhs_evaluations=sol.steps,
         seconds=seconds,
         extra={"notes": [short]} if short else {},
     )
@@ -568,10 +570,7 @@ def solve(
             raise ValueError("method 'taylor' needs the system as sympy expressions (symbolic)")
         if taylor.available():
             return _solve_taylor(symbolic, y0, t0, t1, t_eval, tol, what)
-        note = (
-            f"taylor: heyoka unavailable ({taylor.unavailable_reason()}); {FALLBACK_METHOD}"
-            f" at rtol = {fmt(rtol, PLAIN)}, atol = {fmt(atol, PLAIN)} instead"
-        )
+        note = _fallback_note(rtol, atol)
         method = FALLBACK_METHOD
     if rhs is None:
         raise ValueError(f"method {method!r} needs the right-hand side rhs(t, y)")

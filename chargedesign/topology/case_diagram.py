@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.errors import SolverError
-from chargedesign.formatting import CELL, PRECISE, fmt
+from chargedesign.formatting import CELL, fmt
 from chargedesign.scene.case_file import Case
 from chargedesign.topology.branches import Branch, distance_to_branch, trace_all
 from chargedesign.topology.case_map import CaseMomentumMap
@@ -56,10 +56,12 @@ from chargedesign.topology.critical import (
 )
 from chargedesign.topology.diagram import (
     DiagramResult,
+    branch_line,
     branch_record,
     chamber_record,
     draw_diagram,
     vertex_groups,
+    vertex_line,
     vertex_record,
 )
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
@@ -364,22 +366,13 @@ class CaseDiagram(DiagramResult):
             f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)}"
             f" (least energy on the level {fmt(raw.h_min, CELL)})",
         ]
-        for item in self.to_dict()["branches"]:
-            kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
-            lines.append(
-                f"  {item['name']}: {item['points']} points, h {fmt(item['h'][0], PRECISE)} .."
-                f" {fmt(item['h'][1], PRECISE)}, k {fmt(item['k'][0], PRECISE)} .."
-                f" {fmt(item['k'][1], PRECISE)} ({kinds}; ends: {', '.join(item['ends'])})"
-            )
+        lines += [branch_line(item["name"], item) for item in self.to_dict()["branches"]]
         size = (
             raw.h_range[1] - raw.h_range[0],
             float(np.max(np.abs(raw.admissible[:, 1:]), initial=1.0)),
         )
         for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
-            lines.append(
-                f"  vertex h = {fmt(h, CELL)}, k = {fmt(k, CELL)}: {kind} of the energy"
-                f" ({states} states)"
-            )
+            lines.append(vertex_line(h, k, kind, states))
         lines.append(
             f"  chambers: {len(self.labels())} ({len(raw.chambers)} cells); tori per chamber:"
             f" {self._tori_text()}"

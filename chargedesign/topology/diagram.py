@@ -48,6 +48,8 @@ from chargedesign.topology.stability import TYPES
 
 #: the CSV's columns (the contract's header)
 CSV_COLUMNS = ("h", "k", "branch", "type", "p", "q", "r", "gamma1", "gamma2", "gamma3")
+#: the units after h and k in the theorem's text (SI)
+SI_UNITS = (" J", " 1/s^4")
 #: the colour of each type in the picture
 TYPE_COLOURS = {"elliptic": "tab:blue", "hyperbolic": "tab:red", "degenerate": "tab:green"}
 
@@ -245,6 +247,29 @@ def branch_record(b: TracedBranch) -> dict[str, Any]:
     }
 
 
+def branch_line(label: str, item: dict[str, Any], units: tuple[str, str] = ("", "")) -> str:
+    """A branch's line of the text from its record (:func:`branch_record`), ``units`` after
+    its h and k ranges (``(" J", " 1/s^4")`` for the theorem's SI diagram)."""
+    kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
+    (h0, h1), (k0, k1) = item["h"], item["k"]
+    return (
+        f"  {label}: {item['points']} points, h {fmt(h0, PRECISE)} .. {fmt(h1, PRECISE)}"
+        f"{units[0]}, k {fmt(k0, PRECISE)} .. {fmt(k1, PRECISE)}{units[1]} ({kinds}; ends:"
+        f" {', '.join(item['ends'])})"
+    )
+
+
+def vertex_line(
+    h: float, k: float, kind: str, states: int, units: tuple[str, str] = ("", ""), note: str = ""
+) -> str:
+    """A group of vertices' line of the text (:func:`vertex_groups`: its image, type and
+    number of states)."""
+    return (
+        f"  vertex h = {fmt(h, CELL)}{units[0]}, k = {fmt(k, CELL)}{units[1]}: {kind} of the"
+        f" energy ({states} states{note})"
+    )
+
+
 def vertex_record(v: Vertex) -> dict[str, Any]:
     """A vertex of the diagram in the JSON summary."""
     return {"h": float(v.hk[0]), "k": float(v.hk[1]), "type": v.type}
@@ -370,14 +395,8 @@ class BifurcationDiagram(DiagramResult):
             f" {fmt(larmor_shift(raw.params), CELL)} J)",
         ]
         for item in self.to_dict()["branches"]:
-            kinds = ", ".join(f"{n} {t}" for t, n in item["types"].items())
-            lines.append(
-                f"  branch {item['branch']}: {item['points']} points, h"
-                f" {fmt(item['h'][0], PRECISE)} .. "
-                f"{fmt(item['h'][1], PRECISE)} J, k {fmt(item['k'][0], PRECISE)} .."
-                f" {fmt(item['k'][1], PRECISE)} 1/s^4 "
-                f"({kinds}; ends: {', '.join(item['ends'])}){' exact' if item['exact'] else ''}"
-            )
+            line = branch_line(f"branch {item['branch']}", item, SI_UNITS)
+            lines.append(line + (" exact" if item["exact"] else ""))
         images = [b.hk for b in self.branches]
         extent = np.ptp(np.concatenate(images), axis=0) if images else np.ones(2)
         size = (float(extent[0]) or 1.0, float(extent[1]) or 1.0)
@@ -385,10 +404,7 @@ class BifurcationDiagram(DiagramResult):
             # on k = 0 (the equator, w = gamma3 = 0) xi vanishes to second order: the Hessian
             # of I4 = |xi|^2 vanishes, so as singularities of (H, I4) these are degenerate
             note = "" if k != 0.0 else "; degenerate for (H, I4): the Hessian of I4 vanishes"
-            lines.append(
-                f"  vertex h = {fmt(h, CELL)} J, k = {fmt(k, CELL)} 1/s^4: {kind} of the energy"
-                f" ({states} states{note})"
-            )
+            lines.append(vertex_line(h, k, kind, states, SI_UNITS, note))
         for p in ClosedForm.of(raw.params).parabolas:
             lines.append(f"  closed form: {p.label}, from h = {fmt(p.start, CELL)} J")
         lines.append(

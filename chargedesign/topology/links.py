@@ -10,8 +10,6 @@ motions (from the diagram's states) marked; the FLI map on ``I3 = 0``
 
 from __future__ import annotations
 
-import math
-import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,17 +20,16 @@ from chargedesign.results import Result, png_html
 from chargedesign.simulation.chaos import (
     FLIMap,
     PoincareAtlas,
-    fast_lyapunov_indicator,
+    fli_map,
     poincare_atlas,
+    section_points,
 )
 from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
     attitude_from_gamma,
-    quaternion_gamma,
     rotation_quaternion,
 )
-from chargedesign.simulation.taylor import propagate_many
 from chargedesign.topology.compute import crossings
 from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
 from chargedesign.topology.equations import MomentumMap
@@ -68,64 +65,6 @@ def _seven_state(state: np.ndarray) -> np.ndarray:
     """``(p, q, r, quaternion)`` of a state ``(p, q, r, gamma)``."""
     quat = rotation_quaternion(attitude_from_gamma(state[3:]))
     return np.concatenate([state[:3], quat])
-
-
-def _section_points(system: RigidBodySystem, starts: np.ndarray, t_end: float) -> list[Any]:
-    ens = propagate_many(system, starts, np.array([0.0, t_end]), section="gamma3")
-    out = []
-    for rows in ens.sections or []:
-        gam = quaternion_gamma(rows[:, 4:]) if len(rows) else np.zeros((0, 3))
-        out.append(np.column_stack([rows[:, 0], rows[:, 1:4], gam]) if len(rows) else rows)
-    return out
-
-
-def section_state(
-    system: RigidBodySystem, phi: float, v: float, energy: float
-) -> np.ndarray | None:
-    """The 7-state on the section ``gamma3 = 0`` (upwards) of ``I3 = 0`` at angle phi with
-    ``gamma3' = v`` and the given energy (None where the energy is too low): the chart of
-    :func:`~chargedesign.simulation.chaos.fli_map`, on the level only."""
-    g = np.array([math.cos(phi), math.sin(phi), 0.0])
-    R = attitude_from_gamma(g)
-    u = -float(system.momentum_potential(g[None], R[None])[0]) / (2.0 * system.C)
-    V = float(system.energy(g[None], R[None])[0])
-    r2 = (2.0 * (energy - V) - 2.0 * system.C * (u * u + v * v)) / system.C
-    if not r2 >= 0.0:
-        return None
-    p = u * math.cos(phi) - v * math.sin(phi)
-    q = u * math.sin(phi) + v * math.cos(phi)
-    return np.concatenate([[p, q, math.sqrt(r2)], rotation_quaternion(R)])
-
-
-def level_fli_map(
-    system: RigidBodySystem, energy: float, grid: tuple[int, int], t_end: float
-) -> FLIMap:
-    """The FLI over a ``(phi, v)`` grid of the section, on ``I3 = 0`` only (half the cost of
-    :func:`~chargedesign.simulation.chaos.fli_map`, which also maps an off level)."""
-    t0 = time.perf_counter()
-    phi = np.linspace(0.0, 2.0 * math.pi, grid[0], endpoint=False)
-    v = np.linspace(0.05, 1.0, grid[1]) * math.sqrt(max(energy, 1e-300) / system.C)
-    values = np.full((grid[1], grid[0]), np.nan)
-    starts, where = [], []
-    for a, angle in enumerate(phi):
-        for b, speed in enumerate(v):
-            state = section_state(system, float(angle), float(speed), energy)
-            if state is not None:
-                starts.append(state)
-                where.append((b, a))
-    if starts:
-        fli = fast_lyapunov_indicator(system, np.array(starts), t_end)
-        for (b, a), value in zip(where, fli, strict=True):
-            values[b, a] = value
-    return FLIMap(
-        phi=phi,
-        v=v,
-        fli=[values],
-        levels=(0.0, 0.0),
-        energy=float(energy),
-        t_end=float(t_end),
-        seconds=time.perf_counter() - t0,
-    )
 
 
 @dataclass(repr=False)
@@ -243,6 +182,13 @@ def linked_pictures(
     ]
     critical = critical_motions(diagram, energy)
     starts = np.array([_seven_state(c.state) for c in critical]).reshape(-1, 7)
-    critical_orbits = _section_points(system, starts, t_end) if len(starts) else []
-    fmap = level_fli_map(system, energy, fli_grid, fli_t_end)
+    critical_orbits = section_points(system, starts, t_end) if len(starts) else []
+    fmap = fli_map(
+        system,
+        energy=energy,
+        n_phi=fli_grid[0],
+        n_v=fli_grid[1],
+        t_end=fli_t_end,
+        on_level_only=True,
+    )
     return LinkedPictures(diagram, energy, critical, atlas, orbit_k, critical_orbits, fmap)

@@ -20,10 +20,8 @@ import pytest
 from case_tables import kowalevski_table
 
 import chargedesign as cd
-from chargedesign.airbearing.case_model import case_model, refusal
-from chargedesign.airbearing.dynamics import Plant
-from chargedesign.airbearing.loop import LoopSettings, run_loop
-from chargedesign.airbearing.run import case_start
+from chargedesign.airbearing.dynamics import Plant, case_model, flight_refusal
+from chargedesign.airbearing.loop import LoopSettings, initial_state, run_loop
 from chargedesign.cli import main
 from chargedesign.params import Parameters
 from chargedesign.scene.case_file import case_from_table, read_case
@@ -122,7 +120,7 @@ def test_the_case_start_lies_on_the_level_of_a_conditional_case() -> None:
     )
     text = text.replace("[case.parameters]", "[case.parameters]\nk = 0.2")
     model = case_model(case_from_table(_table(text)))
-    x0 = case_start(model, np.array([0.2, -0.3, 0.9]), 0.1, -0.05)
+    x0 = initial_state(Parameters(C=C), np.array([0.2, -0.3, 0.9]), 0.1, -0.05, model)
     p, q, r, g1, g2, g3 = x0
     hand_I3 = 2 * C * (p * g1 + q * g2) + C * r * g3 + C * 0.2 * g3
     assert hand_I3 == pytest.approx(0.3, abs=1e-14)
@@ -138,7 +136,7 @@ def test_the_noise_free_loop_keeps_F_and_follows_simulate_of_a_body_of_masses(
     model = case_model(case)
     body = np.diag([2 * C, 2 * C, C])
     plant = Plant(Parameters(C=C), body, body, model)
-    x0 = case_start(model, np.array(START["initial_gamma"]), 0.0, 0.0)
+    x0 = initial_state(Parameters(C=C), np.array(START["initial_gamma"]), 0.0, 0.0, model)
     settings = LoopSettings(rate_Hz=50.0, delay_s=0.001, t_end_s=5.0, command="predictive")
     run = run_loop(plant, x0, settings, keep_states=True)
     assert run.I4_drift[0] <= 1e-6  # F's relative drift, the stated tolerance
@@ -172,7 +170,7 @@ def test_the_noise_free_loop_keeps_F_and_follows_simulate_of_a_body_of_masses(
     ],
 )
 def test_a_case_of_another_inertia_is_refused_in_one_line(case_file: str, message: str) -> None:
-    reason = refusal(read_case(CASES / case_file))
+    reason = flight_refusal(read_case(CASES / case_file))
     assert reason is not None and message in reason and "\n" not in reason
 
 
@@ -181,7 +179,7 @@ def test_a_singular_potential_is_refused_in_one_line() -> None:
     text = text.replace('integral = "(p**2', 'integral = "p + (p**2').replace(
         'level = "general"', "level = 0"
     )
-    reason = refusal(case_from_table(_table(text)))
+    reason = flight_refusal(case_from_table(_table(text)))
     assert reason is not None and "singular on gamma3 = 0" in reason and "\n" not in reason
 
 

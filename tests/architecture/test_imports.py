@@ -26,7 +26,6 @@ HEAVY_MODULES = frozenset(
         "chargedesign.model.case_file",
         "chargedesign.model.case_numeric",
         "chargedesign.designer.case_design",
-        "chargedesign.airbearing.case_model",
         "chargedesign.model.catalogue",
         "chargedesign.model.certificate",
         "chargedesign.model.equations",
@@ -42,12 +41,10 @@ HEAVY_MODULES = frozenset(
 #: (importing module, imported module): function-level imports kept on purpose, each with
 #: its reason.
 ALLOWED: dict[tuple[str, str], str] = {
-    ("chargedesign.simulation.pending_design", "chargedesign.designer"): (
-        "the designer loads scipy.sparse and scipy.linalg (about 0.4 s of CPU), which a run of "
-        "a written design.json never calls (tests/test_startup.py)"
-    ),
     ("chargedesign.simulation.setup", "chargedesign.designer.pipeline"): (
-        "the same: only a [case] scene whose masses are designed at once needs the designer"
+        "the designer loads scipy.sparse and scipy.linalg (about 0.4 s of CPU), which a run of "
+        "a written design.json never calls (tests/test_startup.py): only a [case] scene designed "
+        "at once and a [body] region a run needs (design_pending) call it"
     ),
 }
 
