@@ -22,7 +22,12 @@ from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.params import Parameters
 from chargedesign.readers import loads_toml
 from chargedesign.results import Result
-from chargedesign.scene.case_file import Case, case_from_table, vanishes_on_sphere
+from chargedesign.scene.case_file import (
+    Case,
+    case_from_table,
+    sphere_remainder,
+    vanishes_on_sphere,
+)
 from chargedesign.validation import check_keys
 
 #: the keys of one catalogue entry
@@ -157,12 +162,10 @@ def _given_theorem_parameters(case: Case) -> Parameters | None:
 
 
 def _sphere_coefficients(expr: sp.Expr, constant: bool) -> list[sp.Expr]:
-    """The coefficients of ``expr``'s normal form on ``|gamma| = 1`` (its constant term too
-    when ``constant``): all zero iff ``expr`` vanishes on the sphere (up to a constant)."""
-    gamma = tuple(GAMMA)
-    sphere = sp.Poly(sum(g**2 for g in gamma) - 1, *gamma)
-    rem = sp.Poly(sp.expand(expr), *gamma).rem(sphere)
-    return [c for m, c in rem.terms() if constant or any(m)]
+    """The coefficients of ``expr``'s normal form on ``|gamma| = 1``
+    (:func:`~chargedesign.scene.case_file.sphere_remainder`; its constant term too when
+    ``constant``): all zero iff ``expr`` vanishes on the sphere (up to a constant)."""
+    return [c for m, c in sphere_remainder(expr).terms() if constant or any(m)]
 
 
 def _theorem_products(case: Case) -> tuple[sp.Expr, ...] | None:
