@@ -359,7 +359,8 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         l_vec = sp.Matrix([exact(e, f"{where}.l[{i}]") for i, e in enumerate(components)])
         mu = mu_from_l(l_vec)
         free["l"] = sp.Matrix([e.xreplace(zeros) for e in components])
-        free["mu"] = mu_from_l(free["l"])
+        # with no free parameter the free form is the case itself (and is not kept)
+        free["mu"] = mu_from_l(free["l"]) if len(values) > len(zeros) else mu
         texts["l"] = list(given)
     integral = exact(
         _expression(table["integral"], f"{where}.integral", names, known, sizes),
