@@ -24,7 +24,7 @@ from chargedesign.designer.case_masses import mass_conditions
 from chargedesign.designer.result import DesignResult
 from chargedesign.errors import InputError
 from chargedesign.model.case_file import CaseCertificate, certify_case
-from chargedesign.model.case_numeric import case_functions, case_record
+from chargedesign.model.case_numeric import case_functions, case_record, certificate_verdict
 from chargedesign.model.catalogue import THEOREM_NAME, theorem_case
 from chargedesign.moment_conditions import LinearConditions, scene_length
 from chargedesign.moment_conditions.case import derive_case_conditions
@@ -155,6 +155,21 @@ def theorem_certificate(
         return None
 
 
+def case_certificate(
+    design: Design, case: Case, progress: Callable[[str], None] | None = None
+) -> CaseCertificate:
+    """A ``[case]`` scene's certificate (:func:`model_certificate`), its verdict written into
+    the body's design.json ``case`` record (``case.certificate``): the ``[case]`` scene's
+    :func:`theorem_certificate`, one call that can be made when the certificate is read."""
+    if progress is not None:
+        progress(f"certificate of the case {case.name} (exact) ...")
+    certificate = model_certificate(case)
+    record = design.further_keys.get("case")
+    if isinstance(record, dict):
+        record["certificate"] = certificate_verdict(certificate)
+    return certificate
+
+
 def record_case(
     design: Design,
     case: Any,
@@ -162,22 +177,21 @@ def record_case(
     theorem: Parameters | None,
     *,
     progress: Callable[[str], None] | None = None,
+    certify: bool = True,
 ) -> CaseCertificate | None:
-    """Record the model a ``[case]`` scene's body realises: its exact certificate (returned),
-    and with ``table`` (the ``[case]`` as written) design.json ``case`` (to rebuild the case).
-    The theorem's scene's model is :func:`theorem_certificate`'s. For a general case
+    """Record the model a ``[case]`` scene's body realises: with ``table`` (the ``[case]`` as
+    written) design.json ``case`` (to rebuild the case), and with ``certify`` its exact
+    certificate (returned; :func:`case_certificate`, else None: made when read). The
+    theorem's scene's model is :func:`theorem_certificate`'s. For a general case
     (``theorem`` None: not of the theorem's form) also the checks of its point body's elements
     against the case (``case.checks``; also in ``residuals``) and its realism budget and
     realised window at the case's typical rate (``case.realism``, ``case.realised``). A case of
     the theorem's form has the theorem's body and records: its forward accuracy, and with
     ``[medium]`` its limits, realism budget and window."""
-    if progress is not None:
-        progress(f"certificate of the case {case.name} (exact) ...")
-    certificate = model_certificate(case)
-    if table is None:
-        return certificate
-    design.further_keys["case"] = case_record(table, case, certificate)
-    if design.medium is not None or theorem is not None:
+    if table is not None:
+        design.further_keys["case"] = case_record(table, case, None)
+    certificate = case_certificate(design, case, progress) if certify else None
+    if table is None or design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window
         # (as the theorem's scene has them) say the rest
         return certificate
@@ -198,6 +212,7 @@ def record_case(
 __all__ = [
     "CaseDesignResult",
     "CaseElementsResult",
+    "case_certificate",
     "case_conditions",
     "conditions_of_case",
     "model_certificate",

@@ -168,25 +168,29 @@ def lagrangian_torque(case: Any) -> sp.Matrix:
     return torque.applyfunc(sp.expand)
 
 
+#: the keys of a certificate that design.json's ``case.certificate`` keeps
+VERDICT_KEYS = ("holds", "independent", "holds_for_all_parameters", "singular", "seconds")
+
+
+def certificate_verdict(certificate: CaseCertificate) -> dict[str, Any]:
+    """design.json's ``case.certificate``: the certificate's verdict (:data:`VERDICT_KEYS`)."""
+    exact = certificate.to_dict()["case"]
+    return {k: exact[k] for k in VERDICT_KEYS}
+
+
 def case_record(
     table: Mapping[str, Any], case: Case, certificate: CaseCertificate | None
 ) -> dict[str, Any]:
     """design.json's ``case``: the ``[case]`` table as written (``table``, to rebuild the
-    case), its name, inertia (kg m^2), V, integral, level and the certificate's verdict."""
-    verdict = None
-    if certificate is not None:
-        exact = certificate.to_dict()["case"]
-        verdict = {
-            k: exact[k]
-            for k in ("holds", "independent", "holds_for_all_parameters", "singular", "seconds")
-        }
+    case), its name, inertia (kg m^2), V, integral, level and the certificate's verdict
+    (None until the certificate is made: :func:`certificate_verdict`)."""
     return {
         "name": case.name,
         "inertia": [float(m) for m in case.inertia],
         "V": sp.sstr(case.V),
         "integral": sp.sstr(case.integral),
         "level": "general" if case.level is None else str(case.level),
-        "certificate": verdict,
+        "certificate": None if certificate is None else certificate_verdict(certificate),
         "table": dict(table),
     }
 
@@ -247,11 +251,13 @@ def simulated_functions(case: Case) -> CaseFunctions:
 
 
 __all__ = [
+    "VERDICT_KEYS",
     "CaseFunctions",
     "body_case",
     "case_from_record",
     "case_functions",
     "case_record",
+    "certificate_verdict",
     "design_case_functions",
     "lagrangian_torque",
     "lambdified",

@@ -12,17 +12,23 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from importlib import resources
 from typing import Any
 
 import sympy as sp
 
-from chargedesign.model.case import GAMMA
+from chargedesign.model import case as model
 from chargedesign.model.case_file import CaseCertificate, certify_case
 from chargedesign.params import Parameters
 from chargedesign.readers import loads_toml
 from chargedesign.results import Result
-from chargedesign.scene.case_file import Case, case_from_table, vanishes_on_sphere
+from chargedesign.scene.case_file import (
+    Case,
+    case_from_table,
+    sphere_remainder,
+    vanishes_on_sphere,
+)
 from chargedesign.validation import check_keys
 
 #: the keys of one catalogue entry
@@ -157,32 +163,45 @@ def _given_theorem_parameters(case: Case) -> Parameters | None:
 
 
 def _sphere_coefficients(expr: sp.Expr, constant: bool) -> list[sp.Expr]:
-    """The coefficients of ``expr``'s normal form on ``|gamma| = 1`` (its constant term too
-    when ``constant``): all zero iff ``expr`` vanishes on the sphere (up to a constant)."""
-    gamma = tuple(GAMMA)
-    sphere = sp.Poly(sum(g**2 for g in gamma) - 1, *gamma)
-    rem = sp.Poly(sp.expand(expr), *gamma).rem(sphere)
-    return [c for m, c in rem.terms() if constant or any(m)]
+    """The coefficients of ``expr``'s normal form on ``|gamma| = 1``
+    (:func:`~chargedesign.scene.case_file.sphere_remainder`; its constant term too when
+    ``constant``): all zero iff ``expr`` vanishes on the sphere (up to a constant)."""
+    return [c for m, c in sphere_remainder(expr).terms() if constant or any(m)]
+
+
+@lru_cache(maxsize=1)
+def _theorem_in_products() -> tuple[tuple[sp.Expr, ...], sp.Expr, tuple[sp.Symbol, ...]]:
+    """The theorem's l and V (:func:`chargedesign.model.case.symbolic_case`, the claim's one
+    statement in code) with lambda = rho = 0, divided by C and written in the products
+    ``(n, K c, K d, kappa c, kappa d)``, which they are linear in (each c or d of the K terms
+    comes with one K, each of the kappa term with kappa): ``(l, V, products)``."""
+    theorem = model.symbolic_case()
+    Kc, Kd, kc, kd = sp.symbols("Kc Kd kc kd")
+    plain = {model.C: 1, model.lam: 0, model.rho: 0}
+    V = sp.expand(theorem.V.xreplace(plain))
+    V_kappa = V.coeff(model.kappa)
+    in_K = {model.c: Kc / model.K, model.d: Kd / model.K}
+    V = sp.expand((V - model.kappa * V_kappa).xreplace(in_K)) + sp.expand(
+        V_kappa.xreplace({model.c: kc, model.d: kd})
+    )
+    l_vec = tuple(sp.expand(x.xreplace(plain).xreplace(in_K)) for x in theorem.l)
+    assert not (V.free_symbols | set().union(*(x.free_symbols for x in l_vec))) & {
+        model.c,
+        model.d,
+        model.K,
+        model.kappa,
+    }
+    return l_vec, V, (model.n, Kc, Kd, kc, kd)
 
 
 def _theorem_products(case: Case) -> tuple[sp.Expr, ...] | None:
     """``(n, K c, K d, kappa c, kappa d)`` whose theorem V and l are the case's on the
     sphere (exact), or None (no such: the case is not the theorem's)."""
     assert case.l is not None
-    g1, g2, g3 = tuple(GAMMA)
     C = case.inertia[2]
-    n, Kc, Kd, kc, kd = sp.symbols("n Kc Kd kc kd")
-    f = Kd * (g2**2 - g1**2) + 2 * Kc * g1 * g2  # K times the theorem's quadratic f
-    l_theorem = [C * 2 * n * g1, C * 2 * n * g2, C * (n * g3 + f)]
-    V_theorem = C * (
-        2 * kd * g1 * g2
-        + kc * (g1**2 - g2**2)
-        + n**2 * g3**2 / 2
-        - n * g3 * f
-        + 2 * Kc * Kd * g1 * g2 * (g1**2 - g2**2)
-        + Kd**2 / 2 * (g3**4 + 4 * g1**2 * g2**2)
-        - Kc**2 * (g3**2 * (g1**2 + g2**2) + 2 * g1**2 * g2**2)
-    )
+    l_unit, V_unit, (n, Kc, Kd, kc, kd) = _theorem_in_products()
+    l_theorem = [C * x for x in l_unit]
+    V_theorem = C * V_unit
     try:
         l_rows = [
             c

@@ -268,12 +268,25 @@ def _parameters(table: Any, where: str) -> tuple[dict[str, sp.Symbol], dict[sp.S
     return symbols, values
 
 
+def sphere_remainder(expr: sp.Expr) -> sp.Poly:
+    """The normal form of the polynomial ``expr`` on ``|gamma| = 1``: its remainder by
+    ``|gamma|^2 - 1``, monic in gamma1 (so of degree <= 1 in gamma1), as a polynomial in the
+    state ``gamma1 gamma2 gamma3 p q r`` whose coefficients may hold other symbols (the
+    sphere normal form of :func:`chargedesign.model.certificate.sphere_normal_form`, for a
+    sympy expression). It is zero iff ``expr`` vanishes on the whole sphere.
+
+    Raises
+    ------
+    sympy.PolynomialError
+        ``expr`` is not a polynomial in the state (a denominator in gamma).
+    """
+    return sp.Poly(sp.expand(expr), g1, g2, g3, p, q, r).rem(_SPHERE)
+
+
 def vanishes_on_sphere(expr: sp.Expr) -> bool:
-    """Whether the polynomial ``expr`` (in the state) vanishes on the whole unit sphere:
-    its remainder by ``|gamma|^2 - 1``, monic in gamma1, is zero (the sphere normal form of
-    :func:`chargedesign.model.certificate.sphere_normal_form`)."""
-    polynomial = sp.Poly(sp.expand(expr), g1, g2, g3, p, q, r, domain=sp.QQ)
-    return bool(polynomial.rem(_SPHERE).is_zero)
+    """Whether the polynomial ``expr`` (in the state) vanishes on the whole unit sphere
+    (:func:`sphere_remainder` is zero)."""
+    return bool(sphere_remainder(expr).is_zero)
 
 
 def _not_on_whole_sphere(expr: sp.Expr, where: str) -> None:
@@ -346,7 +359,8 @@ def case_from_table(table: Any, where: str = "case") -> Case:
         l_vec = sp.Matrix([exact(e, f"{where}.l[{i}]") for i, e in enumerate(components)])
         mu = mu_from_l(l_vec)
         free["l"] = sp.Matrix([e.xreplace(zeros) for e in components])
-        free["mu"] = mu_from_l(free["l"])
+        # with no free parameter the free form is the case itself (and is not kept)
+        free["mu"] = mu_from_l(free["l"]) if len(values) > len(zeros) else mu
         texts["l"] = list(given)
     integral = exact(
         _expression(table["integral"], f"{where}.integral", names, known, sizes),
@@ -514,5 +528,6 @@ __all__ = [
     "mu_from_l",
     "potential_of_mu",
     "read_case",
+    "sphere_remainder",
     "vanishes_on_sphere",
 ]

@@ -309,3 +309,28 @@ def test_a_refused_theorem_case_notes_it_when_its_certificate_is_read() -> None:
     assert not any("certificate was not made" in note for note in result.design.notes or [])
     assert result.certificate is None
     assert any("certificate was not made" in n and "1e-35" in n for n in result.design.notes)
+
+
+def test_a_case_scenes_certificate_is_one_call_made_after_its_record() -> None:
+    """record_case without ``certify`` writes the case record with no verdict; the one call
+    case_certificate then makes the certificate and writes its verdict there: the record is
+    then the eager route's (the certificate that a deferred read would make)."""
+    import copy
+
+    from chargedesign.designer.case_design import case_certificate, record_case
+
+    theorem_scene, case_scene = _twin(EXAMPLES / "unit_scale.toml", UNIT_CASE)
+    eager = cd.design(case_scene)
+    design = copy.deepcopy(eager.design)
+    design.further_keys.pop("case")
+    table, case = case_scene.tables["case"], case_scene.case
+    params = theorem_scene.parameters
+    assert record_case(design, case, table, params, certify=False) is None
+    assert design.further_keys["case"]["certificate"] is None
+    certificate = case_certificate(design, case)
+    assert _fields(certificate) == _fields(eager.certificate)
+    made, recorded = design.further_keys["case"], eager.design.further_keys["case"]
+    assert list(made) == list(recorded)  # design.json's key order kept
+    for record in (made, recorded):
+        record["certificate"].pop("seconds")
+    assert made == recorded
