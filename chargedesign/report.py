@@ -14,6 +14,7 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
+import math
 import textwrap
 from typing import Any
 
@@ -41,8 +42,10 @@ from chargedesign.scene.design_realism import (
 )
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
+from chargedesign.physical.window import RealisedWindow
 from chargedesign.verdict import (
     parts_within_limits,
+    realised_window,
     recorded_verdict,
     verdict_state_line,
     verdict_table,
@@ -420,17 +423,17 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
         + (f"; largest relative residual {fmt(residual, PRECISE)}" if residual is not None else "")
         + "."
     )
-    window = (design.frontier or {}).get("realised") or {}
+    window = realised_window(design)
     record = RealismRecord.read(design.realism) if design.medium is not None else None
     if record is not None and record.induced:
         body += _wrapped(f"{induced_text(record.induced)}.")
-    if window.get("empty") and window.get("why"):
+    if window is not None and window.empty and window.why:
         law = record.law if record is not None else {}
         body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
-    elif window:
+    elif window is not None:
         body += _wrapped(
-            f"Realised window: s = {fmt(window['s_low'], ROUGH)} to "
-            f"{fmt(window['s_high'], ROUGH)} x the scene's rates."
+            f"Realised window: s = {fmt(window.s_low, ROUGH)} to "
+            f"{fmt(window.s_high, ROUGH)} x the scene's rates."
         )
     for line in _frontier_lines(design, design.frontier or {}):
         body += _wrapped(line.removeprefix("- "))
@@ -467,32 +470,27 @@ def _verdict_table(
     return verdict, verdict_table(verdict), window
 
 
-def _best_rate_text(window: dict[str, Any]) -> str | None:
+def _best_rate_text(window: RealisedWindow) -> str | None:
     """The worst parasitic at the empty window's best rate, with its reference and rate (the
     window's laws, drawn from the body designed at s_max); None when not recorded."""
-    best, missing, fraction = (
-        window.get("s_best"),
-        window.get("missing_factor"),
-        window.get("fraction"),
-    )
-    if best is None or missing is None or not fraction:
+    best, missing, fraction = window.s_best, window.missing, window.fraction
+    if best is None or not math.isfinite(missing) or not fraction:
         return None
-    worst = str(window.get("binding_low", "")).split(" (")[0] or "the worst parasitic"
-    term = window.get("smallest_term") or "?"
+    worst = str(window.binding_low).split(" (")[0] or "the worst parasitic"
     return (
         f"at the best rate the worst parasitic ({worst}) is "
-        f"{parasitic_text(missing * fraction, term, best)} by the window's laws (the body "
-        f"designed at s_max)"
+        f"{parasitic_text(missing * fraction, window.term_key or '?', best)} by the window's "
+        "laws (the body designed at s_max)"
     )
 
 
-def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
+def _why_empty(window: RealisedWindow, law: dict[str, Any]) -> str:
     """Why no rate is realised: the K law where it applies (the realism budget's
     ``k_law_induced_ratio``: a law of matter at the K frontier, named as the law, the same
     number as its line below and the budget's table), then the worst parasitic at the best
     rate with its reference and rate; else the frontier's own words."""
     if not law or law.get("value") is None:
-        return str(window["why"])
+        return str(window.why)
     text = (
         "the K term cannot be realised by ordinary matter: the K law (below) is "
         f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier, for any "
@@ -609,7 +607,7 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
     response = record.response
     law = record.law if response else {}
     verdict, table, window_now = _verdict_table(design, record)
-    window = frontier.get("realised") or {}
+    window = realised_window(design)
     summary = [
         f"**Verdict: {verdict_state_line(verdict)}** in {medium.name} (breakdown "
         f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
@@ -620,23 +618,22 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
         "",
     ]
     detail = []
-    fraction = window.get("fraction")
     if record.induced:
         summary.append(f"- {induced_text(record.induced)}.")
-    if window.get("empty") and window.get("why"):
+    if window is not None and window.empty and window.why:
         best = _best_rate_text(window)
         summary.append(
             "- Realised window: empty (no rate realises the body"
             + (f"; {best})." if best else ").")
         )
         detail.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
-    elif window:
+    elif window is not None:
         summary.append(
-            f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
-            f"{fmt(window['s_high'], ROUGH)} x the scene's rates, every parasitic below "
-            f"{fmt(fraction, PLAIN)} of each realised term (low end: "
-            f"{window['binding_low'].split(' (')[0]}; high end: "
-            f"{window['binding_high'].split(': ')[0]})."
+            f"- Realised window: s = {fmt(window.s_low, ROUGH)} to "
+            f"{fmt(window.s_high, ROUGH)} x the scene's rates, every parasitic below "
+            f"{fmt(window.fraction, PLAIN)} of each realised term (low end: "
+            f"{window.binding_low.split(' (')[0]}; high end: "
+            f"{window.binding_high.split(': ')[0]})."
         )
     summary.append(
         "- Largest surface field: "
