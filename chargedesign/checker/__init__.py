@@ -80,7 +80,6 @@ from chargedesign.checker.constants import (
 )
 from chargedesign.checker.double_double import DD_UNIT
 from chargedesign.checker.kernel import (
-    Elements,
     RotatedSums,
     collect_elements,
     evaluate_rotated,
@@ -116,7 +115,6 @@ __all__ = [
     "AccurateSums",
     "CheckReport",
     "EffectResult",
-    "Elements",
     "QuantityResult",
     "RotatedSums",
     "check_design",
