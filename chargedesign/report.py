@@ -26,10 +26,11 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 
 # the plausibility figures: the Coulomb field and the material data of the physical design
 from chargedesign.physical.coulomb import point_charge_field as charge_field
-from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
+from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES, within_limits
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
 from chargedesign.physical.sources import cited_keys, sources_table_lines
 from chargedesign.physical.support import support_lines
+from chargedesign.physical.window import RealisedWindow
 from chargedesign.scene.design_realism import (
     FIELD_RESPONSE_KEYS,
     INDUCED_KEY,
@@ -42,11 +43,10 @@ from chargedesign.scene.design_realism import (
 )
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
-from chargedesign.physical.window import RealisedWindow
 from chargedesign.verdict import (
-    parts_within_limits,
     realised_window,
     recorded_verdict,
+    recorded_window,
     verdict_state_line,
     verdict_table,
     verdict_text_table,
@@ -331,7 +331,7 @@ def _case_lines(design: Design) -> list[str]:
             f"case's gamma x dV/dgamma - omega x mu: relative error {checks['torque_rel_err']:.1e}"
             f"; the charges' l . gamma is the case's plus {checks['level_offset']:.6g} kg m^2/s"
         )
-    budget, window = record.get("realism"), record.get("realised")
+    budget, window = record.get("realism"), recorded_window(record.get("realised"))
     if budget and budget["term_key"] is None:
         lines.append("- realism: the case realises no force (V and mu constant): no term to hold")
     elif budget and window:
@@ -340,16 +340,12 @@ def _case_lines(design: Design) -> list[str]:
             for key, item in budget["items"].items()
             if item["value"] is not None
         )
-        span = (
-            "empty"
-            if window["s_low"] is None
-            else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
-        )
+        span = "empty" if window.empty else f"s = {window.s_low:.3g} .. {window.s_high:.3g}"
         lines += [
             f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
             f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
-            f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
-            f"below: {window['binding_low']}; above: {window['binding_high']}",
+            f"- realised window (each parasitic below {window.fraction:g} of it): {span}; "
+            f"below: {window.binding_low}; above: {window.binding_high}",
         ]
     return lines
 
@@ -466,7 +462,7 @@ def _verdict_table(
     """The recorded verdict (:func:`chargedesign.verdict.recorded_verdict`: design.json's
     ``verdict``), its short table, and the realised window at the design's rate it read."""
     verdict = recorded_verdict(design)
-    window = record.window if parts_within_limits(design.buildability) else None
+    window = record.window if within_limits(design.buildability) else None
     return verdict, verdict_table(verdict), window
 
 

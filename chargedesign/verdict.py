@@ -47,17 +47,21 @@ from chargedesign.vocabulary import VERDICT_STATES
 STATES = VERDICT_STATES
 REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
-#: design.json ``buildability``'s flag (read from old files under ``buildable`` too)
-parts_within_limits = within_limits
-
 
 def realised_window(design: Design) -> RealisedWindow | None:
     """The realised window design.json records (``frontier.realised``), read back as the
-    frontier's own :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed).
+    frontier's own :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed;
+    :func:`recorded_window`)."""
+    return recorded_window((design.frontier or {}).get("realised"))
 
-    What ``to_dict`` leaves out stays empty (the curves, the end laws); a missing factor
-    written as null (not empty, or unbounded) is read as infinite."""
-    data = (design.frontier or {}).get("realised")
+
+def recorded_window(data: dict[str, Any] | None) -> RealisedWindow | None:
+    """A realised window as design.json records it (the frontier's ``realised``, or a
+    ``[case]`` record's, which keeps its ends, bindings, fraction and notes), read back as a
+    :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed).
+
+    What is not recorded stays empty (the curves, the end laws; a case's margins and laws); a
+    missing factor written as null (not empty, or unbounded) is read as infinite."""
     if not data:
         return None
     missing = data.get("missing_factor")
@@ -229,7 +233,7 @@ def judge(
 
     Both routes call this: the design's record (:func:`verdict_record`) and the check's
     recomputation from the written parts."""
-    ok = parts_within_limits(limits)
+    ok = within_limits(limits)
     below = magnets.get("below", 0)
     rows: list[dict[str, Any]] = []
     items = _limit_items(limits, ok)

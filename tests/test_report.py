@@ -300,12 +300,25 @@ def test_the_recorded_window_reads_back_as_the_frontier_s_record(s_low):
         at_design={"eddy": 3.0},
     )
     written = json.loads(json.dumps(window.to_dict()))
-    design = Design.from_dict(
-        {"parameters": {"C": 1.0}, "frontier": {"realised": written}}
-    )
+    design = Design.from_dict({"parameters": {"C": 1.0}, "frontier": {"realised": written}})
     read = realised_window(design)
     assert isinstance(read, RealisedWindow)
     assert read.to_dict() == written
     assert read.empty == (s_low is None)
     assert read.missing == (37.0 if s_low is None else math.inf)
     assert realised_window(Design.from_dict({"parameters": {"C": 1.0}})) is None
+
+
+def test_a_case_record_s_window_reads_back_with_what_it_keeps():
+    """A ``[case]`` record keeps its window's ends, bindings, fraction and notes: read back as
+    the same RealisedWindow, the rest empty."""
+    from chargedesign.verdict import recorded_window
+
+    kept = {"s_low": 0.2, "s_high": 3.0, "binding_low": "a", "binding_high": "b"}
+    window = recorded_window({**kept, "fraction": 1e-3, "notes": ["n"]})
+    assert window is not None and not window.empty
+    assert {k: getattr(window, k) for k in kept} == kept
+    assert (window.fraction, window.notes, window.margins) == (1e-3, ["n"], {})
+    assert window.missing == math.inf
+    assert recorded_window(None) is None and recorded_window({}) is None
+    assert recorded_window({**kept, "s_low": None, "fraction": 1e-3}).empty
