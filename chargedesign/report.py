@@ -470,7 +470,7 @@ def _best_rate_text(window: RealisedWindow) -> str | None:
     """The worst parasitic at the empty window's best rate, with its reference and rate (the
     window's laws, drawn from the body designed at s_max); None when not recorded."""
     best, missing, fraction = window.s_best, window.missing, window.fraction
-    if best is None or not math.isfinite(missing) or not fraction:
+    if not (math.isfinite(best) and math.isfinite(missing) and fraction):
         return None
     worst = str(window.binding_low).split(" (")[0] or "the worst parasitic"
     return (

@@ -61,19 +61,20 @@ def recorded_window(data: dict[str, Any] | None) -> RealisedWindow | None:
     :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed).
 
     What is not recorded stays empty (the curves, the end laws; a case's margins and laws); a
-    missing factor written as null (not empty, or unbounded) is read as infinite."""
+    missing factor written as null (not empty, or unbounded) is read as infinite, a best rate
+    not recorded as NaN."""
     if not data:
         return None
-    missing = data.get("missing_factor")
+    missing, best = data.get("missing_factor"), data.get("s_best")
     return RealisedWindow(
         s_low=data.get("s_low"),
         s_high=data.get("s_high"),
         binding_low=data.get("binding_low", ""),
         binding_high=data.get("binding_high", ""),
-        fraction=data.get("fraction"),
-        s_best=data.get("s_best"),
+        fraction=data["fraction"],
+        s_best=math.nan if best is None else best,
         missing=math.inf if missing is None else missing,
-        term_key=data.get("smallest_term"),
+        term_key=data.get("smallest_term") or "",
         margins=dict(data.get("margins") or {}),
         laws=dict(data.get("laws") or {}),
         confirmed=list(data.get("confirmed") or []),

@@ -1065,7 +1065,7 @@ def render_image(
     gamma: Any = None,
     window_size: tuple[int, int] = (1024, 768),
     max_elements: int | None = None,
-) -> np.ndarray:
+) -> Picture:
     """Render the body off screen and return the picture.
 
     Parameters
