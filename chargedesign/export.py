@@ -62,9 +62,7 @@ from chargedesign.readers import (
     read_vtk_export,
     resolve_format,
 )
-from chargedesign.vocabulary import EXPORT_FORMATS
 
-FORMATS = EXPORT_FORMATS
 UNITS = "positions m, charge C, mass kg, dipole moment A m^2"
 #: point-data ``kind`` codes of the VTP export
 KIND_CODES = {"charge": 0, "mass": 1, "dipole": 2, "continuous charge": 3, "continuous mass": 4}

@@ -245,11 +245,11 @@ def clean_stale(folder: str | os.PathLike[str]) -> list[Path]:
 # --------------------------------------------------------------------------- files
 
 
-def _new_file_mode() -> int:
-    """Mode of a newly created file under the current umask (0666 & ~umask)."""
+def _umask() -> int:
+    """The current umask (read by setting it and setting it back)."""
     mask = os.umask(0)
     os.umask(mask)
-    return 0o666 & ~mask
+    return mask
 
 
 @contextmanager
@@ -278,7 +278,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     try:
         yield tmp_path
         try:
-            os.chmod(tmp_path, _new_file_mode())  # mkstemp creates 0600; use the usual mode
+            os.chmod(tmp_path, 0o666 & ~_umask())  # mkstemp creates 0600; use the usual mode
             check_output_path(target)  # it may have become a link or FIFO meanwhile
             with deferred_signals():
                 os.replace(tmp_path, target)
@@ -448,12 +448,6 @@ def atomic_directory(path: str | os.PathLike[str], *, drop: Iterable[str] = ()) 
         _OPEN.pop(key, None)
         if os.path.lexists(staging):
             shutil.rmtree(staging, ignore_errors=True)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 # --------------------------------------------------------------------------- the boundary check

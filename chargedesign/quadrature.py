@@ -44,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.elements import ElementSet
 from chargedesign.moments import monomial_matrix
 from chargedesign.scene.design_continuous import (
     DENSITY_TYPES,
@@ -364,19 +365,14 @@ def required_order(body: ContinuousBody, integrand_degree: int) -> int:
     return ContinuousBody.coerce(body).density.degree + _as_order(integrand_degree)
 
 
-@dataclass(frozen=True)
-class GatheredElements:
-    """Every charge and mass as a point (continuous bodies as quadrature nodes) and the
-    dipoles, in body axes (m; C, kg, A m^2); ``quadrature``: per continuous body its
-    ``kind``, ``shape``, ``order`` and ``nodes``."""
+@dataclass(kw_only=True, repr=False)
+class GatheredElements(ElementSet):
+    """Every charge and mass as a point (continuous bodies as quadrature nodes; the masses
+    include the carriers' and magnets' own) and the dipoles, in body axes (m; C, kg, A m^2):
+    the one element type, as the check and the simulation read it; ``quadrature``: per
+    continuous body its ``kind``, ``shape``, ``order`` and ``nodes``."""
 
-    charge_positions: np.ndarray
-    charge_values: np.ndarray
-    mass_positions: np.ndarray
-    mass_values: np.ndarray
-    dipole_positions: np.ndarray
-    dipole_moments: np.ndarray
-    quadrature: list[dict[str, Any]]
+    quadrature: list[dict[str, Any]] = field(default_factory=list)
 
 
 def gather_elements(

@@ -14,6 +14,7 @@ compared with a neodymium magnet (magnetisation about 1e6 A/m), which needs the 
 
 from __future__ import annotations
 
+import math
 import textwrap
 from typing import Any
 
@@ -25,10 +26,11 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 
 # the plausibility figures: the Coulomb field and the material data of the physical design
 from chargedesign.physical.coulomb import point_charge_field as charge_field
-from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES
+from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES, within_limits
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
 from chargedesign.physical.sources import cited_keys, sources_table_lines
 from chargedesign.physical.support import support_lines
+from chargedesign.physical.window import RealisedWindow
 from chargedesign.scene.design_realism import (
     FIELD_RESPONSE_KEYS,
     INDUCED_KEY,
@@ -42,8 +44,9 @@ from chargedesign.scene.design_realism import (
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
 from chargedesign.verdict import (
-    parts_within_limits,
+    realised_window,
     recorded_verdict,
+    recorded_window,
     verdict_state_line,
     verdict_table,
     verdict_text_table,
@@ -328,7 +331,7 @@ def _case_lines(design: Design) -> list[str]:
             f"case's gamma x dV/dgamma - omega x mu: relative error {checks['torque_rel_err']:.1e}"
             f"; the charges' l . gamma is the case's plus {checks['level_offset']:.6g} kg m^2/s"
         )
-    budget, window = record.get("realism"), record.get("realised")
+    budget, window = record.get("realism"), recorded_window(record.get("realised"))
     if budget and budget["term_key"] is None:
         lines.append("- realism: the case realises no force (V and mu constant): no term to hold")
     elif budget and window:
@@ -337,16 +340,12 @@ def _case_lines(design: Design) -> list[str]:
             for key, item in budget["items"].items()
             if item["value"] is not None
         )
-        span = (
-            "empty"
-            if window["s_low"] is None
-            else f"s = {window['s_low']:.3g} .. {window['s_high']:.3g}"
-        )
+        span = "empty" if window.empty else f"s = {window.s_low:.3g} .. {window.s_high:.3g}"
         lines += [
             f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
             f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
-            f"- realised window (each parasitic below {window['fraction']:g} of it): {span}; "
-            f"below: {window['binding_low']}; above: {window['binding_high']}",
+            f"- realised window (each parasitic below {window.fraction:g} of it): {span}; "
+            f"below: {window.binding_low}; above: {window.binding_high}",
         ]
     return lines
 
@@ -420,17 +419,17 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
         + (f"; largest relative residual {fmt(residual, PRECISE)}" if residual is not None else "")
         + "."
     )
-    window = (design.frontier or {}).get("realised") or {}
+    window = realised_window(design)
     record = RealismRecord.read(design.realism) if design.medium is not None else None
     if record is not None and record.induced:
         body += _wrapped(f"{induced_text(record.induced)}.")
-    if window.get("empty") and window.get("why"):
+    if window is not None and window.empty and window.why:
         law = record.law if record is not None else {}
         body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
-    elif window:
+    elif window is not None:
         body += _wrapped(
-            f"Realised window: s = {fmt(window['s_low'], ROUGH)} to "
-            f"{fmt(window['s_high'], ROUGH)} x the scene's rates."
+            f"Realised window: s = {fmt(window.s_low, ROUGH)} to "
+            f"{fmt(window.s_high, ROUGH)} x the scene's rates."
         )
     for line in _frontier_lines(design, design.frontier or {}):
         body += _wrapped(line.removeprefix("- "))
@@ -463,36 +462,31 @@ def _verdict_table(
     """The recorded verdict (:func:`chargedesign.verdict.recorded_verdict`: design.json's
     ``verdict``), its short table, and the realised window at the design's rate it read."""
     verdict = recorded_verdict(design)
-    window = record.window if parts_within_limits(design.buildability) else None
+    window = record.window if within_limits(design.buildability) else None
     return verdict, verdict_table(verdict), window
 
 
-def _best_rate_text(window: dict[str, Any]) -> str | None:
+def _best_rate_text(window: RealisedWindow) -> str | None:
     """The worst parasitic at the empty window's best rate, with its reference and rate (the
     window's laws, drawn from the body designed at s_max); None when not recorded."""
-    best, missing, fraction = (
-        window.get("s_best"),
-        window.get("missing_factor"),
-        window.get("fraction"),
-    )
-    if best is None or missing is None or not fraction:
+    best, missing, fraction = window.s_best, window.missing, window.fraction
+    if not (math.isfinite(best) and math.isfinite(missing) and fraction):
         return None
-    worst = str(window.get("binding_low", "")).split(" (")[0] or "the worst parasitic"
-    term = window.get("smallest_term") or "?"
+    worst = str(window.binding_low).split(" (")[0] or "the worst parasitic"
     return (
         f"at the best rate the worst parasitic ({worst}) is "
-        f"{parasitic_text(missing * fraction, term, best)} by the window's laws (the body "
-        f"designed at s_max)"
+        f"{parasitic_text(missing * fraction, window.term_key or '?', best)} by the window's "
+        "laws (the body designed at s_max)"
     )
 
 
-def _why_empty(window: dict[str, Any], law: dict[str, Any]) -> str:
+def _why_empty(window: RealisedWindow, law: dict[str, Any]) -> str:
     """Why no rate is realised: the K law where it applies (the realism budget's
     ``k_law_induced_ratio``: a law of matter at the K frontier, named as the law, the same
     number as its line below and the budget's table), then the worst parasitic at the best
     rate with its reference and rate; else the frontier's own words."""
     if not law or law.get("value") is None:
-        return str(window["why"])
+        return str(window.why)
     text = (
         "the K term cannot be realised by ordinary matter: the K law (below) is "
         f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier, for any "
@@ -609,7 +603,7 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
     response = record.response
     law = record.law if response else {}
     verdict, table, window_now = _verdict_table(design, record)
-    window = frontier.get("realised") or {}
+    window = realised_window(design)
     summary = [
         f"**Verdict: {verdict_state_line(verdict)}** in {medium.name} (breakdown "
         f"{fmt(medium.breakdown)} V/m, safety {fmt(medium.safety, PLAIN)}).",
@@ -620,23 +614,22 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
         "",
     ]
     detail = []
-    fraction = window.get("fraction")
     if record.induced:
         summary.append(f"- {induced_text(record.induced)}.")
-    if window.get("empty") and window.get("why"):
+    if window is not None and window.empty and window.why:
         best = _best_rate_text(window)
         summary.append(
             "- Realised window: empty (no rate realises the body"
             + (f"; {best})." if best else ").")
         )
         detail.append(f"- Why no rate is realised: {_why_empty(window, law)}.")
-    elif window:
+    elif window is not None:
         summary.append(
-            f"- Realised window: s = {fmt(window['s_low'], ROUGH)} to "
-            f"{fmt(window['s_high'], ROUGH)} x the scene's rates, every parasitic below "
-            f"{fmt(fraction, PLAIN)} of each realised term (low end: "
-            f"{window['binding_low'].split(' (')[0]}; high end: "
-            f"{window['binding_high'].split(': ')[0]})."
+            f"- Realised window: s = {fmt(window.s_low, ROUGH)} to "
+            f"{fmt(window.s_high, ROUGH)} x the scene's rates, every parasitic below "
+            f"{fmt(window.fraction, PLAIN)} of each realised term (low end: "
+            f"{window.binding_low.split(' (')[0]}; high end: "
+            f"{window.binding_high.split(': ')[0]})."
         )
     summary.append(
         "- Largest surface field: "

@@ -16,6 +16,7 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.checker import sample_orientations
+from chargedesign.elements import ElementSet
 from chargedesign.errors import InputError
 from chargedesign.fields import AxisymmetricField
 from chargedesign.model import evaluators
@@ -27,24 +28,31 @@ DEFAULT_ORIENTATIONS = 200
 
 
 # ------------------------------------------------------------------------ element access
-def mass_points(design: Any) -> tuple[np.ndarray, np.ndarray]:
-    """All point masses of a body: positions (m, 3) in m and masses (m,) in kg.
+def analysed_elements(design: Design) -> ElementSet:
+    """The elements the analysis perturbs: the design's point elements with every mass (the
+    ballast plus the carriers' and magnets' own) a point of its own
+    (:meth:`~chargedesign.elements.ElementSet.point_elements`); a design with continuous bodies
+    is refused."""
+    check_point_elements(design.continuous)
+    return design.point_elements()
 
-    The ballast plus the carriers' and magnets' own masses
-    (:meth:`~chargedesign.elements.ElementSet.point_elements`); each is perturbed as a point
-    of its own.
-    """
-    points = design.point_elements()
-    return np.asarray(points.mass_positions, float), np.asarray(points.mass_values, float)
+
+def element_labels(el: ElementSet) -> list[tuple[str, int]]:
+    """``(kind, index)`` of every element, in the analysis' order: charges, dipoles, masses."""
+    return (
+        [("charge", i) for i in range(len(el.charge_values))]
+        + [("dipole", i) for i in range(len(el.dipole_moments))]
+        + [("mass", i) for i in range(len(el.mass_values))]
+    )
 
 
 def with_masses(design: Design, positions: np.ndarray, values: np.ndarray) -> Design:
-    """A copy of ``design`` whose mass points (:func:`mass_points`) are replaced."""
+    """A copy of ``design`` whose mass points (:func:`analysed_elements`) are replaced."""
     return with_arrays(design, mass_positions=positions, mass_values=values)
 
 
 def with_arrays(design: Design, **arrays: Any) -> Design:
-    points = design.point_elements()  # every mass in the mass arrays (see mass_points)
+    points = design.point_elements()  # every mass in the mass arrays (see analysed_elements)
     fields_ = {k: getattr(points, k) for k in ELEMENT_ARRAYS}
     fields_.update(arrays)
     return Design(
@@ -64,38 +72,6 @@ ELEMENT_ARRAYS = (
     "dipole_positions",
     "dipole_moments",
 )
-
-
-@dataclass
-class Elements:
-    """The element arrays the analysis perturbs (charges, dipoles, all mass points)."""
-
-    cp: np.ndarray
-    cv: np.ndarray
-    dp: np.ndarray
-    dm: np.ndarray
-    mp: np.ndarray
-    mv: np.ndarray
-
-    @classmethod
-    def of(cls, design: Design) -> Elements:
-        check_point_elements(design.continuous)
-        mp, mv = mass_points(design)
-        return cls(
-            np.asarray(design.charge_positions, float),
-            np.asarray(design.charge_values, float),
-            np.asarray(design.dipole_positions, float),
-            np.asarray(design.dipole_moments, float),
-            mp,
-            mv,
-        )
-
-    def labels(self) -> list[tuple[str, int]]:
-        return (
-            [("charge", i) for i in range(len(self.cv))]
-            + [("dipole", i) for i in range(len(self.dm))]
-            + [("mass", i) for i in range(len(self.mv))]
-        )
 
 
 def design_fields(design: Design) -> dict[str, AxisymmetricField]:
@@ -124,25 +100,27 @@ def references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------------ the quantities
-def quantities(el: Elements, f: Mapping[str, AxisymmetricField], gammas: np.ndarray) -> dict:
+def quantities(el: ElementSet, f: Mapping[str, AxisymmetricField], gammas: np.ndarray) -> dict:
     """mu (m, 3), V (m,) centred, inertia (3, 3) of the elements (batched over nothing)."""
     m = len(gammas)
     mu = np.zeros((m, 3))
     V = np.zeros(m)
-    if len(el.cv):
+    if len(el.charge_values):
         if not f["magnetic"].is_zero:
-            G = f["magnetic"].gradient_body(el.cp, gammas)
-            s = np.einsum("mni,ni->mn", G, el.cp)
-            mu += np.einsum("mn,n,ni->mi", s, el.cv, el.cp)
+            G = f["magnetic"].gradient_body(el.charge_positions, gammas)
+            s = np.einsum("mni,ni->mn", G, el.charge_positions)
+            mu += np.einsum("mn,n,ni->mi", s, el.charge_values, el.charge_positions)
         if not f["electric"].is_zero:
-            V += f["electric"].potential_body(el.cp, gammas) @ el.cv
-    if len(el.dm) and not f["magnetic"].is_zero:
-        V += np.einsum("mki,ki->m", f["magnetic"].gradient_body(el.dp, gammas), el.dm)
-    if len(el.mv) and not f["gravity"].is_zero:
-        V += f["gravity"].potential_body(el.mp, gammas) @ el.mv
-    r = el.mp
+            V += f["electric"].potential_body(el.charge_positions, gammas) @ el.charge_values
+    if len(el.dipole_moments) and not f["magnetic"].is_zero:
+        V += np.einsum(
+            "mki,ki->m", f["magnetic"].gradient_body(el.dipole_positions, gammas), el.dipole_moments
+        )
+    if len(el.mass_values) and not f["gravity"].is_zero:
+        V += f["gravity"].potential_body(el.mass_positions, gammas) @ el.mass_values
+    r = el.mass_positions
     S = np.einsum("ij,ij->i", r, r)
-    inertia = np.eye(3) * (el.mv @ S) - np.einsum("n,ni,nj->ij", el.mv, r, r)
+    inertia = np.eye(3) * (el.mass_values @ S) - np.einsum("n,ni,nj->ij", el.mass_values, r, r)
     return {"mu": mu, "V": V - V.mean(), "inertia": inertia}
 
 
@@ -224,44 +202,46 @@ def jacobians(design: Design, gammas: np.ndarray) -> Jacobians:
     -------
     Jacobians
     """
-    el = Elements.of(design)
+    el = analysed_elements(design)
     f = design_fields(design)
     g = as_points(gammas, "gammas")
     m = len(g)
-    labels = el.labels()
+    labels = element_labels(el)
     N = len(labels)
     dims = {"mu": 3, "V": 1, "inertia": 9}
     pos = {q: np.zeros((N, m if q != "inertia" else 1, d, 3)) for q, d in dims.items()}
     val = {q: np.zeros((N, m if q != "inertia" else 1, d, 3)) for q, d in dims.items()}
     width = np.array([3 if k == "dipole" else 1 for k, _ in labels])
-    nc, nd = len(el.cv), len(el.dm)
+    nc, nd = len(el.charge_values), len(el.dipole_moments)
     eye = np.eye(3)
     if nc:
         sl = slice(0, nc)
         if not f["magnetic"].is_zero:
-            G = f["magnetic"].gradient_body(el.cp, g)  # (m, n, 3)
-            H = f["magnetic"].hessian_body(el.cp, g)  # (m, n, 3, 3)
-            s = np.einsum("mni,ni->mn", G, el.cp)
-            grad_s = G + np.einsum("mnij,nj->mni", H, el.cp)
+            G = f["magnetic"].gradient_body(el.charge_positions, g)  # (m, n, 3)
+            H = f["magnetic"].hessian_body(el.charge_positions, g)  # (m, n, 3, 3)
+            s = np.einsum("mni,ni->mn", G, el.charge_positions)
+            grad_s = G + np.einsum("mnij,nj->mni", H, el.charge_positions)
             # d mu_a / d r_b = q (r_a grad_s_b + s delta_ab)
-            jac = np.einsum("na,mnb->nmab", el.cp, grad_s) + np.einsum("mn,ab->nmab", s, eye)
-            pos["mu"][sl] = el.cv[:, None, None, None] * jac
-            val["mu"][sl, :, :, 0] = np.einsum("mn,na->nma", s, el.cp)
+            jac = np.einsum("na,mnb->nmab", el.charge_positions, grad_s) + np.einsum(
+                "mn,ab->nmab", s, eye
+            )
+            pos["mu"][sl] = el.charge_values[:, None, None, None] * jac
+            val["mu"][sl, :, :, 0] = np.einsum("mn,na->nma", s, el.charge_positions)
         if not f["electric"].is_zero:
-            Ge = f["electric"].gradient_body(el.cp, g)
-            Pe = f["electric"].potential_body(el.cp, g)
-            pos["V"][sl, :, 0, :] = el.cv[:, None, None] * np.transpose(Ge, (1, 0, 2))
+            Ge = f["electric"].gradient_body(el.charge_positions, g)
+            Pe = f["electric"].potential_body(el.charge_positions, g)
+            pos["V"][sl, :, 0, :] = el.charge_values[:, None, None] * np.transpose(Ge, (1, 0, 2))
             val["V"][sl, :, 0, 0] = Pe.T
     if nd and not f["magnetic"].is_zero:
         sl = slice(nc, nc + nd)
-        G = f["magnetic"].gradient_body(el.dp, g)
-        H = f["magnetic"].hessian_body(el.dp, g)
-        pos["V"][sl, :, 0, :] = np.einsum("mkij,kj->kmi", H, el.dm)
+        G = f["magnetic"].gradient_body(el.dipole_positions, g)
+        H = f["magnetic"].hessian_body(el.dipole_positions, g)
+        pos["V"][sl, :, 0, :] = np.einsum("mkij,kj->kmi", H, el.dipole_moments)
         val["V"][sl, :, 0, :] = np.transpose(G, (1, 0, 2))
-    nm = len(el.mv)
+    nm = len(el.mass_values)
     if nm:
         sl = slice(nc + nd, nc + nd + nm)
-        r, w = el.mp, el.mv
+        r, w = el.mass_positions, el.mass_values
         if not f["gravity"].is_zero:
             Gg = f["gravity"].gradient_body(r, g)
             Pg = f["gravity"].potential_body(r, g)

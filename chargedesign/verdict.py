@@ -39,6 +39,7 @@ from typing import Any
 from chargedesign.body import Design
 from chargedesign.formatting import PLAIN, ROUGH, fmt, fmt_length
 from chargedesign.physical.limits import within_limits
+from chargedesign.physical.window import RealisedWindow
 from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign, parasitic_text
 from chargedesign.vocabulary import VERDICT_STATES
 
@@ -46,16 +47,51 @@ from chargedesign.vocabulary import VERDICT_STATES
 STATES = VERDICT_STATES
 REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
-#: design.json ``buildability``'s flag (read from old files under ``buildable`` too)
-parts_within_limits = within_limits
+
+def realised_window(design: Design) -> RealisedWindow | None:
+    """The realised window design.json records (``frontier.realised``), read back as the
+    frontier's own :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed;
+    :func:`recorded_window`)."""
+    return recorded_window((design.frontier or {}).get("realised"))
+
+
+def recorded_window(data: dict[str, Any] | None) -> RealisedWindow | None:
+    """A realised window as design.json records it (the frontier's ``realised``, or a
+    ``[case]`` record's, which keeps its ends, bindings, fraction and notes), read back as a
+    :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed).
+
+    What is not recorded stays empty (the curves, the end laws; a case's margins and laws); a
+    missing factor written as null (not empty, or unbounded) is read as infinite, a best rate
+    not recorded as NaN."""
+    if not data:
+        return None
+    missing, best = data.get("missing_factor"), data.get("s_best")
+    return RealisedWindow(
+        s_low=data.get("s_low"),
+        s_high=data.get("s_high"),
+        binding_low=data.get("binding_low", ""),
+        binding_high=data.get("binding_high", ""),
+        fraction=data["fraction"],
+        s_best=math.nan if best is None else best,
+        missing=math.inf if missing is None else missing,
+        term_key=data.get("smallest_term") or "",
+        margins=dict(data.get("margins") or {}),
+        laws=dict(data.get("laws") or {}),
+        confirmed=list(data.get("confirmed") or []),
+        apparatus=data.get("apparatus"),
+        notes=list(data.get("notes") or []),
+        why=data.get("why") or "",
+        support=data.get("support"),
+        at_design=data.get("at_design"),
+    )
 
 
 def _what_changes(design: Design) -> str:
     """What would move the body into its realised window (from the frontier's record)."""
-    window = (design.frontier or {}).get("realised") or {}
-    if not window:
+    window = realised_window(design)
+    if window is None:
         return "`chargedesign frontier SCENE --recommend PATH` searches field, materials, size"
-    if window.get("empty"):
+    if window.empty:
         if design.parameters.K != 0:
             return (
                 "nothing at this K: the size-free K law holds for any size and a2; K = 0 "
@@ -63,7 +99,7 @@ def _what_changes(design: Design) -> str:
             )
         return "`chargedesign frontier SCENE --recommend PATH`: no rate of this choice is realised"
     return (
-        f"a rate s in [{fmt(window['s_low'], ROUGH)}, {fmt(window['s_high'], ROUGH)}] x the "
+        f"a rate s in [{fmt(window.s_low, ROUGH)}, {fmt(window.s_high, ROUGH)}] x the "
         "scene's (the realised window)"
     )
 
@@ -198,7 +234,7 @@ def judge(
 
     Both routes call this: the design's record (:func:`verdict_record`) and the check's
     recomputation from the written parts."""
-    ok = parts_within_limits(limits)
+    ok = within_limits(limits)
     below = magnets.get("below", 0)
     rows: list[dict[str, Any]] = []
     items = _limit_items(limits, ok)

@@ -1065,7 +1065,7 @@ def render_image(
     gamma: Any = None,
     window_size: tuple[int, int] = (1024, 768),
     max_elements: int | None = None,
-) -> np.ndarray:
+) -> Picture:
     """Render the body off screen and return the picture.
 
     Parameters
@@ -1138,8 +1138,6 @@ def render_screenshot(
     Path
         The written file.
     """
-    import imageio.v3 as iio
-
     target = Path(path)
     if target.suffix.lower() not in SCREENSHOT_SUFFIXES:
         raise _misuse("screenshot path", "a file name ending in .png", str(target))
@@ -1147,8 +1145,7 @@ def render_screenshot(
     image = render_image(
         design, region=region, gamma=gamma, window_size=window_size, max_elements=max_elements
     )
-    write_file_atomic(target, lambda tmp: iio.imwrite(tmp, image, extension=".png"))
-    return target
+    return image.save(target)
 
 
 def show_interactive(

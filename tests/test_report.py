@@ -1,5 +1,6 @@
 """The report's opening states what a builder must make: the parts' sizes."""
 
+import math
 import re
 from pathlib import Path
 
@@ -227,6 +228,11 @@ def test_the_report_imports_no_computation_of_the_budget():
             imported |= {f"{node.module}.{alias.name}" for alias in node.names}
         elif isinstance(node, ast.Import):
             imported |= {alias.name for alias in node.names}
+    # the realised window is read back as the frontier's own record type
+    # (chargedesign.verdict.realised_window): the one name of the window's module allowed
+    window = {m for m in imported if m.startswith("chargedesign.physical.window")}
+    assert window <= {"chargedesign.physical.window", "chargedesign.physical.window.RealisedWindow"}
+    imported -= window
     computing = {
         "chargedesign.physical.realism",
         "chargedesign.physical.window",
@@ -265,3 +271,54 @@ def test_citations_are_keys_inline_and_the_sources_section_says_their_status():
     assert row_u.endswith("| no (unverified) |") and row_c.endswith("| yes |")
     assert any(x.startswith("| unchecked |") and x.endswith("| no |") for x in lines)
     assert sources_table_lines([]) == []
+
+
+@pytest.mark.parametrize("s_low", [None, 0.13])
+def test_the_recorded_window_reads_back_as_the_frontier_s_record(s_low):
+    """design.json's ``frontier.realised`` is read back as the frontier's RealisedWindow
+    (the one type the report and the verdict render): its ``to_dict`` is the record written,
+    through JSON, for an empty window (a missing factor) and a window with a range."""
+    import json
+
+    from chargedesign.physical.window import RealisedWindow
+    from chargedesign.verdict import realised_window
+
+    window = RealisedWindow(
+        s_low=s_low,
+        s_high=None if s_low is None else 4.8,
+        binding_low="eddy torque (of the K2 term)",
+        binding_high="limits: surface field",
+        fraction=1e-3,
+        s_best=0.5,
+        missing=37.0,
+        term_key="K2",
+        margins={"eddy": 2.0},
+        laws={"eddy": "s^1"},
+        notes=["a note"],
+        why="no rate" if s_low is None else "",
+        support={"bearing": "cup"},
+        at_design={"eddy": 3.0},
+    )
+    written = json.loads(json.dumps(window.to_dict()))
+    design = Design.from_dict({"parameters": {"C": 1.0}, "frontier": {"realised": written}})
+    read = realised_window(design)
+    assert isinstance(read, RealisedWindow)
+    assert read.to_dict() == written
+    assert read.empty == (s_low is None)
+    assert read.missing == (37.0 if s_low is None else math.inf)
+    assert realised_window(Design.from_dict({"parameters": {"C": 1.0}})) is None
+
+
+def test_a_case_record_s_window_reads_back_with_what_it_keeps():
+    """A ``[case]`` record keeps its window's ends, bindings, fraction and notes: read back as
+    the same RealisedWindow, the rest empty."""
+    from chargedesign.verdict import recorded_window
+
+    kept = {"s_low": 0.2, "s_high": 3.0, "binding_low": "a", "binding_high": "b"}
+    window = recorded_window({**kept, "fraction": 1e-3, "notes": ["n"]})
+    assert window is not None and not window.empty
+    assert {k: getattr(window, k) for k in kept} == kept
+    assert (window.fraction, window.notes, window.margins) == (1e-3, ["n"], {})
+    assert window.missing == math.inf
+    assert recorded_window(None) is None and recorded_window({}) is None
+    assert recorded_window({**kept, "s_low": None, "fraction": 1e-3}).empty

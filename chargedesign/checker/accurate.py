@@ -21,9 +21,9 @@ from chargedesign.checker.double_double import (
 )
 from chargedesign.checker.kernel import (
     POTENTIAL_EFFECTS,
-    Elements,
     trimmed_legendre,
 )
+from chargedesign.quadrature import GatheredElements
 from chargedesign.vocabulary import (
     FIELD_NAMES,
 )
@@ -243,7 +243,7 @@ class AccurateAccumulator:
 
 
 def evaluate_accurate(
-    elements: Elements,
+    elements: GatheredElements,
     fields: dict[str, tuple[float, ...]],
     gammas: np.ndarray,
     omegas: np.ndarray,
@@ -263,7 +263,7 @@ def evaluate_accurate(
 
     Parameters
     ----------
-    elements : Elements
+    elements : GatheredElements
     fields : dict[str, tuple of float]
     gammas : ndarray, shape (m, 3)
         Near-unit vectors (|gamma| = 1 to 1e-12).

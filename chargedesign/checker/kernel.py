@@ -6,7 +6,7 @@ Part of :mod:`chargedesign.checker` (see its docstring for the method).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -15,9 +15,8 @@ from chargedesign.body import Design
 from chargedesign.checker.constants import (
     BLOCK_PAIRS,
 )
-from chargedesign.elements import ElementSet
 from chargedesign.fields import AxisymmetricField
-from chargedesign.quadrature import gather_elements
+from chargedesign.quadrature import GatheredElements, gather_elements
 from chargedesign.validation import check_integer
 from chargedesign.vocabulary import (
     FIELD_NAMES,
@@ -87,16 +86,6 @@ def rotation_matrices(gammas: np.ndarray, rng: np.random.Generator) -> np.ndarra
 
 
 # --------------------------------------------------------------------------- elements
-@dataclass(kw_only=True)
-class Elements(ElementSet):
-    """Every element as a point in body axes (m): charges (C) and masses (kg) including the
-    carriers' and magnets' masses and the quadrature nodes of continuous bodies, dipoles
-    (A m^2); ``quadrature`` describes the continuous bodies' rules (kind, shape, order,
-    nodes)."""
-
-    quadrature: list[dict[str, Any]] = field(default_factory=list)
-
-
 def integrand_degree(kind: str, degrees: dict[str, int]) -> int:
     """Polynomial degree (in body coordinates) of every integrand the check uses."""
     if kind == "charge":
@@ -109,7 +98,7 @@ def integrand_degree(kind: str, degrees: dict[str, int]) -> int:
 
 def collect_elements(
     design: Design, quadrature_order: int | None = None
-) -> tuple[Elements, dict[str, int]]:
+) -> tuple[GatheredElements, dict[str, int]]:
     """Point elements plus continuous bodies as quadrature nodes (weights in C or kg).
 
     The degree of exactness of each body's rule is ``density degree + integrand degree``
@@ -120,23 +109,13 @@ def collect_elements(
 
     Returns
     -------
-    elements : Elements
+    elements : GatheredElements
     degrees : dict[str, int]
         Degree of each field kind (0: no field).
     """
     degrees = {k: AxisymmetricField(design.field(k)).degree for k in FIELD_NAMES}
     integrand = {kind: integrand_degree(kind, degrees) for kind in ("charge", "mass")}
-    gathered = gather_elements(design, integrand, quadrature_order)
-    elements = Elements(
-        charge_positions=gathered.charge_positions,
-        charge_values=gathered.charge_values,
-        mass_positions=gathered.mass_positions,
-        mass_values=gathered.mass_values,
-        dipole_positions=gathered.dipole_positions,
-        dipole_moments=gathered.dipole_moments,
-        quadrature=gathered.quadrature,
-    )
-    return elements, degrees
+    return gather_elements(design, integrand, quadrature_order), degrees
 
 
 # ------------------------------------------------------------------------ the kernel
@@ -473,7 +452,7 @@ def to_body_axes(R: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def evaluate_rotated(
-    elements: Elements,
+    elements: GatheredElements,
     fields: dict[str, tuple[float, ...]],
     R: np.ndarray,
     omegas: np.ndarray,
@@ -484,7 +463,7 @@ def evaluate_rotated(
 
     Parameters
     ----------
-    elements : Elements
+    elements : GatheredElements
         Charges (C), masses (kg), dipoles (A m^2) in body axes (m).
     fields : dict[str, tuple of float]
         Legendre coefficients of ``magnetic``, ``electric``, ``gravity``.

@@ -32,7 +32,6 @@ from chargedesign.checker.double_double import (
 )
 from chargedesign.checker.inertia import whole_inertia_check
 from chargedesign.checker.kernel import (
-    Elements,
     RotatedSums,
     collect_elements,
     evaluate_rotated,
@@ -51,6 +50,7 @@ from chargedesign.model import evaluators
 from chargedesign.moments import moment_keys, monomial_matrix
 from chargedesign.physical.budget import induced_magnetisation, window_at_design
 from chargedesign.physical.limits import LimitsReport, check_limits
+from chargedesign.quadrature import GatheredElements
 from chargedesign.results import json_ready
 from chargedesign.scene.design_realism import WindowAtDesign
 from chargedesign.scene.keys import KEY
@@ -124,7 +124,7 @@ def field_bounds(coeffs: np.ndarray, radii: np.ndarray) -> tuple[np.ndarray, ...
 
 
 def contribution_sizes(
-    elements: Elements, fields: Mapping[str, Sequence[float]]
+    elements: GatheredElements, fields: Mapping[str, Sequence[float]]
 ) -> dict[str, float]:
     """Sum over the elements of the size of their contributions to each compared quantity.
 
@@ -451,7 +451,7 @@ class RoundingPlan:
 
 
 def rounding_plan(
-    elements: Elements,
+    elements: GatheredElements,
     fields: Mapping[str, Sequence[float]],
     omegas: np.ndarray,
     refs: Mapping[str, np.ndarray],
@@ -491,7 +491,7 @@ class EvaluatedQuantities:
 
 
 def evaluate_quantities(
-    elements: Elements,
+    elements: GatheredElements,
     fields: dict[str, tuple[float, ...]],
     gammas: np.ndarray,
     omegas: np.ndarray,
@@ -727,7 +727,7 @@ def _field_effect_result(
 
 
 def effect_results(
-    elements: Elements,
+    elements: GatheredElements,
     degrees: dict[str, int],
     gammas: np.ndarray,
     omegas: np.ndarray,

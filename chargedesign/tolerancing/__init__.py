@@ -49,7 +49,6 @@ from chargedesign.tolerancing.common import (
     DEFAULT_RTOL,
     DEFAULT_T_END,
     DEFAULT_TARGET,
-    KIND_BLOCKS,
     KINDS,
 )
 from chargedesign.tolerancing.element_tolerances import (
@@ -81,7 +80,6 @@ __all__ = [
     "DEFAULT_TARGET",
     "DEFAULT_T_END",
     "KINDS",
-    "KIND_BLOCKS",
     "LENGTH_UNITS",
     "MAX_LEVELS",
     "MAX_SAMPLES",

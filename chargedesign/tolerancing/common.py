@@ -10,8 +10,6 @@ import numpy as np
 
 #: element kinds, in report order
 KINDS = ("charge", "dipole", "mass")
-#: the design.json blocks of the element kinds
-KIND_BLOCKS = {"charge": "charges", "dipole": "dipoles", "mass": "masses"}
 DEFAULT_TARGET = 1e-4
 DEFAULT_LEVELS = (0.01, 0.1, 1.0)
 #: integration tolerances of the ensemble (the nominal body's own drift is the floor)

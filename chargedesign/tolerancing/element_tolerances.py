@@ -14,12 +14,13 @@ from typing import Any
 import numpy as np
 
 from chargedesign.body import Design
+from chargedesign.elements import ElementSet
 from chargedesign.formatting import ORDER_SCI, fmt
 from chargedesign.results import Result, format_length, json_ready
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
-    Elements,
+    analysed_elements,
     design_fields,
     jacobians,
     orientations,
@@ -187,7 +188,7 @@ def tolerance_report(
     target = as_finite_float(target, "target", positive=True)
     gammas = orientations(n_orientations, seed)
     ref = references(design, gammas)
-    el = Elements.of(design)
+    el = analysed_elements(design)
     now = quantities(el, design_fields(design), gammas)
     scales = quantity_scales(design, ref)
     nominal = relative_errors({k: v[None] for k, v in now.items()}, ref, scales)
@@ -256,8 +257,14 @@ def with_tolerance(design: Design, report: ToleranceReport) -> Design:
     return out
 
 
-def _magnitudes(el: Elements) -> np.ndarray:
-    return np.concatenate([np.abs(el.cv), np.linalg.norm(el.dm, axis=1), np.abs(el.mv)])
+def _magnitudes(el: ElementSet) -> np.ndarray:
+    return np.concatenate(
+        [
+            np.abs(el.charge_values),
+            np.linalg.norm(el.dipole_moments, axis=1),
+            np.abs(el.mass_values),
+        ]
+    )
 
 
 def relative_errors(

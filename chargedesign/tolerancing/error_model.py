@@ -13,8 +13,9 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.elements import ElementSet
 from chargedesign.scene.spreads import NO_SPREAD, Spread, parse_spread
-from chargedesign.sensitivity import QUANTITIES, Elements, Jacobians
+from chargedesign.sensitivity import QUANTITIES, Jacobians
 
 
 @dataclass(frozen=True)
@@ -74,7 +75,7 @@ class ErrorModel:
         }
 
 
-def standard_deviations(el: Elements, model: ErrorModel) -> dict[str, np.ndarray]:
+def standard_deviations(el: ElementSet, model: ErrorModel) -> dict[str, np.ndarray]:
     """Standard deviations per element array entry (same shapes as the arrays)."""
 
     def pos(r: np.ndarray) -> np.ndarray:
@@ -86,23 +87,38 @@ def standard_deviations(el: Elements, model: ErrorModel) -> dict[str, np.ndarray
         return s.value * (np.abs(w) if s.relative else np.ones_like(w))
 
     dip = model.dipole
-    dsig = dip.value * (np.linalg.norm(el.dm, axis=1) if dip.relative else np.ones(len(el.dm)))
+    dsig = dip.value * (
+        np.linalg.norm(el.dipole_moments, axis=1)
+        if dip.relative
+        else np.ones(len(el.dipole_moments))
+    )
     return {
-        "cp": pos(el.cp),
-        "cv": val(el.cv, model.charge),
-        "dp": pos(el.dp),
+        "cp": pos(el.charge_positions),
+        "cv": val(el.charge_values, model.charge),
+        "dp": pos(el.dipole_positions),
         "dm": np.repeat(dsig[:, None], 3, axis=1),
-        "mp": pos(el.mp),
-        "mv": val(el.mv, model.mass),
+        "mp": pos(el.mass_positions),
+        "mv": val(el.mass_values, model.mass),
     }
 
 
-def perturbed_arrays(el: Elements, model: ErrorModel, n: int, rng: np.random.Generator) -> dict:
+#: the drawn arrays' keys and the element arrays they perturb, in the order they are drawn
+DRAWN_ARRAYS = (
+    ("cp", "charge_positions"),
+    ("cv", "charge_values"),
+    ("dp", "dipole_positions"),
+    ("dm", "dipole_moments"),
+    ("mp", "mass_positions"),
+    ("mv", "mass_values"),
+)
+
+
+def perturbed_arrays(el: ElementSet, model: ErrorModel, n: int, rng: np.random.Generator) -> dict:
     """Perturbed element arrays of ``n`` bodies (leading axis n) and their unit draws."""
     sig = standard_deviations(el, model)
     out = {}
-    for key in ("cp", "cv", "dp", "dm", "mp", "mv"):
-        base = getattr(el, key)
+    for key, name in DRAWN_ARRAYS:
+        base = getattr(el, name)
         z = rng.standard_normal((n, *base.shape))
         out[key] = base[None] + sig[key][None] * z
     # masses stay non-negative (a relative error of several tens of percent could flip one)
@@ -110,17 +126,22 @@ def perturbed_arrays(el: Elements, model: ErrorModel, n: int, rng: np.random.Gen
     return out
 
 
-def linear_errors(jac: Jacobians, el: Elements, draws: Mapping[str, np.ndarray]) -> dict:
+def linear_errors(jac: Jacobians, el: ElementSet, draws: Mapping[str, np.ndarray]) -> dict:
     """First-order change of each quantity: dict of (B, m, d) arrays."""
-    nc, nd = len(el.cv), len(el.dm)
+    nc, nd = len(el.charge_values), len(el.dipole_moments)
     dpos = np.concatenate(
-        [draws["cp"] - el.cp, draws["dp"] - el.dp, draws["mp"] - el.mp], axis=1
+        [
+            draws["cp"] - el.charge_positions,
+            draws["dp"] - el.dipole_positions,
+            draws["mp"] - el.mass_positions,
+        ],
+        axis=1,
     )  # (B, N, 3)
     B, N = dpos.shape[0], dpos.shape[1]
     dval = np.zeros((B, N, 3))
-    dval[:, :nc, 0] = draws["cv"] - el.cv
-    dval[:, nc : nc + nd, :] = draws["dm"] - el.dm
-    dval[:, nc + nd :, 0] = draws["mv"] - el.mv
+    dval[:, :nc, 0] = draws["cv"] - el.charge_values
+    dval[:, nc : nc + nd, :] = draws["dm"] - el.dipole_moments
+    dval[:, nc + nd :, 0] = draws["mv"] - el.mass_values
     return {
         q: np.einsum("nmdc,bnc->bmd", jac.position[q], dpos)
         + np.einsum("nmdc,bnc->bmd", jac.value[q], dval)

@@ -18,7 +18,6 @@ from chargedesign.errors import InputError
 from chargedesign.formatting import FLOOR, ORDER_SCI, PLAIN, ROUGH, fmt
 from chargedesign.physical.budget import induced_reference
 from chargedesign.physical.induced import induced_energy
-from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.materials import SUSCEPTIBILITY, SUSCEPTIBILITY_METROLOGY
 from chargedesign.physical.realism import (
     RESPONSE_ORIENTATIONS,
@@ -27,6 +26,7 @@ from chargedesign.physical.realism import (
     typical_rate,
 )
 from chargedesign.results import Result, json_ready
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene.design_realism import INDUCED_NAME, INDUCED_REFERENCE
 from chargedesign.scene.keys import KEY
 from chargedesign.tolerancing.common import (
@@ -305,7 +305,7 @@ def material_uncertainty(
     # smallest realised term at s = 1, so every ratio below is over that term
     term = reference["term_N_m"]
     per_term = design.parameters.C * rate**2 / 4.0 / term
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     per = np.zeros((len(groups), len(gammas)))
     for part in parts:
         j = groups.index((part["role"], part["name"]))

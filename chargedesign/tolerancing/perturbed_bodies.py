@@ -21,7 +21,7 @@ from chargedesign.scene.keys import KEY
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
-    Elements,
+    analysed_elements,
     batched_quantities,
     design_fields,
     jacobians,
@@ -208,7 +208,7 @@ def error_distribution(
     dict
         Per quantity: ``monte_carlo`` (n,), ``linear`` (n,) and ``linear_rms`` (float).
     """
-    el = Elements.of(design)
+    el = analysed_elements(design)
     gammas = orientations(n_orientations, 0)
     ref = references(design, gammas)
     scales = quantity_scales(design, ref)
@@ -242,7 +242,7 @@ def error_distribution(
     sig = standard_deviations(el, model)
     spos = np.concatenate([sig["cp"], sig["dp"], sig["mp"]])  # (N, 3)
     sval = np.zeros_like(spos)
-    nc, nd = len(el.cv), len(el.dm)
+    nc, nd = len(el.charge_values), len(el.dipole_moments)
     sval[:nc, 0] = sig["cv"]
     sval[nc : nc + nd] = sig["dm"]
     sval[nc + nd :, 0] = sig["mv"]
@@ -328,7 +328,7 @@ def monte_carlo(
     t0 = time.perf_counter()
     errors = error_distribution(design, model, samples, seed=seed, tally=count)
     seconds["errors"] = time.perf_counter() - t0
-    el = Elements.of(design)
+    el = analysed_elements(design)
     rng = np.random.default_rng([seed, 1])
     drift_mc = np.zeros((len(lv), n_drift))
     drift_lin = np.zeros((len(lv), n_drift))
