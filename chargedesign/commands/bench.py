@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 
 from chargedesign.bench.runner import run_benchmarks, write_report
 from chargedesign.commands.arguments import AREAS
+from chargedesign.commands.progress import Progress, progress_bar
 from chargedesign.files import check_outputs
 
 
@@ -14,15 +16,11 @@ def run(args: argparse.Namespace) -> int:
     import json
 
     check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
-    heartbeat = Heartbeat()
-
-    def progress(area: str) -> None:
-        heartbeat.area(area)
-
-    try:
-        tables = run_benchmarks(args.only or AREAS, quick=args.quick, progress=progress)
-    finally:
-        heartbeat.stop()
+    areas = list(args.only or AREAS)
+    with progress_bar("bench", unit="areas") as bar:
+        said = AreaLines(bar, len(areas))
+        tables = run_benchmarks(areas, quick=args.quick, progress=said.start)
+        said.end()
     if args.out:
         path = write_report(tables, args.out)
         print(f"bench: wrote {path}", file=sys.stderr)
@@ -34,43 +32,34 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-class Heartbeat:
-    """Says on stderr which area runs, and every ``period`` seconds that it still runs."""
+class AreaLines:
+    """Which area runs and how long each took, said through the command's one
+    :class:`~chargedesign.commands.progress.Progress` (its heartbeat says every few seconds
+    that a long area still runs, with the count of areas done and the time left)."""
 
-    def __init__(self, period: float = 15.0) -> None:
-        import threading
-        import time
+    def __init__(self, bar: Progress, total: int) -> None:
+        self.bar = bar
+        self.total = total
+        self.done = 0
+        self.name = ""
+        self.t0 = self.area_t0 = time.perf_counter()
 
-        self._time = time.perf_counter
-        self._period = period
-        self._name = ""
-        self._start = self._area_start = self._time()
-        self._done = threading.Event()
-        self._lock = threading.Lock()
-        self._thread = threading.Thread(target=self._beat, daemon=True)
-        self._thread.start()
+    def start(self, name: str) -> None:
+        """``name`` starts: the area before it is done."""
+        self._close_area()
+        self.name, self.area_t0 = name, time.perf_counter()
+        self.bar.say(f"bench: {name} ...")
+        self.bar.update(self.done, self.total, extra=name)
 
-    def area(self, name: str) -> None:
-        with self._lock:
-            if self._name:
-                self._say(f"bench: {self._name} done in {self._time() - self._area_start:.0f} s")
-            self._name, self._area_start = name, self._time()
-        self._say(f"bench: {name} ...")
+    def end(self) -> None:
+        """Every area ran."""
+        self._close_area()
+        self.bar.update(self.done, max(self.done, 1))
+        self.bar.say(f"bench: all areas in {time.perf_counter() - self.t0:.0f} s")
 
-    def stop(self) -> None:
-        self._done.set()
-        self._thread.join()
-        if self._name:
-            self._say(f"bench: {self._name} done in {self._time() - self._area_start:.0f} s")
-        self._say(f"bench: all areas in {self._time() - self._start:.0f} s")
-
-    def _beat(self) -> None:
-        while not self._done.wait(self._period):
-            with self._lock:
-                self._say(
-                    f"bench: {self._name} still running ({self._time() - self._area_start:.0f} s)"
-                )
-
-    @staticmethod
-    def _say(text: str) -> None:
-        print(text, file=sys.stderr, flush=True)
+    def _close_area(self) -> None:
+        if self.name:
+            self.done += 1
+            took = time.perf_counter() - self.area_t0
+            self.bar.say(f"bench: {self.name} done in {took:.0f} s")
+            self.name = ""

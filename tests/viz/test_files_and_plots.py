@@ -109,16 +109,31 @@ def test_bench_says_what_runs_on_stderr(capsys):
     assert "bench: all areas in" in err
 
 
-def test_heartbeat_reports_a_long_area(capsys):
+def test_a_long_area_is_said_while_it_runs():
+    import io
     import threading
 
-    from chargedesign.commands.bench import Heartbeat
+    from chargedesign.commands import progress as progress_module
+    from chargedesign.commands.bench import AreaLines
+    from chargedesign.commands.progress import Progress
 
-    beat = Heartbeat(period=0.01)
-    beat.area("simulate")
-    threading.Event().wait(0.05)
-    beat.stop()
-    assert "bench: simulate still running" in capsys.readouterr().err
+    stream = io.StringIO()
+    saved = progress_module.FIRST_AFTER, progress_module.EVERY
+    progress_module.FIRST_AFTER, progress_module.EVERY = 0.0, 0.01
+    try:
+        bar = Progress("bench", unit="areas", stream=stream, tty=False)
+        said = AreaLines(bar, 2)
+        said.start("simulate")
+        threading.Event().wait(0.1)
+        said.start("fields")
+        said.end()
+        bar.close()
+    finally:
+        progress_module.FIRST_AFTER, progress_module.EVERY = saved
+    text = stream.getvalue()
+    assert "bench: 0/2 areas (simulate)" in text  # the heartbeat while simulate ran
+    assert "bench: simulate done in" in text and "bench: fields done in" in text
+    assert "bench: 2/2 areas" in text and "bench: all areas in" in text
 
 
 @pytest.mark.parametrize("fmt", ["csv", "vtp", "vtu", "json"])
