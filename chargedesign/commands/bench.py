@@ -8,7 +8,7 @@ import time
 
 from chargedesign.bench.runner import run_benchmarks, write_report
 from chargedesign.commands.arguments import AREAS
-from chargedesign.commands.progress import Progress, progress_bar
+from chargedesign.commands.progress import Progress
 from chargedesign.files import check_outputs
 
 
@@ -17,10 +17,13 @@ def run(args: argparse.Namespace) -> int:
 
     check_outputs([("--out", args.out, True)], writes=("benchmarks.md",))
     areas = list(args.only or AREAS)
-    with progress_bar("bench", unit="areas") as bar:
+    bar = Progress("bench", unit="areas")  # bench has no --quiet: always said
+    try:
         said = AreaLines(bar, len(areas))
         tables = run_benchmarks(areas, quick=args.quick, progress=said.start)
         said.end()
+    finally:
+        bar.close()  # its heartbeat is a thread
     if args.out:
         path = write_report(tables, args.out)
         print(f"bench: wrote {path}", file=sys.stderr)
