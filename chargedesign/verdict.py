@@ -57,33 +57,8 @@ def realised_window(design: Design) -> RealisedWindow | None:
 
 def recorded_window(data: dict[str, Any] | None) -> RealisedWindow | None:
     """A realised window as design.json records it (the frontier's ``realised``, or a
-    ``[case]`` record's, which keeps its ends, bindings, fraction and notes), read back as a
-    :class:`~chargedesign.physical.window.RealisedWindow` (None: not computed).
-
-    What is not recorded stays empty (the curves, the end laws; a case's margins and laws); a
-    missing factor written as null (not empty, or unbounded) is read as infinite, a best rate
-    not recorded as NaN."""
-    if not data:
-        return None
-    missing, best = data.get("missing_factor"), data.get("s_best")
-    return RealisedWindow(
-        s_low=data.get("s_low"),
-        s_high=data.get("s_high"),
-        binding_low=data.get("binding_low", ""),
-        binding_high=data.get("binding_high", ""),
-        fraction=data["fraction"],
-        s_best=math.nan if best is None else best,
-        missing=math.inf if missing is None else missing,
-        term_key=data.get("smallest_term") or "",
-        margins=dict(data.get("margins") or {}),
-        laws=dict(data.get("laws") or {}),
-        confirmed=list(data.get("confirmed") or []),
-        apparatus=data.get("apparatus"),
-        notes=list(data.get("notes") or []),
-        why=data.get("why") or "",
-        support=data.get("support"),
-        at_design=data.get("at_design"),
-    )
+    ``[case]`` record's), read back by :meth:`RealisedWindow.from_dict` (None: not computed)."""
+    return RealisedWindow.from_dict(data) if data else None
 
 
 def _what_changes(design: Design) -> str:

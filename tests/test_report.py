@@ -304,6 +304,7 @@ def test_the_recorded_window_reads_back_as_the_frontier_s_record(s_low):
     read = realised_window(design)
     assert isinstance(read, RealisedWindow)
     assert read.to_dict() == written
+    assert RealisedWindow.from_dict(written).to_dict() == written
     assert read.empty == (s_low is None)
     assert read.missing == (37.0 if s_low is None else math.inf)
     assert realised_window(Design.from_dict({"parameters": {"C": 1.0}})) is None

@@ -572,6 +572,34 @@ class RealisedWindow(Result):
             **({"at_design": dict(self.at_design)} if self.at_design is not None else {}),
         }
 
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RealisedWindow:
+        """A window as :meth:`to_dict` (design.json's ``frontier.realised``) or a ``[case]``
+        record (its ends, bindings, fraction and notes) writes it.
+
+        What is not recorded stays empty (the curves, the end laws; a case's margins and
+        laws); a missing factor written as null (not empty, or unbounded) is read as infinite,
+        a best rate not recorded as NaN."""
+        missing, best = data.get("missing_factor"), data.get("s_best")
+        return cls(
+            s_low=data.get("s_low"),
+            s_high=data.get("s_high"),
+            binding_low=data.get("binding_low", ""),
+            binding_high=data.get("binding_high", ""),
+            fraction=data["fraction"],
+            s_best=math.nan if best is None else best,
+            missing=math.inf if missing is None else missing,
+            term_key=data.get("smallest_term") or "",
+            margins=dict(data.get("margins") or {}),
+            laws=dict(data.get("laws") or {}),
+            confirmed=list(data.get("confirmed") or []),
+            apparatus=data.get("apparatus"),
+            notes=list(data.get("notes") or []),
+            why=data.get("why") or "",
+            support=data.get("support"),
+            at_design=data.get("at_design"),
+        )
+
     def _summary(self) -> dict[str, Any]:
         return {"s_low": self.s_low, "s_high": self.s_high, "empty": self.empty}
 
