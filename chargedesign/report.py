@@ -28,7 +28,7 @@ from chargedesign.physical.bom import bom_rows, bom_totals
 from chargedesign.physical.coulomb import point_charge_field as charge_field
 from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES, within_limits
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
-from chargedesign.physical.sources import cited_keys, sources_table_lines
+from chargedesign.physical.sources import cited_keys, sources_table_lines, table_cell
 from chargedesign.physical.support import support_lines
 from chargedesign.physical.window import RealisedWindow
 from chargedesign.scene.design_realism import (
@@ -886,7 +886,7 @@ def _realism_lines(record: RealismRecord) -> list[str]:
             shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
             if key == INDUCED_KEY:
                 shown = parasitic_text(amount, item["term"], item["s"])
-            lines.append(f"| {key} | {shown} | {item['verdict']} | {_table_cell(item['note'])} |")
+            lines.append(f"| {key} | {shown} | {item['verdict']} | {table_cell(item['note'])} |")
     lines += _map_lines(record.realisability_map)
     return lines
 
@@ -920,14 +920,9 @@ def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
         size = "inf" if row["size_N_m"] is None else fmt(row["size_N_m"])
         lines.append(
             f"| {row['term']}: `{row['expression']}` | {row['where']} | "
-            f"{_table_cell(row['mechanisms'])} | {_table_cell(row['here'])} | "
+            f"{table_cell(row['mechanisms'])} | {table_cell(row['here'])} | "
             f"{size} | {num(row['induced_over_term'])} | "
             f"{num(row['eddy_over_term'])} | {num(row['frontier_size_N_m'])} | "
             f"{num(row['frontier_induced_over_term'])} | {num(row['frontier_eddy_over_term'])} |"
         )
     return lines
-
-
-def _table_cell(text: str) -> str:
-    """Text for a Markdown table cell: its ``|`` (as in ``|B|``) would end the cell."""
-    return text.replace("|", "\\|")

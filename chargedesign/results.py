@@ -25,7 +25,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from chargedesign.formatting import CELL, PRECISE, fmt, fmt_length
+from chargedesign.formatting import CELL, PRECISE, fmt
 from chargedesign.vocabulary import VERDICT_STATES
 
 #: the longest ``repr`` of any result, characters
@@ -56,10 +56,6 @@ def short_value(value: Any) -> str:
         return f"<array {tuple(shape)}>"
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
-
-
-#: a length in m, mm, µm or nm (:func:`chargedesign.formatting.fmt_length`), by its older name
-format_length = fmt_length
 
 
 def compact_repr(name: str, items: Mapping[str, Any], limit: int = REPR_LIMIT) -> str:

@@ -18,7 +18,6 @@ from chargedesign.formatting import (
     fmt,
     fmt_length,
 )
-from chargedesign.results import format_length
 
 
 @pytest.mark.parametrize(
@@ -68,4 +67,3 @@ def test_lengths_take_the_largest_unit_they_reach():
     assert fmt_length(4.0e-6, PRECISE) == "4 µm"
     assert fmt_length(1e-12) == "1e-12 m"
     assert fmt_length(math.inf) == "any"
-    assert format_length is fmt_length

@@ -10,9 +10,10 @@ import pytest
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
 from chargedesign.errors import InputError
+from chargedesign.formatting import fmt_length
 from chargedesign.physical.budget import realism_record
 from chargedesign.report import render_report
-from chargedesign.results import design_text, format_length
+from chargedesign.results import design_text
 from chargedesign.scene import load_scene
 
 SMALL = Path(__file__).resolve().parent / "physical" / "small.toml"
@@ -28,17 +29,10 @@ def test_part_sizes_are_those_of_the_written_parts():
     assert result.frontier is None and "frontier" not in design.to_dict()
     (line,) = [x for x in render_report(design).splitlines() if x.startswith("- Part sizes:")]
     radius = design.carrier_radii()[0]
-    assert f"{len(design.charge_values)} carriers of radius {format_length(radius)}" in line
+    assert f"{len(design.charge_values)} carriers of radius {fmt_length(radius)}" in line
     edges = np.cbrt(design.magnet_volumes())
-    assert f"{len(edges)} magnets of {format_length(edges.min())} to " in line
-    assert f"to {format_length(edges.max())} across" in line
-
-
-def test_lengths_read_in_the_unit_that_fits():
-    assert format_length(3.125e-3) == "3.12 mm"
-    assert format_length(1.2e-8) == "12 nm"
-    assert format_length(2.0) == "2 m"
-    assert format_length(float("inf")) == "any"
+    assert f"{len(edges)} magnets of {fmt_length(edges.min())} to " in line
+    assert f"to {fmt_length(edges.max())} across" in line
 
 
 def test_realism_notes_with_bars_stay_in_their_table_cell():

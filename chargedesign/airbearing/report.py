@@ -21,10 +21,9 @@ import numpy as np
 from chargedesign.airbearing.actuators import catalogue
 from chargedesign.airbearing.result import TestbedResult
 from chargedesign.files import atomic_directory, atomic_path, write_json_atomic, write_text_atomic
-from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.formatting import FULL, PLAIN, PRECISE, ROUGH, fmt, fmt_length
 from chargedesign.model import evaluators
 from chargedesign.physical.sources import cite, cited_keys, sources_table_lines
-from chargedesign.results import format_length
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.testbed import SOURCES
 
@@ -453,7 +452,7 @@ def _bearing_section(result: TestbedResult) -> list[str]:
         lines.append(
             f"- full sphere: ball {fmt(fs['ball_diameter_m'], PLAIN)} m across (largest built "
             f"about {fmt(fs['largest_ball_diameter_m'], PLAIN)} m), sphericity "
-            f"{format_length(fs['sphericity_m'])}, payload inside "
+            f"{fmt_length(fs['sphericity_m'])}, payload inside "
             f"{fmt(fs['payload_inside_kg'])} kg, cup half-angle "
             f"{fmt(fs['cup_half_angle_deg'], PLAIN)} deg ({fmt(fs['cup_coverage_sr'])} sr), air "
             f"film drag {fmt(fs['air_film_drag_N_m_s'])} N m s;"
@@ -478,7 +477,7 @@ def _bearing_section(result: TestbedResult) -> list[str]:
         f"- mounts: {len(posts.masses)} {posts.material} posts under the ballast and "
         f"{len(layout.wheel_mounts.masses)} under the wheels ({fmt(float(posts.masses.sum()))} kg, "
         "in the platform's mass and inertia); bending under the turning gravity moves the "
-        f"centre of mass by up to {format_length(result.compliance_offset_m)} normal to gravity.",
+        f"centre of mass by up to {fmt_length(result.compliance_offset_m)} normal to gravity.",
         "",
     ]
     return lines
@@ -492,9 +491,9 @@ def _estimator_section(result: TestbedResult) -> list[str]:
         "## Centre-of-mass estimator",
         "",
         f"Recursive least squares of the offset, the drag and the posts' bending on the "
-        f"integrated torque balance, fed forward: from {format_length(est['offset_before_m'])} "
+        f"integrated torque balance, fed forward: from {fmt_length(est['offset_before_m'])} "
         f"(the balancing floor) the estimate's largest error normal to gravity ends at "
-        f"{format_length(est['residual_offset_m'])} (median of the nominal seeds; the posts' "
+        f"{fmt_length(est['residual_offset_m'])} (median of the nominal seeds; the posts' "
         f"bending left after its estimate included), within twice that from "
         f"{fmt(est['convergence_time_s'], PLAIN)} s on.",
         "",
@@ -584,13 +583,13 @@ def _platform_section(result: TestbedResult) -> list[str]:
         f"- total inertia about O: diag({diagonal}) kg m^2 (target A = B = 2C ="
         f" {fmt(2 * C, PLAIN)}, "
         f"C = {fmt(C, PLAIN)}); centre of mass "
-        f"{format_length(float(np.linalg.norm(result.com_total)))} from O;",
+        f"{fmt_length(float(np.linalg.norm(result.com_total)))} from O;",
         f"- for I4 within {fmt(o.target_I4_drift, PLAIN)} over {fmt(o.t_end_s, PLAIN)} s: A - B"
         " within "
         f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2, products within {fmt(products)} "
-        f"kg m^2, centre of mass within {format_length(tol[KEY.imbalance_m])} of O; the tightest "
+        f"kg m^2, centre of mass within {fmt_length(tol[KEY.imbalance_m])} of O; the tightest "
         f"part (number {tightest}) placed within "
-        f"{format_length(float(place['binding'][tightest]))} ({why} binds).",
+        f"{fmt_length(float(place['binding'][tightest]))} ({why} binds).",
         "",
     ]
 
@@ -645,7 +644,7 @@ def _loop_section(result: TestbedResult) -> list[str]:
         f"Drag alone would drift I4 by {fmt(tol['drag_drift'])}, the imbalance by "
         f"{fmt(tol['imbalance_drift'])} (linear response along the planned motion): the target "
         f"needs the drag below {fmt(tol['drag_max_N_m_s'])} N m s and the centre of mass within "
-        f"{format_length(tol[KEY.imbalance_m])} of O (each alone using the whole target).",
+        f"{fmt_length(tol[KEY.imbalance_m])} of O (each alone using the whole target).",
         "",
     ]
 

@@ -18,9 +18,9 @@ from chargedesign.airbearing.platform import Ballast, Platform
 from chargedesign.airbearing.requirements import Requirements
 from chargedesign.airbearing.verdict import Requirement, Verdict, Window
 from chargedesign.airbearing.wheels import PlannedNeeds, WheelNeeds
-from chargedesign.formatting import PLAIN, PRECISE, fmt
+from chargedesign.formatting import PLAIN, PRECISE, fmt, fmt_length
 from chargedesign.params import Parameters
-from chargedesign.results import Result, format_length, json_ready
+from chargedesign.results import Result, json_ready
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.testbed import SOURCES, TestbedOptions
 
@@ -334,7 +334,7 @@ class TestbedResult(Result):
         tol = self.tolerances
         lines.append(
             f"for {self.monitored} within {fmt(o.target_I4_drift, PLAIN)}: centre of mass within "
-            f"{format_length(tol[KEY.imbalance_m])} of O, bearing drag below "
+            f"{fmt_length(tol[KEY.imbalance_m])} of O, bearing drag below "
             f"{fmt(tol['drag_max_N_m_s'])} N m s (now {fmt(o.drag)}), A - B within "
             f"{fmt(tol['inertia']['A_minus_B_kg_m2'])} kg m^2"
         )

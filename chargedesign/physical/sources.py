@@ -219,7 +219,7 @@ def cited_keys(text: str) -> tuple[str, list[str]]:
     return text, keys
 
 
-def _cell(text: str) -> str:
+def table_cell(text: str) -> str:
     """Text for a Markdown table cell: its ``|`` (as in ``|B|``) would end the cell."""
     return text.replace("|", "\\|")
 
@@ -248,8 +248,8 @@ def sources_table_lines(keys: list[str]) -> list[str]:
         else:
             figure = f"{fmt(row.value)} {row.unit}".strip()
             lines.append(
-                f"| {key} | {figure} ({_cell(row.what)}) | {_cell(row.source)} | "
-                f"{_cell(row.locator)} | {'yes' if row.checked else 'no (unverified)'} |"
+                f"| {key} | {figure} ({table_cell(row.what)}) | {table_cell(row.source)} | "
+                f"{table_cell(row.locator)} | {'yes' if row.checked else 'no (unverified)'} |"
             )
     return lines
 
@@ -269,6 +269,7 @@ __all__ = [
     "source",
     "sources_table_lines",
     "table",
+    "table_cell",
     "unchecked",
     "value",
 ]

@@ -15,8 +15,8 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.elements import ElementSet
-from chargedesign.formatting import ORDER_SCI, fmt
-from chargedesign.results import Result, format_length, json_ready
+from chargedesign.formatting import ORDER_SCI, fmt, fmt_length
+from chargedesign.results import Result, json_ready
 from chargedesign.sensitivity import (
     DEFAULT_ORIENTATIONS,
     QUANTITIES,
@@ -88,7 +88,7 @@ class ToleranceReport(Result):
         if d is None or not math.isfinite(d["position_tol_m_min"]):
             return "no element affects mu, V or the inertia"
         return (
-            f"{d['element']} dominates: place it within ±{format_length(d['position_tol_m_min'])} "
+            f"{d['element']} dominates: place it within ±{fmt_length(d['position_tol_m_min'])} "
             f"to keep the relative error of {d['binding']} below {fmt(self.target, ORDER_SCI)}"
         )
 
@@ -125,7 +125,7 @@ class ToleranceReport(Result):
         )
         for e in self.elements[:20]:
             lines.append(
-                f"{e['element']:<12} {format_length(e['position_tol_m_min']):>13} "
+                f"{e['element']:<12} {fmt_length(e['position_tol_m_min']):>13} "
                 f"{e['binding'] or '-':>8} {_percent(e['value_tol_rel_min']):>10}"
             )
         if len(self.elements) > 20:
@@ -134,8 +134,8 @@ class ToleranceReport(Result):
         lines.append("")
         lines.append(
             "all elements at once: within "
-            f"±{format_length(u['position_tol_m_worst_case_min'])} (worst case) or "
-            f"{format_length(u['position_tol_m_rms_min'])} rms (independent errors)"
+            f"±{fmt_length(u['position_tol_m_worst_case_min'])} (worst case) or "
+            f"{fmt_length(u['position_tol_m_rms_min'])} rms (independent errors)"
         )
         if self.materials is not None:
             lines += ["", str(self.materials)]
