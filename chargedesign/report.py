@@ -30,7 +30,25 @@ from chargedesign.physical.limits import CHECK_SURFACE_SAMPLES, within_limits
 from chargedesign.physical.materials import BREAKDOWN_V_PER_M, MAGNET_DATA, ballast_label
 from chargedesign.physical.sources import cited_keys, sources_table_lines, table_cell
 from chargedesign.physical.support import support_lines
-from chargedesign.physical.window import RealisedWindow
+from chargedesign.physical.window import BearingSupport, RealisedWindow
+from chargedesign.report_records import (
+    BudgetItem,
+    Cancellation,
+    Candidates,
+    CaseRecord,
+    Frontier,
+    KLaw,
+    MagnetSpan,
+    MapRow,
+    Materials,
+    Objective,
+    PartSizes,
+    PartSpan,
+    PhysicalRecords,
+    Placement,
+    ReportRecords,
+    Solver,
+)
 from chargedesign.scene.design_realism import (
     FIELD_RESPONSE_KEYS,
     INDUCED_KEY,
@@ -41,12 +59,10 @@ from chargedesign.scene.design_realism import (
     induced_text,
     parasitic_text,
 )
-from chargedesign.scene.keys import KEY
 from chargedesign.scene.medium import Medium
 from chargedesign.verdict import (
     realised_window,
     recorded_verdict,
-    recorded_window,
     verdict_state_line,
     verdict_table,
     verdict_text_table,
@@ -54,11 +70,11 @@ from chargedesign.verdict import (
 
 
 def _spacing(design: Design) -> float | None:
+    """The candidates' spacing, else the distance from the largest charge to its nearest."""
     cand = design.candidates
-    if isinstance(cand, dict):
-        for value in (cand.get("spacing"), (cand.get("geometry") or {}).get("spacing_m")):
-            if isinstance(value, (int, float)) and value > 0:
-                return float(value)
+    spacing = Candidates.from_dict(cand).spacing if isinstance(cand, dict) else None
+    if spacing is not None:
+        return spacing
     pts = design.charge_positions
     if len(pts) >= 2:
         i = int(np.argmax(np.abs(design.charge_values)))
@@ -141,7 +157,7 @@ def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _scene_lines(design: Design) -> list[str]:
+def _scene_lines(design: Design, records: ReportRecords) -> list[str]:
     """Parameters, fields, realised terms and candidates, one line each."""
     params = design.parameters.as_dict()
     lines = [
@@ -149,7 +165,7 @@ def _scene_lines(design: Design) -> list[str]:
         + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
         + " (SI units)."
     ]
-    origin = (design.provenance or {}).get("fields_origin") or {}
+    origin = records.fields_origin
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):
         coeffs = design.field(kind)
@@ -162,10 +178,10 @@ def _scene_lines(design: Design) -> list[str]:
     lines.append(
         "Realises: " + (", ".join(design.realises) if design.realises else "nothing") + "."
     )
-    cand = design.candidates
-    if isinstance(cand, dict):
-        keys = [f"{k} = {_fmt(v)}" for k, v in cand.items() if k not in ("geometry", "n")]
-        lines.append(f"Candidates: {cand.get('n', '?')} points ({', '.join(keys)}).")
+    cand = records.candidates
+    if cand is not None:
+        keys = [f"{k} = {_fmt(v)}" for k, v in cand.figures.items()]
+        lines.append(f"Candidates: {cand.count} points ({', '.join(keys)}).")
     return lines
 
 
@@ -200,15 +216,14 @@ def _element_lines(design: Design) -> list[str]:
     return lines
 
 
-def _forward_accuracy_lines(design: Design) -> list[str]:
+def _forward_accuracy_lines(cancellations: dict[str, Cancellation]) -> list[str]:
     """The estimated forward accuracy of the sources whose contributions cancel most."""
-    worst = (design.forward_accuracy or {}).get("worst") or {}
-    if not worst:
+    if not cancellations:
         return []
     parts = [
-        f"{source} ~{fmt(w['forward_error'], ORDER)} ({w['quantity']} through {w['term']}: "
-        f"contributions {fmt(w['amplification'], ROUGH)} times |{w['quantity']}|)"
-        for source, w in worst.items()
+        f"{source} ~{fmt(w.forward_error, ORDER)} ({w.quantity} through {w.term}: "
+        f"contributions {fmt(w.amplification, ROUGH)} times |{w.quantity}|)"
+        for source, w in cancellations.items()
     ]
     return [
         "",
@@ -217,36 +232,31 @@ def _forward_accuracy_lines(design: Design) -> list[str]:
     ]
 
 
-def _problem_lines(design: Design) -> list[str]:
+def _problem_lines(records: ReportRecords) -> list[str]:
     """The problems' table (objective, solver, residuals), forward accuracy and methods."""
-    objective = design.objective or {}
-    solver = design.solver or {}
-    residuals = design.residuals or {}
-    if not (objective or residuals):
+    problems = records.problems
+    if problems is None:
         return []
     lines = ["", "## Problems and residuals", ""]
     lines.append("| source | objective | value | solver | residual before | after polish |")
     lines.append("|---|---|---|---|---|---|")
-    before = residuals.get("before_polish") or {}
-    after = residuals.get("after_polish") or {}
+    before, after = problems.before_polish, problems.after_polish
     for source in ("charges", "dipoles", "masses"):
-        if source not in objective and source not in after:
+        if source not in problems.objective and source not in after:
             continue
-        obj = objective.get(source) or {}
-        sol = solver.get(source) or {}
+        obj = problems.objective.get(source) or Objective()
+        sol = problems.solver.get(source) or Solver()
         lines.append(
-            f"| {source} | {obj.get('kind', '?')} | {_fmt(obj.get('value', '?'))} "
-            f"{obj.get('units', '')} | {sol.get('solver', '?')} | "
+            f"| {source} | {obj.kind} | {_fmt(obj.value)} {obj.units} | {sol.name} | "
             f"{_fmt(before.get(source, '?'))} | {_fmt(after.get(source, '?'))} |"
         )
-    if "definition" in residuals:
+    if problems.definition is not None:
         lines += [
             "",
-            f"Relative residual: {residuals['definition']}; required <= "
-            f"{_fmt(residuals.get('tolerance', '?'))}.",
+            f"Relative residual: {problems.definition}; required <= {_fmt(problems.tolerance)}.",
         ]
-    lines += _forward_accuracy_lines(design)
-    methods = [f"- {k}: {v.get('method', '')}" for k, v in solver.items() if v.get("method")]
+    lines += _forward_accuracy_lines(records.cancellations)
+    methods = [f"- {k}: {v.method}" for k, v in problems.solver.items() if v.method]
     if methods:
         lines += ["", "Methods:", "", *methods]
     return lines
@@ -267,28 +277,30 @@ def render_report(
         File name of a picture to show under the title (e.g. ``design.png``).
     """
     lines = [f"# {title}", ""]
-    # a physical body's figures, as its realism budget recorded them (read once)
-    record = RealismRecord.read(design.realism) if design.medium is not None else None
+    # the design's records, read once (a physical body's figures as its realism budget
+    # recorded them)
+    records = ReportRecords.read(design)
+    physical = records.physical
     # the summary first (the recorded verdict, what binds, the headline figures), then the
     # detail they rest on, in sections
-    summary, detail = _verdict_lines(design, record)
+    summary, detail = _verdict_lines(design, records)
     lines += summary
     if picture:
         lines += [f"![the designed body]({picture})", ""]
     if detail:
         lines += ["## Detail", "", *detail, ""]
-    lines += _scene_lines(design)
-    lines += _case_lines(design)
+    lines += _scene_lines(design, records)
+    lines += _case_lines(design, records.case)
     lines += _element_lines(design)
-    lines += _problem_lines(design)
+    lines += _problem_lines(records)
     timings = design.timings or {}
     if timings:
         lines += [
             "",
             "Timings: " + ", ".join(f"{k} {fmt(v)} s" for k, v in timings.items()) + ".",
         ]
-    if record is not None:
-        lines += _physical_sections(design, record)
+    if physical is not None:
+        lines += _physical_sections(design, records.materials, physical)
     lines += flight_lines(design.support)
     figures = plausibility(design) if design.medium is None else {}
     if figures:
@@ -299,7 +311,7 @@ def render_report(
     # one sources section at the end: the support's sources and every key cited above, each
     # with its checked status from the sources table (inline: only the key)
     text, keys = cited_keys("\n".join(lines))
-    support, more = cited_keys("\n".join(_sources_lines(record)))
+    support, more = cited_keys("\n".join(_sources_lines(physical)))
     keys += [key for key in more if key not in keys]
     if support or keys:
         section = ["", "## Sources", *(support.split("\n") if support else [])]
@@ -307,43 +319,39 @@ def render_report(
     return text + "\n"
 
 
-def _case_lines(design: Design) -> list[str]:
+def _case_lines(design: Design, case: CaseRecord | None) -> list[str]:
     """A ``[case]`` scene's record (design.json ``case``): the case, its certificate, the
     checks of the elements against it, its realism budget and window (none: the theorem's)."""
-    record = design.further_keys.get("case")
-    if not isinstance(record, dict):
+    if case is None:
         return []
-    certificate = record.get("certificate") or {}
-    level = "general" if record.get("level") == "general" else f"on I3 = {record.get('level')}"
-    verdict = "holds" if certificate.get("holds") else "does NOT hold"
-    independent = "yes" if certificate.get("independent") else "NO"
+    level = "general" if case.level == "general" else f"on I3 = {case.level}"
+    verdict = "holds" if case.holds else "does NOT hold"
+    independent = "yes" if case.independent else "NO"
     lines = [
         "",
-        f"Realises the case's {', '.join(design.realises)}: case {record.get('name')}, "
-        f"inertia diag({', '.join(f'{m:.10g}' for m in record.get('inertia', []))}) kg m^2.",
+        f"Realises the case's {', '.join(design.realises)}: case {case.name}, "
+        f"inertia diag({', '.join(f'{m:.10g}' for m in case.inertia)}) kg m^2.",
         f"- the claimed integral {verdict} exactly ({level}; independent: {independent})",
     ]
-    checks = record.get("checks")
-    if checks:
+    checks = case.checks
+    if checks is not None:
         lines.append(
             f"- recomputed from the elements: inertia relative error "
-            f"{checks['inertia_rel_err']:.1e}; torque of every element in its field against the "
-            f"case's gamma x dV/dgamma - omega x mu: relative error {checks['torque_rel_err']:.1e}"
-            f"; the charges' l . gamma is the case's plus {checks['level_offset']:.6g} kg m^2/s"
+            f"{checks.inertia_rel_err:.1e}; torque of every element in its field against the "
+            f"case's gamma x dV/dgamma - omega x mu: relative error {checks.torque_rel_err:.1e}"
+            f"; the charges' l . gamma is the case's plus {checks.level_offset:.6g} kg m^2/s"
         )
-    budget, window = record.get("realism"), recorded_window(record.get("realised"))
-    if budget and budget["term_key"] is None:
+    budget, window = case.realism, case.window
+    if budget is not None and budget.term_key is None:
         lines.append("- realism: the case realises no force (V and mu constant): no term to hold")
-    elif budget and window:
+    elif budget is not None and window is not None:
         items = ", ".join(
-            f"{key} {item['value']:.1e} ({item['verdict']})"
-            for key, item in budget["items"].items()
-            if item["value"] is not None
+            f"{key} {value:.1e} ({verdict})" for key, (value, verdict) in budget.items.items()
         )
         span = "empty" if window.empty else f"s = {window.s_low:.3g} .. {window.s_high:.3g}"
         lines += [
-            f"- realism at the typical rate {budget['rate_rad_s']:.3g} rad/s, over the smallest "
-            f"term ({budget['term_key']}, {budget['term_N_m']:.3g} N m): {items}",
+            f"- realism at the typical rate {budget.rate_rad_s:.3g} rad/s, over the smallest "
+            f"term ({budget.term_key}, {budget.term_N_m:.3g} N m): {items}",
             f"- realised window (each parasitic below {window.fraction:g} of it): {span}; "
             f"below: {window.binding_low}; above: {window.binding_high}",
         ]
@@ -404,15 +412,15 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
     lines += verdict_text_table(verdict) if verdict.get("rows") else _wrapped(verdict["binding"])
     lines.append("")
     body: list[str] = []
-    for line in _scene_lines(design)[:3]:
+    records = ReportRecords.read(design)
+    for line in _scene_lines(design, records)[:3]:
         body += _wrapped(line)
     counts = [
         f"{len(design.charge_values)} charges" if len(design.charge_values) else "",
         f"{len(design.dipole_moments)} magnets" if len(design.dipole_moments) else "",
         f"{len(design.mass_values)} ballast masses" if len(design.mass_values) else "",
     ]
-    after = ((design.residuals or {}).get("after_polish")) or {}
-    residual = max((v for v in after.values() if isinstance(v, (int, float))), default=None)
+    residual = records.problems.largest_residual if records.problems is not None else None
     body += _wrapped(
         "Elements: "
         + (", ".join(c for c in counts if c) or "none")
@@ -420,18 +428,18 @@ def render_summary(design: Design, *, report: str | None = None) -> str:
         + "."
     )
     window = realised_window(design)
-    record = RealismRecord.read(design.realism) if design.medium is not None else None
-    if record is not None and record.induced:
-        body += _wrapped(f"{induced_text(record.induced)}.")
+    physical = records.physical
+    if physical is not None and physical.realism.induced:
+        body += _wrapped(f"{induced_text(physical.realism.induced)}.")
     if window is not None and window.empty and window.why:
-        law = record.law if record is not None else {}
+        law = physical.law if physical is not None else None
         body += _wrapped(f"Why no rate is realised: {_why_empty(window, law)}.")
     elif window is not None:
         body += _wrapped(
             f"Realised window: s = {fmt(window.s_low, ROUGH)} to "
             f"{fmt(window.s_high, ROUGH)} x the scene's rates."
         )
-    for line in _frontier_lines(design, design.frontier or {}):
+    for line in _frontier_lines(design, records.frontier):
         body += _wrapped(line.removeprefix("- "))
     room = SUMMARY_LINES - len(lines) - 2
     if len(body) > room:
@@ -480,16 +488,16 @@ def _best_rate_text(window: RealisedWindow) -> str | None:
     )
 
 
-def _why_empty(window: RealisedWindow, law: dict[str, Any]) -> str:
+def _why_empty(window: RealisedWindow, law: KLaw | None) -> str:
     """Why no rate is realised: the K law where it applies (the realism budget's
     ``k_law_induced_ratio``: a law of matter at the K frontier, named as the law, the same
     number as its line below and the budget's table), then the worst parasitic at the best
     rate with its reference and rate; else the frontier's own words."""
-    if not law or law.get("value") is None:
+    if law is None or law.value is None:
         return str(window.why)
     text = (
         "the K term cannot be realised by ordinary matter: the K law (below) is "
-        f"{fmt(law['value'])} x the designed K torques C K_max^2 at the K frontier, for any "
+        f"{fmt(law.value)} x the designed K torques C K_max^2 at the K frontier, for any "
         "size and a2"
     )
     best = _best_rate_text(window)
@@ -503,20 +511,19 @@ def _apparatus_lines(window: WindowAtDesign | None) -> list[str]:
     return ["- Field apparatus: " + window.apparatus_summary + "."]
 
 
-def _support_lines(window: WindowAtDesign | None) -> list[str]:
+def _support_lines(window: WindowAtDesign | None, support: BearingSupport | None) -> list[str]:
     """The fixed point O (the window's ``support``) and its air film's drag."""
-    if window is None or not window.support:
+    if window is None or support is None:
         return []
-    support = window.support
     return [
-        f"- Support: a {support['bearing']} air bearing (tilt {fmt(support[KEY.tilt_limit_deg])} "
-        f"deg: every attitude free), ball radius {fmt(support['ball_radius_m'])} m in a "
-        f"cup, film {fmt(support['film_gap_m'])} m: drag {fmt(support[KEY.drag_N_m_s])} "
-        f"N m s, {fmt(support['drag_torque_N_m'])} N m at the typical rate = "
-        f"{parasitic_text(support['drag_over_term'], window.term_key, 1.0)} (limit "
+        f"- Support: a {support.bearing} air bearing (tilt {fmt(support.tilt_limit_deg)} "
+        f"deg: every attitude free), ball radius {fmt(support.ball_radius_m)} m in a "
+        f"cup, film {fmt(support.film_gap_m)} m: drag {fmt(support.drag_N_m_s)} "
+        f"N m s, {fmt(support.drag_torque_N_m)} N m at the typical rate = "
+        f"{parasitic_text(support.drag_over_term, window.term_key, 1.0)} (limit "
         f"{fmt(window.fraction, PLAIN)}), NOT counted in the verdict or the realised window "
         f"above; it needs "
-        f"{support['needs']} (its sources: Sources, below)."
+        f"{support.needs} (its sources: Sources, below)."
     ]
 
 
@@ -532,63 +539,59 @@ def _top_level_parts(text: str) -> list[str]:
     return [p.strip() for p in parts if p.strip()]
 
 
-def _sources_lines(record: RealismRecord | None) -> list[str]:
+def _sources_lines(physical: PhysicalRecords | None) -> list[str]:
     """The report's sources in one section at its end, each with its checked status as the
     source says it (``[unverified ...]``); the figures above cite them, never inline."""
-    window = record.window if record is not None else None
-    support = (window.support if window is not None else None) or {}
+    support = physical.support if physical is not None else None
+    if support is None:
+        return []
     cited = [
-        part
-        for key in ("source", "drag_source")
-        if support.get(key)
-        for part in _top_level_parts(str(support[key]))
+        part for text in (support.source, support.drag_source) for part in _top_level_parts(text)
     ]
     if not cited:
         return []
     return ["", "The support's figures (air film and cup drag):", "", *[f"- {p}" for p in cited]]
 
 
-def _frontier_lines(design: Design, frontier: dict[str, Any]) -> list[str]:
+def _frontier_lines(design: Design, frontier: Frontier | None) -> list[str]:
     """The frontier of K and the time rate n against the frontier's n_max."""
     lines = []
     n = design.parameters.n
-    if frontier.get("K_max") is not None:
+    if frontier is not None and frontier.K_max is not None:
         lines.append(
-            f"- Frontier of K ({frontier.get('larmor', 'charges')} reading): K = "
+            f"- Frontier of K ({frontier.larmor} reading): K = "
             f"{fmt(design.parameters.K, PRECISE)} 1/s, "
-            f"K_max = {fmt(frontier['K_max'], PRECISE)} 1/s."
+            f"K_max = {fmt(frontier.K_max, PRECISE)} 1/s."
         )
-    if frontier:
-        n_max = frontier.get("n_max")
-        period = frontier.get("period_s")
+    if frontier is not None:
+        n_max, period = frontier.n_max, frontier.period_s
         lines.append(
             f"- Time rate: n = {fmt(n, PRECISE)} 1/s; the frontier "
             f"n_max = {fmt(n_max, PRECISE)} 1/s (period 2 pi / n_max = {fmt(period, PRECISE)} s; "
-            f"binding: {frontier.get('binding')})."
+            f"binding: {frontier.binding})."
             if n_max is not None and period is not None
             else f"- Time rate: n = {fmt(n, PRECISE)} 1/s."
         )
     return lines
 
 
-def _placement_lines(design: Design) -> list[str]:
+def _placement_lines(placement: Placement | None) -> list[str]:
     """The element whose placement tolerance binds, when tolerancing was recorded."""
-    tolerance = design.tolerance or {}
-    top = (tolerance.get("elements") or [None])[0]
-    if top and top.get("binding"):
-        return [
-            f"- Placement: {top['element']} dominates: within +-{fmt(top['position_tol_m_min'])} m "
-            f"it keeps the relative error of {top['binding']} below "
-            f"{fmt(tolerance.get('target'), PLAIN)}."
-        ]
-    return []
+    if placement is None:
+        return []
+    return [
+        f"- Placement: {placement.element} dominates: within "
+        f"+-{fmt(placement.position_tol_m_min)} m it keeps the relative error of "
+        f"{placement.binding} below {fmt(placement.target, PLAIN)}."
+    ]
 
 
-def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[str], list[str]]:
+def _verdict_lines(design: Design, records: ReportRecords) -> tuple[list[str], list[str]]:
     """The report's opening and its detail: the summary (the recorded verdict, its table of
     what binds, the headline figures, each with what it is relative to and at which rate) and
     the detail the summary rests on (the lines of the section ``Detail``)."""
-    if design.medium is None or record is None:
+    physical = records.physical
+    if design.medium is None or physical is None:
         summary = [
             "**Verdict: not checked for buildability** (the scene has no [medium]: point "
             "elements, the mathematical case).",
@@ -596,12 +599,11 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
             "",
         ]
         return summary, []
-    limits = design.buildability or {}
-    frontier = design.frontier or {}
+    record = physical.realism
     medium = design.medium
     assert isinstance(medium, Medium)  # Design reads design.json's mapping into a Medium
-    response = record.response
-    law = record.law if response else {}
+    response = physical.response
+    law = physical.law if response else None
     verdict, table, window_now = _verdict_table(design, record)
     window = realised_window(design)
     summary = [
@@ -633,202 +635,207 @@ def _verdict_lines(design: Design, record: RealismRecord | None) -> tuple[list[s
         )
     summary.append(
         "- Largest surface field: "
-        f"{fmt(limits.get('largest_surface_field_fraction_of_breakdown', 0), PRECISE)} of "
+        f"{fmt(records.limits.surface_field_fraction, PRECISE)} of "
         f"breakdown at the scene's rate (s = 1; recomputed from the written parts at "
         f"{CHECK_SURFACE_SAMPLES} points per carrier and around the largest)."
     )
-    bal = record.budget.get("balance_offset_1g_m") or {}
-    micro = record.budget.get("balance_offset_microgravity_m") or {}
-    if bal:
+    bal = physical.budget.items.get("balance_offset_1g_m")
+    micro = physical.budget.items.get("balance_offset_microgravity_m")
+    if bal is not None:
         summary.append(
-            f"- Balance: the centre of mass within {fmt(bal.get('value', 0))} m of O under 1 g "
-            f"({bal.get('verdict')}), {fmt(micro.get('value', 0))} m under 1e-6 g, for a "
-            "gravity torque below 1e-3 of the designed torques at s = 1."
+            f"- Balance: the centre of mass within {fmt(bal.value)} m of O under 1 g "
+            f"({bal.verdict}), {fmt(micro.value if micro is not None else 0)} m under 1e-6 g, "
+            "for a gravity torque below 1e-3 of the designed torques at s = 1."
         )
-    detail += [*_apparatus_lines(window_now), *_support_lines(window_now)]
+    detail += [*_apparatus_lines(window_now), *_support_lines(window_now, physical.support)]
     detail += _larmor_lines(design)
-    detail += _frontier_lines(design, frontier)
-    detail += _k_law_lines(law, record) if law else _response_lines(response, bool(record.induced))
-    detail += _part_size_lines(record.part_sizes)
-    detail += _placement_lines(design)
-    for v in limits.get("violations", []):
+    detail += _frontier_lines(design, records.frontier)
+    detail += (
+        _k_law_lines(law, physical.part_sizes.magnets)
+        if law is not None
+        else _response_lines(response, bool(record.induced))
+    )
+    detail += _part_size_lines(physical.part_sizes)
+    detail += _placement_lines(records.placement)
+    for v in records.limits.violations:
         detail.append(f"- Limit broken: {v}")
     return [*summary, ""], detail
 
 
-def _response_lines(response: dict[str, Any], induced: bool) -> list[str]:
+def _response_lines(response: dict[str, BudgetItem], induced: bool) -> list[str]:
     """The field response at the designed rate (a body without the K law's figures); the
     induced magnetisation only when its one figure is not recorded (an older design.json)."""
     lines = []
     for key, item in response.items():
         if key == FIELD_RESPONSE_KEYS[0] and induced:  # its one figure, in the summary
             continue
-        value = item.get("value")
+        value = item.value
         title = "Induced magnetisation" if key.startswith("induced") else "Eddy currents"
         lines.append(
             f"- {title}: {'inf' if value is None else fmt(value)} of the designed torques "
-            f"({item.get('verdict')}): {item.get('note')}."
+            f"({item.verdict}): {item.note}."
         )
     return lines
 
 
-def _k_law_tail(law: dict[str, Any]) -> str:
+def _k_law_tail(law: KLaw) -> str:
     """The K law's closing words: size-free, and which reading needs Lorentz charges."""
     return (
         ". For a similar body it is the same at any size and any a2, and falls like "
         "1/E_surface^2. Only K needs Lorentz charges when n is read as turning axes (this "
-        f"body: the {law['larmor_reading']} reading"
+        f"body: the {law.larmor_reading} reading"
         + (
             ", whose charges also carry n, so its K frontier is lower)."
-            if law["larmor_reading"] == "charges"
+            if law.larmor_reading == "charges"
             else ")."
         )
     )
 
 
-def _k_law_induced_line(law: dict[str, Any]) -> str:
+def _k_law_induced_line(law: KLaw) -> str:
     """Induced magnetisation at the K frontier: cancelled by the design, or by the law."""
     tail = _k_law_tail(law)
-    if law.get("cancelled_by_design"):
+    if law.cancelled_by_design:
         return (
             "- The K law (ordinary matter's induced-magnetisation energy range at the K "
             "frontier): cancelled by the design's chi-weighted "
-            f"moments to {fmt(law['ratio_elements'])} of the designed K torques C K_max^2 "
-            f"({law['verdict']}, element by element); the same matter without the "
-            f"cancellation gives {fmt(law['ratio_without_cancellation'])} by the size-free law "
-            f"6 (chi/rho) / (mu0 G^2) (G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg, "
-            f"K_max = {fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
-            f"{fmt(law['a2_T_per_m'])} T/m). The cancellation holds only if each material's "
-            f"susceptibility is known to {fmt(law['chi_relative_needed'], ROUGH)} relative; "
+            f"moments to {fmt(law.ratio_elements)} of the designed K torques C K_max^2 "
+            f"({law.verdict}, element by element); the same matter without the "
+            f"cancellation gives {fmt(law.ratio_without_cancellation)} by the size-free law "
+            f"6 (chi/rho) / (mu0 G^2) (G = K_max / a2 = {fmt(law.G_C_m_per_kg)} C m/kg, "
+            f"K_max = {fmt(law.K_max_1_per_s)} 1/s from {law.K_max_source}, a2 = "
+            f"{fmt(law.a2_T_per_m)} T/m). The cancellation holds only if each material's "
+            f"susceptibility is known to {fmt(law.chi_relative_needed, ROUGH)} relative; "
             f"susceptibility metrology reaches about "
-            f"{fmt(law['metrology_chi_relative'], ORDER_SCI)}" + tail
+            f"{fmt(law.metrology_chi_relative, ORDER_SCI)}" + tail
         )
-    value = law.get("value", law["ratio"])
+    value = law.ratio if law.value is None else law.value
     how = (
         "element by element"
-        if law.get("ratio_elements") is not None and value == law.get("ratio_elements")
+        if law.ratio_elements is not None and value == law.ratio_elements
         else "by the law"
     )
     return (
         f"- The K law (ordinary matter's induced-magnetisation energy range at the K frontier, "
         f"not the {INDUCED_NAME} figure above): {fmt(value)} x the designed K "
-        f"torques C K_max^2 ({law['verdict']}; {how}, the budget's k_law_induced_ratio). The "
-        f"size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law['ratio'])} "
-        f"with the parts' chi/rho = {fmt(law['chi_over_rho_m3_per_kg'])} m^3/kg "
-        f"(mass-weighted) and G = K_max / a2 = {fmt(law['G_C_m_per_kg'])} C m/kg (K_max = "
-        f"{fmt(law['K_max_1_per_s'])} 1/s from {law['K_max_source']}, a2 = "
-        f"{fmt(law['a2_T_per_m'])} T/m)" + tail
+        f"torques C K_max^2 ({law.verdict}; {how}, the budget's k_law_induced_ratio). The "
+        f"size-free law 6 (chi/rho) / (mu0 G^2) estimates it at {fmt(law.ratio)} "
+        f"with the parts' chi/rho = {fmt(law.chi_over_rho_m3_per_kg)} m^3/kg "
+        f"(mass-weighted) and G = K_max / a2 = {fmt(law.G_C_m_per_kg)} C m/kg (K_max = "
+        f"{fmt(law.K_max_1_per_s)} 1/s from {law.K_max_source}, a2 = "
+        f"{fmt(law.a2_T_per_m)} T/m)" + tail
     )
 
 
-def _k_law_parity_line(law: dict[str, Any]) -> str:
+def _k_law_parity_line(law: KLaw) -> str:
     """What parity with the designed torques would need: fields, or materials."""
-    parity = law["parity_surface_field_V_per_m"]
+    parity, surface = law.parity_surface_field_V_per_m, law.surface_field_V_per_m
+    evaporation, atomic = law.field_evaporation_V_per_m, law.atomic_field_V_per_m
     return (
-        f"- Parity would need G {fmt(parity / law['surface_field_V_per_m'])} times larger: "
+        f"- Parity would need G {fmt(parity / surface)} times larger: "
         f"carrier surface fields of {fmt(parity)} V/m instead of "
-        f"{fmt(law['surface_field_V_per_m'])} V/m, "
-        f"{fmt(parity / law['field_evaporation_V_per_m'])} times the field that evaporates "
-        f"metal surfaces (~{fmt(law['field_evaporation_V_per_m'], ORDER)} V/m "
+        f"{fmt(surface)} V/m, "
+        f"{fmt(parity / evaporation)} times the field that evaporates "
+        f"metal surfaces (~{fmt(evaporation, ORDER)} V/m "
         "[limits.field_evaporation.tungsten]) and "
-        f"{fmt(parity / law['atomic_field_V_per_m'])} times the atomic field "
-        f"e / (4 pi eps0 a0^2) = {fmt(law['atomic_field_V_per_m'])} V/m; or parts with "
-        f"chi/rho = {fmt(law['parity_chi_over_rho_m3_per_kg'])} m^3/kg."
+        f"{fmt(parity / atomic)} times the atomic field "
+        f"e / (4 pi eps0 a0^2) = {fmt(atomic)} V/m; or parts with "
+        f"chi/rho = {fmt(law.parity_chi_over_rho_m3_per_kg)} m^3/kg."
     )
 
 
-def _k_law_size_line(law: dict[str, Any], record: RealismRecord, smallest: float) -> str:
+def _k_law_size_line(law: KLaw, magnets: MagnetSpan | None, smallest: float) -> str:
     """The sizes the law holds for: one elementary charge per carrier, continuum magnets."""
     line = (
         "- Size: the law holds for similar bodies while each carrier at the safe field "
         "holds at least one elementary charge, i.e. carriers of radius "
-        f"{fmt_length(law['one_charge_carrier_radius_m'])} and more: a body of radius "
+        f"{fmt_length(law.one_charge_carrier_radius_m)} and more: a body of radius "
         f"{fmt_length(smallest)} and more. Within that range the ratio changes with "
         "size only through the surface field the medium holds (as 1/E^2; the breakdown "
         "field used is that of mm to cm gaps)."
     )
-    continuum = record.magnets
-    if continuum:
-        where = "already below it" if continuum["below"] else "above it"
+    if magnets is not None:
+        where = "already below it" if magnets.below else "above it"
         line += (
             " The parts must stay continuum parts too, which bounds the size first where "
             f"the magnets are small: a magnet at least "
-            f"{fmt_length(continuum['continuum_size_m'])} across; this body's smallest "
-            f"is {fmt_length(continuum['smallest_m'])}, {where}."
+            f"{fmt_length(magnets.continuum_size_m)} across; this body's smallest "
+            f"is {fmt_length(magnets.smallest_m)}, {where}."
         )
     return line
 
 
-def _k_law_lines(law: dict[str, Any], record: RealismRecord) -> list[str]:
+def _k_law_lines(law: KLaw, magnets: MagnetSpan | None) -> list[str]:
     """The verdict on the parts' materials by the size-free K law, with its numbers."""
     lines = [_k_law_induced_line(law)]
-    if law["ratio"] > 0:
+    if law.ratio > 0:
         lines.append(_k_law_parity_line(law))
-    eddy, sigma = law.get("eddy_ratio"), law.get("conductivity_needed_S_per_m")
+    eddy, sigma = law.eddy_ratio, law.conductivity_needed_S_per_m
     if eddy is not None and sigma is not None:
         insulators = ", ".join(
-            f"{k} ~{fmt(v, ORDER_SCI)}" for k, v in law["insulators_S_per_m"].items()
+            f"{k} ~{fmt(v, ORDER_SCI)}" for k, v in law.insulators_S_per_m.items()
         )
         lines.append(
             f"- Eddy currents (a choice of material): at the K frontier {fmt(eddy)} times the "
             f"designed K torques with these conductors; below "
             f"{fmt(RESPONSE_FRACTION, PLAIN)} of them needs conductivities under {fmt(sigma)} "
-            f"S/m (now {law['conductivity_needed_for']}, "
-            f"{fmt(law['conductivity_now_S_per_m'])} S/m), which insulating parts reach "
+            f"S/m (now {law.conductivity_needed_for}, "
+            f"{fmt(law.conductivity_now_S_per_m)} S/m), which insulating parts reach "
             f"({insulators} S/m)."
         )
-    smallest = law.get("smallest_similar_body_radius_m")
+    smallest = law.smallest_similar_body_radius_m
     if smallest is not None:
-        lines.append(_k_law_size_line(law, record, smallest))
+        lines.append(_k_law_size_line(law, magnets, smallest))
     return lines
 
 
-def _part_size_lines(sizes: dict[str, Any]) -> list[str]:
+def _part_size_lines(sizes: PartSizes) -> list[str]:
     """How large each kind of part is (the budget's ``part_sizes``): what a builder must make
     (the magnets' size is the cube root of their material's volume)."""
 
-    def span(kind: dict[str, Any]) -> str:
-        lo, hi = kind["smallest_m"], kind["largest_m"]
+    def span(kind: PartSpan) -> str:
+        lo, hi = kind.smallest_m, kind.largest_m
         return fmt_length(lo) if lo == hi else f"{fmt_length(lo)} to {fmt_length(hi)}"
 
     parts = []
-    carriers = sizes.get("carriers")
-    if carriers:
-        parts.append(f"{carriers['count']} carriers of radius {span(carriers)}")
-    continuum = sizes.get("magnets")
-    if continuum:
-        magnets = f"{continuum['count']} magnets of {span(continuum)} across"
-        if continuum["below"]:
+    carriers = sizes.carriers
+    if carriers is not None:
+        parts.append(f"{carriers.count} carriers of radius {span(carriers)}")
+    continuum = sizes.magnets
+    if continuum is not None:
+        magnets = f"{continuum.count} magnets of {span(continuum)} across"
+        if continuum.below:
             magnets += (
-                f" ({continuum['below']} of them below the "
-                f"{fmt_length(continuum['continuum_size_m'])} a ferromagnet needs to be a "
+                f" ({continuum.below} of them below the "
+                f"{fmt_length(continuum.continuum_size_m)} a ferromagnet needs to be a "
                 "continuum magnet: single-domain nanoparticles with a reduced surface "
                 "magnetisation, whose moment and coercivity are not the data sheet's, those of "
                 "micrometre-grained sintered parts; not buildable as specified)"
             )
         parts.append(magnets)
-    ballast = sizes.get("ballast")
-    if ballast:
-        parts.append(f"{ballast['count']} ballast spheres of radius {span(ballast)}")
+    ballast = sizes.ballast
+    if ballast is not None:
+        parts.append(f"{ballast.count} ballast spheres of radius {span(ballast)}")
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
 
 
-def _physical_sections(design: Design, record: RealismRecord) -> list[str]:
+def _physical_sections(
+    design: Design, materials: Materials, physical: PhysicalRecords
+) -> list[str]:
     """Bill of materials (totals and the first parts) and the realism budget."""
-    return _bom_lines(design) + _realism_lines(record)
+    return _bom_lines(design, materials) + _realism_lines(physical)
 
 
-def _bom_lines(design: Design) -> list[str]:
+def _bom_lines(design: Design, materials: Materials) -> list[str]:
     """The bill of materials: totals, the fields the apparatus makes, the first 20 parts."""
     totals = bom_totals(design)
     lines = ["", "## Bill of materials", ""]
-    mats = design.materials
     lines.append(
-        f"Carriers: {totals['carriers']} spheres of {mats.get('carrier', {}).get('name', '?')} "
+        f"Carriers: {totals['carriers']} spheres of {materials.carrier} "
         f"({fmt(totals['mass_carriers_kg'], PRECISE)} kg); magnets: {totals['magnets']} of "
-        f"{mats.get('magnet', {}).get('name', '?')} ({fmt(totals['magnet_volume_m3'], PRECISE)} "
+        f"{materials.magnet} ({fmt(totals['magnet_volume_m3'], PRECISE)} "
         f"m^3, {fmt(totals['mass_magnets_kg'], PRECISE)} kg with attached ballast); ballast: "
-        f"{totals['ballast']} pieces of {ballast_label(mats)} "
+        f"{totals['ballast']} pieces of {ballast_label(design.materials)} "
         f"({fmt(totals['mass_ballast_kg'], PRECISE)} kg). Total mass "
         f"{fmt(totals['mass_total_kg'], PRECISE)} kg; "
         f"net charge {fmt(totals['charge_net_C'], PRECISE)} C."
@@ -867,31 +874,29 @@ def _bom_lines(design: Design) -> list[str]:
     return lines
 
 
-def _realism_lines(record: RealismRecord) -> list[str]:
+def _realism_lines(physical: PhysicalRecords) -> list[str]:
     """The realism budget as recorded (its items, the field response and the K law among
     them) and the realisability map."""
-    budget = record.budget
+    budget = physical.budget
     lines = ["", "## Realism budget", ""]
     lines.append(
-        f"Typical motion: |omega| = {fmt(budget.get('typical_rate_1_per_s', 0), PRECISE)} "
-        f"1/s, period {fmt(budget.get('period_s', 0), PRECISE)} s, designed torques ~"
-        f"{fmt(budget.get('designed_torque_N_m', 0))} N m."
+        f"Typical motion: |omega| = {fmt(budget.typical_rate_1_per_s, PRECISE)} "
+        f"1/s, period {fmt(budget.period_s, PRECISE)} s, designed torques ~"
+        f"{fmt(budget.designed_torque_N_m)} N m."
     )
     lines += ["", "| effect | value | verdict | what |", "|---|---|---|---|"]
-    for key, item in budget.items():
-        # the induced magnetisation is printed once, as its one figure (INDUCED_KEY): the
-        # field response's energy over the typical torque is its input in design.json
-        if isinstance(item, dict) and (key != FIELD_RESPONSE_KEYS[0] or INDUCED_KEY not in budget):
-            amount = item.get("value")
-            shown = f"{fmt(amount)} {item.get('unit', '')}" if amount is not None else "inf"
-            if key == INDUCED_KEY:
-                shown = parasitic_text(amount, item["term"], item["s"])
-            lines.append(f"| {key} | {shown} | {item['verdict']} | {table_cell(item['note'])} |")
-    lines += _map_lines(record.realisability_map)
+    for key, item in budget.table.items():
+        amount = item.value
+        shown = f"{fmt(amount)} {item.unit}" if amount is not None else "inf"
+        if key == INDUCED_KEY:
+            assert item.term is not None and item.s is not None  # the one figure's reference
+            shown = parasitic_text(amount, item.term, item.s)
+        lines.append(f"| {key} | {shown} | {item.verdict} | {table_cell(item.note)} |")
+    lines += _map_lines(physical.realisability_map)
     return lines
 
 
-def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
+def _map_lines(rows: tuple[MapRow, ...]) -> list[str]:
     """The realisability map, as the budget records it (``realisability_map``)."""
 
     def num(x: float | None) -> str:
@@ -917,12 +922,12 @@ def _map_lines(rows: list[dict[str, Any]]) -> list[str]:
     ]
     for row in rows:
         # an unbounded size (a singular term that is present) is recorded as null
-        size = "inf" if row["size_N_m"] is None else fmt(row["size_N_m"])
+        size = "inf" if row.size_N_m is None else fmt(row.size_N_m)
         lines.append(
-            f"| {row['term']}: `{row['expression']}` | {row['where']} | "
-            f"{table_cell(row['mechanisms'])} | {table_cell(row['here'])} | "
-            f"{size} | {num(row['induced_over_term'])} | "
-            f"{num(row['eddy_over_term'])} | {num(row['frontier_size_N_m'])} | "
-            f"{num(row['frontier_induced_over_term'])} | {num(row['frontier_eddy_over_term'])} |"
+            f"| {row.term}: `{row.expression}` | {row.where} | "
+            f"{table_cell(row.mechanisms)} | {table_cell(row.here)} | "
+            f"{size} | {num(row.induced_over_term)} | "
+            f"{num(row.eddy_over_term)} | {num(row.frontier_size_N_m)} | "
+            f"{num(row.frontier_induced_over_term)} | {num(row.frontier_eddy_over_term)} |"
         )
     return lines

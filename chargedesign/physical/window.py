@@ -412,6 +412,39 @@ def support_of(region: float, rate: float, term: float) -> dict[str, Any]:
     }
 
 
+@dataclass(frozen=True)
+class BearingSupport:
+    """The support :func:`support_of` writes (design.json's ``window_at_design.support``),
+    read back for the report: its bearing, its air film's drag and the sources they cite."""
+
+    bearing: str
+    tilt_limit_deg: float
+    ball_radius_m: float
+    film_gap_m: float
+    drag_N_m_s: float
+    drag_torque_N_m: float
+    drag_over_term: float
+    needs: str
+    #: the bearing's and the drag's sources ("" when not written)
+    source: str
+    drag_source: str
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> BearingSupport:
+        return cls(
+            bearing=data["bearing"],
+            tilt_limit_deg=data[KEY.tilt_limit_deg],
+            ball_radius_m=data["ball_radius_m"],
+            film_gap_m=data["film_gap_m"],
+            drag_N_m_s=data[KEY.drag_N_m_s],
+            drag_torque_N_m=data["drag_torque_N_m"],
+            drag_over_term=data["drag_over_term"],
+            needs=data["needs"],
+            source=data.get("source") or "",
+            drag_source=data.get("drag_source") or "",
+        )
+
+
 def window_model(
     design: Any,
     s_ref: float,
