@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -85,6 +86,52 @@ def _spacing(design: Design) -> float | None:
     return None
 
 
+@dataclass(frozen=True)
+class Plausibility:
+    """Figures that say whether the body could be built (SI units); None for the kinds of
+    element the design has not (and the field, when no spacing is known)."""
+
+    largest_charge_C: float | None = None
+    spacing_m: float | None = None
+    field_V_per_m: float | None = None
+    field_over_air_breakdown: float | None = None
+    largest_dipole_Am2: float | None = None
+    ndfeb_volume_m3: float | None = None
+    total_mass_kg: float | None = None
+    largest_mass_kg: float | None = None
+
+    @classmethod
+    def of(cls, design: Design) -> Plausibility:
+        figures: dict[str, float] = {}
+        if len(design.charge_values):
+            q = float(np.max(np.abs(design.charge_values)))
+            s = _spacing(design)
+            figures["largest_charge_C"] = q
+            if s is not None:
+                field = charge_field(q, s)
+                figures |= {
+                    "spacing_m": s,
+                    "field_V_per_m": field,
+                    "field_over_air_breakdown": field / BREAKDOWN_V_PER_M["air"],
+                }
+        if len(design.dipole_moments):
+            sigma = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
+            figures |= {
+                "largest_dipole_Am2": sigma,
+                "ndfeb_volume_m3": sigma / MAGNET_DATA["ndfeb"][0],
+            }
+        if len(design.mass_values):
+            figures |= {
+                "total_mass_kg": float(np.sum(design.mass_values)),
+                "largest_mass_kg": float(np.max(design.mass_values)),
+            }
+        return cls(**figures)
+
+    def to_dict(self) -> dict[str, float]:
+        """The figures the design has (the keys of the others absent)."""
+        return {k: v for k, v in asdict(self).items() if v is not None}
+
+
 def plausibility(design: Design) -> dict[str, Any]:
     """Figures that say whether the body could be built (SI units).
 
@@ -95,26 +142,7 @@ def plausibility(design: Design) -> dict[str, Any]:
         ``largest_dipole_Am2``, ``ndfeb_volume_m3``; ``total_mass_kg``, ``largest_mass_kg``
         (keys present only for the kinds of element the design has).
     """
-    out: dict[str, Any] = {}
-    if len(design.charge_values):
-        q = float(np.max(np.abs(design.charge_values)))
-        s = _spacing(design)
-        out["largest_charge_C"] = q
-        if s is not None:
-            field = charge_field(q, s)
-            out |= {
-                "spacing_m": s,
-                "field_V_per_m": field,
-                "field_over_air_breakdown": field / BREAKDOWN_V_PER_M["air"],
-            }
-    if len(design.dipole_moments):
-        sigma = float(np.max(np.linalg.norm(design.dipole_moments, axis=1)))
-        out["largest_dipole_Am2"] = sigma
-        out["ndfeb_volume_m3"] = sigma / MAGNET_DATA["ndfeb"][0]
-    if len(design.mass_values):
-        out["total_mass_kg"] = float(np.sum(design.mass_values))
-        out["largest_mass_kg"] = float(np.max(design.mass_values))
-    return out
+    return Plausibility.of(design).to_dict()
 
 
 def _fmt(value: Any) -> str:
@@ -123,10 +151,11 @@ def _fmt(value: Any) -> str:
     return str(value)
 
 
-def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
+def _plausibility_lines(figures: Plausibility) -> list[str]:
     lines = []
-    if "field_V_per_m" in figures:
-        ratio = figures["field_over_air_breakdown"]
+    q, field = figures.largest_charge_C, figures.field_V_per_m
+    ratio = figures.field_over_air_breakdown
+    if field is not None and ratio is not None:
         verdict = (
             f"{fmt(ratio, ROUGH)} times the breakdown field of air (~3 MV/m): not buildable as "
             "point charges in air. The charges scale like C n / (a1 L^2) and C K / (a2 L^3) for a "
@@ -136,23 +165,23 @@ def _plausibility_lines(design: Design, figures: dict[str, Any]) -> list[str]:
             else f"{fmt(ratio, ROUGH)} of the breakdown field of air (~3 MV/m): below breakdown"
         )
         lines.append(
-            f"- Largest charge {fmt(figures['largest_charge_C'], PRECISE)} C; at the candidate "
-            f"spacing s = {fmt(figures['spacing_m'], PRECISE)} m it makes q / (4 pi eps0 s^2) = "
-            f"{fmt(figures['field_V_per_m'])} V/m, {verdict}."
+            f"- Largest charge {fmt(q, PRECISE)} C; at the candidate "
+            f"spacing s = {fmt(figures.spacing_m, PRECISE)} m it makes q / (4 pi eps0 s^2) = "
+            f"{fmt(field)} V/m, {verdict}."
         )
-    elif "largest_charge_C" in figures:
-        lines.append(f"- Largest charge {fmt(figures['largest_charge_C'], PRECISE)} C.")
-    if "largest_dipole_Am2" in figures:
-        volume = figures["ndfeb_volume_m3"]
+    elif q is not None:
+        lines.append(f"- Largest charge {fmt(q, PRECISE)} C.")
+    volume = figures.ndfeb_volume_m3
+    if volume is not None:
         side = volume ** (1.0 / 3.0)
         lines.append(
-            f"- Largest dipole {fmt(figures['largest_dipole_Am2'], PRECISE)} A m^2: a NdFeB magnet "
+            f"- Largest dipole {fmt(figures.largest_dipole_Am2, PRECISE)} A m^2: a NdFeB magnet "
             f"(M ~ 1e6 A/m) of {fmt(volume * 1e6)} cm^3 (a cube of side {fmt(side * 100)} cm)."
         )
-    if "total_mass_kg" in figures:
+    if figures.total_mass_kg is not None:
         lines.append(
-            f"- Total mass {fmt(figures['total_mass_kg'], PRECISE)} kg, largest mass "
-            f"{fmt(figures['largest_mass_kg'], PRECISE)} kg."
+            f"- Total mass {fmt(figures.total_mass_kg, PRECISE)} kg, largest mass "
+            f"{fmt(figures.largest_mass_kg, PRECISE)} kg."
         )
     return lines
 
@@ -302,9 +331,9 @@ def render_report(
     if physical is not None:
         lines += _physical_sections(design, records.materials, physical)
     lines += flight_lines(design.support)
-    figures = plausibility(design) if design.medium is None else {}
-    if figures:
-        lines += ["", "## Could it be built?", "", *_plausibility_lines(design, figures)]
+    figures = Plausibility.of(design) if design.medium is None else Plausibility()
+    if figures != Plausibility():
+        lines += ["", "## Could it be built?", "", *_plausibility_lines(figures)]
     notes = list(design.notes or [])
     if notes:
         lines += ["", "## Notes", "", *[f"- {n}" for n in notes]]
@@ -639,8 +668,7 @@ def _verdict_lines(design: Design, records: ReportRecords) -> tuple[list[str], l
         f"breakdown at the scene's rate (s = 1; recomputed from the written parts at "
         f"{CHECK_SURFACE_SAMPLES} points per carrier and around the largest)."
     )
-    bal = physical.budget.items.get("balance_offset_1g_m")
-    micro = physical.budget.items.get("balance_offset_microgravity_m")
+    bal, micro = physical.budget.balance_1g, physical.budget.balance_microgravity
     if bal is not None:
         summary.append(
             f"- Balance: the centre of mass within {fmt(bal.value)} m of O under 1 g "

@@ -309,6 +309,16 @@ class Budget:
     items: dict[str, BudgetItem]
 
     @property
+    def balance_1g(self) -> BudgetItem | None:
+        """The centre of mass's offset from O the balance allows under 1 g (None: unwritten)."""
+        return self.items.get("balance_offset_1g_m")
+
+    @property
+    def balance_microgravity(self) -> BudgetItem | None:
+        """The same under 1e-6 g (None: unwritten)."""
+        return self.items.get("balance_offset_microgravity_m")
+
+    @property
     def table(self) -> dict[str, BudgetItem]:
         """The items of the budget's table: the induced magnetisation once, as its one figure
         (:data:`INDUCED_KEY`) when written, not also the field response's input to it."""
