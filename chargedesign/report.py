@@ -70,12 +70,10 @@ from chargedesign.verdict import (
 )
 
 
-def _spacing(design: Design) -> float | None:
+def _spacing(design: Design, candidates: Candidates | None) -> float | None:
     """The candidates' spacing, else the distance from the largest charge to its nearest."""
-    cand = design.candidates
-    spacing = Candidates.from_dict(cand).spacing if isinstance(cand, dict) else None
-    if spacing is not None:
-        return spacing
+    if candidates is not None and candidates.spacing is not None:
+        return candidates.spacing
     pts = design.charge_positions
     if len(pts) >= 2:
         i = int(np.argmax(np.abs(design.charge_values)))
@@ -101,11 +99,12 @@ class Plausibility:
     largest_mass_kg: float | None = None
 
     @classmethod
-    def of(cls, design: Design) -> Plausibility:
+    def of(cls, design: Design, candidates: Candidates | None) -> Plausibility:
+        """The figures of ``design``, whose charges sit on ``candidates`` (when written)."""
         figures: dict[str, float] = {}
         if len(design.charge_values):
             q = float(np.max(np.abs(design.charge_values)))
-            s = _spacing(design)
+            s = _spacing(design, candidates)
             figures["largest_charge_C"] = q
             if s is not None:
                 field = charge_field(q, s)
@@ -142,7 +141,7 @@ def plausibility(design: Design) -> dict[str, Any]:
         ``largest_dipole_Am2``, ``ndfeb_volume_m3``; ``total_mass_kg``, ``largest_mass_kg``
         (keys present only for the kinds of element the design has).
     """
-    return Plausibility.of(design).to_dict()
+    return Plausibility.of(design, Candidates.read(design)).to_dict()
 
 
 def _fmt(value: Any) -> str:
@@ -331,7 +330,9 @@ def render_report(
     if physical is not None:
         lines += _physical_sections(design, records.materials, physical)
     lines += flight_lines(design.support)
-    figures = Plausibility.of(design) if design.medium is None else Plausibility()
+    figures = (
+        Plausibility.of(design, records.candidates) if design.medium is None else Plausibility()
+    )
     if figures != Plausibility():
         lines += ["", "## Could it be built?", "", *_plausibility_lines(figures)]
     notes = list(design.notes or [])

@@ -38,6 +38,12 @@ class Candidates:
     figures: dict[str, Any]
 
     @classmethod
+    def read(cls, design: Design) -> Candidates | None:
+        """The candidates of ``design`` (None: not written)."""
+        data = design.candidates
+        return cls.from_dict(data) if isinstance(data, dict) else None
+
+    @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Candidates:
         written = (data.get("spacing"), (data.get("geometry") or {}).get("spacing_m"))
         spacing = next((float(v) for v in written if isinstance(v, (int, float)) and v > 0), None)
@@ -540,11 +546,10 @@ class ReportRecords:
 
     @classmethod
     def read(cls, design: Design) -> ReportRecords:
-        cand = design.candidates
         worst = (design.forward_accuracy or {}).get("worst") or {}
         return cls(
             fields_origin=dict((design.provenance or {}).get("fields_origin") or {}),
-            candidates=Candidates.from_dict(cand) if isinstance(cand, dict) else None,
+            candidates=Candidates.read(design),
             cancellations={k: Cancellation.from_dict(v) for k, v in worst.items()},
             problems=Problems.read(design),
             case=CaseRecord.read(design),

@@ -107,7 +107,7 @@ def test_plausibility_lists_only_the_kinds_the_design_has():
         charges={"positions": [[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]], "values": [1e-9, -2e-9]}
     )
     figures = plausibility(design)
-    assert figures == Plausibility.of(design).to_dict()
+    assert figures == Plausibility.of(design, Candidates.read(design)).to_dict()
     assert list(figures) == [
         "largest_charge_C",
         "spacing_m",
