@@ -15,7 +15,9 @@ value refused in one line naming its branch), nothing written. lambda or rho != 
 A scene with a ``[case]`` table (or a bare case file) draws that case's diagram of (H, F)
 on ``I3 = --level`` (default: the case's own level, or 0 for a general claim), with the same
 files; a conditional case asked for another level, a singular case and a case given by
-``mu`` alone are refused in one line (docs/workbench.md).
+``mu`` alone are refused in one line (docs/workbench.md). Both go through the one route,
+:func:`~chargedesign.topology.diagram.bifurcation_diagram`: a case that is the theorem's
+catalogue entry on I3 = 0 gets the theorem's diagram.
 """
 
 from __future__ import annotations

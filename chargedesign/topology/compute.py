@@ -4,7 +4,8 @@ Stages (each timed): compile the exact equations; find the energy range's admiss
 seeds (random points of the level corrected by Gauss-Newton) and rank-zero points; the
 exact equator family; continuation of every family through the seeds; the stability type of
 every point; the tori count of each chamber. :func:`critical_diagram` runs them for the
-parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor).
+parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor). The same stages
+for a case without closed form: :mod:`.general`.
 """
 
 from __future__ import annotations
