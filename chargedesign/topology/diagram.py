@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 
-from chargedesign.errors import SolverError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, FULL, PRECISE, fmt
 from chargedesign.params import Parameters
@@ -223,7 +223,9 @@ def theorem_reading(case: Case, level: Any) -> Parameters | None:
     """The theorem's parameters when ``case`` on ``I3 = level`` is the theorem's catalogue
     entry, else None: its inertia, V and l the theorem's at some regular parameters
     (:func:`~chargedesign.model.catalogue.theorem_parameters`), its F the theorem's I4 there
-    exactly (on ``|gamma| = 1``), and ``level`` 0 (where I4 is an integral)."""
+    exactly (on ``|gamma| = 1``), and ``level`` 0 (where I4 is an integral). Parameters the
+    theorem's diagram refuses (:func:`check_parameters`: the free top, a Larmor shift that
+    swamps the energies) are no reading: such a case keeps the stages of any case."""
     from chargedesign.model.catalogue import theorem_case, theorem_parameters
     from chargedesign.scene.case_file import vanishes_on_sphere
 
@@ -233,6 +235,10 @@ def theorem_reading(case: Case, level: Any) -> Parameters | None:
     if params is None or params.singular:
         return None
     if not vanishes_on_sphere(case.integral - theorem_case(params).integral):
+        return None
+    try:
+        check_parameters(params)
+    except InputError:
         return None
     return params
 
