@@ -24,11 +24,12 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
-from chargedesign.commands.progress import Progress, progress_bar
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
@@ -75,8 +76,7 @@ def run(args: argparse.Namespace) -> int:
             )
     # the diagram's stages (STAGES), the --at atlas and the files, against their total
     total = len(STAGES) + (args.at is not None) + 1
-    with progress_bar("bifurcation", "stages", args.quiet) as bar:
-        tally = None if bar is None else _after_refusals(bar, total)
+    with _stage_progress(args.quiet, total) as tally:
         diagram = bifurcation_diagram(model, h_range, tally=tally, level=level)
         linked = None
         if args.at is not None:
@@ -103,19 +103,32 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _after_refusals(bar: Progress, total: int) -> Callable[[int, int], None]:
-    """``tally(done, _)`` for the diagram's stages, saying nothing before the energy range's
-    stage ends: the route's refusals (a case without a diagram, an energy range without
-    motion or scale) come before it, and their one line is then all the run says."""
+@contextmanager
+def _stage_progress(quiet: bool, total: int) -> Iterator[Callable[[int, int], None] | None]:
+    """``tally(done, _)`` for the diagram's stages (None with ``--quiet``), its
+    :class:`~chargedesign.commands.progress.Progress` started when the energy range's stage
+    ends: the route's refusals (a case without a diagram, an energy range without motion or
+    scale) come before it, so their one line is all a refused run says."""
+    if quiet:
+        yield None
+        return
     checked = STAGES.index("energy range") + 1
+    bar: Progress | None = None
 
     def tally(done: int, _: int) -> None:
-        if done == checked:
+        nonlocal bar
+        if done < checked:
+            return
+        if bar is None:
+            bar = Progress("bifurcation", unit="stages")
             bar.say("bifurcation: critical set, continuation, chambers ...")
-        if done >= checked:
-            bar.update(done, total)
+        bar.update(done, total)
 
-    return tally
+    try:
+        yield tally
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def case_level(case: Any, text: str | None) -> Fraction:
