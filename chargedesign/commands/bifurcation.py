@@ -15,30 +15,34 @@ value refused in one line naming its branch), nothing written. lambda or rho != 
 A scene with a ``[case]`` table (or a bare case file) draws that case's diagram of (H, F)
 on ``I3 = --level`` (default: the case's own level, or 0 for a general claim), with the same
 files; a conditional case asked for another level, a singular case and a case given by
-``mu`` alone are refused in one line (docs/workbench.md).
+``mu`` alone are refused in one line (docs/workbench.md). Both go through the one route,
+:func:`~chargedesign.topology.diagram.bifurcation_diagram`: a case that is the theorem's
+catalogue entry on I3 = 0 gets the theorem's diagram.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from chargedesign.commands.progress import progress_bar
+from chargedesign.commands.progress import Progress
 from chargedesign.errors import InputError
 from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import CELL, PLAIN, fmt
-from chargedesign.scene import Scene, load_scene
-from chargedesign.topology.case_diagram import case_diagram
-from chargedesign.topology.case_map import CaseMomentumMap, diagram_refusal
-from chargedesign.topology.compute import STAGES, resolve_range
-from chargedesign.topology.diagram import bifurcation_diagram, energy_range
+from chargedesign.scene import load_scene
+from chargedesign.topology.compute import STAGES
+from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram, energy_range
 from chargedesign.topology.links import linked_pictures
 from chargedesign.topology.tori import tori_at
 from chargedesign.validation import exact_decimal
+
+if TYPE_CHECKING:
+    from chargedesign.params import Parameters
+    from chargedesign.scene.case_file import Case
 
 
 def run(args: argparse.Namespace) -> int:
@@ -50,26 +54,33 @@ def run(args: argparse.Namespace) -> int:
         writes=("bifurcation.csv", "bifurcation.png", "bifurcation_at.png"),
     )
     scene = load_scene(args.scene)
-    if "case" in scene.tables:
-        return _case(args, scene)
-    if args.level is not None:
-        raise InputError("--level: for a [case] scene; the theorem's diagram is on I3 = 0")
     h_range = None if args.h_range is None else (args.h_range[0], args.h_range[1])
-    lo, hi = energy_range(scene.parameters, h_range)
-    if args.at is not None and not lo < args.at < hi:
-        raise InputError(
-            f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got"
-            f" {fmt(args.at, PLAIN)}"
-        )
+    model: Case | Parameters
+    level: Fraction | None = None
+    if "case" in scene.tables:
+        assert scene.case is not None
+        model = scene.case
+        if args.at is not None:
+            raise InputError("--at: the atlas is drawn for the theorem's scenes only, not a [case]")
+        level = case_level(model, args.level)
+    else:
+        model = scene.parameters
+        if args.level is not None:
+            raise InputError("--level: for a [case] scene; the theorem's diagram is on I3 = 0")
+    if args.at is not None:
+        lo, hi = energy_range(scene.parameters, h_range)
+        if not lo < args.at < hi:
+            raise InputError(
+                f"--at: expected an energy inside {fmt(lo, CELL)} .. {fmt(hi, CELL)} J, got"
+                f" {fmt(args.at, PLAIN)}"
+            )
     # the diagram's stages (STAGES), the --at atlas and the files, against their total
     total = len(STAGES) + (args.at is not None) + 1
-    with progress_bar("bifurcation", "stages", args.quiet) as bar:
-        if bar is not None:
-            bar.say("bifurcation: critical set, continuation, chambers ...")
-        tally = None if bar is None else (lambda done, _: bar.update(done, total))
-        diagram = bifurcation_diagram(scene.parameters, h_range, tally=tally)
+    with _stage_progress(args.quiet, total) as tally:
+        diagram = bifurcation_diagram(model, h_range, tally=tally, level=level)
         linked = None
         if args.at is not None:
+            assert isinstance(diagram, BifurcationDiagram)
             linked = linked_pictures(diagram, args.at, orbits=20, t_end=200.0, fli_t_end=10.0)
             if tally is not None:
                 tally(total - 1, total)
@@ -92,6 +103,34 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+@contextmanager
+def _stage_progress(quiet: bool, total: int) -> Iterator[Callable[[int, int], None] | None]:
+    """``tally(done, _)`` for the diagram's stages (None with ``--quiet``), its
+    :class:`~chargedesign.commands.progress.Progress` started when the energy range's stage
+    ends: the route's refusals (a case without a diagram, an energy range without motion or
+    scale) come before it, so their one line is all a refused run says."""
+    if quiet:
+        yield None
+        return
+    checked = STAGES.index("energy range") + 1
+    bar: Progress | None = None
+
+    def tally(done: int, _: int) -> None:
+        nonlocal bar
+        if done < checked:
+            return
+        if bar is None:
+            bar = Progress("bifurcation", unit="stages")
+            bar.say("bifurcation: critical set, continuation, chambers ...")
+        bar.update(done, total)
+
+    try:
+        yield tally
+    finally:
+        if bar is not None:
+            bar.close()
+
+
 def case_level(case: Any, text: str | None) -> Fraction:
     """The I3 level of a case's diagram: ``--level`` read exactly (a number or a fraction;
     never through sympy), which a conditional case allows only at its own level."""
@@ -104,52 +143,6 @@ def case_level(case: Any, text: str | None) -> Fraction:
             f" I3 = {level}"
         )
     return level
-
-
-def check_case_range(h_range: Any) -> tuple[float, float] | None:
-    """``--h-range`` for a case: two finite energies LO < HI (the case's units)."""
-    if h_range is None:
-        return None
-    lo, hi = float(h_range[0]), float(h_range[1])
-    if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
-        raise InputError(
-            f"--h-range: expected two finite energies LO < HI, got {fmt(lo, PLAIN)}"
-            f" {fmt(hi, PLAIN)}"
-        )
-    return lo, hi
-
-
-def _case(args: argparse.Namespace, scene: Scene) -> int:
-    """A ``[case]`` scene: the case's diagram of (H, F) on its level."""
-    case = scene.case
-    assert case is not None
-    if args.at is not None:
-        raise InputError("--at: the atlas is drawn for the theorem's scenes only, not a [case]")
-    refusal = diagram_refusal(case)
-    if refusal is not None:
-        raise InputError(refusal)
-    level = case_level(case, args.level)
-    h_range = check_case_range(args.h_range)
-    try:  # an energy range without admissible motion, before the diagram's work
-        (lo, hi), _ = resolve_range(CaseMomentumMap(case, level), h_range)
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
-    if not hi > lo:
-        raise InputError(
-            f"case {case.name}: the energies on I3 = {level} have no scale (the least energy"
-            f" and the top of the amended potential are both {fmt(lo, CELL)}): give"
-            " --h-range LO HI"
-        )
-    if not args.quiet:
-        print("bifurcation: critical set, continuation, chambers ...", file=sys.stderr, flush=True)
-    diagram = case_diagram(case, level, h_range)
-    diagram.write(args.out)
-    if args.json:
-        print(diagram.to_json())
-    else:
-        print(str(diagram), end="")
-        print(f"wrote {args.out}/bifurcation.csv, {args.out}/bifurcation.png")
-    return 0
 
 
 def _tori(args: argparse.Namespace) -> int:

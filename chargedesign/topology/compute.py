@@ -4,7 +4,8 @@ Stages (each timed): compile the exact equations; find the energy range's admiss
 seeds (random points of the level corrected by Gauss-Newton) and rank-zero points; the
 exact equator family; continuation of every family through the seeds; the stability type of
 every point; the tori count of each chamber. :func:`critical_diagram` runs them for the
-parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor).
+parameters as given; :mod:`.diagram` runs them at n = 0 and shifts (Larmor). The same stages
+for a case without closed form: :mod:`.general`.
 """
 
 from __future__ import annotations
@@ -234,9 +235,11 @@ def critical_diagram(
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
     tally: Callable[[int, int], None] | None = None,
+    count: bool = True,
 ) -> RawDiagram:
     """The critical set, its image and the chambers, computed at ``params`` as given
-    (``tally(done, total)`` is told the stages done of :data:`STAGES`)."""
+    (``tally(done, total)`` is told the stages done of :data:`STAGES`; ``count``: tori of
+    each chamber by the flow, the slow stage)."""
     options = options or DiagramOptions()
     watch = Stopwatch(len(STAGES), tally)
     lap = watch.lap
@@ -258,7 +261,7 @@ def critical_diagram(
         equator = TracedBranch(exact.z[:, :6], exact.hk, kinds, ("end", "energy range"), True)
     branches = drawn_branches(F, [b for b in raw if len(b.z) > 1], equator, vertices, scales)
     lap("stability")
-    chambers = chamber_samples(F, scales, options.counting)
+    chambers = chamber_samples(F, scales, options.counting, count)
     admissible = admissible_band(F, scales)
     lap("chambers")
     return RawDiagram(
@@ -318,13 +321,17 @@ def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]
     return sorted(out)
 
 
-def chamber_samples(F: MomentumMap, scales: Scales, counting: FlowCounting) -> list[Chamber]:
+def chamber_samples(
+    F: MomentumMap, scales: Scales, counting: FlowCounting, count: bool = True
+) -> list[Chamber]:
     """Every cell of the closed-form diagram in the energy range, however thin
     (:meth:`~chargedesign.topology.closed_form.ClosedForm.cells`), with its tori counted by
-    the flow at its middle; a cell thinner than :data:`RESOLVED` is not counted (None)."""
+    the flow at its middle; a cell thinner than :data:`RESOLVED`, or every cell without
+    ``count``, is not counted (None)."""
     out = []
     for cell in ClosedForm.of(F.params).cells(scales.h_low, scales.h_high):
-        found = None if cell.thickness < RESOLVED else count_by_flow(F, cell.h, cell.k, counting)
+        counted = count and cell.thickness >= RESOLVED
+        found = count_by_flow(F, cell.h, cell.k, counting) if counted else None
         tori = None if found is None else found.tori
         out.append(Chamber(cell.h, cell.k, tori, cell.walls, cell.chamber, cell.b - cell.a, found))
     return out

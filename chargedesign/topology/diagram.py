@@ -1,10 +1,14 @@
-"""The bifurcation diagram of (H, I4) on ``I3 = 0`` as a result: CSV, picture, summary.
+"""The bifurcation diagram of a case of (ep), one route: :func:`bifurcation_diagram` takes a
+case (the theorem: its catalogue entry) and gives the result (CSV, picture, summary).
 
-Uses the structure (Larmor, :mod:`chargedesign.model.larmor`): on the level ``I3 = 0,
-|gamma| = 1`` the map ``omega = omega0 - n gamma`` takes the n = 0 system to the n-system
-with ``H_n = H_0 + C n^2`` and ``I4_n = I4_0`` exactly. So :func:`bifurcation_diagram`
-computes the diagram at n = 0 and maps states and energies; the tests compare with a
-direct computation at n != 0.
+- The theorem's entry, (H, I4) on ``I3 = 0``: its closed form (:mod:`.closed_form`) gives
+  the structure, and the structure of the equations (Larmor, :mod:`chargedesign.model.larmor`)
+  the reading: on the level ``I3 = 0, |gamma| = 1`` the map ``omega = omega0 - n gamma``
+  takes the n = 0 system to the n-system with ``H_n = H_0 + C n^2`` and ``I4_n = I4_0``
+  exactly. So the stages (:mod:`.compute`) run at n = 0 (and unit time scale) and states and
+  energies are mapped; the tests compare with a direct computation at n != 0.
+- Any other polynomial case, (H, F) on its level: the same stages with the structure found
+  from the traced branches (:mod:`.general`), in the case's units.
 """
 
 from __future__ import annotations
@@ -15,11 +19,11 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 
-from chargedesign.errors import SolverError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.files import atomic_directory, write_text_atomic
 from chargedesign.formatting import CELL, FULL, PRECISE, fmt
 from chargedesign.params import Parameters
@@ -45,6 +49,10 @@ from chargedesign.topology.compute import (
 )
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.stability import TYPES
+
+if TYPE_CHECKING:
+    from chargedesign.scene.case_file import Case
+    from chargedesign.topology.general import CaseRaw
 
 #: the CSV's columns (the contract's header)
 CSV_COLUMNS = ("h", "k", "branch", "type", "p", "q", "r", "gamma1", "gamma2", "gamma3")
@@ -145,21 +153,107 @@ def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
     )
 
 
+@overload
 def bifurcation_diagram(
-    params: Parameters,
+    model: Parameters,
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
     tally: Callable[[int, int], None] | None = None,
-) -> BifurcationDiagram:
-    """The diagram at ``params``: computed at unit time scale and n = 0, then mapped exactly
-    (:class:`Reading`: the time scale and Larmor's ``H_n = H_0 + C n^2``).
+    *,
+    level: Any = None,
+    count: bool = True,
+    closed_form: bool = True,
+) -> BifurcationDiagram: ...
 
-    ``h_range`` (J) is the energy range at ``params``; default: from the least energy on the
-    level to the top of the amended potential plus half its span.
+
+@overload
+def bifurcation_diagram(
+    model: Case,
+    h_range: tuple[float, float] | None = None,
+    options: DiagramOptions | None = None,
+    tally: Callable[[int, int], None] | None = None,
+    *,
+    level: Any = None,
+    count: bool = True,
+    closed_form: bool = True,
+) -> BifurcationDiagram | CaseDiagram: ...
+
+
+def bifurcation_diagram(
+    model: Case | Parameters,
+    h_range: tuple[float, float] | None = None,
+    options: DiagramOptions | None = None,
+    tally: Callable[[int, int], None] | None = None,
+    *,
+    level: Any = None,
+    count: bool = True,
+    closed_form: bool = True,
+) -> BifurcationDiagram | CaseDiagram:
+    """The bifurcation diagram of a case of (ep): the image of ``(H, F)`` on ``|gamma| = 1,
+    I3 = level`` with its critical families typed and the tori of each chamber (``count``:
+    counted by the flow, the slow stage; ``tally(done, total)`` is told the stages done).
+
+    ``model`` is a :class:`~chargedesign.scene.case_file.Case`, or the theorem's parameters
+    (its catalogue entry, :func:`~chargedesign.model.catalogue.theorem_case`, read without
+    building it). ``level``: default the case's own level, or 0 for a general claim.
+
+    - The theorem's entry on ``I3 = 0`` (:func:`theorem_reading`; ``closed_form=False`` turns
+      the reading off, for cross-checks): its closed form gives the structure, the stages run
+      at unit time scale and n = 0, then are mapped exactly (:class:`Reading`: the time scale
+      and Larmor's ``H_n = H_0 + C n^2``); ``h_range`` is in J at the parameters, default
+      from the least energy on the level to the top of the amended potential plus half its
+      span. Returns a :class:`BifurcationDiagram`.
+    - Any other polynomial case: the same stages, the structure found from the traced
+      branches (:func:`~chargedesign.topology.general.general_diagram`, the case's units).
+      Returns a :class:`CaseDiagram`.
     """
+    if isinstance(model, Parameters):
+        return _theorem_diagram(model, h_range, options, tally, count)
+    if level is None:
+        level = 0 if model.level is None else model.level
+    params = theorem_reading(model, level) if closed_form else None
+    if params is not None:
+        return _theorem_diagram(params, h_range, options, tally, count)
+    from chargedesign.topology.general import general_diagram
+
+    return CaseDiagram(general_diagram(model, level, h_range, options, tally, count))
+
+
+def theorem_reading(case: Case, level: Any) -> Parameters | None:
+    """The theorem's parameters when ``case`` on ``I3 = level`` is the theorem's catalogue
+    entry, else None: its inertia, V and l the theorem's at some regular parameters
+    (:func:`~chargedesign.model.catalogue.theorem_parameters`), its F the theorem's I4 there
+    exactly (on ``|gamma| = 1``), and ``level`` 0 (where I4 is an integral). Parameters the
+    theorem's diagram refuses (:func:`check_parameters`: the free top, a Larmor shift that
+    swamps the energies) are no reading: such a case keeps the stages of any case."""
+    from chargedesign.model.catalogue import theorem_case, theorem_parameters
+    from chargedesign.scene.case_file import vanishes_on_sphere
+
+    if level != 0:
+        return None
+    params = theorem_parameters(case)
+    if params is None or params.singular:
+        return None
+    if not vanishes_on_sphere(case.integral - theorem_case(params).integral):
+        return None
+    try:
+        check_parameters(params)
+    except InputError:
+        return None
+    return params
+
+
+def _theorem_diagram(
+    params: Parameters,
+    h_range: tuple[float, float] | None,
+    options: DiagramOptions | None,
+    tally: Callable[[int, int], None] | None,
+    count: bool,
+) -> BifurcationDiagram:
+    """The theorem's diagram at ``params`` (:func:`bifurcation_diagram`)."""
     reading = Reading.of(params)
     unit_range = check_energy_range(params, h_range)
-    raw = critical_diagram(reading.unit(), unit_range, options, tally)
+    raw = critical_diagram(reading.unit(), unit_range, options, tally, count)
     diagram = BifurcationDiagram(mapped(raw, reading))
     if not any(not b.exact for b in diagram.branches):
         lo, hi = diagram.raw.h_range
@@ -301,7 +395,7 @@ def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
 
 class DiagramResult(Result):
     """What the theorem's diagram (:class:`BifurcationDiagram`) and a case's
-    (:class:`~chargedesign.topology.case_diagram.CaseDiagram`) share: ``raw`` with the
+    (:class:`CaseDiagram`) share: ``raw`` with the
     branches, vertices and chambers; the contract's CSV; the files; the chambers' labels."""
 
     raw: Any
@@ -460,6 +554,90 @@ class BifurcationDiagram(DiagramResult):
         canvas.draw()
         image = np.asarray(canvas.buffer_rgba())[..., :3]
         return png_html(image, 420)
+
+
+@dataclass(repr=False)
+class CaseDiagram(DiagramResult):
+    """The bifurcation diagram of a case: branches, vertices, cells with their tori."""
+
+    raw: CaseRaw
+
+    def to_dict(self) -> dict[str, Any]:
+        raw = self.raw
+        return {
+            "case": raw.case.name,
+            "level": str(raw.level),
+            "h_range": list(raw.h_range),
+            "h_min": raw.h_min,
+            "branches": [
+                {"branch": i, "name": raw.names[i]} | branch_record(b)
+                for i, b in enumerate(raw.branches)
+            ],
+            "vertices": [vertex_record(v) for v in raw.vertices],
+            "chambers": [chamber_record(c) for c in self.labels()],
+            "seconds": dict(raw.seconds),
+            "seeds": raw.seeds_found,
+        }
+
+    def _summary(self) -> dict[str, Any]:
+        return {
+            "case": self.raw.case.name,
+            "branches": len(self.branches),
+            "vertices": len(self.raw.vertices),
+            "tori_per_chamber": [c.tori for c in self.labels()],
+        }
+
+    def _text(self) -> str:
+        raw = self.raw
+        lines = [
+            f"bifurcation diagram of (H, F) of case {raw.case.name} on I3 = {raw.level},"
+            " |gamma| = 1",
+            f"  F = {raw.case.texts.get('integral', '')}",
+            f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)}"
+            f" (least energy on the level {fmt(raw.h_min, CELL)})",
+        ]
+        lines += [branch_line(item["name"], item) for item in self.to_dict()["branches"]]
+        size = (
+            raw.h_range[1] - raw.h_range[0],
+            float(np.max(np.abs(raw.admissible[:, 1:]), initial=1.0)),
+        )
+        for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
+            lines.append(vertex_line(h, k, kind, states))
+        lines.append(
+            f"  chambers: {len(self.labels())} ({len(raw.chambers)} cells); tori per chamber:"
+            f" {self._tori_text()}"
+        )
+        lines.append(self._time_line())
+        return "\n".join(lines) + "\n"
+
+    def plot(self, axes: Any = None) -> Any:
+        """The diagram in (h, k = F): band, branches by type, vertices, tori per chamber."""
+        from matplotlib.figure import Figure
+
+        if axes is None:
+            axes = Figure(figsize=(7.5, 5.5)).subplots()
+        raw = self.raw
+        draw_diagram(axes, self.branches, raw.vertices, self.labels(), raw.admissible, clip=False)
+        axes.set_xlabel("h = H")
+        axes.set_ylabel(f"k = F ({raw.case.texts.get('integral', 'F')})"[:80])
+        axes.set_title(
+            f"{raw.case.name} on I3 = {raw.level} (numbers: tori per chamber)", fontsize=10
+        )
+        # each traced branch's Appelrot class on its curve (Kowalevski's case on I3 = 0): the
+        # class alone, its formula is in the published normalization, not these axes' units
+        for branch, name in zip(raw.branches, raw.names, strict=True):
+            if name.startswith("Appelrot") and len(branch.hk):
+                h, k = branch.hk[int(0.75 * (len(branch.hk) - 1))]
+                axes.annotate(
+                    name.split(":")[0],
+                    (h, k),
+                    xytext=(4, 4),
+                    textcoords="offset points",
+                    fontsize=8,
+                    color="0.2",
+                )
+        axes.legend(fontsize=8, loc="upper left")
+        return axes.figure
 
 
 def draw_diagram(

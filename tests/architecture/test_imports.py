@@ -34,6 +34,7 @@ HEAVY_MODULES = frozenset(
         "chargedesign.scene.case_file",
         "chargedesign.scene.expressions",
         "chargedesign.topology.case_map",
+        "chargedesign.topology.general",
         "chargedesign.viz",
     }
 )

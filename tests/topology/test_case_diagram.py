@@ -19,12 +19,18 @@ from scipy.optimize import brentq
 from chargedesign.cli import main
 from chargedesign.model.case import g1, g2, g3, p, q, r
 from chargedesign.scene.case_file import read_case
-from chargedesign.topology import case_diagram as case_diagram_module
+from chargedesign.topology import general
 from chargedesign.topology.branches import Branch, distance_to_branch
-from chargedesign.topology.case_diagram import case_diagram, case_scales
 from chargedesign.topology.case_map import CaseMomentumMap
 from chargedesign.topology.chambers import FlowCount, FlowCounting, LevelSampling, count_by_flow
 from chargedesign.topology.critical import Scales
+from chargedesign.topology.diagram import (
+    BifurcationDiagram,
+    CaseDiagram,
+    bifurcation_diagram,
+    theorem_reading,
+)
+from chargedesign.topology.general import case_scales
 from chargedesign.topology.kowalevski import CURVES, curve_points, curve_value
 
 CASES = "chargedesign/data/cases"
@@ -38,13 +44,13 @@ COVERED = 3e-3
 @pytest.fixture(scope="module")
 def kowalevski():
     case = read_case(f"{CASES}/kowalevski.toml")
-    return case, case_diagram(case, 0, count=False)
+    return case, bifurcation_diagram(case, level=0, count=False)
 
 
 @pytest.fixture(scope="module")
 def lagrange():
     case = read_case(f"{CASES}/lagrange.toml")
-    return case, case_diagram(case, 0, count=False)
+    return case, bifurcation_diagram(case, level=0, count=False)
 
 
 def _scales(diagram) -> Scales:
@@ -176,7 +182,7 @@ def test_a_bare_case_file_draws_its_diagram(tmp_path, capsys, monkeypatch):
     """The command's files and JSON for a case (the counts are the flow's, tested above;
     here each cell's count is replaced to keep the test fast)."""
 
-    monkeypatch.setattr(case_diagram_module, "count_by_flow", lambda F, h, k, counting: _seven())
+    monkeypatch.setattr(general, "count_by_flow", lambda F, h, k, counting: _seven())
     assert _cli(tmp_path, f"{CASES}/kowalevski.toml", "--json") == 0
     out = json.loads(capsys.readouterr().out)
     assert out["case"] == "kowalevski" and out["level"] == "0"
@@ -215,14 +221,16 @@ def test_refusals_are_one_line(tmp_path, capsys, argv, message):
 
 def test_the_chaplygin_case_file_gives_the_theorems_closed_form():
     """The catalogue's Chaplygin entry (the theorem's file with K = n = lambda = rho = 0) through
-    the case route: every traced point on k = 0 or on the theorem's closed form
-    k = (h / C -+ a)^2, a = |kappa| sqrt(c^2 + d^2) (docs/bifurcation.md), to 1e-9 of k's scale."""
+    the stages of a case without closed form (``closed_form=False``): every traced point on
+    k = 0 or on the theorem's closed form k = (h / C -+ a)^2, a = |kappa| sqrt(c^2 + d^2)
+    (docs/bifurcation.md), to 1e-9 of k's scale."""
     from chargedesign.model.catalogue import catalogue_case
 
     case = catalogue_case("chaplygin")
     C, c, d, kappa = (float(case.parameters[n]) for n in ("C", "c", "d", "kappa"))
     a = abs(kappa) * np.hypot(c, d)
-    diagram = case_diagram(case, 0, count=False)
+    diagram = bifurcation_diagram(case, level=0, count=False, closed_form=False)
+    assert isinstance(diagram, CaseDiagram)
     scale = max(float(np.max(b.hk[:, 1])) for b in diagram.branches)
     curves = {"elliptic": 0, "hyperbolic": 0}
     for b in diagram.branches:
@@ -232,3 +240,22 @@ def test_the_chaplygin_case_file_gives_the_theorems_closed_form():
         for kind, row in (("elliptic", 1), ("hyperbolic", 2)):
             curves[kind] += int(np.sum(gaps[row] < 1e-9 * scale))
     assert curves["elliptic"] > 10 and curves["hyperbolic"] > 10
+
+
+def test_the_theorem_is_read_as_its_catalogue_entry():
+    """One route: the theorem's catalogue entry as a case (``theorem_case``) gives the diagram
+    of its parameters, row for row; a case of the theorem's form with the theorem's I4 (the
+    catalogue's Chaplygin entry) is read through the closed form at its parameters."""
+    from chargedesign.model.catalogue import catalogue_case, theorem_case, theorem_parameters
+    from chargedesign.params import Parameters
+
+    params = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9)
+    direct = bifurcation_diagram(params, count=False)
+    entry = bifurcation_diagram(theorem_case(params), count=False)
+    assert isinstance(entry, BifurcationDiagram)
+    assert entry.raw.params == params and entry.csv_text() == direct.csv_text()
+    chaplygin = catalogue_case("chaplygin")
+    read = bifurcation_diagram(chaplygin, count=False)
+    assert isinstance(read, BifurcationDiagram)
+    assert read.raw.params == theorem_parameters(chaplygin)
+    assert theorem_reading(chaplygin, 1) is None  # I4 is an integral on I3 = 0 only

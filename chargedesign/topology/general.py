@@ -1,9 +1,12 @@
-"""The bifurcation diagram of any case of (ep) with two integrals (H, F) on a level I3 = g.
+"""The diagram's stages for a case without a closed form: any polynomial case of (ep) with
+two integrals (H, F) on a level I3 = g.
 
-The same stages as the theorem's (:mod:`.compute`), on :class:`~.case_map.CaseMomentumMap`:
-seeds (random states of the level corrected by Gauss-Newton), rank-zero points, continuation
-of every family, the stability type of every point. What the theorem takes from its closed
-form is found here from the traced branches:
+:func:`~chargedesign.topology.diagram.bifurcation_diagram` (the one route) runs these stages
+for every case but the theorem's catalogue entry, whose structure its closed form gives
+(:mod:`.compute`, :mod:`.closed_form`). They are the theorem's stages on
+:class:`~.case_map.CaseMomentumMap`: seeds (random states of the level corrected by
+Gauss-Newton), rank-zero points, continuation of every family, the stability type of every
+point. What the theorem takes from its closed form is found here from the traced branches:
 
 - **the degenerate set** ``dF = 0`` (where F vanishes to second order, e.g. Kowalevski's
   ``k = 0``, the Delone class): Newton converges badly on it (the Jacobian loses rank twice),
@@ -22,18 +25,21 @@ Where the case is Kowalevski's on I3 = 0 the branches are named by their Appelro
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from chargedesign.errors import SolverError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.formatting import CELL, fmt
+from chargedesign.scene.bifurcation import check_h_range
 from chargedesign.scene.case_file import Case
 from chargedesign.topology.branches import Branch, distance_to_branch, trace_all
-from chargedesign.topology.case_map import CaseMomentumMap
+from chargedesign.topology.case_map import CaseMomentumMap, diagram_refusal
 from chargedesign.topology.chambers import count_by_flow
 from chargedesign.topology.compute import (
+    STAGES,
     Chamber,
     DiagramOptions,
     Stopwatch,
@@ -54,16 +60,6 @@ from chargedesign.topology.critical import (
     sphere_points,
     states_on_level,
 )
-from chargedesign.topology.diagram import (
-    DiagramResult,
-    branch_line,
-    branch_record,
-    chamber_record,
-    draw_diagram,
-    vertex_groups,
-    vertex_line,
-    vertex_record,
-)
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
 
 #: a wall closer than this (diagram units) to another at the same energy is the same wall
@@ -76,7 +72,7 @@ THIN_CELL = 1e-4
 
 @dataclass
 class CaseRaw:
-    """What :func:`case_diagram` computes (the case's units: its numbers read in SI)."""
+    """What :func:`general_diagram` computes (the case's units: its numbers read in SI)."""
 
     case: Case
     level: Any
@@ -222,23 +218,41 @@ def cells(
     return out
 
 
-def case_diagram(
+def general_diagram(
     case: Case,
     level: Any = 0,
     h_range: tuple[float, float] | None = None,
     options: DiagramOptions | None = None,
+    tally: Callable[[int, int], None] | None = None,
     count: bool = True,
-) -> CaseDiagram:
-    """The diagram of ``case``'s ``(H, F)`` on ``|gamma| = 1, I3 = level`` (the case's
-    units); ``count``: tori of each cell by the flow (the slow stage)."""
+) -> CaseRaw:
+    """The critical set, its image and the cells of ``case``'s ``(H, F)`` on ``|gamma| = 1,
+    I3 = level`` (the case's units); ``count``: tori of each cell by the flow (the slow
+    stage); ``tally(done, total)`` is told the stages done of :data:`~.compute.STAGES`.
+
+    Refused in one line (:class:`~chargedesign.errors.InputError`) before the seeds: a case
+    without a diagram here (:func:`~.case_map.diagram_refusal`), an ``h_range`` that is not two
+    finite energies LO < HI or has no admissible motion, and energies without a scale."""
+    refusal = diagram_refusal(case)
+    if refusal is not None:
+        raise InputError(refusal)
+    if h_range is not None:
+        check_h_range(float(h_range[0]), float(h_range[1]))
     options = options or DiagramOptions()
-    watch = Stopwatch()
+    watch = Stopwatch(len(STAGES), tally)
     lap = watch.lap
     F = CaseMomentumMap(case, level)
     lap("equations")
-    rng_range, h_min = resolve_range(F, h_range)
+    try:
+        rng_range, h_min = resolve_range(F, h_range)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
     if not rng_range[1] > rng_range[0]:
-        raise ValueError(f"case {case.name}: an empty energy range {rng_range}: give h_range")
+        raise InputError(
+            f"case {case.name}: the energies on I3 = {level} have no scale (the least energy"
+            f" and the top of the amended potential are both {fmt(rng_range[0], CELL)}): give"
+            " --h-range LO HI"
+        )
     scales = case_scales(F, rng_range)
     F.time_unit = float(np.sqrt(np.max(F.inertia()) / max(scales.energy, 1e-300)))
     lap("energy range")
@@ -266,21 +280,18 @@ def case_diagram(
         F, branches, curve_labels(branches, names, scales), vertices, scales, options, count
     )
     lap("chambers")
-    band = _band(branches, scales)
-    return CaseDiagram(
-        CaseRaw(
-            case,
-            level,
-            rng_range,
-            h_min,
-            branches,
-            names,
-            vertices,
-            chambers,
-            band,
-            watch.seconds,
-            len(seeds.z),
-        )
+    return CaseRaw(
+        case,
+        level,
+        rng_range,
+        h_min,
+        branches,
+        names,
+        vertices,
+        chambers,
+        _band(branches, scales),
+        watch.seconds,
+        len(seeds.z),
     )
 
 
@@ -324,87 +335,3 @@ def _band(branches: list[TracedBranch], scales: Scales, energies: int = 200) -> 
         if len(ks) >= 2:
             rows.append((float(h), min(ks), max(ks)))
     return np.array(rows).reshape(-1, 3)
-
-
-@dataclass(repr=False)
-class CaseDiagram(DiagramResult):
-    """The bifurcation diagram of a case: branches, vertices, cells with their tori."""
-
-    raw: CaseRaw
-
-    def to_dict(self) -> dict[str, Any]:
-        raw = self.raw
-        return {
-            "case": raw.case.name,
-            "level": str(raw.level),
-            "h_range": list(raw.h_range),
-            "h_min": raw.h_min,
-            "branches": [
-                {"branch": i, "name": raw.names[i]} | branch_record(b)
-                for i, b in enumerate(raw.branches)
-            ],
-            "vertices": [vertex_record(v) for v in raw.vertices],
-            "chambers": [chamber_record(c) for c in self.labels()],
-            "seconds": dict(raw.seconds),
-            "seeds": raw.seeds_found,
-        }
-
-    def _summary(self) -> dict[str, Any]:
-        return {
-            "case": self.raw.case.name,
-            "branches": len(self.branches),
-            "vertices": len(self.raw.vertices),
-            "tori_per_chamber": [c.tori for c in self.labels()],
-        }
-
-    def _text(self) -> str:
-        raw = self.raw
-        lines = [
-            f"bifurcation diagram of (H, F) of case {raw.case.name} on I3 = {raw.level},"
-            " |gamma| = 1",
-            f"  F = {raw.case.texts.get('integral', '')}",
-            f"  energy range {fmt(raw.h_range[0], CELL)} .. {fmt(raw.h_range[1], CELL)}"
-            f" (least energy on the level {fmt(raw.h_min, CELL)})",
-        ]
-        lines += [branch_line(item["name"], item) for item in self.to_dict()["branches"]]
-        size = (
-            raw.h_range[1] - raw.h_range[0],
-            float(np.max(np.abs(raw.admissible[:, 1:]), initial=1.0)),
-        )
-        for (h, k, kind), states in vertex_groups(raw.vertices, size).items():
-            lines.append(vertex_line(h, k, kind, states))
-        lines.append(
-            f"  chambers: {len(self.labels())} ({len(raw.chambers)} cells); tori per chamber:"
-            f" {self._tori_text()}"
-        )
-        lines.append(self._time_line())
-        return "\n".join(lines) + "\n"
-
-    def plot(self, axes: Any = None) -> Any:
-        """The diagram in (h, k = F): band, branches by type, vertices, tori per chamber."""
-        from matplotlib.figure import Figure
-
-        if axes is None:
-            axes = Figure(figsize=(7.5, 5.5)).subplots()
-        raw = self.raw
-        draw_diagram(axes, self.branches, raw.vertices, self.labels(), raw.admissible, clip=False)
-        axes.set_xlabel("h = H")
-        axes.set_ylabel(f"k = F ({raw.case.texts.get('integral', 'F')})"[:80])
-        axes.set_title(
-            f"{raw.case.name} on I3 = {raw.level} (numbers: tori per chamber)", fontsize=10
-        )
-        # each traced branch's Appelrot class on its curve (Kowalevski's case on I3 = 0): the
-        # class alone, its formula is in the published normalization, not these axes' units
-        for branch, name in zip(raw.branches, raw.names, strict=True):
-            if name.startswith("Appelrot") and len(branch.hk):
-                h, k = branch.hk[int(0.75 * (len(branch.hk) - 1))]
-                axes.annotate(
-                    name.split(":")[0],
-                    (h, k),
-                    xytext=(4, 4),
-                    textcoords="offset points",
-                    fontsize=8,
-                    color="0.2",
-                )
-        axes.legend(fontsize=8, loc="upper left")
-        return axes.figure
