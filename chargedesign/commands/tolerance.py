@@ -32,6 +32,7 @@ from chargedesign.files import atomic_directory, check_outputs
 from chargedesign.formatting import EXACT, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
 from chargedesign.limits import MAX_TOLERANCE_LEVELS as MAX_LEVELS
+from chargedesign.sensitivity import check_theorem_design
 from chargedesign.tolerancing import (
     ErrorModel,
     MonteCarloResult,
@@ -122,8 +123,7 @@ def run(args: argparse.Namespace) -> int:
     model = ErrorModel.parse(args.position, args.charge, args.dipole, args.mass)
     check_error_spreads(model)
     design = read_design(args.design)
-    if "case" in design.further_keys:  # its sensitivities are the theorem's, not the case's
-        raise InputError(f"{args.design}: tolerance takes a design of the theorem, not of a case")
+    check_theorem_design(design, args.design)  # before the spreads are weighed against it
     check_error_scale(model, levels, design)
     if not model.is_zero and not args.no_simulate:
         check_periods(args.t_end, design.parameters, None, MAX_PERIODS, "--t-end")
