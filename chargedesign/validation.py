@@ -237,7 +237,7 @@ def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
 # --------------------------------------------------------------------- the input range
 
 
-def range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
+def _range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
     low = (
         f"0 or {fmt(lo, PLAIN)} <= |x| <= {fmt(hi, PLAIN)}"
         if lo > 0
@@ -258,7 +258,7 @@ def check_input_number(
     out = as_finite_float(value, name)
     size = abs(out)
     if size > hi or (0.0 < size < lo):
-        raise range_error(name, value, lo, hi)
+        raise _range_error(name, value, lo, hi)
     return out
 
 
@@ -352,7 +352,7 @@ def check_input_array(
     if np.any(bad):
         index = np.unravel_index(int(np.argmax(bad)), arr.shape)
         where = "".join(f"[{i}]" for i in index)
-        raise range_error(f"{name}{where}", float(arr[index]), lo, hi)
+        raise _range_error(f"{name}{where}", float(arr[index]), lo, hi)
     return arr
 
 
@@ -523,7 +523,7 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
     if "larmor" in data:
-        check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
+        _check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
     if "material_errors" in data:
         # the scene's [tolerance] the design records: read by `tolerance`, so checked by
         # every reader (check passed a file whose chi_relative was 2 or a string)
@@ -564,7 +564,7 @@ def check_material_analysis(where: str, physical: bool, magnetic: Sequence[float
         )
 
 
-def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
+def _check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
     """design.json's ``larmor.rate`` is the theorem's n (docs/contract.md): within n's range
     and equal to ``parameters.n``. A rate that differs was silently ignored (``charges``) or
     turned the axes at a rate the parameters do not have (``frame``).
