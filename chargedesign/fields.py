@@ -35,13 +35,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.formatting import PLAIN, fmt
-from chargedesign.validation import (
-    GAMMA_UNIT_TOLERANCE,
-    as_array,
-    as_finite_float,
-    as_points,
-    input_error,
-)
+from chargedesign.validation import as_array, as_finite_float, as_points, input_error
 
 #: points per block of :func:`zonal_sums` (8192 doubles: 64 kB an array, the recurrence's dozen
 #: in cache; measured 2-3x faster than one block of 5e5 points)
@@ -570,6 +564,10 @@ def zonal_z_coefficients(coeffs: np.ndarray, S: np.ndarray, order: int) -> dict[
         out["ZS"] = d_dz(total["S"])
         out["SS"] = total["SS"]
     return out
+
+
+#: Largest accepted | |gamma| - 1 | for body-axes evaluations.
+GAMMA_UNIT_TOLERANCE = 1e-9
 
 
 def as_unit_vectors(value: Any, name: str = "gammas") -> np.ndarray:

@@ -134,7 +134,7 @@ OPTION_RANGES: dict[str, dict[str, OptionRange]] = {
     },
     "tolerance": {
         "target": OptionRange(0.0, 1.0, lo_open=True, hi_open=True),
-        "samples": OptionRange(1, 2000),
+        "samples": OptionRange(1, MAX_TOLERANCE_SAMPLES),
         "t_end": _POSITIVE,
         "seed": _SEED,
         # relative errors of material properties (one standard deviation): a 100 % error

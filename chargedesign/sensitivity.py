@@ -84,8 +84,34 @@ def orientations(n: int, seed: int = 0) -> np.ndarray:
     return sample_orientations(n, seed)
 
 
-def references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
+def check_theorem_design(design: Design, where: str = "design") -> None:
+    """Refuse a design of a ``[case]`` not of the theorem's form, in one line naming ``where``.
 
+    The tolerances are measured against the theorem's mu, V and inertia at the design's
+    parameters (:func:`references`). A case of the theorem's form
+    (:func:`~chargedesign.model.catalogue.theorem_parameters`) has the theorem's body and
+    parameters, so those are its own figures; any other case's design.json keeps placeholder
+    parameters (a Kowalevski body's report measured its V = C a gamma1 against V = 0).
+    """
+    record = design.further_keys.get("case")
+    if record is None:
+        return
+    from chargedesign.model.case_numeric import case_from_record  # sympy: a case only
+    from chargedesign.model.catalogue import theorem_parameters
+
+    case = case_from_record(record)
+    if theorem_parameters(case) is None:
+        raise InputError(
+            f"{where}: tolerance takes a design of the theorem, not of a case of another form "
+            f"({case.name}: its V, l or inertia are not the theorem's, which the tolerances "
+            "are measured against)"
+        )
+
+
+def references(design: Design, gammas: np.ndarray) -> dict[str, Any]:
+    """The theorem's mu, centred V and inertia at ``gammas``, which the design's are measured
+    against (a case's design only of the theorem's form: :func:`check_theorem_design`)."""
+    check_theorem_design(design)
     # what the elements themselves realise (n = 0 for a frame body: n is the axes' rate)
     params = design.body_parameters
     mu = np.asarray(evaluators.gyroscopic(gammas, params), dtype=float)

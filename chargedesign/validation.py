@@ -33,7 +33,6 @@ from chargedesign.formatting import PLAIN, fmt
 from chargedesign.limits import (
     MAX_DESIGN_ELEMENTS,
     MAX_FIELD_DEGREE,
-    MAX_TOLERANCE_SAMPLES,
 )
 from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
 
@@ -195,18 +194,6 @@ def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> 
         raise input_error(f"{where}.{unknown[0]}", "one of " + ", ".join(allowed), unknown[0])
 
 
-def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:
-    """An integer in ``minimum..cap`` (a cap on work; ``option`` names how to raise it)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise input_error(name, "an integer", value)
-    if value < minimum:
-        raise input_error(name, f"an integer >= {minimum}", value)
-    if value > cap:
-        how = f" ({option} raises the cap)" if option else ""
-        raise input_error(name, f"an integer <= {cap}{how}", value)
-    return int(value)
-
-
 def check_integer(
     value: Any, name: str, *, minimum: int, none_allowed: bool = False, expected: str = ""
 ) -> None:
@@ -237,10 +224,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
 # ------------------------------------------------------- a design's options, one against another
 
 
-#: Largest accepted | |gamma| - 1 | for body-axes evaluations.
-GAMMA_UNIT_TOLERANCE = 1e-9
-
-
 def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
     """A part material's susceptibility, which cancelling the induced magnetisation needs."""
     if susceptibility is None:
@@ -254,7 +237,7 @@ def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
 # --------------------------------------------------------------------- the input range
 
 
-def range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
+def _range_error(name: str, value: Any, lo: float, hi: float) -> InputError:
     low = (
         f"0 or {fmt(lo, PLAIN)} <= |x| <= {fmt(hi, PLAIN)}"
         if lo > 0
@@ -275,7 +258,7 @@ def check_input_number(
     out = as_finite_float(value, name)
     size = abs(out)
     if size > hi or (0.0 < size < lo):
-        raise range_error(name, value, lo, hi)
+        raise _range_error(name, value, lo, hi)
     return out
 
 
@@ -369,7 +352,7 @@ def check_input_array(
     if np.any(bad):
         index = np.unravel_index(int(np.argmax(bad)), arr.shape)
         where = "".join(f"[{i}]" for i in index)
-        raise range_error(f"{name}{where}", float(arr[index]), lo, hi)
+        raise _range_error(f"{name}{where}", float(arr[index]), lo, hi)
     return arr
 
 
@@ -540,7 +523,7 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
         if block in data:
             check_tree(data[block], f"{where}.{block}", lo=0.0)
     if "larmor" in data:
-        check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
+        _check_larmor_rate(data["larmor"], data.get("parameters"), f"{where}.larmor")
     if "material_errors" in data:
         # the scene's [tolerance] the design records: read by `tolerance`, so checked by
         # every reader (check passed a file whose chi_relative was 2 or a string)
@@ -569,21 +552,6 @@ def check_material_errors(table: Any, where: str) -> dict[str, float]:
     }
 
 
-def material_error_values(where: str, values: Mapping[str, Any]) -> dict[str, float]:
-    """Keyword material errors (``chi_relative = 0.1``, ...; None: left out), each checked
-    by :func:`check_material_error`; a bad value names ``where.key``, or ``--key`` on the
-    command line (``where = "--"``)."""
-    out = {}
-    for key, value in values.items():
-        if key not in MATERIAL_ERROR_KEYS:
-            raise input_error(where, "keys among " + ", ".join(MATERIAL_ERROR_KEYS), key)
-        if value is None:
-            continue
-        name = "--" + key.replace("_", "-") if where == "--" else f"{where}.{key}"
-        out[key] = check_material_error(value, name)
-    return out
-
-
 def check_material_analysis(where: str, physical: bool, magnetic: Sequence[float]) -> None:
     """What the materials' error analysis needs: a physical design (``[medium]``, its
     materials) in a magnetic field of degree <= 2 (``magnetic``: its Legendre
@@ -596,25 +564,7 @@ def check_material_analysis(where: str, physical: bool, magnetic: Sequence[float
         )
 
 
-def check_material_motion(rate: float, magnetic: Sequence[float]) -> None:
-    """The materials' error analysis weighs induced torques against a typical motion: it
-    needs a magnetic field and a non-zero typical rate."""
-    if rate == 0 or not magnetic:
-        raise InputError("tolerance: material errors need a magnetic field and a typical motion")
-
-
-def sample_count(value: Any, name: str, minimum: int) -> int:
-    """``value`` as an int in ``minimum .. MAX_TOLERANCE_SAMPLES`` (else an input error
-    naming ``name``): the tolerance analysis' perturbed bodies."""
-    expected = f"an integer in {minimum}..{MAX_TOLERANCE_SAMPLES}"
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise input_error(name, expected, value)
-    if not minimum <= int(value) <= MAX_TOLERANCE_SAMPLES:
-        raise input_error(name, expected, value)
-    return int(value)
-
-
-def check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
+def _check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
     """design.json's ``larmor.rate`` is the theorem's n (docs/contract.md): within n's range
     and equal to ``parameters.n``. A rate that differs was silently ignored (``charges``) or
     turned the axes at a rate the parameters do not have (``frame``).
@@ -705,67 +655,9 @@ def check_error_spreads(model: Any, prefix: str = "--") -> None:
             check_input_number(spread.value, f"{prefix}{name}")
 
 
-def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: str = "--") -> None:
-    """The largest error a Monte Carlo draws (a spread times the largest level) no larger than
-    what it perturbs: a position error within the body's extent (the farthest element from
-    O), an absolute charge, dipole or mass error within the largest element of its kind, a
-    relative one at most 100 %. Past that the perturbed bodies are no longer the design: on a
-    1 m body ``--position 10`` (or ``1um`` at ``--levels 1e31``) ran past 60 s with no end
-    (0.5 m: 14 s).
-
-    Parameters
-    ----------
-    model : chargedesign.tolerancing.ErrorModel
-    levels : sequence of float
-        The scale factors of the errors (``--levels``).
-    design : chargedesign.body.Design
-        Its element arrays: positions (m), charges (C), dipole moments (A m^2), masses (kg).
-    """
-    top = max(levels, default=1.0)
-
-    def largest(array: Any, rows: bool = False) -> float:
-        a = np.asarray(array, dtype=float)
-        if a.size == 0:
-            return 0.0
-        return float(np.max(np.linalg.norm(a, axis=1) if rows else np.abs(a)))
-
-    sizes = {
-        "position": max(
-            largest(design.charge_positions, True),
-            largest(design.dipole_positions, True),
-            largest(design.mass_positions, True),
-        ),
-        "charge": largest(design.charge_values),
-        "dipole": largest(design.dipole_moments, True),
-        "mass": largest(design.mass_values),
-    }
-    units = {"position": "m", "charge": "C", "dipole": "A m^2", "mass": "kg"}
-    for name, size in sizes.items():
-        spread = getattr(model, name)
-        drawn = spread.value * top
-        if drawn == 0.0:
-            continue
-        if spread.relative and drawn > 1.0:
-            raise InputError(
-                f"{prefix}{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level"
-                f" {fmt(top, PLAIN)} is "
-                f"{fmt(100 * drawn, PLAIN)}%, past 100 %: give a smaller error or smaller --levels"
-            )
-        if not spread.relative and drawn > size:
-            what = "the body's extent" if name == "position" else f"the largest {name}"
-            raise InputError(
-                f"{prefix}{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level"
-                f" {fmt(top, PLAIN)} "
-                f"is {fmt(drawn, PLAIN)} {units[name]}, more than {what} ({fmt(size, PLAIN)}"
-                f" {units[name]}): the "
-                "perturbed bodies would not be this design; give a smaller error or smaller "
-                "--levels"
-            )
-
-
-# --- issue 33 (errs2): refusals the core used to raise, at the boundary -----------------------
-# The input checks moved here from the conditions engine; the others take a figure the caller
-# computed (plain values) and raise the same one-line error there, before the heavy work.
+# ----------------------------------------------- the realise list and a design's frontier rates
+# Shared by several stages; a check that needs a figure one stage computes sits at that
+# stage's entry instead (docs/architecture.md).
 
 
 def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
@@ -779,51 +671,6 @@ def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
     if len(set(items)) != len(items):
         raise input_error(name, "no repeated items", items)
     return tuple(k for k in REALISABLE if k in items)
-
-
-def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
-    """``{kind: legendre coefficients}`` of a fields mapping, trailing zeros dropped."""
-    if fields is None:
-        return {}
-    if not isinstance(fields, Mapping):
-        raise input_error("fields", "a mapping of field kind to legendre coefficients", fields)
-    out: dict[str, tuple[float, ...]] = {}
-    for kind, value in fields.items():
-        if kind not in FIELD_KINDS:
-            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
-        if isinstance(value, (list, tuple)) and len(value) == 0:
-            coeffs: tuple[float, ...] = ()
-        else:
-            coeffs = tuple(float(v) for v in as_array(value, f"fields.{kind}", (None,)))
-        while coeffs and coeffs[-1] == 0.0:
-            coeffs = coeffs[:-1]
-        if len(coeffs) > MAX_FIELD_DEGREE:
-            raise input_error(
-                f"fields.{kind}", f"a field of degree <= {MAX_FIELD_DEGREE}", list(coeffs)
-            )
-        out[kind] = coeffs
-    return out
-
-
-def check_mu_degree(degree: Any) -> int:
-    """The field degree of the symbolic mu solution: an integer in 2..MAX_FIELD_DEGREE
-    (degree 1 cannot give the K terms of mu: they need a magnetic quadrupole)."""
-    if (
-        isinstance(degree, bool)
-        or not isinstance(degree, int)
-        or not 2 <= degree <= MAX_FIELD_DEGREE
-    ):
-        raise input_error("degree", f"an integer in 2..{MAX_FIELD_DEGREE}", degree)
-    return degree
-
-
-def check_induced_field_degree(legendre: Sequence[float]) -> None:
-    """Cancelling the induced magnetisation is derived for a magnetic field of degree <= 2."""
-    if any(x != 0 for x in legendre[2:]):
-        raise InputError(
-            "fields.magnetic: cancelling the induced magnetisation needs a field of degree <= 2 "
-            "(the paper's a1 Z + a2 (3 Z^2 - R^2)); give one ballast material"
-        )
 
 
 def check_frontier_rates(frontier: Any, where: str = "") -> None:

@@ -35,10 +35,10 @@ from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.physical.coulomb import coulomb_kernel, sphere_fields, sphere_kernel
 from chargedesign.physical.limits import (
-    fibonacci_directions,
     local_caps,
     sample_spacing,
 )
+from chargedesign.sampling import fibonacci_sphere
 
 #: surface samples of the in-loop check (constraint generation)
 LOOP_SURFACE_SAMPLES = 200
@@ -214,7 +214,7 @@ def surface_check(
     k = len(q)
     if k == 0:
         return np.zeros(0), np.zeros((0, 3))
-    dirs = fibonacci_directions(samples)
+    dirs = fibonacci_sphere(samples)
     a = setup.carrier_radius
     radii = np.full(k, a)
     kernel = sphere_kernel(setup.points, a, dirs)
@@ -616,7 +616,7 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     As, bs = row_scaled(A, s * b, qs)
     q = cp.Variable(len(setup.points))
     limit = setup.safe_field * (1 - DESIGN_MARGIN)
-    dirs = fibonacci_directions(samples)
+    dirs = fibonacci_sphere(samples)
     points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
     G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)
     room = 1.0 - setup.external_max(np.linalg.norm(points, axis=1), s) / limit

@@ -15,6 +15,7 @@ from typing import Any
 
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.limits import MAX_FIELD_DEGREE
 from chargedesign.moment_conditions.algebra import SourceSystem
 from chargedesign.moment_conditions.constants import (
     DEFAULT_LENGTH,
@@ -32,7 +33,7 @@ from chargedesign.moment_conditions.mu import charges_for_mu
 from chargedesign.moment_conditions.potential import realise_degree, v_projection
 from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
-from chargedesign.validation import as_finite_float, validate_fields, validate_realise
+from chargedesign.validation import as_array, as_finite_float, input_error, validate_realise
 
 
 def _exact(value: float, exact: bool) -> Fraction:
@@ -94,6 +95,30 @@ def derive_conditions(
     _run_steps(ctx, given, goals)
     rederive = functools.partial(derive_conditions, params, fields, goals, exact=exact)
     return close_derivation(ctx, goals, rederive)
+
+
+def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:
+    """``{kind: legendre coefficients}`` of a fields mapping, trailing zeros dropped."""
+    if fields is None:
+        return {}
+    if not isinstance(fields, Mapping):
+        raise input_error("fields", "a mapping of field kind to legendre coefficients", fields)
+    out: dict[str, tuple[float, ...]] = {}
+    for kind, value in fields.items():
+        if kind not in FIELD_KINDS:
+            raise input_error(f"fields.{kind}", "one of " + ", ".join(FIELD_KINDS), kind)
+        if isinstance(value, (list, tuple)) and len(value) == 0:
+            coeffs: tuple[float, ...] = ()
+        else:
+            coeffs = tuple(float(v) for v in as_array(value, f"fields.{kind}", (None,)))
+        while coeffs and coeffs[-1] == 0.0:
+            coeffs = coeffs[:-1]
+        if len(coeffs) > MAX_FIELD_DEGREE:
+            raise input_error(
+                f"fields.{kind}", f"a field of degree <= {MAX_FIELD_DEGREE}", list(coeffs)
+            )
+        out[kind] = coeffs
+    return out
 
 
 def open_derivation(

@@ -16,6 +16,7 @@ from typing import Any
 
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.limits import MAX_FIELD_DEGREE
 from chargedesign.moment_conditions.algebra import ConditionRow, SourceSystem, key_rank
 from chargedesign.moment_conditions.context import DerivationContext
 from chargedesign.moment_conditions.harmonics import (
@@ -31,7 +32,7 @@ from chargedesign.moment_conditions.harmonics import (
 )
 from chargedesign.moment_conditions.table_data import fraction_text, shipped_table
 from chargedesign.moments import moment_keys
-from chargedesign.validation import check_mu_degree
+from chargedesign.validation import input_error
 
 
 @dataclass(frozen=True)
@@ -201,6 +202,18 @@ def moment_symbol(key: str) -> Any:
     import sympy as sp
 
     return sp.Symbol(f"I_{key}", real=True)
+
+
+def check_mu_degree(degree: Any) -> int:
+    """The field degree of the symbolic mu solution: an integer in 2..MAX_FIELD_DEGREE
+    (degree 1 cannot give the K terms of mu: they need a magnetic quadrupole)."""
+    if (
+        isinstance(degree, bool)
+        or not isinstance(degree, int)
+        or not 2 <= degree <= MAX_FIELD_DEGREE
+    ):
+        raise input_error("degree", f"an integer in 2..{MAX_FIELD_DEGREE}", degree)
+    return degree
 
 
 def symbolic_mu_solution(degree: int = 2) -> dict[str, Any]:

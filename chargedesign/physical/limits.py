@@ -47,12 +47,6 @@ CHECK_SURFACE_SAMPLES = 1000
 REFINEMENTS = 4
 
 
-def fibonacci_directions(n: int) -> np.ndarray:
-    """``n`` nearly uniform unit vectors, shape (n, 3)
-    (:func:`chargedesign.sampling.fibonacci_sphere`)."""
-    return fibonacci_sphere(n)
-
-
 def local_cap(direction: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
     """``n`` unit vectors within ``angle`` (rad) of ``direction``, plus the direction itself."""
     return local_caps(np.asarray(direction, dtype=float)[None, :], angle, n)[0]
@@ -104,7 +98,7 @@ def carrier_surface_fields(
     n = len(charges)
     if n == 0:
         return np.zeros(0), np.zeros((0, 3))
-    dirs = fibonacci_directions(samples)
+    dirs = fibonacci_sphere(samples)
     r_top = float(np.max(np.linalg.norm(positions, axis=1) + radii, initial=0.0))
     external = _external_bound(tuple(electric), r_top * (1 + 1e-9))
 

@@ -13,8 +13,7 @@ from typing import Any
 
 import numpy as np
 
-# the constants live in chargedesign.constants; MU_0 re-exported for simulation/ that reads it here
-from chargedesign.constants import MU_0 as MU_0
+from chargedesign.constants import MU_0
 from chargedesign.physical.sources import value
 
 #: breakdown field of each named medium, V/m (sources table: media.breakdown.<name>)

@@ -25,11 +25,7 @@ from chargedesign.physical.drag import bearing_drag, cup_drag
 from chargedesign.physical.materials import BALLAST_DENSITY
 from chargedesign.physical.state_of_the_art import ATTITUDE_SENSORS, BEARINGS, GYROS
 from chargedesign.scene.keys import KEY, TESTBED, Key, check_declared, check_table, declared
-from chargedesign.validation import (
-    as_array,
-    as_count,
-    input_error,
-)
+from chargedesign.validation import as_array, input_error
 
 #: gyro grades: (angle random walk rad/sqrt(s), bias rad/s), order-of-magnitude figures of each
 #: class (chargedesign.physical.state_of_the_art.GYROS); ``ideal`` is a perfect gyro (the
@@ -464,6 +460,18 @@ def case_refusal(name: str, inertia: Sequence[Any], singular: Sequence[str]) -> 
             "are finite on the whole sphere"
         )
     return None
+
+
+def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:
+    """An integer in ``minimum..cap`` (a cap on work; ``option`` names how to raise it)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, "an integer", value)
+    if value < minimum:
+        raise input_error(name, f"an integer >= {minimum}", value)
+    if value > cap:
+        how = f" ({option} raises the cap)" if option else ""
+        raise input_error(name, f"an integer <= {cap}{how}", value)
+    return int(value)
 
 
 def _parse(key: Key, value: Any, where: str) -> Any:

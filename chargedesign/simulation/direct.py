@@ -36,8 +36,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from chargedesign.constants import MU_0
 from chargedesign.fields import zonal_z_coefficients
-from chargedesign.physical.materials import MU_0
 from chargedesign.simulation.body import Body
 
 #: columns of a row's output vector: D (3), M (3), and T (3 x 3, row-major) with D += T gamma

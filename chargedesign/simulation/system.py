@@ -42,11 +42,11 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.constants import MU_0
 from chargedesign.errors import InputError
 from chargedesign.formatting import CELL, PLAIN, ROUGH, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
-from chargedesign.physical.materials import MU_0
 from chargedesign.physical.parasitics import eddy_torque
 from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly

@@ -1,12 +1,17 @@
 """The tolerance analysis' defaults and the small helpers its modules share (JSON values,
-quantiles).
+quantiles, the count of perturbed bodies).
 
 Part of :mod:`chargedesign.tolerancing` (see its docstring for the method).
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+
+from chargedesign.limits import MAX_TOLERANCE_SAMPLES
+from chargedesign.validation import input_error
 
 #: element kinds, in report order
 KINDS = ("charge", "dipole", "mass")
@@ -29,3 +34,14 @@ def quantile_summary(x: np.ndarray) -> dict[str, float]:
         "max": float(x.max()),
         "mean": float(x.mean()),
     }
+
+
+def sample_count(value: Any, name: str, minimum: int) -> int:
+    """``value`` as an int in ``minimum .. MAX_TOLERANCE_SAMPLES`` (else an input error
+    naming ``name``): the tolerance analysis' perturbed bodies."""
+    expected = f"an integer in {minimum}..{MAX_TOLERANCE_SAMPLES}"
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise input_error(name, expected, value)
+    if not minimum <= int(value) <= MAX_TOLERANCE_SAMPLES:
+        raise input_error(name, expected, value)
+    return int(value)

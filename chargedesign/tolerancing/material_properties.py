@@ -32,13 +32,13 @@ from chargedesign.scene.keys import KEY
 from chargedesign.tolerancing.common import (
     DEFAULT_MATERIAL_SAMPLES,
     quantile_summary,
+    sample_count,
 )
 from chargedesign.validation import (
     check_material_analysis,
+    check_material_error,
     check_material_errors,
-    check_material_motion,
-    material_error_values,
-    sample_count,
+    input_error,
 )
 from chargedesign.vocabulary import MATERIAL_ERROR_KEYS
 
@@ -60,8 +60,15 @@ class MaterialErrors:
     @classmethod
     def parse(cls, where: str = "tolerance", **values: Any) -> MaterialErrors:
         """From keyword values (None: 0); a bad value names ``where.key`` (``--key`` on the
-        command line, ``where = "--"``)."""
-        return cls(**material_error_values(where, values))
+        command line, ``where = "--"``); each is checked by :func:`check_material_error`."""
+        checked = {}
+        for key, value in values.items():
+            if key not in MATERIAL_ERROR_KEYS:
+                raise input_error(where, "keys among " + ", ".join(MATERIAL_ERROR_KEYS), key)
+            if value is not None:
+                name = "--" + key.replace("_", "-") if where == "--" else f"{where}.{key}"
+                checked[key] = check_material_error(value, name)
+        return cls(**checked)
 
     @classmethod
     def from_table(cls, table: Any, where: str = "tolerance") -> MaterialErrors:
@@ -293,7 +300,9 @@ def material_uncertainty(
     parts, groups = _material_groups(design)
     rate = typical_rate(design.parameters)
     legendre = tuple(design.field("magnetic"))
-    check_material_motion(rate, legendre)
+    # the induced torques are weighed against a typical motion
+    if rate == 0 or not legendre:
+        raise InputError("tolerance: material errors need a magnetic field and a typical motion")
     # the reference is stated for any body, also one whose parts are outside their limits
     reference = induced_reference(design, parts_ok=True)
     if reference is None:

@@ -38,6 +38,7 @@ from chargedesign.tolerancing.common import (
     DEFAULT_T_END,
     DEFAULT_TARGET,
     quantile_summary,
+    sample_count,
 )
 from chargedesign.tolerancing.element_tolerances import (
     ToleranceReport,
@@ -52,7 +53,7 @@ from chargedesign.tolerancing.error_model import (
     standard_deviations,
 )
 from chargedesign.tolerancing.material_properties import MaterialErrors
-from chargedesign.validation import as_finite_float, sample_count
+from chargedesign.validation import as_finite_float
 
 
 @dataclass(repr=False)

@@ -12,7 +12,8 @@ import pytest
 from chargedesign.designer.charges import LOOP_SURFACE_SAMPLES, surface_check
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical.coulomb import coulomb_field, point_charge_field
-from chargedesign.physical.limits import fibonacci_directions, local_caps, sample_spacing
+from chargedesign.physical.limits import local_caps, sample_spacing
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene import scene_from_dict
 
 SMALL = Path(__file__).parents[1] / "physical" / "small.toml"
@@ -27,7 +28,7 @@ def _brute_force(setup, positions, q, s, samples):
     """Every sample point by the direct sum over the charges, then the cap around the
     largest (the check's definition, written out point by point)."""
     a = setup.carrier_radius
-    dirs = fibonacci_directions(samples)
+    dirs = fibonacci_sphere(samples)
 
     def magnitudes(points):
         e = np.linalg.norm(coulomb_field(positions, q, points), axis=1)

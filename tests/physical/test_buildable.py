@@ -23,8 +23,8 @@ from chargedesign.physical.holder import design_parts
 from chargedesign.physical.limits import (
     carrier_surface_fields,
     check_limits,
-    fibonacci_directions,
 )
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene import load_scene, scene_from_dict
 
 HERE = Path(__file__).parent
@@ -49,7 +49,7 @@ def result(setup, frontier):
 
 def dense_surface_max(design: Design, samples: int = 20000) -> np.ndarray:
     """Brute force: the largest |E| on each carrier sphere, far denser than the design's."""
-    dirs = fibonacci_directions(samples)
+    dirs = fibonacci_sphere(samples)
     out = []
     for c, a in zip(design.charge_positions, design.carrier_radii(), strict=True):
         pts = c + a * dirs
@@ -82,7 +82,7 @@ def test_the_limits_check_finds_the_dense_maximum_on_random_bodies():
         brute = np.array(
             [
                 np.linalg.norm(
-                    coulomb_field(pos, q, pos[i] + 0.002 * fibonacci_directions(20000)), axis=1
+                    coulomb_field(pos, q, pos[i] + 0.002 * fibonacci_sphere(20000)), axis=1
                 ).max()
                 for i in range(12)
             ]

@@ -18,7 +18,7 @@ from chargedesign.designer import design_from_scene
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.formatting import PRECISE, fmt
-from chargedesign.physical.limits import check_limits, fibonacci_directions
+from chargedesign.physical.limits import check_limits
 from chargedesign.physical.materials import SUSCEPTIBILITY
 from chargedesign.physical.realism import (
     FIELD_RESPONSE_KEYS,
@@ -27,6 +27,7 @@ from chargedesign.physical.realism import (
     material_parts,
     typical_rate,
 )
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene import load_scene
 
 A1, A2 = 1.0, 10.0  # T, T/m: Phi = a1 Z + a2 (3 Z^2 - R^2), legendre [a1, 2 a2]
@@ -64,7 +65,7 @@ def test_induced_energy_matches_the_moment_formula_of_the_papers_field():
     w = chi * masses / 19250.0
     D = w @ positions
     S = (positions * w[:, None]).T @ positions
-    g = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    g = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     energy = -(8 * A1 * A2 * g @ D + 12 * A2**2 * np.einsum("ki,ij,kj->k", g, S, g)) / (2 * MU_0)
     item = field_response(design)["induced_magnetisation_fraction"]
     assert item["value"] * designed_torque(design) == pytest.approx(np.ptp(energy), rel=1e-9)

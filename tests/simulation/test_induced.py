@@ -13,8 +13,8 @@ from physical.test_buildable import SMALL
 
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
-from chargedesign.physical.limits import fibonacci_directions
 from chargedesign.physical.realism import RESPONSE_ORIENTATIONS, field_response, typical_rate
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.scene import load_scene
 from chargedesign.simulation.api import simulate
 from chargedesign.simulation.system import (
@@ -59,7 +59,7 @@ def test_three_routes_give_the_same_torque_and_energy(body):
 
 
 def test_its_energy_range_is_the_realism_budgets(body, design):
-    gammas = fibonacci_directions(RESPONSE_ORIENTATIONS)
+    gammas = fibonacci_sphere(RESPONSE_ORIENTATIONS)
     energy = RigidBodySystem(body, ["induced"], route="reduced").energy(gammas)
     torque = design.parameters.C * typical_rate(design.parameters) ** 2 / 4
     budget = field_response(design)["induced_magnetisation_fraction"]["value"] * torque

@@ -24,7 +24,7 @@ from chargedesign.scene.sweep_file import (
     scene_with,
 )
 from chargedesign.sweeps import make_executor, sweep_from_dict
-from chargedesign.validation import sample_count
+from chargedesign.tolerancing.common import sample_count
 
 THEOREM = {
     "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
