@@ -36,7 +36,6 @@ from chargedesign.scene.case_file import Case
 
 #: the one result of a design: a case scene's carries its ``certificate``
 CaseDesignResult = DesignResult
-CaseElementsResult = DesignResult
 
 
 def case_conditions(scene: Scene, length: float | None = None) -> LinearConditions:
@@ -203,7 +202,6 @@ def record_case(
 
 __all__ = [
     "CaseDesignResult",
-    "CaseElementsResult",
     "case_certificate",
     "case_conditions",
     "conditions_of_case",
