@@ -103,8 +103,10 @@ def design(
     -------
     DesignResult
         ``result.design`` is the body (:class:`~chargedesign.body.Design`); a scene with
-        ``[case]`` takes the same route (:func:`~chargedesign.designer.design_from_scene`)
-        and its result carries the case's exact certificate (``result.certificate``).
+        ``[case]`` takes the same route (:func:`~chargedesign.designer.design_from_scene`).
+        Every result carries the exact certificate of its model (``result.certificate``,
+        made when first read); ``result.recorded_design()`` is the body with a ``[case]``
+        scene's certificate verdict in its ``case`` record, as design.json is written.
 
     Raises
     ------
