@@ -584,12 +584,12 @@ def _finish_scene_design(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
-    _record_case(result, inputs.model, progress)  # every model, the theorem's too
+    _record_case(result, inputs.model)  # every model, the theorem's too
     result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
 
 
-def _record_case(result: DesignResult, model: SceneModel, progress: Progress | None) -> None:
+def _record_case(result: DesignResult, model: SceneModel) -> None:
     """Every scene's body: its model's record and the exact certificate of its model, deferred
     the same way for every scene (:func:`scene_certificate`, made when ``result.certificate``
     is first read). The theorem's scene's model is the catalogue's case built from its
