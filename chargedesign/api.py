@@ -103,8 +103,10 @@ def design(
     -------
     DesignResult
         ``result.design`` is the body (:class:`~chargedesign.body.Design`); a scene with
-        ``[case]`` takes the same route (:func:`~chargedesign.designer.design_from_scene`)
-        and its result carries the case's exact certificate (``result.certificate``).
+        ``[case]`` takes the same route (:func:`~chargedesign.designer.design_from_scene`).
+        Every result carries the exact certificate of its model (``result.certificate``,
+        made when first read); ``result.recorded_design()`` is the body with a ``[case]``
+        scene's certificate verdict in its ``case`` record, as design.json is written.
 
     Raises
     ------
@@ -164,8 +166,10 @@ def _design_of(design: Any, where: str) -> Design:
     another kind is refused in one line naming the entry point ``where``."""
     if isinstance(design, Design):
         return design
+    if isinstance(design, DesignResult):  # with its whole record (a case's certificate too)
+        return design.recorded_design()
     inner = getattr(design, "design", None)
-    if isinstance(inner, Design):  # a DesignResult
+    if isinstance(inner, Design):  # another result holding a body
         return inner
     if isinstance(design, (str, os.PathLike)):
         return read_design(design)
@@ -209,8 +213,10 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
     SimulationResult
     """
 
+    if isinstance(source, DesignResult):  # its body with its whole record
+        source = source.recorded_design()
     inner = getattr(source, "design", None)
-    if isinstance(inner, Design):  # a DesignResult or a CaseDesignResult
+    if isinstance(inner, Design):  # another result holding a body
         source = inner
     return simulate_scene_or_design(source, **options)
 

@@ -6,8 +6,9 @@
 Issue 39's measure of "one model": ``cd.design(path)`` is run on each scene in a fresh process
 (so that caches warmed by the first design do not hide functions from the second) and every
 package function entered is recorded with ``sys.setprofile`` (module path and qualified name,
-comprehensions included). It prints both counts, the shared count, shared / union, and with
-``--list`` the functions on one side only.
+comprehensions included). It prints both counts, the shared count, shared / union, whether
+the two give the same body (every element's position and weight, to :data:`SAME_BODY` of the
+largest of its kind), and with ``--list`` the functions on one side only.
 
 The twin of a theorem scene is the same file without ``[parameters]`` and ``[simulation]``,
 with a ``[case]`` holding the theorem's inertia, V, l and I4 at those parameters as exact text
@@ -57,8 +58,39 @@ def write_twin(theorem_scene: Path, out: Path) -> Path:
     return out
 
 
-def functions_called(scene: Path) -> set[tuple[str, str]]:
-    """Every package function ``cd.design(scene)`` enters, in this process."""
+#: the body's arrays compared: the positions and weights of every kind of element
+BODY_ARRAYS = (
+    "charge_positions",
+    "charge_values",
+    "dipole_positions",
+    "dipole_moments",
+    "mass_positions",
+    "mass_values",
+)
+#: largest difference of two bodies' arrays, relative to the largest entry of each, that is the
+#: same body (the two routes round the same figures differently in the last bits)
+SAME_BODY = 1e-9
+
+
+def body_difference(a: dict[str, list], b: dict[str, list]) -> float:
+    """The largest difference of two bodies' arrays (:data:`BODY_ARRAYS`), each relative to the
+    largest magnitude of that array in ``a``; infinite when a count differs."""
+    import numpy as np
+
+    worst = 0.0
+    for name in BODY_ARRAYS:
+        x, y = np.asarray(a[name], dtype=float), np.asarray(b[name], dtype=float)
+        if x.shape != y.shape:
+            return float("inf")
+        if x.size:
+            scale = max(float(np.max(np.abs(x))), 1e-300)
+            worst = max(worst, float(np.max(np.abs(x - y))) / scale)
+    return worst
+
+
+def functions_called(scene: Path) -> tuple[set[tuple[str, str]], dict[str, list]]:
+    """Every package function ``cd.design(scene)`` enters, in this process, and the body's
+    arrays (:data:`BODY_ARRAYS`)."""
     import chargedesign as cd
 
     seen: set[tuple[str, str]] = set()
@@ -71,10 +103,10 @@ def functions_called(scene: Path) -> set[tuple[str, str]]:
 
     sys.setprofile(record)
     try:
-        cd.design(str(scene))
+        design = cd.design(str(scene)).design
     finally:
         sys.setprofile(None)
-    return seen
+    return seen, {name: getattr(design, name).tolist() for name in BODY_ARRAYS}
 
 
 def main() -> int:
@@ -94,11 +126,14 @@ def main() -> int:
             out = Path(folder) / f"{len(sides)}.pickle"
             subprocess.run([sys.executable, __file__, str(scene), "--record", str(out)], check=True)
             sides.append(pickle.loads(out.read_bytes()))
-    theorem, twin = sides
+    (theorem, theorem_body), (twin, twin_body) = sides
     shared = theorem & twin
+    difference = body_difference(theorem_body, twin_body)
+    same = "yes" if difference <= SAME_BODY else "NO"
     print(
         f"theorem {len(theorem)}, case {len(twin)}, shared {len(shared)}, "
-        f"shared / union {len(shared) / len(theorem | twin):.3f}"
+        f"shared / union {len(shared) / len(theorem | twin):.3f}, same body {same} "
+        f"(largest relative difference {difference:.1e})"
     )
     if args.list:
         for title, only in (("theorem only", theorem - twin), ("case only", twin - theorem)):

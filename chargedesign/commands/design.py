@@ -87,6 +87,8 @@ def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
             design.tolerance = tolerance_report(design).to_dict()
         add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
     out = Path(args.out)
+    # the body's whole record (a [case] scene's certificate verdict), made before it is written
+    design = result.recorded_design(progress)
     files, report = _write(design, out, region, args.no_picture, progress)
     if bare_case and args.json:
         print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))

@@ -36,7 +36,6 @@ from chargedesign.scene.case_file import Case
 
 #: the one result of a design: a case scene's carries its ``certificate``
 CaseDesignResult = DesignResult
-CaseElementsResult = DesignResult
 
 
 def case_conditions(scene: Scene, length: float | None = None) -> LinearConditions:
@@ -171,30 +170,23 @@ def case_certificate(
 
 
 def record_case(
-    design: Design,
-    case: Any,
-    table: Mapping[str, Any] | None,
-    theorem: Parameters | None,
-    *,
-    progress: Callable[[str], None] | None = None,
-    certify: bool = True,
-) -> CaseCertificate | None:
+    design: Design, case: Any, table: Mapping[str, Any] | None, theorem: Parameters | None
+) -> None:
     """Record the model a ``[case]`` scene's body realises: with ``table`` (the ``[case]`` as
-    written) design.json ``case`` (to rebuild the case), and with ``certify`` its exact
-    certificate (returned; :func:`case_certificate`, else None: made when read). The
-    theorem's scene's model is :func:`theorem_certificate`'s. For a general case
-    (``theorem`` None: not of the theorem's form) also the checks of its point body's elements
-    against the case (``case.checks``; also in ``residuals``) and its realism budget and
-    realised window at the case's typical rate (``case.realism``, ``case.realised``). A case of
-    the theorem's form has the theorem's body and records: its forward accuracy, and with
-    ``[medium]`` its limits, realism budget and window."""
+    written) design.json ``case`` (to rebuild the case), its ``certificate`` None until
+    :func:`case_certificate` makes it (the pipeline defers it, as the theorem's scene's
+    :func:`theorem_certificate`). For a general case (``theorem`` None: not of the theorem's
+    form) also the checks of its point body's elements against the case (``case.checks``;
+    also in ``residuals``) and its realism budget and realised window at the case's typical
+    rate (``case.realism``, ``case.realised``). A case of the theorem's form has the theorem's
+    body and records: its forward accuracy, and with ``[medium]`` its limits, realism budget
+    and window."""
     if table is not None:
         design.further_keys["case"] = case_record(table, case, None)
-    certificate = case_certificate(design, case, progress) if certify else None
     if table is None or design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window
         # (as the theorem's scene has them) say the rest
-        return certificate
+        return
     checks = case_checks(case, design)
     record = design.further_keys["case"]
     record["checks"] = checks
@@ -206,12 +198,10 @@ def record_case(
         "torque_rel_err": checks["torque_rel_err"],
     }
     record_realism(design, case)
-    return certificate
 
 
 __all__ = [
     "CaseDesignResult",
-    "CaseElementsResult",
     "case_certificate",
     "case_conditions",
     "conditions_of_case",

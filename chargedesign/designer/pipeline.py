@@ -584,41 +584,48 @@ def _finish_scene_design(
         result.design.notes = [*(result.design.notes or []), inputs.larmor_note]
     if result.design.provenance is not None:
         result.design.provenance["scene"] = scene.source
-    _record_case(result, inputs.model, progress)  # every model, the theorem's too
+    _record_case(result, inputs.model)  # every model, the theorem's too
     result.design.verdict = verdict_record(result.design)  # judged once, rendered everywhere
     return result
 
 
-def _record_case(result: DesignResult, model: SceneModel, progress: Progress | None) -> None:
-    """Every scene's body: the exact certificate of its model (the theorem's scene: the
-    catalogue's case built from its parameters); a case scene's also its case record and the
-    checks of the elements against the case's own V, mu and inertia
-    (:mod:`chargedesign.designer.case_design`).
+def _record_case(result: DesignResult, model: SceneModel) -> None:
+    """Every scene's body: its model's record and the exact certificate of its model, deferred
+    the same way for every scene (:func:`scene_certificate`, made when ``result.certificate``
+    is first read). The theorem's scene's model is the catalogue's case built from its
+    parameters; design.json's parameters are its record, so nothing is written now. A
+    ``[case]`` scene's body gets its case record now (and for a general case the checks of its
+    elements against the case's own V, mu and inertia, its realism budget and window:
+    :func:`chargedesign.designer.case_design.record_case`); the certificate's verdict is
+    written into that record when it is made (``result.certificate_recorded``: every writer
+    makes it first, :meth:`~chargedesign.designer.result.DesignResult.recorded_design`).
 
-    The theorem's scene's certificate is made when ``result.certificate`` is first read
-    (:func:`theorem_certificate`): no output of ``design``, ``frontier``, ``sweep`` or the
-    report prints it (design.json keeps the parameters, which rebuild the case), and it costs
-    sympy and about 1.7 s of CPU. A refusal of the case (the note of
+    The certificate costs sympy and about 1.7 s of CPU, and nothing the design decides reads
+    it: ``frontier`` and a theorem scene's ``design`` never make it. A refusal of the
+    theorem's case (the note of
     :func:`chargedesign.designer.case_design.theorem_certificate`) goes into ``design.notes``
     when it is read (a scene's parameters are all within a case file's range: the scene's
     reader checks them as the case's parser does)."""
-    if model.case is None and model.theorem is not None:
-        result.certificate_of = functools.partial(theorem_certificate, result.design, model.theorem)
-        return
-    from chargedesign.designer.case_design import record_case  # sympy
+    if model.case is not None:
+        from chargedesign.designer.case_design import record_case  # sympy: a case scene only
 
-    result.certificate = record_case(
-        result.design, model.case, model.table, model.theorem, progress=progress
-    )
+        record_case(result.design, model.case, model.table, model.theorem)
+    result.certificate_of = functools.partial(scene_certificate, result.design, model)
+    result.certificate_recorded = model.case is not None
 
 
-def theorem_certificate(design: Design, theorem: Parameters) -> Any:
-    """The exact certificate of the theorem's scene's model, the catalogue's case at its
-    parameters (:func:`chargedesign.designer.case_design.theorem_certificate`; None and a
-    note in ``design.notes`` when the case is refused), imported when read: it loads sympy."""
+def scene_certificate(design: Design, model: SceneModel, progress: Progress | None = None) -> Any:
+    """The exact certificate of the model a scene's body realises (a ``[case]`` scene's
+    :func:`chargedesign.designer.case_design.case_certificate`, its verdict written into the
+    body's ``case`` record; the theorem's scene's
+    :func:`chargedesign.designer.case_design.theorem_certificate`, None and a note in
+    ``design.notes`` when the case is refused), imported when made: it loads sympy."""
     from chargedesign.designer import case_design  # sympy
 
-    return case_design.theorem_certificate(design, theorem)
+    if model.case is not None:
+        return case_design.case_certificate(design, model.case, progress)
+    assert model.theorem is not None  # a scene's model is its [case] or its [parameters]
+    return case_design.theorem_certificate(design, model.theorem, progress)
 
 
 @dataclass

@@ -71,11 +71,15 @@ class DesignResult(Result):
         The exact certificate of the model the body realises, at the body's own numbers
         (:func:`chargedesign.model.case_file.certify_case`): a ``[case]`` scene's claimed
         integral, or the theorem's I4 for the theorem's scene (the catalogue's case built from
-        its parameters); None for a body designed outside a scene (``design_body``). The
-        theorem's scene's is made when first read (``certificate_of``: no output of ``design``
-        or ``frontier`` prints it, and it costs sympy and about a second).
+        its parameters); None for a body designed outside a scene (``design_body``). A scene's
+        is made when first read (``certificate_of``): it costs sympy and about a second, and
+        the design itself never reads it.
     certificate_of : callable or None
-        Makes the certificate when it is first read (then None).
+        Makes the certificate when it is first read (then None); takes ``progress=``.
+    certificate_recorded : bool
+        The deferred certificate writes into the body's record (a ``[case]`` scene's verdict,
+        design.json ``case.certificate``): :meth:`recorded_design` makes it before the body
+        is written. The theorem's scene's is not written (its ``parameters`` rebuild the case).
     """
 
     design: Design
@@ -87,18 +91,31 @@ class DesignResult(Result):
     notes: list[str] = field(default_factory=list)
     status: str = "optimal"
     _certificate: Any = field(default=None, repr=False)
-    certificate_of: Callable[[], Any] | None = field(default=None, repr=False, compare=False)
+    certificate_of: Callable[..., Any] | None = field(default=None, repr=False, compare=False)
+    certificate_recorded: bool = field(default=False, repr=False, compare=False)
 
     @property
     def certificate(self) -> Any:
         """The exact certificate of the body's model (made now when it was deferred)."""
-        if self.certificate_of is not None:
-            self._certificate, self.certificate_of = self.certificate_of(), None
-        return self._certificate
+        return self._made_certificate(None)
 
     @certificate.setter
     def certificate(self, value: Any) -> None:
         self._certificate, self.certificate_of = value, None
+
+    def _made_certificate(self, progress: Callable[[str], None] | None) -> Any:
+        if self.certificate_of is not None:
+            self._certificate, self.certificate_of = self.certificate_of(progress=progress), None
+        return self._certificate
+
+    def recorded_design(self, progress: Callable[[str], None] | None = None) -> Design:
+        """The body with every record its files carry: a deferred certificate that its
+        record holds (:attr:`certificate_recorded`) is made first. Every writer of the body
+        (design.json, the report, a sweep's or simulation's files, :meth:`to_dict`)
+        takes it from here, so that no written file lacks the certificate."""
+        if self.certificate_recorded:
+            self._made_certificate(progress)
+        return self.design
 
     @property
     def limits(self) -> dict[str, Any] | None:
@@ -171,7 +188,7 @@ class DesignResult(Result):
     # result protocol (chargedesign.results)
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: :meth:`summary` plus the body's design.json mapping under ``design``."""
-        return {**self.summary(), "design": self.design.to_dict()}
+        return {**self.summary(), "design": self.recorded_design().to_dict()}
 
     def _summary(self) -> dict[str, Any]:
         d = self.design

@@ -158,7 +158,7 @@ def setup_from_scene(scene: Any) -> SimulationSetup:
         # the designer here, not at import (scipy.sparse, scipy.linalg): see design_pending
         from chargedesign.designer.pipeline import design_from_scene
 
-        design = design_from_scene(scene).design
+        design = design_from_scene(scene).recorded_design()  # its whole record, certificate too
         origin = f"[case] {scene.case.name}: masses designed on the [body] region"
     elif has_inline_elements(body_table):
         design = _inline_design(body_table, scene)
@@ -327,7 +327,7 @@ def design_pending(
             f"{exc} (to simulate the theorem's reduced model instead: effects = ['theorem'])"
         ) from exc
     seconds = time.perf_counter() - t0
-    design = result.design
+    design = result.recorded_design(progress)  # written with its record, certificate too
     body = Body.from_design(design, dict(scene.fields))
     summary = result.summary()
     residuals = summary["residuals"]

@@ -56,9 +56,9 @@ def _scene_design(scene: Any, point_dir: Path) -> Any:
     if setup.design is not None:
         return setup.design
 
-    result = design_from_scene(scene)
-    write_design(result.design, point_dir / "design.json")
-    return result.design
+    design = design_from_scene(scene).recorded_design()  # its whole record, certificate too
+    write_design(design, point_dir / "design.json")
+    return design
 
 
 def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
@@ -66,8 +66,8 @@ def run_design(scene: Any, point_dir: Path) -> dict[str, Any]:
     counts, residual, seconds."""
 
     result = design_from_scene(scene)
-    write_design(result.design, point_dir / "design.json")
-    d = result.design
+    d = result.recorded_design()  # its whole record, a [case] scene's certificate too
+    write_design(d, point_dir / "design.json")
     residual = getattr(result, "residual_after", None)  # a case's result has its residuals
     return {
         "verdict": recorded_verdict(d)["state"],

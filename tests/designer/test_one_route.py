@@ -66,6 +66,23 @@ def _twin(path: Path, case: dict) -> tuple[object, object]:
     return theorem, scene_from_dict({**tables, "case": case}, f"{path} as a case")
 
 
+def _twin_file(path: Path, case: dict, out: Path) -> Path:
+    """The ``[case]`` twin of a theorem scene as a file: its tables but ``[parameters]`` and
+    ``[simulation]``, then ``[case]`` (strings, numbers and their lists written as JSON, which
+    TOML reads the same)."""
+    import json
+
+    kept, skipping = [], False
+    for line in path.read_text("utf-8").splitlines():
+        if line.strip().startswith("["):
+            skipping = line.split("#")[0].strip() in ("[parameters]", "[simulation]")
+        if not skipping:
+            kept.append(line)
+    kept += ["", "[case]", *(f"{key} = {json.dumps(value)}" for key, value in case.items())]
+    out.write_text("\n".join(kept) + "\n", "utf-8")
+    return out
+
+
 def _verdict(design) -> str:
     """The report's verdict line (its state and what it rests on)."""
     return next(line for line in render_report(design).splitlines() if "Verdict" in line)
@@ -311,26 +328,55 @@ def test_a_refused_theorem_case_notes_it_when_its_certificate_is_read() -> None:
     assert any("certificate was not made" in n and "1e-35" in n for n in result.design.notes)
 
 
-def test_a_case_scenes_certificate_is_one_call_made_after_its_record() -> None:
-    """record_case without ``certify`` writes the case record with no verdict; the one call
-    case_certificate then makes the certificate and writes its verdict there: the record is
-    then the eager route's (the certificate that a deferred read would make)."""
+def test_a_case_scenes_certificate_is_deferred_and_written_into_its_record() -> None:
+    """A ``[case]`` scene defers its certificate as the theorem's scene does: the design
+    leaves the case record's verdict None; reading the certificate (or the body through
+    ``recorded_design``, as every writer takes it) writes the verdict there, the one that
+    record_case then case_certificate make, key order kept."""
     import copy
+    import pickle
 
     from chargedesign.designer.case_design import case_certificate, record_case
 
     theorem_scene, case_scene = _twin(EXAMPLES / "unit_scale.toml", UNIT_CASE)
-    eager = cd.design(case_scene)
-    design = copy.deepcopy(eager.design)
+    deferred = cd.design(case_scene)
+    assert deferred.certificate_of is not None and deferred.certificate_recorded
+    assert deferred.design.further_keys["case"]["certificate"] is None
+    copied = pickle.loads(pickle.dumps(deferred))  # a sweep's process pool
+    body = copied.recorded_design()
+    assert copied.certificate_of is None and body.further_keys["case"]["certificate"]["holds"]
+    design = copy.deepcopy(deferred.design)
     design.further_keys.pop("case")
     table, case = case_scene.tables["case"], case_scene.case
-    params = theorem_scene.parameters
-    assert record_case(design, case, table, params, certify=False) is None
+    record_case(design, case, table, theorem_scene.parameters)
     assert design.further_keys["case"]["certificate"] is None
     certificate = case_certificate(design, case)
-    assert _fields(certificate) == _fields(eager.certificate)
-    made, recorded = design.further_keys["case"], eager.design.further_keys["case"]
+    assert _fields(certificate) == _fields(copied.certificate)
+    made, recorded = design.further_keys["case"], body.further_keys["case"]
     assert list(made) == list(recorded)  # design.json's key order kept
     for record in (made, recorded):
         record["certificate"].pop("seconds")
     assert made == recorded
+
+
+def test_every_writer_of_a_case_body_writes_its_certificate(tmp_path: Path) -> None:
+    """The design command, a sweep's design and the API's ``to_dict`` make the deferred
+    certificate before they write: design.json's ``case.certificate`` holds."""
+    import json
+
+    from chargedesign.cli import main
+    from chargedesign.sweeps.registry import run_design
+
+    _, case_scene = _twin(EXAMPLES / "unit_scale.toml", UNIT_CASE)
+    path = _twin_file(EXAMPLES / "unit_scale.toml", UNIT_CASE, tmp_path / "case.toml")
+    out = tmp_path / "out"
+    assert main(["design", str(path), "--out", str(out), "--no-picture", "--quiet"]) == 0
+    written = json.loads((tmp_path / "out" / "design.json").read_text("utf-8"))
+    assert written["case"]["certificate"]["holds"]
+    assert "holds exactly" in (tmp_path / "out" / "report.md").read_text("utf-8")
+    point = tmp_path / "point"
+    point.mkdir()
+    run_design(case_scene, point)
+    swept = json.loads((point / "design.json").read_text("utf-8"))
+    assert swept["case"]["certificate"]["holds"]
+    assert cd.design(case_scene).to_dict()["design"]["case"]["certificate"]["holds"]
