@@ -56,6 +56,7 @@ _LAZY: dict[str, tuple[str, str]] = {
     "LinearConditions": ("chargedesign.moment_conditions", "LinearConditions"),
     "VerificationReport": ("chargedesign.verification", "VerificationReport"),
     "BifurcationDiagram": ("chargedesign.topology.diagram", "BifurcationDiagram"),
+    "CaseDiagram": ("chargedesign.topology.diagram", "CaseDiagram"),
     "CaseCertificate": ("chargedesign.model.case_file", "CaseCertificate"),
     "CatalogueReport": ("chargedesign.model.catalogue", "CatalogueReport"),
     "CaseDesignResult": ("chargedesign.designer.case_design", "CaseDesignResult"),
@@ -65,6 +66,7 @@ __all__ = [
     "BifurcationDiagram",
     "CaseCertificate",
     "CaseDesignResult",
+    "CaseDiagram",
     "CatalogueReport",
     "ChargeDesignError",
     "CheckReport",
@@ -142,5 +144,5 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation import SimulationResult
-    from chargedesign.topology.diagram import BifurcationDiagram
+    from chargedesign.topology.diagram import BifurcationDiagram, CaseDiagram
     from chargedesign.verification import VerificationReport, verify

@@ -26,7 +26,7 @@ from chargedesign.simulation import SimulationResult
 from chargedesign.simulation import simulate as simulate_scene_or_design
 from chargedesign.sweeps import SweepResult, as_sweep, run_sweep
 from chargedesign.tolerancing import DEFAULT_TARGET, ToleranceReport, tolerance_report
-from chargedesign.topology.diagram import BifurcationDiagram, bifurcation_diagram
+from chargedesign.topology.diagram import BifurcationDiagram, CaseDiagram, bifurcation_diagram
 
 if TYPE_CHECKING:
     from chargedesign.model.case_file import CaseCertificate
@@ -266,13 +266,19 @@ def testbed(source: Any = None, *, progress: Any = None, **options: Any) -> Test
 
 def bifurcation(
     source: Any = None, *, h_range: tuple[float, float] | None = None
-) -> BifurcationDiagram:
-    """The bifurcation diagram of (H, I4) on ``I3 = 0`` for the scene's parameters.
+) -> BifurcationDiagram | CaseDiagram:
+    """The bifurcation diagram of the scene's case, as ``chargedesign bifurcation`` draws it.
 
-    ``source``: see :func:`as_scene` (only its parameters are used); ``h_range``: energies
-    in J (default: see :func:`chargedesign.topology.diagram.bifurcation_diagram`).
+    ``source``: see :func:`as_scene`. A ``[case]`` scene's diagram is of its case, on the
+    case's own level (a :class:`CaseDiagram`, or the theorem's :class:`BifurcationDiagram`
+    when the case is the theorem's entry); any other scene's is the theorem's at its
+    parameters, on ``I3 = 0``. ``h_range``: energies (default: see
+    :func:`chargedesign.topology.diagram.bifurcation_diagram`).
     """
-    return bifurcation_diagram(as_scene(source).parameters, h_range)
+    scene = as_scene(source)
+    if scene.case is not None:
+        return bifurcation_diagram(scene.case, h_range)
+    return bifurcation_diagram(scene.parameters, h_range)
 
 
 def wrong_kind(where: str, expected: str, value: Any) -> InputError:

@@ -62,3 +62,16 @@ def test_design_of_a_case_scene_is_masses_checked_and_simulated(tmp_path: Path) 
     # the one route honours the design options of a case scene too
     l2 = cd.design(scene, objective="l2")
     assert l2.design.provenance["options"]["objective"] == "l2"
+
+
+def test_bifurcation_of_a_case_scene_is_the_commands_diagram(tmp_path: Path) -> None:
+    """``cd.bifurcation`` of a ``[case]`` scene draws its case, not the theorem at the
+    scene's stand-in parameters: the same rows as the command's bifurcation.csv."""
+    from chargedesign.cli import main
+
+    scene = Path(__file__).parents[2] / "examples" / "scenes" / "kowalevski_case.toml"
+    diagram = cd.bifurcation(str(scene))
+    assert isinstance(diagram, cd.CaseDiagram)
+    assert _protocol(diagram)["case"] == "kowalevski-example"
+    assert main(["bifurcation", str(scene), "--out", str(tmp_path), "--quiet"]) == 0
+    assert diagram.csv_text() == (tmp_path / "bifurcation.csv").read_text()
