@@ -8,9 +8,13 @@ A failed picture fails the command (exit 2, one line naming the cause): the thre
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
-A scene with ``[case]`` (any case of (ep), docs/workbench.md) takes the same route
-(:func:`chargedesign.designer.design_from_scene`, the same options), checked forward against
-the case's own V and inertia; what no supported field realises is refused in one line.
+A scene with ``[case]`` (any case of (ep), docs/workbench.md) takes the same route, stage
+for stage (:func:`chargedesign.designer.design_from_scene`, the same options, the same checks
+before any work, the same files and ``--json`` shape), checked forward against the case's own
+V and inertia; what no supported field realises is refused in one line. The tolerances are
+measured against the theorem's mu, V and inertia: a case not of the theorem's form records
+them as not applicable, with the reason (design.json ``tolerance``, ``--json``
+``not_applicable``), never skipped in silence.
 
 Before anything is written the body is checked forward (``chargedesign.checker``, the check
 command's default tolerance and orientations, against the parameters the elements realise:
