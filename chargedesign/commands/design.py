@@ -8,9 +8,13 @@ A failed picture fails the command (exit 2, one line naming the cause): the thre
 describe one body and a stale picture beside a new design would mislead; ``--no-picture``
 skips the picture deliberately (and removes an earlier ``design.png`` from DIR).
 
-A scene with ``[case]`` (any case of (ep), docs/workbench.md) takes the same route
-(:func:`chargedesign.designer.design_from_scene`, the same options), checked forward against
-the case's own V and inertia; what no supported field realises is refused in one line.
+A scene with ``[case]`` (any case of (ep), docs/workbench.md) takes the same route, stage
+for stage (:func:`chargedesign.designer.design_from_scene`, the same options, the same checks
+before any work, the same files and ``--json`` shape), checked forward against the case's own
+V and inertia; what no supported field realises is refused in one line. The tolerances are
+measured against the theorem's mu, V and inertia: a case not of the theorem's form records
+them as not applicable, with the reason (design.json ``tolerance``, ``--json``
+``not_applicable``), never skipped in silence.
 
 Before anything is written the body is checked forward (``chargedesign.checker``, the check
 command's default tolerance and orientations, against the parameters the elements realise:
@@ -27,7 +31,7 @@ import argparse
 from collections.abc import Callable
 from typing import Any
 
-from chargedesign.body import write_design
+from chargedesign.body import Design, write_design
 from chargedesign.candidates import candidates_from_table
 from chargedesign.commands.progress import Stages, progress_bar
 from chargedesign.designer import design_from_scene
@@ -37,10 +41,10 @@ from chargedesign.files import atomic_directory, check_outputs, write_text_atomi
 from chargedesign.flight.record import add_flight
 from chargedesign.limits import MAX_LINF_CANDIDATES
 from chargedesign.physical.bom import bom_csv
-from chargedesign.report import plausibility, render_report, render_summary, wrapped_text
+from chargedesign.report import plausibility, render_report, render_summary
 from chargedesign.scene import load_scene
+from chargedesign.sensitivity import check_theorem_design
 from chargedesign.tolerancing import tolerance_report
-from chargedesign.verdict import recorded_verdict, verdict_line
 
 #: the stages a design counts on stderr: candidates, conditions, the program, the frontier (a
 #: physical body), the forward check, the tolerances, the picture, the files written
@@ -59,43 +63,32 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
-    """One route for every scene: a ``[case]`` without ``[medium]`` is checked forward against
-    the case's own V and inertia (no tolerances, no free fall), the others as the theorem's."""
+    """One route for every scene, the theorem's and any ``[case]``: the same checks, design,
+    forward check, files and printed summary. A stage that needs the theorem's form (the
+    tolerances: :func:`_tolerance_stage`) is recorded as not applicable, with its reason, for
+    a case of another form (design.json and ``--json`` ``not_applicable``)."""
     import json
     from pathlib import Path
 
     scene = load_scene(args.scene)
-    bare_case = scene.case is not None and scene.physical is None
-    if not bare_case:
-        _check_degenerate(scene)
-        _check_linf_cap(scene, args)
+    _check_degenerate(scene)
+    _check_linf_cap(scene, args)
     result = design_from_scene(scene, progress=progress, **_design_options(args))
     design = result.design
     if not args.no_forward_check:
         progress(
-            "forward check against the case's V and inertia ..."
-            if bare_case
-            else "forward check ..."
+            "forward check ..."
+            if scene.case is None
+            else "forward check against the case's V and inertia ..."
         )
         _forward_check(design, args)
-    if bare_case:
-        region = scene.region.table if scene.region else None
-    else:
-        region = result.candidates.region
-        if not design.continuous:
-            progress("tolerances (exact first-order sensitivity of every element) ...")
-            design.tolerance = tolerance_report(design).to_dict()
-        add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
+    not_applicable = _tolerance_stage(design, progress)
+    add_flight(design)  # free fall: the release, its tolerance, the cameras (docs/flight.md)
     out = Path(args.out)
     # the body's whole record (a [case] scene's certificate verdict), made before it is written
     design = result.recorded_design(progress)
-    files, report = _write(design, out, region, args.no_picture, progress)
-    if bare_case and args.json:
-        print(json.dumps({"out": str(out), "files": files, **result.to_dict()}, indent=2))
-    elif bare_case:
-        print(verdict_line(recorded_verdict(design)))
-        print(wrapped_text(str(result)), end="")
-    elif args.json:
+    files, report = _write(design, out, result.candidates.region, args.no_picture, progress)
+    if args.json:
         summary = result.summary()
         summary = {
             "residuals": summary.pop("residuals"),
@@ -103,6 +96,7 @@ def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
             "files": files,
             **summary,
             "plausibility": plausibility(design),
+            **({"not_applicable": not_applicable} if not_applicable else {}),
         }
         print(json.dumps(summary, indent=2, allow_nan=False))
     elif args.verbose:
@@ -110,6 +104,27 @@ def _run(args: argparse.Namespace, progress: Callable[[str], None]) -> int:
     else:
         print(render_summary(design, report=str(out / "report.md")), end="")
     return 0
+
+
+def _tolerance_stage(design: Design, progress: Callable[[str], None]) -> dict[str, str]:
+    """The tolerances of every element (design.json ``tolerance``), measured against the
+    theorem's mu, V and inertia: a case not of the theorem's form has none to be measured
+    against (:func:`chargedesign.sensitivity.check_theorem_design` says why), so its
+    ``tolerance`` records ``applicable: false`` and the reason, and the reason is returned
+    (``{"tolerance": reason}``, the summary's ``not_applicable``). A continuous body has no
+    elements to place (no record, as before)."""
+    if design.continuous:
+        return {}
+    try:
+        check_theorem_design(design, "design")
+    except InputError as exc:
+        reason = str(exc)
+        progress(f"tolerances: not applicable ({reason})")
+        design.tolerance = {"applicable": False, "reason": reason}
+        return {"tolerance": reason}
+    progress("tolerances (exact first-order sensitivity of every element) ...")
+    design.tolerance = tolerance_report(design).to_dict()
+    return {}
 
 
 def _write(

@@ -266,3 +266,67 @@ def test_verbose_prints_the_report_the_default_a_short_summary(tmp_path, capsys)
     short = capsys.readouterr().out
     assert short.splitlines()[0] == "Verdict: not checked for buildability"
     assert len(short.splitlines()) <= 40 and max(len(x) for x in short.splitlines()) <= 160
+
+
+def _twin_of(theorem_scene, out):
+    """The ``[case]`` twin of a theorem scene (tools/shared_functions.py ``write_twin``)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "tools" / "shared_functions.py"
+    spec = importlib.util.spec_from_file_location("shared_functions", path)
+    assert spec is not None and spec.loader is not None
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    return tool.write_twin(theorem_scene, out)
+
+
+def _design_json(tmp_path, capsys, scene, name):
+    """``design SCENE --json``: the printed summary and the written design.json."""
+    out = tmp_path / name
+    assert main(["design", str(scene), "--out", str(out), "--json", "--no-picture", "--quiet"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    return summary, json.loads((out / "design.json").read_text("utf-8"))
+
+
+def test_a_case_twin_takes_the_theorem_scene_route(tmp_path, capsys):
+    """unit_scale entered as a [case] of the theorem's form: the same summary (shape and
+    figures) and the same design.json, tolerances included, beside its ``case`` record."""
+    twin = _twin_of(UNIT_SCENE, tmp_path / "twin.toml")
+    theorem, theorem_record = _design_json(tmp_path, capsys, UNIT_SCENE, "theorem")
+    case, case_record = _design_json(tmp_path, capsys, twin, "twin")
+    for summary in (theorem, case):
+        del summary["timings"], summary["out"]
+    assert list(case) == list(theorem)
+    assert case == theorem
+    assert "not_applicable" not in case
+    assert case_record["tolerance"]["elements"]
+    assert case_record["tolerance"] == theorem_record["tolerance"]
+    assert case_record["case"]["name"] == "unit_scale as a case"
+    assert sorted(set(case_record) - set(theorem_record)) == ["case"]
+
+
+def test_a_case_of_another_form_records_its_tolerance_not_applicable(tmp_path, capsys):
+    """The Kowalevski case: the theorem's summary shape, and the tolerance stage (measured
+    against the theorem's mu, V and inertia) recorded as not applicable, with the reason."""
+    scene = UNIT_SCENE.parent / "kowalevski_case.toml"
+    summary, record = _design_json(tmp_path, capsys, scene, "kow")
+    assert next(iter(summary)) == "residuals"
+    assert summary["plausibility"]["total_mass_kg"] > 0
+    reason = summary["not_applicable"]["tolerance"]
+    assert "not of a case of another form (kowalevski-example" in reason
+    assert record["tolerance"] == {"applicable": False, "reason": reason}
+
+
+def test_a_case_scene_takes_the_degenerate_and_linf_checks(tmp_path, capsys):
+    """The checks before any work apply to a [case] scene as to the theorem's."""
+    text = (UNIT_SCENE.parent / "kowalevski_case.toml").read_text("utf-8")
+    empty = tmp_path / "empty.toml"
+    empty.write_text(text + "\n[design]\nrealise = []\n", "utf-8")
+    assert main(["design", str(empty), "--out", str(tmp_path / "e"), "--quiet"]) == 2
+    assert "design.realise: empty" in capsys.readouterr().err
+    args = ["--objective", "linf", "--max-linf-candidates", "3", "--quiet"]
+    scene = UNIT_SCENE.parent / "kowalevski_case.toml"
+    assert main(["design", str(scene), "--out", str(tmp_path / "l"), *args]) == 2
+    assert "exceeds the cap of 3" in capsys.readouterr().err
+    assert not (tmp_path / "e").exists() and not (tmp_path / "l").exists()
