@@ -18,7 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as la
 
-from chargedesign.designer.physical_setup import PhysicalSetup, row_scaled
+from chargedesign.designer.physical_setup import PhysicalSetup
+from chargedesign.designer.system import row_scaled
 
 #: a map of the axes carries a candidate onto another when they agree to this fraction of the
 #: body's size, and the charges' conditions onto themselves to this relative residual

@@ -27,10 +27,8 @@ from chargedesign.designer.physical_setup import (
     Binding,
     PhysicalInfeasible,
     PhysicalSetup,
-    polish_equal,
-    row_scaled,
 )
-from chargedesign.designer.system import relative_residual
+from chargedesign.designer.system import polish_equal, relative_residual, row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.physical.coulomb import coulomb_kernel, sphere_fields, sphere_kernel
@@ -491,14 +489,14 @@ def _surface_binding(
 
 def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
     """Refuse a rate whose electric field exceeds ``fields.electric.max``."""
-    if s > setup.field_bound(s) * (1 + 1e-12):
+    if s > setup.rate_bound * (1 + 1e-12):
         raise PhysicalInfeasible(
             Binding(
                 "fields",
                 f"the electric field this rate needs exceeds fields.electric.max "
                 f"({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m)",
                 "fields.electric",
-                s / setup.field_bound(s),
+                s / setup.rate_bound,
                 proved=True,
             )
         )

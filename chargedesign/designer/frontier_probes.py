@@ -22,7 +22,8 @@ from chargedesign.designer.charges import (
     surface_check,
 )
 from chargedesign.designer.cone_program import ConeProgram
-from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalSetup, row_scaled
+from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalSetup
+from chargedesign.designer.system import row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
 
@@ -183,7 +184,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     working points are a subset of the check's, so each round's ``t`` is a lower bound and
     ``E_lim / t`` bounds the rate from above; the last charges reach ``E_lim`` at
     ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
-    (:meth:`PhysicalSetup.field_bound`). Where the candidates and the conditions have
+    (:attr:`PhysicalSetup.rate_bound`). Where the candidates and the conditions have
     symmetries (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) the programs
     are solved on the symmetric charges, one unknown per orbit and one cone per orbit of
     carriers near the maximum: the same optimum (the symmetric charges reach it), the check
@@ -206,7 +207,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         Clarabel fails, or the rounds run out before the gap closes.
     """
     _, b = setup.systems["charges"]
-    bound = setup.field_bound(1.0)
+    bound = setup.rate_bound
     empty = np.zeros(0, dtype=int)
     if not np.any(b):
         stage = "fields" if math.isfinite(bound) else "none"

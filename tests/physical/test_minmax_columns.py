@@ -39,7 +39,8 @@ from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.charges import LOOP_SURFACE_SAMPLES, charge_support, surface_check
 from chargedesign.designer.dense_socp import solve_dense_socp
 from chargedesign.designer.frontier_probes import MINMAX_CONES, MINMAX_KEEP, minmax_charges
-from chargedesign.designer.physical_setup import DESIGN_MARGIN, row_scaled
+from chargedesign.designer.physical_setup import DESIGN_MARGIN
+from chargedesign.designer.system import row_scaled
 from chargedesign.physical.coulomb import coulomb_kernel
 from chargedesign.scene.load import default_scene_text
 
