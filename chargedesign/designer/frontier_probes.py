@@ -117,7 +117,7 @@ def minmax_charges(
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
     As, bs = row_scaled(A, b, qs)
-    own_ext = setup.external_max(np.linalg.norm(setup.points, axis=1) + a, 1.0) / limit
+    own_ext = setup.carrier_external / limit  # the external field at each carrier's surface
     basis = None if symmetry is None else symmetry.basis
     if symmetry is None:
         k = len(setup.points)
