@@ -288,7 +288,7 @@ def socp_charges(
     A, b = setup.systems["charges"]
     qs = float(np.max(caps[sites]))
     As, bs = row_scaled(A[:, sites], s * b, qs)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     cap = caps[sites] / qs
     cost = setup.cost("charges")[sites]
     basis = None
@@ -613,7 +613,7 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     qs = float(np.max(caps))
     As, bs = row_scaled(A, s * b, qs)
     q = cp.Variable(len(setup.points))
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     dirs = fibonacci_directions(samples)
     points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
     G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)

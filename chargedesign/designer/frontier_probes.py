@@ -113,7 +113,7 @@ def minmax_charges(
     its point's images and each orbit's own-field rows for its candidates'.
     """
     A, b = setup.systems["charges"]
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
     As, bs = row_scaled(A, b, qs)
@@ -212,7 +212,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     if not np.any(b):
         stage = "fields" if math.isfinite(bound) else "none"
         return ChargesLimit(bound, 0.0, 0.0, empty, np.zeros(0), -1, 0, 0, stage)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     cones: list[np.ndarray] = []
     rows = ConeRows(setup.points)
     symmetry = charge_symmetry(setup)

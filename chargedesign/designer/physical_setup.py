@@ -114,6 +114,12 @@ class PhysicalSetup:
     def safe_field(self) -> float:
         return self.spec.medium.safe_field
 
+    @property
+    def surface_limit(self) -> float:
+        """The surface field every carrier is held to, V/m: the medium's safe field less the
+        design margin (:data:`DESIGN_MARGIN`)."""
+        return self.safe_field * (1 - DESIGN_MARGIN)
+
     def external_max(self, radii: np.ndarray, s: float) -> np.ndarray:
         """Largest external electric field over orientations at these radii, rate s (V/m).
 
@@ -134,7 +140,7 @@ class PhysicalSetup:
 
     def charge_caps(self, s: float) -> np.ndarray:
         """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
-        limit = self.safe_field * (1 - DESIGN_MARGIN) - s * self.carrier_external
+        limit = self.surface_limit - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
 
     @cached_property
