@@ -20,7 +20,7 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB
-from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, one_per_orbit
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
@@ -401,9 +401,9 @@ def _orbits_of(sites: np.ndarray, symmetry: ChargeSymmetry) -> np.ndarray:
 
 def design_symmetry(setup: PhysicalSetup) -> ChargeSymmetry | None:
     """The charges' symmetry the design's cone rounds use: that of the conditions
-    (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) when the charges' costs
-    are the same on each orbit (None: none)."""
-    symmetry = charge_symmetry(setup)
+    (:attr:`~chargedesign.designer.physical_setup.PhysicalSetup.symmetry`) when the charges'
+    costs are the same on each orbit (None: none)."""
+    symmetry = setup.symmetry
     if symmetry is None:
         return None
     cost = setup.cost("charges")

@@ -14,7 +14,7 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB, EPSILON_0
-from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, one_per_orbit
 from chargedesign.designer.charges import (
     LOOP_SURFACE_SAMPLES,
     ConeRows,
@@ -215,7 +215,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     limit = setup.surface_limit
     cones: list[np.ndarray] = []
     rows = ConeRows(setup.points)
-    symmetry = charge_symmetry(setup)
+    symmetry = setup.symmetry
     for rounds in range(1, MINMAX_ROUNDS + 1):
         solved = minmax_charges(setup, cones, rows, symmetry)
         if solved is None:

@@ -23,6 +23,7 @@ import numpy as np
 
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry
 from chargedesign.designer.robust import robust_costs
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
@@ -142,6 +143,13 @@ class PhysicalSetup:
         """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
         limit = self.surface_limit - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
+
+    @cached_property
+    def symmetry(self) -> ChargeSymmetry | None:
+        """The symmetries of the charges' conditions on the candidates (None: the identity
+        alone), found once for every program of the charges' stage that uses them."""
+        A, b = self.systems["charges"]
+        return charge_symmetry(A, b, self.points)
 
     @cached_property
     def rest_caps(self) -> np.ndarray:
