@@ -294,13 +294,15 @@ def setup_physical(
     region = float(np.max(np.linalg.norm(points, axis=1) + cell))
     _check_field_limits(spec, conditions, region)
     systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
+    electric, grid, values, bound = _electric_grid(spec, conditions, region)
+    # the robust costs (the placement sensitivities) are weighed once no setup refusal is
+    # left: a magnet material the field demagnetises is refused before that work
     costs = {
         source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
         for source in systems
         if options.objective_for(source) == "robust"
     }
-    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
-    electric, grid, values, bound = _electric_grid(spec, conditions, region)
     return PhysicalSetup(
         params=params,
         conditions=conditions,
