@@ -78,8 +78,8 @@ class ChargesLimit:
         The surface points of the last round's cones, m (a design near ``rate`` may start
         its own cones there; with a symmetry each stands for its images).
     symmetry : int
-        The order of the charges' symmetry group the minmax used (:func:`charge_symmetry`;
-        1: none).
+        The order of the charges' symmetry group the minmax used
+        (:attr:`PhysicalSetup.symmetry`; 1: none).
     """
 
     rate: float
@@ -108,7 +108,7 @@ def minmax_charges(
     Returns ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``; None: no charges
     meet the conditions. ``rows`` keeps the cones' kernel rows between rounds.
 
-    With a ``symmetry`` (:func:`charge_symmetry`) the charges are ``u = basis v``, one
+    With a ``symmetry`` (:attr:`PhysicalSetup.symmetry`) the charges are ``u = basis v``, one
     unknown per orbit (the same ``t``: see :class:`ChargeSymmetry`), each cone standing for
     its point's images and each orbit's own-field rows for its candidates'.
     """
@@ -185,7 +185,7 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     ``E_lim / t`` bounds the rate from above; the last charges reach ``E_lim`` at
     ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
     (:attr:`PhysicalSetup.rate_bound`). Where the candidates and the conditions have
-    symmetries (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) the programs
+    symmetries (:attr:`PhysicalSetup.symmetry`) the programs
     are solved on the symmetric charges, one unknown per orbit and one cone per orbit of
     carriers near the maximum: the same optimum (the symmetric charges reach it), the check
     on every carrier as before (the default body: 67 unknowns instead of 257, its minmax
