@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as la
 
-from chargedesign.designer.physical_setup import PhysicalSetup, row_scaled
+from chargedesign.designer.system import row_scaled
 
 #: a map of the axes carries a candidate onto another when they agree to this fraction of the
 #: body's size, and the charges' conditions onto themselves to this relative residual
@@ -98,11 +98,10 @@ def _permutation(
     return pi
 
 
-def charge_symmetry(setup: PhysicalSetup) -> ChargeSymmetry | None:
-    """The symmetries of the charges' conditions on the candidates (:class:`ChargeSymmetry`;
-    None: the identity alone)."""
-    A, b = setup.systems["charges"]
-    points = setup.points
+def charge_symmetry(A: np.ndarray, b: np.ndarray, points: np.ndarray) -> ChargeSymmetry | None:
+    """The symmetries of the charges' conditions ``A u = b`` on the candidates ``points``
+    (:class:`ChargeSymmetry`; None: the identity alone). The setup finds them once
+    (:attr:`~chargedesign.designer.physical_setup.PhysicalSetup.symmetry`)."""
     k = len(points)
     if not np.any(b) or k == 0:
         return None

@@ -20,17 +20,15 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB
-from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, one_per_orbit
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
     PhysicalInfeasible,
     PhysicalSetup,
-    polish_equal,
-    row_scaled,
 )
-from chargedesign.designer.system import relative_residual
+from chargedesign.designer.system import polish_equal, relative_residual, row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.physical.coulomb import coulomb_kernel, sphere_fields, sphere_kernel
@@ -290,7 +288,7 @@ def socp_charges(
     A, b = setup.systems["charges"]
     qs = float(np.max(caps[sites]))
     As, bs = row_scaled(A[:, sites], s * b, qs)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     cap = caps[sites] / qs
     cost = setup.cost("charges")[sites]
     basis = None
@@ -403,9 +401,9 @@ def _orbits_of(sites: np.ndarray, symmetry: ChargeSymmetry) -> np.ndarray:
 
 def design_symmetry(setup: PhysicalSetup) -> ChargeSymmetry | None:
     """The charges' symmetry the design's cone rounds use: that of the conditions
-    (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) when the charges' costs
-    are the same on each orbit (None: none)."""
-    symmetry = charge_symmetry(setup)
+    (:attr:`~chargedesign.designer.physical_setup.PhysicalSetup.symmetry`) when the charges'
+    costs are the same on each orbit (None: none)."""
+    symmetry = setup.symmetry
     if symmetry is None:
         return None
     cost = setup.cost("charges")
@@ -491,14 +489,14 @@ def _surface_binding(
 
 def _check_field_rate(setup: PhysicalSetup, s: float) -> None:
     """Refuse a rate whose electric field exceeds ``fields.electric.max``."""
-    if s > setup.field_bound(s) * (1 + 1e-12):
+    if s > setup.rate_bound * (1 + 1e-12):
         raise PhysicalInfeasible(
             Binding(
                 "fields",
                 f"the electric field this rate needs exceeds fields.electric.max "
                 f"({fmt(setup.spec.field_limits.get('electric'), PLAIN)} V/m)",
                 "fields.electric",
-                s / setup.field_bound(s),
+                s / setup.rate_bound,
                 proved=True,
             )
         )
@@ -615,7 +613,7 @@ def charge_program(setup: PhysicalSetup, s: float, samples: int = 26) -> ChargeP
     qs = float(np.max(caps))
     As, bs = row_scaled(A, s * b, qs)
     q = cp.Variable(len(setup.points))
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     dirs = fibonacci_sphere(samples)
     points = (setup.points[:, None, :] + setup.carrier_radius * dirs[None, :, :]).reshape(-1, 3)
     G = coulomb_kernel(setup.points, points, COULOMB * qs / limit)

@@ -14,7 +14,7 @@ import numpy as np
 from scipy import sparse
 
 from chargedesign.constants import COULOMB, EPSILON_0
-from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry, one_per_orbit
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, one_per_orbit
 from chargedesign.designer.charges import (
     LOOP_SURFACE_SAMPLES,
     ConeRows,
@@ -22,7 +22,8 @@ from chargedesign.designer.charges import (
     surface_check,
 )
 from chargedesign.designer.cone_program import ConeProgram
-from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalSetup, row_scaled
+from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalSetup
+from chargedesign.designer.system import row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
 
@@ -77,8 +78,8 @@ class ChargesLimit:
         The surface points of the last round's cones, m (a design near ``rate`` may start
         its own cones there; with a symmetry each stands for its images).
     symmetry : int
-        The order of the charges' symmetry group the minmax used (:func:`charge_symmetry`;
-        1: none).
+        The order of the charges' symmetry group the minmax used
+        (:attr:`PhysicalSetup.symmetry`; 1: none).
     """
 
     rate: float
@@ -107,16 +108,16 @@ def minmax_charges(
     Returns ``t`` in V/m, ``u`` in C, and each cone point's field over ``t``; None: no charges
     meet the conditions. ``rows`` keeps the cones' kernel rows between rounds.
 
-    With a ``symmetry`` (:func:`charge_symmetry`) the charges are ``u = basis v``, one
+    With a ``symmetry`` (:attr:`PhysicalSetup.symmetry`) the charges are ``u = basis v``, one
     unknown per orbit (the same ``t``: see :class:`ChargeSymmetry`), each cone standing for
     its point's images and each orbit's own-field rows for its candidates'.
     """
     A, b = setup.systems["charges"]
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit  # the charge whose own surface field is limit
     As, bs = row_scaled(A, b, qs)
-    own_ext = setup.external_max(np.linalg.norm(setup.points, axis=1) + a, 1.0) / limit
+    own_ext = setup.carrier_external / limit  # the external field at each carrier's surface
     basis = None if symmetry is None else symmetry.basis
     if symmetry is None:
         k = len(setup.points)
@@ -183,8 +184,8 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
     working points are a subset of the check's, so each round's ``t`` is a lower bound and
     ``E_lim / t`` bounds the rate from above; the last charges reach ``E_lim`` at
     ``E_lim / t / (1 + gap)``. The apparatus' ``fields.electric.max`` caps the rate too
-    (:meth:`PhysicalSetup.field_bound`). Where the candidates and the conditions have
-    symmetries (:func:`~chargedesign.designer.charge_symmetry.charge_symmetry`) the programs
+    (:attr:`PhysicalSetup.rate_bound`). Where the candidates and the conditions have
+    symmetries (:attr:`PhysicalSetup.symmetry`) the programs
     are solved on the symmetric charges, one unknown per orbit and one cone per orbit of
     carriers near the maximum: the same optimum (the symmetric charges reach it), the check
     on every carrier as before (the default body: 67 unknowns instead of 257, its minmax
@@ -206,15 +207,15 @@ def charges_rate_limit(setup: PhysicalSetup, gap: float = MINMAX_GAP) -> Charges
         Clarabel fails, or the rounds run out before the gap closes.
     """
     _, b = setup.systems["charges"]
-    bound = setup.field_bound(1.0)
+    bound = setup.rate_bound
     empty = np.zeros(0, dtype=int)
     if not np.any(b):
         stage = "fields" if math.isfinite(bound) else "none"
         return ChargesLimit(bound, 0.0, 0.0, empty, np.zeros(0), -1, 0, 0, stage)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     cones: list[np.ndarray] = []
     rows = ConeRows(setup.points)
-    symmetry = charge_symmetry(setup)
+    symmetry = setup.symmetry
     for rounds in range(1, MINMAX_ROUNDS + 1):
         solved = minmax_charges(setup, cones, rows, symmetry)
         if solved is None:

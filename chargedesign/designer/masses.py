@@ -28,10 +28,8 @@ from chargedesign.designer.physical_setup import (
     Binding,
     PhysicalInfeasible,
     PhysicalSetup,
-    polish_equal,
-    row_scaled,
 )
-from chargedesign.designer.system import relative_residual
+from chargedesign.designer.system import polish_equal, relative_residual, row_scaled
 from chargedesign.designer.whole_inertia import CONVERGED, MAX_ROUNDS, Convergence, WholeTerms
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PRECISE, fmt

@@ -8,8 +8,7 @@ because the charges' conditions involve no mass while the carriers' masses depen
 carriers are used: the charges (:mod:`chargedesign.designer.charges`), then the magnets and
 masses jointly (:mod:`chargedesign.designer.masses`); :mod:`chargedesign.designer.assembly`
 puts them together into a body. This module holds what all stages share: the setup at rate 1
-(:func:`setup_physical`), the design margin, the binding limit of a refusal, and the row
-scaling and equality polish of their programs.
+(:func:`setup_physical`), the design margin and the binding limit of a refusal.
 """
 
 from __future__ import annotations
@@ -24,8 +23,8 @@ import numpy as np
 
 from chargedesign.candidates import CandidateSet
 from chargedesign.constants import EPSILON_0
+from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry
 from chargedesign.designer.robust import robust_costs
-from chargedesign.designer.solvers import least_norm, least_norm_solver
 from chargedesign.errors import InfeasibleError, InputError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
@@ -116,6 +115,12 @@ class PhysicalSetup:
     def safe_field(self) -> float:
         return self.spec.medium.safe_field
 
+    @property
+    def surface_limit(self) -> float:
+        """The surface field every carrier is held to, V/m: the medium's safe field less the
+        design margin (:data:`DESIGN_MARGIN`)."""
+        return self.safe_field * (1 - DESIGN_MARGIN)
+
     def external_max(self, radii: np.ndarray, s: float) -> np.ndarray:
         """Largest external electric field over orientations at these radii, rate s (V/m).
 
@@ -136,8 +141,15 @@ class PhysicalSetup:
 
     def charge_caps(self, s: float) -> np.ndarray:
         """Own-field bound of each candidate carrier at rate s, C (<= 0: unusable)."""
-        limit = self.safe_field * (1 - DESIGN_MARGIN) - s * self.carrier_external
+        limit = self.surface_limit - s * self.carrier_external
         return 4 * math.pi * EPSILON_0 * self.carrier_radius**2 * limit
+
+    @cached_property
+    def symmetry(self) -> ChargeSymmetry | None:
+        """The symmetries of the charges' conditions on the candidates (None: the identity
+        alone), found once for every program of the charges' stage that uses them."""
+        A, b = self.systems["charges"]
+        return charge_symmetry(A, b, self.points)
 
     @cached_property
     def rest_caps(self) -> np.ndarray:
@@ -150,11 +162,6 @@ class PhysicalSetup:
         """What the external field takes of each carrier's bound per unit rate, C, shape
         (n,): ``rest_caps - charge_caps(1)``, computed once (the caps are linear in the rate)."""
         return self.rest_caps - self.charge_caps(1.0)
-
-    def field_bound(self, s: float) -> float:
-        """Largest rate the apparatus' electric-field limit allows (inf: no limit); the same
-        at every rate (:attr:`rate_bound`)."""
-        return self.rate_bound
 
 
 def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
@@ -287,13 +294,15 @@ def setup_physical(
     region = float(np.max(np.linalg.norm(points, axis=1) + cell))
     _check_field_limits(spec, conditions, region)
     systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
+    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
+    electric, grid, values, bound = _electric_grid(spec, conditions, region)
+    # the robust costs (the placement sensitivities) are weighed once no setup refusal is
+    # left: a magnet material the field demagnetises is refused before that work
     costs = {
         source: robust_costs(points, source, conditions.fields, params, options.robust_weight)
         for source in systems
         if options.objective_for(source) == "robust"
     }
-    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
-    electric, grid, values, bound = _electric_grid(spec, conditions, region)
     return PhysicalSetup(
         params=params,
         conditions=conditions,
@@ -328,25 +337,3 @@ def _moments_reachable(system: tuple[np.ndarray, np.ndarray], sites: np.ndarray)
     cols = (3 * idx[:, None] + np.arange(3)).reshape(-1)
     x, *_ = np.linalg.lstsq(A[:, cols], b, rcond=None)
     return bool(np.linalg.norm(A[:, cols] @ x - b) <= 1e-9 * np.linalg.norm(b))
-
-
-def row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndarray, np.ndarray]:
-    """Rows divided by their largest entry (columns in units of ``col_scale``)."""
-    As = A * col_scale
-    top = np.max(np.abs(As), axis=1) if As.shape[1] else np.ones(len(b))
-    top = np.where(top > 0, top, 1.0)
-    return As / top[:, None], b / top
-
-
-def polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """Least-norm correction of ``w`` on ``cols`` so that ``A w = b`` to rounding."""
-    out = w.copy()
-    if len(cols) == 0:
-        return out
-    top = np.max(np.abs(A[:, cols]), axis=1)
-    top = np.where(top > 0, top, 1.0)
-    As = A[:, cols] / top[:, None]
-    solve = least_norm_solver(As)  # one factor for the three corrections
-    for _ in range(3):
-        out[cols] += least_norm(As, (b - A @ out) / top, solve)
-    return out

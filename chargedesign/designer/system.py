@@ -6,7 +6,9 @@ design's
 own rows (total charge, total mass) and equilibrates: each row is divided by its largest
 entry and the unknowns by the scale of the scaled right-hand side (``w = scale * u``), so a
 row scaled by ``a2 = 1e-9`` or by ``L^4`` for a 5 cm body is as accurate as a unit one.
-:func:`relative_residual` is the backward error every stage is judged by.
+:func:`relative_residual` is the backward error every stage is judged by. The physical
+stages' programs scale their rows with :func:`row_scaled` and meet their equalities to
+rounding with :func:`polish_equal`.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from chargedesign.designer.solvers import least_norm, least_norm_solver
 from chargedesign.moment_conditions import LinearCondition, LinearConditions
 from chargedesign.scene.design import DesignOptions
 
@@ -177,3 +180,25 @@ def natural_row_size(row: LinearCondition, size: float) -> float:
 def group_norms(u: np.ndarray) -> np.ndarray:
     """Euclidean norms of consecutive groups of three weights (one per dipole)."""
     return np.linalg.norm(u.reshape(-1, 3), axis=1)
+
+
+def row_scaled(A: np.ndarray, b: np.ndarray, col_scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rows divided by their largest entry (columns in units of ``col_scale``)."""
+    As = A * col_scale
+    top = np.max(np.abs(As), axis=1) if As.shape[1] else np.ones(len(b))
+    top = np.where(top > 0, top, 1.0)
+    return As / top[:, None], b / top
+
+
+def polish_equal(A: np.ndarray, b: np.ndarray, w: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Least-norm correction of ``w`` on ``cols`` so that ``A w = b`` to rounding."""
+    out = w.copy()
+    if len(cols) == 0:
+        return out
+    top = np.max(np.abs(A[:, cols]), axis=1)
+    top = np.where(top > 0, top, 1.0)
+    As = A[:, cols] / top[:, None]
+    solve = least_norm_solver(As)  # one factor for the three corrections
+    for _ in range(3):
+        out[cols] += least_norm(As, (b - A @ out) / top, solve)
+    return out

@@ -15,7 +15,6 @@ from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.charges import ConeRows, socp_charges
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier_probes import minmax_charges
-from chargedesign.designer.physical_setup import DESIGN_MARGIN
 from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.physical.coulomb import coulomb_kernel
 from chargedesign.scene import scene_from_dict
@@ -78,7 +77,7 @@ def test_the_minmax_rounds_build_the_plain_programs(setup, monkeypatch):
     seen = _captured(monkeypatch)
     a = setup.carrier_radius
     k = len(setup.points)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit
     points = _surface_points(setup.points, a, 30, 4)
     rows = ConeRows(setup.points)
@@ -99,7 +98,7 @@ def test_the_design_cone_rounds_build_the_plain_programs(setup, monkeypatch):
     s = 1.0
     caps = setup.charge_caps(s)
     usable = np.flatnonzero(caps > 0)
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     points = _surface_points(setup.points[usable], setup.carrier_radius, 12, 5)
     cones = [(int(usable[0]), p) for p in points]
     rows = ConeRows(setup.points)

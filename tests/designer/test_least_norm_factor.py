@@ -4,8 +4,8 @@ formula it replaced (a QR, or an ``lstsq``, per solve): the same bits."""
 import numpy as np
 import pytest
 
-from chargedesign.designer.physical_setup import polish_equal
 from chargedesign.designer.solvers import least_norm, least_norm_solver
+from chargedesign.designer.system import polish_equal
 
 
 def _old_least_norm(A, b):

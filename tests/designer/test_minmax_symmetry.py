@@ -26,7 +26,7 @@ def setup():
 
 @pytest.fixture(scope="module")
 def symmetry(setup):
-    found = charge_symmetry(setup)
+    found = setup.symmetry
     assert found is not None
     return found
 
@@ -87,3 +87,11 @@ def test_the_charges_limit_records_the_symmetry(setup, symmetry):
     limit = charges_rate_limit(setup)
     assert limit.symmetry == symmetry.order
     assert limit.stage == "charges" and limit.rounds > 1
+
+
+def test_the_setup_finds_the_symmetry_once_from_the_charges_conditions(setup, symmetry):
+    A, b = setup.systems["charges"]
+    again = charge_symmetry(A, b, setup.points)
+    assert again is not None and setup.symmetry is symmetry  # cached: one search per setup
+    for name in ("maps", "signs", "basis", "reps", "orbit"):
+        assert np.array_equal(getattr(again, name), getattr(symmetry, name))

@@ -13,7 +13,7 @@ from test_frontier_acceptance import CASES, setup_of, small
 from chargedesign.designer.charges import design_charges
 from chargedesign.designer.frontier import FRONTIER_RTOL, find_frontier
 from chargedesign.designer.frontier_probes import MINMAX_GAP, charges_rate_limit
-from chargedesign.designer.physical_setup import DESIGN_MARGIN, PhysicalInfeasible
+from chargedesign.designer.physical_setup import PhysicalInfeasible
 from chargedesign.physical.limits import carrier_surface_fields
 
 #: the small body in SF6 (frame reading), where the carriers' surface field binds
@@ -79,7 +79,7 @@ def test_the_limit_charges_reach_the_safe_field_by_the_limits_check_kernel(sf6):
     np.testing.assert_allclose(A @ full, s * b, rtol=0, atol=1e-7 * np.abs(s * b).max())
     radii = np.full(len(q), setup.carrier_radius)
     fields, _ = carrier_surface_fields(setup.points[limit.sites], q, radii, setup.electric, 400)
-    top = float(np.max(fields)) / (setup.safe_field * (1 - DESIGN_MARGIN))
+    top = float(np.max(fields)) / setup.surface_limit
     assert 1 - 2e-3 <= top <= 1 + 2e-3
     # the worst carrier named is the one the kernel finds at the top (within the gap)
     worst = fields[list(limit.sites).index(limit.worst_site)]

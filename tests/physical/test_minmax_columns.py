@@ -39,7 +39,8 @@ from chargedesign.constants import COULOMB, EPSILON_0
 from chargedesign.designer.charges import LOOP_SURFACE_SAMPLES, charge_support, surface_check
 from chargedesign.designer.dense_socp import solve_dense_socp
 from chargedesign.designer.frontier_probes import MINMAX_CONES, MINMAX_KEEP, minmax_charges
-from chargedesign.designer.physical_setup import DESIGN_MARGIN, row_scaled
+from chargedesign.designer.physical_setup import DESIGN_MARGIN
+from chargedesign.designer.system import row_scaled
 from chargedesign.physical.coulomb import coulomb_kernel
 from chargedesign.scene.load import default_scene_text
 
@@ -49,7 +50,7 @@ COLUMN_GAP = 1e-11
 
 def _units(setup):
     A, b = setup.systems["charges"]
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     a = setup.carrier_radius
     qs = 4 * math.pi * EPSILON_0 * a**2 * limit
     As, bs = row_scaled(A, b, qs)
@@ -121,7 +122,7 @@ def minmax_by_columns(setup, points):
 
 def _next_cones(setup, t, u, cones, used):
     """The cone points of the next round of ``charges_rate_limit`` after ``(t, u)``."""
-    limit = setup.safe_field * (1 - DESIGN_MARGIN)
+    limit = setup.surface_limit
     sites = charge_support(u)
     s = limit / t
     ratios, worst = surface_check(setup, setup.points[sites], s * u[sites], s, LOOP_SURFACE_SAMPLES)
