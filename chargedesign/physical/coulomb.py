@@ -195,25 +195,6 @@ def sphere_fields(
 SPHERE_KERNEL_ELEMENTS = 1 << 25
 
 
-def _small_pages_empty(shape: tuple[int, ...]) -> np.ndarray:
-    """``np.empty(shape)`` without numpy's transparent-huge-page advice for this one array.
-
-    numpy asks for huge pages on arrays above 4 MB; where the kernel compacts memory on such
-    a fault (``transparent_hugepage/defrag = madvise``), first touching the kept geometry's
-    105 MB stalled 0.1-0.4 s of CPU in a fresh process, against 0.02 s for its 4 kB pages
-    (measured; its reads, 18 per frontier point, were no slower). Only the advice changes:
-    the values are the same. Where numpy has no such switch, a plain ``np.empty``."""
-    switch = getattr(getattr(np, "_core", None), "multiarray", None)
-    advise = getattr(switch, "_set_madvise_hugepage", None)
-    if advise is None:
-        return np.empty(shape)
-    before = advise(False)
-    try:
-        return np.empty(shape)
-    finally:
-        advise(before)
-
-
 class SphereKernel:
     """The charge-free geometry of :func:`sphere_fields` on fixed carriers and directions.
 
@@ -231,7 +212,7 @@ class SphereKernel:
         self.index = {row.tobytes(): i for i, row in enumerate(self.centres)}
         radii = np.full(k, self.radius)
         self.offsets, rows = _offsets_and_squares(self.centres, radii, slice(0, k))
-        self.inverse_cubes = _small_pages_empty((k, m, k))
+        self.inverse_cubes = np.empty((k, m, k))
         lhs = _directions_with_one(self.directions)
         per_block, per_samples = _blocks(k, m)
         for start in range(0, k, per_block):

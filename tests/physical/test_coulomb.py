@@ -136,19 +136,3 @@ def test_the_geometry_is_not_kept_beyond_its_budget(monkeypatch):
     centres = np.random.default_rng(2).uniform(-1, 1, (11, 3))
     assert sphere_kernel(centres, 0.01, fibonacci_sphere(5)) is None
     assert sphere_kernel(centres[:10], 0.01, fibonacci_sphere(5)) is not None
-
-
-@pytest.mark.parametrize("advised", [True, False])
-def test_the_kept_geometry_leaves_numpys_huge_page_advice_as_it_was(advised):
-    """The kept geometry is allocated without the huge-page advice (its first touch stalled
-    on memory compaction); numpy's own setting is restored for every other array."""
-    switch = getattr(np._core.multiarray, "_set_madvise_hugepage", None)
-    if switch is None:
-        pytest.skip("this numpy has no huge-page switch")
-    before = switch(advised)
-    try:
-        block = coulomb._small_pages_empty((3, 4, 5))
-        assert block.shape == (3, 4, 5) and block.dtype == np.float64
-        assert switch(advised) == advised  # what the helper left
-    finally:
-        switch(before)
