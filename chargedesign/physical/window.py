@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -237,19 +237,16 @@ def turned_about_axis(gammas: np.ndarray, axis: int, angle: float) -> np.ndarray
 TORQUE_STEP = 1e-4
 
 
-def _magnets_error(design: Any, apparatus: Apparatus, term: float) -> float:
-    """Largest torque over orientations of the magnets in the coils' degree >= 3 terms
-    (energy ``m . grad Phi_error``, differentiated by turning gamma), over the smallest
-    realised term (its range; the largest torque of a degree-2 term of V is its range)."""
-    moments = np.asarray(design.dipole_moments, dtype=float)
-    if not len(moments):
+def _magnets_error(
+    positions_bytes: bytes, moments_bytes: bytes, apparatus: Apparatus, term: float
+) -> float:
+    """Largest torque over orientations of the magnets (positions, moments as float64 bytes;
+    empty: none) in the coils' degree >= 3 terms (energy ``m . grad Phi_error``,
+    differentiated by turning gamma), over the smallest realised term (its range; the largest
+    torque of a degree-2 term of V is its range)."""
+    if not moments_bytes:
         return 0.0
-    torque = magnets_torque(
-        tuple(float(f) for f in apparatus.error_legendre),
-        array_key(design.dipole_positions, 3),
-        array_key(moments, 3),
-    )
-    return torque / term
+    return magnets_torque(apparatus.error_legendre, positions_bytes, moments_bytes) / term
 
 
 #: magnets per block of the (orientations, magnets) arrays of :func:`magnets_torque`
@@ -362,15 +359,17 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
     a2 = legendre[1] / 2.0 if len(legendre) > 1 else 0.0
     if a1 == 0.0 and a2 == 0.0:
         return None, None
-    wanted = HARMONIC_SHARE * fraction
-    apparatus, value = None, math.inf
-    for factor in COIL_RADII:
-        apparatus = apparatus_at(a1, a2, factor * region, region, wanted)
-        value = _magnets_error(design, apparatus, term)
-        if len(design.charge_values):
-            value = max(value, apparatus.harmonic_error)
-        if value < wanted:
-            break
+    moments = np.asarray(design.dipole_moments, dtype=float)
+    value, apparatus = _coil_search(
+        a1,
+        a2,
+        region,
+        term,
+        HARMONIC_SHARE * fraction,
+        array_key(design.dipole_positions, 3) if len(moments) else b"",
+        array_key(moments, 3) if len(moments) else b"",
+        bool(len(design.charge_values)),
+    )
     item = _power_item(
         "coil_harmonics",
         "coils' harmonic error",
@@ -379,7 +378,36 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
         value,
         0.0,
     )
-    return item, apparatus
+    # the cached apparatus stays as found: each window gets its own lists
+    return item, replace(apparatus, pairs=list(apparatus.pairs), notes=list(apparatus.notes))
+
+
+@functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
+def _coil_search(
+    a1: float,
+    a2: float,
+    region: float,
+    term: float,
+    wanted: float,
+    positions_bytes: bytes,
+    moments_bytes: bytes,
+    charged: bool,
+) -> tuple[float, Apparatus]:
+    """The coil search of :func:`_coil_item` on hashable content (the magnets as float64
+    bytes, empty without magnets): the harmonic error of the first coil size that meets
+    ``wanted`` (the largest tried when none does) and its apparatus. Every stage that builds
+    one body's window (its budget, map, verdict, record) asks for the same, so the sizes are
+    tried once per body (each try is two field bounds and a torque over 2000 orientations)."""
+    apparatus, value = None, math.inf
+    for factor in COIL_RADII:
+        apparatus = apparatus_at(a1, a2, factor * region, region, wanted)
+        value = _magnets_error(positions_bytes, moments_bytes, apparatus, term)
+        if charged:
+            value = max(value, apparatus.harmonic_error)
+        if value < wanted:
+            break
+    assert apparatus is not None
+    return value, apparatus
 
 
 def support_of(region: float, rate: float, term: float) -> dict[str, Any]:

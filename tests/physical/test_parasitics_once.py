@@ -23,6 +23,7 @@ import pytest
 
 from chargedesign.body import read_design
 from chargedesign.fields import AxisymmetricField
+from chargedesign.physical import window
 from chargedesign.physical.budget import window_at_design
 from chargedesign.physical.parasitics import (
     RESPONSE_ORIENTATIONS,
@@ -175,6 +176,28 @@ def test_the_factors_are_returned_fresh_and_the_eddy_torque_is_linear_in_the_rat
     assert np.any(coefficients > 0)
     for rate in (0.3, 1.0, 7.0):
         assert np.array_equal(eddy_torques_by_set(legendre, parts, rate), rate * coefficients)
+
+
+@pytest.mark.parametrize("name", sorted(BODIES))
+def test_the_coil_search_runs_once_per_body_and_gives_each_window_its_own(bodies, name):
+    """The coil sizes are tried once per body (the budget, map, verdict and record each build
+    its window again): the same apparatus and item from the cache as from a fresh search,
+    and a window's apparatus changed in place leaves the next window's as it was."""
+    design = bodies[name]
+    window._coil_search.cache_clear()
+    fresh = window_model(design, 1.0)
+    misses = window._coil_search.cache_info().misses
+    fresh.apparatus.notes.append("changed by a caller")
+    fresh.apparatus.pairs.clear()
+    again = window_model(design, 1.0)
+    assert window._coil_search.cache_info().misses == misses  # no new search
+    assert again.apparatus is not fresh.apparatus
+    assert again.apparatus.pairs and "changed by a caller" not in again.apparatus.notes
+    window._coil_search.cache_clear()
+    rebuilt = window_model(design, 1.0)
+    assert again.apparatus.to_dict() == rebuilt.apparatus.to_dict()
+    coil = {p.key: p.at(1.0) for p in again.items}["coil_harmonics"]
+    assert coil == {p.key: p.at(1.0) for p in rebuilt.items}["coil_harmonics"]
 
 
 @pytest.mark.parametrize("name", sorted(BODIES))
