@@ -26,8 +26,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from chargedesign.commands.progress import progress_bar
 from chargedesign.designer.frontier import WindowOptions, write_window_picture
+from chargedesign.designer.frontier_scan import scan_frontier, write_scan
 from chargedesign.designer.pipeline import design_and_frontier_from_scene
+from chargedesign.designer.recommend import recommend
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.physical.support import scene_window_gravity
@@ -63,18 +66,12 @@ def run(args: argparse.Namespace) -> int:
         scene_window_gravity(scene) if args.realised_gravity is None else args.realised_gravity,
     )
     if args.scan:
-        # the two searches' modules load where they run: the frontier alone needs neither
-        from chargedesign.designer.frontier_scan import scan_frontier, write_scan
-
         scan = scan_frontier(scene, progress=progress)
         if args.out is not None:
             write_scan(scan, Path(args.out))
             progress(f"wrote {args.out}/frontier_scan.csv, frontier_scan.png")
         return _print(scan, args.json)
     if args.recommend is not None:
-        from chargedesign.commands.progress import progress_bar
-        from chargedesign.designer.recommend import recommend
-
         # the probes counted against the most the search makes, with the time left
         with progress_bar("frontier --recommend", "probes", args.quiet) as bar:
             found = recommend(

@@ -43,10 +43,9 @@ def _no_search(*args: object, **kwargs: object) -> None:
 def test_frontier_recommend_into_a_missing_folder_is_refused_before_the_search(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import chargedesign.designer.recommend as recommend_module
+    import chargedesign.commands.frontier as frontier
 
-    # the command imports the search where it runs it
-    monkeypatch.setattr(recommend_module, "recommend", _no_search)
+    monkeypatch.setattr(frontier, "recommend", _no_search)
     scene = EXAMPLES / "chaplygin_magnetic.toml"
     argv = ["frontier", str(scene), "--recommend", str(tmp_path / "new" / "rec.toml")]
     line = refused(argv, "frontier", capsys, tmp_path)

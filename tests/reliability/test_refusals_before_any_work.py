@@ -72,15 +72,14 @@ def _no_work(monkeypatch: pytest.MonkeyPatch) -> None:
     def boom(*args: object, **kwargs: object) -> None:
         raise AssertionError("the work started before the output was checked")
 
-    # the names the commands call (each command module imports its stages at the top, but
-    # frontier's --scan, which imports its search where it runs it)
+    # the names the commands call (each command module imports its stages at the top)
     import chargedesign.commands.design as design_command
+    import chargedesign.commands.frontier as frontier_command
     import chargedesign.commands.simulate as simulate_command
-    import chargedesign.designer.frontier_scan as frontier_scan
 
     monkeypatch.setattr(design_command, "design_from_scene", boom)
     monkeypatch.setattr(simulate_command, "simulate", boom)
-    monkeypatch.setattr(frontier_scan, "scan_frontier", boom)
+    monkeypatch.setattr(frontier_command, "scan_frontier", boom)
 
 
 @pytest.mark.parametrize(
