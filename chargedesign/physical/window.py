@@ -360,7 +360,7 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
     if a1 == 0.0 and a2 == 0.0:
         return None, None
     moments = np.asarray(design.dipole_moments, dtype=float)
-    value, apparatus = _coil_search(
+    value, apparatus = coil_search(
         a1,
         a2,
         region,
@@ -383,7 +383,7 @@ def _coil_item(design: Any, legendre, region: float, term: float, fraction: floa
 
 
 @functools.lru_cache(maxsize=FACTOR_CACHE_SIZE)
-def _coil_search(
+def coil_search(
     a1: float,
     a2: float,
     region: float,

@@ -184,16 +184,16 @@ def test_the_coil_search_runs_once_per_body_and_gives_each_window_its_own(bodies
     its window again): the same apparatus and item from the cache as from a fresh search,
     and a window's apparatus changed in place leaves the next window's as it was."""
     design = bodies[name]
-    window._coil_search.cache_clear()
+    window.coil_search.cache_clear()
     fresh = window_model(design, 1.0)
-    misses = window._coil_search.cache_info().misses
+    misses = window.coil_search.cache_info().misses
     fresh.apparatus.notes.append("changed by a caller")
     fresh.apparatus.pairs.clear()
     again = window_model(design, 1.0)
-    assert window._coil_search.cache_info().misses == misses  # no new search
+    assert window.coil_search.cache_info().misses == misses  # no new search
     assert again.apparatus is not fresh.apparatus
     assert again.apparatus.pairs and "changed by a caller" not in again.apparatus.notes
-    window._coil_search.cache_clear()
+    window.coil_search.cache_clear()
     rebuilt = window_model(design, 1.0)
     assert again.apparatus.to_dict() == rebuilt.apparatus.to_dict()
     coil = {p.key: p.at(1.0) for p in again.items}["coil_harmonics"]
