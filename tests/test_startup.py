@@ -1,7 +1,7 @@
 """Start-up structure (issue 42 item 4): importing the command line, and the modules a command
 imports before it runs, loads no heavy library that the import itself does not use. The
-libraries are loaded where they are called (``linprog`` in the charge and ballast LPs,
-``cKDTree`` in the cells, ``solve_ivp`` and the DOP853 tableau in the integrator service,
+libraries are loaded where they are called (``cKDTree`` in the cells above a thousand
+candidates, ``solve_ivp`` and the DOP853 tableau in the integrator service,
 ``Rotation`` in the flight's observation), so they cannot come back to the start path through
 a module-level import unnoticed; the check command, run on a physical design, loads neither
 scipy.optimize nor scipy.spatial (its overlap pairs are numpy's). A structure test, not a
@@ -126,3 +126,19 @@ def test_a_theorem_scenes_design_and_frontier_run_without_sympy(args, tmp_path):
         f"with contextlib.redirect_stdout(open(os.devnull, 'w')): assert main({argv!r}) == 0"
     )
     assert imported_of(code, ("sympy",)) == set()
+
+
+def test_the_frontier_command_runs_without_scipy_optimize_or_spatial():
+    """The default scene's frontier point, run whole: its LPs go to HiGHS through highspy
+    (designer/linear_program.py) and its cells' nearest neighbours are numpy's below
+    NEAREST_BY_BLOCKS_MAX candidates, so neither library is loaded at all."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    code = (
+        f"import contextlib, os; os.chdir({str(root)!r})\n"
+        "from chargedesign.cli import main\n"
+        "with contextlib.redirect_stdout(open(os.devnull, 'w')):\n"
+        "    assert main(['frontier', '--json']) == 0"
+    )
+    assert imported_of(code, ("scipy.optimize", "scipy.spatial")) == set()

@@ -22,6 +22,7 @@ from scipy import sparse
 from chargedesign.constants import COULOMB
 from chargedesign.designer.charge_symmetry import ChargeSymmetry, one_per_orbit
 from chargedesign.designer.cone_program import ConeProgram
+from chargedesign.designer.linear_program import linprog_highs
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
     Binding,
@@ -126,15 +127,12 @@ def lp_charges(
 
 def _whole_lp(As: np.ndarray, bs: np.ndarray, cap: np.ndarray, c: np.ndarray) -> np.ndarray | None:
     """The scaled LP on every column by HiGHS: ``u`` (None: infeasible)."""
-    from scipy.optimize import linprog
-
     k = len(c)
-    res = linprog(
+    res = linprog_highs(
         np.tile(c, 2),
         A_eq=np.hstack([As, -As]),
         b_eq=bs,  # q = qs * u
         bounds=list(zip(np.zeros(2 * k), np.tile(cap, 2), strict=True)),
-        method="highs",
     )
     if res.status == 2:
         return None
@@ -163,22 +161,19 @@ def lp_by_columns(
     in_work[np.concatenate(picks)] = True
     eye = np.eye(m)
     step = max(2 * m, 40)
-    from scipy.optimize import linprog
-
     for _ in range(LP_COLUMN_ROUNDS):
         work = np.flatnonzero(in_work)
         k = len(work)
         Aw = As[:, work]
-        res = linprog(
+        res = linprog_highs(
             np.concatenate([c[work], c[work], np.full(2 * m, penalty)]),
             A_eq=np.hstack([Aw, -Aw, eye, -eye]),
             b_eq=bs,
             bounds=[(0.0, u) for u in np.tile(cap[work], 2)] + [(0.0, None)] * (2 * m),
-            method="highs",
         )
-        if res.status != 0 or res.x is None:
+        if res.status != 0 or res.x is None or res.eq_duals is None:
             return None
-        reduced = c - np.abs(As.T @ res.eqlin.marginals)
+        reduced = c - np.abs(As.T @ res.eq_duals)
         reduced[in_work] = 0.0
         violators = np.flatnonzero(reduced < -1e-9 * float(np.max(c)))
         if len(violators):

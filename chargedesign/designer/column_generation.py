@@ -70,7 +70,7 @@ def l1_lp_column_generation(
             cost = np.concatenate([c[cols], c[cols], np.full(2 * m, penalty)])
             bounds = [(0.0, p.upper)] * (2 * k) + [(0.0, None)] * (2 * m)
         res = solve_linprog(cost, A_eq, b, bounds, f"{p.source}: column generation")
-        y = res.eqlin.marginals
+        y = res.eq_duals
         ay = A.T @ y
         if p.nonneg:
             reduced = c - ay

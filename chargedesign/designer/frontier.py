@@ -60,6 +60,7 @@ from chargedesign.designer.assembly import build_design, design_at_rate
 from chargedesign.designer.charges import charge_support, lp_charges
 from chargedesign.designer.cone_program import ConeProgram
 from chargedesign.designer.frontier_probes import ChargesLimit, charges_rate_limit
+from chargedesign.designer.linear_program import linprog_highs
 from chargedesign.designer.masses import design_masses, mass_data
 from chargedesign.designer.physical_setup import Binding, PhysicalInfeasible, PhysicalSetup
 from chargedesign.designer.whole_inertia import WholeTerms
@@ -309,8 +310,6 @@ def _value_text(item: dict[str, Any]) -> str:
 
 def necessary_rate(setup: PhysicalSetup) -> float:
     """Largest s with charges meeting ``A q = s b`` and ``|q_i| <= c0_i - s c1_i`` (one LP)."""
-    from scipy.optimize import linprog
-
     A, b = setup.systems["charges"]
     bound = setup.rate_bound
     if not np.any(b):
@@ -328,14 +327,13 @@ def necessary_rate(setup: PhysicalSetup) -> float:
     cost[-1] = -1.0
     A_eq = np.hstack([As, -As, -bs[:, None]])
     A_ub = np.hstack([np.eye(n), np.eye(n), (c1 / qs)[:, None]])
-    res = linprog(
+    res = linprog_highs(
         cost,
         A_ub=A_ub,
         b_ub=c0 / qs,
         A_eq=A_eq,
         b_eq=np.zeros(len(b)),
         bounds=[(0, None)] * (2 * n) + [(0, min(bound, 1e300))],
-        method="highs",
     )
     if res.status == 3:  # unbounded: the charges' conditions are homogeneous
         return bound

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from scipy import sparse
 
+from chargedesign.designer.linear_program import linprog_highs
 from chargedesign.designer.mass_columns import MassData, solve_by_columns, whole_infeasible
 from chargedesign.designer.physical_setup import (
     DESIGN_MARGIN,
@@ -598,17 +599,14 @@ def _one_material_per_cell(
     and the LP solved again."""
     J, k = len(mats), room.shape[0]
     allowed = np.ones(J * k, dtype=bool)
-    from scipy.optimize import linprog
-
     for _ in range(6):
-        res = linprog(
+        res = linprog_highs(
             cost,
             A_ub=room,
             b_ub=np.ones(k),
             A_eq=As,
             b_eq=bs,
             bounds=[(0.0, None if ok else 0.0) for ok in allowed],
-            method="highs",
         )
         if res.status == 2:
             raise PhysicalInfeasible(
@@ -919,15 +917,13 @@ def _mass_binding(
     Ams, bms = row_scaled(Am[:, free], rhs, scale)
     v_cap = 4.0 / 3.0 * math.pi * setup.cell_radius[free] ** 3 * (1 - DESIGN_MARGIN)
 
-    from scipy.optimize import linprog  # here, not at import: the frontier command's start
-
     def feasible(room: bool) -> bool:
         # w >= 0 (scaled ballast masses), Ams w = bms, and with room each mass within its cell
         bounds: Any = (0, None)
         if room:
             upper = v_cap * setup.spec.ballast.density / scale
             bounds = np.column_stack([np.zeros(len(free)), upper])
-        res = linprog(np.zeros(len(free)), A_eq=Ams, b_eq=bms, bounds=bounds, method="highs")
+        res = linprog_highs(np.zeros(len(free)), A_eq=Ams, b_eq=bms, bounds=bounds)
         return res.status != 2  # 2: HiGHS proved the program infeasible
 
     carriers_c = float(

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from chargedesign.designer.linear_program import linprog_highs
 from chargedesign.errors import SolverError
 from chargedesign.scene.design import DesignOptions
 
@@ -84,17 +85,8 @@ def solve_linprog(
     b_ub: np.ndarray | None = None,
 ) -> Any:
     """Solve a linear program with HiGHS; raise InfeasibleProblem or SolverError on failure."""
-    from scipy.optimize import linprog
-
-    res = linprog(
-        c,
-        A_ub=A_ub,
-        b_ub=b_ub,
-        A_eq=A_eq,
-        b_eq=b_eq,
-        bounds=bounds,
-        method="highs",
-        options=dict(HIGHS_OPTIONS),
+    res = linprog_highs(
+        c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, options=HIGHS_OPTIONS
     )
     if res.status == 2:
         raise InfeasibleProblem(where)

@@ -160,10 +160,12 @@ def test_the_estimator_finds_a_fixed_offset_and_the_bending_without_noise() -> N
         ),
     )
     assert seen.offset_error is not None
-    # 20 s of one motion sees gamma over part of the sphere: K is partly unobservable, and
-    # the error read over every attitude stays near a tenth of the offset
-    assert seen.offset_error[0, -1] < 0.15 * 1e-6
-    assert seen.I4_drift[0] < 0.1 * blind.I4_drift[0]
+    # 20 s of one motion sees gamma over part of the sphere and K is partly unobservable,
+    # yet the prior holds the rest: the error read over every attitude ends at 3.2e-9 m, a
+    # third of a percent of the offset, under every OpenBLAS kernel (the square-root
+    # information form; the covariance form gave 8e-9 to 1.8e-7 m by kernel)
+    assert seen.offset_error[0, -1] < 0.005 * 1e-6
+    assert seen.I4_drift[0] < 0.01 * blind.I4_drift[0]
 
 
 def test_buildable_only_when_every_requirement_and_the_drift_are_met() -> None:
