@@ -7,6 +7,8 @@ the summed torque-balance rows rebuilt from the equation in Sensing's documentat
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 
 from chargedesign.airbearing.loop import LoopSettings, Sensing
@@ -32,7 +34,7 @@ def _batch_estimate(states, J, T, weight, noise, prior):
     """argmin sum_k |Y_k - Phi_k theta|^2 / noise^2 + |theta / prior|^2, by lstsq."""
     rows, rhs = [np.diag(1.0 / prior)], [np.zeros(len(prior))]
     Y, Phi = np.zeros(3), np.zeros((3, 10))
-    for prev, now in zip(states[:-1], states[1:], strict=True):
+    for prev, now in pairwise(states):
         gyro = [np.cross(x[0:3], J @ x[0:3] + x[6:9]) for x in (prev, now)]
         Y = Y + J @ (now[0:3] - prev[0:3]) + 0.5 * T * (gyro[0] + gyro[1]) + now[6:9] - prev[6:9]
         Phi = Phi + 0.5 * T * (_regressor(prev, weight) + _regressor(now, weight))
