@@ -184,10 +184,6 @@ class BalanceBound:
     def confirmed(self) -> bool:
         return self.needed >= self.held and self.builder_needed >= BUILDER_BALANCE_M
 
-    def needed_at(self, s: float) -> float:
-        """``needed`` at another time rate ``s``, m."""
-        return self.needed * (s / self.rate) ** 2
-
     def text(self) -> str:
         """One line: what the balance asks at this rate and what holds."""
         g = _gravity_text(self.gravity)

@@ -421,10 +421,6 @@ class ConeColumns:
             M[np.ix_(self.private, self.private)] += (h @ self.g_private.T) * same_cone
         return M
 
-    def normal_matrix(self, scaling: NtScaling | None) -> np.ndarray:
-        """``G_soc^T W^-2 G_soc`` (``n x n``)."""
-        return self.add_normal_matrix(np.zeros((self.n, self.n)), scaling)
-
 
 class LinearGram:
     """``G_lin^T D^-2 G_lin`` for a sparse ``G_lin`` whose rows have few entries (the
