@@ -19,7 +19,6 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 from chargedesign.errors import ChargeDesignError, InfeasibleError, InputError, SolverError
-from chargedesign.params import Parameters
 from chargedesign.version import __version__ as __version__
 
 #: public name -> (module, attribute), resolved on first use so that ``import chargedesign``
@@ -27,6 +26,9 @@ from chargedesign.version import __version__ as __version__
 #: plain functions of :mod:`chargedesign.api`; no subpackage shares their names (a submodule
 #: import would rebind the package attribute of the same name).
 _LAZY: dict[str, tuple[str, str]] = {
+    # the parameters (lazy too: the command line sets its BLAS threads before numpy loads,
+    # chargedesign/commands/__init__.py)
+    "Parameters": ("chargedesign.params", "Parameters"),
     # stages
     "design": ("chargedesign.api", "design"),
     "check": ("chargedesign.api", "check"),
@@ -141,6 +143,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs
     from chargedesign.model.catalogue import CatalogueReport
     from chargedesign.moment_conditions import LinearConditions
     from chargedesign.moment_conditions import conditions_for_scene as conditions
+    from chargedesign.params import Parameters
     from chargedesign.scene import Scene, load_scene
     from chargedesign.schemas import schema
     from chargedesign.simulation import SimulationResult
