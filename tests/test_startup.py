@@ -10,6 +10,9 @@ timing test (the CPU seconds: docs/benchmarks.md, "Start-up by command")."""
 from __future__ import annotations
 
 import importlib.util
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -142,3 +145,28 @@ def test_the_frontier_command_runs_without_scipy_optimize_or_spatial():
         "    assert main(['frontier', '--json']) == 0"
     )
     assert imported_of(code, ("scipy.optimize", "scipy.spatial")) == set()
+
+
+def _blas_threads_seen(code: str, environment: dict[str, str]) -> str:
+    """The thread counts of a fresh process's BLAS libraries (threadpoolctl's, scipy's OpenBLAS
+    loaded after ``code``), with ``environment`` in place of OPENBLAS_NUM_THREADS."""
+    probe = (
+        f"{code}\nimport scipy.linalg\nfrom threadpoolctl import threadpool_info\n"
+        "print(sorted({i['num_threads'] for i in threadpool_info() if i['user_api'] == 'blas'}))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"} | environment
+    out = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, check=True, env=env
+    )
+    return out.stdout.strip().splitlines()[-1]
+
+
+def test_the_command_line_runs_blas_on_one_thread_unless_the_user_says():
+    # the command line's package sets the default before numpy loads: every BLAS library
+    # of the process runs one thread; a user's own setting wins; the library alone leaves
+    # the count to the machine (two or more threads where it has the cores)
+    assert imported_of("import chargedesign", ("numpy",)) == set()
+    assert _blas_threads_seen("import chargedesign.cli", {}) == "[1]"
+    assert _blas_threads_seen("import chargedesign.cli", {"OPENBLAS_NUM_THREADS": "2"}) == "[2]"
+    if (os.cpu_count() or 1) > 1:
+        assert _blas_threads_seen("import chargedesign", {}) != "[1]"
