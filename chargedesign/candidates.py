@@ -194,11 +194,36 @@ def _geometry(pts: np.ndarray, spacing: float | None) -> Geometry:
 def _median_spacing(points: np.ndarray) -> float:
     if len(points) < 2:
         return 0.0
-    from scipy.spatial import cKDTree
+    sample = None if len(points) <= 20_000 else np.arange(0, len(points), len(points) // 20_000)
+    return float(np.median(nearest_distances(points, sample)))
 
-    sample = points if len(points) <= 20_000 else points[:: len(points) // 20_000]
-    dist, _ = cKDTree(points).query(sample, k=2)
-    return float(np.median(dist[:, 1]))
+
+# Up to this many points the nearest neighbours are found by blocks of exact differences in
+# numpy, beyond it by scipy's KD-tree. Both compute each distance as the square root of
+# (dx^2 + dy^2) + dz^2, so they give the same bits (tests/designer/test_highs_and_neighbours.py).
+# Measured (docs/benchmarks.md, "Linear programs without scipy.optimize"): at 257 points the
+# blocks take 3 ms, against 0.5 ms for the tree plus 60-160 ms to import scipy.spatial; at
+# 2,000 points 95 ms against 2 ms; at 9,765 points 2.2 s against 17 ms.
+NEAREST_BY_BLOCKS_MAX = 1024
+
+
+def nearest_distances(points: np.ndarray, of: np.ndarray | None = None) -> np.ndarray:
+    """The distance (m) from each point ``of`` (indices into ``points``; None: every point) to
+    its nearest other point of ``points`` (n >= 2): the candidates' cells and spacing."""
+    rows_of = np.arange(len(points)) if of is None else np.asarray(of)
+    if len(points) > NEAREST_BY_BLOCKS_MAX:
+        from scipy.spatial import cKDTree
+
+        dist, _ = cKDTree(points).query(points[rows_of], k=2)
+        return np.asarray(dist[:, 1])
+    nearest = np.empty(len(rows_of))
+    block = max(1, 2**17 // len(points))  # a few MB of differences at a time
+    for start in range(0, len(rows_of), block):
+        rows = rows_of[start : start + block]
+        d2 = np.sum((points[rows][:, None, :] - points[None, :, :]) ** 2, axis=2)
+        d2[np.arange(len(rows)), rows] = np.inf  # itself
+        nearest[start : start + len(rows)] = np.sqrt(np.min(d2, axis=1))
+    return nearest
 
 
 def planarity_notes(geometry: Geometry) -> list[str]:

@@ -135,8 +135,6 @@ def test_the_frontier_command_runs_without_scipy_optimize_or_spatial():
     """The default scene's frontier point, run whole: its LPs go to HiGHS through highspy
     (designer/linear_program.py) and its cells' nearest neighbours are numpy's below
     NEAREST_BY_BLOCKS_MAX candidates, so neither library is loaded at all."""
-    from pathlib import Path
-
     root = Path(__file__).resolve().parents[1]
     code = (
         f"import contextlib, os; os.chdir({str(root)!r})\n"

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.candidates import CandidateSet
+from chargedesign.candidates import CandidateSet, nearest_distances
 from chargedesign.constants import EPSILON_0
 from chargedesign.designer.charge_symmetry import ChargeSymmetry, charge_symmetry
 from chargedesign.designer.robust import robust_costs
@@ -241,33 +241,6 @@ def check_physical_candidates(n: int, body: Mapping[str, Any] | None = None) -> 
                 f"of {fmt(max(sizes), PLAIN)} m gives {n}; give a spacing well below its size"
             )
         raise InputError(f"body: a physical design needs at least two candidate points{why}")
-
-
-# Up to this many candidates the nearest neighbours are found by blocks of exact differences
-# in numpy, beyond it by scipy's KD-tree. Both compute each distance as the square root of
-# (dx^2 + dy^2) + dz^2, so they give the same bits (tests/designer/test_physical_setup.py).
-# Measured (docs/benchmarks.md, "Linear programs without scipy.optimize"): at 257 points the
-# blocks take 3 ms, against 0.5 ms for the tree plus 60-160 ms to import scipy.spatial; at
-# 2,000 points 95 ms against 2 ms; at 9,765 points 2.2 s against 17 ms.
-NEAREST_BY_BLOCKS_MAX = 1024
-
-
-def nearest_distances(points: np.ndarray) -> np.ndarray:
-    """Each point's distance to its nearest other point (m), shape (n,); n >= 2."""
-    n = len(points)
-    if n > NEAREST_BY_BLOCKS_MAX:
-        from scipy.spatial import cKDTree
-
-        dist, _ = cKDTree(points).query(points, k=2)
-        return np.asarray(dist[:, 1])
-    nearest = np.empty(n)
-    block = max(1, 2**17 // n)  # a few MB of differences at a time
-    for start in range(0, n, block):
-        rows = points[start : start + block]
-        d2 = np.sum((rows[:, None, :] - points[None, :, :]) ** 2, axis=2)
-        d2[np.arange(len(rows)), np.arange(start, start + len(rows))] = np.inf  # itself
-        nearest[start : start + len(rows)] = np.sqrt(np.min(d2, axis=1))
-    return nearest
 
 
 def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:

@@ -1,7 +1,7 @@
 """The frontier command's two scipy-free kernels, against the scipy routes they replace:
 the LPs by HiGHS through ``highspy`` (designer/linear_program.py) against
 ``scipy.optimize.linprog(method="highs")``, and the candidates' nearest neighbours by blocks
-(designer/physical_setup.nearest_distances) against ``scipy.spatial.cKDTree``. Both must give
+(candidates.nearest_distances) against ``scipy.spatial.cKDTree``. Both must give
 the same bits: the designs, frontiers and windows built on them are compared to the last digit
 by tools/compare_outputs.py."""
 
@@ -13,8 +13,8 @@ from scipy import sparse
 from scipy.optimize import linprog
 from scipy.spatial import cKDTree
 
+from chargedesign.candidates import NEAREST_BY_BLOCKS_MAX, nearest_distances
 from chargedesign.designer.linear_program import linprog_highs
-from chargedesign.designer.physical_setup import NEAREST_BY_BLOCKS_MAX, nearest_distances
 
 
 def _random_lp(rng: np.random.Generator, trial: int) -> dict:
@@ -94,3 +94,6 @@ def _lattice(spacing: float, radius: float) -> np.ndarray:
 def test_nearest_distances_are_the_kd_trees_to_the_bit(points):
     dist, _ = cKDTree(points).query(points, k=2)
     assert np.array_equal(nearest_distances(points), dist[:, 1])
+    # a sample of the points against all of them (the median spacing of a point file)
+    sample = np.arange(0, len(points), 3)
+    assert np.array_equal(nearest_distances(points, sample), dist[sample, 1])
