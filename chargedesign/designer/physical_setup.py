@@ -30,7 +30,7 @@ from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.larmor import LarmorReading
 from chargedesign.moment_conditions import LinearConditions
 from chargedesign.params import Parameters
-from chargedesign.physical.field_bounds import field_magnitude_max
+from chargedesign.physical.field_bounds import FieldReach, field_reach
 from chargedesign.scene.design import DesignOptions
 from chargedesign.scene.physical import CARRIER_RADIUS_FRACTION, PhysicalSpec
 
@@ -178,14 +178,14 @@ def _carrier_radius(spec: PhysicalSpec, spacing: float) -> float:
     return float(a)
 
 
-def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region: float) -> None:
+def _check_field_limits(spec: PhysicalSpec, maxima: Mapping[str, float], region: float) -> None:
     """The scene's magnetic and gravity fields within their ``max`` over the body region
-    (the electric field's limit bounds the rate instead)."""
+    (``maxima``: each field's largest magnitude there; the electric field's limit bounds the
+    rate instead)."""
     for kind, limit in spec.field_limits.items():
-        coeffs = conditions.fields.get(kind, ())
-        if kind == "electric" or not coeffs:
+        top = maxima.get(kind)
+        if kind == "electric" or top is None:
             continue
-        top = float(field_magnitude_max(coeffs, np.array([region]))[0])
         if top > limit:
             raise InputError(
                 f"fields.{kind}.max: the scene's {kind} field already reaches "
@@ -195,20 +195,15 @@ def _check_field_limits(spec: PhysicalSpec, conditions: LinearConditions, region
 
 
 def _magnet_sites(
-    spec: PhysicalSpec,
-    conditions: LinearConditions,
-    points: np.ndarray,
-    cell: np.ndarray,
-    dipoles: tuple[np.ndarray, np.ndarray],
+    spec: PhysicalSpec, reach: FieldReach, dipoles: tuple[np.ndarray, np.ndarray], n: int
 ) -> np.ndarray:
-    """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell stays
-    below what the magnet withstands); InfeasibleError when V's moments cannot be met there."""
-    magnet_sites = np.ones(len(points), dtype=bool)
+    """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell,
+    ``reach.magnetic_at``, stays below what the magnet withstands); InfeasibleError when V's
+    moments cannot be met there."""
+    magnet_sites = np.ones(n, dtype=bool)
     withstood = spec.magnet.field_withstood()
-    magnetic = tuple(conditions.fields.get("magnetic", ()))
-    if withstood is not None and magnetic:
-        reach = field_magnitude_max(magnetic, np.linalg.norm(points, axis=1) + cell)
-        magnet_sites = reach <= withstood
+    if withstood is not None and reach.magnetic_at is not None:
+        magnet_sites = reach.magnetic_at <= withstood
         if not _moments_reachable(dipoles, magnet_sites):
             where = (
                 f"at every candidate site but {int(np.sum(magnet_sites))}, and magnets there "
@@ -250,22 +245,15 @@ def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
     return 0.5 * nearest, float(np.min(nearest))
 
 
-def _electric_grid(
-    spec: PhysicalSpec, conditions: LinearConditions, region: float
-) -> tuple[tuple[float, ...], np.ndarray, np.ndarray, float]:
-    """The electric field's coefficients, its largest magnitude on radii out to ``region``,
-    and the largest rate the apparatus' electric-field limit allows (inf: no limit)."""
-    electric = tuple(conditions.fields.get("electric", ()))
-    grid = np.linspace(0.0, region, 513)  # its last radius is the region's, exactly
-    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+def _electric_rate_bound(spec: PhysicalSpec, reach: FieldReach) -> float:
+    """The largest rate the apparatus' electric-field limit allows (inf: no limit)."""
     limit = spec.field_limits.get("electric")
-    bound = math.inf
-    if limit is not None and electric:
-        # the field over the body region: the grid's last value (each radius's maximum is
-        # computed alone, to the last bit: physical/field_bounds.py), not a second evaluation
-        top = float(values[-1])
-        bound = limit / top if top > 0 else math.inf
-    return electric, grid, values, bound
+    if limit is None or "electric" not in reach.maxima:
+        return math.inf
+    # the field over the body region: the grid's last value (each radius's maximum is
+    # computed alone, to the last bit: physical/field_bounds.py), not a second evaluation
+    top = float(reach.electric_values[-1])
+    return limit / top if top > 0 else math.inf
 
 
 def setup_physical(
@@ -289,11 +277,20 @@ def setup_physical(
     points = candidates.points
     cell, spacing = _cells(points)
     a = _carrier_radius(spec, spacing)
-    region = float(np.max(np.linalg.norm(points, axis=1) + cell))
-    _check_field_limits(spec, conditions, region)
+    reach_of_cells = np.linalg.norm(points, axis=1) + cell
+    region = float(np.max(reach_of_cells))
+    # every applied field's bound over the region and the cells, in one descent; the
+    # magnetic field's over each cell only where a magnet material's coercivity is known
+    withstood = spec.magnet.field_withstood()
+    reach = field_reach(
+        conditions.fields,
+        region,
+        magnetic_radii=reach_of_cells if withstood is not None else None,
+    )
+    _check_field_limits(spec, reach.maxima, region)
     systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
-    magnet_sites = _magnet_sites(spec, conditions, points, cell, systems["dipoles"])
-    electric, grid, values, bound = _electric_grid(spec, conditions, region)
+    magnet_sites = _magnet_sites(spec, reach, systems["dipoles"], len(points))
+    rate_bound = _electric_rate_bound(spec, reach)
     # the robust costs (the placement sensitivities) are weighed once no setup refusal is
     # left: a magnet material the field demagnetises is refused before that work
     costs = {
@@ -313,10 +310,10 @@ def setup_physical(
         carrier_mass=spec.carrier.sphere_mass(a),
         region_radius=region,
         systems=systems,
-        electric=electric,
-        e_grid=grid,
-        e_grid_values=values,
-        rate_bound=bound,
+        electric=tuple(conditions.fields.get("electric", ())),
+        e_grid=reach.electric_grid,
+        e_grid_values=reach.electric_values,
+        rate_bound=rate_bound,
         costs=costs,
         magnet_sites=magnet_sites,
         larmor=larmor,

@@ -9,11 +9,15 @@ bound it by its largest value over that sphere.
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from chargedesign.fields import AxisymmetricField
 
+#: radii of the electric field's grid over the body region (its last radius is the region's)
+REGION_GRID_RADII = 513
 #: polar angles sampled for the largest field over orientations
 ANGLE_SAMPLES = 2001
 #: radii per block of the (angles, radii) work arrays (2001 x 64 doubles: 1 MB)
@@ -156,3 +160,50 @@ class RadialBound:
         if np.any(beyond):
             raise ValueError("RadialBound: radius beyond its grid")
         return out
+
+
+def region_maxima(fields: Mapping[str, Sequence[float]], region: float) -> dict[str, float]:
+    """The largest ``|grad Phi|`` of each given field (kind -> Legendre coefficients; empty
+    ones left out) over the ball of radius ``region``: its value on that sphere, the
+    magnitude being nondecreasing in the radius."""
+    radius = np.array([region])
+    return {
+        kind: float(field_magnitude_max(tuple(coeffs), radius)[0])
+        for kind, coeffs in fields.items()
+        if coeffs
+    }
+
+
+@dataclass(frozen=True)
+class FieldReach:
+    """How strong the applied fields get over a body region, computed once for a design's
+    setup: the largest magnitude of each field over the region, the electric field's bound
+    on a grid of radii out to it, and the magnetic field's at chosen radii."""
+
+    region: float
+    #: kind -> the largest magnitude over the ball of radius ``region``
+    maxima: dict[str, float]
+    #: radii from 0 to ``region`` (:data:`REGION_GRID_RADII`, the last the region's exactly)
+    electric_grid: np.ndarray
+    #: the electric field's largest magnitude at each grid radius (zeros without one)
+    electric_values: np.ndarray
+    #: the magnetic field's largest magnitude at the radii asked for (None: not asked)
+    magnetic_at: np.ndarray | None
+
+
+def field_reach(
+    fields: Mapping[str, Sequence[float]],
+    region: float,
+    *,
+    magnetic_radii: np.ndarray | None = None,
+) -> FieldReach:
+    """The :class:`FieldReach` of ``fields`` over the ball of radius ``region``; the
+    magnetic field's bound at ``magnetic_radii`` too when they are given and it is not zero."""
+    electric = tuple(fields.get("electric", ()))
+    magnetic = tuple(fields.get("magnetic", ()))
+    grid = np.linspace(0.0, region, REGION_GRID_RADII)
+    values = field_magnitude_max(electric, grid) if electric else np.zeros_like(grid)
+    at = None
+    if magnetic_radii is not None and magnetic:
+        at = field_magnitude_max(magnetic, magnetic_radii)
+    return FieldReach(region, region_maxima(fields, region), grid, values, at)

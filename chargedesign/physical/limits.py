@@ -25,7 +25,7 @@ import numpy as np
 
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.coulomb import coulomb_field_gemm
-from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max
+from chargedesign.physical.field_bounds import RadialBound, field_magnitude_max, region_maxima
 from chargedesign.physical.materials import (
     MAGNET_COERCIVITY,
     Material,
@@ -401,16 +401,14 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
         if len(light):
             violations.append(f"charge {light[0]}: carrier lighter than its sphere of material")
     region = float(np.max(np.linalg.norm(centres, axis=1) + part_r, initial=0.0))
-    maxima: dict[str, float] = {}
     limits = design.field_limits or {}
-    for kind in ("magnetic", "electric", "gravity"):
-        coeffs = design.field(kind)
-        if not coeffs:
-            continue
-        maxima[kind] = float(field_magnitude_max(coeffs, np.array([region]))[0])
-        if kind in limits and maxima[kind] > limits[kind] * (1 + ROUNDING_SLACK):
+    maxima = region_maxima(
+        {kind: design.field(kind) for kind in ("magnetic", "electric", "gravity")}, region
+    )
+    for kind, top in maxima.items():
+        if kind in limits and top > limits[kind] * (1 + ROUNDING_SLACK):
             violations.append(
-                f"fields.{kind}: reaches {fmt(maxima[kind])} over the body region, above its "
+                f"fields.{kind}: reaches {fmt(top)} over the body region, above its "
                 f"max = {fmt(limits[kind])}"
             )
     response = field_response(design)

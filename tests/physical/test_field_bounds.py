@@ -67,3 +67,23 @@ def test_the_radial_bound_is_an_upper_bound_and_nondecreasing():
     assert np.all(np.diff(bound.values) >= 0.0)
     r = np.linspace(0.0, 0.05, 33)
     assert np.all(bound(r) >= field_magnitude_max((0.0, 0.0, 0.0, 0.1), r))
+
+
+def test_field_reach_is_each_field_bound_once_and_agrees_with_itself():
+    """A setup's reach: the region maxima are the reference at the region, the electric
+    grid's last value is that same maximum to the last bit (the setup's rate bound reads it),
+    and the magnetic field is bounded at the radii asked for, none else."""
+    fields = {"electric": FIELDS[0], "magnetic": FIELDS[1], "gravity": ()}
+    region = 0.037
+    radii = np.array([0.0, 0.01, 0.02, region])
+    reach = field_bounds.field_reach(fields, region, magnetic_radii=radii)
+    assert set(reach.maxima) == {"electric", "magnetic"}  # an empty field is left out
+    for kind in ("electric", "magnetic"):
+        assert reach.maxima[kind] == _every_angle(fields[kind], [region])[0]
+    assert reach.electric_grid[-1] == region
+    assert len(reach.electric_grid) == field_bounds.REGION_GRID_RADII
+    assert reach.electric_values[-1] == reach.maxima["electric"]
+    np.testing.assert_array_equal(reach.magnetic_at, _every_angle(fields["magnetic"], radii))
+    bare = field_bounds.field_reach({"magnetic": FIELDS[1]}, region)
+    assert bare.magnetic_at is None
+    assert not np.any(bare.electric_values)
