@@ -221,19 +221,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
         raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
 
 
-# ------------------------------------------------------- a design's options, one against another
-
-
-def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
-    """A part material's susceptibility, which cancelling the induced magnetisation needs."""
-    if susceptibility is None:
-        table = "carriers" if role == "carrier" else f"{role}s"
-        raise InputError(
-            f"{table}.susceptibility: cancelling the induced magnetisation needs the "
-            f"{role} material's susceptibility ({name} has none)"
-        )
-
-
 # --------------------------------------------------------------------- the input range
 
 
