@@ -479,7 +479,7 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
                     else ""
                 )
             )
-    check_element_count(data, where)
+    _check_element_count(data, where)
     check_parameters_range(data.get("parameters"), f"{where}.parameters")
     fields = data.get("fields")
     if isinstance(fields, dict):
@@ -571,7 +571,7 @@ def _check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
         )
 
 
-def check_element_count(data: Any, where: str) -> None:
+def _check_element_count(data: Any, where: str) -> None:
     """At most :data:`~chargedesign.limits.MAX_DESIGN_ELEMENTS` elements in a design.json
     mapping, counted from the list lengths before any number is converted or checked."""
     total = 0
