@@ -440,19 +440,6 @@ def check_field_degree(coefficients: Any, name: str) -> None:
 DESIGN_FIELD_KEYS = ("legendre",)
 
 
-def design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
-    """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
-    fields_in = data.get("fields") or {}
-    if not isinstance(fields_in, dict):
-        raise input_error(f"{where}.fields", "an object", fields_in)
-    out = {}
-    for kind, spec in fields_in.items():
-        if not isinstance(spec, dict) or "legendre" not in spec:
-            raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
-        out[kind] = spec["legendre"]
-    return out
-
-
 def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ()) -> None:
     """The whole of a design.json mapping, before the body is built from it.
 
@@ -642,7 +629,7 @@ def check_error_spreads(model: Any, prefix: str = "--") -> None:
             check_input_number(spread.value, f"{prefix}{name}")
 
 
-# ----------------------------------------------- the realise list and a design's frontier rates
+# -------------------------------------------------------------------- the realise list
 # Shared by several stages; a check that needs a figure one stage computes sits at that
 # stage's entry instead (docs/architecture.md).
 
@@ -658,18 +645,3 @@ def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
     if len(set(items)) != len(items):
         raise input_error(name, "no repeated items", items)
     return tuple(k for k in REALISABLE if k in items)
-
-
-def check_frontier_rates(frontier: Any, where: str = "") -> None:
-    """design.json's ``frontier.K_max`` (1/s) and ``frontier.s_max``: numbers >= 0 when given
-    (``where``: the file, prefixed to the message when given)."""
-    if not isinstance(frontier, Mapping):
-        return
-    prefix = f"{where}: " if where else ""
-    for key, expected in (("K_max", "a number >= 0 (1/s)"), ("s_max", "a number >= 0")):
-        value = frontier.get(key)
-        if value is None:
-            continue
-        number = as_finite_float(value, f"{prefix}frontier.{key}")
-        if number < 0:
-            raise input_error(f"{prefix}frontier.{key}", expected, value)
