@@ -16,13 +16,17 @@ The number rules (docs/reliability.md):
   :data:`PARAMETER_RANGES`, the scales the stability suite
   (tests/designer/test_stability.py) covers.
   Outside it the one-line error states the range and suggests rescaling the units.
+
+The checks here are the ones several modules share; a check one module alone makes, or one
+that needs a figure a stage computes, sits at that module's or stage's entry instead
+(docs/architecture.md).
 """
 
 from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -34,7 +38,7 @@ from chargedesign.limits import (
     MAX_DESIGN_ELEMENTS,
     MAX_FIELD_DEGREE,
 )
-from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
+from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -627,21 +631,3 @@ def check_error_spreads(model: Any, prefix: str = "--") -> None:
             )
         if not spread.relative:
             check_input_number(spread.value, f"{prefix}{name}")
-
-
-# -------------------------------------------------------------------- the realise list
-# Shared by several stages; a check that needs a figure one stage computes sits at that
-# stage's entry instead (docs/architecture.md).
-
-
-def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
-    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
-    if isinstance(realise, str) or not isinstance(realise, Iterable):
-        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
-    items = list(realise)
-    for item in items:
-        if item not in REALISABLE:
-            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
-    if len(set(items)) != len(items):
-        raise input_error(name, "no repeated items", items)
-    return tuple(k for k in REALISABLE if k in items)
