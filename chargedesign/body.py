@@ -5,7 +5,7 @@ fields; read and written as ``design.json`` (format ``chargedesign.design/1``, s
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -25,9 +25,7 @@ from chargedesign.validation import (
     as_finite_float,
     check_choice,
     check_design_numbers,
-    check_frontier_rates,
     check_instance,
-    design_fields,
     input_error,
 )
 from chargedesign.vocabulary import (
@@ -56,6 +54,34 @@ def check_design_head(data: Any, where: str) -> None:
         raise input_error(f"{where}.format", repr(DESIGN_FORMAT), found)
     if "parameters" not in data:
         raise InputError(f"{where}: missing key 'parameters'")
+
+
+def _check_frontier_rates(frontier: Any, where: str = "") -> None:
+    """design.json's ``frontier.K_max`` (1/s) and ``frontier.s_max``: numbers >= 0 when given
+    (``where``: the file, prefixed to the message when given)."""
+    if not isinstance(frontier, Mapping):
+        return
+    prefix = f"{where}: " if where else ""
+    for key, expected in (("K_max", "a number >= 0 (1/s)"), ("s_max", "a number >= 0")):
+        value = frontier.get(key)
+        if value is None:
+            continue
+        number = as_finite_float(value, f"{prefix}frontier.{key}")
+        if number < 0:
+            raise input_error(f"{prefix}frontier.{key}", expected, value)
+
+
+def _design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
+    """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
+    fields_in = data.get("fields") or {}
+    if not isinstance(fields_in, dict):
+        raise input_error(f"{where}.fields", "an object", fields_in)
+    out = {}
+    for kind, spec in fields_in.items():
+        if not isinstance(spec, dict) or "legendre" not in spec:
+            raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
+        out[kind] = spec["legendre"]
+    return out
 
 
 __all__ = [
@@ -263,9 +289,9 @@ class Design(ElementSet):
     @classmethod
     def from_dict(cls, data: Any, where: str = "design") -> Design:
         check_design_head(data, where)
-        check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
+        _check_frontier_rates(data.get("frontier"))  # the rates the K law reads (>= 0)
         params = Parameters.from_mapping(data["parameters"], f"{where}.parameters")
-        fields_out = design_fields(data, where)
+        fields_out = _design_fields(data, where)
 
         known = {"format", "parameters", "fields", "charges", "masses", "dipoles", "realises"}
         known |= {"continuous", "medium", "materials", "larmor", *RECORD_KEYS}

@@ -16,13 +16,17 @@ The number rules (docs/reliability.md):
   :data:`PARAMETER_RANGES`, the scales the stability suite
   (tests/designer/test_stability.py) covers.
   Outside it the one-line error states the range and suggests rescaling the units.
+
+The checks here are the ones several modules share; a check one module alone makes, or one
+that needs a figure a stage computes, sits at that module's or stage's entry instead
+(docs/architecture.md).
 """
 
 from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -34,7 +38,7 @@ from chargedesign.limits import (
     MAX_DESIGN_ELEMENTS,
     MAX_FIELD_DEGREE,
 )
-from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS, REALISABLE
+from chargedesign.vocabulary import FIELD_KINDS, MATERIAL_ERROR_KEYS
 
 #: largest magnitude of any number read from a file or the command line (SI units): beyond it
 #: a quantity is a units mistake, and eighth powers (moments up to order 8) would overflow
@@ -219,19 +223,6 @@ def check_choice(value: Any, choices: Sequence[Any], name: str) -> None:
     """Refuse a value outside ``choices`` in one line (``one of a, b, c``)."""
     if value not in choices:
         raise input_error(name, "one of " + ", ".join(str(c) for c in choices), value)
-
-
-# ------------------------------------------------------- a design's options, one against another
-
-
-def check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
-    """A part material's susceptibility, which cancelling the induced magnetisation needs."""
-    if susceptibility is None:
-        table = "carriers" if role == "carrier" else f"{role}s"
-        raise InputError(
-            f"{table}.susceptibility: cancelling the induced magnetisation needs the "
-            f"{role} material's susceptibility ({name} has none)"
-        )
 
 
 # --------------------------------------------------------------------- the input range
@@ -453,19 +444,6 @@ def check_field_degree(coefficients: Any, name: str) -> None:
 DESIGN_FIELD_KEYS = ("legendre",)
 
 
-def design_fields(data: Mapping[str, Any], where: str) -> dict[str, Any]:
-    """A design.json mapping's ``fields`` as ``{kind: legendre coefficients}`` (as written)."""
-    fields_in = data.get("fields") or {}
-    if not isinstance(fields_in, dict):
-        raise input_error(f"{where}.fields", "an object", fields_in)
-    out = {}
-    for kind, spec in fields_in.items():
-        if not isinstance(spec, dict) or "legendre" not in spec:
-            raise input_error(f"{where}.fields.{kind}", "an object with key 'legendre'", spec)
-        out[kind] = spec["legendre"]
-    return out
-
-
 def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ()) -> None:
     """The whole of a design.json mapping, before the body is built from it.
 
@@ -492,7 +470,7 @@ def check_design_numbers(data: Any, where: str, *, required: Sequence[str] = ())
                     else ""
                 )
             )
-    check_element_count(data, where)
+    _check_element_count(data, where)
     check_parameters_range(data.get("parameters"), f"{where}.parameters")
     fields = data.get("fields")
     if isinstance(fields, dict):
@@ -584,7 +562,7 @@ def _check_larmor_rate(larmor: Any, parameters: Any, where: str) -> None:
         )
 
 
-def check_element_count(data: Any, where: str) -> None:
+def _check_element_count(data: Any, where: str) -> None:
     """At most :data:`~chargedesign.limits.MAX_DESIGN_ELEMENTS` elements in a design.json
     mapping, counted from the list lengths before any number is converted or checked."""
     total = 0
@@ -653,36 +631,3 @@ def check_error_spreads(model: Any, prefix: str = "--") -> None:
             )
         if not spread.relative:
             check_input_number(spread.value, f"{prefix}{name}")
-
-
-# ----------------------------------------------- the realise list and a design's frontier rates
-# Shared by several stages; a check that needs a figure one stage computes sits at that
-# stage's entry instead (docs/architecture.md).
-
-
-def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
-    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
-    if isinstance(realise, str) or not isinstance(realise, Iterable):
-        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
-    items = list(realise)
-    for item in items:
-        if item not in REALISABLE:
-            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
-    if len(set(items)) != len(items):
-        raise input_error(name, "no repeated items", items)
-    return tuple(k for k in REALISABLE if k in items)
-
-
-def check_frontier_rates(frontier: Any, where: str = "") -> None:
-    """design.json's ``frontier.K_max`` (1/s) and ``frontier.s_max``: numbers >= 0 when given
-    (``where``: the file, prefixed to the message when given)."""
-    if not isinstance(frontier, Mapping):
-        return
-    prefix = f"{where}: " if where else ""
-    for key, expected in (("K_max", "a number >= 0 (1/s)"), ("s_max", "a number >= 0")):
-        value = frontier.get(key)
-        if value is None:
-            continue
-        number = as_finite_float(value, f"{prefix}frontier.{key}")
-        if number < 0:
-            raise input_error(f"{prefix}frontier.{key}", expected, value)

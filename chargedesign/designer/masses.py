@@ -32,11 +32,10 @@ from chargedesign.designer.physical_setup import (
 )
 from chargedesign.designer.system import polish_equal, relative_residual, row_scaled
 from chargedesign.designer.whole_inertia import CONVERGED, MAX_ROUNDS, Convergence, WholeTerms
-from chargedesign.errors import SolverError
+from chargedesign.errors import InputError, SolverError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.physical.induced import induced_rows
 from chargedesign.scene.physical import PhysicalSpec
-from chargedesign.validation import check_susceptibility
 
 
 # ------------------------------------------------------------------- magnets and masses
@@ -580,12 +579,22 @@ def similar_bodies() -> Iterator[SimilarBodies]:
         _SIMILAR.reset(token)
 
 
+def _check_susceptibility(susceptibility: Any, role: str, name: str) -> None:
+    """A part material's susceptibility, which cancelling the induced magnetisation needs."""
+    if susceptibility is None:
+        table = "carriers" if role == "carrier" else f"{role}s"
+        raise InputError(
+            f"{table}.susceptibility: cancelling the induced magnetisation needs the "
+            f"{role} material's susceptibility ({name} has none)"
+        )
+
+
 def _susceptibilities(spec: PhysicalSpec) -> dict[tuple[str, str], float]:
     """Each part material's susceptibility by (name, role); one line naming the table whose
     material has none."""
     chi = {}
     for part in (spec.carrier, spec.magnet, *spec.ballasts):
-        check_susceptibility(part.susceptibility, part.role, part.name)
+        _check_susceptibility(part.susceptibility, part.role, part.name)
         assert part.susceptibility is not None
         chi[part.name, part.role] = part.susceptibility
     return chi

@@ -33,7 +33,7 @@ from chargedesign.moment_conditions.mu import charges_for_mu
 from chargedesign.moment_conditions.potential import realise_degree, v_projection
 from chargedesign.moment_conditions.types import LinearCondition, LinearConditions
 from chargedesign.params import Parameters
-from chargedesign.validation import as_array, as_finite_float, input_error, validate_realise
+from chargedesign.validation import as_array, as_finite_float, input_error
 
 
 def _exact(value: float, exact: bool) -> Fraction:
@@ -95,6 +95,19 @@ def derive_conditions(
     _run_steps(ctx, given, goals)
     rederive = functools.partial(derive_conditions, params, fields, goals, exact=exact)
     return close_derivation(ctx, goals, rederive)
+
+
+def validate_realise(realise: Any, name: str) -> tuple[str, ...]:
+    """The validated ``realise`` items (known to REALISABLE, not repeated) as a tuple."""
+    if isinstance(realise, str) or not isinstance(realise, Iterable):
+        raise input_error(name, "a list of " + ", ".join(REALISABLE), realise)
+    items = list(realise)
+    for item in items:
+        if item not in REALISABLE:
+            raise input_error(name, "items among " + ", ".join(REALISABLE), item)
+    if len(set(items)) != len(items):
+        raise input_error(name, "no repeated items", items)
+    return tuple(k for k in REALISABLE if k in items)
 
 
 def validate_fields(fields: Any) -> dict[str, tuple[float, ...]]:

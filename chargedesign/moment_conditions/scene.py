@@ -8,10 +8,10 @@ from chargedesign.candidates import candidates_from_table
 from chargedesign.errors import ChargeDesignError
 from chargedesign.formatting import PLAIN, fmt
 from chargedesign.moment_conditions.constants import DEFAULT_LENGTH, REALISABLE
-from chargedesign.moment_conditions.derive import derive_conditions
+from chargedesign.moment_conditions.derive import derive_conditions, validate_realise
 from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.scene import Scene
-from chargedesign.validation import input_error, validate_realise
+from chargedesign.validation import input_error
 
 
 def realise_from_scene(scene: Scene) -> tuple[str, ...]:

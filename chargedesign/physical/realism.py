@@ -377,7 +377,7 @@ def _frontier_k(design: Any) -> tuple[float, str]:
     K = abs(design.parameters.K)
     if isinstance(frontier, dict):
         # the design.json reader refused a negative or non-finite rate
-        # (chargedesign.validation.check_frontier_rates)
+        # (Design.from_dict, chargedesign.body)
         if frontier.get("K_max") is not None:
             return float(frontier["K_max"]), "frontier.K_max"
         if frontier.get("s_max") is not None:
