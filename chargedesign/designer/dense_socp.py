@@ -495,11 +495,6 @@ class ShapedProgram:
         self.A, self.b = self.A[keep], self.b[keep]
         self.AtA = self.A.T @ self.A
 
-    @property
-    def G_soc_rows(self) -> np.ndarray:
-        """The cone rows as one ``(4 m, n)`` matrix."""
-        return self.G_soc.reshape(-1, self.c.size)
-
     def G_times(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``G x``, split into the linear rows and the cones ``(m, 4)``."""
         return self.G_lin @ x, self.columns.times(x)
