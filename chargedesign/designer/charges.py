@@ -193,7 +193,7 @@ def surface_check(
     """Largest surface field of each carrier over the safe field, and where it occurs.
 
     ``samples`` Fibonacci points per carrier, then a refinement around the largest one
-    (:func:`~chargedesign.physical.limits.local_cap`), so the maximum between samples is found.
+    (:func:`~chargedesign.physical.limits.local_caps`), so the maximum between samples is found.
     The fields are summed in each carrier's own coordinates
     (:func:`~chargedesign.physical.coulomb.sphere_fields`: its own charge exact); at the
     samples through the candidates' charge-free geometry, kept per candidate set

@@ -47,13 +47,9 @@ CHECK_SURFACE_SAMPLES = 1000
 REFINEMENTS = 4
 
 
-def local_cap(direction: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
-    """``n`` unit vectors within ``angle`` (rad) of ``direction``, plus the direction itself."""
-    return local_caps(np.asarray(direction, dtype=float)[None, :], angle, n)[0]
-
-
 def local_caps(directions: np.ndarray, angle: float, n: int = 48) -> np.ndarray:
-    """:func:`local_cap` around each of ``directions`` (shape (k, 3)): shape (k, n + 1, 3)."""
+    """Around each of ``directions`` (shape (k, 3)), the direction itself and ``n`` unit
+    vectors within ``angle`` (rad) of it, spread evenly over the cap: shape (k, n + 1, 3)."""
     d = directions / np.linalg.norm(directions, axis=1, keepdims=True)
     helper = np.where(
         (np.abs(d[:, 0]) < 0.9)[:, None], np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from chargedesign.physical.limits import local_cap, local_caps
+from chargedesign.physical.limits import local_caps
 
 
 def test_caps_are_unit_vectors_within_the_angle_filling_it():
@@ -17,4 +17,3 @@ def test_caps_are_unit_vectors_within_the_angle_filling_it():
         np.testing.assert_allclose(np.linalg.norm(cap, axis=1), 1.0, rtol=0, atol=1e-15)
         angles = np.arccos(np.clip(cap @ unit, -1, 1))
         assert angles.max() <= 0.2 + 1e-12 and angles.max() > 0.9 * 0.2  # reaches the rim
-    assert local_cap(directions[3], 0.2).shape == (49, 3)
