@@ -29,6 +29,7 @@ import numpy as np
 from chargedesign.errors import InfeasibleError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.limits import close_pairs
 from chargedesign.simulation.integrate import solve
 from chargedesign.topology.chambers import LevelSampler, LevelSampling
 from chargedesign.topology.compute import make_scales, resolve_range
@@ -265,12 +266,12 @@ TORUS_JOIN = 3.0
 
 
 def _hosted_tilt(points: np.ndarray, axis: np.ndarray, join: float) -> float:
-    """The least, over the tori among ``points`` (scaled states), of their largest tilt."""
+    """The least, over the tori among ``points`` (scaled states), of their largest tilt: a
+    torus is a component of the points at most ``join`` apart (:func:`close_pairs`)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
 
-    pairs = cKDTree(points).query_pairs(join, output_type="ndarray")
+    pairs = close_pairs(points, join)
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(points),) * 2)
     count, labels = connected_components(graph, directed=False)
     tilts = tilt_deg(axis, points[:, 3:6] / np.linalg.norm(points[:, 3:6], axis=1, keepdims=True))

@@ -280,16 +280,30 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
     return centres, radii
 
 
-def close_pairs(centres: np.ndarray, reach: float) -> np.ndarray:
-    """Index pairs ``(i, j)``, ``i < j``, of the centres at most ``reach`` apart, shape (k, 2),
-    in lexicographic order.
+#: up to this many points :func:`close_pairs` compares blocks of rows in numpy (the limits
+#: check's parts, and the check command then loads no scipy); beyond, scipy's KD-tree (the
+#: testbed's level sets, up to about 1,200 states: docs/benchmarks.md), the same pairs
+PAIRS_BY_BLOCKS_MAX = 256
 
-    ``centres`` has shape (p, 3), m; ``reach`` m. Blocks of rows against the rows after them
-    in numpy, a few MB at a time: the check command then loads no scipy at all
-    (``scipy.spatial.cKDTree``, used here before, cost about 0.5 s of CPU to import, a third
-    of the whole check of the default design; docs/benchmarks.md).
+
+def close_pairs(centres: np.ndarray, reach: float) -> np.ndarray:
+    """Index pairs ``(i, j)``, ``i < j``, of the points at most ``reach`` apart (``<=``),
+    shape (k, 2), in lexicographic order.
+
+    ``centres`` has shape (p, d): the parts' centres (m, ``reach`` m), or the testbed's scaled
+    states (d = 6, :mod:`chargedesign.airbearing.bearing`). A pair is in when the squares of
+    its differences, summed in axis order, are at most ``reach * reach``: so the numpy blocks
+    (a few MB of differences at a time; ``scipy.spatial``, used here before, cost about 0.5 s
+    of CPU to import, a third of the whole check of the default design) and the KD-tree's
+    ``query_pairs`` beyond :data:`PAIRS_BY_BLOCKS_MAX` points find the same pairs, ties
+    included (tests/physical/test_overlap.py).
     """
     n = len(centres)
+    if n > PAIRS_BY_BLOCKS_MAX:
+        from scipy.spatial import cKDTree
+
+        pairs = cKDTree(centres).query_pairs(reach, output_type="ndarray")
+        return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
     block = max(1, 2**17 // max(n, 1))
     found = []
     for start in range(0, n - 1, block):

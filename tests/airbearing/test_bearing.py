@@ -11,9 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from scipy.spatial import cKDTree
 from testbed_scene import EXAMPLE, SMALL
 
 from chargedesign.airbearing.bearing import (
+    TORUS_JOIN,
     best_axis,
     clear_of_cone,
     fitting_starts,
@@ -24,6 +26,7 @@ from chargedesign.cli import main
 from chargedesign.errors import InputError
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.physical.limits import close_pairs
 from chargedesign.scene.testbed import TestbedOptions
 
 TINY = [
@@ -188,6 +191,37 @@ def test_the_tilt_map_agrees_with_the_integrated_planned_motions(written: dict) 
         H = evaluators.integrals(np.array(motion["initial_state"]), params)[0]
         assert h[0] - (h[1] - h[0]) <= H <= h[-1]
         assert abs(np.interp(H, h, top) - motion["tilt_max_deg"]) < 4.0
+
+
+def test_the_tori_are_joined_by_every_pair_of_points_at_most_the_join_apart() -> None:
+    """The tilt map splits a level's points into tori by :func:`close_pairs` (once a kd-tree's
+    ``query_pairs``): on scaled states (omega in a cube, gamma on the sphere) with pairs planted
+    exactly at the join and one rounding step beyond it, the pairs are those of the whole
+    distance matrix with ``<=`` (the tie in, the next one out), in lexicographic order, and the
+    kd-tree's set."""
+    rng = np.random.default_rng(39)
+    gamma = rng.normal(size=(600, 3))
+    points = np.concatenate(
+        [rng.uniform(-1, 1, (600, 3)), gamma / np.linalg.norm(gamma, axis=1, keepdims=True)], axis=1
+    )
+    join = TORUS_JOIN * 2.0**-4  # a grid spacing that keeps the planted distances exact
+    tie = np.array([0.5, 0.0, 0.0, 0.0, 0.0, 1.0])
+    at = tie.copy()
+    at[0] += join  # exactly the join from the tie
+    beyond = np.array([0.5, 0.5, 0.0, 0.0, 0.0, 1.0])
+    past = beyond.copy()
+    past[1] = np.nextafter(0.5 + join, 1.0)  # the least float farther than the join
+    points = np.concatenate([points, [tie, at, beyond, past]])
+    d2 = np.sum((points[:, None] - points[None]) ** 2, axis=2)
+    i, j = np.nonzero(np.triu(d2 <= join * join, k=1))
+    n = len(points)
+    assert d2[n - 4, n - 3] == join * join and d2[n - 2, n - 1] > join * join
+    pairs = close_pairs(points, join)
+    assert np.array_equal(pairs, np.stack([i, j], axis=1))
+    assert [n - 4, n - 3] in pairs.tolist() and [n - 2, n - 1] not in pairs.tolist()
+    assert {tuple(p) for p in cKDTree(points).query_pairs(join, output_type="ndarray")} == {
+        tuple(p) for p in pairs
+    }
 
 
 def test_a_full_sphere_holds_a_tumbling_start_and_reports_its_own_limits() -> None:

@@ -1,6 +1,6 @@
 """Parts do not overlap: the limits check finds every pair of part spheres closer than their
-radii, by :func:`chargedesign.physical.limits.close_pairs` (numpy; it replaced a kd-tree so
-that the check command loads no scipy)."""
+radii, by :func:`chargedesign.physical.limits.close_pairs` (numpy blocks for a body's parts,
+so that the check command loads no scipy; scipy's KD-tree for the testbed's larger sets)."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from physical.test_buildable import SMALL
 
 from chargedesign.body import Design
 from chargedesign.designer import design_from_scene
+from chargedesign.physical import limits
 from chargedesign.physical.limits import check_limits, close_pairs, part_radii
 from chargedesign.scene import load_scene
 
@@ -25,8 +26,28 @@ def test_close_pairs_are_every_pair_within_reach_in_order(n, reach):
     assert np.array_equal(close_pairs(centres, reach), np.stack([i, j], axis=1))
 
 
+@pytest.mark.parametrize("shift", [0.0, 1e4])
+@pytest.mark.parametrize("n", [200, 300])  # either side of PAIRS_BY_BLOCKS_MAX
+def test_close_pairs_keep_a_pair_exactly_at_reach_far_from_the_origin(shift, n, monkeypatch):
+    # a quarter-metre lattice: many distances are exactly the reach, in any dimension; the
+    # numpy blocks and the KD-tree find the same pairs, ties included
+    rng = np.random.default_rng(7)
+    for dim in (1, 3, 6):
+        centres = np.round(rng.normal(size=(n, dim))) / 4 + shift
+        d2 = np.sum((centres[:, None] - centres[None]) ** 2, axis=2)
+        i, j = np.nonzero(np.triu(d2 <= 0.25**2, k=1))
+        assert np.any(d2[i, j] == 0.25**2)
+        expected = np.stack([i, j], axis=1)
+        assert np.array_equal(close_pairs(centres, 0.25), expected)
+        for largest in (0, 10**6):  # every set to the tree, every set to the blocks
+            monkeypatch.setattr(limits, "PAIRS_BY_BLOCKS_MAX", largest)
+            assert np.array_equal(close_pairs(centres, 0.25), expected)
+        monkeypatch.undo()
+
+
 def test_close_pairs_of_one_centre_is_empty():
     assert close_pairs(np.zeros((1, 3)), 1.0).shape == (0, 2)
+    assert close_pairs(np.zeros((0, 3)), 1.0).shape == (0, 2)
 
 
 @pytest.fixture(scope="module")
