@@ -21,6 +21,7 @@ import numpy as np
 
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PLAIN, fmt
+from chargedesign.physical.limits import overlapping_pairs
 from chargedesign.scene.testbed import TestbedOptions
 
 #: the upper triangle of a symmetric 3x3 matrix (row, column)
@@ -294,11 +295,9 @@ def check_fit(
             "envelope; give a denser ballast_material, a larger platform_radius_m or a smaller "
             "ballast_spacing_m"
         )
-    d = np.linalg.norm(ballast.positions[:, None] - ballast.positions[None], axis=-1)
-    touch = d < ballast.radii[:, None] + ballast.radii[None]
-    np.fill_diagonal(touch, False)
-    if touch.any():
-        i, j = (int(x) for x in np.argwhere(touch)[0])
+    touching, _ = overlapping_pairs(ballast.positions, ballast.radii)
+    if len(touching):
+        i, j = (int(x) for x in touching[0])
         raise InfeasibleError(
             f"testbed: ballast parts {i} and {j} overlap; give a denser ballast_material or a "
             "larger ballast_spacing_m"

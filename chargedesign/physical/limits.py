@@ -316,6 +316,22 @@ def close_pairs(centres: np.ndarray, reach: float) -> np.ndarray:
     return np.concatenate(found) if found else np.empty((0, 2), dtype=np.intp)
 
 
+def overlapping_pairs(
+    centres: np.ndarray, radii: np.ndarray, slack: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of spheres (``centres`` (p, 3), ``radii`` (p,), m) that overlap by more than
+    ``slack`` of their centres' distance, ``(i, j)`` with ``i < j`` in lexicographic order,
+    shape (k, 2), and their overlaps ``r_i + r_j - d``, m, shape (k,): the limits check's
+    parts and the testbed's ballast."""
+    if len(centres) < 2:
+        return np.empty((0, 2), dtype=np.intp), np.zeros(0)
+    pairs = close_pairs(centres, 2.0 * float(radii.max()))
+    d = np.linalg.norm(centres[pairs[:, 0]] - centres[pairs[:, 1]], axis=1)
+    gap = d - radii[pairs[:, 0]] - radii[pairs[:, 1]]
+    bad = gap < -slack * d
+    return pairs[bad], -gap[bad]
+
+
 def _demagnetised(design: Any, magnet: dict[str, Any], volumes: np.ndarray) -> list[str]:
     """A magnet in a field beyond what its material withstands loses its magnetisation.
 
@@ -367,15 +383,10 @@ def check_limits(design: Any, samples: int = CHECK_SURFACE_SAMPLES) -> LimitsRep
     if len(point_carriers):
         violations.append(f"charge {point_carriers[0]}: a point charge has no carrier")
     centres, part_r = part_radii(design)
-    if len(centres) > 1:
-        pairs = close_pairs(centres, 2.0 * float(part_r.max()))
-        if len(pairs):
-            d = np.linalg.norm(centres[pairs[:, 0]] - centres[pairs[:, 1]], axis=1)
-            gap = d - part_r[pairs[:, 0]] - part_r[pairs[:, 1]]
-            bad = gap < -ROUNDING_SLACK * d
-            if np.any(bad):
-                i, j = pairs[np.flatnonzero(bad)[0]]
-                violations.append(f"parts {i} and {j} overlap ({fmt(-gap[bad][0])} m)")
+    pairs, overlaps = overlapping_pairs(centres, part_r, slack=ROUNDING_SLACK)
+    if len(pairs):
+        i, j = pairs[0]
+        violations.append(f"parts {i} and {j} overlap ({fmt(overlaps[0])} m)")
     magnet = design.materials.get("magnet")
     if magnet is not None and len(design.dipole_moments):
         need = (

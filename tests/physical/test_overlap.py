@@ -50,6 +50,29 @@ def test_close_pairs_of_one_centre_is_empty():
     assert close_pairs(np.zeros((0, 3)), 1.0).shape == (0, 2)
 
 
+@pytest.mark.parametrize("n", [60, 400])  # either side of PAIRS_BY_BLOCKS_MAX
+def test_overlapping_pairs_are_the_spheres_closer_than_their_radii(n):
+    """The limits check's parts and the testbed's ballast: against the whole distance matrix,
+    strictly closer than ``r_i + r_j`` (touching is no overlap), with their overlaps, and a
+    slack of the distance forgiven."""
+    rng = np.random.default_rng(n)
+    centres = rng.uniform(-0.5, 0.5, size=(n, 3))
+    radii = rng.uniform(0.05, 0.15, size=n)
+    # two spheres touching exactly, away from the rest: no overlap
+    centres[:2], radii[:2] = [[2.0, 2.0, 2.0], [2.25, 2.0, 2.0]], 0.125
+    d = np.linalg.norm(centres[:, None] - centres[None], axis=2)
+    gap = d - radii[:, None] - radii[None]
+    i, j = np.nonzero(np.triu(gap < 0, k=1))
+    pairs, overlaps = limits.overlapping_pairs(centres, radii)
+    assert len(i) > 0 and np.array_equal(pairs, np.stack([i, j], axis=1))
+    np.testing.assert_array_equal(overlaps, -gap[i, j])
+    assert [0, 1] not in pairs.tolist()
+    forgiven, _ = limits.overlapping_pairs(centres, radii, slack=0.1)
+    i, j = np.nonzero(np.triu(gap < -0.1 * d, k=1))
+    assert len(i) < len(pairs) and np.array_equal(forgiven, np.stack([i, j], axis=1))
+    assert limits.overlapping_pairs(centres[:1], radii[:1])[0].shape == (0, 2)
+
+
 @pytest.fixture(scope="module")
 def small_design() -> Design:
     return design_from_scene(load_scene(SMALL), frontier=False).design
