@@ -282,7 +282,8 @@ def part_radii(design: Any) -> tuple[np.ndarray, np.ndarray]:
 
 #: up to this many points :func:`close_pairs` compares blocks of rows in numpy (the limits
 #: check's parts, and the check command then loads no scipy); beyond, scipy's KD-tree (the
-#: testbed's level sets, up to about 1,200 states: docs/benchmarks.md), the same pairs
+#: testbed's level sets, up to about 1,200 states; docs/benchmarks.md, "Close pairs"), the
+#: same pairs
 PAIRS_BY_BLOCKS_MAX = 256
 
 
