@@ -163,7 +163,7 @@ class DirectKernel:
             Unit vectors of space Z in body axes.
         """
         D, M = self.terms(gamma)
-        return _cross(gamma, D) + _cross(M, omega)
+        return cross(gamma, D) + cross(M, omega)
 
     def scalar_function(self) -> Callable[[float, float, float], list[float]]:
         """``(g1, g2, g3) -> [D1, D2, D3, M1, M2, M3]`` for one state, in Python floats.
@@ -237,7 +237,9 @@ def _horner(coefficients: np.ndarray, Z: np.ndarray) -> np.ndarray:
     return v
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (..., 3) arrays, components written out (faster than np.cross);
+    the one of the simulation's numpy routes (system, this kernel, the tolerance ensemble)."""
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]

@@ -211,7 +211,6 @@ class PolynomialBank:
         for col, p in enumerate(polys):
             for e, c in p.items():
                 self.coefficients[index[e], col] = c
-        self._e = [self.exponents[:, a] for a in range(3)]
         self._exps = [tuple(int(x) for x in e) for e in self.exponents]
 
     def monomials(self, g1: float, g2: float, g3: float) -> list[float]:
@@ -225,10 +224,16 @@ class PolynomialBank:
 
     def __call__(self, gammas: np.ndarray) -> np.ndarray:
         """Values at ``gammas``, ndarray shape (m, 3) -> ndarray shape (m, len(polys))."""
-        m = gammas.shape[0]
-        powers = np.empty((m, self.degree + 1, 3))
-        powers[:, 0, :] = 1.0
-        for d in range(1, self.degree + 1):
-            np.multiply(powers[:, d - 1, :], gammas, out=powers[:, d, :])
-        mono = powers[:, self._e[0], 0] * powers[:, self._e[1], 1] * powers[:, self._e[2], 2]
-        return mono @ self.coefficients
+        return monomial_values(gammas, self.exponents, self.degree) @ self.coefficients
+
+
+def monomial_values(gammas: np.ndarray, exponents: np.ndarray, degree: int) -> np.ndarray:
+    """The monomials ``gamma^e`` of the rows ``e`` of ``exponents`` (K, 3), all of degree
+    <= ``degree``, at ``gammas`` (m, 3): ndarray shape (m, K)."""
+    m = gammas.shape[0]
+    powers = np.empty((m, degree + 1, 3))
+    powers[:, 0, :] = 1.0
+    for d in range(1, degree + 1):
+        np.multiply(powers[:, d - 1, :], gammas, out=powers[:, d, :])
+    e = exponents
+    return powers[:, e[:, 0], 0] * powers[:, e[:, 1], 1] * powers[:, e[:, 2], 2]

@@ -51,7 +51,7 @@ from chargedesign.physical.parasitics import eddy_torque
 from chargedesign.scene.simulation import check_effect_names
 from chargedesign.simulation import polynomials as poly
 from chargedesign.simulation.body import Body as Body  # the type lives below the kernel
-from chargedesign.simulation.direct import DirectKernel
+from chargedesign.simulation.direct import DirectKernel, cross
 
 #: every effect a scene may call for
 from chargedesign.vocabulary import EFFECTS as EFFECTS
@@ -78,17 +78,6 @@ OPT_IN_EFFECTS = ("induced", "eddy")
 DISSIPATIVE_EFFECTS = ("eddy",)
 #: column layout of the reduced polynomial bank
 _V, _DV, _MU, _L = 0, slice(1, 4), slice(4, 7), 7
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (..., 3) arrays, components written out (faster than np.cross)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
 
 
 def quaternion_rotation(quats: np.ndarray) -> np.ndarray:
@@ -171,6 +160,35 @@ def attitude_from_gamma(gamma: np.ndarray, precession: float = 0.0) -> np.ndarra
     c, s = np.cos(precession), np.sin(precession)
     Rz = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     return Rz @ R
+
+
+def state_derivatives(
+    states: np.ndarray, torque: np.ndarray, C: float, inertia: np.ndarray | None = None
+) -> np.ndarray:
+    """``(p, q, r, w, x, y, z)'`` of states (m, 7) under torques (m, 3) (body axes, N m).
+
+    Euler's equations ``I omega' = (I omega) x omega + N`` with ``I = diag(2C, 2C, C)``, or
+    the principal moments ``inertia = (A, B, C)`` given (kg m^2), and the quaternion's
+    ``1/2 quaternion * (0, omega)``: the numpy form of every batched right-hand side.
+    """
+    omega = states[:, :3]
+    N = torque
+    p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
+    out = np.empty_like(states)
+    if inertia is not None:
+        # I omega' = (I omega) x omega + N with I = diag(A, B, C)
+        out[:, :3] = (cross(omega * inertia, omega) + N) / inertia
+    else:
+        # I omega' = (I omega) x omega + N with I = diag(2C, 2C, C)
+        out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
+        out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
+        out[:, 2] = N[:, 2] / C
+    w, x, y, z = states[:, 3], states[:, 4], states[:, 5], states[:, 6]
+    out[:, 3] = -0.5 * (x * p + y * q + z * r)
+    out[:, 4] = 0.5 * (w * p + y * r - z * q)
+    out[:, 5] = 0.5 * (w * q + z * p - x * r)
+    out[:, 6] = 0.5 * (w * r + x * q - y * p)
+    return out
 
 
 def body_mass_points(body: Body) -> tuple[np.ndarray, np.ndarray]:
@@ -487,27 +505,8 @@ class RigidBodySystem:
 
     def derivatives(self, states: np.ndarray) -> np.ndarray:
         """Right-hand side for states ``(p, q, r, w, x, y, z)``, ndarray (m, 7) -> (m, 7)."""
-        omega = states[:, :3]
-        quats = states[:, 3:]
-        gamma = quaternion_gamma(quats)
-        N = self.torque(omega, gamma)
-        C = self.C
-        p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
-        out = np.empty_like(states)
-        if self.general_inertia:
-            # I omega' = (I omega) x omega + N with I = diag(A, B, C)
-            out[:, :3] = (_cross(omega * self.inertia, omega) + N) / self.inertia
-        else:
-            # I omega' = (I omega) x omega + N with I = diag(2C, 2C, C)
-            out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
-            out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
-            out[:, 2] = N[:, 2] / C
-        w, x, y, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
-        out[:, 3] = -0.5 * (x * p + y * q + z * r)
-        out[:, 4] = 0.5 * (w * p + y * r - z * q)
-        out[:, 5] = 0.5 * (w * q + z * p - x * r)
-        out[:, 6] = 0.5 * (w * r + x * q - y * p)
-        return out
+        N = self.torque(states[:, :3], quaternion_gamma(states[:, 3:]))
+        return state_derivatives(states, N, self.C, self.inertia if self.general_inertia else None)
 
     def rhs_function(self, batch: int = 1) -> Callable[[float, np.ndarray], np.ndarray]:
         """``fun(t, y)`` for solve_ivp: ``y`` of shape (7 batch,) laid out as (batch, 7).
@@ -637,7 +636,7 @@ class RigidBodySystem:
 
 def _reduced_torque(values: np.ndarray, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
     """``gamma x dV/dgamma + mu x omega`` from bank columns (m, 8)."""
-    return _cross(gamma, values[:, _DV]) + _cross(values[:, _MU], omega)
+    return cross(gamma, values[:, _DV]) + cross(values[:, _MU], omega)
 
 
 def reduced_polynomials(body: Body, *effects: str) -> list[poly.GammaPoly]:
@@ -735,8 +734,8 @@ def direct_terms(
     grad = fld.gradient(flat).reshape(m, n, 3)
     if effect == "lorentz":
         omega_space = np.einsum("mij,mj->mi", rotation, omega)
-        velocity = _cross(omega_space[:, None, :], X)
-        force = w[None, :, None] * _cross(velocity, -grad)
+        velocity = cross(omega_space[:, None, :], X)
+        force = w[None, :, None] * cross(velocity, -grad)
         momentum = fld.flux_function(flat).reshape(m, n) @ w
         energy = zeros
     elif effect == "magnetization":
@@ -744,10 +743,10 @@ def direct_terms(
         B = -grad
         hess = fld.hessian(flat).reshape(m, n, 3, 3)
         force = -np.einsum("mkij,mkj->mki", hess, sigma)  # grad(sigma . B) = -H sigma
-        couple = _cross(sigma, B).sum(axis=1)
+        couple = cross(sigma, B).sum(axis=1)
         energy = -np.einsum("mki,mki->m", sigma, B)
         momentum = zeros
-        torque_space = _cross(X, force).sum(axis=1) + couple
+        torque_space = cross(X, force).sum(axis=1) + couple
         return np.einsum("mji,mj->mi", rotation, torque_space), energy, momentum
     elif effect == "induced":
         # U = -w |grad Phi|^2 / (2 mu0): F = -grad U = (w / mu0) H grad Phi
@@ -759,7 +758,7 @@ def direct_terms(
         force = -w[None, :, None] * grad
         energy = fld.potential(flat).reshape(m, n) @ w
         momentum = zeros
-    torque_space = _cross(X, force).sum(axis=1)
+    torque_space = cross(X, force).sum(axis=1)
     return np.einsum("mji,mj->mi", rotation, torque_space), energy, momentum
 
 
@@ -799,7 +798,7 @@ class _TheoremTerms:
     def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
         grad = self._batch("potential_gradient", gamma)
         mu = self._batch("gyroscopic", gamma)
-        return _cross(gamma, grad) + _cross(mu, omega)
+        return cross(gamma, grad) + cross(mu, omega)
 
     def energy(self, gamma: np.ndarray) -> np.ndarray:
         return self._batch("potential", gamma)[:, 0]
@@ -829,7 +828,7 @@ class _CaseTerms:
 
     def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
         grad = self.functions.potential_gradient(gamma)
-        return _cross(gamma, grad) + _cross(self.functions.gyroscopic(gamma), omega)
+        return cross(gamma, grad) + cross(self.functions.gyroscopic(gamma), omega)
 
     def energy(self, gamma: np.ndarray) -> np.ndarray:
         return np.asarray(self.functions.potential(gamma), dtype=float)

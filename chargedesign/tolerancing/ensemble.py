@@ -14,14 +14,16 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.simulation import api
+from chargedesign.simulation.direct import cross
 from chargedesign.simulation.integrate import integrate
-from chargedesign.simulation.polynomials import PolynomialBank
+from chargedesign.simulation.polynomials import PolynomialBank, monomial_values
 from chargedesign.simulation.system import (
     Body,
     RigidBodySystem,
     quaternion_gamma,
     reduced_polynomials,
     select_effects,
+    state_derivatives,
     theorem_i4,
 )
 from chargedesign.tolerancing.common import DEFAULT_RTOL, DEFAULT_T_END
@@ -51,48 +53,22 @@ class _Ensemble:
 
     def monomials(self, gamma: np.ndarray) -> np.ndarray:
         """Basis monomials at gammas (m, 3): shape (m, K)."""
-        m = len(gamma)
-        powers = np.empty((m, self.degree + 1, 3))
-        powers[:, 0, :] = 1.0
-        for d in range(1, self.degree + 1):
-            np.multiply(powers[:, d - 1, :], gamma, out=powers[:, d, :])
-        e = self.exponents
-        return powers[:, e[:, 0], 0] * powers[:, e[:, 1], 1] * powers[:, e[:, 2], 2]
+        return monomial_values(gamma, self.exponents, self.degree)
 
     def torque(self, omega: np.ndarray, gamma: np.ndarray) -> np.ndarray:
         """Torque of body b at state b: omega, gamma (B, 3) -> (B, 3)."""
         v = np.matmul(self.monomials(gamma)[:, None, :], self.coef)[:, 0]
-        return _cross(gamma, v[:, 0:3]) + _cross(v[:, 3:6], omega)
+        return cross(gamma, v[:, 0:3]) + cross(v[:, 3:6], omega)
 
     def rhs_function(self, batch: int = 1) -> Any:
         C = self.C
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
             states = y.reshape(batch, 7)
-            omega, quats = states[:, :3], states[:, 3:]
-            N = self.torque(omega, quaternion_gamma(quats))
-            p, q, r = omega[:, 0], omega[:, 1], omega[:, 2]
-            w, x, yq, z = quats[:, 0], quats[:, 1], quats[:, 2], quats[:, 3]
-            out = np.empty_like(states)
-            out[:, 0] = 0.5 * q * r + N[:, 0] / (2.0 * C)
-            out[:, 1] = -0.5 * p * r + N[:, 1] / (2.0 * C)
-            out[:, 2] = N[:, 2] / C
-            out[:, 3] = -0.5 * (x * p + yq * q + z * r)
-            out[:, 4] = 0.5 * (w * p + yq * r - z * q)
-            out[:, 5] = 0.5 * (w * q + z * p - x * r)
-            out[:, 6] = 0.5 * (w * r + x * q - yq * p)
-            return out.reshape(-1)
+            N = self.torque(states[:, :3], quaternion_gamma(states[:, 3:]))
+            return state_derivatives(states, N, C).reshape(-1)
 
         return fun
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of (m, 3) arrays."""
-    out = np.empty_like(a)
-    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
-    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
-    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    return out
 
 
 def _physical_effects(body: Any) -> list[str]:

@@ -45,7 +45,7 @@ class ErrorModel:
         mass: Any = None,
     ) -> ErrorModel:
         def one(v: Any, name: str, length: bool = False) -> Spread:
-            return Spread(0.0, False) if v is None else parse_spread(v, name, length)
+            return NO_SPREAD if v is None else parse_spread(v, name, length)
 
         return cls(
             one(position, "--position", True),
@@ -126,22 +126,23 @@ def perturbed_arrays(el: ElementSet, model: ErrorModel, n: int, rng: np.random.G
     return out
 
 
+def element_rows(el: ElementSet, arrays: Mapping[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Arrays keyed as :data:`DRAWN_ARRAYS` (leading axes allowed) as one row per element,
+    charges, then dipoles, then masses (the Jacobians' order): positions (..., N, 3) and
+    values (..., N, 3), a charge's or a mass's in column 0, a dipole moment's in all three."""
+    nc, nd = len(el.charge_values), len(el.dipole_moments)
+    pos = np.concatenate([arrays["cp"], arrays["dp"], arrays["mp"]], axis=-2)
+    val = np.zeros(pos.shape)
+    val[..., :nc, 0] = arrays["cv"]
+    val[..., nc : nc + nd, :] = arrays["dm"]
+    val[..., nc + nd :, 0] = arrays["mv"]
+    return pos, val
+
+
 def linear_errors(jac: Jacobians, el: ElementSet, draws: Mapping[str, np.ndarray]) -> dict:
     """First-order change of each quantity: dict of (B, m, d) arrays."""
-    nc, nd = len(el.charge_values), len(el.dipole_moments)
-    dpos = np.concatenate(
-        [
-            draws["cp"] - el.charge_positions,
-            draws["dp"] - el.dipole_positions,
-            draws["mp"] - el.mass_positions,
-        ],
-        axis=1,
-    )  # (B, N, 3)
-    B, N = dpos.shape[0], dpos.shape[1]
-    dval = np.zeros((B, N, 3))
-    dval[:, :nc, 0] = draws["cv"] - el.charge_values
-    dval[:, nc : nc + nd, :] = draws["dm"] - el.dipole_moments
-    dval[:, nc + nd :, 0] = draws["mv"] - el.mass_values
+    changes = {key: draws[key] - getattr(el, name) for key, name in DRAWN_ARRAYS}
+    dpos, dval = element_rows(el, changes)  # (B, N, 3) each
     return {
         q: np.einsum("nmdc,bnc->bmd", jac.position[q], dpos)
         + np.einsum("nmdc,bnc->bmd", jac.value[q], dval)

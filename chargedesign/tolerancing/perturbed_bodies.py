@@ -48,6 +48,7 @@ from chargedesign.tolerancing.element_tolerances import (
 from chargedesign.tolerancing.ensemble import linear_drift, simulate_ensemble
 from chargedesign.tolerancing.error_model import (
     ErrorModel,
+    element_rows,
     linear_errors,
     perturbed_arrays,
     standard_deviations,
@@ -240,13 +241,7 @@ def error_distribution(
         done += k
         if tally is not None:
             tally(done)
-    sig = standard_deviations(el, model)
-    spos = np.concatenate([sig["cp"], sig["dp"], sig["mp"]])  # (N, 3)
-    sval = np.zeros_like(spos)
-    nc, nd = len(el.charge_values), len(el.dipole_moments)
-    sval[:nc, 0] = sig["cv"]
-    sval[nc : nc + nd] = sig["dm"]
-    sval[nc + nd :, 0] = sig["mv"]
+    spos, sval = element_rows(el, standard_deviations(el, model))  # (N, 3) each
     out: dict[str, dict[str, Any]] = {}
     for q in QUANTITIES:
         var = np.einsum("nmdc,nc->md", jac.position[q] ** 2, spos**2) + np.einsum(
