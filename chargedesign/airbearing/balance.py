@@ -26,11 +26,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from chargedesign.airbearing.dynamics import Plant, cross
+from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.platform import Ballast
 from chargedesign.body import Design
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.sensitivity import jacobians
+from chargedesign.simulation.direct import cross
 
 
 def _cumulative(times: np.ndarray, rate: np.ndarray) -> np.ndarray:

@@ -30,12 +30,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from chargedesign.airbearing.dynamics import CaseModel, Plant, cross, invariants
+from chargedesign.airbearing.dynamics import CaseModel, Plant, invariants
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.simulation.direct import cross
 from chargedesign.simulation.integrate import solve
 
 #: the longest fixed DOP853 step, in units of 1 / (the motion's fastest rate): local errors
