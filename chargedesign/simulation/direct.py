@@ -239,7 +239,8 @@ def _horner(coefficients: np.ndarray, Z: np.ndarray) -> np.ndarray:
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (..., 3) arrays, components written out (faster than np.cross);
-    the one of the simulation's numpy routes (system, this kernel, the tolerance ensemble)."""
+    the one of the numpy routes (the simulation's system and this kernel, the tolerance ensemble,
+    the testbed)."""
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
