@@ -24,6 +24,7 @@ from chargedesign.scene.design_realism import (
     INDUCED_KEY,
     RealismRecord,
 )
+from chargedesign.verdict import recorded_window
 
 
 @dataclass(frozen=True)
@@ -201,7 +202,7 @@ class CaseRecord:
             independent=bool(certificate.get("independent")),
             checks=CaseChecks.from_dict(checks) if checks else None,
             realism=CaseRealism.from_dict(realism) if realism else None,
-            window=RealisedWindow.from_dict(realised) if realised else None,
+            window=recorded_window(realised),
         )
 
 
