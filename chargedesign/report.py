@@ -403,10 +403,11 @@ TERMINAL_WIDTH = 160
 SUMMARY_LINES = 40
 
 
-def _wrapped(text: str, width: int = TERMINAL_WIDTH, indent: str = "  ") -> list[str]:
-    """One paragraph wrapped to ``width`` characters (continuation lines indented)."""
+def _wrapped(text: str) -> list[str]:
+    """One paragraph wrapped to :data:`TERMINAL_WIDTH` characters (continuation lines
+    indented)."""
     return textwrap.wrap(
-        " ".join(text.split()), width, subsequent_indent=indent, break_on_hyphens=False
+        " ".join(text.split()), TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False
     ) or [""]
 
 

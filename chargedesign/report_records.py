@@ -64,12 +64,7 @@ class Cancellation:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Cancellation:
-        return cls(
-            forward_error=data["forward_error"],
-            quantity=data["quantity"],
-            term=data["term"],
-            amplification=data["amplification"],
-        )
+        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True)
@@ -445,13 +440,7 @@ class MagnetSpan(PartSpan):
     def read(cls, data: dict[str, Any] | None) -> MagnetSpan | None:
         if not data:
             return None
-        return cls(
-            data["count"],
-            data["smallest_m"],
-            data["largest_m"],
-            below=data["below"],
-            continuum_size_m=data["continuum_size_m"],
-        )
+        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True)
