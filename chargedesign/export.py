@@ -303,20 +303,20 @@ def _header(design: Design) -> dict[str, Any]:
 
 
 def _write_csv(design: Design, path: Path) -> None:
-    header = {k: v for k, v in _header(design).items()}
+    header = _header(design)
     header["csv_units"] = UNITS + "; columns kind, x, y, z (m), value (C or kg), mx, my, mz (A m^2)"
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(CSV_WRITTEN)
     writer.writerow(["design", "", "", "", "", "", "", "", json.dumps(header, allow_nan=False)])
-    for position, value in zip(design.charge_positions, design.charge_values, strict=True):
-        writer.writerow(
-            ["charge", *map(repr, map(float, position)), repr(float(value)), "", "", "", ""]
-        )
-    for position, value in zip(design.mass_positions, design.mass_values, strict=True):
-        writer.writerow(
-            ["mass", *map(repr, map(float, position)), repr(float(value)), "", "", "", ""]
-        )
+    for kind, positions, values in (
+        ("charge", design.charge_positions, design.charge_values),
+        ("mass", design.mass_positions, design.mass_values),
+    ):
+        for position, value in zip(positions, values, strict=True):
+            writer.writerow(
+                [kind, *map(repr, map(float, position)), repr(float(value)), "", "", "", ""]
+            )
     for position, moment in zip(design.dipole_positions, design.dipole_moments, strict=True):
         writer.writerow(
             ["dipole", *map(repr, map(float, position)), "", *map(repr, map(float, moment)), ""]

@@ -194,9 +194,7 @@ def _pid_alive(pid: int) -> bool:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:
-        return True
-    except OSError:  # pragma: no cover
+    except OSError:  # PermissionError: another user's process, alive
         return True
     return True
 
@@ -560,7 +558,7 @@ def check_output_location(
         # an existing file is a valid target (it is replaced whole), a folder's is not
         raise InputError(f"{option}: {target}: cannot create it, {existing} is not a directory")
     probes = [existing]
-    if existing == Path(os.path.abspath(target)):
+    if existing == absolute:
         # an existing file's folder takes the temporary; an existing folder is swapped from
         # its parent (staging beside it) and must itself be changeable (not immutable)
         probes = [existing.parent] if not directory else [existing, existing.parent]

@@ -327,8 +327,8 @@ def render_report(
             "",
             "Timings: " + ", ".join(f"{k} {fmt(v)} s" for k, v in timings.items()) + ".",
         ]
-    if physical is not None:
-        lines += _physical_sections(design, records.materials, physical)
+    if physical is not None:  # the bill of materials and the realism budget
+        lines += _bom_lines(design, records.materials) + _realism_lines(physical)
     lines += flight_lines(design.support)
     figures = (
         Plausibility.of(design, records.candidates) if design.medium is None else Plausibility()
@@ -403,10 +403,11 @@ TERMINAL_WIDTH = 160
 SUMMARY_LINES = 40
 
 
-def _wrapped(text: str, width: int = TERMINAL_WIDTH, indent: str = "  ") -> list[str]:
-    """One paragraph wrapped to ``width`` characters (continuation lines indented)."""
+def _wrapped(text: str) -> list[str]:
+    """One paragraph wrapped to :data:`TERMINAL_WIDTH` characters (continuation lines
+    indented)."""
     return textwrap.wrap(
-        " ".join(text.split()), width, subsequent_indent=indent, break_on_hyphens=False
+        " ".join(text.split()), TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False
     ) or [""]
 
 
@@ -846,13 +847,6 @@ def _part_size_lines(sizes: PartSizes) -> list[str]:
     if ballast is not None:
         parts.append(f"{ballast.count} ballast spheres of radius {span(ballast)}")
     return [f"- Part sizes: {'; '.join(parts)}."] if parts else []
-
-
-def _physical_sections(
-    design: Design, materials: Materials, physical: PhysicalRecords
-) -> list[str]:
-    """Bill of materials (totals and the first parts) and the realism budget."""
-    return _bom_lines(design, materials) + _realism_lines(physical)
 
 
 def _bom_lines(design: Design, materials: Materials) -> list[str]:

@@ -24,6 +24,7 @@ from chargedesign.scene.design_realism import (
     INDUCED_KEY,
     RealismRecord,
 )
+from chargedesign.verdict import recorded_window
 
 
 @dataclass(frozen=True)
@@ -63,12 +64,7 @@ class Cancellation:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> Cancellation:
-        return cls(
-            forward_error=data["forward_error"],
-            quantity=data["quantity"],
-            term=data["term"],
-            amplification=data["amplification"],
-        )
+        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True)
@@ -201,7 +197,7 @@ class CaseRecord:
             independent=bool(certificate.get("independent")),
             checks=CaseChecks.from_dict(checks) if checks else None,
             realism=CaseRealism.from_dict(realism) if realism else None,
-            window=RealisedWindow.from_dict(realised) if realised else None,
+            window=recorded_window(realised),
         )
 
 
@@ -444,13 +440,7 @@ class MagnetSpan(PartSpan):
     def read(cls, data: dict[str, Any] | None) -> MagnetSpan | None:
         if not data:
             return None
-        return cls(
-            data["count"],
-            data["smallest_m"],
-            data["largest_m"],
-            below=data["below"],
-            continuum_size_m=data["continuum_size_m"],
-        )
+        return cls(**{name: data[name] for name in cls.__dataclass_fields__})
 
 
 @dataclass(frozen=True)

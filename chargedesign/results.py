@@ -168,16 +168,22 @@ class Result:
         return html_table(type(self).__name__, self._html_rows(), self._html_picture())
 
 
-def png_html(image: Any, width: int = 240) -> str:
-    """An ``<img>`` tag with ``image`` (array, shape (h, w, 3), uint8) inlined as PNG."""
-    import base64
+def png_bytes(image: Any) -> bytes:
+    """``image`` (array, shape (h, w, 3), uint8) encoded as PNG."""
     import io
 
     import imageio.v3 as iio
 
     buffer = io.BytesIO()
     iio.imwrite(buffer, image, extension=".png")
-    data = base64.b64encode(buffer.getvalue()).decode("ascii")
+    return buffer.getvalue()
+
+
+def png_html(image: Any, width: int = 240) -> str:
+    """An ``<img>`` tag with ``image`` (array, shape (h, w, 3), uint8) inlined as PNG."""
+    import base64
+
+    data = base64.b64encode(png_bytes(image)).decode("ascii")
     return f"<img width='{width}' src='data:image/png;base64,{data}'/>"
 
 
@@ -190,6 +196,7 @@ __all__ = [
     "design_text",
     "html_table",
     "json_ready",
+    "png_bytes",
     "png_html",
     "short_value",
 ]

@@ -44,7 +44,6 @@ from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign, par
 from chargedesign.vocabulary import VERDICT_STATES
 
 #: the verdict's four states (the contract's strings, ``vocabulary.VERDICT_STATES``)
-STATES = VERDICT_STATES
 REALISED, NOT_REALISED, NOT_BUILDABLE, NOT_CHECKED = VERDICT_STATES
 
 
@@ -287,8 +286,9 @@ def verdict_record(design: Design) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``state`` (one of :data:`STATES`), ``binding``, ``factor``, ``change``, ``support``
-        (``style``, ``state``), ``items`` and ``rows`` (module docstring).
+        ``state`` (one of :data:`~chargedesign.vocabulary.VERDICT_STATES`), ``binding``,
+        ``factor``, ``change``, ``support`` (``style``, ``state``), ``items`` and ``rows``
+        (module docstring).
     """
     if design.medium is None:
         return not_checked()
@@ -301,7 +301,7 @@ def verdict_record(design: Design) -> dict[str, Any]:
 def recorded_verdict(design: Design) -> dict[str, Any]:
     """``design.verdict``, or (a design.json written before the record) the verdict its
     record gives, computed once here."""
-    if isinstance(design.verdict, dict) and design.verdict.get("state") in STATES:
+    if isinstance(design.verdict, dict) and design.verdict.get("state") in VERDICT_STATES:
         return design.verdict
     return verdict_record(design)
 

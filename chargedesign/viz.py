@@ -36,7 +36,7 @@ from chargedesign.elements import ElementSet
 from chargedesign.files import check_output_path, deferred_signals, write_file_atomic
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.physical.materials import sphere_radius
-from chargedesign.results import png_html
+from chargedesign.results import png_bytes, png_html
 from chargedesign.scene.keys import KEY
 
 with deferred_signals():
@@ -661,7 +661,8 @@ def _add_body(
             255.0 * charge_colors(spheres.point_data["charge (C)"], top)
         ).astype(np.uint8)
         actors.append(plotter.add_mesh(spheres, scalars="rgb", rgb=True, smooth_shading=True))
-        cmap, clim = charge_colormap(significant_charges(q))
+        signed = significant_charges(q)  # round-off gets no sign in the map nor the legend
+        cmap, clim = charge_colormap(signed)
         # the colour bar comes from an invisible copy mapped through the colour map
         actors.append(
             plotter.add_mesh(
@@ -688,7 +689,6 @@ def _add_body(
                 point_size=0.0,
             )
         )
-        signed = significant_charges(q)  # round-off gets no sign in the legend either
         if np.any(signed > 0):
             legend.append(["charge > 0", POSITIVE_COLOR, "circle"])
         if np.any(signed < 0):
@@ -1034,13 +1034,7 @@ class Picture(np.ndarray):
     """
 
     def _repr_png_(self) -> bytes:
-        import io
-
-        import imageio.v3 as iio
-
-        buffer = io.BytesIO()
-        iio.imwrite(buffer, np.asarray(self), extension=".png")
-        return buffer.getvalue()
+        return png_bytes(np.asarray(self))
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the picture as PNG (atomically); returns the path."""

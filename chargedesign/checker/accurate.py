@@ -21,6 +21,7 @@ from chargedesign.checker.double_double import (
 )
 from chargedesign.checker.kernel import (
     POTENTIAL_EFFECTS,
+    orientation_blocks,
     trimmed_legendre,
 )
 from chargedesign.quadrature import GatheredElements
@@ -161,9 +162,7 @@ class AccurateAccumulator:
 
     def blocks(self, n: int) -> list[slice]:
         """Orientation blocks of at most ``block_pairs`` pairs with ``n`` elements."""
-        m = len(self.gammas)
-        step = max(1, min(m, self.block_pairs // max(n, 1)))
-        return [slice(s, min(m, s + step)) for s in range(0, m, step)]
+        return orientation_blocks(len(self.gammas), n, self.block_pairs)[1]
 
     def add_potential(self, name: str, r: np.ndarray, w: np.ndarray, c: np.ndarray) -> None:
         """Energy and torque of weights ``w`` at ``r`` in the zonal potential ``c``."""

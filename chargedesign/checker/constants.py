@@ -10,7 +10,6 @@ import numpy as np
 from chargedesign.vocabulary import (
     CHECK_DEFAULT_ORIENTATIONS,
     CHECK_DEFAULT_TOL,
-    CHECK_EFFECTS,
 )
 
 DEFAULT_TOL = CHECK_DEFAULT_TOL
@@ -39,4 +38,3 @@ QUANTITY_CLAIMS = {
     "potential_torque": "V",
     "inertia": "inertia",
 }
-EFFECTS = CHECK_EFFECTS

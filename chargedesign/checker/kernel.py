@@ -446,6 +446,13 @@ def dipoles_block(
     ws.give(fx, fy, fz, tx, ty, tz, norm)
 
 
+def orientation_blocks(m: int, n: int, block_pairs: int) -> tuple[int, list[slice]]:
+    """Blocks of the ``m`` orientations of at most ``block_pairs`` element-orientation pairs
+    with ``n`` elements (at least one orientation each): the rows per block, the blocks."""
+    step = max(1, min(m, block_pairs // max(n, 1)))
+    return step, [slice(s, min(m, s + step)) for s in range(0, m, step)]
+
+
 def to_body_axes(R: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``R^T v`` per orientation: space vectors (m, 3) to body axes."""
     return np.einsum("mci,mc->mi", R, v)
@@ -484,16 +491,12 @@ def evaluate_rotated(
     coeffs = {k: trimmed_legendre(fields.get(k, ())) for k in FIELD_NAMES}
     omega_space = np.einsum("mij,mj->mi", R, omegas)
 
-    def blocks(n: int) -> tuple[int, list[slice]]:
-        step = max(1, min(m, block_pairs // max(n, 1)))
-        return step, [slice(s, min(m, s + step)) for s in range(0, m, step)]
-
     r, q = elements.charge_positions, elements.charge_values
     if len(q) and (len(coeffs["magnetic"]) or len(coeffs["electric"])):
         S = np.einsum("ij,ij->i", r, r)
         absq = np.abs(q)
         absq_r = absq * np.sqrt(S)
-        step, slices = blocks(len(q))
+        step, slices = orientation_blocks(m, len(q), block_pairs)
         ws = Workspace(step, len(q))
         buffer = np.empty((3 * step, len(q)))
         for rows in slices:
@@ -510,7 +513,7 @@ def evaluate_rotated(
     if len(w) and len(coeffs["gravity"]):
         S = np.einsum("ij,ij->i", r, r)
         absw = np.abs(w)
-        step, slices = blocks(len(w))
+        step, slices = orientation_blocks(m, len(w), block_pairs)
         ws = Workspace(step, len(w))
         buffer = np.empty((3 * step, len(w)))
         for rows in slices:
@@ -521,7 +524,7 @@ def evaluate_rotated(
     r, sigma = elements.dipole_positions, elements.dipole_moments
     if len(sigma) and len(coeffs["magnetic"]):
         S = np.einsum("ij,ij->i", r, r)
-        step, slices = blocks(len(sigma))
+        step, slices = orientation_blocks(m, len(sigma), block_pairs)
         ws = Workspace(step, len(sigma))
         buffer = np.empty((3 * step, len(sigma)))
         sig_buffer = np.empty((3 * step, len(sigma)))

@@ -21,7 +21,6 @@ from chargedesign.checker.constants import (
     BLOCK_PAIRS,
     DEFAULT_ORIENTATIONS,
     DEFAULT_TOL,
-    EFFECTS,
     EPS,
     NOISE_FLOOR,
     QUANTITY_CLAIMS,
@@ -63,6 +62,7 @@ from chargedesign.validation import (
 )
 from chargedesign.verdict import judge, not_checked, recorded_verdict
 from chargedesign.vocabulary import (
+    CHECK_EFFECTS,
     FIELD_NAMES,
     PRECISIONS,
 )
@@ -193,12 +193,13 @@ def quantity_verdict(
     wrong), ``unverifiable`` when the floor itself exceeds the tolerance (the evaluation cannot
     tell), ``pass`` when within the tolerance, ``fail`` otherwise.
     """
+    failed = (
+        "fail",
+        f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
+        f" {fmt(floor, FLOOR)})",
+    )
     if not rel <= tol + floor:  # also catches an infinite error
-        return (
-            "fail",
-            f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
-            f" {fmt(floor, FLOOR)})",
-        )
+        return failed
     if floor > tol:
         if basis == "gross":
             size = "the reference is zero and the gross contributions round"
@@ -211,11 +212,7 @@ def quantity_verdict(
         )
     if rel <= tol:
         return "pass", None
-    return (
-        "fail",
-        f"error {fmt(rel, AGREEMENT)} exceeds tol {fmt(tol, PLAIN)} (rounding floor"
-        f" {fmt(floor, FLOOR)})",
-    )
+    return failed
 
 
 def fitted_torque(gammas: np.ndarray, energy: np.ndarray, degree: int) -> np.ndarray | None:
@@ -707,7 +704,7 @@ def _field_effect_result(
 ) -> EffectResult:
     """A potential's effect: its energy's spread and torque, the torque against the fitted
     gradient of the energy."""
-    source = EFFECTS[name][0]
+    source = CHECK_EFFECTS[name][0]
     active = count > 0 and degree > 0
     e = sums.energy[name]
     t = sums.torque[name]
@@ -746,7 +743,7 @@ def effect_results(
     active = counts["charges"] > 0 and degrees["magnetic"] > 0
     out["lorentz"] = _lorentz_result(counts["charges"], active, gammas, omegas, sums, unit)
     for name in ("electric", "gravity", "magnetization"):
-        source, field_name = EFFECTS[name]
+        source, field_name = CHECK_EFFECTS[name]
         assert field_name is not None
         count, degree = counts[source], degrees[field_name]
         out[name] = _field_effect_result(name, count, degree, gammas, sums, unit)
