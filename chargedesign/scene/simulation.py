@@ -91,13 +91,10 @@ def check_effect_names(requested: Any) -> list[str]:
     one line naming a value that is no list of effect names."""
     if isinstance(requested, str) or not isinstance(requested, Sequence):
         raise input_error("simulation.effects", "a list of effect names", requested)
-    names: list[str] = []
     for name in requested:
         if name not in EFFECTS:
             raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
-        if name not in names:
-            names.append(name)
-    return names
+    return list(dict.fromkeys(requested))
 
 
 def parse_simulation_options(
