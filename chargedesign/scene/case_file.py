@@ -105,19 +105,8 @@ class Case:
         they switch terms off), or None when no parameter is free."""
         if not self.free:
             return None
-        return Case(
-            name=self.name,
-            inertia=self.free["inertia"],
-            V=self.free["V"],
-            l=self.free["l"],
-            mu=self.free["mu"],
-            integral=self.free["integral"],
-            level=self.free["level"],
-            parameters=self.parameters,
-            texts=self.texts,
-            source=self.source,
-            note=self.note,
-        )
+        forms = ("inertia", "V", "l", "mu", "integral", "level")
+        return replace(self, free={}, **{name: self.free[name] for name in forms})
 
     @property
     def I1(self) -> sp.Expr:

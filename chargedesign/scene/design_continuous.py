@@ -31,13 +31,10 @@ CONTINUOUS_KEYS = ("kind", "shape", "radius", "height", KEY.half_size, "center",
 
 
 def _density_values(kind: Any, value: Any, coefficients: Any) -> dict[str, Any]:
-    """A density's checked fields (``type``, ``value``, ``coefficients``)."""
-    if kind not in DENSITY_TYPES:
-        raise input_error("density.type", "one of " + ", ".join(DENSITY_TYPES), kind)
+    """A density's checked fields (``type``, ``value``, ``coefficients``): ``kind`` is one of
+    :data:`DENSITY_TYPES` and ``coefficients`` a mapping (:func:`density_fields` checked them)."""
     value = as_finite_float(value, "density.value")
     coeffs: dict[str, float] = {}
-    if not isinstance(coefficients, Mapping):
-        raise input_error("density.coefficients", "an object of moment keys", coefficients)
     for key, coef in coefficients.items():
         if not isinstance(key, str):
             raise input_error("density.coefficients", "string keys such as 'xxz'", key)

@@ -12,8 +12,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from chargedesign.errors import InputError
-from chargedesign.scene.keys import NONNEG, POSITIVE, STRING, Key
-from chargedesign.validation import as_finite_float, input_error
+from chargedesign.scene.keys import NONNEG, POSITIVE, STRING, Key, check_declared
+from chargedesign.validation import input_error
 
 ROLES = ("carrier", "magnet", "ballast")
 #: the keys of one material, in the order the errors list them
@@ -30,7 +30,7 @@ MATERIAL_KEYS = (
     ),
     Key("conductivity_S_per_m", NONNEG, "electrical conductivity", "S/m"),
 )
-_NAMES = tuple(key.name for key in MATERIAL_KEYS)
+_DECLARED = {key.name: key for key in MATERIAL_KEYS}
 
 
 def materials_from_dict(value: Any) -> dict[str, Any]:
@@ -63,22 +63,14 @@ def _material(spec: Any, where: str) -> dict[str, Any]:
         raise input_error(where, "an object with density_kg_per_m3", spec)
     clean: dict[str, Any] = {}
     for key, item in spec.items():
-        if key not in _NAMES:
-            raise input_error(f"{where}.{key}", "one of " + ", ".join(_NAMES), key)
+        if key not in _DECLARED:
+            raise input_error(f"{where}.{key}", "one of " + ", ".join(_DECLARED), key)
         if key == "name":
             if not isinstance(item, str):
                 raise input_error(f"{where}.name", "a name", item)
             clean[key] = item
-        elif key == "volume_susceptibility":
-            clean[key] = as_finite_float(item, f"{where}.{key}")
-            if clean[key] <= -1.0:
-                raise input_error(f"{where}.{key}", "a number > -1", item)
-        elif key == "conductivity_S_per_m":
-            clean[key] = as_finite_float(item, f"{where}.{key}")
-            if clean[key] < 0.0:
-                raise input_error(f"{where}.{key}", "a number >= 0", item)
-        else:
-            clean[key] = as_finite_float(item, f"{where}.{key}", positive=True)
+        else:  # a number within its declared range
+            clean[key] = check_declared(_DECLARED[key], item, f"{where}.{key}")
     return clean
 
 

@@ -267,7 +267,6 @@ def parse_bounded(
     # read inside one pair of parentheses: expressions may span lines and start with spaces
     source = f"({source})"
     parsed = source
-    aliases: dict[str, str] = {}
     for name in list(names):
         if keyword.iskeyword(name):
             # a parameter named like a Python keyword (the theorem's lambda) is read under an
@@ -275,10 +274,8 @@ def parse_bounded(
             alias = "_" + name[1:]
             parsed = re.sub(rf"(?<![A-Za-z0-9_]){name}(?![A-Za-z0-9_])", alias, parsed)
             names[alias] = names.pop(name)
-            aliases[alias] = name
-    for alias, name in aliases.items():
-        if name in scales:
-            scales[alias] = scales.pop(name)
+            if name in scales:
+                scales[alias] = scales.pop(name)
     try:
         tree = ast.parse(parsed, mode="eval")
     except SyntaxError as exc:

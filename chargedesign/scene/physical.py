@@ -41,7 +41,7 @@ from chargedesign.physical.materials import (
     SUSCEPTIBILITY,
     Material,
 )
-from chargedesign.scene.keys import KEY, check_table, check_value, default_of, key_names
+from chargedesign.scene.keys import KEY, check_table, check_value, default_of
 from chargedesign.scene.medium import Medium, medium_from_table
 from chargedesign.scene.tables import material_errors_from_table
 from chargedesign.validation import as_finite_float, input_error
@@ -52,9 +52,6 @@ CARRIER_RADIUS_FRACTION = 0.25
 DEFAULT_SHELL_THICKNESS = default_of("carriers", "shell_thickness")
 #: surface sample points per carrier in the design (constraint generation adds the worst)
 DEFAULT_SURFACE_SAMPLES = default_of("carriers", "samples")
-PHYSICAL_TABLES = ("medium", "carriers", "magnets", "ballast", "holder")
-#: each physical table's keys: the scene's declaration (chargedesign.scene.keys)
-_KEYS = {name: key_names(name) for name in PHYSICAL_TABLES}
 #: how a part's material answers the applied field: magnetisation and eddy currents
 _RESPONSE_KEYS = ("susceptibility", "conductivity")
 
@@ -118,10 +115,6 @@ class PhysicalSpec:
             "materials": self.materials_dict(),
             "field_limits": dict(self.field_limits),
         }
-
-
-def _check_keys(table: Mapping[str, Any], name: str) -> None:
-    check_table(table, name)
 
 
 def _density(table: Mapping[str, Any], where: str, known: Mapping[str, float], default: str):
@@ -190,7 +183,7 @@ def spec_from_tables(
 
 def _holder(table: Mapping[str, Any], ballast: Material) -> Material:
     """``[holder]``: its material, by default the (first) ballast's."""
-    _check_keys(table, "holder")
+    check_table(table, "holder")
     name = table.get("material")
     if name is None:
         return replace(ballast, role="holder")
@@ -201,7 +194,7 @@ def _holder(table: Mapping[str, Any], ballast: Material) -> Material:
 
 def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:
     """``[carriers]``: the carriers' material and the surface samples per carrier."""
-    _check_keys(carriers, "carriers")
+    check_table(carriers, "carriers")
     name, density = _density(carriers, "carriers", CARRIER_DENSITY, "aluminium")
     shell = as_finite_float(
         carriers.get("shell_thickness", DEFAULT_SHELL_THICKNESS), "carriers.shell_thickness"
@@ -221,7 +214,7 @@ def _carrier(carriers: Mapping[str, Any]) -> tuple[Material, int]:
 
 def _magnet(magnets: Mapping[str, Any]) -> Material:
     """``[magnets]``: a named magnet material, or its magnetisation and density."""
-    _check_keys(magnets, "magnets")
+    check_table(magnets, "magnets")
     mname = magnets.get(
         "material", "ndfeb" if not {"density", "magnetisation"} & set(magnets) else "custom"
     )
@@ -256,7 +249,7 @@ def _magnet(magnets: Mapping[str, Any]) -> Material:
 
 def _ballasts(table: Mapping[str, Any]) -> list[Material]:
     """``[ballast]``: its material(s), at least one (the first is a magnet's attached mass)."""
-    _check_keys(table, "ballast")
+    check_table(table, "ballast")
     ballasts = _ballast_list(table)
     if ballasts:
         return ballasts

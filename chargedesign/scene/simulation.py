@@ -91,13 +91,10 @@ def check_effect_names(requested: Any) -> list[str]:
     one line naming a value that is no list of effect names."""
     if isinstance(requested, str) or not isinstance(requested, Sequence):
         raise input_error("simulation.effects", "a list of effect names", requested)
-    names: list[str] = []
     for name in requested:
         if name not in EFFECTS:
             raise input_error("simulation.effects", "names among " + ", ".join(EFFECTS), name)
-        if name not in names:
-            names.append(name)
-    return names
+    return list(dict.fromkeys(requested))
 
 
 def parse_simulation_options(
@@ -291,11 +288,8 @@ def design_path(body_table: Mapping[str, Any], source: str) -> Path:
 def merge_options(base: SimulationOptions, overrides: Mapping[str, Any]) -> SimulationOptions:
     """A setup's options with a call's overrides (None keeps the setup's), validated again."""
     table = {k: v for k, v in overrides.items() if v is not None}
-    merged = {
-        k: getattr(base, k)
-        for k in SIMULATION_KEYS
-        if getattr(base, k) is not None and not (k == "max_step" and getattr(base, k) == math.inf)
-    }
+    # an unbounded max_step (inf) is passed too: parse_simulation_options reads it as the default
+    merged = {k: getattr(base, k) for k in SIMULATION_KEYS if getattr(base, k) is not None}
     merged.update(table)
     return parse_simulation_options(merged, "simulation")
 

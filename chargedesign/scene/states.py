@@ -75,9 +75,7 @@ def load_states(path: str | os.PathLike[str], where: str = "initial.file") -> np
             parsed = []
             for j, cell in enumerate(row):
                 c = cell.strip()
-                if c.lower() in ("true", "false"):
-                    raise input_error(f"{where} row {i + 1} column {j + 1}", "a number", c)
-                try:
+                try:  # float() refuses true and false too
                     parsed.append(float(c))
                 except ValueError as exc:
                     raise input_error(f"{where} row {i + 1} column {j + 1}", "a number", c) from exc

@@ -250,7 +250,7 @@ class TestbedOptions:
                 f"{MAX_SAMPLES} control samples; shorten it or lower the rates"
             )
         stored = max(self.seeds, len(GYRO_GRADES) * self.requirement_seeds) * self.t_end_s
-        if stored * max(self.rate_Hz, *self.requirement_rates_Hz) > MAX_STORED_SAMPLES:
+        if stored * fastest > MAX_STORED_SAMPLES:
             raise InputError(
                 f"{where}.seeds: {self.seeds} seeds ({self.requirement_seeds} per requirement "
                 f"setting) over {fmt(self.t_end_s, PLAIN)} s keep more than {MAX_STORED_SAMPLES}"
@@ -462,15 +462,14 @@ def case_refusal(name: str, inertia: Sequence[Any], singular: Sequence[str]) -> 
     return None
 
 
-def as_count(value: Any, name: str, *, minimum: int = 1, cap: int, option: str = "") -> int:
-    """An integer in ``minimum..cap`` (a cap on work; ``option`` names how to raise it)."""
+def as_count(value: Any, name: str, *, minimum: int, cap: int) -> int:
+    """An integer in ``minimum..cap`` (a cap on work)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise input_error(name, "an integer", value)
     if value < minimum:
         raise input_error(name, f"an integer >= {minimum}", value)
     if value > cap:
-        how = f" ({option} raises the cap)" if option else ""
-        raise input_error(name, f"an integer <= {cap}{how}", value)
+        raise input_error(name, f"an integer <= {cap}", value)
     return int(value)
 
 
