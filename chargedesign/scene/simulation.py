@@ -80,12 +80,6 @@ class OutputOptions:
     poincare_axes: tuple[str, str] = default_of("output", "poincare_axes")
 
 
-def check_choice(value: Any, name: str, choices: Sequence[str]) -> str:
-    if value not in choices:
-        raise input_error(name, "one of " + ", ".join(choices), value)
-    return str(value)
-
-
 def check_effect_names(requested: Any) -> list[str]:
     """The effects asked for (``simulation.effects`` or ``effects=``), each once, in order;
     one line naming a value that is no list of effect names."""

@@ -80,7 +80,6 @@ from chargedesign.limits import MAX_SAMPLES, MAX_STEPS
 from chargedesign.scene.simulation import DEFAULT_INITIAL as DEFAULT_INITIAL
 from chargedesign.scene.simulation import (
     SimulationOptions,
-    check_choice,
     check_off_singular_plane,
     initial_spec,
     merge_options,
@@ -112,7 +111,7 @@ from chargedesign.simulation.system import (
     rotation_quaternion,
     select_effects,
 )
-from chargedesign.validation import input_error
+from chargedesign.validation import check_choice, input_error
 
 
 def _case_functions(design: Any) -> Any:
@@ -431,7 +430,8 @@ def simulate(
     if poincare is True or (poincare is None and setup.output.poincare):
         section = setup.output.poincare_section
     elif isinstance(poincare, str):
-        section = check_choice(poincare, "poincare", STATE_NAMES)
+        check_choice(poincare, STATE_NAMES, "poincare")
+        section = poincare
     if section is not None and options.method == "gauss-legendre":
         notes.append("poincare: needs the taylor or a solve_ivp method; no section recorded")
         section = None
