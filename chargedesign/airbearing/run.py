@@ -270,7 +270,7 @@ def _sampled_runs(
     for command in ("zoh", "predictive"):
         t0 = time.perf_counter()
         runs[f"{command}_noise_free"] = run_loop(
-            plant, x0, _with(base, command=command), keep_states=command == opts.command
+            plant, x0, replace(base, command=command), keep_states=command == opts.command
         )
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
         count(1)
@@ -290,7 +290,7 @@ def _sampled_runs(
         reqs = requirements(
             plant,
             x0,
-            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
+            replace(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
             GYRO_GRADES,
             opts.requirement_rates_Hz,
             opts.requirement_seeds,
@@ -784,10 +784,6 @@ def run_counter(
     return count
 
 
-def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
-    return replace(settings, **changes)
-
-
 def _nominal(
     base: LoopSettings,
     opts: TestbedOptions,
@@ -802,7 +798,7 @@ def _nominal(
     noise, frames = opts.attitude
     counts = opts.encoder_counts or REACTION_WHEELS["encoder_counts_per_turn"].value
     spin = float(layout.wheels.spin_inertia[0])
-    return _with(
+    return replace(
         base,
         command=opts.command,
         gyro_arw=arw,
