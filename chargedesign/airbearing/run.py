@@ -344,7 +344,6 @@ def against_state_of_the_art(
     chargedesign.airbearing.verdict)."""
     nominal = runs["nominal"]
     style = opts.style
-    bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
     offset = _offset_reached(opts, nominal, compliance_offset)
     weight = total_mass * STANDARD_GRAVITY
     sensor_keys = _sensor_keys(opts)
@@ -355,7 +354,7 @@ def against_state_of_the_art(
             max(m.tilt_max_deg for m in plan.motions),
             layout.tilt_limit_deg,
             "deg",
-            bearing_source,
+            layout.source,
             keys=(style.tilt_key,) if opts.tilt_limit_deg is None else (),
             origin="table" if opts.tilt_limit_deg is None else "scene",
         ),
