@@ -118,15 +118,12 @@ def choose(torque: Any, momentum: Any) -> np.ndarray:
     """The index in :func:`catalogue` of the actuator for each need (arrays broadcast):
     the lightest whose torque and momentum cover ``torque`` (N m) and ``momentum`` (N m s),
     or, where none does, the one whose worst ratio of need over capacity is smallest."""
-    cat = catalogue()
+    caps = capacities()
     t = np.asarray(torque, float)[..., None]
     h = np.asarray(momentum, float)[..., None]
-    caps_t = np.array([a.torque for a in cat])
-    caps_h = np.array([a.momentum for a in cat])
-    mass = np.array([a.mass for a in cat])
-    worst = np.maximum(t / caps_t, h / caps_h)
+    worst = np.maximum(t / caps["torque"], h / caps["momentum"])
     fits = worst <= 1.0
-    lightest = np.argmin(np.where(fits, mass, np.inf), axis=-1)
+    lightest = np.argmin(np.where(fits, caps["mass"], np.inf), axis=-1)
     nearest = np.argmin(worst, axis=-1)
     return np.where(fits.any(axis=-1), lightest, nearest)
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from chargedesign.airbearing.dynamics import Plant
 from chargedesign.airbearing.platform import Ballast
@@ -32,12 +33,6 @@ from chargedesign.body import Design
 from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.sensitivity import jacobians
 from chargedesign.simulation.direct import cross
-
-
-def _cumulative(times: np.ndarray, rate: np.ndarray) -> np.ndarray:
-    """``int_0^t rate`` by the trapezoid rule along axis 0 (starts at 0)."""
-    steps = 0.5 * (rate[1:] + rate[:-1]) * np.diff(times).reshape((-1,) + (1,) * (rate.ndim - 1))
-    return np.concatenate([np.zeros_like(rate[:1]), np.cumsum(steps, axis=0)])
 
 
 @dataclass(frozen=True)
@@ -140,10 +135,11 @@ def sensitivity(plant: Plant, times: np.ndarray, states: np.ndarray, mass: float
     Q = (_i4_rate(up, plant) - _i4_rate(down, plant)) / (2 * eps * inertia[2] * gamma[:, 2])
     d_inertia, d_balance, d_drag = _perturbing_accelerations(plant, omega, gamma, mass)
 
-    def response(d: np.ndarray) -> np.ndarray:
-        off_level = _cumulative(times, np.einsum("sa,sak->sk", gamma * inertia, d))
+    def response(d: np.ndarray) -> np.ndarray:  # integrated in time by the trapezoid rule
+        rate_off = np.einsum("sa,sak->sk", gamma * inertia, d)
+        off_level = cumulative_trapezoid(rate_off, times, axis=0, initial=0)
         rate = np.einsum("sa,sak->sk", grad, d) + Q[:, None] * off_level
-        return _cumulative(times, rate) / scale
+        return cumulative_trapezoid(rate, times, axis=0, initial=0) / scale
 
     return Sensitivity(
         inertia=response(d_inertia).reshape(len(omega), 3, 3),

@@ -43,8 +43,6 @@ TILT_SETTLED_DEG = 0.05
 HORIZON_DOUBLINGS = 5
 #: samples per unit of (1 / the motion's fastest rate) when the tilt is read
 SAMPLES_PER_RATE = 40
-#: the planned motions' tilts, as fractions of the bearing's limit (the first is the loop's)
-PLANNED_FRACTIONS = (0.9, 0.6, 0.3, 0.75, 0.45, 0.15)
 #: the largest tilt a planned motion takes on a full sphere (deg): big enough to tumble
 FULL_SPHERE_PLANNED_DEG = 120.0
 
@@ -330,7 +328,6 @@ def fitting_starts(params: Parameters, tilts_deg: list[float]) -> tuple[np.ndarr
 
 __all__ = [
     "FULL_SPHERE_PLANNED_DEG",
-    "PLANNED_FRACTIONS",
     "KeepOut",
     "Sampled",
     "TiltMap",

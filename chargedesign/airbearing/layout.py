@@ -26,7 +26,7 @@ from chargedesign.airbearing.bearing import (
     motion_samples,
     tilt_deg,
 )
-from chargedesign.airbearing.dynamics import motion_rate
+from chargedesign.airbearing.dynamics import CaseModel, motion_rate
 from chargedesign.airbearing.loop import initial_state
 from chargedesign.airbearing.mounts import Mounts, radial_posts
 from chargedesign.airbearing.platform import (
@@ -73,30 +73,45 @@ class Plan:
     origin: str  # "scene" or "planned"
 
 
-def _sampled(params: Parameters, x0: np.ndarray, t_end: float, axis: np.ndarray | None) -> Any:
-    rate = motion_rate(params, x0[:3])
+def _sampled(
+    params: Parameters,
+    x0: np.ndarray,
+    t_end: float,
+    axis: np.ndarray | None,
+    case: CaseModel | None = None,
+) -> Any:
+    rate = motion_rate(params, x0[:3], case)
     horizon = max(t_end, BASE_TURNS * 2.0 * math.pi / rate)
-    return motion_samples(params, x0, horizon, rate, axis)
+    rhs = None if case is None else case.rhs_function()  # a case: its reduced model's motion
+    return motion_samples(params, x0, horizon, rate, axis, rhs=rhs)
 
 
-def plan_motions(params: Parameters, opts: TestbedOptions) -> Plan:
-    """The motions and the pedestal axis (see the module docstring).
+def plan_motions(params: Parameters, opts: TestbedOptions, case: CaseModel | None = None) -> Plan:
+    """The motions and the pedestal axis (see the module docstring). A ``case``'s one
+    motion is the scene's start on the case's level (its scene must give one:
+    :meth:`~chargedesign.scene.testbed.TestbedOptions.check_case_start`).
 
     Raises
     ------
     InputError
         The scene's start needs more tilt than the bearing allows (one line: the tilt, the
-        limit, and starts that fit).
+        limit, and, for the theorem, starts that fit).
     """
     limit = opts.tilt_limit
-    if opts.has_start:
+    if opts.has_start or case is not None:
         assert opts.initial_gamma is not None and opts.initial_p is not None
         assert opts.initial_q is not None
-        x0 = initial_state(params, np.array(opts.initial_gamma), opts.initial_p, opts.initial_q)
-        sampled = _sampled(params, x0, opts.t_end_s, None)
+        gamma = np.array(opts.initial_gamma)
+        if case is None:
+            x0 = initial_state(params, gamma, opts.initial_p, opts.initial_q)
+        else:  # as the case's route always read it: a start of -0.0 is 0.0
+            x0 = initial_state(params, gamma, opts.initial_p or 0.0, opts.initial_q or 0.0, case)
+        sampled = _sampled(params, x0, opts.t_end_s, None, case)
         axis = best_axis([sampled.gammas])
         tilt = float(tilt_deg(axis, sampled.gammas).max())
-        if tilt > limit:
+        if case is not None:
+            opts.check_case_tilt(case.name, tilt, sampled.horizon_s)
+        elif tilt > limit:
             opts.check_start_tilt(tilt, limit, sampled.horizon_s, _alternatives(params, opts))
         motion = PlannedMotion(
             x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled

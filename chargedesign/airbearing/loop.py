@@ -36,6 +36,7 @@ from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.model import evaluators
 from chargedesign.params import Parameters
+from chargedesign.sampling import fibonacci_sphere
 from chargedesign.simulation.direct import cross
 from chargedesign.simulation.integrate import solve
 
@@ -554,16 +555,7 @@ ERROR_SAMPLES = 101
 THETA = 10
 _SYMMETRIC = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 #: attitudes the estimate's error is read at (a Fibonacci sphere)
-_GOLDEN = np.pi * (3.0 - np.sqrt(5.0))
-_Z = 1.0 - 2.0 * (np.arange(200) + 0.5) / 200
-_PROBES = np.stack(
-    [
-        np.sqrt(1 - _Z**2) * np.cos(_GOLDEN * np.arange(200)),
-        np.sqrt(1 - _Z**2) * np.sin(_GOLDEN * np.arange(200)),
-        _Z,
-    ],
-    axis=1,
-)
+_PROBES = fibonacci_sphere(200, phase=0.0)
 
 
 def _matrices(k: np.ndarray) -> np.ndarray:

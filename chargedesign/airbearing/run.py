@@ -15,10 +15,7 @@ import numpy as np
 from chargedesign.airbearing.actuators import chosen
 from chargedesign.airbearing.balance import inertia_tolerances, part_tolerances, sensitivity
 from chargedesign.airbearing.bearing import (
-    best_axis,
     level_map,
-    motion_samples,
-    tilt_deg,
     tilt_map,
 )
 from chargedesign.airbearing.dynamics import (
@@ -27,13 +24,10 @@ from chargedesign.airbearing.dynamics import (
     case_model,
     case_singular_factors,
     model_rate_terms,
-    motion_rate,
 )
 from chargedesign.airbearing.layout import (
-    BASE_TURNS,
     Layout,
     Plan,
-    PlannedMotion,
     build_layout,
     plan_motions,
 )
@@ -151,7 +145,7 @@ def build_testbed(
     seconds: dict[str, float] = {}
     t0 = time.perf_counter()
     check_loop_work(params, opts, case)
-    plan = plan_motions(params, opts) if case is None else case_plan(params, case, opts)
+    plan = plan_motions(params, opts, case)
     seconds[KEY.planned_motions] = time.perf_counter() - t0
     say(
         f"{len(plan.motions)} planned motions, largest tilt "
@@ -270,7 +264,7 @@ def _sampled_runs(
     for command in ("zoh", "predictive"):
         t0 = time.perf_counter()
         runs[f"{command}_noise_free"] = run_loop(
-            plant, x0, _with(base, command=command), keep_states=command == opts.command
+            plant, x0, replace(base, command=command), keep_states=command == opts.command
         )
         seconds[f"{command}_noise_free"] = time.perf_counter() - t0
         count(1)
@@ -290,7 +284,7 @@ def _sampled_runs(
         reqs = requirements(
             plant,
             x0,
-            _with(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
+            replace(nominal, imbalance_m=0.0, drag_N_m_s=0.0, compliance=None, estimator=False),
             GYRO_GRADES,
             opts.requirement_rates_Hz,
             opts.requirement_seeds,
@@ -350,7 +344,6 @@ def against_state_of_the_art(
     chargedesign.airbearing.verdict)."""
     nominal = runs["nominal"]
     style = opts.style
-    bearing_source = style.source if opts.tilt_limit_deg is None else "the scene's tilt_limit_deg"
     offset = _offset_reached(opts, nominal, compliance_offset)
     weight = total_mass * STANDARD_GRAVITY
     sensor_keys = _sensor_keys(opts)
@@ -361,7 +354,7 @@ def against_state_of_the_art(
             max(m.tilt_max_deg for m in plan.motions),
             layout.tilt_limit_deg,
             "deg",
-            bearing_source,
+            layout.source,
             keys=(style.tilt_key,) if opts.tilt_limit_deg is None else (),
             origin="table" if opts.tilt_limit_deg is None else "scene",
         ),
@@ -739,32 +732,6 @@ def check_loop_work(
     opts.check_loop_steps(rate, max(terms, key=lambda k: terms[k]), STEP_FRACTION)
 
 
-def case_plan(params: Parameters, case: CaseModel, opts: TestbedOptions) -> Plan:
-    """A case's planned motion: the scene's start on the case's level, its largest tilt over
-    a horizon that doubles until it settles (as the theorem's, by the case's reduced model),
-    the pedestal axis the centre of the smallest cap holding its gammas.
-
-    Raises
-    ------
-    InputError
-        The start needs more tilt than the bearing allows (one line: the tilt and the limit).
-    """
-    assert opts.initial_gamma is not None
-    x0 = initial_state(
-        params, np.array(opts.initial_gamma), opts.initial_p or 0.0, opts.initial_q or 0.0, case
-    )
-    rate = motion_rate(params, x0[:3], case)
-    horizon = max(opts.t_end_s, BASE_TURNS * 2.0 * math.pi / rate)
-    sampled = motion_samples(params, x0, horizon, rate, None, rhs=case.rhs_function())
-    axis = best_axis([sampled.gammas])
-    tilt = float(tilt_deg(axis, sampled.gammas).max())
-    opts.check_case_tilt(case.name, tilt, sampled.horizon_s)
-    motion = PlannedMotion(
-        x0, tilt, sampled.horizon_s, sampled.times, sampled.gammas, sampled.settled
-    )
-    return Plan([motion], axis, "scene")
-
-
 def run_counter(
     tally: Callable[[int, int], None] | None, opts: TestbedOptions, with_requirements: bool
 ) -> Callable[[int], None]:
@@ -784,10 +751,6 @@ def run_counter(
     return count
 
 
-def _with(settings: LoopSettings, **changes: Any) -> LoopSettings:
-    return replace(settings, **changes)
-
-
 def _nominal(
     base: LoopSettings,
     opts: TestbedOptions,
@@ -802,7 +765,7 @@ def _nominal(
     noise, frames = opts.attitude
     counts = opts.encoder_counts or REACTION_WHEELS["encoder_counts_per_turn"].value
     spin = float(layout.wheels.spin_inertia[0])
-    return _with(
+    return replace(
         base,
         command=opts.command,
         gyro_arw=arw,
@@ -846,4 +809,4 @@ def _tolerances(sens: Any, ballast: Any, plant: Plant, opts: TestbedOptions, mas
     }
 
 
-__all__ = ["build_case_testbed", "build_testbed", "case_plan", "testbed_from_scene"]
+__all__ = ["build_case_testbed", "build_testbed", "testbed_from_scene"]

@@ -54,8 +54,6 @@ SCALING: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]
     "bearing_tilt_deg": ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
     "ball_diameter_m": ((0.0, 1.0, 0.0), (0.0, 0.0, 0.0)),
 }
-#: what the choice of planned motion sets (the rest is the loop start's)
-MOTION_SET = ("bearing_tilt_deg", "wheel_torque_N_m", "wheel_momentum_N_m_s")
 #: the grid of the window: time rates, sizes and masses relative to the scene's
 RATES = np.logspace(-1.0, 2.0, 61)
 SIZES = np.logspace(-0.5, 0.5, 21)
@@ -415,10 +413,12 @@ def window(
 ) -> Window:
     """Scale each requirement of :data:`SCALING` over the grid (see the module docstring).
 
-    ``motion_needs``: for each planned motion alone, what it requires of :data:`MOTION_SET`
-    (the requirements' own figures are the plan's, every motion). ``wheels`` (the number of
-    wheel axes) chooses each point's wheels from the actuator catalogue: their torque,
-    momentum and, when ``wheel_mass_kg`` is a requirement, their mass (:func:`_wheels`)."""
+    ``motion_needs``: for each planned motion alone, what it requires of what the choice of
+    motion sets, ``bearing_tilt_deg``, ``wheel_torque_N_m`` and ``wheel_momentum_N_m_s`` (the
+    rest is the loop start's; the requirements' own figures are the plan's, every motion).
+    ``wheels`` (the number of wheel axes) chooses each point's wheels from the actuator
+    catalogue: their torque, momentum and, when ``wheel_mass_kg`` is a requirement, their mass
+    (:func:`_wheels`)."""
     scaled = [r for r in requirements if r.name in SCALING]
     names = tuple(r.name for r in scaled)
     alone = tuple(f"motion {k} alone" for k in range(len(motion_needs or [])))
@@ -486,7 +486,6 @@ def best_window(windows: list[Window]) -> Window:
 
 __all__ = [
     "AXES",
-    "MOTION_SET",
     "SCALING",
     "Requirement",
     "Verdict",

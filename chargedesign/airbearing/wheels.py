@@ -1,8 +1,8 @@
 """The wheel array: its axes, and its torque and momentum sized from the planned motions.
 
-The planned motions are the scene's start and further starts on I3 = 0 at the same energy
-(:func:`planned_states`); the wheels are sized for the largest need among them
-(:class:`PlannedNeeds`).
+The planned motions are the scene's start, or starts planned near the stable relative
+equilibrium (:func:`chargedesign.airbearing.layout.plan_motions`); the wheels are sized for
+the largest need among them (:class:`PlannedNeeds`).
 
 The wheels are internal: with no external torque the total angular momentum
 ``L = J omega + h`` is constant in space, so ``|h| = |L - J omega| <= |L| + |J omega|``. With
@@ -19,21 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from chargedesign.airbearing.dynamics import Plant
-from chargedesign.airbearing.loop import continuous_loop, initial_state
+from chargedesign.airbearing.loop import continuous_loop
 from chargedesign.errors import InfeasibleError
 from chargedesign.formatting import PLAIN, PRECISE, fmt
-from chargedesign.model import evaluators
-from chargedesign.params import Parameters
 from chargedesign.physical.state_of_the_art import MOUNT_MATERIALS, REACTION_WHEELS
 from chargedesign.scene.testbed import TestbedOptions
-
-#: the seed of the further planned starts (fixed: the same scene plans the same motions)
-PLANNED_SEED = 20261126
-#: random tries per further start (a start is refused when its attitude's potential is above
-#: the energy, or gamma3 is nearly 0)
-PLANNED_TRIES = 200
-#: the smallest |gamma3| of a further start (r is solved from I3 = 0 by dividing by it)
-PLANNED_MIN_GAMMA3 = 0.1
 
 
 def wheel_axes(kind: str, pyramid_angle_deg: float) -> np.ndarray:
@@ -156,49 +146,6 @@ def wheel_needs(
     )
 
 
-def planned_states(params: Parameters, x0: np.ndarray, count: int) -> np.ndarray:
-    """The planned starts (count, 6): ``x0`` and up to count - 1 further starts on I3 = 0
-    at x0's energy I1, seeded (the same every run).
-
-    Each further start takes a random attitude gamma (|gamma3| >= PLANNED_MIN_GAMMA3) and a
-    random direction of (p, q); along ``(p, q) = s (cos a, sin a)`` with r from I3 = 0 the
-    energy is a quadratic in s (read from three points), solved for I1(s) = I1(x0). An
-    attitude whose potential lies above the energy has no such s and is tried again; fewer
-    starts than asked come back when PLANNED_TRIES tries per start find none.
-    """
-    energy = float(evaluators.integrals(x0[:6], params)[0])
-    rng = np.random.default_rng(PLANNED_SEED)
-    starts = [np.asarray(x0[:6], float)]
-    for _ in range(PLANNED_TRIES * (count - 1)):
-        if len(starts) == count:
-            break
-        start = _start_at_energy(params, energy, rng)
-        if start is not None:
-            starts.append(start)
-    return np.array(starts)
-
-
-def _start_at_energy(
-    params: Parameters, energy: float, rng: np.random.Generator
-) -> np.ndarray | None:
-    """One random start on I3 = 0 at the energy, or None when the attitude cannot have it."""
-    gamma = rng.standard_normal(3)
-    gamma /= np.linalg.norm(gamma)
-    angle = rng.uniform(0.0, 2.0 * np.pi)
-    if abs(gamma[2]) < PLANNED_MIN_GAMMA3:
-        return None
-    direction = np.array([np.cos(angle), np.sin(angle)])
-    line = np.array([initial_state(params, gamma, *(s * direction)) for s in (-1.0, 0.0, 1.0)])
-    low, mid, high = evaluators.integrals(line, params)[:, 0]
-    a, b, c = 0.5 * (high + low) - mid, 0.5 * (high - low), mid - energy
-    disc = b * b - 4.0 * a * c
-    if a <= 0.0 or disc < 0.0:
-        return None
-    sign = 1.0 if rng.uniform() < 0.5 else -1.0  # either root: both lie on the energy
-    scale = (-b + sign * np.sqrt(disc)) / (2.0 * a)
-    return initial_state(params, gamma, *(scale * direction))
-
-
 @dataclass(frozen=True)
 class PlannedNeeds:
     """What the planned motions ask of the wheels: each motion's needs and the largest.
@@ -295,12 +242,10 @@ def wheel_limits(planned: PlannedNeeds, opts: TestbedOptions) -> tuple[float, fl
 
 
 __all__ = [
-    "PLANNED_SEED",
     "PlannedNeeds",
     "WheelGeometry",
     "WheelNeeds",
     "planned_needs",
-    "planned_states",
     "wheel_axes",
     "wheel_geometry",
     "wheel_limits",
