@@ -429,7 +429,6 @@ __all__ = [
     "Plant",
     "case_model",
     "case_singular_factors",
-    "cross",
     "flight_refusal",
     "invariants",
     "model_rate_terms",
