@@ -12,16 +12,14 @@ from functools import lru_cache
 
 import sympy as sp
 
-from chargedesign.scene.case_file import mu_from_l  # the paper's (mu), as a case file's l means
+# the paper's (mu), as a case file's l means, and the state's symbols the boundary makes
+from chargedesign.scene.case_file import GAMMA, OMEGA, mu_from_l
+from chargedesign.scene.expressions import g1, g2, g3, p, q, r
 
-p, q, r = sp.symbols("p q r", real=True)
-g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
 c, d, n, K = sp.symbols("c d n K", real=True)
 kappa, lam, rho = sp.symbols("kappa lambda rho", real=True)
 C = sp.symbols("C", positive=True)
 
-OMEGA = sp.Matrix([p, q, r])
-GAMMA = sp.Matrix([g1, g2, g3])
 STATE_SYMBOLS = (p, q, r, g1, g2, g3)
 #: order of the parameter arguments of every compiled evaluator
 PARAMETER_SYMBOLS = (C, c, d, n, K, kappa, lam, rho)

@@ -49,7 +49,7 @@ import sympy as sp
 from sympy.polys.rings import PolyElement, PolyRing
 
 from chargedesign.formatting import CELL, fmt
-from chargedesign.model.case import GAMMA, g1, g2, g3, p, q, r
+from chargedesign.model.case import GAMMA, STATE_SYMBOLS, g1, g2, g3, p, q, r
 from chargedesign.model.certificate import U, sphere_normal_form, split_by_power
 from chargedesign.model.equations import euler_poisson
 from chargedesign.results import Result
@@ -61,7 +61,7 @@ from chargedesign.scene.case_file import (
     read_case,
 )
 
-STATE = (p, q, r, g1, g2, g3)
+STATE = STATE_SYMBOLS
 #: position of r among the ring's generators
 _R_INDEX = 2
 

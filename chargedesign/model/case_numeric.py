@@ -67,8 +67,8 @@ class CaseFunctions:
     _dV: tuple[Callable[..., np.ndarray], ...]
     _mu: tuple[Callable[..., np.ndarray], ...]
     _F: Callable[..., np.ndarray]
-    _l_dot_gamma: Callable[..., np.ndarray] | None = None
-    _terms: Callable[[float, float, float], Any] | None = None
+    _l_dot_gamma: Callable[..., np.ndarray]
+    _terms: Callable[[float, float, float], Any]
 
     @property
     def inertia(self) -> np.ndarray:
@@ -92,15 +92,11 @@ class CaseFunctions:
 
     def momentum(self, gammas: np.ndarray) -> np.ndarray:
         """``l . gamma`` at each row (the gamma part of I3, J s) -> (n,)."""
-        if self._l_dot_gamma is None:
-            raise ValueError("case functions built without l . gamma (case_functions builds it)")
         g = np.asarray(gammas, dtype=float)
         return self._l_dot_gamma(g[:, 0], g[:, 1], g[:, 2])
 
     def scalar_terms(self) -> Callable[[float, float, float], Any]:
         """``(g1, g2, g3) -> (dV/dg1, dV/dg2, dV/dg3, mu1, mu2, mu3)`` in Python floats."""
-        if self._terms is None:
-            raise ValueError("case functions built without the scalar terms")
         return self._terms
 
     def integral(self, states: np.ndarray) -> np.ndarray:

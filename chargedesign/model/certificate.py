@@ -117,17 +117,22 @@ def _ring_equations(zeroed: tuple[sp.Symbol, ...]) -> tuple[PolyElement, ...]:
     return tuple(to_ring(e.xreplace(zero)) for e in rhs)
 
 
+def _partial(element: PolyElement, k: int) -> PolyElement:
+    """``d element / d x_k`` for the state's k-th generator (``d/dgamma3 = del/del gamma3 -
+    u^2 del/del u``: u = 1/gamma3 depends on gamma3)."""
+    gens = laurent_ring().gens
+    partial = element.diff(gens[k])
+    if k == G3_INDEX:
+        partial = partial - gens[U_INDEX] ** 2 * element.diff(gens[U_INDEX])
+    return partial
+
+
 def time_derivative_ring(element: PolyElement, zeroed: tuple[sp.Symbol, ...] = ()) -> PolyElement:
     """``d/dt`` of a ring element along the derived equations (parameters in ``zeroed`` = 0)."""
-    ring = laurent_ring()
-    gens = ring.gens
     rhs = _ring_equations(zeroed)
-    total = ring.zero
+    total = laurent_ring().zero
     for k in range(6):
-        partial = element.diff(gens[k])
-        if k == G3_INDEX:  # u = 1/gamma3 depends on gamma3
-            partial = partial - gens[U_INDEX] ** 2 * element.diff(gens[U_INDEX])
-        total += partial * rhs[k]
+        total += _partial(element, k) * rhs[k]
     return laurent_normal(total)
 
 
@@ -226,11 +231,21 @@ def reduced_dI4_dt(
     integral : sympy.Expr, optional
         The function to differentiate instead of the model's I4 (e.g. the printed one).
     """
+    return _split_dI4_dt(zeroed, level, integral)[1]
+
+
+def _split_dI4_dt(
+    zeroed: tuple[sp.Symbol, ...], level: sp.Expr | int = 0, integral: sp.Expr | None = None
+) -> tuple[PolyElement, PolyElement, PolyElement, PolyElement]:
+    """``(dI4/dt, R0, M, N)``: ``dI4/dt = M (I3 - level) / C + N (|gamma|^2 - 1) + R0``
+    (``M = Q u`` of ``dI4/dt = Q (r - a) + R``, ``r = a`` on the level), the arguments as
+    :func:`reduced_dI4_dt` takes them."""
     i4 = _ring_integrals()["I4"] if integral is None else to_ring(integral)
     d_i4 = time_derivative_ring(_zeroed(i4, zeroed), zeroed)
-    _, on_level = divide_by_linear_in_r(d_i4, _zeroed(r_on_level(level), zeroed))
-    normal, _ = sphere_normal_form(on_level)
-    return normal
+    quotient, on_level = divide_by_linear_in_r(d_i4, _zeroed(r_on_level(level), zeroed))
+    normal, sphere_multiplier = sphere_normal_form(on_level)
+    level_multiplier = laurent_normal(quotient * laurent_ring().gens[U_INDEX])
+    return d_i4, normal, level_multiplier, sphere_multiplier
 
 
 @dataclass(frozen=True)
@@ -301,20 +316,20 @@ def _evaluate(element: PolyElement, values: Mapping[sp.Symbol, sp.Rational]) -> 
 
 def _independent(zeroed: tuple[sp.Symbol, ...]) -> bool:
     """Exact rank of d(I1, I2, I3, I4)/d(state) at a rational point of the level I3 = 0."""
-    ring = laurent_ring()
     values = rational_level_point(sp.Integer(0), zeroed)
     integrals = _ring_integrals()
     rows = []
     for name in ("I1", "I2", "I3", "I4"):
         element = _zeroed(integrals[name], zeroed)
-        row = []
-        for k in range(6):
-            partial = element.diff(ring.gens[k])
-            if k == G3_INDEX:
-                partial = partial - ring.gens[U_INDEX] ** 2 * element.diff(ring.gens[U_INDEX])
-            row.append(_evaluate(partial, values))
-        rows.append(row)
+        rows.append([_evaluate(_partial(element, k), values) for k in range(6)])
     return bool(sp.Matrix(rows).rank() == 4)
+
+
+def _case_zeroed(case: str) -> tuple[sp.Symbol, ...]:
+    """The parameters ``case`` (one of :data:`CASES`) sets to zero."""
+    if case not in CASES:
+        raise ValueError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
+    return CASES[case]
 
 
 def certify(case: str = "general") -> CertificateResult:
@@ -327,22 +342,15 @@ def certify(case: str = "general") -> CertificateResult:
         ``"yehia2003"`` (K = 0), ``"goriachev"`` (K = n = rho = 0), ``"chaplygin"``
         (K = n = rho = lambda = 0).
     """
-    if case not in CASES:
-        raise ValueError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
-    zeroed = CASES[case]
+    zeroed = _case_zeroed(case)
     start = time.perf_counter()
     integrals = {k: _zeroed(v, zeroed) for k, v in _ring_integrals().items()}
     checks: dict[str, bool] = {}
     for name in ("I1", "I2", "I3"):
         checks[f"{name}_conserved"] = time_derivative_ring(integrals[name], zeroed) == 0
 
-    d_i4 = time_derivative_ring(integrals["I4"], zeroed)
-    root = _zeroed(r_on_level(sp.Integer(0)), zeroed)
-    quotient, on_level = divide_by_linear_in_r(d_i4, root)
-    normal, sphere_multiplier = sphere_normal_form(on_level)
+    d_i4, normal, level_multiplier, sphere_multiplier = _split_dI4_dt(zeroed)
     checks["I4_conserved_on_level"] = normal == 0
-    ring = laurent_ring()
-    level_multiplier = laurent_normal(quotient * ring.gens[U_INDEX])
     witness = laurent_normal(
         d_i4 - level_multiplier * integrals["I3_over_C"] - sphere_multiplier * (integrals["I2"] - 1)
     )
@@ -368,13 +376,7 @@ def multipliers(case: str = "general") -> tuple[sp.Expr, sp.Expr]:
 
     Both are Laurent polynomials in gamma3 with rational coefficients.
     """
-    if case not in CASES:
-        raise ValueError(f"case: expected one of {', '.join(CASES)}, got {case!r}")
-    zeroed = CASES[case]
-    d_i4 = time_derivative_ring(_zeroed(_ring_integrals()["I4"], zeroed), zeroed)
-    quotient, on_level = divide_by_linear_in_r(d_i4, _zeroed(r_on_level(), zeroed))
-    _, sphere_multiplier = sphere_normal_form(on_level)
-    level_multiplier = laurent_normal(quotient * laurent_ring().gens[U_INDEX])
+    _, _, level_multiplier, sphere_multiplier = _split_dI4_dt(_case_zeroed(case))
     return to_sympy(level_multiplier), to_sympy(sphere_multiplier)
 
 

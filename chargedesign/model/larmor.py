@@ -38,7 +38,7 @@ from typing import Any
 
 import sympy as sp
 
-from chargedesign.model.case import GAMMA, OMEGA, g1, g2, g3, n, omega_shift, p, q, r, symbolic_case
+from chargedesign.model.case import GAMMA, OMEGA, n, omega_shift, r, symbolic_case
 from chargedesign.model.certificate import (
     RING_SYMBOLS,
     laurent_normal,
@@ -188,8 +188,7 @@ def _certify(sign: int) -> LarmorCertificate:
     L = lagrangian(case)
     # L_n(omega) - L_0(omega - s n gamma): the n-Lagrangian against the n = 0 one at the
     # angular velocity the map assigns
-    back = {p: p - sign * n * g1, q: q - sign * n * g2, r: r - sign * n * g3}
-    l_difference = to_ring(L - _n0(L).xreplace(back))
+    l_difference = to_ring(L - _n0(L).xreplace(omega_shift(n, -sign)))
     l_on_sphere, _ = sphere_normal_form(l_difference)
     checks["lagrangian_difference_on_sphere_constant"] = _is_constant(l_on_sphere)
 

@@ -43,7 +43,7 @@ from chargedesign.moment_conditions.harmonics import (
     real_solid_harmonics,
 )
 from chargedesign.moment_conditions.mu import field_weighted, physical_mu_rows, solve_mu
-from chargedesign.moment_conditions.potential import realise_degree
+from chargedesign.moment_conditions.potential import proportionality, realise_degree
 from chargedesign.moment_conditions.types import LinearConditions
 from chargedesign.params import Parameters
 from chargedesign.scene.case_refusals import refuse_free_symbol
@@ -171,10 +171,7 @@ def _masses_give_degree_two(target: CaseTarget) -> bool:
     ]
     if not any(fixed):
         return not any(wanted)
-    ratios = {w / f for w, f in zip(wanted, fixed, strict=True) if f != 0}
-    return len(ratios) == 1 and all(
-        w == next(iter(ratios)) * f for w, f in zip(wanted, fixed, strict=True)
-    )
+    return proportionality(fixed, wanted) is not None
 
 
 def _derived_magnetic(target: CaseTarget) -> list[Fraction]:

@@ -220,7 +220,7 @@ def realise_degree(ctx: DerivationContext, k: int) -> None:
     raise InfeasibleError(f"V degree {k} ({description}) cannot be realised: " + "; ".join(reasons))
 
 
-def _proportionality(fixed: list[Fraction], wanted: list[Fraction]) -> Fraction | None:
+def proportionality(fixed: list[Fraction], wanted: list[Fraction]) -> Fraction | None:
     """The scalar f with ``wanted == f * fixed`` exactly (fixed not all zero), else None."""
     norm = sum((v * v for v in fixed), Fraction(0))
     f = sum((a * b for a, b in zip(fixed, wanted, strict=True)), Fraction(0)) / norm
@@ -257,7 +257,7 @@ def _designate(
     fixer = "mu" if source == "charges" else "the inertia" if source == "masses" else "V"
     need: Fraction | None = None
     if any(fixed):
-        need = _proportionality(fixed, wanted)
+        need = proportionality(fixed, wanted)
         if need is None:
             return False, (
                 f"{source} in fields.{kind}: {fixer} fixes their degree-{k} moments, which "
