@@ -32,8 +32,9 @@ import sympy as sp
 from chargedesign.errors import InputError
 from chargedesign.validation import DECIMAL_PATTERN, MAX_LITERAL_DIGITS, exact_decimal
 
-# The state's symbols, made as :mod:`chargedesign.model.case` makes them: sympy symbols of
-# the same name and assumptions are the same symbol, so the boundary needs no model import.
+# The state's symbols, made here, at the boundary, which imports no model:
+# :mod:`chargedesign.model.case` takes them from here (sympy symbols of the same name and
+# assumptions are the same symbol anyway).
 p, q, r = sp.symbols("p q r", real=True)
 g1, g2, g3 = sp.symbols("gamma1 gamma2 gamma3", real=True)
 
