@@ -176,17 +176,6 @@ class ClosedForm:
                     points.add(middle)
         return sorted(h for h in points if lo < h < hi)
 
-    def distance(self, h: float, k: float) -> tuple[float, str]:
-        """The distance from (h, k) to the nearest wall at energy h, in ``C sqrt(k)`` (J:
-        the walls are straight lines there), over the energy spread; and the wall's label."""
-        labels = {p.name: p.label for p in self.parabolas}
-        root = math.sqrt(max(k, 0.0))
-        found = [
-            (abs(root - math.sqrt(value)) * self.params.C / self.energy_scale, labels.get(n, n))
-            for value, n in self.walls(h)
-        ]
-        return min(found) if found else (math.inf, "")
-
     def cells(self, lo: float, hi: float) -> list[Cell]:
         """Every cell between the energies lo and hi (J), however thin, with its chamber: two
         cells on either side of a vertex energy are one chamber when their gaps overlap there
