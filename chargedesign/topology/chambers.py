@@ -162,6 +162,11 @@ class FlowCount:
         }
 
 
+def seven_state(x: np.ndarray) -> np.ndarray:
+    """``(p, q, r, quaternion)`` of a state ``(p, q, r, gamma)``: the integrator's start."""
+    return np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))])
+
+
 def propagate(
     params: Parameters,
     starts: np.ndarray,
@@ -175,9 +180,7 @@ def propagate(
     4))``, by heyoka's ensemble (without heyoka DOP853 at ``rtol``, ``atol``, its accepted step
     ends as the times). The flow counting's and the flight's one route."""
     system = RigidBodySystem(Body(parameters=params), ["theorem"])
-    y0 = np.array(
-        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
-    )
+    y0 = np.array([seven_state(x) for x in starts])
     grid = np.linspace(0.0, t_end, samples)
     if taylor.available():
         states = taylor.propagate_many(system, y0, grid).states
