@@ -393,6 +393,16 @@ def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
     return out
 
 
+def figure_html(fig: Any, width: int) -> str:
+    """A matplotlib figure drawn by Agg as an inline PNG ``width`` pixels wide
+    (:func:`~chargedesign.results.png_html`)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return png_html(np.asarray(canvas.buffer_rgba())[..., :3], width)
+
+
 class DiagramResult(Result):
     """What the theorem's diagram (:class:`BifurcationDiagram`) and a case's
     (:class:`CaseDiagram`) share: ``raw`` with the
@@ -547,13 +557,7 @@ class BifurcationDiagram(DiagramResult):
         return axes.figure
 
     def _html_picture(self) -> str:
-        import matplotlib.backends.backend_agg as agg
-
-        fig = self.plot()
-        canvas = agg.FigureCanvasAgg(fig)
-        canvas.draw()
-        image = np.asarray(canvas.buffer_rgba())[..., :3]
-        return png_html(image, 420)
+        return figure_html(self.plot(), 420)
 
 
 @dataclass(repr=False)

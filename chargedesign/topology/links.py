@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
-from chargedesign.results import Result, png_html
+from chargedesign.results import Result
 from chargedesign.simulation.chaos import (
     FLIMap,
     PoincareAtlas,
@@ -27,7 +27,7 @@ from chargedesign.simulation.chaos import (
 from chargedesign.simulation.system import Body, RigidBodySystem
 from chargedesign.topology.chambers import seven_state
 from chargedesign.topology.compute import crossings
-from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
+from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram, figure_html
 from chargedesign.topology.equations import MomentumMap
 
 
@@ -88,11 +88,7 @@ class LinkedPictures(Result):
         )
 
     def _html_picture(self) -> str:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-        canvas = FigureCanvasAgg(self.plot())
-        canvas.draw()
-        return png_html(np.asarray(canvas.buffer_rgba())[..., :3], 900)
+        return figure_html(self.plot(), 900)
 
     def plot(self) -> Any:
         """Three panels: diagram with the line h = const, atlas on I3 = 0, FLI on I3 = 0."""
