@@ -106,10 +106,11 @@ class LevelSampler:
         phi = self.phi[cols] + step * g0 / (g0 - g1)
         # one secant refinement on the conic
         value = self._quartic(phi[:, None], rows)[:, 0] - k
-        left = np.where(np.sign(value) == np.sign(g0), phi, self.phi[cols])
-        right = np.where(np.sign(value) == np.sign(g0), self.phi[cols] + step, phi)
-        gl = np.where(np.sign(value) == np.sign(g0), value, g0)
-        gr = np.where(np.sign(value) == np.sign(g0), g1, value)
+        same = np.sign(value) == np.sign(g0)  # the sign change lies after phi
+        left = np.where(same, phi, self.phi[cols])
+        right = np.where(same, self.phi[cols] + step, phi)
+        gl = np.where(same, value, g0)
+        gr = np.where(same, g1, value)
         phi = left + (right - left) * gl / np.where(gl != gr, gl - gr, 1.0)
         x = self._states(phi[:, None], rows)[:, 0]
         return x / np.array([self.omega_scale] * 3 + [1.0] * 3)
