@@ -125,14 +125,11 @@ def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
     ]
     vertices = [Vertex(reading.states(v.state), reading.image(v.hk), v.type) for v in raw.vertices]
     chambers = [
-        Chamber(
-            float(reading.energy(c.h)),
-            c.k * reading.s**4,
-            c.tori,
-            c.walls,
-            c.chamber,
-            c.width * reading.params.C * reading.s**2,
-            c.evidence,
+        replace(
+            c,
+            h=float(reading.energy(c.h)),
+            k=c.k * reading.s**4,
+            width=c.width * reading.params.C * reading.s**2,
         )
         for c in raw.chambers
     ]
