@@ -15,7 +15,7 @@ relative equilibria (``b = 0``: isolated) are found by Newton from a grid of the
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -191,7 +191,6 @@ class CriticalPoints:
 
     z: np.ndarray
     hk: np.ndarray
-    residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def critical_seeds(
@@ -219,7 +218,7 @@ def keep_critical(
         & (values[:, 0] >= scales.h_low - margin)
         & (values[:, 0] <= scales.h_high + margin)
     )
-    return CriticalPoints(z=z[inside], hk=values[inside][:, :2], residual=residual[ok][inside])
+    return CriticalPoints(z=z[inside], hk=values[inside][:, :2])
 
 
 def flow_direction(F: MomentumMap, z: np.ndarray) -> np.ndarray:
