@@ -98,7 +98,6 @@ class ClosedForm:
     params: Parameters
     h_min: float
     parabolas: tuple[Parabola, ...]
-    switch: float  # K^2 a0: the shapes switch at |kappa| = switch
     spread: float  # the spread of the critical energies, J (computed before the Larmor shift)
 
     @classmethod
@@ -129,7 +128,7 @@ class ClosedForm:
             if h != h_min:
                 start = 0.5 * (h_min + h)
                 parabolas.append(Parabola(h, start, "hyperbolic", levels[h], C, a0, kappa))
-        return cls(params, h_min, tuple(parabolas), K * K * a0, spread)
+        return cls(params, h_min, tuple(parabolas), spread)
 
     @property
     def energies(self) -> list[float]:
