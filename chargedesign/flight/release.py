@@ -20,7 +20,7 @@ drift is linear in the error for small errors: the largest error that keeps the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -167,7 +167,6 @@ class ReleaseTolerance:
     target: float
     nominal_drift: float
     flight_s: float
-    notes: list[str] = field(default_factory=list)
 
     @property
     def largest_error(self) -> float:

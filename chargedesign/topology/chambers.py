@@ -106,10 +106,11 @@ class LevelSampler:
         phi = self.phi[cols] + step * g0 / (g0 - g1)
         # one secant refinement on the conic
         value = self._quartic(phi[:, None], rows)[:, 0] - k
-        left = np.where(np.sign(value) == np.sign(g0), phi, self.phi[cols])
-        right = np.where(np.sign(value) == np.sign(g0), self.phi[cols] + step, phi)
-        gl = np.where(np.sign(value) == np.sign(g0), value, g0)
-        gr = np.where(np.sign(value) == np.sign(g0), g1, value)
+        same = np.sign(value) == np.sign(g0)  # the sign change lies after phi
+        left = np.where(same, phi, self.phi[cols])
+        right = np.where(same, self.phi[cols] + step, phi)
+        gl = np.where(same, value, g0)
+        gr = np.where(same, g1, value)
         phi = left + (right - left) * gl / np.where(gl != gr, gl - gr, 1.0)
         x = self._states(phi[:, None], rows)[:, 0]
         return x / np.array([self.omega_scale] * 3 + [1.0] * 3)
@@ -162,6 +163,11 @@ class FlowCount:
         }
 
 
+def seven_state(x: np.ndarray) -> np.ndarray:
+    """``(p, q, r, quaternion)`` of a state ``(p, q, r, gamma)``: the integrator's start."""
+    return np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))])
+
+
 def propagate(
     params: Parameters,
     starts: np.ndarray,
@@ -175,9 +181,7 @@ def propagate(
     4))``, by heyoka's ensemble (without heyoka DOP853 at ``rtol``, ``atol``, its accepted step
     ends as the times). The flow counting's and the flight's one route."""
     system = RigidBodySystem(Body(parameters=params), ["theorem"])
-    y0 = np.array(
-        [np.concatenate([x[:3], rotation_quaternion(attitude_from_gamma(x[3:]))]) for x in starts]
-    )
+    y0 = np.array([seven_state(x) for x in starts])
     grid = np.linspace(0.0, t_end, samples)
     if taylor.available():
         states = taylor.propagate_many(system, y0, grid).states

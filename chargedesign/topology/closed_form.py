@@ -98,7 +98,6 @@ class ClosedForm:
     params: Parameters
     h_min: float
     parabolas: tuple[Parabola, ...]
-    switch: float  # K^2 a0: the shapes switch at |kappa| = switch
     spread: float  # the spread of the critical energies, J (computed before the Larmor shift)
 
     @classmethod
@@ -129,7 +128,7 @@ class ClosedForm:
             if h != h_min:
                 start = 0.5 * (h_min + h)
                 parabolas.append(Parabola(h, start, "hyperbolic", levels[h], C, a0, kappa))
-        return cls(params, h_min, tuple(parabolas), K * K * a0, spread)
+        return cls(params, h_min, tuple(parabolas), spread)
 
     @property
     def energies(self) -> list[float]:
@@ -175,17 +174,6 @@ class ClosedForm:
                 if q.h_j > p.h_j and middle >= max(p.start, q.start):
                     points.add(middle)
         return sorted(h for h in points if lo < h < hi)
-
-    def distance(self, h: float, k: float) -> tuple[float, str]:
-        """The distance from (h, k) to the nearest wall at energy h, in ``C sqrt(k)`` (J:
-        the walls are straight lines there), over the energy spread; and the wall's label."""
-        labels = {p.name: p.label for p in self.parabolas}
-        root = math.sqrt(max(k, 0.0))
-        found = [
-            (abs(root - math.sqrt(value)) * self.params.C / self.energy_scale, labels.get(n, n))
-            for value, n in self.walls(h)
-        ]
-        return min(found) if found else (math.inf, "")
 
     def cells(self, lo: float, hi: float) -> list[Cell]:
         """Every cell between the energies lo and hi (J), however thin, with its chamber: two

@@ -15,7 +15,7 @@ relative equilibria (``b = 0``: isolated) are found by Newton from a grid of the
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -154,6 +154,16 @@ def states_on_level(
     return np.concatenate([omega, gamma], axis=1)
 
 
+def random_level_states(
+    F: MomentumMap, h_low: float, h_high: float, count: int, rng: np.random.Generator
+) -> np.ndarray:
+    """``count`` random states of the level (m, 6): gamma uniform on the sphere, the energy
+    uniform in ``[h_low, h_high]`` and the angle on the conic uniform (drawn in that order)."""
+    gamma = sphere_points(count, rng)
+    energy = rng.uniform(h_low, h_high, count)
+    return states_on_level(F, gamma, energy, rng.uniform(0, 2 * np.pi, count))
+
+
 def multipliers(F: MomentumMap, x: np.ndarray, t: np.ndarray, scales: Scales) -> np.ndarray:
     """Least-squares ``(beta, delta)`` for states x (m, 6) and angles t (m,), shape (m, 2)."""
     grads = F.gradients(x)
@@ -181,16 +191,13 @@ class CriticalPoints:
 
     z: np.ndarray
     hk: np.ndarray
-    residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def critical_seeds(
     F: MomentumMap, scales: Scales, count: int, rng: np.random.Generator
 ) -> CriticalPoints:
     """Critical points from ``count`` random points of the level inside the energy range."""
-    gamma = sphere_points(count, rng)
-    energy = rng.uniform(scales.h_low, scales.h_high, count)
-    x = states_on_level(F, gamma, energy, rng.uniform(0, 2 * np.pi, count))
+    x = random_level_states(F, scales.h_low, scales.h_high, count, rng)
     t = rng.uniform(0, np.pi, count)
     z = np.concatenate([x, t[:, None], multipliers(F, x, t, scales)], axis=1)
     z, residual = gauss_newton(F, z, scales)
@@ -211,7 +218,7 @@ def keep_critical(
         & (values[:, 0] >= scales.h_low - margin)
         & (values[:, 0] <= scales.h_high + margin)
     )
-    return CriticalPoints(z=z[inside], hk=values[inside][:, :2], residual=residual[ok][inside])
+    return CriticalPoints(z=z[inside], hk=values[inside][:, :2])
 
 
 def flow_direction(F: MomentumMap, z: np.ndarray) -> np.ndarray:
@@ -280,6 +287,14 @@ def distinct(points: CriticalPoints, tol: float = 1e-6) -> CriticalPoints:
     return CriticalPoints(points.z[chosen], points.hk[chosen])
 
 
+def _equator_states(F: MomentumMap, phi: np.ndarray) -> np.ndarray:
+    """States of the equator family at rest relative to the Larmor axes (R = 0)."""
+    n = F.params.n
+    gamma = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+    omega = np.stack([-n * gamma[:, 0], -n * gamma[:, 1], np.zeros_like(phi)], axis=1)
+    return np.concatenate([omega, gamma], axis=1)
+
+
 def equator_family(F: MomentumMap, scales: Scales, spacing: float) -> CriticalPoints:
     """The exact critical family ``gamma3 = 0, p + n gamma1 = q + n gamma2 = 0``.
 
@@ -289,11 +304,8 @@ def equator_family(F: MomentumMap, scales: Scales, spacing: float) -> CriticalPo
     segment k = 0 from the least potential on the equator. Sampled at the equator's lowest
     point, with R from the energy, every ``spacing`` (diagram units) inside the range.
     """
-    n = F.params.n
-    phi = np.linspace(0.0, 2 * np.pi, 3601)
-    gamma = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
-    omega = np.stack([-n * gamma[:, 0], -n * gamma[:, 1], np.zeros_like(phi)], axis=1)
-    energies = F.values(np.concatenate([omega, gamma], axis=1))[:, 0]
+    states = _equator_states(F, np.linspace(0.0, 2 * np.pi, 3601))
+    energies = F.values(states)[:, 0]
     best = int(np.argmin(energies))
     low = max(energies[best], scales.h_low)
     if low >= scales.h_high:
@@ -303,18 +315,10 @@ def equator_family(F: MomentumMap, scales: Scales, spacing: float) -> CriticalPo
     # on the family H = C n^2 + C r^2 / 2 + V(gamma): r from the energy in closed form
     base = energies[best]
     r = np.sqrt(np.maximum(2.0 * (h - base) / F.params.C, 0.0))
-    x = np.tile(np.concatenate([omega[best], gamma[best]]), (count, 1))
+    x = np.tile(states[best], (count, 1))
     x[:, 2] = r
     z = np.concatenate([x, np.full((count, 1), np.pi / 2), np.zeros((count, 2))], axis=1)
     return CriticalPoints(z, F.values(x)[:, :2])
-
-
-def _equator_states(F: MomentumMap, phi: np.ndarray) -> np.ndarray:
-    """States of the equator family at rest relative to the Larmor axes (R = 0)."""
-    n = F.params.n
-    gamma = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
-    omega = np.stack([-n * gamma[:, 0], -n * gamma[:, 1], np.zeros_like(phi)], axis=1)
-    return np.concatenate([omega, gamma], axis=1)
 
 
 def equator_vertices(F: MomentumMap, scales: Scales) -> CriticalPoints:

@@ -125,14 +125,11 @@ def mapped(raw: RawDiagram, reading: Reading) -> RawDiagram:
     ]
     vertices = [Vertex(reading.states(v.state), reading.image(v.hk), v.type) for v in raw.vertices]
     chambers = [
-        Chamber(
-            float(reading.energy(c.h)),
-            c.k * reading.s**4,
-            c.tori,
-            c.walls,
-            c.chamber,
-            c.width * reading.params.C * reading.s**2,
-            c.evidence,
+        replace(
+            c,
+            h=float(reading.energy(c.h)),
+            k=c.k * reading.s**4,
+            width=c.width * reading.params.C * reading.s**2,
         )
         for c in raw.chambers
     ]
@@ -393,6 +390,16 @@ def chamber_labels(chambers: list[Chamber]) -> list[Chamber]:
     return out
 
 
+def figure_html(fig: Any, width: int) -> str:
+    """A matplotlib figure drawn by Agg as an inline PNG ``width`` pixels wide
+    (:func:`~chargedesign.results.png_html`)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return png_html(np.asarray(canvas.buffer_rgba())[..., :3], width)
+
+
 class DiagramResult(Result):
     """What the theorem's diagram (:class:`BifurcationDiagram`) and a case's
     (:class:`CaseDiagram`) share: ``raw`` with the
@@ -547,13 +554,7 @@ class BifurcationDiagram(DiagramResult):
         return axes.figure
 
     def _html_picture(self) -> str:
-        import matplotlib.backends.backend_agg as agg
-
-        fig = self.plot()
-        canvas = agg.FigureCanvasAgg(fig)
-        canvas.draw()
-        image = np.asarray(canvas.buffer_rgba())[..., :3]
-        return png_html(image, 420)
+        return figure_html(self.plot(), 420)
 
 
 @dataclass(repr=False)

@@ -6,7 +6,8 @@ by sympy and compiled once (lambdify with common-subexpression elimination). No 
 reaches sympy: the parameters enter the compiled functions as numbers.
 
 Only the regular case is compiled (lambda = rho = 0 substituted): the singular terms are
-refused before any work (:func:`require_regular`).
+refused before any work (:func:`chargedesign.scene.bifurcation.check_regular`, which the
+command runs first, through :func:`~.diagram.check_parameters`).
 """
 
 from __future__ import annotations
@@ -20,13 +21,6 @@ import numpy as np
 from chargedesign.model.evaluators import angular_potential, parameter_tuple, rhs
 from chargedesign.params import Parameters
 from chargedesign.scene.bifurcation import check_regular
-
-
-def require_regular(params: Parameters) -> None:
-    """Refuse lambda or rho != 0 in one line (the diagram is computed for the regular case):
-    :func:`chargedesign.scene.bifurcation.check_regular`, which the command runs first
-    (through :func:`~.diagram.check_parameters`)."""
-    check_regular(params.lam, params.rho)
 
 
 def _expressions() -> list[Any]:
@@ -64,7 +58,7 @@ class MomentumMap:
     """
 
     def __init__(self, params: Parameters) -> None:
-        require_regular(params)
+        check_regular(params.lam, params.rho)
         self.params = params
         self.pt: tuple[float, ...] = parameter_tuple(params)
 

@@ -56,9 +56,8 @@ from chargedesign.topology.critical import (
     critical_seeds,
     equilibria,
     gauss_newton,
+    random_level_states,
     rank_zero,
-    sphere_points,
-    states_on_level,
 )
 from chargedesign.topology.kowalevski import appelrot_class, kowalevski_constants
 
@@ -90,10 +89,7 @@ class CaseRaw:
 def case_scales(F: CaseMomentumMap, h_range: tuple[float, float], count: int = 4000) -> Scales:
     """Diagram units: the energy span, and the largest |F| over states of the level sampled
     at energies across the range."""
-    rng = np.random.default_rng(1)
-    gamma = sphere_points(count, rng)
-    energy = rng.uniform(h_range[0], h_range[1], count)
-    x = states_on_level(F, gamma, energy, rng.uniform(0, 2 * np.pi, count))
+    x = random_level_states(F, h_range[0], h_range[1], count, np.random.default_rng(1))
     spread = float(np.max(np.abs(F.values(x)[:, 1])))
     return Scales(h_range[1] - h_range[0], max(spread, 1e-12), h_range[0], h_range[1])
 
@@ -101,10 +97,7 @@ def case_scales(F: CaseMomentumMap, h_range: tuple[float, float], count: int = 4
 def degenerate_set(F: CaseMomentumMap, scales: Scales, count: int = 2000) -> CriticalPoints:
     """Points of the level where dF = 0 (Gauss-Newton on ``dF = 0, I2 = 1, I3 = g`` from
     states across the energy range), as solutions ``z`` with ``(a, b) = (0, 1)``."""
-    rng = np.random.default_rng(2)
-    gamma = sphere_points(count, rng)
-    energy = rng.uniform(scales.h_low, scales.h_high, count)
-    x = states_on_level(F, gamma, energy, rng.uniform(0, 2 * np.pi, count))
+    x = random_level_states(F, scales.h_low, scales.h_high, count, np.random.default_rng(2))
     z = np.concatenate([x, np.full((count, 1), np.pi / 2), np.zeros((count, 2))], axis=1)
     z, residual = gauss_newton(F, z, scales)
     grads = F.gradients(z[:, :6])

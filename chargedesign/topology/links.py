@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
-from chargedesign.results import Result, png_html
+from chargedesign.results import Result
 from chargedesign.simulation.chaos import (
     FLIMap,
     PoincareAtlas,
@@ -24,14 +24,10 @@ from chargedesign.simulation.chaos import (
     poincare_atlas,
     section_points,
 )
-from chargedesign.simulation.system import (
-    Body,
-    RigidBodySystem,
-    attitude_from_gamma,
-    rotation_quaternion,
-)
+from chargedesign.simulation.system import Body, RigidBodySystem
+from chargedesign.topology.chambers import seven_state
 from chargedesign.topology.compute import crossings
-from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram
+from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram, figure_html
 from chargedesign.topology.equations import MomentumMap
 
 
@@ -59,12 +55,6 @@ def critical_motions(diagram: BifurcationDiagram, energy: float) -> list[Critica
         kind = branch.types[i] if w < 0.5 else branch.types[i + 1]
         out.append(CriticalMotion(k, index, kind, state))
     return out
-
-
-def _seven_state(state: np.ndarray) -> np.ndarray:
-    """``(p, q, r, quaternion)`` of a state ``(p, q, r, gamma)``."""
-    quat = rotation_quaternion(attitude_from_gamma(state[3:]))
-    return np.concatenate([state[:3], quat])
 
 
 @dataclass(repr=False)
@@ -98,11 +88,7 @@ class LinkedPictures(Result):
         )
 
     def _html_picture(self) -> str:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-        canvas = FigureCanvasAgg(self.plot())
-        canvas.draw()
-        return png_html(np.asarray(canvas.buffer_rgba())[..., :3], 900)
+        return figure_html(self.plot(), 900)
 
     def plot(self) -> Any:
         """Three panels: diagram with the line h = const, atlas on I3 = 0, FLI on I3 = 0."""
@@ -181,7 +167,7 @@ def linked_pictures(
         float(F.values(pts[:1, 1:7])[0, 1]) if len(pts) else float("nan") for pts in atlas.points[0]
     ]
     critical = critical_motions(diagram, energy)
-    starts = np.array([_seven_state(c.state) for c in critical]).reshape(-1, 7)
+    starts = np.array([seven_state(c.state) for c in critical]).reshape(-1, 7)
     critical_orbits = section_points(system, starts, t_end) if len(starts) else []
     fmap = fli_map(
         system,

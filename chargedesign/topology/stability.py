@@ -39,8 +39,6 @@ def linearised_eigenvalues(F: MomentumMap, z: np.ndarray, scales: Scales) -> np.
 def classify(eigenvalues: np.ndarray) -> str:
     """``elliptic``, ``hyperbolic`` or ``degenerate`` from the non-zero eigenvalues."""
     scale = np.max(np.abs(eigenvalues))
-    if scale == 0.0:
-        return "degenerate"
     significant = eigenvalues[np.abs(eigenvalues) > ZERO_EIGENVALUE * max(scale, 1.0)]
     if len(significant) == 0:
         return "degenerate"

@@ -49,7 +49,7 @@ class ToriCount(Result):
         return {"h": self.h, "k": self.k, "tori": self.tori}
 
     def _summary(self) -> dict[str, Any]:
-        return {"h": self.h, "k": self.k, "tori": self.tori}
+        return self.to_dict()
 
     def _text(self) -> str:
         head = f"tori over h = {fmt(self.h, PLAIN)} J, k = {fmt(self.k, PLAIN)} 1/s^4: {self.tori}"
@@ -94,9 +94,8 @@ def tori_at(
         Singular or degenerate parameters; ``(h, k)`` on a branch (a critical value); a
         chamber whose count no range of join distances supports.
     """
-    check_parameters(params)
+    closed = check_parameters(params)
     check_tori_point(h, k)
-    closed = ClosedForm.of(params)
     check_regular_value(h, k, closed.branch_at(h, k))
     if h <= closed.h_min or k < 0.0 or k > closed.upper(h):
         return ToriCount(h, k, 0)
