@@ -309,16 +309,25 @@ def name_vertex_ends(branch: TracedBranch, vertices: list[Vertex], scales: Scale
     return replace(branch, ends=(ends[0], ends[1]))
 
 
-def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]:
-    """``(k, branch index)`` where each branch's polyline crosses the vertical line h."""
+def crossing_segments(
+    branches: list[TracedBranch], h: float
+) -> list[tuple[float, int, int, float]]:
+    """``(k, branch index, i, w)`` for each crossing of a branch's polyline with the vertical
+    line h, sorted: the crossing lies on the branch's segment from row ``i`` to ``i + 1``, a
+    fraction ``w`` along it."""
     out = []
     for index, branch in enumerate(branches):
         hs, ks = branch.hk[:, 0], branch.hk[:, 1]
         side = np.sign(hs - h)
         for i in np.flatnonzero(side[:-1] * side[1:] < 0):
             w = (h - hs[i]) / (hs[i + 1] - hs[i])
-            out.append((float(ks[i] + w * (ks[i + 1] - ks[i])), index))
+            out.append((float(ks[i] + w * (ks[i + 1] - ks[i])), index, int(i), float(w)))
     return sorted(out)
+
+
+def crossings(branches: list[TracedBranch], h: float) -> list[tuple[float, int]]:
+    """``(k, branch index)`` where each branch's polyline crosses the vertical line h."""
+    return [(k, index) for k, index, _, _ in crossing_segments(branches, h)]
 
 
 def chamber_samples(

@@ -26,7 +26,7 @@ from chargedesign.simulation.chaos import (
 )
 from chargedesign.simulation.system import Body, RigidBodySystem
 from chargedesign.topology.chambers import seven_state
-from chargedesign.topology.compute import crossings
+from chargedesign.topology.compute import crossing_segments
 from chargedesign.topology.diagram import TYPE_COLOURS, BifurcationDiagram, figure_html
 from chargedesign.topology.equations import MomentumMap
 
@@ -45,11 +45,9 @@ def critical_motions(diagram: BifurcationDiagram, energy: float) -> list[Critica
     """The crossings of the line ``h = energy`` with the branches, with a state of each
     (interpolated between the two neighbouring rows of the branch, gamma renormalised)."""
     out = []
-    for k, index in crossings(diagram.branches, energy):
+    for k, index, i, w in crossing_segments(diagram.branches, energy):
         branch = diagram.branches[index]
-        hs = branch.hk[:, 0]
-        i = int(np.flatnonzero(np.sign(hs[:-1] - energy) * np.sign(hs[1:] - energy) < 0)[0])
-        w = (energy - hs[i]) / (hs[i + 1] - hs[i])
+        # the state on the crossing's own segment (a branch may cross the line more than once)
         state = branch.states[i] + w * (branch.states[i + 1] - branch.states[i])
         state[3:] /= np.linalg.norm(state[3:])
         kind = branch.types[i] if w < 0.5 else branch.types[i + 1]

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 from chargedesign.simulation import taylor
+from chargedesign.topology.compute import TracedBranch
 from chargedesign.topology.equations import MomentumMap
 from chargedesign.topology.links import critical_motions, linked_pictures
 
@@ -36,3 +39,16 @@ def test_linked_pictures_small(unit_diagram):
     assert linked.fli.fli[0].shape == (4, 6)
     assert linked.to_dict()["fli_grid"] == [6, 4]
     assert linked.plot() is not None
+
+
+def test_a_branch_crossing_the_line_twice_gives_each_crossing_its_own_state():
+    """A branch whose energy rises and falls again (a fold) meets h = 1 twice: each critical
+    motion is interpolated on its own segment, with that segment's type (not both on the
+    first)."""
+    hk = np.array([[0.0, 0.0], [2.0, 1.0], [0.0, 2.0]])
+    states = np.array([[1.0, 0, 0, 0, 0, 1], [2.0, 0, 0, 0, 0, 1], [3.0, 0, 0, 0, 0, 1]])
+    branch = TracedBranch(states, hk, ["elliptic", "degenerate", "hyperbolic"], ("a", "b"))
+    motions = critical_motions(SimpleNamespace(branches=[branch]), 1.0)
+    assert [m.k for m in motions] == [0.5, 1.5]
+    assert [m.state[0] for m in motions] == [1.5, 2.5]
+    assert [m.type for m in motions] == ["degenerate", "hyperbolic"]
