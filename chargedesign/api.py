@@ -71,9 +71,7 @@ def as_scene(source: Any = None, **tables: Any) -> Scene:
         where = "<dict>"
     else:
         raise wrong_kind("design", "a scene, a path, a mapping, Parameters or None", source)
-    for name, table in tables.items():
-        if table is not None:
-            data[name] = table
+    data.update(tables)
     return scene_from_dict(data, where)
 
 
@@ -161,16 +159,21 @@ def catalogue() -> CatalogueReport:
     return certify_catalogue()
 
 
+def _held_body(source: Any) -> Any:
+    """The body a result holds (a DesignResult's with its whole record, a case's certificate
+    too; another result's ``design``), else ``source`` itself."""
+    if isinstance(source, DesignResult):
+        return source.recorded_design()
+    inner = getattr(source, "design", None)
+    return inner if isinstance(inner, Design) else source
+
+
 def _design_of(design: Any, where: str) -> Design:
     """The body of a Design, a DesignResult (or a case's), a design.json path or mapping;
     another kind is refused in one line naming the entry point ``where``."""
-    if isinstance(design, Design):
-        return design
-    if isinstance(design, DesignResult):  # with its whole record (a case's certificate too)
-        return design.recorded_design()
-    inner = getattr(design, "design", None)
-    if isinstance(inner, Design):  # another result holding a body
-        return inner
+    body = _held_body(design)
+    if isinstance(body, Design):
+        return body
     if isinstance(design, (str, os.PathLike)):
         return read_design(design)
     if isinstance(design, Mapping):
@@ -213,12 +216,7 @@ def simulate(source: Any = None, **options: Any) -> SimulationResult:
     SimulationResult
     """
 
-    if isinstance(source, DesignResult):  # its body with its whole record
-        source = source.recorded_design()
-    inner = getattr(source, "design", None)
-    if isinstance(inner, Design):  # another result holding a body
-        source = inner
-    return simulate_scene_or_design(source, **options)
+    return simulate_scene_or_design(_held_body(source), **options)
 
 
 def tolerance(design: Any, target: float | None = None, **options: Any) -> ToleranceReport:

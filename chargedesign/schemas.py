@@ -56,7 +56,6 @@ _POSITIVE = {"type": "number", "exclusiveMinimum": 0}
 _VECTOR = {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}
 _POINTS = {"type": "array", "items": _VECTOR}
 _NUMBERS = {"type": "array", "items": _NUMBER}
-GAS_NAMES = tuple(GAS_PROPERTIES)
 _NONNEGS = {"type": "array", "items": _NONNEG}
 
 
@@ -81,7 +80,7 @@ def _medium() -> dict[str, Any]:
             "breakdown_V_per_m": _POSITIVE,
             "safety": {"type": "number", "exclusiveMinimum": 0, "maximum": 1},
             "gas": {
-                "enum": list(GAS_NAMES),
+                "enum": list(GAS_PROPERTIES),
                 "description": "whose density and viscosity the drag estimate uses",
             },
         },

@@ -20,10 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable, best_time
+from chargedesign.bench.common import UNIT_SCALE, BenchTable, best_time
 from chargedesign.formatting import fmt
 from chargedesign.model import evaluators as ev
-from chargedesign.params import Parameters
 
 #: wall-time cap of the sympy.simplify baseline (seconds)
 SIMPLIFY_CAP = 120.0
@@ -161,7 +160,7 @@ def _evaluator_table(quick: bool) -> BenchTable:
     from chargedesign.model.case import PARAMETER_SYMBOLS, STATE_SYMBOLS
     from chargedesign.model.equations import equations_of_motion
 
-    params = Parameters(C=1.0, c=0.3, d=-0.4, n=0.7, K=0.5, kappa=0.9, lam=0.1, rho=0.2)
+    params = UNIT_SCALE.replace(lam=0.1, rho=0.2)
     pt = ev.parameter_tuple(params)
     state = np.array([0.1, 0.2, 0.3, 0.6, 0.0, 0.8])
     naive = sp.lambdify(STATE_SYMBOLS + PARAMETER_SYMBOLS, list(equations_of_motion()), "numpy")

@@ -475,9 +475,7 @@ def quadrature_table(quick: bool = False) -> BenchTable:
     return table
 
 
-def plot_quadrature_convergence(
-    table: BenchTable, path: str | None = None, *, ax: Any = None
-) -> Any:
+def plot_quadrature_convergence(table: BenchTable, path: str | None = None) -> Any:
     """Error against nodes (left) and time (right) per integrand; returns the figure.
 
     Parameters
@@ -486,24 +484,17 @@ def plot_quadrature_convergence(
         The quadrature table.
     path : str, optional
         Write a PNG there (atomically).
-    ax : pair of matplotlib Axes, optional
-        Draw into these (nodes, time); default: a new figure.
     """
     import matplotlib
 
-    if ax is None:
-        matplotlib.use("Agg")
+    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     rows_by: dict[str, list[list[Any]]] = {}
     for row in table.rows:
         rows_by.setdefault(row[0], []).append(row)
-    if ax is None:
-        fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-        fig.suptitle("Quadrature of continuous bodies: convergence beyond the exact degree")
-    else:
-        axes = list(ax)
-        fig = axes[0].figure
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    fig.suptitle("Quadrature of continuous bodies: convergence beyond the exact degree")
     for label, rows in rows_by.items():
         err = [max(r[3], 1e-17) for r in rows]
         axes[0].loglog([r[2] for r in rows], err, "o-", label=label)
@@ -518,8 +509,7 @@ def plot_quadrature_convergence(
         fig.tight_layout()
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format="png", dpi=110)
-        if ax is None:
-            plt.close(fig)
+        plt.close(fig)
     return fig
 
 

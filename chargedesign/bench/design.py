@@ -30,6 +30,7 @@ from chargedesign.candidates import candidates_from_table, fibonacci_sphere
 from chargedesign.designer import DesignOptions, design_body, relative_residual
 from chargedesign.errors import ChargeDesignError
 from chargedesign.fields import AxisymmetricField
+from chargedesign.model.evaluators import parameter_tuple
 from chargedesign.moment_conditions import derive_conditions
 from chargedesign.params import Parameters
 from chargedesign.scene import load_scene
@@ -52,10 +53,8 @@ def theorem_mu(params: Parameters, gammas: np.ndarray) -> np.ndarray:
     fn = sp.lambdify(
         (*case.PARAMETER_SYMBOLS, case.g1, case.g2, case.g3), list(case.symbolic_case().mu)
     )
-    values = [params.C, params.c, params.d, params.n, params.K, params.kappa, params.lam]
-    values.append(params.rho)
     g = gammas.T
-    out = fn(*values, g[0], g[1], g[2])
+    out = fn(*parameter_tuple(params), g[0], g[1], g[2])
     return np.column_stack([np.broadcast_to(np.asarray(v, dtype=float), g[0].shape) for v in out])
 
 

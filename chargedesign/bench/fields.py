@@ -11,15 +11,7 @@ import numpy as np
 
 from chargedesign.bench.common import BenchTable, best_time
 from chargedesign.fields import AxisymmetricField
-
-
-def _rotation_to(gamma: np.ndarray) -> np.ndarray:
-    """A body-to-space rotation R with R^T e_Z = gamma (third row of R is gamma)."""
-    helper = np.array([1.0, 0.0, 0.0]) if abs(gamma[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(helper, gamma)
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(gamma, e1)
-    return np.stack([e1, e2, gamma])
+from chargedesign.simulation import attitude_from_gamma
 
 
 def run(quick: bool = False) -> list[BenchTable]:
@@ -32,7 +24,7 @@ def run(quick: bool = False) -> list[BenchTable]:
     gammas /= np.linalg.norm(gammas, axis=1)[:, None]
     t_fill, _ = best_time(lambda: np.full((m, n, 3), 1.0), repeat)
     loop_m = min(m, 50)
-    rotations = [_rotation_to(g) for g in gammas[:loop_m]]
+    rotations = [attitude_from_gamma(g) for g in gammas[:loop_m]]
     table = BenchTable(
         title=f"gradient_body: {m} orientations x {n} points",
         columns=[

@@ -20,13 +20,13 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable
+from chargedesign.bench.common import UNIT_SCALE, BenchTable
 from chargedesign.formatting import PLAIN, PRECISE, fmt
 from chargedesign.scene.keys import KEY
 from chargedesign.sweeps import SweepSpec, make_executor, run_point, run_sweep, warm_up
 
 SCENE: dict[str, dict[str, Any]] = {
-    "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
+    "parameters": UNIT_SCALE.as_dict(),
     "simulation": {"effects": ["theorem"], KEY.t_end: 100.0, "samples": 201},
     "output": {"trajectory": False, "plot": False},
 }

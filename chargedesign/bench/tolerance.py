@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from chargedesign.bench.common import BenchTable
+from chargedesign.bench.common import UNIT_SCALE, BenchTable
 from chargedesign.designer import design_from_scene
 from chargedesign.formatting import AGREEMENT, PLAIN, fmt
 from chargedesign.scene import scene_from_dict
@@ -23,7 +23,7 @@ from chargedesign.tolerancing import ErrorModel, monte_carlo, tolerance_report
 
 #: examples/scenes/unit_scale.toml, inline so the bench runs from an installed package
 UNIT_SCENE = {
-    "parameters": {"C": 1.0, "c": 0.3, "d": -0.4, "n": 0.7, "K": 0.5, "kappa": 0.9},
+    "parameters": UNIT_SCALE.as_dict(),
     "fields": {"magnetic": {"a1": 1.0, "a2": 0.5}, "gravity": {"legendre": [9.81]}},
     "body": {"shape": "ball", "radius": 1.0, "spacing": 0.25},
     "design": {"realise": ["mu", "V", "inertia"]},

@@ -81,12 +81,13 @@ def run(args: argparse.Namespace) -> int:
     if not written:
         if not viz.in_notebook() and not viz.display_available():
             raise InputError(viz.NO_DISPLAY)
-        _check_view(tuple(args.size) if args.size else (1024, 768), args.gamma)
+        size = tuple(args.size) if args.size else (1024, 768)
+        _check_view(size, args.gamma)
         viz.show_interactive(
             design,
             region=region,
             gamma=args.gamma,
-            window_size=tuple(args.size) if args.size else (1024, 768),
+            window_size=size,
             max_elements=args.max_elements,
         )
         return 0

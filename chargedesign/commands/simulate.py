@@ -28,6 +28,7 @@ from chargedesign.formatting import CELL, PLAIN, fmt
 from chargedesign.limits import MAX_PERIODS
 from chargedesign.scene.keys import KEY
 from chargedesign.simulation import (
+    SimulationSetup,
     fli_map,
     poincare_atlas,
     prepare,
@@ -109,8 +110,6 @@ def run(args: argparse.Namespace) -> int:
         if out_dir and result.body and result.body.get("designed_from_scene"):
             # the body designed here, beside its motion (chargedesign show/check read it)
             design_path = Path(out_dir) / "design.json"
-            if Path(out_dir).exists() and not Path(out_dir).is_dir():
-                raise ChargeDesignError(f"{out_dir}: expected an output directory, it is a file")
             write_design(setup.design, design_path)
             result.body["design_file"] = str(design_path)
         summary = result.summary()
@@ -151,7 +150,7 @@ SIMULATE_FILES = (
 )
 
 
-def _check_out(args: argparse.Namespace, setup: object) -> None:
+def _check_out(args: argparse.Namespace, setup: SimulationSetup | None) -> None:
     """The output folder, before any work (chargedesign.files.check_outputs): ``--out`` (or
     the atlas's default) before the source is read; a scene's ``[output] dir`` after."""
 
@@ -162,12 +161,12 @@ def _check_out(args: argparse.Namespace, setup: object) -> None:
         return
     import os
 
-    origin = getattr(setup, "body_info", {}).get("origin")  # a scene's body.design file
+    origin = setup.body_info.get("origin")  # a scene's body.design file
     if isinstance(origin, str) and os.path.isfile(origin):
         inputs.append(origin)
     if args.out is None and not args.atlas:
         check_outputs(
-            [("output.dir", setup.output.dir, True)],  # type: ignore[attr-defined]
+            [("output.dir", setup.output.dir, True)],
             inputs=inputs,
             writes=SIMULATE_FILES,
         )
@@ -175,12 +174,12 @@ def _check_out(args: argparse.Namespace, setup: object) -> None:
         check_outputs([("--out", args.out, True)], inputs=inputs, writes=SIMULATE_FILES)
 
 
-def _check_work(args: argparse.Namespace, setup: object) -> None:
+def _check_work(args: argparse.Namespace, setup: SimulationSetup) -> None:
     """The work a run asks for, estimated before it starts (chargedesign.limits): periods of
     the body's fastest rate over t_end (``effects = []``, a free motion, is said by the run's
     notes: "no effect acts: torque-free motion")."""
 
-    options = setup.options  # type: ignore[attr-defined]
+    options = setup.options
     if args.atlas:
         t_end, option = args.t_end or 500.0, "--t-end"
     elif args.t_end is not None:
@@ -190,8 +189,8 @@ def _check_work(args: argparse.Namespace, setup: object) -> None:
     cap = MAX_PERIODS if args.max_periods is None else args.max_periods
     check_periods(
         t_end,
-        setup.body.parameters,  # type: ignore[attr-defined]
-        setup.initial,  # type: ignore[attr-defined]
+        setup.body.parameters,
+        setup.initial,
         cap,
         option,
         "--max-periods N",
@@ -216,7 +215,7 @@ def _options(args: argparse.Namespace) -> dict:
     }
 
 
-def _ensemble(args: argparse.Namespace, setup: object, bar: Progress | None) -> int:
+def _ensemble(args: argparse.Namespace, setup: SimulationSetup, bar: Progress | None) -> int:
     import json
 
     try:
@@ -225,7 +224,7 @@ def _ensemble(args: argparse.Namespace, setup: object, bar: Progress | None) -> 
         if bar is not None:
             bar.close()
     summary = result.summary()
-    out_dir = args.out or getattr(getattr(setup, "output", None), "dir", None)
+    out_dir = args.out or setup.output.dir
     if out_dir:
         summary["files"] = [str(f) for f in result.write(out_dir)]
     if args.json:
@@ -237,7 +236,7 @@ def _ensemble(args: argparse.Namespace, setup: object, bar: Progress | None) -> 
     return 0
 
 
-def _atlas(args: argparse.Namespace, setup: object) -> int:
+def _atlas(args: argparse.Namespace, setup: SimulationSetup) -> int:
     import json
     from pathlib import Path
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 
+from chargedesign.commands import print_result
 from chargedesign.commands.progress import progress_bar
 from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
@@ -28,7 +29,6 @@ SWEEP_FILES = ("sweep.json", "summary.csv", "summary.parquet", "points")
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
     from pathlib import Path
 
     check_executor(args.executor, args.workers)  # before any file is read
@@ -73,8 +73,5 @@ def run(args: argparse.Namespace) -> int:
             raise
         finally:
             handle.close()
-    if args.json:
-        print(json.dumps(result.to_dict(), indent=2))
-    else:
-        print(str(result))
+    print_result(result, args.json)
     return 0 if result.failed == 0 and result.lost == 0 else 1

@@ -45,7 +45,7 @@ from chargedesign.tolerancing import (
 from chargedesign.validation import check_error_spreads, check_periods
 
 
-def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: str = "--") -> None:
+def check_error_scale(model: Any, levels: Sequence[float], design: Any) -> None:
     """The largest error a Monte Carlo draws (a spread times the largest level) no larger than
     what it perturbs: a position error within the body's extent (the farthest element from
     O), an absolute charge, dipole or mass error within the largest element of its kind, a
@@ -87,14 +87,14 @@ def check_error_scale(model: Any, levels: Sequence[float], design: Any, prefix: 
             continue
         if spread.relative and drawn > 1.0:
             raise InputError(
-                f"{prefix}{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level"
+                f"--{name}: {fmt(100 * spread.value, PLAIN)}% times the largest level"
                 f" {fmt(top, PLAIN)} is "
                 f"{fmt(100 * drawn, PLAIN)}%, past 100 %: give a smaller error or smaller --levels"
             )
         if not spread.relative and drawn > size:
             what = "the body's extent" if name == "position" else f"the largest {name}"
             raise InputError(
-                f"{prefix}{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level"
+                f"--{name}: {fmt(spread.value, PLAIN)} {units[name]} times the largest level"
                 f" {fmt(top, PLAIN)} "
                 f"is {fmt(drawn, PLAIN)} {units[name]}, more than {what} ({fmt(size, PLAIN)}"
                 f" {units[name]}): the "

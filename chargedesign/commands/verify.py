@@ -15,10 +15,7 @@ import json
 from chargedesign.model.case_file import verify_case_file
 from chargedesign.model.frame import certify_frame
 from chargedesign.scene.case_file import read_case
-from chargedesign.verification import CERTIFICATE_CASES as CERTIFICATE_CASES
-from chargedesign.verification import VerificationReport
-from chargedesign.verification import collect as collect
-from chargedesign.verification import format_report as format_report
+from chargedesign.verification import verify
 
 
 def run(args: argparse.Namespace) -> int:
@@ -31,9 +28,9 @@ def run(args: argparse.Namespace) -> int:
         else:
             print(certificate)
         return 0 if certificate.holds and certificate.independent else 1
-    report = collect()
+    report = verify()
     if args.json:
-        print(json.dumps(report, indent=2))
+        print(json.dumps(report.data, indent=2))
     else:
-        print(VerificationReport(report))
-    return 0 if VerificationReport(report).holds else 1
+        print(report)
+    return 0 if report.holds else 1

@@ -53,7 +53,7 @@ def test_verify_when_the_p6_engine_fails_says_so_in_one_line(
 
 
 def test_report_formatting_from_collected_parts() -> None:
-    from chargedesign.commands.verify import format_report
+    from chargedesign.verification import format_report
 
     report = {
         "certificate": {"general": True, "chaplygin": False},
