@@ -128,9 +128,7 @@ def magnet_continuum(design: Any) -> dict[str, Any]:
     edges = np.cbrt(volumes)
     material = (design.materials or {}).get("magnet") or {}
     return {
-        "count": int(edges.size),
-        "smallest_m": float(edges.min()),
-        "largest_m": float(edges.max()),
+        **_span(edges),
         "continuum_size_m": MAGNET_CONTINUUM_SIZE,
         "below": int(np.count_nonzero(edges < MAGNET_CONTINUUM_SIZE)),
         "material": material.get("name"),
