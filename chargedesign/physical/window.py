@@ -64,7 +64,12 @@ from chargedesign.physical.parasitics import (
     self_field,
     speed_over_c,
 )
-from chargedesign.physical.realism import material_parts, realisability_map, typical_rate
+from chargedesign.physical.realism import (
+    material_parts,
+    realisability_map,
+    region_radius,
+    typical_rate,
+)
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
 from chargedesign.sampling import fibonacci_sphere
@@ -496,12 +501,8 @@ def window_model(
     legendre = tuple(design.field("magnetic"))
     key, term = _smallest_term(design)
     parts = material_parts(design)
-    positions, masses = design.all_masses()
-    region = float(
-        (design.buildability or {}).get(
-            "region_radius_m", np.max(np.linalg.norm(positions, axis=1), initial=0.0)
-        )
-    )
+    _, masses = design.all_masses()
+    region = region_radius(design)
     rate = typical_rate(design.parameters)
     items: list[Parasitic] = []
     if legendre:
