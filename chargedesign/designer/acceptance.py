@@ -84,6 +84,15 @@ def _check_magnitudes(design: Design) -> None:
         )
 
 
+def failed_quantities(report: Any) -> str:
+    """The forward check's failing quantities and their relative errors, in one line."""
+    return ", ".join(
+        f"{name} {fmt(q.rel_err, ROUGH)}"
+        for name, q in report.quantities.items()
+        if name in report.failures
+    )
+
+
 def forward_acceptance(design: Design, *, totals_requested: bool = False) -> None:
     """The design command's forward check: raises one line when the body misses the theorem.
 
@@ -108,11 +117,7 @@ def forward_acceptance(design: Design, *, totals_requested: bool = False) -> Non
         ) from exc
     if report.passed:
         return
-    errors = ", ".join(
-        f"{name} {fmt(q.rel_err, ROUGH)}"
-        for name, q in report.quantities.items()
-        if name in report.failures
-    )
+    errors = failed_quantities(report)
     causes = []
     if totals_requested:
         causes.append("the requested total (--total-charge/--total-mass) may be too large")

@@ -27,6 +27,7 @@ from chargedesign.designer.physical_setup import (
 )
 from chargedesign.designer.result import DesignResult, SourceResult, record_provenance
 from chargedesign.designer.robust import weighted_norm
+from chargedesign.designer.system import UNITS
 from chargedesign.errors import InfeasibleError, SolverError
 from chargedesign.formatting import PRECISE, fmt
 from chargedesign.larmor import LarmorReading
@@ -123,71 +124,40 @@ def whole_record(design: Design, material: Material | None, masses: MassSolution
         design.inertia["convergence"] = masses.convergence.to_dict()
 
 
-def _source_result(
-    setup: PhysicalSetup,
-    seconds: float,
-    source: str,
-    value: float,
-    units: str,
-    method: str,
-    residual: float,
-    count: int,
-) -> SourceResult:
-    """One source's outcome: its objective value, method, residual and element count."""
-    A, b = setup.systems[source]
-    return SourceResult(
-        source=source,
-        objective=setup.options.objective_for(source),
-        objective_value=value,
-        objective_value_raw=value,
-        units=units,
-        solver="HiGHS+Clarabel" if source == "charges" else "Clarabel",
-        method=method,
-        status="optimal",
-        n_conditions=len(b),
-        rank=int(np.linalg.matrix_rank(A)) if A.size else 0,
-        n_candidates=len(setup.points),
-        n_elements=count,
-        residual_before=residual,
-        residual_after=residual,
-        seconds=seconds,
-    )
-
-
 def source_results(setup: PhysicalSetup, outcome: PhysicalOutcome) -> dict[str, SourceResult]:
-    """The per-source outcomes in the form the report and summary read."""
+    """The per-source outcomes in the form the report and summary read: each designed
+    source's objective value, method, residual and element count."""
     ch, ms = outcome.charges, outcome.masses
-
-    def result(source: str, value: float, units: str, method: str, residual: float, count: int):
-        return _source_result(setup, outcome.seconds, source, value, units, method, residual, count)
-
-    out = {
-        "charges": result(
-            "charges",
-            weighted_norm(ch.charges, setup.cost("charges")[ch.sites]),
-            "C",
-            ch.method,
-            ch.residual,
-            len(ch.sites),
-        ),
-        "dipoles": result(
-            "dipoles",
-            weighted_norm(ms.moments, setup.cost("dipoles")[ms.sites]),
-            "A m^2",
-            ms.method,
-            ms.residual_dipoles,
-            int(np.count_nonzero(np.linalg.norm(ms.moments, axis=1))),
-        ),
-        "masses": result(
-            "masses",
-            weighted_norm(ms.site_masses, setup.cost("masses")[ms.sites]),
-            "kg",
-            ms.method,
-            ms.residual_masses,
-            len(ms.sites),
-        ),
+    dipoles = int(np.count_nonzero(np.linalg.norm(ms.moments, axis=1)))
+    parts = {  # source: (weights, sites, method, residual, element count)
+        "charges": (ch.charges, ch.sites, ch.method, ch.residual, len(ch.sites)),
+        "dipoles": (ms.moments, ms.sites, ms.method, ms.residual_dipoles, dipoles),
+        "masses": (ms.site_masses, ms.sites, ms.method, ms.residual_masses, len(ms.sites)),
     }
-    return {k: v for k, v in out.items() if len(setup.systems[k][1])}
+    out = {}
+    for source, (weights, sites, method, residual, count) in parts.items():
+        A, b = setup.systems[source]
+        if not len(b):
+            continue
+        value = weighted_norm(weights, setup.cost(source)[sites])
+        out[source] = SourceResult(
+            source=source,
+            objective=setup.options.objective_for(source),
+            objective_value=value,
+            objective_value_raw=value,
+            units=UNITS[source],
+            solver="HiGHS+Clarabel" if source == "charges" else "Clarabel",
+            method=method,
+            status="optimal",
+            n_conditions=len(b),
+            rank=int(np.linalg.matrix_rank(A)) if A.size else 0,
+            n_candidates=len(setup.points),
+            n_elements=count,
+            residual_before=residual,
+            residual_after=residual,
+            seconds=outcome.seconds,
+        )
+    return out
 
 
 def design_physical(

@@ -29,6 +29,7 @@ from chargedesign.designer.physical_setup import (
     PhysicalInfeasible,
     PhysicalSetup,
 )
+from chargedesign.designer.polish import support_of
 from chargedesign.designer.system import polish_equal, relative_residual, row_scaled
 from chargedesign.errors import SolverError
 from chargedesign.formatting import PLAIN, fmt
@@ -344,8 +345,7 @@ def _excess(ratio: float) -> str:
 
 
 def charge_support(q: np.ndarray) -> np.ndarray:
-    top = float(np.max(np.abs(q))) if len(q) else 0.0
-    return np.flatnonzero(np.abs(q) > 1e-9 * top) if top > 0 else np.zeros(0, dtype=int)
+    return support_of(q, 1, 1e-9)
 
 
 def _charges_method(rounds: int, n_cones: int) -> str:

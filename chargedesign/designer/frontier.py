@@ -55,7 +55,12 @@ import numpy as np
 
 from chargedesign.body import Design
 from chargedesign.constants import STANDARD_GRAVITY
-from chargedesign.designer.acceptance import BUILDER_BALANCE_M, balance_bound, body_check
+from chargedesign.designer.acceptance import (
+    BUILDER_BALANCE_M,
+    balance_bound,
+    body_check,
+    failed_quantities,
+)
 from chargedesign.designer.assembly import build_design, design_at_rate
 from chargedesign.designer.charges import charge_support, lp_charges
 from chargedesign.designer.cone_program import ConeProgram
@@ -66,7 +71,7 @@ from chargedesign.designer.physical_setup import Binding, PhysicalInfeasible, Ph
 from chargedesign.designer.whole_inertia import WholeTerms
 from chargedesign.errors import ChargeDesignError, InfeasibleError, SolverError
 from chargedesign.files import atomic_directory
-from chargedesign.formatting import CELL, PLAIN, PRECISE, ROUGH, fmt
+from chargedesign.formatting import CELL, PLAIN, PRECISE, fmt
 from chargedesign.physical.limits import check_limits
 from chargedesign.physical.realism import field_response, k_law
 from chargedesign.physical.window import (
@@ -502,11 +507,7 @@ def _accept_body(design: Design, responses: dict[int, Any] | None = None) -> Bin
         return Binding("limits", limits.violations[0], "limits check")
     if report.passed:
         return None
-    errors = ", ".join(
-        f"{name} {fmt(q.rel_err, ROUGH)}"
-        for name, q in report.quantities.items()
-        if name in report.failures
-    )
+    errors = failed_quantities(report)
     return Binding(
         "forward",
         f"the body misses the theorem in the forward check ({errors} against tol"

@@ -215,14 +215,21 @@ def whole_infeasible(data: MassData) -> bool:
     return solution.status in proofs
 
 
-def prices(data: MassData, y: np.ndarray) -> np.ndarray:
-    """The least value of each site's Lagrangian over its set ``S_i`` (<= 0; 0: the site
-    cannot improve the program), from the equality duals ``y``."""
+def _site_duals(data: MassData, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """From the equality duals ``y``: each site's mass reduced cost ``r`` and the norm ``g``
+    of its dipole rows' duals."""
     md = len(data.bds)
     yd, ym = y[:md], y[md:]
     r = data.cm + data.Ams.T @ ym
     k = len(data.sites)
     g = np.linalg.norm((data.Ads.T @ yd).reshape(k, 3), axis=1) if md else np.zeros(k)
+    return r, g
+
+
+def prices(data: MassData, y: np.ndarray) -> np.ndarray:
+    """The least value of each site's Lagrangian over its set ``S_i`` (<= 0; 0: the site
+    cannot improve the program), from the equality duals ``y``."""
+    r, g = _site_duals(data, y)
     p = data.cd - g
     # the rays (w, t) = (1, 0) and (alpha, 1), each to the cell's bound
     mass_ray = r / data.gamma
@@ -234,11 +241,7 @@ def prices(data: MassData, y: np.ndarray) -> np.ndarray:
 def on_face(data: MassData, y: np.ndarray, tol: float) -> np.ndarray:
     """Which sites have a zero reduced cost (within ``tol``) along a ray of their set: the
     sites an optimal solution may use (the others are zero in every one)."""
-    md = len(data.bds)
-    yd, ym = y[:md], y[md:]
-    r = data.cm + data.Ams.T @ ym
-    k = len(data.sites)
-    g = np.linalg.norm((data.Ads.T @ yd).reshape(k, 3), axis=1) if md else np.zeros(k)
+    r, g = _site_duals(data, y)
     magnet = np.abs(data.alpha * r + data.cd - g) <= tol
     return (np.abs(r) <= tol) | (magnet & ~data.blocked)
 

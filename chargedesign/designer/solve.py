@@ -16,6 +16,7 @@ from chargedesign.designer.column_generation import (
     l1_lp_column_generation,
     use_column_generation,
 )
+from chargedesign.designer.polish import support_of
 from chargedesign.designer.problems import (
     dipole_cvxpy,
     l1_cvxpy,
@@ -126,7 +127,7 @@ def _reweighted_support(
             sol = _solve_l1_scalar(p, replace(options, solver="auto"), costs, progress)
             u = sol.u
             top = float(np.max(np.abs(u))) if len(u) else 0.0
-            support = np.flatnonzero(np.abs(u) > 1e-9 * top)
+            support = support_of(u, 1, 1e-9)
             if best is None or len(support) < len(best):
                 best = support
             if len(support) <= target:
@@ -188,7 +189,5 @@ def _mip_support(
             " "
             f"found has {found}); raise n_charges or the time limit"
         )
-    values = np.asarray(u.value, dtype=float)
-    top = float(np.max(np.abs(values)))
-    support = np.flatnonzero(np.abs(values) > 1e-9 * top)
+    support = support_of(np.asarray(u.value, dtype=float), 1, 1e-9)
     return support, f"mixed integer (HiGHS): {len(support)} charges with {bound_text}"
