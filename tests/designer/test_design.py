@@ -2,7 +2,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from unit_scene import UNIT_PARAMETERS as DEFAULT
 from unit_scene import UNIT_SCENE
@@ -14,6 +14,7 @@ from chargedesign.designer import (
     design_from_scene,
     relative_residual,
 )
+from chargedesign.designer.accuracy import FORWARD_LIMIT, quantity_scales
 from chargedesign.errors import InfeasibleError, InputError, SolverError
 from chargedesign.moment_conditions import LinearCondition, LinearConditions, derive_conditions
 from chargedesign.params import Parameters
@@ -127,6 +128,10 @@ finite = st.builds(lambda m, s: m * s, magnitude, st.sampled_from([-1.0, 1.0]))
     log_a2=st.floats(-3.0, 0.0),
     log_size=st.floats(-1.5, 0.5),
 )
+# d and K both small: V ~ 1.5e-11 J, below what masses in uniform gravity resolve (refused)
+@example(
+    log_c=0.0, c=0.0, d=-(2.0**-8), n=0.0, K=-(2.0**-9), kappa=0.0, a1=1.0, log_a2=0.0, log_size=0.0
+)
 def test_random_targets_are_met_from_the_written_elements(
     log_c, c, d, n, K, kappa, a1, log_a2, log_size
 ):
@@ -134,7 +139,18 @@ def test_random_targets_are_met_from_the_written_elements(
     size = 10**log_size
     fields = {"magnetic": (a1, 2.0 * 10**log_a2), "gravity": (9.81,)}
     conditions = derive_conditions(params, fields)
-    result = design_body(params, conditions, ball(size))
+    try:
+        result = design_body(params, conditions, ball(size))
+    except InfeasibleError as refusal:
+        # the one refusal a random target may get, and only when no body could avoid it: V
+        # met only by cancellation of the masses' pulls in uniform gravity. Masses with the
+        # inertia diag(2C, 2C, C) have sum m r^2 = 5C/2, so in a ball of radius R their pulls
+        # sum to g1 sum m r >= g1 5C / (2R), and V's forward error is at least eps times that
+        # over V's size (d and K both small make V tiny: it goes like (d K)^2)
+        least = np.finfo(float).eps * 9.81 * 2.5 * params.C / size / quantity_scales(params)["V"]
+        assert "V is met only by cancellation" in str(refusal), refusal
+        assert least > FORWARD_LIMIT / 2, (least, refusal)
+        return
     design = result.design
     # the written form, read back (what a checker sees)
     from chargedesign.body import Design
