@@ -195,13 +195,16 @@ def _check_field_limits(spec: PhysicalSpec, maxima: Mapping[str, float], region:
 
 
 def _magnet_sites(
-    spec: PhysicalSpec, reach: FieldReach, dipoles: tuple[np.ndarray, np.ndarray], n: int
+    spec: PhysicalSpec,
+    withstood: float | None,
+    reach: FieldReach,
+    dipoles: tuple[np.ndarray, np.ndarray],
+    n: int,
 ) -> np.ndarray:
     """Candidates where a magnet keeps its magnetisation (the largest |B| over its cell,
-    ``reach.magnetic_at``, stays below what the magnet withstands); InfeasibleError when V's
-    moments cannot be met there."""
+    ``reach.magnetic_at``, stays below ``withstood``, what the magnet material withstands;
+    None: unknown); InfeasibleError when V's moments cannot be met there."""
     magnet_sites = np.ones(n, dtype=bool)
-    withstood = spec.magnet.field_withstood()
     if withstood is not None and reach.magnetic_at is not None:
         magnet_sites = reach.magnetic_at <= withstood
         if not _moments_reachable(dipoles, magnet_sites):
@@ -248,11 +251,9 @@ def _cells(points: np.ndarray) -> tuple[np.ndarray, float]:
 def _electric_rate_bound(spec: PhysicalSpec, reach: FieldReach) -> float:
     """The largest rate the apparatus' electric-field limit allows (inf: no limit)."""
     limit = spec.field_limits.get("electric")
-    if limit is None or "electric" not in reach.maxima:
+    top = reach.maxima.get("electric")  # the grid's last value, to the last bit
+    if limit is None or top is None:
         return math.inf
-    # the field over the body region: the grid's last value (each radius's maximum is
-    # computed alone, to the last bit: physical/field_bounds.py), not a second evaluation
-    top = float(reach.electric_values[-1])
     return limit / top if top > 0 else math.inf
 
 
@@ -289,7 +290,7 @@ def setup_physical(
     )
     _check_field_limits(spec, reach.maxima, region)
     systems = {s: conditions.system(s, points) for s in ("charges", "dipoles", "masses")}
-    magnet_sites = _magnet_sites(spec, reach, systems["dipoles"], len(points))
+    magnet_sites = _magnet_sites(spec, withstood, reach, systems["dipoles"], len(points))
     rate_bound = _electric_rate_bound(spec, reach)
     # the robust costs (the placement sensitivities) are weighed once no setup refusal is
     # left: a magnet material the field demagnetises is refused before that work
