@@ -101,11 +101,10 @@ def plan_motions(params: Parameters, opts: TestbedOptions, case: CaseModel | Non
     if opts.has_start or case is not None:
         assert opts.initial_gamma is not None and opts.initial_p is not None
         assert opts.initial_q is not None
-        gamma = np.array(opts.initial_gamma)
-        if case is None:
-            x0 = initial_state(params, gamma, opts.initial_p, opts.initial_q)
-        else:  # as the case's route always read it: a start of -0.0 is 0.0
-            x0 = initial_state(params, gamma, opts.initial_p or 0.0, opts.initial_q or 0.0, case)
+        p, q = opts.initial_p, opts.initial_q
+        if case is not None:  # as the case's route always read it: a start of -0.0 is 0.0
+            p, q = p or 0.0, q or 0.0
+        x0 = initial_state(params, np.array(opts.initial_gamma), p, q, case)
         sampled = _sampled(params, x0, opts.t_end_s, None, case)
         axis = best_axis([sampled.gammas])
         tilt = float(tilt_deg(axis, sampled.gammas).max())
