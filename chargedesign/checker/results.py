@@ -335,7 +335,11 @@ def summary_lines(report: CheckReport) -> list[str]:
         lines.append(
             f"larmor reading: {report.larmor['reading']} (rate "
             f"{fmt(report.larmor['rate'], PLAIN)} 1/s); "
-            f"compared with the theorem at n = {fmt(report.larmor['checked_n'], PLAIN)}"
+            + (
+                f"compared with the theorem at n = {fmt(report.larmor['checked_n'], PLAIN)}"
+                if report.reference == "theorem"
+                else f"compared with the {report.reference}"
+            )
         )
     lines += [
         f"{'quantity':<20} {'rel_err':>10} {'floor':>8} {'cancel':>8}  {'status':<10} worst gamma",

@@ -42,6 +42,7 @@ from chargedesign.constants import STANDARD_GRAVITY
 from chargedesign.errors import ChargeDesignError
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.physical.materials import BUILDER_BALANCE_M
+from chargedesign.physical.realism import general_case_functions
 from chargedesign.validation import MAX_MAGNITUDE
 
 #: the balance double precision holds, in units of roundoff of the body's mass-weighted size
@@ -242,7 +243,8 @@ def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | No
     A centre-of-mass offset ``delta`` adds ``M g gamma . delta`` to V and ``M g gamma x
     delta`` to the potential torque; the check accepts neither beyond ``tol`` times the
     designed spread of V or the largest designed potential torque over its orientations
-    (:func:`chargedesign.checker.theorem_reference` of the body's parameters). Only the
+    (:func:`chargedesign.checker.theorem_reference` of the body's parameters; a general
+    case's own V, :func:`chargedesign.physical.realism.general_case_functions`). Only the
     uniform part of gravity is counted: it is the one that does not vanish at O.
     """
     coeffs = design.field("gravity")
@@ -256,7 +258,12 @@ def balance_bound(design: Design, tol: float | None = None) -> BalanceBound | No
         return None
     size = float(np.sum(masses * np.linalg.norm(positions, axis=1))) / mass
     gammas = sample_orientations(DEFAULT_ORIENTATIONS, 0)
-    ref = theorem_reference(design.body_parameters, gammas)
+    functions = general_case_functions(design)  # a general case: its own V
+    ref = (
+        theorem_reference(design.body_parameters, gammas)
+        if functions is None
+        else functions.reference(gammas)
+    )
     spread = float(np.max(np.abs(ref["V"] - ref["V"].mean())))
     torque = float(np.max(np.linalg.norm(np.cross(gammas, ref["dV"]), axis=1)))
     designed = min(x for x in (spread, torque, math.inf) if x > 0) if spread or torque else 0.0

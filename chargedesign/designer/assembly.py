@@ -106,6 +106,10 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     )
     design.field_limits = dict(spec.field_limits)
     design.time_rate = s
+    if setup.model_record is not None:  # a general case: the budgets read its own rate
+        if s != 1.0:  # its record is the case itself, at rate 1 (no frontier reads it yet)
+            raise ValueError(f"a general case's body is built at its own rate, not s = {s}")
+        design.further_keys["case"] = dict(setup.model_record)
     whole_record(design, spec.holder, ms)
     if spec.material_errors:
         design.material_errors = dict(spec.material_errors)

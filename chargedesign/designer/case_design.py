@@ -185,7 +185,9 @@ def record_case(
         design.further_keys["case"] = case_record(table, case, None)
     if table is None or design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window
-        # (as the theorem's scene has them) say the rest
+        # (as the theorem's scene has them) say the rest; a general case's real parts: the
+        # forward check against the case (every part's own inertia counted, as `check`
+        # does), its limits and its physical realism budget (at the case's own rate)
         return
     checks = case_checks(case, design)
     record = design.further_keys["case"]

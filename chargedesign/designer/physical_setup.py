@@ -96,6 +96,9 @@ class PhysicalSetup:
     #: how the theorem's n is realised (rate at time rate 1); ``params`` are then the
     #: parameters the elements realise (n = 0 for ``frame``)
     larmor: LarmorReading | None = None
+    #: a general case's design.json ``case`` record (None: the theorem's body), written into
+    #: every body built: its budgets read the case's own rate and terms from it
+    model_record: dict[str, Any] | None = None
     #: the constraint generations' last working sets (candidate indices), seeds of the next
     #: solve on the same candidates (the whole-inertia rounds, probes at other rates)
     warm: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
@@ -265,6 +268,7 @@ def setup_physical(
     options: DesignOptions | None = None,
     *,
     larmor: LarmorReading | None = None,
+    model_record: dict[str, Any] | None = None,
 ) -> PhysicalSetup:
     """Validate the physical spec against the candidates and build the systems at rate 1.
 
@@ -272,7 +276,8 @@ def setup_physical(
     theorem's n at rate 1) is recorded in every design built (n = 0 in ``params`` for
     ``frame``). ``options`` are those
     :func:`~chargedesign.designer.pipeline.check_physical_options` took, before the candidates
-    and conditions were made.
+    and conditions were made. ``model_record``: a general case's design.json ``case`` record
+    (:attr:`PhysicalSetup.model_record`).
     """
     options = options or DesignOptions()
     points = candidates.points
@@ -318,6 +323,7 @@ def setup_physical(
         costs=costs,
         magnet_sites=magnet_sites,
         larmor=larmor,
+        model_record=model_record,
     )
 
 

@@ -68,6 +68,11 @@ NO_MEDIUM = (
     "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
     "name = vacuum | air | sf6 | oil)"
 )
+#: a general case's body with [medium]: designed at the case's own rate, no frontier
+GENERAL_CASE_NO_FRONTIER = (
+    "frontier not located: a [case] not of the theorem's form is designed at its own rate "
+    "(the frontier's rate family reads the theorem's parameters)"
+)
 
 
 def design_source(
@@ -521,7 +526,12 @@ def design_from_scene(
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
     if inputs.spec is not None:
-        result, _ = _physical_design(inputs, inputs.physical_setup(), progress, frontier)
+        general = inputs.model.theorem is None  # the frontier reads the theorem's rates
+        result, _ = _physical_design(
+            inputs, inputs.physical_setup(), progress, frontier and not general
+        )
+        if general and frontier:
+            result.design.notes = [*(result.design.notes or []), GENERAL_CASE_NO_FRONTIER]
         return _finish_scene_design(scene, inputs, result, progress)
     t2 = time.perf_counter()
     result = design_body(
@@ -553,6 +563,7 @@ def design_and_frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, progress, overrides)
+    _check_frontier_model(scene, inputs)
     too_many = frontier_too_large(inputs.candidates)
     if too_many is not None:
         raise InputError(f"frontier: {too_many}")  # before the work: it would not end
@@ -763,7 +774,13 @@ class SceneInputs:
     model: SceneModel
 
     def physical_setup(self) -> Any:
-        """The physical design's setup of these inputs (they must carry a ``[medium]``)."""
+        """The physical design's setup of these inputs (they must carry a ``[medium]``); a
+        general case's setup carries its design.json ``case`` record (its budgets read it)."""
+        model_record = None
+        if self.model.theorem is None:
+            from chargedesign.model.case_numeric import case_record  # sympy: a case only
+
+            model_record = case_record(self.model.table or {}, self.model.case, None)
         return setup_physical(
             self.body_params,
             self.conditions,
@@ -771,6 +788,7 @@ class SceneInputs:
             self.spec,
             self.options,
             larmor=self.larmor,
+            model_record=model_record,
         )
 
 
@@ -888,20 +906,45 @@ def _scene_inputs(
         from chargedesign.designer.case_design import conditions_of_case  # sympy: a case only
 
         conditions = conditions_of_case(model.case, scene.fields, length)
+        if spec is not None:
+            _check_site_gravity(scene, conditions, options.realised_gravity)
     return SceneInputs(options, candidates, conditions, params, larmor, why, note, spec, model)
+
+
+def _check_site_gravity(scene: Any, conditions: LinearConditions, site_g: float) -> None:
+    """Refuse, in one line, real parts of a general case whose conditions put masses in a
+    gravity no site has: the engine derives gravity when masses realise V (uniform standard g
+    for V's degree 1, a gradient for its degree 2), but real parts feel their site's uniform
+    gravity only (``site_g``: the support's, or ``[design] realised_gravity``)."""
+    if conditions.field_origin.get("gravity") != "derived":
+        return
+    legendre = tuple(conditions.fields.get("gravity", ()))
+    if any(x != 0.0 for x in legendre[1:]):
+        raise InputError(
+            f"{scene.source}: [medium] with a [case] whose V the conditions realise by masses "
+            f"in a gravity gradient (fields.gravity legendre {[fmt(x) for x in legendre]}, "
+            "derived): a site's gravity is uniform; give [fields.gravity] a1 (the site's g) "
+            "and [fields.magnetic] a2, so that magnets realise V's degree 2, or drop [medium] "
+            "for point elements"
+        )
+    if legendre and not np.isclose(legendre[0], site_g, rtol=1e-12, atol=0.0):
+        raise InputError(
+            f"{scene.source}: [medium] with a [case] whose V the conditions realise by masses "
+            f"in gravity {fmt(legendre[0])} m/s^2 (derived), but the support's is "
+            f"{fmt(site_g)} m/s^2; give [fields.gravity] a1, or a support where the masses "
+            "feel that gravity"
+        )
 
 
 def _general_case_reading(
     scene: Any, options: DesignOptions, spec: Any
 ) -> tuple[LarmorReading, str, str]:
     """A case not of the theorem's form: its elements realise its own V and l (the charges
-    reading), refused in one line where the route still needs the theorem's parameters."""
-    if spec is not None:
-        raise InputError(
-            f"{scene.source}: [medium] with a [case] not of the theorem's form: the physical "
-            "design reads the theorem's rates (typical rate, K law, Larmor rate) and this case "
-            "has none yet; drop [medium] to design it as point elements"
-        )
+    reading), refused in one line where the route still needs the theorem's parameters. With
+    ``[medium]`` its parts are designed at the case's own rate, and its budgets and balance
+    read the case's own V, mu and typical rate
+    (:func:`chargedesign.physical.realism.model_scales`); the frontier's rate family reads the
+    theorem's parameters, so it is not located (:data:`GENERAL_CASE_NO_FRONTIER`)."""
     if options.larmor == "frame":
         raise InputError(
             "design.larmor: 'frame' reads the theorem's n as turning axes; a [case] not of the "
@@ -938,5 +981,13 @@ def frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, None, overrides)
+    _check_frontier_model(scene, inputs)
     setup = inputs.physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
+
+
+def _check_frontier_model(scene: Any, inputs: SceneInputs) -> None:
+    """Refuse, in one line, the frontier of a case not of the theorem's form (before the
+    setup's work): the frontier's rate family reads the theorem's parameters."""
+    if inputs.model.theorem is None:
+        raise InputError(f"{scene.source}: {GENERAL_CASE_NO_FRONTIER}")

@@ -24,7 +24,9 @@ rate the theorem's terms set; the designed torques: ``C omega^2 / 4``.
 from __future__ import annotations
 
 import functools
+import json
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -92,6 +94,82 @@ def typical_rate(params: Any) -> float:
     return 2.0 * max(
         abs(p.n), abs(p.K), math.sqrt(abs(p.kappa)), math.sqrt(abs(p.lam)), math.sqrt(abs(p.rho))
     )
+
+
+@dataclass(frozen=True)
+class ModelScales:
+    """The typical motion of the model a body realises: its rate (1/s), the inertia of its
+    kinetic scale (kg m^2) and the typical torque ``C rate^2 / 4`` (N m); ``terms`` are a
+    general case's realised terms (N m, :func:`case_terms`), None for the theorem's (its
+    terms are the realisability map's rows)."""
+
+    rate: float
+    C: float
+    terms: dict[str, float] | None = None
+
+    @property
+    def torque(self) -> float:
+        return self.C * self.rate**2 / 4.0
+
+
+#: a general case's numeric functions by its record (they cost sympy): a design is read
+#: many times by its budgets, window and support
+_CASE_FUNCTIONS: dict[tuple[Any, ...], Any] = {}
+#: most kept
+MAX_CASE_FUNCTIONS = 16
+
+
+def general_case_record(design: Any) -> dict[str, Any] | None:
+    """The design.json ``case`` record of a general case's body (one not of the theorem's
+    form: its recorded parameters carry no rate, only C), None for the theorem's body."""
+    record = (getattr(design, "further_keys", None) or {}).get("case")
+    if typical_rate(design.parameters) != 0 or not isinstance(record, dict):
+        return None
+    return record
+
+
+def general_case_functions(design: Any) -> Any:
+    """The numeric functions (:class:`chargedesign.model.case_numeric.CaseFunctions`) of the
+    case a general case's body realises, rebuilt from its design.json record (None: the
+    theorem's body)."""
+    record = general_case_record(design)
+    if record is None:
+        return None
+    larmor = getattr(design, "larmor", None)
+    key = (
+        json.dumps(record.get("table"), sort_keys=True, default=str),
+        None if larmor is None else (larmor.reading, larmor.rate),
+    )
+    functions = _CASE_FUNCTIONS.get(key)
+    if functions is None:
+        # sympy: a general case's body only
+        from chargedesign.model.case_numeric import design_case_functions
+
+        functions = design_case_functions(record, larmor)
+        if len(_CASE_FUNCTIONS) >= MAX_CASE_FUNCTIONS:
+            _CASE_FUNCTIONS.pop(next(iter(_CASE_FUNCTIONS)))
+        _CASE_FUNCTIONS[key] = functions
+    return functions
+
+
+def model_scales(design: Any, parameters: Any = None) -> ModelScales:
+    """The typical rate and torque of the model ``design`` realises, the one source every
+    budget, window and support reads.
+
+    The theorem's body: :func:`typical_rate` of ``parameters`` (default
+    ``design.parameters``; the support reads the parameters its elements realise) and their C.
+    A general case's body (:func:`general_case_record`): the case's own rate and terms, from
+    its V and mu as the record rebuilds them (:func:`case_terms`), with the smallest diagonal
+    inertia as C.
+    """
+    functions = general_case_functions(design)
+    if functions is None:
+        p = design.parameters if parameters is None else parameters
+        return ModelScales(typical_rate(p), float(p.C))
+    sized = case_terms(design, functions)
+    inertia = np.diag(functions.inertia)
+    c_min = float(np.min(inertia[inertia > 0]))
+    return ModelScales(sized["rate_rad_s"], c_min, dict(sized["terms"]))
 
 
 def region_radius(design: Any) -> float:
@@ -304,11 +382,12 @@ def field_response(design: Any) -> dict[str, Any]:
     Two items of the realism budget (``induced_magnetisation_fraction``,
     ``eddy_torque_fraction``), recomputed from the written elements and materials.
     """
-    rate = typical_rate(design.parameters)
+    scales = model_scales(design)
+    rate = scales.rate
     legendre = tuple(design.field("magnetic"))
     if rate == 0 or not legendre or design.medium is None:
         return {}
-    torque = design.parameters.C * rate**2 / 4.0
+    torque = scales.torque
     parts = material_parts(design)
     energies = induced_energies_by_set(legendre, parts)
     energy = np.ptp(energies, axis=1)  # each set's own range, to name the largest
@@ -319,7 +398,7 @@ def field_response(design: Any) -> dict[str, Any]:
     induced = float(np.ptp(np.sum(energies, axis=0))) / torque
     damping = total_eddy / torque
     # damping time: kinetic energy C rate^2 over the dissipated power sum(torque) rate
-    periods = design.parameters.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
+    periods = scales.C * rate**2 / (2 * math.pi * total_eddy) if total_eddy else math.inf
     induced_note = _induced_note(induced, energy, parts)
     eddy_note = _eddy_note(damping, eddy, parts, periods)
     induced_key, eddy_key = FIELD_RESPONSE_KEYS
@@ -688,6 +767,8 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         ``frontier_eddy_over_term``: the induced energy does not change with the rate, the
         eddy torque grows like it).
     """
+    if model_scales(design).terms is not None:
+        return []  # a general case: its terms are its own (case_terms), not the theorem's
     p = design.parameters
     frame = design.larmor_reading == "frame"
     # the frame reading's n is the turning axes' rate (the parts realise n = 0)
@@ -905,18 +986,18 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
     ``response``: the :func:`field_response` of this design when already computed (the
     limits check computes it too).
     """
-    p = design.parameters
-    rate = typical_rate(p)
+    scales = model_scales(design)
+    rate = scales.rate
     if rate == 0:
-        return {"note": "the theorem's terms vanish: no typical motion to estimate"}
+        return {"note": "the model's terms vanish: no typical motion to estimate"}
     positions, masses = design.all_masses()
     radii = np.linalg.norm(design.charge_positions, axis=1)
     all_r = np.linalg.norm(positions, axis=1)
     r_max = float(np.max(all_r, initial=0.0))
     q = design.charge_values
     period = 2 * math.pi / rate
-    kinetic = p.C * rate**2  # ~ (1/2) omega . I omega with I ~ 2C
-    torque = p.C * rate**2 / 4.0
+    kinetic = scales.C * rate**2  # ~ (1/2) omega . I omega with I ~ 2C
+    torque = scales.torque
     v_over_c = speed_over_c(rate, r_max)
     larmor = larmor_power(q, radii, rate)
     damping_time = kinetic / larmor if larmor > 0 else math.inf

@@ -41,7 +41,7 @@ from chargedesign.fields import AxisymmetricField
 from chargedesign.formatting import PLAIN, ROUGH, fmt
 from chargedesign.physical import sources
 from chargedesign.physical.coils import WIRE_SECTION, CoilPair
-from chargedesign.physical.realism import material_parts, region_radius, typical_rate
+from chargedesign.physical.realism import material_parts, model_scales, region_radius
 from chargedesign.physical.window import REALISED_FRACTION, WindowModel, window_model
 from chargedesign.scene.keys import KEY
 from chargedesign.scene.support import SupportOptions
@@ -335,13 +335,14 @@ class _Body:
 
 def _body(design: Any, gravity: float, fraction: float) -> _Body:
     model = window_model(design, 1.0, fraction=fraction, gravity=gravity)
+    scales = model_scales(design, design.body_parameters)
     return _Body(
         model,
         coil_pairs(model),
         region_radius(design),
         float(np.sum(design.all_masses()[1])),
-        typical_rate(design.body_parameters),
-        float(design.parameters.C),
+        scales.rate,
+        scales.C,
         fraction,
     )
 

@@ -66,9 +66,9 @@ from chargedesign.physical.parasitics import (
 )
 from chargedesign.physical.realism import (
     material_parts,
+    model_scales,
     realisability_map,
     region_radius,
-    typical_rate,
 )
 from chargedesign.physical.state_of_the_art import BEARINGS
 from chargedesign.results import Result
@@ -132,8 +132,11 @@ def _smallest_term(design: Any) -> tuple[str, float]:
         if r["frontier_size_N_m"] is not None and math.isfinite(r["size_N_m"]) and r["size_N_m"] > 0
     ]
     if not rows:
-        rate = typical_rate(design.parameters)
-        return "typical", design.parameters.C * rate**2 / 4.0
+        scales = model_scales(design)
+        if scales.terms:  # a general case: its own smallest realised term
+            key = min(scales.terms, key=scales.terms.__getitem__)
+            return key, scales.terms[key]
+        return "typical", scales.torque
     row = min(rows, key=lambda r: r["size_N_m"])
     return row["key"], float(row["size_N_m"])
 
@@ -161,7 +164,7 @@ def _induced_item(design: Any, parts: list[dict[str, Any]], legendre, term: floa
 
 
 def _eddy_item(design: Any, parts: list[dict[str, Any]], legendre, term: float) -> Parasitic:
-    rate = typical_rate(design.parameters)
+    rate = model_scales(design).rate
     torques = eddy_torques_by_set(legendre, parts, rate)
     holder = holder_eddy_torque(legendre, getattr(design, "holder", None), rate)
     power = _set_exponents(parts, 1.0 + MAGNET_RADIUS5_EXPONENT, 1.0)
@@ -189,7 +192,7 @@ def _power_item(key: str, label: str, law: str, value: float, exponent: float) -
 def _charge_items(design: Any, term: float, applied: float) -> list[Parasitic]:
     """Radiation, self-field and v/c of the charges (none without charges)."""
     q = np.asarray(design.charge_values, dtype=float)
-    rate = typical_rate(design.parameters)
+    rate = model_scales(design).rate
     positions, _ = design.all_masses()
     r_max = float(np.max(np.linalg.norm(positions, axis=1), initial=0.0))
     items = [
@@ -503,7 +506,7 @@ def window_model(
     parts = material_parts(design)
     _, masses = design.all_masses()
     region = region_radius(design)
-    rate = typical_rate(design.parameters)
+    rate = model_scales(design).rate
     items: list[Parasitic] = []
     if legendre:
         items += [
