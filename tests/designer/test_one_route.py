@@ -152,13 +152,6 @@ def test_design_takes_a_case_scene_from_its_path(tmp_path: Path) -> None:
     assert result.certificate.holds and len(result.design.mass_values) > 0
 
 
-def test_a_general_case_with_medium_is_refused_in_one_line(tmp_path: Path) -> None:
-    data = tomllib.loads((EXAMPLES / "kowalevski_case.toml").read_text("utf-8"))
-    data["medium"] = {"name": "vacuum"}
-    with pytest.raises(InputError, match=r"\[medium\] with a \[case\] not of the theorem's form"):
-        cd.design(scene_from_dict(data, "<kowalevski with medium>"))
-
-
 @pytest.mark.parametrize(
     ("argv", "option"),
     [
