@@ -250,6 +250,17 @@ class Design(ElementSet):
         """The parameters the elements themselves realise (``n = 0`` for ``frame``)."""
         return body_parameters(self.parameters, self.larmor)
 
+    @property
+    def general_case(self) -> dict[str, Any] | None:
+        """design.json's ``case`` record of a general case's body (a case not of the theorem's
+        form: its recorded parameters are C alone, no rate), None for the theorem's body (a
+        theorem's scene, or a case of its form, whose parameters are the theorem's)."""
+        record = self.further_keys.get("case")
+        p = self.parameters
+        if not isinstance(record, dict) or any((p.n, p.K, p.kappa, p.lam, p.rho)):
+            return None
+        return record
+
     def field(self, kind: str) -> tuple[float, ...]:
         """Legendre coefficients of one field (empty tuple: no such field)."""
         return self.fields.get(kind, ())

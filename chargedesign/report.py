@@ -186,13 +186,21 @@ def _plausibility_lines(figures: Plausibility) -> list[str]:
 
 
 def _scene_lines(design: Design, records: ReportRecords) -> list[str]:
-    """Parameters, fields, realised terms and candidates, one line each."""
-    params = design.parameters.as_dict()
-    lines = [
-        "Parameters: "
-        + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
-        + " (SI units)."
-    ]
+    """The model (the theorem's parameters, or a general case's own inertia and V: its
+    recorded parameters are placeholders), fields, realised terms and candidates, one line
+    each."""
+    case = design.general_case
+    if case is not None:
+        inertia = ", ".join(fmt(float(x), PLAIN) for x in case.get("inertia", ()))
+        name, potential = case.get("name"), case.get("V")
+        lines = [f"Case: {name}: inertia diag({inertia}) kg m^2, V = {potential} J."]
+    else:
+        params = design.parameters.as_dict()
+        lines = [
+            "Parameters: "
+            + ", ".join(f"{k} = {fmt(v, PLAIN)}" for k, v in params.items())
+            + " (SI units)."
+        ]
     origin = records.fields_origin
     field_parts = []
     for kind in ("magnetic", "electric", "gravity"):

@@ -39,7 +39,6 @@ from typing import Any
 from chargedesign.body import Design
 from chargedesign.formatting import PLAIN, ROUGH, fmt, fmt_length
 from chargedesign.physical.limits import within_limits
-from chargedesign.physical.realism import general_case_record
 from chargedesign.physical.window import RealisedWindow
 from chargedesign.scene.design_realism import RealismRecord, WindowAtDesign, parasitic_text
 from chargedesign.vocabulary import VERDICT_STATES
@@ -64,7 +63,7 @@ def recorded_window(data: dict[str, Any] | None) -> RealisedWindow | None:
 def _what_changes(design: Design) -> str:
     """What would move the body into its realised window (from the frontier's record)."""
     window = realised_window(design)
-    if window is None and general_case_record(design) is not None:
+    if window is None and design.general_case is not None:
         return (
             "the scene's field, materials or size (the frontier and its search read the "
             "theorem's rates: not for a [case] of another form)"

@@ -119,20 +119,11 @@ _CASE_FUNCTIONS: dict[tuple[Any, ...], Any] = {}
 MAX_CASE_FUNCTIONS = 16
 
 
-def general_case_record(design: Any) -> dict[str, Any] | None:
-    """The design.json ``case`` record of a general case's body (one not of the theorem's
-    form: its recorded parameters carry no rate, only C), None for the theorem's body."""
-    record = (getattr(design, "further_keys", None) or {}).get("case")
-    if typical_rate(design.parameters) != 0 or not isinstance(record, dict):
-        return None
-    return record
-
-
 def general_case_functions(design: Any) -> Any:
     """The numeric functions (:class:`chargedesign.model.case_numeric.CaseFunctions`) of the
     case a general case's body realises, rebuilt from its design.json record (None: the
     theorem's body)."""
-    record = general_case_record(design)
+    record = design.general_case
     if record is None:
         return None
     larmor = getattr(design, "larmor", None)
@@ -158,7 +149,7 @@ def model_scales(design: Any, parameters: Any = None) -> ModelScales:
 
     The theorem's body: :func:`typical_rate` of ``parameters`` (default
     ``design.parameters``; the support reads the parameters its elements realise) and their C.
-    A general case's body (:func:`general_case_record`): the case's own rate and terms, from
+    A general case's body (``design.general_case``): the case's own rate and terms, from
     its V and mu as the record rebuilds them (:func:`case_terms`), with the smallest diagonal
     inertia as C.
     """
