@@ -933,6 +933,15 @@ def _map_lines(rows: tuple[MapRow, ...]) -> list[str]:
     def num(x: float | None) -> str:
         return "" if x is None else fmt(x)
 
+    if not rows:  # a general case: no term of the theorem's
+        return [
+            "",
+            "## Realisability map",
+            "",
+            "Not applicable: the map splits the theorem's V and mu by their parameters; this "
+            "body realises a case not of the theorem's form, sized by its own terms (the "
+            "smallest realised term above).",
+        ]
     lines = [
         "",
         "## Realisability map",

@@ -1015,7 +1015,8 @@ def realism_budget(design: Any, response: dict[str, Any] | None = None) -> dict[
             "kinetic energy over the Larmor power of the charges (incoherent upper bound)",
         ),
         "self_field_fraction": _judged(
-            b_self / applied if applied > 0 else math.inf,
+            # no charges, no self-field (0, not 0/0), whatever the applied a1
+            b_self / applied if applied > 0 else (0.0 if b_self == 0.0 else math.inf),
             "",
             1e-6,
             "field of the moving charges at O over the applied a1",
