@@ -404,7 +404,7 @@ def _case_functions(design: Design) -> Any:
         return None
     from chargedesign.model.case_numeric import design_case_functions  # sympy: a case only
 
-    return design_case_functions(design.further_keys["case"], design.larmor)
+    return design_case_functions(design.further_keys["case"], design.larmor, design.time_rate)
 
 
 def validate_check_options(

@@ -35,7 +35,7 @@ from chargedesign.errors import InputError
 from chargedesign.files import check_outputs
 from chargedesign.physical.support import scene_window_gravity
 from chargedesign.report import wrapped_text
-from chargedesign.scene import load_theorem_scene
+from chargedesign.scene import load_scene
 from chargedesign.verdict import verdict_state_line, verdict_text_table
 
 
@@ -56,7 +56,12 @@ def run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"frontier: {message}", file=sys.stderr, flush=True)
 
-    scene = load_theorem_scene(args.scene, "frontier")
+    scene = load_scene(args.scene)
+    if scene.case is not None and (args.scan or args.recommend is not None):
+        raise InputError(
+            f"{scene.source}: --scan and --recommend vary the theorem's [parameters], not a "
+            "[case] scene yet (its frontier and window: without them)"
+        )
     # --realised-* are range-checked with every option (limits.OPTION_RANGES) before the run;
     # the scene's [design] keys fill what is not given
     window = WindowOptions(

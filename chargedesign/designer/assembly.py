@@ -106,9 +106,9 @@ def build_design(setup: PhysicalSetup, outcome: PhysicalOutcome) -> Design:
     )
     design.field_limits = dict(spec.field_limits)
     design.time_rate = s
-    if setup.model_record is not None:  # a general case: the budgets read its own rate
-        if s != 1.0:  # its record is the case itself, at rate 1 (no frontier reads it yet)
-            raise ValueError(f"a general case's body is built at its own rate, not s = {s}")
+    if setup.model_record is not None:
+        # a general case: the record is the case at rate 1 and the body realises it at rate
+        # s (design.time_rate): every reader rescales it (model.case_numeric.body_case)
         design.further_keys["case"] = dict(setup.model_record)
     whole_record(design, spec.holder, ms)
     if spec.material_errors:

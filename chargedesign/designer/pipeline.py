@@ -68,11 +68,6 @@ NO_MEDIUM = (
     "frontier: the scene has no [medium] table, so nothing limits it (give [medium] "
     "name = vacuum | air | sf6 | oil)"
 )
-#: a general case's body with [medium]: designed at the case's own rate, no frontier
-GENERAL_CASE_NO_FRONTIER = (
-    "frontier not located: a [case] not of the theorem's form is designed at its own rate "
-    "(the frontier's rate family reads the theorem's parameters)"
-)
 
 
 def design_source(
@@ -526,12 +521,7 @@ def design_from_scene(
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
     if inputs.spec is not None:
-        general = inputs.model.theorem is None  # the frontier reads the theorem's rates
-        result, _ = _physical_design(
-            inputs, inputs.physical_setup(), progress, frontier and not general
-        )
-        if general and frontier:
-            result.design.notes = [*(result.design.notes or []), GENERAL_CASE_NO_FRONTIER]
+        result, _ = _physical_design(inputs, inputs.physical_setup(), progress, frontier)
         return _finish_scene_design(scene, inputs, result, progress)
     t2 = time.perf_counter()
     result = design_body(
@@ -563,7 +553,6 @@ def design_and_frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, progress, overrides)
-    _check_frontier_model(scene, inputs)
     too_many = frontier_too_large(inputs.candidates)
     if too_many is not None:
         raise InputError(f"frontier: {too_many}")  # before the work: it would not end
@@ -941,10 +930,10 @@ def _general_case_reading(
 ) -> tuple[LarmorReading, str, str]:
     """A case not of the theorem's form: its elements realise its own V and l (the charges
     reading), refused in one line where the route still needs the theorem's parameters. With
-    ``[medium]`` its parts are designed at the case's own rate, and its budgets and balance
-    read the case's own V, mu and typical rate
-    (:func:`chargedesign.physical.realism.model_scales`); the frontier's rate family reads the
-    theorem's parameters, so it is not located (:data:`GENERAL_CASE_NO_FRONTIER`)."""
+    ``[medium]`` its parts are designed as the theorem's are, at any time rate s (the case's
+    ``s^2 V``, ``s l``: :func:`chargedesign.model.frame.time_rescaled`), and its budgets,
+    window and balance read the case's own V, mu and typical rate
+    (:func:`chargedesign.physical.realism.model_scales`)."""
     if options.larmor == "frame":
         raise InputError(
             "design.larmor: 'frame' reads the theorem's n as turning axes; a [case] not of the "
@@ -981,13 +970,5 @@ def frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, None, overrides)
-    _check_frontier_model(scene, inputs)
     setup = inputs.physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
-
-
-def _check_frontier_model(scene: Any, inputs: SceneInputs) -> None:
-    """Refuse, in one line, the frontier of a case not of the theorem's form (before the
-    setup's work): the frontier's rate family reads the theorem's parameters."""
-    if inputs.model.theorem is None:
-        raise InputError(f"{scene.source}: {GENERAL_CASE_NO_FRONTIER}")

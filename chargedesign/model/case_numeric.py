@@ -24,7 +24,7 @@ import sympy as sp
 from chargedesign.errors import InputError
 from chargedesign.model.case import GAMMA, OMEGA
 from chargedesign.model.case_file import STATE, CaseCertificate
-from chargedesign.model.frame import frame_reading
+from chargedesign.model.frame import frame_reading, time_rescaled
 from chargedesign.scene.case_file import Case, case_from_table
 
 
@@ -198,27 +198,36 @@ def case_from_record(record: Any, where: str = "design.case") -> Case:
     return case_from_table(record["table"], f"{where}.table")
 
 
-def body_case(record: Any, larmor: Any = None) -> Case:
+def body_case(record: Any, larmor: Any = None, time_rate: float | None = None) -> Case:
     """The case a body's own elements realise, of a design.json ``case`` record.
 
-    With the ``frame`` Larmor reading at rate n (``design.larmor``) the elements realise the
-    case read in axes turning at ``-n`` (:func:`chargedesign.model.frame.frame_reading`;
-    for the theorem that is its n = 0 case, up to a constant on the sphere): the record's
-    case is what the body does in axes turning at n. Otherwise the record's case itself."""
+    A body designed at time rate ``s`` (``design.time_rate``; None or 1: the record's own)
+    realises the record's case at that rate (:func:`chargedesign.model.frame.time_rescaled`:
+    ``s^2 V``, ``s l``; the frontier's bodies). With the ``frame`` Larmor reading at rate n
+    (``design.larmor``, already at the body's rate) the elements realise the case read in axes
+    turning at ``-n`` (:func:`chargedesign.model.frame.frame_reading`; for the theorem that is
+    its n = 0 case, up to a constant on the sphere): the record's case is what the body does in
+    axes turning at n. Otherwise the record's case itself."""
     case = case_from_record(record)
+    if time_rate is not None and time_rate != 1.0:
+        case = time_rescaled(case, time_rate)
     if larmor is not None and larmor.is_frame and larmor.rate != 0.0:
         return frame_reading(case, -larmor.rate)
     return case
 
 
-def design_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
+def design_case_functions(
+    record: Any, larmor: Any = None, time_rate: float | None = None
+) -> CaseFunctions:
     """The numeric functions of the case a design's elements realise (:func:`body_case`)."""
-    return case_functions(body_case(record, larmor))
+    return case_functions(body_case(record, larmor, time_rate))
 
 
-def simulated_case_functions(record: Any, larmor: Any = None) -> CaseFunctions:
+def simulated_case_functions(
+    record: Any, larmor: Any = None, time_rate: float | None = None
+) -> CaseFunctions:
     """:func:`design_case_functions` for a run (:func:`simulated_functions`)."""
-    return simulated_functions(body_case(record, larmor))
+    return simulated_functions(body_case(record, larmor, time_rate))
 
 
 def singular_factors(expressions: Any) -> list[str]:

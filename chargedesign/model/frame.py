@@ -32,6 +32,16 @@ which the two V differ).
 A case given by ``mu`` (no ``l``) is read the same way: ``mu' = mu + n (2 I gamma - tr(I)
 gamma)`` (the formula (mu) of ``n I gamma``) and ``l.gamma`` is the case's own
 ``l_dot_gamma`` (a potential of mu on the sphere).
+
+The time rate of any case (:func:`time_rescaled`; exact, any I, V, l). If ``(omega(t),
+gamma(t))`` solves (ep) for ``(I, V, l)``, then ``omega_s(t) = s omega(s t)``,
+``gamma_s(t) = gamma(s t)`` solves it for ``(I, s^2 V, s l)``: with ``tau = s t`` every term of
+the momentum equation ``d/dt (I omega + l) = (I omega + l) x omega + gamma x dL/dgamma`` picks
+up ``s^2`` (``dL/dgamma = (dl/dgamma)^T omega - dV/dgamma``: ``s . s`` and ``s^2``) and the
+Poisson equation ``dgamma/dt = gamma x omega`` picks up ``s`` on both sides. A claimed integral
+F maps to ``F(omega / s, gamma)``, and ``I3 = (I omega + l).gamma`` to ``s I3``: a level L to
+``s L``. The theorem's rate family (n, K x s; kappa, lambda, rho x s^2: the frontier's) is
+this map of its case (tested on the catalogue's case).
 """
 
 from __future__ import annotations
@@ -115,6 +125,36 @@ def frame_reading(case: Case, n: Any) -> Case:
         integral=integral,
         texts=texts,
         note=(f"{case.note} " if case.note else "") + f"frame reading: {FRAME_MAP}",
+        free={},
+    )
+
+
+def time_rescaled(case: Case, s: Any) -> Case:
+    """The case at time rate ``s``: ``(I, s^2 V, s l)`` (or ``s mu``), the claimed integral
+    ``F(omega / s, gamma)`` and the level times ``s`` (module docstring). ``s`` a positive
+    number, read by its decimal text as :func:`frame_reading` reads n."""
+    rate = _rate(s)
+    if not rate > 0:
+        raise ValueError(f"time rate s: expected a positive number, got {s!r}")
+    V = sp.expand(rate**2 * case.V)
+    l_new = None if case.l is None else (rate * case.l).applyfunc(sp.expand)
+    mu_new = (rate * case.mu).applyfunc(sp.expand)
+    integral = sp.expand(case.integral.xreplace({w: w / rate for w in OMEGA}))
+    texts = dict(case.texts)
+    texts.update({"V": sp.sstr(V), "integral": sp.sstr(integral)})
+    if l_new is not None:
+        texts["l"] = [sp.sstr(e) for e in l_new]
+    else:
+        texts["mu"] = [sp.sstr(e) for e in mu_new]
+    return replace(
+        case,
+        name=f"{case.name} at time rate s = {sp.sstr(rate)}",
+        V=V,
+        l=l_new,
+        mu=mu_new,
+        integral=integral,
+        level=None if case.level is None else rate * case.level,
+        texts=texts,
         free={},
     )
 
@@ -256,4 +296,5 @@ __all__ = [
     "certify_frame",
     "frame_reading",
     "prove_frame_reading",
+    "time_rescaled",
 ]

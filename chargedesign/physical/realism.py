@@ -121,22 +121,24 @@ MAX_CASE_FUNCTIONS = 16
 
 def general_case_functions(design: Any) -> Any:
     """The numeric functions (:class:`chargedesign.model.case_numeric.CaseFunctions`) of the
-    case a general case's body realises, rebuilt from its design.json record (None: the
-    theorem's body)."""
+    case a general case's body realises, rebuilt from its design.json record at the body's
+    time rate (None: the theorem's body)."""
     record = design.general_case
     if record is None:
         return None
     larmor = getattr(design, "larmor", None)
+    time_rate = getattr(design, "time_rate", None)
     key = (
         json.dumps(record.get("table"), sort_keys=True, default=str),
         None if larmor is None else (larmor.reading, larmor.rate),
+        time_rate,
     )
     functions = _CASE_FUNCTIONS.get(key)
     if functions is None:
         # sympy: a general case's body only
         from chargedesign.model.case_numeric import design_case_functions
 
-        functions = design_case_functions(record, larmor)
+        functions = design_case_functions(record, larmor, time_rate)
         if len(_CASE_FUNCTIONS) >= MAX_CASE_FUNCTIONS:
             _CASE_FUNCTIONS.pop(next(iter(_CASE_FUNCTIONS)))
         _CASE_FUNCTIONS[key] = functions

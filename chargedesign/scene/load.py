@@ -340,19 +340,6 @@ def load_scene(path: str | os.PathLike[str] | None = None) -> Scene:
     return validated(scene_from_dict(data, str(p)))
 
 
-def load_theorem_scene(path: str | os.PathLike[str] | None, command: str) -> Scene:
-    """:func:`load_scene` for a command that works on the theorem's ``[parameters]`` only: a
-    scene with ``[case]`` is refused in one line (the command would otherwise run the
-    theorem's default parameters, silently not the case)."""
-    scene = load_scene(path)
-    if "case" in scene.tables:
-        raise InputError(
-            f"{scene.source}: {command} takes the theorem's [parameters], not a [case] scene "
-            "yet (a case is designed, checked and simulated: docs/workbench.md)"
-        )
-    return scene
-
-
 def validated(scene: Scene) -> Scene:
     """``scene`` after :func:`validate_tables` (the whole file, whatever the command)."""
     validate_tables(scene)

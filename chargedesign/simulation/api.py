@@ -120,7 +120,7 @@ def _case_functions(design: Any) -> Any:
         return None
     from chargedesign.model.case_numeric import simulated_case_functions  # sympy: a case only
 
-    return simulated_case_functions(design.further_keys["case"], design.larmor)
+    return simulated_case_functions(design.further_keys["case"], design.larmor, design.time_rate)
 
 
 def reduced_case_effects(

@@ -21,9 +21,11 @@ import pytest
 
 import chargedesign as cd
 from chargedesign.cli import main
+from chargedesign.designer.assembly import design_physical
+from chargedesign.designer.pipeline import physical_setup_from_scene
 from chargedesign.errors import InputError
 from chargedesign.physical.realism import model_scales, typical_rate
-from chargedesign.scene import scene_from_dict
+from chargedesign.scene import load_scene, scene_from_dict
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
 AXISYMMETRIC = EXAMPLES / "axisymmetric_case.toml"
@@ -54,7 +56,7 @@ def test_the_axisymmetric_top_is_built_of_magnets_and_ballast_and_checked_from_i
     assert written["case"]["certificate"]["holds"]
     assert written["verdict"]["state"] == "buildable and realised"
     assert len(written["dipoles"]["moments"]) > 0  # the magnets realise V's degree 2
-    assert any("frontier not located" in note for note in written["notes"])
+    assert written["frontier"]["s_max"] > 1.0  # located as for the theorem's scenes
 
 
 def test_its_typical_rate_is_the_cases_own_closed_form() -> None:
@@ -96,14 +98,29 @@ def test_the_kowalevski_top_with_medium_is_a_heavy_top_of_ballast(
     assert report["reference"] == "case" and report["reproduced"] and report["verdict_agrees"]
 
 
-def test_the_frontier_of_a_general_case_is_refused_in_one_line(
+def test_the_frontier_and_window_of_a_general_case_and_a_body_at_another_rate(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    with pytest.raises(InputError, match=r"frontier not located: a \[case\] not of the theorem"):
-        cd.frontier(str(AXISYMMETRIC))
-    assert main(["frontier", str(AXISYMMETRIC)]) != 0
+    """The frontier scales the case by its time rate (s^2 V, s l: model.frame.time_rescaled).
+    A body designed at s = 4, checked by `check` against the case at its recorded rate,
+    reproduces it; read at rate 1 (its time rate dropped) its V is s^2 times the case's."""
+    frontier = cd.design(str(AXISYMMETRIC)).design.frontier
+    assert cd.frontier(str(AXISYMMETRIC)).s_max == frontier["s_max"] > 1.0
+    window = frontier["realised"]
+    assert 0.0 < window["s_low"] < window["s_high"] <= frontier["s_max"]
+    scene = load_scene(AXISYMMETRIC)
+    s = 4.0  # inside the window
+    body = design_physical(physical_setup_from_scene(scene), scale=s).design
+    assert body.time_rate == s
+    report = cd.check(body)
+    assert report.reference == "case" and report.reproduced
+    assert report.to_dict()["V_rel_err"] <= 1e-12
+    body.time_rate = None  # the same parts read as the case at rate 1
+    missed = cd.check(body).to_dict()["V_rel_err"]
+    assert missed == pytest.approx(s**2 - 1.0, rel=1e-9)  # V is s^2 the rate-1 case's
+    assert main(["frontier", str(AXISYMMETRIC), "--recommend", "x.toml"]) != 0
     err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "[case]" in err
+    assert "\n" not in err and "--recommend vary the theorem's [parameters]" in err
 
 
 def test_a_gravity_gradient_the_conditions_would_derive_is_refused_before_the_work() -> None:

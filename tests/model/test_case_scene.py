@@ -206,15 +206,14 @@ def test_conditions_of_a_case_scene_are_the_masses_in_gravity(
     assert masses["xy"] == masses["xz"] == masses["yz"] == masses["y"] == masses["z"] == 0.0
 
 
-@pytest.mark.parametrize("command", ["frontier"])
-def test_theorem_only_commands_refuse_a_case_scene(
-    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: str
+def test_the_frontier_of_a_case_scene_without_medium_is_refused_as_the_theorems(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """Before, bifurcation ran the theorem's default parameters on a case scene, silently
-    (it now draws the case's diagram: tests/topology/test_case_diagram.py)."""
-    assert main([command, str(_write(tmp_path, KOWALEVSKI))]) == 2
+    """frontier takes a [case] scene (its parts and rate: tests/designer/
+    test_general_case_parts.py); without [medium] nothing limits it, in one line."""
+    assert main(["frontier", str(_write(tmp_path, KOWALEVSKI))]) == 2
     error = capsys.readouterr().err.strip()
-    assert f"{command} takes the theorem's [parameters], not a [case] scene" in error
+    assert "the scene has no [medium] table, so nothing limits it" in error
     assert "\n" not in error
 
 
