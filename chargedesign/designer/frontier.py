@@ -111,6 +111,9 @@ LAW_ROUNDS = 12
 #: ``--recommend`` on the K = 0 example recommends what the bisection alone does, at its
 #: cost (393 designs against 406; 1.0: 163, docs/benchmarks.md)
 LAW_VERIFY = 1.0
+#: at most this many bodies bring ``s_min`` down to the balance of the body designed there
+#: (:func:`_lowest_balanced_rate`)
+S_MIN_ROUNDS = 6
 
 
 @dataclass(repr=False)
@@ -1000,6 +1003,8 @@ def find_frontier(
         front.k_law = k_law(design, front.field_response)
         front.k_law_body = f"the body designed at s_max = {fmt(front.s_max, PRECISE)}"
     _record_balance(front, design, search.lo)
+    if front.s_min > 0 and math.isfinite(front.s_min):
+        front.s_min = _lowest_balanced_rate(setup, front.s_min, rtol)
     if window is not None:
         front.realised = realised_window(search, front, design, window)
         front.seconds = time.perf_counter() - t0
@@ -1023,6 +1028,24 @@ def _record_balance(front: FrontierResult, design: Design | None, s_max: float) 
         front.s_min = float(balance.get("lowest_rate") or math.inf)
         if not front.s_min <= s_max:
             raise InfeasibleError(no_buildable_rate(balance, s_max, front.K_max))
+
+
+def _lowest_balanced_rate(setup: PhysicalSetup, s: float, rtol: float) -> float:
+    """The lowest rate whose own body the balance accepts, from ``s``: the bound the body at
+    ``s_max`` gives takes that body's mass, and a body designed at a lower rate is lighter
+    (its magnets and their ballast go as ``s^2``), so ``s <- lowest_rate(body(s))`` while it
+    falls by more than ``rtol``, each rate kept only when its own body is accepted there."""
+    best = s
+    for _ in range(S_MIN_ROUNDS):
+        body, binding = _probe_body(setup, s)
+        if body is None or binding is not None:
+            break
+        best = s
+        lower = float((body.balance or {}).get("lowest_rate") or math.inf)
+        if not lower < s * (1.0 - rtol):
+            break
+        s = lower
+    return best
 
 
 @dataclass(frozen=True)

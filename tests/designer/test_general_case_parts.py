@@ -107,8 +107,16 @@ def test_the_frontier_and_window_of_a_general_case_and_a_body_at_another_rate(
     frontier = cd.design(str(AXISYMMETRIC)).design.frontier
     assert cd.frontier(str(AXISYMMETRIC)).s_max == frontier["s_max"] > 1.0
     window = frontier["realised"]
-    assert 0.0 < window["s_low"] < window["s_high"] <= frontier["s_max"]
+    # the scene's own body is accepted and realised at s = 1 (its verdict), so its window
+    # holds s = 1: s_min is the balance of the body designed there, not the heavier s_max
+    # body's (which alone gave 1.77)
+    assert 0.0 < window["s_low"] < 1.0 < window["s_high"] <= frontier["s_max"]
+    assert window["s_low"] >= frontier["s_min"] > 0.0
     scene = load_scene(AXISYMMETRIC)
+    # the body designed at s_min is accepted there (design_physical raises otherwise), by its
+    # own balance bound
+    lowest = design_physical(physical_setup_from_scene(scene), scale=frontier["s_min"]).design
+    assert lowest.balance["lowest_rate"] <= frontier["s_min"]
     s = 4.0  # inside the window
     body = design_physical(physical_setup_from_scene(scene), scale=s).design
     assert body.time_rate == s
