@@ -110,6 +110,28 @@ def frame_reading(case: Case, n: Any) -> Case:
         else (case.mu + rate * mu_from_l(spin)).applyfunc(sp.expand)
     )
     integral = sp.expand(case.integral.xreplace(omega_shift(rate, +1)))
+    return _mapped(
+        case,
+        f"{case.name} in axes turning at n = {sp.sstr(rate)}",
+        V,
+        l_new,
+        mu_new,
+        integral,
+        note=(f"{case.note} " if case.note else "") + f"frame reading: {FRAME_MAP}",
+    )
+
+
+def _mapped(
+    case: Case,
+    name: str,
+    V: sp.Expr,
+    l_new: sp.Matrix | None,
+    mu_new: sp.Matrix,
+    integral: sp.Expr,
+    **changes: Any,
+) -> Case:
+    """``case`` with the mapped V, l (or mu) and integral, their texts and ``changes``, no
+    free parameters (the map's own certificate speaks for every n or s)."""
     texts = dict(case.texts)
     texts.update({"V": sp.sstr(V), "integral": sp.sstr(integral)})
     if l_new is not None:
@@ -118,14 +140,14 @@ def frame_reading(case: Case, n: Any) -> Case:
         texts["mu"] = [sp.sstr(e) for e in mu_new]
     return replace(
         case,
-        name=f"{case.name} in axes turning at n = {sp.sstr(rate)}",
+        name=name,
         V=V,
         l=l_new,
         mu=mu_new,
         integral=integral,
         texts=texts,
-        note=(f"{case.note} " if case.note else "") + f"frame reading: {FRAME_MAP}",
         free={},
+        **changes,
     )
 
 
@@ -140,22 +162,14 @@ def time_rescaled(case: Case, s: Any) -> Case:
     l_new = None if case.l is None else (rate * case.l).applyfunc(sp.expand)
     mu_new = (rate * case.mu).applyfunc(sp.expand)
     integral = sp.expand(case.integral.xreplace({w: w / rate for w in OMEGA}))
-    texts = dict(case.texts)
-    texts.update({"V": sp.sstr(V), "integral": sp.sstr(integral)})
-    if l_new is not None:
-        texts["l"] = [sp.sstr(e) for e in l_new]
-    else:
-        texts["mu"] = [sp.sstr(e) for e in mu_new]
-    return replace(
+    return _mapped(
         case,
-        name=f"{case.name} at time rate s = {sp.sstr(rate)}",
-        V=V,
-        l=l_new,
-        mu=mu_new,
-        integral=integral,
+        f"{case.name} at time rate s = {sp.sstr(rate)}",
+        V,
+        l_new,
+        mu_new,
+        integral,
         level=None if case.level is None else rate * case.level,
-        texts=texts,
-        free={},
     )
 
 
