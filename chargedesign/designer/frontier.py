@@ -186,6 +186,8 @@ class FrontierResult(Result):
     #: (:func:`chargedesign.physical.budget.induced_magnetisation`, as design.json's
     #: ``realism.induced_magnetisation``; empty: no such body)
     induced: dict[str, Any] = field(default_factory=dict)
+    #: a general case's name (None: the theorem's body, whose n and K the rate scales)
+    case: str | None = None
 
     @property
     def n_free(self) -> bool:
@@ -231,6 +233,7 @@ class FrontierResult(Result):
             "k_law_induced_ratio": self._k_law_figure(),
             "induced_magnetisation": dict(self.induced) or None,
             **({"realised": self.realised.to_dict()} if self.realised is not None else {}),
+            **({"case": self.case} if self.case is not None else {}),
         }
 
     def _k_law_figure(self) -> dict[str, Any] | None:
@@ -259,7 +262,9 @@ class FrontierResult(Result):
         }
 
     def _text(self) -> str:
-        if self.n_free:
+        if self.case is not None:
+            rate = f"the case {self.case} at time rate s: V x s^2, l x s"
+        elif self.n_free:
             rate = (
                 f"K_max = {fmt(self.K_max, PRECISE)} 1/s; n is free: the frame reading realises n ="
                 " 0 "
@@ -634,6 +639,7 @@ class _Search:
             field_response=_response_at(design, self.responses),
             K=theorem.K,
             larmor=_reading(self.setup),
+            case=None if self.setup.model_record is None else self.setup.model_record["name"],
             smallest_charge=(
                 float(np.min(np.abs(design.charge_values)))
                 if design is not None and len(design.charge_values)

@@ -105,7 +105,10 @@ def test_the_frontier_and_window_of_a_general_case_and_a_body_at_another_rate(
     A body designed at s = 4, checked by `check` against the case at its recorded rate,
     reproduces it; read at rate 1 (its time rate dropped) its V is s^2 times the case's."""
     frontier = cd.design(str(AXISYMMETRIC)).design.frontier
-    assert cd.frontier(str(AXISYMMETRIC)).s_max == frontier["s_max"] > 1.0
+    front = cd.frontier(str(AXISYMMETRIC))
+    assert front.s_max == frontier["s_max"] > 1.0
+    assert front.to_dict()["case"] == "axisymmetric magnetic top"
+    assert "the case axisymmetric magnetic top at time rate s: V x s^2" in str(front)
     window = frontier["realised"]
     # the scene's own body is accepted and realised at s = 1 (its verdict), so its window
     # holds s = 1: s_min is the balance of the body designed there, not the heavier s_max
