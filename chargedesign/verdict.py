@@ -65,8 +65,8 @@ def _what_changes(design: Design) -> str:
     window = realised_window(design)
     if window is None and design.general_case is not None:
         return (
-            "the scene's field, materials or size (the frontier and its search read the "
-            "theorem's rates: not for a [case] of another form)"
+            "the scene's field, materials or size (frontier --recommend varies the theorem's "
+            "[parameters]: not a [case])"
         )
     if window is None:
         return "`chargedesign frontier SCENE --recommend PATH` searches field, materials, size"

@@ -521,7 +521,12 @@ def design_from_scene(
     t0 = time.perf_counter()
     inputs = _scene_inputs(scene, progress, overrides)
     if inputs.spec is not None:
-        result, _ = _physical_design(inputs, inputs.physical_setup(), progress, frontier)
+        fixed = _rate_fixed(inputs)
+        result, _ = _physical_design(
+            inputs, inputs.physical_setup(), progress, frontier and fixed is None
+        )
+        if frontier and fixed is not None:
+            result.design.notes = [*(result.design.notes or []), f"frontier not located: {fixed}"]
         return _finish_scene_design(scene, inputs, result, progress)
     t2 = time.perf_counter()
     result = design_body(
@@ -553,6 +558,7 @@ def design_and_frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, progress, overrides)
+    _check_rate_family(scene, inputs)
     too_many = frontier_too_large(inputs.candidates)
     if too_many is not None:
         raise InputError(f"frontier: {too_many}")  # before the work: it would not end
@@ -970,5 +976,32 @@ def frontier_from_scene(
     if scene.physical is None:
         raise InfeasibleError(NO_MEDIUM)
     inputs = _scene_inputs(scene, None, overrides)
+    _check_rate_family(scene, inputs)
     setup = inputs.physical_setup()
     return find_frontier(setup, progress=progress, window=window, rtol=rtol, checks=checks, law=law)
+
+
+def _rate_fixed(inputs: SceneInputs) -> str | None:
+    """Why the frontier cannot scale this body with the rate (None: it can). The physical
+    program scales the carriers' and the magnets' right-hand sides with the rate (``s`` and
+    ``s^2``) but not the masses' (theirs is the inertia, which does not scale), so a general
+    case whose masses realise part of its V in gravity (a heavy top: V of degree 1) has its
+    body at rate 1 only."""
+    if inputs.model.theorem is not None:
+        return None
+    for row in inputs.conditions.conditions:
+        if row.source == "masses" and row.provenance.startswith("V") and row.value != 0.0:
+            return (
+                f"the masses realise part of this case's V in gravity ({row.provenance}), and "
+                "the frontier scales the carriers' and the magnets' conditions with the rate, "
+                "not the masses' (theirs is the inertia): its body is designed at its own rate"
+            )
+    return None
+
+
+def _check_rate_family(scene: Any, inputs: SceneInputs) -> None:
+    """Refuse the frontier of a body the rate cannot scale (:func:`_rate_fixed`), in one line
+    before the setup's work."""
+    fixed = _rate_fixed(inputs)
+    if fixed is not None:
+        raise InputError(f"{scene.source}: frontier: {fixed}")

@@ -96,6 +96,11 @@ def test_the_kowalevski_top_with_medium_is_a_heavy_top_of_ballast(
     )
     report = _design_and_check(path, tmp_path / "out", capsys)
     assert report["reference"] == "case" and report["reproduced"] and report["verdict_agrees"]
+    # its masses realise V: the physical program scales the carriers' and magnets' conditions
+    # with the rate, not the masses', so its frontier is refused in one line (and noted)
+    assert any(n.startswith("frontier not located: the masses realise") for n in design.notes)
+    with pytest.raises(InputError, match=r"frontier: the masses realise part of this case's V"):
+        cd.frontier(scene_from_dict(data, "<kowalevski with medium>"))
 
 
 def test_the_frontier_and_window_of_a_general_case_and_a_body_at_another_rate(
