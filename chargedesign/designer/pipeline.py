@@ -917,7 +917,7 @@ def _check_site_gravity(scene: Any, conditions: LinearConditions, site_g: float)
     if any(x != 0.0 for x in legendre[1:]):
         raise InputError(
             f"{scene.source}: [medium] with a [case] whose V the conditions realise by masses "
-            f"in a gravity gradient (fields.gravity legendre {[fmt(x) for x in legendre]}, "
+            f"in a gravity gradient (fields.gravity legendre [{', '.join(map(fmt, legendre))}], "
             "derived): a site's gravity is uniform; give [fields.gravity] a1 (the site's g) "
             "and [fields.magnetic] a2, so that magnets realise V's degree 2, or drop [medium] "
             "for point elements"
