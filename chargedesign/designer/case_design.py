@@ -181,7 +181,8 @@ def record_case(
     rate (``case.realism``, ``case.realised``). A case of the theorem's form has the theorem's
     body and records: its forward accuracy, and with ``[medium]`` its limits, realism budget
     and window."""
-    if table is not None:
+    if table is not None and "case" not in design.further_keys:
+        # a general case's physical body carries it already, made once by its setup
         design.further_keys["case"] = case_record(table, case, None)
     if table is None or design.medium is not None or theorem is not None:
         # the theorem's body: its own forward accuracy, limits, realism budget and window

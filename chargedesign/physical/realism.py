@@ -126,8 +126,7 @@ def general_case_functions(design: Any) -> Any:
     record = design.general_case
     if record is None:
         return None
-    larmor = getattr(design, "larmor", None)
-    time_rate = getattr(design, "time_rate", None)
+    larmor, time_rate = design.larmor, design.time_rate
     key = (
         json.dumps(record.get("table"), sort_keys=True, default=str),
         None if larmor is None else (larmor.reading, larmor.rate),
@@ -760,7 +759,7 @@ def realisability_map(design: Any, response: dict[str, Any] | None = None) -> li
         ``frontier_eddy_over_term``: the induced energy does not change with the rate, the
         eddy torque grows like it).
     """
-    if model_scales(design).terms is not None:
+    if design.general_case is not None:
         return []  # a general case: its terms are its own (case_terms), not the theorem's
     p = design.parameters
     frame = design.larmor_reading == "frame"
